@@ -1,0 +1,117 @@
+"""Input checks, in one place (STYLE.md rule 7).
+
+Every public entry point and every scene handler validates its input through these
+helpers, so that messages read the same everywhere: ``FIELD: expected …, got …``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from .errors import InputError
+from .numbers import METHODS, Exact, check_method, parse_exact, parse_vector
+
+__all__ = [
+    "require",
+    "optional",
+    "as_table",
+    "check_keys",
+    "exact_matrix",
+    "exact_vector",
+    "float_array",
+    "choice",
+    "positive_int",
+    "positive_number",
+    "string_list",
+    "method_field",
+]
+
+_MISSING = object()
+
+
+def as_table(value, field: str) -> Mapping:
+    if not isinstance(value, Mapping):
+        raise InputError(f"expected a table, got {type(value).__name__} {value!r}", field=field)
+    return value
+
+
+def require(table: Mapping, key: str, field: str):
+    """``table[key]``, or InputError naming ``field.key`` when missing."""
+    if key not in table:
+        raise InputError(f"missing required field {key!r}", field=f"{field}.{key}" if field else key)
+    return table[key]
+
+
+def optional(table: Mapping, key: str, default=None):
+    return table.get(key, default)
+
+
+def check_keys(table: Mapping, allowed, field: str):
+    """Reject unknown keys (a typo must not be silently ignored)."""
+    unknown = sorted(set(table) - set(allowed))
+    if unknown:
+        raise InputError(f"unknown field(s) {', '.join(map(repr, unknown))}; expected some of "
+                         f"{', '.join(map(repr, sorted(allowed)))}", field=field)
+
+
+def exact_vector(value, field: str, length: int | None = None, *,
+                 allow_symbols: bool = False) -> tuple[Exact, ...]:
+    return parse_vector(value, field, length=length, allow_symbols=allow_symbols)
+
+
+def exact_matrix(value, field: str, rows: int | None = None, cols: int | None = None
+                 ) -> tuple[tuple[Exact, ...], ...]:
+    """A list of rows of exact numbers, e.g. points ``[[0,0,0], [6,"sqrt(108)",0], ...]``."""
+    if not isinstance(value, (list, tuple)):
+        raise InputError(f"expected a list of {rows or 'some'} rows, got "
+                         f"{type(value).__name__} {value!r}", field=field)
+    if rows is not None and len(value) != rows:
+        raise InputError(f"expected {rows} rows, got {len(value)}", field=field)
+    return tuple(parse_vector(r, f"{field}[{i}]", length=cols) for i, r in enumerate(value))
+
+
+def float_array(value, field: str, shape: tuple) -> np.ndarray:
+    """A float array of a given shape (``None`` in ``shape`` = any length)."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"expected numbers of shape {shape}, got {value!r}", field=field) from None
+    if arr.ndim != len(shape) or any(s is not None and s != a for s, a in zip(shape, arr.shape)):
+        raise InputError(f"expected shape {shape}, got {arr.shape}", field=field)
+    if not np.all(np.isfinite(arr)):
+        raise InputError("expected finite numbers, got NaN or inf", field=field)
+    return arr
+
+
+def choice(value, field: str, choices) -> str:
+    if value not in choices:
+        raise InputError(f"expected one of {', '.join(map(repr, choices))}, got {value!r}",
+                         field=field)
+    return value
+
+
+def positive_int(value, field: str, *, minimum: int = 1) -> int:
+    if not isinstance(value, int) or isinstance(value, bool) or value < minimum:
+        raise InputError(f"expected an integer >= {minimum}, got {value!r}", field=field)
+    return value
+
+
+def positive_number(value, field: str) -> float:
+    x = float(parse_exact(value, field))
+    if not x > 0:
+        raise InputError(f"expected a positive number, got {value!r}", field=field)
+    return x
+
+
+def string_list(value, field: str) -> tuple[str, ...]:
+    if isinstance(value, str):
+        value = [value]
+    if not isinstance(value, (list, tuple)) or not all(isinstance(v, str) for v in value):
+        raise InputError(f"expected a list of strings, got {value!r}", field=field)
+    return tuple(value)
+
+
+def method_field(table: Mapping, field: str, default: str = "fast", allowed=METHODS) -> str:
+    return check_method(table.get("method", default), allowed=allowed, field=f"{field}.method")

@@ -1,0 +1,190 @@
+"""The ``distkin`` command line (DESIGN.md §4).
+
+``distkin run SCENE.toml [--json PATH|-] [--plots DIR]``
+    Run every query of a scene; print the readable report (to stderr when the JSON
+    goes to stdout) and write the JSON contract.
+``distkin demo [--json PATH|-] [--plots DIR]``
+    Run the built-in scenes (``distkin/scenes/``).
+
+Exit codes: 0 ok; 2 bad input or a query whose data admit no answer (one line on
+stderr naming the field); 1 an internal failure (one line; ``--debug`` shows the
+traceback).  Further subcommands (``codegen``, ``sim``, ``control``) are registered in
+:data:`SUBCOMMANDS` by the modules that implement them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+import time
+import traceback
+from importlib import resources
+from pathlib import Path
+
+from ._version import __version__
+from .errors import DistkinError, InputError, is_input_error
+
+__all__ = ["main", "run_scene", "DEMO_SCENES", "SUBCOMMANDS"]
+
+#: built-in scenes run by ``distkin demo``, in order (files in distkin/scenes/)
+DEMO_SCENES = [
+    "cayley_menger_tetrahedron.toml",
+]
+
+#: subcommand -> "module:function" that adds its parser (called with the subparsers)
+SUBCOMMANDS: dict[str, str] = {}
+
+
+def _err(msg: str) -> None:
+    print(f"distkin: error: {msg}", file=sys.stderr)
+
+
+def run_scene(scene, *, plots_dir=None, progress=True):
+    """Run every query of a loaded scene.
+
+    Returns
+    -------
+    records : list of dict
+        The JSON records (one per query), errors included.
+    texts : list of str
+        The readable text of each query.
+    worst : int
+        0 if every query succeeded, 2 if one failed on its data, 1 on internal failure.
+    """
+    from . import queries
+    from .queries import RunContext
+    from .report import jsonable
+    ctx = RunContext(plots_dir=Path(plots_dir) if plots_dir else None, progress=progress)
+    records, texts, worst = [], [], 0
+    for q in scene.queries:
+        spec = queries.get(q.type)
+        t0 = time.perf_counter()
+        rec = {"type": q.type, "status": "ok"}
+        text = ""
+        try:
+            out = spec.run(q.params, scene, ctx)
+            rec["result"] = jsonable(out.result)
+            text = out.text
+            if ctx.plots_dir is not None and out.plot is not None:
+                ctx.plots_dir.mkdir(parents=True, exist_ok=True)
+                paths = out.plot(ctx.plots_dir / f"q{q.index}_{q.type}")
+                rec["plots"] = [str(p) for p in paths]
+                text += "\nplots: " + ", ".join(str(p) for p in paths)
+        except DistkinError as exc:
+            if exc.field is None:
+                exc.with_field(q.field)
+            rec.update(status="error", result={},
+                       error={"kind": exc.kind, "message": exc.one_line()})
+            worst = max(worst, 2 if is_input_error(exc) else 1)
+        except Exception as exc:  # an internal failure must not hide the other queries
+            rec.update(status="error", result={},
+                       error={"kind": "internal", "message": f"{type(exc).__name__}: {exc}"})
+            if "--debug" in sys.argv:
+                traceback.print_exc()
+            worst = 1
+        rec["seconds"] = time.perf_counter() - t0
+        records.append(rec)
+        texts.append(text)
+    return records, texts, worst
+
+
+def _emit(scene_path, records, texts, args) -> None:
+    from .report import document, dumps, render_text
+    text = render_text(scene_path, records, texts)
+    doc = document(scene_path, records, __version__)
+    if args.json == "-":
+        print(text, file=sys.stderr)
+        print(dumps(doc))
+    else:
+        print(text)
+        if args.json:
+            Path(args.json).parent.mkdir(parents=True, exist_ok=True)
+            Path(args.json).write_text(dumps(doc) + "\n", encoding="utf-8")
+            print(f"JSON written to {args.json}")
+
+
+def _cmd_run(args) -> int:
+    from .scene import load_scene
+    scene = load_scene(args.scene)
+    records, texts, worst = run_scene(scene, plots_dir=args.plots,
+                                      progress=not args.no_progress)
+    _emit(args.scene, records, texts, args)
+    for rec in records:
+        if rec["status"] == "error":
+            _err(rec["error"]["message"])
+    return worst
+
+
+def _cmd_demo(args) -> int:
+    from .report import document, dumps
+    from .scene import loads_scene
+    worst = 0
+    docs = []
+    for name in DEMO_SCENES:
+        text = resources.files("distkin.scenes").joinpath(name).read_text(encoding="utf-8")
+        scene = loads_scene(text, f"distkin/scenes/{name}")
+        plots = Path(args.plots) / Path(name).stem if args.plots else None
+        records, texts, w = run_scene(scene, plots_dir=plots, progress=not args.no_progress)
+        worst = max(worst, w)
+        from .report import render_text
+        out = sys.stderr if args.json == "-" else sys.stdout
+        print(render_text(scene.path, records, texts), file=out)
+        docs.append(document(scene.path, records, __version__))
+    if args.json:
+        payload = dumps({"distkin": __version__, "demo": docs})
+        if args.json == "-":
+            print(payload)
+        else:
+            Path(args.json).write_text(payload + "\n", encoding="utf-8")
+    return worst
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # exit 2 with one line, as argparse does, but our prefix
+        self.print_usage(sys.stderr)
+        _err(message)
+        raise SystemExit(2)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="distkin", description="Distance-based kinematics of parallel robots.")
+    p.add_argument("--version", action="version", version=f"distkin {__version__}")
+    p.add_argument("--debug", action="store_true", help="show tracebacks of internal failures")
+    sub = p.add_subparsers(dest="command", parser_class=_Parser)
+    r = sub.add_parser("run", help="run every query of a scene file")
+    r.add_argument("scene", help="scene TOML file")
+    r.add_argument("--json", metavar="PATH|-", help="write the JSON result (- for stdout)")
+    r.add_argument("--plots", metavar="DIR", help="write plots into DIR (needs matplotlib)")
+    r.add_argument("--no-progress", action="store_true", help="no progress bars")
+    r.set_defaults(func=_cmd_run)
+    d = sub.add_parser("demo", help="run the built-in demonstration scenes")
+    d.add_argument("--json", metavar="PATH|-")
+    d.add_argument("--plots", metavar="DIR")
+    d.add_argument("--no-progress", action="store_true")
+    d.set_defaults(func=_cmd_demo)
+    for name, target in SUBCOMMANDS.items():
+        mod, _, fn = target.partition(":")
+        getattr(importlib.import_module(mod), fn)(sub)
+    return p
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 2
+    try:
+        return int(args.func(args) or 0)
+    except DistkinError as exc:
+        _err(exc.one_line())
+        return 2 if is_input_error(exc) else 1
+    except KeyboardInterrupt:
+        _err("interrupted")
+        return 130
+    except Exception as exc:
+        if args.debug:
+            traceback.print_exc()
+        _err(f"internal failure: {type(exc).__name__}: {exc} (run with --debug for the traceback)")
+        return 1

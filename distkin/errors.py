@@ -1,0 +1,115 @@
+"""The distkin exception family.
+
+Modelled on python-flint's ``FlintError > DomainError, UnableError``: a computation
+that cannot decide says so with :class:`UncertifiedError` instead of guessing.
+
+Every message names what was expected and what was received; where the error comes
+from a scene file, :attr:`DistkinError.field` names the offending field
+(for example ``query[2].legs``).
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "DistkinError",
+    "InputError",
+    "InfeasibleError",
+    "DegenerateGeometryError",
+    "SingularConfigurationError",
+    "UncertifiedError",
+    "LinkError",
+    "is_input_error",
+]
+
+
+class DistkinError(Exception):
+    """Base class of every error distkin raises on purpose.
+
+    Parameters
+    ----------
+    message : str
+        One line, naming the expected and the received values.
+    field : str, optional
+        The scene field or argument the error comes from.
+    hint : str, optional
+        What to do about it.
+    """
+
+    #: short machine-readable kind used in the JSON contract
+    kind = "distkin_error"
+
+    def __init__(self, message: str, *, field: str | None = None, hint: str | None = None):
+        self.message = message
+        self.field = field
+        self.hint = hint
+        super().__init__(self.one_line())
+
+    def one_line(self) -> str:
+        text = self.message
+        if self.field:
+            text = f"{self.field}: {text}"
+        if self.hint:
+            text = f"{text} (hint: {self.hint})"
+        return text
+
+    def with_field(self, field: str) -> "DistkinError":
+        """Return the same error, re-anchored at ``field`` (outermost name first)."""
+        if self.field and not self.field.startswith(field):
+            self.field = f"{field}.{self.field}"
+        elif not self.field:
+            self.field = field
+        self.args = (self.one_line(),)
+        return self
+
+
+class InputError(DistkinError, ValueError):
+    """Malformed input: wrong type, wrong shape, unknown name, unparsable number."""
+
+    kind = "input"
+
+
+class InfeasibleError(DistkinError, ValueError):
+    """The data describe no real configuration (distances that cannot close, ...).
+
+    Attributes
+    ----------
+    margin : float or None
+        By how much the data fail (for trilateration: the negative squared height, in
+        squared length units).
+    """
+
+    kind = "infeasible"
+
+    def __init__(self, message: str, *, margin=None, field=None, hint=None):
+        self.margin = margin
+        super().__init__(message, field=field, hint=hint)
+
+
+class DegenerateGeometryError(DistkinError, ValueError):
+    """Coincident, collinear or coplanar points where a proper simplex is needed."""
+
+    kind = "degenerate_geometry"
+
+
+class SingularConfigurationError(DistkinError, ArithmeticError):
+    """A pose at (or numerically at) a singularity where a regular one is required."""
+
+    kind = "singular_configuration"
+
+
+class UncertifiedError(DistkinError, ArithmeticError):
+    """A certified computation could not decide the question at the precision allowed."""
+
+    kind = "uncertified"
+
+
+class LinkError(DistkinError, OSError):
+    """Serial-link failure: cannot open, disconnected, or the peer stopped answering."""
+
+    kind = "link"
+
+
+def is_input_error(exc: BaseException) -> bool:
+    """True for errors caused by the user's data (CLI exit code 2)."""
+    return isinstance(exc, (InputError, InfeasibleError, DegenerateGeometryError,
+                            SingularConfigurationError, UncertifiedError))

@@ -1,0 +1,13 @@
+"""Distance geometry: Cayley-Menger determinants, trilateration, poses."""
+
+from .cayley_menger import (cayley_menger, parse_label, squared_distances,
+                            tetrahedron_volume_squared, triangle_area_squared)
+from .trilateration import trilaterate, trilaterate_both, trilateration_parts
+
+__all__ = [
+    # Cayley-Menger determinants (Rojas et al., eq. (1))
+    "cayley_menger", "squared_distances", "triangle_area_squared",
+    "tetrahedron_volume_squared", "parse_label",
+    # trilateration (Thomas & Ros 2005)
+    "trilaterate", "trilaterate_both", "trilateration_parts",
+]

@@ -1,0 +1,298 @@
+r"""Cayley-Menger determinants with 1-based point labels.
+
+Notation of Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*
+(ICRA 2012), eq. (1):
+
+.. math::
+
+    D(i_1,\dots,i_n; j_1,\dots,j_n) =
+    \begin{vmatrix} 0 & 1 & \cdots & 1 \\
+                    1 & s_{i_1 j_1} & \cdots & s_{i_1 j_n} \\
+                    \vdots & & \ddots & \vdots \\
+                    1 & s_{i_n j_1} & \cdots & s_{i_n j_n} \end{vmatrix},
+    \qquad D(i_1,\dots,i_n) = D(i_1,\dots,i_n; i_1,\dots,i_n)
+
+where :math:`s_{ij}` is the squared distance between :math:`P_i` and :math:`P_j`.
+
+Sign conventions (the raw bordered determinant, exactly as displayed above):
+
+* two points: :math:`D(i,j) = -2 s_{ij}` (never positive);
+* three points: :math:`D(i,j,k) = -16 A_{ijk}^2` (never positive for a real triangle);
+* four points: :math:`D(i,j,k,l) = 288 V_{ijkl}^2` (never negative for a real tetrahedron);
+* five points in 3-D: :math:`D = 0`.
+
+The paper's eq. (3) writes :math:`A_{ijk} = \tfrac14 D(i,j,k)` and
+:math:`V_{ijkl} = \tfrac16\sqrt{D(i,j,k,l)}`; those use the normalised determinant of
+Porta, Ros and Thomas (ref. [1] there), which is :math:`(-1)^n D / 2^{n-1}` of the raw one.
+:func:`triangle_area_squared` and :func:`tetrahedron_volume_squared` return the true
+squared area and volume whatever the convention.
+
+The result has the number type of the input: a sympy expression, ``float`` (numpy,
+batched over leading axes), ``mpmath.mpf``, ``flint.fmpq``, ``flint.arb``, or
+``fractions.Fraction`` for plain ints and Fractions.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from fractions import Fraction
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = [
+    "cayley_menger",
+    "squared_distances",
+    "triangle_area_squared",
+    "tetrahedron_volume_squared",
+    "parse_label",
+]
+
+
+def _kind_of(values) -> str:
+    kinds = set()
+    for v in values:
+        t = type(v)
+        name = t.__name__
+        mod = t.__module__ or ""
+        if mod.startswith("sympy"):
+            kinds.add("sympy")
+        elif name == "arb":
+            kinds.add("arb")
+        elif name in ("fmpq", "fmpz"):
+            kinds.add("fmpq")
+        elif name == "mpf" or mod.startswith("mpmath"):
+            kinds.add("mpf")
+        elif isinstance(v, (bool, np.bool_)):
+            raise InputError(f"expected squared distances as numbers, got {v!r}")
+        elif isinstance(v, (int, Fraction, np.integer)):
+            kinds.add("exact")
+        elif isinstance(v, (float, np.floating)):
+            kinds.add("float")
+        else:
+            raise InputError(f"expected squared distances as numbers, got {name} {v!r}")
+    for k in ("sympy", "arb", "mpf", "fmpq", "float", "exact"):
+        if k in kinds:
+            if k == "fmpq" and "float" in kinds:
+                return "float"
+            return k
+    return "exact"
+
+
+def _accessor(sq):
+    """Return (s(i, j) with 1-based labels, number of points or None, kind)."""
+    if isinstance(sq, Mapping):
+        table = {}
+        for key, val in sq.items():
+            if (not isinstance(key, tuple) or len(key) != 2
+                    or not all(isinstance(k, int) and k >= 1 for k in key)):
+                raise InputError(f"expected keys (i, j) with 1-based integer labels, got {key!r}",
+                                 field="sq")
+            table[key] = val
+            table[key[::-1]] = val
+
+        def s(i, j):
+            if i == j:
+                return 0
+            try:
+                return table[(i, j)]
+            except KeyError:
+                raise InputError(f"squared distance s({i},{j}) is missing from the mapping",
+                                 field="sq") from None
+
+        return s, None, _kind_of(table.values())
+    mod = type(sq).__module__ or ""
+    if mod.startswith("sympy"):
+        if sq.rows != sq.cols:
+            raise InputError(f"expected a square matrix, got shape {sq.shape}", field="sq")
+        return (lambda i, j: sq[i - 1, j - 1]), sq.rows, "sympy"
+    arr = np.asarray(sq, dtype=object) if not isinstance(sq, np.ndarray) else sq
+    if arr.ndim < 2 or arr.shape[-1] != arr.shape[-2]:
+        raise InputError(f"expected a square array of squared distances, got shape {arr.shape}",
+                         field="sq")
+    if arr.dtype != object:
+        if not np.issubdtype(arr.dtype, np.number):
+            raise InputError(f"expected numeric squared distances, got dtype {arr.dtype}",
+                             field="sq")
+        kind = "float" if np.issubdtype(arr.dtype, np.floating) else "exact"
+        if kind == "float":
+            return (lambda i, j: arr[..., i - 1, j - 1]), arr.shape[-1], "float"
+        arr = arr.astype(object)
+    if arr.ndim != 2:
+        raise InputError(f"expected one square array (n, n) of exact values, got shape {arr.shape}",
+                         field="sq")
+    kind = _kind_of(arr.ravel().tolist())
+    if kind == "float":
+        arr = arr.astype(float)
+        return (lambda i, j: arr[i - 1, j - 1]), arr.shape[-1], "float"
+    return (lambda i, j: arr[i - 1, j - 1]), arr.shape[0], kind
+
+
+def parse_label(text: str):
+    """Parse ``"D(5,4,1,2;5,4,1,6)"`` or ``"5,4,1,2"`` into (rows, cols).
+
+    Raises :class:`InputError` quoting the text on any fault.
+    """
+    t = str(text).strip()
+    if t.startswith("D(") and t.endswith(")"):
+        t = t[2:-1]
+    parts = t.split(";")
+    try:
+        groups = [tuple(int(x) for x in p.split(",")) for p in parts]
+    except ValueError:
+        raise InputError(f"expected a determinant like 'D(1,2,3,4)' or 'D(5,4,1,2;5,4,1,6)', "
+                         f"got {text!r}") from None
+    if len(groups) > 2 or any(len(g) == 0 for g in groups):
+        raise InputError(f"expected one or two label lists, got {text!r}")
+    rows = groups[0]
+    cols = groups[1] if len(groups) == 2 else None
+    return rows, cols
+
+
+def _check_labels(rows, cols, n):
+    for name, labels in (("rows", rows), ("cols", cols)):
+        for lab in labels:
+            if not isinstance(lab, (int, np.integer)) or isinstance(lab, bool) or lab < 1:
+                raise InputError(f"expected 1-based integer point labels, got {lab!r} in {name}")
+            if n is not None and lab > n:
+                raise InputError(f"label {lab} is out of range: the source has {n} points "
+                                 f"(labels 1..{n})")
+    if len(rows) != len(cols):
+        raise InputError(f"expected as many row labels as column labels, got {len(rows)} "
+                         f"and {len(cols)}")
+    if len(rows) < 1:
+        raise InputError("expected at least one label")
+
+
+def cayley_menger(sq, rows, cols=None):
+    r"""The Cayley-Menger (bi)determinant :math:`D(\text{rows}; \text{cols})`.
+
+    Rojas, Borràs, Thomas, *The Octahedral Manipulator Revisited*, eq. (1) notation.
+
+    Parameters
+    ----------
+    sq : array_like (..., n, n), sympy.Matrix, or mapping {(i, j): s_ij}
+        Squared distances, indexed by 1-based labels (label ``i`` is row ``i - 1``).
+        A float array may carry leading batch axes; the determinant is batched.
+    rows : sequence of int
+        1-based labels :math:`i_1, \dots, i_k`.
+    cols : sequence of int, optional
+        1-based labels :math:`j_1, \dots, j_k`; defaults to ``rows``.
+
+    Returns
+    -------
+    number
+        Of the input's type (see the module docstring); a float array of the batch
+        shape for batched float input.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> P = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
+    >>> round(float(cayley_menger(squared_distances(P), (1, 2, 3, 4))) / 288, 12)  # V^2 = 1/36
+    0.027777777778
+    """
+    s, n, kind = _accessor(sq)
+    rows = tuple(rows)
+    cols = rows if cols is None else tuple(cols)
+    _check_labels(rows, cols, n)
+    k = len(rows)
+    if kind == "float":
+        probe = s(rows[0], cols[0])
+        batch = np.shape(probe)
+        M = np.empty(batch + (k + 1, k + 1))
+        M[..., 0, 0] = 0.0
+        M[..., 0, 1:] = 1.0
+        M[..., 1:, 0] = 1.0
+        for a, i in enumerate(rows):
+            for b, j in enumerate(cols):
+                M[..., a + 1, b + 1] = 0.0 if i == j else s(i, j)
+        d = np.linalg.det(M)
+        return float(d) if d.ndim == 0 else d
+    entries = [[0] + [1] * k]
+    for i in rows:
+        entries.append([1] + [0 if i == j else s(i, j) for j in cols])
+    if kind == "sympy":
+        import sympy
+        return sympy.expand(sympy.Matrix(entries).det(method="berkowitz"))
+    if kind == "mpf":
+        import mpmath
+        return mpmath.det(mpmath.matrix(entries))
+    import flint
+    flat = [x for row in entries for x in row]
+    if kind == "arb":
+        return flint.arb_mat(k + 1, k + 1, [flint.arb(x) if type(x).__name__ != "arb" else x
+                                            for x in _to_flint_list(flat)]).det()
+    det = flint.fmpq_mat(k + 1, k + 1, _to_flint_list(flat)).det()
+    if kind == "exact":
+        return Fraction(int(det.p), int(det.q))
+    return det
+
+
+def _to_flint_list(flat):
+    import flint
+    out = []
+    for x in flat:
+        if isinstance(x, Fraction):
+            out.append(flint.fmpq(x.numerator, x.denominator))
+        elif isinstance(x, (int, np.integer)):
+            out.append(flint.fmpq(int(x)))
+        else:
+            out.append(x)
+    return out
+
+
+def squared_distances(points):
+    """The (n, n) matrix of squared distances of n points.
+
+    Parameters
+    ----------
+    points : array_like (..., n, dim), or a sequence of n points of exact or symbolic
+        coordinates (ints, Fractions, fmpq, arb, mpf or sympy expressions).
+
+    Returns
+    -------
+    numpy.ndarray (..., n, n) for float input; a sympy Matrix for sympy input;
+    a (n, n) object array otherwise (entries of the coordinates' type).
+    """
+    arr = np.asarray(points, dtype=object) if not isinstance(points, np.ndarray) else points
+    if arr.ndim < 2:
+        raise InputError(f"expected points of shape (n, dim), got shape {np.shape(points)}",
+                         field="points")
+    if arr.dtype != object and np.issubdtype(arr.dtype, np.floating):
+        diff = arr[..., :, None, :] - arr[..., None, :, :]
+        return np.einsum("...k,...k->...", diff, diff)
+    flat = arr.ravel().tolist()
+    kind = _kind_of(flat)
+    if kind == "float":
+        return squared_distances(arr.astype(float))
+    n = arr.shape[0]
+    if arr.ndim != 2:
+        raise InputError(f"expected one point set (n, dim) of exact values, got shape {arr.shape}",
+                         field="points")
+    if kind == "exact":
+        arr = np.vectorize(Fraction, otypes=[object])(arr)
+    out = np.empty((n, n), dtype=object)
+    for i in range(n):
+        out[i, i] = 0 if kind != "sympy" else __import__("sympy").Integer(0)
+        for j in range(i + 1, n):
+            d = [arr[i, c] - arr[j, c] for c in range(arr.shape[1])]
+            v = d[0] * d[0]
+            for x in d[1:]:
+                v = v + x * x
+            out[i, j] = out[j, i] = v
+    if kind == "sympy":
+        import sympy
+        return sympy.Matrix(out.tolist())
+    return out
+
+
+def triangle_area_squared(sq, i: int, j: int, k: int):
+    r"""Squared area of the triangle :math:`P_iP_jP_k`: :math:`A^2 = -D(i,j,k)/16`."""
+    return -cayley_menger(sq, (i, j, k)) / 16
+
+
+def tetrahedron_volume_squared(sq, i: int, j: int, k: int, l: int):
+    r"""Squared volume of the tetrahedron :math:`P_iP_jP_kP_l`: :math:`V^2 = D(i,j,k,l)/288`."""
+    return cayley_menger(sq, (i, j, k, l)) / 288

@@ -1,0 +1,359 @@
+"""Exact numbers from scene text, and the three arithmetic tiers.
+
+A scene value written as a string is parsed *exactly*: ``"19.8"`` is 99/5,
+``"sqrt(108)"`` is 6*sqrt(3), ``"12/5"`` is 12/5.  An integer is exact.  A bare
+float is taken as its exact binary value and flagged (:class:`Exact.from_float`).
+
+The tiers (DESIGN.md §3):
+
+``fast``
+    float64 (numpy, generated kernels).
+``precise``
+    mpmath at ``dps`` decimal digits.
+``certified``
+    python-flint: exact ``fmpq`` where the data are rational, ``arb`` balls otherwise.
+
+Parsing uses :mod:`ast`, not ``eval``; sympy is imported only when an irrational
+value (``sqrt``, ``pi``) or a symbol is met, so ``import distkin`` stays light.
+"""
+
+from __future__ import annotations
+
+import ast
+import math
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any
+
+from .errors import InputError
+
+__all__ = [
+    "METHODS",
+    "Exact",
+    "parse_exact",
+    "parse_vector",
+    "check_method",
+    "to_fraction",
+    "to_fmpq",
+    "to_tier",
+    "to_sympy",
+    "sympy_to_arb",
+    "default_dps",
+]
+
+#: the arithmetic tiers every numeric entry point accepts
+METHODS = ("fast", "precise", "certified")
+
+_FUNCS = {"sqrt", "cbrt", "pi"}
+
+
+def default_dps(dps: int | None) -> int:
+    """The decimal precision of the ``precise`` tier (30 when not given)."""
+    if dps is None:
+        return 30
+    if not isinstance(dps, int) or isinstance(dps, bool) or dps < 5:
+        raise InputError(f"expected dps as an integer >= 5, got {dps!r}", field="dps")
+    return dps
+
+
+def check_method(method: str, *, allowed=METHODS, field: str = "method") -> str:
+    """Validate a tier name; raises :class:`InputError` naming the choices."""
+    if method not in allowed:
+        raise InputError(f"expected one of {', '.join(map(repr, allowed))}, got {method!r}",
+                         field=field)
+    return method
+
+
+@dataclass(frozen=True)
+class Exact:
+    """An exactly known real number.
+
+    Attributes
+    ----------
+    value : fractions.Fraction or sympy.Expr
+        A :class:`~fractions.Fraction` when rational, else a sympy expression.
+    text : str
+        What the user wrote (for messages and reports).
+    from_float : bool
+        True when the value was a bare float taken as its exact binary value.
+    """
+
+    value: Any
+    text: str
+    from_float: bool = False
+
+    @property
+    def is_rational(self) -> bool:
+        return isinstance(self.value, Fraction)
+
+    def __float__(self) -> float:
+        return float(self.value)
+
+    def __str__(self) -> str:
+        v = self.value
+        if isinstance(v, Fraction):
+            return str(v.numerator) if v.denominator == 1 else f"{v.numerator}/{v.denominator}"
+        return str(v)
+
+
+class _Irrational(Exception):
+    """Internal: the expression needs sympy."""
+
+
+def _eval_rational(node):
+    """Evaluate an AST of + - * / ** over integers and decimals, exactly."""
+    if isinstance(node, ast.Expression):
+        return _eval_rational(node.body)
+    if isinstance(node, ast.Constant):
+        if isinstance(node.value, bool) or not isinstance(node.value, (int, float)):
+            raise ValueError("not a number")
+        if isinstance(node.value, float):
+            # the literal text is handled by the caller (Fraction(str)), see _literal
+            raise _Irrational()
+        return Fraction(node.value)
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.UAdd, ast.USub)):
+        v = _eval_rational(node.operand)
+        return v if isinstance(node.op, ast.UAdd) else -v
+    if isinstance(node, ast.BinOp):
+        a, b = _eval_rational(node.left), _eval_rational(node.right)
+        if isinstance(node.op, ast.Add):
+            return a + b
+        if isinstance(node.op, ast.Sub):
+            return a - b
+        if isinstance(node.op, ast.Mult):
+            return a * b
+        if isinstance(node.op, ast.Div):
+            if b == 0:
+                raise ZeroDivisionError
+            return a / b
+        if isinstance(node.op, ast.Pow):
+            if b.denominator != 1 or abs(b) > 64:
+                raise _Irrational()
+            if a == 0 and b < 0:
+                raise ZeroDivisionError
+            return a ** int(b)
+    if isinstance(node, (ast.Call, ast.Name)):
+        raise _Irrational()
+    raise ValueError("unsupported syntax")
+
+
+def _check_names(tree, allow_symbols: bool):
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call):
+            if not isinstance(node.func, ast.Name) or node.func.id not in _FUNCS or node.keywords:
+                raise ValueError("only sqrt(...), cbrt(...) and pi are allowed")
+        elif isinstance(node, ast.Name):
+            if node.id not in _FUNCS and not allow_symbols:
+                raise ValueError(f"unknown name {node.id!r}")
+        elif isinstance(node, (ast.Attribute, ast.Subscript, ast.Lambda, ast.Compare,
+                               ast.BoolOp, ast.IfExp, ast.List, ast.Tuple, ast.Dict)):
+            raise ValueError("unsupported syntax")
+
+
+def _sympy_from_text(text: str, allow_symbols: bool):
+    import sympy
+    # decimals are exact: "19.8" -> 99/5, never a binary float
+    return sympy.sympify(text, rational=True, locals={"sqrt": sympy.sqrt,
+                                                      "cbrt": sympy.cbrt, "pi": sympy.pi})
+
+
+def parse_exact(value, field: str = "value", *, allow_symbols: bool = False) -> Exact:
+    """Parse one scene value exactly.
+
+    Parameters
+    ----------
+    value : str, int, float, Fraction
+        ``"19.8"``, ``"sqrt(108)"``, ``"12/5"``, ``"-3e-2"``, ``7`` or ``0.1``.
+    field : str
+        The scene field the value comes from; named in any error.
+    allow_symbols : bool
+        Accept free names such as ``"Delta1"`` (returned as sympy symbols).
+
+    Returns
+    -------
+    Exact
+
+    Raises
+    ------
+    InputError
+        Unparsable text, a non-finite float, or a value of the wrong type; the message
+        quotes the offending text and names ``field``.
+
+    Examples
+    --------
+    >>> parse_exact("19.8").value
+    Fraction(99, 5)
+    >>> str(parse_exact("12/5"))
+    '12/5'
+    """
+    if isinstance(value, bool):
+        raise InputError(f"expected a number, got the boolean {value!r}", field=field)
+    if isinstance(value, Fraction):
+        return Exact(value, str(value))
+    if isinstance(value, int):
+        return Exact(Fraction(value), str(value))
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            raise InputError(f"expected a finite number, got {value!r}", field=field)
+        return Exact(Fraction(value), repr(value), from_float=True)
+    if not isinstance(value, str):
+        raise InputError(f"expected a number or a numeric string, got {type(value).__name__} "
+                         f"{value!r}", field=field)
+    text = value.strip()
+    if not text:
+        raise InputError("expected a number, got an empty string", field=field)
+    try:
+        tree = ast.parse(text.replace("^", "**"), mode="eval")
+        _check_names(tree, allow_symbols)
+    except (SyntaxError, ValueError) as exc:
+        raise InputError(f"cannot parse {value!r} as an exact number ({exc})", field=field,
+                         hint='write e.g. "19.8", "12/5" or "sqrt(108)"') from None
+    try:
+        # plain decimal literal: Fraction parses "19.8" and "1e-3" exactly
+        return Exact(Fraction(text), text)
+    except (ValueError, ZeroDivisionError):
+        pass
+    try:
+        return Exact(_eval_rational(tree), text)
+    except ZeroDivisionError:
+        raise InputError(f"division by zero in {value!r}", field=field) from None
+    except ValueError as exc:
+        raise InputError(f"cannot parse {value!r} as an exact number ({exc})", field=field) from None
+    except _Irrational:
+        pass
+    try:
+        expr = _sympy_from_text(text.replace("^", "**"), allow_symbols)
+    except Exception as exc:  # sympy raises many types on bad text
+        raise InputError(f"cannot parse {value!r} as an exact number ({exc})", field=field) from None
+    if expr.has(__import__("sympy").zoo, __import__("sympy").nan):
+        raise InputError(f"{value!r} is not a finite number", field=field)
+    if expr.is_Rational:
+        return Exact(Fraction(int(expr.p), int(expr.q)), text)
+    if not allow_symbols and expr.free_symbols:
+        raise InputError(f"expected a number, got symbols in {value!r}", field=field)
+    if not expr.free_symbols and expr.is_real is False:
+        raise InputError(f"expected a real number, got {value!r} = {expr}", field=field)
+    return Exact(expr, text)
+
+
+def parse_vector(values, field: str, *, length: int | None = None,
+                 allow_symbols: bool = False) -> tuple[Exact, ...]:
+    """Parse a list of scene values; errors name the element (``field[3]``)."""
+    if not isinstance(values, (list, tuple)):
+        raise InputError(f"expected a list of {length or 'some'} numbers, got "
+                         f"{type(values).__name__} {values!r}", field=field)
+    if length is not None and len(values) != length:
+        raise InputError(f"expected {length} values, got {len(values)}", field=field)
+    return tuple(parse_exact(v, f"{field}[{i}]", allow_symbols=allow_symbols)
+                 for i, v in enumerate(values))
+
+
+def to_fraction(x) -> Fraction:
+    """Exact rational value of an :class:`Exact`, int, Fraction, float, fmpq or sympy Rational."""
+    if isinstance(x, Exact):
+        x = x.value
+    if isinstance(x, Fraction):
+        return x
+    if isinstance(x, bool):
+        raise InputError(f"expected a rational number, got {x!r}")
+    if isinstance(x, int):
+        return Fraction(x)
+    if isinstance(x, float):
+        if not math.isfinite(x):
+            raise InputError(f"expected a finite number, got {x!r}")
+        return Fraction(x)
+    tname = type(x).__name__
+    if tname == "fmpq":
+        return Fraction(int(x.p), int(x.q))
+    if tname == "fmpz":
+        return Fraction(int(x))
+    if getattr(x, "is_Rational", False):
+        return Fraction(int(x.p), int(x.q))
+    raise InputError(f"expected an exactly rational number, got {tname} {x!r}",
+                     hint="the certified tier needs rational data, or a value sympy can enclose")
+
+
+def to_fmpq(x):
+    """Exact :class:`flint.fmpq` of a rational value (see :func:`to_fraction`)."""
+    import flint
+    f = to_fraction(x)
+    return flint.fmpq(f.numerator, f.denominator)
+
+
+def to_sympy(x):
+    """sympy number of an :class:`Exact` (or a plain number)."""
+    import sympy
+    if isinstance(x, Exact):
+        x = x.value
+    if isinstance(x, Fraction):
+        return sympy.Rational(x.numerator, x.denominator)
+    if isinstance(x, float):
+        f = Fraction(x)
+        return sympy.Rational(f.numerator, f.denominator)
+    return sympy.sympify(x)
+
+
+def sympy_to_arb(expr):
+    """A certified :class:`flint.arb` enclosure of a constant sympy expression.
+
+    Walks ``Add``, ``Mul``, ``Pow`` (integer and rational exponents), rationals and
+    ``pi``; anything else raises :class:`InputError`, because it cannot be enclosed
+    with certainty here.
+    """
+    import flint
+    import sympy
+    if expr.is_Rational:
+        return flint.arb(flint.fmpq(int(expr.p), int(expr.q)))
+    if expr is sympy.pi:
+        return flint.arb.pi()
+    if expr.is_Add:
+        out = flint.arb(0)
+        for a in expr.args:
+            out += sympy_to_arb(a)
+        return out
+    if expr.is_Mul:
+        out = flint.arb(1)
+        for a in expr.args:
+            out *= sympy_to_arb(a)
+        return out
+    if expr.is_Pow:
+        base, ex = expr.args
+        b = sympy_to_arb(base)
+        if ex.is_Integer:
+            return b ** int(ex)
+        if ex.is_Rational:
+            p, q = int(ex.p), int(ex.q)
+            r = b.sqrt() if q == 2 else b.root(q)
+            return r ** p
+    raise InputError(f"cannot enclose {expr} with certainty",
+                     hint="use rationals, sqrt(...) or pi")
+
+
+def to_tier(x, method: str, dps: int | None = None):
+    """Convert an exact or plain value to the number type of a tier.
+
+    ``fast`` -> float; ``precise`` -> ``mpmath.mpf`` (at the current mp.dps);
+    ``certified`` -> ``flint.fmpq`` when rational, else ``flint.arb``.
+    """
+    value = x.value if isinstance(x, Exact) else x
+    if method == "fast":
+        return float(value)
+    if method == "precise":
+        import mpmath
+        if isinstance(value, Fraction):
+            return mpmath.mpf(value.numerator) / value.denominator
+        if isinstance(value, (int, float)):
+            return mpmath.mpf(value)
+        if type(value).__name__ == "fmpq":
+            return mpmath.mpf(int(value.p)) / int(value.q)
+        return mpmath.mpf(value.evalf(mpmath.mp.dps + 5))
+    if method == "certified":
+        if isinstance(value, (Fraction, int, float)) or type(value).__name__ in ("fmpq", "fmpz"):
+            return to_fmpq(value)
+        if type(value).__name__ == "arb":
+            return value
+        if getattr(value, "is_Rational", False):
+            return to_fmpq(value)
+        return sympy_to_arb(value)
+    raise InputError(f"expected one of {', '.join(map(repr, METHODS))}, got {method!r}",
+                     field="method")

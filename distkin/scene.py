@@ -1,0 +1,222 @@
+"""Scene files: one mechanism and a list of queries, loaded into frozen objects.
+
+The format is DESIGN.md §4::
+
+    [units]                     # optional; the engine works in SI
+    length = "mm"               # m (default) | mm | cm | km | none (unitless)
+    angle = "deg"               # rad (default) | deg
+
+    [mechanism]
+    kind = "octahedral"
+    base = [[0,0,0], [6,"sqrt(108)",0], [12,0,0]]
+    platform = [[0,0,0], [6,0,0], [3,"sqrt(27)",0]]
+
+    [[query]]
+    type = "forward_kinematics"
+    legs = ["19.8", "18", "18", "17", "14.9", "17.8"]
+
+Mechanism kinds and query types are registered by the modules that implement them
+(:data:`MECHANISM_PARSERS` and :mod:`distkin.queries`); modules are imported only when
+a scene names them ("model only what a scene requires").  Every query is parsed and
+validated at load time, so a bad field is reported before any work starts.
+"""
+
+from __future__ import annotations
+
+import importlib
+import tomllib
+from dataclasses import dataclass, field
+from fractions import Fraction
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any
+
+from .argcheck import as_table, check_keys, exact_matrix, require
+from .errors import DistkinError, InputError
+
+__all__ = [
+    "Units",
+    "PointSet",
+    "Octahedral",
+    "Query",
+    "Scene",
+    "MECHANISM_PARSERS",
+    "load_scene",
+    "loads_scene",
+]
+
+_LENGTH = {"m": Fraction(1), "mm": Fraction(1, 1000), "cm": Fraction(1, 100),
+           "km": Fraction(1000), "none": None}
+_ANGLE = {"rad": None, "deg": "deg"}
+
+
+@dataclass(frozen=True)
+class Units:
+    """Units a scene is written in; values are converted to SI when parsed.
+
+    ``length_factor`` is the exact factor to metres (``None`` for unitless scenes).
+    """
+
+    length: str = "m"
+    angle: str = "rad"
+
+    @property
+    def length_factor(self) -> Fraction | None:
+        return _LENGTH[self.length]
+
+    @property
+    def length_label(self) -> str:
+        return "" if self.length == "none" else "m"
+
+
+@dataclass(frozen=True)
+class PointSet:
+    """``kind = "points"``: a labelled point set (label i = row i - 1)."""
+
+    points: tuple
+
+    kind = "points"
+
+
+@dataclass(frozen=True)
+class Octahedral:
+    """``kind = "octahedral"``: base P1 P2 P3 and platform P4 P5 P6 (Rojas et al., Fig. 4).
+
+    ``base`` holds P1, P2, P3 in base coordinates; ``platform`` holds P4, P5, P6 in the
+    platform frame.  Entries are :class:`~distkin.numbers.Exact`.
+    """
+
+    base: tuple
+    platform: tuple
+
+    kind = "octahedral"
+
+
+def _parse_points(table, units, fld):
+    check_keys(table, {"kind", "points"}, fld)
+    pts = exact_matrix(require(table, "points", fld), f"{fld}.points", cols=None)
+    if len(pts) < 1:
+        raise InputError("expected at least one point", field=f"{fld}.points")
+    dims = {len(p) for p in pts}
+    if len(dims) != 1:
+        raise InputError(f"expected points of one dimension, got dimensions {sorted(dims)}",
+                         field=f"{fld}.points")
+    return PointSet(pts)
+
+
+def _parse_octahedral(table, units, fld):
+    check_keys(table, {"kind", "base", "platform"}, fld)
+    base = exact_matrix(require(table, "base", fld), f"{fld}.base", rows=3, cols=3)
+    plat = exact_matrix(require(table, "platform", fld), f"{fld}.platform", rows=3, cols=3)
+    return Octahedral(base, plat)
+
+
+#: mechanism kind -> "module:function" parsing its table (lazily imported)
+MECHANISM_PARSERS = {
+    "points": "distkin.scene:_parse_points",
+    "octahedral": "distkin.scene:_parse_octahedral",
+}
+
+
+def _load_callable(spec: str):
+    mod, _, name = spec.partition(":")
+    return getattr(importlib.import_module(mod), name)
+
+
+@dataclass(frozen=True)
+class Query:
+    """One ``[[query]]`` table: its type, its validated parameters and its position."""
+
+    index: int
+    type: str
+    params: Any
+    table: MappingProxyType = field(repr=False)
+
+    @property
+    def field(self) -> str:
+        return f"query[{self.index}]"
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A loaded scene: units, mechanism and validated queries (immutable)."""
+
+    path: str
+    units: Units
+    mechanism: Any
+    mechanism_table: MappingProxyType
+    queries: tuple
+
+
+def _parse_units(raw) -> Units:
+    if raw is None:
+        return Units()
+    t = as_table(raw, "units")
+    check_keys(t, {"length", "angle"}, "units")
+    length = t.get("length", "m")
+    angle = t.get("angle", "rad")
+    if length not in _LENGTH:
+        raise InputError(f"expected one of {', '.join(map(repr, _LENGTH))}, got {length!r}",
+                         field="units.length")
+    if angle not in _ANGLE:
+        raise InputError(f"expected 'rad' or 'deg', got {angle!r}", field="units.angle")
+    return Units(length, angle)
+
+
+def loads_scene(text: str, path: str = "<string>") -> Scene:
+    """Load a scene from TOML text; see :func:`load_scene`."""
+    from . import queries as registry
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"expected valid TOML, got a syntax error: {exc}", field=path) from None
+    check_keys(data, {"units", "mechanism", "query", "title", "description"}, "scene")
+    units = _parse_units(data.get("units"))
+    mtable = as_table(require(data, "mechanism", ""), "mechanism")
+    kind = require(mtable, "kind", "mechanism")
+    if kind not in MECHANISM_PARSERS:
+        raise InputError(f"expected one of {', '.join(map(repr, MECHANISM_PARSERS))}, "
+                         f"got {kind!r}", field="mechanism.kind")
+    mechanism = _load_callable(MECHANISM_PARSERS[kind])(mtable, units, "mechanism")
+    qlist = data.get("query", [])
+    if not isinstance(qlist, list) or not qlist:
+        raise InputError("expected at least one [[query]] table", field="query")
+    parsed = []
+    for i, q in enumerate(qlist):
+        fld = f"query[{i}]"
+        q = as_table(q, fld)
+        qtype = require(q, "type", fld)
+        spec = registry.get(qtype, field=f"{fld}.type")
+        if spec.mechanisms and kind not in spec.mechanisms:
+            raise InputError(f"query type {qtype!r} needs a mechanism of kind "
+                             f"{' or '.join(map(repr, spec.mechanisms))}, got {kind!r}",
+                             field=f"{fld}.type")
+        try:
+            params = spec.parse(q, mechanism, units, fld)
+        except DistkinError as exc:
+            if exc.field is None:
+                exc.with_field(fld)
+            raise
+        parsed.append(Query(i, qtype, params, MappingProxyType(dict(q))))
+    return Scene(str(path), units, mechanism, MappingProxyType(dict(mtable)), tuple(parsed))
+
+
+def load_scene(path) -> Scene:
+    """Load and validate a TOML scene file.
+
+    Raises
+    ------
+    InputError
+        Missing file, invalid TOML, unknown mechanism kind or query type, missing
+        fields, wrong shapes, malformed numbers.  The error's ``field`` names the place
+        (``mechanism.base[1][2]``, ``query[0].legs``, ...).
+    """
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(f"expected a scene file, got a path that does not exist: {str(p)!r}",
+                         field="scene") from None
+    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot read scene file {str(p)!r}: {exc}", field="scene") from None
+    return loads_scene(text, str(p))

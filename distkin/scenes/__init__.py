@@ -1,0 +1,3 @@
+"""Built-in scenes run by ``distkin demo`` (package data)."""
+
+__all__: list = []
