@@ -1,0 +1,1 @@
+"""distkin benchmarks: ``python -m benchmarks [NAME ...]`` (see ``__main__``)."""

@@ -1,0 +1,86 @@
+"""``python -m benchmarks [NAME ...]``: run benchmark modules, update BENCHMARKS.md.
+
+Every module ``benchmarks/bench_NAME.py`` defines ``TITLE`` (str), ``DEFAULT`` (bool:
+part of the default run?) and ``run() -> (markdown: str, data: dict)``.  Each run
+rewrites its own section of ``BENCHMARKS.md`` (between ``<!-- begin NAME -->`` and
+``<!-- end NAME -->``) with the machine, the versions and the command, and the raw
+numbers go to ``benchmarks/results.json``.  Modules with ``DEFAULT = False`` say so in
+the file and run only when named.
+"""
+
+from __future__ import annotations
+
+import importlib
+import json
+import pkgutil
+import re
+import sys
+import time
+from pathlib import Path
+
+from .harness import machine
+
+ROOT = Path(__file__).resolve().parent.parent
+MD = ROOT / "BENCHMARKS.md"
+JSON = Path(__file__).resolve().parent / "results.json"
+
+_HEAD = """# distkin benchmarks
+
+Written by `python -m benchmarks [NAME ...]` (each section by its own module,
+`benchmarks/bench_NAME.py`). Timings are medians of interleaved rounds in one process,
+quoted as ratios against a named baseline; raw numbers are in `benchmarks/results.json`.
+Timings never appear in tests.
+"""
+
+
+def modules() -> list[str]:
+    pkg = Path(__file__).resolve().parent
+    return sorted(m.name[len("bench_"):] for m in pkgutil.iter_modules([str(pkg)])
+                  if m.name.startswith("bench_"))
+
+
+def _write_section(name: str, text: str) -> None:
+    md = MD.read_text(encoding="utf-8") if MD.exists() else _HEAD
+    block = f"<!-- begin {name} -->\n{text.rstrip()}\n<!-- end {name} -->"
+    pat = re.compile(rf"<!-- begin {re.escape(name)} -->.*?<!-- end {re.escape(name)} -->", re.S)
+    md = pat.sub(lambda _: block, md) if pat.search(md) else md.rstrip() + "\n\n" + block + "\n"
+    MD.write_text(md, encoding="utf-8")
+
+
+def main(argv=None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    names = argv or None
+    available = modules()
+    if names:
+        bad = [n for n in names if n not in available]
+        if bad:
+            print(f"benchmarks: unknown {bad}; expected some of {available}", file=sys.stderr)
+            return 2
+    results = json.loads(JSON.read_text()) if JSON.exists() else {}
+    info = machine()
+    for name in available:
+        mod = importlib.import_module(f"benchmarks.bench_{name}")
+        if names is None and not getattr(mod, "DEFAULT", True):
+            print(f"[{name}] left out of the default run (run: python -m benchmarks {name})")
+            continue
+        if names is not None and name not in names:
+            continue
+        print(f"[{name}] {mod.TITLE} ...", flush=True)
+        t0 = time.perf_counter()
+        text, data = mod.run()
+        wall = time.perf_counter() - t0
+        head = (f"## {mod.TITLE}\n\nCommand: `python -m benchmarks {name}` · "
+                f"{info['processor']}, {info['cpu_count']} cores, Python {info['python']}, "
+                f"numpy {info['numpy']}, sympy {info['sympy']}, python-flint "
+                f"{info['python-flint']} · {time.strftime('%Y-%m-%d')} · {wall:.1f} s"
+                + ("" if getattr(mod, "DEFAULT", True) else
+                   " · not in the default run") + "\n\n")
+        _write_section(name, head + text)
+        results[name] = {"machine": info, "seconds": wall, "data": data}
+        print(text)
+    JSON.write_text(json.dumps(results, indent=2, default=str) + "\n", encoding="utf-8")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

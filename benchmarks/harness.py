@@ -1,0 +1,78 @@
+"""Shared tools of the benchmark modules: interleaved timing, medians and ratios.
+
+Competitors run side by side in one process, interleaved round by round, so that a
+slow moment of the machine hits them all alike; we quote medians and ratios.
+"""
+
+from __future__ import annotations
+
+import gc
+import platform
+import statistics
+import sys
+import time
+
+__all__ = ["interleaved", "ratio_table", "machine", "fmt_time"]
+
+
+def interleaved(competitors: dict, *, rounds: int = 15, number: int = 1, warmup: int = 1):
+    """Time each callable ``number`` times per round, interleaved over ``rounds``.
+
+    Returns {name: median seconds per call}.
+    """
+    names = list(competitors)
+    for _ in range(warmup):
+        for n in names:
+            competitors[n]()
+    samples = {n: [] for n in names}
+    gc_was = gc.isenabled()
+    gc.disable()
+    try:
+        for _ in range(rounds):
+            for n in names:
+                f = competitors[n]
+                t0 = time.perf_counter()
+                for _ in range(number):
+                    f()
+                samples[n].append((time.perf_counter() - t0) / number)
+    finally:
+        if gc_was:
+            gc.enable()
+    return {n: statistics.median(v) for n, v in samples.items()}
+
+
+def fmt_time(seconds: float) -> str:
+    if seconds < 1e-6:
+        return f"{seconds * 1e9:.0f} ns"
+    if seconds < 1e-3:
+        return f"{seconds * 1e6:.2f} µs"
+    if seconds < 1:
+        return f"{seconds * 1e3:.2f} ms"
+    return f"{seconds:.2f} s"
+
+
+def ratio_table(medians: dict, baseline: str, *, per: str = "call") -> str:
+    """Markdown table of medians with ratios against ``baseline``."""
+    base = medians[baseline]
+    lines = [f"| competitor | median per {per} | ratio to {baseline} |", "|---|---|---|"]
+    for n, t in medians.items():
+        lines.append(f"| {n} | {fmt_time(t)} | {t / base:.3g}× |")
+    return "\n".join(lines)
+
+
+def machine() -> dict:
+    import os
+    import numpy
+    import scipy
+    import sympy
+    import mpmath
+    import flint
+    return {
+        "python": platform.python_version(),
+        "platform": platform.platform(),
+        "cpu_count": os.cpu_count(),
+        "processor": platform.processor() or platform.machine(),
+        "numpy": numpy.__version__, "scipy": scipy.__version__, "sympy": sympy.__version__,
+        "mpmath": mpmath.__version__, "python-flint": flint.__version__,
+        "argv": " ".join(sys.argv),
+    }

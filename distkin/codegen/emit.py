@@ -1,0 +1,215 @@
+"""sympy expressions -> Python source, with common-subexpression elimination.
+
+Three flavours of the same symbolic source (STYLE.md, sympy/codegen):
+
+``batched``
+    numpy; every input is an array ``(..., k)`` whose last axis is unpacked, the
+    output has shape ``(...,) + out_shape``.  For sweeps over many poses.
+``scalar``
+    plain floats and :mod:`math`; inputs are sequences, the output a nested list.
+    For the 1 kHz control loop, where numpy's per-call overhead dominates.
+``exact``
+    only ``+ - * /`` and integer powers, rationals printed as ``_Q(p, q)``
+    (``flint.fmpq``); evaluates exactly on ``fmpq`` inputs and as certified balls on
+    ``arb`` inputs.  Polynomial/rational expressions only.
+
+A module written by :func:`module_source` opens with a header naming its generator,
+the versions used and a SHA-256 of the symbolic source (``srepr`` of the kernels'
+expressions), and it imports neither sympy nor distkin.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import platform
+from dataclasses import dataclass, field
+
+__all__ = ["Kernel", "kernel_source", "module_source", "symbolic_hash", "FLAVOURS"]
+
+FLAVOURS = ("batched", "scalar", "exact")
+
+
+@dataclass(frozen=True)
+class Kernel:
+    """One generated function.
+
+    Parameters
+    ----------
+    name : str
+        The function's name.
+    inputs : tuple of (str, tuple of sympy.Symbol)
+        Arguments in order; each argument is a vector whose components are the symbols
+        (a length-1 tuple for a scalar argument, still passed as a vector).
+    output : sympy.Matrix or sequence of sympy.Expr
+        The value; a Matrix keeps its shape, a sequence is a vector.
+    flavour : {"batched", "scalar", "exact"}
+    doc : str
+        Docstring body (cite the paper and equation; state shapes and units).
+    """
+
+    name: str
+    inputs: tuple
+    output: object
+    flavour: str = "batched"
+    doc: str = ""
+    cse: bool = True
+    extra: dict = field(default_factory=dict)
+
+
+def _printers():
+    import sympy
+    from sympy.printing.numpy import NumPyPrinter
+    from sympy.printing.pycode import PythonCodePrinter
+
+    def _pow(self, expr, rational=False):
+        base, exp = expr.as_base_exp()
+        if exp.is_Integer and 2 <= int(exp) <= 4:
+            b = self.parenthesize(base, sympy.printing.precedence.PRECEDENCE["Mul"])
+            return "*".join([b] * int(exp))
+        if exp.is_Integer and int(exp) == -1:
+            b = self.parenthesize(base, sympy.printing.precedence.PRECEDENCE["Mul"])
+            return f"1.0/{b}"
+        return self._orig_pow(expr, rational=rational)
+
+    class Batched(NumPyPrinter):
+        _orig_pow = NumPyPrinter._print_Pow
+        _print_Pow = _pow
+
+    class Scalar(PythonCodePrinter):
+        _orig_pow = PythonCodePrinter._print_Pow
+        _print_Pow = _pow
+
+    class Exact(PythonCodePrinter):
+        def _print_Rational(self, expr):
+            return f"_Q({expr.p}, {expr.q})"
+
+        def _print_Integer(self, expr):
+            return str(expr.p)
+
+        def _print_Pow(self, expr, rational=False):
+            base, exp = expr.as_base_exp()
+            if not exp.is_Integer:
+                raise ValueError(f"the exact flavour takes integer powers only, got {expr}")
+            b = self.parenthesize(base, sympy.printing.precedence.PRECEDENCE["Pow"])
+            return f"{b}**{int(exp)}" if int(exp) >= 0 else f"_Q(1)/({b}**{-int(exp)})"
+
+        def _print_Float(self, expr):
+            raise ValueError(f"the exact flavour takes no floats, got {expr}")
+
+        def _print_Function(self, expr):
+            raise ValueError(f"the exact flavour takes no functions, got {expr}")
+
+    return {"batched": Batched({"fully_qualified_modules": True}),
+            "scalar": Scalar({"fully_qualified_modules": True}),
+            "exact": Exact()}
+
+
+def symbolic_hash(*exprs) -> str:
+    """SHA-256 of the ``srepr`` of expressions (the identity of a symbolic source)."""
+    import sympy
+    h = hashlib.sha256()
+    for e in exprs:
+        h.update(sympy.srepr(e).encode())
+        h.update(b"\x00")
+    return h.hexdigest()
+
+
+def _flat_output(output):
+    import sympy
+    if isinstance(output, sympy.MatrixBase):
+        return list(output), tuple(output.shape)
+    out = list(output)
+    return out, (len(out),)
+
+
+def kernel_source(k: Kernel) -> str:
+    """The source text of one function."""
+    import sympy
+    if k.flavour not in FLAVOURS:
+        raise ValueError(f"expected a flavour in {FLAVOURS}, got {k.flavour!r}")
+    printer = _printers()[k.flavour]
+    flat, shape = _flat_output(k.output)
+    if k.cse:
+        reps, reduced = sympy.cse(flat, symbols=sympy.numbered_symbols("_c"), optimizations="basic")
+    else:
+        reps, reduced = [], flat
+    args = [name for name, _ in k.inputs]
+    lines = [f"def {k.name}({', '.join(args)}):"]
+    doc = k.doc.strip() or f"Generated kernel {k.name}."
+    lines.append('    """' + doc.replace("\n", "\n    ") + '\n    """')
+    for name, syms in k.inputs:
+        for i, s in enumerate(syms):
+            if k.flavour == "batched":
+                lines.append(f"    {printer.doprint(s)} = {name}[..., {i}]")
+            else:
+                lines.append(f"    {printer.doprint(s)} = {name}[{i}]")
+    for sym, expr in reps:
+        lines.append(f"    {printer.doprint(sym)} = {printer.doprint(expr)}")
+    if k.flavour == "batched":
+        first = k.inputs[0][0]
+        lines.append(f"    _out = numpy.empty(numpy.shape({first})[:-1] + {shape!r})")
+        for idx, expr in enumerate(reduced):
+            pos = numpy_index(idx, shape)
+            lines.append(f"    _out[..., {pos}] = {printer.doprint(expr)}")
+        lines.append("    return _out")
+    else:
+        vals = [printer.doprint(e) for e in reduced]
+        if len(shape) == 1:
+            lines.append("    return [" + ", ".join(vals) + "]")
+        else:
+            rows = []
+            for r in range(shape[0]):
+                rows.append("[" + ", ".join(vals[r * shape[1]:(r + 1) * shape[1]]) + "]")
+            lines.append("    return [\n        " + ",\n        ".join(rows) + ",\n    ]")
+    return "\n".join(lines) + "\n"
+
+
+def numpy_index(flat_index: int, shape: tuple) -> str:
+    idx = []
+    for dim in reversed(shape):
+        idx.append(flat_index % dim)
+        flat_index //= dim
+    return ", ".join(str(i) for i in reversed(idx))
+
+
+def module_source(kernels, *, generator: str, doc: str, source_hash: str,
+                  constants: dict | None = None) -> str:
+    """A whole importable module: header, imports, constants and the kernels.
+
+    Parameters
+    ----------
+    kernels : sequence of Kernel
+    generator : str
+        The derivation script or function that produced it (named in the header).
+    doc : str
+        Module docstring body.
+    source_hash : str
+        :func:`symbolic_hash` of the symbolic source; a stale module shows here.
+    constants : dict, optional
+        Extra module-level names (``{"L": 8}``), written with ``repr``.
+    """
+    import mpmath
+    import numpy
+    import sympy
+    flavours = {k.flavour for k in kernels}
+    head = [
+        f"# GENERATED BY {generator} -- DO NOT EDIT",
+        f"# sympy {sympy.__version__}, numpy {numpy.__version__}, mpmath {mpmath.__version__}, "
+        f"python {platform.python_version().rsplit('.', 1)[0]}",
+        f"# symbolic source sha256: {source_hash}",
+        '"""' + doc.strip() + '\n"""',
+        "",
+    ]
+    imports = ["import math"]
+    if "batched" in flavours:
+        imports.append("import numpy")
+    if "exact" in flavours:
+        imports.append("from flint import fmpq as _Q")
+    body = ["", f"SOURCE_SHA256 = {source_hash!r}"]
+    for name, value in (constants or {}).items():
+        body.append(f"{name} = {value!r}")
+    body.append(f"__all__ = {[k.name for k in kernels]!r}")
+    out = "\n".join(head + imports + body) + "\n"
+    for k in kernels:
+        out += "\n\n" + kernel_source(k)
+    return out

@@ -1,0 +1,22 @@
+"""The generated modules committed in ``distkin/_generated/``.
+
+Each entry maps a module name to ``"package.module:function"``; the function takes no
+argument and returns the module's full source text (from :func:`.emit.module_source`).
+``python -m distkin.codegen`` rewrites them; ``--check`` regenerates into a temporary
+folder and fails if anything differs.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+__all__ = ["GENERATED", "generate"]
+
+#: module name in distkin/_generated/ -> generator "module:function"
+GENERATED: dict[str, str] = {}
+
+
+def generate(name: str) -> str:
+    """Source text of generated module ``name``."""
+    mod, _, fn = GENERATED[name].partition(":")
+    return getattr(importlib.import_module(mod), fn)()
