@@ -58,7 +58,7 @@ def run_scene(scene, *, plots_dir=None, progress=True):
     ctx = RunContext(plots_dir=Path(plots_dir) if plots_dir else None, progress=progress)
     records, texts, worst = [], [], 0
     for q in scene.queries:
-        spec = queries.get(q.type)
+        spec = queries.get(q.type, scene.mechanism.kind)
         t0 = time.perf_counter()
         rec = {"type": q.type, "status": "ok"}
         text = ""

@@ -27,12 +27,14 @@ from .errors import InputError
 
 __all__ = ["QuerySpec", "Outcome", "RunContext", "register", "get", "QUERY_MODULES"]
 
-#: query type -> module that registers it (imported on first use)
-QUERY_MODULES = {
-    "cayley_menger": "distkin.geometry.query",
+#: query type -> modules that register it (imported on first use).  One type may be
+#: implemented for several mechanism kinds by different modules (``forward_kinematics``
+#: for ``octahedral`` and for ``rss``); each registers the kinds it serves.
+QUERY_MODULES: dict[str, tuple[str, ...]] = {
+    "cayley_menger": ("distkin.geometry.query",),
 }
 
-_REGISTRY: dict[str, "QuerySpec"] = {}
+_REGISTRY: dict[str, dict] = {}   # name -> {mechanism kind or "*": QuerySpec}
 
 
 @dataclass(frozen=True)
@@ -65,43 +67,46 @@ class RunContext:
 
 
 def register(name: str, *, mechanisms=(), summary: str = ""):
-    """Class decorator registering a query handler under ``name``."""
+    """Class decorator registering a query handler under ``name`` for the mechanism
+    kinds ``mechanisms`` (empty: any kind)."""
     def deco(cls):
-        _REGISTRY[name] = QuerySpec(name, cls.parse, cls.run, tuple(mechanisms), summary)
+        spec = QuerySpec(name, cls.parse, cls.run, tuple(mechanisms), summary)
+        table = _REGISTRY.setdefault(name, {})
+        for kind in (mechanisms or ("*",)):
+            table[kind] = spec
         return cls
     return deco
 
 
-def get(name: str, field: str = "type") -> QuerySpec:
-    """The handler of a query type; :class:`InputError` naming the known types if absent."""
+def _load(name: str) -> None:
+    for mod in QUERY_MODULES.get(name, ()):
+        importlib.import_module(mod)
+
+
+def get(name: str, kind: str | None = None, field: str = "type") -> QuerySpec:
+    """The handler of query type ``name`` for mechanism ``kind``.
+
+    Raises :class:`InputError` naming the known types, or the kinds the type serves.
+    """
     if not isinstance(name, str):
         raise InputError(f"expected a query type name, got {name!r}", field=field)
-    if name not in _REGISTRY and name in QUERY_MODULES:
-        try:
-            importlib.import_module(QUERY_MODULES[name])
-        except ModuleNotFoundError as exc:
-            if not exc.name or not exc.name.startswith("distkin"):
-                raise
-    if name not in _REGISTRY:
-        known = sorted(available())
+    if name not in QUERY_MODULES:
         raise InputError(f"unknown query type {name!r}; expected one of "
-                         f"{', '.join(map(repr, known))}", field=field)
-    return _REGISTRY[name]
+                         f"{', '.join(map(repr, sorted(QUERY_MODULES)))}", field=field)
+    _load(name)
+    table = _REGISTRY.get(name, {})
+    spec = table.get(kind) or table.get("*")
+    if spec is None:
+        kinds = sorted(k for k in table if k != "*")
+        raise InputError(f"query type {name!r} needs a mechanism of kind "
+                         f"{' or '.join(map(repr, kinds))}, got {kind!r}", field=field)
+    return spec
 
 
-def available() -> list[str]:
-    """Query types whose implementing module is installed."""
-    out = []
-    for name, mod in QUERY_MODULES.items():
-        if name in _REGISTRY:
-            out.append(name)
-            continue
-        try:
-            importlib.import_module(mod)
-        except ModuleNotFoundError as exc:
-            if exc.name and exc.name.startswith("distkin"):
-                continue
-            raise
-        if name in _REGISTRY:
-            out.append(name)
+def available() -> dict[str, list[str]]:
+    """Query type -> the mechanism kinds it serves ("*" for any)."""
+    out = {}
+    for name in QUERY_MODULES:
+        _load(name)
+        out[name] = sorted(_REGISTRY.get(name, {}))
     return out

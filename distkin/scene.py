@@ -186,11 +186,7 @@ def loads_scene(text: str, path: str = "<string>") -> Scene:
         fld = f"query[{i}]"
         q = as_table(q, fld)
         qtype = require(q, "type", fld)
-        spec = registry.get(qtype, field=f"{fld}.type")
-        if spec.mechanisms and kind not in spec.mechanisms:
-            raise InputError(f"query type {qtype!r} needs a mechanism of kind "
-                             f"{' or '.join(map(repr, spec.mechanisms))}, got {kind!r}",
-                             field=f"{fld}.type")
+        spec = registry.get(qtype, kind, field=f"{fld}.type")
         try:
             params = spec.parse(q, mechanism, units, fld)
         except DistkinError as exc:
