@@ -16,14 +16,16 @@ where :math:`s_{ij}` is the squared distance between :math:`P_i` and :math:`P_j`
 
 Sign conventions (the raw bordered determinant, exactly as displayed above):
 
-* two points: :math:`D(i,j) = -2 s_{ij}` (never positive);
+* two points: :math:`D(i,j) = 2 s_{ij}` (never negative);
 * three points: :math:`D(i,j,k) = -16 A_{ijk}^2` (never positive for a real triangle);
 * four points: :math:`D(i,j,k,l) = 288 V_{ijkl}^2` (never negative for a real tetrahedron);
 * five points in 3-D: :math:`D = 0`.
 
 The paper's eq. (3) writes :math:`A_{ijk} = \tfrac14 D(i,j,k)` and
 :math:`V_{ijkl} = \tfrac16\sqrt{D(i,j,k,l)}`; those use the normalised determinant of
-Porta, Ros and Thomas (ref. [1] there), which is :math:`(-1)^n D / 2^{n-1}` of the raw one.
+Porta, Ros and Thomas (ref. [1] there), which is :math:`(-1)^n D / 2^{n-1}` of the raw one
+for three and four points.  In general the raw determinant of n points is
+:math:`(-1)^n\, 2^{n-1} ((n-1)!)^2` times the squared (n-1)-volume of their simplex.
 :func:`triangle_area_squared` and :func:`tetrahedron_volume_squared` return the true
 squared area and volume whatever the convention.
 

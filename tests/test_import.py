@@ -1,0 +1,29 @@
+"""``import distkin`` stays light: sympy is not imported until symbolic work is asked for.
+
+(The import *time* is measured in benchmarks/bench_import.py, not here.)
+"""
+
+import subprocess
+import sys
+
+PROBE = """
+import sys
+import {mod}
+print("sympy" in sys.modules)
+"""
+
+
+def _imports_sympy(mod: str) -> bool:
+    r = subprocess.run([sys.executable, "-c", PROBE.format(mod=mod)], capture_output=True,
+                       text=True, check=True)
+    return r.stdout.strip() == "True"
+
+
+def test_import_distkin_does_not_import_sympy():
+    assert not _imports_sympy("distkin")
+
+
+def test_geometry_and_scene_do_not_import_sympy():
+    assert not _imports_sympy("distkin.geometry")
+    assert not _imports_sympy("distkin.scene")
+    assert not _imports_sympy("distkin.cli")

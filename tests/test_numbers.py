@@ -1,0 +1,87 @@
+"""Exact parsing of scene values and the tier conversions."""
+
+from fractions import Fraction
+
+import mpmath
+import pytest
+import sympy as sp
+from flint import arb, fmpq
+
+from distkin.errors import InputError
+from distkin.numbers import check_method, parse_exact, parse_vector, to_fmpq, to_tier
+
+
+@pytest.mark.parametrize("text, expected", [
+    ("19.8", Fraction(99, 5)),
+    ("12/5", Fraction(12, 5)),
+    ("-3e-2", Fraction(-3, 100)),
+    ("1.5e3", Fraction(1500)),
+    (" 7 ", Fraction(7)),
+    ("(1+2)*3/4", Fraction(9, 4)),
+    ("2^3/5", Fraction(8, 5)),
+    ("sqrt(4)", Fraction(2)),   # rational after simplification
+    (7, Fraction(7)),
+])
+def test_rationals_are_exact(text, expected):
+    e = parse_exact(text, "legs[0]")
+    assert e.is_rational and e.value == expected and not e.from_float
+
+
+def test_irrational_is_a_sympy_expression():
+    e = parse_exact("sqrt(108)", "base[1][1]")
+    assert not e.is_rational
+    assert sp.simplify(e.value - 6 * sp.sqrt(3)) == 0
+    # certified tier: an arb ball containing 6 sqrt 3
+    b = to_tier(e, "certified")
+    assert isinstance(b, arb) and b.overlaps(6 * arb(3).sqrt()) and float(b.rad()) < 1e-13
+    with mpmath.workdps(50):
+        assert abs(to_tier(e, "precise") - 6 * mpmath.sqrt(3)) < mpmath.mpf(10) ** -45
+
+
+def test_bare_float_is_exact_binary_and_flagged():
+    e = parse_exact(0.1, "legs[2]")
+    assert e.from_float and e.value == Fraction(0.1) and e.value != Fraction(1, 10)
+
+
+def test_tiers():
+    e = parse_exact("19.8", "x")
+    assert to_tier(e, "fast") == 19.8
+    assert to_tier(e, "certified") == fmpq(99, 5)
+    assert to_fmpq(Fraction(3, 7)) == fmpq(3, 7)
+
+
+@pytest.mark.parametrize("bad", ["19,8", "abc", "", "1/0", "sqrt(", "import os", "x+1",
+                                 "__import__('os')", "nan", "inf", "[1]", "sqrt(-1)"])
+def test_malformed_number_names_text_and_field(bad):
+    with pytest.raises(InputError) as info:
+        parse_exact(bad, "query[0].legs[3]")
+    assert info.value.field == "query[0].legs[3]"
+    assert repr(bad) in str(info.value) or bad == ""
+
+
+@pytest.mark.parametrize("bad", [True, None, [1], float("nan"), float("inf")])
+def test_wrong_types(bad):
+    with pytest.raises(InputError):
+        parse_exact(bad, "f")
+
+
+def test_symbols_only_when_allowed():
+    e = parse_exact("Delta1", "offsets[0]", allow_symbols=True)
+    assert e.value == sp.Symbol("Delta1")
+    with pytest.raises(InputError):
+        parse_exact("Delta1", "offsets[0]")
+
+
+def test_vector_length_and_element_field():
+    with pytest.raises(InputError) as info:
+        parse_vector(["1", "2"], "legs", length=6)
+    assert "expected 6 values, got 2" in str(info.value)
+    with pytest.raises(InputError) as info:
+        parse_vector(["1", "oops"], "legs")
+    assert info.value.field == "legs[1]"
+
+
+def test_check_method():
+    assert check_method("precise") == "precise"
+    with pytest.raises(InputError, match="'fast', 'precise', 'certified'"):
+        check_method("quick")
