@@ -32,6 +32,14 @@ __all__ = ["QuerySpec", "Outcome", "RunContext", "register", "get", "QUERY_MODUL
 #: for ``octahedral`` and for ``rss``); each registers the kinds it serves.
 QUERY_MODULES: dict[str, tuple[str, ...]] = {
     "cayley_menger": ("distkin.geometry.query",),
+    "delta_transform": ("distkin.delta_query",),
+    "singularity": ("distkin.singularity_query",),
+    "inverse_kinematics": ("distkin.mechanisms.query",),
+    "jacobian": ("distkin.mechanisms.query",),
+    "performance": ("distkin.indices.query",),
+    "design_sweep": ("distkin.indices.query",),
+    "forward_kinematics": ("distkin.mechanisms.query", "distkin.octahedral.query",
+                           "distkin.delta_query"),
 }
 
 _REGISTRY: dict[str, dict] = {}   # name -> {mechanism kind or "*": QuerySpec}

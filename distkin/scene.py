@@ -115,6 +115,8 @@ def _parse_octahedral(table, units, fld):
 MECHANISM_PARSERS = {
     "points": "distkin.scene:_parse_points",
     "octahedral": "distkin.scene:_parse_octahedral",
+    "rss": "distkin.mechanisms.scene:parse_rss",
+    "platform66": "distkin.delta_query:parse_platform66",
 }
 
 

@@ -13,7 +13,14 @@ import importlib
 __all__ = ["GENERATED", "generate"]
 
 #: module name in distkin/_generated/ -> generator "module:function"
-GENERATED: dict[str, str] = {}
+GENERATED: dict[str, str] = {
+    "octic_general": "distkin.octahedral.octic:generate_octic_module",
+    "rss_hunt": "distkin.mechanisms.kernels:generate_hunt",
+    "rss_hexa": "distkin.mechanisms.kernels:generate_hexa",
+    "rss_ergin": "distkin.mechanisms.kernels:generate_ergin",
+    "rss_octopod": "distkin.mechanisms.kernels:generate_octopod",
+    "rss_octo": "distkin.mechanisms.kernels:generate_octo",
+}
 
 
 def generate(name: str) -> str:

@@ -3,6 +3,7 @@
 from .cayley_menger import (cayley_menger, parse_label, squared_distances,
                             tetrahedron_volume_squared, triangle_area_squared)
 from .trilateration import trilaterate, trilaterate_both, trilateration_parts
+from .poses import points_from_pose, pose_from_points, triangle_frame
 
 __all__ = [
     # Cayley-Menger determinants (Rojas et al., eq. (1))
@@ -10,4 +11,6 @@ __all__ = [
     "tetrahedron_volume_squared", "parse_label",
     # trilateration (Thomas & Ros 2005)
     "trilaterate", "trilaterate_both", "trilateration_parts",
+    # rigid poses from three points, and back
+    "pose_from_points", "points_from_pose", "triangle_frame",
 ]

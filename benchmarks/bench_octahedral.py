@@ -1,0 +1,184 @@
+"""Octahedral forward kinematics: the three tiers, single and batched, against generic
+baselines that do not use the octic (Rojas et al., ICRA 2012, Sec. III and VI).
+
+Problem: the Griffis-Duffy example of Sec. VI (6 real roots, 12 poses) and, for the
+batched run, 2000 leg sets around it (legs x (1 + 1% noise), seeded).
+
+Baselines:
+
+* ``scan (no octic)``: the paper's trilateration sequence as a 1-D problem in s15: the
+  leg-5 residual of the four (P4, P6) branches sampled at 400 points of the feasible
+  interval, sign changes refined by bisection (40 steps);
+* ``9-coordinate Newton (no octic)``: ``scipy.optimize.least_squares`` on the 9
+  unknown coordinates of P4, P5, P6 (6 legs + 3 platform sides) from 48 random starts,
+  distinct converged solutions kept.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from benchmarks.harness import fmt_time, interleaved, ratio_table
+
+__all__ = ["TITLE", "DEFAULT", "run"]
+
+TITLE = "Octahedral forward kinematics (octic) vs generic baselines"
+DEFAULT = True
+
+BASE = np.array([[0, 0, 0], [6, np.sqrt(108), 0], [12, 0, 0]])
+PLAT = np.array([[0, 0, 0], [6, 0, 0], [3, np.sqrt(27), 0]])
+LEGS = np.array([19.8, 18, 18, 17, 14.9, 17.8])
+PAIRS = ((1, 4), (2, 4), (2, 5), (3, 5), (3, 6), (1, 6))
+
+
+def _scan_baseline(base, plat, legs, samples=400, refine=40):
+    """All assembly modes from a 1-D scan of s15 along the trilateration sequence."""
+    from distkin.octahedral.assembly import trilaterate_masked
+    from distkin.octahedral.closure import feasible_interval
+    pts = np.vstack([base, plat])
+    sides = np.array([np.sum((pts[i - 1] - pts[j - 1]) ** 2)
+                      for i, j in ((1, 2), (1, 3), (2, 3), (4, 5), (4, 6), (5, 6))])
+    l2 = legs ** 2
+    lo, hi, _ = feasible_interval(sides, l2)
+    if lo > hi:
+        return []
+
+    def residual(x):
+        f5, o5, h5 = trilaterate_masked(base[0], base[1], base[2], x, l2[2], l2[3])
+        P5 = f5 + o5
+        f4, o4, h4 = trilaterate_masked(base[0], base[1], P5, l2[0], l2[1], sides[3])
+        out = []
+        for tau in (1, -1):
+            P4 = f4 + tau * o4
+            f6, o6, h6 = trilaterate_masked(base[0], P4, P5, l2[5], sides[4], sides[5])
+            for rho in (1, -1):
+                P6 = f6 + rho * o6
+                r = np.sum((P6 - base[2]) ** 2, axis=-1) - l2[4]
+                ok = (h5 >= 0) & (h4 >= 0) & (h6 >= 0)
+                out.append(np.where(ok, r, np.nan))
+        return np.stack(out)                                        # (4, M)
+
+    xs = np.linspace(lo, hi, samples)
+    R = residual(xs)
+    roots = []
+    for b in range(4):
+        r = R[b]
+        idx = np.flatnonzero(np.isfinite(r[:-1]) & np.isfinite(r[1:]) & (r[:-1] * r[1:] < 0))
+        if idx.size == 0:
+            continue
+        a, c = xs[idx], xs[idx + 1]
+        fa = r[idx]
+        for _ in range(refine):
+            m = 0.5 * (a + c)
+            fm = residual(m)[b]
+            left = np.sign(fm) == np.sign(fa)
+            a, fa = np.where(left, m, a), np.where(left, fm, fa)
+            c = np.where(left, c, m)
+        roots.extend((0.5 * (a + c)).tolist())
+    return sorted(roots)
+
+
+def _newton9_baseline(base, plat, legs, starts=48, seed=0):
+    """Distinct solutions of the 9 coordinate equations from random starts."""
+    from scipy.optimize import least_squares
+    rng = np.random.default_rng(seed)
+    qs = np.array([np.sum((plat[i] - plat[j]) ** 2) for i, j in ((0, 1), (0, 2), (1, 2))])
+    l2 = legs ** 2
+
+    def f(z):
+        P = {1: base[0], 2: base[1], 3: base[2], 4: z[0:3], 5: z[3:6], 6: z[6:9]}
+        r = [np.sum((P[i] - P[j]) ** 2) - s for (i, j), s in zip(PAIRS, l2)]
+        r += [np.sum((P[4] - P[5]) ** 2) - qs[0], np.sum((P[4] - P[6]) ** 2) - qs[1],
+              np.sum((P[5] - P[6]) ** 2) - qs[2]]
+        return np.array(r)
+    size = np.abs(base).max() + legs.max()
+    sols = []
+    for _ in range(starts):
+        z0 = rng.uniform(-size, size, 9)
+        res = least_squares(f, z0, xtol=1e-14, ftol=1e-14, gtol=1e-14, max_nfev=200)
+        if np.max(np.abs(res.fun)) < 1e-8 * size ** 2:
+            if all(np.max(np.abs(res.x - s)) > 1e-6 * size for s in sols):
+                sols.append(res.x)
+    return sols
+
+
+def run():
+    from distkin.octahedral import forward_kinematics, forward_kinematics_batched
+    from distkin.octahedral.reference import GD_BASE, GD_LEGS, GD_PLATFORM
+    rng = np.random.default_rng(1)
+    n_batch = 2000
+    batch = LEGS * (1 + 0.01 * rng.normal(size=(n_batch, 6)))
+    # correctness of every competitor on the example, first
+    found = {
+        "fast (octic)": len(forward_kinematics(BASE, PLAT, LEGS)),
+        "precise dps=30 (octic)": len(forward_kinematics(GD_BASE, GD_PLATFORM, GD_LEGS,
+                                                         method="precise")),
+        "certified (octic)": len(forward_kinematics(GD_BASE, GD_PLATFORM, GD_LEGS,
+                                                    method="certified")),
+        "scan (no octic)": 2 * len(_scan_baseline(BASE, PLAT, LEGS)),
+        "9-coordinate Newton (no octic)": len(_newton9_baseline(BASE, PLAT, LEGS)),
+    }
+    single = interleaved({
+        "fast (octic)": lambda: forward_kinematics(BASE, PLAT, LEGS),
+        "certified (octic)": lambda: forward_kinematics(GD_BASE, GD_PLATFORM, GD_LEGS,
+                                                        method="certified"),
+        "precise dps=30 (octic)": lambda: forward_kinematics(GD_BASE, GD_PLATFORM, GD_LEGS,
+                                                             method="precise"),
+        "scan (no octic)": lambda: _scan_baseline(BASE, PLAT, LEGS),
+        "9-coordinate Newton (no octic)": lambda: _newton9_baseline(BASE, PLAT, LEGS),
+    }, rounds=5, number=3)
+    fast_single = interleaved({"fast (octic)": lambda: forward_kinematics(BASE, PLAT, LEGS)},
+                              rounds=15, number=50)["fast (octic)"]
+    single["fast (octic)"] = fast_single
+    batched = interleaved({
+        "fast batched (octic)": lambda: forward_kinematics_batched(BASE, PLAT, batch),
+        "fast single, looped (octic)": lambda: [forward_kinematics(BASE, PLAT, b)
+                                                for b in batch[:200]],
+    }, rounds=5, number=1)
+    per_solve = {"fast batched (octic)": batched["fast batched (octic)"] / n_batch,
+                 "fast single, looped (octic)": batched["fast single, looped (octic)"] / 200}
+    br = forward_kinematics_batched(BASE, PLAT, batch)
+    targets = [
+        ("fast, single solve", single["fast (octic)"], 100e-6),
+        ("fast, batched, per solve", per_solve["fast batched (octic)"], 10e-6),
+        ("certified, single solve", single["certified (octic)"], 5e-3),
+    ]
+    import os
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    lines = [
+        f"Load average when measured: {load:.1f} (on {os.cpu_count()} cores); absolute times "
+        "scale with it, ratios much less.",
+        "",
+        "Griffis-Duffy example (Sec. VI): 6 real roots of the octic, 12 poses. Poses found "
+        "by each competitor:",
+        "",
+        "| competitor | poses found (of 12) |",
+        "|---|---|",
+        *[f"| {k} | {v} |" for k, v in found.items()],
+        "",
+        "Time per single solve (all poses), interleaved rounds, medians:",
+        "",
+        ratio_table(single, "fast (octic)", per="solve"),
+        "",
+        f"Batched: {n_batch} leg sets around the example (legs x (1 + 1% noise)); "
+        f"{int(br.count.sum())} poses in all. Time per solve:",
+        "",
+        ratio_table(per_solve, "fast batched (octic)", per="solve"),
+        "",
+        "Targets (issue 3):",
+        "",
+        "| measure | median | target | met? |",
+        "|---|---|---|---|",
+        *[f"| {n} | {fmt_time(t)} | {fmt_time(g)} | {'yes' if t <= g else 'no'} |"
+          for n, t, g in targets],
+        "",
+        "Notes: the fast tier's floor is the Python interpreter (kernel of ~200 "
+        "operations, eigenvalues of an 8x8 companion matrix, 6 Newton polishes and 12 "
+        "trilateration sequences); batched, LAPACK's 8x8 eigenvalue solve alone costs "
+        "~16 µs per problem on this machine. The scan baseline misses roots closer than "
+        "its sample spacing and the 9-coordinate Newton baseline misses modes that no "
+        "start reaches; neither can certify a count.",
+    ]
+    data = {"load_average": load, "found": found, "single_s": single, "per_solve_s": per_solve,
+            "targets": {n: {"median_s": t, "target_s": g} for n, t, g in targets}}
+    return "\n".join(lines) + "\n", data

@@ -1,0 +1,63 @@
+"""Derivation of the RSS/RRRS leg model used by distkin.mechanisms (Kühne et al., Sec. II-C).
+
+Run ``python derivations/rss_model.py``.  It prints the generic leg closure and checks,
+symbolically where the algebra is generic and numerically per preset:
+
+1. the closure Phi = (|P - D(q)|^2 - l3^2)/(2 l3) equals (C - A cos q - B sin q) l1/l3
+   with A = w.u, B = w.z, C = (w.w + l1^2 - l3^2)/(2 l1), w = P - B0 - o;
+2. the closed form cos q = (A C + s B h)/rho^2, sin q = (B C - s A h)/rho^2
+   (h^2 = rho^2 - C^2) satisfies A cos q + B sin q = C and cos^2 + sin^2 = 1;
+3. the branch sign distkin.mechanisms.symbolic.BRANCH gives q = 0 at the workspace
+   centre for every preset (the horizontal-crank rule fixing l3, presets.py);
+4. the generated kernels ``distkin/_generated/rss_<preset>.py`` were written from this
+   model (their headers name this script; ``python -m distkin.codegen --check``).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import sympy as sp  # noqa: E402
+
+from distkin.mechanisms import PRESETS, preset  # noqa: E402
+from distkin.mechanisms.symbolic import BRANCH, POSE, generic_leg, model_expressions  # noqa: E402
+
+
+def main():
+    g = generic_leg()
+    l0, l1, l2, l3, lp, ld = g["params"]
+    q, P = g["q"], g["P"]
+    w = P - g["B"] - g["o"]
+    A, Bz = w.dot(g["u"]), w[2]
+    C = (w.dot(w) + l1 ** 2 - l3 ** 2) / (2 * l1)
+    ce, se, cb, sb, cg, sg, s = g["trig"]
+    unit = {ce ** 2: 1 - se ** 2, cb ** 2: 1 - sb ** 2, s ** 2: 1}
+    lhs = sp.expand(g["Phi"] - (C - A * sp.cos(q) - Bz * sp.sin(q)) * l1 / l3)
+    lhs = sp.expand(lhs.subs(sp.cos(q) ** 2, 1 - sp.sin(q) ** 2).subs(unit).subs(unit))
+    print("1. Phi - (C - A cos q - B sin q) l1/l3 =", sp.simplify(lhs))
+    a, b, c, h = sp.symbols("A B C h", real=True)
+    rho2 = a ** 2 + b ** 2
+    cq = (a * c + BRANCH * b * h) / rho2
+    sq = (b * c - BRANCH * a * h) / rho2
+    hs = {h ** 2: rho2 - c ** 2}
+    e1 = sp.simplify(sp.expand(a * cq + b * sq - c).subs(hs))
+    e2 = sp.simplify(sp.expand((cq ** 2 + sq ** 2 - 1) * rho2 ** 2).subs(hs))
+    print("2. A cos q + B sin q - C =", e1, "; (cos^2 + sin^2 - 1) rho^4 =", e2)
+    assert lhs == 0 and e1 == 0 and e2 == 0
+    print(f"3. BRANCH = {BRANCH}; q at the workspace centre:")
+    for name in PRESETS:
+        m = preset(name)
+        ik = model_expressions(m).get("ik")
+        home = dict(zip(POSE, [0, 0, m.z0, 0, 0, 0]))
+        worst = max(abs(float(e.xreplace(home).evalf(30))) for e in ik)
+        print(f"   {name:8s} L = {m.L}, l3 = {m.l3 * 1e3:.4f} mm, max |q| = {worst:.2e} rad")
+        assert worst < 1e-12
+    print("4. Jq_ii = dPhi_i/dq_i, Jx_i = -(g, r x g) with g = dPhi/dP = (P - D)/l3;"
+          " J = Jq^-1 Jx (eqs. (1)-(2))")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,91 @@
+"""The derivation cache: generated module sources keyed by a hash of their symbolic source.
+
+"Model only what a scene requires" (DESIGN.md §1): a generated kernel module is derived
+once per distinct symbolic source and stored as a ``.py`` file; the second run of a scene
+reads it back and does no algebra (it does not even import sympy).
+
+The cache folder is ``$DISTKIN_CACHE`` if set, else ``$XDG_CACHE_HOME/distkin``, else
+``~/.cache/distkin``.  Files are written atomically (temporary file + rename), so
+concurrent processes at worst derive the same module twice.  Deleting the folder is
+always safe.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+__all__ = ["cache_dir", "source_key", "cached_source", "load_module_file", "load_source"]
+
+
+def cache_dir() -> Path:
+    """The cache folder (created on demand)."""
+    if os.environ.get("DISTKIN_CACHE"):
+        return Path(os.environ["DISTKIN_CACHE"])
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "distkin"
+
+
+def source_key(*parts) -> str:
+    """SHA-256 of the parts' text (source files of the model, parameter values, ...)."""
+    h = hashlib.sha256()
+    for p in parts:
+        h.update(p if isinstance(p, bytes) else str(p).encode())
+        h.update(b"\x00")
+    return h.hexdigest()
+
+
+def cached_source(prefix: str, key: str, build):
+    """The module source stored under ``key``, or ``build()`` it and store it.
+
+    Parameters
+    ----------
+    prefix : str
+        File-name prefix (a readable hint: ``rss``).
+    key : str
+        :func:`source_key` of everything the source depends on.
+    build : callable () -> str
+        Derives the source (the expensive, sympy part).
+
+    Returns
+    -------
+    path : Path
+        The cached file.
+    hit : bool
+        True if no derivation was needed.
+    """
+    d = cache_dir()
+    path = d / f"{prefix}_{key[:24]}.py"
+    if path.is_file():
+        return path, True
+    src = build()
+    d.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=d, suffix=".tmp")
+    with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        fh.write(src)
+    os.replace(tmp, path)
+    return path, False
+
+
+def load_module_file(path, name: str | None = None):
+    """Import a generated module from a file path (not added to ``sys.modules``)."""
+    path = Path(path)
+    name = name or f"distkin_generated_{path.stem}"
+    spec = importlib.util.spec_from_file_location(name, path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def load_source(source: str, name: str = "distkin_generated"):
+    """Execute module source text into a fresh module object."""
+    import types
+    mod = types.ModuleType(name)
+    mod.__file__ = f"<{name}>"
+    exec(compile(source, mod.__file__, "exec"), mod.__dict__)
+    sys.modules.pop(name, None)
+    return mod

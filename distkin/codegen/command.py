@@ -1,0 +1,65 @@
+"""``distkin codegen SCENE.toml -o MODULE.py``: write an importable kernel module.
+
+The module holds only the kernels that the scene's queries need, derived with the
+scene's parameters substituted before differentiation and CSE (DESIGN.md §1), and it
+imports only ``math`` and ``numpy`` (neither sympy nor distkin).  Derivations go through
+the cache (:mod:`.cache`), so a second run of the same scene does no algebra.
+
+Mechanism kinds that can be generated are listed in :data:`CODEGEN_KINDS`
+(kind -> ``"module:function(scene, flavours) -> (source, cache_hit)"``).
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+from pathlib import Path
+
+from ..errors import InputError
+
+__all__ = ["add_parser", "CODEGEN_KINDS", "scene_module_source"]
+
+#: mechanism kind -> "module:function(scene, flavours) -> (source text, cache hit)"
+CODEGEN_KINDS: dict[str, str] = {
+    "rss": "distkin.mechanisms.kernels:scene_module",
+}
+
+_FLAVOURS = {"batched": ("batched",), "scalar": ("scalar",), "both": ("batched", "scalar")}
+
+
+def scene_module_source(scene, flavour: str = "both"):
+    """(source, cache_hit) of the kernel module of a loaded scene."""
+    kind = scene.mechanism.kind
+    if kind not in CODEGEN_KINDS:
+        raise InputError(f"expected a mechanism kind with generated kernels "
+                         f"({', '.join(map(repr, CODEGEN_KINDS))}), got {kind!r}",
+                         field="mechanism.kind")
+    mod, _, fn = CODEGEN_KINDS[kind].partition(":")
+    return getattr(importlib.import_module(mod), fn)(scene, _FLAVOURS[flavour])
+
+
+def _run(args) -> int:
+    from ..scene import load_scene
+    scene = load_scene(args.scene)
+    src, hit = scene_module_source(scene, args.flavour)
+    out = Path(args.output)
+    if out.suffix != ".py":
+        raise InputError(f"expected an output file ending in .py, got {str(out)!r}",
+                         field="--output")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(src, encoding="utf-8")
+    names = [line.split("(")[0][4:] for line in src.splitlines() if line.startswith("def ")]
+    print(f"wrote {out} ({len(src.splitlines())} lines; kernels: {', '.join(names)}; "
+          f"{'from the derivation cache' if hit else 'derived'})", file=sys.stderr)
+    return 0
+
+
+def add_parser(subparsers) -> None:
+    """Register ``distkin codegen`` (called by :func:`distkin.cli.build_parser`)."""
+    p = subparsers.add_parser("codegen", help="write a kernel module for a scene's queries")
+    p.add_argument("scene", help="scene TOML file")
+    p.add_argument("-o", "--output", required=True, metavar="MODULE.py",
+                   help="the module to write")
+    p.add_argument("--flavour", choices=sorted(_FLAVOURS), default="both",
+                   help="batched numpy kernels, scalar float kernels, or both (default)")
+    p.set_defaults(func=_run)

@@ -1,0 +1,757 @@
+r"""Δ-transforms: 6-6 platforms kinematically equivalent to the octahedral manipulator.
+
+Rojas, Borràs, Thomas, *The Octahedral Manipulator Revisited* (ICRA 2012), Sections
+IV-VI, and Borràs, Thomas, Torras, "On Δ-transforms", IEEE T-RO 25(6), 2009 (ref. [20]
+there).
+
+Every formula here is *derived* with sympy, not typed in from the paper:
+
+1. :func:`derive_eq7` — eq. (7) is the square root of the Cayley-Menger determinant
+   :math:`D(1,2,3,4)` of four coplanar points with :math:`P_4` on the line
+   :math:`P_1P_2` at distance :math:`\delta` from :math:`P_1`
+   (:math:`D(1,2,3,4) = -2\,L^2`, :math:`L` = the left side of eq. (7)).
+2. :func:`delta_matrices` — solving eq. (7) for the moved leg gives each row of
+   :math:`\mathbf A` and :math:`\mathbf b` of eqs. (8)-(9),
+   :math:`m^2 = \mathbf A\, l^2 - \mathbf b` (the *minus* sign of eq. (8) holds with
+   :math:`b_i = \delta_i (d_i - \delta_i)`; eq. (4) has :math:`+\mathbf b` with the
+   opposite sign convention for :math:`\mathbf b`).
+3. :meth:`DeltaTransform.det_factors` — :math:`\det \mathbf A` factorised into
+   irreducible factors; its real zero set is the locus of architecturally singular
+   platforms.
+
+Labelling (DESIGN.md §3, paper Fig. 4 and eq. (9)): base :math:`P_1P_2P_3`, platform
+:math:`P_4P_5P_6`; leg 1 = P1–P4, 2 = P2–P4, 3 = P2–P5, 4 = P3–P5, 5 = P3–P6,
+6 = P1–P6.  Row :math:`i` of eq. (9) splits the double-ball joint shared by legs
+:math:`i` and :math:`i+1` (cyclically) by moving one end of leg :math:`i` along a
+triangle edge by :math:`\delta_i` (:data:`ROWS`).  The resulting 6-6 platform
+(Fig. 6) is built by :func:`equivalent_platform`; its forward kinematics
+(:func:`forward_kinematics66`) maps the m-legs to l-legs and solves the octahedral
+problem.
+
+sympy is imported inside the functions that need it; the numeric 6-6 pose check uses
+numpy / mpmath / flint only.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+from functools import cached_property, lru_cache
+
+import numpy as np
+
+from .errors import DegenerateGeometryError, InfeasibleError, InputError
+from .numbers import Exact, check_method, default_dps, parse_exact, to_sympy
+
+__all__ = [
+    "RowSpec",
+    "ROWS",
+    "SIDE_NAMES",
+    "Eq7",
+    "derive_eq7",
+    "delta_matrices",
+    "side_lengths",
+    "DeltaTransform",
+    "delta_transform",
+    "Platform66",
+    "equivalent_platform",
+    "forward_kinematics66",
+    "Pose66",
+    "FK66Result",
+]
+
+
+@dataclass(frozen=True)
+class RowSpec:
+    """One row of eq. (9): which double-ball joint is split and how.
+
+    Attributes
+    ----------
+    row : int
+        1-based row of :math:`\\mathbf A` (= the m-leg it defines).
+    edge : (int, int)
+        The triangle edge :math:`(P_s, P_e)` along which the joint moves, by
+        :math:`\\delta` from :math:`P_s` towards :math:`P_e`.
+    side : str
+        Name of the edge length (``"d12"``, ...), as in eq. (9).
+    legs : (int, int)
+        The l-legs ending at :math:`P_s` and at :math:`P_e` (their squares get the
+        weights :math:`(d-\\delta)/d` and :math:`\\delta/d`).
+    shared : int
+        The point both legs share (the end of the m-leg that does not move).
+    moved : str
+        ``"base"`` or ``"platform"``: which side the new joint lies on.
+    """
+
+    row: int
+    edge: tuple
+    side: str
+    legs: tuple
+    shared: int
+    moved: str
+
+
+#: the six rows of eq. (9), in order
+ROWS = (
+    RowSpec(1, (1, 2), "d12", (1, 2), 4, "base"),
+    RowSpec(2, (4, 5), "d45", (2, 3), 2, "platform"),
+    RowSpec(3, (2, 3), "d23", (3, 4), 5, "base"),
+    RowSpec(4, (5, 6), "d56", (4, 5), 3, "platform"),
+    RowSpec(5, (3, 1), "d13", (5, 6), 6, "base"),
+    RowSpec(6, (6, 4), "d46", (6, 1), 1, "platform"),
+)
+
+#: edge-length names in row order of eq. (9)
+SIDE_NAMES = tuple(r.side for r in ROWS)
+
+
+# --------------------------------------------------------------------------- eq. (7)
+
+@dataclass(frozen=True)
+class Eq7:
+    """Eq. (7) as derived from the Cayley-Menger determinant (sympy objects).
+
+    Attributes
+    ----------
+    symbols : dict
+        ``d`` (edge length :math:`d_{1,2}`), ``delta``, ``s13``, ``s23``, ``s34``.
+    cm : sympy.Expr
+        :math:`D(1,2,3,4)` with :math:`s_{14}=\\delta^2`, :math:`s_{24}=(d-\\delta)^2`,
+        :math:`s_{12}=d^2` (expanded).
+    relation : sympy.Expr
+        :math:`L` with :math:`D(1,2,3,4) = -2L^2`, normalised so that the coefficient
+        of :math:`s_{3,4}` is :math:`-d` (the paper's eq. (7) reads :math:`L = 0`).
+    s34 : sympy.Expr
+        :math:`s_{3,4}` solved from :math:`L = 0`: affine in :math:`s_{1,3}, s_{2,3}`.
+    """
+
+    symbols: dict
+    cm: object
+    relation: object
+    s34: object
+
+
+@lru_cache(maxsize=1)
+def derive_eq7() -> Eq7:
+    r"""Derive eq. (7) of Rojas et al. from the vanishing Cayley-Menger determinant.
+
+    Four points with :math:`P_4` on the line :math:`P_1P_2`
+    (:math:`|P_1P_4| = \delta`, :math:`|P_4P_2| = d - \delta`) are coplanar whatever
+    :math:`P_3`, so :math:`D(1,2,3,4) = 0`.  As a polynomial in the squared distances
+    that determinant is :math:`-2L^2` with :math:`L` linear in :math:`s_{1,3}`,
+    :math:`s_{2,3}`, :math:`s_{3,4}`:
+
+    .. math:: L = \delta s_{2,3} + (d-\delta) s_{1,3} - d\, s_{3,4} - d\,\delta(d-\delta)
+
+    which is eq. (7).  The factorisation is computed, not assumed: a
+    :class:`RuntimeError` is raised if sympy does not find a squared linear factor.
+
+    Returns
+    -------
+    Eq7
+    """
+    import sympy as sp
+
+    from .geometry.cayley_menger import cayley_menger
+    d, delta, s13, s23, s34 = sp.symbols("d delta s13 s23 s34", positive=True)
+    S = sp.Matrix([[0, d ** 2, s13, delta ** 2],
+                   [d ** 2, 0, s23, (d - delta) ** 2],
+                   [s13, s23, 0, s34],
+                   [delta ** 2, (d - delta) ** 2, s34, 0]])
+    cm = sp.expand(cayley_menger(S, (1, 2, 3, 4)))
+    const, factors = sp.factor_list(cm)
+    squared = [f for f, k in factors if k == 2 and sp.Poly(f, s34).degree() == 1]
+    if len(squared) != 1:
+        raise RuntimeError(f"D(1,2,3,4) did not factor as c*L^2: {factors}")
+    L = squared[0]
+    c34 = sp.Poly(L, s34).coeffs()[0]
+    L = sp.expand(L * (-d) / c34)            # coefficient of s34 is -d, as printed
+    scale = sp.simplify(cm / L ** 2)
+    if scale != -2:
+        raise RuntimeError(f"D(1,2,3,4) = {scale} * L^2, expected -2 * L^2")
+    s34_sol = sp.expand(sp.solve(L, s34)[0])
+    return Eq7({"d": d, "delta": delta, "s13": s13, "s23": s23, "s34": s34}, cm, L, s34_sol)
+
+
+def delta_matrices(sides, offsets):
+    r"""The matrix :math:`\mathbf A` and vector :math:`\mathbf b` of eqs. (8)-(9).
+
+    Row :math:`i` is eq. (7) solved for the moved leg (:func:`derive_eq7`) with
+    :math:`s_{1,3} \to l_{\text{start}}^2`, :math:`s_{2,3} \to l_{\text{end}}^2`,
+    :math:`s_{3,4} \to m_i^2`, :math:`d \to d_i`, :math:`\delta \to \delta_i`
+    (:data:`ROWS`), so that
+
+    .. math:: m^2 = \mathbf A\, l^2 - \mathbf b .
+
+    Parameters
+    ----------
+    sides : sequence of 6 sympy expressions or numbers
+        Edge lengths :math:`d_{12}, d_{45}, d_{23}, d_{56}, d_{13}, d_{46}` (row order).
+    offsets : sequence of 6 sympy expressions, numbers or symbols
+        :math:`\delta_1, \dots, \delta_6` (row order of eq. (9)).
+
+    Returns
+    -------
+    A : sympy.ImmutableMatrix (6, 6)
+    b : sympy.ImmutableMatrix (6, 1)
+    """
+    import sympy as sp
+    eq = derive_eq7()
+    sy = eq.symbols
+    A = sp.zeros(6, 6)
+    b = sp.zeros(6, 1)
+    for spec, d, delta in zip(ROWS, sides, offsets):
+        expr = eq.s34.subs({sy["d"]: d, sy["delta"]: delta}, simultaneous=True)
+        i = spec.row - 1
+        start, end = spec.legs
+        A[i, start - 1] = sp.factor(sp.diff(expr, sy["s13"]))
+        A[i, end - 1] = sp.factor(sp.diff(expr, sy["s23"]))
+        b[i] = sp.factor(-expr.subs({sy["s13"]: 0, sy["s23"]: 0}))
+    return sp.ImmutableMatrix(A), sp.ImmutableMatrix(b)
+
+
+def _sym_point(row) -> tuple:
+    return tuple(to_sympy(x) for x in row)
+
+
+def side_lengths(base, platform) -> tuple:
+    """Edge lengths :math:`d_{12}, d_{45}, d_{23}, d_{56}, d_{13}, d_{46}` (row order of
+    eq. (9)), exact (sympy), from P1..P3 (``base``) and P4..P6 (``platform``, any frame).
+
+    Raises
+    ------
+    DegenerateGeometryError
+        A zero-length edge (coincident points).
+    """
+    import sympy as sp
+    pts = [_sym_point(p) for p in base] + [_sym_point(p) for p in platform]
+    out = []
+    for spec in ROWS:
+        i, j = spec.edge
+        sq = sp.nsimplify(sp.expand(sum((a - c) ** 2 for a, c in zip(pts[i - 1], pts[j - 1]))))
+        if sq == 0:
+            raise DegenerateGeometryError(f"expected distinct points P{i} and P{j}, got "
+                                          f"{spec.side} = 0")
+        out.append(sp.sqrt(sq))
+    return tuple(out)
+
+
+# ----------------------------------------------------------------- the transform itself
+
+def _as_sym(value, field):
+    import sympy as sp
+    if isinstance(value, Exact):
+        return to_sympy(value)
+    if isinstance(value, sp.Basic):
+        return value
+    if isinstance(value, str):
+        return to_sympy(parse_exact(value, field, allow_symbols=True))
+    return to_sympy(parse_exact(value, field))
+
+
+@dataclass(frozen=True)
+class DeltaTransform:
+    r"""The affine leg map :math:`m^2 = \mathbf A l^2 - \mathbf b` of eqs. (8)-(9).
+
+    Build it with :func:`delta_transform`.  Everything is exact (sympy); offsets may
+    be symbols (``Delta1``), then ``det`` is a polynomial in them.
+
+    Attributes
+    ----------
+    sides : tuple of 6 sympy expressions (length units)
+    offsets : tuple of 6 sympy expressions (length units)
+    """
+
+    sides: tuple
+    offsets: tuple
+
+    @cached_property
+    def _Ab(self):
+        return delta_matrices(self.sides, self.offsets)
+
+    @property
+    def A(self):
+        """:math:`\\mathbf A` (6 x 6, dimensionless), eq. (9)."""
+        return self._Ab[0]
+
+    @property
+    def b(self):
+        """:math:`\\mathbf b` (6, squared length units), eq. (9)."""
+        return self._Ab[1]
+
+    @cached_property
+    def det(self):
+        """:math:`\\det \\mathbf A`, expanded (a polynomial in symbolic offsets)."""
+        import sympy as sp
+        return sp.expand(self.A.det(method="berkowitz"))
+
+    @cached_property
+    def free_symbols(self) -> tuple:
+        syms = set()
+        for x in self.offsets:
+            syms |= getattr(x, "free_symbols", set())
+        return tuple(sorted(syms, key=str))
+
+    def det_factors(self):
+        """``(constant, [(factor, multiplicity), ...])``: the irreducible factorisation
+        of :math:`\\det\\mathbf A` over the rationals (sympy ``factor_list``)."""
+        import sympy as sp
+        if self.det.free_symbols:
+            return sp.factor_list(self.det, *self.free_symbols)
+        return sp.factor_list(self.det)
+
+    def vanishing_factors(self) -> list:
+        r"""Name the factors of :math:`\det\mathbf A` that vanish at these offsets.
+
+        Rows with the same offset and the same side length are given one symbol (the
+        offset ``delta<i>`` of the first such row; for the paper's 3-fold family these
+        are ``delta1`` and ``delta2``), :math:`\det\mathbf A` is factorised over that
+        family and the factors that vanish are returned.  With six different rows the
+        only factor is :math:`\prod(d_i-\delta_i) - \prod\delta_i` (up to a constant).
+
+        Returns
+        -------
+        list of sympy.Expr
+            Empty when :math:`\det\mathbf A \ne 0` or the offsets are symbolic.
+        """
+        import sympy as sp
+        if self.free_symbols or self.det != 0:
+            return []
+        groups, fam, subs = [], [], {}
+        for i, (o, d) in enumerate(zip(self.offsets, self.sides)):
+            for og, dg, sym in groups:
+                if sp.simplify(og - o) == 0 and sp.simplify(dg - d) == 0:
+                    break
+            else:
+                sym = sp.Symbol(f"delta{i + 1}", real=True)
+                groups.append((o, d, sym))
+                subs[sym] = o
+            fam.append(sym)
+        syms = [g[2] for g in groups]
+        det = sp.expand(DeltaTransform(self.sides, tuple(fam)).det)
+        _, factors = sp.factor_list(det, *syms)
+        out = [f for f, _k in factors if sp.simplify(f.subs(subs)) == 0]
+        return out or [det]
+
+    def check_regular(self, field: str = "offsets") -> None:
+        """Raise :class:`DegenerateGeometryError` when :math:`\\det\\mathbf A = 0`
+        (architecturally singular 6-6 platform), naming the vanishing factor."""
+        import sympy as sp
+        if self.det == 0:
+            if self.free_symbols:
+                raise DegenerateGeometryError(
+                    "expected offsets with det(A) != 0, got det(A) = 0 identically", field=field)
+            f = " and ".join(sp.sstr(x) for x in self.vanishing_factors())
+            vals = ", ".join(f"delta{i + 1} = {o}" for i, o in enumerate(self.offsets))
+            raise DegenerateGeometryError(
+                f"expected offsets with det(A) != 0 (else the 6-6 platform is architecturally "
+                f"singular), got det(A) = 0: the factor {f} of det(A) vanishes at "
+                f"{vals}", field=field,
+                hint="move the offsets off the singular locus")
+
+    def inverse(self):
+        r"""``(Ainv, c)`` with :math:`l^2 = \mathbf A^{-1}(m^2 + \mathbf b)
+        = \mathbf{A}^{-1} m^2 + c` (exact, computed once per transform).  Raises
+        :class:`DegenerateGeometryError` when :math:`\det \mathbf A = 0`."""
+        self.check_regular()
+        return self._inverse
+
+    @cached_property
+    def _inverse(self):
+        import sympy as sp
+        Ainv = self.A.inv(method="LU")
+        Ainv = sp.ImmutableMatrix(Ainv.applyfunc(sp.factor))
+        return Ainv, sp.ImmutableMatrix((Ainv * self.b).applyfunc(sp.factor))
+
+    def forward(self, l_sq):
+        r"""m-legs squared from l-legs squared: :math:`\mathbf A l^2 - \mathbf b`, eq. (8)."""
+        import sympy as sp
+        v = sp.Matrix([_as_sym(x, f"l_sq[{i}]") for i, x in enumerate(l_sq)])
+        return tuple(sp.nsimplify(sp.expand(x)) for x in (self.A * v - self.b))
+
+    def map_legs(self, m_legs, field: str = "m_legs"):
+        r"""The l-legs of the octahedral manipulator equivalent to m-legs ``m_legs``.
+
+        :math:`l^2 = \mathbf A^{-1}(m^2 + \mathbf b)`, exact.
+
+        Parameters
+        ----------
+        m_legs : sequence of 6 (Exact, str, number or sympy expression)
+            Lengths :math:`m_1..m_6` of the 6-6 platform's legs (length units).
+
+        Returns
+        -------
+        l_sq : tuple of 6 sympy expressions
+            Squared lengths :math:`l_i^2` (squared length units).
+        l : tuple of 6 sympy expressions
+            :math:`l_i = \sqrt{l_i^2}` (length units; symbolic when offsets are).
+
+        Raises
+        ------
+        InputError
+            Not six values, or a non-positive length.
+        DegenerateGeometryError
+            :math:`\det \mathbf A = 0`.
+        InfeasibleError
+            A mapped squared length is negative (no real octahedral manipulator has
+            these legs); ``margin`` is the most negative :math:`l_i^2`.
+        """
+        import sympy as sp
+        if len(m_legs) != 6:
+            raise InputError(f"expected 6 leg lengths, got {len(m_legs)}", field=field)
+        ms = []
+        for i, m in enumerate(m_legs):
+            v = _as_sym(m, f"{field}[{i}]")
+            if v.is_number and not v.is_positive:
+                raise InputError(f"expected a positive leg length, got {v}", field=f"{field}[{i}]")
+            ms.append(v)
+        Ainv, c = self.inverse()
+        m_sq = sp.Matrix([sp.expand(m ** 2) for m in ms])
+        l_sq = tuple(sp.factor(sp.nsimplify(sp.expand(x))) if self.free_symbols
+                     else sp.nsimplify(sp.expand(x)) for x in (Ainv * m_sq + c))
+        bad = [(i, x) for i, x in enumerate(l_sq) if x.is_number and x.is_negative]
+        zero = [i for i, x in enumerate(l_sq) if x.is_number and x == 0]
+        if bad:
+            i, x = min(bad, key=lambda t: float(t[1]))
+            raise InfeasibleError(
+                f"expected non-negative squared l-legs, got l{i + 1}^2 = {x} "
+                f"(= {float(x):.6g}) after the inverse map of eq. (8)",
+                margin=float(x), field=f"{field}",
+                hint="no octahedral manipulator, hence no 6-6 pose, has these m-legs")
+        if zero:
+            raise InfeasibleError(f"expected positive l-legs, got l{zero[0] + 1} = 0",
+                                  margin=0.0, field=field)
+        return l_sq, tuple(sp.sqrt(x) for x in l_sq)
+
+
+def delta_transform(octahedral, offsets, field: str = "offsets") -> DeltaTransform:
+    """The Δ-transform of an octahedral mechanism with offsets δ1..δ6 (eq. (9) order).
+
+    Parameters
+    ----------
+    octahedral : distkin.scene.Octahedral or (base, platform)
+        Base P1..P3 and platform P4..P6 (3 x 3 each; Exact, str or numbers).
+    offsets : sequence of 6 values
+        Numbers, numeric strings or symbol names such as ``"Delta1"`` (length units).
+
+    Returns
+    -------
+    DeltaTransform
+
+    Raises
+    ------
+    InputError
+        Not six offsets, or a malformed one.
+
+    Examples
+    --------
+    The example of Rojas et al., Sec. VI:
+
+    >>> gd = ([[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]],
+    ...       [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]])
+    >>> tr = delta_transform(gd, ["12/5", "6/5"] * 3)
+    >>> tr.det
+    819/3125
+    >>> m = ["6/25*sqrt(6170)", "6/5*sqrt(221)", "1/5*sqrt(7349)", "1/50*sqrt(674605)",
+    ...      "1/25*sqrt(136210)", "1/5*sqrt(8153)"]
+    >>> [str(x) for x in tr.map_legs(m)[1]]
+    ['99/5', '18', '18', '17', '149/10', '89/5']
+    >>> delta_transform(gd, ["Delta1", "Delta2"] * 3).det_factors()[1][0]
+    (Delta1 + 2*Delta2 - 12, 1)
+    """
+    base, platform = _base_platform(octahedral)
+    if not isinstance(offsets, (list, tuple)) or len(offsets) != 6:
+        raise InputError(f"expected 6 offsets delta1..delta6, got {offsets!r}", field=field)
+    offs = tuple(_as_sym(o, f"{field}[{i}]") for i, o in enumerate(offsets))
+    return _cached_transform(side_lengths(base, platform), offs)
+
+
+@lru_cache(maxsize=64)
+def _cached_transform(sides, offsets) -> DeltaTransform:
+    """One :class:`DeltaTransform` per (sides, offsets): its A, b, det and inverse are
+    derived once ("derivations are cached", DESIGN.md §1)."""
+    return DeltaTransform(sides, offsets)
+
+
+def _base_platform(octahedral):
+    if hasattr(octahedral, "base") and hasattr(octahedral, "platform"):
+        return octahedral.base, octahedral.platform
+    base, platform = octahedral
+    return base, platform
+
+
+# ----------------------------------------------------------- the equivalent 6-6 platform
+
+@dataclass(frozen=True)
+class Platform66:
+    r"""A 6-6 platform: leg :math:`k` joins ``base_joints[k]`` to ``platform_joints[k]``.
+
+    Attributes
+    ----------
+    base_joints : tuple of 6 points (sympy, base frame, length units)
+    platform_joints : tuple of 6 points (sympy, platform frame, length units)
+    transform : DeltaTransform or None
+        The Δ-transform it was built from (Rojas et al., Fig. 6).
+    """
+
+    base_joints: tuple
+    platform_joints: tuple
+    transform: DeltaTransform | None = None
+
+    kind = "platform66"
+
+    def joints(self, method: str = "fast"):
+        """Joint coordinates as arrays ``(6, 3)`` (base frame) and ``(6, 3)`` (platform
+        frame) in the tier's number type (float / mpf / arb); the float64 arrays are
+        computed once (read-only)."""
+        if method == "fast":
+            return self._fast_joints
+        return _tier_array(self.base_joints, method), _tier_array(self.platform_joints, method)
+
+    @cached_property
+    def _fast_joints(self):
+        b = _tier_array(self.base_joints, "fast")
+        p = _tier_array(self.platform_joints, "fast")
+        b.flags.writeable = False
+        p.flags.writeable = False
+        return b, p
+
+
+def _tier_array(points, method):
+    from .numbers import sympy_to_arb
+    if method == "fast":
+        return np.array([[float(x) for x in p] for p in points], dtype=float)
+    if method == "precise":
+        import mpmath
+        return np.array([[mpmath.mpf(x.evalf(mpmath.mp.dps + 5)) for x in p] for p in points],
+                        dtype=object)
+    return np.array([[sympy_to_arb(x) for x in p] for p in points], dtype=object)
+
+
+def equivalent_platform(octahedral, offsets) -> Platform66:
+    r"""Build the 6-6 platform of Fig. 6 from an octahedral one and offsets δ1..δ6.
+
+    Row :math:`i` of :data:`ROWS` moves one end of leg :math:`i` from :math:`P_s` to
+    :math:`P_s + (\delta_i/d_i)(P_e - P_s)` on the edge :math:`(P_s, P_e)`; the other
+    end stays at the shared point.  Leg :math:`k` of the 6-6 platform has length
+    :math:`m_k`.
+
+    Parameters
+    ----------
+    octahedral : Octahedral or (base, platform)
+    offsets : 6 numbers (numeric; symbols are not allowed here)
+
+    Returns
+    -------
+    Platform66
+        Exact joint positions; base joints in the base frame, platform joints in the
+        platform frame of the octahedral mechanism.
+
+    Raises
+    ------
+    DegenerateGeometryError
+        Offsets making :math:`\det\mathbf A = 0`, or an offset of 0 or :math:`d_i` that
+        would merge two joints again (the platform would not be 6-6).
+    """
+    tr = delta_transform(octahedral, offsets)
+    if tr.free_symbols:
+        raise InputError(f"expected numeric offsets to build a platform, got symbols "
+                         f"{', '.join(map(str, tr.free_symbols))}", field="offsets")
+    tr.check_regular()
+    base, platform = _base_platform(octahedral)
+    key = tuple(_sym_point(p) for p in base) + tuple(_sym_point(p) for p in platform)
+    return _build_platform(key, tr)
+
+
+@lru_cache(maxsize=64)
+def _build_platform(points: tuple, tr: DeltaTransform) -> Platform66:
+    """The joints of Fig. 6 (cached per geometry and transform)."""
+    import sympy as sp
+    pts = [sp.Matrix(p) for p in points]
+    bj, pj = [], []
+    for spec, d, delta in zip(ROWS, tr.sides, tr.offsets):
+        s, e = spec.edge
+        if delta == 0 or sp.simplify(delta - d) == 0:
+            raise DegenerateGeometryError(
+                f"expected 0 < delta{spec.row} < {spec.side} = {d} so that every joint is "
+                f"single, got delta{spec.row} = {delta}", field=f"offsets[{spec.row - 1}]")
+        t = sp.nsimplify(delta / d)
+        new = (pts[s - 1] + t * (pts[e - 1] - pts[s - 1])).applyfunc(sp.nsimplify)
+        shared = pts[spec.shared - 1]
+        if spec.moved == "base":
+            bj.append(tuple(new))
+            pj.append(tuple(shared))
+        else:
+            bj.append(tuple(shared))
+            pj.append(tuple(new))
+    return Platform66(tuple(bj), tuple(pj), tr)
+
+
+# ------------------------------------------------------------- forward kinematics 6-6
+
+@dataclass(frozen=True)
+class Pose66:
+    """One assembly mode of the 6-6 platform.
+
+    Attributes
+    ----------
+    rotation : array (3, 3)
+        Platform frame -> base frame.
+    translation : array (3,), length units
+    base_joints, platform_joints : array (6, 3), base frame, length units
+    max_leg_error : float
+        max_k | |b_k - p_k| - m_k | on the 6-6 platform's own geometry (length units);
+        in the certified tier a rigorous upper bound (arb).
+    octahedral_pose : object
+        The octahedral pose it comes from.
+    """
+
+    rotation: np.ndarray
+    translation: np.ndarray
+    base_joints: np.ndarray
+    platform_joints: np.ndarray
+    max_leg_error: float
+    octahedral_pose: object
+
+
+@dataclass(frozen=True)
+class FK66Result:
+    """Result of :func:`forward_kinematics66`.
+
+    Attributes
+    ----------
+    platform : Platform66
+    l_sq, l_legs : tuples of sympy numbers
+        The equivalent octahedral legs (exact).
+    octahedral : object
+        The octahedral forward-kinematics result.
+    poses : tuple of Pose66
+    max_leg_error : float
+        Worst m-leg residual over all poses (length units).
+    """
+
+    platform: Platform66
+    l_sq: tuple
+    l_legs: tuple
+    octahedral: object
+    poses: tuple
+    max_leg_error: float
+
+
+def forward_kinematics66(octahedral, offsets, m_legs, *, method: str = "fast",
+                         dps: int | None = None) -> FK66Result:
+    r"""Forward kinematics of the 6-6 platform equivalent to an octahedral one.
+
+    Rojas et al., Sec. V-VI: map the m-legs to the l-legs by eq. (8),
+    :math:`l^2 = \mathbf A^{-1}(m^2 + \mathbf b)` (exact), solve the octahedral forward
+    kinematics (:func:`distkin.octahedral.forward_kinematics`) and move the 6-6
+    platform (:func:`equivalent_platform`) by each of its poses.  Each pose is then
+    checked on the 6-6 platform's own joints, independently of the affine map:
+    ``max_leg_error`` = :math:`\max_k \bigl|\,|b_k - (R q_k + t)| - m_k\bigr|`.
+
+    Parameters
+    ----------
+    octahedral : Octahedral or (base, platform)
+    offsets : 6 numbers (length units)
+    m_legs : 6 leg lengths (Exact, numeric strings like ``"6/25*sqrt(6170)"``)
+    method : {"fast", "precise", "certified"}
+        Passed to the octahedral solver; its accuracy statement applies.  The residual
+        check runs in float64 (fast), mpmath at ``dps`` (precise) or arb balls
+        (certified: a rigorous upper bound).
+    dps : int, optional
+
+    Returns
+    -------
+    FK66Result
+
+    Raises
+    ------
+    DegenerateGeometryError, InfeasibleError, InputError
+        See :meth:`DeltaTransform.map_legs` and :func:`equivalent_platform`.
+    """
+    check_method(method)
+    dps = default_dps(dps) if dps is not None else None
+    plat = equivalent_platform(octahedral, offsets)
+    l_sq, l = plat.transform.map_legs(m_legs)
+    from .octahedral import forward_kinematics
+    base, platform = _base_platform(octahedral)
+    legs = [_legs_arg(x) for x in l]
+    kwargs = {"method": method}
+    if dps is not None:
+        kwargs["dps"] = dps
+    res = forward_kinematics(base, platform, legs, **kwargs)
+    m = [_as_sym(x, f"m_legs[{i}]") for i, x in enumerate(m_legs)]
+    poses = []
+    for pose in res.poses:
+        R, t = _pose_arrays(pose, method)
+        poses.append(_pose66(plat, R, t, m, method, dps, pose))
+    worst = max((p.max_leg_error for p in poses), default=0.0)
+    return FK66Result(plat, l_sq, l, res, tuple(poses), worst)
+
+
+def _legs_arg(x):
+    """An l-leg as the octahedral solver's input: an exact string ("99/5", "3*sqrt(2)")."""
+    return str(x)
+
+
+def _pose_arrays(pose, method):
+    """Rotation and translation of an octahedral pose: float64 (fast) or the tier-native
+    values (mpf / arb) when the solver provides them."""
+    native = getattr(pose, "native", None)
+    if method != "fast" and native and "rotation" in native and "translation" in native:
+        return (np.asarray(native["rotation"], dtype=object),
+                np.asarray(native["translation"], dtype=object))
+    return np.asarray(pose.rotation), np.asarray(pose.translation)
+
+
+def _pose66(plat, R, t, m, method, dps, pose):
+    if method == "fast":
+        bj, pj = plat.joints("fast")
+        Rf, tf = R.astype(float), t.astype(float)
+        world = pj @ Rf.T + tf
+        lens = np.linalg.norm(world - bj, axis=1)
+        err = float(np.max(np.abs(lens - np.array([float(x) for x in m]))))
+        return Pose66(Rf, tf, bj, world, err, pose)
+    if method == "certified" and R.dtype == object and type(R.ravel()[0]).__name__ == "arb":
+        return _pose66_arb(plat, R, t, m, pose)
+    import mpmath
+    with mpmath.workdps(dps or 30):
+        bj, pj = plat.joints("precise")
+        Rm = np.array([[_mpf(x) for x in row] for row in R], dtype=object)
+        tm = np.array([_mpf(x) for x in t], dtype=object)
+        world = np.array([Rm.dot(p) + tm for p in pj], dtype=object)
+        errs = []
+        for k in range(6):
+            diff = world[k] - bj[k]
+            lk = mpmath.sqrt(sum(x * x for x in diff))
+            errs.append(abs(lk - mpmath.mpf(m[k].evalf(mpmath.mp.dps + 5))))
+        err = float(max(errs))
+        return Pose66(Rm, tm, bj, world, err, pose)
+
+
+def _pose66_arb(plat, R, t, m, pose):
+    """Certified tier: the residual is a rigorous upper bound from arb balls (the pose
+    enclosures of the octahedral solver, the exact joints and m-legs as balls)."""
+    import flint
+
+    from .numbers import sympy_to_arb
+    bj, pj = plat.joints("certified")
+    world = np.array([R.dot(p) + t for p in pj], dtype=object)
+    errs = []
+    for k in range(6):
+        diff = world[k] - bj[k]
+        lk = (diff[0] * diff[0] + diff[1] * diff[1] + diff[2] * diff[2]).sqrt()
+        e = abs(lk - sympy_to_arb(m[k]))
+        errs.append(float(flint.arb(e.upper()).mid()))
+    return Pose66(R, t, bj, world, max(errs), pose)
+
+
+def _mpf(x):
+    import mpmath
+    if type(x).__name__ == "arb":
+        return mpmath.mpf(x.mid().str(mpmath.mp.dps + 5, radius=False))
+    if isinstance(x, Fraction):
+        return mpmath.mpf(x.numerator) / x.denominator
+    if type(x).__name__ == "fmpq":
+        return mpmath.mpf(int(x.p)) / int(x.q)
+    return mpmath.mpf(x)

@@ -1,0 +1,346 @@
+"""Scene query ``delta_transform``: the Δ-transform of an octahedral mechanism.
+
+Rojas, Borràs, Thomas, *The Octahedral Manipulator Revisited*, Sec. V-VI, eqs. (7)-(9).
+
+Scene fields::
+
+    [[query]]
+    type = "delta_transform"
+    offsets = ["12/5", "6/5", "12/5", "6/5", "12/5", "6/5"]   # delta1..delta6, eq. (9) rows;
+                                             # numbers or symbol names ("Delta1")
+    m_legs = ["6/25*sqrt(6170)", ...]        # optional: lengths of the 6-6 platform's legs
+    solve = true                             # optional (default: true when m_legs and the
+                                             # offsets are numeric): 6-6 forward kinematics
+    method = "fast"                          # tier of the octahedral solver
+    dps = 30                                 # precise tier only
+
+The JSON result has ``A`` (rows of strings), ``b``, ``det``, ``det_factors`` (the
+irreducible factors, sympy syntax), ``det_constant``; with ``m_legs`` also
+``mapped_squared_legs`` and ``mapped_legs`` (the l-legs, exact strings); with ``solve``
+the 6-6 poses, each checked on the 6-6 platform's own joints (``max_leg_error``).
+
+Offsets that make A singular raise ``DegenerateGeometryError`` at load time, naming the
+vanishing factor; negative mapped squared lengths raise ``InfeasibleError``.
+
+Mechanism kind ``platform66`` (Fig. 6): the 6-6 platform given by its octahedral parent
+and the offsets; its ``forward_kinematics`` query takes the m-legs::
+
+    [mechanism]
+    kind = "platform66"
+    base = [[0,0,0], [6,"sqrt(108)",0], [12,0,0]]        # P1 P2 P3 of the octahedral parent
+    platform = [[0,0,0], [6,0,0], [3,"sqrt(27)",0]]      # P4 P5 P6, platform frame
+    offsets = ["12/5", "6/5", "12/5", "6/5", "12/5", "6/5"]
+
+    [[query]]
+    type = "forward_kinematics"
+    legs = ["6/25*sqrt(6170)", ...]                      # m1..m6
+    method = "fast"
+
+``delta_transform`` and ``singularity`` serve ``platform66`` too (offsets default to
+the mechanism's).  Lengths are in the scene's length unit throughout.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .argcheck import check_keys, exact_matrix, method_field, require
+from .errors import DistkinError, InputError
+from .numbers import default_dps, parse_vector
+from .queries import Outcome, register
+
+__all__ = ["DeltaTransformQuery", "Platform66Forward", "Platform66Mechanism",
+           "parse_platform66", "plot_det_family"]
+
+
+@dataclass(frozen=True)
+class Platform66Mechanism:
+    """``kind = "platform66"``: the 6-6 platform of Rojas et al., Fig. 6, given by its
+    octahedral parent (``base`` P1..P3, ``platform`` P4..P6 in the platform frame) and
+    the offsets delta1..delta6 (eq. (9) rows).  Entries are
+    :class:`~distkin.numbers.Exact`."""
+
+    base: tuple
+    platform: tuple
+    offsets: tuple
+
+    kind = "platform66"
+
+
+def parse_platform66(table, units, fld):
+    """Scene parser of ``kind = "platform66"`` (registered in ``MECHANISM_PARSERS``).
+
+    Raises
+    ------
+    InputError, DegenerateGeometryError
+        Malformed points or offsets; offsets with det(A) = 0 or merging two joints.
+    """
+    from .delta import equivalent_platform
+    check_keys(table, {"kind", "base", "platform", "offsets"}, fld)
+    base = exact_matrix(require(table, "base", fld), f"{fld}.base", rows=3, cols=3)
+    plat = exact_matrix(require(table, "platform", fld), f"{fld}.platform", rows=3, cols=3)
+    offs = parse_vector(require(table, "offsets", fld), f"{fld}.offsets", length=6)
+    try:
+        equivalent_platform((base, plat), offs)
+    except DistkinError as exc:
+        raise exc.with_field(fld) if exc.field and not exc.field.startswith(fld) else exc
+    return Platform66Mechanism(base, plat, offs)
+
+
+@dataclass(frozen=True)
+class _Params:
+    offsets: tuple
+    m_legs: tuple | None
+    solve: bool
+    method: str
+    dps: int
+    transform: object
+    mechanism: object
+
+
+def _fmt_matrix(M):
+    return [[str(M[i, j]) for j in range(M.cols)] for i in range(M.rows)]
+
+
+@register("delta_transform", mechanisms=("octahedral", "platform66"),
+          summary="Δ-transform: A, b, det(A) factorised, mapped legs, equivalent 6-6 FK")
+class DeltaTransformQuery:
+    @staticmethod
+    def parse(table, mechanism, units, field):
+        from .delta import delta_transform
+        check_keys(table, {"type", "offsets", "m_legs", "solve", "method", "dps"}, field)
+        if "offsets" in table:
+            offs = parse_vector(table["offsets"], f"{field}.offsets", length=6,
+                                allow_symbols=True)
+        elif getattr(mechanism, "kind", None) == "platform66":
+            offs = mechanism.offsets
+        else:
+            raise InputError("missing required field 'offsets' (delta1..delta6)",
+                             field=f"{field}.offsets")
+        tr = delta_transform(mechanism, offs, field=f"{field}.offsets")
+        tr.check_regular(field=f"{field}.offsets")
+        m_legs = None
+        if "m_legs" in table:
+            m_legs = parse_vector(table["m_legs"], f"{field}.m_legs", length=6)
+            for i, m in enumerate(m_legs):
+                if not float(m) > 0:
+                    raise InputError(f"expected a positive leg length, got {m.text!r}",
+                                     field=f"{field}.m_legs[{i}]")
+        solve = table.get("solve", m_legs is not None and not tr.free_symbols)
+        if not isinstance(solve, bool):
+            raise InputError(f"expected true or false, got {solve!r}", field=f"{field}.solve")
+        if solve and m_legs is None:
+            raise InputError("expected m_legs when solve = true", field=f"{field}.solve")
+        if solve and tr.free_symbols:
+            raise InputError("expected numeric offsets when solve = true, got symbols "
+                             f"{', '.join(map(str, tr.free_symbols))}", field=f"{field}.solve")
+        method = method_field(table, field)
+        dps = default_dps(table.get("dps"))
+        return _Params(offs, m_legs, solve, method, dps, tr, mechanism)
+
+    @staticmethod
+    def run(p, scene, ctx):
+        import sympy as sp
+
+        from .delta import SIDE_NAMES, derive_eq7
+        tr = p.transform
+        unit = "" if scene.units.length == "none" else f" {scene.units.length}"
+        const, factors = tr.det_factors()
+        eq7 = derive_eq7()
+        result = {
+            "offsets": [str(o) for o in tr.offsets],
+            "sides": {n: str(d) for n, d in zip(SIDE_NAMES, tr.sides)},
+            "eq7": f"{sp.sstr(eq7.relation)} = 0",
+            "sign_convention": "m^2 = A l^2 - b (eq. (8))",
+            "A": _fmt_matrix(tr.A),
+            "b": [str(x) for x in tr.b],
+            "det": sp.sstr(tr.det),
+            "det_constant": str(const),
+            "det_factors": [sp.sstr(f) for f, _ in factors],
+            "det_multiplicities": [int(k) for _, k in factors],
+        }
+        lines = ["eq. (7) from D(1,2,3,4) = -2 L^2:  " + result["eq7"],
+                 "sides: " + ", ".join(f"{n} = {d}{unit}" for n, d in result["sides"].items()),
+                 "offsets: " + ", ".join(f"delta{i + 1} = {o}{unit}"
+                                         for i, o in enumerate(result["offsets"])),
+                 "A (eq. (9), dimensionless), m^2 = A l^2 - b:"]
+        lines += ["  [" + ", ".join(row) + "]" for row in result["A"]]
+        lines.append("b = [" + ", ".join(result["b"]) + f"]{unit}^2" if unit else
+                     "b = [" + ", ".join(result["b"]) + "]")
+        lines.append(f"det(A) = {result['det']}")
+        if factors:
+            fac = " * ".join(f"({f})" + (f"^{k}" if k > 1 else "")
+                             for f, k in zip(result["det_factors"], result["det_multiplicities"]))
+            lines.append(f"det(A) = {const} * {fac}")
+            lines.append("architecturally singular where a factor vanishes")
+        else:
+            lines.append("det(A) != 0: the equivalent 6-6 platform is not architecturally singular")
+        if p.m_legs is not None:
+            l_sq, l = tr.map_legs(p.m_legs, field="m_legs")
+            result["m_legs"] = [m.text for m in p.m_legs]
+            result["mapped_squared_legs"] = [sp.sstr(x) for x in l_sq]
+            result["mapped_legs"] = [sp.sstr(sp.nsimplify(x)) for x in l]
+            lines.append("m-legs -> l-legs (exact, l^2 = A^-1 (m^2 + b)):")
+            for i, (m, x) in enumerate(zip(result["m_legs"], result["mapped_legs"])):
+                approx = "" if tr.free_symbols else f"  (= {float(l[i]):.10g}{unit})"
+                lines.append(f"  m{i + 1} = {m}{unit}  ->  l{i + 1} = {x}{unit}{approx}")
+        if p.solve:
+            lines += _solve(p, result, unit)
+        plot = (lambda stem: plot_det_family(tr, stem)) if _family_ok(tr) else None
+        return Outcome(result, "\n".join(lines), plot)
+
+
+def _solve(p, result, unit):
+    """Run the 6-6 forward kinematics, add it to ``result``; return text lines."""
+    import numpy as np
+
+    from .delta import forward_kinematics66
+    from .singularity import jacobian_det
+    fk = forward_kinematics66(p.mechanism, p.offsets, p.m_legs, method=p.method, dps=p.dps)
+    flt = lambda a: np.vectorize(float, otypes=[float])(np.asarray(a, dtype=object))  # noqa: E731
+    bj = flt(fk.platform.base_joints)
+    sq = f"{unit}^2" if unit else ""
+    bound = " (rigorous arb bound)" if p.method == "certified" else ""
+    poses = []
+    lines = [f"6-6 forward kinematics ({p.method}): {len(fk.poses)} poses; each checked on the "
+             f"6-6 platform's own joints"]
+    for k, pose in enumerate(fk.poses):
+        R, t = flt(pose.rotation), flt(pose.translation)
+        pj = flt(pose.platform_joints)
+        s15 = float(getattr(pose.octahedral_pose, "s15", float("nan")))
+        detj = float(jacobian_det(bj, pj))
+        poses.append({"s15": s15, "rotation": R, "translation": t, "platform_joints": pj,
+                      "max_leg_error": pose.max_leg_error, "det_J66": detj})
+        lines.append(f"  pose {k + 1:2d}: s15 = {s15:9.4f}{sq}, t = ({t[0]: .6f}, {t[1]: .6f}, "
+                     f"{t[2]: .6f}){unit}, det J66 = {detj: .3e}, max |m-leg error| = "
+                     f"{pose.max_leg_error:.2e}{unit}")
+    result["forward_kinematics"] = {
+        "method": p.method,
+        "count": len(fk.poses),
+        "max_leg_error": fk.max_leg_error,
+        "base_joints": [[str(x) for x in b] for b in fk.platform.base_joints],
+        "platform_joints_local": [[str(x) for x in q] for q in fk.platform.platform_joints],
+        "poses": poses,
+        "accuracy": "max_leg_error = max_k | |b_k - (R q_k + t)| - m_k | on the 6-6 joints"
+                    + bound,
+    }
+    lines.append(f"  worst m-leg residual over all poses: {fk.max_leg_error:.2e}{unit}{bound}")
+    return lines
+
+
+@register("forward_kinematics", mechanisms=("platform66",),
+          summary="every pose of a 6-6 platform equivalent to an octahedral one (Sec. V-VI)")
+class Platform66Forward:
+    """``forward_kinematics`` for ``kind = "platform66"``: fields ``legs`` (m1..m6),
+    ``method``, ``dps``.  The m-legs are mapped exactly to l-legs by eq. (8), the
+    octahedral problem is solved, and every pose is checked on the 6-6 joints."""
+
+    @staticmethod
+    def parse(table, mechanism, units, field):
+        from .delta import delta_transform
+        check_keys(table, {"type", "legs", "method", "dps"}, field)
+        legs = parse_vector(require(table, "legs", field), f"{field}.legs", length=6)
+        for i, m in enumerate(legs):
+            if not float(m) > 0:
+                raise InputError(f"expected a positive leg length, got {m.text!r}",
+                                 field=f"{field}.legs[{i}]")
+        tr = delta_transform(mechanism, mechanism.offsets, field="mechanism.offsets")
+        return _Params(mechanism.offsets, legs, True, method_field(table, field),
+                       default_dps(table.get("dps")), tr, mechanism)
+
+    @staticmethod
+    def run(p, scene, ctx):
+        import sympy as sp
+        unit = "" if scene.units.length == "none" else f" {scene.units.length}"
+        l_sq, l = p.transform.map_legs(p.m_legs, field="legs")
+        result = {"m_legs": [m.text for m in p.m_legs],
+                  "mapped_legs": [sp.sstr(x) for x in l],
+                  "det_A": str(p.transform.det)}
+        lines = ["m-legs -> l-legs of the equivalent octahedral manipulator (eq. (8), exact): "
+                 + ", ".join(result["mapped_legs"])]
+        lines += _solve(p, result, unit)
+        fk = result.pop("forward_kinematics")
+        result.update(fk)
+        return Outcome(result, "\n".join(lines))
+
+
+def _family_ok(tr) -> bool:
+    """A det(A) plot over two parameters is possible (two symbols, or numeric offsets)."""
+    return len(tr.free_symbols) in (0, 2)
+
+
+def _family(tr):
+    """(det as a function of two symbols, the symbols, ranges, marked point or None)."""
+    import sympy as sp
+
+    from .delta import DeltaTransform
+    if len(tr.free_symbols) == 2:
+        s1, s2 = tr.free_symbols
+        mark = None
+        det = tr.det
+    else:
+        s1, s2 = sp.symbols("Delta1 Delta2", real=True)
+        fam = DeltaTransform(tr.sides, (s1, s2, s1, s2, s1, s2))
+        det = fam.det
+        o = tr.offsets
+        mark = (o[0], o[1]) if o[0] == o[2] == o[4] and o[1] == o[3] == o[5] else None
+    d1 = float(min(tr.sides[0], tr.sides[2], tr.sides[4]))
+    d2 = float(min(tr.sides[1], tr.sides[3], tr.sides[5]))
+    return det, (s1, s2), (d1, d2), mark
+
+
+def plot_det_family(tr, stem):
+    r"""det(A) over two offset parameters with the architecturally singular locus
+    (the analogue of Rojas et al., Fig. 7).
+
+    With two symbolic offsets the plot is over those; with numeric offsets over the
+    3-fold family :math:`\Delta_1 = \delta_1 = \delta_3 = \delta_5`,
+    :math:`\Delta_2 = \delta_2 = \delta_4 = \delta_6`, with the scene's offsets marked
+    when they belong to it.  The dotted line is the paper's sentence
+    :math:`\Delta_1 + \Delta_2 = 12` (written :math:`\Delta_1 + \Delta_2 = d_{12}`).
+
+    Returns
+    -------
+    list of pathlib.Path
+    """
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    import sympy as sp
+    from matplotlib.colors import TwoSlopeNorm
+    from pathlib import Path
+    det, (s1, s2), (d1, d2), mark = _family(tr)
+    f = sp.lambdify((s1, s2), det, "numpy")
+    x = np.linspace(-0.25 * d1, 1.25 * d1, 301)
+    y = np.linspace(-0.25 * d2, 1.25 * d2, 301)
+    X, Y = np.meshgrid(x, y)
+    Z = np.broadcast_to(np.asarray(f(X, Y), dtype=float), X.shape)
+    fig, ax = plt.subplots(figsize=(6.4, 5.2))
+    inside = (X >= 0) & (X <= d1) & (Y >= 0) & (Y <= d2)
+    lim = float(np.max(np.abs(Z[inside]))) or 1.0        # colour scale of the physical box
+    cs = ax.contourf(X, Y, np.clip(Z, -lim, lim), levels=np.linspace(-lim, lim, 41),
+                     cmap="RdBu_r", norm=TwoSlopeNorm(0.0, -lim, lim), extend="both")
+    fig.colorbar(cs, ax=ax, label="det(A) (dimensionless; clipped outside the box range)")
+    ax.contour(X, Y, Z, levels=[0.0], colors="k", linewidths=2.0)
+    ax.plot([], [], "k-", lw=2, label="det(A) = 0 (architecturally singular)")
+    ax.plot(x, float(tr.sides[0]) - x, ":", color="0.3",
+            label=f"{s1} + {s2} = {tr.sides[0]} (paper, Sec. VI)")
+    ax.add_patch(plt.Rectangle((0, 0), d1, d2, fill=False, ls="--", ec="0.4",
+                               label="joints on the edges (0 <= delta <= d)"))
+    ax.plot([d1 / 2], [d2 / 2], "s", color="w", mec="k", ms=7,
+            label="midpoints: architecturally singular Griffis-Duffy platform")
+    if mark is not None:
+        ax.plot([float(mark[0])], [float(mark[1])], "o", color="gold", mec="k", ms=9,
+                label=f"scene offsets ({mark[0]}, {mark[1]})")
+    ax.set_xlim(x[0], x[-1])
+    ax.set_ylim(y[0], y[-1])
+    ax.set_xlabel(f"{s1} = delta1 = delta3 = delta5 (length)")
+    ax.set_ylabel(f"{s2} = delta2 = delta4 = delta6 (length)")
+    ax.set_title("det(A) of the Δ-transform (cf. Rojas et al., Fig. 7)")
+    ax.legend(loc="upper right", fontsize=7)
+    out = Path(str(stem) + "_det_family.png")
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+    return [out]

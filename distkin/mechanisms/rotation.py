@@ -1,0 +1,123 @@
+"""Pose parametrisation of the RSS mechanisms: position plus fixed-axis x-y-z angles.
+
+A pose is ``(x, y, z, rx, ry, rz)``: the end-effector centre in metres (base frame)
+and the rotation
+
+.. math:: R = R_z(r_z)\\, R_y(r_y)\\, R_x(r_x),
+
+i.e. a rotation about the fixed base axis x by ``rx``, then about y by ``ry``, then
+about z by ``rz`` (the "rotations around all axes" of Kühne et al., Table II).  The
+parametrisation is singular at ``ry = ±pi/2``, far outside any RSS workspace.
+
+The angular velocity is ``omega = E(r) @ rdot`` with
+``E = [Rz Ry e_x | Rz e_y | e_z]`` (:func:`omega_map`); the Jacobian J maps
+``(v, omega)``, the derivative of IK with respect to the pose parameters is
+``J @ blockdiag(I, E)``.  Plain numpy, batched over leading axes; no sympy.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["rotation_matrix", "rotation_angles", "omega_map", "exp_so3", "pose_error"]
+
+
+def rotation_matrix(r):
+    """R = Rz(rz) Ry(ry) Rx(rx).
+
+    Parameters
+    ----------
+    r : array (..., 3), rad
+
+    Returns
+    -------
+    array (..., 3, 3)
+    """
+    r = np.asarray(r, dtype=float)
+    cx, cy, cz = np.cos(r[..., 0]), np.cos(r[..., 1]), np.cos(r[..., 2])
+    sx, sy, sz = np.sin(r[..., 0]), np.sin(r[..., 1]), np.sin(r[..., 2])
+    R = np.empty(r.shape[:-1] + (3, 3))
+    R[..., 0, 0] = cz * cy
+    R[..., 0, 1] = cz * sy * sx - sz * cx
+    R[..., 0, 2] = cz * sy * cx + sz * sx
+    R[..., 1, 0] = sz * cy
+    R[..., 1, 1] = sz * sy * sx + cz * cx
+    R[..., 1, 2] = sz * sy * cx - cz * sx
+    R[..., 2, 0] = -sy
+    R[..., 2, 1] = cy * sx
+    R[..., 2, 2] = cy * cx
+    return R
+
+
+def rotation_angles(R):
+    """Inverse of :func:`rotation_matrix`: (rx, ry, rz) with ry in [-pi/2, pi/2].
+
+    Parameters
+    ----------
+    R : array (..., 3, 3)
+
+    Returns
+    -------
+    array (..., 3), rad
+    """
+    R = np.asarray(R, dtype=float)
+    rx = np.arctan2(R[..., 2, 1], R[..., 2, 2])
+    ry = np.arctan2(-R[..., 2, 0], np.hypot(R[..., 2, 1], R[..., 2, 2]))
+    rz = np.arctan2(R[..., 1, 0], R[..., 0, 0])
+    return np.stack([rx, ry, rz], axis=-1)
+
+
+def omega_map(r):
+    """E(r) with omega = E @ rdot for R = Rz Ry Rx.
+
+    Parameters
+    ----------
+    r : array (..., 3), rad
+
+    Returns
+    -------
+    array (..., 3, 3)
+    """
+    r = np.asarray(r, dtype=float)
+    cy, cz = np.cos(r[..., 1]), np.cos(r[..., 2])
+    sy, sz = np.sin(r[..., 1]), np.sin(r[..., 2])
+    E = np.zeros(r.shape[:-1] + (3, 3))
+    E[..., 0, 0] = cz * cy
+    E[..., 1, 0] = sz * cy
+    E[..., 2, 0] = -sy
+    E[..., 0, 1] = -sz
+    E[..., 1, 1] = cz
+    E[..., 2, 2] = 1.0
+    return E
+
+
+def exp_so3(w):
+    """Rotation matrix of the rotation vector ``w`` (..., 3) (Rodrigues' formula)."""
+    w = np.asarray(w, dtype=float)
+    th = np.linalg.norm(w, axis=-1)[..., None, None]
+    K = np.zeros(w.shape[:-1] + (3, 3))
+    K[..., 0, 1], K[..., 0, 2], K[..., 1, 2] = -w[..., 2], w[..., 1], -w[..., 0]
+    K[..., 1, 0], K[..., 2, 0], K[..., 2, 1] = w[..., 2], -w[..., 1], w[..., 0]
+    small = th < 1e-8
+    ths = np.where(small, 1.0, th)
+    a = np.where(small, 1.0 - th ** 2 / 6.0, np.sin(ths) / ths)
+    b = np.where(small, 0.5 - th ** 2 / 24.0, (1.0 - np.cos(ths)) / ths ** 2)
+    return np.eye(3) + a * K + b * (K @ K)
+
+
+def pose_error(p1, p2):
+    """Position error (m) and rotation angle between two poses (rad), each (...,).
+
+    Parameters
+    ----------
+    p1, p2 : array (..., 6)
+    """
+    p1, p2 = np.asarray(p1, dtype=float), np.asarray(p2, dtype=float)
+    dpos = np.linalg.norm(p1[..., :3] - p2[..., :3], axis=-1)
+    Rrel = np.swapaxes(rotation_matrix(p1[..., 3:]), -1, -2) @ rotation_matrix(p2[..., 3:])
+    tr = np.trace(Rrel, axis1=-2, axis2=-1)
+    # angle from the skew part (accurate near 0) and the trace (accurate near pi)
+    sk = np.stack([Rrel[..., 2, 1] - Rrel[..., 1, 2], Rrel[..., 0, 2] - Rrel[..., 2, 0],
+                   Rrel[..., 1, 0] - Rrel[..., 0, 1]], axis=-1)
+    ang = np.arctan2(0.5 * np.linalg.norm(sk, axis=-1), 0.5 * (tr - 1.0))
+    return dpos, ang

@@ -1,0 +1,295 @@
+"""The RSS/RRRS parallel mechanism: an immutable description and its numeric methods.
+
+Kühne et al., *Design and Evaluation of a Haptic Interface With Octopod Kinematics*,
+Sec. II-C (eqs. (1)-(3), (7)), Fig. 2.  The parametrisation (what l0, l1, l2, l3, lp,
+ld, beta, gamma, z0 mean) is stated in :mod:`.presets`; poses in :mod:`.rotation`.
+
+The numeric methods run on generated kernels (:mod:`.kernels`): the committed modules
+``distkin._generated.rss_<preset>`` for the presets, a cached generated module
+otherwise.  Nothing here imports sympy.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from ..argcheck import float_array
+from ..errors import InputError
+
+__all__ = ["RSSMechanism", "GEOMETRY_FIELDS"]
+
+#: the parameters that define the kinematics (mass and inertia do not)
+GEOMETRY_FIELDS = ("legs", "l0", "l1", "l2", "l3", "lp", "ld", "z0", "beta", "gamma")
+
+
+def _poses(poses, field="poses"):
+    arr = np.asarray(poses, dtype=float)
+    single = arr.ndim == 1
+    arr = float_array(arr.reshape(1, -1) if single else arr, field, (None, 6))
+    return arr, single
+
+
+@dataclass(frozen=True)
+class RSSMechanism:
+    """A parallel mechanism with L rotary-actuated RRRS legs in mirror-symmetric pairs.
+
+    Parameters (SI units)
+    ---------------------
+    name : str
+    legs : int
+        L, 6 or 8.
+    l0, l1, l2, lp, ld : float
+        Base radius, crank, RRRS offset, end-effector radius, pair spacing (m).
+    z0 : float
+        Height of the workspace centre above the base plane (m).
+    beta, gamma : float
+        Base and end-effector pair angles (rad).
+    l3 : float or None
+        Distal link (m); ``None`` applies the horizontal-crank rule (:mod:`.presets`).
+    mass, inertia : float
+        End-effector mass (kg) and principal inertia (kg m^2) of M̂ (Sec. III-B.3).
+    """
+
+    name: str = "custom"
+    legs: int = 6
+    l0: float = 0.152
+    l1: float = 0.157
+    l2: float = 0.0
+    l3: float | None = None
+    lp: float = 0.055
+    ld: float = 0.020
+    z0: float = 0.30
+    beta: float = 0.0
+    gamma: float = 0.0
+    mass: float = 0.17
+    inertia: float = 3e-4
+
+    #: the scene's mechanism kind
+    kind = "rss"
+
+    def __post_init__(self):
+        if not isinstance(self.legs, int) or isinstance(self.legs, bool) or self.legs not in (6, 8):
+            raise InputError(f"expected legs = 6 or 8, got {self.legs!r}", field="legs")
+        for f in ("l0", "l1", "lp", "z0", "mass", "inertia"):
+            v = getattr(self, f)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise InputError(f"expected a positive finite number, got {v!r}", field=f)
+            object.__setattr__(self, f, float(v))
+        for f in ("l2", "ld", "beta", "gamma"):
+            v = getattr(self, f)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
+                raise InputError(f"expected a finite number >= 0, got {v!r}", field=f)
+            object.__setattr__(self, f, float(v))
+        if self.beta >= math.pi / 2 or self.gamma >= math.pi / 2:
+            raise InputError(f"expected beta and gamma below 90 deg, got beta={self.beta!r}, "
+                             f"gamma={self.gamma!r} rad", field="beta")
+        rule = self._l3_rule()
+        if self.l3 is None:
+            object.__setattr__(self, "l3", rule)
+        else:
+            v = self.l3
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise InputError(f"expected a positive finite number, got {v!r}", field="l3")
+            object.__setattr__(self, "l3", float(v))
+
+    def __getstate__(self):
+        # pickle the description only (pool workers), not the loaded kernel modules
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+    # ------------------------------------------------------------------ geometry
+    @property
+    def L(self) -> int:
+        """Number of legs and actuators."""
+        return self.legs
+
+    @property
+    def home(self) -> np.ndarray:
+        """The workspace centre (0, 0, z0, 0, 0, 0)."""
+        return np.array([0.0, 0.0, self.z0, 0.0, 0.0, 0.0])
+
+    def geometry(self) -> dict:
+        """Constant leg vectors of the parametrisation (:mod:`.presets`), arrays (L, 3).
+
+        Keys: ``B`` crank pivots, ``a`` actuator axes, ``u`` horizontal crank
+        directions, ``offset`` = s l2 a (crank tip -> universal joint), ``p`` spherical
+        joints in the end-effector frame; ``theta`` (L,) pair azimuths, ``side`` (L,).
+        """
+        L = self.legs
+        k = np.arange(L) // 2
+        side = np.where(np.arange(L) % 2 == 0, -1.0, 1.0)
+        theta = 2.0 * np.pi * k / (L // 2)
+        e = np.stack([np.cos(theta), np.sin(theta), np.zeros(L)], axis=-1)
+        t = np.stack([-np.sin(theta), np.cos(theta), np.zeros(L)], axis=-1)
+        z = np.array([0.0, 0.0, 1.0])
+        B = self.l0 * e + (side * self.ld / 2)[:, None] * t
+
+        def rotz(ang, v):
+            c, s = np.cos(ang), np.sin(ang)
+            return np.stack([c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1], v[:, 2]],
+                            axis=-1)
+
+        a = rotz(side * self.beta, t)
+        u = np.cross(a, z)
+        offset = (side * self.l2)[:, None] * a
+        p = rotz(side * self.gamma, self.lp * e + (side * self.ld / 2)[:, None] * t)
+        return {"B": B, "a": a, "u": u, "offset": offset, "p": p, "theta": theta,
+                "side": side}
+
+    def _l3_rule(self) -> float:
+        g = self.geometry()
+        P = g["p"][0] + np.array([0.0, 0.0, self.z0])
+        D = g["B"][0] + g["offset"][0] + self.l1 * g["u"][0]
+        return float(np.linalg.norm(P - D))
+
+    def parameters(self) -> dict:
+        """All parameters as a dict (SI)."""
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+    def geometry_key(self) -> tuple:
+        """The kinematic parameters as a tuple (identity of the generated kernels)."""
+        return tuple((f, getattr(self, f)) for f in GEOMETRY_FIELDS)
+
+    def points(self, poses, q=None):
+        """Joint positions for drawings and independent checks (plain numpy).
+
+        Parameters
+        ----------
+        poses : array (N, 6) or (6,)
+        q : array (N, L) or (L,), optional
+            Crank angles (rad); by default the inverse kinematics of ``poses``.
+
+        Returns
+        -------
+        dict of arrays (N, L, 3) (or (L, 3) for one pose)
+            ``B`` crank pivot, ``C`` crank tip, ``D`` universal-joint centre, ``P``
+            spherical joint, plus ``q`` (N, L).
+        """
+        from .rotation import rotation_matrix
+        X, single = _poses(poses)
+        if q is None:
+            q, _ = self.inverse_kinematics(X)
+        q = np.asarray(q, dtype=float).reshape(len(X), self.legs)
+        g = self.geometry()
+        z = np.array([0.0, 0.0, 1.0])
+        R = rotation_matrix(X[:, 3:])
+        P = X[:, None, :3] + np.einsum("nij,lj->nli", R, g["p"])
+        C = (g["B"][None] + self.l1 * (np.cos(q)[..., None] * g["u"][None]
+                                       + np.sin(q)[..., None] * z))
+        D = C + g["offset"][None]
+        B = np.broadcast_to(g["B"], C.shape)
+        out = {"B": B, "C": C, "D": D, "P": P, "q": q}
+        return {k: v[0] for k, v in out.items()} if single else out
+
+    # ------------------------------------------------------------------ kernels
+    def kernels(self, flavour: str = "batched"):
+        """The generated kernels (:mod:`.kernels`), ``flavour`` "batched" or "scalar"."""
+        cache = self.__dict__.get("_kernel_sets")
+        if cache is None:
+            cache = {}
+            object.__setattr__(self, "_kernel_sets", cache)   # a work buffer, not a field
+        ks = cache.get(flavour)
+        if ks is None:
+            from .kernels import load_kernels
+            ks = cache[flavour] = load_kernels(self, flavour)
+        return ks
+
+    def inverse_kinematics(self, poses):
+        """Closed-form inverse kinematics, one crank angle per leg.
+
+        Parameters
+        ----------
+        poses : array (N, 6) or (6,)
+            m and rad (:mod:`.rotation`).
+
+        Returns
+        -------
+        q : array (N, L), rad
+            Crank elevation (0 = horizontal), branch of :mod:`.presets`; finite even
+            where a leg cannot close.
+        valid : array (N, L) of bool
+            The leg closes (the reach margin is >= 0).
+        """
+        X, single = _poses(poses)
+        k = self.kernels("batched")
+        q = k.ik(X)
+        valid = k.reach(X) >= 0.0
+        return (q[0], valid[0]) if single else (q, valid)
+
+    def reachable(self, poses):
+        """(N,) bool: every leg of the pose closes."""
+        X, single = _poses(poses)
+        ok = np.all(self.kernels("batched").reach(X) >= 0.0, axis=-1)
+        return ok[0] if single else ok
+
+    def reach_margin(self, poses):
+        """(N, L) reach margin rho^2 - C^2 (m^2) of the IK equation A cos q + B sin q = C."""
+        X, single = _poses(poses)
+        m = self.kernels("batched").reach(X)
+        return m[0] if single else m
+
+    def jacobian(self, poses):
+        """J = Jq^-1 Jx (eqs. (1)-(2)), shape (N, L, 6), with qdot = J @ (v, omega).
+
+        v in m/s, omega in rad/s (base frame), qdot in rad/s.  Legs that do not close
+        give finite but meaningless rows; check :meth:`inverse_kinematics`.
+        """
+        X, single = _poses(poses)
+        J = self.kernels("batched").jacobian(X)
+        return J[0] if single else J
+
+    def jq_jx(self, poses):
+        """Jq (N, L) (the diagonal of eq. (1)'s Jq) and Jx (N, L, 6): Jq qdot = Jx xdot.
+
+        Jq_ii = dPhi_i/dq_i and Jx = -dPhi/d(v, omega) for the closures Phi_i
+        = (|P_i - D_i|^2 - l3^2) / (2 l3) (m).
+        """
+        X, single = _poses(poses)
+        out = self.kernels("batched").jq_jx(X)
+        Jq, Jx = out[..., 0], out[..., 1:]
+        return (Jq[0], Jx[0]) if single else (Jq, Jx)
+
+    def pose_jacobian(self, poses):
+        """dq/d(x, y, z, rx, ry, rz) = J @ blockdiag(I, E(r)), shape (N, L, 6)."""
+        from .rotation import omega_map
+        X, single = _poses(poses)
+        J = self.kernels("batched").jacobian(X)
+        out = J.copy()
+        out[..., 3:] = J[..., 3:] @ omega_map(X[:, 3:])
+        return out[0] if single else out
+
+    # ------------------------------------------------------------------ dynamics
+    def cartesian_mass_matrix(self) -> np.ndarray:
+        """M̂ = diag(m, m, m, I, I, I) (Sec. III-B.3), (6, 6) in kg and kg m^2."""
+        return np.diag([self.mass] * 3 + [self.inertia] * 3)
+
+    def joint_mass_matrix(self, poses):
+        """Mq = J#ᵀ M̂ J# (eq. (7)), shape (N, L, L), kg m^2.
+
+        The paper writes Mq = Jᵀ M̂ J with J the map q̇ -> ẋ; in our convention
+        (q̇ = J ẋ) that map is J# = pinv(J).  Mq gives the kinetic energy
+        ½ q̇ᵀ Mq q̇ = ½ ẋᵀ M̂ ẋ; it has rank 6, so for L = 8 it is singular.
+        """
+        X, single = _poses(poses)
+        Jp = np.linalg.pinv(self.kernels("batched").jacobian(X))   # (N, 6, L)
+        Mq = np.swapaxes(Jp, -1, -2) @ self.cartesian_mass_matrix() @ Jp
+        return Mq[0] if single else Mq
+
+    def acceleration_map(self, poses):
+        """ẍ = A τ at q̇ = 0, f = 0 (eq. (7)); A = J# Mq⁺ = M̂⁻¹ Jᵀ, shape (N, 6, L).
+
+        For L = 6, Mq⁺ = Mq⁻¹ and this is eq. (7) verbatim; for L = 8 eq. (7) needs the
+        pseudo-inverse of the singular Mq, and J# Mq⁺ = M̂⁻¹ Jᵀ still holds.
+        """
+        X, single = _poses(poses)
+        J = self.kernels("batched").jacobian(X)
+        A = np.linalg.inv(self.cartesian_mass_matrix()) @ np.swapaxes(J, -1, -2)
+        return A[0] if single else A
+
+    # ------------------------------------------------------------------ forward
+    def forward_kinematics(self, q, guess=None, **options):
+        """Numeric forward kinematics; see :func:`.forward.forward_kinematics`."""
+        from .forward import forward_kinematics
+        return forward_kinematics(self, q, guess, **options)

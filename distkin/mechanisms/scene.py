@@ -1,0 +1,68 @@
+"""The ``kind = "rss"`` mechanism table of a scene file.
+
+::
+
+    [units]
+    length = "mm"
+    angle = "deg"
+
+    [mechanism]
+    kind = "rss"
+    preset = "octopod"          # hexa | hunt | ergin | octopod | octo
+    l0 = 160                    # any parameter may be overridden, in the scene's units:
+    gamma = 10                  #   legs, l0 l1 l2 l3 lp ld z0 (length), beta gamma (angle),
+    mass = "0.2"                #   mass (kg) and inertia (kg m^2) always in SI
+
+Unless ``l3`` is given it follows the horizontal-crank rule (:mod:`.presets`).
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..argcheck import check_keys, choice, require
+from ..errors import InputError
+from ..numbers import parse_exact
+from .presets import PRESETS, preset
+
+__all__ = ["parse_rss", "LENGTHS", "ANGLES"]
+
+LENGTHS = ("l0", "l1", "l2", "l3", "lp", "ld", "z0")
+ANGLES = ("beta", "gamma")
+_SI = ("mass", "inertia")
+
+
+def length_factor(units, field):
+    """Metres per scene length unit; RSS scenes need a physical unit."""
+    f = units.length_factor
+    if f is None:
+        raise InputError("expected a physical length unit (m, mm, cm) for an rss mechanism, "
+                         "got 'none'", field="units.length")
+    return float(f)
+
+
+def angle_factor(units):
+    return math.pi / 180.0 if units.angle == "deg" else 1.0
+
+
+def parse_rss(table, units, field):
+    """Parse an ``rss`` mechanism table into an :class:`~.rss.RSSMechanism` (SI)."""
+    check_keys(table, {"kind", "preset", "legs", *LENGTHS, *ANGLES, *_SI}, field)
+    name = choice(require(table, "preset", field), f"{field}.preset", tuple(PRESETS))
+    lf = length_factor(units, field)
+    af = angle_factor(units)
+    over = {}
+    if "legs" in table:
+        legs = table["legs"]
+        if legs not in (6, 8) or isinstance(legs, bool):
+            raise InputError(f"expected legs = 6 or 8, got {legs!r}", field=f"{field}.legs")
+        over["legs"] = legs
+    for k in LENGTHS + ANGLES + _SI:
+        if k in table:
+            v = float(parse_exact(table[k], f"{field}.{k}"))
+            over[k] = v * (lf if k in LENGTHS else af if k in ANGLES else 1.0)
+    try:
+        return preset(name, **over)
+    except InputError as exc:
+        fld = exc.field if exc.field and exc.field != "preset" else None
+        raise InputError(exc.message, field=f"{field}.{fld}" if fld else field) from None

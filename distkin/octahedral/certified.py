@@ -1,0 +1,226 @@
+r"""The certified tier of the octahedral forward kinematics (python-flint).
+
+Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, Sec. III.
+
+1. The octic and the quadratic parts of eq. (3) are computed **exactly** in ``fmpq``
+   by the generated kernel (the squared lengths must be rational).
+2. Its distinct real roots are isolated with certainty
+   (:func:`distkin.certify.roots.real_roots`, FLINT's ``complex_roots``): the count is
+   proved, and so are the multiplicities.
+3. Each root is classified with certified signs
+   (:func:`distkin.certify.roots.sign_at_root`): it is an assembly mode iff the shared
+   faces are real triangles (:math:`D(5,4,1), D(3,5,1) < 0`) and the four tetrahedra of
+   the bananas have non-negative squared volume; otherwise it is spurious.  A sign that
+   is exactly 0 is found exactly (common factor with the octic).
+4. The trilateration sequence runs in ``arb`` balls around the root; the one
+   placement of (P4, P6) compatible with leg 5 is identified by balls (the others'
+   leg-5 residual balls exclude 0).  The root enclosure is refined (doubling the
+   working precision) until every point's radius is below ``tol`` times the size of
+   the mechanism.
+
+Whatever cannot be decided raises :class:`~distkin.errors.UncertifiedError`: a flat
+face or flat tetrahedron at a root (a pose at the edge of assemblability), or a
+placement that the balls cannot single out.  The count is never guessed.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+from ..certify.roots import MAX_BITS, real_roots, sign_at_root, working_precision
+from ..errors import (DegenerateGeometryError, InfeasibleError, InputError,
+                      UncertifiedError)
+from .assembly import assemble_exact
+from .closure import PART_NAMES, octic_data
+from .problem import LEG_PAIRS, Problem
+
+__all__ = ["solve_certified"]
+
+
+def _q(v):
+    import flint
+    return flint.fmpq(v.numerator, v.denominator)
+
+
+def solve_certified(problem: Problem, tol: float):
+    """Every assembly mode, certified; see :func:`.forward.forward_kinematics`."""
+    import flint
+    from .forward import AssemblyResult, RootInfo, _SPURIOUS_NOTE, _empty_reason
+    if not problem.rational:
+        bad = [i for i, v in enumerate(problem.sides2 + problem.legs2)
+               if not isinstance(v, Fraction)]
+        raise InputError(f"expected rational squared lengths for the certified tier, got "
+                         f"{len(bad)} irrational one(s)", field="legs",
+                         hint="give coordinates and legs whose squares are rational, or use "
+                              "method='precise'")
+    sides = [_q(v) for v in problem.sides2]
+    legs2 = [_q(v) for v in problem.legs2]
+    d = [flint.fmpq(v) for v in octic_data(sides, legs2, "exact")]
+    octic = d[30:]
+    if all(c == 0 for c in octic):
+        raise DegenerateGeometryError("expected an octic that does not vanish identically, got "
+                                      "the zero polynomial (degenerate geometry)", field="legs")
+    poly = flint.fmpq_poly(list(reversed(octic)))
+    parts = {name: flint.fmpq_poly([d[3 * i], d[3 * i + 1], d[3 * i + 2]])
+             for i, name in enumerate(PART_NAMES)}
+    roots = real_roots(poly, bits=64)
+    infos, feasible = [], []
+    for r in roots:
+        status, reason = _classify(poly, parts, r)
+        infos.append([r, status, reason])
+        if status == "assembly":
+            feasible.append(r)
+    size = max(float(v) for v in problem.sides2 + problem.legs2) ** 0.5
+    flat = {r.index for r, status, reason in infos if "flat" in reason}
+    poses, radii = _poses(problem, poly, feasible, sides, legs2, tol, size, flat)
+    out = []
+    for r, status, reason in infos:
+        ball = radii.get(r.index, r.ball)
+        out.append(RootInfo(float(ball.mid()), float(ball.rad()), r.multiplicity, status,
+                            reason, ball))
+    reason = "" if poses else _empty_reason(out)
+    return AssemblyResult(tuple(poses), "certified",
+                          tuple(Fraction(int(c.p), int(c.q)) for c in octic), True,
+                          tuple(out), True, reason,
+                          f"certified: exact octic, FLINT root isolation, arb balls; point "
+                          f"radii <= {tol:.1e} x size", (_SPURIOUS_NOTE,))
+
+
+def _classify(poly, parts, r):
+    flat = False
+    for name, want, text in (("u", -1, "D(5,4,1)"), ("v", -1, "D(3,5,1)")):
+        s = sign_at_root(poly, parts[name], r)
+        if s == 0:
+            raise UncertifiedError(f"the face {text} of a banana is flat at the root "
+                                   f"s15 = {r.ball}; the trilateration sequence cannot place "
+                                   "the platform there")
+        if s != want:
+            return "spurious", (f"spurious: the face {text} is not a real triangle at this "
+                                "root (outside the triangle bounds of s15)")
+    for name, text in (("T1a", "D(5,4,1,2)"), ("T1b", "D(5,4,1,6)"),
+                       ("T2a", "D(3,5,1,2)"), ("T2b", "D(3,5,1,6)")):
+        s = sign_at_root(poly, parts[name], r)
+        if s < 0:
+            return "spurious", (f"spurious: {text} < 0 at this root (a tetrahedron with "
+                                "negative squared volume: complex assembly)")
+        if s == 0:
+            flat = True
+    if flat:
+        return "assembly", ("assembly mode with a flat tetrahedron (edge of "
+                            "assemblability: two placements coincide)")
+    return "assembly", "assembly mode"
+
+
+def _poses(problem, poly, feasible, sides, legs2, tol, size, flat=()):
+    import flint
+    import numpy as np
+    from ..geometry.poses import pose_from_points
+    from .forward import Pose
+    out, radii = [], {}
+    base0 = [[_q(v) if isinstance(v, Fraction) else v for v in r] for r in problem.base]
+    plat0 = [[_q(v) if isinstance(v, Fraction) else v for v in r] for r in problem.platform]
+    rational = {}
+    if flat:  # a zero height: try the exact path, which needs the root to be rational
+        for q, _m in flint.fmpq_poly(poly).roots():
+            rational[float(q)] = q
+    for r in feasible:
+        bits, ball = 64, r.ball
+        exact = [q for q in rational.values() if r.ball.contains(flint.arb(q)) and
+                 r.ball.overlaps(flint.arb(q))]
+        if exact and all(type(v).__name__ == "fmpq" for row in base0 + plat0 for v in row):
+            built = _exact_poses(base0, plat0, exact[0], sides, legs2, problem)
+            radii[r.index] = flint.arb(exact[0])
+            out.extend(built)
+            continue
+        while True:
+            with working_precision(bits + 30):
+                # irrational data are re-enclosed at the working precision
+                base, plat = _enclose(base0), _enclose(plat0)
+                legs = [_enclose_one(v) for v in problem.legs]
+                try:
+                    pairs = assemble_exact(base, ball, sides, legs2, method="certified")
+                except (InfeasibleError, DegenerateGeometryError) as exc:
+                    raise UncertifiedError(f"trilateration at the certified root s15 = "
+                                           f"{ball} failed: {exc.message}") from None
+                except UncertifiedError:
+                    pairs = None
+                if pairs is not None:
+                    built = []
+                    for side, (pts, _) in zip((1, -1), pairs):
+                        R, t = pose_from_points(plat, pts, method="certified")
+                        err, rel = _leg_errors(base, pts, legs)
+                        rad = max(float(c.rad()) for row in pts for c in row)
+                        built.append((side, pts, R, t, err, rel, rad))
+                    if max(b[-1] for b in built) <= tol * size:
+                        break
+            if bits >= MAX_BITS:
+                raise UncertifiedError(f"cannot enclose the poses of root s15 = {r.ball} to "
+                                       f"{tol:.1e} within {MAX_BITS} bits")
+            bits *= 2
+            ball = real_roots(poly, bits=bits)[r.index].ball
+        radii[r.index] = ball
+        mid = lambda a: np.array([[float(c.mid()) for c in row] for row in a])  # noqa: E731
+        for side, pts, R, t, err, rel, rad in built:
+            out.append(Pose(float(ball.mid()), side, mid(R), np.array([float(c.mid()) for c in t]),
+                            mid(pts), err, rel,
+                            {"s15": ball, "points": pts, "rotation": R, "translation": t}, rad))
+    return out, radii
+
+
+def _exact_poses(base, plat, x, sides, legs2, problem):
+    """Poses at an exactly rational root with rational data: exact arithmetic throughout
+    (a zero height is exactly zero, e.g. a flat configuration at the edge of
+    assemblability, where the two mirror images coincide and count once)."""
+    import flint
+    import numpy as np
+    from ..geometry.poses import pose_from_points
+    from .forward import Pose
+    pairs = assemble_exact(base, x, sides, legs2, method="certified")
+    legs = [_enclose_one(v) for v in problem.legs]
+    out, seen = [], []
+    for side, (pts, _) in zip((1, -1), pairs):
+        key = [[flint.fmpq(c) if type(c).__name__ == "fmpq" else c for c in row] for row in pts]
+        if any(all(a == b for ra, rb in zip(key, k2) for a, b in zip(ra, rb)) for k2 in seen):
+            continue
+        seen.append(key)
+        R, t = pose_from_points(plat, pts, method="certified")
+        err, rel = _leg_errors(base, pts, legs)
+        out.append(Pose(float(x.p) / float(x.q), side, _mids(R),
+                        np.array([float(flint.arb(c).mid()) for c in t]), _mids(pts), err, rel,
+                        {"s15": x, "points": pts, "rotation": R, "translation": t},
+                        max(float(flint.arb(c).rad()) for row in pts for c in row)))
+    return out
+
+
+def _mids(rows):
+    import flint
+    import numpy as np
+    return np.array([[float(flint.arb(c).mid()) for c in row] for row in rows])
+
+
+def _enclose_one(v):
+    import flint
+    from ..numbers import sympy_to_arb
+    if isinstance(v, Fraction):
+        return flint.arb(_q(v))
+    if type(v).__name__ in ("fmpq", "arb"):
+        return flint.arb(v)
+    return sympy_to_arb(v)
+
+
+def _enclose(rows):
+    return [[v if type(v).__name__ == "fmpq" else _enclose_one(v) for v in r] for r in rows]
+
+
+def _leg_errors(base, pts, legs):
+    """Rigorous upper bounds of max |distance - leg| (absolute and relative)."""
+    import flint
+    P = {1: base[0], 2: base[1], 3: base[2], 4: pts[0], 5: pts[1], 6: pts[2]}
+    err = rel = 0.0
+    for k, (i, j) in enumerate(LEG_PAIRS):
+        d2 = sum((flint.arb(P[i][a]) - P[j][a]) ** 2 for a in range(3))
+        e = abs(d2.sqrt() - legs[k])
+        up = float(e.upper())
+        err = max(err, up)
+        rel = max(rel, float((e / legs[k]).upper()))
+    return err, rel

@@ -1,0 +1,335 @@
+r"""Forward kinematics of the octahedral manipulator: every real assembly mode.
+
+Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, Sec. III:
+the real roots of the octic in :math:`s_{15}` (eq. (3) squared twice, see
+:mod:`distkin.octahedral.octic`) are the assembly modes; each gives two mirror poses by
+the trilateration sequence :math:`P_5 \leftarrow (P_1,P_2,P_3)`,
+:math:`P_4 \leftarrow (P_1,P_2,P_5)`, :math:`P_6 \leftarrow (P_1,P_4,P_5)`, checked
+against leg 5.
+
+Tiers
+-----
+``fast``
+    float64: generated octic kernel, companion-matrix eigenvalues, Newton polish on
+    eq. (3) (:mod:`.fast`); batched over many leg sets by
+    :func:`forward_kinematics_batched`.  Legs reproduced to ~1e-12 relative on
+    well-conditioned problems; every pose states its residual.
+``precise``
+    mpmath at ``dps`` digits: exact octic (when the data are rational) rounded once,
+    ``mpmath.polyroots``, Newton polish on eq. (3) at ``dps`` (:mod:`.precise`).
+``certified``
+    exact ``fmpq`` octic and FLINT's certified root isolation: the real-root count is
+    proved, spurious roots are rejected by certified signs, and root enclosures are
+    refined until every pose point is enclosed to ``tol`` (relative to the size of the
+    mechanism) (:mod:`.certified`).  Raises :class:`~distkin.errors.UncertifiedError`
+    rather than guess.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..numbers import check_method, default_dps
+from .problem import exact_problem, float_problem, float_single
+
+__all__ = ["Pose", "RootInfo", "AssemblyResult", "BatchResult", "forward_kinematics",
+           "forward_kinematics_batched"]
+
+_SPURIOUS_NOTE = ("squaring eq. (3) twice gives degree 16 = (D(5,4,1) D(3,5,1))^2 x octic; "
+                  "the spurious factor is removed analytically (octic = G^2 - 4 R1 R2)")
+
+
+_FAST_ACCURACY = "float64; roots polished by Newton on eq. (3); see max_leg_error"
+
+
+@dataclass(frozen=True)
+class Pose:
+    r"""One assembly mode: the platform pose in the base frame.
+
+    Attributes
+    ----------
+    s15 : float
+        The root :math:`s_{15}` (squared length).
+    side : int
+        +1 / -1: the side of P5 relative to the oriented base plane
+        :math:`(P_2-P_1)\times(P_3-P_1)`; the two sides are mirror images.
+    rotation : (3, 3) float64, proper rotation
+    translation : (3,) float64; a platform-frame point q maps to ``rotation @ q +
+        translation``.
+    points : (3, 3) float64, rows P4 P5 P6 in base coordinates.
+    max_leg_error : float
+        Largest :math:`|\,\|P_iP_j\| - l_k|` over the six legs, length units (the
+        certified tier gives a rigorous upper bound).
+    max_leg_error_relative : float
+        The same divided by each leg's length.
+    native : dict or None
+        Tier-native values ``{"s15", "points", "rotation", "translation"}``:
+        ``mpf`` (precise) or ``arb`` balls (certified); None for fast.
+    radius : float
+        Certified tier: largest radius of the point enclosures; else 0.
+    """
+
+    s15: float
+    side: int
+    rotation: np.ndarray
+    translation: np.ndarray
+    points: np.ndarray
+    max_leg_error: float
+    max_leg_error_relative: float
+    native: dict | None = field(default=None, repr=False)
+    radius: float = 0.0
+
+
+@dataclass(frozen=True)
+class RootInfo:
+    """A real root of the octic and what became of it.
+
+    ``status`` is ``"assembly"`` (two mirror poses) or ``"spurious"``/``"rejected"``
+    with the ``reason``; ``radius`` is a certified radius (certified tier) or the last
+    Newton step (an error estimate, other tiers).
+    """
+
+    value: float
+    radius: float
+    multiplicity: int
+    status: str
+    reason: str
+    native: object = field(default=None, repr=False)
+
+
+@dataclass(frozen=True)
+class AssemblyResult(Sequence):
+    """The assembly modes of one octahedral manipulator: a sequence of :class:`Pose`.
+
+    An empty result means the manipulator cannot be assembled with these legs;
+    :attr:`reason` says why.  Indexing and iteration give the poses.
+
+    Attributes
+    ----------
+    poses : tuple of Pose, by increasing s15, side +1 first
+    method : str
+    octic : tuple
+        Coefficients highest degree first: Fractions when exact, else floats.
+    octic_exact : bool
+    roots : tuple of RootInfo, every real root of the octic found, increasing
+    certified : bool
+        The real-root count and the rejections are proved (certified tier).
+    reason : str
+        Why there are no poses (empty when there are).
+    accuracy : str
+    notes : tuple of str
+    """
+
+    poses: tuple
+    method: str
+    octic: tuple
+    octic_exact: bool
+    roots: tuple
+    certified: bool
+    reason: str
+    accuracy: str
+    notes: tuple = ()
+
+    def __len__(self):
+        return len(self.poses)
+
+    def __getitem__(self, i):
+        return self.poses[i]
+
+    def __iter__(self):
+        return iter(self.poses)
+
+    @property
+    def degree(self) -> int:
+        """The octic's true degree: 8 unless leading coefficients vanish (exactly, in the
+        exact tiers; exactly zero floats in the fast tier)."""
+        k = 0
+        while k < len(self.octic) and self.octic[k] == 0:
+            k += 1
+        return len(self.octic) - 1 - k
+
+    @property
+    def real_root_count(self) -> int:
+        return len(self.roots)
+
+    @property
+    def assembly_roots(self) -> tuple:
+        return tuple(r for r in self.roots if r.status == "assembly")
+
+
+@dataclass(frozen=True)
+class BatchResult:
+    """Fast-tier results of N problems as arrays (padded with NaN).
+
+    Attributes
+    ----------
+    count : (N,) number of poses of each problem (twice its assembly roots)
+    s15 : (N, 8) assembly roots, increasing, NaN padded
+    points : (N, 16, 3, 3) rows P4 P5 P6; rotation (N, 16, 3, 3); translation (N, 16, 3)
+    max_leg_error, max_leg_error_relative : (N, 16)
+    valid : (N, 16) bool mask of real poses
+    raw : dict, the arrays of :func:`.fast.solve_fast`
+    """
+
+    count: np.ndarray
+    s15: np.ndarray
+    points: np.ndarray
+    rotation: np.ndarray
+    translation: np.ndarray
+    max_leg_error: np.ndarray
+    max_leg_error_relative: np.ndarray
+    valid: np.ndarray
+    raw: dict = field(repr=False)
+
+    def __len__(self):
+        return self.count.shape[0]
+
+    def result(self, i: int) -> AssemblyResult:
+        """The :class:`AssemblyResult` of problem ``i``."""
+        return _fast_result(self.raw, i)
+
+
+def _fast_result(raw, i):
+    from .fast import REASONS
+    roots, poses = [], []
+    for k in range(8):
+        x = raw["roots"][i, k]
+        if not np.isfinite(x):
+            continue
+        st = int(raw["status"][i, k])
+        roots.append(RootInfo(float(x), float(raw["step"][i, k]), 1,
+                              "assembly" if st == 0 else ("spurious" if st in (1, 2) else
+                                                          "rejected"), REASONS[st], float(x)))
+        if st != 0:
+            continue
+        for s in range(2):
+            poses.append(Pose(float(x), 1 if s == 0 else -1,
+                              raw["rotation"][i, k, s].copy(), raw["translation"][i, k, s].copy(),
+                              raw["points"][i, k, s].copy(), float(raw["leg_error"][i, k, s]),
+                              float(raw["leg_error_rel"][i, k, s])))
+    reason = "" if poses else _empty_reason(roots, raw["lo"][i], raw["hi"][i])
+    return AssemblyResult(tuple(poses), "fast", tuple(float(c) for c in raw["coef"][i]), False,
+                          tuple(roots), False, reason, _FAST_ACCURACY, (_SPURIOUS_NOTE,))
+
+
+def _single_result(coef, lo, hi, roots, poses):
+    from .fast import REASONS
+    infos = tuple(RootInfo(x, st, 1, "assembly" if code == 0 else (
+        "spurious" if code in (1, 2) else "rejected"), REASONS[code], x) for x, st, code in roots)
+    out = tuple(Pose(roots[k][0], side, np.array(R), np.array(t), np.array(P), e, r)
+                for k, side, P, R, t, e, r in poses)
+    reason = "" if out else _empty_reason(infos, lo, hi)
+    return AssemblyResult(out, "fast", tuple(coef), False, infos, False, reason,
+                          _FAST_ACCURACY, (_SPURIOUS_NOTE,))
+
+
+def _empty_reason(roots, lo=None, hi=None):
+    """Why a result has no pose (from the triangle bounds and the roots' statuses)."""
+    if lo is not None and lo > hi:
+        return (f"cannot be assembled: the triangle inequalities through P1 P5 need "
+                f"s15 >= {float(lo):.6g} and s15 <= {float(hi):.6g}")
+    if not roots:
+        return "cannot be assembled: the octic has no real root"
+    kinds = sorted({r.reason for r in roots})
+    return ("cannot be assembled: every real root of the octic is spurious (" +
+            "; ".join(kinds) + ")")
+
+
+def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int | None = None,
+                       tol: float | None = None) -> AssemblyResult:
+    r"""Every real assembly mode of an octahedral manipulator.
+
+    Rojas, Borràs, Thomas, *The Octahedral Manipulator Revisited* (ICRA 2012), Sec. III
+    and eq. (3); labels of DESIGN.md §3.
+
+    Parameters
+    ----------
+    base : (3, 3) array_like
+        P1, P2, P3 in base coordinates (rows).  Numbers, numeric strings
+        (``"sqrt(108)"``), Fractions or :class:`~distkin.numbers.Exact`.
+    platform : (3, 3) array_like
+        P4, P5, P6 in the platform frame (rows); any non-degenerate triangle.
+    legs : (6,) array_like
+        Leg lengths :math:`l_1..l_6` of P1P4, P2P4, P2P5, P3P5, P3P6, P1P6 (same
+        length unit as the points).
+    method : {"fast", "precise", "certified"}
+    dps : int, optional
+        Decimal digits of the ``precise`` tier (default 30).
+    tol : float, optional
+        ``certified``: relative radius (to the size of the mechanism) the pose
+        enclosures are refined to (default 1e-15).  ``precise``: the relative residual
+        accepted for a root (default :math:`10^{8-dps}`).
+
+    Returns
+    -------
+    AssemblyResult
+        A sequence of :class:`Pose` (two mirror poses per assembly root), empty when
+        the legs admit no assembly (``.reason`` says why), with the octic and every
+        real root of it (``.roots``).
+
+    Raises
+    ------
+    InputError
+        Malformed data; ``certified`` with irrational squared lengths.
+    DegenerateGeometryError
+        A collinear base or platform triangle, or an octic that vanishes identically.
+    UncertifiedError
+        ``certified`` could not decide something (never a wrong answer).
+
+    Examples
+    --------
+    The example of Rojas et al., Sec. VI (Griffis-Duffy legs): six real roots, twelve
+    poses.
+
+    >>> base = [[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]]
+    >>> plat = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]]
+    >>> res = forward_kinematics(base, plat, ["19.8", 18, 18, 17, "14.9", "17.8"])
+    >>> len(res), [round(r.value, 1) for r in res.roots]
+    (12, [269.2, 328.7, 359.5, 463.6, 497.9, 513.0])
+    """
+    check_method(method)
+    if method == "fast":
+        from .fast_single import solve_fast_single
+        return _single_result(*solve_fast_single(*float_single(base, platform, legs)))
+    problem = exact_problem(base, platform, legs)
+    if method == "precise":
+        from .precise import solve_precise
+        return solve_precise(problem, default_dps(dps), tol)
+    from .certified import solve_certified
+    return solve_certified(problem, 1e-15 if tol is None else float(tol))
+
+
+def forward_kinematics_batched(base, platform, legs) -> BatchResult:
+    """The fast tier for N leg sets at once.
+
+    Parameters
+    ----------
+    base : (3, 3) or (N, 3, 3); platform : (3, 3) or (N, 3, 3); legs : (N, 6)
+
+    Returns
+    -------
+    BatchResult
+        Arrays padded to 8 roots / 16 poses per problem; ``.result(i)`` gives the
+        :class:`AssemblyResult` of problem ``i``.
+    """
+    from .fast import solve_fast
+    B, Q, L, s2, l2 = float_problem(base, platform, legs)
+    raw = solve_fast(B, Q, L, s2, l2)
+    n = B.shape[0]
+    valid = (raw["status"] == 0)
+    order = np.argsort(np.where(valid, raw["roots"], np.inf), axis=1, kind="stable")
+    m = np.arange(n)[:, None]
+    s15 = np.where(valid, raw["roots"], np.nan)[m, order]
+    v2 = np.repeat(valid[m, order], 2, axis=1)
+
+    def flat(a):
+        a = a[m, order]
+        return a.reshape((n, 16) + a.shape[3:])
+    pts, rot, tr = flat(raw["points"]), flat(raw["rotation"]), flat(raw["translation"])
+    le, lr = flat(raw["leg_error"]), flat(raw["leg_error_rel"])
+    for a in (pts, rot, tr, le, lr):
+        a[~v2] = np.nan
+    return BatchResult(v2.sum(1), s15, pts, rot, tr, le, lr, v2, raw)

@@ -1,0 +1,171 @@
+r"""The precise tier of the octahedral forward kinematics (mpmath at ``dps`` digits).
+
+Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, Sec. III.
+The octic's coefficients are computed exactly when the squared lengths are rational
+(then rounded once to ``dps + 20`` digits), otherwise in ``mpf`` through the same
+integer-coefficient kernel.  ``mpmath.polyroots`` gives every complex root; the real
+and nearly real ones are polished by Newton's method on eq. (3) at the working
+precision, and the poses come from the trilateration sequence of Sec. III in ``mpf``.
+Not certified: the root count rests on ``polyroots``' convergence and on a tolerance
+(:math:`10^{8-dps}` relative) for calling a root real or a residual zero.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+from ..errors import DegenerateGeometryError, InfeasibleError
+from .assembly import assemble_exact
+from .closure import octic_data, part_values
+from .problem import LEG_PAIRS, Problem
+
+__all__ = ["solve_precise"]
+
+
+def _mpf(v):
+    import mpmath
+    if isinstance(v, Fraction):
+        return mpmath.mpf(v.numerator) / v.denominator
+    if isinstance(v, (int, float)):
+        return mpmath.mpf(v)
+    return mpmath.mpf(v.evalf(mpmath.mp.dps + 10))
+
+
+def _factored(d, x):
+    val, der = part_values(d, x)
+    G = val["u"] * val["E2"] + val["v"] * val["E1"] + 2 * val["b1"] * val["b2"]
+    dG = (der["u"] * val["E2"] + val["u"] * der["E2"] + der["v"] * val["E1"]
+          + val["v"] * der["E1"] + 2 * (der["b1"] * val["b2"] + val["b1"] * der["b2"]))
+    a, b, c, e = val["T1a"], val["T1b"], val["T2a"], val["T2b"]
+    R = a * b * c * e
+    dR = (der["T1a"] * b * c * e + a * der["T1b"] * c * e + a * b * der["T2a"] * e
+          + a * b * c * der["T2b"])
+    return G * G - 4 * R, 2 * G * dG - 4 * dR, G * G + 4 * abs(R), val
+
+
+def solve_precise(problem: Problem, dps: int, tol=None):
+    """Every assembly mode at ``dps`` decimal digits; see :func:`.forward.forward_kinematics`."""
+    import mpmath
+    from ..geometry.poses import pose_from_points
+    from .forward import AssemblyResult, Pose, RootInfo, _SPURIOUS_NOTE, _empty_reason
+    work = dps + 20
+    with mpmath.workdps(work):
+        exact = problem.rational
+        if exact:
+            import flint
+            q = lambda v: flint.fmpq(v.numerator, v.denominator)  # noqa: E731
+            dq = octic_data([q(v) for v in problem.sides2], [q(v) for v in problem.legs2],
+                            "exact")
+            dq = [flint.fmpq(v) for v in dq]
+            d = [mpmath.mpf(int(v.p)) / int(v.q) for v in dq]
+            octic = tuple(Fraction(int(v.p), int(v.q)) for v in dq[30:])
+        else:
+            d = octic_data([_mpf(v) for v in problem.sides2], [_mpf(v) for v in problem.legs2],
+                           "exact")
+            octic = tuple(d[30:])
+        coef = d[30:]
+        if all(c == 0 for c in coef):
+            raise DegenerateGeometryError("expected an octic that does not vanish identically, "
+                                          "got the zero polynomial (degenerate geometry)",
+                                          field="legs")
+        sides = [_mpf(v) for v in problem.sides2]
+        legs2 = [_mpf(v) for v in problem.legs2]
+        c = sum(sides) / 6 + sum(legs2) / 6
+        while coef and coef[0] == 0:
+            coef = coef[1:]
+        deg = len(coef) - 1
+        scaled = [coef[k] * c ** (deg - k) for k in range(deg + 1)]
+        big = max(abs(v) for v in scaled)
+        scaled = [v / big for v in scaled]
+        roots = _polyroots(scaled, work) if deg > 0 else []
+        eps_rel = mpmath.mpf(10) ** (8 - dps) if tol is None else mpmath.mpf(tol)
+        near = mpmath.mpf(10) ** (-(dps // 3))
+        cands = []
+        for z in roots:
+            z = z * c
+            if abs(mpmath.im(z)) <= 0.05 * max(abs(z), c):
+                a, b = mpmath.re(z), abs(mpmath.im(z))
+                cands.extend([a] if b <= near * c else [a - b, a + b])
+        found = []
+        for x in cands:
+            step = mpmath.mpf(0)
+            for _ in range(200):
+                H, dH, Hs, _ = _factored(d, x)
+                if dH == 0:
+                    break
+                step = H / dH
+                if abs(step) > c:
+                    step = c * mpmath.sign(step)
+                x = x - step
+                if abs(step) <= mpmath.mpf(10) ** (-work + 2) * max(abs(x), c):
+                    break
+            H, dH, Hs, val = _factored(d, x)
+            if abs(H) > eps_rel * Hs:
+                continue
+            if any(abs(x - y) <= near * max(abs(x), c) for y, _ in found):
+                continue
+            found.append((x, abs(step)))
+        found.sort(key=lambda t: t[0])
+        base = [[_mpf(v) for v in r] for r in problem.base]
+        plat = [[_mpf(v) for v in r] for r in problem.platform]
+        legs = [_mpf(v) for v in problem.legs]
+        infos, poses = [], []
+        for x, step in found:
+            val, _ = part_values(d, x)
+            tets = [val[k] for k in ("T1a", "T1b", "T2a", "T2b")]
+            tiny = eps_rel * c ** 3
+            if val["u"] > tiny * c or val["v"] > tiny * c:
+                infos.append(RootInfo(float(x), float(step), 1, "spurious",
+                                      "spurious: a shared face of the bananas has no real "
+                                      "triangle (D(5,4,1) or D(3,5,1) > 0)", x))
+                continue
+            if min(tets) < -tiny:
+                infos.append(RootInfo(float(x), float(step), 1, "spurious",
+                                      "spurious: a tetrahedron of the bananas has negative "
+                                      "squared volume (complex assembly)", x))
+                continue
+            try:
+                pairs = assemble_exact(base, x, sides, legs2, method="precise", dps=work)
+            except (InfeasibleError, DegenerateGeometryError) as exc:
+                infos.append(RootInfo(float(x), float(step), 1, "rejected",
+                                      f"rejected: trilateration failed ({exc.message})", x))
+                continue
+            infos.append(RootInfo(float(x), float(step), 1, "assembly", "assembly mode", x))
+            for side, (pts, _) in zip((1, -1), pairs):
+                R, t = pose_from_points(plat, pts, method="precise")
+                err, rel = _leg_errors(base, pts, legs)
+                poses.append(Pose(float(x), side, _f(R), _f(t), _f(pts), float(err), float(rel),
+                                  {"s15": +x, "points": pts, "rotation": R, "translation": t}))
+        reason = "" if poses else _empty_reason(infos)
+        return AssemblyResult(tuple(poses), "precise", octic, exact, tuple(infos), False,
+                              reason, f"mpmath at {dps} digits (working {work}); root "
+                              "residual below 1e-{} relative".format(dps - 8),
+                              (_SPURIOUS_NOTE,))
+
+
+def _polyroots(coeffs, work):
+    import mpmath
+    last = None
+    for extra, steps in ((2 * work, 100), (6 * work, 400)):
+        try:
+            return mpmath.polyroots(coeffs, maxsteps=steps, extraprec=extra)
+        except mpmath.libmp.libhyper.NoConvergence as exc:
+            last = exc
+    raise DegenerateGeometryError(f"mpmath.polyroots did not converge on the octic ({last}); "
+                                  "try method='certified'", field="legs")
+
+
+def _f(a):
+    import numpy as np
+    return np.array(a, dtype=float)
+
+
+def _leg_errors(base, pts, legs):
+    import mpmath
+    P = {1: base[0], 2: base[1], 3: base[2], 4: pts[0], 5: pts[1], 6: pts[2]}
+    err, rel = mpmath.mpf(0), mpmath.mpf(0)
+    for k, (i, j) in enumerate(LEG_PAIRS):
+        d = mpmath.sqrt(sum((P[i][a] - P[j][a]) ** 2 for a in range(3)))
+        e = abs(d - legs[k])
+        err, rel = max(err, e), max(rel, e / legs[k])
+    return err, rel

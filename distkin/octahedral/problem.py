@@ -1,0 +1,233 @@
+r"""Input of the octahedral forward kinematics: points and legs, checked, in every tier.
+
+Labels follow DESIGN.md §3 and Rojas et al. (ICRA 2012) Fig. 4: base P1 P2 P3, platform
+P4 P5 P6; leg 1 = P1-P4, 2 = P2-P4, 3 = P2-P5, 4 = P3-P5, 5 = P3-P6, 6 = P1-P6.  The
+squared lengths are computed exactly when the data are exact (``"19.8"`` is 99/5,
+``"sqrt(108)"`` squares to 108), so the certified tier works on exact rationals.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+from functools import lru_cache
+
+import numpy as np
+
+from ..errors import DegenerateGeometryError, InputError
+from ..numbers import Exact, parse_exact
+from .banana import LEG_PAIRS, SIDE_PAIRS
+
+__all__ = ["Problem", "exact_problem", "float_problem", "float_single", "LEG_PAIRS",
+           "SIDE_PAIRS"]
+
+
+@dataclass(frozen=True)
+class Problem:
+    """One forward-kinematics problem with exact data where available.
+
+    Attributes
+    ----------
+    base, platform : tuple of 3 tuples of 3 values (Fraction, or sympy expressions
+        when irrational); platform in its own frame.
+    legs : tuple of 6 leg lengths (same types).
+    sides2 : tuple of 6 squared sides s12 s13 s23 s45 s46 s56 (Fraction when rational).
+    legs2 : tuple of 6 squared legs (Fraction when rational).
+    from_float : bool
+        Some value was a bare float, taken as its exact binary value.
+    """
+
+    base: tuple
+    platform: tuple
+    legs: tuple
+    sides2: tuple
+    legs2: tuple
+    from_float: bool
+
+    @property
+    def rational(self) -> bool:
+        """All squared lengths exact rationals (needed by the certified tier)."""
+        return all(isinstance(v, Fraction) for v in self.sides2 + self.legs2)
+
+    def floats(self):
+        """``(base (3,3), platform (3,3), legs (6,))`` as float64 arrays."""
+        f = lambda rows: np.array([[float(v) for v in r] for r in rows])  # noqa: E731
+        return f(self.base), f(self.platform), np.array([float(v) for v in self.legs])
+
+
+def _exact(value, field):
+    if isinstance(value, Exact):
+        return value
+    if isinstance(value, (np.floating, np.integer)):
+        value = value.item()
+    if isinstance(value, str):
+        return _parse_text(value, field)
+    return parse_exact(value, field)
+
+
+@lru_cache(maxsize=512)
+def _parse_text(text, field):
+    """Parsing ``"sqrt(108)"`` goes through sympy (ms); the same text parses once."""
+    return parse_exact(text, field)
+
+
+def _rows(value, field):
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    if not isinstance(value, (list, tuple)) or len(value) != 3:
+        raise InputError(f"expected 3 points of 3 coordinates, got {value!r}", field=field)
+    out = []
+    for i, r in enumerate(value):
+        if isinstance(r, np.ndarray):
+            r = r.tolist()
+        if not isinstance(r, (list, tuple)) or len(r) != 3:
+            raise InputError(f"expected 3 coordinates, got {r!r}", field=f"{field}[{i}]")
+        out.append(tuple(_exact(v, f"{field}[{i}][{j}]") for j, v in enumerate(r)))
+    return tuple(out)
+
+
+def _square_distance(a, b):
+    vals = [x.value - y.value for x, y in zip(a, b)]
+    if all(isinstance(v, Fraction) for v in vals):
+        return sum(v * v for v in vals)
+    import sympy
+    from ..numbers import to_sympy
+    e = sympy.nsimplify(sympy.expand(sum(to_sympy(v) ** 2 for v in vals)))
+    e = sympy.radsimp(sympy.expand(e))
+    if e.is_Rational:
+        return Fraction(int(e.p), int(e.q))
+    return e
+
+
+def _square(x: Exact):
+    if isinstance(x.value, Fraction):
+        return x.value * x.value
+    import sympy
+    from ..numbers import to_sympy
+    e = sympy.expand(to_sympy(x) ** 2)
+    if e.is_Rational:
+        return Fraction(int(e.p), int(e.q))
+    return e
+
+
+def _check_triangle(sq, names, field):
+    a, b, c = (float(v) for v in sq)
+    # 16 A^2 = 2(ab + bc + ca) - (a^2 + b^2 + c^2)
+    a16 = 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c)
+    if not a16 > 1e-12 * (a + b + c) ** 2:
+        raise DegenerateGeometryError(
+            f"expected a proper triangle {names}, got collinear or coincident points "
+            f"(16 area^2 = {a16:.3g})", field=field)
+
+
+def exact_problem(base, platform, legs) -> Problem:
+    """Parse and check the data exactly (precise and certified tiers).
+
+    Raises
+    ------
+    InputError
+        Wrong shapes, unparsable numbers, non-positive legs.
+    DegenerateGeometryError
+        A collinear base or platform triangle.
+    """
+    B = _rows(base, "base")
+    Q = _rows(platform, "platform")
+    if isinstance(legs, np.ndarray):
+        legs = legs.tolist()
+    if not isinstance(legs, (list, tuple)) or len(legs) != 6:
+        raise InputError(f"expected 6 leg lengths, got {legs!r}", field="legs")
+    L = tuple(_exact(v, f"legs[{i}]") for i, v in enumerate(legs))
+    for i, v in enumerate(L):
+        if not float(v) > 0:
+            raise InputError(f"expected a positive leg length, got {v.text}", field=f"legs[{i}]")
+    pts = {1: B[0], 2: B[1], 3: B[2], 4: Q[0], 5: Q[1], 6: Q[2]}
+    sides2 = tuple(_square_distance(pts[i], pts[j]) for i, j in SIDE_PAIRS)
+    _check_triangle(sides2[:3], "P1 P2 P3", "base")
+    _check_triangle(sides2[3:], "P4 P5 P6", "platform")
+    legs2 = tuple(_square(v) for v in L)
+    from_float = any(v.from_float for v in L + B[0] + B[1] + B[2] + Q[0] + Q[1] + Q[2])
+    return Problem(tuple(tuple(v.value for v in r) for r in B),
+                   tuple(tuple(v.value for v in r) for r in Q),
+                   tuple(v.value for v in L), sides2, legs2, from_float)
+
+
+def float_problem(base, platform, legs):
+    """Float arrays for the fast tier, batched: ``base (N,3,3)``, ``platform (N,3,3)``,
+    ``legs (N,6)``, plus the squared sides ``(N,6)`` and legs ``(N,6)``.
+
+    Accepts numbers or numeric strings (``"sqrt(108)"`` is parsed exactly, then
+    rounded).
+    """
+    def arr(value, field, shape):
+        try:
+            a = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            a = np.vectorize(lambda v: float(_exact(v, field)), otypes=[float])(
+                np.asarray(value, dtype=object))
+        if a.shape[-len(shape):] != shape:
+            raise InputError(f"expected shape (..., {', '.join(map(str, shape))}), got "
+                             f"{a.shape}", field=field)
+        if not np.all(np.isfinite(a)):
+            raise InputError("expected finite numbers, got NaN or inf", field=field)
+        return a
+    B = arr(base, "base", (3, 3))
+    Q = arr(platform, "platform", (3, 3))
+    L = arr(legs, "legs", (6,))
+    if B.ndim > 3 or Q.ndim > 3 or L.ndim > 2:
+        raise InputError("expected at most one batch axis", field="legs")
+    N = max([a.shape[0] for a, nd in ((B, 3), (Q, 3), (L, 2)) if a.ndim == nd], default=1)
+    B = np.broadcast_to(B, (N, 3, 3))
+    Q = np.broadcast_to(Q, (N, 3, 3))
+    try:
+        L = np.broadcast_to(L, (N, 6))
+    except ValueError:
+        raise InputError(f"expected legs of shape ({N}, 6), got {L.shape}", field="legs") from None
+    if np.any(L <= 0):
+        i = np.argwhere(L <= 0)[0]
+        raise InputError(f"expected positive leg lengths, got {L[tuple(i)]!r}",
+                         field=f"legs{list(i)}")
+    pts = np.concatenate([B, Q], axis=1)
+    sides2 = np.stack([_d2(pts, i, j) for i, j in SIDE_PAIRS], -1)
+    for (k, names, fld) in ((0, "P1 P2 P3", "base"), (3, "P4 P5 P6", "platform")):
+        a, b, c = sides2[:, k], sides2[:, k + 1], sides2[:, k + 2]
+        a16 = 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c)
+        if np.any(~(a16 > 1e-12 * (a + b + c) ** 2)):
+            raise DegenerateGeometryError(f"expected a proper triangle {names}, got collinear "
+                                          "or coincident points", field=fld)
+    return B, Q, L, sides2, L * L
+
+
+def _d2(pts, i, j):
+    d = pts[:, i - 1] - pts[:, j - 1]
+    return np.einsum("nk,nk->n", d, d)
+
+
+def float_single(base, platform, legs):
+    """One problem for the fast tier: ``base (3,3)``, ``platform (3,3)``, ``legs (6,)``
+    float arrays, with the checks of :func:`float_problem` at a fraction of its cost."""
+    try:
+        B = np.asarray(base, dtype=float)
+        Q = np.asarray(platform, dtype=float)
+        L = np.asarray(legs, dtype=float)
+    except (TypeError, ValueError):
+        B, Q, L, _, _ = float_problem(base, platform, legs)
+        return B[0], Q[0], L[0]
+    if B.shape != (3, 3) or Q.shape != (3, 3) or L.shape != (6,):
+        B, Q, L, _, _ = float_problem(base, platform, legs)
+        if B.shape[0] != 1:
+            raise InputError(f"expected one set of 6 legs, got shape {np.shape(legs)}",
+                             field="legs", hint="use forward_kinematics_batched for many")
+        return B[0], Q[0], L[0]
+    if not (np.isfinite(B).all() and np.isfinite(Q).all() and np.isfinite(L).all()):
+        raise InputError("expected finite numbers, got NaN or inf", field="legs")
+    if (L <= 0).any():
+        i = int(np.argmax(L <= 0))
+        raise InputError(f"expected positive leg lengths, got {L[i]!r}", field=f"legs[{i}]")
+    for P, names, fld in ((B, "P1 P2 P3", "base"), (Q, "P4 P5 P6", "platform")):
+        p = P.tolist()
+        a, b, c = (sum((p[i][k] - p[j][k]) ** 2 for k in range(3))
+                   for i, j in ((0, 1), (0, 2), (1, 2)))
+        if not 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c) > 1e-12 * (a + b + c) ** 2:
+            raise DegenerateGeometryError(f"expected a proper triangle {names}, got collinear "
+                                          "or coincident points", field=fld)
+    return B, Q, L

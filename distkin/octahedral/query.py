@@ -1,0 +1,216 @@
+"""Scene query ``forward_kinematics`` for ``kind = "octahedral"``: every assembly mode.
+
+Scene fields (DESIGN.md §4)::
+
+    [mechanism]
+    kind = "octahedral"
+    base = [[0,0,0], [6,"sqrt(108)",0], [12,0,0]]        # P1 P2 P3, base frame
+    platform = [[0,0,0], [6,0,0], [3,"sqrt(27)",0]]      # P4 P5 P6, platform frame
+
+    [[query]]
+    type = "forward_kinematics"
+    legs = ["19.8", "18", "18", "17", "14.9", "17.8"]   # P1P4 P2P4 P2P5 P3P5 P3P6 P1P6
+    method = "certified"      # fast | precise | certified
+    dps = 30                  # precise tier only
+    tol = 1e-15               # certified: pose enclosure radius / size; precise: root residual
+
+JSON result: ``real_roots {count, certified, values, radii}`` (every real root of the
+octic in s15), ``octic {coefficients}`` (highest degree first; exact strings where
+exact), ``poses [{s15, rotation, translation, points {P4, P5, P6}, max_leg_error}]``
+(plus ``side`` and ``max_leg_error_relative``), and ``root_status``, ``reason``,
+``accuracy``.  Lengths are in the scene's unit converted to metres (SI), or unitless
+for ``length = "none"``.  The plot (``--plots``) is the analogue of Rojas et al.,
+Fig. 8: one panel per assembly mode (side +1; the mirror images are not drawn), and
+the octic over the feasible interval of s15 with its real roots.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+
+from ..argcheck import check_keys, exact_vector, method_field, positive_number, require
+from ..errors import InputError
+from ..numbers import Exact, default_dps
+from ..queries import Outcome, register
+
+__all__ = ["OctahedralForwardQuery"]
+
+
+@dataclass(frozen=True)
+class _Params:
+    legs: tuple
+    method: str
+    dps: int
+    tol: float | None
+
+
+def _si(value: Exact, factor):
+    if factor is None or factor == 1:
+        return value
+    if isinstance(value.value, Fraction):
+        return Exact(value.value * factor, value.text, value.from_float)
+    import sympy
+    return Exact(sympy.nsimplify(value.value * sympy.Rational(factor.numerator,
+                                                              factor.denominator)),
+                 value.text, value.from_float)
+
+
+@register("forward_kinematics", mechanisms=("octahedral",),
+          summary="every assembly mode of an octahedral manipulator (octic in s15)")
+class OctahedralForwardQuery:
+    @staticmethod
+    def parse(table, mechanism, units, field):
+        check_keys(table, {"type", "legs", "method", "dps", "tol"}, field)
+        legs = exact_vector(require(table, "legs", field), f"{field}.legs", 6)
+        for i, v in enumerate(legs):
+            if not float(v) > 0:
+                raise InputError(f"expected a positive leg length, got {v.text}",
+                                 field=f"{field}.legs[{i}]")
+        method = method_field(table, field)
+        dps = default_dps(table.get("dps"))
+        tol = positive_number(table["tol"], f"{field}.tol") if "tol" in table else None
+        return _Params(legs, method, dps, tol)
+
+    @staticmethod
+    def run(p, scene, ctx):
+        from .forward import forward_kinematics
+        f = scene.units.length_factor
+        mech = scene.mechanism
+        base = [[_si(v, f) for v in r] for r in mech.base]
+        plat = [[_si(v, f) for v in r] for r in mech.platform]
+        legs = [_si(v, f) for v in p.legs]
+        res = forward_kinematics(base, plat, legs, method=p.method, dps=p.dps, tol=p.tol)
+        unit = scene.units.length_label
+        result = _result(res)
+        return Outcome(result, _text(res, unit, p), _plotter(res, base, plat, unit))
+
+
+def _result(res):
+    poses = []
+    for q in res.poses:
+        poses.append({
+            "s15": q.s15, "side": q.side,
+            "rotation": q.rotation, "translation": q.translation,
+            "points": {"P4": q.points[0], "P5": q.points[1], "P6": q.points[2]},
+            "max_leg_error": q.max_leg_error,
+            "max_leg_error_relative": q.max_leg_error_relative,
+        })
+    return {
+        "method": res.method,
+        "certified": res.certified,
+        "accuracy": res.accuracy,
+        "real_roots": {"count": res.real_root_count, "certified": res.certified,
+                       "values": [r.value for r in res.roots],
+                       "radii": [r.radius for r in res.roots]},
+        "root_status": [{"s15": r.value, "status": r.status, "reason": r.reason,
+                         "multiplicity": r.multiplicity} for r in res.roots],
+        "assembly_modes": len(res.assembly_roots),
+        "octic": {"coefficients": list(res.octic)},
+        "octic_degree": res.degree,
+        "octic_note": list(res.notes),
+        "poses": poses,
+        "reason": res.reason,
+    }
+
+
+def _u(unit, power=1):
+    if not unit:
+        return ""
+    return f" {unit}" if power == 1 else f" {unit}^{power}"
+
+
+def _text(res, unit, p):
+    lines = [f"octahedral forward kinematics ({res.method}"
+             + (f", {p.dps} digits" if res.method == "precise" else "") + ")"]
+    head = f"octic in s15 (degree {res.degree}" + (
+        ", exact rational coefficients)" if res.octic_exact else ")")
+    lines.append(head + ("; " + res.notes[0] if res.notes else ""))
+    cert = "certified" if res.certified else "not certified"
+    lines.append(f"real roots of the octic: {res.real_root_count} ({cert})")
+    for r in res.roots:
+        rad = f" ± {r.radius:.1e}" if r.radius else ""
+        mult = f", multiplicity {r.multiplicity}" if r.multiplicity != 1 else ""
+        lines.append(f"  s15 = {r.value:.10g}{rad}{_u(unit, 2)}  -> {r.reason}{mult}")
+    if not res.poses:
+        lines.append(res.reason)
+    else:
+        lines.append(f"{len(res.poses)} poses ({len(res.assembly_roots)} assembly modes x 2 "
+                     "mirror images in the base plane):")
+        for q in res.poses:
+            t = ", ".join(f"{v:.6g}" for v in q.translation)
+            lines.append(f"  s15 = {q.s15:.8g}{_u(unit, 2)}, side {q.side:+d}: translation "
+                         f"({t}){_u(unit)}, max leg error {q.max_leg_error:.2e}{_u(unit)} "
+                         f"({q.max_leg_error_relative:.1e} relative)")
+    lines.append(f"accuracy: {res.accuracy}")
+    return "\n".join(lines)
+
+
+def _plotter(res, base, plat, unit):
+    def plot(stem):
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        import numpy as np
+        B = np.array([[float(v) for v in r] for r in base])
+        # per assembly root, the mirror image above the base plane (larger mean z)
+        best = {}
+        for q in res.poses:
+            if q.s15 not in best or q.points[:, 2].mean() > best[q.s15].points[:, 2].mean():
+                best[q.s15] = q
+        modes = [best[s] for s in sorted(best)]
+        paths = []
+        n = max(len(modes), 1)
+        cols = min(3, n)
+        rows = (n + cols - 1) // cols
+        fig = plt.figure(figsize=(4.2 * cols, 4.0 * rows))
+        for k, q in enumerate(modes):
+            ax = fig.add_subplot(rows, cols, k + 1, projection="3d")
+            P = q.points
+            tri = np.vstack([B, B[:1]])
+            ax.plot(tri[:, 0], tri[:, 1], tri[:, 2], "k-", lw=2)
+            pt = np.vstack([P, P[:1]])
+            ax.plot(pt[:, 0], pt[:, 1], pt[:, 2], "b-", lw=2)
+            for (i, j) in ((1, 4), (2, 4), (2, 5), (3, 5), (3, 6), (1, 6)):
+                a, b = B[i - 1], P[j - 4]
+                ax.plot([a[0], b[0]], [a[1], b[1]], [a[2], b[2]], "r-", lw=1)
+            ax.set_title(f"s15 = {q.s15:.4g}{_u(unit, 2)}", fontsize=9)
+            allp = np.vstack([B, P])
+            ax.set_box_aspect(np.ptp(allp, axis=0) + 1e-9 * np.ptp(allp))
+            ax.set_xlabel(f"x{_u(unit)}")
+            ax.set_ylabel(f"y{_u(unit)}")
+            ax.set_zlabel(f"z{_u(unit)}")
+        if not modes:
+            ax = fig.add_subplot(1, 1, 1)
+            ax.text(0.5, 0.5, res.reason or "no assembly mode", ha="center", wrap=True)
+            ax.axis("off")
+        fig.suptitle("Assembly modes (Rojas et al. Fig. 8 analogue; mirror images omitted)")
+        fig.tight_layout()
+        path = f"{stem}_modes.png"
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
+        paths.append(path)
+        if res.roots or res.octic:
+            fig, ax = plt.subplots(figsize=(6.4, 3.6))
+            coef = np.array([float(c) for c in res.octic])
+            xs = [r.value for r in res.roots]
+            lo = min(xs) if xs else 0.0
+            hi = max(xs) if xs else 1.0
+            pad = 0.15 * (hi - lo if hi > lo else max(abs(hi), 1.0))
+            grid = np.linspace(lo - pad, hi + pad, 800)
+            vals = np.polyval(coef / np.max(np.abs(coef)), grid)
+            ax.plot(grid, np.sign(vals) * np.log10(1 + np.abs(vals) / np.max(np.abs(vals))
+                                                   * 1e12), "k-", lw=1)
+            for r in res.roots:
+                ax.axvline(r.value, color="g" if r.status == "assembly" else "r", lw=0.8)
+            ax.axhline(0, color="0.6", lw=0.5)
+            ax.set_xlabel(f"s15{_u(unit, 2)}")
+            ax.set_ylabel("sign(O) log10(1 + 1e12 |O|/max|O|)")
+            ax.set_title("The octic: real roots (green: assembly, red: spurious)")
+            fig.tight_layout()
+            path = f"{stem}_octic.png"
+            fig.savefig(path, dpi=110)
+            plt.close(fig)
+            paths.append(path)
+        return paths
+    return plot

@@ -1,0 +1,390 @@
+"""Scene query ``singularity``: singularities of an octahedral manipulator (and of its
+Δ-transformed 6-6 platform) at a pose or along a path.
+
+Rojas, Borràs, Thomas, *The Octahedral Manipulator Revisited*, Sec. IV: det J of
+eq. (5), the Cayley-Menger pure condition, the four-planes test, det(AJ) = det(A)det(J).
+
+Scene fields::
+
+    [[query]]
+    type = "singularity"
+    pose = { translation = [6, 3.4641, 10], rotation = [0, 0, 0] }  # platform frame -> base
+    # or
+    path = { from = { translation = [...], rotation = [...] },
+             to   = { translation = [...], rotation = [...] }, samples = 120 }
+    offsets = ["12/5", "6/5", ...]   # optional: the equivalent 6-6 platform as well
+                                     # (default: the offsets of a "platform66" mechanism)
+    method = "certified"             # fast | certified (arb certificates of sign det J)
+    length_scale = 3.4641            # optional L (length units); default: the
+                                     # platform's circumradius
+
+``rotation`` is a rotation vector (axis times angle) in the scene's angle unit; the
+path interpolates translation and rotation vector linearly in s in [0, 1].  The
+pose maps platform-frame points q to base-frame points R q + t.
+
+Reported: det J (moments divided by L, dimensionless), the smallest singular value of
+J, the paper's Cayley-Menger condition and its signed form (relative, in [-1, 1]), the
+four-planes test (common point and spread), the distance to the nearest singular
+pose found by local search, and for a path every crossing of det J = 0 with all three
+tests evaluated there (and, certified, a rational bracket on which arb proves the sign
+change of det J).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .argcheck import as_table, check_keys, method_field, positive_int
+from .errors import InputError
+from .numbers import parse_vector, to_tier
+from .queries import Outcome, register
+
+__all__ = ["SingularityQuery", "OctahedralModel", "plot_path"]
+
+
+@dataclass(frozen=True)
+class _Pose:
+    translation: tuple
+    rotation: tuple
+
+
+@dataclass(frozen=True)
+class _Params:
+    pose: _Pose | None
+    path: tuple | None
+    samples: int
+    offsets: tuple | None
+    method: str
+    length_scale: float | None
+    tolerance: float
+
+
+def _parse_pose(value, field):
+    t = as_table(value, field)
+    check_keys(t, {"translation", "rotation"}, field)
+    if "translation" not in t:
+        raise InputError("missing required field 'translation'", field=f"{field}.translation")
+    tr = parse_vector(t["translation"], f"{field}.translation", length=3)
+    rot = parse_vector(t.get("rotation", [0, 0, 0]), f"{field}.rotation", length=3)
+    return _Pose(tuple(x.value for x in tr), tuple(x.value for x in rot))
+
+
+@register("singularity", mechanisms=("octahedral", "platform66"),
+          summary="det J (eq. 5), Cayley-Menger and four-planes tests at a pose or along a path")
+class SingularityQuery:
+    @staticmethod
+    def parse(table, mechanism, units, field):
+        check_keys(table, {"type", "pose", "path", "offsets", "method", "length_scale",
+                           "tolerance"}, field)
+        if ("pose" in table) == ("path" in table):
+            raise InputError("expected exactly one of 'pose' or 'path'", field=field)
+        pose = path = None
+        samples = 120
+        if "pose" in table:
+            pose = _parse_pose(table["pose"], f"{field}.pose")
+        else:
+            pt = as_table(table["path"], f"{field}.path")
+            check_keys(pt, {"from", "to", "samples"}, f"{field}.path")
+            for key in ("from", "to"):
+                if key not in pt:
+                    raise InputError(f"missing required field {key!r}", field=f"{field}.path.{key}")
+            path = (_parse_pose(pt["from"], f"{field}.path.from"),
+                    _parse_pose(pt["to"], f"{field}.path.to"))
+            samples = positive_int(pt.get("samples", 120), f"{field}.path.samples", minimum=3)
+        offsets = None
+        if "offsets" not in table and getattr(mechanism, "kind", None) == "platform66":
+            offsets = mechanism.offsets
+        if "offsets" in table:
+            from .delta import delta_transform
+            offsets = parse_vector(table["offsets"], f"{field}.offsets", length=6)
+            tr = delta_transform(mechanism, offsets, field=f"{field}.offsets")
+            tr.check_regular(field=f"{field}.offsets")
+        method = method_field(table, field, allowed=("fast", "certified"))
+        L = None
+        if "length_scale" in table:
+            from .argcheck import positive_number
+            L = positive_number(table["length_scale"], f"{field}.length_scale")
+        tol = table.get("tolerance", 1e-9)
+        if not isinstance(tol, (int, float)) or isinstance(tol, bool) or not 0 < tol < 1:
+            raise InputError(f"expected a tolerance in (0, 1), got {tol!r}", field=f"{field}.tolerance")
+        return _Params(pose, path, samples, offsets, method, L, float(tol))
+
+    @staticmethod
+    def run(p, scene, ctx):
+        model = OctahedralModel.build(scene.mechanism, p.offsets, p.length_scale,
+                                      deg=scene.units.angle == "deg")
+        unit = "" if scene.units.length == "none" else f" {scene.units.length}"
+        if p.pose is not None:
+            return _run_pose(model, p, unit)
+        return _run_path(model, p, unit)
+
+
+class OctahedralModel:
+    """Octahedral geometry (float and arb) and, optionally, its 6-6 Δ-transform."""
+
+    def __init__(self, base_f, plat_f, base_a, plat_a, L, deg, platform66=None):
+        self.base_f, self.plat_f = base_f, plat_f
+        self.base_a, self.plat_a = base_a, plat_a
+        self.L = L
+        self.angle = (np.pi / 180) if deg else 1.0
+        self.deg = deg
+        self.platform66 = platform66
+
+    @classmethod
+    def build(cls, mech, offsets=None, length_scale=None, deg=False):
+        base_f = np.array([[float(x) for x in r] for r in mech.base])
+        plat_f = np.array([[float(x) for x in r] for r in mech.platform])
+        cert = lambda rows: np.array([[to_tier(x, "certified") for x in r] for r in rows],  # noqa: E731
+                                     dtype=object)
+        L = length_scale or float(np.max(np.linalg.norm(plat_f - plat_f.mean(0), axis=1)))
+        p66 = None
+        if offsets is not None:
+            from .delta import equivalent_platform
+            p66 = equivalent_platform(mech, offsets)
+        return cls(base_f, plat_f, cert(mech.base), cert(mech.platform), L, deg, p66)
+
+    # -- float, batched over poses
+    def points(self, R, t):
+        P = np.einsum("...ij,nj->...ni", R, self.plat_f) + t[..., None, :]
+        return np.concatenate([np.broadcast_to(self.base_f, P.shape), P], axis=-2)
+
+    def det_j(self, R, t):
+        from .singularity import jacobian_det, octahedral_joints
+        return jacobian_det(*octahedral_joints(self.points(R, t)), length_scale=self.L)
+
+    # -- arb, one pose
+    def det_j_arb(self, R, t):
+        from .singularity import jacobian_det, octahedral_joints, pose_points
+        P = pose_points(self.plat_a, R, t)
+        X = np.concatenate([self.base_a, P], axis=0)
+        return jacobian_det(*octahedral_joints(X), normalised=False, method="certified")
+
+    def pose_path(self, a: _Pose, b: _Pose):
+        from .singularity import PosePath
+        return PosePath(a.translation, a.rotation, b.translation, b.rotation, self.deg)
+
+    def rotation(self, pose: _Pose):
+        from .singularity import rotation_from_vector
+        return rotation_from_vector(np.array([float(x) for x in pose.rotation]) * self.angle)
+
+
+def _tests(model, R, t):
+    """All characterisations at float poses R (n,3,3), t (n,3)."""
+    from .singularity import (cm_pure_condition, four_planes, plucker_jacobian,
+                              octahedral_joints, signed_cm_condition)
+    X = model.points(R, t)
+    J = plucker_jacobian(*octahedral_joints(X))
+    J[..., 3:] /= model.L
+    fp = four_planes(X, length_scale=model.L)
+    return {"det_J": np.linalg.det(J),
+            "sigma_min": np.linalg.svd(J, compute_uv=False)[..., -1],
+            "cm_condition_relative": cm_pure_condition(X, relative=True),
+            "signed_cm_relative": signed_cm_condition(X, relative=True),
+            "four_planes_relative": np.asarray(fp.relative),
+            "four_planes_spread": np.asarray(fp.spread),
+            "four_planes_point": fp.point}
+
+
+def _first(d):
+    return {k: (v[0] if np.ndim(v) >= 1 else v) for k, v in d.items()}
+
+
+def _run_pose(model, p, unit):
+    from .singularity import certified_sign, nearest_singularity
+    R = model.rotation(p.pose)
+    t = np.array([float(x) for x in p.pose.translation])
+    tests = _first(_tests(model, R[None], t[None]))
+    ns = nearest_singularity(lambda Rs, ts: model.det_j(Rs, ts), R, t, model.L)
+    res = {"pose": {"rotation_matrix": R, "translation": t},
+           "length_scale": model.L,
+           "det_J": float(tests["det_J"]), "sigma_min": float(tests["sigma_min"]),
+           "cm_condition_relative": float(tests["cm_condition_relative"]),
+           "signed_cm_relative": float(tests["signed_cm_relative"]),
+           "four_planes": {"relative": float(tests["four_planes_relative"]),
+                           "point": tests["four_planes_point"],
+                           "spread": float(tests["four_planes_spread"])},
+           "nearest_singularity": {"distance": ns.distance, "first_order": ns.first_order,
+                                   "converged": ns.converged, "residual": ns.residual,
+                                   "rotation_matrix": ns.rotation, "translation": ns.translation,
+                                   "method": "gradient projection + SLSQP (local)"}}
+    lines = [f"pose: t = ({t[0]:.6g}, {t[1]:.6g}, {t[2]:.6g}){unit}, "
+             f"rotation vector = {[float(x) for x in p.pose.rotation]} "
+             f"{'deg' if model.deg else 'rad'}",
+             f"det J (eq. 5, moments / L, L = {model.L:.6g}{unit}) = {res['det_J']:.6e}; "
+             f"sigma_min(J) = {res['sigma_min']:.4e}",
+             f"Cayley-Menger condition (paper, relative) = {res['cm_condition_relative']:.3e}; "
+             f"signed CM form (relative) = {res['signed_cm_relative']:.3e}",
+             f"four planes: spread from their common point = "
+             f"{res['four_planes']['spread']:.3e}{unit}"]
+    if abs(res["cm_condition_relative"]) < 1e-9 and abs(res["det_J"]) > p.tolerance:
+        lines.append("note: the paper's Cayley-Menger condition vanishes here although det J "
+                     "!= 0 (its extra factor a - b = 0; the signed form does not vanish)")
+    if ns.converged:
+        lines.append(f"nearest singular pose found (local search): distance "
+                     f"{ns.distance:.6g}{unit} (first-order estimate {ns.first_order:.6g}{unit})")
+    else:
+        lines.append("nearest singular pose: local search did not converge")
+    if p.method == "certified":
+        Ra, ta = _exact_pose_arb(model, p.pose)
+        sgn = certified_sign(model.det_j_arb(Ra, ta))
+        res["certified_sign_det_J"] = sgn
+        lines.append(f"certified (arb): sign det J = {sgn:+d}")
+    if model.platform66 is not None:
+        res["platform66"] = _check66(model, R[None], t[None])
+        lines.append(f"6-6 platform: det(A) = {res['platform66']['det_A']}; "
+                     f"|Jhat66 - A Jhat| / |Jhat66| = {res['platform66']['identity_error']:.1e}, "
+                     f"so det(Jhat66) = det(A) det(Jhat) = "
+                     f"{res['platform66']['det_A_det_Jhat']:.6e}")
+    return Outcome(res, "\n".join(lines))
+
+
+def _exact_pose_arb(model, pose):
+    from .singularity import PosePath
+    path = PosePath(pose.translation, pose.rotation, pose.translation, pose.rotation, model.deg)
+    return path.at_certified(0)
+
+
+def _check66(model, R, t):
+    """det(AJ) = det(A) det(J) on the built 6-6 platform (Rojas et al., eq. (6)).
+
+    The 6-6 platform's own unnormalised Plücker matrix (from its joints) is compared
+    with A times the octahedral one: ``identity_error`` = max|Jhat66 - A Jhat| /
+    max|Jhat66| (a matrix identity, well conditioned also at singular poses).
+    """
+    from .singularity import octahedral_joints, plucker_jacobian
+    tr = model.platform66.transform
+    A = np.array([[float(x) for x in row] for row in tr.A.tolist()])
+    bj, qj = model.platform66.joints("fast")
+    pj = np.einsum("...ij,nj->...ni", R, qj) + t[..., None, :]
+    J66 = plucker_jacobian(np.broadcast_to(bj, pj.shape), pj, normalised=False)
+    Jo = plucker_jacobian(*octahedral_joints(model.points(R, t)), normalised=False)
+    err = np.max(np.abs(J66 - A @ Jo)) / np.max(np.abs(J66))
+    return {"det_A": str(tr.det), "det_J66_hat": float(np.linalg.det(J66)[0]),
+            "det_A_det_Jhat": float(tr.det) * float(np.linalg.det(Jo)[0]),
+            "identity_error": float(err),
+            "identity": "Jhat66 = A Jhat, so det(Jhat66) = det(A) det(Jhat)"}
+
+
+def _run_path(model, p, unit):
+    from .singularity import (certify_crossing, cm_pure_condition, four_planes,
+                              nearest_singularity, path_crossings, signed_cm_condition)
+    a, b = p.path
+    path = model.pose_path(a, b)
+    at = path.at
+
+    f_det = lambda s: model.det_j(*at(s))  # noqa: E731
+    roots, grid, vals = path_crossings(f_det, p.samples)
+    f_cm = lambda s: cm_pure_condition(model.points(*at(s)), relative=True)  # noqa: E731
+    f_k = lambda s: signed_cm_condition(model.points(*at(s)), relative=True)  # noqa: E731
+    f_fp = lambda s: np.asarray(four_planes(model.points(*at(s)), length_scale=model.L).relative)  # noqa: E731
+    cm_roots, _, cm_vals = path_crossings(f_cm, p.samples)
+    k_roots, _, k_vals = path_crossings(f_k, p.samples)
+    fp_roots, _, fp_vals = path_crossings(f_fp, p.samples)
+    crossings, lines = [], []
+    lines.append(f"path: {p.samples} samples, s in [0, 1]; L = {model.L:.6g}{unit}; "
+                 f"{len(roots)} crossing(s) of det J = 0")
+    for s in roots:
+        R, t = at(np.array([s]))
+        tests = _first(_tests(model, R, t))
+        near = lambda rs: min((abs(r - s) for r in rs), default=float("inf"))  # noqa: E731
+        fire = {"det_J": bool(abs(tests["det_J"]) < p.tolerance),
+                "cayley_menger": bool(near(cm_roots) < 1e-9
+                                      and abs(tests["cm_condition_relative"]) < 1e-6),
+                "signed_cayley_menger": bool(near(k_roots) < 1e-9),
+                "four_planes": bool(near(fp_roots) < 1e-9
+                                    and tests["four_planes_spread"] < 1e-6 * model.L)}
+        entry = {"s": s, "rotation_matrix": R[0], "translation": t[0],
+                 "det_J": float(tests["det_J"]), "sigma_min": float(tests["sigma_min"]),
+                 "cm_condition_relative": float(tests["cm_condition_relative"]),
+                 "signed_cm_relative": float(tests["signed_cm_relative"]),
+                 "four_planes_spread": float(tests["four_planes_spread"]),
+                 "four_planes_point": tests["four_planes_point"],
+                 "root_distance": {"cayley_menger": near(cm_roots),
+                                   "signed_cayley_menger": near(k_roots),
+                                   "four_planes": near(fp_roots)},
+                 "fires": fire, "all_fire": all(fire.values())}
+        text = (f"  crossing at s = {s:.15f}: t = ({t[0, 0]:.6f}, {t[0, 1]:.6f}, {t[0, 2]:.6f}){unit}; "
+                f"det J = {entry['det_J']:.1e}, CM = {entry['cm_condition_relative']:.1e}, "
+                f"four-planes spread = {entry['four_planes_spread']:.1e}{unit}; all three fire: "
+                f"{entry['all_fire']}")
+        if p.method == "certified":
+            f_arb = lambda q: model.det_j_arb(*path.at_certified(q))  # noqa: E731
+            c = certify_crossing(f_arb, s)
+            entry["certified"] = {"bracket": [c.bracket[0], c.bracket[1]],
+                                  "signs": list(c.signs),
+                                  "width": float(c.bracket[1] - c.bracket[0])}
+            text += (f"\n    certified (arb): sign det J = {c.signs[0]:+d} at s = "
+                     f"{float(c.bracket[0]):.15f} and {c.signs[1]:+d} at s = "
+                     f"{float(c.bracket[1]):.15f}")
+        if model.platform66 is not None:
+            entry["platform66"] = _check66(model, R, t)
+            text += (f"\n    6-6 platform: det(A) = {entry['platform66']['det_A']}, "
+                     f"|Jhat66 - A Jhat| / |Jhat66| = "
+                     f"{entry['platform66']['identity_error']:.1e} (det(AJ) = det(A) det(J))")
+        crossings.append(entry)
+        lines.append(text)
+    spurious = [r for r in cm_roots if min((abs(r - s) for s in roots), default=1) > 1e-9]
+    if spurious:
+        lines.append(f"  the paper's CM condition also vanishes at s = "
+                     f"{', '.join(f'{r:.6f}' for r in spurious)} where det J != 0 (its factor "
+                     f"a - b, see distkin.singularity)")
+    k_spurious = [r for r in k_roots if min((abs(r - s) for s in roots), default=1) > 1e-9]
+    if k_spurious:
+        lines.append(f"  the signed CM form also vanishes at s = "
+                     f"{', '.join(f'{r:.6f}' for r in k_spurious)}: a flat tetrahedron "
+                     f"(a = V1245 V3456 V1236 = 0), not a singularity")
+    dist = []
+    for s in (0.0, 1.0):
+        R, t = at(np.array([s]))
+        ns = nearest_singularity(lambda Rs, ts: model.det_j(Rs, ts), R[0], t[0], model.L)
+        dist.append({"s": s, "distance": ns.distance, "first_order": ns.first_order,
+                     "converged": ns.converged})
+        lines.append(f"  distance to the nearest singular pose at s = {s:g}: "
+                     f"{ns.distance:.6g}{unit} (local search)")
+    res = {"samples": p.samples, "length_scale": model.L, "crossings": crossings,
+           "cm_condition_roots": cm_roots, "signed_cm_roots": k_roots,
+           "four_planes_roots": fp_roots, "cm_spurious_roots": spurious,
+           "nearest_singularity": dist, "min_abs_det_J": float(np.min(np.abs(vals))),
+           "method": p.method}
+    data = {"s": grid, "det_J": vals, "cm": cm_vals, "signed_cm": k_vals, "four_planes": fp_vals,
+            "roots": roots, "spurious": spurious}
+    return Outcome(res, "\n".join(lines), lambda stem: plot_path(data, stem))
+
+
+def plot_path(data, stem):
+    """det J, the paper's CM condition, its signed form and the four-planes determinant
+    along a path (each relative), with the crossings of det J = 0 marked.
+
+    Returns
+    -------
+    list of pathlib.Path
+    """
+    import matplotlib
+    matplotlib.use("Agg")
+    from pathlib import Path
+
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(7.0, 4.4))
+    s = data["s"]
+    norm = lambda v: np.asarray(v) / max(np.max(np.abs(v)), 1e-300)  # noqa: E731
+    ax.axhline(0.0, color="0.6", lw=0.8)
+    ax.plot(s, norm(data["det_J"]), lw=2.2, label="det J (eq. 5), scaled")
+    ax.plot(s, norm(data["four_planes"]), "--", lw=1.6, label="four-planes determinant, scaled")
+    ax.plot(s, data["cm"], "-.", lw=1.4, label="paper's CM condition (relative)")
+    ax.plot(s, data["signed_cm"], ":", lw=1.8, label="signed CM condition (relative)")
+    for i, r in enumerate(data["roots"]):
+        ax.axvline(r, color="crimson", lw=1.0, label="det J = 0 (crossing)" if i == 0 else None)
+    for i, r in enumerate(data["spurious"]):
+        ax.axvline(r, color="orange", lw=1.0, ls="--",
+                   label="CM = 0 but det J != 0" if i == 0 else None)
+    ax.set_xlabel("path parameter s")
+    ax.set_ylabel("value (dimensionless)")
+    ax.set_title("Singularity tests along the path")
+    ax.legend(fontsize=7, loc="best")
+    fig.tight_layout()
+    out = Path(str(stem) + "_path.png")
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+    return [out]

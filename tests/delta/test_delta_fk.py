@@ -1,0 +1,65 @@
+"""Forward kinematics of the 6-6 platform equivalent to the Griffis-Duffy octahedral
+example (Rojas et al., Sec. VI; DESIGN.md §5).
+
+Independent routes: the octahedral solver called directly with the *printed* l-legs
+(not the mapped ones), and the 6-6 leg lengths measured on the 6-6 joints in the test.
+"""
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from distkin.delta import equivalent_platform, forward_kinematics66
+from distkin.octahedral import forward_kinematics
+
+GD = ([[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]], [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]])
+M_LEGS = ["6/25*sqrt(6170)", "6/5*sqrt(221)", "1/5*sqrt(7349)", "1/50*sqrt(674605)",
+          "1/25*sqrt(136210)", "1/5*sqrt(8153)"]
+L_PRINTED = ["19.8", "18", "18", "17", "14.9", "17.8"]
+
+
+@pytest.fixture(scope="module")
+def fk66():
+    return forward_kinematics66(GD, ["12/5", "6/5"] * 3, M_LEGS, method="fast")
+
+
+def test_same_twelve_poses_as_the_octahedral_solver(fk66):
+    octa = forward_kinematics(*GD, L_PRINTED, method="fast")
+    assert len(octa.poses) == 12 and len(fk66.poses) == 12
+    # the six real roots printed in Sec. VI, each with two mirror poses
+    assert sorted({round(p.s15, 1) for p in octa.poses}) == [269.2, 328.7, 359.5, 463.6,
+                                                             497.9, 513.0]
+    for mine, ref in zip(fk66.poses, octa.poses):
+        np.testing.assert_allclose(mine.rotation, ref.rotation, atol=1e-12)
+        np.testing.assert_allclose(mine.translation, ref.translation, atol=1e-11)
+
+
+def test_each_pose_reproduces_the_m_legs_on_the_6_6_geometry(fk66):
+    plat = equivalent_platform(GD, ["12/5", "6/5"] * 3)
+    bj = np.array([[float(x) for x in p] for p in plat.base_joints])
+    qj = np.array([[float(x) for x in p] for p in plat.platform_joints])
+    m = np.array([float(sp.sympify(x)) for x in M_LEGS])
+    for pose in fk66.poses:
+        lengths = np.linalg.norm(qj @ pose.rotation.T + pose.translation - bj, axis=1)
+        assert np.max(np.abs(lengths - m)) < 1e-12
+        assert pose.max_leg_error < 1e-12
+        np.testing.assert_allclose(pose.rotation @ pose.rotation.T, np.eye(3), atol=1e-13)
+    assert fk66.max_leg_error < 1e-12
+
+
+def test_mapped_legs_are_exact(fk66):
+    assert [str(x) for x in fk66.l_legs] == ["99/5", "18", "18", "17", "149/10", "89/5"]
+
+
+@pytest.mark.parametrize("method, bound", [("precise", 1e-25), ("certified", 1e-12)])
+def test_higher_tiers(method, bound):
+    res = forward_kinematics66(GD, ["12/5", "6/5"] * 3, M_LEGS, method=method)
+    assert len(res.poses) == 12
+    # precise: mpmath residual at 30 digits; certified: a rigorous arb upper bound
+    assert res.max_leg_error < bound
+    ref = forward_kinematics(*GD, L_PRINTED, method="fast")
+    for mine, p in zip(res.poses, ref.poses):
+        R = np.vectorize(float, otypes=[float])(np.asarray(mine.rotation, dtype=object)) \
+            if method == "precise" else \
+            np.array([[float(x.mid()) for x in row] for row in mine.rotation])
+        np.testing.assert_allclose(R, p.rotation, atol=1e-12)

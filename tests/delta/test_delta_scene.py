@@ -1,0 +1,251 @@
+"""Scene queries ``delta_transform`` and ``singularity``: JSON contract, bad input in
+the API and in the CLI (exit 2, one line, no traceback).
+
+Reference values: Rojas et al., Sec. VI (DESIGN.md §5).
+"""
+
+import json
+import subprocess
+import sys
+import textwrap
+
+import pytest
+import sympy as sp
+
+from distkin.cli import main, run_scene
+from distkin.errors import DegenerateGeometryError, InfeasibleError
+from distkin.scene import loads_scene
+
+HEAD = textwrap.dedent("""
+    [units]
+    length = "none"
+    angle = "deg"
+
+    [mechanism]
+    kind = "octahedral"
+    base = [[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]]
+    platform = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]]
+""")
+M_LEGS = ('["6/25*sqrt(6170)", "6/5*sqrt(221)", "1/5*sqrt(7349)", "1/50*sqrt(674605)", '
+          '"1/25*sqrt(136210)", "1/5*sqrt(8153)"]')
+
+
+def _scene(body):
+    return HEAD + textwrap.dedent(body)
+
+
+def test_symbolic_offsets_json():
+    scene = loads_scene(_scene("""
+        [[query]]
+        type = "delta_transform"
+        offsets = ["Delta1", "Delta2", "Delta1", "Delta2", "Delta1", "Delta2"]
+    """))
+    records, _texts, worst = run_scene(scene)
+    assert worst == 0
+    res = records[0]["result"]
+    assert len(res["A"]) == 6 and all(len(r) == 6 and all(isinstance(x, str) for x in r)
+                                      for r in res["A"])
+    D1, D2 = sp.symbols("Delta1 Delta2")
+    assert sp.sympify(res["A"][0][1]) == D1 / 12
+    assert sp.expand(sp.sympify(res["b"][1]) - D2 * (6 - D2)) == 0
+    det = sp.sympify(res["det"])
+    const = sp.sympify(res["det_constant"])
+    prod = sp.prod([sp.sympify(f) ** k for f, k in zip(res["det_factors"],
+                                                       res["det_multiplicities"])])
+    assert sp.expand(const * prod - det) == 0
+    assert "Delta1 + 2*Delta2 - 12" in res["det_factors"]
+    assert "mapped_legs" not in res
+
+
+def test_numeric_offsets_map_legs_exactly():
+    scene = loads_scene(_scene(f"""
+        [[query]]
+        type = "delta_transform"
+        offsets = ["12/5", "6/5", "12/5", "6/5", "12/5", "6/5"]
+        m_legs = {M_LEGS}
+        solve = false
+    """))
+    records, texts, worst = run_scene(scene)
+    assert worst == 0, records
+    res = records[0]["result"]
+    assert res["mapped_legs"] == ["99/5", "18", "18", "17", "149/10", "89/5"]
+    assert res["det"] == "819/3125" and res["det_factors"] == []
+    assert "l1 = 99/5" in texts[0]
+
+
+def test_singular_offsets_api_and_cli(tmp_path):
+    body = """
+        [[query]]
+        type = "delta_transform"
+        offsets = [6, 3, 6, 3, 6, 3]
+    """
+    with pytest.raises(DegenerateGeometryError, match=r"delta1 \+ 2\*delta2 - 12"):
+        loads_scene(_scene(body))
+    f = tmp_path / "singular.toml"
+    f.write_text(_scene(body))
+    r = subprocess.run([sys.executable, "-m", "distkin", "run", str(f)], capture_output=True,
+                       text=True, timeout=120)
+    assert r.returncode == 2
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in r.stderr
+    assert "delta1 + 2*delta2 - 12" in lines[0] and "query[0].offsets" in lines[0]
+
+
+def test_infeasible_m_legs_api_and_cli(tmp_path, capsys):
+    body = """
+        [[query]]
+        type = "delta_transform"
+        offsets = ["12/5", "6/5", "12/5", "6/5", "12/5", "6/5"]
+        m_legs = [1, 1, 1, 1, 1, 30]
+    """
+    scene = loads_scene(_scene(body))
+    from distkin.delta_query import DeltaTransformQuery
+    with pytest.raises(InfeasibleError):
+        DeltaTransformQuery.run(scene.queries[0].params, scene, None)
+    f = tmp_path / "infeasible.toml"
+    f.write_text(_scene(body))
+    assert main(["run", str(f), "--json", str(tmp_path / "out.json")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "negative" in err[0] or "non-negative" in err[0]
+    doc = json.loads((tmp_path / "out.json").read_text())
+    assert doc["queries"][0]["status"] == "error"
+    assert doc["queries"][0]["error"]["kind"] == "infeasible"
+
+
+def test_bad_fields_are_rejected_at_load_time():
+    from distkin.errors import InputError
+    with pytest.raises(InputError, match="offsets"):
+        loads_scene(_scene("""
+            [[query]]
+            type = "delta_transform"
+            offsets = [1, 2, 3]
+        """))
+    with pytest.raises(InputError, match="solve"):
+        loads_scene(_scene("""
+            [[query]]
+            type = "delta_transform"
+            offsets = ["Delta1", "Delta2", "Delta1", "Delta2", "Delta1", "Delta2"]
+            solve = true
+        """))
+    with pytest.raises(InputError, match="unknown field"):
+        loads_scene(_scene("""
+            [[query]]
+            type = "delta_transform"
+            offset = [1, 1, 1, 1, 1, 1]
+        """))
+    with pytest.raises(InputError, match="exactly one of"):
+        loads_scene(_scene("""
+            [[query]]
+            type = "singularity"
+        """))
+
+
+def test_singularity_query_path_and_pose(tmp_path):
+    scene = loads_scene(_scene("""
+        [[query]]
+        type = "singularity"
+        offsets = ["12/5", "6/5", "12/5", "6/5", "12/5", "6/5"]
+        method = "certified"
+        [query.path]
+        samples = 30
+        [query.path.from]
+        translation = [3, "sqrt(3)", 10]
+        rotation = ["90*sqrt(3)", 90, 0]
+        [query.path.to]
+        translation = [6, 0, 10]
+        rotation = [90, "90*sqrt(3)", 0]
+
+        [[query]]
+        type = "singularity"
+        pose = { translation = [3, "sqrt(27)", 10], rotation = [180, 0, 0] }
+    """))
+    records, texts, worst = run_scene(scene, plots_dir=tmp_path)
+    assert worst == 0, records
+    path = records[0]["result"]
+    assert len(path["crossings"]) == 1
+    c = path["crossings"][0]
+    assert c["all_fire"] and all(c["fires"].values())
+    assert c["certified"]["signs"][0] == -c["certified"]["signs"][1]
+    assert c["platform66"]["identity_error"] < 1e-10
+    assert all(d["converged"] and d["distance"] > 0 for d in path["nearest_singularity"])
+    assert records[0]["plots"] and all(p.endswith(".png") for p in records[0]["plots"])
+    pose = records[1]["result"]
+    # the home pose is regular although the paper's CM form vanishes there
+    assert abs(pose["det_J"]) > 1 and abs(pose["cm_condition_relative"]) < 1e-12
+    assert pose["nearest_singularity"]["converged"]
+    assert "Traceback" not in "".join(texts)
+
+
+def test_demo_scene_runs_from_the_cli(tmp_path):
+    # the shipped example (a symlink to the package scene) with plots and JSON
+    from pathlib import Path
+    root = Path(__file__).resolve().parents[2]
+    ex = root / "examples" / "delta_griffis_duffy.toml"
+    assert ex.is_symlink() and ex.resolve() == (root / "distkin" / "scenes" /
+                                                "delta_griffis_duffy.toml").resolve()
+    out = tmp_path / "out.json"
+    r = subprocess.run([sys.executable, "-m", "distkin", "run", str(ex), "--json", str(out),
+                        "--plots", str(tmp_path / "plots")], capture_output=True, text=True,
+                       timeout=300, cwd=root)
+    assert r.returncode == 0, r.stderr
+    doc = json.loads(out.read_text())
+    q = doc["queries"]
+    assert [x["status"] for x in q] == ["ok"] * 4
+    fk = q[1]["result"]["forward_kinematics"]
+    assert fk["count"] == 12 and fk["max_leg_error"] < 1e-12
+    assert q[1]["result"]["mapped_legs"] == ["99/5", "18", "18", "17", "149/10", "89/5"]
+    assert q[2]["result"]["crossings"][0]["all_fire"]
+    assert len(list((tmp_path / "plots").glob("*.png"))) >= 3
+
+
+P66 = textwrap.dedent("""
+    [units]
+    length = "none"
+
+    [mechanism]
+    kind = "platform66"
+    base = [[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]]
+    platform = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]]
+    offsets = OFFSETS
+""")
+
+
+def test_platform66_kind_forward_kinematics():
+    scene = loads_scene(P66.replace("OFFSETS", '["12/5", "6/5", "12/5", "6/5", "12/5", "6/5"]')
+                        + textwrap.dedent(f"""
+        [[query]]
+        type = "forward_kinematics"
+        legs = {M_LEGS}
+        method = "fast"
+
+        [[query]]
+        type = "delta_transform"
+    """))
+    records, _texts, worst = run_scene(scene)
+    assert worst == 0, records
+    fk = records[0]["result"]
+    assert fk["mapped_legs"] == ["99/5", "18", "18", "17", "149/10", "89/5"]
+    assert fk["count"] == 12 and fk["max_leg_error"] < 1e-12
+    assert records[1]["result"]["det"] == "819/3125"
+
+
+def test_platform66_kind_rejects_singular_offsets_in_cli(tmp_path):
+    f = tmp_path / "p66.toml"
+    f.write_text(P66.replace("OFFSETS", "[6, 3, 6, 3, 6, 3]") + textwrap.dedent("""
+        [[query]]
+        type = "delta_transform"
+    """))
+    r = subprocess.run([sys.executable, "-m", "distkin", "run", str(f)], capture_output=True,
+                       text=True, timeout=120)
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    line, = r.stderr.strip().splitlines()
+    assert line.startswith("distkin: error: mechanism.offsets") and "delta1 + 2*delta2 - 12" in line
+
+
+def test_derivation_script_checks_every_step():
+    from pathlib import Path
+    root = Path(__file__).resolve().parents[2]
+    r = subprocess.run([sys.executable, str(root / "derivations" / "delta_transform.py")],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
+    assert r.stdout.count("ok:") >= 25 and "all checks passed" in r.stdout

@@ -1,0 +1,98 @@
+"""Numeric forward kinematics: round trips through the closed-form IK."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from distkin.errors import InfeasibleError, SingularConfigurationError
+from distkin.mechanisms import preset
+from distkin.mechanisms.rotation import exp_so3, pose_error, rotation_angles, rotation_matrix
+
+from rss_sampling import reachable_poses
+
+
+def _perturbed(P, rng, dpos=0.010, dang=np.radians(10)):
+    """Guesses within dpos (m) and dang (rad, as a rotation angle) of P."""
+    n = len(P)
+    d = rng.normal(size=(n, 3))
+    d *= (dpos * rng.uniform(0, 1, (n, 1))) / np.linalg.norm(d, axis=1, keepdims=True)
+    w = rng.normal(size=(n, 3))
+    w *= (dang * rng.uniform(0, 1, (n, 1))) / np.linalg.norm(w, axis=1, keepdims=True)
+    G = P.copy()
+    G[:, :3] += d
+    G[:, 3:] = rotation_angles(exp_so3(w) @ rotation_matrix(P[:, 3:]))
+    return G
+
+
+def test_octopod_round_trip_acceptance():
+    """Acceptance: 1000 random reachable poses, warm start within 10 mm and 10 deg, 1e-10."""
+    m = preset("octopod")
+    rng = np.random.default_rng(21)
+    P = reachable_poses(m, 1000, seed=21, max_angle_deg=30.0, min_margin=0.0)
+    q, valid = m.inverse_kinematics(P)
+    assert valid.all()
+    G = _perturbed(P, rng)
+    assert (pose_error(G, P)[0] <= 0.010 + 1e-15).all()
+    assert (pose_error(G, P)[1] <= np.radians(10) + 1e-12).all()
+    res = m.forward_kinematics(q, G)
+    dpos, dang = pose_error(res.pose, P)
+    assert res.converged.all() and not res.near_singular.any()
+    assert dpos.max() < 1e-10 and dang.max() < 1e-10
+    assert res.residual.max() < 1e-12
+
+
+@pytest.mark.parametrize("name", ["hunt", "hexa", "ergin", "octo"])
+def test_other_presets_round_trip(name):
+    m = preset(name)
+    P = reachable_poses(m, 200, seed=22)
+    q, _ = m.inverse_kinematics(P)
+    res = m.forward_kinematics(q, _perturbed(P, np.random.default_rng(22)))
+    dpos, dang = pose_error(res.pose, P)
+    assert res.converged.all()
+    # every answer is a forward-kinematics solution of q ...
+    np.testing.assert_allclose(m.inverse_kinematics(res.pose)[0], q, atol=1e-12)
+    # ... and, away from singularities, the one we started near.  Near a direct
+    # singularity (Ergin's device has them in its workspace, Sec. III-B.1) another
+    # assembly mode can be close; those answers must be flagged.
+    far = dpos > 1e-10
+    assert res.near_singular[far].all()
+    assert dpos[~res.near_singular].max() < 1e-10 and dang[~res.near_singular].max() < 1e-10
+    assert (~res.near_singular).mean() > 0.95
+
+
+def test_single_pose_scalar_path_matches_batched():
+    m = preset("octo")
+    P = reachable_poses(m, 5, seed=23)
+    q, _ = m.inverse_kinematics(P)
+    G = _perturbed(P, np.random.default_rng(23))
+    batched = m.forward_kinematics(q, G)
+    for i in range(5):
+        single = m.forward_kinematics(q[i], G[i])
+        assert single.converged and isinstance(single.iterations, int)
+        np.testing.assert_allclose(single.pose, batched.pose[i], atol=1e-12)
+
+
+def test_inconsistent_angles_give_residual():
+    """L = 8 with one perturbed crank: least squares, the residual measures it."""
+    m = preset("octopod")
+    P = reachable_poses(m, 1, seed=24)[0]
+    q, _ = m.inverse_kinematics(P)
+    q[3] += 1e-3
+    res = m.forward_kinematics(q, P)
+    assert res.converged and res.residual > 1e-6
+    assert pose_error(res.pose, P)[0] < 1e-3
+
+
+def test_failures_are_reported():
+    m = preset("hunt")
+    P = reachable_poses(m, 1, seed=25)[0]
+    q, _ = m.inverse_kinematics(P)
+    far = m.forward_kinematics(q, m.home, max_iter=1, tol=1e-300)
+    assert not far.converged and "did not converge" in far.message
+    with pytest.raises(InfeasibleError):
+        m.forward_kinematics(q, m.home, max_iter=1, tol=1e-300, strict=True)
+    flagged = m.forward_kinematics(q, P, max_condition=1.0)
+    assert flagged.near_singular and not flagged.ok
+    with pytest.raises(SingularConfigurationError):
+        m.forward_kinematics(q, P, max_condition=1.0, strict=True)

@@ -1,0 +1,142 @@
+"""Presets and parametrisation of the RSS mechanisms (Kühne et al., Sec. III, Table I)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from distkin.errors import InputError
+from distkin.mechanisms import PRESETS, RSSMechanism, preset
+
+from rss_sampling import PRESET_NAMES
+
+
+def test_paper_values():
+    # Sec. III-B.2: l1 = 157 mm, l0 = 152 mm, lp = 55 mm, z0 = 0.30 m
+    for name in ("hunt", "hexa", "ergin", "octopod"):
+        m = preset(name)
+        assert (m.l0, m.l1, m.lp, m.z0) == (0.152, 0.157, 0.055, 0.30)
+    # Sec. III-D: the Octo
+    o = preset("octo")
+    assert o.L == 8 and o.l0 == 0.160 and o.l2 == pytest.approx(0.0256, abs=1e-15)
+    assert o.beta == 0.0 and math.degrees(o.gamma) == pytest.approx(13.18, abs=1e-12)
+    assert o.ld == 0.020
+    # Table I optimum (Hunt-type): l2 = beta = gamma = 0, ld = 20 mm
+    h = preset("hunt")
+    assert (h.l2, h.beta, h.gamma, h.ld, h.L) == (0.0, 0.0, 0.0, 0.020, 6)
+    assert preset("octopod").L == 8
+    # Sec. III-B.3: the Cartesian mass matrix
+    np.testing.assert_array_equal(o.cartesian_mass_matrix(),
+                                  np.diag([0.17, 0.17, 0.17, 3e-4, 3e-4, 3e-4]))
+    assert set(PRESETS) == set(PRESET_NAMES)
+
+
+def test_l3_rule_analytic():
+    # Hunt-type, pair 0 (theta = 0), no offsets: crank tip at (l0 + l1, -ld/2, 0) and
+    # spherical joint at (lp, -ld/2, z0) when the crank is horizontal at the centre.
+    for name in ("hunt", "octopod"):
+        m = preset(name)
+        assert m.l3 == pytest.approx(math.hypot(m.l0 + m.l1 - m.lp, m.z0), rel=1e-15)
+
+
+def test_home_cranks_horizontal(any_preset):
+    q, valid = any_preset.inverse_kinematics(any_preset.home)
+    assert valid.all()
+    assert np.abs(q).max() < 1e-13
+
+
+def test_overrides_recompute_l3():
+    m = preset("octopod", l0=0.170)
+    assert m.name == "octopod*" and m.l3 == pytest.approx(math.hypot(0.170 + 0.157 - 0.055, 0.3))
+    q, _ = m.inverse_kinematics(m.home)
+    assert np.abs(q).max() < 1e-13
+    m2 = preset("octopod", l3=0.40)
+    assert m2.l3 == 0.40
+    q2, _ = m2.inverse_kinematics(m2.home)
+    assert np.abs(q2).max() > 1e-3       # the rule no longer holds: cranks tilt
+
+
+@pytest.mark.parametrize("kwargs, field", [
+    ({"legs": 7}, "legs"), ({"l1": -0.1}, "l1"), ({"gamma": math.pi}, "beta"),
+    ({"ld": float("nan")}, "ld"), ({"bogus": 1.0}, "preset"),
+])
+def test_bad_parameters(kwargs, field):
+    with pytest.raises(InputError) as info:
+        preset("hexa", **kwargs)
+    assert info.value.field == field
+    assert "expected" in str(info.value)
+
+
+def test_unknown_preset():
+    with pytest.raises(InputError, match="expected a preset in"):
+        preset("tripod")
+
+
+def test_frozen():
+    m = preset("octo")
+    with pytest.raises(Exception):
+        m.l0 = 1.0
+    assert isinstance(m, RSSMechanism)
+
+
+def test_leg_lengths_at_ik(any_preset):
+    """Independent numpy geometry (points) vs the generated IK: every link has its length."""
+    from rss_sampling import reachable_poses
+    m = any_preset
+    P = reachable_poses(m, 200, seed=3)
+    pts = m.points(P)
+    assert np.abs(np.linalg.norm(pts["C"] - pts["B"], axis=-1) - m.l1).max() < 1e-15
+    assert np.abs(np.linalg.norm(pts["D"] - pts["C"], axis=-1) - m.l2).max() < 1e-15
+    assert np.abs(np.linalg.norm(pts["P"] - pts["D"], axis=-1) - m.l3).max() < 1e-14
+    # the spherical joints lie on a circle of radius lp about the end-effector centre
+    r = np.linalg.norm(pts["P"] - P[:, None, :3], axis=-1)
+    assert np.abs(r - math.hypot(m.lp, m.ld / 2)).max() < 1e-15
+
+
+def test_mirror_symmetry(any_preset):
+    """Reflection in the xz plane maps leg (pair k, side s) to (pair -k, side -s)."""
+    from rss_sampling import reachable_poses
+    m = any_preset
+    P = reachable_poses(m, 50, seed=5)
+    M = P * np.array([1, -1, 1, -1, 1, -1])          # mirrored pose
+    q, _ = m.inverse_kinematics(P)
+    qm, _ = m.inverse_kinematics(M)
+    n = m.L // 2
+    perm = [2 * ((-(i // 2)) % n) + (1 - i % 2) for i in range(m.L)]
+    np.testing.assert_allclose(qm, q[:, perm], atol=1e-13)
+
+
+def test_unreachable_is_flagged_not_nan(any_preset):
+    m = any_preset
+    P = np.array([[0, 0, 1.0, 0, 0, 0], [0.7, 0, 0.3, 0, 0, 0], m.home])
+    q, valid = m.inverse_kinematics(P)
+    assert np.all(np.isfinite(q))
+    assert not valid[0].any() and not valid[1].all() and valid[2].all()
+    assert list(m.reachable(P)) == [False, False, True]
+    assert np.all(np.isfinite(m.jacobian(P)))
+
+
+def test_bad_pose_shape():
+    with pytest.raises(InputError, match="expected shape"):
+        preset("hunt").inverse_kinematics(np.zeros((3, 5)))
+    with pytest.raises(InputError, match="finite"):
+        preset("hunt").jacobian([0, 0, np.nan, 0, 0, 0])
+
+
+def test_plot_draws(tmp_path):
+    pytest.importorskip("matplotlib")
+    from distkin.mechanisms.plot import plot_poses
+    m = preset("octo")
+    paths = plot_poses(m, [m.home, m.home + [0.02, 0, 0.01, 0.2, 0, 0]], tmp_path / "octo")
+    assert len(paths) == 2 and all(p.stat().st_size > 10_000 for p in paths)
+
+
+def test_pickle_keeps_description_only():
+    import pickle
+    m = preset("octo", l0=0.165)
+    m.jacobian(m.home)                                    # loads kernels (a work buffer)
+    m2 = pickle.loads(pickle.dumps(m))
+    assert m2 == m and hash(m2) == hash(m)
+    np.testing.assert_array_equal(m2.jacobian(m2.home), m.jacobian(m.home))

@@ -1,0 +1,95 @@
+"""Certified real roots (distkin.certify.roots) against analytic cases and sympy's exact
+Sturm-sequence counts (an independent route)."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import flint
+import pytest
+import sympy as sp
+
+from distkin.certify.roots import (count_real_roots, real_roots, refine_roots, sign_at_root,
+                                   working_precision)
+from distkin.errors import InputError
+
+
+def test_sqrt2_enclosed_and_certified_real():
+    roots = real_roots([1, 0, -2])
+    assert [r.multiplicity for r in roots] == [1, 1]
+    for r, want in zip(roots, (-flint.arb(2).sqrt(), flint.arb(2).sqrt())):
+        assert r.ball.overlaps(want)
+        assert r.rad < 1e-14          # the width of the enclosure, not only its value
+    assert roots[0].ball < roots[1].ball
+
+
+def test_refinement_narrows_the_balls():
+    roots = refine_roots([1, 0, -2], 1e-40)
+    with working_precision(256):
+        exact = flint.arb(2).sqrt()
+        assert roots[1].ball.overlaps(exact)
+    assert 0 < roots[1].rad < 1e-40 * 1.5
+
+
+def test_multiplicities_of_an_exact_double_root():
+    # (x - 1/3)^2 (x + 2)(x^2 + 1): one double, one simple real root, one complex pair
+    x = sp.Symbol("x")
+    p = sp.Poly(sp.expand((3 * x - 1) ** 2 * (x + 2) * (x ** 2 + 1)), x)
+    roots = real_roots([Fraction(int(c)) for c in p.all_coeffs()])
+    assert [(round(r.mid, 12), r.multiplicity) for r in roots] == [(-2.0, 1), (0.333333333333, 2)]
+
+
+@pytest.mark.parametrize("eps_exp", [6, 12, 30, 60])
+def test_near_double_root_is_separated(eps_exp):
+    """(x - 1)(x - 1 - 10^-k) + tiny perturbation: two distinct real roots however close."""
+    eps = Fraction(1, 10 ** eps_exp)
+    coeffs = [1, -(2 + eps), 1 + eps]
+    roots = real_roots(coeffs)
+    assert len(roots) == 2
+    with working_precision(400):
+        second = flint.arb(flint.fmpq(1) + flint.fmpq(eps.numerator, eps.denominator))
+        assert roots[0].ball.contains(1) and roots[1].ball.overlaps(second)
+    assert roots[0].ball < roots[1].ball
+    # and a complex pair just as close is counted as no real root
+    roots_c = real_roots([1, -2, 1 + eps])
+    assert roots_c == []
+
+
+def test_counts_agree_with_sympy_sturm():
+    rng_polys = [
+        [3, -7, 0, 5, -1, 2, -8, 1, 1],
+        [1, 0, -10, 0, 9],
+        [2, -3, Fraction(1, 7), 11, -4],
+        [1, -6, 15, -20, 15, -6, 1],          # (x - 1)^6: one root of multiplicity 6
+    ]
+    x = sp.Symbol("x")
+    for c in rng_polys:
+        p = sp.Poly([sp.Rational(str(v)) for v in c], x)
+        distinct = len(sp.real_roots(p, multiple=False)) if p.degree() < 7 else len(
+            set(sp.real_roots(p)))
+        assert len(real_roots(c)) == distinct
+        assert count_real_roots(c, -1, 1) == sp.Poly(p, x).sqf_part().count_roots(-1, 1)
+
+
+def test_count_in_a_closed_interval_with_a_root_on_the_end():
+    assert count_real_roots([1, -3, 2], 1, 2) == 2       # roots 1, 2 on the ends
+    assert count_real_roots([1, -3, 2], Fraction(3, 2), 2) == 1
+    assert count_real_roots([1, -3, 2], Fraction(3, 2), Fraction(19, 10)) == 0
+
+
+def test_sign_at_root_decides_zero_exactly():
+    r = real_roots([1, 0, -2])[1]                 # sqrt(2)
+    assert sign_at_root([1, 0, -2], [1, 0, -2], r) == 0
+    assert sign_at_root([1, 0, -2], [1, 0, 0, -2, 0], r) == 1      # x^4 - 2x: 4 - 2 sqrt2 > 0
+    assert sign_at_root([1, 0, -2], [-1, 0, 2], r) == 0
+    assert sign_at_root([1, 0, -2], [1, -1], r) == 1
+    # a value equal to zero only to 40 digits is still decided (nonzero)
+    q = Fraction(14142135623730950488016887242096980785697, 10 ** 40)
+    assert sign_at_root([1, 0, -2], [1, -q], r) == -1
+
+
+def test_bad_input():
+    with pytest.raises(InputError, match="rational"):
+        real_roots([1.5, float("nan")] + [sp.sqrt(2)])
+    with pytest.raises(InputError, match="zero polynomial"):
+        real_roots([0, 0])
