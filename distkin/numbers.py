@@ -340,15 +340,27 @@ def to_tier(x, method: str, dps: int | None = None):
         return float(value)
     if method == "precise":
         import mpmath
+        if isinstance(value, mpmath.mpf):
+            return +value  # rounded to the working precision
         if isinstance(value, Fraction):
             return mpmath.mpf(value.numerator) / value.denominator
         if isinstance(value, (int, float)):
             return mpmath.mpf(value)
         if type(value).__name__ == "fmpq":
             return mpmath.mpf(int(value.p)) / int(value.q)
+        if type(value).__name__ == "fmpz":
+            return mpmath.mpf(int(value))
+        if type(value).__name__ == "arb":
+            return mpmath.mpf(value.mid().str(mpmath.mp.dps + 5, radius=False))
         return mpmath.mpf(value.evalf(mpmath.mp.dps + 5))
     if method == "certified":
-        if isinstance(value, (Fraction, int, float)) or type(value).__name__ in ("fmpq", "fmpz"):
+        tname = type(value).__name__
+        if tname == "fmpq":
+            return value
+        if tname == "fmpz" or (isinstance(value, int) and not isinstance(value, bool)):
+            import flint
+            return flint.fmpq(int(value))
+        if isinstance(value, (Fraction, float)):
             return to_fmpq(value)
         if type(value).__name__ == "arb":
             return value

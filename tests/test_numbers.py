@@ -48,6 +48,13 @@ def test_tiers():
     assert to_tier(e, "fast") == 19.8
     assert to_tier(e, "certified") == fmpq(99, 5)
     assert to_fmpq(Fraction(3, 7)) == fmpq(3, 7)
+    # values already in a tier's type pass through
+    q = fmpq(2, 3)
+    assert to_tier(q, "certified") is q
+    with mpmath.workdps(40):
+        x = mpmath.mpf(1) / 3
+        assert to_tier(x, "precise") == x
+        assert abs(to_tier(q, "precise") - mpmath.mpf(2) / 3) < mpmath.mpf(10) ** -39
 
 
 @pytest.mark.parametrize("bad", ["19,8", "abc", "", "1/0", "sqrt(", "import os", "x+1",

@@ -53,11 +53,9 @@ class TrilaterationParts:
             return [f + scale * c for f, c in zip(self.foot, self.normal)]
         import flint
         h2, G = self.h2, self.G
-        ratio = flint.arb(h2) / flint.arb(G)
         if type(h2).__name__ == "fmpq" and h2 == 0:
-            scale = flint.arb(0)
-        else:
-            scale = ratio.sqrt() * side
+            return list(self.foot)  # in the plane: exact when the data are rational
+        scale = (flint.arb(h2) / flint.arb(G)).sqrt() * side
         return [flint.arb(f) + scale * c for f, c in zip(self.foot, self.normal)]
 
 
@@ -238,7 +236,8 @@ def trilaterate(points, sq, side=1, *, method: str = "fast", dps: int | None = N
     Returns
     -------
     numpy.ndarray (..., 3) for ``fast``; a list of 3 ``mpf`` for ``precise``; a list of
-    3 ``flint.arb`` balls for ``certified``.
+    3 ``flint.arb`` balls for ``certified`` (3 exact ``fmpq`` when the data are rational
+    and the point lies in the plane of the reference points).
 
     Examples
     --------
