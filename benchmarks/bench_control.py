@@ -1,0 +1,161 @@
+"""Control loop: compute time per cycle (L = 8 and L = 6) and the rate achieved over a pty.
+
+Issue 7 target: compute p99 under 0.5 ms for L = 8, so that 1 kHz is sustainable in
+Python.  Three measurements:
+
+1. compute per cycle in-process (:func:`distkin.control.loopback.run_loopback`, the
+   example scene, 3 s of device time = 3000 cycles): everything the controller does
+   between a state frame's bytes and the command frame's bytes, decode and encode
+   included, p50/p99/max;
+2. the parts of one cycle, timed interleaved (medians);
+3. the closed loop between two processes over a real pty (``distkin control --sim``):
+   cycle rate, period p50/p99 and compute p50/p99, lock-stepped and free-running.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from .harness import fmt_time, interleaved
+
+TITLE = "Control loop: compute per cycle and rate over a pty"
+DEFAULT = True
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def _scene(preset: str):
+    from distkin.control.commands import builtin_scene
+    import dataclasses
+    sc = builtin_scene()
+    return dataclasses.replace(sc, preset=preset)
+
+
+def _loopback(preset: str, seconds: float = 3.0):
+    from distkin.control.kinematics import load_model
+    from distkin.control.loopback import run_loopback
+    sc = _scene(preset)
+    model = load_model(preset)
+    run_loopback(sc, model, 0.2)                      # warm up (imports, caches)
+    r = run_loopback(sc, model, seconds)
+    c = r["compute_s"] * 1e3
+    cpu = r["compute_cpu_s"] * 1e3
+    return {"L": model.L, "cycles": int(c.size), "p50_ms": float(np.percentile(c, 50)),
+            "p99_ms": float(np.percentile(c, 99)), "max_ms": float(c.max()),
+            "cpu_p50_ms": float(np.percentile(cpu, 50)),
+            "cpu_p99_ms": float(np.percentile(cpu, 99))}
+
+
+def _parts():
+    from distkin.control.controller import Controller
+    from distkin.control.kinematics import load_model
+    from distkin.control.protocol import FrameDecoder, encode_command, encode_state
+    sc = _scene("octo")
+    model = load_model("octo")
+    ctl = Controller(sc, model)
+    pose = model.home + np.array([0.01, -0.02, 0.015, 0.1, -0.05, 0.08])
+    q, _ = model.ik(pose)
+    guess = pose + 1e-5
+    J = model.jacobian(pose)
+    wire = encode_state(1, 1000, 0, q, np.zeros(6))
+    dec = FrameDecoder()
+    frame = dec.feed(wire)[0]
+    ctl.compute(frame, 1e-3)
+    w = np.array([0.5, 1.0, -0.2, 0, 0, 0])
+    competitors = {
+        "whole cycle (compute)": lambda: ctl.compute(frame, 1e-3),
+        "decode state + encode command": lambda: (dec.feed(wire),
+                                                  encode_command(1, 1, 1, q)),
+        "FK, warm start (Gauss-Newton)": lambda: model.forward(q, guess),
+        "IK (scalar kernel)": lambda: model.ik(pose),
+        "Jacobian (scalar kernel)": lambda: model.jacobian(pose),
+        "sigma_min guard": lambda: ctl.sigma_min(J),
+        "admittance step": lambda: ctl.adm.propose(w, 1e-3),
+        "distribution solve": lambda: J @ np.linalg.solve(J.T @ J, J.T @ q),
+    }
+    return interleaved(competitors, rounds=15, number=200)
+
+
+def _pty(lockstep: bool, seconds: float = 3.0):
+    with tempfile.TemporaryDirectory() as d:
+        text = (ROOT / "examples" / "control_octo.toml").read_text(encoding="utf-8")
+        if not lockstep:
+            text = text.replace("[simulator]\n", "[simulator]\nlockstep = false\n")
+        scene = Path(d) / "scene.toml"
+        scene.write_text(text, encoding="utf-8")
+        env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
+        proc = subprocess.run([sys.executable, "-m", "distkin", "control", "--sim", "--scene",
+                               str(scene), "--seconds", str(seconds), "--json", "-"],
+                              capture_output=True, text=True, cwd=ROOT, env=env, timeout=120)
+        s = json.loads(proc.stdout)
+    keys = ("cycles", "seconds", "rate_hz", "cycle_p50_ms", "cycle_p99_ms", "period_p50_ms",
+            "period_p99_ms", "bad_frames", "stale_frames", "timeouts", "watchdog_trips",
+            "exit_reason")
+    return {k: s[k] for k in keys}
+
+
+def run():
+    data = {"loopback": {p: _loopback(p) for p in ("octo", "octopod", "hunt")}}
+    data["parts_s"] = _parts()
+    data["pty"] = {"lockstep": _pty(True), "free_run": _pty(False)}
+    lb = data["loopback"]
+    rows = "\n".join(f"| {p} | {v['L']} | {v['cycles']} | {v['p50_ms']:.3f} ms | "
+                     f"{v['p99_ms']:.3f} ms | {v['max_ms']:.2f} ms | {v['cpu_p50_ms']:.3f} ms | "
+                     f"{v['cpu_p99_ms']:.3f} ms |" for p, v in lb.items())
+    parts = data["parts_s"]
+    whole = parts["whole cycle (compute)"]
+    prow = "\n".join(f"| {n} | {fmt_time(t)} | {t / whole:.2f} |" for n, t in parts.items())
+    pty = data["pty"]
+    trow = "\n".join(
+        f"| {m} | {v['cycles']} in {v['seconds']:.2f} s | {v['rate_hz']:.0f} Hz | "
+        f"{v['period_p50_ms']:.3f} / {v['period_p99_ms']:.3f} ms | "
+        f"{v['cycle_p50_ms']:.3f} / {v['cycle_p99_ms']:.3f} ms | {v['stale_frames']} | "
+        f"{v['watchdog_trips']} |" for m, v in pty.items())
+    octo = lb["octo"]
+    verdict = "meets" if octo["cpu_p99_ms"] < 0.5 else "misses"
+    text = f"""Target (issue 7): compute p99 < 0.5 ms for L = 8, so that 1 kHz is sustainable.
+The Octo's cycle (L = 8) **{verdict}** it in CPU time: p50 {octo['cpu_p50_ms']:.3f} ms,
+p99 {octo['cpu_p99_ms']:.3f} ms; in wall time p50 {octo['p50_ms']:.3f} ms, p99
+{octo['p99_ms']:.3f} ms (the wall-time tail includes preemption by other processes on
+this shared 2-core machine).
+
+**Compute per cycle, in-process** (`run_loopback`, example scene, 3 s of device time;
+state-frame decode, checks, FK, admittance, guard, IK, PD, distribution, saturation,
+command encode; wall time and the thread's CPU time):
+
+| preset | L | cycles | wall p50 | wall p99 | wall max | CPU p50 | CPU p99 |
+|---|---|---|---|---|---|---|---|
+{rows}
+
+**Parts of one cycle** (Octo, medians of 15 interleaved rounds of 200 calls; the parts
+overlap -- the whole cycle calls the kernels more than once):
+
+| part | median | share of a cycle |
+|---|---|---|
+{prow}
+
+**Closed loop over a pty between two processes** (`distkin control --sim`, 3 s; the
+simulator paces itself at 1 kHz; lock-stepped = it waits for each answer before
+advancing the physics):
+
+| simulator | cycles | rate | period p50 / p99 | compute p50 / p99 | stale frames | watchdog trips |
+|---|---|---|---|---|---|---|
+{trow}
+
+What limits it: Python's per-call overhead, not arithmetic.  Each generated scalar
+kernel call is a few µs of straight-line float code, but every numpy operation on a
+6-vector or an 8x6 matrix costs about 1-5 µs of dispatch, and a cycle makes a few dozen
+of them (FK normal equations, SO(3) updates, the 6x6 solves of the distribution and the
+guard).  Over the pty, the period p99 is set by the operating system's scheduling of
+two Python processes on a shared 2-core machine (a late wake-up of either process
+delays the answer), not by the compute time; compute p99 over the pty is higher than
+in-process for the same reason (preemption inside a cycle).
+"""
+    return text, data

@@ -1,0 +1,48 @@
+"""The serial-link device controller and a device simulator that speaks the same link.
+
+Kühne et al., *Design and Evaluation of a Haptic Interface With Octopod Kinematics*,
+Sec. III-D and Fig. 9: admittance control with a PD loop at position level at 1 kHz
+(KP = 110, KI = 0, KD = 0.4), capstans 1:13, actuators ±2.5 N·m nominal.
+
+Modules (one concept each)
+
+==============  ============================================================
+protocol        binary frames (COBS, version, length, CRC-32); no I/O
+link            the host end over pyserial (the only module importing ``serial``)
+kinematics      per-cycle IK, Jacobian and warm-started FK on the generated kernels
+admittance      virtual mass-damper and environment (spring, wall)
+controller      the control cycle, torque distribution, saturation, safety, the loop
+plant           simulated physics: platform, motors + capstan, encoders, F/T, hand
+faults          fault injection (corrupt, garbage, truncate, drop, stall, disconnect)
+simulator       the device serving the protocol on a pty or TCP socket
+loopback        controller and plant in one process (no I/O; design, benchmarks)
+config          the controller scene (TOML)
+runlog          CSV / JSON-lines logs and the plot of a run
+commands        ``distkin sim`` and ``distkin control``
+==============  ============================================================
+
+``import distkin.control`` imports neither sympy nor pyserial; the mechanism's kernels
+are loaded when a controller or simulator is built.
+"""
+
+from __future__ import annotations
+
+from .admittance import Admittance, Spring, Wall
+from .config import ControlScene, load_control_scene, loads_control_scene
+from .controller import Controller
+from .faults import Fault, FaultInjector, parse_faults
+from .kinematics import KinematicModel, load_model
+from .plant import HandScript, Motors, Plant
+from .protocol import CommandFrame, FrameDecoder, StateFrame, encode_command, encode_state
+
+__all__ = [
+    # protocol
+    "StateFrame", "CommandFrame", "FrameDecoder", "encode_state", "encode_command",
+    # scene and models
+    "ControlScene", "load_control_scene", "loads_control_scene", "KinematicModel",
+    "load_model",
+    # controller
+    "Controller", "Admittance", "Spring", "Wall",
+    # simulator
+    "Plant", "Motors", "HandScript", "Fault", "FaultInjector", "parse_faults",
+]

@@ -1,0 +1,225 @@
+"""``distkin sim`` and ``distkin control`` (registered in :data:`distkin.cli.SUBCOMMANDS`).
+
+``distkin sim [--scene S] [--port-file F] [--faults SPEC] [--tcp PORT] [--log PREFIX]``
+    Start the device simulator on a pseudo-terminal (or TCP); print the port.
+``distkin control --port URL [--scene S] --seconds T [--json PATH|-] [--log PREFIX]``
+    Run the controller against a device (or a simulator) at URL.
+``distkin control --sim [--faults SPEC] ...``
+    Start a simulator in a second process, wire both over a pty, run for T seconds.
+
+The closing summary is printed (to stderr when the JSON goes to stdout); its JSON has
+the fields ``cycles, seconds, rate_hz, cycle_p50_ms, cycle_p99_ms, bad_frames,
+watchdog_trips, safety_events, exit_reason`` and more.  ``cycle_p50_ms`` /
+``cycle_p99_ms`` are the controller's compute time per cycle (frame received ->
+command written); ``period_p50_ms`` / ``period_p99_ms`` the time between cycles.
+Exit codes: 0 the run completed; 1 it ended on a disconnect or a failure (the
+summary's ``exit_reason`` says which); 2 bad input; 130 interrupted.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from importlib import resources
+from pathlib import Path
+
+from ..errors import InputError, LinkError
+
+__all__ = ["add_sim_parser", "add_control_parser", "cmd_sim", "cmd_control", "builtin_scene",
+           "format_summary"]
+
+#: the built-in controller scene (also examples/control_octo.toml)
+BUILTIN_SCENE = "control_octo.toml"
+
+
+def builtin_scene():
+    """The built-in example scene (the Octo pushed by a scripted hand into a wall)."""
+    from .config import loads_control_scene
+    text = resources.files("distkin.control").joinpath(BUILTIN_SCENE).read_text(encoding="utf-8")
+    return loads_control_scene(text, f"distkin/control/{BUILTIN_SCENE}")
+
+
+def _scene(path):
+    from .config import load_control_scene
+    return load_control_scene(path) if path else builtin_scene()
+
+
+def _seconds(value: str) -> float:
+    import argparse
+    try:
+        v = float(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected seconds as a number, got {value!r}") from None
+    if not v > 0:
+        raise argparse.ArgumentTypeError(f"expected a positive number of seconds, got {value!r}")
+    return v
+
+
+def add_sim_parser(sub) -> None:
+    p = sub.add_parser("sim", help="start the device simulator on a pty or a TCP port")
+    p.add_argument("--scene", help="controller scene TOML ([simulator] table); default: built-in")
+    p.add_argument("--port-file", metavar="F", help="also write the port URL to F")
+    p.add_argument("--faults", metavar="SPEC", help="e.g. 'corrupt@1.0:3,stall@2.0:50'")
+    p.add_argument("--tcp", metavar="PORT", type=int, help="serve on TCP (0 = any free port)")
+    p.add_argument("--log", metavar="PREFIX", help="write PREFIX.device.csv")
+    p.add_argument("--seconds", type=_seconds, help="stop after this much device time")
+    p.set_defaults(func=cmd_sim)
+
+
+def add_control_parser(sub) -> None:
+    p = sub.add_parser("control", help="run the admittance controller on a device or simulator")
+    g = p.add_mutually_exclusive_group(required=True)
+    g.add_argument("--port", metavar="URL", help="pyserial URL: /dev/ttyX, pty path, "
+                                                 "socket://host:port, loop://")
+    g.add_argument("--sim", action="store_true", help="start a simulator and connect over a pty")
+    p.add_argument("--scene", help="controller scene TOML; default: built-in Octo scene")
+    p.add_argument("--seconds", type=_seconds, default=5.0,
+                   help="device time to run, s (default 5)")
+    p.add_argument("--faults", metavar="SPEC", help="faults for the simulator (with --sim)")
+    p.add_argument("--json", metavar="PATH|-", help="write the summary as JSON (- for stdout)")
+    p.add_argument("--log", metavar="PREFIX", help="write PREFIX.cycles.csv, PREFIX.events.jsonl "
+                                                   "(and PREFIX.device.csv with --sim)")
+    p.add_argument("--plots", metavar="DIR", help="plot the run into DIR (needs --log or uses "
+                                                  "a temporary log)")
+    p.add_argument("--wall-limit", type=_seconds, help="give up after this much wall time, s")
+    p.set_defaults(func=cmd_control)
+
+
+def cmd_sim(args) -> int:
+    from .faults import parse_faults
+    from .simulator import serve
+    faults = parse_faults(args.faults)
+    scene = _scene(args.scene)
+    return serve(scene, port_file=args.port_file, tcp_port=args.tcp, faults=faults,
+                 log_prefix=args.log, seconds=args.seconds)
+
+
+def _wait_port(proc, port_file: Path, timeout: float) -> str:
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if port_file.exists():
+            url = port_file.read_text(encoding="utf-8").strip()
+            if url:
+                return url
+        if proc.poll() is not None:
+            err = proc.stderr.read().decode(errors="replace").strip().splitlines()
+            raise LinkError("expected the simulator to start, got exit code "
+                            f"{proc.returncode}: {err[-1] if err else 'no message'}",
+                            field="--sim")
+        time.sleep(0.02)
+    raise LinkError(f"expected the simulator to announce its port within {timeout:.0f} s, "
+                    "got nothing", field="--sim")
+
+
+def format_summary(s: dict) -> str:
+    """The closing summary, one line per topic, units on every number."""
+    lines = [
+        f"distkin control: {s['exit_reason']} -- {s['cycles']} cycles in {s['seconds']:.3f} s "
+        f"wall ({s['rate_hz']:.1f} Hz), {s['device_seconds']:.3f} s device time",
+        f"  compute per cycle: p50 {s['cycle_p50_ms']} ms, p99 {s['cycle_p99_ms']} ms; "
+        f"period p50 {s['period_p50_ms']} ms, p99 {s['period_p99_ms']} ms",
+        f"  link: {s['bad_frames']} bad frames, {s['resyncs']} resyncs, {s['timeouts']} read "
+        f"timeouts, {s['seq_gaps']} frames missing, {s['stale_frames']} stale frames skipped, "
+        f"{s['write_timeouts']} write timeouts",
+        f"  safety: {s['watchdog_trips']} watchdog trips, {s['safety_events']} safety events, "
+        f"{s['refused_poses']} refused set points, {s['saturated_cycles']} saturated cycles",
+        f"  torque: max |tau| {s['max_abs_torque_Nm']} N·m (limit {s['torque_limit_Nm']} N·m)",
+    ]
+    if s.get("log"):
+        lines.append("  log: " + ", ".join(str(v) for v in s["log"].values() if v))
+    if s.get("error"):
+        lines.append(f"  error: {s['error']}")
+    if s.get("simulator"):
+        lines.append(f"  {s['simulator']}")
+    if s.get("simulator_error"):
+        lines.append(f"  simulator failed (exit code {s['simulator_exit_code']}): "
+                     f"{s['simulator_error']}")
+    if s.get("plots"):
+        lines.append("  plots: " + ", ".join(s["plots"]))
+    return "\n".join(lines)
+
+
+def cmd_control(args) -> int:
+    from .controller import Controller
+    from .faults import parse_faults
+    from .kinematics import load_model
+    from .link import Link
+    scene = _scene(args.scene)
+    if args.faults and not args.sim:
+        raise InputError("expected --faults only with --sim, got it with --port", field="--faults")
+    parse_faults(args.faults)              # validate before starting anything
+    tmpdir = None
+    prefix = args.log
+    if prefix is None and args.plots:
+        tmpdir = tempfile.TemporaryDirectory(prefix="distkin-control-")
+        prefix = str(Path(tmpdir.name) / "run")
+    model = load_model(scene.preset)
+    proc = None
+    cleanup = []
+    if tmpdir is not None:
+        cleanup.append(tmpdir)
+    try:
+        if args.sim:
+            work = tempfile.TemporaryDirectory(prefix="distkin-sim-")
+            cleanup.append(work)
+            port_file = Path(work.name) / "port"
+            cmd = [sys.executable, "-m", "distkin", "sim", "--port-file", str(port_file)]
+            if args.scene:
+                cmd += ["--scene", str(args.scene)]
+            if args.faults:
+                cmd += ["--faults", args.faults]
+            if prefix:
+                cmd += ["--log", prefix]
+            env = dict(os.environ)
+            env.setdefault("OPENBLAS_NUM_THREADS", "1")
+            proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                    env=env)
+            url = _wait_port(proc, port_file, timeout=60.0)
+        else:
+            url = args.port
+        link = Link(url)
+        try:
+            ctl = Controller(scene, model, log_prefix=prefix)
+            summary = ctl.run(link, args.seconds, wall_limit=args.wall_limit)
+        finally:
+            link.close()
+        summary["port"] = url
+        if proc is not None:
+            try:
+                out, err = proc.communicate(timeout=10)
+            except subprocess.TimeoutExpired:
+                proc.terminate()
+                out, err = proc.communicate(timeout=10)
+            summary["simulator_exit_code"] = proc.returncode
+            said = out.decode(errors="replace").strip().splitlines()
+            if said:
+                summary["simulator"] = said[-1]
+            lines = err.decode(errors="replace").strip().splitlines()
+            if proc.returncode not in (0, -15) and lines:
+                summary["simulator_error"] = lines[-1]
+        if args.plots and prefix:
+            from .runlog import plot_run
+            Path(args.plots).mkdir(parents=True, exist_ok=True)
+            summary["plots"] = [str(p) for p in plot_run(prefix, Path(args.plots) / "control.png")]
+        if tmpdir is not None:
+            summary["log"] = None             # the temporary log is removed
+    finally:
+        if proc is not None and proc.poll() is None:
+            proc.terminate()
+            proc.wait(timeout=10)
+        for d in cleanup:
+            d.cleanup()
+    text = format_summary(summary)
+    if args.json == "-":
+        print(text, file=sys.stderr)
+        print(json.dumps(summary, indent=2))
+    else:
+        print(text)
+        if args.json:
+            Path(args.json).parent.mkdir(parents=True, exist_ok=True)
+            Path(args.json).write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
+    return summary["exit_code"]

@@ -1,0 +1,325 @@
+"""The controller scene: a TOML file naming the device, the admittance model, the
+virtual environment, the PD gains, the safety limits and the simulator's hand.
+
+Everything is SI (m, rad, N, N·m, kg, s); there is no ``[units]`` table.  Example
+(``examples/control_octo.toml``)::
+
+    [device]
+    preset = "octo"                 # a distkin.mechanisms preset
+    rate_hz = 1000
+
+    [admittance]                    # Kühne et al. Fig. 9: admittance scheme
+    mass = [1.0, 1.0, 1.0, 0.005, 0.005, 0.005]      # kg x3, kg·m² x3
+    damping = [15, 15, 15, 0.1, 0.1, 0.1]            # N·s/m x3, N·m·s/rad x3
+
+    [[environment]]
+    kind = "spring"                 # anchored at the home pose unless "anchor" is given
+    stiffness = [100, 100, 100, 2, 2, 2]             # N/m x3, N·m/rad x3
+
+    [[environment]]
+    kind = "wall"                   # free where normal . p <= offset
+    normal = [1, 0, 0]
+    offset = 0.02                   # m
+    stiffness = 300                 # N/m
+
+    [pd]                            # Sec. III-D: KP = 110, KI = 0, KD = 0.4
+    kp = 110
+    ki = 0
+    kd = 0.4
+
+    [safety]
+    watchdog_ms = 20
+
+    [simulator]
+    hand = [[0.0, 0, 0, 0], [0.3, 0, 2, 0]]         # (t s, fx, fy, fz N) knots
+
+Unknown keys are rejected (a typo must not be silently ignored).
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..argcheck import as_table, check_keys, choice, float_array, positive_int, require
+from ..errors import InputError
+from .admittance import Spring, Wall
+from .plant import HandScript, Motors
+
+__all__ = ["PDGains", "SafetyLimits", "SimulatorConfig", "ControlScene", "load_control_scene",
+           "loads_control_scene", "default_scene"]
+
+
+@dataclass(frozen=True)
+class PDGains:
+    """Joint PD(I) at position level (Kühne et al., Sec. III-D).
+
+    ``kp`` N·m/rad, ``ki`` N·m/(rad·s), ``kd`` N·m·s/rad; ``derivative_filter_s`` the
+    time constant of the first-order low-pass (forward Euler) on the error derivative;
+    ``torque_limit`` N·m the saturation of each command (the nominal ±2.5 N·m by
+    default); ``distribution`` "projected" (remove the internal-force component of the
+    redundant L = 8 torques) or "independent"; ``gravity_compensation`` adds the
+    minimum-norm torques that carry the platform weight; ``hand_feedforward`` adds the
+    minimum-norm torques that balance the measured hand wrench, so that the PD only
+    has to move the platform and its finite stiffness does not soften what the
+    admittance renders (not in the paper's scheme; off by default).  With KP = 110 the
+    Octo's servo stiffness ``KP JᵀJ`` at the workspace centre is 1.74 N/mm along x and
+    y (the paper measured at least 1.6 N/mm on the prototype, Sec. III-D), in series
+    with the rendered environment: the example's wall (300 N/m on a 100 N/m spring) is
+    rendered at about 233 N/m without the feed-forward and 307 N/m with it.
+    """
+
+    kp: float = 110.0
+    ki: float = 0.0
+    kd: float = 0.4
+    derivative_filter_s: float = 0.7
+    torque_limit: float = 2.5
+    distribution: str = "projected"
+    gravity_compensation: bool = True
+    hand_feedforward: bool = False
+
+
+@dataclass(frozen=True)
+class SafetyLimits:
+    """Safety thresholds.
+
+    ``watchdog_ms`` wall time without a valid frame before zero torque and the fault
+    state; ``recover_frames`` consecutive valid frames needed to leave it;
+    ``sigma_min`` the smallest singular value of the scaled Jacobian ``J S^-1``
+    (``S = diag(15,15,15,1,1,1)``, Kühne et al. Sec. III-B) below which a pose counts as
+    near-singular, and ``max_condition`` the largest condition number of that matrix
+    (it grows near the reach boundary, where a crank and its distal link align; in
+    the Table II workspace it stays below about 111); ``max_force`` N and ``max_torque`` N·m the sensor range;
+    ``max_angle`` rad the encoder range; ``max_fk_residual`` m.
+    """
+
+    watchdog_ms: float = 20.0
+    recover_frames: int = 50
+    sigma_min: float = 0.02
+    max_condition: float = 1000.0
+    max_force: float = 100.0
+    max_torque: float = 5.0
+    max_angle: float = 3.2
+    max_fk_residual: float = 2e-4
+
+
+@dataclass(frozen=True)
+class SimulatorConfig:
+    """The simulated device: motors and sensors, the scripted hand, pacing.
+
+    ``lockstep``: the simulator waits (up to ``reply_timeout_ms`` of wall time) for
+    the answer to each state frame before it advances its physics, so that a loaded
+    machine slows the simulation down instead of changing it.
+    ``device_watchdog_ms``: the device zeroes its torques when no command arrives.
+    """
+
+    motors: Motors = field(default_factory=Motors)
+    hand: HandScript = field(default_factory=HandScript)
+    seed: int = 0
+    lockstep: bool = True
+    reply_timeout_ms: float = 100.0
+    device_watchdog_ms: float = 100.0
+
+
+@dataclass(frozen=True)
+class ControlScene:
+    """A loaded controller scene (immutable)."""
+
+    path: str
+    preset: str
+    rate_hz: float
+    mass: tuple
+    damping: tuple
+    environment: tuple
+    pd: PDGains
+    safety: SafetyLimits
+    simulator: SimulatorConfig
+    title: str = ""
+
+
+def _num(t, key, fld, default, *, positive=False, nonneg=False):
+    v = t.get(key, default)
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise InputError(f"expected a number, got {v!r}", field=f"{fld}.{key}")
+    v = float(v)
+    if not np.isfinite(v) or (positive and v <= 0) or (nonneg and v < 0):
+        want = "a positive number" if positive else "a number >= 0" if nonneg else "a finite number"
+        raise InputError(f"expected {want}, got {v!r}", field=f"{fld}.{key}")
+    return v
+
+
+def _bool(t, key, fld, default):
+    v = t.get(key, default)
+    if not isinstance(v, bool):
+        raise InputError(f"expected true or false, got {v!r}", field=f"{fld}.{key}")
+    return v
+
+
+def _vec(t, key, fld, n, *, positive=False, nonneg=False, default=None):
+    if key not in t and default is not None:
+        return tuple(default)
+    arr = float_array(require(t, key, fld), f"{fld}.{key}", (n,))
+    if positive and np.any(arr <= 0):
+        raise InputError(f"expected {n} positive numbers, got {arr.tolist()}", field=f"{fld}.{key}")
+    if nonneg and np.any(arr < 0):
+        raise InputError(f"expected {n} numbers >= 0, got {arr.tolist()}", field=f"{fld}.{key}")
+    return tuple(float(v) for v in arr)
+
+
+def _environment(items, home):
+    if not isinstance(items, list):
+        raise InputError(f"expected a list of [[environment]] tables, got {items!r}",
+                         field="environment")
+    out = []
+    for i, raw in enumerate(items):
+        fld = f"environment[{i}]"
+        t = as_table(raw, fld)
+        kind = choice(require(t, "kind", fld), f"{fld}.kind", ("spring", "wall"))
+        if kind == "spring":
+            check_keys(t, {"kind", "anchor", "stiffness", "damping"}, fld)
+            anchor = t.get("anchor", "home")
+            anchor = (tuple(home) if anchor == "home"
+                      else _vec(t, "anchor", fld, 6))
+            out.append(Spring(anchor, _vec(t, "stiffness", fld, 6, nonneg=True),
+                              _vec(t, "damping", fld, 6, nonneg=True, default=(0.0,) * 6)))
+        else:
+            check_keys(t, {"kind", "normal", "offset", "stiffness", "damping"}, fld)
+            n = np.asarray(_vec(t, "normal", fld, 3))
+            norm = float(np.linalg.norm(n))
+            if norm < 1e-12:
+                raise InputError(f"expected a non-zero normal, got {n.tolist()}",
+                                 field=f"{fld}.normal")
+            require(t, "offset", fld)
+            require(t, "stiffness", fld)
+            out.append(Wall(tuple(float(v) for v in n / norm),
+                            _num(t, "offset", fld, None) / norm,
+                            _num(t, "stiffness", fld, None, positive=True),
+                            _num(t, "damping", fld, 0.0, nonneg=True)))
+    return tuple(out)
+
+
+def _hand(raw, fld):
+    arr = float_array(raw, fld, (None, 4))
+    if np.any(np.diff(arr[:, 0]) < 0):
+        raise InputError(f"expected knots sorted by time, got times {arr[:, 0].tolist()}",
+                         field=fld)
+    return HandScript(tuple(tuple(float(v) for v in row) for row in arr))
+
+
+def _simulator(t):
+    fld = "simulator"
+    check_keys(t, {"hand", "seed", "lockstep", "reply_timeout_ms", "device_watchdog_ms",
+                   "counts_per_rev", "force_noise", "torque_noise", "friction", "gravity",
+                   "rotor_inertia"}, fld)
+    m = Motors()
+    motors = Motors(
+        counts_per_rev=positive_int(t.get("counts_per_rev", m.counts_per_rev),
+                                    f"{fld}.counts_per_rev"),
+        force_noise=_num(t, "force_noise", fld, m.force_noise, nonneg=True),
+        torque_noise=_num(t, "torque_noise", fld, m.torque_noise, nonneg=True),
+        friction=_num(t, "friction", fld, m.friction, nonneg=True),
+        gravity=_num(t, "gravity", fld, m.gravity, nonneg=True),
+        rotor_inertia=_num(t, "rotor_inertia", fld, m.rotor_inertia, positive=True))
+    seed = t.get("seed", 0)
+    if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
+        raise InputError(f"expected an integer >= 0, got {seed!r}", field=f"{fld}.seed")
+    return SimulatorConfig(
+        motors=motors,
+        hand=_hand(t["hand"], f"{fld}.hand") if "hand" in t else HandScript(),
+        seed=seed,
+        lockstep=_bool(t, "lockstep", fld, True),
+        reply_timeout_ms=_num(t, "reply_timeout_ms", fld, 100.0, positive=True),
+        device_watchdog_ms=_num(t, "device_watchdog_ms", fld, 100.0, positive=True))
+
+
+def _home_of(preset_name: str):
+    from .kinematics import load_model
+    return load_model(preset_name).home
+
+
+def loads_control_scene(text: str, path: str = "<string>") -> ControlScene:
+    """Parse a controller scene from TOML text (see the module docstring)."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"expected valid TOML, got a syntax error: {exc}", field=path) from None
+    check_keys(data, {"title", "description", "device", "admittance", "environment", "pd",
+                      "safety", "simulator"}, "scene")
+    dev = as_table(data.get("device", {}), "device")
+    check_keys(dev, {"preset", "rate_hz"}, "device")
+    preset_name = dev.get("preset", "octo")
+    if not isinstance(preset_name, str):
+        raise InputError(f"expected a preset name, got {preset_name!r}", field="device.preset")
+    from ..mechanisms import PRESETS
+    choice(preset_name, "device.preset", tuple(PRESETS))
+    rate = _num(dev, "rate_hz", "device", 1000.0, positive=True)
+
+    adm = as_table(require(data, "admittance", ""), "admittance")
+    check_keys(adm, {"mass", "damping"}, "admittance")
+    mass = _vec(adm, "mass", "admittance", 6, positive=True)
+    damping = _vec(adm, "damping", "admittance", 6, nonneg=True)
+
+    env = _environment(data.get("environment", []), _home_of(preset_name))
+
+    pdt = as_table(data.get("pd", {}), "pd")
+    check_keys(pdt, {"kp", "ki", "kd", "derivative_filter_s", "torque_limit", "distribution",
+                     "gravity_compensation", "hand_feedforward"}, "pd")
+    d = PDGains()
+    pd = PDGains(kp=_num(pdt, "kp", "pd", d.kp, nonneg=True),
+                 ki=_num(pdt, "ki", "pd", d.ki, nonneg=True),
+                 kd=_num(pdt, "kd", "pd", d.kd, nonneg=True),
+                 derivative_filter_s=_num(pdt, "derivative_filter_s", "pd",
+                                          d.derivative_filter_s, nonneg=True),
+                 torque_limit=_num(pdt, "torque_limit", "pd", d.torque_limit, positive=True),
+                 distribution=choice(pdt.get("distribution", d.distribution),
+                                     "pd.distribution", ("projected", "independent")),
+                 gravity_compensation=_bool(pdt, "gravity_compensation", "pd",
+                                            d.gravity_compensation),
+                 hand_feedforward=_bool(pdt, "hand_feedforward", "pd", d.hand_feedforward))
+    if pd.torque_limit > Motors().stall_torque:
+        raise InputError(f"expected at most the stall torque {Motors().stall_torque} N·m, got "
+                         f"{pd.torque_limit}", field="pd.torque_limit")
+
+    st = as_table(data.get("safety", {}), "safety")
+    check_keys(st, {"watchdog_ms", "recover_frames", "sigma_min", "max_condition",
+                    "max_force", "max_torque", "max_angle", "max_fk_residual"}, "safety")
+    s = SafetyLimits()
+    safety = SafetyLimits(
+        watchdog_ms=_num(st, "watchdog_ms", "safety", s.watchdog_ms, positive=True),
+        recover_frames=positive_int(st.get("recover_frames", s.recover_frames),
+                                    "safety.recover_frames"),
+        sigma_min=_num(st, "sigma_min", "safety", s.sigma_min, nonneg=True),
+        max_condition=_num(st, "max_condition", "safety", s.max_condition, positive=True),
+        max_force=_num(st, "max_force", "safety", s.max_force, positive=True),
+        max_torque=_num(st, "max_torque", "safety", s.max_torque, positive=True),
+        max_angle=_num(st, "max_angle", "safety", s.max_angle, positive=True),
+        max_fk_residual=_num(st, "max_fk_residual", "safety", s.max_fk_residual,
+                             positive=True))
+    sim = _simulator(as_table(data.get("simulator", {}), "simulator"))
+    title = data.get("title", "")
+    return ControlScene(str(path), preset_name, rate, mass, damping, env, pd, safety, sim,
+                        str(title))
+
+
+def load_control_scene(path) -> ControlScene:
+    """Load a controller scene file; InputError (naming the file) if unreadable."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise InputError(f"expected a readable scene file, got {exc.strerror}",
+                         field=str(path)) from None
+    return loads_control_scene(text, str(path))
+
+
+def default_scene() -> ControlScene:
+    """The built-in scene used by ``distkin sim`` without ``--scene``: the Octo, a
+    centring spring, no hand."""
+    return loads_control_scene(
+        '[admittance]\nmass = [1, 1, 1, 0.005, 0.005, 0.005]\n'
+        'damping = [15, 15, 15, 0.1, 0.1, 0.1]\n'
+        '[[environment]]\nkind = "spring"\nstiffness = [100, 100, 100, 2, 2, 2]\n',
+        "<default>")

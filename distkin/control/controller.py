@@ -1,0 +1,472 @@
+"""The device controller: admittance control with a position-level joint PD at 1 kHz.
+
+Kühne et al., Sec. III-D and Fig. 9.  Each cycle, on the arrival of a state frame:
+
+1. check the reading (finite, in range, device status) -- :class:`~.safety.Safety`;
+2. forward kinematics, warm-started Gauss-Newton on the generated kernels
+   (:meth:`~.kinematics.KinematicModel.forward`);
+3. rotate the force/torque reading into the base frame and step the admittance model
+   with the scene's virtual environment (:mod:`.admittance`);
+4. refuse a candidate set point that is unreachable or near-singular (keep the last
+   one, at rest);
+5. inverse kinematics of the set point;
+6. joint PD(I) at position level, ``tau = KP e + KI ∫e + KD ė_f`` with KP = 110,
+   KI = 0, KD = 0.4 and the error derivative low-pass filtered (forward Euler);
+7. for L > 6, the torque distribution: the PD torques are projected onto the range of
+   ``J`` (``tau = J (JᵀJ)⁻¹ Jᵀ tau_pd``), which removes the internal-force component
+   that redundant independent joint controllers fight over and keeps the wrench
+   ``Jᵀ tau`` they exert on the platform (Kühne et al. Sec. III-C, the projection
+   method of their ref. [27]); gravity compensation adds the minimum-norm torques
+   ``J (JᵀJ)⁻¹ (0, 0, m g, 0, 0, 0)``, and the optional hand feed-forward
+   ``-J (JᵀJ)⁻¹ w_h`` balances the measured hand wrench;
+8. saturation at the torque limit, by one common factor (the direction of the wrench
+   is kept);
+9. the command frame.
+
+Safety: a watchdog (no valid frame within ``watchdog_ms`` of wall time -> zero torque
+and the fault state, left after ``recover_frames`` valid frames with the set point
+re-initialised at the measured pose), a stop near singular poses, rejection of NaN or
+out-of-range readings, and zero torque on every way out of :meth:`Controller.run`.
+"""
+
+from __future__ import annotations
+
+import math
+import signal
+import time
+
+import numpy as np
+
+from ..errors import LinkError
+from .admittance import Admittance
+from .kinematics import _rot
+from .protocol import (FLAG_KEEPALIVE, MODE_HOLD, MODE_RUN, MODE_ZERO_TORQUE, STATUS_ESTOP,
+                       STATUS_SENSOR_FAULT, CommandFrame)
+from .runlog import CsvLog, EventLog
+
+__all__ = ["Controller", "CycleResult", "GRAVITY", "SCALING", "RUN", "FAULT", "STOPPED"]
+
+#: gravitational acceleration assumed by the gravity compensation, m/s²
+GRAVITY = 9.81
+#: Stocco's scaling S = diag(15, 15, 15, 1, 1, 1) (Kühne et al. Sec. III-B); J S^-1 is
+#: the dimensionally homogeneous Jacobian whose smallest singular value the guard watches
+SCALING = np.array([15.0, 15.0, 15.0, 1.0, 1.0, 1.0])
+
+RUN, FAULT, STOPPED = 0, 1, 2
+_STATE_NAMES = {RUN: "run", FAULT: "fault", STOPPED: "stopped"}
+
+
+class CycleResult:
+    """What one control cycle decided (a work buffer)."""
+
+    __slots__ = ("mode", "torques", "accepted", "reason", "pose", "desired", "wrench",
+                 "fk_iterations", "fk_residual", "saturated")
+
+    def __init__(self):
+        self.mode, self.torques, self.accepted, self.reason = MODE_ZERO_TORQUE, None, True, ""
+        self.pose = self.desired = self.wrench = None
+        self.fk_iterations, self.fk_residual, self.saturated = 0, 0.0, False
+
+
+class Controller:
+    """Admittance + PD controller of one device.
+
+    Parameters
+    ----------
+    scene : distkin.control.config.ControlScene
+    model : distkin.control.kinematics.KinematicModel
+    log_prefix : str or None
+        Write ``PREFIX.cycles.csv`` and ``PREFIX.events.jsonl``.
+    """
+
+    #: consecutive forward-kinematics failures tolerated (the last command is repeated)
+    #: before the fault state (zero torque)
+    MAX_FK_FAILURES = 10
+    #: wall time to wait for the first valid state frame, s
+    STARTUP_TIMEOUT_S = 10.0
+
+    def __init__(self, scene, model, *, log_prefix=None):
+        self.scene = scene
+        self.model = model
+        self.L = model.L
+        self.dt_nominal = 1.0 / scene.rate_hz
+        self.adm = Admittance(scene.mass, scene.damping, scene.environment)
+        self.pd = scene.pd
+        self.safety = scene.safety
+        self.weight = float(model.mass[0, 0]) * GRAVITY
+        self.pose = np.array(model.home, dtype=float)
+        self.state = RUN
+        self.started = False
+        self._reset_pd()
+        self.refusing = False
+        self.refused = 0
+        self.saturated_cycles = 0
+        self.max_abs_torque = 0.0
+        cols = (["t_wall", "t_dev", "seq", "state", "mode", "compute_s", "period_s",
+                 "fk_iter", "fk_res", "refused", "saturated"]
+                + [f"x_{n}" for n in ("x", "y", "z", "rx", "ry", "rz")]
+                + [f"xd_{n}" for n in ("x", "y", "z", "rx", "ry", "rz")]
+                + [f"{a}_{n}" for a in ("f", "m") for n in "xyz"]
+                + [f"tau_{i}" for i in range(self.L)])
+        self.prefix = log_prefix
+        self.log = CsvLog(f"{log_prefix}.cycles.csv" if log_prefix else None, cols)
+        self.events = EventLog(f"{log_prefix}.events.jsonl" if log_prefix else None)
+
+    # -- the per-cycle computation (no I/O) ---------------------------------------------
+    def _reset_pd(self):
+        self.e_prev = None
+        self.de_f = np.zeros(self.L)
+        self.e_int = np.zeros(self.L)
+
+    def singular_values(self, J):
+        """Smallest and largest singular value of the scaled Jacobian ``J S^-1``."""
+        Js = J / SCALING
+        ev = np.linalg.eigvalsh(Js.T @ Js)
+        return math.sqrt(max(float(ev[0]), 0.0)), math.sqrt(max(float(ev[-1]), 0.0))
+
+    def sigma_min(self, J) -> float:
+        """Smallest singular value of the scaled Jacobian ``J S^-1``."""
+        return self.singular_values(J)[0]
+
+    def near_singular(self, J) -> bool:
+        """``J`` (L, 6) is near a singularity: ``sigma_min(J S^-1) < safety.sigma_min``
+        (a parallel singularity: the platform can move without the cranks) or its
+        condition number exceeds ``safety.max_condition`` (near a serial singularity at
+        the reach boundary)."""
+        if not np.all(np.isfinite(J)):
+            return True
+        lo, hi = self.singular_values(J)
+        return lo < self.safety.sigma_min or hi > self.safety.max_condition * lo
+
+    def check_pose(self, pose):
+        """Why a commanded pose must be refused ("" if it is acceptable).
+
+        Returns
+        -------
+        reason : str
+            "unreachable" (a leg cannot close), "singular" (:meth:`near_singular`),
+            "" otherwise.
+        q : ndarray (L,) or None
+            The crank angles of the pose, when reachable.
+        """
+        q, ok = self.model.ik(pose)
+        if not ok or not np.all(np.isfinite(q)):
+            return "unreachable", None
+        if self.near_singular(self.model.jacobian(pose)):
+            return "singular", None
+        return "", q
+
+    def check_reading(self, frame) -> str:
+        """Why a state frame must be rejected ("" if it is acceptable)."""
+        s = self.safety
+        a, w = frame.angles, frame.wrench
+        if a.shape != (self.L,):
+            return f"expected {self.L} encoder angles, got {a.shape[0]}"
+        if not (np.all(np.isfinite(a)) and np.all(np.isfinite(w))):
+            return "NaN or inf in the reading"
+        if np.max(np.abs(a)) > s.max_angle:
+            return f"encoder angle {float(np.max(np.abs(a))):.3g} rad beyond ±{s.max_angle} rad"
+        if np.max(np.abs(w[:3])) > s.max_force or np.max(np.abs(w[3:])) > s.max_torque:
+            return "force/torque reading beyond the sensor range"
+        if frame.status & (STATUS_ESTOP | STATUS_SENSOR_FAULT):
+            return f"device status {frame.status:#06x} (e-stop or sensor fault)"
+        return ""
+
+    def start_at(self, pose) -> None:
+        """(Re)initialise at a measured pose: set point = pose, at rest, filters reset."""
+        self.pose = np.array(pose, dtype=float)
+        self.adm.reset(self.pose)
+        self._reset_pd()
+        self.refusing = False
+
+    def estimate(self, angles):
+        """Forward kinematics warm-started at the last estimate (cold start: home)."""
+        fk = self.model.forward(angles, self.pose, max_iter=8 if self.started else 40)
+        return fk
+
+    def compute(self, frame, dt: float) -> CycleResult:
+        """One control cycle on a *checked* state frame (steps 2-8 of the module doc)."""
+        r = CycleResult()
+        fk = self.estimate(frame.angles)
+        r.fk_iterations, r.fk_residual = fk.iterations, fk.residual
+        if not fk.converged or fk.residual > self.safety.max_fk_residual:
+            r.reason = "fk_failed"         # no decision: the loop repeats its last command
+            r.accepted = False
+            r.mode = None
+            return r
+        self.pose = fk.pose
+        if not self.started:
+            self.start_at(fk.pose)
+            self.started = True
+        R = _rot(self.pose[3:])
+        w = np.concatenate([R @ frame.wrench[:3], R @ frame.wrench[3:]])
+        r.pose, r.wrench = self.pose, w
+        J = self.model.jacobian(self.pose)
+        if self.near_singular(J):
+            r.reason = "singular_stop"
+            r.accepted = False
+            r.mode = MODE_HOLD
+            r.torques = np.zeros(self.L)
+            return r
+        if self.state != RUN:
+            r.torques = np.zeros(self.L)
+            return r
+        cand_pose, cand_twist = self.adm.propose(w, dt)
+        why, q_des = self.check_pose(cand_pose)
+        if why:
+            self.adm.refuse()
+            self.refused += 1
+            r.accepted, r.reason = False, why
+            q_des, _ = self.model.ik(self.adm.pose)
+        else:
+            self.adm.commit(cand_pose, cand_twist)
+        r.desired = self.adm.pose
+        # PD(I) at position level with a low-pass filtered derivative (forward Euler)
+        e = q_des - frame.angles
+        pd = self.pd
+        if self.e_prev is not None:
+            d_raw = (e - self.e_prev) / dt
+            a = dt / (pd.derivative_filter_s + dt) if pd.derivative_filter_s > 0 else 1.0
+            self.de_f += a * (d_raw - self.de_f)
+        self.e_prev = e
+        tau = pd.kp * e + pd.kd * self.de_f
+        if pd.ki:
+            self.e_int = np.clip(self.e_int + e * dt, -pd.torque_limit / pd.ki,
+                                 pd.torque_limit / pd.ki)
+            tau = tau + pd.ki * self.e_int
+        # torque distribution (L > 6: remove internal forces) and gravity compensation
+        G = J.T @ J
+        w_ff = -w if pd.hand_feedforward else np.zeros(6)
+        if pd.gravity_compensation:
+            w_ff[2] += self.weight
+        if pd.distribution == "projected":
+            tau = J @ np.linalg.solve(G, J.T @ tau + w_ff)
+        elif pd.gravity_compensation or pd.hand_feedforward:
+            tau = tau + J @ np.linalg.solve(G, w_ff)
+        peak = float(np.max(np.abs(tau)))
+        if peak > pd.torque_limit:
+            tau = tau * (pd.torque_limit / peak)
+            r.saturated = True
+        r.mode, r.torques = MODE_RUN, tau
+        return r
+
+    # -- the loop ---------------------------------------------------------------------
+    def _event(self, name, t0, frame=None, **info):
+        t_dev = None if frame is None else frame.t_us * 1e-6
+        self.events.add(time.perf_counter() - t0, name,
+                        **({"t_dev": t_dev} if t_dev is not None else {}), **info)
+
+    def run(self, link, seconds: float, *, wall_limit: float | None = None) -> dict:
+        """Run the loop over ``link`` for ``seconds`` of device time.
+
+        The run ends when the device clock has advanced by ``seconds`` since the first
+        frame, when the wall clock reaches ``wall_limit`` (default ``2 seconds + 10``),
+        when no valid frame arrives within :attr:`STARTUP_TIMEOUT_S`, on a disconnect,
+        on SIGINT/SIGTERM, or on an internal error.  Every way out
+        sends zero torque (best effort if the link is gone).
+
+        Returns
+        -------
+        dict
+            The summary printed by ``distkin control`` (``cycles``, ``seconds``,
+            ``rate_hz``, ``cycle_p50_ms``, ``cycle_p99_ms``, ``bad_frames``,
+            ``watchdog_trips``, ``safety_events``, ``exit_reason``, ...) with
+            ``exit_code`` and, after a disconnect or a failure, ``error``.
+        """
+        wall_limit = 2.0 * seconds + 10.0 if wall_limit is None else wall_limit
+        t0 = time.perf_counter()
+        poll = min(0.005, self.safety.watchdog_ms * 1e-3 / 4)
+        seq = 0
+        last = CommandFrame(0, 0, MODE_ZERO_TORQUE, 0, np.zeros(self.L))
+        last_valid = last_t_dev = None
+        fk_failures = 0
+        t_first = t_prev_us = None
+        t_prev_cycle = None
+        recover_count = 0
+        compute, periods = [], []
+        cycles = 0
+        reason = "completed"
+        self.error = None
+        stop = {"sig": None}
+
+        def _on_signal(signum, _frame):
+            stop["sig"] = signum
+
+        old = {}
+        for s in (signal.SIGINT, signal.SIGTERM):
+            try:
+                old[s] = signal.signal(s, _on_signal)
+            except ValueError:  # not in the main thread
+                pass
+        try:
+            while True:
+                if stop["sig"] is not None:
+                    reason = "interrupted"
+                    break
+                now = time.perf_counter()
+                if now - t0 > wall_limit:
+                    reason = "wall_limit"
+                    break
+                if t_first is None and now - t0 > self.STARTUP_TIMEOUT_S:
+                    reason = "no_device"
+                    self.error = (f"expected state frames from the device, got none in "
+                                  f"{self.STARTUP_TIMEOUT_S:g} s")
+                    break
+                frame = link.read_state(poll)
+                t_rx = time.perf_counter()
+                if frame is None:
+                    if last_valid is not None and self.state == RUN and \
+                            t_rx - last_valid > self.safety.watchdog_ms * 1e-3:
+                        self.state = FAULT
+                        recover_count = 0
+                        self._event("watchdog_trip", t0, None, t_dev=last_t_dev,
+                                    silent_ms=round((t_rx - last_valid) * 1e3, 1))
+                        last = CommandFrame(seq, last.ack, MODE_ZERO_TORQUE, 0,
+                                            np.zeros(self.L))
+                    if last_valid is not None:
+                        seq += 1
+                        last = CommandFrame(seq, last.ack, last.mode, FLAG_KEEPALIVE,
+                                            last.torques)
+                        link.write_command(last)
+                    continue
+                why = self.check_reading(frame)
+                if why:
+                    self._event("bad_reading", t0, frame, reason=why)
+                    if last_valid is not None:
+                        seq += 1
+                        last = CommandFrame(seq, frame.seq, last.mode, FLAG_KEEPALIVE,
+                                            last.torques)
+                        link.write_command(last)
+                    continue
+                last_valid = t_rx
+                last_t_dev = frame.t_us * 1e-6
+                if t_first is None:
+                    t_first = frame.t_us
+                dt = self.dt_nominal
+                if t_prev_us is not None:
+                    dt = min(max((frame.t_us - t_prev_us) * 1e-6, 0.2 * dt), 5.0 * dt)
+                t_prev_us = frame.t_us
+                if self.state == FAULT:
+                    recover_count += 1
+                    if recover_count >= self.safety.recover_frames:
+                        self.state = RUN
+                        self._event("recovered", t0, frame, frames=recover_count)
+                        self.started = False    # re-initialise at the measured pose
+                was_refusing = self.refusing
+                res = self.compute(frame, dt)
+                if res.reason != "fk_failed":
+                    fk_failures = 0
+                if res.reason in ("unreachable", "singular"):
+                    self.refusing = True
+                    if not was_refusing:
+                        self._event("pose_refused", t0, frame, reason=res.reason)
+                elif res.accepted:
+                    self.refusing = False
+                if res.reason == "fk_failed":
+                    fk_failures += 1
+                    self._event("fk_failed", t0, frame, residual=res.fk_residual)
+                    if fk_failures > self.MAX_FK_FAILURES and self.state == RUN:
+                        self.state = FAULT         # pose unknown: zero torque until it is
+                        recover_count = 0
+                        self._event("fk_lost", t0, frame, failures=fk_failures)
+                        last = CommandFrame(seq, frame.seq, MODE_ZERO_TORQUE, 0,
+                                            np.zeros(self.L))
+                    seq += 1
+                    last = CommandFrame(seq, frame.seq, last.mode, FLAG_KEEPALIVE,
+                                        last.torques)
+                    link.write_command(last)
+                    continue
+                if res.reason == "singular_stop" and self.state != STOPPED:
+                    self.state = STOPPED
+                    self._event("singular_stop", t0, frame)
+                if self.state == FAULT:
+                    mode, tau = MODE_ZERO_TORQUE, np.zeros(self.L)
+                elif self.state == STOPPED:
+                    mode, tau = MODE_HOLD, np.zeros(self.L)
+                else:
+                    mode, tau = res.mode, res.torques
+                seq += 1
+                last = CommandFrame(seq, frame.seq, mode, 0, tau)
+                link.write_command(last)
+                t_done = time.perf_counter()
+                cycles += 1
+                compute.append(t_done - t_rx)
+                period = 0.0 if t_prev_cycle is None else t_rx - t_prev_cycle
+                if t_prev_cycle is not None:
+                    periods.append(period)
+                t_prev_cycle = t_rx
+                if res.saturated:
+                    self.saturated_cycles += 1
+                self.max_abs_torque = max(self.max_abs_torque, float(np.max(np.abs(tau))))
+                p = res.pose if res.pose is not None else self.pose
+                d = res.desired if res.desired is not None else self.adm.pose
+                wr = res.wrench if res.wrench is not None else np.zeros(6)
+                self.log.add((t_rx - t0, frame.t_us * 1e-6, frame.seq, self.state, mode,
+                              t_done - t_rx, period, res.fk_iterations, res.fk_residual,
+                              0 if res.accepted else 1, 1 if res.saturated else 0,
+                              *p, *d, *wr, *tau))
+                if (frame.t_us - t_first) * 1e-6 >= seconds:
+                    reason = "completed"
+                    break
+        except LinkError as exc:
+            reason = "disconnect"
+            self.error = exc.message
+            self._event("disconnect", t0, None, message=exc.message)
+        except Exception as exc:  # no run ends in a traceback: record, zero torque, exit 1
+            reason = "internal_error"
+            self.error = f"{type(exc).__name__}: {exc}"
+            self._event("internal_error", t0, None, message=self.error)
+        finally:
+            sent = self._zero_torque(link, seq, last.ack)
+            self._event("zero_torque", t0, None, sent=sent)
+            for s, h in old.items():
+                signal.signal(s, h)
+            self.log.flush()
+        wall = time.perf_counter() - t0
+        return self._summary(link, cycles, wall, t_first, t_prev_us, compute, periods, reason)
+
+    def _zero_torque(self, link, seq, ack) -> bool:
+        """Send zero torque three times; True if at least one frame was written whole."""
+        sent = False
+        for i in range(3):
+            try:
+                sent |= link.write_command(CommandFrame(seq + 1 + i, ack, MODE_ZERO_TORQUE, 0,
+                                                        np.zeros(self.L)))
+            except LinkError:
+                break
+        return sent
+
+    def _summary(self, link, cycles, wall, t_first, t_last, compute, periods, reason):
+        st = link.stats
+        c = np.asarray(compute) * 1e3
+        p = np.asarray(periods) * 1e3
+        dev_s = 0.0 if t_first is None else (t_last - t_first) * 1e-6
+        code = {"completed": 0, "interrupted": 130}.get(reason, 1)
+        return {
+            "cycles": cycles,
+            "seconds": round(wall, 4),
+            "device_seconds": round(dev_s, 4),
+            "rate_hz": round(cycles / wall, 2) if wall > 0 else 0.0,
+            "cycle_p50_ms": round(float(np.percentile(c, 50)), 4) if c.size else None,
+            "cycle_p99_ms": round(float(np.percentile(c, 99)), 4) if c.size else None,
+            "period_p50_ms": round(float(np.percentile(p, 50)), 4) if p.size else None,
+            "period_p99_ms": round(float(np.percentile(p, 99)), 4) if p.size else None,
+            "bad_frames": st.bad_frames,
+            "resyncs": st.resyncs,
+            "timeouts": st.timeouts,
+            "seq_gaps": st.seq_gaps,
+            "stale_frames": st.stale_frames,
+            "write_timeouts": st.write_timeouts,
+            "watchdog_trips": self.events.count("watchdog_trip"),
+            "safety_events": sum(1 for e in self.events.events
+                                 if e["event"] not in ("zero_torque",)),
+            "refused_poses": self.refused,
+            "saturated_cycles": self.saturated_cycles,
+            "max_abs_torque_Nm": round(self.max_abs_torque, 4),
+            "torque_limit_Nm": self.pd.torque_limit,
+            "exit_reason": reason,
+            "exit_code": code,
+            "error": self.error,
+            "log": None if self.prefix is None else {
+                "cycles": f"{self.prefix}.cycles.csv", "events": f"{self.prefix}.events.jsonl"},
+        }

@@ -1,0 +1,203 @@
+"""The host end of the serial link (the only distkin module that imports ``serial``).
+
+:class:`Link` opens any pyserial URL -- a device path (``/dev/ttyACM0``), a
+pseudo-terminal path (``/dev/pts/7``), ``loop://`` or ``socket://host:port`` -- and
+exchanges the frames of :mod:`distkin.control.protocol` with a device.  Reads have a
+deadline and never block the control loop for longer; everything that goes wrong on
+the line is counted in :class:`LinkStats`.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import asdict, dataclass
+
+from ..errors import LinkError
+from .protocol import CommandFrame, FrameDecoder, StateFrame, encode_command
+
+__all__ = ["Link", "LinkStats", "open_link"]
+
+
+@dataclass
+class LinkStats:
+    """Counters of one link (all since it was opened).
+
+    ``bad_frames`` chunks rejected by the decoder (garbage, corrupted, truncated);
+    ``resyncs`` times the decoder found a valid frame again after bad ones;
+    ``timeouts`` reads that reached their deadline with no valid frame;
+    ``seq_gaps`` state frames missing by sequence number (dropped or destroyed);
+    ``stale_frames`` valid frames skipped because a newer one was already waiting;
+    ``write_timeouts`` command writes that timed out (tolerated up to
+    :attr:`Link.dead_after_s`).
+    """
+
+    frames_in: int = 0
+    frames_out: int = 0
+    bytes_in: int = 0
+    bytes_out: int = 0
+    bad_frames: int = 0
+    resyncs: int = 0
+    garbage_bytes: int = 0
+    timeouts: int = 0
+    seq_gaps: int = 0
+    stale_frames: int = 0
+    unexpected_frames: int = 0
+    write_timeouts: int = 0
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+class Link:
+    """A framed, counted, deadline-bounded connection to a device.
+
+    Parameters
+    ----------
+    url : str
+        Anything :func:`serial.serial_for_url` accepts.
+    baudrate : int
+        Ignored by ptys, ``loop://`` and sockets; used by real UARTs.
+    poll_s : float
+        Granularity of one blocking read, s (a read never waits longer than its deadline).
+    write_timeout_s : float
+        Longest a single write may block, s.
+    dead_after_s : float
+        Writes that keep timing out for this long mean the device is gone, s.
+    """
+
+    def __init__(self, url: str, *, baudrate: int = 1_000_000, poll_s: float = 0.002,
+                 write_timeout_s: float = 0.05, dead_after_s: float = 1.0):
+        import serial  # the only place distkin imports pyserial
+        self._serial_mod = serial
+        self.url = url
+        try:
+            self._ser = serial.serial_for_url(url, baudrate=baudrate, timeout=poll_s,
+                                              write_timeout=write_timeout_s)
+        except (serial.SerialException, OSError, ValueError) as exc:
+            raise LinkError(f"expected an openable serial URL, got {url!r} ({exc})",
+                            field="port") from None
+        self._dec = FrameDecoder()
+        self.stats = LinkStats()
+        self._last_seq = None
+        self._last_write_ok = time.perf_counter()
+        self.dead_after_s = dead_after_s
+        self.closed = False
+
+    # -- reading -------------------------------------------------------------------
+    def _sync_decoder_stats(self) -> None:
+        s, d = self.stats, self._dec
+        s.bad_frames, s.resyncs, s.garbage_bytes = d.bad_frames, d.resyncs, d.garbage_bytes
+
+    def _read_some(self) -> bytes:
+        try:
+            n = self._ser.in_waiting
+            data = self._ser.read(n if n > 0 else 1)
+            if data and n == 0:
+                m = self._ser.in_waiting
+                if m:
+                    data += self._ser.read(m)
+        except (self._serial_mod.SerialException, OSError) as exc:
+            raise LinkError(f"expected a connected device on {self.url}, got a "
+                            f"disconnect ({exc})", field="port") from None
+        self.stats.bytes_in += len(data)
+        return data
+
+    def _note_seq(self, seq: int) -> None:
+        if self._last_seq is not None:
+            gap = (seq - self._last_seq - 1) & 0xFFFFFFFF
+            if 0 < gap < 0x80000000:
+                self.stats.seq_gaps += gap
+        self._last_seq = seq
+
+    def read_state(self, timeout_s: float) -> StateFrame | None:
+        """The newest valid state frame that arrives within ``timeout_s``, or None.
+
+        Every frame already waiting is decoded; older ones are counted as stale and only
+        the newest is returned, so the controller always acts on the latest reading.
+
+        Raises
+        ------
+        LinkError
+            The device went away (end of file, I/O error).
+        """
+        deadline = time.perf_counter() + timeout_s
+        latest = None
+        while True:
+            data = self._read_some()
+            if data:
+                for msg in self._dec.feed(data):
+                    if isinstance(msg, StateFrame):
+                        self._note_seq(msg.seq)
+                        if latest is not None:
+                            self.stats.stale_frames += 1
+                        latest = msg
+                        self.stats.frames_in += 1
+                    else:
+                        self.stats.unexpected_frames += 1
+                self._sync_decoder_stats()
+                if latest is not None and self._ser.in_waiting == 0:
+                    return latest
+                continue
+            if latest is not None:
+                return latest
+            if time.perf_counter() >= deadline:
+                self.stats.timeouts += 1
+                return None
+
+    # -- writing -------------------------------------------------------------------
+    def write_command(self, cmd: CommandFrame) -> bool:
+        """Send one command frame; False if the write timed out (counted).
+
+        A write that times out (the device is not reading, or this process was not
+        scheduled in time) may leave a partial frame on the line, which the device's
+        decoder drops as a bad frame.  Timeouts are tolerated for ``dead_after_s``; a
+        device that takes nothing for longer is gone.
+
+        Raises
+        ------
+        LinkError
+            The write failed (device gone) or nothing could be written for
+            ``dead_after_s``.
+        """
+        data = encode_command(cmd.seq, cmd.ack, cmd.mode, cmd.torques, cmd.flags)
+        try:
+            self._ser.write(data)
+        except self._serial_mod.SerialTimeoutException:
+            now = time.perf_counter()
+            self.stats.write_timeouts += 1
+            if self._last_write_ok is not None and now - self._last_write_ok > self.dead_after_s:
+                raise LinkError(f"expected {self.url} to take commands, got none written for "
+                                f"{now - self._last_write_ok:.2f} s", field="port") from None
+            return False
+        except (self._serial_mod.SerialException, OSError) as exc:
+            raise LinkError(f"expected to write to {self.url}, got {exc}", field="port") from None
+        self._last_write_ok = time.perf_counter()
+        self.stats.frames_out += 1
+        self.stats.bytes_out += len(data)
+        return True
+
+    def write_raw(self, data: bytes) -> None:
+        """Send raw bytes (tests and fault injection on loopback links)."""
+        try:
+            self._ser.write(data)
+        except (self._serial_mod.SerialException, OSError) as exc:
+            raise LinkError(f"expected to write to {self.url}, got {exc}", field="port") from None
+
+    def close(self) -> None:
+        if not self.closed:
+            self.closed = True
+            try:
+                self._ser.close()
+            except (self._serial_mod.SerialException, OSError):
+                pass  # closing a dead port must not mask the reason it died
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def open_link(url: str, **kw) -> Link:
+    """Open a :class:`Link` (see its parameters)."""
+    return Link(url, **kw)

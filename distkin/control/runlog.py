@@ -1,0 +1,181 @@
+"""Run logs a person can plot: per-cycle CSV tables and a JSON-lines event file.
+
+:class:`CsvLog` costs the control loop one row copy per cycle and writes its CSV when
+the run ends.  :class:`EventLog` writes each safety event as one
+JSON line at once.  :func:`read_csv` loads a table back as a dict of numpy columns;
+:func:`plot_run` draws a run (matplotlib, imported lazily).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["CsvLog", "EventLog", "read_csv", "read_events", "plot_run"]
+
+
+class CsvLog:
+    """Rows of floats with a header, written as CSV when the log is closed.
+
+    While the loop runs, rows go into a preallocated block; a full block is appended
+    to a binary side file (``PATH.part``, one ``write`` of raw float64, well under a
+    millisecond), so that the loop never waits for text formatting and memory stays
+    bounded.  :meth:`close` turns the side file into the CSV (called on every way out
+    of a run).
+
+    Parameters
+    ----------
+    path : str or Path or None
+        Output file (None: no file).
+    columns : sequence of str
+    block : int
+        Rows per block.
+    keep : bool
+        Without a file, keep the rows in memory (see :meth:`array`); otherwise only the
+        last block is kept.
+    """
+
+    def __init__(self, path, columns, block: int = 4096, keep: bool = False):
+        self.path = Path(path) if path else None
+        self.keep = keep
+        self.columns = list(columns)
+        self._buf = np.empty((block, len(self.columns)))
+        self._n = 0
+        self._blocks: list = []
+        self._spill = None
+        if self.path is not None:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            self._spill_path = self.path.with_name(self.path.name + ".part")
+            self._spill = self._spill_path.open("wb")
+
+    def add(self, row) -> None:
+        self._buf[self._n] = row
+        self._n += 1
+        if self._n == self._buf.shape[0]:
+            self._push()
+
+    def _push(self) -> None:
+        block = self._buf[: self._n]
+        if self._spill is not None:
+            self._spill.write(block.tobytes())
+        elif self.keep:
+            self._blocks.append(block.copy())
+        self._n = 0
+
+    def array(self) -> np.ndarray:
+        """The rows kept in memory (all of them with ``keep=True``), (n, columns)."""
+        parts = self._blocks + [self._buf[: self._n]]
+        return np.concatenate(parts) if parts else np.zeros((0, len(self.columns)))
+
+    def close(self) -> None:
+        """Write the CSV (idempotent)."""
+        if self._spill is None:
+            return
+        if self._n:
+            self._push()
+        self._spill.close()
+        self._spill = None
+        data = np.fromfile(self._spill_path, dtype=float).reshape(-1, len(self.columns))
+        with self.path.open("w", encoding="utf-8") as fh:
+            fh.write(",".join(self.columns) + "\n")
+            np.savetxt(fh, data, delimiter=",", fmt="%.9g")
+        self._spill_path.unlink()
+
+    flush = close
+
+
+class EventLog:
+    """Safety and link events, one JSON object per line (``{"t", "event", ...}``)."""
+
+    def __init__(self, path=None):
+        self.path = Path(path) if path else None
+        self.events: list[dict] = []
+        if self.path is not None:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            self.path.write_text("", encoding="utf-8")
+
+    def add(self, t: float, event: str, **info) -> None:
+        rec = {"t": round(float(t), 6), "event": event, **info}
+        self.events.append(rec)
+        if self.path is not None:
+            with self.path.open("a", encoding="utf-8") as fh:
+                fh.write(json.dumps(rec) + "\n")
+
+    def count(self, event: str) -> int:
+        return sum(1 for e in self.events if e["event"] == event)
+
+
+def read_csv(path) -> dict:
+    """A CSV written by :class:`CsvLog` as {column: ndarray}."""
+    path = Path(path)
+    with path.open(encoding="utf-8") as fh:
+        cols = fh.readline().strip().split(",")
+    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    if data.size == 0:
+        data = np.zeros((0, len(cols)))
+    return {c: data[:, i] for i, c in enumerate(cols)}
+
+
+def read_events(path) -> list[dict]:
+    """The events of an :class:`EventLog` file."""
+    text = Path(path).read_text(encoding="utf-8")
+    return [json.loads(line) for line in text.splitlines() if line.strip()]
+
+
+def plot_run(prefix, out=None) -> list:
+    """Plot a controller run from its log files ``PREFIX.cycles.csv`` and
+    ``PREFIX.events.jsonl`` (and ``PREFIX.device.csv`` when the simulator wrote one).
+
+    Panels: end-effector position (estimated, desired, true), hand force, torques,
+    compute time per cycle; safety events are drawn as vertical lines.
+
+    Returns
+    -------
+    list of Path
+        The PNG written (``out`` or ``PREFIX.png``).
+    """
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    prefix = str(prefix)
+    c = read_csv(prefix + ".cycles.csv")
+    ev_path = Path(prefix + ".events.jsonl")
+    events = read_events(ev_path) if ev_path.exists() else []
+    dev_path = Path(prefix + ".device.csv")
+    dev = read_csv(dev_path) if dev_path.exists() else None
+    fig, ax = plt.subplots(4, 1, figsize=(9, 10), sharex=True)
+    t = c["t_dev"]
+    for i, name in enumerate("xyz"):
+        x0 = c[f"x_{name}"][0] if t.size else 0.0
+        ax[0].plot(t, 1e3 * (c[f"x_{name}"] - x0), label=f"{name} estimated", color=f"C{i}")
+        ax[0].plot(t, 1e3 * (c[f"xd_{name}"] - x0), "--", color=f"C{i}", label=f"{name} desired")
+        if dev is not None:
+            ax[0].plot(dev["t"], 1e3 * (dev[f"x_{name}"] - x0), ":", color=f"C{i}",
+                       label=f"{name} true")
+    ax[0].set_ylabel("displacement from start [mm]")
+    ax[0].legend(ncol=3, fontsize=7)
+    for i, name in enumerate("xyz"):
+        ax[1].plot(t, c[f"f_{name}"], label=f"F{name}", color=f"C{i}")
+    ax[1].set_ylabel("hand force [N]")
+    ax[1].legend(fontsize=7)
+    k = 0
+    while f"tau_{k}" in c:
+        ax[2].plot(t, c[f"tau_{k}"], lw=0.8)
+        k += 1
+    ax[2].set_ylabel("torque command [N·m]")
+    ax[3].plot(t, 1e3 * c["compute_s"], lw=0.6, label="compute")
+    ax[3].plot(t, 1e3 * c["period_s"], lw=0.6, label="period")
+    ax[3].set_ylabel("time [ms]")
+    ax[3].set_xlabel("device time [s]")
+    ax[3].legend(fontsize=7)
+    for e in events:
+        if "t_dev" in e:
+            for a in ax:
+                a.axvline(e["t_dev"], color="r", lw=0.5, alpha=0.5)
+    fig.tight_layout()
+    out = Path(out) if out else Path(prefix + ".png")
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return [out]

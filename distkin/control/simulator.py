@@ -1,0 +1,322 @@
+"""The device simulator: serves the distkin protocol on a pseudo-terminal or a TCP socket.
+
+It plays the device of Kühne et al. Fig. 9 (motors, capstans, encoders, F/T sensor,
+platform; physics in :mod:`.plant`) so that the whole loop runs and is tested on a
+machine without hardware.  Every device period (1 ms) it
+
+1. sends a state frame (encoders, F/T reading, status), through the fault injector;
+2. collects the commands that arrived; in *lockstep* mode it waits (up to
+   ``reply_timeout_ms`` of wall time) for the answer to the frame just sent, so that a
+   slow or loaded host slows the simulation instead of changing its physics;
+3. waits for the next tick of the wall clock (it does not catch up when late);
+4. advances the physics by one period under the latest command (zero torque if none
+   arrived within ``device_watchdog_ms``).
+
+Physics time starts with the first command; until then the device rests at its home
+pose (held by its brakes) and its clock stands at 0.
+
+The device's own log (``PREFIX.device.csv``: true pose, applied torques, hand force,
+mode) is the ground truth against which the tests judge the controller.
+"""
+
+from __future__ import annotations
+
+import errno
+import os
+import select
+import signal
+import socket
+import sys
+import time
+import tty
+from pathlib import Path
+
+import numpy as np
+
+from .faults import DISCONNECT, FaultInjector
+from .plant import Plant
+from .protocol import (FLAG_KEEPALIVE, MODE_ZERO_TORQUE, STATUS_DEVICE_WATCHDOG,
+                       CommandFrame, FrameDecoder, encode_state)
+from .runlog import CsvLog, EventLog
+
+__all__ = ["PtyTransport", "TcpTransport", "Disconnected", "Simulator", "serve"]
+
+
+class Disconnected(Exception):
+    """The host side went away."""
+
+
+class _FdTransport:
+    fd: int
+
+    def wait_readable(self, timeout: float) -> bool:
+        if timeout < 0:
+            timeout = 0
+        r, _, _ = select.select([self.fd], [], [], timeout)
+        return bool(r)
+
+    def read(self) -> bytes:
+        try:
+            data = os.read(self.fd, 65536)
+        except BlockingIOError:
+            return b""
+        except OSError as exc:
+            if exc.errno == errno.EIO:      # pty: no process has the other end open
+                raise Disconnected("the host closed the port") from None
+            raise Disconnected(str(exc)) from None
+        if not data:
+            raise Disconnected("end of file")
+        return data
+
+    def write(self, data: bytes) -> int:
+        """Write without blocking; returns the bytes not written (dropped)."""
+        try:
+            n = os.write(self.fd, data)
+        except BlockingIOError:
+            return len(data)
+        except OSError as exc:
+            raise Disconnected(str(exc)) from None
+        return len(data) - n
+
+
+class PtyTransport(_FdTransport):
+    """A pseudo-terminal: the simulator keeps the master; ``url`` is the slave path
+    (open it with pyserial on the host side)."""
+
+    def __init__(self):
+        self.fd, self._slave = os.openpty()
+        tty.setraw(self._slave)            # no echo, no line discipline: binary frames
+        os.set_blocking(self.fd, False)
+        self.url = os.ttyname(self._slave)
+
+    def client_attached(self) -> None:
+        """Drop our own handle on the slave once the host has opened it, so that the
+        host closing its end reads as a disconnect (EIO)."""
+        if self._slave is not None:
+            os.close(self._slave)
+            self._slave = None
+
+    def close(self) -> None:
+        self.client_attached()
+        if self.fd is not None:
+            os.close(self.fd)
+            self.fd = None
+
+
+class TcpTransport(_FdTransport):
+    """A TCP server for one client; ``url`` is the ``socket://`` URL for pyserial."""
+
+    def __init__(self, port: int = 0, host: str = "127.0.0.1"):
+        self._srv = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+        self._srv.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        self._srv.bind((host, port))
+        self._srv.listen(1)
+        self.url = f"socket://{host}:{self._srv.getsockname()[1]}"
+        self._conn = None
+        self.fd = None
+
+    def accept(self, timeout: float) -> bool:
+        r, _, _ = select.select([self._srv], [], [], timeout)
+        if not r:
+            return False
+        self._conn, _ = self._srv.accept()
+        self._conn.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        self._conn.setblocking(False)
+        self.fd = self._conn.fileno()
+        return True
+
+    def client_attached(self) -> None:
+        pass
+
+    def close(self) -> None:
+        for s in (self._conn, self._srv):
+            if s is not None:
+                s.close()
+        self._conn = self._srv = None
+        self.fd = None
+
+
+class Simulator:
+    """The simulated device behind one transport.
+
+    Parameters
+    ----------
+    scene : distkin.control.config.ControlScene
+        Device preset, rate and the ``[simulator]`` table (hand, motors, pacing).
+    model : distkin.control.kinematics.KinematicModel
+    transport : PtyTransport or TcpTransport
+    faults : sequence of distkin.control.faults.Fault
+    log_prefix : str or None
+        Write ``PREFIX.device.csv`` and ``PREFIX.device-events.jsonl``.
+    """
+
+    def __init__(self, scene, model, transport, *, faults=(), log_prefix=None):
+        cfg = scene.simulator
+        self.cfg = cfg
+        self.model = model
+        self.plant = Plant(model, cfg.motors, cfg.hand, seed=cfg.seed)
+        self.transport = transport
+        self.period = 1.0 / scene.rate_hz
+        self.faults = FaultInjector(faults, seed=cfg.seed + 1)
+        self.decoder = FrameDecoder()
+        L = model.L
+        cols = (["t", "wall", "seq", "ack", "mode", "status"]
+                + [f"x_{n}" for n in ("x", "y", "z", "rx", "ry", "rz")]
+                + [f"v_{n}" for n in ("x", "y", "z", "wx", "wy", "wz")]
+                + ["hand_x", "hand_y", "hand_z"]
+                + [f"tau_cmd_{i}" for i in range(L)] + [f"tau_{i}" for i in range(L)])
+        self.log = CsvLog(f"{log_prefix}.device.csv" if log_prefix else None, cols)
+        self.events = EventLog(f"{log_prefix}.device-events.jsonl" if log_prefix else None)
+        self.command = CommandFrame(0, 0, MODE_ZERO_TORQUE, 0, np.zeros(L))
+        self.armed = False
+        self.dropped_bytes = 0
+        self.commands = 0
+        self.stop = False
+
+    def _collect(self, wait_for: int | None, deadline: float) -> None:
+        """Read commands until ``deadline``; with ``wait_for`` return as soon as the
+        answer to that state frame (or a keep-alive) has arrived."""
+        while True:
+            remaining = deadline - time.perf_counter()
+            if not self.transport.wait_readable(max(remaining, 0.0)):
+                if remaining <= 0:
+                    return
+                continue
+            got_answer = False
+            for msg in self.decoder.feed(self.transport.read()):
+                if not isinstance(msg, CommandFrame) or msg.torques.size != self.model.L:
+                    continue
+                if not self.armed:
+                    self.armed = True
+                    self.transport.client_attached()
+                    self.events.add(self.plant.t, "armed")
+                self.command = msg
+                self.last_command_wall = time.perf_counter()
+                self.commands += 1
+                if wait_for is not None and (msg.ack == wait_for or msg.flags & FLAG_KEEPALIVE):
+                    got_answer = True
+            if got_answer or time.perf_counter() >= deadline:
+                return
+
+    def run(self, seconds: float | None = None) -> str:
+        """Serve until the host disconnects, a disconnect fault, a signal, or
+        ``seconds`` of device time.  Returns the reason."""
+        seq = 0
+        next_tick = time.perf_counter()
+        self.last_command_wall = None
+        reason = "stopped"
+        try:
+            while not self.stop:
+                p = self.plant
+                if seconds is not None and p.t >= seconds:
+                    reason = "time"
+                    break
+                status = p.status()
+                watchdog = (self.armed and self.last_command_wall is not None and
+                            time.perf_counter() - self.last_command_wall
+                            > self.cfg.device_watchdog_ms * 1e-3)
+                if watchdog:
+                    status |= STATUS_DEVICE_WATCHDOG
+                seq = (seq + 1) & 0xFFFFFFFF
+                frame = encode_state(seq, int(round(p.t * 1e6)), status, p.encoders(), p.sensor())
+                out = self.faults.outgoing(p.t, frame) if self.armed else frame
+                if out is DISCONNECT:
+                    self.events.add(p.t, "disconnect_fault")
+                    reason = "disconnect_fault"
+                    break
+                stall = self.faults.take_stall_ms()
+                if stall:
+                    self.events.add(p.t, "stall", ms=stall)
+                    self._stall(stall * 1e-3)
+                    next_tick = time.perf_counter()
+                    continue
+                if self.armed:
+                    # take in what arrived since the last tick first, so that a
+                    # keep-alive the host sent before this frame cannot release the
+                    # lock-step wait for the answer to this frame
+                    self._collect(None, time.perf_counter())
+                if out:
+                    self.dropped_bytes += self.transport.write(out)
+                sent_ok = out == frame
+                if self.cfg.lockstep and self.armed and sent_ok:
+                    self._collect(seq, time.perf_counter() + self.cfg.reply_timeout_ms * 1e-3)
+                next_tick += self.period
+                now = time.perf_counter()
+                if next_tick < now - 5 * self.period:
+                    next_tick = now               # late: do not catch up
+                self._collect(None, next_tick)
+                if self.armed:
+                    self._step(seq, watchdog)
+        except Disconnected as exc:
+            reason = "host_disconnected"
+            self.events.add(self.plant.t, "host_disconnected", message=str(exc),
+                            last_mode=int(self.command.mode),
+                            last_max_abs_torque=float(np.max(np.abs(self.command.torques))))
+        finally:
+            self.log.flush()
+        return reason
+
+    def _stall(self, duration: float) -> None:
+        """Send nothing for ``duration`` s of wall time; physics and commands go on."""
+        end = time.perf_counter() + duration
+        tick = time.perf_counter()
+        while time.perf_counter() < end and not self.stop:
+            tick += self.period
+            self._collect(None, min(tick, end))
+            if self.armed:
+                self._step(None, False)
+
+    def _step(self, seq, watchdog: bool) -> None:
+        cmd = self.command
+        mode = MODE_ZERO_TORQUE if watchdog else cmd.mode
+        p = self.plant
+        p.step(cmd.torques, mode, self.period)
+        self.log.add((p.t, time.perf_counter(), -1 if seq is None else seq, cmd.ack, mode,
+                      p.status(), *p.pose, *p.twist, *p.hand_wrench[:3], *cmd.torques, *p.tau))
+
+
+def serve(scene, *, port_file=None, tcp_port=None, faults=(), log_prefix=None,
+          seconds=None, announce=sys.stdout) -> int:
+    """Start a simulator, announce its port, serve until done.  Returns an exit code.
+
+    Parameters
+    ----------
+    scene : ControlScene
+    port_file : path or None
+        The port URL is also written here (atomically) for the host to pick up.
+    tcp_port : int or None
+        Serve on TCP (0 = any free port) instead of a pseudo-terminal.
+    faults : sequence of Fault
+    log_prefix : str or None
+    seconds : float or None
+        Stop after this much device time.
+    """
+    from .kinematics import load_model
+    model = load_model(scene.preset)
+    transport = TcpTransport(tcp_port) if tcp_port is not None else PtyTransport()
+    sim = Simulator(scene, model, transport, faults=faults, log_prefix=log_prefix)
+
+    def _on_signal(signum, _frame):
+        sim.stop = True
+
+    signal.signal(signal.SIGTERM, _on_signal)
+    signal.signal(signal.SIGINT, _on_signal)
+    print(f"distkin sim: {model.L}-leg '{scene.preset}' device serving on {transport.url}",
+          file=announce, flush=True)
+    if port_file:
+        tmp = Path(f"{port_file}.tmp")
+        tmp.write_text(transport.url + "\n", encoding="utf-8")
+        os.replace(tmp, port_file)
+    try:
+        if isinstance(transport, TcpTransport):
+            while not sim.stop and not transport.accept(0.2):
+                pass
+            if sim.stop:
+                return 0
+        reason = sim.run(seconds)
+    finally:
+        transport.close()
+    print(f"distkin sim: stopped ({reason}); {sim.plant.t:.3f} s device time, "
+          f"{sim.commands} commands received, {sim.decoder.bad_frames} bad frames, "
+          f"{sim.dropped_bytes} bytes dropped", file=announce, flush=True)
+    return 0

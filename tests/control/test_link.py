@@ -1,0 +1,105 @@
+"""The pyserial link over loop:// : newest frame wins, counters, deadlines, disconnects."""
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from distkin.control.link import Link
+from distkin.control.protocol import MODE_RUN, CommandFrame, encode_state
+from distkin.errors import LinkError
+
+
+def _state(seq):
+    return encode_state(seq, 1000 * seq, 0, np.full(8, 0.001 * seq), np.zeros(6))
+
+
+def test_loop_returns_newest_and_counts_stale_and_gaps():
+    with Link("loop://") as link:
+        link.write_raw(_state(1) + _state(2) + _state(5))
+        msg = link.read_state(0.5)
+        assert msg.seq == 5
+        assert link.stats.stale_frames == 2
+        assert link.stats.seq_gaps == 2          # 3 and 4 never arrived
+        assert link.stats.frames_in == 3
+
+
+def test_loop_counts_bad_frames_and_resyncs():
+    with Link("loop://") as link:
+        bad = bytearray(_state(2))
+        bad[10] ^= 0xFF
+        junk = np.random.default_rng(5).integers(0, 256, 40, dtype=np.uint8).tobytes()
+        link.write_raw(_state(1) + junk + b"\x00" + bytes(bad) + _state(3))
+        seen = []
+        while True:
+            m = link.read_state(0.05)
+            if m is None:
+                break
+            seen.append(m.seq)
+        assert seen[-1] == 3
+        assert link.stats.bad_frames >= 2
+        assert link.stats.resyncs == 1
+        assert link.stats.timeouts == 1
+
+
+def test_read_respects_its_deadline_and_counts_timeouts():
+    with Link("loop://", poll_s=0.001) as link:
+        assert link.read_state(0.01) is None
+        assert link.read_state(0.0) is None
+        assert link.stats.timeouts == 2
+
+
+def test_commands_are_written_as_frames():
+    with Link("loop://") as link:
+        link.write_command(CommandFrame(1, 0, MODE_RUN, 0, np.ones(8)))
+        # loop:// echoes: the command comes back and is counted as unexpected
+        assert link.read_state(0.05) is None
+        assert link.stats.unexpected_frames == 1
+        assert link.stats.frames_out == 1
+
+
+def test_unopenable_port_is_a_link_error():
+    with pytest.raises(LinkError, match="port"):
+        Link("/dev/does-not-exist-distkin")
+
+
+def test_pty_disconnect_is_a_link_error():
+    import tty
+    master, slave = os.openpty()
+    tty.setraw(slave)
+    path = os.ttyname(slave)
+    link = Link(path)
+    os.close(slave)
+    os.write(master, _state(1))
+    assert link.read_state(0.5).seq == 1
+    os.close(master)
+    with pytest.raises(LinkError, match="disconnect"):
+        link.read_state(0.5)
+    link.close()
+
+
+def test_import_control_pulls_in_neither_sympy_nor_serial():
+    code = ("import sys, distkin.control, distkin.control.controller, "
+            "distkin.control.simulator, distkin.control.commands\n"
+            "print('sympy' in sys.modules, 'serial' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, cwd=os.path.dirname(os.path.dirname(os.path.dirname(
+                             os.path.abspath(__file__)))))
+    assert out.stdout.split() == ["False", "False"]
+
+
+def test_running_the_controller_and_simulator_never_imports_sympy():
+    # the generated kernels are plain Python: a whole in-process closed loop (scene,
+    # mechanism preset, controller, plant) runs without sympy
+    code = ("import sys\n"
+            "from distkin.control.commands import builtin_scene\n"
+            "from distkin.control.kinematics import load_model\n"
+            "from distkin.control.loopback import run_loopback\n"
+            "sc = builtin_scene(); r = run_loopback(sc, load_model(sc.preset), 0.05)\n"
+            "print(len(r['t']), 'sympy' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, cwd=os.path.dirname(os.path.dirname(os.path.dirname(
+                             os.path.abspath(__file__)))))
+    assert out.stdout.split() == ["50", "False"]

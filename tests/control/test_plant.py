@@ -1,0 +1,84 @@
+"""The simulated device: statics through Jᵀτ, drive envelope, hold mode, sensors."""
+
+import math
+
+import numpy as np
+import pytest
+
+from distkin.control.kinematics import load_model
+from distkin.control.plant import HandScript, Motors, Plant
+from distkin.control.protocol import MODE_HOLD, MODE_RUN, MODE_ZERO_TORQUE
+
+
+@pytest.fixture(scope="module")
+def model():
+    return load_model("octo")
+
+
+def _balance(model, pose, wrench):
+    """Minimum-norm actuator torques whose wrench Jᵀτ cancels ``wrench`` (statics,
+    Kühne et al. eq. (3)), from a least-squares solve (not the controller's code)."""
+    J = model.jacobian(pose)
+    tau, *_ = np.linalg.lstsq(J.T, -np.asarray(wrench), rcond=None)
+    return tau
+
+
+def test_torques_that_balance_gravity_and_the_hand_hold_the_platform_still(model):
+    mo = Motors(force_noise=0.0, torque_noise=0.0)
+    hand = HandScript(((0.0, 1.0, -2.0, 0.5),))
+    p = Plant(model, mo, hand)
+    w = np.array([1.0, -2.0, 0.5 - 0.17 * mo.gravity, 0, 0, 0])
+    tau = _balance(model, p.pose, w)
+    for _ in range(200):
+        p.step(tau, MODE_RUN, 1e-3)
+    assert np.abs(p.pose - model.home).max() < 1e-9
+    # without the hand term the platform accelerates along the hand force
+    p2 = Plant(model, mo, hand)
+    tau_g = _balance(model, p2.pose, [0, 0, -0.17 * mo.gravity, 0, 0, 0])
+    for _ in range(20):
+        p2.step(tau_g, MODE_RUN, 1e-3)
+    d = p2.pose[:3] - model.home[:3]
+    assert np.dot(d, [1.0, -2.0, 0.5]) > 0.9 * np.linalg.norm(d) * math.sqrt(5.25)
+
+
+def test_zero_torque_lets_the_platform_fall_and_hold_keeps_it(model):
+    mo = Motors(force_noise=0.0, torque_noise=0.0)
+    fall = Plant(model, mo)
+    hold = Plant(model, mo)
+    for _ in range(300):
+        fall.step(np.zeros(model.L), MODE_ZERO_TORQUE, 1e-3)
+        hold.step(np.zeros(model.L), MODE_HOLD, 1e-3)
+    assert fall.pose[2] < model.home[2] - 1e-3                  # falls (mm in 0.3 s)
+    assert abs(hold.pose[2] - model.home[2]) < 2e-4             # joint PD at the device
+
+
+def test_drive_envelope_matches_the_paper_figures():
+    mo = Motors()
+    # nominal torque available at the nominal speed (Kühne et al. Sec. III-B.3)
+    assert mo.stall_torque * (1 - mo.nominal_speed / mo.no_load_speed) == \
+        pytest.approx(mo.nominal_torque)
+    assert mo.gear == 13.0 and mo.stall_torque == 34.2
+
+
+def test_drive_saturates_at_stall_and_falls_with_speed(model):
+    p = Plant(model, Motors())
+    out = p.drive(np.full(model.L, 100.0))
+    assert np.all(out == 34.2) and p.saturated
+    p.qdot = np.full(model.L, 0.5 * p.motors.no_load_speed)
+    out = p.drive(np.full(model.L, 100.0))
+    np.testing.assert_allclose(out, 0.5 * 34.2)
+    braking = p.drive(np.full(model.L, -100.0))            # against the motion: full stall
+    np.testing.assert_allclose(braking, -34.2)
+
+
+def test_encoders_are_quantised_and_the_sensor_reads_in_the_platform_frame(model):
+    mo = Motors(force_noise=0.0, torque_noise=0.0)
+    p = Plant(model, mo, HandScript(((0.0, 3.0, 0.0, 0.0),)))
+    p.pose = model.home + np.array([0, 0, 0, 0, 0, math.pi / 2])   # turned 90 deg about z
+    p.q, _ = model.ik(p.pose)
+    p.hand_wrench = np.array([3.0, 0, 0, 0, 0, 0])
+    counts = p.encoders() / mo.resolution
+    np.testing.assert_allclose(counts, np.round(counts), atol=1e-9)
+    assert np.abs(p.encoders() - p.q).max() <= mo.resolution / 2 + 1e-15
+    # a base-frame force along +x is along -y of a platform frame turned by +90 deg
+    np.testing.assert_allclose(p.sensor()[:3], [0.0, -3.0, 0.0], atol=1e-12)

@@ -1,0 +1,136 @@
+"""Protocol framing: COBS against published vectors, round trips, CRC, resynchronisation."""
+
+import os
+import struct
+import zlib
+
+import numpy as np
+import pytest
+
+from distkin.control.protocol import (FLAG_KEEPALIVE, MODE_HOLD, MODE_RUN, CommandFrame,
+                                      FrameDecoder, ProtocolError, StateFrame, cobs_decode,
+                                      cobs_encode, decode_payload, encode_command,
+                                      encode_state)
+
+# COBS examples from Cheshire & Baker (1999) as tabulated on the COBS Wikipedia page
+COBS_VECTORS = [
+    (b"\x00", b"\x01\x01"),
+    (b"\x00\x00", b"\x01\x01\x01"),
+    (b"\x00\x11\x00", b"\x01\x02\x11\x01"),
+    (b"\x11\x22\x00\x33", b"\x03\x11\x22\x02\x33"),
+    (b"\x11\x22\x33\x44", b"\x05\x11\x22\x33\x44"),
+    (b"\x11\x00\x00\x00", b"\x02\x11\x01\x01\x01"),
+    (bytes(range(1, 255)), b"\xff" + bytes(range(1, 255)) + b"\x01"),
+]
+
+
+@pytest.mark.parametrize("raw, enc", COBS_VECTORS)
+def test_cobs_published_vectors(raw, enc):
+    # the 254-byte case: our encoder appends the (valid, non-minimal) trailing 0x01
+    # group; the published minimal form omits it -- both decode to the same bytes
+    assert cobs_encode(raw) == enc
+    assert cobs_decode(enc) == raw
+    if len(raw) == 254:
+        assert cobs_decode(enc[:-1]) == raw
+
+
+def test_cobs_round_trip_random():
+    rng = np.random.default_rng(3)
+    for n in (0, 1, 253, 254, 255, 600):
+        raw = rng.integers(0, 4, n, dtype=np.uint8).tobytes()   # many zeros
+        enc = cobs_encode(raw)
+        assert b"\x00" not in enc
+        assert cobs_decode(enc) == raw
+
+
+def test_state_frame_round_trip_and_layout():
+    angles = np.array([0.0, 0.1, -0.2, 0.3, 1.5, -1.5, 2.5, -3.0])
+    wrench = np.array([1.5, -2.0, 3.25, 0.01, -0.02, 0.03])
+    wire = encode_state(5, 123456789, 0x0008, angles, wrench)
+    assert wire.endswith(b"\x00") and b"\x00" not in wire[:-1]
+    assert len(wire) == 81                      # docs/protocol.md: 81 bytes for L = 8
+    payload = cobs_decode(wire[:-1])
+    # header: version 1, type 'S', body length 71 (docs/protocol.md)
+    assert payload[:4] == struct.pack("<BBH", 1, 0x53, 71)
+    assert struct.unpack("<I", payload[-4:])[0] == zlib.crc32(payload[:-4])
+    msg = decode_payload(payload)
+    assert isinstance(msg, StateFrame)
+    assert (msg.seq, msg.t_us, msg.status) == (5, 123456789, 0x0008)
+    np.testing.assert_array_equal(msg.angles, angles.astype(np.float32))
+    np.testing.assert_array_equal(msg.wrench, wrench.astype(np.float32))
+
+
+def test_command_frame_round_trip_and_layout():
+    tau = np.linspace(-2.5, 2.5, 8)
+    wire = encode_command(7, 6, MODE_HOLD, tau, flags=FLAG_KEEPALIVE)
+    assert len(wire) == 53                      # docs/protocol.md
+    payload = cobs_decode(wire[:-1])
+    assert payload[:4] == struct.pack("<BBH", 1, 0x43, 43)
+    # body: seq u32, ack u32, mode u8, flags u8, L u8, then float32 torques
+    assert payload[4:15] == struct.pack("<IIBBB", 7, 6, MODE_HOLD, FLAG_KEEPALIVE, 8)
+    msg = decode_payload(payload)
+    assert isinstance(msg, CommandFrame)
+    assert (msg.seq, msg.ack, msg.mode, msg.flags) == (7, 6, MODE_HOLD, FLAG_KEEPALIVE)
+    np.testing.assert_array_equal(msg.torques, tau.astype(np.float32))
+
+
+def test_every_single_byte_corruption_is_detected():
+    wire = encode_command(1, 1, MODE_RUN, np.arange(8.0))
+    for i in range(len(wire) - 1):
+        bad = bytearray(wire)
+        bad[i] ^= 0x40 if bad[i] != 0x40 else 0x41
+        dec = FrameDecoder()
+        assert dec.feed(bytes(bad) + b"\x00") == []
+        assert dec.bad_frames >= 1
+
+
+@pytest.mark.parametrize("payload, reason", [
+    (b"\x01\x53", "short"),
+    (struct.pack("<BBH", 2, 0x53, 0) + struct.pack("<I", zlib.crc32(struct.pack("<BBH", 2, 0x53, 0))), "version"),
+    (struct.pack("<BBH", 1, 0x99, 0) + struct.pack("<I", zlib.crc32(struct.pack("<BBH", 1, 0x99, 0))), "type"),
+    (struct.pack("<BBH", 1, 0x53, 9) + struct.pack("<I", zlib.crc32(struct.pack("<BBH", 1, 0x53, 9))), "length"),
+])
+def test_decode_payload_reasons(payload, reason):
+    with pytest.raises(ProtocolError) as exc:
+        decode_payload(payload)
+    assert exc.value.reason == reason
+
+
+def test_decoder_resynchronises_after_garbage_and_truncation():
+    frames = [encode_state(i, 1000 * i, 0, np.full(8, 0.01 * i), np.zeros(6)) for i in range(1, 7)]
+    rng = np.random.default_rng(0)
+    garbage = rng.integers(0, 256, 300, dtype=np.uint8).tobytes()
+    stream = (frames[0] + garbage + b"\x00" + frames[1]       # garbage burst, then resync
+              + frames[2][:30] + frames[3]                     # truncated: takes frame 4 along
+              + frames[4] + frames[5])
+    dec = FrameDecoder()
+    got = []
+    for i in range(0, len(stream), 7):                         # arbitrary chunking
+        got += dec.feed(stream[i:i + 7])
+    assert [m.seq for m in got] == [1, 2, 5, 6]
+    assert dec.bad_frames >= 2
+    assert dec.resyncs == 2
+    assert dec.frames == 4
+
+
+def test_decoder_discards_oversize_runs():
+    dec = FrameDecoder(max_frame=100)
+    assert dec.feed(b"\x11" * 250) == []
+    assert dec.reasons.get("oversize", 0) >= 1
+    good = encode_state(9, 0, 0, np.zeros(8), np.zeros(6))
+    assert [m.seq for m in dec.feed(b"\x11" * 10 + b"\x00" + good)] == [9]
+
+
+def test_encode_rejects_bad_sizes():
+    with pytest.raises(ValueError, match="wrench"):
+        encode_state(1, 0, 0, np.zeros(8), np.zeros(5))
+    with pytest.raises(ValueError, match="joints"):
+        encode_command(1, 0, MODE_RUN, np.zeros(0))
+    with pytest.raises(ValueError, match="mode"):
+        encode_command(1, 0, 7, np.zeros(8))
+
+
+def test_random_streams_never_raise():
+    dec = FrameDecoder()
+    for _ in range(50):
+        assert isinstance(dec.feed(os.urandom(97)), list)
