@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from benchmarks.harness import fmt_time, interleaved, ratio_table
+from benchmarks.harness import fmt_time
 
 __all__ = ["TITLE", "DEFAULT", "run"]
 
@@ -102,7 +102,49 @@ def _newton9_baseline(base, plat, legs, starts=48, seed=0):
     return sols
 
 
+def _interleaved(competitors: dict, *, rounds: int, number: int) -> dict:
+    """Like :func:`benchmarks.harness.interleaved`, but each sample records wall time
+    (``time.perf_counter``) and CPU time of this process (``time.process_time``), so
+    that the targets can be judged fairly on a loaded machine.
+
+    Returns {name: (median wall s, median CPU s)} per call.
+    """
+    import gc
+    import statistics
+    import time
+    names = list(competitors)
+    for n in names:
+        competitors[n]()
+    wall = {n: [] for n in names}
+    cpu = {n: [] for n in names}
+    gc_was = gc.isenabled()
+    gc.disable()
+    try:
+        for _ in range(rounds):
+            for n in names:
+                f = competitors[n]
+                w0, c0 = time.perf_counter(), time.process_time()
+                for _ in range(number):
+                    f()
+                wall[n].append((time.perf_counter() - w0) / number)
+                cpu[n].append((time.process_time() - c0) / number)
+    finally:
+        if gc_was:
+            gc.enable()
+    return {n: (statistics.median(wall[n]), statistics.median(cpu[n])) for n in names}
+
+
+def _table(times: dict, baseline: str, per: str) -> str:
+    wb, cb = times[baseline]
+    lines = [f"| competitor | wall per {per} | CPU per {per} | wall ratio to {baseline} |",
+             "|---|---|---|---|"]
+    for n, (w, c) in times.items():
+        lines.append(f"| {n} | {fmt_time(w)} | {fmt_time(c)} | {w / wb:.3g}× |")
+    return "\n".join(lines)
+
+
 def run():
+    import os
     from distkin.octahedral import forward_kinematics, forward_kinematics_batched
     from distkin.octahedral.reference import GD_BASE, GD_LEGS, GD_PLATFORM
     rng = np.random.default_rng(1)
@@ -118,7 +160,8 @@ def run():
         "scan (no octic)": 2 * len(_scan_baseline(BASE, PLAT, LEGS)),
         "9-coordinate Newton (no octic)": len(_newton9_baseline(BASE, PLAT, LEGS)),
     }
-    single = interleaved({
+    load0 = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    single = _interleaved({
         "fast (octic)": lambda: forward_kinematics(BASE, PLAT, LEGS),
         "certified (octic)": lambda: forward_kinematics(GD_BASE, GD_PLATFORM, GD_LEGS,
                                                         method="certified"),
@@ -127,27 +170,34 @@ def run():
         "scan (no octic)": lambda: _scan_baseline(BASE, PLAT, LEGS),
         "9-coordinate Newton (no octic)": lambda: _newton9_baseline(BASE, PLAT, LEGS),
     }, rounds=5, number=3)
-    fast_single = interleaved({"fast (octic)": lambda: forward_kinematics(BASE, PLAT, LEGS)},
-                              rounds=15, number=50)["fast (octic)"]
-    single["fast (octic)"] = fast_single
-    batched = interleaved({
+    single["fast (octic)"] = _interleaved(
+        {"fast (octic)": lambda: forward_kinematics(BASE, PLAT, LEGS)},
+        rounds=15, number=50)["fast (octic)"]
+    single["certified (octic)"] = _interleaved(
+        {"certified (octic)": lambda: forward_kinematics(GD_BASE, GD_PLATFORM, GD_LEGS,
+                                                         method="certified")},
+        rounds=15, number=5)["certified (octic)"]
+    batched = _interleaved({
         "fast batched (octic)": lambda: forward_kinematics_batched(BASE, PLAT, batch),
         "fast single, looped (octic)": lambda: [forward_kinematics(BASE, PLAT, b)
                                                 for b in batch[:200]],
-    }, rounds=5, number=1)
-    per_solve = {"fast batched (octic)": batched["fast batched (octic)"] / n_batch,
-                 "fast single, looped (octic)": batched["fast single, looped (octic)"] / 200}
+    }, rounds=7, number=1)
+    load1 = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    per_solve = {"fast batched (octic)": tuple(v / n_batch for v in
+                                               batched["fast batched (octic)"]),
+                 "fast single, looped (octic)": tuple(v / 200 for v in
+                                                      batched["fast single, looped (octic)"])}
     br = forward_kinematics_batched(BASE, PLAT, batch)
     targets = [
         ("fast, single solve", single["fast (octic)"], 100e-6),
         ("fast, batched, per solve", per_solve["fast batched (octic)"], 10e-6),
         ("certified, single solve", single["certified (octic)"], 5e-3),
     ]
-    import os
-    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     lines = [
-        f"Load average when measured: {load:.1f} (on {os.cpu_count()} cores); absolute times "
-        "scale with it, ratios much less.",
+        f"Load average (1 min) when measured: {load0:.1f} at the start, {load1:.1f} at the "
+        f"end, on {os.cpu_count()} cores (the machine is shared). Wall times scale with the "
+        "load; CPU time (`time.process_time` of this process) much less, and the targets "
+        "are judged on it.",
         "",
         "Griffis-Duffy example (Sec. VI): 6 real roots of the octic, 12 poses. Poses found "
         "by each competitor:",
@@ -158,27 +208,44 @@ def run():
         "",
         "Time per single solve (all poses), interleaved rounds, medians:",
         "",
-        ratio_table(single, "fast (octic)", per="solve"),
+        _table(single, "fast (octic)", "solve"),
         "",
         f"Batched: {n_batch} leg sets around the example (legs x (1 + 1% noise)); "
         f"{int(br.count.sum())} poses in all. Time per solve:",
         "",
-        ratio_table(per_solve, "fast batched (octic)", per="solve"),
+        _table(per_solve, "fast batched (octic)", "solve"),
         "",
-        "Targets (issue 3):",
+        "Targets (issue 3), judged on CPU time:",
         "",
-        "| measure | median | target | met? |",
-        "|---|---|---|---|",
-        *[f"| {n} | {fmt_time(t)} | {fmt_time(g)} | {'yes' if t <= g else 'no'} |"
-          for n, t, g in targets],
+        "| measure | wall (median) | CPU (median) | target | met (CPU)? |",
+        "|---|---|---|---|---|",
+        *[f"| {n} | {fmt_time(w)} | {fmt_time(c)} | {fmt_time(g)} | "
+          f"{'yes' if c <= g else 'no, ' + format(c / g, '.2g') + '× the target'} |"
+          for n, (w, c), g in targets],
         "",
-        "Notes: the fast tier's floor is the Python interpreter (kernel of ~200 "
-        "operations, eigenvalues of an 8x8 companion matrix, 6 Newton polishes and 12 "
-        "trilateration sequences); batched, LAPACK's 8x8 eigenvalue solve alone costs "
-        "~16 µs per problem on this machine. The scan baseline misses roots closer than "
-        "its sample spacing and the 9-coordinate Newton baseline misses modes that no "
-        "start reaches; neither can certify a count.",
+        "Where the fast tier's time goes (Griffis-Duffy, stages timed in isolation on this "
+        "machine under a similar load; in the full call they take ~1.4x longer): single "
+        "solve -- the Python interpreter: input checks and result objects "
+        "(`float_single`, `_single_result`) ~40 µs, generated kernel ~12 µs, LAPACK "
+        "eigenvalues of the 8x8 companion matrix with their Python handling ~16 µs, "
+        "Newton on the factored octic and eq. (3) plus the trilateration sequence ~10 µs "
+        "per real root in plain floats, and one numpy pass for the 12 poses (points, "
+        "rotations, translations, leg residuals) ~40 µs. Batched -- "
+        "`numpy.linalg.eigvals` on the (N, 8, 8) companion matrices (LAPACK `dgeev` one "
+        "matrix at a time) costs ~8-10 µs per problem on its own, about a third of the "
+        "total; the rest (Newton on the factored octic and eq. (3), the retries of the "
+        "starts from nearly real complex pairs, the trilateration sequence, frames and "
+        "leg residuals for ~12 poses per problem, and the (N, 16, ...) result arrays) is "
+        "numpy work on ~6 roots per problem at ~1 ns per element and operation. A "
+        "vectorised Aberth-Ehrlich iteration on (N, 8) complex arrays was tried in place "
+        "of the eigenvalues and was slower (10-13 iterations of ~1 µs per problem each). "
+        "The scan baseline misses roots closer than its sample spacing and the "
+        "9-coordinate Newton baseline misses modes that no start reaches; neither can "
+        "certify a count.",
     ]
-    data = {"load_average": load, "found": found, "single_s": single, "per_solve_s": per_solve,
-            "targets": {n: {"median_s": t, "target_s": g} for n, t, g in targets}}
+    data = {"load_average": [load0, load1], "found": found,
+            "single_s": {k: {"wall": w, "cpu": c} for k, (w, c) in single.items()},
+            "per_solve_s": {k: {"wall": w, "cpu": c} for k, (w, c) in per_solve.items()},
+            "targets": {n: {"wall_s": w, "cpu_s": c, "target_s": g}
+                        for n, (w, c), g in targets}}
     return "\n".join(lines) + "\n", data

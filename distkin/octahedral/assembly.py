@@ -10,12 +10,15 @@ the base plane); for each, the four :math:`(P_4, P_6)` choices are ranked by the
 residual :math:`\|P_3P_6\|^2 - s_{36}`.
 
 Trilateration in Gram form, as in :mod:`distkin.geometry.trilateration` (Thomas and
-Ros, IEEE T-RO 21(1), 2005).  :func:`assemble_fast` is a mask-based numpy version
-batched over many roots (it never raises; it returns the squared heights so the caller
-can reject); :func:`assemble_exact` runs the sequence in the precise tier (``mpf``) or
-the certified tier (``arb`` balls, deciding every sign with certainty; on exactly
-rational data through :func:`~distkin.geometry.trilateration.trilateration_parts`, so
-that a zero height is exactly zero).
+Ros, IEEE T-RO 21(1), 2005).  :func:`assemble_components` (and its row-layout wrapper
+:func:`assemble_fast`) is a mask-free numpy version batched over many roots, in the
+base-adapted frame of :func:`base_frame` where the first two trilaterations have closed
+forms and side -1 is side +1 reflected (it never raises; it returns the squared heights
+so the caller can reject); :func:`assemble_exact` runs the sequence in the precise tier
+(``mpf``) or the certified tier (``arb`` balls, deciding every sign with certainty; on
+exactly rational data through
+:func:`~distkin.geometry.trilateration.trilateration_parts`, so that a zero height is
+exactly zero), side -1 again as the reflection of side +1 except on exact data.
 """
 
 from __future__ import annotations
@@ -24,7 +27,8 @@ import numpy as np
 
 from ..errors import DegenerateGeometryError, InfeasibleError, UncertifiedError
 
-__all__ = ["trilaterate_masked", "assemble_fast", "assemble_exact"]
+__all__ = ["trilaterate_masked", "base_frame", "assemble_components", "assemble_fast",
+           "assemble_exact"]
 
 
 def _dot(a, b):
@@ -61,8 +65,134 @@ def trilaterate_masked(A, B, C, sa, sb, sc):
     return foot, off, h2 / scale
 
 
+def base_frame(base):
+    r"""The base-adapted frame: origin P1, e1 along P1P2, e3 along the oriented normal
+    :math:`(P_2-P_1)\times(P_3-P_1)`.
+
+    Parameters
+    ----------
+    base : (..., 3, 3) rows P1 P2 P3
+
+    Returns
+    -------
+    axes : (..., 3, 3) rows e1 e2 e3 (a proper rotation, base frame -> adapted frame)
+    d : (...) :math:`|P_1P_2|`; p3x, p3y : (...) P3 in the adapted frame (p3y > 0 for a
+        proper triangle); s12, s13 : (...) squared sides from the coordinates
+    """
+    v2 = base[..., 1, :] - base[..., 0, :]
+    v3 = base[..., 2, :] - base[..., 0, :]
+    s12 = _dot(v2, v2)
+    s13 = _dot(v3, v3)
+    d = np.sqrt(s12)
+    e1 = v2 / d[..., None]
+    p3x = _dot(v3, e1)
+    w = v3 - p3x[..., None] * e1
+    p3y = np.sqrt(_dot(w, w))
+    e2 = w / p3y[..., None]
+    e3 = np.cross(e1, e2)
+    return np.stack([e1, e2, e3], axis=-2), d, p3x, p3y, s12, s13
+
+
+def assemble_components(base, x, sides, legs, frame=None):
+    r"""The trilateration sequence of Sec. III for many roots, in component layout.
+
+    The sequence runs in the base-adapted frame of :func:`base_frame` (P1 at the origin,
+    P2 on the first axis, P3 in the plane z = 0), where the trilaterations from P1 P2
+    reduce to closed forms: P5 = (X5, Y5, ±Z5) with X5, Y5 linear in :math:`s_{15}`;
+    P4 on the circle |P1P4| = l1, |P2P4| = l2, placed by |P4P5| = |P4P5|_platform; P6
+    by the Gram-form trilateration from P1 P4 P5 (Thomas and Ros 2005).  Of the four
+    (P4, P6) candidates the one with the smallest leg-5 residual is kept.  The side -1
+    placement is the reflection z -> -z of the side +1 one (the sequence commutes with
+    the reflection in the base plane, which fixes P1 P2 P3).  Arrays keep the long axis
+    (the roots) last so that numpy's inner loops are long.
+
+    Parameters
+    ----------
+    base : (M, 3, 3) rows P1 P2 P3 (base frame) of each root's problem
+    x : (M,) roots :math:`s_{15}`
+    sides : (M, 6) squared sides s12 s13 s23 s45 s46 s56
+    legs : (M, 6) squared legs s14 s24 s25 s35 s36 s16
+    frame : optional, :func:`base_frame` of ``base`` (computed once per problem by a
+        caller with several roots per problem, then gathered)
+
+    Returns
+    -------
+    points : (3, 3, 2, M) coordinate c of point P(4+r) for side s (+1, -1) of root m at
+        ``points[r, c, s, m]``, base frame
+    h2min : (M,) the smallest relative squared height met (negative: infeasible; the
+        same for both sides)
+    r36 : (M,) relative leg-5 residual :math:`(|P_3P_6|^2 - s_{36})/(s_{36}+s_{35})` of
+        the chosen (P4, P6)
+    """
+    axes, d, p3x, p3y, s12, s13 = base_frame(base) if frame is None else frame
+    sides, legs = np.ascontiguousarray(sides.T), np.ascontiguousarray(legs.T)
+    s45, s46, s56 = sides[3], sides[4], sides[5]
+    s14, s24, s25, s35, s36, s16 = legs
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # P5 from P1 P2 P3
+        X5 = (x - s25 + s12) / (2 * d)
+        Y5 = (x - s35 + s13 - 2 * p3x * X5) / (2 * p3y)
+        h5 = x - X5 * X5 - Y5 * Y5
+        Z5 = np.sqrt(np.maximum(h5, 0.0))
+        rel5 = h5 / (np.abs(x) + s12 + s13)
+        # P4 from P1 P2 P5: (Y4, Z4) . (Y5, Z5) = K4 on the circle of radius^2 r4
+        X4 = (s14 - s24 + s12) / (2 * d)
+        rho2 = Y5 * Y5 + Z5 * Z5
+        g33 = X5 * X5 + rho2                                  # |P5|^2
+        K4 = 0.5 * (s14 + g33 - s45) - X4 * X5
+        h4 = (s14 - X4 * X4) - K4 * K4 / rho2
+        rel4 = h4 / (s14 + s12 + g33)
+        a4 = K4 / rho2
+        b4 = np.sqrt(np.maximum(h4, 0.0) / rho2)
+        # (2, M): tau = +1, -1 (the Gram normal P1P2 x P1P5 is along (0, -Z5, Y5))
+        Y4 = np.stack([a4 * Y5 - b4 * Z5, a4 * Y5 + b4 * Z5])
+        Z4 = np.stack([a4 * Z5 + b4 * Y5, a4 * Z5 - b4 * Y5])
+        # P6 from P1 P4 P5 (Gram form, P1 at the origin)
+        g22 = X4 * X4 + Y4 * Y4 + Z4 * Z4
+        g23 = X4 * X5 + Y4 * Y5 + Z4 * Z5
+        nx = Y4 * Z5 - Z4 * Y5
+        ny = Z4 * X5 - X4 * Z5
+        nz = X4 * Y5 - Y4 * X5
+        G = nx * nx + ny * ny + nz * nz
+        w2 = 0.5 * (s16 + g22 - s46)
+        w3 = 0.5 * (s16 + g33 - s56)
+        al = (w2 * g33 - w3 * g23) / G
+        be = (w3 * g22 - w2 * g23) / G
+        h6 = s16 - (al * w2 + be * w3)
+        rel6 = h6 / (s16 + g22 + g33)
+        k6 = np.sqrt(np.maximum(h6, 0.0) / G)
+        fx, fy, fz = al * X4 + be * X5, al * Y4 + be * Y5, al * Z4 + be * Z5
+        ox, oy, oz = k6 * nx, k6 * ny, k6 * nz
+        # leg-5 residual of the four candidates (tau, rho): (4, M)
+        X6 = np.concatenate([fx + ox, fx - ox])
+        Y6 = np.concatenate([fy + oy, fy - oy])
+        Z6 = np.concatenate([fz + oz, fz - oz])
+        dx, dy = X6 - p3x, Y6 - p3y
+        r = np.abs((dx * dx + dy * dy + Z6 * Z6 - s36) / (s36 + s35))
+    r = np.where(np.isnan(r), np.inf, r)
+    best = r.argmin(axis=0)                               # rho-major: k = 2 * rho + tau
+    bt = best % 2
+    adapted = (                                           # (3 points, 3 coords) of (M,)
+        (np.broadcast_to(X4, x.shape), np.choose(bt, Y4), np.choose(bt, Z4)),
+        (X5, Y5, Z5),
+        (np.choose(best, X6), np.choose(best, Y6), np.choose(best, Z6)))
+    # back to the base frame, both sides: P = P1 + X e1 + Y e2 + side Z e3
+    P1 = np.ascontiguousarray(base[:, 0, :].T)
+    e1, e2, e3 = np.ascontiguousarray(axes.transpose(1, 2, 0))       # (3, M) each
+    points = np.empty((3, 3, 2, x.shape[0]))
+    for k, (X, Y, Z) in enumerate(adapted):
+        inplane = P1 + X * e1 + Y * e2
+        off = Z * e3
+        points[k, :, 0] = inplane + off
+        points[k, :, 1] = inplane - off
+    h2min = np.minimum(np.minimum(rel5, rel4), np.choose(bt, rel6))
+    return points, np.where(np.isnan(h2min), -np.inf, h2min), np.choose(best, r)
+
+
 def assemble_fast(base, x, sides, legs):
     r"""Both mirror placements of P4 P5 P6 for many roots at once (float64).
+
+    :func:`assemble_components` with the points in row layout.
 
     Parameters
     ----------
@@ -73,35 +203,13 @@ def assemble_fast(base, x, sides, legs):
 
     Returns
     -------
-    points : (M, 2, 3, 3) rows P4 P5 P6 for side +1 and side -1 of P5
+    points : (M, 2, 3, 3) rows P4 P5 P6 (base frame) for side +1 and side -1 of P5
     h2min : (M, 2) the smallest relative squared height met (negative: infeasible)
     r36 : (M, 2) relative leg-5 residual of the chosen (P4, P6)
     """
-    P1, P2, P3 = base[:, 0], base[:, 1], base[:, 2]
-    s45, s46, s56 = sides[:, 3], sides[:, 4], sides[:, 5]
-    s14, s24, s25, s35, s36, s16 = (legs[:, k] for k in range(6))
-    f5, o5, h5 = trilaterate_masked(P1, P2, P3, x, s25, s35)
-    sig = np.array([1.0, -1.0])
-    P5 = f5[:, None, :] + sig[None, :, None] * o5[:, None, :]            # (M,2,3)
-    e = lambda a: a[:, None]  # noqa: E731  (broadcast helper over the side axis)
-    f4, o4, h4 = trilaterate_masked(e(P1), e(P2), P5, e(s14), e(s24), e(s45))
-    P4 = f4[:, :, None, :] + sig[None, None, :, None] * o4[:, :, None, :]  # (M,2,2,3)
-    ee = lambda a: a[:, None, None]  # noqa: E731
-    f6, o6, h6 = trilaterate_masked(ee(P1), P4, P5[:, :, None, :],
-                                    ee(s16), ee(s46), ee(s56))
-    P6 = f6[..., None, :] + sig[None, None, None, :, None] * o6[..., None, :]  # (M,2,2,2,3)
-    d = P6 - P3[:, None, None, None, :]
-    r = (_dot(d, d) - ee(s36)[..., None]) / (ee(s36)[..., None] + ee(s35)[..., None] + 1e-300)
-    flat = np.abs(r).reshape(r.shape[0], 2, 4)
-    best = flat.argmin(-1)                                                   # (M,2)
-    tau, rho = best // 2, best % 2
-    m = np.arange(r.shape[0])[:, None]
-    s = np.arange(2)[None, :]
-    P4b = P4[m, s, tau]
-    P6b = P6[m, s, tau, rho]
-    points = np.stack([P4b, P5, P6b], axis=-2)
-    h2min = np.minimum(np.minimum(h5[:, None], h4), h6[m, s, tau])
-    return points, h2min, flat[m, s, best]
+    points, h2min, r36 = assemble_components(base, x, sides, legs)
+    return (points.transpose(3, 2, 0, 1).copy(), np.repeat(h2min[:, None], 2, axis=1),
+            np.repeat(r36[:, None], 2, axis=1))
 
 
 def assemble_exact(base, x, sides, legs, *, method: str, dps=None):
@@ -136,8 +244,13 @@ def assemble_exact(base, x, sides, legs, *, method: str, dps=None):
     else:  # exact rational data: the foundation's exact trilateration (h^2 = 0 exactly)
         from ..geometry.trilateration import trilateration_parts
     parts5 = trilateration_parts([P1, P2, P3], [x, s25, s35], **kw)
+    # with enclosures (arb) or mpf, side -1 is the reflection of side +1 in the base
+    # plane: an isometry fixing P1 P2 P3, so it maps the candidates of one side onto
+    # those of the other with the same leg-5 residuals (rigorous, and half the work);
+    # exact rational data keep the explicit sequence (a zero height stays exactly zero)
+    explicit = trilateration_parts is not _parts_arb and trilateration_parts is not _parts_mpf
     out = []
-    for sig in (1, -1):
+    for sig in ((1, -1) if explicit else (1,)):
         P5 = _point(parts5, sig, method, dps)
         parts4 = trilateration_parts([P1, P2, P5], [s14, s24, s45], **kw)
         cands = []
@@ -150,6 +263,22 @@ def assemble_exact(base, x, sides, legs, *, method: str, dps=None):
                 res = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - s36
                 cands.append(([P4, P5, P6], res))
         out.append(_choose(cands, method))
+    if len(out) == 1:
+        out.append((_reflect(out[0][0], P1, P2, P3), out[0][1]))
+    return out
+
+
+def _reflect(points, P1, P2, P3):
+    """Reflection of points (rows) in the plane P1 P2 P3, in the points' number type."""
+    v2 = [P2[k] - P1[k] for k in range(3)]
+    v3 = [P3[k] - P1[k] for k in range(3)]
+    n = [v2[1] * v3[2] - v2[2] * v3[1], v2[2] * v3[0] - v2[0] * v3[2],
+         v2[0] * v3[1] - v2[1] * v3[0]]
+    nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2]
+    out = []
+    for p in points:
+        k = 2 * ((p[0] - P1[0]) * n[0] + (p[1] - P1[1]) * n[1] + (p[2] - P1[2]) * n[2]) / nn
+        out.append([p[0] - k * n[0], p[1] - k * n[1], p[2] - k * n[2]])
     return out
 
 

@@ -1,0 +1,131 @@
+"""The fast tier's internals against independent routes.
+
+* the trilateration sequence in the base-adapted frame (closed forms,
+  :func:`distkin.octahedral.assembly.assemble_fast`) against the foundation's Gram-form
+  trilateration (:func:`distkin.geometry.trilateration.trilaterate`) run step by step as
+  in Sec. III of Rojas et al. (ICRA 2012), on octahedra in general position (base not in
+  z = 0), and against the generating pose;
+* the scalar single-solve tier and the numpy batched tier (two implementations of the
+  same algorithm) against each other and against the certified roots;
+* every returned pose is a proper rigid motion that carries the platform triangle onto
+  the returned points (this checks the mirror-image shortcut for side -1).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from distkin.geometry.trilateration import trilaterate
+from distkin.octahedral import forward_kinematics, forward_kinematics_batched
+from distkin.octahedral.assembly import assemble_fast
+from distkin.octahedral.problem import LEG_PAIRS, float_problem
+from distkin.octahedral.reference import random_octahedron
+
+
+def _general_position(rng, n, shape="random"):
+    """Random assembled octahedra, then moved by a random rigid motion (base anywhere)."""
+    out = []
+    for _ in range(n):
+        b, q, l, pts, _, _ = random_octahedron(rng, scale=10 ** rng.uniform(-2, 2), shape=shape)
+        M, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+        M = M * np.sign(np.linalg.det(M))
+        shift = rng.normal(size=3) * np.abs(b).max()
+        out.append((b @ M.T + shift, q, l, pts @ M.T + shift))
+    return out
+
+
+def _sequence_by_trilateration(base, s15, sides2, legs2, side):
+    """Sec. III step by step with the foundation's trilateration; P6 chosen by leg 5."""
+    s45, s46, s56 = sides2[3:]
+    s14, s24, s25, s35, s36, s16 = legs2
+    P1, P2, P3 = base
+    P5 = trilaterate(np.array([P1, P2, P3]), [s15, s25, s35], side)
+    best = None
+    for tau in (1, -1):
+        P4 = trilaterate(np.array([P1, P2, P5]), [s14, s24, s45], tau)
+        for rho in (1, -1):
+            P6 = trilaterate(np.array([P1, P4, P5]), [s16, s46, s56], rho)
+            r = abs(np.sum((P6 - P3) ** 2) - s36)
+            if best is None or r < best[0]:
+                best = (r, np.array([P4, P5, P6]))
+    return best[1]
+
+
+def test_adapted_frame_sequence_matches_gram_trilateration():
+    rng = np.random.default_rng(31)
+    cases = _general_position(rng, 150)
+    B = np.array([c[0] for c in cases])
+    Q = np.array([c[1] for c in cases])
+    L = np.array([c[2] for c in cases])
+    B, Q, L, s2, l2 = float_problem(B, Q, L)
+    x = np.array([np.sum((c[3][1] - c[0][0]) ** 2) for c in cases])    # true s15
+    pts, h2min, r36 = assemble_fast(B, x, s2, l2)
+    assert pts.shape == (150, 2, 3, 3) and h2min.shape == r36.shape == (150, 2)
+    size = np.abs(B).max(axis=(1, 2)) + np.abs(Q).max(axis=(1, 2))
+    for i, c in enumerate(cases):
+        for s, side in enumerate((1, -1)):
+            ref = _sequence_by_trilateration(B[i], x[i], s2[i], l2[i], side)
+            assert np.abs(pts[i, s] - ref).max() <= 1e-9 * size[i]
+        # the generating pose is one of the two mirror placements
+        assert min(np.abs(pts[i, s] - c[3]).max() for s in range(2)) <= 1e-9 * size[i]
+        assert np.all(h2min[i] > -1e-12) and np.all(r36[i] < 1e-9)
+
+
+def test_single_and_batched_tiers_agree_with_each_other_and_the_certified_roots():
+    rng = np.random.default_rng(32)
+    cases = _general_position(rng, 60) + _general_position(rng, 20, shape="regular")
+    B = np.array([c[0] for c in cases])
+    Q = np.array([c[1] for c in cases])
+    L = np.array([c[2] for c in cases])
+    br = forward_kinematics_batched(B, Q, L)
+    for i, (b, q, l, truth) in enumerate(cases):
+        single = forward_kinematics(b, q, l)
+        batched = br.result(i)
+        assert [r.status for r in single.roots] == [r.status for r in batched.roots]
+        assert len(single) == len(batched) == br.count[i]
+        size = np.abs(b).max() + np.abs(q).max()
+        for ps, pb in zip(single, batched):
+            assert ps.side == pb.side
+            assert abs(ps.s15 - pb.s15) <= 1e-9 * max(ps.s15, size ** 2)
+            assert np.abs(ps.points - pb.points).max() <= 1e-8 * size
+        # floats are taken as their exact binary values by the certified tier
+        cert = forward_kinematics(b, q, l, method="certified", tol=1e-12)
+        exact = np.array([r.value for r in cert.assembly_roots])
+        for r in single.assembly_roots:
+            assert np.min(np.abs(exact - r.value)) <= 1e-9 * r.value
+        true_s15 = np.sum((truth[1] - b[0]) ** 2)
+        assert np.min(np.abs(exact - true_s15)) <= 1e-8 * true_s15
+
+
+@pytest.mark.parametrize("batched", [False, True])
+def test_every_pose_is_a_proper_rigid_motion_onto_its_points(batched):
+    rng = np.random.default_rng(33)
+    cases = _general_position(rng, 40)
+    B = np.array([c[0] for c in cases])
+    Q = np.array([c[1] for c in cases])
+    L = np.array([c[2] for c in cases])
+    results = ([forward_kinematics_batched(B, Q, L).result(i) for i in range(len(cases))]
+               if batched else [forward_kinematics(*c[:3]) for c in cases])
+    n_poses = 0
+    for (b, q, l, _), res in zip(cases, results):
+        size = np.abs(b).max() + np.abs(q).max()
+        sides = [p.side for p in res]
+        assert sides == [1, -1] * (len(res) // 2)
+        for p in res:
+            R = p.rotation
+            assert np.allclose(R @ R.T, np.eye(3), atol=1e-12)
+            assert abs(np.linalg.det(R) - 1) <= 1e-12
+            assert np.abs(q @ R.T + p.translation - p.points).max() <= 1e-9 * size
+            full = np.vstack([b, p.points])
+            lengths = [np.linalg.norm(full[i - 1] - full[j - 1]) for i, j in LEG_PAIRS]
+            err = np.max(np.abs(np.array(lengths) - l))
+            assert err <= p.max_leg_error * (1 + 1e-9) + 1e-15 * size
+            n_poses += 1
+        # the two poses of one root are mirror images in the base plane
+        n = np.cross(b[1] - b[0], b[2] - b[0])
+        n /= np.linalg.norm(n)
+        for p, m in zip(res.poses[::2], res.poses[1::2]):
+            mirrored = p.points - 2 * ((p.points - b[0]) @ n)[:, None] * n
+            assert np.abs(mirrored - m.points).max() <= 1e-9 * size
+    assert n_poses > 100
