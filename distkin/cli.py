@@ -30,10 +30,18 @@ __all__ = ["main", "run_scene", "DEMO_SCENES", "SUBCOMMANDS"]
 #: built-in scenes run by ``distkin demo``, in order (files in distkin/scenes/)
 DEMO_SCENES = [
     "cayley_menger_tetrahedron.toml",
+    "delta_griffis_duffy.toml",
+    "octahedral_griffis_duffy.toml",
+    "rss_octopod.toml",
 ]
 
 #: subcommand -> "module:function" that adds its parser (called with the subparsers)
-SUBCOMMANDS: dict[str, str] = {}
+SUBCOMMANDS: dict[str, str] = {
+    "sim": "distkin.control.commands:add_sim_parser",
+    "control": "distkin.control.commands:add_control_parser",
+    "codegen": "distkin.codegen.command:add_parser",
+    "sweep": "distkin.indices.query:add_sweep_parser",
+}
 
 
 def _err(msg: str) -> None:

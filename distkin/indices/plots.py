@@ -1,0 +1,128 @@
+"""Figures of the study, like Kühne et al. Figs. 5, 6 and 7 (matplotlib, imported lazily).
+
+* :func:`plot_workspace` (Fig. 5): the translational workspace at zero rotation (blue)
+  and the desired 150 mm cube (red), with the dexterous positions of the sweep;
+* :func:`plot_plane` (Fig. 6): the worst case over all orientations of each output
+  capability at every (x, y) of the plane z ≈ 0.30 m;
+* :func:`plot_force_polytope` (Fig. 7): the force polytope at zero torque at one pose
+  with the sphere of the worst-case force, tangent to its nearest facet.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["plot_workspace", "plot_plane", "plot_force_polytope", "force_slice_polytope"]
+
+
+def _plt():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def plot_workspace(path, label, reach_pts, cube_half, z0, dexterous_pts=None):
+    """Fig. 5.  ``reach_pts`` (n, 3) positions on the boundary of the workspace at zero
+    rotation (m); ``dexterous_pts`` the dexterous positions of the sweep grid."""
+    plt = _plt()
+    fig = plt.figure(figsize=(7, 6))
+    ax = fig.add_subplot(projection="3d")
+    P = np.asarray(reach_pts) * 1e3
+    if len(P):
+        ax.scatter(P[:, 0], P[:, 1], P[:, 2], s=2, c="tab:blue", alpha=0.25,
+                   label="boundary of the workspace at zero rotation")
+    if dexterous_pts is not None and len(dexterous_pts):
+        D = np.asarray(dexterous_pts) * 1e3
+        ax.scatter(D[:, 0], D[:, 1], D[:, 2], s=6, c="tab:green", alpha=0.6,
+                   label="dexterous (eq. 17) on the sweep grid")
+    h, z = cube_half * 1e3, z0 * 1e3
+    c = np.array([[x, y, zz] for x in (-h, h) for y in (-h, h) for zz in (z - h, z + h)])
+    for i in range(8):
+        for j in range(i + 1, 8):
+            if np.sum(c[i] != c[j]) == 1:
+                ax.plot(*zip(c[i], c[j]), color="tab:red", lw=1.5)
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("y [mm]")
+    ax.set_zlabel("z [mm]")
+    ax.set_title(f"{label}: workspace (blue) and desired 150 mm cube (red)")
+    ax.legend(loc="upper left", fontsize=8)
+    out = Path(str(path) + "_fig5_workspace.png")
+    fig.savefig(out, dpi=110, bbox_inches="tight")
+    plt.close(fig)
+    return out
+
+
+def plot_plane(path, label, xs, ys, z, panels, rotation_deg):
+    """Fig. 6.  ``panels``: list of (title, unit, array (len(xs), len(ys)))."""
+    plt = _plt()
+    fig, axes = plt.subplots(2, 3, figsize=(13, 7.5))
+    X, Y = np.meshgrid(np.asarray(xs) * 1e3, np.asarray(ys) * 1e3, indexing="ij")
+    for ax, (title, unit, V) in zip(axes.ravel(), panels):
+        V = np.where(np.isfinite(V), V, np.nan)
+        m = ax.pcolormesh(X, Y, V, shading="nearest", cmap="viridis")
+        fig.colorbar(m, ax=ax, label=unit)
+        ax.set_title(title, fontsize=10)
+        ax.set_xlabel("x [mm]")
+        ax.set_ylabel("y [mm]")
+        ax.set_aspect("equal")
+    fig.suptitle(f"{label}: worst-case output capabilities at z = {z:.3f} m, "
+                 f"rotations ±{rotation_deg:.0f}° about all axes")
+    fig.tight_layout()
+    out = Path(str(path) + "_fig6_plane.png")
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return out
+
+
+def force_slice_polytope(Gw, limit):
+    """Vertices and hull of the force polytope at zero torque of one pose.
+
+    ``Gw`` (6, L) = Jᵀ, limits ±``limit``.  Returns (vertices (n, 3), hull simplices,
+    worst-case radius) from the zonotope's half-spaces (:mod:`.zonotope`).
+    """
+    from scipy.spatial import ConvexHull, HalfspaceIntersection
+    from .zonotope import _facets
+    L = Gw.shape[1]
+    n, h, _ = _facets(Gw[None], np.zeros((1, L)), np.full((1, L), float(limit)))
+    nS = n[0][:, :3]
+    keep = np.linalg.norm(nS, axis=1) > 1e-12 * np.linalg.norm(n[0], axis=1)
+    A = np.vstack([nS[keep], -nS[keep]])
+    b = np.concatenate([h[0][keep], h[0][keep]])
+    radius = float(np.min(b / np.linalg.norm(A, axis=1)))
+    hs = HalfspaceIntersection(np.hstack([A, -b[:, None]]), np.zeros(3))
+    V = hs.intersections
+    hull = ConvexHull(V)
+    return V, hull.simplices, radius
+
+
+def plot_force_polytope(path, label, Gw, limit, pose):
+    """Fig. 7: the force polytope (N) at zero torque and the inscribed sphere."""
+    plt = _plt()
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+    V, simp, radius = force_slice_polytope(Gw, limit)
+    fig = plt.figure(figsize=(7, 6))
+    ax = fig.add_subplot(projection="3d")
+    ax.add_collection3d(Poly3DCollection(V[simp], alpha=0.25, facecolor="tab:blue",
+                                         edgecolor="k", linewidths=0.3))
+    u, v = np.mgrid[0:2 * np.pi:30j, 0:np.pi:15j]
+    ax.plot_surface(radius * np.cos(u) * np.sin(v), radius * np.sin(u) * np.sin(v),
+                    radius * np.cos(v), color="grey", alpha=0.6)
+    lim = np.abs(V).max()
+    ax.set_xlim(-lim, lim)
+    ax.set_ylim(-lim, lim)
+    ax.set_zlim(-lim, lim)
+    ax.set_xlabel("fx [N]")
+    ax.set_ylabel("fy [N]")
+    ax.set_zlabel("fz [N]")
+    p = np.asarray(pose)
+    ax.set_title(f"{label}: force polytope at zero torque, worst case {radius:.2f} N\n"
+                 f"pose ({p[0]*1e3:.0f}, {p[1]*1e3:.0f}, {p[2]*1e3:.0f}) mm, "
+                 f"({np.degrees(p[3]):.0f}, {np.degrees(p[4]):.0f}, "
+                 f"{np.degrees(p[5]):.0f})°", fontsize=9)
+    out = Path(str(path) + "_fig7_force_polytope.png")
+    fig.savefig(out, dpi=110, bbox_inches="tight")
+    plt.close(fig)
+    return out

@@ -1,0 +1,358 @@
+"""Scene queries of the performance indices (mechanism kind ``rss``).
+
+``performance`` — the study of Kühne et al., Sec. III-B/C (Tables III and IV, Figs. 5-7)::
+
+    [units]
+    length = "mm"
+    angle = "deg"
+
+    [[query]]
+    type = "performance"
+    devices = [                                  # default: the scene's mechanism
+      { label = "Hunt-type", preset = "hunt", rotation = 20 },
+      { label = "Octopod", preset = "octopod", rotation = 30, inner_rotation = 20 },
+    ]
+    grid = { half = 75, step = 10, rotation_step = 5 }   # Table II (the default)
+    actuators = { nominal_torque = 2.5, stall_torque = 34.2, velocity = 51 }  # SI
+    scaling = [15, 15, 15, 1, 1, 1]              # ST (N, N, N, N·m, N·m, N·m)
+    thresholds = { velocity = 1.0, acceleration = 9.81, force = 0.0 }          # SI
+    chunk_positions = 32                         # positions per resumable chunk
+    workers = 2                                  # local processes (1: in process)
+    scheduler = "tcp://host:8786"                # optional: a dask.distributed cluster
+    store = "sweeps/study"                       # chunk store (default: the cache)
+
+Each device takes any ``rss`` mechanism parameter (``l2 = 25.6``, ``gamma = 13.18``...)
+in the scene's units, ``rotation`` (the ± range of the grid about every axis),
+``inner_rotation`` (a smaller range also reduced separately: Table IV's GII is over
+Table II's ±20°) and ``paper`` (the Table III/IV column to compare with; default the
+preset's own, ``false`` for none).
+
+``design_sweep`` — the GII optimisation over Table I with Stocco's culling::
+
+    [[query]]
+    type = "design_sweep"
+    base = "hunt"
+    l2 = [0, 30, 5]          # min, max, step (scene units); Table I by default
+    beta = [0, 30, 10]
+    gamma = [0, 30, 10]
+    ld = [20, 40, 5]
+    grid = { half = 75, step = 25, rotation = 20, rotation_step = 10 }
+    algorithm = "both"       # culling | brute_force | both (and check they agree)
+
+``distkin sweep SCENE --scheduler ADDRESS`` runs a scene with its sweeps on a dask
+cluster (or ``--workers N`` locally); the scene's own fields are the defaults.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..argcheck import as_table, check_keys, choice, positive_int, require
+from ..errors import InputError
+from ..numbers import parse_exact
+from ..queries import register
+from .isotropy import ST_DEFAULT
+from .study import ACTUATORS, PAPER_TABLE3
+
+__all__ = ["PerformanceQuery", "DesignSweepQuery", "CLI_OVERRIDES", "add_sweep_parser"]
+
+#: set by ``distkin sweep``: scheduler, workers, store override the scene's fields
+CLI_OVERRIDES: dict = {}
+
+_RSS_KEYS = ("legs", "l0", "l1", "l2", "l3", "lp", "ld", "z0", "beta", "gamma", "mass",
+             "inertia")
+_DEG = math.pi / 180
+
+
+# ---------------------------------------------------------------------- parsing
+def _num(value, field):
+    return float(parse_exact(value, field))
+
+
+def _length(value, units, field):
+    f = units.length_factor
+    if f is None:
+        raise InputError("expected a physical length unit for an rss scene, got 'none'",
+                         field="units.length")
+    return _num(value, field) * float(f)
+
+
+def _angle(value, units, field):
+    return _num(value, field) * (_DEG if units.angle == "deg" else 1.0)
+
+
+def _si_table(raw, field, defaults):
+    t = as_table(raw, field)
+    check_keys(t, set(defaults), field)
+    out = dict(defaults)
+    for k, v in t.items():
+        x = _num(v, f"{field}.{k}")
+        if not x >= 0:
+            raise InputError(f"expected a non-negative number, got {v!r}", field=f"{field}.{k}")
+        out[k] = x
+    return out
+
+
+def _grid(raw, units, field, z0, rotation):
+    from .workspace import axis_values, PoseGrid
+    t = as_table(raw if raw is not None else {}, field)
+    check_keys(t, {"half", "step", "rotation", "rotation_step"}, field)
+    half = _length(t["half"], units, f"{field}.half") if "half" in t else 0.075
+    step = _length(t["step"], units, f"{field}.step") if "step" in t else 0.010
+    rstep = _angle(t["rotation_step"], units, f"{field}.rotation_step") \
+        if "rotation_step" in t else 5 * _DEG
+    if "rotation" in t:
+        rotation = _angle(t["rotation"], units, f"{field}.rotation")
+    tr = axis_values(-half, half, step, f"{field}.step")
+    rr = axis_values(-rotation, rotation, rstep, f"{field}.rotation_step") if rotation > 0 \
+        else np.zeros(1)
+    return PoseGrid(tuple(tr), tuple(tr), tuple(z0 + tr), tuple(rr), tuple(rr), tuple(rr))
+
+
+def _executor_fields(t, field):
+    workers = positive_int(t["workers"], f"{field}.workers") if "workers" in t else None
+    sched = t.get("scheduler")
+    if sched is not None and not isinstance(sched, str):
+        raise InputError(f"expected a scheduler address string, got {sched!r}",
+                         field=f"{field}.scheduler")
+    store = t.get("store")
+    if store is not None and not isinstance(store, str):
+        raise InputError(f"expected a directory path, got {store!r}", field=f"{field}.store")
+    return workers, sched, store
+
+
+def _store_dir(store, scene, name):
+    if CLI_OVERRIDES.get("store"):
+        return Path(CLI_OVERRIDES["store"])
+    if store:
+        p = Path(store)
+        return p if p.is_absolute() else Path(scene.path).resolve().parent / p
+    from ..codegen.cache import cache_dir
+    return cache_dir() / "sweeps" / f"{Path(scene.path).stem}_{name}"
+
+
+def _executor(workers, scheduler):
+    from .sweep import executor_for
+    return executor_for(scheduler=CLI_OVERRIDES.get("scheduler") or scheduler,
+                        workers=CLI_OVERRIDES.get("workers") or workers)
+
+
+@dataclass(frozen=True)
+class _DeviceSpec:
+    label: str
+    mech: object
+    rotation: float
+    inner: float | None
+    paper: str | None
+
+
+@dataclass(frozen=True)
+class _PerfParams:
+    devices: tuple
+    grid_raw: object
+    units: object
+    actuators: tuple
+    scaling: tuple
+    thresholds: tuple
+    chunk_positions: int
+    workers: int | None
+    scheduler: str | None
+    store: str | None
+    route: str
+    plot_device: str | None
+
+
+def _parse_device(d, mechanism, units, field):
+    from ..mechanisms.scene import parse_rss
+    from ..mechanisms.presets import PRESETS
+    d = as_table(d, field)
+    check_keys(d, {"label", "preset", "rotation", "inner_rotation", "paper", *_RSS_KEYS},
+               field)
+    label = require(d, "label", field)
+    if not isinstance(label, str) or not label:
+        raise InputError(f"expected a non-empty label, got {label!r}", field=f"{field}.label")
+    mtable = {"kind": "rss", "preset": require(d, "preset", field)}
+    mtable.update({k: d[k] for k in _RSS_KEYS if k in d})
+    mech = parse_rss(mtable, units, field)
+    rotation = _angle(d["rotation"], units, f"{field}.rotation") if "rotation" in d \
+        else 20 * _DEG
+    inner = _angle(d["inner_rotation"], units, f"{field}.inner_rotation") \
+        if "inner_rotation" in d else (20 * _DEG if rotation > 20 * _DEG + 1e-12 else None)
+    if inner is not None and inner > rotation + 1e-12:
+        raise InputError(f"expected inner_rotation <= rotation, got {d.get('inner_rotation')!r}",
+                         field=f"{field}.inner_rotation")
+    paper = d.get("paper", mtable["preset"] if len(mtable) == 2 else None)
+    if paper is False:
+        paper = None
+    if paper is not None and paper not in PRESETS:
+        raise InputError(f"expected a Table III column ({', '.join(PRESETS)}) or false, got "
+                         f"{paper!r}", field=f"{field}.paper")
+    return _DeviceSpec(label, mech, rotation, inner, paper)
+
+
+@register("performance", mechanisms=("rss",),
+          summary="worst-case output capabilities, sensitivities, GII and dexterous "
+                  "workspace over a pose grid (Kühne et al., Tables III-IV)")
+class PerformanceQuery:
+    @staticmethod
+    def parse(table, mechanism, units, field):
+        check_keys(table, {"type", "devices", "grid", "actuators", "scaling", "thresholds",
+                           "chunk_positions", "workers", "scheduler", "store", "route",
+                           "plot_device"}, field)
+        if "devices" in table:
+            raw = table["devices"]
+            if not isinstance(raw, list) or not raw:
+                raise InputError(f"expected a non-empty list of device tables, got {raw!r}",
+                                 field=f"{field}.devices")
+            devices = tuple(_parse_device(d, mechanism, units, f"{field}.devices[{i}]")
+                            for i, d in enumerate(raw))
+        else:
+            name = mechanism.name
+            devices = (_DeviceSpec(name, mechanism, 20 * _DEG, None,
+                                   name if name in PAPER_TABLE3 else None),)
+        labels = [d.label for d in devices]
+        if len(set(labels)) != len(labels):
+            raise InputError(f"expected distinct device labels, got {labels}",
+                             field=f"{field}.devices")
+        for d in devices:                      # validate the grid now
+            _grid(table.get("grid"), units, f"{field}.grid", d.mech.z0, d.rotation)
+        act = _si_table(table.get("actuators", {}), f"{field}.actuators", ACTUATORS)
+        thr = _si_table(table.get("thresholds", {}), f"{field}.thresholds",
+                        {"velocity": 1.0, "acceleration": 9.81, "force": 0.0})
+        sc = table.get("scaling", list(ST_DEFAULT))
+        if not isinstance(sc, list) or len(sc) != 6:
+            raise InputError(f"expected 6 scaling factors, got {sc!r}", field=f"{field}.scaling")
+        sc = tuple(_num(v, f"{field}.scaling[{i}]") for i, v in enumerate(sc))
+        if not all(v > 0 for v in sc):
+            raise InputError(f"expected positive scaling factors, got {sc}",
+                             field=f"{field}.scaling")
+        cp = positive_int(table.get("chunk_positions", 32), f"{field}.chunk_positions")
+        workers, sched, store = _executor_fields(table, field)
+        route = choice(table.get("route", "kernels"), f"{field}.route", ("kernels", "numpy"))
+        pd = table.get("plot_device")
+        if pd is not None and pd not in labels:
+            raise InputError(f"expected one of the device labels {labels}, got {pd!r}",
+                             field=f"{field}.plot_device")
+        return _PerfParams(devices, table.get("grid"), units, tuple(act.items()), sc,
+                           tuple(thr.items()), cp, workers, sched, store, route, pd)
+
+    @staticmethod
+    def run(p, scene, ctx):
+        from .study_report import performance_report
+        return performance_report(p, scene, ctx, grid_of=lambda d: _grid(
+            p.grid_raw, p.units, "grid", d.mech.z0, d.rotation),
+            store_of=lambda label: _store_dir(p.store, scene, "performance") / _slug(label),
+            executor=lambda: _executor(p.workers, p.scheduler))
+
+
+def _slug(s):
+    return "".join(ch if ch.isalnum() else "_" for ch in s).strip("_").lower() or "device"
+
+
+# ----------------------------------------------------------------- design sweep
+_TABLE1 = {"l2": (0.0, 0.030, 0.005), "beta": (0.0, 30 * _DEG, 10 * _DEG),
+           "gamma": (0.0, 30 * _DEG, 10 * _DEG), "ld": (0.020, 0.040, 0.005)}
+
+
+@dataclass(frozen=True)
+class _SweepParams:
+    space: object
+    grid: object
+    algorithm: str
+    unreachable: str
+    scaling: tuple
+    workers: int | None
+    scheduler: str | None
+    store: str | None
+    designs_per_chunk: int
+
+
+@register("design_sweep", mechanisms=("rss",),
+          summary="GII design sweep over Table I with Stocco's culling (and brute force)")
+class DesignSweepQuery:
+    @staticmethod
+    def parse(table, mechanism, units, field):
+        from ..mechanisms.presets import PRESETS
+        from .design import DesignSpace
+        from .workspace import axis_values
+        check_keys(table, {"type", "base", "l2", "beta", "gamma", "ld", "grid", "algorithm",
+                           "leg_length", "baseline", "unreachable", "scaling", "workers",
+                           "scheduler", "store", "designs_per_chunk"}, field)
+        base = choice(table.get("base", "hunt"), f"{field}.base", tuple(PRESETS))
+        baseline = choice(table.get("baseline", "ergin"), f"{field}.baseline", tuple(PRESETS))
+        values = []
+        for name, default in _TABLE1.items():
+            if name in table:
+                r = table[name]
+                if not isinstance(r, list) or len(r) != 3:
+                    raise InputError(f"expected [min, max, step], got {r!r}",
+                                     field=f"{field}.{name}")
+                conv = _length if name in ("l2", "ld") else _angle
+                lo, hi, st = (conv(v, units, f"{field}.{name}[{i}]") for i, v in enumerate(r))
+            else:
+                lo, hi, st = default
+            vals = axis_values(lo, hi, st, f"{field}.{name}") if hi > lo else np.array([lo])
+            values.append((name, tuple(float(v) for v in vals)))
+        leg = choice(table.get("leg_length", "constant_sum"), f"{field}.leg_length",
+                     ("constant_sum", "horizontal_crank"))
+        space = DesignSpace(base, tuple(values), leg, baseline)
+        g = as_table(table.get("grid", {}), f"{field}.grid")
+        rot = _angle(g["rotation"], units, f"{field}.grid.rotation") if "rotation" in g \
+            else 20 * _DEG
+        from ..mechanisms import preset
+        grid = _grid(g, units, f"{field}.grid", preset(base).z0, rot)
+        algorithm = choice(table.get("algorithm", "both"), f"{field}.algorithm",
+                           ("culling", "brute_force", "both"))
+        unreachable = choice(table.get("unreachable", "skip"), f"{field}.unreachable",
+                             ("skip", "zero"))
+        sc = table.get("scaling", list(ST_DEFAULT))
+        if not isinstance(sc, list) or len(sc) != 6:
+            raise InputError(f"expected 6 scaling factors, got {sc!r}", field=f"{field}.scaling")
+        sc = tuple(_num(v, f"{field}.scaling[{i}]") for i, v in enumerate(sc))
+        workers, sched, store = _executor_fields(table, field)
+        dpc = positive_int(table.get("designs_per_chunk", 8), f"{field}.designs_per_chunk")
+        return _SweepParams(space, grid, algorithm, unreachable, sc, workers, sched, store,
+                            dpc)
+
+    @staticmethod
+    def run(p, scene, ctx):
+        from .study_report import design_sweep_report
+        return design_sweep_report(p, scene, ctx,
+                                   store=_store_dir(p.store, scene, "design_sweep"),
+                                   executor=lambda: _executor(p.workers, p.scheduler))
+
+
+# -------------------------------------------------------------------- subcommand
+def add_sweep_parser(sub):
+    """``distkin sweep SCENE [--scheduler ADDRESS] [--workers N] [--store DIR]``."""
+    s = sub.add_parser("sweep", help="run a scene's sweeps (performance, design_sweep) on a "
+                                     "local pool or a dask cluster")
+    s.add_argument("scene", help="scene TOML file")
+    s.add_argument("--scheduler", metavar="ADDRESS",
+                   help="dask.distributed scheduler, e.g. tcp://10.0.0.5:8786 "
+                        "(extra 'distributed')")
+    s.add_argument("--workers", type=int, metavar="N", help="local worker processes")
+    s.add_argument("--store", metavar="DIR", help="directory of the resumable chunks")
+    s.add_argument("--json", metavar="PATH|-")
+    s.add_argument("--plots", metavar="DIR")
+    s.add_argument("--no-progress", action="store_true")
+    s.set_defaults(func=_cmd_sweep)
+
+
+def _cmd_sweep(args):
+    from ..cli import _cmd_run
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"expected --workers >= 1, got {args.workers}", field="--workers")
+    CLI_OVERRIDES.clear()
+    CLI_OVERRIDES.update({k: v for k, v in (("scheduler", args.scheduler),
+                                            ("workers", args.workers),
+                                            ("store", args.store)) if v})
+    try:
+        return _cmd_run(args)
+    finally:
+        CLI_OVERRIDES.clear()
+

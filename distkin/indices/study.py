@@ -1,0 +1,305 @@
+"""The performance study of Kühne et al. (Sec. III-B/C, Tables III and IV) over a pose
+grid, in resumable chunks.
+
+For every pose of a :class:`~distkin.indices.workspace.PoseGrid`: inverse kinematics,
+the Jacobian, the six worst-case output capabilities of eqs. (5)-(7) with the
+zero-torque / zero-force slices (zonotope kernel), Cardou's four maximum sensitivities
+and the scaled singular values of the isotropy index.  A chunk covers whole positions
+(all orientations of each), and reduces its poses to per-position minima and maxima, so
+a sweep of 3 million poses keeps a few hundred kB.
+
+Actuators and mass (DESIGN.md §5, Sec. III-B-3): nominal torque ±2.5 N·m (continuous
+force/torque), stall torque ±34.2 N·m (accelerations), velocity ±51 rad/s;
+M̂ = diag(m, m, m, I, I, I) from the mechanism (0.17 kg, 3e-4 kg·m²).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .capability import output_generators
+from .isotropy import ST_DEFAULT, gii, scaled_singular_values
+from .zonotope import _facets, _ratio_min, zonotope_best, zonotope_worst
+
+__all__ = ["CAPABILITIES", "SENSITIVITIES", "QUANTITIES", "ACTUATORS", "PAPER_TABLE3",
+           "PAPER_TABLE4", "evaluate_poses", "study_chunk", "Device", "run_device",
+           "summarise"]
+
+#: name, label (Table III), unit, generator, actuator limit, slice
+CAPABILITIES = (
+    ("force", "Continuous force", "N", "wrench", "nominal_torque", (0, 1, 2)),
+    ("torque", "Continuous torque", "N·m", "wrench", "nominal_torque", (3, 4, 5)),
+    ("velocity", "Velocity", "m/s", "twist", "velocity", (0, 1, 2)),
+    ("angular_velocity", "Angular velocity", "rad/s", "twist", "velocity", (3, 4, 5)),
+    ("acceleration", "Acceleration", "m/s²", "acceleration", "stall_torque", (0, 1, 2)),
+    ("angular_acceleration", "Angular acceleration", "rad/s²", "acceleration",
+     "stall_torque", (3, 4, 5)),
+)
+#: name, label, unit, generator, rows (Cardou: projection, unit actuator limits)
+SENSITIVITIES = (
+    ("sens_translational", "Max. translational sensitivity", "m/rad", "twist", (0, 1, 2)),
+    ("sens_rotational", "Max. rotational sensitivity", "rad/rad", "twist", (3, 4, 5)),
+    ("sens_force", "Max. force sensitivity", "N/(N·m)", "wrench", (0, 1, 2)),
+    ("sens_torque", "Max. torque sensitivity", "(N·m)/(N·m)", "wrench", (3, 4, 5)),
+)
+QUANTITIES = tuple(c[0] for c in CAPABILITIES) + tuple(s[0] for s in SENSITIVITIES) + (
+    "sigma_min", "sigma_max")
+
+#: actuator figures of Sec. III-B-3 (N·m, N·m, rad/s)
+ACTUATORS = {"nominal_torque": 2.5, "stall_torque": 34.2, "velocity": 51.0}
+
+_ROWS = [c[0] for c in CAPABILITIES] + [s[0] for s in SENSITIVITIES]
+_T3 = {  # Table III: min (max) of each row, in the order of _ROWS
+    "ergin": [(0.00, 12.72), (0.00, 0.59), (2.78, 7.85), (67.99, 182.63), (0.00, 1023.37),
+              (0.00, 26685.08), (0.16, 0.31), (4.56, 14.83), (11.96, 38.15), (0.36, 0.87)],
+    "hexa": [(0.57, 26.25), (0.03, 1.17), (2.78, 8.01), (69.06, 175.17), (45.78, 2112.64),
+             (1239.99, 53511.95), (0.18, 0.38), (3.68, 9.22), (16.37, 35.37), (0.62, 1.25)],
+    "hunt": [(1.89, 40.16), (0.05, 1.75), (2.86, 7.98), (64.57, 150.46), (152.02, 3231.29),
+             (2381.37, 79653.37), (0.18, 0.34), (3.67, 6.13), (19.08, 32.64), (1.12, 2.18)],
+    "octopod": [(21.68, 63.19), (0.86, 2.80), (2.74, 10.06), (75.57, 214.71),
+                (1744.46, 5085.15), (39388.53, 125632.59), (0.17, 0.32), (2.93, 6.35),
+                (22.34, 43.83), (1.04, 2.41)],
+    "octo": [(16.02, 44.11), (0.75, 2.14), (2.93, 10.18), (84.44, 225.28), (1289.19, 3631.16),
+             (34341.13, 100646.94), (0.17, 0.34), (3.58, 8.18), (18.08, 43.88), (0.77, 1.78)],
+}
+#: Kühne et al., Table III (min, max) per preset and row
+PAPER_TABLE3 = {k: dict(zip(_ROWS, v)) for k, v in _T3.items()}
+#: Kühne et al., Table IV: (GII, σmin, σmax)
+PAPER_TABLE4 = {"hunt": (0.0006, 0.0127, 20.0052), "octopod": (0.0080, 0.2230, 27.8186),
+                "octo": (0.0072, 0.1910, 26.6404)}
+
+
+# ----------------------------------------------------------------------- per pose
+def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="kernels"):
+    """Every index of the study at each pose.
+
+    Parameters
+    ----------
+    mech : RSSMechanism
+    poses : ndarray (N, 6)
+        m and rad.
+    actuators : dict
+        ``nominal_torque`` [N·m], ``stall_torque`` [N·m], ``velocity`` [rad/s]
+        (symmetric limits ±value).
+    ST : 6 floats
+        Scaling matrix diagonal (:mod:`.isotropy`).
+    route : {"kernels", "numpy"}
+        The generated kernels of the mechanism, or :mod:`.rss_jacobian` (no codegen).
+
+    Returns
+    -------
+    ok : ndarray (N,) bool
+        Every leg closes and the Jacobian is finite.
+    values : dict name -> ndarray (ok.sum(),)
+        :data:`QUANTITIES`, in the units of :data:`CAPABILITIES` and
+        :data:`SENSITIVITIES`; ``sigma_min``/``sigma_max`` dimensionless.
+    """
+    poses = np.asarray(poses, dtype=float)
+    if route == "numpy":
+        from .rss_jacobian import ik_jacobian
+        _, valid, J = ik_jacobian(mech, poses)
+    else:
+        _, valid = mech.inverse_kinematics(poses)
+        J = mech.jacobian(poses)
+    ok = valid.all(axis=1) & np.all(np.isfinite(J), axis=(1, 2))
+    J = J[ok]
+    n, L = len(J), mech.L
+    M = np.diag(mech.cartesian_mass_matrix()) if hasattr(mech, "cartesian_mass_matrix") \
+        else np.array([mech.mass] * 3 + [mech.inertia] * 3)
+    gens = output_generators(J, mass=M)
+    out = _worst_cases(J, gens, M, actuators) if n else {c[0]: np.zeros(0) for c in CAPABILITIES}
+    c = np.zeros((n, L))
+    one = np.ones((n, L))
+    for name, _, _, gen, rows in SENSITIVITIES:
+        G = np.ascontiguousarray(gens[gen][:, list(rows), :])
+        out[name] = zonotope_best(G, c, one, [(0, 1, 2)])[0] if n else np.zeros(0)
+    smin, smax = scaled_singular_values(J, ST) if n else (np.zeros(0), np.zeros(0))
+    out["sigma_min"], out["sigma_max"] = smin, smax
+    return ok, out
+
+
+def _worst_cases(J, gens, M, actuators):
+    """The six worst cases from ONE facet computation.
+
+    With symmetric limits equal for every actuator all three generator matrices share the
+    facets of Jᵀ: ``J# = (JᵀJ)⁻¹Jᵀ`` and ``M̂⁻¹Jᵀ`` are invertible 6 × 6 maps of Jᵀ, so a
+    facet normal n of Jᵀ becomes ``(JᵀJ) n`` and ``M̂ n`` with the same ``n·g_i`` and an
+    offset scaled by the limit.  Exact, and three times cheaper than three kernels.
+    Singular poses go through :func:`~.zonotope.zonotope_worst` generator by generator.
+    """
+    n_poses, L, _ = J.shape
+    nw, h1, regular = _facets(gens["wrench"], np.zeros((n_poses, L)), np.ones((n_poses, L)))
+    JtJ = np.einsum("nli,nlj->nij", J, J)
+    normals = {"wrench": nw, "twist": np.einsum("nkd,nde->nke", nw, JtJ),
+               "acceleration": nw * M[None, None, :]}
+    out = {}
+    for gen, nn in normals.items():
+        caps = [cap for cap in CAPABILITIES if cap[3] == gen]
+        lim = float(actuators[caps[0][4]])
+        for cap in caps:
+            out[cap[0]] = _ratio_min(h1 * lim, nn[:, :, list(cap[5])])
+        bad = np.flatnonzero(~regular)
+        if len(bad):
+            vals = zonotope_worst(gens[gen][bad], np.zeros((len(bad), L)),
+                                  np.full((len(bad), L), lim), [cap[5] for cap in caps])
+            for cap, v in zip(caps, vals):
+                out[cap[0]][bad] = v
+    return out
+
+
+def study_chunk(spec: dict) -> dict:
+    """One chunk of a study sweep (module level: runs in pool or dask workers).
+
+    ``spec``: ``mech`` (RSSMechanism), ``grid`` (PoseGrid), ``lo``/``hi`` position
+    range, ``actuators``, ``ST``, ``inner`` (rad or None: the inner orientation range
+    reduced separately), ``route``, ``batch`` (poses per evaluation).
+
+    Returns per-position arrays: ``{q}_min``, ``{q}_max`` (and ``_in`` variants over the
+    inner orientations) for every quantity, ``n_ok``, ``n_ok_in``, ``force_argmin``
+    (orientation index of the worst force).  Positions without a reachable
+    orientation hold +inf (min) / -inf (max).
+    """
+    grid, mech = spec["grid"], spec["mech"]
+    lo, hi = spec["lo"], spec["hi"]
+    no = grid.n_orientations
+    O = grid.orientations()
+    inner = spec.get("inner")
+    in_mask = (np.all(np.abs(O) <= inner + 1e-9, axis=1) if inner is not None
+               else np.ones(no, bool))
+    per = max(1, int(spec.get("batch", 20000)) // no)
+    npos = hi - lo
+    res = {}
+    for q in QUANTITIES:
+        for suf, fill in (("_min", np.inf), ("_max", -np.inf), ("_min_in", np.inf),
+                          ("_max_in", -np.inf)):
+            res[q + suf] = np.full(npos, fill)
+    res["n_ok"] = np.zeros(npos, np.int64)
+    res["n_ok_in"] = np.zeros(npos, np.int64)
+    res["force_argmin"] = np.full(npos, -1, np.int64)
+    for a in range(lo, hi, per):
+        b = min(hi, a + per)
+        poses = grid.poses(np.arange(a, b))
+        ok, vals = evaluate_poses(mech, poses, actuators=spec["actuators"], ST=spec["ST"],
+                                  route=spec.get("route", "kernels"))
+        okm = ok.reshape(b - a, no)
+        sl = slice(a - lo, b - lo)
+        res["n_ok"][sl] = okm.sum(axis=1)
+        res["n_ok_in"][sl] = (okm & in_mask).sum(axis=1)
+        for q in QUANTITIES:
+            full = np.full(len(ok), np.nan)
+            full[ok] = vals[q]
+            V = full.reshape(b - a, no)
+            for suf, m in (("", okm), ("_in", okm & in_mask)):
+                res[f"{q}_min{suf}"][sl] = np.where(m, V, np.inf).min(axis=1)
+                res[f"{q}_max{suf}"][sl] = np.where(m, V, -np.inf).max(axis=1)
+            if q == "force":
+                res["force_argmin"][sl] = np.where(okm, V, np.inf).argmin(axis=1)
+    return res
+
+
+# ------------------------------------------------------------------------ devices
+@dataclass(frozen=True)
+class Device:
+    """One kinematics of the study: a label, the mechanism, its orientation range and
+    the Table III/IV column it is compared with (``paper``, or None)."""
+
+    label: str
+    mech: object
+    grid: object
+    paper: str | None = None
+    inner: float | None = None
+
+
+def run_device(dev: Device, *, store, executor=None, chunk_positions: int = 64,
+               actuators=ACTUATORS, ST=ST_DEFAULT, route="kernels", progress=True,
+               batch: int = 20000):
+    """Sweep one device over its grid in resumable chunks; returns the per-position
+    arrays (concatenated) and the seconds the run took.  Chunks live in
+    ``store/<key of the sweep's definition>/``, so a changed grid, mechanism or limit
+    starts a new sweep and an unchanged one resumes."""
+    import time
+    from pathlib import Path
+
+    from .sweep import run_chunks, sweep_key
+    grid = dev.grid
+    specs = []
+    for a in range(0, grid.n_positions, chunk_positions):
+        specs.append({"mech": dev.mech, "grid": grid, "lo": a,
+                      "hi": min(grid.n_positions, a + chunk_positions),
+                      "actuators": dict(actuators), "ST": tuple(ST), "inner": dev.inner,
+                      "route": route, "batch": batch})
+    definition = {"kind": "study", "mech": repr(dev.mech), "grid": grid.as_dict(),
+                  "actuators": dict(actuators), "ST": list(ST), "inner": dev.inner,
+                  "chunk_positions": chunk_positions, "version": 1}
+    t0 = time.perf_counter()
+    store = Path(store) / sweep_key(definition)       # a changed definition starts afresh
+    chunks = run_chunks(study_chunk, specs, store, definition=definition,
+                        executor=executor, progress=progress,
+                        desc=f"{dev.label} ({grid.size:,} poses)")
+    seconds = time.perf_counter() - t0
+    merged = {k: np.concatenate([c[k] for c in chunks]) for k in chunks[0]}
+    return merged, seconds
+
+
+def _finite(x):
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+def summarise(dev: Device, per: dict) -> dict:
+    """Table III/IV values of one device from its per-position arrays."""
+    grid = dev.grid
+    has = per["n_ok"] > 0
+    has_in = per["n_ok_in"] > 0
+    n_in = (grid.n_orientations if dev.inner is None else
+            int(np.sum(np.all(np.abs(grid.orientations()) <= dev.inner + 1e-9, axis=1))))
+    table = {}
+    units = {c[0]: c[2] for c in CAPABILITIES} | {s[0]: s[2] for s in SENSITIVITIES}
+    labels = {c[0]: c[1] for c in CAPABILITIES} | {s[0]: s[1] for s in SENSITIVITIES}
+    full = per["n_ok"] == grid.n_orientations          # positions reaching every orientation
+    for q in _ROWS:
+        lo = per[f"{q}_min"][has].min() if has.any() else np.nan
+        hi = per[f"{q}_max"][has].max() if has.any() else np.nan
+        lo_full = per[f"{q}_min"][full].min() if full.any() else np.nan
+        entry = {"label": labels[q], "unit": units[q], "min": _finite(lo), "max": _finite(hi),
+                 "min_full_positions": _finite(lo_full)}
+        if dev.paper in PAPER_TABLE3:
+            pmin, pmax = PAPER_TABLE3[dev.paper][q]
+            entry.update(paper_min=pmin, paper_max=pmax,
+                         ratio_min=(float(lo) / pmin if pmin else None),
+                         ratio_max=(float(hi) / pmax if pmax else None))
+        table[q] = entry
+    g_full = gii(per["sigma_min_min"][has], per["sigma_max_max"][has])
+    g_in = gii(per["sigma_min_min_in"][has_in], per["sigma_max_max_in"][has_in])
+    iso = {"gii": g_in[0], "sigma_min": g_in[1], "sigma_max": g_in[2],
+           "rotation_deg": math.degrees(dev.inner) if dev.inner is not None else
+           math.degrees(max(abs(v) for v in grid.rx)),
+           "gii_full_range": g_full[0], "sigma_min_full_range": g_full[1],
+           "sigma_max_full_range": g_full[2]}
+    if dev.paper in PAPER_TABLE4:
+        pg, ps, pS = PAPER_TABLE4[dev.paper]
+        iso.update(paper_gii=pg, paper_sigma_min=ps, paper_sigma_max=pS,
+                   ratio_gii=iso["gii"] / pg, ratio_sigma_min=iso["sigma_min"] / ps,
+                   ratio_sigma_max=iso["sigma_max"] / pS)
+    # worst force pose
+    fmin = np.where(has, per["force_min"], np.inf)
+    ip = int(np.argmin(fmin))
+    io = int(per["force_argmin"][ip])
+    worst_pose = np.r_[grid.positions([ip])[0], grid.orientations()[io]] if has.any() else None
+    return {
+        "label": dev.label, "mechanism": dev.mech.name, "L": dev.mech.L,
+        "paper_column": dev.paper,
+        "poses": grid.size, "positions": grid.n_positions,
+        "orientations": grid.n_orientations,
+        "rotation_deg": math.degrees(max(abs(v) for v in grid.rx)),
+        "reachable_poses": int(per["n_ok"].sum()),
+        "reachable_fraction": float(per["n_ok"].sum() / grid.size),
+        "all_orientations_reachable": per["n_ok"] == grid.n_orientations,
+        "inner_all_reachable": per["n_ok_in"] == n_in,
+        "table": table, "isotropy": iso,
+        "worst_force_pose": None if worst_pose is None else worst_pose.tolist(),
+    }
+

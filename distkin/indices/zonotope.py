@@ -1,0 +1,333 @@
+"""The exact zonotope half-space kernel for output capabilities (DESIGN.md §6).
+
+The set of outputs ``{G p : pmin <= p <= pmax}`` of a generator matrix ``G`` (d × L)
+is a zonotope.  Its facet normals are the vectors orthogonal to (d−1)-subsets of the
+generators, 2·C(L, d−1) of them, and the offset of normal ``n`` is its support value
+
+.. math::  h(n) = \\sum_i \\max(n\\cdot g_i\\, p_{max,i},\\; n\\cdot g_i\\, p_{min,i}).
+
+The worst case inside a coordinate slice ``S`` (e.g. force at zero torque) is therefore
+``min_n h(n) / ||P_S n||``, with no convex hull (Kühne et al., eqs. (9)-(15), solved
+without Qhull).  With midpoint ``c`` and half-range ``r`` of the limits both signs of a
+normal are handled at once: ``min(h(n), h(-n)) = Σ|n·g_i| r_i − |n·G c|``.
+
+Normals are built cheaply: pick a well-conditioned d × d block ``B`` of the generators
+by pivoted Gram-Schmidt, write ``B⁻¹G = [I | C]``; every (d−1)-subset with ``m``
+columns of ``C`` has a normal supported on ``m + 1`` coordinates, the generalised
+cross product of those ``m`` columns (1-sparse, 2-sparse, 3-index cross products for
+m = 0, 1, 2; small determinants beyond).  The normal in output space is ``B⁻ᵀ n'``.
+For L = d this reduces to Ueberle's method [2].
+
+The farthest point (best case, maximum sensitivities [3]) is a box vertex for the full
+set; for a slice with ``k`` removed coordinates every vertex of
+``{p in box : G_{S^c} p = 0}`` has at least L − k actuators at a limit, so the
+C(L, k)·2^(L−k) candidates with k × k solves are enumerated exactly.
+
+Edge cases (DESIGN.md §6):
+
+* origin outside the set (limits that do not straddle 0): the value is **negative**; it
+  is then a flag, and ``|value|`` is only a lower bound of the distance to the set;
+* a generator matrix with σmin/σmax below ``rank_tol`` is treated as exactly singular:
+  the set is flat, the worst case is 0 for every slice that the flat set does not
+  contain, and for a slice inside its span (the pure-torque null wrench seen from the
+  force slice) the facets are computed within the span, so the answer stays finite and
+  correct instead of the ∞ the plain formula gives.
+
+References
+----------
+.. [1] M. Kühne, J. Potzy, R. García-Rochín, P. van der Smagt, A. Peer, "Design and
+   Evaluation of a Haptic Interface With Octopod Kinematics", IEEE/ASME Trans.
+   Mechatronics, Sec. II-C-3, eqs. (8)-(16).
+.. [2] M. Ueberle, "Design, control, and evaluation of a family of kinesthetic haptic
+   interfaces", PhD thesis, TU München, 2006.
+.. [3] P. Cardou, S. Bouchard, C. Gosselin, "Kinematic-sensitivity indices for
+   dimensionally nonhomogeneous Jacobian matrices", IEEE Trans. Robotics 26(1), 2010.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from itertools import combinations, product
+
+import numpy as np
+
+__all__ = ["zonotope_worst", "zonotope_best", "facet_normals", "RANK_TOL"]
+
+#: σmin/σmax below which a generator matrix is treated as exactly singular
+RANK_TOL = 1e-12
+
+
+# --------------------------------------------------------------------------- normals
+@lru_cache(maxsize=None)
+def _groups(d: int, L: int):
+    """Index structure of the (d−1)-subsets of ``[I | C]``: a tuple of
+    ``(m, cset (m,), rows (nR, m+1))``, C(L, d−1) normals in all."""
+    out = []
+    for m in range(0, min(L - d, d - 1) + 1):
+        rows = np.array(list(combinations(range(d), m + 1)), dtype=np.intp)
+        for cset in combinations(range(L - d), m):
+            out.append((m, np.array(cset, dtype=np.intp), rows))
+    return tuple(out)
+
+
+def _cross(M):
+    """Generalised cross product of the m columns of ``M`` (..., m+1, m): the vector
+    of signed m × m minors, orthogonal to every column."""
+    m = M.shape[-1]
+    if m == 0:
+        return np.ones(M.shape[:-1])
+    if m == 1:
+        return np.stack([M[..., 1, 0], -M[..., 0, 0]], axis=-1)
+    if m == 2:
+        return np.cross(M[..., 0], M[..., 1])
+    comps = []
+    for j in range(m + 1):
+        minor = np.delete(M, j, axis=-2)
+        comps.append((-1) ** j * np.linalg.det(minor))
+    return np.stack(comps, axis=-1)
+
+
+def _pivot(G):
+    """Column permutation (N, L) putting a well-conditioned d × d block first, and the
+    rank indicator min/max of the pivots of modified Gram-Schmidt (≈ σmin/σmax)."""
+    N, d, L = G.shape
+    R = np.array(G, dtype=float, copy=True)
+    perm = np.broadcast_to(np.arange(L), (N, L)).copy()
+    ar = np.arange(N)
+    piv = np.empty((N, d))
+    for k in range(d):
+        norms = np.einsum("ndl,ndl->nl", R[:, :, k:], R[:, :, k:])
+        j = k + np.argmax(norms, axis=1)
+        # swap columns k and j
+        colk, colj = R[ar, :, k].copy(), R[ar, :, j].copy()
+        R[ar, :, k], R[ar, :, j] = colj, colk
+        pk, pj = perm[ar, k].copy(), perm[ar, j].copy()
+        perm[ar, k], perm[ar, j] = pj, pk
+        nk = np.sqrt(np.einsum("nd,nd->n", R[:, :, k], R[:, :, k]))
+        piv[:, k] = nk
+        q = np.divide(R[:, :, k], nk[:, None], out=np.zeros((N, d)), where=nk[:, None] > 0)
+        if k + 1 < L:
+            proj = np.einsum("nd,ndl->nl", q, R[:, :, k + 1:])
+            R[:, :, k + 1:] -= q[:, :, None] * proj[:, None, :]
+    top = piv[:, 0]
+    ratio = np.divide(piv.min(axis=1), top, out=np.zeros(N), where=top > 0)
+    return perm, ratio
+
+
+def _facets(G, c, r, *, assume_regular: bool = False):
+    """Facet normals and both-sign offsets of the zonotope ``G·box``.
+
+    Returns ``n`` (N, K, d) (one normal of each ± pair, K = C(L, d−1), unnormalised),
+    ``hmin`` (N, K) = min(h(n), h(−n)) = Σ|n·g_i| r_i − |n·G c|, and ``regular`` (N,)
+    (False where σmin/σmax < :data:`RANK_TOL`: use the flat route).
+
+    Everything is elementwise on gathered rows: the normal of a subset with ``m``
+    columns of C on rows R is ``n = Σ_j v_j B⁻ᵀe_{R_j}`` (rows of B⁻¹), and
+    ``n·g = v·[I | C]_R``.
+    """
+    N, d, L = G.shape
+    if L == d:
+        perm = np.broadcast_to(np.arange(L), (N, L))
+        ratio = np.ones(N) if assume_regular else _pivot(G)[1]
+        Gp, cp, rp = G, c, r
+    else:
+        perm, ratio = _pivot(G)
+        if assume_regular:
+            ratio = np.ones(N)
+        Gp = np.take_along_axis(G, perm[:, None, :], axis=2)
+        cp = np.take_along_axis(c, perm, axis=1)
+        rp = np.take_along_axis(r, perm, axis=1)
+    regular = ratio > RANK_TOL
+    B = Gp[:, :, :d].copy()
+    B[~regular] = np.eye(d)
+    Binv = np.linalg.inv(B)
+    Cm = np.einsum("nij,njl->nil", Binv, Gp[:, :, d:]) if L > d else None
+    ns, hs = [], []
+    for m, cset, rows in _groups(d, L):
+        nR = len(rows)
+        if m == 0:
+            k = rows[:, 0]
+            ns.append(Binv[:, k, :])
+            h = rp[:, k]
+            t = cp[:, k]
+            if L > d:
+                PC = Cm[:, k, :]                                  # (N, nR, L-d)
+                h = h + np.einsum("nkl,nl->nk", np.abs(PC), rp[:, d:])
+                t = t + np.einsum("nkl,nl->nk", PC, cp[:, d:])
+            hs.append(h - np.abs(t))
+            continue
+        M = Cm[:, :, cset][:, rows, :]                            # (N, nR, m+1, m)
+        v = _cross(M)                                             # (N, nR, m+1)
+        n = np.zeros((N, nR, d))
+        PC = np.zeros((N, nR, L - d))
+        h = np.zeros((N, nR))
+        t = np.zeros((N, nR))
+        for j in range(m + 1):
+            vj = v[..., j]
+            Rj = rows[:, j]
+            n += vj[..., None] * Binv[:, Rj, :]
+            PC += vj[..., None] * Cm[:, Rj, :]
+            h += np.abs(vj) * rp[:, Rj]
+            t += vj * cp[:, Rj]
+        h += np.einsum("nkl,nl->nk", np.abs(PC), rp[:, d:])
+        t += np.einsum("nkl,nl->nk", PC, cp[:, d:])
+        ns.append(n)
+        hs.append(h - np.abs(t))
+    return np.concatenate(ns, axis=1), np.concatenate(hs, axis=1), regular
+
+
+def facet_normals(G, *, assume_regular: bool = False):
+    """Facet normals of the zonotope ``G·box`` (DESIGN.md §6, item 1).
+
+    Parameters
+    ----------
+    G : ndarray (N, d, L)
+        Generator matrices, L >= d.
+
+    Returns
+    -------
+    n : ndarray (N, K, d)
+        One normal of each ± pair, K = C(L, d−1), not normalised (scale is irrelevant
+        to every ratio used here).
+    P : ndarray (N, K, L)
+        ``n · g_i`` for every generator.
+    regular : ndarray (N,) bool
+        False where σmin/σmax of G is below :data:`RANK_TOL` (use the flat route).
+    """
+    G = np.asarray(G, dtype=float)
+    N, d, L = G.shape
+    n, _, regular = _facets(G, np.zeros((N, L)), np.ones((N, L)),
+                            assume_regular=assume_regular)
+    return n, n @ G, regular
+
+
+# ------------------------------------------------------------------------ worst case
+def _ratio_min(h, nS):
+    """min over normals of h / ||n_S|| with the conventions for n_S = 0 (vacuous when
+    h >= 0, an empty slice when h < 0)."""
+    den = np.sqrt(np.einsum("nks,nks->nk", nS, nS))
+    scale = np.sqrt(np.einsum("nks,nks->n", nS, nS))[:, None] + 1e-300
+    zero = den <= 1e-15 * scale
+    with np.errstate(divide="ignore", invalid="ignore"):
+        q = np.where(zero, np.where(h >= 0, np.inf, -np.inf), h / np.where(zero, 1.0, den))
+    return q.min(axis=1)
+
+
+def zonotope_worst(G, c, r, keeps):
+    """Signed distance from the origin to the boundary of each slice of ``G·box``.
+
+    Parameters
+    ----------
+    G : ndarray (N, d, L)
+    c, r : ndarray (N, L)
+        Midpoint and half-range of the limits (r >= 0).
+    keeps : sequence of index tuples
+        Output coordinates kept in each slice (``tuple(range(d))`` = whole set).
+
+    Returns
+    -------
+    ndarray (len(keeps), N)
+        Distance (origin inside) or a negative flag (origin outside).
+    """
+    G = np.asarray(G, dtype=float)
+    N, d, L = G.shape
+    out = np.empty((len(keeps), N))
+    n, h, regular = _facets(G, c, r)
+    for a, S in enumerate(keeps):
+        out[a] = _ratio_min(h, n[:, :, list(S)])
+    for i in np.flatnonzero(~regular):
+        out[:, i] = _flat_worst(G[i], c[i], r[i], keeps)
+    return out
+
+
+def _flat_worst(G, c, r, keeps):
+    """The rank-deficient pose: facets inside the span of G, and the equality
+    constraints of its orthogonal complement (DESIGN.md §6, edge cases)."""
+    d, L = G.shape
+    U, s, _ = np.linalg.svd(G)
+    rank = int(np.sum(s > RANK_TOL * s[0])) if s[0] > 0 else 0
+    res = np.empty(len(keeps))
+    W = U[:, rank:]                                            # null directions (d, d-rank)
+    if rank == 0:                                              # the set is {0}
+        return np.zeros(len(keeps))
+    if rank == d:
+        nn, h, _ = _facets(G[None], c[None], r[None], assume_regular=True)
+    else:
+        Ur = U[:, :rank]
+        nr, h, _ = _facets((Ur.T @ G)[None], c[None], r[None], assume_regular=True)
+        nn = nr @ Ur.T                                         # back to output space
+    whole = _ratio_min(h, nn)[0]          # < 0: the origin lies outside the flat set
+    for a, S in enumerate(keeps):
+        S = list(S)
+        if rank < d and np.linalg.norm(W[S, :]) > 1e-9:
+            # the slice leaves the span of G (which holds the origin): the sliced set
+            # is lower-dimensional in R^|S|, its boundary passes through the origin
+            res[a] = 0.0 if whole >= 0 else whole
+            continue
+        res[a] = _ratio_min(h, nn[:, :, S])[0]
+    return res
+
+
+# ------------------------------------------------------------------------- best case
+@lru_cache(maxsize=None)
+def _signs(n: int):
+    return np.array(list(product((-1.0, 1.0), repeat=n))).T if n else np.zeros((0, 1))
+
+
+def zonotope_best(G, c, r, keeps, *, chunk: int = 4096):
+    """Largest distance from the origin to a point of each slice of ``G·box`` (the
+    farthest point; Kühne et al. eq. (16), Cardou et al. [3]).
+
+    Full set: the 2^L box vertices.  Slice with k removed coordinates: the
+    C(L, k)·2^(L−k) vertex candidates with L − k actuators at a limit, solved by k × k
+    systems and kept when the free actuators lie within their limits.  Exact when
+    ``G_{S^c}`` has full row rank; an empty slice gives −inf.
+
+    Returns ndarray (len(keeps), N).
+    """
+    G = np.asarray(G, dtype=float)
+    N, d, L = G.shape
+    out = np.empty((len(keeps), N))
+    for lo in range(0, N, chunk):
+        sl = slice(lo, min(N, lo + chunk))
+        for a, S in enumerate(keeps):
+            out[a, sl] = _best_chunk(G[sl], c[sl], r[sl], tuple(S))
+    return out
+
+
+def _best_chunk(G, c, r, S):
+    N, d, L = G.shape
+    Sc = [i for i in range(d) if i not in S]
+    k = len(Sc)
+    S = list(S)
+    if k == 0:
+        # u = G c + (G r) S over the sign matrix S: one large GEMM, not N small ones
+        Gs = G[:, S, :]
+        Gr = (Gs * r[:, None, :]).reshape(-1, L)
+        u = (Gr @ _signs(L)).reshape(N, len(S), -1)
+        u += np.einsum("nsl,nl->ns", Gs, c)[:, :, None]
+        return np.sqrt(np.einsum("nsv,nsv->nv", u, u)).max(axis=1)
+    best = np.full(N, -np.inf)
+    GS, GC = G[:, S, :], G[:, Sc, :]
+    sg = _signs(L - k)
+    tol = 1e-12
+    for F in combinations(range(L), k):
+        F = list(F)
+        X = [i for i in range(L) if i not in F]
+        A = GC[:, :, F]                                         # (N, k, k)
+        det = np.linalg.det(A)
+        scaleA = np.prod(np.linalg.norm(A, axis=1), axis=1)
+        ok = np.abs(det) > 1e-12 * scaleA
+        A = np.where(ok[:, None, None], A, np.eye(k))
+        pX = c[:, X, None] + r[:, X, None] * sg[None]            # (N, L-k, 2^(L-k))
+        rhs = -GC[:, :, X] @ pX                                 # (N, k, V)
+        pF = np.linalg.solve(A, rhs)                            # (N, k, V)
+        lo = (c[:, F] - r[:, F])[:, :, None]
+        hi = (c[:, F] + r[:, F])[:, :, None]
+        slack = tol * (np.abs(c[:, F]) + r[:, F] + 1e-300)[:, :, None]
+        feas = np.all((pF >= lo - slack) & (pF <= hi + slack), axis=1) & ok[:, None]
+        u = GS[:, :, F] @ pF + GS[:, :, X] @ pX
+        nrm = np.sqrt(np.einsum("nsv,nsv->nv", u, u))
+        nrm = np.where(feas, nrm, -np.inf)
+        best = np.maximum(best, nrm.max(axis=1))
+    return best

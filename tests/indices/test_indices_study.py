@@ -1,0 +1,241 @@
+"""The study: per-position reductions, grids, dexterous workspace, criteria, and the
+``performance`` / ``design_sweep`` scene queries end to end (tiny grids)."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+from indices_helpers import random_reachable_poses
+
+from distkin.errors import InputError
+from distkin.indices.study import QUANTITIES, evaluate_poses, study_chunk
+from distkin.indices.workspace import (PoseGrid, axis_values, design_criteria,
+                                       dexterous_workspace, table2_grid)
+
+
+def test_table2_grid_has_the_papers_size():
+    """Table II: 16³ positions × 9³ orientations = 2,985,984 poses."""
+    g = table2_grid()
+    assert (g.n_positions, g.n_orientations, g.size) == (4096, 729, 2_985_984)
+    assert min(g.z) == pytest.approx(0.225) and max(g.z) == pytest.approx(0.375)
+    assert max(g.rx) == pytest.approx(math.radians(20))
+    P = g.poses([0, 4095])
+    assert P.shape == (2 * 729, 6)
+    assert np.allclose(P[0], [-0.075, -0.075, 0.225, *np.radians([-20, -20, -20])])
+
+
+def test_axis_values_rejects_a_step_that_does_not_divide():
+    with pytest.raises(InputError, match="multiple of step"):
+        axis_values(-0.075, 0.075, 0.02)
+    with pytest.raises(InputError, match="positive step"):
+        axis_values(0, 1, 0)
+
+
+def test_chunk_reductions_equal_direct_evaluation(presets):
+    mech = presets["octopod"]
+    grid = table2_grid(step=0.075, rot_deg=30, rot_step_deg=15)
+    spec = {"mech": mech, "grid": grid, "lo": 3, "hi": 11, "ST": (15, 15, 15, 1, 1, 1),
+            "actuators": {"nominal_torque": 2.5, "stall_torque": 34.2, "velocity": 51.0},
+            "inner": math.radians(15), "batch": 200}
+    res = study_chunk(spec)
+    no = grid.n_orientations
+    O = grid.orientations()
+    inner = np.all(np.abs(O) <= math.radians(15) + 1e-9, axis=1)
+    for k, pos in enumerate(range(3, 11)):
+        P = grid.poses([pos])
+        ok, vals = evaluate_poses(mech, P)
+        assert res["n_ok"][k] == ok.sum()
+        for q in QUANTITIES:
+            full = np.full(no, np.nan)
+            full[ok] = vals[q]
+            assert res[f"{q}_min"][k] == np.nanmin(full)
+            assert res[f"{q}_max"][k] == np.nanmax(full)
+            assert res[f"{q}_min_in"][k] == np.nanmin(np.where(inner, full, np.nan))
+
+
+def test_numpy_route_gives_the_same_indices(presets):
+    mech = presets["ergin"]
+    P = random_reachable_poses(mech, 100, 20, seed=9)
+    ok1, v1 = evaluate_poses(mech, P)
+    ok2, v2 = evaluate_poses(mech, P, route="numpy")
+    assert np.array_equal(ok1, ok2)
+    for q in QUANTITIES:
+        assert np.allclose(v1[q], v2[q], rtol=1e-8), q
+
+
+def test_dexterous_workspace_and_criteria_on_a_synthetic_sweep():
+    t = tuple(np.linspace(-0.075, 0.075, 4))
+    r = tuple(np.radians([-30, 0, 30]))
+    g = PoseGrid(t, t, tuple(0.3 + np.array(t)), r, r, r)
+    n = g.n_positions
+    reach = np.ones(n, bool)
+    reach[0] = False
+    minima = {"velocity": np.full(n, 2.0), "acceleration": np.full(n, 50.0),
+              "force": np.full(n, 5.0)}
+    minima["velocity"][1] = 0.5
+    dex = dexterous_workspace(g, reach, minima, {"velocity": 1.0, "acceleration": 9.81})
+    assert dex["count"] == n - 2
+    assert dex["volume_m3"] == pytest.approx((n - 2) * 0.05 ** 3)
+    crit = design_criteria(8, g, reach, minima, 0.01)
+    by = {c["criterion"][:2]: c for c in crit}
+    assert by["2)"]["held"] is True
+    assert by["4)"]["held"] is False            # one position is unreachable
+    reach[:] = True
+    minima["velocity"][:] = 2.0
+    crit = design_criteria(8, g, reach, minima, 0.01)
+    assert all(c["held"] for c in crit)
+
+
+SCENE = """
+[units]
+length = "mm"
+angle = "deg"
+
+[mechanism]
+kind = "rss"
+preset = "octopod"
+
+[[query]]
+type = "performance"
+devices = [
+  { label = "Ergin's device", preset = "ergin", rotation = 20 },
+  { label = "HEXA", preset = "hexa", rotation = 20 },
+  { label = "Hunt-type", preset = "hunt", rotation = 20 },
+  { label = "Octopod", preset = "octopod", rotation = 30, inner_rotation = 20 },
+]
+grid = { half = 75, step = 75, rotation_step = 10 }
+workers = 1
+store = "STORE"
+"""
+
+
+def test_performance_scene_end_to_end(tmp_path):
+    from distkin.cli import run_scene
+    from distkin.scene import loads_scene
+    path = tmp_path / "study.toml"
+    path.write_text(SCENE.replace("STORE", str(tmp_path / "chunks")))
+    scene = loads_scene(path.read_text(), str(path))
+    records, texts, worst = run_scene(scene, plots_dir=tmp_path / "plots", progress=False)
+    assert worst == 0, records[0].get("error")
+    res = records[0]["result"]
+    assert [d["label"] for d in res["devices"]] == ["Ergin's device", "HEXA", "Hunt-type",
+                                                    "Octopod"]
+    octo = res["devices"][3]
+    assert octo["poses"] == 27 * 7 ** 3 and octo["rotation_deg"] == pytest.approx(30)
+    assert octo["isotropy"]["rotation_deg"] == pytest.approx(20)
+    assert octo["table"]["force"]["paper_min"] == 21.68          # Table III
+    assert octo["isotropy"]["paper_gii"] == 0.0080               # Table IV
+    assert len(res["findings"]) == 5
+    assert all(isinstance(f["held"], bool) for f in res["findings"])
+    assert "Table III analogue" in texts[0] and "HELD" in texts[0]
+    names = sorted(p.split("/")[-1] for p in records[0]["plots"])
+    assert names == sorted(["q0_performance_tables.md", "q0_performance_tables.json",
+                            "q0_performance_fig5_workspace.png",
+                            "q0_performance_fig6_plane.png",
+                            "q0_performance_fig7_force_polytope.png"])
+    tables = json.loads((tmp_path / "plots" / "q0_performance_tables.json").read_text())
+    assert tables["devices"][3]["table"]["force"]["min"] == octo["table"]["force"]["min"]
+    # a second run reads every chunk back from the store
+    records2, _, _ = run_scene(scene, progress=False)
+
+    def strip(devs):
+        return [{k: v for k, v in d.items() if k != "seconds"} for d in devs]
+    assert strip(records2[0]["result"]["devices"]) == strip(res["devices"])
+
+
+@pytest.mark.parametrize("bad, match", [
+    ('grid = { half = 75, step = 20 }', "multiple of step"),
+    ('devices = [{ label = "x", preset = "tripod" }]', "expected one of"),
+    ('devices = [{ label = "x", preset = "hunt", rotation = 10, inner_rotation = 20 }]',
+     "inner_rotation <= rotation"),
+    ('devices = [{ label = "x", preset = "hunt", colour = 1 }]', "unknown field"),
+    ('scaling = [1, 2, 3]', "6 scaling factors"),
+    ('plot_device = "Nope"', "device labels"),
+    ('actuators = { torque = 1 }', "unknown field"),
+    ('workers = 0', "integer >= 1"),
+])
+def test_performance_query_rejects_bad_fields(bad, match):
+    from distkin.scene import loads_scene
+    text = ('[units]\nlength = "mm"\nangle = "deg"\n[mechanism]\nkind = "rss"\n'
+            'preset = "hunt"\n[[query]]\ntype = "performance"\n' + bad + "\n")
+    with pytest.raises(InputError, match=match) as err:
+        loads_scene(text)
+    assert err.value.field.startswith("query[0]")
+
+
+def test_design_sweep_query_reports_the_optimum(tmp_path):
+    from distkin.cli import run_scene
+    from distkin.scene import loads_scene
+    text = """
+[units]
+length = "mm"
+angle = "deg"
+[mechanism]
+kind = "rss"
+preset = "hunt"
+[[query]]
+type = "design_sweep"
+l2 = [0, 10, 10]
+beta = [0, 0, 10]
+gamma = [0, 10, 10]
+ld = [20, 20, 5]
+grid = { half = 75, step = 75, rotation = 20, rotation_step = 20 }
+workers = 1
+store = "STORE"
+""".replace("STORE", str(tmp_path / "s"))
+    scene = loads_scene(text, str(tmp_path / "x.toml"))
+    records, texts, worst = run_scene(scene, progress=False)
+    assert worst == 0, records[0].get("error")
+    r = records[0]["result"]
+    assert r["n_designs"] == 4 and r["agree"] is True
+    assert r["gii"] == max(r["brute_force"]["gii_all"])
+    assert "optimum:" in texts[0] and "bit for bit: yes" in texts[0]
+
+
+def test_sweep_subcommand_runs_a_scene(tmp_path, capsys):
+    from distkin.cli import main
+    path = tmp_path / "s.toml"
+    path.write_text(SCENE.replace("STORE", "chunks").replace(
+        'grid = { half = 75, step = 75, rotation_step = 10 }',
+        'grid = { half = 75, step = 75, rotation_step = 20 }'))
+    code = main(["sweep", str(path), "--workers", "1", "--store", str(tmp_path / "c"),
+                 "--no-progress", "--json", str(tmp_path / "out.json")])
+    assert code == 0
+    doc = json.loads((tmp_path / "out.json").read_text())
+    assert doc["queries"][0]["type"] == "performance"
+    assert (tmp_path / "c").is_dir()
+
+
+def test_shared_facets_equal_separate_kernels(presets):
+    """evaluate_poses derives the twist and acceleration facets from those of Jᵀ; the
+    public kernel on each generator matrix separately gives the same values."""
+    from distkin.indices import output_generators, worst_case_output
+    from distkin.indices.study import ACTUATORS, CAPABILITIES
+    for name in ("hunt", "octo"):
+        mech = presets[name]
+        P = random_reachable_poses(mech, 200, 30, seed=10)
+        ok, vals = evaluate_poses(mech, P)
+        gens = output_generators(mech.jacobian(P[ok]),
+                                 mass=np.diag(mech.cartesian_mass_matrix()))
+        for q, _, _, gen, lim, keep in CAPABILITIES:
+            ref = worst_case_output(gens[gen], -ACTUATORS[lim], ACTUATORS[lim], list(keep))
+            assert np.max(np.abs(vals[q] - ref) / ref) < 1e-10, (name, q)
+
+
+@pytest.mark.parametrize("name", ["octopod_study.toml", "octopod_study_coarse.toml",
+                                  "octopod_design_sweep.toml"])
+def test_example_scenes_load(name):
+    """The example scenes validate at load time (running them takes minutes)."""
+    from pathlib import Path
+
+    from distkin.scene import load_scene
+    path = Path(__file__).resolve().parents[2] / "examples" / name
+    scene = load_scene(path)
+    q = scene.queries[0]
+    if q.type == "performance":
+        assert [d.label for d in q.params.devices] == ["Ergin's device", "HEXA", "Hunt-type",
+                                                       "Octopod", "Octo"]
+        assert q.params.devices[3].rotation == pytest.approx(math.radians(30))
+    else:
+        assert len(q.params.space.designs()) == 560          # Table I: 7·4·4·5
