@@ -2,6 +2,8 @@
 
 import sys
 
+__all__: list = []
+
 from .cli import main
 
 if __name__ == "__main__":
