@@ -90,17 +90,22 @@ def forward_kinematics(mech, q, guess=None, *, tol=1e-13, max_iter=50, max_condi
     q : array (L,) or (N, L)
         Crank angles (rad).
     guess : array (6,) or (N, 6), optional
-        Starting pose (m, rad); default the workspace centre.  Converges from within a
-        few centimetres and tens of degrees of the answer.
+        Starting pose (m, rad); default the workspace centre.  Away from direct
+        singularities it converges to the answer from within a centimetre and 10 deg
+        (1000 Table II poses of the hunt, ergin, octopod and octo presets); near one
+        (the hexa preset has them inside the Table II workspace) a start a few mm away
+        can reach a neighbouring assembly mode, flagged only if its condition exceeds
+        ``max_condition``.  The control loop's warm start is microns away.
     tol : float
         Step size (m; rotations times lp) below which the iteration stops.
     max_iter : int
     max_condition : float
         Condition number of the scaled closure Jacobian above which the answer is
-        flagged ``near_singular``.  In the Table II workspace the presets stay between
-        about 3 and 30; near a direct singularity two assembly modes come close (for
-        Ergin's device, Sec. III-B.1, we met modes 1 mm apart at condition 400-600), and
-        a warm start may then land on the other one.
+        flagged ``near_singular``.  In the Table II workspace (rotations up to 20 deg)
+        the hunt, ergin, octopod and octo presets stay between about 3 and 17; the hexa
+        preset reaches 1e4 near its direct singularities (Sec. III-B.1), where two
+        assembly modes come close (8-25 mm apart at condition 60-260) and a warm start
+        may land on the other one.
     strict : bool
         Raise :class:`~distkin.errors.SingularConfigurationError` (near a singularity)
         or :class:`~distkin.errors.InfeasibleError` (no convergence) instead of

@@ -20,25 +20,55 @@ t = (-sin theta_k, cos theta_k, 0) and z = (0, 0, 1):
 * **ld** -- distance between the two legs of a pair, both at the base (crank pivots
   ``B = l0 e + s ld/2 t``) and at the end effector (before the gamma rotation).
 * **beta** -- "angle at the base": each actuator axis of a pair is turned about the
-  vertical by s*beta, ``a = Rz(s beta) t`` (beta = 0: both axes collinear, tangent
-  to the base circle as in the HEXA/Delta).  The crank swings in the plane normal to
-  ``a``; its horizontal direction ``u = a x z`` points outwards.
-* **l1** -- crank: tip ``C = B + l1 (cos q u + sin q z)``; q = 0 is horizontal.
+  vertical by s*beta from the radial direction, ``a = Rz(s beta) e`` (beta = 0: the
+  two axes of a pair are parallel and radial).  The crank swings in the plane normal
+  to ``a``; at q = 0 it is horizontal and points away from the pair's centre,
+  ``u = s z x a`` (= s t at beta = 0): the two cranks of a pair point in opposite
+  directions, tangentially to the base circle.
+* **l1** -- crank: tip ``C = B + l1 (cos q u + sin q z)``; q = 0 is horizontal, q > 0
+  lifts the crank.
 * **l2** -- the RRRS offset: the two passive revolute joints at the crank tip are
   l2 apart along the actuator axis, so the centre of the equivalent universal joint is
-  ``D = C + s l2 a`` (outwards from the pair's centre).  l2 = 0 gives the RSS leg.
+  ``D = C + l2 a`` (outwards, away from the base centre).  l2 = 0 gives the RSS leg.
 * **gamma** -- "angle at the end effector": the two spherical joints of a pair are
   turned apart about the end-effector axis by ±gamma,
   ``p = Rz(s gamma) (lp e + s ld/2 t)`` in the end-effector frame.
 * **l3** -- the distal link ``|P - D| = l3`` with ``P = x + R p``.  Not given in the
   paper; our rule (DESIGN.md §5): **at the workspace centre (0, 0, z0) with R = I each
-  crank is horizontal** (q = 0), which fixes l3.  It is recomputed whenever a
+  crank is horizontal** (q = 0), which fixes l3 (for beta = l2 = gamma = 0:
+  l3 = sqrt((l0 - lp)^2 + l1^2 + z0^2) = 352.2 mm).  It is recomputed whenever a
   parameter is overridden, unless l3 itself is given.
 * **IK branch**: of the two crank angles that close a leg, the one that is 0 at the
-  workspace centre (the crank tip outside the distal link's line, "elbow out").
+  workspace centre (sigma = +1 in :mod:`.symbolic`).
 
-With beta = gamma = l2 = 0 each pair is a parallelogram and a common motion of the pair
-translates the end effector, as the paper says of the HEXA's Delta-like mode.
+Why this reading.  The rule "crank horizontal at the centre" leaves the crank's
+horizontal direction open.  Sec. II-A requires the whole 150 mm cube with rotations to
+be reachable, and Table III reports finite capabilities over the whole Table II grid
+(16^3 positions x 9^3 orientations, +-75 mm about z0, +-20 deg).  Of the readings we
+measured that keep the cranks horizontal at the centre, only this one closes every
+leg at every pose of that grid for all five presets (minimum reach margin > 0, cranks
+within -78 .. +72 deg):
+
+* actuator axes tangent to the base circle (``a = t``), cranks radially outwards
+  (``u = e``, l3 = 393 mm): 85-92 % of the grid; at z0 - 75 mm the spherical joints
+  come closer to the pivots than l3 - l1;
+* the same axes, cranks radially inwards (``u = -e``, l3 = 306 mm, nearly vertical
+  distal links): misses 70 poses of ``hexa`` and 4 of ``octo``;
+* radial axes with the cranks of a pair pointing towards each other: misses poses of
+  ``hexa``, ``ergin`` and ``octo`` at z0 - 75 mm.
+
+The choice rests on that design requirement only, never on agreement with the numbers
+of Tables III-IV.
+
+Limitation.  distkin models the links as lines and checks no collisions.  With L = 8
+and these dimensions (l1 + ld/2 > l0) the tangential cranks of neighbouring pairs
+cross near the corners of the base square (at the centre pose the crank segments of
+legs 0 and 7 of ``octopod`` and legs 1 and 2 of ``octo`` meet), so for the Octopod
+and the Octo this reading is a kinematic model, not a buildable layout; for L = 6
+the cranks are 20 mm or more apart at the centre pose.  The radially outward reading
+is buildable and reaches a 50,000-pose sample of the grid with every preset for l3 of
+about 313-357 mm, but its cranks are then not horizontal at the centre (the rule of
+DESIGN.md §5).
 
 Preset values the paper does not print, and our choice:
 

@@ -114,8 +114,9 @@ class RSSMechanism:
         """Constant leg vectors of the parametrisation (:mod:`.presets`), arrays (L, 3).
 
         Keys: ``B`` crank pivots, ``a`` actuator axes, ``u`` horizontal crank
-        directions, ``offset`` = s l2 a (crank tip -> universal joint), ``p`` spherical
-        joints in the end-effector frame; ``theta`` (L,) pair azimuths, ``side`` (L,).
+        directions (the crank at q = 0), ``offset`` = l2 a (crank tip -> universal
+        joint), ``p`` spherical joints in the end-effector frame; ``theta`` (L,) pair
+        azimuths, ``side`` (L,).
         """
         L = self.legs
         k = np.arange(L) // 2
@@ -131,9 +132,9 @@ class RSSMechanism:
             return np.stack([c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1], v[:, 2]],
                             axis=-1)
 
-        a = rotz(side * self.beta, t)
-        u = np.cross(a, z)
-        offset = (side * self.l2)[:, None] * a
+        a = rotz(side * self.beta, e)                    # actuator axes (radial at beta = 0)
+        u = side[:, None] * np.cross(z, a)               # cranks: horizontal, away from the pair
+        offset = self.l2 * a                             # RRRS offset, outwards along the axis
         p = rotz(side * self.gamma, self.lp * e + (side * self.ld / 2)[:, None] * t)
         return {"B": B, "a": a, "u": u, "offset": offset, "p": p, "theta": theta,
                 "side": side}

@@ -4,9 +4,10 @@ Kühne et al., Sec. II-C, eqs. (1)-(2), Fig. 2; parametrisation in :mod:`.preset
 pose in :mod:`.rotation`.  This module imports sympy; numeric code uses the kernels
 generated from it (:mod:`.kernels`), never this module.
 
-Leg i, with constant vectors B (crank pivot), a (actuator axis), u = a x z (horizontal
-crank direction), o = s l2 a (crank tip -> universal joint) and p (spherical joint in
-the end-effector frame)::
+Leg i (side s = ±1), with constant vectors B (crank pivot), a (actuator axis, radial
+at beta = 0), u = s z x a (horizontal crank direction, away from the pair's centre),
+o = l2 a (crank tip -> universal joint) and p (spherical joint in the end-effector
+frame)::
 
     D(q) = B + o + l1 (cos q u + sin q z)          universal-joint centre
     P    = x + R(r) p                               spherical joint
@@ -79,9 +80,9 @@ def generic_leg():
     t = sp.Matrix([-se, ce, 0])
     zh = sp.Matrix([0, 0, 1])
     B = l0 * e + s * ld / 2 * t
-    a = sp.Matrix([cb * t[0] - s * sb * t[1], s * sb * t[0] + cb * t[1], 0])   # Rz(s beta) t
-    u = a.cross(zh)
-    o = s * l2 * a
+    a = sp.Matrix([cb * e[0] - s * sb * e[1], s * sb * e[0] + cb * e[1], 0])   # Rz(s beta) e
+    u = s * zh.cross(a)                   # horizontal crank, away from the pair's centre
+    o = l2 * a                            # RRRS offset, outwards along the actuator axis
     p0 = lp * e + s * ld / 2 * t
     p = sp.Matrix([cg * p0[0] - s * sg * p0[1], s * sg * p0[0] + cg * p0[1], 0])  # Rz(s gamma)
     q = sp.Symbol("q", real=True)

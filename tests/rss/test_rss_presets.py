@@ -34,11 +34,45 @@ def test_paper_values():
 
 
 def test_l3_rule_analytic():
-    # Hunt-type, pair 0 (theta = 0), no offsets: crank tip at (l0 + l1, -ld/2, 0) and
-    # spherical joint at (lp, -ld/2, z0) when the crank is horizontal at the centre.
+    # Hunt-type, pair 0 (theta = 0), no offsets, leg side s: pivot (l0, s ld/2, 0), crank
+    # horizontal and tangential, tip (l0, s (ld/2 + l1), 0); spherical joint at
+    # (lp, s ld/2, z0) when the end effector is at the centre.
     for name in ("hunt", "octopod"):
         m = preset(name)
-        assert m.l3 == pytest.approx(math.hypot(m.l0 + m.l1 - m.lp, m.z0), rel=1e-15)
+        assert m.l3 == pytest.approx(math.sqrt((m.l0 - m.lp) ** 2 + m.l1 ** 2 + m.z0 ** 2),
+                                     rel=1e-15)
+    assert preset("hunt").l3 == pytest.approx(0.35222, abs=1e-5)
+
+
+def test_reading_of_fig2():
+    # presets.py: actuator axes radial (turned by s beta), cranks horizontal at q = 0 and
+    # pointing away from their pair's centre, RRRS offset l2 outwards along the axis.
+    m = preset("ergin")
+    g = m.geometry()
+    z = np.array([0.0, 0.0, 1.0])
+    for i in range(m.L):
+        th, s = g["theta"][i], g["side"][i]
+        e = np.array([math.cos(th), math.sin(th), 0.0])
+        t = np.array([-math.sin(th), math.cos(th), 0.0])
+        a = math.cos(s * m.beta) * e + math.sin(s * m.beta) * t
+        np.testing.assert_allclose(g["a"][i], a, atol=1e-15)
+        np.testing.assert_allclose(g["u"][i], s * np.cross(z, a), atol=1e-15)
+        np.testing.assert_allclose(g["offset"][i], m.l2 * a, atol=1e-15)
+        # the crank tip moves away from the pair's other pivot
+        mate = i + 1 if i % 2 == 0 else i - 1
+        assert np.dot(g["u"][i], g["B"][i] - g["B"][mate]) > 0
+
+
+def test_table2_grid_reachable(any_preset):
+    # Sec. II-A / Table II: every pose of the grid's corners and faces (the extreme
+    # positions, +-75 mm about z0, with every +-20 deg orientation corner) closes.
+    import itertools
+    m = any_preset
+    c = [-0.075, 0.0, 0.075]
+    r = np.radians([-20.0, 0.0, 20.0])
+    P = np.array([(x, y, m.z0 + zz, a, b, d) for x, y, zz in itertools.product(c, c, c)
+                  for a, b, d in itertools.product(r, r, r)])
+    assert m.reachable(P).all()
 
 
 def test_home_cranks_horizontal(any_preset):
@@ -49,7 +83,8 @@ def test_home_cranks_horizontal(any_preset):
 
 def test_overrides_recompute_l3():
     m = preset("octopod", l0=0.170)
-    assert m.name == "octopod*" and m.l3 == pytest.approx(math.hypot(0.170 + 0.157 - 0.055, 0.3))
+    assert m.name == "octopod*" and m.l3 == pytest.approx(
+        math.sqrt((0.170 - 0.055) ** 2 + 0.157 ** 2 + 0.3 ** 2))
     q, _ = m.inverse_kinematics(m.home)
     assert np.abs(q).max() < 1e-13
     m2 = preset("octopod", l3=0.40)
