@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from benchmarks.harness import fmt_time
+from benchmarks.harness import fmt_time, interleaved
 
 __all__ = ["TITLE", "DEFAULT", "run"]
 
@@ -102,38 +102,6 @@ def _newton9_baseline(base, plat, legs, starts=48, seed=0):
     return sols
 
 
-def _interleaved(competitors: dict, *, rounds: int, number: int) -> dict:
-    """Like :func:`benchmarks.harness.interleaved`, but each sample records wall time
-    (``time.perf_counter``) and CPU time of this process (``time.process_time``), so
-    that the targets can be judged fairly on a loaded machine.
-
-    Returns {name: (median wall s, median CPU s)} per call.
-    """
-    import gc
-    import statistics
-    import time
-    names = list(competitors)
-    for n in names:
-        competitors[n]()
-    wall = {n: [] for n in names}
-    cpu = {n: [] for n in names}
-    gc_was = gc.isenabled()
-    gc.disable()
-    try:
-        for _ in range(rounds):
-            for n in names:
-                f = competitors[n]
-                w0, c0 = time.perf_counter(), time.process_time()
-                for _ in range(number):
-                    f()
-                wall[n].append((time.perf_counter() - w0) / number)
-                cpu[n].append((time.process_time() - c0) / number)
-    finally:
-        if gc_was:
-            gc.enable()
-    return {n: (statistics.median(wall[n]), statistics.median(cpu[n])) for n in names}
-
-
 def _table(times: dict, baseline: str, per: str) -> str:
     wb, cb = times[baseline]
     lines = [f"| competitor | wall per {per} | CPU per {per} | wall ratio to {baseline} |",
@@ -161,7 +129,7 @@ def run():
         "9-coordinate Newton (no octic)": len(_newton9_baseline(BASE, PLAT, LEGS)),
     }
     load0 = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
-    single = _interleaved({
+    single = interleaved({
         "fast (octic)": lambda: forward_kinematics(BASE, PLAT, LEGS),
         "certified (octic)": lambda: forward_kinematics(GD_BASE, GD_PLATFORM, GD_LEGS,
                                                         method="certified"),
@@ -169,19 +137,19 @@ def run():
                                                              method="precise"),
         "scan (no octic)": lambda: _scan_baseline(BASE, PLAT, LEGS),
         "9-coordinate Newton (no octic)": lambda: _newton9_baseline(BASE, PLAT, LEGS),
-    }, rounds=5, number=3)
-    single["fast (octic)"] = _interleaved(
+    }, rounds=5, number=3, cpu=True)
+    single["fast (octic)"] = interleaved(
         {"fast (octic)": lambda: forward_kinematics(BASE, PLAT, LEGS)},
-        rounds=15, number=50)["fast (octic)"]
-    single["certified (octic)"] = _interleaved(
+        rounds=15, number=50, cpu=True)["fast (octic)"]
+    single["certified (octic)"] = interleaved(
         {"certified (octic)": lambda: forward_kinematics(GD_BASE, GD_PLATFORM, GD_LEGS,
                                                          method="certified")},
-        rounds=15, number=5)["certified (octic)"]
-    batched = _interleaved({
+        rounds=15, number=5, cpu=True)["certified (octic)"]
+    batched = interleaved({
         "fast batched (octic)": lambda: forward_kinematics_batched(BASE, PLAT, batch),
         "fast single, looped (octic)": lambda: [forward_kinematics(BASE, PLAT, b)
                                                 for b in batch[:200]],
-    }, rounds=7, number=1)
+    }, rounds=7, number=1, cpu=True)
     load1 = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     per_solve = {"fast batched (octic)": tuple(v / n_batch for v in
                                                batched["fast batched (octic)"]),

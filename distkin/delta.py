@@ -238,6 +238,26 @@ def side_lengths(base, platform) -> tuple:
 
 # ----------------------------------------------------------------- the transform itself
 
+def _float_legs(values, field) -> np.ndarray:
+    """Six positive leg lengths as float64 (strings parsed exactly, then rounded once)."""
+    if len(values) != 6:
+        raise InputError(f"expected 6 leg lengths, got {len(values)}", field=field)
+    out = np.empty(6)
+    for i, v in enumerate(values):
+        if isinstance(v, bool):
+            raise InputError(f"expected a leg length, got {v!r}", field=f"{field}[{i}]")
+        if isinstance(v, (int, float)):
+            out[i] = v
+        elif hasattr(v, "free_symbols"):      # a sympy number
+            out[i] = float(v)
+        else:
+            out[i] = float(v if isinstance(v, Exact) else parse_exact(v, f"{field}[{i}]"))
+        if not out[i] > 0:
+            raise InputError(f"expected a positive leg length, got {v!r}",
+                             field=f"{field}[{i}]")
+    return out
+
+
 def _as_sym(value, field):
     import sympy as sp
     if isinstance(value, Exact):
@@ -362,6 +382,35 @@ class DeltaTransform:
         Ainv = self.A.inv(method="LU")
         Ainv = sp.ImmutableMatrix(Ainv.applyfunc(sp.factor))
         return Ainv, sp.ImmutableMatrix((Ainv * self.b).applyfunc(sp.factor))
+
+    @cached_property
+    def _inverse_float(self):
+        Ainv, c = self.inverse()
+        return (np.array(Ainv.tolist(), dtype=float), np.array(c.tolist(), dtype=float).ravel())
+
+    def map_legs_float(self, m_legs, field: str = "m_legs"):
+        r""":meth:`map_legs` in float64 for the fast tier: :math:`l^2 = \mathbf A^{-1} m^2 + c`
+        with the exact inverse rounded once per transform (no algebra per call).
+
+        Returns
+        -------
+        l_sq, l : arrays (6,) (squared length units, length units)
+
+        Raises
+        ------
+        InputError, DegenerateGeometryError, InfeasibleError
+            As :meth:`map_legs`.
+        """
+        m = _float_legs(m_legs, field)
+        Ainv, c = self._inverse_float
+        l_sq = Ainv @ (m * m) + c
+        i = int(np.argmin(l_sq))
+        if not l_sq[i] > 0:
+            raise InfeasibleError(
+                f"expected positive squared l-legs, got l{i + 1}^2 = {l_sq[i]:.6g} after the "
+                "inverse map of eq. (8)", margin=float(l_sq[i]), field=field,
+                hint="no octahedral manipulator, hence no 6-6 pose, has these m-legs")
+        return l_sq, np.sqrt(l_sq)
 
     def forward(self, l_sq):
         r"""m-legs squared from l-legs squared: :math:`\mathbf A l^2 - \mathbf b`, eq. (8)."""
@@ -621,8 +670,8 @@ class FK66Result:
     Attributes
     ----------
     platform : Platform66
-    l_sq, l_legs : tuples of sympy numbers
-        The equivalent octahedral legs (exact).
+    l_sq, l_legs : tuples of sympy numbers, or float64 arrays (6,) in the fast tier
+        The equivalent octahedral legs (exact in the precise and certified tiers).
     octahedral : object
         The octahedral forward-kinematics result.
     poses : tuple of Pose66
@@ -672,15 +721,20 @@ def forward_kinematics66(octahedral, offsets, m_legs, *, method: str = "fast",
     check_method(method)
     dps = default_dps(dps) if dps is not None else None
     plat = equivalent_platform(octahedral, offsets)
-    l_sq, l = plat.transform.map_legs(m_legs)
     from .octahedral import forward_kinematics
     base, platform = _base_platform(octahedral)
-    legs = [_legs_arg(x) for x in l]
+    if method == "fast":  # float64 throughout: no algebra on this path
+        l_sq, l = plat.transform.map_legs_float(m_legs)
+        legs = [float(x) for x in l]
+        m = list(_float_legs(m_legs, "m_legs"))
+    else:
+        l_sq, l = plat.transform.map_legs(m_legs)
+        legs = [_legs_arg(x) for x in l]
+        m = [_as_sym(x, f"m_legs[{i}]") for i, x in enumerate(m_legs)]
     kwargs = {"method": method}
     if dps is not None:
         kwargs["dps"] = dps
     res = forward_kinematics(base, platform, legs, **kwargs)
-    m = [_as_sym(x, f"m_legs[{i}]") for i, x in enumerate(m_legs)]
     poses = []
     for pose in res.poses:
         R, t = _pose_arrays(pose, method)

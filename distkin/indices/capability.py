@@ -188,21 +188,7 @@ def hull_worst_best(G, lo, hi, S):
     outside the set).  Raises :class:`SingularConfigurationError` when Qhull fails on
     a flat set.
     """
-    from scipy.spatial import QhullError
-    try:
-        return _hull_worst_best(G, lo, hi, S)
-    except QhullError as exc:
-        sv = np.linalg.svd(G, compute_uv=False)
-        ratio = sv[-1] / sv[0] if sv[0] > 0 else 0.0
-        raise SingularConfigurationError(
-            f"Qhull cannot build the output polytope or its slice: the set is (nearly) flat "
-            f"(σmin/σmax = {ratio:.3g}); expected a full-dimensional set",
-            hint="use method='zonotope', which handles singular poses") from exc
-
-
-def _hull_worst_best(G, lo, hi, S):
-    """Steps (a)-(d) of :func:`hull_worst_best` (Qhull errors propagate)."""
-    return _hull_multi(G, lo, hi, [S])[0]
+    return hull_multi(G, lo, hi, [S])[0]
 
 
 def hull_multi(G, lo, hi, keeps):

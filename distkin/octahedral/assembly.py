@@ -15,17 +15,18 @@ Ros, IEEE T-RO 21(1), 2005).  :func:`assemble_components` (and its row-layout wr
 base-adapted frame of :func:`base_frame` where the first two trilaterations have closed
 forms and side -1 is side +1 reflected (it never raises; it returns the squared heights
 so the caller can reject); :func:`assemble_exact` runs the sequence in the precise tier
-(``mpf``) or the certified tier (``arb`` balls, deciding every sign with certainty; on
-exactly rational data through
-:func:`~distkin.geometry.trilateration.trilateration_parts`, so that a zero height is
-exactly zero), side -1 again as the reflection of side +1 except on exact data.
+(``mpf``) or the certified tier (``arb`` balls, deciding every sign with certainty;
+exact ``fmpq`` on rational data, so that a zero height is exactly zero), both through
+:func:`~distkin.geometry.trilateration.trilateration_parts`, side -1 again as the
+reflection of side +1 except on exact data.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..errors import DegenerateGeometryError, InfeasibleError, UncertifiedError
+from ..errors import UncertifiedError
+from ..geometry.trilateration import trilateration_parts
 
 __all__ = ["trilaterate_masked", "base_frame", "assemble_components", "assemble_fast",
            "assemble_exact"]
@@ -237,18 +238,12 @@ def assemble_exact(base, x, sides, legs, *, method: str, dps=None):
     s14, s24, s25, s35, s36, s16 = legs
     P1, P2, P3 = base
     kw = dict(method=method, dps=dps)
-    if method == "precise":
-        trilateration_parts = _parts_mpf
-    elif type(x).__name__ == "arb":
-        trilateration_parts = _parts_arb
-    else:  # exact rational data: the foundation's exact trilateration (h^2 = 0 exactly)
-        from ..geometry.trilateration import trilateration_parts
     parts5 = trilateration_parts([P1, P2, P3], [x, s25, s35], **kw)
     # with enclosures (arb) or mpf, side -1 is the reflection of side +1 in the base
     # plane: an isometry fixing P1 P2 P3, so it maps the candidates of one side onto
     # those of the other with the same leg-5 residuals (rigorous, and half the work);
     # exact rational data keep the explicit sequence (a zero height stays exactly zero)
-    explicit = trilateration_parts is not _parts_arb and trilateration_parts is not _parts_mpf
+    explicit = method == "certified" and type(x).__name__ != "arb"
     out = []
     for sig in ((1, -1) if explicit else (1,)):
         P5 = _point(parts5, sig, method, dps)
@@ -287,106 +282,6 @@ def _point(parts, side, method, dps):
             type(f).__name__ == "fmpq" for f in parts.foot):
         return list(parts.foot)          # exactly in the plane: keep it exact
     return parts.point(side)
-
-
-class _MpfParts:
-    """Foot, normal, |n|^2 and h^2 of one trilateration in ``mpf`` (current precision)."""
-
-    def __init__(self, foot, normal, G, h2):
-        self.foot, self.normal, self.G, self.h2 = foot, normal, G, h2
-
-    def point(self, side):
-        import mpmath
-        scale = mpmath.sqrt(self.h2 / self.G) * side
-        return [f + scale * c for f, c in zip(self.foot, self.normal)]
-
-
-def _gram(points, sq):
-    A, B, C = points
-    sa, sb, sc = sq
-    v2 = [B[k] - A[k] for k in range(3)]
-    v3 = [C[k] - A[k] for k in range(3)]
-    g22 = v2[0] * v2[0] + v2[1] * v2[1] + v2[2] * v2[2]
-    g33 = v3[0] * v3[0] + v3[1] * v3[1] + v3[2] * v3[2]
-    g23 = v2[0] * v3[0] + v2[1] * v3[1] + v2[2] * v3[2]
-    n = [v2[1] * v3[2] - v2[2] * v3[1], v2[2] * v3[0] - v2[0] * v3[2],
-         v2[0] * v3[1] - v2[1] * v3[0]]
-    G = n[0] * n[0] + n[1] * n[1] + n[2] * n[2]
-    return A, v2, v3, g22, g33, g23, n, G, sa, sb, sc
-
-
-def _foot(A, v2, v3, g22, g33, g23, G, sa, sb, sc):
-    w2 = (sa + g22 - sb) / 2
-    w3 = (sa + g33 - sc) / 2
-    alpha = (w2 * g33 - w3 * g23) / G
-    beta = (w3 * g22 - w2 * g23) / G
-    foot = [A[k] + alpha * v2[k] + beta * v3[k] for k in range(3)]
-    return foot, sa - (alpha * w2 + beta * w3)
-
-
-class _ArbParts:
-    """Foot, normal, |n|^2 and h^2 of one trilateration in ``arb`` balls."""
-
-    def __init__(self, foot, normal, G, h2):
-        self.foot, self.normal, self.G, self.h2 = foot, normal, G, h2
-
-    def point(self, side):
-        scale = (self.h2 / self.G).sqrt() * side
-        return [f + scale * c for f, c in zip(self.foot, self.normal)]
-
-
-def _parts_arb(points, sq, *, method="certified", dps=None):
-    """Gram-form trilateration (as :mod:`distkin.geometry.trilateration`) on ``arb``
-    balls, deciding with certainty: a height that is certainly negative is infeasible, a
-    ball of h^2 or of |n|^2 that contains 0 is :class:`UncertifiedError`."""
-    import flint
-    A, v2, v3, g22, g33, g23, n, G, sa, sb, sc = _gram(
-        [[flint.arb(c) for c in p] for p in points], [flint.arb(v) for v in sq])
-    if not G > 0:
-        if G.is_zero():
-            raise DegenerateGeometryError("expected three non-collinear reference points, "
-                                          "got collinear points (exactly)", field="points")
-        raise UncertifiedError("cannot decide whether the reference points are collinear: "
-                               f"|n|^2 = {G.str(5, radius=True)}")
-    foot, h2 = _foot(A, v2, v3, g22, g33, g23, G, sa, sb, sc)
-    if h2 < 0:
-        raise InfeasibleError(f"expected distances that close (h^2 >= 0), got h^2 = "
-                              f"{h2.str(8, radius=True)}", margin=float(h2.mid()), field="sq")
-    if not h2 > 0:
-        raise UncertifiedError(f"cannot decide whether the distances close: h^2 = "
-                               f"{h2.str(8, radius=True)} contains 0")
-    return _ArbParts(foot, n, G, h2)
-
-
-def _parts_mpf(points, sq, *, method="precise", dps=None):
-    """Gram-form trilateration (as :mod:`distkin.geometry.trilateration`) on ``mpf``
-    values at the caller's working precision; h^2 within 10^(8-dps) relative of 0 is
-    taken as 0."""
-    import mpmath
-    A, B, C = points
-    sa, sb, sc = sq
-    v2 = [B[k] - A[k] for k in range(3)]
-    v3 = [C[k] - A[k] for k in range(3)]
-    g22 = sum(c * c for c in v2)
-    g33 = sum(c * c for c in v3)
-    g23 = sum(a * b for a, b in zip(v2, v3))
-    n = [v2[1] * v3[2] - v2[2] * v3[1], v2[2] * v3[0] - v2[0] * v3[2],
-         v2[0] * v3[1] - v2[1] * v3[0]]
-    G = sum(c * c for c in n)
-    tol = mpmath.mpf(10) ** (8 - mpmath.mp.dps)
-    if G <= tol * g22 * g33:
-        raise DegenerateGeometryError("expected three non-collinear reference points, got "
-                                      f"|n|^2 = {mpmath.nstr(G, 5)}", field="points")
-    w2 = (sa + g22 - sb) / 2
-    w3 = (sa + g33 - sc) / 2
-    alpha = (w2 * g33 - w3 * g23) / G
-    beta = (w3 * g22 - w2 * g23) / G
-    foot = [A[k] + alpha * v2[k] + beta * v3[k] for k in range(3)]
-    h2 = sa - (alpha * w2 + beta * w3)
-    if h2 < -tol * (abs(sa) + g22 + g33):
-        raise InfeasibleError(f"expected distances that close (h^2 >= 0), got h^2 = "
-                              f"{mpmath.nstr(h2, 8)}", margin=float(h2), field="sq")
-    return _MpfParts(foot, n, G, max(h2, mpmath.mpf(0)))
 
 
 def _flat(points):
