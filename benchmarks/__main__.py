@@ -5,7 +5,9 @@ part of the default run?) and ``run() -> (markdown: str, data: dict)``.  Each ru
 rewrites its own section of ``BENCHMARKS.md`` (between ``<!-- begin NAME -->`` and
 ``<!-- end NAME -->``) with the machine, the versions and the command, and the raw
 numbers go to ``benchmarks/results.json``.  Modules with ``DEFAULT = False`` say so in
-the file and run only when named.
+the file and run only when named.  A block under the title (``<!-- begin run -->``)
+records the last run: command, date, machine, versions, the sections written with their
+times, and what the default run left out.
 """
 
 from __future__ import annotations
@@ -39,12 +41,34 @@ def modules() -> list[str]:
                   if m.name.startswith("bench_"))
 
 
-def _write_section(name: str, text: str) -> None:
+def _write_section(name: str, text: str, *, first: bool = False) -> None:
     md = MD.read_text(encoding="utf-8") if MD.exists() else _HEAD
     block = f"<!-- begin {name} -->\n{text.rstrip()}\n<!-- end {name} -->"
     pat = re.compile(rf"<!-- begin {re.escape(name)} -->.*?<!-- end {re.escape(name)} -->", re.S)
-    md = pat.sub(lambda _: block, md) if pat.search(md) else md.rstrip() + "\n\n" + block + "\n"
+    if pat.search(md):
+        md = pat.sub(lambda _: block, md)
+    elif first and _HEAD.strip() in md:
+        md = md.replace(_HEAD.strip(), _HEAD.strip() + "\n\n" + block, 1)
+    else:
+        md = md.rstrip() + "\n\n" + block + "\n"
     MD.write_text(md, encoding="utf-8")
+
+
+def _write_run(r: dict) -> None:
+    """The block under the title: the last run's command, machine, versions and times."""
+    m = r["machine"]
+    ran = ", ".join(f"`{n}` {w:.0f} s" for n, w in r["ran"].items())
+    out = (", ".join(f"`{n}` (run: `python -m benchmarks {n}`)" for n in r["left_out"])
+           or "none")
+    if r["command"] != "python -m benchmarks":
+        out = "not applicable (only the named sections ran; the others keep their last results)"
+    text = (f"Last run: `{r['command']}` on {r['date']}, {r['seconds']:.0f} s in all.  \n"
+            f"Machine: {m['processor']}, {m['cpu_count']} cores, {m['platform']}.  \n"
+            f"Versions: Python {m['python']}, numpy {m['numpy']}, scipy {m['scipy']}, "
+            f"sympy {m['sympy']}, mpmath {m['mpmath']}, python-flint {m['python-flint']}.  \n"
+            f"Sections written: {ran}.  \n"
+            f"Left out of the default run: {out}.")
+    _write_section("run", text, first=True)
 
 
 def main(argv=None) -> int:
@@ -58,10 +82,13 @@ def main(argv=None) -> int:
             return 2
     results = json.loads(JSON.read_text()) if JSON.exists() else {}
     info = machine()
+    ran, left_out = [], []
+    t_all = time.perf_counter()
     for name in available:
         mod = importlib.import_module(f"benchmarks.bench_{name}")
         if names is None and not getattr(mod, "DEFAULT", True):
             print(f"[{name}] left out of the default run (run: python -m benchmarks {name})")
+            left_out.append(name)
             continue
         if names is not None and name not in names:
             continue
@@ -77,7 +104,14 @@ def main(argv=None) -> int:
                    " · not in the default run") + "\n\n")
         _write_section(name, head + text)
         results[name] = {"machine": info, "seconds": wall, "data": data}
+        ran.append((name, wall))
         print(text)
+    total = time.perf_counter() - t_all
+    run_info = {"command": "python -m benchmarks" + ("" if names is None else " " + " ".join(names)),
+                "date": time.strftime("%Y-%m-%d %H:%M"), "machine": info,
+                "ran": {n: w for n, w in ran}, "left_out": left_out, "seconds": total}
+    results["_last_run"] = run_info
+    _write_run(run_info)
     JSON.write_text(json.dumps(results, indent=2, default=str) + "\n", encoding="utf-8")
     return 0
 

@@ -26,6 +26,7 @@ __all__ = [
     "positive_number",
     "string_list",
     "method_field",
+    "executor_fields",
 ]
 
 _MISSING = object()
@@ -115,3 +116,19 @@ def string_list(value, field: str) -> tuple[str, ...]:
 
 def method_field(table: Mapping, field: str, default: str = "fast", allowed=METHODS) -> str:
     return check_method(table.get("method", default), allowed=allowed, field=f"{field}.method")
+
+
+def executor_fields(table: Mapping, field: str):
+    """The executor fields of a chunked query (sweeps, certified workspaces):
+    ``workers`` (a positive integer), ``scheduler`` (a dask address) and ``store`` (a
+    directory), each optional.  Returns ``(workers, scheduler, store)``, None where
+    absent."""
+    workers = positive_int(table["workers"], f"{field}.workers") if "workers" in table else None
+    sched = table.get("scheduler")
+    if sched is not None and not isinstance(sched, str):
+        raise InputError(f"expected a scheduler address string, got {sched!r}",
+                         field=f"{field}.scheduler")
+    store = table.get("store")
+    if store is not None and not isinstance(store, str):
+        raise InputError(f"expected a directory path, got {store!r}", field=f"{field}.store")
+    return workers, sched, store

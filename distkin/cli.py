@@ -33,6 +33,7 @@ DEMO_SCENES = [
     "delta_griffis_duffy.toml",
     "octahedral_griffis_duffy.toml",
     "rss_octopod.toml",
+    "certify_hunt.toml",
 ]
 
 #: subcommand -> "module:function" that adds its parser (called with the subparsers)

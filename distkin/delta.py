@@ -41,7 +41,7 @@ from functools import cached_property, lru_cache
 import numpy as np
 
 from .errors import DegenerateGeometryError, InfeasibleError, InputError
-from .numbers import Exact, check_method, default_dps, parse_exact, to_sympy
+from .numbers import METHODS_AUTO, Exact, check_method, default_dps, parse_exact, to_sympy
 
 __all__ = [
     "RowSpec",
@@ -703,8 +703,11 @@ def forward_kinematics66(octahedral, offsets, m_legs, *, method: str = "fast",
     octahedral : Octahedral or (base, platform)
     offsets : 6 numbers (length units)
     m_legs : 6 leg lengths (Exact, numeric strings like ``"6/25*sqrt(6170)"``)
-    method : {"fast", "precise", "certified"}
-        Passed to the octahedral solver; its accuracy statement applies.  The residual
+    method : {"fast", "precise", "certified", "auto"}
+        Passed to the octahedral solver; its accuracy statement applies.  ``"auto"``
+        maps the legs exactly and lets the octahedral solver choose its tier
+        (``result.octahedral.tier`` / ``.tier_reason``); the residual check then runs in
+        the tier that answered.  The residual
         check runs in float64 (fast), mpmath at ``dps`` (precise) or arb balls
         (certified: a rigorous upper bound).
     dps : int, optional
@@ -718,11 +721,22 @@ def forward_kinematics66(octahedral, offsets, m_legs, *, method: str = "fast",
     DegenerateGeometryError, InfeasibleError, InputError
         See :meth:`DeltaTransform.map_legs` and :func:`equivalent_platform`.
     """
-    check_method(method)
+    check_method(method, allowed=METHODS_AUTO)
     dps = default_dps(dps) if dps is not None else None
     plat = equivalent_platform(octahedral, offsets)
     from .octahedral import forward_kinematics
     base, platform = _base_platform(octahedral)
+    if method == "auto":  # exact l-legs, so that an escalation certifies this problem
+        l_sq, l = plat.transform.map_legs(m_legs)
+        res = forward_kinematics(base, platform, [_legs_arg(x) for x in l], method="auto",
+                                 dps=dps)
+        tier = res.tier
+        m = (list(_float_legs(m_legs, "m_legs")) if tier == "fast" else
+             [_as_sym(x, f"m_legs[{i}]") for i, x in enumerate(m_legs)])
+        poses = [_pose66(plat, *_pose_arrays(pose, tier), m, tier, dps, pose)
+                 for pose in res.poses]
+        worst = max((p.max_leg_error for p in poses), default=0.0)
+        return FK66Result(plat, l_sq, l, res, tuple(poses), worst)
     if method == "fast":  # float64 throughout: no algebra on this path
         l_sq, l = plat.transform.map_legs_float(m_legs)
         legs = [float(x) for x in l]

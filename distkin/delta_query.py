@@ -11,7 +11,7 @@ Scene fields::
     m_legs = ["6/25*sqrt(6170)", ...]        # optional: lengths of the 6-6 platform's legs
     solve = true                             # optional (default: true when m_legs and the
                                              # offsets are numeric): 6-6 forward kinematics
-    method = "fast"                          # tier of the octahedral solver
+    method = "fast"                          # tier of the octahedral solver (or "auto")
     dps = 30                                 # precise tier only
 
 The JSON result has ``A`` (rows of strings), ``b``, ``det``, ``det_factors`` (the
@@ -46,7 +46,7 @@ from dataclasses import dataclass
 
 from .argcheck import check_keys, exact_matrix, method_field, require
 from .errors import DistkinError, InputError
-from .numbers import default_dps, parse_vector
+from .numbers import METHODS_AUTO, default_dps, parse_vector
 from .queries import Outcome, register
 
 __all__ = ["DeltaTransformQuery", "Platform66Forward", "Platform66Mechanism",
@@ -134,7 +134,7 @@ class DeltaTransformQuery:
         if solve and tr.free_symbols:
             raise InputError("expected numeric offsets when solve = true, got symbols "
                              f"{', '.join(map(str, tr.free_symbols))}", field=f"{field}.solve")
-        method = method_field(table, field)
+        method = method_field(table, field, allowed=METHODS_AUTO)
         dps = default_dps(table.get("dps"))
         return _Params(offs, m_legs, solve, method, dps, tr, mechanism)
 
@@ -200,10 +200,13 @@ def _solve(p, result, unit):
     flt = lambda a: np.vectorize(float, otypes=[float])(np.asarray(a, dtype=object))  # noqa: E731
     bj = flt(fk.platform.base_joints)
     sq = f"{unit}^2" if unit else ""
-    bound = " (rigorous arb bound)" if p.method == "certified" else ""
+    tier = getattr(fk.octahedral, "tier", "") or p.method
+    bound = " (rigorous arb bound)" if tier == "certified" else ""
     poses = []
     lines = [f"6-6 forward kinematics ({p.method}): {len(fk.poses)} poses; each checked on the "
              f"6-6 platform's own joints"]
+    if p.method == "auto":
+        lines.append(f"  answered by the {tier} tier: {fk.octahedral.tier_reason}")
     for k, pose in enumerate(fk.poses):
         R, t = flt(pose.rotation), flt(pose.translation)
         pj = flt(pose.platform_joints)
@@ -216,6 +219,7 @@ def _solve(p, result, unit):
                      f"{pose.max_leg_error:.2e}{unit}")
     result["forward_kinematics"] = {
         "method": p.method,
+        "tier": tier,
         "count": len(fk.poses),
         "max_leg_error": fk.max_leg_error,
         "base_joints": [[str(x) for x in b] for b in fk.platform.base_joints],
@@ -245,8 +249,9 @@ class Platform66Forward:
                 raise InputError(f"expected a positive leg length, got {m.text!r}",
                                  field=f"{field}.legs[{i}]")
         tr = delta_transform(mechanism, mechanism.offsets, field="mechanism.offsets")
-        return _Params(mechanism.offsets, legs, True, method_field(table, field),
-                       default_dps(table.get("dps")), tr, mechanism)
+        method = method_field(table, field, allowed=METHODS_AUTO)
+        return _Params(mechanism.offsets, legs, True, method, default_dps(table.get("dps")), tr,
+                       mechanism)
 
     @staticmethod
     def run(p, scene, ctx):

@@ -18,6 +18,7 @@ __all__ = [
     "SingularConfigurationError",
     "UncertifiedError",
     "LinkError",
+    "ConditioningWarning",
     "is_input_error",
 ]
 
@@ -107,6 +108,14 @@ class LinkError(DistkinError, OSError):
     """Serial-link failure: cannot open, disconnected, or the peer stopped answering."""
 
     kind = "link"
+
+
+class ConditioningWarning(UserWarning):
+    """A fast (float64) answer whose own conditioning estimate says it may be wrong.
+
+    Raised as a warning, not an error: the answer is returned, with its estimate, and
+    ``method="auto"`` (or ``"certified"``) is the way to a trustworthy one.
+    """
 
 
 def is_input_error(exc: BaseException) -> bool:

@@ -29,6 +29,7 @@ from .errors import InputError
 
 __all__ = [
     "METHODS",
+    "METHODS_AUTO",
     "Exact",
     "parse_exact",
     "parse_vector",
@@ -43,6 +44,9 @@ __all__ = [
 
 #: the arithmetic tiers every numeric entry point accepts
 METHODS = ("fast", "precise", "certified")
+#: the tiers of entry points that can also choose one themselves from a conditioning
+#: estimate (``"auto"``: fast first, escalated when the estimate says so)
+METHODS_AUTO = METHODS + ("auto",)
 
 _FUNCS = {"sqrt", "cbrt", "pi"}
 

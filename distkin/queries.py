@@ -38,6 +38,7 @@ QUERY_MODULES: dict[str, tuple[str, ...]] = {
     "jacobian": ("distkin.mechanisms.query",),
     "performance": ("distkin.indices.query",),
     "design_sweep": ("distkin.indices.query",),
+    "certify_workspace": ("distkin.certify.query",),
     "forward_kinematics": ("distkin.mechanisms.query", "distkin.octahedral.query",
                            "distkin.delta_query"),
 }

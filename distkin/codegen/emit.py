@@ -12,6 +12,14 @@ Three flavours of the same symbolic source (STYLE.md, sympy/codegen):
     only ``+ - * /`` and integer powers, rationals printed as ``_Q(p, q)``
     (``flint.fmpq``); evaluates exactly on ``fmpq`` inputs and as certified balls on
     ``arb`` inputs.  Polynomial/rational expressions only.
+``arb``
+    python-flint balls (:mod:`distkin.certify`): ``+ - * /``, integer powers, ``abs``,
+    square roots, ``sin`` and ``cos`` written as methods of the operands
+    (``x.sqrt()``, ``x.sin()``), floats as exact double literals and rationals as
+    ``_A(p) / q``, so every operation returns an enclosure.  The same kernel also runs on
+    any number type with those methods (the forward-mode derivative balls of
+    :mod:`distkin.certify.intervals`).  Evaluated on a box of ``arb`` inputs it gives
+    the plain interval enclosure of the kernel over the box.
 
 A module written by :func:`module_source` opens with a header naming its generator,
 the versions used and a SHA-256 of the symbolic source (``srepr`` of the kernels'
@@ -26,7 +34,7 @@ from dataclasses import dataclass, field
 
 __all__ = ["Kernel", "kernel_source", "module_source", "symbolic_hash", "FLAVOURS"]
 
-FLAVOURS = ("batched", "scalar", "exact")
+FLAVOURS = ("batched", "scalar", "exact", "arb")
 
 
 @dataclass(frozen=True)
@@ -42,7 +50,7 @@ class Kernel:
         (a length-1 tuple for a scalar argument, still passed as a vector).
     output : sympy.Matrix or sequence of sympy.Expr
         The value; a Matrix keeps its shape, a sequence is a vector.
-    flavour : {"batched", "scalar", "exact"}
+    flavour : {"batched", "scalar", "exact", "arb"}
     doc : str
         Docstring body (cite the paper and equation; state shapes and units).
     cse : bool
@@ -70,20 +78,33 @@ def _printers():
     def _pow(self, expr, rational=False):
         base, exp = expr.as_base_exp()
         if exp.is_Integer and 2 <= int(exp) <= 4:
+            # in parentheses: the Mul printer may put a power after "/" (a/(x*x))
             b = self.parenthesize(base, sympy.printing.precedence.PRECEDENCE["Mul"])
-            return "*".join([b] * int(exp))
+            return "(" + "*".join([b] * int(exp)) + ")"
         if exp.is_Integer and int(exp) == -1:
             b = self.parenthesize(base, sympy.printing.precedence.PRECEDENCE["Mul"])
             return f"1.0/{b}"
         return self._orig_pow(expr, rational=rational)
 
+    def _float(self, expr):
+        # a binary64 parameter prints as its shortest round-trip repr (17 significant
+        # digits at most), not sympy's 15-digit default, which can be off by an ulp
+        v = float(expr)
+        if expr._prec == 53 and sympy.Float(v, precision=53)._mpf_ == expr._mpf_:
+            return repr(v)
+        return self._orig_float(expr)
+
     class Batched(NumPyPrinter):
         _orig_pow = NumPyPrinter._print_Pow
         _print_Pow = _pow
+        _orig_float = NumPyPrinter._print_Float
+        _print_Float = _float
 
     class Scalar(PythonCodePrinter):
         _orig_pow = PythonCodePrinter._print_Pow
         _print_Pow = _pow
+        _orig_float = PythonCodePrinter._print_Float
+        _print_Float = _float
 
     class Exact(PythonCodePrinter):
         def _print_Rational(self, expr):
@@ -105,9 +126,68 @@ def _printers():
         def _print_Function(self, expr):
             raise ValueError(f"the exact flavour takes no functions, got {expr}")
 
+    class Arb(PythonCodePrinter):
+        # every constant is turned into a ball exactly (doubles) or rigorously (p / q)
+        def _print_Rational(self, expr):
+            return f"(_A({expr.p}) / {expr.q})"
+
+        def _print_Integer(self, expr):
+            return str(expr.p)
+
+        def _print_Float(self, expr):
+            v = float(expr)
+            if sympy.Float(v, precision=expr._prec)._mpf_ != expr._mpf_:
+                raise ValueError(f"the arb flavour takes floats exact in binary64, got {expr}")
+            return repr(v)
+
+        def _print_Pow(self, expr, rational=False):
+            base, exp = expr.as_base_exp()
+            b = self.parenthesize(base, sympy.printing.precedence.PRECEDENCE["Atom"], True)
+            if exp == sympy.Rational(1, 2):
+                return f"{b}.sqrt()"
+            if exp == sympy.Rational(-1, 2):
+                return f"(1 / {b}.sqrt())"
+            if not exp.is_Integer:
+                raise ValueError(f"the arb flavour takes integer and half powers, got {expr}")
+            n = int(exp)
+            if n == 0:
+                return "1"
+            # a product in parentheses (the Mul printer may put it after a "/"); balls
+            # multiply tightly, while arb's ** of a wide ball can be loose
+            bp = self.parenthesize(base, sympy.printing.precedence.PRECEDENCE["Mul"])
+            prod = "(" + "*".join([bp] * abs(n)) + ")" if abs(n) > 1 else bp
+            return prod if n > 0 else f"(1 / {prod})"
+
+        def _print_Abs(self, expr):
+            return f"abs({self.doprint(expr.args[0])})"
+
+        def _unary(self, expr, method):
+            a = self.parenthesize(expr.args[0], sympy.printing.precedence.PRECEDENCE["Atom"],
+                                  True)
+            return f"{a}.{method}()"
+
+        def _print_sin(self, expr):
+            return self._unary(expr, "sin")
+
+        def _print_cos(self, expr):
+            return self._unary(expr, "cos")
+
+        def _print_Function(self, expr):
+            raise ValueError(f"the arb flavour has no rule for {expr.func}, got {expr}")
+
+        def _refuse(self, expr, *args, **kwargs):
+            raise ValueError(f"the arb flavour has no rule for {type(expr).__name__}, got "
+                             f"{expr}")
+
+    # every function or constant the Python printer knows, except ours, is refused
+    from sympy.printing.pycode import _known_constants_math, _known_functions_math
+    for _name in list(_known_functions_math) + list(_known_constants_math) + ["Min", "Max"]:
+        if _name not in ("sin", "cos", "Abs"):
+            setattr(Arb, f"_print_{_name}", Arb._refuse)
+
     return {"batched": Batched({"fully_qualified_modules": True}),
             "scalar": Scalar({"fully_qualified_modules": True}),
-            "exact": Exact()}
+            "exact": Exact(), "arb": Arb()}
 
 
 def symbolic_hash(*exprs) -> str:
@@ -230,6 +310,8 @@ def module_source(kernels, *, generator: str, doc: str, source_hash: str,
         imports.append("import numpy")
     if "exact" in flavours:
         imports.append("from flint import fmpq as _Q")
+    if "arb" in flavours:
+        imports.append("from flint import arb as _A")
     body = ["", f"SOURCE_SHA256 = {source_hash!r}"]
     for name, value in (constants or {}).items():
         body.append(f"{name} = {value!r}")

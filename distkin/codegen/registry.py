@@ -20,6 +20,11 @@ GENERATED: dict[str, str] = {
     "rss_ergin": "distkin.mechanisms.kernels:generate_ergin",
     "rss_octopod": "distkin.mechanisms.kernels:generate_octopod",
     "rss_octo": "distkin.mechanisms.kernels:generate_octo",
+    "rss_hunt_arb": "distkin.mechanisms.kernels:generate_hunt_arb",
+    "rss_hexa_arb": "distkin.mechanisms.kernels:generate_hexa_arb",
+    "rss_ergin_arb": "distkin.mechanisms.kernels:generate_ergin_arb",
+    "rss_octopod_arb": "distkin.mechanisms.kernels:generate_octopod_arb",
+    "rss_octo_arb": "distkin.mechanisms.kernels:generate_octo_arb",
 }
 
 

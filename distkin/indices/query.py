@@ -51,7 +51,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..argcheck import as_table, check_keys, choice, positive_int, require
+from ..argcheck import as_table, check_keys, choice, executor_fields, positive_int, require
 from ..errors import InputError
 from ..numbers import parse_exact
 from ..queries import register
@@ -111,18 +111,6 @@ def _grid(raw, units, field, z0, rotation):
     rr = axis_values(-rotation, rotation, rstep, f"{field}.rotation_step") if rotation > 0 \
         else np.zeros(1)
     return PoseGrid(tuple(tr), tuple(tr), tuple(z0 + tr), tuple(rr), tuple(rr), tuple(rr))
-
-
-def _executor_fields(t, field):
-    workers = positive_int(t["workers"], f"{field}.workers") if "workers" in t else None
-    sched = t.get("scheduler")
-    if sched is not None and not isinstance(sched, str):
-        raise InputError(f"expected a scheduler address string, got {sched!r}",
-                         field=f"{field}.scheduler")
-    store = t.get("store")
-    if store is not None and not isinstance(store, str):
-        raise InputError(f"expected a directory path, got {store!r}", field=f"{field}.store")
-    return workers, sched, store
 
 
 def _store_dir(store, scene, name):
@@ -231,7 +219,7 @@ class PerformanceQuery:
             raise InputError(f"expected positive scaling factors, got {sc}",
                              field=f"{field}.scaling")
         cp = positive_int(table.get("chunk_positions", 32), f"{field}.chunk_positions")
-        workers, sched, store = _executor_fields(table, field)
+        workers, sched, store = executor_fields(table, field)
         route = choice(table.get("route", "kernels"), f"{field}.route", ("kernels", "numpy"))
         pd = table.get("plot_device")
         if pd is not None and pd not in labels:
@@ -313,7 +301,7 @@ class DesignSweepQuery:
         if not isinstance(sc, list) or len(sc) != 6:
             raise InputError(f"expected 6 scaling factors, got {sc!r}", field=f"{field}.scaling")
         sc = tuple(_num(v, f"{field}.scaling[{i}]") for i, v in enumerate(sc))
-        workers, sched, store = _executor_fields(table, field)
+        workers, sched, store = executor_fields(table, field)
         dpc = positive_int(table.get("designs_per_chunk", 8), f"{field}.designs_per_chunk")
         return _SweepParams(space, grid, algorithm, unreachable, sc, workers, sched, store,
                             dpc)

@@ -15,6 +15,14 @@ closure    q (..., L), pose -> (..., L, 7)      q (L), pose -> nested lists
            [Phi_i (m), dPhi_i/d(v, omega)]
 ========== ==================================== ==================================
 
+A third flavour, ``arb`` (suffix ``_arb``; :mod:`distkin.codegen.emit`), evaluates
+``reach`` and ``jq_jx`` on python-flint balls: on a point it gives certified values, on a
+box of poses an interval enclosure, and on the forward-mode derivative balls of
+:mod:`distkin.certify.intervals` the derivatives' enclosures over the box (the
+centred form of :mod:`distkin.certify.boxes`).  Those kernels live in separate modules
+``rss_<name>_arb`` (:data:`ARB_KERNELS`, :func:`load_kernels` with ``flavour="arb"``),
+so the fast modules stay as they are; the symbolic source is the same.
+
 The five presets' modules are committed as ``distkin/_generated/rss_<name>.py``
 (registered in :data:`distkin.codegen.registry.GENERATED`, derivation script
 ``derivations/rss_model.py``).  Any other parameter set is derived on first use, with
@@ -32,10 +40,15 @@ from pathlib import Path
 __all__ = ["KERNELS", "FLAVOURS", "QUERY_KERNELS", "KernelSet", "module_text", "load_kernels",
            "scene_module",
            "preset_module_name", "generate_hunt", "generate_hexa", "generate_ergin",
-           "generate_octopod", "generate_octo", "derivation_profile"]
+           "generate_octopod", "generate_octo", "derivation_profile", "ARB_KERNELS",
+           "generate_hunt_arb", "generate_hexa_arb", "generate_ergin_arb",
+           "generate_octopod_arb", "generate_octo_arb"]
 
 KERNELS = ("ik", "reach", "jacobian", "jq_jx", "closure")
 FLAVOURS = ("batched", "scalar")
+#: the kernels of the certified (arb) flavour, in their own module ``rss_<name>_arb``
+ARB_KERNELS = ("reach", "jq_jx")
+_SUFFIX = {"batched": "", "scalar": "_scalar", "arb": "_arb"}
 #: rows per slice of the batched kernels (temporaries of 32 KiB stay in cache)
 CHUNK = 4096
 GENERATOR = "distkin.mechanisms.kernels (derivation: derivations/rss_model.py)"
@@ -64,8 +77,8 @@ QUERY_KERNELS = {
 }
 
 
-def preset_module_name(name: str) -> str:
-    return f"rss_{name}"
+def preset_module_name(name: str, flavour: str = "batched") -> str:
+    return f"rss_{name}_arb" if flavour == "arb" else f"rss_{name}"
 
 
 def _expressions(mech, names):
@@ -88,7 +101,7 @@ def _kernel_list(mech, exprs, flavours):
             output = list(M) if M.shape[1] == 1 else M
             if M.shape[1] == 1:
                 output = sp.Matrix(output).T.tolist()[0]
-            name = n if flavour == "batched" else f"{n}_scalar"
+            name = n + _SUFFIX[flavour]
             out.append(Kernel(name, inputs, output, flavour=flavour, doc=_DOCS[n],
                               extra={"cse_optimizations": None, "chunk": CHUNK}))
     return out
@@ -125,6 +138,14 @@ def module_text(mech, names=KERNELS, flavours=FLAVOURS, *, generator=GENERATOR,
            f"Parameters (SI): {params!r}.\n"
            "Batched kernels take (..., 6) poses; scalar ones (suffix _scalar) plain floats.\n"
            "Poses: (x, y, z) m, (rx, ry, rz) rad with R = Rz Ry Rx.  Needs only numpy.")
+    if tuple(flavours) == ("arb",):
+        doc = (f"{title or 'Kernels of an RSS/RRRS mechanism'} (Kühne et al., Sec. II-C), "
+               "arb flavour.\n\n"
+               f"Parameters (SI): {params!r}.\n"
+               "Kernels (suffix _arb) take 6 python-flint arb balls (or forward-mode\n"
+               "derivative balls) and return enclosures; constants are the doubles of the\n"
+               "fast kernels, exactly.  Poses: (x, y, z) m, (rx, ry, rz) rad with\n"
+               "R = Rz Ry Rx.  Needs only python-flint.")
     t1 = time.perf_counter()
     src = module_source(kernels, generator=generator, doc=doc, source_hash=h,
                         constants={"L": mech.legs, "PARAMETERS": params,
@@ -162,13 +183,40 @@ def generate_octo():
     return _generate_preset("octo")
 
 
+def _generate_preset_arb(name):
+    from .presets import description, preset
+    return module_text(preset(name), ARB_KERNELS, ("arb",),
+                       title=f"Preset {name!r}: {description(name)}")
+
+
+def generate_hunt_arb():
+    return _generate_preset_arb("hunt")
+
+
+def generate_hexa_arb():
+    return _generate_preset_arb("hexa")
+
+
+def generate_ergin_arb():
+    return _generate_preset_arb("ergin")
+
+
+def generate_octopod_arb():
+    return _generate_preset_arb("octopod")
+
+
+def generate_octo_arb():
+    return _generate_preset_arb("octo")
+
+
 class KernelSet:
-    """Kernels of one flavour as attributes ``ik, reach, jacobian, jq_jx, closure``."""
+    """Kernels of one flavour as attributes ``ik, reach, jacobian, jq_jx, closure``
+    (the ``arb`` flavour: ``reach, jq_jx``)."""
 
     def __init__(self, module, flavour):
         self.module = module
         self.flavour = flavour
-        suffix = "" if flavour == "batched" else "_scalar"
+        suffix = _SUFFIX[flavour]
         for n in KERNELS:
             fn = getattr(module, n + suffix, None)
             if fn is not None:
@@ -198,13 +246,20 @@ def _model_source_text() -> str:
 
 
 def load_kernels(mech, flavour: str = "batched") -> KernelSet:
-    """The kernels of ``mech``: the committed preset module, else a cached derivation."""
-    if flavour not in FLAVOURS:
+    """The kernels of ``mech``: the committed preset module, else a cached derivation.
+
+    ``flavour`` is "batched", "scalar" or "arb" (:data:`ARB_KERNELS` only, from the
+    module ``rss_<name>_arb``).
+    """
+    if flavour not in FLAVOURS + ("arb",):
         from ..errors import InputError
-        raise InputError(f"expected a flavour in {FLAVOURS}, got {flavour!r}", field="flavour")
+        raise InputError(f"expected a flavour in {FLAVOURS + ('arb',)}, got {flavour!r}",
+                         field="flavour")
     key = (mech.geometry_key(), flavour)
     if key in _LOADED:
         return _LOADED[key]
+    if flavour == "arb":
+        return _load_arb(mech, key)
     name = _preset_for(mech)
     if name is not None:
         module = importlib.import_module(f"distkin._generated.{preset_module_name(name)}")
@@ -215,6 +270,20 @@ def load_kernels(mech, flavour: str = "batched") -> KernelSet:
         module = load_module_file(path)
     for fl in FLAVOURS:
         _LOADED[(mech.geometry_key(), fl)] = KernelSet(module, fl)
+    return _LOADED[key]
+
+
+def _load_arb(mech, key):
+    name = _preset_for(mech)
+    if name is not None:
+        module = importlib.import_module(f"distkin._generated.{preset_module_name(name, 'arb')}")
+    else:
+        from ..codegen.cache import cached_source, load_module_file, source_key
+        ckey = source_key(_model_source_text(), repr(mech.geometry_key()), ARB_KERNELS,
+                          ("arb",))
+        path, _ = cached_source("rss", ckey, lambda: module_text(mech, ARB_KERNELS, ("arb",)))
+        module = load_module_file(path)
+    _LOADED[key] = KernelSet(module, "arb")
     return _LOADED[key]
 
 

@@ -19,6 +19,7 @@ Unless ``l3`` is given it follows the horizontal-crank rule (:mod:`.presets`).
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 
 from ..argcheck import check_keys, choice, require
 from ..errors import InputError
@@ -59,8 +60,14 @@ def parse_rss(table, units, field):
         over["legs"] = legs
     for k in LENGTHS + ANGLES + _SI:
         if k in table:
-            v = float(parse_exact(table[k], f"{field}.{k}"))
-            over[k] = v * (lf if k in LENGTHS else af if k in ANGLES else 1.0)
+            ex = parse_exact(table[k], f"{field}.{k}")
+            if k in LENGTHS and isinstance(ex.value, Fraction):
+                # exact value times the exact unit factor, rounded once: the same SI
+                # number whichever unit the scene is written in
+                over[k] = float(ex.value * Fraction(units.length_factor))
+            else:
+                v = float(ex)
+                over[k] = v * (lf if k in LENGTHS else af if k in ANGLES else 1.0)
     try:
         return preset(name, **over)
     except InputError as exc:

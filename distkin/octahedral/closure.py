@@ -13,7 +13,10 @@ four tetrahedra) and to the octic :math:`O = G^2 - 4R_1R_2`; see
   four branches, for the Newton polish and the rejection of spurious roots;
 * :func:`feasible_interval` bounds :math:`s_{15}` by the triangle inequalities of the
   triangles through :math:`P_1P_5`, so that every real assembly has
-  :math:`x \in [lo, hi]`.
+  :math:`x \in [lo, hi]`;
+* :func:`shifted_octic` rebuilds the octic around a centre :math:`x_0` from the
+  quadratic parts, :math:`O(x_0 + hu) = G^2 - 4R_1R_2` in :math:`u`, far more accurate
+  near its roots than the expanded coefficients (which cancel strongly there).
 
 No sympy is imported here.
 """
@@ -30,6 +33,7 @@ __all__ = [
     "part_values",
     "eq3_branches",
     "feasible_interval",
+    "shifted_octic",
     "TRIANGLES_THROUGH_15",
 ]
 
@@ -144,3 +148,52 @@ def feasible_interval(sides, legs):
         his.append((a + b) ** 2)
     los, his = np.stack(los, -1), np.stack(his, -1)
     return los.max(-1), his.min(-1), (los.argmax(-1), his.argmin(-1))
+
+
+def _pmul(a, b):
+    """Products of polynomials given as (la, ...) and (lb, ...) stacks of ascending
+    coefficients (any trailing shape): (la + lb - 1, ...)."""
+    out = np.zeros((a.shape[0] + b.shape[0] - 1,) + np.broadcast_shapes(a.shape[1:],
+                                                                         b.shape[1:]))
+    for i in range(a.shape[0]):
+        out[i:i + b.shape[0]] += a[i] * b
+    return out
+
+
+#: the factors of the five products of quadratic parts: u E2, v E1, b1 b2, T1a T1b,
+#: T2a T2b (indices into PART_NAMES)
+_LEFT, _RIGHT = [0, 1, 2, 6, 8], [5, 4, 3, 7, 9]
+
+
+def shifted_octic(data, x0, h, *, absolute=False):
+    r"""The octic around :math:`x_0`: coefficients of :math:`O(x_0 + hu)` in :math:`u`.
+
+    Each quadratic part of eq. (3) is shifted first (three coefficients, little
+    cancellation), then :math:`O = G^2 - 4R_1R_2` with :math:`G = uE_2 + vE_1 + 2b_1b_2`,
+    :math:`R_1 = T_{1a}T_{1b}`, :math:`R_2 = T_{2a}T_{2b}` (:mod:`.octic`) is multiplied
+    out in :math:`u`.  Near the feasible interval this keeps the digits that the
+    expanded coefficients of the kernel lose to cancellation (their terms can exceed
+    the octic's values by 1e6 and more there).
+
+    Parameters
+    ----------
+    data : (N, 39) kernel output (:func:`octic_data`, "fast")
+    x0, h : (N,) centre and scale of the new variable, :math:`x = x_0 + hu`
+    absolute : bool
+        Take every product with absolute values instead (:math:`|G|^2 + 4|R_1R_2|` term
+        by term): then ``sum_j q_j |u|^j`` bounds the size of the terms behind the
+        octic's value at u, for its rounding error.
+
+    Returns
+    -------
+    q : (N, 9) coefficients, ascending in :math:`u` (C-contiguous)
+    """
+    C = data[:, :30].reshape(-1, 10, 3).transpose(2, 1, 0)      # (3, 10, N)
+    c0, c1, c2 = C
+    P = np.stack([c0 + x0 * (c1 + x0 * c2), h * (c1 + 2 * x0 * c2), (h * h) * c2])
+    if absolute:
+        P = np.abs(P)
+    pr = _pmul(P[:, _LEFT], P[:, _RIGHT])                       # (5, 5, N)
+    G = pr[:, 0] + pr[:, 1] + 2 * pr[:, 2]
+    sq = _pmul(np.stack([G, pr[:, 3]], 1), np.stack([G, pr[:, 4]], 1))   # (9, 2, N)
+    return np.ascontiguousarray((sq[:, 0] + (4 if absolute else -4) * sq[:, 1]).T)

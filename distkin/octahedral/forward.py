@@ -10,10 +10,13 @@ against leg 5.
 Tiers
 -----
 ``fast``
-    float64: generated octic kernel, companion-matrix eigenvalues, Newton polish on
-    eq. (3) (:mod:`.fast`); batched over many leg sets by
+    float64: generated octic kernel, companion-matrix eigenvalues (single solve,
+    :mod:`.fast_single`) or a sign scan of the octic (batched, :mod:`.rootscan`),
+    Newton polish on eq. (3) (:mod:`.fast`); batched over many leg sets by
     :func:`forward_kinematics_batched`.  Legs reproduced to ~1e-12 relative on
-    well-conditioned problems; every pose states its residual.
+    well-conditioned problems; every pose states its residual, and a single solve
+    carries a conditioning estimate of its real-root count (:mod:`.conditioning`;
+    :class:`~distkin.errors.ConditioningWarning` when it distrusts the count).
 ``precise``
     mpmath at ``dps`` digits: exact octic (when the data are rational) rounded once,
     ``mpmath.polyroots``, Newton polish on eq. (3) at ``dps`` (:mod:`.precise`).
@@ -23,16 +26,23 @@ Tiers
     refined until every pose point is enclosed to ``tol`` (relative to the size of the
     mechanism) (:mod:`.certified`).  Raises :class:`~distkin.errors.UncertifiedError`
     rather than guess.
+``auto``
+    the fast tier, escalated to ``certified`` (or ``precise`` for data that cannot be
+    made exact) when the conditioning estimate distrusts the count or a leg is
+    reproduced worse than 1e-9 relative (:mod:`.auto`); the result's ``tier`` and
+    ``tier_reason`` say which tier answered and why.
 """
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..numbers import check_method, default_dps
+from ..errors import ConditioningWarning
+from ..numbers import METHODS_AUTO, check_method, default_dps
 from .problem import exact_problem, float_problem, float_single
 
 __all__ = ["Pose", "RootInfo", "AssemblyResult", "BatchResult", "forward_kinematics",
@@ -121,6 +131,13 @@ class AssemblyResult(Sequence):
         Why there are no poses (empty when there are).
     accuracy : str
     notes : tuple of str
+    tier : str
+        The tier that produced the answer (``method`` itself, except for
+        ``method="auto"``: the tier it settled on).
+    tier_reason : str
+        ``method="auto"``: why that tier answered.
+    conditioning : :class:`~.conditioning.Conditioning` or None
+        The fast tier's estimate of its own real-root count (fast and auto).
     """
 
     poses: tuple
@@ -132,6 +149,9 @@ class AssemblyResult(Sequence):
     reason: str
     accuracy: str
     notes: tuple = ()
+    tier: str = ""
+    tier_reason: str = ""
+    conditioning: object = None
 
     def __len__(self):
         return len(self.poses)
@@ -193,37 +213,37 @@ class BatchResult:
 
 
 def _fast_result(raw, i):
+    """The :class:`AssemblyResult` of problem ``i`` of :func:`.fast.solve_fast`'s arrays."""
     from .fast import REASONS
     roots, poses = [], []
-    for k in range(8):
-        x = raw["roots"][i, k]
-        if not np.isfinite(x):
+    R, T, P = raw["rotation"][i], raw["translation"][i], raw["points"][i]
+    E, Er = raw["leg_error"][i].tolist(), raw["leg_error_rel"][i].tolist()
+    for x, st, code, slot in zip(raw["roots"][i].tolist(), raw["step"][i].tolist(),
+                                 raw["status"][i].tolist(), raw["slot"][i].tolist()):
+        if code < 0:
             continue
-        st = int(raw["status"][i, k])
-        roots.append(RootInfo(float(x), float(raw["step"][i, k]), 1,
-                              "assembly" if st == 0 else ("spurious" if st in (1, 2) else
-                                                          "rejected"), REASONS[st], float(x)))
-        if st != 0:
-            continue
-        for s in range(2):
-            poses.append(Pose(float(x), 1 if s == 0 else -1,
-                              raw["rotation"][i, k, s].copy(), raw["translation"][i, k, s].copy(),
-                              raw["points"][i, k, s].copy(), float(raw["leg_error"][i, k, s]),
-                              float(raw["leg_error_rel"][i, k, s])))
+        roots.append(RootInfo(x, st, 1, _STATUS[code], REASONS[code], x))
+        for j, side in ((slot, 1), (slot + 1, -1)) if code == 0 else ():
+            poses.append(Pose(x, side, R[j].copy(), T[j].copy(), P[j].copy(), E[j], Er[j]))
     reason = "" if poses else _empty_reason(roots, raw["lo"][i], raw["hi"][i])
-    return AssemblyResult(tuple(poses), "fast", tuple(float(c) for c in raw["coef"][i]), False,
-                          tuple(roots), False, reason, _FAST_ACCURACY, (_SPURIOUS_NOTE,))
+    return AssemblyResult(tuple(poses), "fast", tuple(raw["coef"][i].tolist()), False,
+                          tuple(roots), False, reason, _FAST_ACCURACY, (_SPURIOUS_NOTE,),
+                          tier="fast")
 
 
-def _single_result(coef, lo, hi, roots, poses):
+def _single_result(coef, lo, hi, roots, poses, conditioning=None):
+    """The :class:`AssemblyResult` of :func:`.fast_single.solve_fast_single`'s output
+    (its arrays are fresh views of one pass, owned by the poses: no copies)."""
     from .fast import REASONS
-    infos = tuple(RootInfo(x, st, 1, "assembly" if code == 0 else (
-        "spurious" if code in (1, 2) else "rejected"), REASONS[code], x) for x, st, code in roots)
-    out = tuple(Pose(roots[k][0], side, np.array(R), np.array(t), np.array(P), e, r)
-                for k, side, P, R, t, e, r in poses)
+    infos = tuple(RootInfo(x, st, 1, _STATUS[code], REASONS[code], x) for x, st, code in roots)
+    out = tuple(Pose(roots[k][0], side, R, t, P, e, r) for k, side, P, R, t, e, r in poses)
     reason = "" if out else _empty_reason(infos, lo, hi)
     return AssemblyResult(out, "fast", tuple(coef), False, infos, False, reason,
-                          _FAST_ACCURACY, (_SPURIOUS_NOTE,))
+                          _FAST_ACCURACY, (_SPURIOUS_NOTE,), tier="fast",
+                          conditioning=conditioning)
+
+
+_STATUS = {0: "assembly", 1: "spurious", 2: "spurious", 3: "rejected"}
 
 
 def _empty_reason(roots, lo=None, hi=None):
@@ -239,7 +259,7 @@ def _empty_reason(roots, lo=None, hi=None):
 
 
 def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int | None = None,
-                       tol: float | None = None) -> AssemblyResult:
+                       tol: float | None = None, warn: bool = True) -> AssemblyResult:
     r"""Every real assembly mode of an octahedral manipulator.
 
     Rojas, Borràs, Thomas, *The Octahedral Manipulator Revisited* (ICRA 2012), Sec. III
@@ -255,13 +275,24 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
     legs : (6,) array_like
         Leg lengths :math:`l_1..l_6` of P1P4, P2P4, P2P5, P3P5, P3P6, P1P6 (same
         length unit as the points).
-    method : {"fast", "precise", "certified"}
+    method : {"fast", "precise", "certified", "auto"}
+        ``"auto"``: the fast tier, kept when its conditioning estimate
+        (:mod:`.conditioning`) trusts the real-root count and every leg is reproduced
+        to 1e-9 relative; otherwise escalated to ``certified`` (or ``precise`` when the
+        data cannot be made exact).  ``.tier`` and ``.tier_reason`` of the result say
+        which tier answered and why (:mod:`.auto`).
     dps : int, optional
         Decimal digits of the ``precise`` tier (default 30).
     tol : float, optional
         ``certified``: relative radius (to the size of the mechanism) the pose
         enclosures are refined to (default 1e-15).  ``precise``: the relative residual
         accepted for a root (default :math:`10^{8-dps}`).
+    warn : bool
+        ``fast``: compute the conditioning estimate (:mod:`.conditioning`, about
+        150-200 µs) into ``.conditioning`` and emit a
+        :class:`~distkin.errors.ConditioningWarning` when it does not trust the
+        real-root count (default True).  ``warn=False`` skips the estimate
+        (``.conditioning`` is None): the bare fast tier.
 
     Returns
     -------
@@ -290,16 +321,34 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
     >>> len(res), [round(r.value, 1) for r in res.roots]
     (12, [269.2, 328.7, 359.5, 463.6, 497.9, 513.0])
     """
-    check_method(method)
-    if method == "fast":
+    check_method(method, allowed=METHODS_AUTO)
+    if method in ("fast", "auto"):
         from .fast_single import solve_fast_single
-        return _single_result(*solve_fast_single(*float_single(base, platform, legs)))
+        B, Q, L = float_single(base, platform, legs)
+        if method == "fast" and not warn:                   # the bare fast tier
+            return _single_result(*solve_fast_single(B, Q, L))
+        from .conditioning import estimate, kernel_data
+        keep = {}
+        raw = solve_fast_single(B, Q, L, keep)
+        cond = estimate(kernel_data(keep["sides2"], keep["legs2"], keep["data"]),
+                        raw[1], raw[2], [r[0] for r in raw[3]],       # lo, hi, roots
+                        keep.get("eigenvalues"))
+        res = _single_result(*raw, conditioning=cond)
+        if method == "auto":
+            from .auto import escalate
+            return escalate(res, base, platform, legs, dps=dps, tol=tol)
+        if warn and not cond.trusted:
+            warnings.warn(f"fast tier: the real-root count may be wrong ({cond.reason}); "
+                          "use method='auto' or 'certified'", ConditioningWarning,
+                          stacklevel=2)
+        return res
     problem = exact_problem(base, platform, legs)
     if method == "precise":
         from .precise import solve_precise
-        return solve_precise(problem, default_dps(dps), tol)
+        return replace(solve_precise(problem, default_dps(dps), tol), tier="precise")
     from .certified import solve_certified
-    return solve_certified(problem, 1e-15 if tol is None else float(tol))
+    return replace(solve_certified(problem, 1e-15 if tol is None else float(tol)),
+                   tier="certified")
 
 
 def forward_kinematics_batched(base, platform, legs) -> BatchResult:
@@ -316,20 +365,7 @@ def forward_kinematics_batched(base, platform, legs) -> BatchResult:
         :class:`AssemblyResult` of problem ``i``.
     """
     from .fast import solve_fast
-    B, Q, L, s2, l2 = float_problem(base, platform, legs)
-    raw = solve_fast(B, Q, L, s2, l2)
-    n = B.shape[0]
-    valid = (raw["status"] == 0)
-    order = np.argsort(np.where(valid, raw["roots"], np.inf), axis=1, kind="stable")
-    m = np.arange(n)[:, None]
-    s15 = np.where(valid, raw["roots"], np.nan)[m, order]
-    v2 = np.repeat(valid[m, order], 2, axis=1)
-
-    def flat(a):
-        a = a[m, order]
-        return a.reshape((n, 16) + a.shape[3:])
-    pts, rot, tr = flat(raw["points"]), flat(raw["rotation"]), flat(raw["translation"])
-    le, lr = flat(raw["leg_error"]), flat(raw["leg_error_rel"])
-    for a in (pts, rot, tr, le, lr):
-        a[~v2] = np.nan
-    return BatchResult(v2.sum(1), s15, pts, rot, tr, le, lr, v2, raw)
+    raw = solve_fast(*float_problem(base, platform, legs))
+    return BatchResult(raw["count"], raw["s15"], raw["points"], raw["rotation"],
+                       raw["translation"], raw["leg_error"], raw["leg_error_rel"],
+                       raw["valid"], raw)

@@ -287,7 +287,8 @@ def _inputs():
 def generate_octic_module() -> str:
     """Source of ``distkin/_generated/octic_general.py`` (registered in
     :data:`distkin.codegen.registry.GENERATED`): a batched numpy kernel
-    ``octic_batched`` and an exact (fmpq/arb) kernel ``octic_exact`` of the same map."""
+    ``octic_batched``, a scalar one ``octic_scalar`` (and ``parts_scalar``, its quadratic
+    parts only) and an exact (fmpq/arb) kernel ``octic_exact`` of the same map."""
     from ..codegen.emit import Kernel, module_source, symbolic_hash
     outputs = _kernel_outputs()
     inputs = _inputs()
@@ -296,6 +297,12 @@ def generate_octic_module() -> str:
     kernels = [Kernel("octic_batched", inputs, outputs, flavour="batched", doc=doc, extra=fast),
                Kernel("octic_scalar", inputs, outputs, flavour="scalar", extra=fast,
                       doc=doc.replace("(..., 6)", "(6,)").replace("(..., 39)", "list of 39")),
+               Kernel("parts_scalar", inputs, outputs[:30], flavour="scalar", extra=fast,
+                      doc="The first 30 outputs of ``octic_scalar`` only (the quadratic "
+                          "parts, without the octic): the conditioning estimate of the fast "
+                          "tier evaluates them at perturbed inputs "
+                          "(:mod:`distkin.octahedral.conditioning`).  sides, legs: (6,); "
+                          "returns a list of 30."),
                Kernel("octic_exact", inputs, outputs, flavour="exact", extra=fast,
                       doc=doc.replace("(..., 6)", "(6,) fmpq or arb")
                       .replace("(..., 39)", "list of 39 (exact on fmpq, balls on arb)"))]

@@ -9,6 +9,7 @@ squared lengths are computed exactly when the data are exact (``"19.8"`` is 99/5
 from __future__ import annotations
 
 from dataclasses import dataclass
+import math
 from fractions import Fraction
 from functools import lru_cache
 
@@ -203,31 +204,61 @@ def _d2(pts, i, j):
 
 
 def float_single(base, platform, legs):
-    """One problem for the fast tier: ``base (3,3)``, ``platform (3,3)``, ``legs (6,)``
-    float arrays, with the checks of :func:`float_problem` at a fraction of its cost."""
+    """One problem for the fast tier, with the checks of :func:`float_problem` at a
+    fraction of its cost.
+
+    Returns
+    -------
+    base, platform : lists of 3 lists of 3 floats (rows)
+    legs : list of 6 floats
+
+    Plain numbers (and numpy arrays of them) take a path in plain Python floats; other
+    inputs (numeric strings such as ``"sqrt(108)"``, wrong shapes) go through
+    :func:`float_problem` and raise the same errors.
+    """
     try:
-        B = np.asarray(base, dtype=float)
-        Q = np.asarray(platform, dtype=float)
-        L = np.asarray(legs, dtype=float)
+        B = _float_rows(base)
+        Q = _float_rows(platform)
+        L = legs.tolist() if isinstance(legs, np.ndarray) else legs
+        if len(L) != 6:
+            raise ValueError
+        L = [float(v) for v in L]
     except (TypeError, ValueError):
-        B, Q, L, _, _ = float_problem(base, platform, legs)
-        return B[0], Q[0], L[0]
-    if B.shape != (3, 3) or Q.shape != (3, 3) or L.shape != (6,):
         B, Q, L, _, _ = float_problem(base, platform, legs)
         if B.shape[0] != 1:
             raise InputError(f"expected one set of 6 legs, got shape {np.shape(legs)}",
                              field="legs", hint="use forward_kinematics_batched for many")
-        return B[0], Q[0], L[0]
-    if not (np.isfinite(B).all() and np.isfinite(Q).all() and np.isfinite(L).all()):
+        return B[0].tolist(), Q[0].tolist(), L[0].tolist()
+    isfinite = math.isfinite
+    if not all(map(isfinite, B[0] + B[1] + B[2] + Q[0] + Q[1] + Q[2] + L)):
         raise InputError("expected finite numbers, got NaN or inf", field="legs")
-    if (L <= 0).any():
-        i = int(np.argmax(L <= 0))
+    if min(L) <= 0:
+        i = next(i for i, v in enumerate(L) if v <= 0)
         raise InputError(f"expected positive leg lengths, got {L[i]!r}", field=f"legs[{i}]")
     for P, names, fld in ((B, "P1 P2 P3", "base"), (Q, "P4 P5 P6", "platform")):
-        p = P.tolist()
-        a, b, c = (sum((p[i][k] - p[j][k]) ** 2 for k in range(3))
-                   for i, j in ((0, 1), (0, 2), (1, 2)))
+        (ax, ay, az), (bx, by, bz), (cx, cy, cz) = P
+        a = (ax - bx) ** 2 + (ay - by) ** 2 + (az - bz) ** 2
+        b = (ax - cx) ** 2 + (ay - cy) ** 2 + (az - cz) ** 2
+        c = (bx - cx) ** 2 + (by - cy) ** 2 + (bz - cz) ** 2
         if not 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c) > 1e-12 * (a + b + c) ** 2:
             raise DegenerateGeometryError(f"expected a proper triangle {names}, got collinear "
                                           "or coincident points", field=fld)
     return B, Q, L
+
+
+def _float_rows(value):
+    """3 rows of 3 plain floats, or TypeError/ValueError (then the general path)."""
+    if isinstance(value, np.ndarray):
+        if value.shape != (3, 3):
+            raise ValueError
+        value = value.tolist()
+    if len(value) != 3:
+        raise ValueError
+    out = []
+    for r in value:
+        if isinstance(r, np.ndarray):
+            r = r.tolist()
+        if len(r) != 3:
+            raise ValueError
+        out.append([float(r[0]), float(r[1]), float(r[2])])
+    return out

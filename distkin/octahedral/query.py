@@ -10,7 +10,7 @@ Scene fields (DESIGN.md §4)::
     [[query]]
     type = "forward_kinematics"
     legs = ["19.8", "18", "18", "17", "14.9", "17.8"]   # P1P4 P2P4 P2P5 P3P5 P3P6 P1P6
-    method = "certified"      # fast | precise | certified
+    method = "certified"      # fast | precise | certified | auto
     dps = 30                  # precise tier only
     tol = 1e-15               # certified: pose enclosure radius / size; precise: root residual
 
@@ -26,12 +26,13 @@ the octic over the feasible interval of s15 with its real roots.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import warnings
+from dataclasses import dataclass, replace
 from fractions import Fraction
 
 from ..argcheck import check_keys, exact_vector, method_field, positive_number, require
-from ..errors import InputError
-from ..numbers import Exact, default_dps
+from ..errors import ConditioningWarning, InputError
+from ..numbers import METHODS_AUTO, Exact, default_dps
 from ..queries import Outcome, register
 
 __all__ = ["OctahedralForwardQuery"]
@@ -67,7 +68,7 @@ class OctahedralForwardQuery:
             if not float(v) > 0:
                 raise InputError(f"expected a positive leg length, got {v.text}",
                                  field=f"{field}.legs[{i}]")
-        method = method_field(table, field)
+        method = method_field(table, field, allowed=METHODS_AUTO)
         dps = default_dps(table.get("dps"))
         tol = positive_number(table["tol"], f"{field}.tol") if "tol" in table else None
         return _Params(legs, method, dps, tol)
@@ -80,7 +81,11 @@ class OctahedralForwardQuery:
         base = [[_si(v, f) for v in r] for r in mech.base]
         plat = [[_si(v, f) for v in r] for r in mech.platform]
         legs = [_si(v, f) for v in p.legs]
-        res = forward_kinematics(base, plat, legs, method=p.method, dps=p.dps, tol=p.tol)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", ConditioningWarning)
+            res = forward_kinematics(base, plat, legs, method=p.method, dps=p.dps, tol=p.tol)
+        if caught:
+            res = replace(res, notes=res.notes + tuple(str(w.message) for w in caught))
         unit = scene.units.length_label
         result = _result(res)
         return Outcome(result, _text(res, unit, p), _plotter(res, base, plat, unit))
@@ -111,6 +116,9 @@ def _result(res):
         "octic_note": list(res.notes),
         "poses": poses,
         "reason": res.reason,
+        "tier": res.tier,
+        "tier_reason": res.tier_reason,
+        "conditioning": None if res.conditioning is None else res.conditioning.as_dict(),
     }
 
 
@@ -123,6 +131,11 @@ def _u(unit, power=1):
 def _text(res, unit, p):
     lines = [f"octahedral forward kinematics ({res.method}"
              + (f", {p.dps} digits" if res.method == "precise" else "") + ")"]
+    if res.method == "auto":
+        lines.append(f"answered by the {res.tier} tier: {res.tier_reason}")
+    elif res.conditioning is not None and not res.conditioning.trusted:
+        lines.append(f"WARNING: {res.conditioning.reason}; the count may be wrong "
+                     "(use method = \"auto\" or \"certified\")")
     head = f"octic in s15 (degree {res.degree}" + (
         ", exact rational coefficients)" if res.octic_exact else ")")
     lines.append(head + ("; " + res.notes[0] if res.notes else ""))

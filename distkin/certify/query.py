@@ -1,0 +1,225 @@
+"""Scene query ``certify_workspace`` (mechanism kind ``rss``): the certified
+singularity-free workspace of :mod:`.boxes` over a region of poses::
+
+    [units]
+    length = "mm"
+    angle = "deg"
+
+    [[query]]
+    type = "certify_workspace"
+    method = "certified"                   # the only method: every box is a proof
+    region = { lower = [-75, -75, 225, 0, 0, 0], upper = [75, 75, 375, 0, 0, 0] }
+    min_width = 9.375                      # resolution of x, y, z (length unit)
+    min_angle = 5                          # resolution of rx, ry, rz (angle unit)
+    form = "quadratic"                     # quadratic | affine | centred | plain | auto
+    split = 2                              # initial chunks per varying coordinate
+    max_boxes = 200000                     # box evaluations per chunk
+    workers = 2                            # local processes (default 1: in process)
+    scheduler = "tcp://host:8786"          # optional: a dask.distributed cluster
+    store = "sweeps/certify"               # chunk store (default: the cache)
+
+``region`` holds x, y, z (absolute, length unit) and the rotation parameters rx, ry, rz
+(angle unit, R = Rz Ry Rx); a coordinate with ``lower == upper`` is fixed.  Default: the
+paper's 150 mm cube about (0, 0, z0) at zero rotation (Kühne et al., Table II, Fig. 3).
+``min_width`` defaults to 1/16 of the largest positional extent, ``min_angle`` to 1/8 of
+the largest rotational extent.
+
+Like the indices sweeps (:mod:`distkin.indices.query`), the region runs as resumable
+chunks (an interrupted run continues where it stopped), on a local process pool or a dask
+cluster, with a progress bar; ``distkin sweep SCENE --workers N --scheduler ADDRESS
+--store DIR`` overrides the scene's fields.
+
+The JSON result is in SI: volumes over the varying coordinates in ``volume_unit``
+(m^3, or m^3 rad^3 for the 6-D region), with fractions of ``total_volume``, and
+``boxes`` (corners in m and rad, a status code per box, see ``boxes.legend``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..argcheck import (as_table, check_keys, choice, executor_fields, positive_int,
+                        positive_number)
+from ..errors import InputError
+from ..numbers import parse_exact
+from ..queries import Outcome, register
+from .boxes import STATUS_NAMES
+
+__all__ = ["CertifyWorkspaceQuery", "certificate_text", "certificate_json"]
+
+_FIELDS = {"type", "method", "region", "min_width", "min_angle", "form", "split",
+           "max_boxes", "workers", "scheduler", "store"}
+
+
+def _vector(value, field):
+    if not isinstance(value, list) or len(value) != 6:
+        raise InputError(f"expected 6 numbers [x, y, z, rx, ry, rz], got {value!r}", field=field)
+    return [float(parse_exact(v, f"{field}[{i}]")) for i, v in enumerate(value)]
+
+
+@dataclass(frozen=True)
+class _Params:
+    lower: tuple
+    upper: tuple
+    min_width: tuple
+    form: str
+    split: int
+    max_boxes: int
+    workers: int | None
+    scheduler: str | None
+    store: str | None
+    length_unit: str
+    angle_unit: str
+
+
+@register("certify_workspace", mechanisms=("rss",),
+          summary="certified singularity-free workspace: interval branch-and-prune of a "
+                  "region of poses (regular / singular / undecided boxes, Fig. 3 analogue)")
+class CertifyWorkspaceQuery:
+    @staticmethod
+    def parse(table, mechanism, units, field):
+        from ..mechanisms.scene import angle_factor, length_factor
+        from .intervals import FORMS
+        check_keys(table, _FIELDS, field)
+        method = table.get("method", "certified")
+        if method != "certified":
+            raise InputError(f"expected method = 'certified' (certify_workspace only proves; "
+                             f"for sampled indices use the 'performance' query), got {method!r}",
+                             field=f"{field}.method")
+        lf, af = length_factor(units, field), angle_factor(units)
+        scale = np.array([lf] * 3 + [af] * 3)
+        if "region" in table:
+            reg = as_table(table["region"], f"{field}.region")
+            check_keys(reg, {"lower", "upper"}, f"{field}.region")
+            for k in ("lower", "upper"):
+                if k not in reg:
+                    raise InputError(f"missing required field {k!r}", field=f"{field}.region.{k}")
+            lower = np.array(_vector(reg["lower"], f"{field}.region.lower")) * scale
+            upper = np.array(_vector(reg["upper"], f"{field}.region.upper")) * scale
+        else:
+            h = 0.075
+            lower = np.array([-h, -h, mechanism.z0 - h, 0, 0, 0])
+            upper = np.array([h, h, mechanism.z0 + h, 0, 0, 0])
+        if not np.all(np.isfinite(lower)) or not np.all(np.isfinite(upper)) or \
+                np.any(upper < lower):
+            raise InputError(f"expected finite bounds with lower <= upper, got lower="
+                             f"{(lower / scale).tolist()}, upper={(upper / scale).tolist()}",
+                             field=f"{field}.region")
+        ext = upper - lower
+        pos_ext, rot_ext = float(ext[:3].max()), float(ext[3:].max())
+        if "min_width" in table:
+            mw = positive_number(table["min_width"], f"{field}.min_width") * lf
+        else:
+            mw = pos_ext / 16 if pos_ext > 0 else 1.0
+        if "min_angle" in table:
+            ma = positive_number(table["min_angle"], f"{field}.min_angle") * af
+        else:
+            ma = rot_ext / 8 if rot_ext > 0 else 1.0
+        form = choice(table.get("form", "quadratic"), f"{field}.form", FORMS + ("auto",))
+        split = positive_int(table.get("split", 2), f"{field}.split")
+        max_boxes = positive_int(table.get("max_boxes", 200_000), f"{field}.max_boxes")
+        nvary = int(np.sum(ext > 0))
+        if split ** nvary > 100_000:
+            raise InputError(f"expected at most 100000 initial chunks, got split**{nvary} = "
+                             f"{split ** nvary}", field=f"{field}.split")
+        workers, sched, store = executor_fields(table, field)
+        return _Params(tuple(lower), tuple(upper), (mw,) * 3 + (ma,) * 3, form, split,
+                       max_boxes, workers, sched, store, units.length, units.angle)
+
+    @staticmethod
+    def run(p, scene, ctx):
+        from ..indices.query import CLI_OVERRIDES
+        from ..indices.sweep import executor_for
+        from .workspace import certify_workspace
+        mech = scene.mechanism
+        store = _store_dir(p.store, scene)
+        workers = CLI_OVERRIDES.get("workers") or p.workers
+        with executor_for(scheduler=CLI_OVERRIDES.get("scheduler") or p.scheduler,
+                          workers=workers if workers is not None else 1) as ex:
+            cert = certify_workspace(mech, p.lower, p.upper, p.min_width, form=p.form,
+                                     split=p.split, store=store, executor=ex,
+                                     progress=ctx.progress, max_boxes=p.max_boxes)
+        result = certificate_json(cert)
+        result["store"] = str(store)
+        text = certificate_text(cert, p.length_unit, p.angle_unit)
+
+        def plot(stem):
+            from .plot import plot_certificate
+            return [plot_certificate(cert, Path(stem), length_unit=p.length_unit)]
+        return Outcome(result, text, plot)
+
+
+def _store_dir(store, scene):
+    from ..indices.query import CLI_OVERRIDES
+    if CLI_OVERRIDES.get("store"):
+        return Path(CLI_OVERRIDES["store"])
+    if store:
+        path = Path(store)
+        return path if path.is_absolute() else Path(scene.path).resolve().parent / path
+    from ..codegen.cache import cache_dir
+    return cache_dir() / "sweeps" / f"{Path(scene.path).stem}_certify_workspace"
+
+
+def certificate_json(cert) -> dict:
+    """The JSON result of a :class:`.workspace.WorkspaceCertificate` (SI)."""
+    s = cert.summary()
+    out = {"mechanism": cert.mechanism.name, "legs": cert.mechanism.L,
+           "method": "certified", "form": cert.form,
+           "region": {"lower": cert.lower.tolist(), "upper": cert.upper.tolist(),
+                      "units": "m, m, m, rad, rad, rad"},
+           "min_width": cert.min_width.tolist()}
+    out.update(s)
+    zr = cert.at_zero_rotation()
+    out["zero_rotation_slice"] = {
+        name: int(np.sum(zr & (cert.status == code))) for code, name in STATUS_NAMES.items()}
+    out["certificate"] = (
+        "regular: every leg closes (reach margin > 0), Jq_ii != 0 and rank Jx = 6 for "
+        "every pose of the box (IK branch of the presets); singular (L = 6): det Jx "
+        "certified > 0 and < 0 at two poses of a reachable box (a zero inside); "
+        "unreachable: some leg cannot close anywhere in the box; undecided: none of these "
+        "at the resolution")
+    out["boxes"] = {"legend": {str(k): v for k, v in STATUS_NAMES.items()},
+                    "lower": cert.lo, "upper": cert.hi, "status": cert.status,
+                    "sigma_lower": cert.sigma_lower}
+    return out
+
+
+def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> str:
+    """A readable summary with units on every number."""
+    s = cert.summary()
+    lf = {"m": 1.0, "mm": 1e3, "cm": 1e2, "km": 1e-3}.get(length_unit, 1.0)
+    af = 180 / math.pi if angle_unit == "deg" else 1.0
+    lu = length_unit if length_unit in ("m", "mm", "cm", "km") else "m"
+    au = "°" if angle_unit == "deg" else " rad"
+    parts = []
+    for k, n in enumerate(("x", "y", "z", "rx", "ry", "rz")):
+        f = lf if k < 3 else af
+        parts.append(f"{n} {cert.lower[k] * f:.4g}..{cert.upper[k] * f:.4g}"
+                     f"{(' ' + lu) if k < 3 else au}")
+    reg = ", ".join(parts)
+    unit = s["volume_unit"]
+    lines = [f"Certified workspace of {cert.mechanism.name} (L = {cert.mechanism.L}), "
+             f"{cert.form} form, method certified",
+             f"  region: {reg}",
+             f"  resolution: {cert.min_width[0] * lf:.4g} {lu} (position), "
+             + (f"{cert.min_width[3] * af:.4g}{au} (rotation)"
+                if np.any(cert.upper[3:] > cert.lower[3:]) else "rotation fixed")]
+    for name in ("regular", "singular", "undecided", "unreachable"):
+        lines.append(f"  {name:<11} {s[name + '_volume']:.4g} {unit}  "
+                     f"({100 * s[name + '_fraction']:.2f} % of {s['total_volume']:.4g} {unit}; "
+                     f"{s['counts'][name]} boxes)")
+    if s["sigma_lower_min"] is not None:
+        lines.append(f"  σmin(Jx) >= {s['sigma_lower_min']:.3g} (certified, every regular box; "
+                     "Jx force rows dimensionless, moment rows in m)")
+    if "det_signs" in s:
+        lines.append(f"  det Jx sign(s) over the regular boxes: {s['det_signs']}")
+    bps = s["boxes_per_second"]
+    lines.append(f"  {s['boxes_evaluated']} boxes evaluated in {s['seconds']:.1f} s of chunk "
+                 f"time ({bps:.0f} boxes/s per process), {s['wall_seconds']:.1f} s wall, "
+                 f"{s['chunks']} chunks" if bps else
+                 f"  {s['boxes_evaluated']} boxes evaluated, {s['chunks']} chunks")
+    return "\n".join(lines)

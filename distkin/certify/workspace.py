@@ -1,0 +1,219 @@
+"""Certified workspace of an RSS mechanism: branch-and-prune of a region of poses,
+run as resumable chunks on any executor (:mod:`distkin.indices.sweep`).
+
+The region ``[lower, upper]`` (m, rad; six coordinates, a zero width fixes one) is cut
+into ``split`` parts along every varying coordinate; each part is one chunk of
+:func:`distkin.indices.sweep.run_chunks` (stored on disk as soon as it is done, skipped
+when a run resumes, run on a local process pool or a dask cluster) and is classified
+by :func:`.boxes.branch_and_prune`.  :class:`WorkspaceCertificate` gathers the boxes
+and their volumes.
+
+Volumes are over the varying coordinates only: m^3 for a translational region at a fixed
+orientation, m^3 rad^3 for the 6-D region of positions and rotation parameters (the
+product of the widths of x, y, z in m and rx, ry, rz in rad, no metric on rotations).
+The fractions are of the region's volume.
+"""
+
+from __future__ import annotations
+
+import itertools
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from .boxes import REGULAR, STATUS_NAMES, branch_and_prune
+
+__all__ = ["WorkspaceCertificate", "certify_workspace", "initial_boxes", "volume_unit"]
+
+
+def volume_unit(vary) -> str:
+    """"m^3", "m^3 rad^3", ... for the varying coordinates ``vary`` (indices 0..5)."""
+    npos = sum(1 for k in vary if k < 3)
+    nrot = sum(1 for k in vary if k >= 3)
+    parts = []
+    if npos:
+        parts.append("m" if npos == 1 else f"m^{npos}")
+    if nrot:
+        parts.append("rad" if nrot == 1 else f"rad^{nrot}")
+    return " ".join(parts) or "1"
+
+
+def initial_boxes(lower, upper, split: int):
+    """The region cut into ``split`` equal parts along every varying coordinate.
+
+    Returns
+    -------
+    list of (lo, hi) arrays (6,)
+    """
+    lower = np.asarray(lower, dtype=float)
+    upper = np.asarray(upper, dtype=float)
+    vary = [k for k in range(6) if upper[k] > lower[k]]
+    edges = {k: np.linspace(lower[k], upper[k], split + 1) for k in vary}
+    for k in vary:                       # exact corners of the region
+        edges[k][0], edges[k][-1] = lower[k], upper[k]
+    out = []
+    for idx in itertools.product(range(split), repeat=len(vary)):
+        lo, hi = lower.copy(), upper.copy()
+        for k, i in zip(vary, idx):
+            lo[k], hi[k] = edges[k][i], edges[k][i + 1]
+        out.append((lo, hi))
+    return out
+
+
+def _chunk_task(spec):
+    """One chunk (module level, picklable): ``spec = (mech, lo, hi, min_width, form,
+    max_boxes)``."""
+    mech, lo, hi, minw, form, max_boxes = spec
+    return branch_and_prune(mech, lo, hi, minw, form=form, max_boxes=max_boxes)
+
+
+@dataclass
+class WorkspaceCertificate:
+    """The classified boxes of a region.
+
+    Attributes
+    ----------
+    mechanism : RSSMechanism
+    lower, upper : ndarray (6,)
+        The region (m, rad).
+    min_width : ndarray (6,)
+        The resolution (m, rad).
+    form : str
+        Enclosure form (:data:`.intervals.FORMS`).
+    lo, hi : ndarray (n, 6)
+        Box corners.
+    status : ndarray (n,) int8
+        :data:`.boxes.STATUS_NAMES`.
+    sigma_lower : ndarray (n,)
+        Certified lower bounds of σmin(Jx) in the regular boxes (0 elsewhere).
+    det_sign : ndarray (n,) int8
+        L = 6: sign of det Jx in each regular box.
+    evaluated : int
+        Boxes evaluated in the chunks computed or loaded.
+    seconds : float
+        Sum of the chunks' computing times (their own clocks; the chunks of a resumed
+        run count with the time they took then).
+    wall_seconds : float
+        Wall-clock time of this call.
+    chunks : int
+    """
+
+    mechanism: object
+    lower: np.ndarray
+    upper: np.ndarray
+    min_width: np.ndarray
+    form: str
+    lo: np.ndarray
+    hi: np.ndarray
+    status: np.ndarray
+    sigma_lower: np.ndarray
+    det_sign: np.ndarray
+    evaluated: int
+    seconds: float
+    wall_seconds: float
+    chunks: int
+
+    @property
+    def vary(self) -> tuple:
+        return tuple(k for k in range(6) if self.upper[k] > self.lower[k])
+
+    @property
+    def volume_unit(self) -> str:
+        return volume_unit(self.vary)
+
+    def volumes(self) -> np.ndarray:
+        """(n,) box volumes over the varying coordinates (:attr:`volume_unit`)."""
+        v = list(self.vary)
+        if not v:
+            return np.ones(len(self.status))
+        return np.prod(self.hi[:, v] - self.lo[:, v], axis=1)
+
+    def total_volume(self) -> float:
+        v = list(self.vary)
+        return float(np.prod(self.upper[v] - self.lower[v])) if v else 1.0
+
+    def volume(self, status: int) -> float:
+        return float(self.volumes()[self.status == status].sum())
+
+    def summary(self) -> dict:
+        """Volumes (in :attr:`volume_unit`), fractions, counts, σ bound, timing."""
+        tot = self.total_volume()
+        out = {"volume_unit": self.volume_unit, "total_volume": tot}
+        for code, name in STATUS_NAMES.items():
+            vol = self.volume(code)
+            out[f"{name}_volume"] = vol
+            out[f"{name}_fraction"] = vol / tot if tot else 0.0
+        out["counts"] = {name: int(np.sum(self.status == code))
+                         for code, name in STATUS_NAMES.items()}
+        reg = self.status == REGULAR
+        out["sigma_lower_min"] = float(self.sigma_lower[reg].min()) if reg.any() else None
+        if self.mechanism.L == 6 and reg.any():
+            out["det_signs"] = sorted({int(s) for s in self.det_sign[reg]})
+        out["boxes_evaluated"] = self.evaluated
+        out["seconds"] = self.seconds
+        out["wall_seconds"] = self.wall_seconds
+        out["boxes_per_second"] = self.evaluated / self.seconds if self.seconds > 0 else None
+        out["chunks"] = self.chunks
+        return out
+
+    def at_zero_rotation(self) -> np.ndarray:
+        """(n,) bool: the boxes that contain a pose of zero rotation (rx = ry = rz = 0)."""
+        return np.all((self.lo[:, 3:] <= 0.0) & (self.hi[:, 3:] >= 0.0), axis=1)
+
+
+def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic",
+                      split: int = 2, store=None, executor=None, progress: bool = False,
+                      max_boxes: int = 200_000, definition_extra=None) -> WorkspaceCertificate:
+    """Certify a region of poses of ``mech`` (:mod:`.boxes`).
+
+    Parameters
+    ----------
+    mech : RSSMechanism
+    lower, upper : array (6,)
+        The region (m, rad): x, y, z, rx, ry, rz (:mod:`distkin.mechanisms.rotation`).
+    min_width : array (6,)
+        Resolution (m, rad): boxes are bisected along a coordinate only while wider.
+    form : {"quadratic", "affine", "centred", "plain"}
+    split : int
+        Parts per varying coordinate of the initial chunks (split ** d chunks).
+    store : path, optional
+        Directory of the resumable chunks; None keeps them in memory (no resume).
+    executor : concurrent.futures.Executor or None
+        None runs in this process.
+    progress : bool
+        Progress bar with the ETA (stderr).
+    max_boxes : int
+        Budget of box evaluations per chunk (boxes left over are undecided).
+
+    Returns
+    -------
+    WorkspaceCertificate
+    """
+    from ..indices.sweep import run_chunks
+    t0 = time.perf_counter()
+    lower = np.asarray(lower, dtype=float)
+    upper = np.asarray(upper, dtype=float)
+    minw = np.asarray(min_width, dtype=float)
+    boxes = initial_boxes(lower, upper, split)
+    specs = [(mech, lo, hi, minw, form, int(max_boxes)) for lo, hi in boxes]
+    if store is None:
+        results = [_chunk_task(s) for s in specs] if executor is None else \
+            list(executor.map(_chunk_task, specs))
+    else:
+        definition = {"certify_workspace": 1, "mechanism": repr(mech.geometry_key()),
+                      "lower": lower.tolist(), "upper": upper.tolist(),
+                      "min_width": minw.tolist(), "form": form, "split": split,
+                      "max_boxes": int(max_boxes), "extra": definition_extra}
+        results = run_chunks(_chunk_task, specs, store, definition=definition,
+                             executor=executor, progress=progress,
+                             desc=f"certify {mech.name}")
+    cat = {k: np.concatenate([r[k] for r in results]) for k in
+           ("lo", "hi", "status", "sigma_lower", "det_sign")}
+    return WorkspaceCertificate(
+        mech, lower, upper, minw, form, cat["lo"].reshape(-1, 6), cat["hi"].reshape(-1, 6),
+        cat["status"], cat["sigma_lower"], cat["det_sign"],
+        int(sum(int(r["evaluated"]) for r in results)),
+        float(sum(float(r["seconds"]) for r in results)), time.perf_counter() - t0,
+        len(specs))
+
