@@ -103,7 +103,7 @@ class Conditioning:
 
 
 def kernel_data(sides2, legs2, data=None):
-    """Kernel outputs (3, 39): at the squared lengths ``sides2`` (s12 s13 s23 s45 s46
+    r"""Kernel outputs (3, 39): at the squared lengths ``sides2`` (s12 s13 s23 s45 s46
     s56) and ``legs2`` (s14 .. s16), and the quadratic parts (the first 30) at two
     perturbations of them by :math:`\pm 4\epsilon` relative (sign patterns
     :data:`_PATTERNS`; the octic's coefficients of those rows repeat row 0's).

@@ -7,13 +7,14 @@ is right (or it raises UncertifiedError); the fast tier's behaviour is stated.
 
 from __future__ import annotations
 
+import warnings
 from fractions import Fraction as F
 
 import numpy as np
 import pytest
 import sympy as sp
 
-from distkin.errors import DegenerateGeometryError, InputError
+from distkin.errors import ConditioningWarning, DegenerateGeometryError, InputError
 from distkin.octahedral import forward_kinematics
 from distkin.octahedral.reference import GD_BASE, GD_PLATFORM, GD_ROOTS
 
@@ -48,7 +49,8 @@ def test_two_assembly_modes_about_to_merge():
     2^-43 before the fold their roots differ by ~1e-7 relative.  Certified: 6 roots and
     12 poses, the count confirmed by Sturm.  Precise (30 digits): the same 12 poses.
     Fast: drops the pair (the companion eigenvalues make it a complex pair and Newton
-    on eq. (3) finds no real root there) -- 8 poses, each of them valid."""
+    on eq. (3) finds no real root there) -- 8 poses, each of them valid -- and its
+    conditioning estimate warns (ConditioningWarning)."""
     family = lambda t: LEGS[:4] + [t] + LEGS[5:]  # noqa: E731
     a, b = _bisect(family, F(15), F(31, 2), lambda legs: _modes(legs) == 6, F(1, 2 ** 43))
     near = forward_kinematics(GD_BASE, GD_PLATFORM, family(a), method="certified", tol=1e-12)
@@ -64,8 +66,9 @@ def test_two_assembly_modes_about_to_merge():
     assert past.real_root_count == _sturm_count(past.octic) == 4 and len(past) == 8
     prec = forward_kinematics(GD_BASE, GD_PLATFORM, family(a), method="precise", dps=30)
     assert len(prec) == 12
-    fast = forward_kinematics(GD_BASE, GD_PLATFORM, [float(v) for v in family(a)])
-    assert len(fast) == 8
+    with pytest.warns(ConditioningWarning, match="about to appear or merge"):
+        fast = forward_kinematics(GD_BASE, GD_PLATFORM, [float(v) for v in family(a)])
+    assert len(fast) == 8                      # the pair is dropped, and the tier says so
     for p in fast:
         assert p.max_leg_error_relative <= 1e-9
         assert np.min(np.abs(vals - p.s15)) <= 1e-9 * p.s15
@@ -93,8 +96,12 @@ def test_leg_lengths_at_the_edge_of_assemblability():
     assert len(inside) == 4 and len(outside) == 0 and "cannot be assembled" in outside.reason
     assert all(p.max_leg_error_relative <= 1e-12 for p in inside)
     for legs in (family(a), family(b)):
-        fast = forward_kinematics(GD_BASE, GD_PLATFORM, [float(v) for v in legs])
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", ConditioningWarning)
+            fast = forward_kinematics(GD_BASE, GD_PLATFORM, [float(v) for v in legs])
         assert len(fast) in (0, 4)
+        if len(fast) != len(forward_kinematics(GD_BASE, GD_PLATFORM, legs, method="certified")):
+            assert caught                      # a wrong count never goes unannounced
         assert all(p.max_leg_error_relative <= 1e-8 for p in fast)
 
 
@@ -114,8 +121,11 @@ def test_exactly_flat_configuration():
     assert len(res) == 1
     assert np.array_equal(res[0].points, [[3, 2, 0], [6, 1, 0], [4, 4, 0]])
     for method in ("fast", "precise"):
-        other = forward_kinematics(base, plat, legs, method=method)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", ConditioningWarning)
+            other = forward_kinematics(base, plat, legs, method=method)
         assert len(other) == 0 and "cannot be assembled" in other.reason
+        assert bool(caught) == (method == "fast")   # the fast tier distrusts its count
 
 
 @pytest.mark.parametrize("scale", ["0.001", "1000"])
@@ -185,6 +195,7 @@ def test_degree_drop_when_a_root_goes_to_infinity():
     res = forward_kinematics(GD_BASE, GD_PLATFORM, legs, method="certified")
     assert res.octic[0] == 0 and res.degree == 7
     assert res.real_root_count == _sturm_count(res.octic[1:])
-    fast = forward_kinematics(GD_BASE, GD_PLATFORM, [float(v) for v in legs])
+    with pytest.warns(ConditioningWarning, match="leading coefficient"):
+        fast = forward_kinematics(GD_BASE, GD_PLATFORM, [float(v) for v in legs])
     assert len(fast) == len(res) == 4
     assert np.allclose([p.points for p in fast], [p.points for p in res], atol=1e-9)
