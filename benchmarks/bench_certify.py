@@ -12,6 +12,8 @@ import numpy as np
 
 from .harness import fmt_time, interleaved, ratio_table
 
+__all__ = ["TITLE", "DEFAULT", "run"]
+
 TITLE = "Certified workspace: interval branch-and-prune (centred forms, Fig. 3, 6-D Octo)"
 DEFAULT = False          # about 20-25 min on 2 cores: run with `python -m benchmarks certify`
 
@@ -129,7 +131,7 @@ def _fig3_section(data):
                          f"{100 * s['singular_fraction']:.1f} % | "
                          f"{100 * s['undecided_fraction']:.1f} % | {s['sigma_lower_min']:.3g} | "
                          f"{s.get('det_signs')} | {s['boxes_evaluated']} | "
-                         f"{s['wall_seconds']:.1f} s | [png](figures/{png.name}) |")
+                         f"{s['wall_seconds']:.1f} s | [png](benchmarks/figures/{png.name}) |")
             data["fig3"][name] = {k: v for k, v in s.items()}
     lines += ["", "Our `ergin` preset (β = 10°, γ = 13.18°, l2 = 25.6 mm; the paper prints "
               "none of Ergin's parameters) is certified free over the cube, unlike the "

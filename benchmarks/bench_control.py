@@ -25,6 +25,8 @@ import numpy as np
 
 from .harness import fmt_time, interleaved
 
+__all__ = ["TITLE", "DEFAULT", "run"]
+
 TITLE = "Control loop: compute per cycle and rate over a pty"
 DEFAULT = True
 

@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
+__all__ = ["TITLE", "DEFAULT", "run"]
+
 TITLE = "Δ-transform and singularity tests"
 DEFAULT = True
 

@@ -7,6 +7,8 @@ import statistics
 import subprocess
 import sys
 
+__all__ = ["TITLE", "DEFAULT", "run"]
+
 TITLE = "Import time of distkin"
 DEFAULT = True
 

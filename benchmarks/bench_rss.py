@@ -13,6 +13,8 @@ import numpy as np
 
 from .harness import interleaved, ratio_table
 
+__all__ = ["TITLE", "DEFAULT", "run"]
+
 TITLE = "RSS mechanisms: generated kernels (issue 5)"
 DEFAULT = True
 
