@@ -263,13 +263,6 @@ class Affine(ModelArithmetic):
         al, zeta, delta = cheb
         return Affine(al * self.c + zeta, [al * x for x in self.a], abs(al) * self.e + delta)
 
-    def _better(self, taylor, cheb):
-        # the smaller remainder of the Taylor and the Chebyshev enclosures
-        if cheb is None:
-            return taylor
-        lin = self._linear(cheb)
-        return lin if not taylor.e.is_finite() or lin.e.upper() < taylor.e.upper() else taylor
-
     def _recip(self):
         # |f''| = 2 / |x|^3 is largest at the smallest |x| of the range (a point: a
         # product of wide mid-radius balls would overestimate)

@@ -91,10 +91,19 @@ def chebyshev_recip(rng):
 class ModelArithmetic:
     """Operations shared by the Taylor models :class:`.intervals.Affine` and
     :class:`.taylor.Quadratic`, written once on top of their own ``*``, unary ``-``,
-    ``_recip`` and ``range``; ``_not_smooth(r)`` builds a model of the range ``r`` whose
+    ``_recip``, ``range`` and ``_linear`` (the model of ``al x + zeta +- delta`` for a
+    Chebyshev enclosure); ``_not_smooth(r)`` builds a model of the range ``r`` whose
     remainder is not finite (nothing is certified from it)."""
 
     __slots__ = ()
+
+    def _better(self, taylor, cheb):
+        """The enclosure with the smaller remainder: the Taylor model ``taylor`` or the
+        Chebyshev linear enclosure ``cheb`` (``(al, zeta, delta)`` or None)."""
+        if cheb is None:
+            return taylor
+        lin = self._linear(cheb)
+        return lin if not taylor.e.is_finite() or lin.e.upper() < taylor.e.upper() else taylor
 
     def __rtruediv__(self, o):
         return self._recip() * o

@@ -132,11 +132,11 @@ class CertifyWorkspaceQuery:
 
     @staticmethod
     def run(p, scene, ctx):
-        from ..indices.query import CLI_OVERRIDES
+        from ..indices.query import CLI_OVERRIDES, store_dir
         from ..indices.sweep import executor_for
         from .workspace import certify_workspace
         mech = scene.mechanism
-        store = _store_dir(p.store, scene)
+        store = store_dir(p.store, scene, "certify_workspace")
         workers = CLI_OVERRIDES.get("workers") or p.workers
         with executor_for(scheduler=CLI_OVERRIDES.get("scheduler") or p.scheduler,
                           workers=workers if workers is not None else 1) as ex:
@@ -152,16 +152,6 @@ class CertifyWorkspaceQuery:
             return [plot_certificate(cert, Path(stem), length_unit=p.length_unit)]
         return Outcome(result, text, plot)
 
-
-def _store_dir(store, scene):
-    from ..indices.query import CLI_OVERRIDES
-    if CLI_OVERRIDES.get("store"):
-        return Path(CLI_OVERRIDES["store"])
-    if store:
-        path = Path(store)
-        return path if path.is_absolute() else Path(scene.path).resolve().parent / path
-    from ..codegen.cache import cache_dir
-    return cache_dir() / "sweeps" / f"{Path(scene.path).stem}_certify_workspace"
 
 
 def certificate_json(cert) -> dict:

@@ -174,13 +174,6 @@ class Quadratic(ModelArithmetic):
         return Quadratic(al * self.c + zeta, [al * x for x in self.a],
                          [al * x for x in self.q], abs(al) * self.e + delta)
 
-    def _better(self, taylor, cheb):
-        # the smaller remainder of the second-order Taylor and the Chebyshev enclosures
-        if cheb is None:
-            return taylor
-        lin = self._linear(cheb)
-        return lin if not taylor.e.is_finite() or lin.e.upper() < taylor.e.upper() else taylor
-
     def _recip(self):
         # the third derivative 6 / x^4 is largest at the smallest |x| of the range
         r = self.range()

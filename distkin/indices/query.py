@@ -58,7 +58,8 @@ from ..queries import register
 from .isotropy import ST_DEFAULT
 from .study import ACTUATORS, PAPER_TABLE3
 
-__all__ = ["PerformanceQuery", "DesignSweepQuery", "CLI_OVERRIDES", "add_sweep_parser"]
+__all__ = ["PerformanceQuery", "DesignSweepQuery", "CLI_OVERRIDES", "add_sweep_parser",
+           "store_dir"]
 
 #: set by ``distkin sweep``: scheduler, workers, store override the scene's fields
 CLI_OVERRIDES: dict = {}
@@ -113,7 +114,9 @@ def _grid(raw, units, field, z0, rotation):
     return PoseGrid(tuple(tr), tuple(tr), tuple(z0 + tr), tuple(rr), tuple(rr), tuple(rr))
 
 
-def _store_dir(store, scene, name):
+def store_dir(store, scene, name):
+    """Where a chunked query keeps its finished chunks: ``--store`` of ``distkin sweep``,
+    else the query's ``store`` (relative to the scene file), else the user cache."""
     if CLI_OVERRIDES.get("store"):
         return Path(CLI_OVERRIDES["store"])
     if store:
@@ -233,7 +236,7 @@ class PerformanceQuery:
         from .study_report import performance_report
         return performance_report(p, scene, ctx, grid_of=lambda d: _grid(
             p.grid_raw, p.units, "grid", d.mech.z0, d.rotation),
-            store_of=lambda label: _store_dir(p.store, scene, "performance") / _slug(label),
+            store_of=lambda label: store_dir(p.store, scene, "performance") / _slug(label),
             executor=lambda: _executor(p.workers, p.scheduler))
 
 
@@ -310,7 +313,7 @@ class DesignSweepQuery:
     def run(p, scene, ctx):
         from .study_report import design_sweep_report
         return design_sweep_report(p, scene, ctx,
-                                   store=_store_dir(p.store, scene, "design_sweep"),
+                                   store=store_dir(p.store, scene, "design_sweep"),
                                    executor=lambda: _executor(p.workers, p.scheduler))
 
 

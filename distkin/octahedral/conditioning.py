@@ -52,6 +52,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .fast import _factored as _fast_factored
+
 __all__ = ["Conditioning", "estimate", "kernel_data", "factored", "K_NOISE", "EPS"]
 
 EPS = float(np.finfo(float).eps)
@@ -122,7 +124,8 @@ def kernel_data(sides2, legs2, data=None):
 
 def factored(data, x):
     r"""The octic in its factored form :math:`H = G^2 - 4R_1R_2` (eq. (3) squared twice,
-    :mod:`.octic`), its derivative and the size :math:`S = G^2 + 4|R_1R_2|` of its terms.
+    :mod:`.octic`), its derivative and the size :math:`S = G^2 + 4|R_1R_2|` of its terms:
+    the fast tier's own evaluation (:func:`.fast._factored`) for each row of ``data``.
 
     Parameters
     ----------
@@ -132,19 +135,10 @@ def factored(data, x):
     -------
     H, dH, S : arrays (..., M)
     """
-    d = np.asarray(data, float)[..., :30, None]
-    x = np.asarray(x, float)
-    c1, c2 = d[..., 1::3, :], d[..., 2::3, :]
-    val = d[..., 0::3, :] + x * (c1 + x * c2)          # (..., 10, M)
-    der = c1 + (2 * x) * c2
-    u, v, b1, b2, E1, E2, a, b, c, e = (val[..., k, :] for k in range(10))
-    du, dv, db1, db2, dE1, dE2, da, db, dc, de = (der[..., k, :] for k in range(10))
-    G = u * E2 + v * E1 + 2 * b1 * b2
-    dG = du * E2 + u * dE2 + dv * E1 + v * dE1 + 2 * (db1 * b2 + b1 * db2)
-    ab, ce = a * b, c * e
-    R = ab * ce
-    dR = (da * b + a * db) * ce + ab * (dc * e + c * de)
-    return G * G - 4 * R, 2 * G * dG - 4 * dR, G * G + 4 * np.abs(R)
+    d = np.asarray(data, float)
+    C = np.moveaxis(d[..., :30].reshape(d.shape[:-1] + (10, 3)), (-1, -2), (0, 1))
+    H, dH, S, _, _ = _fast_factored(C[..., None], np.asarray(x, float))
+    return H, dH, S
 
 
 def estimate(data, lo, hi, roots, eigenvalues=None) -> Conditioning:

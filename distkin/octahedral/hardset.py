@@ -75,17 +75,16 @@ class Case:
     poses: int
 
 
-def certified_truth(base, platform, legs):
-    """(real roots, assembly modes, poses) of the certified tier on the exact floats."""
+def certified_truth(base, platform, legs, tol=1e-6):
+    """(real roots, assembly modes, poses) of the certified tier on the exact floats
+    (``tol``: the pose enclosures' refinement, which does not affect the counts)."""
     from .forward import forward_kinematics
-    res = forward_kinematics(base, platform, list(legs), method="certified", tol=1e-6)
+    res = forward_kinematics(base, platform, list(legs), method="certified", tol=tol)
     return res.real_root_count, len(res.assembly_roots), len(res)
 
 
 def _modes(base, platform, legs):
-    from .forward import forward_kinematics
-    return len(forward_kinematics(base, platform, list(legs), method="certified",
-                                  tol=1e-3).assembly_roots)
+    return certified_truth(base, platform, legs, tol=1e-3)[1]
 
 
 def _with(legs, i, value):

@@ -163,8 +163,11 @@ def float_problem(base, platform, legs):
         try:
             a = np.asarray(value, dtype=float)
         except (TypeError, ValueError):
-            a = np.vectorize(lambda v: float(_exact(v, field)), otypes=[float])(
-                np.asarray(value, dtype=object))
+            # element by element (not np.vectorize: its floating-point error check would
+            # report flags raised by the lazy sympy import inside the first parse)
+            obj = np.asarray(value, dtype=object)
+            a = np.array([float(_exact(v, field)) for v in obj.ravel()],
+                         dtype=float).reshape(obj.shape)
         if a.shape[-len(shape):] != shape:
             raise InputError(f"expected shape (..., {', '.join(map(str, shape))}), got "
                              f"{a.shape}", field=field)
