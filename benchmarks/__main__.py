@@ -65,7 +65,8 @@ def _write_run(r: dict) -> None:
     text = (f"Last run: `{r['command']}` on {r['date']}, {r['seconds']:.0f} s in all.  \n"
             f"Machine: {m['processor']}, {m['cpu_count']} cores, {m['platform']}.  \n"
             f"Versions: Python {m['python']}, numpy {m['numpy']}, scipy {m['scipy']}, "
-            f"sympy {m['sympy']}, mpmath {m['mpmath']}, python-flint {m['python-flint']}.  \n"
+            f"sympy {m['sympy']}, mpmath {m['mpmath']}, python-flint {m['python-flint']}, "
+            f"numba {m.get('numba', '?')}.  \n"
             f"Sections written: {ran}.  \n"
             f"Left out of the default run: {out}.")
     _write_section("run", text, first=True)
@@ -99,7 +100,8 @@ def main(argv=None) -> int:
         head = (f"## {mod.TITLE}\n\nCommand: `python -m benchmarks {name}` · "
                 f"{info['processor']}, {info['cpu_count']} cores, Python {info['python']}, "
                 f"numpy {info['numpy']}, sympy {info['sympy']}, python-flint "
-                f"{info['python-flint']} · {time.strftime('%Y-%m-%d')} · {wall:.1f} s"
+                f"{info['python-flint']}, numba {info.get('numba', '?')} · "
+                f"{time.strftime('%Y-%m-%d')} · {wall:.1f} s"
                 + ("" if getattr(mod, "DEFAULT", True) else
                    " · not in the default run") + "\n\n")
         _write_section(name, head + text)

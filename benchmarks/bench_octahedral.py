@@ -111,6 +111,112 @@ def _table(times: dict, baseline: str, per: str) -> str:
     return "\n".join(lines)
 
 
+_COMPILE_SCRIPT = """
+import time
+t0 = time.perf_counter()
+import numpy as np
+from distkin.octahedral import forward_kinematics, forward_kinematics_batched
+B = np.array([[0, 0, 0], [6, np.sqrt(108), 0], [12, 0, 0]])
+Q = np.array([[0, 0, 0], [6, 0, 0], [3, np.sqrt(27), 0]])
+L = np.array([19.8, 18, 18, 17, 14.9, 17.8])
+t1 = time.perf_counter()
+forward_kinematics(B, Q, L)
+t2 = time.perf_counter()
+forward_kinematics_batched(B, Q, L[None])
+t3 = time.perf_counter()
+print(t1 - t0, t2 - t1, t3 - t2)
+"""
+
+
+def _first_calls():
+    """Seconds for the first single and batched calls in a new process: with an empty
+    numba cache (a new machine: compilation), then again (machine code from the cache)."""
+    import os
+    import subprocess
+    import sys
+    import tempfile
+    out = {}
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        for label in ("empty cache (compiles)", "warm cache (loads)"):
+            r = subprocess.run([sys.executable, "-c", _COMPILE_SCRIPT], env=env,
+                               capture_output=True, text=True, check=True)
+            out[label] = [float(v) for v in r.stdout.split()]
+    return out
+
+
+def _stages_single():
+    """CPU time of each stage of one bare fast solve (Griffis-Duffy), timed in isolation."""
+    from distkin.octahedral import fast_single as fs
+    from distkin.octahedral.forward import _single_result
+    from distkin.octahedral.problem import float_single
+    B, Q, L = float_single(BASE, PLAT, LEGS)
+    Ba, Qa, La = (np.asarray(a, dtype=float) for a in (B, Q, L))
+    s2, l2, d, lo, hi, c, comp, sc, mode = fs._prepare(Ba, Qa, La)
+    eig = fs.eigenvalues(comp, sc, mode, c)
+    er, ei = eig.real.copy(), eig.imag.copy()
+    raw = fs.solve_fast_single(Ba, Qa, La)
+    stages = {
+        "input checks (`float_single`, plain floats)": lambda: float_single(BASE, PLAT, LEGS),
+        "to arrays": lambda: [np.asarray(a, dtype=float) for a in (B, Q, L)],
+        "compiled: squared lengths, kernel, bounds, companion (`_prepare`)":
+            lambda: fs._prepare(Ba, Qa, La),
+        "LAPACK `dgeev` via numpy (`eigenvalues`)": lambda: fs.eigenvalues(comp, sc, mode, c),
+        "compiled: polish, careful path, trilateration, 12 poses (`_solve`)":
+            lambda: fs._solve(Ba, Qa, La, d, lo, hi, c, er, ei, s2, l2),
+        "result objects (12 `Pose`, 6 `RootInfo`)": lambda: _single_result(*raw),
+    }
+    return {k: v[1] for k, v in interleaved(stages, rounds=7, number=300, cpu=True).items()}
+
+
+def _stages_batched(batch):
+    """CPU time per problem of each stage of the batched fast tier, timed in isolation."""
+    from distkin.octahedral import fast
+    from distkin.octahedral import fast_single as fs
+    from distkin.octahedral.placement import place_many
+    from distkin.octahedral.closure import feasible_interval, octic_data, shifted_octic
+    from distkin.octahedral.problem import float_problem
+    from distkin.octahedral.rootscan import real_roots
+    B, Q, L, s2, l2 = (np.ascontiguousarray(a, dtype=float)
+                       for a in float_problem(BASE, PLAT, batch))
+    data = octic_data(s2, l2, "fast")
+    lo, hi, _ = feasible_interval(s2, l2)
+    lo0 = np.maximum(lo, 0.0)
+    c = np.where(hi > 0, 0.5 * (lo0 + hi), np.mean(s2, axis=1))
+    x0, h = 0.5 * (lo0 + hi), 0.5 * (hi - lo0)
+    q = shifted_octic(data, x0, h)
+
+    def sizes(r):
+        return shifted_octic(data[r], x0[r], h[r], absolute=True)
+    row, x, step, doubt = real_roots(q, sizes, x0, h)
+    status, xp, sp = fast.polish_scan(data, row, x, step, lo, hi, c, doubt.copy())
+    care = np.flatnonzero(doubt)
+    dc, cc = data[care], c[care]
+
+    def careful():
+        fast.roots_many(dc, lo[care], hi[care], cc,
+                        *fs.eigen_rows(*fast.companions(dc, cc), cc))
+    stages = {
+        "input checks and broadcasting (`float_problem`)":
+            lambda: float_problem(BASE, PLAT, batch),
+        "generated kernel, batched numpy (`octic_data`)": lambda: octic_data(s2, l2, "fast"),
+        "triangle bounds (`feasible_interval`)": lambda: feasible_interval(s2, l2),
+        "octic rebuilt around the interval (`shifted_octic`)":
+            lambda: shifted_octic(data, x0, h),
+        "sign scan, Halley refinement, Sturm check (`rootscan.real_roots`, numpy)":
+            lambda: real_roots(q, sizes, x0, h),
+        "compiled: classify and polish the scanned roots (`fast.polish_scan`)":
+            lambda: fast.polish_scan(data, row, x, step, lo, hi, c, doubt.copy()),
+        f"doubted problems ({care.size} of {len(batch)}): eigenvalues and careful path":
+            careful,
+        "compiled: sort, trilateration, poses, leg residuals, result arrays "
+        "(`placement.place_many`)":
+            lambda: place_many(B, Q, L, s2, l2, lo, hi, c, row, xp, sp, status),
+    }
+    n = len(batch)
+    return {k: v[1] / n for k, v in interleaved(stages, rounds=7, number=3, cpu=True).items()}
+
+
 def run():
     import os
     from distkin.octahedral import forward_kinematics, forward_kinematics_batched
@@ -160,6 +266,9 @@ def run():
                  "fast single, looped (octic)": tuple(v / 200 for v in
                                                       batched["fast single, looped (octic)"])}
     br = forward_kinematics_batched(BASE, PLAT, batch)
+    stages1 = _stages_single()
+    stagesN = _stages_batched(batch)
+    first = _first_calls()
     targets = [
         ("fast, single solve", single["fast (octic)"], 100e-6),
         ("fast, batched, per solve", per_solve["fast batched (octic)"], 10e-6),
@@ -197,55 +306,52 @@ def run():
         "",
         "Single solve: `fast (octic)` is the bare fast tier (`warn=False`), the one the "
         "target is judged on; the default call adds the conditioning estimate of "
-        "`distkin.octahedral.conditioning` (its own eigenvalues and Horner passes in "
-        "numpy) on top. Before this round of work the bare fast tier took ~245 µs and "
-        "the batched one ~31 µs per solve on this machine.",
+        "`distkin.octahedral.conditioning` (two more compiled kernel evaluations, the "
+        "factored octic at a few dozen points, plain Python on a handful of numbers).",
         "",
-        "Where the fast tier's time goes (Griffis-Duffy, CPU time, stages timed in "
-        "isolation on this shared machine; in the full call they take ~1.2-1.5x longer). "
-        "Single solve (`fast_single`, CPython floats, 6 real roots, 12 poses): input "
-        "checks in plain floats ~5 µs; the generated scalar kernel ~12 µs (~170 common "
-        "subexpressions); LAPACK `dgeev` on the 8x8 companion matrix ~8 µs plus ~7 µs "
-        "of handling (scaling, isolation test of each eigenvalue); per real root ~6-8 µs "
-        "(two Newton steps on eq. (3) with its sign branches, the trilateration sequence "
-        "of Sec. III with four (P4, P6) candidates, the triangle frame: ~250 float "
-        "operations at 25-35 ns each); one numpy pass for the 12 poses ~35 µs (about 20 "
-        "numpy calls of 1-3 µs each on tiny arrays: points, rotations, translations, leg "
-        "residuals of both mirror poses); the 12 `Pose` and 6 `RootInfo` objects "
-        "(frozen dataclasses, ~1 µs each) and the result ~20 µs. The floor of this "
-        "design in CPython is therefore ~120 µs: kernel, eigenvalues, ~40 µs of "
-        "per-root arithmetic and ~55 µs to build 12 poses as numpy arrays and objects "
-        "cannot be cut much further without compiled code; the 100 µs target is not "
-        "met. Batched (`fast.py`, `rootscan.py`): the companion eigenvalues "
-        "(~8 µs per problem for `dgeev` alone) are replaced by a projective sign scan "
-        "of the octic, rebuilt around the middle of the feasible interval from the "
-        "quadratic parts of eq. (3) so that it keeps its digits, over 96 fixed angles "
-        "(one matrix product for all problems, chunked by 256 rows so that OpenBLAS "
-        "stays single-threaded: its threads cost ~7x the CPU time of this small "
-        "product on the loaded 2-core machine), brackets refined by safeguarded Halley "
-        "steps, "
-        "pairs found at the minima of |O|, a float Sturm count as a check, then a "
-        "polish on eq. (3) (or on the factored octic); the ~0.5 % of problems the scan "
-        "doubts (9 % of random octahedra) go the eigenvalue way. Per problem, stages "
-        "timed separately: kernel 0.7 µs, rebuilt octic 0.25 µs, scan 2.2 µs, Sturm "
-        "check 0.3-0.6 µs, polish and classification 1.2 µs, the careful way 0.3-0.9 µs "
-        "amortised (a few hundred µs of numpy calls on small arrays, whatever the "
-        "number of doubted problems), trilateration sequence 1.0 µs, rotations and "
-        "translations 0.8 µs, leg residuals 0.55 µs, the (N, 16, 3, 3) result arrays "
-        "1.4 µs, sorting and glue the rest (the stages sum to ~10 µs; the whole call "
-        "takes 10-11 µs on a quiet machine, 13-15 µs under a load of 2-3, while the "
-        "previous eigenvalue code measured side by side takes 22-28 µs): no stage "
-        "dominates, each is a few dozen numpy operations at ~0.5-1 ns per element, so "
-        "the 10 µs target is at the edge of what this design gives; see the table for "
-        "this run. A vectorised Aberth-Ehrlich iteration on (N, 8) complex "
-        "arrays was tried earlier in place of the eigenvalues and was slower (10-13 "
-        "iterations of ~1 µs per problem each). The scan baseline misses roots closer "
-        "than its sample spacing and the 9-coordinate Newton baseline misses modes "
-        "that no start reaches; neither can certify a count.",
+        "Where the single solve's time goes (CPU time per call, each stage timed in "
+        "isolation; in the full call they take somewhat longer, caches being colder):",
+        "",
+        "| stage | CPU per call |",
+        "|---|---|",
+        *[f"| {k} | {fmt_time(v)} |" for k, v in stages1.items()],
+        "",
+        f"Where the batched solve's time goes ({n_batch} problems, CPU time per problem, "
+        "each stage timed in isolation):",
+        "",
+        "| stage | CPU per problem |",
+        "|---|---|",
+        *[f"| {k} | {fmt_time(v)} |" for k, v in stagesN.items()],
+        "",
+        "The stages that work root by root (polish, careful path, trilateration, poses) "
+        "are plain Python compiled by numba (`distkin/octahedral/fast_single.py`, "
+        "`placement.py`, `fast.py`); the "
+        "stages that are long vectorised loops over problems (kernel, scan, Sturm "
+        "check) stay in numpy. The same scalar code in CPython (the previous design, "
+        "same machine, 2026-11-21 morning run of this benchmark) took 179 µs per single "
+        "solve and 14.8 µs per batched solve; the 100 µs target was out of reach of the "
+        "interpreter (~250 float operations per root at 25-35 ns each, ~20 numpy calls "
+        "on tiny arrays for the poses). What is left in the single solve is numpy's "
+        "eigenvalue call and the Python objects of the result. A vectorised "
+        "Aberth-Ehrlich iteration on (N, 8) complex arrays was tried earlier in place of "
+        "the eigenvalues and was slower (10-13 iterations of ~1 µs per problem each). "
+        "The scan baseline misses roots closer than its sample spacing and the "
+        "9-coordinate Newton baseline misses modes that no start reaches; neither can "
+        "certify a count.",
+        "",
+        "Compilation: numba compiles the stages on their first call on a machine and "
+        "keeps the machine code in `__pycache__` (`cache=True`). First calls in a new "
+        "process (wall seconds: import, first single solve, first batched solve):",
+        "",
+        "| numba cache | import | first single | first batched |",
+        "|---|---|---|---|",
+        *[f"| {k} | {v[0]:.2f} s | {v[1]:.2f} s | {v[2]:.2f} s |" for k, v in first.items()],
     ]
     data = {"load_average": [load0, load1], "found": found,
             "single_s": {k: {"wall": w, "cpu": c} for k, (w, c) in single.items()},
             "per_solve_s": {k: {"wall": w, "cpu": c} for k, (w, c) in per_solve.items()},
             "targets": {n: {"wall_s": w, "cpu_s": c, "target_s": g}
-                        for n, (w, c), g in targets}}
+                        for n, (w, c), g in targets},
+            "stages_single_cpu_s": stages1, "stages_batched_cpu_s_per_problem": stagesN,
+            "first_calls_wall_s": first}
     return "\n".join(lines) + "\n", data

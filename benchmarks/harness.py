@@ -74,6 +74,7 @@ def machine() -> dict:
     import sympy
     import mpmath
     import flint
+    import numba
     return {
         "python": platform.python_version(),
         "platform": platform.platform(),
@@ -81,5 +82,6 @@ def machine() -> dict:
         "processor": platform.processor() or platform.machine(),
         "numpy": numpy.__version__, "scipy": scipy.__version__, "sympy": sympy.__version__,
         "mpmath": mpmath.__version__, "python-flint": flint.__version__,
+        "numba": numba.__version__,
         "argv": " ".join(sys.argv),
     }

@@ -41,8 +41,9 @@ It is an *estimate*, not a proof (the error bound is calibrated, and the eigenva
 that locate the nearly real pairs are rounded); ``method="certified"`` is the proof.
 On the hard set it flagged every problem the fast tier miscounted, and on the easy set
 it distrusted 3 of 200 (see BENCHMARKS.md, ``python -m benchmarks accuracy``).  Cost:
-three kernel evaluations, one 8x8 eigenvalue problem and one vectorised evaluation of
-:math:`H` (about 150-200 µs in CPython).
+three kernel evaluations and one evaluation of :math:`H` at a few dozen points
+(compiled), and plain Python on a handful of numbers (the eigenvalues are the fast
+tier's); ``python -m benchmarks octahedral`` times the default call, which includes it.
 """
 
 from __future__ import annotations
@@ -52,7 +53,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .fast import _factored as _fast_factored
+import numba
+
+from .._generated.octic_general import parts_scalar
+from .fast_single import factored_grid, octic_array
 
 __all__ = ["Conditioning", "estimate", "kernel_data", "factored", "K_NOISE", "EPS"]
 
@@ -61,6 +65,8 @@ EPS = float(np.finfo(float).eps)
 #: times ten)
 K_NOISE = 400.0
 _PATTERNS = ((1, -1) * 6, (1, 1, -1, -1) * 3)
+_SIGNS = np.array(_PATTERNS, dtype=float)
+_parts = numba.njit(cache=True)(parts_scalar)
 _NEAR_REAL = 0.05
 _SPREAD_LIST = np.linspace(-2.0, 2.0, 9).tolist()
 _TINY = float(np.finfo(float).tiny)
@@ -109,23 +115,31 @@ def kernel_data(sides2, legs2, data=None):
     s56) and ``legs2`` (s14 .. s16), and the quadratic parts (the first 30) at two
     perturbations of them by :math:`\pm 4\epsilon` relative (sign patterns
     :data:`_PATTERNS`; the octic's coefficients of those rows repeat row 0's).
-    ``data``: the unperturbed output when already computed (the fast tier's)."""
-    from .._generated.octic_general import octic_scalar, parts_scalar
-    s2, l2 = [float(v) for v in sides2], [float(v) for v in legs2]
-    h = 4 * EPS
-    d0 = list(octic_scalar(s2, l2) if data is None else data)
-    rows = [d0]
-    for pat in _PATTERNS:
-        rows.append(parts_scalar([v * (1 + pat[i] * h) for i, v in enumerate(s2)],
-                                 [v * (1 + pat[6 + i] * h) for i, v in enumerate(l2)])
-                    + d0[30:])
-    return np.array(rows)
+    ``data``: the unperturbed output when already computed (the fast tier's).  The
+    generated scalar kernels, compiled (:mod:`.fast_single`)."""
+    s2 = np.array(sides2, dtype=float)
+    l2 = np.array(legs2, dtype=float)
+    d0 = octic_array(s2, l2) if data is None else np.asarray(data, dtype=float)
+    return _perturbed(s2, l2, d0, _SIGNS, 4 * EPS)
+
+
+@numba.njit(cache=True)
+def _perturbed(s2, l2, d0, signs, h):
+    out = np.empty((3, 39))
+    out[0] = d0
+    for r in range(2):
+        p = _parts(s2 * (1 + signs[r, :6] * h), l2 * (1 + signs[r, 6:] * h))
+        for i in range(30):
+            out[r + 1, i] = p[i]
+        out[r + 1, 30:] = d0[30:]
+    return out
 
 
 def factored(data, x):
     r"""The octic in its factored form :math:`H = G^2 - 4R_1R_2` (eq. (3) squared twice,
     :mod:`.octic`), its derivative and the size :math:`S = G^2 + 4|R_1R_2|` of its terms:
-    the fast tier's own evaluation (:func:`.fast._factored`) for each row of ``data``.
+    the fast tier's own evaluation (:func:`.fast_single.factored_grid`) for each row of
+    ``data``.
 
     Parameters
     ----------
@@ -136,9 +150,21 @@ def factored(data, x):
     H, dH, S : arrays (..., M)
     """
     d = np.asarray(data, float)
-    C = np.moveaxis(d[..., :30].reshape(d.shape[:-1] + (10, 3)), (-1, -2), (0, 1))
-    H, dH, S, _, _ = _fast_factored(C[..., None], np.asarray(x, float))
-    return H, dH, S
+    x = np.ascontiguousarray(x, dtype=float).ravel()
+    H, dH, S = factored_grid(np.ascontiguousarray(d.reshape(-1, 39)), x)
+    shape = d.shape[:-1] + (x.size,)
+    return H.reshape(shape), dH.reshape(shape), S.reshape(shape)
+
+
+@numba.njit(cache=True)
+def _bracket(data, x, k, eps):
+    r"""H, H' of row 0 of ``data`` (3, 39) at the points x, and the error bracket
+    :math:`e = K(\max_r |H_r - H_0| + \epsilon S_0)` (module docstring)."""
+    H, dH, S = factored_grid(data, x)
+    e = np.empty(x.size)
+    for j in range(x.size):
+        e[j] = k * (max(abs(H[1, j] - H[0, j]), abs(H[2, j] - H[0, j])) + eps * S[0, j])
+    return H[0], dH[0], e
 
 
 def estimate(data, lo, hi, roots, eigenvalues=None) -> Conditioning:
@@ -170,7 +196,7 @@ def estimate(data, lo, hi, roots, eigenvalues=None) -> Conditioning:
         return Conditioning(False, f"the triangle bounds of s15 miss each other by only "
                             f"{gap:.2g} relative: at the edge of assemblability",
                             np.inf, gap, np.inf)
-    data = np.asarray(data, float)
+    data = np.ascontiguousarray(data, dtype=float)
     # (the logic below runs on a handful of numbers: plain Python, one numpy evaluation)
     real = sorted(float(r) for r in roots if lo <= r <= hi)
     coef = data[0, 30:].tolist()
@@ -206,9 +232,8 @@ def estimate(data, lo, hi, roots, eigenvalues=None) -> Conditioning:
     spread = [x + w * f for x, w in zip(cand, width) for f in _SPREAD_LIST]
     pts = (seps + cand + real + [x + hstep for x in cand] + [x - hstep for x in cand]
            + spread)
-    H, dH, S = factored(data, pts)
-    e = (K_NOISE * (np.abs(H[1:] - H[0]).max(0) + EPS * S[0])).tolist()
-    h, dh = H[0].tolist(), dH[0].tolist()
+    h, dh, e = _bracket(data, np.array(pts), K_NOISE, EPS)
+    h, dh, e = h.tolist(), dh.tolist(), e.tolist()
     for k in range(nc):
         # one Newton step on H' towards the extremum near each nearly real pair, and the
         # value there from the local quadratic model: H(x*) ~ H - H'^2 / (2 H'')

@@ -1,58 +1,87 @@
-r"""The fast tier for one problem: scalar Python per root, one numpy pass for the poses.
+r"""The fast tier, one problem at a time: compiled scalar stages (numba).
 
-Rojas, Borràs and Thomas, ICRA 2012, Sec. III: the scalar flavour of the generated
-kernel gives the octic and the quadratic parts of eq. (3); one LAPACK eigenvalue call on
-the companion matrix of the scaled octic gives the starts (the batched tier,
-:mod:`.fast`, scans instead and keeps this eigenvalue method for the problems it
-doubts).  Then, per eigenvalue:
+Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, Sec. III.
+The generated scalar kernel (:mod:`distkin._generated.octic_general`, compiled as it is
+by numba) gives the octic :math:`O(s_{15})` and the quadratic parts of eq. (3); one
+LAPACK eigenvalue call (numpy's ``dgeev``, with balancing) on the companion matrix of
+the scaled octic gives the starts.  Then, per eigenvalue (:func:`roots_from_eigenvalues`):
 
 * **direct path** -- an eigenvalue that LAPACK returns exactly real (a 1x1 block of
   the real Schur form) whose neighbours, in the order of real parts, lie farther than
-  :data:`_SEP` (relative) is a simple real root, accurate to the rounding of the octic's
-  coefficients (~1e-9 relative): inside the triangle bounds at most two Newton steps on
-  eq. (3) on its vanishing branch polish it (the accuracy the result states), outside
+  :data:`SEP` (relative) is a simple real root, accurate to the rounding of the octic's
+  coefficients (~1e-9 relative): inside the triangle bounds at most four Newton steps on
+  eq. (3) on its vanishing branch polish it (the accuracy the result states; Newton on
+  the factored octic where eq. (3) stops short, next to a nearly flat banana
+  tetrahedron, as in the batched tier), outside
   (a spurious root) at most four Newton steps on the octic in Horner form; a first step
-  above :data:`_CONFIRM` relative sends the eigenvalue to the careful path;
+  above :data:`CONFIRM` relative sends the eigenvalue to the careful path;
 * **careful path** -- every other eigenvalue that is real or nearly so (two roots
-  closer than :data:`_SEP`, a nearly real complex pair): Newton on the factored octic
-  :math:`G^2-4R_1R_2` (deflated where two starts meet one root; a start that wanders is
-  dropped as in :func:`.fast._newton`), then on eq. (3).
+  closer than :data:`SEP`, a nearly real complex pair :math:`a \pm ib` starts two, at
+  :math:`a \mp b`): Newton on the factored octic :math:`G^2-4R_1R_2` (deflated by the
+  roots found where two starts meet one root; a start whose steps stop shrinking like
+  Newton's linear rate at a root of multiplicity up to six has no real root to find
+  and is dropped), then eq. (3).
+
+Two roots closer than :data:`.placement.DUP` relative after the polish are one; so are two within
+1e-7 relative when the factored octic has opposite signs just outside both (one
+crossing: two starts from a nearly real pair stalled on the two sides of one simple
+root, which the certified tier confirms; tests/octahedral).
 
 Real roots outside the triangle bounds of :math:`s_{15}`, or where a banana tetrahedron
-has negative squared volume, are spurious.  The trilateration sequence of Sec. III
-runs in the base-adapted frame (:func:`.assembly.assemble_components`, here in plain
-floats, with everything that does not depend on the root computed once).  The two
-mirror poses of every root, their rotations, translations and leg residuals are then
-computed for all roots at once in one numpy pass.  Results are plain lists and array
-views, turned into :class:`~.forward.Pose` objects by
-:func:`.forward.forward_kinematics`.
+has negative squared volume, are spurious.  The trilateration sequence of Sec. III and
+the two mirror poses of every assembly root are :func:`.placement.place`.
 
-Cost (Griffis-Duffy example, 6 real roots, 12 poses; CPU time on the shared 2-core
-machine, stages timed in isolation, ~1.2-1.5x more inside the full call; see
-BENCHMARKS.md for the whole call): the Python interpreter dominates.  Generated kernel
-~12 µs; LAPACK ``dgeev`` on the 8x8 companion matrix ~8 µs plus ~7 µs of handling;
-per real root ~6-8 µs (eq. (3), the trilateration sequence and the triangle frame,
-~250 float operations at 25-35 ns each); the numpy pose pass for all 12 poses ~35 µs
-(about 20 numpy calls of 1-3 µs each on tiny arrays).  The caller adds the input
-checks (~5 µs) and the result objects (12 :class:`~.forward.Pose`, 6
-:class:`~.forward.RootInfo`, ~20 µs).  The floor of this design is ~120 µs per call;
-well separated roots take the direct path, so the careful Newton iterations (the
-former cost of every root) are only paid next to close roots.
+The batched tier (:mod:`.fast`) finds its roots by a sign scan and uses the same
+compiled stages (the polish on eq. (3), the factored Newton, :func:`roots_from_eigenvalues` for the
+problems the scan doubts, the placement).
+
+Why compiled: in CPython the same scalar code took ~180 µs per Griffis-Duffy solve
+(~250 float operations per root at 25-35 ns each, ~20 numpy calls on tiny arrays for
+the poses); issue 3 asks for 100 µs.  Every function here is plain Python that numba
+compiles once per machine (``cache=True``: the machine code is kept in
+``__pycache__``); ``NUMBA_DISABLE_JIT=1`` runs the same source in the interpreter.
+Cost after compilation: see BENCHMARKS.md (``python -m benchmarks octahedral``).
 """
 
 from __future__ import annotations
 
 import math
-from operator import attrgetter, itemgetter
 
+import numba
 import numpy as np
 
 from .._generated.octic_general import octic_scalar
-from .fast import (_DUP, _GRACE, _NEAR_REAL, _NEWTON_DEFLATED, _NEWTON_MAX, _RATE, _RES,
-                   _ROUNDS, _STEP)
-from .problem import LEG_PAIRS
+from .placement import DUP, place
+from .problem import REASONS
 
-__all__ = ["solve_fast_single", "real_roots_scalar"]
+__all__ = ["solve_fast_single", "real_roots_scalar", "roots_from_eigenvalues",
+           "eigenvalues", "eigen_rows", "companion", "polish_eq3", "newton_factored",
+           "tet_min", "octic_array", "factored_grid", "bounds", "REASONS", "CONFIRM",
+           "EQ3_STEPS", "NEWTON_MAX"]
+
+#: relative distance from every other eigenvalue above which an exactly real eigenvalue
+#: takes the direct path (closer ones may be a blurred pair of close roots)
+SEP = 1e-2
+#: relative first Newton step on eq. (3) (or on the octic) above which a direct-path
+#: root is not trusted.  Isolated roots come out of LAPACK within the rounding of the
+#: float octic's coefficients, ~1e-13..1e-9 relative; the polish then converges
+#: quadratically (a start within 1e-6 of a root isolated by 1 % is deep in its basin)
+CONFIRM = 1e-6
+_CLOSE = 1e-7        # ... and up to which they are one if the octic says so,
+_SIGN_OK = 1e-12     # ... with values above this times the size of their terms
+NEWTON_MAX = 60     # Newton on the factored octic: linear near a double root
+_NEWTON_DEFLATED = 25  # deflated retries: a start that has not settled by then has none
+EQ3_STEPS = 4       # Newton steps on eq. (3) at most (stops at 1e-9 relative)
+_RES = 1e-4          # relative residual of the factored octic accepted as a root
+_ROUNDS = 3          # rounds of deflated Newton from the starts that found nothing new
+_STEP = 1e-9         # relative size of the last Newton step of a converged polish
+_NEAR_REAL = 0.05    # |Im| / scale under which an eigenvalue starts a polish
+_GRACE = 6           # Newton steps before a start must show convergence ...
+_RATE = 0.7          # ... |step_k| <= _RATE |step_(k-2)|: Newton's linear rate (m-1)/m
+#                      at a root of multiplicity m <= 6 gives ((m-1)/m)^2 <= 0.7
+
+_jit = numba.njit(cache=True)
+_kernel = _jit(octic_scalar)
 
 try:  # numpy's own gufunc behind numpy.linalg.eigvals, without its per-call checks
     from numpy.linalg import _umath_linalg
@@ -65,353 +94,460 @@ try:  # numpy's own gufunc behind numpy.linalg.eigvals, without its per-call che
 except Exception:  # pragma: no cover - other numpy layouts: the public function
     _eigvals = np.linalg.eigvals
 
-#: relative distance from every other eigenvalue above which an exactly real eigenvalue
-#: takes the direct path (closer ones may be a blurred pair of close roots)
-_SEP = 1e-2
-#: relative first Newton step on eq. (3) (or on the octic) above which a direct-path
-#: eigenvalue is not trusted.  Isolated roots come out of LAPACK within the rounding
-#: of the float octic's coefficients, ~1e-13..1e-9 relative; the polish then converges
-#: quadratically (a start within 1e-6 of a root isolated by 1 % is deep in its basin)
-_CONFIRM = 1e-6
 
-_SUBDIAG = np.eye(8, k=-1)
-_REAL = attrgetter("real")
-_FIRST = itemgetter(0)
-# the side -1 placement is the reflection z -> -z (adapted frame) of the side +1 one:
-# points (X, Y, Z) -> (X, Y, -Z); triangle frame F -> M F D with M = D = diag(1, 1, -1)
-_SIDE_SIGNS = np.array([[1.0] * 18,
-                        [1.0, 1.0, -1.0] * 3
-                        + [1.0, 1.0, -1.0, 1.0, 1.0, -1.0, -1.0, -1.0, 1.0]])[:, None]
-_LEG_BASE = [i - 1 for i, _ in LEG_PAIRS]                   # P1 P2 P2 P3 P3 P1
-_LEG_PLAT = [j - 4 for _, j in LEG_PAIRS]                   # P4 P4 P5 P5 P6 P6
-# rows of the pose pass, picked from (adapted points (9), transposed frame (9)): the
-# three points, the frame's rows, the platform end of each leg; and the signs of their
-# mirror images (side -1)
-_ROWS = np.array(list(range(18)) + [3 * p + m for p in _LEG_PLAT for m in range(3)])
-_ROW_SIGNS = _SIDE_SIGNS[:, :, _ROWS]
-# what is added to those rows after the product with the axes, as weights of P1 P2 P3:
-# P1 for the points, 0 for the frame, P1 - (base end of the leg) for the legs
-_OFFSETS = np.array([[1.0, 0.0, 0.0]] * 3 + [[0.0] * 3] * 3
-                    + [[1.0 - (i == 0), -1.0 * (i == 1), -1.0 * (i == 2)] for i in _LEG_BASE])
+# --------------------------------------------------------------------------- kernel
+
+@_jit
+def _squares(B, Q, L):
+    """Squared sides s12 s13 s23 s45 s46 s56 and squared legs of one problem."""
+    s2 = np.empty(6)
+    for k in range(2):
+        P = B if k == 0 else Q
+        for m, (i, j) in enumerate(((0, 1), (0, 2), (1, 2))):
+            dx, dy, dz = P[i, 0] - P[j, 0], P[i, 1] - P[j, 1], P[i, 2] - P[j, 2]
+            s2[3 * k + m] = dx * dx + dy * dy + dz * dz
+    return s2, L * L
 
 
-def _quadratics(d):
-    """Coefficients of the 10 quadratics of the kernel output ``d``: constant, linear,
-    quadratic and twice the quadratic ones (10 each)."""
-    c2 = d[2:30:3]
-    return d[0:30:3], d[1:30:3], c2, [2 * v for v in c2]
+@_jit
+def octic_array(s2, l2):
+    """The generated scalar kernel, compiled: (39,) outputs at the squared sides and
+    legs (quadratic parts of eq. (3), then the octic, highest degree first)."""
+    lst = _kernel(s2, l2)
+    d = np.empty(39)
+    for i in range(39):
+        d[i] = lst[i]
+    return d
 
 
-def _parts(q, x):
-    """The 10 quadratics of eq. (3) at x (``q`` from :func:`_quadratics`): values, then
-    derivatives."""
-    c0, c1, c2, c22 = q
-    return ([a + x * (b + x * e) for a, b, e in zip(c0, c1, c2)],
-            [b + x * e for b, e in zip(c1, c22)])
+@_jit
+def bounds(s2, l2):
+    """The triangle bounds (lo, hi) of s15: the triangles P1 P4 P5, P1 P2 P5, P1 P6 P5
+    and P1 P3 P5 must close."""
+    lo, hi = -np.inf, np.inf
+    for a, b in ((l2[0], s2[3]), (s2[0], l2[2]), (l2[5], s2[5]), (s2[1], l2[3])):
+        ra, rb = math.sqrt(a), math.sqrt(b)
+        lo = max(lo, (ra - rb) ** 2)
+        hi = min(hi, (ra + rb) ** 2)
+    return lo, hi
 
 
-def _factored(val, der):
-    (u, v, b1, b2, E1, E2, a, b, c, e), (du, dv, db1, db2, dE1, dE2, da, db, dc, de) = val, der
+@_jit
+def _prepare(B, Q, L):
+    """Squared lengths, kernel output (39), triangle bounds, scale c, and the
+    companion matrix of O(c t) (``mode`` 0), or its scaled coefficients when the
+    leading one is negligible (``mode`` 1: a lower degree) or all vanish (2)."""
+    s2, l2 = _squares(B, Q, L)
+    d = octic_array(s2, l2)
+    lo, hi = bounds(s2, l2)
+    c = 0.5 * (max(lo, 0.0) + hi) if hi > 0 else s2.sum() / 6
+    comp, sc, mode = companion(d, c)
+    return s2, l2, d, lo, hi, c, comp, sc, mode
+
+
+@_jit
+def companion(d, c):
+    """The companion matrix (8, 8) of the octic scaled to O(c t), its scaled
+    coefficients (9) and the mode of :func:`_prepare`."""
+    sc = np.empty(9)
+    big, p = 0.0, 1.0
+    for k in range(8, -1, -1):
+        v = d[30 + k] * p
+        sc[k] = v
+        big = max(big, abs(v))
+        p *= c
+    comp = np.zeros((8, 8))
+    if big == 0:
+        return comp, sc, 2
+    if abs(sc[0]) <= 1e-12 * big:
+        return comp, sc / big, 1
+    for k in range(8):
+        comp[0, k] = -sc[k + 1] / sc[0]
+    for k in range(7):
+        comp[k + 1, k] = 1.0
+    return comp, sc, 0
+
+
+def eigenvalues(comp, sc, mode, c):
+    """Eigenvalues (complex array, unscaled) from :func:`_prepare`'s output."""
+    if mode == 2:
+        return np.zeros(0, complex)
+    if mode == 1:
+        eig = np.roots(sc) if sc.any() else np.zeros(0, complex)
+    else:
+        eig = _eigvals(comp) if np.isfinite(comp).all() else np.linalg.eigvals(comp)
+        if np.isnan(eig).any():   # LAPACK did not converge: the public function raises
+            eig = np.linalg.eigvals(comp)
+    return np.asarray(eig, complex) * c
+
+
+# ------------------------------------------------------------ eq. (3) and the octic
+
+@_jit
+def _q(d, i, x):
+    """Quadratic part i of eq. (3) (u, v, b1, b2, E1, E2, T1a, T1b, T2a, T2b) at x."""
+    return d[3 * i] + x * (d[3 * i + 1] + x * d[3 * i + 2])
+
+
+@_jit
+def _dq(d, i, x):
+    """Its derivative."""
+    return d[3 * i + 1] + (2 * x) * d[3 * i + 2]
+
+
+@_jit
+def _factored(d, x):
+    r"""The octic in its factored form :math:`H = G^2-4R_1R_2` at x, its derivative, and
+    the size :math:`G^2+4|R_1R_2|` of its terms (quadratic parts from ``d``)."""
+    u, v, b1, b2 = _q(d, 0, x), _q(d, 1, x), _q(d, 2, x), _q(d, 3, x)
+    E1, E2 = _q(d, 4, x), _q(d, 5, x)
+    a, b, cc, e = _q(d, 6, x), _q(d, 7, x), _q(d, 8, x), _q(d, 9, x)
     G = u * E2 + v * E1 + 2 * b1 * b2
-    dG = du * E2 + u * dE2 + dv * E1 + v * dE1 + 2 * (db1 * b2 + b1 * db2)
-    ab, ce = a * b, c * e
+    dG = (_dq(d, 0, x) * E2 + u * _dq(d, 5, x) + _dq(d, 1, x) * E1 + v * _dq(d, 4, x)
+          + 2 * (_dq(d, 2, x) * b2 + b1 * _dq(d, 3, x)))
+    ab, ce = a * b, cc * e
     R = ab * ce
-    dR = (da * b + a * db) * ce + ab * (dc * e + c * de)
+    dR = (_dq(d, 6, x) * b + a * _dq(d, 7, x)) * ce + ab * (_dq(d, 8, x) * e + cc * _dq(d, 9, x))
     return G * G - 4 * R, 2 * G * dG - 4 * dR, G * G + 4 * abs(R)
 
 
-def _newton(q, x, c, found=(), coef=None):
-    """Newton on the factored octic (deflated by ``found``) from x.
+@_jit
+def tet_min(d, x):
+    """The smallest of the four banana tetrahedra's squared-volume factors at x."""
+    return min(_q(d, 6, x), _q(d, 7, x), _q(d, 8, x), _q(d, 9, x))
+
+
+@_jit
+def polish_eq3(d, x, c, steps):
+    r"""Newton on the cleared eq. (3) :math:`P + \epsilon_1 v\sqrt{R_1} -
+    \epsilon_2 u\sqrt{R_2}` on the branch where it is smallest, at most ``steps`` steps
+    (stopping at a step at rounding level, or below 1e-9 relative and 1e-4 times the
+    one before: quadratic convergence makes the next one negligible then; next to a
+    nearly flat banana tetrahedron the branch is nearly singular and a first small step
+    proves nothing), each clipped to 1e-3 c, none where a radicand is not positive.
+    The caller has checked the tetrahedra.  Returns
+    ``(x, radius, first step, steps taken, how)``: ``radius`` the largest step taken
+    (about the error of the start; the last step alone, tiny once converged, says
+    nothing of the rounding error: on 884 assembly roots of random octahedra the
+    certified root lay farther than the last step in 24 %, farther than this radius in
+    1.5 %, all below 1e-12 relative); ``how`` 0 converged, 1 the steps ran out with
+    the last one below 1e-9 relative (the rounding noise of a badly conditioned
+    problem), 2 not settled: stopped by a radicand that is not positive (or a vanishing
+    derivative; next to a nearly flat banana tetrahedron the pose goes as the square
+    root of the root's error, and the caller polishes on the factored octic instead),
+    or out of steps above 1e-9.
+    """
+    step = first = prev = 0.0
+    taken = 0
+    how = 2
+    for k in range(steps):
+        u, v, b1, b2 = _q(d, 0, x), _q(d, 1, x), _q(d, 2, x), _q(d, 3, x)
+        a, b, cc, e = _q(d, 6, x), _q(d, 7, x), _q(d, 8, x), _q(d, 9, x)
+        R1, R2 = a * b, cc * e
+        if R1 <= 0 or R2 <= 0 or a < 0 or cc < 0:
+            break
+        du, dv, db1, db2 = _dq(d, 0, x), _dq(d, 1, x), _dq(d, 2, x), _dq(d, 3, x)
+        q1, q2 = math.sqrt(R1), math.sqrt(R2)
+        P = u * b2 - v * b1
+        vq1, uq2 = v * q1, u * q2
+        N, e1, e2 = P + vq1 - uq2, 1.0, 1.0
+        n_ = P + vq1 + uq2
+        if abs(n_) < abs(N):
+            N, e1, e2 = n_, 1.0, -1.0
+        n_ = P - vq1 - uq2
+        if abs(n_) < abs(N):
+            N, e1, e2 = n_, -1.0, 1.0
+        n_ = P - vq1 + uq2
+        if abs(n_) < abs(N):
+            N, e1, e2 = n_, -1.0, -1.0
+        dq1 = (_dq(d, 6, x) * b + a * _dq(d, 7, x)) / (2 * q1)
+        dq2 = (_dq(d, 8, x) * e + cc * _dq(d, 9, x)) / (2 * q2)
+        dN = (du * b2 + u * db2 - dv * b1 - v * db1 + e1 * (dv * q1 + v * dq1)
+              - e2 * (du * q2 + u * dq2))
+        if dN == 0 or not math.isfinite(dN):
+            break
+        st = N / dN
+        lim = 1e-3 * c
+        st = lim if st > lim else (-lim if st < -lim else st)
+        x -= st
+        prev, step = step, st
+        taken += 1
+        if k == 0:
+            first = st
+        a = abs(st)
+        if a <= 4e-16 * abs(x) or (a <= 1e-9 * abs(x) and k > 0 and a <= 1e-4 * abs(prev)):
+            how = 0             # at rounding level, or small and shrinking quadratically
+            break
+        if k == steps - 1:      # out of steps: noise level, or not converging
+            how = 1 if a <= 1e-9 * abs(x) else 2
+    return x, max(abs(step), abs(prev), abs(first)), first, taken, how
+
+
+@_jit
+def _horner_newton(d, x, c):
+    """Newton on the octic in Horner form from an accurate start: ``(x, |last step|,
+    ok)``, not ok when the first step exceeds :data:`CONFIRM` relative.  At most four
+    steps; stops when a step is below 1e-14 relative or stops shrinking."""
+    size = max(abs(x), c)
+    prev = np.inf
+    st = 0.0
+    for k in range(4):
+        p, dp = d[30], 0.0
+        for i in range(31, 39):
+            dp = dp * x + p
+            p = p * x + d[i]
+        st = p / dp if dp != 0 else np.inf
+        a = abs(st)
+        if k == 0 and not a <= CONFIRM * size:
+            return x, np.inf, False
+        if a >= prev:
+            break
+        x -= st
+        if a <= 1e-14 * size:
+            break
+        prev = a
+    return x, abs(st), True
+
+
+@_jit
+def _small(d, x):
+    """The octic in Horner form is below :data:`_RES` times the size of its terms."""
+    p, s, ax = 0.0, 0.0, abs(x)
+    for i in range(30, 39):
+        p = p * x + d[i]
+        s = s * ax + abs(d[i])
+    return abs(p) <= _RES * s
+
+
+@_jit
+def newton_factored(d, x, c, found, nfound, iters):
+    """Newton on the factored octic from x, deflated by ``found[:nfound]``.
 
     Returns the final x, the last step, convergence, and the point where the octic
-    was last evaluated with the quadratics there (one negligible step before x).
-    Convergence: the last step below :data:`.fast._STEP` relative and the octic small
-    against the size of its terms (:data:`.fast._RES`), in the factored form or, with
-    ``coef``, in the expanded form (next to a close root the factored form's
+    was last evaluated (one negligible step before x).  Convergence: the last step below
+    :data:`_STEP` relative and the octic small against the size of its terms in the
+    factored form or in the expanded form (next to a close root the factored form's
     cancellation can leave a residual above that level by rounding alone)."""
-    step, prev, prev2 = 0.0, 0.0, math.inf
+    step, prev, prev2 = 0.0, 0.0, np.inf
     H, Hs = 0.0, 1.0
-    xe, pv = x, None
-    for it in range(_NEWTON_DEFLATED if found else _NEWTON_MAX):
-        pv = _parts(q, x)
+    xe = x
+    for it in range(iters):
         xe = x
-        H, dH, Hs = _factored(*pv)
-        defl = sum(1.0 / (x - r) for r in found if x != r) if found else 0.0
+        H, dH, Hs = _factored(d, x)
+        defl = 0.0
+        for j in range(nfound):
+            if x != found[j]:
+                defl += 1.0 / (x - found[j])
         den = dH - H * defl
         if den == 0 or not math.isfinite(den):
-            step = math.inf
+            step = np.inf
             break
         step = max(-0.5 * c, min(0.5 * c, H / den))
         x -= step
         size = max(abs(x), c)
         a = abs(step)
-        # converged, or stalled at the rounding level of the factored octic
         if a <= 1e-14 * size or (a <= _STEP * size and a > 0.5 * prev):
             break
         if it >= _GRACE and a > _RATE * prev2:       # wanders: no real root to find here
             break
         prev2, prev = prev, a
     ok = abs(step) <= _STEP * max(abs(x), c) and math.isfinite(x) and (
-        abs(H) <= _RES * Hs or (coef is not None and _small(coef, xe)))
-    return x, step, ok, xe, pv
+        abs(H) <= _RES * Hs or _small(d, xe))
+    return x, step, ok, xe
 
 
-def _small(coef, x):
-    """The octic in Horner form is below :data:`.fast._RES` times the size of its terms
-    at x."""
-    p, s, ax = 0.0, 0.0, abs(x)
-    for a in coef:
-        p = p * x + a
-        s = s * ax + abs(a)
-    return abs(p) <= _RES * s
+@_jit
+def _one_crossing(d, x1, x2):
+    """The factored octic has opposite signs at x1 - g and x2 + g (g = x2 - x1), each
+    above :data:`_SIGN_OK` times the size of its terms (not rounding noise): an odd
+    number of roots around the two, i.e. one where two were found."""
+    g = x2 - x1
+    a, _, sa = _factored(d, x1 - g)
+    b, _, sb = _factored(d, x2 + g)
+    return (a > 0) != (b > 0) and abs(a) > _SIGN_OK * sa and abs(b) > _SIGN_OK * sb
 
 
-def _polish(d, x, c):
-    r"""Classify a root x of the octic inside the triangle bounds and polish it on eq. (3).
-
-    From the kernel output ``d`` (the quadratics' coefficients at ``d[3i:3i+3]``, in the
-    order u, v, b1, b2, E1, E2, T1a, T1b, T2a, T2b): if a banana tetrahedron has
-    negative squared volume at x (below :math:`-10^{-9}c^3`), the root is spurious and
-    ``(x, None)`` is returned; otherwise at most two Newton steps on the cleared eq. (3)
-    :math:`P + \epsilon_1 v\sqrt{R_1} - \epsilon_2 u\sqrt{R_2}` on the branch where it is
-    smallest (the second only when the first was not already below 1e-9 relative:
-    quadratic convergence makes the next one negligible then), each clipped to 1e-3 c,
-    none where a radicand is not positive.  Returns ``(x, last step, first step)``
-    (steps 0.0 if none was taken)."""
-    step = first = 0.0
-    for k in (0, 1):
-        u = d[0] + x * (d[1] + x * d[2])
-        v = d[3] + x * (d[4] + x * d[5])
-        b1 = d[6] + x * (d[7] + x * d[8])
-        b2 = d[9] + x * (d[10] + x * d[11])
-        a = d[18] + x * (d[19] + x * d[20])
-        b = d[21] + x * (d[22] + x * d[23])
-        cc = d[24] + x * (d[25] + x * d[26])
-        e = d[27] + x * (d[28] + x * d[29])
-        if k == 0 and min(a, b, cc, e) < -1e-9 * c * c * c:
-            return x, None, None
-        R1, R2 = a * b, cc * e
-        if R1 <= 0 or R2 <= 0 or a < 0 or cc < 0:
-            break
-        x2 = 2 * x
-        du, dv = d[1] + x2 * d[2], d[4] + x2 * d[5]
-        db1, db2 = d[7] + x2 * d[8], d[10] + x2 * d[11]
-        q1, q2 = math.sqrt(R1), math.sqrt(R2)
-        P = u * b2 - v * b1
-        vq1, uq2 = v * q1, u * q2
-        N, e1, e2 = P + vq1 - uq2, 1, 1
-        n_ = P + vq1 + uq2
-        if abs(n_) < abs(N):
-            N, e1, e2 = n_, 1, -1
-        n_ = P - vq1 - uq2
-        if abs(n_) < abs(N):
-            N, e1, e2 = n_, -1, 1
-        n_ = P - vq1 + uq2
-        if abs(n_) < abs(N):
-            N, e1, e2 = n_, -1, -1
-        dq1 = ((d[19] + x2 * d[20]) * b + a * (d[22] + x2 * d[23])) / (2 * q1)
-        dq2 = ((d[25] + x2 * d[26]) * e + cc * (d[28] + x2 * d[29])) / (2 * q2)
-        dN = (du * b2 + u * db2 - dv * b1 - v * db1 + e1 * (dv * q1 + v * dq1)
-              - e2 * (du * q2 + u * dq2))
-        if dN == 0:
-            break
-        st = N / dN
-        lim = 1e-3 * c
-        st = lim if st > lim else (-lim if st < -lim else st)
-        x -= st
-        step = st
-        if k == 0:
-            first = st
-        if abs(st) <= 1e-9 * abs(x):
-            break
-    return x, step, first
+@_jit
+def _distinct(x, c, xs, n):
+    """x is farther than :data:`DUP` relative from every one of ``xs[:n]``."""
+    tol = DUP * max(abs(x), c)
+    for j in range(n):
+        if abs(x - xs[j]) <= tol:
+            return False
+    return True
 
 
-def _horner_newton(coef, x, c):
-    """Newton on the octic in Horner form (coefficients highest first) from an accurate
-    start: ``(x, last step)``, or ``(x, None)`` when the first step exceeds
-    :data:`_CONFIRM` relative.  At most four steps; stops when a step is below 1e-14
-    relative or stops shrinking (the rounding level of the octic)."""
-    size = max(abs(x), c)
-    prev = math.inf
-    for k in range(4):
-        p, dp = coef[0], 0.0
-        for a in coef[1:]:
-            dp = dp * x + p
-            p = p * x + a
-        st = p / dp if dp else math.inf
-        a = abs(st)
-        if k == 0 and not a <= _CONFIRM * size:
-            return x, None
-        if a >= prev:           # stalled at the rounding level: keep the last iterate
-            break
-        x -= st
-        if a <= 1e-14 * size:
-            break
-        prev = a
-    return x, st
+# --------------------------------------------------------------------- the roots
 
-
-class _Base:
-    """Everything of the trilateration sequence that does not depend on the root."""
-
-    def __init__(self, Bl, s2, l2):
-        P1, P2, P3 = Bl
-        v2 = [P2[0] - P1[0], P2[1] - P1[1], P2[2] - P1[2]]
-        v3 = [P3[0] - P1[0], P3[1] - P1[1], P3[2] - P1[2]]
-        self.s12 = s12 = v2[0] * v2[0] + v2[1] * v2[1] + v2[2] * v2[2]
-        self.s13 = v3[0] * v3[0] + v3[1] * v3[1] + v3[2] * v3[2]
-        self.d = d = math.sqrt(s12)
-        e1 = [v2[0] / d, v2[1] / d, v2[2] / d]
-        self.p3x = p3x = v3[0] * e1[0] + v3[1] * e1[1] + v3[2] * e1[2]
-        w = [v3[0] - p3x * e1[0], v3[1] - p3x * e1[1], v3[2] - p3x * e1[2]]
-        self.p3y = p3y = math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
-        e2 = [w[0] / p3y, w[1] / p3y, w[2] / p3y]
-        e3 = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-              e1[0] * e2[1] - e1[1] * e2[0]]
-        self.axes = [e1, e2, e3]                        # rows: adapted -> base frame
-        self.s45, self.s46, self.s56 = s2[3], s2[4], s2[5]
-        self.s14, self.s24, self.s25, self.s35, self.s36, self.s16 = l2
-        self.X4 = X4 = (self.s14 - self.s24 + s12) / (2 * d)
-        self.r4 = self.s14 - X4 * X4
-
-    def assemble(self, x):
-        """Side +1 placement of P4 P5 P6 in the adapted frame (9 floats, rows), its
-        leg-5 residual and smallest relative squared height; None if degenerate.
-        Same formulas as :func:`.assembly.assemble_components`."""
-        s12, s13, d, p3x, p3y = self.s12, self.s13, self.d, self.p3x, self.p3y
-        s14, s16, s36, s35 = self.s14, self.s16, self.s36, self.s35
-        X5 = (x - self.s25 + s12) / (2 * d)
-        Y5 = (x - s35 + s13 - 2 * p3x * X5) / (2 * p3y)
-        h5 = x - X5 * X5 - Y5 * Y5
-        Z5 = math.sqrt(h5) if h5 > 0 else 0.0
-        rho2 = Y5 * Y5 + Z5 * Z5
-        if rho2 == 0:
-            return None
-        X4 = self.X4
-        g33 = X5 * X5 + rho2
-        K4 = 0.5 * (s14 + g33 - self.s45) - X4 * X5
-        h4 = self.r4 - K4 * K4 / rho2
-        a4 = K4 / rho2
-        b4 = math.sqrt(h4 / rho2) if h4 > 0 else 0.0
-        w3 = 0.5 * (s16 + g33 - self.s56)
-        s36_35 = s36 + s35
-        best = None
-        for tau in (1.0, -1.0):
-            Y4 = a4 * Y5 - tau * b4 * Z5
-            Z4 = a4 * Z5 + tau * b4 * Y5
-            g22 = X4 * X4 + Y4 * Y4 + Z4 * Z4
-            g23 = X4 * X5 + Y4 * Y5 + Z4 * Z5
-            nx = Y4 * Z5 - Z4 * Y5
-            ny = Z4 * X5 - X4 * Z5
-            nz = X4 * Y5 - Y4 * X5
-            G = nx * nx + ny * ny + nz * nz
-            if G == 0:
-                continue
-            w2 = 0.5 * (s16 + g22 - self.s46)
-            al = (w2 * g33 - w3 * g23) / G
-            be = (w3 * g22 - w2 * g23) / G
-            h6 = s16 - (al * w2 + be * w3)
-            k6 = math.sqrt(h6 / G) if h6 > 0 else 0.0
-            fx, fy, fz = al * X4 + be * X5, al * Y4 + be * Y5, al * Z4 + be * Z5
-            ox, oy, oz = k6 * nx, k6 * ny, k6 * nz
-            for X6, Y6, Z6 in ((fx + ox, fy + oy, fz + oz), (fx - ox, fy - oy, fz - oz)):
-                dx, dy = X6 - p3x, Y6 - p3y
-                r = abs((dx * dx + dy * dy + Z6 * Z6 - s36) / s36_35)
-                if best is None or r < best[0]:
-                    best = (r, (X4, Y4, Z4, X5, Y5, Z5, X6, Y6, Z6),
-                            h6 / (s16 + g22 + g33))
-            if best is not None and best[0] <= 1e-12 and tau > 0:
-                break       # leg 5 closes to rounding: the other branch cannot do better
-        if best is None:
-            return None
-        h2min = min(h5 / (abs(x) + s12 + s13), h4 / (s14 + s12 + g33), best[2])
-        return best[1], best[0], h2min
-
-
-def _frame_adapted(p):
-    """Transposed frame of the triangle p = 9 floats (3 rows): the axes e1 e2 e3 as rows
-    (9 floats), e1 along p1p2, e3 along the normal; None if degenerate."""
-    d10, d11, d12 = p[3] - p[0], p[4] - p[1], p[5] - p[2]
-    d20, d21, d22 = p[6] - p[0], p[7] - p[1], p[8] - p[2]
-    n0 = d11 * d22 - d12 * d21
-    n1 = d12 * d20 - d10 * d22
-    n2 = d10 * d21 - d11 * d20
-    l1 = math.sqrt(d10 * d10 + d11 * d11 + d12 * d12)
-    ln = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
-    if l1 == 0 or ln == 0:
-        return None
-    e10, e11, e12 = d10 / l1, d11 / l1, d12 / l1
-    e30, e31, e32 = n0 / ln, n1 / ln, n2 / ln
-    return (e10, e11, e12,
-            e31 * e12 - e32 * e11, e32 * e10 - e30 * e12, e30 * e11 - e31 * e10,
-            e30, e31, e32)
-
-
-def _bounds(s2, l2):
-    pairs = ((l2[0], s2[3]), (s2[1], l2[3]), (l2[5], s2[5]), (s2[0], l2[2]))
-    lo = max((math.sqrt(a) - math.sqrt(b)) ** 2 for a, b in pairs)
-    hi = min((math.sqrt(a) + math.sqrt(b)) ** 2 for a, b in pairs)
-    return lo, hi
-
-
-def _eigen(coef, c):
-    """Eigenvalues (unscaled complex list) of the companion matrix of O(c t)."""
-    big = 0.0
-    sc, p = [0.0] * 9, 1.0
-    for k in range(8, -1, -1):
-        v = coef[k] * p
-        sc[k] = v
-        big = max(big, abs(v))
-        p *= c
-    if big == 0:
-        return []
-    if abs(sc[0]) <= 1e-12 * big:
-        sc = [v / big for v in sc]
-        eig = (np.roots(sc) if any(sc) else np.array([])).tolist()
-    else:
-        comp = _SUBDIAG.copy()
-        lead = -sc[0]
-        row = [v / lead for v in sc[1:]]
-        comp[0] = row
-        eig = (_eigvals(comp) if all(map(math.isfinite, row)) else
-               np.linalg.eigvals(comp)).tolist()
-        if any(z != z for z in eig):  # LAPACK did not converge: the public function raises
-            eig = np.linalg.eigvals(comp).tolist()
-    return [z * c for z in eig]
-
-
-def _split(eig, c):
-    """Direct-path eigenvalues and the careful path's starts from the eigenvalues ``eig``.
-
-    Direct: exactly real, with the real parts of both neighbours (in real-part order,
-    complex ones included) farther than :data:`_SEP` relative -- a conservative test of
-    isolation.  Careful: one start per other real eigenvalue, two (a -+ b) per nearly
-    real complex pair a +- ib (|b| below :data:`.fast._NEAR_REAL` relative)."""
-    eig = sorted(eig, key=_REAL)
-    res = [z.real for z in eig]
-    n = len(eig)
-    direct, starts = [], []
-    for i, z in enumerate(eig):
-        re, im = res[i], z.imag
+@_jit
+def roots_from_eigenvalues(d, lo, hi, c, er, ei, out):
+    """The real roots of one octic and their status from its eigenvalues (real parts
+    ``er``, imaginary ``ei``): the direct and careful paths of the module docstring.
+    Writes ``out[k] = (s15, error estimate, code)`` increasing, at most 8, none closer
+    than :data:`.placement.DUP` relative to another; returns their number.  Codes: 0
+    inside the bounds with the banana tetrahedra real, polished on eq. (3); 1, 2
+    spurious (:data:`REASONS`)."""
+    n = er.size
+    order = np.argsort(er, kind="mergesort")
+    tol_x = 1e-9 * c
+    lo_t, hi_t = lo - tol_x, hi + tol_x
+    starts = np.empty(2 * n + 8)
+    ns = 0
+    xs = np.empty(16)
+    ss = np.empty(16)
+    cs = np.empty(16, np.int64)
+    nd = 0
+    for k in range(n):
+        i = order[k]
+        re, im = er[i], ei[i]
         if im == 0:
-            tol = _SEP * max(abs(re), c)
-            if (i == 0 or re - res[i - 1] > tol) and (i == n - 1 or res[i + 1] - re > tol):
-                direct.append(re)
+            tol = SEP * max(abs(re), c)
+            if ((k > 0 and re - er[order[k - 1]] <= tol)
+                    or (k < n - 1 and er[order[k + 1]] - re <= tol)):
+                starts[ns] = re
+                ns += 1
+                continue
+            # the direct path
+            x0 = re
+            if lo_t <= x0 <= hi_t:
+                if tet_min(d, x0) < -1e-9 * c * c * c:     # a banana tetrahedron
+                    x, st, ok = _horner_newton(d, x0, c)
+                    code = 2
+                    if ok and tet_min(d, x) >= -1e-9 * c * c * c:
+                        ok = False      # real at the polished root: decide carefully
+                else:
+                    x, st, first, taken, how = polish_eq3(d, x0, c, EQ3_STEPS)
+                    st = abs(st)
+                    ok = True
+                    size = max(abs(x0), c)
+                    if abs(first) > CONFIRM * size:
+                        ok = False          # eq. (3) does not confirm the root
+                    elif how == 2:
+                        # a radicand vanishes at or near the root (a banana tetrahedron
+                        # nearly flat: eq. (3) stops or crawls): the factored octic
+                        x, st, ok, _ = newton_factored(d, x0, c, xs, 0, NEWTON_MAX)
+                        ok = ok and abs(x - x0) <= CONFIRM * size
+                        st = abs(st)
+                    code = 0
             else:
-                starts.append(re)
-        elif im > 0 and im <= _NEAR_REAL * max(abs(z), c):
-            starts.extend((re - im, re + im))
-    return direct, starts
+                x, st, ok = _horner_newton(d, x0, c)
+                code = 1
+                if ok and lo_t <= x <= hi_t:  # moved into the bounds: decide carefully
+                    ok = False
+            if ok:
+                xs[nd], ss[nd], cs[nd] = x, st, code
+                nd += 1
+            else:
+                starts[ns] = x0
+                ns += 1
+        elif im > 0 and im <= _NEAR_REAL * max(math.hypot(re, im), c):
+            starts[ns] = re - im
+            starts[ns + 1] = re + im
+            ns += 2
+    if ns:
+        nd = _careful(d, starts[:ns], xs, ss, cs, nd, c, lo, hi)
+    # increasing, at most 8; roots that met after their polish on eq. (3) are one (the
+    # careful path deduplicates before it), as in .placement.place_many; so are two
+    # within _CLOSE where the octic changes sign once across both (two starts from a
+    # nearly real pair that stalled on the two sides of one simple root)
+    order = np.argsort(xs[:nd], kind="mergesort")
+    m = 0
+    for k in range(nd):
+        i = order[k]
+        if m:
+            gap = xs[i] - out[m - 1, 0]
+            size = max(abs(xs[i]), c)
+            if gap <= DUP * size or (gap <= _CLOSE * size
+                                     and _one_crossing(d, out[m - 1, 0], xs[i])):
+                continue
+        if m == 8:
+            break
+        out[m, 0], out[m, 1], out[m, 2] = xs[i], ss[i], cs[i]
+        m += 1
+    return m
+
+
+@_jit
+def _careful(d, starts, xs, ss, cs, nd, c, lo, hi):
+    """The careful path: Newton on the factored octic from ``starts``, deduplicated
+    against each other and the roots ``xs[:nd]`` known, deflated retries, then eq. (3).
+    Appends to ``xs, ss, cs``; returns their new count."""
+    ns = starts.size
+    fx = np.empty(ns + 8)           # roots found here, where their octic was evaluated
+    fe = np.empty(ns + 8)
+    fs = np.empty(ns + 8)
+    nf = 0
+    failed = np.empty(ns)
+    nfail = 0
+    for k in range(ns):
+        x, st, ok, xe = newton_factored(d, starts[k], c, xs, 0, NEWTON_MAX)
+        if ok and _distinct(x, c, xs, nd) and _distinct(x, c, fx, nf):
+            fx[nf], fs[nf], fe[nf] = x, st, xe
+            nf += 1
+        else:
+            failed[nfail] = starts[k]
+            nfail += 1
+    roots = np.empty(nd + ns + 8)
+    for _ in range(_ROUNDS):
+        if nfail == 0:
+            break
+        nr = 0
+        for j in range(nd):
+            roots[nr] = xs[j]
+            nr += 1
+        for j in range(nf):
+            roots[nr] = fx[j]
+            nr += 1
+        new = 0
+        for k in range(nfail):
+            x, st, ok, xe = newton_factored(d, failed[k], c, roots, nr,
+                                    _NEWTON_DEFLATED if nr else NEWTON_MAX)
+            if ok and _distinct(x, c, roots, nr) and _distinct(x, c, fx[nf:], new):
+                if nf + new < fx.size:
+                    fx[nf + new], fs[nf + new], fe[nf + new] = x, st, xe
+                    new += 1
+        if new == 0:
+            break
+        nf += new
+    tol_x = 1e-9 * c
+    for k in range(nf):
+        if nd >= xs.size:
+            break
+        x, st, xe = fx[k], abs(fs[k]), fe[k]
+        if not lo - tol_x <= x <= hi + tol_x:
+            xs[nd], ss[nd], cs[nd] = x, st, 1
+        elif tet_min(d, xe) < -1e-9 * c * c * c:
+            xs[nd], ss[nd], cs[nd] = x, st, 2
+        else:
+            xp, st2, _, taken, _ = polish_eq3(d, xe, c, EQ3_STEPS)
+            xs[nd], ss[nd], cs[nd] = xp, (abs(st2) if st2 != 0 else st), 0
+        nd += 1
+    return nd
+
+
+@_jit
+def _solve(B, Q, L, d, lo, hi, c, er, ei, s2, l2):
+    roots = np.empty((8, 3))
+    n = roots_from_eigenvalues(d, lo, hi, c, er, ei, roots)
+    P = np.empty((16, 3, 3))
+    R = np.empty((16, 3, 3))
+    T = np.empty((16, 3))
+    E = np.empty(16)
+    Er = np.empty(16)
+    S15 = np.empty(16)
+    side = np.empty(16, np.int64)
+    slot = np.empty(8, np.int64)
+    m = place(B, Q, L, s2, l2, lo, hi, roots, n, P, R, T, E, Er, S15, side, slot)
+    return roots[:n], P[:m], R[:m], T[:m], E[:m], Er[:m], S15[:m], side[:m]
 
 
 def solve_fast_single(B, Q, L, keep=None):
-    """Every assembly mode of one problem, in plain floats.
+    """Every assembly mode of one problem (float64, compiled stages).
 
     Parameters
     ----------
-    B, Q : (3, 3) base points; platform points in the platform frame (float arrays or
-        nested lists of floats, rows)
+    B, Q : (3, 3) base points; platform points in the platform frame (rows; arrays or
+        nested lists of floats)
     L : (6,) leg lengths
     keep : dict, optional
         Receives ``sides2``, ``legs2`` (the squared lengths), ``data`` (the kernel
@@ -420,166 +556,80 @@ def solve_fast_single(B, Q, L, keep=None):
 
     Returns
     -------
-    coef : list of 9 floats, the octic (highest degree first)
+    coef : (9,) the octic (highest degree first)
     lo, hi : floats, the triangle bounds of s15
-    roots : list of [s15, |last Newton step|, status code of :data:`.fast.REASONS`]
-    poses : list of (root index, side, points (3, 3), rotation (3, 3), translation (3,),
-        max leg error, max relative leg error); arrays are views of one pass
+    roots : (n, 3) rows (s15, |last Newton step|, status code of :data:`REASONS`)
+    poses : tuple (s15, side, points, rotation, translation, max leg error, max
+        relative leg error) of arrays over the poses, two per assembly root (side +1
+        first), by increasing root
     """
-    Bl = B.tolist() if isinstance(B, np.ndarray) else [list(r) for r in B]
-    Ql = Q.tolist() if isinstance(Q, np.ndarray) else [list(r) for r in Q]
-    Ll = L.tolist() if isinstance(L, np.ndarray) else list(L)
-    s2 = []
-    for P in (Bl, Ql):
-        (ax, ay, az), (bx, by, bz), (cx, cy, cz) = P
-        s2 += [(ax - bx) ** 2 + (ay - by) ** 2 + (az - bz) ** 2,
-               (ax - cx) ** 2 + (ay - cy) ** 2 + (az - cz) ** 2,
-               (bx - cx) ** 2 + (by - cy) ** 2 + (bz - cz) ** 2]
-    l2 = [v * v for v in Ll]
-    d = octic_scalar(s2, l2)
+    B = np.asarray(B, dtype=float)
+    Q = np.asarray(Q, dtype=float)
+    L = np.asarray(L, dtype=float)
+    s2, l2, d, lo, hi, c, comp, sc, mode = _prepare(B, Q, L)
+    eig = eigenvalues(comp, sc, mode, c)
     if keep is not None:
-        keep.update(sides2=s2, legs2=l2, data=d)
-    coef = d[30:]
-    lo, hi = _bounds(s2, l2)
-    found = real_roots_scalar(d, lo, hi, sum(s2) / 6, keep)
-    roots, placed = [], []
-    base = _Base(Bl, s2, l2)
-    for x, st, code in found:
-        if code == 0:
-            out = base.assemble(min(max(x, max(lo, 0.0)), hi))
-            F = _frame_adapted(out[0]) if out is not None and out[2] >= -1e-8 else None
-            if F is None:
-                code = 3
-            else:
-                placed.append((len(roots), out[0], F))
-        roots.append([x, st, code])
-    poses = _pose_pass(placed, roots, base, Bl, Ql, Ll) if placed else []
-    return coef, lo, hi, roots, poses
+        keep.update(sides2=s2, legs2=l2, data=d, eigenvalues=eig.tolist())
+    roots, P, R, T, E, Er, S15, side = _solve(B, Q, L, d, lo, hi, c, eig.real.copy(),
+                                              eig.imag.copy(), s2, l2)
+    return d[30:], lo, hi, roots, (S15, side, P, R, T, E, Er)
 
 
-def real_roots_scalar(d, lo, hi, scale, keep=None):
-    """The real roots of one octic and their status, in plain floats: the direct and
-    careful paths of the module docstring, without the trilateration sequence.
+def real_roots_scalar(d, lo, hi, scale):
+    """The real roots of one octic and their status: the direct and careful paths of
+    the module docstring, without the trilateration sequence.
 
     Parameters
     ----------
-    d : list of 39 floats, the kernel output (quadratic parts, then the octic)
+    d : (39,) the kernel output (quadratic parts, then the octic)
     lo, hi : the triangle bounds of s15
     scale : a squared length of the problem, used when the bounds are empty
 
     Returns
     -------
-    list of (s15, |last step|, code), increasing, at most 8; code 0 (inside the bounds,
-    banana tetrahedra real, polished on eq. (3)), 1 or 2 (spurious, :data:`.fast.REASONS`)
+    (n, 3) rows (s15, |last step|, code), increasing, at most 8
     """
-    coef = d[30:]
-    c = 0.5 * (max(lo, 0.0) + hi) if hi > 0 else scale
-    eig = _eigen(coef, c)
-    if keep is not None:
-        keep["eigenvalues"] = eig
-    direct, starts = _split(eig, c)
-    tol_x = 1e-9 * c
-    lo_t, hi_t = lo - tol_x, hi + tol_x
-    done = []                       # (x, |last step|, status code)
-    for x0 in direct:
-        if lo_t <= x0 <= hi_t:
-            x, st, first = _polish(d, x0, c)
-            if st is None:                      # a banana tetrahedron is not real
-                x, st = _horner_newton(coef, x0, c)
-                code = 2
-            else:
-                if first == 0.0:                # no step on eq. (3): a radicand vanishes
-                    x, st = _horner_newton(coef, x0, c)
-                elif abs(first) > _CONFIRM * max(abs(x0), c):
-                    st = None                   # eq. (3) does not confirm the root
-                code = 0
-        else:
-            x, st = _horner_newton(coef, x0, c)
-            code = 1
-        if st is None:
-            starts.append(x0)                   # not confirmed: the careful path decides
-        elif code == 1 and lo_t <= x <= hi_t:   # moved into the bounds: decide carefully
-            starts.append(x0)
-        else:
-            done.append((x, abs(st), code))
-    if starts:
-        done += _careful(d, coef, starts, [r[0] for r in done], c, lo, hi)
-    done.sort(key=_FIRST)
-    return done[:8]
+    d = np.asarray(d, dtype=float)
+    c = 0.5 * (max(lo, 0.0) + hi) if hi > 0 else float(scale)
+    comp, sc, mode = companion(d, c)
+    eig = eigenvalues(comp, sc, mode, c)
+    out = np.empty((8, 3))
+    n = roots_from_eigenvalues(d, float(lo), float(hi), c, eig.real.copy(), eig.imag.copy(), out)
+    return out[:n]
 
 
-def _careful(d, coef, starts, known, c, lo, hi):
-    """The careful path: Newton on the factored octic from ``starts``, deduplicated
-    against each other and the ``known`` roots, deflated retries, then eq. (3).
-    Returns (x, |last step|, code) records."""
-    q = _quadratics(d)
-    found, failed = [], []          # found: (x, step, point evaluated, its quadratics)
-    for x0 in starts:
-        x, st, ok, xe, pv = _newton(q, x0, c, (), coef)
-        if ok and all(abs(x - r) > _DUP * max(abs(x), c) for r in known) and all(
-                abs(x - r[0]) > _DUP * max(abs(x), c) for r in found):
-            found.append((x, st, xe, pv))
-        else:
-            failed.append(x0)
-    for _ in range(_ROUNDS):
-        new = []
-        roots = known + [r[0] for r in found]
-        for x0 in failed:
-            x, st, ok, xe, pv = _newton(q, x0, c, roots, coef)
-            if ok and all(abs(x - r) > _DUP * max(abs(x), c) for r in roots) and all(
-                    abs(x - r[0]) > _DUP * max(abs(x), c) for r in new):
-                new.append((x, st, xe, pv))
-        if not new:
-            break
-        found += new
-    out = []
-    tol_x = 1e-9 * c
-    for x, st, xe, pv in found:
-        if not lo - tol_x <= x <= hi + tol_x:
-            out.append((x, abs(st), 1))
-            continue
-        xp, st2, _ = _polish(d, xe, c)
-        if st2 is None:
-            out.append((x, abs(st), 2))
-        else:
-            out.append((xp, abs(st2) if st2 else abs(st), 0))
-    return out
+def eigen_rows(comp, sc, mode, c):
+    """:func:`eigenvalues` for several problems (the output of :func:`companions`): real
+    and imaginary parts (m, 8) of the unscaled eigenvalues and their number per row
+    (one LAPACK call for the rows of full degree)."""
+    m = comp.shape[0]
+    er = np.zeros((m, 8))
+    ei = np.zeros((m, 8))
+    nr = np.zeros(m, np.int64)
+    full = np.flatnonzero(mode == 0)
+    if full.size:
+        eig = _eigvals(comp[full]) if np.isfinite(comp[full]).all() else None
+        for k, i in enumerate(full):
+            z = eig[k] if eig is not None and not np.isnan(eig[k]).any() else None
+            if z is None:                   # LAPACK did not converge: the public path
+                z = eigenvalues(comp[i], sc[i], 0, 1.0)
+            er[i], ei[i], nr[i] = z.real * c[i], z.imag * c[i], 8
+    for i in np.flatnonzero(mode != 0):
+        z = eigenvalues(comp[i], sc[i], mode[i], c[i])
+        er[i, :z.size], ei[i, :z.size], nr[i] = z.real, z.imag, z.size
+    return er, ei, nr
 
 
-def _pose_pass(placed, roots, base, Bl, Ql, Ll):
-    """Both mirror poses of every placed root at once: points, rotations, translations
-    and leg residuals (numpy over (side, root)); roots whose legs are off by 1e-6
-    relative or more are marked rejected (code 3).
-
-    One matrix product maps the adapted rows of every placement (points P4 P5 P6, the
-    transposed triangle frame :math:`F^T`, and the platform end of each leg), side +1
-    and its mirror image, to the base frame: ``M = rows @ A`` with A the base-adapted
-    axes.  Then :math:`R = (F^TA)^T F_q^T` (:math:`F_q` the platform triangle's frame),
-    :math:`t = \bar p - R\bar q`, and the leg residuals."""
-    k = len(placed)
-    A = base.axes
-    rows = (np.array([p[1] + p[2] for p in placed])[:, _ROWS] * _ROW_SIGNS).reshape(
-        2 * k, 12, 3)
-    M = rows @ A
-    M += _OFFSETS @ Bl
-    P = M[:, :3]
-    Fq = _frame_adapted(Ql[0] + Ql[1] + Ql[2])
-    R = M[:, 3:6].transpose(0, 2, 1) @ [Fq[0:3], Fq[3:6], Fq[6:9]]
-    qc = [(Ql[0][m] + Ql[1][m] + Ql[2][m]) / 3 for m in range(3)]
-    t = P.sum(axis=1) * (1 / 3) - R @ qc
-    dv = M[:, 6:]
-    Ln = np.array(Ll)
-    e = np.abs(np.sqrt(np.einsum("...k,...k->...", dv, dv)) - Ln)
-    e_abs = e.max(-1).tolist()
-    e_rel = (e / Ln).max(-1).tolist()
-    Pl, Rl, tl = list(P), list(R), list(t)
-    poses = []
-    for j, (ri, _, _) in enumerate(placed):
-        if e_rel[j] < 1e-6 and e_rel[k + j] < 1e-6:
-            for i, side in ((j, 1), (k + j, -1)):
-                poses.append((ri, side, Pl[i], Rl[i], tl[i], e_abs[i], e_rel[i]))
-        else:
-            roots[ri][2] = 3
-    return poses
-
-
+@_jit
+def factored_grid(data, x):
+    r"""The factored octic :math:`H = G^2-4R_1R_2`, its derivative and the size of its
+    terms (:func:`_factored`) for every row of ``data`` (k, 39) at every point of ``x``
+    (M,): three (k, M) arrays."""
+    k, m = data.shape[0], x.size
+    H = np.empty((k, m))
+    dH = np.empty((k, m))
+    S = np.empty((k, m))
+    for i in range(k):
+        for j in range(m):
+            H[i, j], dH[i, j], S[i, j] = _factored(data[i], x[j])
+    return H, dH, S

@@ -11,9 +11,11 @@ Tiers
 -----
 ``fast``
     float64: generated octic kernel, companion-matrix eigenvalues (single solve,
-    :mod:`.fast_single`) or a sign scan of the octic (batched, :mod:`.rootscan`),
-    Newton polish on eq. (3) (:mod:`.fast`); batched over many leg sets by
-    :func:`forward_kinematics_batched`.  Legs reproduced to ~1e-12 relative on
+    :mod:`.fast_single`) or a sign scan of the octic (batched, :mod:`.fast`,
+    :mod:`.rootscan`), Newton polish on eq. (3), trilateration and poses in compiled
+    scalar code (numba, :mod:`.fast_single`); batched over many leg sets by
+    :func:`forward_kinematics_batched`.  The first call on a machine compiles (about
+    15-20 s, kept in ``__pycache__``); see BENCHMARKS.md for the cost per solve.  Legs reproduced to ~1e-12 relative on
     well-conditioned problems; every pose states its residual, and a single solve
     carries a conditioning estimate of its real-root count (:mod:`.conditioning`;
     :class:`~distkin.errors.ConditioningWarning` when it distrusts the count).
@@ -43,6 +45,7 @@ import numpy as np
 
 from ..errors import ConditioningWarning
 from ..numbers import METHODS_AUTO, check_method, default_dps
+from .problem import REASONS as _REASONS
 from .problem import exact_problem, float_problem, float_single
 
 __all__ = ["Pose", "RootInfo", "AssemblyResult", "BatchResult", "forward_kinematics",
@@ -214,7 +217,7 @@ class BatchResult:
 
 def _fast_result(raw, i):
     """The :class:`AssemblyResult` of problem ``i`` of :func:`.fast.solve_fast`'s arrays."""
-    from .fast import REASONS
+    REASONS = _REASONS
     roots, poses = [], []
     R, T, P = raw["rotation"][i], raw["translation"][i], raw["points"][i]
     E, Er = raw["leg_error"][i].tolist(), raw["leg_error_rel"][i].tolist()
@@ -233,12 +236,13 @@ def _fast_result(raw, i):
 
 def _single_result(coef, lo, hi, roots, poses, conditioning=None):
     """The :class:`AssemblyResult` of :func:`.fast_single.solve_fast_single`'s output
-    (its arrays are fresh views of one pass, owned by the poses: no copies)."""
-    from .fast import REASONS
-    infos = tuple(RootInfo(x, st, 1, _STATUS[code], REASONS[code], x) for x, st, code in roots)
-    out = tuple(Pose(roots[k][0], side, R, t, P, e, r) for k, side, P, R, t, e, r in poses)
+    (its pose arrays are fresh, owned by the poses: rows are views, no copies)."""
+    infos = tuple(RootInfo(x, st, 1, _STATUS[code], _REASONS[code], x)
+                  for x, st, code in roots.tolist())
+    S, side, P, R, T, E, Er = poses
+    out = tuple(map(Pose, S.tolist(), side.tolist(), R, T, P, E.tolist(), Er.tolist()))
     reason = "" if out else _empty_reason(infos, lo, hi)
-    return AssemblyResult(out, "fast", tuple(coef), False, infos, False, reason,
+    return AssemblyResult(out, "fast", tuple(coef.tolist()), False, infos, False, reason,
                           _FAST_ACCURACY, (_SPURIOUS_NOTE,), tier="fast",
                           conditioning=conditioning)
 
@@ -289,7 +293,7 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
         accepted for a root (default :math:`10^{8-dps}`).
     warn : bool
         ``fast``: compute the conditioning estimate (:mod:`.conditioning`, about
-        150-200 µs) into ``.conditioning`` and emit a
+        40 µs) into ``.conditioning`` and emit a
         :class:`~distkin.errors.ConditioningWarning` when it does not trust the
         real-root count (default True).  ``warn=False`` skips the estimate
         (``.conditioning`` is None): the bare fast tier.
@@ -331,7 +335,7 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
         keep = {}
         raw = solve_fast_single(B, Q, L, keep)
         cond = estimate(kernel_data(keep["sides2"], keep["legs2"], keep["data"]),
-                        raw[1], raw[2], [r[0] for r in raw[3]],       # lo, hi, roots
+                        raw[1], raw[2], raw[3][:, 0].tolist(),        # lo, hi, roots
                         keep.get("eigenvalues"))
         res = _single_result(*raw, conditioning=cond)
         if method == "auto":

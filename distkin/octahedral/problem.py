@@ -20,7 +20,15 @@ from ..numbers import Exact, parse_exact
 from .banana import LEG_PAIRS, SIDE_PAIRS
 
 __all__ = ["Problem", "exact_problem", "float_problem", "float_single", "LEG_PAIRS",
-           "SIDE_PAIRS"]
+           "SIDE_PAIRS", "REASONS"]
+
+#: status codes of the real roots the fast tier finds, and what they mean
+REASONS = {
+    0: "assembly mode",
+    1: "spurious: outside the triangle bounds of s15 (a triangle through P1 P5 cannot close)",
+    2: "spurious: a tetrahedron of the bananas has negative squared volume (complex assembly)",
+    3: "rejected: the trilateration sequence or the leg check failed at this root",
+}
 
 
 @dataclass(frozen=True)

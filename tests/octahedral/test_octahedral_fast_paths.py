@@ -1,12 +1,13 @@
 """The fast tier's internals against independent routes.
 
-* the trilateration sequence in the base-adapted frame (closed forms,
-  :func:`distkin.octahedral.assembly.assemble_fast`) against the foundation's Gram-form
+* the trilateration sequence in the base-adapted frame (closed forms, compiled:
+  :func:`distkin.octahedral.placement.assemble_many`) against the foundation's Gram-form
   trilateration (:func:`distkin.geometry.trilateration.trilaterate`) run step by step as
   in Sec. III of Rojas et al. (ICRA 2012), on octahedra in general position (base not in
   z = 0), and against the generating pose;
-* the scalar single-solve tier and the numpy batched tier (two implementations of the
-  same algorithm) against each other and against the certified roots;
+* the single-solve tier (eigenvalues) and the batched tier (sign scan; two root
+  finders feeding the same compiled polish and placement) against each other and
+  against the certified roots;
 * every returned pose is a proper rigid motion that carries the platform triangle onto
   the returned points (this checks the mirror-image shortcut for side -1).
 """
@@ -22,7 +23,7 @@ from distkin.errors import ConditioningWarning
 
 from distkin.geometry.trilateration import trilaterate
 from distkin.octahedral import forward_kinematics, forward_kinematics_batched
-from distkin.octahedral.assembly import assemble_fast
+from distkin.octahedral.placement import assemble_many
 from distkin.octahedral.problem import LEG_PAIRS, float_problem
 from distkin.octahedral.reference import random_octahedron
 
@@ -64,8 +65,8 @@ def test_adapted_frame_sequence_matches_gram_trilateration():
     L = np.array([c[2] for c in cases])
     B, Q, L, s2, l2 = float_problem(B, Q, L)
     x = np.array([np.sum((c[3][1] - c[0][0]) ** 2) for c in cases])    # true s15
-    pts, h2min, r36 = assemble_fast(B, x, s2, l2)
-    assert pts.shape == (150, 2, 3, 3) and h2min.shape == r36.shape == (150, 2)
+    pts, h2min, r36 = assemble_many(B, x, s2, l2)
+    assert pts.shape == (150, 2, 3, 3) and h2min.shape == r36.shape == (150,)
     size = np.abs(B).max(axis=(1, 2)) + np.abs(Q).max(axis=(1, 2))
     for i, c in enumerate(cases):
         for s, side in enumerate((1, -1)):
@@ -137,3 +138,51 @@ def test_every_pose_is_a_proper_rigid_motion_onto_its_points(batched):
             mirrored = p.points - 2 * ((p.points - b[0]) @ n)[:, None] * n
             assert np.abs(mirrored - m.points).max() <= 1e-9 * size
     assert n_poses > 100
+
+
+def test_no_phantom_close_roots_and_the_two_fast_paths_agree():
+    """Two starts from a nearly real complex pair next to one simple root used to stall
+    on its two sides, 1e-9..1e-8 apart, and the single solve reported the root twice
+    (8 of these 2000 octahedra, two with duplicated assembly poses).  Reference: the
+    certified tier (exact fmpq octic of the same floats, FLINT isolation); a pair of fast
+    roots closer than 1e-7 relative must be two certified roots."""
+    rng = np.random.default_rng(7)
+    cases = [random_octahedron(rng, scale=10 ** rng.uniform(-2, 2))[:3] for _ in range(2000)]
+    B, Q, L = (np.array([c[k] for c in cases]) for k in range(3))
+    br = forward_kinematics_batched(B, Q, L)
+    close = 0
+    for i, c in enumerate(cases):
+        single = forward_kinematics(*c, warn=False)
+        assert [r.status for r in single.roots] == [r.status for r in br.result(i).roots], i
+        v = [r.value for r in single.roots]
+        for a, b in zip(v, v[1:]):
+            if b - a <= 1e-7 * max(abs(b), 1e-300):
+                close += 1
+                cert = forward_kinematics(*c, method="certified", tol=1e-12)
+                near = [r.value for r in cert.roots if a - (b - a) <= r.value <= b + (b - a)]
+                assert len(near) >= 2, (i, a, b, near)
+    assert close <= 2    # genuinely close pairs are rare among random octahedra
+
+
+def test_single_solve_next_to_a_nearly_flat_banana_tetrahedron():
+    """Two random octahedra whose generating pose has a banana tetrahedron flat to
+    ~1e-10 of c^3 (c: the middle of the feasible interval): there eq. (3) has a square
+    root singularity, a first Newton step below 1e-9 relative proved nothing, and the
+    single solve used to stop there; its pose was 2.6e-6 and 1.6e-7 (relative) from the
+    generating one (the batched tier, starting from the more accurate scanned roots, was
+    at 1e-11).  Reference: the generating pose; now within 1e-9."""
+    from distkin.octahedral.fast_single import bounds, octic_array, tet_min
+    rng = np.random.default_rng(102)
+    cases = [random_octahedron(rng, scale=10 ** rng.uniform(-3, 3),
+                               shape="regular" if i % 4 == 0 else "random")
+             for i in range(2000)]
+    for i in (1597, 1998):
+        b, q, l, pts, _, _ = cases[i]
+        _, _, _, s2, l2 = float_problem(b, q, l)
+        d = octic_array(s2[0], l2[0])
+        lo, hi = bounds(s2[0], l2[0])
+        c = 0.5 * (max(lo, 0.0) + hi)
+        assert abs(tet_min(d, np.sum((pts[1] - b[0]) ** 2))) < 1e-9 * c ** 3   # the case
+        size = np.abs(b).max() + np.abs(pts).max()
+        res = forward_kinematics(b, q, l, warn=False)
+        assert min(np.abs(p.points - pts).max() for p in res) <= 1e-9 * size
