@@ -185,17 +185,21 @@ class DeltaTransformQuery:
                 approx = "" if tr.free_symbols else f"  (= {float(l[i]):.10g}{unit})"
                 lines.append(f"  m{i + 1} = {m}{unit}  ->  l{i + 1} = {x}{unit}{approx}")
         if p.solve:
-            lines += _solve(p, result, unit)
+            lines += _solve(p, result, unit, ctx)
         plot = (lambda stem: plot_det_family(tr, stem)) if _family_ok(tr) else None
         return Outcome(result, "\n".join(lines), plot)
 
 
-def _solve(p, result, unit):
+def _solve(p, result, unit, ctx):
     """Run the 6-6 forward kinematics, add it to ``result``; return text lines."""
     import numpy as np
 
     from .delta import forward_kinematics66
     from .singularity import jacobian_det
+    if p.method in ("fast", "auto"):
+        from .octahedral.fast_single import COMPILE_NOTICE, compile_pending
+        if compile_pending():
+            ctx.notice(COMPILE_NOTICE)
     fk = forward_kinematics66(p.mechanism, p.offsets, p.m_legs, method=p.method, dps=p.dps)
     flt = lambda a: np.vectorize(float, otypes=[float])(np.asarray(a, dtype=object))  # noqa: E731
     bj = flt(fk.platform.base_joints)
@@ -263,7 +267,7 @@ class Platform66Forward:
                   "det_A": str(p.transform.det)}
         lines = ["m-legs -> l-legs of the equivalent octahedral manipulator (eq. (8), exact): "
                  + ", ".join(result["mapped_legs"])]
-        lines += _solve(p, result, unit)
+        lines += _solve(p, result, unit, ctx)
         fk = result.pop("forward_kinematics")
         result.update(fk)
         return Outcome(result, "\n".join(lines))

@@ -19,9 +19,10 @@ A handler is a class with two static methods::
 from __future__ import annotations
 
 import importlib
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable
+from typing import Callable
 
 from .errors import InputError
 
@@ -73,6 +74,14 @@ class RunContext:
     progress: bool = True
     workdir: Path | None = None
     extra: dict = field(default_factory=dict)
+
+    def notice(self, message: str) -> None:
+        """One line for the user on stderr, once per run, when progress is shown (what a
+        long silent step is doing)."""
+        seen = self.extra.setdefault("notices", set())
+        if self.progress and message not in seen:
+            seen.add(message)
+            print(f"distkin: {message}", file=sys.stderr, flush=True)
 
 
 def register(name: str, *, mechanisms=(), summary: str = ""):

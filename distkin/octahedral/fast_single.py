@@ -46,6 +46,7 @@ Cost after compilation: see BENCHMARKS.md (``python -m benchmarks octahedral``).
 from __future__ import annotations
 
 import math
+import os
 
 import numba
 import numpy as np
@@ -57,7 +58,7 @@ from .problem import REASONS
 __all__ = ["solve_fast_single", "real_roots_scalar", "roots_from_eigenvalues",
            "eigenvalues", "eigen_rows", "companion", "polish_eq3", "newton_factored",
            "tet_min", "octic_array", "factored_grid", "bounds", "REASONS", "CONFIRM",
-           "EQ3_STEPS", "NEWTON_MAX"]
+           "EQ3_STEPS", "NEWTON_MAX", "compile_pending", "COMPILE_NOTICE"]
 
 #: relative distance from every other eigenvalue above which an exactly real eigenvalue
 #: takes the direct path (closer ones may be a blurred pair of close roots)
@@ -633,3 +634,18 @@ def factored_grid(data, x):
         for j in range(m):
             H[i, j], dH[i, j], S[i, j] = _factored(data[i], x[j])
     return H, dH, S
+
+
+#: what a caller may tell the user before the first fast solve on a machine
+COMPILE_NOTICE = ("compiling the fast octahedral tier for this machine (numba, about 20 s, "
+                  "once: later runs load it from numba's cache)")
+
+
+def compile_pending() -> bool:
+    """True when numba's cache holds no machine code for the single solve yet, so that
+    the first call compiles (about 15 s); False when it does, or when that cannot be
+    told (the check reads numba's cache index, an internal of numba)."""
+    try:
+        return not os.path.exists(_solve._cache._cache_file._index_path)
+    except Exception:  # pragma: no cover - other numba layouts: say nothing
+        return False

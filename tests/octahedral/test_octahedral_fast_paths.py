@@ -186,3 +186,27 @@ def test_single_solve_next_to_a_nearly_flat_banana_tetrahedron():
         size = np.abs(b).max() + np.abs(pts).max()
         res = forward_kinematics(b, q, l, warn=False)
         assert min(np.abs(p.points - pts).max() for p in res) <= 1e-9 * size
+
+
+def test_compile_notice_only_before_the_first_solve_on_a_machine(tmp_path, capsys):
+    """A scene run says why its first fast solve on a machine is slow (numba compiles,
+    ~15 s), and says it once; with the machine code in numba's cache it says nothing."""
+    import os
+    import subprocess
+    import sys
+
+    from distkin.octahedral.fast_single import COMPILE_NOTICE, compile_pending
+    from distkin.queries import RunContext
+    forward_kinematics(*_general_position(np.random.default_rng(1), 1)[0][:3], warn=False)
+    assert compile_pending() is False               # this process has used the cache
+    code = ("from distkin.octahedral.fast_single import compile_pending; "
+            "print(compile_pending())")
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))   # a machine with no cache
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                         text=True, check=True).stdout.split()
+    assert out == ["True"]
+    ctx = RunContext(progress=True)
+    ctx.notice(COMPILE_NOTICE)
+    ctx.notice(COMPILE_NOTICE)
+    RunContext(progress=False).notice(COMPILE_NOTICE)
+    assert capsys.readouterr().err == f"distkin: {COMPILE_NOTICE}\n"
