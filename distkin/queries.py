@@ -79,7 +79,7 @@ class RunContext:
         """One line for the user on stderr, once per run, when progress is shown (what a
         long silent step is doing)."""
         seen = self.extra.setdefault("notices", set())
-        if self.progress and message not in seen:
+        if self.progress and message and message not in seen:
             seen.add(message)
             print(f"distkin: {message}", file=sys.stderr, flush=True)
 

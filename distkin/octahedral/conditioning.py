@@ -7,8 +7,8 @@ interval :math:`[lo, hi]` of the triangle inequalities through :math:`P_1P_5`
 count is only as good as the octic's sign pattern is above its rounding error.
 
 The estimate works on the octic in its factored form :math:`H = G^2 - 4R_1R_2`
-(:func:`factored`; eq. (3) squared twice, :mod:`.octic`), which the fast tier polishes
-with, not on the monomial coefficients (those carry errors of up to :math:`10^7\epsilon`
+(:func:`.fast_single.factored_grid`; eq. (3) squared twice, :mod:`.octic`), which the
+fast tier polishes with, not on the monomial coefficients (those carry errors of up to :math:`10^7\epsilon`
 relative from cancellation in the coefficient map, and a normwise model built on them
 distrusted one easy problem in five):
 
@@ -51,14 +51,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numpy as np
-
 import numba
+import numpy as np
 
 from .._generated.octic_general import parts_scalar
 from .fast_single import factored_grid, octic_array
 
-__all__ = ["Conditioning", "estimate", "kernel_data", "factored", "K_NOISE", "EPS"]
+__all__ = ["Conditioning", "estimate", "kernel_data", "K_NOISE", "EPS"]
 
 EPS = float(np.finfo(float).eps)
 #: safety factor on the measured noise of the factored octic (largest observed ratio 40,
@@ -133,27 +132,6 @@ def _perturbed(s2, l2, d0, signs, h):
             out[r + 1, i] = p[i]
         out[r + 1, 30:] = d0[30:]
     return out
-
-
-def factored(data, x):
-    r"""The octic in its factored form :math:`H = G^2 - 4R_1R_2` (eq. (3) squared twice,
-    :mod:`.octic`), its derivative and the size :math:`S = G^2 + 4|R_1R_2|` of its terms:
-    the fast tier's own evaluation (:func:`.fast_single.factored_grid`) for each row of
-    ``data``.
-
-    Parameters
-    ----------
-    data : (..., 39) kernel outputs; x : (M,) points.
-
-    Returns
-    -------
-    H, dH, S : arrays (..., M)
-    """
-    d = np.asarray(data, float)
-    x = np.ascontiguousarray(x, dtype=float).ravel()
-    H, dH, S = factored_grid(np.ascontiguousarray(d.reshape(-1, 39)), x)
-    shape = d.shape[:-1] + (x.size,)
-    return H.reshape(shape), dH.reshape(shape), S.reshape(shape)
 
 
 @numba.njit(cache=True)

@@ -162,8 +162,9 @@ def polish_scan(data, row, x, step, lo, hi, c, doubt):
 
 @_jit
 def roots_many(data, lo, hi, c, er, ei, nr):
-    """:func:`roots_from_eigenvalues` for several problems (eigenvalues (m, 8) real and imaginary parts,
-    ``nr`` of them valid per problem).  Returns (row, x, step, status) flat."""
+    """:func:`.fast_single.roots_from_eigenvalues` for several problems (eigenvalues
+    (m, 8): real and imaginary parts, ``nr`` of them valid per problem).  Returns
+    (row, x, step, status) flat."""
     m = data.shape[0]
     out = np.empty((8, 3))
     rr = np.empty(8 * m, np.int64)
@@ -172,7 +173,8 @@ def roots_many(data, lo, hi, c, er, ei, nr):
     cc = np.empty(8 * m, np.int64)
     n = 0
     for i in range(m):
-        k = roots_from_eigenvalues(data[i], lo[i], hi[i], c[i], er[i, :nr[i]], ei[i, :nr[i]], out)
+        k = roots_from_eigenvalues(data[i], lo[i], hi[i], c[i], er[i, :nr[i]],
+                                   ei[i, :nr[i]], out)
         for j in range(k):
             rr[n], xx[n], ss[n], cc[n] = i, out[j, 0], out[j, 1], int(out[j, 2])
             n += 1

@@ -55,10 +55,10 @@ from .._generated.octic_general import octic_scalar
 from .placement import DUP, place
 from .problem import REASONS
 
-__all__ = ["solve_fast_single", "real_roots_scalar", "roots_from_eigenvalues",
+__all__ = ["solve_fast_single", "roots_from_eigenvalues",
            "eigenvalues", "eigen_rows", "companion", "polish_eq3", "newton_factored",
            "tet_min", "octic_array", "factored_grid", "bounds", "REASONS", "CONFIRM",
-           "EQ3_STEPS", "NEWTON_MAX", "compile_pending", "COMPILE_NOTICE"]
+           "EQ3_STEPS", "NEWTON_MAX", "compile_notice"]
 
 #: relative distance from every other eigenvalue above which an exactly real eigenvalue
 #: takes the direct path (closer ones may be a blurred pair of close roots)
@@ -576,29 +576,6 @@ def solve_fast_single(B, Q, L, keep=None):
     return d[30:], lo, hi, roots, (S15, side, P, R, T, E, Er)
 
 
-def real_roots_scalar(d, lo, hi, scale):
-    """The real roots of one octic and their status: the direct and careful paths of
-    the module docstring, without the trilateration sequence.
-
-    Parameters
-    ----------
-    d : (39,) the kernel output (quadratic parts, then the octic)
-    lo, hi : the triangle bounds of s15
-    scale : a squared length of the problem, used when the bounds are empty
-
-    Returns
-    -------
-    (n, 3) rows (s15, |last step|, code), increasing, at most 8
-    """
-    d = np.asarray(d, dtype=float)
-    c = 0.5 * (max(lo, 0.0) + hi) if hi > 0 else float(scale)
-    comp, sc, mode = companion(d, c)
-    eig = eigenvalues(comp, sc, mode, c)
-    out = np.empty((8, 3))
-    n = roots_from_eigenvalues(d, float(lo), float(hi), c, eig.real.copy(), eig.imag.copy(), out)
-    return out[:n]
-
-
 def eigen_rows(comp, sc, mode, c):
     """:func:`eigenvalues` for several problems (the output of :func:`companions`): real
     and imaginary parts (m, 8) of the unscaled eigenvalues and their number per row
@@ -636,16 +613,14 @@ def factored_grid(data, x):
     return H, dH, S
 
 
-#: what a caller may tell the user before the first fast solve on a machine
-COMPILE_NOTICE = ("compiling the fast octahedral tier for this machine (numba, about 20 s, "
-                  "once: later runs load it from numba's cache)")
-
-
-def compile_pending() -> bool:
-    """True when numba's cache holds no machine code for the single solve yet, so that
-    the first call compiles (about 15 s); False when it does, or when that cannot be
-    told (the check reads numba's cache index, an internal of numba)."""
+def compile_notice() -> str:
+    """What to tell the user before the first fast solve on a machine, when numba's
+    cache holds no machine code for it yet (the call then compiles, about 15 s); ""
+    when it does, or when that cannot be told (the check reads numba's cache index, an
+    internal of numba)."""
     try:
-        return not os.path.exists(_solve._cache._cache_file._index_path)
+        pending = not os.path.exists(_solve._cache._cache_file._index_path)
     except Exception:  # pragma: no cover - other numba layouts: say nothing
-        return False
+        pending = False
+    return ("compiling the fast octahedral tier for this machine (numba, about 20 s, "
+            "once: later runs load it from numba's cache)") if pending else ""

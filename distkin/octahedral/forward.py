@@ -15,9 +15,9 @@ Tiers
     :mod:`.rootscan`), Newton polish on eq. (3), trilateration and poses in compiled
     scalar code (numba, :mod:`.fast_single`); batched over many leg sets by
     :func:`forward_kinematics_batched`.  The first call on a machine compiles (about
-    15-20 s, kept in ``__pycache__``); see BENCHMARKS.md for the cost per solve.  Legs reproduced to ~1e-12 relative on
-    well-conditioned problems; every pose states its residual, and a single solve
-    carries a conditioning estimate of its real-root count (:mod:`.conditioning`;
+    15-20 s, kept in numba's cache); see BENCHMARKS.md for the cost per solve.  Legs
+    reproduced to ~1e-12 relative on well-conditioned problems; every pose states its
+    residual, and a single solve carries a conditioning estimate of its real-root count (:mod:`.conditioning`;
     :class:`~distkin.errors.ConditioningWarning` when it distrusts the count).
 ``precise``
     mpmath at ``dps`` digits: exact octic (when the data are rational) rounded once,
@@ -217,7 +217,6 @@ class BatchResult:
 
 def _fast_result(raw, i):
     """The :class:`AssemblyResult` of problem ``i`` of :func:`.fast.solve_fast`'s arrays."""
-    REASONS = _REASONS
     roots, poses = [], []
     R, T, P = raw["rotation"][i], raw["translation"][i], raw["points"][i]
     E, Er = raw["leg_error"][i].tolist(), raw["leg_error_rel"][i].tolist()
@@ -225,7 +224,7 @@ def _fast_result(raw, i):
                                  raw["status"][i].tolist(), raw["slot"][i].tolist()):
         if code < 0:
             continue
-        roots.append(RootInfo(x, st, 1, _STATUS[code], REASONS[code], x))
+        roots.append(RootInfo(x, st, 1, _STATUS[code], _REASONS[code], x))
         for j, side in ((slot, 1), (slot + 1, -1)) if code == 0 else ():
             poses.append(Pose(x, side, R[j].copy(), T[j].copy(), P[j].copy(), E[j], Er[j]))
     reason = "" if poses else _empty_reason(roots, raw["lo"][i], raw["hi"][i])

@@ -77,9 +77,8 @@ class OctahedralForwardQuery:
     def run(p, scene, ctx):
         from .forward import forward_kinematics
         if p.method in ("fast", "auto"):
-            from .fast_single import COMPILE_NOTICE, compile_pending
-            if compile_pending():
-                ctx.notice(COMPILE_NOTICE)
+            from .fast_single import compile_notice
+            ctx.notice(compile_notice())
         f = scene.units.length_factor
         mech = scene.mechanism
         base = [[_si(v, f) for v in r] for r in mech.base]

@@ -104,7 +104,7 @@ def test_factored_form_and_estimate_pieces():
     import numpy as np
 
     from distkin._generated.octic_general import octic_exact
-    from distkin.octahedral.conditioning import factored
+    from distkin.octahedral.fast_single import factored_grid
 
     sides = [flint.fmpq(v) for v in (144, 144, 144, 36, 36, 36)]
     legs = [flint.fmpq(99 ** 2, 25), flint.fmpq(324), flint.fmpq(324), flint.fmpq(289),
@@ -120,7 +120,7 @@ def test_factored_form_and_estimate_pieces():
         assert G * G - 4 * a * b * c * e == horner
     df = np.array([[float(v) for v in d]])
     xs = np.array([269.0, 333.7, 480.0])
-    H, dH, S = factored(df, xs)
+    H, dH, S = factored_grid(df, xs)
     assert np.all(np.abs(H[0] - np.polyval(df[0, 30:], xs)) <= 1e-10 * S[0])
     dp = np.polyval(np.polyder(df[0, 30:]), xs)
     assert np.allclose(dH[0], dp, rtol=1e-8)

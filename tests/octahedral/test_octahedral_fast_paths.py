@@ -195,18 +195,19 @@ def test_compile_notice_only_before_the_first_solve_on_a_machine(tmp_path, capsy
     import subprocess
     import sys
 
-    from distkin.octahedral.fast_single import COMPILE_NOTICE, compile_pending
+    from distkin.octahedral.fast_single import compile_notice
     from distkin.queries import RunContext
     forward_kinematics(*_general_position(np.random.default_rng(1), 1)[0][:3], warn=False)
-    assert compile_pending() is False               # this process has used the cache
-    code = ("from distkin.octahedral.fast_single import compile_pending; "
-            "print(compile_pending())")
+    assert compile_notice() == ""                   # this process has used the cache
+    code = ("from distkin.octahedral.fast_single import compile_notice; "
+            "print(compile_notice())")
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))   # a machine with no cache
-    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
-                         text=True, check=True).stdout.split()
-    assert out == ["True"]
+    msg = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                         text=True, check=True).stdout.strip()
+    assert msg.startswith("compiling the fast octahedral tier")
     ctx = RunContext(progress=True)
-    ctx.notice(COMPILE_NOTICE)
-    ctx.notice(COMPILE_NOTICE)
-    RunContext(progress=False).notice(COMPILE_NOTICE)
-    assert capsys.readouterr().err == f"distkin: {COMPILE_NOTICE}\n"
+    ctx.notice(msg)
+    ctx.notice(msg)
+    ctx.notice("")
+    RunContext(progress=False).notice(msg)
+    assert capsys.readouterr().err == f"distkin: {msg}\n"
