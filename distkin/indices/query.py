@@ -65,7 +65,7 @@ __all__ = ["PerformanceQuery", "DesignSweepQuery", "CLI_OVERRIDES", "add_sweep_p
 CLI_OVERRIDES: dict = {}
 
 _RSS_KEYS = ("legs", "l0", "l1", "l2", "l3", "lp", "ld", "z0", "beta", "gamma", "mass",
-             "inertia")
+             "inertia", "layout")
 _DEG = math.pi / 180
 
 

@@ -245,11 +245,11 @@ def test_sensitivities_are_box_vertex_maxima(presets):
 
 
 def test_preset_approaching_a_singularity(presets):
-    """The hexa preset has direct singularities inside its workspace (as the paper's
-    HEXA and Ergin's device, Sec. III-B.1; with distkin's reading of Fig. 2 our ergin
-    preset has none there): bisect a segment between two poses whose det J differs in
-    sign; along the way Ueberle's method and the kernel agree and both go to 0 with σmin."""
-    mech = presets["hexa"]
+    """The ergin preset has direct singularities inside its ±20° workspace (as the paper's
+    Ergin device, Sec. III-B.1, Table III's 0.00 N; the tangential reading of Fig. 2,
+    presets.py): bisect a segment between two poses whose det J differs in sign; along
+    the way Ueberle's method and the kernel agree and both go to 0 with σmin."""
+    mech = presets["ergin"]
     P = random_reachable_poses(mech, 3000, 30, seed=11)
     det = np.linalg.det(mech.jacobian(P))
     i = int(np.flatnonzero(det > 0)[0])

@@ -1,6 +1,7 @@
 """Stability at the extremes (issue 8): RSS poses approaching a parallel singularity.
 
-The extreme: the HEXA preset (L = 6) on the straight line from the workspace centre
+The extreme: the HEXA preset under the radial reading of Fig. 2 (``layout="radial"``,
+which has singularities at zero rotation like the paper's Fig. 3) (L = 6) on the straight line from the workspace centre
 towards the corner (-75, -75, +75) mm of the Table II cube at zero rotation; det Jx
 changes sign on that line (located by bisection, :mod:`stability_helpers`).  The poses
 approach the crossing from the regular side at distances d = 10^-1 ... 10^-8 m.
@@ -25,7 +26,7 @@ EPS = np.finfo(float).eps
 @pytest.fixture(scope="module")
 def approach():
     from distkin.mechanisms import preset
-    mech = preset("hexa")
+    mech = preset("hexa", layout="radial")
     t_star, u = hexa_crossing(mech)
     poses = mech.home + (t_star - DIST)[:, None] * u
     return mech, t_star, u, poses
