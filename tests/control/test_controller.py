@@ -275,3 +275,24 @@ def test_without_feedforward_the_servo_softens_the_wall_like_springs_in_series(s
     k_virtual = spring.stiffness[0] + wall.stiffness
     assert slope == pytest.approx(1.0 / (1.0 / k_virtual + 1.0 / k_servo), rel=0.05)
     assert slope < 0.9 * k_virtual
+
+
+def test_derivative_filter_is_forward_euler(scene, model):
+    """Sec. III-D: the error derivative is low-pass filtered (T = 700 ms) "using the
+    forward Euler method".  A ramp error e[k] = r k dt makes the raw derivative a step of
+    height r from k = 1; forward Euler of T ḋ_f = d - d_f then gives, in closed form,
+    d_f[k] = r (1 - (1 - dt/T)^(k-1)) for k >= 1 (backward Euler would give
+    r (1 - (T/(T + dt))^k))."""
+    ctl = _controller(scene, model)
+    T, dt, r = ctl.pd.derivative_filter_s, 1e-3, 0.2
+    assert T == 0.7
+    out = [ctl.filter_derivative(np.full(ctl.L, r * k * dt), dt)[0] for k in range(2000)]
+    k = np.arange(2000)
+    want = np.where(k >= 1, r * (1 - (1 - dt / T) ** np.maximum(k - 1, 0)), 0.0)
+    np.testing.assert_allclose(out, want, rtol=0, atol=1e-12)
+    backward = r * (1 - (T / (T + dt)) ** k)
+    assert np.abs(np.asarray(out) - backward).max() > 1e-4      # distinguishable
+    # T = 0: no filter, the raw difference quotient
+    ctl0 = _controller(scene, model, derivative_filter_s=0.0)
+    ctl0.filter_derivative(np.zeros(ctl0.L), dt)
+    np.testing.assert_allclose(ctl0.filter_derivative(np.full(ctl0.L, 0.5), dt), 500.0)
