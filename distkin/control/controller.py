@@ -206,6 +206,38 @@ class Controller:
         fk = self.model.forward(angles, self.pose, max_iter=8 if self.started else 40)
         return fk
 
+    def joint_torques(self, q_des, angles, J, w, dt: float):
+        """Steps 6-8 of the module doc: joint PD(I) on ``q_des - angles`` (rad) with the
+        forward-Euler filtered derivative, the torque distribution and gravity
+        compensation, and the saturation by one common factor.
+
+        ``J`` (L, 6) at the measured pose, ``w`` (6,) the measured wrench in the base
+        frame (for the hand feed-forward).  Returns ``(tau (L,) N·m, saturated)``.
+        """
+        # PD(I) at position level with a low-pass filtered derivative (forward Euler)
+        e = q_des - angles
+        pd = self.pd
+        tau = pd.kp * e + pd.kd * self.filter_derivative(e, dt)
+        if pd.ki:
+            self.e_int = np.clip(self.e_int + e * dt, -pd.torque_limit / pd.ki,
+                                 pd.torque_limit / pd.ki)
+            tau = tau + pd.ki * self.e_int
+        # torque distribution (L > 6: remove internal forces) and gravity compensation
+        G = J.T @ J
+        w_ff = -w if pd.hand_feedforward else np.zeros(6)
+        if pd.gravity_compensation:
+            w_ff[2] += self.weight
+        if pd.distribution == "projected":
+            tau = J @ np.linalg.solve(G, J.T @ tau + w_ff)
+        elif pd.gravity_compensation or pd.hand_feedforward:
+            tau = tau + J @ np.linalg.solve(G, w_ff)
+        saturated = False
+        peak = float(np.max(np.abs(tau)))
+        if peak > pd.torque_limit:
+            tau = tau * (pd.torque_limit / peak)
+            saturated = True
+        return tau, saturated
+
     def compute(self, frame, dt: float) -> CycleResult:
         """One control cycle on a *checked* state frame (steps 2-8 of the module doc)."""
         r = CycleResult()
@@ -243,27 +275,7 @@ class Controller:
         else:
             self.adm.commit(cand_pose, cand_twist)
         r.desired = self.adm.pose
-        # PD(I) at position level with a low-pass filtered derivative (forward Euler)
-        e = q_des - frame.angles
-        pd = self.pd
-        tau = pd.kp * e + pd.kd * self.filter_derivative(e, dt)
-        if pd.ki:
-            self.e_int = np.clip(self.e_int + e * dt, -pd.torque_limit / pd.ki,
-                                 pd.torque_limit / pd.ki)
-            tau = tau + pd.ki * self.e_int
-        # torque distribution (L > 6: remove internal forces) and gravity compensation
-        G = J.T @ J
-        w_ff = -w if pd.hand_feedforward else np.zeros(6)
-        if pd.gravity_compensation:
-            w_ff[2] += self.weight
-        if pd.distribution == "projected":
-            tau = J @ np.linalg.solve(G, J.T @ tau + w_ff)
-        elif pd.gravity_compensation or pd.hand_feedforward:
-            tau = tau + J @ np.linalg.solve(G, w_ff)
-        peak = float(np.max(np.abs(tau)))
-        if peak > pd.torque_limit:
-            tau = tau * (pd.torque_limit / peak)
-            r.saturated = True
+        tau, r.saturated = self.joint_torques(q_des, frame.angles, J, w, dt)
         r.mode, r.torques = MODE_RUN, tau
         return r
 
