@@ -8,7 +8,6 @@ design marked.
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 
@@ -91,7 +90,7 @@ def design_sweep_report(p, scene, ctx, *, store, executor):
         if "brute_force" not in r:
             return []
         from .plots import plot_design_sweep
-        return plot_design_sweep(stem, p.space, r["designs"],
-                                 np.asarray(r["brute_force"]["gii_all"]), r["best"],
-                                 PAPER_TABLE1)
+        return [plot_design_sweep(stem, p.space, r["designs"],
+                                  np.asarray(r["brute_force"]["gii_all"]), r["best"],
+                                  PAPER_TABLE1)]
     return Outcome(result, "\n".join(lines), plot)

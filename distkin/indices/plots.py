@@ -209,8 +209,8 @@ def plot_design_sweep(path, space, designs, gii_all, best, paper):
            for i, d in enumerate(designs)}
     g = np.asarray(gii_all, dtype=float)
     vmax = float(np.nanmax(g)) if len(g) else 1.0
-    fig, axes = plt.subplots(len(gammas), len(lds), figsize=(3.2 * len(lds), 2.8 * len(gammas)),
-                             squeeze=False)
+    fig, axes = plt.subplots(len(gammas), len(lds), figsize=(3.4 * len(lds), 3.0 * len(gammas)),
+                             squeeze=False, constrained_layout=True)
     from matplotlib import colors
     norm = colors.LogNorm(vmin=max(vmax * 1e-3, float(np.nanmin(g[g > 0])) if np.any(g > 0)
                                    else 1e-6), vmax=vmax)

@@ -51,22 +51,32 @@ sin theta_k, 0), t = (-sin theta_k, cos theta_k, 0) and z = (0, 0, 1):
 Why this reading.  Every preset must be buildable (no two links cross) and reach its
 study box (Sec. II-A, Table II).  Link interference is checked by
 :mod:`.interference` (segment distances, 5 mm clearance).  With this reading every
-preset is clear at the centre (>= 18.6 mm between any two links) and reaches its whole
+preset is clear at the centre (>= 19.7 mm between any two links) and reaches its whole
 study box.  Over the box (25 mm / 10° grid) the hunt, ergin and octo presets keep
->= 9.7 mm, the octopod comes to 4.2 mm at 8 of 117,649 corner poses, and the hexa
-preset (gamma = 30°, our guess) brings a distal link within 5 mm of its partner's crank
-at 0.7 % of its poses (extreme corners).  The readings tried (``docs/fig2_readings.md``
-and BENCHMARKS.md give each one's reach, interference and Table IV figures):
+>= 9.7 mm, the octopod comes to 4.2 mm at 0.01 % of its poses (extreme corners), and
+the hexa preset (gamma = 30°, our guess) brings a distal link within 5 mm of its
+partner's crank at 0.69 % of its poses (extreme corners).  The readings tried, each
+with its reach, interference and Table IV figures (``docs/fig2_readings.md``,
+``python -m benchmarks readings``):
 
 * radial axes, tangential cranks away from the pair, cranks horizontal at the centre
-  (``layout="radial"``, the reading before issue 15): reaches the grid, but with L = 8
-  the cranks of neighbouring pairs cross (0 mm at the centre pose): the Octopod and the
-  Octo cannot be built;
-* tangential axes, cranks radially outwards, horizontal at the centre (l3 = 393 mm):
-  reaches only 81-88 % of the study boxes;
-* tangential axes, cranks radially inwards, horizontal at the centre (l3 = 306 mm): the
-  crank tips meet near the axis (l1 > l0): not buildable;
-* tangential axes, cranks outwards, one leg length K for all (this reading).
+  (``layout="radial"``, the reading before issue 15): reaches the study boxes, but with
+  L = 8 the cranks of neighbouring pairs cross (0 mm at the centre pose, 45-91 % of the
+  box below 5 mm): the Octopod and the Octo cannot be built.  Table IV: GII 41×, 9.9×,
+  2.2× the paper's (Hunt-type, Octopod, Octo);
+* tangential axes, cranks radially outwards, horizontal at the centre (l3 = 393-402 mm,
+  :meth:`~.rss.RSSMechanism.horizontal_crank_l3`): reaches only 84-91 % of the study
+  boxes (at z0 - 75 mm the spherical joints come closer to the pivots than l3 - l1);
+* tangential axes, cranks radially inwards, horizontal at the centre
+  (``layout="tangential_in"``, l3 = 304-306 mm): the crank tips meet near the axis
+  (l1 > l0): not buildable;
+* tangential axes, cranks outwards, one leg length K for all (this reading): Table IV
+  GII 1.16×, 3.3×, 11× the paper's, σmin 0.17-0.64×, σmax 0.06-0.16× (the σ depend on
+  the reading of the scaling, :mod:`distkin.indices.isotropy`);
+* the same with K identified on Table IV (an explicit fit, not used by the presets:
+  least squares of the three GIIs' log ratios gives K = 332 mm); with Table III held
+  out it does no better than the rule (median |log10 ours/paper| 0.20 against 0.19,
+  rows within 2×: 59 % against 63 %).
 
 Preset values the paper does not print, and our choice:
 

@@ -25,9 +25,10 @@ __all__ = ["RSSMechanism", "GEOMETRY_FIELDS", "LAYOUTS", "LEG_LENGTH"]
 GEOMETRY_FIELDS = ("legs", "l0", "l1", "l2", "l3", "lp", "ld", "z0", "beta", "gamma", "layout")
 
 #: readings of Fig. 2 (:mod:`.presets`): "tangential" (the default: actuator axes of a
-#: pair on one tangential line, cranks radially outwards) and "radial" (axes radial,
-#: cranks tangential away from the pair; the reading used before issue 15)
-LAYOUTS = ("tangential", "radial")
+#: pair on one tangential line, cranks radially outwards), "radial" (axes radial,
+#: cranks tangential away from the pair; the reading used before issue 15) and
+#: "tangential_in" (tangential axes, cranks radially inwards; documented, not buildable)
+LAYOUTS = ("tangential", "radial", "tangential_in")
 
 #: l2 + l3 (m) of every leg in the "tangential" reading: the centre of the interval of
 #: leg lengths that close every leg of every preset over its study box
@@ -63,7 +64,7 @@ class RSSMechanism:
         ``LEG_LENGTH - l2`` for "tangential", the horizontal-crank rule for "radial".
     mass, inertia : float
         End-effector mass (kg) and principal inertia (kg m^2) of M̂ (Sec. III-B.3).
-    layout : {"tangential", "radial"}
+    layout : {"tangential", "radial", "tangential_in"}
         The reading of Fig. 2 (:data:`LAYOUTS`, :mod:`.presets`).
     """
 
@@ -149,9 +150,11 @@ class RSSMechanism:
             return np.stack([c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1], v[:, 2]],
                             axis=-1)
 
-        if self.layout == "tangential":
+        if self.layout in ("tangential", "tangential_in"):
             a = rotz(side * self.beta, t)                # the pair's axes on one tangent
             u = np.cross(a, z)                           # cranks: horizontal, radially out
+            if self.layout == "tangential_in":
+                u = -u                                   # ... or radially in
             offset = (side * self.l2)[:, None] * a       # away from the pair's centre
         else:
             a = rotz(side * self.beta, e)                # actuator axes radial
@@ -167,6 +170,12 @@ class RSSMechanism:
                 raise InputError(f"expected l2 below the leg length {LEG_LENGTH} m (l3 = "
                                  f"{LEG_LENGTH} - l2), got {self.l2!r}; give l3", field="l2")
             return LEG_LENGTH - self.l2
+        return self.horizontal_crank_l3()
+
+    def horizontal_crank_l3(self) -> float:
+        """The distal length (m) that puts every crank horizontal (q = 0) at the workspace
+        centre (DESIGN.md §5's first rule; the rule of the "radial" and
+        "tangential_in" readings)."""
         g = self.geometry()
         P = g["p"][0] + np.array([0.0, 0.0, self.z0])
         D = g["B"][0] + g["offset"][0] + self.l1 * g["u"][0]

@@ -71,7 +71,7 @@ def generic_leg(layout: str = "tangential"):
 
     Parameters
     ----------
-    layout : {"tangential", "radial"}
+    layout : {"tangential", "radial", "tangential_in"}
         :data:`distkin.mechanisms.rss.LAYOUTS`.
 
     Returns
@@ -87,16 +87,19 @@ def generic_leg(layout: str = "tangential"):
     t = sp.Matrix([-se, ce, 0])
     zh = sp.Matrix([0, 0, 1])
     B = l0 * e + s * ld / 2 * t
-    if layout == "tangential":
+    if layout in ("tangential", "tangential_in"):
         a = sp.Matrix([cb * t[0] - s * sb * t[1], s * sb * t[0] + cb * t[1], 0])  # Rz(s beta) t
-        u = a.cross(zh)                   # horizontal crank, radially outwards
+        u = a.cross(zh)                   # horizontal crank, radially outwards ...
+        if layout == "tangential_in":
+            u = -u                        # ... or inwards
         o = s * l2 * a                    # RRRS offset along the axis, away from the pair
     elif layout == "radial":
         a = sp.Matrix([cb * e[0] - s * sb * e[1], s * sb * e[0] + cb * e[1], 0])  # Rz(s beta) e
         u = s * zh.cross(a)               # horizontal crank, away from the pair's centre
         o = l2 * a                        # RRRS offset, outwards along the axis
     else:
-        raise ValueError(f"expected layout 'tangential' or 'radial', got {layout!r}")
+        raise ValueError(f"expected layout 'tangential', 'radial' or 'tangential_in', got "
+                         f"{layout!r}")
     p0 = lp * e + s * ld / 2 * t
     p = sp.Matrix([cg * p0[0] - s * sg * p0[1], s * sg * p0[0] + cg * p0[1], 0])  # Rz(s gamma)
     q = sp.Symbol("q", real=True)
