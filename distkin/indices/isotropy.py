@@ -33,7 +33,11 @@ our choice:
 
 A length unit does not change any of them when the units are consistent (J in rad/mm
 with ST in N and N·mm gives W exactly).  The study reports σmin and σmax of every
-reading beside Table IV.
+reading beside Table IV.  Measured on the presets (Table II grid, ±20°;
+``docs/fig2_readings.md``): W gives σmax 0.06-0.16× the paper's; the unscaled Jᵀ
+comes closest to the printed σmax (0.7-2×) but then σmin is 0.2-0.8× and the paper
+states that ST was applied; no reading matches σmin and σmax together (they also
+depend on the unprinted geometry).  We keep W by its definition, not by a match.
 
 References
 ----------

@@ -11,7 +11,9 @@ points of the parts of ``{Jᵀ τ}`` (eq. (6)).  "Part" has two meanings:
     zero, e.g. translation at zero rotation), then the farthest point, eq. (16).  Every
     vertex of the slice has at least L − 3 actuators at a limit; the
     C(L, 3)·2^(L−3) candidates are enumerated exactly by the compiled kernel of
-    :mod:`.slice_farthest`.
+    :mod:`.slice_farthest` (for L = 6 the twist slices are the slab polytopes
+    ``{u : |J_S u|∞ <= 1}``, computed from J so that they stay accurate next to a
+    singularity).
 ``mode="projection"`` (Cardou et al. [1])
     the farthest point of the projection (the other part unconstrained), a box vertex
     of the zonotope (the 2^L vertices, :func:`distkin.indices.best_case_output`).  It is
@@ -26,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from .slice_farthest import slice_farthest_unit
+from .slice_farthest import slab_farthest_unit, slice_farthest_unit
 from .zonotope import zonotope_best
 
 __all__ = ["max_sensitivities", "SENSITIVITY_UNITS", "SENSITIVITY_MODES"]
@@ -72,6 +74,9 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None):
         if mode == "projection":
             out[name] = zonotope_best(np.ascontiguousarray(G[:, list(rows), :]), c, r,
                                       [(0, 1, 2)])[0]
+        elif G is Gt and L == 6:
+            # J# = J⁻¹: the slice is {u : |J_S u|∞ <= 1}, computed from J itself
+            out[name] = slab_farthest_unit(J[:, :, list(rows)])
         else:
             out[name] = slice_farthest_unit(G, rows)
     return out

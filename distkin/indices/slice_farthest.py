@@ -20,7 +20,10 @@ route): the Table II study evaluates four sensitivities at 9 million poses per
 redundant device.
 
 Exact up to rounding when ``G_{S^c}`` has full row rank (a singular 3 × 3 block F is
-skipped: its vertices are found from other sets); an empty slice gives −inf.
+skipped: its vertices are found from other sets); an empty slice gives −inf.  The test
+``|p_F| <= 1`` allows the rounding error of ``K p_X`` (64 eps times the row sums of
+|K| and the Hadamard ratio of the block), so that near a singularity, where J# is
+huge, the vertices on the boundary are not lost to rounding.
 """
 
 from __future__ import annotations
@@ -30,10 +33,11 @@ from itertools import combinations
 
 import numpy as np
 
-__all__ = ["slice_farthest_unit"]
+__all__ = ["slice_farthest_unit", "slab_farthest_unit"]
 
-#: feasibility slack of |p_F| <= 1 (relative), as zonotope._best_chunk
+#: feasibility slack of |p_F| <= 1, as zonotope._best_chunk, plus the rounding of K p
 _TOL = 1e-12
+_EPS = 2.220446049250313e-16
 
 
 @lru_cache(maxsize=None)
@@ -62,6 +66,7 @@ def _kernel():
         K = np.empty((3, m))
         E = np.empty((nS, m))
         p = np.empty(3)
+        slack = np.empty(3)
         u = np.empty(nS)
         sg = np.empty(m)
         for n in range(N):
@@ -79,6 +84,7 @@ def _kernel():
                     scale *= np.sqrt(a[0, j] ** 2 + a[1, j] ** 2 + a[2, j] ** 2)
                 if not abs(det) > 1e-12 * scale:
                     continue
+                cond = scale / abs(det)            # Hadamard ratio, >= 1
                 inv[0, 0] = c00 / det
                 inv[1, 0] = c01 / det
                 inv[2, 0] = c02 / det
@@ -89,11 +95,16 @@ def _kernel():
                 inv[1, 2] = (a[0, 2] * a[1, 0] - a[0, 0] * a[1, 2]) / det
                 inv[2, 2] = (a[0, 0] * a[1, 1] - a[0, 1] * a[1, 0]) / det
                 for i in range(3):
+                    ka = 0.0
                     for j in range(m):
                         s = 0.0
                         for r in range(3):
                             s += inv[i, r] * G[n, Sc[r], X[f, j]]
                         K[i, j] = s
+                        ka += abs(s)
+                    # |p_F| <= 1 up to the rounding of K p (and of K itself, whose
+                    # relative error grows with the conditioning of the 3 x 3 block)
+                    slack[i] = 1.0 + _TOL + 64.0 * _EPS * (1.0 + ka) * (1.0 + cond)
                 for i in range(nS):
                     for j in range(m):
                         s = G[n, S[i], X[f, j]]
@@ -122,8 +133,7 @@ def _kernel():
                             p[i] -= d * K[i, j]
                         for i in range(nS):
                             u[i] += d * E[i, j]
-                    if abs(p[0]) > 1.0 + _TOL or abs(p[1]) > 1.0 + _TOL or \
-                            abs(p[2]) > 1.0 + _TOL:
+                    if abs(p[0]) > slack[0] or abs(p[1]) > slack[1] or abs(p[2]) > slack[2]:
                         continue
                     nrm = 0.0
                     for i in range(nS):
@@ -161,4 +171,85 @@ def slice_farthest_unit(G, keep):
     out = np.empty(N)
     if N:
         _kernel()(G, S, Sc, F, X, flips, out)
+    return out
+
+
+@lru_cache(maxsize=1)
+def _slab_kernel():
+    import numba
+
+    @numba.njit(cache=True)
+    def run(A, T, out):                                     # pragma: no cover (compiled)
+        N, L, _ = A.shape
+        v = np.empty(3)
+        for n in range(N):
+            best = -1.0
+            for t in range(T.shape[0]):
+                i0, i1, i2 = T[t, 0], T[t, 1], T[t, 2]
+                a00, a01, a02 = A[n, i0, 0], A[n, i0, 1], A[n, i0, 2]
+                a10, a11, a12 = A[n, i1, 0], A[n, i1, 1], A[n, i1, 2]
+                a20, a21, a22 = A[n, i2, 0], A[n, i2, 1], A[n, i2, 2]
+                c00 = a11 * a22 - a12 * a21
+                c01 = a12 * a20 - a10 * a22
+                c02 = a10 * a21 - a11 * a20
+                det = a00 * c00 + a01 * c01 + a02 * c02
+                scale = (np.sqrt(a00 ** 2 + a01 ** 2 + a02 ** 2)
+                         * np.sqrt(a10 ** 2 + a11 ** 2 + a12 ** 2)
+                         * np.sqrt(a20 ** 2 + a21 ** 2 + a22 ** 2))
+                if not abs(det) > 1e-12 * scale:
+                    continue
+                for sg in range(8):
+                    s0 = 1.0 if sg & 1 else -1.0
+                    s1 = 1.0 if sg & 2 else -1.0
+                    s2 = 1.0 if sg & 4 else -1.0
+                    # v = A_T^-1 s by the adjugate (rows of the inverse: cofactors)
+                    v[0] = (c00 * s0 + (a02 * a21 - a01 * a22) * s1
+                            + (a01 * a12 - a02 * a11) * s2) / det
+                    v[1] = (c01 * s0 + (a00 * a22 - a02 * a20) * s1
+                            + (a02 * a10 - a00 * a12) * s2) / det
+                    v[2] = (c02 * s0 + (a01 * a20 - a00 * a21) * s1
+                            + (a00 * a11 - a01 * a10) * s2) / det
+                    ok = True
+                    for i in range(L):
+                        r = A[n, i, 0] * v[0] + A[n, i, 1] * v[1] + A[n, i, 2] * v[2]
+                        ra = (abs(A[n, i, 0] * v[0]) + abs(A[n, i, 1] * v[1])
+                              + abs(A[n, i, 2] * v[2]))
+                        if abs(r) > 1.0 + _TOL + 64.0 * _EPS * (1.0 + ra):
+                            ok = False
+                            break
+                    if ok:
+                        nrm = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
+                        if nrm > best:
+                            best = nrm
+            out[n] = np.sqrt(best) if best >= 0 else -np.inf
+    return run
+
+
+def slab_farthest_unit(A):
+    """Largest ``||v||`` over the polytope ``{v : |A v|∞ <= 1}`` (3 columns), batched.
+
+    For a square Jacobian (L = d) the slice ``{J⁻¹ p : |p|∞ <= 1, (J⁻¹ p)_{S^c} = 0}``
+    of eq. (5)'s zonotope is exactly ``{u : |J_S u|∞ <= 1}`` with J_S the columns S of
+    J, so its farthest point (the paper's maximum translational or rotational
+    sensitivity) is a vertex where three slab planes meet: C(L, 3)·8 candidates, 3 × 3
+    solves on rows of J itself.  Unlike the route through J⁻¹ this keeps its accuracy
+    next to a singularity, where J⁻¹ is huge and the slice of its zonotope is found by
+    cancellation.
+
+    Parameters
+    ----------
+    A : ndarray (N, L, 3)
+
+    Returns
+    -------
+    ndarray (N,); +inf-free: −inf only if no vertex exists (A of rank < 3).
+    """
+    A = np.ascontiguousarray(A, dtype=float)
+    N, L, k = A.shape
+    if k != 3:
+        raise ValueError(f"expected A of shape (N, L, 3), got {A.shape}")
+    T = np.array(list(combinations(range(L), 3)), dtype=np.int64)
+    out = np.empty(N)
+    if N:
+        _slab_kernel()(A, T, out)
     return out

@@ -267,7 +267,7 @@ def run_device(dev: Device, *, store, executor=None, chunk_positions: int = 64,
     definition = {"kind": "study", "mech": repr(dev.mech), "grid": grid.as_dict(),
                   "actuators": dict(actuators), "ST": list(ST), "inner": dev.inner,
                   "chunk_positions": chunk_positions, "sensitivity": sensitivity,
-                  "quantities": list(QUANTITIES), "version": 2}
+                  "quantities": list(QUANTITIES), "version": 3}
     t0 = time.perf_counter()
     store = Path(store) / sweep_key(definition)       # a changed definition starts afresh
     chunks = run_chunks(study_chunk, specs, store, definition=definition,

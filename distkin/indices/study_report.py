@@ -125,7 +125,8 @@ def _criteria_text(c):
     mark = {True: "held", False: "NOT held", None: "undecided"}[c["held"]]
     v = c["value"]
     if c["number"] == 1:
-        val = f"σmin {_f(v['sigma_min'])}, all reachable {v['all_reachable']}"
+        val = (f"σmin {_f(v['sigma_min'])}, all reachable {v['all_reachable']}, det sign "
+               f"changes {v['det_sign_changes']}")
     elif c["number"] == 2:
         val = f"L = {v['L']}, min |Jq|/l1 {_f(v['transmission_min'])}"
     elif c["number"] == 3:

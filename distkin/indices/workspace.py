@@ -220,10 +220,12 @@ def design_criteria(L: int, grid: PoseGrid, reachable_all, minima: dict,
     full = bool(reach.all())
     regular = sigma_min is not None and sigma_min > 0 and not det_sign_changes
     out.append({"number": 1, "criterion": "six actuated DOF (d = 6)",
-                "held": None if sigma_min is None else bool(sigma_min > 0 and full),
-                "value": {"sigma_min": sigma_min, "all_reachable": full},
+                "held": None if sigma_min is None else bool(regular and full),
+                "value": {"sigma_min": sigma_min, "all_reachable": full,
+                          "det_sign_changes": bool(det_sign_changes)},
                 "required": "rank J = 6 at every pose of the grid",
-                "test": "every grid pose reachable and the smallest σmin(ST⁻¹Jᵀ) > 0"})
+                "test": "every grid pose reachable, the smallest σmin(ST⁻¹Jᵀ) > 0 and (L = 6) "
+                        "det J of one sign (a sign change encloses a rank loss)"})
     out.append({"number": 2, "criterion": "rotary non-floating actuators at the first joint, "
                                           "L >= d",
                 "held": None if transmission_min is None else bool(L >= 6

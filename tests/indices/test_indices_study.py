@@ -100,7 +100,7 @@ def test_dexterous_workspace_and_criteria_on_a_synthetic_sweep():
         assert c[k]["held"] is False, k
     c = {c["number"]: c for c in design_criteria(6, g, reach, minima, 0.01, **kw,
                                                  det_sign_changes=True)}
-    assert c[4]["held"] is False and c[6]["held"] is False
+    assert c[1]["held"] is False and c[4]["held"] is False and c[6]["held"] is False
     assert design_criteria(8, g, reach, minima)[4]["held"] is None     # nothing to compare
 
 
