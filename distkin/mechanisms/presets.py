@@ -75,8 +75,8 @@ with its reach, interference and Table IV figures (``docs/fig2_readings.md``,
   the reading of the scaling, :mod:`distkin.indices.isotropy`);
 * the same with K identified on Table IV (an explicit fit, not used by the presets:
   least squares of the three GIIs' log ratios gives K = 332 mm); with Table III held
-  out it does no better than the rule (median |log10 ours/paper| 0.20 against 0.19,
-  rows within 2×: 59 % against 63 %).
+  out it does no better than the rule (median |log10 ours/paper| 0.200 against 0.202,
+  rows within 2×: 57 % against 62 %).
 
 Preset values the paper does not print, and our choice:
 
