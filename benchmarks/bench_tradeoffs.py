@@ -121,7 +121,10 @@ def _capability_device(name_, data):
     from distkin.indices.study import CAPABILITIES
     from distkin.indices.workspace import table2_grid
     from distkin.mechanisms import preset
-    mech = preset(name_)
+    # the HEXA under the radial reading of Fig. 2 (layout="radial", the presets' reading
+    # before issue 15): a device with singularities inside its workspace, like the
+    # paper's HEXA (Fig. 3); the hexa preset's tangential reading has none at zero rotation
+    mech = preset(name_, layout="radial") if name_ == "hexa" else preset(name_)
     box = math.radians(_ROT)
     grids = {s: table2_grid(step=0.050, rot_deg=_ROT, rot_step_deg=s) for s in _ROT_STEPS}
     npos = grids[_ROT_STEPS[0]].n_positions
@@ -424,9 +427,9 @@ def _kernel_section(data):
     from distkin.mechanisms import preset
     from distkin.mechanisms.symbolic import POSE, model_expressions
     dps = 50
-    mech = preset("hexa")
+    mech = preset("hexa", layout="radial")           # singular at zero rotation (see above)
     t0 = time.perf_counter()
-    expr = model_expressions(mech).get("jacobian")    # what rss_hexa.jacobian was generated from
+    expr = model_expressions(mech).get("jacobian")    # what its kernel was generated from
     f_mp = sp.lambdify(POSE, expr, modules="mpmath")
     t_derive = time.perf_counter() - t0
     kern = mech.kernels("batched").jacobian
@@ -485,7 +488,9 @@ def _kernel_section(data):
     return "\n".join([
         "### 2. Generated kernels near a singularity: float64 against mpmath",
         "",
-        f"HEXA preset, generated `jacobian` kernel (`distkin._generated.rss_hexa`, float64) "
+        f"HEXA preset under the radial reading of Fig. 2 (`preset('hexa', layout='radial')`, "
+        f"the reading before issue 15: singular at zero rotation like the paper's Fig. 3), "
+        f"generated `jacobian` kernel (float64) "
         f"against mpmath evaluation at {dps} digits of the same sympy expression "
         f"(`model_expressions(mech).get('jacobian')`, lambdified with `modules='mpmath'`). "
         f"Both evaluate the *same float64 pose*, so only evaluation error is measured. "

@@ -7,14 +7,16 @@ symbolically where the algebra is generic and numerically per preset:
    with A = w.u, B = w.z, C = (w.w + l1^2 - l3^2)/(2 l1), w = P - B0 - o;
 2. the closed form cos q = (A C + s B h)/rho^2, sin q = (B C - s A h)/rho^2
    (h^2 = rho^2 - C^2) satisfies A cos q + B sin q = C and cos^2 + sin^2 = 1;
-3. the branch sign distkin.mechanisms.symbolic.BRANCH gives q = 0 at the workspace
-   centre for every preset (the horizontal-crank rule fixing l3, presets.py);
+3. the branch sign distkin.mechanisms.symbolic.BRANCH gives, at the workspace centre,
+   the crank angle nearer 0 of the two that close each leg (presets.py), every leg at
+   the same angle, and q = 0 exactly under the radial reading's horizontal-crank rule;
 4. the generated kernels ``distkin/_generated/rss_<preset>.py`` were written from this
    model (their headers name this script; ``python -m distkin.codegen --check``).
 """
 
 from __future__ import annotations
 
+import math
 import sys
 from pathlib import Path
 
@@ -49,12 +51,24 @@ def main():
     assert lhs == 0 and e1 == 0 and e2 == 0
     print(f"3. BRANCH = {BRANCH}; q at the workspace centre:")
     for name in PRESETS:
-        m = preset(name)
-        ik = model_expressions(m).get("ik")
-        home = dict(zip(POSE, [0, 0, m.z0, 0, 0, 0]))
-        worst = max(abs(float(e.xreplace(home).evalf(30))) for e in ik)
-        print(f"   {name:8s} L = {m.L}, l3 = {m.l3 * 1e3:.4f} mm, max |q| = {worst:.2e} rad")
-        assert worst < 1e-12
+        for layout in ("tangential", "radial"):
+            m = preset(name, layout=layout)
+            me = model_expressions(m)
+            home = dict(zip(POSE, [0, 0, m.z0, 0, 0, 0]))
+            q = [float(e.xreplace(home).evalf(30)) for e in me.get("ik")]
+            # the other solution of A cos q + Bz sin q = C: q = phi + BRANCH delta
+            other = []
+            for leg in me.legs():
+                A, Bz, C = (float(leg[k].xreplace(home).evalf(30)) for k in ("A", "Bz", "C"))
+                phi, delta = math.atan2(Bz, A), math.acos(C / math.hypot(A, Bz))
+                other.append(math.remainder(phi + BRANCH * delta, 2 * math.pi))
+            spread = max(q) - min(q)
+            print(f"   {name:8s} {layout:10s} L = {m.L}, l3 = {m.l3 * 1e3:.4f} mm, "
+                  f"q = {math.degrees(q[0]):.4f} deg (spread {spread:.1e} rad)")
+            assert spread < 1e-12
+            assert all(abs(a) < abs(b) for a, b in zip(q, other))          # nearer 0
+            if layout == "radial":
+                assert max(abs(v) for v in q) < 1e-12
     print("4. Jq_ii = dPhi_i/dq_i, Jx_i = -(g, r x g) with g = dPhi/dP = (P - D)/l3;"
           " J = Jq^-1 Jx (eqs. (1)-(2))")
 

@@ -40,6 +40,7 @@ QUERY_MODULES: dict[str, tuple[str, ...]] = {
     "performance": ("distkin.indices.query",),
     "design_sweep": ("distkin.indices.query",),
     "certify_workspace": ("distkin.certify.query",),
+    "table5": ("distkin.control.table5",),
     "forward_kinematics": ("distkin.mechanisms.query", "distkin.octahedral.query",
                            "distkin.delta_query"),
 }

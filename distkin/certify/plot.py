@@ -2,11 +2,14 @@
 the certified regular, singular, undecided and unreachable boxes marked.
 
 Only the boxes that contain a pose of zero rotation are drawn (for a 6-D region, their
-projection onto x, y, z).  Three panels: a 3-D view of the non-regular boxes inside the
-outline of the region, and a section z = const and a section x = const (each at the level
+projection onto x, y, z).  Four panels: a 3-D view of the non-regular boxes inside the
+outline of the region; a section z = const and a section x = const (each at the level
 crossed by the most non-regular boxes; the region's centre if all are regular), where
-every box crossing the plane is drawn as a rectangle.  matplotlib is imported
-lazily, inside :func:`plot_certificate`.
+every box crossing the plane is drawn as a rectangle; and the σmin-margin map, the same
+z section with every regular box coloured by its certified lower bound of σmin(Jx) (how
+far the box is from a singularity, log scale).  The paper's Fig. 3 draws the workspace
+blue and the singularities green; here singular boxes are red so they cannot be
+mistaken for either.  matplotlib is imported lazily, inside :func:`plot_certificate`.
 """
 
 from __future__ import annotations
@@ -19,9 +22,10 @@ from .boxes import REGULAR, SINGULAR, UNDECIDED, UNREACHABLE
 
 __all__ = ["plot_certificate", "COLOURS"]
 
-#: status -> (colour, label); the paper's Fig. 3 draws the workspace blue, singularities green
+#: status -> (colour, label); the paper's Fig. 3 draws the workspace blue and singularities
+#: green: singular boxes are red here, so neither colour can be misread
 COLOURS = {REGULAR: ("#9ecae1", "certified regular"),
-           SINGULAR: ("#2ca02c", "certified singular (det Jx = 0 inside)"),
+           SINGULAR: ("#d62728", "certified singular (det Jx = 0 inside)"),
            UNDECIDED: ("#ff7f0e", "undecided at the resolution"),
            UNREACHABLE: ("#bdbdbd", "certified unreachable")}
 
@@ -51,6 +55,35 @@ def _busiest_level(lo, hi, status, axis, default):
     return float(levels[int(np.argmax(counts))])
 
 
+def _margin_panel(ax, cert, lo, hi, st, centre, f, lu):
+    """σmin-margin map: the regular boxes crossing the busiest z section, coloured by the
+    certified lower bound of σmin(Jx) (log scale); other boxes in their status colour."""
+    from matplotlib import cm, colors
+    from matplotlib.patches import Rectangle
+    level = _busiest_level(lo, hi, st, 2, centre[2])
+    cross = (lo[:, 2] <= level) & (hi[:, 2] >= level)
+    sig = cert.sigma_lower[cert.at_zero_rotation()]
+    reg = cross & (st == REGULAR) & (sig > 0)
+    vmin = float(sig[reg].min()) if reg.any() else 1e-3
+    vmax = float(sig[reg].max()) if reg.any() else 1.0
+    norm = colors.LogNorm(vmin=vmin, vmax=max(vmax, vmin * 1.0001))
+    import matplotlib
+    cmap = matplotlib.colormaps["viridis"]
+    for k in np.flatnonzero(cross):
+        a, b = lo[k], hi[k]
+        colour = cmap(norm(sig[k])) if reg[k] else COLOURS[int(st[k])][0]
+        ax.add_patch(Rectangle((a[0] * f, a[1] * f), (b[0] - a[0]) * f, (b[1] - a[1]) * f,
+                               facecolor=colour, edgecolor="white", linewidth=0.3))
+    ax.set_xlim(cert.lower[0] * f, cert.upper[0] * f)
+    ax.set_ylim(cert.lower[1] * f, cert.upper[1] * f)
+    ax.set_aspect("equal")
+    ax.set_xlabel(f"x [{lu}]")
+    ax.set_ylabel(f"y [{lu}]")
+    ax.set_title(f"σmin margin, section z = {level * f:.4g} {lu}")
+    sm = cm.ScalarMappable(norm=norm, cmap=cmap)
+    ax.figure.colorbar(sm, ax=ax, label="certified lower bound of σmin(Jx)")
+
+
 def plot_certificate(cert, stem, *, length_unit: str = "mm") -> Path:
     """Write ``STEM_certified_workspace.png``; returns its path.
 
@@ -73,8 +106,8 @@ def plot_certificate(cert, stem, *, length_unit: str = "mm") -> Path:
     lo, hi, st = cert.lo[zr], cert.hi[zr], cert.status[zr]
     L0, U0 = cert.lower, cert.upper
     centre = 0.5 * (L0 + U0)
-    fig = plt.figure(figsize=(15, 5))
-    ax = fig.add_subplot(1, 3, 1, projection="3d")
+    fig = plt.figure(figsize=(20, 5))
+    ax = fig.add_subplot(1, 4, 1, projection="3d")
     for code in (UNDECIDED, SINGULAR, UNREACHABLE):
         sel = st == code
         if sel.any():
@@ -97,7 +130,7 @@ def plot_certificate(cert, stem, *, length_unit: str = "mm") -> Path:
     ax.set_zlabel(f"z [{lu}]")
     ax.set_title("non-regular boxes (blue: region outline)")
     for i, (axis, dims, name) in enumerate(((2, (0, 1), "z"), (0, (1, 2), "x"))):
-        a2 = fig.add_subplot(1, 3, 2 + i)
+        a2 = fig.add_subplot(1, 4, 2 + i)
         level = _busiest_level(lo, hi, st, axis, centre[axis])
         _section(a2, lo, hi, st, axis, level, dims, f)
         a2.set_xlim(L0[dims[0]] * f, U0[dims[0]] * f)
@@ -106,6 +139,7 @@ def plot_certificate(cert, stem, *, length_unit: str = "mm") -> Path:
         a2.set_xlabel(f"{'xyz'[dims[0]]} [{lu}]")
         a2.set_ylabel(f"{'xyz'[dims[1]]} [{lu}]")
         a2.set_title(f"section {name} = {level * f:.4g} {lu}")
+    _margin_panel(fig.add_subplot(1, 4, 4), cert, lo, hi, st, centre, f, lu)
     s = cert.summary()
     rot = "zero rotation" if np.all(cert.upper[3:] == cert.lower[3:]) else \
         "boxes containing zero rotation, projected"

@@ -11,7 +11,10 @@ Kühne et al., Sec. III-D and Fig. 9.  Each cycle, on the arrival of a state fra
    one, at rest);
 5. inverse kinematics of the set point;
 6. joint PD(I) at position level, ``tau = KP e + KI ∫e + KD ė_f`` with KP = 110,
-   KI = 0, KD = 0.4 and the error derivative low-pass filtered (forward Euler);
+   KI = 0, KD = 0.4 and the error derivative low-pass filtered with time constant
+   T = 700 ms, discretised by the forward Euler method as the paper says:
+   ``d_f[k] = d_f[k-1] + (dt/T) (d[k-1] - d_f[k-1])`` with ``d[k] = (e[k] - e[k-1])/dt``
+   (stable for dt < 2T; :meth:`Controller.filter_derivative`);
 7. for L > 6, the torque distribution: the PD torques are projected onto the range of
    ``J`` (``tau = J (JᵀJ)⁻¹ Jᵀ tau_pd``), which removes the internal-force component
    that redundant independent joint controllers fight over and keeps the wrench
@@ -115,8 +118,27 @@ class Controller:
     # -- the per-cycle computation (no I/O) ---------------------------------------------
     def _reset_pd(self):
         self.e_prev = None
+        self.d_prev = np.zeros(self.L)
         self.de_f = np.zeros(self.L)
         self.e_int = np.zeros(self.L)
+
+    def filter_derivative(self, e, dt):
+        """One step of the error-derivative low-pass of Sec. III-D, forward Euler.
+
+        The filter ``T ḋ_f = d - d_f`` (T = ``derivative_filter_s``) stepped explicitly:
+        ``d_f[k] = d_f[k-1] + (dt/T) (d[k-1] - d_f[k-1])``, where ``d[k] = (e[k] -
+        e[k-1]) / dt`` is the raw difference quotient; T = 0 passes ``d[k]`` through.
+        Returns the filtered derivative (L,) in rad/s.
+        """
+        pd = self.pd
+        d_raw = np.zeros(self.L) if self.e_prev is None else (e - self.e_prev) / dt
+        if pd.derivative_filter_s > 0:
+            self.de_f = self.de_f + (dt / pd.derivative_filter_s) * (self.d_prev - self.de_f)
+        else:
+            self.de_f = d_raw
+        self.d_prev = d_raw
+        self.e_prev = e
+        return self.de_f
 
     def singular_values(self, J):
         """Smallest and largest singular value of the scaled Jacobian ``J S^-1``."""
@@ -184,6 +206,38 @@ class Controller:
         fk = self.model.forward(angles, self.pose, max_iter=8 if self.started else 40)
         return fk
 
+    def joint_torques(self, q_des, angles, J, w, dt: float):
+        """Steps 6-8 of the module doc: joint PD(I) on ``q_des - angles`` (rad) with the
+        forward-Euler filtered derivative, the torque distribution and gravity
+        compensation, and the saturation by one common factor.
+
+        ``J`` (L, 6) at the measured pose, ``w`` (6,) the measured wrench in the base
+        frame (for the hand feed-forward).  Returns ``(tau (L,) N·m, saturated)``.
+        """
+        # PD(I) at position level with a low-pass filtered derivative (forward Euler)
+        e = q_des - angles
+        pd = self.pd
+        tau = pd.kp * e + pd.kd * self.filter_derivative(e, dt)
+        if pd.ki:
+            self.e_int = np.clip(self.e_int + e * dt, -pd.torque_limit / pd.ki,
+                                 pd.torque_limit / pd.ki)
+            tau = tau + pd.ki * self.e_int
+        # torque distribution (L > 6: remove internal forces) and gravity compensation
+        G = J.T @ J
+        w_ff = -w if pd.hand_feedforward else np.zeros(6)
+        if pd.gravity_compensation:
+            w_ff[2] += self.weight
+        if pd.distribution == "projected":
+            tau = J @ np.linalg.solve(G, J.T @ tau + w_ff)
+        elif pd.gravity_compensation or pd.hand_feedforward:
+            tau = tau + J @ np.linalg.solve(G, w_ff)
+        saturated = False
+        peak = float(np.max(np.abs(tau)))
+        if peak > pd.torque_limit:
+            tau = tau * (pd.torque_limit / peak)
+            saturated = True
+        return tau, saturated
+
     def compute(self, frame, dt: float) -> CycleResult:
         """One control cycle on a *checked* state frame (steps 2-8 of the module doc)."""
         r = CycleResult()
@@ -221,32 +275,7 @@ class Controller:
         else:
             self.adm.commit(cand_pose, cand_twist)
         r.desired = self.adm.pose
-        # PD(I) at position level with a low-pass filtered derivative (forward Euler)
-        e = q_des - frame.angles
-        pd = self.pd
-        if self.e_prev is not None:
-            d_raw = (e - self.e_prev) / dt
-            a = dt / (pd.derivative_filter_s + dt) if pd.derivative_filter_s > 0 else 1.0
-            self.de_f += a * (d_raw - self.de_f)
-        self.e_prev = e
-        tau = pd.kp * e + pd.kd * self.de_f
-        if pd.ki:
-            self.e_int = np.clip(self.e_int + e * dt, -pd.torque_limit / pd.ki,
-                                 pd.torque_limit / pd.ki)
-            tau = tau + pd.ki * self.e_int
-        # torque distribution (L > 6: remove internal forces) and gravity compensation
-        G = J.T @ J
-        w_ff = -w if pd.hand_feedforward else np.zeros(6)
-        if pd.gravity_compensation:
-            w_ff[2] += self.weight
-        if pd.distribution == "projected":
-            tau = J @ np.linalg.solve(G, J.T @ tau + w_ff)
-        elif pd.gravity_compensation or pd.hand_feedforward:
-            tau = tau + J @ np.linalg.solve(G, w_ff)
-        peak = float(np.max(np.abs(tau)))
-        if peak > pd.torque_limit:
-            tau = tau * (pd.torque_limit / peak)
-            r.saturated = True
+        tau, r.saturated = self.joint_torques(q_des, frame.angles, J, w, dt)
         r.mode, r.torques = MODE_RUN, tau
         return r
 

@@ -5,8 +5,10 @@ Table I: l2 = 0..30 mm (step 5), β = 0..30° (10), γ = 0..30° (10), ld = 20..
 coarser grid the scene names).  "The total length of each leg remains constant, which
 is ensured by keeping l2 + l3 constant.  Baseline geometric characteristics were taken
 from Ergin's device": ``leg_length="constant_sum"`` sets l3 = (l2 + l3 of the baseline
-preset) − l2; ``"horizontal_crank"`` applies the mechanisms package's rule to every
-design instead.
+preset) − l2; ``"reading"`` applies the l3 rule of the mechanisms' reading of Fig. 2 to
+every design instead.  Under the presets' (tangential) reading both give l3 =
+LEG_LENGTH − l2, so the sweep's Hunt-type (l2 = β = γ = 0, ld = 20 mm) is the ``hunt``
+preset (:mod:`distkin.mechanisms.presets`).
 
 Designs are evaluated with :mod:`.rss_jacobian` (plain numpy from the leg geometry), so
 a sweep needs no symbolic derivation per design.  :func:`sweep_designs` runs Stocco's
@@ -51,7 +53,10 @@ class DesignSpace:
         over = dict(params)
         if self.leg_length == "constant_sum":
             b = preset(self.baseline)
-            over["l3"] = b.l2 + b.l3 - over.get("l2", preset(self.base).l2)
+            l3 = b.l2 + b.l3 - over.get("l2", preset(self.base).l2)
+            rule = preset(self.base, **over)
+            if abs(rule.l3 - l3) > 1e-12:       # the reading's rule already keeps the sum
+                over["l3"] = l3
         return preset(self.base, **over)
 
 

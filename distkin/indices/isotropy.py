@@ -3,12 +3,41 @@ Stocco's culling algorithm for design sweeps (Kühne et al., Sec. II-C-2, III-B-
 
 The Jacobian J (L × 6, q̇ = J·(v, ω)) mixes units; following Stocco et al. [2] it is
 normalised with the scaling matrix ``ST = diag(15 N, 15 N, 15 N, 1 N·m, 1 N·m, 1 N·m)``
-(the intended wrench magnitudes of Ergin's device, Sec. III-B-2).  Our reading: the
-scaled matrix is the normalised wrench map ``W = ST⁻¹ Jᵀ`` (6 × L), which takes actuator
-torques in N·m to wrenches in units of the intended wrench, so its singular values are
-dimensionless.  ``κ = σmin/σmax`` of W (eq. (4)); over a workspace,
-``GII = min σmin / max σmax`` [1] (Table IV prints GII, σmin, σmax this way:
-0.0127 / 20.0052 = 0.0006).
+(the intended wrench magnitudes of Ergin's device, Sec. III-B-2).  ``κ = σmin/σmax``
+(eq. (4)); over a workspace, ``GII = min σmin / max σmax`` [1] (Table IV prints GII,
+σmin, σmax this way: 0.0127 / 20.0052 = 0.0006).
+
+Which matrix ST scales is not printed; the readings (:data:`SCALING_READINGS`) and
+our choice:
+
+``"wrench"`` (chosen)
+    ``W = ST⁻¹ Jᵀ`` (6 × L): actuator torques in N·m to the wrench in units of the
+    intended wrench (eq. (3) normalised on the task side, the only side the paper
+    names: "ST ... contains the desired magnitude of the end effector wrench").
+    Stocco [2] pre- and post-multiplies the design matrix; with the actuator side
+    left in N·m (the paper gives no actuator scaling) this is the literal reading.
+``"wrench_nominal"``
+    ``ST⁻¹ Jᵀ τ_nom``: Stocco's two-sided normalisation with the actuator side at the
+    nominal torque 2.5 N·m (σ × 2.5, the same GII).
+``"unscaled"``
+    ``Jᵀ`` (no scaling; 1/m and 1 mixed).
+``"task_multiplied"``
+    ``ST Jᵀ`` (ST applied the other way round).
+``"inverse"``
+    ``J#ᵀ ST = pinv(W)``: actuator torque per unit normalised wrench (the direction of
+    τ = J#ᵀ f); its singular values are the reciprocals of W's, so σmin = 1/σmax(W),
+    σmax = 1/σmin(W) pose by pose and the same GII.
+``"jx"``
+    ``ST⁻¹ Jxᵀ``: the direct-kinematics matrix of eq. (1) alone ("singular values of Jx
+    or J", Sec. II-C-1; rows are the unit Plücker lines of the distal links).
+
+A length unit does not change any of them when the units are consistent (J in rad/mm
+with ST in N and N·mm gives W exactly).  The study reports σmin and σmax of every
+reading beside Table IV.  Measured on the presets (Table II grid, ±20°;
+``docs/fig2_readings.md``): W gives σmax 0.06-0.16× the paper's; the unscaled Jᵀ
+comes closest to the printed σmax (0.7-2×) but then σmin is 0.2-0.8× and the paper
+states that ST was applied; no reading matches σmin and σmax together (they also
+depend on the unprinted geometry).  We keep W by its definition, not by a match.
 
 References
 ----------
@@ -27,10 +56,21 @@ import numpy as np
 from ..errors import InputError
 
 __all__ = ["ST_DEFAULT", "scaled_singular_values", "condition_number", "gii",
-           "CullingResult", "culling_sweep", "brute_force_sweep"]
+           "CullingResult", "culling_sweep", "brute_force_sweep", "SCALING_READINGS",
+           "reading_singular_values"]
 
 #: the scaling matrix of Sec. III-B-2, diagonal, (N, N, N, N·m, N·m, N·m)
 ST_DEFAULT = (15.0, 15.0, 15.0, 1.0, 1.0, 1.0)
+
+#: the readings of Stocco's scaling tried (module docstring); "wrench" is ours
+SCALING_READINGS = {
+    "wrench": "ST⁻¹Jᵀ (chosen)",
+    "wrench_nominal": "ST⁻¹Jᵀ·τnom (actuator side at 2.5 N·m)",
+    "unscaled": "Jᵀ",
+    "task_multiplied": "ST·Jᵀ",
+    "inverse": "J#ᵀ·ST = pinv(ST⁻¹Jᵀ)",
+    "jx": "ST⁻¹Jxᵀ (Jx of eq. (1) only)",
+}
 
 
 def _scaled(J, ST):
@@ -61,6 +101,40 @@ def scaled_singular_values(J, ST=ST_DEFAULT):
     """
     s = np.linalg.svd(_scaled(J, ST), compute_uv=False)
     return s[..., -1], s[..., 0]
+
+
+def reading_singular_values(J, ST=ST_DEFAULT, *, Jq=None, tau_nominal: float = 2.5):
+    """σmin and σmax per pose of every reading of :data:`SCALING_READINGS`.
+
+    Parameters
+    ----------
+    J : ndarray (N, L, 6)
+    ST : 6 floats
+    Jq : ndarray (N, L), optional
+        The diagonal of eq. (1)'s Jq (m), for the ``jx`` reading (Jx = Jq J, row-wise);
+        without it ``jx`` is left out.
+    tau_nominal : float
+        Actuator torque of the ``wrench_nominal`` reading (N·m).
+
+    Returns
+    -------
+    dict name -> (smin (N,), smax (N,))
+    """
+    J = np.asarray(J, dtype=float)
+    st = np.asarray(ST, dtype=float)
+    smin, smax = scaled_singular_values(J, ST)
+    out = {"wrench": (smin, smax),
+           "wrench_nominal": (smin * tau_nominal, smax * tau_nominal)}
+    with np.errstate(divide="ignore"):
+        out["inverse"] = (1.0 / smax, 1.0 / smin)
+    s = np.linalg.svd(np.swapaxes(J, -1, -2), compute_uv=False)
+    out["unscaled"] = (s[..., -1], s[..., 0])
+    s = np.linalg.svd(np.swapaxes(J, -1, -2) * st[:, None], compute_uv=False)
+    out["task_multiplied"] = (s[..., -1], s[..., 0])
+    if Jq is not None:
+        Jx = J * np.asarray(Jq, dtype=float)[..., None]
+        out["jx"] = scaled_singular_values(Jx, ST)
+    return out
 
 
 def condition_number(J, ST=ST_DEFAULT):

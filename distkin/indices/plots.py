@@ -5,7 +5,11 @@
 * :func:`plot_plane` (Fig. 6): the worst case over all orientations of each output
   capability at every (x, y) of the plane z ≈ 0.30 m;
 * :func:`plot_force_polytope` (Fig. 7): the force polytope at zero torque at one pose
-  with the sphere of the worst-case force, tangent to its nearest facet.
+  with the sphere of the worst-case force, tangent to its nearest facet;
+* :func:`plot_table3_bars`, :func:`plot_table4_bars`: Tables III and IV, ours beside the
+  paper's (log scale);
+* :func:`plot_design_sweep`: the GII of the Table I sweep over l2 × β, one panel per
+  (γ, ld), with the paper's design and our optimum marked.
 """
 
 from __future__ import annotations
@@ -14,7 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["plot_workspace", "plot_plane", "plot_force_polytope", "force_slice_polytope"]
+__all__ = ["plot_workspace", "plot_plane", "plot_force_polytope", "force_slice_polytope",
+           "plot_table3_bars", "plot_table4_bars", "plot_design_sweep"]
 
 
 def _plt():
@@ -124,5 +129,117 @@ def plot_force_polytope(path, label, Gw, limit, pose):
                  f"{np.degrees(p[5]):.0f})°", fontsize=9)
     out = Path(str(path) + "_fig7_force_polytope.png")
     fig.savefig(out, dpi=110, bbox_inches="tight")
+    plt.close(fig)
+    return out
+
+
+def _pos(x):
+    return np.nan if x is None or not np.isfinite(x) or x <= 0 else x
+
+
+def plot_table3_bars(path, summaries):
+    """Table III as bars: per row, every device's min and max, ours beside the paper's
+    (log scale; a missing bar is 0 or not in the paper)."""
+    from .study import CAPABILITIES, SENSITIVITIES
+    plt = _plt()
+    rows = [(c[0], c[1], c[2]) for c in CAPABILITIES] + [(s[0], s[1], s[2])
+                                                         for s in SENSITIVITIES]
+    fig, axes = plt.subplots(2, 5, figsize=(22, 8))
+    labels = [s["label"] for s in summaries]
+    x = np.arange(len(labels))
+    w = 0.2
+    for ax, (q, title, unit) in zip(axes.ravel(), rows):
+        for k, (key, pkey, hatch, col) in enumerate(
+                (("min", "paper_min", "", "tab:blue"), ("min", None, "", "tab:orange"),
+                 ("max", "paper_max", "//", "tab:blue"), ("max", None, "//", "tab:orange"))):
+            if pkey is None:
+                vals = [_pos(s["table"][q].get(f"paper_{key}")) for s in summaries]
+                lab = f"paper {key}"
+            else:
+                vals = [_pos(s["table"][q][key]) for s in summaries]
+                lab = f"ours {key}"
+            ax.bar(x + (k - 1.5) * w, vals, w, color=col, hatch=hatch, edgecolor="k",
+                   linewidth=0.3, label=lab)
+        ax.set_yscale("log")
+        ax.set_xticks(x)
+        ax.set_xticklabels(labels, rotation=30, ha="right", fontsize=8)
+        ax.set_title(f"{title} [{unit}]", fontsize=9)
+    axes[0, 0].legend(fontsize=7)
+    fig.suptitle("Table III: ours (blue) vs Kühne et al. (orange); plain = min, hatched = max")
+    fig.tight_layout()
+    out = Path(str(path) + "_table3_bars.png")
+    fig.savefig(out, dpi=100)
+    plt.close(fig)
+    return out
+
+
+def plot_table4_bars(path, summaries):
+    """Table IV as bars: GII, σmin and σmax of ST⁻¹Jᵀ, ours beside the paper's."""
+    plt = _plt()
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4))
+    labels = [s["label"] for s in summaries]
+    x = np.arange(len(labels))
+    for ax, (key, title) in zip(axes, (("gii", "GII"), ("sigma_min", "σmin"),
+                                       ("sigma_max", "σmax"))):
+        ours = [_pos(s["isotropy"][key]) for s in summaries]
+        paper = [_pos(s["isotropy"].get(f"paper_{key}")) for s in summaries]
+        ax.bar(x - 0.2, ours, 0.4, color="tab:blue", label="ours")
+        ax.bar(x + 0.2, paper, 0.4, color="tab:orange", label="paper")
+        ax.set_yscale("log")
+        ax.set_xticks(x)
+        ax.set_xticklabels(labels, rotation=30, ha="right", fontsize=8)
+        ax.set_title(title)
+    axes[0].legend()
+    fig.suptitle("Table IV (±20°): ours vs Kühne et al.")
+    fig.tight_layout()
+    out = Path(str(path) + "_table4_bars.png")
+    fig.savefig(out, dpi=100)
+    plt.close(fig)
+    return out
+
+
+def plot_design_sweep(path, space, designs, gii_all, best, paper):
+    """GII over l2 × β, one panel per (γ, ld); the paper's design (Table I) and our
+    optimum marked."""
+    plt = _plt()
+    vals = dict(space.values)
+    l2s, betas = vals.get("l2", (0.0,)), vals.get("beta", (0.0,))
+    gammas, lds = vals.get("gamma", (0.0,)), vals.get("ld", (0.02,))
+    idx = {tuple(round(d.get(k, 0.0), 12) for k in ("l2", "beta", "gamma", "ld")): i
+           for i, d in enumerate(designs)}
+    g = np.asarray(gii_all, dtype=float)
+    vmax = float(np.nanmax(g)) if len(g) else 1.0
+    fig, axes = plt.subplots(len(gammas), len(lds), figsize=(3.4 * len(lds), 3.0 * len(gammas)),
+                             squeeze=False, constrained_layout=True)
+    from matplotlib import colors
+    norm = colors.LogNorm(vmin=max(vmax * 1e-3, float(np.nanmin(g[g > 0])) if np.any(g > 0)
+                                   else 1e-6), vmax=vmax)
+    bd = designs[best]
+    for a, gm in enumerate(gammas):
+        for b, ld in enumerate(lds):
+            ax = axes[a, b]
+            M = np.full((len(betas), len(l2s)), np.nan)
+            for i, l2 in enumerate(l2s):
+                for j, be in enumerate(betas):
+                    k = idx.get(tuple(round(v, 12) for v in (l2, be, gm, ld)))
+                    if k is not None and g[k] > 0:
+                        M[j, i] = g[k]
+            m = ax.pcolormesh(np.asarray(l2s) * 1e3, np.degrees(betas), M, shading="nearest",
+                              norm=norm, cmap="viridis")
+            if abs(gm - paper["gamma"]) < 1e-12 and abs(ld - paper["ld"]) < 1e-12:
+                ax.plot(paper["l2"] * 1e3, np.degrees(paper["beta"]), "r*", ms=14,
+                        label="paper (Table I)")
+            if abs(gm - bd.get("gamma", 0)) < 1e-12 and abs(ld - bd.get("ld", 0.02)) < 1e-12:
+                ax.plot(bd.get("l2", 0) * 1e3, np.degrees(bd.get("beta", 0)), "wo", ms=9,
+                        mfc="none", mew=2, label="our optimum")
+            ax.set_title(f"γ = {np.degrees(gm):.0f}°, ld = {ld * 1e3:.0f} mm", fontsize=8)
+            ax.set_xlabel("l2 [mm]", fontsize=8)
+            ax.set_ylabel("β [°]", fontsize=8)
+            if ax.get_legend_handles_labels()[0]:
+                ax.legend(fontsize=6, loc="upper right")
+    fig.colorbar(m, ax=axes.ravel().tolist(), label="GII")
+    fig.suptitle("Table I design sweep: GII over l2 × β per (γ, ld)")
+    out = Path(str(path) + "_design_gii.png")
+    fig.savefig(out, dpi=90, bbox_inches="tight")
     plt.close(fig)
     return out

@@ -16,6 +16,9 @@
     actuators = { nominal_torque = 2.5, stall_torque = 34.2, velocity = 51 }  # SI
     scaling = [15, 15, 15, 1, 1, 1]              # ST (N, N, N, N·m, N·m, N·m)
     thresholds = { velocity = 1.0, acceleration = 9.81, force = 0.0 }          # SI
+    sensitivity = "slice"                        # the paper's eqs. (14)/(16) | "projection" (Cardou)
+    certify = true                               # Fig. 3: certify the 150 mm cube at zero rotation
+    certify_width = 18.75                        # its resolution (scene length unit)
     chunk_positions = 32                         # positions per resumable chunk
     workers = 2                                  # local processes (1: in process)
     scheduler = "tcp://host:8786"                # optional: a dask.distributed cluster
@@ -65,7 +68,7 @@ __all__ = ["PerformanceQuery", "DesignSweepQuery", "CLI_OVERRIDES", "add_sweep_p
 CLI_OVERRIDES: dict = {}
 
 _RSS_KEYS = ("legs", "l0", "l1", "l2", "l3", "lp", "ld", "z0", "beta", "gamma", "mass",
-             "inertia")
+             "inertia", "layout")
 _DEG = math.pi / 180
 
 
@@ -155,6 +158,9 @@ class _PerfParams:
     store: str | None
     route: str
     plot_device: str | None
+    sensitivity: str = "slice"
+    certify: bool = False
+    certify_width: float = 0.01875
 
 
 def _parse_device(d, mechanism, units, field):
@@ -193,7 +199,7 @@ class PerformanceQuery:
     def parse(table, mechanism, units, field):
         check_keys(table, {"type", "devices", "grid", "actuators", "scaling", "thresholds",
                            "chunk_positions", "workers", "scheduler", "store", "route",
-                           "plot_device"}, field)
+                           "plot_device", "sensitivity", "certify", "certify_width"}, field)
         if "devices" in table:
             raw = table["devices"]
             if not isinstance(raw, list) or not raw:
@@ -228,8 +234,20 @@ class PerformanceQuery:
         if pd is not None and pd not in labels:
             raise InputError(f"expected one of the device labels {labels}, got {pd!r}",
                              field=f"{field}.plot_device")
+        from .sensitivity import SENSITIVITY_MODES
+        sens = choice(table.get("sensitivity", "slice"), f"{field}.sensitivity",
+                      SENSITIVITY_MODES)
+        cert = table.get("certify", False)
+        if not isinstance(cert, bool):
+            raise InputError(f"expected true or false, got {cert!r}", field=f"{field}.certify")
+        cw = _length(table["certify_width"], units, f"{field}.certify_width") \
+            if "certify_width" in table else 0.01875
+        if not cw > 0:
+            raise InputError(f"expected a positive width, got {table.get('certify_width')!r}",
+                             field=f"{field}.certify_width")
         return _PerfParams(devices, table.get("grid"), units, tuple(act.items()), sc,
-                           tuple(thr.items()), cp, workers, sched, store, route, pd)
+                           tuple(thr.items()), cp, workers, sched, store, route, pd, sens,
+                           cert, cw)
 
     @staticmethod
     def run(p, scene, ctx):
@@ -289,7 +307,7 @@ class DesignSweepQuery:
             vals = axis_values(lo, hi, st, f"{field}.{name}") if hi > lo else np.array([lo])
             values.append((name, tuple(float(v) for v in vals)))
         leg = choice(table.get("leg_length", "constant_sum"), f"{field}.leg_length",
-                     ("constant_sum", "horizontal_crank"))
+                     ("constant_sum", "reading"))
         space = DesignSpace(base, tuple(values), leg, baseline)
         g = as_table(table.get("grid", {}), f"{field}.grid")
         rot = _angle(g["rotation"], units, f"{field}.grid.rotation") if "rotation" in g \

@@ -58,7 +58,7 @@ def _solve(mech, X, g, branch):
     return q, margin, Rp, P
 
 
-def ik_jacobian(mech, poses):
+def ik_jacobian(mech, poses, *, return_jq: bool = False):
     """IK and Jacobian of ``mech`` at ``poses`` without generated kernels.
 
     Parameters
@@ -74,6 +74,9 @@ def ik_jacobian(mech, poses):
         The leg closes (reach margin >= 0).
     J : ndarray (N, L, 6)
         q̇ = J·(v, ω); rows of legs that do not close are meaningless.
+    jq : ndarray (N, L), only with ``return_jq``
+        The diagonal of eq. (1)'s Jq normalised as the kernels' (``mech.jq_jx``): m,
+        up to sign (|Jq_ii| = l1 |sin| of the angle between crank and distal link).
     """
     X = np.atleast_2d(np.asarray(poses, dtype=float))
     g = mech.geometry()
@@ -91,4 +94,6 @@ def ik_jacobian(mech, poses):
     Jx = np.concatenate([s, np.cross(Rp, s)], axis=-1)          # (N, L, 6)
     with np.errstate(divide="ignore", invalid="ignore"):
         J = Jx / jq[..., None]
+    if return_jq:
+        return q, margin >= 0.0, J, jq / mech.l3
     return q, margin >= 0.0, J

@@ -1,16 +1,23 @@
-"""Maximum sensitivities (Cardou et al. [1]; Kühne et al., Sec. II-C-4, eq. (16)).
+"""Maximum sensitivities (Kühne et al., Sec. II-C-4, eqs. (14), (16); Cardou et al. [1]).
 
 With the actuator displacements normalised to ``||δq||∞ <= 1 rad`` the maximum
 point-displacement and rotation sensitivities are the farthest points of the
 translational and rotational parts of ``{J# δq}`` (eq. (5)); with actuator torques
 normalised to ``||τ||∞ <= 1 N·m`` the force and torque sensitivities are the farthest
-points of the parts of ``{Jᵀ τ}`` (eq. (6)).  The farthest point of a zonotope (or of
-its projection) is a box vertex, so the 2^L vertices give it exactly
-(:func:`distkin.indices.best_case_output`).
+points of the parts of ``{Jᵀ τ}`` (eq. (6)).  "Part" has two meanings:
 
-``mode="projection"`` is Cardou's definition (the other part unconstrained);
-``mode="slice"`` constrains the other part to zero (force at zero torque, as the
-paper's slicing step), by the C(L,3)·2^(L−3) vertex candidates of DESIGN.md §6.
+``mode="slice"`` (the default: the paper's definition)
+    the paper's polytope algorithm: slice the polytope (eq. (14): the other part is
+    zero, e.g. translation at zero rotation), then the farthest point, eq. (16).  Every
+    vertex of the slice has at least L − 3 actuators at a limit; the
+    C(L, 3)·2^(L−3) candidates are enumerated exactly by the compiled kernel of
+    :mod:`.slice_farthest` (for L = 6 the twist slices are the slab polytopes
+    ``{u : |J_S u|∞ <= 1}``, computed from J so that they stay accurate next to a
+    singularity).
+``mode="projection"`` (Cardou et al. [1])
+    the farthest point of the projection (the other part unconstrained), a box vertex
+    of the zonotope (the 2^L vertices, :func:`distkin.indices.best_case_output`).  It is
+    never smaller than the slice and about twice the paper's values on the presets.
 
 .. [1] P. Cardou, S. Bouchard, C. Gosselin, "Kinematic-sensitivity indices for
    dimensionally nonhomogeneous Jacobian matrices", IEEE Trans. Robotics 26(1), 2010.
@@ -21,23 +28,28 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
+from .slice_farthest import slab_farthest_unit, slice_farthest_unit
 from .zonotope import zonotope_best
 
-__all__ = ["max_sensitivities", "SENSITIVITY_UNITS"]
+__all__ = ["max_sensitivities", "SENSITIVITY_UNITS", "SENSITIVITY_MODES"]
+
+#: ``slice``: the paper's eqs. (14), (16); ``projection``: Cardou's definition
+SENSITIVITY_MODES = ("slice", "projection")
 
 #: name -> unit of each maximum sensitivity
 SENSITIVITY_UNITS = {"translational": "m/rad", "rotational": "rad/rad",
                      "force": "N/(N·m)", "torque": "(N·m)/(N·m)"}
 
 
-def max_sensitivities(J, mode: str = "projection", *, twist=None):
-    """Cardou's four maximum sensitivities at each pose.
+def max_sensitivities(J, mode: str = "slice", *, twist=None):
+    """The four maximum sensitivities at each pose (module docstring).
 
     Parameters
     ----------
     J : ndarray (N, L, 6)
         Jacobian, q̇ = J·(v, ω).
-    mode : {"projection", "slice"}
+    mode : {"slice", "projection"}
+        The paper's definition (slice, then farthest point) or Cardou's (projection).
     twist : ndarray (N, 6, L), optional
         ``pinv(J)`` if already computed.
 
@@ -47,8 +59,8 @@ def max_sensitivities(J, mode: str = "projection", *, twist=None):
         ``translational`` [m/rad], ``rotational`` [rad/rad], ``force`` [N/(N·m)],
         ``torque`` [(N·m)/(N·m)].  Exact up to float64 rounding (vertex enumeration).
     """
-    if mode not in ("projection", "slice"):
-        raise InputError(f"expected mode 'projection' or 'slice', got {mode!r}", field="mode")
+    if mode not in SENSITIVITY_MODES:
+        raise InputError(f"expected mode 'slice' or 'projection', got {mode!r}", field="mode")
     J = np.asarray(J, dtype=float)
     if J.ndim != 3 or J.shape[2] != 6:
         raise InputError(f"expected J of shape (N, L, 6), got {J.shape}", field="J")
@@ -62,6 +74,9 @@ def max_sensitivities(J, mode: str = "projection", *, twist=None):
         if mode == "projection":
             out[name] = zonotope_best(np.ascontiguousarray(G[:, list(rows), :]), c, r,
                                       [(0, 1, 2)])[0]
+        elif G is Gt and L == 6:
+            # J# = J⁻¹: the slice is {u : |J_S u|∞ <= 1}, computed from J itself
+            out[name] = slab_farthest_unit(J[:, :, list(rows)])
         else:
-            out[name] = zonotope_best(G, c, r, [rows])[0]
+            out[name] = slice_farthest_unit(G, rows)
     return out

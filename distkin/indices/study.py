@@ -3,8 +3,11 @@ grid, in resumable chunks.
 
 For every pose of a :class:`~distkin.indices.workspace.PoseGrid`: inverse kinematics,
 the Jacobian, the six worst-case output capabilities of eqs. (5)-(7) with the
-zero-torque / zero-force slices (zonotope kernel), Cardou's four maximum sensitivities
-and the scaled singular values of the isotropy index.  A chunk covers whole positions
+zero-torque / zero-force slices (zonotope kernel), the true velocity worst cases of a
+redundant device (:mod:`.velocity_set`), the four maximum sensitivities (the paper's
+slice, eqs. (14)/(16), or Cardou's projection: :mod:`.sensitivity`), the scaled
+singular values of the isotropy index under every reading of the scaling
+(:mod:`.isotropy`) and the smallest transmission |Jq_ii|/l1 of the legs.  A chunk covers whole positions
 (all orientations of each), and reduces its poses to per-position minima and maxima, so
 a sweep of 3 million poses keeps a few hundred kB.
 
@@ -21,12 +24,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from .capability import output_generators
-from .isotropy import ST_DEFAULT, gii, scaled_singular_values
-from .zonotope import _facets, _ratio_min, zonotope_best, zonotope_worst
+from .isotropy import ST_DEFAULT, gii, reading_singular_values
+from .sensitivity import max_sensitivities
+from .velocity_set import true_velocity_worst
+from .zonotope import _facets, _ratio_min, zonotope_worst
 
-__all__ = ["CAPABILITIES", "SENSITIVITIES", "QUANTITIES", "ACTUATORS", "PAPER_TABLE3",
-           "PAPER_TABLE4", "evaluate_poses", "study_chunk", "Device", "run_device",
-           "summarise"]
+__all__ = ["CAPABILITIES", "SENSITIVITIES", "TRUE_VELOCITIES", "QUANTITIES", "ACTUATORS",
+           "PAPER_TABLE3", "PAPER_TABLE4", "SIGMA_READINGS", "evaluate_poses", "study_chunk",
+           "Device", "run_device", "summarise"]
 
 #: name, label (Table III), unit, generator, actuator limit, slice
 CAPABILITIES = (
@@ -38,20 +43,31 @@ CAPABILITIES = (
     ("angular_acceleration", "Angular acceleration", "rad/s²", "acceleration",
      "stall_torque", (3, 4, 5)),
 )
-#: name, label, unit, generator, rows (Cardou: projection, unit actuator limits)
+#: name, label, unit, generator, rows (unit actuator limits; slice or projection)
 SENSITIVITIES = (
     ("sens_translational", "Max. translational sensitivity", "m/rad", "twist", (0, 1, 2)),
     ("sens_rotational", "Max. rotational sensitivity", "rad/rad", "twist", (3, 4, 5)),
     ("sens_force", "Max. force sensitivity", "N/(N·m)", "wrench", (0, 1, 2)),
     ("sens_torque", "Max. torque sensitivity", "(N·m)/(N·m)", "wrench", (3, 4, 5)),
 )
-QUANTITIES = tuple(c[0] for c in CAPABILITIES) + tuple(s[0] for s in SENSITIVITIES) + (
-    "sigma_min", "sigma_max")
+#: name, label, unit, slice: the true velocity set {ẋ : |J ẋ|∞ <= q̇max} (.velocity_set)
+TRUE_VELOCITIES = (
+    ("velocity_true", "Velocity, true set", "m/s", (0, 1, 2)),
+    ("angular_velocity_true", "Angular velocity, true set", "rad/s", (3, 4, 5)),
+)
+#: readings of the scaling whose σ need their own SVD (the others follow from W's)
+SIGMA_READINGS = ("unscaled", "task_multiplied", "jx")
+QUANTITIES = (tuple(c[0] for c in CAPABILITIES) + tuple(t[0] for t in TRUE_VELOCITIES)
+              + tuple(s[0] for s in SENSITIVITIES) + ("sigma_min", "sigma_max")
+              + tuple(f"sigma_{m}_{r}" for r in SIGMA_READINGS for m in ("min", "max"))
+              + ("transmission_min", "det_sign"))
 
 #: actuator figures of Sec. III-B-3 (N·m, N·m, rad/s)
 ACTUATORS = {"nominal_torque": 2.5, "stall_torque": 34.2, "velocity": 51.0}
 
 _ROWS = [c[0] for c in CAPABILITIES] + [s[0] for s in SENSITIVITIES]
+#: quantities whose worst pose (orientation index) each chunk keeps
+_ARGMIN = tuple(c[0] for c in CAPABILITIES) + tuple(t[0] for t in TRUE_VELOCITIES)
 _T3 = {  # Table III: min (max) of each row, in the order of _ROWS
     "ergin": [(0.00, 12.72), (0.00, 0.59), (2.78, 7.85), (67.99, 182.63), (0.00, 1023.37),
               (0.00, 26685.08), (0.16, 0.31), (4.56, 14.83), (11.96, 38.15), (0.36, 0.87)],
@@ -73,7 +89,8 @@ PAPER_TABLE4 = {"hunt": (0.0006, 0.0127, 20.0052), "octopod": (0.0080, 0.2230, 2
 
 
 # ----------------------------------------------------------------------- per pose
-def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="kernels"):
+def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="kernels",
+                   sensitivity="slice"):
     """Every index of the study at each pose.
 
     Parameters
@@ -88,36 +105,50 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         Scaling matrix diagonal (:mod:`.isotropy`).
     route : {"kernels", "numpy"}
         The generated kernels of the mechanism, or :mod:`.rss_jacobian` (no codegen).
+    sensitivity : {"slice", "projection"}
+        The paper's definition (eqs. (14), (16)) or Cardou's (:mod:`.sensitivity`).
 
     Returns
     -------
     ok : ndarray (N,) bool
         Every leg closes and the Jacobian is finite.
     values : dict name -> ndarray (ok.sum(),)
-        :data:`QUANTITIES`, in the units of :data:`CAPABILITIES` and
-        :data:`SENSITIVITIES`; ``sigma_min``/``sigma_max`` dimensionless.
+        :data:`QUANTITIES`, in the units of :data:`CAPABILITIES`,
+        :data:`TRUE_VELOCITIES` and :data:`SENSITIVITIES`; ``sigma_*`` dimensionless
+        (``sigma_min``/``sigma_max``: the chosen reading ST⁻¹Jᵀ; ``sigma_*_<reading>``
+        the others of :data:`SIGMA_READINGS`); ``transmission_min`` = min_i |Jq_ii|/l1;
+        ``det_sign`` the sign of det J (L = 6; 1 for L = 8).
     """
     poses = np.asarray(poses, dtype=float)
     if route == "numpy":
         from .rss_jacobian import ik_jacobian
-        _, valid, J = ik_jacobian(mech, poses)
+        _, valid, J, Jq = ik_jacobian(mech, poses, return_jq=True)
     else:
         _, valid = mech.inverse_kinematics(poses)
-        J = mech.jacobian(poses)
+        Jq, Jx = mech.jq_jx(poses)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            J = Jx / Jq[..., None]
     ok = valid.all(axis=1) & np.all(np.isfinite(J), axis=(1, 2))
-    J = J[ok]
-    n, L = len(J), mech.L
+    J, Jq = J[ok], Jq[ok]
+    n = len(J)
     M = np.diag(mech.cartesian_mass_matrix()) if hasattr(mech, "cartesian_mass_matrix") \
         else np.array([mech.mass] * 3 + [mech.inertia] * 3)
+    if not n:
+        return ok, {q: np.zeros(0) for q in QUANTITIES}
     gens = output_generators(J, mass=M)
-    out = _worst_cases(J, gens, M, actuators) if n else {c[0]: np.zeros(0) for c in CAPABILITIES}
-    c = np.zeros((n, L))
-    one = np.ones((n, L))
-    for name, _, _, gen, rows in SENSITIVITIES:
-        G = np.ascontiguousarray(gens[gen][:, list(rows), :])
-        out[name] = zonotope_best(G, c, one, [(0, 1, 2)])[0] if n else np.zeros(0)
-    smin, smax = scaled_singular_values(J, ST) if n else (np.zeros(0), np.zeros(0))
-    out["sigma_min"], out["sigma_max"] = smin, smax
+    out = _worst_cases(J, gens, M, actuators)
+    for name, _, _, keep in TRUE_VELOCITIES:
+        out[name] = true_velocity_worst(J, actuators["velocity"], keep)
+    sens = max_sensitivities(J, sensitivity, twist=gens["twist"])
+    for name in SENSITIVITIES:
+        out[name[0]] = sens[name[0].removeprefix("sens_")]
+    sig = reading_singular_values(J, ST, Jq=Jq)
+    out["sigma_min"], out["sigma_max"] = sig["wrench"]
+    for r in SIGMA_READINGS:
+        out[f"sigma_min_{r}"], out[f"sigma_max_{r}"] = sig[r]
+    out["transmission_min"] = np.abs(Jq).min(axis=1) / mech.l1
+    # L = 6: a sign change of det J between reachable poses encloses a singularity
+    out["det_sign"] = np.sign(np.linalg.det(J)) if mech.L == 6 else np.ones(n)
     return ok, out
 
 
@@ -158,8 +189,8 @@ def study_chunk(spec: dict) -> dict:
     reduced separately), ``route``, ``batch`` (poses per evaluation).
 
     Returns per-position arrays: ``{q}_min``, ``{q}_max`` (and ``_in`` variants over the
-    inner orientations) for every quantity, ``n_ok``, ``n_ok_in``, ``force_argmin``
-    (orientation index of the worst force).  Positions without a reachable
+    inner orientations) for every quantity, ``n_ok``, ``n_ok_in``, ``{q}_argmin``
+    (orientation index of the worst case) for the capabilities.  Positions without a reachable
     orientation hold +inf (min) / -inf (max).
     """
     grid, mech = spec["grid"], spec["mech"]
@@ -178,12 +209,14 @@ def study_chunk(spec: dict) -> dict:
             res[q + suf] = np.full(npos, fill)
     res["n_ok"] = np.zeros(npos, np.int64)
     res["n_ok_in"] = np.zeros(npos, np.int64)
-    res["force_argmin"] = np.full(npos, -1, np.int64)
+    for q in _ARGMIN:
+        res[f"{q}_argmin"] = np.full(npos, -1, np.int64)
     for a in range(lo, hi, per):
         b = min(hi, a + per)
         poses = grid.poses(np.arange(a, b))
         ok, vals = evaluate_poses(mech, poses, actuators=spec["actuators"], ST=spec["ST"],
-                                  route=spec.get("route", "kernels"))
+                                  route=spec.get("route", "kernels"),
+                                  sensitivity=spec.get("sensitivity", "slice"))
         okm = ok.reshape(b - a, no)
         sl = slice(a - lo, b - lo)
         res["n_ok"][sl] = okm.sum(axis=1)
@@ -195,8 +228,8 @@ def study_chunk(spec: dict) -> dict:
             for suf, m in (("", okm), ("_in", okm & in_mask)):
                 res[f"{q}_min{suf}"][sl] = np.where(m, V, np.inf).min(axis=1)
                 res[f"{q}_max{suf}"][sl] = np.where(m, V, -np.inf).max(axis=1)
-            if q == "force":
-                res["force_argmin"][sl] = np.where(okm, V, np.inf).argmin(axis=1)
+            if q in _ARGMIN:
+                res[f"{q}_argmin"][sl] = np.where(okm, V, np.inf).argmin(axis=1)
     return res
 
 
@@ -215,7 +248,7 @@ class Device:
 
 def run_device(dev: Device, *, store, executor=None, chunk_positions: int = 64,
                actuators=ACTUATORS, ST=ST_DEFAULT, route="kernels", progress=True,
-               batch: int = 20000):
+               batch: int = 20000, sensitivity: str = "slice"):
     """Sweep one device over its grid in resumable chunks; returns the per-position
     arrays (concatenated) and the seconds the run took.  Chunks live in
     ``store/<key of the sweep's definition>/``, so a changed grid, mechanism or limit
@@ -230,10 +263,11 @@ def run_device(dev: Device, *, store, executor=None, chunk_positions: int = 64,
         specs.append({"mech": dev.mech, "grid": grid, "lo": a,
                       "hi": min(grid.n_positions, a + chunk_positions),
                       "actuators": dict(actuators), "ST": tuple(ST), "inner": dev.inner,
-                      "route": route, "batch": batch})
+                      "route": route, "batch": batch, "sensitivity": sensitivity})
     definition = {"kind": "study", "mech": repr(dev.mech), "grid": grid.as_dict(),
                   "actuators": dict(actuators), "ST": list(ST), "inner": dev.inner,
-                  "chunk_positions": chunk_positions, "version": 1}
+                  "chunk_positions": chunk_positions, "sensitivity": sensitivity,
+                  "quantities": list(QUANTITIES), "version": 3}
     t0 = time.perf_counter()
     store = Path(store) / sweep_key(definition)       # a changed definition starts afresh
     chunks = run_chunks(study_chunk, specs, store, definition=definition,
@@ -249,28 +283,44 @@ def _finite(x):
     return x if math.isfinite(x) else None
 
 
+def _extreme(per, q, mask, kind):
+    if not mask.any():
+        return None
+    v = per[f"{q}_{kind}"][mask]
+    return _finite(v.min() if kind == "min" else v.max())
+
+
 def summarise(dev: Device, per: dict) -> dict:
-    """Table III/IV values of one device from its per-position arrays."""
+    """Table III/IV values of one device from its per-position arrays.
+
+    ``table`` holds the Table III rows (paper's values and ratios where the device has a
+    paper column) and the true-velocity rows; ``isotropy`` Table IV over the inner
+    orientations (±20°) with every reading of the scaling in ``readings``;
+    ``worst_poses`` the pose (m, rad) of each capability's worst case; ``diagnostics``
+    the smallest σmin, transmission |Jq|/l1 and whether every sensitivity is finite.
+    """
+    from .isotropy import SCALING_READINGS
     grid = dev.grid
     has = per["n_ok"] > 0
     has_in = per["n_ok_in"] > 0
     n_in = (grid.n_orientations if dev.inner is None else
             int(np.sum(np.all(np.abs(grid.orientations()) <= dev.inner + 1e-9, axis=1))))
     table = {}
-    units = {c[0]: c[2] for c in CAPABILITIES} | {s[0]: s[2] for s in SENSITIVITIES}
-    labels = {c[0]: c[1] for c in CAPABILITIES} | {s[0]: s[1] for s in SENSITIVITIES}
+    units = ({c[0]: c[2] for c in CAPABILITIES} | {s[0]: s[2] for s in SENSITIVITIES}
+             | {t[0]: t[2] for t in TRUE_VELOCITIES})
+    labels = ({c[0]: c[1] for c in CAPABILITIES} | {s[0]: s[1] for s in SENSITIVITIES}
+              | {t[0]: t[1] for t in TRUE_VELOCITIES})
     full = per["n_ok"] == grid.n_orientations          # positions reaching every orientation
-    for q in _ROWS:
-        lo = per[f"{q}_min"][has].min() if has.any() else np.nan
-        hi = per[f"{q}_max"][has].max() if has.any() else np.nan
-        lo_full = per[f"{q}_min"][full].min() if full.any() else np.nan
-        entry = {"label": labels[q], "unit": units[q], "min": _finite(lo), "max": _finite(hi),
-                 "min_full_positions": _finite(lo_full)}
+    for q in _ROWS + [t[0] for t in TRUE_VELOCITIES]:
+        lo, hi = _extreme(per, q, has, "min"), _extreme(per, q, has, "max")
+        entry = {"label": labels[q], "unit": units[q], "min": lo, "max": hi,
+                 "min_full_positions": _extreme(per, q, full, "min")}
+        col = q.removesuffix("_true")
         if dev.paper in PAPER_TABLE3:
-            pmin, pmax = PAPER_TABLE3[dev.paper][q]
+            pmin, pmax = PAPER_TABLE3[dev.paper][col]
             entry.update(paper_min=pmin, paper_max=pmax,
-                         ratio_min=(float(lo) / pmin if pmin else None),
-                         ratio_max=(float(hi) / pmax if pmax else None))
+                         ratio_min=(lo / pmin if pmin and lo is not None else None),
+                         ratio_max=(hi / pmax if pmax and hi is not None else None))
         table[q] = entry
     g_full = gii(per["sigma_min_min"][has], per["sigma_max_max"][has])
     g_in = gii(per["sigma_min_min_in"][has_in], per["sigma_max_max_in"][has_in])
@@ -279,16 +329,41 @@ def summarise(dev: Device, per: dict) -> dict:
            math.degrees(max(abs(v) for v in grid.rx)),
            "gii_full_range": g_full[0], "sigma_min_full_range": g_full[1],
            "sigma_max_full_range": g_full[2]}
+    readings = {}
+    for r in SCALING_READINGS:
+        if r == "wrench":
+            lo, hi = g_in[1], g_in[2]
+        elif r == "wrench_nominal":
+            lo, hi = 2.5 * g_in[1], 2.5 * g_in[2]
+        elif r == "inverse":
+            lo = 1 / g_in[2] if g_in[2] > 0 else 0.0
+            hi = 1 / g_in[1] if g_in[1] > 0 else math.inf
+        else:
+            lo = float(per[f"sigma_min_{r}_min_in"][has_in].min()) if has_in.any() else 0.0
+            hi = float(per[f"sigma_max_{r}_max_in"][has_in].max()) if has_in.any() else 0.0
+        readings[r] = {"gii": lo / hi if hi > 0 else 0.0, "sigma_min": lo, "sigma_max": hi}
+    iso["readings"] = readings
     if dev.paper in PAPER_TABLE4:
         pg, ps, pS = PAPER_TABLE4[dev.paper]
         iso.update(paper_gii=pg, paper_sigma_min=ps, paper_sigma_max=pS,
                    ratio_gii=iso["gii"] / pg, ratio_sigma_min=iso["sigma_min"] / ps,
                    ratio_sigma_max=iso["sigma_max"] / pS)
-    # worst force pose
-    fmin = np.where(has, per["force_min"], np.inf)
-    ip = int(np.argmin(fmin))
-    io = int(per["force_argmin"][ip])
-    worst_pose = np.r_[grid.positions([ip])[0], grid.orientations()[io]] if has.any() else None
+    worst = {}
+    for q in _ARGMIN:
+        v = np.where(has, per[f"{q}_min"], np.inf)
+        if has.any():
+            ip = int(np.argmin(v))
+            io = int(per[f"{q}_argmin"][ip])
+            worst[q] = np.r_[grid.positions([ip])[0], grid.orientations()[io]].tolist()
+    sens_max = [_extreme(per, s_[0], has, "max") for s_ in SENSITIVITIES]
+    diagnostics = {
+        "sigma_min": _extreme(per, "sigma_min", has, "min"),
+        "transmission_min": _extreme(per, "transmission_min", has, "min"),
+        "sensitivities_max": sens_max,
+        "sensitivities_finite": bool(all(v is not None and math.isfinite(v) for v in sens_max)),
+        "det_sign_changes": bool(has.any() and per["det_sign_min"][has].min() < 0
+                                 < per["det_sign_max"][has].max()),
+    }
     return {
         "label": dev.label, "mechanism": dev.mech.name, "L": dev.mech.L,
         "paper_column": dev.paper,
@@ -299,7 +374,7 @@ def summarise(dev: Device, per: dict) -> dict:
         "reachable_fraction": float(per["n_ok"].sum() / grid.size),
         "all_orientations_reachable": per["n_ok"] == grid.n_orientations,
         "inner_all_reachable": per["n_ok_in"] == n_in,
-        "table": table, "isotropy": iso,
-        "worst_force_pose": None if worst_pose is None else worst_pose.tolist(),
+        "table": table, "isotropy": iso, "diagnostics": diagnostics,
+        "worst_poses": worst,
+        "worst_force_pose": worst.get("force"),
     }
-

@@ -8,7 +8,11 @@ orientations (±20°, step 5°) = 2,985,984 poses, centred at z0 = 0.30 m.
 
 The dexterous workspace (eq. (17)) is the set of grid positions at which every
 orientation of the grid is reachable and the minimum velocity, acceleration and force
-hold; its volume counts one grid cell (step_x · step_y · step_z) per such position.
+hold.  Its volume counts the grid *cells* (step_x · step_y · step_z) whose eight corner
+positions are all dexterous: a grid of n³ positions spans (n − 1)³ cells, so the
+Table II cube (16³ positions, ±75 mm) is 150³ mm³ = 3375 cm³ when every position is
+dexterous.  The dual-cell count (each position weighted by its cell clipped to the grid
+box, the trapezoidal rule) is reported beside it.
 """
 
 from __future__ import annotations
@@ -108,6 +112,17 @@ def table2_grid(z0: float = 0.30, half: float = 0.075, step: float = 0.010,
     return PoseGrid(tuple(t), tuple(t), tuple(z0 + t), tuple(r), tuple(r), tuple(r))
 
 
+def _dual_weights(axis):
+    a = np.asarray(axis, dtype=float)
+    if len(a) < 2:
+        return np.zeros(len(a))
+    w = np.zeros(len(a))
+    d = np.diff(a)
+    w[:-1] += d / 2
+    w[1:] += d / 2
+    return w
+
+
 def dexterous_workspace(grid: PoseGrid, reachable_all, minima: dict, thresholds: dict):
     """Dexterous workspace of eq. (17) on a grid.
 
@@ -124,8 +139,10 @@ def dexterous_workspace(grid: PoseGrid, reachable_all, minima: dict, thresholds:
     Returns
     -------
     dict
-        ``mask`` (n_positions,) bool, ``count``, ``volume_m3`` (count · cell volume) and
-        ``fraction`` of the grid's positions.
+        ``mask`` (n_positions,) bool, ``count`` (positions), ``cells`` (grid cells with
+        all eight corners dexterous) and ``cells_total``, ``volume_m3`` (cells · cell
+        volume, m³), ``volume_nodes_m3`` (dual-cell weights, m³), ``grid_volume_m3``
+        and ``fraction`` of the grid's positions.
     """
     mask = np.asarray(reachable_all, bool).copy()
     for name, lim in thresholds.items():
@@ -134,7 +151,23 @@ def dexterous_workspace(grid: PoseGrid, reachable_all, minima: dict, thresholds:
                              f"{sorted(minima)}", field="thresholds")
         mask &= np.asarray(minima[name]) >= lim
     count = int(mask.sum())
-    return {"mask": mask, "count": count, "volume_m3": count * grid.cell_volume,
+    nx, ny, nz = len(grid.x), len(grid.y), len(grid.z)
+    m3 = mask.reshape(nx, ny, nz)                  # positions are in C order of (x, y, z)
+    if min(nx, ny, nz) >= 2:
+        cell = np.ones((nx - 1, ny - 1, nz - 1), bool)
+        for dx in (0, 1):
+            for dy in (0, 1):
+                for dz in (0, 1):
+                    cell &= m3[dx:nx - 1 + dx, dy:ny - 1 + dy, dz:nz - 1 + dz]
+        cells, total = int(cell.sum()), int(cell.size)
+    else:
+        cells, total = 0, 0
+    wx, wy, wz = _dual_weights(grid.x), _dual_weights(grid.y), _dual_weights(grid.z)
+    w = (wx[:, None, None] * wy[None, :, None] * wz[None, None, :]).ravel()
+    return {"mask": mask, "count": count, "cells": cells, "cells_total": total,
+            "volume_m3": cells * grid.cell_volume,
+            "volume_nodes_m3": float(np.sum(w[mask])),
+            "grid_volume_m3": total * grid.cell_volume,
             "fraction": count / max(1, grid.n_positions)}
 
 
@@ -144,8 +177,11 @@ CRITERIA = {"cube_m": 0.150, "rotation_rad": math.radians(30.0), "velocity": 1.0
 
 
 def design_criteria(L: int, grid: PoseGrid, reachable_all, minima: dict,
-                    gii_value: float | None = None, criteria=CRITERIA):
-    """Check the design criteria of Sec. II-A on the result of a sweep over ``grid``.
+                    gii_value: float | None = None, criteria=CRITERIA, *,
+                    sigma_min: float | None = None, transmission_min: float | None = None,
+                    det_sign_changes: bool = False, sensitivities_max=None,
+                    gii_others: dict | None = None, certified: str | None = None):
+    """Check the six design criteria of Sec. II-A on the result of a sweep over ``grid``.
 
     Parameters
     ----------
@@ -155,50 +191,98 @@ def design_criteria(L: int, grid: PoseGrid, reachable_all, minima: dict,
         The grid the sweep covered.
     reachable_all : ndarray (n_positions,) bool
     minima : dict
-        Worst cases over orientations per position: ``velocity`` [m/s],
-        ``acceleration`` [m/s²], ``force`` [N] (0 marks a singular pose).
+        Worst cases over orientations per position: ``velocity`` [m/s] (the true set
+        for L = 8 if given as ``velocity_true``), ``acceleration`` [m/s²], ``force`` [N].
     gii_value : float, optional
+        The device's GII.
+    sigma_min : float, optional
+        Smallest σmin(ST⁻¹Jᵀ) over the sampled poses.
+    transmission_min : float, optional
+        Smallest |Jq_ii|/l1 over the sampled poses (0 at an inverse singularity).
+    det_sign_changes : bool
+        det J takes both signs over the grid (L = 6): a singularity lies in between.
+    sensitivities_max : sequence of float, optional
+        The largest of each maximum sensitivity over the grid (None: not finite).
+    gii_others : dict label -> GII, optional
+        The GII of the other compared kinematics with at most L legs (criterion 5).
+    certified : {"regular", "singular", None}
+        A certificate of the cube at zero rotation (:mod:`distkin.certify`), if run.
 
     Returns
     -------
     list of dict
-        One entry per criterion: ``{"criterion", "held", "value", "required"}``;
-        ``held`` is None where the grid cannot decide (e.g. it is smaller than the
-        150 mm cube or the ±30° range).
+        One entry per criterion, numbered as the paper: ``{"number", "criterion",
+        "held", "value", "required", "test"}``; ``held`` is None where the data cannot
+        decide (e.g. the grid is smaller than the 150 mm cube or the ±30° range).
     """
     out = []
-    out.append({"criterion": "1) six actuated DOF (d = 6)", "held": True, "value": 6,
-                "required": 6})
-    out.append({"criterion": "2) rotary non-floating actuators, L >= d", "held": L >= 6,
-                "value": L, "required": ">= 6"})
     reach = np.asarray(reachable_all, bool)
-    v = np.asarray(minima["velocity"])[reach]
+    full = bool(reach.all())
+    regular = sigma_min is not None and sigma_min > 0 and not det_sign_changes
+    out.append({"number": 1, "criterion": "six actuated DOF (d = 6)",
+                "held": None if sigma_min is None else bool(regular and full),
+                "value": {"sigma_min": sigma_min, "all_reachable": full,
+                          "det_sign_changes": bool(det_sign_changes)},
+                "required": "rank J = 6 at every pose of the grid",
+                "test": "every grid pose reachable, the smallest σmin(ST⁻¹Jᵀ) > 0 and (L = 6) "
+                        "det J of one sign (a sign change encloses a rank loss)"})
+    out.append({"number": 2, "criterion": "rotary non-floating actuators at the first joint, "
+                                          "L >= d",
+                "held": None if transmission_min is None else bool(L >= 6
+                                                                  and transmission_min > 0),
+                "value": {"L": L, "transmission_min": transmission_min},
+                "required": {"L": ">= 6", "transmission_min": "> 0"},
+                "test": "L >= 6 and every crank keeps authority over its leg: "
+                        "min |Jq_ii|/l1 > 0 (no inverse singularity) at every grid pose"})
+    vkey = "velocity_true" if "velocity_true" in minima else "velocity"
+    v = np.asarray(minima[vkey])[reach]
     a = np.asarray(minima["acceleration"])[reach]
     vmin = float(v.min()) if v.size else 0.0
     amin = float(a.min()) if a.size else 0.0
-    out.append({"criterion": "3) minimum velocity >= 1 m/s", "held": bool(vmin >= criteria[
-        "velocity"]) and bool(reach.all()), "value": vmin, "required": criteria["velocity"],
-        "unit": "m/s"})
-    out.append({"criterion": "3) minimum acceleration >= 9.81 m/s²",
-                "held": bool(amin >= criteria["acceleration"]) and bool(reach.all()),
-                "value": amin, "required": criteria["acceleration"], "unit": "m/s^2"})
+    out.append({"number": 3, "criterion": "minimum velocity >= 1 m/s and acceleration "
+                                          ">= 9.81 m/s²",
+                "held": bool(vmin >= criteria["velocity"] and amin >= criteria["acceleration"]
+                             and full),
+                "value": {"velocity_m_s": vmin, "acceleration_m_s2": amin,
+                          "velocity_set": "true set {ẋ: |Jẋ|∞ <= q̇max}"
+                          if vkey == "velocity_true" else "J# zonotope, eq. (5)"},
+                "required": {"velocity_m_s": criteria["velocity"],
+                             "acceleration_m_s2": criteria["acceleration"]},
+                "test": "worst cases over every grid pose, all positions reachable"})
     ext = [max(a_) - min(a_) for a_ in (grid.x, grid.y, grid.z)]
     rot = min(min(abs(min(r)), abs(max(r))) for r in (grid.rx, grid.ry, grid.rz))
-    covers = (min(ext) >= criteria["cube_m"] - 1e-12
-              and rot >= criteria["rotation_rad"] - 1e-12)
+    covers = bool(min(ext) >= criteria["cube_m"] - 1e-12
+                  and rot >= criteria["rotation_rad"] - 1e-12)
     f = np.asarray(minima["force"])
-    singular_free = bool(reach.all() and np.all(f > 0))
-    held = (singular_free and covers) if covers else (False if not singular_free else None)
-    out.append({"criterion": "4) singularity-free dexterous workspace, 150 mm cube, ±30°",
-                "held": held, "value": {"cube_edge_m": min(ext),
-                                        "rotation_deg": math.degrees(rot),
-                                        "all_reachable": bool(reach.all()),
-                                        "singular_free": singular_free},
+    free = bool(full and np.all(f > 0) and regular and certified != "singular")
+    held4 = free if covers else (False if not free else None)
+    out.append({"number": 4, "criterion": "singularity-free dexterous workspace, 150 mm cube, "
+                                          "±30°",
+                "held": held4,
+                "value": {"cube_edge_m": float(min(ext)), "rotation_deg": math.degrees(rot),
+                          "all_reachable": full, "sigma_min": sigma_min,
+                          "det_sign_changes": bool(det_sign_changes),
+                          "certificate_zero_rotation": certified},
                 "required": {"cube_edge_m": criteria["cube_m"],
-                             "rotation_deg": math.degrees(criteria["rotation_rad"])}})
-    out.append({"criterion": "5) mechanical isotropy (GII, reported)",
-                "held": None if gii_value is None else bool(gii_value > 0),
-                "value": gii_value, "required": "> 0, maximised"})
-    out.append({"criterion": "6) maximum sensitivities quantified", "held": True,
-                "value": "see the sensitivity rows", "required": "reported"})
+                             "rotation_deg": math.degrees(criteria["rotation_rad"])},
+                "test": "grid covers the cube and ±30°; every pose reachable, σmin > 0, det J "
+                        "of one sign (L = 6), no certified singular box"})
+    if gii_value is None or not gii_others:
+        held5 = None
+    else:
+        held5 = bool(gii_value > 0 and all(gii_value >= g for g in gii_others.values()))
+    out.append({"number": 5, "criterion": "mechanical isotropy optimised (GII)",
+                "held": held5,
+                "value": {"gii": gii_value, "others": dict(gii_others or {})},
+                "required": "GII > 0 and not below any compared kinematics with at most as "
+                            "many legs",
+                "test": "GII over the Table II orientations against the other devices"})
+    finite = sensitivities_max is not None and all(
+        s is not None and math.isfinite(s) for s in sensitivities_max)
+    out.append({"number": 6, "criterion": "maximum sensitivities quantifiable",
+                "held": None if sensitivities_max is None else bool(finite and regular),
+                "value": {"max_sensitivities": list(sensitivities_max or [])},
+                "required": "bounded over the workspace",
+                "test": "the four maximum sensitivities finite at every grid pose and no "
+                        "singularity sampled (they are unbounded at one)"})
     return out

@@ -67,6 +67,7 @@ rotation   pose parametrisation, rotation matrices, omega map
 symbolic   the sympy model (leg closure, closed-form IK, Jq, Jx) -- imports sympy
 kernels    kernel generation, the committed modules and the cache
 forward    numeric forward kinematics
+interference  link interference (segment distances between the links)
 plot       a drawing of the mechanism at a pose (matplotlib)
 scene      the ``kind = "rss"`` scene parser; query: the scene queries
 """

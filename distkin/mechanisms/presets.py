@@ -9,66 +9,74 @@ What the paper gives (Sec. III-B.2 and III-D, Table I; DESIGN.md §5):
 * Octopod: the Hunt-type kinematics with four symmetric pairs of legs (L = 8);
 * Octo (the prototype): l2 = 25.6 mm, beta = 0, gamma = 13.18 deg, ld = 20 mm,
   l0 = 160 mm, L = 8;
+* "The total length of each leg remains constant, which is ensured by keeping l2 + l3
+  constant.  Baseline geometric characteristics were taken from Ergin's device"
+  (Sec. III-B-2); the Octo "is based on Ergin's device" (Sec. III-D);
 * mass m = 0.17 kg, inertia I = 3e-4 kg m^2 (Sec. III-B.3).
 
 Our reading of Fig. 2 (the figure's exact definitions are not in the text; one rule,
-used everywhere in distkin).  Legs come in L/2 mirror-symmetric pairs; pair k
-(k = 0 .. L/2-1) sits at azimuth theta_k = 2 pi k / (L/2); leg i belongs to pair
-i // 2 with side s = -1 (even i) or +1 (odd i).  With e = (cos theta_k, sin theta_k, 0),
-t = (-sin theta_k, cos theta_k, 0) and z = (0, 0, 1):
+used everywhere in distkin: ``layout="tangential"``).  Legs come in L/2 mirror-symmetric
+pairs; pair k (k = 0 .. L/2-1) sits at azimuth theta_k = 2 pi k / (L/2); leg i belongs
+to pair i // 2 with side s = -1 (even i) or +1 (odd i).  With e = (cos theta_k,
+sin theta_k, 0), t = (-sin theta_k, cos theta_k, 0) and z = (0, 0, 1):
 
 * **ld** -- distance between the two legs of a pair, both at the base (crank pivots
   ``B = l0 e + s ld/2 t``) and at the end effector (before the gamma rotation).
-* **beta** -- "angle at the base": each actuator axis of a pair is turned about the
-  vertical by s*beta from the radial direction, ``a = Rz(s beta) e`` (beta = 0: the
-  two axes of a pair are parallel and radial).  The crank swings in the plane normal
-  to ``a``; at q = 0 it is horizontal and points away from the pair's centre,
-  ``u = s z x a`` (= s t at beta = 0): the two cranks of a pair point in opposite
-  directions, tangentially to the base circle.
+* **beta** -- "angle at the base": the two actuator axes of a pair lie on the tangent
+  to the base circle (beta = 0: one axis line, as the motor pairs of the HEXA and the
+  Delta); each is turned about the vertical by s*beta, ``a = Rz(s beta) t``.  The crank
+  swings in the plane normal to ``a``; at q = 0 it is horizontal and points radially
+  outwards, ``u = a x z`` (= e at beta = 0).
 * **l1** -- crank: tip ``C = B + l1 (cos q u + sin q z)``; q = 0 is horizontal, q > 0
   lifts the crank.
 * **l2** -- the RRRS offset: the two passive revolute joints at the crank tip are
-  l2 apart along the actuator axis, so the centre of the equivalent universal joint is
-  ``D = C + l2 a`` (outwards, away from the base centre).  l2 = 0 gives the RSS leg.
+  l2 apart along the actuator axis, away from the pair's centre, so the centre of the
+  equivalent universal joint is ``D = C + s l2 a``.  l2 = 0 gives the RSS leg.
 * **gamma** -- "angle at the end effector": the two spherical joints of a pair are
   turned apart about the end-effector axis by ±gamma,
   ``p = Rz(s gamma) (lp e + s ld/2 t)`` in the end-effector frame.
 * **l3** -- the distal link ``|P - D| = l3`` with ``P = x + R p``.  Not given in the
-  paper; our rule (DESIGN.md §5): **at the workspace centre (0, 0, z0) with R = I each
-  crank is horizontal** (q = 0), which fixes l3 (for beta = l2 = gamma = 0:
-  l3 = sqrt((l0 - lp)^2 + l1^2 + z0^2) = 352.2 mm).  It is recomputed whenever a
-  parameter is overridden, unless l3 itself is given.
-* **IK branch**: of the two crank angles that close a leg, the one that is 0 at the
+  paper.  Our rule, the paper's own for the design sweep: **every leg has the same
+  length l2 + l3 = K** (:data:`~.rss.LEG_LENGTH` = 349.7 mm), so l3 = K - l2 (the
+  Hunt-type and Octopod 349.7 mm, Ergin's device and the Octo 324.1 mm) and the
+  Hunt-type of the Table I sweep is the ``hunt`` preset.  K is the centre of the
+  interval of leg lengths under which every leg of every preset closes at every pose
+  of its study box (Table II positions, ±20° for L = 6, ±30° for L = 8, 10 mm / 5°
+  grid; :func:`leg_length_rule`): [346.7, 352.7] mm, centre 349.66 mm.  It is chosen
+  for reach, not to match any table.  With it the cranks stand at 18.9° (hunt,
+  octopod), 22.9° (hexa), 29.0° (ergin) and 32.4° (octo) at the centre.
+* **IK branch**: of the two crank angles that close a leg, the one nearer 0 at the
   workspace centre (sigma = +1 in :mod:`.symbolic`).
 
-Why this reading.  The rule "crank horizontal at the centre" leaves the crank's
-horizontal direction open.  Sec. II-A requires the whole 150 mm cube with rotations to
-be reachable, and Table III reports finite capabilities over the whole Table II grid
-(16^3 positions x 9^3 orientations, +-75 mm about z0, +-20 deg).  Of the readings we
-measured that keep the cranks horizontal at the centre, only this one closes every
-leg at every pose of that grid for all five presets (minimum reach margin > 0, cranks
-within -78 .. +72 deg):
+Why this reading.  Every preset must be buildable (no two links cross) and reach its
+study box (Sec. II-A, Table II).  Link interference is checked by
+:mod:`.interference` (segment distances, 5 mm clearance).  With this reading every
+preset is clear at the centre (>= 19.7 mm between any two links) and reaches its whole
+study box.  Over the box (25 mm / 10° grid) the hunt, ergin and octo presets keep
+>= 9.7 mm, the octopod comes to 4.2 mm at 0.01 % of its poses (extreme corners), and
+the hexa preset (gamma = 30°, our guess) brings a distal link within 5 mm of its
+partner's crank at 0.69 % of its poses (extreme corners).  The readings tried, each
+with its reach, interference and Table IV figures (``docs/fig2_readings.md``,
+``python -m benchmarks readings``):
 
-* actuator axes tangent to the base circle (``a = t``), cranks radially outwards
-  (``u = e``, l3 = 393 mm): 85-92 % of the grid; at z0 - 75 mm the spherical joints
-  come closer to the pivots than l3 - l1;
-* the same axes, cranks radially inwards (``u = -e``, l3 = 306 mm, nearly vertical
-  distal links): misses 70 poses of ``hexa`` and 4 of ``octo``;
-* radial axes with the cranks of a pair pointing towards each other: misses poses of
-  ``hexa``, ``ergin`` and ``octo`` at z0 - 75 mm.
-
-The choice rests on that design requirement only, never on agreement with the numbers
-of Tables III-IV.
-
-Limitation.  distkin models the links as lines and checks no collisions.  With L = 8
-and these dimensions (l1 + ld/2 > l0) the tangential cranks of neighbouring pairs
-cross near the corners of the base square (at the centre pose the crank segments of
-legs 0 and 7 of ``octopod`` and legs 1 and 2 of ``octo`` meet), so for the Octopod
-and the Octo this reading is a kinematic model, not a buildable layout; for L = 6
-the cranks are 20 mm or more apart at the centre pose.  The radially outward reading
-is buildable and reaches a 50,000-pose sample of the grid with every preset for l3 of
-about 313-357 mm, but its cranks are then not horizontal at the centre (the rule of
-DESIGN.md §5).
+* radial axes, tangential cranks away from the pair, cranks horizontal at the centre
+  (``layout="radial"``, the reading before issue 15): reaches the study boxes, but with
+  L = 8 the cranks of neighbouring pairs cross (0 mm at the centre pose, 45-91 % of the
+  box below 5 mm): the Octopod and the Octo cannot be built.  Table IV: GII 41×, 9.9×,
+  2.2× the paper's (Hunt-type, Octopod, Octo);
+* tangential axes, cranks radially outwards, horizontal at the centre (l3 = 393-402 mm,
+  :meth:`~.rss.RSSMechanism.horizontal_crank_l3`): reaches only 84-91 % of the study
+  boxes (at z0 - 75 mm the spherical joints come closer to the pivots than l3 - l1);
+* tangential axes, cranks radially inwards, horizontal at the centre
+  (``layout="tangential_in"``, l3 = 304-306 mm): the crank tips meet near the axis
+  (l1 > l0): not buildable;
+* tangential axes, cranks outwards, one leg length K for all (this reading): Table IV
+  GII 1.16×, 3.3×, 11× the paper's, σmin 0.17-0.64×, σmax 0.06-0.16× (the σ depend on
+  the reading of the scaling, :mod:`distkin.indices.isotropy`);
+* the same with K identified on Table IV (an explicit fit, not used by the presets:
+  least squares of the three GIIs' log ratios gives K = 332 mm); with Table III held
+  out it does no better than the rule (median |log10 ours/paper| 0.200 against 0.202,
+  rows within 2×: 57 % against 62 %).
 
 Preset values the paper does not print, and our choice:
 
@@ -79,6 +87,11 @@ Preset values the paper does not print, and our choice:
 * ``hunt``, ``octopod`` -- beta = gamma = l2 = 0, ld = 20 mm (Table I optimum).
 * ``octo`` -- as printed (Sec. III-D).  ``octo`` and ``octopod`` differ from the
   paper's hardware in whatever Fig. 2 means differently from the rule above.
+
+Under this reading the ergin preset has direct singularities inside its ±20° box (the
+paper's Ergin device has them, Table III: 0.00 N), but neither it nor the hexa preset
+has one in the 150 mm cube at zero rotation (certified, :mod:`distkin.certify`), unlike
+Fig. 3: the study report marks comparisons with them accordingly.
 """
 
 from __future__ import annotations
@@ -88,7 +101,7 @@ import math
 from ..errors import InputError
 from .rss import RSSMechanism
 
-__all__ = ["PRESETS", "preset", "PRESET_NAMES"]
+__all__ = ["PRESETS", "preset", "PRESET_NAMES", "leg_length_rule", "study_box"]
 
 _MM = 1e-3
 _DEG = math.pi / 180.0
@@ -124,8 +137,9 @@ def preset(name: str, **overrides) -> RSSMechanism:
     name : {"hexa", "hunt", "ergin", "octopod", "octo"}
     **overrides
         Any of ``legs, l0, l1, l2, l3, lp, ld, z0, beta, gamma, mass, inertia`` in SI
-        units (m, rad, kg, kg m^2).  Unless ``l3`` is given it follows the
-        horizontal-crank rule (module docstring).
+        units (m, rad, kg, kg m^2), and ``layout`` (the reading of Fig. 2).  Unless
+        ``l3`` is given it follows the reading's rule (module docstring):
+        ``l3 = LEG_LENGTH - l2``.
 
     Returns
     -------
@@ -136,7 +150,7 @@ def preset(name: str, **overrides) -> RSSMechanism:
     if name not in PRESETS:
         raise InputError(f"expected a preset in {', '.join(map(repr, PRESETS))}, got {name!r}",
                          field="preset")
-    allowed = set(PRESETS[name]) | {"l3"}
+    allowed = set(PRESETS[name]) | {"l3", "layout"}
     bad = sorted(set(overrides) - allowed)
     if bad:
         raise InputError(f"unknown parameter(s) {', '.join(map(repr, bad))}; expected some of "
@@ -151,3 +165,40 @@ def preset(name: str, **overrides) -> RSSMechanism:
 def description(name: str) -> str:
     """One line describing a preset."""
     return _DESCRIPTIONS[name]
+
+
+def study_box(mech, *, step: float = 0.010, rot_step_deg: float = 5.0):
+    """The poses over which a preset is evaluated (Sec. III-B-3, III-C): the Table II
+    positions (±75 mm about z0, ``step``) times rotations of ±20° (L = 6) or ±30°
+    (L = 8) about every axis (``rot_step_deg``); array (N, 6), m and rad."""
+    import itertools
+
+    import numpy as np
+    t = np.arange(-0.075, 0.075 + 1e-9, step)
+    rot = 30.0 if mech.L == 8 else 20.0
+    r = np.radians(np.arange(-rot, rot + 1e-9, rot_step_deg))
+    P = np.array(list(itertools.product(t, t, mech.z0 + t)))
+    O = np.array(list(itertools.product(r, r, r)))
+    return np.hstack([np.repeat(P, len(O), axis=0), np.tile(O, (len(P), 1))])
+
+
+def leg_length_rule(*, step: float = 0.010, rot_step_deg: float = 5.0, layout="tangential"):
+    """The leg length ``K = l2 + l3`` of the reading (module docstring).
+
+    For every preset, :meth:`RSSMechanism.l3_interval` over its :func:`study_box`
+    gives the interval of l2 + l3 that closes every leg at every pose; K is the centre
+    of the intersection of the five intervals.
+
+    Returns
+    -------
+    dict
+        ``K`` (m), ``interval`` (lo, hi) (m) and ``per_preset`` {name: (lo, hi)} (m).
+    """
+    per = {}
+    for name in PRESETS:
+        m = preset(name, layout=layout)
+        lo, hi = m.l3_interval(study_box(m, step=step, rot_step_deg=rot_step_deg))
+        per[name] = (lo + m.l2, hi + m.l2)
+    lo = max(v[0] for v in per.values())
+    hi = min(v[1] for v in per.values())
+    return {"K": (lo + hi) / 2, "interval": (lo, hi), "per_preset": per}

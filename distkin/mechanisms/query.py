@@ -119,8 +119,8 @@ class InverseKinematicsQuery:
             lines.append(f"pose {i}: {_fmt_pose(X[i], scene)}  -> "
                          + ("reachable" if ok else f"NOT reachable (legs {bad})"))
             lines.append("  q = [" + ", ".join(f"{v * af:.6g}" for v in q[i]) + f"] {au}")
-        lines.append("accuracy: closed form in float64 (about 1e-15 rad); branch: crank "
-                     "horizontal at the workspace centre")
+        lines.append("accuracy: closed form in float64 (about 1e-15 rad); branch: the crank "
+                     "angle nearer 0 at the workspace centre (distkin.mechanisms.presets)")
         return Outcome({"mechanism": mech.parameters(), "unit": {"q": "rad", "pose": "m, rad"},
                         "poses": rows}, "\n".join(lines), _plotter(mech, X, q))
 

@@ -12,8 +12,9 @@
     l0 = 160                    # any parameter may be overridden, in the scene's units:
     gamma = 10                  #   legs, l0 l1 l2 l3 lp ld z0 (length), beta gamma (angle),
     mass = "0.2"                #   mass (kg) and inertia (kg m^2) always in SI
+    layout = "tangential"       # the reading of Fig. 2: tangential (default) | radial
 
-Unless ``l3`` is given it follows the horizontal-crank rule (:mod:`.presets`).
+Unless ``l3`` is given it follows the reading's rule (:mod:`.presets`).
 """
 
 from __future__ import annotations
@@ -48,11 +49,14 @@ def angle_factor(units):
 
 def parse_rss(table, units, field):
     """Parse an ``rss`` mechanism table into an :class:`~.rss.RSSMechanism` (SI)."""
-    check_keys(table, {"kind", "preset", "legs", *LENGTHS, *ANGLES, *_SI}, field)
+    check_keys(table, {"kind", "preset", "legs", "layout", *LENGTHS, *ANGLES, *_SI}, field)
     name = choice(require(table, "preset", field), f"{field}.preset", tuple(PRESETS))
     lf = length_factor(units, field)
     af = angle_factor(units)
     over = {}
+    if "layout" in table:
+        from .rss import LAYOUTS
+        over["layout"] = choice(table["layout"], f"{field}.layout", LAYOUTS)
     if "legs" in table:
         legs = table["legs"]
         if legs not in (6, 8) or isinstance(legs, bool):

@@ -4,10 +4,11 @@ Kühne et al., Sec. II-C, eqs. (1)-(2), Fig. 2; parametrisation in :mod:`.preset
 pose in :mod:`.rotation`.  This module imports sympy; numeric code uses the kernels
 generated from it (:mod:`.kernels`), never this module.
 
-Leg i (side s = ±1), with constant vectors B (crank pivot), a (actuator axis, radial
-at beta = 0), u = s z x a (horizontal crank direction, away from the pair's centre),
-o = l2 a (crank tip -> universal joint) and p (spherical joint in the end-effector
-frame)::
+Leg i (side s = ±1), with constant vectors B (crank pivot), a (actuator axis), u
+(horizontal crank direction at q = 0), o (crank tip -> universal joint, length l2 along
+the axis) and p (spherical joint in the end-effector frame); the reading of Fig. 2
+(:mod:`.presets`) fixes a, u and o: "tangential" a = Rz(s beta) t, u = a x z (radially
+outwards at beta = 0), o = s l2 a; "radial" a = Rz(s beta) e, u = s z x a, o = l2 a::
 
     D(q) = B + o + l1 (cos q u + sin q z)          universal-joint centre
     P    = x + R(r) p                               spherical joint
@@ -17,7 +18,8 @@ With w = P - B - o the closure is ``A cos q + Bz sin q = C`` where A = w.u,
 Bz = w.z, C = (w.w + l1^2 - l3^2) / (2 l1).  With rho^2 = A^2 + Bz^2 and
 h = sqrt(rho^2 - C^2) the two solutions are
 ``cos q = (A C + sigma Bz h) / rho^2``, ``sin q = (Bz C - sigma A h) / rho^2``;
-sigma = :data:`BRANCH` is the branch that is 0 at the workspace centre.  A leg closes
+sigma = :data:`BRANCH` is the branch nearer to q = 0 at the workspace centre
+(``q = phi - sigma delta`` with phi the direction of (A, Bz) and cos delta = C/rho).  A leg closes
 iff the *reach margin* rho^2 - C^2 >= 0; otherwise h = sqrt(|rho^2 - C^2|) keeps q
 finite (flagged invalid, never NaN).
 
@@ -64,8 +66,13 @@ def rotation_matrix(rx, ry, rz):
     return Rz * Ry * Rx
 
 
-def generic_leg():
-    """The leg model in terms of parameter symbols.
+def generic_leg(layout: str = "tangential"):
+    """The leg model in terms of parameter symbols, for a reading of Fig. 2.
+
+    Parameters
+    ----------
+    layout : {"tangential", "radial", "tangential_in"}
+        :data:`distkin.mechanisms.rss.LAYOUTS`.
 
     Returns
     -------
@@ -80,9 +87,19 @@ def generic_leg():
     t = sp.Matrix([-se, ce, 0])
     zh = sp.Matrix([0, 0, 1])
     B = l0 * e + s * ld / 2 * t
-    a = sp.Matrix([cb * e[0] - s * sb * e[1], s * sb * e[0] + cb * e[1], 0])   # Rz(s beta) e
-    u = s * zh.cross(a)                   # horizontal crank, away from the pair's centre
-    o = l2 * a                            # RRRS offset, outwards along the actuator axis
+    if layout in ("tangential", "tangential_in"):
+        a = sp.Matrix([cb * t[0] - s * sb * t[1], s * sb * t[0] + cb * t[1], 0])  # Rz(s beta) t
+        u = a.cross(zh)                   # horizontal crank, radially outwards ...
+        if layout == "tangential_in":
+            u = -u                        # ... or inwards
+        o = s * l2 * a                    # RRRS offset along the axis, away from the pair
+    elif layout == "radial":
+        a = sp.Matrix([cb * e[0] - s * sb * e[1], s * sb * e[0] + cb * e[1], 0])  # Rz(s beta) e
+        u = s * zh.cross(a)               # horizontal crank, away from the pair's centre
+        o = l2 * a                        # RRRS offset, outwards along the axis
+    else:
+        raise ValueError(f"expected layout 'tangential', 'radial' or 'tangential_in', got "
+                         f"{layout!r}")
     p0 = lp * e + s * ld / 2 * t
     p = sp.Matrix([cg * p0[0] - s * sg * p0[1], s * sg * p0[0] + cg * p0[1], 0])  # Rz(s gamma)
     q = sp.Symbol("q", real=True)
@@ -153,7 +170,7 @@ class ModelExprs:
         if self._legs is not None:
             return self._legs
         t0 = time.perf_counter()
-        g = generic_leg()
+        g = generic_leg(self.mech.layout)
         x, y, zz, rx, ry, rz = POSE
         R = rotation_matrix(rx, ry, rz)
         X = sp.Matrix([x, y, zz])

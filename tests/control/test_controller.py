@@ -275,3 +275,43 @@ def test_without_feedforward_the_servo_softens_the_wall_like_springs_in_series(s
     k_virtual = spring.stiffness[0] + wall.stiffness
     assert slope == pytest.approx(1.0 / (1.0 / k_virtual + 1.0 / k_servo), rel=0.05)
     assert slope < 0.9 * k_virtual
+
+
+def test_derivative_filter_is_forward_euler(scene, model):
+    """Sec. III-D: the error derivative is low-pass filtered (T = 700 ms) "using the
+    forward Euler method".  A ramp error e[k] = r k dt makes the raw derivative a step of
+    height r from k = 1; forward Euler of T ḋ_f = d - d_f then gives, in closed form,
+    d_f[k] = r (1 - (1 - dt/T)^(k-1)) for k >= 1 (backward Euler would give
+    r (1 - (T/(T + dt))^k))."""
+    ctl = _controller(scene, model)
+    T, dt, r = ctl.pd.derivative_filter_s, 1e-3, 0.2
+    assert T == 0.7
+    out = [ctl.filter_derivative(np.full(ctl.L, r * k * dt), dt)[0] for k in range(2000)]
+    k = np.arange(2000)
+    want = np.where(k >= 1, r * (1 - (1 - dt / T) ** np.maximum(k - 1, 0)), 0.0)
+    np.testing.assert_allclose(out, want, rtol=0, atol=1e-12)
+    backward = r * (1 - (T / (T + dt)) ** k)
+    assert np.abs(np.asarray(out) - backward).max() > 1e-4      # distinguishable
+    # T = 0: no filter, the raw difference quotient
+    ctl0 = _controller(scene, model, derivative_filter_s=0.0)
+    ctl0.filter_derivative(np.zeros(ctl0.L), dt)
+    np.testing.assert_allclose(ctl0.filter_derivative(np.full(ctl0.L, 0.5), dt), 500.0)
+
+
+def test_table5_blocked_experiment_reproduces_the_analysis_for_six_legs():
+    """Table V emulated (distkin.control.table5): with the end effector blocked at the
+    analysis' worst-force pose and the set point stepped along the worst direction, the
+    saturated joint PD pushes the block with exactly the worst-case force and torque of
+    the zonotope (L = 6: the torques of a wrench are unique), to the sensor noise; the
+    free rows run without hitting an end stop."""
+    from distkin.control.table5 import run_table5
+    from distkin.indices.workspace import table2_grid
+    from distkin.mechanisms import preset
+    m = preset("hexa")
+    g = table2_grid(m.z0, step=0.025, rot_deg=20.0, rot_step_deg=10.0)
+    r = run_table5("hexa", poses=g.poses(np.arange(g.n_positions)), trials=3)
+    assert r["force"]["emulated"] == pytest.approx(r["force"]["analysis"], rel=2e-3)
+    assert r["torque"]["emulated"] == pytest.approx(r["torque"]["analysis"], rel=2e-3)
+    assert all(v["end_stop_hits"] == 0 for v in r.values())
+    assert all(v["emulated"] > 0 for v in r.values())
+    assert r["force"]["paper_experiment"] == 15.27                 # Table V

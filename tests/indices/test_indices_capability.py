@@ -225,15 +225,15 @@ def test_bad_input_is_reported_with_field():
 
 def test_sensitivities_are_box_vertex_maxima(presets):
     """Cardou's sensitivities (projection) equal a brute-force maximum over all 2^L
-    actuator sign vectors; the slice variant is bounded by the projection."""
+    actuator sign vectors; the paper's slice (the default) is bounded by the projection."""
     from itertools import product
 
     from distkin.indices.sensitivity import max_sensitivities
     mech = presets["hunt"]
     poses = random_reachable_poses(mech, 20, 20, seed=6)
     J = mech.jacobian(poses)
-    s = max_sensitivities(J)
-    sl = max_sensitivities(J, mode="slice")
+    s = max_sensitivities(J, mode="projection")
+    sl = max_sensitivities(J)
     signs = np.array(list(product((-1.0, 1.0), repeat=6))).T
     Jp = np.linalg.pinv(J)
     ref = np.linalg.norm((Jp[:, :3, :] @ signs), axis=1).max(axis=1)
@@ -244,12 +244,35 @@ def test_sensitivities_are_box_vertex_maxima(presets):
         assert np.all(sl[k] <= s[k] * (1 + 1e-12))
 
 
+@pytest.mark.parametrize("name", ["hunt", "octopod", "octo"])
+def test_slice_sensitivities_against_the_hull_route(presets, name):
+    """The paper's sensitivities (eq. (14) slice, eq. (16) farthest point; compiled vertex
+    enumeration of distkin.indices.slice_farthest) against the paper's polytope
+    algorithm as written: Qhull hull of all 2^L vertices, half-space intersection with
+    the slice, farthest vertex (capability.hull_worst_best), with unit limits."""
+    from distkin.indices.capability import hull_multi
+    from distkin.indices.sensitivity import max_sensitivities
+    mech = presets[name]
+    poses = random_reachable_poses(mech, 6, 30 if mech.L == 8 else 20, seed=12)
+    J = mech.jacobian(poses)
+    sl = max_sensitivities(J)
+    Jp = np.linalg.pinv(J)
+    one = np.ones(mech.L)
+    for i in range(len(poses)):
+        (_, t), (_, r) = hull_multi(Jp[i], -one, one, [(0, 1, 2), (3, 4, 5)])
+        (_, f), (_, m) = hull_multi(J[i].T, -one, one, [(0, 1, 2), (3, 4, 5)])
+        assert sl["translational"][i] == pytest.approx(t, rel=1e-10)
+        assert sl["rotational"][i] == pytest.approx(r, rel=1e-10)
+        assert sl["force"][i] == pytest.approx(f, rel=1e-10)
+        assert sl["torque"][i] == pytest.approx(m, rel=1e-10)
+
+
 def test_preset_approaching_a_singularity(presets):
-    """The hexa preset has direct singularities inside its workspace (as the paper's
-    HEXA and Ergin's device, Sec. III-B.1; with distkin's reading of Fig. 2 our ergin
-    preset has none there): bisect a segment between two poses whose det J differs in
-    sign; along the way Ueberle's method and the kernel agree and both go to 0 with σmin."""
-    mech = presets["hexa"]
+    """The ergin preset has direct singularities inside its ±20° workspace (as the paper's
+    Ergin device, Sec. III-B.1, Table III's 0.00 N; the tangential reading of Fig. 2,
+    presets.py): bisect a segment between two poses whose det J differs in sign; along
+    the way Ueberle's method and the kernel agree and both go to 0 with σmin."""
+    mech = presets["ergin"]
     P = random_reachable_poses(mech, 3000, 30, seed=11)
     det = np.linalg.det(mech.jacobian(P))
     i = int(np.flatnonzero(det > 0)[0])
@@ -276,3 +299,45 @@ def test_preset_approaching_a_singularity(presets):
     assert smin < 1e-10 and z < 1e-9 and u < 1e-9
     first = vals[0]
     assert z < first[1] * 1e-6
+
+
+@pytest.mark.parametrize("name", ["octopod", "octo", "hunt"])
+def test_true_velocity_set_against_linear_programming(presets, name):
+    """The true velocity set {ẋ : |J ẋ|∞ <= q̇max} (velocity_set), sliced at zero angular
+    (resp. translational) velocity: its worst case min_i q̇max/||J_i,S|| against
+    scipy.optimize.linprog.  The LP computes the support h(n) of the slice for every
+    slab normal n = J_i,S and for 200 random directions; the inradius about the origin
+    is min h(n)/||n|| over the facet normals, and no random direction reaches a boundary
+    point closer than it.  For L = 6 it equals the J# zonotope of eq. (5); for L = 8 the
+    zonotope contains it (J# overstates)."""
+    from scipy.optimize import linprog
+
+    from distkin.indices.velocity_set import true_velocity_worst
+    mech = presets[name]
+    qmax = 51.0
+    rng = np.random.default_rng(3)
+    poses = random_reachable_poses(mech, 3, 30 if mech.L == 8 else 20, seed=14)
+    J = mech.jacobian(poses)
+    for keep in ((0, 1, 2), (3, 4, 5)):
+        w = true_velocity_worst(J, qmax, keep)
+        zon = worst_case_output(np.linalg.pinv(J), -qmax, qmax, keep=keep)
+        for i in range(len(poses)):
+            A = J[i][:, list(keep)]
+            A_ub, b_ub = np.vstack([A, -A]), np.full(2 * mech.L, qmax)
+
+            def support(n):
+                res = linprog(-n, A_ub=A_ub, b_ub=b_ub, bounds=[(None, None)] * 3,
+                              method="highs")
+                assert res.success
+                return -res.fun
+            h = min(support(n) / np.linalg.norm(n) for n in A)
+            assert w[i] == pytest.approx(h, rel=1e-9)
+            for d in rng.normal(size=(200, 3)):
+                d /= np.linalg.norm(d)
+                # the boundary point along d lies at t = min_i qmax / |J_i,S d|
+                t = qmax / np.abs(A @ d).max()
+                assert t >= w[i] * (1 - 1e-12)
+            if mech.L == 6:
+                assert zon[i] == pytest.approx(w[i], rel=1e-9)
+            else:
+                assert zon[i] >= w[i] * (1 - 1e-12)

@@ -76,15 +76,32 @@ def test_dexterous_workspace_and_criteria_on_a_synthetic_sweep():
     minima["velocity"][1] = 0.5
     dex = dexterous_workspace(g, reach, minima, {"velocity": 1.0, "acceleration": 9.81})
     assert dex["count"] == n - 2
-    assert dex["volume_m3"] == pytest.approx((n - 2) * 0.05 ** 3)
-    crit = design_criteria(8, g, reach, minima, 0.01)
-    by = {c["criterion"][:2]: c for c in crit}
-    assert by["2)"]["held"] is True
-    assert by["4)"]["held"] is False            # one position is unreachable
+    # positions 0 and 1 are the corner (x0, y0, z0) and (x0, y0, z1): they touch the
+    # cells (0, 0, 0) and (0, 0, 1) of the 27
+    assert dex["cells"] == 25 and dex["volume_m3"] == pytest.approx(25 * 0.05 ** 3)
+    kw = dict(sigma_min=0.1, transmission_min=0.3, sensitivities_max=[0.3, 5.0, 40.0, 2.0],
+              gii_others={"Hunt-type": 0.001})
+    crit = design_criteria(8, g, reach, minima, 0.01, **kw)
+    by = {c["number"]: c for c in crit}
+    assert [c["number"] for c in crit] == [1, 2, 3, 4, 5, 6]
+    assert by[2]["held"] is True and by[5]["held"] is True and by[6]["held"] is True
+    assert by[1]["held"] is False                 # one position is unreachable
+    assert by[3]["held"] is False and by[4]["held"] is False
     reach[:] = True
     minima["velocity"][:] = 2.0
-    crit = design_criteria(8, g, reach, minima, 0.01)
+    crit = design_criteria(8, g, reach, minima, 0.01, **kw)
     assert all(c["held"] for c in crit)
+    # each criterion fails on its own evidence
+    bad = {2: dict(kw, transmission_min=0.0), 5: dict(kw, gii_others={"x": 0.02}),
+           6: dict(kw, sensitivities_max=[0.3, None, 40.0, 2.0]),
+           1: dict(kw, sigma_min=0.0)}
+    for k, args in bad.items():
+        c = {c["number"]: c for c in design_criteria(8, g, reach, minima, 0.01, **args)}
+        assert c[k]["held"] is False, k
+    c = {c["number"]: c for c in design_criteria(6, g, reach, minima, 0.01, **kw,
+                                                 det_sign_changes=True)}
+    assert c[1]["held"] is False and c[4]["held"] is False and c[6]["held"] is False
+    assert design_criteria(8, g, reach, minima)[4]["held"] is None     # nothing to compare
 
 
 SCENE = """
@@ -107,6 +124,8 @@ devices = [
 grid = { half = 75, step = 75, rotation_step = 10 }
 workers = 1
 store = "STORE"
+certify = true
+certify_width = 37.5
 """
 
 
@@ -126,21 +145,37 @@ def test_performance_scene_end_to_end(tmp_path):
     assert octo["isotropy"]["rotation_deg"] == pytest.approx(20)
     assert octo["table"]["force"]["paper_min"] == 21.68          # Table III
     assert octo["isotropy"]["paper_gii"] == 0.0080               # Table IV
-    assert len(res["findings"]) == 5
-    assert all(isinstance(f["held"], bool) for f in res["findings"])
-    assert "Table III analogue" in texts[0] and "HELD" in texts[0]
-    names = sorted(p.split("/")[-1] for p in records[0]["plots"])
-    assert names == sorted(["q0_performance_tables.md", "q0_performance_tables.json",
-                            "q0_performance_fig5_workspace.png",
-                            "q0_performance_fig6_plane.png",
-                            "q0_performance_fig7_force_polytope.png"])
+    # issue 15: Fig. 3 certificates (3), Sec. III-B-3 (3), Sec. III-C (8 with an Octopod
+    # and the Hunt-type, no Octo)
+    assert len(res["findings"]) == 14
+    st = {f["finding"]: f["status"] for f in res["findings"]}
+    assert set(st.values()) <= {"HELD", "NOT HELD", "NOT COMPARABLE"}
+    for f in res["findings"]:
+        assert (f["held"] is None) == (f["status"] == "NOT COMPARABLE")
+    # our hexa and ergin presets are certified free at zero rotation, unlike Fig. 3: no
+    # comparison against them is marked held
+    assert res["devices"][1]["certificate"]["zero_rotation_cube"] == "regular"
+    assert st["the Hunt-type beats HEXA and Ergin's device in minimum force"] == \
+        "NOT COMPARABLE"
+    assert st["HEXA: singularities in the 150 mm cube at zero rotation"] == "NOT HELD"
+    assert [c["number"] for c in octo["criteria"]] == [1, 2, 3, 4, 5, 6]
+    assert "Table III analogue" in texts[0] and "[HELD]" in texts[0]
+    assert "| same def. |" in texts[0]
+    names = {p.split("/")[-1] for p in records[0]["plots"]}
+    assert {"q0_performance_tables.md", "q0_performance_tables.json",
+            "q0_performance_table3_bars.png", "q0_performance_table4_bars.png",
+            "q0_performance_octopod_fig5_workspace.png"} <= names
+    for dev in ("ergin_s_device", "hexa", "hunt_type", "octopod"):
+        for fig in ("fig6_plane", "fig7_force_polytope", "certified_workspace"):
+            assert f"q0_performance_{dev}_{fig}.png" in names
     tables = json.loads((tmp_path / "plots" / "q0_performance_tables.json").read_text())
     assert tables["devices"][3]["table"]["force"]["min"] == octo["table"]["force"]["min"]
     # a second run reads every chunk back from the store
     records2, _, _ = run_scene(scene, progress=False)
 
     def strip(devs):
-        return [{k: v for k, v in d.items() if k != "seconds"} for d in devs]
+        return [{k: ({c: w for c, w in v.items() if c != "seconds"} if k == "certificate"
+                     else v) for k, v in d.items() if k != "seconds"} for d in devs]
     assert strip(records2[0]["result"]["devices"]) == strip(res["devices"])
 
 
@@ -239,3 +274,26 @@ def test_example_scenes_load(name):
         assert q.params.devices[3].rotation == pytest.approx(math.radians(30))
     else:
         assert len(q.params.space.designs()) == 560          # Table I: 7·4·4·5
+
+
+def test_dexterous_volume_counts_cells_of_a_known_cube():
+    """Finding 6 of issue 15: the Table II grid (16³ positions, ±75 mm) is a 150 mm
+    cube, 3375 cm³, when every position is dexterous (15³ cells), not 16³ cells'
+    worth; half of it (x <= 0: 8 of 16 position planes, 7 cells) is 70 × 150 × 150 mm³
+    by cells and exactly half the cube by the dual-cell (trapezoidal) weights."""
+    from distkin.indices.workspace import dexterous_workspace, table2_grid
+    g = table2_grid()
+    n = g.n_positions
+    ones = np.ones(n)
+    r = dexterous_workspace(g, np.ones(n, bool), {"velocity": ones}, {"velocity": 0.5})
+    assert r["cells"] == 15 ** 3 == r["cells_total"] and r["count"] == 16 ** 3
+    assert r["volume_m3"] == pytest.approx(0.150 ** 3, rel=1e-12)
+    assert r["volume_nodes_m3"] == pytest.approx(0.150 ** 3, rel=1e-12)
+    x = g.positions()[:, 0]
+    r = dexterous_workspace(g, x <= 0, {"velocity": ones}, {"velocity": 0.5})
+    assert r["volume_m3"] == pytest.approx(0.070 * 0.150 ** 2, rel=1e-12)
+    assert r["volume_nodes_m3"] == pytest.approx(0.150 ** 3 / 2, rel=1e-12)
+    # a single dexterous position spans no cell
+    one = np.zeros(n, bool)
+    one[n // 2] = True
+    assert dexterous_workspace(g, one, {"velocity": ones}, {"velocity": 0.5})["cells"] == 0

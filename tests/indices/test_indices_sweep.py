@@ -103,3 +103,25 @@ def test_unreachable_scheduler_is_an_input_error():
     with pytest.raises(InputError, match="reachable dask scheduler"):
         with dask_executor("tcp://127.0.0.1:1", timeout="1s"):
             pass
+
+
+def test_table1_sweep_and_presets_are_one_model():
+    """Issue 15, finding 3: under the paper's rule (l2 + l3 constant, baseline Ergin's
+    device, Sec. III-B-2) the sweep's Hunt-type design (l2 = β = γ = 0, ld = 20 mm) is
+    the hunt preset, and every design keeps the leg length of the presets."""
+    import math
+
+    from distkin.indices.design import DesignSpace
+    from distkin.mechanisms import preset
+    from distkin.mechanisms.rss import LEG_LENGTH
+    deg = math.pi / 180
+    space = DesignSpace("hunt", (("l2", (0.0, 0.015, 0.030)), ("beta", (0.0, 10 * deg)),
+                                 ("gamma", (0.0, 30 * deg)), ("ld", (0.020, 0.040))))
+    for d in space.designs():
+        m = space.mechanism(d)
+        assert m.l2 + m.l3 == pytest.approx(LEG_LENGTH, abs=1e-15)
+    m = space.mechanism({"l2": 0.0, "beta": 0.0, "gamma": 0.0, "ld": 0.020})
+    assert m.geometry_key() == preset("hunt").geometry_key() and m.name == "hunt"
+    e = preset("ergin")
+    assert space.mechanism({"l2": e.l2, "beta": e.beta, "gamma": e.gamma,
+                            "ld": e.ld}).geometry_key() == e.geometry_key()

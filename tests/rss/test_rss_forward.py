@@ -42,14 +42,14 @@ def test_octopod_round_trip_acceptance():
     assert res.residual.max() < 1e-12
 
 
-@pytest.mark.parametrize("name, start", [("hunt", 10), ("hexa", 2), ("ergin", 10), ("octo", 10)])
+@pytest.mark.parametrize("name, start", [("hunt", 10), ("hexa", 10), ("ergin", 2), ("octo", 10)])
 def test_other_presets_round_trip(name, start):
-    # start: the warm start lies within `start` mm and `start` deg of the pose.  The
-    # hexa preset has direct singularities inside the Table II workspace (as the paper's
-    # HEXA, Sec. III-B.1, Fig. 3; scaled condition up to ~1e4, 7 % of the poses above
-    # 300), and there assembly modes 8-25 mm apart meet at conditions of 60-260: from
-    # 10 mm / 10 deg about 3 % of its starts reach the neighbouring mode unflagged,
-    # from 2 mm / 2 deg none (1000 poses).  The other presets stay below condition 17.
+    # start: the warm start lies within `start` mm and `start` deg of the pose.  Under the
+    # tangential reading of Fig. 2 (presets.py) the ergin preset has direct singularities
+    # inside the Table II workspace (as the paper's Ergin device, Sec. III-B.1, Fig. 3),
+    # where assembly modes a few mm apart meet; from 10 mm / 10 deg some starts reach the
+    # neighbouring mode unflagged, from 2 mm / 2 deg none.  The other presets stay away
+    # from singularities at the sampled poses.
     m = preset(name)
     P = reachable_poses(m, 200, seed=22)
     q, _ = m.inverse_kinematics(P)

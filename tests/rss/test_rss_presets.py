@@ -33,20 +33,53 @@ def test_paper_values():
     assert set(PRESETS) == set(PRESET_NAMES)
 
 
-def test_l3_rule_analytic():
-    # Hunt-type, pair 0 (theta = 0), no offsets, leg side s: pivot (l0, s ld/2, 0), crank
-    # horizontal and tangential, tip (l0, s (ld/2 + l1), 0); spherical joint at
-    # (lp, s ld/2, z0) when the end effector is at the centre.
+def test_leg_length_rule_analytic():
+    # presets.py, "tangential" reading: l2 + l3 = LEG_LENGTH for every preset.  Hunt-type,
+    # pair 0 (theta = 0), leg side s: pivot (l0, s ld/2, 0), axis along y, crank in the
+    # plane y = s ld/2, tip (l0 + l1 cos q, s ld/2, l1 sin q); spherical joint at
+    # (lp, s ld/2, z0) at the centre.  So l3^2 = (l0 + l1 cos q - lp)^2 + (z0 - l1 sin q)^2;
+    # solved for q independently (bisection on the branch nearer 0).
+    from scipy.optimize import brentq
+    from distkin.mechanisms.rss import LEG_LENGTH
+    for name in PRESETS:
+        m = preset(name)
+        assert m.l2 + m.l3 == pytest.approx(LEG_LENGTH, abs=1e-15)
     for name in ("hunt", "octopod"):
         m = preset(name)
-        assert m.l3 == pytest.approx(math.sqrt((m.l0 - m.lp) ** 2 + m.l1 ** 2 + m.z0 ** 2),
-                                     rel=1e-15)
-    assert preset("hunt").l3 == pytest.approx(0.35222, abs=1e-5)
+        f = lambda q: (m.l0 + m.l1 * math.cos(q) - m.lp) ** 2 + (m.z0 - m.l1 * math.sin(q)) ** 2 \
+            - m.l3 ** 2
+        q0 = brentq(f, -math.pi / 4, math.pi / 2)
+        q, valid = m.inverse_kinematics(m.home)
+        assert valid.all()
+        np.testing.assert_allclose(q, q0, rtol=0, atol=1e-13)
+        assert math.degrees(q0) == pytest.approx(18.94, abs=0.01)
+
+
+def test_leg_length_rule_is_the_centre_of_the_closing_interval():
+    # LEG_LENGTH is the centre, rounded to 0.1 mm, of the intersection of the intervals
+    # of l2 + l3 that close every leg of every preset over its study box (Table II
+    # positions, +-20 deg for L = 6, +-30 deg for L = 8); recomputed here on a 25 mm /
+    # 10 deg grid (the full 10 mm / 5 deg grid gives 349.66 mm: slow test below).
+    from distkin.mechanisms.presets import leg_length_rule
+    from distkin.mechanisms.rss import LEG_LENGTH
+    r = leg_length_rule(step=0.025, rot_step_deg=10.0)
+    lo, hi = r["interval"]
+    assert lo < LEG_LENGTH < hi
+    assert abs(r["K"] - LEG_LENGTH) < 1.5e-3
+
+
+@pytest.mark.slow
+def test_leg_length_rule_full_grid():
+    from distkin.mechanisms.presets import leg_length_rule
+    from distkin.mechanisms.rss import LEG_LENGTH
+    r = leg_length_rule()
+    assert round(r["K"], 4) == LEG_LENGTH
 
 
 def test_reading_of_fig2():
-    # presets.py: actuator axes radial (turned by s beta), cranks horizontal at q = 0 and
-    # pointing away from their pair's centre, RRRS offset l2 outwards along the axis.
+    # presets.py: actuator axes of a pair on one tangential line (turned by s beta),
+    # cranks horizontal at q = 0 and radially outwards, RRRS offset l2 along the axis away
+    # from the pair's centre.
     m = preset("ergin")
     g = m.geometry()
     z = np.array([0.0, 0.0, 1.0])
@@ -54,13 +87,17 @@ def test_reading_of_fig2():
         th, s = g["theta"][i], g["side"][i]
         e = np.array([math.cos(th), math.sin(th), 0.0])
         t = np.array([-math.sin(th), math.cos(th), 0.0])
-        a = math.cos(s * m.beta) * e + math.sin(s * m.beta) * t
+        a = math.cos(s * m.beta) * t + math.sin(s * m.beta) * np.cross(z, t)
         np.testing.assert_allclose(g["a"][i], a, atol=1e-15)
-        np.testing.assert_allclose(g["u"][i], s * np.cross(z, a), atol=1e-15)
-        np.testing.assert_allclose(g["offset"][i], m.l2 * a, atol=1e-15)
-        # the crank tip moves away from the pair's other pivot
+        np.testing.assert_allclose(g["u"][i], np.cross(a, z), atol=1e-15)
+        assert np.dot(g["u"][i], e) > 0.9                  # radially outwards
+        np.testing.assert_allclose(g["offset"][i], s * m.l2 * a, atol=1e-15)
+        # the offset moves the universal joint away from the pair's other pivot
         mate = i + 1 if i % 2 == 0 else i - 1
-        assert np.dot(g["u"][i], g["B"][i] - g["B"][mate]) > 0
+        assert np.dot(g["offset"][i], g["B"][i] - g["B"][mate]) > 0
+    # the pre-issue-15 reading stays available: radial axes, tangential cranks
+    r = preset("ergin", layout="radial").geometry()
+    np.testing.assert_allclose(r["u"], r["side"][:, None] * np.cross(z, r["a"]), atol=1e-15)
 
 
 def test_table2_grid_reachable(any_preset):
@@ -75,27 +112,31 @@ def test_table2_grid_reachable(any_preset):
     assert m.reachable(P).all()
 
 
-def test_home_cranks_horizontal(any_preset):
+def test_home_cranks_symmetric(any_preset):
+    # at the centre every crank has the same elevation (the legs are congruent), on the
+    # branch nearer 0
     q, valid = any_preset.inverse_kinematics(any_preset.home)
     assert valid.all()
-    assert np.abs(q).max() < 1e-13
+    assert np.ptp(q) < 1e-13 and 0 < q[0] < math.radians(45)
 
 
 def test_overrides_recompute_l3():
-    m = preset("octopod", l0=0.170)
-    assert m.name == "octopod*" and m.l3 == pytest.approx(
-        math.sqrt((0.170 - 0.055) ** 2 + 0.157 ** 2 + 0.3 ** 2))
-    q, _ = m.inverse_kinematics(m.home)
-    assert np.abs(q).max() < 1e-13
+    from distkin.mechanisms.rss import LEG_LENGTH
+    m = preset("octopod", l2=0.010)
+    assert m.name == "octopod*" and m.l3 == pytest.approx(LEG_LENGTH - 0.010, abs=1e-15)
     m2 = preset("octopod", l3=0.40)
     assert m2.l3 == 0.40
-    q2, _ = m2.inverse_kinematics(m2.home)
-    assert np.abs(q2).max() > 1e-3       # the rule no longer holds: cranks tilt
+    # the radial reading keeps its horizontal-crank rule: q = 0 at the centre
+    m3 = preset("octopod", layout="radial", l0=0.170)
+    assert m3.l3 == pytest.approx(math.sqrt((0.170 - 0.055) ** 2 + 0.157 ** 2 + 0.3 ** 2))
+    q3, _ = m3.inverse_kinematics(m3.home)
+    assert np.abs(q3).max() < 1e-13
 
 
 @pytest.mark.parametrize("kwargs, field", [
     ({"legs": 7}, "legs"), ({"l1": -0.1}, "l1"), ({"gamma": math.pi}, "beta"),
-    ({"ld": float("nan")}, "ld"), ({"bogus": 1.0}, "preset"),
+    ({"ld": float("nan")}, "ld"), ({"bogus": 1.0}, "preset"), ({"layout": "spiral"}, "layout"),
+    ({"l2": 0.4}, "l2"),
 ])
 def test_bad_parameters(kwargs, field):
     with pytest.raises(InputError) as info:

@@ -26,7 +26,7 @@ EXPONENTS = {"force": -1, "torque": 0, "velocity": 1, "angular_velocity": 0,
              "acceleration": -1, "angular_acceleration": 0, "sens_translational": 1,
              "sens_rotational": 0, "sens_force": -1, "sens_torque": 0,
              "sigma_min": 0, "sigma_max": 0}
-_LENGTHS = ("l0", "l1", "lp", "ld", "z0")          # the octopod's non-zero lengths
+_LENGTHS = ("l0", "l1", "l3", "lp", "ld", "z0")    # the octopod's non-zero lengths
 
 
 @pytest.fixture(scope="module")
@@ -50,7 +50,8 @@ def test_octopod_kinematics_scale_exactly(octopod_poses, k):
     """Extreme: the Octopod with every length ×k (k = 1e-3, 1e3), its own generated
     kernels, at the same poses scaled (positions ×k, rotations unchanged).
 
-    Expected: l3 from the horizontal-crank rule scales as k; crank angles identical
+    Expected: (l3 = LEG_LENGTH - l2 is a device constant, so it is scaled explicitly)
+    crank angles identical
     (abs 1e-13 rad); the v-columns of J scale as 1/k and the ω-columns are unchanged
     (relative 1e-13 of the largest entry).  float64 scaling by a non-power of two
     costs a few ulps, so 1e-13 leaves a margin of about 100.

@@ -1,0 +1,54 @@
+"""The true velocity capability of a redundant device (Kühne et al., eq. (5) revisited).
+
+Eq. (5) maps the actuator-rate box through the pseudo-inverse, ``ẋ = J# q̇``, and the
+polytope algorithm takes the worst case of that zonotope.  For L = d the map is
+invertible and the zonotope is exactly the set of reachable end-effector velocities.
+For a redundant device (L = 8) it is not: the actuator rates are *determined* by the
+motion, ``q̇ = J ẋ`` (eq. (1)-(2)), so the velocities the device can actually produce
+are
+
+.. math::  V = \\{\\dot x : |J \\dot x|_\\infty \\le \\dot q_{max}\\},
+
+the intersection of the 2L half-spaces ``±J_i ẋ <= q̇max``, a polytope that
+``{J# q̇}`` contains (for ẋ in V, q̇ = Jẋ is in the box and J# J ẋ = ẋ) and that is
+strictly smaller for L > d.  Its slice ``ẋ_{S^c} = 0`` (e.g. translational velocity at
+zero angular velocity, as the paper's eq. (14)) is ``{u : |J_S u|∞ <= q̇max}`` with
+J_S the columns S of J, and the worst case (the largest ball about the origin inside a
+polytope given by half-spaces) is exactly
+
+.. math::  \\min_i \\dot q_{max} / \\lVert J_{i,S} \\rVert,
+
+the distance to the nearest of the L slab planes (a redundant plane is farther than the
+facet that hides it, so the minimum is attained on a facet).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["true_velocity_worst"]
+
+
+def true_velocity_worst(J, qdot_max, keep):
+    """Worst case of the true velocity set's slice (module docstring).
+
+    Parameters
+    ----------
+    J : ndarray (N, L, d)
+        Jacobian with q̇ = J ẋ (rad/s per m/s and rad/s per rad/s).
+    qdot_max : float
+        Symmetric actuator rate limit (rad/s).
+    keep : sequence of int
+        The output coordinates of the slice (the others are 0).
+
+    Returns
+    -------
+    ndarray (N,)
+        In the unit of the kept coordinates (m/s or rad/s); +inf where J_S = 0 (never
+        for an RSS device).  Exact up to rounding.
+    """
+    J = np.asarray(J, dtype=float)
+    JS = J[..., list(keep)]
+    n = np.sqrt(np.einsum("nls,nls->nl", JS, JS)).max(axis=1)
+    with np.errstate(divide="ignore"):
+        return float(qdot_max) / n
