@@ -41,14 +41,16 @@ def solve_exact(base, platform, legs, *, dps=None, tol=None):
     squared lengths are irrational.  Returns ``(result, tier, note)``."""
     from .certified import solve_certified
     from .problem import exact_problem
-    from .scaling import rescale_result
+    from .scaling import in_units, rescale_result
     problem = exact_problem(base, platform, legs)
     try:
-        res = solve_certified(problem, 1e-15 if tol is None else float(tol))
+        with in_units(problem.exponent):
+            res = solve_certified(problem, 1e-15 if tol is None else float(tol))
     except InputError as exc:          # irrational squared lengths: no exact octic
         from .precise import solve_precise
         digits = PRECISE_DPS if dps is None else dps
-        res = solve_precise(problem, digits, tol)
+        with in_units(problem.exponent):
+            res = solve_precise(problem, digits, tol)
         return (rescale_result(res, problem.exponent), "precise",
                 f"the data cannot be made exact ({exc}), so the precise tier at {digits} "
                 "digits answered: its count is not certified")

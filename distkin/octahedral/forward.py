@@ -48,7 +48,7 @@ from ..errors import ConditioningWarning
 from ..numbers import METHODS_AUTO, check_method, default_dps
 from .problem import REASONS as _REASONS
 from .problem import exact_problem, float_problem, float_single
-from .scaling import rescale_result
+from .scaling import in_units, rescale_result
 
 __all__ = ["Pose", "RootInfo", "AssemblyResult", "BatchResult", "forward_kinematics",
            "forward_kinematics_batched"]
@@ -385,13 +385,14 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
                           stacklevel=2)
         return res
     problem = exact_problem(base, platform, legs)
-    if method == "precise":
-        from .precise import solve_precise
-        res = replace(solve_precise(problem, default_dps(dps), tol), tier="precise")
-    else:
-        from .certified import solve_certified
-        res = replace(solve_certified(problem, 1e-15 if tol is None else float(tol)),
-                      tier="certified")
+    with in_units(problem.exponent):
+        if method == "precise":
+            from .precise import solve_precise
+            res = replace(solve_precise(problem, default_dps(dps), tol), tier="precise")
+        else:
+            from .certified import solve_certified
+            res = replace(solve_certified(problem, 1e-15 if tol is None else float(tol)),
+                          tier="certified")
     return rescale_result(res, problem.exponent)
 
 

@@ -260,9 +260,10 @@ def float_problem(base, platform, legs):
         i = int(np.flatnonzero(bad)[0])
         check_range(float(largest[i]), f"legs[{i}]" if N > 1 else "legs")
     k = exponents(largest)
-    B = np.ldexp(B, -k[:, None, None])
-    Q = np.ldexp(Q, -k[:, None, None])
-    L = np.ldexp(L, -k[:, None])
+    if k.any():
+        B = np.ldexp(B, -k[:, None, None])
+        Q = np.ldexp(Q, -k[:, None, None])
+        L = np.ldexp(L, -k[:, None])
     pts = np.concatenate([B, Q], axis=1)
     sides2 = np.stack([_d2(pts, i, j) for i, j in SIDE_PAIRS], -1)
     for (j, names, fld) in ((0, "P1 P2 P3", "base"), (3, "P4 P5 P6", "platform")):

@@ -31,7 +31,7 @@ import numpy as np
 from ..errors import InputError
 
 __all__ = ["exponent", "exponents", "check_range", "scale_problem", "rescale_result",
-           "rescale_octic", "KEEP", "MAX_EXP", "MIN_EXP"]
+           "rescale_octic", "in_units", "KEEP", "MAX_EXP", "MIN_EXP"]
 
 #: largest lengths in [2^-KEEP, 2^KEEP) are not rescaled
 KEEP = 10
@@ -86,6 +86,25 @@ def check_range(largest: float, field: str, smallest2: float | None = None,
         raise InputError("expected every side and leg within a factor 2^500 of the largest "
                          f"length, got a squared length {smallest2:.3g} times the largest "
                          "one's square: beyond float64's range", field=small_field or field)
+
+
+class in_units:
+    """Context manager: an error raised inside, by a tier working on lengths divided by
+    2^k, says so (its numbers, e.g. a root s15, are in those units)."""
+
+    def __init__(self, k: int):
+        self.k = k
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, exc, tb):
+        from ..errors import DistkinError
+        if self.k and isinstance(exc, DistkinError):
+            exc.message += (f" (numbers in this message are for the lengths divided by "
+                            f"2^{self.k}, s15 by 4^{self.k})")
+            exc.args = (exc.one_line(),)
+        return False
 
 
 def _scale_value(v, k: int):

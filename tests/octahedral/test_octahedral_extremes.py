@@ -50,7 +50,7 @@ def test_two_assembly_modes_about_to_merge():
     12 poses, the count confirmed by Sturm.  Precise (30 digits): the same 12 poses.
     Fast: drops the pair (the companion eigenvalues make it a complex pair and Newton
     on eq. (3) finds no real root there) -- 8 poses, each of them valid -- and its
-    conditioning estimate warns (ConditioningWarning)."""
+    proof fails, so it warns (ConditioningWarning)."""
     family = lambda t: LEGS[:4] + [t] + LEGS[5:]  # noqa: E731
     a, b = _bisect(family, F(15), F(31, 2), lambda legs: _modes(legs) == 6, F(1, 2 ** 43))
     near = forward_kinematics(GD_BASE, GD_PLATFORM, family(a), method="certified", tol=1e-12)

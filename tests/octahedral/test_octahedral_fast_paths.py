@@ -102,7 +102,7 @@ def test_single_and_batched_tiers_agree_with_each_other_and_the_certified_roots(
         for r in single.assembly_roots:
             assert np.min(np.abs(exact - r.value)) <= 1e-9 * r.value
         if len(single.assembly_roots) != len(exact):
-            assert caught, i                   # a miscount is announced by the estimate
+            assert caught, i                   # a miscount is announced (not proved)
         true_s15 = np.sum((truth[1] - b[0]) ** 2)
         assert np.min(np.abs(exact - true_s15)) <= 1e-8 * true_s15
 
