@@ -25,7 +25,7 @@ from importlib import resources
 from pathlib import Path
 
 from ._version import __version__
-from .errors import DistkinError, InputError, is_input_error
+from .errors import DistkinError, is_input_error
 
 __all__ = ["main", "run_scene", "DEMO_SCENES", "SUBCOMMANDS"]
 
