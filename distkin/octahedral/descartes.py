@@ -134,8 +134,8 @@ _BINOM = np.array([[math.comb(8 - j, i - j) if j <= i else 0 for j in range(9)]
 #: verdict codes of :func:`vouch` and what they mean
 VERDICTS = {
     0: "proved: every assembly root is counted and classified right",
-    1: "the inputs are out of the range the bounds cover (squared lengths above 1 after "
-       "normalisation, or a rounding bound beyond 10 % relative)",
+    1: "the inputs are out of the range the bounds cover (a squared length below 2^-1000 "
+       "of the largest after normalisation, or a rounding bound beyond 10 % relative)",
     2: "the octic's sign at an end of the feasible interval is within its rounding bound: "
        "a root at the edge of assemblability",
     3: "the octic's sign between two roots found is within its rounding bound: two roots "

@@ -17,8 +17,9 @@ Tiers
     :func:`forward_kinematics_batched`.  The first call on a machine compiles (about
     15-20 s, kept in numba's cache); see BENCHMARKS.md for the cost per solve.  Legs
     reproduced to ~1e-12 relative on well-conditioned problems; every pose states its
-    residual, and a single solve carries a conditioning estimate of its real-root count (:mod:`.conditioning`;
-    :class:`~distkin.errors.ConditioningWarning` when it distrusts the count).
+    residual, and every solve (single and batched) proves its assembly roots or says
+    it cannot (:mod:`.descartes`, :mod:`.conditioning`:
+    :class:`~distkin.errors.ConditioningWarning`, ``BatchResult.trusted``).
 ``precise``
     mpmath at ``dps`` digits: exact octic (when the data are rational) rounded once,
     ``mpmath.polyroots``, Newton polish on eq. (3) at ``dps`` (:mod:`.precise`).
@@ -30,9 +31,12 @@ Tiers
     rather than guess.
 ``auto``
     the fast tier, escalated to ``certified`` (or ``precise`` for data that cannot be
-    made exact) when the conditioning estimate distrusts the count or a leg is
+    made exact) when the fast tier cannot prove its assembly roots or a leg is
     reproduced worse than 1e-9 relative (:mod:`.auto`); the result's ``tier`` and
     ``tier_reason`` say which tier answered and why.
+
+Every tier solves the problem with its lengths divided by a power of two and scales the
+answer back, exactly (:mod:`.scaling`).
 """
 
 from __future__ import annotations
@@ -142,7 +146,8 @@ class AssemblyResult(Sequence):
     tier_reason : str
         ``method="auto"``: why that tier answered.
     conditioning : :class:`~.conditioning.Conditioning` or None
-        The fast tier's estimate of its own real-root count (fast and auto).
+        The fast tier's proof of its own assembly roots, or why there is none (fast
+        and auto).
     """
 
     poses: tuple
@@ -319,10 +324,10 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
         Leg lengths :math:`l_1..l_6` of P1P4, P2P4, P2P5, P3P5, P3P6, P1P6 (same
         length unit as the points).
     method : {"fast", "precise", "certified", "auto"}
-        ``"auto"``: the fast tier, kept when its conditioning estimate
-        (:mod:`.conditioning`) trusts the real-root count and every leg is reproduced
-        to 1e-9 relative; otherwise escalated to ``certified`` (or ``precise`` when the
-        data cannot be made exact).  ``.tier`` and ``.tier_reason`` of the result say
+        ``"auto"``: the fast tier, kept when it proves its assembly roots
+        (:mod:`.descartes`) and every leg is reproduced to 1e-9 relative; otherwise
+        escalated to ``certified`` (or ``precise`` when the data cannot be made
+        exact).  ``.tier`` and ``.tier_reason`` of the result say
         which tier answered and why (:mod:`.auto`).
     dps : int, optional
         Decimal digits of the ``precise`` tier (default 30).
@@ -331,10 +336,9 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
         enclosures are refined to (default 1e-15).  ``precise``: the relative residual
         accepted for a root (default :math:`10^{8-dps}`).
     warn : bool
-        ``fast``: compute the conditioning estimate (:mod:`.conditioning`, about
-        40 µs) into ``.conditioning`` and emit a
-        :class:`~distkin.errors.ConditioningWarning` when it does not trust the
-        real-root count (default True).  ``warn=False`` skips the estimate
+        ``fast``: prove the assembly roots (:mod:`.descartes`, a few µs) into
+        ``.conditioning`` and emit a :class:`~distkin.errors.ConditioningWarning` when
+        the proof fails (default True).  ``warn=False`` skips the proof
         (``.conditioning`` is None): the bare fast tier.
 
     Returns
@@ -347,7 +351,8 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
     Raises
     ------
     InputError
-        Malformed data; ``certified`` with irrational squared lengths.
+        Malformed data; ``certified`` with irrational squared lengths; lengths whose
+        squares do not fit float64 (:mod:`.scaling`).
     DegenerateGeometryError
         A collinear base or platform triangle, or an octic that vanishes identically.
     UncertifiedError
