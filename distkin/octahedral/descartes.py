@@ -483,10 +483,12 @@ def vouch(d, s2, l2, eta, lo, hi, roots, codes, radii, tight=True):
     Parameters
     ----------
     d : (>= 30,) kernel output (quadratic parts of eq. (3) first) at the float squared
-        lengths ``s2`` (s12 s13 s23 s45 s46 s56), ``l2`` (s14 .. s16), all in [0, 1]
+        lengths ``s2`` (s12 s13 s23 s45 s46 s56), ``l2`` (s14 .. s16), all in
+        [LEAF_MIN, LEAF_BOUND] (else the verdict is 1)
     eta : relative error bound of those squared lengths against the exact ones
     lo, hi : the float triangle bounds of s15 (:func:`.fast_single.bounds`)
-    roots : (n,) the fast tier's real roots, increasing (any status)
+    roots : (n,) the fast tier's real roots, increasing (any status; two that are not
+        strictly increasing make verdict 3)
     codes : (n,) their status codes (0 assembly, 1 and 2 spurious, 3 rejected)
     radii : (n,) output: the proved radius of each root in [a, b] (inf elsewhere)
     tight : bool
