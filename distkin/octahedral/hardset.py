@@ -53,6 +53,8 @@ from functools import lru_cache
 
 import numpy as np
 
+from .reference import random_triangle
+
 __all__ = ["Case", "hard_set", "hard_families", "easy_set", "certified_truth",
            "near_coplanar", "near_line"]
 
@@ -223,17 +225,6 @@ def easy_set(n: int = 200, seed: int = 3) -> tuple:
     return tuple(out)
 
 
-def _triangle(rng):
-    """A random triangle in the plane z = 0 (aspect ratio up to ~1:8), as in
-    :func:`~.reference.random_octahedron`."""
-    while True:
-        P = np.column_stack([rng.uniform(-1, 1, (3, 2)), np.zeros(3)])
-        a = np.cross(P[1] - P[0], P[2] - P[0])[2]
-        sides = [np.linalg.norm(P[i] - P[j]) for i, j in ((0, 1), (0, 2), (1, 2))]
-        if abs(a) > 0.05 * max(sides) ** 2:
-            return P
-
-
 def _rotation(axis, angle):
     """Rodrigues' rotation about ``axis`` (3,) by ``angle`` rad."""
     k = np.asarray(axis, float) / np.linalg.norm(axis)
@@ -251,8 +242,8 @@ def near_coplanar(rng, height, tilt):
     """A random octahedron whose platform lies ``height`` (relative to the base size)
     above or below the base plane, tilted by ``tilt`` rad about a random horizontal axis.
     Returns base (3, 3), platform (3, 3) in its own frame, legs (6,)."""
-    base = _triangle(rng)
-    plat = _triangle(rng) * rng.uniform(0.2, 1.5)
+    base = random_triangle(rng)
+    plat = random_triangle(rng) * rng.uniform(0.2, 1.5)
     R = _rotation([*rng.normal(size=2), 0.0], tilt) @ _rotation([0, 0, 1],
                                                                  rng.uniform(0, 2 * np.pi))
     t = np.array([*rng.uniform(-0.5, 0.5, 2), height * rng.choice([-1, 1])])
@@ -263,7 +254,7 @@ def near_line(rng, distance, vertex):
     """A random octahedron whose platform vertex ``vertex`` (0: P4, 1: P5, 2: P6) lies
     ``distance`` (relative to the edge) from the line of the base edge it is joined to
     (P1P2, P2P3, P3P1).  Returns base, platform (in its own frame), legs."""
-    base = _triangle(rng)
+    base = random_triangle(rng)
     i, j = ((0, 1), (1, 2), (2, 0))[vertex]
     v = base[j] - base[i]
     w = rng.normal(size=3)
