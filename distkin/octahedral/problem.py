@@ -18,7 +18,7 @@ import numpy as np
 from ..errors import DegenerateGeometryError, InputError
 from ..numbers import Exact, parse_exact
 from .banana import LEG_PAIRS, SIDE_PAIRS
-from .scaling import check_range, exponent, exponents, scale_problem
+from .scaling import KEEP, check_range, exponent, exponents, scale_problem
 
 __all__ = ["Problem", "exact_problem", "float_problem", "float_single", "LEG_PAIRS",
            "SIDE_PAIRS", "REASONS"]
@@ -297,10 +297,10 @@ def float_single(base, platform, legs):
     :func:`float_problem` and raise the same errors.
     """
     try:
-        B, rb = _float_rows(base)
-        Q, rq = _float_rows(platform)
-        L, rl = _float_row(legs.tolist() if isinstance(legs, np.ndarray) else legs, 6)
-    except (TypeError, ValueError, InputError):
+        B = _float_rows(base)
+        Q = _float_rows(platform)
+        L = _float_row(legs.tolist() if isinstance(legs, np.ndarray) else legs, 6)
+    except (TypeError, ValueError):
         B, Q, L, _, _, k, rounded = float_problem(base, platform, legs)
         if B.shape[0] != 1:
             raise InputError(f"expected one set of 6 legs, got shape {np.shape(legs)}",
@@ -313,8 +313,8 @@ def float_single(base, platform, legs):
     if min(L) <= 0:
         i = next(i for i, v in enumerate(L) if v <= 0)
         raise InputError(f"expected positive leg lengths, got {L[i]!r}", field=f"legs[{i}]")
-    largest = max(max(map(abs, flat)), max(L))
-    k = exponent(largest)
+    largest = max(max(flat), -min(flat), max(L))
+    k = 0 if _SMALL <= largest < _LARGE else exponent(largest)
     if k:
         largest, field = _largest(B, Q, L)
         check_range(largest, field)
@@ -329,43 +329,35 @@ def float_single(base, platform, legs):
         if not 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c) > 1e-12 * (a + b + c) ** 2:
             raise DegenerateGeometryError(f"expected a proper triangle {names}, got collinear "
                                           "or coincident points", field=fld)
-    return B, Q, L, k, bool(rb or rq or rl)
+    return B, Q, L, k, False
+
+
+_SMALL, _LARGE = 2.0 ** -KEEP, 2.0 ** KEEP       # lengths not rescaled (.scaling)
 
 
 def _float_row(r, n):
-    """n plain floats and whether one was rounded (an int beyond 2^53), or
-    TypeError/ValueError (then the general path: strings, Fractions, sympy numbers,
-    wrong shapes)."""
+    """n plain floats, or TypeError/ValueError (then the general path): a value comes
+    this way only when its float compares equal to it (floats, numpy floats, integers
+    below 2^53), so that every float here is exactly the value given; strings,
+    Fractions, large integers and sympy numbers take the general path, which says when
+    it rounds."""
     if len(r) != n:
         raise ValueError
-    row = []
-    rounded = False
-    for v in r:
-        if type(v) is float:
-            row.append(v)
-        elif type(v) is int:
-            f = float(v)
-            rounded = rounded or f != v
-            row.append(f)
-        elif isinstance(v, np.floating):
-            row.append(float(v))
-        else:
-            raise ValueError
-    return row, rounded
+    row = [float(v) for v in r]
+    if row != list(r):            # exact comparisons: "19.8" or 1/3 is not its float
+        raise ValueError
+    return row
 
 
 def _float_rows(value):
-    """3 rows of 3 plain floats (:func:`_float_row`)."""
+    """3 rows of 3 plain floats (the rule of :func:`_float_row`)."""
     if isinstance(value, np.ndarray):
         if value.shape != (3, 3) or value.dtype.kind != "f":
             raise ValueError
-        return value.tolist(), False
-    if len(value) != 3:
+        return value.tolist()
+    out = [[float(x) for x in r] for r in value]
+    if list(map(len, out)) != [3, 3, 3]:
         raise ValueError
-    out = []
-    rounded = False
-    for r in value:
-        row, rd = _float_row(r.tolist() if isinstance(r, np.ndarray) else r, 3)
-        out.append(row)
-        rounded = rounded or rd
-    return out, rounded
+    if out != value and out != [list(r) for r in value]:
+        raise ValueError          # exact comparisons: a string or a Fraction is not its float
+    return out
