@@ -52,7 +52,7 @@ from ..errors import ConditioningWarning
 from ..numbers import METHODS_AUTO, check_method, default_dps
 from .problem import REASONS as _REASONS
 from .problem import exact_problem, float_problem, float_single
-from .scaling import in_units, rescale_result
+from .scaling import in_units, rescale_octic, rescale_result
 
 __all__ = ["Pose", "RootInfo", "AssemblyResult", "BatchResult", "forward_kinematics",
            "forward_kinematics_batched"]
@@ -279,16 +279,26 @@ def _overflow_note(k):
 def _single_result(coef, lo, hi, roots, poses, conditioning=None, k=0):
     """The :class:`AssemblyResult` of :func:`.fast_single.solve_fast_single`'s output
     (its pose arrays are fresh, owned by the poses: rows are views, no copies), for the
-    lengths divided by ``2**k``: scaled back (:mod:`.scaling`)."""
+    lengths divided by ``2**k``: scaled back (:mod:`.scaling`) on the arrays, before
+    any object is built."""
+    S, side, P, R, T, E, Er = poses
+    notes = (_SPURIOUS_NOTE,)
+    octic = tuple(coef.tolist())
+    if k:
+        roots = np.ldexp(roots, [2 * k, 2 * k, 0])
+        S, P, T, E = np.ldexp(S, 2 * k), np.ldexp(P, k), np.ldexp(T, k), np.ldexp(E, k)
+        lo, hi = math.ldexp(lo, 2 * k), math.ldexp(hi, 2 * k)
+        octic, ok = rescale_octic(octic, k)
+        if not ok:
+            notes += (_overflow_note(k),)
+        if conditioning is not None:
+            conditioning = replace(conditioning, radius=math.ldexp(conditioning.radius, 2 * k))
     infos = tuple(RootInfo(x, st, 1, _STATUS[code], _REASONS[code], x)
                   for x, st, code in roots.tolist())
-    S, side, P, R, T, E, Er = poses
     out = tuple(map(Pose, S.tolist(), side.tolist(), R, T, P, E.tolist(), Er.tolist()))
-    reason = "" if out else _empty_reason(infos, math.ldexp(lo, 2 * k), math.ldexp(hi, 2 * k))
-    res = AssemblyResult(out, "fast", tuple(coef.tolist()), False, infos, False, reason,
-                         _FAST_ACCURACY, (_SPURIOUS_NOTE,), tier="fast",
-                         conditioning=conditioning)
-    return rescale_result(res, k) if k else res
+    reason = "" if out else _empty_reason(infos, lo, hi)
+    return AssemblyResult(out, "fast", octic, False, infos, False, reason,
+                          _FAST_ACCURACY, notes, tier="fast", conditioning=conditioning)
 
 
 _STATUS = {0: "assembly", 1: "spurious", 2: "spurious", 3: "rejected"}

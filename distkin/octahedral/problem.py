@@ -300,7 +300,7 @@ def float_single(base, platform, legs):
         B = _float_rows(base)
         Q = _float_rows(platform)
         L = _float_row(legs.tolist() if isinstance(legs, np.ndarray) else legs, 6)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError):             # (unpacking a wrong shape: ValueError)
         B, Q, L, _, _, k, rounded = float_problem(base, platform, legs)
         if B.shape[0] != 1:
             raise InputError(f"expected one set of 6 legs, got shape {np.shape(legs)}",
@@ -343,7 +343,7 @@ def _float_row(r, n):
     it rounds."""
     if len(r) != n:
         raise ValueError
-    row = [float(v) for v in r]
+    row = list(map(float, r))
     if row != list(r):            # exact comparisons: "19.8" or 1/3 is not its float
         raise ValueError
     return row
@@ -355,9 +355,6 @@ def _float_rows(value):
         if value.shape != (3, 3) or value.dtype.kind != "f":
             raise ValueError
         return value.tolist()
-    out = [[float(x) for x in r] for r in value]
-    if list(map(len, out)) != [3, 3, 3]:
-        raise ValueError
-    if out != value and out != [list(r) for r in value]:
-        raise ValueError          # exact comparisons: a string or a Fraction is not its float
-    return out
+    (a, b, c), (d, e, f), (g, h, i) = value
+    x = _float_row((a, b, c, d, e, f, g, h, i), 9)
+    return [x[0:3], x[3:6], x[6:9]]
