@@ -330,14 +330,21 @@ def _plot(rows, miscount):
 
 
 def run():
+    import os
     from distkin.octahedral.hardset import hard_families, hard_set
+    load0 = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     cases, refs, rows = _curve()
     miscount = {"hard set": _miscounts(hard_set()), "families": _miscounts(hard_families())}
     cost = _auto_cost()
     ba = _before_after()
+    load1 = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     fig = _plot(rows, miscount)
     agree = min(a for _, _, a in refs)
     lines = [
+        f"Load average (1 min): {load0:.1f} at the start, {load1:.1f} at the end, on "
+        f"{os.cpu_count()} cores (shared with other work: absolute times vary by 10-30 % "
+        "from run to run, the ratios much less).",
+        "",
         f"Digit set: {len(cases)} problems (Griffis-Duffy, 6 random octahedra, 4 near the "
         "Griffis-Duffy fold). Reference: precise tier at 200 digits; the certified tier "
         f"(enclosures refined to 1e-60) agrees with it to at least {agree:.0f} digits on "
@@ -437,6 +444,7 @@ def run():
         "Auto escalates to the certified tier when the proof fails or a leg is "
         "reproduced worse than 1e-9 relative.",
     ]
-    data = {"rows": rows, "miscount": miscount, "auto_cost": cost, "before_after": ba,
+    data = {"load_average": [load0, load1], "rows": rows, "miscount": miscount,
+            "auto_cost": cost, "before_after": ba,
             "reference_agreement_digits": agree}
     return "\n".join(lines) + "\n", data
