@@ -11,10 +11,19 @@ Rojas, Borràs and Thomas, ICRA 2012, Sec. III and VI.  Three measurements in on
    all poses (0 when a pose is missing or extra); the tier's own native numbers (mpf,
    arb midpoints) are compared, so more than 16 digits can show;
 2. **miscounted real roots on the hard set** (:func:`~distkin.octahedral.hardset.hard_set`:
-   folds, the edge of assemblability, a flat configuration, extreme scales): the share
-   of problems whose assembly-mode or pose count differs from the certified one;
+   folds, the edge of assemblability, a flat configuration, extreme scales) and on the
+   families of issue 14 (:func:`~distkin.octahedral.hardset.hard_families`:
+   near-coplanar, near-line, clustered roots, at three scales): the share of problems
+   whose assembly-mode or pose count differs from the certified one, for every tier;
+   for the fast tier also how many of those it did not announce (no
+   ``ConditioningWarning``), for the batched tier how many it did not flag
+   (``BatchResult.trusted``);
 3. **the cost of ``auto``** against the fast tier, on the easy set (200 random
-   octahedra) and on the hard set: CPU time per solve, and how often auto escalated.
+   octahedra), the hard set and the families: CPU time per solve, and how often auto
+   escalated -- and, from the same run, the previous implementation (main at
+   :data:`BASELINE_REV`, a calibrated conditioning estimate instead of the proof),
+   extracted with ``git archive``, against this tree, both timed by the same script in
+   fresh subprocesses, alternated, on the same easy set.
 """
 
 from __future__ import annotations
@@ -28,15 +37,18 @@ import numpy as np
 
 from benchmarks.harness import fmt_time, interleaved
 
-__all__ = ["TITLE", "DEFAULT", "run"]
+__all__ = ["TITLE", "DEFAULT", "run", "BASELINE_REV"]
+
+#: the implementation before issue 14 (the calibrated estimate), for "before" numbers
+BASELINE_REV = "4f55e18"
 
 TITLE = "Speed against accuracy: octahedral forward kinematics (fast, precise, certified, auto)"
 DEFAULT = True
 FIG = Path(__file__).resolve().parent / "figures" / "accuracy_fk.png"
 
 TIERS = {
-    "fast (no estimate)": dict(method="fast", warn=False),
-    "fast + estimate": dict(method="fast"),
+    "fast (bare)": dict(method="fast", warn=False),
+    "fast + proof": dict(method="fast"),
     "auto": dict(method="auto"),
     "precise dps=15": dict(method="precise", dps=15),
     "precise dps=20": dict(method="precise", dps=20),
@@ -132,7 +144,7 @@ def _curve():
     gd = cases[0]
     # the float64 tiers (sub-millisecond) and the others are timed in separate
     # interleaved groups, so that each fast measurement averages many warm calls
-    quick = ("fast (no estimate)", "fast + estimate", "auto")
+    quick = ("fast (bare)", "fast + proof", "auto")
     timing = interleaved({n: (lambda kw=TIERS[n]: _solve(gd, **kw)) for n in quick},
                          rounds=15, number=50, cpu=True)
     timing.update(interleaved({n: (lambda kw=kw: _solve(gd, **kw)) for n, kw in TIERS.items()
@@ -142,31 +154,54 @@ def _curve():
     return cases, refs, rows
 
 
-def _miscounts():
-    from distkin.octahedral.hardset import hard_set
-    hard = hard_set()
+def _miscounts(cases):
+    """Per tier: problems whose counts differ from the certified truth; for fast also
+    the silent ones, for batched the unflagged ones; errors raised (honest refusals)."""
+    from distkin.errors import ConditioningWarning
+    from distkin.octahedral import forward_kinematics, forward_kinematics_batched
     out = {}
     for name, kw in TIERS.items():
         if name.startswith("certified tol=1e-") and name != "certified tol=1e-15":
             continue
-        wrong, err = 0, 0
-        for c in hard:
+        wrong, err, silent = 0, 0, 0
+        for c in cases:
             try:
-                res = _solve(c, **kw)
+                with warnings.catch_warnings(record=True) as caught:
+                    warnings.simplefilter("always", ConditioningWarning)
+                    res = forward_kinematics(c.base, c.platform, list(c.legs), **kw)
             except Exception:                       # an honest refusal is not a miscount
                 err += 1
                 continue
-            wrong += (len(res.assembly_roots), len(res)) != (c.modes, c.poses)
-        out[name] = {"wrong": wrong, "refused": err, "n": len(hard)}
+            bad = (len(res.assembly_roots), len(res)) != (c.modes, c.poses)
+            wrong += bad
+            silent += bad and not caught and not (res.method == "auto")
+        out[name] = {"wrong": wrong, "refused": err, "n": len(cases)}
+        if name == "fast + proof":
+            out[name]["silent"] = silent
+    B = np.array([c.base for c in cases])
+    Q = np.array([c.platform for c in cases])
+    L = np.array([c.legs for c in cases])
+    truth = np.array([c.poses for c in cases])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fast = forward_kinematics_batched(B, Q, L)
+        auto = forward_kinematics_batched(B, Q, L, method="auto")
+    bad = fast.count != truth
+    out["batched fast"] = {"wrong": int(bad.sum()), "refused": 0, "n": len(cases),
+                           "silent": int((bad & fast.trusted).sum()),
+                           "flagged": int((~fast.trusted).sum())}
+    out["batched auto"] = {"wrong": int((auto.count != truth).sum()), "refused": 0,
+                           "n": len(cases)}
     return out
 
 
 def _auto_cost():
-    from distkin.octahedral.hardset import easy_set, hard_set
+    from distkin.octahedral.hardset import easy_set, hard_families, hard_set
     out = {}
-    for label, cases in (("easy", easy_set()), ("hard", hard_set())):
+    for label, cases in (("easy", easy_set()), ("hard", hard_set()),
+                         ("families", hard_families())):
         res = {}
-        for name in ("fast (no estimate)", "fast + estimate", "auto"):
+        for name in ("fast (bare)", "fast + proof", "auto"):
             kw = TIERS[name]
             best = np.inf
             for _ in range(3):
@@ -181,12 +216,78 @@ def _auto_cost():
     return out
 
 
+_BASELINE_SCRIPT = """
+import json, time, warnings
+import distkin
+from distkin.octahedral import forward_kinematics
+from distkin.octahedral.hardset import easy_set
+cases = easy_set()
+kws = {"fast (bare)": dict(warn=False), "fast + check": {}, "auto": dict(method="auto")}
+out = {}
+with warnings.catch_warnings():
+    warnings.simplefilter("ignore")
+    for name, kw in kws.items():
+        for c in cases[:5]:
+            forward_kinematics(c.base, c.platform, list(c.legs), **kw)   # compile
+        best = float("inf")
+        for _ in range(3):
+            t0 = time.process_time()
+            for c in cases:
+                forward_kinematics(c.base, c.platform, list(c.legs), **kw)
+            best = min(best, (time.process_time() - t0) / len(cases))
+        out[name] = best
+    out["escalated"] = sum(forward_kinematics(c.base, c.platform, list(c.legs),
+                                              method="auto").tier != "fast" for c in cases)
+out["tree"] = distkin.__file__
+print(json.dumps(out))
+"""
+
+
+def _before_after(rounds: int = 3):
+    """Auto's cost on the easy set before (main at :data:`BASELINE_REV`) and after
+    (this tree), each measured by the same script in a fresh subprocess, the two
+    alternated ``rounds`` times and the best of each kept (module docstring, item 3).
+    Returns {"before": {...}, "after": {...}}, or None without git or the revision."""
+    import json
+    import os
+    import subprocess
+    import sys
+    import tempfile
+    root = Path(__file__).resolve().parents[1]
+    with tempfile.TemporaryDirectory() as tmp:
+        try:
+            tar = subprocess.run(["git", "-C", str(root), "archive", BASELINE_REV],
+                                 capture_output=True, check=True).stdout
+            subprocess.run(["tar", "-x", "-C", tmp], input=tar, check=True)
+        except (OSError, subprocess.CalledProcessError):
+            return None
+        trees = {"before": (tmp, str(Path(tmp) / "cache")), "after": (str(root), None)}
+        best: dict = {}
+        for _ in range(rounds):
+            for label, (path, cache) in trees.items():
+                env = dict(os.environ, PYTHONPATH=path)
+                if cache:
+                    env["NUMBA_CACHE_DIR"] = cache
+                r = subprocess.run([sys.executable, "-c", _BASELINE_SCRIPT], env=env,
+                                   cwd=path, capture_output=True, text=True)
+                if r.returncode:
+                    return None
+                got = json.loads(r.stdout.strip().splitlines()[-1])
+                old = best.setdefault(label, got)
+                if not got.pop("tree").startswith(path):
+                    return None                     # the wrong tree was imported
+                for k, v in got.items():
+                    if k != "escalated":
+                        old[k] = min(old[k], v)
+        return best
+
+
 def _plot(rows, miscount):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     FIG.parent.mkdir(parents=True, exist_ok=True)
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 4.6))
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12.5, 4.8))
     for i, (name, r) in enumerate(rows.items()):
         kind = name.split()[0]
         colour = {"fast": "tab:blue", "auto": "tab:green", "precise": "tab:orange",
@@ -203,14 +304,25 @@ def _plot(rows, miscount):
     ax.set_ylabel("correct digits of the poses (median; bar down to the minimum)")
     ax.set_title("Octahedral FK: accuracy against cost")
     ax.grid(True, which="both", alpha=0.3)
-    names = list(miscount)
-    rate = [100 * miscount[n]["wrong"] / miscount[n]["n"] for n in names]
-    bx.barh(names, rate, color="tab:gray")
-    bx.set_xlabel(f"miscounted problems on the hard set (%), n = {miscount[names[0]]['n']}")
+    sets = list(miscount)
+    names = list(miscount[sets[0]])
+    y = np.arange(len(names))
+    h = 0.8 / len(sets)
+    for k, label in enumerate(sets):
+        m = miscount[label]
+        rate = [100 * m[n]["wrong"] / m[n]["n"] for n in names]
+        silent = [100 * m[n].get("silent", 0) / m[n]["n"] for n in names]
+        bx.barh(y + k * h, rate, height=h, label=f"{label}: wrong count",
+                color=("tab:gray", "tab:olive")[k % 2])
+        bx.barh(y + k * h, silent, height=h, color="tab:red",
+                label="... of which not announced" if k == 0 else None)
+        for yy, v in zip(y + k * h, rate):
+            bx.text(v, yy, f" {v:.1f} %", va="center", fontsize=7)
+    bx.set_yticks(y + 0.4 - h / 2, names, fontsize=8)
     bx.invert_yaxis()
-    bx.set_title("Real-root count on the hard set")
-    for y, v in enumerate(rate):
-        bx.text(v, y, f" {v:.1f} %", va="center", fontsize=8)
+    bx.set_xlabel("problems with a wrong count (%)")
+    bx.set_title("Real-root count on the hard set and the issue-14 families")
+    bx.legend(fontsize=7, loc="lower right")
     fig.tight_layout()
     fig.savefig(FIG, dpi=110)
     plt.close(fig)
@@ -218,12 +330,21 @@ def _plot(rows, miscount):
 
 
 def run():
+    import os
+    from distkin.octahedral.hardset import hard_families, hard_set
+    load0 = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     cases, refs, rows = _curve()
-    miscount = _miscounts()
+    miscount = {"hard set": _miscounts(hard_set()), "families": _miscounts(hard_families())}
     cost = _auto_cost()
+    ba = _before_after()
+    load1 = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     fig = _plot(rows, miscount)
     agree = min(a for _, _, a in refs)
     lines = [
+        f"Load average (1 min): {load0:.1f} at the start, {load1:.1f} at the end, on "
+        f"{os.cpu_count()} cores (shared with other work: absolute times vary by 10-30 % "
+        "from run to run, the ratios much less).",
+        "",
         f"Digit set: {len(cases)} problems (Griffis-Duffy, 6 random octahedra, 4 near the "
         "Griffis-Duffy fold). Reference: precise tier at 200 digits; the certified tier "
         f"(enclosures refined to 1e-60) agrees with it to at least {agree:.0f} digits on "
@@ -232,10 +353,10 @@ def run():
         f"![accuracy against cost]({fig.relative_to(FIG.parents[2]).as_posix()})",
         "",
         "| tier | correct digits (median) | (min) | CPU per solve, digit set (median) "
-        "| Griffis-Duffy: CPU per solve (interleaved) | ratio to fast (no estimate) |",
+        "| Griffis-Duffy: CPU per solve (interleaved) | ratio to fast (bare) |",
         "|---|---|---|---|---|---|",
     ]
-    base = rows["fast (no estimate)"]["gd_cpu"]
+    base = rows["fast (bare)"]["gd_cpu"]
     for name, r in rows.items():
         lines.append(f"| {name} | {r['median_digits']:.1f} | {r['min_digits']:.1f} | "
                      f"{fmt_time(r['cpu_per_solve_median'])} | {fmt_time(r['gd_cpu'])} | "
@@ -250,39 +371,80 @@ def run():
         "many correct digits and still miscounts at dps = 15-30. The certified tier's "
         "digits are set by its `tol`, and it is the cheapest way to many digits.",
         "",
-        "Miscounted real roots on the hard set (assembly modes or poses differ from the "
-        "certified count):",
+        "Wrong counts (assembly modes or poses differ from the certified count) on the "
+        "hard set (folds, edge of assemblability, flat pose, extreme scales) and on the "
+        "families of issue 14 (`hard_families()`: near-coplanar, near-line, clustered "
+        "roots, each at scales 1e-3, 1, 1e3). *Silent*: a wrong count the tier did not "
+        "announce (fast: no `ConditioningWarning`; batched: `trusted` True):",
         "",
-        "| tier | miscounted | refused (error raised) | problems |",
-        "|---|---|---|---|",
+        "| tier | " + " | ".join(f"{k}: wrong | {k}: silent" for k in miscount)
+        + " | refused (error raised) |",
+        "|---|" + "---|---|" * len(miscount) + "---|",
     ]
-    for name, m in miscount.items():
-        lines.append(f"| {name} | {m['wrong']} ({100 * m['wrong'] / m['n']:.1f} %) | "
-                     f"{m['refused']} | {m['n']} |")
+    for name in miscount["hard set"]:
+        cells = []
+        for label, m in miscount.items():
+            r = m[name]
+            silent = r.get("silent")
+            cells.append(f"{r['wrong']} of {r['n']} ({100 * r['wrong'] / r['n']:.1f} %)")
+            cells.append("-" if silent is None else str(silent))
+        refused = sum(m[name]["refused"] for m in miscount.values())
+        lines.append(f"| {name} | " + " | ".join(cells) + f" | {refused} |")
+    tot = lambda name, key: sum(m[name].get(key, 0) for m in miscount.values())  # noqa
     lines += [
         "",
+        f"In all: auto wrong {tot('auto', 'wrong')} (single) and {tot('batched auto', 'wrong')} "
+        f"(batched); the fast tier wrong {tot('fast + proof', 'wrong')} times, unannounced "
+        f"{tot('fast + proof', 'silent')}; the batched tier wrong "
+        f"{tot('batched fast', 'wrong')} times, unflagged {tot('batched fast', 'silent')} "
+        f"(it flagged {miscount['hard set']['batched fast']['flagged']} problems of the "
+        f"hard set and {miscount['families']['batched fast']['flagged']} of the families). "
         "The certified tier is the reference of the count (its real-root count is also "
-        "checked against sympy's Sturm count in `tests/stability/test_stability_octahedral.py`).",
+        "checked against sympy's Sturm count in "
+        "`tests/stability/test_stability_octahedral.py`).",
         "",
-        "Cost of `method=\"auto\"` (best of 3 passes, CPU time per solve):",
+        "Cost of `method=\"auto\"` (best of 3 passes, CPU time per solve; `fast + proof` "
+        "is the default fast call):",
         "",
-        "| set | fast (no estimate) | fast + estimate | auto | auto / fast (no estimate) "
-        "| auto / fast + estimate | escalated |",
+        "| set | fast (bare) | fast + proof | auto | auto / fast (bare) "
+        "| auto / fast + proof | escalated |",
         "|---|---|---|---|---|---|---|",
     ]
     for label, r in cost.items():
-        lines.append(f"| {label} ({r['n']}) | {fmt_time(r['fast (no estimate)'])} | "
-                     f"{fmt_time(r['fast + estimate'])} | {fmt_time(r['auto'])} | "
-                     f"{r['auto'] / r['fast (no estimate)']:.2f}× | "
-                     f"{r['auto'] / r['fast + estimate']:.2f}× | "
+        lines.append(f"| {label} ({r['n']}) | {fmt_time(r['fast (bare)'])} | "
+                     f"{fmt_time(r['fast + proof'])} | {fmt_time(r['auto'])} | "
+                     f"{r['auto'] / r['fast (bare)']:.2f}× | "
+                     f"{r['auto'] / r['fast + proof']:.2f}× | "
                      f"{r['escalated']} of {r['n']} |")
+    if ba is not None:
+        lines += [
+            "",
+            f"Before and after on the easy set, from this same run: main at "
+            f"`{BASELINE_REV}` (the calibrated conditioning estimate, extracted with `git "
+            "archive`) and this tree (the proof), each timed by the same script in a fresh "
+            "process, alternated three times, best of each:",
+            "",
+            "| implementation | fast (bare) | fast + its check | auto | auto / fast (bare) "
+            "| escalated |",
+            "|---|---|---|---|---|---|",
+        ]
+        for label, what in (("before", f"before ({BASELINE_REV}, estimate)"),
+                            ("after", "after (proof)")):
+            b = ba[label]
+            lines.append(f"| {what} | {fmt_time(b['fast (bare)'])} | "
+                         f"{fmt_time(b['fast + check'])} | {fmt_time(b['auto'])} | "
+                         f"{b['auto'] / b['fast (bare)']:.2f}× | {b['escalated']} of "
+                         f"{cost['easy']['n']} |")
     lines += [
         "",
-        "The fast tier's estimate (`distkin/octahedral/conditioning.py`) is part of the "
-        "fast tier by default (it is what makes it warn); `warn=False` skips it. Auto "
-        "escalates to the certified tier when the estimate distrusts the count or a leg "
-        "is reproduced worse than 1e-9 relative.",
+        "The fast tier's proof (`distkin/octahedral/descartes.py`: Descartes' rule in "
+        "the Bernstein basis on the octic rebuilt from eq. (3)'s quadratic parts, with "
+        "rigorous rounding bounds derived from the generated kernel's source) is part of "
+        "the fast tier by default (it is what makes it warn); `warn=False` skips it. "
+        "Auto escalates to the certified tier when the proof fails or a leg is "
+        "reproduced worse than 1e-9 relative.",
     ]
-    data = {"rows": rows, "miscount": miscount, "auto_cost": cost,
+    data = {"load_average": [load0, load1], "rows": rows, "miscount": miscount,
+            "auto_cost": cost, "before_after": ba,
             "reference_agreement_digits": agree}
     return "\n".join(lines) + "\n", data

@@ -148,14 +148,17 @@ def _first_calls():
 def _stages_single():
     """CPU time of each stage of one bare fast solve (Griffis-Duffy), timed in isolation."""
     from distkin.octahedral import fast_single as fs
+    from distkin.octahedral.conditioning import assess, eta_of
     from distkin.octahedral.forward import _single_result
     from distkin.octahedral.problem import float_single
-    B, Q, L = float_single(BASE, PLAT, LEGS)
+    B, Q, L, _, rounded = float_single(BASE, PLAT, LEGS)
     Ba, Qa, La = (np.asarray(a, dtype=float) for a in (B, Q, L))
     s2, l2, d, lo, hi, c, comp, sc, mode = fs._prepare(Ba, Qa, La)
     eig = fs.eigenvalues(comp, sc, mode, c)
     er, ei = eig.real.copy(), eig.imag.copy()
-    raw = fs.solve_fast_single(Ba, Qa, La)
+    keep = {}
+    raw = fs.solve_fast_single(Ba, Qa, La, keep)
+    eta = eta_of(B, Q, L, rounded)
     stages = {
         "input checks (`float_single`, plain floats)": lambda: float_single(BASE, PLAT, LEGS),
         "to arrays": lambda: [np.asarray(a, dtype=float) for a in (B, Q, L)],
@@ -165,6 +168,10 @@ def _stages_single():
         "compiled: polish, careful path, trilateration, 12 poses (`_solve`)":
             lambda: fs._solve(Ba, Qa, La, d, lo, hi, c, er, ei, s2, l2),
         "result objects (12 `Pose`, 6 `RootInfo`)": lambda: _single_result(*raw),
+        "default call only: proof of the assembly roots (`conditioning.assess`, "
+        "compiled `descartes.vouch`)":
+            lambda: assess(keep["sides2"], keep["legs2"], keep["data"], raw[1], raw[2],
+                           raw[3], eta),
     }
     return {k: v[1] for k, v in interleaved(stages, rounds=7, number=300, cpu=True).items()}
 
@@ -176,9 +183,10 @@ def _stages_batched(batch):
     from distkin.octahedral.placement import place_many
     from distkin.octahedral.closure import feasible_interval, octic_data, shifted_octic
     from distkin.octahedral.problem import float_problem
+    from distkin.octahedral.descartes import ETA_FLOAT, vouch_many
     from distkin.octahedral.rootscan import real_roots
     B, Q, L, s2, l2 = (np.ascontiguousarray(a, dtype=float)
-                       for a in float_problem(BASE, PLAT, batch))
+                       for a in float_problem(BASE, PLAT, batch)[:5])
     data = octic_data(s2, l2, "fast")
     lo, hi, _ = feasible_interval(s2, l2)
     lo0 = np.maximum(lo, 0.0)
@@ -196,6 +204,13 @@ def _stages_batched(batch):
     def careful():
         fast.roots_many(dc, lo[care], hi[care], cc,
                         *fs.eigen_rows(*fast.companions(dc, cc), cc))
+    raw = fast.solve_fast(B, Q, L, s2, l2)
+    n = len(batch)
+    eta, verdict, radii = np.full(n, ETA_FLOAT), np.empty(n, np.int64), np.empty((n, 8))
+
+    def proof():
+        vouch_many(raw["data"], s2, l2, eta, raw["lo"], raw["hi"], raw["roots"],
+                   raw["status"], verdict, radii)
     stages = {
         "input checks and broadcasting (`float_problem`)":
             lambda: float_problem(BASE, PLAT, batch),
@@ -212,8 +227,9 @@ def _stages_batched(batch):
         "compiled: sort, trilateration, poses, leg residuals, result arrays "
         "(`placement.place_many`)":
             lambda: place_many(B, Q, L, s2, l2, lo, hi, c, row, xp, sp, status),
+        "compiled: proof of every problem's assembly roots, flags "
+        "(`descartes.vouch_many`)": proof,
     }
-    n = len(batch)
     return {k: v[1] / n for k, v in interleaved(stages, rounds=7, number=3, cpu=True).items()}
 
 
@@ -237,7 +253,7 @@ def run():
     load0 = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     single = interleaved({
         "fast (octic)": lambda: forward_kinematics(BASE, PLAT, LEGS, warn=False),
-        "fast + conditioning estimate (default call)": lambda: forward_kinematics(
+        "fast + proof (default call)": lambda: forward_kinematics(
             BASE, PLAT, LEGS),
         "certified (octic)": lambda: forward_kinematics(GD_BASE, GD_PLATFORM, GD_LEGS,
                                                         method="certified"),
@@ -248,7 +264,7 @@ def run():
     }, rounds=5, number=3, cpu=True)
     single.update(interleaved(
         {"fast (octic)": lambda: forward_kinematics(BASE, PLAT, LEGS, warn=False),
-         "fast + conditioning estimate (default call)": lambda: forward_kinematics(
+         "fast + proof (default call)": lambda: forward_kinematics(
              BASE, PLAT, LEGS)},
         rounds=15, number=50, cpu=True))
     single["certified (octic)"] = interleaved(
@@ -305,9 +321,10 @@ def run():
           for n, (w, c), g in targets],
         "",
         "Single solve: `fast (octic)` is the bare fast tier (`warn=False`), the one the "
-        "target is judged on; the default call adds the conditioning estimate of "
-        "`distkin.octahedral.conditioning` (two more compiled kernel evaluations, the "
-        "factored octic at a few dozen points, plain Python on a handful of numbers).",
+        "target is judged on; the default call adds the proof of its assembly roots "
+        "(`distkin/octahedral/descartes.py`: one magnitude-kernel evaluation, one "
+        "Bernstein count per root, compiled). The batched tier always runs the proof "
+        "(it is what sets `BatchResult.trusted`), so its time per solve includes it.",
         "",
         "Where the single solve's time goes (CPU time per call, each stage timed in "
         "isolation; in the full call they take somewhat longer, caches being colder):",

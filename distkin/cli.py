@@ -8,7 +8,9 @@
 
 Exit codes: 0 ok; 2 bad input or a query whose data admit no answer (one line on
 stderr naming the field); 1 an internal failure (one line; ``--debug`` shows the
-traceback).  Further subcommands (``codegen``, ``sim``, ``control``) are registered in
+traceback).  A plot that fails (``--plots``) is a warning on stderr and a
+``plot_error`` in the query's JSON record; its results are kept and the exit code does
+not change.  Further subcommands (``codegen``, ``sim``, ``control``) are registered in
 :data:`SUBCOMMANDS` by the modules that implement them.
 """
 
@@ -23,7 +25,7 @@ from importlib import resources
 from pathlib import Path
 
 from ._version import __version__
-from .errors import DistkinError, InputError, is_input_error
+from .errors import DistkinError, is_input_error
 
 __all__ = ["main", "run_scene", "DEMO_SCENES", "SUBCOMMANDS"]
 
@@ -76,13 +78,10 @@ def run_scene(scene, *, plots_dir=None, progress=True):
             rec["result"] = jsonable(out.result)
             text = out.text
             if ctx.plots_dir is not None and out.plot is not None:
-                ctx.plots_dir.mkdir(parents=True, exist_ok=True)
-                paths = out.plot(ctx.plots_dir / f"q{q.index}_{q.type}")
-                rec["plots"] = [str(p) for p in paths]
-                text += "\nplots: " + ", ".join(str(p) for p in paths)
+                text += _plot(out, ctx.plots_dir, q, rec)
         except DistkinError as exc:
-            if exc.field is None:
-                exc.with_field(q.field)
+            if exc.field is None or not exc.field.startswith(("query", "mechanism", "units")):
+                exc.with_field(q.field)          # "legs[0]" -> "query[2].legs[0]"
             rec.update(status="error", result={},
                        error={"kind": exc.kind, "message": exc.one_line()})
             worst = max(worst, 2 if is_input_error(exc) else 1)
@@ -96,6 +95,25 @@ def run_scene(scene, *, plots_dir=None, progress=True):
         records.append(rec)
         texts.append(text)
     return records, texts, worst
+
+
+def _plot(out, plots_dir, q, rec) -> str:
+    """Draw one query's plots; a failure (no matplotlib, a full disk, a bug in the plot)
+    keeps the query's result: it is recorded as ``rec["plot_error"]`` and said on
+    stderr, and the exit code does not change.  Returns the text to add."""
+    try:
+        plots_dir.mkdir(parents=True, exist_ok=True)
+        paths = out.plot(plots_dir / f"q{q.index}_{q.type}")
+    except Exception as exc:  # a plot must never cost the computed results
+        msg = f"{type(exc).__name__}: {exc}"
+        rec["plot_error"] = msg
+        print(f"distkin: warning: {q.field} ({q.type}): plot failed ({msg}); the results "
+              "are kept", file=sys.stderr)
+        if "--debug" in sys.argv:
+            traceback.print_exc()
+        return f"\nplot failed: {msg}"
+    rec["plots"] = [str(p) for p in paths]
+    return "\nplots: " + ", ".join(str(p) for p in paths)
 
 
 def _emit(scene_path, records, texts, args) -> None:
@@ -164,7 +182,8 @@ def build_parser() -> argparse.ArgumentParser:
     r = sub.add_parser("run", help="run every query of a scene file")
     r.add_argument("scene", help="scene TOML file")
     r.add_argument("--json", metavar="PATH|-", help="write the JSON result (- for stdout)")
-    r.add_argument("--plots", metavar="DIR", help="write plots into DIR (needs matplotlib)")
+    r.add_argument("--plots", metavar="DIR", help="write plots into DIR (matplotlib); a plot "
+                                                  "that fails is a warning, never a lost result")
     r.add_argument("--no-progress", action="store_true", help="no progress bars")
     r.set_defaults(func=_cmd_run)
     d = sub.add_parser("demo", help="run the built-in demonstration scenes")

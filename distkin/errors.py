@@ -111,9 +111,9 @@ class LinkError(DistkinError, OSError):
 
 
 class ConditioningWarning(UserWarning):
-    """A fast (float64) answer whose own conditioning estimate says it may be wrong.
+    """A fast (float64) answer that the tier could not prove (its count may be wrong).
 
-    Raised as a warning, not an error: the answer is returned, with its estimate, and
+    Raised as a warning, not an error: the answer is returned, with the reason, and
     ``method="auto"`` (or ``"certified"``) is the way to a trustworthy one.
     """
 

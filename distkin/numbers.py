@@ -15,6 +15,11 @@ The tiers (DESIGN.md §3):
 
 Parsing uses :mod:`ast`, not ``eval``; sympy is imported only when an irrational
 value (``sqrt``, ``pi``) or a symbol is met, so ``import distkin`` stays light.
+
+Sizes are bounded before anything is evaluated (:func:`size_bound`): a value whose
+exact form would need more than :data:`MAX_BITS` bits in its numerator or denominator
+(``"10**10**10"``, ``"9**9**9**9"``, ``"1e999999999"``) is an :class:`InputError`
+naming the field, answered at once instead of after minutes of big-integer arithmetic.
 """
 
 from __future__ import annotations
@@ -28,6 +33,8 @@ from typing import Any
 from .errors import InputError
 
 __all__ = [
+    "MAX_BITS",
+    "size_bound",
     "METHODS",
     "METHODS_AUTO",
     "Exact",
@@ -49,6 +56,12 @@ METHODS = ("fast", "precise", "certified")
 METHODS_AUTO = METHODS + ("auto",)
 
 _FUNCS = {"sqrt", "cbrt", "pi"}
+#: the largest exact number a scene value may stand for: numerator and denominator of at
+#: most this many bits (about 1,200 decimal digits; a float's exact value needs at most
+#: 1,075, ``"1e308"`` 1,024)
+MAX_BITS = 4096
+_LOG2_10 = math.log2(10)
+_DECIMAL = None  # compiled lazily: the regular expression of a decimal literal
 
 
 def default_dps(dps: int | None) -> int:
@@ -141,6 +154,72 @@ def _eval_rational(node):
     raise ValueError("unsupported syntax")
 
 
+def _show(value, n: int = 40) -> str:
+    """``repr(value)``, shortened to about n characters (a scene value can be huge)."""
+    r = repr(value)
+    return r if len(r) <= n else f"{r[:n - 12]}...{r[-8:]} ({len(r) - 2} characters)"
+
+
+def _decimal_bits(text: str):
+    """Bits of the exact rational a decimal literal stands for (digits and exponent
+    read from the text, nothing evaluated), or None if ``text`` is not one."""
+    global _DECIMAL
+    if _DECIMAL is None:
+        import re
+        _DECIMAL = re.compile(r"\s*[+-]?(\d*)(?:\.(\d*))?(?:[eE]([+-]?\d+))?\s*$")
+    m = _DECIMAL.match(text.replace("_", ""))
+    if not m or not (m.group(1) or m.group(2)):
+        return None
+    digits = len(m.group(1) or "") + len(m.group(2) or "")
+    exp = m.group(3) or "0"
+    if len(exp.lstrip("+-")) > 12:
+        return math.inf
+    return (digits + abs(int(exp)) + len(m.group(2) or "")) * _LOG2_10 + 1
+
+
+def size_bound(tree, text: str) -> float:
+    """An upper bound on the bits of the numerator and denominator of the exact value of
+    an expression (an :mod:`ast` tree of ``text``), computed without evaluating it:
+    integers by their length, decimals by their digits and exponent, ``a + b`` and
+    ``a * b`` by ``bits(a) + bits(b) + 1``, ``a ** n`` by ``|n| bits(a)`` (the exponent is
+    evaluated only when it is itself below 64 bits), ``sqrt``/``cbrt`` by half/third of
+    their argument's (plus one); ``pi`` and symbols count 2.  ``inf`` when an exponent
+    is too large to evaluate."""
+    def bits(node):
+        if isinstance(node, ast.Expression):
+            return bits(node.body)
+        if isinstance(node, ast.Constant):
+            v = node.value
+            if isinstance(v, int) and not isinstance(v, bool):
+                return math.log2(abs(v)) if abs(v) > 1 else 0.0
+            if isinstance(v, float):
+                seg = ast.get_source_segment(text, node)
+                b = _decimal_bits(seg) if seg is not None else None
+                return b if b is not None else 1100.0
+            return 1.0
+        if isinstance(node, ast.UnaryOp):
+            return bits(node.operand)
+        if isinstance(node, ast.Name):
+            return 2.0
+        if isinstance(node, ast.Call):
+            inner = max((bits(a) for a in node.args), default=1.0)
+            return inner / (3 if getattr(node.func, "id", "") == "cbrt" else 2) + 1
+        if isinstance(node, ast.BinOp):
+            a = bits(node.left)
+            if isinstance(node.op, ast.Pow):
+                eb = bits(node.right)
+                if eb > 64:
+                    return math.inf
+                try:
+                    e = _eval_rational(node.right)
+                except (_Irrational, ValueError, ZeroDivisionError):
+                    return a * 2.0 ** eb           # an irrational exponent: |e| < 2^eb
+                return a * abs(float(e))
+            return a + bits(node.right) + 1
+        return 1.0
+    return bits(tree)
+
+
 def _check_names(tree, allow_symbols: bool):
     for node in ast.walk(tree):
         if isinstance(node, ast.Call):
@@ -202,7 +281,7 @@ def parse_exact(value, field: str = "value", *, allow_symbols: bool = False) -> 
         return Exact(Fraction(value), repr(value), from_float=True)
     if not isinstance(value, str):
         raise InputError(f"expected a number or a numeric string, got {type(value).__name__} "
-                         f"{value!r}", field=field)
+                         f"{_show(value)}", field=field)
     text = value.strip()
     if not text:
         raise InputError("expected a number, got an empty string", field=field)
@@ -210,8 +289,15 @@ def parse_exact(value, field: str = "value", *, allow_symbols: bool = False) -> 
         tree = ast.parse(text.replace("^", "**"), mode="eval")
         _check_names(tree, allow_symbols)
     except (SyntaxError, ValueError) as exc:
-        raise InputError(f"cannot parse {value!r} as an exact number ({exc})", field=field,
+        raise InputError(f"cannot parse {_show(value)} as an exact number "
+                         f"({_show(str(exc), 80)})", field=field,
                          hint='write e.g. "19.8", "12/5" or "sqrt(108)"') from None
+    size = size_bound(tree, text.replace("^", "**"))
+    if not size <= MAX_BITS:
+        raise InputError(f"expected a number of at most {MAX_BITS} bits (about "
+                         f"{int(MAX_BITS / _LOG2_10)} digits), got {_show(value)}"
+                         + ("" if math.isinf(size) else f" (about {int(size)} bits)"),
+                         field=field, hint="write the value in a unit where it is smaller")
     try:
         # plain decimal literal: Fraction parses "19.8" and "1e-3" exactly
         return Exact(Fraction(text), text)
@@ -220,23 +306,23 @@ def parse_exact(value, field: str = "value", *, allow_symbols: bool = False) -> 
     try:
         return Exact(_eval_rational(tree), text)
     except ZeroDivisionError:
-        raise InputError(f"division by zero in {value!r}", field=field) from None
+        raise InputError(f"division by zero in {_show(value)}", field=field) from None
     except ValueError as exc:
-        raise InputError(f"cannot parse {value!r} as an exact number ({exc})", field=field) from None
+        raise InputError(f"cannot parse {_show(value)} as an exact number ({exc})", field=field) from None
     except _Irrational:
         pass
     try:
         expr = _sympy_from_text(text.replace("^", "**"), allow_symbols)
     except Exception as exc:  # sympy raises many types on bad text
-        raise InputError(f"cannot parse {value!r} as an exact number ({exc})", field=field) from None
+        raise InputError(f"cannot parse {_show(value)} as an exact number ({exc})", field=field) from None
     if expr.has(__import__("sympy").zoo, __import__("sympy").nan):
-        raise InputError(f"{value!r} is not a finite number", field=field)
+        raise InputError(f"{_show(value)} is not a finite number", field=field)
     if expr.is_Rational:
         return Exact(Fraction(int(expr.p), int(expr.q)), text)
     if not allow_symbols and expr.free_symbols:
-        raise InputError(f"expected a number, got symbols in {value!r}", field=field)
+        raise InputError(f"expected a number, got symbols in {_show(value)}", field=field)
     if not expr.free_symbols and expr.is_real is False:
-        raise InputError(f"expected a real number, got {value!r} = {expr}", field=field)
+        raise InputError(f"expected a real number, got {_show(value)} = {expr}", field=field)
     return Exact(expr, text)
 
 

@@ -278,7 +278,7 @@ def numpy_index(flat_index: int, shape: tuple) -> str:
 
 
 def module_source(kernels, *, generator: str, doc: str, source_hash: str,
-                  constants: dict | None = None) -> str:
+                  constants: dict | None = None, functions=()) -> str:
     """A whole importable module: header, imports, constants and the kernels.
 
     Parameters
@@ -292,6 +292,9 @@ def module_source(kernels, *, generator: str, doc: str, source_hash: str,
         :func:`symbolic_hash` of the symbolic source; a stale module shows here.
     constants : dict, optional
         Extra module-level names (``{"L": 8}``), written with ``repr``.
+    functions : sequence of (name, str), optional
+        Further generated functions as source text (e.g. a magnitude kernel of
+        :mod:`.rounding`), appended after the kernels and listed in ``__all__``.
     """
     import mpmath
     import numpy
@@ -315,8 +318,10 @@ def module_source(kernels, *, generator: str, doc: str, source_hash: str,
     body = ["", f"SOURCE_SHA256 = {source_hash!r}"]
     for name, value in (constants or {}).items():
         body.append(f"{name} = {value!r}")
-    body.append(f"__all__ = {[k.name for k in kernels]!r}")
+    body.append(f"__all__ = {[k.name for k in kernels] + [n for n, _ in functions]!r}")
     out = "\n".join(head + imports + body) + "\n"
     for k in kernels:
         out += "\n\n" + kernel_source(k)
+    for _, text in functions:
+        out += "\n\n" + text
     return out

@@ -1,7 +1,9 @@
 """``distkin sim`` and ``distkin control`` (registered in :data:`distkin.cli.SUBCOMMANDS`).
 
-``distkin sim [--scene S] [--port-file F] [--faults SPEC] [--tcp PORT] [--log PREFIX]``
-    Start the device simulator on a pseudo-terminal (or TCP); print the port.
+``distkin sim [--scene S] [--port-file F] [--faults SPEC] [--tcp PORT] [--log PREFIX]
+[--idle-timeout S]``
+    Start the device simulator on a pseudo-terminal (or TCP); print the port.  It stops
+    when no client connects, or no command arrives, for S s (default 60).
 ``distkin control --port URL [--scene S] --seconds T [--json PATH|-] [--log PREFIX]``
     Run the controller against a device (or a simulator) at URL.
 ``distkin control --sim [--faults SPEC] ...``
@@ -67,6 +69,9 @@ def add_sim_parser(sub) -> None:
     p.add_argument("--tcp", metavar="PORT", type=int, help="serve on TCP (0 = any free port)")
     p.add_argument("--log", metavar="PREFIX", help="write PREFIX.device.csv")
     p.add_argument("--seconds", type=_seconds, help="stop after this much device time")
+    p.add_argument("--idle-timeout", type=_seconds, metavar="S", default=None,
+                   help="stop when no client connects, or no command arrives, for S s of "
+                        "wall time (default 60)")
     p.set_defaults(func=cmd_sim)
 
 
@@ -91,11 +96,13 @@ def add_control_parser(sub) -> None:
 
 def cmd_sim(args) -> int:
     from .faults import parse_faults
-    from .simulator import serve
+    from .simulator import IDLE_TIMEOUT_S, serve
     faults = parse_faults(args.faults)
     scene = _scene(args.scene)
     return serve(scene, port_file=args.port_file, tcp_port=args.tcp, faults=faults,
-                 log_prefix=args.log, seconds=args.seconds)
+                 log_prefix=args.log, seconds=args.seconds,
+                 idle_timeout=IDLE_TIMEOUT_S if args.idle_timeout is None
+                 else args.idle_timeout)
 
 
 def _wait_port(proc, port_file: Path, timeout: float) -> str:
@@ -140,6 +147,8 @@ def format_summary(s: dict) -> str:
                      f"{s['simulator_error']}")
     if s.get("plots"):
         lines.append("  plots: " + ", ".join(s["plots"]))
+    if s.get("plot_error"):
+        lines.append(f"  plot failed: {s['plot_error']}")
     return "\n".join(lines)
 
 
@@ -202,9 +211,15 @@ def cmd_control(args) -> int:
             if proc.returncode not in (0, -15) and lines:
                 summary["simulator_error"] = lines[-1]
         if args.plots and prefix:
-            from .runlog import plot_run
-            Path(args.plots).mkdir(parents=True, exist_ok=True)
-            summary["plots"] = [str(p) for p in plot_run(prefix, Path(args.plots) / "control.png")]
+            try:
+                from .runlog import plot_run
+                Path(args.plots).mkdir(parents=True, exist_ok=True)
+                summary["plots"] = [str(p) for p in
+                                    plot_run(prefix, Path(args.plots) / "control.png")]
+            except Exception as exc:   # a plot must never cost the run's summary
+                summary["plot_error"] = f"{type(exc).__name__}: {exc}"
+                print(f"distkin: warning: --plots: plot failed ({summary['plot_error']}); "
+                      "the summary is kept", file=sys.stderr)
         if tmpdir is not None:
             summary["log"] = None             # the temporary log is removed
     finally:

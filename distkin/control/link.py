@@ -113,7 +113,11 @@ class Link:
         """The newest valid state frame that arrives within ``timeout_s``, or None.
 
         Every frame already waiting is decoded; older ones are counted as stale and only
-        the newest is returned, so the controller always acts on the latest reading.
+        the newest is returned, so the controller always acts on the latest reading.  The
+        deadline is checked on every pass, whatever arrives: a line that keeps
+        delivering bytes that never form a frame (garbage, a wrong baud rate) ends the
+        read at its deadline like a silent one (counted in ``timeouts``), and so does a
+        stream of frames that never pauses (the newest is returned).
 
         Raises
         ------
@@ -137,12 +141,12 @@ class Link:
                 self._sync_decoder_stats()
                 if latest is not None and self._ser.in_waiting == 0:
                     return latest
-                continue
-            if latest is not None:
+            elif latest is not None:
                 return latest
             if time.perf_counter() >= deadline:
-                self.stats.timeouts += 1
-                return None
+                if latest is None:
+                    self.stats.timeouts += 1
+                return latest
 
     # -- writing -------------------------------------------------------------------
     def write_command(self, cmd: CommandFrame) -> bool:

@@ -39,7 +39,11 @@ from .protocol import (FLAG_KEEPALIVE, MODE_ZERO_TORQUE, STATUS_DEVICE_WATCHDOG,
                        CommandFrame, FrameDecoder, encode_state)
 from .runlog import CsvLog, EventLog
 
-__all__ = ["PtyTransport", "TcpTransport", "Disconnected", "Simulator", "serve"]
+__all__ = ["PtyTransport", "TcpTransport", "Disconnected", "Simulator", "serve",
+           "IDLE_TIMEOUT_S"]
+
+#: ``distkin sim`` stops when no client connects, or no command arrives, for this long (s)
+IDLE_TIMEOUT_S = 60.0
 
 
 class Disconnected(Exception):
@@ -172,6 +176,8 @@ class Simulator:
         self.dropped_bytes = 0
         self.commands = 0
         self.stop = False
+        #: stop :meth:`run` after this long without a command (s of wall time; None: never)
+        self.idle_timeout = None
 
     def _collect(self, wait_for: int | None, deadline: float) -> None:
         """Read commands until ``deadline``; with ``wait_for`` return as soon as the
@@ -205,11 +211,16 @@ class Simulator:
         next_tick = time.perf_counter()
         self.last_command_wall = None
         reason = "stopped"
+        started = time.perf_counter()
         try:
             while not self.stop:
                 p = self.plant
                 if seconds is not None and p.t >= seconds:
                     reason = "time"
+                    break
+                if self.idle_timeout is not None and time.perf_counter() - (
+                        self.last_command_wall or started) > self.idle_timeout:
+                    reason = f"idle: no command for {self.idle_timeout:g} s"
                     break
                 status = p.status()
                 watchdog = (self.armed and self.last_command_wall is not None and
@@ -276,7 +287,7 @@ class Simulator:
 
 
 def serve(scene, *, port_file=None, tcp_port=None, faults=(), log_prefix=None,
-          seconds=None, announce=sys.stdout) -> int:
+          seconds=None, announce=sys.stdout, idle_timeout=IDLE_TIMEOUT_S) -> int:
     """Start a simulator, announce its port, serve until done.  Returns an exit code.
 
     Parameters
@@ -290,6 +301,9 @@ def serve(scene, *, port_file=None, tcp_port=None, faults=(), log_prefix=None,
     log_prefix : str or None
     seconds : float or None
         Stop after this much device time.
+    idle_timeout : float or None
+        Stop when no client has connected (TCP), or no command has arrived, for this
+        long (s of wall time; default :data:`IDLE_TIMEOUT_S`; None: never).
     """
     from .kinematics import load_model
     model = load_model(scene.preset)
@@ -307,10 +321,16 @@ def serve(scene, *, port_file=None, tcp_port=None, faults=(), log_prefix=None,
         tmp = Path(f"{port_file}.tmp")
         tmp.write_text(transport.url + "\n", encoding="utf-8")
         os.replace(tmp, port_file)
+    sim.idle_timeout = idle_timeout
     try:
         if isinstance(transport, TcpTransport):
+            end = None if idle_timeout is None else time.perf_counter() + idle_timeout
             while not sim.stop and not transport.accept(0.2):
-                pass
+                if end is not None and time.perf_counter() > end:
+                    print(f"distkin sim: stopped (idle): no client connected to "
+                          f"{transport.url} within {idle_timeout:g} s", file=announce,
+                          flush=True)
+                    return 0
             if sim.stop:
                 return 0
         reason = sim.run(seconds)

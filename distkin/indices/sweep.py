@@ -14,7 +14,9 @@ function ``task(spec) -> dict of numpy arrays``.  :func:`run_chunks`
   were slower than one);
 * with a ``dask.distributed`` scheduler address (``scheduler="tcp://host:8786"``,
   optional extra ``distributed``) runs the same chunks on that cluster, through
-  ``Client.get_executor()``;
+  ``Client.get_executor()``; a cluster left without workers for
+  :data:`NO_WORKER_TIMEOUT_S` ends the sweep with a clear error instead of a wait that
+  never ends (the finished chunks stay on disk);
 * shows a progress bar with the ETA (rich) on the terminal (stderr, so that
   ``--json -`` keeps stdout clean).
 """
@@ -31,13 +33,17 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import DistkinError, InputError
 
 __all__ = ["run_chunks", "local_executor", "dask_executor", "executor_for", "sweep_key",
-           "WORKER_ENV"]
+           "WORKER_ENV", "NO_WORKER_TIMEOUT_S"]
 
 #: environment of the local pool's workers (single-threaded BLAS)
 WORKER_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+#: a dask cluster without a single worker for this long (s) ends the sweep
+NO_WORKER_TIMEOUT_S = 60.0
+#: how often (s) a sweep waiting on a cluster checks that it still has workers
+_HEALTH_POLL_S = 2.0
 
 
 def sweep_key(definition) -> str:
@@ -83,9 +89,28 @@ def dask_executor(address: str, timeout: str = "10s"):
         raise InputError(f"expected a reachable dask scheduler, got {address!r}: {exc}",
                          field="scheduler") from None
     try:
-        yield client.get_executor()
+        yield _DaskExecutor(client, address)
     finally:
         client.close()
+
+
+class _DaskExecutor:
+    """``Client.get_executor()`` plus :meth:`workers`, the number of live workers (for
+    :func:`run_chunks` to notice a cluster that lost them all)."""
+
+    def __init__(self, client, address):
+        self._ex = client.get_executor()
+        self._client = client
+        self.address = address
+
+    def submit(self, fn, *args, **kw):
+        return self._ex.submit(fn, *args, **kw)
+
+    def workers(self) -> int:
+        try:
+            return len(self._client.scheduler_info().get("workers", {}))
+        except Exception:       # the scheduler itself is gone: no workers either
+            return 0
 
 
 @contextlib.contextmanager
@@ -140,7 +165,8 @@ class _Progress:
 
 
 def run_chunks(task, specs, store, *, definition=None, executor=None, progress=True,
-               desc="sweep", max_pending: int | None = None):
+               desc="sweep", max_pending: int | None = None,
+               no_worker_timeout: float | None = None):
     """Run ``task(spec)`` for every spec, keeping finished chunks on disk.
 
     Parameters
@@ -158,6 +184,10 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
         None runs the chunks in this process.
     progress : bool
         Show a rich progress bar with the ETA.
+    no_worker_timeout : float, optional
+        An executor that reports its live workers (the dask one) and has none for this
+        long (s; default :data:`NO_WORKER_TIMEOUT_S`) ends the sweep with a
+        :class:`~distkin.errors.DistkinError`; the finished chunks are on disk.
 
     Returns
     -------
@@ -206,7 +236,7 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
                 while queue and len(pending) < limit:
                     i = queue.pop(0)
                     pending[executor.submit(task, specs[i])] = i
-                done, _ = wait(list(pending), return_when=FIRST_COMPLETED)
+                done = _wait_alive(executor, pending, store, no_worker_timeout)
                 for f in done:
                     i = pending.pop(f)
                     results[i] = f.result()
@@ -220,3 +250,33 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
         bar.close()
     return results
 
+
+
+def _wait_alive(executor, pending, store, timeout):
+    """The futures of ``pending`` that finish first; with an executor that counts its
+    workers, raise when it has had none for ``timeout`` s (a dask cluster whose workers
+    all died never finishes a future)."""
+    import time
+    if not hasattr(executor, "workers"):
+        return wait(list(pending), return_when=FIRST_COMPLETED)[0]
+    limit = NO_WORKER_TIMEOUT_S if timeout is None else timeout
+    since = None
+    while True:
+        done, _ = wait(list(pending), timeout=min(_HEALTH_POLL_S, limit),
+                       return_when=FIRST_COMPLETED)
+        if done:
+            return done
+        if executor.workers() > 0:
+            since = None
+            continue
+        now = time.monotonic()
+        since = now if since is None else since
+        if now - since >= limit:
+            for f in pending:
+                f.cancel()
+            finished = len(list(Path(store).glob("chunk_*.npz")))
+            raise DistkinError(
+                f"expected live workers on the dask cluster at "
+                f"{getattr(executor, 'address', '?')}, got none for {limit:g} s; the "
+                f"{finished} finished chunks are kept in {str(store)!r} (run again to "
+                "continue)", field="scheduler")

@@ -1,34 +1,70 @@
-r"""``method="auto"``: the fast tier when it can be trusted, a slower one when not.
+r"""``method="auto"``: the fast tier when it proves its answer, the certified one when not.
 
 Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, Sec. III.
 The fast tier's answer is kept when
 
-1. its conditioning estimate (:func:`.conditioning.estimate`) trusts the real-root
-   count: every root that can lie in the feasible interval is isolated by more than its
-   first-order error radius, and
+1. its assembly roots are proved to be those of the exact problem (:mod:`.descartes`,
+   through :func:`.conditioning.assess`: a proof in float64 with rigorous rounding
+   bounds, not an estimate), and
 2. every pose reproduces the six legs to :data:`LEG_TOL` relative.
 
 Otherwise the problem is solved again by the ``certified`` tier (exact ``fmpq`` octic,
-FLINT's root isolation), whose count is proved.  Data that cannot be made exact
+FLINT's root isolation), whose count is proved too.  Data that cannot be made exact
 (irrational squared lengths) go to the ``precise`` tier at :data:`PRECISE_DPS` digits
 instead, and the result says that its count is not certified.  An
 :class:`~distkin.errors.UncertifiedError` of the certified tier is raised, never turned
 into a guess.  The result's ``tier`` names the tier that answered and ``tier_reason``
-says why; ``conditioning`` keeps the fast tier's estimate.
+says why; ``conditioning`` keeps the fast tier's verdict.
+
+:func:`escalate_batch` does the same for the problems of a batched solve, one by one:
+only the problems the fast tier did not prove are solved again.
 """
 
 from __future__ import annotations
 
 from dataclasses import replace
 
+import numpy as np
+
 from ..errors import InputError
 
-__all__ = ["escalate", "LEG_TOL", "PRECISE_DPS"]
+__all__ = ["escalate", "escalate_batch", "solve_exact", "LEG_TOL", "PRECISE_DPS"]
 
 #: relative leg residual under which a fast pose is accepted
 LEG_TOL = 1e-9
 #: digits of the precise tier when the data cannot be made exact
 PRECISE_DPS = 50
+
+
+def solve_exact(base, platform, legs, *, dps=None, tol=None):
+    """The certified tier's answer (in the given units), or the precise tier's when the
+    squared lengths are irrational.  Returns ``(result, tier, note)``."""
+    from .certified import solve_certified
+    from .problem import exact_problem
+    from .scaling import in_units, rescale_result
+    problem = exact_problem(base, platform, legs)
+    try:
+        with in_units(problem.exponent):
+            res = solve_certified(problem, 1e-15 if tol is None else float(tol))
+    except InputError as exc:          # irrational squared lengths: no exact octic
+        from .precise import solve_precise
+        digits = PRECISE_DPS if dps is None else dps
+        with in_units(problem.exponent):
+            res = solve_precise(problem, digits, tol)
+        return (rescale_result(res, problem.exponent), "precise",
+                f"the data cannot be made exact ({exc}), so the precise tier at {digits} "
+                "digits answered: its count is not certified")
+    return (rescale_result(res, problem.exponent), "certified",
+            "escalated to the certified tier (count proved)")
+
+
+def _why(cond, worst):
+    """Why the fast answer is not kept, or "" when it is."""
+    if not cond.trusted:
+        return f"fast tier not proved: {cond.reason}"
+    if not worst <= LEG_TOL:
+        return f"fast tier reproduces a leg only to {worst:.1e} relative (> {LEG_TOL:g})"
+    return ""
 
 
 def escalate(fast, base, platform, legs, *, dps=None, tol=None):
@@ -47,25 +83,75 @@ def escalate(fast, base, platform, legs, *, dps=None, tol=None):
     """
     cond = fast.conditioning
     worst = max((p.max_leg_error_relative for p in fast.poses), default=0.0)
-    if cond.trusted and worst <= LEG_TOL:
+    why = _why(cond, worst)
+    if not why:
         return replace(fast, method="auto", tier="fast",
-                       tier_reason=f"conditioning estimate trusts the count (largest relative "
-                                   f"root error radius {cond.root_condition:.2g} eps); legs "
-                                   f"reproduced to {worst:.1e} <= {LEG_TOL:g} relative")
-    why = (f"fast tier not trusted: {cond.reason}" if not cond.trusted else
-           f"fast tier reproduces a leg only to {worst:.1e} relative (> {LEG_TOL:g})")
-    from .certified import solve_certified
-    from .problem import exact_problem
-    problem = exact_problem(base, platform, legs)
-    try:
-        res = solve_certified(problem, 1e-15 if tol is None else float(tol))
-    except InputError as exc:          # irrational squared lengths: no exact octic
-        from .precise import solve_precise
-        digits = PRECISE_DPS if dps is None else dps
-        res = solve_precise(problem, digits, tol)
-        return replace(res, method="auto", tier="precise", conditioning=cond,
-                       tier_reason=f"{why}; the data cannot be made exact ({exc}), so the "
-                                   f"precise tier at {digits} digits answered: its count is "
-                                   "not certified")
-    return replace(res, method="auto", tier="certified", conditioning=cond,
-                   tier_reason=f"{why}; escalated to the certified tier (count proved)")
+                       tier_reason=f"the fast tier proved its assembly roots (largest "
+                                   f"relative root radius {cond.root_condition:.2g} eps); "
+                                   f"legs reproduced to {worst:.1e} <= {LEG_TOL:g} relative")
+    res, tier, note = solve_exact(base, platform, legs, dps=dps, tol=tol)
+    return replace(res, method="auto", tier=tier, conditioning=cond,
+                   tier_reason=f"{why}; {note}")
+
+
+def _row(value, i, ndim):
+    """Problem i's rows of a batched input (broadcast when it has no batch axis)."""
+    a = np.asarray(value, dtype=object)
+    return (a[i] if a.ndim == ndim + 1 else a).tolist()
+
+
+def escalate_batch(batch, base, platform, legs, *, dps=None, tol=None):
+    """:func:`escalate` for the problems of a batched fast solve
+    (:class:`~.forward.BatchResult`): each problem the fast tier did not prove, or whose
+    poses reproduce a leg worse than :data:`LEG_TOL`, is solved by :func:`solve_exact`;
+    its answer replaces the fast one in the arrays and in ``.escalated``, and ``.tier``
+    names the tier.  Returns a new BatchResult."""
+    raw = dict(batch.raw)
+    for name in ("count", "s15", "points", "rotation", "translation", "leg_error",
+                 "leg_error_rel", "valid", "roots", "status", "step", "slot"):
+        raw[name] = raw[name].copy()
+    tier = batch.tier.copy()
+    worst = np.where(batch.valid, batch.max_leg_error_relative, 0.0).max(axis=1)
+    escalated = {}
+    for i in np.flatnonzero(~batch.trusted | ~(worst <= LEG_TOL)):
+        res, t, note = solve_exact(_row(base, i, 2), _row(platform, i, 2), _row(legs, i, 1),
+                                   dps=dps, tol=tol)
+        cond = batch.result(i).conditioning
+        why = _why(cond, worst[i])
+        escalated[int(i)] = replace(res, method="auto", tier=t, conditioning=cond,
+                                    tier_reason=f"{why}; {note}")
+        tier[i] = t
+        _put(raw, i, res)
+    return replace(batch, count=raw["count"], s15=raw["s15"], points=raw["points"],
+                   rotation=raw["rotation"], translation=raw["translation"],
+                   max_leg_error=raw["leg_error"], max_leg_error_relative=raw["leg_error_rel"],
+                   valid=raw["valid"], raw=raw, tier=tier, escalated=escalated)
+
+
+_CODES = {"assembly": 0, "rejected": 3}
+
+
+def _put(raw, i, res):
+    """Write the AssemblyResult ``res`` into row i of the batched arrays."""
+    for name, fill in (("s15", np.nan), ("points", np.nan), ("rotation", np.nan),
+                       ("translation", np.nan), ("leg_error", np.nan),
+                       ("leg_error_rel", np.nan), ("roots", np.nan), ("step", np.nan)):
+        raw[name][i] = fill
+    raw["status"][i] = -1
+    raw["slot"][i] = -1
+    raw["valid"][i] = False
+    poses = res.poses[:16]
+    raw["count"][i] = len(poses)
+    modes = sorted({p.s15 for p in poses})[:8]
+    raw["s15"][i, :len(modes)] = modes
+    for j, p in enumerate(poses):
+        raw["points"][i, j] = p.points
+        raw["rotation"][i, j] = p.rotation
+        raw["translation"][i, j] = p.translation
+        raw["leg_error"][i, j] = p.max_leg_error
+        raw["leg_error_rel"][i, j] = p.max_leg_error_relative
+        raw["valid"][i, j] = True
+    for j, r in enumerate(res.roots[:8]):
+        raw["roots"][i, j] = r.value
+        raw["step"][i, j] = r.radius
+        raw["status"][i, j] = _CODES.get(r.status, 1 if "triangle" in r.reason else 2)

@@ -552,8 +552,8 @@ def solve_fast_single(B, Q, L, keep=None):
     L : (6,) leg lengths
     keep : dict, optional
         Receives ``sides2``, ``legs2`` (the squared lengths), ``data`` (the kernel
-        output) and ``eigenvalues`` (of the octic's companion matrix, complex), for the
-        conditioning estimate (:mod:`.conditioning`).
+        output) for the proof of :mod:`.descartes` (:mod:`.conditioning`), and
+        ``eigenvalues`` (of the octic's companion matrix, a complex array).
 
     Returns
     -------
@@ -570,7 +570,7 @@ def solve_fast_single(B, Q, L, keep=None):
     s2, l2, d, lo, hi, c, comp, sc, mode = _prepare(B, Q, L)
     eig = eigenvalues(comp, sc, mode, c)
     if keep is not None:
-        keep.update(sides2=s2, legs2=l2, data=d, eigenvalues=eig.tolist())
+        keep.update(sides2=s2, legs2=l2, data=d, eigenvalues=eig)
     roots, P, R, T, E, Er, S15, side = _solve(B, Q, L, d, lo, hi, c, eig.real.copy(),
                                               eig.imag.copy(), s2, l2)
     return d[30:], lo, hi, roots, (S15, side, P, R, T, E, Er)

@@ -17,8 +17,9 @@ Tiers
     :func:`forward_kinematics_batched`.  The first call on a machine compiles (about
     15-20 s, kept in numba's cache); see BENCHMARKS.md for the cost per solve.  Legs
     reproduced to ~1e-12 relative on well-conditioned problems; every pose states its
-    residual, and a single solve carries a conditioning estimate of its real-root count (:mod:`.conditioning`;
-    :class:`~distkin.errors.ConditioningWarning` when it distrusts the count).
+    residual, and every solve (single and batched) proves its assembly roots or says
+    it cannot (:mod:`.descartes`, :mod:`.conditioning`:
+    :class:`~distkin.errors.ConditioningWarning`, ``BatchResult.trusted``).
 ``precise``
     mpmath at ``dps`` digits: exact octic (when the data are rational) rounded once,
     ``mpmath.polyroots``, Newton polish on eq. (3) at ``dps`` (:mod:`.precise`).
@@ -30,13 +31,17 @@ Tiers
     rather than guess.
 ``auto``
     the fast tier, escalated to ``certified`` (or ``precise`` for data that cannot be
-    made exact) when the conditioning estimate distrusts the count or a leg is
+    made exact) when the fast tier cannot prove its assembly roots or a leg is
     reproduced worse than 1e-9 relative (:mod:`.auto`); the result's ``tier`` and
     ``tier_reason`` say which tier answered and why.
+
+Every tier solves the problem with its lengths divided by a power of two and scales the
+answer back, exactly (:mod:`.scaling`).
 """
 
 from __future__ import annotations
 
+import math
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
@@ -47,6 +52,7 @@ from ..errors import ConditioningWarning
 from ..numbers import METHODS_AUTO, check_method, default_dps
 from .problem import REASONS as _REASONS
 from .problem import exact_problem, float_problem, float_single
+from .scaling import in_units, rescale_octic, rescale_result
 
 __all__ = ["Pose", "RootInfo", "AssemblyResult", "BatchResult", "forward_kinematics",
            "forward_kinematics_batched"]
@@ -140,7 +146,8 @@ class AssemblyResult(Sequence):
     tier_reason : str
         ``method="auto"``: why that tier answered.
     conditioning : :class:`~.conditioning.Conditioning` or None
-        The fast tier's estimate of its own real-root count (fast and auto).
+        The fast tier's proof of its own assembly roots, or why there is none (fast
+        and auto).
     """
 
     poses: tuple
@@ -185,7 +192,7 @@ class AssemblyResult(Sequence):
 
 @dataclass(frozen=True)
 class BatchResult:
-    """Fast-tier results of N problems as arrays (padded with NaN).
+    """Results of N problems as arrays (padded with NaN): the fast tier, or ``auto``.
 
     Attributes
     ----------
@@ -194,7 +201,19 @@ class BatchResult:
     points : (N, 16, 3, 3) rows P4 P5 P6; rotation (N, 16, 3, 3); translation (N, 16, 3)
     max_leg_error, max_leg_error_relative : (N, 16)
     valid : (N, 16) bool mask of real poses
-    raw : dict, the arrays of :func:`.fast.solve_fast`
+    raw : dict, the arrays of :func:`.fast.solve_fast` (scaled back to the given units)
+    trusted : (N,) bool
+        The fast tier proved the problem's assembly roots (:mod:`.descartes`); False
+        flags every problem it cannot vouch for.
+    verdict : (N,) int
+        The key of :data:`.descartes.VERDICTS` (0: proved), for the fast tier's answer.
+    tier : (N,) str
+        The tier that answered each problem: ``"fast"``, or with ``method="auto"``
+        ``"certified"`` (``"precise"`` for data that cannot be made exact) for the
+        problems the fast tier did not prove.
+    escalated : dict
+        ``method="auto"``: problem index -> the :class:`AssemblyResult` of the tier that
+        answered it instead of the fast one.
     """
 
     count: np.ndarray
@@ -206,12 +225,18 @@ class BatchResult:
     max_leg_error_relative: np.ndarray
     valid: np.ndarray
     raw: dict = field(repr=False)
+    trusted: np.ndarray = None
+    verdict: np.ndarray = None
+    tier: np.ndarray = None
+    escalated: dict = field(default_factory=dict, repr=False)
 
     def __len__(self):
         return self.count.shape[0]
 
     def result(self, i: int) -> AssemblyResult:
         """The :class:`AssemblyResult` of problem ``i``."""
+        if i in self.escalated:
+            return self.escalated[i]
         return _fast_result(self.raw, i)
 
 
@@ -228,22 +253,52 @@ def _fast_result(raw, i):
         for j, side in ((slot, 1), (slot + 1, -1)) if code == 0 else ():
             poses.append(Pose(x, side, R[j].copy(), T[j].copy(), P[j].copy(), E[j], Er[j]))
     reason = "" if poses else _empty_reason(roots, raw["lo"][i], raw["hi"][i])
+    notes = (_SPURIOUS_NOTE,)
+    if "octic_exponent" in raw and raw["octic_exponent"][i]:
+        notes += (_overflow_note(int(raw["octic_exponent"][i])),)
+    cond = None
+    if "verdict" in raw:
+        from .conditioning import from_verdict
+        n = len(roots)
+        cond = from_verdict(int(raw["verdict"][i]), raw["roots"][i][:n], raw["radii"][i][:n])
     return AssemblyResult(tuple(poses), "fast", tuple(raw["coef"][i].tolist()), False,
-                          tuple(roots), False, reason, _FAST_ACCURACY, (_SPURIOUS_NOTE,),
-                          tier="fast")
+                          tuple(roots), False, reason, _FAST_ACCURACY, notes,
+                          tier="fast", conditioning=cond)
 
 
-def _single_result(coef, lo, hi, roots, poses, conditioning=None):
+def _VERDICTS():
+    from .descartes import VERDICTS
+    return VERDICTS
+
+
+def _overflow_note(k):
+    return (f"the octic's coefficients in the given units overflow float64: those shown are "
+            f"for the lengths divided by 2^{k} (s15 by 4^{k})")
+
+
+def _single_result(coef, lo, hi, roots, poses, conditioning=None, k=0):
     """The :class:`AssemblyResult` of :func:`.fast_single.solve_fast_single`'s output
-    (its pose arrays are fresh, owned by the poses: rows are views, no copies)."""
+    (its pose arrays are fresh, owned by the poses: rows are views, no copies), for the
+    lengths divided by ``2**k``: scaled back (:mod:`.scaling`) on the arrays, before
+    any object is built."""
+    S, side, P, R, T, E, Er = poses
+    notes = (_SPURIOUS_NOTE,)
+    octic = tuple(coef.tolist())
+    if k:
+        roots = np.ldexp(roots, [2 * k, 2 * k, 0])
+        S, P, T, E = np.ldexp(S, 2 * k), np.ldexp(P, k), np.ldexp(T, k), np.ldexp(E, k)
+        lo, hi = math.ldexp(lo, 2 * k), math.ldexp(hi, 2 * k)
+        octic, ok = rescale_octic(octic, k)
+        if not ok:
+            notes += (_overflow_note(k),)
+        if conditioning is not None:
+            conditioning = replace(conditioning, radius=math.ldexp(conditioning.radius, 2 * k))
     infos = tuple(RootInfo(x, st, 1, _STATUS[code], _REASONS[code], x)
                   for x, st, code in roots.tolist())
-    S, side, P, R, T, E, Er = poses
     out = tuple(map(Pose, S.tolist(), side.tolist(), R, T, P, E.tolist(), Er.tolist()))
     reason = "" if out else _empty_reason(infos, lo, hi)
-    return AssemblyResult(out, "fast", tuple(coef.tolist()), False, infos, False, reason,
-                          _FAST_ACCURACY, (_SPURIOUS_NOTE,), tier="fast",
-                          conditioning=conditioning)
+    return AssemblyResult(out, "fast", octic, False, infos, False, reason,
+                          _FAST_ACCURACY, notes, tier="fast", conditioning=conditioning)
 
 
 _STATUS = {0: "assembly", 1: "spurious", 2: "spurious", 3: "rejected"}
@@ -279,10 +334,10 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
         Leg lengths :math:`l_1..l_6` of P1P4, P2P4, P2P5, P3P5, P3P6, P1P6 (same
         length unit as the points).
     method : {"fast", "precise", "certified", "auto"}
-        ``"auto"``: the fast tier, kept when its conditioning estimate
-        (:mod:`.conditioning`) trusts the real-root count and every leg is reproduced
-        to 1e-9 relative; otherwise escalated to ``certified`` (or ``precise`` when the
-        data cannot be made exact).  ``.tier`` and ``.tier_reason`` of the result say
+        ``"auto"``: the fast tier, kept when it proves its assembly roots
+        (:mod:`.descartes`) and every leg is reproduced to 1e-9 relative; otherwise
+        escalated to ``certified`` (or ``precise`` when the data cannot be made
+        exact).  ``.tier`` and ``.tier_reason`` of the result say
         which tier answered and why (:mod:`.auto`).
     dps : int, optional
         Decimal digits of the ``precise`` tier (default 30).
@@ -291,10 +346,9 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
         enclosures are refined to (default 1e-15).  ``precise``: the relative residual
         accepted for a root (default :math:`10^{8-dps}`).
     warn : bool
-        ``fast``: compute the conditioning estimate (:mod:`.conditioning`, about
-        40 µs) into ``.conditioning`` and emit a
-        :class:`~distkin.errors.ConditioningWarning` when it does not trust the
-        real-root count (default True).  ``warn=False`` skips the estimate
+        ``fast``: prove the assembly roots (:mod:`.descartes`, a few µs) into
+        ``.conditioning`` and emit a :class:`~distkin.errors.ConditioningWarning` when
+        the proof fails (default True).  ``warn=False`` skips the proof
         (``.conditioning`` is None): the bare fast tier.
 
     Returns
@@ -307,7 +361,8 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
     Raises
     ------
     InputError
-        Malformed data; ``certified`` with irrational squared lengths.
+        Malformed data; ``certified`` with irrational squared lengths; lengths whose
+        squares do not fit float64 (:mod:`.scaling`).
     DegenerateGeometryError
         A collinear base or platform triangle, or an octic that vanishes identically.
     UncertifiedError
@@ -327,39 +382,54 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
     check_method(method, allowed=METHODS_AUTO)
     if method in ("fast", "auto"):
         from .fast_single import solve_fast_single
-        B, Q, L = float_single(base, platform, legs)
+        B, Q, L, k, rounded = float_single(base, platform, legs)
         if method == "fast" and not warn:                   # the bare fast tier
-            return _single_result(*solve_fast_single(B, Q, L))
-        from .conditioning import estimate, kernel_data
+            return _single_result(*solve_fast_single(B, Q, L), k=k)
+        from .conditioning import assess, eta_of
         keep = {}
         raw = solve_fast_single(B, Q, L, keep)
-        cond = estimate(kernel_data(keep["sides2"], keep["legs2"], keep["data"]),
-                        raw[1], raw[2], raw[3][:, 0].tolist(),        # lo, hi, roots
-                        keep.get("eigenvalues"))
-        res = _single_result(*raw, conditioning=cond)
+        cond = assess(keep["sides2"], keep["legs2"], keep["data"], raw[1], raw[2], raw[3],
+                      eta_of(B, Q, L, rounded))
+        res = _single_result(*raw, conditioning=cond, k=k)
         if method == "auto":
             from .auto import escalate
             return escalate(res, base, platform, legs, dps=dps, tol=tol)
-        if warn and not cond.trusted:
-            warnings.warn(f"fast tier: the real-root count may be wrong ({cond.reason}); "
+        if not cond.trusted:
+            warnings.warn(f"fast tier: the real-root count is not proved ({cond.reason}); "
                           "use method='auto' or 'certified'", ConditioningWarning,
                           stacklevel=2)
         return res
     problem = exact_problem(base, platform, legs)
-    if method == "precise":
-        from .precise import solve_precise
-        return replace(solve_precise(problem, default_dps(dps), tol), tier="precise")
-    from .certified import solve_certified
-    return replace(solve_certified(problem, 1e-15 if tol is None else float(tol)),
-                   tier="certified")
+    with in_units(problem.exponent):
+        if method == "precise":
+            from .precise import solve_precise
+            res = replace(solve_precise(problem, default_dps(dps), tol), tier="precise")
+        else:
+            from .certified import solve_certified
+            res = replace(solve_certified(problem, 1e-15 if tol is None else float(tol)),
+                          tier="certified")
+    return rescale_result(res, problem.exponent)
 
 
-def forward_kinematics_batched(base, platform, legs) -> BatchResult:
-    """The fast tier for N leg sets at once.
+def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
+                               warn: bool = True, dps: int | None = None,
+                               tol: float | None = None) -> BatchResult:
+    """The fast tier (or ``auto``) for N leg sets at once.
 
     Parameters
     ----------
     base : (3, 3) or (N, 3, 3); platform : (3, 3) or (N, 3, 3); legs : (N, 6)
+    method : {"fast", "auto"}
+        ``"fast"``: every problem is checked by the proof of :mod:`.descartes`;
+        ``.trusted`` flags, per problem, the answers it cannot vouch for.  ``"auto"``:
+        those problems, and those whose poses reproduce a leg worse than 1e-9 relative,
+        are solved again by the certified tier (``precise`` for data that cannot be
+        made exact), as :func:`forward_kinematics` does (:mod:`.auto`); ``.tier`` says
+        which tier answered each problem.
+    warn : bool
+        ``"fast"``: emit one :class:`~distkin.errors.ConditioningWarning` naming how
+        many problems are not proved (default True).
+    dps, tol : as for :func:`forward_kinematics` (``auto``'s escalations)
 
     Returns
     -------
@@ -367,8 +437,55 @@ def forward_kinematics_batched(base, platform, legs) -> BatchResult:
         Arrays padded to 8 roots / 16 poses per problem; ``.result(i)`` gives the
         :class:`AssemblyResult` of problem ``i``.
     """
+    check_method(method, allowed=("fast", "auto"))
+    from .descartes import ETA_FLOAT, eta_rounded, vouch_many
     from .fast import solve_fast
-    raw = solve_fast(*float_problem(base, platform, legs))
-    return BatchResult(raw["count"], raw["s15"], raw["points"], raw["rotation"],
-                       raw["translation"], raw["leg_error"], raw["leg_error_rel"],
-                       raw["valid"], raw)
+    B, Q, L, s2, l2, k, rounded = float_problem(base, platform, legs)
+    raw = solve_fast(B, Q, L, s2, l2)
+    n = len(k)
+    eta = np.full(n, ETA_FLOAT)
+    for i in np.flatnonzero(rounded):
+        eta[i] = eta_rounded(B[i], Q[i], L[i])
+    verdict = np.empty(n, np.int64)
+    radii = np.empty((n, 8))
+    vouch_many(raw["data"], s2, l2, eta, raw["lo"], raw["hi"], raw["roots"],
+               raw["status"], verdict, radii)
+    raw["verdict"], raw["radii"] = verdict, radii
+    _scale_back(raw, k)
+    trusted = verdict == 0
+    out = BatchResult(raw["count"], raw["s15"], raw["points"], raw["rotation"],
+                      raw["translation"], raw["leg_error"], raw["leg_error_rel"],
+                      raw["valid"], raw, trusted, verdict, np.full(n, "fast", dtype=object))
+    if method == "auto":
+        from .auto import escalate_batch
+        return escalate_batch(out, base, platform, legs, dps=dps, tol=tol)
+    if warn and not trusted.all():
+        bad = np.flatnonzero(~trusted)
+        warnings.warn(f"fast tier: the real-root count of {bad.size} of {n} problems is not "
+                      f"proved (first: problem {bad[0]}, {_VERDICTS()[verdict[bad[0]]]}); "
+                      "see .trusted, or use method='auto'", ConditioningWarning,
+                      stacklevel=2)
+    return out
+
+
+def _scale_back(raw, k):
+    """The arrays of :func:`.fast.solve_fast` for the lengths divided by ``2**k``
+    (N,), in place, scaled back (:mod:`.scaling`)."""
+    if not k.any():
+        raw["octic_exponent"] = np.zeros(len(k), np.int64)
+        return
+    k1, k2 = k[:, None], 2 * k[:, None]
+    for name in ("roots", "step", "s15", "radii"):
+        raw[name] = np.ldexp(raw[name], k2)
+    for name in ("lo", "hi"):
+        raw[name] = np.ldexp(raw[name], 2 * k)
+    raw["leg_error"] = np.ldexp(raw["leg_error"], k1)
+    raw["points"] = np.ldexp(raw["points"], k[:, None, None, None])
+    raw["translation"] = np.ldexp(raw["translation"], k[:, None, None])
+    deg = 12 - np.arange(8, -1, -1)
+    with np.errstate(over="ignore", under="ignore"):
+        coef = np.ldexp(raw["coef"], k2 * deg[None, :])
+    bad = ~np.isfinite(coef).all(axis=1) | ((raw["coef"] != 0) & (np.abs(coef) < 2.0 ** -1022)
+                                           ).any(axis=1)
+    raw["coef"] = np.where(bad[:, None], raw["coef"], coef)
+    raw["octic_exponent"] = np.where(bad, k, 0)

@@ -20,6 +20,22 @@ sides of such places, found by bisection with the certified tier:
 ``scale``
     fold problems scaled by :math:`10^{-3}` and :math:`10^{3}`.
 
+:func:`hard_families` adds the families of issue 14, where float64 turns clusters of
+real roots into complex pairs or drops one of two close roots (each at scales
+:math:`10^{-3}`, 1 and :math:`10^{3}`):
+
+``coplanar``
+    the platform :math:`10^{-2} \ldots 10^{-6}` (and :math:`10^{-9} \ldots 10^{-14}`)
+    of the base size above the base plane, tilted by :math:`10^{-2} \ldots 10^{-5}`
+    rad (up to four real roots within 1e-7 of each other);
+``line``
+    a platform vertex :math:`10^{-4} \ldots 10^{-12}` of the base size from the line of
+    a base edge it is joined to (P4 near P1P2, P5 near P2P3, P6 near P3P1);
+``cluster``
+    random octahedra (:func:`~.reference.random_octahedron`) whose octic has two
+    eigenvalues within 1 % of each other over the feasible interval, kept when two of
+    their certified real roots there lie within 1e-3 (relative) of each other.
+
 Every datum is a float64 number taken as its exact binary value, so that every tier
 solves *the same* problem; the truth (real roots of the octic, assembly modes) comes
 from the certified tier on those exact values.  The easy set is random assembled
@@ -37,7 +53,10 @@ from functools import lru_cache
 
 import numpy as np
 
-__all__ = ["Case", "hard_set", "easy_set", "certified_truth"]
+from .reference import random_triangle
+
+__all__ = ["Case", "hard_set", "hard_families", "easy_set", "certified_truth",
+           "near_coplanar", "near_line"]
 
 _GD_BASE = ((0.0, 0.0, 0.0), (6.0, math.sqrt(108.0), 0.0), (12.0, 0.0, 0.0))
 _GD_PLAT = ((0.0, 0.0, 0.0), (6.0, 0.0, 0.0), (3.0, math.sqrt(27.0), 0.0))
@@ -55,7 +74,8 @@ class Case:
     base, platform : tuple (3, 3); legs : tuple (6,)
     distance : float
         Relative distance (on the varied leg) to the place where the count changes;
-        0 for the easy set.
+        0 for the easy set; the height, the distance to the line or the root gap
+        (relative) for the families of :func:`hard_families`.
     real_roots : int
         Certified number of distinct real roots of the octic.
     modes : int
@@ -202,4 +222,132 @@ def easy_set(n: int = 200, seed: int = 3) -> tuple:
         p = tuple(map(tuple, plat.tolist()))
         lg = tuple(legs.tolist())
         out.append(Case(f"easy#{j}", "easy", b, p, lg, 0.0, *certified_truth(b, p, lg)))
+    return tuple(out)
+
+
+def _rotation(axis, angle):
+    """Rodrigues' rotation about ``axis`` (3,) by ``angle`` rad."""
+    k = np.asarray(axis, float) / np.linalg.norm(axis)
+    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    return np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * K @ K
+
+
+def _legs(base, pts):
+    from .problem import LEG_PAIRS
+    allp = np.vstack([base, pts])
+    return np.array([np.linalg.norm(allp[i - 1] - allp[j - 1]) for i, j in LEG_PAIRS])
+
+
+def near_coplanar(rng, height, tilt):
+    """A random octahedron whose platform lies ``height`` (relative to the base size)
+    above or below the base plane, tilted by ``tilt`` rad about a random horizontal axis.
+    Returns base (3, 3), platform (3, 3) in its own frame, legs (6,)."""
+    base = random_triangle(rng)
+    plat = random_triangle(rng) * rng.uniform(0.2, 1.5)
+    R = _rotation([*rng.normal(size=2), 0.0], tilt) @ _rotation([0, 0, 1],
+                                                                 rng.uniform(0, 2 * np.pi))
+    t = np.array([*rng.uniform(-0.5, 0.5, 2), height * rng.choice([-1, 1])])
+    return base, plat, _legs(base, plat @ R.T + t)
+
+
+def near_line(rng, distance, vertex):
+    """A random octahedron whose platform vertex ``vertex`` (0: P4, 1: P5, 2: P6) lies
+    ``distance`` (relative to the edge) from the line of the base edge it is joined to
+    (P1P2, P2P3, P3P1).  Returns base, platform (in its own frame), legs."""
+    base = random_triangle(rng)
+    i, j = ((0, 1), (1, 2), (2, 0))[vertex]
+    v = base[j] - base[i]
+    w = rng.normal(size=3)
+    w -= (w @ v) / (v @ v) * v
+    pts = np.empty((3, 3))
+    pts[vertex] = (base[i] + rng.uniform(0.1, 0.9) * v
+                   + distance * np.linalg.norm(v) * w / np.linalg.norm(w))
+    for o in range(3):
+        if o != vertex:
+            pts[o] = pts[vertex] + rng.normal(size=3) * rng.uniform(0.3, 1.0)
+    q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    return base, (pts - pts[0]) @ q, _legs(base, pts)
+
+
+def _case(name, family, base, plat, legs, distance):
+    b = tuple(map(tuple, np.asarray(base, float).tolist()))
+    p = tuple(map(tuple, np.asarray(plat, float).tolist()))
+    lg = tuple(np.asarray(legs, float).tolist())
+    return Case(name, family, b, p, lg, distance, *certified_truth(b, p, lg, tol=1e-3))
+
+
+def _clustered(rng, n, tries, max_gap=1e-3):
+    """Random octahedra with two certified real roots within 1e-3 relative in the
+    feasible interval (module docstring), screened by the eigenvalues of the float
+    octic: (base, platform, legs, gap) of at most ``n``."""
+    from .forward import forward_kinematics
+    from .problem import float_single
+    from .reference import random_octahedron
+    from .fast_single import solve_fast_single
+    out = []
+    for _ in range(tries):
+        if len(out) >= n:
+            break
+        base, plat, legs, *_ = random_octahedron(rng)
+        keep = {}
+        B, Q, L, k, _ = float_single(base, plat, legs)
+        _, lo, hi, _, _ = solve_fast_single(B, Q, L, keep)
+        z = np.array(keep["eigenvalues"])
+        z = z[(z.real >= lo - 0.05 * (hi - lo)) & (z.real <= hi + 0.05 * (hi - lo))]
+        if z.size < 2:
+            continue
+        d = np.abs(z[:, None] - z[None, :])
+        np.fill_diagonal(d, np.inf)
+        if not d.min() < 1e-2 * max(abs(hi), 1e-300):
+            continue
+        res = forward_kinematics(base, plat, legs, method="certified", tol=1e-3)
+        x = np.ldexp([r.value for r in res.roots], -2 * k)
+        x = x[(x >= lo * (1 - 1e-9)) & (x <= hi * (1 + 1e-9))]
+        if x.size >= 2:
+            gap = float(np.min(np.diff(x) / np.abs(x[1:])))
+            if gap < max_gap:
+                out.append((base, plat, legs, gap))
+    return out
+
+
+@lru_cache(maxsize=4)
+def hard_families(scales: tuple = (1e-3, 1.0, 1e3), n_coplanar: int = 24,
+                  n_flat: int = 8, n_line: int = 18, n_cluster: int = 30,
+                  seed: int = 14) -> tuple:
+    """The families of issue 14 (module docstring): a tuple of :class:`Case`, each
+    problem at every scale of ``scales`` (the float data multiplied by the scale; each
+    truth computed again on the scaled floats).
+
+    Parameters
+    ----------
+    n_coplanar : int
+        Near-coplanar problems with heights 1e-6 .. 1e-2 and tilts 1e-5 .. 1e-2
+        (log-uniform); ``n_flat`` more with heights 1e-14 .. 1e-9 and tilts 1e-9 ..
+        1e-5.
+    n_line : int
+        Problems with a platform vertex 1e-12 .. 1e-4 from a base-edge line.
+    n_cluster : int
+        Random octahedra with two close real roots (screened from up to 400 x
+        ``n_cluster`` random octahedra).
+    """
+    rng = np.random.default_rng(seed)
+    raw = []
+    for j in range(n_coplanar):
+        h, t = 10.0 ** rng.uniform(-6, -2), 10.0 ** rng.uniform(-5, -2)
+        raw.append((f"coplanar#{j} h={h:.1e} tilt={t:.1e}", "coplanar",
+                    *near_coplanar(rng, h, t), h))
+    for j in range(n_flat):
+        h, t = 10.0 ** rng.uniform(-14, -9), 10.0 ** rng.uniform(-9, -5)
+        raw.append((f"coplanar-flat#{j} h={h:.1e} tilt={t:.1e}", "coplanar",
+                    *near_coplanar(rng, h, t), h))
+    for j in range(n_line):
+        dist = 10.0 ** rng.uniform(-12, -4)
+        raw.append((f"line#{j} P{4 + j % 3} at {dist:.1e}", "line",
+                    *near_line(rng, dist, j % 3), dist))
+    for j, (b, p, lg, gap) in enumerate(_clustered(rng, n_cluster, 400 * n_cluster)):
+        raw.append((f"cluster#{j} gap={gap:.1e}", "cluster", b, p, lg, gap))
+    out = []
+    for sc in scales:
+        for name, fam, b, p, lg, dist in raw:
+            out.append(_case(f"{name} x{sc:g}", fam, b * sc, p * sc, lg * sc, dist))
     return tuple(out)

@@ -288,8 +288,13 @@ def generate_octic_module() -> str:
     """Source of ``distkin/_generated/octic_general.py`` (registered in
     :data:`distkin.codegen.registry.GENERATED`): a batched numpy kernel
     ``octic_batched``, a scalar one ``octic_scalar`` (and ``parts_scalar``, its quadratic
-    parts only) and an exact (fmpq/arb) kernel ``octic_exact`` of the same map."""
-    from ..codegen.emit import Kernel, module_source, symbolic_hash
+    parts only), an exact (fmpq/arb) kernel ``octic_exact`` of the same map, and the
+    rigorous rounding bounds of the quadratic parts as the two float kernels compute
+    them (:mod:`distkin.codegen.rounding`): the magnitude kernel ``parts_magnitude`` and
+    the constants ``PARTS_DEPTH``, ``PARTS_DEGREE``, ``PARTS_UNDERFLOW`` (inputs of
+    modulus at most 2^24: the squared lengths after :mod:`.scaling`)."""
+    from ..codegen.emit import Kernel, kernel_source, module_source, symbolic_hash
+    from ..codegen.rounding import analyse, magnitude_source
     outputs = _kernel_outputs()
     inputs = _inputs()
     doc = _KERNEL_DOC.format(names=", ".join(PART_NAMES))
@@ -299,16 +304,32 @@ def generate_octic_module() -> str:
                       doc=doc.replace("(..., 6)", "(6,)").replace("(..., 39)", "list of 39")),
                Kernel("parts_scalar", inputs, outputs[:30], flavour="scalar", extra=fast,
                       doc="The first 30 outputs of ``octic_scalar`` only (the quadratic "
-                          "parts, without the octic): the conditioning estimate of the fast "
-                          "tier evaluates them at perturbed inputs "
-                          "(:mod:`distkin.octahedral.conditioning`).  sides, legs: (6,); "
-                          "returns a list of 30."),
+                          "parts, without the octic), for evaluations at other inputs "
+                          "than the fast tier's own.  sides, legs: (6,); returns a list "
+                          "of 30."),
                Kernel("octic_exact", inputs, outputs, flavour="exact", extra=fast,
                       doc=doc.replace("(..., 6)", "(6,) fmpq or arb")
                       .replace("(..., 39)", "list of 39 (exact on fmpq, balls on arb)"))]
+    # the rounding bounds of the parts as octic_scalar and octic_batched compute them
+    # (the same CSE, so the same evaluation order: checked)
+    parts = range(30)
+    scalar_src, batched_src = kernel_source(kernels[1]), kernel_source(kernels[0])
+    bounds = analyse(scalar_src, "octic_scalar", outputs=parts, leaf_bound=2 ** 24)
+    if analyse(batched_src, "octic_batched", outputs=parts, leaf_bound=2 ** 24) != bounds:
+        raise AssertionError("octic_scalar and octic_batched evaluate the parts differently")
+    magnitude = magnitude_source(
+        scalar_src, "octic_scalar", "parts_magnitude",
+        "Magnitudes of the first 30 outputs of ``octic_scalar`` (the quadratic parts): the "
+        "same code with absolute values throughout (distkin.codegen.rounding).  With\n"
+        "PARTS_DEPTH, PARTS_DEGREE and PARTS_UNDERFLOW they bound the rounding error of "
+        "``octic_scalar`` and ``octic_batched``\n(inputs of modulus <= 2^24).  sides, legs: "
+        "(6,); returns a list of 30.", outputs=parts)
     return module_source(
         kernels, generator="distkin.octahedral.octic:generate_octic_module "
         "(derivation: derivations/octahedral_octic.py)",
         doc="Octic coefficient map of the octahedral manipulator (Rojas et al. 2012, eq. (3)).",
         source_hash=symbolic_hash(*outputs),
-        constants={"PART_NAMES": PART_NAMES, "N_PARTS": len(PART_NAMES)})
+        constants={"PART_NAMES": PART_NAMES, "N_PARTS": len(PART_NAMES),
+                   "PARTS_DEPTH": bounds.depth, "PARTS_DEGREE": bounds.degree,
+                   "PARTS_UNDERFLOW": bounds.underflow},
+        functions=[("parts_magnitude", magnitude)])

@@ -8,7 +8,7 @@ squared lengths are computed exactly when the data are exact (``"19.8"`` is 99/5
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import math
 from fractions import Fraction
 from functools import lru_cache
@@ -18,6 +18,7 @@ import numpy as np
 from ..errors import DegenerateGeometryError, InputError
 from ..numbers import Exact, parse_exact
 from .banana import LEG_PAIRS, SIDE_PAIRS
+from .scaling import KEEP, check_range, exponent, exponents, scale_problem
 
 __all__ = ["Problem", "exact_problem", "float_problem", "float_single", "LEG_PAIRS",
            "SIDE_PAIRS", "REASONS"]
@@ -44,6 +45,9 @@ class Problem:
     legs2 : tuple of 6 squared legs (Fraction when rational).
     from_float : bool
         Some value was a bare float, taken as its exact binary value.
+    exponent : int
+        Every length here is the given one divided by ``2**exponent``
+        (:mod:`.scaling`); answers are scaled back by the caller.
     """
 
     base: tuple
@@ -52,6 +56,7 @@ class Problem:
     sides2: tuple
     legs2: tuple
     from_float: bool
+    exponent: int = 0
 
     @property
     def rational(self) -> bool:
@@ -129,13 +134,29 @@ def _check_triangle(sq, names, field):
             f"(16 area^2 = {a16:.3g})", field=field)
 
 
+def _largest(B, Q, L):
+    """The largest modulus of a coordinate or a leg (floats), and its field."""
+    best, field = -1.0, "legs"
+    for name, rows in (("base", B), ("platform", Q)):
+        for i, r in enumerate(rows):
+            for j, v in enumerate(r):
+                if abs(v) > best:
+                    best, field = abs(v), f"{name}[{i}][{j}]"
+    for i, v in enumerate(L):
+        if v > best:
+            best, field = v, f"legs[{i}]"
+    return best, field
+
+
 def exact_problem(base, platform, legs) -> Problem:
-    """Parse and check the data exactly (precise and certified tiers).
+    """Parse and check the data exactly (precise and certified tiers), normalised by a
+    power of two (:mod:`.scaling`; ``Problem.exponent``).
 
     Raises
     ------
     InputError
-        Wrong shapes, unparsable numbers, non-positive legs.
+        Wrong shapes, unparsable numbers, non-positive legs, lengths beyond float64's
+        range (:func:`.scaling.check_range`).
     DegenerateGeometryError
         A collinear base or platform triangle.
     """
@@ -149,42 +170,73 @@ def exact_problem(base, platform, legs) -> Problem:
     for i, v in enumerate(L):
         if not float(v) > 0:
             raise InputError(f"expected a positive leg length, got {v.text}", field=f"legs[{i}]")
+    largest, field = _largest([[float(v) for v in r] for r in B],
+                              [[float(v) for v in r] for r in Q], [float(v) for v in L])
+    check_range(largest, field)
     pts = {1: B[0], 2: B[1], 3: B[2], 4: Q[0], 5: Q[1], 6: Q[2]}
     sides2 = tuple(_square_distance(pts[i], pts[j]) for i, j in SIDE_PAIRS)
-    _check_triangle(sides2[:3], "P1 P2 P3", "base")
-    _check_triangle(sides2[3:], "P4 P5 P6", "platform")
     legs2 = tuple(_square(v) for v in L)
     from_float = any(v.from_float for v in L + B[0] + B[1] + B[2] + Q[0] + Q[1] + Q[2])
-    return Problem(tuple(tuple(v.value for v in r) for r in B),
-                   tuple(tuple(v.value for v in r) for r in Q),
-                   tuple(v.value for v in L), sides2, legs2, from_float)
+    k = exponent(largest)
+    problem = scale_problem(Problem(tuple(tuple(v.value for v in r) for r in B),
+                                    tuple(tuple(v.value for v in r) for r in Q),
+                                    tuple(v.value for v in L), sides2, legs2, from_float), k)
+    _check_triangle(problem.sides2[:3], "P1 P2 P3", "base")
+    _check_triangle(problem.sides2[3:], "P4 P5 P6", "platform")
+    return replace(problem, exponent=k)
+
+
+def _floats(value, field):
+    """(float array, exact array): the values as floats, and whether each float is the
+    value itself (False where a string, a large integer or a Fraction was rounded).
+    Numeric strings go through the exact parser (``"sqrt(108)"``)."""
+    try:
+        raw = np.asarray(value)
+    except ValueError:
+        raise InputError(f"expected a regular array of numbers, got {value!r}",
+                         field=field) from None
+    if raw.dtype.kind == "f":
+        return raw.astype(float), np.ones(raw.shape, bool)
+    if raw.dtype.kind in "iu":
+        a = raw.astype(float)
+        with np.errstate(invalid="ignore"):
+            return a, np.abs(raw) < 2 ** 53
+    # element by element (not np.vectorize: its floating-point error check would report
+    # flags raised by the lazy sympy import inside the first parse)
+    obj = np.asarray(value, dtype=object)
+    vals, exact = [], []
+    for v in obj.ravel():
+        if isinstance(v, (float, np.floating)):
+            vals.append(float(v))
+            exact.append(True)
+            continue
+        x = _exact(v, field)
+        f = float(x)
+        vals.append(f)
+        exact.append(isinstance(x.value, Fraction) and math.isfinite(f)
+                     and Fraction(f) == x.value)
+    return (np.array(vals, dtype=float).reshape(obj.shape),
+            np.array(exact, dtype=bool).reshape(obj.shape))
 
 
 def float_problem(base, platform, legs):
-    """Float arrays for the fast tier, batched: ``base (N,3,3)``, ``platform (N,3,3)``,
-    ``legs (N,6)``, plus the squared sides ``(N,6)`` and legs ``(N,6)``.
-
-    Accepts numbers or numeric strings (``"sqrt(108)"`` is parsed exactly, then
-    rounded).
+    """Float arrays for the fast tier, batched, normalised by powers of two
+    (:mod:`.scaling`): ``base (N,3,3)``, ``platform (N,3,3)``, ``legs (N,6)``, the
+    squared sides ``(N,6)`` and legs ``(N,6)``, the exponents ``k (N,)`` (lengths divided
+    by ``2**k``) and ``rounded (N,)``: some input of the problem is not exactly its
+    float (a string such as ``"19.8"`` or ``"sqrt(108)"``, parsed exactly, then rounded).
     """
     def arr(value, field, shape):
-        try:
-            a = np.asarray(value, dtype=float)
-        except (TypeError, ValueError):
-            # element by element (not np.vectorize: its floating-point error check would
-            # report flags raised by the lazy sympy import inside the first parse)
-            obj = np.asarray(value, dtype=object)
-            a = np.array([float(_exact(v, field)) for v in obj.ravel()],
-                         dtype=float).reshape(obj.shape)
+        a, exact = _floats(value, field)
         if a.shape[-len(shape):] != shape:
             raise InputError(f"expected shape (..., {', '.join(map(str, shape))}), got "
                              f"{a.shape}", field=field)
         if not np.all(np.isfinite(a)):
             raise InputError("expected finite numbers, got NaN or inf", field=field)
-        return a
-    B = arr(base, "base", (3, 3))
-    Q = arr(platform, "platform", (3, 3))
-    L = arr(legs, "legs", (6,))
+        return a, ~exact
+    B, rB = arr(base, "base", (3, 3))
+    Q, rQ = arr(platform, "platform", (3, 3))
+    L, rL = arr(legs, "legs", (6,))
     if B.ndim > 3 or Q.ndim > 3 or L.ndim > 2:
         raise InputError("expected at most one batch axis", field="legs")
     N = max([a.shape[0] for a, nd in ((B, 3), (Q, 3), (L, 2)) if a.ndim == nd], default=1)
@@ -194,19 +246,33 @@ def float_problem(base, platform, legs):
         L = np.broadcast_to(L, (N, 6))
     except ValueError:
         raise InputError(f"expected legs of shape ({N}, 6), got {L.shape}", field="legs") from None
+    rounded = (np.broadcast_to(rB, (N, 3, 3)).any(axis=(1, 2))
+               | np.broadcast_to(rQ, (N, 3, 3)).any(axis=(1, 2))
+               | np.broadcast_to(rL, (N, 6)).any(axis=1))
     if np.any(L <= 0):
         i = np.argwhere(L <= 0)[0]
         raise InputError(f"expected positive leg lengths, got {L[tuple(i)]!r}",
                          field=f"legs{list(i)}")
+    largest = np.maximum(np.maximum(np.abs(B).max(axis=(1, 2)), np.abs(Q).max(axis=(1, 2))),
+                         L.max(axis=1))
+    bad = ~((largest < 2.0 ** 510) & (largest >= 2.0 ** -500))
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        check_range(float(largest[i]), f"legs[{i}]" if N > 1 else "legs")
+    k = exponents(largest)
+    if k.any():
+        B = np.ldexp(B, -k[:, None, None])
+        Q = np.ldexp(Q, -k[:, None, None])
+        L = np.ldexp(L, -k[:, None])
     pts = np.concatenate([B, Q], axis=1)
     sides2 = np.stack([_d2(pts, i, j) for i, j in SIDE_PAIRS], -1)
-    for (k, names, fld) in ((0, "P1 P2 P3", "base"), (3, "P4 P5 P6", "platform")):
-        a, b, c = sides2[:, k], sides2[:, k + 1], sides2[:, k + 2]
+    for (j, names, fld) in ((0, "P1 P2 P3", "base"), (3, "P4 P5 P6", "platform")):
+        a, b, c = sides2[:, j], sides2[:, j + 1], sides2[:, j + 2]
         a16 = 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c)
         if np.any(~(a16 > 1e-12 * (a + b + c) ** 2)):
             raise DegenerateGeometryError(f"expected a proper triangle {names}, got collinear "
                                           "or coincident points", field=fld)
-    return B, Q, L, sides2, L * L
+    return B, Q, L, sides2, L * L, k, rounded
 
 
 def _d2(pts, i, j):
@@ -216,12 +282,15 @@ def _d2(pts, i, j):
 
 def float_single(base, platform, legs):
     """One problem for the fast tier, with the checks of :func:`float_problem` at a
-    fraction of its cost.
+    fraction of its cost, normalised by a power of two (:mod:`.scaling`).
 
     Returns
     -------
-    base, platform : lists of 3 lists of 3 floats (rows)
-    legs : list of 6 floats
+    base, platform : lists of 3 lists of 3 floats (rows), divided by ``2**k``
+    legs : list of 6 floats, divided by ``2**k``
+    k : int
+    rounded : bool
+        Some input is not exactly its float (see :func:`float_problem`).
 
     Plain numbers (and numpy arrays of them) take a path in plain Python floats; other
     inputs (numeric strings such as ``"sqrt(108)"``, wrong shapes) go through
@@ -230,22 +299,28 @@ def float_single(base, platform, legs):
     try:
         B = _float_rows(base)
         Q = _float_rows(platform)
-        L = legs.tolist() if isinstance(legs, np.ndarray) else legs
-        if len(L) != 6:
-            raise ValueError
-        L = [float(v) for v in L]
-    except (TypeError, ValueError):
-        B, Q, L, _, _ = float_problem(base, platform, legs)
+        L = _float_row(legs.tolist() if isinstance(legs, np.ndarray) else legs, 6)
+    except (TypeError, ValueError):             # (unpacking a wrong shape: ValueError)
+        B, Q, L, _, _, k, rounded = float_problem(base, platform, legs)
         if B.shape[0] != 1:
             raise InputError(f"expected one set of 6 legs, got shape {np.shape(legs)}",
                              field="legs", hint="use forward_kinematics_batched for many")
-        return B[0].tolist(), Q[0].tolist(), L[0].tolist()
+        return B[0].tolist(), Q[0].tolist(), L[0].tolist(), int(k[0]), bool(rounded[0])
     isfinite = math.isfinite
-    if not all(map(isfinite, B[0] + B[1] + B[2] + Q[0] + Q[1] + Q[2] + L)):
+    flat = B[0] + B[1] + B[2] + Q[0] + Q[1] + Q[2]
+    if not all(map(isfinite, flat + L)):
         raise InputError("expected finite numbers, got NaN or inf", field="legs")
     if min(L) <= 0:
         i = next(i for i, v in enumerate(L) if v <= 0)
         raise InputError(f"expected positive leg lengths, got {L[i]!r}", field=f"legs[{i}]")
+    largest = max(max(flat), -min(flat), max(L))
+    k = 0 if _SMALL <= largest < _LARGE else exponent(largest)
+    if k:
+        largest, field = _largest(B, Q, L)
+        check_range(largest, field)
+        B = [[math.ldexp(v, -k) for v in r] for r in B]
+        Q = [[math.ldexp(v, -k) for v in r] for r in Q]
+        L = [math.ldexp(v, -k) for v in L]
     for P, names, fld in ((B, "P1 P2 P3", "base"), (Q, "P4 P5 P6", "platform")):
         (ax, ay, az), (bx, by, bz), (cx, cy, cz) = P
         a = (ax - bx) ** 2 + (ay - by) ** 2 + (az - bz) ** 2
@@ -254,22 +329,32 @@ def float_single(base, platform, legs):
         if not 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c) > 1e-12 * (a + b + c) ** 2:
             raise DegenerateGeometryError(f"expected a proper triangle {names}, got collinear "
                                           "or coincident points", field=fld)
-    return B, Q, L
+    return B, Q, L, k, False
+
+
+_SMALL, _LARGE = 2.0 ** -KEEP, 2.0 ** KEEP       # lengths not rescaled (.scaling)
+
+
+def _float_row(r, n):
+    """n plain floats, or TypeError/ValueError (then the general path): a value comes
+    this way only when its float compares equal to it (floats, numpy floats, integers
+    below 2^53), so that every float here is exactly the value given; strings,
+    Fractions, large integers and sympy numbers take the general path, which says when
+    it rounds."""
+    if len(r) != n:
+        raise ValueError
+    row = list(map(float, r))
+    if row != list(r):            # exact comparisons: "19.8" or 1/3 is not its float
+        raise ValueError
+    return row
 
 
 def _float_rows(value):
-    """3 rows of 3 plain floats, or TypeError/ValueError (then the general path)."""
+    """3 rows of 3 plain floats (the rule of :func:`_float_row`)."""
     if isinstance(value, np.ndarray):
-        if value.shape != (3, 3):
+        if value.shape != (3, 3) or value.dtype.kind != "f":
             raise ValueError
-        value = value.tolist()
-    if len(value) != 3:
-        raise ValueError
-    out = []
-    for r in value:
-        if isinstance(r, np.ndarray):
-            r = r.tolist()
-        if len(r) != 3:
-            raise ValueError
-        out.append([float(r[0]), float(r[1]), float(r[2])])
-    return out
+        return value.tolist()
+    (a, b, c), (d, e, f), (g, h, i) = value
+    x = _float_row((a, b, c, d, e, f, g, h, i), 9)
+    return [x[0:3], x[3:6], x[6:9]]

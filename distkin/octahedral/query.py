@@ -31,7 +31,7 @@ from dataclasses import dataclass, replace
 from fractions import Fraction
 
 from ..argcheck import check_keys, exact_vector, method_field, positive_number, require
-from ..errors import ConditioningWarning, InputError
+from ..errors import ConditioningWarning, DistkinError, InputError
 from ..numbers import METHODS_AUTO, Exact, default_dps
 from ..queries import Outcome, register
 
@@ -86,7 +86,14 @@ class OctahedralForwardQuery:
         legs = [_si(v, f) for v in p.legs]
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", ConditioningWarning)
-            res = forward_kinematics(base, plat, legs, method=p.method, dps=p.dps, tol=p.tol)
+            try:
+                res = forward_kinematics(base, plat, legs, method=p.method, dps=p.dps,
+                                         tol=p.tol)
+            except DistkinError as exc:
+                if exc.field and exc.field.startswith(("base", "platform")):
+                    exc.field = f"mechanism.{exc.field}"      # where the scene has them
+                    exc.args = (exc.one_line(),)
+                raise
         if caught:
             res = replace(res, notes=res.notes + tuple(str(w.message) for w in caught))
         unit = scene.units.length_label

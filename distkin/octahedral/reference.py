@@ -26,6 +26,7 @@ __all__ = [
     "eq11_agreement",
     "random_octahedron",
     "random_rational_octahedron",
+    "random_triangle",
 ]
 
 #: Sec. VI: P1, P2, P3 (exact strings)
@@ -77,6 +78,17 @@ def eq11_agreement(coeffs):
     return lo <= hi, (lo, hi), rel
 
 
+def random_triangle(rng):
+    """A random triangle (3, 3) in the plane z = 0, vertices in [-1, 1]^2, aspect ratio
+    up to ~1:8 (twice its area above 0.05 times its longest side squared)."""
+    while True:
+        P = np.column_stack([rng.uniform(-1, 1, (3, 2)), np.zeros(3)])
+        a = np.cross(P[1] - P[0], P[2] - P[0])[2]
+        sides = [np.linalg.norm(P[i] - P[j]) for i, j in ((0, 1), (0, 2), (1, 2))]
+        if abs(a) > 0.05 * max(sides) ** 2:
+            return P
+
+
 def random_octahedron(rng, *, scale=1.0, shape="random"):
     """A random assembled octahedral manipulator (float64).
 
@@ -101,12 +113,7 @@ def random_octahedron(rng, *, scale=1.0, shape="random"):
         if kind == "regular":
             ang = np.array([0.0, 2 * np.pi / 3, 4 * np.pi / 3]) + rng.uniform(0, 2 * np.pi)
             return np.stack([np.cos(ang), np.sin(ang), np.zeros(3)], -1)
-        while True:
-            P = np.column_stack([rng.uniform(-1, 1, (3, 2)), np.zeros(3)])
-            a = np.cross(P[1] - P[0], P[2] - P[0])[2]
-            sides = [np.linalg.norm(P[i] - P[j]) for i, j in ((0, 1), (0, 2), (1, 2))]
-            if abs(a) > 0.05 * max(sides) ** 2:
-                return P
+        return random_triangle(rng)
     base = tri(shape) * scale
     plat = tri(shape) * scale * rng.uniform(0.2, 1.5)
     q, _ = np.linalg.qr(rng.normal(size=(3, 3)))

@@ -43,7 +43,7 @@ def test_approaching_a_double_root(family):
 
     Expected: the fast tier either counts right (assembly modes and poses equal the
     certified count) or emits a ConditioningWarning, never a silent wrong count, and
-    its estimate distrusts the count at the closest distances (2^-48 relative: roots
+    it does not prove the count at the closest distances (2^-48 relative: roots
     within ~1e-7 relative of each other, past what float64 can separate).  The
     certified tier's count equals the Sturm count of its exact octic, or it raises
     UncertifiedError.  Tolerance: exact counts."""
@@ -90,8 +90,8 @@ def test_limit_of_assemblability():
 def test_exact_double_root_is_resolved_exactly():
     """Extreme: the flat configuration itself (all six points in the plane z = 0, a root
     s15 = 37 of multiplicity 4).  Expected: certified gives exactly one pose with the
-    multiplicity stated (Sturm agrees on the distinct count); the fast tier's estimate
-    distrusts its own count there and auto answers with the certified pose."""
+    multiplicity stated (Sturm agrees on the distinct count); the fast tier does not
+    prove its own count there and auto answers with the certified pose."""
     base = [[0, 0, 0], [4, 8, 0], [9, 0, 0]]
     plat = [[0, 0, 0], [3, -1, 0], [1, 2, 0]]
     legs = ["sqrt(13)", "sqrt(37)", "sqrt(53)", "sqrt(10)", "sqrt(41)", "sqrt(32)"]

@@ -1,0 +1,652 @@
+r"""A proof, in float64, that the fast tier counted and classified the assembly roots right.
+
+Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, Sec. III:
+the assembly modes are the real roots :math:`x = s_{15}` of the octic
+:math:`H = G^2 - 4R_1R_2` (eq. (3) squared twice, :mod:`.octic`) at which the faces
+:math:`D(5,4,1)`, :math:`D(3,5,1)` are real triangles (:math:`u, v < 0`) and the four
+banana tetrahedra have non-negative squared volume (:math:`T \ge 0`).  Every one lies
+in the feasible interval :math:`[lo, hi]` of the triangle inequalities through
+:math:`P_1P_5` (:func:`~.closure.feasible_interval`; a real face and a non-negative
+tetrahedron embed in space, so every face of it is a real triangle).
+
+:func:`vouch` checks a fast answer -- its real roots in and near that interval and
+their status -- against the *exact* octic of the exact input data, with nothing but
+float64 arithmetic whose rounding is bounded rigorously.  It answers "proved" or "cannot
+vouch"; it never guesses.
+
+Why this test, and not the others
+---------------------------------
+Three were weighed (issue 14), on the easy set and the near-coplanar, near-line and
+clustered families of :mod:`.hardset` (:func:`~.hardset.hard_families`):
+
+* the calibrated estimate it replaces (:math:`K = 400` times a measured noise) was not a
+  bound: its few sample points missed clusters of four roots within 1.6e-7 that float64
+  had turned into two complex pairs, and ``auto`` kept answers with too few poses;
+* inclusion discs (Gerschgorin / Braess-Hadeler: discs of radius
+  :math:`8|H(z_i)/(a_8\prod_{j\ne i}(z_i-z_j))|` around the eight eigenvalues, real
+  ones replaced by the polished roots) need every complex eigenvalue to a fraction of
+  its distance to the real axis, but the eigenvalues come from the monomial
+  coefficients, which lose up to 1e7 eps to cancellation.  Even with the residuals
+  :math:`H(z_i)` computed exactly (60 digits: more than a rigorous float version can
+  have), they decided 198 of the 200 easy problems and 91 of the 240 family problems,
+  where this test proves 200 and 117; and the batched tier has no eigenvalues (its sign
+  scan is what makes it fast);
+* a Sturm or Descartes count on the monomial coefficients inherits the same 1e7 eps;
+  **Descartes' rule of signs in the Bernstein basis on the octic rebuilt over each
+  sub-interval from the quadratic parts of eq. (3)** (the form the fast tier polishes
+  with, which keeps those digits) needs neither eigenvalues nor the monomial
+  coefficients, serves the single and the batched tier alike, and costs a few
+  microseconds.  This is the test.
+
+The argument
+------------
+1. **Exact data.**  The fast tier works on the squared lengths :math:`\hat s_i`,
+   computed in float from the (power-of-two normalised, :mod:`.scaling`) inputs with
+   relative error at most :math:`\eta` (``eta``: :math:`\gamma_5` for float inputs,
+   more when the inputs were themselves rounded).  The exact problem is the one with
+   the exact squared lengths :math:`s_i`.
+2. **The quadratic parts.**  The generated kernel's rounding is bounded from its own
+   source (:mod:`distkin.codegen.rounding`: depth, degree and the magnitude kernel
+   ``parts_magnitude``): each coefficient :math:`\hat c_k` is within :math:`e_k` of the
+   exact :math:`c_k(s)` (:func:`part_errors`).
+3. **Running error bounds.**  Everything after that -- the parts shifted to a
+   sub-interval :math:`[\alpha, \beta]`, their products, :math:`H`, its Bernstein
+   coefficients, point values -- is computed as pairs (value, bound) with the rules
+   :math:`|\widehat{a+b} - (a+b)| \le e_a + e_b + u|\widehat{a+b}|` and
+   :math:`|\widehat{ab} - ab| \le |\hat a|e_b + |\hat b|e_a + e_ae_b + u|\widehat{ab}| +
+   2^{-1074}` (Higham, *Accuracy and Stability of Numerical Algorithms*, Sec. 3.3).  The
+   bounds are sums of products of non-negative floats over fewer than 10^4 operations,
+   so their own rounding is below a relative :math:`10^4u < 2^{-30}`; every bound is
+   multiplied by :math:`1 + 2^{-30}` when used (:data:`_SAFE`).
+4. **Counting** (Descartes' rule of signs in the Bernstein basis).  With
+   :math:`t = (x-\alpha)/(\beta-\alpha)` and :math:`t = y/(1+y)`,
+   :math:`H = \sum_i \tilde b_i\, t^i(1-t)^{8-i} = (1+y)^{-8}\sum_i \tilde b_i y^i`:
+   the roots of :math:`H` in :math:`(\alpha, \beta)` are the positive roots of
+   :math:`\sum_i \tilde b_i y^i`, so by Descartes' rule their number, with
+   multiplicity, is at most the number of sign changes of the
+   :math:`\tilde b_i = \binom8i b_i` (:func:`_bernstein`).  Where a coefficient's sign is
+   not decided by its bound, the largest number of changes over both signs is taken
+   (a zero coefficient adds none).  At most 0 changes: no root.  At most 1, and
+   :math:`H(\alpha)`, :math:`H(\beta)` proved of opposite signs: exactly one root, and
+   simple.  At most 1 and the same signs: none (an even number below two).  More: the
+   interval is split at a point where :math:`H` has a proved sign.
+5. **The interval.**  :math:`[a, b] = [lo - \delta, hi + \delta]` with :math:`\delta`
+   the rounding bound of the float triangle bounds (:func:`margin`): every exact
+   assembly root lies in it.  It is cut at :math:`a`, at points between consecutive
+   fast roots and at :math:`b`, each cut point with :math:`H` of proved sign; each piece
+   must hold exactly one exact root and the fast tier's root in it.
+6. **Classification.**  Around each fast root :math:`r` a radius :math:`\rho` is grown
+   until :math:`H(r\pm\rho)` have proved opposite signs: the piece's one root lies in
+   :math:`[r-\rho, r+\rho]`, and there :math:`u, v` and the tetrahedra are bounded
+   (value at :math:`r`, plus :math:`|q'(r)|\rho + |c_2|\rho^2`).  Proved
+   :math:`u, v < 0` and all :math:`T > 0`: an assembly mode; some proved
+   :math:`u > 0`, :math:`v > 0` or :math:`T < 0`: spurious; anything else: cannot vouch
+   (a flat tetrahedron or a face at the edge of assemblability).
+7. **The verdict** is "proved" when every piece holds one root, every status agrees
+   with the fast tier's, and no fast assembly root lies outside :math:`[a, b]`.  Then
+   the fast tier's assembly roots are, one to one, the exact problem's, each within its
+   :math:`\rho` (a rigorous radius), and so are its poses (two per root; the residual
+   of each pose is stated separately).
+
+What it does not claim: the count of *spurious* real roots outside :math:`[a, b]`
+(they give no pose); the digits of a pose beyond its stated leg residual.
+
+Cost: one more kernel evaluation (the magnitudes), then per piece ~600 float
+operations, compiled; see ``python -m benchmarks octahedral`` and ``accuracy``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from .._generated.octic_general import (PARTS_DEGREE, PARTS_DEPTH, PARTS_UNDERFLOW,
+                                        parts_magnitude)
+
+__all__ = ["vouch", "vouch_many", "vouch_rows", "part_errors", "margin", "eta_rounded", "VERDICTS", "U",
+           "ETA_FLOAT", "LEAF_BOUND"]
+
+#: unit roundoff of binary64
+U = 2.0 ** -53
+#: relative error of a squared length computed from exact float coordinates
+#: (a difference, a square, two sums: gamma_5) and of a squared leg (gamma_1 < gamma_5);
+#: 2^-60 more covers squares of components in the subnormal range (each off by at most
+#: 2^-1075, against a squared length of at least 2^-1000: LEAF_MIN)
+ETA_FLOAT = 5 * U / (1 - 5 * U) + 2.0 ** -60
+#: the squared lengths the bounds cover: in [LEAF_MIN, LEAF_BOUND] (after the
+#: normalisation of :mod:`.scaling`, lengths are below 2^10, squared sides below 2^24)
+LEAF_BOUND = 2.0 ** 24
+LEAF_MIN = 2.0 ** -1000
+_TINY = 2.0 ** -1074          # underflow of one product
+_SAFE = 1.0 + 2.0 ** -30      # the bounds' own rounding (module docstring, step 3)
+_BUDGET = 48                  # Bernstein evaluations per problem, beyond one per piece
+_MIN_WIDTH = 2.0 ** -44       # relative width under which a piece is not split further
+_DEPTH = np.array(PARTS_DEPTH, dtype=np.float64)
+_DEGREE = np.array(PARTS_DEGREE, dtype=np.float64)
+_UNDER = np.array(PARTS_UNDERFLOW, dtype=np.float64)
+_magnitude = numba.njit(cache=True)(parts_magnitude)
+#: binomials C(8 - j, i - j) of the scaled Bernstein transform
+_BINOM = np.array([[math.comb(8 - j, i - j) if j <= i else 0 for j in range(9)]
+                   for i in range(9)], dtype=np.float64)
+
+#: verdict codes of :func:`vouch` and what they mean
+VERDICTS = {
+    0: "proved: every assembly root is counted and classified right",
+    1: "the inputs are out of the range the bounds cover (a squared length below 2^-1000 "
+       "of the largest after normalisation, or a rounding bound beyond 10 % relative)",
+    2: "the octic's sign at an end of the feasible interval is within its rounding bound: "
+       "a root at the edge of assemblability",
+    3: "the octic's sign between two roots found is within its rounding bound: two roots "
+       "closer than float64 can separate (two assembly modes about to merge)",
+    4: "a piece of the feasible interval holds more real roots than the fast tier found "
+       "there, or cannot be resolved (close or multiple roots, or a complex pair next to "
+       "the real axis)",
+    5: "a piece of the feasible interval around a root found holds no real root of the "
+       "exact octic (a root found twice, or a complex pair taken for real roots)",
+    6: "a root's status (assembly or spurious) cannot be decided: a face or a banana "
+       "tetrahedron is flat within the rounding bound there",
+    7: "a root's proved status differs from the fast tier's",
+    8: "the fast tier has an assembly root outside the feasible interval",
+}
+
+
+# ------------------------------------------------------------ running error bounds
+
+@numba.njit(cache=True, inline="always")
+def _add(a, ea, b, eb):
+    v = a + b
+    return v, ea + eb + U * abs(v)
+
+
+@numba.njit(cache=True, inline="always")
+def _mul(a, ea, b, eb):
+    v = a * b
+    return v, abs(a) * eb + abs(b) * ea + ea * eb + U * abs(v) + _TINY
+
+
+@numba.njit(cache=True)
+def part_errors(d, s2, l2, eta):
+    r"""Rigorous bounds ``(30,)`` of the errors of the kernel's quadratic parts ``d[:30]``
+    against the exact parts at the exact squared lengths (module docstring, step 2), or
+    all ``inf`` outside the bounds' range.
+
+    Parameters
+    ----------
+    d : (>= 30,) the kernel output (:func:`.fast_single.octic_array` or a row of the
+        batched kernel) at the float squared lengths ``s2``, ``l2`` (each in
+        [LEAF_MIN, LEAF_BOUND])
+    eta : relative error bound of those squared lengths
+    """
+    mag = _magnitude(s2, l2)
+    out = np.empty(30)
+    ok = True
+    for k in range(6):
+        if not (LEAF_MIN <= s2[k] <= LEAF_BOUND and LEAF_MIN <= l2[k] <= LEAF_BOUND):
+            ok = False
+    for k in range(30):
+        t = _DEPTH[k] * U + _DEGREE[k] * eta
+        if not ok or not t < 0.1:
+            out[k] = np.inf
+            continue
+        # (1+u)^d (1+eta)^g - 1 <= t / (1 - t);  (1+eta)^g / (1-u)^d <= 1 / (1 - t)
+        g = t / (1.0 - t)
+        out[k] = _SAFE * (g * (mag[k] + _UNDER[k]) / (1.0 - t) + _UNDER[k])
+    return out
+
+
+@numba.njit(cache=True)
+def margin(s2, l2, eta):
+    r"""A rigorous bound on the error of the float triangle bounds of :math:`s_{15}`
+    (:func:`.fast_single.bounds`): for :math:`x, y` with relative errors at most
+    :math:`\eta`, :math:`(\sqrt x \pm \sqrt y)^2` moves by at most
+    :math:`(2\eta + \eta^2)(\sqrt x + \sqrt y)^2`, and the float square roots, the sum or
+    difference and the square add at most :math:`6u` of the same; twice that, over the
+    four triangles."""
+    big = 0.0
+    for a, b in ((l2[0], s2[3]), (s2[0], l2[2]), (l2[5], s2[5]), (s2[1], l2[3])):
+        r = math.sqrt(a) + math.sqrt(b)
+        big = max(big, r * r)
+    return _SAFE * 2.0 * (2.0 * eta + eta * eta + 6.0 * U) * big * (1.0 + 4.0 * U)
+
+
+@numba.njit(cache=True)
+def eta_rounded(B, Q, L):
+    r"""Relative error bound of the squared lengths when the coordinates ``B``, ``Q``
+    (3, 3) and legs ``L`` (6,) are themselves the floats nearest to exact values
+    (:math:`|x - x^*| \le u|x^*| \le 2u|x|`): per side, each difference is off by
+    :math:`e = 2u(|a| + |b|) + u|\hat d|`, its square by :math:`2|\hat d|e + e^2`, and
+    the squares and sums add :math:`\gamma_3` (taken as :math:`4u`) of the sum; a leg's
+    square is off by at most :math:`(1 + 2u)^2(1 + u) - 1 < 6u`."""
+    worst = 6.0 * U
+    for P in (B, Q):
+        for i, j in ((0, 1), (0, 2), (1, 2)):
+            s = 0.0
+            err = 0.0
+            for c in range(3):
+                dx = P[i, c] - P[j, c]
+                e = 2.0 * U * (abs(P[i, c]) + abs(P[j, c])) + U * abs(dx)
+                s += dx * dx
+                err += 2.0 * abs(dx) * e + e * e
+            err = (err + 4.0 * U * s) * (1.0 + 16.0 * U)
+            if not s - err > 0:
+                return np.inf
+            worst = max(worst, err / (s - err))
+    return worst * (1.0 + 16.0 * U) + 2.0 ** -60
+
+
+# --------------------------------------------------------------- the octic, bounded
+
+@numba.njit(cache=True, inline="always")
+def _part(d, e, i, x):
+    """Quadratic part i at x (float): value and bound."""
+    t, et = _mul(x, 0.0, d[3 * i + 2], e[3 * i + 2])
+    t, et = _add(d[3 * i + 1], e[3 * i + 1], t, et)
+    t, et = _mul(x, 0.0, t, et)
+    return _add(d[3 * i], e[3 * i], t, et)
+
+
+@numba.njit(cache=True)
+def _value(d, e, x):
+    """H(x) = G^2 - 4 T1a T1b T2a T2b, G = u E2 + v E1 + 2 b1 b2, and its bound."""
+    u, eu = _part(d, e, 0, x)
+    v, ev = _part(d, e, 1, x)
+    b1, eb1 = _part(d, e, 2, x)
+    b2, eb2 = _part(d, e, 3, x)
+    E1, eE1 = _part(d, e, 4, x)
+    E2, eE2 = _part(d, e, 5, x)
+    g, eg = _mul(u, eu, E2, eE2)
+    p, ep = _mul(v, ev, E1, eE1)
+    g, eg = _add(g, eg, p, ep)
+    p, ep = _mul(b1, eb1, b2, eb2)
+    g, eg = _add(g, eg, 2.0 * p, 2.0 * ep)
+    t1, et1 = _part(d, e, 6, x)
+    t2, et2 = _part(d, e, 7, x)
+    r1, er1 = _mul(t1, et1, t2, et2)
+    t1, et1 = _part(d, e, 8, x)
+    t2, et2 = _part(d, e, 9, x)
+    r2, er2 = _mul(t1, et1, t2, et2)
+    r, er = _mul(r1, er1, r2, er2)
+    g, eg = _mul(g, eg, g, eg)
+    h, eh = _add(g, eg, -4.0 * r, 4.0 * er)
+    return h, _SAFE * eh
+
+
+@numba.njit(cache=True)
+def _sign(d, e, x):
+    """The proved sign of H(x): +1, -1, or 0 when the bound does not decide it."""
+    h, eh = _value(d, e, x)
+    return 1 if h > eh else (-1 if h < -eh else 0)
+
+
+@numba.njit(cache=True)
+def _pmul(W, a, b, out):
+    """Rows out (values) and out + 1 (bounds) of W: the product (degree 4) of the
+    quadratics in rows a and b (values; bounds in the next rows)."""
+    for k in range(5):
+        W[out, k] = 0.0
+        W[out + 1, k] = 0.0
+    for i in range(3):
+        for j in range(3):
+            p, ep = _mul(W[a, i], W[a + 1, i], W[b, j], W[b + 1, j])
+            W[out, i + j], W[out + 1, i + j] = _add(W[out, i + j], W[out + 1, i + j], p, ep)
+
+
+@numba.njit(cache=True)
+def _bernstein(d, e, alpha, beta, W, B, EB):
+    r"""Scaled Bernstein coefficients :math:`\tilde b_i = \binom8i b_i` (9,) of H on
+    :math:`[\alpha, \beta]`, with bounds: the parts shifted to
+    :math:`x = \alpha + w t`, multiplied out, then
+    :math:`\tilde b_i = \sum_{j \le i}\binom{8-j}{i-j} h_j`.  ``W``: a (30, 9)
+    work array (rows 2i, 2i + 1: part i's values and bounds; then G, R1, R2, H)."""
+    w = beta - alpha
+    ew = U * abs(w) * (1.0 + 4.0 * U)      # |fl(beta - alpha) - (beta - alpha)|
+    ww, eww = _mul(w, ew, w, ew)
+    for i in range(10):
+        c0, c1, c2 = d[3 * i], d[3 * i + 1], d[3 * i + 2]
+        e0, e1, e2 = e[3 * i], e[3 * i + 1], e[3 * i + 2]
+        t1, et1 = _mul(alpha, 0.0, c2, e2)
+        t2, et2 = _add(c1, e1, t1, et1)
+        t3, et3 = _mul(alpha, 0.0, t2, et2)
+        W[2 * i, 0], W[2 * i + 1, 0] = _add(c0, e0, t3, et3)
+        t5, et5 = _add(c1, e1, 2.0 * t1, 2.0 * et1)
+        W[2 * i, 1], W[2 * i + 1, 1] = _mul(w, ew, t5, et5)
+        W[2 * i, 2], W[2 * i + 1, 2] = _mul(ww, eww, c2, e2)
+    # G = u E2 + v E1 + 2 b1 b2 (rows 20, 21), R1 = T1a T1b (24, 25), R2 = T2a T2b (26, 27)
+    _pmul(W, 0, 10, 20)
+    _pmul(W, 2, 8, 22)
+    for k in range(5):
+        W[20, k], W[21, k] = _add(W[20, k], W[21, k], W[22, k], W[23, k])
+    _pmul(W, 4, 6, 22)
+    for k in range(5):
+        W[20, k], W[21, k] = _add(W[20, k], W[21, k], 2.0 * W[22, k], 2.0 * W[23, k])
+    _pmul(W, 12, 14, 24)
+    _pmul(W, 16, 18, 26)
+    # H = G^2 - 4 R1 R2 (rows 28, 29); G^2 with each cross product once, doubled
+    for k in range(9):
+        W[28, k] = 0.0
+        W[29, k] = 0.0
+    for i in range(5):
+        for j in range(5):
+            r, er = _mul(W[24, i], W[25, i], W[26, j], W[27, j])
+            if j >= i:
+                p, ep = _mul(W[20, i], W[21, i], W[20, j], W[21, j])
+                f = 1.0 if j == i else 2.0
+                r, er = _add(f * p, f * ep, -4.0 * r, 4.0 * er)
+            else:
+                r, er = -4.0 * r, 4.0 * er
+            W[28, i + j], W[29, i + j] = _add(W[28, i + j], W[29, i + j], r, er)
+    # scaled Bernstein coefficients: the coefficients of sum_j h_j y^j (1 + y)^(8 - j),
+    # by Q <- Q (1 + y) + h_j y^j for j = 1 .. 8 from Q = h_0 (additions only)
+    for i in range(9):
+        B[i], EB[i] = 0.0, 0.0
+    B[0], EB[0] = W[28, 0], W[29, 0]
+    for j in range(1, 9):
+        B[j], EB[j] = _add(W[28, j], W[29, j], B[j - 1], EB[j - 1])
+        for i in range(j - 1, 0, -1):
+            B[i], EB[i] = _add(B[i], EB[i], B[i - 1], EB[i - 1])
+    for i in range(9):
+        EB[i] *= _SAFE
+
+
+@numba.njit(cache=True)
+def _changes(B, EB):
+    """The largest number of sign changes of B over the signs its bounds allow (a
+    coefficient whose bound decides nothing may take either sign; an exact 0 none)."""
+    none = -1                        # most changes so far ending on +, on - (-1: none)
+    best_p, best_m = none, none
+    for i in range(9):
+        can_p = B[i] > -EB[i]
+        can_m = B[i] < EB[i]
+        np_ = nm = none
+        if can_p:
+            np_ = max(0, best_p, best_m + 1 if best_m != none else none)
+        if can_m:
+            nm = max(0, best_m, best_p + 1 if best_p != none else none)
+        if can_p or can_m:
+            best_p, best_m = (np_ if can_p else best_p), (nm if can_m else best_m)
+    return max(best_p, best_m, 0)
+
+
+@numba.njit(cache=True)
+def _count(d, e, alpha, beta, sa, sb, budget, W, B, EB, stack, signs):
+    """Roots of the exact H in (alpha, beta), whose ends have proved signs sa, sb
+    (+-1), by Descartes' rule and bisection: (count, the last isolating piece lo, hi,
+    Bernstein evaluations used); count -1 when the budget or the width runs out.
+    ``W`` (30, 9), ``B``, ``EB`` (9,), ``stack`` (64, 2) and ``signs`` (64, 2): work
+    arrays."""
+    stack[0, 0], stack[0, 1], signs[0, 0], signs[0, 1] = alpha, beta, sa, sb
+    top = 1
+    count, used = 0, 0
+    ia, ib = alpha, beta
+    scale = max(abs(alpha), abs(beta))
+    while top > 0:
+        top -= 1
+        a, b, s_a, s_b = stack[top, 0], stack[top, 1], signs[top, 0], signs[top, 1]
+        if used >= budget:
+            return -1, ia, ib, used
+        _bernstein(d, e, a, b, W, B, EB)
+        used += 1
+        v = _changes(B, EB)
+        if v == 0 or (v == 1 and s_a == s_b):
+            continue
+        if v == 1:
+            count += 1
+            ia, ib = a, b
+            continue
+        if b - a <= _MIN_WIDTH * scale or top + 2 > stack.shape[0]:
+            return -1, ia, ib, used
+        # split where H has a proved sign, near the middle
+        m, sm = a, 0
+        for f in (0.5, 0.4375, 0.5625, 0.375, 0.625):
+            m = a + f * (b - a)
+            sm = _sign(d, e, m)
+            if sm != 0:
+                break
+        if sm == 0:
+            return -1, ia, ib, used
+        stack[top, 0], stack[top, 1], signs[top, 0], signs[top, 1] = m, b, sm, s_b
+        stack[top + 1, 0], stack[top + 1, 1] = a, m
+        signs[top + 1, 0], signs[top + 1, 1] = s_a, sm
+        top += 2
+    return count, ia, ib, used
+
+
+@numba.njit(cache=True)
+def _slope(d, x):
+    """H'(x) in plain float (a guess for :func:`_first_radius`, no bound)."""
+    q = np.empty(10)
+    dq = np.empty(10)
+    for i in range(10):
+        q[i] = d[3 * i] + x * (d[3 * i + 1] + x * d[3 * i + 2])
+        dq[i] = d[3 * i + 1] + 2.0 * x * d[3 * i + 2]
+    G = q[0] * q[5] + q[1] * q[4] + 2.0 * q[2] * q[3]
+    dG = (dq[0] * q[5] + q[0] * dq[5] + dq[1] * q[4] + q[1] * dq[4]
+          + 2.0 * (dq[2] * q[3] + q[2] * dq[3]))
+    R1, R2 = q[6] * q[7], q[8] * q[9]
+    dR = (dq[6] * q[7] + q[6] * dq[7]) * R2 + R1 * (dq[8] * q[9] + q[8] * dq[9])
+    return 2.0 * G * dG - 4.0 * dR
+
+
+@numba.njit(cache=True)
+def _first_radius(d, e, r, lim):
+    """A first guess of the radius around r within which H changes sign: twice
+    (|H(r)| + its bound) / |H'(r)| (a guess only: the signs at r -+ rho are then
+    proved, and rho grown while they are not)."""
+    h, eh = _value(d, e, r)
+    slope = abs(_slope(d, r))
+    rho = 2.0 * (abs(h) + eh) / slope if slope > 0 else lim
+    return min(max(rho, max(abs(r), 1e-300) * 2.0 ** -52), lim)
+
+
+@numba.njit(cache=True)
+def _range(d, e, i, x, rho):
+    """Proved sign of quadratic part i over [x - rho, x + rho]: +1, -1 or 0."""
+    c0, c1, c2 = d[3 * i], d[3 * i + 1], d[3 * i + 2]
+    e0, e1, e2 = e[3 * i], e[3 * i + 1], e[3 * i + 2]
+    t, et = _mul(x, 0.0, c2, e2)
+    q, eq = _add(c1, e1, t, et)
+    q, eq = _mul(x, 0.0, q, eq)
+    q, eq = _add(c0, e0, q, eq)
+    dq, edq = _add(c1, e1, 2.0 * t, 2.0 * et)
+    spread = ((abs(dq) + edq) * rho + (abs(c2) + e2) * rho * rho) * (1.0 + 8.0 * U)
+    bound = _SAFE * (eq + spread)
+    return 1 if q > bound else (-1 if q < -bound else 0)
+
+
+@numba.njit(cache=True)
+def _status(d, e, x, rho):
+    """Proved status over [x - rho, x + rho]: 0 assembly, 1 spurious (a face not a real
+    triangle), 2 spurious (a negative tetrahedron), -1 undecided."""
+    su, sv = _range(d, e, 0, x, rho), _range(d, e, 1, x, rho)
+    if su > 0 or sv > 0:
+        return 1
+    neg, und = False, False
+    for i in range(6, 10):
+        s = _range(d, e, i, x, rho)
+        if s < 0:
+            neg = True
+        elif s == 0:
+            und = True
+    if neg:
+        return 2
+    if su < 0 and sv < 0 and not und:
+        return 0
+    return -1
+
+
+@numba.njit(cache=True)
+def vouch(d, s2, l2, eta, lo, hi, roots, codes, radii, tight=True):
+    r"""Prove the fast tier's assembly roots (module docstring).
+
+    Parameters
+    ----------
+    d : (>= 30,) kernel output (quadratic parts of eq. (3) first) at the float squared
+        lengths ``s2`` (s12 s13 s23 s45 s46 s56), ``l2`` (s14 .. s16), all in
+        [LEAF_MIN, LEAF_BOUND] (else the verdict is 1)
+    eta : relative error bound of those squared lengths against the exact ones
+    lo, hi : the float triangle bounds of s15 (:func:`.fast_single.bounds`)
+    roots : (n,) the fast tier's real roots, increasing (any status; two that are not
+        strictly increasing make verdict 3)
+    codes : (n,) their status codes (0 assembly, 1 and 2 spurious, 3 rejected)
+    radii : (n,) output: the proved radius of each root in [a, b] (inf elsewhere)
+    tight : bool
+        Grow the radius around each root from its first-order error (step 6 of the
+        module docstring; about 1 µs per root).  False (the batched tier) classifies
+        over the isolating piece first, and tightens only where that does not decide;
+        the radii are then the pieces' half-widths.
+
+    Returns
+    -------
+    int, a key of :data:`VERDICTS` (0: proved)
+    """
+    return _vouch(d, s2, l2, eta, lo, hi, roots, codes, radii, tight, _workspace())
+
+
+@numba.njit(cache=True)
+def _workspace():
+    """Work arrays of :func:`_vouch`: (W (30, 9), B (9,), EB (9,), stack (64, 2),
+    stack signs (64, 2), cuts (9,), cut signs (9,))."""
+    return (np.empty((30, 9)), np.empty(9), np.empty(9), np.empty((64, 2)),
+            np.empty((64, 2), np.int64), np.empty(9), np.empty(9, np.int64))
+
+
+@numba.njit(cache=True)
+def _vouch(d, s2, l2, eta, lo, hi, roots, codes, radii, tight, ws):
+    """:func:`vouch` with its work arrays ``ws`` (:func:`_workspace`)."""
+    W, B, EB, stack, ssigns, cuts, signs = ws
+    n = roots.size
+    for k in range(n):
+        radii[k] = np.inf
+    e = part_errors(d, s2, l2, eta)
+    delta = margin(s2, l2, eta)
+    for k in range(30):
+        if not e[k] < np.inf:
+            return 1
+    a, b = lo - delta, hi + delta
+    if a > b:
+        # the triangle inequalities exclude every assembly, rounding included
+        for k in range(n):
+            if codes[k] == 0:
+                return 8
+        return 0
+    if lo > hi:
+        a, b = hi - delta, lo + delta
+    # the fast roots inside [a, b]; an assembly root outside it is wrong
+    first, last = n, -1
+    for k in range(n):
+        if a <= roots[k] <= b:
+            first = min(first, k)
+            last = max(last, k)
+        elif codes[k] == 0:
+            return 8
+    m = last - first + 1 if last >= first else 0
+    if m > 8:
+        return 5                    # more than the octic's eight roots: some twice
+    # cut points: a, points between consecutive roots, b (each with a proved sign)
+    cuts[0], cuts[m] = a, b
+    signs[0] = _sign(d, e, a)
+    signs[m] = _sign(d, e, b)
+    if signs[0] == 0 or signs[m] == 0:
+        return 2
+    for j in range(1, m):
+        r0, r1 = roots[first + j - 1], roots[first + j]
+        ok = False
+        for f in (0.5, 0.25, 0.75, 0.125, 0.875):
+            x = r0 + f * (r1 - r0)
+            s = _sign(d, e, x)
+            if s != 0 and r0 < x < r1:
+                cuts[j], signs[j] = x, s
+                ok = True
+                break
+        if not ok:
+            return 3
+    budget = m + 1 + _BUDGET
+    if m == 0:
+        c, _, _, _ = _count(d, e, a, b, signs[0], signs[1], budget, W, B, EB, stack, ssigns)
+        return 0 if c == 0 else 4
+    for j in range(m):
+        c, ia, ib, used = _count(d, e, cuts[j], cuts[j + 1], signs[j], signs[j + 1],
+                                 budget, W, B, EB, stack, ssigns)
+        budget -= used
+        if c < 0 or c > 1:
+            return 4
+        if c == 0:
+            return 5
+        # the one root of the piece: tighten around the fast root, then classify
+        k = first + j
+        if not tight:
+            r = 0.5 * (ia + ib)
+            rho = 0.5 * (ib - ia) * (1.0 + 4.0 * U) + 4.0 * U * abs(r)
+            status = _status(d, e, r, rho)
+            if status >= 0:
+                if (status == 0) != (codes[k] == 0):
+                    return 7
+                radii[k] = abs(roots[k] - r) + rho
+                continue
+        r = roots[k]
+        lim = min(r - cuts[j], cuts[j + 1] - r)
+        rho = _first_radius(d, e, r, lim)
+        found = False
+        while rho < lim:
+            xl, xr = r - rho, r + rho          # (floats: the signs are proved there)
+            if not (cuts[j] < xl and xr < cuts[j + 1]):
+                break
+            sl, sr = _sign(d, e, xl), _sign(d, e, xr)
+            if sl != 0 and sr != 0 and sl != sr:
+                found = True
+                break
+            rho *= 16.0
+        if not found:               # the isolating piece itself
+            r = 0.5 * (ia + ib)
+            rho = 0.5 * (ib - ia)
+        # [r - rho, r + rho] with rho so widened covers the float ends and the midpoint
+        rho = rho * (1.0 + 4.0 * U) + 4.0 * U * abs(r)
+        status = _status(d, e, r, rho)
+        if status < 0:
+            return 6
+        if (status == 0) != (codes[k] == 0):
+            return 7
+        radii[k] = abs(roots[k] - r) + rho
+    return 0
+
+
+@numba.njit(cache=True)
+def vouch_many(data, s2, l2, eta, lo, hi, roots, status, verdict, radii):
+    """:func:`vouch` for the N problems of the batched tier: ``data`` (N, 39), ``s2``,
+    ``l2`` (N, 6), ``eta``, ``lo``, ``hi`` (N,), ``roots`` (N, 8) increasing and NaN
+    padded, ``status`` (N, 8) codes (-1 padding); writes ``verdict`` (N,) and ``radii``
+    (N, 8) (the radii of ``tight=False``)."""
+    ws = _workspace()
+    for i in range(data.shape[0]):
+        n = 0
+        while n < 8 and status[i, n] >= 0:
+            n += 1
+        for j in range(n, 8):
+            radii[i, j] = np.inf
+        verdict[i] = _vouch(data[i], s2[i], l2[i], eta[i], lo[i], hi[i], roots[i, :n],
+                            status[i, :n], radii[i, :n], False, ws)
+
+
+@numba.njit(cache=True)
+def vouch_rows(d, s2, l2, eta, lo, hi, rows):
+    """:func:`vouch` on the root rows (n, 3) = (s15, step, code) of the single solve
+    (:func:`.fast_single.solve_fast_single`).  Returns (verdict, smallest relative gap
+    between consecutive roots, largest proved radius, largest relative proved radius)."""
+    n = rows.shape[0]
+    x = np.empty(n)
+    codes = np.empty(n, np.int64)
+    for k in range(n):
+        x[k] = rows[k, 0]
+        codes[k] = int(rows[k, 2])
+    radii = np.empty(n)
+    v = vouch(d, s2, l2, eta, lo, hi, x, codes, radii)
+    sep, rad, rel = np.inf, 0.0, 0.0
+    for k in range(n):
+        if k:
+            sep = min(sep, (x[k] - x[k - 1]) / max(abs(x[k]), 1e-300))
+        if radii[k] < np.inf:
+            rad = max(rad, radii[k])
+            rel = max(rel, radii[k] / max(abs(x[k]), 1e-300))
+    return v, sep, rad, rel
