@@ -12,6 +12,13 @@ import {mod}
 print("sympy" in sys.modules)
 """
 
+PROBE_LOADED = """
+import sys
+import {mod}
+print(sorted(m for m in sys.modules if m == "sympy" or m.startswith("sympy.")
+             or m == "distkin.codegen" or m.startswith("distkin.codegen.")))
+"""
+
 
 def _imports_sympy(mod: str) -> bool:
     r = subprocess.run([sys.executable, "-c", PROBE.format(mod=mod)], capture_output=True,
@@ -27,3 +34,12 @@ def test_geometry_and_scene_do_not_import_sympy():
     assert not _imports_sympy("distkin.geometry")
     assert not _imports_sympy("distkin.scene")
     assert not _imports_sympy("distkin.cli")
+
+
+def test_analyses_and_control_import_neither_sympy_nor_the_code_generator():
+    # the numeric analyses and the controller run on the committed kernels only
+    # (docs/design.md, "Import direction")
+    for mod in ("distkin.indices", "distkin.certify", "distkin.control"):
+        r = subprocess.run([sys.executable, "-c", PROBE_LOADED.format(mod=mod)],
+                           capture_output=True, text=True, check=True)
+        assert r.stdout.strip() == "[]", f"import {mod} loaded {r.stdout.strip()}"
