@@ -149,7 +149,7 @@ def _stages_single():
     """CPU time of each stage of one bare fast solve (Griffis-Duffy), timed in isolation."""
     from distkin.octahedral import fast_single as fs
     from distkin.octahedral.conditioning import assess, eta_of
-    from distkin.octahedral.forward import _single_result
+    from distkin.octahedral.result import _single_result
     from distkin.octahedral.problem import float_single
     B, Q, L, _, rounded = float_single(BASE, PLAT, LEGS)
     Ba, Qa, La = (np.asarray(a, dtype=float) for a in (B, Q, L))

@@ -45,7 +45,7 @@ def _q(v):
 def solve_certified(problem: Problem, tol: float):
     """Every assembly mode, certified; see :func:`.forward.forward_kinematics`."""
     import flint
-    from .forward import AssemblyResult, RootInfo, _SPURIOUS_NOTE, _empty_reason
+    from .result import AssemblyResult, RootInfo, _SPURIOUS_NOTE, _empty_reason
     if not problem.rational:
         bad = [i for i, v in enumerate(problem.sides2 + problem.legs2)
                if not isinstance(v, Fraction)]
@@ -115,7 +115,7 @@ def _poses(problem, poly, feasible, sides, legs2, tol, size, flat=()):
     import flint
     import numpy as np
     from ..geometry.poses import pose_from_points
-    from .forward import Pose
+    from .result import Pose
     out, radii = [], {}
     base0 = [[_q(v) if isinstance(v, Fraction) else v for v in r] for r in problem.base]
     plat0 = [[_q(v) if isinstance(v, Fraction) else v for v in r] for r in problem.platform]
@@ -174,7 +174,7 @@ def _exact_poses(base, plat, x, sides, legs2, problem):
     import flint
     import numpy as np
     from ..geometry.poses import pose_from_points
-    from .forward import Pose
+    from .result import Pose
     pairs = assemble_exact(base, x, sides, legs2, method="certified")
     legs = [_enclose_one(v) for v in problem.legs]
     out, seen = [], []

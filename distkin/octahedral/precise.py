@@ -47,7 +47,7 @@ def solve_precise(problem: Problem, dps: int, tol=None):
     """Every assembly mode at ``dps`` decimal digits; see :func:`.forward.forward_kinematics`."""
     import mpmath
     from ..geometry.poses import pose_from_points
-    from .forward import AssemblyResult, Pose, RootInfo, _SPURIOUS_NOTE, _empty_reason
+    from .result import AssemblyResult, Pose, RootInfo, _SPURIOUS_NOTE, _empty_reason
     work = dps + 20
     with mpmath.workdps(work):
         exact = problem.rational

@@ -1,0 +1,281 @@
+r"""The results of the octahedral forward kinematics, shared by every tier.
+
+:class:`Pose` (one assembly mode), :class:`RootInfo` (one real root of the octic),
+:class:`AssemblyResult` (one problem, any tier) and :class:`BatchResult` (many problems,
+the batched fast tier), with the helpers that build them from the fast tiers' arrays.
+They live apart from :mod:`.forward` (the dispatcher) so that the tiers
+(:mod:`.certified`, :mod:`.precise`, :mod:`.auto`) import their result types without
+importing the dispatcher that imports them (docs/design.md, "Import direction").
+Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, Sec. III.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from .problem import REASONS as _REASONS
+from .scaling import rescale_octic
+
+__all__ = ["Pose", "RootInfo", "AssemblyResult", "BatchResult"]
+
+_SPURIOUS_NOTE = ("squaring eq. (3) twice gives degree 16 = (D(5,4,1) D(3,5,1))^2 x octic; "
+                  "the spurious factor is removed analytically (octic = G^2 - 4 R1 R2)")
+
+
+_FAST_ACCURACY = "float64; roots polished by Newton on eq. (3); see max_leg_error"
+
+
+@dataclass(frozen=True)
+class Pose:
+    r"""One assembly mode: the platform pose in the base frame.
+
+    Attributes
+    ----------
+    s15 : float
+        The root :math:`s_{15}` (squared length).
+    side : int
+        +1 / -1: the side of P5 relative to the oriented base plane
+        :math:`(P_2-P_1)\times(P_3-P_1)`; the two sides are mirror images.
+    rotation : (3, 3) float64, proper rotation
+    translation : (3,) float64; a platform-frame point q maps to ``rotation @ q +
+        translation``.
+    points : (3, 3) float64, rows P4 P5 P6 in base coordinates.
+    max_leg_error : float
+        Largest :math:`|\,\|P_iP_j\| - l_k|` over the six legs, length units (the
+        certified tier gives a rigorous upper bound).
+    max_leg_error_relative : float
+        The same divided by each leg's length.
+    native : dict or None
+        Tier-native values ``{"s15", "points", "rotation", "translation"}``:
+        ``mpf`` (precise) or ``arb`` balls (certified); None for fast.
+    radius : float
+        Certified tier: largest radius of the point enclosures; else 0.
+    """
+
+    s15: float
+    side: int
+    rotation: np.ndarray
+    translation: np.ndarray
+    points: np.ndarray
+    max_leg_error: float
+    max_leg_error_relative: float
+    native: dict | None = field(default=None, repr=False)
+    radius: float = 0.0
+
+
+@dataclass(frozen=True)
+class RootInfo:
+    """A real root of the octic and what became of it.
+
+    ``status`` is ``"assembly"`` (two mirror poses) or ``"spurious"``/``"rejected"``
+    with the ``reason``; ``radius`` is a certified radius (certified tier) or the last
+    Newton step (an error estimate, other tiers).
+    """
+
+    value: float
+    radius: float
+    multiplicity: int
+    status: str
+    reason: str
+    native: object = field(default=None, repr=False)
+
+
+@dataclass(frozen=True)
+class AssemblyResult(Sequence):
+    """The assembly modes of one octahedral manipulator: a sequence of :class:`Pose`.
+
+    An empty result means the manipulator cannot be assembled with these legs;
+    :attr:`reason` says why.  Indexing and iteration give the poses.
+
+    Attributes
+    ----------
+    poses : tuple of Pose, by increasing s15, side +1 first
+    method : str
+    octic : tuple
+        Coefficients highest degree first: Fractions when exact, else floats.
+    octic_exact : bool
+    roots : tuple of RootInfo, every real root of the octic found, increasing
+    certified : bool
+        The real-root count and the rejections are proved (certified tier).
+    reason : str
+        Why there are no poses (empty when there are).
+    accuracy : str
+    notes : tuple of str
+    tier : str
+        The tier that produced the answer (``method`` itself, except for
+        ``method="auto"``: the tier it settled on).
+    tier_reason : str
+        ``method="auto"``: why that tier answered.
+    conditioning : :class:`~.conditioning.Conditioning` or None
+        The fast tier's proof of its own assembly roots, or why there is none (fast
+        and auto).
+    """
+
+    poses: tuple
+    method: str
+    octic: tuple
+    octic_exact: bool
+    roots: tuple
+    certified: bool
+    reason: str
+    accuracy: str
+    notes: tuple = ()
+    tier: str = ""
+    tier_reason: str = ""
+    conditioning: object = None
+
+    def __len__(self):
+        return len(self.poses)
+
+    def __getitem__(self, i):
+        return self.poses[i]
+
+    def __iter__(self):
+        return iter(self.poses)
+
+    @property
+    def degree(self) -> int:
+        """The octic's true degree: 8 unless leading coefficients vanish (exactly, in the
+        exact tiers; exactly zero floats in the fast tier)."""
+        k = 0
+        while k < len(self.octic) and self.octic[k] == 0:
+            k += 1
+        return len(self.octic) - 1 - k
+
+    @property
+    def real_root_count(self) -> int:
+        return len(self.roots)
+
+    @property
+    def assembly_roots(self) -> tuple:
+        return tuple(r for r in self.roots if r.status == "assembly")
+
+
+@dataclass(frozen=True)
+class BatchResult:
+    """Results of N problems as arrays (padded with NaN): the fast tier, or ``auto``.
+
+    Attributes
+    ----------
+    count : (N,) number of poses of each problem (twice its assembly roots)
+    s15 : (N, 8) assembly roots, increasing, NaN padded
+    points : (N, 16, 3, 3) rows P4 P5 P6; rotation (N, 16, 3, 3); translation (N, 16, 3)
+    max_leg_error, max_leg_error_relative : (N, 16)
+    valid : (N, 16) bool mask of real poses
+    raw : dict, the arrays of :func:`.fast.solve_fast` (scaled back to the given units)
+    trusted : (N,) bool
+        The fast tier proved the problem's assembly roots (:mod:`.descartes`); False
+        flags every problem it cannot vouch for.
+    verdict : (N,) int
+        The key of :data:`.descartes.VERDICTS` (0: proved), for the fast tier's answer.
+    tier : (N,) str
+        The tier that answered each problem: ``"fast"``, or with ``method="auto"``
+        ``"certified"`` (``"precise"`` for data that cannot be made exact) for the
+        problems the fast tier did not prove.
+    escalated : dict
+        ``method="auto"``: problem index -> the :class:`AssemblyResult` of the tier that
+        answered it instead of the fast one.
+    """
+
+    count: np.ndarray
+    s15: np.ndarray
+    points: np.ndarray
+    rotation: np.ndarray
+    translation: np.ndarray
+    max_leg_error: np.ndarray
+    max_leg_error_relative: np.ndarray
+    valid: np.ndarray
+    raw: dict = field(repr=False)
+    trusted: np.ndarray = None
+    verdict: np.ndarray = None
+    tier: np.ndarray = None
+    escalated: dict = field(default_factory=dict, repr=False)
+
+    def __len__(self):
+        return self.count.shape[0]
+
+    def result(self, i: int) -> AssemblyResult:
+        """The :class:`AssemblyResult` of problem ``i``."""
+        if i in self.escalated:
+            return self.escalated[i]
+        return _fast_result(self.raw, i)
+
+
+def _fast_result(raw, i):
+    """The :class:`AssemblyResult` of problem ``i`` of :func:`.fast.solve_fast`'s arrays."""
+    roots, poses = [], []
+    R, T, P = raw["rotation"][i], raw["translation"][i], raw["points"][i]
+    E, Er = raw["leg_error"][i].tolist(), raw["leg_error_rel"][i].tolist()
+    for x, st, code, slot in zip(raw["roots"][i].tolist(), raw["step"][i].tolist(),
+                                 raw["status"][i].tolist(), raw["slot"][i].tolist()):
+        if code < 0:
+            continue
+        roots.append(RootInfo(x, st, 1, _STATUS[code], _REASONS[code], x))
+        for j, side in ((slot, 1), (slot + 1, -1)) if code == 0 else ():
+            poses.append(Pose(x, side, R[j].copy(), T[j].copy(), P[j].copy(), E[j], Er[j]))
+    reason = "" if poses else _empty_reason(roots, raw["lo"][i], raw["hi"][i])
+    notes = (_SPURIOUS_NOTE,)
+    if "octic_exponent" in raw and raw["octic_exponent"][i]:
+        notes += (_overflow_note(int(raw["octic_exponent"][i])),)
+    cond = None
+    if "verdict" in raw:
+        from .conditioning import from_verdict
+        n = len(roots)
+        cond = from_verdict(int(raw["verdict"][i]), raw["roots"][i][:n], raw["radii"][i][:n])
+    return AssemblyResult(tuple(poses), "fast", tuple(raw["coef"][i].tolist()), False,
+                          tuple(roots), False, reason, _FAST_ACCURACY, notes,
+                          tier="fast", conditioning=cond)
+
+
+def _VERDICTS():
+    from .descartes import VERDICTS
+    return VERDICTS
+
+
+def _overflow_note(k):
+    return (f"the octic's coefficients in the given units overflow float64: those shown are "
+            f"for the lengths divided by 2^{k} (s15 by 4^{k})")
+
+
+def _single_result(coef, lo, hi, roots, poses, conditioning=None, k=0):
+    """The :class:`AssemblyResult` of :func:`.fast_single.solve_fast_single`'s output
+    (its pose arrays are fresh, owned by the poses: rows are views, no copies), for the
+    lengths divided by ``2**k``: scaled back (:mod:`.scaling`) on the arrays, before
+    any object is built."""
+    S, side, P, R, T, E, Er = poses
+    notes = (_SPURIOUS_NOTE,)
+    octic = tuple(coef.tolist())
+    if k:
+        roots = np.ldexp(roots, [2 * k, 2 * k, 0])
+        S, P, T, E = np.ldexp(S, 2 * k), np.ldexp(P, k), np.ldexp(T, k), np.ldexp(E, k)
+        lo, hi = math.ldexp(lo, 2 * k), math.ldexp(hi, 2 * k)
+        octic, ok = rescale_octic(octic, k)
+        if not ok:
+            notes += (_overflow_note(k),)
+        if conditioning is not None:
+            conditioning = replace(conditioning, radius=math.ldexp(conditioning.radius, 2 * k))
+    infos = tuple(RootInfo(x, st, 1, _STATUS[code], _REASONS[code], x)
+                  for x, st, code in roots.tolist())
+    out = tuple(map(Pose, S.tolist(), side.tolist(), R, T, P, E.tolist(), Er.tolist()))
+    reason = "" if out else _empty_reason(infos, lo, hi)
+    return AssemblyResult(out, "fast", octic, False, infos, False, reason,
+                          _FAST_ACCURACY, notes, tier="fast", conditioning=conditioning)
+
+
+_STATUS = {0: "assembly", 1: "spurious", 2: "spurious", 3: "rejected"}
+
+
+def _empty_reason(roots, lo=None, hi=None):
+    """Why a result has no pose (from the triangle bounds and the roots' statuses)."""
+    if lo is not None and lo > hi:
+        return (f"cannot be assembled: the triangle inequalities through P1 P5 need "
+                f"s15 >= {float(lo):.6g} and s15 <= {float(hi):.6g}")
+    if not roots:
+        return "cannot be assembled: the octic has no real root"
+    kinds = sorted({r.reason for r in roots})
+    return ("cannot be assembled: every real root of the octic is spurious (" +
+            "; ".join(kinds) + ")")
