@@ -147,7 +147,7 @@ def _first_calls():
 
 def _stages_single():
     """CPU time of each stage of one bare fast solve (Griffis-Duffy), timed in isolation."""
-    from distkin.octahedral import fast_single as fs
+    from distkin.octahedral import single as fs
     from distkin.octahedral.conditioning import assess, eta_of
     from distkin.octahedral.result import _single_result
     from distkin.octahedral.problem import float_single
@@ -178,8 +178,8 @@ def _stages_single():
 
 def _stages_batched(batch):
     """CPU time per problem of each stage of the batched fast tier, timed in isolation."""
-    from distkin.octahedral import fast
-    from distkin.octahedral import fast_single as fs
+    from distkin.octahedral import batched as fast
+    from distkin.octahedral import single as fs
     from distkin.octahedral.placement import place_many
     from distkin.octahedral.closure import feasible_interval, octic_data, shifted_octic
     from distkin.octahedral.problem import float_problem
@@ -341,7 +341,7 @@ def run():
         *[f"| {k} | {fmt_time(v)} |" for k, v in stagesN.items()],
         "",
         "The stages that work root by root (polish, careful path, trilateration, poses) "
-        "are plain Python compiled by numba (`distkin/octahedral/fast_single.py`, "
+        "are plain Python compiled by numba (`distkin/octahedral/single.py`, "
         "`placement.py`, `fast.py`); the "
         "stages that are long vectorised loops over problems (kernel, scan, Sturm "
         "check) stay in numpy. The same scalar code in CPython (the previous design, "

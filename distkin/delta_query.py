@@ -197,7 +197,7 @@ def _solve(p, result, unit, ctx):
     from .delta import forward_kinematics66
     from .singularity import jacobian_det
     if p.method in ("fast", "auto"):
-        from .octahedral.fast_single import compile_notice
+        from .octahedral.single import compile_notice
         ctx.notice(compile_notice())
     fk = forward_kinematics66(p.mechanism, p.offsets, p.m_legs, method=p.method, dps=p.dps)
     flt = lambda a: np.vectorize(float, otypes=[float])(np.asarray(a, dtype=object))  # noqa: E731

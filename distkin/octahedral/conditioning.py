@@ -82,7 +82,7 @@ def assess(sides2, legs2, data, lo, hi, roots, eta) -> Conditioning:
     sides2, legs2 : (6,) float squared lengths the kernel ran on; ``data`` (39,) its
         output; ``lo``, ``hi`` the float triangle bounds of s15
     roots : (n, 3) rows (s15, step, status code) of
-        :func:`.fast_single.solve_fast_single`
+        :func:`.single.solve_fast_single`
     eta : relative error bound of the squared lengths (:func:`eta_of`)
     """
     v, sep, radius, rel = vouch_rows(data, sides2, legs2, eta, lo, hi, roots)

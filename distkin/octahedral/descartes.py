@@ -174,7 +174,7 @@ def part_errors(d, s2, l2, eta):
 
     Parameters
     ----------
-    d : (>= 30,) the kernel output (:func:`.fast_single.octic_array` or a row of the
+    d : (>= 30,) the kernel output (:func:`.single.octic_array` or a row of the
         batched kernel) at the float squared lengths ``s2``, ``l2`` (each in
         [LEAF_MIN, LEAF_BOUND])
     eta : relative error bound of those squared lengths
@@ -199,7 +199,7 @@ def part_errors(d, s2, l2, eta):
 @numba.njit(cache=True)
 def margin(s2, l2, eta):
     r"""A rigorous bound on the error of the float triangle bounds of :math:`s_{15}`
-    (:func:`.fast_single.bounds`): for :math:`x, y` with relative errors at most
+    (:func:`.single.bounds`): for :math:`x, y` with relative errors at most
     :math:`\eta`, :math:`(\sqrt x \pm \sqrt y)^2` moves by at most
     :math:`(2\eta + \eta^2)(\sqrt x + \sqrt y)^2`, and the float square roots, the sum or
     difference and the square add at most :math:`6u` of the same; twice that, over the
@@ -486,7 +486,7 @@ def vouch(d, s2, l2, eta, lo, hi, roots, codes, radii, tight=True):
         lengths ``s2`` (s12 s13 s23 s45 s46 s56), ``l2`` (s14 .. s16), all in
         [LEAF_MIN, LEAF_BOUND] (else the verdict is 1)
     eta : relative error bound of those squared lengths against the exact ones
-    lo, hi : the float triangle bounds of s15 (:func:`.fast_single.bounds`)
+    lo, hi : the float triangle bounds of s15 (:func:`.single.bounds`)
     roots : (n,) the fast tier's real roots, increasing (any status; two that are not
         strictly increasing make verdict 3)
     codes : (n,) their status codes (0 assembly, 1 and 2 spurious, 3 rejected)
@@ -632,7 +632,7 @@ def vouch_many(data, s2, l2, eta, lo, hi, roots, status, verdict, radii):
 @numba.njit(cache=True)
 def vouch_rows(d, s2, l2, eta, lo, hi, rows):
     """:func:`vouch` on the root rows (n, 3) = (s15, step, code) of the single solve
-    (:func:`.fast_single.solve_fast_single`).  Returns (verdict, smallest relative gap
+    (:func:`.single.solve_fast_single`).  Returns (verdict, smallest relative gap
     between consecutive roots, largest proved radius, largest relative proved radius)."""
     n = rows.shape[0]
     x = np.empty(n)

@@ -11,9 +11,9 @@ Tiers
 -----
 ``fast``
     float64: generated octic kernel, companion-matrix eigenvalues (single solve,
-    :mod:`.fast_single`) or a sign scan of the octic (batched, :mod:`.fast`,
+    :mod:`.single`) or a sign scan of the octic (batched, :mod:`.batched`,
     :mod:`.rootscan`), Newton polish on eq. (3), trilateration and poses in compiled
-    scalar code (numba, :mod:`.fast_single`); batched over many leg sets by
+    scalar code (numba, :mod:`.single`); batched over many leg sets by
     :func:`forward_kinematics_batched`.  The first call on a machine compiles (about
     15-20 s, kept in numba's cache); see BENCHMARKS.md for the cost per solve.  Legs
     reproduced to ~1e-12 relative on well-conditioned problems; every pose states its
@@ -121,7 +121,7 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
     """
     check_method(method, allowed=METHODS_AUTO)
     if method in ("fast", "auto"):
-        from .fast_single import solve_fast_single
+        from .single import solve_fast_single
         B, Q, L, k, rounded = float_single(base, platform, legs)
         if method == "fast" and not warn:                   # the bare fast tier
             return _single_result(*solve_fast_single(B, Q, L), k=k)
@@ -179,7 +179,7 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
     """
     check_method(method, allowed=("fast", "auto"))
     from .descartes import ETA_FLOAT, eta_rounded, vouch_many
-    from .fast import solve_fast
+    from .batched import solve_fast
     B, Q, L, s2, l2, k, rounded = float_problem(base, platform, legs)
     raw = solve_fast(B, Q, L, s2, l2)
     n = len(k)
@@ -209,7 +209,7 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
 
 
 def _scale_back(raw, k):
-    """The arrays of :func:`.fast.solve_fast` for the lengths divided by ``2**k``
+    """The arrays of :func:`.batched.solve_fast` for the lengths divided by ``2**k``
     (N,), in place, scaled back (:mod:`.scaling`)."""
     if not k.any():
         raw["octic_exponent"] = np.zeros(len(k), np.int64)

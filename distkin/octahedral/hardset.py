@@ -283,7 +283,7 @@ def _clustered(rng, n, tries, max_gap=1e-3):
     from .forward import forward_kinematics
     from .problem import float_single
     from .reference import random_octahedron
-    from .fast_single import solve_fast_single
+    from .single import solve_fast_single
     out = []
     for _ in range(tries):
         if len(out) >= n:

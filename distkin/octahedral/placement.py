@@ -245,7 +245,7 @@ def place(B, Q, L, s2, l2, lo, hi, roots, nroots, P, R, T, E, Er, S15, side, slo
 def place_many(B, Q, L, s2, l2, lo, hi, c, row, x, step, status):
     """Sort the roots (row, x, step, status) of every problem, merge those closer than
     :data:`DUP` relative, keep at most 8, and place both poses of each assembly root
-    (:func:`place`).  Returns the arrays of :func:`.fast.solve_fast`: roots, steps,
+    (:func:`place`).  Returns the arrays of :func:`.batched.solve_fast`: roots, steps,
     status (n, 8), slot (n, 8), count (n,), s15 (n, 8), points, rotation (n, 16, 3, 3),
     translation (n, 16, 3), leg errors absolute and relative (n, 16)."""
     n = B.shape[0]

@@ -77,7 +77,7 @@ class OctahedralForwardQuery:
     def run(p, scene, ctx):
         from .forward import forward_kinematics
         if p.method in ("fast", "auto"):
-            from .fast_single import compile_notice
+            from .single import compile_notice
             ctx.notice(compile_notice())
         f = scene.units.length_factor
         mech = scene.mechanism

@@ -166,7 +166,7 @@ class BatchResult:
     points : (N, 16, 3, 3) rows P4 P5 P6; rotation (N, 16, 3, 3); translation (N, 16, 3)
     max_leg_error, max_leg_error_relative : (N, 16)
     valid : (N, 16) bool mask of real poses
-    raw : dict, the arrays of :func:`.fast.solve_fast` (scaled back to the given units)
+    raw : dict, the arrays of :func:`.batched.solve_fast` (scaled back to the given units)
     trusted : (N,) bool
         The fast tier proved the problem's assembly roots (:mod:`.descartes`); False
         flags every problem it cannot vouch for.
@@ -206,7 +206,7 @@ class BatchResult:
 
 
 def _fast_result(raw, i):
-    """The :class:`AssemblyResult` of problem ``i`` of :func:`.fast.solve_fast`'s arrays."""
+    """The :class:`AssemblyResult` of problem ``i`` of :func:`.batched.solve_fast`'s arrays."""
     roots, poses = [], []
     R, T, P = raw["rotation"][i], raw["translation"][i], raw["points"][i]
     E, Er = raw["leg_error"][i].tolist(), raw["leg_error_rel"][i].tolist()
@@ -242,7 +242,7 @@ def _overflow_note(k):
 
 
 def _single_result(coef, lo, hi, roots, poses, conditioning=None, k=0):
-    """The :class:`AssemblyResult` of :func:`.fast_single.solve_fast_single`'s output
+    """The :class:`AssemblyResult` of :func:`.single.solve_fast_single`'s output
     (its pose arrays are fresh, owned by the poses: rows are views, no copies), for the
     lengths divided by ``2**k``: scaled back (:mod:`.scaling`) on the arrays, before
     any object is built."""

@@ -5,7 +5,7 @@ The fast batched tier of the octahedral forward kinematics (Rojas, Borràs and T
 N octics :math:`O(x)`, :math:`x = s_{15}`.  LAPACK's companion-matrix eigenvalues cost
 ~8 µs per octic (``dgeev``, one 8x8 matrix at a time); this scan costs about a third
 of that, in a few dozen numpy operations over all octics, and says which problems it
-cannot vouch for (:mod:`.fast` solves those the careful way, with eigenvalues).
+cannot vouch for (:mod:`.batched` solves those the careful way, with eigenvalues).
 
 **1. Projective sign scan.**  With a centre :math:`x_0` and a half-width :math:`h` per
 problem (the feasible interval :math:`[lo, hi]` of :func:`~.closure.feasible_interval`,
@@ -33,7 +33,7 @@ start, in :math:`u = \tan\theta` on :math:`\sum_j q_j u^j` where
 :math:`\sum_j q_j w^{8-j}` beyond, so that Horner's scheme runs on arguments of
 modulus below 2.5.  With :math:`q` rebuilt around :math:`x_0` from the quadratic parts
 (:func:`~.closure.shifted_octic`) the roots are good to ~1e-12 relative when isolated;
-:mod:`.fast` polishes them on eq. (3) or on the factored octic.
+:mod:`.batched` polishes them on eq. (3) or on the factored octic.
 
 **3. Doubt.**  A grid cannot see three roots in one cell, nor a pair next to a sign
 change, and rounding can turn two close real roots into a complex pair.  A problem is doubted
@@ -275,7 +275,7 @@ def _scan(q, sizes, x0, h):
 def _sturm_count(q):
     """Number of distinct real roots of each polynomial q (N, 9, ascending, degree 8) by
     the signs of the leading coefficients of its Sturm sequence (floats: a trigger for
-    the careful way of :mod:`.fast`, not a proof).  -1 where a leading coefficient is
+    the careful way of :mod:`.batched`, not a proof).  -1 where a leading coefficient is
     negligible (a degree drop, of the octic or of the sequence)."""
     a = q[:, ::-1] / np.abs(q).max(axis=1, keepdims=True)       # descending, scaled
     b = a[:, :-1] * np.arange(8, 0, -1)                         # derivative

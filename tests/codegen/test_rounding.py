@@ -61,7 +61,7 @@ def test_part_bounds_hold_and_are_not_vacuous():
     reaches more than a tenth of its bound (a bound, not a blanket: a single rounding
     of a sum of positive terms reaches 99.9 % of it here, the median is 3 %)."""
     from distkin.octahedral.descartes import part_errors
-    from distkin.octahedral.fast_single import octic_array
+    from distkin.octahedral.single import octic_array
     from distkin.octahedral.hardset import hard_set
     from distkin.octahedral.problem import float_problem
     from distkin.octahedral.reference import random_octahedron

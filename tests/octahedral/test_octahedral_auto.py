@@ -105,7 +105,7 @@ def test_factored_form():
     import numpy as np
 
     from distkin._generated.octic_general import octic_exact
-    from distkin.octahedral.fast_single import factored_grid
+    from distkin.octahedral.single import factored_grid
 
     sides = [flint.fmpq(v) for v in (144, 144, 144, 36, 36, 36)]
     legs = [flint.fmpq(99 ** 2, 25), flint.fmpq(324), flint.fmpq(324), flint.fmpq(289),

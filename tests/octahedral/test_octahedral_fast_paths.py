@@ -172,7 +172,7 @@ def test_single_solve_next_to_a_nearly_flat_banana_tetrahedron():
     single solve used to stop there; its pose was 2.6e-6 and 1.6e-7 (relative) from the
     generating one (the batched tier, starting from the more accurate scanned roots, was
     at 1e-11).  Reference: the generating pose; now within 1e-9."""
-    from distkin.octahedral.fast_single import bounds, octic_array, tet_min
+    from distkin.octahedral.single import bounds, octic_array, tet_min
     rng = np.random.default_rng(102)
     cases = [random_octahedron(rng, scale=10 ** rng.uniform(-3, 3),
                                shape="regular" if i % 4 == 0 else "random")
@@ -197,11 +197,11 @@ def test_compile_notice_only_before_the_first_solve_on_a_machine(tmp_path, capsy
     import subprocess
     import sys
 
-    from distkin.octahedral.fast_single import compile_notice
+    from distkin.octahedral.single import compile_notice
     from distkin.queries import RunContext
     forward_kinematics(*_general_position(np.random.default_rng(1), 1)[0][:3], warn=False)
     assert compile_notice() == ""                   # this process has used the cache
-    code = ("from distkin.octahedral.fast_single import compile_notice; "
+    code = ("from distkin.octahedral.single import compile_notice; "
             "print(compile_notice())")
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))   # a machine with no cache
     msg = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,

@@ -18,7 +18,7 @@ from distkin.errors import ConditioningWarning
 from distkin.octahedral import forward_kinematics, forward_kinematics_batched
 from distkin.octahedral.auto import LEG_TOL
 from distkin.octahedral.descartes import ETA_FLOAT, VERDICTS, vouch
-from distkin.octahedral.fast_single import solve_fast_single
+from distkin.octahedral.single import solve_fast_single
 from distkin.octahedral.hardset import easy_set, hard_families
 from distkin.octahedral.problem import float_single
 from distkin.octahedral.reference import GD_BASE, GD_LEGS, GD_PLATFORM

@@ -31,7 +31,7 @@ Real roots outside the triangle bounds of :math:`s_{15}`, or where a banana tetr
 has negative squared volume, are spurious.  The trilateration sequence of Sec. III and
 the two mirror poses of every assembly root are :func:`.placement.place`.
 
-The batched tier (:mod:`.fast`) finds its roots by a sign scan and uses the same
+The batched tier (:mod:`.batched`) finds its roots by a sign scan and uses the same
 compiled stages (the polish on eq. (3), the factored Newton, :func:`roots_from_eigenvalues` for the
 problems the scan doubts, the placement).
 

@@ -21,7 +21,7 @@ Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, Se
    rounding of zero) or whose factored Newton moves a root by more than 1e-6 relative
    or does not converge: the single-problem solver's root stage
    (:func:`roots_many`: companion eigenvalues in one numpy call, then the
-   direct and careful paths of :mod:`.fast_single`).  About 0.5 % of the problems near
+   direct and careful paths of :mod:`.single`).  About 0.5 % of the problems near
    the Griffis-Duffy example (Sec. VI, legs x (1 + 1 % noise)), ~9 % of random
    octahedra (pairs of roots next to a third);
 5. real roots outside the feasible interval, or where a tetrahedron of the bananas has
@@ -31,7 +31,7 @@ Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, Se
    written straight into the (N, 16, ...) arrays of :class:`~.forward.BatchResult`.
 
 Stages 1, 2 and the Sturm check stay in numpy (long vectorised loops); the stages that
-work root by root are compiled by numba (here, :mod:`.fast_single`, :mod:`.placement`),
+work root by root are compiled by numba (here, :mod:`.single`, :mod:`.placement`),
 where numpy would need
 dozens of calls on gathered arrays.  Cost per problem: see BENCHMARKS.md
 (``python -m benchmarks octahedral``).
@@ -40,7 +40,7 @@ Accuracy: legs reproduced to about 1e-12 relative on well-conditioned problems; 
 result states the achieved leg residual of every pose.  Known limitation: two real roots
 closer than about 1e-8 relative (two assembly modes about to merge) may be merged into
 one, or a nearly real complex pair reported as a double root; the certified tier decides
-those cases.  Single problems (:mod:`.fast_single`) use the eigenvalue method directly;
+those cases.  Single problems (:mod:`.single`) use the eigenvalue method directly;
 both agree on the roots and their statuses (tests/octahedral).
 """
 
@@ -50,7 +50,7 @@ import numba
 import numpy as np
 
 from .closure import feasible_interval, octic_data, shifted_octic
-from .fast_single import (CONFIRM, EQ3_STEPS, NEWTON_MAX, companion, eigen_rows,
+from .single import (CONFIRM, EQ3_STEPS, NEWTON_MAX, companion, eigen_rows,
                           newton_factored, polish_eq3, roots_from_eigenvalues, tet_min)
 from .placement import place_many
 from .problem import REASONS
@@ -162,7 +162,7 @@ def polish_scan(data, row, x, step, lo, hi, c, doubt):
 
 @_jit
 def roots_many(data, lo, hi, c, er, ei, nr):
-    """:func:`.fast_single.roots_from_eigenvalues` for several problems (eigenvalues
+    """:func:`.single.roots_from_eigenvalues` for several problems (eigenvalues
     (m, 8): real and imaginary parts, ``nr`` of them valid per problem).  Returns
     (row, x, step, status) flat."""
     m = data.shape[0]
