@@ -156,8 +156,7 @@ def _stages_single():
     s2, l2, d, lo, hi, c, comp, sc, mode = fs._prepare(Ba, Qa, La)
     eig = fs.eigenvalues(comp, sc, mode, c)
     er, ei = eig.real.copy(), eig.imag.copy()
-    keep = {}
-    raw = fs.solve_fast_single(Ba, Qa, La, keep)
+    raw = fs.solve_fast_single(Ba, Qa, La)
     eta = eta_of(B, Q, L, rounded)
     stages = {
         "input checks (`float_single`, plain floats)": lambda: float_single(BASE, PLAT, LEGS),
@@ -167,11 +166,10 @@ def _stages_single():
         "LAPACK `dgeev` via numpy (`eigenvalues`)": lambda: fs.eigenvalues(comp, sc, mode, c),
         "compiled: polish, careful path, trilateration, 12 poses (`_solve`)":
             lambda: fs._solve(Ba, Qa, La, d, lo, hi, c, er, ei, s2, l2),
-        "result objects (12 `Pose`, 6 `RootInfo`)": lambda: _single_result(*raw),
+        "result objects (12 `Pose`, 6 `RootInfo`)": lambda: _single_result(raw),
         "default call only: proof of the assembly roots (`conditioning.assess`, "
         "compiled `descartes.vouch`)":
-            lambda: assess(keep["sides2"], keep["legs2"], keep["data"], raw[1], raw[2],
-                           raw[3], eta),
+            lambda: assess(raw.sides2, raw.legs2, raw.data, raw.lo, raw.hi, raw.roots, eta),
     }
     return {k: v[1] for k, v in interleaved(stages, rounds=7, number=300, cpu=True).items()}
 

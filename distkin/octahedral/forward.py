@@ -124,13 +124,12 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
         from .single import solve_fast_single
         B, Q, L, k, rounded = float_single(base, platform, legs)
         if method == "fast" and not warn:                   # the bare fast tier
-            return _single_result(*solve_fast_single(B, Q, L), k=k)
+            return _single_result(solve_fast_single(B, Q, L), k=k)
         from .conditioning import assess, eta_of
-        keep = {}
-        raw = solve_fast_single(B, Q, L, keep)
-        cond = assess(keep["sides2"], keep["legs2"], keep["data"], raw[1], raw[2], raw[3],
+        raw = solve_fast_single(B, Q, L)
+        cond = assess(raw.sides2, raw.legs2, raw.data, raw.lo, raw.hi, raw.roots,
                       eta_of(B, Q, L, rounded))
-        res = _single_result(*raw, conditioning=cond, k=k)
+        res = _single_result(raw, conditioning=cond, k=k)
         if method == "auto":
             from .auto import escalate
             return escalate(res, base, platform, legs, dps=dps, tol=tol)

@@ -289,10 +289,10 @@ def _clustered(rng, n, tries, max_gap=1e-3):
         if len(out) >= n:
             break
         base, plat, legs, *_ = random_octahedron(rng)
-        keep = {}
         B, Q, L, k, _ = float_single(base, plat, legs)
-        _, lo, hi, _, _ = solve_fast_single(B, Q, L, keep)
-        z = np.array(keep["eigenvalues"])
+        solve = solve_fast_single(B, Q, L)
+        lo, hi = solve.lo, solve.hi
+        z = np.array(solve.eigenvalues)
         z = z[(z.real >= lo - 0.05 * (hi - lo)) & (z.real <= hi + 0.05 * (hi - lo))]
         if z.size < 2:
             continue

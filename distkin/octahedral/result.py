@@ -241,11 +241,12 @@ def _overflow_note(k):
             f"for the lengths divided by 2^{k} (s15 by 4^{k})")
 
 
-def _single_result(coef, lo, hi, roots, poses, conditioning=None, k=0):
+def _single_result(solve, conditioning=None, k=0):
     """The :class:`AssemblyResult` of :func:`.single.solve_fast_single`'s output
-    (its pose arrays are fresh, owned by the poses: rows are views, no copies), for the
-    lengths divided by ``2**k``: scaled back (:mod:`.scaling`) on the arrays, before
-    any object is built."""
+    ``solve`` (a :class:`.single.SingleSolve`; its pose arrays are fresh, owned by the
+    poses: rows are views, no copies), for the lengths divided by ``2**k``: scaled back
+    (:mod:`.scaling`) on the arrays, before any object is built."""
+    coef, lo, hi, roots, poses = solve.coef, solve.lo, solve.hi, solve.roots, solve.poses
     S, side, P, R, T, E, Er = poses
     notes = (_SPURIOUS_NOTE,)
     octic = tuple(coef.tolist())

@@ -47,6 +47,7 @@ from __future__ import annotations
 
 import math
 import os
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -55,7 +56,7 @@ from .._generated.octic_general import octic_scalar
 from .placement import DUP, place
 from .problem import REASONS
 
-__all__ = ["solve_fast_single", "roots_from_eigenvalues",
+__all__ = ["solve_fast_single", "SingleSolve", "roots_from_eigenvalues",
            "eigenvalues", "eigen_rows", "companion", "polish_eq3", "newton_factored",
            "tet_min", "octic_array", "factored_grid", "bounds", "REASONS", "CONFIRM",
            "EQ3_STEPS", "NEWTON_MAX", "compile_notice"]
@@ -542,7 +543,34 @@ def _solve(B, Q, L, d, lo, hi, c, er, ei, s2, l2):
     return roots[:n], P[:m], R[:m], T[:m], E[:m], Er[:m], S15[:m], side[:m]
 
 
-def solve_fast_single(B, Q, L, keep=None):
+class SingleSolve(NamedTuple):
+    """What :func:`solve_fast_single` returns (float64 arrays; squared lengths in the
+    problem's units squared).
+
+    coef : (9,) the octic (highest degree first)
+    lo, hi : floats, the triangle bounds of s15
+    roots : (n, 3) rows (s15, |last Newton step|, status code of :data:`REASONS`)
+    poses : tuple (s15, side, points, rotation, translation, max leg error, max
+        relative leg error) of arrays over the poses, two per assembly root (side +1
+        first), by increasing root
+    sides2, legs2 : (6,) the squared sides and legs (kernel inputs)
+    data : (39,) the kernel output, for the proof of :mod:`.descartes`
+        (:mod:`.conditioning`)
+    eigenvalues : complex array, of the octic's companion matrix
+    """
+
+    coef: np.ndarray
+    lo: float
+    hi: float
+    roots: np.ndarray
+    poses: tuple
+    sides2: np.ndarray
+    legs2: np.ndarray
+    data: np.ndarray
+    eigenvalues: np.ndarray
+
+
+def solve_fast_single(B, Q, L) -> SingleSolve:
     """Every assembly mode of one problem (float64, compiled stages).
 
     Parameters
@@ -550,30 +578,22 @@ def solve_fast_single(B, Q, L, keep=None):
     B, Q : (3, 3) base points; platform points in the platform frame (rows; arrays or
         nested lists of floats)
     L : (6,) leg lengths
-    keep : dict, optional
-        Receives ``sides2``, ``legs2`` (the squared lengths), ``data`` (the kernel
-        output) for the proof of :mod:`.descartes` (:mod:`.conditioning`), and
-        ``eigenvalues`` (of the octic's companion matrix, a complex array).
 
     Returns
     -------
-    coef : (9,) the octic (highest degree first)
-    lo, hi : floats, the triangle bounds of s15
-    roots : (n, 3) rows (s15, |last Newton step|, status code of :data:`REASONS`)
-    poses : tuple (s15, side, points, rotation, translation, max leg error, max
-        relative leg error) of arrays over the poses, two per assembly root (side +1
-        first), by increasing root
+    SingleSolve
+        The octic, the triangle bounds, the roots and the poses, with the squared
+        lengths, the kernel output and the eigenvalues that the proof and the hard sets
+        reuse.
     """
     B = np.asarray(B, dtype=float)
     Q = np.asarray(Q, dtype=float)
     L = np.asarray(L, dtype=float)
     s2, l2, d, lo, hi, c, comp, sc, mode = _prepare(B, Q, L)
     eig = eigenvalues(comp, sc, mode, c)
-    if keep is not None:
-        keep.update(sides2=s2, legs2=l2, data=d, eigenvalues=eig)
     roots, P, R, T, E, Er, S15, side = _solve(B, Q, L, d, lo, hi, c, eig.real.copy(),
                                               eig.imag.copy(), s2, l2)
-    return d[30:], lo, hi, roots, (S15, side, P, R, T, E, Er)
+    return SingleSolve(d[30:], lo, hi, roots, (S15, side, P, R, T, E, Er), s2, l2, d, eig)
 
 
 def eigen_rows(comp, sc, mode, c):

@@ -218,15 +218,14 @@ def test_easy_set_proved_and_radii_hold():
 
 def _solve(base, plat, legs):
     B, Q, L, k, rounded = float_single(base, plat, legs)
-    keep = {}
-    _, lo, hi, roots, _ = solve_fast_single(B, Q, L, keep)
-    return keep, lo, hi, roots
+    solve = solve_fast_single(B, Q, L)
+    return solve, solve.lo, solve.hi, solve.roots
 
 
 def _verdict(keep, lo, hi, x, codes):
     x = np.ascontiguousarray(x, dtype=float)
     radii = np.empty(x.size)
-    return vouch(keep["data"], keep["sides2"], keep["legs2"], 1e-15, lo, hi, x,
+    return vouch(keep.data, keep.sides2, keep.legs2, 1e-15, lo, hi, x,
                  np.asarray(codes, dtype=np.int64), radii), radii
 
 
