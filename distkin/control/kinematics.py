@@ -34,23 +34,6 @@ def _rot(r):
                      [-sy, cy * sx, cy * cx]])
 
 
-def _angles(R):
-    rx = math.atan2(R[2, 1], R[2, 2])
-    ry = math.atan2(-R[2, 0], math.hypot(R[2, 1], R[2, 2]))
-    rz = math.atan2(R[1, 0], R[0, 0])
-    return rx, ry, rz
-
-
-def _exp(w):
-    th = math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
-    K = np.array([[0.0, -w[2], w[1]], [w[2], 0.0, -w[0]], [-w[1], w[0], 0.0]])
-    if th < 1e-8:
-        a, b = 1.0 - th * th / 6.0, 0.5 - th * th / 24.0
-    else:
-        a, b = math.sin(th) / th, (1.0 - math.cos(th)) / (th * th)
-    return np.eye(3) + a * K + b * (K @ K)
-
-
 def rotate_pose(pose, dpos, dw):
     """Pose (6,) moved by ``dpos`` (m, base frame) and rotated by the rotation vector
     ``dw`` (rad, base frame): ``R' = exp(dw) R`` (Rodrigues' formula).

@@ -49,7 +49,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .closure import feasible_interval, octic_data, shifted_octic
+from .closure import OCTIC, feasible_interval, octic_data, shifted_octic
 from .single import (CONFIRM, EQ3_STEPS, NEWTON_MAX, companion, eigen_rows,
                           newton_factored, polish_eq3, roots_from_eigenvalues, tet_min)
 from .placement import place_many
@@ -111,7 +111,7 @@ def solve_fast(B, Q, L, sides2, legs2):
         status = np.concatenate([status[keep], st2])
     roots, steps, stat, slot, count, s15, P, R, T, E, Er = place_many(
         B, Q, L, sides2, legs2, lo, hi, c, row, x, step, status)
-    return {"coef": data[:, 30:], "lo": lo, "hi": hi, "roots": roots, "status": stat,
+    return {"coef": data[:, OCTIC], "lo": lo, "hi": hi, "roots": roots, "status": stat,
             "step": steps, "slot": slot, "count": count, "s15": s15, "points": P,
             "rotation": R, "translation": T, "leg_error": E, "leg_error_rel": Er,
             "valid": np.arange(16) < count[:, None], "data": data}

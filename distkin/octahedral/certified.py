@@ -31,7 +31,7 @@ from ..certify.roots import MAX_BITS, real_roots, sign_at_root, working_precisio
 from ..errors import (DegenerateGeometryError, InfeasibleError, InputError,
                       UncertifiedError)
 from .assembly import assemble_exact
-from .closure import PART_NAMES, octic_data
+from .closure import OCTIC, PART_NAMES, octic_data
 from .problem import LEG_PAIRS, Problem
 
 __all__ = ["solve_certified"]
@@ -56,7 +56,7 @@ def solve_certified(problem: Problem, tol: float):
     sides = [_q(v) for v in problem.sides2]
     legs2 = [_q(v) for v in problem.legs2]
     d = [flint.fmpq(v) for v in octic_data(sides, legs2, "exact")]
-    octic = d[30:]
+    octic = d[OCTIC]
     if all(c == 0 for c in octic):
         raise DegenerateGeometryError("expected an octic that does not vanish identically, got "
                                       "the zero polynomial (degenerate geometry)", field="legs")

@@ -29,6 +29,8 @@ from .._generated import octic_general as _kernel
 
 __all__ = [
     "PART_NAMES",
+    "PARTS",
+    "OCTIC",
     "octic_data",
     "part_values",
     "eq3_branches",
@@ -38,6 +40,7 @@ __all__ = [
 ]
 
 PART_NAMES = _kernel.PART_NAMES
+PARTS, OCTIC = _kernel.PARTS, _kernel.OCTIC
 _IDX = {name: i for i, name in enumerate(PART_NAMES)}
 
 #: triangles P1 Pk P5 whose two other sides are known: (side P1Pk, side PkP5) as
@@ -188,7 +191,7 @@ def shifted_octic(data, x0, h, *, absolute=False):
     -------
     q : (N, 9) coefficients, ascending in :math:`u` (C-contiguous)
     """
-    C = data[:, :30].reshape(-1, 10, 3).transpose(2, 1, 0)      # (3, 10, N)
+    C = data[:, PARTS].reshape(-1, 10, 3).transpose(2, 1, 0)      # (3, 10, N)
     c0, c1, c2 = C
     P = np.stack([c0 + x0 * (c1 + x0 * c2), h * (c1 + 2 * x0 * c2), (h * h) * c2])
     if absolute:

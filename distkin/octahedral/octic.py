@@ -105,10 +105,6 @@ class OcticParts:
         return self.T2a * self.T2b
 
 
-def _values_key(values):
-    return tuple(sorted(((min(i, j), max(i, j)), v) for (i, j), v in (values or {}).items()))
-
-
 def octic_parts(values=None) -> OcticParts:
     """The parts of eq. (3) from bananas 1 and 2, with optional substitutions.
 
@@ -330,6 +326,9 @@ def generate_octic_module() -> str:
         doc="Octic coefficient map of the octahedral manipulator (Rojas et al. 2012, eq. (3)).",
         source_hash=symbolic_hash(*outputs),
         constants={"PART_NAMES": PART_NAMES, "N_PARTS": len(PART_NAMES),
+                   # where the parts and the octic sit in the 39 outputs
+                   "PARTS": slice(0, 3 * len(PART_NAMES)),
+                   "OCTIC": slice(3 * len(PART_NAMES), 3 * len(PART_NAMES) + 9),
                    "PARTS_DEPTH": bounds.depth, "PARTS_DEGREE": bounds.degree,
                    "PARTS_UNDERFLOW": bounds.underflow},
         functions=[("parts_magnitude", magnitude)])

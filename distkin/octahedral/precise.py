@@ -16,7 +16,7 @@ from fractions import Fraction
 
 from ..errors import DegenerateGeometryError, InfeasibleError
 from .assembly import assemble_exact
-from .closure import octic_data, part_values
+from .closure import OCTIC, octic_data, part_values
 from .problem import LEG_PAIRS, Problem
 
 __all__ = ["solve_precise"]
@@ -58,12 +58,12 @@ def solve_precise(problem: Problem, dps: int, tol=None):
                             "exact")
             dq = [flint.fmpq(v) for v in dq]
             d = [mpmath.mpf(int(v.p)) / int(v.q) for v in dq]
-            octic = tuple(Fraction(int(v.p), int(v.q)) for v in dq[30:])
+            octic = tuple(Fraction(int(v.p), int(v.q)) for v in dq[OCTIC])
         else:
             d = octic_data([_mpf(v) for v in problem.sides2], [_mpf(v) for v in problem.legs2],
                            "exact")
-            octic = tuple(d[30:])
-        coef = d[30:]
+            octic = tuple(d[OCTIC])
+        coef = d[OCTIC]
         if all(c == 0 for c in coef):
             raise DegenerateGeometryError("expected an octic that does not vanish identically, "
                                           "got the zero polynomial (degenerate geometry)",

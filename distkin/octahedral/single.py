@@ -52,7 +52,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from .._generated.octic_general import octic_scalar
+from .._generated.octic_general import OCTIC, octic_scalar
 from .placement import DUP, place
 from .problem import REASONS
 
@@ -593,7 +593,7 @@ def solve_fast_single(B, Q, L) -> SingleSolve:
     eig = eigenvalues(comp, sc, mode, c)
     roots, P, R, T, E, Er, S15, side = _solve(B, Q, L, d, lo, hi, c, eig.real.copy(),
                                               eig.imag.copy(), s2, l2)
-    return SingleSolve(d[30:], lo, hi, roots, (S15, side, P, R, T, E, Er), s2, l2, d, eig)
+    return SingleSolve(d[OCTIC], lo, hi, roots, (S15, side, P, R, T, E, Er), s2, l2, d, eig)
 
 
 def eigen_rows(comp, sc, mode, c):
