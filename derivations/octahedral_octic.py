@@ -24,7 +24,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import numpy as np  # noqa: E402
 import sympy as sp  # noqa: E402
 
-from distkin.certify.roots import real_roots  # noqa: E402
+from distkin.exact_roots import real_roots  # noqa: E402
 from distkin.octahedral.banana import (LEG_PAIRS, SIDE_PAIRS, banana,  # noqa: E402
                                        squared_distance_symbols)
 from distkin.octahedral.octic import (PART_NAMES, closure_condition,  # noqa: E402

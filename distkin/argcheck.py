@@ -11,7 +11,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from .errors import InputError
-from .numbers import METHODS, Exact, check_method, parse_exact, parse_vector
+from .exact import METHODS, Exact, check_method, parse_exact, parse_vector
 
 __all__ = [
     "require",

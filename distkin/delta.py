@@ -41,7 +41,7 @@ from functools import cached_property, lru_cache
 import numpy as np
 
 from .errors import DegenerateGeometryError, InfeasibleError, InputError
-from .numbers import METHODS_AUTO, Exact, check_method, default_dps, parse_exact, to_sympy
+from .exact import METHODS_AUTO, Exact, check_method, default_dps, parse_exact, to_sympy
 
 __all__ = [
     "RowSpec",
@@ -567,7 +567,7 @@ class Platform66:
 
 
 def _tier_array(points, method):
-    from .numbers import sympy_to_arb
+    from .exact import sympy_to_arb
     if method == "fast":
         return np.array([[float(x) for x in p] for p in points], dtype=float)
     if method == "precise":
@@ -802,7 +802,7 @@ def _pose66_arb(plat, R, t, m, pose):
     enclosures of the octahedral solver, the exact joints and m-legs as balls)."""
     import flint
 
-    from .numbers import sympy_to_arb
+    from .exact import sympy_to_arb
     bj, pj = plat.joints("certified")
     world = np.array([R.dot(p) + t for p in pj], dtype=object)
     errs = []

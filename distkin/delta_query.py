@@ -46,7 +46,7 @@ from dataclasses import dataclass
 
 from .argcheck import check_keys, exact_matrix, method_field, require
 from .errors import DistkinError, InputError
-from .numbers import METHODS_AUTO, default_dps, parse_vector
+from .exact import METHODS_AUTO, default_dps, parse_vector
 from .queries import Outcome, register
 
 __all__ = ["DeltaTransformQuery", "Platform66Forward", "Platform66Mechanism",
@@ -58,7 +58,7 @@ class Platform66Mechanism:
     """``kind = "platform66"``: the 6-6 platform of Rojas et al., Fig. 6, given by its
     octahedral parent (``base`` P1..P3, ``platform`` P4..P6 in the platform frame) and
     the offsets delta1..delta6 (eq. (9) rows).  Entries are
-    :class:`~distkin.numbers.Exact`."""
+    :class:`~distkin.exact.Exact`."""
 
     base: tuple
     platform: tuple

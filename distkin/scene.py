@@ -83,7 +83,7 @@ class Octahedral:
     """``kind = "octahedral"``: base P1 P2 P3 and platform P4 P5 P6 (Rojas et al., Fig. 4).
 
     ``base`` holds P1, P2, P3 in base coordinates; ``platform`` holds P4, P5, P6 in the
-    platform frame.  Entries are :class:`~distkin.numbers.Exact`.
+    platform frame.  Entries are :class:`~distkin.exact.Exact`.
     """
 
     base: tuple

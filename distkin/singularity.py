@@ -47,7 +47,7 @@ from fractions import Fraction
 import numpy as np
 
 from .errors import InputError, UncertifiedError
-from .numbers import check_method
+from .exact import check_method
 
 __all__ = [
     "OCTAHEDRAL_LEGS",
@@ -592,7 +592,7 @@ def _arb(x):
     """A certified arb enclosure of an exact value (Fraction, int, fmpq, sympy constant)."""
     import flint
 
-    from .numbers import to_tier
+    from .exact import to_tier
     if hasattr(x, "value"):
         x = x.value
     if isinstance(x, float):

@@ -38,7 +38,7 @@ import numpy as np
 
 from .argcheck import as_table, check_keys, method_field, positive_int
 from .errors import InputError
-from .numbers import parse_vector, to_tier
+from .exact import parse_vector, to_tier
 from .queries import Outcome, register
 
 __all__ = ["SingularityQuery", "OctahedralModel", "plot_path"]

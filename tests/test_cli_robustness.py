@@ -13,7 +13,7 @@ import time
 import pytest
 
 from distkin.errors import InputError
-from distkin.numbers import MAX_BITS, parse_exact
+from distkin.exact import MAX_BITS, parse_exact
 
 _HANG = 30          # s: a parse or a range check takes well under a second
 

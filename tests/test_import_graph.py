@@ -73,7 +73,7 @@ LAYERS: dict[str, int] = {
     "distkin.scene": 6,
     "distkin.delta_query": 6,
     "distkin.singularity_query": 6,
-    "distkin.numbers": 0,
+    "distkin.exact": 0,
 }
 
 #: Arrows forbidden although the layers allow them (docs/design.md): the certified
@@ -117,7 +117,6 @@ KNOWN: set[tuple[str, str]] = {
     ("distkin.mechanisms.query", "distkin.queries"),
     ("distkin.mechanisms.rss", "distkin.mechanisms.forward"),
     ("distkin.mechanisms.rss", "distkin.mechanisms.kernels"),
-    ("distkin.octahedral.certified", "distkin.certify.roots"),
     ("distkin.octahedral.octic", "distkin.codegen.cache"),
     ("distkin.octahedral.octic", "distkin.codegen.emit"),
     ("distkin.octahedral.octic", "distkin.codegen.rounding"),

@@ -9,7 +9,7 @@
 
 from .boxes import (REGULAR, SINGULAR, STATUS_NAMES, UNDECIDED, UNREACHABLE, Verdict,
                     branch_and_prune, certify_box)
-from .roots import RealRoot, count_real_roots, real_roots, refine_roots, sign_at_root
+from ..exact_roots import RealRoot, count_real_roots, real_roots, refine_roots, sign_at_root
 from .workspace import WorkspaceCertificate, certify_workspace
 
 __all__ = ["RealRoot", "real_roots", "count_real_roots", "refine_roots", "sign_at_root",

@@ -45,7 +45,7 @@ import numpy as np
 from ..argcheck import (as_table, check_keys, choice, executor_fields, positive_int,
                         positive_number)
 from ..errors import InputError
-from ..numbers import parse_exact
+from ..exact import parse_exact
 from ..queries import Outcome, register
 from .boxes import STATUS_NAMES
 

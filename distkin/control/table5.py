@@ -250,7 +250,7 @@ def run_table5(mech_name: str = "octo", *, poses=None, scene=None, trials: int =
 def _register():
     from ..argcheck import check_keys, positive_int
     from ..errors import InputError
-    from ..numbers import parse_exact
+    from ..exact import parse_exact
     from ..queries import Outcome, register
 
     @register("table5", mechanisms=("rss",),

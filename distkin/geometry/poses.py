@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import DegenerateGeometryError, InputError, UncertifiedError
-from ..numbers import check_method
+from ..exact import check_method
 
 __all__ = ["triangle_frame", "pose_from_points", "points_from_pose"]
 

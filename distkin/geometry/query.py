@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 from ..argcheck import check_keys, exact_matrix, method_field, string_list
 from ..errors import InputError
-from ..numbers import default_dps, to_tier
+from ..exact import default_dps, to_tier
 from ..queries import Outcome, register
 from .cayley_menger import cayley_menger, parse_label, squared_distances
 

@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import DegenerateGeometryError, InfeasibleError, InputError, UncertifiedError
-from ..numbers import check_method, default_dps, to_tier
+from ..exact import check_method, default_dps, to_tier
 
 __all__ = ["trilaterate", "trilaterate_both", "TrilaterationParts", "trilateration_parts"]
 

@@ -56,7 +56,7 @@ import numpy as np
 
 from ..argcheck import as_table, check_keys, choice, executor_fields, positive_int, require
 from ..errors import InputError
-from ..numbers import parse_exact
+from ..exact import parse_exact
 from ..queries import register
 from .isotropy import ST_DEFAULT
 from .study import ACTUATORS, PAPER_TABLE3

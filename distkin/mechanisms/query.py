@@ -30,7 +30,7 @@ import numpy as np
 
 from ..argcheck import check_keys, positive_int, positive_number
 from ..errors import InfeasibleError, InputError
-from ..numbers import parse_exact
+from ..exact import parse_exact
 from ..queries import Outcome, register
 from .scene import angle_factor, length_factor
 

@@ -24,7 +24,7 @@ from fractions import Fraction
 
 from ..argcheck import check_keys, choice, require
 from ..errors import InputError
-from ..numbers import parse_exact
+from ..exact import parse_exact
 from .presets import PRESETS, preset
 
 __all__ = ["parse_rss", "LENGTHS", "ANGLES"]

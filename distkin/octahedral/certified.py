@@ -5,10 +5,10 @@ Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, Se
 1. The octic and the quadratic parts of eq. (3) are computed **exactly** in ``fmpq``
    by the generated kernel (the squared lengths must be rational).
 2. Its distinct real roots are isolated with certainty
-   (:func:`distkin.certify.roots.real_roots`, FLINT's ``complex_roots``): the count is
+   (:func:`distkin.exact_roots.real_roots`, FLINT's ``complex_roots``): the count is
    proved, and so are the multiplicities.
 3. Each root is classified with certified signs
-   (:func:`distkin.certify.roots.sign_at_root`): it is an assembly mode iff the shared
+   (:func:`distkin.exact_roots.sign_at_root`): it is an assembly mode iff the shared
    faces are real triangles (:math:`D(5,4,1), D(3,5,1) < 0`) and the four tetrahedra of
    the bananas have non-negative squared volume; otherwise it is spurious.  A sign that
    is exactly 0 is found exactly (common factor with the octic).
@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from ..certify.roots import MAX_BITS, real_roots, sign_at_root, working_precision
+from ..exact_roots import MAX_BITS, real_roots, sign_at_root, working_precision
 from ..errors import (DegenerateGeometryError, InfeasibleError, InputError,
                       UncertifiedError)
 from .assembly import assemble_exact
@@ -200,7 +200,7 @@ def _mids(rows):
 
 def _enclose_one(v):
     import flint
-    from ..numbers import sympy_to_arb
+    from ..exact import sympy_to_arb
     if isinstance(v, Fraction):
         return flint.arb(_q(v))
     if type(v).__name__ in ("fmpq", "arb"):

@@ -47,7 +47,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..errors import ConditioningWarning
-from ..numbers import METHODS_AUTO, check_method, default_dps
+from ..exact import METHODS_AUTO, check_method, default_dps
 from .problem import exact_problem, float_problem, float_single
 from .scaling import in_units, rescale_result
 
@@ -67,7 +67,7 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
     ----------
     base : (3, 3) array_like
         P1, P2, P3 in base coordinates (rows).  Numbers, numeric strings
-        (``"sqrt(108)"``), Fractions or :class:`~distkin.numbers.Exact`.
+        (``"sqrt(108)"``), Fractions or :class:`~distkin.exact.Exact`.
     platform : (3, 3) array_like
         P4, P5, P6 in the platform frame (rows); any non-degenerate triangle.
     legs : (6,) array_like

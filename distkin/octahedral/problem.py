@@ -16,7 +16,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..errors import DegenerateGeometryError, InputError
-from ..numbers import Exact, parse_exact
+from ..exact import Exact, parse_exact
 from .banana import LEG_PAIRS, SIDE_PAIRS
 from .scaling import KEEP, check_range, exponent, exponents, scale_problem
 
@@ -105,7 +105,7 @@ def _square_distance(a, b):
     if all(isinstance(v, Fraction) for v in vals):
         return sum(v * v for v in vals)
     import sympy
-    from ..numbers import to_sympy
+    from ..exact import to_sympy
     e = sympy.nsimplify(sympy.expand(sum(to_sympy(v) ** 2 for v in vals)))
     e = sympy.radsimp(sympy.expand(e))
     if e.is_Rational:
@@ -117,7 +117,7 @@ def _square(x: Exact):
     if isinstance(x.value, Fraction):
         return x.value * x.value
     import sympy
-    from ..numbers import to_sympy
+    from ..exact import to_sympy
     e = sympy.expand(to_sympy(x) ** 2)
     if e.is_Rational:
         return Fraction(int(e.p), int(e.q))

@@ -32,7 +32,7 @@ from fractions import Fraction
 
 from ..argcheck import check_keys, exact_vector, method_field, positive_number, require
 from ..errors import ConditioningWarning, DistkinError, InputError
-from ..numbers import METHODS_AUTO, Exact, default_dps
+from ..exact import METHODS_AUTO, Exact, default_dps
 from ..queries import Outcome, register
 
 __all__ = ["OctahedralForwardQuery"]

@@ -64,7 +64,7 @@ def eq11_agreement(coeffs):
     rel : list of float
         ``lambda * c_k / p_k - 1`` at the middle lambda, per coefficient.
     """
-    from ..numbers import to_fraction
+    from ..exact import to_fraction
     c = [to_fraction(v) for v in coeffs]
     lo, hi = None, None
     for ck, text in zip(c, EQ11_PRINTED):

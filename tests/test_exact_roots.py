@@ -1,4 +1,4 @@
-"""Certified real roots (distkin.certify.roots) against analytic cases and sympy's exact
+"""Certified real roots (distkin.exact_roots) against analytic cases and sympy's exact
 Sturm-sequence counts (an independent route)."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import flint
 import pytest
 import sympy as sp
 
-from distkin.certify.roots import (count_real_roots, real_roots, refine_roots, sign_at_root,
+from distkin.exact_roots import (count_real_roots, real_roots, refine_roots, sign_at_root,
                                    working_precision)
 from distkin.errors import InputError
 

@@ -8,7 +8,7 @@ import sympy as sp
 from flint import arb, fmpq
 
 from distkin.errors import InputError
-from distkin.numbers import check_method, parse_exact, parse_vector, to_fmpq, to_tier
+from distkin.exact import check_method, parse_exact, parse_vector, to_fmpq, to_tier
 
 
 @pytest.mark.parametrize("text, expected", [

@@ -22,7 +22,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from fractions import Fraction
 
-from ..errors import InputError, UncertifiedError
+from .errors import InputError, UncertifiedError
 
 __all__ = [
     "RealRoot",
