@@ -6,7 +6,7 @@ add that "this is not a formal proof since any numerical software tool has
 tolerances", and that redundant kinematics such as the Octopod cannot be analysed with
 it.  This module gives the proof, for L = 6 and for the redundant L = 8.
 
-What a box ``X`` (m, rad; poses as in :mod:`distkin.mechanisms.rotation`) can be proved to be
+What a box ``X`` (m, rad; poses as in :mod:`distkin.spatial`) can be proved to be
 ----------------------------------------------------------------------------------------
 ``regular``
     For every pose in ``X``:

@@ -7,7 +7,7 @@ Kühne et al., Sec. II-C, eq. (1), on balls.  This module evaluates them over a 
 .. math:: X = [\underline p_1, \overline p_1] \times \dots \times
           [\underline p_6, \overline p_6]
 
-of poses ``p = (x, y, z, r_x, r_y, r_z)`` (m, rad; :mod:`distkin.mechanisms.rotation`)
+of poses ``p = (x, y, z, r_x, r_y, r_z)`` (m, rad; :mod:`distkin.spatial`)
 in four forms (:data:`FORMS`), all from the same generated kernel, run on different
 number types:
 

@@ -171,7 +171,7 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic",
     ----------
     mech : RSSMechanism
     lower, upper : array (6,)
-        The region (m, rad): x, y, z, rx, ry, rz (:mod:`distkin.mechanisms.rotation`).
+        The region (m, rad): x, y, z, rx, ry, rz (:mod:`distkin.spatial`).
     min_width : array (6,)
         Resolution (m, rad): boxes are bisected along a coordinate only while wider.
     form : {"quadratic", "affine", "centred", "plain"}

@@ -13,7 +13,7 @@ Public API (stable; other modules code against it)
 Poses are arrays ``(N, 6)`` (or ``(6,)``): ``(x, y, z)`` of the end-effector centre
 in metres in the base frame, then ``(rx, ry, rz)`` in radians, the rotation
 ``R = Rz(rz) @ Ry(ry) @ Rx(rx)`` (rotations about the fixed base axes x, then y, then
-z; :mod:`.rotation`).  The home pose (workspace centre) is ``(0, 0, z0, 0, 0, 0)``.
+z; :mod:`distkin.spatial`).  The home pose (workspace centre) is ``(0, 0, z0, 0, 0, 0)``.
 
 ``q, valid = mech.inverse_kinematics(poses)``
     q ``(N, L)`` crank angles in rad (0 = crank horizontal, positive = tip up);

@@ -32,7 +32,7 @@ import numpy as np
 
 from ..argcheck import float_array
 from ..errors import InfeasibleError, InputError, SingularConfigurationError
-from .rotation import exp_so3, rotation_angles, rotation_matrix
+from ..spatial import exp_so3, rotation_angles, rotation_matrix
 
 __all__ = ["FKResult", "forward_kinematics"]
 
@@ -44,7 +44,7 @@ class FKResult:
     Attributes
     ----------
     pose : array (N, 6) or (6,)
-        m and rad (:mod:`.rotation`).
+        m and rad (:mod:`distkin.spatial`).
     converged : bool array (N,) or bool
     iterations : int array (N,) or int
     residual : array (N,) or float

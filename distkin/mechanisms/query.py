@@ -1,7 +1,7 @@
 """Scene queries for ``kind = "rss"``: inverse kinematics, Jacobian, forward kinematics.
 
 Poses are written in the scene's units, ``[x, y, z, rx, ry, rz]`` (length units, then
-angle units; rotation R = Rz(rz) Ry(ry) Rx(rx), :mod:`.rotation`)::
+angle units; rotation R = Rz(rz) Ry(ry) Rx(rx), :mod:`distkin.spatial`)::
 
     [[query]]
     type = "inverse_kinematics"

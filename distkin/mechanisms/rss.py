@@ -2,7 +2,7 @@
 
 Kühne et al., *Design and Evaluation of a Haptic Interface With Octopod Kinematics*,
 Sec. II-C (eqs. (1)-(3), (7)), Fig. 2.  The parametrisation (what l0, l1, l2, l3, lp,
-ld, beta, gamma, z0 mean) is stated in :mod:`.presets`; poses in :mod:`.rotation`.
+ld, beta, gamma, z0 mean) is stated in :mod:`.presets`; poses in :mod:`distkin.spatial`.
 
 The numeric methods run on generated kernels (:mod:`.kernels`): the committed modules
 ``distkin._generated.rss_<preset>`` for the presets, a cached generated module
@@ -204,7 +204,7 @@ class RSSMechanism:
             ``B`` crank pivot, ``C`` crank tip, ``D`` universal-joint centre, ``P``
             spherical joint, plus ``q`` (N, L).
         """
-        from .rotation import rotation_matrix
+        from ..spatial import rotation_matrix
         X, single = _poses(poses)
         if q is None:
             q, _ = self.inverse_kinematics(X)
@@ -239,7 +239,7 @@ class RSSMechanism:
         Parameters
         ----------
         poses : array (N, 6) or (6,)
-            m and rad (:mod:`.rotation`).
+            m and rad (:mod:`distkin.spatial`).
 
         Returns
         -------
@@ -277,7 +277,7 @@ class RSSMechanism:
         batch : int
             Poses per vectorised block.
         """
-        from .rotation import rotation_matrix
+        from ..spatial import rotation_matrix
         X, _ = _poses(poses)
         g = self.geometry()
         lo, hi = -np.inf, np.inf
@@ -320,7 +320,7 @@ class RSSMechanism:
 
     def pose_jacobian(self, poses):
         """dq/d(x, y, z, rx, ry, rz) = J @ blockdiag(I, E(r)), shape (N, L, 6)."""
-        from .rotation import omega_map
+        from ..spatial import omega_map
         X, single = _poses(poses)
         J = self.kernels("batched").jacobian(X)
         out = J.copy()

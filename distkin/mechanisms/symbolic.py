@@ -1,7 +1,7 @@
 """The sympy model of an RRRS leg: closure, closed-form IK, Jq, Jx, J = Jq^-1 Jx.
 
 Kühne et al., Sec. II-C, eqs. (1)-(2), Fig. 2; parametrisation in :mod:`.presets`,
-pose in :mod:`.rotation`.  This module imports sympy; numeric code uses the kernels
+pose in :mod:`distkin.spatial`.  This module imports sympy; numeric code uses the kernels
 generated from it (:mod:`.kernels`), never this module.
 
 Leg i (side s = ±1), with constant vectors B (crank pivot), a (actuator axis), u
@@ -58,7 +58,7 @@ def q_symbols(L: int):
 
 
 def rotation_matrix(rx, ry, rz):
-    """R = Rz(rz) Ry(ry) Rx(rx) (:mod:`.rotation`)."""
+    """R = Rz(rz) Ry(ry) Rx(rx) (:mod:`distkin.spatial`)."""
     cx, sx, cy, sy, cz, sz = sp.cos(rx), sp.sin(rx), sp.cos(ry), sp.sin(ry), sp.cos(rz), sp.sin(rz)
     Rx = sp.Matrix([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
     Ry = sp.Matrix([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])

@@ -7,7 +7,7 @@ import pytest
 
 from distkin.errors import InfeasibleError, SingularConfigurationError
 from distkin.mechanisms import preset
-from distkin.mechanisms.rotation import exp_so3, pose_error, rotation_angles, rotation_matrix
+from distkin.spatial import exp_so3, pose_error, rotation_angles, rotation_matrix
 
 from rss_sampling import reachable_poses
 

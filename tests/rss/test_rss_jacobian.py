@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from distkin.mechanisms import preset
-from distkin.mechanisms.rotation import exp_so3, omega_map, rotation_angles, rotation_matrix
+from distkin.spatial import exp_so3, omega_map, rotation_angles, rotation_matrix
 
 from rss_sampling import PRESET_NAMES, reachable_poses
 
