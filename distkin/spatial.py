@@ -1,4 +1,6 @@
-"""Pose parametrisation of the RSS mechanisms: position plus fixed-axis x-y-z angles.
+"""Spatial maths, the one place for it: rotations Rz·Ry·Rx (batched and scalar),
+Rodrigues' formula, pose errors.  Poses of the RSS mechanisms, the certified workspace
+and the controller are position plus fixed-axis x-y-z angles.
 
 A pose is ``(x, y, z, rx, ry, rz)``: the end-effector centre in metres (base frame)
 and the rotation
@@ -12,14 +14,20 @@ parametrisation is singular at ``ry = ±pi/2``, far outside any RSS workspace.
 The angular velocity is ``omega = E(r) @ rdot`` with
 ``E = [Rz Ry e_x | Rz e_y | e_z]`` (:func:`omega_map`); the Jacobian J maps
 ``(v, omega)``, the derivative of IK with respect to the pose parameters is
-``J @ blockdiag(I, E)``.  Plain numpy, batched over leading axes; no sympy.
+``J @ blockdiag(I, E)``.  Plain numpy, batched over leading axes; no sympy.  The
+``*_scalar`` twins take one pose in plain floats (the controller's 1 ms cycle, where
+numpy's per-call overhead on 3-vectors dominates); the symbolic twin is
+:func:`distkin.mechanisms.symbolic.rotation_matrix` (sympy, for the derivations).
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-__all__ = ["rotation_matrix", "rotation_angles", "omega_map", "exp_so3", "pose_error"]
+__all__ = ["rotation_matrix", "rotation_matrix_scalar", "rotation_angles", "omega_map",
+           "exp_so3", "axis_angle", "pose_error"]
 
 
 def rotation_matrix(r):
@@ -47,6 +55,16 @@ def rotation_matrix(r):
     R[..., 2, 1] = cy * sx
     R[..., 2, 2] = cy * cx
     return R
+
+
+def rotation_matrix_scalar(r):
+    """:func:`rotation_matrix` of one angle triple ``r`` (3,) rad in plain floats:
+    R = Rz(rz) Ry(ry) Rx(rx), a (3, 3) array."""
+    cx, cy, cz = math.cos(r[0]), math.cos(r[1]), math.cos(r[2])
+    sx, sy, sz = math.sin(r[0]), math.sin(r[1]), math.sin(r[2])
+    return np.array([[cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx],
+                     [sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx],
+                     [-sy, cy * sx, cy * cx]])
 
 
 def rotation_angles(R):
@@ -103,6 +121,14 @@ def exp_so3(w):
     a = np.where(small, 1.0 - th ** 2 / 6.0, np.sin(ths) / ths)
     b = np.where(small, 0.5 - th ** 2 / 24.0, (1.0 - np.cos(ths)) / ths ** 2)
     return np.eye(3) + a * K + b * (K @ K)
+
+
+def axis_angle(axis, angle):
+    """Rotation (3, 3) about ``axis`` (3,), any length, by ``angle`` rad (Rodrigues'
+    formula; :func:`exp_so3` takes the rotation vector instead)."""
+    k = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    return np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * K @ K
 
 
 def pose_error(p1, p2):

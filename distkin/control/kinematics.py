@@ -22,16 +22,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..spatial import rotation_matrix_scalar as _rot  # noqa: F401 (controller, plant)
+
 __all__ = ["KinematicModel", "FKState", "load_model"]
-
-
-def _rot(r):
-    """R = Rz(rz) Ry(ry) Rx(rx) (the pose convention of :mod:`distkin.spatial`)."""
-    cx, cy, cz = math.cos(r[0]), math.cos(r[1]), math.cos(r[2])
-    sx, sy, sz = math.sin(r[0]), math.sin(r[1]), math.sin(r[2])
-    return np.array([[cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx],
-                     [sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx],
-                     [-sy, cy * sx, cy * cx]])
 
 
 def rotate_pose(pose, dpos, dw):

@@ -22,27 +22,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..spatial import rotation_matrix
+
 __all__ = ["ik_jacobian"]
 
 
-def _rot(r):
-    cx, cy, cz = np.cos(r[:, 0]), np.cos(r[:, 1]), np.cos(r[:, 2])
-    sx, sy, sz = np.sin(r[:, 0]), np.sin(r[:, 1]), np.sin(r[:, 2])
-    R = np.empty((len(r), 3, 3))
-    R[:, 0, 0] = cz * cy
-    R[:, 0, 1] = cz * sy * sx - sz * cx
-    R[:, 0, 2] = cz * sy * cx + sz * sx
-    R[:, 1, 0] = sz * cy
-    R[:, 1, 1] = sz * sy * sx + cz * cx
-    R[:, 1, 2] = sz * sy * cx - cz * sx
-    R[:, 2, 0] = -sy
-    R[:, 2, 1] = cy * sx
-    R[:, 2, 2] = cy * cx
-    return R
-
-
 def _solve(mech, X, g, branch):
-    R = _rot(X[:, 3:])
+    R = rotation_matrix(X[:, 3:])
     Rp = np.einsum("nij,lj->nli", R, g["p"])                  # (N, L, 3)
     P = X[:, None, :3] + Rp
     w = P - (g["B"] + g["offset"])[None]

@@ -53,6 +53,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from ..spatial import axis_angle
 from .reference import random_triangle
 
 __all__ = ["Case", "hard_set", "hard_families", "easy_set", "certified_truth",
@@ -225,13 +226,6 @@ def easy_set(n: int = 200, seed: int = 3) -> tuple:
     return tuple(out)
 
 
-def _rotation(axis, angle):
-    """Rodrigues' rotation about ``axis`` (3,) by ``angle`` rad."""
-    k = np.asarray(axis, float) / np.linalg.norm(axis)
-    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-    return np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * K @ K
-
-
 def _legs(base, pts):
     from .problem import LEG_PAIRS
     allp = np.vstack([base, pts])
@@ -244,7 +238,7 @@ def near_coplanar(rng, height, tilt):
     Returns base (3, 3), platform (3, 3) in its own frame, legs (6,)."""
     base = random_triangle(rng)
     plat = random_triangle(rng) * rng.uniform(0.2, 1.5)
-    R = _rotation([*rng.normal(size=2), 0.0], tilt) @ _rotation([0, 0, 1],
+    R = axis_angle([*rng.normal(size=2), 0.0], tilt) @ axis_angle([0, 0, 1],
                                                                  rng.uniform(0, 2 * np.pi))
     t = np.array([*rng.uniform(-0.5, 0.5, 2), height * rng.choice([-1, 1])])
     return base, plat, _legs(base, plat @ R.T + t)

@@ -1,0 +1,31 @@
+"""distkin.spatial: the scalar and batched rotations agree, and so do the two forms of
+Rodrigues' formula (each an independent route to the same matrix)."""
+
+import math
+
+import numpy as np
+
+from distkin.spatial import (axis_angle, exp_so3, rotation_angles, rotation_matrix,
+                             rotation_matrix_scalar)
+
+
+def test_scalar_rotation_is_the_batched_one():
+    r = np.random.default_rng(1).uniform(-1.2, 1.2, size=(50, 3))
+    R = rotation_matrix(r)
+    for i in range(len(r)):
+        np.testing.assert_allclose(rotation_matrix_scalar(r[i]), R[i], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(rotation_angles(R), r, atol=1e-13)
+
+
+def test_rz_ry_rx_analytic():
+    # a quarter turn about z alone sends x to y: Rz(pi/2) = [[0,-1,0],[1,0,0],[0,0,1]]
+    np.testing.assert_allclose(rotation_matrix_scalar([0, 0, math.pi / 2]),
+                               [[0, -1, 0], [1, 0, 0], [0, 0, 1]], atol=1e-16)
+
+
+def test_axis_angle_is_exp_of_the_rotation_vector():
+    rng = np.random.default_rng(2)
+    for _ in range(20):
+        axis, angle = rng.normal(size=3), rng.uniform(-3, 3)
+        w = axis / np.linalg.norm(axis) * angle
+        np.testing.assert_allclose(axis_angle(axis, angle), exp_so3(w), atol=1e-14)
