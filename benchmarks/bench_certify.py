@@ -113,7 +113,7 @@ def _forms_section(data):
 def _fig3_section(data):
     from distkin.certify.plot import plot_certificate
     from distkin.certify.workspace import certify_workspace
-    from distkin.indices.sweep import local_executor
+    from distkin.runstore import local_executor
     from distkin.mechanisms import preset
     lines = ["### Fig. 3 analogue: the 150 mm cube at zero rotation", "",
              "Quadratic Taylor form, resolution 9.4 mm, 2 worker processes.  Kühne et al. "
@@ -151,7 +151,7 @@ def _fig3_section(data):
 
 def _six_d_section(data):
     from distkin.certify.workspace import certify_workspace
-    from distkin.indices.sweep import local_executor
+    from distkin.runstore import local_executor
     from distkin.mechanisms import preset
     runs = [("octopod", 20, 8, 8), ("octo", 20, 8, 8), ("octo", 30, 6, 6)]
     lines = ["### 6-D workspaces: the 150 mm cube × rotations about every axis", "",
@@ -199,7 +199,7 @@ def _design_task(spec):
 
 
 def _design_section(data):
-    from distkin.indices.sweep import local_executor
+    from distkin.runstore import local_executor
     betas, gammas, l2s = (0, 10, 20, 30), (0, 10, 20, 30), (0, 15, 30)
     specs = [(b, g, l) for l in l2s for b in betas for g in gammas]
     t0 = time.perf_counter()

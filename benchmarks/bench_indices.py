@@ -97,7 +97,7 @@ def _kernels_section(data):
 
 def _table2_section(data):
     from distkin.indices.study import Device, run_device
-    from distkin.indices.sweep import local_executor
+    from distkin.runstore import local_executor
     from distkin.indices.workspace import table2_grid
     from distkin.mechanisms import preset
     mech = preset("octopod")

@@ -95,9 +95,7 @@ FORBIDDEN: list[tuple[str, str]] = [
 KNOWN: set[tuple[str, str]] = {
     ("distkin.certify.query", "distkin.certify.plot"),
     ("distkin.certify.query", "distkin.indices.query"),
-    ("distkin.certify.query", "distkin.indices.sweep"),
     ("distkin.certify.query", "distkin.queries"),
-    ("distkin.certify.workspace", "distkin.indices.sweep"),
     ("distkin.codegen.command", "distkin.scene"),
     ("distkin.control.table5", "distkin.queries"),
     ("distkin.geometry.query", "distkin.queries"),

@@ -133,7 +133,7 @@ class CertifyWorkspaceQuery:
     @staticmethod
     def run(p, scene, ctx):
         from ..indices.query import CLI_OVERRIDES, store_dir
-        from ..indices.sweep import executor_for
+        from ..runstore import executor_for
         from .workspace import certify_workspace
         mech = scene.mechanism
         store = store_dir(p.store, scene, "certify_workspace")

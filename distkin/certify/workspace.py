@@ -1,9 +1,9 @@
 """Certified workspace of an RSS mechanism: branch-and-prune of a region of poses,
-run as resumable chunks on any executor (:mod:`distkin.indices.sweep`).
+run as resumable chunks on any executor (:mod:`distkin.runstore`).
 
 The region ``[lower, upper]`` (m, rad; six coordinates, a zero width fixes one) is cut
 into ``split`` parts along every varying coordinate; each part is one chunk of
-:func:`distkin.indices.sweep.run_chunks` (stored on disk as soon as it is done, skipped
+:func:`distkin.runstore.run_chunks` (stored on disk as soon as it is done, skipped
 when a run resumes, run on a local process pool or a dask cluster) and is classified
 by :func:`.boxes.branch_and_prune`.  :class:`WorkspaceCertificate` gathers the boxes
 and their volumes.
@@ -190,7 +190,7 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic",
     -------
     WorkspaceCertificate
     """
-    from ..indices.sweep import run_chunks
+    from ..runstore import run_chunks
     t0 = time.perf_counter()
     lower = np.asarray(lower, dtype=float)
     upper = np.asarray(upper, dtype=float)

@@ -127,7 +127,7 @@ def sweep_designs(space: DesignSpace, poses, *, algorithm="both", ST=ST_DEFAULT,
         out["culling"] = {"seconds": time.perf_counter() - t0, **res.as_dict()}
         out.update(best=res.best, gii=res.gii, sigma_min=res.smin, sigma_max=res.smax)
     if algorithm in ("brute_force", "both"):
-        from .sweep import run_chunks
+        from ..runstore import run_chunks
         t0 = time.perf_counter()
         specs = [{"space": space, "poses": poses, "ST": tuple(ST), "unreachable": unreachable,
                   "designs": designs[a:a + designs_per_chunk]}
@@ -142,7 +142,7 @@ def sweep_designs(space: DesignSpace, poses, *, algorithm="both", ST=ST_DEFAULT,
                           "unreachable": unreachable}
             from pathlib import Path
 
-            from .sweep import sweep_key
+            from ..runstore import sweep_key
             chunks = run_chunks(design_chunk, specs, Path(store) / sweep_key(definition),
                                 definition=definition,
                                 executor=executor, progress=progress,

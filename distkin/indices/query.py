@@ -130,7 +130,7 @@ def store_dir(store, scene, name):
 
 
 def _executor(workers, scheduler):
-    from .sweep import executor_for
+    from ..runstore import executor_for
     return executor_for(scheduler=CLI_OVERRIDES.get("scheduler") or scheduler,
                         workers=CLI_OVERRIDES.get("workers") or workers)
 

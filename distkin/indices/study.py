@@ -256,7 +256,7 @@ def run_device(dev: Device, *, store, executor=None, chunk_positions: int = 64,
     import time
     from pathlib import Path
 
-    from .sweep import run_chunks, sweep_key
+    from ..runstore import run_chunks, sweep_key
     grid = dev.grid
     specs = []
     for a in range(0, grid.n_positions, chunk_positions):

@@ -101,7 +101,7 @@ def test_query_json_volumes_resume_and_plot(tmp_path):
 
 def test_process_pool_gives_the_in_process_result(tmp_path):
     """The same chunks on a local process pool (spawned workers) and in process."""
-    from distkin.indices.sweep import local_executor
+    from distkin.runstore import local_executor
     mech = preset("hexa")
     lo = np.array([-0.075, -0.075, 0.225, 0, 0, 0])
     hi = np.array([0.075, -0.025, 0.275, 0, 0, 0])

@@ -8,7 +8,7 @@ import pytest
 
 from distkin.errors import InputError
 from distkin.indices.study import Device, study_chunk
-from distkin.indices.sweep import local_executor, run_chunks
+from distkin.runstore import local_executor, run_chunks
 from distkin.indices.workspace import table2_grid
 
 
@@ -82,7 +82,7 @@ def test_dask_local_cluster_equals_local_pool(tmp_path, presets):
     same chunks as the local process pool."""
     distributed = pytest.importorskip(
         "distributed", reason="dask.distributed is not installed (extra 'distributed')")
-    from distkin.indices.sweep import dask_executor
+    from distkin.runstore import dask_executor
     specs = _study_specs(presets["octopod"])
     with local_executor(2) as ex:
         ref = run_chunks(study_chunk, specs, tmp_path / "a", definition={"x": 1},
@@ -99,7 +99,7 @@ def test_dask_local_cluster_equals_local_pool(tmp_path, presets):
 
 def test_unreachable_scheduler_is_an_input_error():
     pytest.importorskip("distributed", reason="dask.distributed is not installed")
-    from distkin.indices.sweep import dask_executor
+    from distkin.runstore import dask_executor
     with pytest.raises(InputError, match="reachable dask scheduler"):
         with dask_executor("tcp://127.0.0.1:1", timeout="1s"):
             pass

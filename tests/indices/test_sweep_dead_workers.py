@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from distkin.errors import DistkinError
-from distkin.indices.sweep import run_chunks
+from distkin.runstore import run_chunks
 
 _HANG = 120
 
@@ -28,7 +28,7 @@ def slow_chunk(i):
 def test_sweep_without_workers_ends_and_keeps_finished_chunks(tmp_path):
     distributed = pytest.importorskip(
         "distributed", reason="dask.distributed is not installed (extra 'distributed')")
-    from distkin.indices.sweep import dask_executor
+    from distkin.runstore import dask_executor
     store = tmp_path / "store"
     out = {}
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,

@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import DistkinError, InputError
+from .errors import DistkinError, InputError
 
 __all__ = ["run_chunks", "local_executor", "dask_executor", "executor_for", "sweep_key",
            "WORKER_ENV", "NO_WORKER_TIMEOUT_S"]
