@@ -1,4 +1,7 @@
-"""Chunked, resumable sweeps on any ``concurrent.futures``-style executor.
+"""The run store: chunked, resumable sweeps on any ``concurrent.futures``-style executor.
+
+Used by the performance-index studies and design sweeps (:mod:`distkin.indices`) and by
+the certified workspace (:mod:`distkin.certify.workspace`).
 
 A sweep is a list of independent chunks (picklable specs) and a module-level task
 function ``task(spec) -> dict of numpy arrays``.  :func:`run_chunks`
@@ -19,11 +22,18 @@ function ``task(spec) -> dict of numpy arrays``.  :func:`run_chunks`
   never ends (the finished chunks stay on disk);
 * shows a progress bar with the ETA (rich) on the terminal (stderr, so that
   ``--json -`` keeps stdout clean).
+
+Chunks are keyed by the **code version** as well as by the sweep's definition
+(:func:`code_version`: the package version and a hash of the package's source), so
+chunks computed by other code are never mixed in: the default store of a query
+(:func:`default_store`, under the user cache) is a folder per code version, and a store
+given by the user that holds another version's chunks is refused with a hint.
 """
 
 from __future__ import annotations
 
 import contextlib
+import functools
 import hashlib
 import json
 import multiprocessing
@@ -33,10 +43,12 @@ from pathlib import Path
 
 import numpy as np
 
+from ._version import __version__
 from .errors import DistkinError, InputError
 
 __all__ = ["run_chunks", "local_executor", "dask_executor", "executor_for", "sweep_key",
-           "WORKER_ENV", "NO_WORKER_TIMEOUT_S"]
+           "code_version", "user_cache_dir", "default_store", "WORKER_ENV",
+           "NO_WORKER_TIMEOUT_S"]
 
 #: environment of the local pool's workers (single-threaded BLAS)
 WORKER_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
@@ -44,6 +56,39 @@ WORKER_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THRE
 NO_WORKER_TIMEOUT_S = 60.0
 #: how often (s) a sweep waiting on a cluster checks that it still has workers
 _HEALTH_POLL_S = 2.0
+
+
+def user_cache_dir() -> Path:
+    """The distkin cache folder: ``$DISTKIN_CACHE`` if set, else
+    ``$XDG_CACHE_HOME/distkin``, else ``~/.cache/distkin`` (not created here)."""
+    if os.environ.get("DISTKIN_CACHE"):
+        return Path(os.environ["DISTKIN_CACHE"])
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "distkin"
+
+
+@functools.lru_cache(maxsize=1)
+def code_version() -> str:
+    """``VERSION-HASH``: the package version and the first 12 hex digits of a SHA-256 of
+    every ``.py`` file of the installed package (paths and contents, sorted), so any
+    change of the code (an edit between releases too) gives another version."""
+    root = Path(__file__).resolve().parent
+    h = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        if "__pycache__" in path.parts:
+            continue
+        h.update(path.relative_to(root).as_posix().encode())
+        h.update(b"\x00")
+        h.update(path.read_bytes())
+        h.update(b"\x00")
+    return f"{__version__}-{h.hexdigest()[:12]}"
+
+
+def default_store(name: str) -> Path:
+    """Where a query keeps its chunks when the scene names no ``store``:
+    ``user_cache_dir()/sweeps/<code_version()>/<name>`` (one folder per code version, so
+    chunks left by another version are neither reused nor in the way)."""
+    return user_cache_dir() / "sweeps" / code_version() / name
 
 
 def sweep_key(definition) -> str:
@@ -200,15 +245,22 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
     store = Path(store)
     store.mkdir(parents=True, exist_ok=True)
     key = sweep_key(definition if definition is not None else [repr(s) for s in specs])
+    code = code_version()
     meta = store / "sweep.json"
     if meta.exists():
-        old = json.loads(meta.read_text()).get("key")
+        saved = json.loads(meta.read_text())
+        old = saved.get("key")
         if old != key:
             raise InputError(f"expected a chunk store made for this sweep (key {key}), got "
                              f"one made for key {old} in {str(store)!r}", field="store",
                              hint="use another directory or delete the old chunks")
+        if saved.get("code") != code:
+            raise InputError(f"expected a chunk store made by this code (distkin {code}), "
+                             f"got one made by {saved.get('code') or 'an older version'} in "
+                             f"{str(store)!r}", field="store",
+                             hint="use another directory or delete the old chunks")
     else:
-        meta.write_text(json.dumps({"key": key, "chunks": len(specs),
+        meta.write_text(json.dumps({"key": key, "code": code, "chunks": len(specs),
                                     "definition": definition}, default=str, indent=1))
     paths = [store / f"chunk_{i:05d}.npz" for i in range(len(specs))]
     results: list = [None] * len(specs)

@@ -102,7 +102,6 @@ KNOWN: set[tuple[str, str]] = {
     ("distkin.indices.design_report", "distkin.indices.plots"),
     ("distkin.indices.design_report", "distkin.queries"),
     ("distkin.indices.query", "distkin.cli"),
-    ("distkin.indices.query", "distkin.codegen.cache"),
     ("distkin.indices.query", "distkin.queries"),
     ("distkin.indices.study_report", "distkin.certify.plot"),
     ("distkin.indices.study_report", "distkin.indices.plots"),

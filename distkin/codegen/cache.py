@@ -19,15 +19,14 @@ import sys
 import tempfile
 from pathlib import Path
 
+from ..runstore import user_cache_dir
+
 __all__ = ["cache_dir", "source_key", "cached_source", "load_module_file", "load_source"]
 
 
 def cache_dir() -> Path:
-    """The cache folder (created on demand)."""
-    if os.environ.get("DISTKIN_CACHE"):
-        return Path(os.environ["DISTKIN_CACHE"])
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "distkin"
+    """The cache folder (created on demand; :func:`distkin.runstore.user_cache_dir`)."""
+    return user_cache_dir()
 
 
 def source_key(*parts) -> str:

@@ -125,8 +125,8 @@ def store_dir(store, scene, name):
     if store:
         p = Path(store)
         return p if p.is_absolute() else Path(scene.path).resolve().parent / p
-    from ..codegen.cache import cache_dir
-    return cache_dir() / "sweeps" / f"{Path(scene.path).stem}_{name}"
+    from ..runstore import default_store
+    return default_store(f"{Path(scene.path).stem}_{name}")
 
 
 def _executor(workers, scheduler):

@@ -1,0 +1,70 @@
+"""The run store (distkin.runstore) keys its chunks by the code version.
+
+The bug this guards: ``distkin demo`` failed on its certified-workspace scene when the
+user cache held chunks of that scene made by another version of distkin (the store was
+refused as "made for another sweep").  Now the default store is a folder per code
+version, and a store that the user names is refused, with a hint, only if another
+version of the code filled it (never silently mixed).
+"""
+
+import json
+from importlib import resources
+
+import numpy as np
+import pytest
+
+from distkin.cli import run_scene
+from distkin.errors import InputError
+from distkin.runstore import code_version, default_store, run_chunks, user_cache_dir
+from distkin.scene import loads_scene
+
+
+def _square(spec):
+    return {"y": np.arange(spec) ** 2}
+
+
+def _plant_foreign_store(folder):
+    folder.mkdir(parents=True)
+    (folder / "sweep.json").write_text(json.dumps(
+        {"key": "0123456789abcdef", "code": "0.0.0-000000000000", "chunks": 8}))
+    np.savez(folder / "chunk_00000.npz", lo=np.zeros(3))
+
+
+def test_code_version_names_the_package_version_and_a_source_hash():
+    from distkin import __version__
+    version, _, digest = code_version().rpartition("-")
+    assert version == __version__ and len(digest) == 12
+    int(digest, 16)
+
+
+def test_default_store_is_one_folder_per_code_version(tmp_path, monkeypatch):
+    monkeypatch.setenv("DISTKIN_CACHE", str(tmp_path))
+    assert user_cache_dir() == tmp_path
+    assert default_store("x") == tmp_path / "sweeps" / code_version() / "x"
+
+
+def test_certify_scene_runs_beside_chunks_of_another_code_version(tmp_path, monkeypatch):
+    monkeypatch.setenv("DISTKIN_CACHE", str(tmp_path))
+    name = "certify_hunt_certify_workspace"
+    _plant_foreign_store(tmp_path / "sweeps" / name)                       # layout before
+    _plant_foreign_store(tmp_path / "sweeps" / "0.0.0-000000000000" / name)  # other version
+    text = resources.files("distkin.scenes").joinpath("certify_hunt.toml").read_text()
+    text = text.replace("workers = 2", "workers = 1")
+    scene = loads_scene(text, path=str(tmp_path / "certify_hunt.toml"))
+    records, _, worst = run_scene(scene, progress=False)
+    assert worst == 0, records[0].get("error")
+    assert records[0]["result"]["store"] == str(default_store(name))
+    assert (default_store(name) / "sweep.json").exists()
+
+
+def test_a_named_store_filled_by_other_code_is_refused(tmp_path):
+    store = tmp_path / "store"
+    first = run_chunks(_square, [2, 3], store, definition={"n": 2}, progress=False)
+    again = run_chunks(_square, [2, 3], store, definition={"n": 2}, progress=False)
+    assert [r["y"].tolist() for r in again] == [r["y"].tolist() for r in first]
+    meta = json.loads((store / "sweep.json").read_text())
+    assert meta["code"] == code_version()
+    meta["code"] = "0.0.0-000000000000"
+    (store / "sweep.json").write_text(json.dumps(meta))
+    with pytest.raises(InputError, match="made by this code"):
+        run_chunks(_square, [2, 3], store, definition={"n": 2}, progress=False)
