@@ -34,7 +34,7 @@ ROOT = Path(__file__).resolve().parent.parent
 
 
 def _scene(preset: str):
-    from distkin.control.commands import builtin_scene
+    from distkin.app.control_commands import builtin_scene
     import dataclasses
     sc = builtin_scene()
     return dataclasses.replace(sc, preset=preset)

@@ -33,7 +33,7 @@ def _measure(mod: str, n: int = 7):
 
 def run():
     rows, data = [], {}
-    for mod in ("numpy", "sympy", "distkin", "distkin.geometry", "distkin.scene"):
+    for mod in ("numpy", "sympy", "distkin", "distkin.geometry", "distkin.app.scene"):
         t, flags = _measure(mod)
         data[mod] = {"median_s": t, **flags}
         rows.append(f"| `import {mod}` | {t * 1e3:.0f} ms | {'yes' if flags['sympy'] else 'no'} |")

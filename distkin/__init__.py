@@ -8,7 +8,7 @@ Symbolic derivations (sympy), generated numeric kernels, certified answers
     Kinematics", IEEE/ASME Trans. Mechatronics.
 
 ``import distkin`` is light: it imports neither sympy nor the analyses.  Subpackages
-load on first use (``distkin.geometry``, ``distkin.scene``, ...).
+load on first use (``distkin.geometry``, ``distkin.app.scene``, ...).
 """
 
 from __future__ import annotations

@@ -4,7 +4,7 @@ import sys
 
 __all__: list = []
 
-from .cli import main
+from .app.cli import main
 
 if __name__ == "__main__":
     sys.exit(main())

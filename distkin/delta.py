@@ -478,7 +478,7 @@ def delta_transform(octahedral, offsets, field: str = "offsets") -> DeltaTransfo
 
     Parameters
     ----------
-    octahedral : distkin.scene.Octahedral or (base, platform)
+    octahedral : distkin.app.scene.Octahedral or (base, platform)
         Base P1..P3 and platform P4..P6 (3 x 3 each; Exact, str or numbers).
     offsets : sequence of 6 values
         Numbers, numeric strings or symbol names such as ``"Delta1"`` (length units).

@@ -32,8 +32,8 @@ def test_import_distkin_does_not_import_sympy():
 
 def test_geometry_and_scene_do_not_import_sympy():
     assert not _imports_sympy("distkin.geometry")
-    assert not _imports_sympy("distkin.scene")
-    assert not _imports_sympy("distkin.cli")
+    assert not _imports_sympy("distkin.app.scene")
+    assert not _imports_sympy("distkin.app.cli")
 
 
 def test_analyses_and_control_import_neither_sympy_nor_the_code_generator():

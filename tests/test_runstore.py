@@ -13,10 +13,10 @@ from importlib import resources
 import numpy as np
 import pytest
 
-from distkin.cli import run_scene
+from distkin.app.cli import run_scene
 from distkin.errors import InputError
 from distkin.runstore import code_version, default_store, run_chunks, user_cache_dir
-from distkin.scene import loads_scene
+from distkin.app.scene import loads_scene
 
 
 def _square(spec):

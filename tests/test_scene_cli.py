@@ -8,10 +8,10 @@ from fractions import Fraction
 
 import pytest
 
-from distkin import queries
-from distkin.cli import main, run_scene
+from distkin.app import registry as queries
+from distkin.app.cli import main, run_scene
 from distkin.errors import InfeasibleError, InputError
-from distkin.scene import loads_scene
+from distkin.app.scene import loads_scene
 
 GOOD = """
 [units]

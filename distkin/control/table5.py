@@ -204,7 +204,7 @@ def run_table5(mech_name: str = "octo", *, poses=None, scene=None, trials: int =
     """
     from ..indices.study import ACTUATORS
     from ..indices.workspace import table2_grid
-    from .commands import builtin_scene
+    from ..app.control_commands import builtin_scene
     actuators = dict(ACTUATORS if actuators is None else actuators)
     scene = scene or builtin_scene()
     model = load_model(mech_name)
@@ -251,7 +251,7 @@ def _register():
     from ..argcheck import check_keys, positive_int
     from ..errors import InputError
     from ..exact import parse_exact
-    from ..queries import Outcome, register
+    from ..app.registry import Outcome, register
 
     @register("table5", mechanisms=("rss",),
               summary="Table V emulated: the worst-case experiments of Sec. III-D on the "

@@ -14,10 +14,10 @@ import pytest
 pytest.importorskip("flint")
 
 from distkin.certify.workspace import certify_workspace, initial_boxes  # noqa: E402
-from distkin.cli import run_scene  # noqa: E402
+from distkin.app.cli import run_scene  # noqa: E402
 from distkin.errors import InputError  # noqa: E402
 from distkin.mechanisms import preset  # noqa: E402
-from distkin.scene import loads_scene  # noqa: E402
+from distkin.app.scene import loads_scene  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -134,14 +134,14 @@ def test_cli_exit_code_2_for_a_non_certified_method(tmp_path):
 
 
 def test_examples_load():
-    from distkin.scene import load_scene
+    from distkin.app.scene import load_scene
     for path in sorted((ROOT / "examples").glob("certify_*.toml")):
         scene = load_scene(path)
         assert scene.queries[0].type == "certify_workspace"
 
 
 def test_json_document_is_valid(tmp_path):
-    from distkin.report import document, dumps
+    from distkin.app.report import document, dumps
     scene = _scene(region="{ lower = [0, 0, 290, 0, 0, 0], upper = [10, 10, 300, 0, 0, 0] }",
                    min_width="10", workers="1", store=f'"{(tmp_path / "s").as_posix()}"')
     rec, _, worst = run_scene(scene, progress=False)

@@ -9,7 +9,7 @@ from scipy.linalg import null_space
 from scipy.optimize import minimize_scalar
 
 from distkin.control.admittance import Admittance, Spring, Wall
-from distkin.control.commands import builtin_scene
+from distkin.app.control_commands import builtin_scene
 from distkin.control.controller import SCALING, Controller
 from distkin.control.kinematics import load_model, rotate_pose
 from distkin.control.loopback import run_loopback

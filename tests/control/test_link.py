@@ -82,7 +82,7 @@ def test_pty_disconnect_is_a_link_error():
 
 def test_import_control_pulls_in_neither_sympy_nor_serial():
     code = ("import sys, distkin.control, distkin.control.controller, "
-            "distkin.control.simulator, distkin.control.commands\n"
+            "distkin.control.simulator, distkin.app.control_commands\n"
             "print('sympy' in sys.modules, 'serial' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True, cwd=os.path.dirname(os.path.dirname(os.path.dirname(
@@ -94,7 +94,7 @@ def test_running_the_controller_and_simulator_never_imports_sympy():
     # the generated kernels are plain Python: a whole in-process closed loop (scene,
     # mechanism preset, controller, plant) runs without sympy
     code = ("import sys\n"
-            "from distkin.control.commands import builtin_scene\n"
+            "from distkin.app.control_commands import builtin_scene\n"
             "from distkin.control.kinematics import load_model\n"
             "from distkin.control.loopback import run_loopback\n"
             "sc = builtin_scene(); r = run_loopback(sc, load_model(sc.preset), 0.05)\n"

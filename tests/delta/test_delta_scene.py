@@ -12,9 +12,9 @@ import textwrap
 import pytest
 import sympy as sp
 
-from distkin.cli import main, run_scene
+from distkin.app.cli import main, run_scene
 from distkin.errors import DegenerateGeometryError, InfeasibleError
-from distkin.scene import loads_scene
+from distkin.app.scene import loads_scene
 
 HEAD = textwrap.dedent("""
     [units]
@@ -99,7 +99,7 @@ def test_infeasible_m_legs_api_and_cli(tmp_path, capsys):
         m_legs = [1, 1, 1, 1, 1, 30]
     """
     scene = loads_scene(_scene(body))
-    from distkin.delta_query import DeltaTransformQuery
+    from distkin.app.queries.delta import DeltaTransformQuery
     with pytest.raises(InfeasibleError):
         DeltaTransformQuery.run(scene.queries[0].params, scene, None)
     f = tmp_path / "infeasible.toml"

@@ -130,8 +130,8 @@ certify_width = 37.5
 
 
 def test_performance_scene_end_to_end(tmp_path):
-    from distkin.cli import run_scene
-    from distkin.scene import loads_scene
+    from distkin.app.cli import run_scene
+    from distkin.app.scene import loads_scene
     path = tmp_path / "study.toml"
     path.write_text(SCENE.replace("STORE", str(tmp_path / "chunks")))
     scene = loads_scene(path.read_text(), str(path))
@@ -191,7 +191,7 @@ def test_performance_scene_end_to_end(tmp_path):
     ('workers = 0', "integer >= 1"),
 ])
 def test_performance_query_rejects_bad_fields(bad, match):
-    from distkin.scene import loads_scene
+    from distkin.app.scene import loads_scene
     text = ('[units]\nlength = "mm"\nangle = "deg"\n[mechanism]\nkind = "rss"\n'
             'preset = "hunt"\n[[query]]\ntype = "performance"\n' + bad + "\n")
     with pytest.raises(InputError, match=match) as err:
@@ -200,8 +200,8 @@ def test_performance_query_rejects_bad_fields(bad, match):
 
 
 def test_design_sweep_query_reports_the_optimum(tmp_path):
-    from distkin.cli import run_scene
-    from distkin.scene import loads_scene
+    from distkin.app.cli import run_scene
+    from distkin.app.scene import loads_scene
     text = """
 [units]
 length = "mm"
@@ -229,7 +229,7 @@ store = "STORE"
 
 
 def test_sweep_subcommand_runs_a_scene(tmp_path, capsys):
-    from distkin.cli import main
+    from distkin.app.cli import main
     path = tmp_path / "s.toml"
     path.write_text(SCENE.replace("STORE", "chunks").replace(
         'grid = { half = 75, step = 75, rotation_step = 10 }',
@@ -264,7 +264,7 @@ def test_example_scenes_load(name):
     """The example scenes validate at load time (running them takes minutes)."""
     from pathlib import Path
 
-    from distkin.scene import load_scene
+    from distkin.app.scene import load_scene
     path = Path(__file__).resolve().parents[2] / "examples" / name
     scene = load_scene(path)
     q = scene.queries[0]

@@ -198,7 +198,7 @@ def test_compile_notice_only_before_the_first_solve_on_a_machine(tmp_path, capsy
     import sys
 
     from distkin.octahedral.single import compile_notice
-    from distkin.queries import RunContext
+    from distkin.app.registry import RunContext
     forward_kinematics(*_general_position(np.random.default_rng(1), 1)[0][:3], warn=False)
     assert compile_notice() == ""                   # this process has used the cache
     code = ("from distkin.octahedral.single import compile_notice; "

@@ -138,7 +138,7 @@ def test_scene_json_contract(tmp_path):
 
 
 def test_demo_lists_the_scene_and_example_is_a_symlink():
-    from distkin.cli import DEMO_SCENES
+    from distkin.app.cli import DEMO_SCENES
     assert "octahedral_griffis_duffy.toml" in DEMO_SCENES
     link = ROOT / "examples" / "octahedral_griffis_duffy.toml"
     assert link.is_symlink()
@@ -147,7 +147,7 @@ def test_demo_lists_the_scene_and_example_is_a_symlink():
 
 def test_scene_errors_name_the_field():
     from distkin.errors import InputError
-    from distkin.scene import loads_scene
+    from distkin.app.scene import loads_scene
     text = (ROOT / "distkin" / "scenes" / "octahedral_griffis_duffy.toml").read_text()
     bad = text.replace('legs = ["19.8", "18", "18", "17", "14.9", "17.8"]\nmethod = "certified"',
                        'legs = ["19.8", "18", "18", "17", "14.9"]\nmethod = "certified"')
@@ -163,8 +163,8 @@ def test_scene_errors_name_the_field():
 
 def test_scene_in_millimetres_is_solved_in_metres():
     """A scene written in mm is converted to SI: roots in m^2 (paper's values x 1e-6)."""
-    from distkin.cli import run_scene
-    from distkin.scene import loads_scene
+    from distkin.app.cli import run_scene
+    from distkin.app.scene import loads_scene
     text = (ROOT / "distkin" / "scenes" / "octahedral_griffis_duffy.toml").read_text()
     scene = loads_scene(text.replace('length = "none"', 'length = "mm"'))
     records, texts, worst = run_scene(scene, progress=False)

@@ -10,10 +10,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from distkin.cli import run_scene
+from distkin.app.cli import run_scene
 from distkin.errors import InputError
 from distkin.mechanisms import preset
-from distkin.scene import load_scene, loads_scene
+from distkin.app.scene import load_scene, loads_scene
 
 ROOT = Path(__file__).resolve().parents[2]
 

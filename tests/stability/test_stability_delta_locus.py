@@ -147,7 +147,7 @@ def test_on_the_locus_the_cli_exits_2_with_one_line(tmp_path, capsys):
     at load time): exit code 2, one line on stderr naming the field and the vanishing
     factor Δ1 + 2Δ2 − 12, no traceback, nothing on stdout.
     """
-    from distkin.cli import main
+    from distkin.app.cli import main
     scene = tmp_path / "locus.toml"
     scene.write_text(
         '[units]\nlength = "none"\n\n[mechanism]\nkind = "octahedral"\n'

@@ -114,7 +114,7 @@ def test_scene_units_mm_m_km_describe_the_same_device():
     decimal is rounded once to float and multiplied by the unit's factor) and the same
     query pose, and crank angles equal within 1e-14 rad.
     """
-    from distkin.scene import loads_scene
+    from distkin.app.scene import loads_scene
     scenes = [loads_scene(_scene(u, f)) for u, f in
               (("mm", 1), ("m", Fraction(1, 1000)), ("km", Fraction(1, 10 ** 6)))]
     ref = scenes[0]

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
-from .errors import InputError
+from ..errors import InputError
 
 __all__ = ["QuerySpec", "Outcome", "RunContext", "register", "get", "QUERY_MODULES"]
 
@@ -32,17 +32,17 @@ __all__ = ["QuerySpec", "Outcome", "RunContext", "register", "get", "QUERY_MODUL
 #: implemented for several mechanism kinds by different modules (``forward_kinematics``
 #: for ``octahedral`` and for ``rss``); each registers the kinds it serves.
 QUERY_MODULES: dict[str, tuple[str, ...]] = {
-    "cayley_menger": ("distkin.geometry.query",),
-    "delta_transform": ("distkin.delta_query",),
-    "singularity": ("distkin.singularity_query",),
-    "inverse_kinematics": ("distkin.mechanisms.query",),
-    "jacobian": ("distkin.mechanisms.query",),
-    "performance": ("distkin.indices.query",),
-    "design_sweep": ("distkin.indices.query",),
-    "certify_workspace": ("distkin.certify.query",),
+    "cayley_menger": ("distkin.app.queries.geometry",),
+    "delta_transform": ("distkin.app.queries.delta",),
+    "singularity": ("distkin.app.queries.singularity",),
+    "inverse_kinematics": ("distkin.app.queries.mechanisms",),
+    "jacobian": ("distkin.app.queries.mechanisms",),
+    "performance": ("distkin.app.queries.indices",),
+    "design_sweep": ("distkin.app.queries.indices",),
+    "certify_workspace": ("distkin.app.queries.certify",),
     "table5": ("distkin.control.table5",),
-    "forward_kinematics": ("distkin.mechanisms.query", "distkin.octahedral.query",
-                           "distkin.delta_query"),
+    "forward_kinematics": ("distkin.app.queries.mechanisms", "distkin.app.queries.octahedral",
+                           "distkin.app.queries.delta"),
 }
 
 _REGISTRY: dict[str, dict] = {}   # name -> {mechanism kind or "*": QuerySpec}

@@ -16,7 +16,7 @@ The format is DESIGN.md §4::
     legs = ["19.8", "18", "18", "17", "14.9", "17.8"]
 
 Mechanism kinds and query types are registered by the modules that implement them
-(:data:`MECHANISM_PARSERS` and :mod:`distkin.queries`); modules are imported only when
+(:data:`MECHANISM_PARSERS` and :mod:`distkin.app.registry`); modules are imported only when
 a scene names them ("model only what a scene requires").  Every query is parsed and
 validated at load time, so a bad field is reported before any work starts.
 """
@@ -31,8 +31,8 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
-from .argcheck import as_table, check_keys, exact_matrix, require
-from .errors import DistkinError, InputError
+from ..argcheck import as_table, check_keys, exact_matrix, require
+from ..errors import DistkinError, InputError
 
 __all__ = [
     "Units",
@@ -113,10 +113,10 @@ def _parse_octahedral(table, units, fld):
 
 #: mechanism kind -> "module:function" parsing its table (lazily imported)
 MECHANISM_PARSERS = {
-    "points": "distkin.scene:_parse_points",
-    "octahedral": "distkin.scene:_parse_octahedral",
-    "rss": "distkin.mechanisms.scene:parse_rss",
-    "platform66": "distkin.delta_query:parse_platform66",
+    "points": "distkin.app.scene:_parse_points",
+    "octahedral": "distkin.app.scene:_parse_octahedral",
+    "rss": "distkin.app.mechanism_scene:parse_rss",
+    "platform66": "distkin.app.queries.delta:parse_platform66",
 }
 
 
@@ -167,7 +167,7 @@ def _parse_units(raw) -> Units:
 
 def loads_scene(text: str, path: str = "<string>") -> Scene:
     """Load a scene from TOML text; see :func:`load_scene`."""
-    from . import queries as registry
+    from . import registry
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

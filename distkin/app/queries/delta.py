@@ -44,10 +44,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .argcheck import check_keys, exact_matrix, method_field, require
-from .errors import DistkinError, InputError
-from .exact import METHODS_AUTO, default_dps, parse_vector
-from .queries import Outcome, register
+from ...argcheck import check_keys, exact_matrix, method_field, require
+from ...errors import DistkinError, InputError
+from ...exact import METHODS_AUTO, default_dps, parse_vector
+from ..registry import Outcome, register
 
 __all__ = ["DeltaTransformQuery", "Platform66Forward", "Platform66Mechanism",
            "parse_platform66", "plot_det_family"]
@@ -75,7 +75,7 @@ def parse_platform66(table, units, fld):
     InputError, DegenerateGeometryError
         Malformed points or offsets; offsets with det(A) = 0 or merging two joints.
     """
-    from .delta import equivalent_platform
+    from ...delta import equivalent_platform
     check_keys(table, {"kind", "base", "platform", "offsets"}, fld)
     base = exact_matrix(require(table, "base", fld), f"{fld}.base", rows=3, cols=3)
     plat = exact_matrix(require(table, "platform", fld), f"{fld}.platform", rows=3, cols=3)
@@ -107,7 +107,7 @@ def _fmt_matrix(M):
 class DeltaTransformQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
-        from .delta import delta_transform
+        from ...delta import delta_transform
         check_keys(table, {"type", "offsets", "m_legs", "solve", "method", "dps"}, field)
         if "offsets" in table:
             offs = parse_vector(table["offsets"], f"{field}.offsets", length=6,
@@ -142,7 +142,7 @@ class DeltaTransformQuery:
     def run(p, scene, ctx):
         import sympy as sp
 
-        from .delta import SIDE_NAMES, derive_eq7
+        from ...delta import SIDE_NAMES, derive_eq7
         tr = p.transform
         unit = "" if scene.units.length == "none" else f" {scene.units.length}"
         const, factors = tr.det_factors()
@@ -194,10 +194,10 @@ def _solve(p, result, unit, ctx):
     """Run the 6-6 forward kinematics, add it to ``result``; return text lines."""
     import numpy as np
 
-    from .delta import forward_kinematics66
-    from .singularity import jacobian_det
+    from ...delta import forward_kinematics66
+    from ...singularity import jacobian_det
     if p.method in ("fast", "auto"):
-        from .octahedral.single import compile_notice
+        from ...octahedral.single import compile_notice
         ctx.notice(compile_notice())
     fk = forward_kinematics66(p.mechanism, p.offsets, p.m_legs, method=p.method, dps=p.dps)
     flt = lambda a: np.vectorize(float, otypes=[float])(np.asarray(a, dtype=object))  # noqa: E731
@@ -244,7 +244,7 @@ class Platform66Forward:
 
     @staticmethod
     def parse(table, mechanism, units, field):
-        from .delta import delta_transform
+        from ...delta import delta_transform
         check_keys(table, {"type", "legs", "method", "dps"}, field)
         legs = parse_vector(require(table, "legs", field), f"{field}.legs", length=6)
         for i, m in enumerate(legs):
@@ -281,7 +281,7 @@ def _family(tr):
     """(det as a function of two symbols, the symbols, ranges, marked point or None)."""
     import sympy as sp
 
-    from .delta import DeltaTransform
+    from ...delta import DeltaTransform
     if len(tr.free_symbols) == 2:
         s1, s2 = tr.free_symbols
         mark = None

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from ..queries import Outcome
+from .registry import Outcome
 
 __all__ = ["design_sweep_report", "PAPER_TABLE1"]
 
@@ -21,8 +21,8 @@ PAPER_TABLE1 = {"l2": 0.0, "beta": 0.0, "gamma": 0.0, "ld": 0.020, "gii": 0.0006
 
 
 def design_sweep_report(p, scene, ctx, *, store, executor):
-    from .design import sweep_designs
-    from .workspace import PoseGrid
+    from ..indices.design import sweep_designs
+    from ..indices.workspace import PoseGrid
     grid: PoseGrid = p.grid
     poses = grid.poses(np.arange(grid.n_positions))
     with executor() as ex:
@@ -89,7 +89,7 @@ def design_sweep_report(p, scene, ctx, *, store, executor):
     def plot(stem):
         if "brute_force" not in r:
             return []
-        from .plots import plot_design_sweep
+        from ..indices.plots import plot_design_sweep
         return [plot_design_sweep(stem, p.space, r["designs"],
                                   np.asarray(r["brute_force"]["gii_all"]), r["best"],
                                   PAPER_TABLE1)]

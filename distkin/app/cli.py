@@ -24,8 +24,8 @@ import traceback
 from importlib import resources
 from pathlib import Path
 
-from ._version import __version__
-from .errors import DistkinError, is_input_error
+from .._version import __version__
+from ..errors import DistkinError, is_input_error
 
 __all__ = ["main", "run_scene", "DEMO_SCENES", "SUBCOMMANDS"]
 
@@ -40,10 +40,10 @@ DEMO_SCENES = [
 
 #: subcommand -> "module:function" that adds its parser (called with the subparsers)
 SUBCOMMANDS: dict[str, str] = {
-    "sim": "distkin.control.commands:add_sim_parser",
-    "control": "distkin.control.commands:add_control_parser",
-    "codegen": "distkin.codegen.command:add_parser",
-    "sweep": "distkin.indices.query:add_sweep_parser",
+    "sim": "distkin.app.control_commands:add_sim_parser",
+    "control": "distkin.app.control_commands:add_control_parser",
+    "codegen": "distkin.app.codegen_command:add_parser",
+    "sweep": "distkin.app.queries.indices:add_sweep_parser",
 }
 
 
@@ -63,8 +63,8 @@ def run_scene(scene, *, plots_dir=None, progress=True):
     worst : int
         0 if every query succeeded, 2 if one failed on its data, 1 on internal failure.
     """
-    from . import queries
-    from .queries import RunContext
+    from . import registry as queries
+    from .registry import RunContext
     from .report import jsonable
     ctx = RunContext(plots_dir=Path(plots_dir) if plots_dir else None, progress=progress)
     records, texts, worst = [], [], 0

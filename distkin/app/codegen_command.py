@@ -39,7 +39,7 @@ def scene_module_source(scene, flavour: str = "both"):
 
 
 def _run(args) -> int:
-    from ..scene import load_scene
+    from .scene import load_scene
     scene = load_scene(args.scene)
     src, hit = scene_module_source(scene, args.flavour)
     out = Path(args.output)
@@ -55,7 +55,7 @@ def _run(args) -> int:
 
 
 def add_parser(subparsers) -> None:
-    """Register ``distkin codegen`` (called by :func:`distkin.cli.build_parser`)."""
+    """Register ``distkin codegen`` (called by :func:`distkin.app.cli.build_parser`)."""
     p = subparsers.add_parser("codegen", help="write a kernel module for a scene's queries")
     p.add_argument("scene", help="scene TOML file")
     p.add_argument("-o", "--output", required=True, metavar="MODULE.py",

@@ -1,4 +1,4 @@
-"""``distkin sim`` and ``distkin control`` (registered in :data:`distkin.cli.SUBCOMMANDS`).
+"""``distkin sim`` and ``distkin control`` (registered in :data:`distkin.app.cli.SUBCOMMANDS`).
 
 ``distkin sim [--scene S] [--port-file F] [--faults SPEC] [--tcp PORT] [--log PREFIX]
 [--idle-timeout S]``
@@ -40,13 +40,13 @@ BUILTIN_SCENE = "control_octo.toml"
 
 def builtin_scene():
     """The built-in example scene (the Octo pushed by a scripted hand into a wall)."""
-    from .config import loads_control_scene
+    from ..control.config import loads_control_scene
     text = resources.files("distkin.control").joinpath(BUILTIN_SCENE).read_text(encoding="utf-8")
     return loads_control_scene(text, f"distkin/control/{BUILTIN_SCENE}")
 
 
 def _scene(path):
-    from .config import load_control_scene
+    from ..control.config import load_control_scene
     return load_control_scene(path) if path else builtin_scene()
 
 
@@ -95,8 +95,8 @@ def add_control_parser(sub) -> None:
 
 
 def cmd_sim(args) -> int:
-    from .faults import parse_faults
-    from .simulator import IDLE_TIMEOUT_S, serve
+    from ..control.faults import parse_faults
+    from ..control.simulator import IDLE_TIMEOUT_S, serve
     faults = parse_faults(args.faults)
     scene = _scene(args.scene)
     return serve(scene, port_file=args.port_file, tcp_port=args.tcp, faults=faults,
@@ -153,10 +153,10 @@ def format_summary(s: dict) -> str:
 
 
 def cmd_control(args) -> int:
-    from .controller import Controller
-    from .faults import parse_faults
-    from .kinematics import load_model
-    from .link import Link
+    from ..control.controller import Controller
+    from ..control.faults import parse_faults
+    from ..control.kinematics import load_model
+    from ..control.link import Link
     scene = _scene(args.scene)
     if args.faults and not args.sim:
         raise InputError("expected --faults only with --sim, got it with --port", field="--faults")
@@ -212,7 +212,7 @@ def cmd_control(args) -> int:
                 summary["simulator_error"] = lines[-1]
         if args.plots and prefix:
             try:
-                from .runlog import plot_run
+                from ..control.runlog import plot_run
                 Path(args.plots).mkdir(parents=True, exist_ok=True)
                 summary["plots"] = [str(p) for p in
                                     plot_run(prefix, Path(args.plots) / "control.png")]

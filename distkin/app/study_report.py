@@ -15,12 +15,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..queries import Outcome
-from .isotropy import SCALING_READINGS
-from .study import (CAPABILITIES, PAPER_TABLE4, SENSITIVITIES, TRUE_VELOCITIES, Device,
+from .registry import Outcome
+from ..indices.isotropy import SCALING_READINGS
+from ..indices.study import (CAPABILITIES, PAPER_TABLE4, SENSITIVITIES, TRUE_VELOCITIES, Device,
                     run_device, summarise)
-from .study_findings import findings, row_definition, row_reason
-from .workspace import design_criteria, dexterous_workspace
+from ..indices.study_findings import findings, row_definition, row_reason
+from ..indices.workspace import design_criteria, dexterous_workspace
 
 __all__ = ["performance_report", "design_sweep_report", "markdown_tables", "certify_cube"]
 
@@ -251,8 +251,8 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
 
 
 def _plots(stem, grids, per_all, summaries, actuators, tables, result, certs, pick):
-    from ..report import jsonable
-    from .plots import plot_force_polytope, plot_plane, plot_table3_bars, plot_table4_bars
+    from .report import jsonable
+    from ..indices.plots import plot_force_polytope, plot_plane, plot_table3_bars, plot_table4_bars
     stem = Path(stem)
     out = []
     md = stem.with_name(stem.name + "_tables.md")
@@ -293,7 +293,7 @@ def _plots(stem, grids, per_all, summaries, actuators, tables, result, certs, pi
 
 def _fig5(stem, label, mech, grid, mask):
     """Fig. 5: reachable positions at zero rotation on a larger grid, boundary only."""
-    from .plots import plot_workspace
+    from ..indices.plots import plot_workspace
     ax = np.arange(-0.300, 0.3001, 0.015)
     X, Y, Z = np.meshgrid(ax, ax, mech.z0 + ax, indexing="ij")
     P = np.stack([X.ravel(), Y.ravel(), Z.ravel()], axis=1)

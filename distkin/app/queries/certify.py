@@ -24,7 +24,7 @@ paper's 150 mm cube about (0, 0, z0) at zero rotation (Kühne et al., Table II, 
 ``min_width`` defaults to 1/16 of the largest positional extent, ``min_angle`` to 1/8 of
 the largest rotational extent.
 
-Like the indices sweeps (:mod:`distkin.indices.query`), the region runs as resumable
+Like the indices sweeps (:mod:`distkin.app.queries.indices`), the region runs as resumable
 chunks (an interrupted run continues where it stopped), on a local process pool or a dask
 cluster, with a progress bar; ``distkin sweep SCENE --workers N --scheduler ADDRESS
 --store DIR`` overrides the scene's fields.
@@ -42,12 +42,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..argcheck import (as_table, check_keys, choice, executor_fields, positive_int,
+from ...argcheck import (as_table, check_keys, choice, executor_fields, positive_int,
                         positive_number)
-from ..errors import InputError
-from ..exact import parse_exact
-from ..queries import Outcome, register
-from .boxes import STATUS_NAMES
+from ...errors import InputError
+from ...exact import parse_exact
+from ..registry import Outcome, register
+from ...certify.boxes import STATUS_NAMES
 
 __all__ = ["CertifyWorkspaceQuery", "certificate_text", "certificate_json"]
 
@@ -82,8 +82,8 @@ class _Params:
 class CertifyWorkspaceQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
-        from ..mechanisms.scene import angle_factor, length_factor
-        from .intervals import FORMS
+        from ..mechanism_scene import angle_factor, length_factor
+        from ...certify.intervals import FORMS
         check_keys(table, _FIELDS, field)
         method = table.get("method", "certified")
         if method != "certified":
@@ -132,9 +132,9 @@ class CertifyWorkspaceQuery:
 
     @staticmethod
     def run(p, scene, ctx):
-        from ..indices.query import CLI_OVERRIDES, store_dir
-        from ..runstore import executor_for
-        from .workspace import certify_workspace
+        from .indices import CLI_OVERRIDES, store_dir
+        from ...runstore import executor_for
+        from ...certify.workspace import certify_workspace
         mech = scene.mechanism
         store = store_dir(p.store, scene, "certify_workspace")
         workers = CLI_OVERRIDES.get("workers") or p.workers
@@ -148,7 +148,7 @@ class CertifyWorkspaceQuery:
         text = certificate_text(cert, p.length_unit, p.angle_unit)
 
         def plot(stem):
-            from .plot import plot_certificate
+            from ...certify.plot import plot_certificate
             return [plot_certificate(cert, Path(stem), length_unit=p.length_unit)]
         return Outcome(result, text, plot)
 

@@ -54,12 +54,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..argcheck import as_table, check_keys, choice, executor_fields, positive_int, require
-from ..errors import InputError
-from ..exact import parse_exact
-from ..queries import register
-from .isotropy import ST_DEFAULT
-from .study import ACTUATORS, PAPER_TABLE3
+from ...argcheck import as_table, check_keys, choice, executor_fields, positive_int, require
+from ...errors import InputError
+from ...exact import parse_exact
+from ..registry import register
+from ...indices.isotropy import ST_DEFAULT
+from ...indices.study import ACTUATORS, PAPER_TABLE3
 
 __all__ = ["PerformanceQuery", "DesignSweepQuery", "CLI_OVERRIDES", "add_sweep_parser",
            "store_dir"]
@@ -102,7 +102,7 @@ def _si_table(raw, field, defaults):
 
 
 def _grid(raw, units, field, z0, rotation):
-    from .workspace import axis_values, PoseGrid
+    from ...indices.workspace import axis_values, PoseGrid
     t = as_table(raw if raw is not None else {}, field)
     check_keys(t, {"half", "step", "rotation", "rotation_step"}, field)
     half = _length(t["half"], units, f"{field}.half") if "half" in t else 0.075
@@ -125,12 +125,12 @@ def store_dir(store, scene, name):
     if store:
         p = Path(store)
         return p if p.is_absolute() else Path(scene.path).resolve().parent / p
-    from ..runstore import default_store
+    from ...runstore import default_store
     return default_store(f"{Path(scene.path).stem}_{name}")
 
 
 def _executor(workers, scheduler):
-    from ..runstore import executor_for
+    from ...runstore import executor_for
     return executor_for(scheduler=CLI_OVERRIDES.get("scheduler") or scheduler,
                         workers=CLI_OVERRIDES.get("workers") or workers)
 
@@ -164,8 +164,8 @@ class _PerfParams:
 
 
 def _parse_device(d, mechanism, units, field):
-    from ..mechanisms.scene import parse_rss
-    from ..mechanisms.presets import PRESETS
+    from ..mechanism_scene import parse_rss
+    from ...mechanisms.presets import PRESETS
     d = as_table(d, field)
     check_keys(d, {"label", "preset", "rotation", "inner_rotation", "paper", *_RSS_KEYS},
                field)
@@ -234,7 +234,7 @@ class PerformanceQuery:
         if pd is not None and pd not in labels:
             raise InputError(f"expected one of the device labels {labels}, got {pd!r}",
                              field=f"{field}.plot_device")
-        from .sensitivity import SENSITIVITY_MODES
+        from ...indices.sensitivity import SENSITIVITY_MODES
         sens = choice(table.get("sensitivity", "slice"), f"{field}.sensitivity",
                       SENSITIVITY_MODES)
         cert = table.get("certify", False)
@@ -251,7 +251,7 @@ class PerformanceQuery:
 
     @staticmethod
     def run(p, scene, ctx):
-        from .study_report import performance_report
+        from ..study_report import performance_report
         return performance_report(p, scene, ctx, grid_of=lambda d: _grid(
             p.grid_raw, p.units, "grid", d.mech.z0, d.rotation),
             store_of=lambda label: store_dir(p.store, scene, "performance") / _slug(label),
@@ -285,9 +285,9 @@ class _SweepParams:
 class DesignSweepQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
-        from ..mechanisms.presets import PRESETS
-        from .design import DesignSpace
-        from .workspace import axis_values
+        from ...mechanisms.presets import PRESETS
+        from ...indices.design import DesignSpace
+        from ...indices.workspace import axis_values
         check_keys(table, {"type", "base", "l2", "beta", "gamma", "ld", "grid", "algorithm",
                            "leg_length", "baseline", "unreachable", "scaling", "workers",
                            "scheduler", "store", "designs_per_chunk"}, field)
@@ -312,7 +312,7 @@ class DesignSweepQuery:
         g = as_table(table.get("grid", {}), f"{field}.grid")
         rot = _angle(g["rotation"], units, f"{field}.grid.rotation") if "rotation" in g \
             else 20 * _DEG
-        from ..mechanisms import preset
+        from ...mechanisms import preset
         grid = _grid(g, units, f"{field}.grid", preset(base).z0, rot)
         algorithm = choice(table.get("algorithm", "both"), f"{field}.algorithm",
                            ("culling", "brute_force", "both"))
@@ -329,7 +329,7 @@ class DesignSweepQuery:
 
     @staticmethod
     def run(p, scene, ctx):
-        from .study_report import design_sweep_report
+        from ..study_report import design_sweep_report
         return design_sweep_report(p, scene, ctx,
                                    store=store_dir(p.store, scene, "design_sweep"),
                                    executor=lambda: _executor(p.workers, p.scheduler))

@@ -49,7 +49,7 @@ def jsonable(x):
         return float(x)
     if hasattr(x, "free_symbols"):  # sympy
         return str(x)
-    from .exact import Exact
+    from ..exact import Exact
     if isinstance(x, Exact):
         return str(x)
     raise TypeError(f"cannot put {name} {x!r} into JSON")

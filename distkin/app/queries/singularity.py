@@ -36,10 +36,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .argcheck import as_table, check_keys, method_field, positive_int
-from .errors import InputError
-from .exact import parse_vector, to_tier
-from .queries import Outcome, register
+from ...argcheck import as_table, check_keys, method_field, positive_int
+from ...errors import InputError
+from ...exact import parse_vector, to_tier
+from ..registry import Outcome, register
 
 __all__ = ["SingularityQuery", "OctahedralModel", "plot_path"]
 
@@ -97,14 +97,14 @@ class SingularityQuery:
         if "offsets" not in table and getattr(mechanism, "kind", None) == "platform66":
             offsets = mechanism.offsets
         if "offsets" in table:
-            from .delta import delta_transform
+            from ...delta import delta_transform
             offsets = parse_vector(table["offsets"], f"{field}.offsets", length=6)
             tr = delta_transform(mechanism, offsets, field=f"{field}.offsets")
             tr.check_regular(field=f"{field}.offsets")
         method = method_field(table, field, allowed=("fast", "certified"))
         L = None
         if "length_scale" in table:
-            from .argcheck import positive_number
+            from ...argcheck import positive_number
             L = positive_number(table["length_scale"], f"{field}.length_scale")
         tol = table.get("tolerance", 1e-9)
         if not isinstance(tol, (int, float)) or isinstance(tol, bool) or not 0 < tol < 1:
@@ -141,7 +141,7 @@ class OctahedralModel:
         L = length_scale or float(np.max(np.linalg.norm(plat_f - plat_f.mean(0), axis=1)))
         p66 = None
         if offsets is not None:
-            from .delta import equivalent_platform
+            from ...delta import equivalent_platform
             p66 = equivalent_platform(mech, offsets)
         return cls(base_f, plat_f, cert(mech.base), cert(mech.platform), L, deg, p66)
 
@@ -151,28 +151,28 @@ class OctahedralModel:
         return np.concatenate([np.broadcast_to(self.base_f, P.shape), P], axis=-2)
 
     def det_j(self, R, t):
-        from .singularity import jacobian_det, octahedral_joints
+        from ...singularity import jacobian_det, octahedral_joints
         return jacobian_det(*octahedral_joints(self.points(R, t)), length_scale=self.L)
 
     # -- arb, one pose
     def det_j_arb(self, R, t):
-        from .singularity import jacobian_det, octahedral_joints, pose_points
+        from ...singularity import jacobian_det, octahedral_joints, pose_points
         P = pose_points(self.plat_a, R, t)
         X = np.concatenate([self.base_a, P], axis=0)
         return jacobian_det(*octahedral_joints(X), normalised=False, method="certified")
 
     def pose_path(self, a: _Pose, b: _Pose):
-        from .singularity import PosePath
+        from ...singularity import PosePath
         return PosePath(a.translation, a.rotation, b.translation, b.rotation, self.deg)
 
     def rotation(self, pose: _Pose):
-        from .singularity import rotation_from_vector
+        from ...singularity import rotation_from_vector
         return rotation_from_vector(np.array([float(x) for x in pose.rotation]) * self.angle)
 
 
 def _tests(model, R, t):
     """All characterisations at float poses R (n,3,3), t (n,3)."""
-    from .singularity import (cm_pure_condition, four_planes, plucker_jacobian,
+    from ...singularity import (cm_pure_condition, four_planes, plucker_jacobian,
                               octahedral_joints, signed_cm_condition)
     X = model.points(R, t)
     J = plucker_jacobian(*octahedral_joints(X))
@@ -192,7 +192,7 @@ def _first(d):
 
 
 def _run_pose(model, p, unit):
-    from .singularity import certified_sign, nearest_singularity
+    from ...singularity import certified_sign, nearest_singularity
     R = model.rotation(p.pose)
     t = np.array([float(x) for x in p.pose.translation])
     tests = _first(_tests(model, R[None], t[None]))
@@ -241,7 +241,7 @@ def _run_pose(model, p, unit):
 
 
 def _exact_pose_arb(model, pose):
-    from .singularity import PosePath
+    from ...singularity import PosePath
     path = PosePath(pose.translation, pose.rotation, pose.translation, pose.rotation, model.deg)
     return path.at_certified(0)
 
@@ -253,7 +253,7 @@ def _check66(model, R, t):
     with A times the octahedral one: ``identity_error`` = max|Jhat66 - A Jhat| /
     max|Jhat66| (a matrix identity, well conditioned also at singular poses).
     """
-    from .singularity import octahedral_joints, plucker_jacobian
+    from ...singularity import octahedral_joints, plucker_jacobian
     tr = model.platform66.transform
     A = np.array([[float(x) for x in row] for row in tr.A.tolist()])
     bj, qj = model.platform66.joints("fast")
@@ -268,7 +268,7 @@ def _check66(model, R, t):
 
 
 def _run_path(model, p, unit):
-    from .singularity import (certify_crossing, cm_pure_condition, four_planes,
+    from ...singularity import (certify_crossing, cm_pure_condition, four_planes,
                               nearest_singularity, path_crossings, signed_cm_condition)
     a, b = p.path
     path = model.pose_path(a, b)

@@ -28,11 +28,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..argcheck import check_keys, positive_int, positive_number
-from ..errors import InfeasibleError, InputError
-from ..exact import parse_exact
-from ..queries import Outcome, register
-from .scene import angle_factor, length_factor
+from ...argcheck import check_keys, positive_int, positive_number
+from ...errors import InfeasibleError, InputError
+from ...exact import parse_exact
+from ..registry import Outcome, register
+from ..mechanism_scene import angle_factor, length_factor
 
 __all__ = ["InverseKinematicsQuery", "JacobianQuery", "ForwardKinematicsQuery", "parse_poses"]
 
@@ -84,7 +84,7 @@ def _fmt_pose(pose, scene):
 
 def _plotter(mech, poses, qs=None):
     def plot(stem):
-        from .plot import plot_poses
+        from ...mechanisms.plot import plot_poses
         return plot_poses(mech, poses, stem, q=qs)
     return plot
 

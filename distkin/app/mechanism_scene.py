@@ -25,7 +25,7 @@ from fractions import Fraction
 from ..argcheck import check_keys, choice, require
 from ..errors import InputError
 from ..exact import parse_exact
-from .presets import PRESETS, preset
+from ..mechanisms.presets import PRESETS, preset
 
 __all__ = ["parse_rss", "LENGTHS", "ANGLES"]
 
@@ -55,7 +55,7 @@ def parse_rss(table, units, field):
     af = angle_factor(units)
     over = {}
     if "layout" in table:
-        from .rss import LAYOUTS
+        from ..mechanisms.rss import LAYOUTS
         over["layout"] = choice(table["layout"], f"{field}.layout", LAYOUTS)
     if "legs" in table:
         legs = table["legs"]

@@ -30,10 +30,10 @@ import warnings
 from dataclasses import dataclass, replace
 from fractions import Fraction
 
-from ..argcheck import check_keys, exact_vector, method_field, positive_number, require
-from ..errors import ConditioningWarning, DistkinError, InputError
-from ..exact import METHODS_AUTO, Exact, default_dps
-from ..queries import Outcome, register
+from ...argcheck import check_keys, exact_vector, method_field, positive_number, require
+from ...errors import ConditioningWarning, DistkinError, InputError
+from ...exact import METHODS_AUTO, Exact, default_dps
+from ..registry import Outcome, register
 
 __all__ = ["OctahedralForwardQuery"]
 
@@ -75,9 +75,9 @@ class OctahedralForwardQuery:
 
     @staticmethod
     def run(p, scene, ctx):
-        from .forward import forward_kinematics
+        from ...octahedral.forward import forward_kinematics
         if p.method in ("fast", "auto"):
-            from .single import compile_notice
+            from ...octahedral.single import compile_notice
             ctx.notice(compile_notice())
         f = scene.units.length_factor
         mech = scene.mechanism

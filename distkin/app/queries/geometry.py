@@ -18,11 +18,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..argcheck import check_keys, exact_matrix, method_field, string_list
-from ..errors import InputError
-from ..exact import default_dps, to_tier
-from ..queries import Outcome, register
-from .cayley_menger import cayley_menger, parse_label, squared_distances
+from ...argcheck import check_keys, exact_matrix, method_field, string_list
+from ...errors import InputError
+from ...exact import default_dps, to_tier
+from ..registry import Outcome, register
+from ...geometry.cayley_menger import cayley_menger, parse_label, squared_distances
 
 __all__ = ["CayleyMengerQuery"]
 
