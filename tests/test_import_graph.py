@@ -86,8 +86,6 @@ FORBIDDEN: list[tuple[str, str]] = [
 #: recorded defect to remove (the test fails when one of them disappears, so the list
 #: only shrinks).
 KNOWN: set[tuple[str, str]] = {
-    ("distkin.control.table5", "distkin.app.control_commands"),
-    ("distkin.control.table5", "distkin.app.registry"),
     ("distkin.mechanisms", "distkin.mechanisms.forward"),
     ("distkin.mechanisms.kernels", "distkin.codegen.cache"),
     ("distkin.mechanisms.kernels", "distkin.codegen.emit"),

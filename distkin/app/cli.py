@@ -11,13 +11,12 @@ stderr naming the field); 1 an internal failure (one line; ``--debug`` shows the
 traceback).  A plot that fails (``--plots``) is a warning on stderr and a
 ``plot_error`` in the query's JSON record; its results are kept and the exit code does
 not change.  Further subcommands (``codegen``, ``sim``, ``control``) are registered in
-:data:`SUBCOMMANDS` by the modules that implement them.
+:data:`SUBCOMMANDS` (functions importing the modules that implement them).
 """
 
 from __future__ import annotations
 
 import argparse
-import importlib
 import sys
 import time
 import traceback
@@ -25,7 +24,7 @@ from importlib import resources
 from pathlib import Path
 
 from .._version import __version__
-from ..errors import DistkinError, is_input_error
+from ..errors import DistkinError, InputError, is_input_error
 
 __all__ = ["main", "run_scene", "DEMO_SCENES", "SUBCOMMANDS"]
 
@@ -38,12 +37,49 @@ DEMO_SCENES = [
     "certify_hunt.toml",
 ]
 
-#: subcommand -> "module:function" that adds its parser (called with the subparsers)
-SUBCOMMANDS: dict[str, str] = {
-    "sim": "distkin.app.control_commands:add_sim_parser",
-    "control": "distkin.app.control_commands:add_control_parser",
-    "codegen": "distkin.app.codegen_command:add_parser",
-    "sweep": "distkin.app.queries.indices:add_sweep_parser",
+def _add_sim(sub):
+    from .control_commands import add_sim_parser
+    add_sim_parser(sub)
+
+
+def _add_control(sub):
+    from .control_commands import add_control_parser
+    add_control_parser(sub)
+
+
+def _add_codegen(sub):
+    from .codegen_command import add_parser
+    add_parser(sub)
+
+
+def _add_sweep(sub):
+    """``distkin sweep SCENE [--scheduler ADDRESS] [--workers N] [--store DIR]``."""
+    s = sub.add_parser("sweep", help="run a scene's sweeps (performance, design_sweep) on a "
+                                     "local pool or a dask cluster")
+    s.add_argument("scene", help="scene TOML file")
+    s.add_argument("--scheduler", metavar="ADDRESS",
+                   help="dask.distributed scheduler, e.g. tcp://10.0.0.5:8786 "
+                        "(extra 'distributed')")
+    s.add_argument("--workers", type=int, metavar="N", help="local worker processes")
+    s.add_argument("--store", metavar="DIR", help="directory of the resumable chunks")
+    s.add_argument("--json", metavar="PATH|-")
+    s.add_argument("--plots", metavar="DIR")
+    s.add_argument("--no-progress", action="store_true")
+    s.set_defaults(func=_cmd_sweep)
+
+
+def _cmd_sweep(args):
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"expected --workers >= 1, got {args.workers}", field="--workers")
+    return _cmd_run(args)          # --store/--workers/--scheduler reach the RunContext
+
+
+#: subcommand -> the function that adds its parser (called with the subparsers)
+SUBCOMMANDS: dict = {
+    "sim": _add_sim,
+    "control": _add_control,
+    "codegen": _add_codegen,
+    "sweep": _add_sweep,
 }
 
 
@@ -51,8 +87,12 @@ def _err(msg: str) -> None:
     print(f"distkin: error: {msg}", file=sys.stderr)
 
 
-def run_scene(scene, *, plots_dir=None, progress=True):
+def run_scene(scene, *, plots_dir=None, progress=True, store=None, workers=None,
+              scheduler=None):
     """Run every query of a loaded scene.
+
+    ``store``, ``workers`` and ``scheduler`` (``distkin sweep``) override the scene's
+    fields of the same names for every chunked query (:class:`.registry.RunContext`).
 
     Returns
     -------
@@ -66,7 +106,9 @@ def run_scene(scene, *, plots_dir=None, progress=True):
     from . import registry as queries
     from .registry import RunContext
     from .report import jsonable
-    ctx = RunContext(plots_dir=Path(plots_dir) if plots_dir else None, progress=progress)
+    ctx = RunContext(plots_dir=Path(plots_dir) if plots_dir else None, progress=progress,
+                     store=Path(store) if store else None, workers=workers,
+                     scheduler=scheduler)
     records, texts, worst = [], [], 0
     for q in scene.queries:
         spec = queries.get(q.type, scene.mechanism.kind)
@@ -135,7 +177,10 @@ def _cmd_run(args) -> int:
     from .scene import load_scene
     scene = load_scene(args.scene)
     records, texts, worst = run_scene(scene, plots_dir=args.plots,
-                                      progress=not args.no_progress)
+                                      progress=not args.no_progress,
+                                      store=getattr(args, "store", None),
+                                      workers=getattr(args, "workers", None),
+                                      scheduler=getattr(args, "scheduler", None))
     _emit(args.scene, records, texts, args)
     for rec in records:
         if rec["status"] == "error":
@@ -191,9 +236,8 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("--plots", metavar="DIR")
     d.add_argument("--no-progress", action="store_true")
     d.set_defaults(func=_cmd_demo)
-    for name, target in SUBCOMMANDS.items():
-        mod, _, fn = target.partition(":")
-        getattr(importlib.import_module(mod), fn)(sub)
+    for add in SUBCOMMANDS.values():
+        add(sub)
     return p
 
 

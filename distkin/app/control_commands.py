@@ -26,23 +26,14 @@ import subprocess
 import sys
 import tempfile
 import time
-from importlib import resources
 from pathlib import Path
 
+from ..control.config import builtin_scene
 from ..errors import InputError, LinkError
 
 __all__ = ["add_sim_parser", "add_control_parser", "cmd_sim", "cmd_control", "builtin_scene",
            "format_summary"]
 
-#: the built-in controller scene (also examples/control_octo.toml)
-BUILTIN_SCENE = "control_octo.toml"
-
-
-def builtin_scene():
-    """The built-in example scene (the Octo pushed by a scripted hand into a wall)."""
-    from ..control.config import loads_control_scene
-    text = resources.files("distkin.control").joinpath(BUILTIN_SCENE).read_text(encoding="utf-8")
-    return loads_control_scene(text, f"distkin/control/{BUILTIN_SCENE}")
 
 
 def _scene(path):

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from .registry import Outcome
+from .query import Outcome
 
 __all__ = ["design_sweep_report", "PAPER_TABLE1"]
 

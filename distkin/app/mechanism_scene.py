@@ -19,32 +19,19 @@ Unless ``l3`` is given it follows the reading's rule (:mod:`.presets`).
 
 from __future__ import annotations
 
-import math
 from fractions import Fraction
 
 from ..argcheck import check_keys, choice, require
 from ..errors import InputError
 from ..exact import parse_exact
 from ..mechanisms.presets import PRESETS, preset
+from .units import angle_factor, length_factor
 
 __all__ = ["parse_rss", "LENGTHS", "ANGLES"]
 
 LENGTHS = ("l0", "l1", "l2", "l3", "lp", "ld", "z0")
 ANGLES = ("beta", "gamma")
 _SI = ("mass", "inertia")
-
-
-def length_factor(units, field):
-    """Metres per scene length unit; RSS scenes need a physical unit."""
-    f = units.length_factor
-    if f is None:
-        raise InputError("expected a physical length unit (m, mm, cm) for an rss mechanism, "
-                         "got 'none'", field="units.length")
-    return float(f)
-
-
-def angle_factor(units):
-    return math.pi / 180.0 if units.angle == "deg" else 1.0
 
 
 def parse_rss(table, units, field):

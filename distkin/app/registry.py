@@ -1,8 +1,9 @@
 """The registry of scene query types.
 
-A query type is implemented next to its algorithm and registered with
-:func:`register`.  :data:`QUERY_MODULES` maps each type to the module that registers it,
-so a scene imports only the modules its queries name.
+A query type is implemented in one module per family (:mod:`distkin.app.queries`) and
+registered there with :func:`register`.  :data:`QUERY_MODULES` maps each type to the
+functions that import the modules registering it (plain ``import`` statements, so the
+arrows are visible to tools), so a scene imports only the modules its queries name.
 
 A handler is a class with two static methods::
 
@@ -18,88 +19,64 @@ A handler is a class with two static methods::
 
 from __future__ import annotations
 
-import importlib
-import sys
-from dataclasses import dataclass, field
-from pathlib import Path
-from typing import Callable
-
 from ..errors import InputError
+from .query import _REGISTRY, Outcome, QuerySpec, RunContext, register
 
-__all__ = ["QuerySpec", "Outcome", "RunContext", "register", "get", "QUERY_MODULES"]
+__all__ = ["QuerySpec", "Outcome", "RunContext", "register", "get", "available", "QUERY_MODULES"]
 
-#: query type -> modules that register it (imported on first use).  One type may be
-#: implemented for several mechanism kinds by different modules (``forward_kinematics``
-#: for ``octahedral`` and for ``rss``); each registers the kinds it serves.
-QUERY_MODULES: dict[str, tuple[str, ...]] = {
-    "cayley_menger": ("distkin.app.queries.geometry",),
-    "delta_transform": ("distkin.app.queries.delta",),
-    "singularity": ("distkin.app.queries.singularity",),
-    "inverse_kinematics": ("distkin.app.queries.mechanisms",),
-    "jacobian": ("distkin.app.queries.mechanisms",),
-    "performance": ("distkin.app.queries.indices",),
-    "design_sweep": ("distkin.app.queries.indices",),
-    "certify_workspace": ("distkin.app.queries.certify",),
-    "table5": ("distkin.control.table5",),
-    "forward_kinematics": ("distkin.app.queries.mechanisms", "distkin.app.queries.octahedral",
-                           "distkin.app.queries.delta"),
+
+def _geometry():
+    from .queries import geometry  # noqa: F401 (registers its handlers)
+
+
+def _delta():
+    from .queries import delta  # noqa: F401
+
+
+def _singularity():
+    from .queries import singularity  # noqa: F401
+
+
+def _mechanisms():
+    from .queries import mechanisms  # noqa: F401
+
+
+def _octahedral():
+    from .queries import octahedral  # noqa: F401
+
+
+def _indices():
+    from .queries import indices  # noqa: F401
+
+
+def _certify():
+    from .queries import certify  # noqa: F401
+
+
+def _control():
+    from .queries import control  # noqa: F401
+
+
+#: query type -> functions importing the modules that register it (imported on first
+#: use).  One type may be implemented for several mechanism kinds by different modules
+#: (``forward_kinematics`` for ``octahedral``, ``rss`` and ``platform66``); each
+#: registers the kinds it serves.
+QUERY_MODULES: dict[str, tuple] = {
+    "cayley_menger": (_geometry,),
+    "delta_transform": (_delta,),
+    "singularity": (_singularity,),
+    "inverse_kinematics": (_mechanisms,),
+    "jacobian": (_mechanisms,),
+    "performance": (_indices,),
+    "design_sweep": (_indices,),
+    "certify_workspace": (_certify,),
+    "table5": (_control,),
+    "forward_kinematics": (_mechanisms, _octahedral, _delta),
 }
 
-_REGISTRY: dict[str, dict] = {}   # name -> {mechanism kind or "*": QuerySpec}
-
-
-@dataclass(frozen=True)
-class QuerySpec:
-    name: str
-    parse: Callable
-    run: Callable
-    mechanisms: tuple
-    summary: str
-
-
-@dataclass
-class Outcome:
-    """What a query returns: JSON-able ``result``, a readable ``text`` (units on every
-    number) and an optional ``plot(outdir) -> list[Path]``."""
-
-    result: dict
-    text: str
-    plot: Callable[[Path], list] | None = None
-
-
-@dataclass
-class RunContext:
-    """Per-run options handed to every handler."""
-
-    plots_dir: Path | None = None
-    progress: bool = True
-    workdir: Path | None = None
-    extra: dict = field(default_factory=dict)
-
-    def notice(self, message: str) -> None:
-        """One line for the user on stderr, once per run, when progress is shown (what a
-        long silent step is doing)."""
-        seen = self.extra.setdefault("notices", set())
-        if self.progress and message and message not in seen:
-            seen.add(message)
-            print(f"distkin: {message}", file=sys.stderr, flush=True)
-
-
-def register(name: str, *, mechanisms=(), summary: str = ""):
-    """Class decorator registering a query handler under ``name`` for the mechanism
-    kinds ``mechanisms`` (empty: any kind)."""
-    def deco(cls):
-        spec = QuerySpec(name, cls.parse, cls.run, tuple(mechanisms), summary)
-        table = _REGISTRY.setdefault(name, {})
-        for kind in (mechanisms or ("*",)):
-            table[kind] = spec
-        return cls
-    return deco
-
-
 def _load(name: str) -> None:
-    for mod in QUERY_MODULES.get(name, ()):
-        importlib.import_module(mod)
+    for load in QUERY_MODULES.get(name, ()):
+        load()
 
 
 def get(name: str, kind: str | None = None, field: str = "type") -> QuerySpec:

@@ -23,16 +23,15 @@ validated at load time, so a bad field is reported before any work starts.
 
 from __future__ import annotations
 
-import importlib
 import tomllib
 from dataclasses import dataclass, field
-from fractions import Fraction
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
 from ..argcheck import as_table, check_keys, exact_matrix, require
 from ..errors import DistkinError, InputError
+from .units import Units, parse_units
 
 __all__ = [
     "Units",
@@ -44,30 +43,6 @@ __all__ = [
     "load_scene",
     "loads_scene",
 ]
-
-_LENGTH = {"m": Fraction(1), "mm": Fraction(1, 1000), "cm": Fraction(1, 100),
-           "km": Fraction(1000), "none": None}
-_ANGLE = {"rad": None, "deg": "deg"}
-
-
-@dataclass(frozen=True)
-class Units:
-    """Units a scene is written in; values are converted to SI when parsed.
-
-    ``length_factor`` is the exact factor to metres (``None`` for unitless scenes).
-    """
-
-    length: str = "m"
-    angle: str = "rad"
-
-    @property
-    def length_factor(self) -> Fraction | None:
-        return _LENGTH[self.length]
-
-    @property
-    def length_label(self) -> str:
-        return "" if self.length == "none" else "m"
-
 
 @dataclass(frozen=True)
 class PointSet:
@@ -111,18 +86,24 @@ def _parse_octahedral(table, units, fld):
     return Octahedral(base, plat)
 
 
-#: mechanism kind -> "module:function" parsing its table (lazily imported)
+def _parse_rss(table, units, field):
+    from .mechanism_scene import parse_rss
+    return parse_rss(table, units, field)
+
+
+def _parse_platform66(table, units, field):
+    from .queries.delta import parse_platform66
+    return parse_platform66(table, units, field)
+
+
+#: mechanism kind -> the function parsing its table (the rss and 6-6 parsers import
+#: their modules on first use)
 MECHANISM_PARSERS = {
-    "points": "distkin.app.scene:_parse_points",
-    "octahedral": "distkin.app.scene:_parse_octahedral",
-    "rss": "distkin.app.mechanism_scene:parse_rss",
-    "platform66": "distkin.app.queries.delta:parse_platform66",
+    "points": _parse_points,
+    "octahedral": _parse_octahedral,
+    "rss": _parse_rss,
+    "platform66": _parse_platform66,
 }
-
-
-def _load_callable(spec: str):
-    mod, _, name = spec.partition(":")
-    return getattr(importlib.import_module(mod), name)
 
 
 @dataclass(frozen=True)
@@ -150,21 +131,6 @@ class Scene:
     queries: tuple
 
 
-def _parse_units(raw) -> Units:
-    if raw is None:
-        return Units()
-    t = as_table(raw, "units")
-    check_keys(t, {"length", "angle"}, "units")
-    length = t.get("length", "m")
-    angle = t.get("angle", "rad")
-    if length not in _LENGTH:
-        raise InputError(f"expected one of {', '.join(map(repr, _LENGTH))}, got {length!r}",
-                         field="units.length")
-    if angle not in _ANGLE:
-        raise InputError(f"expected 'rad' or 'deg', got {angle!r}", field="units.angle")
-    return Units(length, angle)
-
-
 def loads_scene(text: str, path: str = "<string>") -> Scene:
     """Load a scene from TOML text; see :func:`load_scene`."""
     from . import registry
@@ -173,13 +139,13 @@ def loads_scene(text: str, path: str = "<string>") -> Scene:
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"expected valid TOML, got a syntax error: {exc}", field=path) from None
     check_keys(data, {"units", "mechanism", "query", "title", "description"}, "scene")
-    units = _parse_units(data.get("units"))
+    units = parse_units(data.get("units"))
     mtable = as_table(require(data, "mechanism", ""), "mechanism")
     kind = require(mtable, "kind", "mechanism")
     if kind not in MECHANISM_PARSERS:
         raise InputError(f"expected one of {', '.join(map(repr, MECHANISM_PARSERS))}, "
                          f"got {kind!r}", field="mechanism.kind")
-    mechanism = _load_callable(MECHANISM_PARSERS[kind])(mtable, units, "mechanism")
+    mechanism = MECHANISM_PARSERS[kind](mtable, units, "mechanism")
     qlist = data.get("query", [])
     if not isinstance(qlist, list) or not qlist:
         raise InputError("expected at least one [[query]] table", field="query")

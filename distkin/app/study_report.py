@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .registry import Outcome
+from .query import Outcome
 from ..indices.isotropy import SCALING_READINGS
 from ..indices.study import (CAPABILITIES, PAPER_TABLE4, SENSITIVITIES, TRUE_VELOCITIES, Device,
                     run_device, summarise)

@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import tomllib
 from dataclasses import dataclass, field
+from importlib import resources
 from pathlib import Path
 
 import numpy as np
@@ -49,7 +50,10 @@ from ..errors import InputError
 from .admittance import Spring, Wall
 from .plant import HandScript, Motors
 
-__all__ = ["PDGains", "SafetyLimits", "SimulatorConfig", "ControlScene", "load_control_scene",
+#: the built-in controller scene (package data; also examples/control_octo.toml)
+BUILTIN_SCENE = "control_octo.toml"
+
+__all__ = ["builtin_scene", "BUILTIN_SCENE", "PDGains", "SafetyLimits", "SimulatorConfig", "ControlScene", "load_control_scene",
            "loads_control_scene", "default_scene"]
 
 
@@ -323,3 +327,9 @@ def default_scene() -> ControlScene:
         'damping = [15, 15, 15, 0.1, 0.1, 0.1]\n'
         '[[environment]]\nkind = "spring"\nstiffness = [100, 100, 100, 2, 2, 2]\n',
         "<default>")
+
+
+def builtin_scene():
+    """The built-in example scene (the Octo pushed by a scripted hand into a wall)."""
+    text = resources.files("distkin.control").joinpath(BUILTIN_SCENE).read_text(encoding="utf-8")
+    return loads_control_scene(text, f"distkin/control/{BUILTIN_SCENE}")

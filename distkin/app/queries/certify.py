@@ -46,7 +46,7 @@ from ...argcheck import (as_table, check_keys, choice, executor_fields, positive
                         positive_number)
 from ...errors import InputError
 from ...exact import parse_exact
-from ..registry import Outcome, register
+from ..query import Outcome, register
 from ...certify.boxes import STATUS_NAMES
 
 __all__ = ["CertifyWorkspaceQuery", "certificate_text", "certificate_json"]
@@ -82,7 +82,7 @@ class _Params:
 class CertifyWorkspaceQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
-        from ..mechanism_scene import angle_factor, length_factor
+        from ..units import angle_factor, length_factor
         from ...certify.intervals import FORMS
         check_keys(table, _FIELDS, field)
         method = table.get("method", "certified")
@@ -132,14 +132,10 @@ class CertifyWorkspaceQuery:
 
     @staticmethod
     def run(p, scene, ctx):
-        from .indices import CLI_OVERRIDES, store_dir
-        from ...runstore import executor_for
         from ...certify.workspace import certify_workspace
         mech = scene.mechanism
-        store = store_dir(p.store, scene, "certify_workspace")
-        workers = CLI_OVERRIDES.get("workers") or p.workers
-        with executor_for(scheduler=CLI_OVERRIDES.get("scheduler") or p.scheduler,
-                          workers=workers if workers is not None else 1) as ex:
+        store = ctx.store_dir(p.store, scene, "certify_workspace")
+        with ctx.executor(p.workers if p.workers is not None else 1, p.scheduler) as ex:
             cert = certify_workspace(mech, p.lower, p.upper, p.min_width, form=p.form,
                                      split=p.split, store=store, executor=ex,
                                      progress=ctx.progress, max_boxes=p.max_boxes)

@@ -47,7 +47,7 @@ from dataclasses import dataclass
 from ...argcheck import check_keys, exact_matrix, method_field, require
 from ...errors import DistkinError, InputError
 from ...exact import METHODS_AUTO, default_dps, parse_vector
-from ..registry import Outcome, register
+from ..query import Outcome, register
 
 __all__ = ["DeltaTransformQuery", "Platform66Forward", "Platform66Mechanism",
            "parse_platform66", "plot_det_family"]

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from ...argcheck import check_keys, exact_matrix, method_field, string_list
 from ...errors import InputError
 from ...exact import default_dps, to_tier
-from ..registry import Outcome, register
+from ..query import Outcome, register
 from ...geometry.cayley_menger import cayley_menger, parse_label, squared_distances
 
 __all__ = ["CayleyMengerQuery"]

@@ -48,45 +48,28 @@ cluster (or ``--workers N`` locally); the scene's own fields are the defaults.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from ...argcheck import as_table, check_keys, choice, executor_fields, positive_int, require
 from ...errors import InputError
 from ...exact import parse_exact
-from ..registry import register
+from ..query import register
+from ..units import DEG, angle_value, length_value
 from ...indices.isotropy import ST_DEFAULT
 from ...indices.study import ACTUATORS, PAPER_TABLE3
 
-__all__ = ["PerformanceQuery", "DesignSweepQuery", "CLI_OVERRIDES", "add_sweep_parser",
-           "store_dir"]
+__all__ = ["PerformanceQuery", "DesignSweepQuery"]
 
-#: set by ``distkin sweep``: scheduler, workers, store override the scene's fields
-CLI_OVERRIDES: dict = {}
 
 _RSS_KEYS = ("legs", "l0", "l1", "l2", "l3", "lp", "ld", "z0", "beta", "gamma", "mass",
              "inertia", "layout")
-_DEG = math.pi / 180
 
 
 # ---------------------------------------------------------------------- parsing
 def _num(value, field):
     return float(parse_exact(value, field))
-
-
-def _length(value, units, field):
-    f = units.length_factor
-    if f is None:
-        raise InputError("expected a physical length unit for an rss scene, got 'none'",
-                         field="units.length")
-    return _num(value, field) * float(f)
-
-
-def _angle(value, units, field):
-    return _num(value, field) * (_DEG if units.angle == "deg" else 1.0)
 
 
 def _si_table(raw, field, defaults):
@@ -105,34 +88,16 @@ def _grid(raw, units, field, z0, rotation):
     from ...indices.workspace import axis_values, PoseGrid
     t = as_table(raw if raw is not None else {}, field)
     check_keys(t, {"half", "step", "rotation", "rotation_step"}, field)
-    half = _length(t["half"], units, f"{field}.half") if "half" in t else 0.075
-    step = _length(t["step"], units, f"{field}.step") if "step" in t else 0.010
-    rstep = _angle(t["rotation_step"], units, f"{field}.rotation_step") \
-        if "rotation_step" in t else 5 * _DEG
+    half = length_value(t["half"], units, f"{field}.half") if "half" in t else 0.075
+    step = length_value(t["step"], units, f"{field}.step") if "step" in t else 0.010
+    rstep = angle_value(t["rotation_step"], units, f"{field}.rotation_step") \
+        if "rotation_step" in t else 5 * DEG
     if "rotation" in t:
-        rotation = _angle(t["rotation"], units, f"{field}.rotation")
+        rotation = angle_value(t["rotation"], units, f"{field}.rotation")
     tr = axis_values(-half, half, step, f"{field}.step")
     rr = axis_values(-rotation, rotation, rstep, f"{field}.rotation_step") if rotation > 0 \
         else np.zeros(1)
     return PoseGrid(tuple(tr), tuple(tr), tuple(z0 + tr), tuple(rr), tuple(rr), tuple(rr))
-
-
-def store_dir(store, scene, name):
-    """Where a chunked query keeps its finished chunks: ``--store`` of ``distkin sweep``,
-    else the query's ``store`` (relative to the scene file), else the user cache."""
-    if CLI_OVERRIDES.get("store"):
-        return Path(CLI_OVERRIDES["store"])
-    if store:
-        p = Path(store)
-        return p if p.is_absolute() else Path(scene.path).resolve().parent / p
-    from ...runstore import default_store
-    return default_store(f"{Path(scene.path).stem}_{name}")
-
-
-def _executor(workers, scheduler):
-    from ...runstore import executor_for
-    return executor_for(scheduler=CLI_OVERRIDES.get("scheduler") or scheduler,
-                        workers=CLI_OVERRIDES.get("workers") or workers)
 
 
 @dataclass(frozen=True)
@@ -175,10 +140,10 @@ def _parse_device(d, mechanism, units, field):
     mtable = {"kind": "rss", "preset": require(d, "preset", field)}
     mtable.update({k: d[k] for k in _RSS_KEYS if k in d})
     mech = parse_rss(mtable, units, field)
-    rotation = _angle(d["rotation"], units, f"{field}.rotation") if "rotation" in d \
-        else 20 * _DEG
-    inner = _angle(d["inner_rotation"], units, f"{field}.inner_rotation") \
-        if "inner_rotation" in d else (20 * _DEG if rotation > 20 * _DEG + 1e-12 else None)
+    rotation = angle_value(d["rotation"], units, f"{field}.rotation") if "rotation" in d \
+        else 20 * DEG
+    inner = angle_value(d["inner_rotation"], units, f"{field}.inner_rotation") \
+        if "inner_rotation" in d else (20 * DEG if rotation > 20 * DEG + 1e-12 else None)
     if inner is not None and inner > rotation + 1e-12:
         raise InputError(f"expected inner_rotation <= rotation, got {d.get('inner_rotation')!r}",
                          field=f"{field}.inner_rotation")
@@ -209,7 +174,7 @@ class PerformanceQuery:
                             for i, d in enumerate(raw))
         else:
             name = mechanism.name
-            devices = (_DeviceSpec(name, mechanism, 20 * _DEG, None,
+            devices = (_DeviceSpec(name, mechanism, 20 * DEG, None,
                                    name if name in PAPER_TABLE3 else None),)
         labels = [d.label for d in devices]
         if len(set(labels)) != len(labels):
@@ -240,7 +205,7 @@ class PerformanceQuery:
         cert = table.get("certify", False)
         if not isinstance(cert, bool):
             raise InputError(f"expected true or false, got {cert!r}", field=f"{field}.certify")
-        cw = _length(table["certify_width"], units, f"{field}.certify_width") \
+        cw = length_value(table["certify_width"], units, f"{field}.certify_width") \
             if "certify_width" in table else 0.01875
         if not cw > 0:
             raise InputError(f"expected a positive width, got {table.get('certify_width')!r}",
@@ -254,8 +219,8 @@ class PerformanceQuery:
         from ..study_report import performance_report
         return performance_report(p, scene, ctx, grid_of=lambda d: _grid(
             p.grid_raw, p.units, "grid", d.mech.z0, d.rotation),
-            store_of=lambda label: store_dir(p.store, scene, "performance") / _slug(label),
-            executor=lambda: _executor(p.workers, p.scheduler))
+            store_of=lambda label: ctx.store_dir(p.store, scene, "performance") / _slug(label),
+            executor=lambda: ctx.executor(p.workers, p.scheduler))
 
 
 def _slug(s):
@@ -263,8 +228,8 @@ def _slug(s):
 
 
 # ----------------------------------------------------------------- design sweep
-_TABLE1 = {"l2": (0.0, 0.030, 0.005), "beta": (0.0, 30 * _DEG, 10 * _DEG),
-           "gamma": (0.0, 30 * _DEG, 10 * _DEG), "ld": (0.020, 0.040, 0.005)}
+_TABLE1 = {"l2": (0.0, 0.030, 0.005), "beta": (0.0, 30 * DEG, 10 * DEG),
+           "gamma": (0.0, 30 * DEG, 10 * DEG), "ld": (0.020, 0.040, 0.005)}
 
 
 @dataclass(frozen=True)
@@ -300,7 +265,7 @@ class DesignSweepQuery:
                 if not isinstance(r, list) or len(r) != 3:
                     raise InputError(f"expected [min, max, step], got {r!r}",
                                      field=f"{field}.{name}")
-                conv = _length if name in ("l2", "ld") else _angle
+                conv = length_value if name in ("l2", "ld") else angle_value
                 lo, hi, st = (conv(v, units, f"{field}.{name}[{i}]") for i, v in enumerate(r))
             else:
                 lo, hi, st = default
@@ -310,8 +275,8 @@ class DesignSweepQuery:
                      ("constant_sum", "reading"))
         space = DesignSpace(base, tuple(values), leg, baseline)
         g = as_table(table.get("grid", {}), f"{field}.grid")
-        rot = _angle(g["rotation"], units, f"{field}.grid.rotation") if "rotation" in g \
-            else 20 * _DEG
+        rot = angle_value(g["rotation"], units, f"{field}.grid.rotation") if "rotation" in g \
+            else 20 * DEG
         from ...mechanisms import preset
         grid = _grid(g, units, f"{field}.grid", preset(base).z0, rot)
         algorithm = choice(table.get("algorithm", "both"), f"{field}.algorithm",
@@ -331,37 +296,5 @@ class DesignSweepQuery:
     def run(p, scene, ctx):
         from ..study_report import design_sweep_report
         return design_sweep_report(p, scene, ctx,
-                                   store=store_dir(p.store, scene, "design_sweep"),
-                                   executor=lambda: _executor(p.workers, p.scheduler))
-
-
-# -------------------------------------------------------------------- subcommand
-def add_sweep_parser(sub):
-    """``distkin sweep SCENE [--scheduler ADDRESS] [--workers N] [--store DIR]``."""
-    s = sub.add_parser("sweep", help="run a scene's sweeps (performance, design_sweep) on a "
-                                     "local pool or a dask cluster")
-    s.add_argument("scene", help="scene TOML file")
-    s.add_argument("--scheduler", metavar="ADDRESS",
-                   help="dask.distributed scheduler, e.g. tcp://10.0.0.5:8786 "
-                        "(extra 'distributed')")
-    s.add_argument("--workers", type=int, metavar="N", help="local worker processes")
-    s.add_argument("--store", metavar="DIR", help="directory of the resumable chunks")
-    s.add_argument("--json", metavar="PATH|-")
-    s.add_argument("--plots", metavar="DIR")
-    s.add_argument("--no-progress", action="store_true")
-    s.set_defaults(func=_cmd_sweep)
-
-
-def _cmd_sweep(args):
-    from ..cli import _cmd_run
-    if args.workers is not None and args.workers < 1:
-        raise InputError(f"expected --workers >= 1, got {args.workers}", field="--workers")
-    CLI_OVERRIDES.clear()
-    CLI_OVERRIDES.update({k: v for k, v in (("scheduler", args.scheduler),
-                                            ("workers", args.workers),
-                                            ("store", args.store)) if v})
-    try:
-        return _cmd_run(args)
-    finally:
-        CLI_OVERRIDES.clear()
-
+                                   store=ctx.store_dir(p.store, scene, "design_sweep"),
+                                   executor=lambda: ctx.executor(p.workers, p.scheduler))

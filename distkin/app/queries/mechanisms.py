@@ -31,8 +31,8 @@ import numpy as np
 from ...argcheck import check_keys, positive_int, positive_number
 from ...errors import InfeasibleError, InputError
 from ...exact import parse_exact
-from ..registry import Outcome, register
-from ..mechanism_scene import angle_factor, length_factor
+from ..query import Outcome, register
+from ..units import angle_factor, length_factor
 
 __all__ = ["InverseKinematicsQuery", "JacobianQuery", "ForwardKinematicsQuery", "parse_poses"]
 

@@ -33,7 +33,7 @@ from fractions import Fraction
 from ...argcheck import check_keys, exact_vector, method_field, positive_number, require
 from ...errors import ConditioningWarning, DistkinError, InputError
 from ...exact import METHODS_AUTO, Exact, default_dps
-from ..registry import Outcome, register
+from ..query import Outcome, register
 
 __all__ = ["OctahedralForwardQuery"]
 

@@ -39,7 +39,7 @@ import numpy as np
 from ...argcheck import as_table, check_keys, method_field, positive_int
 from ...errors import InputError
 from ...exact import parse_vector, to_tier
-from ..registry import Outcome, register
+from ..query import Outcome, register
 
 __all__ = ["SingularityQuery", "OctahedralModel", "plot_path"]
 

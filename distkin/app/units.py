@@ -1,0 +1,89 @@
+"""Scene units, the one place where a scene's numbers become SI.
+
+The engine works in SI (m, rad); a scene may declare ``[units] length = "mm"`` (or
+``cm``, ``km``, ``none`` for unitless geometry) and ``angle = "deg"``
+(docs/design.md, "Conventions").  Length factors are exact (:class:`~fractions.Fraction`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from fractions import Fraction
+
+from ..argcheck import as_table, check_keys
+from ..errors import InputError
+from ..exact import parse_exact
+
+__all__ = ["Units", "parse_units", "length_factor", "angle_factor", "length_value",
+           "angle_value", "DEG"]
+
+#: radians per degree
+DEG = math.pi / 180.0
+
+_LENGTH = {"m": Fraction(1), "mm": Fraction(1, 1000), "cm": Fraction(1, 100),
+           "km": Fraction(1000), "none": None}
+_ANGLE = {"rad": None, "deg": "deg"}
+
+
+@dataclass(frozen=True)
+class Units:
+    """Units a scene is written in; values are converted to SI when parsed.
+
+    ``length_factor`` is the exact factor to metres (``None`` for unitless scenes).
+    """
+
+    length: str = "m"
+    angle: str = "rad"
+
+    @property
+    def length_factor(self) -> Fraction | None:
+        return _LENGTH[self.length]
+
+    @property
+    def length_label(self) -> str:
+        return "" if self.length == "none" else "m"
+
+
+def parse_units(raw) -> Units:
+    """The ``[units]`` table of a scene (``None``: SI)."""
+    if raw is None:
+        return Units()
+    t = as_table(raw, "units")
+    check_keys(t, {"length", "angle"}, "units")
+    length = t.get("length", "m")
+    angle = t.get("angle", "rad")
+    if length not in _LENGTH:
+        raise InputError(f"expected one of {', '.join(map(repr, _LENGTH))}, got {length!r}",
+                         field="units.length")
+    if angle not in _ANGLE:
+        raise InputError(f"expected 'rad' or 'deg', got {angle!r}", field="units.angle")
+    return Units(length, angle)
+
+
+def length_factor(units, field) -> float:
+    """Metres per scene length unit; RSS scenes need a physical unit."""
+    f = units.length_factor
+    if f is None:
+        raise InputError("expected a physical length unit (m, mm, cm) for an rss mechanism, "
+                         "got 'none'", field="units.length")
+    return float(f)
+
+
+def angle_factor(units) -> float:
+    """Radians per scene angle unit."""
+    return DEG if units.angle == "deg" else 1.0
+
+
+def length_value(value, units, field) -> float:
+    """A scene length (exact text or number) in metres (float)."""
+    f = units.length_factor
+    if f is None:
+        raise InputError("expected a physical length unit for an rss scene, got 'none'",
+                         field="units.length")
+    return float(parse_exact(value, field)) * float(f)
+
+
+def angle_value(value, units, field) -> float:
+    """A scene angle (exact text or number) in radians (float)."""
+    return float(parse_exact(value, field)) * angle_factor(units)
