@@ -45,7 +45,7 @@ def _table4(mech, step=0.010, rot_step=5.0, batch=200_000):
     """GII, σmin, σmax of every scaling reading over the Table II grid (±20°) and the
     reachable share; numpy route (no kernel derivation per reading)."""
     from distkin.indices.isotropy import reading_singular_values
-    from distkin.indices.rss_jacobian import ik_jacobian
+    from distkin.mechanisms.reference import ik_jacobian
     from distkin.indices.workspace import table2_grid
     g = table2_grid(mech.z0, step=step, rot_deg=20.0, rot_step_deg=rot_step)
     X = g.poses(np.arange(g.n_positions))
@@ -61,7 +61,7 @@ def _table4(mech, step=0.010, rot_step=5.0, batch=200_000):
 
 
 def _reach_and_interference(mech):
-    from distkin.indices.rss_jacobian import ik_jacobian
+    from distkin.mechanisms.reference import ik_jacobian
     from distkin.mechanisms.interference import interference
     X = _box(mech, 0.010, 10.0)
     q, valid, _ = ik_jacobian(mech, X)

@@ -16,7 +16,7 @@ isotropy       κ (eq. (4)) with the scaling matrix ST (every reading), the GII,
                Stocco's culling
 workspace      pose grids (Table II), the dexterous workspace (eq. (17)), the design
                criteria of Sec. II-A
-rss_jacobian   plain-numpy IK and Jacobian of RSS legs (design sweeps, no codegen)
+(the plain-numpy RSS model of the design sweeps is distkin.mechanisms.reference)
 study          per-pose evaluation and per-position reduction of a study sweep
 design         GII design sweeps over Table I
 sweep          chunked, resumable runs on any concurrent.futures executor or dask

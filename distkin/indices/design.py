@@ -10,7 +10,7 @@ every design instead.  Under the presets' (tangential) reading both give l3 =
 LEG_LENGTH − l2, so the sweep's Hunt-type (l2 = β = γ = 0, ld = 20 mm) is the ``hunt``
 preset (:mod:`distkin.mechanisms.presets`).
 
-Designs are evaluated with :mod:`.rss_jacobian` (plain numpy from the leg geometry), so
+Designs are evaluated with :mod:`distkin.mechanisms.reference` (plain numpy from the leg geometry), so
 a sweep needs no symbolic derivation per design.  :func:`sweep_designs` runs Stocco's
 culling (:func:`~distkin.indices.isotropy.culling_sweep`), brute force (chunked,
 resumable, on any executor) or both, and checks that they agree exactly.
@@ -27,7 +27,7 @@ import numpy as np
 
 from ..errors import InputError
 from .isotropy import ST_DEFAULT, culling_sweep
-from .rss_jacobian import ik_jacobian
+from ..mechanisms.reference import ik_jacobian
 
 __all__ = ["DesignSpace", "design_sigmas", "design_chunk", "sweep_designs"]
 

@@ -104,7 +104,7 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
     ST : 6 floats
         Scaling matrix diagonal (:mod:`.isotropy`).
     route : {"kernels", "numpy"}
-        The generated kernels of the mechanism, or :mod:`.rss_jacobian` (no codegen).
+        The generated kernels of the mechanism, or :mod:`distkin.mechanisms.reference` (no codegen).
     sensitivity : {"slice", "projection"}
         The paper's definition (eqs. (14), (16)) or Cardou's (:mod:`.sensitivity`).
 
@@ -121,7 +121,7 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
     """
     poses = np.asarray(poses, dtype=float)
     if route == "numpy":
-        from .rss_jacobian import ik_jacobian
+        from ..mechanisms.reference import ik_jacobian
         _, valid, J, Jq = ik_jacobian(mech, poses, return_jq=True)
     else:
         _, valid = mech.inverse_kinematics(poses)

@@ -86,7 +86,7 @@ def test_design_sweep_culling_equals_brute_force_on_real_designs():
 
 def test_numpy_route_matches_the_generated_kernels(presets):
     """The plain-numpy IK/Jacobian used by design sweeps against the generated kernels."""
-    from distkin.indices.rss_jacobian import ik_jacobian
+    from distkin.mechanisms.reference import ik_jacobian
     for name, mech in presets.items():
         poses = random_reachable_poses(mech, 200, 30, seed=7)
         q, valid = mech.inverse_kinematics(poses)
@@ -99,7 +99,7 @@ def test_numpy_route_matches_the_generated_kernels(presets):
 
 def test_numpy_jacobian_by_finite_differences(presets):
     """q̇ = J (v, ω) against central differences of the numpy IK along a twist."""
-    from distkin.indices.rss_jacobian import ik_jacobian
+    from distkin.mechanisms.reference import ik_jacobian
     mech = presets["octo"]
     pose = random_reachable_poses(mech, 1, 20, seed=8)[0]
     _, _, J = ik_jacobian(mech, pose[None])
