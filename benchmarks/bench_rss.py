@@ -26,7 +26,7 @@ import json, sys
 sys.path.insert(0, {root!r})
 import sympy  # imported before the clock starts: we time the algebra, not the import
 from distkin.mechanisms import preset
-from distkin.mechanisms.kernels import derivation_profile
+from distkin.codegen.rss import derivation_profile
 print(json.dumps(derivation_profile(preset({name!r}), {kernels!r}, memory={memory})))
 """
 

@@ -27,8 +27,9 @@ import sympy as sp  # noqa: E402
 from distkin.exact_roots import real_roots  # noqa: E402
 from distkin.octahedral.banana import (LEG_PAIRS, SIDE_PAIRS, banana,  # noqa: E402
                                        squared_distance_symbols)
+from distkin.codegen.octic import octic_in_legs  # noqa: E402
 from distkin.octahedral.octic import (PART_NAMES, closure_condition,  # noqa: E402
-                                      naive_double_square, octic_in_legs, octic_parts,
+                                      naive_double_square, octic_parts,
                                       octic_polynomial)
 from distkin.octahedral.reference import (EQ11_PRINTED, GD_ROOTS, eq11_agreement,  # noqa: E402
                                           random_rational_octahedron)

@@ -11,7 +11,6 @@ Mechanism kinds that can be generated are listed in :data:`CODEGEN_KINDS`
 
 from __future__ import annotations
 
-import importlib
 import sys
 from pathlib import Path
 
@@ -19,9 +18,14 @@ from ..errors import InputError
 
 __all__ = ["add_parser", "CODEGEN_KINDS", "scene_module_source"]
 
-#: mechanism kind -> "module:function(scene, flavours) -> (source text, cache hit)"
-CODEGEN_KINDS: dict[str, str] = {
-    "rss": "distkin.mechanisms.kernels:scene_module",
+def _rss_module(scene, flavours):
+    from ..codegen.rss import scene_module
+    return scene_module(scene, flavours)
+
+
+#: mechanism kind -> function(scene, flavours) -> (source text, cache hit)
+CODEGEN_KINDS: dict = {
+    "rss": _rss_module,
 }
 
 _FLAVOURS = {"batched": ("batched",), "scalar": ("scalar",), "both": ("batched", "scalar")}
@@ -34,8 +38,7 @@ def scene_module_source(scene, flavour: str = "both"):
         raise InputError(f"expected a mechanism kind with generated kernels "
                          f"({', '.join(map(repr, CODEGEN_KINDS))}), got {kind!r}",
                          field="mechanism.kind")
-    mod, _, fn = CODEGEN_KINDS[kind].partition(":")
-    return getattr(importlib.import_module(mod), fn)(scene, _FLAVOURS[flavour])
+    return CODEGEN_KINDS[kind](scene, _FLAVOURS[flavour])
 
 
 def _run(args) -> int:

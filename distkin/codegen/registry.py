@@ -1,34 +1,37 @@
 """The generated modules committed in ``distkin/_generated/``.
 
-Each entry maps a module name to ``"package.module:function"``; the function takes no
-argument and returns the module's full source text (from :func:`.emit.module_source`).
+Each entry maps a module name to a function (it imports its generator explicitly) that
+takes no argument and returns the module's full source text (from :func:`.emit.module_source`).
 ``python -m distkin.codegen`` rewrites them; ``--check`` regenerates into a temporary
 folder and fails if anything differs.
 """
 
 from __future__ import annotations
 
-import importlib
+from ..mechanisms.presets import PRESETS
 
 __all__ = ["GENERATED", "generate"]
 
-#: module name in distkin/_generated/ -> generator "module:function"
-GENERATED: dict[str, str] = {
-    "octic_general": "distkin.octahedral.octic:generate_octic_module",
-    "rss_hunt": "distkin.mechanisms.kernels:generate_hunt",
-    "rss_hexa": "distkin.mechanisms.kernels:generate_hexa",
-    "rss_ergin": "distkin.mechanisms.kernels:generate_ergin",
-    "rss_octopod": "distkin.mechanisms.kernels:generate_octopod",
-    "rss_octo": "distkin.mechanisms.kernels:generate_octo",
-    "rss_hunt_arb": "distkin.mechanisms.kernels:generate_hunt_arb",
-    "rss_hexa_arb": "distkin.mechanisms.kernels:generate_hexa_arb",
-    "rss_ergin_arb": "distkin.mechanisms.kernels:generate_ergin_arb",
-    "rss_octopod_arb": "distkin.mechanisms.kernels:generate_octopod_arb",
-    "rss_octo_arb": "distkin.mechanisms.kernels:generate_octo_arb",
+def _octic():
+    from .octic import generate_octic_module
+    return generate_octic_module()
+
+
+def _rss(name, arb=False):
+    def generate():
+        from . import rss
+        return (rss.generate_preset_arb if arb else rss.generate_preset)(name)
+    return generate
+
+
+#: module name in distkin/_generated/ -> the function returning its source
+GENERATED: dict = {
+    "octic_general": _octic,
+    **{f"rss_{n}": _rss(n) for n in PRESETS},
+    **{f"rss_{n}_arb": _rss(n, arb=True) for n in PRESETS},
 }
 
 
 def generate(name: str) -> str:
     """Source text of generated module ``name``."""
-    mod, _, fn = GENERATED[name].partition(":")
-    return getattr(importlib.import_module(mod), fn)()
+    return GENERATED[name]()

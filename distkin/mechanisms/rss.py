@@ -222,16 +222,12 @@ class RSSMechanism:
 
     # ------------------------------------------------------------------ kernels
     def kernels(self, flavour: str = "batched"):
-        """The generated kernels (:mod:`.kernels`), ``flavour`` "batched" or "scalar"."""
-        cache = self.__dict__.get("_kernel_sets")
-        if cache is None:
-            cache = {}
-            object.__setattr__(self, "_kernel_sets", cache)   # a work buffer, not a field
-        ks = cache.get(flavour)
-        if ks is None:
-            from .kernels import load_kernels
-            ks = cache[flavour] = load_kernels(self, flavour)
-        return ks
+        """The generated kernels (:mod:`.kernels`), ``flavour`` "batched" or "scalar".
+
+        Loaded once per geometry into the one kernel cache of :mod:`.kernels` (keyed by
+        :meth:`geometry_key`), outside this frozen description."""
+        from .kernels import load_kernels
+        return load_kernels(self, flavour)
 
     def inverse_kinematics(self, poses):
         """Closed-form inverse kinematics, one crank angle per leg.

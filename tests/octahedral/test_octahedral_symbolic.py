@@ -153,7 +153,7 @@ def test_kernel_flavours_agree_with_sympy():
 def test_generated_module_is_up_to_date():
     """The committed kernel equals what the generator writes now (codegen --check)."""
     from pathlib import Path
-    from distkin.octahedral.octic import generate_octic_module
+    from distkin.codegen.octic import generate_octic_module
     import distkin._generated.octic_general as mod
     assert Path(mod.__file__).read_text(encoding="utf-8") == generate_octic_module()
 
@@ -162,7 +162,7 @@ def test_octic_in_legs_is_cached(tmp_path, monkeypatch):
     """With what a scene fixes substituted (here the sides and legs 1-4, to keep the test
     short; the derivation script does all six legs), the coefficients are polynomials in
     the remaining squared legs; the second call reads the cache and agrees."""
-    from distkin.octahedral.octic import octic_in_legs
+    from distkin.codegen.octic import octic_in_legs
     monkeypatch.setenv("DISTKIN_CACHE", str(tmp_path))
     fixed = {k: GD_VALUES[k] for k in SIDE_PAIRS + LEG_PAIRS[:4]}
     first = octic_in_legs(fixed)

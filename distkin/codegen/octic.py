@@ -1,0 +1,173 @@
+"""Deriving the octic kernel of the octahedral manipulator (sympy, :mod:`.emit`).
+
+Rojas, Borràs, Thomas, *The Octahedral Manipulator Revisited* (ICRA 2012), eqs. (1)-(3):
+the parts of eq. (3) (:func:`distkin.octahedral.octic.octic_parts`) become the committed
+kernel ``distkin/_generated/octic_general.py`` (:func:`generate_octic_module`); a scene's
+octic in its legs is derived and cached by :func:`octic_in_legs`.
+"""
+
+from __future__ import annotations
+
+import os
+import pickle
+
+from ..octahedral.octic import (LEG_PAIRS, PART_NAMES, SIDE_PAIRS, octic_parts,
+                                octic_polynomial, squared_distance_symbols)
+
+__all__ = ["octic_in_legs", "generate_octic_module"]
+
+
+def octic_in_legs(values=None, *, use_cache: bool = True):
+    r"""The octic's coefficients (highest degree first) as sympy expressions, cached.
+
+    With the base and platform sides fixed by ``values`` (a scene's geometry) the
+    coefficients are polynomials in the six squared legs only ("model only what a scene
+    requires").  The result is cached on disk under :func:`cache_dir`, keyed by a
+    SHA-256 of the symbolic source (the ``srepr`` of the parts and the substitution),
+    so a second run does no algebra (the folder of :mod:`.cache`).
+
+    Returns
+    -------
+    list of sympy.Expr
+        Nine coefficients :math:`o_8, \dots, o_0` of :math:`O(s_{15})`.
+    """
+    import sympy
+    from .cache import cache_dir
+    from .emit import symbolic_hash
+    p = octic_parts(values)
+    key = symbolic_hash(*[getattr(p, n) for n in PART_NAMES], p.x)[:32]
+    path = cache_dir() / f"octic_{key}.pickle"
+    if use_cache and path.exists():
+        try:
+            with open(path, "rb") as fh:
+                coeffs = pickle.load(fh)
+            if len(coeffs) == 9:
+                return coeffs
+        except Exception:  # a damaged cache entry is rebuilt, not trusted
+            path.unlink(missing_ok=True)
+    coeffs = [sympy.expand(c) for c in octic_polynomial(values).all_coeffs()]
+    coeffs = [sympy.Integer(0)] * (9 - len(coeffs)) + coeffs
+    if use_cache:
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            tmp = path.with_suffix(f".{os.getpid()}.tmp")
+            with open(tmp, "wb") as fh:
+                pickle.dump(coeffs, fh)
+            tmp.replace(path)
+        except OSError:
+            pass
+    return coeffs
+
+
+_KERNEL_DOC = """Octic of the octahedral manipulator and the parts of eq. (3).
+
+Rojas, Borràs, Thomas, The Octahedral Manipulator Revisited (ICRA 2012), eqs. (1)-(3),
+Sec. III: O(x) = G^2 - 4 R1 R2 with G = u E2 + v E1 + 2 b1 b2, x = s15 (see
+distkin.octahedral.octic).
+
+Parameters
+----------
+sides : (..., 6)  squared base and platform sides s12 s13 s23 s45 s46 s56
+legs : (..., 6)   squared legs s14 s24 s25 s35 s36 s16 (legs 1..6)
+
+Returns
+-------
+(..., 39): entries 0..29 are the quadratics {names} in x, three coefficients each
+(constant, x, x^2); entries 30..38 are the octic's coefficients o8 .. o0 (highest
+degree first).  Units: squared length to the power of each coefficient's degree."""
+
+
+def _kernel_outputs():
+    """The 39 outputs of the kernel as sympy expressions of the 12 squared lengths."""
+    import sympy
+    p = octic_parts()
+    X = p.x
+    quad = {}
+    out = []
+    for name in PART_NAMES:
+        poly = sympy.Poly(getattr(p, name), X)
+        c = [poly.coeff_monomial(X ** k) for k in range(3)]
+        if poly.degree() > 2:
+            raise AssertionError(f"part {name} has degree {poly.degree()} in s15")
+        quad[name] = c
+        out.extend(c)
+
+    def mul(a, b):
+        r = [sympy.Integer(0)] * (len(a) + len(b) - 1)
+        for i, ai in enumerate(a):
+            for j, bj in enumerate(b):
+                r[i + j] += ai * bj
+        return r
+
+    def add(*polys):
+        n = max(len(q) for q in polys)
+        return [sum((q[k] for q in polys if k < len(q)), sympy.Integer(0)) for k in range(n)]
+
+    # intermediate coefficient symbols keep the expression tree small for CSE
+    sym = {name: [sympy.Symbol(f"_{name}{k}") for k in range(3)] for name in PART_NAMES}
+    G = add(mul(sym["u"], sym["E2"]), mul(sym["v"], sym["E1"]),
+            [2 * t for t in mul(sym["b1"], sym["b2"])])
+    R = mul(mul(sym["T1a"], sym["T1b"]), mul(sym["T2a"], sym["T2b"]))
+    O = add(mul(G, G), [-4 * t for t in R])
+    back = {sym[n][k]: quad[n][k] for n in PART_NAMES for k in range(3)}
+    octic = [o.xreplace(back) for o in reversed(O)]
+    return out + octic
+
+
+def _inputs():
+    s = squared_distance_symbols()
+    return (("sides", tuple(s[k] for k in SIDE_PAIRS)), ("legs", tuple(s[k] for k in LEG_PAIRS)))
+
+
+def generate_octic_module() -> str:
+    """Source of ``distkin/_generated/octic_general.py`` (registered in
+    :data:`distkin.codegen.registry.GENERATED`): a batched numpy kernel
+    ``octic_batched``, a scalar one ``octic_scalar`` (and ``parts_scalar``, its quadratic
+    parts only), an exact (fmpq/arb) kernel ``octic_exact`` of the same map, and the
+    rigorous rounding bounds of the quadratic parts as the two float kernels compute
+    them (:mod:`.rounding`): the magnitude kernel ``parts_magnitude`` and
+    the constants ``PARTS_DEPTH``, ``PARTS_DEGREE``, ``PARTS_UNDERFLOW`` (inputs of
+    modulus at most 2^24: the squared lengths after :mod:`.scaling`)."""
+    from .emit import Kernel, kernel_source, module_source, symbolic_hash
+    from .rounding import analyse, magnitude_source
+    outputs = _kernel_outputs()
+    inputs = _inputs()
+    doc = _KERNEL_DOC.format(names=", ".join(PART_NAMES))
+    fast = {"cse_optimizations": None}  # sympy's "basic" pre-pass costs ~4 s, gains nothing
+    kernels = [Kernel("octic_batched", inputs, outputs, flavour="batched", doc=doc, extra=fast),
+               Kernel("octic_scalar", inputs, outputs, flavour="scalar", extra=fast,
+                      doc=doc.replace("(..., 6)", "(6,)").replace("(..., 39)", "list of 39")),
+               Kernel("parts_scalar", inputs, outputs[:30], flavour="scalar", extra=fast,
+                      doc="The first 30 outputs of ``octic_scalar`` only (the quadratic "
+                          "parts, without the octic), for evaluations at other inputs "
+                          "than the fast tier's own.  sides, legs: (6,); returns a list "
+                          "of 30."),
+               Kernel("octic_exact", inputs, outputs, flavour="exact", extra=fast,
+                      doc=doc.replace("(..., 6)", "(6,) fmpq or arb")
+                      .replace("(..., 39)", "list of 39 (exact on fmpq, balls on arb)"))]
+    # the rounding bounds of the parts as octic_scalar and octic_batched compute them
+    # (the same CSE, so the same evaluation order: checked)
+    parts = range(30)
+    scalar_src, batched_src = kernel_source(kernels[1]), kernel_source(kernels[0])
+    bounds = analyse(scalar_src, "octic_scalar", outputs=parts, leaf_bound=2 ** 24)
+    if analyse(batched_src, "octic_batched", outputs=parts, leaf_bound=2 ** 24) != bounds:
+        raise AssertionError("octic_scalar and octic_batched evaluate the parts differently")
+    magnitude = magnitude_source(
+        scalar_src, "octic_scalar", "parts_magnitude",
+        "Magnitudes of the first 30 outputs of ``octic_scalar`` (the quadratic parts): the "
+        "same code with absolute values throughout (distkin.codegen.rounding).  With\n"
+        "PARTS_DEPTH, PARTS_DEGREE and PARTS_UNDERFLOW they bound the rounding error of "
+        "``octic_scalar`` and ``octic_batched``\n(inputs of modulus <= 2^24).  sides, legs: "
+        "(6,); returns a list of 30.", outputs=parts)
+    return module_source(
+        kernels, generator="distkin.codegen.octic:generate_octic_module "
+        "(derivation: derivations/octahedral_octic.py)",
+        doc="Octic coefficient map of the octahedral manipulator (Rojas et al. 2012, eq. (3)).",
+        source_hash=symbolic_hash(*outputs),
+        constants={"PART_NAMES": PART_NAMES, "N_PARTS": len(PART_NAMES),
+                   # where the parts and the octic sit in the 39 outputs
+                   "PARTS": slice(0, 3 * len(PART_NAMES)),
+                   "OCTIC": slice(3 * len(PART_NAMES), 3 * len(PART_NAMES) + 9),
+                   "PARTS_DEPTH": bounds.depth, "PARTS_DEGREE": bounds.degree,
+                   "PARTS_UNDERFLOW": bounds.underflow},
+        functions=[("parts_magnitude", magnitude)])

@@ -1,0 +1,11 @@
+"""The names of the generated RSS kernels and their flavours (table in
+:mod:`distkin.mechanisms.kernels`), shared by the code generator
+(:mod:`distkin.codegen.rss`) and the loader, which import nothing else of each other."""
+
+__all__ = ["KERNELS", "FLAVOURS", "ARB_KERNELS"]
+
+KERNELS = ("ik", "reach", "jacobian", "jq_jx", "closure")
+FLAVOURS = ("batched", "scalar")
+#: the kernels of the certified (arb) flavour, in their own module ``rss_<name>_arb``
+ARB_KERNELS = ("reach", "jq_jx")
+_SUFFIX = {"batched": "", "scalar": "_scalar", "arb": "_arb"}
