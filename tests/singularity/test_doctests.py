@@ -4,11 +4,11 @@ import doctest
 
 import pytest
 
-import distkin.delta
-import distkin.singularity
+import distkin.delta.transform
+import distkin.singularity.conditions
 
 
-@pytest.mark.parametrize("module", [distkin.delta, distkin.singularity])
+@pytest.mark.parametrize("module", [distkin.delta.transform, distkin.singularity.conditions])
 def test_docstring_examples(module):
     result = doctest.testmod(module, optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
     assert result.attempted > 0 and result.failed == 0

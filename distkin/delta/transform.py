@@ -40,8 +40,8 @@ from functools import cached_property, lru_cache
 
 import numpy as np
 
-from .errors import DegenerateGeometryError, InfeasibleError, InputError
-from .exact import METHODS_AUTO, Exact, check_method, default_dps, parse_exact, to_sympy
+from ..errors import DegenerateGeometryError, InfeasibleError, InputError
+from ..exact import METHODS_AUTO, Exact, check_method, default_dps, parse_exact, to_sympy
 
 __all__ = [
     "RowSpec",
@@ -152,7 +152,7 @@ def derive_eq7() -> Eq7:
     """
     import sympy as sp
 
-    from .geometry.cayley_menger import cayley_menger
+    from ..geometry.cayley_menger import cayley_menger
     d, delta, s13, s23, s34 = sp.symbols("d delta s13 s23 s34", positive=True)
     S = sp.Matrix([[0, d ** 2, s13, delta ** 2],
                    [d ** 2, 0, s23, (d - delta) ** 2],
@@ -567,7 +567,7 @@ class Platform66:
 
 
 def _tier_array(points, method):
-    from .exact import sympy_to_arb
+    from ..exact import sympy_to_arb
     if method == "fast":
         return np.array([[float(x) for x in p] for p in points], dtype=float)
     if method == "precise":
@@ -724,7 +724,7 @@ def forward_kinematics66(octahedral, offsets, m_legs, *, method: str = "fast",
     check_method(method, allowed=METHODS_AUTO)
     dps = default_dps(dps) if dps is not None else None
     plat = equivalent_platform(octahedral, offsets)
-    from .octahedral import forward_kinematics
+    from ..octahedral import forward_kinematics
     base, platform = _base_platform(octahedral)
     if method == "auto":  # exact l-legs, so that an escalation certifies this problem
         l_sq, l = plat.transform.map_legs(m_legs)
@@ -802,7 +802,7 @@ def _pose66_arb(plat, R, t, m, pose):
     enclosures of the octahedral solver, the exact joints and m-legs as balls)."""
     import flint
 
-    from .exact import sympy_to_arb
+    from ..exact import sympy_to_arb
     bj, pj = plat.joints("certified")
     world = np.array([R.dot(p) + t for p in pj], dtype=object)
     errs = []

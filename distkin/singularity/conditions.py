@@ -46,8 +46,8 @@ from fractions import Fraction
 
 import numpy as np
 
-from .errors import InputError, UncertifiedError
-from .exact import check_method
+from ..errors import InputError, UncertifiedError
+from ..exact import check_method
 
 __all__ = [
     "OCTAHEDRAL_LEGS",
@@ -314,7 +314,7 @@ def certified_sign(value) -> int:
 # ------------------------------------------------------------- Cayley-Menger conditions
 
 def _sq(points, method):
-    from .geometry.cayley_menger import squared_distances
+    from ..geometry.cayley_menger import squared_distances
     pts, kind = _prepare(points, method)
     if pts.shape[-2:] != (6, 3):
         raise InputError(f"expected points P1..P6 of shape (..., 6, 3), got {pts.shape}",
@@ -342,7 +342,7 @@ def cm_pure_condition(points, *, method: str | None = None, relative: bool = Fal
     -------
     number or float array (length units^18 unless relative)
     """
-    from .geometry.cayley_menger import cayley_menger as D
+    from ..geometry.cayley_menger import cayley_menger as D
     sq, _ = _sq(points, method)
     left = D(sq, (1, 2, 4, 5)) * D(sq, (3, 4, 5, 6)) * D(sq, (1, 2, 3, 6))
     right = D(sq, (1, 2, 3, 4)) * D(sq, (2, 4, 5, 6)) * D(sq, (1, 3, 5, 6))
@@ -360,7 +360,7 @@ def signed_cm_condition(points, *, method: str | None = None, relative: bool = F
     :math:`a \ne 0`).  ``relative`` divides by
     :math:`|D(1,2,4,5)D(3,4,5,6)D(1,2,3,6)| + |D(\dots;\dots)D(\dots;\dots)D(\dots;\dots)|`.
     """
-    from .geometry.cayley_menger import cayley_menger as D
+    from ..geometry.cayley_menger import cayley_menger as D
     sq, _ = _sq(points, method)
     first = D(sq, (1, 2, 4, 5)) * D(sq, (3, 4, 5, 6)) * D(sq, (1, 2, 3, 6))
     second = (D(sq, (1, 2, 4, 5), (1, 2, 3, 4)) * D(sq, (3, 4, 5, 6), (2, 4, 5, 6))
@@ -592,7 +592,7 @@ def _arb(x):
     """A certified arb enclosure of an exact value (Fraction, int, fmpq, sympy constant)."""
     import flint
 
-    from .exact import to_tier
+    from ..exact import to_tier
     if hasattr(x, "value"):
         x = x.value
     if isinstance(x, float):

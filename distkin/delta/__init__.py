@@ -1,0 +1,28 @@
+"""Δ-transforms of the octahedral manipulator (Rojas, Borràs, Thomas, *The Octahedral
+Manipulator Revisited*, ICRA 2012, Sec. IV, eqs. (7)-(9)): :mod:`.transform` (offsets ->
+(A, b), the transform itself) and the equivalent 6-6 platforms with their forward
+kinematics."""
+
+from .transform import (RowSpec, ROWS, SIDE_NAMES, Eq7, derive_eq7, delta_matrices,
+                        side_lengths, DeltaTransform,
+                        delta_transform, Platform66,
+                        equivalent_platform,
+                        forward_kinematics66, Pose66,
+                        FK66Result)
+
+__all__ = [
+    "RowSpec",
+    "ROWS",
+    "SIDE_NAMES",
+    "Eq7",
+    "derive_eq7",
+    "delta_matrices",
+    "side_lengths",
+    "DeltaTransform",
+    "delta_transform",
+    "Platform66",
+    "equivalent_platform",
+    "forward_kinematics66",
+    "Pose66",
+    "FK66Result",
+]

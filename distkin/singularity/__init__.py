@@ -1,0 +1,39 @@
+"""Singularities of the octahedral manipulator and its 6-6 equivalents (Rojas, Borràs,
+Thomas, ICRA 2012, Sec. V): the Plücker Jacobian (eq. (5)), the Cayley-Menger pure
+condition, the four-planes test (:mod:`.conditions`), and poses, paths and the nearest
+singularity."""
+
+from .conditions import (OCTAHEDRAL_LEGS, octahedral_joints, plucker_jacobian,
+                         jacobian_det, cm_pure_condition,
+                         signed_cm_condition,
+                         volume_factors, four_planes,
+                         FourPlanes, rotation_from_vector,
+                         pose_points, certified_sign,
+                         RATIO_CONSTANT, PLANES, PosePath,
+                         Crossing, path_crossings,
+                         certify_crossing,
+                         NearestSingularity,
+                         nearest_singularity)
+
+__all__ = [
+    "OCTAHEDRAL_LEGS",
+    "octahedral_joints",
+    "plucker_jacobian",
+    "jacobian_det",
+    "cm_pure_condition",
+    "signed_cm_condition",
+    "volume_factors",
+    "four_planes",
+    "FourPlanes",
+    "rotation_from_vector",
+    "pose_points",
+    "certified_sign",
+    "RATIO_CONSTANT",
+    "PLANES",
+    "PosePath",
+    "Crossing",
+    "path_crossings",
+    "certify_crossing",
+    "NearestSingularity",
+    "nearest_singularity",
+]
