@@ -4,11 +4,9 @@ Manipulator Revisited*, ICRA 2012, Sec. IV, eqs. (7)-(9)): :mod:`.transform` (of
 kinematics."""
 
 from .transform import (RowSpec, ROWS, SIDE_NAMES, Eq7, derive_eq7, delta_matrices,
-                        side_lengths, DeltaTransform,
-                        delta_transform, Platform66,
-                        equivalent_platform,
-                        forward_kinematics66, Pose66,
-                        FK66Result)
+                        side_lengths, DeltaTransform, delta_transform)
+from .platform66 import (Platform66, equivalent_platform, forward_kinematics66, Pose66,
+                         FK66Result)
 
 __all__ = [
     "RowSpec",

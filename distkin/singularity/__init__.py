@@ -4,16 +4,11 @@ condition, the four-planes test (:mod:`.conditions`), and poses, paths and the n
 singularity."""
 
 from .conditions import (OCTAHEDRAL_LEGS, octahedral_joints, plucker_jacobian,
-                         jacobian_det, cm_pure_condition,
-                         signed_cm_condition,
-                         volume_factors, four_planes,
-                         FourPlanes, rotation_from_vector,
-                         pose_points, certified_sign,
-                         RATIO_CONSTANT, PLANES, PosePath,
-                         Crossing, path_crossings,
-                         certify_crossing,
-                         NearestSingularity,
-                         nearest_singularity)
+                         jacobian_det, cm_pure_condition, signed_cm_condition,
+                         volume_factors, four_planes, FourPlanes, certified_sign,
+                         RATIO_CONSTANT, PLANES)
+from .paths import (rotation_from_vector, pose_points, PosePath, Crossing, path_crossings,
+                    certify_crossing, NearestSingularity, nearest_singularity)
 
 __all__ = [
     "OCTAHEDRAL_LEGS",
@@ -25,11 +20,11 @@ __all__ = [
     "volume_factors",
     "four_planes",
     "FourPlanes",
-    "rotation_from_vector",
-    "pose_points",
     "certified_sign",
     "RATIO_CONSTANT",
     "PLANES",
+    "rotation_from_vector",
+    "pose_points",
     "PosePath",
     "Crossing",
     "path_crossings",

@@ -1,0 +1,324 @@
+r"""The 6-6 platform equivalent to an octahedral manipulator under a Δ-transform, and its
+forward kinematics from the octahedral one (Rojas, Borràs, Thomas, *The Octahedral
+Manipulator Revisited*, ICRA 2012, Sec. IV-VI: :math:`l^2 = \mathbf A^{-1}(m^2 + \mathbf b)`
+exact, then the octahedral assembly modes moved to the 6-6 attachment points).
+
+Number types as in :mod:`.transform`: ``fast`` float64, ``precise`` mpmath, ``certified``
+flint (arb balls for the poses)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+from functools import cached_property, lru_cache
+
+import numpy as np
+
+from ..errors import DegenerateGeometryError, InputError
+from ..exact import METHODS_AUTO, check_method, default_dps
+from .transform import (ROWS, DeltaTransform, _as_sym, _base_platform, _float_legs, _sym_point,
+                        delta_transform)
+
+__all__ = [
+    "Platform66",
+    "equivalent_platform",
+    "forward_kinematics66",
+    "Pose66",
+    "FK66Result",
+]
+
+
+# ----------------------------------------------------------- the equivalent 6-6 platform
+
+@dataclass(frozen=True)
+class Platform66:
+    r"""A 6-6 platform: leg :math:`k` joins ``base_joints[k]`` to ``platform_joints[k]``.
+
+    Attributes
+    ----------
+    base_joints : tuple of 6 points (sympy, base frame, length units)
+    platform_joints : tuple of 6 points (sympy, platform frame, length units)
+    transform : DeltaTransform or None
+        The Δ-transform it was built from (Rojas et al., Fig. 6).
+    """
+
+    base_joints: tuple
+    platform_joints: tuple
+    transform: DeltaTransform | None = None
+
+    kind = "platform66"
+
+    def joints(self, method: str = "fast"):
+        """Joint coordinates as arrays ``(6, 3)`` (base frame) and ``(6, 3)`` (platform
+        frame) in the tier's number type (float / mpf / arb); the float64 arrays are
+        computed once (read-only)."""
+        if method == "fast":
+            return self._fast_joints
+        return _tier_array(self.base_joints, method), _tier_array(self.platform_joints, method)
+
+    @cached_property
+    def _fast_joints(self):
+        b = _tier_array(self.base_joints, "fast")
+        p = _tier_array(self.platform_joints, "fast")
+        b.flags.writeable = False
+        p.flags.writeable = False
+        return b, p
+
+
+def _tier_array(points, method):
+    from ..exact import sympy_to_arb
+    if method == "fast":
+        return np.array([[float(x) for x in p] for p in points], dtype=float)
+    if method == "precise":
+        import mpmath
+        return np.array([[mpmath.mpf(x.evalf(mpmath.mp.dps + 5)) for x in p] for p in points],
+                        dtype=object)
+    return np.array([[sympy_to_arb(x) for x in p] for p in points], dtype=object)
+
+
+def equivalent_platform(octahedral, offsets) -> Platform66:
+    r"""Build the 6-6 platform of Fig. 6 from an octahedral one and offsets δ1..δ6.
+
+    Row :math:`i` of :data:`ROWS` moves one end of leg :math:`i` from :math:`P_s` to
+    :math:`P_s + (\delta_i/d_i)(P_e - P_s)` on the edge :math:`(P_s, P_e)`; the other
+    end stays at the shared point.  Leg :math:`k` of the 6-6 platform has length
+    :math:`m_k`.
+
+    Parameters
+    ----------
+    octahedral : Octahedral or (base, platform)
+    offsets : 6 numbers (numeric; symbols are not allowed here)
+
+    Returns
+    -------
+    Platform66
+        Exact joint positions; base joints in the base frame, platform joints in the
+        platform frame of the octahedral mechanism.
+
+    Raises
+    ------
+    DegenerateGeometryError
+        Offsets making :math:`\det\mathbf A = 0`, or an offset of 0 or :math:`d_i` that
+        would merge two joints again (the platform would not be 6-6).
+    """
+    tr = delta_transform(octahedral, offsets)
+    if tr.free_symbols:
+        raise InputError(f"expected numeric offsets to build a platform, got symbols "
+                         f"{', '.join(map(str, tr.free_symbols))}", field="offsets")
+    tr.check_regular()
+    base, platform = _base_platform(octahedral)
+    key = tuple(_sym_point(p) for p in base) + tuple(_sym_point(p) for p in platform)
+    return _build_platform(key, tr)
+
+
+@lru_cache(maxsize=64)
+def _build_platform(points: tuple, tr: DeltaTransform) -> Platform66:
+    """The joints of Fig. 6 (cached per geometry and transform)."""
+    import sympy as sp
+    pts = [sp.Matrix(p) for p in points]
+    bj, pj = [], []
+    for spec, d, delta in zip(ROWS, tr.sides, tr.offsets):
+        s, e = spec.edge
+        if delta == 0 or sp.simplify(delta - d) == 0:
+            raise DegenerateGeometryError(
+                f"expected 0 < delta{spec.row} < {spec.side} = {d} so that every joint is "
+                f"single, got delta{spec.row} = {delta}", field=f"offsets[{spec.row - 1}]")
+        t = sp.nsimplify(delta / d)
+        new = (pts[s - 1] + t * (pts[e - 1] - pts[s - 1])).applyfunc(sp.nsimplify)
+        shared = pts[spec.shared - 1]
+        if spec.moved == "base":
+            bj.append(tuple(new))
+            pj.append(tuple(shared))
+        else:
+            bj.append(tuple(shared))
+            pj.append(tuple(new))
+    return Platform66(tuple(bj), tuple(pj), tr)
+
+
+# ------------------------------------------------------------- forward kinematics 6-6
+
+@dataclass(frozen=True)
+class Pose66:
+    """One assembly mode of the 6-6 platform.
+
+    Attributes
+    ----------
+    rotation : array (3, 3)
+        Platform frame -> base frame.
+    translation : array (3,), length units
+    base_joints, platform_joints : array (6, 3), base frame, length units
+    max_leg_error : float
+        max_k | |b_k - p_k| - m_k | on the 6-6 platform's own geometry (length units);
+        in the certified tier a rigorous upper bound (arb).
+    octahedral_pose : object
+        The octahedral pose it comes from.
+    """
+
+    rotation: np.ndarray
+    translation: np.ndarray
+    base_joints: np.ndarray
+    platform_joints: np.ndarray
+    max_leg_error: float
+    octahedral_pose: object
+
+
+@dataclass(frozen=True)
+class FK66Result:
+    """Result of :func:`forward_kinematics66`.
+
+    Attributes
+    ----------
+    platform : Platform66
+    l_sq, l_legs : tuples of sympy numbers, or float64 arrays (6,) in the fast tier
+        The equivalent octahedral legs (exact in the precise and certified tiers).
+    octahedral : object
+        The octahedral forward-kinematics result.
+    poses : tuple of Pose66
+    max_leg_error : float
+        Worst m-leg residual over all poses (length units).
+    """
+
+    platform: Platform66
+    l_sq: tuple
+    l_legs: tuple
+    octahedral: object
+    poses: tuple
+    max_leg_error: float
+
+
+def forward_kinematics66(octahedral, offsets, m_legs, *, method: str = "fast",
+                         dps: int | None = None) -> FK66Result:
+    r"""Forward kinematics of the 6-6 platform equivalent to an octahedral one.
+
+    Rojas et al., Sec. V-VI: map the m-legs to the l-legs by eq. (8),
+    :math:`l^2 = \mathbf A^{-1}(m^2 + \mathbf b)` (exact), solve the octahedral forward
+    kinematics (:func:`distkin.octahedral.forward_kinematics`) and move the 6-6
+    platform (:func:`equivalent_platform`) by each of its poses.  Each pose is then
+    checked on the 6-6 platform's own joints, independently of the affine map:
+    ``max_leg_error`` = :math:`\max_k \bigl|\,|b_k - (R q_k + t)| - m_k\bigr|`.
+
+    Parameters
+    ----------
+    octahedral : Octahedral or (base, platform)
+    offsets : 6 numbers (length units)
+    m_legs : 6 leg lengths (Exact, numeric strings like ``"6/25*sqrt(6170)"``)
+    method : {"fast", "precise", "certified", "auto"}
+        Passed to the octahedral solver; its accuracy statement applies.  ``"auto"``
+        maps the legs exactly and lets the octahedral solver choose its tier
+        (``result.octahedral.tier`` / ``.tier_reason``); the residual check then runs in
+        the tier that answered.  The residual
+        check runs in float64 (fast), mpmath at ``dps`` (precise) or arb balls
+        (certified: a rigorous upper bound).
+    dps : int, optional
+
+    Returns
+    -------
+    FK66Result
+
+    Raises
+    ------
+    DegenerateGeometryError, InfeasibleError, InputError
+        See :meth:`DeltaTransform.map_legs` and :func:`equivalent_platform`.
+    """
+    check_method(method, allowed=METHODS_AUTO)
+    dps = default_dps(dps) if dps is not None else None
+    plat = equivalent_platform(octahedral, offsets)
+    from ..octahedral import forward_kinematics
+    base, platform = _base_platform(octahedral)
+    if method == "auto":  # exact l-legs, so that an escalation certifies this problem
+        l_sq, l = plat.transform.map_legs(m_legs)
+        res = forward_kinematics(base, platform, [_legs_arg(x) for x in l], method="auto",
+                                 dps=dps)
+        tier = res.tier
+        m = (list(_float_legs(m_legs, "m_legs")) if tier == "fast" else
+             [_as_sym(x, f"m_legs[{i}]") for i, x in enumerate(m_legs)])
+        poses = [_pose66(plat, *_pose_arrays(pose, tier), m, tier, dps, pose)
+                 for pose in res.poses]
+        worst = max((p.max_leg_error for p in poses), default=0.0)
+        return FK66Result(plat, l_sq, l, res, tuple(poses), worst)
+    if method == "fast":  # float64 throughout: no algebra on this path
+        l_sq, l = plat.transform.map_legs_float(m_legs)
+        legs = [float(x) for x in l]
+        m = list(_float_legs(m_legs, "m_legs"))
+    else:
+        l_sq, l = plat.transform.map_legs(m_legs)
+        legs = [_legs_arg(x) for x in l]
+        m = [_as_sym(x, f"m_legs[{i}]") for i, x in enumerate(m_legs)]
+    kwargs = {"method": method}
+    if dps is not None:
+        kwargs["dps"] = dps
+    res = forward_kinematics(base, platform, legs, **kwargs)
+    poses = []
+    for pose in res.poses:
+        R, t = _pose_arrays(pose, method)
+        poses.append(_pose66(plat, R, t, m, method, dps, pose))
+    worst = max((p.max_leg_error for p in poses), default=0.0)
+    return FK66Result(plat, l_sq, l, res, tuple(poses), worst)
+
+
+def _legs_arg(x):
+    """An l-leg as the octahedral solver's input: an exact string ("99/5", "3*sqrt(2)")."""
+    return str(x)
+
+
+def _pose_arrays(pose, method):
+    """Rotation and translation of an octahedral pose: float64 (fast) or the tier-native
+    values (mpf / arb) when the solver provides them."""
+    native = getattr(pose, "native", None)
+    if method != "fast" and native and "rotation" in native and "translation" in native:
+        return (np.asarray(native["rotation"], dtype=object),
+                np.asarray(native["translation"], dtype=object))
+    return np.asarray(pose.rotation), np.asarray(pose.translation)
+
+
+def _pose66(plat, R, t, m, method, dps, pose):
+    if method == "fast":
+        bj, pj = plat.joints("fast")
+        Rf, tf = R.astype(float), t.astype(float)
+        world = pj @ Rf.T + tf
+        lens = np.linalg.norm(world - bj, axis=1)
+        err = float(np.max(np.abs(lens - np.array([float(x) for x in m]))))
+        return Pose66(Rf, tf, bj, world, err, pose)
+    if method == "certified" and R.dtype == object and type(R.ravel()[0]).__name__ == "arb":
+        return _pose66_arb(plat, R, t, m, pose)
+    import mpmath
+    with mpmath.workdps(dps or 30):
+        bj, pj = plat.joints("precise")
+        Rm = np.array([[_mpf(x) for x in row] for row in R], dtype=object)
+        tm = np.array([_mpf(x) for x in t], dtype=object)
+        world = np.array([Rm.dot(p) + tm for p in pj], dtype=object)
+        errs = []
+        for k in range(6):
+            diff = world[k] - bj[k]
+            lk = mpmath.sqrt(sum(x * x for x in diff))
+            errs.append(abs(lk - mpmath.mpf(m[k].evalf(mpmath.mp.dps + 5))))
+        err = float(max(errs))
+        return Pose66(Rm, tm, bj, world, err, pose)
+
+
+def _pose66_arb(plat, R, t, m, pose):
+    """Certified tier: the residual is a rigorous upper bound from arb balls (the pose
+    enclosures of the octahedral solver, the exact joints and m-legs as balls)."""
+    import flint
+
+    from ..exact import sympy_to_arb
+    bj, pj = plat.joints("certified")
+    world = np.array([R.dot(p) + t for p in pj], dtype=object)
+    errs = []
+    for k in range(6):
+        diff = world[k] - bj[k]
+        lk = (diff[0] * diff[0] + diff[1] * diff[1] + diff[2] * diff[2]).sqrt()
+        e = abs(lk - sympy_to_arb(m[k]))
+        errs.append(float(flint.arb(e.upper()).mid()))
+    return Pose66(R, t, bj, world, max(errs), pose)
+
+
+def _mpf(x):
+    import mpmath
+    if type(x).__name__ == "arb":
+        return mpmath.mpf(x.mid().str(mpmath.mp.dps + 5, radius=False))
+    if isinstance(x, Fraction):
+        return mpmath.mpf(x.numerator) / x.denominator
+    if type(x).__name__ == "fmpq":
+        return mpmath.mpf(int(x.p)) / int(x.q)
+    return mpmath.mpf(x)

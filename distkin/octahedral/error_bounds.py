@@ -1,0 +1,122 @@
+r"""Running error bounds of the octic kernel's quadratic parts in float64 (the proof of
+:mod:`.descartes`, steps 1-3 of its docstring): rigorous bounds of the rounding errors of
+the kernel's outputs (from its generated source: ``parts_magnitude`` and the constants
+``PARTS_DEPTH``, ``PARTS_DEGREE``, ``PARTS_UNDERFLOW`` of
+``distkin/_generated/octic_general.py``, :mod:`distkin.codegen.rounding`), of the feasible
+interval's ends, and of the input's own rounding.  Rojas, Borràs and Thomas, *The
+Octahedral Manipulator Revisited*, ICRA 2012, eq. (3).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from .._generated.octic_general import (PARTS_DEGREE, PARTS_DEPTH, PARTS_UNDERFLOW,
+                                        parts_magnitude)
+
+__all__ = ["part_errors", "margin", "eta_rounded", "U", "ETA_FLOAT", "LEAF_BOUND",
+           "LEAF_MIN"]
+
+_magnitude = numba.njit(cache=True)(parts_magnitude)
+
+#: unit roundoff of binary64
+U = 2.0 ** -53
+#: relative error of a squared length computed from exact float coordinates
+#: (a difference, a square, two sums: gamma_5) and of a squared leg (gamma_1 < gamma_5);
+#: 2^-60 more covers squares of components in the subnormal range (each off by at most
+#: 2^-1075, against a squared length of at least 2^-1000: LEAF_MIN)
+ETA_FLOAT = 5 * U / (1 - 5 * U) + 2.0 ** -60
+#: the squared lengths the bounds cover: in [LEAF_MIN, LEAF_BOUND] (after the
+#: normalisation of :mod:`.scaling`, lengths are below 2^10, squared sides below 2^24)
+LEAF_BOUND = 2.0 ** 24
+LEAF_MIN = 2.0 ** -1000
+_TINY = 2.0 ** -1074          # underflow of one product
+_SAFE = 1.0 + 2.0 ** -30      # the bounds' own rounding (module docstring, step 3)
+_DEPTH = np.array(PARTS_DEPTH, dtype=np.float64)
+_DEGREE = np.array(PARTS_DEGREE, dtype=np.float64)
+_UNDER = np.array(PARTS_UNDERFLOW, dtype=np.float64)
+
+
+@numba.njit(cache=True, inline="always")
+def _add(a, ea, b, eb):
+    v = a + b
+    return v, ea + eb + U * abs(v)
+
+
+@numba.njit(cache=True, inline="always")
+def _mul(a, ea, b, eb):
+    v = a * b
+    return v, abs(a) * eb + abs(b) * ea + ea * eb + U * abs(v) + _TINY
+
+
+@numba.njit(cache=True)
+def part_errors(d, s2, l2, eta):
+    r"""Rigorous bounds ``(30,)`` of the errors of the kernel's quadratic parts ``d[:30]``
+    against the exact parts at the exact squared lengths (module docstring, step 2), or
+    all ``inf`` outside the bounds' range.
+
+    Parameters
+    ----------
+    d : (>= 30,) the kernel output (:func:`.single.octic_array` or a row of the
+        batched kernel) at the float squared lengths ``s2``, ``l2`` (each in
+        [LEAF_MIN, LEAF_BOUND])
+    eta : relative error bound of those squared lengths
+    """
+    mag = _magnitude(s2, l2)
+    out = np.empty(30)
+    ok = True
+    for k in range(6):
+        if not (LEAF_MIN <= s2[k] <= LEAF_BOUND and LEAF_MIN <= l2[k] <= LEAF_BOUND):
+            ok = False
+    for k in range(30):
+        t = _DEPTH[k] * U + _DEGREE[k] * eta
+        if not ok or not t < 0.1:
+            out[k] = np.inf
+            continue
+        # (1+u)^d (1+eta)^g - 1 <= t / (1 - t);  (1+eta)^g / (1-u)^d <= 1 / (1 - t)
+        g = t / (1.0 - t)
+        out[k] = _SAFE * (g * (mag[k] + _UNDER[k]) / (1.0 - t) + _UNDER[k])
+    return out
+
+
+@numba.njit(cache=True)
+def margin(s2, l2, eta):
+    r"""A rigorous bound on the error of the float triangle bounds of :math:`s_{15}`
+    (:func:`.single.bounds`): for :math:`x, y` with relative errors at most
+    :math:`\eta`, :math:`(\sqrt x \pm \sqrt y)^2` moves by at most
+    :math:`(2\eta + \eta^2)(\sqrt x + \sqrt y)^2`, and the float square roots, the sum or
+    difference and the square add at most :math:`6u` of the same; twice that, over the
+    four triangles."""
+    big = 0.0
+    for a, b in ((l2[0], s2[3]), (s2[0], l2[2]), (l2[5], s2[5]), (s2[1], l2[3])):
+        r = math.sqrt(a) + math.sqrt(b)
+        big = max(big, r * r)
+    return _SAFE * 2.0 * (2.0 * eta + eta * eta + 6.0 * U) * big * (1.0 + 4.0 * U)
+
+
+@numba.njit(cache=True)
+def eta_rounded(B, Q, L):
+    r"""Relative error bound of the squared lengths when the coordinates ``B``, ``Q``
+    (3, 3) and legs ``L`` (6,) are themselves the floats nearest to exact values
+    (:math:`|x - x^*| \le u|x^*| \le 2u|x|`): per side, each difference is off by
+    :math:`e = 2u(|a| + |b|) + u|\hat d|`, its square by :math:`2|\hat d|e + e^2`, and
+    the squares and sums add :math:`\gamma_3` (taken as :math:`4u`) of the sum; a leg's
+    square is off by at most :math:`(1 + 2u)^2(1 + u) - 1 < 6u`."""
+    worst = 6.0 * U
+    for P in (B, Q):
+        for i, j in ((0, 1), (0, 2), (1, 2)):
+            s = 0.0
+            err = 0.0
+            for c in range(3):
+                dx = P[i, c] - P[j, c]
+                e = 2.0 * U * (abs(P[i, c]) + abs(P[j, c])) + U * abs(dx)
+                s += dx * dx
+                err += 2.0 * abs(dx) * e + e * e
+            err = (err + 4.0 * U * s) * (1.0 + 16.0 * U)
+            if not s - err > 0:
+                return np.inf
+            worst = max(worst, err / (s - err))
+    return worst * (1.0 + 16.0 * U) + 2.0 ** -60

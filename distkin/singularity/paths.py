@@ -1,0 +1,332 @@
+r"""Poses, paths of poses, their singularity crossings and the nearest singularity of the
+octahedral manipulator (Rojas, Borràs, Thomas, *The Octahedral Manipulator Revisited*,
+ICRA 2012, Sec. V), on the conditions of :mod:`.conditions`.
+
+Number types as there: ``fast`` float64, ``precise`` mpmath, ``certified`` flint (a sign
+that a ball cannot decide raises :class:`~distkin.errors.UncertifiedError`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+
+import numpy as np
+
+from ..errors import InputError, UncertifiedError
+from .conditions import _prepare, _to_flint, certified_sign
+
+__all__ = [
+    "rotation_from_vector",
+    "pose_points",
+    "PosePath",
+    "Crossing",
+    "path_crossings",
+    "certify_crossing",
+    "NearestSingularity",
+    "nearest_singularity",
+]
+
+
+# --------------------------------------------------------------------------- poses
+
+def rotation_from_vector(w, method: str | None = None):
+    r"""Rotation matrix of a rotation vector (axis times angle, rad), Rodrigues:
+    :math:`R = I + \frac{\sin\theta}{\theta}K + \frac{1-\cos\theta}{\theta^2}K^2`.
+
+    Parameters
+    ----------
+    w : array (..., 3) float (batched), or 3 mpf / arb / fmpq values
+    method : tier of the result (None: that of ``w``)
+
+    Returns
+    -------
+    array (..., 3, 3)
+    """
+    arr, kind = _prepare(w, method)
+    if kind == "fast":
+        th = np.linalg.norm(arr, axis=-1)
+        safe = np.where(th > 0, th, 1.0)
+        k = arr / safe[..., None]
+        K = np.zeros(arr.shape[:-1] + (3, 3))
+        K[..., 0, 1], K[..., 0, 2] = -k[..., 2], k[..., 1]
+        K[..., 1, 0], K[..., 1, 2] = k[..., 2], -k[..., 0]
+        K[..., 2, 0], K[..., 2, 1] = -k[..., 1], k[..., 0]
+        s, c = np.sin(th)[..., None, None], np.cos(th)[..., None, None]
+        return np.eye(3) + s * K + (1 - c) * (K @ K)
+    if arr.shape != (3,):
+        raise InputError(f"expected one rotation vector (3,) in the {kind} tier, got {arr.shape}")
+    if kind == "precise":
+        import mpmath
+        th2 = sum(x * x for x in arr)
+        if th2 == 0:
+            return np.array([[mpmath.mpf(int(i == j)) for j in range(3)] for i in range(3)],
+                            dtype=object)
+        th = mpmath.sqrt(th2)
+        s, c = mpmath.sin(th) / th, (1 - mpmath.cos(th)) / th2
+    else:
+        import flint
+        ws = [flint.arb(x) for x in arr]
+        th2 = ws[0] * ws[0] + ws[1] * ws[1] + ws[2] * ws[2]
+        if all(x == 0 for x in ws):
+            return np.array([[flint.arb(int(i == j)) for j in range(3)] for i in range(3)],
+                            dtype=object)
+        th = th2.sqrt()
+        s, c = th.sin() / th, (1 - th.cos()) / th2
+        arr = np.array(ws, dtype=object)
+    x, y, z = arr
+    K = np.array([[0 * x, -z, y], [z, 0 * x, -x], [-y, x, 0 * x]], dtype=object)
+    R = K.dot(K) * c + K * s
+    for i in range(3):
+        R[i, i] = R[i, i] + 1
+    return R
+
+
+def pose_points(points, rotation, translation):
+    """World coordinates ``R @ q + t`` of points ``q`` given in the platform frame.
+
+    Parameters
+    ----------
+    points : array (n, 3)
+    rotation : array (..., 3, 3)
+    translation : array (..., 3)
+
+    Returns
+    -------
+    array (..., n, 3)
+    """
+    q = np.asarray(points) if not isinstance(points, np.ndarray) else points
+    R = np.asarray(rotation) if not isinstance(rotation, np.ndarray) else rotation
+    t = np.asarray(translation) if not isinstance(translation, np.ndarray) else translation
+    if R.dtype == object or q.dtype == object:
+        R = np.asarray(R, dtype=object)
+        q = np.asarray(q, dtype=object)
+        return np.array([R.dot(qi) + t for qi in q], dtype=object)
+    return np.einsum("...ij,nj->...ni", R, q) + t[..., None, :]
+
+
+# ------------------------------------------------------- paths, crossings and distance
+
+@dataclass(frozen=True)
+class PosePath:
+    r"""A straight path in pose space: :math:`t(s) = t_0 + s(t_1-t_0)`,
+    :math:`R(s) = \operatorname{Rot}(w_0 + s(w_1-w_0))`, :math:`s\in[0,1]`.
+
+    Attributes
+    ----------
+    t0, t1 : tuple of 3 exact values (Fraction or sympy constants), length units
+    w0, w1 : tuple of 3 exact values, rotation vectors (rad, or deg when ``deg``)
+    deg : bool
+        Rotation vectors in degrees (converted with an exact pi in the certified tier).
+    """
+
+    t0: tuple
+    w0: tuple
+    t1: tuple
+    w1: tuple
+    deg: bool = False
+
+    def at(self, s):
+        """Float poses at ``s`` (array (n,)): R (n, 3, 3), t (n, 3)."""
+        s = np.asarray(s, dtype=float)[..., None]
+        f = lambda v: np.array([float(x) for x in v])  # noqa: E731
+        t = f(self.t0) + s * (f(self.t1) - f(self.t0))
+        w = f(self.w0) + s * (f(self.w1) - f(self.w0))
+        if self.deg:
+            w = w * (np.pi / 180)
+        return rotation_from_vector(w), t
+
+    def at_certified(self, s):
+        """arb poses at an exact rational ``s`` (fmpq): R (3, 3), t (3,) as arb balls."""
+        import flint
+        q = lambda v: [_arb(x) for x in v]  # noqa: E731
+        t0, t1, w0, w1 = q(self.t0), q(self.t1), q(self.w0), q(self.w1)
+        s = flint.arb(s)
+        t = np.array([a + s * (b - a) for a, b in zip(t0, t1)], dtype=object)
+        w = np.array([a + s * (b - a) for a, b in zip(w0, w1)], dtype=object)
+        if self.deg:
+            w = w * (flint.arb.pi() / 180)
+        return rotation_from_vector(w, method="certified"), t
+
+
+def _arb(x):
+    """A certified arb enclosure of an exact value (Fraction, int, fmpq, sympy constant)."""
+    import flint
+
+    from ..exact import to_tier
+    if hasattr(x, "value"):
+        x = x.value
+    if isinstance(x, float):
+        x = Fraction(x)
+    v = to_tier(x, "certified")
+    return v if type(v).__name__ == "arb" else flint.arb(v)
+
+
+@dataclass(frozen=True)
+class Crossing:
+    """A singularity crossed by a path.
+
+    Attributes
+    ----------
+    s : float
+        Path parameter of the root of det J (brentq, |ds| <= 1e-13).
+    bracket : (Fraction, Fraction) or None
+        Rational parameters on both sides at which the sign of det J was certified
+        (arb), when certification was asked for.
+    signs : (int, int) or None
+        The certified signs of det J at ``bracket``.
+    """
+
+    s: float
+    bracket: tuple | None = None
+    signs: tuple | None = None
+
+
+def path_crossings(f, samples: int = 200, *, xtol: float = 1e-14):
+    """Roots of a scalar function along s in [0, 1]: sign changes on a uniform grid of
+    ``samples`` points, refined by Brent's method.
+
+    Parameters
+    ----------
+    f : callable (array of s) -> array of values (batched float)
+    samples : int
+
+    Returns
+    -------
+    roots : list of float
+    grid, values : arrays (samples,)
+        The sampled function (for plots).
+    """
+    from scipy.optimize import brentq
+    grid = np.linspace(0.0, 1.0, samples)
+    vals = np.asarray(f(grid), dtype=float)
+    roots = []
+    scalar = lambda x: float(np.asarray(f(np.array([x])))[0])  # noqa: E731
+    for i in range(samples - 1):
+        a, b = vals[i], vals[i + 1]
+        if a == 0.0:
+            roots.append(float(grid[i]))
+        elif a * b < 0:
+            roots.append(float(brentq(scalar, grid[i], grid[i + 1], xtol=xtol, rtol=1e-15)))
+    if vals[-1] == 0.0:
+        roots.append(1.0)
+    return roots, grid, vals
+
+
+def certify_crossing(f_arb, s: float, *, lo: float = 0.0, hi: float = 1.0,
+                     start: float = 1e-12, limit: float = 1e-3) -> Crossing:
+    r"""Certify a sign change of det J around ``s`` with arb balls.
+
+    Evaluates ``f_arb`` (exact rational s -> arb) at :math:`s \mp \epsilon` for
+    :math:`\epsilon` = ``start``, 10 ``start``, ... up to ``limit``; the first pair of
+    balls that both exclude 0 and have opposite signs proves (intermediate value
+    theorem) a zero of det J in the bracket.
+
+    Raises
+    ------
+    UncertifiedError
+        No such pair up to ``limit``.
+    """
+    eps = start
+    last = None
+    while eps <= limit:
+        a = Fraction(max(lo, s - eps)).limit_denominator(10 ** 18)
+        b = Fraction(min(hi, s + eps)).limit_denominator(10 ** 18)
+        try:
+            sa, sb = certified_sign(f_arb(_to_flint(a))), certified_sign(f_arb(_to_flint(b)))
+        except UncertifiedError as exc:
+            last = exc
+            eps *= 10
+            continue
+        if sa != sb:
+            return Crossing(s, (a, b), (sa, sb))
+        last = UncertifiedError(f"expected opposite signs of det J around s = {s:.15g}, got "
+                                f"{sa:+d} on both sides of [{float(a):.15g}, {float(b):.15g}]")
+        eps *= 10
+    raise last or UncertifiedError(f"could not certify the crossing at s = {s:.15g}")
+
+
+@dataclass(frozen=True)
+class NearestSingularity:
+    """Result of :func:`nearest_singularity`.
+
+    Attributes
+    ----------
+    distance : float
+        :math:`\\sqrt{|\\Delta t|^2 + L^2|\\Delta w|^2}` to the singular pose found
+        (length units); ``inf`` when the search failed.
+    first_order : float
+        :math:`|f|/|\\nabla f|` at the start (the linearised distance, length units).
+    rotation, translation : arrays (3, 3), (3,)
+        The singular pose found (``None`` on failure).
+    residual : float
+        |det J| (dimensionless) there.
+    converged : bool
+    """
+
+    distance: float
+    first_order: float
+    rotation: object
+    translation: object
+    residual: float
+    converged: bool
+
+
+def nearest_singularity(f, rotation, translation, length_scale: float, *,
+                        tol: float = 1e-10, max_iter: int = 60) -> NearestSingularity:
+    r"""Distance from a pose to the nearest singular pose found by local search.
+
+    Poses near :math:`(R_0, t_0)` are :math:`(\operatorname{Rot}(w)R_0,\; t_0 + x)`,
+    measured by :math:`y = (x, L w)` (length units).  Starting from :math:`y = 0`,
+    minimum-norm Newton steps on :math:`f(y) = 0` reach the singular surface; SLSQP
+    then minimises :math:`|y|` on it.  A local method: the result is the nearest
+    singularity in the basin of the start, an upper bound of the true distance.
+
+    Parameters
+    ----------
+    f : callable (R (n,3,3), t (n,3)) -> det J (n,), dimensionless
+    rotation, translation : the pose (float)
+    length_scale : float
+        L, converting rotations to lengths (e.g. the platform circumradius).
+    """
+    from scipy.optimize import minimize
+    R0 = np.asarray(rotation, dtype=float)
+    t0 = np.asarray(translation, dtype=float)
+    L = float(length_scale)
+
+    def g(y):
+        y = np.atleast_2d(y)
+        R = rotation_from_vector(y[:, 3:] / L) @ R0
+        return np.asarray(f(R, t0 + y[:, :3]), dtype=float)
+
+    def grad(y, h=1e-6):
+        E = np.eye(6) * h * max(1.0, L)
+        pts = np.concatenate([y + E, y - E])
+        v = g(pts)
+        return (v[:6] - v[6:]) / (2 * h * max(1.0, L))
+
+    y = np.zeros(6)
+    f0 = float(g(y)[0])
+    g0 = grad(y)
+    first = abs(f0) / max(np.linalg.norm(g0), 1e-300)
+    ok = False
+    for _ in range(max_iter):
+        fy = float(g(y)[0])
+        if abs(fy) < tol:
+            ok = True
+            break
+        gy = grad(y)
+        nn = gy @ gy
+        if nn == 0 or not np.isfinite(nn):
+            break
+        y = y - fy * gy / nn
+    if not ok:
+        return NearestSingularity(float("inf"), first, None, None, float("nan"), False)
+    res = minimize(lambda z: z @ z, y, jac=lambda z: 2 * z, method="SLSQP",
+                   constraints=[{"type": "eq", "fun": lambda z: g(z)[0] / max(abs(f0), 1e-300),
+                                 "jac": lambda z: grad(z) / max(abs(f0), 1e-300)}],
+                   options={"ftol": 1e-14, "maxiter": 200})
+    z = res.x if res.success and abs(g(res.x)[0]) < 10 * tol + 1e-9 and res.x @ res.x <= y @ y \
+        else y
+    Rs = rotation_from_vector(z[3:] / L) @ R0
+    return NearestSingularity(float(np.linalg.norm(z)), float(first), Rs, t0 + z[:3],
+                              float(abs(g(z)[0])), True)
