@@ -8,7 +8,8 @@ Public API (stable; other modules code against it)
 >>> from distkin.mechanisms import preset, RSSMechanism
 >>> mech = preset("octopod")                  # hexa | hunt | ergin | octopod | octo
 >>> mech = preset("octo", l0=0.165)           # any parameter overridden (SI: m, rad)
->>> mech.L                                    # 6 or 8 legs (= actuators)
+>>> mech.L                                    # legs (= actuators): 6, or 8 here
+8
 
 Poses are arrays ``(N, 6)`` (or ``(6,)``): ``(x, y, z)`` of the end-effector centre
 in metres in the base frame, then ``(rx, ry, rz)`` in radians, the rotation
@@ -25,7 +26,7 @@ z; :mod:`distkin.spatial`).  The home pose (workspace centre) is ``(0, 0, z0, 0,
     of eqs. (1)-(2); the wrench is ``(f, tau) = J.T @ tau_actuators`` (eq. (3)).
     ``mech.jq_jx(poses)`` -> (Jq ``(N, L)`` diagonal, Jx ``(N, L, 6)``).
     ``mech.pose_jacobian(poses)`` -> ``(N, L, 6)`` dq/d(pose parameters)
-    (= J @ blockdiag(I, E), E from :func:`.rotation.omega_map`).
+    (= J @ blockdiag(I, E), E from :func:`distkin.spatial.omega_map`).
 ``mech.cartesian_mass_matrix()``
     M̂ = diag(m, m, m, I, I, I) ``(6, 6)`` (kg, kg m^2; Sec. III-B.3).
 ``mech.joint_mass_matrix(poses)``
