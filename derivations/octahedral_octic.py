@@ -150,7 +150,7 @@ def main(full: bool = False) -> None:
     factors = fq.factor()[1]
     check(len(factors) == 1 and factors[0][1] == 1, "the example's octic is irreducible over Q")
 
-    step("5. Comparison with the printed eq. (11), digit by digit (DESIGN.md §5)")
+    step("5. Comparison with the printed eq. (11), digit by digit (docs/design.md §5)")
     ok, lam, rel = eq11_agreement([Fraction(int(c.p), int(c.q)) for c in coeffs])
     for t, r in zip(EQ11_PRINTED, rel):
         print(f"   printed {t:>12}: ours x lambda differs by {r:+.2e} (relative)")

@@ -4,7 +4,7 @@ A scene value written as a string is parsed *exactly*: ``"19.8"`` is 99/5,
 ``"sqrt(108)"`` is 6*sqrt(3), ``"12/5"`` is 12/5.  An integer is exact.  A bare
 float is taken as its exact binary value and flagged (:class:`Exact.from_float`).
 
-The tiers (DESIGN.md §3):
+The tiers (docs/design.md §3):
 
 ``fast``
     float64 (numpy, generated kernels).

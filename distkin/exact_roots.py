@@ -4,7 +4,7 @@ FLINT's ``arb_fmpz_poly_complex_roots`` (exposed as ``fmpz_poly.complex_roots``)
 isolates every complex root of an exact integer polynomial in disjoint balls, with its
 multiplicity (after a square-free factorisation).  Because the polynomial is real and
 the balls are isolating, a root whose ball meets the real line alone is *proved* real
-and is returned with an imaginary part exactly 0 (DESIGN.md §6).  The count of real
+and is returned with an imaginary part exactly 0 (docs/design.md §6).  The count of real
 roots is therefore certified; the balls are refined by re-isolating at a higher working
 precision.  Nothing here returns an undecided answer as certain: where a question cannot
 be settled within ``max_bits`` the functions raise

@@ -13,7 +13,7 @@ function ``task(spec) -> dict of numpy arrays``.  :func:`run_chunks`
   definition and refuses to mix chunks of a different sweep;
 * runs on the executor given (anything with ``submit`` returning futures), by default a
   local process pool with ``OPENBLAS_NUM_THREADS=1`` (and the OMP/MKL equivalents) in
-  its workers (DESIGN.md §6: two processes each running a threaded BLAS on two cores
+  its workers (docs/design.md §6: two processes each running a threaded BLAS on two cores
   were slower than one);
 * with a ``dask.distributed`` scheduler address (``scheduler="tcp://host:8786"``,
   optional extra ``distributed``) runs the same chunks on that cluster, through

@@ -1,4 +1,4 @@
-"""The ``distkin`` command line (DESIGN.md §4).
+"""The ``distkin`` command line (docs/design.md §4).
 
 ``distkin run SCENE.toml [--json PATH|-] [--plots DIR]``
     Run every query of a scene; print the readable report (to stderr when the JSON

@@ -1,7 +1,7 @@
 """``distkin codegen SCENE.toml -o MODULE.py``: write an importable kernel module.
 
 The module holds only the kernels that the scene's queries need, derived with the
-scene's parameters substituted before differentiation and CSE (DESIGN.md §1), and it
+scene's parameters substituted before differentiation and CSE (docs/design.md §1), and it
 imports only ``math`` and ``numpy`` (neither sympy nor distkin).  Derivations go through
 the cache (:mod:`.cache`), so a second run of the same scene does no algebra.
 

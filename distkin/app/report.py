@@ -1,6 +1,6 @@
 """Result documents: the JSON contract and the readable text report.
 
-JSON (DESIGN.md §4)::
+JSON (docs/design.md §4)::
 
     {"distkin": VERSION, "scene": PATH,
      "queries": [{"type", "status": "ok"|"error", "error": {"kind", "message"}?,

@@ -1,6 +1,6 @@
 """Scene files: one mechanism and a list of queries, loaded into frozen objects.
 
-The format is DESIGN.md §4::
+The format is docs/design.md §4::
 
     [units]                     # optional; the engine works in SI
     length = "mm"               # m (default) | mm | cm | km | none (unitless)

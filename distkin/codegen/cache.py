@@ -1,6 +1,6 @@
 """The derivation cache: generated module sources keyed by a hash of their symbolic source.
 
-"Model only what a scene requires" (DESIGN.md §1): a generated kernel module is derived
+"Model only what a scene requires" (docs/design.md §1): a generated kernel module is derived
 once per distinct symbolic source and stored as a ``.py`` file; the second run of a scene
 reads it back and does no algebra (it does not even import sympy).
 

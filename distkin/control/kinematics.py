@@ -12,7 +12,7 @@ The forward kinematics is a warm-started Gauss-Newton iteration on the leg closu
 ``delta = -D^+ c``, applied as a translation plus the rotation ``exp(delta_omega)``.
 Started from the previous cycle's pose it converges in one or two steps.
 
-No sympy is imported here (DESIGN.md §1).
+No sympy is imported here (docs/design.md §1).
 """
 
 from __future__ import annotations

@@ -19,7 +19,7 @@ Every formula here is *derived* with sympy, not typed in from the paper:
    irreducible factors; its real zero set is the locus of architecturally singular
    platforms.
 
-Labelling (DESIGN.md §3, paper Fig. 4 and eq. (9)): base :math:`P_1P_2P_3`, platform
+Labelling (docs/design.md §3, paper Fig. 4 and eq. (9)): base :math:`P_1P_2P_3`, platform
 :math:`P_4P_5P_6`; leg 1 = P1–P4, 2 = P2–P4, 3 = P2–P5, 4 = P3–P5, 5 = P3–P6,
 6 = P1–P6.  Row :math:`i` of eq. (9) splits the double-ball joint shared by legs
 :math:`i` and :math:`i+1` (cyclically) by moving one end of leg :math:`i` along a
@@ -512,7 +512,7 @@ def delta_transform(octahedral, offsets, field: str = "offsets") -> DeltaTransfo
 @lru_cache(maxsize=64)
 def _cached_transform(sides, offsets) -> DeltaTransform:
     """One :class:`DeltaTransform` per (sides, offsets): its A, b, det and inverse are
-    derived once ("derivations are cached", DESIGN.md §1)."""
+    derived once ("derivations are cached", docs/design.md §1)."""
     return DeltaTransform(sides, offsets)
 
 

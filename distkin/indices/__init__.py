@@ -2,7 +2,7 @@
 
 Modules
 -------
-zonotope       the exact half-space kernel of DESIGN.md §6 (worst case = nearest facet,
+zonotope       the exact half-space kernel of docs/design.md §6 (worst case = nearest facet,
                best case = farthest vertex), batched over poses
 capability     public ``worst_case_output`` / ``best_case_output`` with the three methods
                (zonotope, the paper's Qhull polytope algorithm, Ueberle's method) and the

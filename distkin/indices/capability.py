@@ -8,7 +8,7 @@ minimum (maximum) distance from the origin to the boundary (to a point) of the s
 Three methods check one another:
 
 ``"zonotope"`` (production)
-    The exact half-space kernel of DESIGN.md §6 (:mod:`distkin.indices.zonotope`),
+    The exact half-space kernel of docs/design.md §6 (:mod:`distkin.indices.zonotope`),
     batched and vectorised over poses.
 ``"hull"`` (reference)
     The paper's "polytope algorithm" as written: all 2^L vertices, their convex hull by
@@ -328,7 +328,7 @@ def output_generators(J, mass=None):
     J : ndarray (..., L, 6)
         Jacobian with q̇ = J·(v, ω) (the paper's J = J_q⁻¹J_x, eq. (2)).
     mass : ndarray (6,) or (6, 6), optional
-        Cartesian mass matrix M̂ (DESIGN.md §5: diag(m, m, m, I, I, I)).
+        Cartesian mass matrix M̂ (docs/design.md §5: diag(m, m, m, I, I, I)).
 
     Returns
     -------

@@ -6,7 +6,7 @@ distance from the origin to a point of the *sliced* polytope, eq. (16): e.g. the
 translation at zero rotation.  For a generator matrix G (d × L) and the slice that keeps
 the output coordinates S and sets the k others (S^c) to zero, every vertex of
 ``{G_S p : |p|∞ <= 1, G_{S^c} p = 0}`` has at least L − k actuators at a limit
-(DESIGN.md §6).  So with F the k free actuators and X the others,
+(docs/design.md §6).  So with F the k free actuators and X the others,
 
 .. math::  p_F = -K p_X,\\quad K = (G_{S^c,F})^{-1} G_{S^c,X},\\qquad
            u = (G_{S,X} - G_{S,F} K)\\, p_X,

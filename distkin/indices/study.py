@@ -11,7 +11,7 @@ singular values of the isotropy index under every reading of the scaling
 (all orientations of each), and reduces its poses to per-position minima and maxima, so
 a sweep of 3 million poses keeps a few hundred kB.
 
-Actuators and mass (DESIGN.md §5, Sec. III-B-3): nominal torque ±2.5 N·m (continuous
+Actuators and mass (docs/design.md §5, Sec. III-B-3): nominal torque ±2.5 N·m (continuous
 force/torque), stall torque ±34.2 N·m (accelerations), velocity ±51 rad/s;
 M̂ = diag(m, m, m, I, I, I) from the mechanism (0.17 kg, 3e-4 kg·m²).
 """

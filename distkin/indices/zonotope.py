@@ -1,4 +1,4 @@
-"""The exact zonotope half-space kernel for output capabilities (DESIGN.md §6).
+"""The exact zonotope half-space kernel for output capabilities (docs/design.md §6).
 
 The set of outputs ``{G p : pmin <= p <= pmax}`` of a generator matrix ``G`` (d × L)
 is a zonotope.  Its facet normals are the vectors orthogonal to (d−1)-subsets of the
@@ -23,7 +23,7 @@ set; for a slice with ``k`` removed coordinates every vertex of
 ``{p in box : G_{S^c} p = 0}`` has at least L − k actuators at a limit, so the
 C(L, k)·2^(L−k) candidates with k × k solves are enumerated exactly.
 
-Edge cases (DESIGN.md §6):
+Edge cases (docs/design.md §6):
 
 * origin outside the set (limits that do not straddle 0): the value is **negative**; it
   is then a flag, and ``|value|`` is only a lower bound of the distance to the set;
@@ -177,7 +177,7 @@ def _facets(G, c, r, *, assume_regular: bool = False):
 
 
 def facet_normals(G, *, assume_regular: bool = False):
-    """Facet normals of the zonotope ``G·box`` (DESIGN.md §6, item 1).
+    """Facet normals of the zonotope ``G·box`` (docs/design.md §6, item 1).
 
     Parameters
     ----------
@@ -242,7 +242,7 @@ def zonotope_worst(G, c, r, keeps):
 
 def _flat_worst(G, c, r, keeps):
     """The rank-deficient pose: facets inside the span of G, and the equality
-    constraints of its orthogonal complement (DESIGN.md §6, edge cases)."""
+    constraints of its orthogonal complement (docs/design.md §6, edge cases)."""
     d, L = G.shape
     U, s, _ = np.linalg.svd(G)
     rank = int(np.sum(s > RANK_TOL * s[0])) if s[0] > 0 else 0

@@ -1,6 +1,6 @@
 """The five RSS presets of Kühne et al. and the rules that fill what the paper leaves open.
 
-What the paper gives (Sec. III-B.2 and III-D, Table I; DESIGN.md §5):
+What the paper gives (Sec. III-B.2 and III-D, Table I; docs/design.md §5):
 
 * every preset: l0 = 152 mm (base radius), l1 = 157 mm (crank), lp = 55 mm
   (end-effector radius), workspace centre at z0 = 0.30 m;

@@ -174,7 +174,7 @@ class RSSMechanism:
 
     def horizontal_crank_l3(self) -> float:
         """The distal length (m) that puts every crank horizontal (q = 0) at the workspace
-        centre (DESIGN.md §5's first rule; the rule of the "radial" and
+        centre (docs/design.md §5's first rule; the rule of the "radial" and
         "tangential_in" readings)."""
         g = self.geometry()
         P = g["p"][0] + np.array([0.0, 0.0, self.z0])

@@ -26,7 +26,7 @@ finite (flagged invalid, never NaN).
 Differentiating Phi: Jq_ii = dPhi_i/dq_i and, with g = dPhi/dP and r = R p,
 dPhi = g.(v + omega x r) + Jq_ii dq, so Jx_i = -(g, r x g) and J_i = Jx_i / Jq_ii
 (eqs. (1)-(2)).  Fixed parameters are substituted *before* the differentiation and
-before common-subexpression elimination (DESIGN.md §1).
+before common-subexpression elimination (docs/design.md §1).
 """
 
 from __future__ import annotations
@@ -180,7 +180,7 @@ class ModelExprs:
         for i in range(self.L):
             ta = time.perf_counter()
             vals = leg_values(self.mech, i)
-            # parameters first (DESIGN.md §1): everything below sees numbers
+            # parameters first (docs/design.md §1): everything below sees numbers
             Phi = g["Phi"].xreplace(vals)
             p = g["p"].xreplace(vals)
             B, o, u = (g[n].xreplace(vals) for n in ("B", "o", "u"))

@@ -1,7 +1,7 @@
 r"""Bananas: two tetrahedra sharing a face, and their linear equation in :math:`s_{26}`.
 
 Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, Sec. II,
-eqs. (1)-(2).  An octahedron P1..P6 (base P1 P2 P3, platform P4 P5 P6, DESIGN.md §3)
+eqs. (1)-(2).  An octahedron P1..P6 (base P1 P2 P3, platform P4 P5 P6, docs/design.md §3)
 splits into two *bananas*, each a pair of tetrahedra on a common face:
 
 * banana 1: tetrahedra :math:`P_5P_4P_1P_2` and :math:`P_5P_4P_1P_6` on face
@@ -53,7 +53,7 @@ __all__ = [
 #: the two bananas of Rojas et al. Fig. 3 / eqs. (1)-(2): (shared face, apex a, apex b)
 BANANAS = {1: ((5, 4, 1), 2, 6), 2: ((3, 5, 1), 2, 6)}
 
-#: leg k (1-based) joins these points (DESIGN.md §3): 1=P1P4 2=P2P4 3=P2P5 4=P3P5 5=P3P6 6=P1P6
+#: leg k (1-based) joins these points (docs/design.md §3): 1=P1P4 2=P2P4 3=P2P5 4=P3P5 5=P3P6 6=P1P6
 LEG_PAIRS = ((1, 4), (2, 4), (2, 5), (3, 5), (3, 6), (1, 6))
 
 #: base sides s12 s13 s23, then platform sides s45 s46 s56

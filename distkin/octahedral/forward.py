@@ -61,7 +61,7 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
     r"""Every real assembly mode of an octahedral manipulator.
 
     Rojas, Borràs, Thomas, *The Octahedral Manipulator Revisited* (ICRA 2012), Sec. III
-    and eq. (3); labels of DESIGN.md §3.
+    and eq. (3); labels of docs/design.md §3.
 
     Parameters
     ----------

@@ -1,6 +1,6 @@
 r"""Input of the octahedral forward kinematics: points and legs, checked, in every tier.
 
-Labels follow DESIGN.md §3 and Rojas et al. (ICRA 2012) Fig. 4: base P1 P2 P3, platform
+Labels follow docs/design.md §3 and Rojas et al. (ICRA 2012) Fig. 4: base P1 P2 P3, platform
 P4 P5 P6; leg 1 = P1-P4, 2 = P2-P4, 3 = P2-P5, 4 = P3-P5, 5 = P3-P6, 6 = P1-P6.  The
 squared lengths are computed exactly when the data are exact (``"19.8"`` is 99/5,
 ``"sqrt(108)"`` squares to 108), so the certified tier works on exact rationals.

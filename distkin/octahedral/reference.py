@@ -1,7 +1,7 @@
 r"""Reference data of the octahedral seed paper, and random assembled octahedra.
 
 Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, Sec. VI
-(the Griffis-Duffy example, DESIGN.md §5).  :func:`eq11_agreement` compares an octic
+(the Griffis-Duffy example, docs/design.md §5).  :func:`eq11_agreement` compares an octic
 with the printed eq. (11) *digit by digit*: the printed coefficients are rounded (most
 to 5 significant digits), so we ask whether a single normalisation factor
 :math:`\lambda` makes every one of our coefficients round to the printed digits, i.e.

@@ -3,7 +3,7 @@ r"""Singularities of six-leg platforms: Plücker Jacobian, Cayley-Menger and fou
 Rojas, Borràs, Thomas, *The Octahedral Manipulator Revisited* (ICRA 2012), Sec. IV.
 
 Three characterisations of the parallel singularities of the octahedral manipulator
-(labels of DESIGN.md §3; legs P1–P4, P2–P4, P2–P5, P3–P5, P3–P6, P1–P6):
+(labels of docs/design.md §3; legs P1–P4, P2–P4, P2–P5, P3–P5, P3–P6, P1–P6):
 
 1. :math:`\det \mathbf J = 0`, :math:`\mathbf J` the matrix of normalised Plücker
    coordinates of the six leg lines, eq. (5) (:func:`plucker_jacobian`).
@@ -64,7 +64,7 @@ __all__ = [
     "PLANES",
 ]
 
-#: legs of the octahedral manipulator as (base label, platform label), DESIGN.md §3
+#: legs of the octahedral manipulator as (base label, platform label), docs/design.md §3
 OCTAHEDRAL_LEGS = ((1, 4), (2, 4), (2, 5), (3, 5), (3, 6), (1, 6))
 
 #: 288^3 / 216: C = -RATIO_CONSTANT (a - b) det(Jhat), K = -RATIO_CONSTANT a det(Jhat)

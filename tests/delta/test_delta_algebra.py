@@ -1,7 +1,7 @@
 """Δ-transform algebra against the paper's printed formulas and against coordinates.
 
 Rojas, Borràs, Thomas, *The Octahedral Manipulator Revisited*, eqs. (7)-(9) and the
-example of Sec. VI (DESIGN.md §5).
+example of Sec. VI (docs/design.md §5).
 """
 
 from fractions import Fraction

@@ -1,5 +1,5 @@
 """Forward kinematics of the 6-6 platform equivalent to the Griffis-Duffy octahedral
-example (Rojas et al., Sec. VI; DESIGN.md §5).
+example (Rojas et al., Sec. VI; docs/design.md §5).
 
 Independent routes: the octahedral solver called directly with the *printed* l-legs
 (not the mapped ones), and the 6-6 leg lengths measured on the 6-6 joints in the test.

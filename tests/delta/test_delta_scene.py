@@ -1,7 +1,7 @@
 """Scene queries ``delta_transform`` and ``singularity``: JSON contract, bad input in
 the API and in the CLI (exit 2, one line, no traceback).
 
-Reference values: Rojas et al., Sec. VI (DESIGN.md §5).
+Reference values: Rojas et al., Sec. VI (docs/design.md §5).
 """
 
 import json

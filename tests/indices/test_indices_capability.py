@@ -1,6 +1,6 @@
 """Worst/best-case output capabilities: the zonotope kernel against Ueberle's method
 (L = d) and the paper's polytope algorithm (Qhull), on preset Jacobians, near
-singularities and at the edge cases of DESIGN.md §6."""
+singularities and at the edge cases of docs/design.md §6."""
 
 import numpy as np
 import pytest
@@ -92,7 +92,7 @@ def test_analytic_box():
 
 
 def test_facet_count_matches_qhull():
-    """DESIGN.md §6: 2·C(8, 5) = 112 facet hyperplanes for L = 8, d = 6."""
+    """docs/design.md §6: 2·C(8, 5) = 112 facet hyperplanes for L = 8, d = 6."""
     from scipy.spatial import ConvexHull
 
     from distkin.indices.capability import _box_vertices

@@ -1,4 +1,4 @@
-"""The Griffis-Duffy example of Rojas et al. (ICRA 2012, Sec. VI; DESIGN.md §5) in all
+"""The Griffis-Duffy example of Rojas et al. (ICRA 2012, Sec. VI; docs/design.md §5) in all
 three tiers, the JSON contract and the demo scene."""
 
 from __future__ import annotations

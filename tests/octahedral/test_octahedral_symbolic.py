@@ -103,7 +103,7 @@ def test_naive_squaring_has_the_spurious_factor_of_eq10():
 
 
 def test_octic_matches_printed_eq11_digit_by_digit():
-    """Normalised, our octic rounds to every printed digit of eq. (11) (DESIGN.md §5:
+    """Normalised, our octic rounds to every printed digit of eq. (11) (docs/design.md §5:
     compare coefficients, never the roots of the printed polynomial)."""
     coeffs = octic_polynomial(GD_VALUES).all_coeffs()
     ok, lam, rel = eq11_agreement([Fraction(int(c.p), int(c.q)) for c in coeffs])

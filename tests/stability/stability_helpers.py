@@ -12,7 +12,7 @@ import numpy as np
 
 __all__ = ["GD", "GD_L_LEGS", "hexa_crossing", "first_order_sigma_slope"]
 
-#: Griffis-Duffy octahedral example (Rojas et al., Sec. VI; DESIGN.md §5)
+#: Griffis-Duffy octahedral example (Rojas et al., Sec. VI; docs/design.md §5)
 GD = ([[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]], [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]])
 #: its l-legs, printed in Sec. VI (exact decimals)
 GD_L_LEGS = ("99/5", "18", "18", "17", "149/10", "89/5")

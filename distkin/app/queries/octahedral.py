@@ -1,6 +1,6 @@
 """Scene query ``forward_kinematics`` for ``kind = "octahedral"``: every assembly mode.
 
-Scene fields (DESIGN.md §4)::
+Scene fields (docs/design.md §4)::
 
     [mechanism]
     kind = "octahedral"
