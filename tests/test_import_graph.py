@@ -86,6 +86,11 @@ FORBIDDEN: list[tuple[str, str]] = [
 #: recorded defect to remove (the test fails when one of them disappears, so the list
 #: only shrinks).
 KNOWN: set[tuple[str, str]] = {
+    # The frozen RSS description (a model, layer 2) offers numeric methods
+    # (mech.inverse_kinematics, .jacobian, .forward_kinematics) that dispatch at call
+    # time to the kernel loader and the numeric FK (layer 4); the package re-exports
+    # FKResult.  Removing them means numeric functions algo(mech, X) instead of methods:
+    # an API change left for a later issue.
     ("distkin.mechanisms", "distkin.mechanisms.forward"),
     ("distkin.mechanisms.rss", "distkin.mechanisms.forward"),
     ("distkin.mechanisms.rss", "distkin.mechanisms.kernels"),

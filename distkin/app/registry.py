@@ -4,17 +4,8 @@ A query type is implemented in one module per family (:mod:`distkin.app.queries`
 registered there with :func:`register`.  :data:`QUERY_MODULES` maps each type to the
 functions that import the modules registering it (plain ``import`` statements, so the
 arrows are visible to tools), so a scene imports only the modules its queries name.
-
-A handler is a class with two static methods::
-
-    @register("cayley_menger", mechanisms=("points",), summary="...")
-    class CayleyMengerQuery:
-        @staticmethod
-        def parse(table, mechanism, units, field):   # validate; raise InputError
-            return params                              # any immutable object
-        @staticmethod
-        def run(params, scene, ctx):                   # do the work
-            return Outcome(result={...}, text="...", plot=None)
+The handler protocol (:func:`register`, :class:`Outcome`, :class:`RunContext`) is in
+:mod:`.query`, which the query modules import (so they do not import this registry).
 """
 
 from __future__ import annotations
