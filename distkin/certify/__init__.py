@@ -1,10 +1,11 @@
 """Certified computations (python-flint).
 
-* :mod:`.roots` -- real roots of exact polynomials;
+* real roots of exact polynomials: :mod:`distkin.exact_roots` (re-exported here);
 * :mod:`.boxes` -- certified regular / singular boxes of poses of RSS mechanisms, by
   interval branch-and-prune (:mod:`.intervals`, :mod:`.taylor`, :mod:`.linearize` for the
-  enclosures, :mod:`.workspace` for whole regions as resumable chunks, :mod:`.query` for
-  the scene query ``certify_workspace``, :mod:`.plot` for the Fig. 3 analogue).
+  enclosures, :mod:`.workspace` for whole regions as resumable chunks of
+  :mod:`distkin.runstore`, :mod:`.plot` for the Fig. 3 analogue); the scene query
+  ``certify_workspace`` is :mod:`distkin.app.queries.certify`.
 """
 
 from .boxes import (REGULAR, SINGULAR, STATUS_NAMES, UNDECIDED, UNREACHABLE, Verdict,

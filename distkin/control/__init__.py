@@ -16,10 +16,13 @@ plant           simulated physics: platform, motors + capstan, encoders, F/T, ha
 faults          fault injection (corrupt, garbage, truncate, drop, stall, disconnect)
 simulator       the device serving the protocol on a pty or TCP socket
 loopback        controller and plant in one process (no I/O; design, benchmarks)
-config          the controller scene (TOML)
+config          the controller scene (TOML), the built-in scene
 runlog          CSV / JSON-lines logs and the plot of a run
-commands        ``distkin sim`` and ``distkin control``
+table5          Table V of Kühne et al. emulated on the simulated device
 ==============  ============================================================
+
+``distkin sim`` and ``distkin control`` are :mod:`distkin.app.control_commands`; the
+``table5`` scene query is :mod:`distkin.app.queries.control`.
 
 ``import distkin.control`` imports neither sympy nor pyserial; the mechanism's kernels
 are loaded when a controller or simulator is built.

@@ -16,15 +16,16 @@ isotropy       κ (eq. (4)) with the scaling matrix ST (every reading), the GII,
                Stocco's culling
 workspace      pose grids (Table II), the dexterous workspace (eq. (17)), the design
                criteria of Sec. II-A
-(the plain-numpy RSS model of the design sweeps is distkin.mechanisms.reference)
 study          per-pose evaluation and per-position reduction of a study sweep
 design         GII design sweeps over Table I
-sweep          chunked, resumable runs on any concurrent.futures executor or dask
-study_report   Table III/IV analogues (same definition, ratio, reason), criteria; plots
 study_findings the paper's findings held / not held / not comparable
-design_report  the Table I sweep report and its GII maps
-query          the scene queries ``performance`` and ``design_sweep`` (kind ``rss``) and
-               the ``distkin sweep`` subcommand
+plots          the study's figures (matplotlib)
+
+Elsewhere: the plain-numpy RSS model of the design sweeps is
+:mod:`distkin.mechanisms.reference`; chunked, resumable runs are :mod:`distkin.runstore`;
+the Table III/IV and Table I reports and the scene queries ``performance`` and
+``design_sweep`` are in :mod:`distkin.app` (``study_report``, ``design_report``,
+``queries.indices``).
 """
 
 from .capability import (CAPABILITY_METHODS, best_case_output, output_generators,

@@ -64,13 +64,18 @@ Modules
 -------
 rss        the frozen :class:`RSSMechanism` and its numeric methods
 presets    the five presets and the documented parameter rules
-rotation   pose parametrisation, rotation matrices, omega map
 symbolic   the sympy model (leg closure, closed-form IK, Jq, Jx) -- imports sympy
-kernels    kernel generation, the committed modules and the cache
+reference  the plain-numpy reference model (IK and Jacobian from the leg geometry; the
+           design sweeps' route and the tests' independent second route)
+kernel_names  the names and flavours of the generated kernels
+kernels    loading the kernels: the committed modules, one cache
 forward    numeric forward kinematics
 interference  link interference (segment distances between the links)
 plot       a drawing of the mechanism at a pose (matplotlib)
-scene      the ``kind = "rss"`` scene parser; query: the scene queries
+
+Elsewhere: rotations are :mod:`distkin.spatial`; deriving the kernels is
+:mod:`distkin.codegen.rss`; the ``kind = "rss"`` scene parser and the scene queries are
+:mod:`distkin.app.mechanism_scene` and :mod:`distkin.app.queries.mechanisms`.
 """
 
 from __future__ import annotations
