@@ -32,7 +32,8 @@ import numpy as np
 
 from ..argcheck import float_array
 from ..errors import InfeasibleError, InputError, SingularConfigurationError
-from ..spatial import exp_so3, rotation_angles, rotation_matrix
+from ..spatial import (exp_so3, exp_so3_scalar, rotation_angles, rotation_angles_scalar,
+                       rotation_matrix)
 
 __all__ = ["FKResult", "forward_kinematics"]
 
@@ -198,7 +199,6 @@ def _single(closure, q, x, scale, tol, max_iter):
     """Gauss-Newton for one pose: scalar kernel, 6x6 normal equations, 3x3 updates."""
     R = rotation_matrix(np.array(x[3:]))
     x = np.array(x)
-    eye = np.eye(3)
     for it in range(1, max_iter + 1):
         G = np.array(closure(q, x.tolist()))
         A = G[:, 1:] * scale
@@ -210,17 +210,8 @@ def _single(closure, q, x, scale, tol, max_iter):
             return x, False, it
         step = math.sqrt(float(((d / scale) ** 2).sum()))
         x[:3] += d[:3]
-        wx, wy, wz = d[3:].tolist()
-        th = math.sqrt(wx * wx + wy * wy + wz * wz)
-        if th > 1e-8:
-            a, b = math.sin(th) / th, (1.0 - math.cos(th)) / (th * th)
-        else:
-            a, b = 1.0 - th * th / 6.0, 0.5 - th * th / 24.0
-        K = np.array([[0.0, -wz, wy], [wz, 0.0, -wx], [-wy, wx, 0.0]])
-        R = (eye + a * K + b * (K @ K)) @ R
-        x[3] = math.atan2(R[2, 1], R[2, 2])
-        x[4] = math.atan2(-R[2, 0], math.hypot(R[2, 1], R[2, 2]))
-        x[5] = math.atan2(R[1, 0], R[0, 0])
+        R = exp_so3_scalar(d[3:].tolist()) @ R
+        x[3:] = rotation_angles_scalar(R)
         if step < tol:
             return x, True, it
     return x, False, max_iter
