@@ -41,7 +41,7 @@ SENSITIVITY_UNITS = {"translational": "m/rad", "rotational": "rad/rad",
                      "force": "N/(N·m)", "torque": "(N·m)/(N·m)"}
 
 
-def max_sensitivities(J, mode: str = "slice", *, twist=None):
+def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False):
     """The four maximum sensitivities at each pose (module docstring).
 
     Parameters
@@ -52,6 +52,9 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None):
         The paper's definition (slice, then farthest point) or Cardou's (projection).
     twist : ndarray (N, 6, L), optional
         ``pinv(J)`` if already computed.
+    walk : bool
+        Slice mode: the Gray-code kernel of :mod:`.slice_farthest` for every L (the
+        reference of its split-sign kernel for L = 8).
 
     Returns
     -------
@@ -78,5 +81,5 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None):
             # J# = J⁻¹: the slice is {u : |J_S u|∞ <= 1}, computed from J itself
             out[name] = slab_farthest_unit(J[:, :, list(rows)])
         else:
-            out[name] = slice_farthest_unit(G, rows)
+            out[name] = slice_farthest_unit(G, rows, walk=walk)
     return out
