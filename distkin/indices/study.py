@@ -130,11 +130,21 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
     poses = np.asarray(poses, dtype=float)
     chunk = max(1, int(chunk))
     if len(poses) > chunk:
-        parts = [evaluate_poses(mech, poses[a:a + chunk], actuators=actuators, ST=ST,
-                                route=route, sensitivity=sensitivity, compiled=compiled,
-                                chunk=chunk) for a in range(0, len(poses), chunk)]
-        return (np.concatenate([p[0] for p in parts]),
-                {q: np.concatenate([p[1][q] for p in parts]) for q in QUANTITIES})
+        # results written in place chunk after chunk: besides them, only one chunk's
+        # work memory is alive at a time
+        ok = np.empty(len(poses), bool)
+        out = {q: np.empty(len(poses)) for q in QUANTITIES}
+        n = 0
+        for a in range(0, len(poses), chunk):
+            ok_c, v = evaluate_poses(mech, poses[a:a + chunk], actuators=actuators, ST=ST,
+                                     route=route, sensitivity=sensitivity,
+                                     compiled=compiled, chunk=chunk)
+            ok[a:a + chunk] = ok_c
+            k = int(ok_c.sum())
+            for q in QUANTITIES:
+                out[q][n:n + k] = v[q]
+            n += k
+        return ok, {q: out[q][:n] for q in QUANTITIES}
     if route == "numpy":
         from .rss_jacobian import ik_jacobian
         _, valid, J, Jq = ik_jacobian(mech, poses, return_jq=True)
