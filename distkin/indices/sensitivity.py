@@ -68,7 +68,9 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False)
     if J.ndim != 3 or J.shape[2] != 6:
         raise InputError(f"expected J of shape (N, L, 6), got {J.shape}", field="J")
     N, L, _ = J.shape
-    Gt = np.linalg.pinv(J) if twist is None else twist
+    # J# only where it is used (L = 6 in slice mode takes the slab route on J itself)
+    need_pinv = mode == "projection" or L != 6
+    Gt = (np.linalg.pinv(J) if need_pinv else None) if twist is None else twist
     Gw = np.swapaxes(J, 1, 2)
     c, r = np.zeros((N, L)), np.ones((N, L))
     out = {}
@@ -77,7 +79,7 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False)
         if mode == "projection":
             out[name] = zonotope_best(np.ascontiguousarray(G[:, list(rows), :]), c, r,
                                       [(0, 1, 2)])[0]
-        elif G is Gt and L == 6:
+        elif name in ("translational", "rotational") and L == 6:
             # J# = J⁻¹: the slice is {u : |J_S u|∞ <= 1}, computed from J itself
             out[name] = slab_farthest_unit(J[:, :, list(rows)])
         else:
