@@ -109,18 +109,18 @@ class Admittance:
     damping : array (6,)
         Virtual damping, N·s/m x3 and N·m·s/rad x3.
     environment : sequence of Spring / Wall
-    compiled : bool
+    kernels : CycleKernels, optional
         Springs and the SO(3) step by the same functions compiled by numba
-        (:mod:`.cycle_kernels`, for the control cycle); False: plain Python and numpy.
+        (:mod:`.cycle_kernels`, for the control cycle); None: plain Python and numpy.
     """
 
-    def __init__(self, mass, damping, environment=(), *, compiled: bool = False):
+    def __init__(self, mass, damping, environment=(), *, kernels=None):
         self.mass = np.asarray(mass, dtype=float)
         self.damping = np.asarray(damping, dtype=float)
         self.environment = tuple(environment)
         self.pose = np.zeros(6)
         self.twist = np.zeros(6)
-        self.compiled = bool(compiled)
+        self.kernels = kernels
 
     def reset(self, pose) -> None:
         """Start at rest at ``pose`` (the measured pose; no jump in the set point)."""
@@ -130,9 +130,10 @@ class Admittance:
     def environment_wrench(self, pose, twist) -> np.ndarray:
         w = np.zeros(6)
         for e in self.environment:
-            if self.compiled and e.kind == "spring":
-                from .cycle_kernels import spring_wrench
-                w += spring_wrench(pose, twist, e._p0, e._R0t, e._k, e._d)
+            if self.kernels is not None and e.kind == "spring":
+                out = np.empty(6)
+                self.kernels.spring_wrench(pose, twist, e._p0, e._R0t, e._k, e._d, out)
+                w += out
             else:
                 w += e.wrench(pose, twist)
         return w
@@ -145,9 +146,8 @@ class Admittance:
         """
         w = hand_wrench + self.environment_wrench(self.pose, self.twist)
         twist = self.twist + dt * (w - self.damping * self.twist) / self.mass
-        if self.compiled:
-            from .cycle_kernels import rotate_pose as rotate_pose_compiled
-            return rotate_pose_compiled(self.pose, twist[:3] * dt, twist[3:] * dt), twist
+        if self.kernels is not None:
+            return self.kernels.rotate_pose(self.pose, twist[:3] * dt, twist[3:] * dt), twist
         pose = rotate_pose(self.pose, twist[:3] * dt, twist[3:] * dt)
         return pose, twist
 

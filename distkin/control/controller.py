@@ -42,7 +42,8 @@ import numpy as np
 
 from ..errors import LinkError
 from .admittance import Admittance
-from .cycle_kernels import reading_extremes, rotate_wrench
+from .cycle_kernels import reading_extremes
+from .kinematics import _rot
 from .protocol import (FLAG_KEEPALIVE, MODE_HOLD, MODE_RUN, MODE_ZERO_TORQUE, STATUS_ESTOP,
                        STATUS_SENSOR_FAULT, CommandFrame)
 from .runlog import CsvLog, EventLog
@@ -94,7 +95,7 @@ class Controller:
         self.L = model.L
         self.dt_nominal = 1.0 / scene.rate_hz
         self.adm = Admittance(scene.mass, scene.damping, scene.environment,
-                              compiled=model.compiled is not None)
+                              kernels=model.compiled)
         self.pd = scene.pd
         self.safety = scene.safety
         self.weight = float(model.mass[0, 0]) * GRAVITY
@@ -264,7 +265,13 @@ class Controller:
         if not self.started:
             self.start_at(fk.pose)
             self.started = True
-        w = rotate_wrench(self.pose[3:], frame.wrench)     # sensor -> base frame
+        ck = self.model.compiled
+        if ck is not None:                                  # sensor -> base frame
+            w = np.empty(6)
+            ck.rotate_wrench(self.pose[3:], frame.wrench, w)
+        else:
+            R = _rot(self.pose[3:])
+            w = np.concatenate([R @ frame.wrench[:3], R @ frame.wrench[3:]])
         r.pose, r.wrench = self.pose, w
         J = self.model.jacobian(self.pose)
         if self.near_singular(J):

@@ -11,10 +11,8 @@ import pytest
 from distkin.control.admittance import Spring
 from distkin.control.commands import builtin_scene
 from distkin.control.controller import SCALING
-from distkin.control.cycle_kernels import (reading_extremes, rotate_pose, rotate_wrench,
-                                           spring_wrench)
-from distkin.control.kinematics import _rot, load_model
-from distkin.control.kinematics import rotate_pose as rotate_pose_py
+from distkin.control.cycle_kernels import reading_extremes
+from distkin.control.kinematics import _rot, load_model, rotate_pose
 from distkin.control.loopback import run_loopback
 
 
@@ -39,8 +37,9 @@ def test_kernels_give_the_same_bits(models):
         c1, D1 = fast.closure(q1, pose + 1e-3)
         c2, D2 = ref.closure(q2, pose + 1e-3)
         assert np.array_equal(c1, c2) and np.array_equal(D1, D2)
-        assert np.array_equal(rotate_pose(pose, [1e-3, 0, -2e-3], [0.01, -0.02, 0.005]),
-                              rotate_pose_py(pose, [1e-3, 0, -2e-3], [0.01, -0.02, 0.005]))
+        dp, dw = np.array([1e-3, 0, -2e-3]), np.array([0.01, -0.02, 0.005])
+        assert np.array_equal(fast.compiled.rotate_pose(pose, dp, dw),
+                              rotate_pose(pose, dp, dw))
 
 
 def test_forward_kinematics_agrees_to_rounding(models):
@@ -79,18 +78,20 @@ def test_guard_and_distribution_against_numpy(models):
     assert math.isnan(ck.singular_values(J, SCALING)[0])
 
 
-def test_spring_wrench_and_reading_checks():
+def test_spring_wrench_and_reading_checks(models):
+    ck = models[0].compiled
     rng = np.random.default_rng(6)
     for _ in range(20):
         anchor = tuple(rng.uniform(-0.2, 0.2, 6))
         sp = Spring(anchor, tuple(rng.uniform(1, 100, 6)), tuple(rng.uniform(0, 5, 6)))
         pose, twist = rng.uniform(-0.3, 0.3, 6), rng.normal(size=6)
-        got = spring_wrench(pose, twist, sp._p0, sp._R0t, sp._k, sp._d)
+        got = np.empty(6)
+        ck.spring_wrench(pose, twist, sp._p0, sp._R0t, sp._k, sp._d, got)
         assert np.max(np.abs(got - sp.wrench(pose, twist))) < 1e-13
         w = rng.normal(size=6)
         R = _rot(pose[3:])
-        assert np.allclose(rotate_wrench(pose[3:], w), np.r_[R @ w[:3], R @ w[3:]],
-                           rtol=0, atol=1e-15)
+        ck.rotate_wrench(pose[3:], w, got)
+        assert np.allclose(got, np.r_[R @ w[:3], R @ w[3:]], rtol=0, atol=1e-15)
     a, w = np.array([0.1, -0.4, 0.2]), np.array([1.0, -3.0, 2.0, 0.1, -0.2, 0.05])
     assert reading_extremes(a, w) == (True, 0.4, 3.0, 0.2)
     w[4] = np.inf
