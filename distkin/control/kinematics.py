@@ -126,7 +126,10 @@ class KinematicModel:
         self.compiled = None
         if compiled:
             from .cycle_kernels import build
-            self.compiled = build(k, self.L)
+            try:
+                self.compiled = build(k, self.L)
+            except OSError:       # no writable cache folder: the Python route, slower
+                self.compiled = None
 
     # -- inverse kinematics and Jacobian ---------------------------------------------
     def ik(self, pose):
