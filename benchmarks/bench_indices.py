@@ -190,10 +190,12 @@ def _study_section(data):
     return "\n".join(lines)
 
 
-def scale_probe(n: int, compiled: bool, chunk: int) -> dict:
+def scale_probe(n: int, compiled: bool, chunk: int, memory: bool = True) -> dict:
     """One measurement in a fresh process (``python -m benchmarks`` runs it by
-    subprocess): CPU time and peak traced memory of ``evaluate_poses`` on the first
-    ``n`` poses of a 5 mm / 5° grid (±75 mm, ±20°; 21.7 million poses)."""
+    subprocess) on the first ``n`` poses of a 5 mm / 5° grid (±75 mm, ±20°; 21.7 million
+    poses): CPU time of ``evaluate_poses`` and the growth of the peak resident set,
+    then (``memory``) a second call under ``tracemalloc`` for its peak traced memory
+    (tracemalloc slows the call by about a third, so it is not timed)."""
     import resource
     import tracemalloc
 
@@ -204,24 +206,30 @@ def scale_probe(n: int, compiled: bool, chunk: int) -> dict:
     grid = table2_grid(step=0.005)
     P = grid.poses(np.arange(-(-n // grid.n_orientations)))[:n]
     evaluate_poses(mech, P[:100], compiled=compiled)
-    tracemalloc.start()
-    tracemalloc.reset_peak()
+    rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
     c0, w0 = time.process_time(), time.perf_counter()
     ok, vals = evaluate_poses(mech, P, compiled=compiled, chunk=chunk)
     cpu, wall = time.process_time() - c0, time.perf_counter() - w0
-    peak = tracemalloc.get_traced_memory()[1]
-    tracemalloc.stop()
+    rss1 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
     outputs = ok.nbytes + sum(vals[q].nbytes for q in QUANTITIES)
+    peak = None
+    if memory:
+        del ok, vals
+        tracemalloc.start()
+        tracemalloc.reset_peak()
+        ok, vals = evaluate_poses(mech, P, compiled=compiled, chunk=chunk)
+        peak = tracemalloc.get_traced_memory()[1]
+        tracemalloc.stop()
     return {"n": n, "compiled": compiled, "chunk": chunk, "cpu_s": cpu, "wall_s": wall,
             "peak_traced_bytes": peak, "output_bytes": outputs,
-            "maxrss_bytes": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
-            "input_bytes": P.nbytes, "reachable": int(ok.sum())}
+            "maxrss_growth_bytes": rss1 - rss0, "input_bytes": P.nbytes,
+            "reachable": int(ok.sum())}
 
 
-def _probe(n, compiled=True, chunk=8192):
+def _probe(n, compiled=True, chunk=8192, memory=True):
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
     code = ("import json, benchmarks.bench_indices as b; "
-            f"print(json.dumps(b.scale_probe({n}, {compiled}, {chunk})))")
+            f"print(json.dumps(b.scale_probe({n}, {compiled}, {chunk}, {memory})))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          env=env, check=True, cwd=os.path.dirname(os.path.dirname(
                              os.path.abspath(__file__))))
@@ -236,26 +244,35 @@ def _mib(b):
 
 def _scaling_section(data):
     """Cost per pose and peak memory against N (fresh process per row)."""
-    rows = [_probe(n) for n in (10 ** 3, 10 ** 4, 10 ** 5, 10 ** 6, 10 ** 7)]
+    rows = [_probe(n) for n in (10 ** 3, 10 ** 4, 10 ** 5, 10 ** 6)]
+    rows.append(_probe(10 ** 7, memory=False))          # tracemalloc would add 7 minutes
     rows += [_probe(10 ** 4, False, 10 ** 4), _probe(10 ** 5, False, 10 ** 5),
              _probe(10 ** 5, False, 8192)]
     data["scaling"] = rows
     lines = ["### Scaling in N, and memory", "",
              "`evaluate_poses` on the first N poses of a 5 mm / 5° grid (±75 mm, ±20°), "
-             "Octopod, one fresh process per row (OPENBLAS_NUM_THREADS=1), CPU time of "
-             "the call; peak memory traced by `tracemalloc` during the call (numpy "
-             "reports its buffers to it), and that minus the results (22 float64 "
-             "arrays and the `ok` mask, 177 bytes per pose), which is the work "
-             "memory.  Chunk = poses evaluated together.", "",
-             "| route | N | chunk | CPU | CPU per pose | peak traced | results | work memory "
-             "| load (1 / 5 min) |", "|---|---|---|---|---|---|---|---|---|"]
+             "Octopod, one fresh process per row (OPENBLAS_NUM_THREADS=1): CPU time of "
+             "the call and the growth of the process's peak resident set during it "
+             "(0 where it stayed below the peak of the imports and warm-up, about "
+             "0.5 GiB); "
+             "then, in a second call not timed (tracemalloc slows it by about a third), "
+             "the peak memory traced by `tracemalloc` (numpy reports its buffers to "
+             "it), and that minus the results (22 float64 arrays and the `ok` mask, "
+             "177 bytes per pose), which is the work memory.  Chunk = poses evaluated "
+             "together.", "",
+             "| route | N | chunk | CPU | CPU per pose | peak RSS growth | peak traced "
+             "| results | work memory | load (1 / 5 min) |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         route = "compiled" if r["compiled"] else "numpy (reference)"
         chunk = "N (unchunked)" if r["chunk"] == r["n"] else f"{r['chunk']:,}"
+        pk = r["peak_traced_bytes"]
         lines.append(f"| {route} | {r['n']:,} | {chunk} | {r['cpu_s']:.2f} s | "
-                     f"{fmt_time(r['cpu_s'] / r['n'])} | {_mib(r['peak_traced_bytes'])} | "
+                     f"{fmt_time(r['cpu_s'] / r['n'])} | {_mib(r['maxrss_growth_bytes'])} | "
+                     f"{_mib(pk) if pk is not None else 'not run'} | "
                      f"{_mib(r['output_bytes'])} | "
-                     f"{_mib(r['peak_traced_bytes'] - r['output_bytes'])} | {r['load']} |")
+                     f"{_mib(pk - r['output_bytes']) if pk is not None else '-'} | "
+                     f"{r['load']} |")
     un = [r for r in rows if not r["compiled"] and r["chunk"] == r["n"]]
     if un:
         r = un[-1]
@@ -263,7 +280,9 @@ def _scaling_section(data):
                   f"{(r['peak_traced_bytes'] - r['output_bytes']) / r['n'] / 1024:.1f} KiB "
                   "of work memory per pose (what `zonotope_worst` and `evaluate_poses` did "
                   "before issue 17: 9.4 GiB at N = 1e6); chunked, the work memory of "
-                  "either route is that of one chunk, whatever N."]
+                  "either route is that of one chunk, whatever N (at N = 1e7 the peak "
+                  "RSS grows by the results and about one chunk's work memory).  N = 1e7 "
+                  "fits: 1.7 GiB of results on a 24 GiB machine, about 5 CPU minutes."]
     return "\n".join(lines)
 
 
