@@ -209,18 +209,18 @@ CLI reads the rate from the scene, 1 kHz stays the default; `python -m distkin c
 {row4}
 
 What limits it now.  In-process, the compiled kinematics (FK, IK, J, guard,
-projection) are about a tenth of the cycle; what is left is Python around them: frame
-decode and encode (CRC, COBS), the admittance step's numpy on 6-vectors, the PD filter
-and the controller's bookkeeping, about 50 µs in the median, with a tail (p99 about
-twice the median) from cache and scheduling effects of the shared machine -- the tail
-is the same with the garbage collector off or frozen (measured while writing this).  A
-compute p99 of 0.1 ms needs the rest of the cycle (decode, admittance, PD, encode)
-compiled as one kernel, not done this round.  Over the pty at 4 kHz the loop runs at
-about 2 kHz: the lock-stepped period (0.47 ms in the median) is the controller's
-compute (0.15 ms over the link) plus the simulator's own Python step, two pty
-transfers and two process wake-ups on 2 cores shared with another job; the free-running
-simulator shows the same limit as stale frames.  1 kHz stays the default; at 1 kHz the
-period p99 is set by the operating system's scheduling of the two processes, not by
-the compute time.
+projection) are about a fifth of the cycle; what is left is Python around them: frame
+decode and encode (CRC, COBS; about a third), the admittance step's numpy on 6-vectors,
+the PD filter and the controller's bookkeeping, with a tail (p99 about twice the
+median) from cache and scheduling effects of the shared machine -- the tail is the same
+with the garbage collector off or frozen (measured while writing this).  A compute p99
+safely under 0.1 ms needs the rest of the cycle (decode, admittance, PD, encode)
+compiled as one kernel, not done this round.  Over the pty at 4 kHz the loop does not
+reach 4 kHz: the lock-stepped period is the controller's compute over the link plus
+the simulator's own Python step, two pty transfers and two process wake-ups on 2 cores
+shared with another job (load about 3 during these runs); the free-running simulator
+shows the same limit as stale frames, and a late wake-up can trip the 20 ms watchdog.
+1 kHz stays the default; at 1 kHz the period p99 is set by the operating system's
+scheduling of the two processes, not by the compute time.
 """
     return text, data
