@@ -249,8 +249,9 @@ def build(kernels, L: int) -> CycleKernels:
     project(np.ones((L, 6)), np.zeros(L), np.zeros(6), np.zeros(L))
     reading_extremes(np.zeros(L), np.zeros(6))
     ck.rotate_wrench(np.zeros(3), np.zeros(6), np.zeros(6))
-    ck.spring_wrench(np.zeros(6), np.zeros(6), np.zeros(3), np.eye(3), np.zeros(6),
-                     np.zeros(6), np.zeros(6))
+    for R0t in (np.eye(3), np.eye(3).T):        # Spring._R0t is a transpose (F order)
+        ck.spring_wrench(np.zeros(6), np.zeros(6), np.zeros(3), R0t, np.zeros(6),
+                         np.zeros(6), np.zeros(6))
     ck.rotate_pose(np.zeros(6), np.zeros(3), np.zeros(3))
     _BUILT[key] = ck
     return ck

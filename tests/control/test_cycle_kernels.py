@@ -108,3 +108,23 @@ def test_the_compiled_loop_follows_the_reference_loop():
     assert np.max(np.abs(a["pose"] - b["pose"])) < 1e-9
     assert np.max(np.abs(a["tau_cmd"] - b["tau_cmd"])) < 1e-5   # float32 on the wire
     assert np.array_equal(a["refused"], b["refused"])
+
+
+def test_the_first_cycle_compiles_nothing():
+    """build() compiles every signature a control cycle uses (a compilation inside the
+    first cycle would take a large fraction of a second): a short loop adds none."""
+    import sys
+    from distkin.control import cycle_kernels
+    model = load_model("octo")
+
+    def signatures():
+        mods = [m for k, m in sys.modules.items() if k.startswith("distkin_cycle_")]
+        out = {(m.__name__, n): len(getattr(m, n).signatures) for m in mods
+               for n in ("ik", "jacobian", "closure", "forward", "singular_values",
+                         "project", "rotate_wrench", "spring_wrench", "rotate")}
+        out.update({k: len(f.signatures) for k, f in cycle_kernels._COMPILED.items()})
+        return out
+
+    before = signatures()
+    run_loopback(dataclasses.replace(builtin_scene(), preset="octo"), model, 0.05)
+    assert signatures() == before
