@@ -5,7 +5,10 @@ part of the default run?) and ``run() -> (markdown: str, data: dict)``.  Each ru
 rewrites its own section of ``BENCHMARKS.md`` (between ``<!-- begin NAME -->`` and
 ``<!-- end NAME -->``) with the machine, the versions and the command, and the raw
 numbers go to ``benchmarks/results.json``.  Modules with ``DEFAULT = False`` say so in
-the file and run only when named.  A block under the title (``<!-- begin run -->``)
+the file and run only when named.  A module may name the distributions its comparisons
+need in ``REQUIRES`` (e.g. pycapacity, from the extra ``bench``): a run that would
+include it refuses to start without them (exit 2), so that no section is ever written
+without its comparison.  A block under the title (``<!-- begin run -->``)
 records the last run: command, date, machine, versions, the sections written with their
 times, and what the default run left out.
 """
@@ -72,6 +75,27 @@ def _write_run(r: dict) -> None:
     _write_section("run", text, first=True)
 
 
+def _missing_requirements(names, available) -> dict:
+    """{section: [distributions not installed]} for the sections this run would write."""
+    from importlib.metadata import PackageNotFoundError, version
+    out = {}
+    for name in available:
+        if names is not None and name not in names:
+            continue
+        mod = importlib.import_module(f"benchmarks.bench_{name}")
+        if names is None and not getattr(mod, "DEFAULT", True):
+            continue
+        miss = []
+        for dist in getattr(mod, "REQUIRES", ()):
+            try:
+                version(dist)
+            except PackageNotFoundError:
+                miss.append(dist)
+        if miss:
+            out[name] = miss
+    return out
+
+
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     names = argv or None
@@ -81,6 +105,12 @@ def main(argv=None) -> int:
         if bad:
             print(f"benchmarks: unknown {bad}; expected some of {available}", file=sys.stderr)
             return 2
+    missing = _missing_requirements(names, available)
+    if missing:
+        for name, dists in missing.items():
+            print(f"benchmarks: section {name!r} needs {', '.join(dists)}, not installed; "
+                  f"install the extra: pip install -e '.[bench]'", file=sys.stderr)
+        return 2
     results = json.loads(JSON.read_text()) if JSON.exists() else {}
     info = machine()
     ran, left_out = [], []

@@ -137,7 +137,13 @@ class WorkspaceCertificate:
         return float(self.volumes()[self.status == status].sum())
 
     def summary(self) -> dict:
-        """Volumes (in :attr:`volume_unit`), fractions, counts, σ bound, timing."""
+        """Volumes (in :attr:`volume_unit`), fractions, counts, σ bound, timing.
+
+        Two rates: ``boxes_per_second`` is per process (boxes over the sum of the
+        chunks' own computing times, whatever ran them in parallel);
+        ``boxes_per_wall_second`` is boxes over the wall-clock time of the call (all
+        processes together; it includes chunks loaded from a resumed store).
+        """
         tot = self.total_volume()
         out = {"volume_unit": self.volume_unit, "total_volume": tot}
         for code, name in STATUS_NAMES.items():
@@ -154,6 +160,8 @@ class WorkspaceCertificate:
         out["seconds"] = self.seconds
         out["wall_seconds"] = self.wall_seconds
         out["boxes_per_second"] = self.evaluated / self.seconds if self.seconds > 0 else None
+        out["boxes_per_wall_second"] = (self.evaluated / self.wall_seconds
+                                        if self.wall_seconds > 0 else None)
         out["chunks"] = self.chunks
         return out
 

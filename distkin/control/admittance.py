@@ -109,14 +109,18 @@ class Admittance:
     damping : array (6,)
         Virtual damping, N·s/m x3 and N·m·s/rad x3.
     environment : sequence of Spring / Wall
+    kernels : CycleKernels, optional
+        Springs and the SO(3) step by the same functions compiled by numba
+        (:mod:`.cycle_kernels`, for the control cycle); None: plain Python and numpy.
     """
 
-    def __init__(self, mass, damping, environment=()):
+    def __init__(self, mass, damping, environment=(), *, kernels=None):
         self.mass = np.asarray(mass, dtype=float)
         self.damping = np.asarray(damping, dtype=float)
         self.environment = tuple(environment)
         self.pose = np.zeros(6)
         self.twist = np.zeros(6)
+        self.kernels = kernels
 
     def reset(self, pose) -> None:
         """Start at rest at ``pose`` (the measured pose; no jump in the set point)."""
@@ -126,7 +130,12 @@ class Admittance:
     def environment_wrench(self, pose, twist) -> np.ndarray:
         w = np.zeros(6)
         for e in self.environment:
-            w += e.wrench(pose, twist)
+            if self.kernels is not None and e.kind == "spring":
+                out = np.empty(6)
+                self.kernels.spring_wrench(pose, twist, e._p0, e._R0t, e._k, e._d, out)
+                w += out
+            else:
+                w += e.wrench(pose, twist)
         return w
 
     def propose(self, hand_wrench, dt):
@@ -137,6 +146,8 @@ class Admittance:
         """
         w = hand_wrench + self.environment_wrench(self.pose, self.twist)
         twist = self.twist + dt * (w - self.damping * self.twist) / self.mass
+        if self.kernels is not None:
+            return self.kernels.rotate_pose(self.pose, twist[:3] * dt, twist[3:] * dt), twist
         pose = rotate_pose(self.pose, twist[:3] * dt, twist[3:] * dt)
         return pose, twist
 

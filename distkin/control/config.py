@@ -241,7 +241,7 @@ def _simulator(t):
 
 def _home_of(preset_name: str):
     from .kinematics import load_model
-    return load_model(preset_name).home
+    return load_model(preset_name, compiled=False).home
 
 
 def loads_control_scene(text: str, path: str = "<string>") -> ControlScene:

@@ -42,6 +42,7 @@ import numpy as np
 
 from ..errors import LinkError
 from .admittance import Admittance
+from .cycle_kernels import reading_extremes
 from .kinematics import _rot
 from .protocol import (FLAG_KEEPALIVE, MODE_HOLD, MODE_RUN, MODE_ZERO_TORQUE, STATUS_ESTOP,
                        STATUS_SENSOR_FAULT, CommandFrame)
@@ -93,7 +94,8 @@ class Controller:
         self.model = model
         self.L = model.L
         self.dt_nominal = 1.0 / scene.rate_hz
-        self.adm = Admittance(scene.mass, scene.damping, scene.environment)
+        self.adm = Admittance(scene.mass, scene.damping, scene.environment,
+                              kernels=model.compiled)
         self.pd = scene.pd
         self.safety = scene.safety
         self.weight = float(model.mass[0, 0]) * GRAVITY
@@ -142,6 +144,9 @@ class Controller:
 
     def singular_values(self, J):
         """Smallest and largest singular value of the scaled Jacobian ``J S^-1``."""
+        ck = self.model.compiled
+        if ck is not None:
+            return ck.singular_values(J, SCALING)
         Js = J / SCALING
         ev = np.linalg.eigvalsh(Js.T @ Js)
         return math.sqrt(max(float(ev[0]), 0.0)), math.sqrt(max(float(ev[-1]), 0.0))
@@ -155,9 +160,11 @@ class Controller:
         (a parallel singularity: the platform can move without the cranks) or its
         condition number exceeds ``safety.max_condition`` (near a serial singularity at
         the reach boundary)."""
-        if not np.all(np.isfinite(J)):
+        if self.model.compiled is None and not np.all(np.isfinite(J)):
             return True
-        lo, hi = self.singular_values(J)
+        lo, hi = self.singular_values(J)          # compiled: NaN where J is not finite
+        if lo != lo:
+            return True
         return lo < self.safety.sigma_min or hi > self.safety.max_condition * lo
 
     def check_pose(self, pose):
@@ -184,11 +191,12 @@ class Controller:
         a, w = frame.angles, frame.wrench
         if a.shape != (self.L,):
             return f"expected {self.L} encoder angles, got {a.shape[0]}"
-        if not (np.all(np.isfinite(a)) and np.all(np.isfinite(w))):
+        finite, ma, mf, mm = reading_extremes(a, w)
+        if not finite:
             return "NaN or inf in the reading"
-        if np.max(np.abs(a)) > s.max_angle:
-            return f"encoder angle {float(np.max(np.abs(a))):.3g} rad beyond ±{s.max_angle} rad"
-        if np.max(np.abs(w[:3])) > s.max_force or np.max(np.abs(w[3:])) > s.max_torque:
+        if ma > s.max_angle:
+            return f"encoder angle {ma:.3g} rad beyond ±{s.max_angle} rad"
+        if mf > s.max_force or mm > s.max_torque:
             return "force/torque reading beyond the sensor range"
         if frame.status & (STATUS_ESTOP | STATUS_SENSOR_FAULT):
             return f"device status {frame.status:#06x} (e-stop or sensor fault)"
@@ -223,14 +231,19 @@ class Controller:
                                  pd.torque_limit / pd.ki)
             tau = tau + pd.ki * self.e_int
         # torque distribution (L > 6: remove internal forces) and gravity compensation
-        G = J.T @ J
         w_ff = -w if pd.hand_feedforward else np.zeros(6)
         if pd.gravity_compensation:
             w_ff[2] += self.weight
-        if pd.distribution == "projected":
-            tau = J @ np.linalg.solve(G, J.T @ tau + w_ff)
+        ck = self.model.compiled
+        if pd.distribution == "projected" and ck is not None:
+            out = np.empty(self.L)
+            if not ck.project(J, tau, w_ff, out):
+                raise np.linalg.LinAlgError("Singular matrix")
+            tau = out
+        elif pd.distribution == "projected":
+            tau = J @ np.linalg.solve(J.T @ J, J.T @ tau + w_ff)
         elif pd.gravity_compensation or pd.hand_feedforward:
-            tau = tau + J @ np.linalg.solve(G, w_ff)
+            tau = tau + J @ np.linalg.solve(J.T @ J, w_ff)
         saturated = False
         peak = float(np.max(np.abs(tau)))
         if peak > pd.torque_limit:
@@ -252,8 +265,13 @@ class Controller:
         if not self.started:
             self.start_at(fk.pose)
             self.started = True
-        R = _rot(self.pose[3:])
-        w = np.concatenate([R @ frame.wrench[:3], R @ frame.wrench[3:]])
+        ck = self.model.compiled
+        if ck is not None:                                  # sensor -> base frame
+            w = np.empty(6)
+            ck.rotate_wrench(self.pose[3:], frame.wrench, w)
+        else:
+            R = _rot(self.pose[3:])
+            w = np.concatenate([R @ frame.wrench[:3], R @ frame.wrench[3:]])
         r.pose, r.wrench = self.pose, w
         J = self.model.jacobian(self.pose)
         if self.near_singular(J):

@@ -85,9 +85,13 @@ class KinematicModel:
     ----------
     mech : distkin.mechanisms.RSSMechanism
         The mechanism (a preset, e.g. ``preset("octo")``).
+    compiled : bool
+        True (default): the kernels and the forward kinematics compiled by numba
+        (:mod:`.cycle_kernels`; compiled once per mechanism and process, a few
+        seconds); False: the generated Python functions and numpy (the reference).
     """
 
-    def __init__(self, mech):
+    def __init__(self, mech, *, compiled: bool = True):
         self.mech = mech
         self.L = int(mech.L)
         k = mech.kernels("scalar")
@@ -95,10 +99,21 @@ class KinematicModel:
         self._jac, self._closure = k.jacobian, k.closure
         self.home = np.asarray(mech.home, dtype=float)
         self.mass = np.asarray(mech.cartesian_mass_matrix(), dtype=float)
+        self.compiled = None
+        if compiled:
+            from .cycle_kernels import build
+            try:
+                self.compiled = build(k, self.L)
+            except OSError:       # no writable cache folder: the Python route, slower
+                self.compiled = None
 
     # -- inverse kinematics and Jacobian ---------------------------------------------
     def ik(self, pose):
         """Crank angles ``q`` (L,) rad and reachability (bool) of ``pose`` (6,)."""
+        if self.compiled is not None:
+            q = np.empty(self.L)
+            ok = self.compiled.ik(np.asarray(pose, dtype=float), q)
+            return q, bool(ok)
         p = [float(v) for v in pose]
         margin = self._reach(p)
         ok = bool(min(margin) >= 0.0)
@@ -106,10 +121,18 @@ class KinematicModel:
 
     def jacobian(self, pose):
         """``J`` (L, 6): ``qdot = J (v, omega)``, rad per (m, rad)."""
+        if self.compiled is not None:
+            J = np.empty((self.L, 6))
+            self.compiled.jacobian(np.asarray(pose, dtype=float), J)
+            return J
         return np.asarray(self._jac([float(v) for v in pose]), dtype=float).reshape(self.L, 6)
 
     def closure(self, q, pose):
         """Leg-closure residuals (L,) m and their derivative (L, 6) w.r.t. (v, omega)."""
+        if self.compiled is not None:
+            c = np.empty((self.L, 7))
+            self.compiled.closure(np.asarray(q, dtype=float), np.asarray(pose, dtype=float), c)
+            return c[:, 0], c[:, 1:]
         c = np.array(self._closure([float(v) for v in q], [float(v) for v in pose]),
                      dtype=float).reshape(self.L, 7)
         return c[:, 0], c[:, 1:]
@@ -144,6 +167,12 @@ class KinematicModel:
             ``residual``: rms leg-closure error predicted at the returned pose
             (linearised, ``|c + D delta|``), m.
         """
+        if self.compiled is not None:
+            out = np.empty(6)
+            res, it, conv = self.compiled.forward(np.asarray(q, dtype=float),
+                                                  np.array(guess, dtype=float), float(tol),
+                                                  int(max_iter), out)
+            return FKState(out, float(res), int(it), bool(conv))
         pose = np.array(guess, dtype=float)
         for it in range(1, max_iter + 1):
             c, D = self.closure(q, pose)
@@ -161,7 +190,7 @@ class KinematicModel:
         return FKState(pose, math.sqrt(float(r @ r) / self.L), max_iter, False)
 
 
-def load_model(preset_name: str, **overrides) -> KinematicModel:
+def load_model(preset_name: str, *, compiled: bool = True, **overrides) -> KinematicModel:
     """:class:`KinematicModel` of a :func:`distkin.mechanisms.preset`."""
     from ..mechanisms import preset
-    return KinematicModel(preset(preset_name, **overrides))
+    return KinematicModel(preset(preset_name, **overrides), compiled=compiled)

@@ -41,7 +41,7 @@ SENSITIVITY_UNITS = {"translational": "m/rad", "rotational": "rad/rad",
                      "force": "N/(N·m)", "torque": "(N·m)/(N·m)"}
 
 
-def max_sensitivities(J, mode: str = "slice", *, twist=None):
+def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False):
     """The four maximum sensitivities at each pose (module docstring).
 
     Parameters
@@ -52,6 +52,9 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None):
         The paper's definition (slice, then farthest point) or Cardou's (projection).
     twist : ndarray (N, 6, L), optional
         ``pinv(J)`` if already computed.
+    walk : bool
+        Slice mode: the Gray-code kernel of :mod:`.slice_farthest` for every L (the
+        reference of its split-sign kernel for L = 8).
 
     Returns
     -------
@@ -65,7 +68,9 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None):
     if J.ndim != 3 or J.shape[2] != 6:
         raise InputError(f"expected J of shape (N, L, 6), got {J.shape}", field="J")
     N, L, _ = J.shape
-    Gt = np.linalg.pinv(J) if twist is None else twist
+    # J# only where it is used (L = 6 in slice mode takes the slab route on J itself)
+    need_pinv = mode == "projection" or L != 6
+    Gt = (np.linalg.pinv(J) if need_pinv else None) if twist is None else twist
     Gw = np.swapaxes(J, 1, 2)
     c, r = np.zeros((N, L)), np.ones((N, L))
     out = {}
@@ -74,9 +79,9 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None):
         if mode == "projection":
             out[name] = zonotope_best(np.ascontiguousarray(G[:, list(rows), :]), c, r,
                                       [(0, 1, 2)])[0]
-        elif G is Gt and L == 6:
+        elif name in ("translational", "rotational") and L == 6:
             # J# = J⁻¹: the slice is {u : |J_S u|∞ <= 1}, computed from J itself
             out[name] = slab_farthest_unit(J[:, :, list(rows)])
         else:
-            out[name] = slice_farthest_unit(G, rows)
+            out[name] = slice_farthest_unit(G, rows, walk=walk)
     return out

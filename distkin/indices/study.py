@@ -90,7 +90,7 @@ PAPER_TABLE4 = {"hunt": (0.0006, 0.0127, 20.0052), "octopod": (0.0080, 0.2230, 2
 
 # ----------------------------------------------------------------------- per pose
 def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="kernels",
-                   sensitivity="slice"):
+                   sensitivity="slice", compiled: bool = True, chunk: int = 8192):
     """Every index of the study at each pose.
 
     Parameters
@@ -107,6 +107,14 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         The generated kernels of the mechanism, or :mod:`distkin.mechanisms.reference` (no codegen).
     sensitivity : {"slice", "projection"}
         The paper's definition (eqs. (14), (16)) or Cardou's (:mod:`.sensitivity`).
+    compiled : bool
+        True: the capabilities, true velocities, J# and singular values pose by pose in
+        one compiled kernel (:mod:`.study_compiled`; 6 <= L <= 8); False: the numpy
+        route (batched array operations), the reference.  They agree to about 1e-13
+        relative (tests/indices/test_study_compiled.py).
+    chunk : int
+        Poses evaluated together: the work memory is bounded by the chunk, not by N
+        (the numpy route needs about 10 KiB per pose for L = 8).
 
     Returns
     -------
@@ -120,6 +128,23 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         ``det_sign`` the sign of det J (L = 6; 1 for L = 8).
     """
     poses = np.asarray(poses, dtype=float)
+    chunk = max(1, int(chunk))
+    if len(poses) > chunk:
+        # results written in place chunk after chunk: besides them, only one chunk's
+        # work memory is alive at a time
+        ok = np.empty(len(poses), bool)
+        out = {q: np.empty(len(poses)) for q in QUANTITIES}
+        n = 0
+        for a in range(0, len(poses), chunk):
+            ok_c, v = evaluate_poses(mech, poses[a:a + chunk], actuators=actuators, ST=ST,
+                                     route=route, sensitivity=sensitivity,
+                                     compiled=compiled, chunk=chunk)
+            ok[a:a + chunk] = ok_c
+            k = int(ok_c.sum())
+            for q in QUANTITIES:
+                out[q][n:n + k] = v[q]
+            n += k
+        return ok, {q: out[q][:n] for q in QUANTITIES}
     if route == "numpy":
         from ..mechanisms.reference import ik_jacobian
         _, valid, J, Jq = ik_jacobian(mech, poses, return_jq=True)
@@ -135,21 +160,54 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         else np.array([mech.mass] * 3 + [mech.inertia] * 3)
     if not n:
         return ok, {q: np.zeros(0) for q in QUANTITIES}
+    if compiled and 6 <= mech.L <= 8:
+        out = _indices_compiled(J, Jq, M, actuators, ST, sensitivity)
+    else:
+        out = _indices_numpy(J, Jq, M, actuators, ST, sensitivity)
+    out["transmission_min"] = np.abs(Jq).min(axis=1) / mech.l1
+    # L = 6: a sign change of det J between reachable poses encloses a singularity
+    out["det_sign"] = np.sign(np.linalg.det(J)) if mech.L == 6 else np.ones(n)
+    return ok, out
+
+
+def _indices_numpy(J, Jq, M, actuators, ST, sensitivity):
+    """The reference route: batched numpy, module by module (and the Gray-code walk of
+    :mod:`.slice_farthest`), the arithmetic of the study before the compiled kernel."""
     gens = output_generators(J, mass=M)
     out = _worst_cases(J, gens, M, actuators)
     for name, _, _, keep in TRUE_VELOCITIES:
         out[name] = true_velocity_worst(J, actuators["velocity"], keep)
-    sens = max_sensitivities(J, sensitivity, twist=gens["twist"])
+    sens = max_sensitivities(J, sensitivity, twist=gens["twist"], walk=True)
     for name in SENSITIVITIES:
         out[name[0]] = sens[name[0].removeprefix("sens_")]
     sig = reading_singular_values(J, ST, Jq=Jq)
     out["sigma_min"], out["sigma_max"] = sig["wrench"]
     for r in SIGMA_READINGS:
         out[f"sigma_min_{r}"], out[f"sigma_max_{r}"] = sig[r]
-    out["transmission_min"] = np.abs(Jq).min(axis=1) / mech.l1
-    # L = 6: a sign change of det J between reachable poses encloses a singularity
-    out["det_sign"] = np.sign(np.linalg.det(J)) if mech.L == 6 else np.ones(n)
-    return ok, out
+    return out
+
+
+def _indices_compiled(J, Jq, M, actuators, ST, sensitivity):
+    """:mod:`.study_compiled` for the capabilities, true velocities, J# and σ; the
+    compiled vertex enumeration (:mod:`.slice_farthest`) for the sensitivities; the
+    poses the kernel flags go through :func:`_indices_numpy`."""
+    from .study_compiled import study_indices
+    caps, truev, twist, sig, flag = study_indices(J, Jq, M, actuators, ST)
+    out = {cap[0]: caps[:, i] for i, cap in enumerate(CAPABILITIES)}
+    for i, (name, _, _, _) in enumerate(TRUE_VELOCITIES):
+        out[name] = truev[:, i]
+    sens = max_sensitivities(J, sensitivity, twist=twist if J.shape[1] > 6 else None)
+    for name in SENSITIVITIES:
+        out[name[0]] = sens[name[0].removeprefix("sens_")]
+    out["sigma_min"], out["sigma_max"] = sig[:, 0], sig[:, 1]
+    for k, r in enumerate(SIGMA_READINGS):
+        out[f"sigma_min_{r}"], out[f"sigma_max_{r}"] = sig[:, 2 + 2 * k], sig[:, 3 + 2 * k]
+    bad = np.flatnonzero(flag)
+    if len(bad):
+        ref = _indices_numpy(J[bad], Jq[bad], M, actuators, ST, sensitivity)
+        for q, v in ref.items():
+            out[q][bad] = v
+    return out
 
 
 def _worst_cases(J, gens, M, actuators):
@@ -186,7 +244,8 @@ def study_chunk(spec: dict) -> dict:
 
     ``spec``: ``mech`` (RSSMechanism), ``grid`` (PoseGrid), ``lo``/``hi`` position
     range, ``actuators``, ``ST``, ``inner`` (rad or None: the inner orientation range
-    reduced separately), ``route``, ``batch`` (poses per evaluation).
+    reduced separately), ``route``, ``batch`` (poses per evaluation), ``compiled``
+    (default True: :mod:`.study_compiled`; False: the numpy route, the reference).
 
     Returns per-position arrays: ``{q}_min``, ``{q}_max`` (and ``_in`` variants over the
     inner orientations) for every quantity, ``n_ok``, ``n_ok_in``, ``{q}_argmin``
@@ -216,7 +275,8 @@ def study_chunk(spec: dict) -> dict:
         poses = grid.poses(np.arange(a, b))
         ok, vals = evaluate_poses(mech, poses, actuators=spec["actuators"], ST=spec["ST"],
                                   route=spec.get("route", "kernels"),
-                                  sensitivity=spec.get("sensitivity", "slice"))
+                                  sensitivity=spec.get("sensitivity", "slice"),
+                                  compiled=spec.get("compiled", True))
         okm = ok.reshape(b - a, no)
         sl = slice(a - lo, b - lo)
         res["n_ok"][sl] = okm.sum(axis=1)

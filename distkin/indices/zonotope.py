@@ -213,7 +213,7 @@ def _ratio_min(h, nS):
     return q.min(axis=1)
 
 
-def zonotope_worst(G, c, r, keeps):
+def zonotope_worst(G, c, r, keeps, *, chunk: int = 4096):
     """Signed distance from the origin to the boundary of each slice of ``G·box``.
 
     Parameters
@@ -224,6 +224,10 @@ def zonotope_worst(G, c, r, keeps):
     keeps : sequence of index tuples
         Output coordinates kept in each slice (``tuple(range(d))`` = whole set).
 
+    chunk : int
+        Poses per facet computation: the temporaries (about 10 KiB per pose for
+        L = 8, d = 6) are bounded by the chunk, not by N.
+
     Returns
     -------
     ndarray (len(keeps), N)
@@ -232,11 +236,13 @@ def zonotope_worst(G, c, r, keeps):
     G = np.asarray(G, dtype=float)
     N, d, L = G.shape
     out = np.empty((len(keeps), N))
-    n, h, regular = _facets(G, c, r)
-    for a, S in enumerate(keeps):
-        out[a] = _ratio_min(h, n[:, :, list(S)])
-    for i in np.flatnonzero(~regular):
-        out[:, i] = _flat_worst(G[i], c[i], r[i], keeps)
+    for lo in range(0, N, max(1, int(chunk))):
+        sl = slice(lo, min(N, lo + max(1, int(chunk))))
+        n, h, regular = _facets(G[sl], c[sl], r[sl])
+        for a, S in enumerate(keeps):
+            out[a, sl] = _ratio_min(h, n[:, :, list(S)])
+        for i in lo + np.flatnonzero(~regular):
+            out[:, i] = _flat_worst(G[i], c[i], r[i], keeps)
     return out
 
 

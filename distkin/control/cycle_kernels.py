@@ -1,0 +1,257 @@
+"""The control cycle's kinematics compiled: the generated scalar kernels under numba, and
+the warm-started Gauss-Newton forward kinematics, the scaled-Jacobian guard and the
+torque projection around them, without a Python call per operation.
+
+:class:`~.kinematics.KinematicModel` calls the generated scalar kernels (plain Python,
+:mod:`distkin.codegen`) and numpy on 6-vectors and 8 × 6 matrices; each numpy call costs
+1-5 µs of dispatch and a cycle makes a few dozen.  Here the same generated functions are
+compiled by numba (``numba.njit`` of the functions of ``distkin/_generated``, so the
+formulas keep their one source), and the loops around them are plain compiled code
+writing into preallocated arrays:
+
+* :func:`build` -> :class:`CycleKernels`: ``ik(pose, q) -> ok``, ``jacobian(pose, J)``,
+  ``closure(q, pose, C)``, ``forward(q, guess, tol, max_iter, pose_out) -> (residual,
+  iterations, converged)``, ``singular_values(J, S) -> (σmin, σmax)`` of ``J S⁻¹``,
+  ``project(J, tau, w, out)``: ``J (JᵀJ)⁻¹ (Jᵀ tau + w)`` (the torque distribution of
+  :mod:`.controller`), ``rotate_pose`` (:func:`.kinematics.rotate_pose` itself
+  compiled), ``rotate_wrench(r, w, out)`` (the sensor wrench into the base frame by
+  :func:`.kinematics._rot`), ``spring_wrench(pose, twist, p0, R0t, k, d, out)``
+  (:meth:`.admittance.Spring.wrench` by the compiled :func:`.admittance.rotation_log`);
+  the rotation formulas keep their one source;
+* :func:`reading_extremes`: the checks of a state frame in one call.
+
+The kernels give the same bits as the generated Python functions (the same float
+operations in the same order); the Gauss-Newton step and the 6 × 6 solves use a
+Gaussian elimination with partial pivoting instead of LAPACK and agree with the Python
+route to rounding (tests/control/test_cycle_kernels.py).  The wrappers
+(:mod:`.cycle_wrappers`) call one mechanism's kernels; so that numba can keep their
+machine code on disk, :func:`build` writes them with a header naming the kernels into a
+file of the derivation cache (:mod:`distkin.codegen.cache`, keyed by the template, the
+kernels' source and the modules whose functions they inline) and compiles them there: a few seconds on the first start on a
+machine, well under one afterwards.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["CycleKernels", "build", "kernel_module", "jitted", "reading_extremes"]
+
+_BUILT: dict = {}
+
+
+@dataclass(frozen=True)
+class CycleKernels:
+    """Compiled per-cycle kinematics of one mechanism (see the module docstring)."""
+
+    L: int
+    ik: object
+    jacobian: object
+    closure: object
+    forward: object
+    singular_values: object
+    project: object
+    rotate_pose: object
+    rotate_wrench: object
+    spring_wrench: object
+
+
+def _solve_into(A, b, x):                                    # pragma: no cover (compiled)
+    """x = A⁻¹ b for a small square A by Gaussian elimination with partial pivoting;
+    False if a pivot is 0 (A and b are overwritten)."""
+    n = A.shape[0]
+    for c in range(n):
+        p = c
+        for i in range(c + 1, n):
+            if abs(A[i, c]) > abs(A[p, c]):
+                p = i
+        if A[p, c] == 0.0 or not math.isfinite(A[p, c]):
+            return False
+        if p != c:
+            for j in range(n):
+                t = A[c, j]
+                A[c, j] = A[p, j]
+                A[p, j] = t
+            t = b[c]
+            b[c] = b[p]
+            b[p] = t
+        for i in range(c + 1, n):
+            f = A[i, c] / A[c, c]
+            for j in range(c, n):
+                A[i, j] -= f * A[c, j]
+            b[i] -= f * b[c]
+    for i in range(n - 1, -1, -1):
+        s = b[i]
+        for j in range(i + 1, n):
+            s -= A[i, j] * x[j]
+        x[i] = s / A[i, i]
+    return True
+
+
+def _reading_extremes(a, w):                                 # pragma: no cover (compiled)
+    finite = True
+    ma = 0.0
+    for i in range(a.shape[0]):
+        if not math.isfinite(a[i]):
+            finite = False
+        ma = max(ma, abs(a[i]))
+    mf = 0.0
+    mm = 0.0
+    for i in range(3):
+        if not (math.isfinite(w[i]) and math.isfinite(w[3 + i])):
+            finite = False
+        mf = max(mf, abs(w[i]))
+        mm = max(mm, abs(w[3 + i]))
+    return finite, ma, mf, mm
+
+
+_COMPILED: dict = {}
+
+
+def _jit(name, func):
+    """``func`` (of this module, calling nothing of another module) compiled once per
+    process, kept in numba's disk cache."""
+    f = _COMPILED.get(name)
+    if f is None:
+        import numba
+        f = _COMPILED[name] = numba.njit(cache=True)(func)
+    return f
+
+
+def reading_extremes(a, w):
+    """``(finite, max|a|, max|f|, max|m|)`` of encoder angles ``a`` (L,) rad and the
+    wrench ``w`` (6,) N, N·m (NaN or inf anywhere: ``finite`` False)."""
+    return _jit("reading_extremes", _reading_extremes)(a, w)
+
+
+_HEADER = """# GENERATED BY distkin.control.cycle_kernels.build -- DO NOT EDIT
+# the control cycle's compiled kinematics: distkin/control/cycle_wrappers.py over the
+# generated kernels of {name} (source sha256 {kernels}...)
+import numba
+
+from distkin.control import cycle_kernels as _ck
+from distkin.control.admittance import rotation_log as _rotation_log
+from distkin.control.kinematics import _rot, rotate_pose as _rotate_pose
+
+_kmod = _ck.kernel_module({name!r}, {path!r})
+_ik, _reach, _jac, _clo = (getattr(_kmod, n) for n in {names!r})
+"""
+
+_FOOTER = """
+
+ik_k, reach_k = numba.njit(cache=True)(_ik), numba.njit(cache=True)(_reach)
+jac_k, clo_k = numba.njit(cache=True)(_jac), numba.njit(cache=True)(_clo)
+solve = _ck.jitted("solve")
+rot_k = numba.njit(cache=True)(_rot)
+log_k = numba.njit(cache=True)(_rotation_log)
+rotate = numba.njit(cache=True)(_rotate_pose)
+rotate_wrench = numba.njit(cache=True)(rotate_wrench)
+spring_wrench = numba.njit(cache=True)(spring_wrench)
+ik = numba.njit(cache=True)(ik)
+jacobian = numba.njit(cache=True)(jacobian)
+closure = numba.njit(cache=True)(closure)
+forward = numba.njit(cache=True)(forward)
+singular_values = numba.njit(cache=True)(singular_values)
+project = numba.njit(cache=True)(project)
+"""
+
+
+def kernel_module(name: str, path: str):
+    """The generated kernel module of a cycle-wrapper file: imported by name (a preset's
+    module in ``distkin._generated``) or loaded from its cached file."""
+    import importlib
+    import sys
+    if name in sys.modules or name.startswith("distkin."):
+        return importlib.import_module(name)
+    from ..codegen.cache import load_module_file
+    return load_module_file(path, name)
+
+
+def jitted(name: str):
+    """``"solve"``: :func:`_solve_into` compiled (numba's disk cache)."""
+    return _jit(name, {"solve": _solve_into}[name])
+
+
+def _rotation_files():
+    from . import admittance, kinematics
+    return kinematics.__file__, admittance.__file__
+
+
+def _register(path):
+    """Import a cycle-wrapper file as a module registered in ``sys.modules`` under a
+    name fixed by its path (numba's disk cache finds a module by that name)."""
+    import importlib.util
+    import sys
+    name = f"distkin_cycle_{os.path.splitext(os.path.basename(path))[0]}"
+    if name in sys.modules:
+        return sys.modules[name]
+    spec = importlib.util.spec_from_file_location(name, path)
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[name] = mod
+    try:
+        spec.loader.exec_module(mod)
+    except BaseException:
+        sys.modules.pop(name, None)
+        raise
+    return mod
+
+
+def build(kernels, L: int) -> CycleKernels:
+    """Compile the cycle kernels of one mechanism.
+
+    Parameters
+    ----------
+    kernels : KernelSet
+        ``mech.kernels("scalar")`` (functions ``ik``, ``reach``, ``jacobian``,
+        ``closure`` of a generated module).
+    L : int
+        Number of legs.
+    """
+    key = (kernels.ik, kernels.jacobian, kernels.closure, int(L))
+    got = _BUILT.get(key)
+    if got is not None:
+        return got
+    from ..codegen.cache import cached_source, source_key
+    from . import cycle_wrappers
+    _jit("reading_extremes", _reading_extremes)
+    mod = kernels.module
+    kname = getattr(mod, "__name__", "")
+    kpath = str(getattr(mod, "__file__", ""))
+    ktext = open(kpath, encoding="utf-8").read() if os.path.isfile(kpath) else kname
+    tmpl = open(cycle_wrappers.__file__, encoding="utf-8").read()
+    # what the wrappers inline besides the kernels: this module's solve and the
+    # rotation of .kinematics (numba's cache would not notice their change)
+    deps = [open(f, encoding="utf-8").read() for f in (__file__, *_rotation_files())]
+    names = [f.__name__ for f in (kernels.ik, kernels.reach, kernels.jacobian,
+                                  kernels.closure)]
+    header = _HEADER.format(name=kname, path=kpath, names=names,
+                            kernels=source_key(ktext)[:16])
+    path, _ = cached_source("cycle", source_key(header, tmpl, _FOOTER, *deps),
+                            lambda: header + tmpl + _FOOTER)
+    w = _register(path)
+    ik, jacobian, closure = w.ik, w.jacobian, w.closure
+    forward, singular_values, project = w.forward, w.singular_values, w.project
+    ck = CycleKernels(int(L), ik, jacobian, closure, forward, singular_values, project,
+                      w.rotate, w.rotate_wrench, w.spring_wrench)
+    # compile now: the first control cycle must not wait for the compiler
+    pose = np.zeros(6)
+    q = np.zeros(L)
+    Jb = np.zeros((L, 6))
+    ik(pose, q)
+    jacobian(pose, Jb)
+    closure(q, pose, np.zeros((L, 7)))
+    forward(q, pose, 1e-4, 1, np.zeros(6))
+    singular_values(np.ones((L, 6)), np.ones(6))
+    project(np.ones((L, 6)), np.zeros(L), np.zeros(6), np.zeros(L))
+    reading_extremes(np.zeros(L), np.zeros(6))
+    ck.rotate_wrench(np.zeros(3), np.zeros(6), np.zeros(6))
+    for R0t in (np.eye(3), np.eye(3).T):        # Spring._R0t is a transpose (F order)
+        ck.spring_wrench(np.zeros(6), np.zeros(6), np.zeros(3), R0t, np.zeros(6),
+                         np.zeros(6), np.zeros(6))
+    ck.rotate_pose(np.zeros(6), np.zeros(3), np.zeros(3))
+    _BUILT[key] = ck
+    return ck

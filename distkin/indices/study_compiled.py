@@ -1,0 +1,394 @@
+"""The study's per-pose indices in one compiled pass (Kühne et al., Sec. II-C, eqs. (3)-(7),
+(9)-(15); DESIGN.md §6).
+
+:func:`distkin.indices.study.evaluate_poses` computes, at every pose of a grid, the six
+worst-case output capabilities (one zonotope facet computation shared by the three
+generator matrices, :func:`distkin.indices.study._worst_cases`), the true velocity worst
+cases (:mod:`.velocity_set`), J# = pinv(J), and the singular values of four readings of
+the scaling (:mod:`.isotropy`).  The numpy route does each step as a batched array
+operation, allocating (N, 56, 6) temporaries (about 10 KiB per pose for L = 8); this
+module does the same arithmetic pose by pose in one numba kernel, with a few hundred
+bytes of work buffers:
+
+* the facets of the wrench zonotope ``Jᵀ·box`` exactly as :func:`.zonotope._facets`
+  (pivoted Gram-Schmidt, ``B⁻¹G = [I | C]``, generalised cross products of the columns
+  of C; unit box, so the offset is ``Σ|n·g_i|``), the twist and acceleration normals
+  ``JᵀJ n`` and ``M̂ n``, and the slice ratios of :func:`.zonotope._ratio_min`;
+* the singular values by one-sided (Hestenes) Jacobi on the rows of the 6 × L matrices
+  ``ST⁻¹Jᵀ``, ``Jᵀ``, ``ST Jᵀ`` and ``ST⁻¹Jxᵀ``: rotations of row pairs until all rows
+  are orthogonal to 1e-15 of their norms; the singular values are then the row norms
+  (relative accuracy of order 1e-15·κ, like LAPACK's SVD);
+* J# from the Jacobi of ``Jᵀ``: with ``Q Jᵀ = B`` (orthogonal Q, orthogonal rows
+  b_i of norm σ_i), ``J# = Qᵀ diag(σ⁻²) B``.
+
+Poses that the kernel does not vouch for (σmin/σmax of Jᵀ below
+:data:`~.zonotope.RANK_TOL`: the flat route of :func:`.zonotope._flat_worst`; a Jacobi
+that did not converge in 60 sweeps; L > 8) are flagged, and the caller computes them by
+the numpy route.  Agreement with that route (tests/indices/test_study_compiled.py):
+relative differences of a few 1e-13 on the presets' Table II grids.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+
+from .zonotope import RANK_TOL, _groups
+
+__all__ = ["study_kernel_tables", "study_indices"]
+
+#: one-sided Jacobi: rows count as orthogonal below this cosine
+_JACOBI_TOL = 1e-15
+_JACOBI_SWEEPS = 60
+#: output dimension (a compile-time constant of the kernel)
+_D = 6
+
+
+@lru_cache(maxsize=None)
+def study_kernel_tables(L: int, d: int = 6):
+    """The facet normals of ``_groups(d, L)`` flattened: ``m`` (K,), ``rows`` (K, 3)
+    and ``cset`` (K, 2) (-1 padded), in the order of :func:`.zonotope._facets`."""
+    ms, rows, csets = [], [], []
+    for m, cset, rr in _groups(d, L):
+        for r in rr:
+            ms.append(m)
+            rows.append(list(r) + [-1] * (3 - len(r)))
+            csets.append(list(cset) + [-1] * (2 - len(cset)))
+    return (np.array(ms, np.int64), np.array(rows, np.int64), np.array(csets, np.int64))
+
+
+@lru_cache(maxsize=1)
+def _kernel():
+    import numba
+
+    @numba.njit(cache=True)
+    def jacobi_rows(A, Q, accumulate):                       # pragma: no cover (compiled)
+        """Orthogonalise the rows of A (d, L) in place; Q (d, d) collects the rotations
+        if ``accumulate``.  Returns True on convergence."""
+        L = A.shape[1]
+        d = _D
+        nrm = np.empty(_D)
+        for sweep in range(_JACOBI_SWEEPS):
+            rotated = False
+            # squared row norms, recomputed each sweep and updated by each rotation
+            for p in range(d):
+                a = 0.0
+                for l in range(L):
+                    a += A[p, l] * A[p, l]
+                nrm[p] = a
+            for p in range(d - 1):
+                for q in range(p + 1, d):
+                    alpha = nrm[p]
+                    beta = nrm[q]
+                    gamma = 0.0
+                    for l in range(L):
+                        gamma += A[p, l] * A[q, l]
+                    if not abs(gamma) > _JACOBI_TOL * np.sqrt(alpha * beta):
+                        continue
+                    rotated = True
+                    zeta = (beta - alpha) / (2.0 * gamma)
+                    t = (1.0 if zeta >= 0 else -1.0) / (abs(zeta) + np.sqrt(1.0 + zeta * zeta))
+                    c = 1.0 / np.sqrt(1.0 + t * t)
+                    s = c * t
+                    nrm[p] = alpha - t * gamma
+                    nrm[q] = beta + t * gamma
+                    for l in range(L):
+                        ap = A[p, l]
+                        aq = A[q, l]
+                        A[p, l] = c * ap - s * aq
+                        A[q, l] = s * ap + c * aq
+                    if accumulate:
+                        for l in range(d):
+                            ap = Q[p, l]
+                            aq = Q[q, l]
+                            Q[p, l] = c * ap - s * aq
+                            Q[q, l] = s * ap + c * aq
+            if not rotated:
+                return True
+        return False
+
+    @numba.njit(cache=True)
+    def row_extremes(A):                                     # pragma: no cover (compiled)
+        L = A.shape[1]
+        d = _D
+        lo = np.inf
+        hi = 0.0
+        for i in range(d):
+            s = 0.0
+            for l in range(L):
+                s += A[i, l] * A[i, l]
+            s = np.sqrt(s)
+            lo = min(lo, s)
+            hi = max(hi, s)
+        return lo, hi
+
+    @numba.njit(cache=True)
+    def ratio_min(h, nn, lim, s0):                           # pragma: no cover (compiled)
+        """:func:`.zonotope._ratio_min` for the slice of coordinates s0..s0+2."""
+        K = h.shape[0]
+        tot = 0.0
+        den = np.empty(K)
+        for k in range(K):
+            v = nn[k, s0] * nn[k, s0] + nn[k, s0 + 1] * nn[k, s0 + 1] \
+                + nn[k, s0 + 2] * nn[k, s0 + 2]
+            tot += v
+            den[k] = np.sqrt(v)
+        scale = np.sqrt(tot) + 1e-300
+        best = np.inf
+        for k in range(K):
+            hk = h[k] * lim
+            if den[k] <= 1e-15 * scale:
+                q = np.inf if hk >= 0 else -np.inf
+            else:
+                q = hk / den[k]
+            best = min(best, q)
+        return best
+
+    @numba.njit(cache=True)
+    def run(J, Jq, M, lims, st, NM, NR, NC, caps, truev, twist, sig,
+            flag):                                           # pragma: no cover (compiled)
+        N, L, _ = J.shape
+        d = _D
+        K = NM.shape[0]
+        G = np.empty((d, L))
+        R = np.empty((d, L))
+        perm = np.empty(L, np.int64)
+        piv = np.empty(d)
+        qv = np.empty(d)
+        B = np.empty((d, 2 * d))
+        C = np.empty((d, max(L - d, 1)))
+        nw = np.empty((K, d))
+        nt = np.empty((K, d))
+        na = np.empty((K, d))
+        h = np.empty(K)
+        JtJ = np.empty((d, d))
+        A = np.empty((d, L))
+        Q = np.empty((d, d))
+        v = np.empty(3)
+        for n in range(N):
+            flag[n] = False
+            for i in range(d):
+                for l in range(L):
+                    G[i, l] = J[n, l, i]
+                    R[i, l] = J[n, l, i]
+            # ---- pivoted modified Gram-Schmidt (zonotope._pivot)
+            for l in range(L):
+                perm[l] = l
+            for k in range(d):
+                j = k
+                bestn = -1.0
+                for l in range(k, L):
+                    s = 0.0
+                    for i in range(d):
+                        s += R[i, l] * R[i, l]
+                    if s > bestn:
+                        bestn = s
+                        j = l
+                for i in range(d):
+                    t = R[i, k]
+                    R[i, k] = R[i, j]
+                    R[i, j] = t
+                t2 = perm[k]
+                perm[k] = perm[j]
+                perm[j] = t2
+                s = 0.0
+                for i in range(d):
+                    s += R[i, k] * R[i, k]
+                nk = np.sqrt(s)
+                piv[k] = nk
+                for i in range(d):
+                    qv[i] = R[i, k] / nk if nk > 0 else 0.0
+                for l in range(k + 1, L):
+                    pr = 0.0
+                    for i in range(d):
+                        pr += qv[i] * R[i, l]
+                    for i in range(d):
+                        R[i, l] -= qv[i] * pr
+            ratio = piv.min() / piv[0] if piv[0] > 0 else 0.0
+            if not ratio > RANK_TOL:
+                flag[n] = True
+                continue
+            if L == d:
+                for l in range(L):
+                    perm[l] = l
+            # ---- B⁻¹ by Gauss-Jordan with partial pivoting on [B | I]
+            for i in range(d):
+                for j in range(d):
+                    B[i, j] = G[i, perm[j]]
+                    B[i, d + j] = 1.0 if i == j else 0.0
+            for c in range(d):
+                p = c
+                for i in range(c + 1, d):
+                    if abs(B[i, c]) > abs(B[p, c]):
+                        p = i
+                if B[p, c] == 0.0:
+                    flag[n] = True
+                    break
+                if p != c:
+                    for j in range(2 * d):
+                        t = B[c, j]
+                        B[c, j] = B[p, j]
+                        B[p, j] = t
+                pv = B[c, c]
+                for j in range(2 * d):
+                    B[c, j] /= pv
+                for i in range(d):
+                    if i != c:
+                        f = B[i, c]
+                        if f != 0.0:
+                            for j in range(2 * d):
+                                B[i, j] -= f * B[c, j]
+            if flag[n]:
+                continue
+            # Binv = B[:, d:]; C = Binv Gp[:, d:]
+            for i in range(d):
+                for l in range(L - d):
+                    s = 0.0
+                    for j in range(d):
+                        s += B[i, d + j] * G[j, perm[d + l]]
+                    C[i, l] = s
+            # ---- facet normals and offsets (unit box: h = Σ|n·g_i|)
+            for k in range(K):
+                m = NM[k]
+                if m == 0:
+                    v[0] = 1.0
+                elif m == 1:
+                    c0 = NC[k, 0]
+                    v[0] = C[NR[k, 1], c0]
+                    v[1] = -C[NR[k, 0], c0]
+                else:
+                    c0 = NC[k, 0]
+                    c1 = NC[k, 1]
+                    a0, a1, a2 = C[NR[k, 0], c0], C[NR[k, 1], c0], C[NR[k, 2], c0]
+                    b0, b1, b2 = C[NR[k, 0], c1], C[NR[k, 1], c1], C[NR[k, 2], c1]
+                    v[0] = a1 * b2 - a2 * b1
+                    v[1] = a2 * b0 - a0 * b2
+                    v[2] = a0 * b1 - a1 * b0
+                hk = 0.0
+                for i in range(d):
+                    nw[k, i] = 0.0
+                for j in range(m + 1):
+                    r = NR[k, j]
+                    hk += abs(v[j])
+                    for i in range(d):
+                        nw[k, i] += v[j] * B[r, d + i]
+                for l in range(L - d):
+                    s = 0.0
+                    for j in range(m + 1):
+                        s += v[j] * C[NR[k, j], l]
+                    hk += abs(s)
+                h[k] = hk
+            # ---- twist (JᵀJ n) and acceleration (M̂ n) normals
+            for i in range(d):
+                for j in range(d):
+                    s = 0.0
+                    for l in range(L):
+                        s += J[n, l, i] * J[n, l, j]
+                    JtJ[i, j] = s
+            for k in range(K):
+                for j in range(d):
+                    s = 0.0
+                    for i in range(d):
+                        s += nw[k, i] * JtJ[i, j]
+                    nt[k, j] = s
+                    na[k, j] = nw[k, j] * M[j]
+            caps[n, 0] = ratio_min(h, nw, lims[0], 0)
+            caps[n, 1] = ratio_min(h, nw, lims[0], 3)
+            caps[n, 2] = ratio_min(h, nt, lims[2], 0)
+            caps[n, 3] = ratio_min(h, nt, lims[2], 3)
+            caps[n, 4] = ratio_min(h, na, lims[1], 0)
+            caps[n, 5] = ratio_min(h, na, lims[1], 3)
+            # ---- true velocity set: q̇max / max_l ||J_l,S||
+            for a in range(2):
+                mx = 0.0
+                for l in range(L):
+                    s = 0.0
+                    for i in range(3 * a, 3 * a + 3):
+                        s += J[n, l, i] * J[n, l, i]
+                    mx = max(mx, np.sqrt(s))
+                truev[n, a] = lims[2] / mx
+            # ---- singular values; J# from the Jacobi of Jᵀ
+            for r_ in range(4):
+                for i in range(d):
+                    for l in range(L):
+                        x = J[n, l, i]
+                        if r_ == 0:
+                            A[i, l] = x / st[i]
+                        elif r_ == 2:
+                            A[i, l] = x * st[i]
+                        elif r_ == 3:
+                            A[i, l] = (x * Jq[n, l]) / st[i]
+                        else:
+                            A[i, l] = x
+                if r_ == 1:
+                    for i in range(d):
+                        for j in range(d):
+                            Q[i, j] = 1.0 if i == j else 0.0
+                if not jacobi_rows(A, Q, r_ == 1):
+                    flag[n] = True
+                lo, hi = row_extremes(A)
+                sig[n, 2 * r_] = lo
+                sig[n, 2 * r_ + 1] = hi
+                if r_ == 1 and L > d:
+                    # J# = Qᵀ diag(1/σ²) B  (twist (d, L))
+                    for i in range(d):
+                        s = 0.0
+                        for l in range(L):
+                            s += A[i, l] * A[i, l]
+                        qv[i] = 1.0 / s if s > 0 else 0.0
+                    for i in range(d):
+                        for l in range(L):
+                            s = 0.0
+                            for j in range(d):
+                                s += Q[j, i] * qv[j] * A[j, l]
+                            twist[n, i, l] = s
+    return run
+
+
+def study_indices(J, Jq, M, actuators, ST):
+    """The compiled part of :func:`~.study.evaluate_poses` (module docstring).
+
+    Parameters
+    ----------
+    J : ndarray (N, L, 6)
+        Jacobian, q̇ = J (v, ω); 6 <= L <= 8.
+    Jq : ndarray (N, L)
+        Diagonal of eq. (1)'s Jq (m), for the ``jx`` reading.
+    M : ndarray (6,)
+        diag(M̂) (kg, kg·m²).
+    actuators : dict
+        ``nominal_torque``, ``stall_torque`` (N·m), ``velocity`` (rad/s).
+    ST : 6 floats
+
+    Returns
+    -------
+    caps : ndarray (N, 6)
+        force, torque, velocity, angular velocity, acceleration, angular acceleration
+        (the order of :data:`~.study.CAPABILITIES`).
+    truev : ndarray (N, 2)
+        Translational, angular velocity of the true set (:mod:`.velocity_set`).
+    twist : ndarray (N, 6, L)
+        J# (only for L > 6; zeros for L = 6).
+    sig : ndarray (N, 8)
+        (σmin, σmax) of ST⁻¹Jᵀ, Jᵀ, ST·Jᵀ, ST⁻¹Jxᵀ.
+    flag : ndarray (N,) bool
+        True where the values are not vouched for (compute those by the numpy route).
+    """
+    J = np.ascontiguousarray(J, dtype=float)
+    N, L, d = J.shape
+    if d != 6 or not 6 <= L <= 8:
+        raise ValueError(f"expected J of shape (N, L, 6) with 6 <= L <= 8, got {J.shape}")
+    NM, NR, NC = study_kernel_tables(L, d)
+    lims = np.array([actuators["nominal_torque"], actuators["stall_torque"],
+                     actuators["velocity"]], dtype=float)
+    caps = np.empty((N, 6))
+    truev = np.empty((N, 2))
+    twist = np.zeros((N, d, L))
+    sig = np.empty((N, 8))
+    flag = np.zeros(N, bool)
+    if N:
+        _kernel()(J, np.ascontiguousarray(Jq, dtype=float), np.asarray(M, dtype=float),
+                  lims, np.asarray(ST, dtype=float), NM, NR, NC, caps, truev, twist, sig,
+                  flag)
+    return caps, truev, twist, sig, flag

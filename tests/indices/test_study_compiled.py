@@ -1,0 +1,91 @@
+"""The compiled study kernel (distkin.indices.study_compiled, the split-sign vertex
+enumeration of distkin.indices.slice_farthest) against the numpy route, which is the
+reference (zonotope._facets, numpy's SVD and pinv, the Gray-code enumeration)."""
+
+import numpy as np
+import pytest
+from indices_helpers import random_reachable_poses, rel_err
+
+from distkin.indices.slice_farthest import slice_farthest_unit
+from distkin.indices.study import QUANTITIES, evaluate_poses
+from distkin.indices.study_compiled import study_indices
+from distkin.indices.zonotope import zonotope_best
+
+#: stated tolerance of the compiled route against the numpy route (relative); measured
+#: differences are a few 1e-13 (σmin of ST·Jᵀ, the worst conditioned reading)
+TOL = 1e-10
+
+
+@pytest.mark.parametrize("name", ["ergin", "hunt", "octopod", "octo"])
+def test_compiled_study_agrees_with_the_numpy_route(presets, name):
+    mech = presets[name]
+    P = random_reachable_poses(mech, 300, 30 if mech.L == 8 else 20, seed=21)
+    ok1, v1 = evaluate_poses(mech, P)
+    ok2, v2 = evaluate_poses(mech, P, compiled=False)
+    assert np.array_equal(ok1, ok2) and ok1.all()
+    for q in QUANTITIES:
+        assert rel_err(v1[q], v2[q]) < TOL, q
+
+
+def test_a_singular_pose_is_flagged_and_computed_by_the_numpy_route(presets):
+    """σmin/σmax of Jᵀ below RANK_TOL: the kernel flags the pose; the study's values
+    there are those of the numpy route (the flat route of zonotope._flat_worst)."""
+    mech = presets["octopod"]
+    P = random_reachable_poses(mech, 5, 20, seed=3)
+    Jq, Jx = mech.jq_jx(P)
+    J = Jx / Jq[..., None]
+    J[2, :, 5] = 0.0                                   # a pure-torque null wrench
+    M = np.array([mech.mass] * 3 + [mech.inertia] * 3)
+    act = {"nominal_torque": 2.5, "stall_torque": 34.2, "velocity": 51.0}
+    *_, flag = study_indices(J, Jq, M, act, (15, 15, 15, 1, 1, 1))
+    assert flag.tolist() == [False, False, True, False, False]
+
+
+def test_chunks_change_nothing(presets):
+    """Evaluating in chunks of 7 poses gives the same bits as one call."""
+    mech = presets["octo"]
+    P = random_reachable_poses(mech, 40, 30, seed=5)
+    ok1, v1 = evaluate_poses(mech, P)
+    ok2, v2 = evaluate_poses(mech, P, chunk=7)
+    assert np.array_equal(ok1, ok2)
+    for q in QUANTITIES:
+        assert np.array_equal(v1[q], v2[q]), q
+
+
+@pytest.mark.parametrize("keep", [(0, 1, 2), (3, 4, 5)])
+def test_split_sign_enumeration_against_numpy_enumeration(presets, keep):
+    """L = 8: the split-sign kernel against zonotope_best (numpy, the same candidates)
+    on J# and Jᵀ."""
+    mech = presets["octopod"]
+    J = mech.jacobian(random_reachable_poses(mech, 200, 30, seed=8))
+    N, L, _ = J.shape
+    c, r = np.zeros((N, L)), np.ones((N, L))
+    for G in (np.linalg.pinv(J), np.swapaxes(J, 1, 2)):
+        a = slice_farthest_unit(G, keep)
+        b = zonotope_best(G, c, r, [keep])[0]
+        assert rel_err(a, b) < 1e-12
+
+
+def test_zonotope_worst_in_chunks_changes_nothing(presets):
+    """The capability kernel in chunks of 5 poses gives the same bits as one chunk."""
+    from distkin.indices.zonotope import zonotope_worst
+    mech = presets["octopod"]
+    G = np.swapaxes(mech.jacobian(random_reachable_poses(mech, 23, 30, seed=4)), 1, 2)
+    G[7, 5, :] = 0.0                                   # one flat set among them
+    N, _, L = G.shape
+    c, r = np.zeros((N, L)), np.full((N, L), 2.5)
+    keeps = [(0, 1, 2, 3, 4, 5), (0, 1, 2), (3, 4, 5)]
+    assert np.array_equal(zonotope_worst(G, c, r, keeps, chunk=5),
+                          zonotope_worst(G, c, r, keeps, chunk=4096))
+
+
+def test_reference_route_uses_the_walk_and_split_kernel_agrees_with_it(presets):
+    """The split-sign kernel against the Gray-code walk (the previous kernel) on the
+    same generators: same candidates, sums associated differently."""
+    mech = presets["octo"]
+    J = mech.jacobian(random_reachable_poses(mech, 200, 30, seed=9))
+    for G in (np.linalg.pinv(J), np.swapaxes(J, 1, 2)):
+        for keep in ((0, 1, 2), (3, 4, 5)):
+            a = slice_farthest_unit(G, keep)
+            b = slice_farthest_unit(G, keep, walk=True)
+            assert rel_err(a, b) < 1e-13
