@@ -46,6 +46,7 @@ LAYERS: dict[str, int] = {
     "distkin.spatial": 0,
     "distkin.units": 0,
     "distkin.runstore": 0,
+    "distkin.sourcecache": 0,
     "distkin.scenes": 0,
     "distkin.geometry": 1,
     "distkin.octahedral": 4,

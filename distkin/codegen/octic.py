@@ -32,7 +32,7 @@ def octic_in_legs(values=None, *, use_cache: bool = True):
         Nine coefficients :math:`o_8, \dots, o_0` of :math:`O(s_{15})`.
     """
     import sympy
-    from .cache import cache_dir
+    from ..sourcecache import cache_dir
     from .emit import symbolic_hash
     p = octic_parts(values)
     key = symbolic_hash(*[getattr(p, n) for n in PART_NAMES], p.x)[:32]

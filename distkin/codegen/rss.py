@@ -144,7 +144,7 @@ def _model_source_text() -> str:
 def derived_module(mech, names, flavours):
     """The kernel module of a geometry that has no committed module: derived once (only
     ``names`` in ``flavours``) and cached on disk (:mod:`.cache`), then imported."""
-    from .cache import cached_source, load_module_file, source_key
+    from ..sourcecache import cached_source, load_module_file, source_key
     key = source_key(_model_source_text(), repr(mech.geometry_key()), names, tuple(flavours))
     path, _ = cached_source("rss", key, lambda: module_text(mech, names, flavours))
     return load_module_file(path)
@@ -155,7 +155,7 @@ def scene_module(scene, flavours=FLAVOURS):
 
     Used by ``distkin codegen``; the source goes through the derivation cache.
     """
-    from .cache import cached_source, source_key
+    from ..sourcecache import cached_source, source_key
     mech = scene.mechanism
     names = sorted({k for q in scene.queries for k in QUERY_KERNELS.get(q.type, ())},
                    key=KERNELS.index)

@@ -26,7 +26,7 @@ Gaussian elimination with partial pivoting instead of LAPACK and agree with the 
 route to rounding (tests/control/test_cycle_kernels.py).  The wrappers
 (:mod:`.cycle_wrappers`) call one mechanism's kernels; so that numba can keep their
 machine code on disk, :func:`build` writes them with a header naming the kernels into a
-file of the derivation cache (:mod:`distkin.codegen.cache`, keyed by the template, the
+file of the derivation cache (:mod:`distkin.sourcecache`, keyed by the template, the
 kernels' source and the modules whose functions they inline) and compiles them there: a few seconds on the first start on a
 machine, well under one afterwards.
 """
@@ -167,7 +167,7 @@ def kernel_module(name: str, path: str):
     import sys
     if name in sys.modules or name.startswith("distkin."):
         return importlib.import_module(name)
-    from ..codegen.cache import load_module_file
+    from ..sourcecache import load_module_file
     return load_module_file(path, name)
 
 
@@ -177,8 +177,11 @@ def jitted(name: str):
 
 
 def _rotation_files():
-    from . import admittance, kinematics
-    return kinematics.__file__, admittance.__file__
+    """The source files the cycle wrappers inline (their text keys the cached wrappers):
+    read as files, not imported (kinematics and admittance import this module)."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    return (os.path.join(here, "kinematics.py"), os.path.join(here, "admittance.py"),
+            os.path.join(os.path.dirname(here), "spatial.py"))
 
 
 def _register(path):
@@ -215,7 +218,7 @@ def build(kernels, L: int) -> CycleKernels:
     got = _BUILT.get(key)
     if got is not None:
         return got
-    from ..codegen.cache import cached_source, source_key
+    from ..sourcecache import cached_source, source_key
     from . import cycle_wrappers
     _jit("reading_extremes", _reading_extremes)
     mod = kernels.module

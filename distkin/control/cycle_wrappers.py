@@ -3,7 +3,7 @@
 Not imported as such: :func:`.cycle_kernels.build` writes this text, under a header
 that binds ``ik_k``, ``reach_k``, ``jac_k``, ``clo_k`` (one mechanism's generated scalar
 kernels under numba), ``solve`` and ``rotate``, into a module file of the derivation
-cache (:mod:`distkin.codegen.cache`), and compiles its functions there with
+cache (:mod:`distkin.sourcecache`), and compiles its functions there with
 ``numba.njit(cache=True)``: a file per mechanism is what lets numba keep the machine
 code on disk.  The functions write into preallocated arrays.
 """

@@ -55,7 +55,7 @@ z; :mod:`distkin.spatial`).  The home pose (workspace centre) is ``(0, 0, z0, 0,
     batched ones take ``(..., 6)`` arrays.  For the five presets these are the committed
     modules ``distkin._generated.rss_<name>`` (functions ``ik``, ``jacobian``, ... batched
     and ``ik_scalar``, ``jacobian_scalar``, ... scalar); other parameters are generated
-    on first use and cached (:mod:`distkin.codegen.cache`).
+    on first use and cached (:mod:`distkin.sourcecache`).
 
 Code generation: ``distkin codegen SCENE.toml -o MODULE.py`` writes the kernels a scene's
 queries need (same function names) as a module that imports only math and numpy.

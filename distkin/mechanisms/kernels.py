@@ -28,7 +28,7 @@ The five presets' modules are committed as ``distkin/_generated/rss_<name>.py``
 :mod:`distkin.codegen.rss`, derivation script ``derivations/rss_model.py``).  Any other
 parameter set is derived on first use by :func:`distkin.codegen.rss.derived_module` (the
 one run-time arrow into the code generator: "model only what a scene requires") and
-cached on disk (:mod:`distkin.codegen.cache`); the cache key hashes the model's source
+cached on disk (:mod:`distkin.sourcecache`); the cache key hashes the model's source
 files and the parameters, so a second run does no algebra and imports no sympy.  Loaded
 kernel sets are kept in one cache (``_LOADED``, keyed by the geometry), outside the
 frozen mechanisms.

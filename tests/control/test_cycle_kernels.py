@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from distkin.control.admittance import Spring
-from distkin.control.commands import builtin_scene
+from distkin.control.config import builtin_scene
 from distkin.control.controller import SCALING
 from distkin.control.cycle_kernels import reading_extremes
 from distkin.control.kinematics import _rot, load_model, rotate_pose

@@ -65,13 +65,17 @@ class GarbageDevice:
             except OSError:
                 break
             k = (k + 256) % len(garbage)
-        conn.close()
 
     def _receive(self):
-        while not self._stop.is_set():
+        # keeps reading after stop until the client's bytes are drained (EOF, or a
+        # quiet 0.05 s), so that the last command frames are never lost to a race
+        # between this thread and close()
+        while True:
             try:
                 data = self._conn.recv(65536)
             except socket.timeout:
+                if self._stop.is_set():
+                    break
                 continue
             except OSError:
                 break
@@ -86,8 +90,11 @@ class GarbageDevice:
 
     def close(self):
         self._stop.set()
-        for t in self._threads:
+        for t in self._threads:           # sender first, then the draining receiver
             t.join(timeout=_HANG)
+        conn = getattr(self, "_conn", None)
+        if conn is not None:
+            conn.close()
         self._srv.close()
 
 

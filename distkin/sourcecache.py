@@ -19,7 +19,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from ..runstore import user_cache_dir
+from .runstore import user_cache_dir
 
 __all__ = ["cache_dir", "source_key", "cached_source", "load_module_file", "load_source"]
 
