@@ -218,7 +218,8 @@ safely under 0.1 ms needs the rest of the cycle (decode, admittance, PD, encode)
 compiled as one kernel, not done this round.  Over the pty at 4 kHz the loop does not
 reach 4 kHz: the lock-stepped period is the controller's compute over the link plus
 the simulator's own Python step, two pty transfers and two process wake-ups on 2 cores
-shared with another job (load about 3 during these runs); the free-running simulator
+(the load at the end of each run is in the table: on a quiet machine, load below 1, the
+lock-stepped loop still stays under 3 kHz); the free-running simulator
 shows the same limit as stale frames, and a late wake-up can trip the 20 ms watchdog.
 1 kHz stays the default; at 1 kHz the period p99 is set by the operating system's
 scheduling of the two processes, not by the compute time.
