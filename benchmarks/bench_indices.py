@@ -168,7 +168,7 @@ def _study_section(data):
              "readings of the scaling, the transmission and det J "
              "(`distkin.indices.study.evaluate_poses`).  Interleaved rounds, medians, "
              f"one process.  Load average {load0} at the start, {load1} at the end, on "
-             "2 cores shared with another job; CPU time is what the target is judged on.",
+             "2 cores (other processes included); CPU time is what the target is judged on.",
              "",
              "| route | wall per pose | CPU per pose | CPU ratio to compiled |",
              "|---|---|---|---|"]
@@ -289,7 +289,7 @@ def _scaling_section(data):
 # ------------------------------------------------------- grid resolution, processes
 def _grid_run(grid, workers):
     from distkin.indices.study import Device, run_device
-    from distkin.indices.sweep import local_executor
+    from distkin.runstore import local_executor
     from distkin.mechanisms import preset
     dev = Device("Octopod", preset("octopod"), grid, "octopod")
     with tempfile.TemporaryDirectory() as tmp:
@@ -331,7 +331,7 @@ def _resolution_section(data):
         lines.append(f"| {r['grid']} | {r['poses']:,} | {r['workers']} | {r['wall_s']:.1f} s "
                      f"| {fmt_time(r['wall_s'] / r['poses'])} | {r['load']} |")
     lines += ["", f"Speed-up of 2 processes over 1 on the 10 mm, 10° grid: {w1 / w2:.2f}× "
-              "(the machine has 2 cores and was shared with another job; see the load)."]
+              "(the machine has 2 cores; the load is in the table)."]
     return "\n".join(lines)
 
 
