@@ -15,8 +15,8 @@ own layer or a lower one, never a higher one.
 0. ground floor: errors, exact numbers and exact root isolation, input checks,
    spatial maths, units, the run store, the version;
 1. geometry;
-2. models: the octahedral, Δ and singularity algebra and the RSS mechanisms (the
-   symbolic parts import sympy inside functions);
+2. models: the octahedral banana and octic algebra, the RSS descriptions, presets and
+   symbolic model (the symbolic parts import sympy inside functions);
 3. code generation (``distkin.codegen``) and its committed output (``_generated``);
 4. numeric analyses on the generated kernels: the octahedral tiers, indices, certify;
 5. control;
@@ -54,10 +54,12 @@ LAYERS: dict[str, int] = {
     "distkin.octahedral.octic": 2,
     "distkin.delta": 4,
     "distkin.singularity": 4,
-    "distkin.mechanisms": 2,
-    "distkin.mechanisms.kernels": 4,
-    "distkin.mechanisms.forward": 4,
-    "distkin.mechanisms.interference": 4,
+    "distkin.mechanisms": 4,
+    "distkin.mechanisms.description": 2,
+    "distkin.mechanisms.presets": 2,
+    "distkin.mechanisms.symbolic": 2,
+    "distkin.mechanisms.kernel_names": 2,
+    "distkin.mechanisms.reference": 2,
     "distkin.mechanisms.plot": 6,
     "distkin.codegen": 3,
     "distkin._generated": 3,
@@ -86,16 +88,7 @@ FORBIDDEN: list[tuple[str, str]] = [
 #: Arrows that still run against the direction or close a cycle: each one is a
 #: recorded defect to remove (the test fails when one of them disappears, so the list
 #: only shrinks).
-KNOWN: set[tuple[str, str]] = {
-    # The frozen RSS description (a model, layer 2) offers numeric methods
-    # (mech.inverse_kinematics, .jacobian, .forward_kinematics) that dispatch at call
-    # time to the kernel loader and the numeric FK (layer 4); the package re-exports
-    # FKResult.  Removing them means numeric functions algo(mech, X) instead of methods:
-    # an API change left for a later issue.
-    ("distkin.mechanisms", "distkin.mechanisms.forward"),
-    ("distkin.mechanisms.rss", "distkin.mechanisms.forward"),
-    ("distkin.mechanisms.rss", "distkin.mechanisms.kernels"),
-}
+KNOWN: set[tuple[str, str]] = set()
 
 
 def _modules() -> dict[str, Path]:

@@ -24,7 +24,8 @@ from fractions import Fraction
 from ..argcheck import check_keys, choice, require
 from ..errors import InputError
 from ..exact import parse_exact
-from ..mechanisms.presets import PRESETS, preset
+from ..mechanisms.presets import PRESETS
+from ..mechanisms.rss import preset
 from .units import angle_factor, length_factor
 
 __all__ = ["parse_rss", "LENGTHS", "ANGLES"]

@@ -125,14 +125,14 @@ def module_text(mech, names=KERNELS, flavours=FLAVOURS, *, generator=GENERATOR,
 
 def generate_preset(name):
     """Source of the committed module ``rss_<name>`` of preset ``name``."""
-    from ..mechanisms.presets import description, preset
-    return module_text(preset(name), title=f"Preset {name!r}: {description(name)}")
+    from ..mechanisms.presets import description, preset_description
+    return module_text(preset_description(name), title=f"Preset {name!r}: {description(name)}")
 
 
 def generate_preset_arb(name):
     """Source of the committed module ``rss_<name>_arb`` of preset ``name``."""
-    from ..mechanisms.presets import description, preset
-    return module_text(preset(name), ARB_KERNELS, ("arb",),
+    from ..mechanisms.presets import description, preset_description
+    return module_text(preset_description(name), ARB_KERNELS, ("arb",),
                        title=f"Preset {name!r}: {description(name)}")
 
 

@@ -62,8 +62,10 @@ queries need (same function names) as a module that imports only math and numpy.
 
 Modules
 -------
-rss        the frozen :class:`RSSMechanism` and its numeric methods
-presets    the five presets and the documented parameter rules
+description  the frozen :class:`RSSDescription`: parameters, leg geometry, l3 rules (the
+           model the code generator reads)
+rss        :class:`RSSMechanism`, the description with its numeric methods; ``preset``
+presets    the five presets as data and the documented parameter rules
 symbolic   the sympy model (leg closure, closed-form IK, Jq, Jx) -- imports sympy
 reference  the plain-numpy reference model (IK and Jacobian from the leg geometry; the
            design sweeps' route and the tests' independent second route)
@@ -81,7 +83,8 @@ Elsewhere: rotations are :mod:`distkin.spatial`; deriving the kernels is
 from __future__ import annotations
 
 from .forward import FKResult
-from .presets import PRESETS, preset
-from .rss import RSSMechanism
+from .description import RSSDescription
+from .presets import PRESETS
+from .rss import RSSMechanism, preset
 
-__all__ = ["RSSMechanism", "preset", "PRESETS", "FKResult"]
+__all__ = ["RSSMechanism", "RSSDescription", "preset", "PRESETS", "FKResult"]

@@ -99,9 +99,10 @@ from __future__ import annotations
 import math
 
 from ..errors import InputError
-from .rss import RSSMechanism
+from .description import RSSDescription
 
-__all__ = ["PRESETS", "preset", "PRESET_NAMES", "leg_length_rule", "study_box"]
+__all__ = ["PRESETS", "preset_description", "PRESET_NAMES", "description", "leg_length_rule",
+           "study_box"]
 
 _MM = 1e-3
 _DEG = math.pi / 180.0
@@ -129,8 +130,9 @@ _DESCRIPTIONS = {
 }
 
 
-def preset(name: str, **overrides) -> RSSMechanism:
-    """The mechanism named ``name``, with parameters optionally overridden.
+def preset_description(name: str, **overrides) -> RSSDescription:
+    """The description of the mechanism named ``name``, with parameters optionally
+    overridden (:func:`distkin.mechanisms.preset` gives the numeric mechanism).
 
     Parameters
     ----------
@@ -143,7 +145,7 @@ def preset(name: str, **overrides) -> RSSMechanism:
 
     Returns
     -------
-    RSSMechanism
+    RSSDescription
         Frozen; ``name`` is the preset's name if nothing was overridden, else
         ``"<name>*"``.
     """
@@ -159,7 +161,7 @@ def preset(name: str, **overrides) -> RSSMechanism:
     changed = {k: v for k, v in overrides.items() if k not in params or params[k] != v}
     params.update(overrides)
     label = name if not changed else f"{name}*"
-    return RSSMechanism(name=label, **params)
+    return RSSDescription(name=label, **params)
 
 
 def description(name: str) -> str:
@@ -185,7 +187,7 @@ def study_box(mech, *, step: float = 0.010, rot_step_deg: float = 5.0):
 def leg_length_rule(*, step: float = 0.010, rot_step_deg: float = 5.0, layout="tangential"):
     """The leg length ``K = l2 + l3`` of the reading (module docstring).
 
-    For every preset, :meth:`RSSMechanism.l3_interval` over its :func:`study_box`
+    For every preset, :meth:`RSSDescription.l3_interval` over its :func:`study_box`
     gives the interval of l2 + l3 that closes every leg at every pose; K is the centre
     of the intersection of the five intervals.
 
@@ -196,7 +198,7 @@ def leg_length_rule(*, step: float = 0.010, rot_step_deg: float = 5.0, layout="t
     """
     per = {}
     for name in PRESETS:
-        m = preset(name, layout=layout)
+        m = preset_description(name, layout=layout)
         lo, hi = m.l3_interval(study_box(m, step=step, rot_step_deg=rot_step_deg))
         per[name] = (lo + m.l2, hi + m.l2)
     lo = max(v[0] for v in per.values())

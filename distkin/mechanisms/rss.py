@@ -1,8 +1,9 @@
-"""The RSS/RRRS parallel mechanism: an immutable description and its numeric methods.
+"""The RSS/RRRS parallel mechanism with its numeric methods, and the presets as mechanisms.
 
 Kühne et al., *Design and Evaluation of a Haptic Interface With Octopod Kinematics*,
-Sec. II-C (eqs. (1)-(3), (7)), Fig. 2.  The parametrisation (what l0, l1, l2, l3, lp,
-ld, beta, gamma, z0 mean) is stated in :mod:`.presets`; poses in :mod:`distkin.spatial`.
+Sec. II-C (eqs. (1)-(3), (7)), Fig. 2.  The description (parameters, leg geometry, the
+rules for l3) is :class:`distkin.mechanisms.description.RSSDescription`; this module is
+the numeric analysis layer on top of it (docs/design.md, "Import direction").
 
 The numeric methods run on generated kernels (:mod:`.kernels`): the committed modules
 ``distkin._generated.rss_<preset>`` for the presets, a cached generated module
@@ -11,183 +12,27 @@ otherwise.  Nothing here imports sympy.
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
 
-from ..argcheck import float_array
-from ..errors import InputError
+from .description import GEOMETRY_FIELDS, LAYOUTS, LEG_LENGTH, RSSDescription, _poses
+from .presets import preset_description
 
-__all__ = ["RSSMechanism", "GEOMETRY_FIELDS", "LAYOUTS", "LEG_LENGTH"]
-
-#: the parameters that define the kinematics (mass and inertia do not)
-GEOMETRY_FIELDS = ("legs", "l0", "l1", "l2", "l3", "lp", "ld", "z0", "beta", "gamma", "layout")
-
-#: readings of Fig. 2 (:mod:`.presets`): "tangential" (the default: actuator axes of a
-#: pair on one tangential line, cranks radially outwards), "radial" (axes radial,
-#: cranks tangential away from the pair; the reading used before issue 15) and
-#: "tangential_in" (tangential axes, cranks radially inwards; documented, not buildable)
-LAYOUTS = ("tangential", "radial", "tangential_in")
-
-#: l2 + l3 (m) of every leg in the "tangential" reading: the centre of the interval of
-#: leg lengths that close every leg of every preset over its study box
-#: (:func:`distkin.mechanisms.presets.leg_length_rule`; Sec. III-B-2 keeps l2 + l3
-#: constant)
-LEG_LENGTH = 0.3497
-
-
-def _poses(poses, field="poses"):
-    arr = np.asarray(poses, dtype=float)
-    single = arr.ndim == 1
-    arr = float_array(arr.reshape(1, -1) if single else arr, field, (None, 6))
-    return arr, single
+__all__ = ["RSSMechanism", "preset", "GEOMETRY_FIELDS", "LAYOUTS", "LEG_LENGTH"]
 
 
 @dataclass(frozen=True)
-class RSSMechanism:
-    """A parallel mechanism with L rotary-actuated RRRS legs in mirror-symmetric pairs.
+class RSSMechanism(RSSDescription):
+    """An :class:`RSSDescription` with numeric methods on its generated kernels.
 
-    Parameters (SI units)
-    ---------------------
-    name : str
-    legs : int
-        L, 6 or 8.
-    l0, l1, l2, lp, ld : float
-        Base radius, crank, RRRS offset, end-effector radius, pair spacing (m).
-    z0 : float
-        Height of the workspace centre above the base plane (m).
-    beta, gamma : float
-        Base and end-effector pair angles (rad).
-    l3 : float or None
-        Distal link (m); ``None`` applies the reading's rule (:mod:`.presets`):
-        ``LEG_LENGTH - l2`` for "tangential", the horizontal-crank rule for "radial".
-    mass, inertia : float
-        End-effector mass (kg) and principal inertia (kg m^2) of M̂ (Sec. III-B.3).
-    layout : {"tangential", "radial", "tangential_in"}
-        The reading of Fig. 2 (:data:`LAYOUTS`, :mod:`.presets`).
+    Same parameters (SI units) as :class:`RSSDescription`; see there.
     """
 
-    name: str = "custom"
-    legs: int = 6
-    l0: float = 0.152
-    l1: float = 0.157
-    l2: float = 0.0
-    l3: float | None = None
-    lp: float = 0.055
-    ld: float = 0.020
-    z0: float = 0.30
-    beta: float = 0.0
-    gamma: float = 0.0
-    mass: float = 0.17
-    inertia: float = 3e-4
-    layout: str = "tangential"
-
-    #: the scene's mechanism kind
-    kind = "rss"
-
-    def __post_init__(self):
-        if not isinstance(self.legs, int) or isinstance(self.legs, bool) or self.legs not in (6, 8):
-            raise InputError(f"expected legs = 6 or 8, got {self.legs!r}", field="legs")
-        for f in ("l0", "l1", "lp", "z0", "mass", "inertia"):
-            v = getattr(self, f)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise InputError(f"expected a positive finite number, got {v!r}", field=f)
-            object.__setattr__(self, f, float(v))
-        for f in ("l2", "ld", "beta", "gamma"):
-            v = getattr(self, f)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
-                raise InputError(f"expected a finite number >= 0, got {v!r}", field=f)
-            object.__setattr__(self, f, float(v))
-        if self.layout not in LAYOUTS:
-            raise InputError(f"expected layout in {LAYOUTS}, got {self.layout!r}",
-                             field="layout")
-        if self.beta >= math.pi / 2 or self.gamma >= math.pi / 2:
-            raise InputError(f"expected beta and gamma below 90 deg, got beta={self.beta!r}, "
-                             f"gamma={self.gamma!r} rad", field="beta")
-        if self.l3 is None:
-            object.__setattr__(self, "l3", self._l3_rule())
-        else:
-            v = self.l3
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise InputError(f"expected a positive finite number, got {v!r}", field="l3")
-            object.__setattr__(self, "l3", float(v))
-
-    def __getstate__(self):
-        # pickle the description only (pool workers), not the loaded kernel modules
-        return {f.name: getattr(self, f.name) for f in fields(self)}
-
-    # ------------------------------------------------------------------ geometry
-    @property
-    def L(self) -> int:
-        """Number of legs and actuators."""
-        return self.legs
-
-    @property
-    def home(self) -> np.ndarray:
-        """The workspace centre (0, 0, z0, 0, 0, 0)."""
-        return np.array([0.0, 0.0, self.z0, 0.0, 0.0, 0.0])
-
-    def geometry(self) -> dict:
-        """Constant leg vectors of the parametrisation (:mod:`.presets`), arrays (L, 3).
-
-        Keys: ``B`` crank pivots, ``a`` actuator axes, ``u`` horizontal crank
-        directions (the crank at q = 0), ``offset`` (crank tip -> universal joint,
-        length l2 along the axis), ``p`` spherical joints in the end-effector frame;
-        ``theta`` (L,) pair azimuths, ``side`` (L,).
-        """
-        L = self.legs
-        k = np.arange(L) // 2
-        side = np.where(np.arange(L) % 2 == 0, -1.0, 1.0)
-        theta = 2.0 * np.pi * k / (L // 2)
-        e = np.stack([np.cos(theta), np.sin(theta), np.zeros(L)], axis=-1)
-        t = np.stack([-np.sin(theta), np.cos(theta), np.zeros(L)], axis=-1)
-        z = np.array([0.0, 0.0, 1.0])
-        B = self.l0 * e + (side * self.ld / 2)[:, None] * t
-
-        def rotz(ang, v):
-            c, s = np.cos(ang), np.sin(ang)
-            return np.stack([c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1], v[:, 2]],
-                            axis=-1)
-
-        if self.layout in ("tangential", "tangential_in"):
-            a = rotz(side * self.beta, t)                # the pair's axes on one tangent
-            u = np.cross(a, z)                           # cranks: horizontal, radially out
-            if self.layout == "tangential_in":
-                u = -u                                   # ... or radially in
-            offset = (side * self.l2)[:, None] * a       # away from the pair's centre
-        else:
-            a = rotz(side * self.beta, e)                # actuator axes radial
-            u = side[:, None] * np.cross(z, a)           # cranks: tangential, away from the pair
-            offset = self.l2 * a                         # outwards along the axis
-        p = rotz(side * self.gamma, self.lp * e + (side * self.ld / 2)[:, None] * t)
-        return {"B": B, "a": a, "u": u, "offset": offset, "p": p, "theta": theta,
-                "side": side}
-
-    def _l3_rule(self) -> float:
-        if self.layout == "tangential":
-            if self.l2 >= LEG_LENGTH:
-                raise InputError(f"expected l2 below the leg length {LEG_LENGTH} m (l3 = "
-                                 f"{LEG_LENGTH} - l2), got {self.l2!r}; give l3", field="l2")
-            return LEG_LENGTH - self.l2
-        return self.horizontal_crank_l3()
-
-    def horizontal_crank_l3(self) -> float:
-        """The distal length (m) that puts every crank horizontal (q = 0) at the workspace
-        centre (docs/design.md §5's first rule; the rule of the "radial" and
-        "tangential_in" readings)."""
-        g = self.geometry()
-        P = g["p"][0] + np.array([0.0, 0.0, self.z0])
-        D = g["B"][0] + g["offset"][0] + self.l1 * g["u"][0]
-        return float(np.linalg.norm(P - D))
-
-    def parameters(self) -> dict:
-        """All parameters as a dict (SI)."""
-        return {f.name: getattr(self, f.name) for f in fields(self)}
-
-    def geometry_key(self) -> tuple:
-        """The kinematic parameters as a tuple (identity of the generated kernels)."""
-        return tuple((f, getattr(self, f)) for f in GEOMETRY_FIELDS)
+    @classmethod
+    def from_description(cls, description: RSSDescription) -> "RSSMechanism":
+        """The mechanism of a description (the same parameters)."""
+        return cls(**description.parameters())
 
     def points(self, poses, q=None):
         """Joint positions for drawings and independent checks (plain numpy).
@@ -220,7 +65,7 @@ class RSSMechanism:
         out = {"B": B, "C": C, "D": D, "P": P, "q": q}
         return {k: v[0] for k, v in out.items()} if single else out
 
-    # ------------------------------------------------------------------ kernels
+
     def kernels(self, flavour: str = "batched"):
         """The generated kernels (:mod:`.kernels`), ``flavour`` "batched" or "scalar".
 
@@ -228,6 +73,7 @@ class RSSMechanism:
         :meth:`geometry_key`), outside this frozen description."""
         from .kernels import load_kernels
         return load_kernels(self, flavour)
+
 
     def inverse_kinematics(self, poses):
         """Closed-form inverse kinematics, one crank angle per leg.
@@ -251,47 +97,20 @@ class RSSMechanism:
         valid = k.reach(X) >= 0.0
         return (q[0], valid[0]) if single else (q, valid)
 
+
     def reachable(self, poses):
         """(N,) bool: every leg of the pose closes."""
         X, single = _poses(poses)
         ok = np.all(self.kernels("batched").reach(X) >= 0.0, axis=-1)
         return ok[0] if single else ok
 
-    def l3_interval(self, poses, *, batch: int = 50000):
-        """The distal-link lengths that close every leg at every pose: ``(lo, hi)`` (m).
-
-        Leg i closes at a pose iff l3 lies between the smallest and the largest distance
-        from its spherical joint P to the circle of its universal-joint centre D(q)
-        (radius l1 about ``B + offset`` in the plane normal to the axis a):
-        ``sqrt(w_a^2 + (w_r -+ l1)^2)`` with w = P - B - offset split into its axial
-        part w_a and radial part w_r.  Independent of ``self.l3``; ``lo > hi`` means no
-        single l3 closes them all.
-
-        Parameters
-        ----------
-        poses : array (N, 6) or (6,)
-        batch : int
-            Poses per vectorised block.
-        """
-        from ..spatial import rotation_matrix
-        X, _ = _poses(poses)
-        g = self.geometry()
-        lo, hi = -np.inf, np.inf
-        for a in range(0, len(X), batch):
-            Y = X[a:a + batch]
-            P = Y[:, None, :3] + np.einsum("nij,lj->nli", rotation_matrix(Y[:, 3:]), g["p"])
-            w = P - (g["B"] + g["offset"])[None]
-            wa = np.einsum("nli,li->nl", w, g["a"])
-            wr = np.linalg.norm(w - wa[..., None] * g["a"][None], axis=-1)
-            lo = max(lo, float(np.sqrt(wa ** 2 + (wr - self.l1) ** 2).max()))
-            hi = min(hi, float(np.sqrt(wa ** 2 + (wr + self.l1) ** 2).min()))
-        return lo, hi
 
     def reach_margin(self, poses):
         """(N, L) reach margin rho^2 - C^2 (m^2) of the IK equation A cos q + B sin q = C."""
         X, single = _poses(poses)
         m = self.kernels("batched").reach(X)
         return m[0] if single else m
+
 
     def jacobian(self, poses):
         """J = Jq^-1 Jx (eqs. (1)-(2)), shape (N, L, 6), with qdot = J @ (v, omega).
@@ -302,6 +121,7 @@ class RSSMechanism:
         X, single = _poses(poses)
         J = self.kernels("batched").jacobian(X)
         return J[0] if single else J
+
 
     def jq_jx(self, poses):
         """Jq (N, L) (the diagonal of eq. (1)'s Jq) and Jx (N, L, 6): Jq qdot = Jx xdot.
@@ -314,6 +134,7 @@ class RSSMechanism:
         Jq, Jx = out[..., 0], out[..., 1:]
         return (Jq[0], Jx[0]) if single else (Jq, Jx)
 
+
     def pose_jacobian(self, poses):
         """dq/d(x, y, z, rx, ry, rz) = J @ blockdiag(I, E(r)), shape (N, L, 6)."""
         from ..spatial import omega_map
@@ -323,10 +144,6 @@ class RSSMechanism:
         out[..., 3:] = J[..., 3:] @ omega_map(X[:, 3:])
         return out[0] if single else out
 
-    # ------------------------------------------------------------------ dynamics
-    def cartesian_mass_matrix(self) -> np.ndarray:
-        """M̂ = diag(m, m, m, I, I, I) (Sec. III-B.3), (6, 6) in kg and kg m^2."""
-        return np.diag([self.mass] * 3 + [self.inertia] * 3)
 
     def joint_mass_matrix(self, poses):
         """Mq = J#ᵀ M̂ J# (eq. (7)), shape (N, L, L), kg m^2.
@@ -340,6 +157,7 @@ class RSSMechanism:
         Mq = np.swapaxes(Jp, -1, -2) @ self.cartesian_mass_matrix() @ Jp
         return Mq[0] if single else Mq
 
+
     def acceleration_map(self, poses):
         """ẍ = A τ at q̇ = 0, f = 0 (eq. (7)); A = J# Mq⁺ = M̂⁻¹ Jᵀ, shape (N, 6, L).
 
@@ -351,8 +169,17 @@ class RSSMechanism:
         A = np.linalg.inv(self.cartesian_mass_matrix()) @ np.swapaxes(J, -1, -2)
         return A[0] if single else A
 
-    # ------------------------------------------------------------------ forward
+
     def forward_kinematics(self, q, guess=None, **options):
         """Numeric forward kinematics; see :func:`.forward.forward_kinematics`."""
         from .forward import forward_kinematics
         return forward_kinematics(self, q, guess, **options)
+
+
+def preset(name: str, **overrides) -> RSSMechanism:
+    """The mechanism named ``name``, with parameters optionally overridden.
+
+    The numeric mechanism of :func:`distkin.mechanisms.presets.preset_description`
+    (which states the parameters, the overrides and the naming rule).
+    """
+    return RSSMechanism.from_description(preset_description(name, **overrides))
