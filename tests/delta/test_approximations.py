@@ -193,6 +193,15 @@ def test_griffis_duffy_keeps_the_singular_set(modes):
     for R, t in modes:
         Rr = rotation_from_vector(rng.normal(scale=0.3, size=3)) @ R
         assert plucker_identity_residual(GD, plat, Rr, t + rng.normal(size=3)) < 1e-14
+    # on a scatter of poses, sign det J66 = sign det A * sign det J (same singular set)
+    _, L = platform_frame(GD)
+    R0, t0 = modes[2]                                   # the mode nearest a singularity
+    R = rotation_from_vector(rng.normal(scale=0.4, size=(300, 3))) @ R0
+    t = t0 + rng.normal(scale=2.0, size=(300, 3))
+    ref = np.sign(det_along(octahedral_as_66(GD), R, t, L))
+    assert 0 < np.sum(ref > 0) < 300                    # both sides of the locus are hit
+    sgn = np.sign(float(plat.transform.det))
+    assert np.array_equal(np.sign(det_along(plat, R, t, L)), sgn * ref)
     kinds = {k: approximation(GD, k, "0.12") for k in KINDS}
     line = normal_line(GD, *modes[0], 1.0)
     sh = singularity_shift(GD, kinds, line)
