@@ -37,7 +37,6 @@ The measured comparison (:func:`neglected_offset_error`, :func:`singularity_shif
 
 from __future__ import annotations
 
-import numpy as np
 
 from ..errors import InputError
 from ..singularity.conditions import OCTAHEDRAL_LEGS
@@ -116,7 +115,7 @@ def octahedral_as_66(octahedral) -> Platform66:
                       tuple(tuple(pts[p - 1]) for _, p in OCTAHEDRAL_LEGS))
 
 
-def _split(octahedral, delta, move) -> Platform66:
+def _split(octahedral, move) -> Platform66:
     """Move each of the 12 leg ends: ``move(k, end, pts, V, far)`` -> displacement
     (sympy 3-vector), ``end`` 0 (base) or 1 (platform), leg ``k`` 1-based."""
     import sympy as sp
@@ -153,7 +152,7 @@ def standard_approximation(octahedral, delta) -> Platform66:
         sign = 1 if float(tau.dot(toward)) > 0 else -1
         return sign * d / 2 * tau
 
-    return _split(octahedral, d, move)
+    return _split(octahedral, move)
 
 
 def stoughton_arai_approximation(octahedral, delta, *, pattern: str = "mixed") -> Platform66:
@@ -182,7 +181,7 @@ def stoughton_arai_approximation(octahedral, delta, *, pattern: str = "mixed") -
         inward = (k % 2 == 1) == (end == 0 or pattern == "paired")
         return (-1 if inward else 1) * d / 2 * rho
 
-    return _split(octahedral, d, move)
+    return _split(octahedral, move)
 
 
 def griffis_duffy_approximation(octahedral, delta) -> Platform66:

@@ -31,7 +31,7 @@ singularity.paths.certify_crossing`; the shift is then a certified interval).
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
@@ -453,7 +453,6 @@ class Comparison:
     shift: dict
     identity_residual: np.ndarray
     method: str
-    notes: tuple = field(default=())
 
 
 def compare_approximations(octahedral, rotations, translations, deltas, *, kinds=KINDS,
