@@ -37,7 +37,6 @@ The measured comparison (:func:`neglected_offset_error`, :func:`singularity_shif
 
 from __future__ import annotations
 
-
 from ..errors import InputError
 from ..singularity.conditions import OCTAHEDRAL_LEGS
 from .platform66 import Platform66, equivalent_platform
