@@ -3,10 +3,13 @@ r"""The fast tier of the octahedral forward kinematics, batched over problems (f
 Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, Sec. III:
 
 1. the generated kernel gives the octic :math:`O(s_{15})` and the quadratic parts of
-   eq. (3) for every problem (:mod:`distkin._generated.octic_general`, batched numpy);
+   eq. (3) for every problem (:mod:`distkin._generated.octic_general`, its scalar form
+   compiled over the rows: :func:`.companion.octic_rows`, the same bits as the batched
+   numpy form without its temporaries);
 2. the real roots come from a projective sign scan of the octic over a fixed grid
-   (:mod:`.rootscan`: one matrix product for all problems, brackets refined by
-   safeguarded Halley steps), not from companion eigenvalues -- LAPACK's ``dgeev`` costs
+   (the algorithm of :mod:`.rootscan`, compiled problem by problem in
+   :mod:`.signscan`: brackets refined by safeguarded Halley steps, a Sturm count as a
+   check), not from companion eigenvalues -- LAPACK's ``dgeev`` costs
    ~8 µs per 8x8 matrix, most of the target of the whole batched solve.  The scan
    works on the octic rebuilt around the middle of the feasible interval from the
    quadratic parts (:func:`~.closure.shifted_octic`), which keeps the digits the
@@ -16,7 +19,7 @@ Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, Se
    vanishes; those where eq. (3) converges slowly (a nearly flat tetrahedron makes its
    branch nearly singular) and the spurious roots by Newton on the factored octic
    :math:`G^2 - 4R_1R_2` (:func:`polish_scan`, compiled, root by root);
-4. the careful way, for every problem the scan doubts (:func:`.rootscan.real_roots`:
+4. the careful way, for every problem the scan doubts (:func:`.signscan.scan_many`:
    its count differs from the Sturm count, or a minimum of :math:`|O|` comes within
    rounding of zero) or whose factored Newton moves a root by more than 1e-6 relative
    or does not converge: the single-problem solver's root stage
@@ -30,10 +33,9 @@ Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, Se
    and leg residuals, problem by problem (:func:`.placement.place_many`, compiled),
    written straight into the (N, 16, ...) arrays of :class:`~.forward.BatchResult`.
 
-Stages 1, 2 and the Sturm check stay in numpy (long vectorised loops); the stages that
-work root by root are compiled by numba (here, :mod:`.single`, :mod:`.placement`),
-where numpy would need
-dozens of calls on gathered arrays.  Cost per problem: see BENCHMARKS.md
+Every stage but the triangle bounds is compiled by numba (here, :mod:`.signscan`,
+:mod:`.single`, :mod:`.placement`, :mod:`.descartes`): in numpy the scan needed dozens
+of calls on gathered arrays (issue 17).  Cost per problem: see BENCHMARKS.md
 (``python -m benchmarks octahedral``).
 
 Accuracy: legs reproduced to about 1e-12 relative on well-conditioned problems; the
@@ -49,12 +51,13 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .closure import OCTIC, feasible_interval, octic_data, shifted_octic
+from .closure import OCTIC, feasible_interval
+from .companion import octic_rows
 from .single import (CONFIRM, EQ3_STEPS, NEWTON_MAX, companion, eigen_rows,
                           newton_factored, polish_eq3, roots_from_eigenvalues, tet_min)
 from .placement import place_many
 from .problem import REASONS
-from .rootscan import real_roots
+from .signscan import scan_many
 
 __all__ = ["solve_fast", "polish_scan", "roots_many", "companions", "REASONS"]
 
@@ -86,16 +89,14 @@ def solve_fast(B, Q, L, sides2, legs2):
     """
     B, Q, L, sides2, legs2 = (np.ascontiguousarray(a, dtype=float)
                               for a in (B, Q, L, sides2, legs2))
-    data = octic_data(sides2, legs2, "fast")
+    data = octic_rows(sides2, legs2)
     lo, hi, _ = feasible_interval(sides2, legs2)
     lo0 = np.maximum(lo, 0.0)
     c = np.where(hi > 0, 0.5 * (lo0 + hi), np.mean(sides2, axis=1))
     wide = hi > lo0
     x0 = np.where(wide, 0.5 * (lo0 + hi), c)
     h = np.maximum(np.where(wide, 0.5 * (hi - lo0), 0.5 * c), 1e-3 * c)
-    row, x, step, doubt = real_roots(
-        shifted_octic(data, x0, h),
-        lambda r: shifted_octic(data[r], x0[r], h[r], absolute=True), x0, h)
+    row, x, step, doubt = scan_many(data, x0, h)
     # polish on eq. (3) or the factored octic (steps 3 and 4 of the module docstring);
     # the problems in doubt go the careful way
     status, x, step = polish_scan(data, row, x, step, lo, hi, c, doubt)

@@ -38,15 +38,15 @@ _jit = numba.njit(cache=True)
 def _adapted_base(B):
     """The base-adapted frame: P1, axes e1 (along P1P2), e2, e3 (rows), and P3's
     in-plane coordinates (p3x, p3y)."""
-    v2 = B[1] - B[0]
-    v3 = B[2] - B[0]
-    dd = math.sqrt(v2[0] * v2[0] + v2[1] * v2[1] + v2[2] * v2[2])
+    v20, v21, v22 = B[1, 0] - B[0, 0], B[1, 1] - B[0, 1], B[1, 2] - B[0, 2]
+    v30, v31, v32 = B[2, 0] - B[0, 0], B[2, 1] - B[0, 1], B[2, 2] - B[0, 2]
+    dd = math.sqrt(v20 * v20 + v21 * v21 + v22 * v22)
     A = np.empty((3, 3))
-    A[0] = v2 / dd
-    p3x = v3[0] * A[0, 0] + v3[1] * A[0, 1] + v3[2] * A[0, 2]
-    w = v3 - p3x * A[0]
-    p3y = math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
-    A[1] = w / p3y
+    A[0, 0], A[0, 1], A[0, 2] = v20 / dd, v21 / dd, v22 / dd
+    p3x = v30 * A[0, 0] + v31 * A[0, 1] + v32 * A[0, 2]
+    w0, w1, w2 = v30 - p3x * A[0, 0], v31 - p3x * A[0, 1], v32 - p3x * A[0, 2]
+    p3y = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
+    A[1, 0], A[1, 1], A[1, 2] = w0 / p3y, w1 / p3y, w2 / p3y
     A[2, 0] = A[0, 1] * A[1, 2] - A[0, 2] * A[1, 1]
     A[2, 1] = A[0, 2] * A[1, 0] - A[0, 0] * A[1, 2]
     A[2, 2] = A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
@@ -191,7 +191,9 @@ def place(B, Q, L, s2, l2, lo, hi, roots, nroots, P, R, T, E, Er, S15, side, slo
     A, dd, p3x, p3y = _adapted_base(B)
     Fq = np.empty((3, 3))
     _frame(Q, Fq)
-    qc = (Q[0] + Q[1] + Q[2]) / 3.0
+    qc0 = (Q[0, 0] + Q[1, 0] + Q[2, 0]) / 3.0
+    qc1 = (Q[0, 1] + Q[1, 1] + Q[2, 1]) / 3.0
+    qc2 = (Q[0, 2] + Q[1, 2] + Q[2, 2]) / 3.0
     ad = np.empty((3, 3))
     Fb = np.empty((3, 3))
     np_ = 0
@@ -217,7 +219,7 @@ def place(B, Q, L, s2, l2, lo, hi, roots, nroots, P, R, T, E, Er, S15, side, slo
                     R[i, r, m] = Fb[0, r] * Fq[0, m] + Fb[1, r] * Fq[1, m] + Fb[2, r] * Fq[2, m]
             for r in range(3):
                 T[i, r] = ((P[i, 0, r] + P[i, 1, r] + P[i, 2, r]) / 3.0
-                           - (R[i, r, 0] * qc[0] + R[i, r, 1] * qc[1] + R[i, r, 2] * qc[2]))
+                           - (R[i, r, 0] * qc0 + R[i, r, 1] * qc1 + R[i, r, 2] * qc2))
             e, er = 0.0, 0.0
             for j in range(6):
                 b, p = _LEG_BASE[j], _LEG_PLAT[j]
@@ -289,8 +291,15 @@ def place_many(B, Q, L, s2, l2, lo, hi, c, row, x, step, status):
         np_ = place(B[i], Q[i], L[i], s2[i], l2[i], lo[i], hi[i], rt, nr, P[i], R[i],
                      T[i], E[i], Er[i], S, side, slot[i])
         count[i] = np_
-        for t in range(np_, 16):        # rejected placements leave partial writes
-            P[i, t], R[i, t], T[i, t], E[i, t], Er[i, t] = np.nan, np.nan, np.nan, np.nan, np.nan
+        # a rejected placement leaves partial writes in the two slots after the poses
+        # (every rejected root of the problem writes to the same two)
+        for t in range(np_, min(np_ + 2, 16)):
+            for a in range(3):
+                T[i, t, a] = np.nan
+                for b in range(3):
+                    P[i, t, a, b] = np.nan
+                    R[i, t, a, b] = np.nan
+            E[i, t], Er[i, t] = np.nan, np.nan
         a = 0
         for t in range(nr):
             roots[i, t], steps[i, t], stat[i, t] = rt[t, 0], rt[t, 1], int(rt[t, 2])
