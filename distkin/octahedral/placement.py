@@ -243,42 +243,62 @@ def place(B, Q, L, s2, l2, lo, hi, roots, nroots, P, R, T, E, Er, S15, side, slo
 
 
 
-@_jit
 def place_many(B, Q, L, s2, l2, lo, hi, c, row, x, step, status):
     """Sort the roots (row, x, step, status) of every problem, merge those closer than
     :data:`DUP` relative, keep at most 8, and place both poses of each assembly root
     (:func:`place`).  Returns the arrays of :func:`.batched.solve_fast`: roots, steps,
     status (n, 8), slot (n, 8), count (n,), s15 (n, 8), points, rotation (n, 16, 3, 3),
-    translation (n, 16, 3), leg errors absolute and relative (n, 16)."""
+    translation (n, 16, 3), leg errors absolute and relative (n, 16).  (The padded
+    arrays are allocated by numpy, whose fill is faster than numba's; the work is
+    :func:`_place_many`, compiled.)"""
     n = B.shape[0]
-    roots = np.full((n, 8), np.nan)
-    steps = np.full((n, 8), np.nan)
-    stat = np.full((n, 8), -1, np.int64)
-    slot = np.full((n, 8), -1, np.int64)
-    s15 = np.full((n, 8), np.nan)
-    count = np.zeros(n, np.int64)
-    P = np.full((n, 16, 3, 3), np.nan)
-    R = np.full((n, 16, 3, 3), np.nan)
-    T = np.full((n, 16, 3), np.nan)
-    E = np.full((n, 16), np.nan)
-    Er = np.full((n, 16), np.nan)
+    out = (np.full((n, 8), np.nan), np.full((n, 8), np.nan), np.full((n, 8), -1, np.int64),
+           np.full((n, 8), -1, np.int64), np.zeros(n, np.int64), np.full((n, 8), np.nan),
+           np.full((n, 16, 3, 3), np.nan), np.full((n, 16, 3, 3), np.nan),
+           np.full((n, 16, 3), np.nan), np.full((n, 16), np.nan), np.full((n, 16), np.nan))
+    _place_many(B, Q, L, s2, l2, lo, hi, c, row, x, step, status, *out)
+    return out
+
+
+@_jit
+def _place_many(B, Q, L, s2, l2, lo, hi, c, row, x, step, status, roots, steps, stat, slot,
+                count, s15, P, R, T, E, Er):
+    """:func:`place_many` into its NaN-padded output arrays."""
+    n = B.shape[0]
     S = np.empty(16)
     side = np.empty(16, np.int64)
-    order = np.argsort(row, kind="mergesort")
+    # the roots grouped by problem, in their given order within each (a counting
+    # sort: stable, as a merge sort would be, in O(m + n))
+    m = row.size
+    start = np.zeros(n + 1, np.int64)
+    for t in range(m):
+        start[row[t] + 1] += 1
+    for t in range(n):
+        start[t + 1] += start[t]
+    fill = start[:n].copy()
+    order = np.empty(m, np.int64)
+    for t in range(m):
+        order[fill[row[t]]] = t
+        fill[row[t]] += 1
     buf = np.empty((16, 3))
     rt = np.empty((8, 3))
+    srt = np.empty(16, np.int64)
     k = 0
-    m = row.size
     while k < m:
         i = row[order[k]]
-        j = k
-        while j < m and row[order[j]] == i:
-            j += 1
+        j = start[i + 1]
         nb = min(j - k, 16)
         for t in range(nb):
             q = order[k + t]
             buf[t, 0], buf[t, 1], buf[t, 2] = x[q], abs(step[q]), status[q]
-        srt = np.argsort(buf[:nb, 0], kind="mergesort")
+        # by increasing root, stable (insertion sort of at most 16)
+        for t in range(nb):
+            u = t
+            while u > 0 and (buf[srt[u - 1], 0] > buf[t, 0] or (
+                    math.isnan(buf[srt[u - 1], 0]) and not math.isnan(buf[t, 0]))):
+                srt[u] = srt[u - 1]
+                u -= 1
+            srt[u] = t
         nr = 0
         for t in range(nb):
             v = buf[srt[t]]
@@ -307,4 +327,3 @@ def place_many(B, Q, L, s2, l2, lo, hi, c, row, x, step, status):
                 s15[i, a] = rt[t, 0]
                 a += 1
         k = j
-    return roots, steps, stat, slot, count, s15, P, R, T, E, Er

@@ -222,6 +222,16 @@ def _pose(s15, side, rotation, translation, points, err, rel):
     return p
 
 
+def _assembly(poses, octic, roots, reason, notes, conditioning):
+    """A fast-tier :class:`AssemblyResult`, as :func:`_pose`."""
+    a = _new(AssemblyResult)
+    _set(a, "__dict__", {"poses": poses, "method": "fast", "octic": octic,
+                         "octic_exact": False, "roots": roots, "certified": False,
+                         "reason": reason, "accuracy": _FAST_ACCURACY, "notes": notes,
+                         "tier": "fast", "tier_reason": "", "conditioning": conditioning})
+    return a
+
+
 def _root(x, step, code):
     """A fast-tier :class:`RootInfo` (status code of :data:`REASONS`), as :func:`_pose`."""
     r = _new(RootInfo)
@@ -251,9 +261,8 @@ def _fast_result(raw, i):
         from .conditioning import from_verdict
         n = len(roots)
         cond = from_verdict(int(raw["verdict"][i]), raw["roots"][i][:n], raw["radii"][i][:n])
-    return AssemblyResult(tuple(poses), "fast", tuple(raw["coef"][i].tolist()), False,
-                          tuple(roots), False, reason, _FAST_ACCURACY, notes,
-                          tier="fast", conditioning=cond)
+    return _assembly(tuple(poses), tuple(raw["coef"][i].tolist()), tuple(roots), reason,
+                     notes, cond)
 
 
 def _VERDICTS():
@@ -287,8 +296,7 @@ def _single_result(solve, conditioning=None, k=0):
     infos = tuple(_root(x, st, int(code)) for x, st, code in roots.tolist())
     out = tuple(map(_pose, S.tolist(), side.tolist(), R, T, P, E.tolist(), Er.tolist()))
     reason = "" if out else _empty_reason(infos, lo, hi)
-    return AssemblyResult(out, "fast", octic, False, infos, False, reason,
-                          _FAST_ACCURACY, notes, tier="fast", conditioning=conditioning)
+    return _assembly(out, octic, infos, reason, notes, conditioning)
 
 
 _STATUS = {0: "assembly", 1: "spurious", 2: "spurious", 3: "rejected"}

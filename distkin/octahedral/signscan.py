@@ -16,7 +16,14 @@ gathering and scattering small arrays):
   the local minima of :math:`|f|` that dip through zero, the Halley refinement and the
   Sturm count, operation for operation as in :mod:`.rootscan`.
 
-Agreement with :mod:`.rootscan`: every operation is the same except the grid values,
+One step beyond :mod:`.rootscan`: a problem the grid doubts is scanned once more on a
+grid four times finer (:data:`FINE`, same checks) before it is given up to the careful
+way (eigenvalues, :mod:`.batched`): on random octahedra that leaves 51 of the 172
+doubted problems in 2000, at a fifth of the cost of their eigenvalues (BENCHMARKS.md).
+Whatever the route, the proof of :mod:`.descartes` then vouches for the answer or flags
+it.
+
+Agreement with :mod:`.rootscan` (``fine=False``): every operation is the same except the grid values,
 which numpy computes by a BLAS matrix product (another order of summation, fused
 multiply-adds): they differ by a few units in the last place.  They only choose the
 brackets and the starts of the refinement, which converges to the same roots; the
@@ -34,16 +41,20 @@ import math
 import numba
 import numpy as np
 
-from .rootscan import (_DTHETA, _INSIDE, _ITER, _SHALLOW, _THETA, _U_PT, _V, _V_HI,
-                       _V_LO, K)
+from .rootscan import _ITER, _SHALLOW, K, grid
 
-__all__ = ["scan_many", "MAX_ROOTS"]
+__all__ = ["scan_many", "scan_one", "MAX_ROOTS", "GRID", "FINE"]
 
 #: roots kept per problem (the octic has at most 8; more means noise: the problem is
 #: doubted)
 MAX_ROOTS = 16
 
 _jit = numba.njit(cache=True, error_model="numpy")
+
+#: the grid of :mod:`.rootscan` (K cells), and one four times finer for the second try
+#: on the problems the first one doubts (:func:`scan_many`)
+GRID = grid(K)
+FINE = grid(4 * K)
 
 
 @_jit
@@ -86,7 +97,7 @@ def _workspace():
     R1 R2 (9,) each, the sizes of the terms (9,), the dipping minima (K, 5), the
     derivative polynomial (9,)."""
     return (np.empty((10, 3)), np.empty((5, 5)), np.empty(5), np.empty(9), np.empty(9),
-            np.empty(9), np.empty((K, 5)), np.empty(9))
+            np.empty(9), np.empty((4 * K, 5)), np.empty(9))
 
 
 @_jit
@@ -176,13 +187,17 @@ def _sturm_count(q):
 
 
 @_jit
-def _scan_one(d, x0, h, q, F, xs, ss, ws):
+def _scan_one(d, x0, h, q, F, xs, ss, ws, g):
     """Stages 1 and 2 of :mod:`.rootscan` for one problem (kernel output ``d``, centre
-    ``x0``, half-width ``h``; work arrays ``ws``, :func:`_workspace`): writes the roots (units of x) and their last steps to
+    ``x0``, half-width ``h``; work arrays ``ws``, :func:`_workspace`, ``F`` of at least
+    k + 1; the grid ``g`` of :func:`.rootscan.grid`, k cells): writes the roots (units of x) and their last steps to
     ``xs``, ``ss`` in the order of :func:`.rootscan._scan` (sign changes by cell, then
     the left and the right roots of every dipping minimum); returns their number and
     whether the problem is doubted (a shallow minimum, the Sturm count differs, or
-    more than :data:`MAX_ROOTS`).  ``q`` (9,), ``F`` (K + 1,): work arrays."""
+    more than :data:`MAX_ROOTS`).  ``q`` (9,): a work array."""
+    _THETA, _V, _U_PT, _INSIDE, _V_LO, _V_HI = g
+    K = _V_LO.size
+    _DTHETA = np.pi / K
     _shifted(d, x0, h, False, q, ws)
     for k in range(K + 1):             # (j outer: the same sums, vectorised over k)
         F[k] = 0.0
@@ -282,6 +297,16 @@ def _scan_one(d, x0, h, q, F, xs, ss, ws):
 
 
 @_jit
+def scan_one(d, x0, h, q, F, xs, ss, ws, fine):
+    """:func:`_scan_one` on the grid of :mod:`.rootscan`, and once more on :data:`FINE`
+    when that doubts the problem and ``fine`` is set.  ``F``: (4 K + 1,)."""
+    k, dbt = _scan_one(d, x0, h, q, F, xs, ss, ws, GRID)
+    if dbt and fine:
+        k, dbt = _scan_one(d, x0, h, q, F, xs, ss, ws, FINE)
+    return k, dbt
+
+
+@_jit
 def _emit(v, st, ins, x0, h, xs, ss, n):
     """Append the root v (u = tan or w = cot space) as x = x0 + h u, with its step in
     units of x, when finite; returns the new count (> xs.size: overflow)."""
@@ -297,13 +322,17 @@ def _emit(v, st, ins, x0, h, xs, ss, n):
 
 
 @_jit
-def scan_many(data, x0, h):
+def scan_many(data, x0, h, fine=True):
     """:func:`.rootscan.real_roots` of the octics of N problems, compiled.
 
     Parameters
     ----------
     data : (N, 39) kernel output (quadratic parts of eq. (3) first)
     x0, h : (N,) centre and half-width (h > 0) of the feasible interval of s15
+    fine : bool
+        Scan the problems that the grid of :mod:`.rootscan` doubts once more on a grid
+        four times finer (:data:`FINE`), with the same checks; those it still doubts
+        are doubted.  False: :func:`.rootscan.real_roots` exactly.
 
     Returns
     -------
@@ -316,12 +345,12 @@ def scan_many(data, x0, h):
     step = np.empty(n * MAX_ROOTS)
     doubt = np.zeros(n, np.bool_)
     q = np.empty(9)
-    F = np.empty(K + 1)
+    F = np.empty(4 * K + 1)
     ws = _workspace()
     m = 0
     for i in range(n):
         xs = x[m:m + MAX_ROOTS]
-        k, dbt = _scan_one(data[i], x0[i], h[i], q, F, xs, step[m:m + MAX_ROOTS], ws)
+        k, dbt = scan_one(data[i], x0[i], h[i], q, F, xs, step[m:m + MAX_ROOTS], ws, fine)
         for j in range(k):
             row[m + j] = i
         doubt[i] = dbt

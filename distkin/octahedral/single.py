@@ -31,7 +31,10 @@ Real roots outside the triangle bounds of :math:`s_{15}`, or where a banana tetr
 has negative squared volume, are spurious.  The trilateration sequence of Sec. III and
 the two mirror poses of every assembly root are :func:`.placement.place`.
 
-The batched tier (:mod:`.batched`) finds its roots by a sign scan and uses the same
+The public single solve (:func:`~.forward.forward_kinematics`) now goes the batched
+tier's way first (:func:`.batched.solve_scan_single`, issue 17: the eigenvalue call was
+most of its cost) and comes here for the problems the sign scan doubts; the tests
+compare both routes.  The batched tier (:mod:`.batched`) finds its roots by a sign scan and uses the same
 compiled stages (the polish on eq. (3), the factored Newton, :func:`roots_from_eigenvalues` for the
 problems the scan doubts, the placement).
 
