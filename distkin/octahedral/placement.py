@@ -35,13 +35,12 @@ _jit = numba.njit(cache=True)
 
 
 @_jit
-def _adapted_base(B):
-    """The base-adapted frame: P1, axes e1 (along P1P2), e2, e3 (rows), and P3's
-    in-plane coordinates (p3x, p3y)."""
+def _adapted_base(B, A):
+    """The base-adapted frame: axes e1 (along P1P2), e2, e3 written to the rows of
+    ``A`` (3, 3); returns |P1P2| and P3's in-plane coordinates (p3x, p3y)."""
     v20, v21, v22 = B[1, 0] - B[0, 0], B[1, 1] - B[0, 1], B[1, 2] - B[0, 2]
     v30, v31, v32 = B[2, 0] - B[0, 0], B[2, 1] - B[0, 1], B[2, 2] - B[0, 2]
     dd = math.sqrt(v20 * v20 + v21 * v21 + v22 * v22)
-    A = np.empty((3, 3))
     A[0, 0], A[0, 1], A[0, 2] = v20 / dd, v21 / dd, v22 / dd
     p3x = v30 * A[0, 0] + v31 * A[0, 1] + v32 * A[0, 2]
     w0, w1, w2 = v30 - p3x * A[0, 0], v31 - p3x * A[0, 1], v32 - p3x * A[0, 2]
@@ -50,7 +49,7 @@ def _adapted_base(B):
     A[2, 0] = A[0, 1] * A[1, 2] - A[0, 2] * A[1, 1]
     A[2, 1] = A[0, 2] * A[1, 0] - A[0, 0] * A[1, 2]
     A[2, 2] = A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
-    return A, dd, p3x, p3y
+    return dd, p3x, p3y
 
 
 @_jit
@@ -148,8 +147,9 @@ def assemble_many(B, x, s2, l2):
     h2 = np.empty(m)
     r36 = np.empty(m)
     ad = np.empty((3, 3))
+    A = np.empty((3, 3))
     for i in range(m):
-        A, dd, p3x, p3y = _adapted_base(B[i])
+        dd, p3x, p3y = _adapted_base(B[i], A)
         h2[i], r36[i] = _assemble(x[i], s2[i], l2[i], dd, p3x, p3y, ad)
         if h2[i] > -np.inf:
             _to_base(B[i], A, ad, 1.0, pts[i, 0])
@@ -188,14 +188,19 @@ def place(B, Q, L, s2, l2, lo, hi, roots, nroots, P, R, T, E, Er, S15, side, slo
     root S15 and the side (+1, -1); ``slot[k]`` is the index of root k's first pose
     (-1 if none).  Roots whose sequence degenerates or whose legs are off by
     :data:`_LEG_OK` relative or more get code 3.  Returns the number of poses."""
-    A, dd, p3x, p3y = _adapted_base(B)
-    Fq = np.empty((3, 3))
+    return _place(B, Q, L, s2, l2, lo, hi, roots, nroots, P, R, T, E, Er, S15, side, slot,
+                  np.empty((4, 3, 3)))
+
+
+@_jit
+def _place(B, Q, L, s2, l2, lo, hi, roots, nroots, P, R, T, E, Er, S15, side, slot, ws):
+    """:func:`place` with a work array ``ws`` (4, 3, 3)."""
+    A, Fq, ad, Fb = ws[0], ws[1], ws[2], ws[3]
+    dd, p3x, p3y = _adapted_base(B, A)
     _frame(Q, Fq)
     qc0 = (Q[0, 0] + Q[1, 0] + Q[2, 0]) / 3.0
     qc1 = (Q[0, 1] + Q[1, 1] + Q[2, 1]) / 3.0
     qc2 = (Q[0, 2] + Q[1, 2] + Q[2, 2]) / 3.0
-    ad = np.empty((3, 3))
-    Fb = np.empty((3, 3))
     np_ = 0
     lo0 = max(lo, 0.0)
     for k in range(nroots):
@@ -283,6 +288,7 @@ def _place_many(B, Q, L, s2, l2, lo, hi, c, row, x, step, status, roots, steps, 
     buf = np.empty((16, 3))
     rt = np.empty((8, 3))
     srt = np.empty(16, np.int64)
+    ws = np.empty((4, 3, 3))
     k = 0
     while k < m:
         i = row[order[k]]
@@ -308,8 +314,8 @@ def _place_many(B, Q, L, s2, l2, lo, hi, c, row, x, step, status, roots, steps, 
                 break
             rt[nr, 0], rt[nr, 1], rt[nr, 2] = v[0], v[1], v[2]
             nr += 1
-        np_ = place(B[i], Q[i], L[i], s2[i], l2[i], lo[i], hi[i], rt, nr, P[i], R[i],
-                     T[i], E[i], Er[i], S, side, slot[i])
+        np_ = _place(B[i], Q[i], L[i], s2[i], l2[i], lo[i], hi[i], rt, nr, P[i], R[i],
+                     T[i], E[i], Er[i], S, side, slot[i], ws)
         count[i] = np_
         # a rejected placement leaves partial writes in the two slots after the poses
         # (every rejected root of the problem writes to the same two)

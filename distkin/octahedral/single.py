@@ -545,9 +545,12 @@ def compile_notice() -> str:
     """What to tell the user before the first fast solve on a machine, when numba's
     cache holds no machine code for it yet (the call then compiles, about 15 s); ""
     when it does, or when that cannot be told (the check reads numba's cache index, an
-    internal of numba)."""
+    internal of numba).  Every fast solve runs the compiled sign scan
+    (:func:`.signscan.scan_one`, issue 17); the eigenvalue route here compiles later, on
+    the first problem the scan doubts."""
+    from .signscan import scan_one
     try:
-        pending = not os.path.exists(_solve._cache._cache_file._index_path)
+        pending = not os.path.exists(scan_one._cache._cache_file._index_path)
     except Exception:  # pragma: no cover - other numba layouts: say nothing
         pending = False
     return ("compiling the fast octahedral tier for this machine (numba, about 20 s, "
