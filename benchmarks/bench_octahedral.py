@@ -177,7 +177,7 @@ def _stages_batched(base, plat, batch):
     from distkin.octahedral import batched as fast
     from distkin.octahedral import single as fs
     from distkin.octahedral.placement import place_many
-    from distkin.octahedral.closure import feasible_interval, octic_data, shifted_octic
+    from distkin.octahedral.closure import octic_data, shifted_octic
     from distkin.octahedral.companion import octic_rows
     from distkin.octahedral.problem import float_problem
     from distkin.octahedral.descartes import ETA_FLOAT, vouch_many
@@ -186,12 +186,7 @@ def _stages_batched(base, plat, batch):
     B, Q, L, s2, l2 = (np.ascontiguousarray(a, dtype=float)
                        for a in float_problem(base, plat, batch)[:5])
     data = octic_data(s2, l2, "fast")
-    lo, hi, _ = feasible_interval(s2, l2)
-    lo0 = np.maximum(lo, 0.0)
-    c = np.where(hi > 0, 0.5 * (lo0 + hi), np.mean(s2, axis=1))
-    wide = hi > lo0
-    x0 = np.where(wide, 0.5 * (lo0 + hi), c)
-    h = np.maximum(np.where(wide, 0.5 * (hi - lo0), 0.5 * c), 1e-3 * c)
+    lo, hi, x0, h, c = fast.scan_window(s2, l2)
 
     def sizes(r):
         return shifted_octic(data[r], x0[r], h[r], absolute=True)
@@ -215,7 +210,8 @@ def _stages_batched(base, plat, batch):
             lambda: float_problem(base, plat, batch),
         "compiled: generated kernel over the rows (`companion.octic_rows`)":
             lambda: octic_rows(s2, l2),
-        "triangle bounds (`feasible_interval`, numpy)": lambda: feasible_interval(s2, l2),
+        "triangle bounds and scan window (`batched.scan_window`, numpy)":
+            lambda: fast.scan_window(s2, l2),
         "compiled: octic rebuilt around the interval, sign scan, Halley refinement, "
         "Sturm check (`signscan.scan_many`)": lambda: scan_many(data, x0, h),
         "(before issue 17, not in the solve: the batched numpy kernel `octic_data`)":

@@ -62,7 +62,7 @@ from .placement import _place_many, place_many
 from .problem import REASONS
 from .signscan import MAX_ROOTS, K, _workspace, scan_many, scan_one
 
-__all__ = ["solve_fast", "solve_scan_single", "polish_scan", "roots_many", "companions", "REASONS"]
+__all__ = ["solve_fast", "solve_scan_single", "scan_window", "polish_scan", "roots_many", "companions", "REASONS"]
 
 _jit = numba.njit(cache=True)
 
@@ -93,12 +93,7 @@ def solve_fast(B, Q, L, sides2, legs2):
     B, Q, L, sides2, legs2 = (np.ascontiguousarray(a, dtype=float)
                               for a in (B, Q, L, sides2, legs2))
     data = octic_rows(sides2, legs2)
-    lo, hi, _ = feasible_interval(sides2, legs2)
-    lo0 = np.maximum(lo, 0.0)
-    c = np.where(hi > 0, 0.5 * (lo0 + hi), np.mean(sides2, axis=1))
-    wide = hi > lo0
-    x0 = np.where(wide, 0.5 * (lo0 + hi), c)
-    h = np.maximum(np.where(wide, 0.5 * (hi - lo0), 0.5 * c), 1e-3 * c)
+    lo, hi, x0, h, c = scan_window(sides2, legs2)
     row, x, step, doubt = scan_many(data, x0, h)
     # polish on eq. (3) or the factored octic (steps 3 and 4 of the module docstring);
     # the problems in doubt go the careful way
@@ -119,6 +114,20 @@ def solve_fast(B, Q, L, sides2, legs2):
             "step": steps, "slot": slot, "count": count, "s15": s15, "points": P,
             "rotation": R, "translation": T, "leg_error": E, "leg_error_rel": Er,
             "valid": np.arange(16) < count[:, None], "data": data}
+
+
+def scan_window(sides2, legs2):
+    """The triangle bounds lo, hi (N,) of s15 (:func:`~.closure.feasible_interval`), the
+    centre x0 and half-width h (N,) of the window that gets half of the scan's grid
+    (the feasible interval, or around c when it is empty or tiny), and the scale c (N,)
+    of the relative tolerances (its middle, or the mean squared side)."""
+    lo, hi, _ = feasible_interval(sides2, legs2)
+    lo0 = np.maximum(lo, 0.0)
+    c = np.where(hi > 0, 0.5 * (lo0 + hi), np.mean(sides2, axis=1))
+    wide = hi > lo0
+    x0 = np.where(wide, 0.5 * (lo0 + hi), c)
+    h = np.maximum(np.where(wide, 0.5 * (hi - lo0), 0.5 * c), 1e-3 * c)
+    return lo, hi, x0, h, c
 
 
 def solve_scan_single(B, Q, L):

@@ -24,7 +24,7 @@ import pytest
 
 from distkin.errors import ConditioningWarning
 from distkin.octahedral import batched, forward_kinematics, forward_kinematics_batched
-from distkin.octahedral.closure import feasible_interval, octic_data, shifted_octic
+from distkin.octahedral.closure import octic_data, shifted_octic
 from distkin.octahedral.companion import octic_rows
 from distkin.octahedral.problem import float_problem
 from distkin.octahedral.reference import random_octahedron
@@ -47,13 +47,9 @@ def _numpy_scan(data, x0, h):
 
 
 def _window(s2, l2):
-    """Centre and half-width of the scan, as :func:`.batched.solve_fast` chooses them."""
-    lo, hi, _ = feasible_interval(s2, l2)
-    lo0 = np.maximum(lo, 0.0)
-    c = np.where(hi > 0, 0.5 * (lo0 + hi), np.mean(s2, axis=1))
-    wide = hi > lo0
-    x0 = np.where(wide, 0.5 * (lo0 + hi), c)
-    h = np.maximum(np.where(wide, 0.5 * (hi - lo0), 0.5 * c), 1e-3 * c)
+    """Centre, half-width and scale of the scan, as :func:`.batched.solve_fast` chooses
+    them."""
+    _, _, x0, h, c = batched.scan_window(s2, l2)
     return x0, h, c
 
 
