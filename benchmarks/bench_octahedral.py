@@ -268,6 +268,101 @@ def _random_batches(near):
     return {"rows": rows, "load": [load0, os.getloadavg()[0]], "n": len(near)}
 
 
+#: main before issue 17's octahedral work (the tree the before/after table times)
+BASELINE_REV = "b989a4e"
+
+_BASELINE_SCRIPT = """
+import json, time, warnings
+import numpy as np
+import distkin
+from distkin.octahedral import forward_kinematics, forward_kinematics_batched
+from distkin.octahedral.reference import random_octahedron
+B = np.array([[0, 0, 0], [6, np.sqrt(108), 0], [12, 0, 0]])
+Q = np.array([[0, 0, 0], [6, 0, 0], [3, np.sqrt(27), 0]])
+L = np.array([19.8, 18, 18, 17, 14.9, 17.8])
+rng = np.random.default_rng(17)
+probs = [random_octahedron(rng) for _ in range(2000)]
+RB, RQ, RL = (np.array([p[k] for p in probs]) for k in range(3))
+runs = {"single (bare)": (lambda: forward_kinematics(B, Q, L, warn=False), 300),
+        "single (default call)": (lambda: forward_kinematics(B, Q, L), 300),
+        "batched fast, random": (lambda: forward_kinematics_batched(RB, RQ, RL), 2000),
+        "batched auto, random": (lambda: forward_kinematics_batched(RB, RQ, RL,
+                                                                   method="auto"), 2000)}
+out = {}
+with warnings.catch_warnings():
+    warnings.simplefilter("ignore")
+    for name, (f, n) in runs.items():
+        f()                                                   # compile or load
+        best = float("inf")
+        for _ in range(5):
+            t0 = time.process_time()
+            for _ in range(n if n < 2000 else 1):
+                f()
+            best = min(best, (time.process_time() - t0) / n)
+        out[name] = best
+out["tree"] = distkin.__file__
+print(json.dumps(out))
+"""
+
+
+def _before_after(rounds: int = 3):
+    """Single and batched CPU time per problem before (main at :data:`BASELINE_REV`,
+    extracted with ``git archive``) and after (this tree), each measured by the same
+    script in a fresh subprocess (its own numba cache for the old tree), alternated
+    ``rounds`` times, the best of each kept: the same machine load for both.  None
+    without git or the revision."""
+    import json
+    import os
+    import subprocess
+    import sys
+    import tempfile
+    from pathlib import Path
+    root = Path(__file__).resolve().parents[1]
+    with tempfile.TemporaryDirectory() as tmp:
+        try:
+            tar = subprocess.run(["git", "-C", str(root), "archive", BASELINE_REV],
+                                 capture_output=True, check=True).stdout
+            subprocess.run(["tar", "-x", "-C", tmp], input=tar, check=True)
+        except (OSError, subprocess.CalledProcessError):
+            return None
+        trees = {"before": (tmp, str(Path(tmp) / "cache")), "after": (str(root), None)}
+        best: dict = {}
+        for _ in range(rounds):
+            for label, (path, cache) in trees.items():
+                env = dict(os.environ, PYTHONPATH=path)
+                if cache:
+                    env["NUMBA_CACHE_DIR"] = cache
+                r = subprocess.run([sys.executable, "-c", _BASELINE_SCRIPT], env=env,
+                                   cwd=path, capture_output=True, text=True)
+                if r.returncode:
+                    return None
+                got = json.loads(r.stdout.strip().splitlines()[-1])
+                if not got.pop("tree").startswith(path):
+                    return None                     # the wrong tree was imported
+                old = best.setdefault(label, got)
+                for k, v in got.items():
+                    old[k] = min(old[k], v)
+        return best
+
+
+def _before_after_lines(ba, load0, load1):
+    """The before/after table of :func:`_before_after`."""
+    keys = [k for k in ba["after"] if k in ba["before"]]
+    return [
+        f"Before and after in this run (issue 17): main at `{BASELINE_REV}` (extracted "
+        "with `git archive`) and this tree, the same script in fresh processes, "
+        f"alternated three times, best of each, CPU time per problem (load {load0:.1f} "
+        f"at the start, {load1:.1f} at the end); single: Griffis-Duffy; batched: the "
+        "2000 random octahedra above:",
+        "",
+        "| measure | before | after | before / after |",
+        "|---|---|---|---|",
+        *[f"| {k} | {fmt_time(ba['before'][k])} | {fmt_time(ba['after'][k])} | "
+          f"{ba['before'][k] / ba['after'][k]:.2f}× |" for k in keys],
+        "",
+    ]
+
+
 def _in_solve(stages):
     """The sum of the stages that the batched solve runs (not the reference rows)."""
     return sum(v for k, v in stages.items() if not k.startswith("(before"))
@@ -327,6 +422,9 @@ def run():
     stagesN, doubtN = _stages_batched(BASE, PLAT, batch)
     stagesR, doubtR = _stages_batched(*_random_problems(n_batch))
     first = _first_calls()
+    load2 = os.getloadavg()[0]
+    before_after = _before_after()
+    load3 = os.getloadavg()[0]
     targets = [
         ("fast, single solve", single["fast (octic)"], 100e-6),
         ("fast, batched, per solve", per_solve["fast batched (octic)"], 10e-6),
@@ -378,6 +476,8 @@ def run():
         + ("met" if single["fast (octic)"][1] <= 30e-6 else
            f"not met ({single['fast (octic)'][1] / 30e-6:.2f}× the target)") + ".",
         "",
+        *(_before_after_lines(before_after, load2, load3) if before_after else
+          ["(Before/after table skipped: no git, or the revision is missing.)", ""]),
         "The previous run of this benchmark (2026-11-25, at `b989a4e`, before issue 17's "
         "octahedral work; load 1.3-1.4), CPU per problem: single solve 64.38 µs, "
         "default call 74.65 µs; batched near Griffis-Duffy 13.75 µs; random octahedra "
@@ -471,5 +571,6 @@ def run():
                         for n, (w, c), g in targets},
             "stages_single_cpu_s": stages1, "stages_batched_cpu_s_per_problem": stagesN,
             "stages_batched_random_cpu_s_per_problem": stagesR,
-            "first_calls_wall_s": first, "random": rand}
+            "first_calls_wall_s": first, "random": rand,
+            "before_after_cpu_s": before_after, "before_after_load": [load2, load3]}
     return "\n".join(lines) + "\n", data
