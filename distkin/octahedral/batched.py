@@ -3,10 +3,13 @@ r"""The fast tier of the octahedral forward kinematics, batched over problems (f
 Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, Sec. III:
 
 1. the generated kernel gives the octic :math:`O(s_{15})` and the quadratic parts of
-   eq. (3) for every problem (:mod:`distkin._generated.octic_general`, batched numpy);
+   eq. (3) for every problem (:mod:`distkin._generated.octic_general`, its scalar form
+   compiled over the rows: :func:`.companion.octic_rows`, the same bits as the batched
+   numpy form without its temporaries);
 2. the real roots come from a projective sign scan of the octic over a fixed grid
-   (:mod:`.rootscan`: one matrix product for all problems, brackets refined by
-   safeguarded Halley steps), not from companion eigenvalues -- LAPACK's ``dgeev`` costs
+   (the algorithm of :mod:`.rootscan`, compiled problem by problem in
+   :mod:`.signscan`: brackets refined by safeguarded Halley steps, a Sturm count as a
+   check), not from companion eigenvalues -- LAPACK's ``dgeev`` costs
    ~8 µs per 8x8 matrix, most of the target of the whole batched solve.  The scan
    works on the octic rebuilt around the middle of the feasible interval from the
    quadratic parts (:func:`~.closure.shifted_octic`), which keeps the digits the
@@ -16,24 +19,25 @@ Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, Se
    vanishes; those where eq. (3) converges slowly (a nearly flat tetrahedron makes its
    branch nearly singular) and the spurious roots by Newton on the factored octic
    :math:`G^2 - 4R_1R_2` (:func:`polish_scan`, compiled, root by root);
-4. the careful way, for every problem the scan doubts (:func:`.rootscan.real_roots`:
+4. the careful way, for every problem the scan doubts (:func:`.signscan.scan_many`:
    its count differs from the Sturm count, or a minimum of :math:`|O|` comes within
    rounding of zero) or whose factored Newton moves a root by more than 1e-6 relative
    or does not converge: the single-problem solver's root stage
    (:func:`roots_many`: companion eigenvalues in one numpy call, then the
-   direct and careful paths of :mod:`.single`).  About 0.5 % of the problems near
-   the Griffis-Duffy example (Sec. VI, legs x (1 + 1 % noise)), ~9 % of random
-   octahedra (pairs of roots next to a third);
+   direct and careful paths of :mod:`.single`).  The scan tries a doubted problem
+   once more on a grid four times finer first (:func:`.signscan.scan_one`); about
+   0.5 % of the problems near the Griffis-Duffy example (Sec. VI, legs x (1 + 1 %
+   noise)) and 2.6 % of random octahedra (pairs of roots next to a third) are left
+   to the careful way;
 5. real roots outside the feasible interval, or where a tetrahedron of the bananas has
    negative squared volume, are spurious (complex assemblies) and are rejected;
 6. the trilateration sequence of Sec. III, both mirror poses, rotations, translations
    and leg residuals, problem by problem (:func:`.placement.place_many`, compiled),
    written straight into the (N, 16, ...) arrays of :class:`~.forward.BatchResult`.
 
-Stages 1, 2 and the Sturm check stay in numpy (long vectorised loops); the stages that
-work root by root are compiled by numba (here, :mod:`.single`, :mod:`.placement`),
-where numpy would need
-dozens of calls on gathered arrays.  Cost per problem: see BENCHMARKS.md
+Every stage but the triangle bounds is compiled by numba (here, :mod:`.signscan`,
+:mod:`.single`, :mod:`.placement`, :mod:`.descartes`): in numpy the scan needed dozens
+of calls on gathered arrays (issue 17).  Cost per problem: see BENCHMARKS.md
 (``python -m benchmarks octahedral``).
 
 Accuracy: legs reproduced to about 1e-12 relative on well-conditioned problems; the
@@ -49,14 +53,16 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .closure import OCTIC, feasible_interval, octic_data, shifted_octic
-from .single import (CONFIRM, EQ3_STEPS, NEWTON_MAX, companion, eigen_rows,
-                          newton_factored, polish_eq3, roots_from_eigenvalues, tet_min)
-from .placement import place_many
+from .closure import OCTIC, feasible_interval
+from .companion import _squares, bounds, octic_array, octic_rows
+from .single import (CONFIRM, EQ3_STEPS, NEWTON_MAX, SingleSolve, companion, eigen_rows,
+                     newton_factored, polish_eq3, roots_from_eigenvalues, solve_fast_single,
+                     tet_min)
+from .placement import _place_many, place_many
 from .problem import REASONS
-from .rootscan import real_roots
+from .signscan import MAX_ROOTS, K, _workspace, scan_many, scan_one
 
-__all__ = ["solve_fast", "polish_scan", "roots_many", "companions", "REASONS"]
+__all__ = ["solve_fast", "solve_scan_single", "scan_window", "polish_scan", "roots_many", "companions", "REASONS"]
 
 _jit = numba.njit(cache=True)
 
@@ -86,16 +92,9 @@ def solve_fast(B, Q, L, sides2, legs2):
     """
     B, Q, L, sides2, legs2 = (np.ascontiguousarray(a, dtype=float)
                               for a in (B, Q, L, sides2, legs2))
-    data = octic_data(sides2, legs2, "fast")
-    lo, hi, _ = feasible_interval(sides2, legs2)
-    lo0 = np.maximum(lo, 0.0)
-    c = np.where(hi > 0, 0.5 * (lo0 + hi), np.mean(sides2, axis=1))
-    wide = hi > lo0
-    x0 = np.where(wide, 0.5 * (lo0 + hi), c)
-    h = np.maximum(np.where(wide, 0.5 * (hi - lo0), 0.5 * c), 1e-3 * c)
-    row, x, step, doubt = real_roots(
-        shifted_octic(data, x0, h),
-        lambda r: shifted_octic(data[r], x0[r], h[r], absolute=True), x0, h)
+    data = octic_rows(sides2, legs2)
+    lo, hi, x0, h, c = scan_window(sides2, legs2)
+    row, x, step, doubt = scan_many(data, x0, h)
     # polish on eq. (3) or the factored octic (steps 3 and 4 of the module docstring);
     # the problems in doubt go the careful way
     status, x, step = polish_scan(data, row, x, step, lo, hi, c, doubt)
@@ -115,6 +114,106 @@ def solve_fast(B, Q, L, sides2, legs2):
             "step": steps, "slot": slot, "count": count, "s15": s15, "points": P,
             "rotation": R, "translation": T, "leg_error": E, "leg_error_rel": Er,
             "valid": np.arange(16) < count[:, None], "data": data}
+
+
+def scan_window(sides2, legs2):
+    """The triangle bounds lo, hi (N,) of s15 (:func:`~.closure.feasible_interval`), the
+    centre x0 and half-width h (N,) of the window that gets half of the scan's grid
+    (the feasible interval, or around c when it is empty or tiny), and the scale c (N,)
+    of the relative tolerances (its middle, or the mean squared side)."""
+    lo, hi, _ = feasible_interval(sides2, legs2)
+    lo0 = np.maximum(lo, 0.0)
+    c = np.where(hi > 0, 0.5 * (lo0 + hi), np.mean(sides2, axis=1))
+    wide = hi > lo0
+    x0 = np.where(wide, 0.5 * (lo0 + hi), c)
+    h = np.maximum(np.where(wide, 0.5 * (hi - lo0), 0.5 * c), 1e-3 * c)
+    return lo, hi, x0, h, c
+
+
+def solve_scan_single(B, Q, L):
+    """One problem the batched tier's way (issue 17): the compiled sign scan, polish and
+    placement of :func:`solve_fast` without numpy temporaries, instead of the companion
+    eigenvalues of :func:`.single.solve_fast_single` (LAPACK's ``dgeev``, ~14 µs, most
+    of a single solve).  A problem the scan doubts goes the careful way, to
+    :func:`.single.solve_fast_single` itself, as in the batched tier.  The answer is the
+    batched tier's for the same squared lengths; the two entry points compute those with
+    sums in different orders (``_squares`` here, ``einsum`` in
+    :func:`.problem.float_problem`), so their last bits can differ, and on problems
+    float64 cannot decide (6 of the 240 near-line family problems of
+    :func:`.hardset.hard_families`, none proved) so can the answers
+    (tests/octahedral/test_octahedral_signscan.py compares the routes).
+
+    Parameters
+    ----------
+    B, Q : (3, 3) float64 arrays, L : (6,) (normalised: :func:`.problem.float_single`)
+
+    Returns
+    -------
+    :class:`.single.SingleSolve` (its ``eigenvalues`` None unless the careful way ran)
+    """
+    B = np.asarray(B, dtype=float)
+    Q = np.asarray(Q, dtype=float)
+    L = np.asarray(L, dtype=float)
+    doubt, s2, l2, d, lo, hi, rows, poses = _scan_single(B, Q, L)
+    if doubt:
+        return solve_fast_single(B, Q, L)
+    return SingleSolve(d[OCTIC], lo, hi, rows, poses, s2, l2, d, None)
+
+
+@_jit
+def _scan_single(B, Q, L):
+    """The compiled part of :func:`solve_scan_single`: (doubt, s2, l2, kernel output,
+    lo, hi, root rows (n, 3), poses (S15, side, P, R, T, E, Er))."""
+    s2, l2 = _squares(B, Q, L)
+    d = octic_array(s2, l2)
+    lo, hi = bounds(s2, l2)
+    lo0 = max(lo, 0.0)
+    c = 0.5 * (lo0 + hi) if hi > 0 else s2.sum() / 6
+    x0, h = (0.5 * (lo0 + hi), 0.5 * (hi - lo0)) if hi > lo0 else (c, 0.5 * c)
+    h = max(h, 1e-3 * c)
+    xs = np.empty(MAX_ROOTS)
+    ss = np.empty(MAX_ROOTS)
+    n, dbt = scan_one(d, x0, h, np.empty(9), np.empty(4 * K + 1), xs, ss, _workspace(), True)
+    one = np.empty((1, 39))
+    one[0] = d
+    los, his, cs = np.full(1, lo), np.full(1, hi), np.full(1, c)
+    doubt = np.full(1, dbt)
+    status, x, step = polish_scan(one, np.zeros(n, np.int64), xs[:n], ss[:n], los, his, cs,
+                                  doubt)
+    rows = np.empty((0, 3))
+    poses = (np.empty(0), np.empty(0, np.int64), np.empty((0, 3, 3)), np.empty((0, 3, 3)),
+             np.empty((0, 3)), np.empty(0), np.empty(0))
+    if doubt[0]:
+        return True, s2, l2, d, lo, hi, rows, poses
+    roots = np.full((1, 8), np.nan)
+    steps = np.full((1, 8), np.nan)
+    stat = np.full((1, 8), -1, np.int64)
+    slot = np.full((1, 8), -1, np.int64)
+    count = np.zeros(1, np.int64)
+    s15 = np.full((1, 8), np.nan)
+    P = np.full((1, 16, 3, 3), np.nan)
+    R = np.full((1, 16, 3, 3), np.nan)
+    T = np.full((1, 16, 3), np.nan)
+    E = np.full((1, 16), np.nan)
+    Er = np.full((1, 16), np.nan)
+    _place_many(B.reshape(1, 3, 3), Q.reshape(1, 3, 3), L.reshape(1, 6), s2.reshape(1, 6),
+                l2.reshape(1, 6), los, his, cs, np.zeros(n, np.int64), x, step, status,
+                roots, steps, stat, slot, count, s15, P, R, T, E, Er)
+    nr = 0
+    while nr < 8 and stat[0, nr] >= 0:
+        nr += 1
+    rows = np.empty((nr, 3))
+    m = count[0]
+    S15 = np.empty(m)
+    side = np.empty(m, np.int64)
+    for t in range(nr):
+        rows[t, 0], rows[t, 1], rows[t, 2] = roots[0, t], steps[0, t], stat[0, t]
+        if slot[0, t] >= 0:
+            k = slot[0, t]
+            S15[k], S15[k + 1], side[k], side[k + 1] = roots[0, t], roots[0, t], 1, -1
+    poses = (S15, side, P[0, :m].copy(), R[0, :m].copy(), T[0, :m].copy(), E[0, :m].copy(),
+             Er[0, :m].copy())
+    return False, s2, l2, d, lo, hi, rows, poses
 
 
 @_jit

@@ -14,7 +14,7 @@ import numpy as np
 
 from .._generated.octic_general import octic_scalar
 
-__all__ = ["octic_array", "bounds", "companion", "eigenvalues"]
+__all__ = ["octic_array", "octic_rows", "bounds", "companion", "eigenvalues"]
 
 _jit = numba.njit(cache=True)
 _kernel = _jit(octic_scalar)
@@ -52,6 +52,20 @@ def octic_array(s2, l2):
     for i in range(39):
         d[i] = lst[i]
     return d
+
+
+@_jit
+def octic_rows(s2, l2):
+    """:func:`octic_array` for N problems (s2, l2: (N, 6)): (N, 39), the same numbers as
+    the batched numpy kernel (the same generated expressions, in float64 operations;
+    tests/octahedral compare them), without its (N,) temporaries."""
+    n = s2.shape[0]
+    out = np.empty((n, 39))
+    for i in range(n):
+        lst = _kernel(s2[i], l2[i])
+        for k in range(39):
+            out[i, k] = lst[k]
+    return out
 
 
 @_jit

@@ -10,10 +10,11 @@ against leg 5.
 Tiers
 -----
 ``fast``
-    float64: generated octic kernel, companion-matrix eigenvalues (single solve,
-    :mod:`.single`) or a sign scan of the octic (batched, :mod:`.batched`,
-    :mod:`.rootscan`), Newton polish on eq. (3), trilateration and poses in compiled
-    scalar code (numba, :mod:`.single`); batched over many leg sets by
+    float64: generated octic kernel, a projective sign scan of the octic
+    (:mod:`.signscan`, single and batched; the problems it doubts take the
+    companion-matrix eigenvalues of :mod:`.single`), Newton polish on eq. (3),
+    trilateration and poses in compiled scalar code (numba); batched over many leg
+    sets by
     :func:`forward_kinematics_batched`.  The first call on a machine compiles (about
     15-20 s, kept in numba's cache); see BENCHMARKS.md for the cost per solve.  Legs
     reproduced to ~1e-12 relative on well-conditioned problems; every pose states its
@@ -121,12 +122,12 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
     """
     check_method(method, allowed=METHODS_AUTO)
     if method in ("fast", "auto"):
-        from .single import solve_fast_single
+        from .batched import solve_scan_single
         B, Q, L, k, rounded = float_single(base, platform, legs)
         if method == "fast" and not warn:                   # the bare fast tier
-            return _single_result(solve_fast_single(B, Q, L), k=k)
+            return _single_result(solve_scan_single(B, Q, L), k=k)
         from .conditioning import assess, eta_of
-        raw = solve_fast_single(B, Q, L)
+        raw = solve_scan_single(B, Q, L)
         cond = assess(raw.sides2, raw.legs2, raw.data, raw.lo, raw.hi, raw.roots,
                       eta_of(B, Q, L, rounded))
         res = _single_result(raw, conditioning=cond, k=k)

@@ -35,22 +35,21 @@ _jit = numba.njit(cache=True)
 
 
 @_jit
-def _adapted_base(B):
-    """The base-adapted frame: P1, axes e1 (along P1P2), e2, e3 (rows), and P3's
-    in-plane coordinates (p3x, p3y)."""
-    v2 = B[1] - B[0]
-    v3 = B[2] - B[0]
-    dd = math.sqrt(v2[0] * v2[0] + v2[1] * v2[1] + v2[2] * v2[2])
-    A = np.empty((3, 3))
-    A[0] = v2 / dd
-    p3x = v3[0] * A[0, 0] + v3[1] * A[0, 1] + v3[2] * A[0, 2]
-    w = v3 - p3x * A[0]
-    p3y = math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
-    A[1] = w / p3y
+def _adapted_base(B, A):
+    """The base-adapted frame: axes e1 (along P1P2), e2, e3 written to the rows of
+    ``A`` (3, 3); returns |P1P2| and P3's in-plane coordinates (p3x, p3y)."""
+    v20, v21, v22 = B[1, 0] - B[0, 0], B[1, 1] - B[0, 1], B[1, 2] - B[0, 2]
+    v30, v31, v32 = B[2, 0] - B[0, 0], B[2, 1] - B[0, 1], B[2, 2] - B[0, 2]
+    dd = math.sqrt(v20 * v20 + v21 * v21 + v22 * v22)
+    A[0, 0], A[0, 1], A[0, 2] = v20 / dd, v21 / dd, v22 / dd
+    p3x = v30 * A[0, 0] + v31 * A[0, 1] + v32 * A[0, 2]
+    w0, w1, w2 = v30 - p3x * A[0, 0], v31 - p3x * A[0, 1], v32 - p3x * A[0, 2]
+    p3y = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
+    A[1, 0], A[1, 1], A[1, 2] = w0 / p3y, w1 / p3y, w2 / p3y
     A[2, 0] = A[0, 1] * A[1, 2] - A[0, 2] * A[1, 1]
     A[2, 1] = A[0, 2] * A[1, 0] - A[0, 0] * A[1, 2]
     A[2, 2] = A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
-    return A, dd, p3x, p3y
+    return dd, p3x, p3y
 
 
 @_jit
@@ -148,8 +147,9 @@ def assemble_many(B, x, s2, l2):
     h2 = np.empty(m)
     r36 = np.empty(m)
     ad = np.empty((3, 3))
+    A = np.empty((3, 3))
     for i in range(m):
-        A, dd, p3x, p3y = _adapted_base(B[i])
+        dd, p3x, p3y = _adapted_base(B[i], A)
         h2[i], r36[i] = _assemble(x[i], s2[i], l2[i], dd, p3x, p3y, ad)
         if h2[i] > -np.inf:
             _to_base(B[i], A, ad, 1.0, pts[i, 0])
@@ -188,12 +188,19 @@ def place(B, Q, L, s2, l2, lo, hi, roots, nroots, P, R, T, E, Er, S15, side, slo
     root S15 and the side (+1, -1); ``slot[k]`` is the index of root k's first pose
     (-1 if none).  Roots whose sequence degenerates or whose legs are off by
     :data:`_LEG_OK` relative or more get code 3.  Returns the number of poses."""
-    A, dd, p3x, p3y = _adapted_base(B)
-    Fq = np.empty((3, 3))
+    return _place(B, Q, L, s2, l2, lo, hi, roots, nroots, P, R, T, E, Er, S15, side, slot,
+                  np.empty((4, 3, 3)))
+
+
+@_jit
+def _place(B, Q, L, s2, l2, lo, hi, roots, nroots, P, R, T, E, Er, S15, side, slot, ws):
+    """:func:`place` with a work array ``ws`` (4, 3, 3)."""
+    A, Fq, ad, Fb = ws[0], ws[1], ws[2], ws[3]
+    dd, p3x, p3y = _adapted_base(B, A)
     _frame(Q, Fq)
-    qc = (Q[0] + Q[1] + Q[2]) / 3.0
-    ad = np.empty((3, 3))
-    Fb = np.empty((3, 3))
+    qc0 = (Q[0, 0] + Q[1, 0] + Q[2, 0]) / 3.0
+    qc1 = (Q[0, 1] + Q[1, 1] + Q[2, 1]) / 3.0
+    qc2 = (Q[0, 2] + Q[1, 2] + Q[2, 2]) / 3.0
     np_ = 0
     lo0 = max(lo, 0.0)
     for k in range(nroots):
@@ -217,7 +224,7 @@ def place(B, Q, L, s2, l2, lo, hi, roots, nroots, P, R, T, E, Er, S15, side, slo
                     R[i, r, m] = Fb[0, r] * Fq[0, m] + Fb[1, r] * Fq[1, m] + Fb[2, r] * Fq[2, m]
             for r in range(3):
                 T[i, r] = ((P[i, 0, r] + P[i, 1, r] + P[i, 2, r]) / 3.0
-                           - (R[i, r, 0] * qc[0] + R[i, r, 1] * qc[1] + R[i, r, 2] * qc[2]))
+                           - (R[i, r, 0] * qc0 + R[i, r, 1] * qc1 + R[i, r, 2] * qc2))
             e, er = 0.0, 0.0
             for j in range(6):
                 b, p = _LEG_BASE[j], _LEG_PLAT[j]
@@ -241,42 +248,63 @@ def place(B, Q, L, s2, l2, lo, hi, roots, nroots, P, R, T, E, Er, S15, side, slo
 
 
 
-@_jit
 def place_many(B, Q, L, s2, l2, lo, hi, c, row, x, step, status):
     """Sort the roots (row, x, step, status) of every problem, merge those closer than
     :data:`DUP` relative, keep at most 8, and place both poses of each assembly root
     (:func:`place`).  Returns the arrays of :func:`.batched.solve_fast`: roots, steps,
     status (n, 8), slot (n, 8), count (n,), s15 (n, 8), points, rotation (n, 16, 3, 3),
-    translation (n, 16, 3), leg errors absolute and relative (n, 16)."""
+    translation (n, 16, 3), leg errors absolute and relative (n, 16).  (The padded
+    arrays are allocated by numpy, whose fill is faster than numba's; the work is
+    :func:`_place_many`, compiled.)"""
     n = B.shape[0]
-    roots = np.full((n, 8), np.nan)
-    steps = np.full((n, 8), np.nan)
-    stat = np.full((n, 8), -1, np.int64)
-    slot = np.full((n, 8), -1, np.int64)
-    s15 = np.full((n, 8), np.nan)
-    count = np.zeros(n, np.int64)
-    P = np.full((n, 16, 3, 3), np.nan)
-    R = np.full((n, 16, 3, 3), np.nan)
-    T = np.full((n, 16, 3), np.nan)
-    E = np.full((n, 16), np.nan)
-    Er = np.full((n, 16), np.nan)
+    out = (np.full((n, 8), np.nan), np.full((n, 8), np.nan), np.full((n, 8), -1, np.int64),
+           np.full((n, 8), -1, np.int64), np.zeros(n, np.int64), np.full((n, 8), np.nan),
+           np.full((n, 16, 3, 3), np.nan), np.full((n, 16, 3, 3), np.nan),
+           np.full((n, 16, 3), np.nan), np.full((n, 16), np.nan), np.full((n, 16), np.nan))
+    _place_many(B, Q, L, s2, l2, lo, hi, c, row, x, step, status, *out)
+    return out
+
+
+@_jit
+def _place_many(B, Q, L, s2, l2, lo, hi, c, row, x, step, status, roots, steps, stat, slot,
+                count, s15, P, R, T, E, Er):
+    """:func:`place_many` into its NaN-padded output arrays."""
+    n = B.shape[0]
     S = np.empty(16)
     side = np.empty(16, np.int64)
-    order = np.argsort(row, kind="mergesort")
+    # the roots grouped by problem, in their given order within each (a counting
+    # sort: stable, as a merge sort would be, in O(m + n))
+    m = row.size
+    start = np.zeros(n + 1, np.int64)
+    for t in range(m):
+        start[row[t] + 1] += 1
+    for t in range(n):
+        start[t + 1] += start[t]
+    fill = start[:n].copy()
+    order = np.empty(m, np.int64)
+    for t in range(m):
+        order[fill[row[t]]] = t
+        fill[row[t]] += 1
     buf = np.empty((16, 3))
     rt = np.empty((8, 3))
+    srt = np.empty(16, np.int64)
+    ws = np.empty((4, 3, 3))
     k = 0
-    m = row.size
     while k < m:
         i = row[order[k]]
-        j = k
-        while j < m and row[order[j]] == i:
-            j += 1
+        j = start[i + 1]
         nb = min(j - k, 16)
         for t in range(nb):
             q = order[k + t]
             buf[t, 0], buf[t, 1], buf[t, 2] = x[q], abs(step[q]), status[q]
-        srt = np.argsort(buf[:nb, 0], kind="mergesort")
+        # by increasing root, stable (insertion sort of at most 16)
+        for t in range(nb):
+            u = t
+            while u > 0 and (buf[srt[u - 1], 0] > buf[t, 0] or (
+                    math.isnan(buf[srt[u - 1], 0]) and not math.isnan(buf[t, 0]))):
+                srt[u] = srt[u - 1]
+                u -= 1
+            srt[u] = t
         nr = 0
         for t in range(nb):
             v = buf[srt[t]]
@@ -286,11 +314,18 @@ def place_many(B, Q, L, s2, l2, lo, hi, c, row, x, step, status):
                 break
             rt[nr, 0], rt[nr, 1], rt[nr, 2] = v[0], v[1], v[2]
             nr += 1
-        np_ = place(B[i], Q[i], L[i], s2[i], l2[i], lo[i], hi[i], rt, nr, P[i], R[i],
-                     T[i], E[i], Er[i], S, side, slot[i])
+        np_ = _place(B[i], Q[i], L[i], s2[i], l2[i], lo[i], hi[i], rt, nr, P[i], R[i],
+                     T[i], E[i], Er[i], S, side, slot[i], ws)
         count[i] = np_
-        for t in range(np_, 16):        # rejected placements leave partial writes
-            P[i, t], R[i, t], T[i, t], E[i, t], Er[i, t] = np.nan, np.nan, np.nan, np.nan, np.nan
+        # a rejected placement leaves partial writes in the two slots after the poses
+        # (every rejected root of the problem writes to the same two)
+        for t in range(np_, min(np_ + 2, 16)):
+            for a in range(3):
+                T[i, t, a] = np.nan
+                for b in range(3):
+                    P[i, t, a, b] = np.nan
+                    R[i, t, a, b] = np.nan
+            E[i, t], Er[i, t] = np.nan, np.nan
         a = 0
         for t in range(nr):
             roots[i, t], steps[i, t], stat[i, t] = rt[t, 0], rt[t, 1], int(rt[t, 2])
@@ -298,4 +333,3 @@ def place_many(B, Q, L, s2, l2, lo, hi, c, row, x, step, status):
                 s15[i, a] = rt[t, 0]
                 a += 1
         k = j
-    return roots, steps, stat, slot, count, s15, P, R, T, E, Er

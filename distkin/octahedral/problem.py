@@ -13,6 +13,7 @@ import math
 from fractions import Fraction
 from functools import lru_cache
 
+import numba
 import numpy as np
 
 from ..errors import DegenerateGeometryError, InputError
@@ -286,16 +287,25 @@ def float_single(base, platform, legs):
 
     Returns
     -------
-    base, platform : lists of 3 lists of 3 floats (rows), divided by ``2**k``
-    legs : list of 6 floats, divided by ``2**k``
+    base, platform : lists of 3 lists of 3 floats (rows), divided by ``2**k`` (or the
+        given (3, 3) float64 arrays themselves, on the fast path below)
+    legs : list of 6 floats, divided by ``2**k`` (or the given (6,) array)
     k : int
     rounded : bool
         Some input is not exactly its float (see :func:`float_problem`).
 
-    Plain numbers (and numpy arrays of them) take a path in plain Python floats; other
+    Float64 arrays of the right shapes whose values need no rescaling and pass every
+    check are returned as they are (the checks compiled, :func:`_arrays_ok`); other
+    plain numbers (and numpy arrays of them) take a path in plain Python floats; other
     inputs (numeric strings such as ``"sqrt(108)"``, wrong shapes) go through
     :func:`float_problem` and raise the same errors.
     """
+    if (type(base) is np.ndarray and type(platform) is np.ndarray and type(legs) is np.ndarray
+            and base.shape == _SHAPE33 and platform.shape == _SHAPE33
+            and legs.shape == _SHAPE6 and base.dtype == _F8 and platform.dtype == _F8
+            and legs.dtype == _F8 and base.flags.c_contiguous and platform.flags.c_contiguous
+            and legs.flags.c_contiguous and _arrays_ok(base, platform, legs)):
+        return base, platform, legs, 0, False
     try:
         B = _float_rows(base)
         Q = _float_rows(platform)
@@ -333,6 +343,40 @@ def float_single(base, platform, legs):
 
 
 _SMALL, _LARGE = 2.0 ** -KEEP, 2.0 ** KEEP       # lengths not rescaled (.scaling)
+_SHAPE33, _SHAPE6, _F8 = (3, 3), (6,), np.dtype(np.float64)
+
+
+@numba.njit(cache=True)
+def _arrays_ok(B, Q, L):
+    """The checks of :func:`float_single` on float64 arrays B, Q (3, 3), L (6,), compiled
+    (issue 17): every value finite, legs positive, the largest modulus in
+    [_SMALL, _LARGE) (no rescaling), both triangles proper (the same formula and
+    threshold).  False sends the data down the general path, which raises the error."""
+    largest = 0.0
+    for P in (B, Q):
+        for i in range(3):
+            for j in range(3):
+                v = P[i, j]
+                if not math.isfinite(v):
+                    return False
+                largest = max(largest, abs(v))
+    for i in range(6):
+        v = L[i]
+        if not (math.isfinite(v) and v > 0):
+            return False
+        largest = max(largest, v)
+    if not _SMALL <= largest < _LARGE:
+        return False
+    for P in (B, Q):
+        ax, ay, az = P[0, 0], P[0, 1], P[0, 2]
+        bx, by, bz = P[1, 0], P[1, 1], P[1, 2]
+        cx, cy, cz = P[2, 0], P[2, 1], P[2, 2]
+        a = (ax - bx) ** 2 + (ay - by) ** 2 + (az - bz) ** 2
+        b = (ax - cx) ** 2 + (ay - cy) ** 2 + (az - cz) ** 2
+        c = (bx - cx) ** 2 + (by - cy) ** 2 + (bz - cz) ** 2
+        if not 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c) > 1e-12 * (a + b + c) ** 2:
+            return False
+    return True
 
 
 def _float_row(r, n):

@@ -205,6 +205,41 @@ class BatchResult:
         return _fast_result(self.raw, i)
 
 
+_new = object.__new__
+_set = object.__setattr__
+
+
+def _pose(s15, side, rotation, translation, points, err, rel):
+    """A fast-tier :class:`Pose` without the frozen dataclass's ``__init__`` (one
+    ``object.__setattr__`` per field; here the instance dictionary is set at once):
+    the same object -- fields, repr, equality, pickling -- at a fifth of the cost
+    (issue 17)."""
+    p = _new(Pose)
+    _set(p, "__dict__", {"s15": s15, "side": side, "rotation": rotation,
+                         "translation": translation, "points": points,
+                         "max_leg_error": err, "max_leg_error_relative": rel,
+                         "native": None, "radius": 0.0})
+    return p
+
+
+def _assembly(poses, octic, roots, reason, notes, conditioning):
+    """A fast-tier :class:`AssemblyResult`, as :func:`_pose`."""
+    a = _new(AssemblyResult)
+    _set(a, "__dict__", {"poses": poses, "method": "fast", "octic": octic,
+                         "octic_exact": False, "roots": roots, "certified": False,
+                         "reason": reason, "accuracy": _FAST_ACCURACY, "notes": notes,
+                         "tier": "fast", "tier_reason": "", "conditioning": conditioning})
+    return a
+
+
+def _root(x, step, code):
+    """A fast-tier :class:`RootInfo` (status code of :data:`REASONS`), as :func:`_pose`."""
+    r = _new(RootInfo)
+    _set(r, "__dict__", {"value": x, "radius": step, "multiplicity": 1,
+                         "status": _STATUS[code], "reason": _REASONS[code], "native": x})
+    return r
+
+
 def _fast_result(raw, i):
     """The :class:`AssemblyResult` of problem ``i`` of :func:`.batched.solve_fast`'s arrays."""
     roots, poses = [], []
@@ -214,9 +249,9 @@ def _fast_result(raw, i):
                                  raw["status"][i].tolist(), raw["slot"][i].tolist()):
         if code < 0:
             continue
-        roots.append(RootInfo(x, st, 1, _STATUS[code], _REASONS[code], x))
+        roots.append(_root(x, st, code))
         for j, side in ((slot, 1), (slot + 1, -1)) if code == 0 else ():
-            poses.append(Pose(x, side, R[j].copy(), T[j].copy(), P[j].copy(), E[j], Er[j]))
+            poses.append(_pose(x, side, R[j].copy(), T[j].copy(), P[j].copy(), E[j], Er[j]))
     reason = "" if poses else _empty_reason(roots, raw["lo"][i], raw["hi"][i])
     notes = (_SPURIOUS_NOTE,)
     if "octic_exponent" in raw and raw["octic_exponent"][i]:
@@ -226,9 +261,8 @@ def _fast_result(raw, i):
         from .conditioning import from_verdict
         n = len(roots)
         cond = from_verdict(int(raw["verdict"][i]), raw["roots"][i][:n], raw["radii"][i][:n])
-    return AssemblyResult(tuple(poses), "fast", tuple(raw["coef"][i].tolist()), False,
-                          tuple(roots), False, reason, _FAST_ACCURACY, notes,
-                          tier="fast", conditioning=cond)
+    return _assembly(tuple(poses), tuple(raw["coef"][i].tolist()), tuple(roots), reason,
+                     notes, cond)
 
 
 def _VERDICTS():
@@ -259,12 +293,10 @@ def _single_result(solve, conditioning=None, k=0):
             notes += (_overflow_note(k),)
         if conditioning is not None:
             conditioning = replace(conditioning, radius=math.ldexp(conditioning.radius, 2 * k))
-    infos = tuple(RootInfo(x, st, 1, _STATUS[code], _REASONS[code], x)
-                  for x, st, code in roots.tolist())
-    out = tuple(map(Pose, S.tolist(), side.tolist(), R, T, P, E.tolist(), Er.tolist()))
+    infos = tuple(_root(x, st, int(code)) for x, st, code in roots.tolist())
+    out = tuple(map(_pose, S.tolist(), side.tolist(), R, T, P, E.tolist(), Er.tolist()))
     reason = "" if out else _empty_reason(infos, lo, hi)
-    return AssemblyResult(out, "fast", octic, False, infos, False, reason,
-                          _FAST_ACCURACY, notes, tier="fast", conditioning=conditioning)
+    return _assembly(out, octic, infos, reason, notes, conditioning)
 
 
 _STATUS = {0: "assembly", 1: "spurious", 2: "spurious", 3: "rejected"}

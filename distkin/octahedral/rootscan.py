@@ -49,7 +49,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["real_roots", "K"]
+__all__ = ["real_roots", "grid", "K"]
 
 #: grid angles over the period; a multiple of 8 so that theta = +-3pi/8, +-pi/4, 0 are
 #: grid points
@@ -59,25 +59,35 @@ _ITER = 12          # at most, Halley/bisection steps per bracket (interpolated 
 #: two real roots that the coefficients' rounding (up to ~2e3 eps) made complex
 _SHALLOW = 1e-11
 
+
+
+def grid(k):
+    """The scan's grid of ``k`` cells over the period (k a multiple of 8, so that
+    theta = +-3pi/8, +-pi/4, 0 are grid points): angles theta (k + 1,), V (9, k + 1)
+    with V[j, i] = s_i^j c_i^(8-j) (f on the grid is q @ V), the grid points and the
+    cells refined in u = tan(theta) (|theta| < 3 pi / 8; the others in w = cot(theta),
+    so that |u|, |w| < 2.5 either way), and the bracket ends (k,) of each cell in its
+    variable."""
+    dtheta = np.pi / k
+    theta = -np.pi / 2 + dtheta * np.arange(k + 1)          # theta_k = pi/2 = theta_0 + pi
+    S, C = np.sin(theta), np.cos(theta)
+    S[0], C[0], S[k], C[k] = -1.0, 0.0, 1.0, 0.0          # exactly the point at infinity
+    S[k // 2], C[k // 2] = 0.0, 1.0
+    J = np.arange(9)[:, None]
+    V = np.ascontiguousarray(S[None, :] ** J * C[None, :] ** (8 - J))   # 0^0 = 1
+    ku = k // 8
+    u_pt = np.abs(np.arange(k + 1) - k // 2) < 3 * k // 8
+    inside = (np.arange(k) >= ku) & (np.arange(k) < k - ku)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tan = np.where(C != 0, S / C, np.inf)
+        cot = np.where(S != 0, C / S, np.inf)
+    cot[0] = cot[k] = 0.0
+    return (theta, V, u_pt, inside, np.where(inside, tan[:k], cot[:k]),
+            np.where(inside, tan[1:], cot[1:]))
+
+
 _DTHETA = np.pi / K
-_THETA = -np.pi / 2 + _DTHETA * np.arange(K + 1)          # theta_K = pi/2 = theta_0 + pi
-_S, _C = np.sin(_THETA), np.cos(_THETA)
-_S[0], _C[0], _S[K], _C[K] = -1.0, 0.0, 1.0, 0.0          # exactly the point at infinity
-_S[K // 2], _C[K // 2] = 0.0, 1.0
-_J = np.arange(9)[:, None]
-# V[j, k] = s^j c^(8-j) (0^0 = 1): f on the grid is q @ V
-_V = np.ascontiguousarray(_S[None, :] ** _J * _C[None, :] ** (8 - _J))   # (9, K + 1)
-# grid points (and cells) with |theta| < 3 pi / 8 are refined in u = tan(theta), the
-# others in w = cot(theta) (|u|, |w| < 2.5 either way); bracket ends of each cell
-_KU = K // 8
-_U_PT = np.abs(np.arange(K + 1) - K // 2) < 3 * K // 8       # grid points in u-space
-_INSIDE = (np.arange(K) >= _KU) & (np.arange(K) < K - _KU)     # cells in u-space
-with np.errstate(divide="ignore", invalid="ignore"):
-    _TAN = np.where(_C != 0, _S / _C, np.inf)
-    _COT = np.where(_S != 0, _C / _S, np.inf)
-_COT[0] = _COT[K] = 0.0
-_V_LO = np.where(_INSIDE, _TAN[:K], _COT[:K])
-_V_HI = np.where(_INSIDE, _TAN[1:], _COT[1:])
+_THETA, _V, _U_PT, _INSIDE, _V_LO, _V_HI = grid(K)
 #: rows per matrix product of the grid: larger products make OpenBLAS start threads,
 #: which cost ~7x the CPU time on a loaded 2-core machine for this tiny inner dimension
 _CHUNK = 256

@@ -31,7 +31,10 @@ Real roots outside the triangle bounds of :math:`s_{15}`, or where a banana tetr
 has negative squared volume, are spurious.  The trilateration sequence of Sec. III and
 the two mirror poses of every assembly root are :func:`.placement.place`.
 
-The batched tier (:mod:`.batched`) finds its roots by a sign scan and uses the same
+The public single solve (:func:`~.forward.forward_kinematics`) now goes the batched
+tier's way first (:func:`.batched.solve_scan_single`, issue 17: the eigenvalue call was
+most of its cost) and comes here for the problems the sign scan doubts; the tests
+compare both routes.  The batched tier (:mod:`.batched`) finds its roots by a sign scan and uses the same
 compiled stages (the polish on eq. (3), the factored Newton, :func:`roots_from_eigenvalues` for the
 problems the scan doubts, the placement).
 
@@ -542,9 +545,12 @@ def compile_notice() -> str:
     """What to tell the user before the first fast solve on a machine, when numba's
     cache holds no machine code for it yet (the call then compiles, about 15 s); ""
     when it does, or when that cannot be told (the check reads numba's cache index, an
-    internal of numba)."""
+    internal of numba).  Every fast solve runs the compiled sign scan
+    (:func:`.signscan.scan_one`, issue 17); the eigenvalue route here compiles later, on
+    the first problem the scan doubts."""
+    from .signscan import scan_one
     try:
-        pending = not os.path.exists(_solve._cache._cache_file._index_path)
+        pending = not os.path.exists(scan_one._cache._cache_file._index_path)
     except Exception:  # pragma: no cover - other numba layouts: say nothing
         pending = False
     return ("compiling the fast octahedral tier for this machine (numba, about 20 s, "

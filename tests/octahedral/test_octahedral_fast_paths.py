@@ -5,9 +5,10 @@
   trilateration (:func:`distkin.geometry.trilateration.trilaterate`) run step by step as
   in Sec. III of Rojas et al. (ICRA 2012), on octahedra in general position (base not in
   z = 0), and against the generating pose;
-* the single-solve tier (eigenvalues) and the batched tier (sign scan; two root
-  finders feeding the same compiled polish and placement) against each other and
-  against the certified roots;
+* the single-solve tier and the batched tier against each other and against the
+  certified roots (since issue 17 the single solve takes the batched tier's sign scan
+  first and the eigenvalues only for the problems the scan doubts; the eigenvalue
+  route on its own is compared with the scan in test_octahedral_signscan.py);
 * every returned pose is a proper rigid motion that carries the platform triangle onto
   the returned points (this checks the mirror-image shortcut for side -1).
 """

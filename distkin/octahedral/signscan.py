@@ -1,0 +1,357 @@
+r"""The projective sign scan of :mod:`.rootscan`, compiled, one problem at a time (numba).
+
+Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, Sec. III:
+the fast batched tier needs every real root of N octics :math:`O(s_{15})`.
+:mod:`.rootscan` finds them with a few dozen numpy operations over all problems (a grid
+of :data:`.rootscan.K` angles as one matrix product, brackets refined by safeguarded
+Halley steps, a Sturm count as a check); its docstring has the algorithm.  Here the same
+algorithm runs as one compiled loop over the problems, without numpy temporaries
+(issue 17: the numpy version cost ~4 µs per problem, most of it in the overhead of
+gathering and scattering small arrays):
+
+* the octic rebuilt around the middle of the feasible interval from the quadratic parts
+  of eq. (3) (:func:`_shifted`, the operations of :func:`~.closure.shifted_octic` in the
+  same order), and the sizes of its terms only where a minimum of :math:`|f|` is tested;
+* the grid values :math:`f(\theta_k) = \sum_j q_j s_k^j c_k^{8-j}`, the sign changes,
+  the local minima of :math:`|f|` that dip through zero, the Halley refinement and the
+  Sturm count, operation for operation as in :mod:`.rootscan`.
+
+One step beyond :mod:`.rootscan`: a problem the grid doubts is scanned once more on a
+grid four times finer (:data:`FINE`, same checks) before it is given up to the careful
+way (eigenvalues, :mod:`.batched`): on 2000 random octahedra that leaves 51 of the 172
+doubted problems (BENCHMARKS.md has the cost of both).  Whatever the route, the proof of
+:mod:`.descartes` then vouches for the answer or flags it.
+
+Agreement with :mod:`.rootscan` (``fine=False``): every operation is the same except
+the grid values, which numpy computes by a BLAS matrix product (another order of
+summation, fused multiply-adds): they differ in the last bits.  They only choose the
+brackets and the starts of the refinement: the same problems are doubted, the same
+number of roots found, within 1e-9 relative (7e-10 observed; the refinement stops at
+steps of 1e-11 in u), and after the polish on eq. (3) within the proved radii
+(tests/octahedral/test_octahedral_signscan.py).  A grid value within rounding of zero
+could in principle move a sign change by one cell; the Sturm check then doubts the
+problem as before.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from .rootscan import _ITER, _SHALLOW, K, grid
+
+__all__ = ["scan_many", "scan_one", "MAX_ROOTS", "GRID", "FINE"]
+
+#: roots kept per problem (the octic has at most 8; more means noise: the problem is
+#: doubted)
+MAX_ROOTS = 16
+
+_jit = numba.njit(cache=True, error_model="numpy")
+
+#: the grid of :mod:`.rootscan` (K cells), and one four times finer for the second try
+#: on the problems the first one doubts (:func:`scan_many`)
+GRID = grid(K)
+FINE = grid(4 * K)
+
+
+@_jit
+def _shifted(d, x0, h, absolute, q, ws):
+    """Coefficients (ascending in u) of :math:`O(x_0 + hu)` into ``q`` (9,): the
+    quadratic parts shifted, then :math:`G^2 - 4R_1R_2` multiplied out (or, with
+    ``absolute``, :math:`|G|^2 + 4|R_1R_2|` term by term: the sizes of the terms), as
+    :func:`~.closure.shifted_octic` computes them.  ``ws``: the work arrays of
+    :func:`_workspace`."""
+    P, pr, G, g2, r2 = ws[0], ws[1], ws[2], ws[3], ws[4]
+    for i in range(10):
+        c0, c1, c2 = d[3 * i], d[3 * i + 1], d[3 * i + 2]
+        p0 = c0 + x0 * (c1 + x0 * c2)
+        p1 = h * (c1 + 2 * x0 * c2)
+        p2 = (h * h) * c2
+        if absolute:
+            p0, p1, p2 = abs(p0), abs(p1), abs(p2)
+        P[i, 0], P[i, 1], P[i, 2] = p0, p1, p2
+    pr[:] = 0.0
+    for t, (a, b) in enumerate(((0, 5), (1, 4), (2, 3), (6, 7), (8, 9))):
+        for i in range(3):
+            for j in range(3):
+                pr[t, i + j] += P[a, i] * P[b, j]
+    for k in range(5):
+        G[k] = pr[0, k] + pr[1, k] + 2 * pr[2, k]
+    g2[:] = 0.0
+    r2[:] = 0.0
+    for i in range(5):
+        for j in range(5):
+            g2[i + j] += G[i] * G[j]
+            r2[i + j] += pr[3, i] * pr[4, j]
+    f = 4.0 if absolute else -4.0
+    for k in range(9):
+        q[k] = g2[k] + f * r2[k]
+
+
+@_jit
+def _workspace():
+    """Work arrays: the shifted parts (10, 3), their products (5, 5), G (5,), G^2 and
+    R1 R2 (9,) each, the sizes of the terms (9,), the dipping minima (K, 5), the
+    derivative polynomial (9,)."""
+    return (np.empty((10, 3)), np.empty((5, 5)), np.empty(5), np.empty(9), np.empty(9),
+            np.empty(9), np.empty((4 * K, 5)), np.empty(9))
+
+
+@_jit
+def _horner(P, v):
+    """Value and derivative of the octic P (9,), ascending, at v (as :mod:`.rootscan`)."""
+    p = P[8] * v + P[7]
+    dp = P[8]
+    for j in range(6, -1, -1):
+        dp = dp * v + p
+        p = p * v + P[j]
+    return p, dp
+
+
+@_jit
+def _refine(P, a, b, pa, iters, x, tol):
+    """One bracket of :func:`.rootscan._refine`: Halley from x in [a, b] (either order),
+    P(a) of sign ``pa``; bisection when a step leaves the bracket.  Returns (root, last
+    step)."""
+    step = abs(b - a)
+    ppos = pa > 0
+    for it in range(iters):
+        p = P[8] * x + P[7]
+        dp = P[8]
+        d2 = 0.0
+        for j in range(6, -1, -1):
+            d2 = d2 * x + dp
+            dp = dp * x + p
+            p = p * x + P[j]
+        if (p > 0) == ppos:
+            a = x
+        else:
+            b = x
+        xn = x - p * dp / (dp * dp - p * d2)
+        if not (xn - a) * (xn - b) <= 0:
+            xn = 0.5 * (a + b)
+        st = abs(xn - x)
+        prev, step, x = step, st, xn
+        if it >= 1 and it < iters - 1:
+            if not (st > tol and (st < 0.9 * prev or st > 1e-8)):
+                break
+    return x, step
+
+
+@_jit
+def _sturm_count(q):
+    """:func:`.rootscan._sturm_count` of one octic q (9,), ascending."""
+    big = 0.0
+    for j in range(9):
+        big = max(big, abs(q[j]))
+    a = np.empty(9)
+    for j in range(9):
+        a[j] = q[8 - j] / big
+    b = np.empty(8)
+    for j in range(8):
+        b[j] = a[j] * (8 - j)
+    lc = np.empty(9)
+    lc[0], lc[1] = a[0], b[0]
+    na = 9
+    r = np.empty(8)
+    for d in range(7, 0, -1):              # a: degree d+1 (na = d + 2), b: d
+        al = a[0] / b[0]
+        ga = (a[1] - al * b[1]) / b[0]
+        nr = na - 2
+        for i in range(nr):
+            r[i] = a[i + 2] - ga * b[i + 1]
+        for i in range(nr - 1):
+            r[i] -= al * b[i + 2]
+        rmax = 0.0
+        for i in range(nr):
+            rmax = max(rmax, abs(r[i]))
+        for i in range(na - 1):
+            a[i] = b[i]
+        for i in range(nr):
+            b[i] = -r[i] / rmax
+        na -= 1
+        lc[9 - d] = b[0]
+    count = 0
+    for k in range(9):
+        if not math.isfinite(lc[k]) or abs(lc[k]) < 1e-12:
+            return -1
+    for k in range(8):
+        p0, p1 = lc[k] > 0, lc[k + 1] > 0
+        m0 = p0 if (8 - k) % 2 == 0 else not p0
+        m1 = p1 if (7 - k) % 2 == 0 else not p1
+        count += (m0 != m1) - (p0 != p1)
+    return count
+
+
+@_jit
+def _scan_one(d, x0, h, q, F, xs, ss, ws, g):
+    """Stages 1 and 2 of :mod:`.rootscan` for one problem (kernel output ``d``, centre
+    ``x0``, half-width ``h``; work arrays ``ws``, :func:`_workspace`, ``F`` of at least
+    k + 1; the grid ``g`` of :func:`.rootscan.grid`, k cells): writes the roots (units of x) and their last steps to
+    ``xs``, ``ss`` in the order of :func:`.rootscan._scan` (sign changes by cell, then
+    the left and the right roots of every dipping minimum); returns their number and
+    whether the problem is doubted (a shallow minimum, the Sturm count differs, or
+    more than :data:`MAX_ROOTS`).  ``q`` (9,): a work array."""
+    _THETA, _V, _U_PT, _INSIDE, _V_LO, _V_HI = g
+    K = _V_LO.size
+    _DTHETA = np.pi / K
+    _shifted(d, x0, h, False, q, ws)
+    for k in range(K + 1):             # (j outer: the same sums, vectorised over k)
+        F[k] = 0.0
+    for j in range(9):
+        qj = q[j]
+        for k in range(K + 1):
+            F[k] += qj * _V[j, k]
+    rev = q[::-1]
+    qa, mins, g = ws[5], ws[6], ws[7]
+    have_qa = False
+    doubt = False
+    n = 0
+    nmax = xs.size
+    # sign changes, by cell
+    for kc in range(K):
+        fa, fb = F[kc], F[kc + 1]
+        pc = fa >= 0
+        if pc == (fb >= 0):
+            continue
+        fc = F[kc + 2] if kc < K - 1 else F[kc + 1 - K]
+        lin = fa / (fa - fb)
+        quad = fa * fc / ((fb - fa) * (fb - fc)) + 2.0 * fa * fb / ((fc - fa) * (fc - fb))
+        t = quad if (quad > 0) and (quad < 1) else lin
+        t0 = _THETA[kc] + _DTHETA * t
+        ins = _INSIDE[kc]
+        v0 = math.tan(t0) if ins else 1.0 / math.tan(t0)
+        if not math.isfinite(v0):
+            v0 = 0.0
+        P = q if ins else rev
+        v, st = _refine(P, _V_LO[kc], _V_HI[kc], 1.0 if pc else -1.0, _ITER, v0, 1e-11)
+        n = _emit(v, st, ins, x0, h, xs, ss, n)
+        if n > nmax:
+            return nmax, True
+    # local minima of |f| without a sign change that dip through zero
+    nm = 0                              # mins: (a, m, b, sign, in u) of dipping minima
+    for kc in range(K):
+        k1 = kc + 1
+        k2 = k1 + 1 if k1 < K else 1
+        a0 = abs(F[kc])
+        a1 = abs(F[k1]) if k1 < K else abs(F[0])
+        a2 = abs(F[k2]) if k2 < K else abs(F[0])
+        if not (a1 < a0 and not a2 < a1):
+            continue
+        s0, s1 = F[kc] >= 0, F[k1] >= 0
+        s2 = F[k1 + 1] >= 0 if k1 < K else F[1] >= 0
+        if s0 != s1 or s1 != s2:
+            continue
+        pd = s1
+        kd = k1 if k1 < K else 0
+        usp = _U_PT[kd]
+        P = q if usp else rev
+        tl, tr = _THETA[kd] - _DTHETA, _THETA[kd] + _DTHETA
+        a = math.tan(tl) if usp else 1.0 / math.tan(tl)
+        b = math.tan(tr) if usp else 1.0 / math.tan(tr)
+        if not math.isfinite(a):
+            a = 0.0
+        if not math.isfinite(b):
+            b = 0.0
+        for m in range(9):
+            g[m] = ((m + 1) * P[m + 1] if m < 8 else 0.0) + ((m - 9) * P[m - 1] if m else 0.0)
+        ga, _ = _horner(g, a)
+        gb, _ = _horner(g, b)
+        if (ga > 0) == (gb > 0):
+            continue
+        m, _ = _refine(g, a, b, 1.0 if ga > 0 else -1.0, _ITER, 0.5 * (a + b), 1e-7)
+        pm, _ = _horner(P, m)
+        if (pm > 0) != pd:
+            mins[nm, 0], mins[nm, 1], mins[nm, 2] = a, m, b
+            mins[nm, 3], mins[nm, 4] = 1.0 if pd else -1.0, 1.0 if usp else 0.0
+            nm += 1
+            continue
+        # a minimum within the rounding of the coefficients
+        if not have_qa:
+            _shifted(d, x0, h, True, qa, ws)
+            have_qa = True
+        av = abs(m)
+        A = qa if usp else qa[::-1]
+        size = A[8] * av + A[7]
+        for j in range(6, -1, -1):
+            size = size * av + A[j]
+        if abs(pm) <= _SHALLOW * size:
+            doubt = True
+    for side in range(2):
+        for i in range(nm):
+            a, m, b, fd, usp = mins[i, 0], mins[i, 1], mins[i, 2], mins[i, 3], mins[i, 4] > 0
+            P = q if usp else rev
+            if side == 0:
+                v, st = _refine(P, a, m, fd, _ITER, 0.5 * (a + m), 1e-11)
+            else:
+                v, st = _refine(P, m, b, -fd, _ITER, 0.5 * (m + b), 1e-11)
+            n = _emit(v, st, usp, x0, h, xs, ss, n)
+            if n > nmax:
+                return nmax, True
+    if _sturm_count(q) != n:
+        doubt = True
+    return n, doubt
+
+
+@_jit
+def scan_one(d, x0, h, q, F, xs, ss, ws, fine):
+    """:func:`_scan_one` on the grid of :mod:`.rootscan`, and once more on :data:`FINE`
+    when that doubts the problem and ``fine`` is set.  ``F``: (4 K + 1,)."""
+    k, dbt = _scan_one(d, x0, h, q, F, xs, ss, ws, GRID)
+    if dbt and fine:
+        k, dbt = _scan_one(d, x0, h, q, F, xs, ss, ws, FINE)
+    return k, dbt
+
+
+@_jit
+def _emit(v, st, ins, x0, h, xs, ss, n):
+    """Append the root v (u = tan or w = cot space) as x = x0 + h u, with its step in
+    units of x, when finite; returns the new count (> xs.size: overflow)."""
+    u = v if ins else 1.0 / v
+    dxdv = (1.0 if ins else 1.0 / (v * v)) * h
+    if not math.isfinite(u):
+        return n
+    if n >= xs.size:
+        return n + 1
+    xs[n] = x0 + h * u
+    ss[n] = st * dxdv
+    return n + 1
+
+
+@_jit
+def scan_many(data, x0, h, fine=True):
+    """:func:`.rootscan.real_roots` of the octics of N problems, compiled.
+
+    Parameters
+    ----------
+    data : (N, 39) kernel output (quadratic parts of eq. (3) first)
+    x0, h : (N,) centre and half-width (h > 0) of the feasible interval of s15
+    fine : bool
+        Scan the problems that the grid of :mod:`.rootscan` doubts once more on a grid
+        four times finer (:data:`FINE`), with the same checks; those it still doubts
+        are doubted.  False: :func:`.rootscan.real_roots` exactly.
+
+    Returns
+    -------
+    row : (M,) int, x : (M,) roots, step : (M,) last steps (units of x), doubt : (N,)
+        bool, as :func:`.rootscan.real_roots` (roots grouped by problem).
+    """
+    n = data.shape[0]
+    row = np.empty(n * MAX_ROOTS, np.int64)
+    x = np.empty(n * MAX_ROOTS)
+    step = np.empty(n * MAX_ROOTS)
+    doubt = np.zeros(n, np.bool_)
+    q = np.empty(9)
+    F = np.empty(4 * K + 1)
+    ws = _workspace()
+    m = 0
+    for i in range(n):
+        xs = x[m:m + MAX_ROOTS]
+        k, dbt = scan_one(data[i], x0[i], h[i], q, F, xs, step[m:m + MAX_ROOTS], ws, fine)
+        for j in range(k):
+            row[m + j] = i
+        doubt[i] = dbt
+        m += k
+    return row[:m], x[:m], step[:m], doubt

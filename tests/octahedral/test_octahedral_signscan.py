@@ -1,0 +1,173 @@
+"""The compiled routes of the batched fast tier (issue 17) against the numpy routes they
+replace, and the light result objects against the dataclass constructors.
+
+* :func:`distkin.octahedral.signscan.scan_many` (one compiled loop per problem) against
+  :func:`distkin.octahedral.rootscan.real_roots` (numpy, the previous route): the same
+  problems doubted, the same number of roots per problem, the roots within 1e-9
+  relative (the grid values differ in the last bits, BLAS against a plain sum; the
+  refinement stops at 1e-11 in u);
+* the whole batched tier with either scan: the same counts, statuses and verdicts of
+  the proof, and every assembly root of a proved problem within the sum of both routes'
+  proved radii of the other's (both lie within their radius of the same exact root);
+  poses within 1e-9 of the size of the mechanism;
+* the compiled scalar kernel over rows against the batched numpy kernel: equal bits;
+* the fast result objects (built without ``__init__``) equal to, and printed as, those
+  built by the dataclass constructors.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+from distkin.errors import ConditioningWarning
+from distkin.octahedral import batched, forward_kinematics, forward_kinematics_batched
+from distkin.octahedral.closure import octic_data, shifted_octic
+from distkin.octahedral.companion import octic_rows
+from distkin.octahedral.problem import float_problem
+from distkin.octahedral.reference import random_octahedron
+from distkin.octahedral.result import AssemblyResult, Pose, RootInfo
+from distkin.octahedral.rootscan import real_roots
+from distkin.octahedral.signscan import scan_many
+
+
+@pytest.fixture(scope="module")
+def problems():
+    rng = np.random.default_rng(1717)
+    probs = [random_octahedron(rng) for _ in range(400)]
+    return (np.array([p[0] for p in probs]), np.array([p[1] for p in probs]),
+            np.array([p[2] for p in probs]))
+
+
+def _numpy_scan(data, x0, h):
+    return real_roots(shifted_octic(data, x0, h),
+                      lambda r: shifted_octic(data[r], x0[r], h[r], absolute=True), x0, h)
+
+
+def _window(s2, l2):
+    """Centre, half-width and scale of the scan, as :func:`.batched.solve_fast` chooses
+    them."""
+    _, _, x0, h, c = batched.scan_window(s2, l2)
+    return x0, h, c
+
+
+def test_compiled_kernel_rows_equal_the_numpy_kernel(problems):
+    _, _, _, s2, l2, _, _ = float_problem(*problems)
+    s2, l2 = np.ascontiguousarray(s2), np.ascontiguousarray(l2)
+    assert np.array_equal(octic_rows(s2, l2), octic_data(s2, l2, "fast"))
+
+
+def test_compiled_scan_matches_the_numpy_scan(problems):
+    _, _, _, s2, l2, _, _ = float_problem(*problems)
+    data = octic_data(s2, l2, "fast")
+    x0, h, c = _window(s2, l2)
+    r1, x1, _, d1 = _numpy_scan(data, x0, h)
+    r2, x2, _, d2 = scan_many(data, x0, h, False)
+    assert np.array_equal(d1, d2)
+    assert d1.sum() > 0                       # the doubt path is exercised
+    assert np.array_equal(np.bincount(r1, minlength=len(x0)), np.bincount(r2, minlength=len(x0)))
+    o1, o2 = np.lexsort((x1, r1)), np.lexsort((x2, r2))
+    assert np.array_equal(r1[o1], r2[o2])
+    rel = np.abs(x1[o1] - x2[o2]) / np.maximum(np.abs(x1[o1]), c[r1[o1]])
+    assert rel.max() <= 1e-9
+
+
+def test_batched_tier_with_either_scan_agrees(problems, monkeypatch):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConditioningWarning)
+        monkeypatch.setattr(batched, "scan_many", lambda d, x0, h: scan_many(d, x0, h, False))
+        new = forward_kinematics_batched(*problems)
+        monkeypatch.setattr(batched, "scan_many", _numpy_scan)
+        old = forward_kinematics_batched(*problems)
+    assert np.array_equal(new.count, old.count)
+    assert np.array_equal(new.raw["status"], old.raw["status"])
+    assert np.array_equal(new.verdict, old.verdict)
+    proved = new.trusted[:, None] & (new.raw["status"] == 0)
+    gap = np.abs(new.raw["roots"] - old.raw["roots"])[proved]
+    assert np.all(gap <= (new.raw["radii"] + old.raw["radii"])[proved])
+    scale = np.abs(problems[0]).max(axis=(1, 2)) + problems[2].max(axis=1)
+    dp = np.nan_to_num(np.abs(new.points - old.points)).max(axis=(1, 2, 3))
+    assert np.all(dp <= 1e-9 * scale)
+
+
+def test_second_scan_on_the_finer_grid():
+    """The problems the grid of rootscan doubts are scanned again on a grid four times
+    finer; most are then resolved without eigenvalues.  Where the answer differs from
+    the careful way's, the one the proof vouches for has the certified count (on these
+    3000 random octahedra: one problem with four roots within 1.5e-3 relative, where
+    the eigenvalue route found two and was flagged, and the finer grid finds four)."""
+    rng = np.random.default_rng(17)
+    probs = [random_octahedron(rng) for _ in range(4000)][3000:]
+    B, Q, L = (np.array([p[k] for p in probs]) for k in range(3))
+    _, _, _, s2, l2, _, _ = float_problem(B, Q, L)
+    data = octic_data(s2, l2, "fast")
+    x0, h, _ = _window(s2, l2)
+    coarse, fine = scan_many(data, x0, h, False)[3], scan_many(data, x0, h)[3]
+    assert not (fine & ~coarse).any() and fine.sum() < 0.5 * coarse.sum()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConditioningWarning)
+        new = forward_kinematics_batched(B, Q, L)
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setattr(batched, "scan_many", lambda d, x0, h: scan_many(d, x0, h, False))
+            old = forward_kinematics_batched(B, Q, L)
+    differ = np.flatnonzero((new.count != old.count) | (new.trusted != old.trusted))
+    assert np.array_equal(new.count[~coarse], old.count[~coarse])
+    for i in differ:
+        cert = forward_kinematics(B[i], Q[i], L[i], method="certified")
+        for res in (new, old):
+            if res.trusted[i]:
+                assert res.count[i] == len(cert), i
+    assert new.trusted.sum() >= old.trusted.sum()
+
+
+def test_light_result_objects_equal_the_constructed_ones(problems):
+    res = forward_kinematics(problems[0][0], problems[1][0], problems[2][0], warn=False)
+    batch = forward_kinematics_batched(*(a[:5] for a in problems), warn=False).result(0)
+    for r in (res, batch):
+        assert r.roots and r.poses
+        for p in r.poses:
+            q = Pose(p.s15, p.side, p.rotation, p.translation, p.points, p.max_leg_error,
+                     p.max_leg_error_relative)
+            assert type(p) is Pose and repr(p) == repr(q)
+            assert all(np.array_equal(getattr(p, f), getattr(q, f)) for f in
+                       ("s15", "side", "rotation", "translation", "points", "native",
+                        "radius", "max_leg_error", "max_leg_error_relative"))
+        built = AssemblyResult(r.poses, "fast", r.octic, False, r.roots, False, r.reason,
+                               r.accuracy, r.notes, tier="fast",
+                               conditioning=r.conditioning)
+        assert type(r) is AssemblyResult and r == built and repr(r) == repr(built)
+        assert len(r) == len(r.poses) and list(r) == list(r.poses) and r[0] is r.poses[0]
+        for x in r.roots:
+            y = RootInfo(x.value, x.radius, 1, x.status, x.reason, x.value)
+            assert type(x) is RootInfo and x == y and repr(x) == repr(y)
+            assert hash(x.native) == hash(y.native)
+
+
+def test_single_solve_scan_route_against_the_eigenvalue_route():
+    """The public single solve takes the batched tier's compiled scan
+    (:func:`.batched.solve_scan_single`); the eigenvalue route
+    (:func:`.single.solve_fast_single`: LAPACK, direct and careful paths) remains the
+    careful way and a second route: the same statuses and poses (s15 within 1e-9
+    relative, points within 1e-8 of the size of the mechanism, the tolerances of
+    test_octahedral_fast_paths) on 2000 random octahedra at scales 1e-2..1e2."""
+    from distkin.octahedral.problem import float_single
+    from distkin.octahedral.result import _single_result
+    from distkin.octahedral.single import solve_fast_single
+    rng = np.random.default_rng(7)
+    cases = [random_octahedron(rng, scale=10 ** rng.uniform(-2, 2))[:3] for _ in range(2000)]
+    doubted = 0
+    for b, q, l in cases:
+        B, Q, L, k, _ = float_single(b, q, l)
+        scan = batched.solve_scan_single(B, Q, L)
+        doubted += scan.eigenvalues is not None          # went the careful way
+        new = _single_result(scan, k=k)
+        old = _single_result(solve_fast_single(B, Q, L), k=k)
+        assert [r.status for r in new.roots] == [r.status for r in old.roots]
+        size = np.abs(b).max() + np.abs(q).max()
+        for pn, po in zip(new, old):
+            assert pn.side == po.side
+            assert abs(pn.s15 - po.s15) <= 1e-9 * max(po.s15, size ** 2)
+            assert np.abs(pn.points - po.points).max() <= 1e-8 * size
+    assert 0 < doubted < 400
