@@ -282,6 +282,16 @@ class LegsDescription:
             return self.scale
         return float(np.mean(np.linalg.norm(self.arrays()["p"], axis=1)))
 
+    @property
+    def l1(self) -> float:
+        """The crank length (m) the analyses of :mod:`distkin.indices.study` normalise
+        |Jq_ii| by (``transmission_min``, the sine of the worst transmission angle of an
+        RSS device): the revolute legs' common crank length, their largest if they
+        differ (then an approximation), 1.0 for an all-prismatic table (|Jq_ii| = 1 there:
+        full transmission).  A per-leg normalisation belongs in the analysis."""
+        cranks = [leg.crank for leg in self.leg_table if not leg.prismatic]
+        return max(cranks) if cranks else 1.0
+
     def leg_description(self) -> "LegsDescription":
         """Itself (the common interface with :class:`RSSDescription`)."""
         return self

@@ -137,6 +137,17 @@ def test_example_scenes_run(example, types):
     target = np.array([0.010, 0.005, 0.21 if m.L == 8 else 0.41,
                        0.05, -0.05, 0.08])
     assert fk["converged"] and np.abs(np.array(fk["pose"]) - target).max() < 1e-6
+    cert = records[-1]["result"]
+    assert records[-1]["type"] == "certify_workspace" and cert["regular_fraction"] > 0.5
+    if m.L == 8:
+        # the study's worst continuous force (compiled route) against the zonotope of
+        # distkin.indices.capability at that pose from the mechanism's own Jacobian
+        from distkin.indices.capability import worst_case_output
+        dev = records[3]["result"]["devices"][0]
+        J = m.jacobian(np.array(dev["worst_force_pose"]))
+        tau = records[3]["result"]["actuators"]["nominal_torque"]
+        f = worst_case_output(J.T, -tau, tau, keep=[0, 1, 2])
+        assert f == pytest.approx(dev["table"]["force"]["min"], rel=1e-9)
 
 
 def test_codegen_of_a_legs_scene_imports_numpy_only(tmp_path):
