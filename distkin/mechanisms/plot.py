@@ -78,8 +78,9 @@ def draw(mech, pose, q=None, ax=None, *, title=None):
     return ax
 
 
-def plot_poses(mech, poses, stem, q=None, *, limit=4):
-    """Write one PNG per pose (at most ``limit``) as ``STEM_pose<i>.png``; returns paths."""
+def plot_poses(mech, poses, stem, q=None, *, limit=4, drawer=None):
+    """Write one PNG per pose (at most ``limit``) as ``STEM_pose<i>.png``; returns paths.
+    ``drawer`` draws one pose (default :func:`draw`)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -88,7 +89,7 @@ def plot_poses(mech, poses, stem, q=None, *, limit=4):
     for i, pose in enumerate(poses[:limit]):
         fig = plt.figure(figsize=(7, 6))
         ax = fig.add_subplot(projection="3d")
-        draw(mech, pose, None if q is None else np.asarray(q)[i], ax)
+        (drawer or draw)(mech, pose, None if q is None else np.asarray(q)[i], ax)
         path = Path(f"{stem}_pose{i}.png")
         fig.savefig(path, dpi=110, bbox_inches="tight")
         plt.close(fig)
@@ -135,17 +136,4 @@ def draw_legs(mech, pose, q=None, ax=None, *, title=None):
 
 def plot_legs_poses(mech, poses, stem, q=None, *, limit=4):
     """:func:`plot_poses` for a leg-table mechanism (:func:`draw_legs`)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    poses = np.atleast_2d(np.asarray(poses, dtype=float))
-    paths = []
-    for i, pose in enumerate(poses[:limit]):
-        fig = plt.figure(figsize=(7, 6))
-        ax = fig.add_subplot(projection="3d")
-        draw_legs(mech, pose, None if q is None else np.asarray(q)[i], ax)
-        path = Path(f"{stem}_pose{i}.png")
-        fig.savefig(path, dpi=110, bbox_inches="tight")
-        plt.close(fig)
-        paths.append(path)
-    return paths
+    return plot_poses(mech, poses, stem, q, limit=limit, drawer=draw_legs)

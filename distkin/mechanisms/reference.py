@@ -49,7 +49,8 @@ def ik_jacobian(mech, poses, *, return_jq: bool = False):
 
     Parameters
     ----------
-    mech : RSSMechanism
+    mech : RSSMechanism, or a leg mechanism (kind "legs": :class:`NumericKernels`, with
+        jq normalised as its kernels', so ``transmission`` uses ``mech.l1``)
     poses : ndarray (N, 6)
         (x, y, z) m and (rx, ry, rz) rad, R = Rz Ry Rx.
 
@@ -65,6 +66,8 @@ def ik_jacobian(mech, poses, *, return_jq: bool = False):
         up to sign (|Jq_ii| = l1 |sin| of the angle between crank and distal link).
     """
     X = np.atleast_2d(np.asarray(poses, dtype=float))
+    if getattr(mech, "kind", None) == "legs":
+        return _legs_ik_jacobian(mech, X, return_jq)
     g = mech.geometry()
     home = mech.home[None]
     qp = _solve(mech, home, g, 1.0)[0]
@@ -83,6 +86,16 @@ def ik_jacobian(mech, poses, *, return_jq: bool = False):
     if return_jq:
         return q, margin >= 0.0, J, jq / mech.l3
     return q, margin >= 0.0, J
+
+
+def _legs_ik_jacobian(mech, X, return_jq):
+    k = NumericKernels(mech.leg_description())
+    q = k.ik(X)
+    out = k.jq_jx(X)
+    valid = k.reach(X) >= 0.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        J = out[..., 1:] / out[..., :1]
+    return (q, valid, J, out[..., 0]) if return_jq else (q, valid, J)
 
 
 class NumericKernels:

@@ -83,3 +83,20 @@ def test_numpy_route_has_no_arb_flavour():
         mech.kernels("arb")
     with pytest.raises(InputError, match="route"):
         LegMechanism.from_description(preset("hunt"), route="sympy")
+
+
+def test_reference_ik_jacobian_takes_leg_mechanisms():
+    """indices.study's numpy route (reference.ik_jacobian) on a leg mechanism gives the
+    kernels' IK, J and Jq (the preset's committed module)."""
+    from distkin.mechanisms.reference import ik_jacobian
+    m = preset("ergin")
+    lm = LegMechanism.from_description(m)
+    X = _poses(m.home, 50, seed=4, spread=(0.03, 0.2))
+    q, valid, J, jq = ik_jacobian(lm, X, return_jq=True)
+    qk, vk = lm.inverse_kinematics(X)
+    Jq, _ = lm.jq_jx(X)
+    ok = vk.all(axis=1)
+    assert np.array_equal(valid, vk) and ok.sum() > 40
+    assert np.allclose(q[ok], qk[ok], atol=1e-13)
+    assert np.allclose(J[ok], lm.jacobian(X)[ok], rtol=1e-11, atol=1e-11)
+    assert np.allclose(jq[ok], Jq[ok], atol=1e-13)

@@ -174,3 +174,34 @@ def test_codegen_of_a_legs_scene_imports_numpy_only(tmp_path):
     m = load_scene(ROOT / "examples" / "gough_stewart_6ups.toml").mechanism
     x = np.array([0.01, 0.005, 0.41, 0.05, -0.05, 0.08])
     assert np.array_equal(q, m.inverse_kinematics(x)[0]) and np.array_equal(J, m.jacobian(x))
+
+
+def test_arb_module_of_a_legs_mechanism_imports_flint_only(tmp_path):
+    """The arb flavour of the 6-UPS example (prismatic legs: a square root in every
+    kernel): imports math and python-flint only, runs with numpy and sympy blocked, and
+    its balls contain the float kernels' values."""
+    from distkin.codegen.rss import module_text
+    from distkin.mechanisms.kernel_names import ARB_KERNELS
+    m = load_scene(ROOT / "examples" / "gough_stewart_6ups.toml").mechanism
+    src = module_text(m, ARB_KERNELS, ("arb",))
+    imports = [ln for ln in src.splitlines() if ln.startswith(("import ", "from "))]
+    assert imports == ["import math", "from flint import arb as _A"]
+    (tmp_path / "gough_arb.py").write_text(src)
+    x = [0.01, 0.005, 0.41, 0.05, -0.05, 0.08]
+    code = ("import sys; sys.modules['numpy'] = None; sys.modules['sympy'] = None\n"
+            "import json, flint, gough_arb\n"
+            f"x = [flint.arb(v) for v in {x!r}]\n"
+            "rows = [gough_arb.reach_arb(x), gough_arb.jq_jx_arb(x)]\n"
+            "flat = lambda r: [flint.arb(v) for e in r for v in (e if isinstance(e, list) else [e])]\n"
+            "print(json.dumps([[[float(v.mid()), float(v.rad())] for v in flat(r)] "
+            "for r in rows]))")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    import json
+    reach, jqjx = (np.array(v) for v in json.loads(r.stdout))
+    X = np.array(x)
+    for balls, ref in ((reach, m.reach_margin(X).ravel()),
+                       (jqjx, np.hstack([m.jq_jx(X)[0][:, None], m.jq_jx(X)[1]]).ravel())):
+        assert len(balls) == len(ref)
+        assert np.all(np.abs(balls[:, 0] - ref) <= balls[:, 1] + 4e-16 * np.maximum(1, abs(ref)))
