@@ -192,7 +192,18 @@ def parse_legs(table, units, field, scene_path=None):
         base = Path(scene_path).parent if scene_path else Path.cwd()
         raw = _csv_legs(base / csv_name, f"{field}.legs_csv")
         prefix = f"{field}.legs_csv"
-    legs = [_leg(t, units, f"{prefix}[{i}]") for i, t in enumerate(raw)]
+        where = lambda i: f"line {i + 2} of {csv_name}"  # noqa: E731
+    if "leg" in table:
+        where = None
+    legs = []
+    for i, t in enumerate(raw):
+        try:
+            legs.append(_leg(t, units, f"{prefix}[{i}]"))
+        except DistkinError as exc:
+            if where is not None and exc.hint is None:
+                exc.hint = where(i)
+                exc.args = (exc.one_line(),)
+            raise
     home = require(table, "home", field)
     if not isinstance(home, list) or len(home) != 6:
         raise InputError(f"expected [x, y, z, rx, ry, rz], got {home!r}", field=f"{field}.home")
@@ -214,6 +225,8 @@ def parse_legs(table, units, field, scene_path=None):
     except DistkinError as exc:
         fld = exc.field or ""
         if fld.startswith("leg["):
+            if where is not None and exc.hint is None:
+                exc.hint = where(int(fld[4:fld.index("]")]))
             fld = prefix + fld[3:]
         else:
             fld = f"{field}.{fld}" if fld else field

@@ -109,6 +109,7 @@ def test_bad_csv_is_named_and_cli_exits_2(tmp_path):
                        capture_output=True, text=True, cwd=tmp_path)
     assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1
     assert "mechanism.legs_csv[2].axis" in r.stderr and "unit vector" in r.stderr
+    assert "line 4 of legs.csv" in r.stderr
     scene.write_text(legs_toml_text(m, csv_name="nope.csv") + QUERY.replace("0.3", "300"))
     with pytest.raises(InputError, match="readable CSV"):
         load_scene(scene)
