@@ -55,6 +55,9 @@ class FKResult:
     near_singular : bool array (N,) or bool
     message : str
         A summary, naming the failures.
+    modes : array (M, 6) (or a list of them), or None
+        Every assembly mode, when the exact octic answered (an octahedral leg table,
+        :mod:`.octahedral_fk`).
     """
 
     pose: np.ndarray
@@ -65,6 +68,7 @@ class FKResult:
     condition: object
     near_singular: object
     message: str
+    modes: object = None
 
     @property
     def ok(self):

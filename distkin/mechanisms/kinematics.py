@@ -139,9 +139,28 @@ class KernelMethods:
         A = np.linalg.inv(self.cartesian_mass_matrix()) @ np.swapaxes(J, -1, -2)
         return A[0] if single else A
 
-    def forward_kinematics(self, q, guess=None, **options):
-        """Numeric forward kinematics; see :func:`.forward.forward_kinematics`."""
+    def forward_kinematics(self, q, guess=None, *, octic: bool = True, **options):
+        """Numeric forward kinematics; see :func:`.forward.forward_kinematics`.
+
+        A leg table with the octahedral topology (``octahedral()``, Rojas et al. Fig. 4)
+        is solved by the exact octic first (:mod:`.octahedral_fk`, every assembly mode,
+        proved or certified) and Gauss-Newton starts at the mode nearest ``guess``; the
+        result's ``modes`` holds every mode.  ``octic=False`` skips this."""
         from .forward import forward_kinematics
+        topo = getattr(self, "octahedral", None)
+        if octic and topo is not None and topo() is not None:
+            import dataclasses
+
+            from .octahedral_fk import octahedral_forward
+            start, modes, tiers = octahedral_forward(self, q, guess)
+            ok = np.all(np.isfinite(start), axis=-1)
+            res = forward_kinematics(self, q, np.where(ok[..., None], start, self.home
+                                                       if guess is None else guess), **options)
+            n = sum(len(m) for m in modes)
+            return dataclasses.replace(res, modes=modes if np.ndim(q) > 1 else modes[0],
+                                       message=f"exact octic (Rojas et al. eq. (3); tier "
+                                       f"{', '.join(sorted(set(tiers)))}): {n} assembly mode(s), "
+                                       f"the nearest to the guess polished: {res.message}")
         return forward_kinematics(self, q, guess, **options)
 
 

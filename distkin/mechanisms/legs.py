@@ -315,6 +315,39 @@ class LegsDescription:
         arr = np.array([leg.limit for leg in self.leg_table])
         return arr[:, 0], arr[:, 1]
 
+    def octahedral(self):
+        """The octahedral topology of Rojas et al. (Fig. 4), if this table has it: six
+        prismatic legs on three base points and three platform points, each point on two
+        legs, the legs forming one cycle.  Returns None, or a dict ``base`` (3, 3) P1 P2
+        P3, ``platform`` (3, 3) P4 P5 P6 (end-effector frame) and ``order`` (6,): our
+        leg index of legs 1..6 = P1P4, P2P4, P2P5, P3P5, P3P6, P1P6 (docs/design.md §3)."""
+        legs = self.leg_table
+        if len(legs) != 6 or not all(leg.prismatic for leg in legs):
+            return None
+        bases = sorted({leg.base for leg in legs})
+        plats = sorted({leg.platform for leg in legs})
+        if len(bases) != 3 or len(plats) != 3:
+            return None
+        edges = {(bases.index(leg.base), plats.index(leg.platform)): i
+                 for i, leg in enumerate(legs)}
+        if len(edges) != 6 or any(sum(e[k] == v for e in edges) != 2
+                                  for k in (0, 1) for v in range(3)):
+            return None
+        b, p = 0, min(pp for bb, pp in edges if bb == 0)       # P1 and P4
+        B, P, order = [b], [p], [edges[(b, p)]]
+        for step in range(5):                                  # walk the hexagon
+            if step % 2 == 0:
+                b = next(bb for bb, pp in edges if pp == p and bb != b)
+                B.append(b) if step < 4 else None
+            else:
+                p = next(pp for bb, pp in edges if bb == b and pp != p)
+                P.append(p)
+            order.append(edges[(b, p)])
+        if len(set(order)) != 6 or len(set(B)) != 3 or len(set(P)) != 3:
+            return None
+        return {"base": np.array([bases[i] for i in B]), "platform": np.array([plats[i] for i in P]),
+                "order": np.array(order)}
+
     def arrays(self) -> dict:
         """The table as arrays: ``B, p, a, u, v, offset`` (L, 3) (zeros where a leg has
         no such vector), ``l1, l3, branch`` (L,) and ``prismatic`` (L,) bool."""
