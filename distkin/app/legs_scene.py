@@ -102,6 +102,9 @@ def _leg(table, units, fld):
             out[k] = _vector(v, f, length if k in _LENGTH_VECTORS else _number)
         elif k in _LENGTHS:
             out[k] = length(v, f)
+            if not out[k] > 0:
+                raise InputError(f"expected a positive length, got {v!r} ({units.length})",
+                                 field=f)
         elif k == "branch":
             out[k] = v
         elif k == "range":

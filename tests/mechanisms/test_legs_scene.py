@@ -81,7 +81,7 @@ def _legs_scene(bad_leg="", extra=""):
 
 @pytest.mark.parametrize("change, field, words", [
     (("axis = [0, 1, 0]", "axis = [0, 2, 0]"), "mechanism.leg[3].axis", "unit vector"),
-    (("crank = 50", "crank = -50"), "mechanism.leg[3].crank", "positive"),
+    (("crank = 50", "crank = -50"), "mechanism.leg[3].crank", "got -50 (mm)"),
     (("crank = 50", 'crank = "x"'), "mechanism.leg[3].crank", "cannot parse"),
     (("base = [100, 0, 0]", "base = [100, 0]"), "mechanism.leg[3].base", "3 numbers"),
     (("distal = 300", "distal = 300\ncolour = 1"), "mechanism.leg[3]", "colour"),
