@@ -18,6 +18,14 @@ The angular velocity is ``omega = E(r) @ rdot`` with
 ``*_scalar`` twins take one pose in plain floats (the controller's 1 ms cycle, where
 numpy's per-call overhead on 3-vectors dominates); the symbolic twin is
 :func:`distkin.mechanisms.symbolic.rotation_matrix` (sympy, for the derivations).
+
+Interop: R = Rz(rz) Ry(ry) Rx(rx) equals scipy's
+``Rotation.from_euler('xyz', [rx, ry, rz]).as_matrix()`` (lower-case 'xyz': extrinsic,
+fixed axes; tests/test_spatial_interop.py).  :func:`pose_to_matrix` and
+:func:`matrix_to_pose` convert to and from 4x4 homogeneous transforms,
+:func:`pose_to_rotation` gives a scipy ``Rotation`` and the translation, and
+:func:`pose_from` reads any of the three; every mechanism method that takes poses also
+takes 4x4 matrices (:func:`distkin.mechanisms.description._poses`).
 """
 
 from __future__ import annotations
@@ -28,7 +36,7 @@ import numpy as np
 
 __all__ = ["rotation_matrix", "rotation_matrix_scalar", "rotation_angles",
            "rotation_angles_scalar", "omega_map", "exp_so3", "exp_so3_scalar", "axis_angle",
-           "pose_error"]
+           "pose_error", "pose_to_matrix", "matrix_to_pose", "pose_to_rotation", "pose_from"]
 
 
 def rotation_matrix(r):
@@ -169,3 +177,100 @@ def pose_error(p1, p2):
                    Rrel[..., 1, 0] - Rrel[..., 0, 1]], axis=-1)
     ang = np.arctan2(0.5 * np.linalg.norm(sk, axis=-1), 0.5 * (tr - 1.0))
     return dpos, ang
+
+
+# ---------------------------------------------------------------------- interop
+def pose_to_matrix(pose):
+    """The 4x4 homogeneous transform of poses (x, y, z, rx, ry, rz) (m, rad).
+
+    ``T = [[R, t], [0, 1]]`` with R = Rz(rz) Ry(ry) Rx(rx) (:func:`rotation_matrix`) and
+    t = (x, y, z): a point p of the end-effector frame is at ``T @ (p, 1)`` in the base
+    frame.
+
+    Parameters
+    ----------
+    pose : array (..., 6)
+
+    Returns
+    -------
+    array (..., 4, 4)
+
+    Examples
+    --------
+    >>> T = pose_to_matrix([0.1, 0.0, 0.3, 0.0, 0.0, np.pi / 2])
+    >>> np.round(T @ [1.0, 0.0, 0.0, 1.0], 12).tolist()
+    [0.1, 1.0, 0.3, 1.0]
+    """
+    X = np.asarray(pose, dtype=float)
+    T = np.zeros(X.shape[:-1] + (4, 4))
+    T[..., :3, :3] = rotation_matrix(X[..., 3:])
+    T[..., :3, 3] = X[..., :3]
+    T[..., 3, 3] = 1.0
+    return T
+
+
+def matrix_to_pose(T, *, atol: float = 1e-9):
+    """Poses (x, y, z, rx, ry, rz) of 4x4 homogeneous transforms (..., 4, 4); the inverse
+    of :func:`pose_to_matrix` (ry in [-pi/2, pi/2]).
+
+    Raises :class:`~distkin.errors.InputError` unless the last row is (0, 0, 0, 1) and
+    the rotation block is orthonormal with determinant +1 (to ``atol``)."""
+    from .errors import InputError
+    T = np.asarray(T, dtype=float)
+    if T.shape[-2:] != (4, 4):
+        raise InputError(f"expected 4x4 homogeneous matrices, got shape {T.shape}",
+                         field="pose")
+    R = T[..., :3, :3]
+    last = np.abs(T[..., 3, :] - [0.0, 0.0, 0.0, 1.0]).max(initial=0.0)
+    ortho = np.abs(np.swapaxes(R, -1, -2) @ R - np.eye(3)).max(initial=0.0)
+    if not (last <= atol and ortho <= atol and np.all(np.linalg.det(R) > 0)):
+        raise InputError(f"expected a rigid transform (orthonormal R, det +1, last row "
+                         f"0 0 0 1), got deviations {ortho:.3g} and {last:.3g}", field="pose")
+    return np.concatenate([T[..., :3, 3], rotation_angles(R)], axis=-1)
+
+
+def pose_to_rotation(pose):
+    """(scipy ``Rotation``, translation (..., 3) m) of poses (..., 6).
+
+    R = Rz(rz) Ry(ry) Rx(rx) is scipy's extrinsic ``Rotation.from_euler('xyz', [rx, ry,
+    rz])`` (lower-case: rotations about the fixed axes x, then y, then z), which is what
+    this function returns.
+
+    Examples
+    --------
+    >>> rot, t = pose_to_rotation([0.0, 0.0, 0.3, 0.1, -0.2, 0.3])
+    >>> bool(np.allclose(rot.as_matrix(), rotation_matrix([0.1, -0.2, 0.3]), atol=1e-15))
+    True
+    """
+    from scipy.spatial.transform import Rotation
+    X = np.asarray(pose, dtype=float)
+    return Rotation.from_euler("xyz", X[..., 3:]), X[..., :3].copy()
+
+
+def pose_from(value, translation=None):
+    """Poses (..., 6) from any of: poses (..., 6); 4x4 homogeneous matrices (..., 4, 4);
+    a scipy ``Rotation`` (one or many) with ``translation`` (..., 3) m.
+
+    The angles are those of :func:`rotation_angles` (ry in [-pi/2, pi/2]), so a pose
+    written with |ry| > pi/2 comes back as its equivalent."""
+    from .errors import InputError
+    if hasattr(value, "as_matrix") and hasattr(value, "as_euler"):
+        if translation is None:
+            raise InputError("expected a translation (x, y, z) with a scipy Rotation, got "
+                             "none", field="pose")
+        R = value.as_matrix()
+        t = np.asarray(translation, dtype=float)
+        if t.shape[-1:] != (3,):
+            raise InputError(f"expected a translation of shape (..., 3), got {t.shape}",
+                             field="translation")
+        return np.concatenate(np.broadcast_arrays(t, rotation_angles(R)), axis=-1)
+    if translation is not None:
+        raise InputError("expected a translation only with a scipy Rotation, got one with "
+                         f"{type(value).__name__}", field="translation")
+    arr = np.asarray(value, dtype=float)
+    if arr.shape[-2:] == (4, 4):
+        return matrix_to_pose(arr)
+    if arr.shape[-1:] != (6,):
+        raise InputError(f"expected poses (..., 6), 4x4 matrices or a scipy Rotation, got "
+                         f"shape {arr.shape}", field="pose")
+    return arr

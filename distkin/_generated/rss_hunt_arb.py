@@ -3,7 +3,7 @@
 # symbolic source sha256: 630495eae8300d29e604364bfc5af87179bcab74b6ce797885920a6556db7254
 """Preset 'hunt': Hunt-type 6-RSS (iFeel6.0), Table I optimum (Kühne et al., Sec. II-C), arb flavour.
 
-Parameters (SI): {'legs': 6, 'l0': 0.152, 'l1': 0.157, 'l2': 0.0, 'l3': 0.3497, 'lp': 0.055, 'ld': 0.02, 'z0': 0.3, 'beta': 0.0, 'gamma': 0.0, 'layout': 'tangential'}.
+6 legs (RSS); leg table: LEGS; parameters (SI): {'legs': 6, 'l0': 0.152, 'l1': 0.157, 'l2': 0.0, 'l3': 0.3497, 'lp': 0.055, 'ld': 0.02, 'z0': 0.3, 'beta': 0.0, 'gamma': 0.0, 'layout': 'tangential'}.
 Kernels (suffix _arb) take 6 python-flint arb balls (or forward-mode
 derivative balls) and return enclosures; constants are the doubles of the
 fast kernels, exactly.  Poses: (x, y, z) m, (rx, ry, rz) rad with
@@ -16,6 +16,7 @@ from flint import arb as _A
 SOURCE_SHA256 = '630495eae8300d29e604364bfc5af87179bcab74b6ce797885920a6556db7254'
 L = 6
 PARAMETERS = {'legs': 6, 'l0': 0.152, 'l1': 0.157, 'l2': 0.0, 'l3': 0.3497, 'lp': 0.055, 'ld': 0.02, 'z0': 0.3, 'beta': 0.0, 'gamma': 0.0, 'layout': 'tangential'}
+LEGS = ((('type', 'RSS'), ('base', (0.152, -0.01, 0.0)), ('platform', (0.055, -0.01, 0.0)), ('axis', (0.0, 1.0, 0.0)), ('crank0', (1.0, 0.0, 0.0)), ('crank90', (0.0, 0.0, 1.0)), ('crank', 0.157), ('offset', (0.0, 0.0, 0.0)), ('distal', 0.3497), ('branch', 1), ('range', None)), (('type', 'RSS'), ('base', (0.152, 0.01, 0.0)), ('platform', (0.055, 0.01, 0.0)), ('axis', (0.0, 1.0, 0.0)), ('crank0', (1.0, 0.0, 0.0)), ('crank90', (0.0, 0.0, 1.0)), ('crank', 0.157), ('offset', (0.0, 0.0, 0.0)), ('distal', 0.3497), ('branch', 1), ('range', None)), (('type', 'RSS'), ('base', (-0.06733974596215558, 0.13663586137523467, 0.0)), ('platform', (-0.0188397459621556, 0.05263139720814412, 0.0)), ('axis', (-0.8660254037844387, -0.4999999999999998, 0.0)), ('crank0', (-0.4999999999999998, 0.8660254037844387, 0.0)), ('crank90', (0.0, 0.0, 1.0)), ('crank', 0.157), ('offset', (0.0, 0.0, 0.0)), ('distal', 0.3497), ('branch', 1), ('range', None)), (('type', 'RSS'), ('base', (-0.08466025403784436, 0.12663586137523467, 0.0)), ('platform', (-0.03616025403784437, 0.04263139720814413, 0.0)), ('axis', (-0.8660254037844387, -0.4999999999999998, 0.0)), ('crank0', (-0.4999999999999998, 0.8660254037844387, 0.0)), ('crank90', (0.0, 0.0, 1.0)), ('crank', 0.157), ('offset', (0.0, 0.0, 0.0)), ('distal', 0.3497), ('branch', 1), ('range', None)), (('type', 'RSS'), ('base', (-0.08466025403784445, -0.12663586137523464, 0.0)), ('platform', (-0.03616025403784441, -0.04263139720814411, 0.0)), ('axis', (0.8660254037844384, -0.5000000000000004, 0.0)), ('crank0', (-0.5000000000000004, -0.8660254037844384, 0.0)), ('crank90', (0.0, 0.0, 1.0)), ('crank', 0.157), ('offset', (0.0, 0.0, 0.0)), ('distal', 0.3497), ('branch', 1), ('range', None)), (('type', 'RSS'), ('base', (-0.06733974596215568, -0.13663586137523465, 0.0)), ('platform', (-0.018839745962155638, -0.052631397208144116, 0.0)), ('axis', (0.8660254037844384, -0.5000000000000004, 0.0)), ('crank0', (-0.5000000000000004, -0.8660254037844384, 0.0)), ('crank90', (0.0, 0.0, 1.0)), ('crank', 0.157), ('offset', (0.0, 0.0, 0.0)), ('distal', 0.3497), ('branch', 1), ('range', None)))
 KERNELS = ('reach', 'jq_jx')
 FLAVOURS = ('arb',)
 __all__ = ['reach_arb', 'jq_jx_arb']

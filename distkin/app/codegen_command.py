@@ -26,6 +26,7 @@ def _rss_module(scene, flavours):
 #: mechanism kind -> function(scene, flavours) -> (source text, cache hit)
 CODEGEN_KINDS: dict = {
     "rss": _rss_module,
+    "legs": _rss_module,          # the same generator, from the leg table
 }
 
 _FLAVOURS = {"batched": ("batched",), "scalar": ("scalar",), "both": ("batched", "scalar")}

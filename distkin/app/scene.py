@@ -91,6 +91,11 @@ def _parse_rss(table, units, field):
     return parse_rss(table, units, field)
 
 
+def _parse_legs(table, units, field, path=None):
+    from .legs_scene import parse_legs
+    return parse_legs(table, units, field, path)
+
+
 def _parse_platform66(table, units, field):
     from .queries.delta import parse_platform66
     return parse_platform66(table, units, field)
@@ -102,8 +107,12 @@ MECHANISM_PARSERS = {
     "points": _parse_points,
     "octahedral": _parse_octahedral,
     "rss": _parse_rss,
+    "legs": _parse_legs,
     "platform66": _parse_platform66,
 }
+
+#: kinds whose tables may name files relative to the scene (the parser gets its path)
+_WITH_PATH = ("legs",)
 
 
 @dataclass(frozen=True)
@@ -145,7 +154,8 @@ def loads_scene(text: str, path: str = "<string>") -> Scene:
     if kind not in MECHANISM_PARSERS:
         raise InputError(f"expected one of {', '.join(map(repr, MECHANISM_PARSERS))}, "
                          f"got {kind!r}", field="mechanism.kind")
-    mechanism = MECHANISM_PARSERS[kind](mtable, units, "mechanism")
+    mechanism = MECHANISM_PARSERS[kind](mtable, units, "mechanism",
+                                        *((path,) if kind in _WITH_PATH else ()))
     qlist = data.get("query", [])
     if not isinstance(qlist, list) or not qlist:
         raise InputError("expected at least one [[query]] table", field="query")

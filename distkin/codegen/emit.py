@@ -208,6 +208,24 @@ def _flat_output(output):
     return out, (len(out),)
 
 
+_CSE_MEMO: dict = {}
+
+
+def _cse(flat, optimizations):
+    """sympy.cse of a kernel's outputs, remembered for the flavours of the same kernel
+    (the batched and scalar flavours print one elimination; CSE is most of a
+    derivation's time).  Deterministic: the same expressions give the same result."""
+    import sympy
+    key = (tuple(flat), optimizations)
+    hit = _CSE_MEMO.get(key)
+    if hit is None:
+        hit = sympy.cse(flat, symbols=sympy.numbered_symbols("_c"), optimizations=optimizations)
+        if len(_CSE_MEMO) >= 32:
+            _CSE_MEMO.pop(next(iter(_CSE_MEMO)))
+        _CSE_MEMO[key] = hit
+    return hit
+
+
 def kernel_source(k: Kernel) -> str:
     """The source text of one function."""
     import sympy
@@ -218,8 +236,7 @@ def kernel_source(k: Kernel) -> str:
     if k.cse:
         # extra["cse_optimizations"]: None skips sympy's "basic" pre-optimisations, which
         # cost seconds on large kernels (the RSS Jacobians) for little gain
-        reps, reduced = sympy.cse(flat, symbols=sympy.numbered_symbols("_c"),
-                                  optimizations=k.extra.get("cse_optimizations", "basic"))
+        reps, reduced = _cse(flat, k.extra.get("cse_optimizations", "basic"))
     else:
         reps, reduced = [], flat
     args = [name for name, _ in k.inputs]

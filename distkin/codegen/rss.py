@@ -36,7 +36,8 @@ _DOCS = {
                 "Phi_i = (|P_i - D_i(q_i)|^2 - l3^2) / (2 l3) in m (about the length error)."),
 }
 
-_MODEL_FILES = ("mechanisms/symbolic.py", "codegen/rss.py", "codegen/emit.py")
+_MODEL_FILES = ("mechanisms/symbolic.py", "mechanisms/legs.py", "codegen/rss.py",
+                "codegen/emit.py")
 
 #: scene query type -> the kernels it needs ("model only what a scene requires")
 QUERY_KERNELS = {
@@ -52,7 +53,7 @@ def _expressions(mech, names):
     return me, {n: me.get(n) for n in names}
 
 
-def _kernel_list(mech, exprs, flavours):
+def _kernel_list(L, exprs, flavours):
     import sympy as sp
     from ..mechanisms.symbolic import POSE, q_symbols
     from .emit import Kernel
@@ -60,7 +61,7 @@ def _kernel_list(mech, exprs, flavours):
     for flavour in flavours:
         for n, M in exprs.items():
             if n == "closure":
-                inputs = (("q", tuple(q_symbols(mech.legs))), ("pose", tuple(POSE)))
+                inputs = (("q", tuple(q_symbols(L))), ("pose", tuple(POSE)))
             else:
                 inputs = (("pose", tuple(POSE)),)
             output = list(M) if M.shape[1] == 1 else M
@@ -74,11 +75,12 @@ def _kernel_list(mech, exprs, flavours):
 
 def module_text(mech, names=KERNELS, flavours=FLAVOURS, *, generator=GENERATOR,
                 title=None, timings=None) -> str:
-    """Source of a kernel module for ``mech`` (only the kernels ``names``).
+    """Source of a kernel module for ``mech`` (only the kernels ``names``), built from its
+    leg table (``mech.leg_description()``: the same legs give the same module body).
 
     Parameters
     ----------
-    mech : RSSMechanism
+    mech : LegsDescription, RSSDescription or a mechanism on either
     names : sequence of str
         Some of :data:`KERNELS`.
     flavours : sequence of str
@@ -91,29 +93,38 @@ def module_text(mech, names=KERNELS, flavours=FLAVOURS, *, generator=GENERATOR,
     from .emit import module_source, symbolic_hash
     names = [n for n in KERNELS if n in names]
     t_start = time.perf_counter()
+    desc = mech.leg_description()
     me, exprs = _expressions(mech, names)
-    kernels = _kernel_list(mech, exprs, flavours)
+    kernels = _kernel_list(desc.L, exprs, flavours)
     t0 = time.perf_counter()
-    # the symbolic source: the substituted leg closures Phi_i(q, P) and P_i(pose), from
-    # which every kernel is derived deterministically (cheaper to hash than the kernels)
+    # the symbolic source: the leg closures Phi_i(q, P) with the leg's numbers, P_i(pose),
+    # the branches and ranges, from which every kernel is derived deterministically
+    # (cheaper to hash than the kernels)
+    sig = me.signature()
     h = symbolic_hash(*[e for leg in me.legs() for e in (leg["Phi"], leg["P"])],
-                      *sorted(names))
-    params = {k: v for k, v in mech.geometry_key()}
-    doc = (f"{title or 'Kernels of an RSS/RRRS mechanism'} (Kühne et al., Sec. II-C).\n\n"
-           f"Parameters (SI): {params!r}.\n"
+                      *sorted(names), *([sig] if sig else []))
+    rss = getattr(mech, "kind", None) == "rss"
+    types = "/".join(sorted({leg.type for leg in desc.leg_table}))
+    what = f"{desc.L} legs ({types}); leg table: LEGS"
+    if rss:
+        what += f"; parameters (SI): {dict(mech.geometry_key())!r}"
+    cite = "Kühne et al., Sec. II-C" if rss else "distkin.mechanisms.legs"
+    doc = (f"{title or 'Kernels of a parallel mechanism'} ({cite}).\n\n"
+           f"{what}.\n"
            "Batched kernels take (..., 6) poses; scalar ones (suffix _scalar) plain floats.\n"
            "Poses: (x, y, z) m, (rx, ry, rz) rad with R = Rz Ry Rx.  Needs only numpy.")
     if tuple(flavours) == ("arb",):
-        doc = (f"{title or 'Kernels of an RSS/RRRS mechanism'} (Kühne et al., Sec. II-C), "
+        doc = (f"{title or 'Kernels of a parallel mechanism'} ({cite}), "
                "arb flavour.\n\n"
-               f"Parameters (SI): {params!r}.\n"
+               f"{what}.\n"
                "Kernels (suffix _arb) take 6 python-flint arb balls (or forward-mode\n"
                "derivative balls) and return enclosures; constants are the doubles of the\n"
                "fast kernels, exactly.  Poses: (x, y, z) m, (rx, ry, rz) rad with\n"
                "R = Rz Ry Rx.  Needs only python-flint.")
     t1 = time.perf_counter()
     src = module_source(kernels, generator=generator, doc=doc, source_hash=h,
-                        constants={"L": mech.legs, "PARAMETERS": params,
+                        constants={"L": desc.L, **({"PARAMETERS": dict(mech.geometry_key())}
+                                                   if rss else {}), "LEGS": desc.key(),
                                    "KERNELS": tuple(names), "FLAVOURS": tuple(flavours)})
     if timings is not None:
         timings.update(me.timings)
@@ -141,12 +152,42 @@ def _model_source_text() -> str:
     return "".join((here.parent / f).read_text(encoding="utf-8") for f in _MODEL_FILES)
 
 
-def derived_module(mech, names, flavours):
-    """The kernel module of a geometry that has no committed module: derived once (only
-    ``names`` in ``flavours``) and cached on disk (:mod:`.cache`), then imported."""
+def _prefix(mech) -> str:
+    """File-name hint of a cached module: ``rss`` or ``legs`` (the scene's kind)."""
+    return "rss" if getattr(mech, "kind", None) == "rss" else "legs"
+
+
+#: the last derivation of :func:`derived_module`: name, legs, kernels, seconds
+LAST_DERIVATION: dict = {}
+
+
+def derived_module(mech, names, flavours, *, progress=None):
+    """The kernel module of a leg table that has no committed module: derived once (only
+    ``names`` in ``flavours``) and cached on disk (:mod:`distkin.sourcecache`, keyed by
+    the model's source and the leg table), then imported.
+
+    A derivation prints one progress line before and one with its time after (to
+    ``progress``, default stderr) and is recorded in :data:`LAST_DERIVATION`."""
+    import sys
     from ..sourcecache import cached_source, load_module_file, source_key
-    key = source_key(_model_source_text(), repr(mech.geometry_key()), names, tuple(flavours))
-    path, _ = cached_source("rss", key, lambda: module_text(mech, names, flavours))
+    desc = mech.leg_description()
+    key = source_key(_model_source_text(), repr(desc.key()), names, tuple(flavours))
+    out = progress if progress is not None else sys.stderr
+
+    def build():
+        print(f"distkin: deriving the {'/'.join(flavours)} kernels {', '.join(names)} of "
+              f"{desc.name!r} ({desc.L} legs) with sympy, once ...", file=out, flush=True)
+        t0 = time.perf_counter()
+        src = module_text(desc, names, flavours)
+        dt = time.perf_counter() - t0
+        LAST_DERIVATION.clear()
+        LAST_DERIVATION.update(name=desc.name, legs=desc.L, kernels=tuple(names),
+                               flavours=tuple(flavours), seconds=dt)
+        print(f"distkin: derived in {dt:.1f} s (cached; later runs load it)", file=out,
+              flush=True)
+        return src
+
+    path, _ = cached_source(_prefix(mech), key, build)
     return load_module_file(path)
 
 
@@ -164,8 +205,9 @@ def scene_module(scene, flavours=FLAVOURS):
         raise InputError(f"expected a query that needs kernels ({', '.join(QUERY_KERNELS)}), "
                          f"got {[q.type for q in scene.queries]}", field="query")
     gen = f"distkin codegen {Path(scene.path).name}"
-    key = source_key(_model_source_text(), repr(mech.geometry_key()), names, flavours, gen)
-    path, hit = cached_source("rss", key, lambda: module_text(
+    key = source_key(_model_source_text(), repr(mech.leg_description().key()), names,
+                     flavours, gen)
+    path, hit = cached_source(_prefix(mech), key, lambda: module_text(
         mech, names, flavours, generator=gen,
         title=f"Kernels of scene {Path(scene.path).name} ({mech.name})"))
     return path.read_text(encoding="utf-8"), hit

@@ -57,18 +57,28 @@ z; :mod:`distkin.spatial`).  The home pose (workspace centre) is ``(0, 0, z0, 0,
     and ``ik_scalar``, ``jacobian_scalar``, ... scalar); other parameters are generated
     on first use and cached (:mod:`distkin.sourcecache`).
 
+Any mechanism as a table of legs (RSS, RUS, RRRS revolute; SPS, UPS prismatic; any
+L >= 6): :class:`LegsDescription` / :class:`LegMechanism` (:mod:`.legs`), with the same
+methods as above (``route="numpy"``: the plain-numpy kernels, no derivation); every RSS
+description gives its leg table (``preset("octo").leg_description()``), and a leg table
+equal to a preset's loads the preset's committed kernels.  Poses may also be 4x4
+homogeneous matrices (:func:`distkin.spatial.pose_from`).
+
 Code generation: ``distkin codegen SCENE.toml -o MODULE.py`` writes the kernels a scene's
 queries need (same function names) as a module that imports only math and numpy.
 
 Modules
 -------
-description  the frozen :class:`RSSDescription`: parameters, leg geometry, l3 rules (the
-           model the code generator reads)
+description  the frozen :class:`RSSDescription`: parameters, leg geometry, l3 rules
+legs       the frozen leg table (:class:`Leg`, :class:`LegsDescription`): the model the code
+           generator reads
+kinematics the numeric methods on kernels (``KernelMethods``) and :class:`LegMechanism`
 rss        :class:`RSSMechanism`, the description with its numeric methods; ``preset``
 presets    the five presets as data and the documented parameter rules
 symbolic   the sympy model (leg closure, closed-form IK, Jq, Jx) -- imports sympy
 reference  the plain-numpy reference model (IK and Jacobian from the leg geometry; the
-           design sweeps' route and the tests' independent second route)
+           design sweeps' route and the tests' independent second route) and
+           ``NumericKernels`` (the kernel interface in numpy from a leg table)
 kernel_names  the names and flavours of the generated kernels
 kernels    loading the kernels: the committed modules, one cache
 forward    numeric forward kinematics
@@ -84,7 +94,10 @@ from __future__ import annotations
 
 from .forward import FKResult
 from .description import RSSDescription
+from .kinematics import LegMechanism
+from .legs import Leg, LegsDescription
 from .presets import PRESETS
 from .rss import RSSMechanism, preset
 
-__all__ = ["RSSMechanism", "RSSDescription", "preset", "PRESETS", "FKResult"]
+__all__ = ["RSSMechanism", "RSSDescription", "preset", "PRESETS", "FKResult", "Leg",
+           "LegsDescription", "LegMechanism"]

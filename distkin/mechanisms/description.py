@@ -39,7 +39,12 @@ LEG_LENGTH = 0.3497
 
 
 def _poses(poses, field="poses"):
+    """Poses (N, 6) from (6,), (N, 6), a 4x4 homogeneous matrix or (N, 4, 4) matrices
+    (:func:`distkin.spatial.pose_from`), and whether one pose was given."""
     arr = np.asarray(poses, dtype=float)
+    if arr.ndim >= 2 and arr.shape[-2:] == (4, 4):
+        from ..spatial import matrix_to_pose
+        arr = matrix_to_pose(arr)
     single = arr.ndim == 1
     arr = float_array(arr.reshape(1, -1) if single else arr, field, (None, 6))
     return arr, single
@@ -131,6 +136,11 @@ class RSSDescription:
         """The workspace centre (0, 0, z0, 0, 0, 0)."""
         return np.array([0.0, 0.0, self.z0, 0.0, 0.0, 0.0])
 
+    @property
+    def length_scale(self) -> float:
+        """lp (m): the length that turns rotations into displacements (FK steps)."""
+        return self.lp
+
     def geometry(self) -> dict:
         """Constant leg vectors of the parametrisation (:mod:`.presets`), arrays (L, 3).
 
@@ -221,6 +231,23 @@ class RSSDescription:
             lo = max(lo, float(np.sqrt(wa ** 2 + (wr - self.l1) ** 2).max()))
             hi = min(hi, float(np.sqrt(wa ** 2 + (wr + self.l1) ** 2).min()))
         return lo, hi
+
+    def leg_description(self):
+        """This mechanism as a leg table (:class:`~.legs.LegsDescription`): per leg the
+        vectors of :meth:`geometry` (crank direction at q = 90 deg: z), l1, l3, the IK
+        branch sigma = +1 (:mod:`.symbolic`), type RSS (l2 = 0) or RRRS, and the nominal
+        actuator torque ±2.5 N m (Sec. III-B.3); FK's length scale lp.  The kernels of an RSS mechanism are
+        generated from this table (:mod:`distkin.codegen.rss`)."""
+        from .legs import Leg, LegsDescription
+        g = self.geometry()
+        z = (0.0, 0.0, 1.0)
+        legs = tuple(
+            Leg(type="RRRS" if self.l2 > 0 else "RSS", base=tuple(g["B"][i]),
+                platform=tuple(g["p"][i]), axis=tuple(g["a"][i]), crank0=tuple(g["u"][i]),
+                crank90=z, crank=self.l1, offset=tuple(g["offset"][i]), distal=self.l3,
+                branch=1, limit=(-2.5, 2.5))
+            for i in range(self.legs))
+        return LegsDescription(self.name, legs, tuple(self.home), self.mass, self.inertia, self.lp)
 
     # ------------------------------------------------------------------ dynamics
     def cartesian_mass_matrix(self) -> np.ndarray:

@@ -55,6 +55,9 @@ class FKResult:
     near_singular : bool array (N,) or bool
     message : str
         A summary, naming the failures.
+    modes : array (M, 6) (or a list of them), or None
+        Every assembly mode, when the exact octic answered (an octahedral leg table,
+        :mod:`.octahedral_fk`).
     """
 
     pose: np.ndarray
@@ -65,11 +68,25 @@ class FKResult:
     condition: object
     near_singular: object
     message: str
+    modes: object = None
 
     @property
     def ok(self):
         """Converged and not near a singularity."""
         return np.logical_and(self.converged, np.logical_not(self.near_singular))
+
+    @property
+    def matrix(self) -> np.ndarray:
+        """``pose`` as 4x4 homogeneous transforms (N, 4, 4) or (4, 4)
+        (:func:`distkin.spatial.pose_to_matrix`)."""
+        from ..spatial import pose_to_matrix
+        return pose_to_matrix(self.pose)
+
+    @property
+    def rotation(self):
+        """``pose`` as (scipy ``Rotation``, translation (m)) (:func:`distkin.spatial.pose_to_rotation`)."""
+        from ..spatial import pose_to_rotation
+        return pose_to_rotation(self.pose)
 
 
 def _solve(G, r, scale):
@@ -129,7 +146,8 @@ def forward_kinematics(mech, q, guess=None, *, tol=1e-13, max_iter=50, max_condi
         if len(g) not in (1, N):
             raise InputError(f"expected {N} guesses or one, got {len(g)}", field="guess")
         X = np.array(np.broadcast_to(g, (N, 6)))
-    scale = np.array([1.0, 1.0, 1.0, 1.0 / mech.lp, 1.0 / mech.lp, 1.0 / mech.lp])
+    ls = mech.length_scale
+    scale = np.array([1.0, 1.0, 1.0, 1.0 / ls, 1.0 / ls, 1.0 / ls])
     if single:
         # the control loop's path: scalar kernel, 6x6 normal equations, plain-float
         # rotation updates (no per-pose numpy overhead beyond one small solve)

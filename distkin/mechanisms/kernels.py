@@ -79,20 +79,23 @@ def _committed_presets() -> list[str]:
 
 
 def _preset_for(mech):
-    """The committed preset module whose parameters are ``mech``'s (their
-    ``PARAMETERS`` are the preset's geometry: ``python -m distkin.codegen --check``), or
-    None.  Reads the generated modules, not :mod:`.presets` (no import cycle)."""
-    params = dict(mech.geometry_key())
+    """The committed preset module whose leg table is ``mech``'s (their ``LEGS`` are
+    the preset's :meth:`~.legs.LegsDescription.key`: ``python -m distkin.codegen
+    --check``), or None.  A preset written out as legs finds its module here.  Reads the
+    generated modules, not :mod:`.presets` (no import cycle)."""
+    legs = mech.leg_description().key()
     names = _committed_presets()
     for name in sorted(names, key=lambda n: n != mech.name):
         module = importlib.import_module(f"distkin._generated.{preset_module_name(name)}")
-        if module.PARAMETERS == params:
+        if getattr(module, "LEGS", None) == legs:
             return name
     return None
 
 
 def load_kernels(mech, flavour: str = "batched") -> KernelSet:
-    """The kernels of ``mech``: the committed preset module, else a cached derivation.
+    """The kernels of ``mech`` (an RSS or leg description, or a mechanism on one), from
+    its leg table: the committed preset module with that table, else a cached derivation
+    (:func:`distkin.codegen.rss.derived_module`: a progress line and the time on stderr).
 
     ``flavour`` is "batched", "scalar" or "arb" (:data:`ARB_KERNELS` only, from the
     module ``rss_<name>_arb``).
@@ -101,7 +104,9 @@ def load_kernels(mech, flavour: str = "batched") -> KernelSet:
         from ..errors import InputError
         raise InputError(f"expected a flavour in {FLAVOURS + ('arb',)}, got {flavour!r}",
                          field="flavour")
-    key = (mech.geometry_key(), flavour)
+    if getattr(mech, "route", "generated") == "numpy":
+        return _numeric(mech, flavour)
+    key = (type(mech).kind, mech.geometry_key(), flavour)
     if key in _LOADED:
         return _LOADED[key]
     if flavour == "arb":
@@ -113,7 +118,20 @@ def load_kernels(mech, flavour: str = "batched") -> KernelSet:
         from ..codegen.rss import derived_module      # a custom geometry: derive once
         module = derived_module(mech, KERNELS, FLAVOURS)
     for fl in FLAVOURS:
-        _LOADED[(mech.geometry_key(), fl)] = KernelSet(module, fl)
+        _LOADED[key[:2] + (fl,)] = KernelSet(module, fl)
+    return _LOADED[key]
+
+
+def _numeric(mech, flavour):
+    """The plain-numpy kernels of a leg mechanism (``route="numpy"``)."""
+    if flavour == "arb":
+        from ..errors import InputError
+        raise InputError("expected route 'generated' for arb (certified) kernels, got the "
+                         "numpy route, which has none", field="route")
+    key = ("numpy", mech.geometry_key(), flavour)
+    if key not in _LOADED:
+        from .reference import NumericKernels
+        _LOADED[key] = NumericKernels(mech.leg_description(), flavour)
     return _LOADED[key]
 
 

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["draw", "plot_poses"]
+__all__ = ["draw", "plot_poses", "draw_legs", "plot_legs_poses"]
 
 
 def draw(mech, pose, q=None, ax=None, *, title=None):
@@ -78,8 +78,9 @@ def draw(mech, pose, q=None, ax=None, *, title=None):
     return ax
 
 
-def plot_poses(mech, poses, stem, q=None, *, limit=4):
-    """Write one PNG per pose (at most ``limit``) as ``STEM_pose<i>.png``; returns paths."""
+def plot_poses(mech, poses, stem, q=None, *, limit=4, drawer=None):
+    """Write one PNG per pose (at most ``limit``) as ``STEM_pose<i>.png``; returns paths.
+    ``drawer`` draws one pose (default :func:`draw`)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -88,9 +89,51 @@ def plot_poses(mech, poses, stem, q=None, *, limit=4):
     for i, pose in enumerate(poses[:limit]):
         fig = plt.figure(figsize=(7, 6))
         ax = fig.add_subplot(projection="3d")
-        draw(mech, pose, None if q is None else np.asarray(q)[i], ax)
+        (drawer or draw)(mech, pose, None if q is None else np.asarray(q)[i], ax)
         path = Path(f"{stem}_pose{i}.png")
         fig.savefig(path, dpi=110, bbox_inches="tight")
         plt.close(fig)
         paths.append(path)
     return paths
+
+
+def draw_legs(mech, pose, q=None, ax=None, *, title=None):
+    """Draw a leg-table mechanism (:class:`~.kinematics.LegMechanism`) at ``pose`` (6,)
+    (m, rad) on a 3-D axis (mm): cranks B-C, offsets C-D and distal links D-P of
+    revolute legs, prismatic legs B-P (red: a leg that does not close)."""
+    import matplotlib.pyplot as plt
+    pose = np.asarray(pose, dtype=float)
+    pts = mech.points(pose, q)
+    _, valid = mech.inverse_kinematics(pose)
+    if ax is None:
+        fig = plt.figure(figsize=(7, 6))
+        ax = fig.add_subplot(projection="3d")
+    mm = 1e3
+    for i, leg in enumerate(mech.leg_table):
+        B, C, D, P = (pts[k][i] * mm for k in ("B", "C", "D", "P"))
+        bad = not valid[i]
+        if leg.prismatic:
+            ax.plot(*np.stack([B, P]).T, color="tab:red" if bad else "tab:blue", lw=2.5,
+                    label=f"{leg.type} leg" if i == 0 else None)
+        else:
+            ax.plot(*np.stack([B, C]).T, color="tab:blue", lw=2.5)
+            ax.plot(*np.stack([C, D]).T, color="tab:green", lw=2)
+            ax.plot(*np.stack([D, P]).T, color="tab:red" if bad else "tab:orange", lw=1.5)
+        ax.scatter(*B, color="k", s=12)
+        ax.text(*B, f" {i + 1}", fontsize=7)
+    P = pts["P"] * mm
+    ax.plot(*np.vstack([P, P[:1]]).T, color="tab:purple", lw=2, label="platform joints")
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("y [mm]")
+    ax.set_zlabel("z [mm]")
+    deg = np.degrees
+    ax.set_title(title or (f"{mech.name}: L = {mech.L}; pose ({pose[0] * mm:.0f}, "
+                           f"{pose[1] * mm:.0f}, {pose[2] * mm:.0f}) mm, ({deg(pose[3]):.1f}, "
+                           f"{deg(pose[4]):.1f}, {deg(pose[5]):.1f})°"), fontsize=9)
+    ax.legend(fontsize=7, loc="upper left")
+    return ax
+
+
+def plot_legs_poses(mech, poses, stem, q=None, *, limit=4):
+    """:func:`plot_poses` for a leg-table mechanism (:func:`draw_legs`)."""
+    return plot_poses(mech, poses, stem, q, limit=limit, drawer=draw_legs)

@@ -24,7 +24,7 @@ import numpy as np
 
 from ..spatial import rotation_matrix
 
-__all__ = ["ik_jacobian"]
+__all__ = ["ik_jacobian", "NumericKernels"]
 
 
 def _solve(mech, X, g, branch):
@@ -49,7 +49,8 @@ def ik_jacobian(mech, poses, *, return_jq: bool = False):
 
     Parameters
     ----------
-    mech : RSSMechanism
+    mech : RSSMechanism, or a leg mechanism (kind "legs": :class:`NumericKernels`, with
+        jq normalised as its kernels', so ``transmission`` uses ``mech.l1``)
     poses : ndarray (N, 6)
         (x, y, z) m and (rx, ry, rz) rad, R = Rz Ry Rx.
 
@@ -65,6 +66,8 @@ def ik_jacobian(mech, poses, *, return_jq: bool = False):
         up to sign (|Jq_ii| = l1 |sin| of the angle between crank and distal link).
     """
     X = np.atleast_2d(np.asarray(poses, dtype=float))
+    if getattr(mech, "kind", None) == "legs":
+        return _legs_ik_jacobian(mech, X, return_jq)
     g = mech.geometry()
     home = mech.home[None]
     qp = _solve(mech, home, g, 1.0)[0]
@@ -83,3 +86,117 @@ def ik_jacobian(mech, poses, *, return_jq: bool = False):
     if return_jq:
         return q, margin >= 0.0, J, jq / mech.l3
     return q, margin >= 0.0, J
+
+
+def _legs_ik_jacobian(mech, X, return_jq):
+    k = NumericKernels(mech.leg_description())
+    q = k.ik(X)
+    out = k.jq_jx(X)
+    valid = k.reach(X) >= 0.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        J = out[..., 1:] / out[..., :1]
+    return (q, valid, J, out[..., 0]) if return_jq else (q, valid, J)
+
+
+class NumericKernels:
+    """The kernel interface of :mod:`.kernels` (``ik, reach, jacobian, jq_jx, closure``)
+    computed in plain numpy from a leg table (:class:`~.legs.LegsDescription`): the route
+    that needs no generated module (no sympy, no derivation), selected with
+    ``LegMechanism(..., route="numpy")`` or ``route = "numpy"`` in a scene.
+
+    The formulas are those of :mod:`.symbolic` (revolute legs: ``A cos q + Bz sin q = C``
+    with the leg's branch, ``Jq = dPhi/dq``, ``Jx = -dPhi/d(v, omega)``; prismatic legs:
+    ``q = |P - B|``, ``Jq = -1``, the normalised Plücker line, Rojas et al. eq. (5)), so
+    the two routes agree to rounding (tests/mechanisms/test_legs_numeric.py).  Flavours
+    "batched" (arrays (..., 6)) and "scalar" (one pose, lists); no "arb".
+    """
+
+    def __init__(self, desc, flavour: str = "batched"):
+        self.desc = desc
+        self.flavour = flavour
+        self.module = None
+        self._d = desc.arrays()
+        lo = np.array([leg.range[0] if leg.prismatic and leg.range else np.nan
+                       for leg in desc.leg_table])
+        hi = np.array([leg.range[1] if leg.prismatic and leg.range else np.nan
+                       for leg in desc.leg_table])
+        self._stroke = (lo, hi)
+        if flavour == "scalar":
+            for name in ("ik", "reach", "jacobian", "jq_jx"):
+                setattr(self, name, self._scalar(getattr(self, "_" + name)))
+            self.closure = lambda q, pose: self._closure(
+                np.asarray(q, float)[None], np.asarray(pose, float)[None])[0].tolist()
+        else:
+            self.ik, self.reach, self.jacobian = self._ik, self._reach, self._jacobian
+            self.jq_jx, self.closure = self._jq_jx, self._closure
+
+    def __repr__(self):
+        return f"<NumericKernels {self.flavour} of {self.desc.name!r}>"
+
+    @staticmethod
+    def _scalar(fn):
+        return lambda pose: fn(np.asarray(pose, dtype=float)[None])[0].tolist()
+
+    def _geometry(self, X):
+        d = self._d
+        X = np.asarray(X, dtype=float)
+        Rp = np.einsum("...ij,lj->...li", rotation_matrix(X[..., 3:]), d["p"])
+        P = X[..., None, :3] + Rp
+        return d, Rp, P
+
+    def _revolute(self, d, P):
+        w = P - d["B"] - d["offset"]
+        A = np.einsum("...li,li->...l", w, d["u"])
+        Bz = np.einsum("...li,li->...l", w, d["v"])
+        l1 = np.where(d["prismatic"], 1.0, d["l1"])
+        C = (np.einsum("...li,...li->...l", w, w) + l1 ** 2 - d["l3"] ** 2) / (2 * l1)
+        return A, Bz, C
+
+    def _ik(self, X):
+        d, _, P = self._geometry(X)
+        A, Bz, C = self._revolute(d, P)
+        h = np.sqrt(np.abs(A ** 2 + Bz ** 2 - C ** 2))
+        s = d["branch"]
+        q = np.arctan2(Bz * C - s * A * h, A * C + s * Bz * h)
+        return np.where(d["prismatic"], np.linalg.norm(P - d["B"], axis=-1), q)
+
+    def _reach(self, X):
+        d, _, P = self._geometry(X)
+        A, Bz, C = self._revolute(d, P)
+        qp = np.linalg.norm(P - d["B"], axis=-1)
+        lo, hi = self._stroke
+        pris = np.where(np.isnan(lo), qp ** 2, (qp - lo) * (hi - qp))
+        return np.where(d["prismatic"], pris, A ** 2 + Bz ** 2 - C ** 2)
+
+    def _rows(self, X, q):
+        """Phi (..., L), dPhi/dq (..., L), dPhi/d(v, omega) (..., L, 6) at joint values q."""
+        d, Rp, P = self._geometry(X)
+        pris = d["prismatic"]
+        cq, sq = np.cos(q)[..., None], np.sin(q)[..., None]
+        l1 = d["l1"][:, None]
+        D = d["B"] + d["offset"] + l1 * (cq * d["u"] + sq * d["v"])
+        dD = l1 * (-sq * d["u"] + cq * d["v"])
+        D = np.where(pris[:, None], d["B"], D)
+        s = P - D
+        qq = np.where(pris, q, 1.0)
+        den = np.where(pris, qq, d["l3"])
+        n2 = np.einsum("...li,...li->...l", s, s)
+        phi = np.where(pris, (n2 - qq ** 2) / (2 * qq), (n2 - d["l3"] ** 2) / (2 * den))
+        dq = np.where(pris, -(n2 + qq ** 2) / (2 * qq ** 2),
+                      -np.einsum("...li,...li->...l", s, dD) / den)
+        g = s / den[..., None]
+        return phi, dq, np.concatenate([g, np.cross(Rp, g)], axis=-1)
+
+    def _jq_jx(self, X):
+        q = self._ik(X)
+        _, jq, gx = self._rows(X, q)
+        return np.concatenate([jq[..., None], -gx], axis=-1)
+
+    def _jacobian(self, X):
+        out = self._jq_jx(X)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return out[..., 1:] / out[..., :1]
+
+    def _closure(self, q, X):
+        phi, _, gx = self._rows(X, np.asarray(q, dtype=float))
+        return np.concatenate([phi[..., None], gx], axis=-1)

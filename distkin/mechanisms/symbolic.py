@@ -1,4 +1,10 @@
-"""The sympy model of an RRRS leg: closure, closed-form IK, Jq, Jx, J = Jq^-1 Jx.
+"""The sympy model of a mechanism's legs: closure, closed-form IK, Jq, Jx, J = Jq^-1 Jx.
+
+:class:`ModelExprs` builds it from a leg table (:mod:`.legs`: revolute RSS/RUS/RRRS legs
+as below with the leg's own vectors, crank direction v at q = 90 deg in place of z and
+its own branch; prismatic SPS/UPS legs with q = |P - B| and the normalised Plücker line,
+Rojas et al. eq. (5)); an RSS description (kind "rss") is built from the parametric leg
+of Fig. 2 below, the same algebra, which keeps the committed preset kernels as they were.
 
 Kühne et al., Sec. II-C, eqs. (1)-(2), Fig. 2; parametrisation in :mod:`.presets`,
 pose in :mod:`distkin.spatial`.  This module imports sympy; numeric code uses the kernels
@@ -143,13 +149,21 @@ def _root_abs(e):
 
 
 class ModelExprs:
-    """The symbolic kernels of one mechanism, derived lazily (each only when asked).
+    """The symbolic kernels of one mechanism, built from its leg table
+    (:class:`~.legs.LegsDescription`) and derived lazily (each only when asked).
+
+    Revolute legs (RSS, RUS, RRRS) follow the module docstring with the leg's own
+    vectors (crank direction v at q = 90 deg in place of z, its own branch sigma); a
+    prismatic leg (SPS, UPS) has ``Phi = (|P - B|^2 - q^2) / (2 q)``, IK ``q = |P - B|``,
+    ``Jq_ii = -1`` and ``Jx_i = -(n, r x n)`` with ``n = (P - B) / q``, so its row of J is
+    the normalised Plücker line of the leg (Rojas et al., eq. (5)); its reach margin is
+    ``(q - qmin)(qmax - q)`` (m^2) within a stroke ``range``, else ``q^2``.
 
     Attributes (sympy Matrices, functions of :data:`POSE` and, for ``closure``, of
     ``q_symbols(L)``)
     ----------
-    ik : (L, 1) crank angles
-    reach : (L, 1) reach margins rho^2 - C^2 (m^2)
+    ik : (L, 1) joint coordinates (rad; m for prismatic legs)
+    reach : (L, 1) reach margins (m^2)
     jacobian : (L, 6) J
     jq_jx : (L, 7) [Jq_ii, Jx_i]
     closure : (L, 7) [Phi_i, dPhi_i/d(v, omega)]
@@ -158,19 +172,78 @@ class ModelExprs:
     NAMES = ("ik", "reach", "jacobian", "jq_jx", "closure")
 
     def __init__(self, mech):
-        self.mech = mech
-        self.L = mech.legs
+        self.desc = mech.leg_description()
+        #: an RSS description (kind "rss") is derived from the parametric leg of Fig. 2
+        #: (:func:`generic_leg`), the same algebra as its leg table; the two routes give
+        #: the same kernels up to the rounding of the leg vectors (<= 1.4e-15 rad of IK,
+        #: 8e-14 of J on the study grids), and the committed presets keep theirs
+        self.rss = mech if getattr(mech, "kind", None) == "rss" else None
+        self.L = self.desc.L
         self._legs = None
         self._cache = {}
         self.timings = {}
 
     def _leg_parts(self):
-        """Per leg: substituted Phi(q, P), its derivatives, and the IK pieces."""
+        """Per leg: Phi(q, P) with the leg's numbers, its derivatives, the IK pieces."""
         import time
         if self._legs is not None:
             return self._legs
+        if self.rss is not None:
+            self._legs = self._rss_parts()
+            return self._legs
         t0 = time.perf_counter()
-        g = generic_leg(self.mech.layout)
+        x, y, zz, rx, ry, rz = POSE
+        R = rotation_matrix(rx, ry, rz)
+        X = sp.Matrix([x, y, zz])
+        q = sp.Symbol("q", real=True)
+        Psym = sp.Matrix(sp.symbols("Px Py Pz", real=True))
+        legs = []
+        t_diff = 0.0
+        for leg in self.desc.leg_table:
+            vec = lambda v: sp.Matrix([_num(c) for c in v])  # noqa: E731
+            B, p = vec(leg.base), vec(leg.platform)
+            r = R * p
+            Pexpr = X + r
+            part = dict(r=r, P=Pexpr, prismatic=leg.prismatic, branch=leg.branch,
+                        range=leg.range)
+            if leg.prismatic:
+                d = Psym - B
+                Phi = (d.dot(d) - q ** 2) / (2 * q)
+                w = Pexpr - B
+                part.update(Phi=Phi, w=w, n2=w.dot(w))
+            else:
+                o, u, v = vec(leg.offset), vec(leg.crank0), vec(leg.crank90)
+                l1, l3 = _num(leg.crank), _num(leg.distal)
+                D = B + o + l1 * (sp.cos(q) * u + sp.sin(q) * v)
+                Phi = ((Psym - D).dot(Psym - D) - l3 ** 2) / (2 * l3)
+                w = Pexpr - B - o
+                part.update(Phi=Phi, A=w.dot(u), Bz=w.dot(v),
+                            C=(w.dot(w) + l1 ** 2 - l3 ** 2) / (2 * l1))
+            tb = time.perf_counter()
+            part["dPhi_dq"] = sp.diff(Phi, q)
+            part["gP"] = sp.Matrix([sp.diff(Phi, c) for c in Psym])
+            t_diff += time.perf_counter() - tb
+            legs.append(part)
+        self.timings["substitute"] = time.perf_counter() - t0 - t_diff
+        self.timings["differentiate"] = t_diff
+        self._legs = legs
+        return legs
+
+    @staticmethod
+    def _cos_sin(leg):
+        A, Bz, C, sigma = leg["A"], leg["Bz"], leg["C"], leg["branch"]
+        rho2 = A ** 2 + Bz ** 2
+        h = _root_abs(rho2 - C ** 2)
+        cq = (A * C + sigma * Bz * h) / rho2
+        sq = (Bz * C - sigma * A * h) / rho2
+        return cq, sq, rho2
+
+    def _rss_parts(self):
+        """Per leg of an RSS description: the parametric leg of Fig. 2 (:func:`generic_leg`)
+        with the parameters substituted, its derivatives and the IK pieces."""
+        import time
+        t0 = time.perf_counter()
+        g = generic_leg(self.rss.layout)
         x, y, zz, rx, ry, rz = POSE
         R = rotation_matrix(rx, ry, rz)
         X = sp.Matrix([x, y, zz])
@@ -179,7 +252,7 @@ class ModelExprs:
         t_subs = t_diff = 0.0
         for i in range(self.L):
             ta = time.perf_counter()
-            vals = leg_values(self.mech, i)
+            vals = leg_values(self.rss, i)
             # parameters first (docs/design.md §1): everything below sees numbers
             Phi = g["Phi"].xreplace(vals)
             p = g["p"].xreplace(vals)
@@ -195,7 +268,8 @@ class ModelExprs:
             A = w.dot(u)
             Bz = w[2]
             C = (w.dot(w) + l1 ** 2 - l3 ** 2) / (2 * l1)
-            legs.append(dict(Phi=Phi, dPhi_dq=dPhi_dq, gP=gP, r=r, P=Pexpr, A=A, Bz=Bz, C=C))
+            legs.append(dict(Phi=Phi, dPhi_dq=dPhi_dq, gP=gP, r=r, P=Pexpr, A=A, Bz=Bz, C=C,
+                             prismatic=False, branch=BRANCH, range=None))
             t_subs += tb - ta
             t_diff += tc - tb
         self.timings["substitute"] = time.perf_counter() - t0 - t_diff
@@ -203,64 +277,69 @@ class ModelExprs:
         self._legs = legs
         return legs
 
-    @staticmethod
-    def _cos_sin(leg):
-        A, Bz, C = leg["A"], leg["Bz"], leg["C"]
-        rho2 = A ** 2 + Bz ** 2
-        h = _root_abs(rho2 - C ** 2)
-        cq = (A * C + BRANCH * Bz * h) / rho2
-        sq = (Bz * C - BRANCH * A * h) / rho2
-        return cq, sq, rho2
-
     def _subsP(self, expr, leg):
         Psym = sp.symbols("Px Py Pz", real=True)
         return expr.xreplace(dict(zip(Psym, leg["P"])))
 
     def legs(self):
-        """Per leg: ``Phi`` (substituted closure in q, Px, Py, Pz) and ``P`` (pose)."""
+        """Per leg: ``Phi`` (closure in q, Px, Py, Pz with the leg's numbers) and ``P``
+        (the platform joint as a function of the pose)."""
         return self._leg_parts()
+
+    def signature(self) -> str:
+        """What the kernels depend on besides the closures: branches and ranges ("" for
+        an RSS description, whose branch is :data:`BRANCH` of this model)."""
+        if self.rss is not None:
+            return ""
+        return repr([(leg["prismatic"], leg["branch"], leg["range"]) for leg in self.legs()])
+
+    def _row(self, name, leg, i):
+        q = sp.Symbol("q", real=True)
+        if leg["prismatic"]:
+            qv = _root_abs(leg["n2"])
+            if name == "ik":
+                return [qv]
+            if name == "reach":
+                lo, hi = leg["range"] or (None, None)
+                return [leg["n2"] if lo is None else (qv - _num(lo)) * (_num(hi) - qv)]
+            if name == "closure":
+                qs = q_symbols(self.L)
+                phi = self._subsP(leg["Phi"], leg).xreplace({q: qs[i]})
+                gP = self._subsP(leg["gP"], leg).xreplace({q: qs[i]})
+                return [phi] + list(gP.col_join(leg["r"].cross(gP)))
+            n = leg["w"] / qv
+            line = list(n.col_join(leg["r"].cross(n)))       # Plücker, Rojas et al. eq. (5)
+            return [sp.Integer(-1)] + [-c for c in line] if name == "jq_jx" else line
+        if name == "ik":
+            A, Bz, C, sigma = leg["A"], leg["Bz"], leg["C"], leg["branch"]
+            h = _root_abs(A ** 2 + Bz ** 2 - C ** 2)
+            # evaluate=False: sympy would otherwise query signs of large expressions
+            return [sp.atan2(Bz * C - sigma * A * h, A * C + sigma * Bz * h, evaluate=False)]
+        if name == "reach":
+            return [leg["A"] ** 2 + leg["Bz"] ** 2 - leg["C"] ** 2]
+        if name in ("jacobian", "jq_jx"):
+            cq, sq, _ = self._cos_sin(leg)
+            rep = {sp.cos(q): cq, sp.sin(q): sq}
+            jq = self._subsP(leg["dPhi_dq"], leg).xreplace(rep)
+            gP = self._subsP(leg["gP"], leg).xreplace(rep)
+            jx = -gP.col_join(leg["r"].cross(gP))
+            return [jq] + list(jx) if name == "jq_jx" else [c / jq for c in jx]
+        rep = {q: q_symbols(self.L)[i]}
+        phi = self._subsP(leg["Phi"], leg).xreplace(rep)
+        gP = self._subsP(leg["gP"], leg).xreplace(rep)
+        return [phi] + list(gP.col_join(leg["r"].cross(gP)))
 
     def get(self, name: str) -> sp.Matrix:
         if name in self._cache:
             return self._cache[name]
-        legs = self._leg_parts()
-        q = sp.Symbol("q", real=True)
-        rows = []
-        if name == "ik":
-            for leg in legs:
-                A, Bz, C = leg["A"], leg["Bz"], leg["C"]
-                h = _root_abs(A ** 2 + Bz ** 2 - C ** 2)
-                # evaluate=False: sympy would otherwise query signs of large expressions
-                rows.append([sp.atan2(Bz * C - BRANCH * A * h, A * C + BRANCH * Bz * h,
-                                      evaluate=False)])
-        elif name == "reach":
-            for leg in legs:
-                rows.append([leg["A"] ** 2 + leg["Bz"] ** 2 - leg["C"] ** 2])
-        elif name in ("jacobian", "jq_jx"):
-            for leg in legs:
-                cq, sq, _ = self._cos_sin(leg)
-                rep = {sp.cos(q): cq, sp.sin(q): sq}
-                jq = self._subsP(leg["dPhi_dq"], leg).xreplace(rep)
-                gP = self._subsP(leg["gP"], leg).xreplace(rep)
-                jx = -gP.col_join(leg["r"].cross(gP))
-                if name == "jq_jx":
-                    rows.append([jq] + list(jx))
-                else:
-                    rows.append([c / jq for c in jx])
-        elif name == "closure":
-            qs = q_symbols(self.L)
-            for i, leg in enumerate(legs):
-                rep = {q: qs[i]}
-                phi = self._subsP(leg["Phi"], leg).xreplace(rep)
-                gP = self._subsP(leg["gP"], leg).xreplace(rep)
-                rows.append([phi] + list(gP.col_join(leg["r"].cross(gP))))
-        else:
+        if name not in self.NAMES:
             raise ValueError(f"expected a kernel in {self.NAMES}, got {name!r}")
-        M = sp.Matrix(rows)
+        M = sp.Matrix([self._row(name, leg, i) for i, leg in enumerate(self._leg_parts())])
         self._cache[name] = M
         return M
 
 
 def model_expressions(mech) -> ModelExprs:
-    """The lazily derived symbolic kernels of ``mech`` (an :class:`RSSMechanism`)."""
+    """The lazily derived symbolic kernels of ``mech`` (anything with a
+    ``leg_description()``: :class:`~.legs.LegsDescription`, an RSS description)."""
     return ModelExprs(mech)

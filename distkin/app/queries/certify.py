@@ -76,7 +76,7 @@ class _Params:
     angle_unit: str
 
 
-@register("certify_workspace", mechanisms=("rss",),
+@register("certify_workspace", mechanisms=("rss", "legs"),
           summary="certified singularity-free workspace: interval branch-and-prune of a "
                   "region of poses (regular / singular / undecided boxes, Fig. 3 analogue)")
 class CertifyWorkspaceQuery:

@@ -156,7 +156,7 @@ def _parse_device(d, mechanism, units, field):
     return _DeviceSpec(label, mech, rotation, inner, paper)
 
 
-@register("performance", mechanisms=("rss",),
+@register("performance", mechanisms=("rss", "legs"),
           summary="worst-case output capabilities, sensitivities, GII and dexterous "
                   "workspace over a pose grid (Kühne et al., Tables III-IV)")
 class PerformanceQuery:

@@ -1,4 +1,9 @@
-"""Scene queries for ``kind = "rss"``: inverse kinematics, Jacobian, forward kinematics.
+"""Scene queries for ``kind = "rss"`` and ``kind = "legs"``: inverse kinematics,
+Jacobian, forward kinematics.
+
+Joint coordinates are angles (rad in the JSON, the scene's angle unit in the text and
+in ``angles``) for revolute legs and lengths (m; the scene's length unit) for prismatic
+ones.
 
 Poses are written in the scene's units, ``[x, y, z, rx, ry, rz]`` (length units, then
 angle units; rotation R = Rz(rz) Ry(ry) Rx(rx), :mod:`distkin.spatial`)::
@@ -82,7 +87,48 @@ def _fmt_pose(pose, scene):
             f"({p[3] * af:.6g}, {p[4] * af:.6g}, {p[5] * af:.6g}) {au}")
 
 
+def _prismatic(mech) -> np.ndarray:
+    """(L,) bool: prismatic legs (none for an RSS mechanism)."""
+    desc = mech.leg_description() if mech.kind == "legs" else None
+    return (np.array([leg.prismatic for leg in desc.leg_table]) if desc is not None
+            else np.zeros(mech.L, dtype=bool))
+
+
+def _joint_text(q, mech, scene):
+    """Joint coordinates in the scene's units, each with its unit."""
+    lu, au, lf, af = _units(scene)
+    pris = _prismatic(mech)
+    if not pris.any():
+        return "[" + ", ".join(f"{v * af:.6g}" for v in q) + f"] {au}"
+    return "[" + ", ".join(f"{v * lf:.6g} {lu}" if p else f"{v * af:.6g} {au}"
+                           for v, p in zip(q, pris)) + "]"
+
+
+def _leg_length(mech) -> float:
+    """A typical leg length (m) for accuracy statements: l3, or the mean distance
+    between base and platform joints at home."""
+    if mech.kind == "rss":
+        return mech.l3
+    d = mech.arrays()
+    from ...spatial import rotation_matrix
+    P = mech.home[:3] + d["p"] @ rotation_matrix(mech.home[3:]).T
+    return float(np.mean(np.linalg.norm(P - d["B"], axis=1)))
+
+
+def _describe(mech, lf, lu) -> str:
+    if mech.kind == "rss":
+        return f"mechanism: {mech.name} (L = {mech.L}, l3 = {mech.l3 * lf:.6g} {lu})"
+    types = ", ".join(sorted({leg.type for leg in mech.leg_table}))
+    return f"mechanism: {mech.name} (L = {mech.L} legs: {types})"
+
+
 def _plotter(mech, poses, qs=None):
+    if mech.kind != "rss":
+        def plot_legs(stem):
+            from ...mechanisms.plot import plot_legs_poses
+            return plot_legs_poses(mech, poses, stem, q=qs)
+        return plot_legs
+
     def plot(stem):
         from ...mechanisms.plot import plot_poses
         return plot_poses(mech, poses, stem, q=qs)
@@ -95,8 +141,8 @@ class _Poses:
     mass_matrix: bool = False
 
 
-@register("inverse_kinematics", mechanisms=("rss",),
-          summary="closed-form crank angles of RSS/RRRS mechanisms at given poses")
+@register("inverse_kinematics", mechanisms=("rss", "legs"),
+          summary="closed-form joint coordinates (crank angles, leg lengths) at given poses")
 class InverseKinematicsQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
@@ -110,7 +156,7 @@ class InverseKinematicsQuery:
         q, valid = mech.inverse_kinematics(X)
         margin = mech.reach_margin(X)
         lu, au, lf, af = _units(scene)
-        rows, lines = [], [f"mechanism: {mech.name} (L = {mech.L}, l3 = {mech.l3 * lf:.6g} {lu})"]
+        rows, lines = [], [_describe(mech, lf, lu)]
         for i in range(len(X)):
             ok = bool(valid[i].all())
             rows.append({"pose": X[i], "q": q[i], "valid": valid[i], "reachable": ok,
@@ -118,15 +164,16 @@ class InverseKinematicsQuery:
             bad = [int(j) + 1 for j in np.flatnonzero(~valid[i])]
             lines.append(f"pose {i}: {_fmt_pose(X[i], scene)}  -> "
                          + ("reachable" if ok else f"NOT reachable (legs {bad})"))
-            lines.append("  q = [" + ", ".join(f"{v * af:.6g}" for v in q[i]) + f"] {au}")
-        lines.append("accuracy: closed form in float64 (about 1e-15 rad); branch: the crank "
-                     "angle nearer 0 at the workspace centre (distkin.mechanisms.presets)")
+            lines.append("  q = " + _joint_text(q[i], mech, scene))
+        lines.append("accuracy: closed form in float64 (about 1e-15 rad, 1e-16 x leg length); "
+                     "branch: the crank angle nearer 0 at the workspace centre "
+                     "(distkin.mechanisms.presets) or the leg's own (distkin.mechanisms.legs)")
         return Outcome({"mechanism": mech.parameters(), "unit": {"q": "rad", "pose": "m, rad"},
                         "poses": rows}, "\n".join(lines), _plotter(mech, X, q))
 
 
-@register("jacobian", mechanisms=("rss",),
-          summary="J = Jq^-1 Jx (qdot = J (v, omega)) of RSS/RRRS mechanisms")
+@register("jacobian", mechanisms=("rss", "legs"),
+          summary="J = Jq^-1 Jx (qdot = J (v, omega)); prismatic rows: Plücker lines")
 class JacobianQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
@@ -146,7 +193,9 @@ class JacobianQuery:
         sv = np.linalg.svd(J, compute_uv=False)
         rows = []
         lines = [f"mechanism: {mech.name} (L = {mech.L}); qdot = J (v, omega): columns 1-3 "
-                 "rad/m, 4-6 rad/rad"]
+                 "rad/m, 4-6 rad/rad" + ("; prismatic rows (normalised Plücker lines, "
+                                         "Rojas et al. eq. (5)): m/m, m/rad"
+                                         if _prismatic(mech).any() else "")]
         for i in range(len(X)):
             r = {"pose": X[i], "J": J[i], "Jq": Jq[i], "Jx": Jx[i], "singular_values": sv[i],
                  "kappa": sv[i, -1] / sv[i, 0], "reachable": bool(valid[i].all())}
@@ -178,8 +227,8 @@ class _FK:
     max_iter: int
 
 
-@register("forward_kinematics", mechanisms=("rss",),
-          summary="numeric forward kinematics (Gauss-Newton) of RSS/RRRS mechanisms")
+@register("forward_kinematics", mechanisms=("rss", "legs"),
+          summary="numeric forward kinematics (Gauss-Newton, warm-started) from joint values")
 class ForwardKinematicsQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
@@ -187,7 +236,9 @@ class ForwardKinematicsQuery:
         if "angles" not in table:
             raise InputError("missing required field 'angles'", field=f"{field}.angles")
         af = angle_factor(units)
-        angles = tuple(a * af for a in _numbers(table["angles"], f"{field}.angles", mechanism.L))
+        lf = length_factor(units, "units")
+        angles = tuple(a * (lf if p else af) for a, p in zip(
+            _numbers(table["angles"], f"{field}.angles", mechanism.L), _prismatic(mechanism)))
         guess = None
         if "guess" in table:
             guess = tuple(np.array(_numbers(table["guess"], f"{field}.guess", 6)) * _scale(units))
@@ -215,7 +266,7 @@ class ForwardKinematicsQuery:
                  + ("  WARNING: near a singularity, the pose is ill-determined"
                     if res.near_singular else ""),
                  f"accuracy: about condition x 1e-16 x leg length "
-                 f"({res.condition * 1e-16 * mech.l3 * lf:.2g} {lu}) plus the residual"]
+                 f"({res.condition * 1e-16 * _leg_length(mech) * lf:.2g} {lu}) plus the residual"]
         result = {"pose": res.pose, "converged": res.converged, "iterations": res.iterations,
                   "residual": res.residual, "sigma_min": res.sigma_min,
                   "condition": res.condition, "near_singular": res.near_singular,

@@ -1,0 +1,353 @@
+"""The ``kind = "legs"`` mechanism table of a scene: any parallel mechanism, leg by leg.
+
+::
+
+    [units]
+    length = "mm"               # lengths below in mm (m, cm, km also)
+    angle = "deg"               # angles below in deg (or rad)
+
+    [mechanism]
+    kind = "legs"
+    name = "gough6"
+    home = [0, 0, 400, 0, 0, 0] # x y z (length), rx ry rz (angle); R = Rz Ry Rx
+    mass = 10                   # kg, always SI
+    inertia = "0.2"             # kg m^2, always SI
+    # scale = 150               # optional FK length scale (length; default: mean |p|)
+    # legs_csv = "legs.csv"     # the legs from a CSV file (path relative to the scene)
+    # route = "numpy"           # plain-numpy kernels, no derivation (default "generated")
+
+    [[mechanism.leg]]           # one table per leg, in actuator order
+    type = "UPS"                # RSS | RUS | RRRS (revolute) | SPS | UPS (prismatic)
+    base = [300, 0, 0]          # crank pivot / base joint (length, base frame)
+    platform = [150, 0, 0]      # platform joint (length, end-effector frame)
+    range = [350, 550]          # joint range: length (prismatic) or angle (revolute)
+    limit = 1000                # actuator effort, SI: N (prismatic) or N m (revolute);
+                                #   a number (±) or [min, max]
+    # revolute legs also: axis, crank0, crank90 (unit vectors, no unit), crank, distal
+    # (length), offset (length, along the axis; RRRS), branch (+1 | -1; default: the IK
+    # solution nearer q = 0 at home)
+
+Meaning of every field: :mod:`distkin.mechanisms.legs`.  Exactly one of
+``[[mechanism.leg]]`` and ``legs_csv``.
+
+CSV (``legs_csv``): one header row, one row per leg, in the scene's units, columns
+(:data:`CSV_COLUMNS`; an empty cell is a field not given; any order; unknown columns
+are refused)::
+
+    type, base_x, base_y, base_z, platform_x, platform_y, platform_z,
+    axis_x, axis_y, axis_z, crank0_x, crank0_y, crank0_z, crank90_x, crank90_y, crank90_z,
+    crank, offset_x, offset_y, offset_z, distal, branch, range_min, range_max,
+    limit_min, limit_max
+
+Errors name the leg and the field (``mechanism.leg[3].axis``, or
+``mechanism.legs_csv[3].axis`` with the file's line number), the expected and the
+received value.
+"""
+
+from __future__ import annotations
+
+import csv
+from fractions import Fraction
+from pathlib import Path
+
+from ..argcheck import as_table, check_keys, require
+from ..errors import DistkinError, InputError
+from ..exact import parse_exact
+from ..mechanisms.kinematics import LegMechanism
+from ..mechanisms.legs import LEG_FIELDS, PRISMATIC_TYPES
+from .units import angle_factor, length_factor
+
+__all__ = ["parse_legs", "CSV_COLUMNS", "legs_csv_text", "legs_toml_text"]
+
+_VECTORS = ("base", "platform", "axis", "crank0", "crank90", "offset")
+_LENGTH_VECTORS = ("base", "platform", "offset")
+_LENGTHS = ("crank", "distal")
+
+#: the CSV columns, in the order :func:`legs_csv_text` writes them
+CSV_COLUMNS = (("type",) + tuple(f"{v}_{c}" for v in _VECTORS[:5] for c in "xyz")
+               + ("crank", "offset_x", "offset_y", "offset_z", "distal", "branch",
+                  "range_min", "range_max", "limit_min", "limit_max"))
+
+
+def _length(value, units, fld):
+    """A scene length in metres: an exact value times the exact unit, rounded once (the
+    same float whichever unit a value is written in)."""
+    ex = parse_exact(value, fld)
+    if isinstance(ex.value, Fraction):
+        return float(ex.value * units.length_factor)
+    return float(ex) * length_factor(units, fld)
+
+
+def _number(value, fld):
+    return float(parse_exact(value, fld))
+
+
+def _vector(value, fld, conv):
+    if not isinstance(value, (list, tuple)) or len(value) != 3:
+        raise InputError(f"expected a list of 3 numbers, got {value!r}", field=fld)
+    return tuple(conv(v, f"{fld}[{i}]") for i, v in enumerate(value))
+
+
+def _leg(table, units, fld):
+    """One leg table (scene units) -> keyword arguments of :class:`~.legs.Leg` (SI)."""
+    table = as_table(table, fld)
+    check_keys(table, set(LEG_FIELDS), fld)
+    kind = require(table, "type", fld)
+    prismatic = kind in PRISMATIC_TYPES
+    length = lambda v, f: _length(v, units, f)  # noqa: E731
+    out = {"type": kind}
+    for k, v in table.items():
+        f = f"{fld}.{k}"
+        if k in _VECTORS:
+            out[k] = _vector(v, f, length if k in _LENGTH_VECTORS else _number)
+        elif k in _LENGTHS:
+            out[k] = length(v, f)
+            if not out[k] > 0:
+                raise InputError(f"expected a positive length, got {v!r} ({units.length})",
+                                 field=f)
+        elif k == "branch":
+            out[k] = v
+        elif k == "range":
+            if not isinstance(v, (list, tuple)) or len(v) != 2:
+                raise InputError(f"expected [min, max], got {v!r}", field=f)
+            af = angle_factor(units)
+            out[k] = tuple(length(x, f"{f}[{i}]") if prismatic else _number(x, f"{f}[{i}]") * af
+                           for i, x in enumerate(v))
+        elif k == "limit":
+            if isinstance(v, (list, tuple)):
+                if len(v) != 2:
+                    raise InputError(f"expected a number or [min, max], got {v!r}", field=f)
+                out[k] = tuple(_number(x, f"{f}[{i}]") for i, x in enumerate(v))
+            else:
+                out[k] = _number(v, f)
+    return out
+
+
+def _csv_legs(path: Path, fld):
+    """The leg tables of a CSV file (:data:`CSV_COLUMNS`), with their line numbers."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise InputError(f"expected a readable CSV file, got {str(path)!r} ({exc.strerror})",
+                         field=fld) from None
+    rows = list(csv.reader(line for line in text.splitlines() if line.strip()))
+    if not rows:
+        raise InputError(f"expected a header row and one row per leg, got an empty file "
+                         f"{path.name!r}", field=fld)
+    head = [h.strip() for h in rows[0]]
+    bad = [h for h in head if h not in CSV_COLUMNS]
+    if bad:
+        raise InputError(f"expected columns among {', '.join(CSV_COLUMNS)}, got {bad}",
+                         field=fld)
+    legs = []
+    for n, row in enumerate(rows[1:]):
+        f = f"{fld}[{n}]"
+        if len(row) != len(head):
+            raise InputError(f"expected {len(head)} cells (line {n + 2} of {path.name}), got "
+                             f"{len(row)}", field=f)
+        cells = {h: c.strip() for h, c in zip(head, row) if c.strip() != ""}
+        table = {}
+        for name in LEG_FIELDS:
+            if name in _VECTORS:
+                parts = [cells.get(f"{name}_{c}") for c in "xyz"]
+                if any(p is not None for p in parts):
+                    if any(p is None for p in parts):
+                        raise InputError(f"expected {name}_x, {name}_y and {name}_z (line "
+                                         f"{n + 2} of {path.name}), got {parts}",
+                                         field=f"{f}.{name}")
+                    table[name] = parts
+            elif name in ("range", "limit"):
+                parts = [cells.get(f"{name}_min"), cells.get(f"{name}_max")]
+                if any(p is not None for p in parts):
+                    table[name] = parts
+            elif name in cells:
+                table[name] = cells[name] if name != "branch" else _branch(cells[name], f)
+        legs.append(table)
+    return legs
+
+
+def _branch(text, fld):
+    try:
+        return int(text)
+    except ValueError:
+        raise InputError(f"expected branch +1 or -1, got {text!r}", field=f"{fld}.branch") from None
+
+
+def parse_legs(table, units, field, scene_path=None):
+    """Parse a ``legs`` mechanism table into a :class:`~.kinematics.LegMechanism` (SI).
+
+    ``scene_path`` is the scene file (``legs_csv`` is relative to its folder)."""
+    check_keys(table, {"kind", "name", "home", "mass", "inertia", "scale", "leg", "legs_csv",
+                       "route"}, field)
+    if ("leg" in table) == ("legs_csv" in table):
+        raise InputError("expected exactly one of [[mechanism.leg]] tables and legs_csv, got "
+                         f"{'both' if 'leg' in table else 'neither'}", field=field)
+    if "leg" in table:
+        raw = table["leg"]
+        if not isinstance(raw, list):
+            raise InputError(f"expected [[{field}.leg]] tables, got {type(raw).__name__}",
+                             field=f"{field}.leg")
+        prefix = f"{field}.leg"
+    else:
+        csv_name = table["legs_csv"]
+        if not isinstance(csv_name, str):
+            raise InputError(f"expected a file name, got {csv_name!r}", field=f"{field}.legs_csv")
+        base = Path(scene_path).parent if scene_path else Path.cwd()
+        raw = _csv_legs(base / csv_name, f"{field}.legs_csv")
+        prefix = f"{field}.legs_csv"
+        where = lambda i: f"line {i + 2} of {csv_name}"  # noqa: E731
+    if "leg" in table:
+        where = None
+    legs = []
+    for i, t in enumerate(raw):
+        try:
+            legs.append(_leg(t, units, f"{prefix}[{i}]"))
+        except DistkinError as exc:
+            if where is not None and exc.hint is None:
+                exc.hint = where(i)
+                exc.args = (exc.one_line(),)
+            raise
+    home = require(table, "home", field)
+    if not isinstance(home, list) or len(home) != 6:
+        raise InputError(f"expected [x, y, z, rx, ry, rz], got {home!r}", field=f"{field}.home")
+    af = angle_factor(units)
+    home = tuple([_length(v, units, f"{field}.home[{i}]") for i, v in enumerate(home[:3])]
+                 + [_number(v, f"{field}.home[{i + 3}]") * af for i, v in enumerate(home[3:])])
+    kw = {k: _number(table[k], f"{field}.{k}") for k in ("mass", "inertia") if k in table}
+    if "scale" in table:
+        kw["scale"] = _length(table["scale"], units, f"{field}.scale")
+    if "route" in table:
+        from ..argcheck import choice
+        from ..mechanisms.kinematics import ROUTES
+        kw["route"] = choice(table["route"], f"{field}.route", ROUTES)
+    name = table.get("name", "legs")
+    if not isinstance(name, str):
+        raise InputError(f"expected a name (text), got {name!r}", field=f"{field}.name")
+    try:
+        return LegMechanism(name, tuple(legs), home, **kw)
+    except DistkinError as exc:
+        fld = exc.field or ""
+        if fld.startswith("leg["):
+            if where is not None and exc.hint is None:
+                exc.hint = where(int(fld[4:fld.index("]")]))
+            fld = prefix + fld[3:]
+        else:
+            fld = f"{field}.{fld}" if fld else field
+        exc.field = None
+        raise exc.with_field(fld) from None
+
+
+def legs_csv_text(mech, *, length_unit: str = "m") -> str:
+    """A leg table as CSV text (:data:`CSV_COLUMNS`), lengths in ``length_unit`` ("m",
+    "mm", "cm"), angles in rad, limits in SI, each the shortest decimal that a scene in
+    that unit (and ``angle = "rad"``) reads back to the same float."""
+    import io
+    from .units import parse_units
+    desc = mech.leg_description()
+
+    def num(x, unit=1):
+        return _shortest(x, unit)
+
+    lu = parse_units({"length": length_unit, "angle": "rad"}).length_factor
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(CSV_COLUMNS)
+    for leg in desc.leg_table:
+        d = leg.as_dict()
+        row = []
+        for col in CSV_COLUMNS:
+            name, _, part = col.rpartition("_") if "_" in col else (col, "", "")
+            if col == "type":
+                row.append(leg.type)
+            elif name in _VECTORS and part in "xyz":
+                v = d.get(name)
+                row.append("" if v is None else
+                           num(v["xyz".index(part)], lu if name in _LENGTH_VECTORS else 1))
+            elif col in _LENGTHS:
+                row.append("" if d.get(col) is None else num(d[col], lu))
+            elif col == "branch":
+                row.append("" if leg.branch is None else str(leg.branch))
+            else:
+                v = d.get(name)
+                k = 0 if part == "min" else 1
+                unit = lu if (name == "range" and leg.prismatic) else 1
+                row.append("" if v is None else num(v[k], unit))
+        w.writerow(row)
+    return buf.getvalue()
+
+
+def legs_toml_text(mech, *, length_unit: str = "mm", csv_name: str | None = None) -> str:
+    """A ``[mechanism]`` table (``kind = "legs"``, with ``[units]``) of any mechanism
+    description, every length written exactly in ``length_unit`` ("m", "mm", "cm"),
+    angles in rad: the scene reads it back to the same floats (the same kernels and
+    numbers; tests/mechanisms/test_legs_scene.py).  With ``csv_name`` the legs are left to
+    that CSV file (:func:`legs_csv_text`)."""
+    from .units import parse_units
+    lu = parse_units({"length": length_unit, "angle": "rad"}).length_factor
+    desc = mech.leg_description()
+
+    def num(x, unit=1):
+        return '"' + _shortest(x, unit) + '"'
+
+    def vec(v, unit=1):
+        return "[" + ", ".join(num(x, unit) for x in v) + "]"
+
+    out = [f'[units]\nlength = "{length_unit}"\nangle = "rad"\n', "[mechanism]",
+           'kind = "legs"', f"name = {desc.name!r}".replace("'", '"'),
+           f"home = [{', '.join([num(x, lu) for x in desc.home_pose[:3]] + [num(x) for x in desc.home_pose[3:]])}]",
+           f"mass = {num(desc.mass)}", f"inertia = {num(desc.inertia)}"]
+    if desc.scale is not None:
+        out.append(f"scale = {num(desc.scale, lu)}")
+    if csv_name is not None:
+        out.append(f'legs_csv = "{csv_name}"')
+        return "\n".join(out) + "\n"
+    for leg in desc.leg_table:
+        out.append("\n[[mechanism.leg]]")
+        for k, v in leg.as_dict().items():
+            if k == "type":
+                out.append(f'type = "{v}"')
+            elif k in _LENGTH_VECTORS:
+                out.append(f"{k} = {vec(v, lu)}")
+            elif k in _VECTORS:
+                out.append(f"{k} = {vec(v)}")
+            elif k in _LENGTHS:
+                out.append(f"{k} = {num(v, lu)}")
+            elif k == "branch":
+                out.append(f"branch = {v}")
+            else:
+                out.append(f"{k} = {vec(v, lu if (k == 'range' and leg.prismatic) else 1)}")
+    return "\n".join(out) + "\n"
+
+
+def _shortest(x: float, unit=1) -> str:
+    """The shortest decimal text d with float(d * unit) == x exactly (what a scene in
+    that unit reads back as x), else the exact value of x / unit."""
+    unit = Fraction(unit)
+    y = Fraction(x) / unit
+    for digits in range(1, 18):
+        d = f"{float(y):.{digits}g}"
+        if float(Fraction(d) * unit) == x:
+            return d if "e" not in d else _exact_decimal(Fraction(d))
+    return _exact_decimal(y)
+
+
+def _exact_decimal(fr: Fraction) -> str:
+    """The exact value of a dyadic fraction times a power of ten, as text (a decimal when
+    it terminates, else ``p/q``); parse_exact reads it back exactly."""
+    if fr.denominator == 1:
+        return str(fr.numerator)
+    d = fr.denominator
+    twos = fives = 0
+    while d % 2 == 0:
+        d //= 2
+        twos += 1
+    while d % 5 == 0:
+        d //= 5
+        fives += 1
+    if d != 1:
+        return f"{fr.numerator}/{fr.denominator}"
+    k = max(twos, fives)
+    digits = abs(fr.numerator) * 10 ** k // fr.denominator
+    s = str(digits).rjust(k + 1, "0")
+    s = f"{s[:-k]}.{s[-k:]}".rstrip("0").rstrip(".")
+    return ("-" if fr < 0 else "") + s

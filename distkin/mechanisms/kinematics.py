@@ -1,0 +1,219 @@
+"""Numeric kinematics on generated kernels, shared by every mechanism description.
+
+:class:`KernelMethods` adds inverse kinematics, the Jacobian J = Jq^-1 Jx (Kühne et al.,
+eqs. (1)-(2); for a prismatic leg its normalised Plücker line, Rojas et al. eq. (5)), the
+mass matrices of eq. (7) and numeric forward kinematics to a frozen description that has
+``L``, ``home``, ``leg_description()``, ``geometry_key()`` and
+``cartesian_mass_matrix()``: :class:`~.rss.RSSMechanism` and :class:`LegMechanism`.
+Everything runs on :func:`~.kernels.load_kernels` (the committed or cached generated
+modules).  Nothing here imports sympy.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from .description import _poses
+from .legs import LegsDescription
+
+__all__ = ["KernelMethods", "LegMechanism", "ROUTES"]
+
+
+class KernelMethods:
+    """The numeric methods of a mechanism on its kernels (module docstring)."""
+
+    def kernels(self, flavour: str = "batched"):
+        """The generated kernels (:mod:`.kernels`), ``flavour`` "batched" or "scalar".
+
+        Loaded once per geometry into the one kernel cache of :mod:`.kernels` (keyed by
+        :meth:`geometry_key`), outside this frozen description."""
+        from .kernels import load_kernels
+        return load_kernels(self, flavour)
+
+    def inverse_kinematics(self, poses):
+        """Closed-form inverse kinematics, one crank angle per leg.
+
+        Parameters
+        ----------
+        poses : array (N, 6) or (6,)
+            m and rad (:mod:`distkin.spatial`).
+
+        Returns
+        -------
+        q : array (N, L), rad
+            Crank elevation (0 = horizontal), branch of :mod:`.presets`; finite even
+            where a leg cannot close.
+        valid : array (N, L) of bool
+            The leg closes (the reach margin is >= 0) and, for a leg table with joint
+            ranges, q lies in its range.
+        """
+        X, single = _poses(poses)
+        k = self.kernels("batched")
+        q = k.ik(X)
+        valid = k.reach(X) >= 0.0
+        lo, hi = self._joint_ranges()
+        if lo is not None:                 # revolute ranges (a prismatic stroke is in reach)
+            valid &= (q >= lo) & (q <= hi)
+        return (q[0], valid[0]) if single else (q, valid)
+
+    def _joint_ranges(self):
+        """(lo, hi) arrays (L,) of the revolute legs' ranges (rad; ±inf where none), or
+        (None, None) when no revolute leg has one."""
+        legs = getattr(self, "leg_table", None)
+        if not legs or all(leg.range is None or leg.prismatic for leg in legs):
+            return None, None
+        lo = np.array([-np.inf if leg.range is None or leg.prismatic else leg.range[0]
+                       for leg in legs])
+        hi = np.array([np.inf if leg.range is None or leg.prismatic else leg.range[1]
+                       for leg in legs])
+        return lo, hi
+
+    def reachable(self, poses):
+        """(N,) bool: every leg of the pose closes (and is within its joint range)."""
+        X, single = _poses(poses)
+        if self._joint_ranges()[0] is not None:
+            ok = np.all(self.inverse_kinematics(X)[1], axis=-1)
+            return ok[0] if single else ok
+        ok = np.all(self.kernels("batched").reach(X) >= 0.0, axis=-1)
+        return ok[0] if single else ok
+
+    def reach_margin(self, poses):
+        """(N, L) reach margin rho^2 - C^2 (m^2) of the IK equation A cos q + B sin q = C."""
+        X, single = _poses(poses)
+        m = self.kernels("batched").reach(X)
+        return m[0] if single else m
+
+    def jacobian(self, poses):
+        """J = Jq^-1 Jx (eqs. (1)-(2)), shape (N, L, 6), with qdot = J @ (v, omega).
+
+        v in m/s, omega in rad/s (base frame), qdot in rad/s.  Legs that do not close
+        give finite but meaningless rows; check :meth:`inverse_kinematics`.
+        """
+        X, single = _poses(poses)
+        J = self.kernels("batched").jacobian(X)
+        return J[0] if single else J
+
+    def jq_jx(self, poses):
+        """Jq (N, L) (the diagonal of eq. (1)'s Jq) and Jx (N, L, 6): Jq qdot = Jx xdot.
+
+        Jq_ii = dPhi_i/dq_i and Jx = -dPhi/d(v, omega) for the closures Phi_i
+        = (|P_i - D_i|^2 - l3^2) / (2 l3) (m).
+        """
+        X, single = _poses(poses)
+        out = self.kernels("batched").jq_jx(X)
+        Jq, Jx = out[..., 0], out[..., 1:]
+        return (Jq[0], Jx[0]) if single else (Jq, Jx)
+
+    def pose_jacobian(self, poses):
+        """dq/d(x, y, z, rx, ry, rz) = J @ blockdiag(I, E(r)), shape (N, L, 6)."""
+        from ..spatial import omega_map
+        X, single = _poses(poses)
+        J = self.kernels("batched").jacobian(X)
+        out = J.copy()
+        out[..., 3:] = J[..., 3:] @ omega_map(X[:, 3:])
+        return out[0] if single else out
+
+    def joint_mass_matrix(self, poses):
+        """Mq = J#ᵀ M̂ J# (eq. (7)), shape (N, L, L), kg m^2.
+
+        The paper writes Mq = Jᵀ M̂ J with J the map q̇ -> ẋ; in our convention
+        (q̇ = J ẋ) that map is J# = pinv(J).  Mq gives the kinetic energy
+        ½ q̇ᵀ Mq q̇ = ½ ẋᵀ M̂ ẋ; it has rank 6, so for L = 8 it is singular.
+        """
+        X, single = _poses(poses)
+        Jp = np.linalg.pinv(self.kernels("batched").jacobian(X))   # (N, 6, L)
+        Mq = np.swapaxes(Jp, -1, -2) @ self.cartesian_mass_matrix() @ Jp
+        return Mq[0] if single else Mq
+
+    def acceleration_map(self, poses):
+        """ẍ = A τ at q̇ = 0, f = 0 (eq. (7)); A = J# Mq⁺ = M̂⁻¹ Jᵀ, shape (N, 6, L).
+
+        For L = 6, Mq⁺ = Mq⁻¹ and this is eq. (7) verbatim; for L = 8 eq. (7) needs the
+        pseudo-inverse of the singular Mq, and J# Mq⁺ = M̂⁻¹ Jᵀ still holds.
+        """
+        X, single = _poses(poses)
+        J = self.kernels("batched").jacobian(X)
+        A = np.linalg.inv(self.cartesian_mass_matrix()) @ np.swapaxes(J, -1, -2)
+        return A[0] if single else A
+
+    def forward_kinematics(self, q, guess=None, *, octic: bool = True, **options):
+        """Numeric forward kinematics; see :func:`.forward.forward_kinematics`.
+
+        A leg table with the octahedral topology (``octahedral()``, Rojas et al. Fig. 4)
+        is solved by the exact octic first (:mod:`.octahedral_fk`, every assembly mode,
+        proved or certified) and Gauss-Newton starts at the mode nearest ``guess``; the
+        result's ``modes`` holds every mode.  ``octic=False`` skips this."""
+        from .forward import forward_kinematics
+        topo = getattr(self, "octahedral", None)
+        if octic and topo is not None and topo() is not None:
+            import dataclasses
+
+            from .octahedral_fk import octahedral_forward
+            start, modes, tiers = octahedral_forward(self, q, guess)
+            ok = np.all(np.isfinite(start), axis=-1)
+            res = forward_kinematics(self, q, np.where(ok[..., None], start, self.home
+                                                       if guess is None else guess), **options)
+            n = sum(len(m) for m in modes)
+            return dataclasses.replace(res, modes=modes if np.ndim(q) > 1 else modes[0],
+                                       message=f"exact octic (Rojas et al. eq. (3); tier "
+                                       f"{', '.join(sorted(set(tiers)))}): {n} assembly mode(s), "
+                                       f"the nearest to the guess polished: {res.message}")
+        return forward_kinematics(self, q, guess, **options)
+
+
+#: where a leg mechanism's kernels come from: "generated" (the committed module or a
+#: derivation, cached) or "numpy" (:class:`~.reference.NumericKernels`, no derivation)
+ROUTES = ("generated", "numpy")
+
+
+@dataclass(frozen=True)
+class LegMechanism(KernelMethods, LegsDescription):
+    """A :class:`~.legs.LegsDescription` with the numeric methods of
+    :class:`KernelMethods` (same parameters; any L >= 6, any mix of leg types).
+
+    ``route`` (not part of the description's identity): "generated" kernels (the
+    default; derived once per leg table and cached) or "numpy" (the same formulas in plain
+    numpy, :class:`~.reference.NumericKernels`: no sympy, no derivation, no arb flavour).
+
+    >>> from distkin.mechanisms import preset
+    >>> m = LegMechanism.from_description(preset("hunt").leg_description())
+    >>> m.L, m.leg_table[0].type
+    (6, 'RSS')
+    """
+
+    route: str = field(default="generated", compare=False)
+
+    def __post_init__(self):
+        super().__post_init__()
+        if self.route not in ROUTES:
+            raise InputError(f"expected a route in {ROUTES}, got {self.route!r}", field="route")
+
+    @classmethod
+    def from_description(cls, description, *, route: str = "generated") -> "LegMechanism":
+        """The mechanism of a leg description (or of anything with
+        ``leg_description()``, such as an RSS description)."""
+        d = description.leg_description()
+        return cls(d.name, d.leg_table, d.home_pose, d.mass, d.inertia, d.scale, route)
+
+    def points(self, poses, q=None):
+        """Joint positions for drawings and checks (plain numpy), arrays (N, L, 3) (or
+        (L, 3) for one pose): ``B`` crank pivot / base joint, ``C`` crank tip, ``D``
+        distal joint centre (C = D = B for a prismatic leg), ``P`` platform joint; and
+        ``q`` (N, L) (default: the inverse kinematics of ``poses``)."""
+        from ..spatial import rotation_matrix
+        X, single = _poses(poses)
+        if q is None:
+            q, _ = self.inverse_kinematics(X)
+        q = np.asarray(q, dtype=float).reshape(len(X), self.L)
+        d = self.arrays()
+        P = X[:, None, :3] + np.einsum("nij,lj->nli", rotation_matrix(X[:, 3:]), d["p"])
+        qr = np.where(d["prismatic"][None], 0.0, q)
+        C = d["B"][None] + d["l1"][None, :, None] * (np.cos(qr)[..., None] * d["u"][None]
+                                                     + np.sin(qr)[..., None] * d["v"][None])
+        D = C + d["offset"][None]
+        B = np.broadcast_to(d["B"], C.shape)
+        out = {"B": B, "C": C, "D": D, "P": P, "q": q}
+        return {k: v[0] for k, v in out.items()} if single else out
