@@ -164,6 +164,7 @@ def _kernel8():
         UA = np.empty((4, 3))
         UB = np.empty((4, 3))
         sl = np.empty(3)
+        OK = np.empty(16, np.bool_)
         for n in range(G.shape[0]):
             g = G[n]
             best = -1.0
@@ -195,9 +196,6 @@ def _kernel8():
                     K[0, j] = i00 * b0 + i01 * b1 + i02 * b2
                     K[1, j] = i10 * b0 + i11 * b1 + i12 * b2
                     K[2, j] = i20 * b0 + i21 * b1 + i22 * b2
-                    for i in range(3):
-                        E[i, j] = g[S[i], x] - (g[S[i], f0] * K[0, j] + g[S[i], f1] * K[1, j]
-                                                + g[S[i], f2] * K[2, j])
                 for i in range(3):
                     ka = abs(K[i, 0]) + abs(K[i, 1]) + abs(K[i, 2]) + abs(K[i, 3]) + abs(K[i, 4])
                     sl[i] = 1.0 + _TOL + 64.0 * _EPS * (1.0 + ka) * (1.0 + cond)
@@ -211,6 +209,24 @@ def _kernel8():
                     PB[1, i] = -k3m
                     PB[2, i] = k3m
                     PB[3, i] = k3p
+                # the feasible sign vectors (|p_F| <= 1) first: about half the free
+                # sets have none, and need no E
+                nok = 0
+                for va in range(4):
+                    for vb in range(4):
+                        ok = ((abs(PA[va, 0] + PB[vb, 0]) <= sl[0])
+                              & (abs(PA[va, 1] + PB[vb, 1]) <= sl[1])
+                              & (abs(PA[va, 2] + PB[vb, 2]) <= sl[2]))
+                        OK[4 * va + vb] = ok
+                        nok += ok
+                if nok == 0:
+                    continue
+                for j in range(5):
+                    x = X[f, j]
+                    for i in range(3):
+                        E[i, j] = g[S[i], x] - (g[S[i], f0] * K[0, j] + g[S[i], f1] * K[1, j]
+                                                + g[S[i], f2] * K[2, j])
+                for i in range(3):
                     e1p, e1m = E[i, 1] + E[i, 2], E[i, 1] - E[i, 2]
                     UA[0, i] = E[i, 0] + e1p
                     UA[1, i] = E[i, 0] + e1m
@@ -223,15 +239,13 @@ def _kernel8():
                     UB[3, i] = -e3p
                 for va in range(4):
                     for vb in range(4):
-                        ok = ((abs(PA[va, 0] + PB[vb, 0]) <= sl[0])
-                              & (abs(PA[va, 1] + PB[vb, 1]) <= sl[1])
-                              & (abs(PA[va, 2] + PB[vb, 2]) <= sl[2]))
-                        u0 = UA[va, 0] + UB[vb, 0]
-                        u1 = UA[va, 1] + UB[vb, 1]
-                        u2 = UA[va, 2] + UB[vb, 2]
-                        nrm = u0 * u0 + u1 * u1 + u2 * u2
-                        if ok and nrm > best:
-                            best = nrm
+                        if OK[4 * va + vb]:
+                            u0 = UA[va, 0] + UB[vb, 0]
+                            u1 = UA[va, 1] + UB[vb, 1]
+                            u2 = UA[va, 2] + UB[vb, 2]
+                            nrm = u0 * u0 + u1 * u1 + u2 * u2
+                            if nrm > best:
+                                best = nrm
             out[n] = np.sqrt(best) if best >= 0 else -np.inf
     return run
 

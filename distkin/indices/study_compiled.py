@@ -41,6 +41,9 @@ __all__ = ["study_kernel_tables", "study_indices"]
 #: one-sided Jacobi: rows count as orthogonal below this cosine
 _JACOBI_TOL = 1e-15
 _JACOBI_SWEEPS = 60
+#: Gram route of the well-conditioned readings: bound on the relative error of σmin
+_GRAM_TOL = 1e-11
+_EPS = 2.220446049250313e-16
 #: output dimension (a compile-time constant of the kernel)
 _D = 6
 
@@ -109,6 +112,115 @@ def _kernel():
         return False
 
     @numba.njit(cache=True)
+    def gram_extremes(A, C, dv, e):                          # pragma: no cover (compiled)
+        """(σmin, σmax) of A (d, L) from the eigenvalues of C = A Aᵀ (Householder
+        tridiagonalisation, implicit QL), and whether their error bound holds."""
+        L = A.shape[1]
+        n = _D
+        for i in range(n):
+            for j in range(i + 1):
+                s = 0.0
+                for l in range(L):
+                    s += A[i, l] * A[j, l]
+                C[i, j] = s
+        # ---- Householder reduction to tridiagonal form (lower triangle of C)
+        for i in range(n - 1, 0, -1):
+            l_ = i - 1
+            h = 0.0
+            if l_ > 0:
+                scale = 0.0
+                for k in range(l_ + 1):
+                    scale += abs(C[i, k])
+                if scale == 0.0:
+                    e[i] = C[i, l_]
+                else:
+                    for k in range(l_ + 1):
+                        C[i, k] /= scale
+                        h += C[i, k] * C[i, k]
+                    f = C[i, l_]
+                    g = -np.sqrt(h) if f >= 0.0 else np.sqrt(h)
+                    e[i] = scale * g
+                    h -= f * g
+                    C[i, l_] = f - g
+                    f = 0.0
+                    for j in range(l_ + 1):
+                        g = 0.0
+                        for k in range(j + 1):
+                            g += C[j, k] * C[i, k]
+                        for k in range(j + 1, l_ + 1):
+                            g += C[k, j] * C[i, k]
+                        e[j] = g / h
+                        f += e[j] * C[i, j]
+                    hh = f / (h + h)
+                    for j in range(l_ + 1):
+                        f = C[i, j]
+                        g = e[j] - hh * f
+                        e[j] = g
+                        for k in range(j + 1):
+                            C[j, k] -= f * e[k] + g * C[i, k]
+            else:
+                e[i] = C[i, l_]
+        for i in range(n):
+            dv[i] = C[i, i]
+        # ---- implicit QL on the tridiagonal (dv, e)
+        for i in range(1, n):
+            e[i - 1] = e[i]
+        e[n - 1] = 0.0
+        for l_ in range(n):
+            it = 0
+            while True:
+                m = l_
+                while m < n - 1:
+                    dd = abs(dv[m]) + abs(dv[m + 1])
+                    if abs(e[m]) <= _EPS * dd:
+                        break
+                    m += 1
+                if m == l_:
+                    break
+                it += 1
+                if it > 60:
+                    return 0.0, 0.0, False
+                g = (dv[l_ + 1] - dv[l_]) / (2.0 * e[l_])
+                r = np.sqrt(g * g + 1.0)
+                g = dv[m] - dv[l_] + e[l_] / (g + (r if g >= 0.0 else -r))
+                s = 1.0
+                c = 1.0
+                p = 0.0
+                underflow = False
+                for i in range(m - 1, l_ - 1, -1):
+                    f = s * e[i]
+                    b = c * e[i]
+                    r = np.sqrt(f * f + g * g)
+                    e[i + 1] = r
+                    if r == 0.0:
+                        dv[i + 1] -= p
+                        e[m] = 0.0
+                        underflow = True
+                        break
+                    s = f / r
+                    c = g / r
+                    g = dv[i + 1] - p
+                    r = (dv[i] - g) * s + 2.0 * c * b
+                    p = s * r
+                    dv[i + 1] = g + p
+                    g = c * r - b
+                if underflow:
+                    continue
+                dv[l_] -= p
+                e[l_] = g
+                e[m] = 0.0
+        lo = np.inf
+        hi = -np.inf
+        for i in range(n):
+            lo = min(lo, dv[i])
+            hi = max(hi, dv[i])
+        # relative error of σmin: half that of λmin, <= (L + d)·eps·λmax/λmin (forming
+        # C and the backward-stable reduction), held below _GRAM_TOL
+        if not (lo > 0.0 and (L + n) * _EPS * hi <= 2.0 * _GRAM_TOL * lo):
+            return 0.0, 0.0, False
+        return np.sqrt(lo), np.sqrt(hi), True
+
+    @numba.njit(cache=True)
     def row_extremes(A):                                     # pragma: no cover (compiled)
         L = A.shape[1]
         d = _D
@@ -166,6 +278,9 @@ def _kernel():
         A = np.empty((d, L))
         Q = np.empty((d, d))
         v = np.empty(3)
+        Cg = np.empty((d, d))
+        dg = np.empty(d)
+        eg = np.empty(d)
         for n in range(N):
             flag[n] = False
             for i in range(d):
@@ -321,6 +436,14 @@ def _kernel():
                             A[i, l] = (x * Jq[n, l]) / st[i]
                         else:
                             A[i, l] = x
+                if r_ == 0 or r_ == 3:
+                    # well conditioned readings: eigenvalues of the Gram matrix
+                    lo, hi, good = gram_extremes(A, Cg, dg, eg)
+                    if good:
+                        sig[n, 2 * r_] = lo
+                        sig[n, 2 * r_ + 1] = hi
+                        continue
+                    # else the Jacobi below (gram_extremes only read A)
                 if r_ == 1:
                     for i in range(d):
                         for j in range(d):
