@@ -184,9 +184,12 @@ def _study_section(data):
     for k, (_, c) in st.items():
         lines.append(f"| {k} | {fmt_time(c / N)} |")
     lines += ["", "What is left: the sliced sensitivities (4 slices × C(8, 3) = 56 free sets "
-              "× 16 sign vectors, exact vertex enumeration; a 3 × 3 solve per free set) are "
-              "about two thirds of the compiled pipeline, the one-sided Jacobi SVDs of the "
-              "four readings most of the rest."]
+              "× 16 sign vectors, exact vertex enumeration; a 3 × 3 solve per free set, E "
+              "only where a sign vector is feasible) are about three fifths of the compiled "
+              "pipeline; in the other kernel the one-sided Jacobi SVDs of Jᵀ (which also "
+              "gives J#) and ST·Jᵀ (κ up to 3e3 on the Octopod's grid, too ill-conditioned "
+              "for the Gram route that ST⁻¹Jᵀ and ST⁻¹Jxᵀ now take) cost about 4 µs, the "
+              "facets and capabilities about 3 µs."]
     return "\n".join(lines)
 
 
@@ -369,7 +372,14 @@ def _table2_section(data):
         f"Wall time **{wall:.1f} s** ({fmt_time(wall / grid.size)} per pose, "
         f"{reach:,} poses reachable) — target < 10 min: "
         f"{'met' if wall < 600 else 'NOT met'}. Machine load average during the run "
-        f"about {load:.1f} on {os.cpu_count()} cores (other processes included)."])
+        f"about {load:.1f} on {os.cpu_count()} cores (other processes included).",
+        "",
+        f"Extrapolated to the whole five-device study (27 million poses: three L = 6 "
+        f"devices on this grid, the two L = 8 devices on a ±30° grid of about 9 million "
+        f"poses each) at this wall time per pose (an upper bound: the L = 6 devices are "
+        f"cheaper per pose): {27e6 * wall / grid.size / 60:.1f} min on {workers} "
+        f"processes — target < 4 min: "
+        f"{'met' if 27e6 * wall / grid.size < 240 else 'not met'}."])
 
 
 def _culling_section(data):

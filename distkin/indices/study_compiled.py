@@ -18,6 +18,14 @@ bytes of work buffers:
   ``ST⁻¹Jᵀ``, ``Jᵀ``, ``ST Jᵀ`` and ``ST⁻¹Jxᵀ``: rotations of row pairs until all rows
   are orthogonal to 1e-15 of their norms; the singular values are then the row norms
   (relative accuracy of order 1e-15·κ, like LAPACK's SVD);
+* except for the well-conditioned readings ``ST⁻¹Jᵀ`` and ``ST⁻¹Jxᵀ`` (κ about 5-25 on
+  the presets' grids, against 1e2-1e8 for ``Jᵀ`` and ``ST Jᵀ``): their σ are the square
+  roots of the extreme eigenvalues of the 6 × 6 Gram matrix ``A Aᵀ`` (Householder
+  tridiagonalisation and implicit QL, about a fifth of a Jacobi SVD).  Forming the Gram
+  matrix and the backward-stable reduction perturb λmin by at most about
+  ``(L + 6)·eps·λmax``, so the relative error of σmin is bounded by
+  ``(L + 6)·eps·κ²/2``; where that bound exceeds :data:`_GRAM_TOL` (1e-11) the reading
+  goes through the Jacobi instead;
 * J# from the Jacobi of ``Jᵀ``: with ``Q Jᵀ = B`` (orthogonal Q, orthogonal rows
   b_i of norm σ_i), ``J# = Qᵀ diag(σ⁻²) B``.
 

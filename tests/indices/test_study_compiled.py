@@ -89,3 +89,27 @@ def test_reference_route_uses_the_walk_and_split_kernel_agrees_with_it(presets):
             a = slice_farthest_unit(G, keep)
             b = slice_farthest_unit(G, keep, walk=True)
             assert rel_err(a, b) < 1e-13
+
+
+def test_ill_conditioned_reading_leaves_the_gram_route_for_the_jacobi(presets):
+    """The Gram-matrix route of ST⁻¹Jᵀ and ST⁻¹Jxᵀ holds its error bound only for a
+    small condition number; with ST = (1, 1, 1, 1e-3, 1e-3, 1e-3) ST⁻¹Jᵀ has κ of
+    3e2 or more and its σ must still match numpy's SVD (the Jacobi fallback), as on the
+    well-conditioned default scaling."""
+    mech = presets["octopod"]
+    P = random_reachable_poses(mech, 40, 30, seed=12)
+    Jq, Jx = mech.jq_jx(P)
+    J = Jx / Jq[..., None]
+    M = np.array([mech.mass] * 3 + [mech.inertia] * 3)
+    act = {"nominal_torque": 2.5, "stall_torque": 34.2, "velocity": 51.0}
+    for st in ((15, 15, 15, 1, 1, 1), (1, 1, 1, 1e-3, 1e-3, 1e-3)):
+        st = np.array(st, float)
+        sig = study_indices(J, Jq, M, act, st)[3]
+        for k, A in ((0, np.swapaxes(J, 1, 2) / st[:, None]),
+                     (3, np.swapaxes(J * Jq[..., None], 1, 2) / st[:, None])):
+            s = np.linalg.svd(A, compute_uv=False)
+            kappa = s[:, 0] / s[:, -1]
+            assert rel_err(sig[:, 2 * k], s[:, -1]) < 1e-10
+            assert rel_err(sig[:, 2 * k + 1], s[:, 0]) < 1e-12
+        if st[3] < 1:
+            assert kappa.min() > 100          # beyond the Gram bound (κ <= 80 at L = 8)
