@@ -113,3 +113,17 @@ def test_ill_conditioned_reading_leaves_the_gram_route_for_the_jacobi(presets):
             assert rel_err(sig[:, 2 * k + 1], s[:, 0]) < 1e-12
         if st[3] < 1:
             assert kappa.min() > 100          # beyond the Gram bound (κ <= 80 at L = 8)
+
+
+def test_lane_kernel_shares_the_feasibility_allowance_and_any_block_position(presets):
+    """The SIMD kernel (slice_lanes) uses the walk's rounding allowance, and a pose's
+    value does not depend on its place in a block of LANES poses (padding of the last
+    block included): the same bits one by one and in a block."""
+    from distkin.indices import slice_farthest, slice_lanes
+    assert (slice_lanes._TOL, slice_lanes._EPS) == (slice_farthest._TOL, slice_farthest._EPS)
+    mech = presets["octopod"]
+    G = np.linalg.pinv(mech.jacobian(random_reachable_poses(mech, 37, 30, seed=2)))
+    whole = slice_farthest_unit(G, (0, 1, 2))
+    one = np.array([slice_farthest_unit(G[i:i + 1], (0, 1, 2))[0] for i in range(5)])
+    assert np.array_equal(whole[:5], one)
+    assert np.array_equal(slice_farthest_unit(G[3:], (0, 1, 2)), whole[3:])
