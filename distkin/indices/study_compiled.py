@@ -42,6 +42,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from .jacobi_lanes import jacobi_lanes
 from .zonotope import RANK_TOL, _groups
 
 __all__ = ["study_kernel_tables", "study_indices"]
@@ -74,9 +75,9 @@ def _kernel():
     import numba
 
     @numba.njit(cache=True)
-    def jacobi_rows(A, Q, accumulate):                       # pragma: no cover (compiled)
-        """Orthogonalise the rows of A (d, L) in place; Q (d, d) collects the rotations
-        if ``accumulate``.  Returns True on convergence."""
+    def jacobi_rows(A):                                      # pragma: no cover (compiled)
+        """Orthogonalise the rows of A (d, L) in place (the pose-by-pose form of
+        :mod:`.jacobi_lanes`).  Returns True on convergence."""
         L = A.shape[1]
         d = _D
         nrm = np.empty(_D)
@@ -109,12 +110,6 @@ def _kernel():
                         aq = A[q, l]
                         A[p, l] = c * ap - s * aq
                         A[q, l] = s * ap + c * aq
-                    if accumulate:
-                        for l in range(d):
-                            ap = Q[p, l]
-                            aq = Q[q, l]
-                            Q[p, l] = c * ap - s * aq
-                            Q[q, l] = s * ap + c * aq
             if not rotated:
                 return True
         return False
@@ -284,7 +279,6 @@ def _kernel():
         h = np.empty(K)
         JtJ = np.empty((d, d))
         A = np.empty((d, L))
-        Q = np.empty((d, d))
         v = np.empty(3)
         Cg = np.empty((d, d))
         dg = np.empty(d)
@@ -431,49 +425,24 @@ def _kernel():
                         s += J[n, l, i] * J[n, l, i]
                     mx = max(mx, np.sqrt(s))
                 truev[n, a] = lims[2] / mx
-            # ---- singular values; J# from the Jacobi of Jᵀ
-            for r_ in range(4):
+            # ---- singular values of the well-conditioned readings ST⁻¹Jᵀ, ST⁻¹Jxᵀ
+            # (Jᵀ, ST·Jᵀ and J#: jacobi_lanes, after this kernel)
+            for r_ in (0, 3):
                 for i in range(d):
                     for l in range(L):
                         x = J[n, l, i]
                         if r_ == 0:
                             A[i, l] = x / st[i]
-                        elif r_ == 2:
-                            A[i, l] = x * st[i]
-                        elif r_ == 3:
-                            A[i, l] = (x * Jq[n, l]) / st[i]
                         else:
-                            A[i, l] = x
-                if r_ == 0 or r_ == 3:
-                    # well conditioned readings: eigenvalues of the Gram matrix
-                    lo, hi, good = gram_extremes(A, Cg, dg, eg)
-                    if good:
-                        sig[n, 2 * r_] = lo
-                        sig[n, 2 * r_ + 1] = hi
-                        continue
-                    # else the Jacobi below (gram_extremes only read A)
-                if r_ == 1:
-                    for i in range(d):
-                        for j in range(d):
-                            Q[i, j] = 1.0 if i == j else 0.0
-                if not jacobi_rows(A, Q, r_ == 1):
-                    flag[n] = True
-                lo, hi = row_extremes(A)
+                            A[i, l] = (x * Jq[n, l]) / st[i]
+                lo, hi, good = gram_extremes(A, Cg, dg, eg)
+                if not good:
+                    # the Gram bound fails: Jacobi (gram_extremes only read A)
+                    if not jacobi_rows(A):
+                        flag[n] = True
+                    lo, hi = row_extremes(A)
                 sig[n, 2 * r_] = lo
                 sig[n, 2 * r_ + 1] = hi
-                if r_ == 1 and L > d:
-                    # J# = Qᵀ diag(1/σ²) B  (twist (d, L))
-                    for i in range(d):
-                        s = 0.0
-                        for l in range(L):
-                            s += A[i, l] * A[i, l]
-                        qv[i] = 1.0 / s if s > 0 else 0.0
-                    for i in range(d):
-                        for l in range(L):
-                            s = 0.0
-                            for j in range(d):
-                                s += Q[j, i] * qv[j] * A[j, l]
-                            twist[n, i, l] = s
     return run
 
 
@@ -519,7 +488,8 @@ def study_indices(J, Jq, M, actuators, ST):
     sig = np.empty((N, 8))
     flag = np.zeros(N, bool)
     if N:
+        st = np.asarray(ST, dtype=float)
         _kernel()(J, np.ascontiguousarray(Jq, dtype=float), np.asarray(M, dtype=float),
-                  lims, np.asarray(ST, dtype=float), NM, NR, NC, caps, truev, twist, sig,
-                  flag)
+                  lims, st, NM, NR, NC, caps, truev, twist, sig, flag)
+        jacobi_lanes(J, st, sig, twist, flag)
     return caps, truev, twist, sig, flag
