@@ -239,26 +239,36 @@ def _kernel():
         return lo, hi
 
     @numba.njit(cache=True)
-    def ratio_min(h, nn, lim, s0):                           # pragma: no cover (compiled)
-        """:func:`.zonotope._ratio_min` for the slice of coordinates s0..s0+2."""
+    def ratio_min(h, nn, lim, s0, vb):                       # pragma: no cover (compiled)
+        """:func:`.zonotope._ratio_min` for the slice of coordinates s0..s0+2, with
+        h >= 0 (unit box offsets; a vacuous normal gives +inf) and without a square root
+        and a division per normal: the smallest ``h_k / ||n_k||`` is found by comparing
+        ``h_k² ||n_j||²`` with ``h_j² ||n_k||²``, and only its quotient is formed (the
+        same expression as the reference's; near-ties within rounding may pick either)."""
         K = h.shape[0]
         tot = 0.0
-        den = np.empty(K)
         for k in range(K):
             v = nn[k, s0] * nn[k, s0] + nn[k, s0 + 1] * nn[k, s0 + 1] \
                 + nn[k, s0 + 2] * nn[k, s0 + 2]
             tot += v
-            den[k] = np.sqrt(v)
-        scale = np.sqrt(tot) + 1e-300
-        best = np.inf
+            vb[k] = v
+        thr = 1e-15 * (np.sqrt(tot) + 1e-300)
+        thr2 = thr * thr
+        bk = -1
+        hb = 0.0
+        vbest = 1.0
         for k in range(K):
+            v = vb[k]
+            if v <= thr2:
+                continue
             hk = h[k] * lim
-            if den[k] <= 1e-15 * scale:
-                q = np.inf if hk >= 0 else -np.inf
-            else:
-                q = hk / den[k]
-            best = min(best, q)
-        return best
+            if bk < 0 or hk * hk * vbest < hb * hb * v:
+                bk = k
+                hb = hk
+                vbest = v
+        if bk < 0:
+            return np.inf
+        return hb / np.sqrt(vbest)
 
     @numba.njit(cache=True)
     def run(J, Jq, M, lims, st, NM, NR, NC, caps, truev, twist, sig,
@@ -277,6 +287,7 @@ def _kernel():
         nt = np.empty((K, d))
         na = np.empty((K, d))
         h = np.empty(K)
+        vb = np.empty(K)
         JtJ = np.empty((d, d))
         A = np.empty((d, L))
         v = np.empty(3)
@@ -410,12 +421,12 @@ def _kernel():
                         s += nw[k, i] * JtJ[i, j]
                     nt[k, j] = s
                     na[k, j] = nw[k, j] * M[j]
-            caps[n, 0] = ratio_min(h, nw, lims[0], 0)
-            caps[n, 1] = ratio_min(h, nw, lims[0], 3)
-            caps[n, 2] = ratio_min(h, nt, lims[2], 0)
-            caps[n, 3] = ratio_min(h, nt, lims[2], 3)
-            caps[n, 4] = ratio_min(h, na, lims[1], 0)
-            caps[n, 5] = ratio_min(h, na, lims[1], 3)
+            caps[n, 0] = ratio_min(h, nw, lims[0], 0, vb)
+            caps[n, 1] = ratio_min(h, nw, lims[0], 3, vb)
+            caps[n, 2] = ratio_min(h, nt, lims[2], 0, vb)
+            caps[n, 3] = ratio_min(h, nt, lims[2], 3, vb)
+            caps[n, 4] = ratio_min(h, na, lims[1], 0, vb)
+            caps[n, 5] = ratio_min(h, na, lims[1], 3, vb)
             # ---- true velocity set: q̇max / max_l ||J_l,S||
             for a in range(2):
                 mx = 0.0
