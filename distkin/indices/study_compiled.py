@@ -42,6 +42,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from .facets_lanes import capabilities_lanes
 from .jacobi_lanes import jacobi_lanes
 from .zonotope import RANK_TOL, _groups
 
@@ -271,8 +272,8 @@ def _kernel():
         return hb / np.sqrt(vbest)
 
     @numba.njit(cache=True)
-    def run(J, Jq, M, lims, st, NM, NR, NC, caps, truev, twist, sig,
-            flag):                                           # pragma: no cover (compiled)
+    def run(J, M, lims, NM, NR, NC, caps, flag):           # pragma: no cover (compiled)
+        """The six capabilities pose by pose from the pivoted facets (any 6 <= L <= 8)."""
         N, L, _ = J.shape
         d = _D
         K = NM.shape[0]
@@ -289,13 +290,8 @@ def _kernel():
         h = np.empty(K)
         vb = np.empty(K)
         JtJ = np.empty((d, d))
-        A = np.empty((d, L))
         v = np.empty(3)
-        Cg = np.empty((d, d))
-        dg = np.empty(d)
-        eg = np.empty(d)
         for n in range(N):
-            flag[n] = False
             for i in range(d):
                 for l in range(L):
                     G[i, l] = J[n, l, i]
@@ -427,6 +423,17 @@ def _kernel():
             caps[n, 3] = ratio_min(h, nt, lims[2], 3, vb)
             caps[n, 4] = ratio_min(h, na, lims[1], 0, vb)
             caps[n, 5] = ratio_min(h, na, lims[1], 3, vb)
+
+    @numba.njit(cache=True)
+    def readings(J, Jq, lims, st, truev, sig, flag):         # pragma: no cover (compiled)
+        """The true velocity worst cases and σ of ST⁻¹Jᵀ and ST⁻¹Jxᵀ, pose by pose."""
+        N, L, _ = J.shape
+        d = _D
+        A = np.empty((d, L))
+        Cg = np.empty((d, d))
+        dg = np.empty(d)
+        eg = np.empty(d)
+        for n in range(N):
             # ---- true velocity set: q̇max / max_l ||J_l,S||
             for a in range(2):
                 mx = 0.0
@@ -437,7 +444,7 @@ def _kernel():
                     mx = max(mx, np.sqrt(s))
                 truev[n, a] = lims[2] / mx
             # ---- singular values of the well-conditioned readings ST⁻¹Jᵀ, ST⁻¹Jxᵀ
-            # (Jᵀ, ST·Jᵀ and J#: jacobi_lanes, after this kernel)
+            # (Jᵀ, ST·Jᵀ and J#: jacobi_lanes)
             for r_ in (0, 3):
                 for i in range(d):
                     for l in range(L):
@@ -454,7 +461,7 @@ def _kernel():
                     lo, hi = row_extremes(A)
                 sig[n, 2 * r_] = lo
                 sig[n, 2 * r_ + 1] = hi
-    return run
+    return run, readings
 
 
 def study_indices(J, Jq, M, actuators, ST):
@@ -500,7 +507,16 @@ def study_indices(J, Jq, M, actuators, ST):
     flag = np.zeros(N, bool)
     if N:
         st = np.asarray(ST, dtype=float)
-        _kernel()(J, np.ascontiguousarray(Jq, dtype=float), np.asarray(M, dtype=float),
-                  lims, st, NM, NR, NC, caps, truev, twist, sig, flag)
+        run, readings = _kernel()
+        Jq = np.ascontiguousarray(Jq, dtype=float)
+        M = np.asarray(M, dtype=float)
         jacobi_lanes(J, st, sig, twist, flag)
+        if L == 8:
+            # facets from the null space of Jᵀ and J# (facets_lanes); the rank test on
+            # the exact σ of Jᵀ instead of the pivots of Gram-Schmidt
+            flag |= ~(sig[:, 2] > RANK_TOL * sig[:, 3])
+            capabilities_lanes(J, twist, M, lims, caps)
+        else:
+            run(J, M, lims, NM, NR, NC, caps, flag)
+        readings(J, Jq, lims, st, truev, sig, flag)
     return caps, truev, twist, sig, flag
