@@ -7,31 +7,35 @@ generator matrices, :func:`distkin.indices.study._worst_cases`), the true veloci
 cases (:mod:`.velocity_set`), J# = pinv(J), and the singular values of four readings of
 the scaling (:mod:`.isotropy`).  The numpy route does each step as a batched array
 operation, allocating (N, 56, 6) temporaries (about 10 KiB per pose for L = 8); this
-module does the same arithmetic pose by pose in one numba kernel, with a few hundred
-bytes of work buffers:
+module does the same arithmetic in compiled kernels with a few kB of work buffers,
+some pose by pose and some over blocks of 32 poses with the pose as the innermost loop
+(branch-free, so that the compiler evaluates four poses per vector instruction):
 
-* the facets of the wrench zonotope ``Jᵀ·box`` exactly as :func:`.zonotope._facets`
-  (pivoted Gram-Schmidt, ``B⁻¹G = [I | C]``, generalised cross products of the columns
-  of C; unit box, so the offset is ``Σ|n·g_i|``), the twist and acceleration normals
-  ``JᵀJ n`` and ``M̂ n``, and the slice ratios of :func:`.zonotope._ratio_min`;
-* the singular values by one-sided (Hestenes) Jacobi on the rows of the 6 × L matrices
-  ``ST⁻¹Jᵀ``, ``Jᵀ``, ``ST Jᵀ`` and ``ST⁻¹Jxᵀ``: rotations of row pairs until all rows
-  are orthogonal to 1e-15 of their norms; the singular values are then the row norms
-  (relative accuracy of order 1e-15·κ, like LAPACK's SVD);
-* except for the well-conditioned readings ``ST⁻¹Jᵀ`` and ``ST⁻¹Jxᵀ`` (κ about 5-25 on
-  the presets' grids, against 1e2-1e8 for ``Jᵀ`` and ``ST Jᵀ``): their σ are the square
-  roots of the extreme eigenvalues of the 6 × 6 Gram matrix ``A Aᵀ`` (Householder
-  tridiagonalisation and implicit QL, about a fifth of a Jacobi SVD).  Forming the Gram
-  matrix and the backward-stable reduction perturb λmin by at most about
-  ``(L + 6)·eps·λmax``, so the relative error of σmin is bounded by
-  ``(L + 6)·eps·κ²/2``; where that bound exceeds :data:`_GRAM_TOL` (1e-11) the reading
-  goes through the Jacobi instead;
-* J# from the Jacobi of ``Jᵀ``: with ``Q Jᵀ = B`` (orthogonal Q, orthogonal rows
-  b_i of norm σ_i), ``J# = Qᵀ diag(σ⁻²) B``.
+* the singular values of ``Jᵀ`` and ``ST Jᵀ`` and J# = pinv(J) by one-sided (Hestenes)
+  Jacobi (:mod:`.jacobi_lanes`, over blocks of poses): rotations of row pairs until all
+  rows are orthogonal to 1e-15 of their norms; the singular values are then the row
+  norms (relative accuracy of order 1e-15·κ, like LAPACK's SVD); with ``Q Jᵀ = B``
+  (orthogonal Q, orthogonal rows b_i of norm σ_i), ``J# = Qᵀ diag(σ⁻²) B``;
+* L = 8: the facets of the wrench zonotope ``Jᵀ·box`` from the null space of Jᵀ and J#,
+  with the twist and acceleration normals ``JᵀJ n = Jᵀ y`` and ``M̂ n`` and the slice
+  ratios of :func:`.zonotope._ratio_min` (:mod:`.facets_lanes`, over blocks of poses);
+* 6 <= L < 8: the facets pose by pose exactly as :func:`.zonotope._facets` (pivoted
+  Gram-Schmidt, ``B⁻¹G = [I | C]``, generalised cross products of the columns of C;
+  unit box, so the offset is ``Σ|n·g_i|``), the twist and acceleration normals ``JᵀJ n``
+  and ``M̂ n``, and the slice ratios;
+* the true velocity worst cases and the singular values of the well-conditioned
+  readings ``ST⁻¹Jᵀ`` and ``ST⁻¹Jxᵀ`` (κ about 5-25 on the presets' grids, against
+  1e2-1e8 for ``Jᵀ`` and ``ST Jᵀ``), pose by pose: the square roots of the extreme
+  eigenvalues of the 6 × 6 Gram matrix ``A Aᵀ`` (Householder tridiagonalisation and
+  implicit QL, about a fifth of a Jacobi SVD).  Forming the Gram matrix and the
+  backward-stable reduction perturb λmin by at most about ``(L + 6)·eps·λmax``, so the
+  relative error of σmin is bounded by ``(L + 6)·eps·κ²/2``; where that bound exceeds
+  :data:`_GRAM_TOL` (1e-11) the reading goes through the Jacobi instead.
 
-Poses that the kernel does not vouch for (σmin/σmax of Jᵀ below
-:data:`~.zonotope.RANK_TOL`: the flat route of :func:`.zonotope._flat_worst`; a Jacobi
-that did not converge in 60 sweeps; L > 8) are flagged, and the caller computes them by
+Poses that the kernels do not vouch for (σmin/σmax of Jᵀ below
+:data:`~.zonotope.RANK_TOL`, by the exact σ for L = 8 and the pivots of Gram-Schmidt
+otherwise: the flat route of :func:`.zonotope._flat_worst`; a Jacobi that did not
+converge in 60 sweeps) are flagged, and the caller computes them by
 the numpy route.  Agreement with that route (tests/indices/test_study_compiled.py):
 relative differences of a few 1e-13 on the presets' Table II grids.
 """
