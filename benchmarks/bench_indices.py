@@ -124,7 +124,7 @@ def _study_section(data):
     evaluate_poses(mech, P[:50])
     evaluate_poses(mech, P[:50], compiled=False)
     load0 = _load()
-    med = interleaved({"compiled (study_compiled + split-sign enumeration)":
+    med = interleaved({"compiled (study_compiled, SIMD kernels)":
                        lambda: evaluate_poses(mech, P),
                        "numpy route (reference; the code before issue 17)":
                        lambda: evaluate_poses(mech, P, compiled=False)},
@@ -183,13 +183,18 @@ def _study_section(data):
               "| stage | CPU per pose |", "|---|---|"]
     for k, (_, c) in st.items():
         lines.append(f"| {k} | {fmt_time(c / N)} |")
-    lines += ["", "What is left: the sliced sensitivities (4 slices × C(8, 3) = 56 free sets "
-              "× 16 sign vectors, exact vertex enumeration; a 3 × 3 solve per free set, E "
-              "only where a sign vector is feasible) are about three fifths of the compiled "
-              "pipeline; in the other kernel the one-sided Jacobi SVDs of Jᵀ (which also "
-              "gives J#) and ST·Jᵀ (κ up to 3e3 on the Octopod's grid, too ill-conditioned "
-              "for the Gram route that ST⁻¹Jᵀ and ST⁻¹Jxᵀ now take) cost about 4 µs, the "
-              "facets and capabilities about 3 µs."]
+    stage = {k: v[1] / N for k, v in st.items()}
+    sens_t = stage["compiled: 4 sliced sensitivities, split-sign (L = 8)"]
+    kern_t = stage["compiled: 6 capabilities, 2 true velocities, J#, σ of 4 readings"]
+    ikj_t = stage["IK (generated kernel)"] + stage["Jq, Jx (generated kernel)"]
+    lines += ["", f"What is left, of the {fmt_time(cpu_new)} per pose: the four sliced "
+              f"sensitivities {fmt_time(sens_t)} (56 free sets × 16 sign vectors each, "
+              "exact vertex enumeration, four poses per vector instruction), the kernel "
+              f"of capabilities, J# and σ {fmt_time(kern_t)} (Jacobi SVDs of Jᵀ and ST·Jᵀ, "
+              "the facets from the null space of Jᵀ, the Gram route of ST⁻¹Jᵀ and "
+              f"ST⁻¹Jxᵀ), IK and J {fmt_time(ikj_t)} (generated kernels; the study "
+              "itself now needs only the reach margins, not the crank angles), the rest "
+              "array handling between the kernels."]
     return "\n".join(lines)
 
 
