@@ -1,17 +1,16 @@
-"""One-sided (Hestenes) Jacobi SVD of the study's ill-conditioned readings over 32 poses
-at once (Kühne et al., Sec. II-C-2; SIMD across poses).
+"""One-sided (Hestenes) Jacobi SVD of the study's four readings of the scaling over 32
+poses at once (Kühne et al., Sec. II-C-2; SIMD across poses).
 
-The singular values of ``Jᵀ`` and ``ST·Jᵀ`` (6 × L, condition numbers up to 1e3-1e8 on
-the presets' grids, too ill-conditioned for the Gram route of :mod:`.study_compiled`)
-and ``J# = pinv(J)`` from the Jacobi of ``Jᵀ``: rotations of row pairs until all rows
-are orthogonal to 1e-15 of their norms; the singular values are then the row norms
-(relative accuracy of order 1e-15·κ, like LAPACK's SVD), and with ``Q Jᵀ = B``
-(orthogonal Q accumulated from the rotations, orthogonal rows b_i of norm σ_i),
-``J# = Qᵀ diag(σ⁻²) B``.
+The singular values of ``ST⁻¹Jᵀ``, ``Jᵀ``, ``ST·Jᵀ`` and ``ST⁻¹Jxᵀ`` (6 × L; condition
+numbers from about 5 to 1e8 on the presets' grids) and ``J# = pinv(J)`` from the
+Jacobi of ``Jᵀ``: rotations of row pairs until all rows are orthogonal to 1e-15 of
+their norms; the singular values are then the row norms (relative accuracy of order
+1e-15·κ, like LAPACK's SVD), and with ``Q Jᵀ = B`` (orthogonal Q accumulated from the
+rotations, orthogonal rows b_i of norm σ_i), ``J# = Qᵀ diag(σ⁻²) B``.
 
-The arithmetic is that of the pose-by-pose Jacobi of :mod:`.study_compiled`, operation
-for operation, so the results are bit for bit the same; the poses of a block are the
-innermost loop (every array indexed pose last) and a pair that needs no rotation in
+The arithmetic is that of the pose-by-pose Jacobi the study used before (issue 17),
+operation for operation, so the results are bit for bit the same; the poses of a block
+are the innermost loop (every array indexed pose last) and a pair that needs no rotation in
 one pose gets the rotation (c, s) = (1, 0), which leaves its rows exactly as they are.
 A block sweeps until no pose rotated (a pose that converged earlier stays unchanged:
 its test sees the same rows), at most 60 sweeps; a pose still rotating then is flagged.
@@ -39,7 +38,7 @@ def _kernel():
     import numba
 
     @numba.njit(cache=True, error_model="numpy")
-    def run(J, st, sig, twist, flag, W):                     # pragma: no cover (compiled)
+    def run(J, Jq, st, sig, twist, flag, W):                     # pragma: no cover (compiled)
         N, L, d = J.shape
         A = np.empty((d, L, W))
         Q = np.empty((d, d, W))
@@ -50,13 +49,21 @@ def _kernel():
         rot = np.empty(W, np.bool_)
         conv = np.empty(W, np.bool_)
         for n0 in range(0, N, W):
-            for r_ in range(2):                  # Jᵀ (with Q, for J#), then ST·Jᵀ
+            for r_ in range(4):                  # ST⁻¹Jᵀ, Jᵀ (with Q, for J#), ST·Jᵀ, ST⁻¹Jxᵀ
                 for i in range(d):
                     for l in range(L):
                         for w in range(W):
-                            x = J[min(n0 + w, N - 1), l, i]
-                            A[i, l, w] = x if r_ == 0 else x * st[i]
-                if r_ == 0:
+                            n = min(n0 + w, N - 1)
+                            x = J[n, l, i]
+                            if r_ == 0:
+                                A[i, l, w] = x / st[i]
+                            elif r_ == 1:
+                                A[i, l, w] = x
+                            elif r_ == 2:
+                                A[i, l, w] = x * st[i]
+                            else:
+                                A[i, l, w] = (x * Jq[n, l]) / st[i]
+                if r_ == 1:
                     for i in range(d):
                         for j in range(d):
                             for w in range(W):
@@ -101,7 +108,7 @@ def _kernel():
                                     aq = A[q, l, w]
                                     A[p, l, w] = cc[w] * ap - ss[w] * aq
                                     A[q, l, w] = ss[w] * ap + cc[w] * aq
-                            if r_ == 0:
+                            if r_ == 1:
                                 for l in range(d):
                                     for w in range(W):
                                         ap = Q[p, l, w]
@@ -127,9 +134,9 @@ def _kernel():
                         s = np.sqrt(s)
                         lo = min(lo, s)
                         hi = max(hi, s)
-                    sig[n, 2 + 2 * r_] = lo
-                    sig[n, 3 + 2 * r_] = hi
-                    if r_ == 0 and L > d:
+                    sig[n, 2 * r_] = lo
+                    sig[n, 2 * r_ + 1] = hi
+                    if r_ == 1 and L > d:
                         # J# = Qᵀ diag(1/σ²) B  (twist (d, L))
                         for i in range(d):
                             s = 0.0
@@ -145,9 +152,9 @@ def _kernel():
     return run
 
 
-def jacobi_lanes(J, st, sig, twist, flag):
-    """Fill ``sig[:, 2:6]`` ((σmin, σmax) of Jᵀ and ST·Jᵀ), ``twist`` (J#, only for
-    L > 6) and set ``flag`` where a Jacobi did not converge.  J (N, L, 6) contiguous,
-    st (6,), sig (N, 8), twist (N, 6, L), flag (N,) bool."""
+def jacobi_lanes(J, Jq, st, sig, twist, flag):
+    """Fill ``sig`` (N, 8) ((σmin, σmax) of ST⁻¹Jᵀ, Jᵀ, ST·Jᵀ and ST⁻¹Jxᵀ), ``twist``
+    (J#, only for L > 6) and set ``flag`` where a Jacobi did not converge.  J (N, L, 6)
+    and Jq (N, L) contiguous, st (6,), twist (N, 6, L), flag (N,) bool."""
     if len(J):
-        _kernel()(J, st, sig, twist, flag, LANES)
+        _kernel()(J, Jq, st, sig, twist, flag, LANES)

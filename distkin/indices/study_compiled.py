@@ -11,11 +11,12 @@ module does the same arithmetic in compiled kernels with a few kB of work buffer
 some pose by pose and some over blocks of 32 poses with the pose as the innermost loop
 (branch-free, so that the compiler evaluates four poses per vector instruction):
 
-* the singular values of ``Jᵀ`` and ``ST Jᵀ`` and J# = pinv(J) by one-sided (Hestenes)
-  Jacobi (:mod:`.jacobi_lanes`, over blocks of poses): rotations of row pairs until all
-  rows are orthogonal to 1e-15 of their norms; the singular values are then the row
-  norms (relative accuracy of order 1e-15·κ, like LAPACK's SVD); with ``Q Jᵀ = B``
-  (orthogonal Q, orthogonal rows b_i of norm σ_i), ``J# = Qᵀ diag(σ⁻²) B``;
+* the singular values of the four readings ``ST⁻¹Jᵀ``, ``Jᵀ``, ``ST Jᵀ``, ``ST⁻¹Jxᵀ``
+  and J# = pinv(J) by one-sided (Hestenes) Jacobi (:mod:`.jacobi_lanes`, over blocks
+  of poses): rotations of row pairs until all rows are orthogonal to 1e-15 of their
+  norms; the singular values are then the row norms (relative accuracy of order
+  1e-15·κ, like LAPACK's SVD); with ``Q Jᵀ = B`` (orthogonal Q, orthogonal rows b_i of
+  norm σ_i), ``J# = Qᵀ diag(σ⁻²) B``;
 * L = 8: the facets of the wrench zonotope ``Jᵀ·box`` from the null space of Jᵀ and J#,
   with the twist and acceleration normals ``JᵀJ n = Jᵀ y`` and ``M̂ n`` and the slice
   ratios of :func:`.zonotope._ratio_min` (:mod:`.facets_lanes`, over blocks of poses);
@@ -23,14 +24,7 @@ some pose by pose and some over blocks of 32 poses with the pose as the innermos
   Gram-Schmidt, ``B⁻¹G = [I | C]``, generalised cross products of the columns of C;
   unit box, so the offset is ``Σ|n·g_i|``), the twist and acceleration normals ``JᵀJ n``
   and ``M̂ n``, and the slice ratios;
-* the true velocity worst cases and the singular values of the well-conditioned
-  readings ``ST⁻¹Jᵀ`` and ``ST⁻¹Jxᵀ`` (κ about 5-25 on the presets' grids, against
-  1e2-1e8 for ``Jᵀ`` and ``ST Jᵀ``), pose by pose: the square roots of the extreme
-  eigenvalues of the 6 × 6 Gram matrix ``A Aᵀ`` (Householder tridiagonalisation and
-  implicit QL, about a fifth of a Jacobi SVD).  Forming the Gram matrix and the
-  backward-stable reduction perturb λmin by at most about ``(L + 6)·eps·λmax``, so the
-  relative error of σmin is bounded by ``(L + 6)·eps·κ²/2``; where that bound exceeds
-  :data:`_GRAM_TOL` (1e-11) the reading goes through the Jacobi instead.
+* the true velocity worst cases, pose by pose.
 
 Poses that the kernels do not vouch for (σmin/σmax of Jᵀ below
 :data:`~.zonotope.RANK_TOL`, by the exact σ for L = 8 and the pivots of Gram-Schmidt
@@ -52,12 +46,6 @@ from .zonotope import RANK_TOL, _groups
 
 __all__ = ["study_kernel_tables", "study_indices"]
 
-#: one-sided Jacobi: rows count as orthogonal below this cosine
-_JACOBI_TOL = 1e-15
-_JACOBI_SWEEPS = 60
-#: Gram route of the well-conditioned readings: bound on the relative error of σmin
-_GRAM_TOL = 1e-11
-_EPS = 2.220446049250313e-16
 #: output dimension (a compile-time constant of the kernel)
 _D = 6
 
@@ -78,170 +66,6 @@ def study_kernel_tables(L: int, d: int = 6):
 @lru_cache(maxsize=1)
 def _kernel():
     import numba
-
-    @numba.njit(cache=True)
-    def jacobi_rows(A):                                      # pragma: no cover (compiled)
-        """Orthogonalise the rows of A (d, L) in place (the pose-by-pose form of
-        :mod:`.jacobi_lanes`).  Returns True on convergence."""
-        L = A.shape[1]
-        d = _D
-        nrm = np.empty(_D)
-        for sweep in range(_JACOBI_SWEEPS):
-            rotated = False
-            # squared row norms, recomputed each sweep and updated by each rotation
-            for p in range(d):
-                a = 0.0
-                for l in range(L):
-                    a += A[p, l] * A[p, l]
-                nrm[p] = a
-            for p in range(d - 1):
-                for q in range(p + 1, d):
-                    alpha = nrm[p]
-                    beta = nrm[q]
-                    gamma = 0.0
-                    for l in range(L):
-                        gamma += A[p, l] * A[q, l]
-                    if not abs(gamma) > _JACOBI_TOL * np.sqrt(alpha * beta):
-                        continue
-                    rotated = True
-                    zeta = (beta - alpha) / (2.0 * gamma)
-                    t = (1.0 if zeta >= 0 else -1.0) / (abs(zeta) + np.sqrt(1.0 + zeta * zeta))
-                    c = 1.0 / np.sqrt(1.0 + t * t)
-                    s = c * t
-                    nrm[p] = alpha - t * gamma
-                    nrm[q] = beta + t * gamma
-                    for l in range(L):
-                        ap = A[p, l]
-                        aq = A[q, l]
-                        A[p, l] = c * ap - s * aq
-                        A[q, l] = s * ap + c * aq
-            if not rotated:
-                return True
-        return False
-
-    @numba.njit(cache=True)
-    def gram_extremes(A, C, dv, e):                          # pragma: no cover (compiled)
-        """(σmin, σmax) of A (d, L) from the eigenvalues of C = A Aᵀ (Householder
-        tridiagonalisation, implicit QL), and whether their error bound holds."""
-        L = A.shape[1]
-        n = _D
-        for i in range(n):
-            for j in range(i + 1):
-                s = 0.0
-                for l in range(L):
-                    s += A[i, l] * A[j, l]
-                C[i, j] = s
-        # ---- Householder reduction to tridiagonal form (lower triangle of C)
-        for i in range(n - 1, 0, -1):
-            l_ = i - 1
-            h = 0.0
-            if l_ > 0:
-                scale = 0.0
-                for k in range(l_ + 1):
-                    scale += abs(C[i, k])
-                if scale == 0.0:
-                    e[i] = C[i, l_]
-                else:
-                    for k in range(l_ + 1):
-                        C[i, k] /= scale
-                        h += C[i, k] * C[i, k]
-                    f = C[i, l_]
-                    g = -np.sqrt(h) if f >= 0.0 else np.sqrt(h)
-                    e[i] = scale * g
-                    h -= f * g
-                    C[i, l_] = f - g
-                    f = 0.0
-                    for j in range(l_ + 1):
-                        g = 0.0
-                        for k in range(j + 1):
-                            g += C[j, k] * C[i, k]
-                        for k in range(j + 1, l_ + 1):
-                            g += C[k, j] * C[i, k]
-                        e[j] = g / h
-                        f += e[j] * C[i, j]
-                    hh = f / (h + h)
-                    for j in range(l_ + 1):
-                        f = C[i, j]
-                        g = e[j] - hh * f
-                        e[j] = g
-                        for k in range(j + 1):
-                            C[j, k] -= f * e[k] + g * C[i, k]
-            else:
-                e[i] = C[i, l_]
-        for i in range(n):
-            dv[i] = C[i, i]
-        # ---- implicit QL on the tridiagonal (dv, e)
-        for i in range(1, n):
-            e[i - 1] = e[i]
-        e[n - 1] = 0.0
-        for l_ in range(n):
-            it = 0
-            while True:
-                m = l_
-                while m < n - 1:
-                    dd = abs(dv[m]) + abs(dv[m + 1])
-                    if abs(e[m]) <= _EPS * dd:
-                        break
-                    m += 1
-                if m == l_:
-                    break
-                it += 1
-                if it > 60:
-                    return 0.0, 0.0, False
-                g = (dv[l_ + 1] - dv[l_]) / (2.0 * e[l_])
-                r = np.sqrt(g * g + 1.0)
-                g = dv[m] - dv[l_] + e[l_] / (g + (r if g >= 0.0 else -r))
-                s = 1.0
-                c = 1.0
-                p = 0.0
-                underflow = False
-                for i in range(m - 1, l_ - 1, -1):
-                    f = s * e[i]
-                    b = c * e[i]
-                    r = np.sqrt(f * f + g * g)
-                    e[i + 1] = r
-                    if r == 0.0:
-                        dv[i + 1] -= p
-                        e[m] = 0.0
-                        underflow = True
-                        break
-                    s = f / r
-                    c = g / r
-                    g = dv[i + 1] - p
-                    r = (dv[i] - g) * s + 2.0 * c * b
-                    p = s * r
-                    dv[i + 1] = g + p
-                    g = c * r - b
-                if underflow:
-                    continue
-                dv[l_] -= p
-                e[l_] = g
-                e[m] = 0.0
-        lo = np.inf
-        hi = -np.inf
-        for i in range(n):
-            lo = min(lo, dv[i])
-            hi = max(hi, dv[i])
-        # relative error of σmin: half that of λmin, <= (L + d)·eps·λmax/λmin (forming
-        # C and the backward-stable reduction), held below _GRAM_TOL
-        if not (lo > 0.0 and (L + n) * _EPS * hi <= 2.0 * _GRAM_TOL * lo):
-            return 0.0, 0.0, False
-        return np.sqrt(lo), np.sqrt(hi), True
-
-    @numba.njit(cache=True)
-    def row_extremes(A):                                     # pragma: no cover (compiled)
-        L = A.shape[1]
-        d = _D
-        lo = np.inf
-        hi = 0.0
-        for i in range(d):
-            s = 0.0
-            for l in range(L):
-                s += A[i, l] * A[i, l]
-            s = np.sqrt(s)
-            lo = min(lo, s)
-            hi = max(hi, s)
-        return lo, hi
 
     @numba.njit(cache=True)
     def ratio_min(h, nn, lim, s0, vb):                       # pragma: no cover (compiled)
@@ -429,16 +253,10 @@ def _kernel():
             caps[n, 5] = ratio_min(h, na, lims[1], 3, vb)
 
     @numba.njit(cache=True)
-    def readings(J, Jq, lims, st, truev, sig, flag):         # pragma: no cover (compiled)
-        """The true velocity worst cases and σ of ST⁻¹Jᵀ and ST⁻¹Jxᵀ, pose by pose."""
+    def readings(J, lims, truev):                            # pragma: no cover (compiled)
+        """The true velocity worst cases: q̇max / max_l ||J_l,S|| (:mod:`.velocity_set`)."""
         N, L, _ = J.shape
-        d = _D
-        A = np.empty((d, L))
-        Cg = np.empty((d, d))
-        dg = np.empty(d)
-        eg = np.empty(d)
         for n in range(N):
-            # ---- true velocity set: q̇max / max_l ||J_l,S||
             for a in range(2):
                 mx = 0.0
                 for l in range(L):
@@ -447,24 +265,6 @@ def _kernel():
                         s += J[n, l, i] * J[n, l, i]
                     mx = max(mx, np.sqrt(s))
                 truev[n, a] = lims[2] / mx
-            # ---- singular values of the well-conditioned readings ST⁻¹Jᵀ, ST⁻¹Jxᵀ
-            # (Jᵀ, ST·Jᵀ and J#: jacobi_lanes)
-            for r_ in (0, 3):
-                for i in range(d):
-                    for l in range(L):
-                        x = J[n, l, i]
-                        if r_ == 0:
-                            A[i, l] = x / st[i]
-                        else:
-                            A[i, l] = (x * Jq[n, l]) / st[i]
-                lo, hi, good = gram_extremes(A, Cg, dg, eg)
-                if not good:
-                    # the Gram bound fails: Jacobi (gram_extremes only read A)
-                    if not jacobi_rows(A):
-                        flag[n] = True
-                    lo, hi = row_extremes(A)
-                sig[n, 2 * r_] = lo
-                sig[n, 2 * r_ + 1] = hi
     return run, readings
 
 
@@ -514,7 +314,7 @@ def study_indices(J, Jq, M, actuators, ST):
         run, readings = _kernel()
         Jq = np.ascontiguousarray(Jq, dtype=float)
         M = np.asarray(M, dtype=float)
-        jacobi_lanes(J, st, sig, twist, flag)
+        jacobi_lanes(J, Jq, st, sig, twist, flag)
         if L == 8:
             # facets from the null space of Jᵀ and J# (facets_lanes); the rank test on
             # the exact σ of Jᵀ instead of the pivots of Gram-Schmidt
@@ -522,5 +322,5 @@ def study_indices(J, Jq, M, actuators, ST):
             capabilities_lanes(J, twist, M, lims, caps)
         else:
             run(J, M, lims, NM, NR, NC, caps, flag)
-        readings(J, Jq, lims, st, truev, sig, flag)
+        readings(J, lims, truev)
     return caps, truev, twist, sig, flag
