@@ -42,7 +42,7 @@ import numpy as np
 
 from ..errors import LinkError
 from .admittance import Admittance
-from .cycle_kernels import reading_extremes
+from .cycle_kernels import CYCLE_OUT, cycle_params, reading_extremes
 from .kinematics import _rot
 from .protocol import (FLAG_KEEPALIVE, MODE_HOLD, MODE_RUN, MODE_ZERO_TORQUE, STATUS_ESTOP,
                        STATUS_SENSOR_FAULT, CommandFrame)
@@ -81,6 +81,9 @@ class Controller:
     model : distkin.control.kinematics.KinematicModel
     log_prefix : str or None
         Write ``PREFIX.cycles.csv`` and ``PREFIX.events.jsonl``.
+    fused : bool
+        With a compiled model (default), run steps 2-8 of a cycle as one compiled call;
+        False: the Python methods below (on the model's kernels), the reference.
     """
 
     #: consecutive forward-kinematics failures tolerated (the last command is repeated)
@@ -89,7 +92,7 @@ class Controller:
     #: wall time to wait for the first valid state frame, s
     STARTUP_TIMEOUT_S = 10.0
 
-    def __init__(self, scene, model, *, log_prefix=None):
+    def __init__(self, scene, model, *, log_prefix=None, fused: bool = True):
         self.scene = scene
         self.model = model
         self.L = model.L
@@ -102,6 +105,12 @@ class Controller:
         self.pose = np.array(model.home, dtype=float)
         self.state = RUN
         self.started = False
+        self._fused = None
+        if fused and model.compiled is not None:
+            # the fused cycle (steps 2-8 in one compiled call): its parameters, and the
+            # PD state as one (5, L) buffer (rows e_prev, d_prev, d_f, ∫e; flag)
+            self._fused = cycle_params(self.pd, self.safety, self.adm, self.weight, SCALING)
+            self._pd_state = np.zeros((5, self.L))
         self._reset_pd()
         self.refusing = False
         self.refused = 0
@@ -123,6 +132,8 @@ class Controller:
         self.d_prev = np.zeros(self.L)
         self.de_f = np.zeros(self.L)
         self.e_int = np.zeros(self.L)
+        if self._fused is not None:
+            self._pd_state[:] = 0.0
 
     def filter_derivative(self, e, dt):
         """One step of the error-derivative low-pass of Sec. III-D, forward Euler.
@@ -252,7 +263,15 @@ class Controller:
         return tau, saturated
 
     def compute(self, frame, dt: float) -> CycleResult:
-        """One control cycle on a *checked* state frame (steps 2-8 of the module doc)."""
+        """One control cycle on a *checked* state frame (steps 2-8 of the module doc).
+
+        With compiled kinematics the steps run as one compiled call
+        (:meth:`_compute_fused`, ``cycle`` of :mod:`.cycle_kernels`); without, as the
+        Python methods of this class (the reference route; tests/control holds the
+        two together).
+        """
+        if self._fused is not None:
+            return self._compute_fused(frame, dt)
         r = CycleResult()
         fk = self.estimate(frame.angles)
         r.fk_iterations, r.fk_residual = fk.iterations, fk.residual
@@ -295,6 +314,46 @@ class Controller:
         r.desired = self.adm.pose
         tau, r.saturated = self.joint_torques(q_des, frame.angles, J, w, dt)
         r.mode, r.torques = MODE_RUN, tau
+        return r
+
+    _REASONS = ("", "fk_failed", "singular_stop", "", "unreachable", "singular", "")
+
+    def _compute_fused(self, frame, dt: float) -> CycleResult:
+        """:meth:`compute` by the fused compiled cycle: the same decisions and state."""
+        r = CycleResult()
+        L = self.L
+        prm, env = self._fused
+        adm = self.adm
+        out = np.empty(CYCLE_OUT + L)
+        code = self.model.compiled.cycle(frame.angles, frame.wrench, float(dt),
+                                         bool(self.started), self.state == RUN, self.pose,
+                                         adm.pose, adm.twist, self._pd_state, prm, env, out)
+        r.fk_residual, r.fk_iterations = float(out[24 + L]), int(out[25 + L])
+        r.reason = self._REASONS[code]
+        if code == 1:
+            r.accepted = False
+            r.mode = None
+            return r
+        self.pose = r.pose = out[0:6]
+        r.wrench = out[6:12]
+        if not self.started:                                # start_at (in the kernel)
+            self.refusing = False
+            self.started = True
+        adm.pose, adm.twist = out[12:18], out[18:24]
+        r.torques = out[24:24 + L]
+        if code == 2:
+            r.accepted = False
+            r.mode = MODE_HOLD
+            return r
+        if code == 3:
+            return r
+        if code in (4, 5):
+            self.refused += 1
+            r.accepted = False
+        r.desired = adm.pose
+        if code == 6:
+            raise np.linalg.LinAlgError("Singular matrix")
+        r.mode, r.saturated = MODE_RUN, bool(out[26 + L])
         return r
 
     # -- the loop ---------------------------------------------------------------------

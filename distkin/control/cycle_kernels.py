@@ -39,7 +39,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["CycleKernels", "build", "kernel_module", "jitted", "reading_extremes"]
+__all__ = ["CycleKernels", "build", "kernel_module", "jitted", "reading_extremes",
+           "cycle_params", "CYCLE_OUT"]
 
 _BUILT: dict = {}
 
@@ -58,6 +59,7 @@ class CycleKernels:
     rotate_pose: object
     rotate_wrench: object
     spring_wrench: object
+    cycle: object
 
 
 def _solve_into(A, b, x):                                    # pragma: no cover (compiled)
@@ -122,6 +124,41 @@ def _jit(name, func):
     return f
 
 
+#: entries of the fused cycle's ``out`` besides the L torques: pose, base-frame wrench,
+#: admittance pose and twist (6 each), FK residual, FK iterations, saturated
+CYCLE_OUT = 27
+
+
+def cycle_params(pd, safety, adm, weight: float, scaling, *, fk_tol: float = 1e-4,
+                 fk_iter: tuple = (8, 40)):
+    """The parameter vector ``prm`` and environment table ``env`` of the fused cycle
+    (``cycle`` of :func:`build`), from a controller's gains, limits and admittance.
+
+    ``prm`` (33,): FK tolerance, FK iterations (warm, cold), max FK residual, σmin,
+    max condition, kp, kd, ki, derivative filter T, torque limit, projected (0/1),
+    gravity compensation (0/1), hand feed-forward (0/1), weight (N), S (6), virtual
+    mass (6), virtual damping (6).  ``env`` (n, 25), one row per element in the
+    scene's order: a Spring ``0, p0 (3), R0ᵀ (9, row-major), k (6), d (6)``; a Wall
+    ``1, normal (3), offset, stiffness, damping`` (zero padded).
+    """
+    prm = np.array([fk_tol, fk_iter[0], fk_iter[1], safety.max_fk_residual,
+                    safety.sigma_min, safety.max_condition, pd.kp, pd.kd, pd.ki,
+                    pd.derivative_filter_s, pd.torque_limit,
+                    float(pd.distribution == "projected"), float(pd.gravity_compensation),
+                    float(pd.hand_feedforward), weight, *scaling, *adm.mass, *adm.damping],
+                   dtype=float)
+    env = np.zeros((len(adm.environment), 25))
+    for r, e in enumerate(adm.environment):
+        if e.kind == "spring":
+            env[r, 1:4], env[r, 4:13] = e._p0, np.ravel(e._R0t)
+            env[r, 13:19], env[r, 19:25] = e._k, e._d
+        else:
+            env[r, 0] = 1.0
+            env[r, 1:4] = np.asarray(e.normal, dtype=float)
+            env[r, 4:7] = e.offset, e.stiffness, e.damping
+    return prm, env
+
+
 def reading_extremes(a, w):
     """``(finite, max|a|, max|f|, max|m|)`` of encoder angles ``a`` (L,) rad and the
     wrench ``w`` (6,) N, N·m (NaN or inf anywhere: ``finite`` False)."""
@@ -157,6 +194,9 @@ closure = numba.njit(cache=True)(closure)
 forward = numba.njit(cache=True)(forward)
 singular_values = numba.njit(cache=True)(singular_values)
 project = numba.njit(cache=True)(project)
+_near_singular = numba.njit(cache=True)(_near_singular)
+_environment = numba.njit(cache=True)(_environment)
+cycle = numba.njit(cache=True)(cycle)
 """
 
 
@@ -239,7 +279,7 @@ def build(kernels, L: int) -> CycleKernels:
     ik, jacobian, closure = w.ik, w.jacobian, w.closure
     forward, singular_values, project = w.forward, w.singular_values, w.project
     ck = CycleKernels(int(L), ik, jacobian, closure, forward, singular_values, project,
-                      w.rotate, w.rotate_wrench, w.spring_wrench)
+                      w.rotate, w.rotate_wrench, w.spring_wrench, w.cycle)
     # compile now: the first control cycle must not wait for the compiler
     pose = np.zeros(6)
     q = np.zeros(L)
@@ -256,5 +296,10 @@ def build(kernels, L: int) -> CycleKernels:
         ck.spring_wrench(np.zeros(6), np.zeros(6), np.zeros(3), R0t, np.zeros(6),
                          np.zeros(6), np.zeros(6))
     ck.rotate_pose(np.zeros(6), np.zeros(3), np.zeros(3))
+    env = np.zeros((2, 25))
+    env[1, 0] = 1.0
+    for started in (False, True):
+        ck.cycle(np.zeros(L), np.zeros(6), 1e-3, started, True, np.zeros(6), np.zeros(6),
+                 np.zeros(6), np.zeros((5, L)), np.zeros(33), env, np.zeros(CYCLE_OUT + L))
     _BUILT[key] = ck
     return ck

@@ -10,10 +10,11 @@ import pytest
 
 from distkin.control.admittance import Spring
 from distkin.control.config import builtin_scene
-from distkin.control.controller import SCALING
+from distkin.control.controller import FAULT, RUN, SCALING, Controller
 from distkin.control.cycle_kernels import reading_extremes
 from distkin.control.kinematics import _rot, load_model, rotate_pose
 from distkin.control.loopback import run_loopback
+from distkin.control.protocol import StateFrame
 
 
 @pytest.fixture(scope="module")
@@ -121,10 +122,63 @@ def test_the_first_cycle_compiles_nothing():
         mods = [m for k, m in sys.modules.items() if k.startswith("distkin_cycle_")]
         out = {(m.__name__, n): len(getattr(m, n).signatures) for m in mods
                for n in ("ik", "jacobian", "closure", "forward", "singular_values",
-                         "project", "rotate_wrench", "spring_wrench", "rotate")}
+                         "project", "rotate_wrench", "spring_wrench", "rotate", "cycle")}
         out.update({k: len(f.signatures) for k, f in cycle_kernels._COMPILED.items()})
         return out
 
     before = signatures()
     run_loopback(dataclasses.replace(builtin_scene(), preset="octo"), model, 0.05)
     assert signatures() == before
+
+
+def _frames(model, n, seed):
+    """State frames along a path that crosses the example's wall (x = 20 mm) with hand
+    wrenches strong enough to drive the set point to the reach boundary."""
+    rng = np.random.default_rng(seed)
+    for k in range(n):
+        pose = model.home + np.array([0.04 * math.sin(k / 60), 0.01, 0.0, 0.02, 0.0, 0.01])
+        q, _ = model.ik(pose)
+        q = q + 2e-4 * rng.standard_normal(model.L)
+        f = -30.0 * np.sign(math.sin(k / 90)) if k > 50 else 2.0
+        yield StateFrame(k, 1000 * k, 0, q, np.array([f, -f / 3, 1.0, 0.05, -0.02, 0.01])
+                         + 0.02 * rng.standard_normal(6)), 1e-3 * (1 + 0.2 * rng.random())
+
+
+@pytest.mark.parametrize("variant", [
+    {},
+    {"pd": {"distribution": "independent", "ki": 30.0, "derivative_filter_s": 0.0,
+            "hand_feedforward": False, "torque_limit": 0.8}},
+    {"pd": {"gravity_compensation": False, "hand_feedforward": False}},
+    {"safety": {"sigma_min": 0.16}},
+])
+def test_the_fused_cycle_makes_the_same_decisions_as_the_python_steps(models, variant):
+    """Controller.compute by the fused compiled cycle against the same controller's
+    Python steps (same kinematic kernels, same frames): the same decisions (accepted,
+    reason, mode, saturation, FK iterations) cycle by cycle, states and torques to
+    rounding -- through wall contact, refusals at the reach boundary, a fault period
+    (zero torque) and, with a stricter guard, singular stops."""
+    fast = models[0]
+    sc = builtin_scene()
+    sc = dataclasses.replace(sc, preset="octo",
+                             pd=dataclasses.replace(sc.pd, **variant.get("pd", {})),
+                             safety=dataclasses.replace(sc.safety, **variant.get("safety", {})))
+    a, b = Controller(sc, fast), Controller(sc, fast, fused=False)
+    assert a._fused is not None and b._fused is None
+    seen = set()
+    for k, (frame, dt) in enumerate(_frames(fast, 600, 7)):
+        for ctl in (a, b):
+            ctl.state = FAULT if 300 <= k < 320 else RUN
+        ra, rb = a.compute(frame, dt), b.compute(frame, dt)
+        seen.add(rb.reason or ("saturated" if rb.saturated else "ok"))
+        assert (ra.accepted, ra.reason, ra.mode, ra.saturated, ra.fk_iterations) == \
+            (rb.accepted, rb.reason, rb.mode, rb.saturated, rb.fk_iterations), k
+        for x, y in ((ra.torques, rb.torques), (ra.pose, rb.pose), (ra.wrench, rb.wrench),
+                     (ra.desired, rb.desired), (a.adm.twist, b.adm.twist)):
+            if y is None:
+                assert x is None
+            else:
+                np.testing.assert_allclose(x, y, rtol=1e-10, atol=1e-12)
+        assert ra.fk_residual == pytest.approx(rb.fk_residual, rel=1e-9, abs=1e-15)
+    assert a.refused == b.refused
+    expected = {"singular_stop"} if "safety" in variant else {"unreachable", "ok"}
+    assert expected <= seen, seen
