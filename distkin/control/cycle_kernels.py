@@ -60,6 +60,8 @@ class CycleKernels:
     rotate_wrench: object
     spring_wrench: object
     cycle: object
+    drive: object
+    plant_dynamics: object
 
 
 def _solve_into(A, b, x):                                    # pragma: no cover (compiled)
@@ -197,6 +199,8 @@ project = numba.njit(cache=True)(project)
 _near_singular = numba.njit(cache=True)(_near_singular)
 _environment = numba.njit(cache=True)(_environment)
 cycle = numba.njit(cache=True)(cycle)
+drive = numba.njit(cache=True)(drive)
+plant_dynamics = numba.njit(cache=True)(plant_dynamics)
 """
 
 
@@ -279,7 +283,8 @@ def build(kernels, L: int) -> CycleKernels:
     ik, jacobian, closure = w.ik, w.jacobian, w.closure
     forward, singular_values, project = w.forward, w.singular_values, w.project
     ck = CycleKernels(int(L), ik, jacobian, closure, forward, singular_values, project,
-                      w.rotate, w.rotate_wrench, w.spring_wrench, w.cycle)
+                      w.rotate, w.rotate_wrench, w.spring_wrench, w.cycle,
+                      w.drive, w.plant_dynamics)
     # compile now: the first control cycle must not wait for the compiler
     pose = np.zeros(6)
     q = np.zeros(L)
@@ -301,5 +306,8 @@ def build(kernels, L: int) -> CycleKernels:
     for started in (False, True):
         ck.cycle(np.zeros(L), np.zeros(6), 1e-3, started, True, np.zeros(6), np.zeros(6),
                  np.zeros(6), np.zeros((5, L)), np.zeros(33), env, np.zeros(CYCLE_OUT + L))
+    ck.drive(np.zeros(L), np.zeros(L), 1.0, 1.0, np.zeros(L))
+    ck.plant_dynamics(np.zeros(6), np.zeros(6), np.zeros(L), np.zeros(L), np.zeros(L),
+                      np.zeros(6), np.eye(6), np.zeros(4), np.zeros(12 + L))
     _BUILT[key] = ck
     return ck

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 __all__ = ["ik", "jacobian", "closure", "forward", "singular_values", "project",
-           "rotate_wrench", "spring_wrench", "cycle"]
+           "rotate_wrench", "spring_wrench", "cycle", "drive", "plant_dynamics"]
 
 #: bound by the footer of each copy
 ik_k = reach_k = jac_k = clo_k = solve = rotate = rot_k = log_k = None
@@ -152,10 +152,47 @@ def spring_wrench(pose, twist, p0, R0t, k, d, out):  # pragma: no cover (compile
 
 
 def _near_singular(J, prm):  # pragma: no cover (compiled)
-    """Controller.near_singular: σmin(J S⁻¹) < sigma_min or cond > max_condition."""
-    lo, hi = singular_values(J, prm[15:21])
-    if lo != lo:
-        return True
+    """Controller.near_singular: σmin(J S⁻¹) < sigma_min or cond > max_condition.
+
+    Decided without the eigenvalues where that is possible: with G = (J S⁻¹)ᵀ(J S⁻¹),
+    σmin < s ⟺ G - s² I is not positive definite (its Cholesky factorisation meets a
+    pivot <= 0), and when σmin >= s, σmax² <= trace G <= (max_condition s)² rules out
+    the condition test; otherwise the eigenvalues decide (:func:`singular_values`).
+    The same decisions up to rounding at the thresholds themselves."""
+    n = J.shape[0]
+    S = prm[15:21]
+    for k in range(n):
+        for j in range(6):
+            if not math.isfinite(J[k, j]):
+                return True
+    s2 = prm[4] * prm[4]
+    A = np.empty((6, 6))
+    tr = 0.0
+    for i in range(6):
+        for j in range(i + 1):
+            s = 0.0
+            for k in range(n):
+                s += (J[k, i] / S[i]) * (J[k, j] / S[j])
+            A[i, j] = s
+        tr += A[i, i]
+        A[i, i] -= s2
+    for j in range(6):                                     # Cholesky of G - s² I
+        d = A[j, j]
+        for k in range(j):
+            d -= A[j, k] * A[j, k]
+        if not d > 0.0:
+            return True
+        d = math.sqrt(d)
+        A[j, j] = d
+        for i in range(j + 1, 6):
+            s = A[i, j]
+            for k in range(j):
+                s -= A[i, k] * A[j, k]
+            A[i, j] = s / d
+    c = prm[5] * prm[4]
+    if tr <= c * c:
+        return False
+    lo, hi = singular_values(J, S)
     return lo < prm[4] or hi > prm[5] * lo
 
 
@@ -311,3 +348,62 @@ def cycle(q, ws, dt, started, run, guess, adm_pose, adm_twist, pd, prm, env,
             tau[i] = tau[i] * f
         out[26 + L] = 1.0
     return code
+
+
+def drive(tau, qdot, stall, w_nl, out):  # pragma: no cover (compiled)
+    """:meth:`.plant.Plant.drive`: ``out`` the torques the drives deliver (N·m); True
+    if any was limited."""
+    sat = False
+    for i in range(tau.shape[0]):
+        t = tau[i]
+        motoring = np.sign(t) == np.sign(qdot[i])
+        avail = stall
+        if motoring:
+            avail = stall * min(max(1.0 - abs(qdot[i]) / w_nl, 0.0), 1.0)
+        o = min(max(t, -avail), avail)
+        out[i] = o
+        if o != t:
+            sat = True
+    return sat
+
+
+def plant_dynamics(pose, twist, q, qdot, tau, hand, M, prm, out):  # pragma: no cover (compiled)
+    """One semi-implicit Euler step of :meth:`.plant.Plant.step` after the drives:
+    ``(M + j_r JᵀJ) V̇ = Jᵀ(tau - b q̇) + w_h + w_g``.  ``prm`` = (b, m g, j_r, dt);
+    ``out`` (12 + L,) = new pose, twist, q.  False: a mechanical end stop (singular
+    or unreachable), ``out`` undefined."""
+    L = q.shape[0]
+    J = np.empty((L, 6))
+    jacobian(pose, J)
+    v = np.empty(L)
+    for k in range(L):
+        v[k] = tau[k] - prm[0] * qdot[k]
+    w = np.empty(6)
+    A = np.empty((6, 6))
+    for i in range(6):
+        s = 0.0
+        for k in range(L):
+            s += J[k, i] * v[k]
+        w[i] = s + hand[i]
+        for j in range(6):
+            s = 0.0
+            for k in range(L):
+                s += J[k, i] * J[k, j]
+            A[i, j] = M[i, j] + prm[2] * s
+    w[2] -= prm[1]
+    for i in range(6):
+        if not math.isfinite(w[i]):
+            return False
+        for j in range(6):
+            if not math.isfinite(A[i, j]):
+                return False
+    a = np.linalg.solve(A, w)
+    dt = prm[3]
+    for i in range(6):
+        out[6 + i] = twist[i] + dt * a[i]
+    out[0:6] = rotate(pose, out[6:9] * dt, out[9:12] * dt)
+    ok = ik(out[0:6], out[12:12 + L])
+    for k in range(L):
+        if not math.isfinite(out[12 + k]):
+            ok = False
+    return ok
