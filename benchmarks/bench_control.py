@@ -78,18 +78,31 @@ def _parts(compiled: bool = True):
         "FK, warm start (Gauss-Newton)": lambda: model.forward(q, guess),
         "IK (scalar kernel)": lambda: model.ik(pose),
         "Jacobian (scalar kernel)": lambda: model.jacobian(pose),
-        "sigma_min guard": lambda: ctl.sigma_min(J),
+        "sigma_min guard (eigenvalues)": lambda: ctl.sigma_min(J),
         "admittance step": lambda: ctl.adm.propose(w, 1e-3),
         "distribution solve (numpy)": lambda: J @ np.linalg.solve(J.T @ J, J.T @ q),
     }
     if compiled:
+        ck = model.compiled
         out = np.empty(model.L)
-        competitors["distribution solve (compiled)"] = lambda: model.compiled.project(
+        competitors["distribution solve (compiled)"] = lambda: ck.project(
             J, q, np.zeros(6), out)
+        prm, env = ctl._fused
+        buf = np.empty(model.L + 27)
+        pd = np.zeros((5, model.L))
+        z = np.zeros(6)
+        competitors["fused cycle kernel alone (steps 2-8, one call)"] = lambda: ck.cycle(
+            frame.angles, frame.wrench, 1e-3, True, True, ctl.pose, pose, z, pd, prm, env,
+            buf)
+        py = Controller(sc, model, fused=False)
+        py.compute(frame, 1e-3)
+        competitors["whole cycle, Python steps on the compiled kernels"] = \
+            lambda: py.compute(frame, 1e-3)
     return interleaved(competitors, rounds=15, number=200)
 
 
 def _pty(lockstep: bool, seconds: float = 3.0, rate_hz: int = 1000):
+    load_before = os.getloadavg()[:2]
     with tempfile.TemporaryDirectory() as d:
         text = (ROOT / "examples" / "control_octo.toml").read_text(encoding="utf-8")
         if not lockstep:
@@ -104,12 +117,14 @@ def _pty(lockstep: bool, seconds: float = 3.0, rate_hz: int = 1000):
                               capture_output=True, text=True, cwd=ROOT, env=env,
                               timeout=120 + 4 * seconds)
         s = json.loads(proc.stdout)
-    keys = ("cycles", "seconds", "rate_hz", "cycle_p50_ms", "cycle_p99_ms", "period_p50_ms",
-            "period_p99_ms", "bad_frames", "stale_frames", "timeouts", "watchdog_trips",
-            "exit_reason")
+    keys = ("cycles", "seconds", "device_seconds", "rate_hz", "cycle_p50_ms", "cycle_p99_ms",
+            "cycle_max_ms", "cycle_cpu_p50_ms", "cycle_cpu_p99_ms", "period_p50_ms",
+            "period_p99_ms", "period_max_ms", "bad_frames", "stale_frames", "timeouts",
+            "watchdog_trips", "gc_collections", "exit_reason")
     out = {k: s[k] for k in keys}
     out["rate_set_hz"] = rate_hz
     out["load"] = os.getloadavg()[:2]
+    out["load_before"] = load_before
     return out
 
 

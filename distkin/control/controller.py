@@ -34,6 +34,7 @@ out-of-range readings, and zero torque on every way out of :meth:`Controller.run
 
 from __future__ import annotations
 
+import gc
 import math
 import signal
 import time
@@ -46,7 +47,8 @@ from .cycle_kernels import CYCLE_OUT, cycle_params, reading_extremes
 from .kinematics import _rot
 from .protocol import (FLAG_KEEPALIVE, MODE_HOLD, MODE_RUN, MODE_ZERO_TORQUE, STATUS_ESTOP,
                        STATUS_SENSOR_FAULT, CommandFrame)
-from .runlog import CsvLog, EventLog
+from .runlog import CsvLog, EventLog, timing_summary
+from .scheduling import realtime, restore
 
 __all__ = ["Controller", "CycleResult", "GRAVITY", "SCALING", "RUN", "FAULT", "STOPPED"]
 
@@ -365,6 +367,10 @@ class Controller:
     def run(self, link, seconds: float, *, wall_limit: float | None = None) -> dict:
         """Run the loop over ``link`` for ``seconds`` of device time.
 
+        The cycle allocates no reference cycles, so the cyclic garbage collector has
+        nothing to do during a run; the summary's ``gc_collections`` counts the
+        collections that happened anyway (0 in the runs of BENCHMARKS.md).
+
         The run ends when the device clock has advanced by ``seconds`` since the first
         frame, when the wall clock reaches ``wall_limit`` (default ``2 seconds + 10``),
         when no valid frame arrives within :attr:`STARTUP_TIMEOUT_S`, on a disconnect,
@@ -389,8 +395,9 @@ class Controller:
         t_first = t_prev_us = None
         t_prev_cycle = None
         recover_count = 0
-        compute, periods = [], []
+        compute, compute_cpu, periods = [], [], []
         cycles = 0
+        gc0 = sum(g["collections"] for g in gc.get_stats())
         reason = "completed"
         self.error = None
         stop = {"sig": None}
@@ -398,6 +405,11 @@ class Controller:
         def _on_signal(signum, _frame):
             stop["sig"] = signum
 
+        rt = None
+        if getattr(self.scene, "realtime", False):
+            rt, why = realtime()
+            if why:
+                self._event("realtime_refused", t0, None, message=why)
         old = {}
         for s in (signal.SIGINT, signal.SIGTERM):
             try:
@@ -420,6 +432,7 @@ class Controller:
                     break
                 frame = link.read_state(poll)
                 t_rx = time.perf_counter()
+                c_rx = time.thread_time()
                 if frame is None:
                     if last_valid is not None and self.state == RUN and \
                             t_rx - last_valid > self.safety.watchdog_ms * 1e-3:
@@ -495,6 +508,7 @@ class Controller:
                 last = CommandFrame(seq, frame.seq, mode, 0, tau)
                 link.write_command(last)
                 t_done = time.perf_counter()
+                compute_cpu.append(time.thread_time() - c_rx)
                 cycles += 1
                 compute.append(t_done - t_rx)
                 period = 0.0 if t_prev_cycle is None else t_rx - t_prev_cycle
@@ -527,9 +541,12 @@ class Controller:
             self._event("zero_torque", t0, None, sent=sent)
             for s, h in old.items():
                 signal.signal(s, h)
+            restore(rt)
             self.log.flush()
         wall = time.perf_counter() - t0
-        return self._summary(link, cycles, wall, t_first, t_prev_us, compute, periods, reason)
+        self.gc_collections = sum(g["collections"] for g in gc.get_stats()) - gc0
+        return self._summary(link, cycles, wall, t_first, t_prev_us, compute, compute_cpu,
+                             periods, reason)
 
     def _zero_torque(self, link, seq, ack) -> bool:
         """Send zero torque three times; True if at least one frame was written whole."""
@@ -542,10 +559,9 @@ class Controller:
                 break
         return sent
 
-    def _summary(self, link, cycles, wall, t_first, t_last, compute, periods, reason):
+    def _summary(self, link, cycles, wall, t_first, t_last, compute, compute_cpu, periods,
+                 reason):
         st = link.stats
-        c = np.asarray(compute) * 1e3
-        p = np.asarray(periods) * 1e3
         dev_s = 0.0 if t_first is None else (t_last - t_first) * 1e-6
         code = {"completed": 0, "interrupted": 130}.get(reason, 1)
         return {
@@ -553,10 +569,7 @@ class Controller:
             "seconds": round(wall, 4),
             "device_seconds": round(dev_s, 4),
             "rate_hz": round(cycles / wall, 2) if wall > 0 else 0.0,
-            "cycle_p50_ms": round(float(np.percentile(c, 50)), 4) if c.size else None,
-            "cycle_p99_ms": round(float(np.percentile(c, 99)), 4) if c.size else None,
-            "period_p50_ms": round(float(np.percentile(p, 50)), 4) if p.size else None,
-            "period_p99_ms": round(float(np.percentile(p, 99)), 4) if p.size else None,
+            **timing_summary(compute, compute_cpu, periods),
             "bad_frames": st.bad_frames,
             "resyncs": st.resyncs,
             "timeouts": st.timeouts,
@@ -565,10 +578,11 @@ class Controller:
             "write_timeouts": st.write_timeouts,
             "watchdog_trips": self.events.count("watchdog_trip"),
             "safety_events": sum(1 for e in self.events.events
-                                 if e["event"] not in ("zero_torque",)),
+                                 if e["event"] not in ("zero_torque", "realtime_refused")),
             "refused_poses": self.refused,
             "saturated_cycles": self.saturated_cycles,
             "max_abs_torque_Nm": round(self.max_abs_torque, 4),
+            "gc_collections": self.gc_collections,
             "torque_limit_Nm": self.pd.torque_limit,
             "exit_reason": reason,
             "exit_code": code,

@@ -38,24 +38,13 @@ from .plant import Plant
 from .protocol import (FLAG_KEEPALIVE, MODE_ZERO_TORQUE, STATUS_DEVICE_WATCHDOG,
                        CommandFrame, FrameDecoder, encode_state)
 from .runlog import CsvLog, EventLog
+from .scheduling import realtime, restore, tight_timer_slack
 
 __all__ = ["PtyTransport", "TcpTransport", "Disconnected", "Simulator", "serve",
-           "IDLE_TIMEOUT_S", "tight_timer_slack"]
+           "IDLE_TIMEOUT_S"]
 
 #: ``distkin sim`` stops when no client connects, or no command arrives, for this long (s)
 IDLE_TIMEOUT_S = 60.0
-
-
-def tight_timer_slack() -> bool:
-    """Ask Linux to end this thread's timed waits on time (``prctl(PR_SET_TIMERSLACK,
-    1 ns)``) instead of up to 50 µs late, the default slack of a normal thread: at
-    4 kHz that is a fifth of a period.  False where that is not available."""
-    try:
-        import ctypes
-        libc = ctypes.CDLL(None, use_errno=True)
-        return libc.prctl(29, 1, 0, 0, 0) == 0           # PR_SET_TIMERSLACK = 29
-    except (OSError, AttributeError):
-        return False
 
 
 class Disconnected(Exception):
@@ -173,6 +162,7 @@ class Simulator:
         self.plant = Plant(model, cfg.motors, cfg.hand, seed=cfg.seed)
         self.transport = transport
         self.period = 1.0 / scene.rate_hz
+        self.realtime = scene.realtime
         self.faults = FaultInjector(faults, seed=cfg.seed + 1)
         self.decoder = FrameDecoder()
         L = model.L
@@ -220,6 +210,11 @@ class Simulator:
         """Serve until the host disconnects, a disconnect fault, a signal, or
         ``seconds`` of device time.  Returns the reason."""
         tight_timer_slack()
+        rt = None
+        if self.realtime:
+            rt, why = realtime()
+            if why:
+                self.events.add(self.plant.t, "realtime_refused", message=why)
         seq = 0
         next_tick = time.perf_counter()
         self.last_command_wall = None
@@ -277,6 +272,7 @@ class Simulator:
                             last_mode=int(self.command.mode),
                             last_max_abs_torque=float(np.max(np.abs(self.command.torques))))
         finally:
+            restore(rt)
             self.log.flush()
         return reason
 
