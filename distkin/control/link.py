@@ -50,6 +50,16 @@ class LinkStats:
         return asdict(self)
 
 
+def _fast_state_decoder():
+    """The compiled state-frame decoder (:func:`.cycle_kernels.state_decoder`), or None
+    (the Python route) where numba cannot compile or cache it."""
+    try:
+        from .cycle_kernels import state_decoder
+        return state_decoder()
+    except (ImportError, OSError):
+        return None
+
+
 class Link:
     """A framed, counted, deadline-bounded connection to a device.
 
@@ -86,7 +96,7 @@ class Link:
         posix = getattr(serial, "serialposix", None)
         if posix is not None and isinstance(self._ser, posix.Serial):
             self._fd = self._ser.fileno()
-        self._dec = FrameDecoder()
+        self._dec = FrameDecoder(state_decoder=_fast_state_decoder())
         self.stats = LinkStats()
         self._last_seq = None
         self._last_write_ok = time.perf_counter()

@@ -45,7 +45,11 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True):
     ctl = controller or Controller(scene, model)
     plant = Plant(model, scene.simulator.motors, scene.simulator.hand, seed=scene.simulator.seed)
     dt = 1.0 / scene.rate_hz
-    dec_host, dec_dev = FrameDecoder(), FrameDecoder()
+    fast = None
+    if model.compiled is not None:                 # the compiled route decodes fast too
+        from .cycle_kernels import state_decoder
+        fast = state_decoder()
+    dec_host, dec_dev = FrameDecoder(state_decoder=fast), FrameDecoder()
     mode, tau = MODE_ZERO_TORQUE, np.zeros(model.L)
     n = int(round(seconds / dt))
     out = {k: [] for k in ("t", "pose", "desired", "estimate", "hand", "tau", "compute_s",
