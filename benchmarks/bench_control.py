@@ -19,6 +19,7 @@ import os
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
@@ -68,6 +69,9 @@ def _parts(compiled: bool = True):
     J = model.jacobian(pose)
     wire = encode_state(1, 1000, 0, q, np.zeros(6))
     dec = FrameDecoder()
+    if compiled:
+        from distkin.control.cycle_kernels import state_decoder
+        dec = FrameDecoder(state_decoder=state_decoder())
     frame = dec.feed(wire)[0]
     ctl.compute(frame, 1e-3)
     w = np.array([0.5, 1.0, -0.2, 0, 0, 0])
@@ -101,10 +105,12 @@ def _parts(compiled: bool = True):
     return interleaved(competitors, rounds=15, number=200)
 
 
-def _pty(lockstep: bool, seconds: float = 3.0, rate_hz: int = 1000):
+def _pty(lockstep: bool, seconds: float = 3.0, rate_hz: int = 1000, realtime: bool = False):
     load_before = os.getloadavg()[:2]
     with tempfile.TemporaryDirectory() as d:
         text = (ROOT / "examples" / "control_octo.toml").read_text(encoding="utf-8")
+        if realtime:
+            text = text.replace('preset = "octo"', 'preset = "octo"\nrealtime = true', 1)
         if not lockstep:
             text = text.replace("[simulator]\n", "[simulator]\nlockstep = false\n")
         if rate_hz != 1000:
@@ -123,14 +129,70 @@ def _pty(lockstep: bool, seconds: float = 3.0, rate_hz: int = 1000):
             "watchdog_trips", "gc_collections", "exit_reason")
     out = {k: s[k] for k in keys}
     out["rate_set_hz"] = rate_hz
+    out["realtime"] = realtime
     out["load"] = os.getloadavg()[:2]
     out["load_before"] = load_before
     return out
 
 
+def _pty_echo(n: int = 5000):
+    """What the operating system charges for a pty: the CPU time of one ``os.write``
+    of a state frame into a pty, and the round trip of a frame through an echoing
+    child process (write, the child's wake-up, its read and write back, our wake-up
+    and read), in µs: medians and p99."""
+    import select
+    import tty
+    frame = bytes(range(1, 82))
+    master, slave = os.openpty()
+    tty.setraw(slave)
+    pid = os.fork()
+    if pid == 0:                                         # the echo
+        os.close(master)
+        while True:
+            select.select([slave], [], [])
+            data = os.read(slave, 4096)
+            if data == b"q":
+                os._exit(0)
+            os.write(slave, data)
+    os.close(slave)
+    write_cpu, rtt = [], []
+    try:
+        for _ in range(n):
+            t0, c0 = time.perf_counter(), time.thread_time()
+            os.write(master, frame)
+            write_cpu.append(time.thread_time() - c0)
+            got = 0
+            while got < len(frame):
+                select.select([master], [], [])
+                got += len(os.read(master, 4096))
+            rtt.append(time.perf_counter() - t0)
+    finally:
+        os.write(master, b"q")
+        os.waitpid(pid, 0)
+        os.close(master)
+    w, r = np.asarray(write_cpu) * 1e6, np.asarray(rtt) * 1e6
+    return {"write_cpu_p50_us": float(np.median(w)), "write_cpu_p99_us": float(np.percentile(w, 99)),
+            "rtt_p50_us": float(np.median(r)), "rtt_p99_us": float(np.percentile(r, 99)),
+            "load": os.getloadavg()[:2]}
+
+
 def _load():
     one, five, _ = os.getloadavg()
     return f"{one:.2f} / {five:.2f}"
+
+
+def _pty_rows(runs: dict) -> str:
+    return "\n".join(
+        f"| {m} | {v['cycles']} in {v['seconds']:.2f} s | {v['rate_hz']:.0f} Hz | "
+        f"{v['period_p50_ms']:.3f} / {v['period_p99_ms']:.3f} / {v['period_max_ms']:.2f} ms | "
+        f"{v['cycle_p50_ms']:.3f} / {v['cycle_p99_ms']:.3f} ms | "
+        f"{v['cycle_cpu_p50_ms']:.3f} / {v['cycle_cpu_p99_ms']:.3f} ms | {v['stale_frames']} | "
+        f"{v['timeouts']} | {v['watchdog_trips']} | {v['gc_collections']} | "
+        f"{v['load_before'][0]:.2f} / {v['load'][0]:.2f} |" for m, v in runs.items())
+
+
+_PTY_HEAD = """| simulator | cycles | rate | period p50 / p99 / max | compute wall p50 / p99 | compute CPU p50 / p99 | stale frames | read timeouts | watchdog trips | GC runs | load (1 min) before / after |
+|---|---|---|---|---|---|---|---|---|---|---|"""
 
 
 def run():
@@ -141,61 +203,60 @@ def run():
     data["parts_reference_s"] = _parts(compiled=False)
     load1 = _load()
     data["pty"] = {"lockstep": _pty(True), "free_run": _pty(False)}
-    data["pty_4khz"] = {"lockstep": _pty(True, 10.0, 4000), "free_run": _pty(False, 10.0, 4000)}
+    data["pty_4khz"] = {"lockstep": _pty(True, 10.0, 4000), "free_run": _pty(False, 10.0, 4000),
+                        "lockstep, realtime": _pty(True, 10.0, 4000, True),
+                        "free_run, realtime": _pty(False, 10.0, 4000, True)}
+    data["pty_os"] = _pty_echo()
     data["load"] = {"loopback": [load0, load1], "end": _load()}
     lb = data["loopback"]
     rows = "\n".join(f"| {p} | {v['L']} | {v['cycles']} | {v['p50_ms']:.3f} ms | "
                      f"{v['p99_ms']:.3f} ms | {v['max_ms']:.2f} ms | {v['cpu_p50_ms']:.3f} ms | "
                      f"{v['cpu_p99_ms']:.3f} ms |" for p, v in lb.items())
+    ref = data["loopback_reference"]["octo"]
+    rows += (f"\n| octo, reference route (Python + numpy kinematics, Python decode) | "
+             f"{ref['L']} | {ref['cycles']} | {ref['p50_ms']:.3f} ms | {ref['p99_ms']:.3f} ms | "
+             f"{ref['max_ms']:.2f} ms | {ref['cpu_p50_ms']:.3f} ms | {ref['cpu_p99_ms']:.3f} ms |")
     parts = data["parts_s"]
     whole = parts["whole cycle (compute)"]
     prow = "\n".join(f"| {n} | {fmt_time(t)} | {t / whole:.2f} |" for n, t in parts.items())
-    pty = data["pty"]
-    trow = "\n".join(
-        f"| {m} | {v['cycles']} in {v['seconds']:.2f} s | {v['rate_hz']:.0f} Hz | "
-        f"{v['period_p50_ms']:.3f} / {v['period_p99_ms']:.3f} ms | "
-        f"{v['cycle_p50_ms']:.3f} / {v['cycle_p99_ms']:.3f} ms | {v['stale_frames']} | "
-        f"{v['watchdog_trips']} |" for m, v in pty.items())
-    ref = data["loopback_reference"]["octo"]
-    rows += (f"\n| octo, reference kinematics (Python + numpy, before issue 17) | {ref['L']} | "
-             f"{ref['cycles']} | {ref['p50_ms']:.3f} ms | {ref['p99_ms']:.3f} ms | "
-             f"{ref['max_ms']:.2f} ms | {ref['cpu_p50_ms']:.3f} ms | {ref['cpu_p99_ms']:.3f} ms |")
     pref = data["parts_reference_s"]
-    prow_ref = "\n".join(f"| {n} | {fmt_time(t)} | {fmt_time(parts[n]) if n in parts else '-'} "
-                         f"| {t / parts[n]:.1f}× |" if n in parts else f"| {n} | {fmt_time(t)} | - | - |"
-                         for n, t in pref.items())
-    p4 = data["pty_4khz"]
-    row4 = "\n".join(
-        f"| {m} | {v['cycles']} in {v['seconds']:.2f} s | {v['rate_hz']:.0f} Hz | "
-        f"{v['period_p50_ms']:.3f} / {v['period_p99_ms']:.3f} ms | "
-        f"{v['cycle_p50_ms']:.3f} / {v['cycle_p99_ms']:.3f} ms | {v['stale_frames']} | "
-        f"{v['watchdog_trips']} | {v['load'][0]:.2f} / {v['load'][1]:.2f} |" for m, v in p4.items())
+    prow_ref = "\n".join(f"| {n} | {fmt_time(t)} | {fmt_time(parts[n])} | {t / parts[n]:.1f}× |"
+                         for n, t in pref.items() if n in parts)
     octo = lb["octo"]
     verdict = "meets" if octo["cpu_p99_ms"] <= 0.1 else "misses"
-    text = f"""Target (issue 17): compute p99 <= 0.1 ms in-process for L = 8 (issue 7's was
-< 0.5 ms for 1 kHz).  The Octo's cycle (L = 8) **{verdict}** it in CPU time: p50
-{octo['cpu_p50_ms']:.3f} ms, p99 {octo['cpu_p99_ms']:.3f} ms (reference kinematics in
-the same run: p50 {ref['cpu_p50_ms']:.3f} ms, p99 {ref['cpu_p99_ms']:.3f} ms); in wall
-time p50 {octo['p50_ms']:.3f} ms, p99 {octo['p99_ms']:.3f} ms (the wall-time tail
-includes preemption by other processes on this shared 2-core machine).  Load average
-(1 / 5 min) {load0} before the in-process runs, {load1} after.
+    p4 = data["pty_4khz"]
+    text = f"""Target (issue 17): compute p99 <= 0.1 ms in-process for L = 8, and a closed loop at
+4 kHz over the pty for 10 s (1 kHz stays the default).  The Octo's cycle (L = 8)
+**{verdict}** the compute target in CPU time: p50 {octo['cpu_p50_ms']:.3f} ms, p99
+{octo['cpu_p99_ms']:.3f} ms (wall p50 {octo['p50_ms']:.3f} ms, p99 {octo['p99_ms']:.3f} ms;
+the wall-time tail includes preemption by other processes on this shared 2-core
+machine).  Load average (1 / 5 min) {load0} before the in-process runs, {load1} after,
+{data['load']['end']} at the end.
 
-The kinematics of the cycle are compiled (`distkin/control/cycle_kernels.py`: the
-generated scalar kernels under numba, the Gauss-Newton FK, the σ guard, the torque
-projection, the spring and SO(3) step, the reading checks); `KinematicModel(compiled=
-False)` is the reference route, and tests/control/test_cycle_kernels.py holds the two
-together (kernels bit for bit, FK to 1e-13, a 0.5 s closed loop to 1e-9).
+What a cycle is now.  Steps 2-8 of `Controller.compute` (FK, wrench rotation, guard,
+admittance with the scene's springs and walls, refusal, IK, PD with the forward-Euler
+derivative filter, distribution, saturation) are one compiled call (`cycle` in
+`distkin/control/cycle_wrappers.py`, parameters from `cycle_kernels.cycle_params`);
+a valid state frame is decoded by one compiled call (`cycle_kernels.state_decoder`;
+anything else takes the Python route and its error reasons); the guard decides
+"σmin < limit" by a Cholesky test of `G - limit² I` and needs the eigenvalues only
+when a trace bound cannot rule out the condition test.  `Controller(fused=False)` and
+`KinematicModel(compiled=False)` are the reference routes; tests/control/
+test_cycle_kernels.py holds them together (the same decisions cycle by cycle through
+wall contact, refusals, a fault and singular stops; a 0.5 s closed loop to 1e-9), and
+test_protocol.py the two decoders (bit for bit).
 
 **Compute per cycle, in-process** (`run_loopback`, example scene, 3 s of device time;
-state-frame decode, checks, FK, admittance, guard, IK, PD, distribution, saturation,
-command encode; wall time and the thread's CPU time):
+timed from the state frame's bytes to the command frame's bytes: decode, checks, the
+cycle, encode -- the device's decode of the command, counted here before this round,
+is not the controller's work; wall time and the thread's CPU time):
 
 | preset | L | cycles | wall p50 | wall p99 | wall max | CPU p50 | CPU p99 |
 |---|---|---|---|---|---|---|---|
 {rows}
 
 **Parts of one cycle** (Octo, medians of 15 interleaved rounds of 200 calls; the parts
-overlap -- the whole cycle calls the kernels more than once):
+overlap):
 
 | part | median | share of a cycle |
 |---|---|---|
@@ -207,36 +268,18 @@ The same parts with the reference kinematics (Python + numpy), same run:
 |---|---|---|---|
 {prow_ref}
 
-**Closed loop over a pty between two processes** (`distkin control --sim`, 3 s; the
-simulator paces itself at 1 kHz; lock-stepped = it waits for each answer before
-advancing the physics):
+**Closed loop over a pty between two processes, 1 kHz** (`distkin control --sim`, 3 s;
+lock-stepped = the simulator waits for each answer before advancing the physics):
 
-| simulator | cycles | rate | period p50 / p99 | compute p50 / p99 | stale frames | watchdog trips |
-|---|---|---|---|---|---|---|
-{trow}
+{_PTY_HEAD}
+{_pty_rows(data["pty"])}
 
-**4 kHz over the pty, 10 s** (the same scene with `rate_hz = 4000` in `[device]`; the
-CLI reads the rate from the scene, 1 kHz stays the default; `python -m distkin control
---sim --scene SCENE --seconds 10 --json -`):
+**4 kHz over the pty, 10 s** (the example scene with `rate_hz = 4000` in `[device]`,
+and with `realtime = true` for the two realtime rows; `python -m distkin control --sim
+--scene SCENE --seconds 10 --json -`; compute = frame received to command written, in
+the controller process; GC runs = cyclic collections during the loop):
 
-| simulator | cycles | rate | period p50 / p99 | compute p50 / p99 | stale frames | watchdog trips | load (1 / 5 min) at the end |
-|---|---|---|---|---|---|---|---|
-{row4}
-
-What limits it now.  In-process, the compiled kinematics (FK, IK, J, guard,
-projection) are about a fifth of the cycle; what is left is Python around them: frame
-decode and encode (CRC, COBS; about a third), the admittance step's numpy on 6-vectors,
-the PD filter and the controller's bookkeeping, with a tail (p99 about twice the
-median) from cache and scheduling effects of the shared machine -- the tail is the same
-with the garbage collector off or frozen (measured while writing this).  A compute p99
-safely under 0.1 ms needs the rest of the cycle (decode, admittance, PD, encode)
-compiled as one kernel, not done this round.  Over the pty at 4 kHz the loop does not
-reach 4 kHz: the lock-stepped period is the controller's compute over the link plus
-the simulator's own Python step, two pty transfers and two process wake-ups on 2 cores
-(the load at the end of each run is in the table: on a quiet machine, load below 1, the
-lock-stepped loop still stays under 3 kHz); the free-running simulator
-shows the same limit as stale frames, and a late wake-up can trip the 20 ms watchdog.
-1 kHz stays the default; at 1 kHz the period p99 is set by the operating system's
-scheduling of the two processes, not by the compute time.
+{_PTY_HEAD}
+{_pty_rows(p4)}
 """
     return text, data

@@ -18,7 +18,14 @@ writing into preallocated arrays:
   :func:`.kinematics._rot`), ``spring_wrench(pose, twist, p0, R0t, k, d, out)``
   (:meth:`.admittance.Spring.wrench` by the compiled :func:`.admittance.rotation_log`);
   the rotation formulas keep their one source;
-* :func:`reading_extremes`: the checks of a state frame in one call.
+* ``cycle(...)``: steps 2-8 of :meth:`.controller.Controller.compute` in one call (FK,
+  the wrench into the base frame, the guard, the admittance step with the scene's
+  springs and walls, the refusal of a candidate, IK, the PD with its forward-Euler
+  derivative filter, the distribution, the saturation), parameters laid out by
+  :func:`cycle_params`;
+* ``drive`` and ``plant_dynamics``: :meth:`.plant.Plant.step` of the simulator;
+* :func:`reading_extremes`: the checks of a state frame in one call;
+* :func:`state_decoder`: a valid state frame from its COBS bytes in one call.
 
 The kernels give the same bits as the generated Python functions (the same float
 operations in the same order); the Gauss-Newton step and the 6 × 6 solves use a
@@ -260,6 +267,7 @@ closure = numba.njit(cache=True)(closure)
 forward = numba.njit(cache=True)(forward)
 singular_values = numba.njit(cache=True)(singular_values)
 project = numba.njit(cache=True)(project)
+normal_equations = numba.njit(cache=True)(normal_equations)
 _near_singular = numba.njit(cache=True)(_near_singular)
 _environment = numba.njit(cache=True)(_environment)
 cycle = numba.njit(cache=True)(cycle)

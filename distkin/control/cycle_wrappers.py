@@ -13,7 +13,8 @@ import math
 import numpy as np
 
 __all__ = ["ik", "jacobian", "closure", "forward", "singular_values", "project",
-           "rotate_wrench", "spring_wrench", "cycle", "drive", "plant_dynamics"]
+           "rotate_wrench", "spring_wrench", "cycle", "drive", "plant_dynamics",
+           "normal_equations"]
 
 #: bound by the footer of each copy
 ik_k = reach_k = jac_k = clo_k = solve = rotate = rot_k = log_k = None
@@ -109,21 +110,27 @@ def singular_values(J, S):  # pragma: no cover (compiled)
     return math.sqrt(max(ev[0], 0.0)), math.sqrt(max(ev[5], 0.0))
 
 
-def project(J, tau, w, out):  # pragma: no cover (compiled)
+def normal_equations(J, v, w, A, b):  # pragma: no cover (compiled)
+    """``A = JᵀJ`` (6, 6) and ``b = Jᵀv + w`` (6,) for J (n, 6), v (n,), w (6,)."""
     n = J.shape[0]
-    A = np.empty((6, 6))
-    b = np.empty(6)
-    x = np.empty(6)
     for i in range(6):
         s = 0.0
         for k in range(n):
-            s += J[k, i] * tau[k]
+            s += J[k, i] * v[k]
         b[i] = s + w[i]
         for j in range(6):
             s = 0.0
             for k in range(n):
                 s += J[k, i] * J[k, j]
             A[i, j] = s
+
+
+def project(J, tau, w, out):  # pragma: no cover (compiled)
+    n = J.shape[0]
+    A = np.empty((6, 6))
+    b = np.empty(6)
+    x = np.empty(6)
+    normal_equations(J, tau, w, A, b)
     if not solve(A, b, x):
         return False
     for k in range(n):
@@ -380,16 +387,10 @@ def plant_dynamics(pose, twist, q, qdot, tau, hand, M, prm, out):  # pragma: no 
         v[k] = tau[k] - prm[0] * qdot[k]
     w = np.empty(6)
     A = np.empty((6, 6))
+    normal_equations(J, v, hand, A, w)
     for i in range(6):
-        s = 0.0
-        for k in range(L):
-            s += J[k, i] * v[k]
-        w[i] = s + hand[i]
         for j in range(6):
-            s = 0.0
-            for k in range(L):
-                s += J[k, i] * J[k, j]
-            A[i, j] = M[i, j] + prm[2] * s
+            A[i, j] = M[i, j] + prm[2] * A[i, j]
     w[2] -= prm[1]
     for i in range(6):
         if not math.isfinite(w[i]):
