@@ -41,13 +41,21 @@ def _scene(preset: str):
     return dataclasses.replace(sc, preset=preset)
 
 
-def _loopback(preset: str, seconds: float = 3.0, compiled: bool = True):
+def _loopback(preset: str, seconds: float = 3.0, compiled: bool = True, fused: bool = True):
+    """``fused=False``: the cycle as it was before this round (compiled kinematics
+    called from the Python steps, the Python frame decoder)."""
+    from distkin.control.controller import Controller
     from distkin.control.kinematics import load_model
     from distkin.control.loopback import run_loopback
     sc = _scene(preset)
     model = load_model(preset, compiled=compiled)
-    run_loopback(sc, model, 0.2)                      # warm up (imports, caches)
-    r = run_loopback(sc, model, seconds)
+
+    def one(s):
+        return run_loopback(sc, model, s, controller=Controller(sc, model, fused=fused),
+                            fast_decode=fused and compiled)
+
+    one(0.2)                                          # warm up (imports, caches)
+    r = one(seconds)
     c = r["compute_s"] * 1e3
     cpu = r["compute_cpu_s"] * 1e3
     return {"L": model.L, "cycles": int(c.size), "p50_ms": float(np.percentile(c, 50)),
@@ -86,6 +94,15 @@ def _parts(compiled: bool = True):
         "admittance step": lambda: ctl.adm.propose(w, 1e-3),
         "distribution solve (numpy)": lambda: J @ np.linalg.solve(J.T @ J, J.T @ q),
     }
+    from distkin.control.plant import Plant
+    plant = Plant(model, sc.simulator.motors, sc.simulator.hand, seed=0)
+    tau = np.full(model.L, 0.2)
+
+    def tick():                       # the simulator's own work per device period
+        plant.step(tau, 1, 2.5e-4)
+        return encode_state(1, int(plant.t * 1e6), 0, plant.encoders(), plant.sensor())
+
+    competitors["simulator tick (plant step, readings, state encode)"] = tick
     if compiled:
         ck = model.compiled
         out = np.empty(model.L)
@@ -214,6 +231,7 @@ def run():
     load0 = _load()
     data = {"loopback": {p: _loopback(p) for p in ("octo", "octopod", "hunt")}}
     data["loopback_reference"] = {"octo": _loopback("octo", compiled=False)}
+    data["loopback_before"] = {"octo": _loopback("octo", fused=False)}
     data["parts_s"] = _parts()
     data["parts_reference_s"] = _parts(compiled=False)
     load1 = _load()
@@ -229,6 +247,11 @@ def run():
                      f"{v['p99_ms']:.3f} ms | {v['max_ms']:.2f} ms | {v['cpu_p50_ms']:.3f} ms | "
                      f"{v['cpu_p99_ms']:.3f} ms |" for p, v in lb.items())
     ref = data["loopback_reference"]["octo"]
+    bef = data["loopback_before"]["octo"]
+    rows += (f"\n| octo, as before this round (compiled kinematics called from the Python "
+             f"steps, Python decode) | {bef['L']} | {bef['cycles']} | {bef['p50_ms']:.3f} ms | "
+             f"{bef['p99_ms']:.3f} ms | {bef['max_ms']:.2f} ms | {bef['cpu_p50_ms']:.3f} ms | "
+             f"{bef['cpu_p99_ms']:.3f} ms |")
     rows += (f"\n| octo, reference route (Python + numpy kinematics, Python decode) | "
              f"{ref['L']} | {ref['cycles']} | {ref['p50_ms']:.3f} ms | {ref['p99_ms']:.3f} ms | "
              f"{ref['max_ms']:.2f} ms | {ref['cpu_p50_ms']:.3f} ms | {ref['cpu_p99_ms']:.3f} ms |")
@@ -315,10 +338,15 @@ def _limits(data, parts, p4) -> str:
         return f"{v['rate_hz'] / v['rate_set_hz']:.0%}"
 
     kern = parts.get("fused cycle kernel alone (steps 2-8, one call)", float("nan"))
-    return f"""Before this round (BENCHMARKS.md of 2026-11-25, main at b989a4e, a quiet machine):
-compute p50 0.058 ms / p99 0.131 ms in-process (timed then with the device's decode of
-the command and without the host's decode of the state); 4 kHz lock-stepped 2890 Hz,
-free-running 3955 Hz with 290 stale frames.
+    bef, now = data["loopback_before"]["octo"], data["loopback"]["octo"]
+    return f"""Before and after.  In this run, the cycle as it was before this round (the row "as
+before this round") against now: CPU p50 {bef['cpu_p50_ms']:.3f} -> {now['cpu_p50_ms']:.3f} ms
+({bef['cpu_p50_ms'] / now['cpu_p50_ms']:.1f}×), p99 {bef['cpu_p99_ms']:.3f} -> {now['cpu_p99_ms']:.3f} ms
+({bef['cpu_p99_ms'] / now['cpu_p99_ms']:.1f}×).  The last run before this round (BENCHMARKS.md
+of 2026-11-25, main at b989a4e, load below 1) measured compute p50 0.058 ms / p99
+0.131 ms in-process (timed then with the device's decode of the command instead of
+the host's decode of the state), and at 4 kHz lock-stepped 2890 Hz, free-running
+3955 Hz with 290 stale frames.
 
 What limits it now.  In-process, a cycle is {fmt_time(parts['whole cycle (compute)'])}
 (`compute`), of which the fused kernel is {fmt_time(kern)}; the rest of the cycle's
@@ -333,14 +361,18 @@ starts with cold caches; the fewer microseconds a cycle takes, the fewer cycles 
 an event hits.
 
 Over the pty at 4 kHz the loop's own work fits the 0.25 ms period with room (the
-controller's frame-to-command time is in the table; the simulator's step, compiled,
-is about as long), and the operating system's part is small when the machine is
-quiet: one pty write costs {os_['write_cpu_p50_us']:.1f} µs of CPU (p99
+controller's frame-to-command time is in the table, the simulator's tick takes
+{fmt_time(parts['simulator tick (plant step, readings, state encode)'])} with the
+compiled plant), and the operating system's part is small when the machine is quiet: one pty write costs {os_['write_cpu_p50_us']:.1f} µs of CPU (p99
 {os_['write_cpu_p99_us']:.1f} µs), a frame's round trip through an echoing process
 {os_['rtt_p50_us']:.0f} µs at the median and {os_['rtt_p99_us']:.0f} µs at p99 (load
 {os_['load'][0]:.2f}).  What stretches periods to milliseconds is scheduling on a
 shared 2-core machine: the two processes wait behind other processes' time slices,
-and the kernel moves pty bytes in a worker thread of normal priority.  Lock-stepped,
+and the kernel moves pty bytes in a worker thread of normal priority, which a
+CPU-bound process on the same core can hold off for a time slice (the read timeouts
+column counts 5 ms without a frame; the rate column is cycles over the wall time of
+the whole run, stalls included, while the period p50 of 0.25 ms is the pace kept
+between them).  Lock-stepped,
 the loop ran at {share(lock)} of 4 kHz with normal scheduling and {share(rt)} with
 `realtime = true` (SCHED_FIFO for both processes, which keeps them ahead of normal
 processes but not the kernel's pty worker); free-running, the simulator keeps its

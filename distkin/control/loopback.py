@@ -21,7 +21,8 @@ from .protocol import (MODE_ZERO_TORQUE, FrameDecoder, encode_command, encode_st
 __all__ = ["run_loopback"]
 
 
-def run_loopback(scene, model, seconds: float, *, controller=None, record=True):
+def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
+                 fast_decode=None):
     """Simulate ``seconds`` of device time.
 
     Parameters
@@ -31,6 +32,9 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True):
     seconds : float
     controller : Controller, optional
         Reuse one (for example with a log prefix).
+    fast_decode : bool, optional
+        Decode the state frames by the compiled decoder (default: with a compiled
+        model) or by the Python route.
 
     Returns
     -------
@@ -46,7 +50,9 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True):
     plant = Plant(model, scene.simulator.motors, scene.simulator.hand, seed=scene.simulator.seed)
     dt = 1.0 / scene.rate_hz
     fast = None
-    if model.compiled is not None:                 # the compiled route decodes fast too
+    if fast_decode is None:                        # the compiled route decodes fast too
+        fast_decode = model.compiled is not None
+    if fast_decode:
         from .cycle_kernels import state_decoder
         fast = state_decoder()
     dec_host, dec_dev = FrameDecoder(state_decoder=fast), FrameDecoder()
