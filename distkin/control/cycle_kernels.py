@@ -301,7 +301,8 @@ def state_decoder():
     from .protocol import MAX_JOINTS, StateFrame
     f = _jit("decode_state", _decode_state)
     vals = np.empty(MAX_JOINTS + 6)
-    f(np.frombuffer(b"\x01", dtype=np.uint8), vals)            # compile now
+    for buf in (b"\x01", bytearray(b"\x01")):           # compile now: both signatures
+        f(np.frombuffer(buf, dtype=np.uint8), vals)
     frombuffer, u8 = np.frombuffer, np.uint8
 
     def decode(chunk):
