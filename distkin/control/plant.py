@@ -133,6 +133,7 @@ class Plant:
         mo = self.motors
         self._w_nl = mo.no_load_speed
         self._dyn = np.array([mo.friction, self.m * mo.gravity, mo.joint_inertia, 0.0])
+        self._noise = np.repeat([mo.force_noise, mo.torque_noise], 3)
 
     def drive(self, tau_cmd) -> np.ndarray:
         """The torque the drives deliver for ``tau_cmd`` at the current speed (N·m)."""
@@ -209,10 +210,14 @@ class Plant:
 
     def sensor(self) -> np.ndarray:
         """F/T reading (6,) in the sensor (platform) frame: the hand wrench plus noise."""
-        R = _rot(self.pose[3:])
-        f = R.T @ self.hand_wrench[:3] + self.rng.normal(0.0, self.motors.force_noise, 3)
-        m = R.T @ self.hand_wrench[3:] + self.rng.normal(0.0, self.motors.torque_noise, 3)
-        return np.concatenate([f, m])
+        Rt = _rot(self.pose[3:]).T
+        # six standard normals scaled: the numbers of normal(0, σ_f, 3) then
+        # normal(0, σ_t, 3) (the generator draws element by element; 0 + σ z = σ z)
+        noise = self.rng.standard_normal(6) * self._noise
+        out = np.empty(6)
+        out[:3] = Rt @ self.hand_wrench[:3] + noise[:3]
+        out[3:] = Rt @ self.hand_wrench[3:] + noise[3:]
+        return out
 
     def status(self) -> int:
         return STATUS_SATURATED if self.saturated else 0
