@@ -13,7 +13,7 @@ writing into preallocated arrays:
   ``closure(q, pose, C)``, ``forward(q, guess, tol, max_iter, pose_out) -> (residual,
   iterations, converged)``, ``singular_values(J, S) -> (σmin, σmax)`` of ``J S⁻¹``,
   ``project(J, tau, w, out)``: ``J (JᵀJ)⁻¹ (Jᵀ tau + w)`` (the torque distribution of
-  :mod:`.controller`), ``rotate_pose`` (:func:`.kinematics.rotate_pose` itself
+  :mod:`.controller`), ``rotate_pose`` (:func:`distkin.spatial.rotate_pose_scalar` itself
   compiled), ``rotate_wrench(r, w, out)`` (the sensor wrench into the base frame by
   :func:`.kinematics._rot`), ``spring_wrench(pose, twist, p0, R0t, k, d, out)``
   (:meth:`.admittance.Spring.wrench` by the compiled :func:`.admittance.rotation_log`);

@@ -22,46 +22,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..mechanisms.forward import gauss_newton
+from ..spatial import rotate_pose_scalar as rotate_pose  # noqa: F401 (plant, admittance)
 from ..spatial import rotation_matrix_scalar as _rot  # noqa: F401 (controller, plant)
 
 __all__ = ["KinematicModel", "FKState", "load_model"]
-
-
-def rotate_pose(pose, dpos, dw):
-    """Pose (6,) moved by ``dpos`` (m, base frame) and rotated by the rotation vector
-    ``dw`` (rad, base frame): ``R' = exp(dw) R`` (Rodrigues' formula).
-
-    Plain-float arithmetic: for one 3x3 product this is several times faster than
-    numpy's per-call dispatch, and it runs several times per control cycle.
-    """
-    wx, wy, wz = float(dw[0]), float(dw[1]), float(dw[2])
-    th2 = wx * wx + wy * wy + wz * wz
-    if th2 < 1e-16:
-        a, b = 1.0 - th2 / 6.0, 0.5 - th2 / 24.0
-    else:
-        th = math.sqrt(th2)
-        a, b = math.sin(th) / th, (1.0 - math.cos(th)) / th2
-    # E = I + a K + b K^2, K = [w]x
-    e00, e11, e22 = 1.0 - b * (wy * wy + wz * wz), 1.0 - b * (wx * wx + wz * wz), \
-        1.0 - b * (wx * wx + wy * wy)
-    e01, e10 = -a * wz + b * wx * wy, a * wz + b * wx * wy
-    e02, e20 = a * wy + b * wx * wz, -a * wy + b * wx * wz
-    e12, e21 = -a * wx + b * wy * wz, a * wx + b * wy * wz
-    rx, ry, rz = float(pose[3]), float(pose[4]), float(pose[5])
-    cx, cy, cz = math.cos(rx), math.cos(ry), math.cos(rz)
-    sx, sy, sz = math.sin(rx), math.sin(ry), math.sin(rz)
-    r00, r01, r02 = cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx
-    r10, r11, r12 = sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx
-    r20, r21, r22 = -sy, cy * sx, cy * cx
-    # the entries of E R needed by the angle extraction (Rz Ry Rx convention)
-    n00 = e00 * r00 + e01 * r10 + e02 * r20
-    n10 = e10 * r00 + e11 * r10 + e12 * r20
-    n20 = e20 * r00 + e21 * r10 + e22 * r20
-    n21 = e20 * r01 + e21 * r11 + e22 * r21
-    n22 = e20 * r02 + e21 * r12 + e22 * r22
-    return np.array([pose[0] + dpos[0], pose[1] + dpos[1], pose[2] + dpos[2],
-                     math.atan2(n21, n22), math.atan2(-n20, math.hypot(n21, n22)),
-                     math.atan2(n10, n00)])
 
 
 @dataclass
@@ -173,21 +138,13 @@ class KinematicModel:
                                                   np.array(guess, dtype=float), float(tol),
                                                   int(max_iter), out)
             return FKState(out, float(res), int(it), bool(conv))
-        pose = np.array(guess, dtype=float)
-        for it in range(1, max_iter + 1):
-            c, D = self.closure(q, pose)
-            if not math.isfinite(float(c.sum()) + float(D.sum())):
-                return FKState(pose, math.inf, it, False)
-            try:
-                step = np.linalg.solve(D.T @ D, -(D.T @ c))
-            except np.linalg.LinAlgError:
-                return FKState(pose, math.inf, it, False)
-            pose = rotate_pose(pose, step[:3], step[3:])
-            if float(step @ step) < tol * tol:
-                r = c + D @ step
-                return FKState(pose, math.sqrt(float(r @ r) / self.L), it, True)
+        # the reference route: the one single-pose Gauss-Newton of distkin.mechanisms
+        pose, conv, it, c, D, step = gauss_newton(self._closure, q, guess, tol=tol,
+                                                  max_iter=max_iter)
+        if step is None:
+            return FKState(pose, math.inf, it, False)
         r = c + D @ step
-        return FKState(pose, math.sqrt(float(r @ r) / self.L), max_iter, False)
+        return FKState(pose, math.sqrt(float(r @ r) / self.L), it, conv)
 
 
 def load_model(preset_name: str, *, compiled: bool = True, **overrides) -> KinematicModel:

@@ -32,10 +32,9 @@ import numpy as np
 
 from ..argcheck import float_array
 from ..errors import InfeasibleError, InputError, SingularConfigurationError
-from ..spatial import (exp_so3, exp_so3_scalar, rotation_angles, rotation_angles_scalar,
-                       rotation_matrix)
+from ..spatial import exp_so3, rotate_pose_scalar, rotation_angles, rotation_matrix
 
-__all__ = ["FKResult", "forward_kinematics"]
+__all__ = ["FKResult", "forward_kinematics", "gauss_newton"]
 
 
 @dataclass(frozen=True)
@@ -213,23 +212,64 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
     return FKResult(X, done, iters, res, smin, cond, near, msg)
 
 
-def _single(closure, q, x, scale, tol, max_iter):
-    """Gauss-Newton for one pose: scalar kernel, 6x6 normal equations, 3x3 updates."""
-    R = rotation_matrix(np.array(x[3:]))
-    x = np.array(x)
+def gauss_newton(closure, q, pose, *, tol, max_iter, scale=None):
+    """Gauss-Newton for one pose on a scalar closure kernel: the one implementation of
+    the single-pose forward kinematics (this module's one-pose path and the control
+    loop's reference route, :meth:`distkin.control.kinematics.KinematicModel.forward`;
+    the compiled control cycle is its numba twin, held to it by tests/control).
+
+    Each step solves the normal equations ``(AᵀA) δs = -Aᵀc`` with ``A = D S`` (columns
+    scaled by ``scale``, default none), ``δ = S δs``, then moves the pose by
+    ``δ[:3]`` and rotates it by ``exp(δ[3:])`` (:func:`distkin.spatial.rotate_pose_scalar`).
+    It stops after a step with ``|δ / scale| < tol``.
+
+    Parameters
+    ----------
+    closure : callable
+        ``closure(q, pose) -> (L, 7)`` (lists of floats): the residuals ``c`` (m) and
+        their derivatives ``D`` w.r.t. (v, omega) (the generated scalar ``closure``).
+    q : sequence of L floats
+        Crank angles (rad) or leg lengths (m).
+    pose : sequence of 6 floats
+        The start (m, rad).
+    tol : float
+    max_iter : int
+    scale : array (6,), optional
+
+    Returns
+    -------
+    pose : array (6,)
+        The last pose.
+    converged : bool
+    iterations : int
+    c, D, step : arrays (L,), (L, 6), (6,) or None
+        The residuals and derivatives at the pose before the last step, and that step
+        (``step`` is None when an evaluation or a solve failed: not finite, singular);
+        ``c + D @ step`` is the linearised residual at the returned pose.
+    """
+    x = np.array(pose, dtype=float)
+    s = np.ones(6) if scale is None else np.asarray(scale, dtype=float)
+    q = [float(v) for v in q]
+    c = D = d = None
     for it in range(1, max_iter + 1):
-        G = np.array(closure(q, x.tolist()))
-        A = G[:, 1:] * scale
+        G = np.array(closure(q, x.tolist()), dtype=float)
+        if not np.isfinite(G).all():
+            return x, False, it, c, D, None
+        c, D = G[:, 0], G[:, 1:]
+        A = D * s
         try:
-            d = np.linalg.solve(A.T @ A, -(A.T @ G[:, 0])) * scale
+            d = np.linalg.solve(A.T @ A, -(A.T @ c)) * s
         except np.linalg.LinAlgError:
-            return x, False, it
+            return x, False, it, c, D, None
         if not np.isfinite(d).all():
-            return x, False, it
-        step = math.sqrt(float(((d / scale) ** 2).sum()))
-        x[:3] += d[:3]
-        R = exp_so3_scalar(d[3:].tolist()) @ R
-        x[3:] = rotation_angles_scalar(R)
-        if step < tol:
-            return x, True, it
-    return x, False, max_iter
+            return x, False, it, c, D, None
+        x = rotate_pose_scalar(x, d[:3], d[3:])
+        if math.sqrt(float(((d / s) ** 2).sum())) < tol:
+            return x, True, it, c, D, d
+    return x, False, max_iter, c, D, d
+
+
+def _single(closure, q, x, scale, tol, max_iter):
+    """The one-pose path of :func:`forward_kinematics`: :func:`gauss_newton`."""
+    x, done, it, _, _, _ = gauss_newton(closure, q, x, tol=tol, max_iter=max_iter, scale=scale)
+    return x, done, it
