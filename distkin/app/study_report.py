@@ -113,8 +113,9 @@ def certify_cube(mech, width: float, executor=None):
     from ..certify.boxes import REGULAR, SINGULAR
     from ..certify.workspace import certify_workspace
     h = 0.075
-    lo = np.array([-h, -h, mech.z0 - h, 0, 0, 0])
-    hi = np.array([h, h, mech.z0 + h, 0, 0, 0])
+    c = np.asarray(mech.home, dtype=float)
+    lo = c - np.array([h, h, h, 0, 0, 0])
+    hi = c + np.array([h, h, h, 0, 0, 0])
     cert = certify_workspace(mech, lo, hi, [width] * 3 + [1.0] * 3, executor=executor)
     if np.any(cert.status == SINGULAR):
         return "singular", cert
@@ -274,7 +275,7 @@ def _plots(stem, grids, per_all, summaries, actuators, tables, result, certs, pi
             out.append(_fig5(dstem, label, mech, grid, mask))
         # Fig. 6: the plane nearest z = z0
         nx, ny, nz = len(grid.x), len(grid.y), len(grid.z)
-        iz = int(np.argmin(np.abs(np.asarray(grid.z) - mech.z0)))
+        iz = int(np.argmin(np.abs(np.asarray(grid.z) - mech.home[2])))
         panels = [(title, unit, per[f"{name}_min"].reshape(nx, ny, nz)[:, :, iz])
                   for name, title, unit, *_ in CAPABILITIES]
         rot = math.degrees(max(abs(v) for v in grid.rx))
@@ -294,10 +295,13 @@ def _plots(stem, grids, per_all, summaries, actuators, tables, result, certs, pi
 def _fig5(stem, label, mech, grid, mask):
     """Fig. 5: reachable positions at zero rotation on a larger grid, boundary only."""
     from ..indices.plots import plot_workspace
-    ax = np.arange(-0.300, 0.3001, 0.015)
-    X, Y, Z = np.meshgrid(ax, ax, mech.z0 + ax, indexing="ij")
+    half = (max(grid.x) - min(grid.x)) / 2
+    cube = max(half, 0.075) if mech.kind == "rss" else half   # rss: the paper's 150 mm cube
+    ax = np.linspace(-4 * cube, 4 * cube, 41)                # rss: -300 ... 300 mm, 15 mm
+    c = np.asarray(mech.home, dtype=float)
+    X, Y, Z = np.meshgrid(c[0] + ax, c[1] + ax, c[2] + ax, indexing="ij")
     P = np.stack([X.ravel(), Y.ravel(), Z.ravel()], axis=1)
-    ok = mech.reachable(np.hstack([P, np.zeros_like(P)])).reshape(X.shape)
+    ok = mech.reachable(np.hstack([P, np.broadcast_to(c[3:], P.shape)])).reshape(X.shape)
     inner = ok.copy()                      # boundary: reachable with an unreachable neighbour
     for axis in range(3):
         for shift in (1, -1):
@@ -307,8 +311,7 @@ def _fig5(stem, label, mech, grid, mask):
             nb[tuple(edge)] = False
             inner &= nb
     boundary = (ok & ~inner).ravel()
-    half = (max(grid.x) - min(grid.x)) / 2
-    return plot_workspace(stem, label, P[boundary], max(half, 0.075), mech.z0,
+    return plot_workspace(stem, label, P[boundary], cube, mech.z0,
                           grid.positions()[mask])
 
 

@@ -84,8 +84,15 @@ def _si_table(raw, field, defaults):
     return out
 
 
-def _grid(raw, units, field, z0, rotation):
+def _grid(raw, units, field, centre, rotation):
+    """The pose grid of a device: ``half``/``step`` about ``centre`` (the mechanism's
+    home pose (6,), m and rad; a number: (0, 0, z0, 0, 0, 0))."""
     from ...indices.workspace import axis_values, PoseGrid
+    c = np.zeros(6)
+    if np.ndim(centre) == 0:
+        c[2] = centre
+    else:
+        c[:] = centre
     t = as_table(raw if raw is not None else {}, field)
     check_keys(t, {"half", "step", "rotation", "rotation_step"}, field)
     half = length_value(t["half"], units, f"{field}.half") if "half" in t else 0.075
@@ -97,7 +104,7 @@ def _grid(raw, units, field, z0, rotation):
     tr = axis_values(-half, half, step, f"{field}.step")
     rr = axis_values(-rotation, rotation, rstep, f"{field}.rotation_step") if rotation > 0 \
         else np.zeros(1)
-    return PoseGrid(tuple(tr), tuple(tr), tuple(z0 + tr), tuple(rr), tuple(rr), tuple(rr))
+    return PoseGrid(*(tuple(c[i] + (tr if i < 3 else rr)) for i in range(6)))
 
 
 @dataclass(frozen=True)
@@ -181,7 +188,7 @@ class PerformanceQuery:
             raise InputError(f"expected distinct device labels, got {labels}",
                              field=f"{field}.devices")
         for d in devices:                      # validate the grid now
-            _grid(table.get("grid"), units, f"{field}.grid", d.mech.z0, d.rotation)
+            _grid(table.get("grid"), units, f"{field}.grid", d.mech.home, d.rotation)
         act = _si_table(table.get("actuators", {}), f"{field}.actuators", ACTUATORS)
         thr = _si_table(table.get("thresholds", {}), f"{field}.thresholds",
                         {"velocity": 1.0, "acceleration": 9.81, "force": 0.0})
@@ -218,7 +225,7 @@ class PerformanceQuery:
     def run(p, scene, ctx):
         from ..study_report import performance_report
         return performance_report(p, scene, ctx, grid_of=lambda d: _grid(
-            p.grid_raw, p.units, "grid", d.mech.z0, d.rotation),
+            p.grid_raw, p.units, "grid", d.mech.home, d.rotation),
             store_of=lambda label: ctx.store_dir(p.store, scene, "performance") / _slug(label),
             executor=lambda: ctx.executor(p.workers, p.scheduler))
 
