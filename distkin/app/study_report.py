@@ -107,12 +107,13 @@ def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
     return "\n".join(lines)
 
 
-def certify_cube(mech, width: float, executor=None):
-    """Fig. 3 analogue: the 150 mm cube at zero rotation certified (regular / singular /
-    undecided, :func:`distkin.certify.certify_workspace`)."""
+def certify_cube(mech, width: float, executor=None, half: float = 0.075):
+    """Fig. 3 analogue: the cube of half-width ``half`` (m; the paper's 150 mm cube by
+    default) about the home position at the home rotation certified (regular / singular
+    / undecided, :func:`distkin.certify.certify_workspace`)."""
     from ..certify.boxes import REGULAR, SINGULAR
     from ..certify.workspace import certify_workspace
-    h = 0.075
+    h = half
     c = np.asarray(mech.home, dtype=float)
     lo = c - np.array([h, h, h, 0, 0, 0])
     hi = c + np.array([h, h, h, 0, 0, 0])
@@ -183,8 +184,10 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
             s = summarise(dev, per)
             if p.certify:
                 t0 = time.perf_counter()
-                certified[d.label], certs[d.label] = certify_cube(d.mech, p.certify_width, ex)
-                s["certificate"] = {"zero_rotation_cube": certified[d.label],
+                half = 0.075 if d.mech.kind == "rss" else (max(grid.x) - min(grid.x)) / 2
+                certified[d.label], certs[d.label] = certify_cube(d.mech, p.certify_width, ex,
+                                                                  half)
+                s["certificate"] = {"zero_rotation_cube": certified[d.label], "cube_half_m": half,
                                     "seconds": time.perf_counter() - t0,
                                     **{k: v for k, v in certs[d.label].summary().items()
                                        if k.endswith("fraction")}}
@@ -231,7 +234,8 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
                      f"{dw['cells']} of {dw['cells_total']} grid cells = "
                      f"{dw['volume_m3'] * 1e6:.0f} cm³ of {dw['grid_volume_m3'] * 1e6:.0f} cm³ "
                      f"({dw['volume_nodes_m3'] * 1e6:.0f} cm³ by dual cells)"
-                     + (f"; 150 mm cube at zero rotation certified {cert['zero_rotation_cube']}"
+                     + (f"; {2e3 * cert.get('cube_half_m', 0.075):.4g} mm cube about home "
+                        f"at its rotation certified {cert['zero_rotation_cube']}"
                         if cert else ""))
     lines += ["", tables, "", "Findings of the paper:"]
     lines += [_finding_text(f) for f in fnd]

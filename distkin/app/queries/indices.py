@@ -17,7 +17,8 @@
     scaling = [15, 15, 15, 1, 1, 1]              # ST (N, N, N, N·m, N·m, N·m)
     thresholds = { velocity = 1.0, acceleration = 9.81, force = 0.0 }          # SI
     sensitivity = "slice"                        # the paper's eqs. (14)/(16) | "projection" (Cardou)
-    certify = true                               # Fig. 3: certify the 150 mm cube at zero rotation
+    certify = true                               # Fig. 3: certify the 150 mm cube (rss; legs: the
+                                                 # grid's cube) about home at its rotation
     certify_width = 18.75                        # its resolution (scene length unit)
     chunk_positions = 32                         # positions per resumable chunk
     workers = 2                                  # local processes (1: in process)
