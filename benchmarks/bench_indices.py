@@ -124,7 +124,7 @@ def _study_section(data):
     evaluate_poses(mech, P[:50])
     evaluate_poses(mech, P[:50], compiled=False)
     load0 = _load()
-    med = interleaved({"compiled (study_compiled + split-sign enumeration)":
+    med = interleaved({"compiled (study_compiled, SIMD kernels)":
                        lambda: evaluate_poses(mech, P),
                        "numpy route (reference; the code before issue 17)":
                        lambda: evaluate_poses(mech, P, compiled=False)},
@@ -183,10 +183,19 @@ def _study_section(data):
               "| stage | CPU per pose |", "|---|---|"]
     for k, (_, c) in st.items():
         lines.append(f"| {k} | {fmt_time(c / N)} |")
-    lines += ["", "What is left: the sliced sensitivities (4 slices × C(8, 3) = 56 free sets "
-              "× 16 sign vectors, exact vertex enumeration; a 3 × 3 solve per free set) are "
-              "about two thirds of the compiled pipeline, the one-sided Jacobi SVDs of the "
-              "four readings most of the rest."]
+    stage = {k: v[1] / N for k, v in st.items()}
+    sens_t = stage["compiled: 4 sliced sensitivities, split-sign (L = 8)"]
+    kern_t = stage["compiled: 6 capabilities, 2 true velocities, J#, σ of 4 readings"]
+    ikj_t = stage["IK (generated kernel)"] + stage["Jq, Jx (generated kernel)"]
+    lines += ["", f"What is left, of the {fmt_time(cpu_new)} per pose: the four sliced "
+              f"sensitivities {fmt_time(sens_t)} (56 free sets × 16 sign vectors each, "
+              "exact vertex enumeration, four poses per vector instruction), the kernel "
+              f"of capabilities, J# and σ {fmt_time(kern_t)} (one-sided Jacobi SVDs of the "
+              "four readings, four poses per vector instruction, about 3 µs; the facets "
+              "from the null space of Jᵀ), "
+              f"IK and J {fmt_time(ikj_t)} (generated kernels; the study "
+              "itself now needs only the reach margins, not the crank angles), the rest "
+              "array handling between the kernels."]
     return "\n".join(lines)
 
 
@@ -353,6 +362,8 @@ def _table2_section(data):
         wall = time.perf_counter() - t0
     load = (load0 + os.getloadavg()[0]) / 2
     reach = int(per["n_ok"].sum())
+    cpu = (next(iter(data["study"]["per_pose_wall_cpu_s"].values()))[1]
+           if "study" in data else None)
     data["table2"] = {"poses": grid.size, "reachable": reach, "seconds": wall,
                       "workers": workers, "us_per_pose": wall / grid.size * 1e6,
                       "load_average": load}
@@ -369,7 +380,18 @@ def _table2_section(data):
         f"Wall time **{wall:.1f} s** ({fmt_time(wall / grid.size)} per pose, "
         f"{reach:,} poses reachable) — target < 10 min: "
         f"{'met' if wall < 600 else 'NOT met'}. Machine load average during the run "
-        f"about {load:.1f} on {os.cpu_count()} cores (other processes included)."])
+        f"about {load:.1f} on {os.cpu_count()} cores (other processes included).",
+        "",
+        f"Extrapolated to the whole five-device study (27 million poses: three L = 6 "
+        f"devices on this grid, the two L = 8 devices on a ±30° grid of about 9 million "
+        f"poses each) at this wall time per pose (an upper bound: the L = 6 devices are "
+        f"cheaper per pose): {27e6 * wall / grid.size / 60:.1f} min on {workers} "
+        f"processes — target < 4 min: "
+        f"{'met' if 27e6 * wall / grid.size < 240 else 'not met'} at this load.  "
+        + (f"From the CPU time per pose of the study section ({fmt_time(cpu)}), "
+           f"27 million poses are {27e6 * cpu / 60:.1f} CPU-minutes, "
+           f"{27e6 * cpu / 120:.1f} min on 2 cores at a 2× process speed-up."
+           if cpu else "")])
 
 
 def _culling_section(data):

@@ -149,12 +149,15 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         from ..mechanisms.reference import ik_jacobian
         _, valid, J, Jq = ik_jacobian(mech, poses, return_jq=True)
     else:
-        _, valid = mech.inverse_kinematics(poses)
+        # the legs' reach margins only (the crank angles of inverse_kinematics are not
+        # needed here)
+        valid = mech.reachable(poses)[:, None]
         Jq, Jx = mech.jq_jx(poses)
         with np.errstate(divide="ignore", invalid="ignore"):
             J = Jx / Jq[..., None]
     ok = valid.all(axis=1) & np.all(np.isfinite(J), axis=(1, 2))
-    J, Jq = J[ok], Jq[ok]
+    if not ok.all():
+        J, Jq = J[ok], Jq[ok]
     n = len(J)
     M = np.diag(mech.cartesian_mass_matrix()) if hasattr(mech, "cartesian_mass_matrix") \
         else np.array([mech.mass] * 3 + [mech.inertia] * 3)

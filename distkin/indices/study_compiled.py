@@ -7,23 +7,29 @@ generator matrices, :func:`distkin.indices.study._worst_cases`), the true veloci
 cases (:mod:`.velocity_set`), J# = pinv(J), and the singular values of four readings of
 the scaling (:mod:`.isotropy`).  The numpy route does each step as a batched array
 operation, allocating (N, 56, 6) temporaries (about 10 KiB per pose for L = 8); this
-module does the same arithmetic pose by pose in one numba kernel, with a few hundred
-bytes of work buffers:
+module does the same arithmetic in compiled kernels with a few kB of work buffers,
+some pose by pose and some over blocks of 32 poses with the pose as the innermost loop
+(branch-free, so that the compiler evaluates four poses per vector instruction):
 
-* the facets of the wrench zonotope ``Jᵀ·box`` exactly as :func:`.zonotope._facets`
-  (pivoted Gram-Schmidt, ``B⁻¹G = [I | C]``, generalised cross products of the columns
-  of C; unit box, so the offset is ``Σ|n·g_i|``), the twist and acceleration normals
-  ``JᵀJ n`` and ``M̂ n``, and the slice ratios of :func:`.zonotope._ratio_min`;
-* the singular values by one-sided (Hestenes) Jacobi on the rows of the 6 × L matrices
-  ``ST⁻¹Jᵀ``, ``Jᵀ``, ``ST Jᵀ`` and ``ST⁻¹Jxᵀ``: rotations of row pairs until all rows
-  are orthogonal to 1e-15 of their norms; the singular values are then the row norms
-  (relative accuracy of order 1e-15·κ, like LAPACK's SVD);
-* J# from the Jacobi of ``Jᵀ``: with ``Q Jᵀ = B`` (orthogonal Q, orthogonal rows
-  b_i of norm σ_i), ``J# = Qᵀ diag(σ⁻²) B``.
+* the singular values of the four readings ``ST⁻¹Jᵀ``, ``Jᵀ``, ``ST Jᵀ``, ``ST⁻¹Jxᵀ``
+  and J# = pinv(J) by one-sided (Hestenes) Jacobi (:mod:`.jacobi_lanes`, over blocks
+  of poses): rotations of row pairs until all rows are orthogonal to 1e-15 of their
+  norms; the singular values are then the row norms (relative accuracy of order
+  1e-15·κ, like LAPACK's SVD); with ``Q Jᵀ = B`` (orthogonal Q, orthogonal rows b_i of
+  norm σ_i), ``J# = Qᵀ diag(σ⁻²) B``;
+* L = 8: the facets of the wrench zonotope ``Jᵀ·box`` from the null space of Jᵀ and J#,
+  with the twist and acceleration normals ``JᵀJ n = Jᵀ y`` and ``M̂ n`` and the slice
+  ratios of :func:`.zonotope._ratio_min` (:mod:`.facets_lanes`, over blocks of poses);
+* 6 <= L < 8: the facets pose by pose exactly as :func:`.zonotope._facets` (pivoted
+  Gram-Schmidt, ``B⁻¹G = [I | C]``, generalised cross products of the columns of C;
+  unit box, so the offset is ``Σ|n·g_i|``), the twist and acceleration normals ``JᵀJ n``
+  and ``M̂ n``, and the slice ratios;
+* the true velocity worst cases, pose by pose.
 
-Poses that the kernel does not vouch for (σmin/σmax of Jᵀ below
-:data:`~.zonotope.RANK_TOL`: the flat route of :func:`.zonotope._flat_worst`; a Jacobi
-that did not converge in 60 sweeps; L > 8) are flagged, and the caller computes them by
+Poses that the kernels do not vouch for (σmin/σmax of Jᵀ below
+:data:`~.zonotope.RANK_TOL`, by the exact σ for L = 8 and the pivots of Gram-Schmidt
+otherwise: the flat route of :func:`.zonotope._flat_worst`; a Jacobi that did not
+converge in 60 sweeps) are flagged, and the caller computes them by
 the numpy route.  Agreement with that route (tests/indices/test_study_compiled.py):
 relative differences of a few 1e-13 on the presets' Table II grids.
 """
@@ -34,13 +40,12 @@ from functools import lru_cache
 
 import numpy as np
 
+from .facets_lanes import capabilities_lanes
+from .jacobi_lanes import jacobi_lanes
 from .zonotope import RANK_TOL, _groups
 
 __all__ = ["study_kernel_tables", "study_indices"]
 
-#: one-sided Jacobi: rows count as orthogonal below this cosine
-_JACOBI_TOL = 1e-15
-_JACOBI_SWEEPS = 60
 #: output dimension (a compile-time constant of the kernel)
 _D = 6
 
@@ -63,91 +68,40 @@ def _kernel():
     import numba
 
     @numba.njit(cache=True)
-    def jacobi_rows(A, Q, accumulate):                       # pragma: no cover (compiled)
-        """Orthogonalise the rows of A (d, L) in place; Q (d, d) collects the rotations
-        if ``accumulate``.  Returns True on convergence."""
-        L = A.shape[1]
-        d = _D
-        nrm = np.empty(_D)
-        for sweep in range(_JACOBI_SWEEPS):
-            rotated = False
-            # squared row norms, recomputed each sweep and updated by each rotation
-            for p in range(d):
-                a = 0.0
-                for l in range(L):
-                    a += A[p, l] * A[p, l]
-                nrm[p] = a
-            for p in range(d - 1):
-                for q in range(p + 1, d):
-                    alpha = nrm[p]
-                    beta = nrm[q]
-                    gamma = 0.0
-                    for l in range(L):
-                        gamma += A[p, l] * A[q, l]
-                    if not abs(gamma) > _JACOBI_TOL * np.sqrt(alpha * beta):
-                        continue
-                    rotated = True
-                    zeta = (beta - alpha) / (2.0 * gamma)
-                    t = (1.0 if zeta >= 0 else -1.0) / (abs(zeta) + np.sqrt(1.0 + zeta * zeta))
-                    c = 1.0 / np.sqrt(1.0 + t * t)
-                    s = c * t
-                    nrm[p] = alpha - t * gamma
-                    nrm[q] = beta + t * gamma
-                    for l in range(L):
-                        ap = A[p, l]
-                        aq = A[q, l]
-                        A[p, l] = c * ap - s * aq
-                        A[q, l] = s * ap + c * aq
-                    if accumulate:
-                        for l in range(d):
-                            ap = Q[p, l]
-                            aq = Q[q, l]
-                            Q[p, l] = c * ap - s * aq
-                            Q[q, l] = s * ap + c * aq
-            if not rotated:
-                return True
-        return False
-
-    @numba.njit(cache=True)
-    def row_extremes(A):                                     # pragma: no cover (compiled)
-        L = A.shape[1]
-        d = _D
-        lo = np.inf
-        hi = 0.0
-        for i in range(d):
-            s = 0.0
-            for l in range(L):
-                s += A[i, l] * A[i, l]
-            s = np.sqrt(s)
-            lo = min(lo, s)
-            hi = max(hi, s)
-        return lo, hi
-
-    @numba.njit(cache=True)
-    def ratio_min(h, nn, lim, s0):                           # pragma: no cover (compiled)
-        """:func:`.zonotope._ratio_min` for the slice of coordinates s0..s0+2."""
+    def ratio_min(h, nn, lim, s0, vb):                       # pragma: no cover (compiled)
+        """:func:`.zonotope._ratio_min` for the slice of coordinates s0..s0+2, with
+        h >= 0 (unit box offsets; a vacuous normal gives +inf) and without a square root
+        and a division per normal: the smallest ``h_k / ||n_k||`` is found by comparing
+        ``h_k² ||n_j||²`` with ``h_j² ||n_k||²``, and only its quotient is formed (the
+        same expression as the reference's; near-ties within rounding may pick either)."""
         K = h.shape[0]
         tot = 0.0
-        den = np.empty(K)
         for k in range(K):
             v = nn[k, s0] * nn[k, s0] + nn[k, s0 + 1] * nn[k, s0 + 1] \
                 + nn[k, s0 + 2] * nn[k, s0 + 2]
             tot += v
-            den[k] = np.sqrt(v)
-        scale = np.sqrt(tot) + 1e-300
-        best = np.inf
+            vb[k] = v
+        thr = 1e-15 * (np.sqrt(tot) + 1e-300)
+        thr2 = thr * thr
+        bk = -1
+        hb = 0.0
+        vbest = 1.0
         for k in range(K):
+            v = vb[k]
+            if v <= thr2:
+                continue
             hk = h[k] * lim
-            if den[k] <= 1e-15 * scale:
-                q = np.inf if hk >= 0 else -np.inf
-            else:
-                q = hk / den[k]
-            best = min(best, q)
-        return best
+            if bk < 0 or hk * hk * vbest < hb * hb * v:
+                bk = k
+                hb = hk
+                vbest = v
+        if bk < 0:
+            return np.inf
+        return hb / np.sqrt(vbest)
 
     @numba.njit(cache=True)
-    def run(J, Jq, M, lims, st, NM, NR, NC, caps, truev, twist, sig,
-            flag):                                           # pragma: no cover (compiled)
+    def run(J, M, lims, NM, NR, NC, caps, flag):           # pragma: no cover (compiled)
+        """The six capabilities pose by pose from the pivoted facets (any 6 <= L <= 8)."""
         N, L, _ = J.shape
         d = _D
         K = NM.shape[0]
@@ -162,12 +116,10 @@ def _kernel():
         nt = np.empty((K, d))
         na = np.empty((K, d))
         h = np.empty(K)
+        vb = np.empty(K)
         JtJ = np.empty((d, d))
-        A = np.empty((d, L))
-        Q = np.empty((d, d))
         v = np.empty(3)
         for n in range(N):
-            flag[n] = False
             for i in range(d):
                 for l in range(L):
                     G[i, l] = J[n, l, i]
@@ -293,13 +245,18 @@ def _kernel():
                         s += nw[k, i] * JtJ[i, j]
                     nt[k, j] = s
                     na[k, j] = nw[k, j] * M[j]
-            caps[n, 0] = ratio_min(h, nw, lims[0], 0)
-            caps[n, 1] = ratio_min(h, nw, lims[0], 3)
-            caps[n, 2] = ratio_min(h, nt, lims[2], 0)
-            caps[n, 3] = ratio_min(h, nt, lims[2], 3)
-            caps[n, 4] = ratio_min(h, na, lims[1], 0)
-            caps[n, 5] = ratio_min(h, na, lims[1], 3)
-            # ---- true velocity set: q̇max / max_l ||J_l,S||
+            caps[n, 0] = ratio_min(h, nw, lims[0], 0, vb)
+            caps[n, 1] = ratio_min(h, nw, lims[0], 3, vb)
+            caps[n, 2] = ratio_min(h, nt, lims[2], 0, vb)
+            caps[n, 3] = ratio_min(h, nt, lims[2], 3, vb)
+            caps[n, 4] = ratio_min(h, na, lims[1], 0, vb)
+            caps[n, 5] = ratio_min(h, na, lims[1], 3, vb)
+
+    @numba.njit(cache=True)
+    def readings(J, lims, truev):                            # pragma: no cover (compiled)
+        """The true velocity worst cases: q̇max / max_l ||J_l,S|| (:mod:`.velocity_set`)."""
+        N, L, _ = J.shape
+        for n in range(N):
             for a in range(2):
                 mx = 0.0
                 for l in range(L):
@@ -308,42 +265,7 @@ def _kernel():
                         s += J[n, l, i] * J[n, l, i]
                     mx = max(mx, np.sqrt(s))
                 truev[n, a] = lims[2] / mx
-            # ---- singular values; J# from the Jacobi of Jᵀ
-            for r_ in range(4):
-                for i in range(d):
-                    for l in range(L):
-                        x = J[n, l, i]
-                        if r_ == 0:
-                            A[i, l] = x / st[i]
-                        elif r_ == 2:
-                            A[i, l] = x * st[i]
-                        elif r_ == 3:
-                            A[i, l] = (x * Jq[n, l]) / st[i]
-                        else:
-                            A[i, l] = x
-                if r_ == 1:
-                    for i in range(d):
-                        for j in range(d):
-                            Q[i, j] = 1.0 if i == j else 0.0
-                if not jacobi_rows(A, Q, r_ == 1):
-                    flag[n] = True
-                lo, hi = row_extremes(A)
-                sig[n, 2 * r_] = lo
-                sig[n, 2 * r_ + 1] = hi
-                if r_ == 1 and L > d:
-                    # J# = Qᵀ diag(1/σ²) B  (twist (d, L))
-                    for i in range(d):
-                        s = 0.0
-                        for l in range(L):
-                            s += A[i, l] * A[i, l]
-                        qv[i] = 1.0 / s if s > 0 else 0.0
-                    for i in range(d):
-                        for l in range(L):
-                            s = 0.0
-                            for j in range(d):
-                                s += Q[j, i] * qv[j] * A[j, l]
-                            twist[n, i, l] = s
-    return run
+    return run, readings
 
 
 def study_indices(J, Jq, M, actuators, ST):
@@ -388,7 +310,17 @@ def study_indices(J, Jq, M, actuators, ST):
     sig = np.empty((N, 8))
     flag = np.zeros(N, bool)
     if N:
-        _kernel()(J, np.ascontiguousarray(Jq, dtype=float), np.asarray(M, dtype=float),
-                  lims, np.asarray(ST, dtype=float), NM, NR, NC, caps, truev, twist, sig,
-                  flag)
+        st = np.asarray(ST, dtype=float)
+        run, readings = _kernel()
+        Jq = np.ascontiguousarray(Jq, dtype=float)
+        M = np.asarray(M, dtype=float)
+        jacobi_lanes(J, Jq, st, sig, twist, flag)
+        if L == 8:
+            # facets from the null space of Jᵀ and J# (facets_lanes); the rank test on
+            # the exact σ of Jᵀ instead of the pivots of Gram-Schmidt
+            flag |= ~(sig[:, 2] > RANK_TOL * sig[:, 3])
+            capabilities_lanes(J, twist, M, lims, caps)
+        else:
+            run(J, M, lims, NM, NR, NC, caps, flag)
+        readings(J, lims, truev)
     return caps, truev, twist, sig, flag

@@ -89,3 +89,39 @@ def test_reference_route_uses_the_walk_and_split_kernel_agrees_with_it(presets):
             a = slice_farthest_unit(G, keep)
             b = slice_farthest_unit(G, keep, walk=True)
             assert rel_err(a, b) < 1e-13
+
+
+def test_readings_match_numpy_svd_under_an_ill_conditioned_scaling(presets):
+    """σ of ST⁻¹Jᵀ and ST⁻¹Jxᵀ (jacobi_lanes) against numpy's SVD, with the default
+    scaling (κ about 15) and with ST = (1, 1, 1, 1e-3, 1e-3, 1e-3) (κ of 3e2 or more)."""
+    mech = presets["octopod"]
+    P = random_reachable_poses(mech, 40, 30, seed=12)
+    Jq, Jx = mech.jq_jx(P)
+    J = Jx / Jq[..., None]
+    M = np.array([mech.mass] * 3 + [mech.inertia] * 3)
+    act = {"nominal_torque": 2.5, "stall_torque": 34.2, "velocity": 51.0}
+    for st in ((15, 15, 15, 1, 1, 1), (1, 1, 1, 1e-3, 1e-3, 1e-3)):
+        st = np.array(st, float)
+        sig = study_indices(J, Jq, M, act, st)[3]
+        for k, A in ((0, np.swapaxes(J, 1, 2) / st[:, None]),
+                     (3, np.swapaxes(J * Jq[..., None], 1, 2) / st[:, None])):
+            s = np.linalg.svd(A, compute_uv=False)
+            kappa = s[:, 0] / s[:, -1]
+            assert rel_err(sig[:, 2 * k], s[:, -1]) < 1e-10
+            assert rel_err(sig[:, 2 * k + 1], s[:, 0]) < 1e-12
+        if st[3] < 1:
+            assert kappa.min() > 100
+
+
+def test_lane_kernel_shares_the_feasibility_allowance_and_any_block_position(presets):
+    """The SIMD kernel (slice_lanes) uses the walk's rounding allowance, and a pose's
+    value does not depend on its place in a block of LANES poses (padding of the last
+    block included): the same bits one by one and in a block."""
+    from distkin.indices import slice_farthest, slice_lanes
+    assert (slice_lanes._TOL, slice_lanes._EPS) == (slice_farthest._TOL, slice_farthest._EPS)
+    mech = presets["octopod"]
+    G = np.linalg.pinv(mech.jacobian(random_reachable_poses(mech, 37, 30, seed=2)))
+    whole = slice_farthest_unit(G, (0, 1, 2))
+    one = np.array([slice_farthest_unit(G[i:i + 1], (0, 1, 2))[0] for i in range(5)])
+    assert np.array_equal(whole[:5], one)
+    assert np.array_equal(slice_farthest_unit(G[3:], (0, 1, 2)), whole[3:])
