@@ -19,6 +19,7 @@ from .query import Outcome
 from ..indices.isotropy import SCALING_READINGS
 from ..indices.study import (CAPABILITIES, PAPER_TABLE4, SENSITIVITIES, TRUE_VELOCITIES, Device,
                     run_device, summarise)
+from ..indices.actuators import leg_limits, limit_text
 from ..indices.study_findings import findings, row_definition, row_reason
 from ..indices.workspace import design_criteria, dexterous_workspace
 
@@ -41,6 +42,21 @@ def _f(x, digits=4):
 
 def _ratio(x):
     return "—" if x is None or not math.isfinite(x) else f"{x:.3g}×"
+
+
+def _limits_text(summaries) -> dict:
+    """The run's actuator limits as text with units per actuator type (one text, or one
+    per device when they differ), for the row definitions."""
+    out = {}
+    for which in ("nominal", "stall", "rate"):
+        texts = {s["label"]: s["actuator_limits"]["text"][which] for s in summaries
+                 if "actuator_limits" in s}
+        if not texts:
+            continue
+        vals = set(texts.values())
+        out[which] = vals.pop() if len(vals) == 1 else " / ".join(
+            f"{t} ({label})" for label, t in texts.items())
+    return out
 
 
 def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
@@ -68,10 +84,13 @@ def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
                 paper = ratio = reason = "—"
             lines.append(f"| {label} [{unit}] | {s['label']} (±{s['rotation_deg']:.0f}°) | "
                          f"{same} | {ours} | {paper} | {ratio} | {reason} |")
+    limits = _limits_text(summaries)
     lines += ["", "Definitions: " + "; ".join(
-        f"{lab}: {row_definition(q, sensitivity)[1]}" for q, lab, _ in _ROWS)]
-    lines += ["", "Table IV analogue: GII = min σmin / max σmax of ST⁻¹Jᵀ over the Table II "
-              "orientations (±20°), same definition as the paper (yes; which matrix ST "
+        f"{lab}: {row_definition(q, sensitivity, limits)[1]}" for q, lab, _ in _ROWS)]
+    rots = sorted({f"±{s['isotropy']['rotation_deg']:.0f}°" for s in summaries})
+    lines += ["", "Table IV analogue: GII = min σmin / max σmax of ST⁻¹Jᵀ over the "
+              f"orientations ({', '.join(rots)}; the paper: Table II's ±20°), same "
+              "definition as the paper (yes; which matrix ST "
               "scales is not printed: our reading ST⁻¹Jᵀ, distkin.indices.isotropy); ours "
               "beside Kühne et al. Table IV.", "",
               "| Kinematics | same def. | GII ours | paper | ratio | σmin ours | paper | ratio "
@@ -92,7 +111,8 @@ def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
                _ratio(i.get("ratio_sigma_min")), _f(i["sigma_max"]),
                _f(i.get("paper_sigma_max")), _ratio(i.get("ratio_sigma_max")), reason]
         lines.append("| " + " | ".join(row) + " |")
-    lines += ["", "Readings of Stocco's scaling (σmin / σmax over the ±20° orientations; "
+    lines += ["", f"Readings of Stocco's scaling (σmin / σmax over the {', '.join(rots)} "
+              "orientations; "
               "the GII is the same for the readings that differ by a factor or an "
               "inverse); the paper's Table IV in the last column.", "",
               "| Kinematics | " + " | ".join(SCALING_READINGS.values()) + " | paper |",
@@ -159,7 +179,8 @@ def _finding_text(f):
 
 _NOTES = (
     "Every row is over the Table II positions (the grid of the scene) and the device's "
-    "orientations (±20° for L = 6, ±30° for L = 8; Table IV over ±20°).  The geometry "
+    "orientations (the ± range of each row; the paper: ±20° for L = 6, ±30° for L = 8, "
+    "Table IV over ±20°).  The geometry "
     "the paper does not print (l3, the reading of Fig. 2, the HEXA's and Ergin's "
     "parameters) is ours (distkin.mechanisms.presets; every reading tried, with its "
     "Table IV figures: docs/fig2_readings.md).  Table III's rows are extremes over the "
@@ -182,6 +203,13 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
                                   ST=p.scaling, route=p.route, progress=ctx.progress,
                                   sensitivity=p.sensitivity)
             s = summarise(dev, per)
+            lim = leg_limits(d.mech, actuators)
+            s["actuator_limits"] = {
+                "nominal": lim["nominal"].tolist(), "stall": lim["stall"].tolist(),
+                "rate": lim["rate"].tolist(), "prismatic": lim["prismatic"].tolist(),
+                "units": "nominal/stall: N·m (revolute), N (prismatic); rate: rad/s "
+                         "(revolute), m/s (prismatic)",
+                "text": {w: limit_text(lim, w) for w in ("nominal", "stall", "rate")}}
             if p.certify:
                 t0 = time.perf_counter()
                 half = 0.075 if d.mech.kind == "rss" else (max(grid.x) - min(grid.x)) / 2
@@ -288,7 +316,8 @@ def _plots(stem, grids, per_all, summaries, actuators, tables, result, certs, pi
         if s["worst_force_pose"] is not None:
             pose = np.asarray(s["worst_force_pose"])
             J = mech.jacobian(pose[None])[0]
-            out.append(plot_force_polytope(dstem, label, J.T, actuators["nominal_torque"],
+            out.append(plot_force_polytope(dstem, label, J.T,
+                                           np.asarray(s["actuator_limits"]["nominal"]),
                                            pose))
         if label in certs:
             from ..certify.plot import plot_certificate
@@ -315,7 +344,7 @@ def _fig5(stem, label, mech, grid, mask):
             nb[tuple(edge)] = False
             inner &= nb
     boundary = (ok & ~inner).ravel()
-    return plot_workspace(stem, label, P[boundary], cube, mech.z0,
+    return plot_workspace(stem, label, P[boundary], cube, c[:3],
                           grid.positions()[mask])
 
 

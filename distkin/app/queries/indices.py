@@ -14,6 +14,8 @@
     ]
     grid = { half = 75, step = 10, rotation_step = 5 }   # Table II (the default)
     actuators = { nominal_torque = 2.5, stall_torque = 34.2, velocity = 51 }  # SI
+    # prismatic legs: nominal_force, stall_force (N), speed (m/s); a leg's own effort
+    # limit is its nominal effort (distkin.indices.actuators)
     scaling = [15, 15, 15, 1, 1, 1]              # ST (N, N, N, N·m, N·m, N·m)
     thresholds = { velocity = 1.0, acceleration = 9.81, force = 0.0 }          # SI
     sensitivity = "slice"                        # the paper's eqs. (14)/(16) | "projection" (Cardou)
@@ -73,9 +75,9 @@ def _num(value, field):
     return float(parse_exact(value, field))
 
 
-def _si_table(raw, field, defaults):
+def _si_table(raw, field, defaults, extra=()):
     t = as_table(raw, field)
-    check_keys(t, set(defaults), field)
+    check_keys(t, set(defaults) | set(extra), field)
     out = dict(defaults)
     for k, v in t.items():
         x = _num(v, f"{field}.{k}")
@@ -190,7 +192,11 @@ class PerformanceQuery:
                              field=f"{field}.devices")
         for d in devices:                      # validate the grid now
             _grid(table.get("grid"), units, f"{field}.grid", d.mech.home, d.rotation)
-        act = _si_table(table.get("actuators", {}), f"{field}.actuators", ACTUATORS)
+        from ...indices.actuators import PRISMATIC_KEYS, leg_limits
+        act = _si_table(table.get("actuators", {}), f"{field}.actuators", ACTUATORS,
+                        PRISMATIC_KEYS)
+        for d in devices:                      # every leg has its limits, in its units
+            leg_limits(d.mech, act, f"{field}.actuators")
         thr = _si_table(table.get("thresholds", {}), f"{field}.thresholds",
                         {"velocity": 1.0, "acceleration": 9.81, "force": 0.0})
         sc = table.get("scaling", list(ST_DEFAULT))
