@@ -217,3 +217,38 @@ def test_example_scenes_run_with_plots(name, tmp_path):
     res = json.loads((tmp_path / "out.json").read_text())
     assert all(q["status"] == "ok" for q in res["queries"])
     assert len(list((tmp_path / "plots").glob("*.png"))) >= 6
+
+
+def test_scene_device_beside_a_preset_with_units_per_actuator_type(tmp_path):
+    """devices = the scene's legs mechanism (no preset) beside the Hunt-type preset: each
+    on its own grid about its home, the definitions print each device's limits in its
+    units (N for the prismatic legs, N·m for the revolute ones), never N·m for a force;
+    a legs scene's certify_workspace needs a region."""
+    import json
+    text = (EX / "griffis_duffy_indices.toml").read_text()
+    head = text[:text.index("[[query]]")]
+    scene = tmp_path / "s.toml"
+    scene.write_text(head + """
+[[query]]
+type = "performance"
+devices = [{ label = "GD", rotation = 10 }, { label = "Hunt", preset = "hunt", rotation = 10 }]
+grid = { half = 1, step = 1, rotation = 10, rotation_step = 10 }
+actuators = { stall_force = 100, speed = 1, nominal_torque = "2.5", stall_torque = "34.2", velocity = 51 }
+workers = 1
+store = "store"
+""")
+    r = _run([str(scene), "--json", "-"], tmp_path)
+    assert r.returncode == 0, r.stderr
+    res = json.loads(r.stdout)["queries"][0]["result"]
+    text = json.dumps(res, ensure_ascii=False)
+    assert "|τ| <= 50 N (GD) / 2.5 N·m (Hunt)" in text
+    devs = {d["label"]: d for d in res["devices"]}
+    assert devs["GD"]["actuator_limits"]["text"]["rate"] == "1 m/s"
+    assert devs["Hunt"]["actuator_limits"]["text"]["rate"] == "51 rad/s"
+    bad = tmp_path / "bad.toml"
+    bad.write_text(head + '[[query]]\ntype = "performance"\nactuators = { speed = 1 }\n')
+    r = _run([str(bad)], tmp_path)
+    assert r.returncode == 2 and "query[0].actuators.stall_force" in r.stderr
+    bad.write_text(head + '[[query]]\ntype = "certify_workspace"\n')
+    r = _run([str(bad)], tmp_path)
+    assert r.returncode == 2 and "query[0].region" in r.stderr

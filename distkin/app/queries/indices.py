@@ -27,7 +27,9 @@
     scheduler = "tcp://host:8786"                # optional: a dask.distributed cluster
     store = "sweeps/study"                       # chunk store (default: the cache)
 
-Each device takes any ``rss`` mechanism parameter (``l2 = 25.6``, ``gamma = 13.18``...)
+A device without ``preset`` is the scene's own mechanism (``rss`` or ``legs``; e.g.
+``{ label = "mine", rotation = 10 }`` beside the presets).
+Each preset device takes any ``rss`` mechanism parameter (``l2 = 25.6``, ``gamma = 13.18``...)
 in the scene's units, ``rotation`` (the ± range of the grid about every axis),
 ``inner_rotation`` (a smaller range also reduced separately: Table IV's GII is over
 Table II's ±20°) and ``paper`` (the Table III/IV column to compare with; default the
@@ -147,9 +149,17 @@ def _parse_device(d, mechanism, units, field):
     label = require(d, "label", field)
     if not isinstance(label, str) or not label:
         raise InputError(f"expected a non-empty label, got {label!r}", field=f"{field}.label")
-    mtable = {"kind": "rss", "preset": require(d, "preset", field)}
-    mtable.update({k: d[k] for k in _RSS_KEYS if k in d})
-    mech = parse_rss(mtable, units, field)
+    if "preset" not in d:                      # the scene's own mechanism (rss or legs)
+        extra = sorted(k for k in _RSS_KEYS if k in d)
+        if extra:
+            raise InputError(f"expected a preset with the parameters {extra} (without one "
+                             "the device is the scene's mechanism, as it is)",
+                             field=f"{field}.preset")
+        mech, mtable = mechanism, {}
+    else:
+        mtable = {"kind": "rss", "preset": d["preset"]}
+        mtable.update({k: d[k] for k in _RSS_KEYS if k in d})
+        mech = parse_rss(mtable, units, field)
     rotation = angle_value(d["rotation"], units, f"{field}.rotation") if "rotation" in d \
         else 20 * DEG
     inner = angle_value(d["inner_rotation"], units, f"{field}.inner_rotation") \
@@ -158,6 +168,8 @@ def _parse_device(d, mechanism, units, field):
         raise InputError(f"expected inner_rotation <= rotation, got {d.get('inner_rotation')!r}",
                          field=f"{field}.inner_rotation")
     paper = d.get("paper", mtable["preset"] if len(mtable) == 2 else None)
+    if not mtable and "paper" not in d:
+        paper = mechanism.name if mechanism.name in PRESETS else None
     if paper is False:
         paper = None
     if paper is not None and paper not in PRESETS:
