@@ -7,6 +7,7 @@ Everything is SI (m, rad, N, N·m, kg, s); there is no ``[units]`` table.  Examp
     [device]
     preset = "octo"                 # a distkin.mechanisms preset
     rate_hz = 1000
+    realtime = false                # true: SCHED_FIFO for the loop and the simulator
 
     [admittance]                    # Kühne et al. Fig. 9: admittance scheme
     mass = [1.0, 1.0, 1.0, 0.005, 0.005, 0.005]      # kg x3, kg·m² x3
@@ -142,6 +143,8 @@ class ControlScene:
     safety: SafetyLimits
     simulator: SimulatorConfig
     title: str = ""
+    #: run the control loop and the simulator under SCHED_FIFO (:mod:`.scheduling`)
+    realtime: bool = False
 
 
 def _num(t, key, fld, default, *, positive=False, nonneg=False):
@@ -253,13 +256,14 @@ def loads_control_scene(text: str, path: str = "<string>") -> ControlScene:
     check_keys(data, {"title", "description", "device", "admittance", "environment", "pd",
                       "safety", "simulator"}, "scene")
     dev = as_table(data.get("device", {}), "device")
-    check_keys(dev, {"preset", "rate_hz"}, "device")
+    check_keys(dev, {"preset", "rate_hz", "realtime"}, "device")
     preset_name = dev.get("preset", "octo")
     if not isinstance(preset_name, str):
         raise InputError(f"expected a preset name, got {preset_name!r}", field="device.preset")
     from ..mechanisms import PRESETS
     choice(preset_name, "device.preset", tuple(PRESETS))
     rate = _num(dev, "rate_hz", "device", 1000.0, positive=True)
+    rt = _bool(dev, "realtime", "device", False)
 
     adm = as_table(require(data, "admittance", ""), "admittance")
     check_keys(adm, {"mass", "damping"}, "admittance")
@@ -305,7 +309,7 @@ def loads_control_scene(text: str, path: str = "<string>") -> ControlScene:
     sim = _simulator(as_table(data.get("simulator", {}), "simulator"))
     title = data.get("title", "")
     return ControlScene(str(path), preset_name, rate, mass, damping, env, pd, safety, sim,
-                        str(title))
+                        str(title), rt)
 
 
 def load_control_scene(path) -> ControlScene:

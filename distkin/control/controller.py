@@ -34,6 +34,7 @@ out-of-range readings, and zero torque on every way out of :meth:`Controller.run
 
 from __future__ import annotations
 
+import gc
 import math
 import signal
 import time
@@ -42,11 +43,12 @@ import numpy as np
 
 from ..errors import LinkError
 from .admittance import Admittance
-from .cycle_kernels import reading_extremes
+from .cycle_kernels import CYCLE_OUT, cycle_params, reading_extremes
 from .kinematics import _rot
 from .protocol import (FLAG_KEEPALIVE, MODE_HOLD, MODE_RUN, MODE_ZERO_TORQUE, STATUS_ESTOP,
                        STATUS_SENSOR_FAULT, CommandFrame)
-from .runlog import CsvLog, EventLog
+from .runlog import CsvLog, EventLog, timing_summary
+from .scheduling import realtime, restore
 
 __all__ = ["Controller", "CycleResult", "GRAVITY", "SCALING", "RUN", "FAULT", "STOPPED"]
 
@@ -81,6 +83,9 @@ class Controller:
     model : distkin.control.kinematics.KinematicModel
     log_prefix : str or None
         Write ``PREFIX.cycles.csv`` and ``PREFIX.events.jsonl``.
+    fused : bool
+        With a compiled model (default), run steps 2-8 of a cycle as one compiled call;
+        False: the Python methods below (on the model's kernels), the reference.
     """
 
     #: consecutive forward-kinematics failures tolerated (the last command is repeated)
@@ -89,7 +94,7 @@ class Controller:
     #: wall time to wait for the first valid state frame, s
     STARTUP_TIMEOUT_S = 10.0
 
-    def __init__(self, scene, model, *, log_prefix=None):
+    def __init__(self, scene, model, *, log_prefix=None, fused: bool = True):
         self.scene = scene
         self.model = model
         self.L = model.L
@@ -102,6 +107,12 @@ class Controller:
         self.pose = np.array(model.home, dtype=float)
         self.state = RUN
         self.started = False
+        self._fused = None
+        if fused and model.compiled is not None:
+            # the fused cycle (steps 2-8 in one compiled call): its parameters, and the
+            # PD state as one (5, L) buffer (rows e_prev, d_prev, d_f, ∫e; flag)
+            self._fused = cycle_params(self.pd, self.safety, self.adm, self.weight, SCALING)
+            self._pd_state = np.zeros((5, self.L))
         self._reset_pd()
         self.refusing = False
         self.refused = 0
@@ -123,6 +134,8 @@ class Controller:
         self.d_prev = np.zeros(self.L)
         self.de_f = np.zeros(self.L)
         self.e_int = np.zeros(self.L)
+        if self._fused is not None:
+            self._pd_state[:] = 0.0
 
     def filter_derivative(self, e, dt):
         """One step of the error-derivative low-pass of Sec. III-D, forward Euler.
@@ -252,7 +265,15 @@ class Controller:
         return tau, saturated
 
     def compute(self, frame, dt: float) -> CycleResult:
-        """One control cycle on a *checked* state frame (steps 2-8 of the module doc)."""
+        """One control cycle on a *checked* state frame (steps 2-8 of the module doc).
+
+        With compiled kinematics the steps run as one compiled call
+        (:meth:`_compute_fused`, ``cycle`` of :mod:`.cycle_kernels`); without, as the
+        Python methods of this class (the reference route; tests/control holds the
+        two together).
+        """
+        if self._fused is not None:
+            return self._compute_fused(frame, dt)
         r = CycleResult()
         fk = self.estimate(frame.angles)
         r.fk_iterations, r.fk_residual = fk.iterations, fk.residual
@@ -297,6 +318,46 @@ class Controller:
         r.mode, r.torques = MODE_RUN, tau
         return r
 
+    _REASONS = ("", "fk_failed", "singular_stop", "", "unreachable", "singular", "")
+
+    def _compute_fused(self, frame, dt: float) -> CycleResult:
+        """:meth:`compute` by the fused compiled cycle: the same decisions and state."""
+        r = CycleResult()
+        L = self.L
+        prm, env = self._fused
+        adm = self.adm
+        out = np.empty(CYCLE_OUT + L)
+        code = self.model.compiled.cycle(frame.angles, frame.wrench, float(dt),
+                                         bool(self.started), self.state == RUN, self.pose,
+                                         adm.pose, adm.twist, self._pd_state, prm, env, out)
+        r.fk_residual, r.fk_iterations = float(out[24 + L]), int(out[25 + L])
+        r.reason = self._REASONS[code]
+        if code == 1:
+            r.accepted = False
+            r.mode = None
+            return r
+        self.pose = r.pose = out[0:6]
+        r.wrench = out[6:12]
+        if not self.started:                                # start_at (in the kernel)
+            self.refusing = False
+            self.started = True
+        adm.pose, adm.twist = out[12:18], out[18:24]
+        r.torques = out[24:24 + L]
+        if code == 2:
+            r.accepted = False
+            r.mode = MODE_HOLD
+            return r
+        if code == 3:
+            return r
+        if code in (4, 5):
+            self.refused += 1
+            r.accepted = False
+        r.desired = adm.pose
+        if code == 6:
+            raise np.linalg.LinAlgError("Singular matrix")
+        r.mode, r.saturated = MODE_RUN, bool(out[26 + L])
+        return r
+
     # -- the loop ---------------------------------------------------------------------
     def _event(self, name, t0, frame=None, **info):
         t_dev = None if frame is None else frame.t_us * 1e-6
@@ -305,6 +366,10 @@ class Controller:
 
     def run(self, link, seconds: float, *, wall_limit: float | None = None) -> dict:
         """Run the loop over ``link`` for ``seconds`` of device time.
+
+        The cycle allocates no reference cycles, so the cyclic garbage collector has
+        nothing to do during a run; the summary's ``gc_collections`` counts the
+        collections that happened anyway (0 in the runs of BENCHMARKS.md).
 
         The run ends when the device clock has advanced by ``seconds`` since the first
         frame, when the wall clock reaches ``wall_limit`` (default ``2 seconds + 10``),
@@ -330,8 +395,9 @@ class Controller:
         t_first = t_prev_us = None
         t_prev_cycle = None
         recover_count = 0
-        compute, periods = [], []
+        compute, compute_cpu, periods = [], [], []
         cycles = 0
+        gc0 = sum(g["collections"] for g in gc.get_stats())
         reason = "completed"
         self.error = None
         stop = {"sig": None}
@@ -339,6 +405,11 @@ class Controller:
         def _on_signal(signum, _frame):
             stop["sig"] = signum
 
+        rt = None
+        if getattr(self.scene, "realtime", False):
+            rt, why = realtime()
+            if why:
+                self._event("realtime_refused", t0, None, message=why)
         old = {}
         for s in (signal.SIGINT, signal.SIGTERM):
             try:
@@ -361,6 +432,7 @@ class Controller:
                     break
                 frame = link.read_state(poll)
                 t_rx = time.perf_counter()
+                c_rx = time.thread_time()
                 if frame is None:
                     if last_valid is not None and self.state == RUN and \
                             t_rx - last_valid > self.safety.watchdog_ms * 1e-3:
@@ -436,6 +508,7 @@ class Controller:
                 last = CommandFrame(seq, frame.seq, mode, 0, tau)
                 link.write_command(last)
                 t_done = time.perf_counter()
+                compute_cpu.append(time.thread_time() - c_rx)
                 cycles += 1
                 compute.append(t_done - t_rx)
                 period = 0.0 if t_prev_cycle is None else t_rx - t_prev_cycle
@@ -468,9 +541,12 @@ class Controller:
             self._event("zero_torque", t0, None, sent=sent)
             for s, h in old.items():
                 signal.signal(s, h)
+            restore(rt)
             self.log.flush()
         wall = time.perf_counter() - t0
-        return self._summary(link, cycles, wall, t_first, t_prev_us, compute, periods, reason)
+        self.gc_collections = sum(g["collections"] for g in gc.get_stats()) - gc0
+        return self._summary(link, cycles, wall, t_first, t_prev_us, compute, compute_cpu,
+                             periods, reason)
 
     def _zero_torque(self, link, seq, ack) -> bool:
         """Send zero torque three times; True if at least one frame was written whole."""
@@ -483,10 +559,9 @@ class Controller:
                 break
         return sent
 
-    def _summary(self, link, cycles, wall, t_first, t_last, compute, periods, reason):
+    def _summary(self, link, cycles, wall, t_first, t_last, compute, compute_cpu, periods,
+                 reason):
         st = link.stats
-        c = np.asarray(compute) * 1e3
-        p = np.asarray(periods) * 1e3
         dev_s = 0.0 if t_first is None else (t_last - t_first) * 1e-6
         code = {"completed": 0, "interrupted": 130}.get(reason, 1)
         return {
@@ -494,10 +569,7 @@ class Controller:
             "seconds": round(wall, 4),
             "device_seconds": round(dev_s, 4),
             "rate_hz": round(cycles / wall, 2) if wall > 0 else 0.0,
-            "cycle_p50_ms": round(float(np.percentile(c, 50)), 4) if c.size else None,
-            "cycle_p99_ms": round(float(np.percentile(c, 99)), 4) if c.size else None,
-            "period_p50_ms": round(float(np.percentile(p, 50)), 4) if p.size else None,
-            "period_p99_ms": round(float(np.percentile(p, 99)), 4) if p.size else None,
+            **timing_summary(compute, compute_cpu, periods),
             "bad_frames": st.bad_frames,
             "resyncs": st.resyncs,
             "timeouts": st.timeouts,
@@ -506,10 +578,11 @@ class Controller:
             "write_timeouts": st.write_timeouts,
             "watchdog_trips": self.events.count("watchdog_trip"),
             "safety_events": sum(1 for e in self.events.events
-                                 if e["event"] not in ("zero_torque",)),
+                                 if e["event"] not in ("zero_torque", "realtime_refused")),
             "refused_poses": self.refused,
             "saturated_cycles": self.saturated_cycles,
             "max_abs_torque_Nm": round(self.max_abs_torque, 4),
+            "gc_collections": self.gc_collections,
             "torque_limit_Nm": self.pd.torque_limit,
             "exit_reason": reason,
             "exit_code": code,

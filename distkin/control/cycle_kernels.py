@@ -18,7 +18,14 @@ writing into preallocated arrays:
   :func:`.kinematics._rot`), ``spring_wrench(pose, twist, p0, R0t, k, d, out)``
   (:meth:`.admittance.Spring.wrench` by the compiled :func:`.admittance.rotation_log`);
   the rotation formulas keep their one source;
-* :func:`reading_extremes`: the checks of a state frame in one call.
+* ``cycle(...)``: steps 2-8 of :meth:`.controller.Controller.compute` in one call (FK,
+  the wrench into the base frame, the guard, the admittance step with the scene's
+  springs and walls, the refusal of a candidate, IK, the PD with its forward-Euler
+  derivative filter, the distribution, the saturation), parameters laid out by
+  :func:`cycle_params`;
+* ``drive`` and ``plant_dynamics``: :meth:`.plant.Plant.step` of the simulator;
+* :func:`reading_extremes`: the checks of a state frame in one call;
+* :func:`state_decoder`: a valid state frame from its COBS bytes in one call.
 
 The kernels give the same bits as the generated Python functions (the same float
 operations in the same order); the Gauss-Newton step and the 6 × 6 solves use a
@@ -39,7 +46,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["CycleKernels", "build", "kernel_module", "jitted", "reading_extremes"]
+__all__ = ["CycleKernels", "build", "kernel_module", "jitted", "reading_extremes",
+           "cycle_params", "CYCLE_OUT", "state_decoder"]
 
 _BUILT: dict = {}
 
@@ -58,6 +66,9 @@ class CycleKernels:
     rotate_pose: object
     rotate_wrench: object
     spring_wrench: object
+    cycle: object
+    drive: object
+    plant_dynamics: object
 
 
 def _solve_into(A, b, x):                                    # pragma: no cover (compiled)
@@ -109,6 +120,70 @@ def _reading_extremes(a, w):                                 # pragma: no cover 
     return finite, ma, mf, mm
 
 
+def _crc_table():
+    t = np.empty(256, dtype=np.uint32)
+    for i in range(256):
+        c = i
+        for _ in range(8):
+            c = (0xEDB88320 ^ (c >> 1)) if c & 1 else c >> 1
+        t[i] = c
+    return t
+
+
+#: CRC-32 (IEEE 802.3, reflected, the table of zlib.crc32)
+_CRC32 = _crc_table()
+
+
+def _decode_state(enc, vals):                                # pragma: no cover (compiled)
+    """A COBS chunk (uint8, no delimiter) holding a valid state frame: COBS decode,
+    CRC-32, header and length checks, then ``vals[:n + 6]`` = the float32 values.
+    Returns ``(ok, seq, t_us, status, n)``; ok False for anything else (the caller
+    then takes the Python route, which says why)."""
+    m = enc.shape[0]
+    p = np.empty(m, dtype=np.uint8)
+    k = 0
+    i = 0
+    while i < m:
+        code = np.int64(enc[i])
+        if code == 0 or i + code > m:
+            return False, 0, np.uint64(0), 0, 0
+        for j in range(i + 1, i + code):
+            p[k] = enc[j]
+            k += 1
+        i += code
+        if code < 0xFF and i < m:
+            p[k] = 0
+            k += 1
+    if k < 8:
+        return False, 0, np.uint64(0), 0, 0
+    crc = np.uint32(0xFFFFFFFF)
+    for j in range(k - 4):
+        crc = _CRC32[(crc ^ p[j]) & np.uint32(0xFF)] ^ (crc >> np.uint32(8))
+    crc = crc ^ np.uint32(0xFFFFFFFF)
+    want = (np.uint32(p[k - 4]) | (np.uint32(p[k - 3]) << np.uint32(8))
+            | (np.uint32(p[k - 2]) << np.uint32(16)) | (np.uint32(p[k - 1]) << np.uint32(24)))
+    length = np.int64(p[2]) | (np.int64(p[3]) << 8)
+    if crc != want or p[0] != 1 or p[1] != 0x53 or length != k - 8 or length < 15:
+        return False, 0, np.uint64(0), 0, 0
+    n = np.int64(p[18])
+    if n < 1 or n > 32 or length != 15 + 4 * (n + 6) or vals.shape[0] < n + 6:
+        return False, 0, np.uint64(0), 0, 0
+    seq = 0
+    for j in range(4):
+        seq |= np.int64(p[4 + j]) << (8 * j)
+    t = np.uint64(0)
+    for j in range(8):
+        t |= np.uint64(p[8 + j]) << np.uint64(8 * j)
+    status = np.int64(p[16]) | (np.int64(p[17]) << 8)
+    f = np.empty(n + 6, dtype=np.float32)
+    fb = f.view(np.uint8)
+    for j in range(4 * (n + 6)):
+        fb[j] = p[19 + j]
+    for j in range(n + 6):
+        vals[j] = f[j]
+    return True, seq, t, status, n
+
+
 _COMPILED: dict = {}
 
 
@@ -120,6 +195,41 @@ def _jit(name, func):
         import numba
         f = _COMPILED[name] = numba.njit(cache=True)(func)
     return f
+
+
+#: entries of the fused cycle's ``out`` besides the L torques: pose, base-frame wrench,
+#: admittance pose and twist (6 each), FK residual, FK iterations, saturated
+CYCLE_OUT = 27
+
+
+def cycle_params(pd, safety, adm, weight: float, scaling, *, fk_tol: float = 1e-4,
+                 fk_iter: tuple = (8, 40)):
+    """The parameter vector ``prm`` and environment table ``env`` of the fused cycle
+    (``cycle`` of :func:`build`), from a controller's gains, limits and admittance.
+
+    ``prm`` (33,): FK tolerance, FK iterations (warm, cold), max FK residual, σmin,
+    max condition, kp, kd, ki, derivative filter T, torque limit, projected (0/1),
+    gravity compensation (0/1), hand feed-forward (0/1), weight (N), S (6), virtual
+    mass (6), virtual damping (6).  ``env`` (n, 25), one row per element in the
+    scene's order: a Spring ``0, p0 (3), R0ᵀ (9, row-major), k (6), d (6)``; a Wall
+    ``1, normal (3), offset, stiffness, damping`` (zero padded).
+    """
+    prm = np.array([fk_tol, fk_iter[0], fk_iter[1], safety.max_fk_residual,
+                    safety.sigma_min, safety.max_condition, pd.kp, pd.kd, pd.ki,
+                    pd.derivative_filter_s, pd.torque_limit,
+                    float(pd.distribution == "projected"), float(pd.gravity_compensation),
+                    float(pd.hand_feedforward), weight, *scaling, *adm.mass, *adm.damping],
+                   dtype=float)
+    env = np.zeros((len(adm.environment), 25))
+    for r, e in enumerate(adm.environment):
+        if e.kind == "spring":
+            env[r, 1:4], env[r, 4:13] = e._p0, np.ravel(e._R0t)
+            env[r, 13:19], env[r, 19:25] = e._k, e._d
+        else:
+            env[r, 0] = 1.0
+            env[r, 1:4] = np.asarray(e.normal, dtype=float)
+            env[r, 4:7] = e.offset, e.stiffness, e.damping
+    return prm, env
 
 
 def reading_extremes(a, w):
@@ -157,6 +267,12 @@ closure = numba.njit(cache=True)(closure)
 forward = numba.njit(cache=True)(forward)
 singular_values = numba.njit(cache=True)(singular_values)
 project = numba.njit(cache=True)(project)
+normal_equations = numba.njit(cache=True)(normal_equations)
+_near_singular = numba.njit(cache=True)(_near_singular)
+_environment = numba.njit(cache=True)(_environment)
+cycle = numba.njit(cache=True)(cycle)
+drive = numba.njit(cache=True)(drive)
+plant_dynamics = numba.njit(cache=True)(plant_dynamics)
 """
 
 
@@ -174,6 +290,29 @@ def kernel_module(name: str, path: str):
 def jitted(name: str):
     """``"solve"``: :func:`_solve_into` compiled (numba's disk cache)."""
     return _jit(name, {"solve": _solve_into}[name])
+
+
+def state_decoder():
+    """A fast route for :class:`.protocol.FrameDecoder` (its ``state_decoder``): a COBS
+    chunk -> the :class:`.protocol.StateFrame` it holds, by one compiled call that
+    does what :func:`.protocol.cobs_decode` and :func:`.protocol.decode_payload` do
+    for a valid state frame (the same values, bit for bit), or None for anything else
+    (the decoder then takes the Python route and its error reasons)."""
+    from .protocol import MAX_JOINTS, StateFrame
+    f = _jit("decode_state", _decode_state)
+    vals = np.empty(MAX_JOINTS + 6)
+    for buf in (b"\x01", bytearray(b"\x01")):           # compile now: both signatures
+        f(np.frombuffer(buf, dtype=np.uint8), vals)
+    frombuffer, u8 = np.frombuffer, np.uint8
+
+    def decode(chunk):
+        v = np.empty(MAX_JOINTS + 6)
+        ok, seq, t_us, status, n = f(frombuffer(chunk, dtype=u8), v)
+        if not ok:
+            return None
+        return StateFrame(seq, int(t_us), status, v[:n], v[n:n + 6])
+
+    return decode
 
 
 def _rotation_files():
@@ -239,7 +378,8 @@ def build(kernels, L: int) -> CycleKernels:
     ik, jacobian, closure = w.ik, w.jacobian, w.closure
     forward, singular_values, project = w.forward, w.singular_values, w.project
     ck = CycleKernels(int(L), ik, jacobian, closure, forward, singular_values, project,
-                      w.rotate, w.rotate_wrench, w.spring_wrench)
+                      w.rotate, w.rotate_wrench, w.spring_wrench, w.cycle,
+                      w.drive, w.plant_dynamics)
     # compile now: the first control cycle must not wait for the compiler
     pose = np.zeros(6)
     q = np.zeros(L)
@@ -256,5 +396,13 @@ def build(kernels, L: int) -> CycleKernels:
         ck.spring_wrench(np.zeros(6), np.zeros(6), np.zeros(3), R0t, np.zeros(6),
                          np.zeros(6), np.zeros(6))
     ck.rotate_pose(np.zeros(6), np.zeros(3), np.zeros(3))
+    env = np.zeros((2, 25))
+    env[1, 0] = 1.0
+    for started in (False, True):
+        ck.cycle(np.zeros(L), np.zeros(6), 1e-3, started, True, np.zeros(6), np.zeros(6),
+                 np.zeros(6), np.zeros((5, L)), np.zeros(33), env, np.zeros(CYCLE_OUT + L))
+    ck.drive(np.zeros(L), np.zeros(L), 1.0, 1.0, np.zeros(L))
+    ck.plant_dynamics(np.zeros(6), np.zeros(6), np.zeros(L), np.zeros(L), np.zeros(L),
+                      np.zeros(6), np.eye(6), np.zeros(4), np.zeros(12 + L))
     _BUILT[key] = ck
     return ck

@@ -13,7 +13,8 @@ import math
 import numpy as np
 
 __all__ = ["ik", "jacobian", "closure", "forward", "singular_values", "project",
-           "rotate_wrench", "spring_wrench"]
+           "rotate_wrench", "spring_wrench", "cycle", "drive", "plant_dynamics",
+           "normal_equations"]
 
 #: bound by the footer of each copy
 ik_k = reach_k = jac_k = clo_k = solve = rotate = rot_k = log_k = None
@@ -109,21 +110,27 @@ def singular_values(J, S):  # pragma: no cover (compiled)
     return math.sqrt(max(ev[0], 0.0)), math.sqrt(max(ev[5], 0.0))
 
 
-def project(J, tau, w, out):  # pragma: no cover (compiled)
+def normal_equations(J, v, w, A, b):  # pragma: no cover (compiled)
+    """``A = JᵀJ`` (6, 6) and ``b = Jᵀv + w`` (6,) for J (n, 6), v (n,), w (6,)."""
     n = J.shape[0]
-    A = np.empty((6, 6))
-    b = np.empty(6)
-    x = np.empty(6)
     for i in range(6):
         s = 0.0
         for k in range(n):
-            s += J[k, i] * tau[k]
+            s += J[k, i] * v[k]
         b[i] = s + w[i]
         for j in range(6):
             s = 0.0
             for k in range(n):
                 s += J[k, i] * J[k, j]
             A[i, j] = s
+
+
+def project(J, tau, w, out):  # pragma: no cover (compiled)
+    n = J.shape[0]
+    A = np.empty((6, 6))
+    b = np.empty(6)
+    x = np.empty(6)
+    normal_equations(J, tau, w, A, b)
     if not solve(A, b, x):
         return False
     for k in range(n):
@@ -149,3 +156,255 @@ def spring_wrench(pose, twist, p0, R0t, k, d, out):  # pragma: no cover (compile
     for i in range(3):
         out[i] = -k[i] * (pose[i] - p0[i]) - d[i] * twist[i]
         out[3 + i] = -k[3 + i] * v[i] - d[3 + i] * twist[3 + i]
+
+
+def _near_singular(J, prm):  # pragma: no cover (compiled)
+    """Controller.near_singular: σmin(J S⁻¹) < sigma_min or cond > max_condition.
+
+    Decided without the eigenvalues where that is possible: with G = (J S⁻¹)ᵀ(J S⁻¹),
+    σmin < s ⟺ G - s² I is not positive definite (its Cholesky factorisation meets a
+    pivot <= 0), and when σmin >= s, σmax² <= trace G <= (max_condition s)² rules out
+    the condition test; otherwise the eigenvalues decide (:func:`singular_values`).
+    The same decisions up to rounding at the thresholds themselves."""
+    n = J.shape[0]
+    S = prm[15:21]
+    for k in range(n):
+        for j in range(6):
+            if not math.isfinite(J[k, j]):
+                return True
+    s2 = prm[4] * prm[4]
+    A = np.empty((6, 6))
+    tr = 0.0
+    for i in range(6):
+        for j in range(i + 1):
+            s = 0.0
+            for k in range(n):
+                s += (J[k, i] / S[i]) * (J[k, j] / S[j])
+            A[i, j] = s
+        tr += A[i, i]
+        A[i, i] -= s2
+    for j in range(6):                                     # Cholesky of G - s² I
+        d = A[j, j]
+        for k in range(j):
+            d -= A[j, k] * A[j, k]
+        if not d > 0.0:
+            return True
+        d = math.sqrt(d)
+        A[j, j] = d
+        for i in range(j + 1, 6):
+            s = A[i, j]
+            for k in range(j):
+                s -= A[i, k] * A[j, k]
+            A[i, j] = s / d
+    c = prm[5] * prm[4]
+    if tr <= c * c:
+        return False
+    lo, hi = singular_values(J, S)
+    return lo < prm[4] or hi > prm[5] * lo
+
+
+def _environment(pose, twist, env, w):  # pragma: no cover (compiled)
+    """w = Σ wrench of each Spring / Wall row of ``env``, in the scene's order."""
+    for i in range(6):
+        w[i] = 0.0
+    M = np.empty((3, 3))
+    e = np.empty(6)
+    for r in range(env.shape[0]):
+        row = env[r]
+        if row[0] == 0.0:                                    # Spring.wrench
+            R = rot_k(pose[3:])
+            for a in range(3):
+                for b in range(3):
+                    M[a, b] = (R[a, 0] * row[4 + b] + R[a, 1] * row[7 + b]
+                               + R[a, 2] * row[10 + b])
+            v = log_k(M)
+            for i in range(3):
+                e[i] = -row[13 + i] * (pose[i] - row[1 + i]) - row[19 + i] * twist[i]
+                e[3 + i] = -row[16 + i] * v[i] - row[22 + i] * twist[3 + i]
+        else:                                                # Wall.wrench
+            for i in range(6):
+                e[i] = 0.0
+            d = row[1] * pose[0] + row[2] * pose[1] + row[3] * pose[2] - row[4]
+            if d > 0.0:
+                nv = row[1] * twist[0] + row[2] * twist[1] + row[3] * twist[2]
+                f = row[5] * d + row[6] * max(nv, 0.0)
+                for i in range(3):
+                    e[i] = -max(f, 0.0) * row[1 + i]
+        for i in range(6):
+            w[i] += e[i]
+
+
+def cycle(q, ws, dt, started, run, guess, adm_pose, adm_twist, pd, prm, env,
+          out):  # pragma: no cover (compiled)
+    """Steps 2-8 of :meth:`.controller.Controller.compute` in one call (the layouts of
+    ``prm``, ``env``, ``pd`` and ``out`` are those of :func:`.cycle_kernels.cycle_params`).
+
+    Returns 0 (set point accepted), 1 (FK failed), 2 (singular stop), 3 (not in RUN:
+    zero torque), 4 / 5 (candidate refused: unreachable / singular), 6 (the torque
+    distribution's 6 × 6 system is singular).  ``pd`` (rows e_prev, d_prev, d_f, ∫e;
+    ``pd[4, 0]`` 1 once e_prev holds an error) is updated in place.
+    """
+    L = q.shape[0]
+    pose = out[0:6]
+    w = out[6:12]
+    apose = out[12:18]
+    atwist = out[18:24]
+    tau = out[24:24 + L]
+    # 2. forward kinematics, warm-started
+    mi = prm[1] if started else prm[2]
+    res, it, conv = forward(q, guess, prm[0], int(mi), pose)
+    out[24 + L] = res
+    out[25 + L] = it
+    out[26 + L] = 0.0
+    if not conv or res > prm[3]:
+        return 1
+    if not started:                                          # Controller.start_at
+        for i in range(6):
+            apose[i] = pose[i]
+            atwist[i] = 0.0
+        for k in range(4):
+            for i in range(L):
+                pd[k, i] = 0.0
+        pd[4, 0] = 0.0
+    else:
+        for i in range(6):
+            apose[i] = adm_pose[i]
+            atwist[i] = adm_twist[i]
+    # 3. the sensor wrench in the base frame; the guard at the measured pose
+    rotate_wrench(pose[3:], ws, w)
+    J = np.empty((L, 6))
+    jacobian(pose, J)
+    for i in range(L):
+        tau[i] = 0.0
+    if _near_singular(J, prm):
+        return 2
+    if not run:
+        return 3
+    # 3. admittance: one semi-implicit Euler step (Admittance.propose)
+    we = np.empty(6)
+    _environment(apose, atwist, env, we)
+    tw = np.empty(6)
+    for i in range(6):
+        wi = w[i] + we[i]
+        tw[i] = atwist[i] + dt * (wi - prm[27 + i] * atwist[i]) / prm[21 + i]
+    cand = rotate(apose, tw[:3] * dt, tw[3:] * dt)
+    # 4-5. refuse an unreachable or near-singular candidate (Controller.check_pose)
+    qd = np.empty(L)
+    code = 0
+    ok = ik(cand, qd)
+    for i in range(L):
+        if not math.isfinite(qd[i]):
+            ok = False
+    if not ok:
+        code = 4
+    else:
+        Jc = np.empty((L, 6))
+        jacobian(cand, Jc)
+        if _near_singular(Jc, prm):
+            code = 5
+    if code:
+        for i in range(6):                                   # Admittance.refuse
+            atwist[i] = 0.0
+        ik(apose, qd)
+    else:
+        for i in range(6):                                   # Admittance.commit
+            apose[i] = cand[i]
+            atwist[i] = tw[i]
+    # 6. PD(I) with the forward-Euler filtered derivative (Controller.filter_derivative)
+    T = prm[9]
+    for i in range(L):
+        e = qd[i] - q[i]
+        d_raw = 0.0 if pd[4, 0] == 0.0 else (e - pd[0, i]) / dt
+        if T > 0:
+            pd[2, i] = pd[2, i] + (dt / T) * (pd[1, i] - pd[2, i])
+        else:
+            pd[2, i] = d_raw
+        pd[1, i] = d_raw
+        pd[0, i] = e
+        tau[i] = prm[6] * e + prm[7] * pd[2, i]
+        if prm[8] != 0.0:
+            lim = prm[10] / prm[8]
+            pd[3, i] = min(max(pd[3, i] + e * dt, -lim), lim)
+            tau[i] = tau[i] + prm[8] * pd[3, i]
+    pd[4, 0] = 1.0
+    # 7. distribution and feed-forward
+    wff = np.zeros(6)
+    if prm[13] != 0.0:
+        for i in range(6):
+            wff[i] = -w[i]
+    if prm[12] != 0.0:
+        wff[2] += prm[14]
+    if prm[11] != 0.0:
+        t2 = np.empty(L)
+        if not project(J, tau, wff, t2):
+            return 6
+        tau[:] = t2
+    elif prm[12] != 0.0 or prm[13] != 0.0:
+        t2 = np.empty(L)
+        if not project(J, np.zeros(L), wff, t2):
+            return 6
+        for i in range(L):
+            tau[i] = tau[i] + t2[i]
+    # 8. saturation by one common factor
+    peak = 0.0
+    for i in range(L):
+        peak = max(peak, abs(tau[i]))
+    if peak > prm[10]:
+        f = prm[10] / peak
+        for i in range(L):
+            tau[i] = tau[i] * f
+        out[26 + L] = 1.0
+    return code
+
+
+def drive(tau, qdot, stall, w_nl, out):  # pragma: no cover (compiled)
+    """:meth:`.plant.Plant.drive`: ``out`` the torques the drives deliver (N·m); True
+    if any was limited."""
+    sat = False
+    for i in range(tau.shape[0]):
+        t = tau[i]
+        motoring = np.sign(t) == np.sign(qdot[i])
+        avail = stall
+        if motoring:
+            avail = stall * min(max(1.0 - abs(qdot[i]) / w_nl, 0.0), 1.0)
+        o = min(max(t, -avail), avail)
+        out[i] = o
+        if o != t:
+            sat = True
+    return sat
+
+
+def plant_dynamics(pose, twist, q, qdot, tau, hand, M, prm, out):  # pragma: no cover (compiled)
+    """One semi-implicit Euler step of :meth:`.plant.Plant.step` after the drives:
+    ``(M + j_r JᵀJ) V̇ = Jᵀ(tau - b q̇) + w_h + w_g``.  ``prm`` = (b, m g, j_r, dt);
+    ``out`` (12 + L,) = new pose, twist, q.  False: a mechanical end stop (singular
+    or unreachable), ``out`` undefined."""
+    L = q.shape[0]
+    J = np.empty((L, 6))
+    jacobian(pose, J)
+    v = np.empty(L)
+    for k in range(L):
+        v[k] = tau[k] - prm[0] * qdot[k]
+    w = np.empty(6)
+    A = np.empty((6, 6))
+    normal_equations(J, v, hand, A, w)
+    for i in range(6):
+        for j in range(6):
+            A[i, j] = M[i, j] + prm[2] * A[i, j]
+    w[2] -= prm[1]
+    for i in range(6):
+        if not math.isfinite(w[i]):
+            return False
+        for j in range(6):
+            if not math.isfinite(A[i, j]):
+                return False
+    a = np.linalg.solve(A, w)
+    dt = prm[3]
+    for i in range(6):
+        out[6 + i] = twist[i] + dt * a[i]
+    out[0:6] = rotate(pose, out[6:9] * dt, out[9:12] * dt)
+    ok = ik(out[0:6], out[12:12 + L])
+    for k in range(L):
+        if not math.isfinite(out[12 + k]):
+            ok = False
+    return ok

@@ -9,6 +9,8 @@ the line is counted in :class:`LinkStats`.
 
 from __future__ import annotations
 
+import os
+import select
 import time
 from dataclasses import asdict, dataclass
 
@@ -48,6 +50,16 @@ class LinkStats:
         return asdict(self)
 
 
+def _fast_state_decoder():
+    """The compiled state-frame decoder (:func:`.cycle_kernels.state_decoder`), or None
+    (the Python route) where numba cannot compile or cache it."""
+    try:
+        from .cycle_kernels import state_decoder
+        return state_decoder()
+    except (ImportError, OSError):
+        return None
+
+
 class Link:
     """A framed, counted, deadline-bounded connection to a device.
 
@@ -70,13 +82,21 @@ class Link:
         import serial  # the only place distkin imports pyserial
         self._serial_mod = serial
         self.url = url
+        self.poll_s = poll_s
         try:
             self._ser = serial.serial_for_url(url, baudrate=baudrate, timeout=poll_s,
                                               write_timeout=write_timeout_s)
         except (serial.SerialException, OSError, ValueError) as exc:
             raise LinkError(f"expected an openable serial URL, got {url!r} ({exc})",
                             field="port") from None
-        self._dec = FrameDecoder()
+        # a device file (a UART, a pty): read it by os.read on its non-blocking
+        # descriptor, everything available in one call, and wait by select; other
+        # URLs (loop://, socket://) through pyserial's read
+        self._fd = None
+        posix = getattr(serial, "serialposix", None)
+        if posix is not None and isinstance(self._ser, posix.Serial):
+            self._fd = self._ser.fileno()
+        self._dec = FrameDecoder(state_decoder=_fast_state_decoder())
         self.stats = LinkStats()
         self._last_seq = None
         self._last_write_ok = time.perf_counter()
@@ -87,6 +107,29 @@ class Link:
     def _sync_decoder_stats(self) -> None:
         s, d = self.stats, self._dec
         s.bad_frames, s.resyncs, s.garbage_bytes = d.bad_frames, d.resyncs, d.garbage_bytes
+
+    def _read_fd(self, wait: float) -> bytes:
+        """Everything the device file holds now; if nothing, wait up to ``wait`` s for
+        bytes to arrive and take what came.  b"" if nothing arrived."""
+        fd = self._fd
+        try:
+            try:
+                data = os.read(fd, 65536)       # VMIN = 0 (pyserial): b"" if empty
+            except BlockingIOError:
+                data = b""
+            if not data:
+                if wait <= 0 or not select.select([fd], [], [], wait)[0]:
+                    return b""
+                data = os.read(fd, 65536)
+                if not data:                    # pyserial's reading of this case too
+                    raise OSError("the device reports data to read but returned none")
+        except BlockingIOError:
+            return b""
+        except OSError as exc:
+            raise LinkError(f"expected a connected device on {self.url}, got a "
+                            f"disconnect ({exc})", field="port") from None
+        self.stats.bytes_in += len(data)
+        return data
 
     def _read_some(self) -> bytes:
         try:
@@ -126,8 +169,13 @@ class Link:
         """
         deadline = time.perf_counter() + timeout_s
         latest = None
+        fd = self._fd
         while True:
-            data = self._read_some()
+            if fd is not None:
+                data = self._read_fd(0.0 if latest is not None else
+                                     min(self.poll_s, deadline - time.perf_counter()))
+            else:
+                data = self._read_some()
             if data:
                 for msg in self._dec.feed(data):
                     if isinstance(msg, StateFrame):
@@ -139,7 +187,10 @@ class Link:
                     else:
                         self.stats.unexpected_frames += 1
                 self._sync_decoder_stats()
-                if latest is not None and self._ser.in_waiting == 0:
+                # return once nothing more is waiting (a device file: a read that did
+                # not fill the line discipline's 4 KiB took all there was)
+                if latest is not None and (len(data) < 4096 if fd is not None
+                                           else self._ser.in_waiting == 0):
                     return latest
             elif latest is not None:
                 return latest
@@ -165,7 +216,10 @@ class Link:
         """
         data = encode_command(cmd.seq, cmd.ack, cmd.mode, cmd.torques, cmd.flags)
         try:
-            self._ser.write(data)
+            if self._fd is not None:
+                self._write_fd(data)
+            else:
+                self._ser.write(data)
         except self._serial_mod.SerialTimeoutException:
             now = time.perf_counter()
             self.stats.write_timeouts += 1
@@ -179,6 +233,28 @@ class Link:
         self.stats.frames_out += 1
         self.stats.bytes_out += len(data)
         return True
+
+    def _write_fd(self, data: bytes) -> None:
+        """Write all of ``data`` to the device file (os.write on the non-blocking
+        descriptor; pyserial's write would also wait for the port to be writable
+        again after every complete write); wait for room at most ``write_timeout_s``
+        (then pyserial's SerialTimeoutException, with part of the frame maybe sent)."""
+        fd = self._fd
+        view = memoryview(data)
+        deadline = None
+        while True:
+            try:
+                n = os.write(fd, view)
+            except BlockingIOError:
+                n = 0
+            if n == len(view):
+                return
+            view = view[n:]
+            now = time.perf_counter()
+            if deadline is None:
+                deadline = now + self._ser.write_timeout
+            if now >= deadline or not select.select([], [fd], [], deadline - now)[1]:
+                raise self._serial_mod.SerialTimeoutException("Write timeout")
 
     def write_raw(self, data: bytes) -> None:
         """Send raw bytes (tests and fault injection on loopback links)."""

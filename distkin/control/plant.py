@@ -127,11 +127,23 @@ class Plant:
         self.saturated = False
         self.end_stop_hits = 0
         self._q_hold = None
+        # compiled drives and dynamics when the model has compiled kernels (the same
+        # equations; the numpy route below is the reference)
+        self._ck = getattr(self.model, "compiled", None)
+        mo = self.motors
+        self._w_nl = mo.no_load_speed
+        self._dyn = np.array([mo.friction, self.m * mo.gravity, mo.joint_inertia, 0.0])
+        self._noise = np.repeat([mo.force_noise, mo.torque_noise], 3)
 
     def drive(self, tau_cmd) -> np.ndarray:
         """The torque the drives deliver for ``tau_cmd`` at the current speed (N·m)."""
         mo = self.motors
         tau = np.asarray(tau_cmd, dtype=float)
+        if self._ck is not None:
+            out = np.empty(tau.shape[0])
+            self.saturated = bool(self._ck.drive(tau, self.qdot, mo.stall_torque,
+                                                 self._w_nl, out))
+            return out
         motoring = np.sign(tau) == np.sign(self.qdot)
         avail = np.where(motoring,
                          mo.stall_torque * np.clip(1.0 - np.abs(self.qdot) / mo.no_load_speed,
@@ -157,9 +169,17 @@ class Plant:
             self.saturated = False
             tau = np.zeros(self.model.L)
         self.tau = tau
-        J = self.model.jacobian(self.pose)
         f = self.hand.force(self.t)
         self.hand_wrench = np.concatenate([f, np.zeros(3)])
+        if self._ck is not None:
+            self._dyn[3] = dt
+            L = self.model.L
+            out = np.empty(12 + L)
+            ok = self._ck.plant_dynamics(self.pose, self.twist, self.q, self.qdot, tau,
+                                         self.hand_wrench, self.M, self._dyn, out)
+            self._advance(bool(ok), out[0:6], out[6:12], out[12:], dt)
+            return
+        J = self.model.jacobian(self.pose)
         w = J.T @ (tau - mo.friction * self.qdot) + self.hand_wrench
         w[2] -= self.m * mo.gravity
         Meff = self.M + mo.joint_inertia * (J.T @ J)
@@ -169,6 +189,10 @@ class Plant:
             pose = rotate_pose(self.pose, twist[:3] * dt, twist[3:] * dt)
             q, ok = self.model.ik(pose)
             ok = ok and bool(np.all(np.isfinite(q)))
+        self._advance(ok, pose if ok else None, twist if ok else None,
+                      q if ok else None, dt)
+
+    def _advance(self, ok, pose, twist, q, dt) -> None:
         if ok:
             self.pose, self.twist = pose, twist
             self.qdot = (q - self.q) / dt
@@ -186,10 +210,14 @@ class Plant:
 
     def sensor(self) -> np.ndarray:
         """F/T reading (6,) in the sensor (platform) frame: the hand wrench plus noise."""
-        R = _rot(self.pose[3:])
-        f = R.T @ self.hand_wrench[:3] + self.rng.normal(0.0, self.motors.force_noise, 3)
-        m = R.T @ self.hand_wrench[3:] + self.rng.normal(0.0, self.motors.torque_noise, 3)
-        return np.concatenate([f, m])
+        Rt = _rot(self.pose[3:]).T
+        # six standard normals scaled: the numbers of normal(0, σ_f, 3) then
+        # normal(0, σ_t, 3) (the generator draws element by element; 0 + σ z = σ z)
+        noise = self.rng.standard_normal(6) * self._noise
+        out = np.empty(6)
+        out[:3] = Rt @ self.hand_wrench[:3] + noise[:3]
+        out[3:] = Rt @ self.hand_wrench[3:] + noise[3:]
+        return out
 
     def status(self) -> int:
         return STATUS_SATURATED if self.saturated else 0

@@ -289,8 +289,11 @@ class FrameDecoder:
         Bytes discarded.
     """
 
-    def __init__(self, max_frame: int = MAX_FRAME):
+    def __init__(self, max_frame: int = MAX_FRAME, *, state_decoder=None):
         self.max_frame = max_frame
+        #: optional fast route: chunk -> StateFrame, or None to take the Python route
+        #: (:func:`distkin.control.cycle_kernels.state_decoder`)
+        self.state_decoder = state_decoder
         self._buf = bytearray()
         self._lost = False
         self.frames = 0
@@ -324,11 +327,13 @@ class FrameDecoder:
             if len(chunk) > self.max_frame:
                 self._bad("oversize", len(chunk))
                 continue
-            try:
-                msg = decode_payload(cobs_decode(chunk))
-            except ProtocolError as exc:
-                self._bad(exc.reason, len(chunk))
-                continue
+            msg = None if self.state_decoder is None else self.state_decoder(chunk)
+            if msg is None:
+                try:
+                    msg = decode_payload(cobs_decode(chunk))
+                except ProtocolError as exc:
+                    self._bad(exc.reason, len(chunk))
+                    continue
             if self._lost:
                 self.resyncs += 1
                 self._lost = False

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["CsvLog", "EventLog", "read_csv", "read_events", "plot_run"]
+__all__ = ["CsvLog", "EventLog", "read_csv", "read_events", "plot_run", "timing_summary"]
 
 
 class CsvLog:
@@ -105,6 +105,19 @@ class EventLog:
 
     def count(self, event: str) -> int:
         return sum(1 for e in self.events if e["event"] == event)
+
+
+def timing_summary(compute, compute_cpu, periods) -> dict:
+    """Percentiles (p50, p99, max; ms, rounded to 0.1 µs) of a run's compute time per
+    cycle in wall and CPU time (lists of s) and of its periods (s); None when empty."""
+    def pct(x, q):
+        x = np.asarray(x) * 1e3
+        return round(float(np.percentile(x, q)), 4) if x.size else None
+
+    return {"cycle_p50_ms": pct(compute, 50), "cycle_p99_ms": pct(compute, 99),
+            "cycle_max_ms": pct(compute, 100), "cycle_cpu_p50_ms": pct(compute_cpu, 50),
+            "cycle_cpu_p99_ms": pct(compute_cpu, 99), "period_p50_ms": pct(periods, 50),
+            "period_p99_ms": pct(periods, 99), "period_max_ms": pct(periods, 100)}
 
 
 def read_csv(path) -> dict:

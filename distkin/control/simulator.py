@@ -38,6 +38,7 @@ from .plant import Plant
 from .protocol import (FLAG_KEEPALIVE, MODE_ZERO_TORQUE, STATUS_DEVICE_WATCHDOG,
                        CommandFrame, FrameDecoder, encode_state)
 from .runlog import CsvLog, EventLog
+from .scheduling import realtime, restore, tight_timer_slack
 
 __all__ = ["PtyTransport", "TcpTransport", "Disconnected", "Simulator", "serve",
            "IDLE_TIMEOUT_S"]
@@ -161,6 +162,7 @@ class Simulator:
         self.plant = Plant(model, cfg.motors, cfg.hand, seed=cfg.seed)
         self.transport = transport
         self.period = 1.0 / scene.rate_hz
+        self.realtime = scene.realtime
         self.faults = FaultInjector(faults, seed=cfg.seed + 1)
         self.decoder = FrameDecoder()
         L = model.L
@@ -207,6 +209,12 @@ class Simulator:
     def run(self, seconds: float | None = None) -> str:
         """Serve until the host disconnects, a disconnect fault, a signal, or
         ``seconds`` of device time.  Returns the reason."""
+        tight_timer_slack()
+        rt = None
+        if self.realtime:
+            rt, why = realtime()
+            if why:
+                self.events.add(self.plant.t, "realtime_refused", message=why)
         seq = 0
         next_tick = time.perf_counter()
         self.last_command_wall = None
@@ -264,6 +272,7 @@ class Simulator:
                             last_mode=int(self.command.mode),
                             last_max_abs_torque=float(np.max(np.abs(self.command.torques))))
         finally:
+            restore(rt)
             self.log.flush()
         return reason
 

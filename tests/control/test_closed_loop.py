@@ -135,3 +135,24 @@ def test_the_logs_plot(run, tmp_path):
     from distkin.control.runlog import plot_run
     out = plot_run(run["prefix"], tmp_path / "run.png")
     assert out[0].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_a_4khz_realtime_scene_runs_the_same_loop(tmp_path):
+    """``rate_hz = 4000`` with ``realtime = true``: the loop answers every state frame
+    (lock-stepped, widened windows), the device advances its physics in 0.25 ms steps,
+    and the real-time request is either granted or reported as an event (never an
+    error).  Rates and periods are BENCHMARKS.md's business, not this test's."""
+    text = robust_scene_text(rate_hz=4000).replace('preset = "octo"',
+                                                   'preset = "octo"\nrealtime = true', 1)
+    (tmp_path / "scene.toml").write_text(text, encoding="utf-8")
+    proc = run_cli(["control", "--sim", "--scene", tmp_path / "scene.toml", "--seconds",
+                    0.5, "--log", tmp_path / "run", "--json", "-", "--wall-limit", 60],
+                   tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    s = json.loads(proc.stdout)
+    assert s["exit_reason"] == "completed" and s["bad_frames"] == 0
+    assert s["cycles"] >= 0.95 * 2000 and s["device_seconds"] == pytest.approx(0.5, abs=1e-3)
+    dev = read_csv(tmp_path / "run.device.csv")
+    np.testing.assert_allclose(np.diff(dev["t"]), 2.5e-4, rtol=1e-9)
+    events = {e["event"] for e in read_events(tmp_path / "run.events.jsonl")}
+    assert events <= {"zero_torque", "realtime_refused"}

@@ -10,10 +10,11 @@ import pytest
 
 from distkin.control.admittance import Spring
 from distkin.control.config import builtin_scene
-from distkin.control.controller import SCALING
+from distkin.control.controller import FAULT, RUN, SCALING, Controller
 from distkin.control.cycle_kernels import reading_extremes
 from distkin.control.kinematics import _rot, load_model, rotate_pose
 from distkin.control.loopback import run_loopback
+from distkin.control.protocol import StateFrame
 
 
 @pytest.fixture(scope="module")
@@ -121,10 +122,89 @@ def test_the_first_cycle_compiles_nothing():
         mods = [m for k, m in sys.modules.items() if k.startswith("distkin_cycle_")]
         out = {(m.__name__, n): len(getattr(m, n).signatures) for m in mods
                for n in ("ik", "jacobian", "closure", "forward", "singular_values",
-                         "project", "rotate_wrench", "spring_wrench", "rotate")}
+                         "project", "rotate_wrench", "spring_wrench", "rotate", "cycle")}
         out.update({k: len(f.signatures) for k, f in cycle_kernels._COMPILED.items()})
         return out
 
+    cycle_kernels.state_decoder()    # made (and compiled) when a Link or loopback starts
     before = signatures()
     run_loopback(dataclasses.replace(builtin_scene(), preset="octo"), model, 0.05)
     assert signatures() == before
+
+
+def _frames(model, n, seed):
+    """State frames along a path that crosses the example's wall (x = 20 mm) with hand
+    wrenches strong enough to drive the set point to the reach boundary."""
+    rng = np.random.default_rng(seed)
+    for k in range(n):
+        pose = model.home + np.array([0.04 * math.sin(k / 60), 0.01, 0.0, 0.02, 0.0, 0.01])
+        q, _ = model.ik(pose)
+        q = q + 2e-4 * rng.standard_normal(model.L)
+        f = -30.0 * np.sign(math.sin(k / 90)) if k > 50 else 2.0
+        yield StateFrame(k, 1000 * k, 0, q, np.array([f, -f / 3, 1.0, 0.05, -0.02, 0.01])
+                         + 0.02 * rng.standard_normal(6)), 1e-3 * (1 + 0.2 * rng.random())
+
+
+@pytest.mark.parametrize("variant", [
+    {},
+    {"pd": {"distribution": "independent", "ki": 30.0, "derivative_filter_s": 0.0,
+            "hand_feedforward": False, "torque_limit": 0.8}},
+    {"pd": {"gravity_compensation": False, "hand_feedforward": False}},
+    {"safety": {"sigma_min": 0.16}},
+])
+def test_the_fused_cycle_makes_the_same_decisions_as_the_python_steps(models, variant):
+    """Controller.compute by the fused compiled cycle against the same controller's
+    Python steps (same kinematic kernels, same frames): the same decisions (accepted,
+    reason, mode, saturation, FK iterations) cycle by cycle, states and torques to
+    rounding -- through wall contact, refusals at the reach boundary, a fault period
+    (zero torque) and, with a stricter guard, singular stops."""
+    fast = models[0]
+    sc = builtin_scene()
+    sc = dataclasses.replace(sc, preset="octo",
+                             pd=dataclasses.replace(sc.pd, **variant.get("pd", {})),
+                             safety=dataclasses.replace(sc.safety, **variant.get("safety", {})))
+    a, b = Controller(sc, fast), Controller(sc, fast, fused=False)
+    assert a._fused is not None and b._fused is None
+    seen = set()
+    for k, (frame, dt) in enumerate(_frames(fast, 600, 7)):
+        for ctl in (a, b):
+            ctl.state = FAULT if 300 <= k < 320 else RUN
+        ra, rb = a.compute(frame, dt), b.compute(frame, dt)
+        seen.add(rb.reason or ("saturated" if rb.saturated else "ok"))
+        assert (ra.accepted, ra.reason, ra.mode, ra.saturated, ra.fk_iterations) == \
+            (rb.accepted, rb.reason, rb.mode, rb.saturated, rb.fk_iterations), k
+        for x, y in ((ra.torques, rb.torques), (ra.pose, rb.pose), (ra.wrench, rb.wrench),
+                     (ra.desired, rb.desired), (a.adm.twist, b.adm.twist)):
+            if y is None:
+                assert x is None
+            else:
+                np.testing.assert_allclose(x, y, rtol=1e-10, atol=1e-12)
+        assert ra.fk_residual == pytest.approx(rb.fk_residual, rel=1e-9, abs=1e-15)
+    assert a.refused == b.refused
+    expected = {"singular_stop"} if "safety" in variant else {"unreachable", "ok"}
+    assert expected <= seen, seen
+
+
+def test_the_compiled_plant_steps_like_the_numpy_plant(models):
+    """Plant.step with the compiled drives and dynamics (a compiled model) against the
+    numpy route (the reference model): run, hold and zero-torque periods, torques
+    beyond what the drives deliver -- the same states to rounding, the same saturation
+    flags and end-stop hits."""
+    from distkin.control.plant import Plant
+    from distkin.control.protocol import MODE_HOLD, MODE_RUN, MODE_ZERO_TORQUE
+    sc = builtin_scene()
+    fast, ref = (Plant(m, sc.simulator.motors, sc.simulator.hand, seed=3) for m in models)
+    assert fast._ck is not None and ref._ck is None
+    rng = np.random.default_rng(8)
+    for k in range(1500):
+        mode = MODE_RUN if k < 900 else MODE_HOLD if k < 1200 else MODE_ZERO_TORQUE
+        tau = rng.normal(0.0, 0.4 if k % 300 else 60.0, fast.model.L)
+        for p in (fast, ref):
+            p.step(tau, mode, 2.5e-4)
+        assert fast.saturated == ref.saturated and fast.end_stop_hits == ref.end_stop_hits
+        # rounding (the 6 × 6 solve, sums in another order) grows through q̇ = Δq/dt
+        for x, y, tol in ((fast.pose, ref.pose, 1e-12), (fast.q, ref.q, 1e-12),
+                          (fast.twist, ref.twist, 1e-8), (fast.tau, ref.tau, 1e-8)):
+            np.testing.assert_allclose(x, y, rtol=0, atol=tol)
+    assert np.abs(fast.pose - fast.model.home).max() > 1e-3       # it moved
+    assert np.array_equal(fast.encoders(), ref.encoders())

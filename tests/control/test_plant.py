@@ -82,3 +82,23 @@ def test_encoders_are_quantised_and_the_sensor_reads_in_the_platform_frame(model
     assert np.abs(p.encoders() - p.q).max() <= mo.resolution / 2 + 1e-15
     # a base-frame force along +x is along -y of a platform frame turned by +90 deg
     np.testing.assert_allclose(p.sensor()[:3], [0.0, -3.0, 0.0], atol=1e-12)
+
+
+def test_sensor_noise_is_three_force_then_three_torque_draws():
+    """The F/T reading is the hand wrench in the sensor frame plus N(0, σ_f) on the
+    forces and N(0, σ_t) on the torques, drawn in that order from the plant's seeded
+    generator (one draw of six scaled standard normals gives the same numbers)."""
+    from distkin.control.config import builtin_scene
+    from distkin.control.kinematics import _rot
+    sc = builtin_scene()
+    mo = sc.simulator.motors
+    plant = Plant(load_model("octo", compiled=False), mo, sc.simulator.hand, seed=9)
+    for _ in range(50):
+        plant.step(np.full(plant.model.L, 0.1), 1, 1e-3)
+    plant.hand_wrench = np.array([1.0, -2.0, 0.5, 0.01, 0.02, -0.03])
+    rng = np.random.default_rng(9)
+    rng.bit_generator.state = plant.rng.bit_generator.state
+    Rt = _rot(plant.pose[3:]).T
+    want = np.concatenate([Rt @ plant.hand_wrench[:3] + rng.normal(0.0, mo.force_noise, 3),
+                           Rt @ plant.hand_wrench[3:] + rng.normal(0.0, mo.torque_noise, 3)])
+    assert np.array_equal(plant.sensor(), want)
