@@ -152,6 +152,9 @@ kind = "legs"
 octahedral = {{ base = [[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]], platform = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]] }}
 height = 17
 {extra}
+[[query]]
+type = "inverse_kinematics"
+poses = [[6, 3.46, 17, 0, 0, 0]]
 """
     with pytest.raises(InputError) as exc:
         loads_scene(text)
@@ -166,9 +169,13 @@ length = "none"
 kind = "legs"
 octahedral = { base = [[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]], platform = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]] }
 height = 17
+[[query]]
+type = "inverse_kinematics"
+poses = [[6, 3.46, 17, 0, 0, 0]]
 """
-    with pytest.raises(InputError):
+    with pytest.raises(InputError) as exc:
         loads_scene(text)
+    assert exc.value.field == "units.length" and "legs" in str(exc.value)
 
 
 def _run(args, tmp_path):
@@ -252,3 +259,35 @@ store = "store"
     bad.write_text(head + '[[query]]\ntype = "certify_workspace"\n')
     r = _run([str(bad)], tmp_path)
     assert r.returncode == 2 and "query[0].region" in r.stderr
+
+
+@pytest.mark.parametrize("kind", ["standard", "stoughton_arai", "griffis_duffy"])
+def test_fig2_approximation_scene_legs_match_the_delta_module(kind):
+    """``approximation = { kind, delta }``: our IK at a pose equals the leg lengths of
+    distkin.delta.offset_study.leg_lengths on the same Platform66 (its own frame), in cm."""
+    from distkin.delta import approximation
+    from distkin.delta.offset_study import leg_lengths
+    from distkin.spatial import rotation_matrix
+    text = f"""
+[units]
+length = "cm"
+[mechanism]
+kind = "legs"
+octahedral = {{ base = [[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]], platform = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]] }}
+approximation = {{ kind = "{kind}", delta = "1/2" }}
+origin = [0, 0, 0]
+height = 17
+[[query]]
+type = "inverse_kinematics"
+poses = [[6, 3.46, 17, 0, 0, 0]]
+"""
+    m = loads_scene(text).mechanism
+    assert m.octahedral() is None and len({leg.platform for leg in m.leg_table}) == 6
+    plat = approximation(([[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]],
+                          [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]]), kind, "1/2")
+    x = m.home + [0.004, -0.003, 0.01, 0.1, -0.05, 0.2]
+    # our frame is the platform frame turned over (180 deg about x), origin at P4
+    R = rotation_matrix(x[3:]) @ np.diag([1.0, -1.0, -1.0])
+    want = np.asarray(leg_lengths(plat, R, x[:3] / 0.01), dtype=float) * 0.01
+    q, _ = m.inverse_kinematics(x)
+    assert np.max(np.abs(q - want)) < 1e-14
