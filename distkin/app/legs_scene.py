@@ -28,7 +28,9 @@
     # solution nearer q = 0 at home)
 
 Meaning of every field: :mod:`distkin.mechanisms.legs`.  Exactly one of
-``[[mechanism.leg]]`` and ``legs_csv``.
+``[[mechanism.leg]]``, ``legs_csv`` and ``octahedral`` (the prismatic platforms of Rojas
+et al.: the octahedral manipulator, its Δ 6-6 platform and the Fig. 2 approximations,
+:mod:`distkin.app.platform_scene`).
 
 CSV (``legs_csv``): one header row, one row per leg, in the scene's units, columns
 (:data:`CSV_COLUMNS`; an empty cell is a field not given; any order; unknown columns
@@ -57,7 +59,7 @@ from ..mechanisms.kinematics import LegMechanism
 from ..mechanisms.legs import LEG_FIELDS, PRISMATIC_TYPES
 from .units import angle_factor, length_factor
 
-__all__ = ["parse_legs", "CSV_COLUMNS", "legs_csv_text", "legs_toml_text"]
+__all__ = ["parse_legs", "parse_home", "CSV_COLUMNS", "legs_csv_text", "legs_toml_text"]
 
 _VECTORS = ("base", "platform", "axis", "crank0", "crank90", "offset")
 _LENGTH_VECTORS = ("base", "platform", "offset")
@@ -180,7 +182,8 @@ def parse_legs(table, units, field, scene_path=None):
     check_keys(table, {"kind", "name", "home", "mass", "inertia", "scale", "leg", "legs_csv",
                        "route"}, field)
     if ("leg" in table) == ("legs_csv" in table):
-        raise InputError("expected exactly one of [[mechanism.leg]] tables and legs_csv, got "
+        raise InputError("expected exactly one of [[mechanism.leg]] tables, legs_csv and "
+                         "octahedral, got "
                          f"{'both' if 'leg' in table else 'neither'}", field=field)
     if "leg" in table:
         raw = table["leg"]
@@ -207,12 +210,7 @@ def parse_legs(table, units, field, scene_path=None):
                 exc.hint = where(i)
                 exc.args = (exc.one_line(),)
             raise
-    home = require(table, "home", field)
-    if not isinstance(home, list) or len(home) != 6:
-        raise InputError(f"expected [x, y, z, rx, ry, rz], got {home!r}", field=f"{field}.home")
-    af = angle_factor(units)
-    home = tuple([_length(v, units, f"{field}.home[{i}]") for i, v in enumerate(home[:3])]
-                 + [_number(v, f"{field}.home[{i + 3}]") * af for i, v in enumerate(home[3:])])
+    home = parse_home(require(table, "home", field), units, f"{field}.home")
     kw = {k: _number(table[k], f"{field}.{k}") for k in ("mass", "inertia") if k in table}
     if "scale" in table:
         kw["scale"] = _length(table["scale"], units, f"{field}.scale")
@@ -235,6 +233,15 @@ def parse_legs(table, units, field, scene_path=None):
             fld = f"{field}.{fld}" if fld else field
         exc.field = None
         raise exc.with_field(fld) from None
+
+
+def parse_home(home, units, fld):
+    """A scene's ``home`` pose [x, y, z, rx, ry, rz] (scene units) in m and rad."""
+    if not isinstance(home, list) or len(home) != 6:
+        raise InputError(f"expected [x, y, z, rx, ry, rz], got {home!r}", field=fld)
+    af = angle_factor(units)
+    return tuple([_length(v, units, f"{fld}[{i}]") for i, v in enumerate(home[:3])]
+                 + [_number(v, f"{fld}[{i + 3}]") * af for i, v in enumerate(home[3:])])
 
 
 def legs_csv_text(mech, *, length_unit: str = "m") -> str:

@@ -28,6 +28,10 @@ def _singularity():
     from .queries import singularity  # noqa: F401
 
 
+def _leg_singularity():
+    from .queries import leg_singularity  # noqa: F401
+
+
 def _mechanisms():
     from .queries import mechanisms  # noqa: F401
 
@@ -55,7 +59,7 @@ def _control():
 QUERY_MODULES: dict[str, tuple] = {
     "cayley_menger": (_geometry,),
     "delta_transform": (_delta,),
-    "singularity": (_singularity,),
+    "singularity": (_singularity, _leg_singularity),
     "inverse_kinematics": (_mechanisms,),
     "jacobian": (_mechanisms,),
     "performance": (_indices,),

@@ -92,6 +92,9 @@ def _parse_rss(table, units, field):
 
 
 def _parse_legs(table, units, field, path=None):
+    if isinstance(table, dict) and "octahedral" in table:
+        from .platform_scene import parse_platform_legs
+        return parse_platform_legs(table, units, field)
     from .legs_scene import parse_legs
     return parse_legs(table, units, field, path)
 

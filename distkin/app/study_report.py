@@ -19,6 +19,7 @@ from .query import Outcome
 from ..indices.isotropy import SCALING_READINGS
 from ..indices.study import (CAPABILITIES, PAPER_TABLE4, SENSITIVITIES, TRUE_VELOCITIES, Device,
                     run_device, summarise)
+from ..indices.actuators import leg_limits, limit_text
 from ..indices.study_findings import findings, row_definition, row_reason
 from ..indices.workspace import design_criteria, dexterous_workspace
 
@@ -41,6 +42,21 @@ def _f(x, digits=4):
 
 def _ratio(x):
     return "—" if x is None or not math.isfinite(x) else f"{x:.3g}×"
+
+
+def _limits_text(summaries) -> dict:
+    """The run's actuator limits as text with units per actuator type (one text, or one
+    per device when they differ), for the row definitions."""
+    out = {}
+    for which in ("nominal", "stall", "rate"):
+        texts = {s["label"]: s["actuator_limits"]["text"][which] for s in summaries
+                 if "actuator_limits" in s}
+        if not texts:
+            continue
+        vals = set(texts.values())
+        out[which] = vals.pop() if len(vals) == 1 else " / ".join(
+            f"{t} ({label})" for label, t in texts.items())
+    return out
 
 
 def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
@@ -68,10 +84,13 @@ def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
                 paper = ratio = reason = "—"
             lines.append(f"| {label} [{unit}] | {s['label']} (±{s['rotation_deg']:.0f}°) | "
                          f"{same} | {ours} | {paper} | {ratio} | {reason} |")
+    limits = _limits_text(summaries)
     lines += ["", "Definitions: " + "; ".join(
-        f"{lab}: {row_definition(q, sensitivity)[1]}" for q, lab, _ in _ROWS)]
-    lines += ["", "Table IV analogue: GII = min σmin / max σmax of ST⁻¹Jᵀ over the Table II "
-              "orientations (±20°), same definition as the paper (yes; which matrix ST "
+        f"{lab}: {row_definition(q, sensitivity, limits)[1]}" for q, lab, _ in _ROWS)]
+    rots = sorted({f"±{s['isotropy']['rotation_deg']:.0f}°" for s in summaries})
+    lines += ["", "Table IV analogue: GII = min σmin / max σmax of ST⁻¹Jᵀ over the "
+              f"orientations ({', '.join(rots)}; the paper: Table II's ±20°), same "
+              "definition as the paper (yes; which matrix ST "
               "scales is not printed: our reading ST⁻¹Jᵀ, distkin.indices.isotropy); ours "
               "beside Kühne et al. Table IV.", "",
               "| Kinematics | same def. | GII ours | paper | ratio | σmin ours | paper | ratio "
@@ -92,7 +111,8 @@ def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
                _ratio(i.get("ratio_sigma_min")), _f(i["sigma_max"]),
                _f(i.get("paper_sigma_max")), _ratio(i.get("ratio_sigma_max")), reason]
         lines.append("| " + " | ".join(row) + " |")
-    lines += ["", "Readings of Stocco's scaling (σmin / σmax over the ±20° orientations; "
+    lines += ["", f"Readings of Stocco's scaling (σmin / σmax over the {', '.join(rots)} "
+              "orientations; "
               "the GII is the same for the readings that differ by a factor or an "
               "inverse); the paper's Table IV in the last column.", "",
               "| Kinematics | " + " | ".join(SCALING_READINGS.values()) + " | paper |",
@@ -107,14 +127,16 @@ def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
     return "\n".join(lines)
 
 
-def certify_cube(mech, width: float, executor=None):
-    """Fig. 3 analogue: the 150 mm cube at zero rotation certified (regular / singular /
-    undecided, :func:`distkin.certify.certify_workspace`)."""
+def certify_cube(mech, width: float, executor=None, half: float = 0.075):
+    """Fig. 3 analogue: the cube of half-width ``half`` (m; the paper's 150 mm cube by
+    default) about the home position at the home rotation certified (regular / singular
+    / undecided, :func:`distkin.certify.certify_workspace`)."""
     from ..certify.boxes import REGULAR, SINGULAR
     from ..certify.workspace import certify_workspace
-    h = 0.075
-    lo = np.array([-h, -h, mech.z0 - h, 0, 0, 0])
-    hi = np.array([h, h, mech.z0 + h, 0, 0, 0])
+    h = half
+    c = np.asarray(mech.home, dtype=float)
+    lo = c - np.array([h, h, h, 0, 0, 0])
+    hi = c + np.array([h, h, h, 0, 0, 0])
     cert = certify_workspace(mech, lo, hi, [width] * 3 + [1.0] * 3, executor=executor)
     if np.any(cert.status == SINGULAR):
         return "singular", cert
@@ -157,7 +179,8 @@ def _finding_text(f):
 
 _NOTES = (
     "Every row is over the Table II positions (the grid of the scene) and the device's "
-    "orientations (±20° for L = 6, ±30° for L = 8; Table IV over ±20°).  The geometry "
+    "orientations (the ± range of each row; the paper: ±20° for L = 6, ±30° for L = 8, "
+    "Table IV over ±20°).  The geometry "
     "the paper does not print (l3, the reading of Fig. 2, the HEXA's and Ergin's "
     "parameters) is ours (distkin.mechanisms.presets; every reading tried, with its "
     "Table IV figures: docs/fig2_readings.md).  Table III's rows are extremes over the "
@@ -180,10 +203,19 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
                                   ST=p.scaling, route=p.route, progress=ctx.progress,
                                   sensitivity=p.sensitivity)
             s = summarise(dev, per)
+            lim = leg_limits(d.mech, actuators)
+            s["actuator_limits"] = {
+                "nominal": lim["nominal"].tolist(), "stall": lim["stall"].tolist(),
+                "rate": lim["rate"].tolist(), "prismatic": lim["prismatic"].tolist(),
+                "units": "nominal/stall: N·m (revolute), N (prismatic); rate: rad/s "
+                         "(revolute), m/s (prismatic)",
+                "text": {w: limit_text(lim, w) for w in ("nominal", "stall", "rate")}}
             if p.certify:
                 t0 = time.perf_counter()
-                certified[d.label], certs[d.label] = certify_cube(d.mech, p.certify_width, ex)
-                s["certificate"] = {"zero_rotation_cube": certified[d.label],
+                half = 0.075 if d.mech.kind == "rss" else (max(grid.x) - min(grid.x)) / 2
+                certified[d.label], certs[d.label] = certify_cube(d.mech, p.certify_width, ex,
+                                                                  half)
+                s["certificate"] = {"zero_rotation_cube": certified[d.label], "cube_half_m": half,
                                     "seconds": time.perf_counter() - t0,
                                     **{k: v for k, v in certs[d.label].summary().items()
                                        if k.endswith("fraction")}}
@@ -230,7 +262,8 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
                      f"{dw['cells']} of {dw['cells_total']} grid cells = "
                      f"{dw['volume_m3'] * 1e6:.0f} cm³ of {dw['grid_volume_m3'] * 1e6:.0f} cm³ "
                      f"({dw['volume_nodes_m3'] * 1e6:.0f} cm³ by dual cells)"
-                     + (f"; 150 mm cube at zero rotation certified {cert['zero_rotation_cube']}"
+                     + (f"; {2e3 * cert.get('cube_half_m', 0.075):.4g} mm cube about home "
+                        f"at its rotation certified {cert['zero_rotation_cube']}"
                         if cert else ""))
     lines += ["", tables, "", "Findings of the paper:"]
     lines += [_finding_text(f) for f in fnd]
@@ -274,7 +307,7 @@ def _plots(stem, grids, per_all, summaries, actuators, tables, result, certs, pi
             out.append(_fig5(dstem, label, mech, grid, mask))
         # Fig. 6: the plane nearest z = z0
         nx, ny, nz = len(grid.x), len(grid.y), len(grid.z)
-        iz = int(np.argmin(np.abs(np.asarray(grid.z) - mech.z0)))
+        iz = int(np.argmin(np.abs(np.asarray(grid.z) - mech.home[2])))
         panels = [(title, unit, per[f"{name}_min"].reshape(nx, ny, nz)[:, :, iz])
                   for name, title, unit, *_ in CAPABILITIES]
         rot = math.degrees(max(abs(v) for v in grid.rx))
@@ -283,7 +316,8 @@ def _plots(stem, grids, per_all, summaries, actuators, tables, result, certs, pi
         if s["worst_force_pose"] is not None:
             pose = np.asarray(s["worst_force_pose"])
             J = mech.jacobian(pose[None])[0]
-            out.append(plot_force_polytope(dstem, label, J.T, actuators["nominal_torque"],
+            out.append(plot_force_polytope(dstem, label, J.T,
+                                           np.asarray(s["actuator_limits"]["nominal"]),
                                            pose))
         if label in certs:
             from ..certify.plot import plot_certificate
@@ -294,10 +328,13 @@ def _plots(stem, grids, per_all, summaries, actuators, tables, result, certs, pi
 def _fig5(stem, label, mech, grid, mask):
     """Fig. 5: reachable positions at zero rotation on a larger grid, boundary only."""
     from ..indices.plots import plot_workspace
-    ax = np.arange(-0.300, 0.3001, 0.015)
-    X, Y, Z = np.meshgrid(ax, ax, mech.z0 + ax, indexing="ij")
+    half = (max(grid.x) - min(grid.x)) / 2
+    cube = max(half, 0.075) if mech.kind == "rss" else half   # rss: the paper's 150 mm cube
+    ax = np.linspace(-4 * cube, 4 * cube, 41)                # rss: -300 ... 300 mm, 15 mm
+    c = np.asarray(mech.home, dtype=float)
+    X, Y, Z = np.meshgrid(c[0] + ax, c[1] + ax, c[2] + ax, indexing="ij")
     P = np.stack([X.ravel(), Y.ravel(), Z.ravel()], axis=1)
-    ok = mech.reachable(np.hstack([P, np.zeros_like(P)])).reshape(X.shape)
+    ok = mech.reachable(np.hstack([P, np.broadcast_to(c[3:], P.shape)])).reshape(X.shape)
     inner = ok.copy()                      # boundary: reachable with an unreachable neighbour
     for axis in range(3):
         for shift in (1, -1):
@@ -307,8 +344,7 @@ def _fig5(stem, label, mech, grid, mask):
             nb[tuple(edge)] = False
             inner &= nb
     boundary = (ok & ~inner).ravel()
-    half = (max(grid.x) - min(grid.x)) / 2
-    return plot_workspace(stem, label, P[boundary], max(half, 0.075), mech.z0,
+    return plot_workspace(stem, label, P[boundary], cube, c[:3],
                           grid.positions()[mask])
 
 

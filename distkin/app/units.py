@@ -62,11 +62,11 @@ def parse_units(raw) -> Units:
 
 
 def length_factor(units, field) -> float:
-    """Metres per scene length unit; RSS scenes need a physical unit."""
+    """Metres per scene length unit; rss and legs scenes need a physical unit."""
     f = units.length_factor
     if f is None:
-        raise InputError("expected a physical length unit (m, mm, cm) for an rss mechanism, "
-                         "got 'none'", field="units.length")
+        raise InputError("expected a physical length unit (m, mm, cm, km) for an rss or legs "
+                         "mechanism, got 'none'", field="units.length")
     return float(f)
 
 
@@ -79,7 +79,7 @@ def length_value(value, units, field) -> float:
     """A scene length (exact text or number) in metres (float)."""
     f = units.length_factor
     if f is None:
-        raise InputError("expected a physical length unit for an rss scene, got 'none'",
+        raise InputError("expected a physical length unit for an rss or legs scene, got 'none'",
                          field="units.length")
     return float(parse_exact(value, field)) * float(f)
 

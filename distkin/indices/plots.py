@@ -31,7 +31,9 @@ def _plt():
 
 def plot_workspace(path, label, reach_pts, cube_half, z0, dexterous_pts=None):
     """Fig. 5.  ``reach_pts`` (n, 3) positions on the boundary of the workspace at zero
-    rotation (m); ``dexterous_pts`` the dexterous positions of the sweep grid."""
+    rotation (m); ``dexterous_pts`` the dexterous positions of the sweep grid; the cube
+    of half-width ``cube_half`` (m) about ``z0``: a height (centre (0, 0, z0)) or a
+    centre (3,) (m)."""
     plt = _plt()
     fig = plt.figure(figsize=(7, 6))
     ax = fig.add_subplot(projection="3d")
@@ -43,8 +45,10 @@ def plot_workspace(path, label, reach_pts, cube_half, z0, dexterous_pts=None):
         D = np.asarray(dexterous_pts) * 1e3
         ax.scatter(D[:, 0], D[:, 1], D[:, 2], s=6, c="tab:green", alpha=0.6,
                    label="dexterous (eq. 17) on the sweep grid")
-    h, z = cube_half * 1e3, z0 * 1e3
-    c = np.array([[x, y, zz] for x in (-h, h) for y in (-h, h) for zz in (z - h, z + h)])
+    h = cube_half * 1e3
+    cx, cy, cz = (np.array([0.0, 0.0, z0]) if np.ndim(z0) == 0 else np.asarray(z0)) * 1e3
+    c = np.array([[x, y, zz] for x in (cx - h, cx + h) for y in (cy - h, cy + h)
+                  for zz in (cz - h, cz + h)])
     for i in range(8):
         for j in range(i + 1, 8):
             if np.sum(c[i] != c[j]) == 1:
@@ -52,7 +56,7 @@ def plot_workspace(path, label, reach_pts, cube_half, z0, dexterous_pts=None):
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
     ax.set_zlabel("z [mm]")
-    ax.set_title(f"{label}: workspace (blue) and desired 150 mm cube (red)")
+    ax.set_title(f"{label}: workspace (blue) and desired {2 * h:.4g} mm cube (red)")
     ax.legend(loc="upper left", fontsize=8)
     out = Path(str(path) + "_fig5_workspace.png")
     fig.savefig(out, dpi=110, bbox_inches="tight")
@@ -85,13 +89,14 @@ def plot_plane(path, label, xs, ys, z, panels, rotation_deg):
 def force_slice_polytope(Gw, limit):
     """Vertices and hull of the force polytope at zero torque of one pose.
 
-    ``Gw`` (6, L) = Jᵀ, limits ±``limit``.  Returns (vertices (n, 3), hull simplices,
+    ``Gw`` (6, L) = Jᵀ, limits ±``limit`` (a number or (L,): per leg, N·m or N).  Returns (vertices (n, 3), hull simplices,
     worst-case radius) from the zonotope's half-spaces (:mod:`.zonotope`).
     """
     from scipy.spatial import ConvexHull, HalfspaceIntersection
     from .zonotope import _facets
     L = Gw.shape[1]
-    n, h, _ = _facets(Gw[None], np.zeros((1, L)), np.full((1, L), float(limit)))
+    n, h, _ = _facets(Gw[None], np.zeros((1, L)),
+                      np.broadcast_to(np.asarray(limit, dtype=float), (1, L)).copy())
     nS = n[0][:, :3]
     keep = np.linalg.norm(nS, axis=1) > 1e-12 * np.linalg.norm(n[0], axis=1)
     A = np.vstack([nS[keep], -nS[keep]])

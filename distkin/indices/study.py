@@ -100,7 +100,10 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         m and rad.
     actuators : dict
         ``nominal_torque`` [N·m], ``stall_torque`` [N·m], ``velocity`` [rad/s]
-        (symmetric limits ±value).
+        (symmetric limits ±value) for revolute legs; ``nominal_force`` [N],
+        ``stall_force`` [N], ``speed`` [m/s] for prismatic legs; a leg's own effort
+        ``limit`` is its nominal effort (:mod:`.actuators`: per-leg limits, units per
+        actuator type).
     ST : 6 floats
         Scaling matrix diagonal (:mod:`.isotropy`).
     route : {"kernels", "numpy"}
@@ -124,7 +127,8 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         :data:`QUANTITIES`, in the units of :data:`CAPABILITIES`,
         :data:`TRUE_VELOCITIES` and :data:`SENSITIVITIES`; ``sigma_*`` dimensionless
         (``sigma_min``/``sigma_max``: the chosen reading ST⁻¹Jᵀ; ``sigma_*_<reading>``
-        the others of :data:`SIGMA_READINGS`); ``transmission_min`` = min_i |Jq_ii|/l1;
+        the others of :data:`SIGMA_READINGS`); ``transmission_min`` = min_i |Jq_ii|/l1_i
+        (l1_i the crank of leg i, 1 for a prismatic leg);
         ``det_sign`` the sign of det J (L = 6; 1 for L = 8).
     """
     poses = np.asarray(poses, dtype=float)
@@ -163,14 +167,30 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         else np.array([mech.mass] * 3 + [mech.inertia] * 3)
     if not n:
         return ok, {q: np.zeros(0) for q in QUANTITIES}
+    from .actuators import leg_limits, per_leg_capabilities, uniform_limits
+    lim = leg_limits(mech, actuators)
+    act = uniform_limits(lim)
+    act_run = act if act is not None else dict(ACTUATORS)
     if compiled and 6 <= mech.L <= 8:
-        out = _indices_compiled(J, Jq, M, actuators, ST, sensitivity)
+        out = _indices_compiled(J, Jq, M, act_run, ST, sensitivity)
     else:
-        out = _indices_numpy(J, Jq, M, actuators, ST, sensitivity)
-    out["transmission_min"] = np.abs(Jq).min(axis=1) / mech.l1
+        out = _indices_numpy(J, Jq, M, act_run, ST, sensitivity)
+    if act is None:                    # limits differ between legs (or actuator types)
+        out.update(per_leg_capabilities(J, M, lim, CAPABILITIES, TRUE_VELOCITIES))
+    out["transmission_min"] = np.min(np.abs(Jq) / _transmission_lengths(mech), axis=1)
     # L = 6: a sign change of det J between reachable poses encloses a singularity
     out["det_sign"] = np.sign(np.linalg.det(J)) if mech.L == 6 else np.ones(n)
     return ok, out
+
+
+def _transmission_lengths(mech):
+    """(L,) the length each leg's |Jq_ii| is divided by in ``transmission_min``: its crank
+    (m; the sine of its transmission angle) for a revolute leg, 1 for a prismatic one
+    (|Jq_ii| = 1: full transmission); an RSS description's common l1."""
+    legs = getattr(mech, "leg_table", None)
+    if legs is None:
+        return np.full(mech.L, mech.l1)
+    return np.array([1.0 if leg.prismatic else leg.crank for leg in legs])
 
 
 def _indices_numpy(J, Jq, M, actuators, ST, sensitivity):

@@ -15,22 +15,22 @@ import math
 
 from .study import PAPER_TABLE3, PAPER_TABLE4
 
-__all__ = ["DEFINITIONS", "row_definition", "row_reason", "findings", "FIG3"]
+__all__ = ["DEFINITIONS", "PAPER_LIMITS", "row_definition", "row_reason", "findings", "FIG3"]
 
 #: Fig. 3 of the paper (translational workspace at zero rotation): singular regions?
 FIG3 = {"hunt": False, "hexa": True, "ergin": True}
 
 #: row -> (same definition as the paper?, what we compute)
 DEFINITIONS = {
-    "force": ("yes", "eq. (6) zonotope {Jᵀτ}, |τ| <= 2.5 N·m, sliced at zero torque (14), "
+    "force": ("yes", "eq. (6) zonotope {Jᵀτ}, |τ| <= {nominal}, sliced at zero torque (14), "
                      "nearest boundary (15)"),
     "torque": ("yes", "eq. (6), sliced at zero force"),
-    "velocity": ("yes", "eq. (5) as written: the zonotope {J# q̇}, |q̇| <= 51 rad/s, at zero "
+    "velocity": ("yes", "eq. (5) as written: the zonotope {J# q̇}, |q̇| <= {rate}, at zero "
                         "angular velocity (for L = 8 it contains velocities the device "
                         "cannot make: see the true-set row)"),
     "angular_velocity": ("yes", "eq. (5), at zero translational velocity"),
     "acceleration": ("yes", "eq. (7) with Mq = J#ᵀM̂J# (the printed Mq = JᵀM̂J does not "
-                            "type-check), i.e. {M̂⁻¹Jᵀτ}, |τ| <= 34.2 N·m, at zero angular "
+                            "type-check), i.e. {M̂⁻¹Jᵀτ}, |τ| <= {stall}, at zero angular "
                             "acceleration"),
     "angular_acceleration": ("yes", "eq. (7), at zero linear acceleration"),
     "velocity_true": ("no", "the true set {ẋ : |Jẋ|∞ <= q̇max} at zero angular velocity "
@@ -43,11 +43,21 @@ _SENS = {"slice": ("yes", "eq. (16) after the slice (14): |p|∞ <= 1, farthest 
                               "free (about 2× the slice)")}
 
 
-def row_definition(row: str, sensitivity: str = "slice"):
-    """(``"yes"``/``"no"``, description) for a Table III row."""
+#: the paper's actuator limits (Sec. III-B-3), as :func:`row_definition` prints them
+PAPER_LIMITS = {"nominal": "2.5 N·m", "stall": "34.2 N·m", "rate": "51 rad/s"}
+
+
+def row_definition(row: str, sensitivity: str = "slice", limits: dict | None = None):
+    """(``"yes"``/``"no"``, description) for a Table III row; ``limits`` the run's
+    actuator limits as text with units (``nominal``, ``stall``, ``rate``;
+    :func:`~.actuators.limit_text`; default :data:`PAPER_LIMITS`)."""
     if row.startswith("sens_"):
         return _SENS[sensitivity]
-    return DEFINITIONS[row]
+    same, text = DEFINITIONS[row]
+    lim = dict(PAPER_LIMITS, **(limits or {}))
+    for k, v in lim.items():
+        text = text.replace("{" + k + "}", v)
+    return same, text
 
 
 def _kind(row):

@@ -20,7 +20,8 @@ singularity-free workspace of :mod:`.boxes` over a region of poses::
 
 ``region`` holds x, y, z (absolute, length unit) and the rotation parameters rx, ry, rz
 (angle unit, R = Rz Ry Rx); a coordinate with ``lower == upper`` is fixed.  Default: the
-paper's 150 mm cube about (0, 0, z0) at zero rotation (Kühne et al., Table II, Fig. 3).
+paper's 150 mm cube about (0, 0, z0) at zero rotation (Kühne et al., Table II, Fig. 3)
+for an ``rss`` mechanism; a ``legs`` mechanism must give its region.
 ``min_width`` defaults to 1/16 of the largest positional extent, ``min_angle`` to 1/8 of
 the largest rotational extent.
 
@@ -101,6 +102,10 @@ class CertifyWorkspaceQuery:
             lower = np.array(_vector(reg["lower"], f"{field}.region.lower")) * scale
             upper = np.array(_vector(reg["upper"], f"{field}.region.upper")) * scale
         else:
+            if mechanism.kind != "rss":
+                raise InputError("expected a region for a legs mechanism (the default, the "
+                                 "paper's 150 mm cube, belongs to its devices), got none",
+                                 field=f"{field}.region")
             h = 0.075
             lower = np.array([-h, -h, mechanism.z0 - h, 0, 0, 0])
             upper = np.array([h, h, mechanism.z0 + h, 0, 0, 0])

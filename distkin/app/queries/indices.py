@@ -14,17 +14,22 @@
     ]
     grid = { half = 75, step = 10, rotation_step = 5 }   # Table II (the default)
     actuators = { nominal_torque = 2.5, stall_torque = 34.2, velocity = 51 }  # SI
+    # prismatic legs: nominal_force, stall_force (N), speed (m/s); a leg's own effort
+    # limit is its nominal effort (distkin.indices.actuators)
     scaling = [15, 15, 15, 1, 1, 1]              # ST (N, N, N, N·m, N·m, N·m)
     thresholds = { velocity = 1.0, acceleration = 9.81, force = 0.0 }          # SI
     sensitivity = "slice"                        # the paper's eqs. (14)/(16) | "projection" (Cardou)
-    certify = true                               # Fig. 3: certify the 150 mm cube at zero rotation
+    certify = true                               # Fig. 3: certify the 150 mm cube (rss; legs: the
+                                                 # grid's cube) about home at its rotation
     certify_width = 18.75                        # its resolution (scene length unit)
     chunk_positions = 32                         # positions per resumable chunk
     workers = 2                                  # local processes (1: in process)
     scheduler = "tcp://host:8786"                # optional: a dask.distributed cluster
     store = "sweeps/study"                       # chunk store (default: the cache)
 
-Each device takes any ``rss`` mechanism parameter (``l2 = 25.6``, ``gamma = 13.18``...)
+A device without ``preset`` is the scene's own mechanism (``rss`` or ``legs``; e.g.
+``{ label = "mine", rotation = 10 }`` beside the presets).
+Each preset device takes any ``rss`` mechanism parameter (``l2 = 25.6``, ``gamma = 13.18``...)
 in the scene's units, ``rotation`` (the ± range of the grid about every axis),
 ``inner_rotation`` (a smaller range also reduced separately: Table IV's GII is over
 Table II's ±20°) and ``paper`` (the Table III/IV column to compare with; default the
@@ -72,9 +77,9 @@ def _num(value, field):
     return float(parse_exact(value, field))
 
 
-def _si_table(raw, field, defaults):
+def _si_table(raw, field, defaults, extra=()):
     t = as_table(raw, field)
-    check_keys(t, set(defaults), field)
+    check_keys(t, set(defaults) | set(extra), field)
     out = dict(defaults)
     for k, v in t.items():
         x = _num(v, f"{field}.{k}")
@@ -84,8 +89,15 @@ def _si_table(raw, field, defaults):
     return out
 
 
-def _grid(raw, units, field, z0, rotation):
+def _grid(raw, units, field, centre, rotation):
+    """The pose grid of a device: ``half``/``step`` about ``centre`` (the mechanism's
+    home pose (6,), m and rad; a number: (0, 0, z0, 0, 0, 0))."""
     from ...indices.workspace import axis_values, PoseGrid
+    c = np.zeros(6)
+    if np.ndim(centre) == 0:
+        c[2] = centre
+    else:
+        c[:] = centre
     t = as_table(raw if raw is not None else {}, field)
     check_keys(t, {"half", "step", "rotation", "rotation_step"}, field)
     half = length_value(t["half"], units, f"{field}.half") if "half" in t else 0.075
@@ -97,7 +109,7 @@ def _grid(raw, units, field, z0, rotation):
     tr = axis_values(-half, half, step, f"{field}.step")
     rr = axis_values(-rotation, rotation, rstep, f"{field}.rotation_step") if rotation > 0 \
         else np.zeros(1)
-    return PoseGrid(tuple(tr), tuple(tr), tuple(z0 + tr), tuple(rr), tuple(rr), tuple(rr))
+    return PoseGrid(*(tuple(c[i] + (tr if i < 3 else rr)) for i in range(6)))
 
 
 @dataclass(frozen=True)
@@ -137,9 +149,17 @@ def _parse_device(d, mechanism, units, field):
     label = require(d, "label", field)
     if not isinstance(label, str) or not label:
         raise InputError(f"expected a non-empty label, got {label!r}", field=f"{field}.label")
-    mtable = {"kind": "rss", "preset": require(d, "preset", field)}
-    mtable.update({k: d[k] for k in _RSS_KEYS if k in d})
-    mech = parse_rss(mtable, units, field)
+    if "preset" not in d:                      # the scene's own mechanism (rss or legs)
+        extra = sorted(k for k in _RSS_KEYS if k in d)
+        if extra:
+            raise InputError(f"expected a preset with the parameters {extra} (without one "
+                             "the device is the scene's mechanism, as it is)",
+                             field=f"{field}.preset")
+        mech, mtable = mechanism, {}
+    else:
+        mtable = {"kind": "rss", "preset": d["preset"]}
+        mtable.update({k: d[k] for k in _RSS_KEYS if k in d})
+        mech = parse_rss(mtable, units, field)
     rotation = angle_value(d["rotation"], units, f"{field}.rotation") if "rotation" in d \
         else 20 * DEG
     inner = angle_value(d["inner_rotation"], units, f"{field}.inner_rotation") \
@@ -148,6 +168,8 @@ def _parse_device(d, mechanism, units, field):
         raise InputError(f"expected inner_rotation <= rotation, got {d.get('inner_rotation')!r}",
                          field=f"{field}.inner_rotation")
     paper = d.get("paper", mtable["preset"] if len(mtable) == 2 else None)
+    if not mtable and "paper" not in d:
+        paper = mechanism.name if mechanism.name in PRESETS else None
     if paper is False:
         paper = None
     if paper is not None and paper not in PRESETS:
@@ -181,8 +203,12 @@ class PerformanceQuery:
             raise InputError(f"expected distinct device labels, got {labels}",
                              field=f"{field}.devices")
         for d in devices:                      # validate the grid now
-            _grid(table.get("grid"), units, f"{field}.grid", d.mech.z0, d.rotation)
-        act = _si_table(table.get("actuators", {}), f"{field}.actuators", ACTUATORS)
+            _grid(table.get("grid"), units, f"{field}.grid", d.mech.home, d.rotation)
+        from ...indices.actuators import PRISMATIC_KEYS, leg_limits
+        act = _si_table(table.get("actuators", {}), f"{field}.actuators", ACTUATORS,
+                        PRISMATIC_KEYS)
+        for d in devices:                      # every leg has its limits, in its units
+            leg_limits(d.mech, act, f"{field}.actuators")
         thr = _si_table(table.get("thresholds", {}), f"{field}.thresholds",
                         {"velocity": 1.0, "acceleration": 9.81, "force": 0.0})
         sc = table.get("scaling", list(ST_DEFAULT))
@@ -218,7 +244,7 @@ class PerformanceQuery:
     def run(p, scene, ctx):
         from ..study_report import performance_report
         return performance_report(p, scene, ctx, grid_of=lambda d: _grid(
-            p.grid_raw, p.units, "grid", d.mech.z0, d.rotation),
+            p.grid_raw, p.units, "grid", d.mech.home, d.rotation),
             store_of=lambda label: ctx.store_dir(p.store, scene, "performance") / _slug(label),
             executor=lambda: ctx.executor(p.workers, p.scheduler))
 

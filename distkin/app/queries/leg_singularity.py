@@ -1,0 +1,248 @@
+"""Scene query ``singularity`` on a ``kind = "legs"`` mechanism: det J of the leg lines
+(Rojas et al. eq. (5)), and the Cayley-Menger pure condition and the four-planes test
+(Sec. IV) wherever they apply, at poses or along a path.
+
+::
+
+    [[query]]
+    type = "singularity"
+    poses = [[6, 3.4641, 17, 0, 0, 0], ...]     # x y z (length), rx ry rz (angle)
+    # or
+    path = { from = [...], to = [...], samples = 90 }   # linear in the pose coordinates
+    method = "fast"                              # fast | precise | certified
+
+Where the tests apply (:func:`applicability`):
+
+- det J: every six-leg table.  The lines are the legs (prismatic: base joint to
+  platform joint) or the distal links (revolute: distal joint D to platform joint P, the
+  rows of Jx in Kühne et al. eq. (1)); normalised, the moment columns divided by the
+  mechanism's length scale (dimensionless).  L > 6: J is L x 6 and has no determinant;
+  σmin of the normalised lines is reported instead (rank 6 or not).
+- The Cayley-Menger pure condition (the paper's and the signed form, relative) and the
+  four-planes test: only the octahedral topology (six prismatic legs on three base and
+  three platform points, each on two legs; ``LegsDescription.octahedral``), whose
+  P1..P6 they are written on.  A general 6-6 platform has them only through its
+  Δ-transform (eq. (8)), which a leg table does not carry (``kind = "platform66"``,
+  query ``singularity``, has it); on revolute legs the distal joints D move with the
+  cranks and are six distinct points, not the shared vertices of an octahedron.
+
+``method = "certified"`` evaluates det J, the signed condition and the four planes in
+arb on the float64 joint positions (their exact binary values) and certifies the sign
+of det J (or says that it cannot); ``precise`` in mpmath.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...argcheck import as_table, check_keys, method_field, positive_int, require
+from ...errors import InputError, UncertifiedError
+from ..query import Outcome, register
+from ..units import angle_value, length_value
+
+__all__ = ["LegSingularityQuery", "applicability", "leg_lines", "singularity_tests_at"]
+
+
+@dataclass(frozen=True)
+class _Params:
+    poses: tuple | None
+    path: tuple | None
+    samples: int
+    method: str
+
+
+def _pose(value, units, fld):
+    if not isinstance(value, list) or len(value) != 6:
+        raise InputError(f"expected [x, y, z, rx, ry, rz], got {value!r}", field=fld)
+    return tuple([length_value(v, units, f"{fld}[{i}]") for i, v in enumerate(value[:3])]
+                 + [angle_value(v, units, f"{fld}[{i + 3}]") for i, v in enumerate(value[3:])])
+
+
+def applicability(mech) -> dict:
+    """Which tests apply to ``mech`` and why (module docstring): ``det``, ``cm`` (bool)
+    and ``reason`` (text)."""
+    if mech.L != 6:
+        return {"det": False, "cm": False,
+                "reason": f"L = {mech.L}: J is {mech.L} x 6, singular where its rank drops "
+                          "(σmin = 0), no determinant; the Cayley-Menger and four-planes "
+                          "tests are written for six legs"}
+    if mech.octahedral() is not None:
+        return {"det": True, "cm": True,
+                "reason": "octahedral topology (Rojas et al. Fig. 4): det J of eq. (5), the "
+                          "Cayley-Menger pure condition and the four-planes test (Sec. IV)"}
+    if all(leg.prismatic for leg in mech.leg_table):
+        why = ("a 6-6 platform: the Cayley-Menger pure condition and the four-planes test "
+               "are written on the six points of the octahedral topology; a 6-6 platform "
+               "has them only through its Δ-transform (eq. (8)), which a leg table does not "
+               "carry (kind = platform66, query singularity)")
+    else:
+        why = ("revolute legs: det J of the distal links' lines (Jx of Kühne et al. eq. (1)) "
+               "applies; the Cayley-Menger and four-planes tests do not (the distal joints "
+               "move with the cranks and are six distinct points, not the shared vertices "
+               "of an octahedron)")
+    return {"det": True, "cm": False, "reason": why}
+
+
+def leg_lines(mech, pose):
+    """The line ends of each leg at ``pose`` (m): base end (L, 3) (the base joint, or the
+    distal joint D of a revolute leg) and platform joint (L, 3)."""
+    pts = mech.points(np.asarray(pose, dtype=float))
+    return pts["D"], pts["P"]
+
+
+def _octa_points(mech, pose):
+    """P1..P6 (6, 3) in the base frame (m) of an octahedral-topology table at ``pose``."""
+    from ...spatial import rotation_matrix
+    topo = mech.octahedral()
+    x = np.asarray(pose, dtype=float)
+    plat = x[:3] + topo["platform"] @ rotation_matrix(x[3:]).T
+    return np.vstack([topo["base"], plat])
+
+
+def singularity_tests_at(mech, pose, method: str = "fast") -> dict:
+    """det J (normalised, moments / length scale), σmin of the normalised lines (moments
+    about the end-effector origin, as the rows of the kernels' J), and
+    for the octahedral topology the relative Cayley-Menger conditions and the four
+    planes (relative, spread in m), at one pose (m, rad)."""
+    from ...singularity.conditions import (certified_sign, cm_pure_condition, four_planes,
+                                           jacobian_det, signed_cm_condition)
+    app = applicability(mech)
+    s = mech.length_scale
+    b, p = leg_lines(mech, pose)
+    u = (p - b) / np.linalg.norm(p - b, axis=1)[:, None]
+    J = np.hstack([u, np.cross(b - np.asarray(pose, dtype=float)[:3], u) / s])   # (L, 6)
+    out = {"sigma_min": float(np.linalg.svd(J, compute_uv=False)[-1])}
+    if app["det"]:
+        tier = None if method == "fast" else method
+        d = jacobian_det(b, p, length_scale=s, method=tier)
+        out["det_J"] = _float(d)
+        if method == "certified":
+            try:
+                out["det_sign_certified"] = certified_sign(d)
+            except UncertifiedError:
+                out["det_sign_certified"] = None
+    if app["cm"]:
+        P = _octa_points(mech, pose) / s
+        tier = None if method == "fast" else method
+        f = _float
+        out["cm_relative"] = f(cm_pure_condition(P, relative=True, method=tier))
+        out["signed_cm_relative"] = f(signed_cm_condition(P, relative=True, method=tier))
+        fp = four_planes(P, method=tier)
+        out["four_planes_relative"] = f(fp.relative)
+        out["four_planes_spread"] = float(fp.spread) * s
+    return out
+
+
+@register("singularity", mechanisms=("legs",),
+          summary="det J of the leg lines (eq. 5), Cayley-Menger and four-planes tests where "
+                  "they apply, at poses or along a path")
+class LegSingularityQuery:
+    @staticmethod
+    def parse(table, mechanism, units, field):
+        check_keys(table, {"type", "poses", "path", "method"}, field)
+        if ("poses" in table) == ("path" in table):
+            raise InputError("expected exactly one of poses and path, got "
+                             f"{'both' if 'poses' in table else 'neither'}", field=field)
+        poses = path = None
+        samples = 90
+        if "poses" in table:
+            raw = table["poses"]
+            if not isinstance(raw, list) or not raw:
+                raise InputError(f"expected a non-empty list of poses, got {raw!r}",
+                                 field=f"{field}.poses")
+            poses = tuple(_pose(v, units, f"{field}.poses[{i}]") for i, v in enumerate(raw))
+        else:
+            pt = as_table(table["path"], f"{field}.path")
+            check_keys(pt, {"from", "to", "samples"}, f"{field}.path")
+            path = tuple(_pose(require(pt, k, f"{field}.path"), units, f"{field}.path.{k}")
+                         for k in ("from", "to"))
+            samples = positive_int(pt.get("samples", 90), f"{field}.path.samples", minimum=3)
+        return _Params(poses, path, samples, method_field(table, field))
+
+    @staticmethod
+    def run(p, scene, ctx):
+        mech = scene.mechanism
+        app = applicability(mech)
+        lu = scene.units.length if scene.units.length != "none" else "m"
+        lf = 1.0 / float(scene.units.length_factor)
+        deg = scene.units.angle == "deg"
+        af = 180 / np.pi if deg else 1.0
+        au = "deg" if deg else "rad"
+
+        def fmt_pose(x):
+            return (f"({', '.join(f'{v * lf:.6g}' for v in x[:3])}) {lu}, "
+                    f"({', '.join(f'{v * af:.6g}' for v in x[3:])}) {au}")
+
+        lines = [f"  mechanism: {mech.name} (L = {mech.L}); tests: {app['reason']}",
+                 f"  det J: normalised leg lines, moment columns / {mech.length_scale * lf:.6g}"
+                 f" {lu} (dimensionless); Cayley-Menger and four planes on P1..P6 / that "
+                 "length (relative, in [-1, 1]); spread in " + lu]
+        rows = []
+        poses = p.poses
+        if p.path is not None:
+            a, b = (np.asarray(v) for v in p.path)
+            s = np.linspace(0.0, 1.0, p.samples)
+            poses = tuple(a + si * (b - a) for si in s)
+        for i, x in enumerate(poses):
+            r = singularity_tests_at(mech, x, p.method)
+            r["pose"] = [float(v) for v in x]
+            rows.append(r)
+            if p.path is None:
+                lines.append(f"  pose {i}: {fmt_pose(x)}")
+                lines.append("    " + _fmt(r, lf, lu))
+        crossings = []
+        if p.path is not None and app["det"]:
+            det = np.array([r["det_J"] for r in rows])
+            sg = np.sign(det)
+            hits = [k for k in range(len(det)) if sg[k] == 0 and 0 < k < len(det) - 1]
+            hits += [k for k in range(len(det) - 1) if sg[k] * sg[k + 1] < 0]
+            for k in sorted(hits):
+                c = poses[k] if sg[k] == 0 else _crossing(mech, poses[k], poses[k + 1])
+                r = singularity_tests_at(mech, c, p.method)
+                r["pose"] = [float(v) for v in c]
+                crossings.append(r)
+            lines.append(f"  path: {p.samples} poses from {fmt_pose(poses[0])} to "
+                         f"{fmt_pose(poses[-1])}; det J changes sign {len(crossings)} time(s)"
+                         " (a sample where det J is 0 counts as a crossing)")
+            for r in crossings:
+                lines.append(f"    crossing at {fmt_pose(r['pose'])}: " + _fmt(r, lf, lu))
+        lines.append(f"  accuracy: {p.method} tier ("
+                     + {"fast": "float64", "precise": "mpmath",
+                        "certified": "arb balls on the float64 joint positions"}[p.method]
+                     + "); crossings located by Brent's method on det J to 1e-12 of the path")
+        result = {"mechanism": mech.name, "applicability": app, "method": p.method,
+                  "length_scale_m": mech.length_scale, "poses": rows, "crossings": crossings}
+        return Outcome(result, "\n".join(lines))
+
+
+def _float(v):
+    """A float of a float, mpf, fmpq or arb (its midpoint)."""
+    return float(v.mid()) if hasattr(v, "mid") else float(v)
+
+
+def _fmt(r, lf, lu):
+    parts = [f"σmin {r['sigma_min']:.6g}"]
+    if "det_J" in r:
+        parts.append(f"det J {r['det_J']:.6g}")
+    if r.get("det_sign_certified", "absent") != "absent":
+        parts.append(f"sign certified {r['det_sign_certified']}")
+    if "cm_relative" in r:
+        parts += [f"CM (paper) {r['cm_relative']:.4g}", f"CM signed {r['signed_cm_relative']:.4g}",
+                  f"four planes {r['four_planes_relative']:.4g} "
+                  f"(spread {r['four_planes_spread'] * lf:.4g} {lu})"]
+    return ", ".join(parts) + " (dimensionless unless a unit is given)"
+
+
+def _crossing(mech, a, b):
+    """The pose between ``a`` and ``b`` where det J = 0 (Brent's method)."""
+    from scipy.optimize import brentq
+
+    from ...singularity.conditions import jacobian_det
+
+    def f(t):
+        x = a + t * (b - a)
+        return float(jacobian_det(*leg_lines(mech, x), length_scale=mech.length_scale))
+    t = brentq(f, 0.0, 1.0, xtol=1e-12)
+    return a + t * (b - a)
