@@ -181,9 +181,11 @@ def cmd_control(args) -> int:
             url = _wait_port(proc, port_file, timeout=60.0)
         else:
             url = args.port
+        # everything compiled before the port is opened (the controller's kernels and
+        # the link's decoder): a cold numba cache costs seconds, never a watchdog
+        ctl = Controller(scene, model, log_prefix=prefix)
         link = Link(url)
         try:
-            ctl = Controller(scene, model, log_prefix=prefix)
             summary = ctl.run(link, args.seconds, wall_limit=args.wall_limit)
         finally:
             link.close()

@@ -83,6 +83,9 @@ class Link:
         self._serial_mod = serial
         self.url = url
         self.poll_s = poll_s
+        # the decoder first: on an empty numba cache it compiles for seconds, which must
+        # happen before the device sees a connection, not while it streams to us
+        decoder = _fast_state_decoder()
         try:
             self._ser = serial.serial_for_url(url, baudrate=baudrate, timeout=poll_s,
                                               write_timeout=write_timeout_s)
@@ -96,7 +99,7 @@ class Link:
         posix = getattr(serial, "serialposix", None)
         if posix is not None and isinstance(self._ser, posix.Serial):
             self._fd = self._ser.fileno()
-        self._dec = FrameDecoder(state_decoder=_fast_state_decoder())
+        self._dec = FrameDecoder(state_decoder=decoder)
         self.stats = LinkStats()
         self._last_seq = None
         self._last_write_ok = time.perf_counter()

@@ -11,6 +11,7 @@ instead of changing its physics (the watchdog has its own test in test_faults.py
 """
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -51,7 +52,13 @@ def test_run_completes_over_a_pty(run):
     for key in ("cycles", "seconds", "rate_hz", "cycle_p50_ms", "cycle_p99_ms", "bad_frames",
                 "watchdog_trips", "safety_events", "exit_reason"):
         assert key in s
-    assert s["bad_frames"] == 0 and s["watchdog_trips"] == 0
+    # a clean run has neither; a machine stalled by other load may make the device's
+    # pty overflow (it drops bytes, as a real device's buffer would) or its watchdog
+    # fire, and then each one must be explained by that stall, never unexplained
+    dropped = int(re.search(r"(\d+) bytes dropped", s["simulator"]).group(1))
+    assert s["bad_frames"] == 0 or dropped > 0, s["simulator"]
+    watchdog_ms = run["scene"].simulator.device_watchdog_ms
+    assert s["watchdog_trips"] == 0 or s["period_max_ms"] > watchdog_ms, s
     # one command per device period, apart from a few frames a loaded machine may skip
     assert s["cycles"] >= 0.95 * 5000
     assert s["device_seconds"] == pytest.approx(5.0, abs=0.01)
