@@ -59,6 +59,26 @@ def _limits_text(summaries) -> dict:
     return out
 
 
+#: the sensitivity rows' units by actuator type: per unit of joint error (rad for a
+#: revolute leg, m for a prismatic one) and per unit of actuator effort (N·m, N)
+_JOINT_UNITS = {
+    "sens_translational": ("m/rad", "m/m", "m per joint unit"),
+    "sens_rotational": ("rad/rad", "rad/m", "rad per joint unit"),
+    "sens_force": ("N/(N·m)", "N/N", "N per actuator unit"),
+    "sens_torque": ("(N·m)/(N·m)", "(N·m)/N", "N·m per actuator unit"),
+}
+
+
+def _unit(q, unit, s) -> str:
+    """The unit of row ``q`` for device summary ``s``: the sensitivities' denominators
+    follow its actuators (revolute, prismatic, or mixed)."""
+    if q not in _JOINT_UNITS:
+        return unit
+    pris = (s.get("actuator_limits") or {}).get("prismatic") or [False]
+    revolute, prismatic, mixed = _JOINT_UNITS[q]
+    return prismatic if all(pris) else mixed if any(pris) else revolute
+
+
 def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
     """Table III and Table IV analogues (markdown), one row per quantity and device."""
     lines = ["Table III analogue: min (max) over the workspace grid of each worst-case "
@@ -82,7 +102,8 @@ def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
                 reason = "; ".join(why) or "—"
             else:
                 paper = ratio = reason = "—"
-            lines.append(f"| {label} [{unit}] | {s['label']} (±{s['rotation_deg']:.0f}°) | "
+            lines.append(f"| {label} [{_unit(q, unit, s)}] | {s['label']} "
+                         f"(±{s['rotation_deg']:.0f}°) | "
                          f"{same} | {ours} | {paper} | {ratio} | {reason} |")
     limits = _limits_text(summaries)
     lines += ["", "Definitions: " + "; ".join(
@@ -158,8 +179,9 @@ def _criteria_text(c):
         val = (f"grid {v['cube_edge_m'] * 1e3:.0f} mm, ±{v['rotation_deg']:.0f}°, det sign "
                f"changes {v['det_sign_changes']}, certificate {v['certificate_zero_rotation']}")
     elif c["number"] == 5:
-        val = f"GII {_f(v['gii'])} vs " + ", ".join(f"{k} {_f(g)}" for k, g in
-                                                    v["others"].items())
+        others = ", ".join(f"{k} {_f(g)}" for k, g in v["others"].items())
+        val = f"GII {_f(v['gii'])} vs " + others if others else \
+            f"GII {_f(v['gii'])}; no other device in this study to compare with"
     else:
         val = "max " + ", ".join(_f(x) for x in v["max_sensitivities"])
     return f"{c['number']}) {mark} [{val}]"
