@@ -36,9 +36,17 @@ __all__ = ["add_sim_parser", "add_control_parser", "cmd_sim", "cmd_control", "bu
 
 
 
+def _device_mechanism(path):
+    """The ``[mechanism]`` of the distkin scene at ``path`` (a controller scene's
+    ``[device] mechanism``)."""
+    from .scene import load_scene
+    return load_scene(path).mechanism
+
+
 def _scene(path):
     from ..control.config import load_control_scene
-    return load_control_scene(path) if path else builtin_scene()
+    return (load_control_scene(path, mechanism_loader=_device_mechanism) if path
+            else builtin_scene())
 
 
 def _seconds(value: str) -> float:
@@ -146,7 +154,7 @@ def format_summary(s: dict) -> str:
 def cmd_control(args) -> int:
     from ..control.controller import Controller
     from ..control.faults import parse_faults
-    from ..control.kinematics import load_model
+    from ..control.kinematics import model_of
     from ..control.link import Link
     scene = _scene(args.scene)
     if args.faults and not args.sim:
@@ -157,7 +165,7 @@ def cmd_control(args) -> int:
     if prefix is None and args.plots:
         tmpdir = tempfile.TemporaryDirectory(prefix="distkin-control-")
         prefix = str(Path(tmpdir.name) / "run")
-    model = load_model(scene.preset)
+    model = model_of(scene)
     proc = None
     cleanup = []
     if tmpdir is not None:

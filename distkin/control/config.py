@@ -5,7 +5,9 @@ Everything is SI (m, rad, N, N·m, kg, s); there is no ``[units]`` table.  Examp
 (``examples/control_octo.toml``)::
 
     [device]
-    preset = "octo"                 # a distkin.mechanisms preset
+    preset = "octo"                 # a distkin.mechanisms preset, or instead:
+    # mechanism = "rus8_device.toml"  # the [mechanism] of a distkin scene (rss or legs
+    #                                 # with revolute legs), path relative to this file
     rate_hz = 1000
     realtime = false                # true: SCHED_FIFO for the loop and the simulator
 
@@ -145,6 +147,9 @@ class ControlScene:
     title: str = ""
     #: run the control loop and the simulator under SCHED_FIFO (:mod:`.scheduling`)
     realtime: bool = False
+    #: the device's mechanism when ``[device] mechanism`` names a scene (``preset`` is
+    #: then its name); None for a preset
+    mechanism: object = field(default=None, compare=False, repr=False)
 
 
 def _num(t, key, fld, default, *, positive=False, nonneg=False):
@@ -247,8 +252,47 @@ def _home_of(preset_name: str):
     return load_model(preset_name, compiled=False).home
 
 
-def loads_control_scene(text: str, path: str = "<string>") -> ControlScene:
-    """Parse a controller scene from TOML text (see the module docstring)."""
+def _device_mechanism(dev, path, mechanism_loader):
+    """The mechanism of ``[device] mechanism`` (a distkin scene's ``[mechanism]``, loaded
+    by ``mechanism_loader(path)``: the application's scene parser), checked for what the
+    controller and the simulator model: torque motors on revolute legs."""
+    rel = dev["mechanism"]
+    if not isinstance(rel, str) or not rel:
+        raise InputError(f"expected the path of a distkin scene, got {rel!r}",
+                         field="device.mechanism")
+    if "preset" in dev:
+        raise InputError(f"expected either device.preset or device.mechanism, got both "
+                         f"({dev['preset']!r}, {rel!r})", field="device.mechanism")
+    if mechanism_loader is None:
+        raise InputError("expected the scene to be loaded by distkin control / distkin sim "
+                         "(a device.mechanism needs the scene parser), got no loader",
+                         field="device.mechanism")
+    base = Path(path).parent if path not in ("", "<string>") else Path(".")
+    try:
+        mech = mechanism_loader(base / rel)
+    except InputError as exc:            # name the place in this scene, and the inner one
+        inner = f" ({exc.field})" if exc.field and exc.field != "scene" else ""
+        raise InputError(f"in {rel!r}{inner}: {exc.message}", field="device.mechanism",
+                         hint=exc.hint) from None
+    if not hasattr(mech, "leg_description"):
+        raise InputError(f"expected a mechanism with legs (kind rss or legs), got "
+                         f"{type(mech).__name__}", field="device.mechanism")
+    prismatic = [i + 1 for i, leg in enumerate(mech.leg_description().leg_table)
+                 if leg.prismatic]
+    if prismatic:
+        raise InputError(f"expected revolute legs (the controller and the simulator drive "
+                         f"torque motors through capstans, Sec. III-D), got prismatic legs "
+                         f"{prismatic} in {rel!r}", field="device.mechanism")
+    return mech
+
+
+def loads_control_scene(text: str, path: str = "<string>", *,
+                        mechanism_loader=None) -> ControlScene:
+    """Parse a controller scene from TOML text (see the module docstring).
+
+    ``mechanism_loader(path) -> mechanism`` loads the ``[mechanism]`` of a distkin scene
+    for ``[device] mechanism`` (the application passes its scene parser; the control
+    layer does not import it)."""
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -256,12 +300,18 @@ def loads_control_scene(text: str, path: str = "<string>") -> ControlScene:
     check_keys(data, {"title", "description", "device", "admittance", "environment", "pd",
                       "safety", "simulator"}, "scene")
     dev = as_table(data.get("device", {}), "device")
-    check_keys(dev, {"preset", "rate_hz", "realtime"}, "device")
-    preset_name = dev.get("preset", "octo")
-    if not isinstance(preset_name, str):
-        raise InputError(f"expected a preset name, got {preset_name!r}", field="device.preset")
-    from ..mechanisms import PRESETS
-    choice(preset_name, "device.preset", tuple(PRESETS))
+    check_keys(dev, {"preset", "mechanism", "rate_hz", "realtime"}, "device")
+    mechanism = None
+    if "mechanism" in dev:
+        mechanism = _device_mechanism(dev, path, mechanism_loader)
+        preset_name = mechanism.name
+    else:
+        preset_name = dev.get("preset", "octo")
+        if not isinstance(preset_name, str):
+            raise InputError(f"expected a preset name, got {preset_name!r}",
+                             field="device.preset")
+        from ..mechanisms import PRESETS
+        choice(preset_name, "device.preset", tuple(PRESETS))
     rate = _num(dev, "rate_hz", "device", 1000.0, positive=True)
     rt = _bool(dev, "realtime", "device", False)
 
@@ -270,7 +320,8 @@ def loads_control_scene(text: str, path: str = "<string>") -> ControlScene:
     mass = _vec(adm, "mass", "admittance", 6, positive=True)
     damping = _vec(adm, "damping", "admittance", 6, nonneg=True)
 
-    env = _environment(data.get("environment", []), _home_of(preset_name))
+    home = mechanism.home if mechanism is not None else _home_of(preset_name)
+    env = _environment(data.get("environment", []), home)
 
     pdt = as_table(data.get("pd", {}), "pd")
     check_keys(pdt, {"kp", "ki", "kd", "derivative_filter_s", "torque_limit", "distribution",
@@ -309,18 +360,19 @@ def loads_control_scene(text: str, path: str = "<string>") -> ControlScene:
     sim = _simulator(as_table(data.get("simulator", {}), "simulator"))
     title = data.get("title", "")
     return ControlScene(str(path), preset_name, rate, mass, damping, env, pd, safety, sim,
-                        str(title), rt)
+                        str(title), rt, mechanism)
 
 
-def load_control_scene(path) -> ControlScene:
-    """Load a controller scene file; InputError (naming the file) if unreadable."""
+def load_control_scene(path, *, mechanism_loader=None) -> ControlScene:
+    """Load a controller scene file; InputError (naming the file) if unreadable.
+    ``mechanism_loader``: see :func:`loads_control_scene`."""
     p = Path(path)
     try:
         text = p.read_text(encoding="utf-8")
     except OSError as exc:
         raise InputError(f"expected a readable scene file, got {exc.strerror}",
                          field=str(path)) from None
-    return loads_control_scene(text, str(path))
+    return loads_control_scene(text, str(path), mechanism_loader=mechanism_loader)
 
 
 def default_scene() -> ControlScene:

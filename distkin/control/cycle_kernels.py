@@ -284,7 +284,13 @@ def kernel_module(name: str, path: str):
     if name in sys.modules or name.startswith("distkin."):
         return importlib.import_module(name)
     from ..sourcecache import load_module_file
-    return load_module_file(path, name)
+    # registered under its name: numba's disk cache records the module of the kernels it
+    # compiled and imports it by that name when another process loads the cache (a
+    # derived geometry's module is not importable otherwise; numba would record
+    # "<dynamic>" and the next process fail to load the cycle)
+    mod = load_module_file(path, name)
+    sys.modules[name] = mod
+    return mod
 
 
 def jitted(name: str):

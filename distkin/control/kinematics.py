@@ -26,7 +26,7 @@ from ..mechanisms.forward import gauss_newton
 from ..spatial import rotate_pose_scalar as rotate_pose  # noqa: F401 (plant, admittance)
 from ..spatial import rotation_matrix_scalar as _rot  # noqa: F401 (controller, plant)
 
-__all__ = ["KinematicModel", "FKState", "load_model"]
+__all__ = ["KinematicModel", "FKState", "load_model", "model_of"]
 
 
 @dataclass
@@ -151,3 +151,11 @@ def load_model(preset_name: str, *, compiled: bool = True, **overrides) -> Kinem
     """:class:`KinematicModel` of a :func:`distkin.mechanisms.preset`."""
     from ..mechanisms import preset
     return KinematicModel(preset(preset_name, **overrides), compiled=compiled)
+
+
+def model_of(scene, *, compiled: bool = True) -> KinematicModel:
+    """:class:`KinematicModel` of a controller scene's device: its ``[device] mechanism``
+    when it names one, else its preset."""
+    if getattr(scene, "mechanism", None) is not None:
+        return KinematicModel(scene.mechanism, compiled=compiled)
+    return load_model(scene.preset, compiled=compiled)

@@ -314,8 +314,8 @@ def serve(scene, *, port_file=None, tcp_port=None, faults=(), log_prefix=None,
         Stop when no client has connected (TCP), or no command has arrived, for this
         long (s of wall time; default :data:`IDLE_TIMEOUT_S`; None: never).
     """
-    from .kinematics import load_model
-    model = load_model(scene.preset)
+    from .kinematics import model_of
+    model = model_of(scene)
     transport = TcpTransport(tcp_port) if tcp_port is not None else PtyTransport()
     sim = Simulator(scene, model, transport, faults=faults, log_prefix=log_prefix)
 
