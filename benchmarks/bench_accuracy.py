@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks.harness import fmt_time, interleaved
+from benchmarks.harness import before_after, fmt_time, interleaved
 
 __all__ = ["TITLE", "DEFAULT", "run", "BASELINE_REV"]
 
@@ -248,38 +248,7 @@ def _before_after(rounds: int = 3):
     (this tree), each measured by the same script in a fresh subprocess, the two
     alternated ``rounds`` times and the best of each kept (module docstring, item 3).
     Returns {"before": {...}, "after": {...}}, or None without git or the revision."""
-    import json
-    import os
-    import subprocess
-    import sys
-    import tempfile
-    root = Path(__file__).resolve().parents[1]
-    with tempfile.TemporaryDirectory() as tmp:
-        try:
-            tar = subprocess.run(["git", "-C", str(root), "archive", BASELINE_REV],
-                                 capture_output=True, check=True).stdout
-            subprocess.run(["tar", "-x", "-C", tmp], input=tar, check=True)
-        except (OSError, subprocess.CalledProcessError):
-            return None
-        trees = {"before": (tmp, str(Path(tmp) / "cache")), "after": (str(root), None)}
-        best: dict = {}
-        for _ in range(rounds):
-            for label, (path, cache) in trees.items():
-                env = dict(os.environ, PYTHONPATH=path)
-                if cache:
-                    env["NUMBA_CACHE_DIR"] = cache
-                r = subprocess.run([sys.executable, "-c", _BASELINE_SCRIPT], env=env,
-                                   cwd=path, capture_output=True, text=True)
-                if r.returncode:
-                    return None
-                got = json.loads(r.stdout.strip().splitlines()[-1])
-                old = best.setdefault(label, got)
-                if not got.pop("tree").startswith(path):
-                    return None                     # the wrong tree was imported
-                for k, v in got.items():
-                    if k != "escalated":
-                        old[k] = min(old[k], v)
-        return best
+    return before_after(_BASELINE_SCRIPT, BASELINE_REV, rounds=rounds, skip=("escalated",))
 
 
 def _plot(rows, miscount):

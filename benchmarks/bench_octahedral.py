@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from benchmarks.harness import fmt_time, interleaved
+from benchmarks.harness import before_after, fmt_time, interleaved
 
 __all__ = ["TITLE", "DEFAULT", "run"]
 
@@ -311,38 +311,7 @@ def _before_after(rounds: int = 3):
     script in a fresh subprocess (its own numba cache for the old tree), alternated
     ``rounds`` times, the best of each kept: the same machine load for both.  None
     without git or the revision."""
-    import json
-    import os
-    import subprocess
-    import sys
-    import tempfile
-    from pathlib import Path
-    root = Path(__file__).resolve().parents[1]
-    with tempfile.TemporaryDirectory() as tmp:
-        try:
-            tar = subprocess.run(["git", "-C", str(root), "archive", BASELINE_REV],
-                                 capture_output=True, check=True).stdout
-            subprocess.run(["tar", "-x", "-C", tmp], input=tar, check=True)
-        except (OSError, subprocess.CalledProcessError):
-            return None
-        trees = {"before": (tmp, str(Path(tmp) / "cache")), "after": (str(root), None)}
-        best: dict = {}
-        for _ in range(rounds):
-            for label, (path, cache) in trees.items():
-                env = dict(os.environ, PYTHONPATH=path)
-                if cache:
-                    env["NUMBA_CACHE_DIR"] = cache
-                r = subprocess.run([sys.executable, "-c", _BASELINE_SCRIPT], env=env,
-                                   cwd=path, capture_output=True, text=True)
-                if r.returncode:
-                    return None
-                got = json.loads(r.stdout.strip().splitlines()[-1])
-                if not got.pop("tree").startswith(path):
-                    return None                     # the wrong tree was imported
-                old = best.setdefault(label, got)
-                for k, v in got.items():
-                    old[k] = min(old[k], v)
-        return best
+    return before_after(_BASELINE_SCRIPT, BASELINE_REV, rounds=rounds, skip=())
 
 
 def _before_after_lines(ba, load0, load1):
@@ -423,7 +392,7 @@ def run():
     stagesR, doubtR = _stages_batched(*_random_problems(n_batch))
     first = _first_calls()
     load2 = os.getloadavg()[0]
-    before_after = _before_after()
+    ba = _before_after()
     load3 = os.getloadavg()[0]
     targets = [
         ("fast, single solve", single["fast (octic)"], 100e-6),
@@ -476,7 +445,7 @@ def run():
         + ("met" if single["fast (octic)"][1] <= 30e-6 else
            f"not met ({single['fast (octic)'][1] / 30e-6:.2f}× the target)") + ".",
         "",
-        *(_before_after_lines(before_after, load2, load3) if before_after else
+        *(_before_after_lines(ba, load2, load3) if ba else
           ["(Before/after table skipped: no git, or the revision is missing.)", ""]),
         "The previous run of this benchmark (2026-11-25, at `b989a4e`, before issue 17's "
         "octahedral work; load 1.3-1.4), CPU per problem: single solve 64.38 µs, "
@@ -572,5 +541,5 @@ def run():
             "stages_single_cpu_s": stages1, "stages_batched_cpu_s_per_problem": stagesN,
             "stages_batched_random_cpu_s_per_problem": stagesR,
             "first_calls_wall_s": first, "random": rand,
-            "before_after_cpu_s": before_after, "before_after_load": [load2, load3]}
+            "before_after_cpu_s": ba, "before_after_load": [load2, load3]}
     return "\n".join(lines) + "\n", data

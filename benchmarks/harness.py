@@ -12,7 +12,7 @@ import statistics
 import sys
 import time
 
-__all__ = ["interleaved", "ratio_table", "machine", "fmt_time"]
+__all__ = ["interleaved", "ratio_table", "machine", "fmt_time", "before_after"]
 
 
 def interleaved(competitors: dict, *, rounds: int = 15, number: int = 1, warmup: int = 1,
@@ -85,3 +85,49 @@ def machine() -> dict:
         "numba": numba.__version__,
         "argv": " ".join(sys.argv),
     }
+
+
+def before_after(script: str, rev: str, *, rounds: int = 3, skip=()):
+    """Run ``script`` before (the repository at ``rev``, extracted with ``git archive``)
+    and after (this tree), each in a fresh subprocess (the old tree with its own numba
+    cache), alternated ``rounds`` times, keeping the least of each number: the same
+    machine load for both.
+
+    ``script`` prints one JSON object as its last line, with a ``tree`` entry (the
+    ``distkin.__file__`` it imported, checked against the tree meant); keys in ``skip``
+    keep their first value instead of the least.  Returns {"before": {...}, "after":
+    {...}}, or None without git, the revision, or when a run fails.
+    """
+    import json
+    import os
+    import subprocess
+    import tempfile
+    from pathlib import Path
+    root = Path(__file__).resolve().parents[1]
+    with tempfile.TemporaryDirectory() as tmp:
+        try:
+            tar = subprocess.run(["git", "-C", str(root), "archive", rev],
+                                 capture_output=True, check=True).stdout
+            subprocess.run(["tar", "-x", "-C", tmp], input=tar, check=True)
+        except (OSError, subprocess.CalledProcessError):
+            return None
+        trees = {"before": (tmp, str(Path(tmp) / "cache")), "after": (str(root), None)}
+        best: dict = {}
+        for _ in range(rounds):
+            for label, (path, cache) in trees.items():
+                env = dict(os.environ, PYTHONPATH=path)
+                if cache:
+                    env["NUMBA_CACHE_DIR"] = cache
+                r = subprocess.run([sys.executable, "-c", script], env=env, cwd=path,
+                                   capture_output=True, text=True)
+                if r.returncode:
+                    return None
+                got = json.loads(r.stdout.strip().splitlines()[-1])
+                if not got.pop("tree").startswith(path):
+                    return None                     # the wrong tree was imported
+                old = best.setdefault(label, got)
+                for k, v in got.items():
+                    if k not in skip:
+                        old[k] = min(old[k], v)
+        return best
+
