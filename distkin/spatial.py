@@ -34,10 +34,8 @@ import math
 
 import numpy as np
 
-__all__ = ["rotation_matrix", "rotation_matrix_scalar", "rotation_angles",
-           "rotation_angles_scalar", "omega_map", "exp_so3", "exp_so3_scalar", "rotate_pose_scalar",
-           "axis_angle",
-           "pose_error", "pose_to_matrix", "matrix_to_pose", "pose_to_rotation", "pose_from"]
+__all__ = ["rotation_matrix", "rotation_matrix_scalar", "rotation_angles", "omega_map",
+           "exp_so3", "rotate_pose_scalar", "axis_angle", "pose_error", "pose_to_matrix", "matrix_to_pose", "pose_to_rotation", "pose_from"]
 
 
 def rotation_matrix(r):
@@ -95,14 +93,6 @@ def rotation_angles(R):
     return np.stack([rx, ry, rz], axis=-1)
 
 
-def rotation_angles_scalar(R):
-    """:func:`rotation_angles` of one matrix ``R`` (3, 3) in plain floats: (rx, ry, rz)
-    rad with ry in [-pi/2, pi/2]."""
-    return (math.atan2(R[2, 1], R[2, 2]),
-            math.atan2(-R[2, 0], math.hypot(R[2, 1], R[2, 2])),
-            math.atan2(R[1, 0], R[0, 0]))
-
-
 def omega_map(r):
     """E(r) with omega = E @ rdot for R = Rz Ry Rx.
 
@@ -138,19 +128,6 @@ def exp_so3(w):
     ths = np.where(small, 1.0, th)
     a = np.where(small, 1.0 - th ** 2 / 6.0, np.sin(ths) / ths)
     b = np.where(small, 0.5 - th ** 2 / 24.0, (1.0 - np.cos(ths)) / ths ** 2)
-    return np.eye(3) + a * K + b * (K @ K)
-
-
-def exp_so3_scalar(w):
-    """:func:`exp_so3` of one rotation vector ``w`` (3 floats, rad) in plain floats
-    (Rodrigues' formula, a series below 1e-8 rad): a (3, 3) array."""
-    wx, wy, wz = w
-    th = math.sqrt(wx * wx + wy * wy + wz * wz)
-    if th > 1e-8:
-        a, b = math.sin(th) / th, (1.0 - math.cos(th)) / (th * th)
-    else:
-        a, b = 1.0 - th * th / 6.0, 0.5 - th * th / 24.0
-    K = np.array([[0.0, -wz, wy], [wz, 0.0, -wx], [-wy, wx, 0.0]])
     return np.eye(3) + a * K + b * (K @ K)
 
 

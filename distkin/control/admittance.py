@@ -24,7 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .kinematics import _rot, rotate_pose
+from ..spatial import rotate_pose_scalar as rotate_pose
+from .kinematics import _rot
 
 __all__ = ["Spring", "Wall", "Admittance", "rotation_log"]
 

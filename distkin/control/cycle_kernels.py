@@ -245,7 +245,8 @@ import numba
 
 from distkin.control import cycle_kernels as _ck
 from distkin.control.admittance import rotation_log as _rotation_log
-from distkin.control.kinematics import _rot, rotate_pose as _rotate_pose
+from distkin.control.kinematics import _rot
+from distkin.spatial import rotate_pose_scalar as _rotate_pose
 
 _kmod = _ck.kernel_module({name!r}, {path!r})
 _ik, _reach, _jac, _clo = (getattr(_kmod, n) for n in {names!r})

@@ -23,7 +23,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..mechanisms.forward import gauss_newton
-from ..spatial import rotate_pose_scalar as rotate_pose  # noqa: F401 (plant, admittance)
 from ..spatial import rotation_matrix_scalar as _rot  # noqa: F401 (controller, plant)
 
 __all__ = ["KinematicModel", "FKState", "load_model", "model_of"]

@@ -31,7 +31,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .kinematics import rotate_pose, _rot
+from ..spatial import rotate_pose_scalar as rotate_pose
+from .kinematics import _rot
 from .protocol import MODE_HOLD, MODE_RUN, STATUS_SATURATED
 
 __all__ = ["Motors", "HandScript", "Plant"]

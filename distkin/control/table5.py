@@ -49,8 +49,9 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..spatial import rotate_pose_scalar as rotate_pose
 from .controller import Controller
-from .kinematics import load_model, rotate_pose
+from .kinematics import load_model
 from .plant import Plant
 from .protocol import MODE_RUN
 

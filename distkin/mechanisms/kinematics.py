@@ -25,6 +25,27 @@ __all__ = ["KernelMethods", "LegMechanism", "ROUTES"]
 class KernelMethods:
     """The numeric methods of a mechanism on its kernels (module docstring)."""
 
+    def points(self, poses, q=None):
+        """Joint positions for drawings and checks (plain numpy), arrays (N, L, 3) (or
+        (L, 3) for one pose): ``B`` crank pivot / base joint, ``C`` crank tip, ``D``
+        distal joint centre (C = D = B for a prismatic leg), ``P`` platform joint; and
+        ``q`` (N, L) (default: the inverse kinematics of ``poses``).  One implementation
+        for every mechanism, on its leg table (:meth:`leg_description`)."""
+        from ..spatial import rotation_matrix
+        X, single = _poses(poses)
+        if q is None:
+            q, _ = self.inverse_kinematics(X)
+        q = np.asarray(q, dtype=float).reshape(len(X), self.L)
+        d = self.leg_description().arrays()
+        P = X[:, None, :3] + np.einsum("nij,lj->nli", rotation_matrix(X[:, 3:]), d["p"])
+        qr = np.where(d["prismatic"][None], 0.0, q)
+        C = d["B"][None] + d["l1"][None, :, None] * (np.cos(qr)[..., None] * d["u"][None]
+                                                     + np.sin(qr)[..., None] * d["v"][None])
+        D = C + d["offset"][None]
+        B = np.broadcast_to(d["B"], C.shape)
+        out = {"B": B, "C": C, "D": D, "P": P, "q": q}
+        return {k: v[0] for k, v in out.items()} if single else out
+
     def kernels(self, flavour: str = "batched"):
         """The generated kernels (:mod:`.kernels`), ``flavour`` "batched" or "scalar".
 
@@ -197,23 +218,3 @@ class LegMechanism(KernelMethods, LegsDescription):
         ``leg_description()``, such as an RSS description)."""
         d = description.leg_description()
         return cls(d.name, d.leg_table, d.home_pose, d.mass, d.inertia, d.scale, route)
-
-    def points(self, poses, q=None):
-        """Joint positions for drawings and checks (plain numpy), arrays (N, L, 3) (or
-        (L, 3) for one pose): ``B`` crank pivot / base joint, ``C`` crank tip, ``D``
-        distal joint centre (C = D = B for a prismatic leg), ``P`` platform joint; and
-        ``q`` (N, L) (default: the inverse kinematics of ``poses``)."""
-        from ..spatial import rotation_matrix
-        X, single = _poses(poses)
-        if q is None:
-            q, _ = self.inverse_kinematics(X)
-        q = np.asarray(q, dtype=float).reshape(len(X), self.L)
-        d = self.arrays()
-        P = X[:, None, :3] + np.einsum("nij,lj->nli", rotation_matrix(X[:, 3:]), d["p"])
-        qr = np.where(d["prismatic"][None], 0.0, q)
-        C = d["B"][None] + d["l1"][None, :, None] * (np.cos(qr)[..., None] * d["u"][None]
-                                                     + np.sin(qr)[..., None] * d["v"][None])
-        D = C + d["offset"][None]
-        B = np.broadcast_to(d["B"], C.shape)
-        out = {"B": B, "C": C, "D": D, "P": P, "q": q}
-        return {k: v[0] for k, v in out.items()} if single else out

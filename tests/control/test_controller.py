@@ -11,7 +11,8 @@ from scipy.optimize import minimize_scalar
 from distkin.control.admittance import Admittance, Spring, Wall
 from distkin.app.control_commands import builtin_scene
 from distkin.control.controller import SCALING, Controller
-from distkin.control.kinematics import load_model, rotate_pose
+from distkin.control.kinematics import load_model
+from distkin.spatial import rotate_pose_scalar as rotate_pose
 from distkin.control.loopback import run_loopback
 from distkin.control.plant import HandScript
 from distkin.control.protocol import STATUS_ESTOP, StateFrame

@@ -12,7 +12,8 @@ from distkin.control.admittance import Spring
 from distkin.control.config import builtin_scene
 from distkin.control.controller import FAULT, RUN, SCALING, Controller
 from distkin.control.cycle_kernels import reading_extremes
-from distkin.control.kinematics import _rot, load_model, rotate_pose
+from distkin.control.kinematics import _rot, load_model
+from distkin.spatial import rotate_pose_scalar as rotate_pose
 from distkin.control.loopback import run_loopback
 from distkin.control.protocol import StateFrame
 
