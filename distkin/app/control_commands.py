@@ -133,7 +133,9 @@ def format_summary(s: dict) -> str:
         f"{s['write_timeouts']} write timeouts",
         f"  safety: {s['watchdog_trips']} watchdog trips, {s['safety_events']} safety events, "
         f"{s['refused_poses']} refused set points, {s['saturated_cycles']} saturated cycles",
-        f"  torque: max |tau| {s['max_abs_torque_Nm']} N·m (limit {s['torque_limit_Nm']} N·m)",
+        (f"  force: max |f| {s['max_abs_force_N']} N (limit {s['force_limit_N']} N)"
+         if "max_abs_force_N" in s else
+         f"  torque: max |tau| {s['max_abs_torque_Nm']} N·m (limit {s['torque_limit_Nm']} N·m)"),
     ]
     if s.get("log"):
         lines.append("  log: " + ", ".join(str(v) for v in s["log"].values() if v))
@@ -216,7 +218,8 @@ def cmd_control(args) -> int:
                 from ..control.runlog import plot_run
                 Path(args.plots).mkdir(parents=True, exist_ok=True)
                 summary["plots"] = [str(p) for p in
-                                    plot_run(prefix, Path(args.plots) / "control.png")]
+                                    plot_run(prefix, Path(args.plots) / "control.png",
+                                             effort_unit=scene.effort_unit)]
             except Exception as exc:   # a plot must never cost the run's summary
                 summary["plot_error"] = f"{type(exc).__name__}: {exc}"
                 print(f"distkin: warning: --plots: plot failed ({summary['plot_error']}); "

@@ -6,8 +6,9 @@ Everything is SI (m, rad, N, N·m, kg, s); there is no ``[units]`` table.  Examp
 
     [device]
     preset = "octo"                 # a distkin.mechanisms preset, or instead:
-    # mechanism = "rus8_device.toml"  # the [mechanism] of a distkin scene (rss or legs
-    #                                 # with revolute legs), path relative to this file
+    # mechanism = "rus8_device.toml"  # the [mechanism] of a distkin scene (rss, or legs
+    #                                 # all revolute or all prismatic), path relative to
+    #                                 # this file
     rate_hz = 1000
     realtime = false                # true: SCHED_FIFO for the loop and the simulator
 
@@ -37,6 +38,15 @@ Everything is SI (m, rad, N, N·m, kg, s); there is no ``[units]`` table.  Examp
     hand = [[0.0, 0, 0, 0], [0.3, 0, 2, 0]]         # (t s, fx, fy, fz N) knots
 
 Unknown keys are rejected (a typo must not be silently ignored).
+
+**Prismatic legs** (SPS/UPS, e.g. ``examples/control_gough6.toml``): the joint values
+are leg lengths (m) and the efforts forces (N), so ``[pd]`` reads ``kp`` N/m, ``kd``
+N·s/m, ``ki`` N/(m·s) and ``torque_limit`` N (:meth:`PDGains.for_joint`); the drives are
+:class:`~.plant.LinearDrives` (``[simulator] lead`` m/rev, ``friction`` N·s/m at the
+leg); ``safety.sigma_min`` is in m (:meth:`SafetyLimits.for_joint`); and the readings are
+checked against each leg's ``range`` in the mechanism scene (required), not against
+``safety.max_angle``.  A device mixing revolute and prismatic legs is refused: one set
+of gains cannot carry both units.
 """
 
 from __future__ import annotations
@@ -51,7 +61,7 @@ import numpy as np
 from ..argcheck import as_table, check_keys, choice, float_array, positive_int, require
 from ..errors import InputError
 from .admittance import Spring, Wall
-from .plant import HandScript, Motors
+from .plant import HandScript, LinearDrives, Motors, drives_for
 
 #: the built-in controller scene (package data; also examples/control_octo.toml)
 BUILTIN_SCENE = "control_octo.toml"
@@ -88,6 +98,21 @@ class PDGains:
     gravity_compensation: bool = True
     hand_feedforward: bool = False
 
+    @classmethod
+    def for_joint(cls, joint: str) -> "PDGains":
+        """The defaults for a device whose legs are ``joint``.
+
+        "revolute": the paper's gains above.  "prismatic": the same servo at the motor
+        (KP = 110 and KD = 0.4 at a 13:1 capstan are 0.651 N·m/rad and 2.37e-3
+        N·m·s/rad at the motor) through the ball screw of :class:`~.plant.LinearDrives`
+        (628 rad/m): kp = 2.57e5 N/m, kd = 934 N·s/m; and its nominal force, 121 N, as
+        the limit.  Our transfer, not tuned."""
+        if joint != "prismatic":
+            return cls()
+        d = LinearDrives()
+        kp, kd = d.hold_gains
+        return cls(kp=kp, kd=kd, torque_limit=d.nominal_effort)
+
 
 @dataclass(frozen=True)
 class SafetyLimits:
@@ -112,6 +137,16 @@ class SafetyLimits:
     max_angle: float = 3.2
     max_fk_residual: float = 2e-4
 
+    @classmethod
+    def for_joint(cls, joint: str) -> "SafetyLimits":
+        """The defaults for a device whose legs are ``joint``.  For prismatic legs
+        ``J S^-1`` is in m (leg length per S-scaled platform motion) and
+        ``sigma_min`` = 0.02 rad x 0.157 m = 3.14e-3 m: the revolute threshold at the
+        Octo's crank length (our transfer, not tuned)."""
+        if joint != "prismatic":
+            return cls()
+        return cls(sigma_min=0.02 * 0.157)
+
 
 @dataclass(frozen=True)
 class SimulatorConfig:
@@ -123,7 +158,8 @@ class SimulatorConfig:
     ``device_watchdog_ms``: the device zeroes its torques when no command arrives.
     """
 
-    motors: Motors = field(default_factory=Motors)
+    #: :class:`~.plant.Motors` (revolute legs) or :class:`~.plant.LinearDrives` (prismatic)
+    motors: object = field(default_factory=Motors)
     hand: HandScript = field(default_factory=HandScript)
     seed: int = 0
     lockstep: bool = True
@@ -150,6 +186,19 @@ class ControlScene:
     #: the device's mechanism when ``[device] mechanism`` names a scene (``preset`` is
     #: then its name); None for a preset
     mechanism: object = field(default=None, compare=False, repr=False)
+    #: "revolute" (crank angles in rad, torques in N·m) or "prismatic" (leg lengths in
+    #: m, forces in N)
+    joint: str = "revolute"
+    #: prismatic legs: each leg's (min, max) length, m, shape (L, 2); None otherwise
+    joint_range: tuple | None = None
+
+    @property
+    def joint_unit(self) -> str:
+        return "m" if self.joint == "prismatic" else "rad"
+
+    @property
+    def effort_unit(self) -> str:
+        return "N" if self.joint == "prismatic" else "N·m"
 
 
 def _num(t, key, fld, default, *, positive=False, nonneg=False):
@@ -221,20 +270,32 @@ def _hand(raw, fld):
     return HandScript(tuple(tuple(float(v) for v in row) for row in arr))
 
 
-def _simulator(t):
+def _simulator(t, joint="revolute"):
     fld = "simulator"
-    check_keys(t, {"hand", "seed", "lockstep", "reply_timeout_ms", "device_watchdog_ms",
-                   "counts_per_rev", "force_noise", "torque_noise", "friction", "gravity",
-                   "rotor_inertia"}, fld)
-    m = Motors()
-    motors = Motors(
+    keys = {"hand", "seed", "lockstep", "reply_timeout_ms", "device_watchdog_ms",
+            "counts_per_rev", "force_noise", "torque_noise", "friction", "gravity",
+            "rotor_inertia"}
+    if joint == "prismatic":
+        keys.add("lead")
+    elif "lead" in t:
+        raise InputError(f"expected no lead (m/rev: the ball screw of prismatic legs) on a "
+                         f"device with revolute legs, got {t['lead']!r}", field=f"{fld}.lead")
+    check_keys(t, keys, fld)
+    m = drives_for(joint)
+    common = dict(
         counts_per_rev=positive_int(t.get("counts_per_rev", m.counts_per_rev),
                                     f"{fld}.counts_per_rev"),
         force_noise=_num(t, "force_noise", fld, m.force_noise, nonneg=True),
         torque_noise=_num(t, "torque_noise", fld, m.torque_noise, nonneg=True),
-        friction=_num(t, "friction", fld, m.friction, nonneg=True),
         gravity=_num(t, "gravity", fld, m.gravity, nonneg=True),
         rotor_inertia=_num(t, "rotor_inertia", fld, m.rotor_inertia, positive=True))
+    if joint == "prismatic":        # friction N·s/m at the leg; None: through the screw
+        motors = LinearDrives(
+            lead=_num(t, "lead", fld, m.lead, positive=True),
+            friction=(_num(t, "friction", fld, None, nonneg=True) if "friction" in t
+                      else None), **common)
+    else:
+        motors = Motors(friction=_num(t, "friction", fld, m.friction, nonneg=True), **common)
     seed = t.get("seed", 0)
     if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
         raise InputError(f"expected an integer >= 0, got {seed!r}", field=f"{fld}.seed")
@@ -277,13 +338,38 @@ def _device_mechanism(dev, path, mechanism_loader):
     if not hasattr(mech, "leg_description"):
         raise InputError(f"expected a mechanism with legs (kind rss or legs), got "
                          f"{type(mech).__name__}", field="device.mechanism")
-    prismatic = [i + 1 for i, leg in enumerate(mech.leg_description().leg_table)
-                 if leg.prismatic]
-    if prismatic:
-        raise InputError(f"expected revolute legs (the controller and the simulator drive "
-                         f"torque motors through capstans, Sec. III-D), got prismatic legs "
-                         f"{prismatic} in {rel!r}", field="device.mechanism")
-    return mech
+    legs = mech.leg_description().leg_table
+    prismatic = [i + 1 for i, leg in enumerate(legs) if leg.prismatic]
+    if not prismatic:
+        return mech, "revolute", None
+    if len(prismatic) < len(legs):
+        revolute = [i + 1 for i, leg in enumerate(legs) if not leg.prismatic]
+        raise InputError(f"expected legs all revolute or all prismatic (one set of PD gains "
+                         f"cannot carry N·m/rad and N/m), got revolute legs {revolute} and "
+                         f"prismatic legs {prismatic} in {rel!r}", field="device.mechanism")
+    no_range = [i + 1 for i, leg in enumerate(legs) if leg.range is None]
+    if no_range:
+        raise InputError(f"expected a range = [min, max] (leg length) on every prismatic leg "
+                         f"(the controller checks the readings against it and the simulator's "
+                         f"end stops are there), got none on legs {no_range} in {rel!r}",
+                         field="device.mechanism")
+    return mech, "prismatic", tuple(tuple(float(v) for v in leg.range) for leg in legs)
+
+
+def _effort_limit(pd, joint, mechanism):
+    """Refuse a PD saturation beyond the drives' stall effort or the legs' own actuator
+    limits (the ``limit`` of each leg, when every leg of the mechanism declares one)."""
+    unit = "N" if joint == "prismatic" else "N·m"
+    stall = drives_for(joint).stall_effort
+    if pd.torque_limit > stall:
+        raise InputError(f"expected at most the stall {'force' if unit == 'N' else 'torque'} "
+                         f"{stall:.4g} {unit}, got {pd.torque_limit}", field="pd.torque_limit")
+    legs = () if mechanism is None else mechanism.leg_description().leg_table
+    if legs and all(leg.limit is not None for leg in legs):
+        cap = min(min(abs(v) for v in leg.limit) for leg in legs)
+        if pd.torque_limit > cap:
+            raise InputError(f"expected at most the legs' actuator limit {cap:.4g} {unit}, got "
+                             f"{pd.torque_limit}", field="pd.torque_limit")
 
 
 def loads_control_scene(text: str, path: str = "<string>", *,
@@ -301,9 +387,9 @@ def loads_control_scene(text: str, path: str = "<string>", *,
                       "safety", "simulator"}, "scene")
     dev = as_table(data.get("device", {}), "device")
     check_keys(dev, {"preset", "mechanism", "rate_hz", "realtime"}, "device")
-    mechanism = None
+    mechanism, joint, joint_range = None, "revolute", None
     if "mechanism" in dev:
-        mechanism = _device_mechanism(dev, path, mechanism_loader)
+        mechanism, joint, joint_range = _device_mechanism(dev, path, mechanism_loader)
         preset_name = mechanism.name
     else:
         preset_name = dev.get("preset", "octo")
@@ -326,7 +412,7 @@ def loads_control_scene(text: str, path: str = "<string>", *,
     pdt = as_table(data.get("pd", {}), "pd")
     check_keys(pdt, {"kp", "ki", "kd", "derivative_filter_s", "torque_limit", "distribution",
                      "gravity_compensation", "hand_feedforward"}, "pd")
-    d = PDGains()
+    d = PDGains.for_joint(joint)
     pd = PDGains(kp=_num(pdt, "kp", "pd", d.kp, nonneg=True),
                  ki=_num(pdt, "ki", "pd", d.ki, nonneg=True),
                  kd=_num(pdt, "kd", "pd", d.kd, nonneg=True),
@@ -338,14 +424,16 @@ def loads_control_scene(text: str, path: str = "<string>", *,
                  gravity_compensation=_bool(pdt, "gravity_compensation", "pd",
                                             d.gravity_compensation),
                  hand_feedforward=_bool(pdt, "hand_feedforward", "pd", d.hand_feedforward))
-    if pd.torque_limit > Motors().stall_torque:
-        raise InputError(f"expected at most the stall torque {Motors().stall_torque} N·m, got "
-                         f"{pd.torque_limit}", field="pd.torque_limit")
+    _effort_limit(pd, joint, mechanism)
 
     st = as_table(data.get("safety", {}), "safety")
+    if joint == "prismatic" and "max_angle" in st:
+        raise InputError(f"expected no max_angle (rad, the encoder range of revolute legs): "
+                         f"the leg lengths are checked against each leg's range in the "
+                         f"mechanism scene, got {st['max_angle']!r}", field="safety.max_angle")
     check_keys(st, {"watchdog_ms", "recover_frames", "sigma_min", "max_condition",
                     "max_force", "max_torque", "max_angle", "max_fk_residual"}, "safety")
-    s = SafetyLimits()
+    s = SafetyLimits.for_joint(joint)
     safety = SafetyLimits(
         watchdog_ms=_num(st, "watchdog_ms", "safety", s.watchdog_ms, positive=True),
         recover_frames=positive_int(st.get("recover_frames", s.recover_frames),
@@ -357,10 +445,10 @@ def loads_control_scene(text: str, path: str = "<string>", *,
         max_angle=_num(st, "max_angle", "safety", s.max_angle, positive=True),
         max_fk_residual=_num(st, "max_fk_residual", "safety", s.max_fk_residual,
                              positive=True))
-    sim = _simulator(as_table(data.get("simulator", {}), "simulator"))
+    sim = _simulator(as_table(data.get("simulator", {}), "simulator"), joint)
     title = data.get("title", "")
     return ControlScene(str(path), preset_name, rate, mass, damping, env, pd, safety, sim,
-                        str(title), rt, mechanism)
+                        str(title), rt, mechanism, joint, joint_range)
 
 
 def load_control_scene(path, *, mechanism_loader=None) -> ControlScene:

@@ -103,6 +103,13 @@ class Controller:
                               kernels=model.compiled)
         self.pd = scene.pd
         self.safety = scene.safety
+        # prismatic legs: readings are leg lengths, checked against each leg's range
+        rng = getattr(scene, "joint_range", None)
+        self._lo = self._hi = None
+        if rng is not None:
+            r = np.asarray(rng, dtype=float)
+            self._lo, self._hi = r[:, 0].copy(), r[:, 1].copy()
+        self.effort_unit = getattr(scene, "effort_unit", "N·m")
         self.weight = float(model.mass[0, 0]) * GRAVITY
         self.pose = np.array(model.home, dtype=float)
         self.state = RUN
@@ -207,7 +214,13 @@ class Controller:
         finite, ma, mf, mm = reading_extremes(a, w)
         if not finite:
             return "NaN or inf in the reading"
-        if ma > s.max_angle:
+        if self._lo is not None:
+            out = (a < self._lo) | (a > self._hi)
+            if out.any():
+                i = int(np.argmax(out))
+                return (f"leg {i + 1} length {a[i]:.6g} m outside its range "
+                        f"[{self._lo[i]:g}, {self._hi[i]:g}] m")
+        elif ma > s.max_angle:
             return f"encoder angle {ma:.3g} rad beyond ±{s.max_angle} rad"
         if mf > s.max_force or mm > s.max_torque:
             return "force/torque reading beyond the sensor range"
@@ -548,6 +561,16 @@ class Controller:
         return self._summary(link, cycles, wall, t_first, t_prev_us, compute, compute_cpu,
                              periods, reason)
 
+    def _effort_keys(self) -> dict:
+        """The largest command and the limit, named in their unit: ``max_abs_torque_Nm``
+        and ``torque_limit_Nm`` for revolute legs, ``max_abs_force_N`` and
+        ``force_limit_N`` for prismatic ones."""
+        if self.effort_unit == "N":
+            return {"max_abs_force_N": round(self.max_abs_torque, 4),
+                    "force_limit_N": self.pd.torque_limit}
+        return {"max_abs_torque_Nm": round(self.max_abs_torque, 4),
+                "torque_limit_Nm": self.pd.torque_limit}
+
     def _zero_torque(self, link, seq, ack) -> bool:
         """Send zero torque three times; True if at least one frame was written whole."""
         sent = False
@@ -581,9 +604,8 @@ class Controller:
                                  if e["event"] not in ("zero_torque", "realtime_refused")),
             "refused_poses": self.refused,
             "saturated_cycles": self.saturated_cycles,
-            "max_abs_torque_Nm": round(self.max_abs_torque, 4),
+            **self._effort_keys(),
             "gc_collections": self.gc_collections,
-            "torque_limit_Nm": self.pd.torque_limit,
             "exit_reason": reason,
             "exit_code": code,
             "error": self.error,

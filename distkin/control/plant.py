@@ -15,6 +15,13 @@ Kühne et al., Sec. III-B.3 and III-D:
 * encoders are quantised (``counts`` per motor revolution, times 13 at the crank) and
   the six-axis force/torque sensor adds white noise.
 
+A device with prismatic legs (SPS/UPS; Rojas et al.'s platforms) has the same motor on
+a ball screw instead (:class:`LinearDrives`): the joint is the leg length (m), the
+effort a force (N), the transmission ``2π / lead`` rad per m, so that the motor's
+stall torque, rotor inertia, speed and encoder counts appear at the leg as a force,
+a reflected mass ``(2π/lead)² J_rotor``, a speed and a length quantum.  The equations
+below hold for either, in joint units (rad and N·m, or m and N).
+
 The equations of motion, with ``V = (v, omega)``,
 
 .. math:: (\\hat M + J^T J_r J)\\dot V = J^T(\\tau - b\\,\\dot q) + w_h + w_g,
@@ -35,7 +42,7 @@ from ..spatial import rotate_pose_scalar as rotate_pose
 from .kinematics import _rot
 from .protocol import MODE_HOLD, MODE_RUN, STATUS_SATURATED
 
-__all__ = ["Motors", "HandScript", "Plant"]
+__all__ = ["Motors", "LinearDrives", "drives_for", "HandScript", "Plant"]
 
 
 @dataclass(frozen=True)
@@ -58,6 +65,23 @@ class Motors:
     torque_noise: float = 0.0005            # N·m, standard deviation
     gravity: float = 9.81                   # m/s², along -z of the base frame
 
+    #: the joint and its effort: crank angle (rad), torque (N·m)
+    joint = "revolute"
+    joint_unit, effort_unit = "rad", "N·m"
+    #: the device's own position hold (MODE_HOLD): the paper's KP = 110 N·m/rad and
+    #: KD = 0.4 N·m·s/rad (Sec. III-D)
+    hold_gains = (110.0, 0.4)
+
+    @property
+    def stall_effort(self) -> float:
+        """Stall torque at the crank, N·m."""
+        return self.stall_torque
+
+    @property
+    def nominal_effort(self) -> float:
+        """Nominal (continuous) torque at the crank, N·m."""
+        return self.nominal_torque
+
     @property
     def no_load_speed(self) -> float:
         return self.nominal_speed / (1.0 - self.nominal_torque / self.stall_torque)
@@ -70,6 +94,90 @@ class Motors:
     def resolution(self) -> float:
         """Encoder step at the crank, rad."""
         return 2.0 * math.pi / (self.counts_per_rev * self.gear)
+
+
+@dataclass(frozen=True)
+class LinearDrives:
+    """Motor + ball screw + encoder + sensor parameters of prismatic legs.
+
+    The same Maxon RE 40 as :class:`Motors`, given motor side (stall torque 34.2/13 =
+    2.63 N·m, nominal torque 2.5/13 = 0.192 N·m at 51 x 13 = 663 rad/s, rotor inertia,
+    encoder), on a lossless ball screw of ``lead`` m per revolution (our choice, 10 mm:
+    a transmission of 2π/lead = 628 rad/m).  At the leg (the properties) that is a
+    stall force of 1653 N, a nominal force of 121 N at 1.06 m/s, a reflected mass of
+    5.6 kg, viscous friction of 23 N·s/m (the Octo's 0.01 N·m·s/rad at the crank,
+    brought to the motor and through the screw; ``friction`` overrides it, N·s/m at
+    the leg) and a length quantum of 5 µm.  Screw efficiency and backdriving losses
+    are not modelled (a stated simplification).
+    """
+
+    lead: float = 0.01                                                 # m/rev
+    rotor_inertia: float = Motors.rotor_inertia                        # kg·m², motor side
+    motor_stall_torque: float = Motors.stall_torque / Motors.gear      # N·m, motor side
+    motor_nominal_torque: float = Motors.nominal_torque / Motors.gear  # N·m, motor side
+    motor_nominal_speed: float = Motors.nominal_speed * Motors.gear    # rad/s, motor side
+    motor_friction: float = Motors.friction / Motors.gear ** 2         # N·m·s/rad, motor
+    counts_per_rev: int = Motors.counts_per_rev                        # motor side
+    force_noise: float = Motors.force_noise                            # N
+    torque_noise: float = Motors.torque_noise                          # N·m
+    gravity: float = Motors.gravity                                    # m/s²
+    friction: float | None = None                                      # N·s/m at the leg
+
+    def __post_init__(self):
+        if self.friction is None:
+            object.__setattr__(self, "friction", self.motor_friction * self.ratio ** 2)
+
+    joint = "prismatic"
+    joint_unit, effort_unit = "m", "N"
+
+    @property
+    def ratio(self) -> float:
+        """Motor angle per leg length, rad/m."""
+        return 2.0 * math.pi / self.lead
+
+    @property
+    def hold_gains(self) -> tuple:
+        """The device's position hold: the rotary hold gains at the motor (110/13²
+        N·m/rad, 0.4/13² N·m·s/rad) through the screw, N/m and N·s/m."""
+        kp, kd = Motors.hold_gains
+        s = (self.ratio / Motors.gear) ** 2
+        return (kp * s, kd * s)
+
+    @property
+    def stall_effort(self) -> float:
+        """Stall force at the leg, N."""
+        return self.motor_stall_torque * self.ratio
+
+    @property
+    def nominal_effort(self) -> float:
+        """Nominal (continuous) force at the leg, N."""
+        return self.motor_nominal_torque * self.ratio
+
+    @property
+    def nominal_speed(self) -> float:
+        """Leg speed at the nominal force, m/s."""
+        return self.motor_nominal_speed / self.ratio
+
+    @property
+    def no_load_speed(self) -> float:
+        """Leg speed at which the available force falls to zero, m/s."""
+        return self.nominal_speed / (1.0 - self.motor_nominal_torque / self.motor_stall_torque)
+
+    @property
+    def joint_inertia(self) -> float:
+        """Rotor inertia reflected to the leg, kg."""
+        return self.ratio ** 2 * self.rotor_inertia
+
+    @property
+    def resolution(self) -> float:
+        """Encoder step at the leg, m."""
+        return self.lead / self.counts_per_rev
+
+
+def drives_for(joint: str):
+    """The default drives of a device whose legs are ``joint`` ("revolute" or
+    "prismatic")."""
+    return LinearDrives() if joint == "prismatic" else Motors()
 
 
 @dataclass(frozen=True)
@@ -106,13 +214,18 @@ class Plant:
     hand : HandScript
     seed : int
         Seed of the sensor noise.
+    hold_gains : (kp, kd) or None
+        The device's own position hold in MODE_HOLD, joint units (None: the drives').
+
+    With :class:`LinearDrives` the joint values are leg lengths (m) and the efforts
+    forces (N); the methods' "torque" and "crank angle" read so.
     """
 
     model: object
-    motors: Motors = field(default_factory=Motors)
+    motors: object = field(default_factory=Motors)
     hand: HandScript = field(default_factory=HandScript)
     seed: int = 0
-    hold_gains: tuple = (110.0, 0.4)
+    hold_gains: tuple | None = None
 
     def __post_init__(self):
         self.rng = np.random.default_rng(self.seed)
@@ -128,6 +241,8 @@ class Plant:
         self.saturated = False
         self.end_stop_hits = 0
         self._q_hold = None
+        if self.hold_gains is None:
+            self.hold_gains = tuple(self.motors.hold_gains)
         # compiled drives and dynamics when the model has compiled kernels (the same
         # equations; the numpy route below is the reference)
         self._ck = getattr(self.model, "compiled", None)
@@ -137,25 +252,27 @@ class Plant:
         self._noise = np.repeat([mo.force_noise, mo.torque_noise], 3)
 
     def drive(self, tau_cmd) -> np.ndarray:
-        """The torque the drives deliver for ``tau_cmd`` at the current speed (N·m)."""
+        """The effort the drives deliver for ``tau_cmd`` at the current speed (N·m; N for
+        prismatic legs)."""
         mo = self.motors
         tau = np.asarray(tau_cmd, dtype=float)
         if self._ck is not None:
             out = np.empty(tau.shape[0])
-            self.saturated = bool(self._ck.drive(tau, self.qdot, mo.stall_torque,
+            self.saturated = bool(self._ck.drive(tau, self.qdot, mo.stall_effort,
                                                  self._w_nl, out))
             return out
         motoring = np.sign(tau) == np.sign(self.qdot)
         avail = np.where(motoring,
-                         mo.stall_torque * np.clip(1.0 - np.abs(self.qdot) / mo.no_load_speed,
+                         mo.stall_effort * np.clip(1.0 - np.abs(self.qdot) / mo.no_load_speed,
                                                    0.0, 1.0),
-                         mo.stall_torque)
+                         mo.stall_effort)
         out = np.clip(tau, -avail, avail)
         self.saturated = bool(np.any(out != tau))
         return out
 
     def step(self, tau_cmd, mode: int, dt: float) -> None:
-        """Advance the physics by ``dt`` (s) under the command (N·m, crank side)."""
+        """Advance the physics by ``dt`` (s) under the command (joint side: N·m, or N for
+        prismatic legs)."""
         mo = self.motors
         if mode == MODE_RUN:
             self._q_hold = None
@@ -205,7 +322,7 @@ class Plant:
         self.t += dt
 
     def encoders(self) -> np.ndarray:
-        """Quantised crank angles (L,), rad."""
+        """Quantised joint readings (L,): crank angles (rad) or leg lengths (m)."""
         r = self.motors.resolution
         return np.round(self.q / r) * r
 

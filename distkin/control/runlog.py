@@ -137,11 +137,12 @@ def read_events(path) -> list[dict]:
     return [json.loads(line) for line in text.splitlines() if line.strip()]
 
 
-def plot_run(prefix, out=None) -> list:
+def plot_run(prefix, out=None, *, effort_unit: str = "N·m") -> list:
     """Plot a controller run from its log files ``PREFIX.cycles.csv`` and
     ``PREFIX.events.jsonl`` (and ``PREFIX.device.csv`` when the simulator wrote one).
 
-    Panels: end-effector position (estimated, desired, true), hand force, torques,
+    Panels: end-effector position (estimated, desired, true), hand force, actuator
+    commands (torques in N·m, or forces in N for prismatic legs: ``effort_unit``),
     compute time per cycle; safety events are drawn as vertical lines.
 
     Returns
@@ -177,7 +178,8 @@ def plot_run(prefix, out=None) -> list:
     while f"tau_{k}" in c:
         ax[2].plot(t, c[f"tau_{k}"], lw=0.8)
         k += 1
-    ax[2].set_ylabel("torque command [N·m]")
+    ax[2].set_ylabel(f"{'force' if effort_unit == 'N' else 'torque'} command "
+                     f"[{effort_unit}]")
     ax[3].plot(t, 1e3 * c["compute_s"], lw=0.6, label="compute")
     ax[3].plot(t, 1e3 * c["period_s"], lw=0.6, label="period")
     ax[3].set_ylabel("time [ms]")
