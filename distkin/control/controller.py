@@ -28,7 +28,8 @@ Kühne et al., Sec. III-D and Fig. 9.  Each cycle, on the arrival of a state fra
 
 Safety: a watchdog (no valid frame within ``watchdog_ms`` of wall time -> zero torque
 and the fault state, left after ``recover_frames`` valid frames with the set point
-re-initialised at the measured pose), a stop near singular poses, rejection of NaN or
+re-initialised at the measured pose), a stop near singular poses (also when the forward
+kinematics fails to converge and the last estimate is near-singular), rejection of NaN or
 out-of-range readings, and zero torque on every way out of :meth:`Controller.run`.
 """
 
@@ -235,6 +236,17 @@ class Controller:
         self._reset_pd()
         self.refusing = False
 
+    def base_wrench(self, ws):
+        """The sensor's wrench ``ws`` (6,) rotated from the platform frame into the base
+        frame at the current pose estimate (N, N·m)."""
+        ck = self.model.compiled
+        if ck is not None:
+            w = np.empty(6)
+            ck.rotate_wrench(self.pose[3:], ws, w)
+            return w
+        R = _rot(self.pose[3:])
+        return np.concatenate([R @ ws[:3], R @ ws[3:]])
+
     def estimate(self, angles):
         """Forward kinematics warm-started at the last estimate (cold start: home)."""
         fk = self.model.forward(angles, self.pose, max_iter=8 if self.started else 40)
@@ -291,6 +303,13 @@ class Controller:
         fk = self.estimate(frame.angles)
         r.fk_iterations, r.fk_residual = fk.iterations, fk.residual
         if not fk.converged or fk.residual > self.safety.max_fk_residual:
+            if self.started and self.near_singular(self.model.jacobian(self.pose)):
+                # near a singularity the FK cannot converge: the singular stop, at the
+                # last estimate (not a repeated command)
+                r.pose, r.wrench = self.pose, self.base_wrench(frame.wrench)
+                r.reason, r.accepted, r.mode = "singular_stop", False, MODE_HOLD
+                r.torques = np.zeros(self.L)
+                return r
             r.reason = "fk_failed"         # no decision: the loop repeats its last command
             r.accepted = False
             r.mode = None
@@ -299,13 +318,7 @@ class Controller:
         if not self.started:
             self.start_at(fk.pose)
             self.started = True
-        ck = self.model.compiled
-        if ck is not None:                                  # sensor -> base frame
-            w = np.empty(6)
-            ck.rotate_wrench(self.pose[3:], frame.wrench, w)
-        else:
-            R = _rot(self.pose[3:])
-            w = np.concatenate([R @ frame.wrench[:3], R @ frame.wrench[3:]])
+        w = self.base_wrench(frame.wrench)
         r.pose, r.wrench = self.pose, w
         J = self.model.jacobian(self.pose)
         if self.near_singular(J):

@@ -405,9 +405,11 @@ def build(kernels, L: int) -> CycleKernels:
     ck.rotate_pose(np.zeros(6), np.zeros(3), np.zeros(3))
     env = np.zeros((2, 25))
     env[1, 0] = 1.0
+    prm = np.zeros(33)
+    prm[15:21] = 1.0                               # the scaling S (a divisor)
     for started in (False, True):
         ck.cycle(np.zeros(L), np.zeros(6), 1e-3, started, True, np.zeros(6), np.zeros(6),
-                 np.zeros(6), np.zeros((5, L)), np.zeros(33), env, np.zeros(CYCLE_OUT + L))
+                 np.zeros(6), np.zeros((5, L)), prm, env, np.zeros(CYCLE_OUT + L))
     ck.drive(np.zeros(L), np.zeros(L), 1.0, 1.0, np.zeros(L))
     ck.plant_dynamics(np.zeros(6), np.zeros(6), np.zeros(L), np.zeros(L), np.zeros(L),
                       np.zeros(6), np.eye(6), np.zeros(4), np.zeros(12 + L))

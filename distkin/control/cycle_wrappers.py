@@ -239,7 +239,8 @@ def cycle(q, ws, dt, started, run, guess, adm_pose, adm_twist, pd, prm, env,
     """Steps 2-8 of :meth:`.controller.Controller.compute` in one call (the layouts of
     ``prm``, ``env``, ``pd`` and ``out`` are those of :func:`.cycle_kernels.cycle_params`).
 
-    Returns 0 (set point accepted), 1 (FK failed), 2 (singular stop), 3 (not in RUN:
+    Returns 0 (set point accepted), 1 (FK failed), 2 (singular stop: at the measured
+    pose, or at the last estimate when FK fails there), 3 (not in RUN:
     zero torque), 4 / 5 (candidate refused: unreachable / singular), 6 (the torque
     distribution's 6 × 6 system is singular).  ``pd`` (rows e_prev, d_prev, d_f, ∫e;
     ``pd[4, 0]`` 1 once e_prev holds an error) is updated in place.
@@ -257,6 +258,18 @@ def cycle(q, ws, dt, started, run, guess, adm_pose, adm_twist, pd, prm, env,
     out[25 + L] = it
     out[26 + L] = 0.0
     if not conv or res > prm[3]:
+        if started:           # near a singularity FK cannot converge: stop, as below
+            J = np.empty((L, 6))
+            jacobian(guess, J)
+            if _near_singular(J, prm):
+                for i in range(6):
+                    pose[i] = guess[i]
+                    apose[i] = adm_pose[i]
+                    atwist[i] = adm_twist[i]
+                rotate_wrench(pose[3:], ws, w)
+                for i in range(L):
+                    tau[i] = 0.0
+                return 2
         return 1
     if not started:                                          # Controller.start_at
         for i in range(6):

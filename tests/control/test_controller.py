@@ -237,6 +237,30 @@ def test_measured_pose_near_a_singularity_stops_the_device(scene, model):
     assert np.all(res.torques == 0)
 
 
+@pytest.mark.parametrize("fused", [True, False])
+def test_fk_failing_near_a_singularity_is_a_singular_stop(scene, model, fused):
+    """Readings the FK cannot close (one crank 0.3 rad off): near a singularity (the
+    last estimate's J, by :func:`_singular_pose`) that is the singular stop, hold mode
+    and zero torque at the last estimate; at a regular last estimate it stays an FK
+    failure (the loop repeats its last command).  Fused cycle and Python steps alike."""
+    from distkin.control.protocol import MODE_HOLD
+    pose, _, _ = _singular_pose(model)
+    dq = np.zeros(model.L)
+    dq[2] = 0.3
+    for start, want in ((pose, "singular_stop"), (model.home, "fk_failed")):
+        ctl = Controller(scene, model, fused=fused)
+        ctl.pose = start.copy()
+        ctl.started = True
+        ctl.adm.reset(start)
+        res = ctl.compute(_frame(model, start, dq=dq), 1e-3)
+        assert res.reason == want
+        if want == "singular_stop":
+            assert res.mode == MODE_HOLD and np.all(res.torques == 0)
+            assert np.array_equal(res.pose, start) and np.array_equal(ctl.pose, start)
+        else:
+            assert res.mode is None
+
+
 def test_default_fk_tolerance_is_far_below_one_encoder_count(model):
     # one warm-started step from 0.1 mm / 1 mrad away (more than a 1 ms cycle moves)
     pose = model.home + np.array([0.02, 0.01, -0.01, 0.05, 0.1, -0.05])
