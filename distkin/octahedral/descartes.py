@@ -105,7 +105,7 @@ import numpy as np
 from .error_bounds import (_SAFE, ETA_FLOAT, LEAF_BOUND, U, _add, _mul,  # noqa: F401
                            eta_rounded, margin, part_errors)
 
-__all__ = ["vouch", "vouch_many", "vouch_rows", "part_errors", "margin", "eta_rounded", "VERDICTS", "U",
+__all__ = ["vouch", "vouch_many", "vouch_rows", "vouch_buffer", "part_errors", "margin", "eta_rounded", "VERDICTS", "U",
            "ETA_FLOAT", "LEAF_BOUND"]
 
 _BUDGET = 48                  # Bernstein evaluations per problem, beyond one per piece
@@ -549,3 +549,12 @@ def vouch_rows(d, s2, l2, eta, lo, hi, rows):
             rad = max(rad, radii[k])
             rel = max(rel, radii[k] / max(abs(x[k]), 1e-300))
     return v, sep, rad, rel
+
+
+@numba.njit(cache=True)
+def vouch_buffer(buf, nr, eta, lo, hi):
+    """:func:`vouch_rows` on the buffer of the single solve (``.batched._scan_single``:
+    squared sides, legs, kernel output, then ``nr`` root rows), without unpacking it in
+    Python."""
+    return vouch_rows(buf[12:51], buf[:6], buf[6:12], eta, lo, hi,
+                      buf[51:51 + 3 * nr].reshape(nr, 3))
