@@ -344,6 +344,30 @@ def _buffer_result(lo, hi, nr, m, buf, conditioning=None, k=0):
     return a
 
 
+def _evolve(res, **changes):
+    """:func:`dataclasses.replace` of an :class:`AssemblyResult` that keeps the roots and
+    poses of a single fast solve unbuilt (:func:`_buffer_result`) until they are read."""
+    d = res.__dict__
+    if "_lazy" not in d:
+        return replace(res, **changes)
+    a = _new(AssemblyResult)
+    new = dict(d)
+    new.update(changes)
+    _set(a, "__dict__", new)
+    return a
+
+
+def _worst_leg_error(res) -> float:
+    """The largest relative leg error over the poses of ``res`` (0 without poses), read
+    from the buffer of a single fast solve whose poses are not built yet."""
+    lazy = res.__dict__.get("_lazy")
+    if lazy is None:
+        return max((p.max_leg_error_relative for p in res.poses), default=0.0)
+    _, _, nr, m, buf = lazy
+    o = 51 + 3 * nr + 23 * m
+    return max(buf[o:o + m].tolist(), default=0.0)
+
+
 class _Solve:
     """The fields of a :class:`.single.SingleSolve` that :func:`_single_result` reads."""
 

@@ -151,7 +151,8 @@ def test_lazy_single_result_equals_the_eager_route():
     the eager route (:func:`.batched.solve_scan_single`, then
     :func:`.result._single_result`, main's construction) gives equal objects, bit for
     bit: on 300 random octahedra at three scales (one rescaled by a power of two),
-    before and after a pickle, and ``len`` agrees before anything is built."""
+    before and after a pickle, and ``len`` agrees before anything is built; so does
+    ``method="auto"`` against :func:`.auto.escalate` of the eager result."""
     import pickle
 
     from distkin.octahedral.batched import solve_scan_single
@@ -178,6 +179,10 @@ def test_lazy_single_result_equals_the_eager_route():
         eager_proved = _single_result(raw, conditioning=cond, k=k)
         again = pickle.loads(pickle.dumps(proved))
         assert n == len(eager)
+        if i % 3 == 0:              # auto keeps the lazy result (its leg check reads the buffer)
+            from distkin.octahedral.auto import escalate
+            auto = forward_kinematics(B, Q, L, method="auto")
+            assert repr(auto) == repr(escalate(eager_proved, B, Q, L))
         for got, want in ((bare, eager), (proved, eager_proved), (again, eager_proved)):
             assert repr(got) == repr(want)
             assert got.roots == want.roots
