@@ -149,8 +149,10 @@ class AssemblyResult(Sequence):
             d = object.__getattribute__(self, "__dict__")
             lazy = d.get("_lazy")
             if lazy is not None:
-                d["roots"], d["poses"] = _from_buffer(*lazy)
-                del d["_lazy"]
+                roots, poses = _from_buffer(*lazy)
+                d.setdefault("roots", roots)        # (two threads: the first one's)
+                d.setdefault("poses", poses)
+                d.pop("_lazy", None)
                 return d[name]
         raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 

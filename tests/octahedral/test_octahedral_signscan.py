@@ -153,6 +153,7 @@ def test_lazy_single_result_equals_the_eager_route():
     bit: on 300 random octahedra at three scales (one rescaled by a power of two),
     before and after a pickle, and ``len`` agrees before anything is built; so does
     ``method="auto"`` against :func:`.auto.escalate` of the eager result."""
+    import copy
     import pickle
 
     from distkin.octahedral.batched import solve_scan_single
@@ -178,12 +179,14 @@ def test_lazy_single_result_equals_the_eager_route():
         eager = _single_result(raw, k=k)
         eager_proved = _single_result(raw, conditioning=cond, k=k)
         again = pickle.loads(pickle.dumps(proved))
+        copied = copy.deepcopy(bare)
         assert n == len(eager)
         if i % 3 == 0:              # auto keeps the lazy result (its leg check reads the buffer)
             from distkin.octahedral.auto import escalate
             auto = forward_kinematics(B, Q, L, method="auto")
             assert repr(auto) == repr(escalate(eager_proved, B, Q, L))
-        for got, want in ((bare, eager), (proved, eager_proved), (again, eager_proved)):
+        for got, want in ((bare, eager), (proved, eager_proved), (again, eager_proved),
+                          (copied, eager)):
             assert repr(got) == repr(want)
             assert got.roots == want.roots
             for p, q in zip(got.poses, want.poses):
