@@ -27,6 +27,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..errors import InputError
+from .result import _evolve, _worst_leg_error
 
 __all__ = ["escalate", "escalate_batch", "solve_exact", "LEG_TOL", "PRECISE_DPS"]
 
@@ -82,10 +83,10 @@ def escalate(fast, base, platform, legs, *, dps=None, tol=None):
     AssemblyResult with ``method="auto"`` and ``tier``/``tier_reason`` set.
     """
     cond = fast.conditioning
-    worst = max((p.max_leg_error_relative for p in fast.poses), default=0.0)
+    worst = _worst_leg_error(fast)
     why = _why(cond, worst)
     if not why:
-        return replace(fast, method="auto", tier="fast",
+        return _evolve(fast, method="auto", tier="fast",
                        tier_reason=f"the fast tier proved its assembly roots (largest "
                                    f"relative root radius {cond.root_condition:.2g} eps); "
                                    f"legs reproduced to {worst:.1e} <= {LEG_TOL:g} relative")

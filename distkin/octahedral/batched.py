@@ -62,7 +62,7 @@ from .placement import _place_many, place_many
 from .problem import REASONS
 from .signscan import MAX_ROOTS, K, _workspace, scan_many, scan_one
 
-__all__ = ["solve_fast", "solve_scan_single", "scan_window", "polish_scan", "roots_many", "companions", "REASONS"]
+__all__ = ["solve_fast", "solve_scan_single", "scan_single", "scan_window", "polish_scan", "roots_many", "companions", "REASONS"]
 
 _jit = numba.njit(cache=True)
 
@@ -143,6 +143,10 @@ def solve_scan_single(B, Q, L):
     :func:`.hardset.hard_families`, none proved) so can the answers
     (tests/octahedral/test_octahedral_signscan.py compares the routes).
 
+    The compiled part returns everything in one float64 buffer (:func:`_scan_single`;
+    numba boxes each returned array at ~0.3 µs, and this path returned eleven), and the
+    fields of the :class:`.single.SingleSolve` are views of it.
+
     Parameters
     ----------
     B, Q : (3, 3) float64 arrays, L : (6,) (normalised: :func:`.problem.float_single`)
@@ -154,16 +158,42 @@ def solve_scan_single(B, Q, L):
     B = np.asarray(B, dtype=float)
     Q = np.asarray(Q, dtype=float)
     L = np.asarray(L, dtype=float)
-    doubt, s2, l2, d, lo, hi, rows, poses = _scan_single(B, Q, L)
+    doubt, lo, hi, nr, m, buf = _scan_single(B, Q, L)
     if doubt:
         return solve_fast_single(B, Q, L)
-    return SingleSolve(d[OCTIC], lo, hi, rows, poses, s2, l2, d, None)
+    o = 51 + 3 * nr
+    o1, o2, o3, o4, o5 = o + m, o + 10 * m, o + 19 * m, o + 22 * m, o + 23 * m
+    poses = (buf[o:o1], _SIDES[:m], buf[o1:o2].reshape(m, 3, 3),
+             buf[o2:o3].reshape(m, 3, 3), buf[o3:o4].reshape(m, 3), buf[o4:o5],
+             buf[o5:o5 + m])
+    d = buf[12:51]
+    return SingleSolve(d[OCTIC], lo, hi, buf[51:o].reshape(nr, 3), poses, buf[:6],
+                       buf[6:12], d, None)
+
+
+def scan_single(B, Q, L):
+    """:func:`solve_scan_single` without the :class:`.single.SingleSolve`: the output of
+    the compiled part, ``(lo, hi, nr, m, buffer)`` (:func:`_scan_single`), which the lean
+    result of the fast tier reads lazily (:func:`.result._buffer_result`); None when
+    the scan doubts the problem (then :func:`.single.solve_fast_single` answers).
+    ``B``, ``Q``, ``L``: (3, 3), (3, 3), (6,) float64 arrays or lists (normalised)."""
+    doubt, lo, hi, nr, m, buf = _scan_single(np.asarray(B, dtype=float),
+                                             np.asarray(Q, dtype=float),
+                                             np.asarray(L, dtype=float))
+    return None if doubt else (lo, hi, nr, m, buf)
+
+
+#: the sides of the poses of a single solve: two mirror poses per assembly root, +1 first
+_SIDES = np.tile(np.array([1, -1], dtype=np.int64), 8)
 
 
 @_jit
 def _scan_single(B, Q, L):
-    """The compiled part of :func:`solve_scan_single`: (doubt, s2, l2, kernel output,
-    lo, hi, root rows (n, 3), poses (S15, side, P, R, T, E, Er))."""
+    """The compiled part of :func:`solve_scan_single`: (doubt, lo, hi, number of roots
+    nr, number of poses m, buffer).  The buffer (float64) holds the squared sides (6),
+    legs (6), the kernel output (39), the root rows (nr, 3), then over the m poses the
+    roots S15, points (m, 3, 3), rotations (m, 3, 3), translations (m, 3), absolute and
+    relative leg errors (m each); empty when the scan doubts the problem."""
     s2, l2 = _squares(B, Q, L)
     d = octic_array(s2, l2)
     lo, hi = bounds(s2, l2)
@@ -180,40 +210,46 @@ def _scan_single(B, Q, L):
     doubt = np.full(1, dbt)
     status, x, step = polish_scan(one, np.zeros(n, np.int64), xs[:n], ss[:n], los, his, cs,
                                   doubt)
-    rows = np.empty((0, 3))
-    poses = (np.empty(0), np.empty(0, np.int64), np.empty((0, 3, 3)), np.empty((0, 3, 3)),
-             np.empty((0, 3)), np.empty(0), np.empty(0))
     if doubt[0]:
-        return True, s2, l2, d, lo, hi, rows, poses
-    roots = np.full((1, 8), np.nan)
-    steps = np.full((1, 8), np.nan)
-    stat = np.full((1, 8), -1, np.int64)
-    slot = np.full((1, 8), -1, np.int64)
-    count = np.zeros(1, np.int64)
-    s15 = np.full((1, 8), np.nan)
-    P = np.full((1, 16, 3, 3), np.nan)
-    R = np.full((1, 16, 3, 3), np.nan)
-    T = np.full((1, 16, 3), np.nan)
-    E = np.full((1, 16), np.nan)
-    Er = np.full((1, 16), np.nan)
+        return True, lo, hi, 0, 0, np.empty(0)
+    roots = np.empty((1, 8))            # (every element written by _place_many)
+    steps = np.empty((1, 8))
+    stat = np.empty((1, 8), np.int64)
+    slot = np.empty((1, 8), np.int64)
+    count = np.empty(1, np.int64)
+    s15 = np.empty((1, 8))
+    P = np.empty((1, 16, 3, 3))
+    R = np.empty((1, 16, 3, 3))
+    T = np.empty((1, 16, 3))
+    E = np.empty((1, 16))
+    Er = np.empty((1, 16))
     _place_many(B.reshape(1, 3, 3), Q.reshape(1, 3, 3), L.reshape(1, 6), s2.reshape(1, 6),
                 l2.reshape(1, 6), los, his, cs, np.zeros(n, np.int64), x, step, status,
                 roots, steps, stat, slot, count, s15, P, R, T, E, Er)
     nr = 0
     while nr < 8 and stat[0, nr] >= 0:
         nr += 1
-    rows = np.empty((nr, 3))
     m = count[0]
-    S15 = np.empty(m)
-    side = np.empty(m, np.int64)
+    o = 51 + 3 * nr
+    buf = np.empty(o + 24 * m)
+    buf[:6] = s2
+    buf[6:12] = l2
+    buf[12:51] = d
     for t in range(nr):
-        rows[t, 0], rows[t, 1], rows[t, 2] = roots[0, t], steps[0, t], stat[0, t]
+        buf[51 + 3 * t], buf[52 + 3 * t], buf[53 + 3 * t] = roots[0, t], steps[0, t], stat[0, t]
         if slot[0, t] >= 0:
             k = slot[0, t]
-            S15[k], S15[k + 1], side[k], side[k + 1] = roots[0, t], roots[0, t], 1, -1
-    poses = (S15, side, P[0, :m].copy(), R[0, :m].copy(), T[0, :m].copy(), E[0, :m].copy(),
-             Er[0, :m].copy())
-    return False, s2, l2, d, lo, hi, rows, poses
+            buf[o + k] = roots[0, t]
+            buf[o + k + 1] = roots[0, t]
+    for k in range(m):
+        for a in range(3):
+            for b in range(3):
+                buf[o + m + 9 * k + 3 * a + b] = P[0, k, a, b]
+                buf[o + 10 * m + 9 * k + 3 * a + b] = R[0, k, a, b]
+            buf[o + 19 * m + 3 * k + a] = T[0, k, a]
+        buf[o + 22 * m + k] = E[0, k]
+        buf[o + 23 * m + k] = Er[0, k]
+    return False, lo, hi, nr, m, buf
 
 
 @_jit

@@ -21,9 +21,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .descartes import ETA_FLOAT, VERDICTS, eta_rounded, vouch_rows
+from .descartes import ETA_FLOAT, VERDICTS, eta_rounded, vouch_buffer, vouch_rows
 
-__all__ = ["Conditioning", "assess", "eta_of", "from_verdict"]
+__all__ = ["Conditioning", "assess", "assess_buffer", "eta_of", "from_verdict"]
 
 _EPS = float(np.finfo(float).eps)
 
@@ -85,7 +85,16 @@ def assess(sides2, legs2, data, lo, hi, roots, eta) -> Conditioning:
         :func:`.single.solve_fast_single`
     eta : relative error bound of the squared lengths (:func:`eta_of`)
     """
-    v, sep, radius, rel = vouch_rows(data, sides2, legs2, eta, lo, hi, roots)
+    return _conditioning(*vouch_rows(data, sides2, legs2, eta, lo, hi, roots))
+
+
+def assess_buffer(buf, nr, lo, hi, eta) -> Conditioning:
+    """:func:`assess` on the buffer of the single solve (:func:`.batched.scan_single`:
+    its ``nr`` root rows, squared lengths and kernel output)."""
+    return _conditioning(*vouch_buffer(buf, nr, eta, lo, hi))
+
+
+def _conditioning(v, sep, radius, rel):
     if v:
         return Conditioning(False, VERDICTS[v], np.inf, sep, np.inf)
     return Conditioning(True, "", rel / _EPS if radius else 1.0, sep, radius)

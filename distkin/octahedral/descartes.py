@@ -105,7 +105,7 @@ import numpy as np
 from .error_bounds import (_SAFE, ETA_FLOAT, LEAF_BOUND, U, _add, _mul,  # noqa: F401
                            eta_rounded, margin, part_errors)
 
-__all__ = ["vouch", "vouch_many", "vouch_rows", "part_errors", "margin", "eta_rounded", "VERDICTS", "U",
+__all__ = ["vouch", "vouch_many", "vouch_rows", "vouch_buffer", "part_errors", "margin", "eta_rounded", "VERDICTS", "U",
            "ETA_FLOAT", "LEAF_BOUND"]
 
 _BUDGET = 48                  # Bernstein evaluations per problem, beyond one per piece
@@ -465,10 +465,25 @@ def _vouch(d, s2, l2, eta, lo, hi, roots, codes, radii, tight, ws):
     if m == 0:
         c, _, _, _ = _count(d, e, a, b, signs[0], signs[1], budget, W, B, EB, stack, ssigns)
         return 0 if c == 0 else 4
+    # one count over all of [a, b] first (step 4 on the union of the pieces): at most
+    # m sign changes and signs alternating at the m + 1 cuts prove one simple root per
+    # piece (each piece holds an odd number of roots, the m pieces at most m in all);
+    # otherwise piece by piece, by bisection (:func:`_count`)
+    whole = True
     for j in range(m):
-        c, ia, ib, used = _count(d, e, cuts[j], cuts[j + 1], signs[j], signs[j + 1],
-                                 budget, W, B, EB, stack, ssigns)
-        budget -= used
+        if signs[j] == signs[j + 1]:
+            whole = False
+    if whole and m > 1:
+        _bernstein(d, e, a, b, W, B, EB)
+        budget -= 1
+        whole = _changes(B, EB) <= m
+    for j in range(m):
+        if whole and m > 1:
+            c, ia, ib = 1, cuts[j], cuts[j + 1]
+        else:
+            c, ia, ib, used = _count(d, e, cuts[j], cuts[j + 1], signs[j], signs[j + 1],
+                                     budget, W, B, EB, stack, ssigns)
+            budget -= used
         if c < 0 or c > 1:
             return 4
         if c == 0:
@@ -549,3 +564,12 @@ def vouch_rows(d, s2, l2, eta, lo, hi, rows):
             rad = max(rad, radii[k])
             rel = max(rel, radii[k] / max(abs(x[k]), 1e-300))
     return v, sep, rad, rel
+
+
+@numba.njit(cache=True)
+def vouch_buffer(buf, nr, eta, lo, hi):
+    """:func:`vouch_rows` on the buffer of the single solve (``.batched._scan_single``:
+    squared sides, legs, kernel output, then ``nr`` root rows), without unpacking it in
+    Python."""
+    return vouch_rows(buf[12:51], buf[:6], buf[6:12], eta, lo, hi,
+                      buf[51:51 + 3 * nr].reshape(nr, 3))

@@ -52,7 +52,8 @@ from ..exact import METHODS_AUTO, check_method, default_dps
 from .problem import exact_problem, float_problem, float_single
 from .scaling import in_units, rescale_result
 
-from .result import _VERDICTS, AssemblyResult, BatchResult, Pose, RootInfo, _single_result
+from .result import (_VERDICTS, AssemblyResult, BatchResult, Pose, RootInfo,
+                     _buffer_result, _single_result)
 
 __all__ = ["Pose", "RootInfo", "AssemblyResult", "BatchResult", "forward_kinematics",
            "forward_kinematics_batched"]
@@ -122,15 +123,25 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
     """
     check_method(method, allowed=METHODS_AUTO)
     if method in ("fast", "auto"):
-        from .batched import solve_scan_single
+        from .batched import scan_single
         B, Q, L, k, rounded = float_single(base, platform, legs)
+        out = scan_single(B, Q, L)
         if method == "fast" and not warn:                   # the bare fast tier
-            return _single_result(solve_scan_single(B, Q, L), k=k)
-        from .conditioning import assess, eta_of
-        raw = solve_scan_single(B, Q, L)
-        cond = assess(raw.sides2, raw.legs2, raw.data, raw.lo, raw.hi, raw.roots,
-                      eta_of(B, Q, L, rounded))
-        res = _single_result(raw, conditioning=cond, k=k)
+            if out is None:                                 # doubted: the careful way
+                from .single import solve_fast_single
+                return _single_result(solve_fast_single(B, Q, L), k=k)
+            return _buffer_result(*out, k=k)
+        from .conditioning import assess, assess_buffer, eta_of
+        eta = eta_of(B, Q, L, rounded)
+        if out is None:
+            from .single import solve_fast_single
+            raw = solve_fast_single(B, Q, L)
+            cond = assess(raw.sides2, raw.legs2, raw.data, raw.lo, raw.hi, raw.roots, eta)
+            res = _single_result(raw, conditioning=cond, k=k)
+        else:
+            lo, hi, nr, m, buf = out
+            cond = assess_buffer(buf, nr, lo, hi, eta)
+            res = _buffer_result(lo, hi, nr, m, buf, conditioning=cond, k=k)
         if method == "auto":
             from .auto import escalate
             return escalate(res, base, platform, legs, dps=dps, tol=tol)

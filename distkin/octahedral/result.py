@@ -113,6 +113,10 @@ class AssemblyResult(Sequence):
     conditioning : :class:`~.conditioning.Conditioning` or None
         The fast tier's proof of its own assembly roots, or why there is none (fast
         and auto).
+
+    A single fast solve builds :attr:`poses` and :attr:`roots` on their first reading
+    (from the compiled solver's buffer, :func:`_buffer_result`; issue 17: the objects
+    cost more than the solve): the same objects, built once, when they are read.
     """
 
     poses: tuple
@@ -129,13 +133,28 @@ class AssemblyResult(Sequence):
     conditioning: object = None
 
     def __len__(self):
-        return len(self.poses)
+        lazy = self.__dict__.get("_lazy")
+        return len(self.poses) if lazy is None else lazy[3]
 
     def __getitem__(self, i):
         return self.poses[i]
 
     def __iter__(self):
         return iter(self.poses)
+
+    def __getattr__(self, name):
+        # reached only when the instance has no such attribute: the lazy fields
+        # ``poses`` and ``roots`` of a single fast solve (:func:`_buffer_result`)
+        if name in ("poses", "roots"):
+            d = object.__getattribute__(self, "__dict__")
+            lazy = d.get("_lazy")
+            if lazy is not None:
+                roots, poses = _from_buffer(*lazy)
+                d.setdefault("roots", roots)        # (two threads: the first one's)
+                d.setdefault("poses", poses)
+                d.pop("_lazy", None)
+                return d[name]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     @property
     def degree(self) -> int:
@@ -300,6 +319,78 @@ def _single_result(solve, conditioning=None, k=0):
 
 
 _STATUS = {0: "assembly", 1: "spurious", 2: "spurious", 3: "rejected"}
+_SIDES = (1, -1) * 8
+
+
+def _buffer_result(lo, hi, nr, m, buf, conditioning=None, k=0):
+    """The :class:`AssemblyResult` of the single solve's compiled output
+    (:func:`.batched.scan_single`: the triangle bounds, ``nr`` roots, ``m`` poses and
+    the buffer), for the lengths divided by ``2**k``.  Its roots and poses are built
+    from the buffer when first read (:meth:`AssemblyResult.__getattr__`,
+    :func:`_from_buffer`); with ``k`` (lengths rescaled, :mod:`.scaling`), or without a
+    pose (the reason reads the roots), at once, by :func:`_single_result`."""
+    if k or not m:
+        o = 51 + 3 * nr
+        o1, o2, o3, o4, o5 = o + m, o + 10 * m, o + 19 * m, o + 22 * m, o + 23 * m
+        poses = (buf[o:o1], np.array(_SIDES[:m], dtype=np.int64),
+                 buf[o1:o2].reshape(m, 3, 3), buf[o2:o3].reshape(m, 3, 3),
+                 buf[o3:o4].reshape(m, 3), buf[o4:o5], buf[o5:o5 + m])
+        solve = _Solve(buf[42:51], lo, hi, buf[51:o].reshape(nr, 3), poses)
+        return _single_result(solve, conditioning, k)
+    a = _new(AssemblyResult)
+    _set(a, "__dict__", {"method": "fast", "octic": tuple(buf[42:51].tolist()),
+                         "octic_exact": False, "certified": False, "reason": "",
+                         "accuracy": _FAST_ACCURACY, "notes": (_SPURIOUS_NOTE,),
+                         "tier": "fast", "tier_reason": "", "conditioning": conditioning,
+                         "_lazy": (lo, hi, nr, m, buf)})
+    return a
+
+
+def _evolve(res, **changes):
+    """:func:`dataclasses.replace` of an :class:`AssemblyResult` that keeps the roots and
+    poses of a single fast solve unbuilt (:func:`_buffer_result`) until they are read."""
+    d = res.__dict__
+    if "_lazy" not in d:
+        return replace(res, **changes)
+    a = _new(AssemblyResult)
+    new = dict(d)
+    new.update(changes)
+    _set(a, "__dict__", new)
+    return a
+
+
+def _worst_leg_error(res) -> float:
+    """The largest relative leg error over the poses of ``res`` (0 without poses), read
+    from the buffer of a single fast solve whose poses are not built yet."""
+    lazy = res.__dict__.get("_lazy")
+    if lazy is None:
+        return max((p.max_leg_error_relative for p in res.poses), default=0.0)
+    _, _, nr, m, buf = lazy
+    o = 51 + 3 * nr + 23 * m
+    return max(buf[o:o + m].tolist(), default=0.0)
+
+
+class _Solve:
+    """The fields of a :class:`.single.SingleSolve` that :func:`_single_result` reads."""
+
+    __slots__ = ("coef", "lo", "hi", "roots", "poses")
+
+    def __init__(self, coef, lo, hi, roots, poses):
+        self.coef, self.lo, self.hi, self.roots, self.poses = coef, lo, hi, roots, poses
+
+
+def _from_buffer(lo, hi, nr, m, buf):
+    """(roots, poses) of :func:`_buffer_result`'s buffer: :class:`RootInfo` and
+    :class:`Pose` objects as :func:`_single_result` builds them (pose arrays are views
+    of the buffer)."""
+    o = 51 + 3 * nr
+    rows = buf[51:o].tolist()
+    roots = tuple(_root(rows[j], rows[j + 1], int(rows[j + 2])) for j in range(0, 3 * nr, 3))
+    o1, o2, o3, o4, o5 = o + m, o + 10 * m, o + 19 * m, o + 22 * m, o + 23 * m
+    poses = tuple(map(_pose, buf[o:o1].tolist(), _SIDES[:m], buf[o2:o3].reshape(m, 3, 3),
+                      buf[o3:o4].reshape(m, 3), buf[o1:o2].reshape(m, 3, 3),
+                      buf[o4:o5].tolist(), buf[o5:o5 + m].tolist()))
+    return roots, poses
 
 
 def _empty_reason(roots, lo=None, hi=None):

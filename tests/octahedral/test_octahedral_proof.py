@@ -253,6 +253,28 @@ def test_vouch_refuses_forged_answers():
     assert 0 < ETA_FLOAT < 1e-15
 
 
+def test_whole_interval_count_refuses_dropped_pairs():
+    """The count over the whole feasible interval (one Bernstein expansion before the
+    pieces, issue 17) proves an answer only when the sign changes leave no room for a
+    root more: Griffis-Duffy's six assembly roots are proved in both forms (tight radii
+    and the batched tier's pieces), the answer with two neighbouring roots dropped (the
+    signs at the cuts still alternate: the middle piece holds three roots) is not, nor
+    with the two outermost dropped."""
+    plat = [[0.0, 0.0, 0.0], [6.0, 0.0, 0.0], [3.0, 27 ** 0.5, 0.0]]
+    base = [[0.0, 0.0, 0.0], [6.0, 108 ** 0.5, 0.0], [12.0, 0.0, 0.0]]
+    legs = [19.8, 18.0, 18.0, 17.0, 14.9, 17.8]
+    keep, lo, hi, roots = _solve(base, plat, legs)
+    x, codes = roots[:, 0], roots[:, 2].astype(np.int64)
+    for tight in (True, False):
+        def verdict(xs, cs):
+            radii = np.empty(len(xs))
+            return vouch(keep.data, keep.sides2, keep.legs2, 1e-15, lo, hi,
+                         np.ascontiguousarray(xs, dtype=float), cs, radii, tight)
+        assert verdict(x, codes) == 0
+        assert verdict(np.delete(x, [2, 3]), np.delete(codes, [2, 3])) == 4
+        assert verdict(x[1:-1], codes[1:-1]) != 0
+
+
 def test_griffis_duffy_is_proved_in_every_form():
     """Sec. VI example with exact strings (rounded to floats: the proof accounts for the
     rounding of the inputs) and as floats: proved, 12 poses, no warning."""
