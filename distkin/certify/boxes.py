@@ -286,6 +286,8 @@ def certify_box(mech, kernels, lo, hi, *, form: str = "quadratic",
     Verdict
         ``weights`` (per varying coordinate) says which split would help most.
     """
+    if form == "quadratic64":
+        return _certify_box64(mech, kernels, lo, hi, at_resolution)
     if form == "auto":
         first = certify_box(mech, kernels, lo, hi, form="affine", at_resolution=False)
         if first.status != UNDECIDED or first.reason == "reach":
@@ -324,6 +326,22 @@ def certify_box(mech, kernels, lo, hi, *, form: str = "quadratic",
             return Verdict(SINGULAR, contraction=contraction)
     return Verdict(UNDECIDED, reason="rank", contraction=contraction, vary=enc.vary,
                    weights=tuple(weights))
+
+
+def _certify_box64(mech, kernels, lo, hi, at_resolution):
+    from .batch import certify_batch
+    lo = np.asarray(lo, dtype=float)
+    hi = np.asarray(hi, dtype=float)
+    vary = tuple(k for k in range(6) if hi[k] > lo[k])
+    if not vary:
+        return certify_box(mech, kernels, lo, hi, form="quadratic", at_resolution=at_resolution)
+    r = certify_batch(mech, kernels, lo[None], hi[None], vary)
+    st, reason = int(r["status"][0]), r["reason"][0]
+    if st == UNDECIDED and reason == "rank" and at_resolution and mech.L == 6:
+        if sign_change_certificate(mech, kernels, lo, hi) is not None:
+            st = SINGULAR
+    return Verdict(st, float(r["sigma"][0]), int(r["det_sign"][0]), reason,
+                   float(r["contraction"][0]), vary, tuple(r["weights"][0].tolist()))
 
 
 def _singular_or(mech, kernels, lo, hi, verdict):
@@ -377,6 +395,9 @@ def branch_and_prune(mech, lo, hi, min_width, *, form: str = "quadratic",
         ``sigma_lower`` (n,), ``det_sign`` (n,) int8, ``evaluated`` (): the number of
         boxes evaluated, ``seconds`` ().
     """
+    if form == "quadratic64":
+        from .batch import branch_and_prune_batched
+        return branch_and_prune_batched(mech, lo, hi, min_width, max_boxes=max_boxes)
     t0 = time.perf_counter()
     ks = mech.kernels("arb")
     minw = np.asarray(min_width, dtype=float)
