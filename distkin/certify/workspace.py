@@ -139,10 +139,11 @@ class WorkspaceCertificate:
     def summary(self) -> dict:
         """Volumes (in :attr:`volume_unit`), fractions, counts, σ bound, timing.
 
-        Two rates: ``boxes_per_second`` is per process (boxes over the sum of the
-        chunks' own computing times, whatever ran them in parallel);
-        ``boxes_per_wall_second`` is boxes over the wall-clock time of the call (all
-        processes together; it includes chunks loaded from a resumed store).
+        Two rates: ``boxes_per_second`` is boxes per wall second of the whole call (all
+        processes together: :attr:`evaluated` over :attr:`wall_seconds`; a resumed run
+        counts the boxes of the chunks it loaded, so its rate is not a speed);
+        ``boxes_per_process_second`` is per process (boxes over the sum of the chunks' own
+        computing times, whatever ran them in parallel).
         """
         tot = self.total_volume()
         out = {"volume_unit": self.volume_unit, "total_volume": tot}
@@ -159,9 +160,10 @@ class WorkspaceCertificate:
         out["boxes_evaluated"] = self.evaluated
         out["seconds"] = self.seconds
         out["wall_seconds"] = self.wall_seconds
-        out["boxes_per_second"] = self.evaluated / self.seconds if self.seconds > 0 else None
-        out["boxes_per_wall_second"] = (self.evaluated / self.wall_seconds
-                                        if self.wall_seconds > 0 else None)
+        out["boxes_per_second"] = (self.evaluated / self.wall_seconds
+                                   if self.wall_seconds > 0 else None)
+        out["boxes_per_process_second"] = (self.evaluated / self.seconds
+                                           if self.seconds > 0 else None)
         out["chunks"] = self.chunks
         return out
 

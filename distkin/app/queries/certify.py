@@ -208,9 +208,9 @@ def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> s
                      "Jx force rows dimensionless, moment rows in m)")
     if "det_signs" in s:
         lines.append(f"  det Jx sign(s) over the regular boxes: {s['det_signs']}")
-    bps = s["boxes_per_second"]
-    lines.append(f"  {s['boxes_evaluated']} boxes evaluated in {s['seconds']:.1f} s of chunk "
-                 f"time ({bps:.0f} boxes/s per process), {s['wall_seconds']:.1f} s wall, "
-                 f"{s['chunks']} chunks" if bps else
+    bps, bpp = s["boxes_per_second"], s["boxes_per_process_second"]
+    lines.append(f"  {s['boxes_evaluated']} boxes evaluated in {s['wall_seconds']:.1f} s wall "
+                 f"({bps:.0f} boxes per wall second), {s['seconds']:.1f} s of chunk time "
+                 f"({bpp:.0f} boxes/s per process), {s['chunks']} chunks" if bps and bpp else
                  f"  {s['boxes_evaluated']} boxes evaluated, {s['chunks']} chunks")
     return "\n".join(lines)
