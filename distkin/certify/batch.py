@@ -29,8 +29,10 @@ positive, the others come in conjugate pairs, and ``det(Y) det(Jx) = Π λ > 0``
 
 The binary64 models have no Chebyshev enclosure of ``sqrt`` and ``1/x``
 (:mod:`.linearize`); near a leg's reach limit they certify smaller boxes than
-``quadratic``.  Singular boxes (L = 6, at the resolution) are certified by
-:func:`.boxes.sign_change_certificate` in arb, as in :mod:`.boxes`.
+``quadratic``.  So a box they leave undecided at the resolution is classified once more
+by :func:`.boxes.certify_box` with the arb ``quadratic`` form (which also tries the
+singular certificate there, L = 6): the verdicts at the resolution are those of the arb
+route, the binary64 models only decide earlier.
 """
 
 from __future__ import annotations
@@ -39,8 +41,8 @@ import time
 
 import numpy as np
 
-from .boxes import (REGULAR, SINGULAR, UNDECIDED, UNREACHABLE, Verdict,
-                    sign_change_certificate, split_dimension)
+from .boxes import (REGULAR, UNDECIDED, UNREACHABLE, Verdict, certify_box,
+                    split_dimension)
 from .fptaylor import TINY, Quadratics, as_models, down, sum_up, up, variables
 
 __all__ = ["certify_batch", "branch_and_prune_batched", "rank_bounds"]
@@ -274,7 +276,6 @@ def branch_and_prune_batched(mech, lo, hi, min_width, *, max_boxes: int = 200_00
         blo = np.array([b[0] for b in todo])
         bhi = np.array([b[1] for b in todo])
         if not vary:
-            from .boxes import certify_box
             for a, b in todo:
                 v = certify_box(mech, ks, a, b, form="quadratic", at_resolution=True)
                 leaf(a, b, v.status, v.sigma_lower, v.det_sign)
@@ -291,11 +292,9 @@ def branch_and_prune_batched(mech, lo, hi, min_width, *, max_boxes: int = 200_00
             v = Verdict(UNDECIDED, reason=r["reason"][i], vary=vary,
                         weights=tuple(r["weights"][i].tolist()))
             k = split_dimension(a, b, minw, v)
-            if k is None:
-                if (mech.L == 6 and r["reason"][i] == "rank"
-                        and sign_change_certificate(mech, ks, a, b) is not None):
-                    st = SINGULAR
-                leaf(a, b, st)
+            if k is None:                # at the resolution: the arb route decides
+                v = certify_box(mech, ks, a, b, form="quadratic", at_resolution=True)
+                leaf(a, b, v.status, v.sigma_lower, v.det_sign)
                 continue
             c = a[k] + 0.5 * (b[k] - a[k])
             left_hi, right_lo = b.copy(), a.copy()
