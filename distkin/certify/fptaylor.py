@@ -19,19 +19,26 @@ We use three facts about it, with gradual underflow and away from overflow:
 
 (R1) For a single operation ``+ - * /`` or ``sqrt`` with exact real result ``x`` and
      computed double ``y``: ``pred(y) <= x <= succ(y)`` (``np.nextafter``).  So
-     :func:`up` ``(fl(a op b))`` is an upper bound of ``a op b``.  Every remainder and
-     every magnitude (``e``, norms, ranges) is computed this way, an upward-rounded
-     operation at a time, on non-negative numbers, or by :func:`sum_up`.
-(R2) A sum of ``k`` non-negative doubles computed in any order is at least the exact
-     sum times ``1 - γ_{k-1}`` (Higham, *Accuracy and Stability of Numerical
-     Algorithms*, 2nd ed., SIAM 2002, eq. (4.4); additions have no underflow error), so
-     ``sum * (1 + (k + 1) 2^-52)`` rounded up bounds it (:func:`sum_up`).
+     :func:`up` ``(fl(a op b))`` is an upper bound of ``a op b``; the ends of the
+     ranges are rounded outwards this way.
+(R2) A monotone expression of ``+`` and ``×`` on non-negative doubles, evaluated to
+     nearest with at most 64 roundings on any path from an input to the result (in any
+     order of summation), is at least its exact value times ``(1 - u)^64`` less the
+     underflow losses of its products (at most ``2^-1075`` each; Higham, *Accuracy and
+     Stability of Numerical Algorithms*, 2nd ed., SIAM 2002, Thm 2.2 and Lemma 3.1;
+     additions have no underflow error).  So :func:`fin`, ``up(x * (1 + 2^-44))``,
+     bounds it from above once ``TINY`` is among its terms; every remainder and
+     magnitude (``e``, norms, ranges) is computed this way.  The losses stay below
+     ``TINY``: a product that can underflow is multiplied afterwards only by factors
+     below ``2^500`` (``|f''(c)| / 2``, the third-derivative bound) and ``2^300``
+     (``dev^2``), which :meth:`Quadratics._expand` checks.  Sums have at most 37 terms
+     (``n <= 6`` box coordinates).
 (R3) A coefficient computed as a sum of at most 4 products of at most 3 doubles (every
      formula of this module; at most 16 roundings) differs from its exact value by at
      most ``γ_16`` times the sum of the magnitudes of its terms, plus an underflow
      error: each product can lose ``2^-1075`` absolutely (Higham, Sec. 2.1, Thm 2.2 and
      eq. (3.4)-(3.5)); the lost amount is multiplied by at most one further factor,
-     which :meth:`Quadratics._expand` keeps below ``2^500``, so it is below ``2^-575``.
+     below ``2^500`` (R2), so it is below ``2^-575``.
      The coefficients of every operation are rounded to nearest, and the operation adds
      to ``e`` the bound ``G * M + TINY`` with ``G = 2^-48 >= γ_16``, ``M`` an upper
      bound (R1, R2) of the sum over all coefficients of the magnitudes of their terms
@@ -62,13 +69,15 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["Quadratics", "variables", "up", "down", "sum_up", "G", "TINY"]
+__all__ = ["Quadratics", "variables", "up", "down", "fin", "sum_up", "G", "TINY"]
 
 G = 2.0 ** -48            # >= gamma_16 = 16 u / (1 - 16 u)
 TINY = 2.0 ** -400        # covers the underflow losses of one operation (R3)
 _BIG = 2.0 ** 500
+_DEV = 2.0 ** 150         # an underflow of h = f2 / 2 times dev^2 stays below TINY
 _REL = 2.0 ** -50         # relative error of the derivative doubles of 1/x and sqrt
 _LO, _HI = 2.0 ** -200, 2.0 ** 200
+_FIN = 1.0 + 2.0 ** -44   # > (1 - u)^-64
 
 
 def up(x):
@@ -81,22 +90,14 @@ def down(x):
     return np.nextafter(x, -np.inf)
 
 
+def fin(x):
+    """An upper bound of a non-negative expression ``x`` computed to nearest (R2)."""
+    return np.nextafter(x * _FIN, np.inf)
+
+
 def sum_up(x, axis):
     """An upper bound of the exact sum of the non-negative ``x`` along ``axis`` (R2)."""
-    axes = axis if isinstance(axis, tuple) else (axis,)
-    k = int(np.prod([x.shape[i] for i in axes])) if axes else 1
-    return up(np.sum(x, axis=axis) * (1.0 + (k + 1) * 2.0 ** -52))
-
-
-def _mul_up(a, b):
-    return up(a * b)
-
-
-def _add_up(*xs):
-    s = xs[0]
-    for x in xs[1:]:
-        s = up(s + x)
-    return s
+    return fin(x.sum(axis=axis))
 
 
 def _const(o):
@@ -175,44 +176,42 @@ class Quadratics:
             return self._nrm
         except AttributeError:
             pass
-        B = len(self.c)
-        L = sum_up(np.abs(self.a), 1)
-        Q = sum_up(np.abs(self.q).reshape(B, -1), 1)
-        N = _add_up(np.abs(self.c), L, Q)
+        L = fin(np.abs(self.a).sum(axis=1))
+        Q = fin(np.abs(self.q).sum(axis=(1, 2)))
+        N = fin(np.abs(self.c) + L + Q)
         self._nrm = (L, Q, N)
         return self._nrm
 
     def deviation(self):
         """Upper bound of ``|x - c|`` over the model."""
         L, Q, _ = self.norms()
-        return _add_up(L, Q, self.e)
+        return fin(L + Q + self.e)
 
     def bounds(self):
         """(lo, hi) doubles with every value of the model in ``[lo, hi]``."""
         B, n = self.a.shape
         L, _, _ = self.norms()
         d = np.diagonal(self.q, axis1=1, axis2=2)
-        off = np.abs(self.q).reshape(B, -1).copy()
+        off = np.abs(self.q).reshape(B, -1)           # a new array
         off[:, ::n + 1] = 0.0
-        Qoff = sum_up(off, 1)
-        common = _add_up(L, Qoff, self.e)
-        plus = _add_up(common, sum_up(np.maximum(d, 0.0), 1))
-        minus = _add_up(common, sum_up(np.maximum(-d, 0.0), 1))
+        common = fin(L + off.sum(axis=1) + self.e)
+        plus = fin(common + np.maximum(d, 0.0).sum(axis=1))
+        minus = fin(common + np.maximum(-d, 0.0).sum(axis=1))
         with np.errstate(invalid="ignore", over="ignore"):
             return down(self.c - minus), up(self.c + plus)
 
     # -- arithmetic -------------------------------------------------------------------
     def _round(self, e, M):
         """e + G M + TINY, rounded up (R3)."""
-        return _add_up(e, _mul_up(G, M), TINY)
+        return fin(e + G * M + TINY)
 
     def __add__(self, o):
         if isinstance(o, Quadratics):
             N1, N2 = self.norms()[2], o.norms()[2]
             return Quadratics(self.c + o.c, self.a + o.a, self.q + o.q,
-                              self._round(_add_up(self.e, o.e), _add_up(N1, N2)))
+                              self._round(self.e + o.e, N1 + N2))
         k, ek = _const(o)
-        e = self._round(_add_up(self.e, ek), _add_up(np.abs(self.c), abs(k)))
+        e = self._round(self.e + ek, np.abs(self.c) + abs(k))
         return Quadratics(self.c + k, self.a, self.q, e)
 
     __radd__ = __add__
@@ -232,9 +231,7 @@ class Quadratics:
     def _scale(self, k, ek):
         ak = abs(k)
         _, _, N = self.norms()
-        e = self._round(_mul_up(ak, self.e), _mul_up(ak, N))
-        if ek:
-            e = _add_up(e, _mul_up(ek, _add_up(N, self.e)))
+        e = self._round(ak * self.e + ek * (N + self.e), ak * N)
         return Quadratics(self.c * k, self.a * k, self.q * k, e)
 
     def __mul__(self, o):
@@ -251,10 +248,9 @@ class Quadratics:
             sym = 0.5 * (outer + (a2[:, :, None] * a1[:, None, :]))
         q = c1[:, None, None] * o.q + c2[:, None, None] * self.q + sym
         a = c1[:, None] * a2 + c2[:, None] * a1
-        r1, r2 = _add_up(Q1, self.e), _add_up(Q2, o.e)
-        e = _add_up(_mul_up(np.abs(c1), o.e), _mul_up(np.abs(c2), self.e),
-                    _mul_up(L1, r2), _mul_up(r1, _add_up(L2, r2)))
-        return Quadratics(c1 * c2, a, q, self._round(e, _mul_up(N1, N2)))
+        r1, r2 = Q1 + self.e, Q2 + o.e
+        e = np.abs(c1) * o.e + np.abs(c2) * self.e + L1 * r2 + r1 * (L2 + r2)
+        return Quadratics(c1 * c2, a, q, self._round(e, N1 * N2))
 
     __rmul__ = __mul__
 
@@ -271,7 +267,7 @@ class Quadratics:
             return self * (1.0 / Quadratics._point(k, ek, self))
         ak = abs(k)
         _, _, N = self.norms()
-        e = self._round(up(self.e / ak), up(N / ak))
+        e = self._round(up(self.e / ak), up(N / ak))     # R1 for the divisions
         return Quadratics(self.c / k, self.a / k, self.q / k, e)
 
     @staticmethod
@@ -298,15 +294,16 @@ class Quadratics:
             a = self.a
             q = f1[:, None, None] * self.q + h[:, None, None] * (a[:, :, None] * a[:, None, :])
             ah, af1 = np.abs(h), np.abs(f1)
-            rest = _add_up(Q, self.e)
-            dev = _add_up(L, rest)
-            e = _add_up(_mul_up(af1, self.e),
-                        _mul_up(ah, _add_up(_mul_up(2.0 * L, rest), _mul_up(rest, rest))),
-                        up(_mul_up(f3max, _mul_up(dev, _mul_up(dev, dev))) / 6.0),
-                        e0, _mul_up(e1, dev), _mul_up(0.5 * e2, _mul_up(dev, dev)))
-            M = _add_up(_mul_up(af1, _add_up(L, Q)), _mul_up(ah, _mul_up(L, L)))
+            rest = Q + self.e
+            dev = fin(L + rest)
+            dev2 = dev * dev
+            # 1/6 rounded up: 1/6 + 2^-50 > 1/6 exactly
+            e = (af1 * self.e + ah * (2.0 * L * rest + rest * rest)
+                 + f3max * (dev2 * dev) * (1.0 / 6.0 + 2.0 ** -50)
+                 + e0 + e1 * dev + 0.5 * e2 * dev2)
+            M = af1 * (L + Q) + ah * (L * L)
             e = self._round(e, M)
-            big = ~((ah <= _BIG) & (L <= _BIG))
+            big = ~((ah <= _BIG) & (dev <= _DEV) & (f3max <= _BIG))
             e = np.where(big, np.inf, e)
             return Quadratics(f0, f1[:, None] * a, q, e)
 
