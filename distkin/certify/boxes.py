@@ -59,7 +59,10 @@ Enclosure forms (:data:`.intervals.FORMS`): ``quadratic`` (second-order Taylor
 models, the default), ``affine`` (first order), ``centred`` (the mean-value form with
 interval derivative enclosures) and ``plain`` (the natural interval extension); the
 benchmark ``python -m benchmarks certify`` compares them.  ``auto`` tries ``affine``
-and, where it fails the rank test, ``quadratic``.
+and, where it fails the rank test, ``quadratic``.  ``quadratic64`` is the quadratic
+form with binary64 coefficients and every rounding error in the remainder, evaluated on
+batches of boxes (:mod:`.fptaylor`, :mod:`.batch`; the default of
+:func:`.workspace.certify_workspace`, about 10x faster per box evaluated).
 
 Accuracy: ``method="certified"`` only.  The certificates hold for the mechanism as the
 generated kernels define it: parameters and the derived constants of
@@ -277,7 +280,8 @@ def certify_box(mech, kernels, lo, hi, *, form: str = "quadratic",
         Box corners (m, rad).
     form : {"quadratic", "affine", "centred", "plain", "auto"}
         Enclosure of ``Jx`` and of the reach margins (:mod:`.intervals`); ``auto``:
-        ``affine``, then ``quadratic`` where the first fails.
+        ``affine``, then ``quadratic`` where the first fails.  (The binary64 form
+        ``quadratic64`` works on batches: :func:`.batch.certify_batch`.)
     at_resolution : bool
         The box will not be split: also try the singular certificate (L = 6).
 
@@ -286,8 +290,6 @@ def certify_box(mech, kernels, lo, hi, *, form: str = "quadratic",
     Verdict
         ``weights`` (per varying coordinate) says which split would help most.
     """
-    if form == "quadratic64":
-        return _certify_box64(mech, kernels, lo, hi, at_resolution)
     if form == "auto":
         first = certify_box(mech, kernels, lo, hi, form="affine", at_resolution=False)
         if first.status != UNDECIDED or first.reason == "reach":
@@ -326,22 +328,6 @@ def certify_box(mech, kernels, lo, hi, *, form: str = "quadratic",
             return Verdict(SINGULAR, contraction=contraction)
     return Verdict(UNDECIDED, reason="rank", contraction=contraction, vary=enc.vary,
                    weights=tuple(weights))
-
-
-def _certify_box64(mech, kernels, lo, hi, at_resolution):
-    from .batch import certify_batch
-    lo = np.asarray(lo, dtype=float)
-    hi = np.asarray(hi, dtype=float)
-    vary = tuple(k for k in range(6) if hi[k] > lo[k])
-    if not vary:
-        return certify_box(mech, kernels, lo, hi, form="quadratic", at_resolution=at_resolution)
-    r = certify_batch(mech, kernels, lo[None], hi[None], vary)
-    st, reason = int(r["status"][0]), r["reason"][0]
-    if st == UNDECIDED and reason == "rank" and at_resolution and mech.L == 6:
-        if sign_change_certificate(mech, kernels, lo, hi) is not None:
-            st = SINGULAR
-    return Verdict(st, float(r["sigma"][0]), int(r["det_sign"][0]), reason,
-                   float(r["contraction"][0]), vary, tuple(r["weights"][0].tolist()))
 
 
 def _singular_or(mech, kernels, lo, hi, verdict):
@@ -385,6 +371,7 @@ def branch_and_prune(mech, lo, hi, min_width, *, form: str = "quadratic",
         A box is bisected along coordinate k only while wider than ``min_width[k]``
         (m or rad; the resolution).
     form : {"quadratic", "affine", "centred", "plain"}
+        (``quadratic64``: :func:`.batch.branch_and_prune_batched`.)
     max_boxes : int
         Budget of box evaluations; boxes left when it is spent are returned undecided.
 
@@ -395,9 +382,6 @@ def branch_and_prune(mech, lo, hi, min_width, *, form: str = "quadratic",
         ``sigma_lower`` (n,), ``det_sign`` (n,) int8, ``evaluated`` (): the number of
         boxes evaluated, ``seconds`` ().
     """
-    if form == "quadratic64":
-        from .batch import branch_and_prune_batched
-        return branch_and_prune_batched(mech, lo, hi, min_width, max_boxes=max_boxes)
     t0 = time.perf_counter()
     ks = mech.kernels("arb")
     minw = np.asarray(min_width, dtype=float)

@@ -11,7 +11,7 @@ singularity-free workspace of :mod:`.boxes` over a region of poses::
     region = { lower = [-75, -75, 225, 0, 0, 0], upper = [75, 75, 375, 0, 0, 0] }
     min_width = 9.375                      # resolution of x, y, z (length unit)
     min_angle = 5                          # resolution of rx, ry, rz (angle unit)
-    form = "quadratic"                     # quadratic | affine | centred | plain | auto
+    form = "quadratic64"                   # quadratic64 | quadratic | affine | centred | plain | auto
     split = 2                              # initial chunks per varying coordinate
     max_boxes = 200000                     # box evaluations per chunk
     workers = 2                            # local processes (default 1: in process)
@@ -124,7 +124,8 @@ class CertifyWorkspaceQuery:
             ma = positive_number(table["min_angle"], f"{field}.min_angle") * af
         else:
             ma = rot_ext / 8 if rot_ext > 0 else 1.0
-        form = choice(table.get("form", "quadratic"), f"{field}.form", FORMS + ("auto",))
+        form = choice(table.get("form", "quadratic64"), f"{field}.form",
+                      ("quadratic64",) + FORMS + ("auto",))
         split = positive_int(table.get("split", 2), f"{field}.split")
         max_boxes = positive_int(table.get("max_boxes", 200_000), f"{field}.max_boxes")
         nvary = int(np.sum(ext > 0))
