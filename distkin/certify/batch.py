@@ -41,7 +41,7 @@ import time
 
 import numpy as np
 
-from .boxes import (REGULAR, UNDECIDED, UNREACHABLE, Verdict, certify_box,
+from .boxes import (REGULAR, UNDECIDED, UNREACHABLE, Verdict, bisect, certify_box, leaves,
                     split_dimension)
 from .fptaylor import TINY, Quadratics, as_models, down, sum_up, up, variables
 
@@ -296,14 +296,7 @@ def branch_and_prune_batched(mech, lo, hi, min_width, *, max_boxes: int = 200_00
                 v = certify_box(mech, ks, a, b, form="quadratic", at_resolution=True)
                 leaf(a, b, v.status, v.sigma_lower, v.det_sign)
                 continue
-            c = a[k] + 0.5 * (b[k] - a[k])
-            left_hi, right_lo = b.copy(), a.copy()
-            left_hi[k] = c
-            right_lo[k] = c
-            stack.append((right_lo, b))
-            stack.append((a, left_hi))
-    return {"lo": np.array(out_lo).reshape(-1, 6), "hi": np.array(out_hi).reshape(-1, 6),
-            "status": np.array(status, dtype=np.int8),
-            "sigma_lower": np.array(sigma, dtype=float),
-            "det_sign": np.array(dsign, dtype=np.int8),
-            "evaluated": np.array(evaluated), "seconds": np.array(time.perf_counter() - t0)}
+            left, right = bisect(a, b, k)
+            stack.append(right)
+            stack.append(left)
+    return leaves(out_lo, out_hi, status, sigma, dsign, evaluated, t0)

@@ -92,7 +92,7 @@ from .intervals import enclose_box, point_values
 
 __all__ = ["UNDECIDED", "REGULAR", "SINGULAR", "UNREACHABLE", "STATUS_NAMES", "Verdict",
            "regularity_certificate", "sign_change_certificate", "certify_box",
-           "branch_and_prune", "split_dimension"]
+           "branch_and_prune", "split_dimension", "bisect", "leaves"]
 
 UNDECIDED, REGULAR, SINGULAR, UNREACHABLE = 0, 1, 2, 3
 STATUS_NAMES = {UNDECIDED: "undecided", REGULAR: "regular", SINGULAR: "singular",
@@ -408,12 +408,23 @@ def branch_and_prune(mech, lo, hi, min_width, *, form: str = "quadratic",
             dsign.append(v.det_sign)
             continue
         k = split_dimension(blo, bhi, minw, v)
-        c = blo[k] + 0.5 * (bhi[k] - blo[k])
-        left_hi, right_lo = bhi.copy(), blo.copy()
-        left_hi[k] = c
-        right_lo[k] = c
-        stack.append((right_lo, bhi))
-        stack.append((blo, left_hi))
+        left, right = bisect(blo, bhi, k)
+        stack.append(right)
+        stack.append(left)
+    return leaves(out_lo, out_hi, status, sigma, dsign, evaluated, t0)
+
+
+def bisect(lo, hi, k):
+    """The two halves ``(lo, hi)`` of a box cut at the midpoint of coordinate ``k``."""
+    c = lo[k] + 0.5 * (hi[k] - lo[k])
+    left_hi, right_lo = hi.copy(), lo.copy()
+    left_hi[k] = c
+    right_lo[k] = c
+    return (lo, left_hi), (right_lo, hi)
+
+
+def leaves(out_lo, out_hi, status, sigma, dsign, evaluated, t0) -> dict:
+    """The result dict of :func:`branch_and_prune` from lists of leaves."""
     return {"lo": np.array(out_lo).reshape(-1, 6), "hi": np.array(out_hi).reshape(-1, 6),
             "status": np.array(status, dtype=np.int8),
             "sigma_lower": np.array(sigma, dtype=float),

@@ -69,6 +69,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .linearize import ModelArithmetic
+
 __all__ = ["Quadratics", "variables", "up", "down", "fin", "sum_up", "G", "TINY"]
 
 G = 2.0 ** -48            # >= gamma_16 = 16 u / (1 - 16 u)
@@ -137,8 +139,11 @@ def variables(mid, half):
     return out
 
 
-class Quadratics:
+class Quadratics(ModelArithmetic):
     """``B`` second-order Taylor models in ``n`` box coordinates (module docstring).
+
+    ``x ** n`` and ``k / x`` come from :class:`.linearize.ModelArithmetic`; ``abs`` is
+    per box (the shared one decides for a single model).
 
     Parameters
     ----------
@@ -254,14 +259,6 @@ class Quadratics:
 
     __rmul__ = __mul__
 
-    def __pow__(self, n):
-        if not isinstance(n, int) or n < 1:
-            raise ValueError(f"expected a positive integer power, got {n!r}")
-        out = self
-        for _ in range(n - 1):
-            out = out * self
-        return out
-
     def _divide(self, k, ek):
         if ek or not k:
             return self * (1.0 / Quadratics._point(k, ek, self))
@@ -280,9 +277,6 @@ class Quadratics:
         if isinstance(o, Quadratics):
             return self * o._recip()
         return self._divide(*_const(o))
-
-    def __rtruediv__(self, o):
-        return self._recip() * o
 
     # -- elementary functions -----------------------------------------------------------
     def _expand(self, f0, f1, f2, f3max, e0, e1, e2):
