@@ -11,7 +11,7 @@ singularity-free workspace of :mod:`.boxes` over a region of poses::
     region = { lower = [-75, -75, 225, 0, 0, 0], upper = [75, 75, 375, 0, 0, 0] }
     min_width = 9.375                      # resolution of x, y, z (length unit)
     min_angle = 5                          # resolution of rx, ry, rz (angle unit)
-    form = "quadratic64"                   # quadratic64 | quadratic | affine | centred | plain | auto
+    form = "quadratic64"                   # | quadratic | affine | centred | plain | auto
     split = 2                              # initial chunks per varying coordinate
     max_boxes = 200000                     # box evaluations per chunk
     workers = 2                            # local processes (default 1: in process)
