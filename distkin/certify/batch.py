@@ -172,7 +172,7 @@ def certify_batch(mech, kernels, lo, hi, vary):
     kernels : KernelSet
         ``mech.kernels("arb")`` (run on :class:`.fptaylor.Quadratics`).
     lo, hi : ndarray (B, 6)
-        Boxes (m, rad), all of non-zero width exactly along ``vary``.
+        Boxes (m, rad), of zero width outside ``vary`` (checked: ValueError).
     vary : tuple of int
 
     Returns
@@ -181,6 +181,12 @@ def certify_batch(mech, kernels, lo, hi, vary):
         ``status`` (int8), ``sigma``, ``det_sign`` (int8), ``reason`` (object:
         "reach", "jq", "rank" or ""), ``contraction``; and ``weights`` (B, n).
     """
+    lo = np.asarray(lo, dtype=float)
+    hi = np.asarray(hi, dtype=float)
+    fixed = [k for k in range(6) if k not in vary]
+    if not np.array_equal(lo[:, fixed], hi[:, fixed]) or np.any(hi < lo):
+        raise ValueError(f"expected boxes with lo <= hi and zero width outside the "
+                         f"coordinates {tuple(vary)}, got other boxes")
     with np.errstate(all="ignore"):       # nan and inf remainders certify nothing
         return _certify_batch(mech, kernels, lo, hi, vary)
 

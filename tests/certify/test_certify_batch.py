@@ -134,6 +134,14 @@ def test_kernel_models_contain_arb_point_values():
             assert all(jlo[b, i] <= v <= jhi[b, i] for i, v in enumerate(flat))
 
 
+def test_a_box_wider_than_its_varying_coordinates_is_refused():
+    mech = preset("octo")
+    lo = np.array([[0.0, 0.0, 0.3, 0.0, 0.0, 0.0]])
+    hi = np.array([[0.01, 0.01, 0.31, 0.01, 0.0, 0.0]])
+    with pytest.raises(ValueError, match="zero width outside"):
+        certify_batch(mech, mech.kernels("arb"), lo, hi, (0, 1, 2))
+
+
 def test_verdicts_agree_with_the_arb_route():
     """Same boxes, both routes: no contradiction, contraction bounds within 5 % where
     both certify, and both σ bounds below the float σmin(Jx) at the box's corners and
