@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .batch import branch_and_prune_batched
 from .boxes import REGULAR, STATUS_NAMES, branch_and_prune
 
 __all__ = ["WorkspaceCertificate", "certify_workspace", "initial_boxes", "volume_unit"]
@@ -65,6 +66,8 @@ def _chunk_task(spec):
     """One chunk (module level, picklable): ``spec = (mech, lo, hi, min_width, form,
     max_boxes)``."""
     mech, lo, hi, minw, form, max_boxes = spec
+    if form == "quadratic64":
+        return branch_and_prune_batched(mech, lo, hi, minw, max_boxes=max_boxes)
     return branch_and_prune(mech, lo, hi, minw, form=form, max_boxes=max_boxes)
 
 
@@ -80,7 +83,7 @@ class WorkspaceCertificate:
     min_width : ndarray (6,)
         The resolution (m, rad).
     form : str
-        Enclosure form (:data:`.intervals.FORMS`).
+        Enclosure form (:data:`.intervals.FORMS` or ``quadratic64``).
     lo, hi : ndarray (n, 6)
         Box corners.
     status : ndarray (n,) int8
@@ -139,10 +142,11 @@ class WorkspaceCertificate:
     def summary(self) -> dict:
         """Volumes (in :attr:`volume_unit`), fractions, counts, σ bound, timing.
 
-        Two rates: ``boxes_per_second`` is per process (boxes over the sum of the
-        chunks' own computing times, whatever ran them in parallel);
-        ``boxes_per_wall_second`` is boxes over the wall-clock time of the call (all
-        processes together; it includes chunks loaded from a resumed store).
+        Two rates: ``boxes_per_second`` is boxes per wall second of the whole call (all
+        processes together: :attr:`evaluated` over :attr:`wall_seconds`; a resumed run
+        counts the boxes of the chunks it loaded, so its rate is not a speed);
+        ``boxes_per_process_second`` is per process (boxes over the sum of the chunks' own
+        computing times, whatever ran them in parallel).
         """
         tot = self.total_volume()
         out = {"volume_unit": self.volume_unit, "total_volume": tot}
@@ -159,9 +163,10 @@ class WorkspaceCertificate:
         out["boxes_evaluated"] = self.evaluated
         out["seconds"] = self.seconds
         out["wall_seconds"] = self.wall_seconds
-        out["boxes_per_second"] = self.evaluated / self.seconds if self.seconds > 0 else None
-        out["boxes_per_wall_second"] = (self.evaluated / self.wall_seconds
-                                        if self.wall_seconds > 0 else None)
+        out["boxes_per_second"] = (self.evaluated / self.wall_seconds
+                                   if self.wall_seconds > 0 else None)
+        out["boxes_per_process_second"] = (self.evaluated / self.seconds
+                                           if self.seconds > 0 else None)
         out["chunks"] = self.chunks
         return out
 
@@ -170,7 +175,7 @@ class WorkspaceCertificate:
         return np.all((self.lo[:, 3:] <= 0.0) & (self.hi[:, 3:] >= 0.0), axis=1)
 
 
-def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic",
+def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64",
                       split: int = 2, store=None, executor=None, progress: bool = False,
                       max_boxes: int = 200_000, definition_extra=None) -> WorkspaceCertificate:
     """Certify a region of poses of ``mech`` (:mod:`.boxes`).
@@ -182,7 +187,10 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic",
         The region (m, rad): x, y, z, rx, ry, rz (:mod:`distkin.spatial`).
     min_width : array (6,)
         Resolution (m, rad): boxes are bisected along a coordinate only while wider.
-    form : {"quadratic", "affine", "centred", "plain"}
+    form : {"quadratic64", "quadratic", "affine", "centred", "plain"}
+        ``quadratic64`` (the default): the quadratic form with binary64 coefficients,
+        boxes evaluated in batches (:mod:`.batch`), the arb ``quadratic`` form on the
+        boxes it leaves undecided at the resolution; the others: :mod:`.boxes`.
     split : int
         Parts per varying coordinate of the initial chunks (split ** d chunks).
     store : path, optional

@@ -11,7 +11,7 @@ singularity-free workspace of :mod:`.boxes` over a region of poses::
     region = { lower = [-75, -75, 225, 0, 0, 0], upper = [75, 75, 375, 0, 0, 0] }
     min_width = 9.375                      # resolution of x, y, z (length unit)
     min_angle = 5                          # resolution of rx, ry, rz (angle unit)
-    form = "quadratic"                     # quadratic | affine | centred | plain | auto
+    form = "quadratic64"                   # | quadratic | affine | centred | plain | auto
     split = 2                              # initial chunks per varying coordinate
     max_boxes = 200000                     # box evaluations per chunk
     workers = 2                            # local processes (default 1: in process)
@@ -124,7 +124,8 @@ class CertifyWorkspaceQuery:
             ma = positive_number(table["min_angle"], f"{field}.min_angle") * af
         else:
             ma = rot_ext / 8 if rot_ext > 0 else 1.0
-        form = choice(table.get("form", "quadratic"), f"{field}.form", FORMS + ("auto",))
+        form = choice(table.get("form", "quadratic64"), f"{field}.form",
+                      ("quadratic64",) + FORMS + ("auto",))
         split = positive_int(table.get("split", 2), f"{field}.split")
         max_boxes = positive_int(table.get("max_boxes", 200_000), f"{field}.max_boxes")
         nvary = int(np.sum(ext > 0))
@@ -208,9 +209,9 @@ def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> s
                      "Jx force rows dimensionless, moment rows in m)")
     if "det_signs" in s:
         lines.append(f"  det Jx sign(s) over the regular boxes: {s['det_signs']}")
-    bps = s["boxes_per_second"]
-    lines.append(f"  {s['boxes_evaluated']} boxes evaluated in {s['seconds']:.1f} s of chunk "
-                 f"time ({bps:.0f} boxes/s per process), {s['wall_seconds']:.1f} s wall, "
-                 f"{s['chunks']} chunks" if bps else
+    bps, bpp = s["boxes_per_second"], s["boxes_per_process_second"]
+    lines.append(f"  {s['boxes_evaluated']} boxes evaluated in {s['wall_seconds']:.1f} s wall "
+                 f"({bps:.0f} boxes per wall second), {s['seconds']:.1f} s of chunk time "
+                 f"({bpp:.0f} boxes/s per process), {s['chunks']} chunks" if bps and bpp else
                  f"  {s['boxes_evaluated']} boxes evaluated, {s['chunks']} chunks")
     return "\n".join(lines)
