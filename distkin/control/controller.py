@@ -48,7 +48,7 @@ from .cycle_kernels import CYCLE_OUT, cycle_params, reading_extremes
 from .kinematics import _rot
 from .protocol import (FLAG_KEEPALIVE, MODE_HOLD, MODE_RUN, MODE_ZERO_TORQUE, STATUS_ESTOP,
                        STATUS_SENSOR_FAULT, CommandFrame)
-from .runlog import CsvLog, EventLog, timing_summary
+from .runlog import CsvLog, EventLog, run_summary
 from .scheduling import realtime, restore
 
 __all__ = ["Controller", "CycleResult", "GRAVITY", "SCALING", "RUN", "FAULT", "STOPPED"]
@@ -571,18 +571,8 @@ class Controller:
             self.log.flush()
         wall = time.perf_counter() - t0
         self.gc_collections = sum(g["collections"] for g in gc.get_stats()) - gc0
-        return self._summary(link, cycles, wall, t_first, t_prev_us, compute, compute_cpu,
-                             periods, reason)
-
-    def _effort_keys(self) -> dict:
-        """The largest command and the limit, named in their unit: ``max_abs_torque_Nm``
-        and ``torque_limit_Nm`` for revolute legs, ``max_abs_force_N`` and
-        ``force_limit_N`` for prismatic ones."""
-        if self.effort_unit == "N":
-            return {"max_abs_force_N": round(self.max_abs_torque, 4),
-                    "force_limit_N": self.pd.torque_limit}
-        return {"max_abs_torque_Nm": round(self.max_abs_torque, 4),
-                "torque_limit_Nm": self.pd.torque_limit}
+        return run_summary(self, link, cycles, wall, t_first, t_prev_us, compute, compute_cpu,
+                           periods, reason)
 
     def _zero_torque(self, link, seq, ack) -> bool:
         """Send zero torque three times; True if at least one frame was written whole."""
@@ -594,34 +584,3 @@ class Controller:
             except LinkError:
                 break
         return sent
-
-    def _summary(self, link, cycles, wall, t_first, t_last, compute, compute_cpu, periods,
-                 reason):
-        st = link.stats
-        dev_s = 0.0 if t_first is None else (t_last - t_first) * 1e-6
-        code = {"completed": 0, "interrupted": 130}.get(reason, 1)
-        return {
-            "cycles": cycles,
-            "seconds": round(wall, 4),
-            "device_seconds": round(dev_s, 4),
-            "rate_hz": round(cycles / wall, 2) if wall > 0 else 0.0,
-            **timing_summary(compute, compute_cpu, periods),
-            "bad_frames": st.bad_frames,
-            "resyncs": st.resyncs,
-            "timeouts": st.timeouts,
-            "seq_gaps": st.seq_gaps,
-            "stale_frames": st.stale_frames,
-            "write_timeouts": st.write_timeouts,
-            "watchdog_trips": self.events.count("watchdog_trip"),
-            "safety_events": sum(1 for e in self.events.events
-                                 if e["event"] not in ("zero_torque", "realtime_refused")),
-            "refused_poses": self.refused,
-            "saturated_cycles": self.saturated_cycles,
-            **self._effort_keys(),
-            "gc_collections": self.gc_collections,
-            "exit_reason": reason,
-            "exit_code": code,
-            "error": self.error,
-            "log": None if self.prefix is None else {
-                "cycles": f"{self.prefix}.cycles.csv", "events": f"{self.prefix}.events.jsonl"},
-        }

@@ -13,7 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["CsvLog", "EventLog", "read_csv", "read_events", "plot_run", "timing_summary"]
+__all__ = ["CsvLog", "EventLog", "read_csv", "read_events", "plot_run", "timing_summary",
+           "run_summary"]
 
 
 class CsvLog:
@@ -194,3 +195,49 @@ def plot_run(prefix, out=None, *, effort_unit: str = "N·m") -> list:
     fig.savefig(out, dpi=110)
     plt.close(fig)
     return [out]
+
+
+def run_summary(ctl, link, cycles, wall, t_first, t_last, compute, compute_cpu, periods,
+                reason) -> dict:
+    """The summary of :meth:`.controller.Controller.run` (its keys are documented there):
+    counts of the link (``link.stats``) and of the controller ``ctl`` (events, refused
+    poses, saturated cycles, the largest command), timings (:func:`timing_summary`),
+    ``wall`` s, the device clock of the first and last frame ``t_first``/``t_last`` µs.
+
+    The largest command and the limit are named in their unit: ``max_abs_torque_Nm``
+    and ``torque_limit_Nm`` for revolute legs, ``max_abs_force_N`` and
+    ``force_limit_N`` for prismatic ones (``ctl.effort_unit``)."""
+    st = link.stats
+    dev_s = 0.0 if t_first is None else (t_last - t_first) * 1e-6
+    code = {"completed": 0, "interrupted": 130}.get(reason, 1)
+    if ctl.effort_unit == "N":
+        effort = {"max_abs_force_N": round(ctl.max_abs_torque, 4),
+                  "force_limit_N": ctl.pd.torque_limit}
+    else:
+        effort = {"max_abs_torque_Nm": round(ctl.max_abs_torque, 4),
+                  "torque_limit_Nm": ctl.pd.torque_limit}
+    return {
+        "cycles": cycles,
+        "seconds": round(wall, 4),
+        "device_seconds": round(dev_s, 4),
+        "rate_hz": round(cycles / wall, 2) if wall > 0 else 0.0,
+        **timing_summary(compute, compute_cpu, periods),
+        "bad_frames": st.bad_frames,
+        "resyncs": st.resyncs,
+        "timeouts": st.timeouts,
+        "seq_gaps": st.seq_gaps,
+        "stale_frames": st.stale_frames,
+        "write_timeouts": st.write_timeouts,
+        "watchdog_trips": ctl.events.count("watchdog_trip"),
+        "safety_events": sum(1 for e in ctl.events.events
+                             if e["event"] not in ("zero_torque", "realtime_refused")),
+        "refused_poses": ctl.refused,
+        "saturated_cycles": ctl.saturated_cycles,
+        **effort,
+        "gc_collections": ctl.gc_collections,
+        "exit_reason": reason,
+        "exit_code": code,
+        "error": ctl.error,
+        "log": None if ctl.prefix is None else {
+            "cycles": f"{ctl.prefix}.cycles.csv", "events": f"{ctl.prefix}.events.jsonl"},
+    }
