@@ -314,12 +314,12 @@ def study_indices(J, Jq, M, actuators, ST):
         run, readings = _kernel()
         Jq = np.ascontiguousarray(Jq, dtype=float)
         M = np.asarray(M, dtype=float)
-        jacobi_lanes(J, Jq, st, sig, twist, flag)
+        Z = jacobi_lanes(J, Jq, st, sig, twist, flag)
         if L == 8:
             # facets from the null space of Jᵀ and J# (facets_lanes); the rank test on
             # the exact σ of Jᵀ instead of the pivots of Gram-Schmidt
             flag |= ~(sig[:, 2] > RANK_TOL * sig[:, 3])
-            capabilities_lanes(J, twist, M, lims, caps)
+            capabilities_lanes(J, twist, Z, M, lims, caps)
         else:
             run(J, M, lims, NM, NR, NC, caps, flag)
         readings(J, lims, truev)
