@@ -154,11 +154,17 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         _, valid, J, Jq = ik_jacobian(mech, poses, return_jq=True)
     else:
         # the legs' reach margins only (the crank angles of inverse_kinematics are not
-        # needed here)
-        valid = mech.reachable(poses)[:, None]
-        Jq, Jx = mech.jq_jx(poses)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            J = Jx / Jq[..., None]
+        # needed here); compiled when the kernels have loop twins
+        from .study_compiled import reach_jq_jx
+        kin = reach_jq_jx(mech, poses) if compiled else None
+        if kin is not None:
+            valid, Jq, J = kin
+            valid = valid[:, None]
+        else:
+            valid = mech.reachable(poses)[:, None]
+            Jq, Jx = mech.jq_jx(poses)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                J = Jx / Jq[..., None]
     ok = valid.all(axis=1) & np.all(np.isfinite(J), axis=(1, 2))
     if not ok.all():
         J, Jq = J[ok], Jq[ok]

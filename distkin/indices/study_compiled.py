@@ -44,7 +44,7 @@ from .facets_lanes import capabilities_lanes
 from .jacobi_lanes import jacobi_lanes
 from .zonotope import RANK_TOL, _groups
 
-__all__ = ["study_kernel_tables", "study_indices"]
+__all__ = ["study_kernel_tables", "study_indices", "reach_jq_jx"]
 
 #: output dimension (a compile-time constant of the kernel)
 _D = 6
@@ -266,6 +266,47 @@ def _kernel():
                     mx = max(mx, np.sqrt(s))
                 truev[n, a] = lims[2] / mx
     return run, readings
+
+
+_LOOPS: dict = {}
+
+
+def _compiled_loop(fn):
+    """A generated ``loop`` kernel (:mod:`distkin.codegen.emit`) compiled by numba once
+    per process (machine code kept in numba's disk cache beside the kernel's module);
+    numpy's error model, so a division by zero gives inf as in the batched kernel."""
+    f = _LOOPS.get(fn)
+    if f is None:
+        import numba
+        f = _LOOPS[fn] = numba.njit(cache=True, error_model="numpy")(fn)
+    return f
+
+
+def reach_jq_jx(mech, poses):
+    """The study's kinematics: (valid (N,) bool, Jq (N, L), J (N, L, 6)), every leg's
+    reach margin >= 0, eq. (1)'s diagonal Jq and J = Jq⁻¹Jx, from the compiled ``loop``
+    twins of the generated ``reach`` and ``jq_jx`` kernels (the same formulas as the
+    batched kernels with :mod:`math` instead of numpy: equal to rounding, about 1e-16
+    relative), or None where the mechanism has none (the numeric route, an older
+    derived module) or joint ranges (whose test needs the crank angles)."""
+    ranges = getattr(mech, "_joint_ranges", None)
+    if getattr(mech, "route", "generated") != "generated" or ranges is None \
+            or ranges()[0] is not None:
+        return None
+    loops = getattr(mech.kernels("batched"), "loops", {})
+    if "reach" not in loops or "jq_jx" not in loops:
+        return None
+    P = np.ascontiguousarray(poses, dtype=float)
+    N, L = len(P), mech.L
+    margin = np.empty((N, L))
+    out = np.empty((N, L, 7))
+    if N:
+        _compiled_loop(loops["reach"])(P, margin)
+        _compiled_loop(loops["jq_jx"])(P, out)
+    Jq = out[:, :, 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        J = out[:, :, 1:] / Jq[..., None]
+    return np.all(margin >= 0.0, axis=1), np.ascontiguousarray(Jq), J
 
 
 def study_indices(J, Jq, M, actuators, ST):

@@ -125,3 +125,23 @@ def test_lane_kernel_shares_the_feasibility_allowance_and_any_block_position(pre
     one = np.array([slice_farthest_unit(G[i:i + 1], (0, 1, 2))[0] for i in range(5)])
     assert np.array_equal(whole[:5], one)
     assert np.array_equal(slice_farthest_unit(G[3:], (0, 1, 2)), whole[3:])
+
+
+@pytest.mark.parametrize("name", ["hunt", "octopod"])
+def test_compiled_loop_kinematics_equal_the_batched_kernels(presets, name):
+    """The study's kinematics (reach_jq_jx: the generated loop twins of reach and jq_jx,
+    compiled by numba) against the batched kernels: the same formulas, the same bits
+    here; the loop kernel run as plain Python on a few poses too."""
+    from distkin.indices.study_compiled import reach_jq_jx
+    mech = presets[name]
+    rng = np.random.default_rng(7)
+    P = np.c_[rng.uniform(-0.1, 0.1, (300, 3)) + [0, 0, mech.z0],
+              np.deg2rad(rng.uniform(-35, 35, (300, 3)))]
+    valid, Jq, J = reach_jq_jx(mech, P)
+    assert np.array_equal(valid, mech.reachable(P)) and 0 < valid.sum() < len(P)
+    Jq2, Jx2 = mech.jq_jx(P)
+    assert np.array_equal(Jq, Jq2)
+    assert np.array_equal(J[valid], (Jx2 / Jq2[..., None])[valid])
+    out = np.empty((3, mech.L, 7))
+    mech.kernels("batched").loops["jq_jx"](P[:3], out)          # uncompiled
+    assert np.allclose(out, mech.kernels("batched").jq_jx(P[:3]), rtol=1e-14, atol=0)
