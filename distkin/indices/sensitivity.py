@@ -72,7 +72,8 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False)
     need_pinv = mode == "projection" or L != 6
     Gt = (np.linalg.pinv(J) if need_pinv else None) if twist is None else twist
     Gw = np.ascontiguousarray(np.swapaxes(J, 1, 2))      # one copy for both slices
-    c, r = np.zeros((N, L)), np.ones((N, L))
+    if mode == "projection":
+        c, r = np.zeros((N, L)), np.ones((N, L))
     out = {}
     for name, G, rows in (("translational", Gt, (0, 1, 2)), ("rotational", Gt, (3, 4, 5)),
                           ("force", Gw, (0, 1, 2)), ("torque", Gw, (3, 4, 5))):

@@ -149,6 +149,7 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
                 out[q][n:n + k] = v[q]
             n += k
         return ok, {q: out[q][:n] for q in QUANTITIES}
+    kin = None
     if route == "numpy":
         from ..mechanisms.reference import ik_jacobian
         _, valid, J, Jq = ik_jacobian(mech, poses, return_jq=True)
@@ -158,14 +159,14 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         from .study_compiled import reach_jq_jx
         kin = reach_jq_jx(mech, poses) if compiled else None
         if kin is not None:
-            valid, Jq, J = kin
-            valid = valid[:, None]
+            ok, Jq, J = kin                  # reach and finiteness tested there
         else:
             valid = mech.reachable(poses)[:, None]
             Jq, Jx = mech.jq_jx(poses)
             with np.errstate(divide="ignore", invalid="ignore"):
                 J = Jx / Jq[..., None]
-    ok = valid.all(axis=1) & np.all(np.isfinite(J), axis=(1, 2))
+    if kin is None:
+        ok = valid.all(axis=1) & np.all(np.isfinite(J), axis=(1, 2))
     if not ok.all():
         J, Jq = J[ok], Jq[ok]
     n = len(J)

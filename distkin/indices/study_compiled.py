@@ -283,8 +283,9 @@ def _compiled_loop(fn):
 
 
 def reach_jq_jx(mech, poses):
-    """The study's kinematics: (valid (N,) bool, Jq (N, L), J (N, L, 6)), every leg's
-    reach margin >= 0, eq. (1)'s diagonal Jq and J = Jq⁻¹Jx, from the compiled ``loop``
+    """The study's kinematics: (ok (N,) bool, Jq (N, L), J (N, L, 6)): every leg's
+    reach margin >= 0 and J finite, eq. (1)'s diagonal Jq and J = Jq⁻¹Jx, from the
+    compiled ``loop``
     twins of the generated ``reach`` and ``jq_jx`` kernels (the same formulas as the
     batched kernels with :mod:`math` instead of numpy: equal to rounding, about 1e-16
     relative), or None where the mechanism has none (the numeric route, an older
@@ -300,13 +301,37 @@ def reach_jq_jx(mech, poses):
     N, L = len(P), mech.L
     margin = np.empty((N, L))
     out = np.empty((N, L, 7))
+    ok = np.empty(N, np.bool_)
+    Jq = np.empty((N, L))
+    J = np.empty((N, L, 6))
     if N:
         _compiled_loop(loops["reach"])(P, margin)
         _compiled_loop(loops["jq_jx"])(P, out)
-    Jq = out[:, :, 0]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        J = out[:, :, 1:] / Jq[..., None]
-    return np.all(margin >= 0.0, axis=1), np.ascontiguousarray(Jq), J
+        _split_kernel()(margin, out, ok, Jq, J)
+    return ok, Jq, J
+
+
+@lru_cache(maxsize=1)
+def _split_kernel():
+    import numba
+
+    @numba.njit(cache=True, error_model="numpy")
+    def split(margin, out, ok, Jq, J):                     # pragma: no cover (compiled)
+        """Jq = out[..., 0], J = out[..., 1:] / Jq (as numpy divides), ok = every
+        margin >= 0 and J finite."""
+        N, L, _ = out.shape
+        for n in range(N):
+            good = True
+            for l in range(L):
+                q = out[n, l, 0]
+                Jq[n, l] = q
+                good &= margin[n, l] >= 0.0
+                for i in range(6):
+                    x = out[n, l, 1 + i] / q
+                    J[n, l, i] = x
+                    good &= np.isfinite(x)
+            ok[n] = good
+    return split
 
 
 def study_indices(J, Jq, M, actuators, ST):
@@ -347,7 +372,7 @@ def study_indices(J, Jq, M, actuators, ST):
                      actuators["velocity"]], dtype=float)
     caps = np.empty((N, 6))
     truev = np.empty((N, 2))
-    twist = np.zeros((N, d, L))
+    twist = np.empty((N, d, L)) if L > d else np.zeros((N, d, L))   # J# fills it
     sig = np.empty((N, 8))
     flag = np.zeros(N, bool)
     if N:
