@@ -311,15 +311,21 @@ def study_chunk(spec: dict) -> dict:
         sl = slice(a - lo, b - lo)
         res["n_ok"][sl] = okm.sum(axis=1)
         res["n_ok_in"][sl] = (okm & in_mask).sum(axis=1)
-        for q in QUANTITIES:
-            full = np.full(len(ok), np.nan)
-            full[ok] = vals[q]
-            V = full.reshape(b - a, no)
-            for suf, m in (("", okm), ("_in", okm & in_mask)):
-                res[f"{q}_min{suf}"][sl] = np.where(m, V, np.inf).min(axis=1)
-                res[f"{q}_max{suf}"][sl] = np.where(m, V, -np.inf).max(axis=1)
-            if q in _ARGMIN:
-                res[f"{q}_argmin"][sl] = np.where(okm, V, np.inf).argmin(axis=1)
+        # all quantities at once: V (quantity, position, orientation), unreachable
+        # poses +inf for the minima and -inf for the maxima
+        lo_v = np.full((len(QUANTITIES), len(ok)), np.inf)
+        lo_v[:, ok] = np.stack([vals[q] for q in QUANTITIES])
+        lo_v = lo_v.reshape(len(QUANTITIES), b - a, no)
+        hi_v = np.where(okm, lo_v, -np.inf)
+        mins, maxs = lo_v.min(axis=2), hi_v.max(axis=2)
+        inn = okm & in_mask
+        mins_in = np.where(inn, lo_v, np.inf).min(axis=2)
+        maxs_in = np.where(inn, hi_v, -np.inf).max(axis=2)
+        for k, q in enumerate(QUANTITIES):
+            res[f"{q}_min"][sl], res[f"{q}_max"][sl] = mins[k], maxs[k]
+            res[f"{q}_min_in"][sl], res[f"{q}_max_in"][sl] = mins_in[k], maxs_in[k]
+        for q in _ARGMIN:
+            res[f"{q}_argmin"][sl] = lo_v[QUANTITIES.index(q)].argmin(axis=1)
     return res
 
 
