@@ -18,7 +18,7 @@ k = 3, compiled by numba.  The generic kernel walks the sign vectors in Gray-cod
 order (about 1.6 µs per pose and slice for L = 6 and 13 µs for L = 8, against 22 and
 180 µs for the numpy route).  For L = 8 (d = 6) a second kernel splits the five signs
 as (+1, s1, s2) × (s3, s4), so that ``K s`` and ``E s`` are sums of 4 + 4 partial
-sums, with every branch a select and 32 poses evaluated together, pose the innermost
+sums, with every branch a select and 64 poses evaluated together, pose the innermost
 loop, so that the compiler evaluates four poses per vector instruction
 (:mod:`.slice_lanes`): about 1.1 µs per pose and slice, the same candidates, results
 equal to the walk's to a few 1e-15 relative (the sums are associated differently).
@@ -152,7 +152,7 @@ def _kernel():
     return run
 
 
-def slice_farthest_unit(G, keep, *, walk: bool = False):
+def slice_farthest_unit(G, keep, *, walk: bool = False, transposed: bool = False):
     """Largest ``||G_S p||`` over ``|p|∞ <= 1`` with ``G_{S^c} p = 0`` (eq. (16) after the
     slice of eq. (14)), for slices that remove exactly three coordinates.
 
@@ -166,6 +166,9 @@ def slice_farthest_unit(G, keep, *, walk: bool = False):
     walk : bool
         Force the Gray-code walk over the sign vectors (the generic kernel, used for
         L != 8 and kept as the reference of the split-sign kernel for L = 8).
+    transposed : bool
+        G is given as its transpose (N, L, d) (e.g. J for Jᵀ): read in place by the
+        split-sign kernel, copied for the walk.
 
     Returns
     -------
@@ -173,7 +176,10 @@ def slice_farthest_unit(G, keep, *, walk: bool = False):
         In the output unit per unit actuator quantity; −inf for an empty slice.
     """
     G = np.ascontiguousarray(G, dtype=float)
-    N, d, L = G.shape
+    if transposed:
+        N, L, d = G.shape
+    else:
+        N, d, L = G.shape
     S = np.array(sorted(int(k) for k in keep), dtype=np.int64)
     Sc = np.array([i for i in range(d) if i not in set(S.tolist())], dtype=np.int64)
     if len(Sc) != 3:
@@ -181,8 +187,10 @@ def slice_farthest_unit(G, keep, *, walk: bool = False):
     F, X, flips = _tables(L, 3)
     out = np.empty(N)
     if N and L == 8 and d == 6 and not walk:
-        slice_farthest_lanes(G, S, Sc, F, X, out)
+        slice_farthest_lanes(G, S, Sc, F, X, out, transposed)
     elif N:
+        if transposed:
+            G = np.ascontiguousarray(np.swapaxes(G, 1, 2))
         _kernel()(G, S, Sc, F, X, flips, out)
     return out
 

@@ -8,7 +8,7 @@ cases (:mod:`.velocity_set`), J# = pinv(J), and the singular values of four read
 the scaling (:mod:`.isotropy`).  The numpy route does each step as a batched array
 operation, allocating (N, 56, 6) temporaries (about 10 KiB per pose for L = 8); this
 module does the same arithmetic in compiled kernels with a few kB of work buffers,
-some pose by pose and some over blocks of 32 poses with the pose as the innermost loop
+some pose by pose and some over blocks of 32 or 64 poses with the pose as the innermost loop
 (branch-free, so that the compiler evaluates four poses per vector instruction):
 
 * the singular values of the four readings ``ST⁻¹Jᵀ``, ``Jᵀ``, ``ST Jᵀ``, ``ST⁻¹Jxᵀ``

@@ -145,3 +145,15 @@ def test_compiled_loop_kinematics_equal_the_batched_kernels(presets, name):
     out = np.empty((3, mech.L, 7))
     mech.kernels("batched").loops["jq_jx"](P[:3], out)          # uncompiled
     assert np.allclose(out, mech.kernels("batched").jq_jx(P[:3]), rtol=1e-14, atol=0)
+
+
+def test_transposed_generators_are_read_in_place_with_the_same_bits(presets):
+    """Jᵀ given as J (transposed=True) gives the bits of the copied transpose, in the
+    split-sign kernel (read in place) and in the walk (copied)."""
+    mech = presets["octopod"]
+    J = mech.jacobian(random_reachable_poses(mech, 70, 30, seed=6))
+    Gw = np.ascontiguousarray(np.swapaxes(J, 1, 2))
+    for keep in ((0, 1, 2), (3, 4, 5)):
+        for walk in (False, True):
+            assert np.array_equal(slice_farthest_unit(J, keep, walk=walk, transposed=True),
+                                  slice_farthest_unit(Gw, keep, walk=walk))
