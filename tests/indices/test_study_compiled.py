@@ -157,3 +157,20 @@ def test_transposed_generators_are_read_in_place_with_the_same_bits(presets):
         for walk in (False, True):
             assert np.array_equal(slice_farthest_unit(J, keep, walk=walk, transposed=True),
                                   slice_farthest_unit(Gw, keep, walk=walk))
+
+
+def test_l6_lane_kernels_against_the_walk_and_the_inverse(presets):
+    """L = 6: the split-sign lane kernel on Jᵀ against the Gray-code walk (same
+    candidates, sums associated differently), and the slab lane kernel on J_S against
+    the walk on J⁻¹ (the zonotope route it replaces for square Jacobians)."""
+    from distkin.indices.slice_farthest import slab_farthest_unit
+    for name in ("hunt", "ergin"):
+        mech = presets[name]
+        J = mech.jacobian(random_reachable_poses(mech, 150, 20, seed=10))
+        Jinv = np.linalg.inv(J)
+        for keep in ((0, 1, 2), (3, 4, 5)):
+            a = slice_farthest_unit(J, keep, transposed=True)
+            b = slice_farthest_unit(J, keep, transposed=True, walk=True)
+            assert rel_err(a, b) < 1e-13
+            s = slab_farthest_unit(np.ascontiguousarray(J[:, :, list(keep)]))
+            assert rel_err(s, slice_farthest_unit(Jinv, keep, walk=True)) < 1e-10
