@@ -11,12 +11,15 @@ module does the same arithmetic in compiled kernels with a few kB of work buffer
 some pose by pose and some over blocks of 32 or 64 poses with the pose as the innermost loop
 (branch-free, so that the compiler evaluates four poses per vector instruction):
 
-* the singular values of the four readings ``ST⁻¹Jᵀ``, ``Jᵀ``, ``ST Jᵀ``, ``ST⁻¹Jxᵀ``
-  and J# = pinv(J) by one-sided (Hestenes) Jacobi (:mod:`.jacobi_lanes`, over blocks
-  of poses): rotations of row pairs until all rows are orthogonal to 1e-15 of their
-  norms; the singular values are then the row norms (relative accuracy of order
-  1e-15·κ, like LAPACK's SVD); with ``Q Jᵀ = B`` (orthogonal Q, orthogonal rows b_i of
-  norm σ_i), ``J# = Qᵀ diag(σ⁻²) B``;
+* the kinematics (reach margins, Jq, J) from the generated ``loop`` kernels compiled
+  by numba (:func:`reach_jq_jx`);
+* the singular values of the four readings ``ST⁻¹Jᵀ``, ``Jᵀ``, ``ST Jᵀ``, ``ST⁻¹Jxᵀ``,
+  J# = pinv(J) and the null space of Jᵀ (:mod:`.jacobi_lanes`, over blocks of poses):
+  one Householder QR ``J = QR`` serves the three readings of J (``σ(D Jᵀ) = σ(R D)``),
+  ``J# = R⁻¹Q₁ᵀ`` and the null space (the last columns of Q), a second QR the reading
+  of Jx; one-sided (Hestenes) Jacobi rotates the rows of each 6 × 6 ``R D`` until they
+  are orthogonal to 1e-15 of their norms, and the singular values are the row norms
+  (relative accuracy of order 1e-15·κ, like LAPACK's SVD);
 * L = 8: the facets of the wrench zonotope ``Jᵀ·box`` from the null space of Jᵀ and J#,
   with the twist and acceleration normals ``JᵀJ n = Jᵀ y`` and ``M̂ n`` and the slice
   ratios of :func:`.zonotope._ratio_min` (:mod:`.facets_lanes`, over blocks of poses);
