@@ -274,13 +274,19 @@ def _kernel():
 _LOOPS: dict = {}
 
 
-def _compiled_loop(fn):
-    """A generated ``loop`` kernel (:mod:`distkin.codegen.emit`) compiled by numba once
-    per process (machine code kept in numba's disk cache beside the kernel's module);
-    numpy's error model, so a division by zero gives inf as in the batched kernel."""
+def _compiled_loop(fn, module):
+    """A generated ``loop`` kernel (:mod:`distkin.codegen.emit`) of ``module`` compiled
+    by numba once per process (machine code kept in numba's disk cache beside the
+    kernel's module); numpy's error model, so a division by zero gives inf as in the
+    batched kernel.  A derived geometry's module (loaded from the derivation cache, not
+    importable) is registered under its name first: numba's disk cache records the
+    module of what it compiled and imports it by that name when another process loads
+    the machine code (it would record '<dynamic>' and the next process fail)."""
+    import sys
     f = _LOOPS.get(fn)
     if f is None:
         import numba
+        sys.modules.setdefault(module.__name__, module)
         f = _LOOPS[fn] = numba.njit(cache=True, error_model="numpy")(fn)
     return f
 
@@ -297,7 +303,8 @@ def reach_jq_jx(mech, poses):
     if getattr(mech, "route", "generated") != "generated" or ranges is None \
             or ranges()[0] is not None:
         return None
-    loops = getattr(mech.kernels("batched"), "loops", {})
+    kset = mech.kernels("batched")
+    loops = getattr(kset, "loops", {})
     if "reach" not in loops or "jq_jx" not in loops:
         return None
     P = np.ascontiguousarray(poses, dtype=float)
@@ -308,8 +315,8 @@ def reach_jq_jx(mech, poses):
     Jq = np.empty((N, L))
     J = np.empty((N, L, 6))
     if N:
-        _compiled_loop(loops["reach"])(P, margin)
-        _compiled_loop(loops["jq_jx"])(P, out)
+        _compiled_loop(loops["reach"], kset.module)(P, margin)
+        _compiled_loop(loops["jq_jx"], kset.module)(P, out)
         _split_kernel()(margin, out, ok, Jq, J)
     return ok, Jq, J
 

@@ -174,3 +174,31 @@ def test_l6_lane_kernels_against_the_walk_and_the_inverse(presets):
             assert rel_err(a, b) < 1e-13
             s = slab_farthest_unit(np.ascontiguousarray(J[:, :, list(keep)]))
             assert rel_err(s, slice_farthest_unit(Jinv, keep, walk=True)) < 1e-10
+
+
+def test_compiled_kinematics_of_a_derived_geometry_load_in_a_second_process(tmp_path):
+    """A geometry without a committed module (derived into the derivation cache): its
+    compiled loop kernels, kept in numba's disk cache, load in another process (numba
+    records the module of what it compiles; an unregistered module was '<dynamic>' and
+    the second process failed), with the same values."""
+    import os
+    import subprocess
+    import sys
+    code = (
+        "import numpy as np\n"
+        "from distkin.indices.study_compiled import reach_jq_jx\n"
+        "from distkin.mechanisms.platforms import platform_mechanism\n"
+        "m = platform_mechanism(([[0, 0, 0], [6, 'sqrt(108)', 0], [12, 0, 0]],\n"
+        "                        [[0, 0, 0], [6, 0, 0], [3, 'sqrt(27)', 0]]),\n"
+        "                       unit=0.01, height=17, name='gd_loop')\n"
+        "rng = np.random.default_rng(4)\n"
+        "X = m.home + rng.uniform(-1, 1, (50, 6)) * [0.01, 0.01, 0.01, 0.1, 0.1, 0.1]\n"
+        "ok, Jq, J = reach_jq_jx(m, X)\n"
+        "Jq2, Jx2 = m.jq_jx(X)\n"
+        "assert ok.all() and np.array_equal(J, Jx2 / Jq2[..., None])\n"
+        "print('same')\n")
+    env = dict(os.environ, DISTKIN_CACHE=str(tmp_path))
+    for _ in range(2):                       # derive and compile; load both from disk
+        r = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                           text=True)
+        assert r.returncode == 0 and r.stdout.strip() == "same", r.stderr[-2000:]
