@@ -107,17 +107,73 @@ def _load() -> str:
 
 
 # ------------------------------------------------------------- study pipeline per pose
+#: the tree measured as "before" in the study section: the branch point of perf-study-2
+#: (main after run (8) of BENCHMARKS.md: lane kernels, 11.32 µs per pose there)
+BASELINE_REV = "b654a07"
+
+_BASELINE_SCRIPT = """
+import json, time
+import numpy as np
+import distkin
+from distkin.indices.study import evaluate_poses
+from distkin.indices.workspace import table2_grid
+from distkin.mechanisms import preset
+P = table2_grid().poses(np.arange(0, 28))
+out = {}
+for name in ("octopod", "hunt"):
+    mech = preset(name)
+    evaluate_poses(mech, P[:50])                              # compile or load
+    best = float("inf")
+    for _ in range(5):
+        t0 = time.process_time()
+        evaluate_poses(mech, P)
+        best = min(best, (time.process_time() - t0) / len(P))
+    out[name] = best
+out["tree"] = distkin.__file__
+print(json.dumps(out))
+"""
+
+
+def _chunk_costs(mech):
+    """CPU per pose of a sweep's per-position reductions (``study_chunk`` minus the
+    ``evaluate_poses`` of its poses) and of writing its chunk (``runstore._save``), on a
+    chunk of 16 positions × 729 orientations."""
+    from distkin.indices.isotropy import ST_DEFAULT
+    from distkin.indices.study import ACTUATORS, evaluate_poses, study_chunk
+    from distkin.indices.workspace import table2_grid
+    from distkin.runstore import _save
+    grid = table2_grid()
+    spec = {"mech": mech, "grid": grid, "lo": 0, "hi": 16, "actuators": dict(ACTUATORS),
+            "ST": tuple(ST_DEFAULT), "inner": None, "route": "kernels", "batch": 20000,
+            "sensitivity": "slice"}
+    P = grid.poses(np.arange(0, 16))
+    res = study_chunk(spec)
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "chunk.npz")
+        from pathlib import Path
+        t = interleaved({"chunk": lambda: study_chunk(spec),
+                         "evaluate": lambda: evaluate_poses(mech, P),
+                         "save": lambda: _save(Path(path), res)}, rounds=5, cpu=True)
+    n = len(P)
+    return {"reductions": (t["chunk"][1] - t["evaluate"][1]) / n, "save": t["save"][1] / n,
+            "save_per_chunk": t["save"][1]}
+
+
 def _study_section(data):
     """The study's per-pose pipeline (IK, J, six capabilities, true velocities, four
     sliced sensitivities, σ of four readings, transmission): compiled against the numpy
-    route, interleaved, CPU time; stages in isolation."""
+    route, interleaved, CPU time; before (:data:`BASELINE_REV`) and after in fresh
+    processes; stages in isolation."""
     from distkin.indices.capability import output_generators
+    from distkin.indices.facets_lanes import capabilities_lanes
     from distkin.indices.isotropy import ST_DEFAULT, reading_singular_values
+    from distkin.indices.jacobi_lanes import jacobi_lanes
     from distkin.indices.sensitivity import max_sensitivities
     from distkin.indices.study import ACTUATORS, QUANTITIES, _worst_cases, evaluate_poses
-    from distkin.indices.study_compiled import study_indices
+    from distkin.indices.study_compiled import reach_jq_jx
     from distkin.indices.workspace import table2_grid
     from distkin.mechanisms import preset
+    from .harness import before_after
     mech = preset("octopod")
     P = table2_grid().poses(np.arange(0, 28))                # 28 positions x 729 = 20,412
     N = len(P)
@@ -135,19 +191,30 @@ def _study_section(data):
     _, b = evaluate_poses(mech, P, compiled=False)
     worst = max(float(np.max(np.abs(a[q] - b[q]) / np.maximum(np.abs(b[q]), 1e-300)))
                 for q in QUANTITIES)
+    # an L = 6 device (Hunt) on the same poses, for the five-device extrapolation
+    hunt = preset("hunt")
+    evaluate_poses(hunt, P[:50])
+    cpu6 = interleaved({"hunt": lambda: evaluate_poses(hunt, P)}, rounds=5, cpu=True)
+    cpu6 = cpu6["hunt"][1] / N
     # stages in isolation (CPU time per pose)
-    Jq, Jx = mech.jq_jx(P)
-    J = Jx / Jq[..., None]
+    _, Jq, J = reach_jq_jx(mech, P)
     M = np.array([mech.mass] * 3 + [mech.inertia] * 3)
     gens = output_generators(J, mass=M)
-    tw = study_indices(J, Jq, M, ACTUATORS, ST_DEFAULT)[2]
+    st6 = np.asarray(ST_DEFAULT, float)
+    sig, tw, flag = np.empty((N, 8)), np.empty((N, 6, 8)), np.zeros(N, bool)
+    Z = jacobi_lanes(J, Jq, st6, sig, tw, flag)
+    lims = np.array([ACTUATORS["nominal_torque"], ACTUATORS["stall_torque"],
+                     ACTUATORS["velocity"]])
+    caps = np.empty((N, 6))
     stages = {
-        "IK (generated kernel)": lambda: mech.inverse_kinematics(P),
-        "Jq, Jx (generated kernel)": lambda: mech.jq_jx(P),
-        "compiled: 6 capabilities, 2 true velocities, J#, σ of 4 readings":
-            lambda: study_indices(J, Jq, M, ACTUATORS, ST_DEFAULT),
-        "compiled: 4 sliced sensitivities, split-sign (L = 8)":
-            lambda: max_sensitivities(J, twist=tw),
+        "kinematics: reach, Jq, Jx, J (compiled loop kernels)": lambda: reach_jq_jx(mech, P),
+        "QR of J, Jacobi σ of 4 readings, J#, null space of Jᵀ":
+            lambda: jacobi_lanes(J, Jq, st6, sig, tw, flag, Z),
+        "6 capabilities (facets from the null space)":
+            lambda: capabilities_lanes(J, tw, Z, M, lims, caps),
+        "4 sliced sensitivities, split-sign (L = 8)": lambda: max_sensitivities(J, twist=tw),
+        "before: reach + Jq, Jx (batched numpy kernels)":
+            lambda: (mech.reachable(P), mech.jq_jx(P)),
         "before: 4 sliced sensitivities, Gray-code walk":
             lambda: max_sensitivities(J, twist=tw, walk=True),
         "before: generators (numpy pinv)": lambda: output_generators(J, mass=M),
@@ -156,11 +223,19 @@ def _study_section(data):
             lambda: reading_singular_values(J, ST_DEFAULT, Jq=Jq),
     }
     st = interleaved(stages, rounds=3, cpu=True)
+    stage = {k: v[1] / N for k, v in st.items()}
+    chunk = _chunk_costs(mech)
     load1 = _load()
+    ba = before_after(_BASELINE_SCRIPT, BASELINE_REV, rounds=3)
+    load2 = _load()
     cpu_new, cpu_old = per[names[0]][1], per[names[1]][1]
+    own = [k for k in stage if not k.startswith("before")]
+    rest = cpu_new - sum(stage[k] for k in own)
     data["study"] = {"poses": N, "per_pose_wall_cpu_s": per, "speedup_cpu": cpu_old / cpu_new,
-                     "max_rel_diff": worst, "stages_cpu_per_pose_s":
-                     {k: v[1] / N for k, v in st.items()}, "load": [load0, load1]}
+                     "max_rel_diff": worst, "stages_cpu_per_pose_s": stage,
+                     "rest_cpu_per_pose_s": rest, "hunt_cpu_per_pose_s": cpu6,
+                     "chunk_costs": chunk, "before_after_cpu_per_pose_s": ba,
+                     "load": [load0, load1, load2]}
     lines = ["### Study pipeline per pose, Octopod (L = 8)", "",
              f"{N:,} poses of the Table II grid (28 positions × 729 orientations): IK, J, "
              "the six worst-case capabilities, the two true-velocity worst cases, the "
@@ -175,27 +250,44 @@ def _study_section(data):
     for n, (w, c) in per.items():
         lines.append(f"| {n} | {fmt_time(w)} | {fmt_time(c)} | {c / cpu_new:.2f}× |")
     lines += ["", f"Speed-up {cpu_old / cpu_new:.2f}× in CPU time; target ≤ 8 µs per pose: "
-              f"{'met' if cpu_new <= 8e-6 else f'not met ({cpu_new / 8e-6:.1f}× the target)'}."
+              f"{'met' if cpu_new <= 8e-6 else f'not met ({cpu_new / 8e-6:.2f}× the target)'}."
               f"  Largest relative difference between the routes over all "
               f"{len(QUANTITIES)} quantities: {worst:.1e} (tests/indices/"
-              "test_study_compiled.py holds it below 1e-10).", "",
-              "Stages in isolation (CPU per pose; \"before\" = the numpy route's stages):", "",
+              "test_study_compiled.py holds it below 1e-10).  The same pipeline for an "
+              f"L = 6 device (Hunt, the same poses): {fmt_time(cpu6)} per pose."]
+    if ba:
+        lines += ["", f"Before and after in this run: main at `{BASELINE_REV}` (the "
+                  "lane kernels of run (8), extracted with `git archive`, its own numba "
+                  "cache) and this tree, the same script in fresh processes, alternated "
+                  "three times, best of five calls each, CPU time per pose of "
+                  f"`evaluate_poses` on these {N:,} poses (load {load1} before, {load2} "
+                  "after):", "",
+                  "| device | before | after | before / after |", "|---|---|---|---|"]
+        for k in ("octopod", "hunt"):
+            lines.append(f"| {k} (L = {8 if k == 'octopod' else 6}) | "
+                         f"{fmt_time(ba['before'][k])} | {fmt_time(ba['after'][k])} | "
+                         f"{ba['before'][k] / ba['after'][k]:.2f}× |")
+    lines += ["", "Stages in isolation (CPU per pose; \"before\" = the stages they replaced: "
+              "the batched numpy kinematics and the numpy route's stages):", "",
               "| stage | CPU per pose |", "|---|---|"]
-    for k, (_, c) in st.items():
-        lines.append(f"| {k} | {fmt_time(c / N)} |")
-    stage = {k: v[1] / N for k, v in st.items()}
-    sens_t = stage["compiled: 4 sliced sensitivities, split-sign (L = 8)"]
-    kern_t = stage["compiled: 6 capabilities, 2 true velocities, J#, σ of 4 readings"]
-    ikj_t = stage["IK (generated kernel)"] + stage["Jq, Jx (generated kernel)"]
-    lines += ["", f"What is left, of the {fmt_time(cpu_new)} per pose: the four sliced "
-              f"sensitivities {fmt_time(sens_t)} (56 free sets × 16 sign vectors each, "
-              "exact vertex enumeration, four poses per vector instruction), the kernel "
-              f"of capabilities, J# and σ {fmt_time(kern_t)} (one-sided Jacobi SVDs of the "
-              "four readings, four poses per vector instruction, about 3 µs; the facets "
-              "from the null space of Jᵀ), "
-              f"IK and J {fmt_time(ikj_t)} (generated kernels; the study "
-              "itself now needs only the reach margins, not the crank angles), the rest "
-              "array handling between the kernels."]
+    for k, c in stage.items():
+        lines.append(f"| {k} | {fmt_time(c)} |")
+    lines += [f"| the rest of `evaluate_poses` (array handling between the kernels, "
+              f"true velocities, transmission; the pipeline minus the four stages above) | "
+              f"{fmt_time(rest)} |",
+              f"| in a sweep, besides: per-position minima, maxima, worst orientations "
+              f"(`study_chunk`) | {fmt_time(chunk['reductions'])} |",
+              f"| in a sweep, besides: writing the chunk (`runstore._save`, "
+              f"{chunk['save_per_chunk'] * 1e3:.2f} ms per chunk of 11,664 poses) | "
+              f"{fmt_time(chunk['save'])} |"]
+    sens = stage["4 sliced sensitivities, split-sign (L = 8)"]
+    lines += ["", f"Of the {fmt_time(cpu_new)} per pose: the four sliced sensitivities "
+              f"{fmt_time(sens)} ({100 * sens / cpu_new:.0f} %: 56 free sets × 16 sign "
+              "vectors each, exact vertex enumeration, four poses per vector "
+              "instruction); one Householder QR of J serving the σ of three readings, "
+              "J# = R⁻¹Q₁ᵀ and the null space of Jᵀ, a second QR for Jx, and one-sided "
+              "Jacobi on the 6 × 6 triangular factors; the facets from the null space; "
+              "the kinematics compiled from the generated loop kernels."]
     return "\n".join(lines)
 
 
@@ -235,7 +327,7 @@ def scale_probe(n: int, compiled: bool, chunk: int, memory: bool = True) -> dict
             "reachable": int(ok.sum())}
 
 
-def _probe(n, compiled=True, chunk=8192, memory=True):
+def _probe(n, compiled=True, chunk=2048, memory=True):
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
     code = ("import json, benchmarks.bench_indices as b; "
             f"print(json.dumps(b.scale_probe({n}, {compiled}, {chunk}, {memory})))")
@@ -256,7 +348,7 @@ def _scaling_section(data):
     rows = [_probe(n) for n in (10 ** 3, 10 ** 4, 10 ** 5, 10 ** 6)]
     rows.append(_probe(10 ** 7, memory=False))          # tracemalloc would add 7 minutes
     rows += [_probe(10 ** 4, False, 10 ** 4), _probe(10 ** 5, False, 10 ** 5),
-             _probe(10 ** 5, False, 8192)]
+             _probe(10 ** 5, False, 2048)]
     data["scaling"] = rows
     lines = ["### Scaling in N, and memory", "",
              "`evaluate_poses` on the first N poses of a 5 mm / 5° grid (±75 mm, ±20°), "
@@ -364,6 +456,13 @@ def _table2_section(data):
     reach = int(per["n_ok"].sum())
     cpu = (next(iter(data["study"]["per_pose_wall_cpu_s"].values()))[1]
            if "study" in data else None)
+    cpu6 = data["study"]["hunt_cpu_per_pose_s"] if "study" in data else None
+    wpp = wall / grid.size
+    # the five devices: three L = 6 on this grid (3 x 2,985,984), two L = 8 on a ±30°
+    # grid of about 9 million poses each; L = 6 poses at the CPU ratio Hunt / Octopod
+    est = 27e6 * wpp if not (cpu and cpu6) else wpp * (18e6 + 9e6 * cpu6 / cpu)
+    res = data.get("resolution") or []
+    sp = (res[2]["wall_s"] / res[3]["wall_s"]) if len(res) >= 4 else None
     data["table2"] = {"poses": grid.size, "reachable": reach, "seconds": wall,
                       "workers": workers, "us_per_pose": wall / grid.size * 1e6,
                       "load_average": load}
@@ -383,15 +482,21 @@ def _table2_section(data):
         f"about {load:.1f} on {os.cpu_count()} cores (other processes included).",
         "",
         f"Extrapolated to the whole five-device study (27 million poses: three L = 6 "
-        f"devices on this grid, the two L = 8 devices on a ±30° grid of about 9 million "
-        f"poses each) at this wall time per pose (an upper bound: the L = 6 devices are "
-        f"cheaper per pose): {27e6 * wall / grid.size / 60:.1f} min on {workers} "
-        f"processes — target < 4 min: "
-        f"{'met' if 27e6 * wall / grid.size < 240 else 'not met'} at this load.  "
-        + (f"From the CPU time per pose of the study section ({fmt_time(cpu)}), "
-           f"27 million poses are {27e6 * cpu / 60:.1f} CPU-minutes, "
-           f"{27e6 * cpu / 120:.1f} min on 2 cores at a 2× process speed-up."
-           if cpu else "")])
+        f"devices on this grid, 9.0 million poses, the two L = 8 devices on a ±30° grid "
+        f"of about 9 million poses each) from this run's wall time per pose on "
+        f"{workers} processes ({fmt_time(wpp)}, L = 8)"
+        + (f" and, for the L = 6 poses, that times the ratio of the CPU per pose of "
+           f"Hunt and Octopod in the study section ({fmt_time(cpu6)} / {fmt_time(cpu)})"
+           if cpu and cpu6 else "")
+        + f": **{est / 60:.1f} min** on {workers} processes — target < 4 min: "
+        f"{'met' if est < 240 else 'not met'} at this load (upper bound at the L = 8 cost "
+        f"for every pose: {27e6 * wpp / 60:.1f} min).  "
+        + (f"From CPU time alone (the study section's per-pose costs, "
+           f"{(18e6 * cpu + 9e6 * cpu6) / 60:.1f} CPU-minutes) at the measured 2-process "
+           f"speed-up of the grid-resolution table ({sp:.2f}×): "
+           f"{(18e6 * cpu + 9e6 * cpu6) / sp / 60:.1f} min, without the sweep's "
+           f"reductions and start-up."
+           if cpu and cpu6 and sp else "")])
 
 
 def _culling_section(data):

@@ -175,14 +175,39 @@ def executor_for(executor=None, scheduler: str | None = None, workers: int | Non
 
 
 def _save(path: Path, data: dict) -> None:
+    """``data`` (name -> array) as one uncompressed ``.npz``, arrays of the same dtype
+    and shape stacked into one entry (a study chunk's hundred arrays of per-position
+    values become two entries: one zip entry and npy header each instead of a hundred,
+    about 0.1 ms instead of 2.5 ms a chunk, which the process collecting the workers'
+    chunks spends while they compute); names, groups and places are arrays of str and
+    int, so loading needs no pickle."""
+    names = list(data)
+    arrays = [np.asarray(data[k]) for k in names]
+    keys: dict = {}
+    group = np.empty(len(names), np.int64)
+    place = np.empty(len(names), np.int64)
+    members: list = []
+    for i, a in enumerate(arrays):
+        g = keys.setdefault((a.dtype.str, a.shape), len(keys))
+        if g == len(members):
+            members.append([])
+        group[i], place[i] = g, len(members[g])
+        members[g].append(a)
+    entries = {f"group{g}": np.stack(m) for g, m in enumerate(members)}
     tmp = path.with_name(path.name + ".tmp.npz")
-    np.savez(tmp, **data)
+    np.savez(tmp, names__=np.array(names, dtype=str), group__=group, place__=place,
+             **entries)
     os.replace(tmp, path)
 
 
 def _load(path: Path) -> dict:
+    """The dict :func:`_save` wrote (each array a copy of its row of the stack)."""
     with np.load(path) as z:
-        return {k: z[k] for k in z.files}
+        if "names__" not in z.files:                     # one entry per array
+            return {k: z[k] for k in z.files}
+        stacks = {k: z[k] for k in z.files if k.startswith("group")}
+        return {str(n): stacks[f"group{g}"][p, ...].copy()
+                for n, g, p in zip(z["names__"], z["group__"], z["place__"])}
 
 
 class _Progress:

@@ -68,3 +68,30 @@ def test_a_named_store_filled_by_other_code_is_refused(tmp_path):
     (store / "sweep.json").write_text(json.dumps(meta))
     with pytest.raises(InputError, match="made by this code"):
         run_chunks(_square, [2, 3], store, definition={"n": 2}, progress=False)
+
+
+def _mixed(spec):
+    """A chunk of arrays of several dtypes and shapes (a study chunk's are ~100 arrays
+    of per-position values; the certified workspace's have other shapes)."""
+    rng = np.random.default_rng(spec)
+    out = {f"q{i}_min": rng.random(5) for i in range(6)}
+    out |= {"n_ok": np.arange(5), "argmin": np.arange(5) - 1, "box": rng.random((4, 6)),
+            "flag": np.array([True, False, True]), "empty": np.zeros(0), "total": 2.5,
+            "label": np.array(["a", "bc"])}
+    return out
+
+
+def test_chunks_written_stacked_load_back_bit_for_bit(tmp_path):
+    """Arrays of one dtype and shape are stored stacked (one zip entry); a resumed sweep
+    loads every array back with its name, dtype, shape and bits, in the task's order."""
+    specs = [1, 2, 3]
+    first = run_chunks(_mixed, specs, tmp_path, progress=False)
+    again = run_chunks(_mixed, specs, tmp_path, progress=False)     # all from disk
+    with np.load(tmp_path / "chunk_00000.npz") as z:
+        assert len(z.files) < len(first[0])                         # stacked
+    for a, b in zip(first, again):
+        assert list(a) == list(b)
+        for k in a:
+            x = np.asarray(a[k])
+            assert b[k].dtype == x.dtype and b[k].shape == x.shape, k
+            assert np.array_equal(b[k], x), k

@@ -8,6 +8,13 @@ Three flavours of the same symbolic source (STYLE.md, sympy/codegen):
 ``scalar``
     plain floats and :mod:`math`; inputs are sequences, the output a nested list.
     For the 1 kHz control loop, where numpy's per-call overhead dominates.
+``loop``
+    the scalar flavour's arithmetic in a loop over the rows of 2-D inputs ``(N, k)``,
+    writing row ``n`` of a given output ``(N,) + out_shape`` (the last argument,
+    ``_out``): plain Python, written to be compiled by numba (``numba.njit`` of the
+    function), which evaluates a pose with no temporary arrays.  For the study's sweeps
+    (:mod:`distkin.indices.study_compiled`), where the batched flavour's few hundred
+    numpy temporaries per call cost most of the kernel's time.
 ``exact``
     only ``+ - * /`` and integer powers, rationals printed as ``_Q(p, q)``
     (``flint.fmpq``); evaluates exactly on ``fmpq`` inputs and as certified balls on
@@ -34,7 +41,7 @@ from dataclasses import dataclass, field
 
 __all__ = ["Kernel", "kernel_source", "module_source", "symbolic_hash", "FLAVOURS"]
 
-FLAVOURS = ("batched", "scalar", "exact", "arb")
+FLAVOURS = ("batched", "scalar", "loop", "exact", "arb")
 
 
 @dataclass(frozen=True)
@@ -187,6 +194,7 @@ def _printers():
 
     return {"batched": Batched({"fully_qualified_modules": True}),
             "scalar": Scalar({"fully_qualified_modules": True}),
+            "loop": Scalar({"fully_qualified_modules": True}),
             "exact": Exact(), "arb": Arb()}
 
 
@@ -240,8 +248,12 @@ def kernel_source(k: Kernel) -> str:
     else:
         reps, reduced = [], flat
     args = [name for name, _ in k.inputs]
-    lines = [f"def {k.name}({', '.join(args)}):"]
+    loop = k.flavour == "loop"
+    lines = [f"def {k.name}({', '.join(args + (['_out'] if loop else []))}):"]
     doc = k.doc.strip() or f"Generated kernel {k.name}."
+    if k.flavour == "loop":
+        doc += ("\n\nLoop flavour: row n of every input (N, k) -> row n of ``_out`` (N, ...),"
+                "\nfor numba (plain Python here: slow uncompiled).")
     lines.append('    """' + doc.replace("\n", "\n    ") + '\n    """')
     chunk = k.extra.get("chunk") if k.flavour == "batched" else None
     if chunk:
@@ -259,15 +271,24 @@ def kernel_source(k: Kernel) -> str:
             f"            _res[_i:_i + {int(chunk)}] = _part",
             "        return _res",
         ]
+    ind = "    "
+    if loop:
+        lines.append(f"    for _n in range({args[0]}.shape[0]):")
+        ind = "        "
     for name, syms in k.inputs:
         for i, s in enumerate(syms):
             if k.flavour == "batched":
                 lines.append(f"    {printer.doprint(s)} = {name}[..., {i}]")
+            elif loop:
+                lines.append(f"{ind}{printer.doprint(s)} = {name}[_n, {i}]")
             else:
                 lines.append(f"    {printer.doprint(s)} = {name}[{i}]")
     for sym, expr in reps:
-        lines.append(f"    {printer.doprint(sym)} = {printer.doprint(expr)}")
-    if k.flavour == "batched":
+        lines.append(f"{ind}{printer.doprint(sym)} = {printer.doprint(expr)}")
+    if loop:
+        for idx, expr in enumerate(reduced):
+            lines.append(f"{ind}_out[_n, {numpy_index(idx, shape)}] = {printer.doprint(expr)}")
+    elif k.flavour == "batched":
         first = k.inputs[0][0]
         lines.append(f"    _out = numpy.empty(numpy.shape({first})[:-1] + {shape!r})")
         for idx, expr in enumerate(reduced):

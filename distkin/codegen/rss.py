@@ -13,7 +13,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from ..mechanisms.kernel_names import _SUFFIX, ARB_KERNELS, FLAVOURS, KERNELS
+from ..mechanisms.kernel_names import _SUFFIX, ARB_KERNELS, FLAVOURS, KERNELS, LOOP_KERNELS
 
 __all__ = ["module_text", "derived_module", "scene_module", "derivation_profile",
            "QUERY_KERNELS", "generate_preset", "generate_preset_arb"]
@@ -58,8 +58,12 @@ def _kernel_list(L, exprs, flavours):
     from ..mechanisms.symbolic import POSE, q_symbols
     from .emit import Kernel
     out = []
+    # the batched flavour brings the loop twins of LOOP_KERNELS (emit: "loop")
+    flavours = list(flavours) + (["loop"] if "batched" in flavours else [])
     for flavour in flavours:
         for n, M in exprs.items():
+            if flavour == "loop" and n not in LOOP_KERNELS:
+                continue
             if n == "closure":
                 inputs = (("q", tuple(q_symbols(L))), ("pose", tuple(POSE)))
             else:

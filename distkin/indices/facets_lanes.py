@@ -14,8 +14,8 @@ and the twist and acceleration normals of :func:`.study._worst_cases` are
 ``JᵀJ n = Jᵀ y`` (J J# is the projector onto the range of J, which holds y) and
 ``M̂ n``.  Each capability is then ``min_T h·lim / ||n_S||`` over the slice S
 (:func:`.zonotope._ratio_min`: a normal with ``||n_S|| <= 1e-15`` of the root sum of
-squares over all normals is vacuous).  Z comes from a Householder QR of J (the last two
-columns of Q), J# from :mod:`.jacobi_lanes`.  The same facets as the pivoted route of
+squares over all normals is vacuous).  Z (the last two columns of the Q of a
+Householder QR of J) and J# come from :mod:`.jacobi_lanes`.  The same facets as the pivoted route of
 :mod:`.study_compiled` (which the numpy route :func:`.zonotope._facets` mirrors), found
 without choosing a basis, so every pose of a block runs the same branch-free code and
 the compiler evaluates four poses per vector instruction; results agree with the
@@ -46,69 +46,26 @@ def _kernel():
     import numba
 
     @numba.njit(cache=True, error_model="numpy")
-    def run(J, Jp, M, lims, U, caps, W):                     # pragma: no cover (compiled)
+    def run(J, Jp, Zn, M, lims, U, caps, W):                 # pragma: no cover (compiled)
         N, L, d = J.shape
         K = U.shape[0]
-        Y = np.empty((L, d, W))
         Jt = np.empty((L, d, W))
         Pt = np.empty((d, L, W))
         Z = np.empty((L, 2, W))
-        vn = np.empty((d, W))
-        tt = np.empty(W)
         vb = np.empty((6, K, W))
         hb = np.empty((K, W))
         tot = np.empty(W)
-        best = np.empty(W)
+        hbest = np.empty(W)
+        vbest = np.empty(W)
         for n0 in range(0, N, W):
             for l in range(L):
                 for i in range(d):
                     for w in range(W):
-                        x = J[min(n0 + w, N - 1), l, i]
-                        Y[l, i, w] = x
-                        Jt[l, i, w] = x
+                        Jt[l, i, w] = J[min(n0 + w, N - 1), l, i]
                         Pt[i, l, w] = Jp[min(n0 + w, N - 1), i, l]
-            # ---- Householder QR of J (L × d); the reflectors overwrite Y's columns
-            for k in range(d):
-                for w in range(W):
-                    tt[w] = 0.0
-                for l in range(k, L):
-                    for w in range(W):
-                        tt[w] += Y[l, k, w] * Y[l, k, w]
-                for w in range(W):
-                    s = tt[w]
-                    nx = np.sqrt(s)
-                    x0 = Y[k, k, w]
-                    alpha = -nx if x0 >= 0.0 else nx
-                    Y[k, k, w] = x0 - alpha               # v (first entry), rest in place
-                    vn[k, w] = 2.0 * nx * (nx + abs(x0))  # ||v||²
-                for j in range(k + 1, d):
-                    for w in range(W):
-                        tt[w] = 0.0
-                    for l in range(k, L):
-                        for w in range(W):
-                            tt[w] += Y[l, k, w] * Y[l, j, w]
-                    for w in range(W):
-                        tt[w] = 2.0 * tt[w] / vn[k, w]
-                    for l in range(k, L):
-                        for w in range(W):
-                            Y[l, j, w] -= tt[w] * Y[l, k, w]
-            # ---- Z = H_0 ... H_{d-1} [e_d, e_{d+1}]: an orthonormal basis of ker Jᵀ
-            for l in range(L):
                 for c in range(2):
                     for w in range(W):
-                        Z[l, c, w] = 1.0 if l == d + c else 0.0
-            for k in range(d - 1, -1, -1):
-                for c in range(2):
-                    for w in range(W):
-                        tt[w] = 0.0
-                    for l in range(k, L):
-                        for w in range(W):
-                            tt[w] += Y[l, k, w] * Z[l, c, w]
-                    for w in range(W):
-                        tt[w] = 2.0 * tt[w] / vn[k, w]
-                    for l in range(k, L):
-                        for w in range(W):
-                            Z[l, c, w] -= tt[w] * Y[l, k, w]
+                        Z[l, c, w] = Zn[min(n0 + w, N - 1), l, c]
             # ---- the 56 facets: y on U, h, and the six slice norms (written out: no
             # inner loop, so that the pose loop is the one the compiler vectorises)
             m0, m1, m2, m3, m4, m5 = M[0], M[1], M[2], M[3], M[4], M[5]
@@ -148,29 +105,35 @@ def _kernel():
                 lim = lims[0] if c < 2 else (lims[2] if c < 4 else lims[1])
                 for w in range(W):
                     tot[w] = 0.0
-                    best[w] = np.inf
                 for t in range(K):
                     for w in range(W):
                         tot[w] += vb[c, t, w]
                 for w in range(W):
                     thr = 1e-15 * (np.sqrt(tot[w]) + 1e-300)
                     tot[w] = thr * thr
+                for w in range(W):
+                    hbest[w] = 1.0
+                    vbest[w] = 0.0
                 for t in range(K):
                     for w in range(W):
                         v = vb[c, t, w]
-                        q = (hb[t, w] * lim) / np.sqrt(v)
-                        q = q if v > tot[w] else np.inf
-                        best[w] = q if q < best[w] else best[w]
+                        h = hb[t, w]
+                        # h/√v < hbest/√vbest without a square root or a division
+                        better = (v > tot[w]) & (h * h * vbest[w] < hbest[w] * hbest[w] * v)
+                        hbest[w] = h if better else hbest[w]
+                        vbest[w] = v if better else vbest[w]
                 for w in range(min(W, N - n0)):
-                    caps[n0 + w, c] = best[w]
+                    v = vbest[w]
+                    caps[n0 + w, c] = (hbest[w] * lim) / np.sqrt(v) if v > 0.0 else np.inf
     return run
 
 
-def capabilities_lanes(J, twist, M, lims, caps):
+def capabilities_lanes(J, twist, Z, M, lims, caps):
     """Fill ``caps`` (N, 6) (force, torque, velocity, angular velocity, acceleration,
     angular acceleration; the order of :data:`.study.CAPABILITIES`) for J (N, 8, 6)
-    with J# ``twist`` (N, 6, 8), diag(M̂) ``M`` (6,) and the limits ``lims`` (nominal
-    torque, stall torque, velocity)."""
+    with J# ``twist`` (N, 6, 8), an orthonormal basis ``Z`` (N, 8, 2) of the null space
+    of Jᵀ (both from :func:`.jacobi_lanes.jacobi_lanes`), diag(M̂) ``M`` (6,) and the
+    limits ``lims`` (nominal torque, stall torque, velocity)."""
     if len(J):
-        _kernel()(J, twist, M, lims, _subsets(J.shape[1]), caps, LANES)
+        _kernel()(J, twist, Z, M, lims, _subsets(J.shape[1]), caps, LANES)
     return caps

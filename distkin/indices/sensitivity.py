@@ -71,8 +71,10 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False)
     # J# only where it is used (L = 6 in slice mode takes the slab route on J itself)
     need_pinv = mode == "projection" or L != 6
     Gt = (np.linalg.pinv(J) if need_pinv else None) if twist is None else twist
-    Gw = np.ascontiguousarray(np.swapaxes(J, 1, 2))      # one copy for both slices
-    c, r = np.zeros((N, L)), np.ones((N, L))
+    # Jᵀ: read in place by the slice kernels (transposed), copied once for projections
+    Gw = np.ascontiguousarray(np.swapaxes(J, 1, 2)) if mode == "projection" else None
+    if mode == "projection":
+        c, r = np.zeros((N, L)), np.ones((N, L))
     out = {}
     for name, G, rows in (("translational", Gt, (0, 1, 2)), ("rotational", Gt, (3, 4, 5)),
                           ("force", Gw, (0, 1, 2)), ("torque", Gw, (3, 4, 5))):
@@ -82,6 +84,8 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False)
         elif name in ("translational", "rotational") and L == 6:
             # J# = J⁻¹: the slice is {u : |J_S u|∞ <= 1}, computed from J itself
             out[name] = slab_farthest_unit(J[:, :, list(rows)])
+        elif G is None:
+            out[name] = slice_farthest_unit(J, rows, walk=walk, transposed=True)
         else:
             out[name] = slice_farthest_unit(G, rows, walk=walk)
     return out

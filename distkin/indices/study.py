@@ -90,7 +90,7 @@ PAPER_TABLE4 = {"hunt": (0.0006, 0.0127, 20.0052), "octopod": (0.0080, 0.2230, 2
 
 # ----------------------------------------------------------------------- per pose
 def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="kernels",
-                   sensitivity="slice", compiled: bool = True, chunk: int = 8192):
+                   sensitivity="slice", compiled: bool = True, chunk: int = 2048):
     """Every index of the study at each pose.
 
     Parameters
@@ -117,7 +117,8 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         relative (tests/indices/test_study_compiled.py).
     chunk : int
         Poses evaluated together: the work memory is bounded by the chunk, not by N
-        (the numpy route needs about 10 KiB per pose for L = 8).
+        (the numpy route needs about 10 KiB per pose for L = 8; 2048 keeps the compiled
+        route's arrays in the CPU's L2 cache, about 3 % faster than 8192).
 
     Returns
     -------
@@ -149,17 +150,24 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
                 out[q][n:n + k] = v[q]
             n += k
         return ok, {q: out[q][:n] for q in QUANTITIES}
+    kin = None
     if route == "numpy":
         from ..mechanisms.reference import ik_jacobian
         _, valid, J, Jq = ik_jacobian(mech, poses, return_jq=True)
     else:
         # the legs' reach margins only (the crank angles of inverse_kinematics are not
-        # needed here)
-        valid = mech.reachable(poses)[:, None]
-        Jq, Jx = mech.jq_jx(poses)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            J = Jx / Jq[..., None]
-    ok = valid.all(axis=1) & np.all(np.isfinite(J), axis=(1, 2))
+        # needed here); compiled when the kernels have loop twins
+        from .study_compiled import reach_jq_jx
+        kin = reach_jq_jx(mech, poses) if compiled else None
+        if kin is not None:
+            ok, Jq, J = kin                  # reach and finiteness tested there
+        else:
+            valid = mech.reachable(poses)[:, None]
+            Jq, Jx = mech.jq_jx(poses)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                J = Jx / Jq[..., None]
+    if kin is None:
+        ok = valid.all(axis=1) & np.all(np.isfinite(J), axis=(1, 2))
     if not ok.all():
         J, Jq = J[ok], Jq[ok]
     n = len(J)
@@ -304,15 +312,21 @@ def study_chunk(spec: dict) -> dict:
         sl = slice(a - lo, b - lo)
         res["n_ok"][sl] = okm.sum(axis=1)
         res["n_ok_in"][sl] = (okm & in_mask).sum(axis=1)
-        for q in QUANTITIES:
-            full = np.full(len(ok), np.nan)
-            full[ok] = vals[q]
-            V = full.reshape(b - a, no)
-            for suf, m in (("", okm), ("_in", okm & in_mask)):
-                res[f"{q}_min{suf}"][sl] = np.where(m, V, np.inf).min(axis=1)
-                res[f"{q}_max{suf}"][sl] = np.where(m, V, -np.inf).max(axis=1)
-            if q in _ARGMIN:
-                res[f"{q}_argmin"][sl] = np.where(okm, V, np.inf).argmin(axis=1)
+        # all quantities at once: V (quantity, position, orientation), unreachable
+        # poses +inf for the minima and -inf for the maxima
+        lo_v = np.full((len(QUANTITIES), len(ok)), np.inf)
+        lo_v[:, ok] = np.stack([vals[q] for q in QUANTITIES])
+        lo_v = lo_v.reshape(len(QUANTITIES), b - a, no)
+        hi_v = np.where(okm, lo_v, -np.inf)
+        mins, maxs = lo_v.min(axis=2), hi_v.max(axis=2)
+        inn = okm & in_mask
+        mins_in = np.where(inn, lo_v, np.inf).min(axis=2)
+        maxs_in = np.where(inn, hi_v, -np.inf).max(axis=2)
+        for k, q in enumerate(QUANTITIES):
+            res[f"{q}_min"][sl], res[f"{q}_max"][sl] = mins[k], maxs[k]
+            res[f"{q}_min_in"][sl], res[f"{q}_max_in"][sl] = mins_in[k], maxs_in[k]
+        for q in _ARGMIN:
+            res[f"{q}_argmin"][sl] = lo_v[QUANTITIES.index(q)].argmin(axis=1)
     return res
 
 

@@ -8,15 +8,18 @@ cases (:mod:`.velocity_set`), J# = pinv(J), and the singular values of four read
 the scaling (:mod:`.isotropy`).  The numpy route does each step as a batched array
 operation, allocating (N, 56, 6) temporaries (about 10 KiB per pose for L = 8); this
 module does the same arithmetic in compiled kernels with a few kB of work buffers,
-some pose by pose and some over blocks of 32 poses with the pose as the innermost loop
+some pose by pose and some over blocks of 32 or 64 poses with the pose as the innermost loop
 (branch-free, so that the compiler evaluates four poses per vector instruction):
 
-* the singular values of the four readings ``ST⁻¹Jᵀ``, ``Jᵀ``, ``ST Jᵀ``, ``ST⁻¹Jxᵀ``
-  and J# = pinv(J) by one-sided (Hestenes) Jacobi (:mod:`.jacobi_lanes`, over blocks
-  of poses): rotations of row pairs until all rows are orthogonal to 1e-15 of their
-  norms; the singular values are then the row norms (relative accuracy of order
-  1e-15·κ, like LAPACK's SVD); with ``Q Jᵀ = B`` (orthogonal Q, orthogonal rows b_i of
-  norm σ_i), ``J# = Qᵀ diag(σ⁻²) B``;
+* the kinematics (reach margins, Jq, J) from the generated ``loop`` kernels compiled
+  by numba (:func:`reach_jq_jx`);
+* the singular values of the four readings ``ST⁻¹Jᵀ``, ``Jᵀ``, ``ST Jᵀ``, ``ST⁻¹Jxᵀ``,
+  J# = pinv(J) and the null space of Jᵀ (:mod:`.jacobi_lanes`, over blocks of poses):
+  one Householder QR ``J = QR`` serves the three readings of J (``σ(D Jᵀ) = σ(R D)``),
+  ``J# = R⁻¹Q₁ᵀ`` and the null space (the last columns of Q), a second QR the reading
+  of Jx; one-sided (Hestenes) Jacobi rotates the rows of each 6 × 6 ``R D`` until they
+  are orthogonal to 1e-15 of their norms, and the singular values are the row norms
+  (relative accuracy of order 1e-15·κ, like LAPACK's SVD);
 * L = 8: the facets of the wrench zonotope ``Jᵀ·box`` from the null space of Jᵀ and J#,
   with the twist and acceleration normals ``JᵀJ n = Jᵀ y`` and ``M̂ n`` and the slice
   ratios of :func:`.zonotope._ratio_min` (:mod:`.facets_lanes`, over blocks of poses);
@@ -44,7 +47,7 @@ from .facets_lanes import capabilities_lanes
 from .jacobi_lanes import jacobi_lanes
 from .zonotope import RANK_TOL, _groups
 
-__all__ = ["study_kernel_tables", "study_indices"]
+__all__ = ["study_kernel_tables", "study_indices", "reach_jq_jx"]
 
 #: output dimension (a compile-time constant of the kernel)
 _D = 6
@@ -268,6 +271,79 @@ def _kernel():
     return run, readings
 
 
+_LOOPS: dict = {}
+
+
+def _compiled_loop(fn, module):
+    """A generated ``loop`` kernel (:mod:`distkin.codegen.emit`) of ``module`` compiled
+    by numba once per process (machine code kept in numba's disk cache beside the
+    kernel's module); numpy's error model, so a division by zero gives inf as in the
+    batched kernel.  A derived geometry's module (loaded from the derivation cache, not
+    importable) is registered under its name first: numba's disk cache records the
+    module of what it compiled and imports it by that name when another process loads
+    the machine code (it would record '<dynamic>' and the next process fail)."""
+    import sys
+    f = _LOOPS.get(fn)
+    if f is None:
+        import numba
+        sys.modules.setdefault(module.__name__, module)
+        f = _LOOPS[fn] = numba.njit(cache=True, error_model="numpy")(fn)
+    return f
+
+
+def reach_jq_jx(mech, poses):
+    """The study's kinematics: (ok (N,) bool, Jq (N, L), J (N, L, 6)): every leg's
+    reach margin >= 0 and J finite, eq. (1)'s diagonal Jq and J = Jq⁻¹Jx, from the
+    compiled ``loop``
+    twins of the generated ``reach`` and ``jq_jx`` kernels (the same formulas as the
+    batched kernels with :mod:`math` instead of numpy: equal to rounding, about 1e-16
+    relative), or None where the mechanism has none (the numeric route, an older
+    derived module) or joint ranges (whose test needs the crank angles)."""
+    ranges = getattr(mech, "_joint_ranges", None)
+    if getattr(mech, "route", "generated") != "generated" or ranges is None \
+            or ranges()[0] is not None:
+        return None
+    kset = mech.kernels("batched")
+    loops = getattr(kset, "loops", {})
+    if "reach" not in loops or "jq_jx" not in loops:
+        return None
+    P = np.ascontiguousarray(poses, dtype=float)
+    N, L = len(P), mech.L
+    margin = np.empty((N, L))
+    out = np.empty((N, L, 7))
+    ok = np.empty(N, np.bool_)
+    Jq = np.empty((N, L))
+    J = np.empty((N, L, 6))
+    if N:
+        _compiled_loop(loops["reach"], kset.module)(P, margin)
+        _compiled_loop(loops["jq_jx"], kset.module)(P, out)
+        _split_kernel()(margin, out, ok, Jq, J)
+    return ok, Jq, J
+
+
+@lru_cache(maxsize=1)
+def _split_kernel():
+    import numba
+
+    @numba.njit(cache=True, error_model="numpy")
+    def split(margin, out, ok, Jq, J):                     # pragma: no cover (compiled)
+        """Jq = out[..., 0], J = out[..., 1:] / Jq (as numpy divides), ok = every
+        margin >= 0 and J finite."""
+        N, L, _ = out.shape
+        for n in range(N):
+            good = True
+            for l in range(L):
+                q = out[n, l, 0]
+                Jq[n, l] = q
+                good &= margin[n, l] >= 0.0
+                for i in range(6):
+                    x = out[n, l, 1 + i] / q
+                    J[n, l, i] = x
+                    good &= np.isfinite(x)
+            ok[n] = good
+    return split
+
+
 def study_indices(J, Jq, M, actuators, ST):
     """The compiled part of :func:`~.study.evaluate_poses` (module docstring).
 
@@ -306,7 +382,7 @@ def study_indices(J, Jq, M, actuators, ST):
                      actuators["velocity"]], dtype=float)
     caps = np.empty((N, 6))
     truev = np.empty((N, 2))
-    twist = np.zeros((N, d, L))
+    twist = np.empty((N, d, L)) if L > d else np.zeros((N, d, L))   # J# fills it
     sig = np.empty((N, 8))
     flag = np.zeros(N, bool)
     if N:
@@ -314,12 +390,12 @@ def study_indices(J, Jq, M, actuators, ST):
         run, readings = _kernel()
         Jq = np.ascontiguousarray(Jq, dtype=float)
         M = np.asarray(M, dtype=float)
-        jacobi_lanes(J, Jq, st, sig, twist, flag)
+        Z = jacobi_lanes(J, Jq, st, sig, twist, flag)
         if L == 8:
             # facets from the null space of Jᵀ and J# (facets_lanes); the rank test on
             # the exact σ of Jᵀ instead of the pivots of Gram-Schmidt
             flag |= ~(sig[:, 2] > RANK_TOL * sig[:, 3])
-            capabilities_lanes(J, twist, M, lims, caps)
+            capabilities_lanes(J, twist, Z, M, lims, caps)
         else:
             run(J, M, lims, NM, NR, NC, caps, flag)
         readings(J, lims, truev)

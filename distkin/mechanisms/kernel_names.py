@@ -2,10 +2,13 @@
 :mod:`distkin.mechanisms.kernels`), shared by the code generator
 (:mod:`distkin.codegen.rss`) and the loader, which import nothing else of each other."""
 
-__all__ = ["KERNELS", "FLAVOURS", "ARB_KERNELS"]
+__all__ = ["KERNELS", "FLAVOURS", "ARB_KERNELS", "LOOP_KERNELS"]
 
 KERNELS = ("ik", "reach", "jacobian", "jq_jx", "closure")
 FLAVOURS = ("batched", "scalar")
 #: the kernels of the certified (arb) flavour, in their own module ``rss_<name>_arb``
 ARB_KERNELS = ("reach", "jq_jx")
-_SUFFIX = {"batched": "", "scalar": "_scalar", "arb": "_arb"}
+#: the kernels whose batched flavour comes with a ``loop`` twin (suffix ``_loop``): the
+#: study's per-pose kinematics, compiled by numba (:mod:`distkin.indices.study_compiled`)
+LOOP_KERNELS = ("reach", "jq_jx")
+_SUFFIX = {"batched": "", "scalar": "_scalar", "loop": "_loop", "arb": "_arb"}

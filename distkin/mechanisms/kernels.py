@@ -15,6 +15,11 @@ closure    q (..., L), pose -> (..., L, 7)      q (L), pose -> nested lists
            [Phi_i (m), dPhi_i/d(v, omega)]
 ========== ==================================== ==================================
 
+The batched flavour of ``reach`` and ``jq_jx`` (:data:`LOOP_KERNELS`) comes with a
+``loop`` twin (suffix ``_loop``; :mod:`distkin.codegen.emit`): ``f(pose (N, 6), out)``
+fills ``out`` row by row with the scalar arithmetic, plain Python that
+:mod:`distkin.indices.study_compiled` compiles with numba (``KernelSet.loops``).
+
 A third flavour, ``arb`` (suffix ``_arb``; :mod:`distkin.codegen.emit`), evaluates
 ``reach`` and ``jq_jx`` on python-flint balls: on a point it gives certified values, on a
 box of poses an interval enclosure, and on the forward-mode derivative balls of
@@ -38,7 +43,7 @@ from __future__ import annotations
 
 import importlib
 
-from .kernel_names import _SUFFIX, ARB_KERNELS, FLAVOURS, KERNELS
+from .kernel_names import _SUFFIX, ARB_KERNELS, FLAVOURS, KERNELS, LOOP_KERNELS
 
 __all__ = ["KERNELS", "FLAVOURS", "ARB_KERNELS", "KernelSet", "load_kernels",
            "preset_module_name"]
@@ -50,7 +55,9 @@ def preset_module_name(name: str, flavour: str = "batched") -> str:
 
 class KernelSet:
     """Kernels of one flavour as attributes ``ik, reach, jacobian, jq_jx, closure``
-    (the ``arb`` flavour: ``reach, jq_jx``)."""
+    (the ``arb`` flavour: ``reach, jq_jx``); the batched flavour's ``loop`` twins
+    (:data:`LOOP_KERNELS`, plain Python for numba) in ``loops`` (name -> function; empty
+    for a module generated without them)."""
 
     def __init__(self, module, flavour):
         self.module = module
@@ -60,6 +67,12 @@ class KernelSet:
             fn = getattr(module, n + suffix, None)
             if fn is not None:
                 setattr(self, n, fn)
+        self.loops = {}
+        if flavour == "batched":
+            for n in LOOP_KERNELS:
+                fn = getattr(module, n + _SUFFIX["loop"], None)
+                if fn is not None:
+                    self.loops[n] = fn
 
     def __repr__(self):
         return f"<KernelSet {self.flavour} of {getattr(self.module, '__name__', '?')}>"

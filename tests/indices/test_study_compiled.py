@@ -125,3 +125,80 @@ def test_lane_kernel_shares_the_feasibility_allowance_and_any_block_position(pre
     one = np.array([slice_farthest_unit(G[i:i + 1], (0, 1, 2))[0] for i in range(5)])
     assert np.array_equal(whole[:5], one)
     assert np.array_equal(slice_farthest_unit(G[3:], (0, 1, 2)), whole[3:])
+
+
+@pytest.mark.parametrize("name", ["hunt", "octopod"])
+def test_compiled_loop_kinematics_equal_the_batched_kernels(presets, name):
+    """The study's kinematics (reach_jq_jx: the generated loop twins of reach and jq_jx,
+    compiled by numba) against the batched kernels: the same formulas, the same bits
+    here; the loop kernel run as plain Python on a few poses too."""
+    from distkin.indices.study_compiled import reach_jq_jx
+    mech = presets[name]
+    rng = np.random.default_rng(7)
+    P = np.c_[rng.uniform(-0.1, 0.1, (300, 3)) + [0, 0, mech.z0],
+              np.deg2rad(rng.uniform(-35, 35, (300, 3)))]
+    valid, Jq, J = reach_jq_jx(mech, P)
+    assert np.array_equal(valid, mech.reachable(P)) and 0 < valid.sum() < len(P)
+    Jq2, Jx2 = mech.jq_jx(P)
+    assert np.array_equal(Jq, Jq2)
+    assert np.array_equal(J[valid], (Jx2 / Jq2[..., None])[valid])
+    out = np.empty((3, mech.L, 7))
+    mech.kernels("batched").loops["jq_jx"](P[:3], out)          # uncompiled
+    assert np.allclose(out, mech.kernels("batched").jq_jx(P[:3]), rtol=1e-14, atol=0)
+
+
+def test_transposed_generators_are_read_in_place_with_the_same_bits(presets):
+    """Jᵀ given as J (transposed=True) gives the bits of the copied transpose, in the
+    split-sign kernel (read in place) and in the walk (copied)."""
+    mech = presets["octopod"]
+    J = mech.jacobian(random_reachable_poses(mech, 70, 30, seed=6))
+    Gw = np.ascontiguousarray(np.swapaxes(J, 1, 2))
+    for keep in ((0, 1, 2), (3, 4, 5)):
+        for walk in (False, True):
+            assert np.array_equal(slice_farthest_unit(J, keep, walk=walk, transposed=True),
+                                  slice_farthest_unit(Gw, keep, walk=walk))
+
+
+def test_l6_lane_kernels_against_the_walk_and_the_inverse(presets):
+    """L = 6: the split-sign lane kernel on Jᵀ against the Gray-code walk (same
+    candidates, sums associated differently), and the slab lane kernel on J_S against
+    the walk on J⁻¹ (the zonotope route it replaces for square Jacobians)."""
+    from distkin.indices.slice_farthest import slab_farthest_unit
+    for name in ("hunt", "ergin"):
+        mech = presets[name]
+        J = mech.jacobian(random_reachable_poses(mech, 150, 20, seed=10))
+        Jinv = np.linalg.inv(J)
+        for keep in ((0, 1, 2), (3, 4, 5)):
+            a = slice_farthest_unit(J, keep, transposed=True)
+            b = slice_farthest_unit(J, keep, transposed=True, walk=True)
+            assert rel_err(a, b) < 1e-13
+            s = slab_farthest_unit(np.ascontiguousarray(J[:, :, list(keep)]))
+            assert rel_err(s, slice_farthest_unit(Jinv, keep, walk=True)) < 1e-10
+
+
+def test_compiled_kinematics_of_a_derived_geometry_load_in_a_second_process(tmp_path):
+    """A geometry without a committed module (derived into the derivation cache): its
+    compiled loop kernels, kept in numba's disk cache, load in another process (numba
+    records the module of what it compiles; an unregistered module was '<dynamic>' and
+    the second process failed), with the same values."""
+    import os
+    import subprocess
+    import sys
+    code = (
+        "import numpy as np\n"
+        "from distkin.indices.study_compiled import reach_jq_jx\n"
+        "from distkin.mechanisms.platforms import platform_mechanism\n"
+        "m = platform_mechanism(([[0, 0, 0], [6, 'sqrt(108)', 0], [12, 0, 0]],\n"
+        "                        [[0, 0, 0], [6, 0, 0], [3, 'sqrt(27)', 0]]),\n"
+        "                       unit=0.01, height=17, name='gd_loop')\n"
+        "rng = np.random.default_rng(4)\n"
+        "X = m.home + rng.uniform(-1, 1, (50, 6)) * [0.01, 0.01, 0.01, 0.1, 0.1, 0.1]\n"
+        "ok, Jq, J = reach_jq_jx(m, X)\n"
+        "Jq2, Jx2 = m.jq_jx(X)\n"
+        "assert ok.all() and np.array_equal(J, Jx2 / Jq2[..., None])\n"
+        "print('same')\n")
+    env = dict(os.environ, DISTKIN_CACHE=str(tmp_path))
+    for _ in range(2):                       # derive and compile; load both from disk
+        r = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                           text=True)
+        assert r.returncode == 0 and r.stdout.strip() == "same", r.stderr[-2000:]
