@@ -224,8 +224,10 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
                                   chunk_positions=p.chunk_positions, actuators=actuators,
                                   ST=p.scaling, route=p.route, progress=ctx.progress,
                                   sensitivity=p.sensitivity)
-            s = summarise(dev, per)
             lim = leg_limits(d.mech, actuators)
+            nominal = lim["nominal"]
+            s = summarise(dev, per, tau_nominal=(float(nominal[0]) if np.all(
+                nominal == nominal[0]) else None))
             s["actuator_limits"] = {
                 "nominal": lim["nominal"].tolist(), "stall": lim["stall"].tolist(),
                 "rate": lim["rate"].tolist(), "prismatic": lim["prismatic"].tolist(),

@@ -18,7 +18,8 @@ our choice:
     left in N·m (the paper gives no actuator scaling) this is the literal reading.
 ``"wrench_nominal"``
     ``ST⁻¹ Jᵀ τ_nom``: Stocco's two-sided normalisation with the actuator side at the
-    nominal torque 2.5 N·m (σ × 2.5, the same GII).
+    actuators' nominal limit (σ × τ_nom, the same GII; the paper's 2.5 N·m for the
+    presets, the legs' own limit when they all share one, left out when they differ).
 ``"unscaled"``
     ``Jᵀ`` (no scaling; 1/m and 1 mixed).
 ``"task_multiplied"``
@@ -65,7 +66,7 @@ ST_DEFAULT = (15.0, 15.0, 15.0, 1.0, 1.0, 1.0)
 #: the readings of Stocco's scaling tried (module docstring); "wrench" is ours
 SCALING_READINGS = {
     "wrench": "ST⁻¹Jᵀ (chosen)",
-    "wrench_nominal": "ST⁻¹Jᵀ·τnom (actuator side at 2.5 N·m)",
+    "wrench_nominal": "ST⁻¹Jᵀ·τnom (actuator side at the nominal limit)",
     "unscaled": "Jᵀ",
     "task_multiplied": "ST·Jᵀ",
     "inverse": "J#ᵀ·ST = pinv(ST⁻¹Jᵀ)",

@@ -387,8 +387,12 @@ def _extreme(per, q, mask, kind):
     return _finite(v.min() if kind == "min" else v.max())
 
 
-def summarise(dev: Device, per: dict) -> dict:
+def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dict:
     """Table III/IV values of one device from its per-position arrays.
+
+    ``tau_nominal``: the actuators' common nominal effort (N·m, or N for prismatic legs)
+    of the ``wrench_nominal`` reading (σ × τnom); None leaves that reading out (legs
+    whose nominal limits differ have no single factor).
 
     ``table`` holds the Table III rows (paper's values and ratios where the device has a
     paper column) and the true-velocity rows; ``isotropy`` Table IV over the inner
@@ -431,7 +435,9 @@ def summarise(dev: Device, per: dict) -> dict:
         if r == "wrench":
             lo, hi = g_in[1], g_in[2]
         elif r == "wrench_nominal":
-            lo, hi = 2.5 * g_in[1], 2.5 * g_in[2]
+            if tau_nominal is None:
+                continue
+            lo, hi = tau_nominal * g_in[1], tau_nominal * g_in[2]
         elif r == "inverse":
             lo = 1 / g_in[2] if g_in[2] > 0 else 0.0
             hi = 1 / g_in[1] if g_in[1] > 0 else math.inf

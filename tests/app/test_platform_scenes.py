@@ -252,6 +252,11 @@ store = "store"
     devs = {d["label"]: d for d in res["devices"]}
     assert devs["GD"]["actuator_limits"]["text"]["rate"] == "1 m/s"
     assert devs["Hunt"]["actuator_limits"]["text"]["rate"] == "51 rad/s"
+    # the σ × τnom reading scales by each device's own nominal limit: 50 N, 2.5 N·m
+    for label, tau in (("GD", 50.0), ("Hunt", 2.5)):
+        rd = devs[label]["isotropy"]["readings"]
+        for k in ("sigma_min", "sigma_max"):
+            assert rd["wrench_nominal"][k] == pytest.approx(tau * rd["wrench"][k], rel=1e-15)
     bad = tmp_path / "bad.toml"
     bad.write_text(head + '[[query]]\ntype = "performance"\nactuators = { speed = 1 }\n')
     r = _run([str(bad)], tmp_path)
