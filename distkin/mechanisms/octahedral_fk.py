@@ -31,7 +31,10 @@ def octahedral_forward(mech, q, guess=None, *, method: str = "auto"):
     guess : (6,) or (N, 6), optional
         The pose to be nearest to (default: home).
     method : {"fast", "precise", "certified", "auto"}
-        Tier of :func:`distkin.octahedral.forward_kinematics`.
+        Tier of :func:`distkin.octahedral.forward_kinematics`; for N > 1 leg sets
+        "fast" and "auto" solve them in one call of
+        :func:`~distkin.octahedral.forward_kinematics_batched` (the same tiers and
+        escalations, per problem).
 
     Returns
     -------
@@ -42,21 +45,32 @@ def octahedral_forward(mech, q, guess=None, *, method: str = "auto"):
     tiers : list of str
         The tier that answered each problem.
     """
-    from ..octahedral import forward_kinematics
+    from ..octahedral import forward_kinematics, forward_kinematics_batched
     topo = mech.octahedral()
     qa = np.asarray(q, dtype=float)
     single = qa.ndim == 1
     qa = qa.reshape(-1, 6)
     g = np.broadcast_to(np.asarray(mech.home if guess is None else guess, dtype=float),
                         (len(qa), 6))
+    legs = qa[:, topo["order"]]
+    batch = None
+    if len(qa) > 1 and method in ("fast", "auto"):   # one compiled call for every problem
+        batch = forward_kinematics_batched(topo["base"], topo["platform"], legs,
+                                           method=method)
     poses, modes, tiers = np.full((len(qa), 6), np.nan), [], []
-    for n, legs in enumerate(qa):
-        res = forward_kinematics(topo["base"], topo["platform"], legs[topo["order"]],
-                                 method=method)
-        X = np.array([np.concatenate([p.translation, rotation_angles(p.rotation)])
-                      for p in res]).reshape(-1, 6)
+    for n in range(len(qa)):
+        if batch is not None and n not in batch.escalated:
+            ok = batch.valid[n]
+            X = np.concatenate([batch.translation[n][ok],
+                                rotation_angles(batch.rotation[n][ok])], axis=1)
+            tiers.append(str(batch.tier[n]))
+        else:
+            res = (batch.escalated[n] if batch is not None else
+                   forward_kinematics(topo["base"], topo["platform"], legs[n], method=method))
+            X = np.array([np.concatenate([p.translation, rotation_angles(p.rotation)])
+                          for p in res]).reshape(-1, 6)
+            tiers.append(getattr(res, "tier", method))
         modes.append(X)
-        tiers.append(getattr(res, "tier", method))
         if len(X):
             dp, da = pose_error(X, g[n][None])
             poses[n] = X[int(np.argmin(dp + da * mech.length_scale))]

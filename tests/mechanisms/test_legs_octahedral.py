@@ -52,3 +52,26 @@ def test_fk_is_the_octic_mode_nearest_the_guess():
         assert np.allclose(m.inverse_kinematics(fk.pose)[0], q, rtol=1e-12)
     off = m.forward_kinematics(q, X[0] + [0.05, -0.05, 0.05, 0.01, 0.0, -0.01], octic=False)
     assert off.modes is None and pose_error(off.pose, X[0])[0] < 1e-9   # Gauss-Newton agrees
+
+
+def test_many_leg_sets_in_one_batched_call_equal_single_solves():
+    """N > 1 leg sets go through forward_kinematics_batched: the same assembly modes
+    (as sets, to 1e-12) and the same nearest pose as one octic solve per problem."""
+    from distkin.mechanisms.octahedral_fk import octahedral_forward
+    m = _mech()
+    ref = octic_fk(BASE, PLAT, LEGS, method="certified")
+    X = np.array([np.concatenate([p.translation, rotation_angles(p.rotation)]) for p in ref])
+    rng = np.random.default_rng(3)
+    poses = X[[0, 3, 7]] + rng.uniform(-0.02, 0.02, (3, 6))
+    q = m.inverse_kinematics(poses)[0]
+    guesses = poses + 0.01
+    for method in ("fast", "auto"):
+        near, modes, tiers = octahedral_forward(m, q, guesses, method=method)
+        for n in range(3):
+            one, one_modes, one_tier = octahedral_forward(m, q[n], guesses[n], method=method)
+            assert tiers[n] == one_tier[0]
+            assert modes[n].shape == one_modes[0].shape
+            for x in one_modes[0]:                       # every mode of the single solve
+                assert np.abs(modes[n] - x).max(axis=1).min() < 1e-12
+            assert np.abs(near[n] - one).max() < 1e-12
+            assert pose_error(near[n], poses[n])[0] < 1e-9
