@@ -18,12 +18,12 @@ Framing (both directions)::
   endian.  All integers and floats are little endian.
 
 Device -> host, ``type = 0x53`` ('S', :class:`StateFrame`): sequence number, device
-clock, status word, L encoder angles (joint side, rad) and the six-axis force/torque
-reading (N, N·m, in the sensor = platform frame).
+clock, status word, L encoder readings (joint side: rad, or m for prismatic legs) and
+the six-axis force/torque reading (N, N·m, in the sensor = platform frame).
 
 Host -> device, ``type = 0x43`` ('C', :class:`CommandFrame`): sequence number, the
 sequence number of the state it answers, mode (run / hold / zero torque), flags and L
-joint torque commands (N·m, joint side, after the capstan).
+joint effort commands (joint side: N·m after the capstan, or N for prismatic legs).
 """
 
 from __future__ import annotations
@@ -109,7 +109,8 @@ class StateFrame:
     status : int
         Bit field of ``STATUS_*``.
     angles : ndarray, shape (L,)
-        Encoder angles on the joint (crank) side, rad.
+        Encoder angles on the joint (crank) side, rad (leg lengths, m, for
+        prismatic legs).
     wrench : ndarray, shape (6,)
         Force (N) and torque (N·m) measured by the six-axis sensor, sensor frame.
     """
@@ -137,7 +138,8 @@ class CommandFrame:
     flags : int
         ``FLAG_KEEPALIVE`` when re-sent because no state frame arrived in time.
     torques : ndarray, shape (L,)
-        Joint torque commands after the capstan, N·m.
+        Joint torque commands after the capstan, N·m (leg forces, N, for prismatic
+        legs).
     """
 
     seq: int
@@ -197,7 +199,7 @@ def encode_state(seq: int, t_us: int, status: int, angles, wrench) -> bytes:
     seq, t_us, status : int
         See :class:`StateFrame` (``seq`` is taken mod 2**32).
     angles : array_like, shape (L,)
-        Joint angles, rad (sent as float32).
+        Joint angles, rad, or leg lengths, m (sent as float32).
     wrench : array_like, shape (6,)
         Sensor reading (N, N·m; sent as float32).
     """
