@@ -117,7 +117,7 @@ def _fig3_section(data):
     from distkin.runstore import local_executor
     from distkin.mechanisms import preset
     lines = ["### Fig. 3 analogue: the 150 mm cube at zero rotation", "",
-             "Quadratic Taylor form, resolution 9.4 mm, 2 worker processes.  Kühne et al. "
+             "Quadratic Taylor form (`quadratic64`, the default of `certify_workspace`), resolution 9.4 mm, 2 worker processes.  Kühne et al. "
              "(Fig. 3, Sec. III-B-1): Hunt-type free of singularities, HEXA with singular "
              "regions, Ergin's device with singularities throughout its workspace.  The "
              "presets use the tangential reading of Fig. 2 (presets.py); the last row is "
