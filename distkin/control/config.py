@@ -41,7 +41,7 @@ Unknown keys are rejected (a typo must not be silently ignored).
 
 **Prismatic legs** (SPS/UPS, e.g. ``examples/control_gough6.toml``): the joint values
 are leg lengths (m) and the efforts forces (N), so ``[pd]`` reads ``kp`` N/m, ``kd``
-N·s/m, ``ki`` N/(m·s) and ``torque_limit`` N (:meth:`PDGains.for_joint`); the drives are
+N·s/m, ``ki`` N/(m·s) and ``torque_limit`` N (:meth:`PDGains.for_drives`); the drives are
 :class:`~.plant.LinearDrives` (``[simulator] lead`` m/rev, ``friction`` N·s/m at the
 leg); ``safety.sigma_min`` is in m (:meth:`SafetyLimits.for_joint`); and the readings are
 checked against each leg's ``range`` in the mechanism scene (required), not against
@@ -99,19 +99,15 @@ class PDGains:
     hand_feedforward: bool = False
 
     @classmethod
-    def for_joint(cls, joint: str) -> "PDGains":
-        """The defaults for a device whose legs are ``joint``.
-
-        "revolute": the paper's gains above.  "prismatic": the same servo at the motor
-        (KP = 110 and KD = 0.4 at a 13:1 capstan are 0.651 N·m/rad and 2.37e-3
-        N·m·s/rad at the motor) through the ball screw of :class:`~.plant.LinearDrives`
-        (628 rad/m): kp = 2.57e5 N/m, kd = 934 N·s/m; and its nominal force, 121 N, as
-        the limit.  Our transfer, not tuned."""
-        if joint != "prismatic":
-            return cls()
-        d = LinearDrives()
-        kp, kd = d.hold_gains
-        return cls(kp=kp, kd=kd, torque_limit=d.nominal_effort)
+    def for_drives(cls, drives) -> "PDGains":
+        """The defaults for a device with ``drives``: their position-hold gains and
+        their nominal effort as the limit.  :class:`~.plant.Motors`: the paper's KP =
+        110, KD = 0.4, ±2.5 N·m (the defaults above).  :class:`~.plant.LinearDrives`:
+        the same servo at the motor (0.651 N·m/rad and 2.37e-3 N·m·s/rad) through the
+        ball screw, with the 10 mm lead kp = 2.57e5 N/m, kd = 934 N·s/m and 121 N.
+        Our transfer, not tuned."""
+        kp, kd = drives.hold_gains
+        return cls(kp=kp, kd=kd, torque_limit=drives.nominal_effort)
 
 
 @dataclass(frozen=True)
@@ -198,7 +194,8 @@ class ControlScene:
 
     @property
     def effort_unit(self) -> str:
-        return "N" if self.joint == "prismatic" else "N·m"
+        """"N·m" (torques at the cranks) or "N" (forces along the legs): the drives'."""
+        return self.simulator.motors.effort_unit
 
 
 def _num(t, key, fld, default, *, positive=False, nonneg=False):
@@ -356,11 +353,11 @@ def _device_mechanism(dev, path, mechanism_loader):
     return mech, "prismatic", tuple(tuple(float(v) for v in leg.range) for leg in legs)
 
 
-def _effort_limit(pd, joint, mechanism):
+def _effort_limit(pd, drives, mechanism):
     """Refuse a PD saturation beyond the drives' stall effort or the legs' own actuator
     limits (the ``limit`` of each leg, when every leg of the mechanism declares one)."""
-    unit = "N" if joint == "prismatic" else "N·m"
-    stall = drives_for(joint).stall_effort
+    unit = drives.effort_unit
+    stall = drives.stall_effort
     if pd.torque_limit > stall:
         raise InputError(f"expected at most the stall {'force' if unit == 'N' else 'torque'} "
                          f"{stall:.4g} {unit}, got {pd.torque_limit}", field="pd.torque_limit")
@@ -412,7 +409,8 @@ def loads_control_scene(text: str, path: str = "<string>", *,
     pdt = as_table(data.get("pd", {}), "pd")
     check_keys(pdt, {"kp", "ki", "kd", "derivative_filter_s", "torque_limit", "distribution",
                      "gravity_compensation", "hand_feedforward"}, "pd")
-    d = PDGains.for_joint(joint)
+    sim = _simulator(as_table(data.get("simulator", {}), "simulator"), joint)
+    d = PDGains.for_drives(sim.motors)
     pd = PDGains(kp=_num(pdt, "kp", "pd", d.kp, nonneg=True),
                  ki=_num(pdt, "ki", "pd", d.ki, nonneg=True),
                  kd=_num(pdt, "kd", "pd", d.kd, nonneg=True),
@@ -424,7 +422,7 @@ def loads_control_scene(text: str, path: str = "<string>", *,
                  gravity_compensation=_bool(pdt, "gravity_compensation", "pd",
                                             d.gravity_compensation),
                  hand_feedforward=_bool(pdt, "hand_feedforward", "pd", d.hand_feedforward))
-    _effort_limit(pd, joint, mechanism)
+    _effort_limit(pd, sim.motors, mechanism)
 
     st = as_table(data.get("safety", {}), "safety")
     if joint == "prismatic" and "max_angle" in st:
@@ -445,7 +443,6 @@ def loads_control_scene(text: str, path: str = "<string>", *,
         max_angle=_num(st, "max_angle", "safety", s.max_angle, positive=True),
         max_fk_residual=_num(st, "max_fk_residual", "safety", s.max_fk_residual,
                              positive=True))
-    sim = _simulator(as_table(data.get("simulator", {}), "simulator"), joint)
     title = data.get("title", "")
     return ControlScene(str(path), preset_name, rate, mass, damping, env, pd, safety, sim,
                         str(title), rt, mechanism, joint, joint_range)

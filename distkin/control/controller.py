@@ -105,12 +105,10 @@ class Controller:
         self.pd = scene.pd
         self.safety = scene.safety
         # prismatic legs: readings are leg lengths, checked against each leg's range
-        rng = getattr(scene, "joint_range", None)
         self._lo = self._hi = None
-        if rng is not None:
-            r = np.asarray(rng, dtype=float)
+        if scene.joint_range is not None:
+            r = np.asarray(scene.joint_range, dtype=float)
             self._lo, self._hi = r[:, 0].copy(), r[:, 1].copy()
-        self.effort_unit = getattr(scene, "effort_unit", "N·m")
         self.weight = float(model.mass[0, 0]) * GRAVITY
         self.pose = np.array(model.home, dtype=float)
         self.state = RUN

@@ -65,9 +65,8 @@ class Motors:
     torque_noise: float = 0.0005            # N·m, standard deviation
     gravity: float = 9.81                   # m/s², along -z of the base frame
 
-    #: the joint and its effort: crank angle (rad), torque (N·m)
-    joint = "revolute"
-    joint_unit, effort_unit = "rad", "N·m"
+    #: the unit of the effort at the joint: a torque at the crank
+    effort_unit = "N·m"
     #: the device's own position hold (MODE_HOLD): the paper's KP = 110 N·m/rad and
     #: KD = 0.4 N·m·s/rad (Sec. III-D)
     hold_gains = (110.0, 0.4)
@@ -127,8 +126,8 @@ class LinearDrives:
         if self.friction is None:
             object.__setattr__(self, "friction", self.motor_friction * self.ratio ** 2)
 
-    joint = "prismatic"
-    joint_unit, effort_unit = "m", "N"
+    #: the unit of the effort at the joint: a force along the leg
+    effort_unit = "N"
 
     @property
     def ratio(self) -> float:

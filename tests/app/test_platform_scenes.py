@@ -18,6 +18,14 @@ from distkin.app.scene import load_scene, loads_scene
 from distkin.errors import InputError
 
 EX = Path(__file__).resolve().parents[2] / "examples"
+#: the Griffis-Duffy octahedral table of Sec. VI as a legs scene (cm), before its extras
+GD_HEAD = """
+[units]
+length = "cm"
+[mechanism]
+kind = "legs"
+octahedral = { base = [[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]], platform = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]] }
+"""
 
 
 def _gd():
@@ -144,13 +152,7 @@ def test_where_the_tests_apply():
     ('leg_type = "RSS"', "mechanism.leg_type"),
 ])
 def test_bad_platform_fields_are_named(extra, field):
-    text = f"""
-[units]
-length = "cm"
-[mechanism]
-kind = "legs"
-octahedral = {{ base = [[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]], platform = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]] }}
-height = 17
+    text = GD_HEAD + f"""height = 17
 {extra}
 [[query]]
 type = "inverse_kinematics"
@@ -273,13 +275,7 @@ def test_fig2_approximation_scene_legs_match_the_delta_module(kind):
     from distkin.delta import approximation
     from distkin.delta.offset_study import leg_lengths
     from distkin.spatial import rotation_matrix
-    text = f"""
-[units]
-length = "cm"
-[mechanism]
-kind = "legs"
-octahedral = {{ base = [[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]], platform = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]] }}
-approximation = {{ kind = "{kind}", delta = "1/2" }}
+    text = GD_HEAD + f"""approximation = {{ kind = "{kind}", delta = "1/2" }}
 origin = [0, 0, 0]
 height = 17
 [[query]]

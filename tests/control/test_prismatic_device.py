@@ -65,9 +65,16 @@ def test_the_scene_reads_lengths_and_forces(gough):
     head = text.split("[pd]")[0]
     bare = loads_control_scene(head, str(gough.dir / "bare.toml"),
                                mechanism_loader=lambda p: gough.scene.mechanism)
-    assert bare.pd == PDGains.for_joint("prismatic")
+    assert bare.pd == PDGains.for_drives(LinearDrives())
     assert bare.pd.kp == pytest.approx(110 * (2 * math.pi / 0.01 / 13) ** 2, rel=1e-14)
     assert bare.pd.torque_limit == pytest.approx(LinearDrives().nominal_effort)
+    # the defaults follow the scene's screw: half the lead, four times the stiffness
+    half = loads_control_scene(head + "[simulator]\nlead = 0.005\n",
+                               str(gough.dir / "half.toml"),
+                               mechanism_loader=lambda p: gough.scene.mechanism)
+    assert half.pd.kp == pytest.approx(4 * bare.pd.kp, rel=1e-14)
+    # the paper's gains are the revolute drives' defaults
+    assert PDGains.for_drives(Motors()) == PDGains()
     assert bare.safety == SafetyLimits.for_joint("prismatic")
 
 
