@@ -127,7 +127,9 @@ def format_summary(s: dict) -> str:
         f"distkin control: {s['exit_reason']} -- {s['cycles']} cycles in {s['seconds']:.3f} s "
         f"wall ({s['rate_hz']:.1f} Hz), {s['device_seconds']:.3f} s device time",
         f"  compute per cycle: p50 {s['cycle_p50_ms']} ms, p99 {s['cycle_p99_ms']} ms; "
-        f"period p50 {s['period_p50_ms']} ms, p99 {s['period_p99_ms']} ms",
+        f"period p50 {s['period_p50_ms']} ms, p99 {s['period_p99_ms']} ms"
+        + (f"; {s['loop_rate_hz']:.1f} Hz from the first frame to the last"
+           if s.get("loop_rate_hz") else ""),
         f"  link: {s['bad_frames']} bad frames, {s['resyncs']} resyncs, {s['timeouts']} read "
         f"timeouts, {s['seq_gaps']} frames missing, {s['stale_frames']} stale frames skipped, "
         f"{s['write_timeouts']} write timeouts",

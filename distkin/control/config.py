@@ -152,6 +152,11 @@ class SimulatorConfig:
     the answer to each state frame before it advances its physics, so that a loaded
     machine slows the simulation down instead of changing it.
     ``device_watchdog_ms``: the device zeroes its torques when no command arrives.
+    ``catch_up_ms``: the device's clock keeps its schedule when the simulator process
+    is held up (the host's scheduler, a virtual machine's stall) for up to this long of
+    wall time: the late ticks follow back to back (lock-stepped, each still waits for
+    its answer) until the schedule is met, as the frames of a device with its own
+    clock would; a longer hold re-bases the schedule (a *slip*).  0: never catch up.
     """
 
     #: :class:`~.plant.Motors` (revolute legs) or :class:`~.plant.LinearDrives` (prismatic)
@@ -161,6 +166,7 @@ class SimulatorConfig:
     lockstep: bool = True
     reply_timeout_ms: float = 100.0
     device_watchdog_ms: float = 100.0
+    catch_up_ms: float = 50.0
 
 
 @dataclass(frozen=True)
@@ -270,7 +276,7 @@ def _hand(raw, fld):
 def _simulator(t, joint="revolute"):
     fld = "simulator"
     keys = {"hand", "seed", "lockstep", "reply_timeout_ms", "device_watchdog_ms",
-            "counts_per_rev", "force_noise", "torque_noise", "friction", "gravity",
+            "catch_up_ms", "counts_per_rev", "force_noise", "torque_noise", "friction", "gravity",
             "rotor_inertia"}
     if joint == "prismatic":
         keys.add("lead")
@@ -302,7 +308,8 @@ def _simulator(t, joint="revolute"):
         seed=seed,
         lockstep=_bool(t, "lockstep", fld, True),
         reply_timeout_ms=_num(t, "reply_timeout_ms", fld, 100.0, positive=True),
-        device_watchdog_ms=_num(t, "device_watchdog_ms", fld, 100.0, positive=True))
+        device_watchdog_ms=_num(t, "device_watchdog_ms", fld, 100.0, positive=True),
+        catch_up_ms=_num(t, "catch_up_ms", fld, 50.0, nonneg=True))
 
 
 def _home_of(preset_name: str):

@@ -110,7 +110,10 @@ class EventLog:
 
 def timing_summary(compute, compute_cpu, periods) -> dict:
     """Percentiles (p50, p99, max; ms, rounded to 0.1 µs) of a run's compute time per
-    cycle in wall and CPU time (lists of s) and of its periods (s); None when empty."""
+    cycle in wall and CPU time (lists of s) and of its periods (s); None when empty.
+    ``loop_rate_hz``: cycles per second from the first frame to the last (the number of
+    periods over their sum), beside the summary's ``rate_hz`` (cycles over the run's
+    whole wall time, connection and shut-down included)."""
     def pct(x, q):
         x = np.asarray(x) * 1e3
         return round(float(np.percentile(x, q)), 4) if x.size else None
@@ -118,7 +121,8 @@ def timing_summary(compute, compute_cpu, periods) -> dict:
     return {"cycle_p50_ms": pct(compute, 50), "cycle_p99_ms": pct(compute, 99),
             "cycle_max_ms": pct(compute, 100), "cycle_cpu_p50_ms": pct(compute_cpu, 50),
             "cycle_cpu_p99_ms": pct(compute_cpu, 99), "period_p50_ms": pct(periods, 50),
-            "period_p99_ms": pct(periods, 99), "period_max_ms": pct(periods, 100)}
+            "period_p99_ms": pct(periods, 99), "period_max_ms": pct(periods, 100),
+            "loop_rate_hz": round(len(periods) / sum(periods), 2) if periods else None}
 
 
 def read_csv(path) -> dict:

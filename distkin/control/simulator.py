@@ -8,7 +8,10 @@ machine without hardware.  Every device period (1 ms) it
 2. collects the commands that arrived; in *lockstep* mode it waits (up to
    ``reply_timeout_ms`` of wall time) for the answer to the frame just sent, so that a
    slow or loaded host slows the simulation instead of changing its physics;
-3. waits for the next tick of the wall clock (it does not catch up when late);
+3. waits for the next tick of its clock; when the process was held up (a loaded or
+   virtual machine), the late ticks follow back to back until the schedule is met, as
+   a device with its own clock would send them (up to ``catch_up_ms`` late; a longer
+   hold re-bases the schedule, a *slip*);
 4. advances the physics by one period under the latest command (zero torque if none
    arrived within ``device_watchdog_ms``).
 
@@ -180,6 +183,13 @@ class Simulator:
         self.stop = False
         #: stop :meth:`run` after this long without a command (s of wall time; None: never)
         self.idle_timeout = None
+        #: ticks that started late (their wall time past their schedule), the largest
+        #: lateness (s), the times the schedule was re-based (late beyond
+        #: ``catch_up_ms``) and the wall time those re-basings gave up (s)
+        self.late_ticks = 0
+        self.max_late = 0.0
+        self.slips = 0
+        self.slipped = 0.0
 
     def _collect(self, wait_for: int | None, deadline: float) -> None:
         """Read commands until ``deadline``; with ``wait_for`` return as soon as the
@@ -260,9 +270,14 @@ class Simulator:
                 if self.cfg.lockstep and self.armed and sent_ok:
                     self._collect(seq, time.perf_counter() + self.cfg.reply_timeout_ms * 1e-3)
                 next_tick += self.period
-                now = time.perf_counter()
-                if next_tick < now - 5 * self.period:
-                    next_tick = now               # late: do not catch up
+                late = time.perf_counter() - next_tick
+                if late > 0:
+                    self.late_ticks += 1
+                    self.max_late = max(self.max_late, late)
+                    if late > self.cfg.catch_up_ms * 1e-3:
+                        next_tick += late         # held up too long: re-base, a slip
+                        self.slips += 1
+                        self.slipped += late
                 self._collect(None, next_tick)
                 if self.armed:
                     self._step(seq, watchdog)
@@ -347,5 +362,8 @@ def serve(scene, *, port_file=None, tcp_port=None, faults=(), log_prefix=None,
         transport.close()
     print(f"distkin sim: stopped ({reason}); {sim.plant.t:.3f} s device time, "
           f"{sim.commands} commands received, {sim.decoder.bad_frames} bad frames, "
-          f"{sim.dropped_bytes} bytes dropped", file=announce, flush=True)
+          f"{sim.dropped_bytes} bytes dropped, {sim.late_ticks} ticks late (max "
+          f"{sim.max_late * 1e3:.1f} ms), {sim.slips} schedule slips "
+          f"({sim.slipped * 1e3:.1f} ms)", file=announce,
+          flush=True)
     return 0
