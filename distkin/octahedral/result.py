@@ -54,6 +54,9 @@ class Pose:
         ``mpf`` (precise) or ``arb`` balls (certified); None for fast.
     radius : float
         Certified tier: largest radius of the point enclosures; else 0.
+
+    Two poses are equal when their float fields are (arrays element by element);
+    ``native`` is not compared (two arb balls are "equal" only when both are exact).
     """
 
     s15: float
@@ -63,8 +66,20 @@ class Pose:
     points: np.ndarray
     max_leg_error: float
     max_leg_error_relative: float
-    native: dict | None = field(default=None, repr=False)
+    native: dict | None = field(default=None, repr=False, compare=False)
     radius: float = 0.0
+
+    def __eq__(self, other):
+        if not isinstance(other, Pose):
+            return NotImplemented
+        return (self.s15 == other.s15 and self.side == other.side
+                and all(np.array_equal(getattr(self, f), getattr(other, f))
+                        for f in ("rotation", "translation", "points"))
+                and self.max_leg_error == other.max_leg_error
+                and self.max_leg_error_relative == other.max_leg_error_relative
+                and self.radius == other.radius)
+
+    __hash__ = None             # mutable arrays inside: not hashable
 
 
 @dataclass(frozen=True)
@@ -81,7 +96,7 @@ class RootInfo:
     multiplicity: int
     status: str
     reason: str
-    native: object = field(default=None, repr=False)
+    native: object = field(default=None, repr=False, compare=False)
 
 
 @dataclass(frozen=True)

@@ -174,3 +174,19 @@ def test_scene_in_millimetres_is_solved_in_metres():
     assert all(abs(v / 1e-6 - float(g)) <= 0.05
                for v, g in zip(res["real_roots"]["values"], GD_ROOTS))
     assert " m^2" in texts[0] and " m " in texts[0] + " "
+
+
+def test_results_compare_by_value(certified):
+    """Two solves of the same problem are equal, pose by pose and as results; distinct
+    poses and results are unequal, and comparing never raises (the arrays inside are
+    compared element by element; the certified tier's arb balls are not compared)."""
+    a = forward_kinematics(GD_BASE, GD_PLATFORM, GD_LEGS)
+    b = forward_kinematics(GD_BASE, GD_PLATFORM, GD_LEGS)
+    assert a == b and a.poses == b.poses and a.roots == b.roots
+    assert a[0] != a[1] and a[0] == b[0]
+    other = forward_kinematics(GD_BASE, GD_PLATFORM, [float(v) * 1.01 for v in GD_LEGS])
+    assert a != other
+    again = forward_kinematics(GD_BASE, GD_PLATFORM, GD_LEGS, method="certified")
+    assert again.poses == certified.poses and again.roots == certified.roots
+    assert certified[0].radius > 0 and a[0] != certified[0]   # fast poses have radius 0
+    assert (a[0] == "pose") is False
