@@ -297,6 +297,9 @@ def kernel_source(k: Kernel) -> str:
         lines.append("    return _out")
     else:
         vals = [printer.doprint(e) for e in reduced]
+        if k.flavour == "arb":
+            # a constant output is a ball too (as every other output), not a Python int
+            vals = [f"_A({v})" if e.is_Number else v for v, e in zip(vals, reduced)]
         if len(shape) == 1:
             lines.append("    return [" + ", ".join(vals) + "]")
         else:

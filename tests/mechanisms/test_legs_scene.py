@@ -179,8 +179,8 @@ def test_codegen_of_a_legs_scene_imports_numpy_only(tmp_path):
 
 def test_arb_module_of_a_legs_mechanism_imports_flint_only(tmp_path):
     """The arb flavour of the 6-UPS example (prismatic legs: a square root in every
-    kernel): imports math and python-flint only, runs with numpy and sympy blocked, and
-    its balls contain the float kernels' values."""
+    kernel): imports math and python-flint only, runs with numpy and sympy blocked, its
+    outputs are all balls, and they contain the float kernels' values."""
     from distkin.codegen.rss import module_text
     from distkin.mechanisms.kernel_names import ARB_KERNELS
     m = load_scene(ROOT / "examples" / "gough_stewart_6ups.toml").mechanism
@@ -193,7 +193,9 @@ def test_arb_module_of_a_legs_mechanism_imports_flint_only(tmp_path):
             "import json, flint, gough_arb\n"
             f"x = [flint.arb(v) for v in {x!r}]\n"
             "rows = [gough_arb.reach_arb(x), gough_arb.jq_jx_arb(x)]\n"
-            "flat = lambda r: [flint.arb(v) for e in r for v in (e if isinstance(e, list) else [e])]\n"
+            "flat = lambda r: [v for e in r for v in (e if isinstance(e, list) else [e])]\n"
+            # every output is a ball, the constant Jq = -1 of a prismatic leg included
+            "assert all(isinstance(v, flint.arb) for r in rows for v in flat(r))\n"
             "print(json.dumps([[[float(v.mid()), float(v.rad())] for v in flat(r)] "
             "for r in rows]))")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
