@@ -50,6 +50,8 @@ def _scene(preset_name="hunt", **fields):
     ({"min_width": "-2"}, "positive"),
     ({"form": '"taylor"'}, "affine"),
     ({"split": "0"}, "integer >= 1"),
+    ({"tighten": "-1"}, "integer >= 0"),
+    ({"tighten": "2.5"}, "integer >= 0"),
 ])
 def test_bad_fields_are_rejected_at_load(fields, match):
     with pytest.raises(InputError, match=match):
@@ -85,6 +87,11 @@ def test_query_json_volumes_resume_and_plot(tmp_path):
     assert len(boxes["lower"]) == len(boxes["upper"]) == len(boxes["status"])
     assert set(boxes["legend"].values()) == {"regular", "singular", "undecided", "unreachable"}
     assert "mm" in texts[0] and "m^3" in texts[0]
+    # the σmin bound: tightened (the default), never below the boxes' own minimum
+    assert r["sigma_tightening"]["boxes"] > 0
+    assert r["sigma_lower_min"] >= r["sigma_lower_min_boxes"] == min(
+        s for s, st in zip(boxes["sigma_lower"], boxes["status"]) if st == 1)
+    assert "the weakest bisected" in texts[0]
     assert any(Path(p).suffix == ".png" for p in rec[0].get("plots", [])) or \
         list((tmp_path / "plots").glob("*.png"))
     chunks = sorted(store.glob("chunk_*.npz"))
