@@ -105,7 +105,7 @@ import numpy as np
 from .error_bounds import (_SAFE, ETA_FLOAT, LEAF_BOUND, U, _add, _mul,  # noqa: F401
                            eta_rounded, margin, part_errors)
 
-__all__ = ["vouch", "vouch_many", "vouch_rows", "vouch_buffer", "part_errors", "margin", "eta_rounded", "VERDICTS", "U",
+__all__ = ["vouch", "vouch_many", "vouch_rows", "vouch_buffer", "part_errors", "margin", "eta_rounded", "VERDICTS", "NOT_CHECKED", "U",
            "ETA_FLOAT", "LEAF_BOUND"]
 
 _BUDGET = 48                  # Bernstein evaluations per problem, beyond one per piece
@@ -132,7 +132,12 @@ VERDICTS = {
        "tetrahedron is flat within the rounding bound there",
     7: "a root's proved status differs from the fast tier's",
     8: "the fast tier has an assembly root outside the feasible interval",
+    9: "not checked: the proof was skipped (forward_kinematics_batched(..., "
+       "prove=False), the bare fast tier)",
 }
+#: the verdict of the problems of a batched solve that skipped the proof (never
+#: returned by :func:`vouch`)
+NOT_CHECKED = 9
 
 
 # --------------------------------------------------------------- the octic, bounded
