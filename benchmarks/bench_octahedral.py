@@ -369,10 +369,14 @@ _PERF_OCT_3 = [
     "compiled (~0.15 -> 0.03 µs); the kernel as the generated loop flavour `octic_rows` "
     "(the scalar kernel's expressions, checked equal by the generator, written into "
     "the (N, 39) array instead of a list of 39 per problem: ~0.28 -> 0.09 µs); the "
-    "placement's eleven result arrays as views of two blocks (~1.6 -> 1.0 µs in "
-    "isolation, up to ~0.6 µs less per problem in the solve: glibc returned the ~6 MiB "
-    "of separate arrays to the kernel on every call and faulted them in again; a "
-    "freed block raises its mmap threshold, so later calls reuse heap memory).",
+    "placement's eleven result arrays as views of two blocks (glibc returned the ~6 "
+    "MiB of separate arrays to the kernel on every call and faulted them in again; a "
+    "freed block raises its mmap threshold, so later calls reuse heap memory: in a "
+    "fresh process that only solves, the placement in isolation went from ~1.6 to "
+    "~1.0 µs per problem (ad hoc, best of 9, load ~0.8); in this benchmark's process "
+    "other large arrays had raised the threshold already, and main's placement in "
+    "isolation took 1.10 µs in run (19); in the before/after table it is about 0.2 µs "
+    "of the gain, the compiled checks, window and kernel loop the rest).",
     "",
     "What is left, and why 3 µs is out of reach of these stages: the proof costs ~2.5 "
     "µs per problem (4.1 Bernstein counts of ~250 ns each, 10.8 bounded evaluations of "
