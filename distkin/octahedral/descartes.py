@@ -141,6 +141,9 @@ NOT_CHECKED = 9
 
 
 # --------------------------------------------------------------- the octic, bounded
+# (the small helpers called per evaluation are inlined into their callers,
+# ``inline="always"``: the same operations in the same order, the same bits, ~0.25 µs
+# less per batched problem, issue 17)
 
 @numba.njit(cache=True, inline="always")
 def _part(d, e, i, x):
@@ -151,7 +154,7 @@ def _part(d, e, i, x):
     return _add(d[3 * i], e[3 * i], t, et)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _value(d, e, x):
     """H(x) = G^2 - 4 T1a T1b T2a T2b, G = u E2 + v E1 + 2 b1 b2, and its bound."""
     u, eu = _part(d, e, 0, x)
@@ -177,14 +180,14 @@ def _value(d, e, x):
     return h, _SAFE * eh
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _sign(d, e, x):
     """The proved sign of H(x): +1, -1, or 0 when the bound does not decide it."""
     h, eh = _value(d, e, x)
     return 1 if h > eh else (-1 if h < -eh else 0)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _pmul(W, a, b, out):
     """Rows out (values) and out + 1 (bounds) of W: the product (degree 4) of the
     quadratics in rows a and b (values; bounds in the next rows)."""
@@ -254,7 +257,7 @@ def _bernstein(d, e, alpha, beta, W, B, EB):
         EB[i] *= _SAFE
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _changes(B, EB):
     """The largest number of sign changes of B over the signs its bounds allow (a
     coefficient whose bound decides nothing may take either sign; an exact 0 none)."""
@@ -317,7 +320,7 @@ def _count(d, e, alpha, beta, sa, sb, budget, W, B, EB, stack, signs):
     return count, ia, ib, used
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _slope(d, x):
     """H'(x) in plain float (a guess for :func:`_first_radius`, no bound)."""
     q = np.empty(10)
@@ -333,7 +336,7 @@ def _slope(d, x):
     return 2.0 * G * dG - 4.0 * dR
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _first_radius(d, e, r, lim):
     """A first guess of the radius around r within which H changes sign: twice
     (|H(r)| + its bound) / |H'(r)| (a guess only: the signs at r -+ rho are then
@@ -344,7 +347,7 @@ def _first_radius(d, e, r, lim):
     return min(max(rho, max(abs(r), 1e-300) * 2.0 ** -52), lim)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _range(d, e, i, x, rho):
     """Proved sign of quadratic part i over [x - rho, x + rho]: +1, -1 or 0."""
     c0, c1, c2 = d[3 * i], d[3 * i + 1], d[3 * i + 2]
@@ -359,7 +362,7 @@ def _range(d, e, i, x, rho):
     return 1 if q > bound else (-1 if q < -bound else 0)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _status(d, e, x, rho):
     """Proved status over [x - rho, x + rho]: 0 assembly, 1 spurious (a face not a real
     triangle), 2 spurious (a negative tetrahedron), -1 undecided."""
