@@ -377,9 +377,10 @@ _PERF_OCT_3 = [
     "other large arrays had raised the threshold already, and main's placement in "
     "isolation took 1.10 µs in run (19); in the before/after table it is about 0.2 µs "
     "of the gain, the compiled checks, window and kernel loop the rest); the proof's "
-    "small helpers (`_value`, `_sign`, `_range`, `_status`, `_changes`, `_pmul`, "
-    "`_slope`, `_first_radius`) inlined into their callers (numba `inline='always'`: "
-    "~2.5 -> 2.2 µs per problem, the same verdicts and radii bit for bit).",
+    "smallest helpers (`_value`, `_pmul`, `_range`, `_changes`, `_slope`) inlined "
+    "into their callers (numba `inline='always'`: ~2.5 -> 2.2 µs per problem, the "
+    "same verdicts and radii bit for bit; the first batched call on a machine compiles "
+    "~2.5 s longer).",
     "",
     "What is left, and why 3 µs is out of reach of these stages: the proof costs ~2.2 "
     "µs per problem (4.1 Bernstein counts of ~215-250 ns each, 10.8 bounded evaluations "
@@ -398,7 +399,9 @@ _PERF_OCT_3 = [
     "already have that parity: 4.13 counts per problem before and after); work arrays "
     "instead of the small allocations of the Sturm count, the proof's part bounds and "
     "slope (within noise: numba's allocations are cheap); the magnitude kernel as a "
-    "loop writing an array (176 against 183 ns); the same inlining in the scan "
+    "loop writing an array (176 against 183 ns); inlining `_sign`, `_status` and "
+    "`_first_radius` as well (~0.05 µs less per problem, but ~16 s more numba "
+    "compilation on each path's first call); the same inlining in the scan "
     "(`_horner`, `_refine`, `_emit`), the placement (`_assemble`, `_to_base`, "
     "`_frame`, `_adapted_base`) and the polish (`_factored`, `tet_min`, "
     "`polish_eq3`), and of `_bernstein` itself (within noise); the product of two "

@@ -141,9 +141,11 @@ NOT_CHECKED = 9
 
 
 # --------------------------------------------------------------- the octic, bounded
-# (the small helpers called per evaluation are inlined into their callers,
-# ``inline="always"``: the same operations in the same order, the same bits, ~0.25 µs
-# less per batched problem, issue 17)
+# (the smallest helpers called per evaluation -- _part, _value, _pmul, _range, _changes,
+# _slope -- are inlined into their callers, ``inline="always"``: the same operations in
+# the same order, the same bits, ~0.25 µs less per batched problem; inlining the larger
+# ones too (_sign, _status, _first_radius) saved ~0.05 µs more but cost ~16 s more of
+# numba compilation on each first call of a machine, issue 17)
 
 @numba.njit(cache=True, inline="always")
 def _part(d, e, i, x):
@@ -180,7 +182,7 @@ def _value(d, e, x):
     return h, _SAFE * eh
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _sign(d, e, x):
     """The proved sign of H(x): +1, -1, or 0 when the bound does not decide it."""
     h, eh = _value(d, e, x)
@@ -336,7 +338,7 @@ def _slope(d, x):
     return 2.0 * G * dG - 4.0 * dR
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _first_radius(d, e, r, lim):
     """A first guess of the radius around r within which H changes sign: twice
     (|H(r)| + its bound) / |H'(r)| (a guess only: the signs at r -+ rho are then
@@ -362,7 +364,7 @@ def _range(d, e, i, x, rho):
     return 1 if q > bound else (-1 if q < -bound else 0)
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _status(d, e, x, rho):
     """Proved status over [x - rho, x + rho]: 0 assembly, 1 spurious (a face not a real
     triangle), 2 spurious (a negative tetrahedron), -1 undecided."""
