@@ -119,11 +119,40 @@ def _inputs():
     return (("sides", tuple(s[k] for k in SIDE_PAIRS)), ("legs", tuple(s[k] for k in LEG_PAIRS)))
 
 
+def _statements(src: str) -> tuple:
+    """The arithmetic of a scalar or loop kernel's source: its common subexpressions
+    (``_cN = ...``) and its outputs in order, as text (the input unpacking and the
+    indentation aside)."""
+    lines = [ln.strip() for ln in src.splitlines()]
+    cse = tuple(ln for ln in lines if ln.startswith("_c") and " = " in ln)
+    out = [ln.split(" = ", 1)[1] for ln in lines if ln.startswith("_out[_n, ")]
+    if not out:
+        ret = src[src.index("    return [") + len("    return ["):].rstrip()
+        out = [e.strip() for e in _top_level(ret[:ret.rindex("]")])]
+    return cse, tuple(out)
+
+
+def _top_level(text: str) -> list:
+    """``text`` split at its commas outside parentheses and brackets."""
+    parts, depth, cur = [], 0, []
+    for ch in text:
+        if ch in "([":
+            depth += 1
+        elif ch in ")]":
+            depth -= 1
+        if ch == "," and depth == 0:
+            parts.append("".join(cur))
+            cur = []
+        else:
+            cur.append(ch)
+    return parts + ["".join(cur)]
+
+
 def generate_octic_module() -> str:
     """Source of ``distkin/_generated/octic_general.py`` (registered in
     :data:`distkin.codegen.registry.GENERATED`): a batched numpy kernel
     ``octic_batched``, a scalar one ``octic_scalar`` (and ``parts_scalar``, its quadratic
-    parts only), an exact (fmpq/arb) kernel ``octic_exact`` of the same map, and the
+    parts only, and ``octic_rows``, its loop over rows for numba), an exact (fmpq/arb) kernel ``octic_exact`` of the same map, and the
     rigorous rounding bounds of the quadratic parts as the two float kernels compute
     them (:mod:`.rounding`): the magnitude kernel ``parts_magnitude`` and
     the constants ``PARTS_DEPTH``, ``PARTS_DEGREE``, ``PARTS_UNDERFLOW`` (inputs of
@@ -142,6 +171,11 @@ def generate_octic_module() -> str:
                           "parts, without the octic), for evaluations at other inputs "
                           "than the fast tier's own.  sides, legs: (6,); returns a list "
                           "of 30."),
+               Kernel("octic_rows", inputs, outputs, flavour="loop", extra=fast,
+                      doc="``octic_scalar`` row by row into ``_out`` (N, 39): sides, legs "
+                          "(N, 6).  The same expressions (the same CSE, checked), written "
+                          "to an array instead of a list (compiled by numba, the fast "
+                          "batched tier's kernel: issue 17)."),
                Kernel("octic_exact", inputs, outputs, flavour="exact", extra=fast,
                       doc=doc.replace("(..., 6)", "(6,) fmpq or arb")
                       .replace("(..., 39)", "list of 39 (exact on fmpq, balls on arb)"))]
@@ -152,6 +186,8 @@ def generate_octic_module() -> str:
     bounds = analyse(scalar_src, "octic_scalar", outputs=parts, leaf_bound=2 ** 24)
     if analyse(batched_src, "octic_batched", outputs=parts, leaf_bound=2 ** 24) != bounds:
         raise AssertionError("octic_scalar and octic_batched evaluate the parts differently")
+    if _statements(kernel_source(kernels[3])) != _statements(scalar_src):
+        raise AssertionError("octic_scalar and octic_rows evaluate differently")
     magnitude = magnitude_source(
         scalar_src, "octic_scalar", "parts_magnitude",
         "Magnitudes of the first 30 outputs of ``octic_scalar`` (the quadratic parts): the "

@@ -35,9 +35,10 @@ Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, Se
    and leg residuals, problem by problem (:func:`.placement.place_many`, compiled),
    written straight into the (N, 16, ...) arrays of :class:`~.forward.BatchResult`.
 
-Every stage but the triangle bounds is compiled by numba (here, :mod:`.signscan`,
-:mod:`.single`, :mod:`.placement`, :mod:`.descartes`): in numpy the scan needed dozens
-of calls on gathered arrays (issue 17).  Cost per problem: see BENCHMARKS.md
+Every stage is compiled by numba (here, :mod:`.signscan`, :mod:`.single`,
+:mod:`.placement`, :mod:`.descartes`; the input checks of float64 arrays in
+:func:`.problem.float_problem`): in numpy the scan needed dozens of calls on gathered
+arrays (issue 17).  Cost per problem: see BENCHMARKS.md
 (``python -m benchmarks octahedral``).
 
 Accuracy: legs reproduced to about 1e-12 relative on well-conditioned problems; the
@@ -53,7 +54,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .closure import OCTIC, feasible_interval
+from .closure import OCTIC
 from .companion import _squares, bounds, octic_array, octic_rows
 from .single import (CONFIRM, EQ3_STEPS, NEWTON_MAX, SingleSolve, companion, eigen_rows,
                      newton_factored, polish_eq3, roots_from_eigenvalues, solve_fast_single,
@@ -116,18 +117,29 @@ def solve_fast(B, Q, L, sides2, legs2):
             "valid": np.arange(16) < count[:, None], "data": data}
 
 
+@_jit
 def scan_window(sides2, legs2):
-    """The triangle bounds lo, hi (N,) of s15 (:func:`~.closure.feasible_interval`), the
-    centre x0 and half-width h (N,) of the window that gets half of the scan's grid
-    (the feasible interval, or around c when it is empty or tiny), and the scale c (N,)
-    of the relative tolerances (its middle, or the mean squared side)."""
-    lo, hi, _ = feasible_interval(sides2, legs2)
-    lo0 = np.maximum(lo, 0.0)
-    c = np.where(hi > 0, 0.5 * (lo0 + hi), np.mean(sides2, axis=1))
-    wide = hi > lo0
-    x0 = np.where(wide, 0.5 * (lo0 + hi), c)
-    h = np.maximum(np.where(wide, 0.5 * (hi - lo0), 0.5 * c), 1e-3 * c)
+    """The triangle bounds lo, hi (N,) of s15 (:func:`.companion.bounds`, the same
+    numbers as :func:`~.closure.feasible_interval`), the centre x0 and half-width h (N,)
+    of the window that gets half of the scan's grid (the feasible interval, or around c
+    when it is empty or tiny), and the scale c (N,) of the relative tolerances (its
+    middle, or the mean squared side), problem by problem (:func:`_window`; compiled:
+    numpy's ~20 calls on (N,) arrays cost ~0.15 µs per problem, issue 17)."""
+    n = sides2.shape[0]
+    lo, hi, x0, h, c = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    for i in range(n):
+        lo[i], hi[i], x0[i], h[i], c[i] = _window(sides2[i], legs2[i])
     return lo, hi, x0, h, c
+
+
+@_jit
+def _window(s2, l2):
+    """:func:`scan_window` of one problem: (lo, hi, x0, h, c)."""
+    lo, hi = bounds(s2, l2)
+    lo0 = max(lo, 0.0)
+    c = 0.5 * (lo0 + hi) if hi > 0 else s2.sum() / 6
+    x0, h = (0.5 * (lo0 + hi), 0.5 * (hi - lo0)) if hi > lo0 else (c, 0.5 * c)
+    return lo, hi, x0, max(h, 1e-3 * c), c
 
 
 def solve_scan_single(B, Q, L):
@@ -196,11 +208,7 @@ def _scan_single(B, Q, L):
     relative leg errors (m each); empty when the scan doubts the problem."""
     s2, l2 = _squares(B, Q, L)
     d = octic_array(s2, l2)
-    lo, hi = bounds(s2, l2)
-    lo0 = max(lo, 0.0)
-    c = 0.5 * (lo0 + hi) if hi > 0 else s2.sum() / 6
-    x0, h = (0.5 * (lo0 + hi), 0.5 * (hi - lo0)) if hi > lo0 else (c, 0.5 * c)
-    h = max(h, 1e-3 * c)
+    lo, hi, x0, h, c = _window(s2, l2)
     xs = np.empty(MAX_ROOTS)
     ss = np.empty(MAX_ROOTS)
     n, dbt = scan_one(d, x0, h, np.empty(9), np.empty(4 * K + 1), xs, ss, _workspace(), True)

@@ -12,12 +12,13 @@ import math
 import numba
 import numpy as np
 
-from .._generated.octic_general import octic_scalar
+from .._generated.octic_general import octic_rows as _octic_rows, octic_scalar
 
 __all__ = ["octic_array", "octic_rows", "bounds", "companion", "eigenvalues"]
 
 _jit = numba.njit(cache=True)
 _kernel = _jit(octic_scalar)
+_rows = _jit(_octic_rows)
 
 try:  # numpy's own gufunc behind numpy.linalg.eigvals, without its per-call checks
     from numpy.linalg import _umath_linalg
@@ -58,13 +59,11 @@ def octic_array(s2, l2):
 def octic_rows(s2, l2):
     """:func:`octic_array` for N problems (s2, l2: (N, 6)): (N, 39), the same numbers as
     the batched numpy kernel (the same generated expressions, in float64 operations;
-    tests/octahedral compare them), without its (N,) temporaries."""
-    n = s2.shape[0]
-    out = np.empty((n, 39))
-    for i in range(n):
-        lst = _kernel(s2[i], l2[i])
-        for k in range(39):
-            out[i, k] = lst[k]
+    tests/octahedral compare them), without its (N,) temporaries: the generated loop
+    ``octic_rows`` (the scalar kernel's code writing each row of the array instead of
+    building a list of 39 per problem, which cost ~0.17 µs of ~0.28, issue 17)."""
+    out = np.empty((s2.shape[0], 39))
+    _rows(s2, l2, out)
     return out
 
 

@@ -20,7 +20,9 @@ Tiers
     reproduced to ~1e-12 relative on well-conditioned problems; every pose states its
     residual, and every solve (single and batched) proves its assembly roots or says
     it cannot (:mod:`.descartes`, :mod:`.conditioning`:
-    :class:`~distkin.errors.ConditioningWarning`, ``BatchResult.trusted``).
+    :class:`~distkin.errors.ConditioningWarning`, ``BatchResult.trusted``), unless the
+    caller skips the proof (the bare fast tier: ``warn=False`` single, ``prove=False``
+    batched; then nothing is vouched for, and the result says so).
 ``precise``
     mpmath at ``dps`` digits: exact octic (when the data are rational) rounded once,
     ``mpmath.polyroots``, Newton polish on eq. (3) at ``dps`` (:mod:`.precise`).
@@ -47,7 +49,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..errors import ConditioningWarning
+from ..errors import ConditioningWarning, InputError
 from ..exact import METHODS_AUTO, check_method, default_dps
 from .problem import exact_problem, float_problem, float_single
 from .scaling import in_units, rescale_result
@@ -163,7 +165,8 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
 
 
 def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
-                               warn: bool = True, dps: int | None = None,
+                               warn: bool = True, prove: bool = True,
+                               dps: int | None = None,
                                tol: float | None = None) -> BatchResult:
     """The fast tier (or ``auto``) for N leg sets at once.
 
@@ -180,6 +183,13 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
     warn : bool
         ``"fast"``: emit one :class:`~distkin.errors.ConditioningWarning` naming how
         many problems are not proved (default True).
+    prove : bool
+        ``"fast"``: run the proof (default True).  ``prove=False`` skips it, as
+        ``forward_kinematics(..., warn=False)`` does for one problem: the bare batched
+        fast tier, which vouches for nothing: ``.trusted`` is False and ``.verdict``
+        :data:`.descartes.NOT_CHECKED` for every problem, ``raw`` has no proved radii,
+        ``.result(i).conditioning`` is None, and no warning is emitted (the caller
+        chose).  ``method="auto"`` needs the proof: ``prove=False`` is refused there.
     dps, tol : as for :func:`forward_kinematics` (``auto``'s escalations)
 
     Returns
@@ -189,19 +199,25 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
         :class:`AssemblyResult` of problem ``i``.
     """
     check_method(method, allowed=("fast", "auto"))
-    from .descartes import ETA_FLOAT, eta_rounded, vouch_many
+    if not prove and method != "fast":
+        raise InputError("expected prove=True with method='auto' (it escalates what the "
+                         "proof cannot vouch for), got prove=False", field="prove")
+    from .descartes import ETA_FLOAT, NOT_CHECKED, eta_rounded, vouch_many
     from .batched import solve_fast
     B, Q, L, s2, l2, k, rounded = float_problem(base, platform, legs)
     raw = solve_fast(B, Q, L, s2, l2)
     n = len(k)
-    eta = np.full(n, ETA_FLOAT)
-    for i in np.flatnonzero(rounded):
-        eta[i] = eta_rounded(B[i], Q[i], L[i])
-    verdict = np.empty(n, np.int64)
-    radii = np.empty((n, 8))
-    vouch_many(raw["data"], s2, l2, eta, raw["lo"], raw["hi"], raw["roots"],
-               raw["status"], verdict, radii)
-    raw["verdict"], raw["radii"] = verdict, radii
+    if prove:
+        eta = np.full(n, ETA_FLOAT)
+        for i in np.flatnonzero(rounded):
+            eta[i] = eta_rounded(B[i], Q[i], L[i])
+        verdict = np.empty(n, np.int64)
+        radii = np.empty((n, 8))
+        vouch_many(raw["data"], s2, l2, eta, raw["lo"], raw["hi"], raw["roots"],
+                   raw["status"], verdict, radii)
+        raw["verdict"], raw["radii"] = verdict, radii
+    else:                                       # the bare fast tier: nothing vouched
+        verdict = np.full(n, NOT_CHECKED)
     _scale_back(raw, k)
     trusted = verdict == 0
     out = BatchResult(raw["count"], raw["s15"], raw["points"], raw["rotation"],
@@ -210,7 +226,7 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
     if method == "auto":
         from .auto import escalate_batch
         return escalate_batch(out, base, platform, legs, dps=dps, tol=tol)
-    if warn and not trusted.all():
+    if warn and prove and not trusted.all():
         bad = np.flatnonzero(~trusted)
         warnings.warn(f"fast tier: the real-root count of {bad.size} of {n} problems is not "
                       f"proved (first: problem {bad[0]}, {_VERDICTS()[verdict[bad[0]]]}); "
@@ -227,7 +243,8 @@ def _scale_back(raw, k):
         return
     k1, k2 = k[:, None], 2 * k[:, None]
     for name in ("roots", "step", "s15", "radii"):
-        raw[name] = np.ldexp(raw[name], k2)
+        if name in raw:                         # (no radii without the proof)
+            raw[name] = np.ldexp(raw[name], k2)
     for name in ("lo", "hi"):
         raw[name] = np.ldexp(raw[name], 2 * k)
     raw["leg_error"] = np.ldexp(raw["leg_error"], k1)

@@ -256,14 +256,39 @@ def place_many(B, Q, L, s2, l2, lo, hi, c, row, x, step, status):
     translation (n, 16, 3), leg errors absolute and relative (n, 16).  (The arrays are
     allocated empty; :func:`_place_many`, compiled, writes every element, the padding
     too (NaN, -1), problem by problem while the row is in cache: numpy's fill first
-    cost ~0.8 µs per problem, issue 17.)"""
+    cost ~0.8 µs per problem, issue 17.)
+
+    The float arrays are views of one block (~3 KiB per problem), the integer ones of
+    another: glibc serves an allocation above its mmap threshold with fresh pages and
+    gives them back on free, and raises the threshold to the size of a freed block.
+    Eight arrays of up to 2.3 MiB each (N = 2000) left the threshold below what one
+    call frees at once, so every call faulted ~6 MiB of fresh zeroed pages in again
+    (~0.6 µs per problem, a third of the placement); after one call with the block the
+    next calls reuse heap memory.  A process that has freed a larger block before was
+    already fast; N beyond ~10^4 (blocks above glibc's 32 MiB cap) gets fresh pages
+    either way.  (BENCHMARKS.md, octahedral section.)"""
     n = B.shape[0]
-    out = (np.empty((n, 8)), np.empty((n, 8)), np.empty((n, 8), np.int64),
-           np.empty((n, 8), np.int64), np.empty(n, np.int64), np.empty((n, 8)),
-           np.empty((n, 16, 3, 3)), np.empty((n, 16, 3, 3)),
-           np.empty((n, 16, 3)), np.empty((n, 16)), np.empty((n, 16)))
+    roots, steps, s15, P, R, T, E, Er = _views(np.empty(n * _FLOATS), n, _FLOAT_SHAPES)
+    stat, slot, count = _views(np.empty(n * 17, np.int64), n, ((8,), (8,), ()))
+    out = (roots, steps, stat, slot, count, s15, P, R, T, E, Er)
     _place_many(B, Q, L, s2, l2, lo, hi, c, row, x, step, status, *out)
     return out
+
+
+#: the float arrays of :func:`place_many` per problem: roots, steps, s15 (8 each), points,
+#: rotations (16, 3, 3), translations (16, 3), leg errors absolute and relative (16)
+_FLOAT_SHAPES = ((8,), (8,), (8,), (16, 3, 3), (16, 3, 3), (16, 3), (16,), (16,))
+_FLOATS = sum(math.prod(shape) for shape in _FLOAT_SHAPES)
+
+
+def _views(block, n, shapes):
+    """Consecutive C-contiguous views (n, *shape) of the 1-D ``block``, one per shape."""
+    views, o = [], 0
+    for shape in shapes:
+        size = n * math.prod(shape)
+        views.append(block[o:o + size].reshape((n,) + shape))
+        o += size
+    return views
 
 
 @_jit

@@ -203,9 +203,11 @@ class BatchResult:
     raw : dict, the arrays of :func:`.batched.solve_fast` (scaled back to the given units)
     trusted : (N,) bool
         The fast tier proved the problem's assembly roots (:mod:`.descartes`); False
-        flags every problem it cannot vouch for.
+        flags every problem it cannot vouch for (every problem when the proof was
+        skipped: ``prove=False``).
     verdict : (N,) int
-        The key of :data:`.descartes.VERDICTS` (0: proved), for the fast tier's answer.
+        The key of :data:`.descartes.VERDICTS` (0: proved), for the fast tier's answer
+        (:data:`.descartes.NOT_CHECKED` when the proof was skipped).
     tier : (N,) str
         The tier that answered each problem: ``"fast"``, or with ``method="auto"``
         ``"certified"`` (``"precise"`` for data that cannot be made exact) for the

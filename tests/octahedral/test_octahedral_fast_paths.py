@@ -214,3 +214,35 @@ def test_compile_notice_only_before_the_first_solve_on_a_machine(tmp_path, capsy
     ctx.notice("")
     RunContext(progress=False).notice(msg)
     assert capsys.readouterr().err == f"distkin: {msg}\n"
+
+
+def test_placement_arrays_are_disjoint_contiguous_views():
+    """:func:`distkin.octahedral.placement.place_many` returns its eleven arrays as views
+    of two blocks (issue 17: one allocation instead of eleven); each must have its own
+    memory (no two overlap: writing one cannot change another), be C-contiguous with
+    the documented shape and dtype, and hold what the batched tier reports."""
+    from distkin.octahedral import batched
+    from distkin.octahedral.placement import place_many
+    rng = np.random.default_rng(5)
+    cases = [random_octahedron(rng)[:3] for _ in range(50)]
+    B, Q, L, s2, l2, _, _ = float_problem(*(np.array([c[k] for c in cases]) for k in range(3)))
+    raw = batched.solve_fast(B, Q, L, s2, l2)
+    lo, hi, x0, h, c = batched.scan_window(s2, l2)
+    rows = np.flatnonzero(raw["status"].ravel() >= 0)
+    row, col = np.divmod(rows, 8)
+    out = place_many(B, Q, L, s2, l2, lo, hi, c, row, raw["roots"][row, col],
+                     raw["step"][row, col], raw["status"][row, col].copy())
+    n = len(cases)
+    shapes = [(n, 8), (n, 8), (n, 8), (n, 8), (n,), (n, 8), (n, 16, 3, 3), (n, 16, 3, 3),
+              (n, 16, 3), (n, 16), (n, 16)]
+    kinds = "ffiiiffffff"
+    spans = []
+    for a, shape, kind in zip(out, shapes, kinds):
+        assert a.shape == shape and a.dtype.kind == kind and a.flags.c_contiguous
+        start = a.__array_interface__["data"][0]
+        spans.append((start, start + a.nbytes))
+    spans.sort()
+    assert all(e0 <= s1 for (_, e0), (s1, _) in zip(spans, spans[1:]))
+    for name, a in zip(("roots", "step", "status", "slot", "count", "s15", "points",
+                        "rotation", "translation", "leg_error", "leg_error_rel"), out):
+        assert np.array_equal(a, raw[name], equal_nan=True), name

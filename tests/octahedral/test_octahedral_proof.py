@@ -284,3 +284,48 @@ def test_griffis_duffy_is_proved_in_every_form():
         assert res.conditioning.trusted and len(res) == 12
         batch = forward_kinematics_batched(GD_BASE, GD_PLATFORM, [GD_LEGS] * 3)
     assert batch.trusted.all() and list(batch.count) == [12] * 3
+
+
+def test_batched_without_the_proof_vouches_for_nothing():
+    """``forward_kinematics_batched(..., prove=False)``, the bare batched fast tier (issue
+    17; the single solve's ``warn=False``): the same answers as the proved call, array for
+    array and bit for bit (the proof changes no root and no pose), but nothing is
+    vouched for: ``trusted`` False and the verdict ``NOT_CHECKED`` for every problem,
+    no proved radii, no conditioning on the per-problem results, no warning; and
+    ``method="auto"`` (which needs the proof) refuses it.  Reference: the proved call on
+    the same data, random octahedra at scales 1e-2..1e2 and 2^20 (lengths normalised
+    by a power of two and scaled back)."""
+    from distkin.errors import InputError
+    from distkin.octahedral.descartes import NOT_CHECKED
+    from distkin.octahedral.problem import float_problem
+    from distkin.octahedral.reference import random_octahedron
+    rng = np.random.default_rng(170)
+    cases = [random_octahedron(rng, scale=10 ** rng.uniform(-2, 2))[:3] for _ in range(300)]
+    cases += [random_octahedron(rng, scale=2.0 ** 20)[:3] for _ in range(20)]
+    B, Q, L = (np.array([c[k] for c in cases]) for k in range(3))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")                 # the bare call warns of nothing
+        bare = forward_kinematics_batched(B, Q, L, prove=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        proved = forward_kinematics_batched(B, Q, L)
+    assert proved.trusted.sum() >= 300                 # the proof does vouch for most
+    assert not bare.trusted.any()
+    assert (bare.verdict == NOT_CHECKED).all() and NOT_CHECKED in VERDICTS
+    assert "not checked" in VERDICTS[NOT_CHECKED]
+    assert "radii" not in bare.raw and "verdict" not in bare.raw
+    assert float_problem(B, Q, L)[5][-20:].all()        # normalised, then scaled back
+    for name in ("count", "s15", "points", "rotation", "translation", "max_leg_error",
+                 "max_leg_error_relative", "valid"):
+        assert np.array_equal(getattr(bare, name), getattr(proved, name), equal_nan=True)
+    for name, value in proved.raw.items():
+        if name not in ("radii", "verdict"):
+            assert np.array_equal(bare.raw[name], value, equal_nan=True), name
+    for i in (0, 1, len(cases) - 1):
+        one = bare.result(i)
+        assert one.conditioning is None
+        assert proved.result(i).conditioning is not None
+        assert [p.s15 for p in one.poses] == [p.s15 for p in proved.result(i).poses]
+    with pytest.raises(InputError) as err:
+        forward_kinematics_batched(B, Q, L, method="auto", prove=False)
+    assert err.value.field == "prove" and "prove=False" in str(err.value)

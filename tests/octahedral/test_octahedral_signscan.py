@@ -11,6 +11,10 @@ replace, and the light result objects against the dataclass constructors.
   proved radii of the other's (both lie within their radius of the same exact root);
   poses within 1e-9 of the size of the mechanism;
 * the compiled scalar kernel over rows against the batched numpy kernel: equal bits;
+* the compiled input checks of float64 arrays (:func:`.problem.float_problem`'s fast
+  path) against its general numpy path, and the compiled scan window against the numpy
+  formulas it replaced (:func:`.closure.feasible_interval`): equal bits, and the same
+  errors;
 * the fast result objects (built without ``__init__``) equal to, and printed as, those
   built by the dataclass constructors.
 """
@@ -221,3 +225,46 @@ def test_single_solve_scan_route_against_the_eigenvalue_route():
             assert abs(pn.s15 - po.s15) <= 1e-9 * max(po.s15, size ** 2)
             assert np.abs(pn.points - po.points).max() <= 1e-8 * size
     assert 0 < doubted < 400
+
+
+def test_compiled_checks_and_window_equal_the_numpy_routes(problems):
+    """float64 arrays take the compiled checks of :func:`.problem.float_problem` (issue
+    17); nested lists of the same floats take the general numpy path: every returned
+    array is the same, bit for bit, also where the lengths are rescaled; a NaN or a
+    degenerate triangle in one problem of the arrays raises the general path's error.
+    :func:`.batched.scan_window` (compiled) against the numpy formulas it replaced."""
+    from distkin.errors import DegenerateGeometryError, InputError
+    from distkin.octahedral import problem
+    from distkin.octahedral.closure import feasible_interval
+    B, Q, L = problems
+    for f in (1.0, 2.0 ** 20, 2.0 ** -20):
+        fast = float_problem(B * f, Q * f, L * f)
+        general = float_problem((B * f).tolist(), (Q * f).tolist(), (L * f).tolist())
+        assert len(fast) == len(general) == 7
+        for a, b in zip(fast, general):
+            assert a.dtype == b.dtype and np.array_equal(a, b)
+        assert fast[5].any() == (f != 1.0)              # rescaled: the general path
+    assert problem._batch_ok(B, Q, L)                   # (f = 1: the compiled path)
+    bad = L.copy()
+    bad[7, 2] = np.nan
+    with pytest.raises(InputError, match="finite"):
+        float_problem(B, Q, bad)
+    flat = Q.copy()
+    flat[3, 2] = flat[3, 0] + 2 * (flat[3, 1] - flat[3, 0])      # P6 on the line P4 P5
+    with pytest.raises(DegenerateGeometryError) as err:
+        float_problem(B, flat, L)
+    assert err.value.field == "platform"
+    _, _, _, s2, l2, _, _ = float_problem(B, Q, L)
+    far = l2.copy()
+    far[:, 2] *= 100.0                                  # P2P5 too long: no assembly
+    s2, l2 = np.concatenate([s2, s2]), np.concatenate([l2, far])
+    lo, hi, x0, h, c = batched.scan_window(s2, l2)
+    lo_np, hi_np, _ = feasible_interval(s2, l2)
+    lo0 = np.maximum(lo_np, 0.0)
+    c_np = np.where(hi_np > 0, 0.5 * (lo0 + hi_np), np.mean(s2, axis=1))
+    wide = hi_np > lo0
+    x0_np = np.where(wide, 0.5 * (lo0 + hi_np), c_np)
+    h_np = np.maximum(np.where(wide, 0.5 * (hi_np - lo0), 0.5 * c_np), 1e-3 * c_np)
+    assert wide.any() and (~wide).any()                 # both branches
+    for a, b in ((lo, lo_np), (hi, hi_np), (x0, x0_np), (h, h_np), (c, c_np)):
+        assert np.array_equal(a, b)
