@@ -415,6 +415,10 @@ _PERF_OCT_3 = [
 ]
 
 
+#: the before/after table's row of a single solve with every pose and root read
+_READ = "single (bare), every pose and root read"
+
+
 def _read(res):
     """Read a result's poses and roots (a single fast solve builds them then)."""
     return res.poses, res.roots
@@ -543,7 +547,11 @@ def run():
         + f" ({fmt_time(single['fast (octic)'][1])}; with every pose and root read, "
         + ("also met" if single["fast (octic), every pose and root read"][1] <= 30e-6
            else "not met") + ": "
-        + f"{fmt_time(single['fast (octic), every pose and root read'][1])}).",
+        + f"{fmt_time(single['fast (octic), every pose and root read'][1])} in this "
+        "process, after the tiers and baselines above"
+        + (f"; {fmt_time(ba['after'][_READ])} in the fresh processes of the before/after "
+           "table, " + ("met" if ba["after"][_READ] <= 30e-6 else "not met")
+           if ba and _READ in ba["after"] else "") + ").",
         "",
         *(_before_after_lines(ba, load2, load3) if ba else
           ["(Before/after table skipped: no git, or the revision is missing.)", ""]),
