@@ -57,29 +57,43 @@ def _busiest_level(lo, hi, status, axis, default):
 
 def _margin_panel(ax, cert, lo, hi, st, centre, f, lu):
     """σmin-margin map: the regular boxes crossing the busiest z section, coloured by the
-    certified lower bound of σmin(Jx) (log scale); other boxes in their status colour."""
+    certified lower bound of σmin(Jx) (log scale); other boxes in their status colour.
+    After the tightening of :mod:`.tighten` its final boxes (the classification's regular
+    boxes, the weakest of them bisected) are drawn with their raised bounds."""
     from matplotlib import cm, colors
     from matplotlib.patches import Rectangle
     level = _busiest_level(lo, hi, st, 2, centre[2])
     cross = (lo[:, 2] <= level) & (hi[:, 2] >= level)
-    sig = cert.sigma_lower[cert.at_zero_rotation()]
-    reg = cross & (st == REGULAR) & (sig > 0)
-    vmin = float(sig[reg].min()) if reg.any() else 1e-3
-    vmax = float(sig[reg].max()) if reg.any() else 1.0
+    tb = cert.sigma_bound
+    if tb is not None and len(tb.sigma):
+        zr = np.all((tb.lo[:, 3:] <= 0.0) & (tb.hi[:, 3:] >= 0.0), axis=1)
+        rc = zr & (tb.lo[:, 2] <= level) & (tb.hi[:, 2] >= level) & (tb.sigma > 0)
+        rlo, rhi, rsig = tb.lo[rc], tb.hi[rc], tb.sigma[rc]
+        what = "after bisecting the weakest boxes"
+    else:
+        sig = cert.sigma_lower[cert.at_zero_rotation()]
+        rc = cross & (st == REGULAR) & (sig > 0)
+        rlo, rhi, rsig = lo[rc], hi[rc], sig[rc]
+        what = "the classification's boxes"
+    vmin = float(rsig.min()) if rsig.size else 1e-3
+    vmax = float(rsig.max()) if rsig.size else 1.0
     norm = colors.LogNorm(vmin=vmin, vmax=max(vmax, vmin * 1.0001))
     import matplotlib
     cmap = matplotlib.colormaps["viridis"]
-    for k in np.flatnonzero(cross):
-        a, b = lo[k], hi[k]
-        colour = cmap(norm(sig[k])) if reg[k] else COLOURS[int(st[k])][0]
+    for a, b, v in zip(rlo, rhi, rsig):
         ax.add_patch(Rectangle((a[0] * f, a[1] * f), (b[0] - a[0]) * f, (b[1] - a[1]) * f,
-                               facecolor=colour, edgecolor="white", linewidth=0.3))
+                               facecolor=cmap(norm(v)), edgecolor="white", linewidth=0.3))
+    for k in np.flatnonzero(cross & (st != REGULAR)):
+        a, b = lo[k], hi[k]
+        ax.add_patch(Rectangle((a[0] * f, a[1] * f), (b[0] - a[0]) * f, (b[1] - a[1]) * f,
+                               facecolor=COLOURS[int(st[k])][0], edgecolor="white",
+                               linewidth=0.3))
     ax.set_xlim(cert.lower[0] * f, cert.upper[0] * f)
     ax.set_ylim(cert.lower[1] * f, cert.upper[1] * f)
     ax.set_aspect("equal")
     ax.set_xlabel(f"x [{lu}]")
     ax.set_ylabel(f"y [{lu}]")
-    ax.set_title(f"σmin margin, section z = {level * f:.4g} {lu}")
+    ax.set_title(f"σmin margin, section z = {level * f:.4g} {lu}\n({what})", fontsize=9)
     sm = cm.ScalarMappable(norm=norm, cmap=cmap)
     ax.figure.colorbar(sm, ax=ax, label="certified lower bound of σmin(Jx)")
 
