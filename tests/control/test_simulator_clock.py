@@ -67,7 +67,7 @@ def _run(monkeypatch, catch_up_ms, hold, frames=400, hold_at=100):
     scene = loads_control_scene(text)
     assert scene.rate_hz == 1 / PERIOD
     tr = HeldTransport(clock, frames, hold_at, hold)
-    sim = simmod.Simulator(scene, model_of(scene), tr)
+    sim = simmod.Simulator(scene, model_of(scene, compiled=False), tr)
     tr.sim = sim
     assert sim.run() == "stopped"
     return sim, np.array(tr.times) - tr.times[0]
