@@ -398,13 +398,17 @@ device with its own clock would (`[simulator] catch_up_ms`, default 50 ms; teste
 a virtual clock in tests/control/test_simulator_clock.py): the ticks it owes follow
 back to back, each still lock-stepped, and the loop's cycle, far shorter than a
 period, meets the schedule again; a longer hold would re-base it (the "slips"
-column).  Lock-stepped, the loop ran at {share(lock)} of 4 kHz over the whole run
+column).  A tick is late also after a streak of round trips longer than the period
+(the period p99 above): the lag such a streak builds up is made up the same way, so
+the lock-stepped rate is an average over the run, and the period percentiles and the
+largest lateness say how evenly it was kept.  Lock-stepped, the loop ran at {share(lock)} of 4 kHz over the whole run
 (connection and shut-down included; {lock['loop_rate_hz']:.0f} Hz from the first frame
 to the last) with normal scheduling and {share(rt)} with `realtime = true` (SCHED_FIFO
 for both processes).  With the clock as it was before (re-based whenever 5 periods
 late, the last row), the same loop ran at {share(p4[BEFORE_ROW])}: every hold-up
 longer than 1.25 ms was lost time.  Free-running, the simulator paces itself by its
-own clock and a late controller shows as stale frames ({free['stale_frames']} and
+own clock, and a late controller answers the newest frame and skips the older ones as
+stale (its cycles over the device's 40,000 frames are the share it answered; stale frames: {free['stale_frames']} and
 {free_rt['stale_frames']}; 10 s of device time took {free['seconds']:.1f} s and
 {free_rt['seconds']:.1f} s of wall time).  The load columns say how busy the machine
 was.  1 kHz stays
