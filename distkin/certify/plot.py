@@ -83,11 +83,8 @@ def _margin_panel(ax, cert, lo, hi, st, centre, f, lu):
     for a, b, v in zip(rlo, rhi, rsig):
         ax.add_patch(Rectangle((a[0] * f, a[1] * f), (b[0] - a[0]) * f, (b[1] - a[1]) * f,
                                facecolor=cmap(norm(v)), edgecolor="white", linewidth=0.3))
-    for k in np.flatnonzero(cross & (st != REGULAR)):
-        a, b = lo[k], hi[k]
-        ax.add_patch(Rectangle((a[0] * f, a[1] * f), (b[0] - a[0]) * f, (b[1] - a[1]) * f,
-                               facecolor=COLOURS[int(st[k])][0], edgecolor="white",
-                               linewidth=0.3))
+    other = st != REGULAR
+    _section(ax, lo[other], hi[other], st[other], 2, level, (0, 1), f)
     ax.set_xlim(cert.lower[0] * f, cert.upper[0] * f)
     ax.set_ylim(cert.lower[1] * f, cert.upper[1] * f)
     ax.set_aspect("equal")

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .batch import certify_batch
-from .boxes import REGULAR
+from .boxes import REGULAR, bisect
 
 __all__ = ["SigmaBound", "tighten_sigma"]
 
@@ -109,14 +109,11 @@ def tighten_sigma(mech, lo, hi, sigma, *, scale=None, budget: int = 4096,
         blo, bhi, parent = [], [], []
         for s, i in picked:
             a, b = boxes[i]
-            width = np.where(b > a, (b - a) / scale, -1.0)
-            k = int(np.argmax(width))
-            m = 0.5 * (a[k] + b[k])
-            a2, b1 = a.copy(), b.copy()
-            b1[k] = a2[k] = m
-            blo += [a, a2]
-            bhi += [b1, b]
-            parent += [s, s]
+            k = int(np.argmax(np.where(b > a, (b - a) / scale, -1.0)))
+            for half in bisect(a, b, k):
+                blo.append(half[0])
+                bhi.append(half[1])
+                parent.append(s)
         r = certify_batch(mech, ks, np.array(blo), np.array(bhi), vary)
         evaluated += len(blo)
         for j in range(len(blo)):

@@ -165,10 +165,9 @@ class WorkspaceCertificate:
         reg = self.status == REGULAR
         leaves = float(self.sigma_lower[reg].min()) if reg.any() else None
         tb = self.sigma_bound
-        # the best certified bound over every regular box; the classification's own
-        # (the minimum over its boxes) beside it
-        out["sigma_lower_min"] = leaves if tb is None or leaves is None else \
-            max(leaves, tb.value)
+        # the certified bound over every regular box (tightened: never below the
+        # classification's own, the minimum over its boxes, given beside it)
+        out["sigma_lower_min"] = leaves if tb is None else tb.value
         out["sigma_lower_min_boxes"] = leaves
         if tb is not None:
             out["sigma_tightening"] = {"boxes": tb.evaluated, "seconds": tb.seconds}
