@@ -216,10 +216,12 @@ class _Magnitude(ast.NodeTransformer):
 
 
 def magnitude_source(source: str, name: str, new_name: str, doc: str, *,
-                     outputs=None) -> str:
+                     outputs=None, into: bool = False) -> str:
     """The magnitude kernel of function ``name`` (module docstring), as source text of a
     function ``new_name`` returning a list of the selected ``outputs`` (default all);
-    assignments no selected output needs are dropped."""
+    assignments no selected output needs are dropped.  ``into``: the function takes one
+    argument more, ``_out``, and writes the outputs into it (``_out[i] = ...``) instead
+    of returning a list (numba builds a list of floats element by element, issue 17)."""
     f = _function(source, name)
     args = {a.arg for a in f.args.args}
     outs = _outputs(f)
@@ -240,8 +242,16 @@ def magnitude_source(source: str, name: str, new_name: str, doc: str, *,
         else:
             value = _Magnitude().visit(st.value)
         body.append(ast.Assign([st.targets[0]], value, lineno=0))
-    body.append(ast.Return(ast.List([_Magnitude().visit(e) for e in outs], ast.Load())))
-    fn = ast.FunctionDef(new_name, f.args, body, [], lineno=0)
+    fargs = f.args
+    if into:
+        for i, e in enumerate(outs):
+            target = ast.Subscript(ast.Name("_out", ast.Load()), ast.Constant(i), ast.Store())
+            body.append(ast.Assign([target], _Magnitude().visit(e), lineno=0))
+        fargs = ast.arguments(posonlyargs=[], args=f.args.args + [ast.arg("_out")],
+                              kwonlyargs=[], kw_defaults=[], defaults=[])
+    else:
+        body.append(ast.Return(ast.List([_Magnitude().visit(e) for e in outs], ast.Load())))
+    fn = ast.FunctionDef(new_name, fargs, body, [], lineno=0)
     head, _, rest = ast.unparse(ast.fix_missing_locations(fn)).partition("\n")
     return (head + '\n    """' + doc.strip().replace("\n", "\n    ") + '\n    """\n'
             + rest + "\n")

@@ -91,8 +91,24 @@ The argument
 What it does not claim: the count of *spurious* real roots outside :math:`[a, b]`
 (they give no pose); the digits of a pose beyond its stated leg residual.
 
-Cost: one more kernel evaluation (the magnitudes), then per piece ~600 float
-operations, compiled; see ``python -m benchmarks octahedral`` and ``accuracy``.
+Two routes to steps 4-6 (issue 17).  :func:`_vouch_split` first: the Bernstein
+coefficients on the whole of :math:`[a, b]` once (their first and last are
+:math:`H(a)`, :math:`H(b)`, so the end signs come with them); when the whole count and
+the signs at the cuts decide, one root per piece as in step 5; otherwise the pieces,
+and their bisection, by de Casteljau's subdivision of those coefficients with running
+bounds (:mod:`.casteljau`: ~45 operations a split instead of ~600 for a rebuild).  Where
+that does not decide (the whole interval's bounds are too wide near a cluster or a
+complex pair next to the axis: 15 of 2000 random octahedra), :func:`_vouch_bisect`
+rebuilds the octic on every piece (the route above, word for word) and its verdict
+stands.  Both are rigorous; the first only decides fewer problems.  In the batched
+form (``tight=False``) the radius around a root whose piece does not decide its status
+starts at :math:`2^{-32}|r|` instead of the first-order guess (one bounded evaluation
+less; the batched radii are the pieces' half-widths wherever those decide anyway).
+
+Cost: one more kernel evaluation (the magnitudes, written into a work array:
+``parts_magnitude_into``), then ~1.5 µs per problem on random octahedra (2.2 µs with the
+rebuild route alone), compiled; see ``python -m benchmarks octahedral`` and
+``accuracy``.
 """
 
 from __future__ import annotations
@@ -102,8 +118,9 @@ import math
 import numba
 import numpy as np
 
+from .casteljau import STACK, _changes, count, cut_point, split, unscale, weights
 from .error_bounds import (_SAFE, ETA_FLOAT, LEAF_BOUND, U, _add, _mul,  # noqa: F401
-                           eta_rounded, margin, part_errors)
+                           error_cache, eta_rounded, margin, part_errors, part_errors_into)
 
 __all__ = ["vouch", "vouch_many", "vouch_rows", "vouch_buffer", "part_errors", "margin", "eta_rounded", "VERDICTS", "NOT_CHECKED", "U",
            "ETA_FLOAT", "LEAF_BOUND"]
@@ -134,6 +151,15 @@ VERDICTS = {
     8: "the fast tier has an assembly root outside the feasible interval",
     9: "not checked: the proof was skipped (forward_kinematics_batched(..., "
        "prove=False), the bare fast tier)",
+}
+#: why :func:`_vouch_split` left a problem to :func:`_vouch_bisect` (its return codes)
+SPLIT_STEPS = {
+    14: "the sign of H at an end of the feasible interval is not proved",
+    15: "two roots found too close for a cut between them",
+    16: "a piece not decided by subdivision (a sign at a cut, the budget, the width)",
+    17: "a piece with no root or more than one",
+    18: "a status differs from the fast tier's",
+    19: "a status not decided",
 }
 #: the verdict of the problems of a batched solve that skipped the proof (never
 #: returned by :func:`vouch`)
@@ -257,25 +283,6 @@ def _bernstein(d, e, alpha, beta, W, B, EB):
             B[i], EB[i] = _add(B[i], EB[i], B[i - 1], EB[i - 1])
     for i in range(9):
         EB[i] *= _SAFE
-
-
-@numba.njit(cache=True, inline="always")
-def _changes(B, EB):
-    """The largest number of sign changes of B over the signs its bounds allow (a
-    coefficient whose bound decides nothing may take either sign; an exact 0 none)."""
-    none = -1                        # most changes so far ending on +, on - (-1: none)
-    best_p, best_m = none, none
-    for i in range(9):
-        can_p = B[i] > -EB[i]
-        can_m = B[i] < EB[i]
-        np_ = nm = none
-        if can_p:
-            np_ = max(0, best_p, best_m + 1 if best_m != none else none)
-        if can_m:
-            nm = max(0, best_m, best_p + 1 if best_p != none else none)
-        if can_p or can_m:
-            best_p, best_m = (np_ if can_p else best_p), (nm if can_m else best_m)
-    return max(best_p, best_m, 0)
 
 
 @numba.njit(cache=True)
@@ -416,30 +423,55 @@ def vouch(d, s2, l2, eta, lo, hi, roots, codes, radii, tight=True):
 @numba.njit(cache=True)
 def _workspace():
     """Work arrays of :func:`_vouch`: (W (30, 9), B (9,), EB (9,), stack (64, 2),
-    stack signs (64, 2), cuts (9,), cut signs (9,))."""
+    stack signs (64, 2), cuts (9,), cut signs (9,)), then those of
+    :func:`_vouch_split`: coefficients and bounds (6, 9) (P, EP, the piece, its bounds,
+    two rows of work), the subdivision stack (STACK, 18) and its ends (STACK, 4), the
+    cuts' bounds (9,), the isolating pieces (9, 4); the parts' error bounds (30,) and
+    the factors of :func:`.error_bounds.part_errors_into` (61,)."""
     return (np.empty((30, 9)), np.empty(9), np.empty(9), np.empty((64, 2)),
-            np.empty((64, 2), np.int64), np.empty(9), np.empty(9, np.int64))
+            np.empty((64, 2), np.int64), np.empty(9), np.empty(9, np.int64),
+            np.empty((6, 9)), np.empty((STACK, 18)), np.empty((STACK, 4)), np.empty(9),
+            np.empty((9, 4)), np.empty(30), error_cache())
 
 
 @numba.njit(cache=True)
 def _vouch(d, s2, l2, eta, lo, hi, roots, codes, radii, tight, ws):
-    """:func:`vouch` with its work arrays ``ws`` (:func:`_workspace`)."""
-    W, B, EB, stack, ssigns, cuts, signs = ws
-    n = roots.size
-    for k in range(n):
+    """:func:`vouch` with its work arrays ``ws`` (:func:`_workspace`): the bounds of the
+    parts, the interval [a, b] and the fast roots in it (steps 2 and 5), then the
+    subdivision route (:func:`_vouch_split`), and where it does not prove the answer
+    the rebuild route (:func:`_vouch_bisect`), whose verdict then stands."""
+    e = ws[12]
+    part_errors_into(d, s2, l2, eta, e, ws[13])
+    for k in range(roots.size):
         radii[k] = np.inf
-    e = part_errors(d, s2, l2, eta)
-    delta = margin(s2, l2, eta)
+    verdict, a, b, first, m = _interval(e, s2, l2, eta, lo, hi, roots, codes)
+    if verdict >= 0:
+        return verdict
+    if _vouch_split(d, e, a, b, first, m, roots, codes, radii, tight, ws) == 0:
+        return 0
+    for k in range(roots.size):
+        radii[k] = np.inf
+    return _vouch_bisect(d, e, a, b, first, m, roots, codes, radii, tight, ws)
+
+
+@numba.njit(cache=True)
+def _interval(e, s2, l2, eta, lo, hi, roots, codes):
+    """Steps 2 and 5 of the module docstring: (verdict, a, b, first, m), the verdict
+    -1 unless it is decided here (1: the bounds' range; 8: an assembly root outside
+    [a, b]; 5: more than eight roots in it; 0: no assembly possible and none claimed);
+    the fast roots in [a, b] are ``roots[first:first + m]``."""
+    n = roots.size
     for k in range(30):
         if not e[k] < np.inf:
-            return 1
+            return 1, 0.0, 0.0, 0, 0
+    delta = margin(s2, l2, eta)
     a, b = lo - delta, hi + delta
     if a > b:
         # the triangle inequalities exclude every assembly, rounding included
         for k in range(n):
             if codes[k] == 0:
-                return 8
-        return 0
+                return 8, a, b, 0, 0
+        return 0, a, b, 0, 0
     if lo > hi:
         a, b = hi - delta, lo + delta
     # the fast roots inside [a, b]; an assembly root outside it is wrong
@@ -449,10 +481,150 @@ def _vouch(d, s2, l2, eta, lo, hi, roots, codes, radii, tight, ws):
             first = min(first, k)
             last = max(last, k)
         elif codes[k] == 0:
-            return 8
+            return 8, a, b, 0, 0
     m = last - first + 1 if last >= first else 0
     if m > 8:
-        return 5                    # more than the octic's eight roots: some twice
+        return 5, a, b, first, m    # more than the octic's eight roots: some twice
+    return -1, a, b, first, m
+
+
+@numba.njit(cache=True, inline="always")
+def _proved(v, e):
+    return 1 if v > e else (-1 if v < -e else 0)
+
+
+@numba.njit(cache=True)
+def _grow(d, e, r, rho, lim, lo_in, hi_in):
+    """Step 6's radius: from ``rho``, times 16 while below ``lim``, until H has proved
+    opposite signs at the floats r -+ rho, both strictly inside (lo_in, hi_in).
+    Returns (found, rho)."""
+    while rho < lim:
+        xl, xr = r - rho, r + rho          # (floats: the signs are proved there)
+        if not (lo_in < xl and xr < hi_in):
+            break
+        sl, sr = _sign(d, e, xl), _sign(d, e, xr)
+        if sl != 0 and sr != 0 and sl != sr:
+            return True, rho
+        rho *= 16.0
+    return False, rho
+
+
+@numba.njit(cache=True)
+def _vouch_split(d, e, a, b, first, m, roots, codes, radii, tight, ws):
+    """Steps 4-7 of the module docstring on [a, b] and the m fast roots from index
+    ``first`` in it, the cheap way (issue 17): the Bernstein coefficients of H on the
+    whole of [a, b] once (:func:`_bernstein`; their first and last are H(a), H(b));
+    when their sign changes leave room for no root more than the fast tier found and
+    the signs at the cuts (:func:`_sign`) alternate, one root per piece; otherwise the
+    pieces and their bisection by de Casteljau's algorithm from those coefficients
+    (:mod:`.casteljau`), not by rebuilding the octic on each.  Classification as in
+    :func:`_vouch_bisect`.  Returns 0 when the answer is proved (``radii`` written),
+    else the step that did not prove it (:data:`SPLIT_STEPS`; then
+    :func:`_vouch_bisect` decides and gives the verdict)."""
+    W, B, EB, cuts, signs = ws[0], ws[1], ws[2], ws[5], ws[6]
+    C, S, X, ecut, iso = ws[7], ws[8], ws[9], ws[10], ws[11]
+    _bernstein(d, e, a, b, W, B, EB)
+    v = _changes(B, EB)
+    cuts[0], cuts[m], ecut[0], ecut[m] = a, b, 0.0, 0.0
+    signs[0], signs[m] = _proved(B[0], EB[0]), _proved(B[8], EB[8])
+    if signs[0] == 0 or signs[m] == 0:
+        signs[0], signs[m] = _sign(d, e, a), _sign(d, e, b)
+        if signs[0] == 0 or signs[m] == 0:
+            return 14
+    if m == 0 and (v == 0 or (v == 1 and signs[0] == signs[1])):
+        return 0
+    # the whole interval: signs at float cuts between the roots, alternating, and no
+    # more sign changes than roots found
+    whole = m > 0 and v <= m
+    for j in range(1, m if whole else 0):
+        x = 0.5 * (roots[first + j - 1] + roots[first + j])
+        cuts[j], signs[j], ecut[j] = x, _sign(d, e, x), 0.0
+        if not roots[first + j - 1] < x < roots[first + j]:
+            whole = False
+            break
+    for j in range(m):
+        if signs[j] == 0 or signs[j] == signs[j + 1]:
+            whole = False
+    if whole:
+        for j in range(m):
+            iso[j, 0], iso[j, 1], iso[j, 2], iso[j, 3] = cuts[j], 0.0, cuts[j + 1], 0.0
+    else:
+        # the pieces from the whole interval's coefficients by de Casteljau's
+        # algorithm, each cut at the middle between two roots found
+        P, EP, Lp, ELp, w, ew = C[0], C[1], C[2], C[3], C[4], C[5]
+        unscale(B, EB, P, EP)
+        xa, ea = a, 0.0
+        budget = 32
+        for j in range(max(m, 1)):
+            if j < m - 1:
+                c = 0.5 * (roots[first + j] + roots[first + j + 1])
+                t = (c - xa) / (b - xa)
+                if not (0.0 < t < 1.0):
+                    return 15
+                sg, tu = weights(t)
+                split(P, EP, sg, tu, Lp, ELp, P, EP, w, ew)
+                xb, eb = cut_point(xa, ea, b, 0.0, sg, tu)
+                cnt, ia, iea, ib, ieb, used = count(Lp, ELp, xa, ea, xb, eb, budget, S, X,
+                                                    Lp, ELp, w, ew)
+            else:
+                xb, eb = b, 0.0
+                cnt, ia, iea, ib, ieb, used = count(P, EP, xa, ea, xb, eb, budget, S, X,
+                                                    Lp, ELp, w, ew)
+            budget -= used
+            if m == 0:
+                return 0 if cnt == 0 else 16
+            if cnt < 0:
+                return 16
+            if cnt != 1:
+                return 17
+            cuts[j + 1], ecut[j + 1] = xb, eb
+            iso[j, 0], iso[j, 1], iso[j, 2], iso[j, 3] = ia, iea, ib, ieb
+            xa, ea = xb, eb
+    # classification (step 6), piece by piece
+    for j in range(m):
+        k = first + j
+        ia, iea, ib, ieb = iso[j, 0], iso[j, 1], iso[j, 2], iso[j, 3]
+        if not tight:
+            r = 0.5 * (ia + ib)
+            rho = (0.5 * (ib - ia) * (1.0 + 4.0 * U) + 4.0 * U * abs(r)
+                   + max(iea, ieb) * (1.0 + 4.0 * U))
+            status = _status(d, e, r, rho)
+            if status >= 0:
+                if (status == 0) != (codes[k] == 0):
+                    return 18
+                radii[k] = abs(roots[k] - r) + rho
+                continue
+        r = roots[k]
+        # (twice the bounds: the float sums may round towards the cuts by up to u|x|,
+        # which each bound already exceeds)
+        lo_in, hi_in = cuts[j] + 2.0 * ecut[j], cuts[j + 1] - 2.0 * ecut[j + 1]
+        lim = min(r - lo_in, hi_in - r)
+        if tight:
+            rho = _first_radius(d, e, r, lim)
+        else:                       # (the batched tier's radii are the pieces' anyway)
+            rho = min(max(abs(r), 1e-300) * 2.0 ** -32, 0.5 * lim)
+        found, rho = _grow(d, e, r, rho, lim, lo_in, hi_in)
+        if found:
+            rho = rho * (1.0 + 4.0 * U) + 4.0 * U * abs(r)
+        else:                       # the isolating piece itself
+            r = 0.5 * (ia + ib)
+            rho = (0.5 * (ib - ia) * (1.0 + 4.0 * U) + 4.0 * U * abs(r)
+                   + max(iea, ieb) * (1.0 + 4.0 * U))
+        status = _status(d, e, r, rho)
+        if status < 0:
+            return 19
+        if (status == 0) != (codes[k] == 0):
+            return 18
+        radii[k] = abs(roots[k] - r) + rho
+    return 0
+
+
+@numba.njit(cache=True)
+def _vouch_bisect(d, e, a, b, first, m, roots, codes, radii, tight, ws):
+    """Steps 4-7 of the module docstring on [a, b] and the m fast roots from index
+    ``first`` in it, with a rebuild of the octic on every piece (:func:`_count`) and
+    running bounds at every point (:func:`_sign`)."""
+    W, B, EB, stack, ssigns, cuts, signs = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6]
     # cut points: a, points between consecutive roots, b (each with a proved sign)
     cuts[0], cuts[m] = a, b
     signs[0] = _sign(d, e, a)
@@ -512,16 +684,7 @@ def _vouch(d, s2, l2, eta, lo, hi, roots, codes, radii, tight, ws):
         r = roots[k]
         lim = min(r - cuts[j], cuts[j + 1] - r)
         rho = _first_radius(d, e, r, lim)
-        found = False
-        while rho < lim:
-            xl, xr = r - rho, r + rho          # (floats: the signs are proved there)
-            if not (cuts[j] < xl and xr < cuts[j + 1]):
-                break
-            sl, sr = _sign(d, e, xl), _sign(d, e, xr)
-            if sl != 0 and sr != 0 and sl != sr:
-                found = True
-                break
-            rho *= 16.0
+        found, rho = _grow(d, e, r, rho, lim, cuts[j], cuts[j + 1])
         if not found:               # the isolating piece itself
             r = 0.5 * (ia + ib)
             rho = 0.5 * (ib - ia)

@@ -17,10 +17,10 @@ import numpy as np
 from .._generated.octic_general import (PARTS_DEGREE, PARTS_DEPTH, PARTS_UNDERFLOW,
                                         parts_magnitude)
 
-__all__ = ["part_errors", "margin", "eta_rounded", "U", "ETA_FLOAT", "LEAF_BOUND",
+__all__ = ["part_errors", "part_errors_into", "error_cache", "margin", "eta_rounded", "U", "ETA_FLOAT", "LEAF_BOUND",
            "LEAF_MIN"]
 
-_magnitude = numba.njit(cache=True)(parts_magnitude)
+_magnitude_into = numba.njit(cache=True)(parts_magnitude)
 
 #: unit roundoff of binary64
 U = 2.0 ** -53
@@ -65,21 +65,48 @@ def part_errors(d, s2, l2, eta):
         [LEAF_MIN, LEAF_BOUND])
     eta : relative error bound of those squared lengths
     """
-    mag = _magnitude(s2, l2)
     out = np.empty(30)
+    part_errors_into(d, s2, l2, eta, out, error_cache())
+    return out
+
+
+@numba.njit(cache=True)
+def error_cache():
+    """The work array (61,) of :func:`part_errors_into`: the eta its factors are for
+    (NaN: none yet), then the factors."""
+    c = np.empty(61)
+    c[0] = np.nan
+    return c
+
+
+@numba.njit(cache=True)
+def part_errors_into(d, s2, l2, eta, out, cache):
+    r""":func:`part_errors` into ``out`` (30,).  Per part :math:`k`, with
+    :math:`t = d_k u + g_k\eta` (depth and degree of the generated kernel) and
+    :math:`\gamma = t/(1-t)`: :math:`(1+u)^d(1+\eta)^g - 1 \le \gamma` and
+    :math:`(1+\eta)^g/(1-u)^d \le 1/(1-t)`, so the error is at most
+    :math:`\gamma(\hat A_k + U_k)/(1-t) + U_k` (:mod:`distkin.codegen.rounding`),
+    computed as :math:`f_k(\hat A_k + U_k) + U_k` with :math:`f_k = \gamma/(1-t)`
+    and rounded up by :data:`_SAFE` (the bounds' own rounding).  The factors
+    :math:`f_k` depend on eta only: ``cache`` (:func:`error_cache`) keeps those of the
+    last eta, so a batch of problems with one eta divides once."""
+    if cache[0] != eta:
+        for k in range(30):
+            t = _DEPTH[k] * U + _DEGREE[k] * eta
+            cache[1 + k] = (t / (1.0 - t)) / (1.0 - t) if t < 0.1 else np.inf
+        cache[0] = eta
     ok = True
     for k in range(6):
         if not (LEAF_MIN <= s2[k] <= LEAF_BOUND and LEAF_MIN <= l2[k] <= LEAF_BOUND):
             ok = False
-    for k in range(30):
-        t = _DEPTH[k] * U + _DEGREE[k] * eta
-        if not ok or not t < 0.1:
+    if not ok:
+        for k in range(30):
             out[k] = np.inf
-            continue
-        # (1+u)^d (1+eta)^g - 1 <= t / (1 - t);  (1+eta)^g / (1-u)^d <= 1 / (1 - t)
-        g = t / (1.0 - t)
-        out[k] = _SAFE * (g * (mag[k] + _UNDER[k]) / (1.0 - t) + _UNDER[k])
-    return out
+        return
+    _magnitude_into(s2, l2, out)
+    for k in range(30):
+        f = cache[1 + k]
+        out[k] = _SAFE * (f * (out[k] + _UNDER[k]) + _UNDER[k]) if f < np.inf else np.inf
 
 
 @numba.njit(cache=True)
