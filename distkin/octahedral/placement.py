@@ -31,7 +31,7 @@ _LEG_OK = 1e-6       # relative leg residual under which a placement is accepted
 _LEG_BASE = (0, 1, 1, 2, 2, 0)
 _LEG_PLAT = (0, 0, 1, 1, 2, 2)
 
-_jit = numba.njit(cache=True)
+_jit = numba.njit(cache=True, error_model="numpy")
 
 
 @_jit
