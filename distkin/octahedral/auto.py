@@ -107,14 +107,17 @@ def escalate_batch(batch, base, platform, legs, *, dps=None, tol=None):
     poses reproduce a leg worse than :data:`LEG_TOL`, is solved by :func:`solve_exact`;
     its answer replaces the fast one in the arrays and in ``.escalated``, and ``.tier``
     names the tier.  Returns a new BatchResult."""
+    worst = np.where(batch.valid, batch.max_leg_error_relative, 0.0).max(axis=1)
+    todo = np.flatnonzero(~batch.trusted | ~(worst <= LEG_TOL))
+    if not todo.size:                   # (no copies of the ~3 KiB per problem: issue 17)
+        return replace(batch, escalated={})
     raw = dict(batch.raw)
     for name in ("count", "s15", "points", "rotation", "translation", "leg_error",
                  "leg_error_rel", "valid", "roots", "status", "step", "slot"):
         raw[name] = raw[name].copy()
     tier = batch.tier.copy()
-    worst = np.where(batch.valid, batch.max_leg_error_relative, 0.0).max(axis=1)
     escalated = {}
-    for i in np.flatnonzero(~batch.trusted | ~(worst <= LEG_TOL)):
+    for i in todo:
         res, t, note = solve_exact(_row(base, i, 2), _row(platform, i, 2), _row(legs, i, 1),
                                    dps=dps, tol=tol)
         cond = batch.result(i).conditioning

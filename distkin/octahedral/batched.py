@@ -63,7 +63,7 @@ from .placement import _place_many, place_many
 from .problem import REASONS
 from .signscan import MAX_ROOTS, K, _workspace, scan_many, scan_one
 
-__all__ = ["solve_fast", "solve_scan_single", "scan_single", "scan_window", "polish_scan", "roots_many", "companions", "REASONS"]
+__all__ = ["solve_fast", "recover_flagged", "solve_scan_single", "scan_single", "scan_window", "polish_scan", "roots_many", "companions", "REASONS"]
 
 _jit = numba.njit(cache=True)
 
@@ -115,6 +115,71 @@ def solve_fast(B, Q, L, sides2, legs2):
             "step": steps, "slot": slot, "count": count, "s15": s15, "points": P,
             "rotation": R, "translation": T, "leg_error": E, "leg_error_rel": Er,
             "valid": np.arange(16) < count[:, None], "data": data}
+
+
+#: the proof's verdicts (:data:`.descartes.VERDICTS`) after which :func:`recover_flagged`
+#: solves a problem again: two roots too close for a cut, a piece with more roots than
+#: found, a piece with none
+_RECOVERABLE = (3, 4, 5)
+#: the row-wise arrays of :func:`solve_fast` that :func:`recover_flagged` writes back
+_ROWS = ("roots", "step", "status", "slot", "count", "s15", "points", "rotation",
+         "translation", "leg_error", "leg_error_rel")
+
+
+def recover_flagged(B, Q, L, sides2, legs2, raw, eta, verdict, radii):
+    """The problems whose answer the proof refused, solved again from the proof's own
+    isolation of the roots (issue 17).
+
+    The proof's subdivision (:func:`.descartes.recover`) isolates every real root of the
+    exact octic in the feasible interval [a, b] where float64 can (a pair of roots the
+    sign scan took for none, in one grid cell: 1 of 2000 random octahedra); those roots,
+    with the fast tier's roots outside [a, b] (spurious: no pose), go through the same
+    polish and placement as a scanned problem (:func:`polish_scan`,
+    :func:`.placement.place_many`) and the same proof
+    (:func:`.descartes.vouch_many`).  Only an answer the proof then vouches for
+    (verdict 0) replaces the refused one, row by row in ``raw`` (the arrays of
+    :func:`solve_fast`), ``verdict`` and ``radii``; the others stay as they were,
+    flagged.  Tried for the verdicts of :data:`_RECOVERABLE` only (a miscount); a flat
+    face or tetrahedron at a root (verdict 6) or an undecided end (2) stays as it is.
+    Returns the indices of the problems replaced."""
+    from .descartes import recover, vouch_many
+    bad = np.flatnonzero(np.isin(verdict, _RECOVERABLE))
+    rows, xs, steps, idx = [], [], [], []
+    out = np.empty(8)
+    for i in bad:
+        cnt, a, b = recover(raw["data"][i], sides2[i], legs2[i], eta[i], raw["lo"][i],
+                            raw["hi"][i], out)
+        if cnt < 0:
+            continue
+        old = raw["roots"][i][raw["status"][i] >= 0]
+        outside = old[(old < a) | (old > b)]
+        x = np.concatenate([out[:cnt], outside])
+        rows.append(np.full(x.size, len(idx)))
+        xs.append(x)
+        steps.append(np.zeros(x.size))
+        idx.append(i)
+    if not idx:
+        return np.empty(0, np.int64)
+    idx = np.array(idx)
+    Bs, Qs, Ls, s2, l2 = (np.ascontiguousarray(v[idx]) for v in (B, Q, L, sides2, legs2))
+    data = np.ascontiguousarray(raw["data"][idx])
+    lo, hi, _, _, c = scan_window(s2, l2)
+    doubt = np.zeros(idx.size, np.bool_)
+    row = np.concatenate(rows)
+    status, x, step = polish_scan(data, row, np.concatenate(xs), np.concatenate(steps), lo,
+                                  hi, c, doubt)
+    new = dict(zip(("roots", "step", "status", "slot", "count", "s15", "points", "rotation",
+                    "translation", "leg_error", "leg_error_rel"),
+                   place_many(Bs, Qs, Ls, s2, l2, lo, hi, c, row, x, step, status)))
+    v, r = np.empty(idx.size, np.int64), np.empty((idx.size, 8))
+    vouch_many(data, s2, l2, np.ascontiguousarray(eta[idx]), lo, hi, new["roots"],
+               new["status"], v, r)
+    ok = (v == 0) & ~doubt
+    for name in _ROWS:
+        raw[name][idx[ok]] = new[name][ok]
+    raw["valid"][idx[ok]] = np.arange(16) < new["count"][ok, None]
+    verdict[idx[ok]], radii[idx[ok]] = 0, r[ok]
+    return idx[ok]
 
 
 @_jit

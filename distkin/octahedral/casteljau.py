@@ -128,25 +128,25 @@ def _sign_of(v, e):
 
 
 @numba.njit(cache=True)
-def count(P, EP, xa, ea, xb, eb, budget, S, X, L, EL, w, ew):
+def count(P, EP, xa, ea, xb, eb, budget, S, X, L, EL, w, ew, found):
     r"""Roots of the exact H in :math:`(x_a^*, x_b^*)` by Descartes' rule on the
     Bernstein coefficients ``P`` (bounds ``EP``) and bisection by :func:`split` at
     :math:`\tau = 1/2` (exact weights).  The end signs are those of ``P[0]``, ``P[8]``
     (the values of H at the ends).
 
-    Returns (count, ia, ea_, ib, eb_, splits used): the ends of the last piece with
-    exactly one root, as floats and bounds; count -1 when a sign at a cut or an end is
+    Returns (count, splits used), and writes the pieces with exactly one root, from
+    left to right, into the rows of ``found`` (k, 4) (ends as floats and bounds:
+    ia, ea, ib, eb; the first k of them); count -1 when a sign at a cut or an end is
     not decided by its bound, the budget of splits or the stack runs out, or a piece
     gets narrower than 2^-44 of its ends (the rebuild of :mod:`.descartes` decides
     those).  ``S`` (STACK, 18), ``X`` (STACK, 4): the stack (coefficients and bounds;
     ends and their bounds); ``L``, ``EL``, ``w``, ``ew`` (9,): work."""
     if _sign_of(P[0], EP[0]) == 0 or _sign_of(P[8], EP[8]) == 0:
-        return -1, xa, ea, xb, eb, 0
+        return -1, 0
     for i in range(9):
         S[0, i], S[0, 9 + i] = P[i], EP[i]
     X[0, 0], X[0, 1], X[0, 2], X[0, 3] = xa, ea, xb, eb
     top, n, used = 1, 0, 0
-    ia, iea, ib, ieb = xa, ea, xb, eb
     scale = max(abs(xa), abs(xb))
     while top > 0:
         top -= 1
@@ -158,20 +158,21 @@ def count(P, EP, xa, ea, xb, eb, budget, S, X, L, EL, w, ew):
         if v == 0 or (v == 1 and sa == sb):
             continue
         if v == 1:
+            if n < found.shape[0]:
+                found[n, 0], found[n, 1], found[n, 2], found[n, 3] = a, ae, b, be
             n += 1
-            ia, iea, ib, ieb = a, ae, b, be
             continue
         if used >= budget or top + 2 > S.shape[0] or b - a <= 2.0 ** -44 * scale:
-            return -1, ia, iea, ib, ieb, used
+            return -1, used
         # the left half into row top + 1 (popped first), the right half into row top
         # (free: the node was copied out of it)
         split(L, EL, 0.5, 0.5, S[top + 1, :9], S[top + 1, 9:], S[top, :9], S[top, 9:],
               w, ew)
         used += 1
         if _sign_of(S[top, 0], S[top, 9]) == 0:        # H at the midpoint, undecided
-            return -1, ia, iea, ib, ieb, used
+            return -1, used
         m, me = cut_point(a, ae, b, be, 0.5, 0.5)
         X[top, 0], X[top, 1], X[top, 2], X[top, 3] = m, me, b, be
         X[top + 1, 0], X[top + 1, 1], X[top + 1, 2], X[top + 1, 3] = a, ae, m, me
         top += 2
-    return n, ia, iea, ib, ieb, used
+    return n, used

@@ -122,7 +122,7 @@ from .casteljau import STACK, _changes, count, cut_point, split, unscale, weight
 from .error_bounds import (_SAFE, ETA_FLOAT, LEAF_BOUND, U, _add, _mul,  # noqa: F401
                            error_cache, eta_rounded, margin, part_errors, part_errors_into)
 
-__all__ = ["vouch", "vouch_many", "vouch_rows", "vouch_buffer", "part_errors", "margin", "eta_rounded", "VERDICTS", "NOT_CHECKED", "U",
+__all__ = ["vouch", "vouch_many", "recover", "vouch_rows", "vouch_buffer", "part_errors", "margin", "eta_rounded", "VERDICTS", "NOT_CHECKED", "U",
            "ETA_FLOAT", "LEAF_BOUND"]
 
 _BUDGET = 48                  # Bernstein evaluations per problem, beyond one per piece
@@ -286,12 +286,13 @@ def _bernstein(d, e, alpha, beta, W, B, EB):
 
 
 @numba.njit(cache=True)
-def _count(d, e, alpha, beta, sa, sb, budget, W, B, EB, stack, signs):
+def _count(d, e, alpha, beta, sa, sb, budget, W, B, EB, stack, signs, found):
     """Roots of the exact H in (alpha, beta), whose ends have proved signs sa, sb
     (+-1), by Descartes' rule and bisection: (count, the last isolating piece lo, hi,
     Bernstein evaluations used); count -1 when the budget or the width runs out.
     ``W`` (30, 9), ``B``, ``EB`` (9,), ``stack`` (64, 2) and ``signs`` (64, 2): work
-    arrays."""
+    arrays; the isolating pieces, from left to right, into the rows (lo, hi) of
+    ``found`` (k, >= 2) (the first k of them)."""
     stack[0, 0], stack[0, 1], signs[0, 0], signs[0, 1] = alpha, beta, sa, sb
     top = 1
     count, used = 0, 0
@@ -308,6 +309,8 @@ def _count(d, e, alpha, beta, sa, sb, budget, W, B, EB, stack, signs):
         if v == 0 or (v == 1 and s_a == s_b):
             continue
         if v == 1:
+            if count < found.shape[0]:
+                found[count, 0], found[count, 1] = a, b
             count += 1
             ia, ib = a, b
             continue
@@ -564,12 +567,12 @@ def _vouch_split(d, e, a, b, first, m, roots, codes, radii, tight, ws):
                 sg, tu = weights(t)
                 split(P, EP, sg, tu, Lp, ELp, P, EP, w, ew)
                 xb, eb = cut_point(xa, ea, b, 0.0, sg, tu)
-                cnt, ia, iea, ib, ieb, used = count(Lp, ELp, xa, ea, xb, eb, budget, S, X,
-                                                    Lp, ELp, w, ew)
+                cnt, used = count(Lp, ELp, xa, ea, xb, eb, budget, S, X, Lp, ELp, w, ew,
+                                  iso[j:j + 1])
             else:
                 xb, eb = b, 0.0
-                cnt, ia, iea, ib, ieb, used = count(P, EP, xa, ea, xb, eb, budget, S, X,
-                                                    Lp, ELp, w, ew)
+                cnt, used = count(P, EP, xa, ea, xb, eb, budget, S, X, Lp, ELp, w, ew,
+                                  iso[j:j + 1])
             budget -= used
             if m == 0:
                 return 0 if cnt == 0 else 16
@@ -578,7 +581,6 @@ def _vouch_split(d, e, a, b, first, m, roots, codes, radii, tight, ws):
             if cnt != 1:
                 return 17
             cuts[j + 1], ecut[j + 1] = xb, eb
-            iso[j, 0], iso[j, 1], iso[j, 2], iso[j, 3] = ia, iea, ib, ieb
             xa, ea = xb, eb
     # classification (step 6), piece by piece
     for j in range(m):
@@ -645,7 +647,8 @@ def _vouch_bisect(d, e, a, b, first, m, roots, codes, radii, tight, ws):
             return 3
     budget = m + 1 + _BUDGET
     if m == 0:
-        c, _, _, _ = _count(d, e, a, b, signs[0], signs[1], budget, W, B, EB, stack, ssigns)
+        c, _, _, _ = _count(d, e, a, b, signs[0], signs[1], budget, W, B, EB, stack, ssigns,
+                            ws[11][:0])
         return 0 if c == 0 else 4
     # one count over all of [a, b] first (step 4 on the union of the pieces): at most
     # m sign changes and signs alternating at the m + 1 cuts prove one simple root per
@@ -664,7 +667,7 @@ def _vouch_bisect(d, e, a, b, first, m, roots, codes, radii, tight, ws):
             c, ia, ib = 1, cuts[j], cuts[j + 1]
         else:
             c, ia, ib, used = _count(d, e, cuts[j], cuts[j + 1], signs[j], signs[j + 1],
-                                     budget, W, B, EB, stack, ssigns)
+                                     budget, W, B, EB, stack, ssigns, ws[11][:0])
             budget -= used
         if c < 0 or c > 1:
             return 4
@@ -697,6 +700,89 @@ def _vouch_bisect(d, e, a, b, first, m, roots, codes, radii, tight, ws):
             return 7
         radii[k] = abs(roots[k] - r) + rho
     return 0
+
+
+@numba.njit(cache=True)
+def _h_slope(d, x):
+    """H(x) and H'(x) in plain float (no bound), from the quadratic parts."""
+    q0, q1, q2, q3, q4 = (d[0] + x * (d[1] + x * d[2]), d[3] + x * (d[4] + x * d[5]),
+                          d[6] + x * (d[7] + x * d[8]), d[9] + x * (d[10] + x * d[11]),
+                          d[12] + x * (d[13] + x * d[14]))
+    q5, q6, q7, q8, q9 = (d[15] + x * (d[16] + x * d[17]), d[18] + x * (d[19] + x * d[20]),
+                          d[21] + x * (d[22] + x * d[23]), d[24] + x * (d[25] + x * d[26]),
+                          d[27] + x * (d[28] + x * d[29]))
+    G = q0 * q5 + q1 * q4 + 2.0 * q2 * q3
+    R1, R2 = q6 * q7, q8 * q9
+    return G * G - 4.0 * R1 * R2, _slope(d, x)
+
+
+@numba.njit(cache=True)
+def _bracketed(d, xl, xr):
+    """A root of H in the float bracket [xl, xr] (signs of H opposite at its ends, or
+    nearly): Newton from the middle, bisection whenever a step leaves the bracket."""
+    hl, _ = _h_slope(d, xl)
+    if hl == 0:
+        hr, _ = _h_slope(d, xr)
+        hl = -hr
+    x = 0.5 * (xl + xr)
+    for _ in range(200):
+        h, dh = _h_slope(d, x)
+        if h == 0:
+            return x
+        if (h > 0) == (hl > 0):
+            xl = x
+        else:
+            xr = x
+        xn = x - h / dh if dh != 0 else 0.5 * (xl + xr)
+        if not xl < xn < xr:
+            xn = 0.5 * (xl + xr)
+        if abs(xn - x) <= 2.0 ** -51 * abs(x) or xr - xl <= 2.0 ** -51 * abs(x):
+            return xn
+        x = xn
+    return x
+
+
+@numba.njit(cache=True)
+def recover(d, s2, l2, eta, lo, hi, out):
+    """Every real root of the exact octic in the feasible interval [a, b] (step 5), found
+    by the proof's own subdivision (:func:`.casteljau.count` from the whole interval's
+    Bernstein coefficients; where that does not decide, :func:`_count`'s rebuild on
+    every piece) and refined by bracketed Newton steps in plain float
+    (:func:`_bracketed`): approximations, increasing, into ``out`` (8,); returns
+    (their number, a, b), the number -1 when the subdivision does not decide (a cluster
+    within the bounds).
+    For a problem whose fast answer the proof refused (a pair of roots the scan did not
+    see): its roots inside [a, b] again, to be placed and proved once more (issue 17)."""
+    ws = _workspace()
+    e = ws[12]
+    part_errors_into(d, s2, l2, eta, e, ws[13])
+    for k in range(30):
+        if not e[k] < np.inf:
+            return -1, 0.0, 0.0
+    delta = margin(s2, l2, eta)
+    a, b = lo - delta, hi + delta
+    if a > b:
+        return 0, a, b
+    if lo > hi:
+        a, b = hi - delta, lo + delta
+    W, B, EB, C, S, X = ws[0], ws[1], ws[2], ws[7], ws[8], ws[9]
+    _bernstein(d, e, a, b, W, B, EB)
+    P, EP, Lp, ELp, w, ew = C[0], C[1], C[2], C[3], C[4], C[5]
+    unscale(B, EB, P, EP)
+    found = ws[11]
+    cnt, _ = count(P, EP, a, 0.0, b, 0.0, 4 * _BUDGET, S, X, Lp, ELp, w, ew, found)
+    if cnt < 0:                 # the rebuild on every piece (:func:`_count`)
+        sa, sb = _sign(d, e, a), _sign(d, e, b)
+        if sa == 0 or sb == 0:
+            return -1, a, b
+        cnt, _, _, _ = _count(d, e, a, b, sa, sb, 4 * _BUDGET, W, B, EB, ws[3], ws[4], X)
+        for t in range(min(cnt, 8)):
+            found[t, 0], found[t, 2] = X[t, 0], X[t, 1]
+    if cnt < 0 or cnt > 8:
+        return -1, a, b
+    for t in range(cnt):
+        out[t] = _bracketed(d, found[t, 0], found[t, 2])
+    return cnt, a, b
 
 
 @numba.njit(cache=True)

@@ -203,7 +203,7 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
         raise InputError("expected prove=True with method='auto' (it escalates what the "
                          "proof cannot vouch for), got prove=False", field="prove")
     from .descartes import ETA_FLOAT, NOT_CHECKED, eta_rounded, vouch_many
-    from .batched import solve_fast
+    from .batched import recover_flagged, solve_fast
     B, Q, L, s2, l2, k, rounded = float_problem(base, platform, legs)
     raw = solve_fast(B, Q, L, s2, l2)
     n = len(k)
@@ -215,6 +215,9 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
         radii = np.empty((n, 8))
         vouch_many(raw["data"], s2, l2, eta, raw["lo"], raw["hi"], raw["roots"],
                    raw["status"], verdict, radii)
+        # what the proof refused, solved again from the proof's own isolation
+        raw["recovered"] = (recover_flagged(B, Q, L, s2, l2, raw, eta, verdict, radii)
+                            if (verdict != 0).any() else np.empty(0, np.int64))
         raw["verdict"], raw["radii"] = verdict, radii
     else:                                       # the bare fast tier: nothing vouched
         verdict = np.full(n, NOT_CHECKED)
