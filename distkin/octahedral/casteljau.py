@@ -12,7 +12,7 @@ steps when this one does not decide; issue 17):
 
 **Subdivision** (:func:`split`, :func:`count`).  The Bernstein coefficients
    :math:`b_i` of :math:`H` on :math:`[\alpha, \beta]` with bounds :math:`e_i` (from
-   :func:`.descartes._bernstein`, unscaled) give those of :math:`[\alpha, x^*]` and
+   :func:`.bounded_octic._bernstein`, unscaled) give those of :math:`[\alpha, x^*]` and
    :math:`[x^*, \beta]`, :math:`x^* = \alpha + \tau(\beta - \alpha)`, by de Casteljau's
    rows :math:`b_i \leftarrow \sigma b_i + \tau b_{i+1}` with floats
    :math:`\sigma + \tau = 1` *exactly* (:math:`\sigma = fl(1 - \hat\tau)`,
@@ -23,7 +23,7 @@ steps when this one does not decide; issue 17):
    Stability of Numerical Algorithms*, Sec. 3.1: :math:`|fl(y) - y| \le u|fl(y)|`).  The
    last coefficient of the left part is :math:`H(x^*)` itself: the sign at a cut comes
    with the split.  A split costs ~45 float operations against ~600 for the rebuild of
-   the octic from its parts on a sub-interval that :func:`.descartes._count` does; its
+   the octic from its parts on a sub-interval that :func:`.bounded_octic._count` does; its
    bounds are those of the whole interval, so where the octic is small against its
    size there (a complex pair next to the real axis) it may not decide, and the rebuild
    answers.  The cut point :math:`x^*` is a real number, not a float: it is carried as a
@@ -48,7 +48,7 @@ _BINOM = np.array([1.0, 8.0, 28.0, 56.0, 70.0, 56.0, 28.0, 8.0, 1.0])
 @numba.njit(cache=True)
 def unscale(Bs, EBs, P, EP):
     r"""Unscaled Bernstein coefficients :math:`b_i = \tilde b_i / \binom8i` (into ``P``,
-    bounds into ``EP``) of the scaled ones of :func:`.descartes._bernstein`: one
+    bounds into ``EP``) of the scaled ones of :func:`.bounded_octic._bernstein`: one
     division each, :math:`|fl(\tilde b/C) - \tilde b^*/C| \le \tilde e/C + u|\hat b|`
     (the bound's own division rounded up by :math:`1 + 2u`)."""
     for i in range(9):
