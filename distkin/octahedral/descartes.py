@@ -105,9 +105,14 @@ form (``tight=False``) the radius around a root whose piece does not decide its 
 starts at :math:`2^{-32}|r|` instead of the first-order guess (one bounded evaluation
 less; the batched radii are the pieces' half-widths wherever those decide anyway).
 
-Cost: one more kernel evaluation (the magnitudes, written into a work array:
-``parts_magnitude_into``), then ~1.5 µs per problem on random octahedra (2.2 µs with the
-rebuild route alone), compiled; see ``python -m benchmarks octahedral`` and
+The bounded evaluations, expansions and counts are in :mod:`.bounded_octic`, the
+subdivision in :mod:`.casteljau`.  :func:`recover` isolates the roots in
+:math:`[a, b]` with the same machinery when an answer is refused, so that the batched
+tier can solve such a problem again (:func:`.batched.recover_flagged`).
+
+Cost: one more kernel evaluation (the magnitudes, written into a work array by the
+generated ``parts_magnitude``), then ~1.6-1.8 µs per problem on random octahedra (~2.2-2.3
+µs with the rebuild route alone), compiled; see ``python -m benchmarks octahedral`` and
 ``accuracy``.
 """
 
