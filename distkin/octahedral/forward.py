@@ -55,7 +55,7 @@ from .problem import exact_problem, float_problem, float_single
 from .scaling import in_units, rescale_result
 
 from .result import (_VERDICTS, AssemblyResult, BatchResult, Pose, RootInfo,
-                     _buffer_result, _single_result)
+                     _buffer_result, _fast_result, _single_result)
 
 __all__ = ["Pose", "RootInfo", "AssemblyResult", "BatchResult", "forward_kinematics",
            "forward_kinematics_batched"]
@@ -140,10 +140,16 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
             raw = solve_fast_single(B, Q, L)
             cond = assess(raw.sides2, raw.legs2, raw.data, raw.lo, raw.hi, raw.roots, eta)
             res = _single_result(raw, conditioning=cond, k=k)
+            s2, l2 = raw.sides2, raw.legs2
         else:
             lo, hi, nr, m, buf = out
             cond = assess_buffer(buf, nr, lo, hi, eta)
             res = _buffer_result(lo, hi, nr, m, buf, conditioning=cond, k=k)
+            s2, l2 = buf[:6], buf[6:12]
+        if not cond.trusted and cond.reason in _RECOVERABLE_REASONS():
+            again = _recovered_single(B, Q, L, s2, l2, eta, k)
+            if again is not None:
+                res, cond = again, again.conditioning
         if method == "auto":
             from .auto import escalate
             return escalate(res, base, platform, legs, dps=dps, tol=tol)
@@ -236,6 +242,34 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
                       "see .trusted, or use method='auto'", ConditioningWarning,
                       stacklevel=2)
     return out
+
+
+def _RECOVERABLE_REASONS():
+    """The reasons of the proof's verdicts after which a problem is solved again from
+    the proof's own isolation of its roots (:data:`.batched._RECOVERABLE`)."""
+    from .batched import _RECOVERABLE
+    return {_VERDICTS()[v] for v in _RECOVERABLE}
+
+
+def _recovered_single(B, Q, L, s2, l2, eta, k):
+    """A single problem whose fast answer the proof refused as miscounted, solved again
+    the batched tier's way (:func:`.batched.solve_fast` on one row, the proof, then
+    :func:`.batched.recover_flagged` where the proof refuses that too): its
+    :class:`AssemblyResult`, proved, or None when no answer is proved (then the refused
+    answer stands, with its warning).  The same squared lengths ``s2``, ``l2`` and ``eta`` as the
+    single solve; ``k``: the normalising exponent (:mod:`.scaling`)."""
+    from .batched import recover_flagged, solve_fast
+    from .descartes import vouch_many
+    one = [np.ascontiguousarray(np.asarray(a, dtype=float)[None]) for a in (B, Q, L, s2, l2)]
+    raw = solve_fast(*one)
+    etas, verdict, radii = np.full(1, eta), np.empty(1, np.int64), np.empty((1, 8))
+    vouch_many(raw["data"], one[3], one[4], etas, raw["lo"], raw["hi"], raw["roots"],
+               raw["status"], verdict, radii)
+    if verdict[0] != 0 and not recover_flagged(*one, raw, etas, verdict, radii).size:
+        return None
+    raw["verdict"], raw["radii"] = verdict, radii
+    _scale_back(raw, np.array([k]))
+    return _fast_result(raw, 0)
 
 
 def _scale_back(raw, k):

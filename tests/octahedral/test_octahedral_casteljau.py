@@ -279,3 +279,26 @@ def test_recovery_never_replaces_with_an_unproved_answer():
     assert np.array_equal(fast.count[other], bare.count[other])
     assert (fast.verdict[other][~fast.trusted[other]] != 0).all()
     assert (~fast.trusted).sum() >= 100
+
+
+def test_single_solve_recovers_as_the_batched_tier_does():
+    """The single solve's default call on random octahedron 1678 of seed 17 (the pair
+    its sign scan misses): no warning, proved, the batched tier's 8 poses bit for bit;
+    ``auto`` keeps it in the fast tier; the bare call (``warn=False``, no proof) still
+    gives the scan's 6 poses."""
+    import warnings
+
+    from distkin.octahedral import forward_kinematics, forward_kinematics_batched
+    from distkin.octahedral.reference import random_octahedron
+    rng = np.random.default_rng(17)
+    probs = [random_octahedron(rng)[:3] for _ in range(1679)]
+    b, p, legs = (np.asarray(v, dtype=float) for v in probs[1678])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        one = forward_kinematics(b, p, legs)
+    assert one.conditioning.trusted and len(one) == 8
+    batch = forward_kinematics_batched(b[None], p[None], legs[None]).result(0)
+    assert [q.s15 for q in one.poses] == [q.s15 for q in batch.poses]
+    assert all(np.array_equal(q.points, r.points) for q, r in zip(one.poses, batch.poses))
+    assert forward_kinematics(b, p, legs, method="auto").tier == "fast"
+    assert len(forward_kinematics(b, p, legs, warn=False)) == 6
