@@ -140,14 +140,14 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
             raw = solve_fast_single(B, Q, L)
             cond = assess(raw.sides2, raw.legs2, raw.data, raw.lo, raw.hi, raw.roots, eta)
             res = _single_result(raw, conditioning=cond, k=k)
-            s2, l2 = raw.sides2, raw.legs2
+            s2, l2, d, lo, hi = raw.sides2, raw.legs2, raw.data, raw.lo, raw.hi
         else:
             lo, hi, nr, m, buf = out
             cond = assess_buffer(buf, nr, lo, hi, eta)
             res = _buffer_result(lo, hi, nr, m, buf, conditioning=cond, k=k)
-            s2, l2 = buf[:6], buf[6:12]
+            s2, l2, d = buf[:6], buf[6:12], buf[12:51]
         if not cond.trusted and cond.reason in _RECOVERABLE_REASONS():
-            again = _recovered_single(B, Q, L, s2, l2, eta, k)
+            again = _recovered_single(B, Q, L, s2, l2, d, lo, hi, eta, k)
             if again is not None:
                 res, cond = again, again.conditioning
         if method == "auto":
@@ -251,15 +251,22 @@ def _RECOVERABLE_REASONS():
     return {_VERDICTS()[v] for v in _RECOVERABLE}
 
 
-def _recovered_single(B, Q, L, s2, l2, eta, k):
+def _recovered_single(B, Q, L, s2, l2, d, lo, hi, eta, k):
     """A single problem whose fast answer the proof refused as miscounted, solved again
     the batched tier's way (:func:`.batched.solve_fast` on one row, the proof, then
     :func:`.batched.recover_flagged` where the proof refuses that too): its
     :class:`AssemblyResult`, proved, or None when no answer is proved (then the refused
     answer stands, with its warning).  The same squared lengths ``s2``, ``l2`` and ``eta`` as the
-    single solve; ``k``: the normalising exponent (:mod:`.scaling`)."""
+    single solve, its kernel output ``d`` and triangle bounds ``lo``, ``hi``; ``k``: the
+    normalising exponent (:mod:`.scaling`).  The proof's isolation runs first, on the
+    single solve's own data (a few µs): where it cannot isolate the roots (clusters
+    float64 cannot split, most refused problems of the hard sets) nothing more is
+    tried."""
     from .batched import recover_flagged, solve_fast
-    from .descartes import vouch_many
+    from .descartes import recover, vouch_many
+    if recover(d, np.asarray(s2, dtype=float), np.asarray(l2, dtype=float), eta, lo, hi,
+               np.empty(8))[0] < 0:
+        return None
     one = [np.ascontiguousarray(np.asarray(a, dtype=float)[None]) for a in (B, Q, L, s2, l2)]
     raw = solve_fast(*one)
     etas, verdict, radii = np.full(1, eta), np.empty(1, np.int64), np.empty((1, 8))
