@@ -121,7 +121,8 @@ def solve_fast(B, Q, L, sides2, legs2):
 #: solves a problem again: two roots too close for a cut, a piece with more roots than
 #: found, a piece with none
 _RECOVERABLE = (3, 4, 5)
-#: the row-wise arrays of :func:`solve_fast` that :func:`recover_flagged` writes back
+#: the row-wise arrays of :func:`solve_fast` that :func:`recover_flagged` writes back, in
+#: the order :func:`.placement.place_many` returns them
 _ROWS = ("roots", "step", "status", "slot", "count", "s15", "points", "rotation",
          "translation", "leg_error", "leg_error_rel")
 
@@ -168,9 +169,7 @@ def recover_flagged(B, Q, L, sides2, legs2, raw, eta, verdict, radii):
     row = np.concatenate(rows)
     status, x, step = polish_scan(data, row, np.concatenate(xs), np.concatenate(steps), lo,
                                   hi, c, doubt)
-    new = dict(zip(("roots", "step", "status", "slot", "count", "s15", "points", "rotation",
-                    "translation", "leg_error", "leg_error_rel"),
-                   place_many(Bs, Qs, Ls, s2, l2, lo, hi, c, row, x, step, status)))
+    new = dict(zip(_ROWS, place_many(Bs, Qs, Ls, s2, l2, lo, hi, c, row, x, step, status)))
     v, r = np.empty(idx.size, np.int64), np.empty((idx.size, 8))
     vouch_many(data, s2, l2, np.ascontiguousarray(eta[idx]), lo, hi, new["roots"],
                new["status"], v, r)

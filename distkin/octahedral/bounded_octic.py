@@ -262,11 +262,6 @@ def _status(d, e, x, rho):
     return -1
 
 
-@numba.njit(cache=True, inline="always")
-def _proved(v, e):
-    return 1 if v > e else (-1 if v < -e else 0)
-
-
 @numba.njit(cache=True)
 def _grow(d, e, r, rho, lim, lo_in, hi_in):
     """Step 6's radius: from ``rho``, times 16 while below ``lim``, until H has proved

@@ -121,9 +121,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .bounded_octic import (_bernstein, _bracketed, _count, _first_radius, _grow, _proved,
-                            _sign, _status)
-from .casteljau import STACK, _changes, count, cut_point, split, unscale, weights
+from .bounded_octic import _bernstein, _bracketed, _count, _first_radius, _grow, _sign, _status
+from .casteljau import STACK, _changes, _sign_of, count, cut_point, split, unscale, weights
 from .error_bounds import (ETA_FLOAT, LEAF_BOUND, U, error_cache, eta_rounded, margin,
                            part_errors, part_errors_into)
 
@@ -279,7 +278,7 @@ def _vouch_split(d, e, a, b, first, m, roots, codes, radii, tight, ws):
     _bernstein(d, e, a, b, W, B, EB)
     v = _changes(B, EB)
     cuts[0], cuts[m], ecut[0], ecut[m] = a, b, 0.0, 0.0
-    signs[0], signs[m] = _proved(B[0], EB[0]), _proved(B[8], EB[8])
+    signs[0], signs[m] = _sign_of(B[0], EB[0]), _sign_of(B[8], EB[8])
     if signs[0] == 0 or signs[m] == 0:
         signs[0], signs[m] = _sign(d, e, a), _sign(d, e, b)
         if signs[0] == 0 or signs[m] == 0:

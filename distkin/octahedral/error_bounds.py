@@ -17,8 +17,8 @@ import numpy as np
 from .._generated.octic_general import (PARTS_DEGREE, PARTS_DEPTH, PARTS_UNDERFLOW,
                                         parts_magnitude)
 
-__all__ = ["part_errors", "part_errors_into", "error_cache", "margin", "eta_rounded", "U", "ETA_FLOAT", "LEAF_BOUND",
-           "LEAF_MIN"]
+__all__ = ["part_errors", "part_errors_into", "error_cache", "margin", "eta_rounded", "U",
+           "ETA_FLOAT", "LEAF_BOUND", "LEAF_MIN"]
 
 _magnitude_into = numba.njit(cache=True)(parts_magnitude)
 

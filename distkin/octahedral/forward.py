@@ -256,9 +256,9 @@ def _recovered_single(B, Q, L, s2, l2, d, lo, hi, eta, k):
     the batched tier's way (:func:`.batched.solve_fast` on one row, the proof, then
     :func:`.batched.recover_flagged` where the proof refuses that too): its
     :class:`AssemblyResult`, proved, or None when no answer is proved (then the refused
-    answer stands, with its warning).  The same squared lengths ``s2``, ``l2`` and ``eta`` as the
-    single solve, its kernel output ``d`` and triangle bounds ``lo``, ``hi``; ``k``: the
-    normalising exponent (:mod:`.scaling`).  The proof's isolation runs first, on the
+    answer stands, with its warning).  The same squared lengths ``s2``, ``l2`` and
+    ``eta`` as the single solve, its kernel output ``d`` and triangle bounds ``lo``,
+    ``hi``; ``k``: the normalising exponent (:mod:`.scaling`).  The proof's isolation runs first, on the
     single solve's own data (a few µs): where it cannot isolate the roots (clusters
     float64 cannot split, most refused problems of the hard sets) nothing more is
     tried."""
