@@ -212,11 +212,11 @@ def solve_scan_single(B, Q, L):
     eigenvalues of :func:`.single.solve_fast_single` (LAPACK's ``dgeev``, ~14 µs, most
     of a single solve).  A problem the scan doubts goes the careful way, to
     :func:`.single.solve_fast_single` itself, as in the batched tier.  The answer is the
-    batched tier's for the same squared lengths; the two entry points compute those with
-    sums in different orders (``_squares`` here, ``einsum`` in
-    :func:`.problem.float_problem`), so their last bits can differ, and on problems
-    float64 cannot decide (6 of the 240 near-line family problems of
-    :func:`.hardset.hard_families`, none proved) so can the answers
+    batched tier's, bit for bit: both entry points compute the squared lengths with the
+    same formula (:func:`.problem.sides_into`; until issue 17's last round the batched
+    checks summed with numpy's ``einsum`` in another order, and 22 of the 240 family
+    problems of :func:`.hardset.hard_families` differed in their last bits, one in its
+    count), and every later stage is the same compiled code
     (tests/octahedral/test_octahedral_signscan.py compares the routes).
 
     The compiled part returns everything in one float64 buffer (:func:`_scan_single`;

@@ -13,6 +13,7 @@ import numba
 import numpy as np
 
 from .._generated.octic_general import octic_rows as _octic_rows, octic_scalar
+from .problem import sides_into
 
 __all__ = ["octic_array", "octic_rows", "bounds", "companion", "eigenvalues"]
 
@@ -34,13 +35,10 @@ except Exception:  # pragma: no cover - other numpy layouts: the public function
 
 @_jit
 def _squares(B, Q, L):
-    """Squared sides s12 s13 s23 s45 s46 s56 and squared legs of one problem."""
+    """Squared sides s12 s13 s23 s45 s46 s56 (:func:`.problem.sides_into`: the batched
+    tier's numbers) and squared legs of one problem."""
     s2 = np.empty(6)
-    for k in range(2):
-        P = B if k == 0 else Q
-        for m, (i, j) in enumerate(((0, 1), (0, 2), (1, 2))):
-            dx, dy, dz = P[i, 0] - P[j, 0], P[i, 1] - P[j, 1], P[i, 2] - P[j, 2]
-            s2[3 * k + m] = dx * dx + dy * dy + dz * dz
+    sides_into(B, Q, s2)
     return s2, L * L
 
 

@@ -22,7 +22,7 @@ from .banana import LEG_PAIRS, SIDE_PAIRS
 from .scaling import KEEP, check_range, exponent, exponents, scale_problem
 
 __all__ = ["Problem", "exact_problem", "float_problem", "float_single", "LEG_PAIRS",
-           "SIDE_PAIRS", "REASONS"]
+           "SIDE_PAIRS", "REASONS", "sides_into"]
 
 #: status codes of the real roots the fast tier finds, and what they mean
 REASONS = {
@@ -229,20 +229,21 @@ def float_problem(base, platform, legs):
 
     Float64 arrays ``(N, 3, 3)``, ``(N, 3, 3)``, ``(N, 6)`` (C-contiguous) whose problems
     all pass the checks of :func:`float_single` without rescaling (:func:`_arrays_ok`,
-    compiled, problem by problem) are returned as they are, with the same squared
-    lengths (:func:`_sides2`), ``k`` and ``rounded`` zero (issue 17: the general path's
-    ~30 numpy calls cost ~0.3 µs per problem); everything else takes the general path,
-    which raises the errors.
+    compiled, problem by problem, the squared lengths computed in the same pass: the
+    numbers of :func:`_sides2` and of the single solve) are returned as they are, ``k``
+    and ``rounded`` zero (issue 17: the general path's ~30 numpy calls cost ~0.3 µs per
+    problem); everything else takes the general path, which raises the errors.
     """
     if (type(base) is np.ndarray and type(platform) is np.ndarray and type(legs) is np.ndarray
             and base.dtype == _F8 and platform.dtype == _F8 and legs.dtype == _F8
             and base.ndim == 3 and base.shape[0] > 0 and base.shape[1:] == _SHAPE33
             and platform.shape == base.shape and legs.shape == (base.shape[0], 6)
             and base.flags.c_contiguous and platform.flags.c_contiguous
-            and legs.flags.c_contiguous and _batch_ok(base, platform, legs)):
+            and legs.flags.c_contiguous):
         n = base.shape[0]
-        return (base, platform, legs, _sides2(base, platform), legs * legs,
-                np.zeros(n, np.int64), np.zeros(n, bool))
+        s2, l2 = np.empty((n, 6)), np.empty((n, 6))
+        if _batch_ok(base, platform, legs, s2, l2):
+            return base, platform, legs, s2, l2, np.zeros(n, np.int64), np.zeros(n, bool)
 
     def arr(value, field, shape):
         a, exact = _floats(value, field)
@@ -292,17 +293,31 @@ def float_problem(base, platform, legs):
     return B, Q, L, sides2, L * L, k, rounded
 
 
+@numba.njit(cache=True)
 def _sides2(B, Q):
     """The squared sides s12 s13 s23 s45 s46 s56 (N, 6) of the base and platform
-    triangles B, Q (N, 3, 3) (numpy; the fast tier's squared lengths, bit for bit those
-    of every batched solve)."""
-    pts = np.concatenate([B, Q], axis=1)
-    return np.stack([_d2(pts, i, j) for i, j in SIDE_PAIRS], -1)
+    triangles B, Q (N, 3, 3), compiled: :func:`sides_into` row by row, so that a batched
+    solve and a single one (:func:`.companion._squares`) start from the same squared
+    lengths, bit for bit (before, numpy's ``einsum`` summed in another order: a quarter
+    of the values differed in the last bit on random data)."""
+    out = np.empty((B.shape[0], 6))
+    for i in range(B.shape[0]):
+        sides_into(B[i], Q[i], out[i])
+    return out
 
 
-def _d2(pts, i, j):
-    d = pts[:, i - 1] - pts[:, j - 1]
-    return np.einsum("nk,nk->n", d, d)
+@numba.njit(cache=True)
+def sides_into(B, Q, out):
+    """The squared sides s12 s13 s23 s45 s46 s56 (the pairs of
+    :data:`~.banana.SIDE_PAIRS`) of the triangles B, Q (3, 3) into ``out`` (6,):
+    :math:`(x_i - x_j)^2 + (y_i - y_j)^2 + (z_i - z_j)^2`, summed left to right.  The one
+    formula of the fast tier's squared sides, single and batched."""
+    for k in range(2):
+        P = B if k == 0 else Q
+        for m in range(3):
+            i, j = (0, 0, 1)[m], (1, 2, 2)[m]
+            dx, dy, dz = P[i, 0] - P[j, 0], P[i, 1] - P[j, 1], P[i, 2] - P[j, 2]
+            out[3 * k + m] = dx * dx + dy * dy + dz * dz
 
 
 def float_single(base, platform, legs):
@@ -376,14 +391,20 @@ def _arrays_ok(B, Q, L):
     (issue 17): every value finite, legs positive, the largest modulus in
     [_SMALL, _LARGE) (no rescaling), both triangles proper (the same formula and
     threshold).  False sends the data down the general path, which raises the error."""
+    return _row_ok(B, Q, L, np.empty(6))
+
+
+@numba.njit(cache=True)
+def _row_ok(B, Q, L, s2):
+    """:func:`_arrays_ok`, the squared sides left in ``s2`` (6,) (:func:`sides_into`;
+    the triangle test reads them: the same numbers as the general path's)."""
     largest = 0.0
-    for P in (B, Q):
-        for i in range(3):
-            for j in range(3):
-                v = P[i, j]
-                if not math.isfinite(v):
-                    return False
-                largest = max(largest, abs(v))
+    for i in range(3):
+        for j in range(3):
+            v, w = B[i, j], Q[i, j]
+            if not (math.isfinite(v) and math.isfinite(w)):
+                return False
+            largest = max(largest, abs(v), abs(w))
     for i in range(6):
         v = L[i]
         if not (math.isfinite(v) and v > 0):
@@ -391,24 +412,23 @@ def _arrays_ok(B, Q, L):
         largest = max(largest, v)
     if not _SMALL <= largest < _LARGE:
         return False
-    for P in (B, Q):
-        ax, ay, az = P[0, 0], P[0, 1], P[0, 2]
-        bx, by, bz = P[1, 0], P[1, 1], P[1, 2]
-        cx, cy, cz = P[2, 0], P[2, 1], P[2, 2]
-        a = (ax - bx) ** 2 + (ay - by) ** 2 + (az - bz) ** 2
-        b = (ax - cx) ** 2 + (ay - cy) ** 2 + (az - cz) ** 2
-        c = (bx - cx) ** 2 + (by - cy) ** 2 + (bz - cz) ** 2
+    sides_into(B, Q, s2)
+    for t in (0, 3):
+        a, b, c = s2[t], s2[t + 1], s2[t + 2]
         if not 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c) > 1e-12 * (a + b + c) ** 2:
             return False
     return True
 
 
 @numba.njit(cache=True)
-def _batch_ok(B, Q, L):
-    """:func:`_arrays_ok` for every problem of (N, 3, 3), (N, 3, 3), (N, 6) arrays."""
+def _batch_ok(B, Q, L, s2, l2):
+    """:func:`_row_ok` for every problem of (N, 3, 3), (N, 3, 3), (N, 6) arrays, the
+    squared sides and legs written to ``s2``, ``l2`` (N, 6)."""
     for i in range(B.shape[0]):
-        if not _arrays_ok(B[i], Q[i], L[i]):
+        if not _row_ok(B[i], Q[i], L[i], s2[i]):
             return False
+        for j in range(6):
+            l2[i, j] = L[i, j] * L[i, j]
     return True
 
 
