@@ -277,7 +277,7 @@ def _random_batches(near):
 
 #: main before this session's octahedral work (the cheaper proof, the recovery; issue 17's
 #: last octahedral target; the tree the before/after table times)
-BASELINE_REV = "bde4182"
+BASELINE_REV = "4b6c4f2"
 
 _BASELINE_SCRIPT = """
 import inspect, json, time, warnings
@@ -415,6 +415,25 @@ _PERF_OCT_3 = [
     "result arrays only when it escalates something (~1.1 µs per problem). (6) The "
     "placement compiled with numba's numpy error model (no zero-divisor checks; every "
     "divisor is a side of a checked triangle or guarded; ~5 %, the same bits).",
+    "",
+    "One formula for the squared sides (2026-11-26, second session; main at `4b6c4f2`, "
+    "the end of the work above, is the before of the table above; against `bde4182` "
+    "run (25) measured fast batched 6.90 -> 6.47 µs, auto 9.30 -> 6.51 µs). The batched "
+    "input checks computed the squared sides with numpy's `einsum`, which sums in "
+    "another order than the single solve's compiled loop: on coordinates off the xy "
+    "plane about a quarter of the squared sides differed in the last bit, and 22 of "
+    "the 240 family problems of `hard_families()` gave the single and the batched "
+    "tier different last bits, one of them a different count (4 poses single, 0 "
+    "batched). Now one compiled formula serves both (`problem.sides_into`), in the same "
+    "pass as the checks of float64 arrays: a batched row equals the single solve bit "
+    "for bit (tests/octahedral/test_octahedral_signscan.py), and the input checks cost "
+    "~0.2 -> ~0.1 µs per problem (ad hoc, best of 7). Measured and not pursued: the "
+    "proof's subdivision as the isolator of the roots in the feasible interval "
+    "(`descartes.recover` on every problem, bracketed Newton on the rebuilt octic "
+    "included) costs ~4.2 µs per problem on these 2000 random octahedra, more than the "
+    "scan and the proof together (~3.8 µs), and would still leave the roots outside the "
+    "interval, which the result reports, to a scan: the single isolator that 3 µs needs "
+    "is not this one.",
     "",
     "Tried and dropped in the same work (helper branch `lean-scan`, measured on these "
     "2000 random octahedra in one process against main's route): the proof as the "
