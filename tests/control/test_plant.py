@@ -52,12 +52,23 @@ def test_zero_torque_lets_the_platform_fall_and_hold_keeps_it(model):
     assert abs(hold.pose[2] - model.home[2]) < 2e-4             # joint PD at the device
 
 
-def test_drive_envelope_matches_the_paper_figures():
+def test_drive_envelope_matches_the_paper_figures(model):
+    """Kühne et al. Sec. III-B.3: ±2.5 N·m nominal, ±34.2 N·m stall and ±51 rad/s
+    nominal velocity after gearing; Sec. IV: capstan ratio 1:13.  The drives' linear
+    torque-speed line must pass through the paper's two points, stall torque at rest and
+    nominal torque at nominal speed: read through Plant.drive (compiled and numpy
+    plants), not through the Motors formula for the no-load speed."""
     mo = Motors()
-    # nominal torque available at the nominal speed (Kühne et al. Sec. III-B.3)
-    assert mo.stall_torque * (1 - mo.nominal_speed / mo.no_load_speed) == \
-        pytest.approx(mo.nominal_torque)
-    assert mo.gear == 13.0 and mo.stall_torque == 34.2
+    assert (mo.nominal_torque, mo.stall_torque, mo.nominal_speed, mo.gear) == \
+        (2.5, 34.2, 51.0, 13.0)
+    for m in (model, load_model("octo", compiled=False)):
+        p = Plant(m, mo)
+        p.qdot = np.zeros(m.L)
+        np.testing.assert_allclose(p.drive(np.full(m.L, 100.0)), 34.2, rtol=1e-15)
+        p.qdot = np.full(m.L, 51.0)
+        np.testing.assert_allclose(p.drive(np.full(m.L, 100.0)), 2.5, rtol=1e-12)
+        p.qdot = np.full(m.L, -51.0)
+        np.testing.assert_allclose(p.drive(np.full(m.L, -100.0)), -2.5, rtol=1e-12)
 
 
 def test_drive_saturates_at_stall_and_falls_with_speed(model):
