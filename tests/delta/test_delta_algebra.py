@@ -14,20 +14,14 @@ from distkin.delta import (ROWS, delta_matrices, delta_transform, derive_eq7,
                            equivalent_platform)
 from distkin.errors import DegenerateGeometryError, InfeasibleError, InputError
 
+from delta_printed import printed_det
+
 GD = ([[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]], [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]])
 # Sec. VI, the printed m-legs and l-legs
 M_LEGS = ["6/25*sqrt(6170)", "6/5*sqrt(221)", "1/5*sqrt(7349)", "1/50*sqrt(674605)",
           "1/25*sqrt(136210)", "1/5*sqrt(8153)"]
 L_LEGS = [sp.Rational(198, 10), 18, 18, 17, sp.Rational(149, 10), sp.Rational(178, 10)]
 R = sp.Rational
-
-
-def _printed_det(D1, D2):
-    """det(A) as printed in Sec. VI."""
-    return (-R(1, 20736) * D1**3 * D2**2 - R(1, 10368) * D1**2 * D2**3 + R(1, 3456) * D1**3 * D2
-            + R(1, 576) * D1**2 * D2**2 + R(1, 864) * D1 * D2**3 - R(1, 1728) * D1**3
-            - R(1, 96) * D1**2 * D2 - R(1, 48) * D1 * D2**2 - R(1, 216) * D2**3 + R(1, 48) * D1**2
-            + R(1, 8) * D1 * D2 + R(1, 12) * D2**2 - R(1, 4) * D1 - R(1, 2) * D2 + 1)
 
 
 def test_eq7_is_the_square_root_of_the_cayley_menger_determinant():
@@ -99,7 +93,7 @@ def test_printed_m_legs_map_exactly_onto_the_l_legs():
 def test_det_equals_printed_polynomial_exactly():
     fam = delta_transform(GD, ["Delta1", "Delta2"] * 3)
     D1, D2 = fam.free_symbols
-    assert sp.expand(fam.det - _printed_det(D1, D2)) == 0
+    assert sp.expand(fam.det - printed_det(D1, D2)) == 0
 
 
 def test_det_factors_and_singular_locus():
@@ -130,7 +124,8 @@ def test_paper_line_delta1_plus_delta2_is_not_singular_for_this_example():
     D1, D2 = fam.free_symbols
     vals = [fam.det.subs({D1: x, D2: 12 - x}) for x in (R(3), R(6), R(9))]
     assert all(v != 0 for v in vals)
-    assert fam.det.subs({D1: 6, D2: 6}) == R(-1, 8)
+    # at (6, 6) on that line: the printed polynomial of Sec. VI gives -1/8
+    assert fam.det.subs({D1: 6, D2: 6}) == printed_det(R(6), R(6)) == R(-1, 8)
 
 
 def test_singular_offsets_raise_naming_the_factor():

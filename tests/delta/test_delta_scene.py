@@ -16,6 +16,8 @@ from distkin.app.cli import main, run_scene
 from distkin.errors import DegenerateGeometryError, InfeasibleError
 from distkin.app.scene import loads_scene
 
+from delta_printed import printed_det
+
 HEAD = textwrap.dedent("""
     [units]
     length = "none"
@@ -69,7 +71,9 @@ def test_numeric_offsets_map_legs_exactly():
     assert worst == 0, records
     res = records[0]["result"]
     assert res["mapped_legs"] == ["99/5", "18", "18", "17", "149/10", "89/5"]
-    assert res["det"] == "819/3125" and res["det_factors"] == []
+    # det A: Sec. VI's printed polynomial at Δ1 = 12/5, Δ2 = 6/5 (819/3125)
+    assert res["det"] == str(printed_det(sp.Rational(12, 5), sp.Rational(6, 5))) == "819/3125"
+    assert res["det_factors"] == []
     assert "l1 = 99/5" in texts[0]
 
 
@@ -106,7 +110,7 @@ def test_infeasible_m_legs_api_and_cli(tmp_path, capsys):
     f.write_text(_scene(body))
     assert main(["run", str(f), "--json", str(tmp_path / "out.json")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "negative" in err[0] or "non-negative" in err[0]
+    assert len(err) == 1 and "negative" in err[0]
     doc = json.loads((tmp_path / "out.json").read_text())
     assert doc["queries"][0]["status"] == "error"
     assert doc["queries"][0]["error"]["kind"] == "infeasible"
@@ -226,7 +230,8 @@ def test_platform66_kind_forward_kinematics():
     fk = records[0]["result"]
     assert fk["mapped_legs"] == ["99/5", "18", "18", "17", "149/10", "89/5"]
     assert fk["count"] == 12 and fk["max_leg_error"] < 1e-12
-    assert records[1]["result"]["det"] == "819/3125"
+    det = printed_det(sp.Rational(12, 5), sp.Rational(6, 5))       # Sec. VI, printed
+    assert records[1]["result"]["det"] == str(det)
 
 
 def test_platform66_kind_rejects_singular_offsets_in_cli(tmp_path):
