@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from indices_helpers import random_reachable_poses, rel_err
 
+from distkin.indices import worst_case_output
 from distkin.indices.slice_farthest import slice_farthest_unit
 from distkin.indices.study import QUANTITIES, evaluate_poses
 from distkin.indices.study_compiled import study_indices
@@ -39,6 +40,18 @@ def test_a_singular_pose_is_flagged_and_computed_by_the_numpy_route(presets):
     act = {"nominal_torque": 2.5, "stall_torque": 34.2, "velocity": 51.0}
     *_, flag = study_indices(J, Jq, M, act, (15, 15, 15, 1, 1, 1))
     assert flag.tolist() == [False, False, True, False, False]
+    # the study's values at the flagged pose are the numpy route's, bit for bit; there
+    # the zero-torque force slice is finite (docs/design.md §6: the plain formula gives
+    # inf) and equals the public zonotope kernel on Jᵀ
+    from distkin.indices.study import _indices_compiled, _indices_numpy
+    out = _indices_compiled(J, Jq, M, act, (15, 15, 15, 1, 1, 1), "slice")
+    ref = _indices_numpy(J[2:3], Jq[2:3], M, act, (15, 15, 15, 1, 1, 1), "slice")
+    assert set(ref) <= set(out)
+    for q, v in ref.items():
+        assert np.array_equal(out[q][2:3], v, equal_nan=True), q
+    f = worst_case_output(J[2].T, -2.5, 2.5, [0, 1, 2])
+    assert np.isfinite(f) and f > 0
+    assert out["force"][2] == pytest.approx(f, rel=1e-12)
 
 
 def test_chunks_change_nothing(presets):
