@@ -50,6 +50,7 @@ def test_approaching_a_double_root(family):
     cases = [c for c in hard_set() if c.name.startswith(family) and c.family != "scale"]
     assert len(cases) >= 10
     warned_at_closest = []
+    sturm_checked = 0
     for c in cases:
         fast, warned = _fast(c)
         right = (len(fast.assembly_roots), len(fast)) == (c.modes, c.poses)
@@ -62,7 +63,11 @@ def test_approaching_a_double_root(family):
         except UncertifiedError:
             continue
         assert cert.real_root_count == _sturm(cert.octic), c.name
+        sturm_checked += 1
     assert any(warned_at_closest)
+    # not vacuous: the certified tier answers (all 14 cases of each family today), so
+    # its counts are compared with Sturm's, not skipped
+    assert sturm_checked >= len(cases) // 2
 
 
 def test_limit_of_assemblability():
