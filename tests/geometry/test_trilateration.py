@@ -66,9 +66,18 @@ def test_round_trip_error_report():
     for scale, med, mx in errs:
         print(f"{scale:8.0e}   {med:12.2e}   {mx:12.2e}")
     worst = max(e[2] for e in errs)
-    # the errors are scale-invariant: the same inputs scaled by 10^k give the same
-    # relative error to within rounding
     assert worst < 1e-8
+    # the errors are scale-invariant: the same inputs scaled by 2^k (exact in binary)
+    # give the same points scaled by 2^k, bit for bit
+    A = rng.normal(size=(200, 3, 3))
+    p = rng.normal(size=(200, 3))
+    s = ((A - p[:, None, :]) ** 2).sum(axis=2)
+    n = np.cross(A[:, 1] - A[:, 0], A[:, 2] - A[:, 0])
+    side = np.where(np.einsum("ij,ij->i", p - A[:, 0], n) >= 0, 1.0, -1.0)
+    ref = trilaterate(A, s, side)
+    for k in (-40, -7, 5, 40):
+        f = 2.0 ** k
+        assert np.array_equal(trilaterate(A * f, s * f * f, side) / f, ref), k
 
 
 def test_mirror_pair_and_side_convention():
