@@ -62,6 +62,14 @@ def test_queries_match_api():
     fk = records[2]["result"]
     assert fk["converged"] and fk["residual"] < 1e-5       # angles rounded to 0.01 deg
     np.testing.assert_allclose(fk["pose"][:3], [0.025, -0.015, 0.320], atol=1e-4)
+    # the pose whose IK the scene's angles are (its comment), to first order in the
+    # rounding: |(dp, dw)| <= |dq| / sigma_min(J) with |dq_i| <= 0.005 deg
+    from distkin.spatial import pose_error
+    target = np.array([0.025, -0.015, 0.320, *np.radians([10, -5, 15])])
+    bound = np.sqrt(8) * np.radians(0.005) / np.linalg.svd(m.jacobian(target),
+                                                           compute_uv=False)[-1]
+    dp, dw = pose_error(np.array(fk["pose"]), target)
+    assert np.hypot(dp, dw) <= bound
     assert " mm" in texts[0] and " deg" in texts[0] and "kappa" in texts[1]
 
 
