@@ -7,11 +7,9 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq, minimize_scalar
 
-pytest.importorskip("flint")
-
-from distkin.certify.boxes import (REGULAR, SINGULAR, UNDECIDED, branch_and_prune,  # noqa: E402
+from distkin.certify.boxes import (REGULAR, SINGULAR, UNDECIDED, branch_and_prune,
                                    certify_box)
-from distkin.mechanisms import preset  # noqa: E402
+from distkin.mechanisms import preset
 
 H = 0.075
 

@@ -8,13 +8,11 @@ import math
 
 import numpy as np
 import pytest
+from flint import arb
 
-flint = pytest.importorskip("flint")
-from flint import arb  # noqa: E402
-
-from distkin.certify.intervals import FORMS, Affine, Grad, enclose_box, point_values  # noqa: E402
-from distkin.exact_roots import working_precision  # noqa: E402
-from distkin.mechanisms import preset  # noqa: E402
+from distkin.certify.intervals import FORMS, Affine, Grad, enclose_box, point_values
+from distkin.exact_roots import working_precision
+from distkin.mechanisms import preset
 
 
 def _upper(x) -> float:

@@ -11,13 +11,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-pytest.importorskip("flint")
-
-from distkin.certify.workspace import certify_workspace, initial_boxes  # noqa: E402
-from distkin.app.cli import run_scene  # noqa: E402
-from distkin.errors import InputError  # noqa: E402
-from distkin.mechanisms import preset  # noqa: E402
-from distkin.app.scene import loads_scene  # noqa: E402
+from distkin.certify.workspace import certify_workspace, initial_boxes
+from distkin.app.cli import run_scene
+from distkin.errors import InputError
+from distkin.mechanisms import preset
+from distkin.app.scene import loads_scene
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -204,7 +204,6 @@ def test_bad_pose_shape():
 
 
 def test_plot_draws(tmp_path):
-    pytest.importorskip("matplotlib")
     from distkin.mechanisms.plot import plot_poses
     m = preset("octo")
     paths = plot_poses(m, [m.home, m.home + [0.02, 0, 0.01, 0.2, 0, 0]], tmp_path / "octo")

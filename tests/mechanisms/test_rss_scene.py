@@ -109,7 +109,6 @@ def test_fk_failure_is_an_error_record():
 
 
 def test_cli_run_and_plots(tmp_path):
-    pytest.importorskip("matplotlib")
     import os
     env = dict(os.environ, DISTKIN_CACHE=str(tmp_path / "cache"))
     r = subprocess.run([sys.executable, "-m", "distkin", "run", "examples/rss_octo_custom.toml",
