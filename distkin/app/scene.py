@@ -40,6 +40,7 @@ __all__ = [
     "Query",
     "Scene",
     "MECHANISM_PARSERS",
+    "ANCHORS",
     "load_scene",
     "loads_scene",
 ]
@@ -117,6 +118,10 @@ MECHANISM_PARSERS = {
 #: kinds whose tables may name files relative to the scene (the parser gets its path)
 _WITH_PATH = ("legs",)
 
+#: the roots of a scene's field names; an error whose field starts with none of them
+#: came from inside a query and is re-anchored there ("dps" -> "query[0].dps")
+ANCHORS = ("query", "mechanism", "units")
+
 
 @dataclass(frozen=True)
 class Query:
@@ -171,8 +176,8 @@ def loads_scene(text: str, path: str = "<string>") -> Scene:
         try:
             params = spec.parse(q, mechanism, units, fld)
         except DistkinError as exc:
-            if exc.field is None:
-                exc.with_field(fld)
+            if exc.field is None or not exc.field.startswith(ANCHORS):
+                exc.with_field(fld)              # "dps" -> "query[0].dps"
             raise
         parsed.append(Query(i, qtype, params, MappingProxyType(dict(q))))
     return Scene(str(path), units, mechanism, MappingProxyType(dict(mtable)), tuple(parsed))
