@@ -106,6 +106,7 @@ def run_scene(scene, *, plots_dir=None, progress=True, store=None, workers=None,
     from . import registry as queries
     from .registry import RunContext
     from .report import jsonable
+    from .scene import ANCHORS
     ctx = RunContext(plots_dir=Path(plots_dir) if plots_dir else None, progress=progress,
                      store=Path(store) if store else None, workers=workers,
                      scheduler=scheduler)
@@ -122,7 +123,7 @@ def run_scene(scene, *, plots_dir=None, progress=True, store=None, workers=None,
             if ctx.plots_dir is not None and out.plot is not None:
                 text += _plot(out, ctx.plots_dir, q, rec)
         except DistkinError as exc:
-            if exc.field is None or not exc.field.startswith(("query", "mechanism", "units")):
+            if exc.field is None or not exc.field.startswith(ANCHORS):
                 exc.with_field(q.field)          # "legs[0]" -> "query[2].legs[0]"
             rec.update(status="error", result={},
                        error={"kind": exc.kind, "message": exc.one_line()})
