@@ -160,6 +160,7 @@ def _plot(out, plots_dir, q, rec) -> str:
 
 
 def _emit(scene_path, records, texts, args) -> None:
+    from .json_output import write_json
     from .report import document, dumps, render_text
     text = render_text(scene_path, records, texts)
     doc = document(scene_path, records, __version__)
@@ -169,14 +170,15 @@ def _emit(scene_path, records, texts, args) -> None:
     else:
         print(text)
         if args.json:
-            Path(args.json).parent.mkdir(parents=True, exist_ok=True)
-            Path(args.json).write_text(dumps(doc) + "\n", encoding="utf-8")
+            write_json(args.json, dumps(doc))
             print(f"JSON written to {args.json}")
 
 
 def _cmd_run(args) -> int:
+    from .json_output import check_json_path
     from .scene import load_scene
     scene = load_scene(args.scene)
+    check_json_path(args.json)             # before the run: a long sweep loses nothing
     records, texts, worst = run_scene(scene, plots_dir=args.plots,
                                       progress=not args.no_progress,
                                       store=getattr(args, "store", None),
@@ -190,8 +192,10 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_demo(args) -> int:
+    from .json_output import check_json_path, write_json
     from .report import document, dumps
     from .scene import loads_scene
+    check_json_path(args.json)
     worst = 0
     docs = []
     for name in DEMO_SCENES:
@@ -209,7 +213,8 @@ def _cmd_demo(args) -> int:
         if args.json == "-":
             print(payload)
         else:
-            Path(args.json).write_text(payload + "\n", encoding="utf-8")
+            write_json(args.json, payload)
+            print(f"JSON written to {args.json}")
     return worst
 
 

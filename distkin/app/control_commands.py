@@ -160,10 +160,12 @@ def cmd_control(args) -> int:
     from ..control.faults import parse_faults
     from ..control.kinematics import model_of
     from ..control.link import Link
+    from .json_output import check_json_path, write_json
     scene = _scene(args.scene)
     if args.faults and not args.sim:
         raise InputError("expected --faults only with --sim, got it with --port", field="--faults")
     parse_faults(args.faults)              # validate before starting anything
+    check_json_path(args.json)
     tmpdir = None
     prefix = args.log
     if prefix is None and args.plots:
@@ -241,6 +243,5 @@ def cmd_control(args) -> int:
     else:
         print(text)
         if args.json:
-            Path(args.json).parent.mkdir(parents=True, exist_ok=True)
-            Path(args.json).write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
+            write_json(args.json, json.dumps(summary, indent=2))
     return summary["exit_code"]
