@@ -54,18 +54,25 @@ def _add_codegen(sub):
 
 def _add_sweep(sub):
     """``distkin sweep SCENE [--scheduler ADDRESS] [--workers N] [--store DIR]``."""
-    s = sub.add_parser("sweep", help="run a scene's sweeps (performance, design_sweep) on a "
-                                     "local pool or a dask cluster")
+    s = sub.add_parser("sweep", help="run a scene's chunked queries (performance, "
+                                     "design_sweep, certify_workspace) on a local pool or a "
+                                     "dask cluster")
     s.add_argument("scene", help="scene TOML file")
     s.add_argument("--scheduler", metavar="ADDRESS",
                    help="dask.distributed scheduler, e.g. tcp://10.0.0.5:8786 "
                         "(extra 'distributed')")
     s.add_argument("--workers", type=int, metavar="N", help="local worker processes")
     s.add_argument("--store", metavar="DIR", help="directory of the resumable chunks")
-    s.add_argument("--json", metavar="PATH|-")
-    s.add_argument("--plots", metavar="DIR")
-    s.add_argument("--no-progress", action="store_true")
+    _add_output_options(s)
     s.set_defaults(func=_cmd_sweep)
+
+
+def _add_output_options(p) -> None:
+    """``--json``, ``--plots`` and ``--no-progress`` of run, demo and sweep."""
+    p.add_argument("--json", metavar="PATH|-", help="write the JSON result (- for stdout)")
+    p.add_argument("--plots", metavar="DIR", help="write plots into DIR (matplotlib); a plot "
+                                                  "that fails is a warning, never a lost result")
+    p.add_argument("--no-progress", action="store_true", help="no progress bars")
 
 
 def _cmd_sweep(args):
@@ -232,15 +239,10 @@ def build_parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", parser_class=_Parser)
     r = sub.add_parser("run", help="run every query of a scene file")
     r.add_argument("scene", help="scene TOML file")
-    r.add_argument("--json", metavar="PATH|-", help="write the JSON result (- for stdout)")
-    r.add_argument("--plots", metavar="DIR", help="write plots into DIR (matplotlib); a plot "
-                                                  "that fails is a warning, never a lost result")
-    r.add_argument("--no-progress", action="store_true", help="no progress bars")
+    _add_output_options(r)
     r.set_defaults(func=_cmd_run)
     d = sub.add_parser("demo", help="run the built-in demonstration scenes")
-    d.add_argument("--json", metavar="PATH|-")
-    d.add_argument("--plots", metavar="DIR")
-    d.add_argument("--no-progress", action="store_true")
+    _add_output_options(d)
     d.set_defaults(func=_cmd_demo)
     for add in SUBCOMMANDS.values():
         add(sub)
