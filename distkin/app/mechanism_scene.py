@@ -64,4 +64,8 @@ def parse_rss(table, units, field):
         return preset(name, **over)
     except InputError as exc:
         fld = exc.field if exc.field and exc.field != "preset" else None
-        raise InputError(exc.message, field=f"{field}.{fld}" if fld else field) from None
+        msg = exc.message
+        unit = (units.length if fld in LENGTHS else units.angle if fld in ANGLES else None)
+        if fld in table and unit not in (None, "m", "rad"):
+            msg += f" (the scene's {fld} = {table[fld]!r} {unit})"     # SI above, scene units here
+        raise InputError(msg, field=f"{field}.{fld}" if fld else field) from None
