@@ -24,6 +24,7 @@ __all__ = [
     "choice",
     "positive_int",
     "positive_number",
+    "pose_list",
     "string_list",
     "method_field",
     "executor_fields",
@@ -104,6 +105,18 @@ def positive_number(value, field: str) -> float:
     if not x > 0:
         raise InputError(f"expected a positive number, got {value!r}", field=field)
     return x
+
+
+def pose_list(value, field: str) -> list:
+    """A scene's ``poses``: a non-empty list of rows; a flat list of numbers (one pose
+    written without its outer brackets) is refused with a hint."""
+    if not isinstance(value, list) or not value:
+        raise InputError(f"expected a non-empty list of poses, got {value!r}", field=field)
+    if not any(isinstance(r, (list, tuple)) for r in value):
+        raise InputError(f"expected a list of poses [[x, y, z, rx, ry, rz], ...], got one "
+                         f"flat list of {len(value)} values {value!r}", field=field,
+                         hint="write poses = [[...]] or pose = [...]")
+    return value
 
 
 def string_list(value, field: str) -> tuple[str, ...]:

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...argcheck import check_keys, positive_int, positive_number
+from ...argcheck import check_keys, pose_list, positive_int, positive_number
 from ...errors import InfeasibleError, InputError
 from ...exact import parse_exact
 from ..query import Outcome, register
@@ -44,8 +44,8 @@ __all__ = ["InverseKinematicsQuery", "JacobianQuery", "ForwardKinematicsQuery", 
 
 def _numbers(value, field, length=None):
     if not isinstance(value, (list, tuple)):
-        raise InputError(f"expected a list of {length or 'some'} numbers, got {value!r}",
-                         field=field)
+        raise InputError(f"expected a list of {length or 'some'} numbers, got "
+                         f"{type(value).__name__} {value!r}", field=field)
     if length is not None and len(value) != length:
         raise InputError(f"expected {length} numbers, got {len(value)}", field=field)
     return [float(parse_exact(v, f"{field}[{i}]")) for i, v in enumerate(value)]
@@ -63,10 +63,7 @@ def parse_poses(table, units, field, *, required=True):
     if "pose" in table:
         rows = [_numbers(table["pose"], f"{field}.pose", 6)]
     elif "poses" in table:
-        raw = table["poses"]
-        if not isinstance(raw, list) or not raw:
-            raise InputError(f"expected a non-empty list of poses, got {raw!r}",
-                             field=f"{field}.poses")
+        raw = pose_list(table["poses"], f"{field}.poses")
         rows = [_numbers(r, f"{field}.poses[{i}]", 6) for i, r in enumerate(raw)]
     elif required:
         raise InputError("missing required field 'poses' (or 'pose')", field=f"{field}.poses")
