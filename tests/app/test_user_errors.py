@@ -1,0 +1,173 @@
+"""Mistakes users make, as they make them: each is refused with one line on stderr that
+names the field (anchored in the scene), the expected and the received value with its
+unit, exit code 2 and no traceback; an unwritable ``--json`` is refused before the run.
+
+The expected texts are written from the scene (the field a user typed, the value in the
+scene's units and in SI), not copied from the program's output.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from distkin.app.cli import build_parser, main
+from distkin.app.json_output import check_json_path, write_json
+from distkin.app.scene import loads_scene
+from distkin.errors import InputError
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+OCTA = """
+[mechanism]
+kind = "octahedral"
+base = [[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]]
+platform = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]]
+
+[[query]]
+type = "forward_kinematics"
+legs = ["19.8", "18", "18", "17", "14.9", "17.8"]
+method = "precise"
+dps = "x"
+"""
+
+RSS = """
+[units]
+length = "mm"
+angle = "deg"
+
+[mechanism]
+kind = "rss"
+preset = "octo"
+{extra}
+
+[[query]]
+type = "inverse_kinematics"
+{query}
+"""
+
+POINTS = """
+[mechanism]
+kind = "points"
+points = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]
+
+[[query]]
+type = "cayley_menger"
+determinants = ["D(1,2,3,4)"]
+method = "certified"
+"""
+
+
+def _cli(capsys, args):
+    code = main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def _one_line_error(code, err):
+    assert code == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("distkin: error: "), err
+    assert "Traceback" not in err
+    return lines[0]
+
+
+def test_dps_error_names_the_query_field(tmp_path, capsys):
+    """A query's dps used to be reported as a bare 'dps:' (no query named)."""
+    f = tmp_path / "s.toml"
+    f.write_text(OCTA)
+    line = _one_line_error(*_cli(capsys, ["run", f])[::2])
+    assert "query[0].dps: expected dps as an integer >= 5, got 'x'" in line
+
+
+def test_rss_override_error_carries_units_both_ways(tmp_path, capsys):
+    """l1 = -5 in a mm scene: the message gives the SI value with its unit (-0.005 m:
+    -5 mm / 1000) and the value as the scene wrote it (-5 mm); it used to print a bare
+    -0.005."""
+    f = tmp_path / "s.toml"
+    f.write_text(RSS.format(extra="l1 = -5", query="poses = [[0, 0, 300, 0, 0, 0]]"))
+    line = _one_line_error(*_cli(capsys, ["run", f])[::2])
+    assert "mechanism.l1:" in line
+    assert "got -0.005 m" in line and "l1 = -5 mm" in line
+    f.write_text(RSS.format(extra="gamma = -3", query="poses = [[0, 0, 300, 0, 0, 0]]"))
+    line = _one_line_error(*_cli(capsys, ["run", f])[::2])
+    assert "mechanism.gamma:" in line and " rad" in line and "gamma = -3 deg" in line
+    with pytest.raises(InputError, match="got -3.0 kg"):
+        loads_scene(RSS.format(extra="mass = -3", query="poses = [[0, 0, 300, 0, 0, 0]]"))
+
+
+def test_leg_table_errors_carry_units():
+    """A reversed stroke [550, 350] mm: (0.55, 0.35) m; a negative payload mass: kg."""
+    text = (EXAMPLES / "gough_stewart_6ups.toml").read_text(encoding="utf-8")
+    bad = text.replace("range = [350, 550]", "range = [550, 350]", 1)
+    with pytest.raises(InputError) as exc:
+        loads_scene(bad)
+    assert exc.value.field == "mechanism.leg[0].range"
+    assert "got (0.55, 0.35) m" in exc.value.message
+    bad = text.replace("mass = 10", "mass = -10", 1)
+    with pytest.raises(InputError) as exc:
+        loads_scene(bad)
+    assert exc.value.field == "mechanism.mass" and "got -10.0 kg" in exc.value.message
+
+
+def test_one_pose_without_its_outer_brackets(tmp_path, capsys):
+    """poses = [0, 0, 300, 0, 0, 0] (a single pose, brackets forgotten) used to read
+    'query[0].poses[0]: expected a list of 6 numbers, got 0'."""
+    f = tmp_path / "s.toml"
+    f.write_text(RSS.format(extra="", query="poses = [0, 0, 300, 0, 0, 0]"))
+    line = _one_line_error(*_cli(capsys, ["run", f])[::2])
+    assert "query[0].poses: expected a list of poses" in line
+    assert "flat list of 6 values" in line and "pose = [...]" in line
+    # the singularity query of a legs mechanism reads its poses the same way
+    text = (EXAMPLES / "gough_stewart_6ups.toml").read_text(encoding="utf-8")
+    text += '\n[[query]]\ntype = "singularity"\nposes = [0, 0, 400, 0, 0, 0]\n'
+    with pytest.raises(InputError, match="flat list of 6 values") as exc:
+        loads_scene(text)
+    assert exc.value.field.endswith("].poses")
+
+
+@pytest.mark.parametrize("kind", ["directory", "under a file"])
+def test_unwritable_json_is_refused_before_the_run(tmp_path, capsys, kind):
+    """--json at a directory, or below a file, used to fail after the whole run as an
+    'internal failure' (exit 1) and lose the JSON."""
+    f = tmp_path / "s.toml"
+    f.write_text(POINTS)
+    (tmp_path / "plain").write_text("")
+    target = tmp_path if kind == "directory" else tmp_path / "plain" / "out.json"
+    code, out, err = _cli(capsys, ["run", f, "--json", target])
+    line = _one_line_error(code, err)
+    assert "--json: expected a" in line and str(target) in line
+    assert out == ""                              # refused before the scene ran
+    code, out, err = _cli(capsys, ["demo", "--json", target])
+    _one_line_error(code, err)
+    assert out == ""
+
+
+def test_json_goes_into_new_folders(tmp_path, capsys):
+    f = tmp_path / "s.toml"
+    f.write_text(POINTS)
+    target = tmp_path / "new" / "deeper" / "r.json"
+    code, out, _ = _cli(capsys, ["run", f, "--json", target])
+    assert code == 0 and f"JSON written to {target}" in out
+    doc = json.loads(target.read_text())
+    # D(1,2,3,4) of the unit corner = 288 V^2 = 288 / 36 = 8
+    assert doc["queries"][0]["result"]["determinants"][0]["value"] == "8"
+    write_json(tmp_path / "a" / "b.json", "{}")
+    assert (tmp_path / "a" / "b.json").read_text() == "{}\n"
+    check_json_path("-")
+    check_json_path(None)
+
+
+def test_every_option_of_run_demo_and_sweep_says_what_it_does():
+    """``distkin demo --help`` listed --json, --plots and --no-progress without a word."""
+    sub = next(a for a in build_parser()._actions if a.dest == "command")
+    for name in ("run", "demo", "sweep"):
+        for action in sub.choices[name]._actions:
+            if action.dest != "help" and action.option_strings:
+                assert action.help, f"distkin {name} {action.option_strings[0]}: no help"
+    # the sweep runs every chunked query (docs/design.md §4 "Run store")
+    sweep_help = next(a.help for a in sub._choices_actions if a.dest == "sweep")
+    for q in ("performance", "design_sweep", "certify_workspace"):
+        assert q in sweep_help
