@@ -21,6 +21,7 @@ __all__ = [
     "exact_matrix",
     "exact_vector",
     "float_array",
+    "as_floats",
     "choice",
     "positive_int",
     "positive_number",
@@ -74,12 +75,20 @@ def exact_matrix(value, field: str, rows: int | None = None, cols: int | None = 
     return tuple(parse_vector(r, f"{field}[{i}]", length=cols) for i, r in enumerate(value))
 
 
+def as_floats(value, field: str, expected: str = "numbers") -> np.ndarray:
+    """``np.asarray(value, dtype=float)`` of any shape; text, ragged lists and other
+    things that are not numbers raise :class:`InputError` naming ``field``."""
+    try:
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        got = repr(value)
+        got = got if len(got) <= 120 else got[:117] + "..."
+        raise InputError(f"expected {expected}, got {got}", field=field) from None
+
+
 def float_array(value, field: str, shape: tuple) -> np.ndarray:
     """A float array of a given shape (``None`` in ``shape`` = any length)."""
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"expected numbers of shape {shape}, got {value!r}", field=field) from None
+    arr = as_floats(value, field, f"numbers of shape {shape}")
     if arr.ndim != len(shape) or any(s is not None and s != a for s, a in zip(shape, arr.shape)):
         raise InputError(f"expected shape {shape}, got {arr.shape}", field=field)
     if not np.all(np.isfinite(arr)):

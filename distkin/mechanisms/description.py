@@ -17,7 +17,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from ..argcheck import float_array
+from ..argcheck import as_floats, float_array
 from ..errors import InputError
 
 __all__ = ["RSSDescription", "GEOMETRY_FIELDS", "LAYOUTS", "LEG_LENGTH", "SI_UNITS"]
@@ -45,7 +45,7 @@ LEG_LENGTH = 0.3497
 def _poses(poses, field="poses"):
     """Poses (N, 6) from (6,), (N, 6), a 4x4 homogeneous matrix or (N, 4, 4) matrices
     (:func:`distkin.spatial.pose_from`), and whether one pose was given."""
-    arr = np.asarray(poses, dtype=float)
+    arr = as_floats(poses, field, "poses (x, y, z, rx, ry, rz) in m and rad or 4x4 matrices")
     if arr.ndim >= 2 and arr.shape[-2:] == (4, 4):
         from ..spatial import matrix_to_pose
         arr = matrix_to_pose(arr)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from distkin.app.cli import build_parser, main
@@ -171,3 +172,24 @@ def test_every_option_of_run_demo_and_sweep_says_what_it_does():
     sweep_help = next(a.help for a in sub._choices_actions if a.dest == "sweep")
     for q in ("performance", "design_sweep", "certify_workspace"):
         assert q in sweep_help
+
+
+def test_python_api_refuses_text_with_an_input_error():
+    """preset("octo").jacobian("abc") and forward_kinematics(q, guess="abc") used to
+    raise numpy's bare ValueError ('could not convert string to float')."""
+    from distkin.mechanisms import preset
+    m = preset("octo")
+    q, ok = m.inverse_kinematics(m.home)
+    assert ok.all()
+    with pytest.raises(InputError) as exc:
+        m.jacobian([0, "a", 0.3, 0, 0, 0])
+    assert exc.value.field == "poses" and "m and rad" in exc.value.message
+    with pytest.raises(InputError) as exc:
+        m.forward_kinematics("abc", m.home)
+    assert exc.value.field == "q" and "8 joint coordinates" in exc.value.message
+    with pytest.raises(InputError) as exc:
+        m.forward_kinematics(q, "abc")
+    assert exc.value.field == "guess"
+    # the same pose as numbers is accepted, and FK from its own IK returns it
+    fk = m.forward_kinematics(q, m.home)
+    assert fk.ok and np.allclose(fk.pose, m.home, atol=1e-9)
