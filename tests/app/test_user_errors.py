@@ -193,3 +193,18 @@ def test_python_api_refuses_text_with_an_input_error():
     # the same pose as numbers is accepted, and FK from its own IK returns it
     fk = m.forward_kinematics(q, m.home)
     assert fk.ok and np.allclose(fk.pose, m.home, atol=1e-9)
+
+
+def test_unusable_chunk_store_is_bad_input(tmp_path, capsys):
+    """A store below a file used to end as 'NotADirectoryError' (exit 1); as --store it is
+    refused before the run, as a scene's store field it names the query's field."""
+    from distkin.runstore import make_store, run_chunks
+    (tmp_path / "plain").write_text("")
+    bad = tmp_path / "plain" / "chunks"
+    scene = EXAMPLES / "certify_hunt.toml"
+    line = _one_line_error(*_cli(capsys, ["sweep", scene, "--store", bad])[::2])
+    assert "--store: expected a directory for the chunks" in line and str(bad) in line
+    with pytest.raises(InputError) as exc:
+        run_chunks(abs, [1.0], bad, progress=False)
+    assert exc.value.field == "store" and "(Not a directory)" in exc.value.message
+    assert make_store(tmp_path / "a" / "b").is_dir()
