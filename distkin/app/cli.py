@@ -170,7 +170,7 @@ def _plot(out, plots_dir, q, rec) -> str:
 
 
 def _emit(scene_path, records, texts, args) -> None:
-    from .json_output import write_json
+    from .output_paths import write_json
     from .report import document, dumps, render_text
     text = render_text(scene_path, records, texts)
     doc = document(scene_path, records, __version__)
@@ -185,10 +185,10 @@ def _emit(scene_path, records, texts, args) -> None:
 
 
 def _cmd_run(args) -> int:
-    from .json_output import check_json_path
+    from .output_paths import check_output_path
     from .scene import load_scene
     scene = load_scene(args.scene)
-    check_json_path(args.json)             # before the run: a long sweep loses nothing
+    check_output_path(args.json)             # before the run: a long sweep loses nothing
     records, texts, worst = run_scene(scene, plots_dir=args.plots,
                                       progress=not args.no_progress,
                                       store=getattr(args, "store", None),
@@ -202,10 +202,10 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_demo(args) -> int:
-    from .json_output import check_json_path, write_json
+    from .output_paths import check_output_path, write_json
     from .report import document, dumps
     from .scene import loads_scene
-    check_json_path(args.json)
+    check_output_path(args.json)
     worst = 0
     docs = []
     for name in DEMO_SCENES:

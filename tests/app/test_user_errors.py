@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from distkin.app.cli import build_parser, main
-from distkin.app.json_output import check_json_path, write_json
+from distkin.app.output_paths import check_output_path, write_json
 from distkin.app.scene import loads_scene
 from distkin.errors import InputError
 
@@ -157,8 +157,8 @@ def test_json_goes_into_new_folders(tmp_path, capsys):
     assert doc["queries"][0]["result"]["determinants"][0]["value"] == "8"
     write_json(tmp_path / "a" / "b.json", "{}")
     assert (tmp_path / "a" / "b.json").read_text() == "{}\n"
-    check_json_path("-")
-    check_json_path(None)
+    check_output_path("-")
+    check_output_path(None)
 
 
 def test_every_option_of_run_demo_and_sweep_says_what_it_does():
@@ -208,3 +208,39 @@ def test_unusable_chunk_store_is_bad_input(tmp_path, capsys):
         run_chunks(abs, [1.0], bad, progress=False)
     assert exc.value.field == "store" and "(Not a directory)" in exc.value.message
     assert make_store(tmp_path / "a" / "b").is_dir()
+
+
+def test_simulator_and_controller_options_refused_before_they_start(tmp_path, capsys,
+                                                                     monkeypatch):
+    """distkin sim --tcp -5 / 99999, a busy port, an unwritable --port-file or --log and a
+    missing --scene used to end as internal failures (OverflowError, OSError,
+    NotADirectoryError: exit 1) or name the path instead of the option."""
+    import socket
+    (tmp_path / "plain").write_text("")
+    below_file = tmp_path / "plain" / "x"
+    for port in ("-5", "99999"):
+        with pytest.raises(SystemExit) as stop:
+            main(["sim", "--tcp", port])
+        assert stop.value.code == 2
+        assert f"--tcp: expected a TCP port in 0..65535, got '{port}'" in capsys.readouterr().err
+    from distkin.control import kinematics
+    from distkin.control.simulator import TcpTransport
+    monkeypatch.setattr(kinematics, "model_of", lambda scene: None)   # no compiling
+    with socket.socket() as busy:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen(1)
+        port = busy.getsockname()[1]
+        with pytest.raises(InputError, match="Address already in use") as exc:
+            TcpTransport(port)
+        assert exc.value.field == "tcp_port"
+        line = _one_line_error(*_cli(capsys, ["sim", "--tcp", port, "--idle-timeout", 1])[::2])
+    assert f"--tcp: expected a free TCP port in 0..65535 on 127.0.0.1, got {port}" in line
+    cases = [(["sim", "--port-file", below_file], "--port-file: expected a writable file"),
+             (["sim", "--log", below_file], "--log: expected a writable file"),
+             (["sim", "--scene", tmp_path / "nope.toml"], "--scene: expected a controller "
+                                                          "scene file"),
+             (["control", "--sim", "--scene", tmp_path], "(a directory)"),
+             (["control", "--sim", "--log", below_file], "x.cycles.csv"),
+             (["control", "--sim", "--json", tmp_path], "--json: expected a file path")]
+    for args, expected in cases:
+        assert expected in _one_line_error(*_cli(capsys, args)[::2]), args

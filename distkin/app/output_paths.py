@@ -1,9 +1,11 @@
-"""Where ``--json PATH`` goes: checked before any work, written without a traceback.
+"""Files the CLI writes (``--json PATH``, ``--port-file F``, ``--log PREFIX``): checked
+before any work, written without a traceback.
 
-``distkin run``, ``demo``, ``sweep`` and ``control`` take ``--json PATH|-``.  A path
-that cannot be written (a directory, a file where a folder is needed, no permission)
-is bad input: it is refused before the scene runs, so that a long sweep never ends in
-an internal failure and a lost result, with one line naming ``--json`` (exit code 2).
+``distkin run``, ``demo``, ``sweep`` and ``control`` take ``--json PATH|-``; ``sim``
+takes ``--port-file`` and ``--log``.  A path that cannot be written (a directory, a
+file where a folder is needed, no permission) is bad input: it is refused before the
+scene runs or the simulator starts, so that a long sweep never ends in an internal
+failure and a lost result, with one line naming the option (exit code 2).
 """
 
 from __future__ import annotations
@@ -12,19 +14,20 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["check_json_path", "write_json"]
+__all__ = ["check_output_path", "write_json"]
 
 
-def _refuse(path, exc: OSError) -> InputError:
+def _refuse(path, exc: OSError, field: str) -> InputError:
     blocker = next((a for a in Path(path).parents if a.exists()), None)
     why = (f"{str(blocker)!r} is not a folder" if blocker is not None and not blocker.is_dir()
            else exc.strerror or type(exc).__name__)
     return InputError(f"expected a writable file path, got {str(path)!r} ({why})",
-                      field="--json")
+                      field=field)
 
 
-def check_json_path(path) -> None:
-    """Refuse a ``--json`` target that cannot be written (``None`` and ``-`` pass).
+def check_output_path(path, field: str = "--json") -> None:
+    """Refuse an output file that cannot be written (``None`` and ``-`` pass); ``field``
+    names the option.
 
     Creates the missing parent folders, as :func:`write_json` would.
 
@@ -38,11 +41,11 @@ def check_json_path(path) -> None:
     p = Path(path)
     if p.is_dir():
         raise InputError(f"expected a file path, got the directory {str(path)!r}",
-                         field="--json")
+                         field=field)
     try:
         p.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise _refuse(path, exc) from None
+        raise _refuse(path, exc, field) from None
 
 
 def write_json(path, payload: str) -> None:
@@ -52,4 +55,4 @@ def write_json(path, payload: str) -> None:
         p.parent.mkdir(parents=True, exist_ok=True)
         p.write_text(payload + "\n", encoding="utf-8")
     except OSError as exc:
-        raise _refuse(path, exc) from None
+        raise _refuse(path, exc, "--json") from None
