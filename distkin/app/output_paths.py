@@ -1,8 +1,8 @@
-"""Files the CLI writes (``--json PATH``, ``--port-file F``, ``--log PREFIX``): checked
+"""Files the CLI writes (``--json``, ``--port-file``, ``--log``, ``--output``): checked
 before any work, written without a traceback.
 
 ``distkin run``, ``demo``, ``sweep`` and ``control`` take ``--json PATH|-``; ``sim``
-takes ``--port-file`` and ``--log``.  A path that cannot be written (a directory, a
+takes ``--port-file`` and ``--log``; ``codegen`` takes ``--output``.  A path that cannot be written (a directory, a
 file where a folder is needed, no permission) is bad input: it is refused before the
 scene runs or the simulator starts, so that a long sweep never ends in an internal
 failure and a lost result, with one line naming the option (exit code 2).
@@ -14,7 +14,7 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["check_output_path", "write_json"]
+__all__ = ["check_output_path", "write_text", "write_json"]
 
 
 def _refuse(path, exc: OSError, field: str) -> InputError:
@@ -48,11 +48,16 @@ def check_output_path(path, field: str = "--json") -> None:
         raise _refuse(path, exc, field) from None
 
 
-def write_json(path, payload: str) -> None:
-    """Write ``payload`` (JSON text) and a newline to ``path``, making its folders."""
+def write_text(path, text: str, field: str) -> None:
+    """Write ``text`` to ``path``, making its folders; a failure names ``field``."""
     p = Path(path)
     try:
         p.parent.mkdir(parents=True, exist_ok=True)
-        p.write_text(payload + "\n", encoding="utf-8")
+        p.write_text(text, encoding="utf-8")
     except OSError as exc:
-        raise _refuse(path, exc, "--json") from None
+        raise _refuse(path, exc, field) from None
+
+
+def write_json(path, payload: str) -> None:
+    """Write ``payload`` (JSON text) and a newline to ``path`` (``--json``)."""
+    write_text(path, payload + "\n", "--json")

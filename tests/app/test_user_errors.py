@@ -244,3 +244,23 @@ def test_simulator_and_controller_options_refused_before_they_start(tmp_path, ca
              (["control", "--sim", "--json", tmp_path], "--json: expected a file path")]
     for args, expected in cases:
         assert expected in _one_line_error(*_cli(capsys, args)[::2]), args
+
+
+def test_codegen_output_checked_before_deriving(tmp_path, capsys):
+    """distkin codegen -o below a file used to end as FileExistsError (exit 1) after the
+    derivation; a name 'import' cannot load is written with a warning naming a module
+    name that can."""
+    scene = EXAMPLES / "rss_octopod.toml"
+    (tmp_path / "plain").write_text("")
+    line = _one_line_error(*_cli(capsys, ["codegen", scene, "-o",
+                                          tmp_path / "plain" / "k.py"])[::2])
+    assert "--output: expected a writable file path" in line and "is not a folder" in line
+    out = tmp_path / "my-kernels.py"
+    code, _, err = _cli(capsys, ["codegen", scene, "-o", out])
+    assert code == 0 and out.is_file()
+    assert "'my-kernels' is not a Python module name" in err and "my_kernels.py" in err
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("my_kernels", out)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    assert mod.L == 8                          # the Octopod's eight legs
