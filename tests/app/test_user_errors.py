@@ -264,3 +264,15 @@ def test_codegen_output_checked_before_deriving(tmp_path, capsys):
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     assert mod.L == 8                          # the Octopod's eight legs
+
+
+def test_reversed_region_names_its_units():
+    """lower > upper in a mm/deg scene: the refused bounds are the scene's numbers, so the
+    message says they are mm and deg (they had no unit)."""
+    text = (EXAMPLES / "certify_hunt.toml").read_text(encoding="utf-8")
+    bad = text.replace("lower = [-75, -75, 225", "lower = [80, -75, 225", 1)
+    with pytest.raises(InputError) as exc:
+        loads_scene(bad)
+    assert exc.value.field == "query[0].region"
+    assert "lower=[80.0, -75.0, 225.0" in exc.value.message
+    assert "(x, y, z in mm, rx, ry, rz in deg)" in exc.value.message

@@ -119,7 +119,8 @@ class CertifyWorkspaceQuery:
         if not np.all(np.isfinite(lower)) or not np.all(np.isfinite(upper)) or \
                 np.any(upper < lower):
             raise InputError(f"expected finite bounds with lower <= upper, got lower="
-                             f"{(lower / scale).tolist()}, upper={(upper / scale).tolist()}",
+                             f"{(lower / scale).tolist()}, upper={(upper / scale).tolist()} "
+                             f"(x, y, z in {units.length}, rx, ry, rz in {units.angle})",
                              field=f"{field}.region")
         ext = upper - lower
         pos_ext, rot_ext = float(ext[:3].max()), float(ext[3:].max())
