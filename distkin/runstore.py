@@ -248,7 +248,7 @@ def make_store(store, field: str = "store") -> Path:
 
 def run_chunks(task, specs, store, *, definition=None, executor=None, progress=True,
                desc="sweep", max_pending: int | None = None,
-               no_worker_timeout: float | None = None):
+               no_worker_timeout: float | None = None, stats: dict | None = None):
     """Run ``task(spec)`` for every spec, keeping finished chunks on disk.
 
     Parameters
@@ -270,6 +270,9 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
         An executor that reports its live workers (the dask one) and has none for this
         long (s; default :data:`NO_WORKER_TIMEOUT_S`) ends the sweep with a
         :class:`~distkin.errors.DistkinError`; the finished chunks are on disk.
+    stats : dict, optional
+        Filled with ``loaded``: how many chunks came from the store (computed by an
+        earlier run) rather than by this call.
 
     Returns
     -------
@@ -309,6 +312,8 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
             except (OSError, ValueError):
                 p.unlink()                               # a damaged file is redone
         todo.append(i)
+    if stats is not None:
+        stats["loaded"] = len(specs) - len(todo)
     bar = _Progress(len(specs), len(specs) - len(todo), desc, progress)
     pending: dict = {}
     try:

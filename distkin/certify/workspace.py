@@ -105,6 +105,9 @@ class WorkspaceCertificate:
     sigma_bound : SigmaBound or None
         The σmin bound over all regular boxes raised by bisecting the weakest
         (:func:`.tighten.tighten_sigma`); None when not run.
+    resumed : int
+        Chunks loaded from the store (computed by an earlier run); their boxes count in
+        :attr:`evaluated` but took none of :attr:`wall_seconds`.
     """
 
     mechanism: object
@@ -122,6 +125,7 @@ class WorkspaceCertificate:
     wall_seconds: float
     chunks: int
     sigma_bound: object = None
+    resumed: int = 0
 
     @property
     def vary(self) -> tuple:
@@ -150,7 +154,8 @@ class WorkspaceCertificate:
 
         Two rates: ``boxes_per_second`` is boxes per wall second of the whole call (all
         processes together: :attr:`evaluated` over :attr:`wall_seconds`; a resumed run
-        counts the boxes of the chunks it loaded, so its rate is not a speed);
+        counts the boxes of the chunks it loaded, so its rate is not a speed:
+        ``chunks_resumed`` says how many);
         ``boxes_per_process_second`` is per process (boxes over the sum of the chunks' own
         computing times, whatever ran them in parallel).
         """
@@ -181,6 +186,7 @@ class WorkspaceCertificate:
         out["boxes_per_process_second"] = (self.evaluated / self.seconds
                                            if self.seconds > 0 else None)
         out["chunks"] = self.chunks
+        out["chunks_resumed"] = self.resumed
         return out
 
     def at_zero_rotation(self) -> np.ndarray:
@@ -232,6 +238,7 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
     minw = np.asarray(min_width, dtype=float)
     boxes = initial_boxes(lower, upper, split)
     specs = [(mech, lo, hi, minw, form, int(max_boxes)) for lo, hi in boxes]
+    stats = {"loaded": 0}
     if store is None:
         results = [_chunk_task(s) for s in specs] if executor is None else \
             list(executor.map(_chunk_task, specs))
@@ -242,7 +249,7 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
                       "max_boxes": int(max_boxes), "extra": definition_extra}
         results = run_chunks(_chunk_task, specs, store, definition=definition,
                              executor=executor, progress=progress,
-                             desc=f"certify {mech.name}")
+                             desc=f"certify {mech.name}", stats=stats)
     cat = {k: np.concatenate([r[k] for r in results]) for k in
            ("lo", "hi", "status", "sigma_lower", "det_sign")}
     blo, bhi = cat["lo"].reshape(-1, 6), cat["hi"].reshape(-1, 6)
@@ -256,5 +263,6 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
         mech, lower, upper, minw, form, blo, bhi,
         cat["status"], cat["sigma_lower"], cat["det_sign"],
         int(sum(int(r["evaluated"]) for r in results)),
-        float(sum(float(r["seconds"]) for r in results)), wall, len(specs), bound)
+        float(sum(float(r["seconds"]) for r in results)), wall, len(specs), bound,
+        stats["loaded"])
 

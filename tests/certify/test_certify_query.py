@@ -97,9 +97,20 @@ def test_query_json_volumes_resume_and_plot(tmp_path):
     chunks = sorted(store.glob("chunk_*.npz"))
     assert len(chunks) == 8
     stamps = [c.stat().st_mtime_ns for c in chunks]
-    rec2, _, _ = run_scene(_scene(**fields), progress=False)
+    assert r["chunks_resumed"] == 0 and "boxes per wall second" in texts[0]
+    rec2, texts2, _ = run_scene(_scene(**fields), progress=False)
     assert [c.stat().st_mtime_ns for c in sorted(store.glob("chunk_*.npz"))] == stamps
     assert rec2[0]["result"]["boxes"]["status"] == boxes["status"]
+    # nothing was computed: the report says so instead of a wall rate of loaded boxes
+    assert rec2[0]["result"]["chunks_resumed"] == 8
+    assert "all 8 chunks loaded from the store" in texts2[0]
+    assert "per wall second" not in texts2[0]
+    for c in chunks[:3]:                       # three chunks lost: computed again
+        c.unlink()
+    rec4, texts4, _ = run_scene(_scene(**fields), progress=False)
+    assert rec4[0]["result"]["chunks_resumed"] == 5
+    assert rec4[0]["result"]["boxes"]["status"] == boxes["status"]
+    assert "(5 of the 8 chunks loaded from the store" in texts4[0]
     # a store made for another resolution is refused
     fields["min_width"] = "18.75"
     rec3, _, worst3 = run_scene(_scene(**fields), progress=False)

@@ -225,8 +225,18 @@ def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> s
     if "det_signs" in s:
         lines.append(f"  det Jx sign(s) over the regular boxes: {s['det_signs']}")
     bps, bpp = s["boxes_per_second"], s["boxes_per_process_second"]
-    lines.append(f"  {s['boxes_evaluated']} boxes evaluated in {s['wall_seconds']:.1f} s wall "
-                 f"({bps:.0f} boxes per wall second), {s['seconds']:.1f} s of chunk time "
-                 f"({bpp:.0f} boxes/s per process), {s['chunks']} chunks" if bps and bpp else
-                 f"  {s['boxes_evaluated']} boxes evaluated, {s['chunks']} chunks")
+    resumed = s.get("chunks_resumed", 0)
+    if resumed == s["chunks"]:          # nothing computed now: no wall rate to speak of
+        lines.append(f"  {s['boxes_evaluated']} boxes, all {s['chunks']} chunks loaded from "
+                     f"the store (computed earlier in {s['seconds']:.1f} s of chunk time"
+                     + (f", {bpp:.0f} boxes/s per process)" if bpp else ")"))
+    else:
+        lines.append(f"  {s['boxes_evaluated']} boxes evaluated in {s['wall_seconds']:.1f} s "
+                     f"wall ({bps:.0f} boxes per wall second), {s['seconds']:.1f} s of chunk "
+                     f"time ({bpp:.0f} boxes/s per process), {s['chunks']} chunks"
+                     if bps and bpp else
+                     f"  {s['boxes_evaluated']} boxes evaluated, {s['chunks']} chunks")
+        if resumed:
+            lines.append(f"    ({resumed} of the {s['chunks']} chunks loaded from the store: "
+                         "their boxes count in the wall rate but were computed earlier)")
     return "\n".join(lines)
