@@ -22,6 +22,7 @@ from ...argcheck import check_keys, exact_matrix, method_field, string_list
 from ...errors import InputError
 from ...exact import default_dps, to_tier
 from ..query import Outcome, register
+from ..report import float_inputs, float_inputs_line
 from ...geometry.cayley_menger import cayley_menger, parse_label, squared_distances
 
 __all__ = ["CayleyMengerQuery"]
@@ -112,8 +113,13 @@ class CayleyMengerQuery:
                     "precise": f"mpmath at {p.dps} digits",
                     "certified": "exact rational (fmpq) or certified arb ball"}[p.method]
         lines.append(f"accuracy: {accuracy}")
-        return Outcome({"method": p.method, "determinants": values, "accuracy": accuracy},
-                       "\n".join(lines))
+        named = [(f"mechanism.points[{i}][{j}]", v)
+                 for i, row in enumerate(p.points) for j, v in enumerate(row)]
+        note = float_inputs_line(named)
+        if note:
+            lines.append(note)
+        return Outcome({"method": p.method, "determinants": values, "accuracy": accuracy,
+                        "inputs_from_float": float_inputs(named)}, "\n".join(lines))
 
 
 def _mid(d):
