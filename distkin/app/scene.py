@@ -165,6 +165,9 @@ def loads_scene(text: str, path: str = "<string>") -> Scene:
     mechanism = MECHANISM_PARSERS[kind](mtable, units, "mechanism",
                                         *((path,) if kind in _WITH_PATH else ()))
     qlist = data.get("query", [])
+    if isinstance(qlist, dict):                    # [query] written for [[query]]
+        raise InputError("expected [[query]] tables (an array, double brackets), got one "
+                         "[query] table", field="query", hint="write [[query]]")
     if not isinstance(qlist, list) or not qlist:
         raise InputError("expected at least one [[query]] table", field="query")
     parsed = []

@@ -276,3 +276,12 @@ def test_reversed_region_names_its_units():
     assert exc.value.field == "query[0].region"
     assert "lower=[80.0, -75.0, 225.0" in exc.value.message
     assert "(x, y, z in mm, rx, ry, rz in deg)" in exc.value.message
+
+
+def test_single_bracket_query_table(tmp_path, capsys):
+    """[query] instead of [[query]] used to read 'expected at least one [[query]] table'
+    although a query was there."""
+    f = tmp_path / "s.toml"
+    f.write_text(POINTS.replace("[[query]]", "[query]"))
+    line = _one_line_error(*_cli(capsys, ["run", f])[::2])
+    assert "query: expected [[query]] tables" in line and "got one [query] table" in line
