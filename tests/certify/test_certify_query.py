@@ -170,3 +170,33 @@ def test_json_document_is_valid(tmp_path):
     assert worst == 0
     doc = json.loads(dumps(document("test.toml", rec, "0")))
     assert doc["queries"][0]["result"]["regular_fraction"] == 1.0
+
+
+def test_plot_legend_clears_the_axis_labels(tmp_path, monkeypatch):
+    """The legend row of the Fig. 3 analogue sat on the x labels of the section panels
+    (tight_layout kept 7 % of the height for it): every axis label's box must be clear
+    of the legend's, measured in the drawn figure."""
+    import matplotlib
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    from distkin.certify.plot import plot_certificate
+    drawn = []
+    save = Figure.savefig
+
+    def capture(fig, *args, **kwargs):
+        fig.canvas.draw()
+        r = fig.canvas.get_renderer()
+        legend = fig.legends[0].get_window_extent(r)
+        labels = [a.xaxis.label.get_window_extent(r) for a in fig.axes
+                  if a.xaxis.label.get_text()]
+        drawn.append((legend, labels))
+        return save(fig, *args, **kwargs)
+    monkeypatch.setattr(Figure, "savefig", capture)
+    m = preset("hunt")
+    cert = certify_workspace(m, [-0.075, -0.075, 0.225, 0, 0, 0],
+                             [0.075, 0.075, 0.375, 0, 0, 0], [0.0375] * 3 + [1.0] * 3)
+    plot_certificate(cert, tmp_path / "hunt")
+    legend, labels = drawn[0]
+    assert len(labels) >= 3
+    assert not any(legend.overlaps(b) for b in labels)
