@@ -168,7 +168,9 @@ def plot_table3_bars(path, summaries):
         ax.set_yscale("log")
         ax.set_xticks(x)
         ax.set_xticklabels(labels, rotation=30, ha="right", fontsize=8)
-        ax.set_title(f"{title} [{unit}]", fontsize=9)
+        # the devices' own units (a sensitivity's follow the actuators: m/rad or m/m)
+        units = sorted({s["table"][q].get("unit", unit) for s in summaries}) or [unit]
+        ax.set_title(f"{title} [{' | '.join(units)}]", fontsize=9)
     axes[0, 0].legend(fontsize=7)
     fig.suptitle("Table III: ours (blue) vs Kühne et al. (orange); plain = min, hatched = max")
     fig.tight_layout()
