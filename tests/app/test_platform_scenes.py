@@ -334,3 +334,23 @@ def test_table3_bar_titles_use_the_devices_units(tmp_path, monkeypatch):
                                       summary("Hunt", ("m/rad", "rad/rad", "N/(N·m)",
                                                        "(N·m)/(N·m)"))])
     assert "Max. translational sensitivity [m/m | m/rad]" in titles
+
+
+def test_table4_bar_title_gives_the_studied_orientations(tmp_path, monkeypatch):
+    """The Table IV chart said '±20°' whatever range the study used (±10° in the
+    examples of [1]'s platforms)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    from distkin.indices.plots import plot_table4_bars
+    titles = []
+    save = Figure.savefig
+
+    def capture(fig, *args, **kwargs):
+        titles.append(fig._suptitle.get_text())
+        return save(fig, *args, **kwargs)
+    monkeypatch.setattr(Figure, "savefig", capture)
+    iso = {"gii": 0.15, "sigma_min": 0.02, "sigma_max": 0.16, "rotation_deg": 10.0}
+    plot_table4_bars(tmp_path / "t", [{"label": "GD", "isotropy": iso}])
+    assert "ours (orientations ±10°)" in titles[0] and "(±20°)" in titles[0]
