@@ -155,6 +155,10 @@ def loads_scene(text: str, path: str = "<string>") -> Scene:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"expected valid TOML, got a syntax error: {exc}", field=path) from None
+    if "mechanism" not in data and ("device" in data or "pd" in data):
+        raise InputError("expected a run scene ([mechanism], [[query]]), got a controller "
+                         "scene ([device], [pd], ...)", field="scene",
+                         hint="run it with 'distkin control --sim --scene FILE' (or --port)")
     check_keys(data, {"units", "mechanism", "query", "title", "description"}, "scene")
     units = parse_units(data.get("units"))
     mtable = as_table(require(data, "mechanism", ""), "mechanism")

@@ -285,3 +285,13 @@ def test_single_bracket_query_table(tmp_path, capsys):
     f.write_text(POINTS.replace("[[query]]", "[query]"))
     line = _one_line_error(*_cli(capsys, ["run", f])[::2])
     assert "query: expected [[query]] tables" in line and "got one [query] table" in line
+
+
+def test_scene_given_to_the_wrong_command(capsys):
+    """A controller scene given to 'distkin run' (and a run scene to 'distkin control')
+    used to list six unknown fields; it is now named for what it is, with the command."""
+    line = _one_line_error(*_cli(capsys, ["run", EXAMPLES / "control_octo.toml"])[::2])
+    assert "got a controller scene" in line and "distkin control --sim --scene" in line
+    line = _one_line_error(*_cli(capsys, ["control", "--sim", "--scene",
+                                          EXAMPLES / "rss_octopod.toml"])[::2])
+    assert "got a distkin run scene" in line and "'distkin run'" in line
