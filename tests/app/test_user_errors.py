@@ -295,3 +295,21 @@ def test_scene_given_to_the_wrong_command(capsys):
     line = _one_line_error(*_cli(capsys, ["control", "--sim", "--scene",
                                           EXAMPLES / "rss_octopod.toml"])[::2])
     assert "got a distkin run scene" in line and "'distkin run'" in line
+
+
+def test_forward_kinematics_report_states_units(tmp_path, capsys):
+    """Every number of the rss forward-kinematics text carries a unit or says it is
+    dimensionless (the closure Jacobian's σmin and condition had neither).  The angles
+    are the IK of the guess itself, so the pose found is the guess (0, 0, 300) mm."""
+    from distkin.mechanisms import preset
+    q, ok = preset("octopod").inverse_kinematics([0, 0, 0.3, 0, 0, 0])
+    angles = ", ".join(f"{v:.12f}" for v in np.degrees(q))
+    f = tmp_path / "s.toml"
+    f.write_text(RSS.format(extra="", query="").replace('preset = "octo"', 'preset = "octopod"')
+                 .replace('type = "inverse_kinematics"', 'type = "forward_kinematics"')
+                 + f"angles = [{angles}]\nguess = [0, 0, 300, 0, 0, 0]\n")
+    code, out, err = _cli(capsys, ["run", f, "--json", "-"])
+    assert code == 0 and ok.all()
+    pose = json.loads(out)["queries"][0]["result"]["pose"]
+    assert np.allclose(pose, [0, 0, 0.3, 0, 0, 0], atol=1e-12)     # m, rad (SI in JSON)
+    assert "closure Jacobian (angular columns x length scale, dimensionless)" in err

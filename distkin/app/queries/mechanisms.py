@@ -259,7 +259,8 @@ class ForwardKinematicsQuery:
                  f"converged in {res.iterations} iterations; rms closure error "
                  f"{res.residual * lf:.3g} {lu}"
                  + (" (the L = 8 angles are inconsistent)" if res.residual > 1e-9 else ""),
-                 f"closure Jacobian: sigma_min {res.sigma_min:.4g}, condition {res.condition:.4g}"
+                 f"closure Jacobian (angular columns x length scale, dimensionless): "
+                 f"sigma_min {res.sigma_min:.4g}, condition {res.condition:.4g}"
                  + ("  WARNING: near a singularity, the pose is ill-determined"
                     if res.near_singular else ""),
                  f"accuracy: about condition x 1e-16 x leg length "
