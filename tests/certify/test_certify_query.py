@@ -200,3 +200,25 @@ def test_plot_legend_clears_the_axis_labels(tmp_path, monkeypatch):
     legend, labels = drawn[0]
     assert len(labels) >= 3
     assert not any(legend.overlaps(b) for b in labels)
+
+
+LO, HI = [-0.075, -0.075, 0.225, 0, 0, 0], [0.075, 0.075, 0.375, 0, 0, 0]   # m, rad
+
+
+@pytest.mark.parametrize("args, kwargs, field, words", [
+    ((LO, HI, -0.01), {}, "min_width", "positive finite resolution"),
+    ((LO, HI, 0.0), {}, "min_width", "got 0.0"),
+    ((HI, LO, 0.04), {}, "upper", "lower[0] = 0.075 > upper[0] = -0.075"),
+    ((LO[:3], HI[:3], 0.04), {}, "lower", "shape (6,)"),
+    ((["abc"] * 6, HI, 0.04), {}, "lower", "numbers of shape"),
+    ((LO, HI, 0.04), {"form": "quad"}, "form", "'quadratic64'"),
+    ((LO, HI, 0.04), {"split": 0}, "split", ">= 1"),
+])
+def test_python_entry_point_checks_its_input(args, kwargs, field, words):
+    """certify_workspace(...) from Python: a resolution <= 0 used to bisect until the box
+    budget ran out (minutes, looking hung), lower > upper returned a certificate of an
+    empty region, and the rest raised IndexError or numpy's ValueError (its form list
+    left out the default, quadratic64)."""
+    with pytest.raises(InputError) as exc:
+        certify_workspace(preset("hunt"), *args, **kwargs)
+    assert exc.value.field == field and words in exc.value.message

@@ -91,7 +91,7 @@ class CertifyWorkspaceQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
         from ..units import angle_factor, length_factor
-        from ...certify.intervals import FORMS
+        from ...certify.workspace import WORKSPACE_FORMS
         check_keys(table, _FIELDS, field)
         method = table.get("method", "certified")
         if method != "certified":
@@ -132,8 +132,7 @@ class CertifyWorkspaceQuery:
             ma = positive_number(table["min_angle"], f"{field}.min_angle") * af
         else:
             ma = rot_ext / 8 if rot_ext > 0 else 1.0
-        form = choice(table.get("form", "quadratic64"), f"{field}.form",
-                      ("quadratic64",) + FORMS + ("auto",))
+        form = choice(table.get("form", "quadratic64"), f"{field}.form", WORKSPACE_FORMS)
         split = positive_int(table.get("split", 2), f"{field}.split")
         max_boxes = positive_int(table.get("max_boxes", 200_000), f"{field}.max_boxes")
         tighten = positive_int(table.get("tighten", 4096), f"{field}.tighten", minimum=0)
