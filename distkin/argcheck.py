@@ -11,7 +11,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from .errors import InputError
-from .exact import METHODS, Exact, check_method, parse_exact, parse_vector
+from .exact import METHODS, Exact, check_method, parse_float, parse_vector
 
 __all__ = [
     "require",
@@ -110,7 +110,7 @@ def positive_int(value, field: str, *, minimum: int = 1) -> int:
 
 
 def positive_number(value, field: str) -> float:
-    x = float(parse_exact(value, field))
+    x = parse_float(value, field)
     if not x > 0:
         raise InputError(f"expected a positive number, got {value!r}", field=field)
     return x

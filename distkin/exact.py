@@ -39,6 +39,8 @@ __all__ = [
     "METHODS_AUTO",
     "Exact",
     "parse_exact",
+    "parse_float",
+    "exact_to_float",
     "parse_vector",
     "check_method",
     "to_fraction",
@@ -104,7 +106,15 @@ class Exact:
         return isinstance(self.value, Fraction)
 
     def __float__(self) -> float:
-        return float(self.value)
+        try:
+            x = float(self.value)
+        except OverflowError:
+            x = math.inf
+        if math.isinf(x):         # exact, but beyond float64 ("1e400"; a Fraction overflows)
+            text = self.text if len(self.text) <= 60 else self.text[:57] + "..."
+            raise InputError(f"expected a number within the float64 range (|x| < 1.8e308), "
+                             f"got {text!r}")
+        return x
 
     def __str__(self) -> str:
         v = self.value
@@ -238,6 +248,30 @@ def _sympy_from_text(text: str, allow_symbols: bool):
     # decimals are exact: "19.8" -> 99/5, never a binary float
     return sympy.sympify(text, rational=True, locals={"sqrt": sympy.sqrt,
                                                       "cbrt": sympy.cbrt, "pi": sympy.pi})
+
+
+def exact_to_float(ex: Exact, field: str = "value", factor=1) -> float:
+    """``ex`` times ``factor`` (a unit, exact when a Fraction) as a float64, rounded once
+    when both are rational; beyond the float64 range (``"1e400"``) an
+    :class:`InputError` naming ``field``."""
+    try:
+        if isinstance(ex.value, Fraction) and isinstance(factor, (int, Fraction)):
+            x = float(ex.value * factor)
+        else:
+            x = float(ex) * float(factor)
+    except (OverflowError, InputError):
+        x = math.inf
+    if math.isinf(x):
+        text = ex.text if len(ex.text) <= 60 else ex.text[:57] + "..."
+        raise InputError(f"expected a number within the float64 range (|x| < 1.8e308 in SI "
+                         f"units), got {text!r}", field=field)
+    return x
+
+
+def parse_float(value, field: str = "value") -> float:
+    """A scene value as a float64 (:func:`parse_exact`, then rounded once); a value
+    beyond the float64 range (``"1e400"``) is an :class:`InputError` naming ``field``."""
+    return exact_to_float(parse_exact(value, field), field)
 
 
 def parse_exact(value, field: str = "value", *, allow_symbols: bool = False) -> Exact:

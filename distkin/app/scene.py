@@ -31,6 +31,7 @@ from typing import Any
 
 from ..argcheck import as_table, check_keys, exact_matrix, require
 from ..errors import DistkinError, InputError
+from ..exact import exact_to_float
 from .units import Units, parse_units
 
 __all__ = [
@@ -84,6 +85,10 @@ def _parse_octahedral(table, units, fld):
     check_keys(table, {"kind", "base", "platform"}, fld)
     base = exact_matrix(require(table, "base", fld), f"{fld}.base", rows=3, cols=3)
     plat = exact_matrix(require(table, "platform", fld), f"{fld}.platform", rows=3, cols=3)
+    for name, rows in (("base", base), ("platform", plat)):
+        for i, row in enumerate(rows):            # every tier rounds them once to float64
+            for j, v in enumerate(row):
+                exact_to_float(v, f"{fld}.{name}[{i}][{j}]")
     return Octahedral(base, plat)
 
 

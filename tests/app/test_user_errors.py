@@ -313,3 +313,36 @@ def test_forward_kinematics_report_states_units(tmp_path, capsys):
     pose = json.loads(out)["queries"][0]["result"]["pose"]
     assert np.allclose(pose, [0, 0, 0.3, 0, 0, 0], atol=1e-12)     # m, rad (SI in JSON)
     assert "closure Jacobian (angular columns x length scale, dimensionless)" in err
+
+
+@pytest.mark.parametrize("old, new, field", [
+    ('legs = ["19.8"', 'legs = ["1e400"', "query[0].legs[0]"),
+    ('legs = ["19.8"', 'legs = ["2**2000"', "query[0].legs[0]"),
+    ('[6, "sqrt(108)", 0]', '[6, "sqrt(10**700)", 0]', "mechanism.base[1][1]"),
+])
+def test_exact_values_beyond_float64_are_bad_input(tmp_path, capsys, old, new, field):
+    """'1e400' is within the 4096-bit bound of an exact value but not a float64: it
+    used to end as 'internal failure: OverflowError' (exit 1)."""
+    f = tmp_path / "s.toml"
+    f.write_text(OCTA.replace('dps = "x"', "").replace(old, new, 1))
+    line = _one_line_error(*_cli(capsys, ["run", f])[::2])
+    assert f"{field}: expected a number within the float64 range" in line
+
+
+def test_rss_and_legs_values_beyond_float64_name_their_field():
+    text = (EXAMPLES / "gough_stewart_6ups.toml").read_text(encoding="utf-8")
+    cases = [(text.replace("range = [350, 550]", 'range = [350, "1e400"]', 1),
+              "mechanism.leg[0].range[1]"),
+             (text.replace("mass = 10", 'mass = "1e400"', 1), "mechanism.mass"),
+             (RSS.format(extra='l1 = "1e400"', query="poses = [[0, 0, 300, 0, 0, 0]]"),
+              "mechanism.l1"),
+             (RSS.format(extra="", query='poses = [[0, 0, "1e400", 0, 0, 0]]'),
+              "query[0].poses[0][2]")]
+    for scene, field in cases:
+        with pytest.raises(InputError, match="float64 range") as exc:
+            loads_scene(scene)
+        assert exc.value.field == field
+    from distkin.exact import parse_exact
+    with pytest.raises(InputError, match="float64 range"):
+        float(parse_exact("1e400"))
+    assert float(parse_exact("1e308")) == 1e308        # the largest decade still fits

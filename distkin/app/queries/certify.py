@@ -52,7 +52,7 @@ import numpy as np
 from ...argcheck import (as_table, check_keys, choice, executor_fields, positive_int,
                         positive_number)
 from ...errors import InputError
-from ...exact import parse_exact
+from ...exact import parse_float
 from ..query import Outcome, register
 from ...certify.boxes import STATUS_NAMES
 
@@ -65,7 +65,7 @@ _FIELDS = {"type", "method", "region", "min_width", "min_angle", "form", "split"
 def _vector(value, field):
     if not isinstance(value, list) or len(value) != 6:
         raise InputError(f"expected 6 numbers [x, y, z, rx, ry, rz], got {value!r}", field=field)
-    return [float(parse_exact(v, f"{field}[{i}]")) for i, v in enumerate(value)]
+    return [parse_float(v, f"{field}[{i}]") for i, v in enumerate(value)]
 
 
 @dataclass(frozen=True)

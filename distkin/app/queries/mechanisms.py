@@ -35,7 +35,7 @@ import numpy as np
 
 from ...argcheck import check_keys, pose_list, positive_int, positive_number
 from ...errors import InfeasibleError, InputError
-from ...exact import parse_exact
+from ...exact import parse_float
 from ..query import Outcome, register
 from ..units import angle_factor, length_factor
 
@@ -48,7 +48,7 @@ def _numbers(value, field, length=None):
                          f"{type(value).__name__} {value!r}", field=field)
     if length is not None and len(value) != length:
         raise InputError(f"expected {length} numbers, got {len(value)}", field=field)
-    return [float(parse_exact(v, f"{field}[{i}]")) for i, v in enumerate(value)]
+    return [parse_float(v, f"{field}[{i}]") for i, v in enumerate(value)]
 
 
 def _scale(units):

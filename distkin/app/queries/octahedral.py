@@ -67,7 +67,11 @@ class OctahedralForwardQuery:
         check_keys(table, {"type", "legs", "method", "dps", "tol"}, field)
         legs = exact_vector(require(table, "legs", field), f"{field}.legs", 6)
         for i, v in enumerate(legs):
-            if not float(v) > 0:
+            try:
+                positive = float(v) > 0
+            except InputError as exc:         # beyond float64
+                raise exc.with_field(f"{field}.legs[{i}]") from None
+            if not positive:
                 raise InputError(f"expected a positive leg length, got {v.text}",
                                  field=f"{field}.legs[{i}]")
         method = method_field(table, field, allowed=METHODS_AUTO)
