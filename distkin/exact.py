@@ -46,6 +46,7 @@ __all__ = [
     "to_fraction",
     "to_fmpq",
     "to_tier",
+    "mp_det",
     "to_sympy",
     "sympy_to_arb",
     "default_dps",
@@ -453,6 +454,34 @@ def sympy_to_arb(expr):
                      hint="use rationals, sqrt(...) or pi")
 
 
+def mp_det(rows):
+    """Determinant of a small square matrix (list of rows) in mpmath at the working
+    precision, by LU with partial pivoting; 0 only when a pivot is exactly 0.
+
+    ``mpmath.det`` returns 0 as soon as a pivot falls below ``eps`` times the matrix
+    norm, which on a badly scaled but regular matrix (a Cayley-Menger matrix with
+    squared distances 1e40 and 1; its determinant 8e40 is computed right in float64) is
+    a wrong answer, and near a singularity a tiny determinant replaced by an exact 0.
+    """
+    import mpmath
+    a = [[mpmath.mpf(v) for v in row] for row in rows]
+    n = len(a)
+    det = mpmath.mpf(1)
+    for k in range(n):
+        p = max(range(k, n), key=lambda i: abs(a[i][k]))
+        if a[p][k] == 0:
+            return mpmath.mpf(0)
+        if p != k:
+            a[k], a[p] = a[p], a[k]
+            det = -det
+        det *= a[k][k]
+        for i in range(k + 1, n):
+            f = a[i][k] / a[k][k]
+            for j in range(k + 1, n):
+                a[i][j] -= f * a[k][j]
+    return det
+
+
 def to_tier(x, method: str, dps: int | None = None):
     """Convert an exact or plain value to the number type of a tier.
 
@@ -461,7 +490,7 @@ def to_tier(x, method: str, dps: int | None = None):
     """
     value = x.value if isinstance(x, Exact) else x
     if method == "fast":
-        return float(value)
+        return float(x) if isinstance(x, Exact) else float(value)   # Exact: range-checked
     if method == "precise":
         import mpmath
         if isinstance(value, mpmath.mpf):
