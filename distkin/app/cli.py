@@ -249,6 +249,9 @@ def build_parser() -> argparse.ArgumentParser:
     d.set_defaults(func=_cmd_demo)
     for add in SUBCOMMANDS.values():
         add(sub)
+    for sp in sub.choices.values():        # 'distkin run S.toml --debug' works too
+        sp.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                        help="show tracebacks of internal failures")
     return p
 
 

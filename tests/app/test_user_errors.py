@@ -346,3 +346,21 @@ def test_rss_and_legs_values_beyond_float64_name_their_field():
     with pytest.raises(InputError, match="float64 range"):
         float(parse_exact("1e400"))
     assert float(parse_exact("1e308")) == 1e308        # the largest decade still fits
+
+
+def test_debug_after_the_subcommand(tmp_path, capsys, monkeypatch):
+    """'run with --debug for the traceback' made users append --debug, which argparse
+    refused ('unrecognized arguments'); it now works after the subcommand too."""
+    from distkin.app import cli
+    f = tmp_path / "s.toml"
+    f.write_text(POINTS)
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("a bug")
+    monkeypatch.setattr(cli, "run_scene", broken)
+    code, _, err = _cli(capsys, ["run", f])
+    assert code == 1 and "internal failure: RuntimeError: a bug" in err
+    assert "Traceback" not in err and "--debug" in err
+    for args in (["run", f, "--debug"], ["--debug", "run", f]):
+        code, _, err = _cli(capsys, args)
+        assert code == 1 and "Traceback" in err and "RuntimeError: a bug" in err
