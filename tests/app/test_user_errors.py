@@ -364,3 +364,17 @@ def test_debug_after_the_subcommand(tmp_path, capsys, monkeypatch):
     for args in (["run", f, "--debug"], ["--debug", "run", f]):
         code, _, err = _cli(capsys, args)
         assert code == 1 and "Traceback" in err and "RuntimeError: a bug" in err
+
+
+def test_poses_in_the_wrong_unit_get_a_pointer(tmp_path, capsys):
+    """z = 0.3 written in a mm scene (metres meant): every leg fails and the report used
+    to say only 'NOT reachable'; it now shows the home pose in the scene's units, 300 mm
+    for the Octo (z0 = 0.30 m, docs/design.md §5), next to the [units] in force."""
+    f = tmp_path / "s.toml"
+    f.write_text(RSS.format(extra="", query="poses = [[0, 0, 0.3, 0, 0, 0]]"))
+    code, out, _ = _cli(capsys, ["run", f])
+    assert code == 0 and "NOT reachable (legs [1, 2, 3, 4, 5, 6, 7, 8])" in out
+    assert "home is (0, 0, 300) mm, (0, 0, 0) deg" in out and 'length = "mm"' in out
+    f.write_text(RSS.format(extra="", query="poses = [[0, 0, 300, 0, 0, 0]]"))
+    code, out, _ = _cli(capsys, ["run", f])
+    assert code == 0 and "-> reachable" in out and "home is" not in out

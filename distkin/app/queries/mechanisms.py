@@ -162,6 +162,11 @@ class InverseKinematicsQuery:
             lines.append(f"pose {i}: {_fmt_pose(X[i], scene)}  -> "
                          + ("reachable" if ok else f"NOT reachable (legs {bad})"))
             lines.append("  q = " + _joint_text(q[i], mech, scene))
+        if not valid.any():                    # not one leg closes anywhere: units?
+            lines.append(f"note: no leg reaches any of these poses; the mechanism's home is "
+                         f"{_fmt_pose(mech.home, scene)} in this scene's units "
+                         f"([units] length = \"{scene.units.length}\", angle = "
+                         f"\"{scene.units.angle}\")")
         lines.append("accuracy: closed form in float64 (about 1e-15 rad, 1e-16 x leg length); "
                      "branch: the crank angle nearer 0 at the workspace centre "
                      "(distkin.mechanisms.presets) or the leg's own (distkin.mechanisms.legs)")
