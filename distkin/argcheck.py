@@ -11,7 +11,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from .errors import InputError
-from .exact import METHODS, Exact, check_method, parse_exact, parse_vector
+from .exact import METHODS, Exact, check_method, parse_float, parse_vector
 
 __all__ = [
     "require",
@@ -21,9 +21,11 @@ __all__ = [
     "exact_matrix",
     "exact_vector",
     "float_array",
+    "as_floats",
     "choice",
     "positive_int",
     "positive_number",
+    "pose_list",
     "string_list",
     "method_field",
     "executor_fields",
@@ -73,12 +75,20 @@ def exact_matrix(value, field: str, rows: int | None = None, cols: int | None = 
     return tuple(parse_vector(r, f"{field}[{i}]", length=cols) for i, r in enumerate(value))
 
 
+def as_floats(value, field: str, expected: str = "numbers") -> np.ndarray:
+    """``np.asarray(value, dtype=float)`` of any shape; text, ragged lists and other
+    things that are not numbers raise :class:`InputError` naming ``field``."""
+    try:
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        got = repr(value)
+        got = got if len(got) <= 120 else got[:117] + "..."
+        raise InputError(f"expected {expected}, got {got}", field=field) from None
+
+
 def float_array(value, field: str, shape: tuple) -> np.ndarray:
     """A float array of a given shape (``None`` in ``shape`` = any length)."""
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"expected numbers of shape {shape}, got {value!r}", field=field) from None
+    arr = as_floats(value, field, f"numbers of shape {shape}")
     if arr.ndim != len(shape) or any(s is not None and s != a for s, a in zip(shape, arr.shape)):
         raise InputError(f"expected shape {shape}, got {arr.shape}", field=field)
     if not np.all(np.isfinite(arr)):
@@ -100,10 +110,22 @@ def positive_int(value, field: str, *, minimum: int = 1) -> int:
 
 
 def positive_number(value, field: str) -> float:
-    x = float(parse_exact(value, field))
+    x = parse_float(value, field)
     if not x > 0:
         raise InputError(f"expected a positive number, got {value!r}", field=field)
     return x
+
+
+def pose_list(value, field: str) -> list:
+    """A scene's ``poses``: a non-empty list of rows; a flat list of numbers (one pose
+    written without its outer brackets) is refused with a hint."""
+    if not isinstance(value, list) or not value:
+        raise InputError(f"expected a non-empty list of poses, got {value!r}", field=field)
+    if not any(isinstance(r, (list, tuple)) for r in value):
+        raise InputError(f"expected a list of poses [[x, y, z, rx, ry, rz], ...], got one "
+                         f"flat list of {len(value)} values {value!r}", field=field,
+                         hint="write poses = [[...]] or pose = [...]")
+    return value
 
 
 def string_list(value, field: str) -> tuple[str, ...]:

@@ -39,11 +39,14 @@ __all__ = [
     "METHODS_AUTO",
     "Exact",
     "parse_exact",
+    "parse_float",
+    "exact_to_float",
     "parse_vector",
     "check_method",
     "to_fraction",
     "to_fmpq",
     "to_tier",
+    "mp_det",
     "to_sympy",
     "sympy_to_arb",
     "default_dps",
@@ -104,7 +107,15 @@ class Exact:
         return isinstance(self.value, Fraction)
 
     def __float__(self) -> float:
-        return float(self.value)
+        try:
+            x = float(self.value)
+        except OverflowError:
+            x = math.inf
+        if math.isinf(x):         # exact, but beyond float64 ("1e400"; a Fraction overflows)
+            text = self.text if len(self.text) <= 60 else self.text[:57] + "..."
+            raise InputError(f"expected a number within the float64 range (|x| < 1.8e308), "
+                             f"got {text!r}")
+        return x
 
     def __str__(self) -> str:
         v = self.value
@@ -238,6 +249,30 @@ def _sympy_from_text(text: str, allow_symbols: bool):
     # decimals are exact: "19.8" -> 99/5, never a binary float
     return sympy.sympify(text, rational=True, locals={"sqrt": sympy.sqrt,
                                                       "cbrt": sympy.cbrt, "pi": sympy.pi})
+
+
+def exact_to_float(ex: Exact, field: str = "value", factor=1) -> float:
+    """``ex`` times ``factor`` (a unit, exact when a Fraction) as a float64, rounded once
+    when both are rational; beyond the float64 range (``"1e400"``) an
+    :class:`InputError` naming ``field``."""
+    try:
+        if isinstance(ex.value, Fraction) and isinstance(factor, (int, Fraction)):
+            x = float(ex.value * factor)
+        else:
+            x = float(ex) * float(factor)
+    except (OverflowError, InputError):
+        x = math.inf
+    if math.isinf(x):
+        text = ex.text if len(ex.text) <= 60 else ex.text[:57] + "..."
+        raise InputError(f"expected a number within the float64 range (|x| < 1.8e308 in SI "
+                         f"units), got {text!r}", field=field)
+    return x
+
+
+def parse_float(value, field: str = "value") -> float:
+    """A scene value as a float64 (:func:`parse_exact`, then rounded once); a value
+    beyond the float64 range (``"1e400"``) is an :class:`InputError` naming ``field``."""
+    return exact_to_float(parse_exact(value, field), field)
 
 
 def parse_exact(value, field: str = "value", *, allow_symbols: bool = False) -> Exact:
@@ -419,6 +454,34 @@ def sympy_to_arb(expr):
                      hint="use rationals, sqrt(...) or pi")
 
 
+def mp_det(rows):
+    """Determinant of a small square matrix (list of rows) in mpmath at the working
+    precision, by LU with partial pivoting; 0 only when a pivot is exactly 0.
+
+    ``mpmath.det`` returns 0 as soon as a pivot falls below ``eps`` times the matrix
+    norm, which on a badly scaled but regular matrix (a Cayley-Menger matrix with
+    squared distances 1e40 and 1; its determinant 8e40 is computed right in float64) is
+    a wrong answer, and near a singularity a tiny determinant replaced by an exact 0.
+    """
+    import mpmath
+    a = [[mpmath.mpf(v) for v in row] for row in rows]
+    n = len(a)
+    det = mpmath.mpf(1)
+    for k in range(n):
+        p = max(range(k, n), key=lambda i: abs(a[i][k]))
+        if a[p][k] == 0:
+            return mpmath.mpf(0)
+        if p != k:
+            a[k], a[p] = a[p], a[k]
+            det = -det
+        det *= a[k][k]
+        for i in range(k + 1, n):
+            f = a[i][k] / a[k][k]
+            for j in range(k + 1, n):
+                a[i][j] -= f * a[k][j]
+    return det
+
+
 def to_tier(x, method: str, dps: int | None = None):
     """Convert an exact or plain value to the number type of a tier.
 
@@ -427,7 +490,7 @@ def to_tier(x, method: str, dps: int | None = None):
     """
     value = x.value if isinstance(x, Exact) else x
     if method == "fast":
-        return float(value)
+        return float(x) if isinstance(x, Exact) else float(value)   # Exact: range-checked
     if method == "precise":
         import mpmath
         if isinstance(value, mpmath.mpf):

@@ -46,8 +46,8 @@ import numpy as np
 from ._version import __version__
 from .errors import DistkinError, InputError
 
-__all__ = ["run_chunks", "local_executor", "dask_executor", "executor_for", "sweep_key",
-           "code_version", "user_cache_dir", "default_store", "WORKER_ENV",
+__all__ = ["run_chunks", "make_store", "local_executor", "dask_executor", "executor_for",
+           "sweep_key", "code_version", "user_cache_dir", "default_store", "WORKER_ENV",
            "NO_WORKER_TIMEOUT_S"]
 
 #: environment of the local pool's workers (single-threaded BLAS)
@@ -234,9 +234,21 @@ class _Progress:
             self.bar.stop()
 
 
+def make_store(store, field: str = "store") -> Path:
+    """The chunk directory ``store``, made with its parents; a path that cannot be a
+    directory (below a file, no permission) is an :class:`InputError` naming ``field``."""
+    store = Path(store)
+    try:
+        store.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"expected a directory for the chunks, got {str(store)!r} "
+                         f"({exc.strerror or type(exc).__name__})", field=field) from None
+    return store
+
+
 def run_chunks(task, specs, store, *, definition=None, executor=None, progress=True,
                desc="sweep", max_pending: int | None = None,
-               no_worker_timeout: float | None = None):
+               no_worker_timeout: float | None = None, stats: dict | None = None):
     """Run ``task(spec)`` for every spec, keeping finished chunks on disk.
 
     Parameters
@@ -258,6 +270,9 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
         An executor that reports its live workers (the dask one) and has none for this
         long (s; default :data:`NO_WORKER_TIMEOUT_S`) ends the sweep with a
         :class:`~distkin.errors.DistkinError`; the finished chunks are on disk.
+    stats : dict, optional
+        Filled with ``loaded``: how many chunks came from the store (computed by an
+        earlier run) rather than by this call.
 
     Returns
     -------
@@ -267,8 +282,7 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
     A ``KeyboardInterrupt`` cancels the pending chunks and propagates; every chunk
     finished before it is on disk.
     """
-    store = Path(store)
-    store.mkdir(parents=True, exist_ok=True)
+    store = make_store(store)
     key = sweep_key(definition if definition is not None else [repr(s) for s in specs])
     code = code_version()
     meta = store / "sweep.json"
@@ -298,6 +312,8 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
             except (OSError, ValueError):
                 p.unlink()                               # a damaged file is redone
         todo.append(i)
+    if stats is not None:
+        stats["loaded"] = len(specs) - len(todo)
     bar = _Progress(len(specs), len(specs) - len(todo), desc, progress)
     pending: dict = {}
     try:

@@ -54,23 +54,33 @@ def _add_codegen(sub):
 
 def _add_sweep(sub):
     """``distkin sweep SCENE [--scheduler ADDRESS] [--workers N] [--store DIR]``."""
-    s = sub.add_parser("sweep", help="run a scene's sweeps (performance, design_sweep) on a "
-                                     "local pool or a dask cluster")
+    s = sub.add_parser("sweep", help="run a scene's chunked queries (performance, "
+                                     "design_sweep, certify_workspace) on a local pool or a "
+                                     "dask cluster")
     s.add_argument("scene", help="scene TOML file")
     s.add_argument("--scheduler", metavar="ADDRESS",
                    help="dask.distributed scheduler, e.g. tcp://10.0.0.5:8786 "
                         "(extra 'distributed')")
     s.add_argument("--workers", type=int, metavar="N", help="local worker processes")
     s.add_argument("--store", metavar="DIR", help="directory of the resumable chunks")
-    s.add_argument("--json", metavar="PATH|-")
-    s.add_argument("--plots", metavar="DIR")
-    s.add_argument("--no-progress", action="store_true")
+    _add_output_options(s)
     s.set_defaults(func=_cmd_sweep)
+
+
+def _add_output_options(p) -> None:
+    """``--json``, ``--plots`` and ``--no-progress`` of run, demo and sweep."""
+    p.add_argument("--json", metavar="PATH|-", help="write the JSON result (- for stdout)")
+    p.add_argument("--plots", metavar="DIR", help="write plots into DIR (matplotlib); a plot "
+                                                  "that fails is a warning, never a lost result")
+    p.add_argument("--no-progress", action="store_true", help="no progress bars")
 
 
 def _cmd_sweep(args):
     if args.workers is not None and args.workers < 1:
         raise InputError(f"expected --workers >= 1, got {args.workers}", field="--workers")
+    if args.store is not None:
+        from ..runstore import make_store
+        make_store(args.store, "--store")  # before the run, naming the option
     return _cmd_run(args)          # --store/--workers/--scheduler reach the RunContext
 
 
@@ -106,6 +116,7 @@ def run_scene(scene, *, plots_dir=None, progress=True, store=None, workers=None,
     from . import registry as queries
     from .registry import RunContext
     from .report import jsonable
+    from .scene import ANCHORS
     ctx = RunContext(plots_dir=Path(plots_dir) if plots_dir else None, progress=progress,
                      store=Path(store) if store else None, workers=workers,
                      scheduler=scheduler)
@@ -122,7 +133,7 @@ def run_scene(scene, *, plots_dir=None, progress=True, store=None, workers=None,
             if ctx.plots_dir is not None and out.plot is not None:
                 text += _plot(out, ctx.plots_dir, q, rec)
         except DistkinError as exc:
-            if exc.field is None or not exc.field.startswith(("query", "mechanism", "units")):
+            if exc.field is None or not exc.field.startswith(ANCHORS):
                 exc.with_field(q.field)          # "legs[0]" -> "query[2].legs[0]"
             rec.update(status="error", result={},
                        error={"kind": exc.kind, "message": exc.one_line()})
@@ -159,6 +170,7 @@ def _plot(out, plots_dir, q, rec) -> str:
 
 
 def _emit(scene_path, records, texts, args) -> None:
+    from .output_paths import write_json
     from .report import document, dumps, render_text
     text = render_text(scene_path, records, texts)
     doc = document(scene_path, records, __version__)
@@ -168,14 +180,15 @@ def _emit(scene_path, records, texts, args) -> None:
     else:
         print(text)
         if args.json:
-            Path(args.json).parent.mkdir(parents=True, exist_ok=True)
-            Path(args.json).write_text(dumps(doc) + "\n", encoding="utf-8")
+            write_json(args.json, dumps(doc))
             print(f"JSON written to {args.json}")
 
 
 def _cmd_run(args) -> int:
+    from .output_paths import check_output_path
     from .scene import load_scene
     scene = load_scene(args.scene)
+    check_output_path(args.json)             # before the run: a long sweep loses nothing
     records, texts, worst = run_scene(scene, plots_dir=args.plots,
                                       progress=not args.no_progress,
                                       store=getattr(args, "store", None),
@@ -189,8 +202,10 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_demo(args) -> int:
+    from .output_paths import check_output_path, write_json
     from .report import document, dumps
     from .scene import loads_scene
+    check_output_path(args.json)
     worst = 0
     docs = []
     for name in DEMO_SCENES:
@@ -208,7 +223,8 @@ def _cmd_demo(args) -> int:
         if args.json == "-":
             print(payload)
         else:
-            Path(args.json).write_text(payload + "\n", encoding="utf-8")
+            write_json(args.json, payload)
+            print(f"JSON written to {args.json}")
     return worst
 
 
@@ -226,18 +242,16 @@ def build_parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", parser_class=_Parser)
     r = sub.add_parser("run", help="run every query of a scene file")
     r.add_argument("scene", help="scene TOML file")
-    r.add_argument("--json", metavar="PATH|-", help="write the JSON result (- for stdout)")
-    r.add_argument("--plots", metavar="DIR", help="write plots into DIR (matplotlib); a plot "
-                                                  "that fails is a warning, never a lost result")
-    r.add_argument("--no-progress", action="store_true", help="no progress bars")
+    _add_output_options(r)
     r.set_defaults(func=_cmd_run)
     d = sub.add_parser("demo", help="run the built-in demonstration scenes")
-    d.add_argument("--json", metavar="PATH|-")
-    d.add_argument("--plots", metavar="DIR")
-    d.add_argument("--no-progress", action="store_true")
+    _add_output_options(d)
     d.set_defaults(func=_cmd_demo)
     for add in SUBCOMMANDS.values():
         add(sub)
+    for sp in sub.choices.values():        # 'distkin run S.toml --debug' works too
+        sp.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                        help="show tracebacks of internal failures")
     return p
 
 

@@ -11,6 +11,7 @@ Mechanism kinds that can be generated are listed in :data:`CODEGEN_KINDS`
 
 from __future__ import annotations
 
+import re
 import sys
 from pathlib import Path
 
@@ -42,16 +43,27 @@ def scene_module_source(scene, flavour: str = "both"):
     return CODEGEN_KINDS[kind](scene, _FLAVOURS[flavour])
 
 
+def _module_name(stem: str) -> str:
+    """A module name like ``stem``: ``"my-kernels"`` -> ``"my_kernels"``."""
+    name = re.sub(r"\W", "_", stem)
+    return name if name[:1].isalpha() or name[:1] == "_" else f"kernels_{name}"
+
+
 def _run(args) -> int:
+    from .output_paths import check_output_path, write_text
     from .scene import load_scene
     scene = load_scene(args.scene)
-    src, hit = scene_module_source(scene, args.flavour)
     out = Path(args.output)
     if out.suffix != ".py":
         raise InputError(f"expected an output file ending in .py, got {str(out)!r}",
                          field="--output")
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(src, encoding="utf-8")
+    check_output_path(out, "--output")     # before deriving (seconds for a new table)
+    if not out.stem.isidentifier():
+        print(f"distkin: warning: --output: {out.stem!r} is not a Python module name, so "
+              f"'import' cannot load it (importlib can; {_module_name(out.stem)}.py could be "
+              "imported)", file=sys.stderr)
+    src, hit = scene_module_source(scene, args.flavour)
+    write_text(out, src, "--output")
     names = [line.split("(")[0][4:] for line in src.splitlines() if line.startswith("def ")]
     print(f"wrote {out} ({len(src.splitlines())} lines; kernels: {', '.join(names)}; "
           f"{'from the derivation cache' if hit else 'derived'})", file=sys.stderr)

@@ -45,6 +45,10 @@ def _device_mechanism(path):
 
 def _scene(path):
     from ..control.config import load_control_scene
+    if path and not Path(path).is_file():
+        raise InputError(f"expected a controller scene file, got {str(path)!r} ("
+                         + ("a directory" if Path(path).is_dir() else "no such file") + ")",
+                         field="--scene")
     return (load_control_scene(path, mechanism_loader=_device_mechanism) if path
             else builtin_scene())
 
@@ -60,12 +64,24 @@ def _seconds(value: str) -> float:
     return v
 
 
+def _tcp_port(value: str) -> int:
+    import argparse
+    try:
+        v = int(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a TCP port number, got {value!r}") from None
+    if not 0 <= v <= 65535:
+        raise argparse.ArgumentTypeError(f"expected a TCP port in 0..65535, got {value!r}")
+    return v
+
+
 def add_sim_parser(sub) -> None:
     p = sub.add_parser("sim", help="start the device simulator on a pty or a TCP port")
     p.add_argument("--scene", help="controller scene TOML ([simulator] table); default: built-in")
     p.add_argument("--port-file", metavar="F", help="also write the port URL to F")
     p.add_argument("--faults", metavar="SPEC", help="e.g. 'corrupt@1.0:3,stall@2.0:50'")
-    p.add_argument("--tcp", metavar="PORT", type=int, help="serve on TCP (0 = any free port)")
+    p.add_argument("--tcp", metavar="PORT", type=_tcp_port,
+                   help="serve on TCP (0 = any free port)")
     p.add_argument("--log", metavar="PREFIX", help="write PREFIX.device.csv")
     p.add_argument("--seconds", type=_seconds, help="stop after this much device time")
     p.add_argument("--idle-timeout", type=_seconds, metavar="S", default=None,
@@ -96,12 +112,22 @@ def add_control_parser(sub) -> None:
 def cmd_sim(args) -> int:
     from ..control.faults import parse_faults
     from ..control.simulator import IDLE_TIMEOUT_S, serve
+    from .output_paths import check_output_path
     faults = parse_faults(args.faults)
     scene = _scene(args.scene)
-    return serve(scene, port_file=args.port_file, tcp_port=args.tcp, faults=faults,
-                 log_prefix=args.log, seconds=args.seconds,
-                 idle_timeout=IDLE_TIMEOUT_S if args.idle_timeout is None
-                 else args.idle_timeout)
+    check_output_path(args.port_file, "--port-file")
+    if args.log:
+        check_output_path(f"{args.log}.device.csv", "--log")
+    try:
+        return serve(scene, port_file=args.port_file, tcp_port=args.tcp, faults=faults,
+                     log_prefix=args.log, seconds=args.seconds,
+                     idle_timeout=IDLE_TIMEOUT_S if args.idle_timeout is None
+                     else args.idle_timeout)
+    except InputError as exc:
+        if exc.field == "tcp_port":            # the API's argument is the option --tcp
+            exc.field = None
+            exc.with_field("--tcp")
+        raise
 
 
 def _wait_port(proc, port_file: Path, timeout: float) -> str:
@@ -160,10 +186,14 @@ def cmd_control(args) -> int:
     from ..control.faults import parse_faults
     from ..control.kinematics import model_of
     from ..control.link import Link
+    from .output_paths import check_output_path, write_json
     scene = _scene(args.scene)
     if args.faults and not args.sim:
         raise InputError("expected --faults only with --sim, got it with --port", field="--faults")
     parse_faults(args.faults)              # validate before starting anything
+    check_output_path(args.json)
+    if args.log:
+        check_output_path(f"{args.log}.cycles.csv", "--log")
     tmpdir = None
     prefix = args.log
     if prefix is None and args.plots:
@@ -241,6 +271,5 @@ def cmd_control(args) -> int:
     else:
         print(text)
         if args.json:
-            Path(args.json).parent.mkdir(parents=True, exist_ok=True)
-            Path(args.json).write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
+            write_json(args.json, json.dumps(summary, indent=2))
     return summary["exit_code"]

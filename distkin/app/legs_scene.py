@@ -54,7 +54,7 @@ from pathlib import Path
 
 from ..argcheck import as_table, check_keys, require
 from ..errors import DistkinError, InputError
-from ..exact import parse_exact
+from ..exact import exact_to_float, parse_exact, parse_float
 from ..mechanisms.kinematics import LegMechanism
 from ..mechanisms.legs import LEG_FIELDS, PRISMATIC_TYPES
 from .units import angle_factor, length_factor
@@ -74,14 +74,12 @@ CSV_COLUMNS = (("type",) + tuple(f"{v}_{c}" for v in _VECTORS[:5] for c in "xyz"
 def _length(value, units, fld):
     """A scene length in metres: an exact value times the exact unit, rounded once (the
     same float whichever unit a value is written in)."""
-    ex = parse_exact(value, fld)
-    if isinstance(ex.value, Fraction):
-        return float(ex.value * units.length_factor)
-    return float(ex) * length_factor(units, fld)
+    length_factor(units, fld)                   # a physical unit, or the error
+    return exact_to_float(parse_exact(value, fld), fld, units.length_factor)
 
 
 def _number(value, fld):
-    return float(parse_exact(value, fld))
+    return parse_float(value, fld)
 
 
 def _vector(value, fld, conv):

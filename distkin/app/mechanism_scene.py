@@ -23,7 +23,7 @@ from fractions import Fraction
 
 from ..argcheck import check_keys, choice, require
 from ..errors import InputError
-from ..exact import parse_exact
+from ..exact import exact_to_float, parse_exact
 from ..mechanisms.presets import PRESETS
 from ..mechanisms.rss import preset
 from .units import angle_factor, length_factor
@@ -39,7 +39,7 @@ def parse_rss(table, units, field):
     """Parse an ``rss`` mechanism table into an :class:`~.rss.RSSMechanism` (SI)."""
     check_keys(table, {"kind", "preset", "legs", "layout", *LENGTHS, *ANGLES, *_SI}, field)
     name = choice(require(table, "preset", field), f"{field}.preset", tuple(PRESETS))
-    lf = length_factor(units, field)
+    length_factor(units, field)                 # a physical unit, or the error
     af = angle_factor(units)
     over = {}
     if "layout" in table:
@@ -53,15 +53,16 @@ def parse_rss(table, units, field):
     for k in LENGTHS + ANGLES + _SI:
         if k in table:
             ex = parse_exact(table[k], f"{field}.{k}")
-            if k in LENGTHS and isinstance(ex.value, Fraction):
-                # exact value times the exact unit factor, rounded once: the same SI
-                # number whichever unit the scene is written in
-                over[k] = float(ex.value * Fraction(units.length_factor))
-            else:
-                v = float(ex)
-                over[k] = v * (lf if k in LENGTHS else af if k in ANGLES else 1.0)
+            # a length: the exact value times the exact unit factor, rounded once (the
+            # same SI number whichever unit the scene is written in)
+            over[k] = exact_to_float(ex, f"{field}.{k}", Fraction(units.length_factor)
+                                     if k in LENGTHS else af if k in ANGLES else 1)
     try:
         return preset(name, **over)
     except InputError as exc:
         fld = exc.field if exc.field and exc.field != "preset" else None
-        raise InputError(exc.message, field=f"{field}.{fld}" if fld else field) from None
+        msg = exc.message
+        unit = (units.length if fld in LENGTHS else units.angle if fld in ANGLES else None)
+        if fld in table and unit not in (None, "m", "rad"):
+            msg += f" (the scene's {fld} = {table[fld]!r} {unit})"     # SI above, scene units here
+        raise InputError(msg, field=f"{field}.{fld}" if fld else field) from None

@@ -34,7 +34,7 @@ from __future__ import annotations
 
 from ..argcheck import as_table, check_keys, choice, exact_matrix, parse_vector, require
 from ..errors import DistkinError, InputError
-from ..exact import parse_exact
+from ..exact import parse_float
 from .legs_scene import parse_home
 from .units import length_factor
 
@@ -45,7 +45,7 @@ _KEYS = {"kind", "name", "home", "height", "mass", "inertia", "route", "octahedr
 
 
 def _float(v, fld):
-    return float(parse_exact(v, fld))
+    return parse_float(v, fld)
 
 
 def _platform(table, field):

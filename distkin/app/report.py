@@ -18,7 +18,8 @@ from fractions import Fraction
 
 import numpy as np
 
-__all__ = ["jsonable", "document", "dumps", "fmt", "render_text"]
+__all__ = ["jsonable", "document", "dumps", "fmt", "render_text", "float_inputs",
+           "float_inputs_line"]
 
 
 def jsonable(x):
@@ -75,6 +76,27 @@ def fmt(value, unit: str = "", digits: int = 6) -> str:
         except (TypeError, ValueError):
             s = str(value)
     return f"{s} {unit}".rstrip()
+
+
+def float_inputs(named) -> list:
+    """The names of the scene values, among ``named`` ((name, Exact) pairs), that were
+    bare floats and so are taken as their exact binary values (docs/design.md §3)."""
+    return [name for name, v in named if getattr(v, "from_float", False)]
+
+
+def float_inputs_line(named) -> str:
+    """The report's line saying which inputs were bare floats ("" when none), with the
+    exact value of the first (``19.8`` is 19.800000000000000710542735760100...)."""
+    from decimal import Decimal
+    floats = [(name, v) for name, v in named if getattr(v, "from_float", False)]
+    if not floats:
+        return ""
+    name, v = next(((n, x) for n, x in floats if str(Decimal(float(x.value))) != x.text),
+                   floats[0])
+    exact = str(Decimal(float(v.value)))
+    return (f"inputs given as bare floats, taken as their exact binary values: "
+            f"{', '.join(n for n, _ in floats)} (e.g. {v.text} is {exact}; write "
+            f"\"{v.text}\" for the decimal)")
 
 
 def render_text(scene_path: str, records: list, texts: list) -> str:

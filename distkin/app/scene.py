@@ -31,6 +31,7 @@ from typing import Any
 
 from ..argcheck import as_table, check_keys, exact_matrix, require
 from ..errors import DistkinError, InputError
+from ..exact import exact_to_float
 from .units import Units, parse_units
 
 __all__ = [
@@ -40,6 +41,7 @@ __all__ = [
     "Query",
     "Scene",
     "MECHANISM_PARSERS",
+    "ANCHORS",
     "load_scene",
     "loads_scene",
 ]
@@ -83,6 +85,10 @@ def _parse_octahedral(table, units, fld):
     check_keys(table, {"kind", "base", "platform"}, fld)
     base = exact_matrix(require(table, "base", fld), f"{fld}.base", rows=3, cols=3)
     plat = exact_matrix(require(table, "platform", fld), f"{fld}.platform", rows=3, cols=3)
+    for name, rows in (("base", base), ("platform", plat)):
+        for i, row in enumerate(rows):            # every tier rounds them once to float64
+            for j, v in enumerate(row):
+                exact_to_float(v, f"{fld}.{name}[{i}][{j}]")
     return Octahedral(base, plat)
 
 
@@ -117,6 +123,10 @@ MECHANISM_PARSERS = {
 #: kinds whose tables may name files relative to the scene (the parser gets its path)
 _WITH_PATH = ("legs",)
 
+#: the roots of a scene's field names; an error whose field starts with none of them
+#: came from inside a query and is re-anchored there ("dps" -> "query[0].dps")
+ANCHORS = ("query", "mechanism", "units")
+
 
 @dataclass(frozen=True)
 class Query:
@@ -150,6 +160,10 @@ def loads_scene(text: str, path: str = "<string>") -> Scene:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"expected valid TOML, got a syntax error: {exc}", field=path) from None
+    if "mechanism" not in data and ("device" in data or "pd" in data):
+        raise InputError("expected a run scene ([mechanism], [[query]]), got a controller "
+                         "scene ([device], [pd], ...)", field="scene",
+                         hint="run it with 'distkin control --sim --scene FILE' (or --port)")
     check_keys(data, {"units", "mechanism", "query", "title", "description"}, "scene")
     units = parse_units(data.get("units"))
     mtable = as_table(require(data, "mechanism", ""), "mechanism")
@@ -160,6 +174,9 @@ def loads_scene(text: str, path: str = "<string>") -> Scene:
     mechanism = MECHANISM_PARSERS[kind](mtable, units, "mechanism",
                                         *((path,) if kind in _WITH_PATH else ()))
     qlist = data.get("query", [])
+    if isinstance(qlist, dict):                    # [query] written for [[query]]
+        raise InputError("expected [[query]] tables (an array, double brackets), got one "
+                         "[query] table", field="query", hint="write [[query]]")
     if not isinstance(qlist, list) or not qlist:
         raise InputError("expected at least one [[query]] table", field="query")
     parsed = []
@@ -171,8 +188,8 @@ def loads_scene(text: str, path: str = "<string>") -> Scene:
         try:
             params = spec.parse(q, mechanism, units, fld)
         except DistkinError as exc:
-            if exc.field is None:
-                exc.with_field(fld)
+            if exc.field is None or not exc.field.startswith(ANCHORS):
+                exc.with_field(fld)              # "dps" -> "query[0].dps"
             raise
         parsed.append(Query(i, qtype, params, MappingProxyType(dict(q))))
     return Scene(str(path), units, mechanism, MappingProxyType(dict(mtable)), tuple(parsed))

@@ -234,6 +234,8 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
                 "units": "nominal/stall: N·m (revolute), N (prismatic); rate: rad/s "
                          "(revolute), m/s (prismatic)",
                 "text": {w: limit_text(lim, w) for w in ("nominal", "stall", "rate")}}
+            for q, entry in s["table"].items():      # sensitivities per the actuators' units
+                entry["unit"] = _unit(q, entry["unit"], s)
             if p.certify:
                 t0 = time.perf_counter()
                 half = 0.075 if d.mech.kind == "rss" else (max(grid.x) - min(grid.x)) / 2

@@ -13,7 +13,7 @@ from fractions import Fraction
 
 from ..argcheck import as_table, check_keys
 from ..errors import InputError
-from ..exact import parse_exact
+from ..exact import parse_float
 
 __all__ = ["Units", "parse_units", "length_factor", "angle_factor", "length_value",
            "angle_value", "DEG"]
@@ -81,9 +81,9 @@ def length_value(value, units, field) -> float:
     if f is None:
         raise InputError("expected a physical length unit for an rss or legs scene, got 'none'",
                          field="units.length")
-    return float(parse_exact(value, field)) * float(f)
+    return parse_float(value, field) * float(f)
 
 
 def angle_value(value, units, field) -> float:
     """A scene angle (exact text or number) in radians (float)."""
-    return float(parse_exact(value, field)) * angle_factor(units)
+    return parse_float(value, field) * angle_factor(units)

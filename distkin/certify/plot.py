@@ -160,7 +160,7 @@ def plot_certificate(cert, stem, *, length_unit: str = "mm") -> Path:
                  f"{100 * s['undecided_fraction']:.1f} % of the region's volume")
     fig.legend(handles=[Patch(color=c, label=t) for c, t in COLOURS.values()],
                loc="lower center", ncol=4)
-    fig.tight_layout(rect=(0, 0.07, 1, 0.93))
+    fig.tight_layout(rect=(0, 0.1, 1, 0.93))      # the legend's row below the x labels
     out = Path(str(stem) + "_certified_workspace.png")
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out, dpi=110)

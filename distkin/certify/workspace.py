@@ -22,11 +22,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..argcheck import as_floats, choice, float_array, positive_int
+from ..errors import InputError
 from .batch import branch_and_prune_batched
 from .boxes import REGULAR, STATUS_NAMES, branch_and_prune
+from .intervals import FORMS
 from .tighten import tighten_sigma
 
-__all__ = ["WorkspaceCertificate", "certify_workspace", "initial_boxes", "volume_unit"]
+__all__ = ["WorkspaceCertificate", "certify_workspace", "initial_boxes", "volume_unit",
+           "WORKSPACE_FORMS"]
 
 
 def volume_unit(vary) -> str:
@@ -61,6 +65,10 @@ def initial_boxes(lower, upper, split: int):
             lo[k], hi[k] = edges[k][i], edges[k][i + 1]
         out.append((lo, hi))
     return out
+
+
+#: the enclosure forms certify_workspace takes (``auto``: :func:`.boxes.branch_and_prune`)
+WORKSPACE_FORMS = ("quadratic64",) + FORMS + ("auto",)
 
 
 def _chunk_task(spec):
@@ -105,6 +113,9 @@ class WorkspaceCertificate:
     sigma_bound : SigmaBound or None
         The σmin bound over all regular boxes raised by bisecting the weakest
         (:func:`.tighten.tighten_sigma`); None when not run.
+    resumed : int
+        Chunks loaded from the store (computed by an earlier run); their boxes count in
+        :attr:`evaluated` but took none of :attr:`wall_seconds`.
     """
 
     mechanism: object
@@ -122,6 +133,7 @@ class WorkspaceCertificate:
     wall_seconds: float
     chunks: int
     sigma_bound: object = None
+    resumed: int = 0
 
     @property
     def vary(self) -> tuple:
@@ -150,7 +162,8 @@ class WorkspaceCertificate:
 
         Two rates: ``boxes_per_second`` is boxes per wall second of the whole call (all
         processes together: :attr:`evaluated` over :attr:`wall_seconds`; a resumed run
-        counts the boxes of the chunks it loaded, so its rate is not a speed);
+        counts the boxes of the chunks it loaded, so its rate is not a speed:
+        ``chunks_resumed`` says how many);
         ``boxes_per_process_second`` is per process (boxes over the sum of the chunks' own
         computing times, whatever ran them in parallel).
         """
@@ -181,11 +194,31 @@ class WorkspaceCertificate:
         out["boxes_per_process_second"] = (self.evaluated / self.seconds
                                            if self.seconds > 0 else None)
         out["chunks"] = self.chunks
+        out["chunks_resumed"] = self.resumed
         return out
 
     def at_zero_rotation(self) -> np.ndarray:
         """(n,) bool: the boxes that contain a pose of zero rotation (rx = ry = rz = 0)."""
         return np.all((self.lo[:, 3:] <= 0.0) & (self.hi[:, 3:] >= 0.0), axis=1)
+
+
+def _check_region(lower, upper, min_width):
+    """The region and resolution of :func:`certify_workspace`, checked: (6,) finite
+    bounds (m, rad) with lower <= upper, and a positive finite resolution (a scalar or
+    (6,)); a resolution <= 0 would bisect until the box budget runs out."""
+    lower = float_array(lower, "lower", (6,))
+    upper = float_array(upper, "upper", (6,))
+    if np.any(upper < lower):
+        k = int(np.argmax(upper < lower))
+        raise InputError(f"expected lower <= upper (m for x, y, z; rad for rx, ry, rz), got "
+                         f"lower[{k}] = {float(lower[k])!r} > "
+                         f"upper[{k}] = {float(upper[k])!r}",
+                         field="upper")
+    minw = as_floats(min_width, "min_width", "a resolution (m, rad): a number or 6 numbers")
+    if minw.shape not in ((), (6,)) or not np.all(np.isfinite(minw)) or np.any(minw <= 0):
+        raise InputError(f"expected a positive finite resolution (m, rad), a number or 6 "
+                         f"numbers, got {minw.tolist()!r}", field="min_width")
+    return lower, upper, np.broadcast_to(minw, (6,)).astype(float)
 
 
 def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64",
@@ -199,9 +232,10 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
     mech : RSSMechanism
     lower, upper : array (6,)
         The region (m, rad): x, y, z, rx, ry, rz (:mod:`distkin.spatial`).
-    min_width : array (6,)
-        Resolution (m, rad): boxes are bisected along a coordinate only while wider.
-    form : {"quadratic64", "quadratic", "affine", "centred", "plain"}
+    min_width : float or array (6,)
+        Resolution (m, rad), positive: boxes are bisected along a coordinate only while
+        wider.
+    form : {"quadratic64", "quadratic", "affine", "centred", "plain", "auto"}
         ``quadratic64`` (the default): the quadratic form with binary64 coefficients,
         boxes evaluated in batches (:mod:`.batch`), the arb ``quadratic`` form on the
         boxes it leaves undecided at the resolution; the others: :mod:`.boxes`.
@@ -224,14 +258,23 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
     Returns
     -------
     WorkspaceCertificate
+
+    Raises
+    ------
+    InputError
+        Bounds not (6,) finite numbers or lower > upper, a resolution <= 0, an unknown
+        form, ``split`` or ``max_boxes`` < 1, ``tighten`` < 0.
     """
     from ..runstore import run_chunks
     t0 = time.perf_counter()
-    lower = np.asarray(lower, dtype=float)
-    upper = np.asarray(upper, dtype=float)
-    minw = np.asarray(min_width, dtype=float)
+    lower, upper, minw = _check_region(lower, upper, min_width)
+    form = choice(form, "form", WORKSPACE_FORMS)
+    split = positive_int(split, "split")
+    max_boxes = positive_int(max_boxes, "max_boxes")
+    tighten = positive_int(tighten, "tighten", minimum=0)
     boxes = initial_boxes(lower, upper, split)
     specs = [(mech, lo, hi, minw, form, int(max_boxes)) for lo, hi in boxes]
+    stats = {"loaded": 0}
     if store is None:
         results = [_chunk_task(s) for s in specs] if executor is None else \
             list(executor.map(_chunk_task, specs))
@@ -242,7 +285,7 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
                       "max_boxes": int(max_boxes), "extra": definition_extra}
         results = run_chunks(_chunk_task, specs, store, definition=definition,
                              executor=executor, progress=progress,
-                             desc=f"certify {mech.name}")
+                             desc=f"certify {mech.name}", stats=stats)
     cat = {k: np.concatenate([r[k] for r in results]) for k in
            ("lo", "hi", "status", "sigma_lower", "det_sign")}
     blo, bhi = cat["lo"].reshape(-1, 6), cat["hi"].reshape(-1, 6)
@@ -256,5 +299,6 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
         mech, lower, upper, minw, form, blo, bhi,
         cat["status"], cat["sigma_lower"], cat["det_sign"],
         int(sum(int(r["evaluated"]) for r in results)),
-        float(sum(float(r["seconds"]) for r in results)), wall, len(specs), bound)
+        float(sum(float(r["seconds"]) for r in results)), wall, len(specs), bound,
+        stats["loaded"])
 

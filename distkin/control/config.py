@@ -387,6 +387,11 @@ def loads_control_scene(text: str, path: str = "<string>", *,
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"expected valid TOML, got a syntax error: {exc}", field=path) from None
+    if "query" in data or "mechanism" in data:
+        raise InputError("expected a controller scene ([device], [pd], ...), got a distkin "
+                         "run scene ([mechanism], [[query]])", field="scene",
+                         hint="run it with 'distkin run'; a controller scene takes its "
+                              "mechanism with [device] mechanism = \"FILE.toml\"")
     check_keys(data, {"title", "description", "device", "admittance", "environment", "pd",
                       "safety", "simulator"}, "scene")
     dev = as_table(data.get("device", {}), "device")

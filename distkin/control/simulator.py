@@ -36,6 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import InputError
 from .faults import DISCONNECT, FaultInjector
 from .plant import Plant
 from .protocol import (FLAG_KEEPALIVE, MODE_ZERO_TORQUE, STATUS_DEVICE_WATCHDOG,
@@ -117,7 +118,13 @@ class TcpTransport(_FdTransport):
     def __init__(self, port: int = 0, host: str = "127.0.0.1"):
         self._srv = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
         self._srv.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        self._srv.bind((host, port))
+        try:
+            self._srv.bind((host, port))
+        except (OSError, OverflowError) as exc:
+            self._srv.close()
+            raise InputError(f"expected a free TCP port in 0..65535 on {host}, got {port!r} "
+                             f"({getattr(exc, 'strerror', None) or exc})",
+                             field="tcp_port") from None
         self._srv.listen(1)
         self.url = f"socket://{host}:{self._srv.getsockname()[1]}"
         self._conn = None

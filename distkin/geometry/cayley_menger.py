@@ -219,8 +219,8 @@ def cayley_menger(sq, rows, cols=None):
         import sympy
         return sympy.expand(sympy.Matrix(entries).det(method="berkowitz"))
     if kind == "mpf":
-        import mpmath
-        return mpmath.det(mpmath.matrix(entries))
+        from ..exact import mp_det
+        return mp_det(entries)               # not mpmath.det: see mp_det
     import flint
     flat = [x for row in entries for x in row]
     if kind == "arb":

@@ -17,10 +17,10 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from ..argcheck import float_array
+from ..argcheck import as_floats, float_array
 from ..errors import InputError
 
-__all__ = ["RSSDescription", "GEOMETRY_FIELDS", "LAYOUTS", "LEG_LENGTH"]
+__all__ = ["RSSDescription", "GEOMETRY_FIELDS", "LAYOUTS", "LEG_LENGTH", "SI_UNITS"]
 
 #: the parameters that define the kinematics (mass and inertia do not)
 GEOMETRY_FIELDS = ("legs", "l0", "l1", "l2", "l3", "lp", "ld", "z0", "beta", "gamma", "layout")
@@ -30,6 +30,10 @@ GEOMETRY_FIELDS = ("legs", "l0", "l1", "l2", "l3", "lp", "ld", "z0", "beta", "ga
 #: cranks tangential away from the pair; the reading used before issue 15) and
 #: "tangential_in" (tangential axes, cranks radially inwards; documented, not buildable)
 LAYOUTS = ("tangential", "radial", "tangential_in")
+
+#: the SI unit of each numeric parameter (what error messages print)
+SI_UNITS = {**dict.fromkeys(("l0", "l1", "l2", "l3", "lp", "ld", "z0"), "m"),
+            "beta": "rad", "gamma": "rad", "mass": "kg", "inertia": "kg m^2"}
 
 #: l2 + l3 (m) of every leg in the "tangential" reading: the centre of the interval of
 #: leg lengths that close every leg of every preset over its study box
@@ -41,7 +45,7 @@ LEG_LENGTH = 0.3497
 def _poses(poses, field="poses"):
     """Poses (N, 6) from (6,), (N, 6), a 4x4 homogeneous matrix or (N, 4, 4) matrices
     (:func:`distkin.spatial.pose_from`), and whether one pose was given."""
-    arr = np.asarray(poses, dtype=float)
+    arr = as_floats(poses, field, "poses (x, y, z, rx, ry, rz) in m and rad or 4x4 matrices")
     if arr.ndim >= 2 and arr.shape[-2:] == (4, 4):
         from ..spatial import matrix_to_pose
         arr = matrix_to_pose(arr)
@@ -100,12 +104,14 @@ class RSSDescription:
         for f in ("l0", "l1", "lp", "z0", "mass", "inertia"):
             v = getattr(self, f)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise InputError(f"expected a positive finite number, got {v!r}", field=f)
+                raise InputError(f"expected a positive finite number, got {v!r} {SI_UNITS[f]}",
+                                 field=f)
             object.__setattr__(self, f, float(v))
         for f in ("l2", "ld", "beta", "gamma"):
             v = getattr(self, f)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
-                raise InputError(f"expected a finite number >= 0, got {v!r}", field=f)
+                raise InputError(f"expected a finite number >= 0, got {v!r} {SI_UNITS[f]}",
+                                 field=f)
             object.__setattr__(self, f, float(v))
         if self.layout not in LAYOUTS:
             raise InputError(f"expected layout in {LAYOUTS}, got {self.layout!r}",
@@ -118,7 +124,7 @@ class RSSDescription:
         else:
             v = self.l3
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise InputError(f"expected a positive finite number, got {v!r}", field="l3")
+                raise InputError(f"expected a positive finite number, got {v!r} m", field="l3")
             object.__setattr__(self, "l3", float(v))
 
     def __getstate__(self):

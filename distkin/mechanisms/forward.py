@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..argcheck import float_array
+from ..argcheck import as_floats, float_array
 from ..errors import InfeasibleError, InputError, SingularConfigurationError
 from ..spatial import exp_so3, rotate_pose_scalar, rotation_angles, rotation_matrix
 
@@ -133,14 +133,14 @@ def forward_kinematics(mech, q, guess=None, *, tol=1e-13, max_iter=50, max_condi
     FKResult
     """
     L = mech.legs
-    qa = np.asarray(q, dtype=float)
+    qa = as_floats(q, "q", f"{L} joint coordinates (rad, or m for prismatic legs)")
     single = qa.ndim == 1
     qa = float_array(qa.reshape(1, -1) if single else qa, "q", (None, L))
     N = len(qa)
     if guess is None:
         X = np.tile(mech.home, (N, 1))
     else:
-        g = np.asarray(guess, dtype=float)
+        g = as_floats(guess, "guess", "a pose (x, y, z, rx, ry, rz) in m and rad")
         g = float_array(g.reshape(1, -1) if g.ndim == 1 else g, "guess", (None, 6))
         if len(g) not in (1, N):
             raise InputError(f"expected {N} guesses or one, got {len(g)}", field="guess")

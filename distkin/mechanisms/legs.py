@@ -67,13 +67,13 @@ def _vec(v, fld, *, unit=False):
     return arr
 
 
-def _pos(v, fld):
+def _pos(v, fld, unit):
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
-        raise InputError(f"expected a positive finite number, got {v!r}", field=fld)
+        raise InputError(f"expected a positive finite number, got {v!r} {unit}", field=fld)
     return float(v)
 
 
-def _pair(v, fld, *, symmetric=False):
+def _pair(v, fld, unit, *, symmetric=False):
     if v is None:
         return None
     if symmetric and isinstance(v, (int, float)) and not isinstance(v, bool):
@@ -83,7 +83,7 @@ def _pair(v, fld, *, symmetric=False):
     except (TypeError, ValueError):
         raise InputError(f"expected [min, max], got {v!r}", field=fld) from None
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-        raise InputError(f"expected finite min < max, got {v!r}", field=fld)
+        raise InputError(f"expected finite min < max, got ({lo!r}, {hi!r}) {unit}", field=fld)
     return (lo, hi)
 
 
@@ -135,8 +135,9 @@ class Leg:
         s = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731
         s("base", _vec(self.base, "base"))
         s("platform", _vec(self.platform, "platform"))
-        s("range", _pair(self.range, "range"))
-        s("limit", _pair(self.limit, "limit", symmetric=True))
+        s("range", _pair(self.range, "range", "m" if self.prismatic else "rad"))
+        s("limit", _pair(self.limit, "limit", "N" if self.prismatic else "N·m",
+                         symmetric=True))
         if self.prismatic:
             for k in ("axis", "crank0", "crank90", "crank", "distal", "branch"):
                 if getattr(self, k) is not None:
@@ -171,8 +172,8 @@ class Leg:
             raise InputError(f"expected no offset on an {self.type} leg (an RRRS leg has one),"
                              f" got {o!r}", field="offset")
         s("axis", a), s("crank0", u), s("crank90", v), s("offset", o)
-        s("crank", _pos(self.crank, "crank"))
-        s("distal", _pos(self.distal, "distal"))
+        s("crank", _pos(self.crank, "crank", "m"))
+        s("distal", _pos(self.distal, "distal", "m"))
         if self.branch is not None and self.branch not in (1, -1):
             raise InputError(f"expected branch +1 or -1, got {self.branch!r}", field="branch")
         if self.branch is not None:
@@ -237,10 +238,10 @@ class LegsDescription:
             raise InputError(f"expected 6 finite numbers (x, y, z, rx, ry, rz), got "
                              f"{self.home_pose!r}", field="home")
         object.__setattr__(self, "home_pose", home)
-        object.__setattr__(self, "mass", _pos(self.mass, "mass"))
-        object.__setattr__(self, "inertia", _pos(self.inertia, "inertia"))
+        object.__setattr__(self, "mass", _pos(self.mass, "mass", "kg"))
+        object.__setattr__(self, "inertia", _pos(self.inertia, "inertia", "kg m^2"))
         if self.scale is not None:
-            object.__setattr__(self, "scale", _pos(self.scale, "scale"))
+            object.__setattr__(self, "scale", _pos(self.scale, "scale", "m"))
         legs = [self._resolve_branch(i, leg) for i, leg in enumerate(legs)]
         object.__setattr__(self, "leg_table", tuple(legs))
 

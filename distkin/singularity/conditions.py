@@ -118,8 +118,8 @@ def _det(M, kind):
         raise InputError(f"expected one matrix in the {kind} tier, got shape {M.shape}")
     n = M.shape[0]
     if kind == "precise":
-        import mpmath
-        return mpmath.det(mpmath.matrix(M.tolist()))
+        from ..exact import mp_det
+        return mp_det(M.tolist())            # not mpmath.det: see mp_det
     if kind == "sympy":
         import sympy
         return sympy.expand(sympy.Matrix(M.tolist()).det(method="berkowitz"))

@@ -254,6 +254,14 @@ store = "store"
     devs = {d["label"]: d for d in res["devices"]}
     assert devs["GD"]["actuator_limits"]["text"]["rate"] == "1 m/s"
     assert devs["Hunt"]["actuator_limits"]["text"]["rate"] == "51 rad/s"
+    # the sensitivities' JSON units follow each device's actuators (they were the
+    # revolute ones, m/rad and N/(N·m), for the prismatic legs too)
+    want = {"GD": ("m/m", "rad/m", "N/N", "(N·m)/N"),
+            "Hunt": ("m/rad", "rad/rad", "N/(N·m)", "(N·m)/(N·m)")}
+    for label, units in want.items():
+        got = tuple(devs[label]["table"][q]["unit"] for q in
+                    ("sens_translational", "sens_rotational", "sens_force", "sens_torque"))
+        assert got == units, label
     # the σ × τnom reading scales by each device's own nominal limit: 50 N, 2.5 N·m
     for label, tau in (("GD", 50.0), ("Hunt", 2.5)):
         rd = devs[label]["isotropy"]["readings"]
@@ -292,3 +300,57 @@ poses = [[6, 3.46, 17, 0, 0, 0]]
     want = np.asarray(leg_lengths(plat, R, x[:3] / 0.01), dtype=float) * 0.01
     q, _ = m.inverse_kinematics(x)
     assert np.max(np.abs(q - want)) < 1e-14
+
+
+def test_table3_bar_titles_use_the_devices_units(tmp_path, monkeypatch):
+    """The Table III bar chart titled every sensitivity with the revolute units (m/rad,
+    N/(N·m)) even for prismatic legs; it now prints the units the devices' tables carry,
+    both where a study mixes actuator types."""
+    import matplotlib
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    from distkin.indices.plots import plot_table3_bars
+    from distkin.indices.study import CAPABILITIES, SENSITIVITIES
+    titles = []
+    save = Figure.savefig
+
+    def capture(fig, *args, **kwargs):
+        titles.extend(ax.get_title() for ax in fig.axes)
+        return save(fig, *args, **kwargs)
+    monkeypatch.setattr(Figure, "savefig", capture)
+    rows = [c[:3] for c in CAPABILITIES] + [s[:3] for s in SENSITIVITIES]
+
+    def summary(label, sens_units):
+        units = dict(zip([s[0] for s in SENSITIVITIES], sens_units))
+        return {"label": label, "table": {q: {"min": 1.0, "max": 2.0,
+                                              "unit": units.get(q, unit)}
+                                          for q, _, unit in rows}}
+    plot_table3_bars(tmp_path / "t", [summary("GD", ("m/m", "rad/m", "N/N", "(N·m)/N"))])
+    assert "Max. translational sensitivity [m/m]" in titles
+    assert "Max. force sensitivity [N/N]" in titles and "Continuous force [N]" in titles
+    titles.clear()
+    plot_table3_bars(tmp_path / "u", [summary("GD", ("m/m", "rad/m", "N/N", "(N·m)/N")),
+                                      summary("Hunt", ("m/rad", "rad/rad", "N/(N·m)",
+                                                       "(N·m)/(N·m)"))])
+    assert "Max. translational sensitivity [m/m | m/rad]" in titles
+
+
+def test_table4_bar_title_gives_the_studied_orientations(tmp_path, monkeypatch):
+    """The Table IV chart said '±20°' whatever range the study used (±10° in the
+    examples of [1]'s platforms)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    from distkin.indices.plots import plot_table4_bars
+    titles = []
+    save = Figure.savefig
+
+    def capture(fig, *args, **kwargs):
+        titles.append(fig._suptitle.get_text())
+        return save(fig, *args, **kwargs)
+    monkeypatch.setattr(Figure, "savefig", capture)
+    iso = {"gii": 0.15, "sigma_min": 0.02, "sigma_max": 0.16, "rotation_deg": 10.0}
+    plot_table4_bars(tmp_path / "t", [{"label": "GD", "isotropy": iso}])
+    assert "ours (orientations ±10°)" in titles[0] and "(±20°)" in titles[0]

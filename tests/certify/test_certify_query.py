@@ -95,9 +95,20 @@ def test_query_json_volumes_resume_and_plot(tmp_path):
     chunks = sorted(store.glob("chunk_*.npz"))
     assert len(chunks) == 8
     stamps = [c.stat().st_mtime_ns for c in chunks]
-    rec2, _, _ = run_scene(_scene(**fields), progress=False)
+    assert r["chunks_resumed"] == 0 and "boxes per wall second" in texts[0]
+    rec2, texts2, _ = run_scene(_scene(**fields), progress=False)
     assert [c.stat().st_mtime_ns for c in sorted(store.glob("chunk_*.npz"))] == stamps
     assert rec2[0]["result"]["boxes"]["status"] == boxes["status"]
+    # nothing was computed: the report says so instead of a wall rate of loaded boxes
+    assert rec2[0]["result"]["chunks_resumed"] == 8
+    assert "all 8 chunks loaded from the store" in texts2[0]
+    assert "per wall second" not in texts2[0]
+    for c in chunks[:3]:                       # three chunks lost: computed again
+        c.unlink()
+    rec4, texts4, _ = run_scene(_scene(**fields), progress=False)
+    assert rec4[0]["result"]["chunks_resumed"] == 5
+    assert rec4[0]["result"]["boxes"]["status"] == boxes["status"]
+    assert "(5 of the 8 chunks loaded from the store" in texts4[0]
     # a store made for another resolution is refused
     fields["min_width"] = "18.75"
     rec3, _, worst3 = run_scene(_scene(**fields), progress=False)
@@ -157,3 +168,55 @@ def test_json_document_is_valid(tmp_path):
     assert worst == 0
     doc = json.loads(dumps(document("test.toml", rec, "0")))
     assert doc["queries"][0]["result"]["regular_fraction"] == 1.0
+
+
+def test_plot_legend_clears_the_axis_labels(tmp_path, monkeypatch):
+    """The legend row of the Fig. 3 analogue sat on the x labels of the section panels
+    (tight_layout kept 7 % of the height for it): every axis label's box must be clear
+    of the legend's, measured in the drawn figure."""
+    import matplotlib
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    from distkin.certify.plot import plot_certificate
+    drawn = []
+    save = Figure.savefig
+
+    def capture(fig, *args, **kwargs):
+        fig.canvas.draw()
+        r = fig.canvas.get_renderer()
+        legend = fig.legends[0].get_window_extent(r)
+        labels = [a.xaxis.label.get_window_extent(r) for a in fig.axes
+                  if a.xaxis.label.get_text()]
+        drawn.append((legend, labels))
+        return save(fig, *args, **kwargs)
+    monkeypatch.setattr(Figure, "savefig", capture)
+    m = preset("hunt")
+    cert = certify_workspace(m, [-0.075, -0.075, 0.225, 0, 0, 0],
+                             [0.075, 0.075, 0.375, 0, 0, 0], [0.0375] * 3 + [1.0] * 3)
+    plot_certificate(cert, tmp_path / "hunt")
+    legend, labels = drawn[0]
+    assert len(labels) >= 3
+    assert not any(legend.overlaps(b) for b in labels)
+
+
+LO, HI = [-0.075, -0.075, 0.225, 0, 0, 0], [0.075, 0.075, 0.375, 0, 0, 0]   # m, rad
+
+
+@pytest.mark.parametrize("args, kwargs, field, words", [
+    ((LO, HI, -0.01), {}, "min_width", "positive finite resolution"),
+    ((LO, HI, 0.0), {}, "min_width", "got 0.0"),
+    ((HI, LO, 0.04), {}, "upper", "lower[0] = 0.075 > upper[0] = -0.075"),
+    ((LO[:3], HI[:3], 0.04), {}, "lower", "shape (6,)"),
+    ((["abc"] * 6, HI, 0.04), {}, "lower", "numbers of shape"),
+    ((LO, HI, 0.04), {"form": "quad"}, "form", "'quadratic64'"),
+    ((LO, HI, 0.04), {"split": 0}, "split", ">= 1"),
+])
+def test_python_entry_point_checks_its_input(args, kwargs, field, words):
+    """certify_workspace(...) from Python: a resolution <= 0 used to bisect until the box
+    budget ran out (minutes, looking hung), lower > upper returned a certificate of an
+    empty region, and the rest raised IndexError or numpy's ValueError (its form list
+    left out the default, quadratic64)."""
+    with pytest.raises(InputError) as exc:
+        certify_workspace(preset("hunt"), *args, **kwargs)
+    assert exc.value.field == field and words in exc.value.message

@@ -52,7 +52,7 @@ import numpy as np
 from ...argcheck import (as_table, check_keys, choice, executor_fields, positive_int,
                         positive_number)
 from ...errors import InputError
-from ...exact import parse_exact
+from ...exact import parse_float
 from ..query import Outcome, register
 from ...certify.boxes import STATUS_NAMES
 
@@ -65,7 +65,7 @@ _FIELDS = {"type", "method", "region", "min_width", "min_angle", "form", "split"
 def _vector(value, field):
     if not isinstance(value, list) or len(value) != 6:
         raise InputError(f"expected 6 numbers [x, y, z, rx, ry, rz], got {value!r}", field=field)
-    return [float(parse_exact(v, f"{field}[{i}]")) for i, v in enumerate(value)]
+    return [parse_float(v, f"{field}[{i}]") for i, v in enumerate(value)]
 
 
 @dataclass(frozen=True)
@@ -91,7 +91,7 @@ class CertifyWorkspaceQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
         from ..units import angle_factor, length_factor
-        from ...certify.intervals import FORMS
+        from ...certify.workspace import WORKSPACE_FORMS
         check_keys(table, _FIELDS, field)
         method = table.get("method", "certified")
         if method != "certified":
@@ -119,7 +119,8 @@ class CertifyWorkspaceQuery:
         if not np.all(np.isfinite(lower)) or not np.all(np.isfinite(upper)) or \
                 np.any(upper < lower):
             raise InputError(f"expected finite bounds with lower <= upper, got lower="
-                             f"{(lower / scale).tolist()}, upper={(upper / scale).tolist()}",
+                             f"{(lower / scale).tolist()}, upper={(upper / scale).tolist()} "
+                             f"(x, y, z in {units.length}, rx, ry, rz in {units.angle})",
                              field=f"{field}.region")
         ext = upper - lower
         pos_ext, rot_ext = float(ext[:3].max()), float(ext[3:].max())
@@ -131,8 +132,7 @@ class CertifyWorkspaceQuery:
             ma = positive_number(table["min_angle"], f"{field}.min_angle") * af
         else:
             ma = rot_ext / 8 if rot_ext > 0 else 1.0
-        form = choice(table.get("form", "quadratic64"), f"{field}.form",
-                      ("quadratic64",) + FORMS + ("auto",))
+        form = choice(table.get("form", "quadratic64"), f"{field}.form", WORKSPACE_FORMS)
         split = positive_int(table.get("split", 2), f"{field}.split")
         max_boxes = positive_int(table.get("max_boxes", 200_000), f"{field}.max_boxes")
         tighten = positive_int(table.get("tighten", 4096), f"{field}.tighten", minimum=0)
@@ -224,8 +224,18 @@ def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> s
     if "det_signs" in s:
         lines.append(f"  det Jx sign(s) over the regular boxes: {s['det_signs']}")
     bps, bpp = s["boxes_per_second"], s["boxes_per_process_second"]
-    lines.append(f"  {s['boxes_evaluated']} boxes evaluated in {s['wall_seconds']:.1f} s wall "
-                 f"({bps:.0f} boxes per wall second), {s['seconds']:.1f} s of chunk time "
-                 f"({bpp:.0f} boxes/s per process), {s['chunks']} chunks" if bps and bpp else
-                 f"  {s['boxes_evaluated']} boxes evaluated, {s['chunks']} chunks")
+    resumed = s.get("chunks_resumed", 0)
+    if resumed == s["chunks"]:          # nothing computed now: no wall rate to speak of
+        lines.append(f"  {s['boxes_evaluated']} boxes, all {s['chunks']} chunks loaded from "
+                     f"the store (computed earlier in {s['seconds']:.1f} s of chunk time"
+                     + (f", {bpp:.0f} boxes/s per process)" if bpp else ")"))
+    else:
+        lines.append(f"  {s['boxes_evaluated']} boxes evaluated in {s['wall_seconds']:.1f} s "
+                     f"wall ({bps:.0f} boxes per wall second), {s['seconds']:.1f} s of chunk "
+                     f"time ({bpp:.0f} boxes/s per process), {s['chunks']} chunks"
+                     if bps and bpp else
+                     f"  {s['boxes_evaluated']} boxes evaluated, {s['chunks']} chunks")
+        if resumed:
+            lines.append(f"    ({resumed} of the {s['chunks']} chunks loaded from the store: "
+                         "their boxes count in the wall rate but were computed earlier)")
     return "\n".join(lines)

@@ -6,7 +6,7 @@ from __future__ import annotations
 from ...argcheck import check_keys, positive_int
 from ...control.table5 import run_table5
 from ...errors import InputError
-from ...exact import parse_exact
+from ...exact import parse_float
 from ..query import Outcome, register
 from ..units import angle_factor, length_factor
 
@@ -26,9 +26,9 @@ class Table5Query:
         check_keys(table, {"type", "trials", "step", "step_angle"}, field)
         lf, af = length_factor(units, "units"), angle_factor(units)
         trials = positive_int(table.get("trials", 5), f"{field}.trials")
-        step = float(parse_exact(table["step"], f"{field}.step")) * lf \
+        step = parse_float(table["step"], f"{field}.step") * lf \
             if "step" in table else 0.040
-        ang = float(parse_exact(table["step_angle"], f"{field}.step_angle")) * af \
+        ang = parse_float(table["step_angle"], f"{field}.step_angle") * af \
             if "step_angle" in table else 0.4
         if not (step > 0 and ang > 0):
             raise InputError(f"expected positive steps, got {step!r} m, {ang!r} rad",

@@ -48,6 +48,7 @@ from ...argcheck import check_keys, exact_matrix, method_field, require
 from ...errors import DistkinError, InputError
 from ...exact import METHODS_AUTO, default_dps, parse_vector
 from ..query import Outcome, register
+from ..report import float_inputs, float_inputs_line
 
 __all__ = ["DeltaTransformQuery", "Platform66Forward", "Platform66Mechanism",
            "parse_platform66", "plot_det_family"]
@@ -186,8 +187,25 @@ class DeltaTransformQuery:
                 lines.append(f"  m{i + 1} = {m}{unit}  ->  l{i + 1} = {x}{unit}{approx}")
         if p.solve:
             lines += _solve(p, result, unit, ctx)
+        _flag_floats(p.m_legs or (), "m_legs", p, result, lines)
         plot = (lambda stem: plot_det_family(tr, stem)) if _family_ok(tr) else None
         return Outcome(result, "\n".join(lines), plot)
+
+
+def _flag_floats(legs, name, p, result, lines):
+    """Say which exact inputs were bare floats (docs/design.md §3), in the JSON and text."""
+    where = ("mechanism.offsets" if p.offsets is getattr(p.mechanism, "offsets", None)
+             else "offsets")
+    named = ([(f"{name}[{i}]", v) for i, v in enumerate(legs)]
+             + [(f"{where}[{i}]", v) for i, v in enumerate(p.offsets)]
+             + [(f"mechanism.{k}[{i}][{j}]", v)
+                for k in ("base", "platform")
+                for i, row in enumerate(getattr(p.mechanism, k, ()))
+                for j, v in enumerate(row)])
+    result["inputs_from_float"] = float_inputs(named)
+    note = float_inputs_line(named)
+    if note:
+        lines.append(note)
 
 
 def _solve(p, result, unit, ctx):
@@ -269,6 +287,7 @@ class Platform66Forward:
         lines += _solve(p, result, unit, ctx)
         fk = result.pop("forward_kinematics")
         result.update(fk)
+        _flag_floats(p.m_legs, "legs", p, result, lines)
         return Outcome(result, "\n".join(lines))
 
 

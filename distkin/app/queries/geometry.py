@@ -16,12 +16,14 @@ query is intended for ``kind = "points"``.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from ...argcheck import check_keys, exact_matrix, method_field, string_list
 from ...errors import InputError
 from ...exact import default_dps, to_tier
 from ..query import Outcome, register
+from ..report import float_inputs, float_inputs_line
 from ...geometry.cayley_menger import cayley_menger, parse_label, squared_distances
 
 __all__ = ["CayleyMengerQuery"]
@@ -102,18 +104,30 @@ class CayleyMengerQuery:
             interp = _interpretation(rows, cols)
             if interp is not None:
                 kind, factor = interp
-                val = float(d if p.method != "certified" else _mid(d)) * factor
-                entry[kind] = val
+                try:
+                    val = float(d if p.method != "certified" else _mid(d)) * factor
+                except OverflowError:
+                    val = math.inf
                 label = "area^2" if kind.startswith("triangle") else "volume^2"
-                text += f"   ({label} = {val:.10g}{' ' + unit + ('^4' if label == 'area^2' else '^6') if unit else ''})"
+                if math.isfinite(val):
+                    entry[kind] = val
+                    text += f"   ({label} = {val:.10g}{' ' + unit + ('^4' if label == 'area^2' else '^6') if unit else ''})"
+                else:                              # the determinant is right, its float is not
+                    entry[kind] = None
+                    text += f"   ({label} beyond the float64 range)"
             values.append(entry)
             lines.append(text)
         accuracy = {"fast": "float64 determinant (LU), relative error ~1e-15 x condition",
                     "precise": f"mpmath at {p.dps} digits",
                     "certified": "exact rational (fmpq) or certified arb ball"}[p.method]
         lines.append(f"accuracy: {accuracy}")
-        return Outcome({"method": p.method, "determinants": values, "accuracy": accuracy},
-                       "\n".join(lines))
+        named = [(f"mechanism.points[{i}][{j}]", v)
+                 for i, row in enumerate(p.points) for j, v in enumerate(row)]
+        note = float_inputs_line(named)
+        if note:
+            lines.append(note)
+        return Outcome({"method": p.method, "determinants": values, "accuracy": accuracy,
+                        "inputs_from_float": float_inputs(named)}, "\n".join(lines))
 
 
 def _mid(d):
@@ -129,5 +143,7 @@ def _value_fields(d, method):
                 "text": d.str(15, radius=True)}
     if name == "mpf":
         import mpmath
-        return {"value": float(d), "exact": False, "radius": None, "text": mpmath.nstr(d, 20)}
+        x = float(d)                     # beyond float64: the value as its decimal text
+        return {"value": x if math.isfinite(x) else mpmath.nstr(d, 20), "exact": False,
+                "radius": None, "text": mpmath.nstr(d, 20)}
     return {"value": float(d), "exact": False, "radius": None, "text": f"{float(d):.15g}"}

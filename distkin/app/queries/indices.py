@@ -59,7 +59,7 @@ import numpy as np
 
 from ...argcheck import as_table, check_keys, choice, executor_fields, positive_int, require
 from ...errors import InputError
-from ...exact import parse_exact
+from ...exact import parse_float
 from ..query import register
 from ..units import DEG, angle_value, length_value
 from ...indices.isotropy import ST_DEFAULT
@@ -74,7 +74,7 @@ _RSS_KEYS = ("legs", "l0", "l1", "l2", "l3", "lp", "ld", "z0", "beta", "gamma", 
 
 # ---------------------------------------------------------------------- parsing
 def _num(value, field):
-    return float(parse_exact(value, field))
+    return parse_float(value, field)
 
 
 def _si_table(raw, field, defaults, extra=()):

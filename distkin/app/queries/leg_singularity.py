@@ -37,7 +37,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...argcheck import as_table, check_keys, method_field, positive_int, require
+from ...argcheck import (as_table, check_keys, method_field, pose_list, positive_int,
+                         require)
 from ...errors import InputError, UncertifiedError
 from ..query import Outcome, register
 from ..units import angle_value, length_value
@@ -148,10 +149,7 @@ class LegSingularityQuery:
         poses = path = None
         samples = 90
         if "poses" in table:
-            raw = table["poses"]
-            if not isinstance(raw, list) or not raw:
-                raise InputError(f"expected a non-empty list of poses, got {raw!r}",
-                                 field=f"{field}.poses")
+            raw = pose_list(table["poses"], f"{field}.poses")
             poses = tuple(_pose(v, units, f"{field}.poses[{i}]") for i, v in enumerate(raw))
         else:
             pt = as_table(table["path"], f"{field}.path")

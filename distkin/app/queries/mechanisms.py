@@ -33,9 +33,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...argcheck import check_keys, positive_int, positive_number
+from ...argcheck import check_keys, pose_list, positive_int, positive_number
 from ...errors import InfeasibleError, InputError
-from ...exact import parse_exact
+from ...exact import parse_float
 from ..query import Outcome, register
 from ..units import angle_factor, length_factor
 
@@ -44,11 +44,11 @@ __all__ = ["InverseKinematicsQuery", "JacobianQuery", "ForwardKinematicsQuery", 
 
 def _numbers(value, field, length=None):
     if not isinstance(value, (list, tuple)):
-        raise InputError(f"expected a list of {length or 'some'} numbers, got {value!r}",
-                         field=field)
+        raise InputError(f"expected a list of {length or 'some'} numbers, got "
+                         f"{type(value).__name__} {value!r}", field=field)
     if length is not None and len(value) != length:
         raise InputError(f"expected {length} numbers, got {len(value)}", field=field)
-    return [float(parse_exact(v, f"{field}[{i}]")) for i, v in enumerate(value)]
+    return [parse_float(v, f"{field}[{i}]") for i, v in enumerate(value)]
 
 
 def _scale(units):
@@ -63,10 +63,7 @@ def parse_poses(table, units, field, *, required=True):
     if "pose" in table:
         rows = [_numbers(table["pose"], f"{field}.pose", 6)]
     elif "poses" in table:
-        raw = table["poses"]
-        if not isinstance(raw, list) or not raw:
-            raise InputError(f"expected a non-empty list of poses, got {raw!r}",
-                             field=f"{field}.poses")
+        raw = pose_list(table["poses"], f"{field}.poses")
         rows = [_numbers(r, f"{field}.poses[{i}]", 6) for i, r in enumerate(raw)]
     elif required:
         raise InputError("missing required field 'poses' (or 'pose')", field=f"{field}.poses")
@@ -165,6 +162,11 @@ class InverseKinematicsQuery:
             lines.append(f"pose {i}: {_fmt_pose(X[i], scene)}  -> "
                          + ("reachable" if ok else f"NOT reachable (legs {bad})"))
             lines.append("  q = " + _joint_text(q[i], mech, scene))
+        if not valid.any():                    # not one leg closes anywhere: units?
+            lines.append(f"note: no leg reaches any of these poses; the mechanism's home is "
+                         f"{_fmt_pose(mech.home, scene)} in this scene's units "
+                         f"([units] length = \"{scene.units.length}\", angle = "
+                         f"\"{scene.units.angle}\")")
         lines.append("accuracy: closed form in float64 (about 1e-15 rad, 1e-16 x leg length); "
                      "branch: the crank angle nearer 0 at the workspace centre "
                      "(distkin.mechanisms.presets) or the leg's own (distkin.mechanisms.legs)")
@@ -262,7 +264,8 @@ class ForwardKinematicsQuery:
                  f"converged in {res.iterations} iterations; rms closure error "
                  f"{res.residual * lf:.3g} {lu}"
                  + (" (the L = 8 angles are inconsistent)" if res.residual > 1e-9 else ""),
-                 f"closure Jacobian: sigma_min {res.sigma_min:.4g}, condition {res.condition:.4g}"
+                 f"closure Jacobian (angular columns x length scale, dimensionless): "
+                 f"sigma_min {res.sigma_min:.4g}, condition {res.condition:.4g}"
                  + ("  WARNING: near a singularity, the pose is ill-determined"
                     if res.near_singular else ""),
                  f"accuracy: about condition x 1e-16 x leg length "

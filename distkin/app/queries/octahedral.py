@@ -18,7 +18,8 @@ JSON result: ``real_roots {count, certified, values, radii}`` (every real root o
 octic in s15), ``octic {coefficients}`` (highest degree first; exact strings where
 exact), ``poses [{s15, rotation, translation, points {P4, P5, P6}, max_leg_error}]``
 (plus ``side`` and ``max_leg_error_relative``), and ``root_status``, ``reason``,
-``accuracy``.  Lengths are in the scene's unit converted to metres (SI), or unitless
+``accuracy``, ``inputs_from_float`` (the legs and points written as bare floats, taken
+as their exact binary values; also said in the text).  Lengths are in the scene's unit converted to metres (SI), or unitless
 for ``length = "none"``.  The plot (``--plots``) is the analogue of Rojas et al.,
 Fig. 8: one panel per assembly mode (side +1; the mirror images are not drawn), and
 the octic over the feasible interval of s15 with its real roots.
@@ -34,6 +35,7 @@ from ...argcheck import check_keys, exact_vector, method_field, positive_number,
 from ...errors import ConditioningWarning, DistkinError, InputError
 from ...exact import METHODS_AUTO, Exact, default_dps
 from ..query import Outcome, register
+from ..report import float_inputs, float_inputs_line
 
 __all__ = ["OctahedralForwardQuery"]
 
@@ -65,7 +67,11 @@ class OctahedralForwardQuery:
         check_keys(table, {"type", "legs", "method", "dps", "tol"}, field)
         legs = exact_vector(require(table, "legs", field), f"{field}.legs", 6)
         for i, v in enumerate(legs):
-            if not float(v) > 0:
+            try:
+                positive = float(v) > 0
+            except InputError as exc:         # beyond float64
+                raise exc.with_field(f"{field}.legs[{i}]") from None
+            if not positive:
                 raise InputError(f"expected a positive leg length, got {v.text}",
                                  field=f"{field}.legs[{i}]")
         method = method_field(table, field, allowed=METHODS_AUTO)
@@ -97,8 +103,16 @@ class OctahedralForwardQuery:
         if caught:
             res = replace(res, notes=res.notes + tuple(str(w.message) for w in caught))
         unit = scene.units.length_label
+        named = ([(f"legs[{i}]", v) for i, v in enumerate(p.legs)]
+                 + [(f"mechanism.{k}[{i}][{j}]", v)
+                    for k, rows in (("base", mech.base), ("platform", mech.platform))
+                    for i, row in enumerate(rows) for j, v in enumerate(row)])
         result = _result(res)
-        return Outcome(result, _text(res, unit, p), _plotter(res, base, plat, unit))
+        result["inputs_from_float"] = float_inputs(named)
+        text = _text(res, unit, p)
+        note = float_inputs_line(named)
+        return Outcome(result, text + ("\n" + note if note else ""),
+                       _plotter(res, base, plat, unit))
 
 
 def _result(res):
