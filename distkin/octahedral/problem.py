@@ -17,7 +17,7 @@ import numba
 import numpy as np
 
 from ..errors import DegenerateGeometryError, InputError
-from ..exact import Exact, parse_exact
+from ..exact import Exact, exact_to_float, parse_exact
 from .banana import LEG_PAIRS, SIDE_PAIRS
 from .scaling import KEEP, check_range, exponent, exponents, scale_problem
 
@@ -206,13 +206,15 @@ def _floats(value, field):
     # flags raised by the lazy sympy import inside the first parse)
     obj = np.asarray(value, dtype=object)
     vals, exact = [], []
-    for v in obj.ravel():
+    for k, v in enumerate(obj.ravel()):
         if isinstance(v, (float, np.floating)):
             vals.append(float(v))
             exact.append(True)
             continue
         x = _exact(v, field)
-        f = float(x)
+        # (beyond float64, "1e400": the error names the element)
+        f = exact_to_float(x, field + "".join(f"[{int(j)}]" for j in
+                                              np.unravel_index(k, obj.shape)))
         vals.append(f)
         exact.append(isinstance(x.value, Fraction) and math.isfinite(f)
                      and Fraction(f) == x.value)
@@ -269,9 +271,9 @@ def float_problem(base, platform, legs):
                | np.broadcast_to(rQ, (N, 3, 3)).any(axis=(1, 2))
                | np.broadcast_to(rL, (N, 6)).any(axis=1))
     if np.any(L <= 0):
-        i = np.argwhere(L <= 0)[0]
-        raise InputError(f"expected positive leg lengths, got {L[tuple(i)]!r}",
-                         field=f"legs{list(i)}")
+        i = tuple(int(v) for v in np.argwhere(L <= 0)[0])
+        raise InputError(f"expected positive leg lengths, got {float(L[i])!r}",
+                         field=f"legs[{i[1]}]" if N == 1 else f"legs[{i[0]}][{i[1]}]")
     largest = np.maximum(np.maximum(np.abs(B).max(axis=(1, 2)), np.abs(Q).max(axis=(1, 2))),
                          L.max(axis=1))
     bad = ~((largest < 2.0 ** 510) & (largest >= 2.0 ** -500))

@@ -15,7 +15,7 @@ import pytest
 import sympy as sp
 
 from distkin.errors import ConditioningWarning, DegenerateGeometryError, InputError
-from distkin.octahedral import forward_kinematics
+from distkin.octahedral import forward_kinematics, forward_kinematics_batched
 from distkin.octahedral.reference import GD_BASE, GD_PLATFORM, GD_ROOTS
 
 LEGS = [F(198, 10), 18, 18, 17, F(149, 10), F(178, 10)]
@@ -150,12 +150,19 @@ def test_scales(scale):
 
 
 def test_cannot_be_assembled_triangle_bounds():
-    """Legs of length 1 on a base of side 12: the triangles through P1 P5 cannot close."""
+    """Legs of length 1 on a base of side 12: the triangles through P1 P5 cannot close.
+    (The fast tier also warns that its count of the spurious real roots is not
+    reliable: a multiple root of the octic splits into a cluster,
+    tests/octahedral/test_octahedral_clusters.py.)"""
     legs = [1, 1, 1, 1, 1, 1]
     for method in ("fast", "certified"):
-        res = forward_kinematics(GD_BASE, GD_PLATFORM, legs, method=method)
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", "fast tier: the real-root count",
+                                    ConditioningWarning)
+            res = forward_kinematics(GD_BASE, GD_PLATFORM, legs, method=method)
         assert len(res) == 0 and "cannot be assembled" in res.reason
-    fast = forward_kinematics(GD_BASE, GD_PLATFORM, legs)
+    with pytest.warns(ConditioningWarning, match="1e-4 relative"):
+        fast = forward_kinematics(GD_BASE, GD_PLATFORM, legs)
     assert "triangle" in fast.reason
 
 
@@ -184,6 +191,26 @@ def test_bad_input_is_reported():
     with pytest.raises(InputError, match="rational"):
         forward_kinematics(GD_BASE, GD_PLATFORM, ["sqrt(sqrt(2))"] + LEGS[1:],
                            method="certified")
+
+
+def test_bad_values_are_named_plainly():
+    """The element is named, and the value printed as the user wrote it (no numpy
+    reprs such as ``np.float64(-17.8)``); a value beyond float64 is an InputError naming
+    its element (it was an OverflowError, then an InputError without a field)."""
+    legs = [19.8, 18, 18, 17, 14.9, -17.8]
+    with pytest.raises(InputError) as err:
+        forward_kinematics(GD_BASE, GD_PLATFORM, legs)          # (a string: general path)
+    assert err.value.field == "legs[5]" and str(err.value).endswith("got -17.8")
+    assert "np." not in str(err.value)
+    with pytest.raises(InputError) as err:
+        forward_kinematics_batched(GD_BASE, GD_PLATFORM, [[19.8, 18, 18, 17, 14.9, 17.8], legs])
+    assert err.value.field == "legs[1][5]" and "np." not in str(err.value)
+    for where, kw in (("legs[0]", {"legs": ["1e400"] + LEGS[1:]}),
+                      ("base[2][2]", {"base": GD_BASE[:2] + [[12, 0, "1e999"]]})):
+        args = {"base": GD_BASE, "platform": GD_PLATFORM, "legs": LEGS, **kw}
+        with pytest.raises(InputError, match="float64 range") as err:
+            forward_kinematics(args["base"], args["platform"], args["legs"])
+        assert err.value.field == where
 
 
 def test_degree_drop_when_a_root_goes_to_infinity():
