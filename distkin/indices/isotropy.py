@@ -54,6 +54,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..argcheck import as_floats
 from ..errors import InputError
 
 __all__ = ["ST_DEFAULT", "scaled_singular_values", "condition_number", "gii",
@@ -75,10 +76,10 @@ SCALING_READINGS = {
 
 
 def _scaled(J, ST):
-    J = np.asarray(J, dtype=float)
+    J = as_floats(J, "J", "a Jacobian of numbers, shape (..., L, 6)")
     if J.ndim < 2 or J.shape[-1] != 6:
         raise InputError(f"expected a Jacobian of shape (..., L, 6), got {J.shape}", field="J")
-    st = np.asarray(ST, dtype=float)
+    st = as_floats(ST, "ST", "6 positive scaling factors")
     if st.shape != (6,) or not np.all(st > 0):
         raise InputError(f"expected 6 positive scaling factors, got {ST!r}", field="ST")
     return np.swapaxes(J, -1, -2) / st[:, None]
@@ -149,8 +150,12 @@ def gii(smin, smax):
 
     Returns (gii, min σmin, max σmax).  An empty or unreachable sample gives 0.
     """
-    smin = np.asarray(smin, dtype=float)
-    smax = np.asarray(smax, dtype=float)
+    smin = as_floats(smin, "smin", "singular values (numbers)")
+    smax = as_floats(smax, "smax", "singular values (numbers)")
+    for v, name in ((smin, "smin"), (smax, "smax")):
+        if v.size and np.nanmin(v, initial=0.0) < 0:
+            raise InputError(f"expected singular values >= 0, got {float(v.min())!r}",
+                             field=name)
     if smin.size == 0:
         return 0.0, 0.0, 0.0
     lo, hi = float(smin.min()), float(smax.max())

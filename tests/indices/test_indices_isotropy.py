@@ -20,6 +20,21 @@ def test_condition_number_analytic():
     assert condition_number(np.zeros((6, 6))) == 0.0
 
 
+def test_bad_input_names_its_argument():
+    """Text for a Jacobian or scaling, or a negative singular value, is an InputError
+    naming the argument (a bare numpy ValueError, or a silently negative GII, before)."""
+    with pytest.raises(InputError) as err:
+        condition_number("x")
+    assert err.value.field == "J"
+    with pytest.raises(InputError) as err:
+        condition_number(np.eye(6), ST="abc")
+    assert err.value.field == "ST"
+    with pytest.raises(InputError, match=">= 0") as err:
+        gii([0.1, 0.2], [-1.0, 3.0])
+    assert err.value.field == "smax"
+    assert gii([0.1, 0.2], [1.0, 4.0]) == (0.025, 0.1, 4.0)     # min σmin / max σmax
+
+
 def test_table4_gii_is_min_sigma_over_max_sigma():
     """Kühne et al. Table IV prints GII = σmin / σmax: 0.0127/20.0052, 0.2230/27.8186,
     0.1910/26.6404 (rounded to 4 decimals)."""
