@@ -107,15 +107,8 @@ class Exact:
         return isinstance(self.value, Fraction)
 
     def __float__(self) -> float:
-        try:
-            x = float(self.value)
-        except OverflowError:
-            x = math.inf
-        if math.isinf(x):         # exact, but beyond float64 ("1e400"; a Fraction overflows)
-            text = self.text if len(self.text) <= 60 else self.text[:57] + "..."
-            raise InputError(f"expected a number within the float64 range (|x| < 1.8e308), "
-                             f"got {text!r}")
-        return x
+        # exact, but beyond float64 ("1e400"; a Fraction overflows): InputError
+        return exact_to_float(self, None)
 
     def __str__(self) -> str:
         v = self.value
@@ -251,21 +244,22 @@ def _sympy_from_text(text: str, allow_symbols: bool):
                                                       "cbrt": sympy.cbrt, "pi": sympy.pi})
 
 
-def exact_to_float(ex: Exact, field: str = "value", factor=1) -> float:
+def exact_to_float(ex: Exact, field: str | None = "value", factor=1) -> float:
     """``ex`` times ``factor`` (a unit, exact when a Fraction) as a float64, rounded once
     when both are rational; beyond the float64 range (``"1e400"``) an
-    :class:`InputError` naming ``field``."""
+    :class:`InputError` naming ``field``.  (``float(ex)`` is this with no field.)"""
     try:
         if isinstance(ex.value, Fraction) and isinstance(factor, (int, Fraction)):
             x = float(ex.value * factor)
         else:
-            x = float(ex) * float(factor)
-    except (OverflowError, InputError):
+            x = float(ex.value) * float(factor)
+    except OverflowError:
         x = math.inf
     if math.isinf(x):
         text = ex.text if len(ex.text) <= 60 else ex.text[:57] + "..."
-        raise InputError(f"expected a number within the float64 range (|x| < 1.8e308 in SI "
-                         f"units), got {text!r}", field=field)
+        si = " in SI units" if factor != 1 else ""
+        raise InputError(f"expected a number within the float64 range (|x| < 1.8e308{si}), "
+                         f"got {text!r}", field=field)
     return x
 
 

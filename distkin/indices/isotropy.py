@@ -153,9 +153,9 @@ def gii(smin, smax):
     smin = as_floats(smin, "smin", "singular values (numbers)")
     smax = as_floats(smax, "smax", "singular values (numbers)")
     for v, name in ((smin, "smin"), (smax, "smax")):
-        if v.size and np.nanmin(v, initial=0.0) < 0:
-            raise InputError(f"expected singular values >= 0, got {float(v.min())!r}",
-                             field=name)
+        low = float(np.nanmin(v, initial=0.0))
+        if low < 0:
+            raise InputError(f"expected singular values >= 0, got {low!r}", field=name)
     if smin.size == 0:
         return 0.0, 0.0, 0.0
     lo, hi = float(smin.min()), float(smax.max())

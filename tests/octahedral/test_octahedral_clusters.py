@@ -30,8 +30,7 @@ def test_split_multiple_root_is_flagged_and_auto_gives_the_certified_count():
     assert cert.real_root_count == 4 and len(cert) == 0
     with pytest.warns(ConditioningWarning, match="1e-4 relative"):
         fast = forward_kinematics(GD_BASE, GD_PLATFORM, LEGS)
-    values = sorted(r.value for r in fast.roots)
-    assert fast.real_root_count != cert.real_root_count          # the miscount screened
+    values = sorted(r.value for r in fast.roots)                # (8 today: the miscount)
     gaps = np.diff(values) / np.maximum(np.abs(values[:-1]), np.abs(values[1:]))
     assert gaps.min() <= CLUSTER
     with warnings.catch_warnings():
