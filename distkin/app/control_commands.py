@@ -21,6 +21,7 @@ summary's ``exit_reason`` says which); 2 bad input; 130 interrupted.
 from __future__ import annotations
 
 import json
+import math
 import os
 import subprocess
 import sys
@@ -59,8 +60,9 @@ def _seconds(value: str) -> float:
         v = float(value)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected seconds as a number, got {value!r}") from None
-    if not v > 0:
-        raise argparse.ArgumentTypeError(f"expected a positive number of seconds, got {value!r}")
+    if not 0 < v < math.inf:
+        raise argparse.ArgumentTypeError(f"expected a positive finite number of seconds, "
+                                         f"got {value!r}")
     return v
 
 
@@ -226,7 +228,13 @@ def cmd_control(args) -> int:
         # everything compiled before the port is opened (the controller's kernels and
         # the link's decoder): a cold numba cache costs seconds, never a watchdog
         ctl = Controller(scene, model, log_prefix=prefix)
-        link = Link(url)
+        try:
+            link = Link(url)
+        except LinkError as exc:
+            if args.sim:                # our own simulator's port: an internal failure
+                raise
+            # the user's --port names no openable device: bad input (exit 2)
+            raise InputError(exc.message, field="--port") from None
         try:
             summary = ctl.run(link, args.seconds, wall_limit=args.wall_limit)
         finally:

@@ -129,9 +129,14 @@ def test_cli_bad_input_exits_2_without_traceback(tmp_path):
     assert "pd: unknown field(s) 'kpp'" in proc.stderr
     proc = run_cli(["control", "--sim", "--faults", "stall@oops", "--seconds", 1], tmp_path)
     assert proc.returncode == 2 and "--faults[0]" in proc.stderr
+    # a --port that names no device is the user's input (exit 2, docs/design.md §4)
     proc = run_cli(["control", "--port", "/dev/nonexistent-distkin", "--seconds", 1], tmp_path)
-    assert proc.returncode == 1 and "Traceback" not in proc.stderr
-    assert "openable serial URL" in proc.stderr
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert "--port: expected an openable serial URL" in proc.stderr
+    for bad in ("inf", "nan"):
+        proc = run_cli(["control", "--sim", "--seconds", bad], tmp_path)
+        assert proc.returncode == 2 and "Traceback" not in proc.stderr
+        assert f"positive finite number of seconds, got '{bad}'" in proc.stderr
 
 
 def test_simulator_serves_tcp_and_controller_connects_with_a_socket_url(tmp_path):
