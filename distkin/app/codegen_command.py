@@ -46,10 +46,8 @@ _NO_KERNEL = {
 def _without_kernel(scene, kernels: dict):
     """The scene's query types that get no kernel (sorted), and a note saying why."""
     without = sorted({q.type for q in scene.queries if q.type not in kernels})
-    why = "; ".join(f"{t}: {_NO_KERNEL.get(t, 'no kernel is generated for it')}"
-                    for t in without)
-    return without, (f"No kernel for the queries {', '.join(without)} ({why})."
-                     if without else "")
+    why = "; ".join(f"{t} ({_NO_KERNEL.get(t, 'no generator for it')})" for t in without)
+    return without, f"no kernel for the queries: {why}" if without else ""
 
 
 def _exact_texts(rows):
@@ -62,14 +60,17 @@ def _octahedral_module(scene, flavours):
     names = sorted({k for q in scene.queries for k in QUERY_KERNELS.get(q.type, ())},
                    key=KERNELS.index)
     if not names:
-        raise InputError(f"expected a query with generated kernels of a {mech.kind!r} scene "
-                         f"({', '.join(QUERY_KERNELS)}), got {[q.type for q in scene.queries]}",
-                         field="query")
+        raise InputError(f"expected a query with generated kernels in a kind = "
+                         f"{mech.kind!r} scene ({', '.join(QUERY_KERNELS)}), got "
+                         f"{[q.type for q in scene.queries]}", field="query")
     _, note = _without_kernel(scene, QUERY_KERNELS)
     key = [mech.kind, _exact_texts(mech.base), _exact_texts(mech.platform)]
-    leg_map, constants = None, {}
+    leg_map, constants, note66 = None, {}, ""
     if mech.kind == "platform66":
         names = ["l_squared", *names]
+        note66 = ("Offsets delta1..delta6 = OFFSETS.  m-legs with a negative squared l-leg "
+                  "(l_squared) belong to no octahedral manipulator: no pose, and "
+                  "s15_interval is NaN (batched) or raises ValueError (scalar) there.")
         key.append([str(x) for x in mech.offsets])
         constants["OFFSETS"] = tuple(str(x) for x in mech.offsets)
 
@@ -82,8 +83,9 @@ def _octahedral_module(scene, flavours):
         d = side_lengths(mech.base, mech.platform)
         return {tuple(sorted(r.edge)): x ** 2 for r, x in zip(ROWS, d)}
 
+    notes = "\n\n".join(t for t in (note66, note) if t)
     src, hit = scene_module(key, sides2, names, flavours, leg_map=leg_map,
-                            scene_name=Path(scene.path).name, notes=note,
+                            scene_name=Path(scene.path).name, notes=notes,
                             constants=constants)
     return src, hit, note
 
