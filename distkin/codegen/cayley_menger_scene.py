@@ -13,8 +13,6 @@ for any point set (of any dimension), batched over many.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 __all__ = ["module_text", "scene_module", "pairs_of"]
 
 CHUNK = 4096
@@ -67,9 +65,8 @@ def module_text(determinants, flavours, *, generator, title) -> str:
 
 def scene_module(determinants, flavours, *, scene_name):
     """(source, cache_hit) of a points scene's module, through the derivation cache."""
-    from ..sourcecache import cached_source, source_key
-    here = Path(__file__).resolve().parent.parent
-    model = "".join((here / f).read_text(encoding="utf-8") for f in _MODEL_FILES)
+    from ..sourcecache import cached_source, package_text, source_key
+    model = package_text(_MODEL_FILES)
     gen = f"distkin codegen {scene_name} (distkin.codegen.cayley_menger_scene)"
     key = source_key(model, repr(tuple(determinants)), tuple(flavours), gen)
     path, hit = cached_source("cayley_menger", key, lambda: module_text(

@@ -38,8 +38,6 @@ quadratic parts, which stay of low degree, then CSE), so the octic is a function
 
 from __future__ import annotations
 
-from pathlib import Path
-
 from ..mechanisms.kernel_names import _SUFFIX
 from ..octahedral.banana import LEG_PAIRS, SIDE_PAIRS, squared_distance_symbols
 from ..octahedral.octic import PART_NAMES
@@ -67,11 +65,6 @@ _DOCS = {
                     "inequalities (a - b)^2 <= s15 <= (a + b)^2 of the triangles P1 Pk P5 with\n"
                     "known sides a, b.  lo > hi proves that no pose exists.",
 }
-
-
-def _model_source_text() -> str:
-    here = Path(__file__).resolve().parent.parent
-    return "".join((here / f).read_text(encoding="utf-8") for f in _MODEL_FILES)
 
 
 def interval_bounds(values=None):
@@ -193,10 +186,10 @@ def scene_module(key_parts, sides2, names, flavours, *, leg_map=None, scene_name
     offsets), so that a cache hit needs no algebra: ``sides2`` and ``leg_map`` are
     callables returning the values of :func:`module_text`, called only to derive.
     """
-    from ..sourcecache import cached_source, source_key
+    from ..sourcecache import cached_source, package_text, source_key
     gen = (f"distkin codegen {scene_name} (distkin.codegen.octahedral_scene; derivation: "
            "derivations/octahedral_octic.py)")
-    key = source_key(_model_source_text(), repr(key_parts), tuple(names), tuple(flavours),
+    key = source_key(package_text(_MODEL_FILES), repr(key_parts), tuple(names), tuple(flavours),
                      gen, notes, repr(constants))
 
     path, hit = cached_source("octahedral", key, lambda: module_text(
