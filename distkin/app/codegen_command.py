@@ -54,6 +54,22 @@ def _exact_texts(rows):
     return [[str(x) for x in row] for row in rows]
 
 
+def _check_triangles(mech):
+    """Refuse collinear or coincident base or platform points, as the solver does (the
+    same float test: 16 area^2 by Heron's formula against 1e-12 (a + b + c)^2 of the
+    squared sides; no sympy, so a cached module still costs no algebra)."""
+    from ..errors import DegenerateGeometryError
+    for name, rows, labels in (("base", mech.base, (1, 2, 3)),
+                               ("platform", mech.platform, (4, 5, 6))):
+        P = [[float(x) for x in row] for row in rows]
+        a, b, c = (sum((p - q) ** 2 for p, q in zip(P[i], P[j])) for i, j in ((0, 1), (0, 2),
+                                                                               (1, 2)))
+        if not 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c) > 1e-12 * (a + b + c) ** 2:
+            raise DegenerateGeometryError(
+                "expected a proper triangle P{} P{} P{}, got collinear or coincident "
+                "points".format(*labels), field=f"mechanism.{name}")
+
+
 def _octahedral_module(scene, flavours):
     from ..codegen.octahedral_scene import KERNELS, QUERY_KERNELS, scene_module
     mech = scene.mechanism
@@ -63,6 +79,7 @@ def _octahedral_module(scene, flavours):
         raise InputError(f"expected a query with generated kernels in a kind = "
                          f"{mech.kind!r} scene ({', '.join(QUERY_KERNELS)}), got "
                          f"{[q.type for q in scene.queries]}", field="query")
+    _check_triangles(mech)
     _, note = _without_kernel(scene, QUERY_KERNELS)
     key = [mech.kind, _exact_texts(mech.base), _exact_texts(mech.platform)]
     leg_map, constants, note66 = None, {}, ""

@@ -51,8 +51,9 @@ QUERY_KERNELS = {"forward_kinematics": ("octic", "parts", "s15_interval")}
 #: rows per slice of the batched kernels (as the RSS scene modules)
 CHUNK = 4096
 
+#: the sources a module depends on (the cache key); delta/transform.py derives eq. (8)
 _MODEL_FILES = ("octahedral/banana.py", "octahedral/octic.py", "codegen/octic.py",
-                "codegen/emit.py", "codegen/octahedral_scene.py")
+                "codegen/emit.py", "codegen/octahedral_scene.py", "delta/transform.py")
 
 _DOCS = {
     "l_squared": "Squared l-legs l1^2..l6^2 of the equivalent octahedral manipulator,\n"
@@ -191,7 +192,6 @@ def scene_module(key_parts, sides2, names, flavours, *, leg_map=None, scene_name
            "derivations/octahedral_octic.py)")
     key = source_key(package_text(_MODEL_FILES), repr(key_parts), tuple(names), tuple(flavours),
                      gen, notes, repr(constants))
-
     path, hit = cached_source("octahedral", key, lambda: module_text(
         sides2(), names, flavours, leg_map=leg_map() if leg_map else None, generator=gen,
         title=f"Kernels of scene {scene_name}", notes=notes, constants=constants))
