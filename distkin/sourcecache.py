@@ -21,7 +21,8 @@ from pathlib import Path
 
 from .runstore import user_cache_dir
 
-__all__ = ["cache_dir", "source_key", "cached_source", "load_module_file", "load_source"]
+__all__ = ["cache_dir", "source_key", "package_text", "cached_source", "load_module_file",
+           "load_source"]
 
 
 def cache_dir() -> Path:
@@ -36,6 +37,13 @@ def source_key(*parts) -> str:
         h.update(p if isinstance(p, bytes) else str(p).encode())
         h.update(b"\x00")
     return h.hexdigest()
+
+
+def package_text(files) -> str:
+    """The text of ``files`` (paths relative to the ``distkin`` package), concatenated:
+    the model source a generated module depends on, for :func:`source_key`."""
+    root = Path(__file__).resolve().parent
+    return "".join((root / f).read_text(encoding="utf-8") for f in files)
 
 
 def cached_source(prefix: str, key: str, build):

@@ -101,11 +101,24 @@ def _printers():
             return repr(v)
         return self._orig_float(expr)
 
+    def _fold(ufunc):
+        # numpy.maximum(a, numpy.maximum(b, c)): elementwise, and no functools import
+        # (sympy's own NumPyPrinter folds with functools.reduce)
+        def fold(self, expr):
+            args = [self.doprint(a) for a in expr.args]
+            out = args[-1]
+            for a in reversed(args[:-1]):
+                out = f"numpy.{ufunc}({a}, {out})"
+            return out
+        return fold
+
     class Batched(NumPyPrinter):
         _orig_pow = NumPyPrinter._print_Pow
         _print_Pow = _pow
         _orig_float = NumPyPrinter._print_Float
         _print_Float = _float
+        _print_Max = _fold("maximum")
+        _print_Min = _fold("minimum")
 
     class Scalar(PythonCodePrinter):
         _orig_pow = PythonCodePrinter._print_Pow

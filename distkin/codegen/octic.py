@@ -14,7 +14,7 @@ import pickle
 from ..octahedral.octic import (LEG_PAIRS, PART_NAMES, SIDE_PAIRS, octic_parts,
                                 octic_polynomial, squared_distance_symbols)
 
-__all__ = ["octic_in_legs", "generate_octic_module"]
+__all__ = ["octic_in_legs", "kernel_outputs", "generate_octic_module"]
 
 
 def octic_in_legs(values=None, *, use_cache: bool = True):
@@ -77,10 +77,12 @@ Returns
 degree first).  Units: squared length to the power of each coefficient's degree."""
 
 
-def _kernel_outputs():
-    """The 39 outputs of the kernel as sympy expressions of the 12 squared lengths."""
+def kernel_outputs(values=None):
+    """The 39 outputs of the kernel as sympy expressions of the 12 squared lengths (or of
+    those that ``values`` leaves free: a scene's sides substituted before CSE, see
+    :mod:`.octahedral_scene`)."""
     import sympy
-    p = octic_parts()
+    p = octic_parts(values)
     X = p.x
     quad = {}
     out = []
@@ -160,7 +162,7 @@ def generate_octic_module() -> str:
     modulus at most 2^24: the squared lengths after :mod:`.scaling`)."""
     from .emit import Kernel, kernel_source, module_source, symbolic_hash
     from .rounding import analyse, magnitude_source
-    outputs = _kernel_outputs()
+    outputs = kernel_outputs()
     inputs = _inputs()
     doc = _KERNEL_DOC.format(names=", ".join(PART_NAMES))
     fast = {"cse_optimizations": None}  # sympy's "basic" pre-pass costs ~4 s, gains nothing

@@ -152,8 +152,8 @@ def generate_preset_arb(name):
 
 
 def _model_source_text() -> str:
-    here = Path(__file__).resolve().parent
-    return "".join((here.parent / f).read_text(encoding="utf-8") for f in _MODEL_FILES)
+    from ..sourcecache import package_text
+    return package_text(_MODEL_FILES)
 
 
 def _prefix(mech) -> str:
