@@ -11,7 +11,11 @@ Kühne et al., Sec. II-C, eqs. (1)-(2): per leg the closure gives
 ``fast``
     the batched generated kernels in float64 (:class:`.kinematics.KernelMethods`).
     Error estimate of q (first order, not a bound): the closure residual
-    :math:`|\Phi_i(q_i)| / |J_{q,ii}|` of the float answer plus 2 eps max(|q|, 1); of a
+    :math:`|\Phi_i(q_i)| / |J_{q,ii}|` of the float answer plus 2 eps max(|q|, 1), plus
+    for a revolute leg the cancellation in :math:`\rho^2 - C^2` (rounding
+    :math:`\delta m = 4\,\mathrm{eps}\,\rho^2` moves q by
+    :math:`\delta m / (2 \rho \sqrt{\max(|m|, \delta m)})`: up to
+    :math:`\sqrt{\mathrm{eps}}` at the reach boundary); of a
     row of J: :math:`4\,\mathrm{eps}\,\max_j |J_{ij}|\,\max(1, \ell / |J_{q,ii}|)` with
     ℓ the mechanism's length scale (rounding, amplified as the leg nears a serial
     singularity, :math:`J_{q,ii} \to 0`).
@@ -52,7 +56,7 @@ from ..errors import InfeasibleError, InputError, UncertifiedError
 from ..exact import check_method, default_dps
 from .description import _poses
 
-__all__ = ["MPNumber", "TieredIK", "TieredJacobian", "ik_tier", "jacobian_tier",
+__all__ = ["MPNumber", "on_mpmath", "TieredIK", "TieredJacobian", "ik_tier", "jacobian_tier",
            "raise_uncertified", "GUARD", "BITS"]
 
 #: extra digits of the precise tier's second evaluation (its error estimate)
@@ -136,9 +140,10 @@ class MPNumber:
 _MP_KERNELS: dict = {}
 
 
-def _on_mpmath(fn):
+def on_mpmath(fn):
     """The generated arb kernel ``fn`` with its ball type ``_A`` bound to
-    :class:`MPNumber` (the same code object, other globals)."""
+    :class:`MPNumber` (the same code object, other globals): called on a pose of six
+    :class:`MPNumber`, it evaluates the kernel in mpmath at the current ``mp.dps``."""
     key = (fn.__module__, fn.__qualname__, id(fn.__code__))
     if key not in _MP_KERNELS:
         _MP_KERNELS[key] = types.FunctionType(fn.__code__, {**fn.__globals__, "_A": MPNumber},
@@ -163,7 +168,7 @@ def _precise_runs(ks, names, X, dps):
         with mpmath.workdps(digits):
             res = {}
             for n in names:
-                fn = _on_mpmath(getattr(ks, n))
+                fn = on_mpmath(getattr(ks, n))
                 res[n] = np.array([_unwrap(fn([MPNumber(float(c)) for c in x])) for x in X],
                                   dtype=object)
             runs.append(res)
@@ -290,12 +295,23 @@ def _setup(mech, poses, method, dps, bits):
     return X, dps, bits, prec
 
 
-def _fast_ik_error(mech, X, q):
+def _fast_ik_error(mech, X, q, margin):
+    """First-order error estimate (N, L) of the fast IK (module docstring): the closure
+    residual |Phi_i(q_i)| / |Jq_ii|, 2 eps max(|q|, 1), and for a revolute leg the
+    cancellation in its reach margin m = rho^2 - C^2 (rounding dm = 4 eps rho^2; q moves
+    by dm / (2 rho h) with h = sqrt(max(|m|, dm)), the sqrt(eps) of a double root at the
+    reach boundary, where the closure residual cannot see it)."""
     k = mech.kernels("batched")
     phi = k.closure(q, X)[..., 0]
     jq = k.jq_jx(X)[..., 0]
+    d = mech.leg_description().arrays()
+    w = mech.points(X, q)["P"] - d["B"][None] - d["offset"][None]
+    rho = np.hypot(np.einsum("nli,li->nl", w, d["u"]), np.einsum("nli,li->nl", w, d["v"]))
+    dm = 4 * _EPS * rho ** 2
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.abs(phi) / np.abs(jq) + 2 * _EPS * np.maximum(np.abs(q), 1.0)
+        cancel = np.where(d["prismatic"][None], 0.0,
+                          dm / (2 * rho * np.sqrt(np.maximum(np.abs(margin), dm))))
+        return np.abs(phi) / np.abs(jq) + 2 * _EPS * np.maximum(np.abs(q), 1.0) + cancel
 
 
 def _range_check(mech, qv, i, j, reasons):
@@ -343,7 +359,8 @@ def ik_tier(mech, poses, method: str = "fast", dps: int | None = None,
     none = np.zeros((N, L), dtype=bool)
     if method == "fast":
         q, valid = mech.inverse_kinematics(X)
-        return TieredIK(method, prec, q, _fast_ik_error(mech, X, q), mech.reach_margin(X),
+        margin = mech.reach_margin(X)
+        return TieredIK(method, prec, q, _fast_ik_error(mech, X, q, margin), margin,
                         valid, none, (), None, none)
     ks = _arb_kernels(mech)
     if method == "precise":
