@@ -458,4 +458,4 @@ def raise_uncertified(res, what: str):
     if res.infeasible[i, j]:
         raise InfeasibleError(msg, field="poses")
     raise UncertifiedError(msg, field="poses",
-                           hint="method = \"precise\" gives an estimate there")
+                           hint="method=\"precise\" gives an estimate there")

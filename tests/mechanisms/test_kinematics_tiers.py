@@ -216,3 +216,17 @@ def test_certified_query_marks_each_leg():
         type="jacobian", extra='method = "precise"\ndps = 40')))
     assert rec["result"]["precision"] == "mpmath at 40 digits"
     assert max(max(map(max, r["J_error"])) for r in rec["result"]["poses"][:2]) < 1e-37
+
+
+def test_certified_query_on_legs_scene_says_undecided(box6):
+    """A legs scene (written out exactly by legs_toml_text): at the pose where leg 1 ends
+    its stroke the report calls it undecided, not unreachable, and the JSON names it."""
+    from distkin.app.legs_scene import legs_toml_text
+    text = (legs_toml_text(box6, length_unit="m") + '\n[[query]]\ntype = "inverse_kinematics"'
+            '\nposes = [[0, 0, 1, 0, 0, 0]]\nmethod = "certified"\n')
+    (rec,), texts, _ = run_scene(loads_scene(text))
+    row = rec["result"]["poses"][0]
+    assert not row["certified"][0] and row["uncertified"][0]["leg"] == 1
+    assert "stroke" in row["uncertified"][0]["reason"]
+    verdict = [line for line in texts[0].splitlines() if line.strip().startswith("pose 0")][0]
+    assert "undecided (legs [1])" in verdict and "NOT reachable (legs [2, 3, 4, 5, 6])" in verdict

@@ -222,9 +222,16 @@ class InverseKinematicsQuery:
             rows.append(_tier_rows(res, i, {"pose": X[i], "q": q[i], "valid": valid[i],
                                             "reachable": ok, "reach_margin": margin[i]},
                                    "q_error"))
-            bad = [int(j) + 1 for j in np.flatnonzero(~valid[i])]
-            lines.append(f"pose {i}: {_fmt_pose(X[i], scene)}  -> "
-                         + ("reachable" if ok else f"NOT reachable (legs {bad})"))
+            # certified: a leg that is neither certified nor certainly infeasible is
+            # undecided (at its reach boundary, ...), not unreachable
+            open_ = (~res.certified[i] & ~res.infeasible[i] if p.method == "certified"
+                     else np.zeros(mech.L, dtype=bool))
+            bad = [int(j) + 1 for j in np.flatnonzero(~valid[i] & ~open_)]
+            undecided = [int(j) + 1 for j in np.flatnonzero(open_)]
+            verdict = ("reachable" if ok else
+                       "; ".join(([f"NOT reachable (legs {bad})"] if bad else [])
+                                 + ([f"undecided (legs {undecided})"] if undecided else [])))
+            lines.append(f"pose {i}: {_fmt_pose(X[i], scene)}  -> " + verdict)
             lines.append("  q = " + _joint_text(q[i], mech, scene))
             lines += _tier_lines(res, i)
         if not valid.any():                    # not one leg closes anywhere: units?
