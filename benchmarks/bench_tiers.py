@@ -56,8 +56,8 @@ def run():
     cert = ik_tier(m, X, "certified")
     md = (f"Octo preset, {N} poses about the workspace centre (±10 mm, ±0.1 rad, normal), "
           "one batched call; per pose.  The fast tier's error estimate evaluates the closure "
-          "and Jq kernels and the joint points besides the IK.\n\n" + ratio_table(per, "IK kernel alone (mech.inverse_kinematics)",
-                                       per="pose")
+          "and Jq kernels and the joint points besides the IK.\n\n"
+          + ratio_table(per, "IK kernel alone (mech.inverse_kinematics)", per="pose")
           + f"\n\nThe lambdified sympy IK took {t_build:.1f} s to derive and build; its "
           f"values agree with the precise tier to {agree:.1e} rad (float64 of both). "
           f"Largest certified radius of q: {cert.q_error.max():.1e} rad; all "

@@ -18,7 +18,7 @@ Kühne et al., Sec. II-C, eqs. (1)-(2): per leg the closure gives
     :math:`\sqrt{\mathrm{eps}}` at the reach boundary); of a
     row of J: :math:`4\,\mathrm{eps}\,\max_j |J_{ij}|\,\max(1, \ell / |J_{q,ii}|)` with
     ℓ the mechanism's length scale (rounding, amplified as the leg nears a serial
-    singularity, :math:`J_{q,ii} \to 0`).
+    singularity, :math:`J_{q,ii} \to 0`); of Jq and Jx: 4 eps times the value.
 ``precise``
     the arb-flavour generated kernels (``ik_arb``, ``reach_arb``, ``jq_jx_arb``:
     only ``+ - * /``, ``abs``, ``sqrt``, ``sin``, ``cos``, ``atan2`` and ``_A(int)``)
@@ -29,8 +29,12 @@ Kühne et al., Sec. II-C, eqs. (1)-(2): per leg the closure gives
 ``certified``
     the same kernels on python-flint ``arb`` balls at ``bits`` of working precision.
     The pose is taken exactly: a float64 pose (m, rad) is its exact binary value.  The
-    kernels' constants are the doubles of the fast kernels, exactly, so the balls
-    enclose the mechanism that the fast tier computes.  A leg is *certified* when its
+    kernels' constants are the doubles of the fast kernels, exactly, so each ball
+    encloses the exact value of what its fast kernel rounds.  Each kernel carries its
+    own doubles (sympy folds products of parameters, such as 1/(2 l1), into one double
+    each), so the IK and the Jacobian kernels describe the mechanism to about 1e-16
+    relative, not to the balls' width (the precise J and differences of the precise IK
+    differ by 5e-17 on the Octo: tests/mechanisms/test_kinematics_tiers.py).  A leg is *certified* when its
     reach margin :math:`\rho^2 - C^2` is certainly > 0 (a ball containing 0 is the
     branch point :math:`h = 0` of the two assembly branches, which no ball decides),
     its angle ball is finite (not on the ±π cut of atan2), its joint range (if any)
@@ -403,10 +407,9 @@ def jacobian_tier(mech, poses, method: str = "fast", dps: int | None = None,
         with np.errstate(divide="ignore", invalid="ignore"):
             amp = np.maximum(1.0, mech.length_scale / np.abs(Jq))
         err = 4 * _EPS * np.max(np.abs(J), axis=-1) * amp
-        zeros = np.zeros_like
         return TieredJacobian(method, prec, J, np.repeat(err[..., None], 6, axis=-1), Jq,
                               4 * _EPS * np.abs(Jq), Jx, 4 * _EPS * np.abs(Jx), valid, none,
-                              (), None, None, None, zeros(none))
+                              (), None, None, None, none.copy())
     ks = _arb_kernels(mech)
     if method == "precise":
         import mpmath
