@@ -22,8 +22,9 @@ Three flavours of the same symbolic source (STYLE.md, sympy/codegen):
 ``arb``
     python-flint balls (:mod:`distkin.certify`): ``+ - * /``, integer powers, ``abs``,
     square roots, ``sin`` and ``cos`` written as methods of the operands
-    (``x.sqrt()``, ``x.sin()``), floats as exact double literals and rationals as
-    ``_A(p) / q``, so every operation returns an enclosure.  The same kernel also runs on
+    (``x.sqrt()``, ``x.sin()``), ``atan2(y, x)`` as ``_A.atan2(y, x)``, floats as exact
+    double literals and rationals as ``_A(p) / q``, so every operation returns an
+    enclosure.  The same kernel also runs on
     any number type with those methods (the forward-mode derivative balls of
     :mod:`distkin.certify.intervals`).  Evaluated on a box of ``arb`` inputs it gives
     the plain interval enclosure of the kernel over the box.
@@ -192,6 +193,11 @@ def _printers():
         def _print_cos(self, expr):
             return self._unary(expr, "cos")
 
+        def _print_atan2(self, expr):
+            # arb's two-argument arctangent (a static method of the ball type ``_A``)
+            y, x = (self.doprint(a) for a in expr.args)
+            return f"_A.atan2({y}, {x})"
+
         def _print_Function(self, expr):
             raise ValueError(f"the arb flavour has no rule for {expr.func}, got {expr}")
 
@@ -202,7 +208,7 @@ def _printers():
     # every function or constant the Python printer knows, except ours, is refused
     from sympy.printing.pycode import _known_constants_math, _known_functions_math
     for _name in list(_known_functions_math) + list(_known_constants_math) + ["Min", "Max"]:
-        if _name not in ("sin", "cos", "Abs"):
+        if _name not in ("sin", "cos", "Abs", "atan2"):
             setattr(Arb, f"_print_{_name}", Arb._refuse)
 
     return {"batched": Batched({"fully_qualified_modules": True}),

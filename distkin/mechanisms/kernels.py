@@ -21,7 +21,8 @@ fills ``out`` row by row with the scalar arithmetic, plain Python that
 :mod:`distkin.indices.study_compiled` compiles with numba (``KernelSet.loops``).
 
 A third flavour, ``arb`` (suffix ``_arb``; :mod:`distkin.codegen.emit`), evaluates
-``reach`` and ``jq_jx`` on python-flint balls: on a point it gives certified values, on a
+``ik``, ``reach`` and ``jq_jx`` on python-flint balls: on a point it gives certified values
+(the certified tier of :mod:`.kinematics_tiers`), on a
 box of poses an interval enclosure, and on the forward-mode derivative balls of
 :mod:`distkin.certify.intervals` the derivatives' enclosures over the box (the
 centred form of :mod:`distkin.certify.boxes`).  Those kernels live in separate modules
@@ -55,7 +56,7 @@ def preset_module_name(name: str, flavour: str = "batched") -> str:
 
 class KernelSet:
     """Kernels of one flavour as attributes ``ik, reach, jacobian, jq_jx, closure``
-    (the ``arb`` flavour: ``reach, jq_jx``); the batched flavour's ``loop`` twins
+    (the ``arb`` flavour: ``ik, reach, jq_jx``); the batched flavour's ``loop`` twins
     (:data:`LOOP_KERNELS`, plain Python for numba) in ``loops`` (name -> function; empty
     for a module generated without them)."""
 

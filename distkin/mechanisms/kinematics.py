@@ -54,31 +54,69 @@ class KernelMethods:
         from .kernels import load_kernels
         return load_kernels(self, flavour)
 
-    def inverse_kinematics(self, poses):
+    def inverse_kinematics(self, poses, method: str = "fast", dps: int | None = None):
         """Closed-form inverse kinematics, one crank angle per leg.
 
         Parameters
         ----------
         poses : array (N, 6) or (6,)
             m and rad (:mod:`distkin.spatial`).
+        method : {"fast", "precise", "certified"}
+            float64 kernels; mpmath at ``dps`` digits (default 30); python-flint balls
+            from the pose's exact binary value (:mod:`.kinematics_tiers`, which also
+            gives the error estimates and radii: :func:`~.kinematics_tiers.ik_tier`).
 
         Returns
         -------
-        q : array (N, L), rad
+        q : array (N, L), rad (m for a prismatic leg)
             Crank elevation (0 = horizontal), branch of :mod:`.presets`; finite even
-            where a leg cannot close.
+            where a leg cannot close.  precise: an object array of mpmath ``mpf``;
+            certified: of flint ``arb`` balls.
         valid : array (N, L) of bool
             The leg closes (the reach margin is >= 0) and, for a leg table with joint
             ranges, q lies in its range.
+
+        Raises
+        ------
+        UncertifiedError
+            certified: a leg at its reach boundary (the reach margin's ball contains 0,
+            the branch point of the IK), on the ±π cut, or at an end of its joint range.
+        InfeasibleError
+            certified: a leg that certainly does not close.
         """
+        if method != "fast":
+            return self._tiered("ik", poses, method, dps)
         X, single = _poses(poses)
         k = self.kernels("batched")
         q = k.ik(X)
-        valid = k.reach(X) >= 0.0
+        valid = self._valid(q, k.reach(X))
+        return (q[0], valid[0]) if single else (q, valid)
+
+    def _valid(self, q, margin):
+        """(N, L) bool: the leg closes (``margin`` >= 0) and, for a leg table with
+        revolute joint ranges, ``q`` (floats) lies in its range."""
+        valid = margin >= 0.0
         lo, hi = self._joint_ranges()
         if lo is not None:                 # revolute ranges (a prismatic stroke is in reach)
             valid &= (q >= lo) & (q <= hi)
-        return (q[0], valid[0]) if single else (q, valid)
+        return valid
+
+    def _tiered(self, what, poses, method, dps):
+        """The precise or certified tier of :meth:`inverse_kinematics` ("ik"),
+        :meth:`jacobian` ("jacobian") or :meth:`jq_jx` ("jq_jx")
+        (:mod:`.kinematics_tiers`); certified raises for an uncertified leg."""
+        from .kinematics_tiers import ik_tier, jacobian_tier, raise_uncertified
+        _, single = _poses(poses)
+        if what == "ik":
+            res = ik_tier(self, poses, method, dps)
+            raise_uncertified(res, "inverse kinematics")
+            out = (res.values, res.valid)
+        else:
+            res = jacobian_tier(self, poses, method, dps)
+            raise_uncertified(res, "Jacobian")
+            out = (res.values,) if what == "jacobian" else (res.jq_values, res.jx_values)
+        out = tuple(v[0] for v in out) if single else out
+        return out[0] if what == "jacobian" else out
 
     def _joint_ranges(self):
         """(lo, hi) arrays (L,) of the revolute legs' ranges (rad; ±inf where none), or
@@ -107,22 +145,30 @@ class KernelMethods:
         m = self.kernels("batched").reach(X)
         return m[0] if single else m
 
-    def jacobian(self, poses):
+    def jacobian(self, poses, method: str = "fast", dps: int | None = None):
         """J = Jq^-1 Jx (eqs. (1)-(2)), shape (N, L, 6), with qdot = J @ (v, omega).
 
         v in m/s, omega in rad/s (base frame), qdot in rad/s.  Legs that do not close
         give finite but meaningless rows; check :meth:`inverse_kinematics`.
+        ``method`` and ``dps`` as :meth:`inverse_kinematics` (object arrays of mpf or
+        arb; certified also refuses a leg whose Jq_ii ball contains 0, a serial
+        singularity; radii and estimates: :func:`~.kinematics_tiers.jacobian_tier`).
         """
+        if method != "fast":
+            return self._tiered("jacobian", poses, method, dps)
         X, single = _poses(poses)
         J = self.kernels("batched").jacobian(X)
         return J[0] if single else J
 
-    def jq_jx(self, poses):
+    def jq_jx(self, poses, method: str = "fast", dps: int | None = None):
         """Jq (N, L) (the diagonal of eq. (1)'s Jq) and Jx (N, L, 6): Jq qdot = Jx xdot.
 
         Jq_ii = dPhi_i/dq_i and Jx = -dPhi/d(v, omega) for the closures Phi_i
-        = (|P_i - D_i|^2 - l3^2) / (2 l3) (m).
+        = (|P_i - D_i|^2 - l3^2) / (2 l3) (m).  ``method`` and ``dps`` as
+        :meth:`jacobian`.
         """
+        if method != "fast":
+            return self._tiered("jq_jx", poses, method, dps)
         X, single = _poses(poses)
         out = self.kernels("batched").jq_jx(X)
         Jq, Jx = out[..., 0], out[..., 1:]

@@ -11,11 +11,14 @@ angle units; rotation R = Rz(rz) Ry(ry) Rx(rx), :mod:`distkin.spatial`)::
     [[query]]
     type = "inverse_kinematics"
     poses = [[0, 0, 300, 0, 0, 0], [20, -10, 320, 10, 0, 5]]
+    method = "certified"               # optional: fast (default) | precise | certified
+    dps = 30                           # optional, precise tier only
 
     [[query]]
     type = "jacobian"
     pose = [0, 0, 300, 0, 0, 0]        # one pose, or poses = [...]
     mass_matrix = true                 # optional: Mq and the acceleration map (eq. (7))
+    method = "precise"                 # optional, as above (and dps)
 
     [[query]]
     type = "forward_kinematics"
@@ -25,6 +28,17 @@ angle units; rotation R = Rz(rz) Ry(ry) Rx(rx), :mod:`distkin.spatial`)::
     max_iter = 50
 
 Every result is in SI in the JSON (m, rad), with the scene's units in the text.
+
+``method`` (:mod:`distkin.mechanisms.kinematics_tiers`): ``fast`` is the float64 kernels
+(today's numbers) with a first-order error estimate; ``precise`` runs the generated
+kernels in mpmath at ``dps`` digits (error estimate: a second run at dps + 15 digits);
+``certified`` runs them on python-flint balls from the pose's exact binary value (the
+scene pose converted to SI and rounded once to float64), and marks every leg it cannot
+certify (reach margin ball containing 0 or negative, angle on the ±π cut, joint-range
+end undecided, Jacobian: Jq_ii ball containing 0) with the reason.  Each pose row has
+``method``, ``q_error`` (IK; rad or m per leg) or ``J_error``, ``Jq_error``,
+``Jx_error`` (Jacobian), and for ``certified`` ``certified`` (per leg) and
+``uncertified`` ([{leg, reason}], legs 1-based); the text states the largest error.
 """
 
 from __future__ import annotations
@@ -33,9 +47,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...argcheck import check_keys, pose_list, positive_int, positive_number
+from ...argcheck import check_keys, method_field, pose_list, positive_int, positive_number
 from ...errors import InfeasibleError, InputError
-from ...exact import parse_float
+from ...exact import default_dps, parse_float
 from ..query import Outcome, register
 from ..units import angle_factor, length_factor
 
@@ -136,6 +150,54 @@ def _plotter(mech, poses, qs=None):
 class _Poses:
     poses: tuple
     mass_matrix: bool = False
+    method: str = "fast"
+    dps: int = 30
+
+
+def _tier_fields(table, field):
+    """``method`` and ``dps`` of an inverse_kinematics or jacobian query."""
+    return {"method": method_field(table, field), "dps": default_dps(table.get("dps"))}
+
+
+def _uncertified(res, i):
+    """[{leg (1-based), reason}] of pose i of a tiered result."""
+    return [{"leg": j + 1, "reason": why} for k, j, why in res.reasons if k == i]
+
+
+def _tier_rows(res, i, row, *fields):
+    """Add the tier's fields of pose i to a JSON row: method, the errors, and for the
+    certified tier the per-leg flags and reasons."""
+    row["method"] = res.method
+    for name in fields:
+        row[name] = getattr(res, name)[i]
+    if res.method == "certified":
+        row["certified"] = res.certified[i]
+        row["uncertified"] = _uncertified(res, i)
+    return row
+
+
+def _tier_lines(res, i):
+    return [f"  NOT certified: leg {u['leg']}: {u['reason']}" for u in _uncertified(res, i)]
+
+
+def _largest(err, mask):
+    """The largest finite error over ``mask`` (nan when none)."""
+    vals = err[mask & np.isfinite(err)]
+    return float(vals.max()) if vals.size else float("nan")
+
+
+def _accuracy(res, what, amounts, fast_how) -> str:
+    """The accuracy line of a tiered result: ``amounts`` the measured largest errors (or
+    radii) as text with units; ``fast_how`` the fast tier's estimate."""
+    how = {"fast": f"first-order estimate, not a bound: {fast_how}",
+           "precise": "error estimate: the difference from a second run with 15 more digits",
+           "certified": "certified ball radii; the pose taken as the exact binary value of "
+                        "its float64 SI coordinates"}[res.method]
+    legs = (f"; {int(res.certified.sum())} of {res.certified.size} legs certified"
+            if res.method == "certified" else "")
+    kind = "radius" if res.method == "certified" else "error"
+    return (f"accuracy ({res.method}, {res.precision}; {how}): largest {kind} of {what} "
+            f"{amounts}{legs}")
 
 
 @register("inverse_kinematics", mechanisms=("rss", "legs"),
@@ -143,34 +205,52 @@ class _Poses:
 class InverseKinematicsQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
-        check_keys(table, {"type", "pose", "poses"}, field)
-        return _Poses(parse_poses(table, units, field))
+        check_keys(table, {"type", "pose", "poses", "method", "dps"}, field)
+        return _Poses(parse_poses(table, units, field), **_tier_fields(table, field))
 
     @staticmethod
     def run(p, scene, ctx):
+        from ...mechanisms.kinematics_tiers import ik_tier
         mech = scene.mechanism
         X = np.array(p.poses)
-        q, valid = mech.inverse_kinematics(X)
-        margin = mech.reach_margin(X)
+        res = ik_tier(mech, X, p.method, p.dps)
+        q, valid, margin = res.q, res.valid, res.reach_margin
         lu, au, lf, af = _units(scene)
         rows, lines = [], [_describe(mech, lf, lu)]
         for i in range(len(X)):
             ok = bool(valid[i].all())
-            rows.append({"pose": X[i], "q": q[i], "valid": valid[i], "reachable": ok,
-                         "reach_margin": margin[i]})
-            bad = [int(j) + 1 for j in np.flatnonzero(~valid[i])]
-            lines.append(f"pose {i}: {_fmt_pose(X[i], scene)}  -> "
-                         + ("reachable" if ok else f"NOT reachable (legs {bad})"))
+            rows.append(_tier_rows(res, i, {"pose": X[i], "q": q[i], "valid": valid[i],
+                                            "reachable": ok, "reach_margin": margin[i]},
+                                   "q_error"))
+            # certified: a leg that is neither certified nor certainly infeasible is
+            # undecided (at its reach boundary, ...), not unreachable
+            open_ = (~res.certified[i] & ~res.infeasible[i] if p.method == "certified"
+                     else np.zeros(mech.L, dtype=bool))
+            bad = [int(j) + 1 for j in np.flatnonzero(~valid[i] & ~open_)]
+            undecided = [int(j) + 1 for j in np.flatnonzero(open_)]
+            verdict = ("reachable" if ok else
+                       "; ".join(([f"NOT reachable (legs {bad})"] if bad else [])
+                                 + ([f"undecided (legs {undecided})"] if undecided else [])))
+            lines.append(f"pose {i}: {_fmt_pose(X[i], scene)}  -> " + verdict)
             lines.append("  q = " + _joint_text(q[i], mech, scene))
+            lines += _tier_lines(res, i)
         if not valid.any():                    # not one leg closes anywhere: units?
             lines.append(f"note: no leg reaches any of these poses; the mechanism's home is "
                          f"{_fmt_pose(mech.home, scene)} in this scene's units "
                          f"([units] length = \"{scene.units.length}\", angle = "
                          f"\"{scene.units.angle}\")")
-        lines.append("accuracy: closed form in float64 (about 1e-15 rad, 1e-16 x leg length); "
-                     "branch: the crank angle nearer 0 at the workspace centre "
+        pris = _prismatic(mech)[None] & np.ones_like(valid)
+        ok = valid | res.certified
+        amounts = [f"{_largest(res.q_error, ok & ~pris):.2g} rad"] if (~pris).any() else []
+        if pris.any():
+            amounts.append(f"{_largest(res.q_error, ok & pris) * lf:.2g} {lu}")
+        lines.append(_accuracy(res, "q over the valid legs", ", ".join(amounts),
+                               "closure residual |Phi_i(q)|/|Jq_ii| + 2 eps max(|q|, 1)"))
+        lines.append("branch: the crank angle nearer 0 at the workspace centre "
                      "(distkin.mechanisms.presets) or the leg's own (distkin.mechanisms.legs)")
-        return Outcome({"mechanism": mech.parameters(), "unit": {"q": "rad", "pose": "m, rad"},
+        return Outcome({"mechanism": mech.parameters(), "method": p.method,
+                        "precision": res.precision,
+                        "unit": {"q": "rad", "pose": "m, rad", "q_error": "rad (m: prismatic)"},
                         "poses": rows}, "\n".join(lines), _plotter(mech, X, q))
 
 
@@ -179,32 +259,35 @@ class InverseKinematicsQuery:
 class JacobianQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
-        check_keys(table, {"type", "pose", "poses", "mass_matrix"}, field)
+        check_keys(table, {"type", "pose", "poses", "mass_matrix", "method", "dps"}, field)
         mm = table.get("mass_matrix", False)
         if not isinstance(mm, bool):
             raise InputError(f"expected true or false, got {mm!r}", field=f"{field}.mass_matrix")
-        return _Poses(parse_poses(table, units, field), mm)
+        return _Poses(parse_poses(table, units, field), mm, **_tier_fields(table, field))
 
     @staticmethod
     def run(p, scene, ctx):
+        from ...mechanisms.kinematics_tiers import jacobian_tier
         mech = scene.mechanism
         X = np.array(p.poses)
-        J = mech.jacobian(X)
-        Jq, Jx = mech.jq_jx(X)
-        _, valid = mech.inverse_kinematics(X)
-        sv = np.linalg.svd(J, compute_uv=False)
+        res = jacobian_tier(mech, X, p.method, p.dps)
+        J, Jq, Jx, valid = res.J, res.Jq, res.Jx, res.valid
+        sv = np.linalg.svd(np.where(np.isfinite(J), J, 0.0), compute_uv=False)
         rows = []
         lines = [f"mechanism: {mech.name} (L = {mech.L}); qdot = J (v, omega): columns 1-3 "
                  "rad/m, 4-6 rad/rad" + ("; prismatic rows (normalised Plücker lines, "
                                          "Rojas et al. eq. (5)): m/m, m/rad"
                                          if _prismatic(mech).any() else "")]
         for i in range(len(X)):
-            r = {"pose": X[i], "J": J[i], "Jq": Jq[i], "Jx": Jx[i], "singular_values": sv[i],
-                 "kappa": sv[i, -1] / sv[i, 0], "reachable": bool(valid[i].all())}
+            r = _tier_rows(res, i, {"pose": X[i], "J": J[i], "Jq": Jq[i], "Jx": Jx[i],
+                                    "singular_values": sv[i], "kappa": sv[i, -1] / sv[i, 0],
+                                    "reachable": bool(valid[i].all())},
+                           "J_error", "Jq_error", "Jx_error")
             lines.append(f"pose {i}: {_fmt_pose(X[i], scene)}"
                          + ("" if r["reachable"] else "  (NOT reachable: J is meaningless)"))
             for row in J[i]:
                 lines.append("  [" + " ".join(f"{v:11.5g}" for v in row) + "]")
+            lines += _tier_lines(res, i)
             lines.append("  singular values: " + ", ".join(f"{v:.6g}" for v in sv[i])
                          + " (mixed units); kappa = sigma_min/sigma_max = "
                          + f"{r['kappa']:.6g} (eq. (4))")
@@ -215,9 +298,12 @@ class JacobianQuery:
                 lines.append(f"  M̂ = diag({mech.mass:g} kg x3, {mech.inertia:g} kg m^2 x3); "
                              "Mq = J#ᵀ M̂ J# (kg m^2), acceleration map M̂⁻¹Jᵀ in the JSON")
             rows.append(r)
-        lines.append("accuracy: generated closed-form kernel in float64; checked against "
-                     "finite differences of the IK (tests/rss)")
-        return Outcome({"mechanism": mech.parameters(), "poses": rows}, "\n".join(lines),
+        ok = (valid | res.certified)[..., None] & np.ones(J.shape, dtype=bool)
+        lines.append(_accuracy(res, "an entry of J over the valid legs",
+                               f"{_largest(res.J_error, ok):.2g} (in the entry's unit)",
+                               "4 eps max|J row| max(1, l/|Jq_ii|), l the length scale"))
+        return Outcome({"mechanism": mech.parameters(), "method": p.method,
+                        "precision": res.precision, "poses": rows}, "\n".join(lines),
                        _plotter(mech, X))
 
 

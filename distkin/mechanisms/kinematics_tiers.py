@@ -1,0 +1,464 @@
+r"""The three tiers of the inverse kinematics and the Jacobian of RSS and leg mechanisms.
+
+Kühne et al., Sec. II-C, eqs. (1)-(2): per leg the closure gives
+:math:`A\cos q + B\sin q = C`, the crank angle
+:math:`q = \operatorname{atan2}(B C - \sigma A h,\ A C + \sigma B h)` with
+:math:`h = \sqrt{\rho^2 - C^2}`, :math:`\rho^2 = A^2 + B^2` (:mod:`.symbolic`), and
+:math:`J = J_q^{-1} J_x` with a diagonal :math:`J_q`; a prismatic leg has
+:math:`q = |P - B|`, :math:`J_{q,ii} = -1` and its normalised Plücker line as row of J
+(Rojas et al., eq. (5)).
+
+``fast``
+    the batched generated kernels in float64 (:class:`.kinematics.KernelMethods`).
+    Error estimate of q (first order, not a bound): the closure residual
+    :math:`|\Phi_i(q_i)| / |J_{q,ii}|` of the float answer plus 2 eps max(|q|, 1), plus
+    for a revolute leg the cancellation in :math:`\rho^2 - C^2` (rounding
+    :math:`\delta m = 4\,\mathrm{eps}\,\rho^2` moves q by
+    :math:`\delta m / (2 \rho \sqrt{\max(|m|, \delta m)})`: up to
+    :math:`\sqrt{\mathrm{eps}}` at the reach boundary); of a
+    row of J: :math:`4\,\mathrm{eps}\,\max_j |J_{ij}|\,\max(1, \ell / |J_{q,ii}|)` with
+    ℓ the mechanism's length scale (rounding, amplified as the leg nears a serial
+    singularity, :math:`J_{q,ii} \to 0`); of Jq and Jx: 4 eps times the value.
+``precise``
+    the arb-flavour generated kernels (``ik_arb``, ``reach_arb``, ``jq_jx_arb``:
+    only ``+ - * /``, ``abs``, ``sqrt``, ``sin``, ``cos``, ``atan2`` and ``_A(int)``)
+    run on mpmath numbers at ``dps`` digits (:class:`MPNumber` gives mpmath those
+    methods).  Error estimate: the difference from a second evaluation at
+    ``dps + GUARD`` digits, at least :math:`10^{1-dps}\max(|v|, 1)`; an estimate, not a
+    bound.
+``certified``
+    the same kernels on python-flint ``arb`` balls at ``bits`` of working precision.
+    The pose is taken exactly: a float64 pose (m, rad) is its exact binary value.  The
+    kernels' constants are the doubles of the fast kernels, exactly, so each ball
+    encloses the exact value of what its fast kernel rounds.  Each kernel carries its
+    own doubles (sympy folds products of parameters, such as 1/(2 l1), into one double
+    each), so the IK and the Jacobian kernels describe the mechanism to about 1e-16
+    relative, not to the balls' width (the precise J and differences of the precise IK
+    differ by 5e-17 on the Octo: tests/mechanisms/test_kinematics_tiers.py).  A leg is *certified* when its
+    reach margin :math:`\rho^2 - C^2` is certainly > 0 (a ball containing 0 is the
+    branch point :math:`h = 0` of the two assembly branches, which no ball decides),
+    its angle ball is finite (not on the ±π cut of atan2), its joint range (if any)
+    decided, and, for the Jacobian, its :math:`J_{q,ii}` ball excludes 0 (a serial
+    singularity).  Every other leg is named, with the reason, in ``reasons``; the
+    methods of :class:`.kinematics.KernelMethods` raise :class:`UncertifiedError` (or
+    :class:`InfeasibleError` where the leg certainly does not close) instead of
+    returning them.
+
+Units: q in rad (revolute legs) or m (prismatic legs); J columns 1-3 per m, 4-6 per rad;
+``Jq`` in m/rad (revolute; the closures are in m) or m/m (prismatic); reach margins m^2.
+"""
+
+from __future__ import annotations
+
+import math
+import types
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InfeasibleError, InputError, UncertifiedError
+from ..exact import check_method, default_dps
+from .description import _poses
+
+__all__ = ["MPNumber", "on_mpmath", "TieredIK", "TieredJacobian", "ik_tier", "jacobian_tier",
+           "raise_uncertified", "GUARD", "BITS"]
+
+#: extra digits of the precise tier's second evaluation (its error estimate)
+GUARD = 15
+#: working precision (bits) of the certified tier's balls
+BITS = 128
+_EPS = np.finfo(float).eps
+
+
+class MPNumber:
+    """An mpmath number with the methods the arb-flavour kernels call (``x.sqrt()``,
+    ``x.sin()``, ``x.cos()``, ``abs(x)``, ``MPNumber.atan2(y, x)``, arithmetic with
+    ints and floats, ``MPNumber(p)`` for the kernels' ``_A(p)``), at the current
+    ``mpmath.mp.dps``.  ``.v`` is the :class:`mpmath.mpf`."""
+
+    __slots__ = ("v",)
+
+    def __init__(self, v):
+        import mpmath
+        self.v = v.v if isinstance(v, MPNumber) else mpmath.mpf(v)
+
+    @staticmethod
+    def _of(x):
+        return x.v if isinstance(x, MPNumber) else x
+
+    def __add__(self, o):
+        return MPNumber(self.v + self._of(o))
+
+    __radd__ = __add__
+
+    def __sub__(self, o):
+        return MPNumber(self.v - self._of(o))
+
+    def __rsub__(self, o):
+        return MPNumber(self._of(o) - self.v)
+
+    def __mul__(self, o):
+        return MPNumber(self.v * self._of(o))
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, o):
+        return MPNumber(self.v / self._of(o))
+
+    def __rtruediv__(self, o):
+        return MPNumber(self._of(o) / self.v)
+
+    def __neg__(self):
+        return MPNumber(-self.v)
+
+    def __pos__(self):
+        return self
+
+    def __abs__(self):
+        return MPNumber(abs(self.v))
+
+    def __pow__(self, n):
+        return MPNumber(self.v ** n)
+
+    def sqrt(self):
+        import mpmath
+        return MPNumber(mpmath.sqrt(self.v))
+
+    def sin(self):
+        import mpmath
+        return MPNumber(mpmath.sin(self.v))
+
+    def cos(self):
+        import mpmath
+        return MPNumber(mpmath.cos(self.v))
+
+    @staticmethod
+    def atan2(y, x):
+        import mpmath
+        return MPNumber(mpmath.atan2(MPNumber._of(y), MPNumber._of(x)))
+
+    def __repr__(self):
+        return f"MPNumber({self.v!r})"
+
+
+_MP_KERNELS: dict = {}
+
+
+def on_mpmath(fn):
+    """The generated arb kernel ``fn`` with its ball type ``_A`` bound to
+    :class:`MPNumber` (the same code object, other globals): called on a pose of six
+    :class:`MPNumber`, it evaluates the kernel in mpmath at the current ``mp.dps``."""
+    key = (fn.__module__, fn.__qualname__, id(fn.__code__))
+    if key not in _MP_KERNELS:
+        _MP_KERNELS[key] = types.FunctionType(fn.__code__, {**fn.__globals__, "_A": MPNumber},
+                                              fn.__name__)
+    return _MP_KERNELS[key]
+
+
+def _arb_kernels(mech):
+    if getattr(mech, "route", "generated") == "numpy":
+        raise InputError("expected route 'generated' for the precise and certified tiers "
+                         "(they run the generated arb-flavour kernels), got 'numpy'",
+                         field="route")
+    return mech.kernels("arb")
+
+
+def _precise_runs(ks, names, X, dps):
+    """Two evaluations of the kernels ``names`` at the poses X (N, 6) on mpmath numbers:
+    ({name: object array of mpf} at ``dps`` digits, the same at ``dps + GUARD``)."""
+    import mpmath
+    runs = []
+    for digits in (dps, dps + GUARD):
+        with mpmath.workdps(digits):
+            res = {}
+            for n in names:
+                fn = on_mpmath(getattr(ks, n))
+                res[n] = np.array([_unwrap(fn([MPNumber(float(c)) for c in x])) for x in X],
+                                  dtype=object)
+            runs.append(res)
+    return runs
+
+
+def _estimate(val, ref, dps):
+    """Error estimate (float array) of the mpf array ``val`` (at ``dps`` digits) against
+    ``ref`` (more digits): |val - ref|, at least 10^(1 - dps) max(|val|, 1)."""
+    import mpmath
+    with mpmath.workdps(dps + GUARD):
+        diff = np.vectorize(lambda a, b: float(abs(a - b)), otypes=[float])(val, ref)
+    mag = np.maximum(np.abs(_to_float(val)), 1.0)
+    return np.maximum(diff, mag * 10.0 ** (1 - dps))
+
+
+def _unwrap(v):
+    if isinstance(v, list):
+        return [_unwrap(x) for x in v]
+    return v.v if isinstance(v, MPNumber) else v
+
+
+def _certified_eval(ks, names, X, bits):
+    """{name: object array of arb} of the kernels ``names`` at the exact poses X."""
+    from flint import arb
+
+    from ..exact_roots import working_precision
+    out = {}
+    with working_precision(bits):
+        for n in names:
+            fn = getattr(ks, n)
+            out[n] = np.array([_as_ball(fn([arb(float(c)) for c in x])) for x in X],
+                              dtype=object)
+    return out
+
+
+def _as_ball(v):
+    from flint import arb
+    if isinstance(v, list):
+        return [_as_ball(x) for x in v]
+    return v if isinstance(v, arb) else arb(v)
+
+
+_mid = np.vectorize(lambda b: float(b.mid()) if b.is_finite() else math.nan, otypes=[float])
+_rad = np.vectorize(lambda b: float(b.rad()) if b.is_finite() else math.inf, otypes=[float])
+_to_float = np.vectorize(float, otypes=[float])
+
+
+def _ball_text(b, unit):
+    if not b.is_finite():
+        return f"[not finite] {unit}".rstrip()
+    return f"{float(b.mid()):.10g} ± {float(b.rad()):.2g} {unit}".rstrip()
+
+
+@dataclass(frozen=True)
+class TieredIK:
+    """Inverse kinematics at one tier (module docstring), arrays (N, L).
+
+    Attributes
+    ----------
+    method : str
+    precision : str
+        "float64", "mpmath at D digits" or "arb at B bits".
+    q : float array, rad (revolute) or m (prismatic)
+        The fast values; the precise ones rounded to float64; the balls' midpoints.
+    q_error : float array, same units
+        Error estimate (fast, precise) or certified radius (inf where not finite).
+    reach_margin : float array, m^2
+    valid : bool array
+        The leg closes and q is in its joint range (certified tier: certainly so).
+    certified : bool array
+        Certified tier: the leg's answer is certified (module docstring); else False.
+    reasons : tuple of (pose, leg, str)
+        Certified tier: why each uncertified leg is not (0-based pose and leg).
+    values : object array or None
+        The tier's own numbers (mpmath mpf, flint arb); None for ``fast``.
+    infeasible : bool array
+        Certified tier: the leg certainly does not close.
+    """
+
+    method: str
+    precision: str
+    q: np.ndarray
+    q_error: np.ndarray
+    reach_margin: np.ndarray
+    valid: np.ndarray
+    certified: np.ndarray
+    reasons: tuple
+    values: np.ndarray | None
+    infeasible: np.ndarray
+
+
+@dataclass(frozen=True)
+class TieredJacobian:
+    """J = Jq^-1 Jx (eqs. (1)-(2)) at one tier: ``J``, ``Jx`` (N, L, 6), ``Jq`` (N, L)
+    as floats with ``*_error`` alike (estimates or certified radii), ``valid``,
+    ``certified``, ``reasons``, ``infeasible`` as :class:`TieredIK`, and the tier's own
+    numbers ``values`` (J), ``jq_values``, ``jx_values`` (None for ``fast``)."""
+
+    method: str
+    precision: str
+    J: np.ndarray
+    J_error: np.ndarray
+    Jq: np.ndarray
+    Jq_error: np.ndarray
+    Jx: np.ndarray
+    Jx_error: np.ndarray
+    valid: np.ndarray
+    certified: np.ndarray
+    reasons: tuple
+    values: np.ndarray | None
+    jq_values: np.ndarray | None
+    jx_values: np.ndarray | None
+    infeasible: np.ndarray
+
+
+def _setup(mech, poses, method, dps, bits):
+    check_method(method)
+    X, _ = _poses(poses)
+    dps = default_dps(dps) if method == "precise" else None
+    bits = BITS if bits is None else bits
+    prec = {"fast": "float64", "precise": f"mpmath at {dps} digits",
+            "certified": f"arb at {bits} bits"}[method]
+    return X, dps, bits, prec
+
+
+def _fast_ik_error(mech, X, q, margin):
+    """First-order error estimate (N, L) of the fast IK (module docstring): the closure
+    residual |Phi_i(q_i)| / |Jq_ii|, 2 eps max(|q|, 1), and for a revolute leg the
+    cancellation in its reach margin m = rho^2 - C^2 (rounding dm = 4 eps rho^2; q moves
+    by dm / (2 rho h) with h = sqrt(max(|m|, dm)), the sqrt(eps) of a double root at the
+    reach boundary, where the closure residual cannot see it)."""
+    k = mech.kernels("batched")
+    phi = k.closure(q, X)[..., 0]
+    jq = k.jq_jx(X)[..., 0]
+    d = mech.leg_description().arrays()
+    w = mech.points(X, q)["P"] - d["B"][None] - d["offset"][None]
+    rho = np.hypot(np.einsum("nli,li->nl", w, d["u"]), np.einsum("nli,li->nl", w, d["v"]))
+    dm = 4 * _EPS * rho ** 2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cancel = np.where(d["prismatic"][None], 0.0,
+                          dm / (2 * rho * np.sqrt(np.maximum(np.abs(margin), dm))))
+        return np.abs(phi) / np.abs(jq) + 2 * _EPS * np.maximum(np.abs(q), 1.0) + cancel
+
+
+def _range_check(mech, qv, i, j, reasons):
+    """Certified joint-range test of ball ``qv`` of pose i, leg j: True (in range), False
+    (certainly out) or None (undecided, reason appended)."""
+    lo, hi = mech._joint_ranges()
+    if lo is None or not (np.isfinite(lo[j]) or np.isfinite(hi[j])):
+        return True
+    from flint import arb
+    a, b = arb(float(lo[j])), arb(float(hi[j]))
+    if qv >= a and qv <= b:
+        return True
+    if qv < a or qv > b:
+        return False
+    reasons.append((i, j, f"the angle ball {_ball_text(qv, 'rad')} meets an end of the "
+                          f"joint range [{lo[j]:.6g}, {hi[j]:.6g}] rad"))
+    return None
+
+
+def _reach_status(m, i, j, prismatic, reasons, infeasible):
+    """Certified reach test of margin ball ``m`` (m^2) of pose i, leg j: True when
+    certainly > 0; otherwise the reason is appended (and ``infeasible`` set when the leg
+    certainly does not close)."""
+    if m > 0:
+        return True
+    if m < 0:
+        infeasible[i, j] = True
+        reasons.append((i, j, f"the leg does not close (reach margin certainly negative, "
+                              f"{_ball_text(m, 'm^2')}): no joint value to certify"))
+    else:
+        where = ("at an end of the leg's stroke (or at zero length)" if prismatic else
+                 "at the leg's reach boundary, the branch point of its two assembly branches")
+        reasons.append((i, j, f"the reach margin ball {_ball_text(m, 'm^2')} contains 0: the "
+                              f"pose is {where}, which no ball decides"))
+    return False
+
+
+def ik_tier(mech, poses, method: str = "fast", dps: int | None = None,
+            bits: int | None = None) -> TieredIK:
+    """Inverse kinematics of ``mech`` at ``poses`` (N, 6) or (6,) (m, rad) at one tier,
+    with its accuracy (module docstring).  ``dps``: precise tier (default 30);
+    ``bits``: certified tier (default :data:`BITS`)."""
+    X, dps, bits, prec = _setup(mech, poses, method, dps, bits)
+    N, L = len(X), mech.L
+    none = np.zeros((N, L), dtype=bool)
+    if method == "fast":
+        q, valid = mech.inverse_kinematics(X)
+        margin = mech.reach_margin(X)
+        return TieredIK(method, prec, q, _fast_ik_error(mech, X, q, margin), margin,
+                        valid, none, (), None, none)
+    ks = _arb_kernels(mech)
+    if method == "precise":
+        vals, ref = _precise_runs(ks, ("ik", "reach"), X, dps)
+        q, margin = _to_float(vals["ik"]), _to_float(vals["reach"])
+        return TieredIK(method, prec, q, _estimate(vals["ik"], ref["ik"], dps), margin,
+                        mech._valid(q, margin), none, (), vals["ik"], none)
+    vals = _certified_eval(ks, ("ik", "reach"), X, bits)
+    reasons, infeasible = [], none.copy()
+    certified, valid = none.copy(), none.copy()
+    prismatic = [leg.prismatic for leg in mech.leg_description().leg_table]
+    for i in range(N):
+        for j in range(L):
+            if not _reach_status(vals["reach"][i, j], i, j, prismatic[j], reasons, infeasible):
+                continue
+            qv = vals["ik"][i, j]
+            if not qv.is_finite():
+                reasons.append((i, j, "the angle ball is not finite (the crank is on the ±π "
+                                      "cut of atan2 within the balls' width)"))
+                continue
+            in_range = _range_check(mech, qv, i, j, reasons)
+            if in_range is None:
+                continue
+            certified[i, j], valid[i, j] = True, in_range
+    return TieredIK(method, prec, _mid(vals["ik"]), _rad(vals["ik"]), _mid(vals["reach"]),
+                    valid, certified, tuple(reasons), vals["ik"], infeasible)
+
+
+def jacobian_tier(mech, poses, method: str = "fast", dps: int | None = None,
+                  bits: int | None = None) -> TieredJacobian:
+    """J = Jq^-1 Jx, Jq and Jx of ``mech`` at ``poses`` at one tier, with its accuracy
+    (module docstring; arguments as :func:`ik_tier`)."""
+    X, dps, bits, prec = _setup(mech, poses, method, dps, bits)
+    N, L = len(X), mech.L
+    none = np.zeros((N, L), dtype=bool)
+    if method == "fast":
+        J = mech.jacobian(X)
+        Jq, Jx = mech.jq_jx(X)
+        _, valid = mech.inverse_kinematics(X)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            amp = np.maximum(1.0, mech.length_scale / np.abs(Jq))
+        err = 4 * _EPS * np.max(np.abs(J), axis=-1) * amp
+        return TieredJacobian(method, prec, J, np.repeat(err[..., None], 6, axis=-1), Jq,
+                              4 * _EPS * np.abs(Jq), Jx, 4 * _EPS * np.abs(Jx), valid, none,
+                              (), None, None, None, none.copy())
+    ks = _arb_kernels(mech)
+    if method == "precise":
+        import mpmath
+        runs = _precise_runs(ks, ("jq_jx", "reach", "ik"), X, dps)
+        for run, digits in zip(runs, (dps, dps + GUARD)):
+            with mpmath.workdps(digits):
+                run["J"] = run["jq_jx"][..., 1:] / run["jq_jx"][..., :1]
+        vals, ref = runs
+        jq, jx = vals["jq_jx"][..., 0], vals["jq_jx"][..., 1:]
+        err = _estimate(vals["jq_jx"], ref["jq_jx"], dps)
+        valid = mech._valid(_to_float(vals["ik"]), _to_float(vals["reach"]))
+        return TieredJacobian(method, prec, _to_float(vals["J"]),
+                              _estimate(vals["J"], ref["J"], dps), _to_float(jq), err[..., 0],
+                              _to_float(jx), err[..., 1:], valid, none, (), vals["J"], jq, jx,
+                              none)
+    ik = ik_tier(mech, X, "certified", bits=bits)
+    vals = _certified_eval(ks, ("jq_jx",), X, bits)["jq_jx"]
+    jq, jx = vals[..., 0], vals[..., 1:]
+    from ..exact_roots import working_precision
+    reasons = list(ik.reasons)
+    certified = ik.certified.copy()
+    with working_precision(bits):
+        J = np.empty_like(jx)
+        for i in range(N):
+            for j in range(L):
+                J[i, j] = [c / jq[i, j] for c in jx[i, j]]
+                if certified[i, j] and jq[i, j].contains(0):
+                    certified[i, j] = False
+                    reasons.append((i, j, f"the Jq_ii ball {_ball_text(jq[i, j], '')} contains "
+                                          "0: the leg is at (or within the balls' width of) a "
+                                          "serial singularity, J is unbounded there"))
+    reasons.sort(key=lambda r: r[:2])
+    return TieredJacobian(method, prec, _mid(J), _rad(J), _mid(jq), _rad(jq), _mid(jx),
+                          _rad(jx), ik.valid & certified, certified, tuple(reasons), J, jq, jx,
+                          ik.infeasible)
+
+
+def raise_uncertified(res, what: str):
+    """Raise for the first leg of a certified result ``res`` (:class:`TieredIK` or
+    :class:`TieredJacobian`) that is not certified: :class:`InfeasibleError` where the
+    leg certainly does not close, else :class:`UncertifiedError`; nothing when every leg
+    is certified (or the tier is not ``certified``)."""
+    if res.method != "certified" or not res.reasons:
+        return
+    i, j, why = res.reasons[0]
+    more = len(res.reasons) - 1
+    msg = (f"expected a certified {what} at pose {i}, got leg {j + 1} uncertified: {why}"
+           + (f" (and {more} more leg(s))" if more else ""))
+    if res.infeasible[i, j]:
+        raise InfeasibleError(msg, field="poses")
+    raise UncertifiedError(msg, field="poses",
+                           hint="method=\"precise\" gives an estimate there")
