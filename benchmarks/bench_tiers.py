@@ -1,6 +1,8 @@
 """The three tiers of the RSS inverse kinematics and Jacobian
 (distkin.mechanisms.kinematics_tiers): cost per pose against the fast kernels, and the
-precise tier against the alternative route of lambdifying the sympy IK for mpmath."""
+precise tier against the alternative route of lambdifying the sympy IK for mpmath; and
+the three tiers of the forward kinematics (distkin.mechanisms.forward_tiers: Gauss-Newton,
+Newton in mpmath, Krawczyk's test on arb balls) against the fast Gauss-Newton."""
 
 from __future__ import annotations
 
@@ -12,7 +14,7 @@ from .harness import interleaved, ratio_table
 
 __all__ = ["TITLE", "DEFAULT", "run"]
 
-TITLE = "IK and Jacobian in three tiers (fast, precise, certified)"
+TITLE = "IK, Jacobian and forward kinematics in three tiers (fast, precise, certified)"
 DEFAULT = True
 
 N = 20
@@ -62,6 +64,36 @@ def run():
           f"values agree with the precise tier to {agree:.1e} rad (float64 of both). "
           f"Largest certified radius of q: {cert.q_error.max():.1e} rad; all "
           f"{cert.certified.sum()} legs certified.")
-    return md, {"per_pose_seconds": per, "lambdify_build_seconds": t_build,
-                "precise_vs_lambdify_rad": agree,
-                "certified_max_radius_rad": float(cert.q_error.max())}
+    fk_md, fk = _forward(m, X)
+    return md + "\n\n" + fk_md, {"per_pose_seconds": per, "lambdify_build_seconds": t_build,
+                                 "precise_vs_lambdify_rad": agree,
+                                 "certified_max_radius_rad": float(cert.q_error.max()),
+                                 "forward": fk}
+
+
+def _forward(m, X):
+    """The forward kinematics of the Octo in three tiers, one pose per call (from the
+    joint values of the first poses of ``X``, warm started at the pose itself)."""
+    from distkin.mechanisms.forward_tiers import forward_tier
+    n = 5
+    Q = m.inverse_kinematics(X[:n])[0]
+    comp = {
+        "fast FK (Gauss-Newton, float64)": lambda: [m.forward_kinematics(Q[i], X[i])
+                                                    for i in range(n)],
+        "fast FK with its error estimate": lambda: [forward_tier(m, Q[i], X[i])
+                                                    for i in range(n)],
+        "precise FK (Newton, mpmath, 30 digits)": lambda: [
+            forward_tier(m, Q[i], X[i], method="precise") for i in range(n)],
+        "certified FK (Krawczyk, arb, 128 bits)": lambda: [
+            forward_tier(m, Q[i], X[i], method="certified") for i in range(n)],
+    }
+    med = interleaved(comp, rounds=5)
+    per = {k: t / n for k, t in med.items()}
+    cert = [forward_tier(m, Q[i], X[i], method="certified") for i in range(n)]
+    rad = max(float(c.error.max()) for c in cert)
+    md = (f"Forward kinematics of the Octo (L = 8), {n} of these poses, one call each "
+          "(the precise and certified tiers include the fast Gauss-Newton they start from; "
+          "certified: the box of six legs, the other two bounded):\n\n"
+          + ratio_table(per, "fast FK (Gauss-Newton, float64)", per="pose")
+          + f"\n\nLargest certified radius: {rad:.1e} (m or rad); every pose certified.")
+    return md, {"per_pose_seconds": per, "certified_max_radius": rad}

@@ -35,7 +35,7 @@ import math
 import numpy as np
 
 __all__ = ["rotation_matrix", "rotation_matrix_scalar", "rotation_angles", "omega_map",
-           "exp_so3", "rotate_pose_scalar", "axis_angle", "pose_error", "pose_to_matrix", "matrix_to_pose", "pose_to_rotation", "pose_from"]
+           "omega_entries", "exp_so3", "rotate_pose_scalar", "axis_angle", "pose_error", "pose_to_matrix", "matrix_to_pose", "pose_to_rotation", "pose_from"]
 
 
 def rotation_matrix(r):
@@ -105,16 +105,21 @@ def omega_map(r):
     array (..., 3, 3)
     """
     r = np.asarray(r, dtype=float)
-    cy, cz = np.cos(r[..., 1]), np.cos(r[..., 2])
-    sy, sz = np.sin(r[..., 1]), np.sin(r[..., 2])
     E = np.zeros(r.shape[:-1] + (3, 3))
-    E[..., 0, 0] = cz * cy
-    E[..., 1, 0] = sz * cy
-    E[..., 2, 0] = -sy
-    E[..., 0, 1] = -sz
-    E[..., 1, 1] = cz
-    E[..., 2, 2] = 1.0
+    rows = omega_entries(np.cos(r[..., 1]), np.sin(r[..., 1]), np.cos(r[..., 2]),
+                         np.sin(r[..., 2]))
+    for i in range(3):
+        for j in range(3):
+            E[..., i, j] = rows[i][j]
     return E
+
+
+def omega_entries(cy, sy, cz, sz):
+    """The rows of :func:`omega_map` from cos and sin of ry and rz, for any number type
+    (floats, arrays, mpmath numbers, python-flint ``arb`` balls: the certified forward
+    kinematics, :mod:`distkin.mechanisms.forward_tiers`): the columns are
+    :math:`R_zR_y e_x`, :math:`R_z e_y`, :math:`e_z`."""
+    return ((cz * cy, -sz, 0 * cz), (sz * cy, cz, 0 * cz), (-sy, 0 * cz, 0 * cz + 1))
 
 
 def exp_so3(w):

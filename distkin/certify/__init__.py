@@ -6,7 +6,10 @@
   enclosures, :mod:`.workspace` for whole regions as resumable chunks of
   :mod:`distkin.runstore`, :mod:`.tighten` for a sharper σmin bound over a certified
   region, :mod:`.plot` for the Fig. 3 analogue); the scene query
-  ``certify_workspace`` is :mod:`distkin.app.queries.certify`.
+  ``certify_workspace`` is :mod:`distkin.app.queries.certify`;
+* :mod:`.krawczyk` -- a unique zero of a square system in a proved box (Krawczyk's test),
+  for the certified forward kinematics of RSS and leg mechanisms
+  (:mod:`distkin.mechanisms.forward_tiers`).
 """
 
 from .boxes import (REGULAR, SINGULAR, STATUS_NAMES, UNDECIDED, UNREACHABLE, Verdict,

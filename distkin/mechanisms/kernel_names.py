@@ -7,7 +7,7 @@ __all__ = ["KERNELS", "FLAVOURS", "ARB_KERNELS", "LOOP_KERNELS"]
 KERNELS = ("ik", "reach", "jacobian", "jq_jx", "closure")
 FLAVOURS = ("batched", "scalar")
 #: the kernels of the certified (arb) flavour, in their own module ``rss_<name>_arb``
-ARB_KERNELS = ("ik", "reach", "jq_jx")
+ARB_KERNELS = ("ik", "reach", "jq_jx", "closure")
 #: the kernels whose batched flavour comes with a ``loop`` twin (suffix ``_loop``): the
 #: study's per-pose kinematics, compiled by numba (:mod:`distkin.indices.study_compiled`)
 LOOP_KERNELS = ("reach", "jq_jx")

@@ -206,13 +206,30 @@ class KernelMethods:
         A = np.linalg.inv(self.cartesian_mass_matrix()) @ np.swapaxes(J, -1, -2)
         return A[0] if single else A
 
-    def forward_kinematics(self, q, guess=None, *, octic: bool = True, **options):
+    def forward_kinematics(self, q, guess=None, *, octic: bool = True, method: str = "fast",
+                           dps: int | None = None, legs=None, **options):
         """Numeric forward kinematics; see :func:`.forward.forward_kinematics`.
 
         A leg table with the octahedral topology (``octahedral()``, Rojas et al. Fig. 4)
         is solved by the exact octic first (:mod:`.octahedral_fk`, every assembly mode,
         proved or certified) and Gauss-Newton starts at the mode nearest ``guess``; the
-        result's ``modes`` holds every mode.  ``octic=False`` skips this."""
+        result's ``modes`` holds every mode.  ``octic=False`` skips this.
+
+        ``method`` "precise" (mpmath at ``dps`` digits) or "certified" (Krawczyk's test
+        on arb balls: a proved box of poses, or :class:`~distkin.errors.UncertifiedError`)
+        takes one set of joint values and returns a
+        :class:`~.forward_tiers.TieredFK` (:func:`.forward_tiers.forward_tier`, which
+        starts from this method's fast answer; ``legs``: six legs of the square system
+        when L > 6); "fast" (default) the :class:`~.forward.FKResult` of before."""
+        if method != "fast" or legs is not None:
+            from ..errors import InputError
+            from .forward_tiers import forward_tier
+            if np.ndim(q) != 1:
+                raise InputError(f"expected one set of {self.legs} joint values for method "
+                                 f"{method!r}, got an array of shape {np.shape(q)}", field="q")
+            start = self.forward_kinematics(q, guess, octic=octic, **options)
+            g = start.pose if np.all(np.isfinite(start.pose)) else guess
+            return forward_tier(self, q, g, method=method, dps=dps, legs=legs, **options)
         from .forward import forward_kinematics
         topo = getattr(self, "octahedral", None)
         if octic and topo is not None and topo() is not None:

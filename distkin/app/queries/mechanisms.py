@@ -26,6 +26,8 @@ angle units; rotation R = Rz(rz) Ry(ry) Rx(rx), :mod:`distkin.spatial`)::
     guess = [0, 0, 300, 0, 0, 0]       # optional warm start (default: workspace centre)
     tol = 1e-13                        # optional, m
     max_iter = 50
+    method = "certified"               # optional: fast (default) | precise | certified
+    legs = [1, 2, 3, 4, 6, 7]          # optional (L > 6, precise/certified): six legs
 
 Every result is in SI in the JSON (m, rad), with the scene's units in the text.
 
@@ -39,6 +41,16 @@ end undecided, Jacobian: Jq_ii ball containing 0) with the reason.  Each pose ro
 ``method``, ``q_error`` (IK; rad or m per leg) or ``J_error``, ``Jq_error``,
 ``Jx_error`` (Jacobian), and for ``certified`` ``certified`` (per leg) and
 ``uncertified`` ([{leg, reason}], legs 1-based); the text states the largest error.
+
+The forward kinematics (:mod:`distkin.mechanisms.forward_tiers`) takes the same
+``method`` and ``dps``: ``fast`` is Gauss-Newton in float64 (today's pose) with a
+first-order error estimate; ``precise`` Newton on the generated kernel in mpmath from it;
+``certified`` Krawczyk's test on arb balls, which proves a box of poses holding exactly
+one solution (for L > 6: of six legs, ``legs`` or the best conditioned, with the other
+legs' closure errors bounded over the box) or refuses (near a direct singularity).  The
+JSON adds ``method``, ``pose_error`` (m, rad per coordinate: estimate or proved radius),
+``certified``, ``legs`` and, certified, ``other_legs_closure_bound`` (m) and
+``contraction``.
 """
 
 from __future__ import annotations
@@ -313,6 +325,9 @@ class _FK:
     guess: tuple | None
     tol: float
     max_iter: int
+    method: str = "fast"
+    dps: int = 30
+    legs: tuple | None = None
 
 
 @register("forward_kinematics", mechanisms=("rss", "legs"),
@@ -320,7 +335,8 @@ class _FK:
 class ForwardKinematicsQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
-        check_keys(table, {"type", "angles", "guess", "tol", "max_iter"}, field)
+        check_keys(table, {"type", "angles", "guess", "tol", "max_iter", "method", "dps",
+                           "legs"}, field)
         if "angles" not in table:
             raise InputError("missing required field 'angles'", field=f"{field}.angles")
         af = angle_factor(units)
@@ -332,34 +348,69 @@ class ForwardKinematicsQuery:
             guess = tuple(np.array(_numbers(table["guess"], f"{field}.guess", 6)) * _scale(units))
         tol = positive_number(table.get("tol", 1e-13), f"{field}.tol")
         max_iter = positive_int(table.get("max_iter", 50), f"{field}.max_iter")
-        return _FK(angles, guess, tol, max_iter)
+        tier = _tier_fields(table, field)
+        legs = None
+        if "legs" in table:
+            from ...mechanisms.forward_tiers import six_legs
+            six_legs(table["legs"], mechanism.L, f"{field}.legs")
+            if tier["method"] == "fast":
+                raise InputError("expected 'legs' with method 'precise' or 'certified' (the "
+                                 "fast tier fits all legs), got method 'fast'",
+                                 field=f"{field}.legs")
+            legs = tuple(table["legs"])
+        return _FK(angles, guess, tol, max_iter, legs=legs, **tier)
 
     @staticmethod
     def run(p, scene, ctx):
         mech = scene.mechanism
         guess = np.array(p.guess) if p.guess is not None else mech.home
         res = mech.forward_kinematics(np.array(p.angles), guess, tol=p.tol, max_iter=p.max_iter)
-        if not res.converged:
+        if not res.converged and p.method == "fast":
             raise InfeasibleError(
                 f"expected the angles to close near the guess, got no convergence in "
                 f"{p.max_iter} iterations (rms closure error {res.residual:.3g} m)",
                 field="angles", margin=res.residual)
+        from ...mechanisms.forward_tiers import fast_tier, forward_tier
+        if p.method == "fast":
+            tier = fast_tier(mech, res)
+        else:
+            # the tier starts from the answer above (the exact octic's mode for an
+            # octahedral leg table), not from the guess again
+            start = res.pose if np.all(np.isfinite(res.pose)) else guess
+            tier = forward_tier(mech, np.array(p.angles), start, method=p.method, dps=p.dps,
+                                legs=p.legs, tol=p.tol, max_iter=p.max_iter)
+        pose = tier.pose
         lu, au, lf, af = _units(scene)
+        err = tier.error
+        what = {"fast": "error estimate (first order, not a bound)",
+                "precise": f"error estimate ({p.dps} digits; the last Newton step)",
+                "certified": "proved radius (Krawczyk's test, arb balls)"}[p.method]
         lines = [f"mechanism: {mech.name} (L = {mech.L})",
-                 f"pose: {_fmt_pose(res.pose, scene)}",
-                 f"converged in {res.iterations} iterations; rms closure error "
-                 f"{res.residual * lf:.3g} {lu}"
-                 + (" (the L = 8 angles are inconsistent)" if res.residual > 1e-9 else ""),
+                 f"pose: {_fmt_pose(pose, scene)}  [{p.method}]",
+                 f"converged in {res.iterations} iterations (fast tier); rms closure error "
+                 f"{tier.residual * lf:.3g} {lu}"
+                 + (" (the L = 8 angles are inconsistent)" if tier.residual > 1e-9 else ""),
                  f"closure Jacobian (angular columns x length scale, dimensionless): "
                  f"sigma_min {res.sigma_min:.4g}, condition {res.condition:.4g}"
                  + ("  WARNING: near a singularity, the pose is ill-determined"
                     if res.near_singular else ""),
-                 f"accuracy: about condition x 1e-16 x leg length "
-                 f"({res.condition * 1e-16 * _leg_length(mech) * lf:.2g} {lu}) plus the residual"]
-        result = {"pose": res.pose, "converged": res.converged, "iterations": res.iterations,
-                  "residual": res.residual, "sigma_min": res.sigma_min,
+                 f"accuracy, {what}: position {float(err[:3].max()) * lf:.2g} {lu}, "
+                 f"orientation {float(err[3:].max()) * af:.2g} {au}"]
+        if p.method != "fast" and len(tier.legs) != mech.L:
+            lines.append(f"legs defining the pose: {list(tier.legs)}")
+        for leg, bound in tier.other_legs.items():
+            lines.append(f"leg {leg}: closure error at most {bound * lf:.3g} {lu} over the "
+                         f"proved box")
+        result = {"pose": pose, "converged": res.converged, "iterations": res.iterations,
+                  "residual": tier.residual, "sigma_min": res.sigma_min,
                   "condition": res.condition, "near_singular": res.near_singular,
-                  "angles": np.array(p.angles), "guess": guess, "unit": {"pose": "m, rad",
-                                                                      "residual": "m"}}
+                  "angles": np.array(p.angles), "guess": guess, "method": p.method,
+                  "pose_error": err, "certified": tier.certified, "legs": list(tier.legs),
+                  "unit": {"pose": "m, rad", "residual": "m", "pose_error": "m, rad"}}
+        if p.method == "certified":
+            result["other_legs_closure_bound"] = {str(k): v for k, v in tier.other_legs.items()}
+            result["contraction"] = tier.contraction
+        if p.method == "precise":
+            result["dps"] = p.dps
         return Outcome(result, "\n".join(lines),
-                       _plotter(mech, res.pose[None], np.array(p.angles)[None]))
+                       _plotter(mech, pose[None], np.array(p.angles)[None]))

@@ -1,0 +1,301 @@
+r"""The three tiers of the forward kinematics of RSS and leg mechanisms.
+
+Given the joint coordinates q (crank angles in rad, prismatic leg lengths in m), the
+pose p = (x, y, z, rx, ry, rz) (m, rad; R = Rz Ry Rx, :mod:`distkin.spatial`) solves the
+leg closures :math:`\Phi_i(q_i, p) = 0` (Kühne et al., Sec. II-C, eq. (1); the generated
+``closure`` kernel: :math:`\Phi_i` in m and its derivatives with respect to the twist
+(v, ω)).  With :math:`\omega = E(r)\dot r` (:func:`distkin.spatial.omega_entries`) the
+derivative with respect to p is :math:`[\partial\Phi/\partial v,\;
+\partial\Phi/\partial\omega\,E(r)]`.
+
+``fast``
+    Gauss-Newton in float64 from a warm start (:func:`.forward.forward_kinematics`,
+    unchanged).  Error estimate (first order, not a bound; :func:`_fast_error`): the
+    condition number times (eps x the leg length + the closure residual), in m, and
+    over the length scale in rad.
+``precise``
+    Newton (L = 6, or six ``legs``) or Gauss-Newton (L > 6: the least-squares pose of
+    inconsistent angles) on the same generated kernel in its arb flavour run on mpmath numbers at
+    ``dps`` digits (:class:`.kinematics_tiers.MPNumber`), from the fast answer.  Error
+    estimate: the last Newton step (quadratic convergence: the error after it is far
+    smaller), at least :math:`10^{1-dps}`; not a bound.
+``certified``
+    Krawczyk's test (:mod:`distkin.certify.krawczyk`) on python-flint ``arb`` balls at
+    :data:`BITS` bits, around the fast answer: a box of poses in which exactly one pose
+    closes the legs, with per-coordinate radii (m, rad).  The joint values are taken
+    exactly (a float is its exact binary value); the kernels' constants are the doubles
+    of the fast kernels, exactly.  For L > 6 (the redundant Octopod) the system is
+    over-determined and float angles are in general not exactly consistent, so no pose
+    closes all legs exactly: the test proves the pose that closes six legs (by default
+    the six whose rows of the scaled closure Jacobian are best conditioned, by QR with
+    column pivoting; or ``legs``), centred on the float64 Newton zero of those six, and
+    bounds the closure errors of the others over the proved box (m).  Near a direct singularity (two assembly modes about to merge) the
+    test refuses: :class:`~distkin.errors.UncertifiedError`, never a wrong box.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InfeasibleError, InputError, SingularConfigurationError, UncertifiedError
+from ..exact import check_method, default_dps
+
+__all__ = ["TieredFK", "forward_tier", "fast_tier", "six_legs", "BITS"]
+
+#: working precision (bits) of the certified tier's balls
+BITS = 128
+
+
+@dataclass(frozen=True)
+class TieredFK:
+    """The forward kinematics of one set of joint values, in one tier.
+
+    Attributes
+    ----------
+    pose : (6,) float64
+        m and rad (the midpoint of the certified box; the precise pose rounded).
+    method : str
+        "fast", "precise" or "certified".
+    error : (6,) float64
+        Per coordinate (m, m, m, rad, rad, rad): an error estimate (fast, precise) or a
+        proved radius, ``|p* - pose| <= error`` (certified).
+    certified : bool
+    legs : tuple of int
+        The legs (1-based) whose closures define the pose: all (fast; precise without
+        ``legs``), or the six of the square system (certified for L > 6; ``legs``).
+    residual : float
+        rms closure error at ``pose`` over all legs (m), in the tier's arithmetic.
+    other_legs : dict
+        Certified, L > 6: leg (1-based) -> upper bound of its closure error over the
+        proved box (m); empty otherwise.
+    native : tuple or None
+        The six coordinates in the tier's own numbers: ``mpf`` (precise) or ``arb``
+        balls (certified).
+    fast : object
+        The float64 answer (:class:`.forward.FKResult`) the tier started from.
+    iterations : int
+        Newton steps of the precise tier (0 otherwise).
+    contraction : float
+        Certified: the bound of ``|I - Y F'(X)|`` of Krawczyk's test (< 1).
+    """
+
+    pose: np.ndarray
+    method: str
+    error: np.ndarray
+    certified: bool
+    legs: tuple
+    residual: float
+    other_legs: dict
+    native: tuple | None
+    fast: object
+    iterations: int = 0
+    contraction: float = math.nan
+
+
+def _derivative_rows(rows, legs, omega):
+    """dPhi/dp for the rows of the closure kernel (lists or balls): translation columns
+    as they are, rotation columns times E(r) (``omega`` = its entries)."""
+    out = []
+    for i in legs:
+        row = rows[i]
+        out.append([row[1], row[2], row[3]] + [
+            row[4] * omega[0][j] + row[5] * omega[1][j] + row[6] * omega[2][j]
+            for j in range(3)])
+    return out
+
+
+def _omega_of(r):
+    """E(r) of :func:`distkin.spatial.omega_entries` for balls or mpmath-like numbers
+    (methods ``.sin()``, ``.cos()``)."""
+    from ..spatial import omega_entries
+    return omega_entries(r[4].cos(), r[4].sin(), r[5].cos(), r[5].sin())
+
+
+def six_legs(legs, L: int, field: str = "legs") -> list:
+    """Six distinct leg numbers 1..L (a list or tuple of ints) -> sorted 0-based
+    indices; :class:`InputError` naming ``field`` otherwise."""
+    ok = (isinstance(legs, (list, tuple)) and len(legs) == 6
+          and all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) and 1 <= v <= L
+                  for v in legs) and len(set(int(v) for v in legs)) == 6)
+    if not ok:
+        raise InputError(f"expected 6 distinct leg numbers 1..{L}, got {legs!r}", field=field)
+    return sorted(int(v) - 1 for v in legs)
+
+
+def _choose_legs(fast_pose, mech, q, legs):
+    """The six legs of the certified square system (0-based), checked or chosen."""
+    L = mech.legs
+    if legs is not None:
+        return six_legs(legs, L)
+    if L == 6:
+        return list(range(6))
+    import scipy.linalg
+    G = np.array(mech.kernels("scalar").closure(list(map(float, q)),
+                                                list(map(float, fast_pose))), dtype=float)
+    scale = np.array([1.0] * 3 + [mech.length_scale] * 3)
+    _, _, piv = scipy.linalg.qr((G[:, 1:] / scale).T, pivoting=True)
+    return sorted(int(v) for v in piv[:6])
+
+
+def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None = None,
+                 legs=None, **options) -> TieredFK:
+    """The pose of ``mech`` (RSS or leg mechanism) from one set of joint values ``q``
+    (L,), in the tier ``method`` (see the module docstring).
+
+    ``guess`` (6,) m, rad: the warm start of the fast tier (default the mechanism's
+    home); ``options`` go to the fast tier (``tol``, ``max_iter``, ``max_condition``).
+    ``dps``: digits of the precise tier (default :func:`distkin.exact.default_dps`).
+    ``legs``: six legs (1-based) whose closures define the pose (precise, certified;
+    L > 6): the certified tier's square system (default: the best-conditioned six), and
+    the precise tier's instead of the least-squares pose of all legs.
+
+    The precise and certified tiers start from the fast answer, converged or not (near a
+    singularity Gauss-Newton may stall on a good pose).  Raises :class:`InfeasibleError`
+    when there is no finite start or the precise Newton does not converge,
+    :class:`SingularConfigurationError` when its Jacobian is singular, and
+    :class:`UncertifiedError` when Krawczyk's test refuses.
+    """
+    method = check_method(method)
+    from .forward import forward_kinematics
+    qa = np.asarray(q, dtype=float)
+    if qa.shape != (mech.legs,):
+        raise InputError(f"expected {mech.legs} joint values, got shape {qa.shape}", field="q")
+    fast = forward_kinematics(mech, qa, guess, **options)
+    if method != "fast" and not np.all(np.isfinite(fast.pose)):
+        raise InfeasibleError(f"expected the fast tier to give a start for the {method} "
+                              f"tier, got: {fast.message}", field="q",
+                              margin=float(fast.residual))
+    if legs is not None and method == "fast":
+        raise InputError("expected 'legs' only with method 'precise' or 'certified', got "
+                         "method 'fast'", field="legs")
+    if method == "fast":
+        return fast_tier(mech, fast)
+    if method == "precise":
+        sub = list(range(mech.legs)) if legs is None else _choose_legs(fast.pose, mech, qa,
+                                                                       legs)
+        return _precise(mech, qa, fast, default_dps(dps), sub)
+    chosen = _choose_legs(fast.pose, mech, qa, legs)
+    return _certified(mech, qa, fast, chosen, _polish(mech, qa, fast.pose, chosen))
+
+
+def fast_tier(mech, fast) -> TieredFK:
+    """The :class:`TieredFK` of a fast answer ``fast`` (:class:`.forward.FKResult` of one
+    pose), with its error estimate (:func:`_fast_error`)."""
+    return TieredFK(np.array(fast.pose), "fast", _fast_error(mech, fast), False,
+                    tuple(range(1, mech.legs + 1)), float(fast.residual), {}, None, fast)
+
+
+def _fast_error(mech, fast):
+    """The fast tier's error estimate (6,) m and rad: the condition number of the scaled
+    closure Jacobian times (eps x the leg length + the rms closure residual); the
+    rotations that much over the length scale of the angular columns.  First order, not
+    a bound."""
+    ell = float(mech.l3) if mech.kind == "rss" else float(mech.length_scale)
+    e = float(fast.condition) * (np.finfo(float).eps * ell + float(fast.residual))
+    return np.array([e] * 3 + [e / float(mech.length_scale)] * 3)
+
+
+def _polish(mech, q, pose, legs, steps: int = 4):
+    """The float64 zero of the square system of ``legs`` near ``pose`` (Newton on the
+    scalar closure kernel, at most ``steps`` steps; the fast tier's Gauss-Newton answer
+    is the least-squares pose of all legs, off the six-leg pose when the angles are
+    inconsistent): the centre of Krawczyk's box."""
+    from ..spatial import omega_map
+    closure = mech.kernels("scalar").closure
+    x = np.array(pose, dtype=float)
+    ql = [float(v) for v in q]
+    for _ in range(steps):
+        G = np.array(closure(ql, x.tolist()), dtype=float)[legs]
+        J = np.hstack([G[:, 1:4], G[:, 4:7] @ omega_map(x[3:])])
+        try:
+            d = np.linalg.solve(J, -G[:, 0])
+        except np.linalg.LinAlgError:
+            return np.array(pose, dtype=float)
+        if not np.all(np.isfinite(d)):
+            return np.array(pose, dtype=float)
+        x = x + d
+        if np.all(np.abs(d) <= 4 * np.finfo(float).eps * np.maximum(np.abs(x), 1.0)):
+            break
+    return x
+
+
+def _precise(mech, q, fast, dps, legs):
+    import mpmath
+
+    from .kinematics_tiers import MPNumber, on_mpmath
+    closure = on_mpmath(mech.kernels("arb").closure)
+    L = mech.legs
+    with mpmath.workdps(dps + 5):
+        qm = [MPNumber(float(v)) for v in q]
+        p = [MPNumber(float(v)) for v in fast.pose]
+        tol = mpmath.mpf(10) ** (1 - dps)
+        last = None
+        it = 0
+        for it in range(1, 30):
+            rows = closure(qm, p)
+            c = mpmath.matrix([rows[i][0].v for i in legs])
+            J = mpmath.matrix([[v.v for v in row]
+                               for row in _derivative_rows(rows, legs, _omega_of(p))])
+            try:
+                d = (mpmath.lu_solve(J, -c) if len(legs) == 6
+                     else mpmath.lu_solve(J.T * J, -(J.T * c)))
+            except ZeroDivisionError:
+                raise SingularConfigurationError(
+                    f"expected a pose away from direct singularities, got a singular closure "
+                    f"Jacobian at {dps} digits (fast tier: {fast.message})", field="q") from None
+            p = [MPNumber(p[k].v + d[k]) for k in range(6)]
+            size = max(abs(d[k]) for k in range(6))
+            if last is not None and (size <= tol or size >= last):
+                break
+            last = size
+        if size > mpmath.sqrt(tol):
+            raise InfeasibleError(
+                f"expected Newton at {dps} digits to converge from the fast answer, got a "
+                f"last step of {mpmath.nstr(size, 3)} (m, rad) after {it} steps (fast tier: "
+                f"{fast.message})", field="q", margin=float(size))
+        rows = closure(qm, p)
+        res = mpmath.sqrt(mpmath.fsum(rows[i][0].v ** 2 for i in range(L)) / L)
+        native = tuple(v.v for v in p)
+        err = np.array([float(max(abs(d[k]), tol)) for k in range(6)])
+    return TieredFK(np.array([float(v) for v in native]), "precise", err, False,
+                    tuple(i + 1 for i in legs), float(res), {}, native, fast, it)
+
+
+def _certified(mech, q, fast, legs, centre):
+    from flint import arb, ctx
+
+    from ..certify.boxes import _up
+    from ..certify.krawczyk import krawczyk
+    closure = mech.kernels("arb").closure
+    L = mech.legs
+    old = ctx.prec
+    ctx.prec = BITS
+    try:
+        qa = [arb(float(v)) for v in q]
+
+        def F(P):
+            rows = closure(qa, P)
+            return [rows[i][0] for i in legs]
+
+        def J(P):
+            return _derivative_rows(closure(qa, P), legs, _omega_of(P))
+
+        res = krawczyk(F, J, centre)
+        if not res.proved:
+            raise UncertifiedError(
+                f"expected a box of poses that Krawczyk's test proves to hold exactly one "
+                f"solution of the closures of legs {[i + 1 for i in legs]}, got none: "
+                f"{res.reason} (fast tier: {fast.message})", field="q")
+        box = [arb(float(res.centre[k]), float(res.radii[k])) for k in range(6)]
+        rows = closure(qa, box)
+        other = {i + 1: _up(abs(rows[i][0])) for i in range(L) if i not in legs}
+        sq = sum((rows[i][0] * rows[i][0] for i in range(L)), arb(0))
+        rms = _up((sq / L).sqrt()) if L else 0.0
+    finally:
+        ctx.prec = old
+    return TieredFK(np.array(res.centre), "certified", np.array(res.radii), True,
+                    tuple(i + 1 for i in legs), rms, other, tuple(box), fast,
+                    contraction=float(res.contraction))

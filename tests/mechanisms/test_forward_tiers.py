@@ -1,0 +1,161 @@
+"""The three tiers of the forward kinematics of RSS and leg mechanisms
+(distkin.mechanisms.forward_tiers): the certified box (Krawczyk) holds the precise pose
+and the closed-form IK of its points; refusals at singularities; bad input."""
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from distkin.errors import InputError, UncertifiedError
+from distkin.mechanisms import preset
+from distkin.mechanisms.forward_tiers import forward_tier
+
+OFFSET = np.array([0.012, -0.018, 0.015, 0.12, -0.07, 0.2])   # m, rad from home
+
+
+def _q(mech, pose):
+    q, valid = mech.inverse_kinematics(np.asarray(pose)[None])
+    assert valid.all()
+    return q[0]
+
+
+@pytest.mark.parametrize("name", ["hunt", "hexa", "octo"])
+def test_certified_box_holds_the_precise_pose(name):
+    """The certified box (radii ~1e-16 m / rad) contains the precise tier's pose at 40
+    digits (Newton in mpmath: another arithmetic and another iteration), and the fast
+    pose is within its own error estimate of the box's centre."""
+    mech = preset(name)
+    X = mech.home + OFFSET
+    q = _q(mech, X)
+    cert = forward_tier(mech, q, method="certified")
+    # L = 8: the float angles are inconsistent at the rounding level; compare the pose of
+    # the same six legs (the least-squares pose of all eight is ~1e-17 m away)
+    prec = forward_tier(mech, q, method="precise", dps=40,
+                        legs=cert.legs if mech.legs > 6 else None)
+    fast = forward_tier(mech, q)
+    assert cert.certified and not prec.certified and cert.method == "certified"
+    assert np.all(cert.error < 1e-14) and cert.contraction < 1
+    for k in range(6):
+        assert abs(prec.native[k] - cert.pose[k]) <= cert.error[k], (name, k)
+    assert np.all(np.abs(fast.pose - cert.pose) <= fast.error + cert.error)
+    assert np.all(prec.error < 1e-30)
+    assert prec.residual < (1e-35 if mech.legs == 6 else 1e-15)
+    if mech.legs > 6:
+        assert len(cert.legs) == 6 and set(cert.other_legs) == \
+            set(range(1, 9)) - set(cert.legs)
+        assert all(0 <= v < 1e-14 for v in cert.other_legs.values())   # consistent angles
+
+
+def test_certified_box_reproduces_the_joint_values_by_closed_form_ik():
+    """A second route: the closed-form IK (float) of the certified centre gives back the
+    joint values within |J| times the box (plus rounding), on the Octo (L = 8)."""
+    mech = preset("octo")
+    q = _q(mech, mech.home + OFFSET)
+    cert = forward_tier(mech, q, method="certified")
+    J = mech.jacobian(cert.pose[None])[0]
+    back = _q(mech, cert.pose)
+    assert np.all(np.abs(back - q) <= np.abs(J) @ cert.error + 1e-13)
+
+
+def test_redundant_inconsistent_angles_are_bounded_not_hidden():
+    """Octo, one crank angle moved by 1e-5 rad: no pose closes all eight legs.  The
+    certified tier proves the pose of six legs (here chosen by the caller) and bounds the
+    other two closure errors, one of them about 1e-5 rad x |dPhi/dq| (positive: not
+    closed; the other, whose angle is unchanged, closes); the precise tier gives the
+    least-squares pose, with a residual."""
+    mech = preset("octo")
+    q = _q(mech, mech.home + OFFSET)
+    q[7] += 1e-5
+    cert = forward_tier(mech, q, method="certified", legs=[1, 2, 3, 4, 5, 6])
+    assert cert.legs == (1, 2, 3, 4, 5, 6)
+    assert cert.other_legs[8] > 1e-8 and cert.other_legs[7] < 1e-14
+    prec = forward_tier(mech, q, method="precise")
+    assert prec.residual > 1e-9
+
+
+def _hunt_singular():
+    mech = preset("hunt")
+
+    def det(a):
+        return np.linalg.det(mech.jq_jx(np.array([[0, 0, mech.z0, 0, 0, a]]))[1][0])
+    a = brentq(det, np.radians(90), np.radians(100), xtol=1e-15)
+    return mech, np.array([0, 0, mech.z0, 0, 0, a])
+
+
+def test_singular_configuration_is_refused():
+    """Hunt's singularity (det Jx = 0 near rz = 95 deg, Kühne et al. Fig. 4): two
+    assembly modes merge; Krawczyk's test cannot contract and the certified tier raises
+    UncertifiedError naming the reason, never a box."""
+    mech, X = _hunt_singular()
+    with pytest.raises(UncertifiedError, match="near singular"):
+        forward_tier(mech, _q(mech, X), X, method="certified")
+
+
+def test_bad_input_names_the_field():
+    mech = preset("hunt")
+    q = _q(mech, mech.home)
+    with pytest.raises(InputError, match="method"):
+        forward_tier(mech, q, method="exact")
+    with pytest.raises(InputError, match="legs"):
+        forward_tier(mech, q, method="certified", legs=[1, 2, 3])
+    with pytest.raises(InputError, match="legs"):
+        forward_tier(mech, q, legs=[1, 2, 3, 4, 5, 6])          # fast: all legs
+    with pytest.raises(InputError, match="6 joint values"):
+        forward_tier(mech, q[:5], method="certified")
+
+
+_SCENE = """
+[units]
+length = "mm"
+angle = "deg"
+[mechanism]
+kind = "rss"
+preset = "octo"
+[[query]]
+type = "forward_kinematics"
+angles = {angles}
+{extra}
+"""
+
+
+def _scene(mech, q, extra=""):
+    from distkin.app.cli import run_scene
+    from distkin.app.scene import loads_scene
+    angles = "[" + ", ".join(repr(float(v)) for v in np.degrees(q)) + "]"
+    (rec,), texts, _ = run_scene(loads_scene(_SCENE.format(angles=angles, extra=extra)))
+    assert rec["status"] == "ok", rec
+    return rec["result"], "\n".join(texts)
+
+
+def test_query_tiers_json_and_text():
+    """The scene query: without ``method`` the pose is the Python fast answer bit for bit
+    (now with ``pose_error``); ``certified`` reports the proved radii in the JSON and in
+    the scene's units, and its box holds the precise query's pose of the same legs."""
+    mech = preset("octo")
+    q = _q(mech, mech.home + OFFSET)
+    qs = np.radians(np.degrees(q))               # the angles as the scene gives them
+    fast, _ = _scene(mech, q)
+    assert np.array_equal(fast["pose"], mech.forward_kinematics(qs).pose)
+    assert fast["method"] == "fast" and not fast["certified"] and len(fast["pose_error"]) == 6
+    cert, text = _scene(mech, q, 'method = "certified"')
+    assert cert["certified"] and len(cert["legs"]) == 6
+    assert set(cert["other_legs_closure_bound"]) == {str(v) for v in range(1, 9)} - \
+        {str(v) for v in cert["legs"]}
+    assert "proved radius (Krawczyk's test" in text and " mm, orientation " in text
+    prec, _ = _scene(mech, q, f'method = "precise"\ndps = 40\nlegs = {cert["legs"]}')
+    assert prec["dps"] == 40
+    # (the JSON's precise pose is rounded to float64: one unit in the last place more)
+    assert np.all(np.abs(np.array(prec["pose"]) - cert["pose"])
+                  <= np.array(cert["pose_error"]) + np.spacing(np.abs(cert["pose"])))
+
+
+def test_query_bad_legs_name_the_field():
+    from distkin.app.scene import loads_scene
+    base = _SCENE.format(angles="[0, 0, 0, 0, 0, 0, 0, 0]", extra="{}")
+    for extra, expect in (('method = "certified"\nlegs = [1, 2, 3]', "6 distinct leg numbers"),
+                          ('method = "certified"\nlegs = [1, 2, 3, 4, 5, 9]', "1..8"),
+                          ('legs = [1, 2, 3, 4, 5, 6]', "method 'fast'"),
+                          ('method = "exact"', "'certified'")):
+        with pytest.raises(InputError, match=expect) as err:
+            loads_scene(base.format(extra))
+        assert "query[0]." in str(err.value)
