@@ -42,11 +42,9 @@ import numpy as np
 
 from ..errors import InfeasibleError, InputError, SingularConfigurationError, UncertifiedError
 from ..exact import check_method, default_dps
+from .kinematics_tiers import BITS
 
 __all__ = ["TieredFK", "forward_tier", "fast_tier", "six_legs", "BITS"]
-
-#: working precision (bits) of the certified tier's balls
-BITS = 128
 
 
 @dataclass(frozen=True)
@@ -265,15 +263,14 @@ def _precise(mech, q, fast, dps, legs):
 
 
 def _certified(mech, q, fast, legs, centre):
-    from flint import arb, ctx
+    from flint import arb
 
     from ..certify.boxes import _up
     from ..certify.krawczyk import krawczyk
+    from ..exact_roots import working_precision
     closure = mech.kernels("arb").closure
     L = mech.legs
-    old = ctx.prec
-    ctx.prec = BITS
-    try:
+    with working_precision(BITS):
         qa = [arb(float(v)) for v in q]
 
         def F(P):
@@ -294,8 +291,6 @@ def _certified(mech, q, fast, legs, centre):
         other = {i + 1: _up(abs(rows[i][0])) for i in range(L) if i not in legs}
         sq = sum((rows[i][0] * rows[i][0] for i in range(L)), arb(0))
         rms = _up((sq / L).sqrt()) if L else 0.0
-    finally:
-        ctx.prec = old
     return TieredFK(np.array(res.centre), "certified", np.array(res.radii), True,
                     tuple(i + 1 for i in legs), rms, other, tuple(box), fast,
                     contraction=float(res.contraction))
