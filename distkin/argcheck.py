@@ -28,6 +28,7 @@ __all__ = [
     "pose_list",
     "string_list",
     "method_field",
+    "fast_only",
     "executor_fields",
 ]
 
@@ -138,6 +139,17 @@ def string_list(value, field: str) -> tuple[str, ...]:
 
 def method_field(table: Mapping, field: str, default: str = "fast", allowed=METHODS) -> str:
     return check_method(table.get("method", default), allowed=allowed, field=f"{field}.method")
+
+
+def fast_only(table: Mapping, field: str, what: str, instead: str) -> None:
+    """The ``method`` of a query that computes in float64 only (a sampled study): absent
+    or ``"fast"``; any other tier is refused, naming ``what`` the query computes and
+    ``instead`` where the precise or certified answer is (never a float answer under a
+    certified name)."""
+    method = check_method(table.get("method", "fast"), field=f"{field}.method")
+    if method != "fast":
+        raise InputError(f"expected method 'fast' ({what} is computed in float64), got "
+                         f"{method!r}; {instead}", field=f"{field}.method")
 
 
 def executor_fields(table: Mapping, field: str):

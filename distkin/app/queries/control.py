@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from ...argcheck import check_keys, positive_int
+from ...argcheck import check_keys, fast_only, positive_int
 from ...control.table5 import run_table5
 from ...errors import InputError
 from ...exact import parse_float
@@ -23,7 +23,9 @@ class Table5Query:
 
     @staticmethod
     def parse(table, mechanism, units, field):
-        check_keys(table, {"type", "trials", "step", "step_angle"}, field)
+        check_keys(table, {"type", "trials", "step", "step_angle", "method"}, field)
+        fast_only(table, field, "the Table V experiment (the controller's float64 kernels)",
+                  "the forward_kinematics query takes method = 'certified' for a proved pose")
         lf, af = length_factor(units, "units"), angle_factor(units)
         trials = positive_int(table.get("trials", 5), f"{field}.trials")
         step = parse_float(table["step"], f"{field}.step") * lf \

@@ -26,6 +26,7 @@
     workers = 2                                  # local processes (1: in process)
     scheduler = "tcp://host:8786"                # optional: a dask.distributed cluster
     store = "sweeps/study"                       # chunk store (default: the cache)
+    method = "fast"                              # the only tier of a sampled study (float64)
 
 A device without ``preset`` is the scene's own mechanism (``rss`` or ``legs``; e.g.
 ``{ label = "mine", rotation = 10 }`` beside the presets).
@@ -57,7 +58,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...argcheck import as_table, check_keys, choice, executor_fields, positive_int, require
+from ...argcheck import (as_table, check_keys, choice, executor_fields, fast_only, positive_int,
+                         require)
 from ...errors import InputError
 from ...exact import parse_float
 from ..query import register
@@ -186,7 +188,13 @@ class PerformanceQuery:
     def parse(table, mechanism, units, field):
         check_keys(table, {"type", "devices", "grid", "actuators", "scaling", "thresholds",
                            "chunk_positions", "workers", "scheduler", "store", "route",
-                           "plot_device", "sensitivity", "certify", "certify_width"}, field)
+                           "plot_device", "sensitivity", "certify", "certify_width", "method"},
+                   field)
+        fast_only(table, field, "the sampled study of Tables III-IV",
+                  "certify = true adds the certified singularity-free workspace (Fig. 3), "
+                  "the certify_workspace query proves regions, and the jacobian and "
+                  "inverse_kinematics queries take method = 'precise' or 'certified' at "
+                  "given poses")
         if "devices" in table:
             raw = table["devices"]
             if not isinstance(raw, list) or not raw:
@@ -281,7 +289,9 @@ class DesignSweepQuery:
         from ...indices.workspace import axis_values
         check_keys(table, {"type", "base", "l2", "beta", "gamma", "ld", "grid", "algorithm",
                            "leg_length", "baseline", "unreachable", "scaling", "workers",
-                           "scheduler", "store", "designs_per_chunk"}, field)
+                           "scheduler", "store", "designs_per_chunk", "method"}, field)
+        fast_only(table, field, "the GII design sweep of Table I",
+                  "the certify_workspace query proves the regularity of one design's region")
         base = choice(table.get("base", "hunt"), f"{field}.base", tuple(PRESETS))
         baseline = choice(table.get("baseline", "ergin"), f"{field}.baseline", tuple(PRESETS))
         values = []
