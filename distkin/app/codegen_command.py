@@ -55,19 +55,15 @@ def _exact_texts(rows):
 
 
 def _check_triangles(mech):
-    """Refuse collinear or coincident base or platform points, as the solver does (the
-    same float test: 16 area^2 by Heron's formula against 1e-12 (a + b + c)^2 of the
-    squared sides; no sympy, so a cached module still costs no algebra)."""
-    from ..errors import DegenerateGeometryError
-    for name, rows, labels in (("base", mech.base, (1, 2, 3)),
-                               ("platform", mech.platform, (4, 5, 6))):
+    """Refuse collinear or coincident base or platform points, as the solver does
+    (:func:`distkin.octahedral.problem.check_triangle` on the float squared sides; no
+    sympy, so a cached module still costs no algebra)."""
+    from ..octahedral.problem import check_triangle
+    for name, rows, labels in (("base", mech.base, "P1 P2 P3"),
+                               ("platform", mech.platform, "P4 P5 P6")):
         P = [[float(x) for x in row] for row in rows]
-        a, b, c = (sum((p - q) ** 2 for p, q in zip(P[i], P[j])) for i, j in ((0, 1), (0, 2),
-                                                                               (1, 2)))
-        if not 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c) > 1e-12 * (a + b + c) ** 2:
-            raise DegenerateGeometryError(
-                "expected a proper triangle P{} P{} P{}, got collinear or coincident "
-                "points".format(*labels), field=f"mechanism.{name}")
+        check_triangle([sum((p - q) ** 2 for p, q in zip(P[i], P[j]))
+                        for i, j in ((0, 1), (0, 2), (1, 2))], labels, f"mechanism.{name}")
 
 
 def _octahedral_module(scene, flavours):

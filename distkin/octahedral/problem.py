@@ -22,7 +22,7 @@ from .banana import LEG_PAIRS, SIDE_PAIRS
 from .scaling import KEEP, check_range, exponent, exponents, scale_problem
 
 __all__ = ["Problem", "exact_problem", "float_problem", "float_single", "LEG_PAIRS",
-           "SIDE_PAIRS", "REASONS", "sides_into"]
+           "SIDE_PAIRS", "REASONS", "sides_into", "check_triangle"]
 
 #: status codes of the real roots the fast tier finds, and what they mean
 REASONS = {
@@ -125,7 +125,11 @@ def _square(x: Exact):
     return e
 
 
-def _check_triangle(sq, names, field):
+def check_triangle(sq, names, field):
+    """Refuse a collinear or coincident triangle from its three squared sides ``sq``
+    (exact or float): 16 area^2 by Heron's formula against 1e-12 (a + b + c)^2, the test
+    of every route of the solver (:func:`float_problem`, :func:`float_single` inline it);
+    :class:`DegenerateGeometryError` naming the points ``names`` and ``field``."""
     a, b, c = (float(v) for v in sq)
     # 16 A^2 = 2(ab + bc + ca) - (a^2 + b^2 + c^2)
     a16 = 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c)
@@ -182,8 +186,8 @@ def exact_problem(base, platform, legs) -> Problem:
     problem = scale_problem(Problem(tuple(tuple(v.value for v in r) for r in B),
                                     tuple(tuple(v.value for v in r) for r in Q),
                                     tuple(v.value for v in L), sides2, legs2, from_float), k)
-    _check_triangle(problem.sides2[:3], "P1 P2 P3", "base")
-    _check_triangle(problem.sides2[3:], "P4 P5 P6", "platform")
+    check_triangle(problem.sides2[:3], "P1 P2 P3", "base")
+    check_triangle(problem.sides2[3:], "P4 P5 P6", "platform")
     return replace(problem, exponent=k)
 
 
