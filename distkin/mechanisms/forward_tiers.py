@@ -42,7 +42,7 @@ import numpy as np
 
 from ..errors import InfeasibleError, InputError, SingularConfigurationError, UncertifiedError
 from ..exact import check_method, default_dps
-from .kinematics_tiers import BITS
+from .kinematics_tiers import BITS, check_bits
 
 __all__ = ["TieredFK", "forward_tier", "fast_tier", "six_legs", "BITS"]
 
@@ -139,13 +139,14 @@ def _choose_legs(fast_pose, mech, q, legs):
 
 
 def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None = None,
-                 legs=None, **options) -> TieredFK:
+                 bits: int | None = None, legs=None, **options) -> TieredFK:
     """The pose of ``mech`` (RSS or leg mechanism) from one set of joint values ``q``
     (L,), in the tier ``method`` (see the module docstring).
 
     ``guess`` (6,) m, rad: the warm start of the fast tier (default the mechanism's
     home); ``options`` go to the fast tier (``tol``, ``max_iter``, ``max_condition``).
-    ``dps``: digits of the precise tier (default :func:`distkin.exact.default_dps`).
+    ``dps``: digits of the precise tier (default :func:`distkin.exact.default_dps`);
+    ``bits``: working precision of the certified tier's balls (default :data:`BITS`).
     ``legs``: six legs (1-based) whose closures define the pose (precise, certified;
     L > 6): the certified tier's square system (default: the best-conditioned six), and
     the precise tier's instead of the least-squares pose of all legs.
@@ -157,6 +158,7 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
     :class:`UncertifiedError` when Krawczyk's test refuses.
     """
     method = check_method(method)
+    bits = check_bits(bits, method)
     from .forward import forward_kinematics
     qa = np.asarray(q, dtype=float)
     if qa.shape != (mech.legs,):
@@ -176,7 +178,7 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
                                                                        legs)
         return _precise(mech, qa, fast, default_dps(dps), sub)
     chosen = _choose_legs(fast.pose, mech, qa, legs)
-    return _certified(mech, qa, fast, chosen, _polish(mech, qa, fast.pose, chosen))
+    return _certified(mech, qa, fast, chosen, _polish(mech, qa, fast.pose, chosen), bits)
 
 
 def fast_tier(mech, fast) -> TieredFK:
@@ -262,7 +264,7 @@ def _precise(mech, q, fast, dps, legs):
                     tuple(i + 1 for i in legs), float(res), {}, native, fast, it)
 
 
-def _certified(mech, q, fast, legs, centre):
+def _certified(mech, q, fast, legs, centre, bits):
     from flint import arb
 
     from ..certify.boxes import _up
@@ -270,7 +272,7 @@ def _certified(mech, q, fast, legs, centre):
     from ..exact_roots import working_precision
     closure = mech.kernels("arb").closure
     L = mech.legs
-    with working_precision(BITS):
+    with working_precision(bits):
         qa = [arb(float(v)) for v in q]
 
         def F(P):

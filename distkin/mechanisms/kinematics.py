@@ -207,7 +207,8 @@ class KernelMethods:
         return A[0] if single else A
 
     def forward_kinematics(self, q, guess=None, *, octic: bool = True, method: str = "fast",
-                           dps: int | None = None, legs=None, **options):
+                           dps: int | None = None, bits: int | None = None, legs=None,
+                           **options):
         """Numeric forward kinematics; see :func:`.forward.forward_kinematics`.
 
         A leg table with the octahedral topology (``octahedral()``, Rojas et al. Fig. 4)
@@ -220,8 +221,9 @@ class KernelMethods:
         takes one set of joint values and returns a
         :class:`~.forward_tiers.TieredFK` (:func:`.forward_tiers.forward_tier`, which
         starts from this method's fast answer; ``legs``: six legs of the square system
-        when L > 6); "fast" (default) the :class:`~.forward.FKResult` of before."""
-        if method != "fast" or legs is not None:
+        when L > 6; ``bits``: the balls' precision); "fast" (default) the
+        :class:`~.forward.FKResult` of before."""
+        if method != "fast" or legs is not None or bits is not None:
             from ..errors import InputError
             from .forward_tiers import forward_tier
             if np.ndim(q) != 1:
@@ -229,7 +231,8 @@ class KernelMethods:
                                  f"{method!r}, got an array of shape {np.shape(q)}", field="q")
             start = self.forward_kinematics(q, guess, octic=octic, **options)
             g = start.pose if np.all(np.isfinite(start.pose)) else guess
-            return forward_tier(self, q, g, method=method, dps=dps, legs=legs, **options)
+            return forward_tier(self, q, g, method=method, dps=dps, bits=bits, legs=legs,
+                                **options)
         from .forward import forward_kinematics
         topo = getattr(self, "octahedral", None)
         if octic and topo is not None and topo() is not None:

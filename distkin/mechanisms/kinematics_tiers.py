@@ -61,7 +61,7 @@ from ..exact import check_method, default_dps
 from .description import _poses
 
 __all__ = ["MPNumber", "on_mpmath", "TieredIK", "TieredJacobian", "ik_tier", "jacobian_tier",
-           "raise_uncertified", "GUARD", "BITS"]
+           "raise_uncertified", "check_bits", "GUARD", "BITS"]
 
 #: extra digits of the precise tier's second evaluation (its error estimate)
 GUARD = 15
@@ -289,11 +289,25 @@ class TieredJacobian:
     infeasible: np.ndarray
 
 
+def check_bits(bits, method: str, field: str = "bits") -> int:
+    """The certified tier's working precision: ``bits`` (an integer 53..4096, given only
+    with method "certified") or :data:`BITS`; :class:`InputError` naming ``field``."""
+    if bits is None:
+        return BITS
+    if not (isinstance(bits, (int, np.integer)) and not isinstance(bits, bool)
+            and 53 <= bits <= 4096):
+        raise InputError(f"expected bits as an integer 53..4096, got {bits!r}", field=field)
+    if method != "certified":
+        raise InputError(f"expected 'bits' with method 'certified' (the working precision "
+                         f"of its balls), got method {method!r}", field=field)
+    return int(bits)
+
+
 def _setup(mech, poses, method, dps, bits):
     check_method(method)
     X, _ = _poses(poses)
     dps = default_dps(dps) if method == "precise" else None
-    bits = BITS if bits is None else bits
+    bits = check_bits(bits, method)
     prec = {"fast": "float64", "precise": f"mpmath at {dps} digits",
             "certified": f"arb at {bits} bits"}[method]
     return X, dps, bits, prec

@@ -102,6 +102,21 @@ def test_bad_input_names_the_field():
         forward_tier(mech, q, legs=[1, 2, 3, 4, 5, 6])          # fast: all legs
     with pytest.raises(InputError, match="6 joint values"):
         forward_tier(mech, q[:5], method="certified")
+    with pytest.raises(InputError, match="bits"):
+        forward_tier(mech, q, method="precise", bits=256)
+    with pytest.raises(InputError, match="53..4096"):
+        forward_tier(mech, q, method="certified", bits=16)
+
+
+def test_bits_set_the_certified_precision():
+    """At 53 bits the balls are float64-wide: the box is still proved and holds the
+    128-bit box's centre within both radii; the query names its precision."""
+    mech = preset("hexa")
+    q = _q(mech, mech.home + OFFSET)
+    low = forward_tier(mech, q, method="certified", bits=53)
+    high = forward_tier(mech, q, method="certified")
+    assert low.certified and np.all(low.error >= high.error)
+    assert np.all(np.abs(low.pose - high.pose) <= low.error + high.error)
 
 
 _SCENE = """
@@ -137,11 +152,11 @@ def test_query_tiers_json_and_text():
     fast, _ = _scene(mech, q)
     assert np.array_equal(fast["pose"], mech.forward_kinematics(qs).pose)
     assert fast["method"] == "fast" and not fast["certified"] and len(fast["pose_error"]) == 6
-    cert, text = _scene(mech, q, 'method = "certified"')
+    cert, text = _scene(mech, q, 'method = "certified"\nbits = 200')
     assert cert["certified"] and len(cert["legs"]) == 6
     assert set(cert["other_legs_closure_bound"]) == {str(v) for v in range(1, 9)} - \
         {str(v) for v in cert["legs"]}
-    assert "proved radius (Krawczyk's test" in text and " mm, orientation " in text
+    assert "arb balls at 200 bits" in text and " mm, orientation " in text
     prec, _ = _scene(mech, q, f'method = "precise"\ndps = 40\nlegs = {cert["legs"]}')
     assert prec["dps"] == 40
     # (the JSON's precise pose is rounded to float64: one unit in the last place more)
@@ -155,7 +170,21 @@ def test_query_bad_legs_name_the_field():
     for extra, expect in (('method = "certified"\nlegs = [1, 2, 3]', "6 distinct leg numbers"),
                           ('method = "certified"\nlegs = [1, 2, 3, 4, 5, 9]', "1..8"),
                           ('legs = [1, 2, 3, 4, 5, 6]', "method 'fast'"),
-                          ('method = "exact"', "'certified'")):
+                          ('method = "exact"', "'certified'"),
+                          ('method = "precise"\nbits = 200', "'bits' with method 'certified'"),
+                          ('method = "certified"\nbits = 5000', "53..4096")):
         with pytest.raises(InputError, match=expect) as err:
             loads_scene(base.format(extra))
         assert "query[0]." in str(err.value)
+
+
+def test_ik_and_jacobian_queries_take_bits():
+    """The same ``bits`` field on the inverse_kinematics and jacobian queries: the JSON
+    names the precision the balls were computed at."""
+    from distkin.app.cli import run_scene
+    from distkin.app.scene import loads_scene
+    for qtype in ("inverse_kinematics", "jacobian"):
+        text = (_SCENE.split("[[query]]")[0] + f'[[query]]\ntype = "{qtype}"\n'
+                'pose = [10, -5, 320, 3, -2, 5]\nmethod = "certified"\nbits = 96\n')
+        (rec,), _, _ = run_scene(loads_scene(text))
+        assert rec["status"] == "ok" and rec["result"]["precision"] == "arb at 96 bits"

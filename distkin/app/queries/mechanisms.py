@@ -28,6 +28,7 @@ angle units; rotation R = Rz(rz) Ry(ry) Rx(rx), :mod:`distkin.spatial`)::
     max_iter = 50
     method = "certified"               # optional: fast (default) | precise | certified
     legs = [1, 2, 3, 4, 6, 7]          # optional (L > 6, precise/certified): six legs
+    bits = 128                         # optional (certified): the balls' precision
 
 Every result is in SI in the JSON (m, rad), with the scene's units in the text.
 
@@ -164,11 +165,17 @@ class _Poses:
     mass_matrix: bool = False
     method: str = "fast"
     dps: int = 30
+    bits: int | None = None
 
 
 def _tier_fields(table, field):
-    """``method`` and ``dps`` of an inverse_kinematics or jacobian query."""
-    return {"method": method_field(table, field), "dps": default_dps(table.get("dps"))}
+    """``method``, ``dps`` (precise) and ``bits`` (certified: the balls' working
+    precision, 53..4096; default :data:`~distkin.mechanisms.kinematics_tiers.BITS`) of an
+    inverse_kinematics, jacobian or forward_kinematics query."""
+    from ...mechanisms.kinematics_tiers import check_bits
+    method = method_field(table, field)
+    bits = check_bits(table["bits"], method, f"{field}.bits") if "bits" in table else None
+    return {"method": method, "dps": default_dps(table.get("dps")), "bits": bits}
 
 
 def _uncertified(res, i):
@@ -217,7 +224,7 @@ def _accuracy(res, what, amounts, fast_how) -> str:
 class InverseKinematicsQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
-        check_keys(table, {"type", "pose", "poses", "method", "dps"}, field)
+        check_keys(table, {"type", "pose", "poses", "method", "dps", "bits"}, field)
         return _Poses(parse_poses(table, units, field), **_tier_fields(table, field))
 
     @staticmethod
@@ -225,7 +232,7 @@ class InverseKinematicsQuery:
         from ...mechanisms.kinematics_tiers import ik_tier
         mech = scene.mechanism
         X = np.array(p.poses)
-        res = ik_tier(mech, X, p.method, p.dps)
+        res = ik_tier(mech, X, p.method, p.dps, p.bits)
         q, valid, margin = res.q, res.valid, res.reach_margin
         lu, au, lf, af = _units(scene)
         rows, lines = [], [_describe(mech, lf, lu)]
@@ -271,7 +278,8 @@ class InverseKinematicsQuery:
 class JacobianQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
-        check_keys(table, {"type", "pose", "poses", "mass_matrix", "method", "dps"}, field)
+        check_keys(table, {"type", "pose", "poses", "mass_matrix", "method", "dps", "bits"},
+                   field)
         mm = table.get("mass_matrix", False)
         if not isinstance(mm, bool):
             raise InputError(f"expected true or false, got {mm!r}", field=f"{field}.mass_matrix")
@@ -282,7 +290,7 @@ class JacobianQuery:
         from ...mechanisms.kinematics_tiers import jacobian_tier
         mech = scene.mechanism
         X = np.array(p.poses)
-        res = jacobian_tier(mech, X, p.method, p.dps)
+        res = jacobian_tier(mech, X, p.method, p.dps, p.bits)
         J, Jq, Jx, valid = res.J, res.Jq, res.Jx, res.valid
         sv = np.linalg.svd(np.where(np.isfinite(J), J, 0.0), compute_uv=False)
         rows = []
@@ -327,6 +335,7 @@ class _FK:
     max_iter: int
     method: str = "fast"
     dps: int = 30
+    bits: int | None = None
     legs: tuple | None = None
 
 
@@ -336,7 +345,7 @@ class ForwardKinematicsQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
         check_keys(table, {"type", "angles", "guess", "tol", "max_iter", "method", "dps",
-                           "legs"}, field)
+                           "bits", "legs"}, field)
         if "angles" not in table:
             raise InputError("missing required field 'angles'", field=f"{field}.angles")
         af = angle_factor(units)
@@ -371,6 +380,7 @@ class ForwardKinematicsQuery:
                 f"{p.max_iter} iterations (rms closure error {res.residual:.3g} m)",
                 field="angles", margin=res.residual)
         from ...mechanisms.forward_tiers import fast_tier, forward_tier
+        from ...mechanisms.kinematics_tiers import BITS
         if p.method == "fast":
             tier = fast_tier(mech, res)
         else:
@@ -378,13 +388,14 @@ class ForwardKinematicsQuery:
             # octahedral leg table), not from the guess again
             start = res.pose if np.all(np.isfinite(res.pose)) else guess
             tier = forward_tier(mech, np.array(p.angles), start, method=p.method, dps=p.dps,
-                                legs=p.legs, tol=p.tol, max_iter=p.max_iter)
+                                bits=p.bits, legs=p.legs, tol=p.tol, max_iter=p.max_iter)
         pose = tier.pose
         lu, au, lf, af = _units(scene)
         err = tier.error
         what = {"fast": "error estimate (first order, not a bound)",
                 "precise": f"error estimate ({p.dps} digits; the last Newton step)",
-                "certified": "proved radius (Krawczyk's test, arb balls)"}[p.method]
+                "certified": f"proved radius (Krawczyk's test, arb balls at "
+                             f"{p.bits or BITS} bits)"}[p.method]
         lines = [f"mechanism: {mech.name} (L = {mech.L})",
                  f"pose: {_fmt_pose(pose, scene)}  [{p.method}]",
                  f"converged in {res.iterations} iterations (fast tier); rms closure error "
