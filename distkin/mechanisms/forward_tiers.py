@@ -292,7 +292,9 @@ def _certified(mech, q, fast, legs, centre, bits):
         rows = closure(qa, box)
         other = {i + 1: _up(abs(rows[i][0])) for i in range(L) if i not in legs}
         sq = sum((rows[i][0] * rows[i][0] for i in range(L)), arb(0))
-        rms = _up((sq / L).sqrt()) if L else 0.0
+        # (a ball of squares around 0 has no arb square root: the float root of its
+        # upper bound, rounded up)
+        rms = float(np.nextafter(math.sqrt(_up(sq / L)), np.inf))
     return TieredFK(np.array(res.centre), "certified", np.array(res.radii), True,
                     tuple(i + 1 for i in legs), rms, other, tuple(box), fast,
                     contraction=float(res.contraction))

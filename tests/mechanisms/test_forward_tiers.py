@@ -34,6 +34,9 @@ def test_certified_box_holds_the_precise_pose(name):
                         legs=cert.legs if mech.legs > 6 else None)
     fast = forward_tier(mech, q)
     assert cert.certified and not prec.certified and cert.method == "certified"
+    # the closure residual over the box: a finite bound at the float level (L = 6: every
+    # closure holds exactly somewhere in the box)
+    assert 0 <= cert.residual < 1e-12
     assert np.all(cert.error < 1e-14) and cert.contraction < 1
     for k in range(6):
         assert abs(prec.native[k] - cert.pose[k]) <= cert.error[k], (name, k)
@@ -188,3 +191,20 @@ def test_ik_and_jacobian_queries_take_bits():
                 'pose = [10, -5, 320, 3, -2, 5]\nmethod = "certified"\nbits = 96\n')
         (rec,), _, _ = run_scene(loads_scene(text))
         assert rec["status"] == "ok" and rec["result"]["precision"] == "arb at 96 bits"
+
+
+def test_prismatic_legs_scene_certified_against_precise():
+    """A user's 6-UPS Gough-Stewart platform (examples/gough_stewart_6ups.toml, prismatic
+    legs: q are lengths in m): the certified box holds the precise pose and the
+    residual bound is finite."""
+    from pathlib import Path
+
+    from distkin.app.scene import load_scene
+    root = Path(__file__).resolve().parents[2]
+    mech = load_scene(str(root / "examples" / "gough_stewart_6ups.toml")).mechanism
+    q = _q(mech, mech.home + np.array([0.01, 0.005, 0.01, 0.05, -0.05, 0.08]))
+    cert = forward_tier(mech, q, method="certified")
+    prec = forward_tier(mech, q, method="precise", dps=40)
+    assert cert.certified and 0 <= cert.residual < 1e-12
+    for k in range(6):
+        assert abs(prec.native[k] - cert.pose[k]) <= cert.error[k]
