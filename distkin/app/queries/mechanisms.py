@@ -399,7 +399,7 @@ class ForwardKinematicsQuery:
         lines = [f"mechanism: {mech.name} (L = {mech.L})",
                  f"pose: {_fmt_pose(pose, scene)}  [{p.method}]",
                  f"converged in {res.iterations} iterations (fast tier); rms closure error "
-                 f"{tier.residual * lf:.3g} {lu}"
+                 + ("at most " if tier.certified else "") + f"{tier.residual * lf:.3g} {lu}"
                  + (" (the L = 8 angles are inconsistent)" if tier.residual > 1e-9 else ""),
                  f"closure Jacobian (angular columns x length scale, dimensionless): "
                  f"sigma_min {res.sigma_min:.4g}, condition {res.condition:.4g}"
