@@ -90,8 +90,18 @@ def test_singular_configuration_is_refused():
     assembly modes merge; Krawczyk's test cannot contract and the certified tier raises
     UncertifiedError naming the reason, never a box."""
     mech, X = _hunt_singular()
+    q = _q(mech, X)
     with pytest.raises(UncertifiedError, match="near singular"):
-        forward_tier(mech, _q(mech, X), X, method="certified")
+        forward_tier(mech, q, X, method="certified")
+    # the scene query: an error record naming the scene's field, not the Python argument
+    from distkin.app.cli import run_scene
+    from distkin.app.scene import loads_scene
+    text = ("[mechanism]\nkind = \"rss\"\npreset = \"hunt\"\n[[query]]\n"
+            "type = \"forward_kinematics\"\nangles = " + repr([float(v) for v in q])
+            + "\nguess = " + repr([float(v) for v in X]) + "\nmethod = \"certified\"\n")
+    (rec,), _, worst = run_scene(loads_scene(text))
+    assert rec["status"] == "error" and rec["error"]["kind"] == "uncertified"
+    assert rec["error"]["message"].startswith("query[0].angles: expected a box of poses")
 
 
 def test_bad_input_names_the_field():

@@ -61,7 +61,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...argcheck import check_keys, method_field, pose_list, positive_int, positive_number
-from ...errors import InfeasibleError, InputError
+from ...errors import DistkinError, InfeasibleError, InputError
 from ...exact import default_dps, parse_float
 from ..query import Outcome, register
 from ..units import angle_factor, length_factor
@@ -387,8 +387,14 @@ class ForwardKinematicsQuery:
             # the tier starts from the answer above (the exact octic's mode for an
             # octahedral leg table), not from the guess again
             start = res.pose if np.all(np.isfinite(res.pose)) else guess
-            tier = forward_tier(mech, np.array(p.angles), start, method=p.method, dps=p.dps,
-                                bits=p.bits, legs=p.legs, tol=p.tol, max_iter=p.max_iter)
+            try:
+                tier = forward_tier(mech, np.array(p.angles), start, method=p.method,
+                                    dps=p.dps, bits=p.bits, legs=p.legs, tol=p.tol,
+                                    max_iter=p.max_iter)
+            except DistkinError as exc:     # the Python argument q is the scene's angles
+                if exc.field == "q":
+                    exc.field = "angles"
+                raise
         pose = tier.pose
         lu, au, lf, af = _units(scene)
         err = tier.error
