@@ -139,7 +139,7 @@ def _choose_legs(fast_pose, mech, q, legs):
 
 
 def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None = None,
-                 bits: int | None = None, legs=None, **options) -> TieredFK:
+                 bits: int | None = None, legs=None, fast=None, **options) -> TieredFK:
     """The pose of ``mech`` (RSS or leg mechanism) from one set of joint values ``q``
     (L,), in the tier ``method`` (see the module docstring).
 
@@ -163,7 +163,8 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
     qa = np.asarray(q, dtype=float)
     if qa.shape != (mech.legs,):
         raise InputError(f"expected {mech.legs} joint values, got shape {qa.shape}", field="q")
-    fast = forward_kinematics(mech, qa, guess, **options)
+    if fast is None:
+        fast = forward_kinematics(mech, qa, guess, **options)
     if method != "fast" and not np.all(np.isfinite(fast.pose)):
         raise InfeasibleError(f"expected the fast tier to give a start for the {method} "
                               f"tier, got: {fast.message}", field="q",
@@ -190,12 +191,24 @@ def fast_tier(mech, fast) -> TieredFK:
 
 def _fast_error(mech, fast):
     """The fast tier's error estimate (6,) m and rad: the condition number of the scaled
-    closure Jacobian times (eps x the leg length + the rms closure residual); the
+    closure Jacobian times (eps x a leg length, :func:`_leg_length`, + the rms closure
+    residual); the
     rotations that much over the length scale of the angular columns.  First order, not
     a bound."""
-    ell = float(mech.l3) if mech.kind == "rss" else float(mech.length_scale)
-    e = float(fast.condition) * (np.finfo(float).eps * ell + float(fast.residual))
+    e = float(fast.condition) * (np.finfo(float).eps * _leg_length(mech)
+                                 + float(fast.residual))
     return np.array([e] * 3 + [e / float(mech.length_scale)] * 3)
+
+
+def _leg_length(mech) -> float:
+    """A typical leg length (m): l3, or the mean distance between base and platform
+    joints at home."""
+    if mech.kind == "rss":
+        return float(mech.l3)
+    d = mech.arrays()
+    from ..spatial import rotation_matrix
+    P = mech.home[:3] + d["p"] @ rotation_matrix(mech.home[3:]).T
+    return float(np.mean(np.linalg.norm(P - d["B"], axis=1)))
 
 
 def _polish(mech, q, pose, legs, steps: int = 4):
@@ -208,10 +221,10 @@ def _polish(mech, q, pose, legs, steps: int = 4):
     x = np.array(pose, dtype=float)
     ql = [float(v) for v in q]
     for _ in range(steps):
-        G = np.array(closure(ql, x.tolist()), dtype=float)[legs]
-        J = np.hstack([G[:, 1:4], G[:, 4:7] @ omega_map(x[3:])])
+        G = np.array(closure(ql, x.tolist()), dtype=float)
+        J = np.array(_derivative_rows(G, legs, omega_map(x[3:])))
         try:
-            d = np.linalg.solve(J, -G[:, 0])
+            d = np.linalg.solve(J, -G[legs, 0])
         except np.linalg.LinAlgError:
             return np.array(pose, dtype=float)
         if not np.all(np.isfinite(d)):

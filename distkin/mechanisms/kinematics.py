@@ -230,9 +230,8 @@ class KernelMethods:
                 raise InputError(f"expected one set of {self.legs} joint values for method "
                                  f"{method!r}, got an array of shape {np.shape(q)}", field="q")
             start = self.forward_kinematics(q, guess, octic=octic, **options)
-            g = start.pose if np.all(np.isfinite(start.pose)) else guess
-            return forward_tier(self, q, g, method=method, dps=dps, bits=bits, legs=legs,
-                                **options)
+            return forward_tier(self, q, method=method, dps=dps, bits=bits, legs=legs,
+                                fast=start)
         from .forward import forward_kinematics
         topo = getattr(self, "octahedral", None)
         if octic and topo is not None and topo() is not None:

@@ -128,17 +128,6 @@ def _joint_text(q, mech, scene):
                            for v, p in zip(q, pris)) + "]"
 
 
-def _leg_length(mech) -> float:
-    """A typical leg length (m) for accuracy statements: l3, or the mean distance
-    between base and platform joints at home."""
-    if mech.kind == "rss":
-        return mech.l3
-    d = mech.arrays()
-    from ...spatial import rotation_matrix
-    P = mech.home[:3] + d["p"] @ rotation_matrix(mech.home[3:]).T
-    return float(np.mean(np.linalg.norm(P - d["B"], axis=1)))
-
-
 def _describe(mech, lf, lu) -> str:
     if mech.kind == "rss":
         return f"mechanism: {mech.name} (L = {mech.L}, l3 = {mech.l3 * lf:.6g} {lu})"
@@ -385,12 +374,10 @@ class ForwardKinematicsQuery:
             tier = fast_tier(mech, res)
         else:
             # the tier starts from the answer above (the exact octic's mode for an
-            # octahedral leg table), not from the guess again
-            start = res.pose if np.all(np.isfinite(res.pose)) else guess
+            # octahedral leg table)
             try:
-                tier = forward_tier(mech, np.array(p.angles), start, method=p.method,
-                                    dps=p.dps, bits=p.bits, legs=p.legs, tol=p.tol,
-                                    max_iter=p.max_iter)
+                tier = forward_tier(mech, np.array(p.angles), method=p.method, dps=p.dps,
+                                    bits=p.bits, legs=p.legs, fast=res)
             except DistkinError as exc:     # the Python argument q is the scene's angles
                 if exc.field == "q":
                     exc.field = "angles"
