@@ -39,6 +39,59 @@ _EPS = 2.220446049250313e-16
 def _kernel():
     import numba
 
+    # the steps both kernels share, inlined into their pose loops (numba IR level), so
+    # that the vectoriser sees one straight body as before; module globals, not closure
+    # variables: numba keys its cache of a closure on the cells, so the kernels would be
+    # compiled again in every process
+    global _inverse, _k_column, _e_entry
+    inline = numba.njit(inline="always", error_model="numpy")
+
+    @inline
+    def _inverse(g, s0, s1, s2, f0, f1, f2, w):            # pragma: no cover (compiled)
+        """The block G_{S^c,F} of pose w (rows s, columns f) inverted by its adjugate:
+        (good, cond, its inverse by rows); not good (and the inverse meaningless) where
+        |det| <= 1e-12 times the product of its column norms; cond = that product /
+        |det|."""
+        a00 = g[s0, f0, w]
+        a01 = g[s0, f1, w]
+        a02 = g[s0, f2, w]
+        a10 = g[s1, f0, w]
+        a11 = g[s1, f1, w]
+        a12 = g[s1, f2, w]
+        a20 = g[s2, f0, w]
+        a21 = g[s2, f1, w]
+        a22 = g[s2, f2, w]
+        c00 = a11 * a22 - a12 * a21
+        c01 = a12 * a20 - a10 * a22
+        c02 = a10 * a21 - a11 * a20
+        det = a00 * c00 + a01 * c01 + a02 * c02
+        scale = np.sqrt((a00 ** 2 + a10 ** 2 + a20 ** 2) * (a01 ** 2 + a11 ** 2 + a21 ** 2)
+                        * (a02 ** 2 + a12 ** 2 + a22 ** 2))
+        good = abs(det) > 1e-12 * scale
+        rd = 1.0 / (det if good else 1.0)
+        cond = scale * abs(rd)
+        i00, i10, i20 = c00 * rd, c01 * rd, c02 * rd
+        i01 = (a02 * a21 - a01 * a22) * rd
+        i11 = (a00 * a22 - a02 * a20) * rd
+        i21 = (a01 * a20 - a00 * a21) * rd
+        i02 = (a01 * a12 - a02 * a11) * rd
+        i12 = (a02 * a10 - a00 * a12) * rd
+        i22 = (a00 * a11 - a01 * a10) * rd
+        return good, cond, (i00, i01, i02, i10, i11, i12, i20, i21, i22)
+
+    @inline
+    def _k_column(g, s0, s1, s2, x, w, inv):               # pragma: no cover (compiled)
+        """Column x of K = (G_{S^c,F})^{-1} G_{S^c,X} (3 rows) from the inverse by rows."""
+        i00, i01, i02, i10, i11, i12, i20, i21, i22 = inv
+        b0, b1, b2 = g[s0, x, w], g[s1, x, w], g[s2, x, w]
+        return (i00 * b0 + i01 * b1 + i02 * b2, i10 * b0 + i11 * b1 + i12 * b2,
+                i20 * b0 + i21 * b1 + i22 * b2)
+
+    @inline
+    def _e_entry(g, t, f0, f1, f2, x, w, k):               # pragma: no cover (compiled)
+        """Entry (t, x) of E = G_{S,X} - G_{S,F} K, k the column x of K."""
+        return g[t, x, w] - (g[t, f0, w] * k[0] + g[t, f1, w] * k[1] + g[t, f2, w] * k[2])
+
     @numba.njit(cache=True, error_model="numpy")
     def run(G, S, Sc, F, X, out, W, tr):                    # pragma: no cover (compiled)
         N = G.shape[0]
@@ -57,69 +110,32 @@ def _kernel():
                 f0, f1, f2 = F[f, 0], F[f, 1], F[f, 2]
                 x0, x1, x2, x3, x4 = X[f, 0], X[f, 1], X[f, 2], X[f, 3], X[f, 4]
                 for w in range(W):
-                    a00 = g[s0, f0, w]
-                    a01 = g[s0, f1, w]
-                    a02 = g[s0, f2, w]
-                    a10 = g[s1, f0, w]
-                    a11 = g[s1, f1, w]
-                    a12 = g[s1, f2, w]
-                    a20 = g[s2, f0, w]
-                    a21 = g[s2, f1, w]
-                    a22 = g[s2, f2, w]
-                    c00 = a11 * a22 - a12 * a21
-                    c01 = a12 * a20 - a10 * a22
-                    c02 = a10 * a21 - a11 * a20
-                    det = a00 * c00 + a01 * c01 + a02 * c02
-                    scale = np.sqrt((a00 ** 2 + a10 ** 2 + a20 ** 2) * (a01 ** 2 + a11 ** 2 + a21 ** 2)
-                                    * (a02 ** 2 + a12 ** 2 + a22 ** 2))
-                    good = abs(det) > 1e-12 * scale
-                    rd = 1.0 / (det if good else 1.0)
-                    cond = scale * abs(rd)
-                    i00, i10, i20 = c00 * rd, c01 * rd, c02 * rd
-                    i01 = (a02 * a21 - a01 * a22) * rd
-                    i11 = (a00 * a22 - a02 * a20) * rd
-                    i21 = (a01 * a20 - a00 * a21) * rd
-                    i02 = (a01 * a12 - a02 * a11) * rd
-                    i12 = (a02 * a10 - a00 * a12) * rd
-                    i22 = (a00 * a11 - a01 * a10) * rd
-                    b0, b1, b2 = g[s0, x0, w], g[s1, x0, w], g[s2, x0, w]
-                    k00 = i00 * b0 + i01 * b1 + i02 * b2
-                    k10 = i10 * b0 + i11 * b1 + i12 * b2
-                    k20 = i20 * b0 + i21 * b1 + i22 * b2
-                    b0, b1, b2 = g[s0, x1, w], g[s1, x1, w], g[s2, x1, w]
-                    k01 = i00 * b0 + i01 * b1 + i02 * b2
-                    k11 = i10 * b0 + i11 * b1 + i12 * b2
-                    k21 = i20 * b0 + i21 * b1 + i22 * b2
-                    b0, b1, b2 = g[s0, x2, w], g[s1, x2, w], g[s2, x2, w]
-                    k02 = i00 * b0 + i01 * b1 + i02 * b2
-                    k12 = i10 * b0 + i11 * b1 + i12 * b2
-                    k22 = i20 * b0 + i21 * b1 + i22 * b2
-                    b0, b1, b2 = g[s0, x3, w], g[s1, x3, w], g[s2, x3, w]
-                    k03 = i00 * b0 + i01 * b1 + i02 * b2
-                    k13 = i10 * b0 + i11 * b1 + i12 * b2
-                    k23 = i20 * b0 + i21 * b1 + i22 * b2
-                    b0, b1, b2 = g[s0, x4, w], g[s1, x4, w], g[s2, x4, w]
-                    k04 = i00 * b0 + i01 * b1 + i02 * b2
-                    k14 = i10 * b0 + i11 * b1 + i12 * b2
-                    k24 = i20 * b0 + i21 * b1 + i22 * b2
-                    h0, h1, h2 = g[t0, f0, w], g[t0, f1, w], g[t0, f2, w]
-                    e00 = g[t0, x0, w] - (h0 * k00 + h1 * k10 + h2 * k20)
-                    e01 = g[t0, x1, w] - (h0 * k01 + h1 * k11 + h2 * k21)
-                    e02 = g[t0, x2, w] - (h0 * k02 + h1 * k12 + h2 * k22)
-                    e03 = g[t0, x3, w] - (h0 * k03 + h1 * k13 + h2 * k23)
-                    e04 = g[t0, x4, w] - (h0 * k04 + h1 * k14 + h2 * k24)
-                    h0, h1, h2 = g[t1, f0, w], g[t1, f1, w], g[t1, f2, w]
-                    e10 = g[t1, x0, w] - (h0 * k00 + h1 * k10 + h2 * k20)
-                    e11 = g[t1, x1, w] - (h0 * k01 + h1 * k11 + h2 * k21)
-                    e12 = g[t1, x2, w] - (h0 * k02 + h1 * k12 + h2 * k22)
-                    e13 = g[t1, x3, w] - (h0 * k03 + h1 * k13 + h2 * k23)
-                    e14 = g[t1, x4, w] - (h0 * k04 + h1 * k14 + h2 * k24)
-                    h0, h1, h2 = g[t2, f0, w], g[t2, f1, w], g[t2, f2, w]
-                    e20 = g[t2, x0, w] - (h0 * k00 + h1 * k10 + h2 * k20)
-                    e21 = g[t2, x1, w] - (h0 * k01 + h1 * k11 + h2 * k21)
-                    e22 = g[t2, x2, w] - (h0 * k02 + h1 * k12 + h2 * k22)
-                    e23 = g[t2, x3, w] - (h0 * k03 + h1 * k13 + h2 * k23)
-                    e24 = g[t2, x4, w] - (h0 * k04 + h1 * k14 + h2 * k24)
+                    good, cond, inv = _inverse(g, s0, s1, s2, f0, f1, f2, w)
+                    c0 = _k_column(g, s0, s1, s2, x0, w, inv)
+                    c1 = _k_column(g, s0, s1, s2, x1, w, inv)
+                    c2 = _k_column(g, s0, s1, s2, x2, w, inv)
+                    c3 = _k_column(g, s0, s1, s2, x3, w, inv)
+                    c4 = _k_column(g, s0, s1, s2, x4, w, inv)
+                    k00, k10, k20 = c0
+                    k01, k11, k21 = c1
+                    k02, k12, k22 = c2
+                    k03, k13, k23 = c3
+                    k04, k14, k24 = c4
+                    e00 = _e_entry(g, t0, f0, f1, f2, x0, w, c0)
+                    e01 = _e_entry(g, t0, f0, f1, f2, x1, w, c1)
+                    e02 = _e_entry(g, t0, f0, f1, f2, x2, w, c2)
+                    e03 = _e_entry(g, t0, f0, f1, f2, x3, w, c3)
+                    e04 = _e_entry(g, t0, f0, f1, f2, x4, w, c4)
+                    e10 = _e_entry(g, t1, f0, f1, f2, x0, w, c0)
+                    e11 = _e_entry(g, t1, f0, f1, f2, x1, w, c1)
+                    e12 = _e_entry(g, t1, f0, f1, f2, x2, w, c2)
+                    e13 = _e_entry(g, t1, f0, f1, f2, x3, w, c3)
+                    e14 = _e_entry(g, t1, f0, f1, f2, x4, w, c4)
+                    e20 = _e_entry(g, t2, f0, f1, f2, x0, w, c0)
+                    e21 = _e_entry(g, t2, f0, f1, f2, x1, w, c1)
+                    e22 = _e_entry(g, t2, f0, f1, f2, x2, w, c2)
+                    e23 = _e_entry(g, t2, f0, f1, f2, x3, w, c3)
+                    e24 = _e_entry(g, t2, f0, f1, f2, x4, w, c4)
                     ka = abs(k00) + abs(k01) + abs(k02) + abs(k03) + abs(k04)
                     sl0 = 1.0 + _TOL + 64.0 * _EPS * (1.0 + ka) * (1.0 + cond) if good else -1.0
                     k1p, k1m = k01 + k02, k01 - k02
@@ -289,55 +305,22 @@ def _kernel():
                 f0, f1, f2 = F[f, 0], F[f, 1], F[f, 2]
                 x0, x1, x2 = X[f, 0], X[f, 1], X[f, 2]
                 for w in range(W):
-                    a00 = g[s0, f0, w]
-                    a01 = g[s0, f1, w]
-                    a02 = g[s0, f2, w]
-                    a10 = g[s1, f0, w]
-                    a11 = g[s1, f1, w]
-                    a12 = g[s1, f2, w]
-                    a20 = g[s2, f0, w]
-                    a21 = g[s2, f1, w]
-                    a22 = g[s2, f2, w]
-                    c00 = a11 * a22 - a12 * a21
-                    c01 = a12 * a20 - a10 * a22
-                    c02 = a10 * a21 - a11 * a20
-                    det = a00 * c00 + a01 * c01 + a02 * c02
-                    scale = np.sqrt((a00 ** 2 + a10 ** 2 + a20 ** 2) * (a01 ** 2 + a11 ** 2 + a21 ** 2)
-                                    * (a02 ** 2 + a12 ** 2 + a22 ** 2))
-                    good = abs(det) > 1e-12 * scale
-                    rd = 1.0 / (det if good else 1.0)
-                    cond = scale * abs(rd)
-                    i00, i10, i20 = c00 * rd, c01 * rd, c02 * rd
-                    i01 = (a02 * a21 - a01 * a22) * rd
-                    i11 = (a00 * a22 - a02 * a20) * rd
-                    i21 = (a01 * a20 - a00 * a21) * rd
-                    i02 = (a01 * a12 - a02 * a11) * rd
-                    i12 = (a02 * a10 - a00 * a12) * rd
-                    i22 = (a00 * a11 - a01 * a10) * rd
-                    b0, b1, b2 = g[s0, x0, w], g[s1, x0, w], g[s2, x0, w]
-                    k00 = i00 * b0 + i01 * b1 + i02 * b2
-                    k10 = i10 * b0 + i11 * b1 + i12 * b2
-                    k20 = i20 * b0 + i21 * b1 + i22 * b2
-                    b0, b1, b2 = g[s0, x1, w], g[s1, x1, w], g[s2, x1, w]
-                    k01 = i00 * b0 + i01 * b1 + i02 * b2
-                    k11 = i10 * b0 + i11 * b1 + i12 * b2
-                    k21 = i20 * b0 + i21 * b1 + i22 * b2
-                    b0, b1, b2 = g[s0, x2, w], g[s1, x2, w], g[s2, x2, w]
-                    k02 = i00 * b0 + i01 * b1 + i02 * b2
-                    k12 = i10 * b0 + i11 * b1 + i12 * b2
-                    k22 = i20 * b0 + i21 * b1 + i22 * b2
-                    h0, h1, h2 = g[t0, f0, w], g[t0, f1, w], g[t0, f2, w]
-                    e00 = g[t0, x0, w] - (h0 * k00 + h1 * k10 + h2 * k20)
-                    e01 = g[t0, x1, w] - (h0 * k01 + h1 * k11 + h2 * k21)
-                    e02 = g[t0, x2, w] - (h0 * k02 + h1 * k12 + h2 * k22)
-                    h0, h1, h2 = g[t1, f0, w], g[t1, f1, w], g[t1, f2, w]
-                    e10 = g[t1, x0, w] - (h0 * k00 + h1 * k10 + h2 * k20)
-                    e11 = g[t1, x1, w] - (h0 * k01 + h1 * k11 + h2 * k21)
-                    e12 = g[t1, x2, w] - (h0 * k02 + h1 * k12 + h2 * k22)
-                    h0, h1, h2 = g[t2, f0, w], g[t2, f1, w], g[t2, f2, w]
-                    e20 = g[t2, x0, w] - (h0 * k00 + h1 * k10 + h2 * k20)
-                    e21 = g[t2, x1, w] - (h0 * k01 + h1 * k11 + h2 * k21)
-                    e22 = g[t2, x2, w] - (h0 * k02 + h1 * k12 + h2 * k22)
+                    good, cond, inv = _inverse(g, s0, s1, s2, f0, f1, f2, w)
+                    c0 = _k_column(g, s0, s1, s2, x0, w, inv)
+                    c1 = _k_column(g, s0, s1, s2, x1, w, inv)
+                    c2 = _k_column(g, s0, s1, s2, x2, w, inv)
+                    k00, k10, k20 = c0
+                    k01, k11, k21 = c1
+                    k02, k12, k22 = c2
+                    e00 = _e_entry(g, t0, f0, f1, f2, x0, w, c0)
+                    e01 = _e_entry(g, t0, f0, f1, f2, x1, w, c1)
+                    e02 = _e_entry(g, t0, f0, f1, f2, x2, w, c2)
+                    e10 = _e_entry(g, t1, f0, f1, f2, x0, w, c0)
+                    e11 = _e_entry(g, t1, f0, f1, f2, x1, w, c1)
+                    e12 = _e_entry(g, t1, f0, f1, f2, x2, w, c2)
+                    e20 = _e_entry(g, t2, f0, f1, f2, x0, w, c0)
+                    e21 = _e_entry(g, t2, f0, f1, f2, x1, w, c1)
+                    e22 = _e_entry(g, t2, f0, f1, f2, x2, w, c2)
                     sl0 = (1.0 + _TOL + 64.0 * _EPS * (1.0 + abs(k00) + abs(k01) + abs(k02))
                            * (1.0 + cond)) if good else -1.0
                     sl1 = (1.0 + _TOL + 64.0 * _EPS * (1.0 + abs(k10) + abs(k11) + abs(k12))
