@@ -74,13 +74,20 @@ class MPNumber:
     """An mpmath number with the methods the arb-flavour kernels call (``x.sqrt()``,
     ``x.sin()``, ``x.cos()``, ``abs(x)``, ``MPNumber.atan2(y, x)``, arithmetic with
     ints and floats, ``MPNumber(p)`` for the kernels' ``_A(p)``), at the current
-    ``mpmath.mp.dps``.  ``.v`` is the :class:`mpmath.mpf`."""
+    ``mpmath.mp.dps``.  ``.v`` is the :class:`mpmath.mpf`; an integer is held exactly,
+    whatever its size (the kernels' ``_integers``), and rounded only by the arithmetic."""
 
     __slots__ = ("v",)
 
     def __init__(self, v):
         import mpmath
-        self.v = v.v if isinstance(v, MPNumber) else mpmath.mpf(v)
+        if isinstance(v, MPNumber):
+            self.v = v.v
+        elif isinstance(v, int) and abs(v).bit_length() > 53:
+            with mpmath.workprec(abs(v).bit_length()):
+                self.v = mpmath.mpf(v)
+        else:
+            self.v = mpmath.mpf(v)
 
     @staticmethod
     def _of(x):
@@ -146,12 +153,16 @@ _MP_KERNELS: dict = {}
 
 def on_mpmath(fn):
     """The generated arb kernel ``fn`` with its ball type ``_A`` bound to
-    :class:`MPNumber` (the same code object, other globals): called on a pose of six
-    :class:`MPNumber`, it evaluates the kernel in mpmath at the current ``mp.dps``."""
+    :class:`MPNumber` (the same code object, other globals; the integers ``_Z`` of its
+    rational constants, :func:`distkin.codegen.emit.kernel_source`, rebuilt as exact
+    :class:`MPNumber`): called on a pose of six :class:`MPNumber`, it evaluates the
+    kernel in mpmath at the current ``mp.dps``, the constants ``_Z[i] / _Z[j]`` too."""
     key = (fn.__module__, fn.__qualname__, id(fn.__code__))
     if key not in _MP_KERNELS:
-        _MP_KERNELS[key] = types.FunctionType(fn.__code__, {**fn.__globals__, "_A": MPNumber},
-                                              fn.__name__)
+        g = {**fn.__globals__, "_A": MPNumber}
+        if "_integers" in g:
+            g["_Z"] = g["_integers"](MPNumber)
+        _MP_KERNELS[key] = types.FunctionType(fn.__code__, g, fn.__name__)
     return _MP_KERNELS[key]
 
 
