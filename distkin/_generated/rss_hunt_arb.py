@@ -5,9 +5,11 @@
 
 6 legs (RSS); leg table: LEGS; parameters (SI): {'legs': 6, 'l0': 0.152, 'l1': 0.157, 'l2': 0.0, 'l3': 0.3497, 'lp': 0.055, 'ld': 0.02, 'z0': 0.3, 'beta': 0.0, 'gamma': 0.0, 'layout': 'tangential'}.
 Kernels (suffix _arb) take 6 python-flint arb balls (or forward-mode
-derivative balls) and return enclosures for the mechanism LEGS with every
-number its exact binary value (distkin.mechanisms.symbolic, exact model):
-constants are exact rationals, doubles where exact, else (_A(p) / q).
+derivative balls) and return enclosures of the exact answers for the
+mechanism of PARAMETERS, each its float's exact binary value (the pair
+azimuths' cos and sin exact, those of beta and gamma on the balls;
+distkin.mechanisms.symbolic, exact model): constants are exact,
+doubles where they are doubles, else _Z[i] / _Z[j] of exact integers.
 Poses: (x, y, z) m, (rx, ry, rz) rad with R = Rz Ry Rx.  Needs only
 python-flint.
 """

@@ -133,9 +133,12 @@ def module_text(mech, names=KERNELS, flavours=FLAVOURS, *, generator=GENERATOR,
                "arb flavour.\n\n"
                f"{what}.\n"
                "Kernels (suffix _arb) take 6 python-flint arb balls (or forward-mode\n"
-               "derivative balls) and return enclosures for the mechanism LEGS with every\n"
-               "number its exact binary value (distkin.mechanisms.symbolic, exact model):\n"
-               "constants are exact rationals, doubles where exact, else (_A(p) / q).\n"
+               "derivative balls) and return enclosures of the exact answers for the\n"
+               + ("mechanism of PARAMETERS, each its float's exact binary value (the pair\n"
+                  "azimuths' cos and sin exact, those of beta and gamma on the balls;\n"
+                  if rss else "mechanism LEGS, each number its exact binary value\n(")
+               + "distkin.mechanisms.symbolic, exact model): constants are exact,\n"
+               "doubles where they are doubles, else _Z[i] / _Z[j] of exact integers.\n"
                "Poses: (x, y, z) m, (rx, ry, rz) rad with R = Rz Ry Rx.  Needs only\n"
                "python-flint.")
     t1 = time.perf_counter()

@@ -27,7 +27,9 @@ box of poses an interval enclosure, and on the forward-mode derivative balls of
 :mod:`distkin.certify.intervals` the derivatives' enclosures over the box (the
 centred form of :mod:`distkin.certify.boxes`).  Those kernels live in separate modules
 ``rss_<name>_arb`` (:data:`ARB_KERNELS`, :func:`load_kernels` with ``flavour="arb"``),
-so the fast modules stay as they are; the symbolic source is the same.
+so the fast modules stay as they are.  Their symbolic source is the exact model of
+:mod:`.symbolic` (the same mechanism with every number exact: what the certified tier
+certifies), where the fast flavours round the parameters to float64 first.
 
 The five presets' modules are committed as ``distkin/_generated/rss_<name>.py``
 (registered in :data:`distkin.codegen.registry.GENERATED`, derived by

@@ -21,21 +21,26 @@ Kühne et al., Sec. II-C, eqs. (1)-(2): per leg the closure gives
     singularity, :math:`J_{q,ii} \to 0`); of Jq and Jx: 4 eps times the value.
 ``precise``
     the arb-flavour generated kernels (``ik_arb``, ``reach_arb``, ``jq_jx_arb``:
-    only ``+ - * /``, ``abs``, ``sqrt``, ``sin``, ``cos``, ``atan2`` and ``_A(int)``)
+    only ``+ - * /``, ``abs``, ``sqrt``, ``sin``, ``cos``, ``atan2`` and ``_A(number)``)
     run on mpmath numbers at ``dps`` digits (:class:`MPNumber` gives mpmath those
-    methods).  Error estimate: the difference from a second evaluation at
+    methods; the kernels' rational constants are divided at those digits, from exact
+    integers).  Error estimate: the difference from a second evaluation at
     ``dps + GUARD`` digits, at least :math:`10^{1-dps}\max(|v|, 1)`; an estimate, not a
     bound.
 ``certified``
     the same kernels on python-flint ``arb`` balls at ``bits`` of working precision.
-    The pose is taken exactly: a float64 pose (m, rad) is its exact binary value.  The
-    kernels' constants are the doubles of the fast kernels, exactly, so each ball
-    encloses the exact value of what its fast kernel rounds.  Each kernel carries its
-    own doubles (sympy folds products of parameters, such as 1/(2 l1), into one double
-    each), so the IK and the Jacobian kernels describe the mechanism to about 1e-16
-    relative, not to the balls' width (the precise J and differences of the precise IK
-    differ by 5e-17 on the Octo: tests/mechanisms/test_kinematics_tiers.py).  A leg is *certified* when its
-    reach margin :math:`\rho^2 - C^2` is certainly > 0 (a ball containing 0 is the
+    The pose is taken exactly: a float64 pose (m, rad) is its exact binary value.  So
+    is the mechanism: the arb kernels are derived from the *exact model*
+    (:class:`.symbolic.ModelExprs` with ``exact=True``): an RSS mechanism's parameters
+    (SI floats) and a leg table's numbers, each its exact binary value, the pair
+    azimuths' trigonometry exact and cos, sin of beta and gamma evaluated on balls;
+    sympy keeps every product and quotient of them exact (1/(2 l1) is a rational,
+    rounded only on the ball), so each ball encloses the exact answer for the
+    mechanism as stated, and every kernel (IK, Jacobian, closure) describes the same
+    one (tests/mechanisms/test_certified_exact.py: against the closed form written out
+    in mpmath at 60 digits).  The fast kernels round that mechanism to float64 (their
+    constants ~1e-16 relative off), which their error estimates cover
+    (tests/mechanisms/test_kinematics_tiers.py).  A leg is *certified* when its reach margin :math:`\rho^2 - C^2` is certainly > 0 (a ball containing 0 is the
     branch point :math:`h = 0` of the two assembly branches, which no ball decides),
     its angle ball is finite (not on the ±π cut of atan2), its joint range (if any)
     decided, and, for the Jacobian, its :math:`J_{q,ii}` ball excludes 0 (a serial
