@@ -191,7 +191,9 @@ def derived_module(mech, names, flavours, *, progress=None):
     import sys
     from ..sourcecache import cached_source, load_module_file, source_key
     desc = mech.leg_description()
-    key = source_key(_model_source_text(), repr(desc.key()), names, tuple(flavours))
+    # an RSS mechanism's kernels are derived from its parameters (symbolic), not its table
+    params = [repr(mech.geometry_key())] if _prefix(mech) == "rss" else []
+    key = source_key(_model_source_text(), repr(desc.key()), *params, names, tuple(flavours))
     out = progress if progress is not None else sys.stderr
 
     def build():

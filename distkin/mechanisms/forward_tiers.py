@@ -24,8 +24,9 @@ derivative with respect to p is :math:`[\partial\Phi/\partial v,\;
     :data:`BITS` bits, around the fast answer: a box of poses in which exactly one pose
     closes the legs, with per-coordinate radii (m, rad).  The joint values are taken
     exactly (a float is its exact binary value), and so is the mechanism (the exact
-    model of :mod:`.kinematics_tiers`: the closure kernel's constants are exact).  For L > 6 (the redundant Octopod) the system is
-    over-determined and float angles are in general not exactly consistent, so no pose
+    model of :mod:`.kinematics_tiers`: the closure kernel's constants are exact).  For
+    L > 6 (the redundant Octopod) the system is over-determined and float angles are in
+    general not exactly consistent, so no pose
     closes all legs exactly: the test proves the pose that closes six legs (by default
     the six whose rows of the scaled closure Jacobian are best conditioned, by QR with
     column pivoting; or ``legs``), centred on the float64 Newton zero of those six, and

@@ -152,10 +152,18 @@ def _numeric(mech, flavour):
 
 
 def _load_arb(mech, key):
-    name = _preset_for(mech)
+    """The arb kernels certify the mechanism as stated (the exact model of
+    :mod:`.symbolic`): an RSS mechanism's parameters, a leg table's numbers.  So a
+    committed preset module serves only an RSS mechanism with the preset's parameters; a
+    preset written out as legs gets the kernels of its table (which differs from the
+    parameters' exact geometry by the float64 rounding of the table, cos 90° = 6.1e-17)."""
+    module = None
+    name = _preset_for(mech) if getattr(mech, "kind", None) == "rss" else None
     if name is not None:
         module = importlib.import_module(f"distkin._generated.{preset_module_name(name, 'arb')}")
-    else:
+        if getattr(module, "PARAMETERS", None) != dict(mech.geometry_key()):
+            module = None
+    if module is None:
         from ..codegen.rss import derived_module
         module = derived_module(mech, ARB_KERNELS, ("arb",))
     _LOADED[key] = KernelSet(module, "arb")

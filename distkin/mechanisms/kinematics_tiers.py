@@ -40,8 +40,9 @@ Kühne et al., Sec. II-C, eqs. (1)-(2): per leg the closure gives
     one (tests/mechanisms/test_certified_exact.py: against the closed form written out
     in mpmath at 60 digits).  The fast kernels round that mechanism to float64 (their
     constants ~1e-16 relative off), which their error estimates cover
-    (tests/mechanisms/test_kinematics_tiers.py).  A leg is *certified* when its reach margin :math:`\rho^2 - C^2` is certainly > 0 (a ball containing 0 is the
-    branch point :math:`h = 0` of the two assembly branches, which no ball decides),
+    (tests/mechanisms/test_kinematics_tiers.py).  A leg is *certified* when its reach
+    margin :math:`\rho^2 - C^2` is certainly > 0 (a ball containing 0 is the branch
+    point :math:`h = 0` of the two assembly branches, which no ball decides),
     its angle ball is finite (not on the ±π cut of atan2), its joint range (if any)
     decided, and, for the Jacobian, its :math:`J_{q,ii}` ball excludes 0 (a serial
     singularity).  Every other leg is named, with the reason, in ``reasons``; the
