@@ -2,11 +2,16 @@
 (distkin.mechanisms.kinematics_tiers): cost per pose against the fast kernels, and the
 precise tier against the alternative route of lambdifying the sympy IK for mpmath; and
 the three tiers of the forward kinematics (distkin.mechanisms.forward_tiers: Gauss-Newton,
-Newton in mpmath, Krawczyk's test on arb balls) against the fast Gauss-Newton."""
+Newton in mpmath, Krawczyk's test on arb balls) against the fast Gauss-Newton; and the
+time of deriving the arb-flavour module (from the exact model) in a fresh process."""
 
 from __future__ import annotations
 
+import json
+import subprocess
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -18,6 +23,24 @@ TITLE = "IK, Jacobian and forward kinematics in three tiers (fast, precise, cert
 DEFAULT = True
 
 N = 20
+ROOT = Path(__file__).resolve().parent.parent
+
+_DERIVE = r"""
+import json, sys
+sys.path.insert(0, {root!r})
+import sympy  # imported before the clock starts: we time the algebra, not the import
+from distkin.mechanisms import preset
+from distkin.mechanisms.kernel_names import ARB_KERNELS
+from distkin.codegen.rss import derivation_profile
+print(json.dumps(derivation_profile(preset({name!r}), ARB_KERNELS, ("arb",))))
+"""
+
+
+def _derive_arb(name):
+    """Seconds per step of deriving preset ``name``'s arb module, in a fresh process."""
+    r = subprocess.run([sys.executable, "-c", _DERIVE.format(root=str(ROOT), name=name)],
+                       capture_output=True, text=True, check=True)
+    return json.loads(r.stdout)
 
 
 def run():
@@ -31,7 +54,8 @@ def run():
     rng = np.random.default_rng(0)
     X = m.home + rng.normal(size=(N, 6)) * [0.01, 0.01, 0.01, 0.1, 0.1, 0.1]
     t0 = time.perf_counter()
-    ik_expr = list(model_expressions(m).get("ik"))
+    # the precise tier's own source: the exact model (constants exact rationals)
+    ik_expr = list(model_expressions(m, exact=True).get("ik"))
     lam = sp.lambdify([POSE], ik_expr, modules="mpmath")
     t_build = time.perf_counter() - t0
 
@@ -60,15 +84,22 @@ def run():
           "one batched call; per pose.  The fast tier's error estimate evaluates the closure "
           "and Jq kernels and the joint points besides the IK.\n\n"
           + ratio_table(per, "IK kernel alone (mech.inverse_kinematics)", per="pose")
-          + f"\n\nThe lambdified sympy IK took {t_build:.1f} s to derive and build; its "
+          + f"\n\nThe lambdified sympy IK (the exact model's, the precise tier's source) "
+          f"took {t_build:.1f} s to derive and build; its "
           f"values agree with the precise tier to {agree:.1e} rad (float64 of both). "
           f"Largest certified radius of q: {cert.q_error.max():.1e} rad; all "
           f"{cert.certified.sum()} legs certified.")
     fk_md, fk = _forward(m, X)
-    return md + "\n\n" + fk_md, {"per_pose_seconds": per, "lambdify_build_seconds": t_build,
-                                 "precise_vs_lambdify_rad": agree,
-                                 "certified_max_radius_rad": float(cert.q_error.max()),
-                                 "forward": fk}
+    prof = _derive_arb("octo")
+    md += ("\n\n" + fk_md + "\n\nDeriving the Octo's arb module (ik, reach, jq_jx, closure "
+           "from the exact model; `derivation_profile(preset('octo'), ARB_KERNELS, "
+           f"('arb',))` in a fresh process): {prof['total']:.2f} s, of which "
+           f"{prof['cse_and_print']:.2f} s CSE and printing; {prof['source_chars']:,} "
+           "characters of source.")
+    return md, {"per_pose_seconds": per, "lambdify_build_seconds": t_build,
+                "precise_vs_lambdify_rad": agree,
+                "certified_max_radius_rad": float(cert.q_error.max()), "forward": fk,
+                "arb_derivation": prof}
 
 
 def _forward(m, X):

@@ -22,9 +22,10 @@ Three flavours of the same symbolic source (STYLE.md, sympy/codegen):
 ``arb``
     python-flint balls (:mod:`distkin.certify`): ``+ - * /``, integer powers, ``abs``,
     square roots, ``sin`` and ``cos`` written as methods of the operands
-    (``x.sqrt()``, ``x.sin()``), ``atan2(y, x)`` as ``_A.atan2(y, x)``, floats as exact
-    double literals and rationals as ``_A(p) / q``, so every operation returns an
-    enclosure.  The same kernel also runs on
+    (``x.sqrt()``, ``x.sin()``; a number as ``_A(2).sqrt()``), ``atan2(y, x)`` as
+    ``_A.atan2(y, x)``, floats and the rationals that are doubles as exact double
+    literals, other rationals as ``(_A(p) / q)`` (exact integer ball, rounded division),
+    so every operation returns an enclosure of the exact value.  The same kernel also runs on
     any number type with those methods (the forward-mode derivative balls of
     :mod:`distkin.certify.intervals`).  Evaluated on a box of ``arb`` inputs it gives
     the plain interval enclosure of the kernel over the box.
@@ -149,8 +150,26 @@ def _printers():
 
     class Arb(PythonCodePrinter):
         # every constant is turned into a ball exactly (doubles) or rigorously (p / q)
+        #: kernel_source sets a dict {(p, q): name}: the other rationals become locals
+        #: computed once per call at the top of the kernel (kernel_source)
+        hoisted = None
+
         def _print_Rational(self, expr):
-            return f"(_A({expr.p}) / {expr.q})"
+            p, q = expr.p, expr.q
+            if q & (q - 1) == 0 and abs(p) < 2 ** 53 and q.bit_length() < 1000:
+                # a double exactly (p / 2^k, k < 1000: a normal double): its literal
+                return repr(float(expr))
+            if self.hoisted is None:
+                return f"(_A({p}) / {q})"
+            return self.hoisted.setdefault((p, q), f"_k{len(self.hoisted)}")
+
+        def _operand(self, expr):
+            # the receiver of a method call (x.sqrt(), x.sin()): a number is made a
+            # ball first (``2.sqrt()`` is no Python, a double has no .sqrt())
+            if expr.is_Number:
+                return f"_A({self.doprint(expr)})"
+            return self.parenthesize(expr, sympy.printing.precedence.PRECEDENCE["Atom"],
+                                     True)
 
         def _print_Integer(self, expr):
             return str(expr.p)
@@ -163,7 +182,7 @@ def _printers():
 
         def _print_Pow(self, expr, rational=False):
             base, exp = expr.as_base_exp()
-            b = self.parenthesize(base, sympy.printing.precedence.PRECEDENCE["Atom"], True)
+            b = self._operand(base)
             if exp == sympy.Rational(1, 2):
                 return f"{b}.sqrt()"
             if exp == sympy.Rational(-1, 2):
@@ -183,9 +202,7 @@ def _printers():
             return f"abs({self.doprint(expr.args[0])})"
 
         def _unary(self, expr, method):
-            a = self.parenthesize(expr.args[0], sympy.printing.precedence.PRECEDENCE["Atom"],
-                                  True)
-            return f"{a}.{method}()"
+            return f"{self._operand(expr.args[0])}.{method}()"
 
         def _print_sin(self, expr):
             return self._unary(expr, "sin")
@@ -253,12 +270,20 @@ def _cse(flat, optimizations):
     return hit
 
 
-def kernel_source(k: Kernel) -> str:
-    """The source text of one function."""
+def kernel_source(k: Kernel, integers: dict | None = None) -> str:
+    """The source text of one function.
+
+    In the arb flavour every rational constant that is not a double is computed once per
+    call at the top of the kernel, ``_k0 = (_A(p) / q)``; given ``integers`` (a dict
+    int -> index, shared by a module's kernels: :func:`module_source`) as
+    ``_k0 = _Z[i] / _Z[j]`` from the module's exact integer balls ``_Z`` instead, which
+    saves converting big Python integers on every call."""
     import sympy
     if k.flavour not in FLAVOURS:
         raise ValueError(f"expected a flavour in {FLAVOURS}, got {k.flavour!r}")
     printer = _printers()[k.flavour]
+    if k.flavour == "arb":
+        printer.hoisted = {}
     flat, shape = _flat_output(k.output)
     if k.cse:
         # extra["cse_optimizations"]: None skips sympy's "basic" pre-optimisations, which
@@ -302,6 +327,7 @@ def kernel_source(k: Kernel) -> str:
                 lines.append(f"{ind}{printer.doprint(s)} = {name}[_n, {i}]")
             else:
                 lines.append(f"    {printer.doprint(s)} = {name}[{i}]")
+    head = len(lines)
     for sym, expr in reps:
         lines.append(f"{ind}{printer.doprint(sym)} = {printer.doprint(expr)}")
     if loop:
@@ -326,6 +352,14 @@ def kernel_source(k: Kernel) -> str:
             for r in range(shape[0]):
                 rows.append("[" + ", ".join(vals[r * shape[1]:(r + 1) * shape[1]]) + "]")
             lines.append("    return [\n        " + ",\n        ".join(rows) + ",\n    ]")
+    if k.flavour == "arb" and printer.hoisted:
+        if integers is None:
+            defs = [f"(_A({p}) / {q})" for p, q in printer.hoisted]
+        else:
+            defs = [f"_Z[{integers.setdefault(p, len(integers))}] / "
+                    f"_Z[{integers.setdefault(q, len(integers))}]" for p, q in printer.hoisted]
+        lines[head:head] = [f"    {name} = {d}" for name, d in zip(printer.hoisted.values(),
+                                                                    defs)]
     return "\n".join(lines) + "\n"
 
 
@@ -379,9 +413,21 @@ def module_source(kernels, *, generator: str, doc: str, source_hash: str,
     for name, value in (constants or {}).items():
         body.append(f"{name} = {value!r}")
     body.append(f"__all__ = {[k.name for k in kernels] + [n for n, _ in functions]!r}")
+    integers: dict = {}
+    texts = [kernel_source(k, integers) for k in kernels]
+    if integers:
+        # the arb kernels' rational constants p / q: their integers, exact balls of any
+        # size at every precision, built once here (_Z) and divided on each call
+        body += ["", "", "def _integers(_A):",
+                 '    """The integers of the kernels\' rational constants (each constant is '
+                 "_Z[i] / _Z[j],\n    rounded at the caller's precision) as exact numbers "
+                 "of the type _A; the\n    module's own, _Z, are arb balls "
+                 '(distkin.mechanisms.kinematics_tiers.on_mpmath\n    binds its own)."""',
+                 "    return (", *[f"        _A({n})," for n in integers], "    )", "", "",
+                 "_Z = _integers(_A)"]
     out = "\n".join(head + imports + body) + "\n"
-    for k in kernels:
-        out += "\n\n" + kernel_source(k)
+    for text in texts:
+        out += "\n\n" + text
     for _, text in functions:
         out += "\n\n" + text
     return out

@@ -47,9 +47,9 @@ QUERY_KERNELS = {
 }
 
 
-def _expressions(mech, names):
+def _expressions(mech, names, exact=False):
     from ..mechanisms.symbolic import model_expressions
-    me = model_expressions(mech)
+    me = model_expressions(mech, exact)
     return me, {n: me.get(n) for n in names}
 
 
@@ -88,25 +88,36 @@ def module_text(mech, names=KERNELS, flavours=FLAVOURS, *, generator=GENERATOR,
     names : sequence of str
         Some of :data:`KERNELS`.
     flavours : sequence of str
-        "batched" and/or "scalar".
+        "batched" and/or "scalar"; or ("arb",) alone: the arb flavour is derived from
+        the exact model of the leg table (``model_expressions(mech, exact=True)``: every
+        number its exact binary value, constants exact rationals), what the certified
+        tier certifies.
     timings : dict, optional
         Filled with seconds spent per step: ``substitute`` (parameters into the leg
         model), ``differentiate``, ``assemble`` (IK, J = Jq^-1 Jx, ...), ``hash``,
         ``cse_and_print`` (common-subexpression elimination and printing).
     """
+    import sympy as sp
+
     from .emit import module_source, symbolic_hash
     names = [n for n in KERNELS if n in names]
+    exact = tuple(flavours) == ("arb",)
+    if "arb" in flavours and not exact:
+        raise ValueError(f"expected the arb flavour alone (it is derived from the exact "
+                         f"model), got flavours {tuple(flavours)!r}")
     t_start = time.perf_counter()
     desc = mech.leg_description()
-    me, exprs = _expressions(mech, names)
+    me, exprs = _expressions(mech, names, exact)
     kernels = _kernel_list(desc.L, exprs, flavours)
     t0 = time.perf_counter()
     # the symbolic source: the leg closures Phi_i(q, P) with the leg's numbers, P_i(pose),
     # the branches and ranges, from which every kernel is derived deterministically
     # (cheaper to hash than the kernels)
     sig = me.signature()
-    h = symbolic_hash(*[e for leg in me.legs() for e in (leg["Phi"], leg["P"])],
-                      *sorted(names), *([sig] if sig else []))
+    source = [e for leg in me.legs() for e in (leg["Phi"], leg["P"])]
+    if exact and any(e.atoms(sp.Float) for e in source):
+        raise ValueError("expected an exact model (rationals only), got a Float in it")
+    h = symbolic_hash(*source, *sorted(names), *([sig] if sig else []))
     rss = getattr(mech, "kind", None) == "rss"
     types = "/".join(sorted({leg.type for leg in desc.leg_table}))
     what = f"{desc.L} legs ({types}); leg table: LEGS"
@@ -117,14 +128,19 @@ def module_text(mech, names=KERNELS, flavours=FLAVOURS, *, generator=GENERATOR,
            f"{what}.\n"
            "Batched kernels take (..., 6) poses; scalar ones (suffix _scalar) plain floats.\n"
            "Poses: (x, y, z) m, (rx, ry, rz) rad with R = Rz Ry Rx.  Needs only numpy.")
-    if tuple(flavours) == ("arb",):
+    if exact:
         doc = (f"{title or 'Kernels of a parallel mechanism'} ({cite}), "
                "arb flavour.\n\n"
                f"{what}.\n"
                "Kernels (suffix _arb) take 6 python-flint arb balls (or forward-mode\n"
-               "derivative balls) and return enclosures; constants are the doubles of the\n"
-               "fast kernels, exactly.  Poses: (x, y, z) m, (rx, ry, rz) rad with\n"
-               "R = Rz Ry Rx.  Needs only python-flint.")
+               "derivative balls) and return enclosures of the exact answers for the\n"
+               + ("mechanism of PARAMETERS, each its float's exact binary value (the pair\n"
+                  "azimuths' cos and sin exact, those of beta and gamma on the balls;\n"
+                  if rss else "mechanism LEGS, each number its exact binary value\n(")
+               + "distkin.mechanisms.symbolic, exact model): constants are exact,\n"
+               "doubles where they are doubles, else _Z[i] / _Z[j] of exact integers.\n"
+               "Poses: (x, y, z) m, (rx, ry, rz) rad with R = Rz Ry Rx.  Needs only\n"
+               "python-flint.")
     t1 = time.perf_counter()
     src = module_source(kernels, generator=generator, doc=doc, source_hash=h,
                         constants={"L": desc.L, **({"PARAMETERS": dict(mech.geometry_key())}
@@ -175,7 +191,9 @@ def derived_module(mech, names, flavours, *, progress=None):
     import sys
     from ..sourcecache import cached_source, load_module_file, source_key
     desc = mech.leg_description()
-    key = source_key(_model_source_text(), repr(desc.key()), names, tuple(flavours))
+    # an RSS mechanism's kernels are derived from its parameters (symbolic), not its table
+    params = [repr(mech.geometry_key())] if _prefix(mech) == "rss" else []
+    key = source_key(_model_source_text(), repr(desc.key()), *params, names, tuple(flavours))
     out = progress if progress is not None else sys.stderr
 
     def build():

@@ -23,9 +23,10 @@ derivative with respect to p is :math:`[\partial\Phi/\partial v,\;
     Krawczyk's test (:mod:`distkin.certify.krawczyk`) on python-flint ``arb`` balls at
     :data:`BITS` bits, around the fast answer: a box of poses in which exactly one pose
     closes the legs, with per-coordinate radii (m, rad).  The joint values are taken
-    exactly (a float is its exact binary value); the kernels' constants are the doubles
-    of the fast kernels, exactly.  For L > 6 (the redundant Octopod) the system is
-    over-determined and float angles are in general not exactly consistent, so no pose
+    exactly (a float is its exact binary value), and so is the mechanism (the exact
+    model of :mod:`.kinematics_tiers`: the closure kernel's constants are exact).  For
+    L > 6 (the redundant Octopod) the system is over-determined and float angles are in
+    general not exactly consistent, so no pose
     closes all legs exactly: the test proves the pose that closes six legs (by default
     the six whose rows of the scaled closure Jacobian are best conditioned, by QR with
     column pivoting; or ``legs``), centred on the float64 Newton zero of those six, and

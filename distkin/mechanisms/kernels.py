@@ -27,7 +27,9 @@ box of poses an interval enclosure, and on the forward-mode derivative balls of
 :mod:`distkin.certify.intervals` the derivatives' enclosures over the box (the
 centred form of :mod:`distkin.certify.boxes`).  Those kernels live in separate modules
 ``rss_<name>_arb`` (:data:`ARB_KERNELS`, :func:`load_kernels` with ``flavour="arb"``),
-so the fast modules stay as they are; the symbolic source is the same.
+so the fast modules stay as they are.  Their symbolic source is the exact model of
+:mod:`.symbolic` (the same mechanism with every number exact: what the certified tier
+certifies), where the fast flavours round the parameters to float64 first.
 
 The five presets' modules are committed as ``distkin/_generated/rss_<name>.py``
 (registered in :data:`distkin.codegen.registry.GENERATED`, derived by
@@ -150,10 +152,18 @@ def _numeric(mech, flavour):
 
 
 def _load_arb(mech, key):
-    name = _preset_for(mech)
+    """The arb kernels certify the mechanism as stated (the exact model of
+    :mod:`.symbolic`): an RSS mechanism's parameters, a leg table's numbers.  So a
+    committed preset module serves only an RSS mechanism with the preset's parameters; a
+    preset written out as legs gets the kernels of its table (which differs from the
+    parameters' exact geometry by the float64 rounding of the table, cos 90° = 6.1e-17)."""
+    module = None
+    name = _preset_for(mech) if getattr(mech, "kind", None) == "rss" else None
     if name is not None:
         module = importlib.import_module(f"distkin._generated.{preset_module_name(name, 'arb')}")
-    else:
+        if getattr(module, "PARAMETERS", None) != dict(mech.geometry_key()):
+            module = None
+    if module is None:
         from ..codegen.rss import derived_module
         module = derived_module(mech, ARB_KERNELS, ("arb",))
     _LOADED[key] = KernelSet(module, "arb")

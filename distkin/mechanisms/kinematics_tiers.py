@@ -21,22 +21,28 @@ Kühne et al., Sec. II-C, eqs. (1)-(2): per leg the closure gives
     singularity, :math:`J_{q,ii} \to 0`); of Jq and Jx: 4 eps times the value.
 ``precise``
     the arb-flavour generated kernels (``ik_arb``, ``reach_arb``, ``jq_jx_arb``:
-    only ``+ - * /``, ``abs``, ``sqrt``, ``sin``, ``cos``, ``atan2`` and ``_A(int)``)
+    only ``+ - * /``, ``abs``, ``sqrt``, ``sin``, ``cos``, ``atan2`` and ``_A(number)``)
     run on mpmath numbers at ``dps`` digits (:class:`MPNumber` gives mpmath those
-    methods).  Error estimate: the difference from a second evaluation at
+    methods; the kernels' rational constants are divided at those digits, from exact
+    integers).  Error estimate: the difference from a second evaluation at
     ``dps + GUARD`` digits, at least :math:`10^{1-dps}\max(|v|, 1)`; an estimate, not a
     bound.
 ``certified``
     the same kernels on python-flint ``arb`` balls at ``bits`` of working precision.
-    The pose is taken exactly: a float64 pose (m, rad) is its exact binary value.  The
-    kernels' constants are the doubles of the fast kernels, exactly, so each ball
-    encloses the exact value of what its fast kernel rounds.  Each kernel carries its
-    own doubles (sympy folds products of parameters, such as 1/(2 l1), into one double
-    each), so the IK and the Jacobian kernels describe the mechanism to about 1e-16
-    relative, not to the balls' width (the precise J and differences of the precise IK
-    differ by 5e-17 on the Octo: tests/mechanisms/test_kinematics_tiers.py).  A leg is *certified* when its
-    reach margin :math:`\rho^2 - C^2` is certainly > 0 (a ball containing 0 is the
-    branch point :math:`h = 0` of the two assembly branches, which no ball decides),
+    The pose is taken exactly: a float64 pose (m, rad) is its exact binary value.  So
+    is the mechanism: the arb kernels are derived from the *exact model*
+    (:class:`.symbolic.ModelExprs` with ``exact=True``): an RSS mechanism's parameters
+    (SI floats) and a leg table's numbers, each its exact binary value, the pair
+    azimuths' trigonometry exact and cos, sin of beta and gamma evaluated on balls;
+    sympy keeps every product and quotient of them exact (1/(2 l1) is a rational,
+    rounded only on the ball), so each ball encloses the exact answer for the
+    mechanism as stated, and every kernel (IK, Jacobian, closure) describes the same
+    one (tests/mechanisms/test_certified_exact.py: against the closed form written out
+    in mpmath at 60 digits).  The fast kernels round that mechanism to float64 (their
+    constants ~1e-16 relative off), which their error estimates cover
+    (tests/mechanisms/test_kinematics_tiers.py).  A leg is *certified* when its reach
+    margin :math:`\rho^2 - C^2` is certainly > 0 (a ball containing 0 is the branch
+    point :math:`h = 0` of the two assembly branches, which no ball decides),
     its angle ball is finite (not on the ±π cut of atan2), its joint range (if any)
     decided, and, for the Jacobian, its :math:`J_{q,ii}` ball excludes 0 (a serial
     singularity).  Every other leg is named, with the reason, in ``reasons``; the
@@ -74,13 +80,20 @@ class MPNumber:
     """An mpmath number with the methods the arb-flavour kernels call (``x.sqrt()``,
     ``x.sin()``, ``x.cos()``, ``abs(x)``, ``MPNumber.atan2(y, x)``, arithmetic with
     ints and floats, ``MPNumber(p)`` for the kernels' ``_A(p)``), at the current
-    ``mpmath.mp.dps``.  ``.v`` is the :class:`mpmath.mpf`."""
+    ``mpmath.mp.dps``.  ``.v`` is the :class:`mpmath.mpf`; an integer is held exactly,
+    whatever its size (the kernels' ``_integers``), and rounded only by the arithmetic."""
 
     __slots__ = ("v",)
 
     def __init__(self, v):
         import mpmath
-        self.v = v.v if isinstance(v, MPNumber) else mpmath.mpf(v)
+        if isinstance(v, MPNumber):
+            self.v = v.v
+        elif isinstance(v, int) and abs(v).bit_length() > 53:
+            with mpmath.workprec(abs(v).bit_length()):
+                self.v = mpmath.mpf(v)
+        else:
+            self.v = mpmath.mpf(v)
 
     @staticmethod
     def _of(x):
@@ -146,12 +159,16 @@ _MP_KERNELS: dict = {}
 
 def on_mpmath(fn):
     """The generated arb kernel ``fn`` with its ball type ``_A`` bound to
-    :class:`MPNumber` (the same code object, other globals): called on a pose of six
-    :class:`MPNumber`, it evaluates the kernel in mpmath at the current ``mp.dps``."""
+    :class:`MPNumber` (the same code object, other globals; the integers ``_Z`` of its
+    rational constants, :func:`distkin.codegen.emit.kernel_source`, rebuilt as exact
+    :class:`MPNumber`): called on a pose of six :class:`MPNumber`, it evaluates the
+    kernel in mpmath at the current ``mp.dps``, the constants ``_Z[i] / _Z[j]`` too."""
     key = (fn.__module__, fn.__qualname__, id(fn.__code__))
     if key not in _MP_KERNELS:
-        _MP_KERNELS[key] = types.FunctionType(fn.__code__, {**fn.__globals__, "_A": MPNumber},
-                                              fn.__name__)
+        g = {**fn.__globals__, "_A": MPNumber}
+        if "_integers" in g:
+            g["_Z"] = g["_integers"](MPNumber)
+        _MP_KERNELS[key] = types.FunctionType(fn.__code__, g, fn.__name__)
     return _MP_KERNELS[key]
 
 

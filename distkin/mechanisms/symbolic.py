@@ -42,7 +42,7 @@ import math
 import sympy as sp
 
 __all__ = ["POSE", "BRANCH", "pose_symbols", "q_symbols", "rotation_matrix", "generic_leg",
-           "leg_values", "ModelExprs", "model_expressions"]
+           "leg_values", "exact_number", "ModelExprs", "model_expressions"]
 
 #: IK branch sign sigma (see the module docstring); checked by derivations/rss_model.py
 BRANCH = 1
@@ -124,15 +124,35 @@ def _num(v: float):
     return sp.Float(v)
 
 
-def leg_values(mech, i: int) -> dict:
-    """Substitution of leg i's parameters: {symbol: number} (floats as sympy Floats)."""
+def exact_number(v: float):
+    """A float as its exact binary value, a sympy ``Rational`` (0.1 is
+    3602879701896397/2^55): the numbers of the exact model (:class:`ModelExprs` with
+    ``exact=True``), whose products and quotients sympy keeps exact."""
+    return sp.Rational(float(v))
+
+
+def leg_values(mech, i: int, exact: bool = False) -> dict:
+    """Substitution of leg i's parameters: {symbol: number} (floats as sympy Floats).
+
+    With ``exact=True`` the exact model's (:class:`ModelExprs`): every parameter its
+    float's exact binary value (:func:`exact_number`), the cosine and sine of the pair
+    azimuth 2 pi k / (L/2) exact (0, ±1/2, ±1, ±sqrt(3)/2, ...), and those of beta and
+    gamma the exact cosine and sine of their floats' exact values (sympy ``cos`` of a
+    rational, evaluated by the kernels)."""
     L = mech.legs
     k, s = i // 2, (-1 if i % 2 == 0 else 1)
     th = 2 * sp.pi * k / (L // 2)
     ce, se = sp.cos(th), sp.sin(th)
     vals = dict(zip(_PAR, [mech.l0, mech.l1, mech.l2, mech.l3, mech.lp, mech.ld]))
-    out = {sym: _num(float(v)) for sym, v in vals.items()}
     tc, ts = _TRIG[:2]
+    if exact:
+        out = {sym: exact_number(v) for sym, v in vals.items()}
+        out[tc], out[ts] = ce, se
+        b, g = exact_number(mech.beta), exact_number(mech.gamma)
+        out.update(zip(_TRIG[2:6], (sp.cos(b), sp.sin(b), sp.cos(g), sp.sin(g))))
+        out[_TRIG[6]] = sp.Integer(s)
+        return out
+    out = {sym: _num(float(v)) for sym, v in vals.items()}
     out[tc] = ce if ce.is_Rational else _num(float(ce))
     out[ts] = se if se.is_Rational else _num(float(se))
     out[_TRIG[2]] = _num(math.cos(mech.beta))
@@ -149,7 +169,7 @@ def _root_abs(e):
 
 
 class ModelExprs:
-    """The symbolic kernels of one mechanism, built from its leg table
+    r"""The symbolic kernels of one mechanism, built from its leg table
     (:class:`~.legs.LegsDescription`) and derived lazily (each only when asked).
 
     Revolute legs (RSS, RUS, RRRS) follow the module docstring with the leg's own
@@ -158,6 +178,30 @@ class ModelExprs:
     ``Jq_ii = -1`` and ``Jx_i = -(n, r x n)`` with ``n = (P - B) / q``, so its row of J is
     the normalised Plücker line of the leg (Rojas et al., eq. (5)); its reach margin is
     ``(q - qmin)(qmax - q)`` (m^2) within a stroke ``range``, else ``q^2``.
+
+    With ``exact=True`` (the arb flavour, :mod:`distkin.codegen.rss`) it is the *exact
+    model*, the mechanism the certified tier certifies; sympy keeps every product and
+    quotient of its numbers exact (rationals, sqrt(3), cos of a rational):
+
+    - an RSS description: the parametric leg of Fig. 2 with its parameters exactly
+      (:func:`leg_values` with ``exact=True``: each float's exact binary value, the pair
+      azimuths' trigonometry exact, beta and gamma the floats' exact values).  Its crank
+      frame is exactly orthonormal, so the closure and the closed-form IK describe the
+      same mechanism.  (Its leg table, ``LEGS``, is that mechanism rounded to float64:
+      cos 90° as 6.1e-17.)
+    - a leg table: every number of the table its exact binary value
+      (:func:`exact_number`), and a revolute leg's closure written in the closed form the
+      IK solves,
+
+      .. math:: \Phi = \bigl(w\cdot w - 2 l_1 (w\cdot u \cos q + w\cdot v \sin q)
+                + l_1^2 - l_3^2\bigr) / (2 l_3)
+                = (C - A\cos q - B_z \sin q)\, l_1 / l_3,
+
+      with w = P - B - o.  That is :math:`(|P - D(q)|^2 - l_3^2) / (2 l_3)` when u and v
+      are exactly orthonormal (directions of 0 and ±1); otherwise (a float direction
+      such as (cos 10°, sin 10°, 0) is unit only to ~1e-16) it *defines* the mechanism:
+      the crank circle of radius l1 in the frame (u, v) taken as orthonormal, one
+      mechanism for the IK, the Jacobian and the closure.
 
     Attributes (sympy Matrices, functions of :data:`POSE` and, for ``closure``, of
     ``q_symbols(L)``)
@@ -171,8 +215,11 @@ class ModelExprs:
 
     NAMES = ("ik", "reach", "jacobian", "jq_jx", "closure")
 
-    def __init__(self, mech):
+    def __init__(self, mech, exact: bool = False):
         self.desc = mech.leg_description()
+        self.exact = bool(exact)
+        #: the numbers: exact rationals, or Floats (exact 0, ±1, ±1/2)
+        self.num = exact_number if self.exact else _num
         #: an RSS description (kind "rss") is derived from the parametric leg of Fig. 2
         #: (:func:`generic_leg`), the same algebra as its leg table; the two routes give
         #: the same kernels up to the rounding of the leg vectors (<= 1.4e-15 rad of IK,
@@ -199,8 +246,9 @@ class ModelExprs:
         Psym = sp.Matrix(sp.symbols("Px Py Pz", real=True))
         legs = []
         t_diff = 0.0
+        num = self.num
         for leg in self.desc.leg_table:
-            vec = lambda v: sp.Matrix([_num(c) for c in v])  # noqa: E731
+            vec = lambda v: sp.Matrix([num(c) for c in v])  # noqa: E731
             B, p = vec(leg.base), vec(leg.platform)
             r = R * p
             Pexpr = X + r
@@ -213,9 +261,15 @@ class ModelExprs:
                 part.update(Phi=Phi, w=w, n2=w.dot(w))
             else:
                 o, u, v = vec(leg.offset), vec(leg.crank0), vec(leg.crank90)
-                l1, l3 = _num(leg.crank), _num(leg.distal)
-                D = B + o + l1 * (sp.cos(q) * u + sp.sin(q) * v)
-                Phi = ((Psym - D).dot(Psym - D) - l3 ** 2) / (2 * l3)
+                l1, l3 = num(leg.crank), num(leg.distal)
+                if self.exact:
+                    # the closed form the IK solves (class docstring)
+                    d = Psym - B - o
+                    Phi = (d.dot(d) - 2 * l1 * (sp.cos(q) * d.dot(u) + sp.sin(q) * d.dot(v))
+                           + l1 ** 2 - l3 ** 2) / (2 * l3)
+                else:
+                    D = B + o + l1 * (sp.cos(q) * u + sp.sin(q) * v)
+                    Phi = ((Psym - D).dot(Psym - D) - l3 ** 2) / (2 * l3)
                 w = Pexpr - B - o
                 part.update(Phi=Phi, A=w.dot(u), Bz=w.dot(v),
                             C=(w.dot(w) + l1 ** 2 - l3 ** 2) / (2 * l1))
@@ -252,7 +306,7 @@ class ModelExprs:
         t_subs = t_diff = 0.0
         for i in range(self.L):
             ta = time.perf_counter()
-            vals = leg_values(self.rss, i)
+            vals = leg_values(self.rss, i, self.exact)
             # parameters first (docs/design.md §1): everything below sees numbers
             Phi = g["Phi"].xreplace(vals)
             p = g["p"].xreplace(vals)
@@ -301,7 +355,7 @@ class ModelExprs:
                 return [qv]
             if name == "reach":
                 lo, hi = leg["range"] or (None, None)
-                return [leg["n2"] if lo is None else (qv - _num(lo)) * (_num(hi) - qv)]
+                return [leg["n2"] if lo is None else (qv - self.num(lo)) * (self.num(hi) - qv)]
             if name == "closure":
                 qs = q_symbols(self.L)
                 phi = self._subsP(leg["Phi"], leg).xreplace({q: qs[i]})
@@ -339,7 +393,8 @@ class ModelExprs:
         return M
 
 
-def model_expressions(mech) -> ModelExprs:
+def model_expressions(mech, exact: bool = False) -> ModelExprs:
     """The lazily derived symbolic kernels of ``mech`` (anything with a
-    ``leg_description()``: :class:`~.legs.LegsDescription`, an RSS description)."""
-    return ModelExprs(mech)
+    ``leg_description()``: :class:`~.legs.LegsDescription`, an RSS description); with
+    ``exact=True`` its exact model (:class:`ModelExprs`)."""
+    return ModelExprs(mech, exact)

@@ -24,14 +24,15 @@ def _lower(x) -> float:
 
 
 def test_arb_kernel_encloses_the_sympy_model_at_50_digits():
-    """Point values of the arb flavour contain the symbolic model evaluated at 50 digits
-    (the same substituted expressions, an independent evaluation)."""
+    """Point values of the arb flavour contain the symbolic model it is generated from
+    (the exact model, symbolic.ModelExprs) evaluated at 50 digits (an independent
+    evaluation)."""
     import sympy as sp
     from distkin.mechanisms.symbolic import POSE, model_expressions
     mech = preset("hexa")
     pose = np.array([0.0123, -0.0311, 0.2875, 0.07, -0.05, 0.11])
     _, jq, jx = point_values(mech.kernels("arb"), pose)
-    me = model_expressions(mech)
+    me = model_expressions(mech, exact=True)
     M = me.get("jq_jx")
     subs = {s: sp.Float(float(v), 60) for s, v in zip(POSE, pose)}
     for i in (0, 3):                                  # two legs keep it quick
@@ -201,15 +202,20 @@ def test_certified_path_does_not_import_sympy():
 
 def test_arb_flavour_of_emit_matches_sympy():
     """The arb printer (distkin.codegen.emit): a kernel with every construct it supports
-    (rationals, exact doubles, integer and half powers, abs, sin, cos) encloses sympy's
-    50-digit value; unsupported constructs are refused."""
+    (rationals, exact doubles, integer and half powers, abs, sin, cos; numbers under
+    sqrt and sin, big rationals) encloses sympy's 50-digit value; unsupported constructs
+    are refused."""
     import sympy as sp
     from distkin.codegen.emit import Kernel, module_source
     x, y = sp.symbols("x y", real=True)
     expr = [sp.sqrt(sp.Abs(x - 3)) * sp.sin(y) + sp.Rational(1, 3) / x ** 2
-            + sp.Float(0.1) * sp.cos(y) ** 3 - 1 / sp.sqrt(x + y ** 2) + (x * y) ** 5]
+            + sp.Float(0.1) * sp.cos(y) ** 3 - 1 / sp.sqrt(x + y ** 2) + (x * y) ** 5
+            + sp.sqrt(2) * x + sp.sin(sp.Rational(1, 7)) * y
+            + sp.Rational(10 ** 30 + 1, 3 * 10 ** 30) * y]
     src = module_source([Kernel("f_arb", (("p", (x, y)),), expr, flavour="arb")],
                         generator="test", doc="test", source_hash="0")
+    # numbers are balls before a method call; big rationals come from exact integers
+    assert "_A(2).sqrt()" in src and f"_A({10 ** 30 + 1})," in src
     ns: dict = {}
     exec(compile(src, "<arb kernel>", "exec"), ns)
     out = ns["f_arb"]([arb(1.25), arb(-0.5)])[0]
