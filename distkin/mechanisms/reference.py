@@ -12,7 +12,12 @@ each leg in closed form:
   the branch is the one with q = 0 at the workspace centre (the mechanisms package's
   rule), and the leg closes iff ``A² + B² >= C²``;
 * differentiating the closure, ``q̇ = [s·v + (R p × s)·ω] / (s·dD/dq)`` with
-  ``s = P − D`` (Kühne et al., eqs. (1)-(2): J = Jq⁻¹ Jx).
+  ``s = P − D`` (Kühne et al., eqs. (1)-(2): J = Jq⁻¹ Jx);
+* the closure's value (:class:`NumericKernels`, for the forward kinematics) in the
+  closed form the IK solves,
+  ``(|w|² − 2 l1 (w·u cos q + w·v sin q) + l1² − l3²) / (2 l3)``, and its q-derivative
+  ``−w·dD/dq / l3``, as :class:`~.symbolic.ModelExprs` writes them: the same mechanism
+  as the IK when a table's (u, v) is orthonormal only to its tolerance (1e-9).
 
 The generated kernels remain the production path for fixed mechanisms; tests compare
 the two routes.
@@ -181,9 +186,18 @@ class NumericKernels:
         qq = np.where(pris, q, 1.0)
         den = np.where(pris, qq, d["l3"])
         n2 = np.einsum("...li,...li->...l", s, s)
-        phi = np.where(pris, (n2 - qq ** 2) / (2 * qq), (n2 - d["l3"] ** 2) / (2 * den))
+        # revolute: the closed form the IK solves (symbolic.ModelExprs), w = P - B - o:
+        # (w.w - 2 l1 (w.u cos q + w.v sin q) + l1^2 - l3^2) / (2 l3), its q-derivative
+        # -w.dD / l3; equal to the literal |P - D|^2 form for an orthonormal (u, v)
+        w = P - d["B"] - d["offset"]
+        wu = np.einsum("...li,li->...l", w, d["u"])
+        wv = np.einsum("...li,li->...l", w, d["v"])
+        l1r, l3 = d["l1"], d["l3"]
+        rev = (np.einsum("...li,...li->...l", w, w)
+               - 2 * l1r * (wu * cq[..., 0] + wv * sq[..., 0]) + l1r ** 2 - l3 ** 2)
+        phi = np.where(pris, (n2 - qq ** 2) / (2 * qq), rev / (2 * den))
         dq = np.where(pris, -(n2 + qq ** 2) / (2 * qq ** 2),
-                      -np.einsum("...li,...li->...l", s, dD) / den)
+                      -np.einsum("...li,...li->...l", w, dD) / den)
         g = s / den[..., None]
         return phi, dq, np.concatenate([g, np.cross(Rp, g)], axis=-1)
 

@@ -190,18 +190,24 @@ class ModelExprs:
       same mechanism.  (Its leg table, ``LEGS``, is that mechanism rounded to float64:
       cos 90° as 6.1e-17.)
     - a leg table: every number of the table its exact binary value
-      (:func:`exact_number`), and a revolute leg's closure written in the closed form the
-      IK solves,
+      (:func:`exact_number`).
 
-      .. math:: \Phi = \bigl(w\cdot w - 2 l_1 (w\cdot u \cos q + w\cdot v \sin q)
-                + l_1^2 - l_3^2\bigr) / (2 l_3)
-                = (C - A\cos q - B_z \sin q)\, l_1 / l_3,
+    A revolute leg of a leg table has its closure written in the closed form the IK
+    solves, in both models (the float one too),
 
-      with w = P - B - o.  That is :math:`(|P - D(q)|^2 - l_3^2) / (2 l_3)` when u and v
-      are exactly orthonormal (directions of 0 and ±1); otherwise (a float direction
-      such as (cos 10°, sin 10°, 0) is unit only to ~1e-16) it *defines* the mechanism:
-      the crank circle of radius l1 in the frame (u, v) taken as orthonormal, one
-      mechanism for the IK, the Jacobian and the closure.
+    .. math:: \Phi = \bigl(w\cdot w - 2 l_1 (w\cdot u \cos q + w\cdot v \sin q)
+              + l_1^2 - l_3^2\bigr) / (2 l_3)
+              = (C - A\cos q - B_z \sin q)\, l_1 / l_3,
+
+    with w = P - B - o.  That is :math:`(|P - D(q)|^2 - l_3^2) / (2 l_3)` when u and v
+    are exactly orthonormal (directions of 0 and ±1); otherwise it *defines* the
+    mechanism: the crank circle of radius l1 in the frame (u, v) taken as orthonormal,
+    one mechanism for the IK, the Jacobian, the closure and so the forward kinematics.
+    A float direction such as (cos 10°, sin 10°, 0) is unit only to ~1e-16, and the leg
+    table accepts directions unit and orthogonal to 1e-9 (:mod:`.legs`): with the
+    literal :math:`|P - D(q)|^2` the forward kinematics of such a table missed the
+    closed-form IK's pose by up to ~l1 x 1e-9 (6e-11 m on a table whose crank0 is off
+    by 4e-10, tests/mechanisms/test_legs_model.py).
 
     Attributes (sympy Matrices, functions of :data:`POSE` and, for ``closure``, of
     ``q_symbols(L)``)
@@ -262,14 +268,10 @@ class ModelExprs:
             else:
                 o, u, v = vec(leg.offset), vec(leg.crank0), vec(leg.crank90)
                 l1, l3 = num(leg.crank), num(leg.distal)
-                if self.exact:
-                    # the closed form the IK solves (class docstring)
-                    d = Psym - B - o
-                    Phi = (d.dot(d) - 2 * l1 * (sp.cos(q) * d.dot(u) + sp.sin(q) * d.dot(v))
-                           + l1 ** 2 - l3 ** 2) / (2 * l3)
-                else:
-                    D = B + o + l1 * (sp.cos(q) * u + sp.sin(q) * v)
-                    Phi = ((Psym - D).dot(Psym - D) - l3 ** 2) / (2 * l3)
+                # the closed form the IK solves (class docstring), in both models
+                d = Psym - B - o
+                Phi = (d.dot(d) - 2 * l1 * (sp.cos(q) * d.dot(u) + sp.sin(q) * d.dot(v))
+                       + l1 ** 2 - l3 ** 2) / (2 * l3)
                 w = Pexpr - B - o
                 part.update(Phi=Phi, A=w.dot(u), Bz=w.dot(v),
                             C=(w.dot(w) + l1 ** 2 - l3 ** 2) / (2 * l1))

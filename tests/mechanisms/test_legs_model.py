@@ -138,3 +138,31 @@ def test_random_mixed_legs_jacobian_against_finite_differences(seed):
     assert np.abs(cl[..., 0]).max() < 1e-12
     fk = mech.forward_kinematics(q[-1], mech.home)
     assert fk.converged and np.abs(fk.pose - X[-1]).max() < 1e-9
+
+
+@pytest.mark.parametrize("route", ["generated", "numpy"])
+def test_crank_frame_off_orthonormal_within_tolerance_is_one_mechanism(route):
+    """A table whose crank0 vectors are off unit by ~4e-10 (accepted: the table checks to
+    1e-9, legs._TOL) is one mechanism for the closed-form IK and the closure-based FK:
+    the closure vanishes at the IK angles (to 1e-15 m) and FK(IK(X)) gives X back to
+    1e-13 (two routes: the IK's closed form, Newton on the closure).  With the literal
+    |P - D(q)|^2 closure the two missed each other by 6e-11 m here."""
+    import dataclasses
+    rng = np.random.default_rng(1)
+    legs = []
+    for leg in random_legs(4, types=("RSS",) * 6).leg_table:
+        kw = dataclasses.asdict(leg)
+        kw.pop("limit")
+        kw["crank0"] = tuple(np.array(kw["crank0"]) + 4e-10 * rng.standard_normal(3))
+        legs.append(kw)
+    d = random_legs(4, types=("RSS",) * 6)
+    mech = LegMechanism.from_description(LegsDescription("sloppy", legs, d.home_pose),
+                                         route=route)
+    u = np.array([leg.crank0 for leg in mech.leg_table])
+    assert 1e-10 < np.abs(np.linalg.norm(u, axis=1) - 1).max() < 1e-9
+    X = np.array(d.home_pose) + 0.3 * np.array([0.001, -0.001, 0.002, 0.01, -0.01, 0.01])
+    q, valid = mech.inverse_kinematics(X)
+    assert valid.all()
+    C = np.asarray(mech.kernels().closure(q[None], X[None]))[0]
+    assert np.abs(C[:, 0]).max() < 1e-15
+    assert np.abs(mech.forward_kinematics(q, guess=X).pose - X).max() < 1e-13
