@@ -73,7 +73,7 @@ def run():
         "precise Jacobian": lambda: jacobian_tier(m, X, "precise"),
         "certified Jacobian (with its IK)": lambda: jacobian_tier(m, X, "certified"),
     }
-    med = interleaved(comp, rounds=5)
+    med = interleaved(comp, rounds=15)
     per = {n: t / N for n, t in med.items()}
     prec = ik_tier(m, X, "precise")
     with mpmath.workdps(30):
@@ -118,7 +118,7 @@ def _forward(m, X):
         "certified FK (Krawczyk, arb, 128 bits)": lambda: [
             forward_tier(m, Q[i], X[i], method="certified") for i in range(n)],
     }
-    med = interleaved(comp, rounds=5)
+    med = interleaved(comp, rounds=15)
     per = {k: t / n for k, t in med.items()}
     cert = [forward_tier(m, Q[i], X[i], method="certified") for i in range(n)]
     rad = max(float(c.error.max()) for c in cert)
