@@ -243,6 +243,41 @@ _PTY_HEAD = """| simulator | cycles | rate (whole run) | rate (first to last fra
 |---|---|---|---|---|---|---|---|---|---|---|---|---|"""
 
 
+_FIRST_START = """
+import json, sys, time
+from distkin.mechanisms.rss import preset
+from distkin.control import cycle_kernels
+out = {}
+for name in sys.argv[1:]:
+    mech = preset(name)
+    t = time.perf_counter()
+    cycle_kernels.build(mech.kernels("scalar"), mech.L)
+    out[name] = time.perf_counter() - t
+print(json.dumps(out))
+"""
+
+
+def _first_start():
+    """Seconds to compile the cycle kernels (:func:`distkin.control.cycle_kernels.build`)
+    from empty numba and derivation caches: the Octo, then the HEXA in the same process,
+    then the Hunt-type in a new process (the mechanism-independent parts cached by
+    then), then the Octo again in a new process (everything cached)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        env = dict(os.environ, NUMBA_CACHE_DIR=str(Path(tmp) / "numba"),
+                   DISTKIN_CACHE=str(Path(tmp) / "distkin"), OPENBLAS_NUM_THREADS="1")
+
+        def build(*names):
+            r = subprocess.run([sys.executable, "-c", _FIRST_START, *names], env=env,
+                               capture_output=True, text=True, check=True)
+            return json.loads(r.stdout.strip().splitlines()[-1])
+
+        first = build("octo", "hexa")
+        return {"first mechanism, empty caches (octo)": first["octo"],
+                "a further mechanism, same process (hexa)": first["hexa"],
+                "a further mechanism, new process (hunt)": build("hunt")["hunt"],
+                "a cached mechanism, new process (octo)": build("octo")["octo"]}
+
+
 def run():
     load0 = _load()
     data = {"loopback": {p: _loopback(p) for p in ("octo", "octopod", "hunt")}}
@@ -258,6 +293,7 @@ def run():
                         BEFORE_ROW: _pty(True, 10.0, 4000, catch_up_ms=1.25)}
     data["pty_os"] = _pty_echo()
     data["interruptions"] = _interruptions()
+    data["first_start_s"] = _first_start()
     data["load"] = {"loopback": [load0, load1], "end": _load()}
     lb = data["loopback"]
     rows = "\n".join(f"| {p} | {v['L']} | {v['cycles']} | {v['p50_ms']:.3f} ms | "
@@ -345,8 +381,21 @@ the controller process; GC runs = cyclic collections during the loop):
 {_pty_rows(p4)}
 
 {_limits(data, parts, p4)}
+
+**First start** (the cycle kernels compiled by numba before the device port opens,
+`cycle_kernels.build`, from empty numba and derivation caches, in subprocesses; the
+mechanism-independent parts, `distkin/control/cycle_common.py`, are compiled once for
+every mechanism, the rest once per mechanism):
+
+| start | seconds |
+|---|---|
+{_first_rows(data["first_start_s"])}
 """
     return text, data
+
+
+def _first_rows(first) -> str:
+    return "\n".join(f"| {k} | {v:.1f} s |" for k, v in first.items())
 
 
 def _limits(data, parts, p4) -> str:

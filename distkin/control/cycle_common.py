@@ -7,8 +7,9 @@ for every mechanism: the singular values of the scaled Jacobian, the normal equa
 and the torque projection, the sensor wrench into the base frame, the spring and wall
 wrenches of the admittance's environment, the singularity guard and the drive model
 (their formulas as they were in the template; the same float operations in the same
-order, so the same bits).  Compiling them once instead of per mechanism saves about 5 s
-of the first start of every further mechanism on a machine (BENCHMARKS.md, control).
+order, so the same bits).  Compiling them once instead of per mechanism saves about
+3-4 s of the first start of every further mechanism on a machine (BENCHMARKS.md,
+control, "First start", and run (35)).
 
 Imported by the generated cycle files only (it imports numba).
 """
