@@ -254,10 +254,8 @@ _FOOTER = """
 
 ik_k, reach_k = numba.njit(cache=True)(_ik), numba.njit(cache=True)(_reach)
 jac_k, clo_k = numba.njit(cache=True)(_jac), numba.njit(cache=True)(_clo)
-# compiled once for every mechanism (distkin.control.cycle_common)
-solve, rotate, rot_k, log_k = _cc.solve, _cc.rotate, _cc.rot_k, _cc.log_k
-rotate_wrench, spring_wrench, drive = _cc.rotate_wrench, _cc.spring_wrench, _cc.drive
-singular_values, project = _cc.singular_values, _cc.project
+# what the template calls that is compiled once for every mechanism (.cycle_common)
+solve, rotate, rotate_wrench, project = _cc.solve, _cc.rotate, _cc.rotate_wrench, _cc.project
 normal_equations = _cc.normal_equations
 _near_singular, _environment = _cc.near_singular, _cc.environment
 # this mechanism's
@@ -316,8 +314,9 @@ def state_decoder():
 
 
 def _rotation_files():
-    """The source files the cycle wrappers inline (their text keys the cached wrappers):
-    read as files, not imported (kinematics and admittance import this module)."""
+    """The source files whose compiled functions the cycle wrappers call (their text
+    keys the cached wrappers): read as files, not imported (kinematics and admittance
+    import this module, and cycle_common imports numba)."""
     here = os.path.dirname(os.path.abspath(__file__))
     return (os.path.join(here, "kinematics.py"), os.path.join(here, "admittance.py"),
             os.path.join(here, "cycle_common.py"),
@@ -377,11 +376,12 @@ def build(kernels, L: int) -> CycleKernels:
     path, _ = cached_source("cycle", source_key(header, tmpl, _FOOTER, *deps),
                             lambda: header + tmpl + _FOOTER)
     w = _register(path)
+    cc = w._cc          # .cycle_common, as the wrappers' header imports it
     ik, jacobian, closure = w.ik, w.jacobian, w.closure
-    forward, singular_values, project = w.forward, w.singular_values, w.project
+    forward, singular_values, project = w.forward, cc.singular_values, cc.project
     ck = CycleKernels(int(L), ik, jacobian, closure, forward, singular_values, project,
-                      w.rotate, w.rotate_wrench, w.spring_wrench, w.cycle,
-                      w.drive, w.plant_dynamics)
+                      cc.rotate, cc.rotate_wrench, cc.spring_wrench, w.cycle,
+                      cc.drive, w.plant_dynamics)
     # compile now: the first control cycle must not wait for the compiler
     pose = np.zeros(6)
     q = np.zeros(L)

@@ -19,8 +19,7 @@ import numpy as np
 __all__ = ["ik", "jacobian", "closure", "forward", "cycle", "plant_dynamics"]
 
 #: bound by the header and footer of each copy
-ik_k = reach_k = jac_k = clo_k = solve = rotate = None
-singular_values = project = rotate_wrench = spring_wrench = drive = None
+ik_k = reach_k = jac_k = clo_k = solve = rotate = rotate_wrench = project = None
 normal_equations = _near_singular = _environment = None
 
 

@@ -120,10 +120,13 @@ def test_the_first_cycle_compiles_nothing():
     model = load_model("octo")
 
     def signatures():
+        from distkin.control import cycle_common
         mods = [m for k, m in sys.modules.items() if k.startswith("distkin_cycle_")]
         out = {(m.__name__, n): len(getattr(m, n).signatures) for m in mods
-               for n in ("ik", "jacobian", "closure", "forward", "singular_values",
-                         "project", "rotate_wrench", "spring_wrench", "rotate", "cycle")}
+               for n in ("ik", "jacobian", "closure", "forward", "cycle")}
+        out.update({n: len(getattr(cycle_common, n).signatures)
+                    for n in ("singular_values", "project", "rotate_wrench", "spring_wrench",
+                              "rotate", "near_singular", "environment")})
         out.update({k: len(f.signatures) for k, f in cycle_kernels._COMPILED.items()})
         return out
 
