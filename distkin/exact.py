@@ -50,6 +50,7 @@ __all__ = [
     "to_sympy",
     "sympy_to_arb",
     "default_dps",
+    "float_ball",
 ]
 
 #: the arithmetic tiers every numeric entry point accepts
@@ -516,3 +517,21 @@ def to_tier(x, method: str, dps: int | None = None):
         return sympy_to_arb(value)
     raise InputError(f"expected one of {', '.join(map(repr, METHODS))}, got {method!r}",
                      field="method")
+
+
+def float_ball(b) -> tuple[float, float]:
+    """An arb ball as floats ``(value, radius)`` with the ball inside ``[value - radius,
+    value + radius]``: ``value`` the float nearest its midpoint, ``radius`` the ball's
+    radius plus that rounding, rounded up.  The ball's own radius is not a bound about
+    ``value`` once it is below half an ulp of it (a 128-bit root enclosure, ±1e-30,
+    printed as a float that is itself ±1e-14 off); ``(nan, inf)`` for a ball that is not
+    finite.  Exact values (``fmpq``, ints, floats) give ``(nearest float, 0 or the
+    rounding)`` the same way."""
+    import flint
+    b = b if isinstance(b, flint.arb) else flint.arb(b)
+    if not b.is_finite():
+        return math.nan, math.inf
+    value = float(b.mid())
+    up = (b - flint.arb(value)).abs_upper()
+    r = float(up)
+    return value, (r if flint.arb(r) >= up else math.nextafter(r, math.inf))

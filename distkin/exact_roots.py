@@ -68,6 +68,8 @@ class RealRoot:
 
     @property
     def rad(self) -> float:
+        """The ball's radius, about its exact midpoint (not about the float :attr:`mid`:
+        :func:`~distkin.exact.float_ball` gives that one)."""
         return float(self.ball.rad())
 
     def __float__(self) -> float:

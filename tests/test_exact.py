@@ -8,7 +8,8 @@ import sympy as sp
 from flint import arb, fmpq
 
 from distkin.errors import InputError
-from distkin.exact import check_method, parse_exact, parse_vector, to_fmpq, to_tier
+from distkin.exact import (check_method, float_ball, parse_exact, parse_vector, to_fmpq,
+                           to_tier)
 
 
 @pytest.mark.parametrize("text, expected", [
@@ -92,3 +93,26 @@ def test_check_method():
     assert check_method("precise") == "precise"
     with pytest.raises(InputError, match="'fast', 'precise', 'certified'"):
         check_method("quick")
+
+
+def _exact(a) -> Fraction:
+    m, e = a.man_exp()
+    return Fraction(int(m)) * Fraction(2) ** int(e)
+
+
+def test_float_ball_encloses_the_ball_about_the_float():
+    """A ball far narrower than an ulp (sqrt(2) at 200 bits) as floats: the float
+    nearest its midpoint and a radius that covers the rounding (the ball's own radius,
+    ~1e-60, does not); exact values give their rounding; a non-finite ball (nan, inf)."""
+    from distkin.exact_roots import working_precision
+    with working_precision(200):
+        b = arb(2).sqrt()
+        v, r = float_ball(b)
+        lo, hi = _exact(b.lower()), _exact(b.upper())
+    assert v == 2 ** 0.5 and float(b.rad()) < 1e-55
+    assert 0 < r <= 2 ** -53 * 2 and Fraction(v) - Fraction(r) <= lo and hi <= Fraction(v) + Fraction(r)
+    v, r = float_ball(fmpq(1, 3))
+    assert v == 1 / 3 and abs(Fraction(1, 3) - Fraction(v)) <= Fraction(r) <= 2 ** -54
+    assert float_ball(0.5) == (0.5, 0.0)
+    v, r = float_ball(arb("nan"))
+    assert v != v and r == float("inf")

@@ -7,7 +7,8 @@ JSON (docs/design.md §4)::
                   "result": {...}, "seconds"}]}
 
 Exact numbers travel as strings (``"99/5"``), floats as JSON numbers, balls as
-``{"mid", "rad"}``; NaN and infinities, which JSON lacks, become strings.
+``{"mid", "rad"}`` (the ball within ``rad`` of the float ``mid``:
+:func:`~distkin.exact.float_ball`); NaN and infinities, which JSON lacks, become strings.
 """
 
 from __future__ import annotations
@@ -44,8 +45,10 @@ def jsonable(x):
     name = type(x).__name__
     if name in ("fmpq", "fmpz"):
         return str(x)
-    if name == "arb":
-        return {"mid": float(x.mid()), "rad": float(x.rad())}
+    if name == "arb":                 # the float mid and a radius about it (float_ball)
+        from ..exact import float_ball
+        mid, rad = float_ball(x)
+        return {"mid": jsonable(mid), "rad": jsonable(rad)}
     if name == "mpf":
         return float(x)
     if hasattr(x, "free_symbols"):  # sympy

@@ -63,7 +63,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InfeasibleError, InputError, UncertifiedError
-from ..exact import check_method, default_dps
+from ..exact import check_method, default_dps, float_ball
 from .description import _poses
 
 __all__ = ["MPNumber", "on_mpmath", "TieredIK", "TieredJacobian", "ik_tier", "jacobian_tier",
@@ -234,14 +234,15 @@ def _as_ball(v):
 
 
 _mid = np.vectorize(lambda b: float(b.mid()) if b.is_finite() else math.nan, otypes=[float])
-_rad = np.vectorize(lambda b: float(b.rad()) if b.is_finite() else math.inf, otypes=[float])
+#: the radius about the float mid that encloses the ball (:func:`~distkin.exact.float_ball`)
+_rad = np.vectorize(lambda b: float_ball(b)[1], otypes=[float])
 _to_float = np.vectorize(float, otypes=[float])
 
 
 def _ball_text(b, unit):
     if not b.is_finite():
         return f"[not finite] {unit}".rstrip()
-    return f"{float(b.mid()):.10g} ± {float(b.rad()):.2g} {unit}".rstrip()
+    return f"{float(b.mid()):.10g} ± {float_ball(b)[1]:.2g} {unit}".rstrip()
 
 
 @dataclass(frozen=True)
@@ -256,7 +257,9 @@ class TieredIK:
     q : float array, rad (revolute) or m (prismatic)
         The fast values; the precise ones rounded to float64; the balls' midpoints.
     q_error : float array, same units
-        Error estimate (fast, precise) or certified radius (inf where not finite).
+        Error estimate (fast, precise) or certified radius about ``q`` (the ball within
+        ``q +- q_error``: its radius and the rounding of its midpoint to ``q``,
+        :func:`~distkin.exact.float_ball`; inf where not finite).
     reach_margin : float array, m^2
     valid : bool array
         The leg closes and q is in its joint range (certified tier: certainly so).

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 
+from ..exact import float_ball
 from ..exact_roots import MAX_BITS, real_roots, sign_at_root, working_precision
 from ..errors import (DegenerateGeometryError, InfeasibleError, InputError,
                       UncertifiedError)
@@ -76,8 +77,8 @@ def solve_certified(problem: Problem, tol: float):
     out = []
     for r, status, reason in infos:
         ball = radii.get(r.index, r.ball)
-        out.append(RootInfo(float(ball.mid()), float(ball.rad()), r.multiplicity, status,
-                            reason, ball))
+        value, radius = float_ball(ball)
+        out.append(RootInfo(value, radius, r.multiplicity, status, reason, ball, "certified"))
     reason = "" if poses else _empty_reason(out)
     return AssemblyResult(tuple(poses), "certified",
                           tuple(Fraction(int(c.p), int(c.q)) for c in octic), True,
@@ -160,10 +161,11 @@ def _poses(problem, poly, feasible, sides, legs2, tol, size, flat=()):
             ball = real_roots(poly, bits=bits)[r.index].ball
         radii[r.index] = ball
         mid = lambda a: np.array([[float(c.mid()) for c in row] for row in a])  # noqa: E731
-        for side, pts, R, t, err, rel, rad in built:
+        for side, pts, R, t, err, rel, _ in built:
             out.append(Pose(float(ball.mid()), side, mid(R), np.array([float(c.mid()) for c in t]),
                             mid(pts), err, rel,
-                            {"s15": ball, "points": pts, "rotation": R, "translation": t}, rad))
+                            {"s15": ball, "points": pts, "rotation": R, "translation": t},
+                            _points_radius(pts)))
     return out, radii
 
 
@@ -188,8 +190,14 @@ def _exact_poses(base, plat, x, sides, legs2, problem):
         out.append(Pose(float(x.p) / float(x.q), side, _mids(R),
                         np.array([float(flint.arb(c).mid()) for c in t]), _mids(pts), err, rel,
                         {"s15": x, "points": pts, "rotation": R, "translation": t},
-                        max(float(flint.arb(c).rad()) for row in pts for c in row)))
+                        _points_radius(pts)))
     return out
+
+
+def _points_radius(pts) -> float:
+    """:attr:`.result.Pose.radius`: the largest radius about the float points that
+    encloses their balls (:func:`~distkin.exact.float_ball`)."""
+    return max(float_ball(c)[1] for row in pts for c in row)
 
 
 def _mids(rows):

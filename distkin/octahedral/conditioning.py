@@ -19,11 +19,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
-from .descartes import ETA_FLOAT, VERDICTS, eta_rounded, vouch_buffer, vouch_rows
+from .descartes import ETA_FLOAT, VERDICTS, eta_rounded, vouch, vouch_buffer, vouch_rows
 
-__all__ = ["Conditioning", "assess", "assess_buffer", "eta_of", "from_verdict"]
+__all__ = ["Conditioning", "assess", "assess_buffer", "eta_of", "from_verdict",
+           "vouch_tight_row"]
 
 _EPS = float(np.finfo(float).eps)
 
@@ -49,6 +51,14 @@ class Conditioning:
     radius : float
         Largest proved radius of a root in the feasible interval, in the units of
         :math:`s_{15}` (squared length); inf when not trusted.
+    root_radii : tuple of float
+        The proved radius of each real root found, in the order of the result's
+        ``roots`` (inf where the proof gives none: the roots outside the feasible
+        interval); empty when not trusted.  The result's :class:`~.result.RootInfo`
+        takes these as its ``radius`` (``radius_kind`` "proved"): tight, a bounded
+        evaluation at each side of the root, in the single solve and in a batched
+        ``result(i)`` alike (the batched proof's own radii, ``BatchResult.raw["radii"]``,
+        are the pieces of its subdivision: looser, see :func:`.descartes.vouch_many`).
     """
 
     trusted: bool
@@ -56,11 +66,12 @@ class Conditioning:
     root_condition: float
     separation: float
     radius: float
+    root_radii: tuple = ()
 
     def as_dict(self) -> dict:
         return {"trusted": self.trusted, "reason": self.reason,
                 "root_condition": self.root_condition, "separation": self.separation,
-                "radius": self.radius}
+                "radius": self.radius, "root_radii": list(self.root_radii)}
 
 
 def eta_of(B, Q, L, rounded: bool) -> float:
@@ -94,10 +105,11 @@ def assess_buffer(buf, nr, lo, hi, eta) -> Conditioning:
     return _conditioning(*vouch_buffer(buf, nr, eta, lo, hi))
 
 
-def _conditioning(v, sep, radius, rel):
+def _conditioning(v, sep, radius, rel, radii):
     if v:
         return Conditioning(False, VERDICTS[v], np.inf, sep, np.inf)
-    return Conditioning(True, "", rel / _EPS if radius else 1.0, sep, radius)
+    return Conditioning(True, "", rel / _EPS if radius else 1.0, sep, radius,
+                        tuple(radii.tolist()))
 
 
 def from_verdict(verdict: int, x, radii) -> Conditioning:
@@ -108,8 +120,40 @@ def from_verdict(verdict: int, x, radii) -> Conditioning:
               default=np.inf)
     if verdict:
         return Conditioning(False, VERDICTS[verdict], np.inf, float(sep), np.inf)
+    radii = np.asarray(radii, dtype=float)
+    each = tuple(radii.tolist())
     ok = np.isfinite(radii)
     if not ok.any():
-        return Conditioning(True, "", 1.0, float(sep), 0.0)
+        return Conditioning(True, "", 1.0, float(sep), 0.0, each)
     rel = radii[ok] / np.maximum(np.abs(x[ok]), 1e-300)
-    return Conditioning(True, "", float(rel.max()) / _EPS, float(sep), float(radii[ok].max()))
+    return Conditioning(True, "", float(rel.max()) / _EPS, float(sep), float(radii[ok].max()),
+                        each)
+
+
+@numba.njit(cache=True)
+def vouch_tight_row(data, s2, l2, eta, lo, hi, roots, status, exponent, i, n, radii):
+    """:func:`.descartes.vouch` with tight radii (the single solve's) on problem ``i``
+    of the batched arrays of :func:`.descartes.vouch_many`, whose ``roots``, ``lo``,
+    ``hi`` are scaled back by ``4**exponent[i]`` (:mod:`.scaling`): its ``n`` roots
+    scaled down again (exactly: a power of two), proved, and the ``radii`` (n,) scaled
+    back.  Returns the verdict,
+    or -1 where the scaling does not go back exactly (a scaled-back root or bound
+    subnormal, or a factor beyond float64): the batched radii then stand."""
+    e = -2 * exponent[i]
+    if e > 1000 or e < -1000:
+        return -1
+    f = 2.0 ** e
+    x = np.empty(n)
+    codes = np.empty(n, np.int64)
+    for k in range(n):
+        x[k] = roots[i, k] * f
+        codes[k] = status[i, k]
+        if x[k] / f != roots[i, k]:
+            return -1
+    a, b = lo[i] * f, hi[i] * f
+    if a / f != lo[i] or b / f != hi[i]:
+        return -1
+    v = vouch(data[i], s2[i], l2[i], eta[i], a, b, x, codes, radii)
+    for k in range(n):
+        radii[k] = radii[k] / f
+    return v

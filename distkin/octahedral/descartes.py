@@ -553,7 +553,9 @@ def vouch_many(data, s2, l2, eta, lo, hi, roots, status, verdict, radii):
 def vouch_rows(d, s2, l2, eta, lo, hi, rows):
     """:func:`vouch` on the root rows (n, 3) = (s15, step, code) of the single solve
     (:func:`.single.solve_fast_single`).  Returns (verdict, smallest relative gap
-    between consecutive roots, largest proved radius, largest relative proved radius)."""
+    between consecutive roots, largest proved radius, largest relative proved radius,
+    the (n,) proved radius of each root: inf where none, meaningful only when the
+    verdict is 0)."""
     n = rows.shape[0]
     x = np.empty(n)
     codes = np.empty(n, np.int64)
@@ -569,7 +571,7 @@ def vouch_rows(d, s2, l2, eta, lo, hi, rows):
         if radii[k] < np.inf:
             rad = max(rad, radii[k])
             rel = max(rel, radii[k] / max(abs(x[k]), 1e-300))
-    return v, sep, rad, rel
+    return v, sep, rad, rel, radii
 
 
 @numba.njit(cache=True)

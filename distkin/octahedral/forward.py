@@ -212,6 +212,7 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
     from .batched import recover_flagged, solve_fast
     B, Q, L, s2, l2, k, rounded = float_problem(base, platform, legs)
     raw = solve_fast(B, Q, L, s2, l2)
+    raw["sides2"], raw["legs2"], raw["exponent"] = s2, l2, k    # the kernel's inputs
     n = len(k)
     if prove:
         eta = np.full(n, ETA_FLOAT)
@@ -224,7 +225,7 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
         # what the proof refused, solved again from the proof's own isolation
         raw["recovered"] = (recover_flagged(B, Q, L, s2, l2, raw, eta, verdict, radii)
                             if (verdict != 0).any() else np.empty(0, np.int64))
-        raw["verdict"], raw["radii"] = verdict, radii
+        raw["verdict"], raw["radii"], raw["eta"] = verdict, radii, eta
     else:                                       # the bare fast tier: nothing vouched
         verdict = np.full(n, NOT_CHECKED)
     _scale_back(raw, k)
@@ -274,7 +275,8 @@ def _recovered_single(B, Q, L, s2, l2, d, lo, hi, eta, k):
                raw["status"], verdict, radii)
     if verdict[0] != 0 and not recover_flagged(*one, raw, etas, verdict, radii).size:
         return None
-    raw["verdict"], raw["radii"] = verdict, radii
+    raw["verdict"], raw["radii"], raw["eta"] = verdict, radii, etas
+    raw["sides2"], raw["legs2"], raw["exponent"] = one[3], one[4], np.array([k])
     _scale_back(raw, np.array([k]))
     return _fast_result(raw, 0)
 

@@ -12,6 +12,7 @@ Not certified: the root count rests on ``polyroots``' convergence and on a toler
 
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 
 from ..errors import DegenerateGeometryError, InfeasibleError
@@ -115,22 +116,22 @@ def solve_precise(problem: Problem, dps: int, tol=None):
             tets = [val[k] for k in ("T1a", "T1b", "T2a", "T2b")]
             tiny = eps_rel * c ** 3
             if val["u"] > tiny * c or val["v"] > tiny * c:
-                infos.append(RootInfo(float(x), float(step), 1, "spurious",
+                infos.append(RootInfo(float(x), _estimate(x, step), 1, "spurious",
                                       "spurious: a shared face of the bananas has no real "
                                       "triangle (D(5,4,1) or D(3,5,1) > 0)", x))
                 continue
             if min(tets) < -tiny:
-                infos.append(RootInfo(float(x), float(step), 1, "spurious",
+                infos.append(RootInfo(float(x), _estimate(x, step), 1, "spurious",
                                       "spurious: a tetrahedron of the bananas has negative "
                                       "squared volume (complex assembly)", x))
                 continue
             try:
                 pairs = assemble_exact(base, x, sides, legs2, method="precise", dps=work)
             except (InfeasibleError, DegenerateGeometryError) as exc:
-                infos.append(RootInfo(float(x), float(step), 1, "rejected",
+                infos.append(RootInfo(float(x), _estimate(x, step), 1, "rejected",
                                       f"rejected: trilateration failed ({exc.message})", x))
                 continue
-            infos.append(RootInfo(float(x), float(step), 1, "assembly", "assembly mode", x))
+            infos.append(RootInfo(float(x), _estimate(x, step), 1, "assembly", "assembly mode", x))
             for side, (pts, _) in zip((1, -1), pairs):
                 R, t = pose_from_points(plat, pts, method="precise")
                 err, rel = _leg_errors(base, pts, legs)
@@ -158,6 +159,13 @@ def _polyroots(coeffs, work):
 def _f(a):
     import numpy as np
     return np.array(a, dtype=float)
+
+
+def _estimate(x, step) -> float:
+    """:attr:`.result.RootInfo.radius` of a precise root ``x`` (mpf) given as a float:
+    the last Newton step, at least half an ulp of ``float(x)`` (an estimate)."""
+    v = float(x)
+    return max(float(step), 0.5 * math.ulp(v))
 
 
 def _leg_errors(base, pts, legs):

@@ -17,6 +17,7 @@ from flint import arb
 from distkin.app.cli import run_scene
 from distkin.app.scene import loads_scene
 from distkin.errors import InfeasibleError, InputError, UncertifiedError
+from distkin.exact_roots import working_precision
 from distkin.mechanisms import preset
 from distkin.mechanisms.kinematics import LegMechanism
 from distkin.mechanisms.kinematics_tiers import (MPNumber, ik_tier, jacobian_tier,
@@ -38,7 +39,7 @@ def test_tiers_agree_and_balls_are_tight(name):
     X = m.home + OFFSET
     fast, prec, cert = (ik_tier(m, X, t) for t in ("fast", "precise", "certified"))
     assert cert.certified.all() and not cert.reasons and cert.valid.all()
-    assert cert.q_error.max() < 1e-12                      # tight (128 bits: ~1e-37)
+    assert cert.q_error.max() < 1e-12      # tight: the balls (~1e-37) and q's own rounding
     # fast lies in the ball within its own first-order estimate (a few ulps)
     assert np.all(np.abs(fast.q - cert.q) <= cert.q_error + fast.q_error)
     assert np.all(fast.q_error < 1e-14)
@@ -152,7 +153,13 @@ def box6():
 def test_prismatic_lengths_and_stroke_end(box6):
     X = np.array([0.0, 0.0, 0.5, 0.0, 0.0, 0.0])
     res = ik_tier(box6, X, "certified")
-    assert res.certified.all() and res.q_error.max() < 1e-30
+    assert res.certified.all()
+    # each ball lies within q_error of the float q, and q_error is only that rounding
+    # (the 128-bit balls, ~1e-37, are far inside an ulp)
+    with working_precision(1024):          # q +- q_error exactly
+        for q, e, b in zip(res.q.ravel(), res.q_error.ravel(), res.values.ravel()):
+            assert e <= math.ulp(q)
+            assert arb(q) - arb(e) <= b.lower() and b.upper() <= arb(q) + arb(e)
     assert res.values[0, 0].contains(arb(0.5))                  # exactly 0.5 m
     for j, leg in enumerate(box6.leg_table):                    # |P - B| (analytic)
         d = [arb(p) + arb(x) - arb(b) for p, x, b in zip(leg.platform, X[:3], leg.base)]

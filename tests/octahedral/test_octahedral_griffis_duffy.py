@@ -4,6 +4,7 @@ three tiers, the JSON contract and the demo scene."""
 from __future__ import annotations
 
 import json
+import math
 import subprocess
 import sys
 from decimal import Decimal
@@ -13,6 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from distkin.exact_roots import working_precision
 from distkin.octahedral import forward_kinematics, forward_kinematics_batched
 from distkin.octahedral.reference import GD_BASE, GD_LEGS, GD_PLATFORM, GD_ROOTS
 
@@ -39,13 +41,28 @@ def _leg_rel_errors(points):
     return [abs(np.linalg.norm(P[i] - P[j]) - l) / l for (i, j), l in zip(PAIRS, LEGS_F)]
 
 
+def _exact(a) -> Fraction:
+    """The value of an exact arb (an end of a ball)."""
+    assert a.is_exact()
+    m, e = a.man_exp()
+    return Fraction(int(m)) * Fraction(2) ** int(e)
+
+
 def test_certified_count_roots_and_poses(certified):
     res = certified
     assert res.certified and res.real_root_count == 6
     assert all(r.status == "assembly" and r.multiplicity == 1 for r in res.roots)
     # the printed roots, to the printed digits (the balls are far narrower than 0.05)
     assert all(_rounds_to(r.value, g) for r, g in zip(res.roots, GD_ROOTS))
-    assert all(r.radius < 1e-20 for r in res.roots)
+    # the radius encloses the exact root about the float value: no wider than the
+    # value's own rounding needs (the 64-bit balls are far narrower than an ulp), and
+    # every ball inside value +- radius (arb comparison, exact)
+    for r in res.roots:
+        assert r.radius_kind == "certified" and 0 < r.radius <= math.ulp(r.value)
+        v, rad = Fraction(r.value), Fraction(r.radius)
+        with working_precision(1024):          # the ends of the ball, exactly
+            lo, hi = _exact(r.native.lower()), _exact(r.native.upper())
+        assert v - rad <= lo and hi <= v + rad
     assert len(res) == 12
     for pose in res:
         # rigorous upper bound from the balls, and an independent float check
@@ -124,6 +141,13 @@ def test_scene_json_contract(tmp_path):
     res = q["result"]
     assert set(res["real_roots"]) == {"count", "certified", "values", "radii"}
     assert res["real_roots"]["count"] == 6 and res["real_roots"]["certified"] is True
+    # each radius says what it is; the certified ones enclose the root about the value
+    assert [r["radius_kind"] for r in res["root_status"]] == ["certified"] * 6
+    assert all(0 < r <= 2 ** -44 for r in res["real_roots"]["radii"])    # ulp(512)
+    fast = doc["queries"][1]["result"]             # the scene's fast query: proved
+    assert fast["conditioning"]["trusted"]
+    assert [r["radius_kind"] for r in fast["root_status"]] == ["proved"] * 6
+    assert fast["real_roots"]["radii"] == fast["conditioning"]["root_radii"]
     coeffs = res["octic"]["coefficients"]
     assert len(coeffs) == 9 and all(isinstance(c, str) for c in coeffs)
     assert Fraction(coeffs[0]) > 0

@@ -147,7 +147,7 @@ def test_light_result_objects_equal_the_constructed_ones(problems):
         assert type(r) is AssemblyResult and r == built and repr(r) == repr(built)
         assert len(r) == len(r.poses) and list(r) == list(r.poses) and r[0] is r.poses[0]
         for x in r.roots:
-            y = RootInfo(x.value, x.radius, 1, x.status, x.reason, x.value)
+            y = RootInfo(x.value, x.radius, 1, x.status, x.reason, x.value, x.radius_kind)
             assert type(x) is RootInfo and x == y and repr(x) == repr(y)
             assert hash(x.native) == hash(y.native)
 

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 from ...argcheck import check_keys, exact_matrix, method_field, string_list
 from ...errors import InputError
-from ...exact import default_dps, to_tier
+from ...exact import default_dps, float_ball, to_tier
 from ..query import Outcome, register
 from ..report import float_inputs, float_inputs_line
 from ...geometry.cayley_menger import cayley_menger, parse_label, squared_distances
@@ -139,7 +139,8 @@ def _value_fields(d, method):
     if name == "fmpq":
         return {"value": str(d), "exact": True, "radius": 0.0, "text": str(d)}
     if name == "arb":
-        return {"value": float(d.mid()), "exact": False, "radius": float(d.rad()),
+        value, radius = float_ball(d)     # the ball within radius of the float value
+        return {"value": value, "exact": False, "radius": radius,
                 "text": d.str(15, radius=True)}
     if name == "mpf":
         import mpmath

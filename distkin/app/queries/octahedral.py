@@ -15,7 +15,9 @@ Scene fields (docs/design.md §4)::
     tol = 1e-15               # certified: pose enclosure radius / size; precise: root residual
 
 JSON result: ``real_roots {count, certified, values, radii}`` (every real root of the
-octic in s15), ``octic {coefficients}`` (highest degree first; exact strings where
+octic in s15; each root's ``radius_kind`` in ``root_status`` says what its radius is:
+"certified" or "proved", the exact root lies within it of the value; "estimate", the
+fast or precise tier's last Newton steps, not an error bound: :class:`~distkin.octahedral.result.RootInfo`), ``octic {coefficients}`` (highest degree first; exact strings where
 exact), ``poses [{s15, rotation, translation, points {P4, P5, P6}, max_leg_error}]``
 (plus ``side`` and ``max_leg_error_relative``), and ``root_status``, ``reason``,
 ``accuracy``, ``inputs_from_float`` (the legs and points written as bare floats, taken
@@ -133,7 +135,8 @@ def _result(res):
                        "values": [r.value for r in res.roots],
                        "radii": [r.radius for r in res.roots]},
         "root_status": [{"s15": r.value, "status": r.status, "reason": r.reason,
-                         "multiplicity": r.multiplicity} for r in res.roots],
+                         "multiplicity": r.multiplicity, "radius_kind": r.radius_kind}
+                        for r in res.roots],
         "assembly_modes": len(res.assembly_roots),
         "octic": {"coefficients": list(res.octic)},
         "octic_degree": res.degree,
@@ -163,10 +166,13 @@ def _text(res, unit, p):
     head = f"octic in s15 (degree {res.degree}" + (
         ", exact rational coefficients)" if res.octic_exact else ")")
     lines.append(head + ("; " + res.notes[0] if res.notes else ""))
-    cert = "certified" if res.certified else "not certified"
+    cert = "certified" if res.certified else (
+        "the assembly roots proved; the others float64's" if res.conditioning is not None
+        and res.conditioning.trusted else "not certified")
     lines.append(f"real roots of the octic: {res.real_root_count} ({cert})")
     for r in res.roots:
-        rad = f" ± {r.radius:.1e}" if r.radius else ""
+        rad = (f" ± {r.radius:.1e} ({r.radius_kind})" if r.radius_kind != "estimate" else
+               f" (last Newton step {r.radius:.0e}, not an error bound)")
         mult = f", multiplicity {r.multiplicity}" if r.multiplicity != 1 else ""
         lines.append(f"  s15 = {r.value:.10g}{rad}{_u(unit, 2)}  -> {r.reason}{mult}")
     if not res.poses:
