@@ -17,8 +17,9 @@ derivative with respect to p is :math:`[\partial\Phi/\partial v,\;
     Newton (L = 6, or six ``legs``) or Gauss-Newton (L > 6: the least-squares pose of
     inconsistent angles) on the same generated kernel in its arb flavour run on mpmath numbers at
     ``dps`` digits (:class:`.kinematics_tiers.MPNumber`), from the fast answer.  Error
-    estimate: the last Newton step (quadratic convergence: the error after it is far
-    smaller), at least :math:`10^{1-dps}`; not a bound.
+    estimate of the float64 pose given: the last Newton step (quadratic convergence:
+    the error after it is far smaller), at least :math:`10^{1-dps}`, plus the pose's
+    rounding to float64 (the ``dps``-digit pose is ``native``); not a bound.
 ``certified``
     Krawczyk's test (:mod:`distkin.certify.krawczyk`) on python-flint ``arb`` balls at
     :data:`BITS` bits, around the fast answer: a box of poses in which exactly one pose
@@ -59,8 +60,9 @@ class TieredFK:
     method : str
         "fast", "precise" or "certified".
     error : (6,) float64
-        Per coordinate (m, m, m, rad, rad, rad): an error estimate (fast, precise) or a
-        proved radius, ``|p* - pose| <= error`` (certified).
+        Per coordinate (m, m, m, rad, rad, rad), of the float ``pose``: an error
+        estimate (fast, precise, with the pose's rounding to float64) or a proved radius,
+        ``|p* - pose| <= error`` (certified).
     certified : bool
     legs : tuple of int
         The legs (1-based) whose closures define the pose: all (fast; precise without
@@ -273,7 +275,9 @@ def _precise(mech, q, fast, dps, legs):
         rows = closure(qm, p)
         res = mpmath.sqrt(mpmath.fsum(rows[i][0].v ** 2 for i in range(L)) / L)
         native = tuple(v.v for v in p)
-        err = np.array([float(max(abs(d[k]), tol)) for k in range(6)])
+        # of the float pose given: the last step, and the pose's rounding to float64
+        err = np.array([float(max(abs(d[k]), tol) + abs(mpmath.mpf(float(native[k]))
+                                                        - native[k])) for k in range(6)])
     return TieredFK(np.array([float(v) for v in native]), "precise", err, False,
                     tuple(i + 1 for i in legs), float(res), {}, native, fast, it)
 

@@ -24,9 +24,10 @@ Kühne et al., Sec. II-C, eqs. (1)-(2): per leg the closure gives
     only ``+ - * /``, ``abs``, ``sqrt``, ``sin``, ``cos``, ``atan2`` and ``_A(number)``)
     run on mpmath numbers at ``dps`` digits (:class:`MPNumber` gives mpmath those
     methods; the kernels' rational constants are divided at those digits, from exact
-    integers).  Error estimate: the difference from a second evaluation at
-    ``dps + GUARD`` digits, at least :math:`10^{1-dps}\max(|v|, 1)`; an estimate, not a
-    bound.
+    integers).  Error estimate of the float64 value given (``q``, ``J``, ...): the
+    difference of the ``dps``-digit value from a second evaluation at ``dps + GUARD``
+    digits, at least :math:`10^{1-dps}\max(|v|, 1)`, plus its rounding to float64; an
+    estimate, not a bound.  The ``dps``-digit numbers themselves are in ``values``.
 ``certified``
     the same kernels on python-flint ``arb`` balls at ``bits`` of working precision.
     The pose is taken exactly: a float64 pose (m, rad) is its exact binary value.  So
@@ -197,13 +198,17 @@ def _precise_runs(ks, names, X, dps):
 
 
 def _estimate(val, ref, dps):
-    """Error estimate (float array) of the mpf array ``val`` (at ``dps`` digits) against
-    ``ref`` (more digits): |val - ref|, at least 10^(1 - dps) max(|val|, 1)."""
+    """Error estimate (float array) of the floats of the mpf array ``val`` (at ``dps``
+    digits) against ``ref`` (more digits): |val - ref|, at least 10^(1 - dps)
+    max(|val|, 1), plus |float(val) - val| (the floats are what the caller reads next to
+    the estimate; ``values`` keeps the digits)."""
     import mpmath
     with mpmath.workdps(dps + GUARD):
         diff = np.vectorize(lambda a, b: float(abs(a - b)), otypes=[float])(val, ref)
+        rounding = np.vectorize(lambda a: float(abs(mpmath.mpf(float(a)) - a)),
+                                otypes=[float])(val)
     mag = np.maximum(np.abs(_to_float(val)), 1.0)
-    return np.maximum(diff, mag * 10.0 ** (1 - dps))
+    return np.maximum(diff, mag * 10.0 ** (1 - dps)) + rounding
 
 
 def _unwrap(v):
@@ -257,9 +262,10 @@ class TieredIK:
     q : float array, rad (revolute) or m (prismatic)
         The fast values; the precise ones rounded to float64; the balls' midpoints.
     q_error : float array, same units
-        Error estimate (fast, precise) or certified radius about ``q`` (the ball within
-        ``q +- q_error``: its radius and the rounding of its midpoint to ``q``,
-        :func:`~distkin.exact.float_ball`; inf where not finite).
+        Of the float ``q`` itself: an error estimate (fast; precise, with ``q``'s rounding
+        to float64) or a certified radius (the ball within ``q +- q_error``: its radius
+        and the rounding of its midpoint to ``q``, :func:`~distkin.exact.float_ball`;
+        inf where not finite).  The tier's own numbers, more digits, are ``values``.
     reach_margin : float array, m^2
     valid : bool array
         The leg closes and q is in its joint range (certified tier: certainly so).

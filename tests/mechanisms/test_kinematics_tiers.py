@@ -44,11 +44,14 @@ def test_tiers_agree_and_balls_are_tight(name):
     assert np.all(np.abs(fast.q - cert.q) <= cert.q_error + fast.q_error)
     assert np.all(fast.q_error < 1e-14)
     assert np.array_equal(fast.q[0], m.inverse_kinematics(X)[0])
-    # the precise values (30 digits) meet the balls within their error estimates
+    # the precise values (30 digits) and their floats meet the balls within the error
+    # estimates of the floats: the 30-digit difference (< 1e-28) plus the rounding
     with mpmath.workdps(60):
-        for p, b, e in zip(prec.values.ravel(), cert.values.ravel(), prec.q_error.ravel()):
+        for p, q, b, e in zip(prec.values.ravel(), prec.q.ravel(), cert.values.ravel(),
+                              prec.q_error.ravel()):
             assert abs(p - _mpf(b)) <= float(b.rad()) + e
-            assert e < 1e-28
+            assert abs(mpmath.mpf(q) - _mpf(b)) <= float(b.rad()) + e
+            assert abs(mpmath.mpf(q) - p) <= e < 1e-28 + math.ulp(q) / 2
     fj, pj, cj = (jacobian_tier(m, X, t) for t in ("fast", "precise", "certified"))
     assert cj.certified.all() and cj.J_error.max() < 1e-12
     assert np.all(np.abs(fj.J - cj.J) <= cj.J_error + fj.J_error)
@@ -221,7 +224,10 @@ def test_certified_query_marks_each_leg():
     (rec,), texts, _ = run_scene(loads_scene(SCENE.format(
         type="jacobian", extra='method = "precise"\ndps = 40')))
     assert rec["result"]["precision"] == "mpmath at 40 digits"
-    assert max(max(map(max, r["J_error"])) for r in rec["result"]["poses"][:2]) < 1e-37
+    # the error of each float J: its rounding, the 40-digit estimate (1e-39) beside it
+    for r in rec["result"]["poses"][:2]:
+        for row, erow in zip(r["J"], r["J_error"]):
+            assert all(e <= math.ulp(v) / 2 + 1e-37 for v, e in zip(row, erow))
 
 
 def test_certified_query_on_legs_scene_says_undecided(box6):

@@ -198,9 +198,11 @@ def _accuracy(res, what, amounts, fast_how) -> str:
     """The accuracy line of a tiered result: ``amounts`` the measured largest errors (or
     radii) as text with units; ``fast_how`` the fast tier's estimate."""
     how = {"fast": f"first-order estimate, not a bound: {fast_how}",
-           "precise": "error estimate: the difference from a second run with 15 more digits",
-           "certified": "certified ball radii; the pose taken as the exact binary value of "
-                        "its float64 SI coordinates"}[res.method]
+           "precise": "error estimate of the float64 values given: the difference from a "
+                      "second run with 15 more digits, plus their rounding to float64",
+           "certified": "certified radii about the float64 values given (the ball's radius "
+                        "plus the rounding of its midpoint); the pose taken as the exact "
+                        "binary value of its float64 SI coordinates"}[res.method]
     legs = (f"; {int(res.certified.sum())} of {res.certified.size} legs certified"
             if res.method == "certified" else "")
     kind = "radius" if res.method == "certified" else "error"
