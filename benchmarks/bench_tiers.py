@@ -87,8 +87,10 @@ def run():
           + f"\n\nThe lambdified sympy IK (the exact model's, the precise tier's source) "
           f"took {t_build:.1f} s to derive and build; its "
           f"values agree with the precise tier to {agree:.1e} rad (float64 of both). "
-          f"Largest certified radius of q: {cert.q_error.max():.1e} rad; all "
-          f"{cert.certified.sum()} legs certified.")
+          f"Largest certified radius of the float q: {cert.q_error.max():.1e} rad (its "
+          f"rounding to float64: the balls themselves are at most "
+          f"{max(float(b.rad()) for b in cert.values.ravel()):.1e} rad wide, "
+          f"`TieredIK.values`); all {cert.certified.sum()} legs certified.")
     fk_md, fk = _forward(m, X)
     prof = _derive_arb("octo")
     md += ("\n\n" + fk_md + "\n\nDeriving the Octo's arb module (ik, reach, jq_jx, closure "

@@ -528,10 +528,12 @@ def float_ball(b) -> tuple[float, float]:
     finite.  Exact values (``fmpq``, ints, floats) give ``(nearest float, 0 or the
     rounding)`` the same way."""
     import flint
-    b = b if isinstance(b, flint.arb) else flint.arb(b)
+    b = b if type(b) is flint.arb else flint.arb(b)
     if not b.is_finite():
         return math.nan, math.inf
     value = float(b.mid())
-    up = (b - flint.arb(value)).abs_upper()
-    r = float(up)
-    return value, (r if flint.arb(r) >= up else math.nextafter(r, math.inf))
+    up = (b - value).abs_upper()                # exact: an arb ending at a float's value
+    r = float(up)                               # ... rounded either way: one float up
+    if r or not up.is_zero():
+        r = math.nextafter(r, math.inf)
+    return value, r

@@ -239,8 +239,9 @@ def _as_ball(v):
 
 
 _mid = np.vectorize(lambda b: float(b.mid()) if b.is_finite() else math.nan, otypes=[float])
-#: the radius about the float mid that encloses the ball (:func:`~distkin.exact.float_ball`)
-_rad = np.vectorize(lambda b: float_ball(b)[1], otypes=[float])
+#: (float mids, the radii about them that enclose the balls) of an array of balls, in one
+#: pass (:func:`~distkin.exact.float_ball`; nan, inf where a ball is not finite)
+_split = np.vectorize(float_ball, otypes=[float, float])
 _to_float = np.vectorize(float, otypes=[float])
 
 
@@ -429,7 +430,7 @@ def ik_tier(mech, poses, method: str = "fast", dps: int | None = None,
             if in_range is None:
                 continue
             certified[i, j], valid[i, j] = True, in_range
-    return TieredIK(method, prec, _mid(vals["ik"]), _rad(vals["ik"]), _mid(vals["reach"]),
+    return TieredIK(method, prec, *_split(vals["ik"]), _mid(vals["reach"]),
                     valid, certified, tuple(reasons), vals["ik"], infeasible)
 
 
@@ -482,8 +483,8 @@ def jacobian_tier(mech, poses, method: str = "fast", dps: int | None = None,
                                           "0: the leg is at (or within the balls' width of) a "
                                           "serial singularity, J is unbounded there"))
     reasons.sort(key=lambda r: r[:2])
-    return TieredJacobian(method, prec, _mid(J), _rad(J), _mid(jq), _rad(jq), _mid(jx),
-                          _rad(jx), ik.valid & certified, certified, tuple(reasons), J, jq, jx,
+    return TieredJacobian(method, prec, *_split(J), *_split(jq), *_split(jx),
+                          ik.valid & certified, certified, tuple(reasons), J, jq, jx,
                           ik.infeasible)
 
 
