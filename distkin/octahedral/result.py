@@ -102,7 +102,7 @@ class RootInfo:
       last Newton steps, at least half an ulp of ``value``: an estimate of the
       convergence, not an error bound.  On the 240 problems of
       :func:`.hardset.hard_families` (single default solves against the certified
-      roots, 2026-11-27) 536 of the 755 roots the proof does not cover lie farther
+      roots; ``python -m benchmarks accuracy``, BENCHMARKS.md) 536 of the 755 roots the proof does not cover lie farther
       than it from the certified root (median factor 8; on a problem the proof refused
       a root may have no certified root near it at all), while none of the 455 proved
       radii is exceeded.
