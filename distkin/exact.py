@@ -51,6 +51,7 @@ __all__ = [
     "sympy_to_arb",
     "default_dps",
     "float_ball",
+    "float_mpf",
 ]
 
 #: the arithmetic tiers every numeric entry point accepts
@@ -517,6 +518,15 @@ def to_tier(x, method: str, dps: int | None = None):
         return sympy_to_arb(value)
     raise InputError(f"expected one of {', '.join(map(repr, METHODS))}, got {method!r}",
                      field="method")
+
+
+def float_mpf(v) -> tuple[float, float]:
+    """An mpmath number as floats ``(value, rounding)``: the float nearest it and
+    ``|value - v|`` (at the current mpmath precision): what the error estimate of a
+    precise value given as a float must add to that of the value itself."""
+    import mpmath
+    value = float(v)
+    return value, float(abs(mpmath.mpf(value) - v))
 
 
 def float_ball(b) -> tuple[float, float]:

@@ -43,7 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InfeasibleError, InputError, SingularConfigurationError, UncertifiedError
-from ..exact import check_method, default_dps
+from ..exact import check_method, default_dps, float_mpf
 from .kinematics_tiers import BITS, check_bits
 
 __all__ = ["TieredFK", "forward_tier", "fast_tier", "six_legs", "BITS"]
@@ -276,8 +276,8 @@ def _precise(mech, q, fast, dps, legs):
         res = mpmath.sqrt(mpmath.fsum(rows[i][0].v ** 2 for i in range(L)) / L)
         native = tuple(v.v for v in p)
         # of the float pose given: the last step, and the pose's rounding to float64
-        err = np.array([float(max(abs(d[k]), tol) + abs(mpmath.mpf(float(native[k]))
-                                                        - native[k])) for k in range(6)])
+        err = np.array([float(max(abs(d[k]), tol)) + float_mpf(native[k])[1]
+                        for k in range(6)])
     return TieredFK(np.array([float(v) for v in native]), "precise", err, False,
                     tuple(i + 1 for i in legs), float(res), {}, native, fast, it)
 

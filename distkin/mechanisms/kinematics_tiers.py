@@ -64,7 +64,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InfeasibleError, InputError, UncertifiedError
-from ..exact import check_method, default_dps, float_ball
+from ..exact import check_method, default_dps, float_ball, float_mpf
 from .description import _poses
 
 __all__ = ["MPNumber", "on_mpmath", "TieredIK", "TieredJacobian", "ik_tier", "jacobian_tier",
@@ -205,8 +205,7 @@ def _estimate(val, ref, dps):
     import mpmath
     with mpmath.workdps(dps + GUARD):
         diff = np.vectorize(lambda a, b: float(abs(a - b)), otypes=[float])(val, ref)
-        rounding = np.vectorize(lambda a: float(abs(mpmath.mpf(float(a)) - a)),
-                                otypes=[float])(val)
+        rounding = np.vectorize(lambda a: float_mpf(a)[1], otypes=[float])(val)
     mag = np.maximum(np.abs(_to_float(val)), 1.0)
     return np.maximum(diff, mag * 10.0 ** (1 - dps)) + rounding
 

@@ -17,7 +17,8 @@ there); BENCHMARKS.md (``python -m benchmarks accuracy``) gives the rates.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, replace
 
 import numba
 import numpy as np
@@ -48,9 +49,6 @@ class Conditioning:
     separation : float
         Smallest relative distance between two consecutive real roots found (inf if
         fewer than two).
-    radius : float
-        Largest proved radius of a root in the feasible interval, in the units of
-        :math:`s_{15}` (squared length); inf when not trusted.
     root_radii : tuple of float
         The proved radius of each real root found, in the order of the result's
         ``roots`` (inf where the proof gives none: the roots outside the feasible
@@ -59,14 +57,27 @@ class Conditioning:
         evaluation at each side of the root, in the single solve and in a batched
         ``result(i)`` alike (the batched proof's own radii, ``BatchResult.raw["radii"]``,
         are the pieces of its subdivision: looser, see :func:`.descartes.vouch_many`).
+    radius : float (property)
+        The largest of ``root_radii``, in the units of :math:`s_{15}` (squared length);
+        0 when no root has one, inf when not trusted.
     """
 
     trusted: bool
     reason: str
     root_condition: float
     separation: float
-    radius: float
     root_radii: tuple = ()
+
+    @property
+    def radius(self) -> float:
+        if not self.trusted:
+            return np.inf
+        return max((r for r in self.root_radii if r < np.inf), default=0.0)
+
+    def scaled(self, k: int) -> "Conditioning":
+        """The same proof for the lengths multiplied by ``2**k`` (s15 by ``4**k``,
+        exactly; the relative fields do not change)."""
+        return replace(self, root_radii=tuple(math.ldexp(r, 2 * k) for r in self.root_radii))
 
     def as_dict(self) -> dict:
         return {"trusted": self.trusted, "reason": self.reason,
@@ -107,9 +118,8 @@ def assess_buffer(buf, nr, lo, hi, eta) -> Conditioning:
 
 def _conditioning(v, sep, radius, rel, radii):
     if v:
-        return Conditioning(False, VERDICTS[v], np.inf, sep, np.inf)
-    return Conditioning(True, "", rel / _EPS if radius else 1.0, sep, radius,
-                        tuple(radii.tolist()))
+        return Conditioning(False, VERDICTS[v], np.inf, sep)
+    return Conditioning(True, "", rel / _EPS if radius else 1.0, sep, tuple(radii.tolist()))
 
 
 def from_verdict(verdict: int, x, radii) -> Conditioning:
@@ -119,15 +129,14 @@ def from_verdict(verdict: int, x, radii) -> Conditioning:
     sep = min(((b - a) / max(abs(b), 1e-300) for a, b in zip(x.tolist(), x[1:].tolist())),
               default=np.inf)
     if verdict:
-        return Conditioning(False, VERDICTS[verdict], np.inf, float(sep), np.inf)
+        return Conditioning(False, VERDICTS[verdict], np.inf, float(sep))
     radii = np.asarray(radii, dtype=float)
     each = tuple(radii.tolist())
     ok = np.isfinite(radii)
     if not ok.any():
-        return Conditioning(True, "", 1.0, float(sep), 0.0, each)
+        return Conditioning(True, "", 1.0, float(sep), each)
     rel = radii[ok] / np.maximum(np.abs(x[ok]), 1e-300)
-    return Conditioning(True, "", float(rel.max()) / _EPS, float(sep), float(radii[ok].max()),
-                        each)
+    return Conditioning(True, "", float(rel.max()) / _EPS, float(sep), each)
 
 
 @numba.njit(cache=True)

@@ -12,10 +12,10 @@ Not certified: the root count rests on ``polyroots``' convergence and on a toler
 
 from __future__ import annotations
 
-import math
 from fractions import Fraction
 
 from ..errors import DegenerateGeometryError, InfeasibleError
+from ..exact import float_mpf
 from .assembly import assemble_exact
 from .closure import OCTIC, octic_data, part_values
 from .problem import LEG_PAIRS, Problem
@@ -163,9 +163,9 @@ def _f(a):
 
 def _estimate(x, step) -> float:
     """:attr:`.result.RootInfo.radius` of a precise root ``x`` (mpf) given as a float:
-    the last Newton step, at least half an ulp of ``float(x)`` (an estimate)."""
-    v = float(x)
-    return max(float(step), 0.5 * math.ulp(v))
+    the last Newton step plus the root's rounding to float64 (an estimate, as the
+    precise tiers of :mod:`distkin.mechanisms` give theirs)."""
+    return float(step) + float_mpf(x)[1]
 
 
 def _leg_errors(base, pts, legs):

@@ -98,14 +98,15 @@ class RootInfo:
       :attr:`.conditioning.Conditioning.root_radii`): the same guarantee, in float64
       with rigorous rounding bounds (:mod:`.descartes`);
     - ``"estimate"`` (fast tier elsewhere: the bare tier, the roots outside the
-      feasible interval, a problem the proof refused; precise tier): the size of the
-      last Newton steps, at least half an ulp of ``value``: an estimate of the
-      convergence, not an error bound.  On the 240 problems of
+      feasible interval, a problem the proof refused): the size of the last Newton
+      steps, at least half an ulp of ``value``; (precise tier) its last Newton step
+      plus the rounding of its root to ``value``: an estimate of the convergence, not
+      an error bound.  On the 240 problems of
       :func:`.hardset.hard_families` (single default solves against the certified
-      roots; ``python -m benchmarks accuracy``, BENCHMARKS.md) 536 of the 755 roots the proof does not cover lie farther
-      than it from the certified root (median factor 8; on a problem the proof refused
-      a root may have no certified root near it at all), while none of the 455 proved
-      radii is exceeded.
+      roots; ``python -m benchmarks accuracy``, BENCHMARKS.md) 536 of the 755 roots
+      the proof does not cover lie farther than it from the certified root (median
+      factor 8; on a problem the proof refused a root may have no certified root near
+      it at all), while none of the 455 proved radii is exceeded.
 
     A batched ``result(i)`` gives the single solve's tight proved radii (the batched
     proof's own, ``raw["radii"]``, are the pieces of its subdivision: median 8e-8
@@ -391,9 +392,7 @@ def _single_result(solve, conditioning=None, k=0):
         if not ok:
             notes += (_overflow_note(k),)
         if conditioning is not None:
-            conditioning = replace(
-                conditioning, radius=math.ldexp(conditioning.radius, 2 * k),
-                root_radii=tuple(math.ldexp(r, 2 * k) for r in conditioning.root_radii))
+            conditioning = conditioning.scaled(k)
     infos = tuple(_root(x, st, int(code), pr) for (x, st, code), pr in
                   zip(roots.tolist(), _proved(conditioning, len(roots))))
     out = tuple(map(_pose, S.tolist(), side.tolist(), R, T, P, E.tolist(), Er.tolist()))

@@ -198,7 +198,5 @@ def rescale_result(res, k: int):
                          f"those shown are for the lengths divided by 2^{k} (s15 by "
                          f"4^{k})",)
     cond = res.conditioning
-    if cond is not None:
-        cond = replace(cond, radius=math.ldexp(cond.radius, 2 * k))
     return replace(res, poses=poses, roots=roots, octic=octic, notes=notes,
-                   conditioning=cond)
+                   conditioning=None if cond is None else cond.scaled(k))

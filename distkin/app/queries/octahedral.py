@@ -17,8 +17,9 @@ Scene fields (docs/design.md §4)::
 JSON result: ``real_roots {count, certified, values, radii}`` (every real root of the
 octic in s15; each root's ``radius_kind`` in ``root_status`` says what its radius is:
 "certified" or "proved", the exact root lies within it of the value; "estimate", the
-fast or precise tier's last Newton steps, not an error bound: :class:`~distkin.octahedral.result.RootInfo`), ``octic {coefficients}`` (highest degree first; exact strings where
-exact), ``poses [{s15, rotation, translation, points {P4, P5, P6}, max_leg_error}]``
+fast or precise tier's last Newton steps, not an error bound:
+:class:`~distkin.octahedral.result.RootInfo`), ``octic {coefficients}`` (highest degree
+first; exact strings where exact), ``poses [{s15, rotation, translation, points {P4, P5, P6}, max_leg_error}]``
 (plus ``side`` and ``max_leg_error_relative``), and ``root_status``, ``reason``,
 ``accuracy``, ``inputs_from_float`` (the legs and points written as bare floats, taken
 as their exact binary values; also said in the text).  Lengths are in the scene's unit converted to metres (SI), or unitless
