@@ -43,7 +43,7 @@ class Conditioning:
     reason : str
         Why not (empty when trusted).
     root_condition : float
-        Largest proved radius of a root in the feasible interval, relative to the root,
+        Largest proved radius of a root (``root_radii``), relative to the root,
         divided by eps (about ``log10(root_condition)`` digits of s15 are not proved);
         inf when not trusted.
     separation : float
@@ -51,8 +51,11 @@ class Conditioning:
         fewer than two).
     root_radii : tuple of float
         The proved radius of each real root found, in the order of the result's
-        ``roots`` (inf where the proof gives none: the roots outside the feasible
-        interval); empty when not trusted.  The result's :class:`~.result.RootInfo`
+        ``roots`` (inf where the proof gives none); empty when not trusted.  A root
+        outside the feasible interval (spurious, no pose) has one where the signs
+        around it are proved (step 8 of :mod:`.descartes`): a real root of the exact
+        octic lies within it, though their count there is float64's.  The result's
+        :class:`~.result.RootInfo`
         takes these as its ``radius`` (``radius_kind`` "proved"): tight, a bounded
         evaluation at each side of the root, in the single solve and in a batched
         ``result(i)`` alike (the batched proof's own radii, ``BatchResult.raw["radii"]``,

@@ -94,19 +94,20 @@ class RootInfo:
     - ``"certified"`` (certified tier): the exact root lies within ``radius`` of the
       float ``value`` (the arb ball's radius plus the rounding of its midpoint to
       ``value``, rounded up; ``native`` is the ball itself);
-    - ``"proved"`` (fast tier, where its proof vouches for the root,
+    - ``"proved"`` (fast tier, where its proof vouches for the answer,
       :attr:`.conditioning.Conditioning.root_radii`): the same guarantee, in float64
-      with rigorous rounding bounds (:mod:`.descartes`);
-    - ``"estimate"`` (fast tier elsewhere: the bare tier, the roots outside the
-      feasible interval, a problem the proof refused): the size of the last Newton
+      with rigorous rounding bounds (:mod:`.descartes`); for a root outside the feasible
+      interval (spurious, no pose) it says that a real root of the exact octic lies
+      within ``radius``, a different one for each root, but not that there are no
+      others there: that count is float64's (step 8 of :mod:`.descartes`);
+    - ``"estimate"`` (fast tier elsewhere: the bare tier, a problem the proof refused,
+      a root around which the proof found no radius): the size of the last Newton
       steps, at least half an ulp of ``value``; (precise tier) its last Newton step
       plus the rounding of its root to ``value``: an estimate of the convergence, not
-      an error bound.  On the 240 problems of
-      :func:`.hardset.hard_families` (single default solves against the certified
-      roots; ``python -m benchmarks accuracy``, BENCHMARKS.md) 536 of the 755 roots
-      the proof does not cover lie farther than it from the certified root (median
-      factor 8; on a problem the proof refused a root may have no certified root near
-      it at all), while none of the 455 proved radii is exceeded.
+      an error bound.  On the 240 problems of :func:`.hardset.hard_families` (against
+      the certified roots; ``python -m benchmarks accuracy``, BENCHMARKS.md) the bare
+      tier's estimates are exceeded for about half of the roots (median factor 7),
+      while none of the proved radii is.
 
     A batched ``result(i)`` gives the single solve's tight proved radii (the batched
     proof's own, ``raw["radii"]``, are the pieces of its subdivision: median 8e-8

@@ -20,7 +20,7 @@ from distkin.octahedral.auto import LEG_TOL
 from distkin.octahedral.descartes import ETA_FLOAT, VERDICTS, vouch
 from distkin.octahedral.single import solve_fast_single
 from distkin.octahedral.hardset import easy_set, hard_families
-from distkin.octahedral.problem import float_single
+from distkin.octahedral.problem import REASONS, float_single
 from distkin.octahedral.reference import GD_BASE, GD_LEGS, GD_PLATFORM
 
 #: problems on which the fast tier of main (4f55e18) returned too few poses while its
@@ -230,6 +230,7 @@ def test_each_root_says_what_its_radius_is():
     B, Q, L = (np.array([getattr(c, k) for c in cases]) for k in ("base", "platform", "legs"))
     batch = forward_kinematics_batched(B, Q, L, warn=False)
     proved = same = 0
+    outside = [0, 0]                # the spurious roots outside [lo, hi]: estimate, proved
     for i, c in enumerate(cases):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ConditioningWarning)
@@ -250,11 +251,16 @@ def test_each_root_says_what_its_radius_is():
                 if r.radius_kind == "proved":
                     proved += 1
                     assert min(abs(r.value - x) for x in cert) <= r.radius, (c.name, r)
+                if r.status == "spurious" and r.reason == REASONS[1]:
+                    outside[r.radius_kind == "proved"] += 1
         if single.conditioning.trusted and batch.trusted[i]:
             assert single.roots == batch.result(i).roots, c.name
             assert single.conditioning == batch.result(i).conditioning, c.name
             same += 1
     assert proved >= 150 and same >= 30
+    # a proved answer proves a radius around its roots outside the feasible interval
+    # too (step 8 of distkin.octahedral.descartes): every one of them here
+    assert outside[1] >= 40 and outside[0] == 0, outside
 
 
 def _solve(base, plat, legs):

@@ -168,7 +168,7 @@ def _text(res, unit, p):
         ", exact rational coefficients)" if res.octic_exact else ")")
     lines.append(head + ("; " + res.notes[0] if res.notes else ""))
     cert = "certified" if res.certified else (
-        "the assembly roots proved; the others float64's" if res.conditioning is not None
+        "the assembly roots proved; the count outside the feasible interval float64's" if res.conditioning is not None
         and res.conditioning.trusted else "not certified")
     lines.append(f"real roots of the octic: {res.real_root_count} ({cert})")
     for r in res.roots:
