@@ -66,7 +66,7 @@ def trilaterate_masked(A, B, C, sa, sb, sc):
     return foot, off, h2 / scale
 
 
-def assemble_exact(base, x, sides, legs, *, method: str, dps=None):
+def assemble_exact(base, x, sides, legs, *, method: str, dps=None, every=None):
     r"""The sequence in the precise or certified tier, for one root.
 
     Parameters
@@ -75,10 +75,16 @@ def assemble_exact(base, x, sides, legs, *, method: str, dps=None):
     x : the root (``mpf``, an ``arb`` ball, or an exact ``fmpq``)
     sides, legs : 6 squared lengths each (same tier)
 
+    every : precise tier only: keep every candidate whose leg-5 residual is at most
+        ``every`` (squared length), distinct as point sets, instead of the best one
+        (a multiple root of the octic at which several assembly modes meet: on the
+        equilateral octahedron with six equal legs a triple root carries three)
+
     Returns
     -------
-    list of two ``(points, residual)`` for sides +1 and -1 of P5, ``points`` three rows
-    P4 P5 P6 of three scalars, ``residual`` the leg-5 residual of the chosen candidate.
+    list of ``(points, residual)``, sides +1 and -1 of P5 alternating (two entries,
+    or with ``every`` two per compatible candidate), ``points`` three rows P4 P5 P6 of
+    three scalars, ``residual`` the leg-5 residual of the chosen candidate.
 
     Raises
     ------
@@ -110,9 +116,29 @@ def assemble_exact(base, x, sides, legs, *, method: str, dps=None):
                 d = [P6[k] - P3[k] for k in range(3)]
                 res = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - s36
                 cands.append(([P4, P5, P6], res))
+        if every is not None:
+            return _every(cands, every, P1, P2, P3)
         out.append(_choose(cands, method))
     if len(out) == 1:
         out.append((_reflect(out[0][0], P1, P2, P3), out[0][1]))
+    return out
+
+
+def _every(cands, tol, P1, P2, P3):
+    """Every candidate (precise tier) with leg-5 residual at most ``tol``, distinct as
+    point sets (the best one always), each followed by its mirror image in the base
+    plane: ``[(points, residual), ...]`` in pairs, sides +1, -1."""
+    ranked = sorted(cands, key=lambda c: abs(c[1]))
+    keep = [ranked[0]]
+    for pts, res in ranked[1:]:
+        if abs(res) > tol:
+            break
+        if all(max(abs(a - b) for pa, pb in zip(pts, q) for a, b in zip(pa, pb)) ** 2 > tol
+               for q, _ in keep):
+            keep.append((pts, res))
+    out = []
+    for pts, res in keep:
+        out += [(pts, res), (_reflect(pts, P1, P2, P3), res)]
     return out
 
 

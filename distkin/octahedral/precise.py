@@ -12,9 +12,10 @@ Not certified: the root count rests on ``polyroots``' convergence and on a toler
 
 from __future__ import annotations
 
+import warnings
 from fractions import Fraction
 
-from ..errors import DegenerateGeometryError, InfeasibleError
+from ..errors import ConditioningWarning, DegenerateGeometryError, InfeasibleError
 from ..exact import float_mpf
 from .assembly import assemble_exact
 from .closure import OCTIC, octic_data, part_values
@@ -107,11 +108,16 @@ def solve_precise(problem: Problem, dps: int, tol=None):
                 continue
             found.append((x, abs(step)))
         found.sort(key=lambda t: t[0])
+        # the roots of polyroots within `near` of each root found: its multiplicity as
+        # this precision sees it (a root of multiplicity m comes out as a cluster of
+        # radius ~10^(-work/m), well inside `near` for m <= 4)
+        mult = [max(1, sum(1 for z in roots if abs(z * c - x) <= near * max(abs(x), c)))
+                for x, _ in found]
         base = [[_mpf(v) for v in r] for r in problem.base]
         plat = [[_mpf(v) for v in r] for r in problem.platform]
         legs = [_mpf(v) for v in problem.legs]
-        infos, poses = [], []
-        for x, step in found:
+        infos, poses, merged = [], [], []
+        for (x, step), m in zip(found, mult):
             val, _ = part_values(d, x)
             tets = [val[k] for k in ("T1a", "T1b", "T2a", "T2b")]
             tiny = eps_rel * c ** 3
@@ -126,22 +132,38 @@ def solve_precise(problem: Problem, dps: int, tol=None):
                                       "squared volume (complex assembly)", x))
                 continue
             try:
-                pairs = assemble_exact(base, x, sides, legs2, method="precise", dps=work)
+                sets = assemble_exact(base, x, sides, legs2, method="precise", dps=work,
+                                      every=near * max(c, abs(legs2[4])) if m > 1 else None)
             except (InfeasibleError, DegenerateGeometryError) as exc:
-                infos.append(RootInfo(float(x), _estimate(x, step), 1, "rejected",
+                infos.append(RootInfo(float(x), _estimate(x, step), m, "rejected",
                                       f"rejected: trilateration failed ({exc.message})", x))
                 continue
-            infos.append(RootInfo(float(x), _estimate(x, step), 1, "assembly", "assembly mode", x))
-            for side, (pts, _) in zip((1, -1), pairs):
+            modes = len(sets) // 2
+            infos.append(RootInfo(float(x), _estimate(x, step), m, "assembly",
+                                  "assembly mode" if modes == 1 else
+                                  f"{modes} assembly modes at this root", x))
+            if modes < m:
+                merged.append((float(x), m, modes))
+            for k, (pts, _) in enumerate(sets):
                 R, t = pose_from_points(plat, pts, method="precise")
                 err, rel = _leg_errors(base, pts, legs)
-                poses.append(Pose(float(x), side, _f(R), _f(t), _f(pts), float(err), float(rel),
+                poses.append(Pose(float(x), 1 if k % 2 == 0 else -1, _f(R), _f(t), _f(pts),
+                                  float(err), float(rel),
                                   {"s15": +x, "points": pts, "rotation": R, "translation": t}))
         reason = "" if poses else _empty_reason(infos)
+        notes = (_SPURIOUS_NOTE,)
+        if merged:
+            what = "; ".join(f"s15 = {x:.10g}: {m} roots within 1e-{dps // 3} relative, "
+                             f"{k} assembly mode{'s' if k != 1 else ''} separated"
+                             for x, m, k in merged)
+            notes += (f"not separated at {dps} digits ({what}): modes may be missing",)
+            warnings.warn(f"precise tier: roots of the octic closer than 1e-{dps // 3} "
+                          f"relative were merged ({what}); the count may be wrong (use "
+                          "more digits or method='certified')", ConditioningWarning,
+                          stacklevel=4)
         return AssemblyResult(tuple(poses), "precise", octic, exact, tuple(infos), False,
                               reason, f"mpmath at {dps} digits (working {work}); root "
-                              "residual below 1e-{} relative".format(dps - 8),
-                              (_SPURIOUS_NOTE,))
+                              "residual below 1e-{} relative".format(dps - 8), notes)
 
 
 def _polyroots(coeffs, work):

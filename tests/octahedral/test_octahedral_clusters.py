@@ -56,3 +56,70 @@ def test_no_cluster_verdict_on_random_octahedra():
     found = np.isfinite(bat.raw["roots"]).sum(axis=1)
     for i in range(0, 2000, 50):
         assert forward_kinematics(B[i], Q[i], L[i], method="certified").real_root_count == found[i]
+
+
+def _tri(a):
+    return [[0, 0, 0], [a, 0, 0], [f"{a}/2", f"sqrt(3)*{a}/2", 0]]
+
+
+@pytest.mark.parametrize("big, small, leg", [(2, 1, 2), (12, 6, 10)])
+def test_precise_tier_gives_every_mode_of_a_multiple_root(big, small, leg):
+    """The symmetric home configuration (equilateral base and platform, six equal
+    legs): the exact octic has two triple roots, each carrying three assembly modes
+    (QA, 2026-11-27: the precise tier merged each into one root of multiplicity 1 and
+    gave 8 poses without a word).  Against the exact octic factored by python-flint
+    (the independent route): every real root with its multiplicity, and three modes
+    (six poses) at each triple root, each pose reproducing all six legs and the
+    platform's sides (recomputed here from its points), the 16 poses pairwise
+    distinct.  (The fast tier warns on these problems and is no reference here.)"""
+    import flint
+    base, plat, legs = _tri(big), _tri(small), [leg] * 6
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ConditioningWarning)   # every mode separated
+        res = forward_kinematics(base, plat, legs, method="precise")
+    x = flint.fmpq_poly([0, 1])
+    octic = sum((flint.fmpq(c.numerator, c.denominator) * x ** (len(res.octic) - 1 - k)
+                 for k, c in enumerate(res.octic)), flint.fmpq_poly([0]))
+    exact = []
+    for f, m in octic.factor()[1]:
+        for z, _ in f.complex_roots():
+            if z.imag == 0:
+                exact.append((float(z.real), m))
+    exact.sort()
+    assert [(r.value, r.multiplicity) for r in res.roots] == [
+        (pytest.approx(v, rel=1e-14), m) for v, m in exact]
+    assert [m for _, m in exact].count(3) == 2 and len(res) == 16
+    for r in res.roots:
+        at = [p for p in res if p.s15 == r.value]
+        assert len(at) == 2 * r.multiplicity
+    # each pose, from its points (float): the six legs and the platform's sides
+    B = np.array([[0, 0, 0], [big, 0, 0], [big / 2, 3 ** 0.5 * big / 2, 0]])
+    for p in res:
+        P = {1: B[0], 2: B[1], 3: B[2], 4: p.points[0], 5: p.points[1], 6: p.points[2]}
+        for i, j in ((1, 4), (2, 4), (2, 5), (3, 5), (3, 6), (1, 6)):
+            assert np.linalg.norm(P[i] - P[j]) == pytest.approx(leg, rel=1e-12)
+        for i, j in ((4, 5), (5, 6), (4, 6)):
+            assert np.linalg.norm(P[i] - P[j]) == pytest.approx(small, rel=1e-12)
+    pts = np.array([p.points for p in res]).reshape(16, 9)
+    gaps = np.linalg.norm(pts[:, None] - pts[None], axis=-1) + np.eye(16) * big
+    assert gaps.min() > 1e-6 * big
+
+
+def test_precise_tier_warns_when_it_merges_roots():
+    """Griffis-Duffy with leg 5 2^-40 below a fold (hardset: two assembly modes within
+    ~1e-6 relative): at 15 digits the precise tier cannot separate them and merges
+    them; it says so (``ConditioningWarning``, a note, multiplicity 2), and its count is
+    below the certified one (12 poses); at 30 digits it separates them, silently."""
+    from distkin.octahedral.hardset import hard_set
+    case = next(c for c in hard_set() if c.name == "griffis-duffy leg5 -2^-40")
+    cert = forward_kinematics(case.base, case.platform, list(case.legs), method="certified")
+    with pytest.warns(ConditioningWarning, match="merged"):
+        low = forward_kinematics(case.base, case.platform, list(case.legs),
+                                 method="precise", dps=15)
+    assert len(low) < len(cert) == 12
+    assert any("not separated" in n for n in low.notes)
+    assert max(r.multiplicity for r in low.roots) == 2
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ConditioningWarning)
+        high = forward_kinematics(case.base, case.platform, list(case.legs), method="precise")
+    assert len(high) == len(cert)
