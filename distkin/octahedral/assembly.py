@@ -82,9 +82,10 @@ def assemble_exact(base, x, sides, legs, *, method: str, dps=None, every=None):
 
     Returns
     -------
-    list of ``(points, residual)``, sides +1 and -1 of P5 alternating (two entries,
-    or with ``every`` two per compatible candidate), ``points`` three rows P4 P5 P6 of
-    three scalars, ``residual`` the leg-5 residual of the chosen candidate.
+    list of two ``(points, residual)`` for sides +1 and -1 of P5, ``points`` three rows
+    P4 P5 P6 of three scalars, ``residual`` the leg-5 residual of the chosen candidate;
+    with ``every``, a list of ``(side, points, residual)``, each mode followed by its
+    mirror image.
 
     Raises
     ------
@@ -116,18 +117,24 @@ def assemble_exact(base, x, sides, legs, *, method: str, dps=None, every=None):
                 d = [P6[k] - P3[k] for k in range(3)]
                 res = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - s36
                 cands.append(([P4, P5, P6], res))
-        if every is not None:
-            return _every(cands, every, P1, P2, P3)
-        out.append(_choose(cands, method))
+        if every is None:
+            out.append(_choose(cands, method))
+        else:
+            out.extend((sig, pts, res) for pts, res in _compatible(cands, every))
+    if every is not None:
+        if not explicit:        # each mode followed by its mirror image
+            out = [m for _, pts, res in out
+                   for m in ((1, pts, res), (-1, _reflect(pts, P1, P2, P3), res))]
+        return out
     if len(out) == 1:
         out.append((_reflect(out[0][0], P1, P2, P3), out[0][1]))
     return out
 
 
-def _every(cands, tol, P1, P2, P3):
-    """Every candidate (precise tier) with leg-5 residual at most ``tol``, distinct as
-    point sets (the best one always), each followed by its mirror image in the base
-    plane: ``[(points, residual), ...]`` in pairs, sides +1, -1."""
+def _compatible(cands, tol):
+    """The candidates compatible with leg 5 (``every`` of :func:`assemble_exact`,
+    precise tier): residual at most ``tol``, distinct as point sets (the best one
+    always)."""
     ranked = sorted(cands, key=lambda c: abs(c[1]))
     keep = [ranked[0]]
     for pts, res in ranked[1:]:
@@ -136,10 +143,7 @@ def _every(cands, tol, P1, P2, P3):
         if all(max(abs(a - b) for pa, pb in zip(pts, q) for a, b in zip(pa, pb)) ** 2 > tol
                for q, _ in keep):
             keep.append((pts, res))
-    out = []
-    for pts, res in keep:
-        out += [(pts, res), (_reflect(pts, P1, P2, P3), res)]
-    return out
+    return keep
 
 
 def _reflect(points, P1, P2, P3):

@@ -66,8 +66,9 @@ def solve_certified(problem: Problem, tol: float):
              for i, name in enumerate(PART_NAMES)}
     roots = real_roots(poly, bits=64)
     infos, feasible = [], []
+    open_face = _open_face(problem)
     for r in roots:
-        status, reason = _classify(poly, parts, r)
+        status, reason = ("spurious", open_face) if open_face else _classify(poly, parts, r)
         infos.append([r, status, reason])
         if status == "assembly":
             feasible.append(r)
@@ -85,6 +86,32 @@ def solve_certified(problem: Problem, tol: float):
                           tuple(out), True, reason,
                           f"certified: exact octic, FLINT root isolation, arb balls; point "
                           f"radii <= {tol:.1e} x size", (_SPURIOUS_NOTE,))
+
+
+#: the six side faces of the octahedron (Sec. II): vertices, and their squared sides as
+#: (kind, index) into the problem's sides (s12 s13 s23 s45 s46 s56) and legs (s14 s24
+#: s25 s35 s36 s16)
+_FACES = (("P1 P2 P4", (("sides", 0), ("legs", 0), ("legs", 1))),
+          ("P2 P4 P5", (("legs", 1), ("legs", 2), ("sides", 3))),
+          ("P2 P3 P5", (("sides", 2), ("legs", 2), ("legs", 3))),
+          ("P3 P5 P6", (("legs", 3), ("legs", 4), ("sides", 5))),
+          ("P1 P3 P6", (("sides", 1), ("legs", 4), ("legs", 5))),
+          ("P1 P4 P6", (("legs", 0), ("legs", 5), ("sides", 4))))
+
+
+def _open_face(problem: Problem) -> str:
+    """Why no assembly exists, decided exactly from the squared lengths alone, or "":
+    a side face of the octahedron whose three lengths violate the triangle inequality
+    (16 area^2 = 2(ab + bc + ca) - a^2 - b^2 - c^2 < 0 in the squared sides a, b, c, the
+    Cayley-Menger determinant of the triangle).  Then every real root of the octic is
+    spurious, flat faces at a root included (the classification would stop there)."""
+    for name, which in _FACES:
+        a, b, c = (getattr(problem, "sides2" if k == "sides" else "legs2")[i]
+                   for k, i in which)
+        if 2 * (a * b + b * c + c * a) - a * a - b * b - c * c < 0:
+            return (f"spurious: the face {name} of the octahedron is not a real triangle "
+                    "(its lengths violate the triangle inequality): no assembly exists")
+    return ""
 
 
 def _classify(poly, parts, r):
@@ -154,6 +181,14 @@ def _poses(problem, poly, feasible, sides, legs2, tol, size, flat=()):
                         built.append((side, pts, R, t, err, rel, rad))
                     if max(b[-1] for b in built) <= tol * size:
                         break
+            if bits >= MAX_BITS and r.multiplicity > 1:
+                raise UncertifiedError(
+                    f"s15 = {r.ball} is a root of multiplicity {r.multiplicity}, where "
+                    "several assembly modes can meet (a symmetric configuration: e.g. "
+                    "equilateral base and platform with six equal legs); the balls cannot "
+                    f"single out its placements within {MAX_BITS} bits",
+                    hint="method='precise' gives every mode at a multiple root, each with "
+                         "its leg residual (not certified)")
             if bits >= MAX_BITS:
                 raise UncertifiedError(f"cannot enclose the poses of root s15 = {r.ball} to "
                                        f"{tol:.1e} within {MAX_BITS} bits")

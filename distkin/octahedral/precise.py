@@ -144,10 +144,12 @@ def solve_precise(problem: Problem, dps: int, tol=None):
                                   f"{modes} assembly modes at this root", x))
             if modes < m:
                 merged.append((float(x), m, modes))
-            for k, (pts, _) in enumerate(sets):
+            if m == 1:
+                sets = [(side, pts, res) for side, (pts, res) in zip((1, -1), sets)]
+            for side, pts, _ in sets:
                 R, t = pose_from_points(plat, pts, method="precise")
                 err, rel = _leg_errors(base, pts, legs)
-                poses.append(Pose(float(x), 1 if k % 2 == 0 else -1, _f(R), _f(t), _f(pts),
+                poses.append(Pose(float(x), side, _f(R), _f(t), _f(pts),
                                   float(err), float(rel),
                                   {"s15": +x, "points": pts, "rotation": R, "translation": t}))
         reason = "" if poses else _empty_reason(infos)

@@ -123,3 +123,31 @@ def test_precise_tier_warns_when_it_merges_roots():
         warnings.simplefilter("error", ConditioningWarning)
         high = forward_kinematics(case.base, case.platform, list(case.legs), method="precise")
     assert len(high) == len(cert)
+
+
+def test_certified_tier_at_a_multiple_root_says_what_to_do():
+    """The symmetric home configuration in the certified tier: the balls cannot single
+    out the placements at a triple root (three modes meet); the error says so, names
+    the multiplicity (python-flint's factorisation of the exact octic: (x - 2)^3) and
+    points to the precise tier, which gives the modes (test above)."""
+    from distkin.errors import UncertifiedError
+    with pytest.raises(UncertifiedError, match="multiplicity 3") as err:
+        forward_kinematics(_tri(2), _tri(1), [2] * 6, method="certified")
+    assert "method='precise'" in str(err.value)
+
+
+def test_certified_tier_decides_an_open_face_exactly():
+    """Legs of 1/2 on an equilateral base of side 2: l1 + l2 = 1 < |P1P2| = 2, so the face
+    P1 P2 P4 is no triangle and no assembly exists (the triangle inequality, by hand).
+    The certified tier used to stop at a flat face of a banana at one of the spurious
+    roots (QA, 2026-11-27); it now says "cannot be assembled" naming the face, and
+    ``auto`` gives that answer; the fast tier finds no pose either."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConditioningWarning)
+        fast = forward_kinematics(_tri(2), _tri(1), ["1/2"] * 6)
+        auto = forward_kinematics(_tri(2), _tri(1), ["1/2"] * 6, method="auto")
+    cert = forward_kinematics(_tri(2), _tri(1), ["1/2"] * 6, method="certified")
+    assert len(cert) == len(auto) == len(fast) == 0
+    assert all(r.status == "spurious" and "P1 P2 P4" in r.reason for r in cert.roots)
+    assert cert.reason.startswith("cannot be assembled") and auto.tier == "certified"
+    assert auto.real_root_count == cert.real_root_count
