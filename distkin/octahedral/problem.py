@@ -131,7 +131,10 @@ def check_triangle(sq, names, field):
     of every route of the solver (:func:`float_problem`, :func:`float_single` inline it);
     :class:`DegenerateGeometryError` naming the points ``names`` and ``field``."""
     a, b, c = (float(v) for v in sq)
-    # 16 A^2 = 2(ab + bc + ca) - (a^2 + b^2 + c^2)
+    # 16 A^2 = 2(ab + bc + ca) - (a^2 + b^2 + c^2), relative to the largest side (the test
+    # is homogeneous: a triangle tiny against the legs must not underflow to "flat")
+    m = max(a, b, c)
+    a, b, c = (a / m, b / m, c / m) if m > 0 else (a, b, c)
     a16 = 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c)
     if not a16 > 1e-12 * (a + b + c) ** 2:
         raise DegenerateGeometryError(
@@ -200,6 +203,14 @@ def _floats(value, field):
     except ValueError:
         raise InputError(f"expected a regular array of numbers, got {value!r}",
                          field=field) from None
+    if raw.dtype.kind == "b" or (raw.dtype.kind in "fiu" and not isinstance(value, np.ndarray)
+                                 and any(isinstance(v, (bool, np.bool_)) for v in
+                                         np.asarray(value, dtype=object).ravel())):
+        at = next(j for j, v in enumerate(np.asarray(value, dtype=object).ravel())
+                  if isinstance(v, (bool, np.bool_)))
+        idx = "".join(f"[{int(j)}]" for j in np.unravel_index(at, raw.shape))
+        raise InputError(f"expected a number, got the boolean "
+                         f"{np.asarray(value, dtype=object).ravel()[at]!r}", field=field + idx)
     if raw.dtype.kind == "f":
         return raw.astype(float), np.ones(raw.shape, bool)
     if raw.dtype.kind in "iu":
@@ -256,8 +267,11 @@ def float_problem(base, platform, legs):
         if a.shape[-len(shape):] != shape:
             raise InputError(f"expected shape (..., {', '.join(map(str, shape))}), got "
                              f"{a.shape}", field=field)
-        if not np.all(np.isfinite(a)):
-            raise InputError("expected finite numbers, got NaN or inf", field=field)
+        ok = np.isfinite(a)
+        if not np.all(ok):
+            at = tuple(int(v) for v in np.argwhere(~ok)[0])
+            raise InputError(f"expected finite numbers, got {float(a[at])!r}",
+                             field=field + "".join(f"[{v}]" for v in at))
         return a, ~exact
     B, rB = arr(base, "base", (3, 3))
     Q, rQ = arr(platform, "platform", (3, 3))
@@ -292,10 +306,17 @@ def float_problem(base, platform, legs):
     sides2 = _sides2(B, Q)
     for (j, names, fld) in ((0, "P1 P2 P3", "base"), (3, "P4 P5 P6", "platform")):
         a, b, c = sides2[:, j], sides2[:, j + 1], sides2[:, j + 2]
+        m = np.maximum(np.maximum(a, b), c)       # (relative: no underflow, see
+        m = np.where(m > 0, m, 1.0)               # check_triangle)
+        a, b, c = a / m, b / m, c / m
         a16 = 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c)
-        if np.any(~(a16 > 1e-12 * (a + b + c) ** 2)):
+        flat = ~(a16 > 1e-12 * (a + b + c) ** 2)
+        if np.any(flat):
+            i = int(np.flatnonzero(flat)[0])
             raise DegenerateGeometryError(f"expected a proper triangle {names}, got collinear "
-                                          "or coincident points", field=fld)
+                                          "or coincident points"
+                                          + (f" in problem {i}" if N > 1 else ""),
+                                          field=f"{fld}[{i}]" if N > 1 else fld)
     return B, Q, L, sides2, L * L, k, rounded
 
 
@@ -356,10 +377,17 @@ def float_single(base, platform, legs):
         Q = _float_rows(platform)
         L = _float_row(legs.tolist() if isinstance(legs, np.ndarray) else legs, 6)
     except (TypeError, ValueError):             # (unpacking a wrong shape: ValueError)
+        for value, field, shape in ((base, "base", _SHAPE33), (platform, "platform", _SHAPE33),
+                                    (legs, "legs", _SHAPE6)):
+            try:
+                got = np.shape(value)
+            except ValueError:                  # (ragged)
+                got = None
+            if got is not None and got != shape:
+                raise InputError(f"expected shape {shape}, got {got}", field=field,
+                                 hint="use forward_kinematics_batched for many problems"
+                                 if len(got) > len(shape) else None)
         B, Q, L, _, _, k, rounded = float_problem(base, platform, legs)
-        if B.shape[0] != 1:
-            raise InputError(f"expected one set of 6 legs, got shape {np.shape(legs)}",
-                             field="legs", hint="use forward_kinematics_batched for many")
         return B[0].tolist(), Q[0].tolist(), L[0].tolist(), int(k[0]), bool(rounded[0])
     isfinite = math.isfinite
     flat = B[0] + B[1] + B[2] + Q[0] + Q[1] + Q[2]
@@ -382,8 +410,7 @@ def float_single(base, platform, legs):
         b = (ax - cx) ** 2 + (ay - cy) ** 2 + (az - cz) ** 2
         c = (bx - cx) ** 2 + (by - cy) ** 2 + (bz - cz) ** 2
         if not 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c) > 1e-12 * (a + b + c) ** 2:
-            raise DegenerateGeometryError(f"expected a proper triangle {names}, got collinear "
-                                          "or coincident points", field=fld)
+            check_triangle((a, b, c), names, fld)   # (relative: a tiny triangle is not flat)
     return B, Q, L, k, False
 
 
@@ -444,7 +471,7 @@ def _float_row(r, n):
     below 2^53), so that every float here is exactly the value given; strings,
     Fractions, large integers and sympy numbers take the general path, which says when
     it rounds."""
-    if len(r) != n:
+    if len(r) != n or any(type(v) is bool for v in r):
         raise ValueError
     row = list(map(float, r))
     if row != list(r):            # exact comparisons: "19.8" or 1/3 is not its float

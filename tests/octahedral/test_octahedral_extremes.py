@@ -230,3 +230,42 @@ def test_degree_drop_when_a_root_goes_to_infinity():
     assert fast.conditioning.trusted
     assert len(fast) == len(res) == 4
     assert np.allclose([p.points for p in fast], [p.points for p in res], atol=1e-9)
+
+
+def test_inputs_are_refused_alike_by_every_tier():
+    """QA (2026-11-27): a boolean leg and legs of shape (1, 6) were taken by the fast
+    tier (single) but refused by the exact tiers; a negative or NaN ``tol`` came out as
+    an ``UncertifiedError``; the batched errors did not say which problem; legs of
+    1e100 on a base of side 12 were called a collinear base (its 16 area^2 underflowed).
+    Now every tier refuses the same inputs, naming the field (and the problem)."""
+    base = [[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]]
+    plat = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]]
+    legs = [19.8, 18, 18, 17, 14.9, 17.8]
+    for method in ("fast", "auto", "precise", "certified"):
+        with pytest.raises(InputError, match="boolean True") as err:
+            forward_kinematics(base, plat, [True] + legs[1:], method=method)
+        assert err.value.field == "legs[0]"
+        with pytest.raises(InputError) as err:
+            forward_kinematics(base, plat, [legs], method=method)
+        assert err.value.field == "legs"
+    for method, tol in (("certified", -1), ("precise", float("nan")), ("auto", "x")):
+        with pytest.raises(InputError, match="positive finite tolerance") as err:
+            forward_kinematics(base, plat, legs, method=method, tol=tol)
+        assert err.value.field == "tol"
+    B = np.array([[[0, 0, 0], [6, 108 ** 0.5, 0], [12, 0, 0]]] * 3)
+    P = np.array([[[0, 0, 0], [6, 0, 0], [3, 27 ** 0.5, 0]]] * 3)
+    L = np.array([legs] * 3)
+    L[2, 1] = np.nan
+    with pytest.raises(InputError) as err:
+        forward_kinematics_batched(B, P, L)
+    assert err.value.field == "legs[2][1]"
+    B[1, 2] = 2 * B[1, 1]                       # P3 = 2 P2: collinear with P1
+    with pytest.raises(DegenerateGeometryError, match="problem 1") as err:
+        forward_kinematics_batched(B, P, np.array([legs] * 3))
+    assert err.value.field == "base[1]"
+    # a base tiny against the legs is no collinear base: every tier takes it (the
+    # fast tier's proof then refuses the span, and says so)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        forward_kinematics(base, plat, [1e100] * 6)
+    forward_kinematics(base, plat, [10 ** 30] * 6, method="precise")

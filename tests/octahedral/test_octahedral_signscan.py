@@ -256,7 +256,7 @@ def test_compiled_checks_and_window_equal_the_numpy_routes(problems):
     flat[3, 2] = flat[3, 0] + 2 * (flat[3, 1] - flat[3, 0])      # P6 on the line P4 P5
     with pytest.raises(DegenerateGeometryError) as err:
         float_problem(B, flat, L)
-    assert err.value.field == "platform"
+    assert err.value.field == "platform[3]"          # (the problem at fault)
     _, _, _, s2, l2, _, _ = float_problem(B, Q, L)
     far = l2.copy()
     far[:, 2] *= 100.0                                  # P2P5 too long: no assembly
