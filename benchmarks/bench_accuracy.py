@@ -411,11 +411,13 @@ def run():
         "`tests/stability/test_stability_octahedral.py`).",
         "",
         "What the root radii say (`RootInfo.radius_kind`) on the families, against the "
-        "certified roots of the same floats: a `proved` radius (the fast tier's proof; "
-        "`certified` in the certified tier) must never be exceeded; an `estimate` (the "
-        "last Newton step: the bare tier, roots outside the feasible interval, unproved "
-        "answers) is not a bound, and this says how far from one it is (on an unproved "
-        "answer a fast root may have no certified root near it at all):",
+        "certified roots of the same floats: a `proved` radius (the fast tier's proof, "
+        "around the spurious roots outside the feasible interval too since step 8 of "
+        "`distkin/octahedral/descartes.py`; `certified` in the certified tier) must never "
+        "be exceeded; an `estimate` (the last Newton step: the bare tier, unproved "
+        "answers, a root around which the proof found no radius) is not a bound, and this "
+        "says how far from one it is (on an unproved answer a fast root may have no "
+        "certified root near it at all):",
         "",
         "| form, kind | roots | farther than their radius | by (median factor) "
         "| radius / root (median) |",
