@@ -1,6 +1,6 @@
 r"""The octic of the octahedral manipulator with running rounding bounds: the bounded
 evaluations, Bernstein expansions and counts the fast tier's proof is made of
-(:mod:`.descartes`, steps 3, 4 and 6 of its docstring).
+(:mod:`.descartes`, steps 3, 4, 6 and 8 of its docstring).
 
 Rojas, Borràs and Thomas, *The Octahedral Manipulator Revisited*, ICRA 2012, eq. (3):
 :math:`H = G^2 - 4R_1R_2`, :math:`G = uE_2 + vE_1 + 2b_1b_2`,
@@ -317,3 +317,27 @@ def _bracketed(d, xl, xr):
         x = xn
     return x
 
+
+@numba.njit(cache=True)
+def _outside(d, e, a, b, lo, hi, roots, radii):
+    """Step 8 of :mod:`.descartes`: a proved radius for each root outside [a, b]
+    (increasing ``roots``; ``radii`` written where H has proved opposite signs at
+    r -+ rho), within half the gaps to its neighbours and off [a, b], so that the
+    exact roots so found are distinct from each other and from those in [a, b]."""
+    n = roots.size
+    scale = max(abs(lo), abs(hi))
+    for k in range(n):
+        r = roots[k]
+        if a <= r <= b:
+            continue
+        lo_in = 0.5 * (roots[k - 1] + r) if k > 0 else -np.inf
+        hi_in = 0.5 * (r + roots[k + 1]) if k + 1 < n else np.inf
+        if a <= b:
+            if r < a:
+                hi_in = min(hi_in, a)
+            else:
+                lo_in = max(lo_in, b)
+        lim = min(r - lo_in, hi_in - r, max(abs(r), scale))
+        found, rho = _grow(d, e, r, _first_radius(d, e, r, lim), lim, lo_in, hi_in)
+        if found:
+            radii[k] = rho * (1.0 + 4.0 * U) + 4.0 * U * abs(r)

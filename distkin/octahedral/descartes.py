@@ -91,11 +91,10 @@ The argument
    single solve, a batched ``result(i)``) and a proved answer: around each, a radius
    grown as in step 6 until :math:`H(r\pm\rho)` have proved opposite signs, inside
    half the gaps to the neighbouring roots found and off :math:`[a, b]`
-   (:func:`_outside`).  Then an exact real root lies within :math:`\rho` of each, a
-   different one for each and none of those in :math:`[a, b]`; where no such
-   :math:`\rho` is found, the root keeps its estimate (on the 240 family problems of
-   :mod:`.hardset`: every one of the 307 such roots of the proved answers got one,
-   none exceeded by the distance to the certified root).
+   (:func:`.bounded_octic._outside`): an exact real root lies within :math:`\rho`
+   of each, a different one for each, none in :math:`[a, b]` (where no :math:`\rho`
+   is found the root keeps its estimate; on the 240 family problems of :mod:`.hardset`
+   all 307 such roots of proved answers got one, none exceeded).
 
 What it does not claim: the count of *spurious* real roots outside :math:`[a, b]`
 (they give no pose: step 8 proves that each root found there is near a real root of
@@ -146,7 +145,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .bounded_octic import _bernstein, _bracketed, _count, _first_radius, _grow, _sign, _status
+from .bounded_octic import (_bernstein, _bracketed, _count, _first_radius, _grow, _outside,
+                            _sign, _status)
 from .casteljau import STACK, _changes, _sign_of, count, cut_point, split, unscale, weights
 from .error_bounds import (ETA_FLOAT, LEAF_BOUND, U, error_cache, eta_rounded, margin,
                            part_errors, part_errors_into)
@@ -266,31 +266,6 @@ def _vouch(d, s2, l2, eta, lo, hi, roots, codes, radii, tight, ws):
     if tight:
         _outside(d, e, a, b, lo, hi, roots, radii)
     return 0
-
-
-@numba.njit(cache=True)
-def _outside(d, e, a, b, lo, hi, roots, radii):
-    """Step 8 of the module docstring: a proved radius for each root outside [a, b]
-    (increasing ``roots``; ``radii`` written where H has proved opposite signs at
-    r -+ rho), within half the gaps to its neighbours and off [a, b], so that the
-    exact roots so found are distinct from each other and from those in [a, b]."""
-    n = roots.size
-    scale = max(abs(lo), abs(hi))
-    for k in range(n):
-        r = roots[k]
-        if a <= r <= b:
-            continue
-        lo_in = 0.5 * (roots[k - 1] + r) if k > 0 else -np.inf
-        hi_in = 0.5 * (r + roots[k + 1]) if k + 1 < n else np.inf
-        if a <= b:
-            if r < a:
-                hi_in = min(hi_in, a)
-            else:
-                lo_in = max(lo_in, b)
-        lim = min(r - lo_in, hi_in - r, max(abs(r), scale))
-        found, rho = _grow(d, e, r, _first_radius(d, e, r, lim), lim, lo_in, hi_in)
-        if found:
-            radii[k] = rho * (1.0 + 4.0 * U) + 4.0 * U * abs(r)
 
 
 @numba.njit(cache=True)
