@@ -30,6 +30,8 @@ __all__ = [
     "method_field",
     "fast_only",
     "executor_fields",
+    "scheduler_address",
+    "dps_field",
 ]
 
 _MISSING = object()
@@ -166,3 +168,53 @@ def executor_fields(table: Mapping, field: str):
     if store is not None and not isinstance(store, str):
         raise InputError(f"expected a directory path, got {store!r}", field=f"{field}.store")
     return workers, sched, store
+
+
+#: dask schemes whose location is ``host:port`` (inproc and the others have their own)
+_HOST_PORT_SCHEMES = ("tcp", "tls", "ws", "wss", "ucx")
+
+
+def scheduler_address(value, field: str = "scheduler") -> str:
+    """A dask.distributed scheduler address, ``[SCHEME://]HOST:PORT`` (``tcp://10.0.0.5:8786``,
+    ``[::1]:8786``): checked before any connection, so a malformed one is bad input
+    naming ``field`` rather than dask's own ``ValueError``."""
+    if not isinstance(value, str) or not value.strip():
+        raise InputError(f"expected a scheduler address like tcp://HOST:8786, got {value!r}",
+                         field=field)
+    scheme, sep, loc = value.rpartition("://")
+    if sep and not scheme.isalnum():
+        raise InputError(f"expected a scheduler address like tcp://HOST:8786, got {value!r} "
+                         f"(scheme {scheme!r})", field=field)
+    if sep and scheme not in _HOST_PORT_SCHEMES:
+        return value                      # inproc://..., another transport's own syntax
+    if loc.startswith("["):               # IPv6: [addr]:port
+        host, _, tail = loc[1:].partition("]")
+        port = tail[1:] if tail.startswith(":") else None
+    else:
+        host, colon, port = loc.rpartition(":")
+        if not colon or ":" in host:
+            host, port = loc, None
+    why = ("no host" if not host else "no port number" if port is None else
+           None if port.isdigit() and 0 < int(port) < 65536 else f"port {port!r}")
+    if why:
+        raise InputError(f"expected a scheduler address like tcp://HOST:8786, got {value!r} "
+                         f"({why})", field=field)
+    return value
+
+
+def dps_field(table: Mapping, method: str, field: str, uses=("precise",)) -> int:
+    """``dps`` of a query: the decimal digits of the precise tier (an integer >= 5,
+    default 30), given only with a method in ``uses`` (the ones that compute in mpmath);
+    with another method it would be ignored, so it is refused naming ``field.dps``."""
+    from .exact import default_dps
+    if "dps" not in table:
+        return default_dps(None)
+    try:
+        dps = default_dps(table["dps"])
+    except InputError as exc:
+        raise InputError(exc.message, field=f"{field}.dps") from None
+    if method not in uses:
+        raise InputError(f"expected 'dps' only with method "
+                         f"{' or '.join(repr(u) for u in uses)} (the mpmath digits), got "
+                         f"method {method!r}", field=f"{field}.dps")
+    return dps

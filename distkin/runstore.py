@@ -26,8 +26,10 @@ function ``task(spec) -> dict of numpy arrays``.  :func:`run_chunks`
 Chunks are keyed by the **code version** as well as by the sweep's definition
 (:func:`code_version`: the package version and a hash of the package's source), so
 chunks computed by other code are never mixed in: the default store of a query
-(:func:`default_store`, under the user cache) is a folder per code version, and a store
-given by the user that holds another version's chunks is refused with a hint.
+(:func:`default_store`, under the user cache) is a folder per code version, with a
+sub-folder per sweep definition (:func:`keyed_store`: an edited scene, or another scene
+of the same file name, starts its own store), and a store given by the user that holds
+another version's or another sweep's chunks is refused with a hint.
 """
 
 from __future__ import annotations
@@ -47,8 +49,8 @@ from ._version import __version__
 from .errors import DistkinError, InputError
 
 __all__ = ["run_chunks", "make_store", "local_executor", "dask_executor", "executor_for",
-           "sweep_key", "code_version", "user_cache_dir", "default_store", "WORKER_ENV",
-           "NO_WORKER_TIMEOUT_S"]
+           "sweep_key", "code_version", "user_cache_dir", "default_store", "keyed_store",
+           "WORKER_ENV", "NO_WORKER_TIMEOUT_S"]
 
 #: environment of the local pool's workers (single-threaded BLAS)
 WORKER_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
@@ -84,11 +86,33 @@ def code_version() -> str:
     return f"{__version__}-{h.hexdigest()[:12]}"
 
 
+def _default_root() -> Path:
+    return user_cache_dir() / "sweeps" / code_version()
+
+
 def default_store(name: str) -> Path:
     """Where a query keeps its chunks when the scene names no ``store``:
     ``user_cache_dir()/sweeps/<code_version()>/<name>`` (one folder per code version, so
-    chunks left by another version are neither reused nor in the way)."""
-    return user_cache_dir() / "sweeps" / code_version() / name
+    chunks left by another version are neither reused nor in the way).  :func:`run_chunks`
+    keeps a sweep's chunks in a sub-folder named by the key of the sweep's definition
+    (:func:`keyed_store`), so a changed sweep under the same name starts a new store and
+    an unchanged one resumes."""
+    return _default_root() / name
+
+
+def keyed_store(store, key: str) -> Path:
+    """The folder :func:`run_chunks` uses for a sweep of key ``key`` in ``store``: below
+    the default stores (:func:`default_store`), ``store/key`` (unless ``store`` already
+    ends in it: the studies key their stores themselves); a store the user named, as it
+    is (a different sweep there is refused with a hint)."""
+    store = Path(store)
+    if store.name == key:
+        return store
+    try:
+        store.resolve().relative_to(_default_root().resolve())
+    except ValueError:
+        return store
+    return store / key
 
 
 def sweep_key(definition) -> str:
@@ -128,9 +152,11 @@ def dask_executor(address: str, timeout: str = "10s"):
         raise InputError("expected the optional dependency 'distributed' for --scheduler, "
                          "got an environment without it", field="scheduler",
                          hint="pip install 'distkin[distributed]'") from None
+    from .argcheck import scheduler_address
+    scheduler_address(address, "scheduler")
     try:
         client = Client(address, timeout=timeout)
-    except (OSError, TimeoutError) as exc:
+    except (OSError, TimeoutError, ValueError) as exc:
         raise InputError(f"expected a reachable dask scheduler, got {address!r}: {exc}",
                          field="scheduler") from None
     try:
@@ -258,7 +284,9 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
     specs : sequence
         Picklable chunk descriptions, in order.
     store : path
-        Directory of the chunk files (created).  Chunks already there are reused.
+        Directory of the chunk files (created).  Chunks already there are reused.  A
+        default store (:func:`default_store`) gets a sub-folder per sweep definition
+        (:func:`keyed_store`).
     definition : JSON-able, optional
         What defines the sweep; its key is kept in ``store/sweep.json`` and a store
         made for another definition is refused (InputError).
@@ -282,8 +310,8 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
     A ``KeyboardInterrupt`` cancels the pending chunks and propagates; every chunk
     finished before it is on disk.
     """
-    store = make_store(store)
     key = sweep_key(definition if definition is not None else [repr(s) for s in specs])
+    store = make_store(keyed_store(store, key))
     code = code_version()
     meta = store / "sweep.json"
     if meta.exists():

@@ -3,8 +3,9 @@
 The bug this guards: ``distkin demo`` failed on its certified-workspace scene when the
 user cache held chunks of that scene made by another version of distkin (the store was
 refused as "made for another sweep").  Now the default store is a folder per code
-version, and a store that the user names is refused, with a hint, only if another
-version of the code filled it (never silently mixed).
+version, with a sub-folder per sweep definition, and a store that the user names is
+refused, with a hint, only if another version of the code or another sweep filled it
+(never silently mixed).
 """
 
 import json
@@ -54,7 +55,9 @@ def test_certify_scene_runs_beside_chunks_of_another_code_version(tmp_path, monk
     records, _, worst = run_scene(scene, progress=False)
     assert worst == 0, records[0].get("error")
     assert records[0]["result"]["store"] == str(default_store(name))
-    assert (default_store(name) / "sweep.json").exists()
+    # the default store keeps the sweep in a sub-folder named by its definition's key
+    metas = list(default_store(name).glob("*/sweep.json"))
+    assert len(metas) == 1 and metas[0].parent.name == json.loads(metas[0].read_text())["key"]
 
 
 def test_a_named_store_filled_by_other_code_is_refused(tmp_path):
@@ -95,3 +98,43 @@ def test_chunks_written_stacked_load_back_bit_for_bit(tmp_path):
             x = np.asarray(a[k])
             assert b[k].dtype == x.dtype and b[k].shape == x.shape, k
             assert np.array_equal(b[k], x), k
+
+
+_CERT = """
+[units]
+length = "mm"
+angle = "deg"
+[mechanism]
+kind = "rss"
+preset = "hunt"
+[[query]]
+type = "certify_workspace"
+region = {{ lower = [0, 0, 300, 0, 0, 0], upper = [{x}, 0, 300, 0, 0, 0] }}
+workers = 1
+"""
+
+
+def test_default_store_is_keyed_by_the_sweep_definition(tmp_path, monkeypatch, capsys):
+    """The default store was keyed by the scene file's name and the query type only: an
+    edited scene (or another scene of the same name) exited 2 with "expected a chunk
+    store made for this sweep".  Now a changed sweep starts its own store and an
+    unchanged one resumes from it."""
+    from distkin.app.cli import main
+    monkeypatch.setenv("DISTKIN_CACHE", str(tmp_path / "cache"))
+    scene = tmp_path / "s.toml"
+    out = tmp_path / "out.json"
+
+    def run(x):
+        scene.write_text(_CERT.format(x=x), encoding="utf-8")
+        code = main(["sweep", str(scene), "--no-progress", "--json", str(out)])
+        assert code == 0, capsys.readouterr().err
+        return json.loads(out.read_text())["queries"][0]["result"]
+
+    first = run(10)
+    second = run(20)                                  # same file name, another region
+    assert second["region"]["upper"][0] == pytest.approx(0.020)
+    again = run(10)                                   # the first sweep, unchanged
+    assert again["chunks_resumed"] == again["chunks"] == first["chunks"]
+    metas = sorted(default_store("s_certify_workspace").glob("*/sweep.json"))
+    keys = {json.loads(m.read_text())["key"] for m in metas}
+    assert len(metas) == 2 and keys == {m.parent.name for m in metas}

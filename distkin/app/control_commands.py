@@ -15,7 +15,9 @@ watchdog_trips, safety_events, exit_reason`` and more.  ``cycle_p50_ms`` /
 ``cycle_p99_ms`` are the controller's compute time per cycle (frame received ->
 command written); ``period_p50_ms`` / ``period_p99_ms`` the time between cycles.
 Exit codes: 0 the run completed; 1 it ended on a disconnect or a failure (the
-summary's ``exit_reason`` says which); 2 bad input; 130 interrupted.
+summary's ``exit_reason`` says which); 2 bad input (also a device whose first state
+frame holds another number of joint angles than the scene has legs:
+``device_mismatch``); 130 interrupted.
 """
 
 from __future__ import annotations
@@ -151,11 +153,14 @@ def _wait_port(proc, port_file: Path, timeout: float) -> str:
 
 def format_summary(s: dict) -> str:
     """The closing summary, one line per topic, units on every number."""
+    compute = ("compute per cycle: no frames" if s["cycle_p50_ms"] is None else
+               f"compute per cycle: p50 {s['cycle_p50_ms']} ms, p99 {s['cycle_p99_ms']} ms")
+    period = ("period: fewer than two cycles" if s["period_p50_ms"] is None else
+              f"period p50 {s['period_p50_ms']} ms, p99 {s['period_p99_ms']} ms")
     lines = [
         f"distkin control: {s['exit_reason']} -- {s['cycles']} cycles in {s['seconds']:.3f} s "
         f"wall ({s['rate_hz']:.1f} Hz), {s['device_seconds']:.3f} s device time",
-        f"  compute per cycle: p50 {s['cycle_p50_ms']} ms, p99 {s['cycle_p99_ms']} ms; "
-        f"period p50 {s['period_p50_ms']} ms, p99 {s['period_p99_ms']} ms"
+        f"  {compute}; {period}"
         + (f"; {s['loop_rate_hz']:.1f} Hz from the first frame to the last"
            if s.get("loop_rate_hz") else ""),
         f"  link: {s['bad_frames']} bad frames, {s['resyncs']} resyncs, {s['timeouts']} read "
@@ -273,6 +278,9 @@ def cmd_control(args) -> int:
         for d in cleanup:
             d.cleanup()
     text = format_summary(summary)
+    if summary["exit_reason"] == "device_mismatch":    # bad input: one line naming it
+        print(f"distkin: error: {'--scene' if args.scene else 'the built-in scene'}: "
+              f"{summary['error']}", file=sys.stderr)
     if args.json == "-":
         print(text, file=sys.stderr)
         print(json.dumps(summary, indent=2))

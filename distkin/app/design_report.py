@@ -24,6 +24,8 @@ def design_sweep_report(p, scene, ctx, *, store, executor):
     from ..indices.design import sweep_designs
     from ..indices.workspace import PoseGrid
     grid: PoseGrid = p.grid
+    ctx.notice(f"design_sweep: {len(p.space.designs()):,} designs × {grid.size:,} poses "
+               f"({grid.n_positions:,} positions × {grid.n_orientations:,} orientations)")
     poses = grid.poses(np.arange(grid.n_positions))
     with executor() as ex:
         r = sweep_designs(p.space, poses, algorithm=p.algorithm, ST=p.scaling, store=store,

@@ -118,8 +118,12 @@ def _leg(table, units, fld):
                 if len(v) != 2:
                     raise InputError(f"expected a number or [min, max], got {v!r}", field=f)
                 out[k] = tuple(_number(x, f"{f}[{i}]") for i, x in enumerate(v))
-            else:
+            else:                              # a number: ±limit, so a magnitude
                 out[k] = _number(v, f)
+                if not out[k] > 0:
+                    raise InputError(f"expected a positive effort limit (a number stands for "
+                                     f"±limit; [min, max] for asymmetric limits), got {v!r} "
+                                     f"{'N' if prismatic else 'N·m'}", field=f)
     return out
 
 

@@ -19,6 +19,7 @@ Unless ``l3`` is given it follows the reading's rule (:mod:`.presets`).
 
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 
 from ..argcheck import check_keys, choice, require
@@ -57,6 +58,10 @@ def parse_rss(table, units, field):
             # same SI number whichever unit the scene is written in)
             over[k] = exact_to_float(ex, f"{field}.{k}", Fraction(units.length_factor)
                                      if k in LENGTHS else af if k in ANGLES else 1)
+            if k in ANGLES and not 0 <= over[k] < math.pi / 2:   # this field, both units
+                raise InputError(f"expected {k} in [0°, 90°), got {over[k]:.6g} rad (the "
+                                 f"scene's {k} = {table[k]!r} {units.angle})",
+                                 field=f"{field}.{k}")
     try:
         return preset(name, **over)
     except InputError as exc:

@@ -100,6 +100,10 @@ def parse_platform_legs(table, units, field):
         f = table["force"]
         kw["force"] = (tuple(_float(v, f"{field}.force[{i}]") for i, v in enumerate(f))
                        if isinstance(f, list) else _float(f, f"{field}.force"))
+        if not isinstance(f, list) and not kw["force"] > 0:   # a number stands for ±force
+            raise InputError(f"expected a positive force limit (a number stands for ±force; "
+                             f"[min, max] for asymmetric limits), got {f!r} N",
+                             field=f"{field}.force")
     if "origin" in table:
         kw["origin"] = tuple(float(x) for x in parse_vector(table["origin"],
                                                              f"{field}.origin", length=3))

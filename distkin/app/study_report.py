@@ -219,6 +219,9 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
     with executor() as ex:
         for d in p.devices:
             grid = grid_of(d)
+            ctx.notice(f"performance: {d.label}: {grid.size:,} poses ({grid.n_positions:,} "
+                       f"positions × {grid.n_orientations:,} orientations) in "
+                       f"{-(-grid.n_positions // p.chunk_positions):,} chunks")
             dev = Device(d.label, d.mech, grid, d.paper, d.inner)
             per, sec = run_device(dev, store=store_of(d.label), executor=ex,
                                   chunk_positions=p.chunk_positions, actuators=actuators,

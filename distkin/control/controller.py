@@ -397,8 +397,10 @@ class Controller:
 
         The run ends when the device clock has advanced by ``seconds`` since the first
         frame, when the wall clock reaches ``wall_limit`` (default ``2 seconds + 10``),
-        when no valid frame arrives within :attr:`STARTUP_TIMEOUT_S`, on a disconnect,
-        on SIGINT/SIGTERM, or on an internal error.  Every way out
+        when no valid frame arrives within :attr:`STARTUP_TIMEOUT_S`, when the first
+        state frame holds another number of joint angles than the model has legs
+        (``device_mismatch``, exit code 2: the scene is not the device's), on a
+        disconnect, on SIGINT/SIGTERM, or on an internal error.  Every way out
         sends zero torque (best effort if the link is gone).
 
         Returns
@@ -472,6 +474,15 @@ class Controller:
                                             last.torques)
                         link.write_command(last)
                     continue
+                n = frame.angles.shape[0] if frame.angles.ndim == 1 else -1
+                if n != self.L and t_first is None:
+                    # the first frame already says it: another device than the scene's
+                    reason = "device_mismatch"
+                    self.error = (f"device sends {n} joint angles, scene has {self.L} legs "
+                                  f"(expected state frames with {self.L} encoder angles: is "
+                                  f"the scene the device's?)")
+                    self._event("device_mismatch", t0, frame, joints=n, legs=self.L)
+                    break
                 why = self.check_reading(frame)
                 if why:
                     self._event("bad_reading", t0, frame, reason=why)

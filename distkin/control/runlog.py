@@ -213,7 +213,7 @@ def run_summary(ctl, link, cycles, wall, t_first, t_last, compute, compute_cpu, 
     ``force_limit_N`` for prismatic ones (``ctl.scene.effort_unit``)."""
     st = link.stats
     dev_s = 0.0 if t_first is None else (t_last - t_first) * 1e-6
-    code = {"completed": 0, "interrupted": 130}.get(reason, 1)
+    code = {"completed": 0, "interrupted": 130, "device_mismatch": 2}.get(reason, 1)
     if ctl.scene.effort_unit == "N":
         effort = {"max_abs_force_N": round(ctl.max_abs_torque, 4),
                   "force_limit_N": ctl.pd.torque_limit}

@@ -56,3 +56,29 @@ def test_radial_hexa_singular_fraction():
     res = _run("certify_hexa.toml", "certify_workspace")
     assert 100 * res["singular_fraction"] == pytest.approx(float(m[1]), abs=0.05)
     assert 100 * res["undecided_fraction"] == pytest.approx(float(m[2]), abs=0.05)
+
+
+def test_fig3_findings_of_the_hexa_and_ergin_presets_are_as_the_readme_says():
+    """README: with ``certify = true`` the Fig. 3 finding of each of the hexa and ergin
+    presets is NOT HELD (our certificate says regular, the paper singular), and every
+    other comparison with them is "not comparable" (it claimed every comparison, while
+    the coarse study printed "[NOT HELD] HEXA: singularities in the 150 mm cube")."""
+    from distkin.indices.study import CAPABILITIES, SENSITIVITIES
+    from distkin.indices.study_findings import findings
+    _readme(r"With `certify = true` the study reports the Fig\. 3 finding itself for each "
+            r"of the two as NOT HELD .* and for that reason marks every other comparison "
+            r"with these two presets \"not comparable\"")
+    rows = [c[0] for c in CAPABILITIES] + [s[0] for s in SENSITIVITIES]
+    devices = [{"label": label, "paper_column": col, "L": 6,
+                "table": {r: {"min": 1.0, "max": 2.0} for r in rows}}
+               for label, col in (("Hunt-type", "hunt"), ("HEXA", "hexa"),
+                                  ("Ergin's device", "ergin"))]
+    certified = {"Hunt-type": "regular", "HEXA": "regular", "Ergin's device": "regular"}
+    out = findings(devices, certified)
+    fig3 = {f["finding"]: f["status"] for f in out if f["source"].startswith("Fig. 3")}
+    assert fig3 == {"Hunt-type: no singularity in the 150 mm cube at zero rotation": "HELD",
+                    "HEXA: singularities in the 150 mm cube at zero rotation": "NOT HELD",
+                    "Ergin's device: singularities in the 150 mm cube at zero rotation":
+                        "NOT HELD"}
+    others = [f for f in out if not f["source"].startswith("Fig. 3")]
+    assert others and all(f["status"] == "NOT COMPARABLE" for f in others)

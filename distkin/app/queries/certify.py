@@ -38,7 +38,9 @@ the minimum of the classification's own bounds).
 
 The JSON result is in SI: volumes over the varying coordinates in ``volume_unit``
 (m^3, or m^3 rad^3 for the 6-D region), with fractions of ``total_volume``, and
-``boxes`` (corners in m and rad, a status code per box, see ``boxes.legend``).
+``boxes`` (corners in m and rad, a status code per box, see ``boxes.legend``), and
+``store``, the chunk store's folder (the default one, under the user cache, holds a
+sub-folder per region definition: :func:`distkin.runstore.keyed_store`).
 """
 
 from __future__ import annotations
@@ -50,7 +52,7 @@ from pathlib import Path
 import numpy as np
 
 from ...argcheck import (as_table, check_keys, choice, executor_fields, positive_int,
-                        positive_number)
+                        positive_number, scheduler_address)
 from ...errors import InputError
 from ...exact import parse_float
 from ..query import Outcome, register
@@ -141,6 +143,8 @@ class CertifyWorkspaceQuery:
             raise InputError(f"expected at most 100000 initial chunks, got split**{nvary} = "
                              f"{split ** nvary}", field=f"{field}.split")
         workers, sched, store = executor_fields(table, field)
+        if sched is not None:
+            scheduler_address(sched, f"{field}.scheduler")
         return _Params(tuple(lower), tuple(upper), (mw,) * 3 + (ma,) * 3, form, split,
                        max_boxes, tighten, workers, sched, store, units.length, units.angle)
 
@@ -206,10 +210,19 @@ def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> s
     lines = [f"Certified workspace of {cert.mechanism.name} (L = {cert.mechanism.L}), "
              f"{cert.form} form, method certified",
              f"  region: {reg}",
-             f"  resolution: {cert.min_width[0] * lf:.4g} {lu} (position), "
+             "  resolution: " + (f"{cert.min_width[0] * lf:.4g} {lu} (position), "
+                                 if np.any(cert.upper[:3] > cert.lower[:3]) else
+                                 "position fixed, ")
              + (f"{cert.min_width[3] * af:.4g}{au} (rotation)"
                 if np.any(cert.upper[3:] > cert.lower[3:]) else "rotation fixed")]
+    if not cert.vary:                   # a single pose: a status, no volume to speak of
+        status = [name for name in ("regular", "singular", "undecided", "unreachable")
+                  if s["counts"][name]]
+        lines.append(f"  a single pose (no coordinate varies, so no volume): "
+                     f"{' / '.join(status) or 'no box'}")
     for name in ("regular", "singular", "undecided", "unreachable"):
+        if not cert.vary:
+            break
         lines.append(f"  {name:<11} {s[name + '_volume']:.4g} {unit}  "
                      f"({100 * s[name + '_fraction']:.2f} % of {s['total_volume']:.4g} {unit}; "
                      f"{s['counts'][name]} boxes)")

@@ -12,7 +12,7 @@ Scene fields::
     solve = true                             # optional (default: true when m_legs and the
                                              # offsets are numeric): 6-6 forward kinematics
     method = "fast"                          # tier of the octahedral solver (or "auto")
-    dps = 30                                 # precise tier only
+    dps = 30                                 # precise (and auto's escalations) only
 
 The JSON result has ``A`` (rows of strings), ``b``, ``det``, ``det_factors`` (the
 irreducible factors, sympy syntax), ``det_constant``; with ``m_legs`` also
@@ -44,9 +44,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ...argcheck import check_keys, exact_matrix, method_field, require
+from ...argcheck import check_keys, dps_field, exact_matrix, method_field, require
 from ...errors import DistkinError, InputError
-from ...exact import METHODS_AUTO, default_dps, parse_vector
+from ...exact import METHODS_AUTO, parse_vector
 from ..query import Outcome, register
 from ..report import float_inputs, float_inputs_line
 
@@ -136,7 +136,7 @@ class DeltaTransformQuery:
             raise InputError("expected numeric offsets when solve = true, got symbols "
                              f"{', '.join(map(str, tr.free_symbols))}", field=f"{field}.solve")
         method = method_field(table, field, allowed=METHODS_AUTO)
-        dps = default_dps(table.get("dps"))
+        dps = dps_field(table, method, field, uses=("precise", "auto"))
         return _Params(offs, m_legs, solve, method, dps, tr, mechanism)
 
     @staticmethod
@@ -187,9 +187,27 @@ class DeltaTransformQuery:
                 lines.append(f"  m{i + 1} = {m}{unit}  ->  l{i + 1} = {x}{unit}{approx}")
         if p.solve:
             lines += _solve(p, result, unit, ctx)
+        result["unit"] = result_units(scene.units)
         _flag_floats(p.m_legs or (), "m_legs", p, result, lines)
         plot = (lambda stem: plot_det_family(tr, stem)) if _family_ok(tr) else None
         return Outcome(result, "\n".join(lines), plot)
+
+
+def result_units(units) -> dict:
+    """The ``unit`` block of a delta_transform result: lengths in the scene's own length
+    unit (the geometry is used as written, exactly, not converted to SI), "none" for a
+    unitless scene; A and det(A) are dimensionless, b and the squared legs squared
+    lengths."""
+    L = "none" if units.length == "none" else units.length
+    L2 = "none" if L == "none" else f"{L}^2"
+    return {"length": L, "offsets": L, "sides": L, "A": "none", "det": "none",
+            "b": L2, "m_legs": L, "mapped_legs": L, "mapped_squared_legs": L2,
+            "forward_kinematics": {
+                "s15": L2, "translation": L, "platform_joints": L, "base_joints": L,
+                "platform_joints_local": L, "rotation": "none (rotation matrix)",
+                "max_leg_error": L,
+                "det_J66": f"{L}^3 (normalised Plücker rows, moments in {L})"
+                           if L != "none" else "none"}}
 
 
 def _flag_floats(legs, name, p, result, lines):
@@ -271,8 +289,8 @@ class Platform66Forward:
                                  field=f"{field}.legs[{i}]")
         tr = delta_transform(mechanism, mechanism.offsets, field="mechanism.offsets")
         method = method_field(table, field, allowed=METHODS_AUTO)
-        return _Params(mechanism.offsets, legs, True, method, default_dps(table.get("dps")), tr,
-                       mechanism)
+        dps = dps_field(table, method, field, uses=("precise", "auto"))
+        return _Params(mechanism.offsets, legs, True, method, dps, tr, mechanism)
 
     @staticmethod
     def run(p, scene, ctx):
@@ -287,6 +305,9 @@ class Platform66Forward:
         lines += _solve(p, result, unit, ctx)
         fk = result.pop("forward_kinematics")
         result.update(fk)
+        units = result_units(scene.units)
+        result["unit"] = {k: units[k] for k in ("length", "m_legs", "mapped_legs")}
+        result["unit"].update(units["forward_kinematics"])
         _flag_floats(p.m_legs, "legs", p, result, lines)
         return Outcome(result, "\n".join(lines))
 

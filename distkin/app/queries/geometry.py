@@ -19,9 +19,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ...argcheck import check_keys, exact_matrix, method_field, string_list
+from ...argcheck import check_keys, dps_field, exact_matrix, method_field, string_list
 from ...errors import InputError
-from ...exact import default_dps, float_ball, to_tier
+from ...exact import float_ball, to_tier
 from ..query import Outcome, register
 from ..report import float_inputs, float_inputs_line
 from ...geometry.cayley_menger import cayley_menger, parse_label, squared_distances
@@ -79,7 +79,7 @@ class CayleyMengerQuery:
                                  field=f"{field}.determinants[{i}]")
             labels.append((rows, cols))
         method = method_field(table, field)
-        dps = default_dps(table.get("dps"))
+        dps = dps_field(table, method, field)
         return _Params(points, names, tuple(labels), method, dps)
 
     @staticmethod

@@ -15,7 +15,9 @@
     grid = { half = 75, step = 10, rotation_step = 5 }   # Table II (the default)
     actuators = { nominal_torque = 2.5, stall_torque = 34.2, velocity = 51 }  # SI
     # prismatic legs: nominal_force, stall_force (N), speed (m/s); a leg's own effort
-    # limit is its nominal effort (distkin.indices.actuators)
+    # limit is its nominal effort (distkin.indices.actuators).  The figures of an
+    # actuator type are given all together (the revolute ones default to the paper's
+    # only when none is given) and only for a type some leg has
     scaling = [15, 15, 15, 1, 1, 1]              # ST (N, N, N, N·m, N·m, N·m)
     thresholds = { velocity = 1.0, acceleration = 9.81, force = 0.0 }          # SI
     sensitivity = "slice"                        # the paper's eqs. (14)/(16) | "projection" (Cardou)
@@ -27,6 +29,12 @@
     scheduler = "tcp://host:8786"                # optional: a dask.distributed cluster
     store = "sweeps/study"                       # chunk store (default: the cache)
     method = "fast"                              # the only tier of a sampled study (float64)
+
+A grid is counted before anything is allocated: one device's grid of more than
+:data:`MAX_GRID_POSES` (10⁸) poses or :data:`MAX_GRID_POSITIONS` (10⁶) positions is
+refused (a ``design_sweep``'s: :data:`MAX_SWEEP_POSES`, 10⁷ poses, all in memory at
+once), naming the grid, its counts and the limit; a long sweep shows a line with its
+size and a progress bar.
 
 A device without ``preset`` is the scene's own mechanism (``rss`` or ``legs``; e.g.
 ``{ label = "mine", rotation = 10 }`` beside the presets).
@@ -54,12 +62,13 @@ cluster (or ``--workers N`` locally); the scene's own fields are the defaults.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from ...argcheck import (as_table, check_keys, choice, executor_fields, fast_only, positive_int,
-                         require)
+                         require, scheduler_address)
 from ...errors import InputError
 from ...exact import parse_float
 from ..query import register
@@ -91,9 +100,48 @@ def _si_table(raw, field, defaults, extra=()):
     return out
 
 
-def _grid(raw, units, field, centre, rotation):
+#: the largest pose grid of one device of a ``performance`` query: poses (the sweep's
+#: time, about 10-50 µs each on one core) and positions (its memory: a hundred float64
+#: per position, its chunk files)
+MAX_GRID_POSES = 100_000_000
+MAX_GRID_POSITIONS = 1_000_000
+#: the largest pose grid of a ``design_sweep`` (its poses are held in memory at once, 48
+#: bytes each, and every design is evaluated at each)
+MAX_SWEEP_POSES = 10_000_000
+
+
+def _show(value_si, units, angle):
+    """An SI length or angle in the scene's unit, as text with the unit."""
+    if angle:
+        f = angle_value(1, units, "units")
+        return f"{value_si / f:.6g} {units.angle}"
+    return f"{value_si / length_value(1, units, 'units'):.6g} {units.length}"
+
+
+def _axis_count(half, step, units, field, half_key, step_key, angle=False):
+    """The number of values -half, -half + step, ..., half of one grid axis (SI values),
+    checked, before anything is allocated, in the scene's units and naming the key."""
+    if not (math.isfinite(half) and half >= 0):
+        raise InputError(f"expected a non-negative {half_key} (the grid spans ±{half_key}), "
+                         f"got {_show(half, units, angle)}", field=f"{field}.{half_key}")
+    if not (math.isfinite(step) and step > 0):
+        raise InputError(f"expected a positive {step_key}, got {_show(step, units, angle)}",
+                         field=f"{field}.{step_key}")
+    n = 2 * half / step
+    k = round(n)
+    if abs(n - k) > 1e-9 * max(1.0, n):
+        raise InputError(f"expected 2 × {half_key} to be a multiple of {step_key}, got 2 × "
+                         f"{_show(half, units, angle)} / {_show(step, units, angle)} = {n:.6g}",
+                         field=f"{field}.{step_key}")
+    return int(k) + 1
+
+
+def _grid(raw, units, field, centre, rotation, *, max_poses=MAX_GRID_POSES,
+          max_positions=MAX_GRID_POSITIONS):
     """The pose grid of a device: ``half``/``step`` about ``centre`` (the mechanism's
-    home pose (6,), m and rad; a number: (0, 0, z0, 0, 0, 0))."""
+    home pose (6,), m and rad; a number: (0, 0, z0, 0, 0, 0)).  Its size is counted
+    before anything is allocated: more than ``max_poses`` poses or ``max_positions``
+    positions is refused, naming the grid, its counts and the limit."""
     from ...indices.workspace import axis_values, PoseGrid
     c = np.zeros(6)
     if np.ndim(centre) == 0:
@@ -108,10 +156,66 @@ def _grid(raw, units, field, centre, rotation):
         if "rotation_step" in t else 5 * DEG
     if "rotation" in t:
         rotation = angle_value(t["rotation"], units, f"{field}.rotation")
+    if not (math.isfinite(rotation) and rotation >= 0):
+        raise InputError(f"expected a non-negative rotation (the grid spans ±rotation), got "
+                         f"{_show(rotation, units, True)}", field=f"{field}.rotation")
+    nt = _axis_count(half, step, units, field, "half", "step")
+    nr = _axis_count(rotation, rstep, units, field, "rotation", "rotation_step", angle=True) \
+        if rotation > 0 else 1
+    positions, orientations = nt ** 3, nr ** 3
+    if positions * orientations > max_poses or positions > max_positions:
+        what = ("poses" if positions * orientations > max_poses else "positions")
+        limit = max_poses if what == "poses" else max_positions
+        raise InputError(
+            f"expected at most {limit:,} {what} in the grid, got {nt}³ = {positions:,} "
+            f"positions × {nr}³ = {orientations:,} orientations = "
+            f"{positions * orientations:,} poses (half {_show(half, units, False)}, step "
+            f"{_show(step, units, False)}, rotation ±{_show(rotation, units, True)}, "
+            f"rotation_step {_show(rstep, units, True)})", field=field,
+            hint="a larger step or rotation_step, or a smaller half or rotation")
     tr = axis_values(-half, half, step, f"{field}.step")
     rr = axis_values(-rotation, rotation, rstep, f"{field}.rotation_step") if rotation > 0 \
         else np.zeros(1)
     return PoseGrid(*(tuple(c[i] + (tr if i < 3 else rr)) for i in range(6)))
+
+
+_ACT_UNITS = {"nominal_torque": "N·m", "stall_torque": "N·m", "velocity": "rad/s",
+              "nominal_force": "N", "stall_force": "N", "speed": "m/s"}
+
+
+def _check_actuators(given, devices, field):
+    """The keys of the ``actuators`` table against the devices' legs: a key of an
+    actuator type that no device has would be ignored (refused, naming it); a type whose
+    figures are given in part would be completed silently (refused, naming the missing
+    key).  The revolute figures default to the paper's (Sec. III-B-3) only when none is
+    given; a leg's own ``limit`` stands for its nominal effort."""
+    from ...indices.actuators import PRISMATIC_KEYS, REVOLUTE_KEYS
+    present, own = set(), {False: True, True: True}   # own: every leg of the type has a limit
+    for d in devices:
+        legs = getattr(d.mech, "leg_table", None)
+        for i in range(d.mech.L):
+            pris = bool(legs[i].prismatic) if legs is not None else False
+            present.add(pris)
+            own[pris] &= legs is not None and legs[i].limit is not None
+    labels = ", ".join(d.label for d in devices)
+    for pris, keys in ((False, REVOLUTE_KEYS), (True, PRISMATIC_KEYS)):
+        kind, other = ("prismatic", "revolute") if pris else ("revolute", "prismatic")
+        mine = [k for k in keys if k in given]
+        if not mine:
+            continue
+        if pris not in present:
+            raise InputError(f"expected only figures of the legs' actuators ("
+                             f"{', '.join(PRISMATIC_KEYS if not pris else REVOLUTE_KEYS)}), "
+                             f"got {mine[0]}: a {kind} actuator's figure, and every leg of "
+                             f"{labels} is {other}", field=f"{field}.{mine[0]}")
+        need = [k for k in keys if not (k == keys[0] and own[pris])]
+        missing = [k for k in need if k not in given]
+        if missing:
+            default = (" (the paper's figures, 2.5 N·m, 34.2 N·m and 51 rad/s, are the "
+                       "defaults only when no revolute figure is given)" if not pris else "")
+            raise InputError(f"expected {missing[0]} ({_ACT_UNITS[missing[0]]}) beside "
+                             f"{', '.join(mine)} for the {kind} legs, got nothing{default}",
+                             field=f"{field}.{missing[0]}")
 
 
 @dataclass(frozen=True)
@@ -164,6 +268,9 @@ def _parse_device(d, mechanism, units, field):
         mech = parse_rss(mtable, units, field)
     rotation = angle_value(d["rotation"], units, f"{field}.rotation") if "rotation" in d \
         else 20 * DEG
+    if not (math.isfinite(rotation) and rotation >= 0):
+        raise InputError(f"expected a non-negative rotation (the grid spans ±rotation), got "
+                         f"{_show(rotation, units, True)}", field=f"{field}.rotation")
     inner = angle_value(d["inner_rotation"], units, f"{field}.inner_rotation") \
         if "inner_rotation" in d else (20 * DEG if rotation > 20 * DEG + 1e-12 else None)
     if inner is not None and inner > rotation + 1e-12:
@@ -215,6 +322,7 @@ class PerformanceQuery:
         from ...indices.actuators import PRISMATIC_KEYS, leg_limits
         act = _si_table(table.get("actuators", {}), f"{field}.actuators", ACTUATORS,
                         PRISMATIC_KEYS)
+        _check_actuators(table.get("actuators", {}), devices, f"{field}.actuators")
         for d in devices:                      # every leg has its limits, in its units
             leg_limits(d.mech, act, f"{field}.actuators")
         thr = _si_table(table.get("thresholds", {}), f"{field}.thresholds",
@@ -228,6 +336,8 @@ class PerformanceQuery:
                              field=f"{field}.scaling")
         cp = positive_int(table.get("chunk_positions", 32), f"{field}.chunk_positions")
         workers, sched, store = executor_fields(table, field)
+        if sched is not None:
+            scheduler_address(sched, f"{field}.scheduler")
         route = choice(table.get("route", "kernels"), f"{field}.route", ("kernels", "numpy"))
         pd = table.get("plot_device")
         if pd is not None and pd not in labels:
@@ -264,6 +374,31 @@ def _slug(s):
 # ----------------------------------------------------------------- design sweep
 _TABLE1 = {"l2": (0.0, 0.030, 0.005), "beta": (0.0, 30 * DEG, 10 * DEG),
            "gamma": (0.0, 30 * DEG, 10 * DEG), "ld": (0.020, 0.040, 0.005)}
+
+
+def _check_range(name, lo, hi, step, units, field):
+    """A Table I range ``[min, max, step]`` (SI values) checked in the scene's units: min
+    <= max, a positive step that divides max - min, values the mechanism takes (lengths
+    >= 0, angles in [0°, 90°))."""
+    angle = name in ("beta", "gamma")
+    show = lambda v: _show(v, units, angle)  # noqa: E731
+    if not all(math.isfinite(v) for v in (lo, hi, step)):
+        raise InputError(f"expected finite [min, max, step], got [{show(lo)}, {show(hi)}, "
+                         f"{show(step)}]", field=field)
+    if lo > hi:
+        raise InputError(f"expected min <= max, got min {show(lo)} > max {show(hi)}",
+                         field=field)
+    if not step > 0:
+        raise InputError(f"expected a positive step, got {show(step)}", field=f"{field}[2]")
+    n = (hi - lo) / step
+    if abs(n - round(n)) > 1e-9 * max(1.0, n):
+        raise InputError(f"expected max - min to be a multiple of step, got ({show(hi)} - "
+                         f"{show(lo)}) / {show(step)} = {n:.6g}", field=field)
+    if lo < 0:
+        raise InputError(f"expected {name} >= 0, got min {show(lo)}", field=f"{field}[0]")
+    if angle and hi >= 90 * DEG:
+        raise InputError(f"expected {name} below {_show(90 * DEG, units, True)}, got max "
+                         f"{show(hi)}", field=f"{field}[1]")
 
 
 @dataclass(frozen=True)
@@ -303,6 +438,7 @@ class DesignSweepQuery:
                                      field=f"{field}.{name}")
                 conv = length_value if name in ("l2", "ld") else angle_value
                 lo, hi, st = (conv(v, units, f"{field}.{name}[{i}]") for i, v in enumerate(r))
+                _check_range(name, lo, hi, st, units, f"{field}.{name}")
             else:
                 lo, hi, st = default
             vals = axis_values(lo, hi, st, f"{field}.{name}") if hi > lo else np.array([lo])
@@ -314,7 +450,8 @@ class DesignSweepQuery:
         rot = angle_value(g["rotation"], units, f"{field}.grid.rotation") if "rotation" in g \
             else 20 * DEG
         from ...mechanisms import preset
-        grid = _grid(g, units, f"{field}.grid", preset(base).z0, rot)
+        grid = _grid(g, units, f"{field}.grid", preset(base).z0, rot,
+                     max_poses=MAX_SWEEP_POSES, max_positions=MAX_SWEEP_POSES)
         algorithm = choice(table.get("algorithm", "both"), f"{field}.algorithm",
                            ("culling", "brute_force", "both"))
         unreachable = choice(table.get("unreachable", "skip"), f"{field}.unreachable",
@@ -324,6 +461,8 @@ class DesignSweepQuery:
             raise InputError(f"expected 6 scaling factors, got {sc!r}", field=f"{field}.scaling")
         sc = tuple(_num(v, f"{field}.scaling[{i}]") for i, v in enumerate(sc))
         workers, sched, store = executor_fields(table, field)
+        if sched is not None:
+            scheduler_address(sched, f"{field}.scheduler")
         dpc = positive_int(table.get("designs_per_chunk", 8), f"{field}.designs_per_chunk")
         return _SweepParams(space, grid, algorithm, unreachable, sc, workers, sched, store,
                             dpc)

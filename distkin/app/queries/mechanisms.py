@@ -30,7 +30,11 @@ angle units; rotation R = Rz(rz) Ry(ry) Rx(rx), :mod:`distkin.spatial`)::
     legs = [1, 2, 3, 4, 6, 7]          # optional (L > 6, precise/certified): six legs
     bits = 128                         # optional (certified): the balls' precision
 
-Every result is in SI in the JSON (m, rad), with the scene's units in the text.
+Every result is in SI in the JSON (m, rad), with the scene's units in the text; each
+result's ``unit`` block names the units of its arrays.  The jacobian's ``kappa`` is
+κ of Kühne et al. eq. (4), σmin/σmax of the scaled ST⁻¹Jᵀ with Stocco's ST =
+diag(15, 15, 15, 1, 1, 1) (Sec. II-C-2; :func:`distkin.indices.condition_number`), and
+``kappa_unscaled`` the same ratio of J itself, whose columns have mixed units.
 
 ``method`` (:mod:`distkin.mechanisms.kinematics_tiers`): ``fast`` is the float64 kernels
 (today's numbers) with a first-order error estimate; ``precise`` runs the generated
@@ -60,11 +64,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...argcheck import check_keys, method_field, pose_list, positive_int, positive_number
+from ...argcheck import (check_keys, dps_field, method_field, pose_list, positive_int,
+                          positive_number)
 from ...errors import DistkinError, InfeasibleError, InputError
-from ...exact import default_dps, parse_float
+from ...exact import parse_float
 from ..query import Outcome, register
 from ..units import angle_factor, length_factor
+from ...indices.isotropy import ST_DEFAULT, condition_number
 
 __all__ = ["InverseKinematicsQuery", "JacobianQuery", "ForwardKinematicsQuery", "parse_poses"]
 
@@ -158,13 +164,13 @@ class _Poses:
 
 
 def _tier_fields(table, field):
-    """``method``, ``dps`` (precise) and ``bits`` (certified: the balls' working
-    precision, 53..4096; default :data:`~distkin.mechanisms.kinematics_tiers.BITS`) of an
-    inverse_kinematics, jacobian or forward_kinematics query."""
+    """``method``, ``dps`` (precise only) and ``bits`` (certified only: the balls'
+    working precision, 53..4096; default :data:`~distkin.mechanisms.kinematics_tiers.BITS`)
+    of an inverse_kinematics, jacobian or forward_kinematics query."""
     from ...mechanisms.kinematics_tiers import check_bits
     method = method_field(table, field)
     bits = check_bits(table["bits"], method, f"{field}.bits") if "bits" in table else None
-    return {"method": method, "dps": default_dps(table.get("dps")), "bits": bits}
+    return {"method": method, "dps": dps_field(table, method, field), "bits": bits}
 
 
 def _uncertified(res, i):
@@ -194,6 +200,13 @@ def _largest(err, mask):
     return float(vals.max()) if vals.size else float("nan")
 
 
+def _amount(err, mask, factor: float = 1.0, unit: str = "") -> str:
+    """The largest finite error over ``mask`` as text with its unit, or "no valid leg"
+    when no leg of ``mask`` has one."""
+    v = _largest(err, mask)
+    return "no valid leg" if v != v else f"{v * factor:.2g}{unit}"
+
+
 def _accuracy(res, what, amounts, fast_how) -> str:
     """The accuracy line of a tiered result: ``amounts`` the measured largest errors (or
     radii) as text with units; ``fast_how`` the fast tier's estimate."""
@@ -206,7 +219,7 @@ def _accuracy(res, what, amounts, fast_how) -> str:
     legs = (f"; {int(res.certified.sum())} of {res.certified.size} legs certified"
             if res.method == "certified" else "")
     kind = "radius" if res.method == "certified" else "error"
-    return (f"accuracy ({res.method}, {res.precision}; {how}): largest {kind} of {what} "
+    return (f"accuracy ({res.method}, {res.precision}; {how}): largest {kind} of {what}: "
             f"{amounts}{legs}")
 
 
@@ -251,9 +264,9 @@ class InverseKinematicsQuery:
                          f"\"{scene.units.angle}\")")
         pris = _prismatic(mech)[None] & np.ones_like(valid)
         ok = valid | res.certified
-        amounts = [f"{_largest(res.q_error, ok & ~pris):.2g} rad"] if (~pris).any() else []
+        amounts = [_amount(res.q_error, ok & ~pris, 1.0, " rad")] if (~pris).any() else []
         if pris.any():
-            amounts.append(f"{_largest(res.q_error, ok & pris) * lf:.2g} {lu}")
+            amounts.append(_amount(res.q_error, ok & pris, lf, f" {lu}"))
         lines.append(_accuracy(res, "q over the valid legs", ", ".join(amounts),
                                "closure residual |Phi_i(q)|/|Jq_ii| + 2 eps max(|q|, 1)"))
         lines.append("branch: the crank angle nearer 0 at the workspace centre "
@@ -262,6 +275,45 @@ class InverseKinematicsQuery:
                         "precision": res.precision,
                         "unit": {"q": "rad", "pose": "m, rad", "q_error": "rad (m: prismatic)"},
                         "poses": rows}, "\n".join(lines), _plotter(mech, X, q))
+
+
+def _st_text() -> str:
+    return ", ".join(f"{v:g}" for v in ST_DEFAULT)
+
+
+def _jacobian_units(mech, mass_matrix: bool) -> dict:
+    """The ``unit`` block of a jacobian result (SI; the joint unit is rad for a revolute
+    leg, m for a prismatic one)."""
+    pris = _prismatic(mech)
+    rev_rows, pris_rows = (not pris.all()), bool(pris.any())
+    per = "; ".join(([("revolute rows: rad/m (columns 1-3), rad/rad (columns 4-6)")]
+                     if rev_rows else [])
+                    + (["prismatic rows: m/m (columns 1-3), m/rad (columns 4-6)"]
+                       if pris_rows else []))
+    out = {
+        "pose": "m, rad",
+        "J": per + "; qdot = J (v, omega)",
+        "Jq": "; ".join((["m/rad (revolute: dPhi_i/dq_i, the closure Phi_i in m)"]
+                         if rev_rows else []) + (["m/m (prismatic)"] if pris_rows else [])),
+        "Jx": "m/m (columns 1-3), m/rad (columns 4-6); Jq qdot = Jx (v, omega)",
+        "J_error": "as J", "Jq_error": "as Jq", "Jx_error": "as Jx",
+        "singular_values": "of the unscaled J, mixed units",
+        "kappa": f"none (eq. (4), of ST⁻¹Jᵀ, ST = diag({_st_text()}))",
+        "kappa_unscaled": "none (sigma_min/sigma_max of the unscaled J, mixed units)",
+    }
+    if mass_matrix:
+        out.update({
+            "cartesian_mass_matrix": "kg (rows/columns 1-3), kg m^2 (4-6)",
+            "Mq": ("kg m^2 (revolute joints: rad)" if not pris_rows else
+                   "kg between prismatic joints (m), kg m between a prismatic and a revolute "
+                   "joint, kg m^2 between revolute joints (rad)" if rev_rows else
+                   "kg (prismatic joints: m)"),
+            "acceleration_map": ("rows 1-3 (m/s²), rows 4-6 (rad/s²) per unit of joint "
+                                 "effort: " + ", ".join(
+                                     (["N·m (revolute)"] if rev_rows else [])
+                                     + (["N (prismatic)"] if pris_rows else []))),
+        })
+    return out
 
 
 @register("jacobian", mechanisms=("rss", "legs"),
@@ -283,7 +335,10 @@ class JacobianQuery:
         X = np.array(p.poses)
         res = jacobian_tier(mech, X, p.method, p.dps, p.bits)
         J, Jq, Jx, valid = res.J, res.Jq, res.Jx, res.valid
-        sv = np.linalg.svd(np.where(np.isfinite(J), J, 0.0), compute_uv=False)
+        Jf = np.where(np.isfinite(J), J, 0.0)
+        sv = np.linalg.svd(Jf, compute_uv=False)
+        kappa = condition_number(Jf, ST_DEFAULT)          # eq. (4), scaled (Sec. II-C-2)
+        units = _jacobian_units(mech, p.mass_matrix)
         rows = []
         lines = [f"mechanism: {mech.name} (L = {mech.L}); qdot = J (v, omega): columns 1-3 "
                  "rad/m, 4-6 rad/rad" + ("; prismatic rows (normalised Plücker lines, "
@@ -291,7 +346,9 @@ class JacobianQuery:
                                          if _prismatic(mech).any() else "")]
         for i in range(len(X)):
             r = _tier_rows(res, i, {"pose": X[i], "J": J[i], "Jq": Jq[i], "Jx": Jx[i],
-                                    "singular_values": sv[i], "kappa": sv[i, -1] / sv[i, 0],
+                                    "singular_values": sv[i], "kappa": kappa[i],
+                                    "kappa_unscaled": (sv[i, -1] / sv[i, 0] if sv[i, 0] > 0
+                                                       else 0.0),
                                     "reachable": bool(valid[i].all())},
                            "J_error", "Jq_error", "Jx_error")
             lines.append(f"pose {i}: {_fmt_pose(X[i], scene)}"
@@ -299,23 +356,29 @@ class JacobianQuery:
             for row in J[i]:
                 lines.append("  [" + " ".join(f"{v:11.5g}" for v in row) + "]")
             lines += _tier_lines(res, i)
-            lines.append("  singular values: " + ", ".join(f"{v:.6g}" for v in sv[i])
-                         + " (mixed units); kappa = sigma_min/sigma_max = "
-                         + f"{r['kappa']:.6g} (eq. (4))")
+            lines.append(f"  kappa = {r['kappa']:.6g} (eq. (4): sigma_min/sigma_max of the "
+                         f"scaled ST⁻¹Jᵀ, ST = diag({_st_text()}), Kühne et al. Sec. II-C-2)")
+            lines.append("  singular values of the unscaled J: "
+                         + ", ".join(f"{v:.6g}" for v in sv[i])
+                         + f" (mixed units); their ratio sigma_min/sigma_max = "
+                           f"{r['kappa_unscaled']:.6g} (unscaled)")
             if p.mass_matrix:
                 r["cartesian_mass_matrix"] = mech.cartesian_mass_matrix()
                 r["Mq"] = mech.joint_mass_matrix(X[i])
                 r["acceleration_map"] = mech.acceleration_map(X[i])
                 lines.append(f"  M̂ = diag({mech.mass:g} kg x3, {mech.inertia:g} kg m^2 x3); "
-                             "Mq = J#ᵀ M̂ J# (kg m^2), acceleration map M̂⁻¹Jᵀ in the JSON")
+                             f"Mq = J#ᵀ M̂ J# ({units['Mq']}), acceleration map M̂⁻¹Jᵀ in "
+                             "the JSON")
             rows.append(r)
         ok = (valid | res.certified)[..., None] & np.ones(J.shape, dtype=bool)
+        amount = _amount(res.J_error, ok)
         lines.append(_accuracy(res, "an entry of J over the valid legs",
-                               f"{_largest(res.J_error, ok):.2g} (in the entry's unit)",
+                               amount + ("" if amount == "no valid leg" else
+                                         " (in the entry's unit)"),
                                "4 eps max|J row| max(1, l/|Jq_ii|), l the length scale"))
         return Outcome({"mechanism": mech.parameters(), "method": p.method,
-                        "precision": res.precision, "poses": rows}, "\n".join(lines),
-                       _plotter(mech, X))
+                        "precision": res.precision, "unit": units,
+                        "poses": rows}, "\n".join(lines), _plotter(mech, X))
 
 
 @dataclass(frozen=True)

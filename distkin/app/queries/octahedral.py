@@ -11,7 +11,7 @@ Scene fields (docs/design.md §4)::
     type = "forward_kinematics"
     legs = ["19.8", "18", "18", "17", "14.9", "17.8"]   # P1P4 P2P4 P2P5 P3P5 P3P6 P1P6
     method = "certified"      # fast | precise | certified | auto
-    dps = 30                  # precise tier only
+    dps = 30                  # precise (and auto's escalations) only
     tol = 1e-15               # certified: pose enclosure radius / size; precise: root residual
 
 JSON result: ``real_roots {count, certified, values, radii}`` (every real root of the
@@ -22,10 +22,12 @@ fast or precise tier's last Newton steps, not an error bound:
 first; exact strings where exact), ``poses [{s15, rotation, translation, points {P4, P5, P6}, max_leg_error}]``
 (plus ``side`` and ``max_leg_error_relative``), and ``root_status``, ``reason``,
 ``accuracy``, ``inputs_from_float`` (the legs and points written as bare floats, taken
-as their exact binary values; also said in the text).  Lengths are in the scene's unit converted to metres (SI), or unitless
-for ``length = "none"``.  The plot (``--plots``) is the analogue of Rojas et al.,
-Fig. 8: one panel per assembly mode (side +1; the mirror images are not drawn), and
-the octic over the feasible interval of s15 with its real roots.
+as their exact binary values; also said in the text), and ``unit`` (the units of those
+fields).  Lengths are in the scene's unit converted to metres (SI), or unitless for
+``length = "none"``; s15 is a squared length (m^2).  The plot (``--plots``) is the
+analogue of Rojas et al., Fig. 8: one panel per assembly mode (side +1; the mirror
+images are not drawn), and the octic over the feasible interval of s15 with its real
+roots.
 """
 
 from __future__ import annotations
@@ -34,13 +36,14 @@ import warnings
 from dataclasses import dataclass, replace
 from fractions import Fraction
 
-from ...argcheck import check_keys, exact_vector, method_field, positive_number, require
+from ...argcheck import (check_keys, dps_field, exact_vector, method_field, positive_number,
+                          require)
 from ...errors import ConditioningWarning, DistkinError, InputError
-from ...exact import METHODS_AUTO, Exact, default_dps
+from ...exact import METHODS_AUTO, Exact
 from ..query import Outcome, register
 from ..report import float_inputs, float_inputs_line
 
-__all__ = ["OctahedralForwardQuery"]
+__all__ = ["OctahedralForwardQuery", "result_units"]
 
 
 @dataclass(frozen=True)
@@ -78,7 +81,7 @@ class OctahedralForwardQuery:
                 raise InputError(f"expected a positive leg length, got {v.text}",
                                  field=f"{field}.legs[{i}]")
         method = method_field(table, field, allowed=METHODS_AUTO)
-        dps = default_dps(table.get("dps"))
+        dps = dps_field(table, method, field, uses=("precise", "auto"))
         tol = positive_number(table["tol"], f"{field}.tol") if "tol" in table else None
         return _Params(legs, method, dps, tol)
 
@@ -111,11 +114,24 @@ class OctahedralForwardQuery:
                     for k, rows in (("base", mech.base), ("platform", mech.platform))
                     for i, row in enumerate(rows) for j, v in enumerate(row)])
         result = _result(res)
+        result["unit"] = result_units(scene.units)
         result["inputs_from_float"] = float_inputs(named)
         text = _text(res, unit, p)
         note = float_inputs_line(named)
         return Outcome(result, text + ("\n" + note if note else ""),
                        _plotter(res, base, plat, unit))
+
+
+def result_units(units) -> dict:
+    """The ``unit`` block of an octahedral forward-kinematics result: lengths in m (the
+    scene's unit converted to SI), or "none" for a unitless scene (``length = "none"``);
+    s15 is a squared length."""
+    m = "none" if units.length == "none" else "m"
+    m2 = "none" if m == "none" else "m^2"
+    return {"s15": m2, "real_roots": f"{m2} (values and radii)",
+            "translation": m, "points": m, "rotation": "none (rotation matrix)",
+            "max_leg_error": m, "max_leg_error_relative": "none (over the leg length)",
+            "octic": f"coefficients of a polynomial in s15 ({m2}), highest degree first"}
 
 
 def _result(res):

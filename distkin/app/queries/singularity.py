@@ -41,7 +41,7 @@ from ...errors import InputError
 from ...exact import parse_vector, to_tier
 from ..query import Outcome, register
 
-__all__ = ["SingularityQuery", "OctahedralModel", "plot_path"]
+__all__ = ["SingularityQuery", "OctahedralModel", "plot_path", "result_units"]
 
 
 @dataclass(frozen=True)
@@ -116,9 +116,33 @@ class SingularityQuery:
         model = OctahedralModel.build(scene.mechanism, p.offsets, p.length_scale,
                                       deg=scene.units.angle == "deg")
         unit = "" if scene.units.length == "none" else f" {scene.units.length}"
-        if p.pose is not None:
-            return _run_pose(model, p, unit)
-        return _run_path(model, p, unit)
+        out = _run_pose(model, p, unit) if p.pose is not None else _run_path(model, p, unit)
+        out.result["unit"] = result_units(scene.units, p.pose is not None)
+        return out
+
+
+def result_units(units, pose: bool) -> dict:
+    """The ``unit`` block of a singularity result: lengths in the scene's own length unit
+    (the octahedral geometry is used as written, not converted to SI), "none" for a
+    unitless scene; the tests are dimensionless (det J with the moment rows over L)."""
+    L = "none" if units.length == "none" else units.length
+    out = {"length": L, "length_scale": L, "translation": L,
+           "rotation_matrix": "none (rotation matrix)",
+           "det_J": "none (eq. (5), moment rows divided by length_scale)",
+           "sigma_min": "none (of J with the moment rows divided by length_scale)",
+           "cm_condition_relative": "none (relative)", "signed_cm_relative": "none (relative)",
+           "nearest_singularity": f"distance, first_order: {L} (translation and rotation "
+                                  f"times length_scale)",
+           "platform66": (f"det_J66_hat, det_A_det_Jhat: {L}^9 (unnormalised Plücker rows "
+                          f"p - b in {L}, moments in {L}^2); det_A, identity_error: none"
+                          if L != "none" else "none")}
+    if pose:
+        out["four_planes"] = f"point, spread: {L}; relative: none"
+    else:
+        out.update({"s": "none (path parameter in [0, 1])", "four_planes_point": L,
+                    "four_planes_spread": L, "root_distance": "none (in s)",
+                    "min_abs_det_J": "none"})
+    return out
 
 
 class OctahedralModel:
