@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..argcheck import as_floats, float_array
 from ..errors import InputError, SingularConfigurationError
 from .zonotope import zonotope_best, zonotope_worst
 
@@ -77,20 +78,24 @@ def _prepare(G, pmin, pmax, keep, method, allowed):
         i = np.argwhere(lo > hi)[0]
         raise InputError(f"expected pmin <= pmax, got pmin={lo[tuple(i)]} > "
                          f"pmax={hi[tuple(i)]} at actuator {i[-1]}", field="pmin")
-    if keep is None:
-        S = tuple(range(d))
-    else:
-        try:
-            S = tuple(int(k) for k in keep)
-        except (TypeError, ValueError):
-            raise InputError(f"expected a list of output indices, got {keep!r}",
-                             field="keep") from None
-        if not S or len(set(S)) != len(S) or any(not 0 <= k < d for k in S):
-            raise InputError(f"expected distinct indices in 0..{d - 1}, got {list(keep)!r}",
-                             field="keep")
-        if any(float(k) != int(float(k)) for k in keep):
-            raise InputError(f"expected integer indices, got {list(keep)!r}", field="keep")
+    S = tuple(range(d)) if keep is None else _keep_indices(keep, d)
     return G, lo, hi, S, single
+
+
+def _keep_indices(keep, d: int, field: str = "keep") -> tuple:
+    """The output coordinates of a slice: distinct integers 0..d-1 (a sequence), else
+    :class:`InputError` naming ``field`` (shared with :mod:`.velocity_set`)."""
+    try:
+        S = tuple(int(k) for k in keep)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"expected a list of output indices, got {keep!r}",
+                         field=field) from None
+    if not S or len(set(S)) != len(S) or any(not 0 <= k < d for k in S):
+        raise InputError(f"expected distinct indices in 0..{d - 1}, got {list(keep)!r}",
+                         field=field)
+    if any(float(k) != int(float(k)) for k in keep):
+        raise InputError(f"expected integer indices, got {list(keep)!r}", field=field)
+    return S
 
 
 def worst_case_output(G, pmin, pmax, keep=None, method: str = "zonotope"):
@@ -320,6 +325,17 @@ def ueberle_worst(G, lo, hi, S):
 
 
 # -------------------------------------------------------------------- eqs. (5)-(7)
+def _jacobian(J, shape: str, ndim: int | None = None, field: str = "J"):
+    """A Jacobian argument of the index functions (q̇ = J ẋ, last axis 6, ``ndim`` axes
+    or at least 2): float, finite, else :class:`InputError` naming ``field`` with
+    ``shape`` as the expectation (:func:`distkin.argcheck.float_array`)."""
+    arr = as_floats(J, field, f"a Jacobian of numbers, shape {shape}")
+    if (arr.ndim < 2 if ndim is None else arr.ndim != ndim) or arr.shape[-1] != 6:
+        raise InputError(f"expected a Jacobian of shape {shape}, got shape {arr.shape}",
+                         field=field)
+    return float_array(arr, field, (None,) * arr.ndim)
+
+
 def output_generators(J, mass=None):
     """Generator matrices of the output capabilities, eqs. (5)-(7).
 
@@ -340,11 +356,18 @@ def output_generators(J, mass=None):
         L = d this is M_q⁻¹).  The paper's printed ``M_q = JᵀM̂J`` does not type-check
         with J of shape (L, 6); this is the consistent reading.
     """
-    J = np.asarray(J, dtype=float)
+    J = _jacobian(J, "(..., L, 6)")
     Jt = np.swapaxes(J, -1, -2)
     out = {"wrench": Jt, "twist": np.linalg.pinv(J)}
     if mass is not None:
-        M = np.asarray(mass, dtype=float)
+        M = as_floats(mass, "mass", "a Cartesian mass matrix, shape (6,) or (6, 6)")
+        if M.shape not in ((6,), (6, 6)):
+            raise InputError(f"expected a mass matrix of shape (6,) or (6, 6), got shape "
+                             f"{M.shape}", field="mass")
+        M = float_array(M, "mass", M.shape)
+        if M.ndim == 1 and not np.all(M > 0):
+            raise InputError(f"expected 6 positive masses and inertias, got {M.tolist()}",
+                             field="mass")
         Minv = np.diag(1.0 / M) if M.ndim == 1 else np.linalg.inv(M)
         out["acceleration"] = Minv @ Jt
     return out

@@ -54,8 +54,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..argcheck import as_floats
+from ..argcheck import as_floats, float_array, positive_number
 from ..errors import InputError
+from .capability import _jacobian
 
 __all__ = ["ST_DEFAULT", "scaled_singular_values", "condition_number", "gii",
            "CullingResult", "culling_sweep", "brute_force_sweep", "SCALING_READINGS",
@@ -76,12 +77,10 @@ SCALING_READINGS = {
 
 
 def _scaled(J, ST):
-    J = as_floats(J, "J", "a Jacobian of numbers, shape (..., L, 6)")
-    if J.ndim < 2 or J.shape[-1] != 6:
-        raise InputError(f"expected a Jacobian of shape (..., L, 6), got {J.shape}", field="J")
+    J = _jacobian(J, "(..., L, 6)")
     st = as_floats(ST, "ST", "6 positive scaling factors")
-    if st.shape != (6,) or not np.all(st > 0):
-        raise InputError(f"expected 6 positive scaling factors, got {ST!r}", field="ST")
+    if st.shape != (6,) or not np.all(st > 0) or not np.all(np.isfinite(st)):
+        raise InputError(f"expected 6 positive finite scaling factors, got {ST!r}", field="ST")
     return np.swapaxes(J, -1, -2) / st[:, None]
 
 
@@ -100,6 +99,12 @@ def scaled_singular_values(J, ST=ST_DEFAULT):
     smin, smax : ndarray (...)
         Dimensionless (intended wrench per N·m of actuator torque).  float64 SVD,
         relative accuracy about 1e-16 × κ⁻¹ for σmin.
+
+    Raises
+    ------
+    InputError
+        ``J`` not numbers of shape (..., L, 6), or not finite (NaN, inf: an unreachable
+        pose's J is the caller's to filter); ``ST`` not 6 positive finite numbers.
     """
     s = np.linalg.svd(_scaled(J, ST), compute_uv=False)
     return s[..., -1], s[..., 0]
@@ -122,9 +127,10 @@ def reading_singular_values(J, ST=ST_DEFAULT, *, Jq=None, tau_nominal: float = 2
     -------
     dict name -> (smin (N,), smax (N,))
     """
+    smin, smax = scaled_singular_values(J, ST)
     J = np.asarray(J, dtype=float)
     st = np.asarray(ST, dtype=float)
-    smin, smax = scaled_singular_values(J, ST)
+    tau_nominal = positive_number(tau_nominal, "tau_nominal")
     out = {"wrench": (smin, smax),
            "wrench_nominal": (smin * tau_nominal, smax * tau_nominal)}
     with np.errstate(divide="ignore"):
@@ -134,13 +140,16 @@ def reading_singular_values(J, ST=ST_DEFAULT, *, Jq=None, tau_nominal: float = 2
     s = np.linalg.svd(np.swapaxes(J, -1, -2) * st[:, None], compute_uv=False)
     out["task_multiplied"] = (s[..., -1], s[..., 0])
     if Jq is not None:
-        Jx = J * np.asarray(Jq, dtype=float)[..., None]
+        Jx = J * float_array(Jq, "Jq", J.shape[:-1])[..., None]
         out["jx"] = scaled_singular_values(Jx, ST)
     return out
 
 
 def condition_number(J, ST=ST_DEFAULT):
-    """Local condition number κ = σmin/σmax, eq. (4), of the scaled Jacobian; (...)."""
+    """Local condition number κ = σmin/σmax, eq. (4), of the scaled Jacobian; (...).
+
+    ``J`` (..., L, 6) and ``ST`` as :func:`scaled_singular_values` (which checks them:
+    :class:`~distkin.errors.InputError` for a J that is not finite)."""
     smin, smax = scaled_singular_values(J, ST)
     return np.divide(smin, smax, out=np.zeros_like(smin), where=smax > 0)
 

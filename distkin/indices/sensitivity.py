@@ -27,7 +27,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..argcheck import as_floats
 from ..errors import InputError
+from .capability import _jacobian
 from .slice_farthest import slab_farthest_unit, slice_farthest_unit
 from .zonotope import zonotope_best
 
@@ -51,7 +53,8 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False)
     mode : {"slice", "projection"}
         The paper's definition (slice, then farthest point) or Cardou's (projection).
     twist : ndarray (N, 6, L), optional
-        ``pinv(J)`` if already computed.
+        ``pinv(J)`` if already computed (its shape is checked, not its values: a pose
+        where it is not finite gives values that are not either).
     walk : bool
         Slice mode: the Gray-code kernel of :mod:`.slice_farthest` for every L (the
         reference of its split-sign kernel for L = 8).
@@ -61,13 +64,27 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False)
     dict of ndarray (N,)
         ``translational`` [m/rad], ``rotational`` [rad/rad], ``force`` [N/(N·m)],
         ``torque`` [(N·m)/(N·m)].  Exact up to float64 rounding (vertex enumeration).
+
+    Raises
+    ------
+    InputError
+        A bad ``mode``; ``J`` not finite numbers of shape (N, L, 6) with L >= 6 (as
+        :func:`~.capability.worst_case_output`, L >= d); ``twist`` not of shape
+        (N, 6, L).
     """
     if mode not in SENSITIVITY_MODES:
         raise InputError(f"expected mode 'slice' or 'projection', got {mode!r}", field="mode")
-    J = np.asarray(J, dtype=float)
-    if J.ndim != 3 or J.shape[2] != 6:
-        raise InputError(f"expected J of shape (N, L, 6), got {J.shape}", field="J")
+    J = _jacobian(J, "(N, L, 6)", ndim=3)
     N, L, _ = J.shape
+    if L < 6:
+        raise InputError(f"expected at least 6 actuators (rows of J, L >= 6), got shape "
+                         f"{J.shape}", field="J")
+    if twist is not None:
+        # its shape only: the compiled study passes NaN at the poses it redoes in numpy
+        twist = as_floats(twist, "twist", f"pinv(J), shape ({N}, 6, {L})")
+        if twist.shape != (N, 6, L):
+            raise InputError(f"expected pinv(J) of shape ({N}, 6, {L}), got shape "
+                             f"{twist.shape}", field="twist")
     # J# only where it is used (L = 6 in slice mode takes the slab route on J itself)
     need_pinv = mode == "projection" or L != 6
     Gt = (np.linalg.pinv(J) if need_pinv else None) if twist is None else twist

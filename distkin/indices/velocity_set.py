@@ -26,6 +26,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..argcheck import float_array, positive_number
+from .capability import _keep_indices
+
 __all__ = ["true_velocity_worst"]
 
 
@@ -37,18 +40,26 @@ def true_velocity_worst(J, qdot_max, keep):
     J : ndarray (N, L, d)
         Jacobian with q̇ = J ẋ (rad/s per m/s and rad/s per rad/s).
     qdot_max : float
-        Symmetric actuator rate limit (rad/s).
+        Symmetric actuator rate limit (rad/s), positive.
     keep : sequence of int
-        The output coordinates of the slice (the others are 0).
+        The output coordinates of the slice (the others are 0), distinct, in 0..d-1.
 
     Returns
     -------
     ndarray (N,)
         In the unit of the kept coordinates (m/s or rad/s); +inf where J_S = 0 (never
         for an RSS device).  Exact up to rounding.
+
+    Raises
+    ------
+    InputError
+        J not finite or not (N, L, d), ``qdot_max`` not a positive finite number, or a
+        bad ``keep`` (as :func:`~.capability.worst_case_output`).
     """
-    J = np.asarray(J, dtype=float)
-    JS = J[..., list(keep)]
+    J = float_array(J, "J", (None, None, None))
+    qdot_max = positive_number(qdot_max.item() if isinstance(qdot_max, np.generic)
+                               else qdot_max, "qdot_max")
+    JS = J[..., list(_keep_indices(keep, J.shape[-1]))]
     n = np.sqrt(np.einsum("nls,nls->nl", JS, JS)).max(axis=1)
     with np.errstate(divide="ignore"):
         return float(qdot_max) / n

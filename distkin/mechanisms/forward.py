@@ -1,4 +1,4 @@
-"""Numeric forward kinematics of RSS/RRRS mechanisms (Gauss-Newton on the leg closures).
+r"""Numeric forward kinematics of RSS/RRRS mechanisms (Gauss-Newton on the leg closures).
 
 Given the crank angles q, find the pose x with Phi_i(q_i, x) = 0 for every leg
 (:mod:`.symbolic`; Phi in metres, about the distal-length error).  For L = 6 this is
@@ -18,9 +18,25 @@ step is below ``tol`` metres, and reports:
   the condition exceeds ``max_condition`` (a direct-kinematic singularity is near and
   the pose is ill-determined by q).
 
+* ``verified`` -- the answer is checked (:func:`round_trip`): the closed-form inverse
+  kinematics at the returned pose gives back the joint values (modulo 2π for a crank;
+  Gauss-Newton on the closures alone can land on the other crank branch of the IK, or
+  on a least-squares minimum that closes no leg), each within
+
+  .. math:: 2|\Phi_i(q_i, x)| / |J_{q,ii}| + \delta q_i + \textstyle\sum_k |J_{ik}|\,\delta x_k
+            + 8\,\mathrm{eps}\max(1, |q_i|)
+
+  (the closure residual over the crank's lever, the IK's own error estimate δq
+  (:mod:`.kinematics_tiers`), the pose's error estimate δx (below) through J, and
+  rounding), and the rms closure residual is at most ``residual_tol`` (default
+  :data:`RESIDUAL_ULPS` eps times a leg length: what float64 leaves of consistent
+  angles; raise it for measured, hence inconsistent, angles of a redundant device).
+
 It never returns a wrong pose silently: a failed answer says so in ``converged`` /
-``near_singular`` / ``message``, and ``strict=True`` raises instead.  Accuracy of a
-converged answer: about ``condition * 1e-16`` relative to the leg length.
+``near_singular`` / ``verified`` / ``message`` (``ok`` is all three), and
+``strict=True`` raises instead.  Accuracy of a verified answer (first order, not a
+bound; :func:`pose_error_estimate`): the condition number times (eps x a leg length +
+the rms closure residual) in m, and that over the length scale in rad.
 """
 
 from __future__ import annotations
@@ -34,7 +50,13 @@ from ..argcheck import as_floats, float_array
 from ..errors import InfeasibleError, InputError, SingularConfigurationError
 from ..spatial import exp_so3, rotate_pose_scalar, rotation_angles, rotation_matrix
 
-__all__ = ["FKResult", "forward_kinematics", "gauss_newton"]
+__all__ = ["FKResult", "forward_kinematics", "gauss_newton", "round_trip",
+           "pose_error_estimate", "leg_length", "RESIDUAL_ULPS"]
+
+#: default ``residual_tol`` of :func:`forward_kinematics`: this many eps times a leg
+#: length (:func:`leg_length`; 7.9e-14 m for the Octopod's l3 = 349.7 mm).  Consistent
+#: float angles leave an rms closure residual of about 1e-16 m on the presets.
+RESIDUAL_ULPS = 1024
 
 
 @dataclass(frozen=True)
@@ -57,6 +79,18 @@ class FKResult:
     modes : array (M, 6) (or a list of them), or None
         Every assembly mode, when the exact octic answered (an octahedral leg table,
         :mod:`.octahedral_fk`).
+    verified : bool array (N,) or bool
+        The inverse kinematics at ``pose`` gives back the joint values within the
+        module docstring's tolerance (``round_trip``) and ``residual`` is at most
+        ``residual_tol``.
+    round_trip : bool array (N,) or bool
+        The first half of ``verified`` alone (the answer is on the device's IK branch;
+        for inconsistent angles of a redundant device, their least-squares pose).
+    q_mismatch : array (N,) or float
+        The largest |IK(pose) - q| over the legs (rad, or m for a prismatic leg;
+        cranks modulo 2π).
+    residual_tol : float
+        The residual tolerance used (m).
     """
 
     pose: np.ndarray
@@ -68,11 +102,16 @@ class FKResult:
     near_singular: object
     message: str
     modes: object = None
+    verified: object = False
+    round_trip: object = False
+    q_mismatch: object = math.nan
+    residual_tol: float = math.nan
 
     @property
     def ok(self):
-        """Converged and not near a singularity."""
-        return np.logical_and(self.converged, np.logical_not(self.near_singular))
+        """Converged, verified and not near a singularity."""
+        return np.logical_and(np.logical_and(self.converged, self.verified),
+                              np.logical_not(self.near_singular))
 
     @property
     def matrix(self) -> np.ndarray:
@@ -98,7 +137,7 @@ def _solve(G, r, scale):
 
 
 def forward_kinematics(mech, q, guess=None, *, tol=1e-13, max_iter=50, max_condition=300.0,
-                       strict=False):
+                       residual_tol=None, strict=False):
     """Pose of ``mech`` from its crank angles, by Gauss-Newton from a warm start.
 
     Parameters
@@ -123,10 +162,15 @@ def forward_kinematics(mech, q, guess=None, *, tol=1e-13, max_iter=50, max_condi
         preset reaches 1e4 near its direct singularities (Sec. III-B.1), where two
         assembly modes come close (8-25 mm apart at condition 60-260) and a warm start
         may land on the other one.
+    residual_tol : float, optional
+        rms closure residual (m) above which an answer is not ``verified`` (default
+        :data:`RESIDUAL_ULPS` eps x :func:`leg_length`).  Measured angles of a redundant
+        device (L > 6) are inconsistent: pass their expected residual to accept their
+        least-squares pose.
     strict : bool
         Raise :class:`~distkin.errors.SingularConfigurationError` (near a singularity)
-        or :class:`~distkin.errors.InfeasibleError` (no convergence) instead of
-        returning a flagged answer.
+        or :class:`~distkin.errors.InfeasibleError` (no convergence, or an answer that
+        fails verification) instead of returning a flagged answer.
 
     Returns
     -------
@@ -145,6 +189,14 @@ def forward_kinematics(mech, q, guess=None, *, tol=1e-13, max_iter=50, max_condi
         if len(g) not in (1, N):
             raise InputError(f"expected {N} guesses or one, got {len(g)}", field="guess")
         X = np.array(np.broadcast_to(g, (N, 6)))
+    if residual_tol is None:
+        residual_tol = RESIDUAL_ULPS * np.finfo(float).eps * leg_length(mech)
+    elif (isinstance(residual_tol, bool) or not isinstance(residual_tol, (int, float))
+          or not residual_tol > 0):
+        raise InputError(f"expected a positive residual tolerance (m), got {residual_tol!r}",
+                         field="residual_tol")
+    residual_tol = float(residual_tol)
+    check = (mech, qa, residual_tol)
     ls = mech.length_scale
     scale = np.array([1.0, 1.0, 1.0, 1.0 / ls, 1.0 / ls, 1.0 / ls])
     if single:
@@ -158,7 +210,7 @@ def forward_kinematics(mech, q, guess=None, *, tol=1e-13, max_iter=50, max_condi
             return np.array(closure(qq[0].tolist(), XX[0].tolist()))[None]
         out = evaluate(qa, X)
         return _finish(out, X, np.array([done1]), np.array([it1]), scale, tol, max_iter,
-                       max_condition, strict, single)
+                       max_condition, strict, single, check)
     closure = mech.kernels("batched").closure
 
     def evaluate(qq, XX):
@@ -181,22 +233,46 @@ def forward_kinematics(mech, q, guess=None, *, tol=1e-13, max_iter=50, max_condi
         if done.all():
             break
     out = evaluate(qa, X)
-    return _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, single)
+    return _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, single,
+                   check)
 
 
-def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, single):
+def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, single, check):
+    mech, qa, residual_tol = check
     N = len(X)
     res = np.sqrt(np.mean(out[..., 0] ** 2, axis=-1))
     _, smin, cond = _solve(out[..., 1:], out[..., 0], scale)
     cond = np.where(np.isfinite(cond), cond, np.inf)
     near = cond > max_condition
-    ok = done & ~near
-    msg = (f"{int(ok.sum())} of {N} converged (step < {tol:g} m)"
+    mismatch, allowed = round_trip(mech, qa, X, pose_error_estimate(mech, cond, res))
+    back = np.all(mismatch <= allowed, axis=-1)          # False where nan
+    small = res <= residual_tol
+    verified = back & small
+    ok = done & ~near & verified
+    worst = np.max(np.where(np.isnan(mismatch), np.inf, mismatch), axis=-1)
+    failed = done & ~verified
+    msg = (f"{int(ok.sum())} of {N} solved (converged: step < {tol:g} m; verified)"
            + (f"; {int((~done).sum())} did not converge in {max_iter} iterations"
               if (~done).any() else "")
            + (f"; {int(near.sum())} near a singularity (condition > {max_condition:g})"
               if near.any() else "")
+           + (f"; {int((done & ~back).sum())} converged to a pose whose inverse kinematics "
+              f"does not give back the joint values (by up to "
+              f"{float(worst[done & ~back].max()):.3g} rad or m: another crank branch or a "
+              f"least-squares minimum, not a solution)" if (done & ~back).any() else "")
+           + (f"; {int((done & ~small).sum())} with an rms closure residual above "
+              f"residual_tol = {residual_tol:.3g} m (inconsistent angles, or no solution "
+              f"near the guess)" if (done & ~small).any() else "")
            + f"; rms closure residual up to {float(res.max()):.3g} m")
+    if strict and failed.any():
+        i = int(np.argmax(failed))
+        raise InfeasibleError(
+            f"expected a pose whose inverse kinematics gives back the joint values and "
+            f"whose rms closure residual is at most {residual_tol:.3g} m, got at pose {i} "
+            f"a mismatch of {worst[i]:.3g} (rad or m) and a residual of {res[i]:.3g} m",
+            field="q", margin=float(res[i]),
+            hint="another guess (the crank branch or assembly mode differs), or "
+                 "residual_tol for measured angles")
     if strict and near.any():
         raise SingularConfigurationError(
             f"expected a pose away from singularities, got condition {float(cond.max()):.3g} "
@@ -208,8 +284,65 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
             margin=float(res.max()))
     if single:
         return FKResult(X[0], bool(done[0]), int(iters[0]), float(res[0]), float(smin[0]),
-                        float(cond[0]), bool(near[0]), msg)
-    return FKResult(X, done, iters, res, smin, cond, near, msg)
+                        float(cond[0]), bool(near[0]), msg, None, bool(verified[0]),
+                        bool(back[0]), float(worst[0]), residual_tol)
+    return FKResult(X, done, iters, res, smin, cond, near, msg, None, verified, back, worst,
+                    residual_tol)
+
+
+def leg_length(mech) -> float:
+    """A typical leg length (m): l3, or the mean distance between base and platform
+    joints at home."""
+    if mech.kind == "rss":
+        return float(mech.l3)
+    d = mech.arrays()
+    from ..spatial import rotation_matrix
+    P = mech.home[:3] + d["p"] @ rotation_matrix(mech.home[3:]).T
+    return float(np.mean(np.linalg.norm(P - d["B"], axis=1)))
+
+
+def pose_error_estimate(mech, condition, residual):
+    """Error estimate (N, 6) (m, m, m, rad, rad, rad) of converged fast poses: the
+    condition number of the scaled closure Jacobian times (eps x a leg length,
+    :func:`leg_length`, + the rms closure residual); the rotations that much over the
+    length scale of the angular columns.  First order, not a bound."""
+    e = (np.asarray(condition, dtype=float)
+         * (np.finfo(float).eps * leg_length(mech) + np.asarray(residual, dtype=float)))
+    e = np.atleast_1d(e)[:, None]
+    return np.concatenate([np.repeat(e, 3, axis=1),
+                           np.repeat(e / float(mech.length_scale), 3, axis=1)], axis=1)
+
+
+def round_trip(mech, q, poses, pose_error):
+    """The check of an answer of the forward kinematics (module docstring): the
+    closed-form inverse kinematics at ``poses`` (N, 6) against the joint values ``q``
+    (N, L) (rad or m).
+
+    Returns
+    -------
+    mismatch : array (N, L)
+        |IK(pose) - q| (a crank's difference taken modulo 2π into [-π, π)).
+    allowed : array (N, L)
+        2 |Phi_i(q_i, pose)| / |Jq_ii| + the IK's error estimate + |J| ``pose_error``
+        ((N, 6), m and rad) + 8 eps max(1, |q_i|); inf where Jq_ii = 0 exactly (the
+        branch point).  A leg on the other IK branch misses by the distance between the
+        branches (about a radian; they meet only at the reach boundary, where the IK's
+        estimate grows to match).
+    """
+    from .kinematics_tiers import _fast_ik_error
+    X = np.atleast_2d(np.asarray(poses, dtype=float))
+    q = np.atleast_2d(np.asarray(q, dtype=float))
+    qi, reach, phi, phi_ik, jq, J = _kernel_rows(mech, X, q)
+    pris = mech.leg_arrays()["prismatic"]
+    d = qi - q
+    d = np.where(pris, d, (d + np.pi) % (2 * np.pi) - np.pi)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        e_ik = _fast_ik_error(mech, X, qi, reach, phi_ik, jq)
+        allowed = (2 * np.abs(phi) / np.abs(jq) + e_ik
+                   + np.einsum("nlk,nk->nl", np.abs(J), np.asarray(pose_error, dtype=float))
+                   + 8 * np.finfo(float).eps * np.maximum(1.0, np.abs(q)))
+    # nan: 0/0 where Jq_ii = 0 exactly, the branch point, where both branches meet
+    return np.abs(d), np.where(np.isnan(allowed), np.inf, allowed)
 
 
 def gauss_newton(closure, q, pose, *, tol, max_iter, scale=None):
@@ -267,6 +400,30 @@ def gauss_newton(closure, q, pose, *, tol, max_iter, scale=None):
         if math.sqrt(float(((d / s) ** 2).sum())) < tol:
             return x, True, it, c, D, d
     return x, False, max_iter, c, D, d
+
+
+def _kernel_rows(mech, X, q):
+    """At the poses X (N, 6) and joint values q (N, L): the IK qi (N, L), the reach
+    margin (N, L), Phi(q, X) and Phi(qi, X) (N, L), Jq (N, L) and J (N, L, 6).  The
+    scalar kernels for a few poses (a batched kernel costs ~0.5 ms of numpy overhead on
+    one pose), else the batched."""
+    if len(X) <= 4:
+        k = mech.kernels("scalar")
+        try:
+            rows = []
+            for x, qq in zip(X.tolist(), q.tolist()):
+                qi = k.ik(x)
+                rows.append((qi, k.reach(x), [r[0] for r in k.closure(qq, x)],
+                             [r[0] for r in k.closure(qi, x)], [r[0] for r in k.jq_jx(x)],
+                             k.jacobian(x)))
+            return tuple(np.array(v, dtype=float) for v in zip(*rows))
+        except (ZeroDivisionError, ValueError, OverflowError):
+            pass                      # Python floats raise where numpy gives inf or nan
+    k = mech.kernels("batched")
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        qi = k.ik(X)
+        return (qi, k.reach(X), k.closure(q, X)[..., 0], k.closure(qi, X)[..., 0],
+                k.jq_jx(X)[..., 0], k.jacobian(X))
 
 
 def _single(closure, q, x, scale, tol, max_iter):

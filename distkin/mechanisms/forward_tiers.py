@@ -9,10 +9,12 @@ derivative with respect to p is :math:`[\partial\Phi/\partial v,\;
 \partial\Phi/\partial\omega\,E(r)]`.
 
 ``fast``
-    Gauss-Newton in float64 from a warm start (:func:`.forward.forward_kinematics`,
-    unchanged).  Error estimate (first order, not a bound; :func:`_fast_error`): the
-    condition number times (eps x the leg length + the closure residual), in m, and
-    over the length scale in rad.
+    Gauss-Newton in float64 from a warm start (:func:`.forward.forward_kinematics`).
+    Error estimate (first order, not a bound; :func:`.forward.pose_error_estimate`):
+    the condition number times (eps x the leg length + the closure residual), in m,
+    and over the length scale in rad; only of an answer that passes the round trip
+    (:func:`.forward.round_trip`: the closed-form IK at the pose gives back the joint
+    values), another is refused with :class:`~distkin.errors.InfeasibleError`.
 ``precise``
     Newton (L = 6, or six ``legs``) or Gauss-Newton (L > 6: the least-squares pose of
     inconsistent angles) on the same generated kernel in its arb flavour run on mpmath numbers at
@@ -31,8 +33,15 @@ derivative with respect to p is :math:`[\partial\Phi/\partial v,\;
     closes all legs exactly: the test proves the pose that closes six legs (by default
     the six whose rows of the scaled closure Jacobian are best conditioned, by QR with
     column pivoting; or ``legs``), centred on the float64 Newton zero of those six, and
-    bounds the closure errors of the others over the proved box (m).  Near a direct singularity (two assembly modes about to merge) the
-    test refuses: :class:`~distkin.errors.UncertifiedError`, never a wrong box.
+    bounds the closure errors of the others over the proved box (m).  Near a direct
+    singularity (two assembly modes about to merge) the test refuses:
+    :class:`~distkin.errors.UncertifiedError`, never a wrong box.
+
+The precise and certified poses pass the same round trip as the fast one (float64, the
+closed-form IK at the tier's pose against the joint values, within their closure
+errors over the crank's lever and the tier's error through J): the closures alone
+hold on either crank branch of the IK, so a pose on the other branch (a start on it) is
+refused with :class:`~distkin.errors.InfeasibleError`, not proved.
 """
 
 from __future__ import annotations
@@ -180,38 +189,46 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
     if method == "precise":
         sub = list(range(mech.legs)) if legs is None else _choose_legs(fast.pose, mech, qa,
                                                                        legs)
-        return _precise(mech, qa, fast, default_dps(dps), sub)
-    chosen = _choose_legs(fast.pose, mech, qa, legs)
-    return _certified(mech, qa, fast, chosen, _polish(mech, qa, fast.pose, chosen), bits)
+        res = _precise(mech, qa, fast, default_dps(dps), sub)
+    else:
+        chosen = _choose_legs(fast.pose, mech, qa, legs)
+        res = _certified(mech, qa, fast, chosen, _polish(mech, qa, fast.pose, chosen), bits)
+    _check_round_trip(mech, qa, res.pose, res.error, method)
+    return res
+
+
+def _refusal(what, mismatch, detail):
+    return InfeasibleError(
+        f"expected a pose whose inverse kinematics gives back the joint values, got {what} "
+        f"that misses them by up to {mismatch:.3g} (rad or m; {detail}): the closures hold "
+        f"there with cranks on the other branch of the IK, or it is a least-squares "
+        f"minimum that closes no leg; not the device's configuration", field="q",
+        margin=mismatch, hint="another guess, near the device's pose")
+
+
+def _check_round_trip(mech, q, pose, error, method):
+    """:class:`InfeasibleError` unless the closed-form IK at ``pose`` gives back ``q``
+    (:func:`.forward.round_trip`, with the pose's ``error`` (6,))."""
+    from .forward import round_trip
+    mismatch, allowed = round_trip(mech, q, pose, np.asarray(error, dtype=float)[None])
+    bad = ~(mismatch[0] <= allowed[0])
+    if bad.any():
+        legs = [int(i) + 1 for i in np.flatnonzero(bad)]
+        raise _refusal(f"a {method} pose", float(np.max(mismatch[0][bad])),
+                       f"legs {legs}")
 
 
 def fast_tier(mech, fast) -> TieredFK:
     """The :class:`TieredFK` of a fast answer ``fast`` (:class:`.forward.FKResult` of one
-    pose), with its error estimate (:func:`_fast_error`)."""
-    return TieredFK(np.array(fast.pose), "fast", _fast_error(mech, fast), False,
+    pose), with its error estimate (:func:`.forward.pose_error_estimate`);
+    :class:`InfeasibleError` when the answer fails the round trip (``fast.round_trip``,
+    :func:`.forward.round_trip`): no accuracy is stated for a wrong pose."""
+    from .forward import pose_error_estimate
+    if not fast.round_trip:
+        raise _refusal("a fast pose", float(fast.q_mismatch), f"the fast tier: {fast.message}")
+    return TieredFK(np.array(fast.pose), "fast",
+                    pose_error_estimate(mech, fast.condition, fast.residual)[0], False,
                     tuple(range(1, mech.legs + 1)), float(fast.residual), {}, None, fast)
-
-
-def _fast_error(mech, fast):
-    """The fast tier's error estimate (6,) m and rad: the condition number of the scaled
-    closure Jacobian times (eps x a leg length, :func:`_leg_length`, + the rms closure
-    residual); the
-    rotations that much over the length scale of the angular columns.  First order, not
-    a bound."""
-    e = float(fast.condition) * (np.finfo(float).eps * _leg_length(mech)
-                                 + float(fast.residual))
-    return np.array([e] * 3 + [e / float(mech.length_scale)] * 3)
-
-
-def _leg_length(mech) -> float:
-    """A typical leg length (m): l3, or the mean distance between base and platform
-    joints at home."""
-    if mech.kind == "rss":
-        return float(mech.l3)
-    d = mech.arrays()
-    from ..spatial import rotation_matrix
-    P = mech.home[:3] + d["p"] @ rotation_matrix(mech.home[3:]).T
-    return float(np.mean(np.linalg.norm(P - d["B"], axis=1)))
 
 
 def _polish(mech, q, pose, legs, steps: int = 4):

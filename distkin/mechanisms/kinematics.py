@@ -21,6 +21,9 @@ from .legs import LegsDescription
 
 __all__ = ["KernelMethods", "LegMechanism", "ROUTES"]
 
+#: the leg arrays of :meth:`KernelMethods.leg_arrays`, one per geometry
+_ARRAYS: dict = {}
+
 
 class KernelMethods:
     """The numeric methods of a mechanism on its kernels (module docstring)."""
@@ -36,7 +39,7 @@ class KernelMethods:
         if q is None:
             q, _ = self.inverse_kinematics(X)
         q = np.asarray(q, dtype=float).reshape(len(X), self.L)
-        d = self.leg_description().arrays()
+        d = self.leg_arrays()
         P = X[:, None, :3] + np.einsum("nij,lj->nli", rotation_matrix(X[:, 3:]), d["p"])
         qr = np.where(d["prismatic"][None], 0.0, q)
         C = d["B"][None] + d["l1"][None, :, None] * (np.cos(qr)[..., None] * d["u"][None]
@@ -45,6 +48,19 @@ class KernelMethods:
         B = np.broadcast_to(d["B"], C.shape)
         out = {"B": B, "C": C, "D": D, "P": P, "q": q}
         return {k: v[0] for k, v in out.items()} if single else out
+
+    def leg_arrays(self) -> dict:
+        """``leg_description().arrays()`` (:meth:`~.legs.LegsDescription.arrays`),
+        computed once per geometry and kept, read-only, in one cache outside this frozen
+        description (keyed as the kernels: kind and :meth:`geometry_key`)."""
+        key = (type(self).kind, self.geometry_key())
+        d = _ARRAYS.get(key)
+        if d is None:
+            d = self.leg_description().arrays()
+            for v in d.values():
+                v.setflags(write=False)
+            _ARRAYS[key] = d
+        return d
 
     def kernels(self, flavour: str = "batched"):
         """The generated kernels (:mod:`.kernels`), ``flavour`` "batched" or "scalar".

@@ -15,10 +15,30 @@ Kühne et al., Sec. II-C, eqs. (1)-(2): per leg the closure gives
     for a revolute leg the cancellation in :math:`\rho^2 - C^2` (rounding
     :math:`\delta m = 4\,\mathrm{eps}\,\rho^2` moves q by
     :math:`\delta m / (2 \rho \sqrt{\max(|m|, \delta m)})`: up to
-    :math:`\sqrt{\mathrm{eps}}` at the reach boundary); of a
-    row of J: :math:`4\,\mathrm{eps}\,\max_j |J_{ij}|\,\max(1, \ell / |J_{q,ii}|)` with
-    ℓ the mechanism's length scale (rounding, amplified as the leg nears a serial
-    singularity, :math:`J_{q,ii} \to 0`); of Jq and Jx: 4 eps times the value.
+    :math:`\sqrt{\mathrm{eps}}` at the reach boundary).  Of Jq, Jx and J: first-order
+    propagation of that IK error :math:`\delta q_i` and of the rounding into the
+    formulas at q (:func:`_fast_jacobian_error`),
+
+    .. math::
+        \delta J_{q,ii} = 4\,\mathrm{eps}\max(|J_{q,ii}|, \ell)
+            + |\partial J_{q,ii}/\partial q_i|\,\delta q_i, \qquad
+        \delta J_{x,ij} = 4\,\mathrm{eps}\max_k |J_{x,ik}|
+            + |\partial J_{x,ij}/\partial q_i|\,\delta q_i,
+
+    .. math::
+        \delta J_{ij} = (\delta J_{x,ij} + |J_{ij}|\,\delta J_{q,ii}) / |J_{q,ii}|
+
+    (ℓ the mechanism's length scale; the q-derivatives of
+    :func:`.reference.jacobian_q_derivatives`).
+    Near a serial singularity, which for an RSS leg is its reach boundary
+    (:math:`J_{q,ii} = \mp l_1 h / l_3 \to 0`), the IK's :math:`\delta q \sim \delta m /
+    (2\rho h)` gives J a relative error of about :math:`\delta m / (2 h^2)`: 1e-12 at
+    0.1 mm from the boundary, 1e-6 at 1e-10 m, O(1) at it.  Where that first-order
+    figure exceeds :data:`J_FIRST_ORDER` of the row the estimate is ``inf`` (the
+    linearisation fails: the margin's rounding is comparable to the margin), and a pose
+    with a row above :data:`J_REL_USEFUL` is flagged (``TieredJacobian.inaccurate``, a
+    :class:`~distkin.errors.ConditioningWarning`): float64 cannot give J there, the
+    precise or certified tier can.
 ``precise``
     the arb-flavour generated kernels (``ik_arb``, ``reach_arb``, ``jq_jx_arb``:
     only ``+ - * /``, ``abs``, ``sqrt``, ``sin``, ``cos``, ``atan2`` and ``_A(number)``)
@@ -63,17 +83,25 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InfeasibleError, InputError, UncertifiedError
+from ..errors import ConditioningWarning, InfeasibleError, InputError, UncertifiedError
 from ..exact import check_method, default_dps, float_ball, float_mpf
 from .description import _poses
 
 __all__ = ["MPNumber", "on_mpmath", "TieredIK", "TieredJacobian", "ik_tier", "jacobian_tier",
-           "raise_uncertified", "check_bits", "GUARD", "BITS"]
+           "raise_uncertified", "check_bits", "GUARD", "BITS", "J_REL_USEFUL",
+           "J_FIRST_ORDER"]
 
 #: extra digits of the precise tier's second evaluation (its error estimate)
 GUARD = 15
 #: working precision (bits) of the certified tier's balls
 BITS = 128
+#: fast tier: a pose is flagged ``inaccurate`` when the error estimate of a row of J
+#: exceeds this fraction of the row's largest entry (more than 10 of float64's 16 digits
+#: lost; near a leg's reach boundary, within about 1e-10 m of it on the presets)
+J_REL_USEFUL = 1e-6
+#: fast tier: beyond this fraction of the row the first-order estimate of J is not
+#: one (the rounding of the reach margin is comparable to the margin): ``inf``
+J_FIRST_ORDER = 0.1
 _EPS = np.finfo(float).eps
 
 
@@ -294,9 +322,14 @@ class TieredIK:
 @dataclass(frozen=True)
 class TieredJacobian:
     """J = Jq^-1 Jx (eqs. (1)-(2)) at one tier: ``J``, ``Jx`` (N, L, 6), ``Jq`` (N, L)
-    as floats with ``*_error`` alike (estimates or certified radii), ``valid``,
-    ``certified``, ``reasons``, ``infeasible`` as :class:`TieredIK`, and the tier's own
-    numbers ``values`` (J), ``jq_values``, ``jx_values`` (None for ``fast``)."""
+    as floats with ``*_error`` alike (estimates, inf where the fast tier's first-order
+    estimate fails, or certified radii), ``valid``, ``certified``, ``reasons``,
+    ``infeasible`` as :class:`TieredIK`, the tier's own numbers ``values`` (J),
+    ``jq_values``, ``jx_values`` (None for ``fast``), and ``inaccurate`` (N,) bool: fast
+    tier, a row of J whose estimated error exceeds :data:`J_REL_USEFUL` of the row (a
+    leg at or next to its reach boundary, a serial singularity; module docstring):
+    float64 does not give J there, use ``method="precise"``.  False in the other tiers
+    (the precise estimate and the certified radii cover themselves)."""
 
     method: str
     precision: str
@@ -313,6 +346,7 @@ class TieredJacobian:
     jq_values: np.ndarray | None
     jx_values: np.ndarray | None
     infeasible: np.ndarray
+    inaccurate: np.ndarray | None = None
 
 
 def check_bits(bits, method: str, field: str = "bits") -> int:
@@ -339,23 +373,53 @@ def _setup(mech, poses, method, dps, bits):
     return X, dps, bits, prec
 
 
-def _fast_ik_error(mech, X, q, margin):
+def _fast_ik_error(mech, X, q, margin, phi=None, jq=None):
     """First-order error estimate (N, L) of the fast IK (module docstring): the closure
     residual |Phi_i(q_i)| / |Jq_ii|, 2 eps max(|q|, 1), and for a revolute leg the
     cancellation in its reach margin m = rho^2 - C^2 (rounding dm = 4 eps rho^2; q moves
     by dm / (2 rho h) with h = sqrt(max(|m|, dm)), the sqrt(eps) of a double root at the
-    reach boundary, where the closure residual cannot see it)."""
-    k = mech.kernels("batched")
-    phi = k.closure(q, X)[..., 0]
-    jq = k.jq_jx(X)[..., 0]
-    d = mech.leg_description().arrays()
+    reach boundary, where the closure residual cannot see it).  ``phi`` = Phi(q, X) and
+    ``jq`` (N, L), if already evaluated."""
+    if phi is None or jq is None:
+        k = mech.kernels("batched")
+        phi = k.closure(q, X)[..., 0]
+        jq = k.jq_jx(X)[..., 0]
+    d = mech.leg_arrays()
     w = mech.points(X, q)["P"] - d["B"][None] - d["offset"][None]
     rho = np.hypot(np.einsum("nli,li->nl", w, d["u"]), np.einsum("nli,li->nl", w, d["v"]))
     dm = 4 * _EPS * rho ** 2
     with np.errstate(divide="ignore", invalid="ignore"):
         cancel = np.where(d["prismatic"][None], 0.0,
                           dm / (2 * rho * np.sqrt(np.maximum(np.abs(margin), dm))))
-        return np.abs(phi) / np.abs(jq) + 2 * _EPS * np.maximum(np.abs(q), 1.0) + cancel
+        lever = np.where(phi == 0, 0.0, np.abs(phi) / np.abs(jq))    # 0/0 at h = 0
+        return lever + 2 * _EPS * np.maximum(np.abs(q), 1.0) + cancel
+
+
+def _fast_jacobian_error(mech, X, J, Jq, Jx):
+    """Error estimates of the fast Jq (N, L), Jx and J (N, L, 6), first order (module
+    docstring): the IK error (:func:`_fast_ik_error`) through the q-derivatives of
+    :func:`.reference.jacobian_q_derivatives`, and the rounding at q; J's ``inf`` where
+    the formula gives no finite J or the estimate exceeds :data:`J_FIRST_ORDER` of its
+    row (so also for a leg that does not close: its closure residual is its IK error).
+    Also the (N,) flag ``inaccurate``: a leg that closes with a row above
+    :data:`J_REL_USEFUL`."""
+    q = mech.inverse_kinematics(X)[0]
+    margin = mech.reach_margin(X)
+    dq = _fast_ik_error(mech, X, q, margin)
+    from .reference import jacobian_q_derivatives
+    djq, djx = jacobian_q_derivatives(mech, X, q)
+    aq = np.abs(Jq)
+    jq_err = 4 * _EPS * np.maximum(aq, mech.length_scale) + np.abs(djq) * dq
+    jx_err = (4 * _EPS * np.max(np.abs(Jx), axis=-1, keepdims=True)
+              + np.abs(djx) * dq[..., None])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        err = (jx_err + np.abs(J) * jq_err[..., None]) / aq[..., None]
+        rel = np.max(err, axis=-1) / np.max(np.abs(J), axis=-1)
+    bad = ~np.all(np.isfinite(J), axis=-1) | ~(rel <= J_FIRST_ORDER)
+    err = np.where(bad[..., None], np.inf, err)
+    # of the legs that close (a leg that does not has no J: its Phi != 0 makes it inf)
+    inaccurate = np.any((bad | (rel > J_REL_USEFUL)) & (margin >= 0), axis=-1)
+    return jq_err, jx_err, err, inaccurate
 
 
 def _range_check(mech, qv, i, j, reasons):
@@ -444,12 +508,17 @@ def jacobian_tier(mech, poses, method: str = "fast", dps: int | None = None,
         J = mech.jacobian(X)
         Jq, Jx = mech.jq_jx(X)
         _, valid = mech.inverse_kinematics(X)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            amp = np.maximum(1.0, mech.length_scale / np.abs(Jq))
-        err = 4 * _EPS * np.max(np.abs(J), axis=-1) * amp
-        return TieredJacobian(method, prec, J, np.repeat(err[..., None], 6, axis=-1), Jq,
-                              4 * _EPS * np.abs(Jq), Jx, 4 * _EPS * np.abs(Jx), valid, none,
-                              (), None, None, None, none.copy())
+        jq_err, jx_err, err, inaccurate = _fast_jacobian_error(mech, X, J, Jq, Jx)
+        if inaccurate.any():
+            import warnings
+            warnings.warn(f"fast Jacobian: at {int(inaccurate.sum())} of {N} pose(s) (first: "
+                          f"{int(np.argmax(inaccurate))}) a row of J has an estimated error "
+                          f"above {J_REL_USEFUL:g} of the row (inf where first order fails): "
+                          f"a leg at or next to its reach boundary (a serial singularity), "
+                          f"where float64 does not give J; see .J_error and .inaccurate, or "
+                          f"use method='precise'", ConditioningWarning, stacklevel=2)
+        return TieredJacobian(method, prec, J, err, Jq, jq_err, Jx, jx_err, valid, none,
+                              (), None, None, None, none.copy(), inaccurate)
     ks = _arb_kernels(mech)
     if method == "precise":
         import mpmath
@@ -464,7 +533,7 @@ def jacobian_tier(mech, poses, method: str = "fast", dps: int | None = None,
         return TieredJacobian(method, prec, _to_float(vals["J"]),
                               _estimate(vals["J"], ref["J"], dps), _to_float(jq), err[..., 0],
                               _to_float(jx), err[..., 1:], valid, none, (), vals["J"], jq, jx,
-                              none)
+                              none, np.zeros(N, dtype=bool))
     ik = ik_tier(mech, X, "certified", bits=bits)
     vals = _certified_eval(ks, ("jq_jx",), X, bits)["jq_jx"]
     jq, jx = vals[..., 0], vals[..., 1:]
@@ -484,7 +553,7 @@ def jacobian_tier(mech, poses, method: str = "fast", dps: int | None = None,
     reasons.sort(key=lambda r: r[:2])
     return TieredJacobian(method, prec, *_split(J), *_split(jq), *_split(jx),
                           ik.valid & certified, certified, tuple(reasons), J, jq, jx,
-                          ik.infeasible)
+                          ik.infeasible, np.zeros(N, dtype=bool))
 
 
 def raise_uncertified(res, what: str):

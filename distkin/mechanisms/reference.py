@@ -29,7 +29,7 @@ import numpy as np
 
 from ..spatial import rotation_matrix
 
-__all__ = ["ik_jacobian", "NumericKernels"]
+__all__ = ["ik_jacobian", "NumericKernels", "jacobian_q_derivatives"]
 
 
 def _solve(mech, X, g, branch):
@@ -91,6 +91,37 @@ def ik_jacobian(mech, poses, *, return_jq: bool = False):
     if return_jq:
         return q, margin >= 0.0, J, jq / mech.l3
     return q, margin >= 0.0, J
+
+
+def jacobian_q_derivatives(mech, X, q):
+    """dJq_ii/dq_i (N, L) and dJx_i/dq_i (N, L, 6) of ``mech`` (RSS or leg mechanism)
+    at the poses X (N, 6) (m, rad) and joint values q (N, L), from the leg table (the
+    formulas of :mod:`.symbolic`, as :class:`NumericKernels` writes them; Kühne et al.,
+    eq. (1)); the fast tier's error estimate of J propagates the IK's error through them
+    (:mod:`.kinematics_tiers`).  Revolute leg, w = P - B - offset,
+    s = P - D(q), D' = l1 (-sin q u + cos q v), D'' = -l1 (cos q u + sin q v):
+    Jq = -w.D'/l3 and Jx = -(s, Rp x s)/l3, so dJq/dq = -w.D''/l3 and
+    dJx/dq = (D', Rp x D')/l3.  Prismatic leg, s = P - B: Jq = -(|s|^2 + q^2)/(2 q^2) and
+    Jx = -(s, Rp x s)/q, so dJq/dq = |s|^2/q^3 and dJx/dq = (s, Rp x s)/q^2."""
+    d = mech.leg_arrays()
+    P = mech.points(X, q)["P"]
+    Rp = P - X[:, None, :3]
+    pris = d["prismatic"]
+    cq, sq = np.cos(q)[..., None], np.sin(q)[..., None]
+    l1 = d["l1"][:, None]
+    dD = l1 * (-sq * d["u"] + cq * d["v"])
+    ddD = -l1 * (cq * d["u"] + sq * d["v"])
+    w = P - d["B"] - d["offset"]
+    l3 = np.where(pris, 1.0, d["l3"])
+    sp = P - d["B"]
+    qq = np.where(pris, q, 1.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        djq = np.where(pris, np.einsum("nli,nli->nl", sp, sp) / qq ** 3,
+                       -np.einsum("nli,nli->nl", w, ddD) / l3)
+        djx = np.where(pris[:, None], np.concatenate([sp, np.cross(Rp, sp)], -1)
+                       / (qq ** 2)[..., None],
+                       np.concatenate([dD, np.cross(Rp, dD)], -1) / l3[:, None])
+    return djq, djx
 
 
 def _legs_ik_jacobian(mech, X, return_jq):
