@@ -113,6 +113,11 @@ def solve_precise(problem: Problem, dps: int, tol=None):
         # radius ~10^(-work/m), well inside `near` for m <= 4)
         mult = [max(1, sum(1 for z in roots if abs(z * c - x) <= near * max(abs(x), c)))
                 for x, _ in found]
+        # a simple real root changes the octic's sign around it; a root found where it
+        # does not is a complex pair next to the axis, or an even multiple root, that
+        # this precision cannot tell apart
+        unsure = [float(x) for k, ((x, step), m) in enumerate(zip(found, mult))
+                  if m == 1 and not _changes_sign(d, x, step, c, work, found, k)]
         base = [[_mpf(v) for v in r] for r in problem.base]
         plat = [[_mpf(v) for v in r] for r in problem.platform]
         legs = [_mpf(v) for v in problem.legs]
@@ -137,6 +142,8 @@ def solve_precise(problem: Problem, dps: int, tol=None):
             except (InfeasibleError, DegenerateGeometryError) as exc:
                 infos.append(RootInfo(float(x), _estimate(x, step), m, "rejected",
                                       f"rejected: trilateration failed ({exc.message})", x))
+                if m > 1:               # a cluster may hide assembly modes
+                    merged.append((float(x), m, 0))
                 continue
             modes = len(sets) // 2
             infos.append(RootInfo(float(x), _estimate(x, step), m, "assembly",
@@ -154,6 +161,14 @@ def solve_precise(problem: Problem, dps: int, tol=None):
                                   {"s15": +x, "points": pts, "rotation": R, "translation": t}))
         reason = "" if poses else _empty_reason(infos)
         notes = (_SPURIOUS_NOTE,)
+        if unsure:
+            what = ", ".join(f"{x:.10g}" for x in unsure)
+            notes += (f"no sign change of the octic around s15 = {what} at {dps} digits: "
+                      "a complex pair next to the real axis, or a double root",)
+            warnings.warn(f"precise tier: the octic does not change sign around s15 = "
+                          f"{what} at {dps} digits (a complex pair next to the real axis "
+                          "or a double root); the count may be wrong (use more digits or "
+                          "method='certified')", ConditioningWarning, stacklevel=4)
         if merged:
             what = "; ".join(f"s15 = {x:.10g}: {m} roots within 1e-{dps // 3} relative, "
                              f"{k} assembly mode{'s' if k != 1 else ''} separated"
@@ -166,6 +181,19 @@ def solve_precise(problem: Problem, dps: int, tol=None):
         return AssemblyResult(tuple(poses), "precise", octic, exact, tuple(infos), False,
                               reason, f"mpmath at {dps} digits (working {work}); root "
                               "residual below 1e-{} relative".format(dps - 8), notes)
+
+
+def _changes_sign(d, x, step, c, work, found, k) -> bool:
+    """Whether H = G^2 - 4 R1 R2 has opposite signs at x -+ delta, delta ten times the
+    last Newton step (at least 10^(5 - work) of the scale) and below half the gaps to
+    the neighbouring roots ``found[k -+ 1]``."""
+    import mpmath
+    delta = max(10 * step, mpmath.mpf(10) ** (5 - work) * max(abs(x), c))
+    for j in (k - 1, k + 1):
+        if 0 <= j < len(found):
+            delta = min(delta, abs(found[j][0] - x) / 2)
+    lo, hi = _factored(d, x - delta)[0], _factored(d, x + delta)[0]
+    return lo * hi < 0
 
 
 def _polyroots(coeffs, work):

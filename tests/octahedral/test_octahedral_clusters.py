@@ -151,3 +151,19 @@ def test_certified_tier_decides_an_open_face_exactly():
     assert all(r.status == "spurious" and "P1 P2 P4" in r.reason for r in cert.roots)
     assert cert.reason.startswith("cannot be assembled") and auto.tier == "certified"
     assert auto.real_root_count == cert.real_root_count
+
+
+@pytest.mark.parametrize("name", ["griffis-duffy leg5 +2^-32", "edge lambda -2^-32"])
+def test_precise_tier_warns_at_a_complex_pair_next_to_the_axis(name):
+    """Just past a fold (hardset) two roots have become a complex pair a little off the
+    real axis; at 15 digits the precise tier used to take it for a real root and give
+    more poses than the certified tier, without a word (QA).  The octic does not change
+    sign around such a "root": the tier says so (``ConditioningWarning``, a note)."""
+    from distkin.octahedral.hardset import hard_set
+    case = next(c for c in hard_set() if c.name == name)
+    cert = forward_kinematics(case.base, case.platform, list(case.legs), method="certified")
+    with pytest.warns(ConditioningWarning, match="does not change sign"):
+        low = forward_kinematics(case.base, case.platform, list(case.legs),
+                                 method="precise", dps=15)
+    assert low.real_root_count > cert.real_root_count          # (the miscount it flags)
+    assert any("no sign change" in n for n in low.notes)
