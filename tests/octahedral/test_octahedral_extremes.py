@@ -268,4 +268,4 @@ def test_inputs_are_refused_alike_by_every_tier():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         forward_kinematics(base, plat, [1e100] * 6)
-    forward_kinematics(base, plat, [10 ** 30] * 6, method="precise")
+        forward_kinematics(base, plat, [10 ** 30] * 6, method="precise")
