@@ -40,7 +40,7 @@ from __future__ import annotations
 from ..errors import InputError
 from ..singularity.conditions import OCTAHEDRAL_LEGS
 from .platform66 import Platform66, equivalent_platform
-from .transform import _as_sym, _base_platform, _sym_point
+from .exact_input import _as_sym, _base_platform, _exact_form, _sym_points
 
 __all__ = [
     "KINDS",
@@ -59,17 +59,12 @@ KINDS = ("standard", "stoughton_arai", "griffis_duffy")
 def _points(octahedral):
     """P1..P6 as sympy 3-vectors (base frame for P1..P3, platform frame for P4..P6)."""
     import sympy as sp
-    base, platform = _base_platform(octahedral)
-    pts = [sp.Matrix(_sym_point(p)) for p in base] + [sp.Matrix(_sym_point(p))
-                                                       for p in platform]
-    if len(pts) != 6 or any(p.shape != (3, 1) for p in pts):
-        raise InputError("expected a base and a platform of 3 points with 3 coordinates each",
-                         field="octahedral")
-    return pts
+    base, platform = _base_platform(octahedral)      # 3 points of 3 coordinates each
+    return [sp.Matrix(p) for p in _sym_points(base, platform)]
 
 
 def _delta(delta):
-    d = _as_sym(delta, "delta")
+    d = _as_sym(delta, "delta", allow_symbols=False)
     if not d.is_number or not d.is_positive:
         raise InputError(f"expected a positive offset delta (length units), got {delta!r}",
                          field="delta")
@@ -89,7 +84,7 @@ def _partner(vertex: int, other: int) -> int:
 
 def _unit(v):
     import sympy as sp
-    n = sp.sqrt(sp.nsimplify(sp.expand(v.dot(v))))
+    n = sp.sqrt(_exact_form(v.dot(v)))      # exact: no rounding of float data
     return v / n
 
 

@@ -43,7 +43,7 @@ from ..singularity.paths import (certify_crossing, path_crossings, pose_points,
                                  rotation_from_vector)
 from .approximations import KINDS, approximation, octahedral_as_66
 from .platform66 import Platform66, forward_kinematics66
-from .transform import _as_sym, _base_platform
+from .exact_input import _as_sym, _base_platform
 
 __all__ = [
     "PoseError",

@@ -16,8 +16,9 @@ import numpy as np
 
 from ..errors import DegenerateGeometryError, InputError
 from ..exact import METHODS_AUTO, check_method, default_dps
-from .transform import (ROWS, DeltaTransform, _as_sym, _base_platform, _float_legs, _sym_point,
-                        delta_transform)
+from .exact_input import (_as_sym, _base_platform, _check_leg_range, _exact_form,
+                          _float_legs, _sym_points)
+from .transform import ROWS, DeltaTransform, delta_transform
 
 __all__ = [
     "Platform66",
@@ -97,6 +98,10 @@ def equivalent_platform(octahedral, offsets) -> Platform66:
 
     Raises
     ------
+    InputError
+        Malformed points or offsets (NaN, not 3 points of 3 coordinates, not 6 offsets,
+        symbols), or an offset outside :math:`0 < \delta_i < d_i` (the joint would
+        leave the triangle edge it moves along).
     DegenerateGeometryError
         Offsets making :math:`\det\mathbf A = 0`, or an offset of 0 or :math:`d_i` that
         would merge two joints again (the platform would not be 6-6).
@@ -105,26 +110,43 @@ def equivalent_platform(octahedral, offsets) -> Platform66:
     if tr.free_symbols:
         raise InputError(f"expected numeric offsets to build a platform, got symbols "
                          f"{', '.join(map(str, tr.free_symbols))}", field="offsets")
+    _check_offsets(tr)
     tr.check_regular()
     base, platform = _base_platform(octahedral)
-    key = tuple(_sym_point(p) for p in base) + tuple(_sym_point(p) for p in platform)
-    return _build_platform(key, tr)
+    return _build_platform(_sym_points(base, platform), tr)
+
+
+def _check_offsets(tr: DeltaTransform) -> None:
+    r"""Each :math:`\delta_i` strictly inside its edge, :math:`0 < \delta_i < d_i` (Rojas
+    et al., Sec. V, Fig. 6: the joint moves along the edge).  At an end the two joints of
+    a double-ball joint merge again (DegenerateGeometryError); beyond it the offset is
+    not one of a Δ-transform (InputError); both say the same."""
+    for spec, d, delta in zip(ROWS, tr.sides, tr.offsets):
+        at_end = delta == 0 or _exact_form(delta - d) == 0
+        if at_end or not (delta.is_positive and (d - delta).is_positive):
+            cls = DegenerateGeometryError if at_end else InputError
+            raise cls(f"expected 0 < delta{spec.row} < {spec.side} = {_show(d)} so that every "
+                      f"joint is single and on its edge, got delta{spec.row} = {_show(delta)}",
+                      field=f"offsets[{spec.row - 1}]")
+
+
+def _show(x) -> str:
+    """An exact number for a message: as written when rational, else with its value."""
+    return str(x) if x.is_Rational else f"{x} (= {float(x):.10g})"
 
 
 @lru_cache(maxsize=64)
 def _build_platform(points: tuple, tr: DeltaTransform) -> Platform66:
-    """The joints of Fig. 6 (cached per geometry and transform)."""
+    r"""The joints of Fig. 6 (cached per geometry and transform), exact: the moved joint
+    is :math:`P_s + (\delta/d)(P_e - P_s)`, expanded only (no rounding to "nice"
+    numbers, so float data keep their exact binary values)."""
     import sympy as sp
     pts = [sp.Matrix(p) for p in points]
     bj, pj = [], []
     for spec, d, delta in zip(ROWS, tr.sides, tr.offsets):
         s, e = spec.edge
-        if delta == 0 or sp.simplify(delta - d) == 0:
-            raise DegenerateGeometryError(
-                f"expected 0 < delta{spec.row} < {spec.side} = {d} so that every joint is "
-                f"single, got delta{spec.row} = {delta}", field=f"offsets[{spec.row - 1}]")
-        t = sp.nsimplify(delta / d)
-        new = (pts[s - 1] + t * (pts[e - 1] - pts[s - 1])).applyfunc(sp.nsimplify)
+        t = delta / d
+        new = (pts[s - 1] + t * (pts[e - 1] - pts[s - 1])).applyfunc(_exact_form)
         shared = pts[spec.shared - 1]
         if spec.moved == "base":
             bj.append(tuple(new))
@@ -217,7 +239,11 @@ def forward_kinematics66(octahedral, offsets, m_legs, *, method: str = "fast",
 
     Raises
     ------
-    DegenerateGeometryError, InfeasibleError, InputError
+    InputError
+        Malformed, non-finite, non-positive or symbolic m-legs, m-legs beyond the
+        octahedral solver's range (largest below :math:`2^{510}`), in every tier alike
+        (the field is ``m_legs[i]``); and see :func:`equivalent_platform`.
+    DegenerateGeometryError, InfeasibleError
         See :meth:`DeltaTransform.map_legs` and :func:`equivalent_platform`.
     """
     check_method(method, allowed=METHODS_AUTO)
@@ -225,29 +251,40 @@ def forward_kinematics66(octahedral, offsets, m_legs, *, method: str = "fast",
     plat = equivalent_platform(octahedral, offsets)
     from ..octahedral import forward_kinematics
     base, platform = _base_platform(octahedral)
+    # every tier refuses the same m-legs the same way, naming m_legs[i] and the value
+    m_float = _float_legs(m_legs, "m_legs")
+    _check_leg_range(m_float, "m_legs")
+    if method == "fast":  # float64 throughout: no algebra on this path
+        m_exact = None
+    else:
+        m_exact = [_as_sym(x, f"m_legs[{i}]", allow_symbols=False)
+                   for i, x in enumerate(m_legs)]
     if method == "auto":  # exact l-legs, so that an escalation certifies this problem
-        l_sq, l = plat.transform.map_legs(m_legs)
-        res = forward_kinematics(base, platform, [_legs_arg(x) for x in l], method="auto",
-                                 dps=dps)
+        l_sq, l = plat.transform.map_legs(m_exact)
+        with _mapped_legs():
+            res = forward_kinematics(base, platform, [_legs_arg(x) for x in l],
+                                     method="auto", dps=dps)
         tier = res.tier
-        m = (list(_float_legs(m_legs, "m_legs")) if tier == "fast" else
-             [_as_sym(x, f"m_legs[{i}]") for i, x in enumerate(m_legs)])
+        m = list(m_float) if tier == "fast" else m_exact
         poses = [_pose66(plat, *_pose_arrays(pose, tier), m, tier, dps, pose)
                  for pose in res.poses]
         worst = max((p.max_leg_error for p in poses), default=0.0)
         return FK66Result(plat, l_sq, l, res, tuple(poses), worst)
-    if method == "fast":  # float64 throughout: no algebra on this path
-        l_sq, l = plat.transform.map_legs_float(m_legs)
+    if method == "fast":
+        l_sq, l = plat.transform.map_legs_float(m_float)
         legs = [float(x) for x in l]
-        m = list(_float_legs(m_legs, "m_legs"))
+        m = list(m_float)
     else:
-        l_sq, l = plat.transform.map_legs(m_legs)
+        l_sq, l = plat.transform.map_legs(m_exact)
+        if method == "certified":
+            _check_certifiable(plat.transform, l_sq)
         legs = [_legs_arg(x) for x in l]
-        m = [_as_sym(x, f"m_legs[{i}]") for i, x in enumerate(m_legs)]
+        m = m_exact
     kwargs = {"method": method}
     if dps is not None:
         kwargs["dps"] = dps
-    res = forward_kinematics(base, platform, legs, **kwargs)
+    with _mapped_legs():
+        res = forward_kinematics(base, platform, legs, **kwargs)
     poses = []
     for pose in res.poses:
         R, t = _pose_arrays(pose, method)
@@ -256,9 +293,49 @@ def forward_kinematics66(octahedral, offsets, m_legs, *, method: str = "fast",
     return FK66Result(plat, l_sq, l, res, tuple(poses), worst)
 
 
+class _mapped_legs:
+    """Context manager: an InputError of the octahedral solver about its ``legs`` is
+    about the l-legs mapped from ``m_legs`` by eq. (8); re-anchor it there."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, exc, tb):
+        if isinstance(exc, InputError) and (exc.field or "").startswith("legs"):
+            exc.field = "m_legs"
+            exc.message += " (in the l-legs mapped from the m-legs by eq. (8))"
+            exc.args = (exc.one_line(),)
+        return False
+
+
 def _legs_arg(x):
-    """An l-leg as the octahedral solver's input: an exact string ("99/5", "3*sqrt(2)")."""
-    return str(x)
+    """An l-leg as the octahedral solver's input: an :class:`~distkin.exact.Exact`
+    holding the exact value (a Fraction when rational, else the sympy expression, which
+    may be long: the text form would exceed the parser's size bound)."""
+    from ..exact import Exact
+    if x.is_Rational:
+        return Exact(Fraction(int(x.p), int(x.q)), str(x))
+    return Exact(x, str(x) if len(str(x)) <= 60 else f"{float(x)!r} (exact algebraic)")
+
+
+def _check_certifiable(tr: DeltaTransform, l_sq) -> None:
+    r"""The certified octahedral tier needs rational squared l-legs; say why they are not.
+
+    :math:`l^2 = \mathbf A^{-1}(m^2 + \mathbf b)` (eq. (8)) is rational when the m-legs
+    squared, the offsets and the sides :math:`d_i` are; a side is irrational when its
+    square (rational, from the points) is not the square of a rational, as with most
+    float coordinates."""
+    bad = [i for i, x in enumerate(l_sq) if not x.is_Rational]
+    if not bad:
+        return
+    sides = [f"{spec.side}" for spec, d in zip(ROWS, tr.sides) if not d.is_Rational]
+    why = (f"the sides {', '.join(sides)} are irrational (square roots of non-square "
+           "rationals)" if sides else "the m-legs or the offsets are irrational")
+    i = bad[0]
+    raise InputError(f"expected rational squared l-legs for the certified tier, got "
+                     f"{len(bad)} irrational one(s), l{i + 1}^2 = {float(l_sq[i]):.10g} "
+                     f"(exact algebraic) after eq. (8), because {why}", field="m_legs",
+                     hint="use method='precise', or 'auto' (it escalates to precise)")
 
 
 def _pose_arrays(pose, method):

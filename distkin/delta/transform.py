@@ -18,6 +18,11 @@ Every formula here is *derived* with sympy, not typed in from the paper:
 3. :meth:`DeltaTransform.det_factors` — :math:`\det \mathbf A` factorised into
    irreducible factors; its real zero set is the locus of architecturally singular
    platforms.
+4. :func:`_generic_inverse` — eq. (8) solved for :math:`l^2` once, for symbolic sides
+   and offsets (:math:`\operatorname{adj}(\operatorname{diag}(d)\mathbf A)`); numbers are
+   substituted into it, so that float data (sides that are square roots) keep small
+   exact forms.  Data are never rounded: a bare float is its exact binary value
+   (docs/design.md §3, :mod:`.exact_input`).
 
 Labelling (docs/design.md §3, paper Fig. 4 and eq. (9)): base :math:`P_1P_2P_3`, platform
 :math:`P_4P_5P_6`; leg 1 = P1–P4, 2 = P2–P4, 3 = P2–P5, 4 = P3–P5, 5 = P3–P6,
@@ -40,7 +45,8 @@ from functools import cached_property, lru_cache
 import numpy as np
 
 from ..errors import DegenerateGeometryError, InfeasibleError, InputError
-from ..exact import Exact, parse_exact, to_sympy
+from .exact_input import (_as_sym, _base_platform, _check_count, _check_leg_range,
+                          _exact_form, _float_legs, _is_zero, _quotient, _sym_points)
 
 __all__ = [
     "RowSpec",
@@ -204,25 +210,23 @@ def delta_matrices(sides, offsets):
     return sp.ImmutableMatrix(A), sp.ImmutableMatrix(b)
 
 
-def _sym_point(row) -> tuple:
-    return tuple(to_sympy(x) for x in row)
-
-
 def side_lengths(base, platform) -> tuple:
     """Edge lengths :math:`d_{12}, d_{45}, d_{23}, d_{56}, d_{13}, d_{46}` (row order of
     eq. (9)), exact (sympy), from P1..P3 (``base``) and P4..P6 (``platform``, any frame).
 
     Raises
     ------
+    InputError
+        Not 3 points of 3 finite numbers each.
     DegenerateGeometryError
         A zero-length edge (coincident points).
     """
     import sympy as sp
-    pts = [_sym_point(p) for p in base] + [_sym_point(p) for p in platform]
+    pts = _sym_points(base, platform)
     out = []
     for spec in ROWS:
         i, j = spec.edge
-        sq = sp.nsimplify(sp.expand(sum((a - c) ** 2 for a, c in zip(pts[i - 1], pts[j - 1]))))
+        sq = _exact_form(sum((a - c) ** 2 for a, c in zip(pts[i - 1], pts[j - 1])))
         if sq == 0:
             raise DegenerateGeometryError(f"expected distinct points P{i} and P{j}, got "
                                           f"{spec.side} = 0")
@@ -230,37 +234,50 @@ def side_lengths(base, platform) -> tuple:
     return tuple(out)
 
 
-# ----------------------------------------------------------------- the transform itself
+# ------------------------------------------------------------- eq. (8) solved for l^2
 
-def _float_legs(values, field) -> np.ndarray:
-    """Six positive leg lengths as float64 (strings parsed exactly, then rounded once)."""
-    if len(values) != 6:
-        raise InputError(f"expected 6 leg lengths, got {len(values)}", field=field)
-    out = np.empty(6)
-    for i, v in enumerate(values):
-        if isinstance(v, bool):
-            raise InputError(f"expected a leg length, got {v!r}", field=f"{field}[{i}]")
-        if isinstance(v, (int, float)):
-            out[i] = v
-        elif hasattr(v, "free_symbols"):      # a sympy number
-            out[i] = float(v)
-        else:
-            out[i] = float(v if isinstance(v, Exact) else parse_exact(v, f"{field}[{i}]"))
-        if not out[i] > 0:
-            raise InputError(f"expected a positive leg length, got {v!r}",
-                             field=f"{field}[{i}]")
-    return out
+@dataclass(frozen=True)
+class _GenericInverse:
+    r""":math:`\mathbf A^{-1}` of eq. (9) for symbolic sides and offsets (see
+    :func:`_generic_inverse`)."""
+
+    sides: tuple
+    offsets: tuple
+    N: object
+    den: object
 
 
-def _as_sym(value, field):
+@lru_cache(maxsize=1)
+def _generic_inverse() -> _GenericInverse:
+    r"""Eq. (8) solved for :math:`l^2`, derived once for symbolic :math:`d_i, \delta_i`.
+
+    Row :math:`i` of :math:`\mathbf A` (:func:`delta_matrices`) has the two entries
+    :math:`(d_i-\delta_i)/d_i` and :math:`\delta_i/d_i`, so :math:`\mathbf B =
+    \operatorname{diag}(d)\,\mathbf A` is polynomial (cyclic bidiagonal) and
+
+    .. math:: \mathbf A^{-1} = \frac{\operatorname{adj}(\mathbf B)\operatorname{diag}(d)}
+              {\det \mathbf B}, \qquad
+              \det \mathbf B = \prod_i (d_i - \delta_i) - \prod_i \delta_i ,
+
+    whose numerators are products of six factors.  Substituting numbers into this form
+    keeps the exact :math:`l^2` small when the sides are square roots (float
+    coordinates): inverting the numeric matrix instead grew expressions without bound
+    for six different irrational sides.  Rojas, Borràs, Thomas, *The Octahedral
+    Manipulator Revisited* (ICRA 2012), Sec. IV-V, eqs. (8)-(9).
+    """
     import sympy as sp
-    if isinstance(value, Exact):
-        return to_sympy(value)
-    if isinstance(value, sp.Basic):
-        return value
-    if isinstance(value, str):
-        return to_sympy(parse_exact(value, field, allow_symbols=True))
-    return to_sympy(parse_exact(value, field))
+    d = sp.symbols("d1:7", positive=True)
+    delta = sp.symbols("delta1:7", positive=True)
+    A, _ = delta_matrices(d, delta)
+    B = (sp.diag(*d) * A).applyfunc(sp.cancel)
+    if not all(x.is_polynomial(*d, *delta) for x in B):
+        raise RuntimeError(f"diag(d) A is not polynomial: {B}")
+    den = sp.expand(B.det(method="berkowitz"))
+    N = (B.adjugate(method="berkowitz") * sp.diag(*d)).applyfunc(sp.factor)
+    return _GenericInverse(d, delta, sp.ImmutableMatrix(N), den)
+
+
+# ----------------------------------------------------------------- the transform itself
 
 
 @dataclass(frozen=True)
@@ -371,11 +388,24 @@ class DeltaTransform:
         return self._inverse
 
     @cached_property
+    def _inverse_parts(self):
+        r"""``(N, Nc, den)``: :math:`\mathbf A^{-1} = N/den`, :math:`c = Nc/den`, from the
+        derived closed form (:func:`_generic_inverse`) with this transform's sides and
+        offsets substituted; numerators and denominator expanded (exact)."""
+        import sympy as sp
+        g = _generic_inverse()
+        sub = dict(zip(g.sides, self.sides)) | dict(zip(g.offsets, self.offsets))
+        den = sp.expand(g.den.xreplace(sub))
+        N = sp.ImmutableMatrix(g.N.xreplace(sub).applyfunc(sp.expand))
+        Nc = sp.ImmutableMatrix((N * self.b).applyfunc(sp.expand))
+        return N, Nc, den
+
+    @cached_property
     def _inverse(self):
         import sympy as sp
-        Ainv = self.A.inv(method="LU")
-        Ainv = sp.ImmutableMatrix(Ainv.applyfunc(sp.factor))
-        return Ainv, sp.ImmutableMatrix((Ainv * self.b).applyfunc(sp.factor))
+        N, Nc, den = self._inverse_parts
+        return (sp.ImmutableMatrix(N.applyfunc(lambda x: _quotient(x, den))),
+                sp.ImmutableMatrix(Nc.applyfunc(lambda x: _quotient(x, den))))
 
     @cached_property
     def _inverse_float(self):
@@ -392,12 +422,21 @@ class DeltaTransform:
 
         Raises
         ------
-        InputError, DegenerateGeometryError, InfeasibleError
+        InputError
+            As :meth:`map_legs`; also m-legs beyond the octahedral solver's range
+            (largest below :math:`2^{510}`) or whose mapped squares overflow float64.
+        DegenerateGeometryError, InfeasibleError
             As :meth:`map_legs`.
         """
         m = _float_legs(m_legs, field)
+        _check_leg_range(m, field)
         Ainv, c = self._inverse_float
         l_sq = Ainv @ (m * m) + c
+        if not np.all(np.isfinite(l_sq)):
+            j = int(np.flatnonzero(~np.isfinite(l_sq))[0])
+            raise InputError(f"expected m-legs whose mapped squares l^2 = A^-1 (m^2 + b) "
+                             f"(eq. (8)) are float64 numbers, got l{j + 1}^2 = {l_sq[j]}",
+                             field=field, hint="express the lengths in a larger unit")
         i = int(np.argmin(l_sq))
         if not l_sq[i] > 0:
             raise InfeasibleError(
@@ -409,18 +448,24 @@ class DeltaTransform:
     def forward(self, l_sq):
         r"""m-legs squared from l-legs squared: :math:`\mathbf A l^2 - \mathbf b`, eq. (8)."""
         import sympy as sp
+        _check_count(l_sq, "l_sq", "squared leg lengths")
         v = sp.Matrix([_as_sym(x, f"l_sq[{i}]") for i, x in enumerate(l_sq)])
-        return tuple(sp.nsimplify(sp.expand(x)) for x in (self.A * v - self.b))
+        return tuple(_exact_form(x) for x in (self.A * v - self.b))
 
     def map_legs(self, m_legs, field: str = "m_legs"):
         r"""The l-legs of the octahedral manipulator equivalent to m-legs ``m_legs``.
 
-        :math:`l^2 = \mathbf A^{-1}(m^2 + \mathbf b)`, exact.
+        :math:`l^2 = \mathbf A^{-1}(m^2 + \mathbf b)`, exact: eq. (8) of Rojas, Borràs,
+        Thomas, *The Octahedral Manipulator Revisited* (ICRA 2012), Sec. IV-V, inverted.
+        A bare float is its exact binary value (docs/design.md §3), strings and
+        rationals are exact, and the result is only expanded or put over one denominator
+        (:func:`~.exact_input._quotient`), never rounded to a "nice" number.
 
         Parameters
         ----------
         m_legs : sequence of 6 (Exact, str, number or sympy expression)
-            Lengths :math:`m_1..m_6` of the 6-6 platform's legs (length units).
+            Lengths :math:`m_1..m_6` of the 6-6 platform's legs (length units); symbols
+            are allowed (then ``l_sq`` is symbolic).
 
         Returns
         -------
@@ -432,7 +477,7 @@ class DeltaTransform:
         Raises
         ------
         InputError
-            Not six values, or a non-positive length.
+            Not six values, a non-positive, non-finite or malformed length.
         DegenerateGeometryError
             :math:`\det \mathbf A = 0`.
         InfeasibleError
@@ -440,20 +485,20 @@ class DeltaTransform:
             these legs); ``margin`` is the most negative :math:`l_i^2`.
         """
         import sympy as sp
-        if len(m_legs) != 6:
-            raise InputError(f"expected 6 leg lengths, got {len(m_legs)}", field=field)
+        _check_count(m_legs, field)
         ms = []
         for i, m in enumerate(m_legs):
             v = _as_sym(m, f"{field}[{i}]")
             if v.is_number and not v.is_positive:
-                raise InputError(f"expected a positive leg length, got {v}", field=f"{field}[{i}]")
+                raise InputError(f"expected a positive leg length, got {m!r}",
+                                 field=f"{field}[{i}]")
             ms.append(v)
-        Ainv, c = self.inverse()
+        self.check_regular()
+        N, Nc, den = self._inverse_parts
         m_sq = sp.Matrix([sp.expand(m ** 2) for m in ms])
-        l_sq = tuple(sp.factor(sp.nsimplify(sp.expand(x))) if self.free_symbols
-                     else sp.nsimplify(sp.expand(x)) for x in (Ainv * m_sq + c))
+        l_sq = tuple(_quotient(x, den) for x in (N * m_sq + Nc))
         bad = [(i, x) for i, x in enumerate(l_sq) if x.is_number and x.is_negative]
-        zero = [i for i, x in enumerate(l_sq) if x.is_number and x == 0]
+        zero = [i for i, x in enumerate(l_sq) if x.is_number and _is_zero(x)]
         if bad:
             i, x = min(bad, key=lambda t: float(t[1]))
             raise InfeasibleError(
@@ -484,7 +529,8 @@ def delta_transform(octahedral, offsets, field: str = "offsets") -> DeltaTransfo
     Raises
     ------
     InputError
-        Not six offsets, or a malformed one.
+        Not six offsets, or a malformed one; points that are not 3 x 3 finite numbers
+        (the field names the coordinate, e.g. ``base[1][1]``).
 
     Examples
     --------
@@ -503,7 +549,7 @@ def delta_transform(octahedral, offsets, field: str = "offsets") -> DeltaTransfo
     (Delta1 + 2*Delta2 - 12, 1)
     """
     base, platform = _base_platform(octahedral)
-    if not isinstance(offsets, (list, tuple)) or len(offsets) != 6:
+    if not isinstance(offsets, (list, tuple, np.ndarray)) or len(offsets) != 6:
         raise InputError(f"expected 6 offsets delta1..delta6, got {offsets!r}", field=field)
     offs = tuple(_as_sym(o, f"{field}[{i}]") for i, o in enumerate(offsets))
     return _cached_transform(side_lengths(base, platform), offs)
@@ -514,10 +560,3 @@ def _cached_transform(sides, offsets) -> DeltaTransform:
     """One :class:`DeltaTransform` per (sides, offsets): its A, b, det and inverse are
     derived once ("derivations are cached", docs/design.md §1)."""
     return DeltaTransform(sides, offsets)
-
-
-def _base_platform(octahedral):
-    if hasattr(octahedral, "base") and hasattr(octahedral, "platform"):
-        return octahedral.base, octahedral.platform
-    base, platform = octahedral
-    return base, platform
