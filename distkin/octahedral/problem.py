@@ -107,8 +107,9 @@ def _square_distance(a, b):
         return sum(v * v for v in vals)
     import sympy
     from ..exact import to_sympy
-    e = sympy.nsimplify(sympy.expand(sum(to_sympy(v) ** 2 for v in vals)))
-    e = sympy.radsimp(sympy.expand(e))
+    # exact simplification only: nsimplify would snap a small irrational part to the
+    # nearest "simple" number (2 + sqrt(3)/10^20 -> 2) and certify a neighbouring problem
+    e = sympy.radsimp(sympy.expand(sum(to_sympy(v) ** 2 for v in vals)))
     if e.is_Rational:
         return Fraction(int(e.p), int(e.q))
     return e

@@ -269,3 +269,20 @@ def test_inputs_are_refused_alike_by_every_tier():
         warnings.simplefilter("ignore")
         forward_kinematics(base, plat, [1e100] * 6)
         forward_kinematics(base, plat, [10 ** 30] * 6, method="precise")
+
+
+def test_exact_squared_sides_keep_every_digit():
+    """A base vertex 1e-18 off the Griffis-Duffy one, given exactly: its squared sides
+    keep the small irrational part (sympy's nsimplify used to snap 144 + 1e-36 -
+    3 sqrt(3)/2.5e17 to 144, and the certified tier then certified the neighbouring
+    problem); with irrational squared sides the certified tier refuses, as it must."""
+    import sympy as sp
+    from distkin.octahedral.problem import exact_problem
+    base = [[0, 0, 0], [6, "sqrt(108) - 1/10**18", 0], [12, 0, 0]]
+    plat = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]]
+    legs = ["19.8", 18, 18, 17, "14.9", "17.8"]
+    s12 = exact_problem(base, plat, legs).sides2[0]
+    y = sp.sqrt(108) - sp.Rational(1, 10 ** 18)
+    assert sp.simplify(s12 - (36 + y ** 2)) == 0 and s12 != 144
+    with pytest.raises(InputError, match="rational squared lengths"):
+        forward_kinematics(base, plat, legs, method="certified")
