@@ -63,3 +63,19 @@ def test_points_given_as_floats_are_named_and_used_exactly():
     assert f"0.1 is {Decimal(0.1)}" in text
     res, text = _run(POINTS.format(x='"0.1"'))
     assert res["inputs_from_float"] == [] and res["determinants"][0]["value"] == "2/25"
+
+
+def test_scene_units_keep_exact_coordinates_exact():
+    """A coordinate in mm given exactly ("sqrt(108) - 1/10**18") is converted to metres
+    exactly: sympy's nsimplify used to snap its small irrational part away (so that the
+    certified tier would solve a neighbouring problem)."""
+    from fractions import Fraction
+
+    import sympy as sp
+
+    from distkin.app.queries.octahedral import _si
+    from distkin.exact import parse_exact
+    v = parse_exact("sqrt(108) - 1/10**18", "base[1][1]")
+    got = _si(v, Fraction(1, 1000)).value
+    assert sp.simplify(got - (sp.sqrt(108) - sp.Rational(1, 10 ** 18)) / 1000) == 0
+    assert got != sp.sqrt(108) / 1000

@@ -60,8 +60,9 @@ def _si(value: Exact, factor):
     if isinstance(value.value, Fraction):
         return Exact(value.value * factor, value.text, value.from_float)
     import sympy
-    return Exact(sympy.nsimplify(value.value * sympy.Rational(factor.numerator,
-                                                              factor.denominator)),
+    # (exact: nsimplify would snap a small irrational part to a nearby simple number)
+    return Exact(sympy.expand(value.value * sympy.Rational(factor.numerator,
+                                                           factor.denominator)),
                  value.text, value.from_float)
 
 
