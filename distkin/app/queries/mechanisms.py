@@ -46,6 +46,12 @@ end undecided, Jacobian: Jq_ii ball containing 0) with the reason.  Each pose ro
 ``method``, ``q_error`` (IK; rad or m per leg) or ``J_error``, ``Jq_error``,
 ``Jx_error`` (Jacobian), and for ``certified`` ``certified`` (per leg) and
 ``uncertified`` ([{leg, reason}], legs 1-based); the text states the largest error.
+The fast Jacobian's estimate propagates the IK's error and the rounding to first order
+through Jq, Jx and J = Jx/Jq; next to a leg's reach boundary (Jq_ii -> 0) float64 loses
+J: a row whose estimate exceeds 1e-6 of the row flags the pose (``inaccurate``, true
+only in the fast tier; the text says to use ``method = "precise"``), and where first
+order fails the error is ``inf`` ("inf" in the JSON, as every non-finite number; "not
+resolved in float64" in the text).
 
 The forward kinematics (:mod:`distkin.mechanisms.forward_tiers`) takes the same
 ``method`` and ``dps``: ``fast`` is Gauss-Newton in float64 (today's pose) with a
@@ -55,18 +61,25 @@ one solution (for L > 6: of six legs, ``legs`` or the best conditioned, with the
 legs' closure errors bounded over the box) or refuses (near a direct singularity).  The
 JSON adds ``method``, ``pose_error`` (m, rad per coordinate: estimate or proved radius),
 ``certified``, ``legs`` and, certified, ``other_legs_closure_bound`` (m) and
-``contraction``.
+``contraction``, and the fast answer's check (:mod:`distkin.mechanisms.forward`):
+``verified`` (the round trip and the rms closure residual within ``residual_tol``, m),
+``round_trip`` (the closed-form IK at the pose gives back the angles) and ``q_mismatch``
+(the largest |IK(pose) - angle|, rad; m for a prismatic leg).  A pose that fails the
+round trip (another crank branch, or a least-squares minimum) is an error naming
+``angles`` in every tier; measured, hence inconsistent, angles of an L > 6 mechanism
+give their least-squares pose, reported with ``verified`` false.
 """
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from ...argcheck import (check_keys, dps_field, method_field, pose_list, positive_int,
                           positive_number)
-from ...errors import DistkinError, InfeasibleError, InputError
+from ...errors import ConditioningWarning, DistkinError, InfeasibleError, InputError
 from ...exact import parse_float
 from ..query import Outcome, register
 from ..units import angle_factor, length_factor
@@ -194,17 +207,22 @@ def _tier_lines(res, i):
     return [f"  NOT certified: leg {u['leg']}: {u['reason']}" for u in _uncertified(res, i)]
 
 
-def _largest(err, mask):
-    """The largest finite error over ``mask`` (nan when none)."""
-    vals = err[mask & np.isfinite(err)]
-    return float(vals.max()) if vals.size else float("nan")
+#: the text of an error the fast tier cannot state (``inf``: its first-order estimate
+#: fails, at a leg's reach boundary)
+NOT_RESOLVED = 'not resolved in float64 (use method = "precise")'
 
 
-def _amount(err, mask, factor: float = 1.0, unit: str = "") -> str:
-    """The largest finite error over ``mask`` as text with its unit, or "no valid leg"
-    when no leg of ``mask`` has one."""
-    v = _largest(err, mask)
-    return "no valid leg" if v != v else f"{v * factor:.2g}{unit}"
+def _amount(err, mask, factor: float = 1.0, unit: str = "", method: str = "fast") -> str:
+    """The largest error over ``mask`` as text with its unit; "no valid leg" when
+    ``mask`` is empty, and where an error is not finite (the fast tier's first-order
+    estimate fails: ``inf``) :data:`NOT_RESOLVED` (another tier: "unbounded") rather
+    than the largest finite one, which would understate it."""
+    vals = err[mask]
+    if not vals.size:
+        return "no valid leg"
+    if not np.all(np.isfinite(vals)):
+        return NOT_RESOLVED if method == "fast" else "unbounded"
+    return f"{float(vals.max()) * factor:.2g}{unit}"
 
 
 def _accuracy(res, what, amounts, fast_how) -> str:
@@ -264,9 +282,10 @@ class InverseKinematicsQuery:
                          f"\"{scene.units.angle}\")")
         pris = _prismatic(mech)[None] & np.ones_like(valid)
         ok = valid | res.certified
-        amounts = [_amount(res.q_error, ok & ~pris, 1.0, " rad")] if (~pris).any() else []
+        amounts = ([_amount(res.q_error, ok & ~pris, 1.0, " rad", p.method)]
+                   if (~pris).any() else [])
         if pris.any():
-            amounts.append(_amount(res.q_error, ok & pris, lf, f" {lu}"))
+            amounts.append(_amount(res.q_error, ok & pris, lf, f" {lu}", p.method))
         lines.append(_accuracy(res, "q over the valid legs", ", ".join(amounts),
                                "closure residual |Phi_i(q)|/|Jq_ii| + 2 eps max(|q|, 1)"))
         lines.append("branch: the crank angle nearer 0 at the workspace centre "
@@ -275,6 +294,21 @@ class InverseKinematicsQuery:
                         "precision": res.precision,
                         "unit": {"q": "rad", "pose": "m, rad", "q_error": "rad (m: prismatic)"},
                         "poses": rows}, "\n".join(lines), _plotter(mech, X, q))
+
+
+def _inaccurate_line(res, i) -> str:
+    """The line of a pose the fast tier flags (``TieredJacobian.inaccurate``): the legs
+    (1-based) whose row of J has an estimated error above ``J_REL_USEFUL`` of the row,
+    and those of them whose estimate is ``inf`` (first order fails)."""
+    from ...mechanisms.kinematics_tiers import J_REL_USEFUL
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = np.max(res.J_error[i], axis=-1) / np.max(np.abs(res.J[i]), axis=-1)
+    legs = [int(j) + 1 for j in np.flatnonzero(res.valid[i] & ~(rel <= J_REL_USEFUL))]
+    inf = [int(j) + 1 for j in np.flatnonzero(res.valid[i] & np.isinf(rel))]
+    return (f"  J not resolved in float64 near the reach boundary (legs {legs}: estimated "
+            f"error above {J_REL_USEFUL:g} of the row"
+            + (f"; legs {inf}: inf, first order fails" if inf else "")
+            + '); use method = "precise"')
 
 
 def _st_text() -> str:
@@ -330,11 +364,16 @@ class JacobianQuery:
 
     @staticmethod
     def run(p, scene, ctx):
-        from ...mechanisms.kinematics_tiers import jacobian_tier
+        from ...mechanisms.kinematics_tiers import J_FIRST_ORDER, jacobian_tier
         mech = scene.mechanism
         X = np.array(p.poses)
-        res = jacobian_tier(mech, X, p.method, p.dps, p.bits)
+        with warnings.catch_warnings(record=True) as caught:
+            # the fast tier's warning at a reach boundary: said per pose below
+            warnings.simplefilter("always", ConditioningWarning)
+            res = jacobian_tier(mech, X, p.method, p.dps, p.bits)
         J, Jq, Jx, valid = res.J, res.Jq, res.Jx, res.valid
+        flagged = (res.inaccurate if res.inaccurate is not None
+                   else np.zeros(len(X), dtype=bool))
         Jf = np.where(np.isfinite(J), J, 0.0)
         sv = np.linalg.svd(Jf, compute_uv=False)
         kappa = condition_number(Jf, ST_DEFAULT)          # eq. (4), scaled (Sec. II-C-2)
@@ -349,13 +388,16 @@ class JacobianQuery:
                                     "singular_values": sv[i], "kappa": kappa[i],
                                     "kappa_unscaled": (sv[i, -1] / sv[i, 0] if sv[i, 0] > 0
                                                        else 0.0),
-                                    "reachable": bool(valid[i].all())},
+                                    "reachable": bool(valid[i].all()),
+                                    "inaccurate": bool(flagged[i])},
                            "J_error", "Jq_error", "Jx_error")
             lines.append(f"pose {i}: {_fmt_pose(X[i], scene)}"
                          + ("" if r["reachable"] else "  (NOT reachable: J is meaningless)"))
             for row in J[i]:
                 lines.append("  [" + " ".join(f"{v:11.5g}" for v in row) + "]")
             lines += _tier_lines(res, i)
+            if flagged[i]:
+                lines.append(_inaccurate_line(res, i))
             lines.append(f"  kappa = {r['kappa']:.6g} (eq. (4): sigma_min/sigma_max of the "
                          f"scaled ST⁻¹Jᵀ, ST = diag({_st_text()}), Kühne et al. Sec. II-C-2)")
             lines.append("  singular values of the unscaled J: "
@@ -371,11 +413,15 @@ class JacobianQuery:
                              "the JSON")
             rows.append(r)
         ok = (valid | res.certified)[..., None] & np.ones(J.shape, dtype=bool)
-        amount = _amount(res.J_error, ok)
+        amount = _amount(res.J_error, ok, method=p.method)
         lines.append(_accuracy(res, "an entry of J over the valid legs",
-                               amount + ("" if amount == "no valid leg" else
-                                         " (in the entry's unit)"),
-                               "4 eps max|J row| max(1, l/|Jq_ii|), l the length scale"))
+                               amount + ("" if amount in ("no valid leg", NOT_RESOLVED,
+                                                          "unbounded")
+                                         else " (in the entry's unit)"),
+                               "the IK's error and the rounding propagated through Jq, Jx "
+                               "and J = Jx/Jq, (dJx + |J| dJq)/|Jq_ii|; inf where it exceeds "
+                               f"{J_FIRST_ORDER:g} of the row"))
+        lines += [f"note: {w.message}" for w in caught if not flagged.any()]
         return Outcome({"mechanism": mech.parameters(), "method": p.method,
                         "precision": res.precision, "unit": units,
                         "poses": rows}, "\n".join(lines), _plotter(mech, X))
@@ -391,6 +437,43 @@ class _FK:
     dps: int = 30
     bits: int | None = None
     legs: tuple | None = None
+
+
+def _mismatch_text(res, angles, mech, scene) -> str:
+    """The fast answer's largest |IK(pose) - q| (``FKResult.q_mismatch``; ``angles`` (L,)
+    the joint values, rad or m) in the scene's units: the crank's angle unit, a
+    prismatic leg's length unit, and both (per leg,
+    :func:`distkin.mechanisms.forward.round_trip`) for a mixed leg table."""
+    lu, au, lf, af = _units(scene)
+    pris = _prismatic(mech)
+    if not pris.any():
+        return f"{res.q_mismatch * af:.3g} {au}"
+    if pris.all():
+        return f"{res.q_mismatch * lf:.3g} {lu}"
+    from ...mechanisms.forward import pose_error_estimate, round_trip
+    mismatch, _ = round_trip(mech, np.asarray(angles, dtype=float)[None],
+                             np.asarray(res.pose, dtype=float)[None],
+                             pose_error_estimate(mech, res.condition, res.residual))
+    return (f"{float(mismatch[0][~pris].max()) * af:.3g} {au} (cranks), "
+            f"{float(mismatch[0][pris].max()) * lf:.3g} {lu} (prismatic legs)")
+
+
+def _verified_line(res, angles, mech, scene, method: str) -> str:
+    """Whether the fast answer ``res`` (:class:`~distkin.mechanisms.forward.FKResult`) of
+    the joint values ``angles`` verifies: the round trip (the closed-form IK at the pose
+    gives back the angles) and the rms closure residual within ``residual_tol``, with
+    both numbers in the scene's units."""
+    lu, au, lf, af = _units(scene)
+    trip = ("the inverse kinematics at the pose gives back the angles" if res.round_trip
+            else "the inverse kinematics at the pose does NOT give back the angles")
+    small = res.residual <= res.residual_tol
+    resid = (f"rms closure residual {res.residual * lf:.3g} {lu} "
+             + ("<=" if small else "above") + f" residual_tol {res.residual_tol * lf:.3g} {lu}"
+             + ("" if small else " (inconsistent angles: their least-squares pose)"))
+    other = ("" if method == "fast" else
+             f"; the {method} pose passes the same round trip")
+    return (f"verified (fast tier): {'yes' if res.verified else 'no'}: {trip} (largest "
+            f"|IK(pose) - angle| {_mismatch_text(res, angles, mech, scene)}), {resid}{other}")
 
 
 @register("forward_kinematics", mechanisms=("rss", "legs"),
@@ -435,18 +518,17 @@ class ForwardKinematicsQuery:
                 field="angles", margin=res.residual)
         from ...mechanisms.forward_tiers import fast_tier, forward_tier
         from ...mechanisms.kinematics_tiers import BITS
-        if p.method == "fast":
-            tier = fast_tier(mech, res)
-        else:
-            # the tier starts from the answer above (the exact octic's mode for an
-            # octahedral leg table)
-            try:
-                tier = forward_tier(mech, np.array(p.angles), method=p.method, dps=p.dps,
-                                    bits=p.bits, legs=p.legs, fast=res)
-            except DistkinError as exc:     # the Python argument q is the scene's angles
-                if exc.field == "q":
-                    exc.field = "angles"
-                raise
+        try:
+            # fast: refused unless the answer passes the round trip; precise and
+            # certified start from it (the exact octic's mode for an octahedral leg
+            # table) and their pose must pass it too
+            tier = (fast_tier(mech, res) if p.method == "fast" else
+                    forward_tier(mech, np.array(p.angles), method=p.method, dps=p.dps,
+                                 bits=p.bits, legs=p.legs, fast=res))
+        except DistkinError as exc:         # the Python argument q is the scene's angles
+            if exc.field == "q":
+                exc.field = "angles"
+            raise
         pose = tier.pose
         lu, au, lf, af = _units(scene)
         err = tier.error
@@ -459,6 +541,7 @@ class ForwardKinematicsQuery:
                  f"converged in {res.iterations} iterations (fast tier); rms closure error "
                  + ("at most " if tier.certified else "") + f"{tier.residual * lf:.3g} {lu}"
                  + (" (the L = 8 angles are inconsistent)" if tier.residual > 1e-9 else ""),
+                 _verified_line(res, p.angles, mech, scene, p.method),
                  f"closure Jacobian (angular columns x length scale, dimensionless): "
                  f"sigma_min {res.sigma_min:.4g}, condition {res.condition:.4g}"
                  + ("  WARNING: near a singularity, the pose is ill-determined"
@@ -475,7 +558,11 @@ class ForwardKinematicsQuery:
                   "condition": res.condition, "near_singular": res.near_singular,
                   "angles": np.array(p.angles), "guess": guess, "method": p.method,
                   "pose_error": err, "certified": tier.certified, "legs": list(tier.legs),
-                  "unit": {"pose": "m, rad", "residual": "m", "pose_error": "m, rad"}}
+                  "verified": res.verified, "round_trip": res.round_trip,
+                  "q_mismatch": res.q_mismatch, "residual_tol": res.residual_tol,
+                  "unit": {"pose": "m, rad", "residual": "m", "pose_error": "m, rad",
+                           "angles": "rad (m: prismatic leg)",
+                           "q_mismatch": "rad (m: prismatic leg)", "residual_tol": "m"}}
         if p.method == "certified":
             result["other_legs_closure_bound"] = {str(k): v for k, v in tier.other_legs.items()}
             result["contraction"] = tier.contraction
