@@ -161,11 +161,22 @@ def test_fk_of_consistent_angles_is_verified():
 
 def test_fk_of_rounded_octopod_angles_is_their_least_squares_pose():
     """The example's angles (an IK rounded to 0.01 deg; L = 8, so inconsistent): the
-    round trip holds (within 0.005 deg, the rounding) but the residual is far above
-    residual_tol, so not verified, and the text says why, in the scene's units."""
+    round trip holds (within 0.005 deg, the rounding); with the example's
+    ``residual_tol = 0.01`` mm the answer is verified, and without it (the default,
+    1024 eps times a leg) the residual is far above residual_tol, so not verified, and
+    the text says why, in the scene's units."""
+    from distkin.app.scene import loads_scene
+    text = (ROOT / "examples" / "rss_octopod.toml").read_text()
     s = load_scene(ROOT / "examples" / "rss_octopod.toml")
     records, texts, worst = run_scene(s, progress=False)
     assert worst == 0
+    r = records[2]["result"]
+    assert r["round_trip"] is True and r["verified"] is True
+    assert r["residual"] <= r["residual_tol"] == pytest.approx(1e-5)
+    assert "verified (fast tier): yes" in texts[2]
+    strict = "\n".join(line for line in text.splitlines()
+                       if not line.startswith("residual_tol"))
+    records, texts, worst = run_scene(loads_scene(strict), progress=False)
     r = records[2]["result"]
     assert r["round_trip"] is True and r["verified"] is False
     assert r["residual"] > r["residual_tol"]
