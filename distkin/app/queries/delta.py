@@ -180,17 +180,31 @@ class DeltaTransformQuery:
             l_sq, l = tr.map_legs(p.m_legs, field="m_legs")
             result["m_legs"] = [m.text for m in p.m_legs]
             result["mapped_squared_legs"] = [sp.sstr(x) for x in l_sq]
-            result["mapped_legs"] = [sp.sstr(sp.nsimplify(x)) for x in l]
+            # exact forms, as they are (nsimplify would pass off a nearby "simple"
+            # number as the value); the text shows a long one by its value only
+            result["mapped_legs"] = [sp.sstr(x) for x in l]
             lines.append("m-legs -> l-legs (exact, l^2 = A^-1 (m^2 + b)):")
             for i, (m, x) in enumerate(zip(result["m_legs"], result["mapped_legs"])):
-                approx = "" if tr.free_symbols else f"  (= {float(l[i]):.10g}{unit})"
-                lines.append(f"  m{i + 1} = {m}{unit}  ->  l{i + 1} = {x}{unit}{approx}")
+                shown = _shown(x, None if tr.free_symbols else l[i], unit)
+                lines.append(f"  m{i + 1} = {m}{unit}  ->  l{i + 1} = {shown}")
         if p.solve:
             lines += _solve(p, result, unit, ctx)
         result["unit"] = result_units(scene.units)
         _flag_floats(p.m_legs or (), "m_legs", p, result, lines)
         plot = (lambda stem: plot_det_family(tr, stem)) if _family_ok(tr) else None
         return Outcome(result, "\n".join(lines), plot)
+
+
+def _shown(text: str, value, unit: str) -> str:
+    """A mapped leg in the text report: its exact form and value, or, when the exact
+    form is long (float data make nested radicals of hundreds of digits), the value
+    only (the exact form stays in the JSON).  ``value`` None: symbolic."""
+    if value is None:
+        return f"{text}{unit}"
+    approx = f"{float(value):.10g}{unit}"
+    if len(text) <= 60:
+        return f"{text}{unit}  (= {approx})"
+    return f"{approx} (exact form: {len(text)} characters, in the JSON)"
 
 
 def result_units(units) -> dict:
@@ -301,7 +315,7 @@ class Platform66Forward:
                   "mapped_legs": [sp.sstr(x) for x in l],
                   "det_A": str(p.transform.det)}
         lines = ["m-legs -> l-legs of the equivalent octahedral manipulator (eq. (8), exact): "
-                 + ", ".join(result["mapped_legs"])]
+                 + ", ".join(_shown(x, v, unit) for x, v in zip(result["mapped_legs"], l))]
         lines += _solve(p, result, unit, ctx)
         fk = result.pop("forward_kinematics")
         result.update(fk)
