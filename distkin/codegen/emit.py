@@ -79,7 +79,64 @@ class Kernel:
     extra: dict = field(default_factory=dict)
 
 
+def _is_constant(expr) -> bool:
+    """A number sympy keeps unevaluated (``sqrt(7188...)``, ``3*sqrt(2)``, ``pi``,
+    ``sin(1)``): neither a Rational nor a Float, and no free symbols."""
+    import sympy
+    return (isinstance(expr, sympy.Expr) and not isinstance(expr, sympy.core.relational.Relational)
+            and not expr.is_Rational and not expr.is_Float and expr.is_number)
+
+
+def nearest_double(expr):
+    """The binary64 value nearest the exact constant ``expr`` (correctly rounded; an
+    infinity beyond the float64 range), or ``None`` when it is not a real number.
+
+    An ``arb`` enclosure (:func:`distkin.exact.sympy_to_arb`: rationals, ``+ - *``,
+    rational powers, ``pi``) at rising precision until both ends of the ball round to
+    the same double (rounding is monotone, so the exact value rounds to it too); other
+    constants (``E``, ``sin(1)``) through ``evalf`` at 60 digits, rounded once.  Printed
+    as a literal, the constant costs nothing at run time, and it never reaches numpy as
+    a Python integer beyond int64 (``numpy.sqrt(7188024561708202275234453794882)`` is an
+    object-dtype call that numpy refuses) or ``math`` as an int beyond 1.8e308."""
+    import math
+    from fractions import Fraction
+
+    import sympy
+    from ..errors import InputError
+
+    def dyadic(x):                          # the exact value of an arb of radius 0
+        man, exp = x.mid().man_exp()
+        man, exp = int(man), int(exp)
+        return Fraction(man * 2 ** exp) if exp >= 0 else Fraction(man, 2 ** -exp)
+
+    def rounded(q):
+        try:
+            return float(q)                 # Fraction -> float: correctly rounded
+        except OverflowError:
+            return math.inf if q > 0 else -math.inf
+
+    try:
+        import flint
+        from ..exact import sympy_to_arb
+        for prec in (128, 256, 1024, 4096):
+            with flint.ctx.workprec(prec):
+                ball = sympy_to_arb(expr)
+                if not ball.is_finite():
+                    break
+                lo, hi = rounded(dyadic(ball.lower())), rounded(dyadic(ball.upper()))
+            if lo == hi:
+                return lo
+    except (InputError, ImportError):
+        pass
+    value = expr.evalf(60)
+    if not value.is_Float:
+        return None                         # complex, or not a number after all
+    return rounded(Fraction(*map(int, sympy.Rational(value).as_numer_denom())))
+
+
 def _printers():
+    import math
+
     import sympy
     from sympy.printing.numpy import NumPyPrinter
     from sympy.printing.pycode import PythonCodePrinter
@@ -114,6 +171,37 @@ def _printers():
             return out
         return fold
 
+    def _print_constant(self, expr, **kwargs):
+        # a constant that is not a rational (sqrt(7188...), 3*sqrt(2), pi) prints as its
+        # correctly rounded double (nearest_double): no numpy.sqrt of a Python int
+        if _is_constant(expr):
+            v = nearest_double(expr)
+            if v is not None and not math.isfinite(v):
+                # beyond the float64 range: what evaluating it in float64 gives
+                return "math.inf" if v > 0 else "(-math.inf)"
+            if v is not None:
+                # a negative value in parentheses unless sympy already treats the
+                # expression as a difference (-sqrt(2)): then the Add printer writes
+                # "x - 1.4142135623730951" and a power parenthesizes its base
+                prec = sympy.printing.precedence.precedence(expr)
+                add = sympy.printing.precedence.PRECEDENCE["Add"]
+                return repr(v) if v >= 0 or prec <= add else f"({v!r})"
+        return self._orig_print(expr, **kwargs)
+
+    def _numeric_part(kind):
+        # x*3*sqrt(2) -> 4.242640687119285*x, x + 1 + sqrt(2) -> x + 2.414213562373095:
+        # the numeric factors (terms) of a product (sum) with an irrational one are one
+        # correctly rounded double, not several roundings
+        def fold(self, expr, *args, **kwargs):
+            num = [a for a in expr.args if a.is_number]
+            if len(num) > 1 and any(_is_constant(a) for a in num):
+                v = nearest_double(kind(*num))
+                if v is not None and math.isfinite(v):
+                    rest = [a for a in expr.args if not a.is_number]
+                    expr = kind(sympy.Float(v, precision=53), *rest, evaluate=False)
+            return getattr(self, f"_orig_{kind.__name__}")(expr, *args, **kwargs)
+        return fold
+
     class Batched(NumPyPrinter):
         _orig_pow = NumPyPrinter._print_Pow
         _print_Pow = _pow
@@ -121,12 +209,24 @@ def _printers():
         _print_Float = _float
         _print_Max = _fold("maximum")
         _print_Min = _fold("minimum")
+        _orig_print = NumPyPrinter._print
+        _print = _print_constant
+        _orig_Mul = NumPyPrinter._print_Mul
+        _print_Mul = _numeric_part(sympy.Mul)
+        _orig_Add = NumPyPrinter._print_Add
+        _print_Add = _numeric_part(sympy.Add)
 
     class Scalar(PythonCodePrinter):
         _orig_pow = PythonCodePrinter._print_Pow
         _print_Pow = _pow
         _orig_float = PythonCodePrinter._print_Float
         _print_Float = _float
+        _orig_print = PythonCodePrinter._print
+        _print = _print_constant
+        _orig_Mul = PythonCodePrinter._print_Mul
+        _print_Mul = _numeric_part(sympy.Mul)
+        _orig_Add = PythonCodePrinter._print_Add
+        _print_Add = _numeric_part(sympy.Add)
 
     class Exact(PythonCodePrinter):
         def _print_Rational(self, expr):
@@ -234,12 +334,21 @@ def _printers():
             "exact": Exact(), "arb": Arb()}
 
 
-def symbolic_hash(*exprs) -> str:
-    """SHA-256 of the ``srepr`` of expressions (the identity of a symbolic source)."""
+def symbolic_hash(*exprs, order: str | None = None) -> str:
+    """SHA-256 of the ``srepr`` of expressions (the identity of a symbolic source).
+
+    ``order="none"`` writes sums and products in sympy's own argument order (canonical
+    within a sympy version, which a module's header names) instead of the default
+    printing order, which sorts every sum by evaluating the numeric factors of each
+    term (``complex(sqrt(7188...))``): the octahedral scene modules use it, whose sides
+    substituted from decimal coordinates put large irrational constants in thousands of
+    terms (30 s of srepr for a ``platform66`` scene in inches, 1 s in this order).  The
+    default keeps the hashes of the committed modules of ``distkin/_generated``."""
     import sympy
+    settings = {} if order is None else {"order": order}
     h = hashlib.sha256()
     for e in exprs:
-        h.update(sympy.srepr(e).encode())
+        h.update(sympy.srepr(e, **settings).encode())
         h.update(b"\x00")
     return h.hexdigest()
 

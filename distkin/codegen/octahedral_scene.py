@@ -172,7 +172,8 @@ def module_text(sides2, names, flavours, *, leg_map=None, generator, title,
     if notes:
         doc += "\n\n" + notes
     src = module_source(kernels, generator=generator, doc=doc,
-                        source_hash=symbolic_hash(*[e for n in names for e in outs[n]]),
+                        source_hash=symbolic_hash(*[e for n in names for e in outs[n]],
+                                                  order="none"),
                         constants={"SIDES2": sides_text, "PART_NAMES": PART_NAMES,
                                    **(constants or {}), "KERNELS": tuple(names),
                                    "FLAVOURS": tuple(flavours)})

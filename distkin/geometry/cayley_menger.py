@@ -42,6 +42,7 @@ from fractions import Fraction
 import numpy as np
 
 from ..errors import InputError
+from ..exact import parse_exact
 
 __all__ = [
     "cayley_menger",
@@ -50,6 +51,17 @@ __all__ = [
     "tetrahedron_volume_squared",
     "parse_label",
 ]
+
+
+def _exact_strings(arr, field):
+    """A copy of the object array ``arr`` with numeric strings parsed exactly
+    (:func:`distkin.exact.parse_exact`: ``"19.8"`` -> 99/5, ``"sqrt(2)"`` -> a sympy
+    number), as everywhere in distkin; other entries unchanged."""
+    out = np.array(arr, dtype=object, copy=True)
+    for idx, v in np.ndenumerate(out):
+        if isinstance(v, str):
+            out[idx] = parse_exact(v, field + "".join(f"[{i}]" for i in idx)).value
+    return out
 
 
 def _kind_of(values) -> str:
@@ -91,6 +103,8 @@ def _accessor(sq):
                     or not all(isinstance(k, int) and k >= 1 for k in key)):
                 raise InputError(f"expected keys (i, j) with 1-based integer labels, got {key!r}",
                                  field="sq")
+            if isinstance(val, str):
+                val = parse_exact(val, f"sq[{key!r}]").value
             table[key] = val
             table[key[::-1]] = val
 
@@ -113,6 +127,8 @@ def _accessor(sq):
     if arr.ndim < 2 or arr.shape[-1] != arr.shape[-2]:
         raise InputError(f"expected a square array of squared distances, got shape {arr.shape}",
                          field="sq")
+    if arr.dtype.kind in "OU":
+        arr = _exact_strings(arr, "sq")
     if arr.dtype != object:
         if not np.issubdtype(arr.dtype, np.number):
             raise InputError(f"expected numeric squared distances, got dtype {arr.dtype}",
@@ -131,22 +147,31 @@ def _accessor(sq):
     return (lambda i, j: arr[i - 1, j - 1]), arr.shape[0], kind
 
 
+_LABEL_FORM = ("a determinant label like 'D(1,2,3,4)' or 'D(5,4,1,2;5,4,1,6)' (one list "
+               "of 1-based point labels, or two lists of the same length)")
+
+
 def parse_label(text: str):
     """Parse ``"D(5,4,1,2;5,4,1,6)"`` or ``"5,4,1,2"`` into (rows, cols).
 
-    Raises :class:`InputError` quoting the text on any fault.
+    ``cols`` is None for a single list.  Raises :class:`InputError` quoting the text
+    on any fault: not of that form, an empty list, a label below 1, or two lists of
+    different lengths (``"D(5,4;1)"``).
     """
+    import re
     t = str(text).strip()
-    if t.startswith("D(") and t.endswith(")"):
-        t = t[2:-1]
-    parts = t.split(";")
-    try:
-        groups = [tuple(int(x) for x in p.split(",")) for p in parts]
-    except ValueError:
-        raise InputError(f"expected a determinant like 'D(1,2,3,4)' or 'D(5,4,1,2;5,4,1,6)', "
-                         f"got {text!r}") from None
-    if len(groups) > 2 or any(len(g) == 0 for g in groups):
-        raise InputError(f"expected one or two label lists, got {text!r}")
+    m = re.fullmatch(r"D\((.*)\)", t, flags=re.S)
+    body = m.group(1) if m else t
+    parts = body.split(";")
+    lists = r"\s*\d+\s*(,\s*\d+\s*)*"
+    if len(parts) > 2 or not all(re.fullmatch(lists, p, flags=re.A) for p in parts):
+        raise InputError(f"expected {_LABEL_FORM}, got {text!r}")
+    groups = [tuple(int(x) for x in p.split(",")) for p in parts]
+    if any(x < 1 for g in groups for x in g):
+        raise InputError(f"expected {_LABEL_FORM}, got {text!r} (labels start at 1)")
+    if len(groups) == 2 and len(groups[0]) != len(groups[1]):
+        raise InputError(f"expected {_LABEL_FORM}, got {text!r} ({len(groups[0])} row "
+                         f"labels and {len(groups[1])} column labels)")
     rows = groups[0]
     cols = groups[1] if len(groups) == 2 else None
     return rows, cols
@@ -175,7 +200,9 @@ def cayley_menger(sq, rows, cols=None):
     Parameters
     ----------
     sq : array_like (..., n, n), sympy.Matrix, or mapping {(i, j): s_ij}
-        Squared distances, indexed by 1-based labels (label ``i`` is row ``i - 1``).
+        Squared distances, indexed by 1-based labels (label ``i`` is row ``i - 1``):
+        finite and >= 0 (those the determinant uses; symbols pass), numbers of any tier
+        or numeric strings (parsed exactly, as everywhere in distkin).
         A float array may carry leading batch axes; the determinant is batched.
     rows : sequence of int
         1-based labels :math:`i_1, \dots, i_k`.
@@ -187,6 +214,12 @@ def cayley_menger(sq, rows, cols=None):
     number
         Of the input's type (see the module docstring); a float array of the batch
         shape for batched float input.
+
+    Raises
+    ------
+    InputError
+        Bad labels, a non-square array, entries that are not numbers, or a squared
+        distance that is NaN, infinite or negative.
 
     Examples
     --------
@@ -209,12 +242,19 @@ def cayley_menger(sq, rows, cols=None):
         M[..., 1:, 0] = 1.0
         for a, i in enumerate(rows):
             for b, j in enumerate(cols):
-                M[..., a + 1, b + 1] = 0.0 if i == j else s(i, j)
+                if i == j:
+                    M[..., a + 1, b + 1] = 0.0
+                    continue
+                v = s(i, j)
+                if not np.all(np.isfinite(v) & (np.asarray(v) >= 0)):
+                    bad = np.ravel(v)[~(np.isfinite(np.ravel(v)) & (np.ravel(v) >= 0))][0]
+                    _refuse(i, j, float(bad))
+                M[..., a + 1, b + 1] = v
         d = np.linalg.det(M)
         return float(d) if d.ndim == 0 else d
     entries = [[0] + [1] * k]
     for i in rows:
-        entries.append([1] + [0 if i == j else s(i, j) for j in cols])
+        entries.append([1] + [0 if i == j else _checked(s(i, j), i, j, kind) for j in cols])
     if kind == "sympy":
         import sympy
         return sympy.expand(sympy.Matrix(entries).det(method="berkowitz"))
@@ -230,6 +270,31 @@ def cayley_menger(sq, rows, cols=None):
     if kind == "exact":
         return Fraction(int(det.p), int(det.q))
     return det
+
+
+def _refuse(i, j, value):
+    raise InputError(f"expected squared distances that are finite and >= 0, got "
+                     f"s({i},{j}) = {value}", field="sq")
+
+
+def _checked(v, i, j, kind):
+    """``v`` = s(i, j) if it is a squared distance: finite and not negative (an arb ball
+    or a sympy expression only when certainly negative; symbols pass)."""
+    tname = type(v).__name__
+    if (type(v).__module__ or "").startswith("sympy"):
+        import sympy
+        if v.is_negative or (v.is_number and (v.is_finite is False or v.has(sympy.nan))):
+            _refuse(i, j, v)
+    elif tname == "arb":
+        if not v.is_finite() or v < 0:
+            _refuse(i, j, v)
+    elif tname == "mpf":
+        import mpmath
+        if not mpmath.isfinite(v) or v < 0:
+            _refuse(i, j, v)
+    elif v < 0:
+        _refuse(i, j, v)
+    return v
 
 
 def _to_flint_list(flat):
@@ -251,7 +316,8 @@ def squared_distances(points):
     Parameters
     ----------
     points : array_like (..., n, dim), or a sequence of n points of exact or symbolic
-        coordinates (ints, Fractions, fmpq, arb, mpf or sympy expressions).
+        coordinates (ints, Fractions, fmpq, arb, mpf or sympy expressions, or numeric
+        strings, parsed exactly: ``"19.8"`` is 99/5, ``"sqrt(108)"`` a sympy number).
 
     Returns
     -------
@@ -263,8 +329,12 @@ def squared_distances(points):
         raise InputError(f"expected points of shape (n, dim), got shape {np.shape(points)}",
                          field="points")
     if arr.dtype != object and np.issubdtype(arr.dtype, np.floating):
+        if not np.all(np.isfinite(arr)):
+            raise InputError("expected finite coordinates, got NaN or inf", field="points")
         diff = arr[..., :, None, :] - arr[..., None, :, :]
         return np.einsum("...k,...k->...", diff, diff)
+    if arr.dtype.kind in "OU":
+        arr = _exact_strings(arr, "points")
     flat = arr.ravel().tolist()
     kind = _kind_of(flat)
     if kind == "float":

@@ -94,6 +94,15 @@ def triangle_frame(points, *, method: str = "fast", what: str = "points"):
             raise InputError(f"expected points of shape (..., 3, 3), got {P.shape}", field=what)
         d1 = P[..., 1, :] - P[..., 0, :]
         d2 = P[..., 2, :] - P[..., 0, :]
+        # in units of 2^e, the power of two just above the largest coordinate difference
+        # (exact): the frame is scale-free, and a triangle of size 1e-100 or 1e150 must
+        # not look flat through an underflow or an overflow of |n|^2
+        big = np.maximum(np.max(np.abs(d1), axis=-1), np.max(np.abs(d2), axis=-1))
+        if not np.all(np.isfinite(big)):
+            raise InputError("expected finite points (and differences within the float64 "
+                             "range), got NaN or inf", field=what)
+        e = np.frexp(np.where(big > 0, big, 1.0))[1][..., None]
+        d1, d2 = np.ldexp(d1, -e), np.ldexp(d2, -e)
         n = np.cross(d1, d2)
         n2 = np.einsum("...k,...k->...", n, n)
         l1 = np.einsum("...k,...k->...", d1, d1)

@@ -17,14 +17,24 @@ points are collinear or coincident (:class:`DegenerateGeometryError`).
 
 ``side = +1`` puts the point on the side of :math:`n`, i.e.
 :math:`(P - P_a)\cdot((P_b-P_a)\times(P_c-P_a)) \ge 0`; ``side = -1`` the mirror.
+
+Inputs are numbers of any tier or numeric strings, parsed exactly in every tier
+(``"19.8"`` is 99/5, ``"sqrt(2)"``; :func:`distkin.exact.parse_exact`), then rounded once
+in the fast tier.  The fast tier works in units of :math:`2^e`, the power of two just
+above the reference triangle's largest coordinate difference (an exact scaling: the
+same bits as unscaled, where that neither under- nor overflows), so a triangle of size
+1e-100 or 1e150 is not flattened by an underflow of :math:`G` nor lost to an overflow.
 """
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 import numpy as np
 
+from ..argcheck import as_floats
 from ..errors import DegenerateGeometryError, InfeasibleError, InputError, UncertifiedError
-from ..exact import check_method, default_dps, to_tier
+from ..exact import Exact, check_method, default_dps, parse_exact, parse_float, to_tier
 
 __all__ = ["trilaterate", "trilaterate_both", "TrilaterationParts", "trilateration_parts"]
 
@@ -34,19 +44,25 @@ _EPS = np.finfo(float).eps
 class TrilaterationParts:
     """Foot of the perpendicular, the normal n, G = |n|^2 and h^2, in one tier.
 
-    Attributes are sequences of three components (numpy arrays when batched).
+    Attributes are sequences of three components (numpy arrays when batched).  ``foot``
+    is in length units; in the fast tier ``normal``, ``G`` and ``h2`` are those of the
+    reference points scaled by :math:`2^{-e}` (exactly), ``e = exponent`` (an integer
+    array when batched; 0 in the other tiers): times :math:`4^e`, :math:`16^e` and
+    :math:`4^e` in length units, which float64 may not hold.
     """
 
-    __slots__ = ("foot", "normal", "G", "h2", "method")
+    __slots__ = ("foot", "normal", "G", "h2", "method", "exponent")
 
-    def __init__(self, foot, normal, G, h2, method):
+    def __init__(self, foot, normal, G, h2, method, exponent=0):
         self.foot, self.normal, self.G, self.h2, self.method = foot, normal, G, h2, method
+        self.exponent = exponent
 
     def point(self, side):
         """The point on ``side`` (+1 or -1, or an array of them when batched)."""
         if self.method == "fast":
             scale = np.sqrt(np.maximum(self.h2, 0.0) / self.G) * side
-            return np.stack([f + scale * c for f, c in zip(self.foot, self.normal)], axis=-1)
+            return np.stack([f + np.ldexp(scale * c, self.exponent)
+                             for f, c in zip(self.foot, self.normal)], axis=-1)
         if self.method == "precise":
             import mpmath
             scale = mpmath.sqrt(max(self.h2, 0) / self.G) * side
@@ -59,26 +75,149 @@ class TrilaterationParts:
         return [flint.arb(f) + scale * c for f, c in zip(self.foot, self.normal)]
 
 
+def _fast_floats(value, field, expected):
+    """A float64 array of ``value``: numbers, or numeric strings parsed exactly and
+    rounded once (:func:`distkin.exact.parse_float`) as in the other tiers; booleans and
+    other things are an :class:`InputError` naming the element."""
+    try:
+        arr = np.asarray(value)
+    except ValueError:                              # ragged
+        arr = None
+    if arr is not None and arr.dtype.kind in "iuf":
+        if not (isinstance(value, (list, tuple)) and _has_bool(value)):
+            return arr.astype(float)
+        arr = np.asarray(value, dtype=object)       # to name the boolean below
+    if arr is None or arr.dtype.kind not in "OUSb" or any(
+            isinstance(v, (list, tuple, np.ndarray)) for v in arr.flat):
+        raise InputError(f"expected {expected}, got {_show(value)}", field=field)
+    out = np.empty(arr.shape)
+    for idx, v in np.ndenumerate(arr):
+        name = field + "".join(f"[{i}]" for i in idx)
+        if isinstance(v, (bool, np.bool_)):
+            raise InputError(f"expected a number, got the boolean {v!r}", field=name)
+        if isinstance(v, (str, bytes)):
+            out[idx] = parse_float(str(v) if isinstance(v, str) else v.decode(), name)
+        elif isinstance(v, Exact):
+            out[idx] = to_tier(v, "fast")
+        elif v is None:
+            raise InputError("expected a number, got None", field=name)
+        else:
+            out[idx] = as_floats(v, name, "a number")
+    return out
+
+
+def _has_bool(value) -> bool:
+    """A boolean anywhere in nested lists (numpy would read True as 1)."""
+    return any(_has_bool(v) if isinstance(v, (list, tuple)) else isinstance(v, (bool, np.bool_))
+               for v in value)
+
+
+def _show(value, n=80):
+    text = repr(value)
+    return text if len(text) <= n else text[:n - 3] + "..."
+
+
+def _tier_scalar(x, method, field):
+    """One coordinate or squared distance in the number type of the precise or certified
+    tier: numbers of any tier, or numeric strings parsed exactly (as the fast tier)."""
+    if isinstance(x, (bool, np.bool_)):
+        raise InputError(f"expected a number, got the boolean {x!r}", field=field)
+    if isinstance(x, (np.integer, np.floating)):
+        x = x.item()
+    if isinstance(x, (str, int, float)):
+        x = parse_exact(x, field)      # finite, exact; a string like "12/5" or "sqrt(2)"
+    elif not (isinstance(x, (Exact, Fraction)) or type(x).__name__ in ("mpf", "fmpq", "fmpz",
+                                                                         "arb")
+              or (type(x).__module__ or "").startswith("sympy")):
+        raise InputError(f"expected a number or a numeric string, got "
+                         f"{type(x).__name__} {_show(x)}", field=field)
+    try:
+        return to_tier(x, method)
+    except InputError as exc:
+        raise exc.with_field(field)
+
+
 def _components(points, method):
     """Split (…, 3, 3) points into 9 scalars (or arrays) of the tier."""
     if method == "fast":
-        P = np.asarray(points, dtype=float)
+        P = _fast_floats(points, "points", "reference points of shape (..., 3, 3)")
         if P.shape[-2:] != (3, 3):
             raise InputError(f"expected reference points of shape (..., 3, 3), got {P.shape}",
                              field="points")
         if not np.all(np.isfinite(P)):
             raise InputError("expected finite reference points, got NaN or inf", field="points")
-        return [[P[..., r, c] for c in range(3)] for r in range(3)]
-    rows = list(points)
-    if len(rows) != 3 or any(len(r) != 3 for r in rows):
-        raise InputError(f"expected 3 reference points of 3 coordinates, got {np.shape(points)}",
+        return P
+    if isinstance(points, np.ndarray):
+        points = points.tolist()
+    try:
+        rows = [list(r) for r in points]
+    except TypeError:
+        rows = None
+    if rows is None or len(rows) != 3 or any(len(r) != 3 for r in rows):
+        raise InputError(f"expected 3 reference points of 3 coordinates, got {_show(points)}",
                          field="points")
-    return [[to_tier(x, method) for x in r] for r in rows]
+    return [[_tier_scalar(x, method, f"points[{i}][{j}]") for j, x in enumerate(r)]
+            for i, r in enumerate(rows)]
+
+
+def _squared(sq, method):
+    """The three squared distances (fast: an array (..., 3)) in the tier's number type."""
+    if method == "fast":
+        S = _fast_floats(sq, "sq", "squared distances of shape (..., 3)")
+        if S.shape[-1:] != (3,):
+            raise InputError(f"expected 3 squared distances per point, got shape {S.shape}",
+                             field="sq")
+        if not np.all(np.isfinite(S)):
+            raise InputError("expected finite squared distances, got NaN or inf", field="sq")
+        return S
+    if isinstance(sq, np.ndarray):
+        sq = sq.tolist()
+    if not isinstance(sq, (list, tuple)) or len(sq) != 3:
+        raise InputError(f"expected 3 squared distances, got {_show(sq)}", field="sq")
+    return [_tier_scalar(x, method, f"sq[{i}]") for i, x in enumerate(sq)]
+
+
+def _check_sides(side, method):
+    """``side``: +1 or -1 (fast: an array of them, broadcasting with the batch)."""
+    if isinstance(side, (bool, np.bool_)) or (isinstance(side, np.ndarray)
+                                              and side.dtype.kind == "b"):
+        raise InputError(f"expected side = +1 or -1, got {side!r}", field="side")
+    arr = as_floats(side, "side", "side = +1 or -1 (or an array of them)")
+    if arr.size == 0 or np.any(np.abs(arr) != 1):
+        raise InputError(f"expected side = +1 or -1, got {_show(side)}", field="side")
+    if method != "fast":
+        if arr.ndim:
+            raise InputError(f"expected one side, +1 or -1, in the {method} tier (a batch "
+                             f"runs in the fast tier), got shape {arr.shape}", field="side")
+        return int(arr)
+    return arr
+
+
+def _broadcast(name, shape, batch):
+    try:
+        return np.broadcast_shapes(shape, batch)
+    except ValueError:
+        raise InputError(f"expected batch shapes that broadcast, got {name} batch shape "
+                         f"{shape} against {batch}", field=name) from None
+
+
+def _check_nonnegative(sq, method):
+    """Squared distances must be >= 0 (an arb ball only when certainly negative)."""
+    if method == "fast":
+        bad = np.argwhere(np.asarray(sq) < 0)
+        if len(bad):
+            idx = tuple(int(i) for i in bad[0])
+            raise InputError(f"expected squared distances >= 0, got {float(sq[idx]):.6g}",
+                             field="sq" + "".join(f"[{i}]" for i in idx))
+        return
+    for i, v in enumerate(sq):
+        if v < 0:
+            raise InputError(f"expected squared distances >= 0, got {v}", field=f"sq[{i}]")
 
 
 def trilateration_parts(points, sq, *, method: str = "fast", dps: int | None = None,
                         tol: float | None = None) -> TrilaterationParts:
-    """Compute the pieces of a trilateration and check degeneracy and feasibility.
+    r"""Compute the pieces of a trilateration and check degeneracy and feasibility.
 
     Parameters
     ----------
@@ -94,57 +233,102 @@ def trilateration_parts(points, sq, *, method: str = "fast", dps: int | None = N
 
     Raises
     ------
+    InputError
+        Malformed input: shapes, batch shapes that do not broadcast, values that are
+        not numbers (or numeric strings), NaN or inf.
     DegenerateGeometryError
         Collinear or coincident reference points.
     InfeasibleError
-        :math:`h^2 < 0` beyond the tolerance; ``margin`` is :math:`h^2`.
+        :math:`h^2 < 0` beyond the tolerance; ``margin`` is :math:`h^2`.  A negative
+        squared distance is one such case here (:math:`h^2 \le s < 0`): the octahedral
+        solver passes a root :math:`s_{15}` that may be negative and rejects it so;
+        :func:`trilaterate` refuses it as an :class:`InputError`.
     UncertifiedError
         Certified tier on irrational data whose balls cannot decide the sign.
     """
+    return _solve(points, sq, _NO_SIDE, method, dps, tol)[0]
+
+
+_NO_SIDE = object()
+
+
+def _solve(points, sq, side, method, dps, tol, *, nonnegative=False):
+    """(parts, side): parse and check the input (``side`` too unless _NO_SIDE; squared
+    distances >= 0 when ``nonnegative``), then the pieces of the trilateration."""
     check_method(method)
+    if side is not _NO_SIDE:
+        side = _check_sides(side, method)
     if method == "precise":
         import mpmath
         dps = default_dps(dps)
         ctx = mpmath.workdps(dps)
         ctx.__enter__()
     try:
-        (ax, ay, az), (bx, by, bz), (cx, cy, cz) = _components(points, method)
+        P, S = _components(points, method), _squared(sq, method)
         if method == "fast":
-            S = np.asarray(sq, dtype=float)
-            if S.shape[-1:] != (3,):
-                raise InputError(f"expected 3 squared distances per point, got shape {S.shape}",
-                                 field="sq")
-            if not np.all(np.isfinite(S)):
-                raise InputError("expected finite squared distances, got NaN or inf", field="sq")
-            sa, sb, sc = S[..., 0], S[..., 1], S[..., 2]
-        else:
-            if len(sq) != 3:
-                raise InputError(f"expected 3 squared distances, got {len(sq)}", field="sq")
-            sa, sb, sc = (to_tier(x, method) for x in sq)
-        v2 = (bx - ax, by - ay, bz - az)
-        v3 = (cx - ax, cy - ay, cz - az)
-        g22 = v2[0] * v2[0] + v2[1] * v2[1] + v2[2] * v2[2]
-        g33 = v3[0] * v3[0] + v3[1] * v3[1] + v3[2] * v3[2]
-        g23 = v2[0] * v3[0] + v2[1] * v3[1] + v2[2] * v3[2]
-        n = (v2[1] * v3[2] - v2[2] * v3[1],
-             v2[2] * v3[0] - v2[0] * v3[2],
-             v2[0] * v3[1] - v2[1] * v3[0])
-        G = n[0] * n[0] + n[1] * n[1] + n[2] * n[2]
-        _check_degenerate(G, g22, g33, method, dps, tol)
-        w2 = (sa + g22 - sb) / 2
-        w3 = (sa + g33 - sc) / 2
-        alpha = (w2 * g33 - w3 * g23) / G
-        beta = (w3 * g22 - w2 * g23) / G
-        foot = (ax + alpha * v2[0] + beta * v3[0],
-                ay + alpha * v2[1] + beta * v3[1],
-                az + alpha * v2[2] + beta * v3[2])
-        h2 = sa - (alpha * w2 + beta * w3)
-        scale = _scale(sa, g22, g33, method)
-        h2 = _check_feasible(h2, scale, method, dps, tol)
-        return TrilaterationParts(foot, n, G, h2, method)
+            batch = _broadcast("sq", S.shape[:-1], P.shape[:-2])
+            if side is not _NO_SIDE:
+                _broadcast("side", np.shape(side), batch)
+        if nonnegative:
+            _check_nonnegative(S, method)
+        return _parts(P, S, method, dps, tol), side
     finally:
         if method == "precise":
             ctx.__exit__(None, None, None)
+
+
+def _fast_scaled(P, S):
+    """The fast tier's inputs in units of 2^e (exact): e per batch element, from the
+    largest coordinate difference of the reference triangle."""
+    v = P[..., 1:, :] - P[..., :1, :]
+    if not np.all(np.isfinite(v)):
+        raise InputError("expected reference points whose differences are within the "
+                         "float64 range (|x| < 1.8e308)", field="points")
+    big = np.max(np.abs(v), axis=(-2, -1))
+    e = np.frexp(np.where(big > 0, big, 1.0))[1]
+    a = P[..., 0, :]
+    u = np.ldexp(v, -e[..., None, None])
+    with np.errstate(over="ignore"):
+        s = np.ldexp(S, -2 * np.asarray(e)[..., None])
+    if not np.all(np.isfinite(s)):
+        raise InputError("expected squared distances within the float64 range relative to "
+                         "the reference triangle (its size squared times 1.8e308)", field="sq")
+    return a, u[..., 0, :], u[..., 1, :], s, e
+
+
+def _parts(P, S, method, dps, tol):
+    if method == "fast":
+        a, u2, u3, s, e = _fast_scaled(P, S)
+        sa, sb, sc = s[..., 0], s[..., 1], s[..., 2]
+        v2 = tuple(u2[..., k] for k in range(3))
+        v3 = tuple(u3[..., k] for k in range(3))
+    else:
+        (ax, ay, az), (bx, by, bz), (cx, cy, cz) = P
+        sa, sb, sc = S
+        e = 0
+        v2 = (bx - ax, by - ay, bz - az)
+        v3 = (cx - ax, cy - ay, cz - az)
+    g22 = v2[0] * v2[0] + v2[1] * v2[1] + v2[2] * v2[2]
+    g33 = v3[0] * v3[0] + v3[1] * v3[1] + v3[2] * v3[2]
+    g23 = v2[0] * v3[0] + v2[1] * v3[1] + v2[2] * v3[2]
+    n = (v2[1] * v3[2] - v2[2] * v3[1],
+         v2[2] * v3[0] - v2[0] * v3[2],
+         v2[0] * v3[1] - v2[1] * v3[0])
+    G = n[0] * n[0] + n[1] * n[1] + n[2] * n[2]
+    _check_degenerate(G, g22, g33, method, dps, tol)
+    w2 = (sa + g22 - sb) / 2
+    w3 = (sa + g33 - sc) / 2
+    alpha = (w2 * g33 - w3 * g23) / G
+    beta = (w3 * g22 - w2 * g23) / G
+    off = [alpha * v2[k] + beta * v3[k] for k in range(3)]
+    if method == "fast":
+        foot = tuple(a[..., k] + np.ldexp(off[k], e) for k in range(3))
+    else:
+        foot = tuple(P[0][k] + off[k] for k in range(3))
+    h2 = sa - (alpha * w2 + beta * w3)
+    scale = _scale(sa, g22, g33, method)
+    h2 = _check_feasible(h2, scale, method, dps, tol, e)
+    return TrilaterationParts(foot, n, G, h2, method, e)
 
 
 def _scale(sa, g22, g33, method):
@@ -162,8 +346,7 @@ def _check_degenerate(G, g22, g33, method, dps, tol):
         if np.any(bad):
             raise DegenerateGeometryError(
                 "expected three non-collinear reference points, got collinear or coincident "
-                f"points (|n|^2 = {np.min(G):.3g} <= {t:.1e}*|v2|^2*|v3|^2)",
-                field="points")
+                f"points (|v2 x v3|^2 <= {t:.1e}*|v2|^2*|v3|^2)", field="points")
         return
     if method == "precise":
         import mpmath
@@ -187,14 +370,18 @@ def _check_degenerate(G, g22, g33, method, dps, tol):
                                f"|n|^2 = {G.str(5, radius=True)}")
 
 
-def _check_feasible(h2, scale, method, dps, tol):
+def _check_feasible(h2, scale, method, dps, tol, e=0):
     if method == "fast":
         t = 64 * _EPS if tol is None else tol
         bad = h2 < -t * scale
         if np.any(bad):
-            worst = float(np.min(h2))
+            k = np.unravel_index(np.argmin(h2), np.shape(h2)) if np.ndim(h2) else ()
+            ek = int(np.broadcast_to(e, np.shape(h2))[k])
+            with np.errstate(over="ignore", under="ignore"):
+                worst = float(np.ldexp(h2[k], 2 * ek))                # length units
+            shown = f"{worst:.6g}" if worst else f"{float(h2[k]):.6g}*2^{2 * ek}"
             raise InfeasibleError(
-                f"expected distances that close (h^2 >= 0), got h^2 = {worst:.6g} "
+                f"expected distances that close (h^2 >= 0), got h^2 = {shown} "
                 "(squared length units)", margin=worst, field="sq")
         return np.maximum(h2, 0.0)
     if method == "precise":
@@ -239,6 +426,14 @@ def trilaterate(points, sq, side=1, *, method: str = "fast", dps: int | None = N
     3 ``flint.arb`` balls for ``certified`` (3 exact ``fmpq`` when the data are rational
     and the point lies in the plane of the reference points).
 
+    Raises
+    ------
+    InputError
+        As :func:`trilateration_parts`, and a negative squared distance or a ``side``
+        other than +1 / -1 (one value in the precise and certified tiers).
+    DegenerateGeometryError, InfeasibleError, UncertifiedError
+        See :func:`trilateration_parts`.
+
     Examples
     --------
     >>> import numpy as np
@@ -246,9 +441,7 @@ def trilaterate(points, sq, side=1, *, method: str = "fast", dps: int | None = N
     >>> trilaterate(P, [1, 2, 2]).round(12).tolist()
     [0.0, 0.0, 1.0]
     """
-    if np.any(np.abs(np.asarray(side, dtype=float)) != 1):
-        raise InputError(f"expected side = +1 or -1, got {side!r}", field="side")
-    parts = trilateration_parts(points, sq, method=method, dps=dps, tol=tol)
+    parts, side = _solve(points, sq, side, method, dps, tol, nonnegative=True)
     if method == "precise":
         import mpmath
         with mpmath.workdps(default_dps(dps)):
@@ -259,7 +452,7 @@ def trilaterate(points, sq, side=1, *, method: str = "fast", dps: int | None = N
 def trilaterate_both(points, sq, *, method: str = "fast", dps: int | None = None,
                      tol: float | None = None):
     """Both mirror solutions ``(side=+1, side=-1)``; see :func:`trilaterate`."""
-    parts = trilateration_parts(points, sq, method=method, dps=dps, tol=tol)
+    parts = _solve(points, sq, _NO_SIDE, method, dps, tol, nonnegative=True)[0]
     if method == "precise":
         import mpmath
         with mpmath.workdps(default_dps(dps)):

@@ -7,11 +7,13 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import subprocess
 import sys
 from fractions import Fraction
 from pathlib import Path
 
+import mpmath
 import numpy as np
 import pytest
 
@@ -205,3 +207,92 @@ def test_points_module_matches_exact_cayley_menger(written):
         bi, t1, t2 = got["b"][n][:3]
         assert abs(bi * bi - t1 * t2) <= 1e-12 * abs(t1 * t2)
     assert got["b"][0][:3] == [6678.0, 31752.0, 1404.5]          # the scene's exact values
+
+
+#: the Griffis-Duffy 6-6 platform in inches, written as bare floats (exact binary values,
+#: DESIGN §3): its squared sides are rationals of 100+ digits and their square roots
+#: (s15_interval) irrational constants, printed numpy.sqrt(7188024561708202275234453794882)
+#: in the batched kernels, which numpy refused (QA); the scalar twins ran
+INCH_BASE = [[0, 0, 0], [152.39999999999998, 263.9645430734969, 0], [304.79999999999995, 0, 0]]
+INCH_PLAT = [[0, 0, 0], [152.39999999999998, 0, 0], [76.19999999999999, 131.98227153674844, 0]]
+INCH_OFFSETS = [60.959999999999994, 30.479999999999997] * 3
+INCH_LEGS = ["502.92", "457.2", "457.2", "431.8", "378.46", "452.12"]    # GD legs x 25.4
+INCH_SCENE = f"""[units]
+length = "none"
+[mechanism]
+kind = "platform66"
+base = {INCH_BASE!r}
+platform = {INCH_PLAT!r}
+offsets = {INCH_OFFSETS!r}
+[[query]]
+type = "forward_kinematics"
+legs = [478.8368226442072, 453.117775418268, 435.48964809740306, 417.2424531612285,
+        374.97145192667665, 458.6933389531615]
+method = "fast"
+"""
+
+
+def _stewart_m2(legs):
+    """Squared m-legs of the inch platform from exact l-legs by Stewart's theorem (a
+    second route to eq. (8)): the joint of row i moved by delta along the edge P_s P_e of
+    length d, m^2 = ((d - delta) l_s^2 + delta l_e^2) / d - delta (d - delta), in mpmath
+    at 60 digits from the exact binary coordinates, rounded once."""
+    from distkin.delta.transform import ROWS
+    pts = INCH_BASE + INCH_PLAT
+    out = []
+    with mpmath.workdps(60):
+        for row, delta in zip(ROWS, INCH_OFFSETS):
+            s, e = row.edge
+            d = mpmath.sqrt(sum((mpmath.mpf(a) - mpmath.mpf(b)) ** 2
+                                for a, b in zip(pts[s - 1], pts[e - 1])))
+            ls, le = (mpmath.mpf(legs[i - 1].numerator) / legs[i - 1].denominator
+                      for i in row.legs)
+            dl = mpmath.mpf(delta)
+            out.append(float((d - dl) / d * ls ** 2 + dl / d * le ** 2 - dl * (d - dl)))
+    return out
+
+
+def test_platform66_decimal_coordinates_batched_kernels_run(tmp_path):
+    """The inch scene's module imports and its batched kernels run (QA: TypeError from
+    numpy.sqrt of a Python int); batched and scalar kernels agree, and both agree with
+    distkin's own routes: the certified tier's exact octic of the same (exact binary)
+    geometry at exact l-legs, the fast tier's octic and quadratic parts, the feasible
+    interval, and the exact squared l-legs (l_squared) -- to rounding."""
+    from distkin.octahedral.closure import feasible_interval, octic_data
+    from distkin.octahedral.forward import forward_kinematics
+    scene = tmp_path / "p66_inch.toml"
+    scene.write_text(INCH_SCENE, encoding="utf-8")
+    r = _codegen(scene, tmp_path / "inch_kernels.py", tmp_path / "cache")
+    assert r.returncode == 0, r.stderr
+    text = (tmp_path / "inch_kernels.py").read_text(encoding="utf-8")
+    assert not re.search(r"(numpy|math)\.sqrt\([0-9/]+\)", text)    # constants are doubles
+    sets = [[Fraction(x) for x in INCH_LEGS],
+            [Fraction(x) * Fraction(101, 100) for x in INCH_LEGS]]
+    M2 = [_stewart_m2(legs) for legs in sets]
+    got = _probe(tmp_path, "import inch_kernels as k, numpy as np\n"
+                 f"M2 = np.array({M2!r})\n"
+                 "for n in k.KERNELS:\n"
+                 "    OUT[n] = getattr(k, n)(M2).tolist()\n"
+                 "    OUT[n + '_scalar'] = [getattr(k, n + '_scalar')(list(r)) for r in M2]\n")
+    assert got["sympy"] is False and got["distkin"] is False
+    for name in ("l_squared", "octic", "parts", "s15_interval"):          # batched == scalar
+        np.testing.assert_allclose(got[name], np.array(got[f"{name}_scalar"], float),
+                                   rtol=1e-14, atol=0)
+    sq = lambda a, b: sum((Fraction(x) - Fraction(y)) ** 2 for x, y in zip(a, b))  # noqa: E731
+    sides = [float(sq(INCH_BASE[i], INCH_BASE[j])) for i, j in ((0, 1), (0, 2), (1, 2))] + \
+            [float(sq(INCH_PLAT[i], INCH_PLAT[j])) for i, j in ((0, 1), (0, 2), (1, 2))]
+    L2 = np.array([[float(x * x) for x in legs] for legs in sets])
+    fast = octic_data(np.array([sides] * len(sets)), L2, "fast")
+    for i, legs in enumerate(sets):
+        np.testing.assert_allclose(got["l_squared"][i], L2[i], rtol=1e-13)
+        cert = forward_kinematics(INCH_BASE, INCH_PLAT, [str(x) for x in legs],
+                                  method="certified")
+        assert cert.octic_exact and len(cert) >= 2                   # it assembles
+        exact = np.array([float(Fraction(c) / Fraction(cert.octic[0])) for c in cert.octic])
+        np.testing.assert_allclose(_normalised(got["octic"][i]), exact, rtol=1e-12, atol=0)
+        np.testing.assert_allclose(got["octic"][i], fast[i, 30:], rtol=1e-12, atol=0)
+        np.testing.assert_allclose(got["parts"][i], fast[i, :30], rtol=1e-12,
+                                   atol=1e-12 * np.abs(fast[i, :30]).max())
+        lo, hi, _ = feasible_interval(sides, L2[i])
+        np.testing.assert_allclose(got["s15_interval"][i], [lo, hi], rtol=1e-13)
+        assert all(lo <= p.s15 <= hi for p in cert)
