@@ -32,6 +32,7 @@ __all__ = [
     "executor_fields",
     "scheduler_address",
     "dps_field",
+    "no_booleans",
 ]
 
 _MISSING = object()
@@ -87,6 +88,26 @@ def as_floats(value, field: str, expected: str = "numbers") -> np.ndarray:
         got = repr(value)
         got = got if len(got) <= 120 else got[:117] + "..."
         raise InputError(f"expected {expected}, got {got}", field=field) from None
+
+
+def no_booleans(value, field: str) -> None:
+    """Refuse a boolean anywhere in numeric input (numpy reads ``True`` as 1 and would
+    pass it on as a length): an :class:`InputError` naming its element, e.g.
+    ``legs[0]``.  Walks nested lists and tuples and object arrays; a numeric array has
+    none."""
+    if isinstance(value, (bool, np.bool_)):
+        raise InputError(f"expected a number, got the boolean {value!r}", field=field)
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind == "b" and value.size:
+            idx = np.unravel_index(0, value.shape)
+            no_booleans(value[idx], field + "".join(f"[{int(i)}]" for i in idx))
+        if value.dtype.kind == "O":
+            for idx, v in np.ndenumerate(value):
+                no_booleans(v, field + "".join(f"[{int(i)}]" for i in idx))
+        return
+    if isinstance(value, (list, tuple)):
+        for i, v in enumerate(value):
+            no_booleans(v, f"{field}[{i}]")
 
 
 def float_array(value, field: str, shape: tuple) -> np.ndarray:

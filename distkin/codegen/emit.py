@@ -141,24 +141,64 @@ def _printers():
     from sympy.printing.numpy import NumPyPrinter
     from sympy.printing.pycode import PythonCodePrinter
 
-    def _pow(self, expr, rational=False):
-        base, exp = expr.as_base_exp()
-        if exp.is_Integer and 2 <= int(exp) <= 4:
-            # in parentheses: the Mul printer may put a power after "/" (a/(x*x))
-            b = self.parenthesize(base, sympy.printing.precedence.PRECEDENCE["Mul"])
-            return "(" + "*".join([b] * int(exp)) + ")"
-        if exp.is_Integer and int(exp) == -1:
-            b = self.parenthesize(base, sympy.printing.precedence.PRECEDENCE["Mul"])
-            return f"1.0/{b}"
-        return self._orig_pow(expr, rational=rational)
+    class Float64(object):
+        """What the batched and the scalar flavour print alike (a mixin before their
+        sympy printer): small integer powers multiplied out, binary64 parameters and
+        irrational constants as correctly rounded doubles."""
 
-    def _float(self, expr):
-        # a binary64 parameter prints as its shortest round-trip repr (17 significant
-        # digits at most), not sympy's 15-digit default, which can be off by an ulp
-        v = float(expr)
-        if expr._prec == 53 and sympy.Float(v, precision=53)._mpf_ == expr._mpf_:
-            return repr(v)
-        return self._orig_float(expr)
+        def _print_Pow(self, expr, rational=False):
+            base, exp = expr.as_base_exp()
+            if exp.is_Integer and 2 <= int(exp) <= 4:
+                # in parentheses: the Mul printer may put a power after "/" (a/(x*x))
+                b = self.parenthesize(base, sympy.printing.precedence.PRECEDENCE["Mul"])
+                return "(" + "*".join([b] * int(exp)) + ")"
+            if exp.is_Integer and int(exp) == -1:
+                b = self.parenthesize(base, sympy.printing.precedence.PRECEDENCE["Mul"])
+                return f"1.0/{b}"
+            return super()._print_Pow(expr, rational=rational)
+
+        def _print_Float(self, expr):
+            # a binary64 parameter prints as its shortest round-trip repr (17 significant
+            # digits at most), not sympy's 15-digit default, which can be off by an ulp
+            v = float(expr)
+            if expr._prec == 53 and sympy.Float(v, precision=53)._mpf_ == expr._mpf_:
+                return repr(v)
+            return super()._print_Float(expr)
+
+        def _print(self, expr, **kwargs):
+            # a constant that is not a rational (sqrt(7188...), 3*sqrt(2), pi) prints as
+            # its correctly rounded double (nearest_double): no numpy.sqrt of a Python int
+            if _is_constant(expr):
+                v = nearest_double(expr)
+                if v is not None and not math.isfinite(v):
+                    # beyond the float64 range: what evaluating it in float64 gives
+                    return "math.inf" if v > 0 else "(-math.inf)"
+                if v is not None:
+                    # a negative value in parentheses unless sympy already treats the
+                    # expression as a difference (-sqrt(2)): then the Add printer writes
+                    # "x - 1.4142135623730951" and a power parenthesizes its base
+                    prec = sympy.printing.precedence.precedence(expr)
+                    add = sympy.printing.precedence.PRECEDENCE["Add"]
+                    return repr(v) if v >= 0 or prec <= add else f"({v!r})"
+            return super()._print(expr, **kwargs)
+
+        def _numeric_part(self, expr, kind):
+            # x*3*sqrt(2) -> 4.242640687119285*x, x + 1 + sqrt(2) -> x + 2.414213562373095:
+            # the numeric factors (terms) of a product (sum) with an irrational one are
+            # one correctly rounded double, not several roundings
+            num = [a for a in expr.args if a.is_number]
+            if len(num) > 1 and any(_is_constant(a) for a in num):
+                v = nearest_double(kind(*num))
+                if v is not None and math.isfinite(v):
+                    rest = [a for a in expr.args if not a.is_number]
+                    expr = kind(sympy.Float(v, precision=53), *rest, evaluate=False)
+            return expr
+
+        def _print_Mul(self, expr, *args, **kwargs):
+            return super()._print_Mul(self._numeric_part(expr, sympy.Mul), *args, **kwargs)
+
+        def _print_Add(self, expr, *args, **kwargs):
+            return super()._print_Add(self._numeric_part(expr, sympy.Add), *args, **kwargs)
 
     def _fold(ufunc):
         # numpy.maximum(a, numpy.maximum(b, c)): elementwise, and no functools import
@@ -171,62 +211,12 @@ def _printers():
             return out
         return fold
 
-    def _print_constant(self, expr, **kwargs):
-        # a constant that is not a rational (sqrt(7188...), 3*sqrt(2), pi) prints as its
-        # correctly rounded double (nearest_double): no numpy.sqrt of a Python int
-        if _is_constant(expr):
-            v = nearest_double(expr)
-            if v is not None and not math.isfinite(v):
-                # beyond the float64 range: what evaluating it in float64 gives
-                return "math.inf" if v > 0 else "(-math.inf)"
-            if v is not None:
-                # a negative value in parentheses unless sympy already treats the
-                # expression as a difference (-sqrt(2)): then the Add printer writes
-                # "x - 1.4142135623730951" and a power parenthesizes its base
-                prec = sympy.printing.precedence.precedence(expr)
-                add = sympy.printing.precedence.PRECEDENCE["Add"]
-                return repr(v) if v >= 0 or prec <= add else f"({v!r})"
-        return self._orig_print(expr, **kwargs)
-
-    def _numeric_part(kind):
-        # x*3*sqrt(2) -> 4.242640687119285*x, x + 1 + sqrt(2) -> x + 2.414213562373095:
-        # the numeric factors (terms) of a product (sum) with an irrational one are one
-        # correctly rounded double, not several roundings
-        def fold(self, expr, *args, **kwargs):
-            num = [a for a in expr.args if a.is_number]
-            if len(num) > 1 and any(_is_constant(a) for a in num):
-                v = nearest_double(kind(*num))
-                if v is not None and math.isfinite(v):
-                    rest = [a for a in expr.args if not a.is_number]
-                    expr = kind(sympy.Float(v, precision=53), *rest, evaluate=False)
-            return getattr(self, f"_orig_{kind.__name__}")(expr, *args, **kwargs)
-        return fold
-
-    class Batched(NumPyPrinter):
-        _orig_pow = NumPyPrinter._print_Pow
-        _print_Pow = _pow
-        _orig_float = NumPyPrinter._print_Float
-        _print_Float = _float
+    class Batched(Float64, NumPyPrinter):
         _print_Max = _fold("maximum")
         _print_Min = _fold("minimum")
-        _orig_print = NumPyPrinter._print
-        _print = _print_constant
-        _orig_Mul = NumPyPrinter._print_Mul
-        _print_Mul = _numeric_part(sympy.Mul)
-        _orig_Add = NumPyPrinter._print_Add
-        _print_Add = _numeric_part(sympy.Add)
 
-    class Scalar(PythonCodePrinter):
-        _orig_pow = PythonCodePrinter._print_Pow
-        _print_Pow = _pow
-        _orig_float = PythonCodePrinter._print_Float
-        _print_Float = _float
-        _orig_print = PythonCodePrinter._print
-        _print = _print_constant
-        _orig_Mul = PythonCodePrinter._print_Mul
-        _print_Mul = _numeric_part(sympy.Mul)
-        _orig_Add = PythonCodePrinter._print_Add
-        _print_Add = _numeric_part(sympy.Add)
+    class Scalar(Float64, PythonCodePrinter):
+        pass
 
     class Exact(PythonCodePrinter):
         def _print_Rational(self, expr):

@@ -32,7 +32,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..argcheck import as_floats
+from ..argcheck import as_floats, no_booleans
 from ..errors import DegenerateGeometryError, InfeasibleError, InputError, UncertifiedError
 from ..exact import Exact, check_method, default_dps, parse_exact, parse_float, to_tier
 
@@ -79,22 +79,19 @@ def _fast_floats(value, field, expected):
     """A float64 array of ``value``: numbers, or numeric strings parsed exactly and
     rounded once (:func:`distkin.exact.parse_float`) as in the other tiers; booleans and
     other things are an :class:`InputError` naming the element."""
+    no_booleans(value, field)
     try:
         arr = np.asarray(value)
     except ValueError:                              # ragged
         arr = None
     if arr is not None and arr.dtype.kind in "iuf":
-        if not (isinstance(value, (list, tuple)) and _has_bool(value)):
-            return arr.astype(float)
-        arr = np.asarray(value, dtype=object)       # to name the boolean below
+        return arr.astype(float)
     if arr is None or arr.dtype.kind not in "OUSb" or any(
             isinstance(v, (list, tuple, np.ndarray)) for v in arr.flat):
         raise InputError(f"expected {expected}, got {_show(value)}", field=field)
     out = np.empty(arr.shape)
     for idx, v in np.ndenumerate(arr):
         name = field + "".join(f"[{i}]" for i in idx)
-        if isinstance(v, (bool, np.bool_)):
-            raise InputError(f"expected a number, got the boolean {v!r}", field=name)
         if isinstance(v, (str, bytes)):
             out[idx] = parse_float(str(v) if isinstance(v, str) else v.decode(), name)
         elif isinstance(v, Exact):
@@ -106,12 +103,6 @@ def _fast_floats(value, field, expected):
     return out
 
 
-def _has_bool(value) -> bool:
-    """A boolean anywhere in nested lists (numpy would read True as 1)."""
-    return any(_has_bool(v) if isinstance(v, (list, tuple)) else isinstance(v, (bool, np.bool_))
-               for v in value)
-
-
 def _show(value, n=80):
     text = repr(value)
     return text if len(text) <= n else text[:n - 3] + "..."
@@ -120,8 +111,7 @@ def _show(value, n=80):
 def _tier_scalar(x, method, field):
     """One coordinate or squared distance in the number type of the precise or certified
     tier: numbers of any tier, or numeric strings parsed exactly (as the fast tier)."""
-    if isinstance(x, (bool, np.bool_)):
-        raise InputError(f"expected a number, got the boolean {x!r}", field=field)
+    no_booleans(x, field)
     if isinstance(x, (np.integer, np.floating)):
         x = x.item()
     if isinstance(x, (str, int, float)):

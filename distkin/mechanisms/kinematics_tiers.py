@@ -395,17 +395,18 @@ def _fast_ik_error(mech, X, q, margin, phi=None, jq=None):
         return lever + 2 * _EPS * np.maximum(np.abs(q), 1.0) + cancel
 
 
-def _fast_jacobian_error(mech, X, J, Jq, Jx):
+def _fast_jacobian_error(mech, X, q, J, Jq, Jx):
     """Error estimates of the fast Jq (N, L), Jx and J (N, L, 6), first order (module
     docstring): the IK error (:func:`_fast_ik_error`) through the q-derivatives of
     :func:`.reference.jacobian_q_derivatives`, and the rounding at q; J's ``inf`` where
     the formula gives no finite J or the estimate exceeds :data:`J_FIRST_ORDER` of its
     row (so also for a leg that does not close: its closure residual is its IK error).
     Also the (N,) flag ``inaccurate``: a leg that closes with a row above
-    :data:`J_REL_USEFUL`."""
-    q = mech.inverse_kinematics(X)[0]
+    :data:`J_REL_USEFUL`.  ``q``: the IK at ``X``, ``Jq``, ``Jx``, ``J`` the fast ones
+    (computed once by the caller)."""
     margin = mech.reach_margin(X)
-    dq = _fast_ik_error(mech, X, q, margin)
+    phi = mech.kernels("batched").closure(q, X)[..., 0]
+    dq = _fast_ik_error(mech, X, q, margin, phi, Jq)
     from .reference import jacobian_q_derivatives
     djq, djx = jacobian_q_derivatives(mech, X, q)
     aq = np.abs(Jq)
@@ -507,8 +508,8 @@ def jacobian_tier(mech, poses, method: str = "fast", dps: int | None = None,
     if method == "fast":
         J = mech.jacobian(X)
         Jq, Jx = mech.jq_jx(X)
-        _, valid = mech.inverse_kinematics(X)
-        jq_err, jx_err, err, inaccurate = _fast_jacobian_error(mech, X, J, Jq, Jx)
+        q, valid = mech.inverse_kinematics(X)
+        jq_err, jx_err, err, inaccurate = _fast_jacobian_error(mech, X, q, J, Jq, Jx)
         if inaccurate.any():
             import warnings
             warnings.warn(f"fast Jacobian: at {int(inaccurate.sum())} of {N} pose(s) (first: "

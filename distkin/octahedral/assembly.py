@@ -117,15 +117,11 @@ def assemble_exact(base, x, sides, legs, *, method: str, dps=None, every=None):
                 d = [P6[k] - P3[k] for k in range(3)]
                 res = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - s36
                 cands.append(([P4, P5, P6], res))
-        if every is None:
-            out.append(_choose(cands, method))
-        else:
-            out.extend((sig, pts, res) for pts, res in _compatible(cands, every))
-    if every is not None:
-        if not explicit:        # each mode followed by its mirror image
-            out = [m for _, pts, res in out
-                   for m in ((1, pts, res), (-1, _reflect(pts, P1, P2, P3), res))]
-        return out
+        if every is not None:   # (precise: one side, never the explicit sequence)
+            # each mode followed by its mirror image
+            return [m for pts, res in _compatible(cands, every)
+                    for m in ((1, pts, res), (-1, _reflect(pts, P1, P2, P3), res))]
+        out.append(_choose(cands, method))
     if len(out) == 1:
         out.append((_reflect(out[0][0], P1, P2, P3), out[0][1]))
     return out

@@ -33,7 +33,7 @@ from ..errors import (DegenerateGeometryError, InfeasibleError, InputError,
                       UncertifiedError)
 from .assembly import assemble_exact
 from .closure import OCTIC, PART_NAMES, octic_data
-from .problem import LEG_PAIRS, Problem
+from .problem import LEG_PAIRS, SIDE_PAIRS, Problem
 
 __all__ = ["solve_certified"]
 
@@ -88,27 +88,22 @@ def solve_certified(problem: Problem, tol: float):
                           f"radii <= {tol:.1e} x size", (_SPURIOUS_NOTE,))
 
 
-#: the six side faces of the octahedron (Sec. II): vertices, and their squared sides as
-#: (kind, index) into the problem's sides (s12 s13 s23 s45 s46 s56) and legs (s14 s24
-#: s25 s35 s36 s16)
-_FACES = (("P1 P2 P4", (("sides", 0), ("legs", 0), ("legs", 1))),
-          ("P2 P4 P5", (("legs", 1), ("legs", 2), ("sides", 3))),
-          ("P2 P3 P5", (("sides", 2), ("legs", 2), ("legs", 3))),
-          ("P3 P5 P6", (("legs", 3), ("legs", 4), ("sides", 5))),
-          ("P1 P3 P6", (("sides", 1), ("legs", 4), ("legs", 5))),
-          ("P1 P4 P6", (("legs", 0), ("legs", 5), ("sides", 4))))
+#: the six side faces of the octahedron (Sec. II), each by its three vertices
+_FACES = ((1, 2, 4), (2, 4, 5), (2, 3, 5), (3, 5, 6), (1, 3, 6), (1, 4, 6))
 
 
 def _open_face(problem: Problem) -> str:
     """Why no assembly exists, decided exactly from the squared lengths alone, or "":
-    a side face of the octahedron whose three lengths violate the triangle inequality
-    (16 area^2 = 2(ab + bc + ca) - a^2 - b^2 - c^2 < 0 in the squared sides a, b, c, the
-    Cayley-Menger determinant of the triangle).  Then every real root of the octic is
-    spurious, flat faces at a root included (the classification would stop there)."""
-    for name, which in _FACES:
-        a, b, c = (getattr(problem, "sides2" if k == "sides" else "legs2")[i]
-                   for k, i in which)
-        if 2 * (a * b + b * c + c * a) - a * a - b * b - c * c < 0:
+    a side face of the octahedron whose squared area (the Cayley-Menger determinant of
+    the triangle, :func:`~distkin.geometry.cayley_menger.triangle_area_squared`) is
+    negative: its lengths violate the triangle inequality.  Then every real root of the
+    octic is spurious, flat faces at a root included (the classification would stop
+    there)."""
+    from ..geometry.cayley_menger import triangle_area_squared
+    sq = dict(zip(SIDE_PAIRS + LEG_PAIRS, problem.sides2 + problem.legs2))
+    for face in _FACES:
+        if triangle_area_squared(sq, *face) < 0:
+            name = " ".join(f"P{i}" for i in face)
             return (f"spurious: the face {name} of the octahedron is not a real triangle "
                     "(its lengths violate the triangle inequality): no assembly exists")
     return ""

@@ -44,12 +44,12 @@ answer back, exactly (:mod:`.scaling`).
 
 from __future__ import annotations
 
-import math
 import warnings
 from dataclasses import replace
 
 import numpy as np
 
+from ..argcheck import positive_number
 from ..errors import ConditioningWarning, InputError
 from ..exact import METHODS_AUTO, check_method, default_dps
 from .problem import exact_problem, float_problem, float_single
@@ -60,18 +60,6 @@ from .result import (_VERDICTS, AssemblyResult, BatchResult, Pose, RootInfo,
 
 __all__ = ["Pose", "RootInfo", "AssemblyResult", "BatchResult", "forward_kinematics",
            "forward_kinematics_batched"]
-
-def _check_tol(tol):
-    """``tol``: None or a positive finite number (an :class:`InputError` otherwise)."""
-    if tol is None:
-        return
-    try:
-        ok = not isinstance(tol, bool) and 0 < float(tol) < math.inf
-    except (TypeError, ValueError):
-        ok = False
-    if not ok:
-        raise InputError(f"expected a positive finite tolerance, got {tol!r}", field="tol")
-
 
 def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int | None = None,
                        tol: float | None = None, warn: bool = True) -> AssemblyResult:
@@ -137,7 +125,7 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
     (12, [269.2, 328.7, 359.5, 463.6, 497.9, 513.0])
     """
     check_method(method, allowed=METHODS_AUTO)
-    _check_tol(tol)
+    tol = None if tol is None else positive_number(tol, "tol")
     if method in ("fast", "auto"):
         from .batched import scan_single
         B, Q, L, k, rounded = float_single(base, platform, legs)
@@ -219,7 +207,7 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
         :class:`AssemblyResult` of problem ``i``.
     """
     check_method(method, allowed=("fast", "auto"))
-    _check_tol(tol)
+    tol = None if tol is None else positive_number(tol, "tol")
     if not prove and method != "fast":
         raise InputError("expected prove=True with method='auto' (it escalates what the "
                          "proof cannot vouch for), got prove=False", field="prove")

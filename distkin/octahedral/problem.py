@@ -16,6 +16,7 @@ from functools import lru_cache
 import numba
 import numpy as np
 
+from ..argcheck import no_booleans
 from ..errors import DegenerateGeometryError, InputError
 from ..exact import Exact, exact_to_float, parse_exact
 from .banana import LEG_PAIRS, SIDE_PAIRS
@@ -204,14 +205,7 @@ def _floats(value, field):
     except ValueError:
         raise InputError(f"expected a regular array of numbers, got {value!r}",
                          field=field) from None
-    if raw.dtype.kind == "b" or (raw.dtype.kind in "fiu" and not isinstance(value, np.ndarray)
-                                 and any(isinstance(v, (bool, np.bool_)) for v in
-                                         np.asarray(value, dtype=object).ravel())):
-        at = next(j for j, v in enumerate(np.asarray(value, dtype=object).ravel())
-                  if isinstance(v, (bool, np.bool_)))
-        idx = "".join(f"[{int(j)}]" for j in np.unravel_index(at, raw.shape))
-        raise InputError(f"expected a number, got the boolean "
-                         f"{np.asarray(value, dtype=object).ravel()[at]!r}", field=field + idx)
+    no_booleans(value, field)
     if raw.dtype.kind == "f":
         return raw.astype(float), np.ones(raw.shape, bool)
     if raw.dtype.kind in "iu":

@@ -249,7 +249,7 @@ def test_inputs_are_refused_alike_by_every_tier():
             forward_kinematics(base, plat, [legs], method=method)
         assert err.value.field == "legs"
     for method, tol in (("certified", -1), ("precise", float("nan")), ("auto", "x")):
-        with pytest.raises(InputError, match="positive finite tolerance") as err:
+        with pytest.raises(InputError) as err:
             forward_kinematics(base, plat, legs, method=method, tol=tol)
         assert err.value.field == "tol"
     B = np.array([[[0, 0, 0], [6, 108 ** 0.5, 0], [12, 0, 0]]] * 3)
