@@ -105,6 +105,14 @@ def _accessor(sq):
                                  field="sq")
             if isinstance(val, str):
                 val = parse_exact(val, f"sq[{key!r}]").value
+            if key[0] == key[1]:
+                if val != 0:
+                    raise InputError(f"expected s({key[0]},{key[0]}) = 0 (a point's squared "
+                                     f"distance to itself), got {val!r}", field="sq")
+                continue
+            if key[::-1] in table and table[key[::-1]] != val:
+                raise InputError(f"expected one squared distance per pair, got s{key} = {val!r} "
+                                 f"and s{key[::-1]} = {table[key[::-1]]!r}", field="sq")
             table[key] = val
             table[key[::-1]] = val
 
@@ -232,6 +240,8 @@ def cayley_menger(sq, rows, cols=None):
     rows = tuple(rows)
     cols = rows if cols is None else tuple(cols)
     _check_labels(rows, cols, n)
+    if n is not None:
+        _check_symmetric(s, sorted(set(rows) | set(cols)), kind)
     k = len(rows)
     if kind == "float":
         probe = s(rows[0], cols[0])
@@ -270,6 +280,57 @@ def cayley_menger(sq, rows, cols=None):
     if kind == "exact":
         return Fraction(int(det.p), int(det.q))
     return det
+
+
+def _check_symmetric(s, labels, kind):
+    """Refuse a matrix that is not one of squared distances on ``labels``: s(i, j) must
+    equal s(j, i) and s(i, i) must be 0 (floats within 8 ulps of the larger entry, arb
+    balls when they cannot overlap, sympy when the difference is not provably 0, other
+    numbers exactly).  The determinant reads only one triangle of the matrix, so an
+    asymmetric one would otherwise give the determinant of another configuration."""
+    where = ""
+
+    def differ(a, b):
+        nonlocal where
+        if kind == "float":
+            a, b = np.asarray(a, float), np.asarray(b, float)
+            tol = 8 * np.finfo(float).eps * np.maximum(np.abs(a), np.abs(b))
+            with np.errstate(invalid="ignore"):        # NaN and inf are refused later
+                bad = np.abs(a - b) > tol
+            if bad.ndim and bad.any():
+                first = tuple(int(x) for x in np.argwhere(bad)[0])
+                where = f" (batch index {first}: {float(a[first])!r} and {float(b[first])!r})"
+            return bool(np.any(bad))
+        if kind == "sympy":
+            import sympy
+            d = sympy.expand(sympy.sympify(a) - sympy.sympify(b))
+            return d != 0 and d.is_zero is not True
+        if kind == "arb":
+            import flint
+            return not flint.arb(a).overlaps(flint.arb(b))
+        if kind == "mpf":
+            import mpmath
+            return abs(a - b) > 8 * mpmath.mp.eps * max(abs(a), abs(b))
+        return a != b
+    for a, i in enumerate(labels):
+        if differ(s(i, i), 0):
+            raise InputError(f"expected s({i},{i}) = 0 (a point's squared distance to "
+                             f"itself), got {_show(s(i, i))}", field="sq")
+        for j in labels[a + 1:]:
+            if differ(s(i, j), s(j, i)):
+                raise InputError(f"expected a symmetric matrix of squared distances, got "
+                                 f"s({i},{j}) = {_show(s(i, j))} and s({j},{i}) = "
+                                 f"{_show(s(j, i))}{where}", field="sq")
+
+
+def _show(v):
+    if isinstance(v, np.ndarray) and v.ndim:
+        return "an array"
+    if isinstance(v, (np.floating, np.ndarray)):
+        return repr(float(v))
+    if isinstance(v, np.integer):
+        return repr(int(v))
+    return repr(v)
 
 
 def _refuse(i, j, value):

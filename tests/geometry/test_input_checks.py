@@ -224,3 +224,58 @@ def test_labels_parse_and_name_the_determinant():
     S = squared_distances([[0, 0, 0], [3, 0, 0], [0, 4, 0]])
     rows, cols = parse_label("D(1,2,3)")
     assert cayley_menger(S, rows, cols) == -16 * 36
+
+
+def _regular_tetrahedron_sq():
+    """Squared distances of the regular tetrahedron of edge sqrt(2): D(1,2,3,4) = 32."""
+    return [[0, 2, 2, 2], [2, 0, 2, 2], [2, 2, 0, 2], [2, 2, 2, 0]]
+
+
+@pytest.mark.parametrize("kind", ["float", "exact", "fmpq", "arb", "mpf", "sympy"])
+def test_cayley_menger_refuses_an_asymmetric_matrix_in_every_kind(kind):
+    """A matrix of squared distances is symmetric with a zero diagonal; the determinant
+    reads one triangle only, so an asymmetric one gave the determinant of another
+    configuration with no complaint (QA).  The symmetric one gives the analytic 32."""
+    conv = {"float": float, "exact": int, "fmpq": fmpq, "arb": arb, "mpf": mpmath.mpf,
+            "sympy": sp.Integer}[kind]
+
+    def build(m):
+        m = [[conv(x) for x in row] for row in m]
+        return sp.Matrix(m) if kind == "sympy" else (
+            np.array(m, float) if kind == "float" else np.array(m, dtype=object))
+
+    d = cayley_menger(build(_regular_tetrahedron_sq()), (1, 2, 3, 4))
+    assert abs(float(d.mid() if kind == "arb" else d) - 32) < 1e-12
+    bad = _regular_tetrahedron_sq()
+    bad[0][2] = 3                                   # s(1,3) = 3, s(3,1) = 2
+    with pytest.raises(InputError, match=r"symmetric.*s\(1,3\) = .*3.* s\(3,1\) = .*2"):
+        cayley_menger(build(bad), (1, 2, 3, 4))
+    diag = _regular_tetrahedron_sq()
+    diag[1][1] = 1
+    with pytest.raises(InputError, match=r"s\(2,2\) = 0"):
+        cayley_menger(build(diag), (1, 2, 3))
+    # labels the determinant does not use are not judged
+    d3 = cayley_menger(build(diag), (1, 3, 4))
+    assert abs(float(d3.mid() if kind == "arb" else d3) + 16 * 3 / 4) < 1e-12  # A^2 = 3/4
+
+
+def test_cayley_menger_refuses_asymmetry_in_a_batch_and_a_mapping():
+    """Batched floats name the batch index; a mapping may not give two values for one
+    pair or a non-zero diagonal; float rounding (a transposed product) still passes."""
+    rng = np.random.default_rng(3)
+    sq = squared_distances(rng.normal(size=(2, 4, 3)))
+    sq[1, 0, 3] += 1.0
+    with pytest.raises(InputError, match=r"batch index \(1,\)"):
+        cayley_menger(sq, (1, 2, 3, 4))
+    with pytest.raises(InputError, match="one squared distance per pair"):
+        cayley_menger({(1, 2): 1, (2, 1): 2, (1, 3): 1, (2, 3): 1}, (1, 2, 3))
+    with pytest.raises(InputError, match=r"s\(1,1\) = 0"):
+        cayley_menger({(1, 1): 1, (1, 2): 1, (1, 3): 1, (2, 3): 1}, (1, 2, 3))
+    assert cayley_menger({(1, 2): 1, (2, 1): 1, (1, 3): 1, (2, 3): 1, (1, 1): 0},
+                         (1, 2, 3)) == -3        # equilateral side 1: -16 * 3/16
+    P = rng.normal(size=(5, 3))
+    G = P @ P.T
+    s = np.diag(G)[:, None] + np.diag(G)[None, :] - 2 * G   # symmetric to rounding only
+    np.fill_diagonal(s, 0.0)
+    ref = cayley_menger(squared_distances(P), (1, 2, 3, 4))
+    assert abs(cayley_menger(s, (1, 2, 3, 4)) - ref) <= 1e-9 * max(1.0, abs(ref))
