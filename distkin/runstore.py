@@ -300,7 +300,8 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
         :class:`~distkin.errors.DistkinError`; the finished chunks are on disk.
     stats : dict, optional
         Filled with ``loaded``: how many chunks came from the store (computed by an
-        earlier run) rather than by this call.
+        earlier run) rather than by this call; ``store``: the folder the chunks are in
+        (the keyed sub-folder under a default store, :func:`keyed_store`).
 
     Returns
     -------
@@ -342,6 +343,7 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
         todo.append(i)
     if stats is not None:
         stats["loaded"] = len(specs) - len(todo)
+        stats["store"] = str(store)
     bar = _Progress(len(specs), len(specs) - len(todo), desc, progress)
     pending: dict = {}
     try:

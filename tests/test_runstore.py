@@ -54,10 +54,13 @@ def test_certify_scene_runs_beside_chunks_of_another_code_version(tmp_path, monk
     scene = loads_scene(text, path=str(tmp_path / "certify_hunt.toml"))
     records, _, worst = run_scene(scene, progress=False)
     assert worst == 0, records[0].get("error")
-    assert records[0]["result"]["store"] == str(default_store(name))
-    # the default store keeps the sweep in a sub-folder named by its definition's key
+    # the default store keeps the sweep in a sub-folder named by its definition's key,
+    # and the JSON names that sub-folder, where the chunks are (it named the parent)
     metas = list(default_store(name).glob("*/sweep.json"))
     assert len(metas) == 1 and metas[0].parent.name == json.loads(metas[0].read_text())["key"]
+    assert records[0]["result"]["store"] == str(metas[0].parent)
+    assert len(list(metas[0].parent.glob("chunk_*.npz"))) == json.loads(
+        metas[0].read_text())["chunks"]
 
 
 def test_a_named_store_filled_by_other_code_is_refused(tmp_path):

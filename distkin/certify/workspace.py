@@ -116,6 +116,10 @@ class WorkspaceCertificate:
     resumed : int
         Chunks loaded from the store (computed by an earlier run); their boxes count in
         :attr:`evaluated` but took none of :attr:`wall_seconds`.
+    store : str or None
+        The folder the chunks are kept in (the sub-folder of the store that
+        :func:`distkin.runstore.run_chunks` keyed by this region's definition); None
+        when they were kept in memory.
     """
 
     mechanism: object
@@ -134,6 +138,7 @@ class WorkspaceCertificate:
     chunks: int
     sigma_bound: object = None
     resumed: int = 0
+    store: str | None = None
 
     @property
     def vary(self) -> tuple:
@@ -300,5 +305,5 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
         cat["status"], cat["sigma_lower"], cat["det_sign"],
         int(sum(int(r["evaluated"]) for r in results)),
         float(sum(float(r["seconds"]) for r in results)), wall, len(specs), bound,
-        stats["loaded"])
+        stats["loaded"], stats.get("store"))
 

@@ -159,7 +159,7 @@ class CertifyWorkspaceQuery:
                                      progress=ctx.progress, max_boxes=p.max_boxes,
                                      tighten=p.tighten)
         result = certificate_json(cert)
-        result["store"] = str(store)
+        result["store"] = cert.store
         text = certificate_text(cert, p.length_unit, p.angle_unit)
 
         def plot(stem):
