@@ -81,7 +81,20 @@ class KernelSet:
         return f"<KernelSet {self.flavour} of {getattr(self.module, '__name__', '?')}>"
 
 
+#: the loaded kernel sets, keyed by (kind, geometry key, flavour): the
+#: :data:`_LOADED_KEPT` most recently loaded (a sweep over geometries must not grow it
+#: without bound; a set dropped is loaded again from its module, derived sources being
+#: cached on disk)
 _LOADED: dict = {}
+_LOADED_KEPT = 192
+
+
+def _keep(key, value):
+    """``_LOADED[key] = value``, the oldest entries dropped beyond :data:`_LOADED_KEPT`."""
+    while len(_LOADED) >= _LOADED_KEPT:
+        _LOADED.pop(next(iter(_LOADED)))
+    _LOADED[key] = value
+    return value
 
 
 def _committed_presets() -> list[str]:
@@ -133,9 +146,10 @@ def load_kernels(mech, flavour: str = "batched") -> KernelSet:
     else:
         from ..codegen.rss import derived_module      # a custom geometry: derive once
         module = derived_module(mech, KERNELS, FLAVOURS)
+    sets = {fl: KernelSet(module, fl) for fl in FLAVOURS}
     for fl in FLAVOURS:
-        _LOADED[key[:2] + (fl,)] = KernelSet(module, fl)
-    return _LOADED[key]
+        _keep(key[:2] + (fl,), sets[fl])
+    return sets[key[2]]
 
 
 def _numeric(mech, flavour):
@@ -147,7 +161,7 @@ def _numeric(mech, flavour):
     key = ("numpy", mech.geometry_key(), flavour)
     if key not in _LOADED:
         from .reference import NumericKernels
-        _LOADED[key] = NumericKernels(mech.leg_description(), flavour)
+        return _keep(key, NumericKernels(mech.leg_description(), flavour))
     return _LOADED[key]
 
 
@@ -166,7 +180,6 @@ def _load_arb(mech, key):
     if module is None:
         from ..codegen.rss import derived_module
         module = derived_module(mech, ARB_KERNELS, ("arb",))
-    _LOADED[key] = KernelSet(module, "arb")
-    return _LOADED[key]
+    return _keep(key, KernelSet(module, "arb"))
 
 

@@ -21,8 +21,11 @@ from .legs import LegsDescription
 
 __all__ = ["KernelMethods", "LegMechanism", "ROUTES"]
 
-#: the leg arrays of :meth:`KernelMethods.leg_arrays`, one per geometry
+#: the leg arrays of :meth:`KernelMethods.leg_arrays`, one per geometry, the
+#: :data:`_ARRAYS_KEPT` most recently made (a sweep over geometries must not grow it
+#: without bound)
 _ARRAYS: dict = {}
+_ARRAYS_KEPT = 512
 
 
 class KernelMethods:
@@ -59,6 +62,8 @@ class KernelMethods:
             d = self.leg_description().arrays()
             for v in d.values():
                 v.setflags(write=False)
+            while len(_ARRAYS) >= _ARRAYS_KEPT:
+                _ARRAYS.pop(next(iter(_ARRAYS)))            # the oldest
             _ARRAYS[key] = d
         return d
 

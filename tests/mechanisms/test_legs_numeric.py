@@ -100,3 +100,21 @@ def test_reference_ik_jacobian_takes_leg_mechanisms():
     assert np.allclose(q[ok], qk[ok], atol=1e-13)
     assert np.allclose(J[ok], lm.jacobian(X)[ok], rtol=1e-11, atol=1e-11)
     assert np.allclose(jq[ok], Jq[ok], atol=1e-13)
+
+
+def test_geometry_caches_are_bounded(monkeypatch):
+    """A sweep over geometries keeps only the most recent leg arrays and kernel sets
+    (they grew without bound); an evicted geometry is made again with the same IK."""
+    from distkin.mechanisms import kernels as kernels_mod
+    from distkin.mechanisms import kinematics as kin_mod
+    monkeypatch.setattr(kin_mod, "_ARRAYS_KEPT", 3)
+    monkeypatch.setattr(kernels_mod, "_LOADED_KEPT", 3)
+    mechs = [LegMechanism.from_description(random_legs(100 + s), route="numpy")
+             for s in range(5)]
+    first = mechs[0].inverse_kinematics(mechs[0].home[None])[0]
+    for m in mechs:
+        m.leg_arrays()
+        m.kernels()
+        assert len(kin_mod._ARRAYS) <= 3 and len(kernels_mod._LOADED) <= 3
+    again = mechs[0].inverse_kinematics(mechs[0].home[None])[0]   # evicted, made again
+    assert np.array_equal(first, again)
