@@ -32,6 +32,7 @@ __all__ = [
     "count_real_roots",
     "refine_roots",
     "sign_at_root",
+    "ball_ends",
 ]
 
 #: default cap on the working precision (bits) before giving up
@@ -161,30 +162,36 @@ def count_real_roots(coeffs, lo=None, hi=None, *, bits: int = 64,
                      max_bits: int = MAX_BITS) -> int:
     """Certified number of distinct real roots in the closed interval ``[lo, hi]``.
 
-    ``None`` means unbounded.  Roots whose ball straddles an end point are refined; a
-    root exactly at an end point (``p(lo) == 0`` exactly) counts.  Raises
-    :class:`UncertifiedError` if ``max_bits`` does not suffice (it always does for
-    rational end points, which are decided exactly).
+    ``None`` means unbounded; an end point is an exact rational (int, Fraction, fmpq,
+    or a float taken at its exact binary value).  Each root's ball is compared with
+    the end points exactly (its ends are binary rationals), and refined while it
+    straddles one; a root exactly at an end point (``p(lo) == 0`` exactly) counts.
+    Raises :class:`InputError` for an end point that is not a finite number, or
+    ``lo > hi``, and :class:`UncertifiedError` if ``max_bits`` does not suffice (it
+    always does: a root that is not at a rational end point is separated from it at
+    some precision).
     """
     import flint
     p = exact_poly(coeffs)
-    ends = []
-    for e in (lo, hi):
-        ends.append(None if e is None else flint.fmpq(*_frac(e)))
+    ends = [None if e is None else _fmpq_end(e, name) for e, name in ((lo, "lo"), (hi, "hi"))]
+    if ends[0] is not None and ends[1] is not None and ends[0] > ends[1]:
+        raise InputError(f"expected lo <= hi, got lo = {lo!r} and hi = {hi!r}", field="lo")
+    at_end = [e is not None and p(e) == 0 for e in ends]
     while True:
         roots = real_roots(p, bits=bits)
         n, undecided = 0, False
         for r in roots:
+            lower, upper = ball_ends(r.ball)
             inside = True
             for k, e in enumerate(ends):
                 if e is None:
                     continue
-                if r.ball.contains(flint.arb(e)):
-                    if p(e) == 0:
-                        continue  # exactly at the end point: closed interval
+                if lower <= e <= upper:
+                    if at_end[k]:
+                        continue  # the root at the end point (the only ball holding it)
                     undecided = True
                     break
-                if (k == 0 and r.ball < e) or (k == 1 and r.ball > e):
+                if (k == 0 and upper < e) or (k == 1 and lower > e):
                     inside = False
             if undecided:
                 break
@@ -197,9 +204,31 @@ def count_real_roots(coeffs, lo=None, hi=None, *, bits: int = 64,
         bits *= 2
 
 
-def _frac(e):
-    f = Fraction(e) if not type(e).__name__ == "fmpq" else Fraction(int(e.p), int(e.q))
-    return f.numerator, f.denominator
+def _fmpq_end(e, name):
+    """An interval end point as an exact ``fmpq`` (InputError unless a finite rational)."""
+    from .exact import to_fmpq
+    try:
+        return to_fmpq(e)
+    except InputError:
+        raise InputError(f"expected an exact rational end point (int, Fraction, fmpq, a sympy "
+                         f"Rational or a finite float), got {type(e).__name__} {e!r}",
+                         field=name) from None
+
+
+def ball_ends(ball):
+    """The exact ends ``(lower, upper)`` (fmpq) of an ``arb`` ball: mid -/+ rad are binary
+    rationals.  Compare with them, not with ``flint.arb(q)``, to place a rational ``q``
+    against a ball narrower than q's rounding at the context precision."""
+    def exact(x):
+        man, exp = (int(v) for v in x.man_exp())
+        return _fmpq_pow2(man, exp)
+    m, r = exact(ball.mid()), exact(ball.rad())
+    return m - r, m + r
+
+
+def _fmpq_pow2(man, exp):
+    import flint
+    return flint.fmpq(man * 2 ** exp) if exp >= 0 else flint.fmpq(man, 2 ** -exp)
 
 
 def refine_roots(coeffs, rel_tol: float, *, bits: int = 64, max_bits: int = MAX_BITS):

@@ -77,6 +77,33 @@ def test_count_in_a_closed_interval_with_a_root_on_the_end():
     assert count_real_roots([1, -3, 2], Fraction(3, 2), Fraction(19, 10)) == 0
 
 
+@pytest.mark.parametrize("eps_exp", [20, 30, 60, 200])
+def test_count_decides_roots_closer_to_an_end_than_its_float_rounding(eps_exp):
+    """A root 10^-k from a rational end point: its ball is far narrower than the end
+    point's rounding to 53 bits, which made the root count as inside whichever side it
+    was on (QA).  Reference: sympy's exact count (Sturm) on the same interval."""
+    x = sp.Symbol("x")
+    third, eps = Fraction(1, 3), Fraction(1, 10 ** eps_exp)
+    for a in (third - eps, third + eps):
+        lin = [a.denominator, -a.numerator]                    # the root a only
+        quad = sp.Poly((x - sp.Rational(a.numerator, a.denominator)) * (x - 5), x)
+        for lo, hi in ((third, 1), (0, third), (third, 10)):
+            ref = sp.Poly(lin, x).count_roots(sp.Rational(lo), sp.Rational(hi))
+            assert count_real_roots(lin, lo, hi) == ref, (a > third, lo, hi)
+            ref2 = quad.count_roots(sp.Rational(lo), sp.Rational(hi))
+            coeffs = [sp.Rational(c) for c in quad.all_coeffs()]
+            assert count_real_roots(coeffs, lo, hi) == ref2, (a > third, lo, hi)
+
+
+def test_count_refuses_bad_end_points():
+    with pytest.raises(InputError, match=r"lo <= hi, got lo = 2 and hi = 1"):
+        count_real_roots([1, 0, -2], 2, 1)
+    for bad in (float("nan"), float("inf"), True, "x"):
+        with pytest.raises(InputError, match="end point"):
+            count_real_roots([1, 0, -2], bad, 2)
+    assert count_real_roots([1, 0, -2], -1.5, 1.5) == 2          # floats: exact binary values
+
+
 def test_sign_at_root_decides_zero_exactly():
     r = real_roots([1, 0, -2])[1]                 # sqrt(2)
     assert sign_at_root([1, 0, -2], [1, 0, -2], r) == 0

@@ -28,7 +28,7 @@ from __future__ import annotations
 from fractions import Fraction
 
 from ..exact import float_ball
-from ..exact_roots import MAX_BITS, real_roots, sign_at_root, working_precision
+from ..exact_roots import MAX_BITS, ball_ends, real_roots, sign_at_root, working_precision
 from ..errors import (DegenerateGeometryError, InfeasibleError, InputError,
                       UncertifiedError)
 from .assembly import assemble_exact
@@ -148,8 +148,8 @@ def _poses(problem, poly, feasible, sides, legs2, tol, size, flat=()):
             rational[float(q)] = q
     for r in feasible:
         bits, ball = 64, r.ball
-        exact = [q for q in rational.values() if r.ball.contains(flint.arb(q)) and
-                 r.ball.overlaps(flint.arb(q))]
+        lower, upper = ball_ends(r.ball)
+        exact = [q for q in rational.values() if lower <= q <= upper]
         if exact and all(type(v).__name__ == "fmpq" for row in base0 + plat0 for v in row):
             built = _exact_poses(base0, plat0, exact[0], sides, legs2, problem)
             radii[r.index] = flint.arb(exact[0])
