@@ -87,9 +87,14 @@ def rotation_angles(R):
     array (..., 3), rad
     """
     R = np.asarray(R, dtype=float)
-    rx = np.arctan2(R[..., 2, 1], R[..., 2, 2])
     ry = np.arctan2(-R[..., 2, 0], np.hypot(R[..., 2, 1], R[..., 2, 2]))
     rz = np.arctan2(R[..., 1, 0], R[..., 0, 0])
+    # rx from the second row of Rz(rz)^T R = Ry Rx, which is (0, cos rx, -sin rx) for
+    # every ry: consistent with the rz just found, also at and near ry = +-pi/2 (gimbal
+    # lock: there R[1,0] = R[0,0] = 0 gives rz = 0, and rx takes the whole rotation
+    # about the locked axis; atan2(R[2,1], R[2,2]) read atan2(0, 0) = 0 and lost it)
+    cz, sz = np.cos(rz), np.sin(rz)
+    rx = np.arctan2(sz * R[..., 0, 2] - cz * R[..., 1, 2], cz * R[..., 1, 1] - sz * R[..., 0, 1])
     return np.stack([rx, ry, rz], axis=-1)
 
 

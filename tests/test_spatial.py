@@ -29,3 +29,25 @@ def test_axis_angle_is_exp_of_the_rotation_vector():
         axis, angle = rng.normal(size=3), rng.uniform(-3, 3)
         w = axis / np.linalg.norm(axis) * angle
         np.testing.assert_allclose(axis_angle(axis, angle), exp_so3(w), atol=1e-14)
+
+
+def test_rotation_angles_reproduce_the_matrix_at_and_near_gimbal_lock():
+    """At ry = -pi/2 the angles lost the rotation about the locked axis (QA: R =
+    [[0,-1,0],[0,0,-1],[1,0,0]] came back as ry = -pi/2 alone, 1.0 off).  Reference: the
+    matrix itself (any angles that rebuild it are right there), and scipy's
+    ``as_euler('xyz')`` away from the lock."""
+    from scipy.spatial.transform import Rotation
+    R = np.array([[0.0, -1.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0]])
+    assert np.abs(rotation_matrix(rotation_angles(R)) - R).max() < 1e-15
+    rng = np.random.default_rng(5)
+    for sign in (1, -1):
+        for eps in (1e-3, 1e-8, 1e-13, 0.0):
+            ang = np.column_stack([rng.uniform(-3, 3, 500),
+                                   sign * (np.pi / 2 - eps * rng.random(500)),
+                                   rng.uniform(-3, 3, 500)])
+            Rm = rotation_matrix(ang)
+            assert np.abs(rotation_matrix(rotation_angles(Rm)) - Rm).max() < 1e-15
+    Rr = Rotation.random(2000, random_state=7)
+    got = rotation_angles(Rr.as_matrix())
+    ok = np.cos(got[:, 1]) > 1e-3
+    np.testing.assert_allclose(got[ok], Rr.as_euler("xyz")[ok], rtol=0, atol=1e-12)
