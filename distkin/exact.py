@@ -242,8 +242,10 @@ def _check_names(tree, allow_symbols: bool):
 def _sympy_from_text(text: str, allow_symbols: bool):
     import sympy
     # decimals are exact: "19.8" -> 99/5, never a binary float
-    return sympy.sympify(text, rational=True, locals={"sqrt": sympy.sqrt,
-                                                      "cbrt": sympy.cbrt, "pi": sympy.pi})
+    # cbrt is the real cube root (numpy's cbrt: cbrt(-8) = -2), not sympy.cbrt, whose
+    # principal root of a negative number is complex
+    return sympy.sympify(text, rational=True, locals={
+        "sqrt": sympy.sqrt, "cbrt": lambda x: sympy.real_root(x, 3), "pi": sympy.pi})
 
 
 def exact_to_float(ex: Exact, field: str | None = "value", factor=1) -> float:

@@ -116,3 +116,13 @@ def test_float_ball_encloses_the_ball_about_the_float():
     assert float_ball(0.5) == (0.5, 0.0)
     v, r = float_ball(arb("nan"))
     assert v != v and r == float("inf")
+
+
+def test_cbrt_is_the_real_cube_root():
+    """cbrt(-8) is -2, as numpy.cbrt says (sympy.cbrt's principal root is complex and
+    the value was refused as not real; QA); its float is numpy's cbrt."""
+    import numpy as np
+    for text, x in (("cbrt(-8)", -8.0), ("cbrt(-2)", -2.0), ("cbrt(27/8)", 27 / 8)):
+        v = parse_exact(text).value
+        assert float(v) == pytest.approx(float(np.cbrt(x)), rel=1e-15)
+    assert parse_exact("cbrt(-8)").value == -2

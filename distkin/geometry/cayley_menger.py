@@ -64,7 +64,7 @@ def _exact_strings(arr, field):
     return out
 
 
-def _kind_of(values) -> str:
+def _kind_of(values, what: str = "squared distances") -> str:
     kinds = set()
     for v in values:
         t = type(v)
@@ -79,13 +79,13 @@ def _kind_of(values) -> str:
         elif name == "mpf" or mod.startswith("mpmath"):
             kinds.add("mpf")
         elif isinstance(v, (bool, np.bool_)):
-            raise InputError(f"expected squared distances as numbers, got {v!r}")
+            raise InputError(f"expected {what} as numbers, got {v!r}")
         elif isinstance(v, (int, Fraction, np.integer)):
             kinds.add("exact")
         elif isinstance(v, (float, np.floating)):
             kinds.add("float")
         else:
-            raise InputError(f"expected squared distances as numbers, got {name} {v!r}")
+            raise InputError(f"expected {what} as numbers, got {name} {v!r}")
     for k in ("sympy", "arb", "mpf", "fmpq", "float", "exact"):
         if k in kinds:
             if k == "fmpq" and "float" in kinds:
@@ -100,7 +100,8 @@ def _accessor(sq):
         table = {}
         for key, val in sq.items():
             if (not isinstance(key, tuple) or len(key) != 2
-                    or not all(isinstance(k, int) and k >= 1 for k in key)):
+                    or not all(isinstance(k, int) and not isinstance(k, bool) and k >= 1
+                               for k in key)):
                 raise InputError(f"expected keys (i, j) with 1-based integer labels, got {key!r}",
                                  field="sq")
             if isinstance(val, str):
@@ -125,7 +126,10 @@ def _accessor(sq):
                 raise InputError(f"squared distance s({i},{j}) is missing from the mapping",
                                  field="sq") from None
 
-        return s, None, _kind_of(table.values())
+        kind = _kind_of(table.values())
+        if kind == "float":                # floats mixed with exact values: all floats
+            table = {k: float(v) for k, v in table.items()}
+        return s, None, kind
     mod = type(sq).__module__ or ""
     if mod.startswith("sympy"):
         if sq.rows != sq.cols:
@@ -397,9 +401,14 @@ def squared_distances(points):
     if arr.dtype.kind in "OU":
         arr = _exact_strings(arr, "points")
     flat = arr.ravel().tolist()
-    kind = _kind_of(flat)
+    kind = _kind_of(flat, "coordinates")
     if kind == "float":
         return squared_distances(arr.astype(float))
+    if kind in ("mpf", "arb"):
+        import mpmath
+        for v in flat:
+            if not (v.is_finite() if type(v).__name__ == "arb" else mpmath.isfinite(v)):
+                raise InputError(f"expected finite coordinates, got {v}", field="points")
     n = arr.shape[0]
     if arr.ndim != 2:
         raise InputError(f"expected one point set (n, dim) of exact values, got shape {arr.shape}",

@@ -32,7 +32,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..argcheck import as_floats, no_booleans
+from ..argcheck import as_floats, no_booleans, positive_number
 from ..errors import DegenerateGeometryError, InfeasibleError, InputError, UncertifiedError
 from ..exact import Exact, check_method, default_dps, parse_exact, parse_float, to_tier
 
@@ -246,6 +246,8 @@ def _solve(points, sq, side, method, dps, tol, *, nonnegative=False):
     """(parts, side): parse and check the input (``side`` too unless _NO_SIDE; squared
     distances >= 0 when ``nonnegative``), then the pieces of the trilateration."""
     check_method(method)
+    if tol is not None:
+        tol = positive_number(tol, "tol")
     if side is not _NO_SIDE:
         side = _check_sides(side, method)
     if method == "precise":

@@ -279,3 +279,32 @@ def test_cayley_menger_refuses_asymmetry_in_a_batch_and_a_mapping():
     np.fill_diagonal(s, 0.0)
     ref = cayley_menger(squared_distances(P), (1, 2, 3, 4))
     assert abs(cayley_menger(s, (1, 2, 3, 4)) - ref) <= 1e-9 * max(1.0, abs(ref))
+
+
+def test_mixed_mapping_bool_labels_and_coordinate_messages():
+    """A mapping of fmpq and floats is computed in floats (it raised TypeError); a
+    boolean label is refused; coordinates are called coordinates; mpmath and arb
+    infinities are refused in squared_distances, as NaN floats are (QA)."""
+    # equilateral side 1 except s(2,3) = 2: Heron, 16 A^2 = 2(ab+bc+ca) - (a^2+b^2+c^2)
+    a, b, c = 1.0, 1.0, 2.0
+    heron16 = 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c)
+    got = cayley_menger({(1, 2): fmpq(1), (1, 3): 1.0, (2, 3): 2.0}, (1, 2, 3))
+    assert isinstance(got, float) and abs(got + heron16) < 1e-15
+    with pytest.raises(InputError, match=r"1-based integer labels, got \(True, 2\)"):
+        cayley_menger({(True, 2): 1, (1, 3): 1, (2, 3): 1}, (1, 2, 3))
+    with pytest.raises(InputError, match="expected coordinates as numbers, got True"):
+        squared_distances([[True, 0, 0], [1, 0, 0]])
+    for inf in (mpmath.inf, arb("inf")):
+        with pytest.raises(InputError, match="finite coordinates"):
+            squared_distances([[inf, 0, 0], [1, 0, 0]])
+
+
+@pytest.mark.parametrize("method", TIERS)
+def test_trilateration_tol_is_checked(method):
+    """tol <= 0 raised a nonsensical 'infeasible, h^2 = 1' and NaN was taken (QA)."""
+    for bad, what in ((-1, "positive"), (0, "positive"), (float("nan"), "finite"),
+                      (True, "boolean")):
+        with pytest.raises(InputError, match=what):
+            trilaterate(TRI, [1, 2, 2], method=method, tol=bad)
+    np.testing.assert_allclose(_floats(trilaterate(TRI, [1, 2, 2], method=method, tol=1e-9)),
+                               [0, 0, 1], atol=1e-15)
