@@ -111,3 +111,32 @@ def test_delta_and_singularity_json_say_their_units(tmp_path, capsys):
     assert "b = [576/25, 144/25, 576/25, 144/25, 576/25, 144/25] mm^2" in out
     assert s["unit"]["translation"] == "mm" and s["pose"]["translation"] == [6, 3.4641, 10]
     assert s["unit"]["det_J"].startswith("none")
+
+
+def test_joint_units_follow_the_leg_type(tmp_path, capsys):
+    """The IK JSON said q was in rad for prismatic legs, whose q is a length in m (QA);
+    the J header gave revolute units to an all-prismatic mechanism.  Reference: the
+    analytic leg lengths |b + R p - a| of the Gough-Stewart example, in m."""
+    from distkin.app.scene import load_scene
+    from distkin.spatial import rotation_matrix
+    from pathlib import Path
+    path = Path(__file__).resolve().parents[2] / "examples" / "gough_stewart_6ups.toml"
+    scene = load_scene(str(path))
+    mech = scene.mechanism
+    text = path.read_text(encoding="utf-8").split("[[query]]")[0]
+    queries, out = _run(tmp_path, capsys, text + '[[query]]\ntype = "inverse_kinematics"\n'
+                        'pose = [0, 0, 0, 0, 0, 0]\n[[query]]\ntype = "jacobian"\n'
+                        'pose = [0, 0, 0, 0, 0, 0]\n')
+    res = queries[0]["result"]
+    assert res["unit"]["q"] == res["unit"]["q_error"] == "m"
+    d = mech.leg_description()
+    X = np.array(res["poses"][0]["pose"])
+    R = rotation_matrix(X[3:])
+    lengths = [np.linalg.norm(X[:3] + R @ np.array(leg.platform) - np.array(leg.base))
+               for leg in d.leg_table]
+    np.testing.assert_allclose(res["poses"][0]["q"], lengths, rtol=1e-12)
+    header = next(line for line in out.splitlines() if "qdot = J (v, omega)" in line)
+    assert "rad/m" not in header and "m/m, m/rad" in header
+    rss, _ = _run(tmp_path, capsys, RSS + '[[query]]\ntype = "inverse_kinematics"\n'
+                  'pose = [0, 0, 300, 0, 0, 0]\n')
+    assert rss[0]["result"]["unit"]["q"] == "rad"

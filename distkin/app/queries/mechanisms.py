@@ -140,6 +140,18 @@ def _prismatic(mech) -> np.ndarray:
             else np.zeros(mech.L, dtype=bool))
 
 
+def _joint_unit(mech) -> str:
+    """The SI unit of the joint coordinates q in the JSON: rad for revolute legs, m for
+    prismatic ones (each leg's, when they are mixed)."""
+    pris = _prismatic(mech)
+    if not pris.any():
+        return "rad"
+    if pris.all():
+        return "m"
+    return (f"rad (revolute legs), m (prismatic legs "
+            f"{[int(j) + 1 for j in np.flatnonzero(pris)]})")
+
+
 def _joint_text(q, mech, scene):
     """Joint coordinates in the scene's units, each with its unit."""
     lu, au, lf, af = _units(scene)
@@ -295,7 +307,8 @@ class InverseKinematicsQuery:
                      "(distkin.mechanisms.presets) or the leg's own (distkin.mechanisms.legs)")
         return Outcome({"mechanism": mech.parameters(), "method": p.method,
                         "precision": res.precision,
-                        "unit": {"q": "rad", "pose": "m, rad", "q_error": "rad (m: prismatic)"},
+                        "unit": {"q": _joint_unit(mech), "pose": "m, rad",
+                                 "q_error": _joint_unit(mech)},
                         "poses": rows}, "\n".join(lines), _plotter(mech, X, q))
 
 
@@ -382,10 +395,12 @@ class JacobianQuery:
         kappa = condition_number(Jf, ST_DEFAULT)          # eq. (4), scaled (Sec. II-C-2)
         units = _jacobian_units(mech, p.mass_matrix)
         rows = []
-        lines = [f"mechanism: {mech.name} (L = {mech.L}); qdot = J (v, omega): columns 1-3 "
-                 "rad/m, 4-6 rad/rad" + ("; prismatic rows (normalised Plücker lines, "
-                                         "Rojas et al. eq. (5)): m/m, m/rad"
-                                         if _prismatic(mech).any() else "")]
+        pris = _prismatic(mech)
+        lines = [f"mechanism: {mech.name} (L = {mech.L}); qdot = J (v, omega): "
+                 + "; ".join((["revolute rows: columns 1-3 rad/m, 4-6 rad/rad"]
+                              if not pris.all() else [])
+                             + (["prismatic rows (normalised Plücker lines, Rojas et al. "
+                                 "eq. (5)): m/m, m/rad"] if pris.any() else []))]
         for i in range(len(X)):
             r = _tier_rows(res, i, {"pose": X[i], "J": J[i], "Jq": Jq[i], "Jx": Jx[i],
                                     "singular_values": sv[i], "kappa": kappa[i],
@@ -569,8 +584,8 @@ class ForwardKinematicsQuery:
                   "verified": res.verified, "round_trip": res.round_trip,
                   "q_mismatch": res.q_mismatch, "residual_tol": res.residual_tol,
                   "unit": {"pose": "m, rad", "residual": "m", "pose_error": "m, rad",
-                           "angles": "rad (m: prismatic leg)",
-                           "q_mismatch": "rad (m: prismatic leg)", "residual_tol": "m"}}
+                           "angles": _joint_unit(mech), "q_mismatch": _joint_unit(mech),
+                           "residual_tol": "m"}}
         if p.method == "certified":
             result["other_legs_closure_bound"] = {str(k): v for k, v in tier.other_legs.items()}
             result["contraction"] = tier.contraction
