@@ -40,6 +40,7 @@ import hashlib
 import json
 import multiprocessing
 import os
+import zipfile
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from pathlib import Path
 
@@ -316,7 +317,15 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
     code = code_version()
     meta = store / "sweep.json"
     if meta.exists():
-        saved = json.loads(meta.read_text())
+        try:
+            saved = json.loads(meta.read_text())
+            if not isinstance(saved, dict):
+                raise ValueError("not a JSON object")
+        except (OSError, ValueError) as exc:   # JSONDecodeError and UnicodeError too
+            raise InputError(f"expected a chunk store whose {meta.name} says which sweep "
+                             f"made it, got an unreadable one in {str(store)!r} ({exc})",
+                             field="store", hint="use another directory, or delete the "
+                             "folder to start this sweep again") from None
         old = saved.get("key")
         if old != key:
             raise InputError(f"expected a chunk store made for this sweep (key {key}), got "
@@ -338,7 +347,8 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
             try:
                 results[i] = _load(p)
                 continue
-            except (OSError, ValueError):
+            except (OSError, ValueError, EOFError, KeyError, IndexError,
+                    zipfile.BadZipFile):
                 p.unlink()                               # a damaged file is redone
         todo.append(i)
     if stats is not None:

@@ -141,3 +141,24 @@ def test_default_store_is_keyed_by_the_sweep_definition(tmp_path, monkeypatch, c
     metas = sorted(default_store("s_certify_workspace").glob("*/sweep.json"))
     keys = {json.loads(m.read_text())["key"] for m in metas}
     assert len(metas) == 2 and keys == {m.parent.name for m in metas}
+
+
+def test_damaged_chunks_are_redone_and_an_unreadable_sweep_json_is_refused(tmp_path):
+    """A truncated or empty chunk raised BadZipFile / EOFError though the code meant to
+    redo it; a corrupt sweep.json raised JSONDecodeError (QA).  Reference: the chunks of
+    an undamaged run."""
+    store = tmp_path / "store"
+    first = run_chunks(_square, [2, 3, 4], store, definition={"n": 3}, progress=False)
+    chunk = store / "chunk_00001.npz"
+    whole = chunk.read_bytes()
+    for damage in (whole[: len(whole) // 2], b"", b"not a zip file"):
+        chunk.write_bytes(damage)
+        stats = {}
+        again = run_chunks(_square, [2, 3, 4], store, definition={"n": 3}, progress=False,
+                           stats=stats)
+        assert [r["y"].tolist() for r in again] == [r["y"].tolist() for r in first]
+        assert stats["loaded"] == 2                      # the damaged one was computed
+    (store / "sweep.json").write_text("{not json")
+    with pytest.raises(InputError, match="unreadable.*sweep.json|sweep.json.*unreadable"):
+        run_chunks(_square, [2, 3, 4], store, definition={"n": 3}, progress=False)
+    assert chunk.exists()                                # nothing was deleted
