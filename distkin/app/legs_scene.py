@@ -285,6 +285,13 @@ def legs_csv_text(mech, *, length_unit: str = "m") -> str:
     return buf.getvalue()
 
 
+def _toml_string(text: str) -> str:
+    """``text`` as a TOML basic string (JSON's escapes are TOML's: quotes, backslashes
+    and control characters escaped; other characters kept as they are)."""
+    import json
+    return json.dumps(str(text), ensure_ascii=False)
+
+
 def legs_toml_text(mech, *, length_unit: str = "mm", csv_name: str | None = None) -> str:
     """A ``[mechanism]`` table (``kind = "legs"``, with ``[units]``) of any mechanism
     description, every length written exactly in ``length_unit`` ("m", "mm", "cm"),
@@ -302,13 +309,13 @@ def legs_toml_text(mech, *, length_unit: str = "mm", csv_name: str | None = None
         return "[" + ", ".join(num(x, unit) for x in v) + "]"
 
     out = [f'[units]\nlength = "{length_unit}"\nangle = "rad"\n', "[mechanism]",
-           'kind = "legs"', f"name = {desc.name!r}".replace("'", '"'),
+           'kind = "legs"', f"name = {_toml_string(desc.name)}",
            f"home = [{', '.join([num(x, lu) for x in desc.home_pose[:3]] + [num(x) for x in desc.home_pose[3:]])}]",
            f"mass = {num(desc.mass)}", f"inertia = {num(desc.inertia)}"]
     if desc.scale is not None:
         out.append(f"scale = {num(desc.scale, lu)}")
     if csv_name is not None:
-        out.append(f'legs_csv = "{csv_name}"')
+        out.append(f"legs_csv = {_toml_string(csv_name)}")
         return "\n".join(out) + "\n"
     for leg in desc.leg_table:
         out.append("\n[[mechanism.leg]]")
