@@ -10,8 +10,10 @@ symbolically where the algebra is generic and numerically per preset:
 3. the branch sign distkin.mechanisms.symbolic.BRANCH gives, at the workspace centre,
    the crank angle nearer 0 of the two that close each leg (presets.py), every leg at
    the same angle, and q = 0 exactly under the radial reading's horizontal-crank rule;
-4. the generated kernels ``distkin/_generated/rss_<preset>.py`` were written from this
-   model (their headers name this script; ``python -m distkin.codegen --check``);
+4. the generated kernels ``distkin/_generated/rss_<preset>.py`` are this model's: the
+   generic leg's dPhi/dP is (P - D)/l3; per preset, the committed kernel's Jq, Jx and J
+   at a pose against sympy's derivatives of the model's closure; their headers name
+   this script; ``python -m distkin.codegen --check`` regenerates them unchanged;
 5. the exact model (``model_expressions(mech, exact=True)``: every number exact, the
    source of the arb kernels ``rss_<preset>_arb.py`` and so what the certified tier
    certifies) holds no float, and per preset, at a pose off the centre, its closure
@@ -77,6 +79,7 @@ def main():
                 assert max(abs(v) for v in q) < 1e-12
     print("4. Jq_ii = dPhi_i/dq_i, Jx_i = -(g, r x g) with g = dPhi/dP = (P - D)/l3;"
           " J = Jq^-1 Jx (eqs. (1)-(2))")
+    check_generated_kernels()
     print("5. the exact model (arb kernels, certified tier): max |Phi_i(IK(x), x)| at 60 "
           "digits, exact model against the float one:")
     for name in PRESETS:
@@ -96,6 +99,59 @@ def main():
                              for row in me.get("closure").tolist()))
         print(f"   {name:8s} exact {float(worst[0]):.1e} m, float {float(worst[1]):.1e} m")
         assert worst[0] < sp.Float("1e-50") and worst[1] < 1e-14
+
+
+def check_generated_kernels():
+    """Item 4: the committed kernels are this model's.  (a) g = dPhi/dP is (P - D)/l3
+    for the generic leg; (b) per preset, at a pose off the centre, the committed
+    kernel's [Jq_ii, Jx_i] against sympy's derivatives of the model's closure Phi_i(q_i,
+    pose) (Jq_ii = dPhi_i/dq_i; Jx_i = -(dPhi_i/dt, dPhi_i/dr E(r)^-1), omega = E(r) rdot,
+    distkin.spatial.omega_map), and its J against Jx / Jq; (c) each module's header
+    names this script, and ``python -m distkin.codegen --check`` regenerates the
+    preset modules from the model and finds them unchanged."""
+    import subprocess
+
+    import numpy as np
+
+    from distkin.spatial import omega_map
+    g = generic_leg()
+    gP = [sp.diff(g["Phi"], c) for c in g["P"]]
+    l3 = g["params"][3]
+    diff = [sp.simplify(a - (p - d) / l3) for a, p, d in zip(gP, g["P"], g["D"])]
+    print("   (a) dPhi/dP - (P - D)/l3 =", diff)
+    assert all(d == 0 for d in diff)
+    root = Path(__file__).resolve().parents[1]
+    for name in PRESETS:
+        m = preset(name)
+        x = np.array([0.004, -0.003, m.z0 + 0.006, 0.03, -0.02, 0.025])
+        me = model_expressions(m)
+        sub = dict(zip(POSE, (sp.Float(v, 30) for v in x)))
+        qv = [e.xreplace(sub).evalf(30) for e in me.get("ik")]
+        qs = q_symbols(m.L)
+        phi = me.get("closure")[:, 0]
+        qsub = {**sub, **dict(zip(qs, qv))}
+        jq = np.array([float(sp.diff(phi[i], qs[i]).xreplace(qsub).evalf(30))
+                       for i in range(m.L)])
+        dx = np.array([[float(sp.diff(phi[i], v).xreplace(qsub).evalf(30)) for v in POSE]
+                       for i in range(m.L)])
+        jx = -np.hstack([dx[:, :3], dx[:, 3:] @ np.linalg.inv(omega_map(x[3:]))])
+        k = m.kernels("batched")
+        got = k.jq_jx(x[None])[0]
+        J = k.jacobian(x[None])[0]
+        e1 = np.abs(got[:, 0] - jq).max() / np.abs(jq).max()
+        e2 = np.abs(got[:, 1:] - jx).max() / np.abs(jx).max()
+        e3 = np.abs(J - jx / jq[:, None]).max() / np.abs(J).max()
+        print(f"   (b) {name:8s} kernel vs d(closure): Jq {e1:.1e}, Jx {e2:.1e}, "
+              f"J {e3:.1e} (relative)")
+        assert max(e1, e2, e3) < 1e-12
+        header = (root / "distkin" / "_generated" / f"rss_{name}.py").read_text().splitlines()[0]
+        assert "derivations/rss_model.py" in header, header
+    names = [f"rss_{n}" for n in PRESETS]
+    run = subprocess.run([sys.executable, "-m", "distkin.codegen", "--check", *names],
+                         cwd=root, capture_output=True, text=True)
+    print("   (c) python -m distkin.codegen --check " + " ".join(names) + ":\n      "
+          + run.stdout.strip().replace("\n", "\n      "))
+    assert run.returncode == 0, run.stderr
 
 
 if __name__ == "__main__":
