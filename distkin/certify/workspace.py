@@ -22,10 +22,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..argcheck import as_floats, choice, float_array, positive_int
-from ..errors import InputError
+from ..argcheck import choice, positive_int
 from .batch import branch_and_prune_batched
-from .boxes import REGULAR, STATUS_NAMES, branch_and_prune
+from .boxes import REGULAR, STATUS_NAMES, branch_and_prune, check_box, check_resolution
 from .intervals import FORMS
 from .tighten import tighten_sigma
 
@@ -207,25 +206,6 @@ class WorkspaceCertificate:
         return np.all((self.lo[:, 3:] <= 0.0) & (self.hi[:, 3:] >= 0.0), axis=1)
 
 
-def _check_region(lower, upper, min_width):
-    """The region and resolution of :func:`certify_workspace`, checked: (6,) finite
-    bounds (m, rad) with lower <= upper, and a positive finite resolution (a scalar or
-    (6,)); a resolution <= 0 would bisect until the box budget runs out."""
-    lower = float_array(lower, "lower", (6,))
-    upper = float_array(upper, "upper", (6,))
-    if np.any(upper < lower):
-        k = int(np.argmax(upper < lower))
-        raise InputError(f"expected lower <= upper (m for x, y, z; rad for rx, ry, rz), got "
-                         f"lower[{k}] = {float(lower[k])!r} > "
-                         f"upper[{k}] = {float(upper[k])!r}",
-                         field="upper")
-    minw = as_floats(min_width, "min_width", "a resolution (m, rad): a number or 6 numbers")
-    if minw.shape not in ((), (6,)) or not np.all(np.isfinite(minw)) or np.any(minw <= 0):
-        raise InputError(f"expected a positive finite resolution (m, rad), a number or 6 "
-                         f"numbers, got {minw.tolist()!r}", field="min_width")
-    return lower, upper, np.broadcast_to(minw, (6,)).astype(float)
-
-
 def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64",
                       split: int = 2, store=None, executor=None, progress: bool = False,
                       max_boxes: int = 200_000, definition_extra=None,
@@ -267,12 +247,14 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
     Raises
     ------
     InputError
-        Bounds not (6,) finite numbers or lower > upper, a resolution <= 0, an unknown
+        Bounds not (6,) finite numbers or lower > upper (:func:`.boxes.check_box`), a
+        resolution <= 0 (:func:`.boxes.check_resolution`), an unknown
         form, ``split`` or ``max_boxes`` < 1, ``tighten`` < 0.
     """
     from ..runstore import run_chunks
     t0 = time.perf_counter()
-    lower, upper, minw = _check_region(lower, upper, min_width)
+    lower, upper = check_box(lower, upper, ("lower", "upper"))
+    minw = check_resolution(min_width)
     form = choice(form, "form", WORKSPACE_FORMS)
     split = positive_int(split, "split")
     max_boxes = positive_int(max_boxes, "max_boxes")
