@@ -170,8 +170,9 @@ def check_box(lo, hi, names=("lo", "hi")):
 
 def check_resolution(min_width, field: str = "min_width") -> np.ndarray:
     """A branch-and-prune resolution, checked: a positive finite number or 6 of them
-    (m for x, y, z; rad for rx, ry, rz); a resolution <= 0 would bisect until the box
-    budget runs out.  Returns it as an ndarray (6,)."""
+    (m for x, y, z; rad for rx, ry, rz), no booleans (``True`` is not 1 m); a resolution
+    <= 0 would bisect until the box budget runs out.  Returns it as an ndarray (6,)."""
+    no_booleans(min_width, field)
     minw = as_floats(min_width, field, "a resolution (m, rad): a number or 6 numbers")
     if minw.shape not in ((), (6,)) or not np.all(np.isfinite(minw)) or np.any(minw <= 0):
         raise InputError(f"expected a positive finite resolution (m, rad), a number or 6 "

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import itertools
 import time
+from concurrent.futures import as_completed
 from dataclasses import dataclass
 
 import numpy as np
@@ -206,6 +207,32 @@ class WorkspaceCertificate:
         return np.all((self.lo[:, 3:] <= 0.0) & (self.hi[:, 3:] >= 0.0), axis=1)
 
 
+def _run_in_memory(specs, executor, progress, desc):
+    """The chunks of a run without a store, in order, with the run store's progress
+    bar (:func:`distkin.runstore.run_chunks` shows the same one for a stored run)."""
+    from ..runstore import _Progress
+    bar = _Progress(len(specs), 0, desc, progress)
+    results: list = [None] * len(specs)
+    pending: dict = {}
+    try:
+        if executor is None:
+            for i, spec in enumerate(specs):
+                results[i] = _chunk_task(spec)
+                bar.advance()
+        else:
+            pending = {executor.submit(_chunk_task, spec): i for i, spec in enumerate(specs)}
+            for f in as_completed(list(pending)):
+                results[pending.pop(f)] = f.result()
+                bar.advance()
+    except BaseException:
+        for f in pending:                    # the running ones finish
+            f.cancel()
+        raise
+    finally:
+        bar.close()
+    return results
+
+
 def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64",
                       split: int = 2, store=None, executor=None, progress: bool = False,
                       max_boxes: int = 200_000, definition_extra=None,
@@ -231,7 +258,7 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
     executor : concurrent.futures.Executor or None
         None runs in this process.
     progress : bool
-        Progress bar with the ETA (stderr).
+        Progress bar of the chunks with the ETA (stderr), with or without a store.
     max_boxes : int
         Budget of box evaluations per chunk (boxes left over are undecided).
     tighten : int
@@ -248,7 +275,7 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
     ------
     InputError
         Bounds not (6,) finite numbers or lower > upper (:func:`.boxes.check_box`), a
-        resolution <= 0 (:func:`.boxes.check_resolution`), an unknown
+        resolution <= 0 or a boolean (:func:`.boxes.check_resolution`), an unknown
         form, ``split`` or ``max_boxes`` < 1, ``tighten`` < 0.
     """
     from ..runstore import run_chunks
@@ -263,8 +290,7 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
     specs = [(mech, lo, hi, minw, form, int(max_boxes)) for lo, hi in boxes]
     stats = {"loaded": 0}
     if store is None:
-        results = [_chunk_task(s) for s in specs] if executor is None else \
-            list(executor.map(_chunk_task, specs))
+        results = _run_in_memory(specs, executor, progress, f"certify {mech.name}")
     else:
         definition = {"certify_workspace": 1, "mechanism": repr(mech.geometry_key()),
                       "lower": lower.tolist(), "upper": upper.tolist(),

@@ -1,18 +1,21 @@
 """The public entry points of distkin.certify check their boxes (docs/design.md §4, STYLE
-rule 7).
+rule 7) and show their progress.
 
 A box given with its corners swapped used to be classified from one corner (the radial
 HEXA's region of 48 regular, 62 singular and 58 unreachable leaves came back as one
-unreachable leaf) and a NaN corner came back undecided with ``lo = nan``.  The checks are
+unreachable leaf), a NaN corner came back undecided with ``lo = nan``, ``min_width=True``
+was taken as 1 m, and ``progress=True`` showed nothing without a store.  The checks are
 compared with the correctly ordered box (its classification, and float samples of its
-poses)."""
+poses); the progress bar with the stored run's."""
 
 from __future__ import annotations
+
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import pytest
 
-from distkin.certify import branch_and_prune, certify_box
+from distkin.certify import branch_and_prune, certify_box, certify_workspace
 from distkin.certify.batch import branch_and_prune_batched, certify_batch
 from distkin.certify.boxes import REGULAR, SINGULAR, UNREACHABLE
 from distkin.errors import InputError
@@ -98,6 +101,8 @@ def test_corners_must_be_six_finite_numbers(hexa, entry, lo, hi, field, words):
 
 @pytest.mark.parametrize("entry", [_bnp, _bnp64])
 @pytest.mark.parametrize("minw, field", [(0.0, "min_width"), (-0.1, "min_width"),
+                                         (True, "min_width"),
+                                         ([0.1] * 5 + [True], "min_width[5]"),
                                          ([0.1] * 5, "min_width")])
 def test_branch_and_prune_checks_its_resolution(hexa, entry, minw, field):
     """A resolution <= 0 would bisect until the budget is spent; True is not 1 m."""
@@ -132,3 +137,48 @@ def test_a_single_pose_is_still_a_box(hexa, pose):
         assert r["det_sign"][0] == np.sign(np.linalg.det(hexa.jq_jx(pose[None])[1][0]))
     else:
         assert r["status"][0] == UNREACHABLE
+
+
+# -- certify_workspace: resolution and progress ------------------------------------------
+
+WLO, WHI = [-0.075, -0.075, 0.3, 0, 0, 0], [0.075, 0.075, 0.3, 0, 0, 0]
+
+
+@pytest.mark.parametrize("minw, field", [(True, "min_width"), (np.True_, "min_width"),
+                                         ([0.04] * 3 + [True] * 3, "min_width[3]")])
+def test_workspace_refuses_a_boolean_resolution(minw, field):
+    """The CLI refuses booleans; from Python min_width=True used to be 1 m, 1 rad."""
+    with pytest.raises(InputError) as exc:
+        certify_workspace(preset("hunt"), WLO, WHI, minw)
+    assert exc.value.field == field and "boolean" in exc.value.message
+
+
+def test_progress_bar_without_a_store_is_the_stored_runs(tmp_path, capsys):
+    """progress=True shows the run store's bar with or without a store: the same
+    description and chunk count (split ** varying coordinates); progress=False shows
+    nothing; the certificates agree."""
+    m = preset("hunt")
+    chunks = 2 ** 2                                    # x and y vary, split = 2
+    stored = certify_workspace(m, WLO, WHI, 0.075, progress=True, store=tmp_path / "s",
+                               tighten=0)
+    err_stored = capsys.readouterr().err
+    memory = certify_workspace(m, WLO, WHI, 0.075, progress=True, tighten=0)
+    err_memory = capsys.readouterr().err
+    for err in (err_stored, err_memory):
+        assert f"certify {m.name}" in err and f"{chunks}/{chunks}" in err
+    certify_workspace(m, WLO, WHI, 0.075, progress=False, tighten=0)
+    assert capsys.readouterr().err == ""
+    assert np.array_equal(stored.status, memory.status)
+    assert np.array_equal(stored.lo, memory.lo) and np.array_equal(stored.hi, memory.hi)
+
+
+def test_executor_without_a_store_keeps_the_chunk_order(capsys):
+    """Chunks on an executor without a store (futures as they finish, with the bar):
+    the same boxes in the same order as in process."""
+    m = preset("hunt")
+    a = certify_workspace(m, WLO, WHI, 0.0375, tighten=0)
+    with ThreadPoolExecutor(2) as ex:
+        b = certify_workspace(m, WLO, WHI, 0.0375, executor=ex, progress=True, tighten=0)
+    assert "4/4" in capsys.readouterr().err
+    assert np.array_equal(a.status, b.status)
+    assert np.array_equal(a.lo, b.lo) and np.array_equal(a.hi, b.hi)
