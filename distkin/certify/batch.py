@@ -41,8 +41,9 @@ import time
 
 import numpy as np
 
-from .boxes import (REGULAR, UNDECIDED, UNREACHABLE, Verdict, bisect, certify_box, leaves,
-                    split_dimension)
+from ..errors import InputError
+from .boxes import (REGULAR, UNDECIDED, UNREACHABLE, Verdict, _certify_box, bisect,
+                    check_box, check_resolution, leaves, split_dimension)
 from .fptaylor import TINY, Quadratics, as_models, down, sum_up, up, variables
 
 __all__ = ["certify_batch", "branch_and_prune_batched", "rank_bounds"]
@@ -172,7 +173,8 @@ def certify_batch(mech, kernels, lo, hi, vary):
     kernels : KernelSet
         ``mech.kernels("arb")`` (run on :class:`.fptaylor.Quadratics`).
     lo, hi : ndarray (B, 6)
-        Boxes (m, rad), of zero width outside ``vary`` (checked: ValueError).
+        Boxes (m, rad), ``lo <= hi`` (no NaN), of zero width outside ``vary`` (checked:
+        :class:`~distkin.errors.InputError`, a ``ValueError``).
     vary : tuple of int
 
     Returns
@@ -184,9 +186,15 @@ def certify_batch(mech, kernels, lo, hi, vary):
     lo = np.asarray(lo, dtype=float)
     hi = np.asarray(hi, dtype=float)
     fixed = [k for k in range(6) if k not in vary]
-    if not np.array_equal(lo[:, fixed], hi[:, fixed]) or np.any(hi < lo):
-        raise ValueError(f"expected boxes with lo <= hi and zero width outside the "
-                         f"coordinates {tuple(vary)}, got other boxes")
+    if lo.ndim != 2 or lo.shape[1:] != (6,) or hi.shape != lo.shape:
+        raise InputError(f"expected boxes lo, hi of shape (B, 6), got {lo.shape} and "
+                         f"{hi.shape}", field="hi")
+    bad = ~np.all(lo <= hi, axis=1) | np.any(lo[:, fixed] != hi[:, fixed], axis=1)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise InputError(f"expected boxes with lo <= hi and zero width outside the "
+                         f"coordinates {tuple(vary)}, got box {i}: lo = {lo[i].tolist()!r}, "
+                         f"hi = {hi[i].tolist()!r}", field="hi")
     with np.errstate(all="ignore"):       # nan and inf remainders certify nothing
         return _certify_batch(mech, kernels, lo, hi, vary)
 
@@ -252,12 +260,11 @@ def branch_and_prune_batched(mech, lo, hi, min_width, *, max_boxes: int = 200_00
                              batch: int = 256) -> dict:
     """:func:`.boxes.branch_and_prune` with the ``quadratic64`` form: boxes are taken
     from the stack ``batch`` at a time (256) and evaluated together (:func:`certify_batch`).
-    Same arguments and result."""
+    Same arguments, checks and result."""
     t0 = time.perf_counter()
+    lo, hi = check_box(lo, hi)
+    minw = check_resolution(min_width)
     ks = mech.kernels("arb")
-    minw = np.asarray(min_width, dtype=float)
-    lo = np.asarray(lo, dtype=float)
-    hi = np.asarray(hi, dtype=float)
     vary = tuple(k for k in range(6) if hi[k] > lo[k])
     stack = [(lo, hi)]
     out_lo, out_hi, status, sigma, dsign = [], [], [], [], []
@@ -283,7 +290,7 @@ def branch_and_prune_batched(mech, lo, hi, min_width, *, max_boxes: int = 200_00
         bhi = np.array([b[1] for b in todo])
         if not vary:
             for a, b in todo:
-                v = certify_box(mech, ks, a, b, form="quadratic", at_resolution=True)
+                v = _certify_box(mech, ks, a, b, form="quadratic", at_resolution=True)
                 leaf(a, b, v.status, v.sigma_lower, v.det_sign)
             evaluated += take
             continue
@@ -299,7 +306,7 @@ def branch_and_prune_batched(mech, lo, hi, min_width, *, max_boxes: int = 200_00
                         weights=tuple(r["weights"][i].tolist()))
             k = split_dimension(a, b, minw, v)
             if k is None:                # at the resolution: the arb route decides
-                v = certify_box(mech, ks, a, b, form="quadratic", at_resolution=True)
+                v = _certify_box(mech, ks, a, b, form="quadratic", at_resolution=True)
                 leaf(a, b, v.status, v.sigma_lower, v.det_sign)
                 continue
             left, right = bisect(a, b, k)

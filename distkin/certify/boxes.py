@@ -88,11 +88,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..argcheck import as_floats, float_array, no_booleans
+from ..errors import InputError
 from .intervals import enclose_box, point_values
 
 __all__ = ["UNDECIDED", "REGULAR", "SINGULAR", "UNREACHABLE", "STATUS_NAMES", "Verdict",
            "regularity_certificate", "sign_change_certificate", "certify_box",
-           "branch_and_prune", "split_dimension", "bisect", "leaves"]
+           "branch_and_prune", "split_dimension", "bisect", "leaves", "check_box",
+           "check_resolution"]
 
 UNDECIDED, REGULAR, SINGULAR, UNREACHABLE = 0, 1, 2, 3
 STATUS_NAMES = {UNDECIDED: "undecided", REGULAR: "regular", SINGULAR: "singular",
@@ -130,6 +133,51 @@ class Verdict:
     contraction: float = math.inf
     vary: tuple = ()
     weights: tuple = ()
+
+
+def check_box(lo, hi, names=("lo", "hi")):
+    """The corners of a box of poses, checked at a public entry point: (6,) finite
+    numbers (m for x, y, z; rad for rx, ry, rz), no booleans, ``lo <= hi``.  A box with
+    its corners swapped or a NaN corner would otherwise be classified from one corner.
+
+    Parameters
+    ----------
+    lo, hi : array_like (6,)
+    names : (str, str)
+        The argument names the messages give (``("lower", "upper")`` for a region).
+
+    Returns
+    -------
+    lo, hi : ndarray (6,) float
+
+    Raises
+    ------
+    InputError
+        Naming the corner: not 6 finite numbers, a boolean, or ``lo[k] > hi[k]``.
+    """
+    a, b = names
+    no_booleans(lo, a)
+    no_booleans(hi, b)
+    lo = float_array(lo, a, (6,))
+    hi = float_array(hi, b, (6,))
+    if np.any(hi < lo):
+        k = int(np.argmax(hi < lo))
+        raise InputError(f"expected {a} <= {b} (m for x, y, z; rad for rx, ry, rz), got "
+                         f"{a}[{k}] = {float(lo[k])!r} > {b}[{k}] = {float(hi[k])!r}",
+                         field=b)
+    return lo, hi
+
+
+def check_resolution(min_width, field: str = "min_width") -> np.ndarray:
+    """A branch-and-prune resolution, checked: a positive finite number or 6 of them
+    (m for x, y, z; rad for rx, ry, rz), no booleans (``True`` is not 1 m); a resolution
+    <= 0 would bisect until the box budget runs out.  Returns it as an ndarray (6,)."""
+    no_booleans(min_width, field)
+    minw = as_floats(min_width, field, "a resolution (m, rad): a number or 6 numbers")
+    if minw.shape not in ((), (6,)) or not np.all(np.isfinite(minw)) or np.any(minw <= 0):
+        raise InputError(f"expected a positive finite resolution (m, rad), a number or 6 "
+                         f"numbers, got {minw.tolist()!r}", field=field)
+    return np.broadcast_to(minw, (6,)).astype(float)
 
 
 def _down(x) -> float:
@@ -289,13 +337,25 @@ def certify_box(mech, kernels, lo, hi, *, form: str = "quadratic",
     -------
     Verdict
         ``weights`` (per varying coordinate) says which split would help most.
+
+    Raises
+    ------
+    InputError
+        ``lo``, ``hi`` not 6 finite numbers each with ``lo <= hi`` (:func:`check_box`).
     """
+    lo, hi = check_box(lo, hi)
+    return _certify_box(mech, kernels, lo, hi, form=form, at_resolution=at_resolution)
+
+
+def _certify_box(mech, kernels, lo, hi, *, form: str = "quadratic",
+                 at_resolution: bool = False) -> Verdict:
+    """:func:`certify_box` of corners already checked (the branch-and-prune loops)."""
     if form == "auto":
-        first = certify_box(mech, kernels, lo, hi, form="affine", at_resolution=False)
+        first = _certify_box(mech, kernels, lo, hi, form="affine", at_resolution=False)
         if first.status != UNDECIDED or first.reason == "reach":
             return first
-        second = certify_box(mech, kernels, lo, hi, form="quadratic",
-                             at_resolution=at_resolution)
+        second = _certify_box(mech, kernels, lo, hi, form="quadratic",
+                              at_resolution=at_resolution)
         if second.status == UNDECIDED and first.contraction < second.contraction:
             return Verdict(UNDECIDED, reason=first.reason, contraction=first.contraction,
                            vary=first.vary, weights=first.weights) if not at_resolution \
@@ -366,10 +426,10 @@ def branch_and_prune(mech, lo, hi, min_width, *, form: str = "quadratic",
     ----------
     mech : RSSMechanism
     lo, hi : array (6,)
-        The region (m, rad).
-    min_width : array (6,)
+        The region (m, rad), ``lo <= hi``.
+    min_width : float or array (6,)
         A box is bisected along coordinate k only while wider than ``min_width[k]``
-        (m or rad; the resolution).
+        (m or rad, positive; the resolution).
     form : {"quadratic", "affine", "centred", "plain"}
         (``quadratic64``: :func:`.batch.branch_and_prune_batched`.)
     max_boxes : int
@@ -381,11 +441,18 @@ def branch_and_prune(mech, lo, hi, min_width, *, form: str = "quadratic",
         ``lo, hi`` (n, 6), ``status`` (n,) int8 (:data:`STATUS_NAMES`),
         ``sigma_lower`` (n,), ``det_sign`` (n,) int8, ``evaluated`` (): the number of
         boxes evaluated, ``seconds`` ().
+
+    Raises
+    ------
+    InputError
+        ``lo``, ``hi`` not 6 finite numbers each with ``lo <= hi`` (:func:`check_box`);
+        a resolution not positive and finite (:func:`check_resolution`).
     """
     t0 = time.perf_counter()
+    lo, hi = check_box(lo, hi)
+    minw = check_resolution(min_width)
     ks = mech.kernels("arb")
-    minw = np.asarray(min_width, dtype=float)
-    stack = [(np.asarray(lo, dtype=float), np.asarray(hi, dtype=float))]
+    stack = [(lo, hi)]
     out_lo, out_hi, status, sigma, dsign = [], [], [], [], []
     evaluated = 0
     while stack:
@@ -398,7 +465,7 @@ def branch_and_prune(mech, lo, hi, min_width, *, form: str = "quadratic",
             dsign.append(0)
             continue
         at_res = split_dimension(blo, bhi, minw) is None
-        v = certify_box(mech, ks, blo, bhi, form=form, at_resolution=at_res)
+        v = _certify_box(mech, ks, blo, bhi, form=form, at_resolution=at_res)
         evaluated += 1
         if v.status in (REGULAR, UNREACHABLE, SINGULAR) or at_res:
             out_lo.append(blo)

@@ -18,14 +18,14 @@ from __future__ import annotations
 
 import itertools
 import time
+from concurrent.futures import as_completed
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..argcheck import as_floats, choice, float_array, positive_int
-from ..errors import InputError
+from ..argcheck import choice, positive_int
 from .batch import branch_and_prune_batched
-from .boxes import REGULAR, STATUS_NAMES, branch_and_prune
+from .boxes import REGULAR, STATUS_NAMES, branch_and_prune, check_box, check_resolution
 from .intervals import FORMS
 from .tighten import tighten_sigma
 
@@ -207,23 +207,30 @@ class WorkspaceCertificate:
         return np.all((self.lo[:, 3:] <= 0.0) & (self.hi[:, 3:] >= 0.0), axis=1)
 
 
-def _check_region(lower, upper, min_width):
-    """The region and resolution of :func:`certify_workspace`, checked: (6,) finite
-    bounds (m, rad) with lower <= upper, and a positive finite resolution (a scalar or
-    (6,)); a resolution <= 0 would bisect until the box budget runs out."""
-    lower = float_array(lower, "lower", (6,))
-    upper = float_array(upper, "upper", (6,))
-    if np.any(upper < lower):
-        k = int(np.argmax(upper < lower))
-        raise InputError(f"expected lower <= upper (m for x, y, z; rad for rx, ry, rz), got "
-                         f"lower[{k}] = {float(lower[k])!r} > "
-                         f"upper[{k}] = {float(upper[k])!r}",
-                         field="upper")
-    minw = as_floats(min_width, "min_width", "a resolution (m, rad): a number or 6 numbers")
-    if minw.shape not in ((), (6,)) or not np.all(np.isfinite(minw)) or np.any(minw <= 0):
-        raise InputError(f"expected a positive finite resolution (m, rad), a number or 6 "
-                         f"numbers, got {minw.tolist()!r}", field="min_width")
-    return lower, upper, np.broadcast_to(minw, (6,)).astype(float)
+def _run_in_memory(specs, executor, progress, desc):
+    """The chunks of a run without a store, in order, with the run store's progress
+    bar (:func:`distkin.runstore.run_chunks` shows the same one for a stored run)."""
+    from ..runstore import _Progress
+    bar = _Progress(len(specs), 0, desc, progress)
+    results: list = [None] * len(specs)
+    pending: dict = {}
+    try:
+        if executor is None:
+            for i, spec in enumerate(specs):
+                results[i] = _chunk_task(spec)
+                bar.advance()
+        else:
+            pending = {executor.submit(_chunk_task, spec): i for i, spec in enumerate(specs)}
+            for f in as_completed(list(pending)):
+                results[pending.pop(f)] = f.result()
+                bar.advance()
+    except BaseException:
+        for f in pending:                    # the running ones finish
+            f.cancel()
+        raise
+    finally:
+        bar.close()
+    return results
 
 
 def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64",
@@ -251,7 +258,7 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
     executor : concurrent.futures.Executor or None
         None runs in this process.
     progress : bool
-        Progress bar with the ETA (stderr).
+        Progress bar of the chunks with the ETA (stderr), with or without a store.
     max_boxes : int
         Budget of box evaluations per chunk (boxes left over are undecided).
     tighten : int
@@ -267,12 +274,14 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
     Raises
     ------
     InputError
-        Bounds not (6,) finite numbers or lower > upper, a resolution <= 0, an unknown
+        Bounds not (6,) finite numbers or lower > upper (:func:`.boxes.check_box`), a
+        resolution <= 0 or a boolean (:func:`.boxes.check_resolution`), an unknown
         form, ``split`` or ``max_boxes`` < 1, ``tighten`` < 0.
     """
     from ..runstore import run_chunks
     t0 = time.perf_counter()
-    lower, upper, minw = _check_region(lower, upper, min_width)
+    lower, upper = check_box(lower, upper, ("lower", "upper"))
+    minw = check_resolution(min_width)
     form = choice(form, "form", WORKSPACE_FORMS)
     split = positive_int(split, "split")
     max_boxes = positive_int(max_boxes, "max_boxes")
@@ -281,8 +290,7 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
     specs = [(mech, lo, hi, minw, form, int(max_boxes)) for lo, hi in boxes]
     stats = {"loaded": 0}
     if store is None:
-        results = [_chunk_task(s) for s in specs] if executor is None else \
-            list(executor.map(_chunk_task, specs))
+        results = _run_in_memory(specs, executor, progress, f"certify {mech.name}")
     else:
         definition = {"certify_workspace": 1, "mechanism": repr(mech.geometry_key()),
                       "lower": lower.tolist(), "upper": upper.tolist(),
