@@ -51,7 +51,7 @@ from .errors import DistkinError, InputError
 
 __all__ = ["run_chunks", "make_store", "local_executor", "dask_executor", "executor_for",
            "sweep_key", "code_version", "user_cache_dir", "default_store", "keyed_store",
-           "WORKER_ENV", "NO_WORKER_TIMEOUT_S"]
+           "ChunkProgress", "WORKER_ENV", "NO_WORKER_TIMEOUT_S"]
 
 #: environment of the local pool's workers (single-threaded BLAS)
 WORKER_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
@@ -237,7 +237,11 @@ def _load(path: Path) -> dict:
                 for n, g, p in zip(z["names__"], z["group__"], z["place__"])}
 
 
-class _Progress:
+class ChunkProgress:
+    """The progress bar of chunked work on stderr (rich): ``total`` chunks, ``done``
+    of them already finished (loaded from a store), the elapsed time and the ETA;
+    nothing when not ``enabled``.  :meth:`advance` per finished chunk, :meth:`close`."""
+
     def __init__(self, total, done, desc, enabled):
         self.bar = None
         if enabled and total:
@@ -354,7 +358,7 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
     if stats is not None:
         stats["loaded"] = len(specs) - len(todo)
         stats["store"] = str(store)
-    bar = _Progress(len(specs), len(specs) - len(todo), desc, progress)
+    bar = ChunkProgress(len(specs), len(specs) - len(todo), desc, progress)
     pending: dict = {}
     try:
         if executor is None:

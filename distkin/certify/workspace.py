@@ -210,8 +210,8 @@ class WorkspaceCertificate:
 def _run_in_memory(specs, executor, progress, desc):
     """The chunks of a run without a store, in order, with the run store's progress
     bar (:func:`distkin.runstore.run_chunks` shows the same one for a stored run)."""
-    from ..runstore import _Progress
-    bar = _Progress(len(specs), 0, desc, progress)
+    from ..runstore import ChunkProgress
+    bar = ChunkProgress(len(specs), 0, desc, progress)
     results: list = [None] * len(specs)
     pending: dict = {}
     try:
