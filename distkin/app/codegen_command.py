@@ -30,8 +30,9 @@ from ..errors import InputError
 __all__ = ["add_parser", "CODEGEN_KINDS", "scene_module_source"]
 
 def _rss_module(scene, flavours):
-    from ..codegen.rss import scene_module
-    return (*scene_module(scene, flavours), "")
+    from ..codegen.rss import QUERY_KERNELS, scene_module
+    _, note = _without_kernel(scene, QUERY_KERNELS)
+    return (*scene_module(scene, flavours), note)
 
 
 #: why a query of an octahedral or 6-6 scene has no kernel
@@ -40,6 +41,8 @@ _NO_KERNEL = {
                        "a kind = \"platform66\" scene composes the map into the octic",
     "singularity": "its tests depend on the pose, not on the legs alone",
     "cayley_menger": "it is a kind = \"points\" query",
+    "certify_workspace": "it runs in interval arithmetic on the mechanism's arb kernels "
+                         "(distkin.certify), not on float kernels",
 }
 
 
