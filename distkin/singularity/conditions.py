@@ -46,8 +46,10 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..errors import InputError, UncertifiedError
-from ..exact import check_method
+from ..argcheck import positive_number
+from ..errors import DegenerateGeometryError, InputError, UncertifiedError
+from .tiers import (_at, _check_legs, _cross, _det, _float, _float_or_str, _kind,
+                    _prepare, _sqrt, _sympify, _to_flint)
 
 __all__ = [
     "OCTAHEDRAL_LEGS",
@@ -69,123 +71,6 @@ OCTAHEDRAL_LEGS = ((1, 4), (2, 4), (2, 5), (3, 5), (3, 6), (1, 6))
 
 #: 288^3 / 216: C = -RATIO_CONSTANT (a - b) det(Jhat), K = -RATIO_CONSTANT a det(Jhat)
 RATIO_CONSTANT = 110592
-
-
-# ------------------------------------------------------------------ number-type helpers
-
-def _kind(x) -> str:
-    arr = np.asarray(x)
-    if arr.dtype != object:
-        return "fast"
-    first = arr.ravel()[0]
-    name = type(first).__name__
-    if (type(first).__module__ or "").startswith("sympy"):
-        return "sympy"
-    if name in ("arb", "fmpq", "fmpz"):
-        return "certified"
-    if name == "mpf":
-        return "precise"
-    if isinstance(first, (int, Fraction)):
-        return "exact"
-    return "fast"
-
-
-def _cross(a, b):
-    return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
-                     a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
-                     a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]], axis=-1)
-
-
-def _sqrt(x, kind):
-    if kind == "fast":
-        return np.sqrt(x)
-    if kind == "precise":
-        import mpmath
-        return np.vectorize(mpmath.sqrt, otypes=[object])(x)
-    if kind == "sympy":
-        import sympy
-        return np.vectorize(sympy.sqrt, otypes=[object])(x)
-    import flint
-    return np.vectorize(lambda v: flint.arb(v).sqrt(), otypes=[object])(x)
-
-
-def _det(M, kind):
-    """Determinant of (..., n, n): batched float, or one object matrix."""
-    if kind == "fast":
-        return np.linalg.det(np.asarray(M, dtype=float))
-    M = np.asarray(M, dtype=object)
-    if M.ndim != 2:
-        raise InputError(f"expected one matrix in the {kind} tier, got shape {M.shape}")
-    n = M.shape[0]
-    if kind == "precise":
-        from ..exact import mp_det
-        return mp_det(M.tolist())            # not mpmath.det: see mp_det
-    if kind == "sympy":
-        import sympy
-        return sympy.expand(sympy.Matrix(M.tolist()).det(method="berkowitz"))
-    import flint
-    flat = [_to_flint(x) for x in M.ravel()]
-    if all(type(v).__name__ == "fmpq" for v in flat):
-        return flint.fmpq_mat(n, n, flat).det()
-    return flint.arb_mat(n, n, [flint.arb(v) if type(v).__name__ != "arb" else v
-                                for v in flat]).det()
-
-
-def _to_flint(x):
-    import flint
-    if isinstance(x, Fraction):
-        return flint.fmpq(x.numerator, x.denominator)
-    if isinstance(x, (int, np.integer)):
-        return flint.fmpq(int(x))
-    if isinstance(x, (float, np.floating)):
-        f = Fraction(float(x))
-        return flint.fmpq(f.numerator, f.denominator)
-    return x
-
-
-def _prepare(points, method):
-    """points -> array in the tier's type; method None keeps the input's type."""
-    arr = np.asarray(points) if not isinstance(points, np.ndarray) else points
-    if method is None:
-        kind = _kind(arr)
-        if kind == "exact":
-            arr = np.vectorize(_to_flint, otypes=[object])(arr)
-            kind = "certified"
-        return arr, kind
-    check_method(method)
-    if method == "fast":
-        if arr.dtype == object:
-            arr = np.vectorize(_float, otypes=[float])(arr)
-        return np.asarray(arr, dtype=float), "fast"
-    if method == "precise":
-        import mpmath
-        return np.vectorize(lambda v: v if type(v).__name__ == "mpf" else mpmath.mpf(_float_or_str(v)),
-                            otypes=[object])(arr), "precise"
-    return np.vectorize(_to_flint, otypes=[object])(np.asarray(arr, dtype=object)), "certified"
-
-
-def _sympify(v):
-    import sympy
-    return sympy.sympify(v)
-
-
-def _float(v):
-    if type(v).__name__ == "arb":
-        return float(v.mid())
-    if type(v).__name__ == "fmpq":
-        return int(v.p) / int(v.q)
-    return float(v)
-
-
-def _float_or_str(v):
-    import mpmath
-    if isinstance(v, Fraction):
-        return mpmath.mpf(v.numerator) / v.denominator
-    if type(v).__name__ == "fmpq":
-        return mpmath.mpf(int(v.p)) / int(v.q)
-    if type(v).__name__ == "arb":
-        return mpmath.mpf(v.mid().str(mpmath.mp.dps + 5, radius=False))
-    return mpmath.mpf(v)
 
 
 # ----------------------------------------------------------------------- the Jacobian
@@ -239,18 +124,42 @@ def plucker_jacobian(base_joints, platform_joints, *, normalised: bool = True,
     array (..., 6, 6)
         Direction columns dimensionless (normalised) or in length units; moment
         columns one length unit more.
+
+    Raises
+    ------
+    InputError
+        Booleans, NaN or inf, or wrong shapes in the joints or ``reference``.
+    DegenerateGeometryError
+        ``normalised=True`` and a leg of zero length (named), in every tier.
     """
-    b, kind = _prepare(base_joints, method)
-    p, _ = _prepare(platform_joints, kind if kind in ("fast", "precise", "certified") else None)
+    b, kind = _prepare(base_joints, method, "base_joints")
+    tier = kind if kind in ("fast", "precise", "certified") else None
+    p, _ = _prepare(platform_joints, tier, "platform_joints")
     if kind == "sympy" and _kind(p) != "sympy":
         p = np.vectorize(_sympify, otypes=[object])(p)
     if b.shape[-2:] != (6, 3) or p.shape[-2:] != (6, 3):
-        raise InputError(f"expected joints of shape (..., 6, 3), got {b.shape} and {p.shape}")
+        raise InputError(f"expected joints of shape (..., 6, 3), got {b.shape} and {p.shape}",
+                         field="base_joints" if b.shape[-2:] != (6, 3) else "platform_joints")
+    if b.shape != p.shape:
+        try:
+            np.broadcast_shapes(b.shape, p.shape)
+        except ValueError:
+            raise InputError(f"expected base and platform joints of matching batch shapes, got "
+                             f"{b.shape} and {p.shape}", field="platform_joints") from None
     u = p - b
     if normalised:
-        ln = _sqrt(np.sum(u * u, axis=-1), kind)
-        u = u / ln[..., None]
-    arm = b if reference is None else b - np.asarray(reference, dtype=b.dtype)
+        sq = np.sum(u * u, axis=-1)
+        _check_legs(sq, kind)
+        u = u / _sqrt(sq, kind)[..., None]
+    arm = b
+    if reference is not None:
+        ref, _ = _prepare(reference, tier, "reference")
+        if ref.shape != (3,):
+            raise InputError(f"expected a reference point of shape (3,), got {ref.shape}",
+                             field="reference")
+        if kind == "sympy":
+            ref = np.vectorize(_sympify, otypes=[object])(ref)
+        arm = b - ref
     return np.concatenate([u, _cross(arm, u)], axis=-1)
 
 
@@ -258,33 +167,46 @@ def jacobian_det(base_joints, platform_joints, *, normalised: bool = True,
                  length_scale=None, method: str | None = None):
     r""":math:`\det\mathbf J` of eq. (5) (or of :math:`\hat{\mathbf J}`).
 
-    With ``length_scale`` L the moment columns are divided by L, so that the
-    normalised determinant is dimensionless (:math:`\det/L^3`).
+    With ``length_scale`` L (a finite number > 0, length units) the moment columns are
+    divided by L, so that the normalised determinant is dimensionless
+    (:math:`\det/L^3`).
+
+    Raises
+    ------
+    InputError
+        Booleans, NaN or inf in the joints, wrong shapes, ``length_scale`` <= 0 or not
+        finite (the error names the field).
+    DegenerateGeometryError
+        ``normalised=True`` with a leg of zero length (the leg is named), in every tier.
 
     Returns
     -------
     float array (batch shape) | mpf | arb or fmpq (certified; exact for rational
     joints with ``normalised=False``)
     """
+    if length_scale is not None:
+        Lf = positive_number(length_scale, "length_scale")      # > 0 and finite
     J = plucker_jacobian(base_joints, platform_joints, normalised=normalised, method=method)
     kind = _kind(J) if method is None else method
     if kind == "exact":
         kind = "certified"
     d = _det(J, kind)
     if length_scale is not None:
-        d = d / length_scale ** 3
+        L = length_scale if isinstance(length_scale, (int, float, Fraction)) else Lf
+        L = {"fast": float, "precise": _float_or_str, "certified": _to_flint}.get(kind, _sympify)(L)
+        d = d / L ** 3
     return d
 
 
 def certified_sign(value) -> int:
-    """The sign of an ``arb``/``fmpq`` value, or :class:`UncertifiedError` when the ball
-    contains 0.
+    """The sign of an ``arb``/``fmpq`` value (0 only for an exact zero), or
+    :class:`UncertifiedError` when a ball of non-zero radius contains 0.
 
     Examples
     --------
     >>> import flint
-    >>> certified_sign(flint.arb(2, 0.5)), certified_sign(flint.fmpq(-1, 3))
-    (1, -1)
+    >>> certified_sign(flint.arb(2, 0.5)), certified_sign(flint.fmpq(-1, 3)), certified_sign(flint.arb(0))
+    (1, -1, 0)
     >>> certified_sign(flint.arb(0, 1e-9))
     Traceback (most recent call last):
     ...
@@ -298,6 +220,8 @@ def certified_sign(value) -> int:
             return 1
         if value < 0:
             return -1
+        if value.is_zero():              # radius 0, midpoint 0: exactly zero
+            return 0
         raise UncertifiedError(f"expected a ball excluding 0, got {value.str(5, radius=True)}",
                                hint="raise the precision or move away from the singularity")
     raise InputError(f"expected an arb or fmpq value to certify, got {name}")
@@ -333,12 +257,22 @@ def cm_pure_condition(points, *, method: str | None = None, relative: bool = Fal
     Returns
     -------
     number or float array (length units^18 unless relative)
+
+    Raises
+    ------
+    DegenerateGeometryError
+        ``relative`` where both products vanish (a flat tetrahedron in each, named; then
+        :math:`C = 0` exactly and its relative value is 0/0).
     """
     from ..geometry.cayley_menger import cayley_menger as D
-    sq, _ = _sq(points, method)
-    left = D(sq, (1, 2, 4, 5)) * D(sq, (3, 4, 5, 6)) * D(sq, (1, 2, 3, 6))
-    right = D(sq, (1, 2, 3, 4)) * D(sq, (2, 4, 5, 6)) * D(sq, (1, 3, 5, 6))
-    return (left - right) / (left + right) if relative else left - right
+    sq, kind = _sq(points, method)
+    tets = {t: D(sq, t) for t in _TETS}
+    left = tets[1, 2, 4, 5] * tets[3, 4, 5, 6] * tets[1, 2, 3, 6]
+    right = tets[1, 2, 3, 4] * tets[2, 4, 5, 6] * tets[1, 3, 5, 6]
+    if relative:
+        return _relative(left - right, left + right, kind, lambda: tets,
+                         "Cayley-Menger condition")
+    return left - right
 
 
 def signed_cm_condition(points, *, method: str | None = None, relative: bool = False):
@@ -350,16 +284,58 @@ def signed_cm_condition(points, *, method: str | None = None, relative: bool = F
 
     Distances only, and :math:`K = 0` exactly at the singularities (where
     :math:`a \ne 0`).  ``relative`` divides by
-    :math:`|D(1,2,4,5)D(3,4,5,6)D(1,2,3,6)| + |D(\dots;\dots)D(\dots;\dots)D(\dots;\dots)|`.
+    :math:`|D(1,2,4,5)D(3,4,5,6)D(1,2,3,6)| + |D(\dots;\dots)D(\dots;\dots)D(\dots;\dots)|`;
+    where that vanishes (a flat tetrahedron in each product) a
+    :class:`~distkin.errors.DegenerateGeometryError` names them.
     """
     from ..geometry.cayley_menger import cayley_menger as D
-    sq, _ = _sq(points, method)
-    first = D(sq, (1, 2, 4, 5)) * D(sq, (3, 4, 5, 6)) * D(sq, (1, 2, 3, 6))
+    sq, kind = _sq(points, method)
+    tets = {t: D(sq, t) for t in _TETS[:3]}
+    first = tets[1, 2, 4, 5] * tets[3, 4, 5, 6] * tets[1, 2, 3, 6]
     second = (D(sq, (1, 2, 4, 5), (1, 2, 3, 4)) * D(sq, (3, 4, 5, 6), (2, 4, 5, 6))
               * D(sq, (1, 2, 3, 6), (1, 3, 5, 6)))
     if relative:
-        return (first + second) / (abs(first) + abs(second))
+        return _relative(first + second, abs(first) + abs(second), kind,
+                         lambda: {**tets, **{t: D(sq, t) for t in _TETS[3:]}},
+                         "signed Cayley-Menger condition")
     return first + second
+
+
+#: the six tetrahedra of the Cayley-Menger conditions: a's three, then b's three
+_TETS = ((1, 2, 4, 5), (3, 4, 5, 6), (1, 2, 3, 6), (1, 2, 3, 4), (2, 4, 5, 6), (1, 3, 5, 6))
+
+
+def _vanishes(x):
+    """Exactly zero (float, fmpq, mpf, an exact arb 0, sympy when provably 0)."""
+    if isinstance(x, np.ndarray) and x.dtype != object:
+        return x == 0
+    return bool(x == 0) or getattr(x, "is_zero", None) is True
+
+
+def _relative(num, den, kind, tets, what):
+    """``num / den`` for a denominator that is a sum of products of Cayley-Menger
+    determinants (>= 0).  Where it vanishes (then so does ``num``) the relative value
+    is 0/0: :class:`DegenerateGeometryError` naming the flat tetrahedra (``tets()``:
+    tetrahedron -> D, called only then); an arb
+    denominator whose ball contains 0 is :class:`UncertifiedError`."""
+    if kind == "fast":
+        zero = np.asarray(den == 0)
+        if not zero.any():
+            return num / den
+        idx = tuple(int(i) for i in np.argwhere(zero)[0]) if zero.ndim else ()
+    elif type(den).__name__ == "arb" and not den > 0 and not den.is_zero():
+        raise UncertifiedError(f"expected the denominator of the relative {what} to exclude "
+                               f"0, got {den.str(5, radius=True)}", hint="raise the precision")
+    elif not _vanishes(den):
+        return num / den
+    else:
+        idx = ()
+    flat = [t for t, v in tets().items() if _vanishes(np.asarray(v)[idx] if kind == "fast" else v)]
+    names = ", ".join("P" + "P".join(map(str, t)) for t in flat)
+    raise DegenerateGeometryError(
+        f"expected a non-vanishing denominator for the relative {what}, got 0{_at(idx)}: "
+        f"flat tetrahedra {names} (the condition itself is exactly 0 there)", field="points",
+        hint="use relative=False, or det J (jacobian_det)")
 
 
 def _vol(pts, i, j, k, l):
@@ -428,8 +404,19 @@ def four_planes(points, *, length_scale: float | None = None, method: str | None
     points : array (..., 6, 3)
         P1..P6, base frame (length units).
     length_scale : float, optional
-        For ``relative`` (default: the largest distance of a point from P1).
+        For ``relative``: a finite number > 0 (default: the largest distance of a point
+        from P1).
+
+    Raises
+    ------
+    InputError
+        Booleans, NaN or inf in ``points``, a wrong shape, a bad ``length_scale``.
+    DegenerateGeometryError
+        Three collinear (or coincident) points of a plane: the plane is undefined (named,
+        with the batch index); then its row of F vanishes, F = 0.
     """
+    if length_scale is not None:
+        length_scale = positive_number(length_scale, "length_scale")
     pts, kind = _prepare(points, method)
     if pts.shape[-2:] != (6, 3):
         raise InputError(f"expected points of shape (..., 6, 3), got {pts.shape}", field="points")
@@ -447,6 +434,14 @@ def four_planes(points, *, length_scale: float | None = None, method: str | None
     if L is None:
         L = np.max(np.linalg.norm(pf - pf[..., :1, :], axis=-1), axis=-1)
     nrm = np.linalg.norm(Mf[..., :3], axis=-1)
+    if not (nrm > 0).all():
+        idx = tuple(int(i) for i in np.argwhere(~(nrm > 0))[0])
+        names = "; ".join(f"P{i}P{j}P{k} (P{i}, P{j}, P{k} collinear)"
+                          for (i, j, k), z in zip(PLANES, ~(nrm[idx[:-1]] > 0)) if z)
+        raise DegenerateGeometryError(
+            f"expected four planes through non-collinear points, got undefined plane(s) "
+            f"{names}{_at(idx[:-1])}", field="points",
+            hint="det J (jacobian_det) is defined there, and its determinant F = det Jhat = 0")
     U = Mf / nrm[..., None]
     Us = U.copy()
     Us[..., 3] = Us[..., 3] / np.asarray(L)[..., None]

@@ -13,7 +13,8 @@ from fractions import Fraction
 import numpy as np
 
 from ..errors import InputError, UncertifiedError
-from .conditions import _prepare, _to_flint, certified_sign
+from .conditions import certified_sign
+from .tiers import _prepare, _to_flint
 
 __all__ = [
     "rotation_from_vector",
@@ -42,7 +43,7 @@ def rotation_from_vector(w, method: str | None = None):
     -------
     array (..., 3, 3)
     """
-    arr, kind = _prepare(w, method)
+    arr, kind = _prepare(w, method, "w")
     if kind == "fast":
         th = np.linalg.norm(arr, axis=-1)
         safe = np.where(th > 0, th, 1.0)
@@ -237,7 +238,7 @@ def certify_crossing(f_arb, s: float, *, lo: float = 0.0, hi: float = 1.0,
             last = exc
             eps *= 10
             continue
-        if sa != sb:
+        if sa * sb < 0:                      # an exact zero at an end proves no change
             return Crossing(s, (a, b), (sa, sb))
         last = UncertifiedError(f"expected opposite signs of det J around s = {s:.15g}, got "
                                 f"{sa:+d} on both sides of [{float(a):.15g}, {float(b):.15g}]")

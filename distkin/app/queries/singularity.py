@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...argcheck import as_table, check_keys, method_field, positive_int
-from ...errors import InputError
+from ...errors import DegenerateGeometryError, InputError
 from ...exact import parse_vector, to_tier
 from ..query import Outcome, register
 
@@ -194,41 +194,97 @@ class OctahedralModel:
         return rotation_from_vector(np.array([float(x) for x in pose.rotation]) * self.angle)
 
 
+def _check_legs(model, R, t, field):
+    """A zero-length leg (its line undefined) at float poses R (n,3,3), t (n,3):
+    :class:`DegenerateGeometryError` naming the leg by its joints (P1–P4, ...)."""
+    from ...singularity import OCTAHEDRAL_LEGS, octahedral_joints
+    b, q = octahedral_joints(model.points(R, t))
+    zero = ~(np.linalg.norm(q - b, axis=-1) > 0)
+    if zero.any():
+        n, k = (int(i) for i in np.argwhere(zero)[0])
+        i, j = OCTAHEDRAL_LEGS[k]
+        where = f" at pose {n} of the path" if len(zero) > 1 else ""
+        raise DegenerateGeometryError(
+            f"expected legs of non-zero length, got leg {k + 1} (P{i}–P{j}) of length 0"
+            f"{where}: P{j} coincides with P{i}, the leg's line is undefined", field=field)
+
+
+def _guarded(f):
+    """``f()``, or ``(None, reason)`` where a test is undefined (a degenerate plane or
+    tetrahedron, :class:`DegenerateGeometryError`)."""
+    try:
+        return f(), None
+    except DegenerateGeometryError as exc:
+        return None, exc.message
+
+
 def _tests(model, R, t):
-    """All characterisations at float poses R (n,3,3), t (n,3)."""
+    """All characterisations at float poses R (n,3,3), t (n,3).  A test that is
+    undefined there (a flat tetrahedron, three collinear points of a plane) is None,
+    with the reason in ``undefined``."""
     from ...singularity import (cm_pure_condition, four_planes, plucker_jacobian,
                               octahedral_joints, signed_cm_condition)
     X = model.points(R, t)
     J = plucker_jacobian(*octahedral_joints(X))
     J[..., 3:] /= model.L
-    fp = four_planes(X, length_scale=model.L)
-    return {"det_J": np.linalg.det(J),
-            "sigma_min": np.linalg.svd(J, compute_uv=False)[..., -1],
-            "cm_condition_relative": cm_pure_condition(X, relative=True),
-            "signed_cm_relative": signed_cm_condition(X, relative=True),
-            "four_planes_relative": np.asarray(fp.relative),
-            "four_planes_spread": np.asarray(fp.spread),
-            "four_planes_point": fp.point}
+    out = {"det_J": np.linalg.det(J), "sigma_min": np.linalg.svd(J, compute_uv=False)[..., -1]}
+    undefined = {}
+    for key, f in (("cm_condition_relative", lambda: cm_pure_condition(X, relative=True)),
+                   ("signed_cm_relative", lambda: signed_cm_condition(X, relative=True))):
+        out[key], why = _guarded(f)
+        if why:
+            undefined[key] = why
+    fp, why = _guarded(lambda: four_planes(X, length_scale=model.L))
+    if why:
+        undefined["four_planes"] = why
+    out.update({"four_planes_relative": None if fp is None else np.asarray(fp.relative),
+                "four_planes_spread": None if fp is None else np.asarray(fp.spread),
+                "four_planes_point": None if fp is None else fp.point,
+                "undefined": undefined})
+    return out
+
+
+def _opt(v):
+    return None if v is None else float(v)
+
+
+def _sampled(f, what, notes):
+    """``f`` over a grid of s, NaN at the samples where the test is undefined (one
+    note naming them and why); batched when no sample is."""
+    def g(s):
+        try:
+            return f(s)
+        except DegenerateGeometryError:
+            vals = np.array([_guarded(lambda: f(np.array([x])))[0] for x in s], dtype=object)
+            bad = [float(x) for x, v in zip(s, vals) if v is None]
+            why = _guarded(lambda: f(np.array([bad[0]])))[1]
+            notes.append(f"  {what} undefined at s = {', '.join(f'{x:.6g}' for x in bad)}: {why}")
+            return np.array([np.nan if v is None else float(np.asarray(v)[0]) for v in vals])
+    return g
 
 
 def _first(d):
-    return {k: (v[0] if np.ndim(v) >= 1 else v) for k, v in d.items()}
+    return {k: (v[0] if v is not None and np.ndim(v) >= 1 else v) for k, v in d.items()}
 
 
 def _run_pose(model, p, unit):
     from ...singularity import certified_sign, nearest_singularity
     R = model.rotation(p.pose)
     t = np.array([float(x) for x in p.pose.translation])
+    _check_legs(model, R[None], t[None], "pose")
     tests = _first(_tests(model, R[None], t[None]))
     ns = nearest_singularity(lambda Rs, ts: model.det_j(Rs, ts), R, t, model.L)
+    undefined = tests["undefined"]
     res = {"pose": {"rotation_matrix": R, "translation": t},
            "length_scale": model.L,
            "det_J": float(tests["det_J"]), "sigma_min": float(tests["sigma_min"]),
-           "cm_condition_relative": float(tests["cm_condition_relative"]),
-           "signed_cm_relative": float(tests["signed_cm_relative"]),
-           "four_planes": {"relative": float(tests["four_planes_relative"]),
+           "singular": bool(abs(tests["det_J"]) < p.tolerance),
+           "cm_condition_relative": _opt(tests["cm_condition_relative"]),
+           "signed_cm_relative": _opt(tests["signed_cm_relative"]),
+           "four_planes": {"relative": _opt(tests["four_planes_relative"]),
                            "point": tests["four_planes_point"],
-                           "spread": float(tests["four_planes_spread"])},
+                           "spread": _opt(tests["four_planes_spread"])},
+           "undefined": undefined,
            "nearest_singularity": {"distance": ns.distance, "first_order": ns.first_order,
                                    "converged": ns.converged, "residual": ns.residual,
                                    "rotation_matrix": ns.rotation, "translation": ns.translation,
@@ -237,12 +293,18 @@ def _run_pose(model, p, unit):
              f"rotation vector = {[float(x) for x in p.pose.rotation]} "
              f"{'deg' if model.deg else 'rad'}",
              f"det J (eq. 5, moments / L, L = {model.L:.6g}{unit}) = {res['det_J']:.6e}; "
-             f"sigma_min(J) = {res['sigma_min']:.4e}",
-             f"Cayley-Menger condition (paper, relative) = {res['cm_condition_relative']:.3e}; "
-             f"signed CM form (relative) = {res['signed_cm_relative']:.3e}",
-             f"four planes: spread from their common point = "
-             f"{res['four_planes']['spread']:.3e}{unit}"]
-    if abs(res["cm_condition_relative"]) < 1e-9 and abs(res["det_J"]) > p.tolerance:
+             f"sigma_min(J) = {res['sigma_min']:.4e}"
+             + (f" (|det J| < tolerance {p.tolerance:g}: a singular pose)" if res["singular"]
+                else "")]
+    fmt = lambda k, text: (f"{text} = {res[k]:.3e}" if k not in undefined  # noqa: E731
+                           else f"{text}: undefined ({undefined[k]})")
+    lines.append(f"{fmt('cm_condition_relative', 'Cayley-Menger condition (paper, relative)')}; "
+                 f"{fmt('signed_cm_relative', 'signed CM form (relative)')}")
+    lines.append(f"four planes: undefined ({undefined['four_planes']})" if "four_planes" in undefined
+                 else f"four planes: spread from their common point = "
+                      f"{res['four_planes']['spread']:.3e}{unit}")
+    cm = res["cm_condition_relative"]
+    if cm is not None and abs(cm) < 1e-9 and abs(res["det_J"]) > p.tolerance:
         lines.append("note: the paper's Cayley-Menger condition vanishes here although det J "
                      "!= 0 (its extra factor a - b = 0; the signed form does not vanish)")
     if ns.converged:
@@ -254,7 +316,9 @@ def _run_pose(model, p, unit):
         Ra, ta = _exact_pose_arb(model, p.pose)
         sgn = certified_sign(model.det_j_arb(Ra, ta))
         res["certified_sign_det_J"] = sgn
-        lines.append(f"certified (arb): sign det J = {sgn:+d}")
+        lines.append(f"certified (arb): sign det J = {sgn:+d}" if sgn else
+                     "certified (arb): det J = 0 exactly (a zero row or column of Jhat): "
+                     "a singular pose")
     if model.platform66 is not None:
         res["platform66"] = _check66(model, R[None], t[None])
         lines.append(f"6-6 platform: det(A) = {res['platform66']['det_A']}; "
@@ -299,10 +363,16 @@ def _run_path(model, p, unit):
     at = path.at
 
     f_det = lambda s: model.det_j(*at(s))  # noqa: E731
+    _check_legs(model, *at(np.linspace(0.0, 1.0, p.samples)), "path")
     roots, grid, vals = path_crossings(f_det, p.samples)
-    f_cm = lambda s: cm_pure_condition(model.points(*at(s)), relative=True)  # noqa: E731
-    f_k = lambda s: signed_cm_condition(model.points(*at(s)), relative=True)  # noqa: E731
-    f_fp = lambda s: np.asarray(four_planes(model.points(*at(s)), length_scale=model.L).relative)  # noqa: E731
+    notes = []
+    f_cm = _sampled(lambda s: cm_pure_condition(model.points(*at(s)), relative=True),
+                    "the paper's CM condition", notes)
+    f_k = _sampled(lambda s: signed_cm_condition(model.points(*at(s)), relative=True),
+                   "the signed CM form", notes)
+    f_fp = _sampled(lambda s: np.asarray(four_planes(model.points(*at(s)),
+                                                     length_scale=model.L).relative),
+                    "the four-planes test", notes)
     cm_roots, _, cm_vals = path_crossings(f_cm, p.samples)
     k_roots, _, k_vals = path_crossings(f_k, p.samples)
     fp_roots, _, fp_vals = path_crossings(f_fp, p.samples)
@@ -313,26 +383,29 @@ def _run_path(model, p, unit):
         R, t = at(np.array([s]))
         tests = _first(_tests(model, R, t))
         near = lambda rs: min((abs(r - s) for r in rs), default=float("inf"))  # noqa: E731
+        und = tests["undefined"]
         fire = {"det_J": bool(abs(tests["det_J"]) < p.tolerance),
-                "cayley_menger": bool(near(cm_roots) < 1e-9
+                "cayley_menger": bool(near(cm_roots) < 1e-9 and "cm_condition_relative" not in und
                                       and abs(tests["cm_condition_relative"]) < 1e-6),
                 "signed_cayley_menger": bool(near(k_roots) < 1e-9),
-                "four_planes": bool(near(fp_roots) < 1e-9
+                "four_planes": bool(near(fp_roots) < 1e-9 and "four_planes" not in und
                                     and tests["four_planes_spread"] < 1e-6 * model.L)}
         entry = {"s": s, "rotation_matrix": R[0], "translation": t[0],
                  "det_J": float(tests["det_J"]), "sigma_min": float(tests["sigma_min"]),
-                 "cm_condition_relative": float(tests["cm_condition_relative"]),
-                 "signed_cm_relative": float(tests["signed_cm_relative"]),
-                 "four_planes_spread": float(tests["four_planes_spread"]),
-                 "four_planes_point": tests["four_planes_point"],
+                 "cm_condition_relative": _opt(tests["cm_condition_relative"]),
+                 "signed_cm_relative": _opt(tests["signed_cm_relative"]),
+                 "four_planes_spread": _opt(tests["four_planes_spread"]),
+                 "four_planes_point": tests["four_planes_point"], "undefined": und,
                  "root_distance": {"cayley_menger": near(cm_roots),
                                    "signed_cayley_menger": near(k_roots),
                                    "four_planes": near(fp_roots)},
                  "fires": fire, "all_fire": all(fire.values())}
+        e = lambda k: "undefined" if entry[k] is None else f"{entry[k]:.1e}"  # noqa: E731
         text = (f"  crossing at s = {s:.15f}: t = ({t[0, 0]:.6f}, {t[0, 1]:.6f}, {t[0, 2]:.6f}){unit}; "
-                f"det J = {entry['det_J']:.1e}, CM = {entry['cm_condition_relative']:.1e}, "
-                f"four-planes spread = {entry['four_planes_spread']:.1e}{unit}; all three fire: "
+                f"det J = {entry['det_J']:.1e}, CM = {e('cm_condition_relative')}, "
+                f"four-planes spread = {e('four_planes_spread')}{unit}; all three fire: "
                 f"{entry['all_fire']}")
+        text += "".join(f"\n    {k} undefined: {why}" for k, why in und.items())
         if p.method == "certified":
             f_arb = lambda q: model.det_j_arb(*path.at_certified(q))  # noqa: E731
             c = certify_crossing(f_arb, s)
@@ -359,6 +432,7 @@ def _run_path(model, p, unit):
         lines.append(f"  the signed CM form also vanishes at s = "
                      f"{', '.join(f'{r:.6f}' for r in k_spurious)}: a flat tetrahedron "
                      f"(a = V1245 V3456 V1236 = 0), not a singularity")
+    lines.extend(dict.fromkeys(notes))
     dist = []
     for s in (0.0, 1.0):
         R, t = at(np.array([s]))
@@ -392,7 +466,7 @@ def plot_path(data, stem):
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(figsize=(7.0, 4.4))
     s = data["s"]
-    norm = lambda v: np.asarray(v) / max(np.max(np.abs(v)), 1e-300)  # noqa: E731
+    norm = lambda v: np.asarray(v) / max(np.nanmax(np.abs(v), initial=0.0), 1e-300)  # noqa: E731
     ax.axhline(0.0, color="0.6", lw=0.8)
     ax.plot(s, norm(data["det_J"]), lw=2.2, label="det J (eq. 5), scaled")
     ax.plot(s, norm(data["four_planes"]), "--", lw=1.6, label="four-planes determinant, scaled")
