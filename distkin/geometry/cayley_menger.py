@@ -404,10 +404,12 @@ def squared_distances(points):
     kind = _kind_of(flat, "coordinates")
     if kind == "float":
         return squared_distances(arr.astype(float))
-    if kind in ("mpf", "arb"):
+    if kind in ("mpf", "arb"):             # exact entries (ints, fmpq) are finite
         import mpmath
         for v in flat:
-            if not (v.is_finite() if type(v).__name__ == "arb" else mpmath.isfinite(v)):
+            name = type(v).__name__
+            if (name == "arb" and not v.is_finite()) or (name == "mpf" and
+                                                          not mpmath.isfinite(v)):
                 raise InputError(f"expected finite coordinates, got {v}", field="points")
     n = arr.shape[0]
     if arr.ndim != 2:

@@ -308,3 +308,18 @@ def test_trilateration_tol_is_checked(method):
             trilaterate(TRI, [1, 2, 2], method=method, tol=bad)
     np.testing.assert_allclose(_floats(trilaterate(TRI, [1, 2, 2], method=method, tol=1e-9)),
                                [0, 0, 1], atol=1e-15)
+
+
+@pytest.mark.parametrize("ball", [arb, mpmath.mpf])
+def test_balls_mixed_with_exact_coordinates(ball):
+    """arb or mpf coordinates beside exact ones (fmpq, int: what the certified tier makes
+    of '1/2' beside 'sqrt(3)/2') are fine: the finiteness check of the balls raised
+    TypeError on the exact entries (the demo's certified Cayley-Menger query).
+    Reference: the unit equilateral triangle, D(1,2,3) = -16 * 3/16 = -3."""
+    if ball is arb:
+        pts = [[fmpq(0), 0, 0], [1, fmpq(0), 0], [fmpq(1, 2), arb(3).sqrt() / 2, 0]]
+    else:                                          # the precise tier: ints beside mpf
+        pts = [[0, 0, 0], [1, 0, 0], [mpmath.mpf(1) / 2, mpmath.sqrt(3) / 2, 0]]
+    pts = np.array(pts, dtype=object)
+    d = cayley_menger(squared_distances(pts), (1, 2, 3))
+    assert abs(float(d.mid() if ball is arb else d) + 3) < 1e-12
