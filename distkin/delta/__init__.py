@@ -2,8 +2,10 @@
 Manipulator Revisited*, ICRA 2012, Sec. IV, eqs. (7)-(9)): :mod:`.transform` (offsets ->
 (A, b), the transform itself) and the equivalent 6-6 platforms with their forward
 kinematics; the approximations of Fig. 2 (b)-(d) and what their offsets cost
-(:mod:`.approximations`, :mod:`.offset_study`).  Their inputs are checked and made
-exact in :mod:`.exact_input` (a bare float is its exact binary value)."""
+(:mod:`.approximations`, :mod:`.offset_study`, the singular locus in
+:mod:`.singular_locus`).  Their inputs are checked and made exact in :mod:`.exact_input`
+(a bare float is its exact binary value); the true poses of the study are checked in
+:mod:`.pose_input`."""
 
 from .transform import (RowSpec, ROWS, SIDE_NAMES, Eq7, derive_eq7, delta_matrices,
                         side_lengths, DeltaTransform, delta_transform)

@@ -165,7 +165,7 @@ def stoughton_arai_approximation(octahedral, delta, *, pattern: str = "mixed") -
     -------
     Platform66
     """
-    if pattern not in ("mixed", "paired"):
+    if not isinstance(pattern, str) or pattern not in ("mixed", "paired"):
         raise InputError(f"expected pattern 'mixed' or 'paired', got {pattern!r}",
                          field="pattern")
     d = _delta(delta)
@@ -192,16 +192,37 @@ def griffis_duffy_approximation(octahedral, delta) -> Platform66:
     return equivalent_platform(octahedral, [d] * 6)
 
 
-def approximation(octahedral, kind: str, delta, **kwargs) -> Platform66:
+def approximation(octahedral, kind: str, delta, *, pattern: str | None = None) -> Platform66:
     """The approximation ``kind`` (one of :data:`KINDS`) with offset ``delta`` (length
-    units); ``kwargs`` go to the constructor (``pattern`` for Stoughton-Arai)."""
+    units).
+
+    Parameters
+    ----------
+    octahedral, delta : as :func:`standard_approximation`
+    kind : {"standard", "stoughton_arai", "griffis_duffy"}
+    pattern : {"mixed", "paired"} or None
+        Stoughton-Arai only (:func:`stoughton_arai_approximation`; None: ``"mixed"``).
+        Given with another kind it is refused: those splits have no pattern to choose.
+
+    Raises
+    ------
+    InputError
+        An unknown ``kind``; a ``pattern`` with a kind other than ``"stoughton_arai"``
+        or not one of its patterns; a bad ``delta`` or ``octahedral``.
+    """
     makers = {"standard": standard_approximation,
               "stoughton_arai": stoughton_arai_approximation,
               "griffis_duffy": griffis_duffy_approximation}
-    if kind not in makers:
+    if not isinstance(kind, str) or kind not in makers:
         raise InputError(f"expected one of {', '.join(map(repr, KINDS))}, got {kind!r}",
                          field="kind")
-    return makers[kind](octahedral, delta, **kwargs)
+    if kind == "stoughton_arai":
+        return stoughton_arai_approximation(octahedral, delta,
+                                            pattern="mixed" if pattern is None else pattern)
+    if pattern is not None:
+        raise InputError(f"expected no pattern for kind {kind!r} (only 'stoughton_arai' "
+                         f"has one), got {pattern!r}", field="pattern")
+    return makers[kind](octahedral, delta)
 
 
 def joint_offsets(octahedral, platform: Platform66):

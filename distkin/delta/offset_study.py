@@ -12,20 +12,15 @@ angle of :math:`R^T R'` (rad).  First order, the error is the twist
 modification the offsets can also be handled exactly: :math:`l^2 = \mathbf A^{-1}(m^2 +
 \mathbf b)` (eq. (8), :func:`~.platform66.forward_kinematics66`), ``exact_*``.
 
-Singularities (:func:`singularity_shift`): :math:`\det\mathbf J` of eq. (5) (normalised
-Plücker coordinates, moment columns divided by the platform circumradius L,
-dimensionless) along straight lines in pose space (:class:`PoseLine`); each zero of the
-octahedral one is matched with the nearest zero of each approximation, and the shift is
-measured as pose-space distance :math:`\sqrt{|\Delta t|^2 + L^2|\Delta w|^2}` (length
-units).  For Fig. 2(d), :math:`\hat{\mathbf J}_{66} = \mathbf A\,\hat{\mathbf J}`
-exactly (eq. (6) with the unnormalised matrices), :func:`plucker_identity_residual`.
+The movement of the singular locus (:func:`singularity_shift`, eq. (6)) is measured in
+:mod:`.singular_locus`; its names are re-exported here.
 
-Tiers: pose errors ``fast``, ``auto`` (escalation of the octahedral solver) and
-``precise`` (mpmath legs, poses and errors at ``dps``); ``certified`` is refused: the
-squared 6-6 legs of a float pose are not exact rationals of the octahedral problem the
-certified solver could prove.  Singularity shifts ``fast`` (brentq) and ``certified``
-(each zero bracketed by arb-certified opposite signs of det J, :func:`~distkin.
-singularity.paths.certify_crossing`; the shift is then a certified interval).
+Tiers: pose errors ``auto`` (default: the fast tier when it proves its assembly roots,
+else the certified one), ``fast`` (float64) and ``precise`` (mpmath legs, poses and
+errors at ``dps``); in ``fast`` and ``precise`` an unproved solve gives
+``trusted=False`` and a :class:`~distkin.errors.ConditioningWarning` (never a silent
+wrong branch).  ``certified`` is refused: the squared 6-6 legs of a float pose are not
+exact rationals of the octahedral problem the certified solver could prove.
 """
 
 from __future__ import annotations
@@ -36,14 +31,16 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..errors import ConditioningWarning, InputError
+from ..errors import ConditioningWarning
 from ..exact import check_method, default_dps
-from ..singularity.conditions import jacobian_det, plucker_jacobian
-from ..singularity.paths import (certify_crossing, path_crossings, pose_points,
-                                 rotation_from_vector)
+from ..singularity.conditions import plucker_jacobian
+from ..singularity.paths import pose_points
 from .approximations import KINDS, approximation, octahedral_as_66
 from .platform66 import Platform66, forward_kinematics66
 from .exact_input import _as_sym, _base_platform
+from .pose_input import check_platform66, check_poses, check_rotation, check_translation
+from .singular_locus import (PoseLine, Shift, det_along, normal_line, platform_frame,
+                             plucker_identity_residual, singularity_shift)
 
 __all__ = [
     "PoseError",
@@ -59,15 +56,6 @@ __all__ = [
     "Comparison",
     "compare_approximations",
 ]
-
-
-def platform_frame(octahedral):
-    """``(centroid (3,), circumradius L)`` of the platform triangle P4 P5 P6 in its own
-    frame (float, length units): the reference point of the position error and the
-    length converting rotations to pose-space distance."""
-    q = octahedral_as_66(octahedral).joints("fast")[1]
-    c = q.mean(axis=0)
-    return c, float(np.max(np.linalg.norm(q - c, axis=1)))
 
 
 def leg_lengths(platform: Platform66, rotation, translation):
@@ -104,8 +92,11 @@ class PoseError:
     exact_position, exact_orientation : float
         Griffis-Duffy only: error of the exact route through eq. (8) (else ``nan``).
     trusted : bool
-        The octahedral solver proved its assembly roots (fast tier) or answered in a
-        higher tier; False means an unproved fast answer.
+        Every octahedral solve behind the errors (the neglected route and, for
+        Griffis-Duffy, the Δ route) proved its assembly roots (fast tier), answered
+        in the certified tier, or (precise) did not warn that its count may be wrong.
+        False: the errors may measure the distance to another branch; a
+        ConditioningWarning was issued.
     leg_change : float
         :math:`\\max_k |m_k - l_k|` (length units).
     """
@@ -145,7 +136,7 @@ def _mpf_fraction(x):
 
 
 def neglected_offset_error(octahedral, platform: Platform66, rotation, translation, *,
-                           method: str = "fast", dps: int | None = None) -> PoseError:
+                           method: str = "auto", dps: int | None = None) -> PoseError:
     r"""The pose error of treating the 6-6 platform's legs as octahedral legs.
 
     Rojas et al., Sec. I ("if the offsets are neglected ... errors arise"): the legs
@@ -155,27 +146,67 @@ def neglected_offset_error(octahedral, platform: Platform66, rotation, translati
     For a Griffis-Duffy platform (``platform.transform`` set) the exact route of
     eq. (8) is measured as well.
 
+    The answer is only as good as the list of assembly modes: a mode the solver misses
+    (near the symmetric poses of the Griffis-Duffy example, for instance, the fast
+    tier's octic has clustered roots) makes the nearest *found* mode another branch,
+    and the "error" then is the distance between branches (QA: 3.4 instead of 0.048).
+    Hence the default ``auto``, which keeps the fast answer only when the fast tier
+    proves its real-root count and otherwise solves again in the certified tier.
+
     Parameters
     ----------
     octahedral : Octahedral or (base, platform)
     platform : Platform66
         An approximation of ``octahedral`` (:mod:`.approximations`).
     rotation : (3, 3), translation : (3,)
-        The true pose (platform frame -> base frame; length units).
-    method : {"fast", "auto", "precise"}
-        Tier of the octahedral solves; ``precise`` computes legs, poses and errors in
-        mpmath at ``dps`` digits (default 30).  ``certified`` is refused (module
-        docstring).
+        The true pose (platform frame -> base frame; length units).  The rotation must
+        be orthonormal within :data:`~.pose_input.ROTATION_TOL` with determinant +1.
+    method : {"auto", "fast", "precise"}
+        Tier of the octahedral solves.  ``auto`` (default): fast when proved, else
+        certified (:mod:`distkin.octahedral.auto`).  ``fast``: float64 only.
+        ``precise``: legs, poses and errors in mpmath at ``dps`` digits (default 30).
+        ``certified`` is refused (module docstring).  In every tier, a solve that is
+        not proved (the fast tier's real-root count, or a precise solve that warns
+        its count may be wrong) gives ``trusted=False`` *and* one
+        :class:`~distkin.errors.ConditioningWarning`: its errors may be those of
+        another assembly mode.  ``auto`` does not leave one unproved.
 
     Returns
     -------
     PoseError
+
+    Raises
+    ------
+    InputError
+        A rotation that is not one (wrong shape, NaN, not orthonormal, a reflection), a
+        translation that is not a finite 3-vector, a platform that is not a
+        :class:`Platform66`, an unknown method.
+
+    Warns
+    -----
+    ConditioningWarning
+        An octahedral solve (or the Δ route's) was not proved (``trusted`` is False).
     """
     check_method(method, allowed=("fast", "auto", "precise"))
+    R, t = check_rotation(rotation), check_translation(translation)
+    err, doubt = _neglected(octahedral, check_platform66(platform), R, t, method, dps)
+    if doubt:
+        warnings.warn(_doubt_message(err, doubt, method), ConditioningWarning, stacklevel=2)
+    return err
+
+
+def _doubt_message(err, doubt, method):
+    exact = "" if np.isnan(err.exact_position) else f", Δ route {err.exact_position:.4g}"
+    return (f"{method} tier: {doubt}, so the nearest assembly mode found may be another "
+            f"branch (position error {err.position:.4g}, first-order estimate "
+            f"{err.first_order_position:.4g}{exact}); PoseError.trusted is False; use "
+            "method='auto' (the default)")
+
+
+def _neglected(octahedral, platform, R, t, method, dps):
+    """(PoseError, doubt): doubt names the unproved solves ('' when none)."""
     from ..octahedral import forward_kinematics
     base, plat = _base_platform(octahedral)
-    R = np.asarray(rotation, dtype=float)
-    t = np.asarray(translation, dtype=float)
     c, L = platform_frame(octahedral)
     oct66 = octahedral_as_66(octahedral)
     m = leg_lengths(platform, R, t)
@@ -185,8 +216,7 @@ def neglected_offset_error(octahedral, platform: Platform66, rotation, translati
     J = plucker_jacobian(ob, pose_points(oq, R, t), reference=R @ c + t)
     tw = np.linalg.solve(J, m - l0)
     fo_pos, fo_ang = float(np.linalg.norm(tw[:3])), float(np.linalg.norm(tw[3:]))
-    kind = "precise" if method == "precise" else "fast"
-    if kind == "precise":
+    if method == "precise":
         import mpmath
         with mpmath.workdps(default_dps(dps)):
             mp = mpmath.mpf
@@ -197,220 +227,64 @@ def neglected_offset_error(octahedral, platform: Platform66, rotation, translati
             legs = [mpmath.sqrt(sum(x * x for x in (Rm.dot(q[k]) + tm - b[k])))
                     for k in range(6)]
             exact_legs = [_mpf_fraction(x) for x in legs]
-            res = forward_kinematics(base, plat, exact_legs, method="precise", dps=dps)
+            res, why = _solve(forward_kinematics, base, plat, exact_legs, method="precise",
+                              dps=dps)
             poses = [(np.asarray(p.native["rotation"], dtype=object),
                       np.asarray(p.native["translation"], dtype=object)) for p in res.poses]
             pos, ang = _nearest(poses, Rm, tm, cm, L, "precise")
             ex = _exact_route(octahedral, platform, exact_legs, "precise", dps, Rm, tm, cm, L)
-        trusted = True
     else:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", ConditioningWarning)
-            res = forward_kinematics(base, plat, [float(x) for x in m], method=method)
-        cond = getattr(res, "conditioning", None)
-        trusted = res.tier != "fast" or cond is None or bool(cond.trusted)
+        res, why = _solve(forward_kinematics, base, plat, [float(x) for x in m],
+                          method=method)
         pos, ang = _nearest([(p.rotation, p.translation) for p in res.poses], R, t, c, L,
                             "fast")
         ex = _exact_route(octahedral, platform, [float(x) for x in m], method, dps, R, t, c, L)
-    return PoseError(pos, ang, fo_pos, fo_ang, ex[0], ex[1], trusted,
-                     float(np.max(np.abs(m - l0))))
+    doubts = [f"{what} is not proved ({w})" for what, w in
+              (("the octahedral solve", why), ("the Δ route's octahedral solve", ex[2]))
+              if w]
+    err = PoseError(pos, ang, fo_pos, fo_ang, ex[0], ex[1], not doubts,
+                    float(np.max(np.abs(m - l0))))
+    return err, " and ".join(doubts)
+
+
+def _solve(fn, *args, **kwargs):
+    """``fn(*args, **kwargs)`` (an octahedral or Δ forward kinematics) with its
+    ConditioningWarnings held back: (result, why), ``why`` the fast tier's reason when
+    its real-root count is not proved, else what the solver warned ('' when nothing).
+    The caller reports it once, with what it means for the pose error."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", ConditioningWarning)
+        res = fn(*args, **kwargs)
+    said = []
+    for w in caught:
+        if issubclass(w.category, ConditioningWarning):
+            said.append(str(w.message))
+        else:                                             # not ours to hold back
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    octa = getattr(res, "octahedral", res)
+    cond = getattr(octa, "conditioning", None)
+    if getattr(octa, "tier", None) == "fast" and cond is not None and not cond.trusted:
+        return res, cond.reason or "the real-root count"
+    return res, "; ".join(said)
+
+
+def _float_pose(R, t):
+    """Float64 (R, t) of a pose in any tier (arb balls by their midpoints)."""
+    f = lambda x: float(x.mid()) if type(x).__name__ == "arb" else float(x)  # noqa: E731
+    return (np.array([[f(x) for x in row] for row in R]), np.array([f(x) for x in t]))
 
 
 def _exact_route(octahedral, platform, legs, method, dps, R, t, c, L):
+    """(position, angle, doubt) of the Δ route (eq. (8)); nan without a transform."""
     if platform.transform is None:
-        return float("nan"), float("nan")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", ConditioningWarning)
-        res = forward_kinematics66(octahedral, list(platform.transform.offsets), legs,
-                                   method=method, dps=dps)
-    kind = "precise" if method == "precise" else "fast"
-    return _nearest([(p.rotation, p.translation) for p in res.poses], R, t, c, L, kind)
-
-
-def plucker_identity_residual(octahedral, platform: Platform66, rotation, translation):
-    r"""Eq. (6) as a matrix identity: :math:`\hat{\mathbf J}_{66} = \mathbf A\hat{\mathbf J}`
-    (unnormalised Plücker matrices, :math:`\operatorname{diag}(m)\dot m = \mathbf A
-    \operatorname{diag}(l)\dot l`).  Returns :math:`\max|\hat{\mathbf J}_{66} -
-    \mathbf A\hat{\mathbf J}| / \max|\hat{\mathbf J}_{66}|` (float, dimensionless) for
-    a Griffis-Duffy platform at a pose."""
-    if platform.transform is None:
-        raise InputError("expected a Griffis-Duffy (Δ) platform with a transform, got one "
-                         "without", field="platform")
-    A = np.array(platform.transform.A.tolist(), dtype=float)
-    R, t = np.asarray(rotation, float), np.asarray(translation, float)
-    mats = []
-    for plat in (platform, octahedral_as_66(octahedral)):
-        b, q = plat.joints("fast")
-        mats.append(plucker_jacobian(b, pose_points(q, R, t), normalised=False))
-    return float(np.max(np.abs(mats[0] - A @ mats[1])) / np.max(np.abs(mats[0])))
-
-
-# ------------------------------------------------------------------ singular locus
-
-@dataclass(frozen=True)
-class PoseLine:
-    r"""A line in pose space through :math:`(R_0, t_0)`: for :math:`s\in[0,1]`,
-    :math:`u = 2s-1`, the platform is turned by :math:`\operatorname{Rot}(u\,w)` about
-    the point ``centre`` (base frame) and shifted by :math:`u\,x`:
-    :math:`R = \operatorname{Rot}(uw)R_0`,
-    :math:`t = \operatorname{Rot}(uw)(t_0 - c) + c + u\,x`.
-
-    Attributes
-    ----------
-    rotation : (3, 3); translation : (3,) length units
-    dx : (3,) length units; dw : (3,) rad (rotation vector, base frame)
-    centre : (3,) length units or None
-        The fixed point of the rotation; None (default): the platform frame's origin
-        :math:`t_0`, so that :math:`t = t_0 + u\,x` as in
-        :func:`~distkin.singularity.paths.nearest_singularity`.
-    """
-
-    rotation: np.ndarray
-    translation: np.ndarray
-    dx: np.ndarray
-    dw: np.ndarray
-    centre: tuple | None = None
-
-    def length(self, L: float) -> float:
-        """Pose-space length of the line, :math:`2\\sqrt{|x|^2 + L^2|w|^2}` (length units)."""
-        return 2.0 * float(np.hypot(np.linalg.norm(self.dx), L * np.linalg.norm(self.dw)))
-
-    def at(self, s):
-        """Float poses at ``s`` (n,): R (n, 3, 3), t (n, 3)."""
-        u = 2.0 * np.asarray(s, dtype=float)[:, None] - 1.0
-        Rw = rotation_from_vector(u * np.asarray(self.dw, float))
-        c = np.asarray(self.translation if self.centre is None else self.centre, float)
-        t = np.einsum("nij,j->ni", Rw, np.asarray(self.translation, float) - c) + c
-        return Rw @ np.asarray(self.rotation, float), t + u * np.asarray(self.dx, float)
-
-    def at_certified(self, s):
-        """arb pose at a rational ``s`` (fmpq): R (3, 3), t (3,) as arb balls (the float
-        data taken as exact binary values)."""
-        import flint
-        u = 2 * flint.arb(s) - 1
-        a = lambda v: np.array([flint.arb(float(x)) for x in v], dtype=object)  # noqa: E731
-        Rw = rotation_from_vector(u * a(self.dw), method="certified")
-        R0 = np.array([a(r) for r in np.asarray(self.rotation, float)], dtype=object)
-        c = a(self.translation if self.centre is None else self.centre)
-        t = Rw.dot(a(self.translation) - c) + c + u * a(self.dx)
-        return Rw.dot(R0), t
-
-
-def det_along(platform: Platform66, rotation, translation, length_scale: float, *,
-              method: str = "fast"):
-    r""":math:`\det\mathbf J` of eq. (5) for ``platform`` at poses, moment columns divided
-    by ``length_scale`` (dimensionless).  ``fast``: batched (..., 3, 3) / (..., 3) float;
-    ``certified``: one arb pose, an arb ball."""
-    b, q = platform.joints("certified" if method == "certified" else "fast")
-    if method == "certified":
-        world = pose_points(q, rotation, translation)
-        return jacobian_det(b, world, length_scale=length_scale, method="certified")
-    world = pose_points(q, np.asarray(rotation, float), np.asarray(translation, float))
-    return jacobian_det(np.broadcast_to(b, world.shape), world, length_scale=length_scale)
-
-
-def normal_line(octahedral, rotation, translation, half_length: float) -> PoseLine:
-    r"""The line through the octahedral singular pose nearest to a pose, along the
-    normal of the singular locus there, reaching ``half_length`` (pose-space distance,
-    length units) on each side.
-
-    The singular pose :math:`(R_s, t_s)` is found by
-    :func:`~distkin.singularity.paths.nearest_singularity` on the octahedral
-    :math:`\det\mathbf J` (eq. (5)); the normal is the gradient of
-    :math:`g(x, Lw) = \det\mathbf J(\operatorname{Rot}(w)R_s,\; t_s + x)` by central
-    differences, L the platform circumradius.
-
-    Raises
-    ------
-    InputError
-        The local search found no singular pose.
-    """
-    from ..singularity.paths import nearest_singularity
-    _, L = platform_frame(octahedral)
-    oct66 = octahedral_as_66(octahedral)
-    f = lambda R, t: det_along(oct66, R, t, L)  # noqa: E731
-    ns = nearest_singularity(f, np.asarray(rotation, float), np.asarray(translation, float), L)
-    if not ns.converged:
-        raise InputError("expected a singular pose near the given pose, the local search "
-                         "found none", field="rotation")
-    h = 1e-6 * L
-    Y = np.concatenate([np.eye(6), -np.eye(6)]) * h
-    vals = f(rotation_from_vector(Y[:, 3:] / L) @ ns.rotation, ns.translation + Y[:, :3])
-    n = (vals[:6] - vals[6:]) / (2 * h)
-    n = n / np.linalg.norm(n) * half_length
-    return PoseLine(ns.rotation, ns.translation, n[:3], n[3:] / L)
-
-
-@dataclass(frozen=True)
-class Shift:
-    """Result of :func:`singularity_shift` for one line.
-
-    Attributes
-    ----------
-    octahedral : tuple of float
-        Zeros of the octahedral det J on the line (parameter s in [0, 1]).
-    zeros : dict kind -> tuple of float
-        Zeros of each approximation's det J.
-    shift : dict kind -> array (len(octahedral),)
-        Pose-space distance (length units) from each octahedral zero to the nearest
-        zero of the approximation; ``nan`` when it has none on the line.
-    bounds : dict kind -> list of (lo, hi) or None
-        ``certified``: a certified interval (length units) containing each shift.
-    """
-
-    octahedral: tuple
-    zeros: dict
-    shift: dict
-    bounds: dict | None = None
-
-
-def singularity_shift(octahedral, platforms: dict, line: PoseLine, *, samples: int = 400,
-                      method: str = "fast") -> Shift:
-    """Zeros of det J (eq. (5)) along ``line`` for the octahedral manipulator and each
-    approximation in ``platforms`` (kind -> Platform66), and how far they moved.
-
-    Parameters
-    ----------
-    method : {"fast", "certified"}
-        ``certified`` brackets every zero by rational parameters at which arb proves
-        opposite signs of det J (:func:`~distkin.singularity.paths.certify_crossing`,
-        raising :class:`~distkin.errors.UncertifiedError` otherwise) and returns
-        certified shift intervals in ``bounds``.
-    """
-    check_method(method, allowed=("fast", "certified"))
-    _, L = platform_frame(octahedral)
-    span = line.length(L)
-    allp = {"octahedral": octahedral_as_66(octahedral), **platforms}
-    zeros, brackets = {}, {}
-    for name, plat in allp.items():
-        f = lambda s, p=plat: det_along(p, *line.at(s), L)  # noqa: E731
-        zeros[name] = tuple(path_crossings(f, samples)[0])
-        if method == "certified":
-            g = lambda s, p=plat: det_along(p, *line.at_certified(s), L,  # noqa: E731
-                                            method="certified")
-            brackets[name] = [certify_crossing(g, z).bracket for z in zeros[name]]
-    o = np.array(zeros["octahedral"])
-    shift, bounds = {}, ({} if method == "certified" else None)
-    for name in platforms:
-        z = np.array(zeros[name])
-        if z.size == 0:
-            shift[name] = np.full(o.size, np.nan)
-            if bounds is not None:
-                bounds[name] = [None] * o.size
-            continue
-        idx = [int(np.argmin(np.abs(z - s))) for s in o]
-        shift[name] = np.array([abs(z[j] - s) * span for j, s in zip(idx, o)])
-        if bounds is not None:
-            bounds[name] = [_interval_gap(brackets["octahedral"][i], brackets[name][j], span)
-                            for i, j in enumerate(idx)]
-    return Shift(zeros["octahedral"], {k: zeros[k] for k in platforms}, shift, bounds)
-
-
-def _interval_gap(a, b, span):
-    """Smallest and largest distance between points of two brackets, times ``span``."""
-    lo = max(0.0, float(max(a[0], b[0]) - min(a[1], b[1])))
-    hi = float(max(a[1], b[1]) - min(a[0], b[0]))
-    return lo * span, hi * span
+        return float("nan"), float("nan"), ""
+    res, why = _solve(forward_kinematics66, octahedral, list(platform.transform.offsets),
+                      legs, method=method, dps=dps)
+    if method == "precise":
+        return (*_nearest([(p.rotation, p.translation) for p in res.poses], R, t, c, L,
+                          "precise"), why)
+    poses = [_float_pose(p.rotation, p.translation) for p in res.poses]
+    return (*_nearest(poses, R, t, c, L, "fast"), why)
 
 
 # ------------------------------------------------------------------ the comparison
@@ -432,7 +306,8 @@ class Comparison:
     exact_position, exact_orientation : arrays (nd, np)
         Griffis-Duffy, exact route of eq. (8) (``nan`` when it is not among ``kinds``).
     untrusted : int
-        Octahedral solves the fast tier could not prove.
+        Pose errors (pose, offset, kind) with ``trusted=False``: resting on an
+        octahedral solve that was not proved (0 with ``auto``).
     shift : dict kind -> array (nd, nz)
         Singular-locus movement (length units) for every octahedral zero on ``lines``.
     identity_residual : array (nd,)
@@ -456,8 +331,9 @@ class Comparison:
 
 
 def compare_approximations(octahedral, rotations, translations, deltas, *, kinds=KINDS,
-                           lines=(), method: str = "fast", dps: int | None = None,
-                           samples: int = 400, progress=None) -> Comparison:
+                           lines=(), dps: int | None = None,
+                           samples: int = 400, progress=None, method: str = "auto"
+                           ) -> Comparison:
     """Neglected-offset pose errors and singularity movement of every approximation.
 
     Parameters
@@ -468,9 +344,12 @@ def compare_approximations(octahedral, rotations, translations, deltas, *, kinds
     deltas : (nd,) offsets, length units (numbers or exact strings).
     kinds : subset of :data:`~.approximations.KINDS`
     lines : sequence of :class:`PoseLine` for the singular locus.
-    method : {"fast", "auto", "precise"}
-        Pose errors as :func:`neglected_offset_error`; singularity shifts in float
-        (``fast``) whatever the pose tier.
+    method : {"auto", "fast", "precise"}
+        Pose errors as :func:`neglected_offset_error` (default ``auto``); singularity
+        shifts in float (``fast``) whatever the pose tier.  Unproved solves
+        (``fast``, ``precise``) are counted in ``untrusted`` and, when there are
+        any, reported by one :class:`~distkin.errors.ConditioningWarning` for the
+        whole comparison.
     progress : callable(str) or None
         Called once per offset (a progress line for long runs).
 
@@ -479,7 +358,7 @@ def compare_approximations(octahedral, rotations, translations, deltas, *, kinds
     Comparison
     """
     check_method(method, allowed=("fast", "auto", "precise"))
-    Rs, ts = np.asarray(rotations, float), np.asarray(translations, float)
+    Rs, ts = check_poses(rotations, translations)
     b = octahedral_as_66(octahedral).joints("fast")[0]
     base_size = float(max(np.linalg.norm(b[i] - b[j]) for i in range(6) for j in range(6)))
     nd, npose = len(deltas), len(Rs)
@@ -495,8 +374,8 @@ def compare_approximations(octahedral, rotations, translations, deltas, *, kinds
         plats = {k: approximation(octahedral, k, d) for k in kinds}
         for j in range(npose):
             for k, plat in plats.items():
-                e = neglected_offset_error(octahedral, plat, Rs[j], ts[j], method=method,
-                                           dps=dps)
+                e = _neglected(octahedral, check_platform66(plat), Rs[j], ts[j], method,
+                               dps)[0]
                 pos[k][i, j], ang[k][i, j] = e.position, e.orientation
                 fpos[k][i, j], fang[k][i, j] = e.first_order_position, e.first_order_orientation
                 untrusted += not e.trusted
@@ -512,6 +391,12 @@ def compare_approximations(octahedral, rotations, translations, deltas, *, kinds
                 row[k].extend(sh.shift[k])
         for k in kinds:
             shift[k].append(row[k])
+    if untrusted:
+        warnings.warn(f"{method} tier: {untrusted} of {nd * npose * len(kinds)} "
+                      "neglected-offset errors rest on octahedral solves that were not "
+                      "proved and may measure the distance to another branch "
+                      "(Comparison.untrusted); use method='auto' (the default)",
+                      ConditioningWarning, stacklevel=2)
     return Comparison(tuple(kinds), np.array([float(_as_sym(d, "deltas")) for d in deltas]),
                       base_size, pos, ang, fpos, fang, epos, eang, untrusted,
                       {k: np.array(v, dtype=float) for k, v in shift.items()}, resid, method)
