@@ -145,8 +145,9 @@ def report(cmp, nmodes, nlines, seconds, dps_check, mid, near, grid) -> str:
            f"{cmp.base_size:g}, platform side 6, lengths unitless). {npose} poses: its "
            f"{nmodes} assembly modes above the base and {npose - nmodes} random poses around "
            "them. δ is the centre distance of the two single joints replacing a double-ball "
-           f"joint. Tier `{cmp.method}`; {cmp.untrusted} octahedral solves not proved by "
-           f"the fast tier. Run time {seconds:.1f} s.", "",
+           f"joint. Tier `{cmp.method}`; {cmp.untrusted} octahedral solves left unproved "
+           "(`auto`: the fast tier's proof, else the certified tier). Run time "
+           f"{seconds:.1f} s.", "",
            "![errors and singularities](figures/offset_approximations.png)", "",
            "## Pose error of neglecting the offsets", "",
            "The 6-6 legs at the true pose are given to the octahedral forward kinematics; the "
