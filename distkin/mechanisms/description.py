@@ -17,7 +17,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from ..argcheck import as_floats, float_array
+from ..argcheck import as_floats, float_array, no_booleans
 from ..errors import InputError
 
 __all__ = ["RSSDescription", "GEOMETRY_FIELDS", "LAYOUTS", "LEG_LENGTH", "SI_UNITS"]
@@ -42,16 +42,31 @@ SI_UNITS = {**dict.fromkeys(("l0", "l1", "l2", "l3", "lp", "ld", "z0"), "m"),
 LEG_LENGTH = 0.3497
 
 
+def _rows(arr, field, width, what, also=""):
+    """The float array ``arr`` as rows (N, ``width``) (a 1-d ``arr`` as one row), and
+    whether it was one row; :class:`InputError` naming ``field`` for another shape (the
+    message says ``(N, width)``) or a NaN or inf."""
+    single = arr.ndim == 1
+    rows = arr.reshape(1, -1) if single else arr
+    if rows.ndim != 2 or rows.shape[1] != width:
+        raise InputError(f"expected shape ({width},) or (N, {width}) ({what}){also}, got "
+                         f"shape {arr.shape}", field=field)
+    return float_array(rows, field, (None, width)), single
+
+
 def _poses(poses, field="poses"):
     """Poses (N, 6) from (6,), (N, 6), a 4x4 homogeneous matrix or (N, 4, 4) matrices
-    (:func:`distkin.spatial.pose_from`), and whether one pose was given."""
-    arr = as_floats(poses, field, "poses (x, y, z, rx, ry, rz) in m and rad or 4x4 matrices")
+    (:func:`distkin.spatial.pose_from`), and whether one pose was given.  A boolean
+    anywhere is refused (:func:`~distkin.argcheck.no_booleans`; free for a numeric
+    array)."""
+    no_booleans(poses, field)
+    what = "poses (x, y, z, rx, ry, rz) in m and rad or 4x4 matrices"
+    arr = as_floats(poses, field, what)
     if arr.ndim >= 2 and arr.shape[-2:] == (4, 4):
         from ..spatial import matrix_to_pose
         arr = matrix_to_pose(arr)
-    single = arr.ndim == 1
-    arr = float_array(arr.reshape(1, -1) if single else arr, field, (None, 6))
-    return arr, single
+    return _rows(arr, field, 6, "x, y, z, rx, ry, rz in m and rad",
+                 ", or 4x4 matrices (4, 4) or (N, 4, 4)")
 
 
 @dataclass(frozen=True)
@@ -101,6 +116,9 @@ class RSSDescription:
     def __post_init__(self):
         if not isinstance(self.legs, int) or isinstance(self.legs, bool) or self.legs not in (6, 8):
             raise InputError(f"expected legs = 6 or 8, got {self.legs!r}", field="legs")
+        for f in ("l0", "l1", "l2", "l3", "lp", "ld", "z0", "beta", "gamma", "mass",
+                  "inertia"):
+            no_booleans(getattr(self, f), f)
         for f in ("l0", "l1", "lp", "z0", "mass", "inertia"):
             v = getattr(self, f)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):

@@ -46,9 +46,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..argcheck import as_floats, float_array
+from ..argcheck import as_floats, no_booleans
 from ..errors import InfeasibleError, InputError, SingularConfigurationError
 from ..spatial import exp_so3, rotate_pose_scalar, rotation_angles, rotation_matrix
+from .description import _poses, _rows
 
 __all__ = ["FKResult", "forward_kinematics", "gauss_newton", "round_trip",
            "pose_error_estimate", "leg_length", "RESIDUAL_ULPS"]
@@ -145,8 +146,8 @@ def forward_kinematics(mech, q, guess=None, *, tol=1e-13, max_iter=50, max_condi
     mech : RSSMechanism
     q : array (L,) or (N, L)
         Crank angles (rad).
-    guess : array (6,) or (N, 6), optional
-        Starting pose (m, rad); default the workspace centre.  Away from direct
+    guess : array (6,) or (N, 6), or 4x4 matrices (4, 4) or (N, 4, 4), optional
+        Starting pose (m, rad), one or one per q; default the workspace centre.  Away from direct
         singularities it converges to the answer from within a centimetre and 10 deg
         (1000 Table II poses of the hunt, ergin, octopod and octo presets); near one
         (the hexa preset has them inside the Table II workspace) a start a few mm away
@@ -177,15 +178,14 @@ def forward_kinematics(mech, q, guess=None, *, tol=1e-13, max_iter=50, max_condi
     FKResult
     """
     L = mech.legs
-    qa = as_floats(q, "q", f"{L} joint coordinates (rad, or m for prismatic legs)")
-    single = qa.ndim == 1
-    qa = float_array(qa.reshape(1, -1) if single else qa, "q", (None, L))
+    what = "joint coordinates (rad, or m for prismatic legs)"
+    no_booleans(q, "q")
+    qa, single = _rows(as_floats(q, "q", f"{L} {what}"), "q", L, what)
     N = len(qa)
     if guess is None:
         X = np.tile(mech.home, (N, 1))
     else:
-        g = as_floats(guess, "guess", "a pose (x, y, z, rx, ry, rz) in m and rad")
-        g = float_array(g.reshape(1, -1) if g.ndim == 1 else g, "guess", (None, 6))
+        g, _ = _poses(guess, "guess")                   # as the IK: (6,), (N, 6), 4x4
         if len(g) not in (1, N):
             raise InputError(f"expected {N} guesses or one, got {len(g)}", field="guess")
         X = np.array(np.broadcast_to(g, (N, 6)))

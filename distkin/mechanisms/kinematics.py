@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import ConditioningWarning, InputError
 from .description import _poses
 from .legs import LegsDescription
 
@@ -95,7 +95,8 @@ class KernelMethods:
             certified: of flint ``arb`` balls.
         valid : array (N, L) of bool
             The leg closes (the reach margin is >= 0) and, for a leg table with joint
-            ranges, q lies in its range.
+            ranges, q lies in its range; a prismatic leg of zero length is not valid
+            (its line, its row of J, is undefined; the certified tier refuses it too).
 
         Raises
         ------
@@ -105,6 +106,8 @@ class KernelMethods:
         InfeasibleError
             certified: a leg that certainly does not close.
         """
+        if dps is not None:
+            _check_dps(dps, method)
         if method != "fast":
             return self._tiered("ik", poses, method, dps)
         X, single = _poses(poses)
@@ -120,7 +123,31 @@ class KernelMethods:
         lo, hi = self._joint_ranges()
         if lo is not None:                 # revolute ranges (a prismatic stroke is in reach)
             valid &= (q >= lo) & (q <= hi)
+        legs = getattr(self, "leg_table", None)
+        if legs and any(leg.prismatic for leg in legs):
+            pris = np.array([leg.prismatic for leg in legs])
+            valid &= ~(pris & (q == 0.0))  # zero length: no line (q = |P - B| >= 0)
         return valid
+
+    def _fast(self, name, X, warn=True):
+        """The batched kernel ``name`` ("jacobian" or "jq_jx") at poses X (N, 6) without
+        numpy's RuntimeWarnings: where a row is not finite (a revolute leg at a serial
+        singularity, Jq_ii = 0; a prismatic leg of zero length, whose line is 0/0) a
+        :class:`~distkin.errors.ConditioningWarning` naming the first pose and leg
+        (``warn``)."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out = getattr(self.kernels("batched"), name)(X)
+        if warn and not np.isfinite(out).all():
+            bad = ~np.isfinite(out).all(axis=-1)                      # (N, L)
+            i, j = np.argwhere(bad)[0]
+            import warnings
+            warnings.warn(f"{name}: at {int(bad.any(axis=-1).sum())} of {len(X)} pose(s) a "
+                          f"row is not finite (first: pose {i}, leg {j + 1}): a revolute leg "
+                          f"at a serial singularity (Jq_ii = 0, its reach boundary) or a "
+                          f"prismatic leg of zero length (its line is undefined; not valid "
+                          f"in inverse_kinematics): J is unbounded or undefined there",
+                          ConditioningWarning, stacklevel=3)
+        return out
 
     def _tiered(self, what, poses, method, dps):
         """The precise or certified tier of :meth:`inverse_kinematics` ("ik"),
@@ -170,15 +197,19 @@ class KernelMethods:
         """J = Jq^-1 Jx (eqs. (1)-(2)), shape (N, L, 6), with qdot = J @ (v, omega).
 
         v in m/s, omega in rad/s (base frame), qdot in rad/s.  Legs that do not close
-        give finite but meaningless rows; check :meth:`inverse_kinematics`.
+        give finite but meaningless rows; check :meth:`inverse_kinematics`.  A leg at a
+        serial singularity (Jq_ii = 0) or a prismatic leg of zero length gives a row of
+        inf or NaN, with a :class:`~distkin.errors.ConditioningWarning` naming it.
         ``method`` and ``dps`` as :meth:`inverse_kinematics` (object arrays of mpf or
         arb; certified also refuses a leg whose Jq_ii ball contains 0, a serial
         singularity; radii and estimates: :func:`~.kinematics_tiers.jacobian_tier`).
         """
+        if dps is not None:
+            _check_dps(dps, method)
         if method != "fast":
             return self._tiered("jacobian", poses, method, dps)
         X, single = _poses(poses)
-        J = self.kernels("batched").jacobian(X)
+        J = self._fast("jacobian", X)
         return J[0] if single else J
 
     def jq_jx(self, poses, method: str = "fast", dps: int | None = None):
@@ -188,10 +219,12 @@ class KernelMethods:
         = (|P_i - D_i|^2 - l3^2) / (2 l3) (m).  ``method`` and ``dps`` as
         :meth:`jacobian`.
         """
+        if dps is not None:
+            _check_dps(dps, method)
         if method != "fast":
             return self._tiered("jq_jx", poses, method, dps)
         X, single = _poses(poses)
-        out = self.kernels("batched").jq_jx(X)
+        out = self._fast("jq_jx", X)
         Jq, Jx = out[..., 0], out[..., 1:]
         return (Jq[0], Jx[0]) if single else (Jq, Jx)
 
@@ -199,7 +232,7 @@ class KernelMethods:
         """dq/d(x, y, z, rx, ry, rz) = J @ blockdiag(I, E(r)), shape (N, L, 6)."""
         from ..spatial import omega_map
         X, single = _poses(poses)
-        J = self.kernels("batched").jacobian(X)
+        J = self._fast("jacobian", X)
         out = J.copy()
         out[..., 3:] = J[..., 3:] @ omega_map(X[:, 3:])
         return out[0] if single else out
@@ -212,7 +245,7 @@ class KernelMethods:
         ½ q̇ᵀ Mq q̇ = ½ ẋᵀ M̂ ẋ; it has rank 6, so for L = 8 it is singular.
         """
         X, single = _poses(poses)
-        Jp = np.linalg.pinv(self.kernels("batched").jacobian(X))   # (N, 6, L)
+        Jp = np.linalg.pinv(self._fast("jacobian", X))   # (N, 6, L)
         Mq = np.swapaxes(Jp, -1, -2) @ self.cartesian_mass_matrix() @ Jp
         return Mq[0] if single else Mq
 
@@ -223,7 +256,7 @@ class KernelMethods:
         pseudo-inverse of the singular Mq, and J# Mq⁺ = M̂⁻¹ Jᵀ still holds.
         """
         X, single = _poses(poses)
-        J = self.kernels("batched").jacobian(X)
+        J = self._fast("jacobian", X)
         A = np.linalg.inv(self.cartesian_mass_matrix()) @ np.swapaxes(J, -1, -2)
         return A[0] if single else A
 
@@ -243,7 +276,10 @@ class KernelMethods:
         :class:`~.forward_tiers.TieredFK` (:func:`.forward_tiers.forward_tier`, which
         starts from this method's fast answer; ``legs``: six legs of the square system
         when L > 6; ``bits``: the balls' precision); "fast" (default) the
-        :class:`~.forward.FKResult` of before."""
+        :class:`~.forward.FKResult` of before.  ``dps`` only with "precise" and ``bits``
+        only with "certified" (:class:`~distkin.errors.InputError` otherwise)."""
+        if dps is not None:
+            _check_dps(dps, method)
         if method != "fast" or legs is not None or bits is not None:
             from ..errors import InputError
             from .forward_tiers import forward_tier
@@ -254,6 +290,9 @@ class KernelMethods:
             return forward_tier(self, q, method=method, dps=dps, bits=bits, legs=legs,
                                 fast=start)
         from .forward import forward_kinematics
+        if guess is not None:                 # (6,) or (N, 6), from 4x4 matrices too
+            g, one = _poses(guess, "guess")
+            guess = g[0] if one else g
         topo = getattr(self, "octahedral", None)
         if octic and topo is not None and topo() is not None:
             import dataclasses
@@ -269,6 +308,12 @@ class KernelMethods:
                                        f"{', '.join(sorted(set(tiers)))}): {n} assembly mode(s), "
                                        f"the nearest to the guess polished: {res.message}")
         return forward_kinematics(self, q, guess, **options)
+
+
+def _check_dps(dps, method):
+    from ..exact import check_method
+    from .kinematics_tiers import check_dps
+    check_dps(dps, check_method(method))
 
 
 #: where a leg mechanism's kernels come from: "generated" (the committed module or a

@@ -42,12 +42,18 @@ Kühne et al., Sec. II-C, eqs. (1)-(2): per leg the closure gives
 ``precise``
     the arb-flavour generated kernels (``ik_arb``, ``reach_arb``, ``jq_jx_arb``:
     only ``+ - * /``, ``abs``, ``sqrt``, ``sin``, ``cos``, ``atan2`` and ``_A(number)``)
-    run on mpmath numbers at ``dps`` digits (:class:`MPNumber` gives mpmath those
-    methods; the kernels' rational constants are divided at those digits, from exact
-    integers).  Error estimate of the float64 value given (``q``, ``J``, ...): the
-    difference of the ``dps``-digit value from a second evaluation at ``dps + GUARD``
-    digits, at least :math:`10^{1-dps}\max(|v|, 1)`, plus its rounding to float64; an
-    estimate, not a bound.  The ``dps``-digit numbers themselves are in ``values``.
+    run on mpmath numbers at ``dps`` digits (:class:`MPNumber` of :mod:`.mpmath_kernels`
+    gives mpmath those methods; the kernels' rational constants are divided at those
+    digits, from exact integers).  Error estimate of the float64 value given (``q``,
+    ``J``, ...): the difference of the ``dps``-digit value from a second evaluation at
+    ``dps + GUARD`` digits, at least :math:`10^{1-dps}\max(|v|, 1)`, plus its rounding to
+    float64; an estimate, not a bound.  The ``dps``-digit numbers themselves are in
+    ``values``.  Where J has no value, a leg with :math:`J_{q,ii} = 0` exactly (a serial
+    singularity: a revolute leg at its reach boundary) or a prismatic leg of zero length
+    (its line 0/0) at either number of digits, the Jacobian raises
+    :class:`~distkin.errors.SingularConfigurationError` naming the pose and leg; near
+    such a leg it is an estimate like any other (the second evaluation shows the digits
+    lost).
 ``certified``
     the same kernels on python-flint ``arb`` balls at ``bits`` of working precision.
     The pose is taken exactly: a float64 pose (m, rad) is its exact binary value.  So
@@ -78,21 +84,20 @@ Units: q in rad (revolute legs) or m (prismatic legs); J columns 1-3 per m, 4-6 
 from __future__ import annotations
 
 import math
-import types
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ConditioningWarning, InfeasibleError, InputError, UncertifiedError
-from ..exact import check_method, default_dps, float_ball, float_mpf
+from ..errors import (ConditioningWarning, InfeasibleError, InputError,
+                      SingularConfigurationError, UncertifiedError)
+from ..exact import check_method, default_dps, float_ball
 from .description import _poses
+from .mpmath_kernels import GUARD, MPNumber, _to_float, estimate, on_mpmath, precise_runs
 
 __all__ = ["MPNumber", "on_mpmath", "TieredIK", "TieredJacobian", "ik_tier", "jacobian_tier",
-           "raise_uncertified", "check_bits", "GUARD", "BITS", "J_REL_USEFUL",
+           "raise_uncertified", "check_bits", "check_dps", "GUARD", "BITS", "J_REL_USEFUL",
            "J_FIRST_ORDER"]
 
-#: extra digits of the precise tier's second evaluation (its error estimate)
-GUARD = 15
 #: working precision (bits) of the certified tier's balls
 BITS = 128
 #: fast tier: a pose is flagged ``inaccurate`` when the error estimate of a row of J
@@ -105,102 +110,6 @@ J_FIRST_ORDER = 0.1
 _EPS = np.finfo(float).eps
 
 
-class MPNumber:
-    """An mpmath number with the methods the arb-flavour kernels call (``x.sqrt()``,
-    ``x.sin()``, ``x.cos()``, ``abs(x)``, ``MPNumber.atan2(y, x)``, arithmetic with
-    ints and floats, ``MPNumber(p)`` for the kernels' ``_A(p)``), at the current
-    ``mpmath.mp.dps``.  ``.v`` is the :class:`mpmath.mpf`; an integer is held exactly,
-    whatever its size (the kernels' ``_integers``), and rounded only by the arithmetic."""
-
-    __slots__ = ("v",)
-
-    def __init__(self, v):
-        import mpmath
-        if isinstance(v, MPNumber):
-            self.v = v.v
-        elif isinstance(v, int) and abs(v).bit_length() > 53:
-            with mpmath.workprec(abs(v).bit_length()):
-                self.v = mpmath.mpf(v)
-        else:
-            self.v = mpmath.mpf(v)
-
-    @staticmethod
-    def _of(x):
-        return x.v if isinstance(x, MPNumber) else x
-
-    def __add__(self, o):
-        return MPNumber(self.v + self._of(o))
-
-    __radd__ = __add__
-
-    def __sub__(self, o):
-        return MPNumber(self.v - self._of(o))
-
-    def __rsub__(self, o):
-        return MPNumber(self._of(o) - self.v)
-
-    def __mul__(self, o):
-        return MPNumber(self.v * self._of(o))
-
-    __rmul__ = __mul__
-
-    def __truediv__(self, o):
-        return MPNumber(self.v / self._of(o))
-
-    def __rtruediv__(self, o):
-        return MPNumber(self._of(o) / self.v)
-
-    def __neg__(self):
-        return MPNumber(-self.v)
-
-    def __pos__(self):
-        return self
-
-    def __abs__(self):
-        return MPNumber(abs(self.v))
-
-    def __pow__(self, n):
-        return MPNumber(self.v ** n)
-
-    def sqrt(self):
-        import mpmath
-        return MPNumber(mpmath.sqrt(self.v))
-
-    def sin(self):
-        import mpmath
-        return MPNumber(mpmath.sin(self.v))
-
-    def cos(self):
-        import mpmath
-        return MPNumber(mpmath.cos(self.v))
-
-    @staticmethod
-    def atan2(y, x):
-        import mpmath
-        return MPNumber(mpmath.atan2(MPNumber._of(y), MPNumber._of(x)))
-
-    def __repr__(self):
-        return f"MPNumber({self.v!r})"
-
-
-_MP_KERNELS: dict = {}
-
-
-def on_mpmath(fn):
-    """The generated arb kernel ``fn`` with its ball type ``_A`` bound to
-    :class:`MPNumber` (the same code object, other globals; the integers ``_Z`` of its
-    rational constants, :func:`distkin.codegen.emit.kernel_source`, rebuilt as exact
-    :class:`MPNumber`): called on a pose of six :class:`MPNumber`, it evaluates the
-    kernel in mpmath at the current ``mp.dps``, the constants ``_Z[i] / _Z[j]`` too."""
-    key = (fn.__module__, fn.__qualname__, id(fn.__code__))
-    if key not in _MP_KERNELS:
-        g = {**fn.__globals__, "_A": MPNumber}
-        if "_integers" in g:
-            g["_Z"] = g["_integers"](MPNumber)
-        _MP_KERNELS[key] = types.FunctionType(fn.__code__, g, fn.__name__)
-    return _MP_KERNELS[key]
-
-
 def _arb_kernels(mech):
     if getattr(mech, "route", "generated") == "numpy":
         raise InputError("expected route 'generated' for the precise and certified tiers "
@@ -209,39 +118,51 @@ def _arb_kernels(mech):
     return mech.kernels("arb")
 
 
-def _precise_runs(ks, names, X, dps):
-    """Two evaluations of the kernels ``names`` at the poses X (N, 6) on mpmath numbers:
-    ({name: object array of mpf} at ``dps`` digits, the same at ``dps + GUARD``)."""
+_is_zero = np.vectorize(lambda v: v == 0, otypes=[bool])
+
+
+def _precise_singular(hit, what, why, dps):
+    """Raise :class:`SingularConfigurationError` naming the first pose and leg of the
+    (N, L) bool ``hit`` (a leg ``what`` at ``dps`` or ``dps + GUARD`` digits, so ``why``)."""
+    if not hit.any():
+        return
+    i, j = (int(k) for k in np.argwhere(hit)[0])
+    more = int(hit.sum()) - 1
+    raise SingularConfigurationError(
+        f"expected a finite Jacobian at pose {i}, got leg {j + 1} {what} (at {dps} or "
+        f"{dps + GUARD} digits)" + (f" (and {more} more leg(s))" if more else "")
+        + f": {why}", field="poses",
+        hint="method='certified' names every such leg with its reason")
+
+
+def _precise_jacobian(mech, ks, X, dps, prec):
+    """The precise tier of :func:`jacobian_tier` (module docstring).  The IK first, so
+    a prismatic leg of zero length (its line 0/0), then a leg with Jq_ii = 0 exactly (a
+    serial singularity: J = Jx / Jq unbounded) is named in a
+    :class:`SingularConfigurationError`, not mpmath's ZeroDivisionError."""
     import mpmath
-    runs = []
-    for digits in (dps, dps + GUARD):
+    runs = precise_runs(ks, ("reach", "ik"), X, dps)
+    pris = np.asarray(mech.leg_arrays()["prismatic"])
+    _precise_singular(pris[None] & np.any([_is_zero(r["ik"]) for r in runs], axis=0),
+                      "(prismatic) of zero length", "its line, its row of J, is undefined",
+                      dps)
+    for run, more in zip(runs, precise_runs(ks, ("jq_jx",), X, dps)):
+        run.update(more)
+    _precise_singular(np.any([_is_zero(r["jq_jx"][..., 0]) for r in runs], axis=0),
+                      "at a serial singularity, Jq_ii = 0 exactly", "J = Jx / Jq is unbounded "
+                      "(the leg at its reach boundary, crank and distal link aligned)", dps)
+    for run, digits in zip(runs, (dps, dps + GUARD)):
         with mpmath.workdps(digits):
-            res = {}
-            for n in names:
-                fn = on_mpmath(getattr(ks, n))
-                res[n] = np.array([_unwrap(fn([MPNumber(float(c)) for c in x])) for x in X],
-                                  dtype=object)
-            runs.append(res)
-    return runs
-
-
-def _estimate(val, ref, dps):
-    """Error estimate (float array) of the floats of the mpf array ``val`` (at ``dps``
-    digits) against ``ref`` (more digits): |val - ref|, at least 10^(1 - dps)
-    max(|val|, 1), plus |float(val) - val| (the floats are what the caller reads next to
-    the estimate; ``values`` keeps the digits)."""
-    import mpmath
-    with mpmath.workdps(dps + GUARD):
-        diff = np.vectorize(lambda a, b: float(abs(a - b)), otypes=[float])(val, ref)
-        rounding = np.vectorize(lambda a: float_mpf(a)[1], otypes=[float])(val)
-    mag = np.maximum(np.abs(_to_float(val)), 1.0)
-    return np.maximum(diff, mag * 10.0 ** (1 - dps)) + rounding
-
-
-def _unwrap(v):
-    if isinstance(v, list):
-        return [_unwrap(x) for x in v]
-    return v.v if isinstance(v, MPNumber) else v
+            run["J"] = run["jq_jx"][..., 1:] / run["jq_jx"][..., :1]
+    vals, ref = runs
+    jq, jx = vals["jq_jx"][..., 0], vals["jq_jx"][..., 1:]
+    err = estimate(vals["jq_jx"], ref["jq_jx"], dps)
+    valid = mech._valid(_to_float(vals["ik"]), _to_float(vals["reach"]))
+    none = np.zeros(valid.shape, dtype=bool)
+    return TieredJacobian("precise", prec, _to_float(vals["J"]),
+                          estimate(vals["J"], ref["J"], dps), _to_float(jq), err[..., 0],
+                          _to_float(jx), err[..., 1:], valid, none, (), vals["J"], jq, jx,
+                          none.copy(), np.zeros(len(X), dtype=bool))
 
 
 def _certified_eval(ks, names, X, bits):
@@ -269,7 +190,6 @@ _mid = np.vectorize(lambda b: float(b.mid()) if b.is_finite() else math.nan, oty
 #: (float mids, the radii about them that enclose the balls) of an array of balls, in one
 #: pass (:func:`~distkin.exact.float_ball`; nan, inf where a ball is not finite)
 _split = np.vectorize(float_ball, otypes=[float, float])
-_to_float = np.vectorize(float, otypes=[float])
 
 
 def _ball_text(b, unit):
@@ -363,6 +283,24 @@ def check_bits(bits, method: str, field: str = "bits") -> int:
     return int(bits)
 
 
+def check_dps(dps, method: str, field: str = "dps") -> int | None:
+    """The precise tier's digits: ``dps`` (an integer >= 5, given only with method
+    "precise", as ``bits`` only with "certified": :func:`check_bits`; a scene's
+    :func:`~distkin.argcheck.dps_field` the same) or its default
+    (:func:`~distkin.exact.default_dps`); None for the other tiers.
+    :class:`InputError` naming ``field``."""
+    if dps is None:
+        return default_dps(None) if method == "precise" else None
+    try:
+        digits = default_dps(dps)
+    except InputError as exc:
+        raise InputError(exc.message, field=field) from None
+    if method != "precise":
+        raise InputError(f"expected 'dps' only with method 'precise' (the mpmath digits), "
+                         f"got method {method!r}", field=field)
+    return digits
+
+
 def _setup(mech, poses, method, dps, bits):
     check_method(method)
     X, _ = _poses(poses)
@@ -380,18 +318,20 @@ def _fast_ik_error(mech, X, q, margin, phi=None, jq=None):
     by dm / (2 rho h) with h = sqrt(max(|m|, dm)), the sqrt(eps) of a double root at the
     reach boundary, where the closure residual cannot see it).  ``phi`` = Phi(q, X) and
     ``jq`` (N, L), if already evaluated."""
+    d = mech.leg_arrays()
+    zero = d["prismatic"][None] & (q == 0.0)      # a leg of zero length: Phi is 0/0
     if phi is None or jq is None:
         k = mech.kernels("batched")
-        phi = k.closure(q, X)[..., 0]
-        jq = k.jq_jx(X)[..., 0]
-    d = mech.leg_arrays()
+        with np.errstate(divide="ignore", invalid="ignore"):
+            phi = k.closure(q, X)[..., 0]
+            jq = k.jq_jx(X)[..., 0]
     w = mech.points(X, q)["P"] - d["B"][None] - d["offset"][None]
     rho = np.hypot(np.einsum("nli,li->nl", w, d["u"]), np.einsum("nli,li->nl", w, d["v"]))
     dm = 4 * _EPS * rho ** 2
     with np.errstate(divide="ignore", invalid="ignore"):
         cancel = np.where(d["prismatic"][None], 0.0,
                           dm / (2 * rho * np.sqrt(np.maximum(np.abs(margin), dm))))
-        lever = np.where(phi == 0, 0.0, np.abs(phi) / np.abs(jq))    # 0/0 at h = 0
+        lever = np.where((phi == 0) | zero, 0.0, np.abs(phi) / np.abs(jq))  # 0/0 at h = 0
         return lever + 2 * _EPS * np.maximum(np.abs(q), 1.0) + cancel
 
 
@@ -405,10 +345,11 @@ def _fast_jacobian_error(mech, X, q, J, Jq, Jx):
     :data:`J_REL_USEFUL`.  ``q``: the IK at ``X``, ``Jq``, ``Jx``, ``J`` the fast ones
     (computed once by the caller)."""
     margin = mech.reach_margin(X)
-    phi = mech.kernels("batched").closure(q, X)[..., 0]
-    dq = _fast_ik_error(mech, X, q, margin, phi, Jq)
     from .reference import jacobian_q_derivatives
-    djq, djx = jacobian_q_derivatives(mech, X, q)
+    with np.errstate(divide="ignore", invalid="ignore"):    # a prismatic leg of length 0
+        phi = mech.kernels("batched").closure(q, X)[..., 0]
+        djq, djx = jacobian_q_derivatives(mech, X, q)
+    dq = _fast_ik_error(mech, X, q, margin, phi, Jq)
     aq = np.abs(Jq)
     jq_err = 4 * _EPS * np.maximum(aq, mech.length_scale) + np.abs(djq) * dq
     jx_err = (4 * _EPS * np.max(np.abs(Jx), axis=-1, keepdims=True)
@@ -461,8 +402,10 @@ def _reach_status(m, i, j, prismatic, reasons, infeasible):
 def ik_tier(mech, poses, method: str = "fast", dps: int | None = None,
             bits: int | None = None) -> TieredIK:
     """Inverse kinematics of ``mech`` at ``poses`` (N, 6) or (6,) (m, rad) at one tier,
-    with its accuracy (module docstring).  ``dps``: precise tier (default 30);
-    ``bits``: certified tier (default :data:`BITS`)."""
+    with its accuracy (module docstring).  ``dps``: precise tier (default 30; read by
+    it only, as a scene's default: the methods of :class:`.kinematics.KernelMethods`
+    refuse it with another tier, :func:`check_dps`); ``bits``: certified tier (default
+    :data:`BITS`)."""
     X, dps, bits, prec = _setup(mech, poses, method, dps, bits)
     N, L = len(X), mech.L
     none = np.zeros((N, L), dtype=bool)
@@ -473,9 +416,9 @@ def ik_tier(mech, poses, method: str = "fast", dps: int | None = None,
                         valid, none, (), None, none)
     ks = _arb_kernels(mech)
     if method == "precise":
-        vals, ref = _precise_runs(ks, ("ik", "reach"), X, dps)
+        vals, ref = precise_runs(ks, ("ik", "reach"), X, dps)
         q, margin = _to_float(vals["ik"]), _to_float(vals["reach"])
-        return TieredIK(method, prec, q, _estimate(vals["ik"], ref["ik"], dps), margin,
+        return TieredIK(method, prec, q, estimate(vals["ik"], ref["ik"], dps), margin,
                         mech._valid(q, margin), none, (), vals["ik"], none)
     vals = _certified_eval(ks, ("ik", "reach"), X, bits)
     reasons, infeasible = [], none.copy()
@@ -506,8 +449,9 @@ def jacobian_tier(mech, poses, method: str = "fast", dps: int | None = None,
     N, L = len(X), mech.L
     none = np.zeros((N, L), dtype=bool)
     if method == "fast":
-        J = mech.jacobian(X)
-        Jq, Jx = mech.jq_jx(X)
+        J = mech._fast("jacobian", X, warn=False)       # the warning below says more
+        out = mech._fast("jq_jx", X, warn=False)
+        Jq, Jx = out[..., 0], out[..., 1:]
         q, valid = mech.inverse_kinematics(X)
         jq_err, jx_err, err, inaccurate = _fast_jacobian_error(mech, X, q, J, Jq, Jx)
         if inaccurate.any():
@@ -515,26 +459,16 @@ def jacobian_tier(mech, poses, method: str = "fast", dps: int | None = None,
             warnings.warn(f"fast Jacobian: at {int(inaccurate.sum())} of {N} pose(s) (first: "
                           f"{int(np.argmax(inaccurate))}) a row of J has an estimated error "
                           f"above {J_REL_USEFUL:g} of the row (inf where first order fails): "
-                          f"a leg at or next to its reach boundary (a serial singularity), "
-                          f"where float64 does not give J; see .J_error and .inaccurate, or "
-                          f"use method='precise'", ConditioningWarning, stacklevel=2)
+                          f"a leg at or next to its reach boundary (a serial singularity) or "
+                          f"a prismatic leg of zero length, where float64 does not give J; "
+                          f"see .J_error and .inaccurate, or use method='precise' (it raises "
+                          f"SingularConfigurationError where J is unbounded or undefined)",
+                          ConditioningWarning, stacklevel=2)
         return TieredJacobian(method, prec, J, err, Jq, jq_err, Jx, jx_err, valid, none,
                               (), None, None, None, none.copy(), inaccurate)
     ks = _arb_kernels(mech)
     if method == "precise":
-        import mpmath
-        runs = _precise_runs(ks, ("jq_jx", "reach", "ik"), X, dps)
-        for run, digits in zip(runs, (dps, dps + GUARD)):
-            with mpmath.workdps(digits):
-                run["J"] = run["jq_jx"][..., 1:] / run["jq_jx"][..., :1]
-        vals, ref = runs
-        jq, jx = vals["jq_jx"][..., 0], vals["jq_jx"][..., 1:]
-        err = _estimate(vals["jq_jx"], ref["jq_jx"], dps)
-        valid = mech._valid(_to_float(vals["ik"]), _to_float(vals["reach"]))
-        return TieredJacobian(method, prec, _to_float(vals["J"]),
-                              _estimate(vals["J"], ref["J"], dps), _to_float(jq), err[..., 0],
-                              _to_float(jx), err[..., 1:], valid, none, (), vals["J"], jq, jx,
-                              none, np.zeros(N, dtype=bool))
+        return _precise_jacobian(mech, ks, X, dps, prec)
     ik = ik_tier(mech, X, "certified", bits=bits)
     vals = _certified_eval(ks, ("jq_jx",), X, bits)["jq_jx"]
     jq, jx = vals[..., 0], vals[..., 1:]
@@ -570,5 +504,8 @@ def raise_uncertified(res, what: str):
            + (f" (and {more} more leg(s))" if more else ""))
     if res.infeasible[i, j]:
         raise InfeasibleError(msg, field="poses")
-    raise UncertifiedError(msg, field="poses",
-                           hint="method=\"precise\" gives an estimate there")
+    hint = 'method="precise" gives an estimate there'
+    if isinstance(res, TieredJacobian):
+        hint += (" unless J is unbounded or undefined (Jq_ii = 0 exactly, or a prismatic "
+                 "leg of zero length: SingularConfigurationError)")
+    raise UncertifiedError(msg, field="poses", hint=hint)

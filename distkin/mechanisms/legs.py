@@ -34,10 +34,12 @@ actuator effort (N m or N).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
+from ..argcheck import no_booleans
 from ..errors import DistkinError, InputError
 
 __all__ = ["Leg", "LegsDescription", "REVOLUTE_TYPES", "PRISMATIC_TYPES", "LEG_TYPES",
@@ -55,6 +57,7 @@ _TOL = 1e-9          # unit length and orthogonality of the revolute frame vecto
 
 
 def _vec(v, fld, *, unit=False):
+    no_booleans(v, fld)
     try:
         arr = tuple(float(x) + 0.0 for x in v)       # + 0.0: no -0.0 in keys
     except (TypeError, ValueError):
@@ -68,6 +71,7 @@ def _vec(v, fld, *, unit=False):
 
 
 def _pos(v, fld, unit):
+    no_booleans(v, fld)
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
         raise InputError(f"expected a positive finite number, got {v!r} {unit}", field=fld)
     return float(v)
@@ -76,6 +80,7 @@ def _pos(v, fld, unit):
 def _pair(v, fld, unit, *, symmetric=False):
     if v is None:
         return None
+    no_booleans(v, fld)
     if symmetric and isinstance(v, (int, float)) and not isinstance(v, bool):
         v = (-abs(float(v)), abs(float(v)))
     try:
@@ -174,6 +179,7 @@ class Leg:
         s("axis", a), s("crank0", u), s("crank90", v), s("offset", o)
         s("crank", _pos(self.crank, "crank", "m"))
         s("distal", _pos(self.distal, "distal", "m"))
+        no_booleans(self.branch, "branch")
         if self.branch is not None and self.branch not in (1, -1):
             raise InputError(f"expected branch +1 or -1, got {self.branch!r}", field="branch")
         if self.branch is not None:
@@ -222,8 +228,17 @@ class LegsDescription:
     kind = "legs"
 
     def __post_init__(self):
+        if isinstance(self.leg_table, (str, bytes, Mapping)) or not hasattr(self.leg_table,
+                                                                            "__iter__"):
+            got = repr(self.leg_table)
+            raise InputError(f"expected a sequence of legs (Leg or tables of its fields), got "
+                             f"{type(self.leg_table).__name__} "
+                             f"{got if len(got) <= 80 else got[:77] + '...'}", field="leg")
         legs = []
         for i, leg in enumerate(self.leg_table):
+            if not isinstance(leg, (Leg, Mapping)):
+                raise InputError(f"expected a Leg or a table of its fields, got "
+                                 f"{type(leg).__name__} {leg!r}", field=f"leg[{i}]")
             try:
                 legs.append(leg if isinstance(leg, Leg) else Leg(**dict(leg)))
             except DistkinError as exc:
@@ -233,7 +248,11 @@ class LegsDescription:
                                  field=f"leg[{i}]") from None
         if len(legs) < 6:
             raise InputError(f"expected at least 6 legs, got {len(legs)}", field="leg")
-        home = tuple(float(x) for x in self.home_pose)
+        no_booleans(self.home_pose, "home")
+        try:
+            home = tuple(float(x) for x in self.home_pose)
+        except (TypeError, ValueError):
+            home = ()
         if len(home) != 6 or not all(math.isfinite(x) for x in home):
             raise InputError(f"expected 6 finite numbers (x, y, z, rx, ry, rz), got "
                              f"{self.home_pose!r}", field="home")
@@ -243,6 +262,7 @@ class LegsDescription:
         if self.scale is not None:
             object.__setattr__(self, "scale", _pos(self.scale, "scale", "m"))
         legs = [self._resolve_branch(i, leg) for i, leg in enumerate(legs)]
+        _check_distinct(legs)
         object.__setattr__(self, "leg_table", tuple(legs))
 
     def _resolve_branch(self, i, leg):
@@ -378,6 +398,31 @@ class LegsDescription:
     def __setstate__(self, state):
         for k, v in state.items():
             object.__setattr__(self, k, v)
+
+
+def _constraint(leg) -> tuple:
+    """What fixes a leg's row of J: a prismatic leg's line (base and platform joints),
+    a revolute leg's joints, crank frame, lengths and branch (not its type, range or
+    effort limit)."""
+    if leg.prismatic:
+        return ("prismatic", leg.base, leg.platform)
+    return ("revolute", leg.base, leg.platform, leg.axis, leg.crank0, leg.crank90,
+            leg.crank, leg.offset, leg.distal, leg.branch)
+
+
+def _check_distinct(legs):
+    """Refuse two legs with the same constraint (:func:`_constraint`): their rows of J
+    are equal at every pose, so the mechanism is architecturally singular
+    (:class:`InputError` naming both)."""
+    seen = {}
+    for i, leg in enumerate(legs):
+        j = seen.setdefault(_constraint(leg), i)
+        if j != i:
+            what = "line" if leg.prismatic else "joints, crank, lengths and branch"
+            raise InputError(f"expected distinct legs, got leg[{i}] with the same {what} as "
+                             f"leg[{j}] (base {leg.base}, platform {leg.platform}): the same "
+                             f"constraint twice, J is singular at every pose",
+                             field=f"leg[{i}]")
 
 
 def _revolute_q(leg, P, branch):

@@ -235,6 +235,7 @@ class NumericKernels:
     def _jq_jx(self, X):
         q = self._ik(X)
         _, jq, gx = self._rows(X, q)
+        jq = np.where(self._d["prismatic"], -1.0, jq)     # at the IK, as symbolic.py
         return np.concatenate([jq[..., None], -gx], axis=-1)
 
     def _jacobian(self, X):
