@@ -111,10 +111,12 @@ def no_booleans(value, field: str) -> None:
 
 
 def float_array(value, field: str, shape: tuple) -> np.ndarray:
-    """A float array of a given shape (``None`` in ``shape`` = any length)."""
-    arr = as_floats(value, field, f"numbers of shape {shape}")
+    """A float array of a given shape (``None`` in ``shape`` = any length, shown as N)."""
+    shown = "(" + ", ".join("N" if s is None else str(s) for s in shape) + \
+        ("," if len(shape) == 1 else "") + ")"
+    arr = as_floats(value, field, f"numbers of shape {shown}")
     if arr.ndim != len(shape) or any(s is not None and s != a for s, a in zip(shape, arr.shape)):
-        raise InputError(f"expected shape {shape}, got {arr.shape}", field=field)
+        raise InputError(f"expected shape {shown}, got {arr.shape}", field=field)
     if not np.all(np.isfinite(arr)):
         raise InputError("expected finite numbers, got NaN or inf", field=field)
     return arr
