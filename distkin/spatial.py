@@ -34,8 +34,9 @@ import math
 
 import numpy as np
 
-__all__ = ["rotation_matrix", "rotation_matrix_scalar", "rotation_angles", "omega_map",
-           "omega_entries", "exp_so3", "rotate_pose_scalar", "axis_angle", "pose_error", "pose_to_matrix", "matrix_to_pose", "pose_to_rotation", "pose_from"]
+__all__ = ["rotation_matrix", "rotation_matrix_scalar", "rotation_angles", "rotation_defect",
+           "omega_map", "omega_entries", "exp_so3", "rotate_pose_scalar", "axis_angle",
+           "pose_error", "pose_to_matrix", "matrix_to_pose", "pose_to_rotation", "pose_from"]
 
 
 def rotation_matrix(r):
@@ -237,6 +238,16 @@ def pose_to_matrix(pose):
     return T
 
 
+def rotation_defect(R):
+    """How far matrices (..., 3, 3) are from rotations: ``(max|R^T R - I|, det R)``, the
+    first over every matrix, the second per matrix (a rotation: 0 and +1; a reflection
+    has det -1, a scaled rotation det != 1).  The one test of :func:`matrix_to_pose` and
+    of the poses checked elsewhere (:mod:`distkin.delta.pose_input`)."""
+    R = np.asarray(R, dtype=float)
+    ortho = float(np.abs(np.swapaxes(R, -1, -2) @ R - np.eye(3)).max(initial=0.0))
+    return ortho, np.linalg.det(R)
+
+
 def matrix_to_pose(T, *, atol: float = 1e-9):
     """Poses (x, y, z, rx, ry, rz) of 4x4 homogeneous transforms (..., 4, 4); the inverse
     of :func:`pose_to_matrix` (ry in [-pi/2, pi/2]).
@@ -250,8 +261,8 @@ def matrix_to_pose(T, *, atol: float = 1e-9):
                          field="pose")
     R = T[..., :3, :3]
     last = np.abs(T[..., 3, :] - [0.0, 0.0, 0.0, 1.0]).max(initial=0.0)
-    ortho = np.abs(np.swapaxes(R, -1, -2) @ R - np.eye(3)).max(initial=0.0)
-    if not (last <= atol and ortho <= atol and np.all(np.linalg.det(R) > 0)):
+    ortho, det = rotation_defect(R)
+    if not (last <= atol and ortho <= atol and np.all(det > 0)):
         raise InputError(f"expected a rigid transform (orthonormal R, det +1, last row "
                          f"0 0 0 1), got deviations {ortho:.3g} and {last:.3g}", field="pose")
     return np.concatenate([T[..., :3, 3], rotation_angles(R)], axis=-1)

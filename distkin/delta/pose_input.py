@@ -15,6 +15,7 @@ import numpy as np
 
 from ..argcheck import float_array, no_booleans
 from ..errors import InputError
+from ..spatial import rotation_defect
 from .platform66 import Platform66
 
 __all__ = [
@@ -31,8 +32,8 @@ ROTATION_TOL = 1e-9
 
 
 def _rotation_defect(R: np.ndarray, field: str) -> np.ndarray:
-    dev = float(np.max(np.abs(R.T @ R - np.eye(3))))
-    det = float(np.linalg.det(R))
+    dev, det = rotation_defect(R)
+    det = float(det)
     if not (dev <= ROTATION_TOL and abs(det - 1.0) <= ROTATION_TOL):
         raise InputError(f"expected a rotation matrix (orthonormal within {ROTATION_TOL:g}, "
                          f"determinant +1), got max|R^T R - I| = {dev:.3g} and det R = "
