@@ -288,10 +288,10 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
         Module-level (picklable) function ``spec -> dict of ndarray``.
     specs : sequence
         Picklable chunk descriptions, in order.
-    store : path
+    store : path or None
         Directory of the chunk files (created).  Chunks already there are reused.  A
         default store (:func:`default_store`) gets a sub-folder per sweep definition
-        (:func:`keyed_store`).
+        (:func:`keyed_store`).  None keeps the chunks in memory only (nothing resumes).
     definition : JSON-able, optional
         What defines the sweep; its key is kept in ``store/sweep.json`` and a store
         made for another definition is refused (InputError).
@@ -316,6 +316,49 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
     A ``KeyboardInterrupt`` cancels the pending chunks and propagates; every chunk
     finished before it is on disk.
     """
+    if store is None:
+        paths, results, todo = None, [None] * len(specs), list(range(len(specs)))
+    else:
+        store, paths, results, todo = _open_store(store, definition, specs)
+    if stats is not None:
+        stats["loaded"] = len(specs) - len(todo)
+        stats["store"] = None if store is None else str(store)
+    bar = ChunkProgress(len(specs), len(specs) - len(todo), desc, progress)
+    pending: dict = {}
+    try:
+        if executor is None:
+            for i in todo:
+                results[i] = task(specs[i])
+                if paths is not None:
+                    _save(paths[i], results[i])
+                bar.advance()
+        else:
+            limit = max_pending or 4 * (getattr(executor, "_max_workers", None) or 4)
+            queue = list(todo)
+            while queue or pending:
+                while queue and len(pending) < limit:
+                    i = queue.pop(0)
+                    pending[executor.submit(task, specs[i])] = i
+                done = _wait_alive(executor, pending, store, no_worker_timeout)
+                for f in done:
+                    i = pending.pop(f)
+                    results[i] = f.result()
+                    if paths is not None:
+                        _save(paths[i], results[i])
+                    bar.advance()
+    except KeyboardInterrupt:
+        for f in pending:                                # the running ones finish
+            f.cancel()
+        raise
+    finally:
+        bar.close()
+    return results
+
+
+
+def _open_store(store, definition, specs):
+    """(store folder, chunk paths, results with the chunks already there loaded, the
+    indices left to do) of a stored run (:func:`run_chunks`)."""
     key = sweep_key(definition if definition is not None else [repr(s) for s in specs])
     store = make_store(keyed_store(store, key))
     code = code_version()
@@ -355,38 +398,7 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
                     zipfile.BadZipFile):
                 p.unlink()                               # a damaged file is redone
         todo.append(i)
-    if stats is not None:
-        stats["loaded"] = len(specs) - len(todo)
-        stats["store"] = str(store)
-    bar = ChunkProgress(len(specs), len(specs) - len(todo), desc, progress)
-    pending: dict = {}
-    try:
-        if executor is None:
-            for i in todo:
-                results[i] = task(specs[i])
-                _save(paths[i], results[i])
-                bar.advance()
-        else:
-            limit = max_pending or 4 * (getattr(executor, "_max_workers", None) or 4)
-            queue = list(todo)
-            while queue or pending:
-                while queue and len(pending) < limit:
-                    i = queue.pop(0)
-                    pending[executor.submit(task, specs[i])] = i
-                done = _wait_alive(executor, pending, store, no_worker_timeout)
-                for f in done:
-                    i = pending.pop(f)
-                    results[i] = f.result()
-                    _save(paths[i], results[i])
-                    bar.advance()
-    except KeyboardInterrupt:
-        for f in pending:                                # the running ones finish
-            f.cancel()
-        raise
-    finally:
-        bar.close()
-    return results
-
+    return store, paths, results, todo
 
 
 def _wait_alive(executor, pending, store, timeout):
@@ -411,9 +423,10 @@ def _wait_alive(executor, pending, store, timeout):
         if now - since >= limit:
             for f in pending:
                 f.cancel()
-            finished = len(list(Path(store).glob("chunk_*.npz")))
+            kept = ("no store: the finished chunks are lost" if store is None else
+                    f"the {len(list(Path(store).glob('chunk_*.npz')))} finished chunks are "
+                    f"kept in {str(store)!r} (run again to continue)")
             raise DistkinError(
                 f"expected live workers on the dask cluster at "
-                f"{getattr(executor, 'address', '?')}, got none for {limit:g} s; the "
-                f"{finished} finished chunks are kept in {str(store)!r} (run again to "
-                "continue)", field="scheduler")
+                f"{getattr(executor, 'address', '?')}, got none for {limit:g} s; {kept}",
+                field="scheduler")

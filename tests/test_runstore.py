@@ -162,3 +162,12 @@ def test_damaged_chunks_are_redone_and_an_unreadable_sweep_json_is_refused(tmp_p
     with pytest.raises(InputError, match="unreadable.*sweep.json|sweep.json.*unreadable"):
         run_chunks(_square, [2, 3, 4], store, definition={"n": 3}, progress=False)
     assert chunk.exists()                                # nothing was deleted
+
+
+def test_a_run_without_a_store_computes_every_chunk_in_memory(tmp_path):
+    """store=None: the same results as a stored run, nothing written, stats say so."""
+    stats = {}
+    mem = run_chunks(_square, [2, 3, 4], None, progress=False, stats=stats)
+    ref = run_chunks(_square, [2, 3, 4], tmp_path / "s", progress=False)
+    assert [r["y"].tolist() for r in mem] == [r["y"].tolist() for r in ref]
+    assert stats == {"loaded": 0, "store": None}

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import itertools
 import time
-from concurrent.futures import as_completed
 from dataclasses import dataclass
 
 import numpy as np
@@ -207,32 +206,6 @@ class WorkspaceCertificate:
         return np.all((self.lo[:, 3:] <= 0.0) & (self.hi[:, 3:] >= 0.0), axis=1)
 
 
-def _run_in_memory(specs, executor, progress, desc):
-    """The chunks of a run without a store, in order, with the run store's progress
-    bar (:func:`distkin.runstore.run_chunks` shows the same one for a stored run)."""
-    from ..runstore import ChunkProgress
-    bar = ChunkProgress(len(specs), 0, desc, progress)
-    results: list = [None] * len(specs)
-    pending: dict = {}
-    try:
-        if executor is None:
-            for i, spec in enumerate(specs):
-                results[i] = _chunk_task(spec)
-                bar.advance()
-        else:
-            pending = {executor.submit(_chunk_task, spec): i for i, spec in enumerate(specs)}
-            for f in as_completed(list(pending)):
-                results[pending.pop(f)] = f.result()
-                bar.advance()
-    except BaseException:
-        for f in pending:                    # the running ones finish
-            f.cancel()
-        raise
-    finally:
-        bar.close()
-    return results
-
-
 def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64",
                       split: int = 2, store=None, executor=None, progress: bool = False,
                       max_boxes: int = 200_000, definition_extra=None,
@@ -288,17 +261,14 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
     tighten = positive_int(tighten, "tighten", minimum=0)
     boxes = initial_boxes(lower, upper, split)
     specs = [(mech, lo, hi, minw, form, int(max_boxes)) for lo, hi in boxes]
-    stats = {"loaded": 0}
-    if store is None:
-        results = _run_in_memory(specs, executor, progress, f"certify {mech.name}")
-    else:
-        definition = {"certify_workspace": 1, "mechanism": repr(mech.geometry_key()),
-                      "lower": lower.tolist(), "upper": upper.tolist(),
-                      "min_width": minw.tolist(), "form": form, "split": split,
-                      "max_boxes": int(max_boxes), "extra": definition_extra}
-        results = run_chunks(_chunk_task, specs, store, definition=definition,
-                             executor=executor, progress=progress,
-                             desc=f"certify {mech.name}", stats=stats)
+    stats: dict = {}
+    definition = {"certify_workspace": 1, "mechanism": repr(mech.geometry_key()),
+                  "lower": lower.tolist(), "upper": upper.tolist(),
+                  "min_width": minw.tolist(), "form": form, "split": split,
+                  "max_boxes": int(max_boxes), "extra": definition_extra}
+    results = run_chunks(_chunk_task, specs, store, definition=definition,
+                         executor=executor, progress=progress,
+                         desc=f"certify {mech.name}", stats=stats)
     cat = {k: np.concatenate([r[k] for r in results]) for k in
            ("lo", "hi", "status", "sigma_lower", "det_sign")}
     blo, bhi = cat["lo"].reshape(-1, 6), cat["hi"].reshape(-1, 6)
