@@ -187,3 +187,32 @@ def test_derivation_script_passes():
                        capture_output=True, text=True, timeout=600)
     assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
     assert "all checks passed" in r.stdout
+
+
+def test_parts_of_eq3_reproduce_every_integer_printed_in_eq10():
+    """Rojas et al., eq. (10): eq. (3) on the Sec. VI data, multiplied out.  Every
+    printed integer comes back from the parts of eq. (3) (QA: they were reproduced and
+    never compared): the quartic is -1/62500 of u b2 - v b1; the four radicands are the
+    tetrahedra T1a, T1b, T2a, T2b up to constant factors; the radical terms carry the
+    printed 24 and 21600.  The denominator's last factor is printed "25 s_{2,3} - 16641",
+    a typo for 25 s_{1,5} - 16641 (u = (25 s15 - 4761)(25 s15 - 16641)/625 here)."""
+    p = octic_parts(GD_VALUES)
+    x = p.x
+    quartic = (375625 * x ** 4 + 2425914325 * x ** 3 - 2781440777549 * x ** 2
+               + 929177720979831 * x - 94994611164672840)
+    assert sp.cancel(sp.expand(p.u * p.b2 - p.v * p.b1) / quartic) == sp.Rational(-1, 62500)
+    printed = {"T2a": x ** 2 - 757 * x + 27325,
+               "T2b": 2220100 * x ** 2 - 1689044183 * x + 277445877004,
+               "T1a": 625 * x ** 2 - 495325 * x + 85928301,
+               "T1b": 625 * x ** 2 - 465550 * x + 66028321}
+    factor = {}
+    for name, radicand in printed.items():
+        factor[name] = sp.cancel(getattr(p, name) / radicand)
+        assert factor[name].is_number and factor[name] != 0, name
+    assert sp.expand(p.u * 625) == sp.expand((25 * x - 4761) * (25 * x - 16641))
+    assert sp.expand(p.v) == sp.expand((x - 25) * (x - 841))
+    # the radical terms of eq. (3) scaled like the quartic (x -62500): 24 and 21600
+    k2 = sp.sqrt(factor["T2a"] * factor["T2b"])
+    k1 = sp.sqrt(factor["T1a"] * factor["T1b"])
+    assert sp.nsimplify(62500 * k2 / 625) == 24
+    assert sp.nsimplify(62500 * k1) == 21600
