@@ -77,6 +77,30 @@ def test_numeric_offsets_map_legs_exactly():
     assert "l1 = 99/5" in texts[0]
 
 
+@pytest.mark.parametrize("offsets", ['["Delta1", "Delta2", "Delta1", "Delta2", "Delta1", '
+                                     '"Delta2"]', '["12/5", "6/5", "12/5", "6/5", "12/5", '
+                                     '"6/5"]'])
+def test_report_states_the_singular_line_against_the_papers_sentence(offsets):
+    """README: the finding that the singular line of the family is Delta1 + 2 Delta2 =
+    12, not the paper's Delta1 + Delta2 = 12, is stated in the report (QA: only the
+    plot's legend drew it).  Reference: Sec. VI's printed det(A) polynomial, zero at
+    points of Delta1 + 2 Delta2 = 12 and not along Delta1 + Delta2 = 12."""
+    scene = loads_scene(_scene(f"""
+        [[query]]
+        type = "delta_transform"
+        offsets = {offsets}
+    """))
+    records, texts, worst = run_scene(scene)
+    assert worst == 0, records
+    fam = records[0]["result"]["family"]
+    assert fam["singular_lines"] == ["Delta1 + 2*Delta2 - 12 = 0"]
+    assert fam["paper_line_singular"] is False
+    for d2 in (1, 2, 5):
+        assert printed_det(12 - 2 * sp.Integer(d2), sp.Integer(d2)) == 0
+    assert any(printed_det(12 - sp.Integer(d2), sp.Integer(d2)) != 0 for d2 in (1, 2, 5))
+    assert "Delta1 + 2*Delta2 - 12 = 0; the paper's sentence Delta1 + Delta2 = 12" in texts[0]
+
+
 def test_singular_offsets_api_and_cli(tmp_path):
     body = """
         [[query]]

@@ -189,6 +189,8 @@ class DeltaTransformQuery:
                 lines.append(f"  m{i + 1} = {m}{unit}  ->  l{i + 1} = {shown}")
         if p.solve:
             lines += _solve(p, result, unit, ctx)
+        if _family_ok(tr):
+            lines += _family_finding(tr, result)
         result["unit"] = result_units(scene.units)
         _flag_floats(p.m_legs or (), "m_legs", p, result, lines)
         plot = (lambda stem: plot_det_family(tr, stem)) if _family_ok(tr) else None
@@ -329,6 +331,31 @@ class Platform66Forward:
 def _family_ok(tr) -> bool:
     """A det(A) plot over two parameters is possible (two symbols, or numeric offsets)."""
     return len(tr.free_symbols) in (0, 2)
+
+
+def _family_finding(tr, result) -> list:
+    """The architecturally singular lines of the two-parameter family of
+    :func:`_family` (the linear factors of its det(A)) against the paper's sentence
+    Delta1 + Delta2 = d12 (Rojas et al., Sec. VI, with d12 = 12): text lines, and
+    ``result["family"]``."""
+    import sympy as sp
+    det, (s1, s2), _, _ = _family(tr)
+    d12 = tr.sides[0]
+    _, factors = sp.factor_list(sp.expand(det), s1, s2)
+    lines_ = [sp.sstr(f) for f, _k in factors
+              if sp.Poly(f, s1, s2).total_degree() == 1]
+    paper = s1 + s2 - d12
+    on = sp.div(sp.expand(det), paper, s1, s2)[1] == 0
+    result["family"] = {"parameters": [str(s1), str(s2)],
+                        "singular_lines": [f"{x} = 0" for x in lines_],
+                        "paper_line": f"{sp.sstr(paper)} = 0",
+                        "paper_line_singular": bool(on)}
+    where = ("the scene's symbols" if len(tr.free_symbols) == 2 else
+             f"the family {s1} = delta1 = delta3 = delta5, {s2} = delta2 = delta4 = delta6")
+    return [f"over {where}: det(A) = 0 on "
+            + (" and ".join(f"{x} = 0" for x in lines_) if lines_ else "no line")
+            + f"; the paper's sentence {s1} + {s2} = {d12} (Sec. VI) is "
+            + ("one of them" if on else "not (det(A) does not vanish along it)")]
 
 
 def _family(tr):
