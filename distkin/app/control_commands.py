@@ -165,9 +165,13 @@ def format_summary(s: dict) -> str:
            if s.get("loop_rate_hz") else ""),
         f"  link: {s['bad_frames']} bad frames, {s['resyncs']} resyncs, {s['timeouts']} read "
         f"timeouts, {s['seq_gaps']} frames missing, {s['stale_frames']} stale frames skipped, "
+        f"{s['late_frames']} late and {s['duplicate_frames']} duplicate frames dropped, "
         f"{s['write_timeouts']} write timeouts",
-        f"  safety: {s['watchdog_trips']} watchdog trips, {s['safety_events']} safety events, "
+        f"  safety: {s['watchdog_trips']} watchdog trips, {s['estops']} e-stops, "
+        f"{s['rejected_frames']} rejected readings, {s['safety_events']} safety events, "
         f"{s['refused_poses']} refused set points, {s['saturated_cycles']} saturated cycles",
+        f"  device: {s['device_watchdog_frames']} frames with its watchdog tripped, "
+        f"{s['device_saturated_frames']} with a drive saturated",
         (f"  force: max |f| {s['max_abs_force_N']} N (limit {s['force_limit_N']} N)"
          if "max_abs_force_N" in s else
          f"  torque: max |tau| {s['max_abs_torque_Nm']} N·m (limit {s['torque_limit_Nm']} N·m)"),
