@@ -86,7 +86,8 @@ def add_sim_parser(sub) -> None:
     p.add_argument("--faults", metavar="SPEC", help="e.g. 'corrupt@1.0:3,stall@2.0:50'")
     p.add_argument("--tcp", metavar="PORT", type=_tcp_port,
                    help="serve on TCP (0 = any free port)")
-    p.add_argument("--log", metavar="PREFIX", help="write PREFIX.device.csv")
+    p.add_argument("--log", metavar="PREFIX",
+                   help="write PREFIX.device.csv and PREFIX.device-events.jsonl")
     p.add_argument("--seconds", type=_seconds, help="stop after this much device time")
     p.add_argument("--idle-timeout", type=_seconds, metavar="S", default=None,
                    help="stop when no client connects, or no command arrives, for S s of "
@@ -106,9 +107,10 @@ def add_control_parser(sub) -> None:
     p.add_argument("--faults", metavar="SPEC", help="faults for the simulator (with --sim)")
     p.add_argument("--json", metavar="PATH|-", help="write the summary as JSON (- for stdout)")
     p.add_argument("--log", metavar="PREFIX", help="write PREFIX.cycles.csv, PREFIX.events.jsonl "
-                                                   "(and PREFIX.device.csv with --sim)")
-    p.add_argument("--plots", metavar="DIR", help="plot the run into DIR (needs --log or uses "
-                                                  "a temporary log)")
+                                                   "(and PREFIX.device.csv, "
+                                                   "PREFIX.device-events.jsonl with --sim)")
+    p.add_argument("--plots", metavar="DIR", help="plot the run into DIR/control.png (with "
+                                                  "--log, or from a temporary log)")
     p.add_argument("--wall-limit", type=_seconds, help="give up after this much wall time, s")
     p.set_defaults(func=cmd_control)
 
@@ -120,8 +122,8 @@ def cmd_sim(args) -> int:
     faults = parse_faults(args.faults)
     scene = _scene(args.scene)
     check_output_path(args.port_file, "--port-file")
-    if args.log:
-        check_output_path(f"{args.log}.device.csv", "--log")
+    for path in _log_files(args.log, sim=True).values():
+        check_output_path(path, "--log")
     try:
         return serve(scene, port_file=args.port_file, tcp_port=args.tcp, faults=faults,
                      log_prefix=args.log, seconds=args.seconds,
@@ -132,6 +134,21 @@ def cmd_sim(args) -> int:
             exc.field = None
             exc.with_field("--tcp")
         raise
+
+
+def _log_files(prefix, *, control: bool = False, sim: bool = False) -> dict:
+    """The files ``--log PREFIX`` writes: the controller's (``control``) and the
+    simulator's (``sim``), by the keys of the summary's ``log`` object."""
+    if not prefix:
+        return {}
+    files = {}
+    if control:
+        files.update(cycles=f"{prefix}.cycles.csv", cycles_spill=f"{prefix}.cycles.csv.part",
+                     events=f"{prefix}.events.jsonl")
+    if sim:
+        files.update(device=f"{prefix}.device.csv",
+                     device_events=f"{prefix}.device-events.jsonl")
+    return files
 
 
 def _wait_port(proc, port_file: Path, timeout: float) -> str:
@@ -165,9 +182,13 @@ def format_summary(s: dict) -> str:
            if s.get("loop_rate_hz") else ""),
         f"  link: {s['bad_frames']} bad frames, {s['resyncs']} resyncs, {s['timeouts']} read "
         f"timeouts, {s['seq_gaps']} frames missing, {s['stale_frames']} stale frames skipped, "
+        f"{s['late_frames']} late and {s['duplicate_frames']} duplicate frames dropped, "
         f"{s['write_timeouts']} write timeouts",
-        f"  safety: {s['watchdog_trips']} watchdog trips, {s['safety_events']} safety events, "
+        f"  safety: {s['watchdog_trips']} watchdog trips, {s['estops']} e-stops, "
+        f"{s['rejected_frames']} rejected readings, {s['safety_events']} safety events, "
         f"{s['refused_poses']} refused set points, {s['saturated_cycles']} saturated cycles",
+        f"  device: {s['device_watchdog_frames']} frames with its watchdog tripped, "
+        f"{s['device_saturated_frames']} with a drive saturated",
         (f"  force: max |f| {s['max_abs_force_N']} N (limit {s['force_limit_N']} N)"
          if "max_abs_force_N" in s else
          f"  torque: max |tau| {s['max_abs_torque_Nm']} N·m (limit {s['torque_limit_Nm']} N·m)"),
@@ -199,8 +220,12 @@ def cmd_control(args) -> int:
         raise InputError("expected --faults only with --sim, got it with --port", field="--faults")
     parse_faults(args.faults)              # validate before starting anything
     check_output_path(args.json)
-    if args.log:
-        check_output_path(f"{args.log}.cycles.csv", "--log")
+    # every file the run will write, before anything starts (exit 2, one line)
+    log_files = _log_files(args.log, control=True, sim=args.sim)
+    for path in log_files.values():
+        check_output_path(path, "--log")
+    if args.plots:
+        check_output_path(Path(args.plots) / "control.png", "--plots")
     tmpdir = None
     prefix = args.log
     if prefix is None and args.plots:
@@ -245,6 +270,8 @@ def cmd_control(args) -> int:
         finally:
             link.close()
         summary["port"] = url
+        if args.log:                           # all the files --log wrote
+            summary["log"] = {k: v for k, v in log_files.items() if k != "cycles_spill"}
         if proc is not None:
             try:
                 out, err = proc.communicate(timeout=10)

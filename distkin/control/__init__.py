@@ -11,7 +11,9 @@ protocol        binary frames (COBS, version, length, CRC-32); no I/O
 link            the host end over pyserial (the only module importing ``serial``)
 kinematics      per-cycle IK, Jacobian and warm-started FK on the generated kernels
 admittance      virtual mass-damper and environment (spring, wall)
-controller      the control cycle, torque distribution, saturation, safety, the loop
+controller      the control cycle, torque distribution, saturation, singular guard
+safety          checks of a state frame, the device's status bits, the loop's states
+loop            the control loop: frames in, commands out, watchdog, e-stop, recovery
 plant           simulated physics: platform, motors + capstan, encoders, F/T, hand
 faults          fault injection (corrupt, garbage, truncate, drop, stall, disconnect)
 simulator       the device serving the protocol on a pty or TCP socket

@@ -2,7 +2,7 @@
 
 Kühne et al., Sec. III-D and Fig. 9.  Each cycle, on the arrival of a state frame:
 
-1. check the reading (finite, in range, device status) -- :class:`~.safety.Safety`;
+1. check the reading (finite, in range, device status) -- :func:`.safety.check_reading`;
 2. forward kinematics, warm-started Gauss-Newton on the generated kernels
    (:meth:`~.kinematics.KinematicModel.forward`);
 3. rotate the force/torque reading into the base frame and step the admittance model
@@ -26,30 +26,34 @@ Kühne et al., Sec. III-D and Fig. 9.  Each cycle, on the arrival of a state fra
    is kept);
 9. the command frame.
 
-Safety: a watchdog (no valid frame within ``watchdog_ms`` of wall time -> zero torque
-and the fault state, left after ``recover_frames`` valid frames with the set point
-re-initialised at the measured pose), a stop near singular poses (also when the forward
-kinematics fails to converge and the last estimate is near-singular), rejection of NaN or
-out-of-range readings, and zero torque on every way out of :meth:`Controller.run`.
+Safety: a watchdog (no *valid* frame within ``watchdog_ms`` -> zero torque and the fault
+state; the window is measured in wall time and, while rejected frames keep arriving, also
+in device time ``t_us``: a device that only sends rejected readings trips it like a silent
+one, and so does one that only repeats old frames, which the link drops), the fault
+state at once on a frame with the ``ESTOP`` bit (zero torque from that frame on), the
+fault state left after ``recover_frames`` *consecutive* valid frames (a rejected frame
+or an empty read starts the count again) with the set point re-initialised at the
+measured pose, a stop near singular poses (also when the forward kinematics fails to
+converge and the last estimate is near-singular), rejection of NaN or out-of-range
+readings, and zero torque on every way out of :meth:`Controller.run`.  The device's
+``DEVICE_WATCHDOG`` and ``SATURATED`` bits are counted (summary) and logged as events,
+at most one per bit per second of device time.
 """
 
 from __future__ import annotations
 
-import gc
 import math
-import signal
 import time
 
 import numpy as np
 
-from ..errors import LinkError
 from .admittance import Admittance
-from .cycle_kernels import CYCLE_OUT, cycle_params, reading_extremes
+from .cycle_kernels import CYCLE_OUT, cycle_params
 from .kinematics import _rot
-from .protocol import (FLAG_KEEPALIVE, MODE_HOLD, MODE_RUN, MODE_ZERO_TORQUE, STATUS_ESTOP,
-                       STATUS_SENSOR_FAULT, CommandFrame)
-from .runlog import CsvLog, EventLog, run_summary
-from .scheduling import realtime, restore
+from .loop import run_loop
+from .protocol import MODE_HOLD, MODE_RUN, MODE_ZERO_TORQUE
+from .runlog import CsvLog, EventLog
+from .safety import FAULT, RUN, STOPPED, DeviceStatus, check_reading
 
 __all__ = ["Controller", "CycleResult", "GRAVITY", "SCALING", "RUN", "FAULT", "STOPPED"]
 
@@ -59,8 +63,6 @@ GRAVITY = 9.81
 #: the dimensionally homogeneous Jacobian whose smallest singular value the guard watches
 SCALING = np.array([15.0, 15.0, 15.0, 1.0, 1.0, 1.0])
 
-RUN, FAULT, STOPPED = 0, 1, 2
-_STATE_NAMES = {RUN: "run", FAULT: "fault", STOPPED: "stopped"}
 
 
 class CycleResult:
@@ -124,7 +126,10 @@ class Controller:
         self.refused = 0
         self.saturated_cycles = 0
         self.max_abs_torque = 0.0
-        cols = (["t_wall", "t_dev", "seq", "state", "mode", "compute_s", "period_s",
+        self.device_status = DeviceStatus()     # the device's own status bits
+        self.rejected_frames = 0
+        self.last_rejection = ""
+        cols = (["t_wall", "t_dev", "seq", "status", "state", "mode", "compute_s", "period_s",
                  "fk_iter", "fk_res", "refused", "saturated"]
                 + [f"x_{n}" for n in ("x", "y", "z", "rx", "ry", "rz")]
                 + [f"xd_{n}" for n in ("x", "y", "z", "rx", "ry", "rz")]
@@ -205,27 +210,9 @@ class Controller:
         return "", q
 
     def check_reading(self, frame) -> str:
-        """Why a state frame must be rejected ("" if it is acceptable)."""
-        s = self.safety
-        a, w = frame.angles, frame.wrench
-        if a.shape != (self.L,):
-            return f"expected {self.L} encoder angles, got {a.shape[0]}"
-        finite, ma, mf, mm = reading_extremes(a, w)
-        if not finite:
-            return "NaN or inf in the reading"
-        if self._lo is not None:
-            out = (a < self._lo) | (a > self._hi)
-            if out.any():
-                i = int(np.argmax(out))
-                return (f"leg {i + 1} length {a[i]:.6g} m outside its range "
-                        f"[{self._lo[i]:g}, {self._hi[i]:g}] m")
-        elif ma > s.max_angle:
-            return f"encoder angle {ma:.3g} rad beyond ±{s.max_angle} rad"
-        if mf > s.max_force or mm > s.max_torque:
-            return "force/torque reading beyond the sensor range"
-        if frame.status & (STATUS_ESTOP | STATUS_SENSOR_FAULT):
-            return f"device status {frame.status:#06x} (e-stop or sensor fault)"
-        return ""
+        """Why a state frame must be rejected ("" if it is acceptable;
+        :func:`.safety.check_reading`)."""
+        return check_reading(frame, self.L, self.safety, self._lo, self._hi)
 
     def start_at(self, pose) -> None:
         """(Re)initialise at a measured pose: set point = pose, at rest, filters reset."""
@@ -397,7 +384,9 @@ class Controller:
 
         The run ends when the device clock has advanced by ``seconds`` since the first
         frame, when the wall clock reaches ``wall_limit`` (default ``2 seconds + 10``),
-        when no valid frame arrives within :attr:`STARTUP_TIMEOUT_S`, when the first
+        when no valid frame arrives within :attr:`STARTUP_TIMEOUT_S` (``no_device``;
+        ``no_valid_frames`` when frames came but all were rejected, the error naming the
+        last reason, e.g. "device reports e-stop"), when the first
         state frame holds another number of joint angles than the model has legs
         (``device_mismatch``, exit code 2: the scene is not the device's), on a
         disconnect, on SIGINT/SIGTERM, or on an internal error.  Every way out
@@ -411,185 +400,4 @@ class Controller:
             ``watchdog_trips``, ``safety_events``, ``exit_reason``, ...) with
             ``exit_code`` and, after a disconnect or a failure, ``error``.
         """
-        wall_limit = 2.0 * seconds + 10.0 if wall_limit is None else wall_limit
-        t0 = time.perf_counter()
-        poll = min(0.005, self.safety.watchdog_ms * 1e-3 / 4)
-        seq = 0
-        last = CommandFrame(0, 0, MODE_ZERO_TORQUE, 0, np.zeros(self.L))
-        last_valid = last_t_dev = None
-        fk_failures = 0
-        t_first = t_prev_us = None
-        t_prev_cycle = None
-        recover_count = 0
-        compute, compute_cpu, periods = [], [], []
-        cycles = 0
-        gc0 = sum(g["collections"] for g in gc.get_stats())
-        reason = "completed"
-        self.error = None
-        stop = {"sig": None}
-
-        def _on_signal(signum, _frame):
-            stop["sig"] = signum
-
-        rt = None
-        if getattr(self.scene, "realtime", False):
-            rt, why = realtime()
-            if why:
-                self._event("realtime_refused", t0, None, message=why)
-        old = {}
-        for s in (signal.SIGINT, signal.SIGTERM):
-            try:
-                old[s] = signal.signal(s, _on_signal)
-            except ValueError:  # not in the main thread
-                pass
-        try:
-            while True:
-                if stop["sig"] is not None:
-                    reason = "interrupted"
-                    break
-                now = time.perf_counter()
-                if now - t0 > wall_limit:
-                    reason = "wall_limit"
-                    break
-                if t_first is None and now - t0 > self.STARTUP_TIMEOUT_S:
-                    reason = "no_device"
-                    self.error = (f"expected state frames from the device, got none in "
-                                  f"{self.STARTUP_TIMEOUT_S:g} s")
-                    break
-                frame = link.read_state(poll)
-                t_rx = time.perf_counter()
-                c_rx = time.thread_time()
-                if frame is None:
-                    if last_valid is not None and self.state == RUN and \
-                            t_rx - last_valid > self.safety.watchdog_ms * 1e-3:
-                        self.state = FAULT
-                        recover_count = 0
-                        self._event("watchdog_trip", t0, None, t_dev=last_t_dev,
-                                    silent_ms=round((t_rx - last_valid) * 1e3, 1))
-                        last = CommandFrame(seq, last.ack, MODE_ZERO_TORQUE, 0,
-                                            np.zeros(self.L))
-                    if last_valid is not None:
-                        seq += 1
-                        last = CommandFrame(seq, last.ack, last.mode, FLAG_KEEPALIVE,
-                                            last.torques)
-                        link.write_command(last)
-                    continue
-                n = frame.angles.shape[0] if frame.angles.ndim == 1 else -1
-                if n != self.L and t_first is None:
-                    # the first frame already says it: another device than the scene's
-                    reason = "device_mismatch"
-                    self.error = (f"device sends {n} joint angles, scene has {self.L} legs "
-                                  f"(expected state frames with {self.L} encoder angles: is "
-                                  f"the scene the device's?)")
-                    self._event("device_mismatch", t0, frame, joints=n, legs=self.L)
-                    break
-                why = self.check_reading(frame)
-                if why:
-                    self._event("bad_reading", t0, frame, reason=why)
-                    if last_valid is not None:
-                        seq += 1
-                        last = CommandFrame(seq, frame.seq, last.mode, FLAG_KEEPALIVE,
-                                            last.torques)
-                        link.write_command(last)
-                    continue
-                last_valid = t_rx
-                last_t_dev = frame.t_us * 1e-6
-                if t_first is None:
-                    t_first = frame.t_us
-                dt = self.dt_nominal
-                if t_prev_us is not None:
-                    dt = min(max((frame.t_us - t_prev_us) * 1e-6, 0.2 * dt), 5.0 * dt)
-                t_prev_us = frame.t_us
-                if self.state == FAULT:
-                    recover_count += 1
-                    if recover_count >= self.safety.recover_frames:
-                        self.state = RUN
-                        self._event("recovered", t0, frame, frames=recover_count)
-                        self.started = False    # re-initialise at the measured pose
-                was_refusing = self.refusing
-                res = self.compute(frame, dt)
-                if res.reason != "fk_failed":
-                    fk_failures = 0
-                if res.reason in ("unreachable", "singular"):
-                    self.refusing = True
-                    if not was_refusing:
-                        self._event("pose_refused", t0, frame, reason=res.reason)
-                elif res.accepted:
-                    self.refusing = False
-                if res.reason == "fk_failed":
-                    fk_failures += 1
-                    self._event("fk_failed", t0, frame, residual=res.fk_residual)
-                    if fk_failures > self.MAX_FK_FAILURES and self.state == RUN:
-                        self.state = FAULT         # pose unknown: zero torque until it is
-                        recover_count = 0
-                        self._event("fk_lost", t0, frame, failures=fk_failures)
-                        last = CommandFrame(seq, frame.seq, MODE_ZERO_TORQUE, 0,
-                                            np.zeros(self.L))
-                    seq += 1
-                    last = CommandFrame(seq, frame.seq, last.mode, FLAG_KEEPALIVE,
-                                        last.torques)
-                    link.write_command(last)
-                    continue
-                if res.reason == "singular_stop" and self.state != STOPPED:
-                    self.state = STOPPED
-                    self._event("singular_stop", t0, frame)
-                if self.state == FAULT:
-                    mode, tau = MODE_ZERO_TORQUE, np.zeros(self.L)
-                elif self.state == STOPPED:
-                    mode, tau = MODE_HOLD, np.zeros(self.L)
-                else:
-                    mode, tau = res.mode, res.torques
-                seq += 1
-                last = CommandFrame(seq, frame.seq, mode, 0, tau)
-                link.write_command(last)
-                t_done = time.perf_counter()
-                compute_cpu.append(time.thread_time() - c_rx)
-                cycles += 1
-                compute.append(t_done - t_rx)
-                period = 0.0 if t_prev_cycle is None else t_rx - t_prev_cycle
-                if t_prev_cycle is not None:
-                    periods.append(period)
-                t_prev_cycle = t_rx
-                if res.saturated:
-                    self.saturated_cycles += 1
-                self.max_abs_torque = max(self.max_abs_torque, float(np.max(np.abs(tau))))
-                p = res.pose if res.pose is not None else self.pose
-                d = res.desired if res.desired is not None else self.adm.pose
-                wr = res.wrench if res.wrench is not None else np.zeros(6)
-                self.log.add((t_rx - t0, frame.t_us * 1e-6, frame.seq, self.state, mode,
-                              t_done - t_rx, period, res.fk_iterations, res.fk_residual,
-                              0 if res.accepted else 1, 1 if res.saturated else 0,
-                              *p, *d, *wr, *tau))
-                if (frame.t_us - t_first) * 1e-6 >= seconds:
-                    reason = "completed"
-                    break
-        except LinkError as exc:
-            reason = "disconnect"
-            self.error = exc.message
-            self._event("disconnect", t0, None, message=exc.message)
-        except Exception as exc:  # no run ends in a traceback: record, zero torque, exit 1
-            reason = "internal_error"
-            self.error = f"{type(exc).__name__}: {exc}"
-            self._event("internal_error", t0, None, message=self.error)
-        finally:
-            sent = self._zero_torque(link, seq, last.ack)
-            self._event("zero_torque", t0, None, sent=sent)
-            for s, h in old.items():
-                signal.signal(s, h)
-            restore(rt)
-            self.log.flush()
-        wall = time.perf_counter() - t0
-        self.gc_collections = sum(g["collections"] for g in gc.get_stats()) - gc0
-        return run_summary(self, link, cycles, wall, t_first, t_prev_us, compute, compute_cpu,
-                           periods, reason)
-
-    def _zero_torque(self, link, seq, ack) -> bool:
-        """Send zero torque three times; True if at least one frame was written whole."""
-        sent = False
-        for i in range(3):
-            try:
-                sent |= link.write_command(CommandFrame(seq + 1 + i, ack, MODE_ZERO_TORQUE, 0,
-                                                        np.zeros(self.L)))
-            except LinkError:
-                break
-        return sent
+        return run_loop(self, link, seconds, wall_limit)

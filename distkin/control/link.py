@@ -27,8 +27,13 @@ class LinkStats:
     ``bad_frames`` chunks rejected by the decoder (garbage, corrupted, truncated);
     ``resyncs`` times the decoder found a valid frame again after bad ones;
     ``timeouts`` reads that reached their deadline with no valid frame;
-    ``seq_gaps`` state frames missing by sequence number (dropped or destroyed);
+    ``seq_gaps`` state frames missing by sequence number (dropped or destroyed; a
+    frame that arrives late is no longer missing);
     ``stale_frames`` valid frames skipped because a newer one was already waiting;
+    ``late_frames`` state frames dropped because they arrived after a newer one
+    (their ``seq`` is behind the last accepted one, mod 2^32);
+    ``duplicate_frames`` state frames dropped because their ``seq`` repeats the last
+    accepted one;
     ``write_timeouts`` command writes that timed out (tolerated up to
     :attr:`Link.dead_after_s`).
     """
@@ -43,6 +48,8 @@ class LinkStats:
     timeouts: int = 0
     seq_gaps: int = 0
     stale_frames: int = 0
+    late_frames: int = 0
+    duplicate_frames: int = 0
     unexpected_frames: int = 0
     write_timeouts: int = 0
 
@@ -102,6 +109,7 @@ class Link:
         self._dec = FrameDecoder(state_decoder=decoder)
         self.stats = LinkStats()
         self._last_seq = None
+        self._missing = 0
         self._last_write_ok = time.perf_counter()
         self.dead_after_s = dead_after_s
         self.closed = False
@@ -148,18 +156,52 @@ class Link:
         self.stats.bytes_in += len(data)
         return data
 
-    def _note_seq(self, seq: int) -> None:
-        if self._last_seq is not None:
-            gap = (seq - self._last_seq - 1) & 0xFFFFFFFF
-            if 0 < gap < 0x80000000:
+    #: how far back (in sequence numbers) a late frame is still matched to the gap it
+    #: left, so that ``seq_gaps`` counts only frames that never came
+    SEQ_WINDOW = 64
+
+    def _note_seq(self, seq: int) -> bool:
+        """Account for a state frame's ``seq`` (u32, wraps at 2^32: docs/protocol.md);
+        False if the frame is not newer than the last accepted one (a duplicate or a
+        late arrival, counted; the caller drops it).
+
+        Serial-number arithmetic: ``seq`` is newer when ``(seq - last) mod 2^32`` is in
+        1 .. 2^31 - 1.  ``_missing`` has bit ``d`` set while ``last - d`` is missing
+        (d < :attr:`SEQ_WINDOW`)."""
+        last = self._last_seq
+        if last is None:
+            self._last_seq, self._missing = seq, 0
+            return True
+        ahead = (seq - last) & 0xFFFFFFFF
+        if 0 < ahead < 0x80000000:
+            gap = ahead - 1
+            if gap:
                 self.stats.seq_gaps += gap
-        self._last_seq = seq
+            if ahead < self.SEQ_WINDOW:
+                self._missing = ((self._missing << ahead) | ((1 << ahead) - 2)) \
+                    & ((1 << self.SEQ_WINDOW) - 1)
+            else:
+                self._missing = (1 << self.SEQ_WINDOW) - 2
+            self._last_seq = seq
+            return True
+        if ahead == 0:
+            self.stats.duplicate_frames += 1
+            return False
+        behind = (last - seq) & 0xFFFFFFFF
+        self.stats.late_frames += 1
+        if behind < self.SEQ_WINDOW and self._missing >> behind & 1:
+            self._missing &= ~(1 << behind)       # it came after all: not missing
+            self.stats.seq_gaps -= 1
+        return False
 
     def read_state(self, timeout_s: float) -> StateFrame | None:
         """The newest valid state frame that arrives within ``timeout_s``, or None.
 
         Every frame already waiting is decoded; older ones are counted as stale and only
-        the newest is returned, so the controller always acts on the latest reading.  The
+        the newest is returned, so the controller always acts on the latest reading.  A
+        frame whose ``seq`` is not newer than the last one accepted (a duplicate, or one
+        that arrived after a newer one) is dropped and counted (``duplicate_frames``,
+        ``late_frames``): a device that only repeats old frames reads as a silent one.  The
         deadline is checked on every pass, whatever arrives: a line that keeps
         delivering bytes that never form a frame (garbage, a wrong baud rate) ends the
         read at its deadline like a silent one (counted in ``timeouts``), and so does a
@@ -182,11 +224,12 @@ class Link:
             if data:
                 for msg in self._dec.feed(data):
                     if isinstance(msg, StateFrame):
-                        self._note_seq(msg.seq)
+                        self.stats.frames_in += 1
+                        if not self._note_seq(msg.seq):
+                            continue            # old news: as if it never came
                         if latest is not None:
                             self.stats.stale_frames += 1
                         latest = msg
-                        self.stats.frames_in += 1
                     else:
                         self.stats.unexpected_frames += 1
                 self._sync_decoder_stats()

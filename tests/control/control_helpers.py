@@ -1,12 +1,20 @@
-"""Helpers of the two-process control tests: scene variants, running the CLI, and the
-controller's estimate against the simulator's true pose."""
+"""Helpers of the control tests: scene variants, running the CLI, the controller's estimate
+against the simulator's true pose, and a scripted device on a simulated clock
+(:class:`ScriptedLink`, :func:`state_frames`)."""
 
 import os
 import subprocess
 import sys
+import types
 from pathlib import Path
 
 import numpy as np
+
+import distkin.control.link as link_mod
+import distkin.control.loop as loop_mod
+from distkin.control.link import Link, LinkStats
+from distkin.control.protocol import FrameDecoder
+from distkin.errors import LinkError
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE = ROOT / "examples" / "control_octo.toml"
@@ -53,3 +61,64 @@ def estimate_and_truth(prefix):
     est = np.stack([cyc[f"x_{k}"][ci] for k in ("x", "y", "z")], axis=-1)
     true = np.stack([dev[f"x_{k}"][di] for k in ("x", "y", "z")], axis=-1)
     return est, true
+
+
+class ScriptedLink(Link):
+    """A device that plays a script through the real :class:`~distkin.control.link.Link`
+    read path (decoder, sequence numbers, counters) on a simulated clock.
+
+    ``script`` holds one item per device period: the bytes the device sends in that
+    period (one or more encoded frames) or None (silence).  Every read of the link
+    takes one period, so device time, the clock the loop sees (:meth:`patch` replaces
+    ``time`` in :mod:`distkin.control.loop` and :mod:`distkin.control.link`) and the
+    script index agree: the tests assert in device periods, never in wall time.  The
+    commands are recorded as ``(tick, CommandFrame)``, ``tick`` the script index of
+    the period in which the host answered.  The end of the script is a disconnect.
+    """
+
+    def __init__(self, script, period_s=1e-3):      # no port: not Link.__init__
+        self.url, self.closed, self._fd = "script://", False, None
+        self._ser = types.SimpleNamespace(in_waiting=0)
+        self._dec, self.stats = FrameDecoder(), LinkStats()
+        self._last_seq, self._missing = None, 0
+        self.script, self.tick, self.period = list(script), -1, period_s
+        self.commands = []
+
+    def perf_counter(self):
+        return (self.tick + 1) * self.period
+
+    thread_time = perf_counter
+
+    def _read_some(self):
+        self.tick += 1
+        if self.tick >= len(self.script):
+            raise LinkError("expected a connected device, got the end of the script",
+                            field="port")
+        data = self.script[self.tick] or b""
+        self.stats.bytes_in += len(data)
+        return data
+
+    def write_command(self, cmd):
+        self.commands.append((self.tick, cmd))
+        self.stats.frames_out += 1
+        return True
+
+    def close(self):
+        self.closed = True
+
+    def patch(self, monkeypatch):
+        """Run the loop and the link on this device's clock; returns self."""
+        clock = types.SimpleNamespace(perf_counter=self.perf_counter,
+                                      thread_time=self.thread_time)
+        monkeypatch.setattr(loop_mod, "time", clock)
+        monkeypatch.setattr(link_mod, "time", clock)
+        return self
+
+
+def state_frames(model, seqs, status=0, angles=None, wrench=None):
+    """Encoded state frames of ``model`` at its home pose, one per ``seqs`` entry, with
+    ``t_us = 1000 seq`` (list of bytes)."""
+    from distkin.control.protocol import encode_state
+    a = model.ik(model.home)[0] if angles is None else np.asarray(angles, dtype=float)
+    w = np.zeros(6) if wrench is None else np.asarray(wrench, dtype=float)
+    return [encode_state(s, 1000 * s, status, a, w) for s in seqs]

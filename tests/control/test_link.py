@@ -103,3 +103,39 @@ def test_running_the_controller_and_simulator_never_imports_sympy():
                          check=True, cwd=os.path.dirname(os.path.dirname(os.path.dirname(
                              os.path.abspath(__file__)))))
     assert out.stdout.split() == ["50", "False"]
+
+
+def test_late_and_duplicate_frames_are_dropped_counted_and_fill_their_gap():
+    """QA 24: a late frame moved the last seq backwards (then 701 'missing' for swapped
+    neighbours) and was returned as fresh data."""
+    with Link("loop://") as link:
+        got = []
+        for s in (1, 3, 2, 3, 5, 4, 6):
+            link.write_raw(_state(s))
+            msg = link.read_state(0.05)
+            got.append(None if msg is None else msg.seq)
+        assert got == [1, 3, None, None, 5, None, 6]
+        st = link.stats
+        assert st.late_frames == 2 and st.duplicate_frames == 1
+        assert st.seq_gaps == 0                  # 2 and 4 came, late
+        link.write_raw(_state(10))
+        assert link.read_state(0.05).seq == 10
+        assert link.stats.seq_gaps == 3          # 7, 8, 9 never came
+        link.write_raw(_state(1))                # far behind: late, no gap filled
+        assert link.read_state(0.05) is None
+        assert link.stats.late_frames == 3 and link.stats.seq_gaps == 3
+
+
+def test_sequence_numbers_wrap_at_2_to_the_32():
+    """docs/protocol.md: seq is a u32 that wraps; 0 follows 2^32 - 1."""
+    top = 2 ** 32
+    with Link("loop://") as link:
+        for s in (top - 2, top - 1, 0, 1):
+            link.write_raw(_state(s))
+            assert link.read_state(0.05).seq == s
+        link.write_raw(_state(top - 1))          # from before the wrap: late
+        assert link.read_state(0.05) is None
+        link.write_raw(_state(3))
+        assert link.read_state(0.05).seq == 3
+        st = link.stats
+        assert st.seq_gaps == 1 and st.late_frames == 1 and st.duplicate_frames == 0

@@ -1,0 +1,248 @@
+"""The control loop of :class:`.controller.Controller`: frames in, commands out, the
+safety state machine (Kühne et al. Sec. III-D: one cycle per state frame at 1 kHz).
+
+:func:`run_loop` is :meth:`.controller.Controller.run` (its docstring holds the
+contract).  The states: ``RUN`` (torque control), ``FAULT`` (zero torque) and
+``STOPPED`` (hold, near a singular pose).  A rejected frame (:func:`.safety.check_reading`)
+is answered with a keep-alive repeating the last decision, as a missing one is, until
+the watchdog window (``safety.watchdog_ms``, wall time or device time since the last
+valid frame) has passed: then the fault state and zero torque.  A frame with the
+``ESTOP`` bit gives the fault state and zero torque at once.  The fault state is left
+after ``safety.recover_frames`` consecutive valid frames; a rejected frame or an empty
+read starts the count again.
+"""
+
+from __future__ import annotations
+
+import gc
+import signal
+import time
+
+import numpy as np
+
+from ..errors import LinkError
+from .protocol import FLAG_KEEPALIVE, MODE_HOLD, MODE_ZERO_TORQUE, STATUS_ESTOP, CommandFrame
+from .runlog import run_summary
+from .safety import FAULT, RUN, STOPPED, DeviceStatus
+from .scheduling import realtime, restore
+
+__all__ = ["run_loop"]
+
+
+def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict:
+    """:meth:`.controller.Controller.run` of ``ctl`` over ``link`` (see there)."""
+    wall_limit = 2.0 * seconds + 10.0 if wall_limit is None else wall_limit
+    t0 = time.perf_counter()
+    poll = min(0.005, ctl.safety.watchdog_ms * 1e-3 / 4)
+    seq = 0
+    last = CommandFrame(0, 0, MODE_ZERO_TORQUE, 0, np.zeros(ctl.L))
+    last_valid = last_t_dev = last_t_us = None
+    fk_failures = 0
+    t_first = t_prev_us = None
+    t_prev_cycle = None
+    recover_count = 0
+    compute, compute_cpu, periods = [], [], []
+    cycles = 0
+    gc0 = sum(g["collections"] for g in gc.get_stats())
+    reason = "completed"
+    ctl.error = None
+    stop = {"sig": None}
+
+    def _on_signal(signum, _frame):
+        stop["sig"] = signum
+
+    rt = None
+    if getattr(ctl.scene, "realtime", False):
+        rt, why = realtime()
+        if why:
+            ctl._event("realtime_refused", t0, None, message=why)
+    old = {}
+    for s in (signal.SIGINT, signal.SIGTERM):
+        try:
+            old[s] = signal.signal(s, _on_signal)
+        except ValueError:  # not in the main thread
+            pass
+    try:
+        while True:
+            if stop["sig"] is not None:
+                reason = "interrupted"
+                break
+            now = time.perf_counter()
+            if now - t0 > wall_limit:
+                reason = "wall_limit"
+                break
+            if t_first is None and now - t0 > ctl.STARTUP_TIMEOUT_S:
+                reason = "no_device"
+                ctl.error = (f"expected state frames from the device, got none in "
+                             f"{ctl.STARTUP_TIMEOUT_S:g} s")
+                if ctl.rejected_frames:       # frames came, none could be used
+                    reason = "no_valid_frames"
+                    ctl.error = (f"expected a valid state frame from the device, got "
+                                 f"{ctl.rejected_frames} rejected in "
+                                 f"{ctl.STARTUP_TIMEOUT_S:g} s (last: "
+                                 f"{ctl.last_rejection})")
+                break
+            frame = link.read_state(poll)
+            t_rx = time.perf_counter()
+            c_rx = time.thread_time()
+            if frame is None:
+                recover_count = 0              # recovery needs consecutive frames
+                if last_valid is not None and ctl.state == RUN and \
+                        t_rx - last_valid > ctl.safety.watchdog_ms * 1e-3:
+                    ctl.state = FAULT
+                    recover_count = 0
+                    ctl._event("watchdog_trip", t0, None, t_dev=last_t_dev,
+                               silent_ms=round((t_rx - last_valid) * 1e3, 1))
+                    last = CommandFrame(seq, last.ack, MODE_ZERO_TORQUE, 0,
+                                        np.zeros(ctl.L))
+                if last_valid is not None:
+                    seq += 1
+                    last = CommandFrame(seq, last.ack, last.mode, FLAG_KEEPALIVE,
+                                        last.torques)
+                    link.write_command(last)
+                continue
+            n = frame.angles.shape[0] if frame.angles.ndim == 1 else -1
+            if n != ctl.L and t_first is None:
+                # the first frame already says it: another device than the scene's
+                reason = "device_mismatch"
+                ctl.error = (f"device sends {n} joint angles, scene has {ctl.L} legs "
+                             f"(expected state frames with {ctl.L} encoder angles: is "
+                             f"the scene the device's?)")
+                ctl._event("device_mismatch", t0, frame, joints=n, legs=ctl.L)
+                break
+            if frame.status & DeviceStatus.MASK:
+                for name, count in ctl.device_status.note(frame.status, frame.t_us):
+                    ctl._event(name, t0, frame, frames=count)
+            why = ctl.check_reading(frame)
+            if why:
+                ctl.rejected_frames += 1
+                ctl.last_rejection = why
+                recover_count = 0              # recovery needs consecutive frames
+                ctl._event("bad_reading", t0, frame, reason=why)
+                if last_valid is not None:
+                    if frame.status & STATUS_ESTOP and ctl.state != FAULT:
+                        # the e-stop: zero torque from this frame on
+                        ctl.state = FAULT
+                        ctl._event("estop", t0, frame)
+                        last = CommandFrame(seq, last.ack, MODE_ZERO_TORQUE, 0,
+                                            np.zeros(ctl.L))
+                    elif ctl.state == RUN and (
+                            t_rx - last_valid > ctl.safety.watchdog_ms * 1e-3
+                            or frame.t_us - last_t_us > ctl.safety.watchdog_ms * 1e3):
+                        # only rejected frames for the watchdog window (device or
+                        # wall time): as if the device were silent
+                        ctl.state = FAULT
+                        silent = max(t_rx - last_valid, (frame.t_us - last_t_us) * 1e-6)
+                        ctl._event("watchdog_trip", t0, frame, reason=why,
+                                   silent_ms=round(silent * 1e3, 1))
+                        last = CommandFrame(seq, last.ack, MODE_ZERO_TORQUE, 0,
+                                            np.zeros(ctl.L))
+                    seq += 1
+                    last = CommandFrame(seq, frame.seq, last.mode, FLAG_KEEPALIVE,
+                                        last.torques)
+                    link.write_command(last)
+                continue
+            last_valid = t_rx
+            last_t_us = frame.t_us
+            last_t_dev = frame.t_us * 1e-6
+            if t_first is None:
+                t_first = frame.t_us
+            dt = ctl.dt_nominal
+            if t_prev_us is not None:
+                dt = min(max((frame.t_us - t_prev_us) * 1e-6, 0.2 * dt), 5.0 * dt)
+            t_prev_us = frame.t_us
+            if ctl.state == FAULT:
+                recover_count += 1
+                if recover_count >= ctl.safety.recover_frames:
+                    ctl.state = RUN
+                    ctl._event("recovered", t0, frame, frames=recover_count)
+                    ctl.started = False    # re-initialise at the measured pose
+            was_refusing = ctl.refusing
+            res = ctl.compute(frame, dt)
+            if res.reason != "fk_failed":
+                fk_failures = 0
+            if res.reason in ("unreachable", "singular"):
+                ctl.refusing = True
+                if not was_refusing:
+                    ctl._event("pose_refused", t0, frame, reason=res.reason)
+            elif res.accepted:
+                ctl.refusing = False
+            if res.reason == "fk_failed":
+                fk_failures += 1
+                ctl._event("fk_failed", t0, frame, residual=res.fk_residual)
+                if fk_failures > ctl.MAX_FK_FAILURES and ctl.state == RUN:
+                    ctl.state = FAULT         # pose unknown: zero torque until it is
+                    recover_count = 0
+                    ctl._event("fk_lost", t0, frame, failures=fk_failures)
+                    last = CommandFrame(seq, frame.seq, MODE_ZERO_TORQUE, 0,
+                                        np.zeros(ctl.L))
+                seq += 1
+                last = CommandFrame(seq, frame.seq, last.mode, FLAG_KEEPALIVE,
+                                    last.torques)
+                link.write_command(last)
+                continue
+            if res.reason == "singular_stop" and ctl.state != STOPPED:
+                ctl.state = STOPPED
+                ctl._event("singular_stop", t0, frame)
+            if ctl.state == FAULT:
+                mode, tau = MODE_ZERO_TORQUE, np.zeros(ctl.L)
+            elif ctl.state == STOPPED:
+                mode, tau = MODE_HOLD, np.zeros(ctl.L)
+            else:
+                mode, tau = res.mode, res.torques
+            seq += 1
+            last = CommandFrame(seq, frame.seq, mode, 0, tau)
+            link.write_command(last)
+            t_done = time.perf_counter()
+            compute_cpu.append(time.thread_time() - c_rx)
+            cycles += 1
+            compute.append(t_done - t_rx)
+            period = 0.0 if t_prev_cycle is None else t_rx - t_prev_cycle
+            if t_prev_cycle is not None:
+                periods.append(period)
+            t_prev_cycle = t_rx
+            if res.saturated:
+                ctl.saturated_cycles += 1
+            ctl.max_abs_torque = max(ctl.max_abs_torque, float(np.max(np.abs(tau))))
+            p = res.pose if res.pose is not None else ctl.pose
+            d = res.desired if res.desired is not None else ctl.adm.pose
+            wr = res.wrench if res.wrench is not None else np.zeros(6)
+            ctl.log.add((t_rx - t0, frame.t_us * 1e-6, frame.seq, frame.status,
+                         ctl.state, mode,
+                         t_done - t_rx, period, res.fk_iterations, res.fk_residual,
+                         0 if res.accepted else 1, 1 if res.saturated else 0,
+                         *p, *d, *wr, *tau))
+            if (frame.t_us - t_first) * 1e-6 >= seconds:
+                reason = "completed"
+                break
+    except LinkError as exc:
+        reason = "disconnect"
+        ctl.error = exc.message
+        ctl._event("disconnect", t0, None, message=exc.message)
+    except Exception as exc:  # no run ends in a traceback: record, zero torque, exit 1
+        reason = "internal_error"
+        ctl.error = f"{type(exc).__name__}: {exc}"
+        ctl._event("internal_error", t0, None, message=ctl.error)
+    finally:
+        sent = _zero_torque(ctl, link, seq, last.ack)
+        ctl._event("zero_torque", t0, None, sent=sent)
+        for s, h in old.items():
+            signal.signal(s, h)
+        restore(rt)
+        ctl.log.flush()
+    wall = time.perf_counter() - t0
+    ctl.gc_collections = sum(g["collections"] for g in gc.get_stats()) - gc0
+    return run_summary(ctl, link, cycles, wall, t_first, t_prev_us, compute, compute_cpu,
+                       periods, reason)
+
+
+def _zero_torque(ctl, link, seq, ack) -> bool:
+    """Send zero torque three times; True if at least one frame was written whole."""
+    sent = False
+    for i in range(3):
+        try:
+            sent |= link.write_command(CommandFrame(seq + 1 + i, ack, MODE_ZERO_TORQUE, 0,
+                                                    np.zeros(ctl.L)))
+        except LinkError:
+            break
+    return sent

@@ -1,0 +1,91 @@
+"""The checks of a state frame and the device's own status bits.
+
+Kühne et al. Sec. III-D run the controller at 1 kHz on the device's readings; this
+module decides which readings the cycle may use (:func:`check_reading`: finite, in
+range, no ``ESTOP`` or ``SENSOR_FAULT`` bit, see docs/protocol.md) and counts the bits
+that report what the device did on its own (:class:`DeviceStatus`: ``DEVICE_WATCHDOG``,
+``SATURATED``).  What the loop does with a rejected frame (the watchdog, the e-stop) is
+:meth:`.controller.Controller.run`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .cycle_kernels import reading_extremes
+from .protocol import STATUS_DEVICE_WATCHDOG, STATUS_ESTOP, STATUS_SATURATED, STATUS_SENSOR_FAULT
+
+__all__ = ["check_reading", "DeviceStatus", "RUN", "FAULT", "STOPPED"]
+
+#: the states of :meth:`.controller.Controller.run` (the ``state`` column of cycles.csv):
+#: torque control, zero torque (watchdog, e-stop, pose lost), hold (singular stop)
+RUN, FAULT, STOPPED = 0, 1, 2
+
+
+def check_reading(frame, L: int, safety, lo=None, hi=None) -> str:
+    """Why a state frame must be rejected ("" if it is acceptable).
+
+    Parameters
+    ----------
+    frame : StateFrame
+        ``angles`` (L,) rad (leg lengths, m, for prismatic legs), ``wrench`` (6,) N, N·m.
+    L : int
+        Number of legs of the scene.
+    safety : SafetyLimits
+        ``max_angle`` rad, ``max_force`` N, ``max_torque`` N·m.
+    lo, hi : ndarray (L,) or None
+        Each prismatic leg's length range, m (None: revolute, ``max_angle``).
+    """
+    a, w = frame.angles, frame.wrench
+    if a.shape != (L,):
+        return f"expected {L} encoder angles, got {a.shape[0]}"
+    finite, ma, mf, mm = reading_extremes(a, w)
+    if not finite:
+        return "NaN or inf in the reading"
+    if lo is not None:
+        out = (a < lo) | (a > hi)
+        if out.any():
+            i = int(np.argmax(out))
+            return (f"leg {i + 1} length {a[i]:.6g} m outside its range "
+                    f"[{lo[i]:g}, {hi[i]:g}] m")
+    elif ma > safety.max_angle:
+        return f"encoder angle {ma:.3g} rad beyond ±{safety.max_angle} rad"
+    if mf > safety.max_force or mm > safety.max_torque:
+        return "force/torque reading beyond the sensor range"
+    if frame.status & STATUS_ESTOP:
+        return f"device reports e-stop (status {frame.status:#06x})"
+    if frame.status & STATUS_SENSOR_FAULT:
+        return f"device reports a sensor fault (status {frame.status:#06x})"
+    return ""
+
+
+class DeviceStatus:
+    """Counts of the frames with the device's ``DEVICE_WATCHDOG`` (the device zeroed its
+    torques: no command in time) and ``SATURATED`` (a drive limited the commanded
+    torque) bits, and the rate limit of their events.
+
+    :meth:`note` returns the events to log: ``(name, frames)`` at most once per
+    ``interval_us`` of device time per bit, ``frames`` the frames with the bit since the
+    last event of that bit (the first frame with the bit always gives one).
+    """
+
+    BITS = ((STATUS_DEVICE_WATCHDOG, "device_watchdog"), (STATUS_SATURATED, "device_saturated"))
+    MASK = STATUS_DEVICE_WATCHDOG | STATUS_SATURATED
+
+    def __init__(self, interval_us: int = 1_000_000):
+        self.interval_us = interval_us
+        self.frames = {name: 0 for _, name in self.BITS}
+        self._last = {}          # name -> (t_us, frames) of its last event
+
+    def note(self, status: int, t_us: int) -> list:
+        """Count a frame's ``status`` bits at device time ``t_us`` µs; the events due."""
+        due = []
+        for bit, name in self.BITS:
+            if not status & bit:
+                continue
+            n = self.frames[name] = self.frames[name] + 1
+            last = self._last.get(name)
+            if last is None or not 0 <= t_us - last[0] < self.interval_us:
+                self._last[name] = (t_us, n)
+                due.append((name, n - (0 if last is None else last[1])))
+        return due

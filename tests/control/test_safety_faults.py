@@ -1,0 +1,191 @@
+"""The safety state machine of the control loop against a scripted device
+(:class:`control_helpers.ScriptedLink`: the real link's read path on a simulated clock,
+one device period per read), so that every assertion is in device periods.
+
+The contract (:mod:`distkin.control.loop`, docs/protocol.md): no *valid* frame within
+``watchdog_ms`` -> zero torque and the fault state, whether the device is silent, sends
+only rejected readings or only repeats old frames; the ``ESTOP`` bit -> zero torque at
+once; the fault state is left after ``recover_frames`` *consecutive* valid frames.
+"""
+
+import numpy as np
+import pytest
+
+from distkin.app.control_commands import builtin_scene, format_summary
+from distkin.control.controller import Controller
+from distkin.control.kinematics import load_model
+from distkin.control.protocol import (FLAG_KEEPALIVE, MODE_RUN, MODE_ZERO_TORQUE,
+                                      STATUS_DEVICE_WATCHDOG, STATUS_ESTOP, STATUS_SATURATED,
+                                      STATUS_SENSOR_FAULT, encode_state)
+
+from control_helpers import ScriptedLink, state_frames
+
+
+@pytest.fixture(scope="module")
+def model():
+    return load_model("octo")
+
+
+@pytest.fixture(scope="module")
+def scene():
+    s = builtin_scene()
+    assert s.safety.watchdog_ms == 20 and s.safety.recover_frames == 50
+    return s
+
+
+def _run(monkeypatch, scene, model, script, **kw):
+    dev = ScriptedLink(script).patch(monkeypatch)
+    ctl = Controller(scene, model, **kw)
+    summary = ctl.run(dev, 1000.0)
+    return ctl, dev, summary
+
+
+def _first(dev, pred, after=-1):
+    """The tick of the first command after ``after`` that satisfies ``pred``."""
+    return next(t for t, c in dev.commands if t > after and pred(c))
+
+
+def _bad(model, kind, seqs):
+    home = model.ik(model.home)[0]
+    if kind == "nan":
+        a = home.copy()
+        a[0] = np.nan
+        return state_frames(model, seqs, angles=a)
+    if kind == "sensor_fault":
+        return state_frames(model, seqs, status=STATUS_SENSOR_FAULT)
+    if kind == "force":
+        return state_frames(model, seqs, wrench=[150.0, 0, 0, 0, 0, 0])
+    if kind == "joints":
+        return [encode_state(s, 1000 * s, 0, home[:6], np.zeros(6)) for s in seqs]
+    raise KeyError(kind)
+
+
+@pytest.mark.parametrize("kind", ["nan", "sensor_fault", "force", "joints"])
+def test_rejected_frames_trip_the_watchdog_within_its_window(monkeypatch, scene, model,
+                                                             kind):
+    """QA 11: a device that keeps sending frames the controller rejects used to get
+    run-mode keep-alives with the last torque for ever."""
+    good, first_bad = 100, 100
+    script = state_frames(model, range(good)) + _bad(model, kind, range(good, good + 200))
+    ctl, dev, s = _run(monkeypatch, scene, model, script)
+    wd = int(scene.safety.watchdog_ms)           # periods of 1 ms
+    before = [c for t, c in dev.commands if t < first_bad]
+    assert before and all(c.mode == MODE_RUN for c in before)
+    trip = _first(dev, lambda c: c.mode == MODE_ZERO_TORQUE)
+    # within the window + one period of the first rejected frame, not before the window
+    assert first_bad + wd - 1 <= trip <= first_bad + wd + 1
+    # until then the keep-alives repeat the last decision; from then on, zero torque
+    for t, c in dev.commands:
+        if first_bad <= t < trip:
+            assert c.mode == MODE_RUN and c.flags == FLAG_KEEPALIVE
+        elif t >= trip:
+            assert c.mode == MODE_ZERO_TORQUE and not np.any(c.torques)
+    names = [e["event"] for e in ctl.events.events]
+    assert names.count("watchdog_trip") == 1 and "recovered" not in names
+    assert s["watchdog_trips"] == 1 and s["rejected_frames"] == 200
+    assert s["cycles"] == good                   # the rejected readings were never used
+
+
+def test_estop_gives_zero_torque_at_once_and_recovery_needs_its_release(monkeypatch, scene,
+                                                                        model):
+    rf = scene.safety.recover_frames
+    script = (state_frames(model, range(100))
+              + state_frames(model, range(100, 110), status=STATUS_ESTOP)
+              + state_frames(model, range(110, 110 + rf + 20)))
+    ctl, dev, s = _run(monkeypatch, scene, model, script)
+    stop = _first(dev, lambda c: c.mode == MODE_ZERO_TORQUE)
+    assert stop == 100                           # the answer to the e-stop frame itself
+    assert all(c.mode == MODE_ZERO_TORQUE for t, c in dev.commands if 100 <= t < 110)
+    back = _first(dev, lambda c: c.mode == MODE_RUN, after=stop)
+    assert back == 110 + rf - 1                  # recover_frames valid frames after release
+    names = [e["event"] for e in ctl.events.events]
+    assert names.count("estop") == 1 and "watchdog_trip" not in names
+    assert s["estops"] == 1 and s["watchdog_trips"] == 0
+
+
+def test_recovery_needs_consecutive_valid_frames(monkeypatch, scene, model):
+    """QA 23: every other frame bad after a trip used to recover all the same."""
+    rf = scene.safety.recover_frames
+    home = model.ik(model.home)[0]
+    nan = home.copy()
+    nan[0] = np.nan
+    script = state_frames(model, range(100)) + [None] * 40     # silence: a trip
+    seq = 140
+    for k in range(4 * rf):                                    # valid, bad, valid, bad ...
+        script += state_frames(model, [seq], angles=nan if k % 2 else None)
+        seq += 1
+    script += state_frames(model, range(seq, seq + rf - 1))    # one short of enough
+    script += [None] * 10                                      # an empty read resets
+    seq += rf - 1
+    start = len(script)
+    script += state_frames(model, range(seq, seq + rf + 10))
+    ctl, dev, s = _run(monkeypatch, scene, model, script)
+    trip = _first(dev, lambda c: c.mode == MODE_ZERO_TORQUE)
+    assert 100 < trip < 140
+    back = _first(dev, lambda c: c.mode == MODE_RUN, after=trip)
+    assert back == start + rf - 1
+    rec = [e for e in ctl.events.events if e["event"] == "recovered"]
+    assert len(rec) == 1 and rec[0]["frames"] == rf
+
+
+def test_device_repeating_an_old_frame_is_silent_and_trips_the_watchdog(monkeypatch, scene,
+                                                                          model):
+    """QA 24 (dup): the same frame for ever kept the loop in run mode."""
+    frames = state_frames(model, range(100))
+    script = frames + [frames[-1]] * 200
+    ctl, dev, s = _run(monkeypatch, scene, model, script)
+    assert s["cycles"] == 100                    # the repeats were not used
+    assert s["duplicate_frames"] == 200 and s["seq_gaps"] == 0
+    trip = _first(dev, lambda c: c.mode == MODE_ZERO_TORQUE)
+    assert trip <= 99 + scene.safety.watchdog_ms + 1 + 5   # + one poll of 5 ms
+    assert all(c.ack <= 99 for _, c in dev.commands)
+    assert s["watchdog_trips"] == 1
+
+
+def test_out_of_order_frames_are_dropped_and_not_counted_missing(monkeypatch, scene, model):
+    """QA 24 (swap): neighbours swapped in transit; none is lost."""
+    seqs = list(range(100))
+    for k in range(100, 300, 2):
+        seqs += [k + 1, k]
+    ctl, dev, s = _run(monkeypatch, scene, model, state_frames(model, seqs))
+    assert s["late_frames"] == 100 and s["seq_gaps"] == 0 and s["duplicate_frames"] == 0
+    acks = [c.ack for _, c in dev.commands if c.mode == MODE_RUN]
+    assert len(acks) == 200                      # one cycle per frame in order
+    assert np.all(np.diff(acks) > 0)             # never back in time
+    assert s["watchdog_trips"] == 0
+
+
+def test_device_status_bits_are_counted_and_logged_rate_limited(monkeypatch, scene, model):
+    """QA 25: DEVICE_WATCHDOG and SATURATED were ignored."""
+    script = (state_frames(model, range(100))
+              + state_frames(model, range(100, 1600), status=STATUS_DEVICE_WATCHDOG)
+              + state_frames(model, range(1600, 1700), status=STATUS_SATURATED))
+    ctl, dev, s = _run(monkeypatch, scene, model, script)
+    assert s["device_watchdog_frames"] == 1500 and s["device_saturated_frames"] == 100
+    ev = [e for e in ctl.events.events if e["event"].startswith("device_")]
+    # one event per bit and second of device time, with the frames since the last one
+    assert [(e["event"], e["frames"]) for e in ev] == [
+        ("device_watchdog", 1), ("device_watchdog", 1000), ("device_saturated", 1)]
+    assert s["cycles"] == 1700                   # the frames are valid readings
+    text = format_summary(s)
+    assert "1500 frames with its watchdog tripped, 100 with a drive saturated" in text
+
+
+def test_device_status_is_a_column_of_the_cycle_log(monkeypatch, scene, model, tmp_path):
+    from distkin.control.runlog import read_csv
+    script = (state_frames(model, range(10))
+              + state_frames(model, range(10, 20), status=STATUS_SATURATED))
+    _run(monkeypatch, scene, model, script, log_prefix=str(tmp_path / "run"))
+    cyc = read_csv(tmp_path / "run.cycles.csv")
+    assert list(cyc["status"]) == [0] * 10 + [STATUS_SATURATED] * 10
+
+
+def test_estop_at_start_names_the_rejected_readings(monkeypatch, scene, model):
+    """QA 28: an e-stop pressed at start-up was reported as 'no device ... got none'."""
+    dev = ScriptedLink(state_frames(model, range(400), status=STATUS_ESTOP)).patch(monkeypatch)
+    ctl = Controller(scene, model)
+    ctl.STARTUP_TIMEOUT_S = 0.2
+    s = ctl.run(dev, 10.0)
+    assert s["exit_reason"] == "no_valid_frames" and s["exit_code"] == 1
+    assert "device reports e-stop" in s["error"] and "got none" not in s["error"]
+    assert s["cycles"] == 0
