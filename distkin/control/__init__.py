@@ -21,6 +21,7 @@ loopback        controller and plant in one process (no I/O; design, benchmarks)
 config          the controller scene (TOML), the built-in scene
 runlog          CSV / JSON-lines logs and the plot of a run
 table5          Table V of Kühne et al. emulated on the simulated device
+stiffness       the servo stiffness KP JᵀJ at the paper's 27 positions (Sec. III-D)
 ==============  ============================================================
 
 ``distkin sim`` and ``distkin control`` are :mod:`distkin.app.control_commands`; the

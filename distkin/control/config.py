@@ -83,10 +83,15 @@ class PDGains:
     minimum-norm torques that balance the measured hand wrench, so that the PD only
     has to move the platform and its finite stiffness does not soften what the
     admittance renders (not in the paper's scheme; off by default).  With KP = 110 the
-    Octo's servo stiffness ``KP JᵀJ`` at the workspace centre is 1.74 N/mm along x and
-    y (the paper measured at least 1.6 N/mm on the prototype, Sec. III-D), in series
-    with the rendered environment: the example's wall (300 N/m on a 100 N/m spring) is
-    rendered at about 233 N/m without the feed-forward and 307 N/m with it.
+    Octo's servo stiffness ``KP JᵀJ`` (:mod:`.stiffness`, pushing along an axis with the
+    other directions free) is 1.30 N/mm along x and y at the workspace centre; over the
+    paper's 27 positions it is 0.86 N/mm at least (along y, on the upper facet, where
+    the paper found its minima too), 22.6 at most (along z), 3.69 on average, against the
+    prototype's measured 1.6, 7.9 and 4.7 N/mm (Sec. III-D): the model's servo alone,
+    on our reading of the Octo's geometry, with a rigid structure and rigid gears (the
+    prototype's compliance in series lowers its maximum).  The servo acts in series with
+    the rendered environment, so without the feed-forward a wall renders softer than
+    its stiffness.
     """
 
     kp: float = 110.0
