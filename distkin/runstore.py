@@ -221,7 +221,8 @@ def _save(path: Path, data: dict) -> None:
         group[i], place[i] = g, len(members[g])
         members[g].append(a)
     entries = {f"group{g}": np.stack(m) for g, m in enumerate(members)}
-    tmp = path.with_name(path.name + ".tmp.npz")
+    # a name of this process's own: two runs into one store must not share it
+    tmp = path.with_name(f"{path.name}.{os.getpid()}.tmp.npz")
     np.savez(tmp, names__=np.array(names, dtype=str), group__=group, place__=place,
              **entries)
     os.replace(tmp, path)
@@ -384,8 +385,10 @@ def _open_store(store, definition, specs):
                              f"{str(store)!r}", field="store",
                              hint="use another directory or delete the old chunks")
     else:
-        meta.write_text(json.dumps({"key": key, "code": code, "chunks": len(specs),
-                                    "definition": definition}, default=str, indent=1))
+        tmp = meta.with_name(f"{meta.name}.{os.getpid()}.tmp")
+        tmp.write_text(json.dumps({"key": key, "code": code, "chunks": len(specs),
+                                   "definition": definition}, default=str, indent=1))
+        os.replace(tmp, meta)                            # whole, for a second run too
     paths = [store / f"chunk_{i:05d}.npz" for i in range(len(specs))]
     results: list = [None] * len(specs)
     todo = []

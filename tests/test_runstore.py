@@ -171,3 +171,29 @@ def test_a_run_without_a_store_computes_every_chunk_in_memory(tmp_path):
     ref = run_chunks(_square, [2, 3, 4], tmp_path / "s", progress=False)
     assert [r["y"].tolist() for r in mem] == [r["y"].tolist() for r in ref]
     assert stats == {"loaded": 0, "store": None}
+
+
+def test_two_runs_into_one_store_at_once(tmp_path):
+    """Two processes filling the same store: both finish with the right chunks (they
+    shared one temporary file name and one crashed with FileNotFoundError; QA)."""
+    import subprocess
+    import sys
+    code = ("import sys, time, numpy as np\n"
+            "from distkin.runstore import run_chunks\n"
+            "from test_runstore import _slow_square\n"
+            "r = run_chunks(_slow_square, list(range(24)), sys.argv[1], definition={'n': 24},"
+            " progress=False)\n"
+            "assert [int(x['y'][0]) for x in r] == [i * i for i in range(24)]\n")
+    env = {**__import__("os").environ,
+           "PYTHONPATH": str(__import__("pathlib").Path(__file__).parent)}
+    procs = [subprocess.Popen([sys.executable, "-c", code, str(tmp_path / "s")], env=env,
+                              stderr=subprocess.PIPE, text=True) for _ in range(2)]
+    for p in procs:
+        _, err = p.communicate(timeout=120)
+        assert p.returncode == 0, err
+
+
+def _slow_square(x):
+    import time
+    time.sleep(0.005)
+    return {"y": np.array([x * x])}

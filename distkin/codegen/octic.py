@@ -17,14 +17,19 @@ from ..octahedral.octic import (LEG_PAIRS, PART_NAMES, SIDE_PAIRS, octic_parts,
 __all__ = ["octic_in_legs", "kernel_outputs", "generate_octic_module"]
 
 
+#: the sources the cached octic depends on beyond its inputs (the cache key)
+_OCTIC_FILES = ("octahedral/octic.py", "octahedral/banana.py", "codegen/octic.py")
+
+
 def octic_in_legs(values=None, *, use_cache: bool = True):
     r"""The octic's coefficients (highest degree first) as sympy expressions, cached.
 
     With the base and platform sides fixed by ``values`` (a scene's geometry) the
     coefficients are polynomials in the six squared legs only ("model only what a scene
     requires").  The result is cached on disk under :func:`cache_dir`, keyed by a
-    SHA-256 of the symbolic source (the ``srepr`` of the parts and the substitution),
-    so a second run does no algebra (the folder of :mod:`.cache`).
+    SHA-256 of the symbolic source (the ``srepr`` of the parts and the substitution)
+    and of the sources that derive the octic (:data:`_OCTIC_FILES`), so a second run
+    does no algebra (the folder of :mod:`.cache`).
 
     Returns
     -------
@@ -32,10 +37,14 @@ def octic_in_legs(values=None, *, use_cache: bool = True):
         Nine coefficients :math:`o_8, \dots, o_0` of :math:`O(s_{15})`.
     """
     import sympy
-    from ..sourcecache import cache_dir
+    from ..sourcecache import cache_dir, package_text, source_key
     from .emit import symbolic_hash
     p = octic_parts(values)
-    key = symbolic_hash(*[getattr(p, n) for n in PART_NAMES], p.x)[:32]
+    # the inputs and the algorithm: the parts' srepr, and the source of the code that
+    # squares eq. (3) into the octic (a cache keyed by the inputs alone served the old
+    # octic after a change of octic_polynomial)
+    key = source_key(symbolic_hash(*[getattr(p, n) for n in PART_NAMES], p.x),
+                     package_text(_OCTIC_FILES))[:32]
     path = cache_dir() / f"octic_{key}.pickle"
     if use_cache and path.exists():
         try:

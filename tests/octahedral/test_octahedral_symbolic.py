@@ -175,6 +175,21 @@ def test_octic_in_legs_is_cached(tmp_path, monkeypatch):
     assert all(sp.expand(a.xreplace(legs) - b) == 0 for a, b in zip(first, ref))
 
 
+def test_octic_cache_is_keyed_by_the_code_that_derives_it(tmp_path, monkeypatch):
+    """A change of the sources that square eq. (3) into the octic must not be served
+    the octic cached before it (QA: the key held the inputs only).  The sources are
+    stood in for by monkeypatching what the key reads; the inputs stay the same."""
+    from distkin.codegen import octic as octic_mod
+    monkeypatch.setenv("DISTKIN_CACHE", str(tmp_path))
+    fixed = {k: GD_VALUES[k] for k in SIDE_PAIRS + LEG_PAIRS[:5]}
+    octic_mod.octic_in_legs(fixed)
+    octic_mod.octic_in_legs(fixed)
+    assert len(list(tmp_path.glob("octic_*.pickle"))) == 1          # the same key again
+    monkeypatch.setattr(octic_mod, "_OCTIC_FILES", ("octahedral/octic.py",))
+    octic_mod.octic_in_legs(fixed)
+    assert len(list(tmp_path.glob("octic_*.pickle"))) == 2          # another source
+
+
 @pytest.mark.slow
 def test_derivation_script_passes():
     """``derivations/octahedral_octic.py`` prints its steps and exits 0 (every check
