@@ -8,9 +8,10 @@ numbers go to ``benchmarks/results.json``.  Modules with ``DEFAULT = False`` say
 the file and run only when named.  A module may name the distributions its comparisons
 need in ``REQUIRES`` (e.g. pycapacity, from the extra ``bench``): a run that would
 include it refuses to start without them (exit 2), so that no section is ever written
-without its comparison.  A block under the title (``<!-- begin run -->``)
-records the last run: command, date, machine, versions, the sections written with their
-times, and what the default run left out.
+without its comparison.  A block under the title (``<!-- begin run -->``) is the
+log of the runs merged into the file: each run adds a numbered entry (command, date,
+sections written with their times, machine) after the others, which it keeps, and says
+what the default run left out.  ``-h``/``--help`` lists the sections.
 """
 
 from __future__ import annotations
@@ -58,20 +59,35 @@ def _write_section(name: str, text: str, *, first: bool = False) -> None:
 
 
 def _write_run(r: dict) -> None:
-    """The block under the title: the last run's command, machine, versions and times."""
+    """The block under the title: the log of the runs merged into the file, one
+    numbered entry each (command, date, time, sections written; the first also names
+    the machine and the versions).  A run adds its entry after the last one and keeps
+    the others (what was written by hand about an entry stays): it rewrote the whole
+    block, and the log of the earlier runs was lost."""
     m = r["machine"]
     ran = ", ".join(f"`{n}` {w:.0f} s" for n, w in r["ran"].items())
     out = (", ".join(f"`{n}` (run: `python -m benchmarks {n}`)" for n in r["left_out"])
            or "none")
     if r["command"] != "python -m benchmarks":
         out = "not applicable (only the named sections ran; the others keep their last results)"
-    text = (f"Last run: `{r['command']}` on {r['date']}, {r['seconds']:.0f} s in all.  \n"
-            f"Machine: {m['processor']}, {m['cpu_count']} cores, {m['platform']}.  \n"
-            f"Versions: Python {m['python']}, numpy {m['numpy']}, scipy {m['scipy']}, "
-            f"sympy {m['sympy']}, mpmath {m['mpmath']}, python-flint {m['python-flint']}, "
-            f"numba {m.get('numba', '?')}.  \n"
-            f"Sections written: {ran}.  \n"
-            f"Left out of the default run: {out}.")
+    machine_line = (f"Machine: {m['processor']}, {m['cpu_count']} cores, {m['platform']}.  \n"
+                    f"Versions: Python {m['python']}, numpy {m['numpy']}, scipy {m['scipy']}, "
+                    f"sympy {m['sympy']}, mpmath {m['mpmath']}, python-flint "
+                    f"{m['python-flint']}, numba {m.get('numba', '?')}.  \n")
+    md = MD.read_text(encoding="utf-8") if MD.exists() else ""
+    found = re.search(r"<!-- begin run -->\n(.*?)\n<!-- end run -->", md, re.S)
+    old = found.group(1) if found else ""
+    numbers = [int(n) for n in re.findall(r"^(?:Runs merged here: )?\((\d+)\) ", old, re.M)]
+    entry = (f"`{r['command']}` on {r['date']}, {r['seconds']:.0f} s in all; sections "
+             f"written: {ran}; machine {m['processor']}, {m['cpu_count']} cores, Python "
+             f"{m['python']}, numpy {m['numpy']}, numba {m.get('numba', '?')}.  \n")
+    if numbers:
+        kept = re.sub(r"^Left out of the default run:.*$", "", old, flags=re.M).rstrip()
+        text = (f"{kept}  \n({max(numbers) + 1}) {entry}"
+                f"Left out of the default run: {out}.")
+    else:
+        text = (f"Runs merged here: (1) {entry}{machine_line}"
+                f"Left out of the default run: {out}.")
     _write_section("run", text, first=True)
 
 
@@ -98,6 +114,10 @@ def _missing_requirements(names, available) -> dict:
 
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
+    if any(a in ("-h", "--help") for a in argv):
+        print(f"usage: python -m benchmarks [NAME ...]\n\n{__doc__.strip()}\n\n"
+              f"sections: {', '.join(modules())}")
+        return 0
     names = argv or None
     available = modules()
     if names:
