@@ -61,21 +61,33 @@ def cached_source(prefix: str, key: str, build):
     Returns
     -------
     path : Path
-        The cached file.
+        The cached file.  Its SHA-256 is kept beside it (``.sha256``, written after it);
+        a file that does not match it (truncated, emptied, edited) is derived again.
     hit : bool
         True if no derivation was needed.
     """
     d = cache_dir()
     path = d / f"{prefix}_{key[:24]}.py"
+    digest = path.with_suffix(".sha256")
     if path.is_file():
-        return path, True
+        try:                     # a damaged file (truncated, emptied) is derived again
+            if digest.read_text(encoding="ascii").strip() == \
+                    hashlib.sha256(path.read_bytes()).hexdigest():
+                return path, True
+        except (OSError, UnicodeError):
+            pass
     src = build()
     d.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=d, suffix=".tmp")
-    with os.fdopen(fd, "w", encoding="utf-8") as fh:
-        fh.write(src)
-    os.replace(tmp, path)
+    _write_atomic(d, path, src)
+    _write_atomic(d, digest, hashlib.sha256(src.encode("utf-8")).hexdigest() + "\n")
     return path, False
+
+
+def _write_atomic(d, path, text):
+    fd, tmp = tempfile.mkstemp(dir=d, suffix=".tmp")
+    with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
+        fh.write(text)
+    os.replace(tmp, path)
 
 
 def load_module_file(path, name: str | None = None):
