@@ -80,8 +80,13 @@ def exact_matrix(value, field: str, rows: int | None = None, cols: int | None = 
 
 
 def as_floats(value, field: str, expected: str = "numbers") -> np.ndarray:
-    """``np.asarray(value, dtype=float)`` of any shape; text, ragged lists and other
-    things that are not numbers raise :class:`InputError` naming ``field``."""
+    """``np.asarray(value, dtype=float)`` of any shape; text, ragged lists, booleans
+    (:func:`no_booleans`: numpy reads True as 1), complex numbers (numpy drops their
+    imaginary part with a warning) and other things that are not real numbers raise
+    :class:`InputError` naming ``field``."""
+    if isinstance(value, (np.ndarray, np.complexfloating)) and np.iscomplexobj(value):
+        raise InputError(f"expected {expected} (real), got complex values", field=field)
+    no_booleans(value, field)
     try:
         return np.asarray(value, dtype=float)
     except (TypeError, ValueError):

@@ -42,11 +42,7 @@ def _prepare(G, pmin, pmax, keep, method, allowed):
     if method not in allowed:
         raise InputError(f"expected method one of {', '.join(map(repr, allowed))}, "
                          f"got {method!r}", field="method")
-    try:
-        G = np.asarray(G, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"expected a numeric generator matrix, got {type(G).__name__}",
-                         field="G") from None
+    G = as_floats(G, "G", "a numeric generator matrix")
     single = G.ndim == 2
     if single:
         G = G[None]
@@ -61,10 +57,7 @@ def _prepare(G, pmin, pmax, keep, method, allowed):
         raise InputError("expected finite numbers in G, got NaN or inf", field="G")
     lims = []
     for name, v in (("pmin", pmin), ("pmax", pmax)):
-        try:
-            a = np.asarray(v, dtype=float)
-        except (TypeError, ValueError):
-            raise InputError(f"expected numbers, got {v!r}", field=name) from None
+        a = as_floats(v, name)
         try:
             a = np.broadcast_to(a, (N, L)).astype(float)
         except ValueError:
@@ -85,6 +78,10 @@ def _prepare(G, pmin, pmax, keep, method, allowed):
 def _keep_indices(keep, d: int, field: str = "keep") -> tuple:
     """The output coordinates of a slice: distinct integers 0..d-1 (a sequence), else
     :class:`InputError` naming ``field`` (shared with :mod:`.velocity_set`)."""
+    if isinstance(keep, (str, bytes)) or any(isinstance(k, (str, bytes, bool, np.bool_))
+                                             for k in np.ravel(np.asarray(keep, dtype=object))):
+        raise InputError(f"expected a list of integer output indices, got {keep!r}",
+                         field=field)
     try:
         S = tuple(int(k) for k in keep)
     except (TypeError, ValueError, OverflowError):
@@ -367,6 +364,11 @@ def output_generators(J, mass=None):
         M = float_array(M, "mass", M.shape)
         if M.ndim == 1 and not np.all(M > 0):
             raise InputError(f"expected 6 positive masses and inertias, got {M.tolist()}",
+                             field="mass")
+        if M.ndim == 2 and not (np.allclose(M, M.T) and np.all(np.linalg.eigvalsh(M) > 0)):
+            raise InputError(f"expected a symmetric positive definite mass matrix, got one "
+                             f"{'with smallest eigenvalue ' if np.allclose(M, M.T) else ''}"
+                             f"{np.linalg.eigvalsh(M).min() if np.allclose(M, M.T) else 'not symmetric'}",
                              field="mass")
         Minv = np.diag(1.0 / M) if M.ndim == 1 else np.linalg.inv(M)
         out["acceleration"] = Minv @ Jt
