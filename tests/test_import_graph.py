@@ -47,6 +47,7 @@ LAYERS: dict[str, int] = {
     "distkin.units": 0,
     "distkin.runstore": 0,
     "distkin.sourcecache": 0,
+    "distkin._jitcache": 0,
     "distkin.scenes": 0,
     "distkin.geometry": 1,
     "distkin.octahedral": 4,

@@ -33,6 +33,7 @@ are loaded when a controller or simulator is built.
 
 from __future__ import annotations
 
+from .. import _jitcache  # noqa: F401  (drops numba caches older than the sources)
 from .admittance import Admittance, Spring, Wall
 from .config import ControlScene, load_control_scene, loads_control_scene
 from .controller import Controller

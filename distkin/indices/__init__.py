@@ -28,6 +28,7 @@ the Table III/IV and Table I reports and the scene queries ``performance`` and
 ``queries.indices``).
 """
 
+from .. import _jitcache  # noqa: F401  (drops numba caches older than the sources)
 from .capability import (CAPABILITY_METHODS, best_case_output, output_generators,
                          worst_case_output)
 from .isotropy import (SCALING_READINGS, ST_DEFAULT, brute_force_sweep, condition_number,

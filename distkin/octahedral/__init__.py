@@ -5,6 +5,7 @@ Importing this package does not import sympy; :mod:`.banana` and :mod:`.octic` i
 inside their functions (derivations and code generation only).
 """
 
+from .. import _jitcache  # noqa: F401  (drops numba caches older than the sources)
 from .forward import AssemblyResult, Pose, forward_kinematics, forward_kinematics_batched
 
 __all__ = ["forward_kinematics", "forward_kinematics_batched", "Pose", "AssemblyResult"]
