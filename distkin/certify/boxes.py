@@ -88,7 +88,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..argcheck import as_floats, float_array, no_booleans
+from ..argcheck import as_floats, float_array
 from ..errors import InputError
 from .intervals import enclose_box, point_values
 
@@ -156,8 +156,6 @@ def check_box(lo, hi, names=("lo", "hi")):
         Naming the corner: not 6 finite numbers, a boolean, or ``lo[k] > hi[k]``.
     """
     a, b = names
-    no_booleans(lo, a)
-    no_booleans(hi, b)
     lo = float_array(lo, a, (6,))
     hi = float_array(hi, b, (6,))
     if np.any(hi < lo):
@@ -172,7 +170,6 @@ def check_resolution(min_width, field: str = "min_width") -> np.ndarray:
     """A branch-and-prune resolution, checked: a positive finite number or 6 of them
     (m for x, y, z; rad for rx, ry, rz), no booleans (``True`` is not 1 m); a resolution
     <= 0 would bisect until the box budget runs out.  Returns it as an ndarray (6,)."""
-    no_booleans(min_width, field)
     minw = as_floats(min_width, field, "a resolution (m, rad): a number or 6 numbers")
     if minw.shape not in ((), (6,)) or not np.all(np.isfinite(minw)) or np.any(minw <= 0):
         raise InputError(f"expected a positive finite resolution (m, rad), a number or 6 "

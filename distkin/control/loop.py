@@ -29,6 +29,21 @@ from .scheduling import realtime, restore
 __all__ = ["run_loop"]
 
 
+def _enter_fault(ctl, last, event, t0, frame, **info):
+    """The fault state from now (logged as ``event``): the decision the keep-alives
+    repeat becomes zero torque."""
+    ctl.state = FAULT
+    ctl._event(event, t0, frame, **info)
+    return CommandFrame(last.seq, last.ack, MODE_ZERO_TORQUE, 0, np.zeros(ctl.L))
+
+
+def _keepalive(link, seq, ack, last):
+    """Send a keep-alive repeating the last decision (mode and torques); returns it."""
+    cmd = CommandFrame(seq, ack, last.mode, FLAG_KEEPALIVE, last.torques)
+    link.write_command(cmd)
+    return cmd
+
+
 def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict:
     """:meth:`.controller.Controller.run` of ``ctl`` over ``link`` (see there)."""
     wall_limit = 2.0 * seconds + 10.0 if wall_limit is None else wall_limit
@@ -89,17 +104,12 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
                 recover_count = 0              # recovery needs consecutive frames
                 if last_valid is not None and ctl.state == RUN and \
                         t_rx - last_valid > ctl.safety.watchdog_ms * 1e-3:
-                    ctl.state = FAULT
-                    recover_count = 0
-                    ctl._event("watchdog_trip", t0, None, t_dev=last_t_dev,
-                               silent_ms=round((t_rx - last_valid) * 1e3, 1))
-                    last = CommandFrame(seq, last.ack, MODE_ZERO_TORQUE, 0,
-                                        np.zeros(ctl.L))
+                    last = _enter_fault(ctl, last, "watchdog_trip", t0, None,
+                                        t_dev=last_t_dev,
+                                        silent_ms=round((t_rx - last_valid) * 1e3, 1))
                 if last_valid is not None:
                     seq += 1
-                    last = CommandFrame(seq, last.ack, last.mode, FLAG_KEEPALIVE,
-                                        last.torques)
-                    link.write_command(last)
+                    last = _keepalive(link, seq, last.ack, last)
                 continue
             n = frame.angles.shape[0] if frame.angles.ndim == 1 else -1
             if n != ctl.L and t_first is None:
@@ -122,25 +132,17 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
                 if last_valid is not None:
                     if frame.status & STATUS_ESTOP and ctl.state != FAULT:
                         # the e-stop: zero torque from this frame on
-                        ctl.state = FAULT
-                        ctl._event("estop", t0, frame)
-                        last = CommandFrame(seq, last.ack, MODE_ZERO_TORQUE, 0,
-                                            np.zeros(ctl.L))
+                        last = _enter_fault(ctl, last, "estop", t0, frame)
                     elif ctl.state == RUN and (
                             t_rx - last_valid > ctl.safety.watchdog_ms * 1e-3
                             or frame.t_us - last_t_us > ctl.safety.watchdog_ms * 1e3):
                         # only rejected frames for the watchdog window (device or
                         # wall time): as if the device were silent
-                        ctl.state = FAULT
                         silent = max(t_rx - last_valid, (frame.t_us - last_t_us) * 1e-6)
-                        ctl._event("watchdog_trip", t0, frame, reason=why,
-                                   silent_ms=round(silent * 1e3, 1))
-                        last = CommandFrame(seq, last.ack, MODE_ZERO_TORQUE, 0,
-                                            np.zeros(ctl.L))
+                        last = _enter_fault(ctl, last, "watchdog_trip", t0, frame,
+                                            reason=why, silent_ms=round(silent * 1e3, 1))
                     seq += 1
-                    last = CommandFrame(seq, frame.seq, last.mode, FLAG_KEEPALIVE,
-                                        last.torques)
-                    link.write_command(last)
+                    last = _keepalive(link, seq, frame.seq, last)
                 continue
             last_valid = t_rx
             last_t_us = frame.t_us
@@ -171,15 +173,11 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
                 fk_failures += 1
                 ctl._event("fk_failed", t0, frame, residual=res.fk_residual)
                 if fk_failures > ctl.MAX_FK_FAILURES and ctl.state == RUN:
-                    ctl.state = FAULT         # pose unknown: zero torque until it is
-                    recover_count = 0
-                    ctl._event("fk_lost", t0, frame, failures=fk_failures)
-                    last = CommandFrame(seq, frame.seq, MODE_ZERO_TORQUE, 0,
-                                        np.zeros(ctl.L))
+                    recover_count = 0         # pose unknown: zero torque until it is
+                    last = _enter_fault(ctl, last, "fk_lost", t0, frame,
+                                        failures=fk_failures)
                 seq += 1
-                last = CommandFrame(seq, frame.seq, last.mode, FLAG_KEEPALIVE,
-                                    last.torques)
-                link.write_command(last)
+                last = _keepalive(link, seq, frame.seq, last)
                 continue
             if res.reason == "singular_stop" and ctl.state != STOPPED:
                 ctl.state = STOPPED

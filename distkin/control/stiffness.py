@@ -60,5 +60,6 @@ def stiffness_summary(mech, kp: float, half: float = 0.075) -> dict:
     return {"min": float(k.min()), "min_axis": axes[imin[1]],
             "min_position": (P[imin[0], :3] - np.asarray(mech.home)[:3]).tolist(),
             "max": float(k.max()), "max_axis": axes[imax[1]],
-            "mean": float(k.mean()), "centre": k[13].tolist(), "paper": PAPER_STIFFNESS,
+            "mean": float(k.mean()), "centre": k[13].tolist(),  # (0, 0, 0): 9 + 3 + 1
+            "paper": PAPER_STIFFNESS,
             "unit": "N/m"}

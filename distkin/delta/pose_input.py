@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..argcheck import float_array, no_booleans
+from ..argcheck import float_array
 from ..errors import InputError
 from ..spatial import rotation_defect
 from .platform66 import Platform66
@@ -45,13 +45,11 @@ def _rotation_defect(R: np.ndarray, field: str) -> np.ndarray:
 def check_rotation(value, field: str = "rotation") -> np.ndarray:
     """A rotation matrix (3, 3) as float64, or :class:`~distkin.errors.InputError`
     naming ``field`` (wrong shape, booleans, NaN/inf, not orthonormal, det -1)."""
-    no_booleans(value, field)
     return _rotation_defect(float_array(value, field, (3, 3)), field)
 
 
 def check_translation(value, field: str = "translation") -> np.ndarray:
     """A translation (3,) as float64 (length units), or InputError naming ``field``."""
-    no_booleans(value, field)
     return float_array(value, field, (3,))
 
 
@@ -60,8 +58,6 @@ def check_poses(rotations, translations, fields=("rotations", "translations")):
     checked as :func:`check_rotation` (the field names the pose, ``rotations[j]``) and
     both of the same length ``n``."""
     fr, ft = fields
-    no_booleans(rotations, fr)
-    no_booleans(translations, ft)
     Rs = float_array(rotations, fr, (None, 3, 3))
     ts = float_array(translations, ft, (None, 3))
     if len(Rs) != len(ts):

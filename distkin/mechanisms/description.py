@@ -59,7 +59,6 @@ def _poses(poses, field="poses"):
     (:func:`distkin.spatial.pose_from`), and whether one pose was given.  A boolean
     anywhere is refused (:func:`~distkin.argcheck.no_booleans`; free for a numeric
     array)."""
-    no_booleans(poses, field)
     what = "poses (x, y, z, rx, ry, rz) in m and rad or 4x4 matrices"
     arr = as_floats(poses, field, what)
     if arr.ndim >= 2 and arr.shape[-2:] == (4, 4):

@@ -46,7 +46,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..argcheck import as_floats, no_booleans
+from ..argcheck import as_floats
 from ..errors import InfeasibleError, InputError, SingularConfigurationError
 from ..spatial import exp_so3, rotate_pose_scalar, rotation_angles, rotation_matrix
 from .description import _poses, _rows
@@ -179,7 +179,6 @@ def forward_kinematics(mech, q, guess=None, *, tol=1e-13, max_iter=50, max_condi
     """
     L = mech.legs
     what = "joint coordinates (rad, or m for prismatic legs)"
-    no_booleans(q, "q")
     qa, single = _rows(as_floats(q, "q", f"{L} {what}"), "q", L, what)
     N = len(qa)
     if guess is None:

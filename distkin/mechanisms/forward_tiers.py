@@ -51,7 +51,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..argcheck import as_floats, no_booleans
+from ..argcheck import as_floats
 from ..errors import InfeasibleError, InputError, SingularConfigurationError, UncertifiedError
 from ..exact import check_method, default_dps, float_mpf
 from .kinematics_tiers import BITS, check_bits
@@ -173,7 +173,6 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
     method = check_method(method)
     bits = check_bits(bits, method)
     from .forward import forward_kinematics
-    no_booleans(q, "q")
     qa = as_floats(q, "q", f"{mech.legs} joint values (rad, or m for prismatic legs)")
     if qa.shape != (mech.legs,):
         raise InputError(f"expected {mech.legs} joint values, got shape {qa.shape}", field="q")
