@@ -11,6 +11,8 @@ sensitivity    maximum sensitivities: the paper's slice (eqs. (14), (16)) or Car
                projection
 slice_farthest the compiled farthest point of a sliced zonotope (the paper's
                sensitivities)
+constraint_basis  the orthonormal basis of a slice's removed rows that both farthest-
+               point enumerations work on (compiled)
 velocity_set   the true velocity set {ẋ : |Jẋ|∞ <= q̇max} of a redundant device
 isotropy       κ (eq. (4)) with the scaling matrix ST (every reading), the GII,
                Stocco's culling

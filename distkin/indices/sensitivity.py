@@ -13,7 +13,9 @@ points of the parts of ``{Jᵀ τ}`` (eq. (6)).  "Part" has two meanings:
     C(L, 3)·2^(L−3) candidates are enumerated exactly by the compiled kernel of
     :mod:`.slice_farthest` (for L = 6 the twist slices are the slab polytopes
     ``{u : |J_S u|∞ <= 1}``, computed from J so that they stay accurate next to a
-    singularity).
+    singularity, and +inf at it, where the slice is unbounded).  At a singular wrench
+    map (e.g. no actuator makes torque about z) the zero row is no constraint and the
+    force slice is that of the other rows (:mod:`.constraint_basis`).
 ``mode="projection"`` (Cardou et al. [1])
     the farthest point of the projection (the other part unconstrained), a box vertex
     of the zonotope (the 2^L vertices, :func:`distkin.indices.best_case_output`).  It is

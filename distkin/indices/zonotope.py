@@ -31,7 +31,11 @@ Edge cases (docs/design.md §6):
   the set is flat, the worst case is 0 for every slice that the flat set does not
   contain, and for a slice inside its span (the pure-torque null wrench seen from the
   force slice) the facets are computed within the span, so the answer stays finite and
-  correct instead of the ∞ the plain formula gives.
+  correct instead of the ∞ the plain formula gives;
+* the best case of a slice works on an orthonormal basis of the removed rows
+  (:mod:`.constraint_basis`), whose rank is decided with the same ``rank_tol``: a
+  removed row that is zero (or below it) is no constraint, so the slice is the one of
+  the other rows, not empty.
 
 References
 ----------
@@ -51,7 +55,10 @@ from itertools import combinations, product
 
 import numpy as np
 
-__all__ = ["zonotope_worst", "zonotope_best", "facet_normals", "RANK_TOL"]
+from .constraint_basis import constraint_basis
+
+__all__ = ["zonotope_worst", "zonotope_best", "facet_normals", "farthest_in_slice",
+           "RANK_TOL"]
 
 #: σmin/σmax below which a generator matrix is treated as exactly singular
 RANK_TOL = 1e-12
@@ -286,8 +293,11 @@ def zonotope_best(G, c, r, keeps, *, chunk: int = 4096):
 
     Full set: the 2^L box vertices.  Slice with k removed coordinates: the
     C(L, k)·2^(L−k) vertex candidates with L − k actuators at a limit, solved by k × k
-    systems and kept when the free actuators lie within their limits.  Exact when
-    ``G_{S^c}`` has full row rank; an empty slice gives −inf.
+    systems and kept when the free actuators lie within their limits, on an orthonormal
+    basis of the row space of ``G_{S^c}`` (:mod:`.constraint_basis`: the result does
+    not depend on how those rows are scaled or mixed; a basis of rank k' < k, e.g. the
+    zero torque row of a wrench map at a singularity, enumerates C(L, k')·2^(L−k')
+    candidates).  Exact up to rounding; an empty slice gives −inf.
 
     Returns ndarray (len(keeps), N).
     """
@@ -301,20 +311,33 @@ def zonotope_best(G, c, r, keeps, *, chunk: int = 4096):
     return out
 
 
-def _best_chunk(G, c, r, S):
-    N, d, L = G.shape
-    Sc = [i for i in range(d) if i not in S]
-    k = len(Sc)
-    S = list(S)
-    if k == 0:
-        # u = G c + (G r) S over the sign matrix S: one large GEMM, not N small ones
-        Gs = G[:, S, :]
-        Gr = (Gs * r[:, None, :]).reshape(-1, L)
-        u = (Gr @ _signs(L)).reshape(N, len(S), -1)
-        u += np.einsum("nsl,nl->ns", Gs, c)[:, :, None]
-        return np.sqrt(np.einsum("nsv,nsv->nv", u, u)).max(axis=1)
+def farthest_in_slice(GS, Q, rank, c, r):
+    """The farthest point of ``{G_S p : p in box, Q p = 0}`` at each pose, with ``Q``
+    (N, k, L) and ``rank`` from :func:`.constraint_basis.constraint_basis` (a rank below
+    k enumerates fewer free actuators; rank 0 is the box vertices)."""
+    best = np.empty(GS.shape[0])
+    for kk in np.unique(rank):
+        idx = np.flatnonzero(rank == kk)
+        best[idx] = (_box_farthest(GS[idx], c[idx], r[idx]) if kk == 0 else
+                     _vertex_farthest(GS[idx], Q[idx, :kk], c[idx], r[idx]))
+    return best
+
+
+def _box_farthest(GS, c, r):
+    """max over the 2^L box vertices of ||G_S p||."""
+    N, _, L = GS.shape
+    # u = G c + (G r) S over the sign matrix S: one large GEMM, not N small ones
+    Gr = (GS * r[:, None, :]).reshape(-1, L)
+    u = (Gr @ _signs(L)).reshape(N, GS.shape[1], -1)
+    u += np.einsum("nsl,nl->ns", GS, c)[:, :, None]
+    return np.sqrt(np.einsum("nsv,nsv->nv", u, u)).max(axis=1)
+
+
+def _vertex_farthest(GS, GC, c, r):
+    """The C(L, k)·2^(L−k) vertex candidates with k × k solves (module docstring);
+    ``GC`` (N, k, L) of full row rank, orthonormal rows preferred."""
+    N, k, L = GC.shape
     best = np.full(N, -np.inf)
-    GS, GC = G[:, S, :], G[:, Sc, :]
     sg = _signs(L - k)
     tol = 1e-12
     for F in combinations(range(L), k):
@@ -337,3 +360,13 @@ def _best_chunk(G, c, r, S):
         nrm = np.where(feas, nrm, -np.inf)
         best = np.maximum(best, nrm.max(axis=1))
     return best
+
+
+def _best_chunk(G, c, r, S):
+    d = G.shape[1]
+    Sc = [i for i in range(d) if i not in S]
+    S = list(S)
+    if not Sc:
+        return _box_farthest(G[:, S, :], c, r)
+    Gq, rank = constraint_basis(G, Sc, tol=RANK_TOL)
+    return farthest_in_slice(G[:, S, :], Gq[:, Sc, :], rank, c, r)
