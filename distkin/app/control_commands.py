@@ -185,6 +185,7 @@ def format_summary(s: dict) -> str:
         f"{s['late_frames']} late and {s['duplicate_frames']} duplicate frames dropped, "
         f"{s['write_timeouts']} write timeouts",
         f"  safety: {s['watchdog_trips']} watchdog trips, {s['estops']} e-stops, "
+        f"{s['recoveries_held']} held outside the safe workspace, "
         f"{s['rejected_frames']} rejected readings, {s['safety_events']} safety events, "
         f"{s['refused_poses']} refused set points, {s['saturated_cycles']} saturated cycles",
         f"  device: {s['device_watchdog_frames']} frames with its watchdog tripped, "

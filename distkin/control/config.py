@@ -127,6 +127,13 @@ class SafetyLimits:
     (it grows near the reach boundary, where a crank and its distal link align; in
     the Table II workspace it stays below about 111); ``max_force`` N and ``max_torque`` N·m the sensor range;
     ``max_angle`` rad the encoder range; ``max_fk_residual`` m.
+    ``workspace_m`` m and ``workspace_rad`` rad: the safe workspace, the box
+    ``|x_i - home_i| <= workspace_m`` (x, y, z) and ``|r_i - home_i| <= workspace_rad``
+    (rx, ry, rz) about the home pose, by default Kühne et al.'s Table II box of the
+    Octo (±75 mm, ±30°).  Torque control starts, and resumes after a fault, only at a
+    measured pose inside it: a platform that swung away while its torques were zero
+    (e.g. under gravity during a stall) is not pulled back at the torque limit; it
+    stays at zero torque until it is brought back by hand.
     """
 
     watchdog_ms: float = 20.0
@@ -137,6 +144,8 @@ class SafetyLimits:
     max_torque: float = 5.0
     max_angle: float = 3.2
     max_fk_residual: float = 2e-4
+    workspace_m: float = 0.075
+    workspace_rad: float = 0.5235987755982988
 
     @classmethod
     def for_joint(cls, joint: str) -> "SafetyLimits":
@@ -447,7 +456,8 @@ def loads_control_scene(text: str, path: str = "<string>", *,
                          f"the leg lengths are checked against each leg's range in the "
                          f"mechanism scene, got {st['max_angle']!r}", field="safety.max_angle")
     check_keys(st, {"watchdog_ms", "recover_frames", "sigma_min", "max_condition",
-                    "max_force", "max_torque", "max_angle", "max_fk_residual"}, "safety")
+                    "max_force", "max_torque", "max_angle", "max_fk_residual",
+                    "workspace_m", "workspace_rad"}, "safety")
     s = SafetyLimits.for_joint(joint)
     safety = SafetyLimits(
         watchdog_ms=_num(st, "watchdog_ms", "safety", s.watchdog_ms, positive=True),
@@ -459,7 +469,9 @@ def loads_control_scene(text: str, path: str = "<string>", *,
         max_torque=_num(st, "max_torque", "safety", s.max_torque, positive=True),
         max_angle=_num(st, "max_angle", "safety", s.max_angle, positive=True),
         max_fk_residual=_num(st, "max_fk_residual", "safety", s.max_fk_residual,
-                             positive=True))
+                             positive=True),
+        workspace_m=_num(st, "workspace_m", "safety", s.workspace_m, positive=True),
+        workspace_rad=_num(st, "workspace_rad", "safety", s.workspace_rad, positive=True))
     title = data.get("title", "")
     return ControlScene(str(path), preset_name, rate, mass, damping, env, pd, safety, sim,
                         str(title), rt, mechanism, joint, joint_range)

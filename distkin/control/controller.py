@@ -31,9 +31,10 @@ state; the window is measured in wall time and, while rejected frames keep arriv
 in device time ``t_us``: a device that only sends rejected readings trips it like a silent
 one, and so does one that only repeats old frames, which the link drops), the fault
 state at once on a frame with the ``ESTOP`` bit (zero torque from that frame on), the
-fault state left after ``recover_frames`` *consecutive* valid frames (a rejected frame
-or an empty read starts the count again) with the set point re-initialised at the
-measured pose, a stop near singular poses (also when the forward kinematics fails to
+fault state left after ``recover_frames`` *consecutive* valid frames at poses inside
+the safe workspace (``workspace_m``, ``workspace_rad`` about home: a rejected frame, an
+empty read or a pose outside starts the count again; a run whose first pose is outside
+starts in the fault state) with the set point re-initialised at the measured pose, a stop near singular poses (also when the forward kinematics fails to
 converge and the last estimate is near-singular), rejection of NaN or out-of-range
 readings, and zero torque on every way out of :meth:`Controller.run`.  The device's
 ``DEVICE_WATCHDOG`` and ``SATURATED`` bits are counted (summary) and logged as events,
@@ -208,6 +209,20 @@ class Controller:
         if self.near_singular(self.model.jacobian(pose)):
             return "singular", None
         return "", q
+
+    def outside_workspace(self, pose) -> str:
+        """Why ``pose`` lies outside the safe workspace (``safety.workspace_m`` and
+        ``workspace_rad`` about the home pose; "" inside it)."""
+        d = np.asarray(pose, dtype=float) - self.model.home
+        i = int(np.argmax(np.abs(d[:3])))
+        if not abs(d[i]) <= self.safety.workspace_m:
+            return (f"{'xyz'[i]} {d[i] * 1e3:+.1f} mm from home, beyond the safe workspace "
+                    f"±{self.safety.workspace_m * 1e3:g} mm")
+        i = int(np.argmax(np.abs(d[3:])))
+        if not abs(d[3 + i]) <= self.safety.workspace_rad:
+            return (f"r{'xyz'[i]} {np.degrees(d[3 + i]):+.1f}° from home, beyond the safe "
+                    f"workspace ±{np.degrees(self.safety.workspace_rad):.4g}°")
+        return ""
 
     def check_reading(self, frame) -> str:
         """Why a state frame must be rejected ("" if it is acceptable;

@@ -8,8 +8,11 @@ is answered with a keep-alive repeating the last decision, as a missing one is, 
 the watchdog window (``safety.watchdog_ms``, wall time or device time since the last
 valid frame) has passed: then the fault state and zero torque.  A frame with the
 ``ESTOP`` bit gives the fault state and zero torque at once.  The fault state is left
-after ``safety.recover_frames`` consecutive valid frames; a rejected frame or an empty
-read starts the count again.
+after ``safety.recover_frames`` consecutive valid frames at measured poses inside the
+safe workspace (``safety.workspace_m``, ``workspace_rad``; when enough valid frames
+came but the pose is outside, the controller logs ``recovery_held`` once and keeps zero
+torque); a rejected frame, an empty read or a pose outside starts the count again.  The first measured pose is checked too: outside the safe
+workspace the run starts in the fault state (event ``outside_workspace``).
 """
 
 from __future__ import annotations
@@ -33,6 +36,7 @@ def _enter_fault(ctl, last, event, t0, frame, **info):
     """The fault state from now (logged as ``event``): the decision the keep-alives
     repeat becomes zero torque."""
     ctl.state = FAULT
+    ctl.recovery_held = False
     ctl._event(event, t0, frame, **info)
     return CommandFrame(last.seq, last.ack, MODE_ZERO_TORQUE, 0, np.zeros(ctl.L))
 
@@ -55,7 +59,8 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
     fk_failures = 0
     t_first = t_prev_us = None
     t_prev_cycle = None
-    recover_count = 0
+    recover_count = inside_count = 0
+    ctl.recovery_held = False
     compute, compute_cpu, periods = [], [], []
     cycles = 0
     gc0 = sum(g["collections"] for g in gc.get_stats())
@@ -155,12 +160,27 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
             t_prev_us = frame.t_us
             if ctl.state == FAULT:
                 recover_count += 1
-                if recover_count >= ctl.safety.recover_frames:
+                # of the consecutive valid frames, those at poses inside the safe
+                # workspace (the last estimate of the pose, tracked in the fault state)
+                away = ctl.outside_workspace(ctl.pose)
+                inside_count = 0 if away else min(inside_count + 1, recover_count)
+                if inside_count >= ctl.safety.recover_frames:
                     ctl.state = RUN
                     ctl._event("recovered", t0, frame, frames=recover_count)
                     ctl.started = False    # re-initialise at the measured pose
+                elif (away and recover_count >= ctl.safety.recover_frames
+                      and not ctl.recovery_held):
+                    ctl.recovery_held = True
+                    ctl._event("recovery_held", t0, frame, reason=away)
             was_refusing = ctl.refusing
+            was_started = ctl.started
             res = ctl.compute(frame, dt)
+            if not was_started and ctl.started and ctl.state == RUN:
+                away = ctl.outside_workspace(ctl.pose)     # (re)started: inside?
+                if away:
+                    recover_count = 0
+                    last = _enter_fault(ctl, last, "outside_workspace", t0, frame,
+                                        reason=away)
             if res.reason != "fk_failed":
                 fk_failures = 0
             if res.reason in ("unreachable", "singular"):

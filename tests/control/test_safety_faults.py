@@ -189,3 +189,75 @@ def test_estop_at_start_names_the_rejected_readings(monkeypatch, scene, model):
     assert s["exit_reason"] == "no_valid_frames" and s["exit_code"] == 1
     assert "device reports e-stop" in s["error"] and "got none" not in s["error"]
     assert s["cycles"] == 0
+
+
+def _path_frames(model, seq0, poses):
+    """State frames at ``poses`` (the IK of each), sequence numbers from ``seq0``."""
+    out = []
+    for k, p in enumerate(poses):
+        q, ok = model.ik(np.asarray(p, dtype=float))
+        assert ok
+        out += state_frames(model, [seq0 + k], angles=q)
+    return out
+
+
+def _towards(model, d, n):
+    """``n`` poses from home to home + d (straight line)."""
+    return [model.home + np.asarray(d, dtype=float) * (k + 1) / n for k in range(n)]
+
+
+@pytest.mark.parametrize("d, name", [([0, 0.085, 0, 0, 0, 0], "y +85.0 mm"),
+                                     ([0, 0, 0, 0.6, 0, 0], "rx +34.4°")])
+def test_no_recovery_outside_the_safe_workspace(monkeypatch, scene, model, d, name):
+    """QA D 32: after a stall the platform had swung away under zero torque, and the
+    controller resumed there at the torque limit.  Now it holds zero torque until the
+    pose is back inside the safe workspace (Table II's ±75 mm, ±30° about home), and
+    then needs recover_frames frames there."""
+    rf = scene.safety.recover_frames
+    script = state_frames(model, range(100)) + [None] * 40          # a trip
+    away = _towards(model, d, 20) + [model.home + np.asarray(d)] * (2 * rf)   # out fast
+    back = _towards(model, -np.asarray(d), 100)
+    back = [p + np.asarray(d) for p in back] + [model.home] * (rf + 20)
+    script += _path_frames(model, 140, away)
+    start_back = len(script)
+    script += _path_frames(model, 140 + len(away), back)
+    ctl, dev, s = _run(monkeypatch, scene, model, script)
+    trip = _first(dev, lambda c: c.mode == MODE_ZERO_TORQUE)
+    assert 100 < trip < 140
+    resumed = _first(dev, lambda c: c.mode == MODE_RUN, after=trip)
+    assert resumed >= start_back + rf - 1                 # never while away
+    # the path back crosses the boundary at 100 - 75/85 (or 30/34.4) of its steps:
+    # from there rf frames inside, within a step or two
+    frac = 0.075 / 0.085 if d[1] else np.radians(30) / 0.6
+    inside_from = start_back + int(np.ceil(100 * (1 - frac)))
+    assert inside_from + rf - 1 <= resumed <= inside_from + rf + 2
+    ev = [e for e in ctl.events.events if e["event"] == "recovery_held"]
+    assert len(ev) == 1 and ev[0]["reason"].startswith(name)
+    assert s["recoveries_held"] == 1
+    assert "1 held outside the safe workspace" in format_summary(s)
+
+
+def test_a_run_that_starts_outside_the_safe_workspace_starts_in_the_fault_state(
+        monkeypatch, scene, model):
+    p = model.home + np.array([0.08, 0, 0, 0, 0, 0])
+    script = _path_frames(model, 0, [p] * 30)
+    ctl, dev, s = _run(monkeypatch, scene, model, script)
+    assert all(c.mode == MODE_ZERO_TORQUE and not np.any(c.torques) for _, c in dev.commands)
+    ev = [e for e in ctl.events.events if e["event"] == "outside_workspace"]
+    assert len(ev) == 1 and ev[0]["reason"].startswith("x +80.0 mm")
+    assert s["recoveries_held"] == 1
+
+
+def test_safe_workspace_keys_are_read_and_checked():
+    from distkin.control.config import loads_control_scene
+    from distkin.errors import InputError
+    base = ('[admittance]\nmass = [1, 1, 1, 0.005, 0.005, 0.005]\n'
+            'damping = [15, 15, 15, 0.1, 0.1, 0.1]\n')
+    s = loads_control_scene(base + "[safety]\nworkspace_m = 0.05\nworkspace_rad = 0.2\n", "t")
+    assert (s.safety.workspace_m, s.safety.workspace_rad) == (0.05, 0.2)
+    d = loads_control_scene(base, "t").safety
+    assert d.workspace_m == 0.075 and d.workspace_rad == pytest.approx(np.radians(30))
+    for bad in ("workspace_m = -1", "workspace_rad = 0", 'workspace_m = "a"'):
+        with pytest.raises(InputError) as e:
+            loads_control_scene(base + "[safety]\n" + bad + "\n", "t")
+        assert "safety.workspace" in str(e.value)
