@@ -66,7 +66,7 @@ def trilaterate_masked(A, B, C, sa, sb, sc):
     return foot, off, h2 / scale
 
 
-def assemble_exact(base, x, sides, legs, *, method: str, dps=None, every=None):
+def assemble_exact(base, x, sides, legs, *, method: str, dps=None, every=None, tol=None):
     r"""The sequence in the precise or certified tier, for one root.
 
     Parameters
@@ -75,6 +75,9 @@ def assemble_exact(base, x, sides, legs, *, method: str, dps=None, every=None):
     x : the root (``mpf``, an ``arb`` ball, or an exact ``fmpq``)
     sides, legs : 6 squared lengths each (same tier)
 
+    tol : precise tier only: relative tolerance of the trilaterations (default theirs,
+        10^(8 - dps)); the precise tier passes the root's relative uncertainty when it
+        is larger (a multiple root)
     every : precise tier only: keep every candidate whose leg-5 residual is at most
         ``every`` (squared length), distinct as point sets, instead of the best one
         (a multiple root of the octic at which several assembly modes meet: on the
@@ -97,7 +100,7 @@ def assemble_exact(base, x, sides, legs, *, method: str, dps=None, every=None):
     s45, s46, s56 = sides[3], sides[4], sides[5]
     s14, s24, s25, s35, s36, s16 = legs
     P1, P2, P3 = base
-    kw = dict(method=method, dps=dps)
+    kw = dict(method=method, dps=dps) if tol is None else dict(method=method, dps=dps, tol=tol)
     parts5 = trilateration_parts([P1, P2, P3], [x, s25, s35], **kw)
     # with enclosures (arb) or mpf, side -1 is the reflection of side +1 in the base
     # plane: an isometry fixing P1 P2 P3, so it maps the candidates of one side onto

@@ -85,7 +85,9 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
         exact).  ``.tier`` and ``.tier_reason`` of the result say
         which tier answered and why (:mod:`.auto`).
     dps : int, optional
-        Decimal digits of the ``precise`` tier (default 30).
+        Decimal digits of the ``precise`` tier (default 30; at least
+        :data:`.precise.MIN_DPS` = 15: fewer digits than float64's would make its
+        residual test, 10^(8 - dps) relative, meaningless).
     tol : float, optional
         ``certified``: relative radius (to the size of the mechanism) the pose
         enclosures are refined to (default 1e-15).  ``precise``: the relative residual
@@ -126,6 +128,9 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
     """
     check_method(method, allowed=METHODS_AUTO)
     tol = None if tol is None else positive_number(tol, "tol")
+    if method in ("precise", "auto") and dps is not None:
+        from .precise import check_precise_dps
+        check_precise_dps(dps)
     if method in ("fast", "auto"):
         from .batched import scan_single
         B, Q, L, k, rounded = float_single(base, platform, legs)
@@ -208,6 +213,9 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
     """
     check_method(method, allowed=("fast", "auto"))
     tol = None if tol is None else positive_number(tol, "tol")
+    if method == "auto" and dps is not None:
+        from .precise import check_precise_dps
+        check_precise_dps(dps)
     if not prove and method != "fast":
         raise InputError("expected prove=True with method='auto' (it escalates what the "
                          "proof cannot vouch for), got prove=False", field="prove")

@@ -21,7 +21,24 @@ from .assembly import assemble_exact
 from .closure import OCTIC, octic_data, part_values
 from .problem import LEG_PAIRS, Problem
 
-__all__ = ["solve_precise"]
+__all__ = ["solve_precise", "check_precise_dps", "MIN_DPS"]
+
+#: fewest digits of this tier: its residual test is 10^(8 - dps) relative, and roots
+#: closer than about 10^(-(dps + 20)/4) relative merge (a four-fold cluster's radius)
+MIN_DPS = 15
+
+
+def check_precise_dps(dps) -> int:
+    """``dps`` for this tier, or :class:`InputError` (an integer >= :data:`MIN_DPS`)."""
+    from ..errors import InputError
+    from ..exact import default_dps
+    dps = default_dps(dps)
+    if dps < MIN_DPS:
+        raise InputError(f"expected dps >= {MIN_DPS} for the precise tier of the octahedral "
+                         f"forward kinematics (its root residual test is 10^(8 - dps) "
+                         f"relative: fewer digits than float64's would; use "
+                         f"method='fast' for float64), got {dps}", field="dps")
+    return dps
 
 
 def _mpf(v):
@@ -48,6 +65,7 @@ def _factored(d, x):
 def solve_precise(problem: Problem, dps: int, tol=None):
     """Every assembly mode at ``dps`` decimal digits; see :func:`.forward.forward_kinematics`."""
     import mpmath
+    dps = check_precise_dps(dps)
     from ..geometry.poses import pose_from_points
     from .result import AssemblyResult, Pose, RootInfo, _SPURIOUS_NOTE, _empty_reason
     work = dps + 20
@@ -81,7 +99,10 @@ def solve_precise(problem: Problem, dps: int, tol=None):
         scaled = [v / big for v in scaled]
         roots = _polyroots(scaled, work) if deg > 0 else []
         eps_rel = mpmath.mpf(10) ** (8 - dps) if tol is None else mpmath.mpf(tol)
-        near = mpmath.mpf(10) ** (-(dps // 3))
+        # roots closer than this (relative) are one cluster: above the radius of a
+        # four-fold root's cluster at the working precision, 10^(-work/4)
+        near_exp = work // 4 - 1
+        near = mpmath.mpf(10) ** (-near_exp)
         cands = []
         for z in roots:
             z = z * c
@@ -102,7 +123,10 @@ def solve_precise(problem: Problem, dps: int, tol=None):
                 if abs(step) <= mpmath.mpf(10) ** (-work + 2) * max(abs(x), c):
                     break
             H, dH, Hs, val = _factored(d, x)
-            if abs(H) > eps_rel * Hs:
+            if abs(H) > eps_rel * Hs and not _backward_small(coef, x, eps_rel):
+                # neither H = G^2 - 4 R1 R2 small against its two parts, nor the octic
+                # small against its terms (a root where G and R1 R2 both vanish, e.g. at
+                # a flat tetrahedron of the bananas, passes only the second)
                 continue
             if any(abs(x - y) <= near * max(abs(x), c) for y, _ in found):
                 continue
@@ -111,8 +135,13 @@ def solve_precise(problem: Problem, dps: int, tol=None):
         # the roots of polyroots within `near` of each root found: its multiplicity as
         # this precision sees it (a root of multiplicity m comes out as a cluster of
         # radius ~10^(-work/m), well inside `near` for m <= 4)
-        mult = [max(1, sum(1 for z in roots if abs(z * c - x) <= near * max(abs(x), c)))
-                for x, _ in found]
+        mult, spread = [], []
+        for x, step in found:
+            near_x = [abs(z * c - x) for z in roots if abs(z * c - x) <= near * max(abs(x), c)]
+            mult.append(max(1, len(near_x)))
+            # how far the root may be from x: the last Newton step, or for a cluster
+            # (a multiple root, where Newton converges linearly) its radius
+            spread.append(max([10 * step] + (near_x if len(near_x) > 1 else [])))
         # a simple real root changes the octic's sign around it; a root found where it
         # does not is a complex pair next to the axis, or an even multiple root, that
         # this precision cannot tell apart
@@ -122,11 +151,14 @@ def solve_precise(problem: Problem, dps: int, tol=None):
         plat = [[_mpf(v) for v in r] for r in problem.platform]
         legs = [_mpf(v) for v in problem.legs]
         infos, poses, merged = [], [], []
-        for (x, step), m in zip(found, mult):
-            val, _ = part_values(d, x)
+        for (x, step), m, dx in zip(found, mult, spread):
+            val, der = part_values(d, x)
             tets = [val[k] for k in ("T1a", "T1b", "T2a", "T2b")]
-            tiny = eps_rel * c ** 3
-            if val["u"] > tiny * c or val["v"] > tiny * c:
+            # the signs below are read with the root's uncertainty dx (a flat face or
+            # tetrahedron of the bananas puts u, v or a T at 0 at the root itself)
+            tol = {k: eps_rel * c ** 4 + abs(der[k]) * dx for k in ("u", "v")}
+            tiny = eps_rel * c ** 3 + max(abs(der[k]) for k in ("T1a", "T1b", "T2a", "T2b")) * dx
+            if val["u"] > tol["u"] or val["v"] > tol["v"]:
                 infos.append(RootInfo(float(x), _estimate(x, step), 1, "spurious",
                                       "spurious: a shared face of the bananas has no real "
                                       "triangle (D(5,4,1) or D(3,5,1) > 0)", x))
@@ -137,8 +169,11 @@ def solve_precise(problem: Problem, dps: int, tol=None):
                                       "squared volume (complex assembly)", x))
                 continue
             try:
+                # the trilaterations' tolerance: at least the root's relative uncertainty
+                rel = dx / max(abs(x), c)
                 sets = assemble_exact(base, x, sides, legs2, method="precise", dps=work,
-                                      every=near * max(c, abs(legs2[4])) if m > 1 else None)
+                                      every=near * max(c, abs(legs2[4])) if m > 1 else None,
+                                      tol=float(max(mpmath.mpf(10) ** (8 - work), 1000 * rel)))
             except (InfeasibleError, DegenerateGeometryError) as exc:
                 infos.append(RootInfo(float(x), _estimate(x, step), m, "rejected",
                                       f"rejected: trilateration failed ({exc.message})", x))
@@ -153,7 +188,14 @@ def solve_precise(problem: Problem, dps: int, tol=None):
                 merged.append((float(x), m, modes))
             if m == 1:
                 sets = [(side, pts, res) for side, (pts, res) in zip((1, -1), sets)]
+            kept = []
             for side, pts, _ in sets:
+                # a flat platform lies in the base plane: a mode is its own mirror image
+                # (within the heights' uncertainty, the square root of the root's)
+                if any(max(abs(a - b) for ra, rb in zip(pts, q) for a, b in zip(ra, rb))
+                       <= (near + mpmath.sqrt(1000 * rel)) * mpmath.sqrt(c) for q in kept):
+                    continue
+                kept.append(pts)
                 R, t = pose_from_points(plat, pts, method="precise")
                 err, rel = _leg_errors(base, pts, legs)
                 poses.append(Pose(float(x), side, _f(R), _f(t), _f(pts),
@@ -170,17 +212,26 @@ def solve_precise(problem: Problem, dps: int, tol=None):
                           "or a double root); the count may be wrong (use more digits or "
                           "method='certified')", ConditioningWarning, stacklevel=4)
         if merged:
-            what = "; ".join(f"s15 = {x:.10g}: {m} roots within 1e-{dps // 3} relative, "
+            what = "; ".join(f"s15 = {x:.10g}: {m} roots within 1e-{near_exp} relative, "
                              f"{k} assembly mode{'s' if k != 1 else ''} separated"
                              for x, m, k in merged)
             notes += (f"not separated at {dps} digits ({what}): modes may be missing",)
-            warnings.warn(f"precise tier: roots of the octic closer than 1e-{dps // 3} "
+            warnings.warn(f"precise tier: roots of the octic closer than 1e-{near_exp} "
                           f"relative were merged ({what}); the count may be wrong (use "
                           "more digits or method='certified')", ConditioningWarning,
                           stacklevel=4)
         return AssemblyResult(tuple(poses), "precise", octic, exact, tuple(infos), False,
                               reason, f"mpmath at {dps} digits (working {work}); root "
                               "residual below 1e-{} relative".format(dps - 8), notes)
+
+
+def _backward_small(coef, x, eps_rel) -> bool:
+    """Whether x is a root of the octic ``coef`` (highest degree first) to relative
+    backward error ``eps_rel``: ``|P(x)| <= eps_rel * sum |a_k| |x|^k``, i.e. an exact
+    root of a polynomial whose coefficients differ by at most ``eps_rel`` relative."""
+    import mpmath
+    ax = abs(x)
+    return abs(mpmath.polyval(coef, x)) <= eps_rel * mpmath.polyval([abs(a) for a in coef], ax)
 
 
 def _changes_sign(d, x, step, c, work, found, k) -> bool:
