@@ -17,7 +17,10 @@ into a guess.  The result's ``tier`` names the tier that answered and ``tier_rea
 says why; ``conditioning`` keeps the fast tier's verdict.
 
 :func:`escalate_batch` does the same for the problems of a batched solve, one by one:
-only the problems the fast tier did not prove are solved again.
+only the problems the fast tier did not prove are solved again.  There an
+:class:`~distkin.errors.UncertifiedError` concerns one problem: it keeps the fast
+answer, flagged, the reason goes to ``.unresolved`` and the call warns, so that the
+other problems' answers are not lost.
 """
 
 from __future__ import annotations
@@ -26,7 +29,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, UncertifiedError
 from .result import _evolve, _worst_leg_error
 
 __all__ = ["escalate", "escalate_batch", "solve_exact", "LEG_TOL", "PRECISE_DPS"]
@@ -116,20 +119,33 @@ def escalate_batch(batch, base, platform, legs, *, dps=None, tol=None):
                  "leg_error_rel", "valid", "roots", "status", "step", "slot"):
         raw[name] = raw[name].copy()
     tier = batch.tier.copy()
-    escalated = {}
+    escalated, unresolved = {}, {}
     for i in todo:
-        res, t, note = solve_exact(_row(base, i, 2), _row(platform, i, 2), _row(legs, i, 1),
-                                   dps=dps, tol=tol)
+        try:
+            res, t, note = solve_exact(_row(base, i, 2), _row(platform, i, 2),
+                                       _row(legs, i, 1), dps=dps, tol=tol)
+        except UncertifiedError as exc:  # this problem only: flagged, not guessed
+            unresolved[int(i)] = exc.message
+            continue
         cond = batch.result(i).conditioning
         why = _why(cond, worst[i])
         escalated[int(i)] = replace(res, method="auto", tier=t, conditioning=cond,
                                     tier_reason=f"{why}; {note}")
         tier[i] = t
         _put(raw, i, res)
+    if unresolved:
+        import warnings
+        from ..errors import ConditioningWarning
+        first = min(unresolved)
+        warnings.warn(f"auto: the certified tier could not decide {len(unresolved)} of "
+                      f"{len(batch)} problems (first: problem {first}: {unresolved[first]}); "
+                      "they keep the fast answer, flagged (trusted False; .unresolved "
+                      "says why)", ConditioningWarning, stacklevel=3)
     return replace(batch, count=raw["count"], s15=raw["s15"], points=raw["points"],
                    rotation=raw["rotation"], translation=raw["translation"],
                    max_leg_error=raw["leg_error"], max_leg_error_relative=raw["leg_error_rel"],
-                   valid=raw["valid"], raw=raw, tier=tier, escalated=escalated)
+                   valid=raw["valid"], raw=raw, tier=tier, escalated=escalated,
+                   unresolved=unresolved)
 
 
 _CODES = {"assembly": 0, "rejected": 3}

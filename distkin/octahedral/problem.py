@@ -139,9 +139,11 @@ def check_triangle(sq, names, field):
     a, b, c = (a / m, b / m, c / m) if m > 0 else (a, b, c)
     a16 = 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c)
     if not a16 > 1e-12 * (a + b + c) ** 2:
+        r = a16 / (a + b + c) ** 2 if a + b + c > 0 else 0.0
         raise DegenerateGeometryError(
-            f"expected a proper triangle {names}, got collinear or coincident points "
-            f"(16 area^2 = {a16:.3g})", field=field)
+            f"expected a proper triangle {names}, got collinear or coincident points, or "
+            f"points within the solver's tolerance of that (16 area^2 / (sum of squared "
+            f"sides)^2 = {r:.3g}, not above 1e-12)", field=field)
 
 
 def _largest(B, Q, L):
@@ -274,12 +276,17 @@ def float_problem(base, platform, legs):
     if B.ndim > 3 or Q.ndim > 3 or L.ndim > 2:
         raise InputError("expected at most one batch axis", field="legs")
     N = max([a.shape[0] for a, nd in ((B, 3), (Q, 3), (L, 2)) if a.ndim == nd], default=1)
+    for a, nd, field, shape in ((B, 3, "base", "3, 3"), (Q, 3, "platform", "3, 3"),
+                                (L, 2, "legs", "6")):
+        if a.ndim == nd and a.shape[0] != N:
+            sizes = ", ".join(f"{f} {x.shape}" for x, d, f in ((B, 3, "base"),
+                              (Q, 3, "platform"), (L, 2, "legs")) if x.ndim == d)
+            raise InputError(f"expected {N} problems of shape ({N}, {shape}) (or one "
+                             f"without a batch axis), got shape {a.shape} ({sizes})",
+                             field=field)
     B = np.broadcast_to(B, (N, 3, 3))
     Q = np.broadcast_to(Q, (N, 3, 3))
-    try:
-        L = np.broadcast_to(L, (N, 6))
-    except ValueError:
-        raise InputError(f"expected legs of shape ({N}, 6), got {L.shape}", field="legs") from None
+    L = np.broadcast_to(L, (N, 6))
     rounded = (np.broadcast_to(rB, (N, 3, 3)).any(axis=(1, 2))
                | np.broadcast_to(rQ, (N, 3, 3)).any(axis=(1, 2))
                | np.broadcast_to(rL, (N, 6)).any(axis=1))
@@ -308,10 +315,8 @@ def float_problem(base, platform, legs):
         flat = ~(a16 > 1e-12 * (a + b + c) ** 2)
         if np.any(flat):
             i = int(np.flatnonzero(flat)[0])
-            raise DegenerateGeometryError(f"expected a proper triangle {names}, got collinear "
-                                          "or coincident points"
-                                          + (f" in problem {i}" if N > 1 else ""),
-                                          field=f"{fld}[{i}]" if N > 1 else fld)
+            check_triangle(sides2[i, j:j + 3], names + (f" of problem {i}" if N > 1 else ""),
+                           f"{fld}[{i}]" if N > 1 else fld)
     return B, Q, L, sides2, L * L, k, rounded
 
 

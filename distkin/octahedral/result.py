@@ -243,6 +243,12 @@ class BatchResult:
     escalated : dict
         ``method="auto"``: problem index -> the :class:`AssemblyResult` of the tier that
         answered it instead of the fast one.
+    unresolved : dict
+        ``method="auto"``: problem index -> why the certified tier could not decide it
+        (its :class:`~distkin.errors.UncertifiedError`, e.g. a multiple root in a
+        symmetric configuration).  Such a problem keeps the fast answer, flagged
+        (``trusted`` False, ``tier`` "fast"), and the call warns; the other problems
+        keep their answers.
     """
 
     count: np.ndarray
@@ -258,6 +264,7 @@ class BatchResult:
     verdict: np.ndarray = None
     tier: np.ndarray = None
     escalated: dict = field(default_factory=dict, repr=False)
+    unresolved: dict = field(default_factory=dict, repr=False)
 
     def __len__(self):
         return self.count.shape[0]

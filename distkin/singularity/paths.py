@@ -235,7 +235,9 @@ def certify_crossing(f_arb, s: float, *, lo: float = 0.0, hi: float = 1.0,
         try:
             sa, sb = certified_sign(f_arb(_to_flint(a))), certified_sign(f_arb(_to_flint(b)))
         except UncertifiedError as exc:
-            last = exc
+            last = UncertifiedError(f"could not certify the sign of det J at s = "
+                                    f"{float(a):.15g} or {float(b):.15g} (around the crossing "
+                                    f"at s = {s:.15g}, up to {limit:g} from it): {exc.message}")
             eps *= 10
             continue
         if sa * sb < 0:                      # an exact zero at an end proves no change

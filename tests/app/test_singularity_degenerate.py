@@ -65,3 +65,28 @@ def test_zero_length_leg_is_exit_2_naming_the_leg(tmp_path, capsys):
     lines = [ln for ln in err.splitlines() if ln.strip()]
     assert len(lines) == 1 and "query[0].pose" in lines[0] and "leg 1 (P1–P4)" in lines[0]
     assert "Traceback" not in err
+
+
+def test_a_path_along_the_singular_locus_reports_no_crossings(tmp_path, capsys):
+    """QA F 07: the platform parallel to the base, turned about the vertical: every pose
+    of the path is singular (independent check: numpy's smallest singular value of the
+    Plücker matrix is at round-off).  Its round-off sign changes were 29 "crossings"."""
+    import numpy as np
+    from distkin.singularity import octahedral_joints, plucker_jacobian
+    q = ('path = { from = { translation = [3, 1.7, 15], rotation = [0, 0, 0] }, '
+         'to = { translation = [3, 1.7, 15], rotation = [0, 0, 120] }, samples = 40 }\n'
+         'method = "fast"\n')
+    code, rec, out, err = _run(tmp_path, capsys, q)
+    assert code == 0, err
+    r = rec["result"]
+    assert r["crossings"] == [] and r["on_singular_locus"] and r["samples_on_locus"] == 40
+    assert r["cm_spurious_roots"] == []
+    assert "the whole path lies on the singular locus" in out
+    base = np.array([[0, 0, 0], [6, np.sqrt(108), 0], [12, 0, 0]])
+    plat = np.array([[0, 0, 0], [6, 0, 0], [3, np.sqrt(27), 0]])
+    for deg in (0, 47, 120):
+        c, s = np.cos(np.radians(deg)), np.sin(np.radians(deg))
+        R = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+        pts = np.vstack([base, plat @ R.T + [3, 1.7, 15]])
+        J = plucker_jacobian(*octahedral_joints(pts[None]), normalised=True)[0]
+        assert np.linalg.svd(J, compute_uv=False)[-1] < 1e-12

@@ -155,7 +155,7 @@ def _result(res):
         "root_status": [{"s15": r.value, "status": r.status, "reason": r.reason,
                          "multiplicity": r.multiplicity, "radius_kind": r.radius_kind}
                         for r in res.roots],
-        "assembly_modes": len(res.assembly_roots),
+        "assembly_modes": _modes(res)[0],
         "octic": {"coefficients": list(res.octic)},
         "octic_degree": res.degree,
         "octic_note": list(res.notes),
@@ -165,6 +165,14 @@ def _result(res):
         "tier_reason": res.tier_reason,
         "conditioning": None if res.conditioning is None else res.conditioning.as_dict(),
     }
+
+
+def _modes(res):
+    """Assembly modes (poses up to the mirror image in the base plane: side +1) and how
+    many of them have a mirror image (side -1; a flat mode is its own).  A multiple
+    root can carry several modes (the equilateral octahedron's triple root: three)."""
+    sides = [q.side for q in res.poses]
+    return sides.count(1), sides.count(-1)
 
 
 def _u(unit, power=1):
@@ -196,8 +204,17 @@ def _text(res, unit, p):
     if not res.poses:
         lines.append(res.reason)
     else:
-        lines.append(f"{len(res.poses)} poses ({len(res.assembly_roots)} assembly modes x 2 "
-                     "mirror images in the base plane):")
+        modes, mirrored = _modes(res)
+        head = (f"{len(res.poses)} pose{'s' if len(res.poses) != 1 else ''} ({modes} "
+                f"assembly mode{'s' if modes != 1 else ''}")
+        if mirrored == modes:
+            head += " x 2 mirror images in the base plane):"
+        elif mirrored == 0:
+            head += " in the base plane, each its own mirror image):"
+        else:
+            head += (f"; {mirrored} with a mirror image in the base plane, "
+                     f"{modes - mirrored} in it):")
+        lines.append(head)
         for q in res.poses:
             t = ", ".join(f"{v:.6g}" for v in q.translation)
             lines.append(f"  s15 = {q.s15:.8g}{_u(unit, 2)}, side {q.side:+d}: translation "

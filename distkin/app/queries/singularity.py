@@ -366,6 +366,13 @@ def _run_path(model, p, unit):
     f_det = lambda s: model.det_j(*at(s))  # noqa: E731
     _check_legs(model, *at(np.linspace(0.0, 1.0, p.samples)), "path")
     roots, grid, vals = path_crossings(f_det, p.samples)
+    # sign changes between two samples that are both within the tolerance are round-off
+    # on the singular locus, not crossings (a path along the locus: QA F 07)
+    on = np.abs(vals) < p.tolerance
+    locus = [s for s in roots
+             if on[min(int(np.searchsorted(grid, s, side="right")) - 1, len(grid) - 2)]
+             and on[min(int(np.searchsorted(grid, s, side="right")), len(grid) - 1)]]
+    roots = [s for s in roots if s not in locus]
     notes = []
     f_cm = _sampled(lambda s: cm_pure_condition(model.points(*at(s)), relative=True),
                     "the paper's CM condition", notes)
@@ -380,6 +387,15 @@ def _run_path(model, p, unit):
     crossings, lines = [], []
     lines.append(f"path: {p.samples} samples, s in [0, 1]; L = {model.L:.6g}{unit}; "
                  f"{len(roots)} crossing(s) of det J = 0")
+    if on.all():
+        lines.append(f"  the whole path lies on the singular locus: |det J| <= "
+                     f"{np.max(np.abs(vals)):.1e} < tolerance {p.tolerance:g} at every sample "
+                     f"(its {len(locus)} sign changes are round-off)")
+    elif on.any():
+        lines.append(f"  |det J| < tolerance {p.tolerance:g} at {int(on.sum())} of {p.samples} "
+                     f"samples" + (f"; {len(locus)} sign changes between such samples are "
+                                   "round-off on the singular locus, not crossings"
+                                   if locus else ""))
     for s in roots:
         R, t = at(np.array([s]))
         tests = _first(_tests(model, R, t))
@@ -423,12 +439,15 @@ def _run_path(model, p, unit):
                      f"{entry['platform66']['identity_error']:.1e} (det(AJ) = det(A) det(J))")
         crossings.append(entry)
         lines.append(text)
-    spurious = [r for r in cm_roots if min((abs(r - s) for s in roots), default=1) > 1e-9]
+    off = lambda r: not on[int(np.argmin(np.abs(grid - r)))]  # noqa: E731  (det J != 0)
+    spurious = [r for r in cm_roots
+                if min((abs(r - s) for s in roots), default=1) > 1e-9 and off(r)]
     if spurious:
         lines.append(f"  the paper's CM condition also vanishes at s = "
                      f"{', '.join(f'{r:.6f}' for r in spurious)} where det J != 0 (its factor "
                      f"a - b, see distkin.singularity)")
-    k_spurious = [r for r in k_roots if min((abs(r - s) for s in roots), default=1) > 1e-9]
+    k_spurious = [r for r in k_roots
+                  if min((abs(r - s) for s in roots), default=1) > 1e-9 and off(r)]
     if k_spurious:
         lines.append(f"  the signed CM form also vanishes at s = "
                      f"{', '.join(f'{r:.6f}' for r in k_spurious)}: a flat tetrahedron "
@@ -446,6 +465,7 @@ def _run_path(model, p, unit):
            "cm_condition_roots": cm_roots, "signed_cm_roots": k_roots,
            "four_planes_roots": fp_roots, "cm_spurious_roots": spurious,
            "nearest_singularity": dist, "min_abs_det_J": float(np.min(np.abs(vals))),
+           "samples_on_locus": int(on.sum()), "on_singular_locus": bool(on.all()),
            "method": p.method}
     data = {"s": grid, "det_J": vals, "cm": cm_vals, "signed_cm": k_vals, "four_planes": fp_vals,
             "roots": roots, "spurious": spurious}

@@ -1,0 +1,63 @@
+"""Batched ``auto`` when the certified tier cannot decide one problem, mismatched batch
+shapes, and the messages and counts a user reads (QA round F).  References: the single
+``auto``/``certified`` calls on the same problems, and the geometry of the inputs."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from distkin.errors import ConditioningWarning, DegenerateGeometryError, InputError
+from distkin.octahedral import forward_kinematics, forward_kinematics_batched
+
+BASE = [[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]]
+PLAT = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]]
+GD = [19.8, 18, 18, 17, 14.9, 17.8]
+
+
+def test_one_undecidable_problem_keeps_the_others():
+    """Six equal legs on the equilateral pair: a triple root where three modes meet;
+    the certified tier raises for it (single call).  In a batch the other problems'
+    answers are kept (equal to their single auto answers) and this one is flagged."""
+    from distkin.errors import UncertifiedError
+    legs = np.array([GD, [18] * 6, [19.0, 18, 18, 17, 14.9, 17.8]])
+    with pytest.raises(UncertifiedError):
+        forward_kinematics(BASE, PLAT, [18] * 6, method="auto")
+    with pytest.warns(ConditioningWarning, match=r"could not decide 1 of 3 problems "
+                                                 r"\(first: problem 1"):
+        b = forward_kinematics_batched(BASE, PLAT, legs, method="auto")
+    assert set(b.unresolved) == {1} and "multiplicity 3" in b.unresolved[1]
+    assert not b.trusted[1] and b.tier[1] == "fast"
+    for i in (0, 2):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ConditioningWarning)
+            one = forward_kinematics(BASE, PLAT, list(legs[i]), method="auto")
+        assert b.count[i] == len(one)
+        assert np.allclose(b.s15[i, :len(one.assembly_roots)],
+                           [r.value for r in one.assembly_roots], rtol=1e-12)
+
+
+def test_mismatched_batch_axes_are_named():
+    base = np.array([[[0, 0, 0], [6, np.sqrt(108), 0], [12, 0, 0]]] * 2)
+    legs = np.array([GD] * 3)
+    for method in ("fast", "auto"):
+        with pytest.raises(InputError) as e:
+            forward_kinematics_batched(base, PLAT, legs, method=method)
+        assert e.value.field == "base" and "(2, 3, 3)" in str(e.value)
+        assert "legs (3, 6)" in str(e.value)
+
+
+def test_a_thin_triangle_names_the_tolerance():
+    """A base 10 long and 1e-6 high is not collinear; the solver's relative test
+    refuses it, and the message now gives the test's value and threshold:
+    16 area² / (a + b + c)² with the squared sides (a, b, c) = (25 + 1e-12, 25 + 1e-12,
+    100): 16 · (10 · 1e-6 / 2)² / 150² = 1.78e-14 (Heron's formula in float64 loses
+    about eps (a + b + c)² / 16 area² = 0.6 % of it to cancellation)."""
+    base = [[0, 0, 0], [5, "1/1000000", 0], [10, 0, 0]]
+    with pytest.raises(DegenerateGeometryError) as e:
+        forward_kinematics(base, PLAT, GD, method="certified")
+    msg = str(e.value)
+    assert "within the solver's tolerance" in msg and "not above 1e-12" in msg
+    import re
+    value = float(re.search(r"= ([0-9.e+-]+), not above", msg).group(1))
+    assert value == pytest.approx(16 * (10 * 1e-6 / 2) ** 2 / 150 ** 2, rel=0.02)
