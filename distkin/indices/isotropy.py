@@ -60,7 +60,7 @@ from .capability import _jacobian
 
 __all__ = ["ST_DEFAULT", "scaled_singular_values", "condition_number", "gii",
            "CullingResult", "culling_sweep", "brute_force_sweep", "SCALING_READINGS",
-           "reading_singular_values"]
+           "reading_singular_values", "check_scaling"]
 
 #: the scaling matrix of Sec. III-B-2, diagonal, (N, N, N, N·m, N·m, N·m)
 ST_DEFAULT = (15.0, 15.0, 15.0, 1.0, 1.0, 1.0)
@@ -76,12 +76,18 @@ SCALING_READINGS = {
 }
 
 
-def _scaled(J, ST):
-    J = _jacobian(J, "(..., L, 6)")
+def check_scaling(ST):
+    """The diagonal of the scaling matrix as an array (6,): :class:`InputError` naming
+    ``ST`` unless it is 6 positive finite numbers."""
     st = as_floats(ST, "ST", "6 positive scaling factors")
     if st.shape != (6,) or not np.all(st > 0) or not np.all(np.isfinite(st)):
         raise InputError(f"expected 6 positive finite scaling factors, got {ST!r}", field="ST")
-    return np.swapaxes(J, -1, -2) / st[:, None]
+    return st
+
+
+def _scaled(J, ST):
+    J = _jacobian(J, "(..., L, 6)")
+    return np.swapaxes(J, -1, -2) / check_scaling(ST)[:, None]
 
 
 def scaled_singular_values(J, ST=ST_DEFAULT):

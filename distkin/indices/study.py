@@ -131,9 +131,36 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         the others of :data:`SIGMA_READINGS`); ``transmission_min`` = min_i |Jq_ii|/l1_i
         (l1_i the crank of leg i, 1 for a prismatic leg);
         ``det_sign`` the sign of det J (L = 6; 1 for L = 8).
+
+    Raises
+    ------
+    InputError
+        Checked once per call, for both routes: ``poses`` not finite numbers of shape
+        (N, 6); ``ST`` not 6 positive finite numbers; an actuator limit that is not a
+        positive finite number (or missing for a leg's type); ``route`` or
+        ``sensitivity`` not one of its choices.
     """
-    poses = np.asarray(poses, dtype=float)
-    chunk = max(1, int(chunk))
+    poses, ST, lim = _check_evaluate(mech, poses, actuators, ST, route, sensitivity)
+    return _evaluate(mech, poses, lim, ST, route, sensitivity, compiled, max(1, int(chunk)))
+
+
+def _check_evaluate(mech, poses, actuators, ST, route, sensitivity):
+    """The entry checks of :func:`evaluate_poses`, once per call (not per pose or chunk):
+    poses (N, 6) finite, ST 6 positive finite factors, the actuator limits positive and
+    finite (:func:`.actuators.leg_limits`), route and sensitivity among their choices.
+    Returns the poses, ST as a tuple and the per-leg limits."""
+    from ..argcheck import choice, float_array
+    from .actuators import leg_limits
+    from .isotropy import check_scaling
+    poses = float_array(poses, "poses", (None, 6))
+    ST = tuple(check_scaling(ST))
+    choice(route, "route", ("kernels", "numpy"))
+    choice(sensitivity, "sensitivity", ("slice", "projection"))
+    return poses, ST, leg_limits(mech, actuators)
+
+
+def _evaluate(mech, poses, lim, ST, route, sensitivity, compiled, chunk):
+    """:func:`evaluate_poses` on checked input (``lim``: :func:`.actuators.leg_limits`)."""
     if len(poses) > chunk:
         # results written in place chunk after chunk: besides them, only one chunk's
         # work memory is alive at a time
@@ -141,9 +168,8 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         out = {q: np.empty(len(poses)) for q in QUANTITIES}
         n = 0
         for a in range(0, len(poses), chunk):
-            ok_c, v = evaluate_poses(mech, poses[a:a + chunk], actuators=actuators, ST=ST,
-                                     route=route, sensitivity=sensitivity,
-                                     compiled=compiled, chunk=chunk)
+            ok_c, v = _evaluate(mech, poses[a:a + chunk], lim, ST, route, sensitivity,
+                                compiled, chunk)
             ok[a:a + chunk] = ok_c
             k = int(ok_c.sum())
             for q in QUANTITIES:
@@ -175,8 +201,7 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         else np.array([mech.mass] * 3 + [mech.inertia] * 3)
     if not n:
         return ok, {q: np.zeros(0) for q in QUANTITIES}
-    from .actuators import leg_limits, per_leg_capabilities, uniform_limits
-    lim = leg_limits(mech, actuators)
+    from .actuators import per_leg_capabilities, uniform_limits
     act = uniform_limits(lim)
     act_run = act if act is not None else dict(ACTUATORS)
     if compiled and 6 <= mech.L <= 8:
