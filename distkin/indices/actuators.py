@@ -128,4 +128,8 @@ def per_leg_capabilities(J, M, lim, capabilities, true_velocities):
     Jv = J / lim["rate"][None, :, None]
     for name, _, _, keep in true_velocities:
         out[name] = np.asarray(true_velocity_worst(Jv, 1.0, list(keep)), dtype=float)
+    if J.shape[1] == 6:            # J⁻¹·box is the slab set: as the study's uniform route
+        for cap in capabilities:
+            if cap[3] == "twist":
+                out[cap[0]] = out[cap[0] + "_true"].copy()
     return out

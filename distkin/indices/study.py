@@ -50,7 +50,8 @@ SENSITIVITIES = (
     ("sens_force", "Max. force sensitivity", "N/(N·m)", "wrench", (0, 1, 2)),
     ("sens_torque", "Max. torque sensitivity", "(N·m)/(N·m)", "wrench", (3, 4, 5)),
 )
-#: name, label, unit, slice: the true velocity set {ẋ : |J ẋ|∞ <= q̇max} (.velocity_set)
+#: name, label, unit, slice: the true velocity set {ẋ : |J ẋ|∞ <= q̇max} (.velocity_set);
+#: for L = 6 the same set as eq. (5)'s J⁻¹·box, whose velocity rows are computed as these
 TRUE_VELOCITIES = (
     ("velocity_true", "Velocity, true set", "m/s", (0, 1, 2)),
     ("angular_velocity_true", "Angular velocity, true set", "rad/s", (3, 4, 5)),
@@ -233,6 +234,12 @@ def _indices_numpy(J, Jq, M, actuators, ST, sensitivity):
     out = _worst_cases(J, gens, M, actuators)
     for name, _, _, keep in TRUE_VELOCITIES:
         out[name] = true_velocity_worst(J, actuators["velocity"], keep)
+    if J.shape[1] == 6:
+        # a square J: J⁻¹·box is the slab set of the true velocities (.study_compiled),
+        # whose worst cases stay continuous through a singularity (the flat route of the
+        # zonotope gives 0 there)
+        out["velocity"] = out["velocity_true"].copy()
+        out["angular_velocity"] = out["angular_velocity_true"].copy()
     sens = max_sensitivities(J, sensitivity, twist=gens["twist"], walk=True)
     for name in SENSITIVITIES:
         out[name[0]] = sens[name[0].removeprefix("sens_")]
