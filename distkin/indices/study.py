@@ -240,10 +240,13 @@ def _indices_numpy(J, Jq, M, actuators, ST, sensitivity):
         # zonotope gives 0 there)
         out["velocity"] = out["velocity_true"].copy()
         out["angular_velocity"] = out["angular_velocity_true"].copy()
-    sens = max_sensitivities(J, sensitivity, twist=gens["twist"], walk=True)
+    sig = reading_singular_values(J, ST, Jq=Jq)
+    un_min, un_max = sig["unscaled"]
+    sens = max_sensitivities(J, sensitivity, twist=gens["twist"], walk=True,
+                             kappa=np.divide(un_min, un_max, out=np.zeros(len(J)),
+                                             where=un_max > 0))
     for name in SENSITIVITIES:
         out[name[0]] = sens[name[0].removeprefix("sens_")]
-    sig = reading_singular_values(J, ST, Jq=Jq)
     out["sigma_min"], out["sigma_max"] = sig["wrench"]
     for r in SIGMA_READINGS:
         out[f"sigma_min_{r}"], out[f"sigma_max_{r}"] = sig[r]
@@ -259,7 +262,10 @@ def _indices_compiled(J, Jq, M, actuators, ST, sensitivity):
     out = {cap[0]: caps[:, i] for i, cap in enumerate(CAPABILITIES)}
     for i, (name, _, _, _) in enumerate(TRUE_VELOCITIES):
         out[name] = truev[:, i]
-    sens = max_sensitivities(J, sensitivity, twist=twist if J.shape[1] > 6 else None)
+    # σmin/σmax of Jᵀ (the unscaled reading) for the singular-J test of the sensitivities
+    kappa = np.divide(sig[:, 2], sig[:, 3], out=np.zeros(len(J)), where=sig[:, 3] > 0)
+    sens = max_sensitivities(J, sensitivity, twist=twist if J.shape[1] > 6 else None,
+                             kappa=kappa)
     for name in SENSITIVITIES:
         out[name[0]] = sens[name[0].removeprefix("sens_")]
     out["sigma_min"], out["sigma_max"] = sig[:, 0], sig[:, 1]

@@ -37,7 +37,8 @@ some pose by pose and some over blocks of 32 or 64 poses with the pose as the in
 Poses that the kernels do not vouch for (σmin/σmax of Jᵀ below
 :data:`~.zonotope.RANK_TOL`, by the exact σ for L = 8 and the pivots of Gram-Schmidt
 otherwise: the flat route of :func:`.zonotope._flat_worst`; a Jacobi that did not
-converge in 60 sweeps) are flagged, and the caller computes them by
+converge in 60 sweeps; σ that are not finite, as an exactly zero column of J gives the
+QR) are flagged, and the caller computes them by
 the numpy route.  Agreement with that route (tests/indices/test_study_compiled.py):
 relative differences of a few 1e-13 on the presets' Table II grids.
 """
@@ -396,6 +397,9 @@ def study_indices(J, Jq, M, actuators, ST):
         Jq = np.ascontiguousarray(Jq, dtype=float)
         M = np.asarray(M, dtype=float)
         Z = jacobi_lanes(J, Jq, st, sig, twist, flag)
+        # an exactly zero column of J (or of J·Jq) stops the Householder QR (0/0): its
+        # σ come out inf/0 or NaN, which the rank test below would pass; flagged here
+        flag |= ~np.isfinite(sig).all(axis=1)
         if L == 8:
             # facets from the null space of Jᵀ and J# (facets_lanes); the rank test on
             # the exact σ of Jᵀ instead of the pivots of Gram-Schmidt
