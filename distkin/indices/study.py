@@ -437,6 +437,10 @@ def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dic
     orientations (±20°) with every reading of the scaling in ``readings``;
     ``worst_poses`` the pose (m, rad) of each capability's worst case; ``diagnostics``
     the smallest σmin, transmission |Jq|/l1 and whether every sensitivity is finite.
+    Non-finite extremes are None in ``table`` (JSON); ``max_unbounded`` says a row's
+    maximum is +inf (a sensitivity at a singular J), not missing.
+    ``rotation_covered_deg``: the largest r such that every rotation axis of the grid
+    reaches -r and +r.
     """
     from .isotropy import SCALING_READINGS
     grid = dev.grid
@@ -453,7 +457,10 @@ def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dic
     for q in _ROWS + [t[0] for t in TRUE_VELOCITIES]:
         lo, hi = _extreme(per, q, has, "min"), _extreme(per, q, has, "max")
         entry = {"label": labels[q], "unit": units[q], "min": lo, "max": hi,
-                 "min_full_positions": _extreme(per, q, full, "min")}
+                 "min_full_positions": _extreme(per, q, full, "min"),
+                 # +inf maxima (an unbounded sensitivity at a singular J) are None above
+                 # (JSON); this keeps them apart from "no reachable pose"
+                 "max_unbounded": bool(has.any() and np.any(per[f"{q}_max"][has] == np.inf))}
         col = q.removesuffix("_true")
         if dev.paper in PAPER_TABLE3:
             pmin, pmax = PAPER_TABLE3[dev.paper][col]
@@ -511,6 +518,9 @@ def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dic
         "poses": grid.size, "positions": grid.n_positions,
         "orientations": grid.n_orientations,
         "rotation_deg": math.degrees(max(abs(v) for v in grid.rx)),
+        # the largest r with ±r on every rotation axis (the "±30°" claims need 30)
+        "rotation_covered_deg": math.degrees(min(min(-min(a), max(a))
+                                                 for a in (grid.rx, grid.ry, grid.rz))),
         "reachable_poses": int(per["n_ok"].sum()),
         "reachable_fraction": float(per["n_ok"].sum() / grid.size),
         "all_orientations_reachable": per["n_ok"] == grid.n_orientations,
