@@ -32,8 +32,11 @@ our choice:
     ``ST⁻¹ Jxᵀ``: the direct-kinematics matrix of eq. (1) alone ("singular values of Jx
     or J", Sec. II-C-1; rows are the unit Plücker lines of the distal links).
 
-A length unit does not change any of them when the units are consistent (J in rad/mm
-with ST in N and N·mm gives W exactly).  The study reports σmin and σmax of every
+A length unit changes the singular values by its factor and leaves κ and the GII
+alone: J in rad/mm with ST in N and N·mm gives W/1000 (the wrench per N·mm of actuator
+torque instead of per N·m: consistent units, a different unit of the input), so σmin
+and σmax are 1000 times smaller and σmin/σmax is the same (tests/indices:
+test_a_length_unit_scales_sigma_and_keeps_kappa).  The study reports σmin and σmax of every
 reading beside Table IV.  Measured on the presets (Table II grid, ±20°;
 ``docs/fig2_readings.md``): W gives σmax 0.06-0.16× the paper's; the unscaled Jᵀ
 comes closest to the printed σmax (0.7-2×) but then σmin is 0.2-0.8× and the paper
@@ -104,7 +107,8 @@ def scaled_singular_values(J, ST=ST_DEFAULT):
     -------
     smin, smax : ndarray (...)
         Dimensionless (intended wrench per N·m of actuator torque).  float64 SVD,
-        relative accuracy about 1e-16 × κ⁻¹ for σmin.
+        relative accuracy about 1e-16 × κ⁻¹ for σmin.  Fewer than 6 legs (L < 6):
+        σmin = 0 (W of rank L < 6 misses a wrench direction), so κ = 0.
 
     Raises
     ------
@@ -112,8 +116,16 @@ def scaled_singular_values(J, ST=ST_DEFAULT):
         ``J`` not numbers of shape (..., L, 6), or not finite (NaN, inf: an unreachable
         pose's J is the caller's to filter); ``ST`` not 6 positive finite numbers.
     """
-    s = np.linalg.svd(_scaled(J, ST), compute_uv=False)
-    return s[..., -1], s[..., 0]
+    W = _scaled(J, ST)
+    return _sigma_range(np.linalg.svd(W, compute_uv=False), W.shape[-1])
+
+
+def _sigma_range(s, L):
+    """(σmin, σmax) of a 6 × L map from its min(6, L) singular values: with fewer than
+    6 actuators (L < 6) the image misses a wrench direction, so σmin is 0 (the six
+    singular values of the map onto the 6-D wrench space, padded with zeros)."""
+    smin = s[..., -1] if L >= 6 else np.zeros(s.shape[:-1])
+    return smin, s[..., 0]
 
 
 def reading_singular_values(J, ST=ST_DEFAULT, *, Jq=None, tau_nominal: float = 2.5):
@@ -141,10 +153,11 @@ def reading_singular_values(J, ST=ST_DEFAULT, *, Jq=None, tau_nominal: float = 2
            "wrench_nominal": (smin * tau_nominal, smax * tau_nominal)}
     with np.errstate(divide="ignore"):
         out["inverse"] = (1.0 / smax, 1.0 / smin)
+    L = J.shape[-2]
     s = np.linalg.svd(np.swapaxes(J, -1, -2), compute_uv=False)
-    out["unscaled"] = (s[..., -1], s[..., 0])
+    out["unscaled"] = _sigma_range(s, L)
     s = np.linalg.svd(np.swapaxes(J, -1, -2) * st[:, None], compute_uv=False)
-    out["task_multiplied"] = (s[..., -1], s[..., 0])
+    out["task_multiplied"] = _sigma_range(s, L)
     if Jq is not None:
         Jx = J * float_array(Jq, "Jq", J.shape[:-1])[..., None]
         out["jx"] = scaled_singular_values(Jx, ST)
@@ -155,7 +168,8 @@ def condition_number(J, ST=ST_DEFAULT):
     """Local condition number κ = σmin/σmax, eq. (4), of the scaled Jacobian; (...).
 
     ``J`` (..., L, 6) and ``ST`` as :func:`scaled_singular_values` (which checks them:
-    :class:`~distkin.errors.InputError` for a J that is not finite)."""
+    :class:`~distkin.errors.InputError` for a J that is not finite).  0 for fewer than
+    6 legs (L < 6: the wrench map has rank < 6)."""
     smin, smax = scaled_singular_values(J, ST)
     return np.divide(smin, smax, out=np.zeros_like(smin), where=smax > 0)
 
