@@ -181,7 +181,12 @@ def gii(smin, smax):
     """
     smin = as_floats(smin, "smin", "singular values (numbers)")
     smax = as_floats(smax, "smax", "singular values (numbers)")
+    if smin.shape != smax.shape:
+        raise InputError(f"expected smin and smax of one shape (one pair per pose), got "
+                         f"{smin.shape} and {smax.shape}", field="smax")
     for v, name in ((smin, "smin"), (smax, "smax")):
+        if np.isnan(v).any():
+            raise InputError("expected singular values (not NaN), got NaN", field=name)
         low = float(np.nanmin(v, initial=0.0))
         if low < 0:
             raise InputError(f"expected singular values >= 0, got {low!r}", field=name)
@@ -225,7 +230,22 @@ def _check_eval(out, nd, npo):
     if lo.shape != (nd, npo) or hi.shape != (nd, npo):
         raise InputError(f"expected evaluate() to return two arrays of shape ({nd}, {npo}), "
                          f"got {lo.shape} and {hi.shape}", field="evaluate")
+    if np.isnan(lo).any() or np.isnan(hi).any():
+        # a NaN GII compares false with everything: argmax would pick its design
+        raise InputError("expected evaluate() to return singular values, got NaN (an "
+                         "unreachable pose should give smin = 0 or +inf, smax = 0)",
+                         field="evaluate")
     return lo, hi
+
+
+def _check_sweep(n_designs, n_poses, block):
+    if isinstance(block, (bool, np.bool_)) or not isinstance(block, (int, np.integer)) \
+            or block < 1:
+        raise InputError(f"expected an integer >= 1 (poses per call), got {block!r}",
+                         field="block")
+    if n_designs < 1 or n_poses < 1:
+        raise InputError(f"expected at least one design and one pose, got {n_designs} "
+                         f"designs and {n_poses} poses", field="sweep")
 
 
 def brute_force_sweep(evaluate, n_designs: int, n_poses: int, *, block: int = 4096):
@@ -234,6 +254,7 @@ def brute_force_sweep(evaluate, n_designs: int, n_poses: int, *, block: int = 40
     ``evaluate(designs (k,), poses (m,)) -> (smin (k, m), smax (k, m))``.  Returns
     ``(CullingResult, gii (n_designs,))``.
     """
+    _check_sweep(n_designs, n_poses, block)
     lo = np.full(n_designs, np.inf)
     hi = np.zeros(n_designs)
     designs = np.arange(n_designs)
@@ -275,15 +296,20 @@ def culling_sweep(evaluate, n_designs: int, n_poses: int, *, block: int = 4096,
     block : int
         Poses per call when a design is evaluated completely.
     seed_poses : array of int, optional
-        Poses evaluated for every design first (default: 8 evenly spread poses).
+        Poses evaluated for every design first (default: 8 evenly spread poses);
+        non-empty, indices in 0..n_poses-1.
 
     Returns
     -------
     CullingResult
     """
-    if n_designs < 1 or n_poses < 1:
-        raise InputError(f"expected at least one design and one pose, got {n_designs} "
-                         f"designs and {n_poses} poses", field="sweep")
+    _check_sweep(n_designs, n_poses, block)
+    if seed_poses is not None:
+        sp = np.asarray(seed_poses)
+        if sp.ndim != 1 or not sp.size or sp.dtype.kind not in "iu" \
+                or sp.min() < 0 or sp.max() >= n_poses:
+            raise InputError(f"expected a non-empty list of pose indices in 0..{n_poses - 1}, "
+                             f"got {seed_poses!r}", field="seed_poses")
     lo = np.full(n_designs, np.inf)
     hi = np.zeros(n_designs)
     evaluations = 0
