@@ -47,7 +47,9 @@ def leg_limits(mech, actuators, field: str = "actuators") -> dict:
     ------
     InputError
         A prismatic leg without a force limit or without ``nominal_force`` /
-        ``stall_force`` / ``speed`` in the table (never a torque taken for a force)."""
+        ``stall_force`` / ``speed`` in the table (never a torque taken for a force); a
+        limit of the table that is not a positive finite number (a zero limit makes
+        every capability 0, a negative one flips its sign)."""
     pris, legs = _prismatic(mech)
     out = {k: np.empty(mech.L) for k in ("nominal", "stall", "rate")}
     for i in range(mech.L):
@@ -65,7 +67,16 @@ def leg_limits(mech, actuators, field: str = "actuators") -> dict:
                 kind = "prismatic" if pris[i] else "revolute"
                 raise InputError(f"expected {key} ({_UNITS[key]}) for the {kind} leg {i}, got "
                                  "nothing", field=f"{field}.{key}")
-            out[name][i] = float(actuators[key])
+            x = actuators[key]
+            try:
+                x = float(x) if not isinstance(x, (bool, np.bool_)) else None
+            except (TypeError, ValueError):
+                x = None
+            if x is None or not (np.isfinite(x) and x > 0):
+                raise InputError(f"expected a positive finite limit ({_UNITS[key]}: the "
+                                 f"symmetric box ±value), got {actuators[key]!r}",
+                                 field=f"{field}.{key}")
+            out[name][i] = x
     out["prismatic"] = pris
     return out
 
@@ -117,4 +128,8 @@ def per_leg_capabilities(J, M, lim, capabilities, true_velocities):
     Jv = J / lim["rate"][None, :, None]
     for name, _, _, keep in true_velocities:
         out[name] = np.asarray(true_velocity_worst(Jv, 1.0, list(keep)), dtype=float)
+    if J.shape[1] == 6:            # J⁻¹·box is the slab set: as the study's uniform route
+        for cap in capabilities:
+            if cap[3] == "twist":
+                out[cap[0]] = out[cap[0] + "_true"].copy()
     return out

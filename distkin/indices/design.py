@@ -67,7 +67,9 @@ def design_sigmas(mech, poses, ST=ST_DEFAULT, unreachable: str = "skip"):
     (σmin = +inf, σmax = 0, neutral for min and max); ``"zero"``: it gives σmin = 0,
     so a design that misses part of the workspace gets GII = 0.
     """
+    from ..argcheck import choice
     from .isotropy import scaled_singular_values
+    choice(unreachable, "unreachable", ("skip", "zero"))
     _, valid, J = ik_jacobian(mech, poses)
     ok = valid.all(axis=1) & np.all(np.isfinite(J), axis=(1, 2))
     smin = np.full(len(poses), np.inf if unreachable == "skip" else 0.0)
@@ -94,7 +96,8 @@ def design_chunk(spec: dict) -> dict:
 def sweep_designs(space: DesignSpace, poses, *, algorithm="both", ST=ST_DEFAULT, store=None,
                   executor=None, progress=True, designs_per_chunk: int = 8,
                   block: int = 4096, unreachable: str = "skip"):
-    """GII of a design space over ``poses`` (N, 6).
+    """GII of a design space over ``poses`` (N, 6) (``unreachable``: "skip" or "zero",
+    as :func:`design_sigmas`).
 
     Returns a dict: ``designs`` (list of parameter dicts), ``best`` (index), ``gii``,
     ``sigma_min``, ``sigma_max``, ``parameters`` of the optimum, and per algorithm its

@@ -32,8 +32,11 @@ our choice:
     ``ST⁻¹ Jxᵀ``: the direct-kinematics matrix of eq. (1) alone ("singular values of Jx
     or J", Sec. II-C-1; rows are the unit Plücker lines of the distal links).
 
-A length unit does not change any of them when the units are consistent (J in rad/mm
-with ST in N and N·mm gives W exactly).  The study reports σmin and σmax of every
+A length unit changes the singular values by its factor and leaves κ and the GII
+alone: J in rad/mm with ST in N and N·mm gives W/1000 (the wrench per N·mm of actuator
+torque instead of per N·m: consistent units, a different unit of the input), so σmin
+and σmax are 1000 times smaller and σmin/σmax is the same (tests/indices:
+test_a_length_unit_scales_sigma_and_keeps_kappa).  The study reports σmin and σmax of every
 reading beside Table IV.  Measured on the presets (Table II grid, ±20°;
 ``docs/fig2_readings.md``): W gives σmax 0.06-0.16× the paper's; the unscaled Jᵀ
 comes closest to the printed σmax (0.7-2×) but then σmin is 0.2-0.8× and the paper
@@ -60,7 +63,7 @@ from .capability import _jacobian
 
 __all__ = ["ST_DEFAULT", "scaled_singular_values", "condition_number", "gii",
            "CullingResult", "culling_sweep", "brute_force_sweep", "SCALING_READINGS",
-           "reading_singular_values"]
+           "reading_singular_values", "check_scaling"]
 
 #: the scaling matrix of Sec. III-B-2, diagonal, (N, N, N, N·m, N·m, N·m)
 ST_DEFAULT = (15.0, 15.0, 15.0, 1.0, 1.0, 1.0)
@@ -76,12 +79,18 @@ SCALING_READINGS = {
 }
 
 
-def _scaled(J, ST):
-    J = _jacobian(J, "(..., L, 6)")
+def check_scaling(ST):
+    """The diagonal of the scaling matrix as an array (6,): :class:`InputError` naming
+    ``ST`` unless it is 6 positive finite numbers."""
     st = as_floats(ST, "ST", "6 positive scaling factors")
     if st.shape != (6,) or not np.all(st > 0) or not np.all(np.isfinite(st)):
         raise InputError(f"expected 6 positive finite scaling factors, got {ST!r}", field="ST")
-    return np.swapaxes(J, -1, -2) / st[:, None]
+    return st
+
+
+def _scaled(J, ST):
+    J = _jacobian(J, "(..., L, 6)")
+    return np.swapaxes(J, -1, -2) / check_scaling(ST)[:, None]
 
 
 def scaled_singular_values(J, ST=ST_DEFAULT):
@@ -98,7 +107,8 @@ def scaled_singular_values(J, ST=ST_DEFAULT):
     -------
     smin, smax : ndarray (...)
         Dimensionless (intended wrench per N·m of actuator torque).  float64 SVD,
-        relative accuracy about 1e-16 × κ⁻¹ for σmin.
+        relative accuracy about 1e-16 × κ⁻¹ for σmin.  Fewer than 6 legs (L < 6):
+        σmin = 0 (W of rank L < 6 misses a wrench direction), so κ = 0.
 
     Raises
     ------
@@ -106,8 +116,16 @@ def scaled_singular_values(J, ST=ST_DEFAULT):
         ``J`` not numbers of shape (..., L, 6), or not finite (NaN, inf: an unreachable
         pose's J is the caller's to filter); ``ST`` not 6 positive finite numbers.
     """
-    s = np.linalg.svd(_scaled(J, ST), compute_uv=False)
-    return s[..., -1], s[..., 0]
+    W = _scaled(J, ST)
+    return _sigma_range(np.linalg.svd(W, compute_uv=False), W.shape[-1])
+
+
+def _sigma_range(s, L):
+    """(σmin, σmax) of a 6 × L map from its min(6, L) singular values: with fewer than
+    6 actuators (L < 6) the image misses a wrench direction, so σmin is 0 (the six
+    singular values of the map onto the 6-D wrench space, padded with zeros)."""
+    smin = s[..., -1] if L >= 6 else np.zeros(s.shape[:-1])
+    return smin, s[..., 0]
 
 
 def reading_singular_values(J, ST=ST_DEFAULT, *, Jq=None, tau_nominal: float = 2.5):
@@ -135,10 +153,11 @@ def reading_singular_values(J, ST=ST_DEFAULT, *, Jq=None, tau_nominal: float = 2
            "wrench_nominal": (smin * tau_nominal, smax * tau_nominal)}
     with np.errstate(divide="ignore"):
         out["inverse"] = (1.0 / smax, 1.0 / smin)
+    L = J.shape[-2]
     s = np.linalg.svd(np.swapaxes(J, -1, -2), compute_uv=False)
-    out["unscaled"] = (s[..., -1], s[..., 0])
+    out["unscaled"] = _sigma_range(s, L)
     s = np.linalg.svd(np.swapaxes(J, -1, -2) * st[:, None], compute_uv=False)
-    out["task_multiplied"] = (s[..., -1], s[..., 0])
+    out["task_multiplied"] = _sigma_range(s, L)
     if Jq is not None:
         Jx = J * float_array(Jq, "Jq", J.shape[:-1])[..., None]
         out["jx"] = scaled_singular_values(Jx, ST)
@@ -149,7 +168,8 @@ def condition_number(J, ST=ST_DEFAULT):
     """Local condition number κ = σmin/σmax, eq. (4), of the scaled Jacobian; (...).
 
     ``J`` (..., L, 6) and ``ST`` as :func:`scaled_singular_values` (which checks them:
-    :class:`~distkin.errors.InputError` for a J that is not finite)."""
+    :class:`~distkin.errors.InputError` for a J that is not finite).  0 for fewer than
+    6 legs (L < 6: the wrench map has rank < 6)."""
     smin, smax = scaled_singular_values(J, ST)
     return np.divide(smin, smax, out=np.zeros_like(smin), where=smax > 0)
 
@@ -161,7 +181,12 @@ def gii(smin, smax):
     """
     smin = as_floats(smin, "smin", "singular values (numbers)")
     smax = as_floats(smax, "smax", "singular values (numbers)")
+    if smin.shape != smax.shape:
+        raise InputError(f"expected smin and smax of one shape (one pair per pose), got "
+                         f"{smin.shape} and {smax.shape}", field="smax")
     for v, name in ((smin, "smin"), (smax, "smax")):
+        if np.isnan(v).any():
+            raise InputError("expected singular values (not NaN), got NaN", field=name)
         low = float(np.nanmin(v, initial=0.0))
         if low < 0:
             raise InputError(f"expected singular values >= 0, got {low!r}", field=name)
@@ -205,7 +230,22 @@ def _check_eval(out, nd, npo):
     if lo.shape != (nd, npo) or hi.shape != (nd, npo):
         raise InputError(f"expected evaluate() to return two arrays of shape ({nd}, {npo}), "
                          f"got {lo.shape} and {hi.shape}", field="evaluate")
+    if np.isnan(lo).any() or np.isnan(hi).any():
+        # a NaN GII compares false with everything: argmax would pick its design
+        raise InputError("expected evaluate() to return singular values, got NaN (an "
+                         "unreachable pose should give smin = 0 or +inf, smax = 0)",
+                         field="evaluate")
     return lo, hi
+
+
+def _check_sweep(n_designs, n_poses, block):
+    if isinstance(block, (bool, np.bool_)) or not isinstance(block, (int, np.integer)) \
+            or block < 1:
+        raise InputError(f"expected an integer >= 1 (poses per call), got {block!r}",
+                         field="block")
+    if n_designs < 1 or n_poses < 1:
+        raise InputError(f"expected at least one design and one pose, got {n_designs} "
+                         f"designs and {n_poses} poses", field="sweep")
 
 
 def brute_force_sweep(evaluate, n_designs: int, n_poses: int, *, block: int = 4096):
@@ -214,6 +254,7 @@ def brute_force_sweep(evaluate, n_designs: int, n_poses: int, *, block: int = 40
     ``evaluate(designs (k,), poses (m,)) -> (smin (k, m), smax (k, m))``.  Returns
     ``(CullingResult, gii (n_designs,))``.
     """
+    _check_sweep(n_designs, n_poses, block)
     lo = np.full(n_designs, np.inf)
     hi = np.zeros(n_designs)
     designs = np.arange(n_designs)
@@ -255,15 +296,20 @@ def culling_sweep(evaluate, n_designs: int, n_poses: int, *, block: int = 4096,
     block : int
         Poses per call when a design is evaluated completely.
     seed_poses : array of int, optional
-        Poses evaluated for every design first (default: 8 evenly spread poses).
+        Poses evaluated for every design first (default: 8 evenly spread poses);
+        non-empty, indices in 0..n_poses-1.
 
     Returns
     -------
     CullingResult
     """
-    if n_designs < 1 or n_poses < 1:
-        raise InputError(f"expected at least one design and one pose, got {n_designs} "
-                         f"designs and {n_poses} poses", field="sweep")
+    _check_sweep(n_designs, n_poses, block)
+    if seed_poses is not None:
+        sp = np.asarray(seed_poses)
+        if sp.ndim != 1 or not sp.size or sp.dtype.kind not in "iu" \
+                or sp.min() < 0 or sp.max() >= n_poses:
+            raise InputError(f"expected a non-empty list of pose indices in 0..{n_poses - 1}, "
+                             f"got {seed_poses!r}", field="seed_poses")
     lo = np.full(n_designs, np.inf)
     hi = np.zeros(n_designs)
     evaluations = 0

@@ -21,6 +21,18 @@ points of the parts of ``{Jᵀ τ}`` (eq. (6)).  "Part" has two meanings:
     of the zonotope (the 2^L vertices, :func:`distkin.indices.best_case_output`).  It is
     never smaller than the slice and about twice the paper's values on the presets.
 
+At a singular Jacobian (σmin/σmax of J below :data:`~.zonotope.RANK_TOL`) a twist ẋ
+with J ẋ = 0 moves the platform with the actuators locked, so a twist sensitivity
+whose part that motion reaches is **+inf** (unbounded), the limit of its regular
+neighbours, in every mode and for every L: in slice mode where the null space of J
+holds a vector whose other part is zero (e.g. J e_z = 0: translation along z at zero
+rotation), in projection mode where a null vector has a nonzero component in the part
+(components below 1e-9 of a unit null vector count as zero, as in
+:func:`.zonotope._flat_worst`).  J# = pinv(J) would truncate that direction and give a
+finite value that depends on nothing near it (and a projection smaller than the
+slice).  Otherwise the values are those of the set of eq. (5).  The force and torque
+sensitivities stay finite (Jᵀ·box is flat there, not unbounded).
+
 .. [1] P. Cardou, S. Bouchard, C. Gosselin, "Kinematic-sensitivity indices for
    dimensionally nonhomogeneous Jacobian matrices", IEEE Trans. Robotics 26(1), 2010.
 """
@@ -33,7 +45,7 @@ from ..argcheck import as_floats
 from ..errors import InputError
 from .capability import _jacobian
 from .slice_farthest import slab_farthest_unit, slice_farthest_unit
-from .zonotope import zonotope_best
+from .zonotope import RANK_TOL, zonotope_best
 
 __all__ = ["max_sensitivities", "SENSITIVITY_UNITS", "SENSITIVITY_MODES"]
 
@@ -45,7 +57,8 @@ SENSITIVITY_UNITS = {"translational": "m/rad", "rotational": "rad/rad",
                      "force": "N/(N·m)", "torque": "(N·m)/(N·m)"}
 
 
-def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False):
+def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False,
+                      kappa=None):
     """The four maximum sensitivities at each pose (module docstring).
 
     Parameters
@@ -60,12 +73,17 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False)
     walk : bool
         Slice mode: the Gray-code kernel of :mod:`.slice_farthest` for every L (the
         reference of its split-sign kernel for L = 8).
+    kappa : ndarray (N,), optional
+        σmin/σmax of J per pose if already computed (the study has it), for the test of
+        a singular J (module docstring); otherwise from numpy's SVD.
 
     Returns
     -------
     dict of ndarray (N,)
         ``translational`` [m/rad], ``rotational`` [rad/rad], ``force`` [N/(N·m)],
-        ``torque`` [(N·m)/(N·m)].  Exact up to float64 rounding (vertex enumeration).
+        ``torque`` [(N·m)/(N·m)].  Exact up to float64 rounding (vertex enumeration);
+        +inf for a twist sensitivity that a null twist of a singular J reaches (module
+        docstring).
 
     Raises
     ------
@@ -107,4 +125,38 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False)
             out[name] = slice_farthest_unit(J, rows, walk=walk, transposed=True)
         else:
             out[name] = slice_farthest_unit(G, rows, walk=walk)
+    if kappa is None:
+        s = np.linalg.svd(J, compute_uv=False)
+        kappa = np.divide(s[:, -1], s[:, 0], out=np.zeros(N), where=s[:, 0] > 0)
+    sing = np.flatnonzero(~(np.asarray(kappa, dtype=float).reshape(N) > RANK_TOL))
+    if len(sing):
+        unb = _null_twist_reaches(J[sing], mode)
+        for a, name in enumerate(("translational", "rotational")):
+            out[name][sing[unb[:, a]]] = np.inf
+    return out
+
+
+#: a component of a unit null twist below this counts as zero (as zonotope._flat_worst)
+_NULL_TOL = 1e-9
+
+
+def _null_twist_reaches(J, mode):
+    """(n, 2) bool: whether the null space of each J (σ below RANK_TOL·σmax) reaches the
+    translational / rotational part (module docstring): projection, a null vector with a
+    component in S; slice, one with zero S^c part (N_{S^c} of the orthonormal null basis
+    N has a kernel)."""
+    _, s, Vt = np.linalg.svd(J)
+    out = np.zeros((len(J), 2), bool)
+    for k in range(len(J)):
+        rank = int(np.sum(s[k] > RANK_TOL * s[k, 0])) if s[k, 0] > 0 else 0
+        Nb = Vt[k, rank:].T                                    # (6, r) orthonormal
+        r = Nb.shape[1]
+        if r == 0:
+            continue
+        for a, (S, Sc) in enumerate((((0, 1, 2), (3, 4, 5)), ((3, 4, 5), (0, 1, 2)))):
+            if mode == "projection":
+                out[k, a] = np.linalg.norm(Nb[list(S)]) > _NULL_TOL
+            else:
+                sv = np.linalg.svd(Nb[list(Sc)], compute_uv=False)
+                out[k, a] = r > len(Sc) or sv[-1] <= _NULL_TOL
     return out

@@ -50,7 +50,8 @@ SENSITIVITIES = (
     ("sens_force", "Max. force sensitivity", "N/(N·m)", "wrench", (0, 1, 2)),
     ("sens_torque", "Max. torque sensitivity", "(N·m)/(N·m)", "wrench", (3, 4, 5)),
 )
-#: name, label, unit, slice: the true velocity set {ẋ : |J ẋ|∞ <= q̇max} (.velocity_set)
+#: name, label, unit, slice: the true velocity set {ẋ : |J ẋ|∞ <= q̇max} (.velocity_set);
+#: for L = 6 the same set as eq. (5)'s J⁻¹·box, whose velocity rows are computed as these
 TRUE_VELOCITIES = (
     ("velocity_true", "Velocity, true set", "m/s", (0, 1, 2)),
     ("angular_velocity_true", "Angular velocity, true set", "rad/s", (3, 4, 5)),
@@ -131,9 +132,36 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         the others of :data:`SIGMA_READINGS`); ``transmission_min`` = min_i |Jq_ii|/l1_i
         (l1_i the crank of leg i, 1 for a prismatic leg);
         ``det_sign`` the sign of det J (L = 6; 1 for L = 8).
+
+    Raises
+    ------
+    InputError
+        Checked once per call, for both routes: ``poses`` not finite numbers of shape
+        (N, 6); ``ST`` not 6 positive finite numbers; an actuator limit that is not a
+        positive finite number (or missing for a leg's type); ``route`` or
+        ``sensitivity`` not one of its choices.
     """
-    poses = np.asarray(poses, dtype=float)
-    chunk = max(1, int(chunk))
+    poses, ST, lim = _check_evaluate(mech, poses, actuators, ST, route, sensitivity)
+    return _evaluate(mech, poses, lim, ST, route, sensitivity, compiled, max(1, int(chunk)))
+
+
+def _check_evaluate(mech, poses, actuators, ST, route, sensitivity):
+    """The entry checks of :func:`evaluate_poses`, once per call (not per pose or chunk):
+    poses (N, 6) finite, ST 6 positive finite factors, the actuator limits positive and
+    finite (:func:`.actuators.leg_limits`), route and sensitivity among their choices.
+    Returns the poses, ST as a tuple and the per-leg limits."""
+    from ..argcheck import choice, float_array
+    from .actuators import leg_limits
+    from .isotropy import check_scaling
+    poses = float_array(poses, "poses", (None, 6))
+    ST = tuple(check_scaling(ST))
+    choice(route, "route", ("kernels", "numpy"))
+    choice(sensitivity, "sensitivity", ("slice", "projection"))
+    return poses, ST, leg_limits(mech, actuators)
+
+
+def _evaluate(mech, poses, lim, ST, route, sensitivity, compiled, chunk):
+    """:func:`evaluate_poses` on checked input (``lim``: :func:`.actuators.leg_limits`)."""
     if len(poses) > chunk:
         # results written in place chunk after chunk: besides them, only one chunk's
         # work memory is alive at a time
@@ -141,9 +169,8 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         out = {q: np.empty(len(poses)) for q in QUANTITIES}
         n = 0
         for a in range(0, len(poses), chunk):
-            ok_c, v = evaluate_poses(mech, poses[a:a + chunk], actuators=actuators, ST=ST,
-                                     route=route, sensitivity=sensitivity,
-                                     compiled=compiled, chunk=chunk)
+            ok_c, v = _evaluate(mech, poses[a:a + chunk], lim, ST, route, sensitivity,
+                                compiled, chunk)
             ok[a:a + chunk] = ok_c
             k = int(ok_c.sum())
             for q in QUANTITIES:
@@ -175,8 +202,7 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         else np.array([mech.mass] * 3 + [mech.inertia] * 3)
     if not n:
         return ok, {q: np.zeros(0) for q in QUANTITIES}
-    from .actuators import leg_limits, per_leg_capabilities, uniform_limits
-    lim = leg_limits(mech, actuators)
+    from .actuators import per_leg_capabilities, uniform_limits
     act = uniform_limits(lim)
     act_run = act if act is not None else dict(ACTUATORS)
     if compiled and 6 <= mech.L <= 8:
@@ -208,10 +234,19 @@ def _indices_numpy(J, Jq, M, actuators, ST, sensitivity):
     out = _worst_cases(J, gens, M, actuators)
     for name, _, _, keep in TRUE_VELOCITIES:
         out[name] = true_velocity_worst(J, actuators["velocity"], keep)
-    sens = max_sensitivities(J, sensitivity, twist=gens["twist"], walk=True)
+    if J.shape[1] == 6:
+        # a square J: J⁻¹·box is the slab set of the true velocities (.study_compiled),
+        # whose worst cases stay continuous through a singularity (the flat route of the
+        # zonotope gives 0 there)
+        out["velocity"] = out["velocity_true"].copy()
+        out["angular_velocity"] = out["angular_velocity_true"].copy()
+    sig = reading_singular_values(J, ST, Jq=Jq)
+    un_min, un_max = sig["unscaled"]
+    sens = max_sensitivities(J, sensitivity, twist=gens["twist"], walk=True,
+                             kappa=np.divide(un_min, un_max, out=np.zeros(len(J)),
+                                             where=un_max > 0))
     for name in SENSITIVITIES:
         out[name[0]] = sens[name[0].removeprefix("sens_")]
-    sig = reading_singular_values(J, ST, Jq=Jq)
     out["sigma_min"], out["sigma_max"] = sig["wrench"]
     for r in SIGMA_READINGS:
         out[f"sigma_min_{r}"], out[f"sigma_max_{r}"] = sig[r]
@@ -227,7 +262,10 @@ def _indices_compiled(J, Jq, M, actuators, ST, sensitivity):
     out = {cap[0]: caps[:, i] for i, cap in enumerate(CAPABILITIES)}
     for i, (name, _, _, _) in enumerate(TRUE_VELOCITIES):
         out[name] = truev[:, i]
-    sens = max_sensitivities(J, sensitivity, twist=twist if J.shape[1] > 6 else None)
+    # σmin/σmax of Jᵀ (the unscaled reading) for the singular-J test of the sensitivities
+    kappa = np.divide(sig[:, 2], sig[:, 3], out=np.zeros(len(J)), where=sig[:, 3] > 0)
+    sens = max_sensitivities(J, sensitivity, twist=twist if J.shape[1] > 6 else None,
+                             kappa=kappa)
     for name in SENSITIVITIES:
         out[name[0]] = sens[name[0].removeprefix("sens_")]
     out["sigma_min"], out["sigma_max"] = sig[:, 0], sig[:, 1]
@@ -399,6 +437,10 @@ def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dic
     orientations (±20°) with every reading of the scaling in ``readings``;
     ``worst_poses`` the pose (m, rad) of each capability's worst case; ``diagnostics``
     the smallest σmin, transmission |Jq|/l1 and whether every sensitivity is finite.
+    Non-finite extremes are None in ``table`` (JSON); ``max_unbounded`` says a row's
+    maximum is +inf (a sensitivity at a singular J), not missing.
+    ``rotation_covered_deg``: the largest r such that every rotation axis of the grid
+    reaches -r and +r.
     """
     from .isotropy import SCALING_READINGS
     grid = dev.grid
@@ -415,7 +457,10 @@ def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dic
     for q in _ROWS + [t[0] for t in TRUE_VELOCITIES]:
         lo, hi = _extreme(per, q, has, "min"), _extreme(per, q, has, "max")
         entry = {"label": labels[q], "unit": units[q], "min": lo, "max": hi,
-                 "min_full_positions": _extreme(per, q, full, "min")}
+                 "min_full_positions": _extreme(per, q, full, "min"),
+                 # +inf maxima (an unbounded sensitivity at a singular J) are None above
+                 # (JSON); this keeps them apart from "no reachable pose"
+                 "max_unbounded": bool(has.any() and np.any(per[f"{q}_max"][has] == np.inf))}
         col = q.removesuffix("_true")
         if dev.paper in PAPER_TABLE3:
             pmin, pmax = PAPER_TABLE3[dev.paper][col]
@@ -473,6 +518,9 @@ def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dic
         "poses": grid.size, "positions": grid.n_positions,
         "orientations": grid.n_orientations,
         "rotation_deg": math.degrees(max(abs(v) for v in grid.rx)),
+        # the largest r with ±r on every rotation axis (the "±30°" claims need 30)
+        "rotation_covered_deg": math.degrees(min(min(-min(a), max(a))
+                                                 for a in (grid.rx, grid.ry, grid.rz))),
         "reachable_poses": int(per["n_ok"].sum()),
         "reachable_fraction": float(per["n_ok"].sum() / grid.size),
         "all_orientations_reachable": per["n_ok"] == grid.n_orientations,

@@ -27,12 +27,18 @@ some pose by pose and some over blocks of 32 or 64 poses with the pose as the in
   Gram-Schmidt, ``B⁻¹G = [I | C]``, generalised cross products of the columns of C;
   unit box, so the offset is ``Σ|n·g_i|``), the twist and acceleration normals ``JᵀJ n``
   and ``M̂ n``, and the slice ratios;
-* the true velocity worst cases, pose by pose.
+* the true velocity worst cases, pose by pose; for L = 6 they are also the velocity and
+  angular velocity of eq. (5): J is square, so ``{J⁻¹q̇ : |q̇|∞ <= q̇max}`` is the slab set
+  ``{ẋ : |J ẋ|∞ <= q̇max}`` and the worst case of its slice ``q̇max / max_l ||J_{l,S}||``
+  (:mod:`.velocity_set`), computed from J itself: accurate to rounding where the
+  facets through J⁻¹ lose about eps/κ, and continuous through a singularity, where
+  the flat route of J⁻ᵀ's zonotope gave exactly 0.
 
 Poses that the kernels do not vouch for (σmin/σmax of Jᵀ below
 :data:`~.zonotope.RANK_TOL`, by the exact σ for L = 8 and the pivots of Gram-Schmidt
 otherwise: the flat route of :func:`.zonotope._flat_worst`; a Jacobi that did not
-converge in 60 sweeps) are flagged, and the caller computes them by
+converge in 60 sweeps; σ that are not finite, as an exactly zero column of J gives the
+QR) are flagged, and the caller computes them by
 the numpy route.  Agreement with that route (tests/indices/test_study_compiled.py):
 relative differences of a few 1e-13 on the presets' Table II grids.
 """
@@ -391,6 +397,9 @@ def study_indices(J, Jq, M, actuators, ST):
         Jq = np.ascontiguousarray(Jq, dtype=float)
         M = np.asarray(M, dtype=float)
         Z = jacobi_lanes(J, Jq, st, sig, twist, flag)
+        # an exactly zero column of J (or of J·Jq) stops the Householder QR (0/0): its
+        # σ come out inf/0 or NaN, which the rank test below would pass; flagged here
+        flag |= ~np.isfinite(sig).all(axis=1)
         if L == 8:
             # facets from the null space of Jᵀ and J# (facets_lanes); the rank test on
             # the exact σ of Jᵀ instead of the pivots of Gram-Schmidt
@@ -399,4 +408,8 @@ def study_indices(J, Jq, M, actuators, ST):
         else:
             run(J, M, lims, NM, NR, NC, caps, flag)
         readings(J, lims, truev)
+        if L == d:
+            # J⁻¹·box is the slab set {ẋ : |J ẋ|∞ <= q̇max}: its worst cases from J itself,
+            # continuous through a singularity (module docstring)
+            caps[:, 2:4] = truev
     return caps, truev, twist, sig, flag

@@ -80,6 +80,9 @@ def row_reason(row: str, which: str, summary: dict, certified: dict | None = Non
     if pv == 0:
         ours = e[which]
         d = summary["diagnostics"]
+        if ours is None:
+            return ("the paper's value is 0 (a singular pose on its grid); ours is not "
+                    "available (no reachable pose on our grid, or not finite)")
         if d.get("det_sign_changes"):
             return (f"the paper's value is 0 (a singular pose on its grid); ours {ours:.3g} "
                     "is the sampled value next to a singularity (det J changes sign on our "
@@ -118,7 +121,8 @@ def row_reason(row: str, which: str, summary: dict, certified: dict | None = Non
     elif kind == "sensitivity" and which == "max" and row in ("sens_translational",
                                                              "sens_rotational"):
         # {J# δq}: bounded by 1/σmin of J
-        s = f"{d.get('sigma_min', float('nan')):.3g}"
+        s = d.get("sigma_min")
+        s = "not available" if s is None else f"{s:.3g}"
         parts.append(f"J# grows like 1/σmin near singular poses and near the reach limit "
                      f"(our σmin {s}): ours is larger where our grid comes nearer to one"
                      if ratio > 2 else
@@ -148,6 +152,10 @@ def _factor_reason(io, ih) -> str:
     device's grid comes under our geometry (σmin against Table IV's)."""
     ho = ih["sigma_min"] / PAPER_TABLE4["hunt"][1]
     oo = io["sigma_min"] / PAPER_TABLE4["octopod"][1]
+    if not (ho > 0 and oo > 0):
+        zero = [n for n, v in (("Hunt-type", ho), ("Octopod", oo)) if not v > 0]
+        return (f"our σmin is 0 for the {' and the '.join(zero)} (no reachable pose of the "
+                "inner orientations, or a singular one), so the factor is not defined")
     return (f"our σmin is {ho:.2g}× Table IV's for the Hunt-type and {oo:.2g}× for the "
             f"Octopod, so the factor is {oo / ho:.2g}× the paper's; the worst poses follow "
             "l3 and the Fig. 2 reading, which the paper does not print "
@@ -155,8 +163,30 @@ def _factor_reason(io, ih) -> str:
 
 
 def _v(s, row, key="min"):
-    v = s["table"][row][key]
-    return -math.inf if v is None else v
+    """A table value for comparisons: +inf for an unbounded maximum (summarise's None
+    with ``max_unbounded``), -inf for one that is missing (no reachable pose)."""
+    e = s["table"][row]
+    v = e[key]
+    if v is None:
+        return math.inf if key == "max" and e.get("max_unbounded") else -math.inf
+    return v
+
+
+#: the rotation range of the "±30°" claims (deg)
+_RANGE_DEG = 30.0
+
+
+def _range_gap(s) -> str:
+    """Why a device's study does not speak for the ±30° claims ("" when it does): the
+    grid does not reach ±30° about every axis, or some of its poses are unreachable."""
+    cov = s.get("rotation_covered_deg", s.get("rotation_deg", 0.0))
+    if cov < _RANGE_DEG - 1e-6:
+        return (f"{s['label']}'s grid covers ±{cov:.3g}° about every axis, not ±30°: the "
+                "claim is about ±30°")
+    if s.get("reachable_fraction", 1.0) < 1.0:
+        return (f"{100 * (1 - s['reachable_fraction']):.3g} % of {s['label']}'s grid poses "
+                "are unreachable: the values over the reachable ones do not speak for ±30°")
+    return ""
 
 
 def _contrary(by, certified):
@@ -200,15 +230,23 @@ def findings(summaries, certified: dict | None = None) -> list:
     contrary = _contrary(by, certified)
     out = []
 
-    def add(finding, source, held, ours, paper, unit, involved=(), note=""):
+    def add(finding, source, held, ours, paper, unit, involved=(), note="", gap="",
+            compared=()):
+        empty = [by[c]["label"] for c in compared if by[c].get("reachable_poses", 1) == 0]
+        if empty and not gap:
+            gap = f"{', '.join(empty)} reach{'es' if len(empty) == 1 else ''} no pose of " \
+                  "the grid: nothing to compare"
         bad = {k: v for k, v in contrary.items() if k in involved}
         if bad:
             note = (note + "; " if note else "") + ", ".join(
                 f"our {k} preset is certified {v} at zero rotation, the paper's Fig. 3 "
                 f"says {'singular' if FIG3[k] else 'free'}" for k, v in bad.items())
-        out.append({"finding": finding, "source": source, "status": _status(held, bad),
-                    "held": None if bad else bool(held), "ours": ours, "paper": paper,
-                    "unit": unit, "note": note})
+        if gap:                     # the study does not cover what the claim is about
+            note = (note + "; " if note else "") + gap
+        status = "NOT COMPARABLE" if gap else _status(held, bad)
+        out.append({"finding": finding, "source": source, "status": status,
+                    "held": None if bad or gap else bool(held), "ours": ours,
+                    "paper": paper, "unit": unit, "note": note})
 
     for col in FIG3:
         if col in by and certified and by[col]["label"] in certified:
@@ -225,7 +263,7 @@ def findings(summaries, certified: dict | None = None) -> list:
             all(_v(h, "force") > _v(by[c], "force") for c in ("hexa", "ergin")),
             {by[c]["label"]: by[c]["table"]["force"]["min"] for c in six},
             {by[c]["label"]: PAPER_TABLE3[c]["force"][0] for c in six}, "N",
-            involved=("hexa", "ergin"))
+            involved=("hexa", "ergin"), compared=("hunt", "hexa", "ergin"))
         caps = ("force", "torque", "velocity", "angular_velocity", "acceleration",
                 "angular_acceleration")
         # the same rule on our table and on the paper's printed Table III (maxima)
@@ -241,7 +279,7 @@ def findings(summaries, certified: dict | None = None) -> list:
         add("the Hunt-type shows the best maximum worst-case output capabilities among the "
             "non-redundant kinematics", "Table III, Sec. III-B-3", len(best) == len(caps),
             {"rows where it is best": best}, {"rows where it is best": paper_best}, "",
-            involved=("hexa", "ergin"),
+            involved=("hexa", "ergin"), compared=("hunt", "hexa", "ergin"),
             note=("the paper's own Table III has the Hunt-type's maximum best in "
                   f"{len(paper_best)} of {len(caps)} rows, not in "
                   f"{', '.join(r for r in caps if r not in paper_best)}; the text's claim "
@@ -253,7 +291,7 @@ def findings(summaries, certified: dict | None = None) -> list:
             {"rows where its largest sensitivity is the smallest": better},
             {"rows where its largest sensitivity is the smallest":
              rows_where(table, sens, lambda a, b: a <= b)},
-            "", involved=("hexa", "ergin"))
+            "", involved=("hexa", "ergin"), compared=("hunt", "hexa", "ergin"))
     if "octopod" in by and "hunt" in by:
         o, h = by["octopod"], by["hunt"]
         for r, unit in (("force", "N"), ("torque", "N·m"), ("acceleration", "m/s²")):
@@ -261,7 +299,7 @@ def findings(summaries, certified: dict | None = None) -> list:
                 "Table III, Sec. III-C", _v(o, r) > _v(h, r),
                 {o["label"]: o["table"][r]["min"], h["label"]: h["table"][r]["min"]},
                 {o["label"]: PAPER_TABLE3["octopod"][r][0],
-                 h["label"]: PAPER_TABLE3["hunt"][r][0]}, unit)
+                 h["label"]: PAPER_TABLE3["hunt"][r][0]}, unit, compared=("octopod", "hunt"))
         others = [c for c in ("hexa", "ergin") if c in by]
         if others:
             add("the Octopod beats all non-redundant kinematics in minimum force, torque "
@@ -271,7 +309,7 @@ def findings(summaries, certified: dict | None = None) -> list:
                 {by[c]["label"]: by[c]["table"]["force"]["min"] for c in ["octopod", "hunt"]
                  + others}, {by[c]["label"]: PAPER_TABLE3[c]["force"][0]
                              for c in ["octopod", "hunt"] + others}, "N (force shown)",
-                involved=tuple(others))
+                involved=tuple(others), compared=("octopod", "hunt", *others))
         io, ih = o["isotropy"], h["isotropy"]
         rg = io["gii"] / ih["gii"] if ih["gii"] > 0 else math.inf
         rs = io["sigma_min"] / ih["sigma_min"] if ih["sigma_min"] > 0 else math.inf
@@ -280,7 +318,7 @@ def findings(summaries, certified: dict | None = None) -> list:
         add("the Octopod raises the GII (×13) and σmin (×18) over the Hunt-type",
             "Table IV, Sec. III-C", rg > 1 and rs > 1,
             {"gii_factor": rg, "sigma_min_factor": rs},
-            {"gii_factor": pg, "sigma_min_factor": ps}, "",
+            {"gii_factor": pg, "sigma_min_factor": ps}, "", compared=("octopod", "hunt"),
             note="magnitude " + ("reproduced (each factor within 2× of the paper's)"
                                  if 0.5 <= rg / pg <= 2 and 0.5 <= rs / ps <= 2
                                  else "NOT reproduced: " + _factor_reason(io, ih)))
@@ -292,10 +330,15 @@ def findings(summaries, certified: dict | None = None) -> list:
             add(f"the Octopod reaches the desired minimum {label} (>= {thr} {unit}) at ±30°",
                 "Sec. III-C, criterion 3", all(v is not None and v >= thr
                                                for v in vals.values()),
-                vals, {"Table III": PAPER_TABLE3["octopod"][key][0]}, unit)
+                vals, {"Table III": PAPER_TABLE3["octopod"][key][0]}, unit,
+                gap=_range_gap(o))
         rows = ("sens_translational", "sens_rotational", "sens_force", "sens_torque")
-        ratios = {r: (_v(o, r, "max") / _v(h, r, "max") if _v(h, r, "max") > 0 else math.inf)
-                  for r in rows}
+        def ratio(r):
+            a, b = _v(o, r, "max"), _v(h, r, "max")
+            if math.isinf(a) and math.isinf(b) or a == -math.inf:
+                return math.nan                # unbounded or missing: no ratio
+            return a / b if b > 0 else math.inf   # a / inf = 0: the Hunt-type unbounded
+        ratios = {r: ratio(r) for r in rows}
         held = ratios["sens_force"] > 1.25 and all(0.8 <= ratios[r] <= 1.25 for r in rows
                                                    if r != "sens_force")
         off = [r for r in rows if r != "sens_force" and not 0.8 <= ratios[r] <= 1.25]
@@ -304,7 +347,7 @@ def findings(summaries, certified: dict | None = None) -> list:
             held, {r: round(v, 3) for r, v in ratios.items()},
             {r: round(PAPER_TABLE3["octopod"][r][1] / PAPER_TABLE3["hunt"][r][1], 3)
              for r in rows}, "ratio of the maxima, Octopod / Hunt-type",
-            note="" if held else "; ".join(
+            compared=("octopod", "hunt"), note="" if held else "; ".join(
                 ([f"our force ratio {ratios['sens_force']:.3g} is not above 1.25"]
                  if ratios["sens_force"] <= 1.25 else [])
                 + ([f"{', '.join(off)} change beyond 0.8-1.25× in ours: the maxima are "
@@ -318,5 +361,6 @@ def findings(summaries, certified: dict | None = None) -> list:
             "Sec. III-D", smin is not None and smin > 0 and s["reachable_fraction"] == 1.0,
             {"sigma_min": smin, "reachable_fraction": s["reachable_fraction"]},
             {"sigma_min": "> 0"}, "", note="sampled on the grid (the 6-D certificate: "
-                                           "examples/certify_octo.toml)")
+                                           "examples/certify_octo.toml)",
+            gap=_range_gap(s))
     return out

@@ -30,6 +30,11 @@ __all__ = ["PoseGrid", "axis_values", "table2_grid", "dexterous_workspace",
 
 def axis_values(lo: float, hi: float, step: float, field: str = "grid") -> np.ndarray:
     """``lo, lo+step, ..., hi`` (inclusive; hi must be reached to 1e-9 of a step)."""
+    for name, v in (("min", lo), ("max", hi), ("step", step)):
+        if not (isinstance(v, (int, float, np.integer, np.floating))
+                and not isinstance(v, (bool, np.bool_)) and math.isfinite(v)):
+            raise InputError(f"expected a finite number for the axis' {name}, got {v!r}",
+                             field=field)
     if not step > 0:
         raise InputError(f"expected a positive step, got {step!r}", field=field)
     if hi < lo:
@@ -52,7 +57,26 @@ class PoseGrid:
         Position axes (z absolute).
     rx, ry, rz : tuple of float
         Orientation axes.
+
+    Raises
+    ------
+    InputError
+        An axis empty or not finite; a position axis not increasing in equal steps (the
+        cell volume and the dual weights assume one step per axis; :func:`axis_values`).
     """
+
+    def __post_init__(self):
+        for name in ("x", "y", "z", "rx", "ry", "rz"):
+            a = np.asarray(getattr(self, name), dtype=float)
+            if a.ndim != 1 or not a.size or not np.all(np.isfinite(a)):
+                raise InputError(f"expected a non-empty axis of finite numbers, got "
+                                 f"{getattr(self, name)!r}", field=f"grid.{name}")
+            if name in ("x", "y", "z") and a.size > 1:
+                d = np.diff(a)
+                if not (np.all(d > 0) and np.ptp(d) <= 1e-9 * d[0]):
+                    raise InputError(f"expected an increasing axis of equal steps, got "
+                                     f"{getattr(self, name)!r}", field=f"grid.{name}",
+                                     hint="axis_values(min, max, step)")
 
     x: tuple
     y: tuple
@@ -144,12 +168,16 @@ def dexterous_workspace(grid: PoseGrid, reachable_all, minima: dict, thresholds:
         volume, m³), ``volume_nodes_m3`` (dual-cell weights, m³), ``grid_volume_m3``
         and ``fraction`` of the grid's positions.
     """
-    mask = np.asarray(reachable_all, bool).copy()
+    mask = _position_mask(grid, reachable_all)
     for name, lim in thresholds.items():
         if name not in minima:
             raise InputError(f"expected a minimum for {name!r}, got only "
                              f"{sorted(minima)}", field="thresholds")
-        mask &= np.asarray(minima[name]) >= lim
+        if isinstance(lim, (bool, np.bool_)) or not isinstance(
+                lim, (int, float, np.integer, np.floating)) or math.isnan(lim):
+            raise InputError(f"expected a number (not NaN), got {lim!r}",
+                             field=f"thresholds.{name}")
+        mask &= _per_position(grid, minima[name], f"minima.{name}") >= lim
     count = int(mask.sum())
     nx, ny, nz = len(grid.x), len(grid.y), len(grid.z)
     m3 = mask.reshape(nx, ny, nz)                  # positions are in C order of (x, y, z)
@@ -169,6 +197,26 @@ def dexterous_workspace(grid: PoseGrid, reachable_all, minima: dict, thresholds:
             "volume_nodes_m3": float(np.sum(w[mask])),
             "grid_volume_m3": total * grid.cell_volume,
             "fraction": count / max(1, grid.n_positions)}
+
+
+def _position_mask(grid, reachable_all):
+    """``reachable_all`` as a bool array (n_positions,), or InputError naming it."""
+    r = np.asarray(reachable_all)
+    if r.shape != (grid.n_positions,) or r.dtype.kind not in "bi":
+        raise InputError(f"expected {grid.n_positions} booleans (one per grid position), got "
+                         f"shape {r.shape} of {r.dtype}", field="reachable_all")
+    return r.astype(bool)
+
+
+def _per_position(grid, values, field):
+    """Per-position values as floats (n_positions,) (±inf allowed: no reachable
+    orientation), or InputError naming ``field``."""
+    from ..argcheck import as_floats
+    v = as_floats(values, field, f"{grid.n_positions} numbers (one per grid position)")
+    if v.shape != (grid.n_positions,):
+        raise InputError(f"expected {grid.n_positions} values (one per grid position), got "
+                         f"shape {v.shape}", field=field)
+    return v
 
 
 #: Sec. II-A design criteria (values in SI)
@@ -216,7 +264,13 @@ def design_criteria(L: int, grid: PoseGrid, reachable_all, minima: dict,
         decide (e.g. the grid is smaller than the 150 mm cube or the ±30° range).
     """
     out = []
-    reach = np.asarray(reachable_all, bool)
+    reach = _position_mask(grid, reachable_all)
+    missing = [k for k in ("acceleration", "force") if k not in minima] + \
+        ([] if "velocity" in minima or "velocity_true" in minima else ["velocity"])
+    if missing:
+        raise InputError(f"expected the minima velocity (or velocity_true), acceleration "
+                         f"and force, got {sorted(minima)} (missing {', '.join(missing)})",
+                         field="minima")
     full = bool(reach.all())
     regular = sigma_min is not None and sigma_min > 0 and not det_sign_changes
     out.append({"number": 1, "criterion": "six actuated DOF (d = 6)",
@@ -234,26 +288,30 @@ def design_criteria(L: int, grid: PoseGrid, reachable_all, minima: dict,
                 "required": {"L": ">= 6", "transmission_min": "> 0"},
                 "test": "L >= 6 and every crank keeps authority over its leg: "
                         "min |Jq_ii|/l1 > 0 (no inverse singularity) at every grid pose"})
+    # the cube and the ±30° of the dexterous workspace (criteria 3 and 4)
+    ext = [max(a_) - min(a_) for a_ in (grid.x, grid.y, grid.z)]
+    rot = min(min(abs(min(r)), abs(max(r))) for r in (grid.rx, grid.ry, grid.rz))
+    covers = bool(min(ext) >= criteria["cube_m"] - 1e-12
+                  and rot >= criteria["rotation_rad"] - 1e-12)
     vkey = "velocity_true" if "velocity_true" in minima else "velocity"
-    v = np.asarray(minima[vkey])[reach]
-    a = np.asarray(minima["acceleration"])[reach]
+    v = _per_position(grid, minima[vkey], f"minima.{vkey}")[reach]
+    a = _per_position(grid, minima["acceleration"], "minima.acceleration")[reach]
     vmin = float(v.min()) if v.size else 0.0
     amin = float(a.min()) if a.size else 0.0
+    held3 = bool(vmin >= criteria["velocity"] and amin >= criteria["acceleration"] and full)
     out.append({"number": 3, "criterion": "minimum velocity >= 1 m/s and acceleration "
                                           ">= 9.81 m/s²",
-                "held": bool(vmin >= criteria["velocity"] and amin >= criteria["acceleration"]
-                             and full),
+                # a failure on part of the workspace is one; a pass decides nothing
+                # unless the grid covers it
+                "held": held3 if covers or not held3 else None,
                 "value": {"velocity_m_s": vmin, "acceleration_m_s2": amin,
                           "velocity_set": "true set {ẋ: |Jẋ|∞ <= q̇max}"
                           if vkey == "velocity_true" else "J# zonotope, eq. (5)"},
                 "required": {"velocity_m_s": criteria["velocity"],
                              "acceleration_m_s2": criteria["acceleration"]},
-                "test": "worst cases over every grid pose, all positions reachable"})
-    ext = [max(a_) - min(a_) for a_ in (grid.x, grid.y, grid.z)]
-    rot = min(min(abs(min(r)), abs(max(r))) for r in (grid.rx, grid.ry, grid.rz))
-    covers = bool(min(ext) >= criteria["cube_m"] - 1e-12
-                  and rot >= criteria["rotation_rad"] - 1e-12)
-    f = np.asarray(minima["force"])
+                "test": "worst cases over every grid pose, all positions reachable, the grid "
+                        "covering the cube and ±30° (None when it passes on a smaller grid)"})
+    f = _per_position(grid, minima["force"], "minima.force")
     free = bool(full and np.all(f > 0) and regular and certified != "singular")
     held4 = free if covers else (False if not free else None)
     out.append({"number": 4, "criterion": "singularity-free dexterous workspace, 150 mm cube, "

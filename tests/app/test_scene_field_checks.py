@@ -195,3 +195,14 @@ def test_sweep_refuses_a_malformed_scheduler_naming_the_option(tmp_path, capsys)
     line = _error(capsys, tmp_path, PERF.format(preset="hunt") + 'scheduler = "tcp://host"\n')
     assert line == ("distkin: error: query[0].scheduler: expected a scheduler address like "
                     "tcp://HOST:8786, got 'tcp://host' (no port number)")
+
+
+@pytest.mark.parametrize("value", ["0", "-2.5"])
+def test_a_zero_or_negative_actuator_limit_is_refused(tmp_path, capsys, value):
+    """nominal_torque = 0 passed the scene parser (>= 0) and every force capability came
+    out 0; the study refuses a limit that is not positive (QA round H 6), and so does
+    the scene, naming the field."""
+    line = _error(capsys, tmp_path, PERF.format(preset="hunt") + "actuators = { nominal_torque "
+                  f"= {value}, stall_torque = 34.2, velocity = 51 }}\n")
+    assert line == (f"distkin: error: query[0].actuators.nominal_torque: expected a positive "
+                    f"number, got {value}")

@@ -20,6 +20,34 @@ def test_condition_number_analytic():
     assert condition_number(np.zeros((6, 6))) == 0.0
 
 
+def test_a_length_unit_scales_sigma_and_keeps_kappa():
+    """J in rad/mm (translational columns / 1000) with ST in N and N·mm gives W/1000: σ
+    1000× smaller, κ unchanged (the docstring claimed W exactly; QA round H 9)."""
+    J = np.random.default_rng(1).normal(size=(3, 8, 6))
+    Jmm = J.copy()
+    Jmm[..., :3] /= 1000.0
+    a = scaled_singular_values(J, (15, 15, 15, 1, 1, 1))
+    b = scaled_singular_values(Jmm, (15, 15, 15, 1000, 1000, 1000))
+    for x, y in zip(a, b):
+        np.testing.assert_allclose(y, x / 1000, rtol=1e-12)
+    np.testing.assert_allclose(condition_number(Jmm, (15, 15, 15, 1000, 1000, 1000)),
+                               condition_number(J), rtol=1e-12)
+
+
+def test_fewer_than_six_legs_have_kappa_zero():
+    """L = 4: W = ST⁻¹Jᵀ is 6 × 4 of rank 4, so a wrench direction is unreachable:
+    σmin = 0 (six singular values padded with zeros, as numpy's full SVD of the 6 × 6
+    Wᵀ W shows), κ = 0; σmax is numpy's (QA round H 5: κ was σ4/σ1 > 0)."""
+    J = np.random.default_rng(0).normal(size=(2, 4, 6))
+    W = np.swapaxes(J, 1, 2) / np.array([15, 15, 15, 1, 1, 1.0])[:, None]
+    ev = np.linalg.eigvalsh(W @ np.swapaxes(W, 1, 2))          # 6 eigenvalues of W Wᵀ
+    assert np.all(ev[:, :2] < 1e-12 * ev[:, -1:])
+    smin, smax = scaled_singular_values(J)
+    assert np.array_equal(smin, np.zeros(2))
+    np.testing.assert_allclose(smax, np.sqrt(ev[:, -1]), rtol=1e-12)
+    assert np.array_equal(condition_number(J), np.zeros(2))
+
+
 def test_bad_input_names_its_argument():
     """Text for a Jacobian or scaling, or a negative singular value, is an InputError
     naming the argument (a bare numpy ValueError, or a silently negative GII, before)."""

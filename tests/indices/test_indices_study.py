@@ -104,6 +104,24 @@ def test_dexterous_workspace_and_criteria_on_a_synthetic_sweep():
     assert design_criteria(8, g, reach, minima)[4]["held"] is None     # nothing to compare
 
 
+def test_criterion_3_needs_the_cube_and_the_range_to_pass():
+    """A 1 cm grid at zero rotation passed criterion 3 while criterion 4 said None for
+    lack of coverage (QA round H 8): a pass on a grid smaller than the 150 mm cube or
+    ±30° now decides nothing (None), a failure on it is still a failure."""
+    t = tuple(axis_values(-0.005, 0.005, 0.005))
+    r = (0.0,)
+    g = PoseGrid(t, t, tuple(0.3 + np.array(t)), r, r, r)
+    n = g.n_positions
+    minima = {"velocity": np.full(n, 2.0), "acceleration": np.full(n, 20.0),
+              "force": np.full(n, 5.0)}
+    kw = dict(sigma_min=0.1, transmission_min=0.5, sensitivities_max=[1, 1, 1, 1])
+    c = {c["number"]: c for c in design_criteria(8, g, np.ones(n, bool), minima, **kw)}
+    assert c[3]["held"] is None and c[4]["held"] is None
+    minima["acceleration"][3] = 5.0                            # below 9.81 m/s²
+    c = {c["number"]: c for c in design_criteria(8, g, np.ones(n, bool), minima, **kw)}
+    assert c[3]["held"] is False
+
+
 SCENE = """
 [units]
 length = "mm"

@@ -54,6 +54,28 @@ def test_a_singular_pose_is_flagged_and_computed_by_the_numpy_route(presets):
     assert out["force"][2] == pytest.approx(f, rel=1e-12)
 
 
+def test_an_exactly_zero_column_of_J_is_flagged(presets):
+    """J e_z = 0 exactly (QA round H 3): the Householder QR of the lanes divides 0 by 0
+    and its σ came out (inf, 0), which passed the rank test, so the L = 8 capabilities
+    and sensitivities came from NaN (a rotational sensitivity of -inf).  The pose is
+    flagged and its values are the numpy route's."""
+    from distkin.indices.study import _indices_compiled, _indices_numpy
+    mech = presets["octopod"]
+    P = random_reachable_poses(mech, 3, 20, seed=8)
+    Jq, Jx = mech.jq_jx(P)
+    J = Jx / Jq[..., None]
+    J[1, :, 2] = 0.0
+    M = np.array([mech.mass] * 3 + [mech.inertia] * 3)
+    act = {"nominal_torque": 2.5, "stall_torque": 34.2, "velocity": 51.0}
+    *_, flag = study_indices(J, Jq, M, act, (15, 15, 15, 1, 1, 1))
+    assert flag.tolist() == [False, True, False]
+    out = _indices_compiled(J, Jq, M, act, (15, 15, 15, 1, 1, 1), "slice")
+    ref = _indices_numpy(J[1:2], Jq[1:2], M, act, (15, 15, 15, 1, 1, 1), "slice")
+    for q, v in ref.items():
+        assert np.array_equal(out[q][1:2], v), q
+    assert out["sens_translational"][1] == np.inf and np.isfinite(out["sens_rotational"][1])
+
+
 def test_chunks_change_nothing(presets):
     """Evaluating in chunks of 7 poses gives the same bits as one call."""
     mech = presets["octo"]

@@ -88,14 +88,17 @@ def _num(value, field):
     return parse_float(value, field)
 
 
-def _si_table(raw, field, defaults, extra=()):
+def _si_table(raw, field, defaults, extra=(), *, positive: bool = False):
+    """A table of SI numbers, >= 0 (``positive``: > 0, as the actuator limits, whose
+    zero makes every capability 0: the study refuses it too)."""
     t = as_table(raw, field)
     check_keys(t, set(defaults) | set(extra), field)
     out = dict(defaults)
     for k, v in t.items():
         x = _num(v, f"{field}.{k}")
-        if not x >= 0:
-            raise InputError(f"expected a non-negative number, got {v!r}", field=f"{field}.{k}")
+        if not (x > 0 if positive else x >= 0):
+            raise InputError(f"expected a {'positive' if positive else 'non-negative'} "
+                             f"number, got {v!r}", field=f"{field}.{k}")
         out[k] = x
     return out
 
@@ -321,7 +324,7 @@ class PerformanceQuery:
             _grid(table.get("grid"), units, f"{field}.grid", d.mech.home, d.rotation)
         from ...indices.actuators import PRISMATIC_KEYS, leg_limits
         act = _si_table(table.get("actuators", {}), f"{field}.actuators", ACTUATORS,
-                        PRISMATIC_KEYS)
+                        PRISMATIC_KEYS, positive=True)
         _check_actuators(table.get("actuators", {}), devices, f"{field}.actuators")
         for d in devices:                      # every leg has its limits, in its units
             leg_limits(d.mech, act, f"{field}.actuators")
