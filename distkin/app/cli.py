@@ -189,9 +189,10 @@ def _emit(scene_path, records, texts, args) -> None:
 
 def _cmd_run(args) -> int:
     from .output_paths import check_output_path
-    from .scene import load_scene
+    from .scene import input_files, load_scene
     scene = load_scene(args.scene)
-    check_output_path(args.json)             # before the run: a long sweep loses nothing
+    # before the run (a long sweep loses nothing), and never over the scene or its CSV
+    check_output_path(args.json, inputs=input_files(scene))
     records, texts, worst = run_scene(scene, plots_dir=args.plots,
                                       progress=not args.no_progress,
                                       store=getattr(args, "store", None),
