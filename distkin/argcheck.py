@@ -231,7 +231,7 @@ def scheduler_address(value, field: str = "scheduler") -> str:
 
 
 def dps_field(table: Mapping, method: str, field: str, uses=("precise",)) -> int:
-    """``dps`` of a query: the decimal digits of the precise tier (an integer >= 5,
+    """``dps`` of a query: the decimal digits of the precise tier (an integer 5..1233,
     default 30), given only with a method in ``uses`` (the ones that compute in mpmath);
     with another method it would be ignored, so it is refused naming ``field.dps``."""
     from .exact import default_dps

@@ -126,6 +126,7 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
     """
     check_method(method, allowed=METHODS_AUTO)
     tol = None if tol is None else positive_number(tol, "tol")
+    dps = None if dps is None else default_dps(dps)       # auto's escalations too
     if method in ("fast", "auto"):
         from .batched import scan_single
         B, Q, L, k, rounded = float_single(base, platform, legs)
@@ -208,6 +209,7 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
     """
     check_method(method, allowed=("fast", "auto"))
     tol = None if tol is None else positive_number(tol, "tol")
+    dps = None if dps is None else default_dps(dps)       # auto's escalations too
     if not prove and method != "fast":
         raise InputError("expected prove=True with method='auto' (it escalates what the "
                          "proof cannot vouch for), got prove=False", field="prove")
