@@ -180,7 +180,9 @@ def solve_precise(problem: Problem, dps: int, tol=None):
                           stacklevel=4)
         return AssemblyResult(tuple(poses), "precise", octic, exact, tuple(infos), False,
                               reason, f"mpmath at {dps} digits (working {work}); root "
-                              "residual below 1e-{} relative".format(dps - 8), notes)
+                              "residual below " + (f"1e-{dps - 8}" if tol is None else
+                                                   f"{float(tol):.1e} (tol)") + " relative",
+                              notes)
 
 
 def _changes_sign(d, x, step, c, work, found, k) -> bool:

@@ -95,3 +95,59 @@ def test_largest_dps_runs_and_its_digits_are_right():
             rad = mpmath.mpf(c.native.rad().str(5, radius=False))
             assert rad < mpmath.mpf(10) ** -600 * mid          # the reference is sharp
             assert abs(r.native - mid) <= rad + mpmath.mpf(10) ** -650 * mid
+
+
+# ---- tol of the octahedral forward kinematics (QA G 6) ----------------------------------
+
+
+@pytest.mark.parametrize("method, ok", [("fast", False), ("precise", True),
+                                        ("certified", True), ("auto", True)])
+def test_scene_tol_only_with_a_tier_that_reads_it(tmp_path, capsys, method, ok):
+    """The fast tier has no tolerance to refine to: 'tol' was accepted and ignored; it is
+    refused as dps is with a method that does not use it."""
+    code, out, err = _run(capsys, tmp_path, OCTA.format(method=method, extra="tol = 1e-6"))
+    if ok:
+        assert code == 0, err
+        return
+    assert code == 2 and out == ""
+    assert err.strip() == ("distkin: error: query[0].tol: expected 'tol' only with method "
+                           "'precise', 'certified' or 'auto' (the tiers that refine to it), "
+                           "got method 'fast'")
+
+
+@pytest.mark.parametrize("tol, got", [("5", "5"), ("1", "1"), ("0", "0"),
+                                     ("-1e-3", "-0.001")])
+def test_scene_tol_is_a_relative_tolerance_below_one(tmp_path, capsys, tol, got):
+    """tol = 5 (a radius of 500 % of the size) was accepted for certified and printed
+    'point radii <= 5.0e+00 x size'."""
+    code, out, err = _run(capsys, tmp_path, OCTA.format(method="certified", extra=f"tol = {tol}"))
+    assert code == 2 and out == ""
+    assert err.strip() == ("distkin: error: query[0].tol: expected tol as a relative "
+                           f"tolerance, a number 0 < tol < 1, got {got}")
+
+
+def test_precise_tol_below_its_digits_is_refused_not_an_empty_answer():
+    """At 30 digits (working 50) a root residual of 1e-52 cannot be reached: every root
+    was rejected and the answer was 'no assembly mode', silently.  Reference: the
+    certified count (6 real roots) and the printed roots of Rojas et al., Sec. VI."""
+    with pytest.raises(InputError) as exc:
+        forward_kinematics(GD_BASE, GD_PLATFORM, GD_LEGS, method="precise", tol=1e-52)
+    assert exc.value.field == "tol"
+    assert exc.value.message == ("expected tol >= 1e-30 at 30 digits (the precise tier's "
+                                 "dps), got 1e-52")
+    assert exc.value.hint == "raise dps to at least 52 for it"
+    # auto's precise fallback works at dps (default 50) digits: the same bound
+    with pytest.raises(InputError, match="at 50 digits"):
+        forward_kinematics(GD_BASE, GD_PLATFORM, GD_LEGS, method="auto", tol=1e-60)
+    for method in ("certified", "precise", "auto"):
+        with pytest.raises(InputError, match="0 < tol < 1"):
+            forward_kinematics(GD_BASE, GD_PLATFORM, GD_LEGS, method=method, tol=5)
+    # with the digits to reach it, the same tolerance gives every mode
+    cert = forward_kinematics(GD_BASE, GD_PLATFORM, GD_LEGS, method="certified")
+    res = forward_kinematics(GD_BASE, GD_PLATFORM, GD_LEGS, method="precise", dps=52,
+                             tol=1e-52)
+    assert len(res) == 12 and res.real_root_count == cert.real_root_count == 6
+    assert [f"{float(r.value):.1f}" for r in res.roots] == list(GD_ROOTS)
+    assert "root residual below 1.0e-52 (tol) relative" in res.accuracy
+    assert len(forward_kinematics(GD_BASE, GD_PLATFORM, GD_LEGS, method="auto", dps=60,
+                                  tol=1e-60)) == 12
