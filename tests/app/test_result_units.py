@@ -195,3 +195,32 @@ def test_cayley_menger_refuses_an_empty_list(tmp_path, capsys):
     assert err.strip() == ('distkin: error: query[0].determinants: expected at least one '
                            'determinant label, such as "D(1,2,3,4)" or "D(5,4,1,2;5,4,1,6)", '
                            'got an empty list []')
+
+
+def test_jacobian_indices_are_undefined_where_the_pose_is_not_reachable(tmp_path, capsys):
+    """At 3 m above the Hunt platform's base no leg closes: the text said 'J is
+    meaningless' but printed kappa = 0.0828 and six singular values, and the JSON had
+    them as numbers (QA G 7).  References: the preset's own IK (no leg valid there), and
+    at the reachable home pose condition_number and numpy's SVD of preset('hunt').jacobian."""
+    m = preset("hunt")
+    far = np.array([0, 0, 3.0, 0, 0, 0])
+    assert not m.inverse_kinematics(far)[1].any()
+    home_mm = [float(round(v * 1000, 9)) for v in m.home[:3]] + [float(v) for v in m.home[3:]]
+    queries, out = _run(tmp_path, capsys, MM.replace('angle = "deg"', 'angle = "rad"')
+                        + '[mechanism]\nkind = "rss"\npreset = "hunt"\n[[query]]\n'
+                        f'type = "jacobian"\nposes = [[0, 0, 3000, 0, 0, 0], {home_mm}]\n')
+    far_row, home_row = queries[0]["result"]["poses"]
+    assert far_row["reachable"] is False
+    assert far_row["kappa"] is None and far_row["kappa_unscaled"] is None
+    assert far_row["singular_values"] is None
+    assert home_row["reachable"] is True
+    J = m.jacobian(m.home)
+    assert home_row["kappa"] == pytest.approx(float(condition_number(J)), rel=1e-12)
+    assert home_row["singular_values"] == pytest.approx(np.linalg.svd(J, compute_uv=False),
+                                                        rel=1e-12)
+    text = out.split("pose 1:")
+    assert "kappa = undefined (pose not reachable)" in text[0]
+    assert "singular values of the unscaled J: undefined (pose not reachable)" in text[0]
+    assert "kappa = 0.0828" not in out
+    assert f"kappa = {home_row['kappa']:.6g} (eq. (4)" in text[1]
+    assert "null where the pose is not reachable" in queries[0]["result"]["unit"]["kappa"]
