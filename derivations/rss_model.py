@@ -19,6 +19,10 @@ symbolically where the algebra is generic and numerically per preset:
    certifies) holds no float, and per preset, at a pose off the centre, its closure
    vanishes at its own IK angles to 60 digits (the float model's to float64 only): the
    IK and the closure describe one mechanism, exactly.
+
+Every claim is checked with :func:`check` (``SystemExit`` naming the claim when it
+fails, as the other derivation scripts do), never with ``assert``, which ``python -O``
+skips; the script ends with "all checks passed".
 """
 
 from __future__ import annotations
@@ -34,6 +38,12 @@ import sympy as sp  # noqa: E402
 from distkin.mechanisms import PRESETS, preset  # noqa: E402
 from distkin.mechanisms.symbolic import (BRANCH, POSE, generic_leg,  # noqa: E402
                                          model_expressions, q_symbols)
+
+
+def check(cond, what):
+    if not cond:
+        raise SystemExit(f"CHECK FAILED: {what}")
+    print(f"   ok: {what}")
 
 
 def main():
@@ -56,7 +66,9 @@ def main():
     e1 = sp.simplify(sp.expand(a * cq + b * sq - c).subs(hs))
     e2 = sp.simplify(sp.expand((cq ** 2 + sq ** 2 - 1) * rho2 ** 2).subs(hs))
     print("2. A cos q + B sin q - C =", e1, "; (cos^2 + sin^2 - 1) rho^4 =", e2)
-    assert lhs == 0 and e1 == 0 and e2 == 0
+    check(lhs == 0, "1. Phi = (C - A cos q - B sin q) l1/l3")
+    check(e1 == 0, "2. the closed form satisfies A cos q + B sin q = C")
+    check(e2 == 0, "2. the closed form satisfies cos^2 q + sin^2 q = 1")
     print(f"3. BRANCH = {BRANCH}; q at the workspace centre:")
     for name in PRESETS:
         for layout in ("tangential", "radial"):
@@ -73,10 +85,13 @@ def main():
             spread = max(q) - min(q)
             print(f"   {name:8s} {layout:10s} L = {m.L}, l3 = {m.l3 * 1e3:.4f} mm, "
                   f"q = {math.degrees(q[0]):.4f} deg (spread {spread:.1e} rad)")
-            assert spread < 1e-12
-            assert all(abs(a) < abs(b) for a, b in zip(q, other))          # nearer 0
+            check(spread < 1e-12, f"{name} {layout}: every leg at the same angle "
+                                  f"(spread {spread:.1e} < 1e-12 rad)")
+            check(all(abs(a) < abs(b) for a, b in zip(q, other)),
+                  f"{name} {layout}: BRANCH gives the angle nearer 0 of the two on every leg")
             if layout == "radial":
-                assert max(abs(v) for v in q) < 1e-12
+                check(max(abs(v) for v in q) < 1e-12,
+                      f"{name} radial: q = 0 at the centre (horizontal crank)")
     print("4. Jq_ii = dPhi_i/dq_i, Jx_i = -(g, r x g) with g = dPhi/dP = (P - D)/l3;"
           " J = Jq^-1 Jx (eqs. (1)-(2))")
     check_generated_kernels()
@@ -91,14 +106,18 @@ def main():
         for exact in (True, False):
             me = model_expressions(m, exact)
             if exact:
-                assert not any(e.atoms(sp.Float) for leg in me.legs()
-                               for e in (leg["Phi"], leg["P"]))
+                check(not any(e.atoms(sp.Float) for leg in me.legs()
+                              for e in (leg["Phi"], leg["P"])),
+                      f"{name}: the exact model holds no float")
             qv = [e.xreplace(x).evalf(60) for e in me.get("ik")]
             sub = {**x, **dict(zip(q_symbols(m.L), qv))}
             worst.append(max(abs(row[0].xreplace(sub).evalf(60))
                              for row in me.get("closure").tolist()))
         print(f"   {name:8s} exact {float(worst[0]):.1e} m, float {float(worst[1]):.1e} m")
-        assert worst[0] < sp.Float("1e-50") and worst[1] < 1e-14
+        check(worst[0] < sp.Float("1e-50"), f"{name}: the exact closure vanishes at its "
+                                            "own IK to 1e-50 m (60 digits)")
+        check(worst[1] < 1e-14, f"{name}: the float model's closure to 1e-14 m")
+    print("\nall checks passed")
 
 
 def check_generated_kernels():
@@ -119,7 +138,7 @@ def check_generated_kernels():
     l3 = g["params"][3]
     diff = [sp.simplify(a - (p - d) / l3) for a, p, d in zip(gP, g["P"], g["D"])]
     print("   (a) dPhi/dP - (P - D)/l3 =", diff)
-    assert all(d == 0 for d in diff)
+    check(all(d == 0 for d in diff), "(a) dPhi/dP = (P - D)/l3 for the generic leg")
     root = Path(__file__).resolve().parents[1]
     for name in PRESETS:
         m = preset(name)
@@ -143,15 +162,18 @@ def check_generated_kernels():
         e3 = np.abs(J - jx / jq[:, None]).max() / np.abs(J).max()
         print(f"   (b) {name:8s} kernel vs d(closure): Jq {e1:.1e}, Jx {e2:.1e}, "
               f"J {e3:.1e} (relative)")
-        assert max(e1, e2, e3) < 1e-12
+        check(max(e1, e2, e3) < 1e-12, f"(b) {name}: the kernel's Jq, Jx and J against "
+                                       "sympy's derivatives, to 1e-12 relative")
         header = (root / "distkin" / "_generated" / f"rss_{name}.py").read_text().splitlines()[0]
-        assert "derivations/rss_model.py" in header, header
+        check("derivations/rss_model.py" in header,
+              f"(b) {name}: the module's header names this script ({header!r})")
     names = [f"rss_{n}" for n in PRESETS]
     run = subprocess.run([sys.executable, "-m", "distkin.codegen", "--check", *names],
                          cwd=root, capture_output=True, text=True)
     print("   (c) python -m distkin.codegen --check " + " ".join(names) + ":\n      "
           + run.stdout.strip().replace("\n", "\n      "))
-    assert run.returncode == 0, run.stderr
+    check(run.returncode == 0, "(c) the committed modules regenerate unchanged"
+                               + (f" ({run.stderr.strip()})" if run.returncode else ""))
 
 
 if __name__ == "__main__":

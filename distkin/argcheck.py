@@ -6,6 +6,7 @@ helpers, so that messages read the same everywhere: ``FIELD: expected â€¦, got â
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 
 import numpy as np
@@ -32,6 +33,8 @@ __all__ = [
     "executor_fields",
     "scheduler_address",
     "dps_field",
+    "relative_tol",
+    "tol_field",
     "no_booleans",
 ]
 
@@ -230,8 +233,44 @@ def scheduler_address(value, field: str = "scheduler") -> str:
     return value
 
 
+def relative_tol(value, field: str = "tol", *, digits: int | None = None) -> float:
+    """A relative tolerance (a root's residual over its scale, a radius over the size of
+    the mechanism): a number with 0 < tol < 1; 1 or more would accept anything.  With
+    ``digits`` (the precise tier's dps) also at least :math:`10^{-digits}`: the tier
+    works at dps + 20 digits and a smaller tolerance rejected every root, so a smaller
+    one asks for a larger dps.  :class:`InputError` naming ``field``."""
+    x = parse_float(value, field)
+    if not 0 < x < 1:
+        raise InputError(f"expected tol as a relative tolerance, a number 0 < tol < 1, got "
+                         f"{value!r}", field=field)
+    if digits is not None and x < 10.0 ** -digits:
+        raise InputError(f"expected tol >= 1e-{digits} at {digits} digits (the precise "
+                         f"tier's dps), got {value!r}", field=field,
+                         hint=f"raise dps to at least {math.ceil(-math.log10(x) - 1e-9)} "
+                              "for it")
+    return x
+
+
+def tol_field(table: Mapping, method: str, field: str, *, dps: int,
+              uses=("precise", "certified", "auto"), precise_dps=None) -> float | None:
+    """``tol`` of a query (:func:`relative_tol`; None when not given), given only with a
+    method in ``uses`` (the tiers that read it); with another method it would be
+    ignored, so it is refused naming ``field.tol``, as :func:`dps_field` refuses dps.
+    ``dps``: the precise tier's digits, bounding tol below for ``precise``; for
+    ``auto`` ``precise_dps`` (the digits of its precise fallback) does, when given."""
+    if "tol" not in table:
+        return None
+    if method not in uses:
+        names = [repr(u) for u in uses]
+        which = names[0] if len(names) == 1 else f"{', '.join(names[:-1])} or {names[-1]}"
+        raise InputError(f"expected 'tol' only with method {which} (the tiers that refine "
+                         f"to it), got method {method!r}", field=f"{field}.tol")
+    digits = {"precise": dps, "auto": precise_dps}.get(method)
+    return relative_tol(table["tol"], f"{field}.tol", digits=digits)
+
+
 def dps_field(table: Mapping, method: str, field: str, uses=("precise",)) -> int:
-    """``dps`` of a query: the decimal digits of the precise tier (an integer >= 5,
+    """``dps`` of a query: the decimal digits of the precise tier (an integer 5..1233,
     default 30), given only with a method in ``uses`` (the ones that compute in mpmath);
     with another method it would be ignored, so it is refused naming ``field.dps``."""
     from .exact import default_dps

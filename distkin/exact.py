@@ -50,6 +50,7 @@ __all__ = [
     "to_sympy",
     "sympy_to_arb",
     "default_dps",
+    "MAX_DPS",
     "float_ball",
     "float_mpf",
 ]
@@ -69,12 +70,20 @@ _LOG2_10 = math.log2(10)
 _DECIMAL = None  # compiled lazily: the regular expression of a decimal literal
 
 
+#: the largest ``dps`` of the precise tier: the digits of :data:`MAX_BITS` bits
+#: (floor(4096 log10 2) = 1233), the bound of the certified tier's ``bits`` (53..4096)
+#: and of an exact scene value; a million digits ran for hours
+MAX_DPS = int(MAX_BITS / _LOG2_10)
+
+
 def default_dps(dps: int | None) -> int:
-    """The decimal precision of the ``precise`` tier (30 when not given)."""
+    """The decimal precision of the ``precise`` tier (30 when not given): an integer
+    5..:data:`MAX_DPS` (1233 digits, about 4096 bits); :class:`InputError` otherwise."""
     if dps is None:
         return 30
-    if not isinstance(dps, int) or isinstance(dps, bool) or dps < 5:
-        raise InputError(f"expected dps as an integer >= 5, got {dps!r}", field="dps")
+    if not isinstance(dps, int) or isinstance(dps, bool) or not 5 <= dps <= MAX_DPS:
+        raise InputError(f"expected dps as an integer 5..{MAX_DPS} (decimal digits, at most "
+                         f"{MAX_BITS} bits), got {dps!r}", field="dps")
     return dps
 
 

@@ -4,7 +4,10 @@
     Run every query of a scene; print the readable report (to stderr when the JSON
     goes to stdout) and write the JSON contract.
 ``distkin demo [--json PATH|-] [--plots DIR]``
-    Run the built-in scenes (``distkin/scenes/``).
+    Run the built-in scenes (``distkin/scenes/``).  Its JSON is the same contract as
+    ``run``'s: ``scene`` is :data:`DEMO_SCENE`, a text naming the built-in scenes (no
+    file has that path), and ``queries`` holds every scene's records in order, each with
+    a ``scene`` key naming its file (``"distkin/scenes/rss_octopod.toml"``).
 
 Exit codes: 0 ok; 2 bad input or a query whose data admit no answer (one line on
 stderr naming the field); 1 an internal failure (one line; ``--debug`` shows the
@@ -26,7 +29,7 @@ from pathlib import Path
 from .._version import __version__
 from ..errors import DistkinError, InputError, is_input_error
 
-__all__ = ["main", "run_scene", "DEMO_SCENES", "SUBCOMMANDS"]
+__all__ = ["main", "run_scene", "DEMO_SCENES", "DEMO_SCENE", "SUBCOMMANDS"]
 
 #: built-in scenes run by ``distkin demo``, in order (files in distkin/scenes/)
 DEMO_SCENES = [
@@ -36,6 +39,9 @@ DEMO_SCENES = [
     "rss_octopod.toml",
     "certify_hunt.toml",
 ]
+
+#: the ``scene`` of ``distkin demo``'s JSON (docs/design.md §4): the built-in scenes
+DEMO_SCENE = f"distkin/scenes (built-in: {', '.join(DEMO_SCENES)})"
 
 def _add_sim(sub):
     from .control_commands import add_sim_parser
@@ -189,9 +195,10 @@ def _emit(scene_path, records, texts, args) -> None:
 
 def _cmd_run(args) -> int:
     from .output_paths import check_output_path
-    from .scene import load_scene
+    from .scene import input_files, load_scene
     scene = load_scene(args.scene)
-    check_output_path(args.json)             # before the run: a long sweep loses nothing
+    # before the run (a long sweep loses nothing), and never over the scene or its CSV
+    check_output_path(args.json, inputs=input_files(scene))
     records, texts, worst = run_scene(scene, plots_dir=args.plots,
                                       progress=not args.no_progress,
                                       store=getattr(args, "store", None),
@@ -210,7 +217,7 @@ def _cmd_demo(args) -> int:
     from .scene import loads_scene
     check_output_path(args.json)
     worst = 0
-    docs = []
+    records_all = []
     for name in DEMO_SCENES:
         text = resources.files("distkin.scenes").joinpath(name).read_text(encoding="utf-8")
         scene = loads_scene(text, f"distkin/scenes/{name}")
@@ -220,9 +227,9 @@ def _cmd_demo(args) -> int:
         from .report import render_text
         out = sys.stderr if args.json == "-" else sys.stdout
         print(render_text(scene.path, records, texts), file=out)
-        docs.append(document(scene.path, records, __version__))
-    if args.json:
-        payload = dumps({"distkin": __version__, "demo": docs})
+        records_all += [{"scene": scene.path, **rec} for rec in records]
+    if args.json:       # the contract of 'run', over the queries of every scene
+        payload = dumps(document(DEMO_SCENE, records_all, __version__))
         if args.json == "-":
             print(payload)
         else:

@@ -153,13 +153,14 @@ def _module_name(stem: str) -> str:
 
 def _run(args) -> int:
     from .output_paths import check_output_path, write_text
-    from .scene import load_scene
+    from .scene import input_files, load_scene
     scene = load_scene(args.scene)
     out = Path(args.output)
     if out.suffix != ".py":
         raise InputError(f"expected an output file ending in .py, got {str(out)!r}",
                          field="--output")
-    check_output_path(out, "--output")     # before deriving (seconds for a new table)
+    # before deriving (seconds for a new table), and never over the scene or its CSV
+    check_output_path(out, "--output", inputs=input_files(scene))
     if not out.stem.isidentifier():
         print(f"distkin: warning: --output: {out.stem!r} is not a Python module name, so "
               f"'import' cannot load it (importlib can; {_module_name(out.stem)}.py could be "

@@ -121,9 +121,10 @@ def cmd_sim(args) -> int:
     from .output_paths import check_output_path
     faults = parse_faults(args.faults)
     scene = _scene(args.scene)
-    check_output_path(args.port_file, "--port-file")
+    inputs = [args.scene]                  # an output never replaces the scene
+    check_output_path(args.port_file, "--port-file", inputs=inputs)
     for path in _log_files(args.log, sim=True).values():
-        check_output_path(path, "--log")
+        check_output_path(path, "--log", inputs=inputs)
     try:
         return serve(scene, port_file=args.port_file, tcp_port=args.tcp, faults=faults,
                      log_prefix=args.log, seconds=args.seconds,
@@ -220,13 +221,15 @@ def cmd_control(args) -> int:
     if args.faults and not args.sim:
         raise InputError("expected --faults only with --sim, got it with --port", field="--faults")
     parse_faults(args.faults)              # validate before starting anything
-    check_output_path(args.json)
-    # every file the run will write, before anything starts (exit 2, one line)
+    # every file the run will write, before anything starts (exit 2, one line); none of
+    # them may be the scene it reads
+    inputs = [args.scene]
+    check_output_path(args.json, inputs=inputs)
     log_files = _log_files(args.log, control=True, sim=args.sim)
     for path in log_files.values():
-        check_output_path(path, "--log")
+        check_output_path(path, "--log", inputs=inputs)
     if args.plots:
-        check_output_path(Path(args.plots) / "control.png", "--plots")
+        check_output_path(Path(args.plots) / "control.png", "--plots", inputs=inputs)
     tmpdir = None
     prefix = args.log
     if prefix is None and args.plots:

@@ -33,8 +33,9 @@ et al.: the octahedral manipulator, its Δ 6-6 platform and the Fig. 2 approxima
 :mod:`distkin.app.platform_scene`).
 
 CSV (``legs_csv``): one header row, one row per leg, in the scene's units, columns
-(:data:`CSV_COLUMNS`; an empty cell is a field not given; any order; unknown columns
-are refused)::
+(:data:`CSV_COLUMNS`; an empty cell is a field not given; any order; unknown or repeated
+columns are refused; a vector's three columns and a ``_min``/``_max`` pair are given
+together or not at all; blank lines are skipped but counted in the line numbers)::
 
     type, base_x, base_y, base_z, platform_x, platform_y, platform_z,
     axis_x, axis_y, axis_z, crank0_x, crank0_y, crank0_z, crank90_x, crank90_y, crank90_z,
@@ -42,8 +43,8 @@ are refused)::
     limit_min, limit_max
 
 Errors name the leg and the field (``mechanism.leg[3].axis``, or
-``mechanism.legs_csv[3].axis`` with the file's line number), the expected and the
-received value.
+``mechanism.legs_csv[3].axis`` with the file's line number and, for one cell, its
+column), the expected and the received value.
 """
 
 from __future__ import annotations
@@ -128,46 +129,83 @@ def _leg(table, units, fld):
 
 
 def _csv_legs(path: Path, fld):
-    """The leg tables of a CSV file (:data:`CSV_COLUMNS`), with their line numbers."""
+    """The leg tables of a CSV file (:data:`CSV_COLUMNS`) and the file's line number of
+    each (blank lines skipped, but counted)."""
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise InputError(f"expected a readable CSV file, got {str(path)!r} ({exc.strerror})",
                          field=fld) from None
-    rows = list(csv.reader(line for line in text.splitlines() if line.strip()))
+    reader = csv.reader(text.splitlines())
+    rows = [(reader.line_num, row) for row in reader if any(c.strip() for c in row)]
     if not rows:
         raise InputError(f"expected a header row and one row per leg, got an empty file "
                          f"{path.name!r}", field=fld)
-    head = [h.strip() for h in rows[0]]
+    head_line, head = rows[0][0], [h.strip() for h in rows[0][1]]
     bad = [h for h in head if h not in CSV_COLUMNS]
     if bad:
         raise InputError(f"expected columns among {', '.join(CSV_COLUMNS)}, got {bad}",
-                         field=fld)
-    legs = []
-    for n, row in enumerate(rows[1:]):
+                         field=fld, hint=f"line {head_line} of {path.name}")
+    for h in head:
+        if head.count(h) > 1:
+            where = " and ".join(str(i + 1) for i, x in enumerate(head) if x == h)
+            raise InputError(f"expected each column once in the header (line {head_line} "
+                             f"of {path.name}), got {h!r} {head.count(h)} times (columns "
+                             f"{where})", field=fld)
+    legs, lines = [], []
+    for n, (line, row) in enumerate(rows[1:]):
         f = f"{fld}[{n}]"
+        at = f"line {line} of {path.name}"
         if len(row) != len(head):
-            raise InputError(f"expected {len(head)} cells (line {n + 2} of {path.name}), got "
-                             f"{len(row)}", field=f)
+            raise InputError(f"expected {len(head)} cells ({at}), got {len(row)}", field=f)
         cells = {h: c.strip() for h, c in zip(head, row) if c.strip() != ""}
         table = {}
         for name in LEG_FIELDS:
             if name in _VECTORS:
-                parts = [cells.get(f"{name}_{c}") for c in "xyz"]
-                if any(p is not None for p in parts):
-                    if any(p is None for p in parts):
-                        raise InputError(f"expected {name}_x, {name}_y and {name}_z (line "
-                                         f"{n + 2} of {path.name}), got {parts}",
-                                         field=f"{f}.{name}")
-                    table[name] = parts
+                cols = [f"{name}_{c}" for c in "xyz"]
             elif name in ("range", "limit"):
-                parts = [cells.get(f"{name}_min"), cells.get(f"{name}_max")]
-                if any(p is not None for p in parts):
-                    table[name] = parts
-            elif name in cells:
-                table[name] = cells[name] if name != "branch" else _branch(cells[name], f)
+                cols = [f"{name}_min", f"{name}_max"]
+            else:
+                if name in cells:
+                    table[name] = cells[name] if name != "branch" else _branch(cells[name], f)
+                continue
+            parts = [cells.get(c) for c in cols]
+            if any(p is not None for p in parts):
+                if any(p is None for p in parts):
+                    raise InputError(_half_given(name, cols, cells, head, at),
+                                     field=f"{f}.{name}")
+                table[name] = parts
         legs.append(table)
-    return legs
+        lines.append(line)
+    return legs, lines
+
+
+def _half_given(name, cols, cells, head, at):
+    """The message of a vector or a [min, max] pair given in part (a CSV row)."""
+    given = [f"{c} = {cells[c]}" for c in cols if c in cells]
+    missing = [f"{c} ({'an empty cell' if c in head else 'no such column'})"
+               for c in cols if c not in cells]
+    return (f"expected {_and(cols)} together ({at}), got {_and(given)} but no "
+            f"{_and(missing)}")
+
+
+def _and(items):
+    items = list(items)
+    return items[0] if len(items) == 1 else f"{', '.join(items[:-1])} and {items[-1]}"
+
+
+def _csv_column(rest: str) -> str | None:
+    """The CSV column of a leg's field path (``"base[0]"`` -> ``"base_x"``, ``"range[1]"``
+    -> ``"range_max"``, ``"crank"`` -> ``"crank"``), None when there is none."""
+    name, _, index = rest.partition("[")
+    if index:
+        i = index.rstrip("]")
+        if name in _VECTORS and i in ("0", "1", "2"):
+            return f"{name}_{'xyz'[int(i)]}"
+        if name in ("range", "limit") and i in ("0", "1"):
+            return f"{name}_{('min', 'max')[int(i)]}"
+        return None
+    return name if name in CSV_COLUMNS else None
 
 
 def _branch(text, fld):
@@ -198,9 +236,13 @@ def parse_legs(table, units, field, scene_path=None):
         if not isinstance(csv_name, str):
             raise InputError(f"expected a file name, got {csv_name!r}", field=f"{field}.legs_csv")
         base = Path(scene_path).parent if scene_path else Path.cwd()
-        raw = _csv_legs(base / csv_name, f"{field}.legs_csv")
+        raw, lines = _csv_legs(base / csv_name, f"{field}.legs_csv")
         prefix = f"{field}.legs_csv"
-        where = lambda i: f"line {i + 2} of {csv_name}"  # noqa: E731
+
+        def where(i, fld=""):            # the row (and the column) of leg i's field
+            rest = fld.partition(f"{prefix}[{i}].")[2]
+            column = _csv_column(rest) if rest else None
+            return f"line {lines[i]} of {csv_name}" + (f", column {column}" if column else "")
     if "leg" in table:
         where = None
     legs = []
@@ -208,8 +250,8 @@ def parse_legs(table, units, field, scene_path=None):
         try:
             legs.append(_leg(t, units, f"{prefix}[{i}]"))
         except DistkinError as exc:
-            if where is not None and exc.hint is None:
-                exc.hint = where(i)
+            if where is not None:       # the row and column first, then any hint
+                exc.hint = "; ".join(filter(None, (where(i, exc.field or ""), exc.hint)))
                 exc.args = (exc.one_line(),)
             raise
     home = parse_home(require(table, "home", field), units, f"{field}.home")
@@ -228,9 +270,10 @@ def parse_legs(table, units, field, scene_path=None):
     except DistkinError as exc:
         fld = exc.field or ""
         if fld.startswith("leg["):
-            if where is not None and exc.hint is None:
-                exc.hint = where(int(fld[4:fld.index("]")]))
+            i = int(fld[4:fld.index("]")])
             fld = prefix + fld[3:]
+            if where is not None:
+                exc.hint = "; ".join(filter(None, (where(i, fld), exc.hint)))
         else:
             fld = f"{field}.{fld}" if fld else field
         exc.field = None

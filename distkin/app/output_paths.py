@@ -1,6 +1,10 @@
 """Files the CLI writes (``--json``, ``--port-file``, ``--log``, ``--output``): checked
 before any work, written without a traceback.
 
+An output that is the same file as one of the command's inputs (the scene, a
+``legs_csv`` it names, a controller scene) is refused too: ``distkin run S.toml --json
+S.toml`` used to replace the scene by its result.
+
 ``distkin run``, ``demo``, ``sweep`` and ``control`` take ``--json PATH|-``; ``sim``
 takes ``--port-file`` and ``--log``; ``codegen`` takes ``--output``.  A path that cannot be written (a directory, a
 file where a folder is needed, no permission) is bad input: it is refused before the
@@ -10,6 +14,7 @@ failure and a lost result, with one line naming the option (exit code 2).
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from ..errors import InputError
@@ -25,20 +30,47 @@ def _refuse(path, exc: OSError, field: str) -> InputError:
                       field=field)
 
 
-def check_output_path(path, field: str = "--json") -> None:
+def _same_file(a: Path, b: Path) -> bool:
+    """Whether ``a`` and ``b`` name one file: :func:`os.path.samefile` when both exist
+    (symbolic and hard links), the resolved paths otherwise."""
+    try:
+        if a.exists() and b.exists():
+            return os.path.samefile(a, b)
+        return a.resolve() == b.resolve()
+    except OSError:
+        return False
+
+
+def check_output_path(path, field: str = "--json", inputs=()) -> None:
     """Refuse an output file that cannot be written (``None`` and ``-`` pass); ``field``
     names the option.
 
     Creates the missing parent folders, as :func:`write_json` would.
 
+    Parameters
+    ----------
+    path : str or Path or None
+        The output file (``-`` is stdout).
+    field : str
+        The option that names it (``--json``, ``--output``, ``--log``, ...).
+    inputs : iterable of str or Path
+        The files the command reads (the scene, ...); ``None`` entries are skipped.  The
+        output must not be one of them (compared with :func:`os.path.samefile`, or the
+        resolved paths when a file does not exist yet).
+
     Raises
     ------
     InputError
-        The path is a directory, or its folder cannot be made.
+        The path is an input file, a directory, or its folder cannot be made.
     """
     if path is None or path == "-":
         return
     p = Path(path)
+    for source in inputs:
+        if source is not None and _same_file(p, Path(source)):
+            raise InputError(f"expected an output path other than the input file "
+                             f"{str(source)!r}, got {str(path)!r} (writing it would "
+                             "overwrite the input)", field=field)
     if p.is_dir():
         raise InputError(f"expected a file path, got the directory {str(path)!r}",
                          field=field)

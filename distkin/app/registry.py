@@ -36,6 +36,10 @@ def _mechanisms():
     from .queries import mechanisms  # noqa: F401
 
 
+def _jacobian():
+    from .queries import jacobian  # noqa: F401
+
+
 def _octahedral():
     from .queries import octahedral  # noqa: F401
 
@@ -61,7 +65,7 @@ QUERY_MODULES: dict[str, tuple] = {
     "delta_transform": (_delta,),
     "singularity": (_singularity, _leg_singularity),
     "inverse_kinematics": (_mechanisms,),
-    "jacobian": (_mechanisms,),
+    "jacobian": (_jacobian,),
     "performance": (_indices,),
     "design_sweep": (_indices,),
     "certify_workspace": (_certify,),

@@ -44,6 +44,7 @@ __all__ = [
     "ANCHORS",
     "load_scene",
     "loads_scene",
+    "input_files",
 ]
 
 @dataclass(frozen=True)
@@ -214,3 +215,14 @@ def load_scene(path) -> Scene:
     except (IsADirectoryError, PermissionError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot read scene file {str(p)!r}: {exc}", field="scene") from None
     return loads_scene(text, str(p))
+
+
+def input_files(scene: Scene) -> tuple:
+    """The files a loaded scene was read from: the scene file and the ``legs_csv`` it
+    names (relative to its folder).  An output option must name none of them
+    (:func:`.output_paths.check_output_path`)."""
+    files = [Path(scene.path)]
+    csv_name = scene.mechanism_table.get("legs_csv")
+    if isinstance(csv_name, str):
+        files.append(Path(scene.path).parent / csv_name)
+    return tuple(files)

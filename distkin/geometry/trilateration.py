@@ -239,12 +239,23 @@ def trilateration_parts(points, sq, *, method: str = "fast", dps: int | None = N
     return _solve(points, sq, _NO_SIDE, method, dps, tol)[0]
 
 
+def parts_at_working_digits(points, sq, *, method: str, digits: int | None = None,
+                            tol: float | None = None):
+    """:func:`trilateration_parts` for the library's own solvers: in the precise tier
+    ``digits`` are working digits (a dps checked at the solver's entry plus its guard
+    digits, :func:`distkin.octahedral.precise.solve_precise`: dps + 20), so they may
+    exceed :data:`~distkin.exact.MAX_DPS`, the bound of a user's dps; ``tol`` as for
+    :func:`trilateration_parts`."""
+    return _solve(points, sq, _NO_SIDE, method, digits, tol, working=True)[0]
+
+
 _NO_SIDE = object()
 
 
-def _solve(points, sq, side, method, dps, tol, *, nonnegative=False):
+def _solve(points, sq, side, method, dps, tol, *, nonnegative=False, working=False):
     """(parts, side): parse and check the input (``side`` too unless _NO_SIDE; squared
-    distances >= 0 when ``nonnegative``), then the pieces of the trilateration."""
+    distances >= 0 when ``nonnegative``), then the pieces of the trilateration.
+    ``working``: ``dps`` are an internal solver's working digits (not checked)."""
     check_method(method)
     if tol is not None:
         tol = positive_number(tol, "tol")
@@ -252,7 +263,7 @@ def _solve(points, sq, side, method, dps, tol, *, nonnegative=False):
         side = _check_sides(side, method)
     if method == "precise":
         import mpmath
-        dps = default_dps(dps)
+        dps = dps if working and dps is not None else default_dps(dps)
         ctx = mpmath.workdps(dps)
         ctx.__enter__()
     try:

@@ -284,7 +284,7 @@ def check_bits(bits, method: str, field: str = "bits") -> int:
 
 
 def check_dps(dps, method: str, field: str = "dps") -> int | None:
-    """The precise tier's digits: ``dps`` (an integer >= 5, given only with method
+    """The precise tier's digits: ``dps`` (an integer 5..1233, given only with method
     "precise", as ``bits`` only with "certified": :func:`check_bits`; a scene's
     :func:`~distkin.argcheck.dps_field` the same) or its default
     (:func:`~distkin.exact.default_dps`); None for the other tiers.

@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import UncertifiedError
-from ..geometry.trilateration import trilateration_parts
+from ..geometry.trilateration import parts_at_working_digits
 
 __all__ = ["trilaterate_masked", "assemble_exact"]
 
@@ -100,8 +100,8 @@ def assemble_exact(base, x, sides, legs, *, method: str, dps=None, every=None, t
     s45, s46, s56 = sides[3], sides[4], sides[5]
     s14, s24, s25, s35, s36, s16 = legs
     P1, P2, P3 = base
-    kw = dict(method=method, dps=dps) if tol is None else dict(method=method, dps=dps, tol=tol)
-    parts5 = trilateration_parts([P1, P2, P3], [x, s25, s35], **kw)
+    kw = dict(method=method, digits=dps, tol=tol)   # the solver's working digits
+    parts5 = parts_at_working_digits([P1, P2, P3], [x, s25, s35], **kw)
     # with enclosures (arb) or mpf, side -1 is the reflection of side +1 in the base
     # plane: an isometry fixing P1 P2 P3, so it maps the candidates of one side onto
     # those of the other with the same leg-5 residuals (rigorous, and half the work);
@@ -110,11 +110,11 @@ def assemble_exact(base, x, sides, legs, *, method: str, dps=None, every=None, t
     out = []
     for sig in ((1, -1) if explicit else (1,)):
         P5 = _point(parts5, sig, method, dps)
-        parts4 = trilateration_parts([P1, P2, P5], [s14, s24, s45], **kw)
+        parts4 = parts_at_working_digits([P1, P2, P5], [s14, s24, s45], **kw)
         cands = []
         for tau in (1, -1):
             P4 = _point(parts4, tau, method, dps)
-            parts6 = trilateration_parts([P1, P4, P5], [s16, s46, s56], **kw)
+            parts6 = parts_at_working_digits([P1, P4, P5], [s16, s46, s56], **kw)
             for rho in (1, -1):
                 P6 = _point(parts6, rho, method, dps)
                 d = [P6[k] - P3[k] for k in range(3)]

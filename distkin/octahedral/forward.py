@@ -49,7 +49,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..argcheck import positive_number
+from ..argcheck import relative_tol
 from ..errors import ConditioningWarning, InputError
 from ..exact import METHODS_AUTO, check_method, default_dps
 from .problem import exact_problem, float_problem, float_single
@@ -60,6 +60,18 @@ from .result import (_VERDICTS, AssemblyResult, BatchResult, Pose, RootInfo,
 
 __all__ = ["Pose", "RootInfo", "AssemblyResult", "BatchResult", "forward_kinematics",
            "forward_kinematics_batched"]
+
+def _tol_digits(method: str, dps: int | None) -> int | None:
+    """The digits that bound ``tol`` below (:func:`~distkin.argcheck.relative_tol`): the
+    precise tier's dps, and for ``auto`` the digits of its precise fallback (data that
+    cannot be made exact); None for the tiers without that bound."""
+    if method == "precise":
+        return default_dps(dps)
+    if method == "auto":
+        from .auto import PRECISE_DPS
+        return PRECISE_DPS if dps is None else dps
+    return None
+
 
 def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int | None = None,
                        tol: float | None = None, warn: bool = True) -> AssemblyResult:
@@ -91,7 +103,9 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
     tol : float, optional
         ``certified``: relative radius (to the size of the mechanism) the pose
         enclosures are refined to (default 1e-15).  ``precise``: the relative residual
-        accepted for a root (default :math:`10^{8-dps}`).
+        accepted for a root (default :math:`10^{8-dps}`).  A number 0 < tol < 1, and
+        for ``precise`` at least :math:`10^{-dps}` (``auto``: of its precise fallback,
+        dps or 50 digits); :func:`~distkin.argcheck.relative_tol`.
     warn : bool
         ``fast``: prove the assembly roots (:mod:`.descartes`, a few µs) into
         ``.conditioning`` and emit a :class:`~distkin.errors.ConditioningWarning` when
@@ -127,10 +141,11 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
     (12, [269.2, 328.7, 359.5, 463.6, 497.9, 513.0])
     """
     check_method(method, allowed=METHODS_AUTO)
-    tol = None if tol is None else positive_number(tol, "tol")
+    dps = None if dps is None else default_dps(dps)       # auto's escalations too
     if method in ("precise", "auto") and dps is not None:
         from .precise import check_precise_dps
-        check_precise_dps(dps)
+        check_precise_dps(dps)                              # at least MIN_DPS digits
+    tol = None if tol is None else relative_tol(tol, "tol", digits=_tol_digits(method, dps))
     if method in ("fast", "auto"):
         from .batched import scan_single
         B, Q, L, k, rounded = float_single(base, platform, legs)
@@ -212,10 +227,11 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
         :class:`AssemblyResult` of problem ``i``.
     """
     check_method(method, allowed=("fast", "auto"))
-    tol = None if tol is None else positive_number(tol, "tol")
-    if method == "auto" and dps is not None:
+    dps = None if dps is None else default_dps(dps)       # auto's escalations too
+    if method in ("precise", "auto") and dps is not None:
         from .precise import check_precise_dps
-        check_precise_dps(dps)
+        check_precise_dps(dps)                              # at least MIN_DPS digits
+    tol = None if tol is None else relative_tol(tol, "tol", digits=_tol_digits(method, dps))
     if not prove and method != "fast":
         raise InputError("expected prove=True with method='auto' (it escalates what the "
                          "proof cannot vouch for), got prove=False", field="prove")

@@ -156,9 +156,9 @@ def solve_precise(problem: Problem, dps: int, tol=None):
             tets = [val[k] for k in ("T1a", "T1b", "T2a", "T2b")]
             # the signs below are read with the root's uncertainty dx (a flat face or
             # tetrahedron of the bananas puts u, v or a T at 0 at the root itself)
-            tol = {k: eps_rel * c ** 4 + abs(der[k]) * dx for k in ("u", "v")}
+            utol = {k: eps_rel * c ** 4 + abs(der[k]) * dx for k in ("u", "v")}
             tiny = eps_rel * c ** 3 + max(abs(der[k]) for k in ("T1a", "T1b", "T2a", "T2b")) * dx
-            if val["u"] > tol["u"] or val["v"] > tol["v"]:
+            if val["u"] > utol["u"] or val["v"] > utol["v"]:
                 infos.append(RootInfo(float(x), _estimate(x, step), 1, "spurious",
                                       "spurious: a shared face of the bananas has no real "
                                       "triangle (D(5,4,1) or D(3,5,1) > 0)", x))
@@ -173,7 +173,7 @@ def solve_precise(problem: Problem, dps: int, tol=None):
                 rel = dx / max(abs(x), c)
                 sets = assemble_exact(base, x, sides, legs2, method="precise", dps=work,
                                       every=near * max(c, abs(legs2[4])) if m > 1 else None,
-                                      tol=float(max(mpmath.mpf(10) ** (8 - work), 1000 * rel)))
+                                      tol=_trilateration_tol(rel, work))
             except (InfeasibleError, DegenerateGeometryError) as exc:
                 infos.append(RootInfo(float(x), _estimate(x, step), m, "rejected",
                                       f"rejected: trilateration failed ({exc.message})", x))
@@ -222,7 +222,18 @@ def solve_precise(problem: Problem, dps: int, tol=None):
                           stacklevel=4)
         return AssemblyResult(tuple(poses), "precise", octic, exact, tuple(infos), False,
                               reason, f"mpmath at {dps} digits (working {work}); root "
-                              "residual below 1e-{} relative".format(dps - 8), notes)
+                              "residual below " + (f"1e-{dps - 8}" if tol is None else
+                                                   f"{float(tol):.1e} (tol)") + " relative",
+                              notes)
+
+
+def _trilateration_tol(rel, work):
+    """The trilaterations' relative tolerance at a root known to ``rel`` relative: their
+    default 10^(8 - work) (None), or 1000 rel when larger (a multiple root's cluster; a
+    float, so only when float64 holds it)."""
+    import mpmath
+    t = float(1000 * rel)
+    return t if t > 0 and t > mpmath.mpf(10) ** (8 - work) else None
 
 
 def _backward_small(coef, x, eps_rel) -> bool:

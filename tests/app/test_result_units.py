@@ -140,3 +140,87 @@ def test_joint_units_follow_the_leg_type(tmp_path, capsys):
     rss, _ = _run(tmp_path, capsys, RSS + '[[query]]\ntype = "inverse_kinematics"\n'
                   'pose = [0, 0, 300, 0, 0, 0]\n')
     assert rss[0]["result"]["unit"]["q"] == "rad"
+
+
+CM_POINTS = [[0, 0, 0], [6, 0, 0], [2, 5, 0], [1, 1, 4]]
+
+
+def _cm_scene(length, points, dets='["D(1)", "D(1,2)", "D(1,2,3)", "D(1,2,3,4)"]'):
+    return (f'[units]\nlength = "{length}"\n[mechanism]\nkind = "points"\npoints = {points}\n'
+            f'[[query]]\ntype = "cayley_menger"\ndeterminants = {dets}\nmethod = "certified"\n')
+
+
+def test_cayley_menger_units_follow_the_number_of_points(tmp_path, capsys):
+    """A determinant of n points is of degree n - 1 in the squared distances: unit^(2(n-1)).
+    D(1) = -1 was printed '-1 mm' (a pure number), and the JSON values had no unit (QA G 4).
+    References: the analytic values (D(1,2) = 2 d², D(1,2,3) = -16 area², D(1,2,3,4) =
+    288 V² with V = |det| / 6 = 6·5·4 / 6 = 20), and the same points written in m (each
+    coordinate / 1000), whose values must be those in mm times 1000^-(2(n-1))."""
+    queries, out = _run(tmp_path, capsys, _cm_scene("mm", CM_POINTS))
+    r = queries[0]["result"]
+    by_name = {e["name"]: e for e in r["determinants"]}
+    assert [(n, e["value"], e["unit"]) for n, e in by_name.items()] == [
+        ("D(1)", "-1", "none"), ("D(1,2)", "72", "mm^2"),
+        ("D(1,2,3)", str(-16 * (6 * 5 / 2) ** 2).removesuffix(".0"), "mm^4"),
+        ("D(1,2,3,4)", str(288 * 20 ** 2), "mm^6")]
+    assert by_name["D(1,2,3)"]["triangle_area_squared"] == 225.0
+    assert by_name["D(1,2,3,4)"]["tetrahedron_volume_squared"] == 400.0
+    assert r["unit"]["triangle_area_squared"] == "mm^4"
+    assert r["unit"]["tetrahedron_volume_squared"] == "mm^6"
+    lines = out.splitlines()
+    assert "  D(1) = -1" in lines                       # no unit at power 0
+    assert "  D(1,2) = 72 mm^2" in lines
+    assert "  D(1,2,3) = -3600 mm^4   (area^2 = 225 mm^4)" in lines
+    assert "  D(1,2,3,4) = 115200 mm^6   (volume^2 = 400 mm^6)" in lines
+    # the same geometry in m: the unit's power is the scaling exponent
+    from fractions import Fraction
+    metres = [[f'"{Fraction(x, 1000)}"' for x in row] for row in CM_POINTS]
+    text = _cm_scene("m", "[" + ", ".join("[" + ", ".join(r) + "]" for r in metres) + "]")
+    queries_m, _ = _run(tmp_path, capsys, text)
+    for e_mm, e_m in zip(r["determinants"], queries_m[0]["result"]["determinants"]):
+        power = int(e_mm["unit"].split("^")[1]) if e_mm["unit"] != "none" else 0
+        assert Fraction(e_mm["value"]) == Fraction(e_m["value"]) * 1000 ** power
+        assert e_m["unit"] == e_mm["unit"].replace("mm", "m")
+    # a unitless scene: every unit "none", no unit in the text
+    queries_n, out_n = _run(tmp_path, capsys, _cm_scene("none", CM_POINTS))
+    assert {e["unit"] for e in queries_n[0]["result"]["determinants"]} == {"none"}
+    assert "  D(1,2) = 72" in out_n.splitlines()
+
+
+def test_cayley_menger_refuses_an_empty_list(tmp_path, capsys):
+    f = tmp_path / "s.toml"
+    f.write_text(_cm_scene("mm", CM_POINTS, dets="[]"))
+    assert main(["run", str(f)]) == 2
+    out, err = capsys.readouterr()
+    assert err.strip() == ('distkin: error: query[0].determinants: expected at least one '
+                           'determinant label, such as "D(1,2,3,4)" or "D(5,4,1,2;5,4,1,6)", '
+                           'got an empty list []')
+
+
+def test_jacobian_indices_are_undefined_where_the_pose_is_not_reachable(tmp_path, capsys):
+    """At 3 m above the Hunt platform's base no leg closes: the text said 'J is
+    meaningless' but printed kappa = 0.0828 and six singular values, and the JSON had
+    them as numbers (QA G 7).  References: the preset's own IK (no leg valid there), and
+    at the reachable home pose condition_number and numpy's SVD of preset('hunt').jacobian."""
+    m = preset("hunt")
+    far = np.array([0, 0, 3.0, 0, 0, 0])
+    assert not m.inverse_kinematics(far)[1].any()
+    home_mm = [float(round(v * 1000, 9)) for v in m.home[:3]] + [float(v) for v in m.home[3:]]
+    queries, out = _run(tmp_path, capsys, MM.replace('angle = "deg"', 'angle = "rad"')
+                        + '[mechanism]\nkind = "rss"\npreset = "hunt"\n[[query]]\n'
+                        f'type = "jacobian"\nposes = [[0, 0, 3000, 0, 0, 0], {home_mm}]\n')
+    far_row, home_row = queries[0]["result"]["poses"]
+    assert far_row["reachable"] is False
+    assert far_row["kappa"] is None and far_row["kappa_unscaled"] is None
+    assert far_row["singular_values"] is None
+    assert home_row["reachable"] is True
+    J = m.jacobian(m.home)
+    assert home_row["kappa"] == pytest.approx(float(condition_number(J)), rel=1e-12)
+    assert home_row["singular_values"] == pytest.approx(np.linalg.svd(J, compute_uv=False),
+                                                        rel=1e-12)
+    text = out.split("pose 1:")
+    assert "kappa = undefined (pose not reachable)" in text[0]
+    assert "singular values of the unscaled J: undefined (pose not reachable)" in text[0]
+    assert "kappa = 0.0828" not in out
+    assert f"kappa = {home_row['kappa']:.6g} (eq. (4)" in text[1]
+    assert "null where the pose is not reachable" in queries[0]["result"]["unit"]["kappa"]

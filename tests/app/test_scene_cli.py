@@ -143,6 +143,39 @@ def test_demo_runs_in_process(capsys):
     assert "cayley_menger: ok" in out
 
 
+def test_demo_json_follows_the_run_contract(tmp_path, capsys):
+    """docs/design.md §4: the top level is {distkin, scene, queries}; the demo's was
+    {distkin, demo: [one document per scene]} (QA G 2).  Reference: the [[query]] tables
+    of the built-in scene files read with tomllib, and 'distkin run' of one of them."""
+    import tomllib
+    from importlib import resources
+    from distkin._version import __version__
+    from distkin.app.cli import DEMO_SCENE, DEMO_SCENES
+    target = tmp_path / "demo.json"
+    assert main(["demo", "--no-progress", "--json", str(target)]) == 0
+    capsys.readouterr()
+    doc = json.loads(target.read_text())
+    assert list(doc) == ["distkin", "scene", "queries"]
+    assert doc["distkin"] == __version__
+    assert doc["scene"] == DEMO_SCENE and all(name in DEMO_SCENE for name in DEMO_SCENES)
+    expected = []                   # (scene, type) of every [[query]], scene after scene
+    for name in DEMO_SCENES:
+        text = resources.files("distkin.scenes").joinpath(name).read_text(encoding="utf-8")
+        expected += [(f"distkin/scenes/{name}", q["type"]) for q in tomllib.loads(text)["query"]]
+    assert [(q["scene"], q["type"]) for q in doc["queries"]] == expected
+    assert all(q["status"] == "ok" and {"result", "seconds"} <= set(q)
+               for q in doc["queries"])
+    # a scene's records are the ones 'distkin run' writes for its file
+    name = DEMO_SCENES[0]
+    scene = tmp_path / name
+    scene.write_text(resources.files("distkin.scenes").joinpath(name).read_text("utf-8"))
+    assert main(["run", str(scene), "--no-progress", "--json", str(tmp_path / "r.json")]) == 0
+    capsys.readouterr()
+    run = json.loads((tmp_path / "r.json").read_text())["queries"]
+    demo = [q for q in doc["queries"] if q["scene"] == f"distkin/scenes/{name}"]
+    assert [q["result"] for q in demo] == [q["result"] for q in run]
+
+
 def test_cli_usage_errors_exit_2():
     assert _cli(["run"]).returncode == 2
     assert _cli(["frobnicate"]).returncode == 2

@@ -12,6 +12,13 @@ Scene fields::
 For an ``octahedral`` mechanism the points are P1..P3 of the base and P4..P6 of the
 platform in its own frame only if the query gives none, which is rarely meaningful; the
 query is intended for ``kind = "points"``.
+
+Units: a determinant of ``n`` labels is a polynomial of degree ``n - 1`` in the squared
+distances (Rojas et al., eq. (1)), so its unit is the scene's length unit to the power
+``2(n - 1)``; ``D(1) = -1`` is a pure number.  The values are in the scene's own length
+unit, as written (exact rationals stay the scene's numbers); each JSON entry names its
+``unit`` ("mm^6", or "none" for a pure number or a unitless scene), and the result's
+``unit`` block names those of the area and volume interpretations.
 """
 
 from __future__ import annotations
@@ -63,6 +70,10 @@ class CayleyMengerQuery:
             raise InputError("missing required field 'determinants'",
                              field=f"{field}.determinants")
         names = string_list(table["determinants"], f"{field}.determinants")
+        if not names:
+            raise InputError('expected at least one determinant label, such as '
+                             '"D(1,2,3,4)" or "D(5,4,1,2;5,4,1,6)", got an empty list []',
+                             field=f"{field}.determinants")
         labels = []
         for i, name in enumerate(names):
             try:
@@ -91,16 +102,15 @@ class CayleyMengerQuery:
         pts = np.array([[to_tier(x, p.method) for x in row] for row in p.points],
                        dtype=float if p.method == "fast" else object)
         sq = squared_distances(pts)
-        unit = "" if scene.units.length == "none" else scene.units.length
+        length = scene.units.length
         values, lines = [], []
         for name, (rows, cols) in zip(p.determinants, p.labels):
             d = cayley_menger(sq, rows, cols)
             entry = {"name": name, "rows": list(rows), "cols": list(cols)}
             entry.update(_value_fields(d, p.method))
-            n = len(rows)
-            power = f"^{2 * (n - 1)}" if n > 1 else ""
-            text = f"{name} = {entry['text']} {unit}{power}".rstrip() if unit else \
-                f"{name} = {entry['text']}"
+            unit = length_power(length, 2 * (len(rows) - 1))
+            entry["unit"] = unit                   # of value and radius
+            text = f"{name} = {entry['text']}" + ("" if unit == "none" else f" {unit}")
             interp = _interpretation(rows, cols)
             if interp is not None:
                 kind, factor = interp
@@ -111,7 +121,8 @@ class CayleyMengerQuery:
                 label = "area^2" if kind.startswith("triangle") else "volume^2"
                 if math.isfinite(val):
                     entry[kind] = val
-                    text += f"   ({label} = {val:.10g}{' ' + unit + ('^4' if label == 'area^2' else '^6') if unit else ''})"
+                    u = _INTERPRETATION_UNITS[kind](length)
+                    text += f"   ({label} = {val:.10g}{'' if u == 'none' else ' ' + u})"
                 else:                              # the determinant is right, its float is not
                     entry[kind] = None
                     text += f"   ({label} beyond the float64 range)"
@@ -126,8 +137,28 @@ class CayleyMengerQuery:
         note = float_inputs_line(named)
         if note:
             lines.append(note)
+        unit = {"determinants": "each entry's 'unit' (value and radius): the scene's length "
+                                "unit to the power 2(n - 1) for n labels",
+                **{kind: f(length) for kind, f in _INTERPRETATION_UNITS.items()}}
         return Outcome({"method": p.method, "determinants": values, "accuracy": accuracy,
-                        "inputs_from_float": float_inputs(named)}, "\n".join(lines))
+                        "inputs_from_float": float_inputs(named), "unit": unit},
+                       "\n".join(lines))
+
+
+def length_power(length: str, power: int) -> str:
+    """The unit of a length to ``power`` in a scene of length unit ``length``:
+    ``("mm", 6) -> "mm^6"``, ``("m", 1) -> "m"``; "none" at power 0 (a pure number) and
+    in a unitless scene (``length = "none"``)."""
+    if power == 0 or length == "none":
+        return "none"
+    return length if power == 1 else f"{length}^{power}"
+
+
+#: the interpretations' keys -> their units (a squared area, a squared volume)
+_INTERPRETATION_UNITS = {
+    "triangle_area_squared": lambda length: length_power(length, 4),
+    "tetrahedron_volume_squared": lambda length: length_power(length, 6),
+}
 
 
 def _mid(d):

@@ -32,10 +32,9 @@ angle units; rotation R = Rz(rz) Ry(ry) Rx(rx), :mod:`distkin.spatial`)::
     bits = 128                         # optional (certified): the balls' precision
 
 Every result is in SI in the JSON (m, rad), with the scene's units in the text; each
-result's ``unit`` block names the units of its arrays.  The jacobian's ``kappa`` is
-κ of Kühne et al. eq. (4), σmin/σmax of the scaled ST⁻¹Jᵀ with Stocco's ST =
-diag(15, 15, 15, 1, 1, 1) (Sec. II-C-2; :func:`distkin.indices.condition_number`), and
-``kappa_unscaled`` the same ratio of J itself, whose columns have mixed units.
+result's ``unit`` block names the units of its arrays.  The jacobian query (its
+``kappa`` and singular values) is :mod:`.jacobian`; it shares this module's pose and
+tier helpers.
 
 ``method`` (:mod:`distkin.mechanisms.kinematics_tiers`): ``fast`` is the float64 kernels
 (today's numbers) with a first-order error estimate; ``precise`` runs the generated
@@ -75,20 +74,18 @@ rms closure residual (e.g. angles rounded to 0.01 deg on the Octopod leave ~0.00
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from ...argcheck import (check_keys, dps_field, method_field, pose_list, positive_int,
                           positive_number)
-from ...errors import ConditioningWarning, DistkinError, InfeasibleError, InputError
+from ...errors import DistkinError, InfeasibleError, InputError
 from ...exact import parse_float
 from ..query import Outcome, register
 from ..units import angle_factor, length_factor
-from ...indices.isotropy import ST_DEFAULT, condition_number
 
-__all__ = ["InverseKinematicsQuery", "JacobianQuery", "ForwardKinematicsQuery", "parse_poses"]
+__all__ = ["InverseKinematicsQuery", "ForwardKinematicsQuery", "parse_poses"]
 
 
 def _numbers(value, field, length=None):
@@ -310,139 +307,6 @@ class InverseKinematicsQuery:
                         "unit": {"q": _joint_unit(mech), "pose": "m, rad",
                                  "q_error": _joint_unit(mech)},
                         "poses": rows}, "\n".join(lines), _plotter(mech, X, q))
-
-
-def _inaccurate_line(res, i) -> str:
-    """The line of a pose the fast tier flags (``TieredJacobian.inaccurate``): the legs
-    (1-based) whose row of J has an estimated error above ``J_REL_USEFUL`` of the row,
-    and those of them whose estimate is ``inf`` (first order fails)."""
-    from ...mechanisms.kinematics_tiers import J_REL_USEFUL
-    with np.errstate(divide="ignore", invalid="ignore"):
-        rel = np.max(res.J_error[i], axis=-1) / np.max(np.abs(res.J[i]), axis=-1)
-    legs = [int(j) + 1 for j in np.flatnonzero(res.valid[i] & ~(rel <= J_REL_USEFUL))]
-    inf = [int(j) + 1 for j in np.flatnonzero(res.valid[i] & np.isinf(rel))]
-    return (f"  J not resolved in float64 near the reach boundary (legs {legs}: estimated "
-            f"error above {J_REL_USEFUL:g} of the row"
-            + (f"; legs {inf}: inf, first order fails" if inf else "")
-            + '); use method = "precise"')
-
-
-def _st_text() -> str:
-    return ", ".join(f"{v:g}" for v in ST_DEFAULT)
-
-
-def _jacobian_units(mech, mass_matrix: bool) -> dict:
-    """The ``unit`` block of a jacobian result (SI; the joint unit is rad for a revolute
-    leg, m for a prismatic one)."""
-    pris = _prismatic(mech)
-    rev_rows, pris_rows = (not pris.all()), bool(pris.any())
-    per = "; ".join(([("revolute rows: rad/m (columns 1-3), rad/rad (columns 4-6)")]
-                     if rev_rows else [])
-                    + (["prismatic rows: m/m (columns 1-3), m/rad (columns 4-6)"]
-                       if pris_rows else []))
-    out = {
-        "pose": "m, rad",
-        "J": per + "; qdot = J (v, omega)",
-        "Jq": "; ".join((["m/rad (revolute: dPhi_i/dq_i, the closure Phi_i in m)"]
-                         if rev_rows else []) + (["m/m (prismatic)"] if pris_rows else [])),
-        "Jx": "m/m (columns 1-3), m/rad (columns 4-6); Jq qdot = Jx (v, omega)",
-        "J_error": "as J", "Jq_error": "as Jq", "Jx_error": "as Jx",
-        "singular_values": "of the unscaled J, mixed units",
-        "kappa": f"none (eq. (4), of ST⁻¹Jᵀ, ST = diag({_st_text()}))",
-        "kappa_unscaled": "none (sigma_min/sigma_max of the unscaled J, mixed units)",
-    }
-    if mass_matrix:
-        out.update({
-            "cartesian_mass_matrix": "kg (rows/columns 1-3), kg m^2 (4-6)",
-            "Mq": ("kg m^2 (revolute joints: rad)" if not pris_rows else
-                   "kg between prismatic joints (m), kg m between a prismatic and a revolute "
-                   "joint, kg m^2 between revolute joints (rad)" if rev_rows else
-                   "kg (prismatic joints: m)"),
-            "acceleration_map": ("rows 1-3 (m/s²), rows 4-6 (rad/s²) per unit of joint "
-                                 "effort: " + ", ".join(
-                                     (["N·m (revolute)"] if rev_rows else [])
-                                     + (["N (prismatic)"] if pris_rows else []))),
-        })
-    return out
-
-
-@register("jacobian", mechanisms=("rss", "legs"),
-          summary="J = Jq^-1 Jx (qdot = J (v, omega)); prismatic rows: Plücker lines")
-class JacobianQuery:
-    @staticmethod
-    def parse(table, mechanism, units, field):
-        check_keys(table, {"type", "pose", "poses", "mass_matrix", "method", "dps", "bits"},
-                   field)
-        mm = table.get("mass_matrix", False)
-        if not isinstance(mm, bool):
-            raise InputError(f"expected true or false, got {mm!r}", field=f"{field}.mass_matrix")
-        return _Poses(parse_poses(table, units, field), mm, **_tier_fields(table, field))
-
-    @staticmethod
-    def run(p, scene, ctx):
-        from ...mechanisms.kinematics_tiers import J_FIRST_ORDER, jacobian_tier
-        mech = scene.mechanism
-        X = np.array(p.poses)
-        with warnings.catch_warnings(record=True) as caught:
-            # the fast tier's warning at a reach boundary: said per pose below
-            warnings.simplefilter("always", ConditioningWarning)
-            res = jacobian_tier(mech, X, p.method, p.dps, p.bits)
-        J, Jq, Jx, valid = res.J, res.Jq, res.Jx, res.valid
-        flagged = (res.inaccurate if res.inaccurate is not None
-                   else np.zeros(len(X), dtype=bool))
-        Jf = np.where(np.isfinite(J), J, 0.0)
-        sv = np.linalg.svd(Jf, compute_uv=False)
-        kappa = condition_number(Jf, ST_DEFAULT)          # eq. (4), scaled (Sec. II-C-2)
-        units = _jacobian_units(mech, p.mass_matrix)
-        rows = []
-        pris = _prismatic(mech)
-        lines = [f"mechanism: {mech.name} (L = {mech.L}); qdot = J (v, omega): "
-                 + "; ".join((["revolute rows: columns 1-3 rad/m, 4-6 rad/rad"]
-                              if not pris.all() else [])
-                             + (["prismatic rows (normalised Plücker lines, Rojas et al. "
-                                 "eq. (5)): m/m, m/rad"] if pris.any() else []))]
-        for i in range(len(X)):
-            r = _tier_rows(res, i, {"pose": X[i], "J": J[i], "Jq": Jq[i], "Jx": Jx[i],
-                                    "singular_values": sv[i], "kappa": kappa[i],
-                                    "kappa_unscaled": (sv[i, -1] / sv[i, 0] if sv[i, 0] > 0
-                                                       else 0.0),
-                                    "reachable": bool(valid[i].all()),
-                                    "inaccurate": bool(flagged[i])},
-                           "J_error", "Jq_error", "Jx_error")
-            lines.append(f"pose {i}: {_fmt_pose(X[i], scene)}"
-                         + ("" if r["reachable"] else "  (NOT reachable: J is meaningless)"))
-            for row in J[i]:
-                lines.append("  [" + " ".join(f"{v:11.5g}" for v in row) + "]")
-            lines += _tier_lines(res, i)
-            if flagged[i]:
-                lines.append(_inaccurate_line(res, i))
-            lines.append(f"  kappa = {r['kappa']:.6g} (eq. (4): sigma_min/sigma_max of the "
-                         f"scaled ST⁻¹Jᵀ, ST = diag({_st_text()}), Kühne et al. Sec. II-C-2)")
-            lines.append("  singular values of the unscaled J: "
-                         + ", ".join(f"{v:.6g}" for v in sv[i])
-                         + f" (mixed units); their ratio sigma_min/sigma_max = "
-                           f"{r['kappa_unscaled']:.6g} (unscaled)")
-            if p.mass_matrix:
-                r["cartesian_mass_matrix"] = mech.cartesian_mass_matrix()
-                r["Mq"] = mech.joint_mass_matrix(X[i])
-                r["acceleration_map"] = mech.acceleration_map(X[i])
-                lines.append(f"  M̂ = diag({mech.mass:g} kg x3, {mech.inertia:g} kg m^2 x3); "
-                             f"Mq = J#ᵀ M̂ J# ({units['Mq']}), acceleration map M̂⁻¹Jᵀ in "
-                             "the JSON")
-            rows.append(r)
-        ok = (valid | res.certified)[..., None] & np.ones(J.shape, dtype=bool)
-        amount = _amount(res.J_error, ok, method=p.method)
-        lines.append(_accuracy(res, "an entry of J over the valid legs",
-                               amount + ("" if amount in ("no valid leg", NOT_RESOLVED,
-                                                          "unbounded")
-                                         else " (in the entry's unit)"),
-                               "the IK's error and the rounding propagated through Jq, Jx "
-                               "and J = Jx/Jq, (dJx + |J| dJq)/|Jq_ii|; inf where it exceeds "
-                               f"{J_FIRST_ORDER:g} of the row"))
-        lines += [f"note: {w.message}" for w in caught if not flagged.any()]
-        return Outcome({"mechanism": mech.parameters(), "method": p.method,
-                        "precision": res.precision, "unit": units,
-                        "poses": rows}, "\n".join(lines), _plotter(mech, X))
 
 
 @dataclass(frozen=True)

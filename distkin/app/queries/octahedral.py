@@ -12,7 +12,9 @@ Scene fields (docs/design.md §4)::
     legs = ["19.8", "18", "18", "17", "14.9", "17.8"]   # P1P4 P2P4 P2P5 P3P5 P3P6 P1P6
     method = "certified"      # fast | precise | certified | auto
     dps = 30                  # precise (and auto's escalations) only
-    tol = 1e-15               # certified: pose enclosure radius / size; precise: root residual
+    tol = 1e-15               # certified: pose enclosure radius / size; precise: root
+                              #   residual; auto: its escalations.  0 < tol < 1 (precise:
+                              #   at least 1e-dps); refused with "fast", which has none
 
 JSON result: ``real_roots {count, certified, values, radii}`` (every real root of the
 octic in s15; each root's ``radius_kind`` in ``root_status`` says what its radius is:
@@ -36,8 +38,7 @@ import warnings
 from dataclasses import dataclass, replace
 from fractions import Fraction
 
-from ...argcheck import (check_keys, dps_field, exact_vector, method_field, positive_number,
-                          require)
+from ...argcheck import check_keys, dps_field, exact_vector, method_field, require, tol_field
 from ...errors import ConditioningWarning, DistkinError, InputError
 from ...exact import METHODS_AUTO, Exact
 from ..query import Outcome, register
@@ -83,7 +84,9 @@ class OctahedralForwardQuery:
                                  field=f"{field}.legs[{i}]")
         method = method_field(table, field, allowed=METHODS_AUTO)
         dps = dps_field(table, method, field, uses=("precise", "auto"))
-        tol = positive_number(table["tol"], f"{field}.tol") if "tol" in table else None
+        from ...octahedral.auto import PRECISE_DPS         # auto's precise fallback
+        tol = tol_field(table, method, field, dps=dps,
+                        precise_dps=dps if "dps" in table else PRECISE_DPS)
         return _Params(legs, method, dps, tol)
 
     @staticmethod

@@ -1,0 +1,188 @@
+"""Scene query ``jacobian`` for ``kind = "rss"`` and ``kind = "legs"``: J = Jq⁻¹ Jx
+(qdot = J (v, omega)), its condition and, optionally, the mass matrices (Kühne et al.,
+eqs. (1)-(2), (4), (7)).
+
+Scene fields (poses in the scene's units, tiers as for ``inverse_kinematics``:
+:mod:`.mechanisms`)::
+
+    [[query]]
+    type = "jacobian"
+    pose = [0, 0, 300, 0, 0, 0]        # one pose, or poses = [...]
+    mass_matrix = true                 # optional: Mq and the acceleration map (eq. (7))
+    method = "precise"                 # optional: fast (default) | precise | certified
+    dps = 30                           # optional, precise only (bits: certified only)
+
+Each pose row of the JSON has ``J``, ``Jq``, ``Jx`` (SI; the result's ``unit`` block
+names each array's units), ``kappa``, κ of Kühne et al. eq. (4), σmin/σmax of the
+scaled ST⁻¹Jᵀ with Stocco's ST = diag(15, 15, 15, 1, 1, 1) (Sec. II-C-2;
+:func:`distkin.indices.condition_number`), ``kappa_unscaled``, the same ratio of J
+itself, whose columns have mixed units, ``singular_values`` (of the unscaled J) and
+``reachable``.  At a pose where a leg does not close (``reachable`` false) J is not
+defined, so ``kappa``, ``kappa_unscaled`` and ``singular_values`` are null (text:
+"undefined (pose not reachable)"), never the numbers of a J with made-up rows.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from ...argcheck import check_keys
+from ...errors import ConditioningWarning, InputError
+from ...indices.isotropy import ST_DEFAULT, condition_number
+from ..query import Outcome, register
+from .mechanisms import (NOT_RESOLVED, _accuracy, _amount, _fmt_pose, _plotter, _Poses,
+                         _prismatic, _tier_fields, _tier_lines, _tier_rows, parse_poses)
+
+__all__ = ["JacobianQuery", "UNDEFINED"]
+
+#: the text of an index of J (kappa, singular values) at a pose where a leg does not
+#: close: J is not defined there (JSON null)
+UNDEFINED = "undefined (pose not reachable)"
+
+
+def _inaccurate_line(res, i) -> str:
+    """The line of a pose the fast tier flags (``TieredJacobian.inaccurate``): the legs
+    (1-based) whose row of J has an estimated error above ``J_REL_USEFUL`` of the row,
+    and those of them whose estimate is ``inf`` (first order fails)."""
+    from ...mechanisms.kinematics_tiers import J_REL_USEFUL
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = np.max(res.J_error[i], axis=-1) / np.max(np.abs(res.J[i]), axis=-1)
+    legs = [int(j) + 1 for j in np.flatnonzero(res.valid[i] & ~(rel <= J_REL_USEFUL))]
+    inf = [int(j) + 1 for j in np.flatnonzero(res.valid[i] & np.isinf(rel))]
+    return (f"  J not resolved in float64 near the reach boundary (legs {legs}: estimated "
+            f"error above {J_REL_USEFUL:g} of the row"
+            + (f"; legs {inf}: inf, first order fails" if inf else "")
+            + '); use method = "precise"')
+
+
+def _st_text() -> str:
+    return ", ".join(f"{v:g}" for v in ST_DEFAULT)
+
+
+def _jacobian_units(mech, mass_matrix: bool) -> dict:
+    """The ``unit`` block of a jacobian result (SI; the joint unit is rad for a revolute
+    leg, m for a prismatic one)."""
+    pris = _prismatic(mech)
+    rev_rows, pris_rows = (not pris.all()), bool(pris.any())
+    per = "; ".join(([("revolute rows: rad/m (columns 1-3), rad/rad (columns 4-6)")]
+                     if rev_rows else [])
+                    + (["prismatic rows: m/m (columns 1-3), m/rad (columns 4-6)"]
+                       if pris_rows else []))
+    out = {
+        "pose": "m, rad",
+        "J": per + "; qdot = J (v, omega)",
+        "Jq": "; ".join((["m/rad (revolute: dPhi_i/dq_i, the closure Phi_i in m)"]
+                         if rev_rows else []) + (["m/m (prismatic)"] if pris_rows else [])),
+        "Jx": "m/m (columns 1-3), m/rad (columns 4-6); Jq qdot = Jx (v, omega)",
+        "J_error": "as J", "Jq_error": "as Jq", "Jx_error": "as Jx",
+        "singular_values": "of the unscaled J, mixed units; null where the pose is not "
+                           "reachable",
+        "kappa": f"none (eq. (4), of ST⁻¹Jᵀ, ST = diag({_st_text()})); null where the pose "
+                 "is not reachable",
+        "kappa_unscaled": "none (sigma_min/sigma_max of the unscaled J, mixed units); null "
+                          "where the pose is not reachable",
+    }
+    if mass_matrix:
+        out.update({
+            "cartesian_mass_matrix": "kg (rows/columns 1-3), kg m^2 (4-6)",
+            "Mq": ("kg m^2 (revolute joints: rad)" if not pris_rows else
+                   "kg between prismatic joints (m), kg m between a prismatic and a revolute "
+                   "joint, kg m^2 between revolute joints (rad)" if rev_rows else
+                   "kg (prismatic joints: m)"),
+            "acceleration_map": ("rows 1-3 (m/s²), rows 4-6 (rad/s²) per unit of joint "
+                                 "effort: " + ", ".join(
+                                     (["N·m (revolute)"] if rev_rows else [])
+                                     + (["N (prismatic)"] if pris_rows else []))),
+        })
+    return out
+
+
+@register("jacobian", mechanisms=("rss", "legs"),
+          summary="J = Jq^-1 Jx (qdot = J (v, omega)); prismatic rows: Plücker lines")
+class JacobianQuery:
+    @staticmethod
+    def parse(table, mechanism, units, field):
+        check_keys(table, {"type", "pose", "poses", "mass_matrix", "method", "dps", "bits"},
+                   field)
+        mm = table.get("mass_matrix", False)
+        if not isinstance(mm, bool):
+            raise InputError(f"expected true or false, got {mm!r}", field=f"{field}.mass_matrix")
+        return _Poses(parse_poses(table, units, field), mm, **_tier_fields(table, field))
+
+    @staticmethod
+    def run(p, scene, ctx):
+        from ...mechanisms.kinematics_tiers import J_FIRST_ORDER, jacobian_tier
+        mech = scene.mechanism
+        X = np.array(p.poses)
+        with warnings.catch_warnings(record=True) as caught:
+            # the fast tier's warning at a reach boundary: said per pose below
+            warnings.simplefilter("always", ConditioningWarning)
+            res = jacobian_tier(mech, X, p.method, p.dps, p.bits)
+        J, Jq, Jx, valid = res.J, res.Jq, res.Jx, res.valid
+        flagged = (res.inaccurate if res.inaccurate is not None
+                   else np.zeros(len(X), dtype=bool))
+        Jf = np.where(np.isfinite(J), J, 0.0)
+        sv = np.linalg.svd(Jf, compute_uv=False)
+        kappa = condition_number(Jf, ST_DEFAULT)          # eq. (4), scaled (Sec. II-C-2)
+        units = _jacobian_units(mech, p.mass_matrix)
+        rows = []
+        pris = _prismatic(mech)
+        lines = [f"mechanism: {mech.name} (L = {mech.L}); qdot = J (v, omega): "
+                 + "; ".join((["revolute rows: columns 1-3 rad/m, 4-6 rad/rad"]
+                              if not pris.all() else [])
+                             + (["prismatic rows (normalised Plücker lines, Rojas et al. "
+                                 "eq. (5)): m/m, m/rad"] if pris.any() else []))]
+        for i in range(len(X)):
+            reachable = bool(valid[i].all())
+            # where a leg does not close there is no J: its indices are not defined
+            # (null), never the numbers of a J with that leg's row made up
+            r = _tier_rows(res, i, {"pose": X[i], "J": J[i], "Jq": Jq[i], "Jx": Jx[i],
+                                    "singular_values": sv[i] if reachable else None,
+                                    "kappa": kappa[i] if reachable else None,
+                                    "kappa_unscaled": (None if not reachable else
+                                                       sv[i, -1] / sv[i, 0] if sv[i, 0] > 0
+                                                       else 0.0),
+                                    "reachable": reachable,
+                                    "inaccurate": bool(flagged[i])},
+                           "J_error", "Jq_error", "Jx_error")
+            lines.append(f"pose {i}: {_fmt_pose(X[i], scene)}"
+                         + ("" if reachable else "  (NOT reachable: J is meaningless)"))
+            for row in J[i]:
+                lines.append("  [" + " ".join(f"{v:11.5g}" for v in row) + "]")
+            lines += _tier_lines(res, i)
+            if flagged[i]:
+                lines.append(_inaccurate_line(res, i))
+            if not reachable:
+                lines.append(f"  kappa = {UNDEFINED} (eq. (4))")
+                lines.append(f"  singular values of the unscaled J: {UNDEFINED}")
+            else:
+                lines.append(f"  kappa = {r['kappa']:.6g} (eq. (4): sigma_min/sigma_max of "
+                             f"the scaled ST⁻¹Jᵀ, ST = diag({_st_text()}), Kühne et al. "
+                             "Sec. II-C-2)")
+                lines.append("  singular values of the unscaled J: "
+                             + ", ".join(f"{v:.6g}" for v in sv[i])
+                             + f" (mixed units); their ratio sigma_min/sigma_max = "
+                               f"{r['kappa_unscaled']:.6g} (unscaled)")
+            if p.mass_matrix:
+                r["cartesian_mass_matrix"] = mech.cartesian_mass_matrix()
+                r["Mq"] = mech.joint_mass_matrix(X[i])
+                r["acceleration_map"] = mech.acceleration_map(X[i])
+                lines.append(f"  M̂ = diag({mech.mass:g} kg x3, {mech.inertia:g} kg m^2 x3); "
+                             f"Mq = J#ᵀ M̂ J# ({units['Mq']}), acceleration map M̂⁻¹Jᵀ in "
+                             "the JSON")
+            rows.append(r)
+        ok = (valid | res.certified)[..., None] & np.ones(J.shape, dtype=bool)
+        amount = _amount(res.J_error, ok, method=p.method)
+        lines.append(_accuracy(res, "an entry of J over the valid legs",
+                               amount + ("" if amount in ("no valid leg", NOT_RESOLVED,
+                                                          "unbounded")
+                                         else " (in the entry's unit)"),
+                               "the IK's error and the rounding propagated through Jq, Jx "
+                               "and J = Jx/Jq, (dJx + |J| dJq)/|Jq_ii|; inf where it exceeds "
+                               f"{J_FIRST_ORDER:g} of the row"))
+        lines += [f"note: {w.message}" for w in caught if not flagged.any()]
+        return Outcome({"mechanism": mech.parameters(), "method": p.method,
+                        "precision": res.precision, "unit": units,
+                        "poses": rows}, "\n".join(lines), _plotter(mech, X))
