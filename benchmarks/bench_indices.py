@@ -206,17 +206,21 @@ def _study_section(data):
     lims = np.array([ACTUATORS["nominal_torque"], ACTUATORS["stall_torque"],
                      ACTUATORS["velocity"]])
     caps = np.empty((N, 6))
+    # σmin/σmax of Jᵀ from the Jacobi stage, as the pipeline passes it (without it
+    # max_sensitivities runs an SVD of its own for its singular-J test)
+    kap = np.divide(sig[:, 2], sig[:, 3], out=np.zeros(N), where=sig[:, 3] > 0)
     stages = {
         "kinematics: reach, Jq, Jx, J (compiled loop kernels)": lambda: reach_jq_jx(mech, P),
         "QR of J, Jacobi σ of 4 readings, J#, null space of Jᵀ":
             lambda: jacobi_lanes(J, Jq, st6, sig, tw, flag, Z),
         "6 capabilities (facets from the null space)":
             lambda: capabilities_lanes(J, tw, Z, M, lims, caps),
-        "4 sliced sensitivities, split-sign (L = 8)": lambda: max_sensitivities(J, twist=tw),
+        "4 sliced sensitivities, split-sign (L = 8)":
+            lambda: max_sensitivities(J, twist=tw, kappa=kap),
         "before: reach + Jq, Jx (batched numpy kernels)":
             lambda: (mech.reachable(P), mech.jq_jx(P)),
         "before: 4 sliced sensitivities, Gray-code walk":
-            lambda: max_sensitivities(J, twist=tw, walk=True),
+            lambda: max_sensitivities(J, twist=tw, walk=True, kappa=kap),
         "before: generators (numpy pinv)": lambda: output_generators(J, mass=M),
         "before: 6 capabilities (numpy facets)": lambda: _worst_cases(J, gens, M, ACTUATORS),
         "before: σ of 4 readings (numpy SVD)":

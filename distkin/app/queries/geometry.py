@@ -115,7 +115,7 @@ class CayleyMengerQuery:
             if interp is not None:
                 kind, factor = interp
                 try:
-                    val = float(d if p.method != "certified" else _mid(d)) * factor
+                    val = float(d if p.method != "certified" else _mid(d)) * factor + 0.0
                 except OverflowError:
                     val = math.inf
                 label = "area^2" if kind.startswith("triangle") else "volume^2"

@@ -225,7 +225,9 @@ def _fmt(r, lf, lu):
     if "det_J" in r:
         parts.append(f"det J {r['det_J']:.6g}")
     if r.get("det_sign_certified", "absent") != "absent":
-        parts.append(f"sign certified {r['det_sign_certified']}")
+        s = r["det_sign_certified"]
+        parts.append("sign of det J not certified (its ball contains 0)" if s is None else
+                     "det J certified " + {1: "> 0", -1: "< 0", 0: "= 0 exactly"}.get(s, str(s)))
     if "cm_relative" in r:
         parts += [f"CM (paper) {r['cm_relative']:.4g}", f"CM signed {r['signed_cm_relative']:.4g}",
                   f"four planes {r['four_planes_relative']:.4g} "

@@ -300,8 +300,10 @@ class InverseKinematicsQuery:
             amounts.append(_amount(res.q_error, ok & pris, lf, f" {lu}", p.method))
         lines.append(_accuracy(res, "q over the valid legs", ", ".join(amounts),
                                "closure residual |Phi_i(q)|/|Jq_ii| + 2 eps max(|q|, 1)"))
-        lines.append("branch: the crank angle nearer 0 at the workspace centre "
-                     "(distkin.mechanisms.presets) or the leg's own (distkin.mechanisms.legs)")
+        if not _prismatic(mech).all():         # (a prismatic leg's length has no branch)
+            lines.append("branch: the crank angle nearer 0 at the workspace centre "
+                         "(distkin.mechanisms.presets) or the leg's own "
+                         "(distkin.mechanisms.legs)")
         return Outcome({"mechanism": mech.parameters(), "method": p.method,
                         "precision": res.precision,
                         "unit": {"q": _joint_unit(mech), "pose": "m, rad",
