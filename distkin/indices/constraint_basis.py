@@ -55,7 +55,6 @@ def _kernel():
         R = np.empty((k, L))
         M = np.empty((k, k))
         C = np.empty((k, k))
-        taken = np.empty(k, np.bool_)
         for n in range(N):
             sc = 0.0
             if transposed:
@@ -145,8 +144,6 @@ def _kernel():
                 # nearly dependent or small rows: Gram-Schmidt with pivoting, each
                 # projection twice, ended by the rank tolerance
                 thr = tol * np.sqrt(sc)
-                for i in range(k):
-                    taken[i] = False
                 r = 0
                 for i in range(k):
                     jb = i
