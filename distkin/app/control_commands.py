@@ -39,21 +39,25 @@ __all__ = ["add_sim_parser", "add_control_parser", "cmd_sim", "cmd_control", "bu
 
 
 
-def _device_mechanism(path):
-    """The ``[mechanism]`` of the distkin scene at ``path`` (a controller scene's
-    ``[device] mechanism``)."""
-    from .scene import load_scene
-    return load_scene(path).mechanism
-
-
 def _scene(path):
+    """The controller scene at ``path`` (the built-in one without), and the files it
+    was read from: itself, and the distkin scene of ``[device] mechanism`` with the
+    ``legs_csv`` that one names (no output option may name any of them)."""
     from ..control.config import load_control_scene
+    from .scene import input_files, load_scene
     if path and not Path(path).is_file():
         raise InputError(f"expected a controller scene file, got {str(path)!r} ("
                          + ("a directory" if Path(path).is_dir() else "no such file") + ")",
                          field="--scene")
-    return (load_control_scene(path, mechanism_loader=_device_mechanism) if path
-            else builtin_scene())
+    if not path:
+        return builtin_scene(), []
+    read = [Path(path)]
+
+    def mechanism(p):              # the loader of [device] mechanism: notes its files
+        s = load_scene(p)
+        read.extend(input_files(s))
+        return s.mechanism
+    return load_control_scene(path, mechanism_loader=mechanism), read
 
 
 def _seconds(value: str) -> float:
@@ -120,8 +124,7 @@ def cmd_sim(args) -> int:
     from ..control.simulator import IDLE_TIMEOUT_S, serve
     from .output_paths import check_output_path
     faults = parse_faults(args.faults)
-    scene = _scene(args.scene)
-    inputs = [args.scene]                  # an output never replaces the scene
+    scene, inputs = _scene(args.scene)     # an output never replaces a file read
     check_output_path(args.port_file, "--port-file", inputs=inputs)
     for path in _log_files(args.log, sim=True).values():
         check_output_path(path, "--log", inputs=inputs)
@@ -217,13 +220,12 @@ def cmd_control(args) -> int:
     from ..control.kinematics import model_of
     from ..control.link import Link
     from .output_paths import check_output_path, write_json
-    scene = _scene(args.scene)
+    scene, inputs = _scene(args.scene)
     if args.faults and not args.sim:
         raise InputError("expected --faults only with --sim, got it with --port", field="--faults")
     parse_faults(args.faults)              # validate before starting anything
     # every file the run will write, before anything starts (exit 2, one line); none of
-    # them may be the scene it reads
-    inputs = [args.scene]
+    # them may be a file the scene was read from
     check_output_path(args.json, inputs=inputs)
     log_files = _log_files(args.log, control=True, sim=args.sim)
     for path in log_files.values():

@@ -103,6 +103,19 @@ def test_control_and_sim_outputs_onto_the_scene_are_refused(tmp_path, capsys):
     assert scene.read_bytes() == before
 
 
+def test_control_outputs_onto_the_device_mechanism_scene_are_refused(tmp_path, capsys):
+    """The distkin scene named by ``[device] mechanism`` is read too: --json or
+    --port-file onto it is refused (it was not among the protected inputs)."""
+    import shutil
+    for name in ("control_gough6.toml", "gough_stewart_6ups.toml"):
+        shutil.copy(EXAMPLES / name, tmp_path / name)
+    scene, mech = tmp_path / "control_gough6.toml", tmp_path / "gough_stewart_6ups.toml"
+    before = mech.read_bytes()
+    _refused(capsys, ["control", "--sim", "--scene", scene, "--json", mech], "--json", mech)
+    _refused(capsys, ["sim", "--scene", scene, "--port-file", mech], "--port-file", mech)
+    assert mech.read_bytes() == before
+
+
 def test_check_output_path_inputs(tmp_path):
     src = tmp_path / "in.toml"
     src.write_text("x")

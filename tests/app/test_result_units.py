@@ -224,3 +224,17 @@ def test_jacobian_indices_are_undefined_where_the_pose_is_not_reachable(tmp_path
     assert "kappa = 0.0828" not in out
     assert f"kappa = {home_row['kappa']:.6g} (eq. (4)" in text[1]
     assert "null where the pose is not reachable" in queries[0]["result"]["unit"]["kappa"]
+
+
+def test_precise_cayley_menger_leaves_mpmath_precision_alone(tmp_path):
+    """The precise cayley_menger query set mpmath.mp.dps for the rest of the process
+    (QA G, noticed by fix-g); it now works at its dps inside the query only."""
+    import mpmath
+    from distkin.app.cli import main
+    f = tmp_path / "cm.toml"
+    f.write_text('[mechanism]\nkind = "points"\npoints = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]\n'
+                 '[[query]]\ntype = "cayley_menger"\ndeterminants = ["D(1,2,3)"]\n'
+                 'method = "precise"\ndps = 60\n', encoding="utf-8")
+    before = mpmath.mp.dps
+    assert main(["run", str(f), "--no-progress"]) == 0
+    assert mpmath.mp.dps == before

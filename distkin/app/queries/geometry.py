@@ -95,54 +95,60 @@ class CayleyMengerQuery:
 
     @staticmethod
     def run(p, scene, ctx):
-        import numpy as np
-        if p.method == "precise":
+        if p.method == "precise":       # for this query only (mp.dps is global state)
             import mpmath
-            mpmath.mp.dps = p.dps
-        pts = np.array([[to_tier(x, p.method) for x in row] for row in p.points],
-                       dtype=float if p.method == "fast" else object)
-        sq = squared_distances(pts)
-        length = scene.units.length
-        values, lines = [], []
-        for name, (rows, cols) in zip(p.determinants, p.labels):
-            d = cayley_menger(sq, rows, cols)
-            entry = {"name": name, "rows": list(rows), "cols": list(cols)}
-            entry.update(_value_fields(d, p.method))
-            unit = length_power(length, 2 * (len(rows) - 1))
-            entry["unit"] = unit                   # of value and radius
-            text = f"{name} = {entry['text']}" + ("" if unit == "none" else f" {unit}")
-            interp = _interpretation(rows, cols)
-            if interp is not None:
-                kind, factor = interp
-                try:
-                    val = float(d if p.method != "certified" else _mid(d)) * factor + 0.0
-                except OverflowError:
-                    val = math.inf
-                label = "area^2" if kind.startswith("triangle") else "volume^2"
-                if math.isfinite(val):
-                    entry[kind] = val
-                    u = _INTERPRETATION_UNITS[kind](length)
-                    text += f"   ({label} = {val:.10g}{'' if u == 'none' else ' ' + u})"
-                else:                              # the determinant is right, its float is not
-                    entry[kind] = None
-                    text += f"   ({label} beyond the float64 range)"
-            values.append(entry)
-            lines.append(text)
-        accuracy = {"fast": "float64 determinant (LU), relative error ~1e-15 x condition",
-                    "precise": f"mpmath at {p.dps} digits",
-                    "certified": "exact rational (fmpq) or certified arb ball"}[p.method]
-        lines.append(f"accuracy: {accuracy}")
-        named = [(f"mechanism.points[{i}][{j}]", v)
-                 for i, row in enumerate(p.points) for j, v in enumerate(row)]
-        note = float_inputs_line(named)
-        if note:
-            lines.append(note)
-        unit = {"determinants": "each entry's 'unit' (value and radius): the scene's length "
-                                "unit to the power 2(n - 1) for n labels",
-                **{kind: f(length) for kind, f in _INTERPRETATION_UNITS.items()}}
-        return Outcome({"method": p.method, "determinants": values, "accuracy": accuracy,
-                        "inputs_from_float": float_inputs(named), "unit": unit},
-                       "\n".join(lines))
+            with mpmath.workdps(p.dps):
+                return _run_cm(p, scene)
+        return _run_cm(p, scene)
+
+
+def _run_cm(p, scene):
+    """The cayley_menger query at the working precision its ``run`` set."""
+    import numpy as np
+    pts = np.array([[to_tier(x, p.method) for x in row] for row in p.points],
+                   dtype=float if p.method == "fast" else object)
+    sq = squared_distances(pts)
+    length = scene.units.length
+    values, lines = [], []
+    for name, (rows, cols) in zip(p.determinants, p.labels):
+        d = cayley_menger(sq, rows, cols)
+        entry = {"name": name, "rows": list(rows), "cols": list(cols)}
+        entry.update(_value_fields(d, p.method))
+        unit = length_power(length, 2 * (len(rows) - 1))
+        entry["unit"] = unit                   # of value and radius
+        text = f"{name} = {entry['text']}" + ("" if unit == "none" else f" {unit}")
+        interp = _interpretation(rows, cols)
+        if interp is not None:
+            kind, factor = interp
+            try:
+                val = float(d if p.method != "certified" else _mid(d)) * factor + 0.0
+            except OverflowError:
+                val = math.inf
+            label = "area^2" if kind.startswith("triangle") else "volume^2"
+            if math.isfinite(val):
+                entry[kind] = val
+                u = _INTERPRETATION_UNITS[kind](length)
+                text += f"   ({label} = {val:.10g}{'' if u == 'none' else ' ' + u})"
+            else:                              # the determinant is right, its float is not
+                entry[kind] = None
+                text += f"   ({label} beyond the float64 range)"
+        values.append(entry)
+        lines.append(text)
+    accuracy = {"fast": "float64 determinant (LU), relative error ~1e-15 x condition",
+                "precise": f"mpmath at {p.dps} digits",
+                "certified": "exact rational (fmpq) or certified arb ball"}[p.method]
+    lines.append(f"accuracy: {accuracy}")
+    named = [(f"mechanism.points[{i}][{j}]", v)
+             for i, row in enumerate(p.points) for j, v in enumerate(row)]
+    note = float_inputs_line(named)
+    if note:
+        lines.append(note)
+    unit = {"determinants": "each entry's 'unit' (value and radius): the scene's length "
+                            "unit to the power 2(n - 1) for n labels",
+            **{kind: f(length) for kind, f in _INTERPRETATION_UNITS.items()}}
+    return Outcome({"method": p.method, "determinants": values, "accuracy": accuracy,
+                    "inputs_from_float": float_inputs(named), "unit": unit},
+                   "\n".join(lines))
 
 
 def length_power(length: str, power: int) -> str:
