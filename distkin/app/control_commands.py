@@ -40,9 +40,14 @@ __all__ = ["add_sim_parser", "add_control_parser", "cmd_sim", "cmd_control", "bu
 
 
 def _scene(path):
-    """The controller scene at ``path`` (the built-in one without), and the files it
-    was read from: itself, and the distkin scene of ``[device] mechanism`` with the
-    ``legs_csv`` that one names (no output option may name any of them)."""
+    """The controller scene at ``path`` (the built-in one without)."""
+    return _scene_and_inputs(path)[0]
+
+
+def _scene_and_inputs(path):
+    """:func:`_scene`, and the files it was read from: itself, and the distkin scene of
+    ``[device] mechanism`` with the ``legs_csv`` that one names (no output option may
+    name any of them)."""
     from ..control.config import load_control_scene
     from .scene import input_files, load_scene
     if path and not Path(path).is_file():
@@ -124,7 +129,7 @@ def cmd_sim(args) -> int:
     from ..control.simulator import IDLE_TIMEOUT_S, serve
     from .output_paths import check_output_path
     faults = parse_faults(args.faults)
-    scene, inputs = _scene(args.scene)     # an output never replaces a file read
+    scene, inputs = _scene_and_inputs(args.scene)   # an output never replaces a file read
     check_output_path(args.port_file, "--port-file", inputs=inputs)
     for path in _log_files(args.log, sim=True).values():
         check_output_path(path, "--log", inputs=inputs)
@@ -220,7 +225,7 @@ def cmd_control(args) -> int:
     from ..control.kinematics import model_of
     from ..control.link import Link
     from .output_paths import check_output_path, write_json
-    scene, inputs = _scene(args.scene)
+    scene, inputs = _scene_and_inputs(args.scene)
     if args.faults and not args.sim:
         raise InputError("expected --faults only with --sim, got it with --port", field="--faults")
     parse_faults(args.faults)              # validate before starting anything
