@@ -170,10 +170,10 @@ def solve_precise(problem: Problem, dps: int, tol=None):
                 continue
             try:
                 # the trilaterations' tolerance: at least the root's relative uncertainty
-                rel = dx / max(abs(x), c)
+                dx_rel = dx / max(abs(x), c)
                 sets = assemble_exact(base, x, sides, legs2, method="precise", dps=work,
                                       every=near * max(c, abs(legs2[4])) if m > 1 else None,
-                                      tol=_trilateration_tol(rel, work))
+                                      tol=_trilateration_tol(dx_rel, work))
             except (InfeasibleError, DegenerateGeometryError) as exc:
                 infos.append(RootInfo(float(x), _estimate(x, step), m, "rejected",
                                       f"rejected: trilateration failed ({exc.message})", x))
@@ -193,7 +193,7 @@ def solve_precise(problem: Problem, dps: int, tol=None):
                 # a flat platform lies in the base plane: a mode is its own mirror image
                 # (within the heights' uncertainty, the square root of the root's)
                 if any(max(abs(a - b) for ra, rb in zip(pts, q) for a, b in zip(ra, rb))
-                       <= (near + mpmath.sqrt(1000 * rel)) * mpmath.sqrt(c) for q in kept):
+                       <= (near + mpmath.sqrt(1000 * dx_rel)) * mpmath.sqrt(c) for q in kept):
                     continue
                 kept.append(pts)
                 R, t = pose_from_points(plat, pts, method="precise")
@@ -241,8 +241,8 @@ def _backward_small(coef, x, eps_rel) -> bool:
     backward error ``eps_rel``: ``|P(x)| <= eps_rel * sum |a_k| |x|^k``, i.e. an exact
     root of a polynomial whose coefficients differ by at most ``eps_rel`` relative."""
     import mpmath
-    ax = abs(x)
-    return abs(mpmath.polyval(coef, x)) <= eps_rel * mpmath.polyval([abs(a) for a in coef], ax)
+    return abs(mpmath.polyval(coef, x)) <= eps_rel * mpmath.polyval([abs(a) for a in coef],
+                                                                    abs(x))
 
 
 def _changes_sign(d, x, step, c, work, found, k) -> bool:
