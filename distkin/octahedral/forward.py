@@ -61,6 +61,20 @@ from .result import (_VERDICTS, AssemblyResult, BatchResult, Pose, RootInfo,
 __all__ = ["Pose", "RootInfo", "AssemblyResult", "BatchResult", "forward_kinematics",
            "forward_kinematics_batched"]
 
+def _tier_args(method: str, dps, tol):
+    """``dps`` and ``tol`` checked at the entry (``auto``'s escalations too): dps in
+    5..1233, and at least :data:`.precise.MIN_DPS` where the precise tier may run;
+    tol relative (:func:`~distkin.argcheck.relative_tol`, bounded by those digits)."""
+    if dps is not None:
+        if method in ("precise", "auto"):
+            from .precise import check_precise_dps
+            dps = check_precise_dps(dps)
+        else:
+            dps = default_dps(dps)
+    return dps, None if tol is None else relative_tol(tol, "tol",
+                                                      digits=_tol_digits(method, dps))
+
+
 def _tol_digits(method: str, dps: int | None) -> int | None:
     """The digits that bound ``tol`` below (:func:`~distkin.argcheck.relative_tol`): the
     precise tier's dps, and for ``auto`` the digits of its precise fallback (data that
@@ -141,11 +155,7 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
     (12, [269.2, 328.7, 359.5, 463.6, 497.9, 513.0])
     """
     check_method(method, allowed=METHODS_AUTO)
-    dps = None if dps is None else default_dps(dps)       # auto's escalations too
-    if method in ("precise", "auto") and dps is not None:
-        from .precise import check_precise_dps
-        check_precise_dps(dps)                              # at least MIN_DPS digits
-    tol = None if tol is None else relative_tol(tol, "tol", digits=_tol_digits(method, dps))
+    dps, tol = _tier_args(method, dps, tol)
     if method in ("fast", "auto"):
         from .batched import scan_single
         B, Q, L, k, rounded = float_single(base, platform, legs)
@@ -227,11 +237,7 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
         :class:`AssemblyResult` of problem ``i``.
     """
     check_method(method, allowed=("fast", "auto"))
-    dps = None if dps is None else default_dps(dps)       # auto's escalations too
-    if method in ("precise", "auto") and dps is not None:
-        from .precise import check_precise_dps
-        check_precise_dps(dps)                              # at least MIN_DPS digits
-    tol = None if tol is None else relative_tol(tol, "tol", digits=_tol_digits(method, dps))
+    dps, tol = _tier_args(method, dps, tol)
     if not prove and method != "fast":
         raise InputError("expected prove=True with method='auto' (it escalates what the "
                          "proof cannot vouch for), got prove=False", field="prove")
