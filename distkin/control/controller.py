@@ -34,9 +34,9 @@ state at once on a frame with the ``ESTOP`` bit (zero torque from that frame on)
 fault state left after ``recover_frames`` *consecutive* valid frames at poses inside
 the safe workspace (``workspace_m``, ``workspace_rad`` about home: a rejected frame, an
 empty read or a pose outside starts the count again; a run whose first pose is outside
-starts in the fault state) with the set point re-initialised at the measured pose, a stop near singular poses (also when the forward kinematics fails to
-converge and the last estimate is near-singular), rejection of NaN or out-of-range
-readings, and zero torque on every way out of :meth:`Controller.run`.  The device's
+starts in the fault state) with the set point re-initialised at the measured pose, a
+stop near singular poses (also when the forward kinematics fails to converge and the
+last estimate is near-singular), rejection of NaN or out-of-range readings, and zero torque on every way out of :meth:`Controller.run`.  The device's
 ``DEVICE_WATCHDOG`` and ``SATURATED`` bits are counted (summary) and logged as events,
 at most one per bit per second of device time.
 """

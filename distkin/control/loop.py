@@ -11,8 +11,9 @@ valid frame) has passed: then the fault state and zero torque.  A frame with the
 after ``safety.recover_frames`` consecutive valid frames at measured poses inside the
 safe workspace (``safety.workspace_m``, ``workspace_rad``; when enough valid frames
 came but the pose is outside, the controller logs ``recovery_held`` once and keeps zero
-torque); a rejected frame, an empty read or a pose outside starts the count again.  The first measured pose is checked too: outside the safe
-workspace the run starts in the fault state (event ``outside_workspace``).
+torque); a rejected frame, an empty read or a pose outside starts the count again.
+The first measured pose is checked too: outside the safe workspace the run starts in
+the fault state (event ``outside_workspace``).
 """
 
 from __future__ import annotations
@@ -36,7 +37,6 @@ def _enter_fault(ctl, last, event, t0, frame, **info):
     """The fault state from now (logged as ``event``): the decision the keep-alives
     repeat becomes zero torque."""
     ctl.state = FAULT
-    ctl.recovery_held = False
     ctl._event(event, t0, frame, **info)
     return CommandFrame(last.seq, last.ack, MODE_ZERO_TORQUE, 0, np.zeros(ctl.L))
 
@@ -60,7 +60,6 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
     t_first = t_prev_us = None
     t_prev_cycle = None
     recover_count = inside_count = 0
-    ctl.recovery_held = False
     compute, compute_cpu, periods = [], [], []
     cycles = 0
     gc0 = sum(g["collections"] for g in gc.get_stats())
@@ -168,9 +167,8 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
                     ctl.state = RUN
                     ctl._event("recovered", t0, frame, frames=recover_count)
                     ctl.started = False    # re-initialise at the measured pose
-                elif (away and recover_count >= ctl.safety.recover_frames
-                      and not ctl.recovery_held):
-                    ctl.recovery_held = True
+                elif away and recover_count == ctl.safety.recover_frames:
+                    # enough valid frames, at a pose outside: said once per run of them
                     ctl._event("recovery_held", t0, frame, reason=away)
             was_refusing = ctl.refusing
             was_started = ctl.started
