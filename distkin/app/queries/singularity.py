@@ -369,9 +369,9 @@ def _run_path(model, p, unit):
     # sign changes between two samples that are both within the tolerance are round-off
     # on the singular locus, not crossings (a path along the locus: QA F 07)
     on = np.abs(vals) < p.tolerance
-    locus = [s for s in roots
-             if on[min(int(np.searchsorted(grid, s, side="right")) - 1, len(grid) - 2)]
-             and on[min(int(np.searchsorted(grid, s, side="right")), len(grid) - 1)]]
+    cell = lambda s: min(int(np.searchsorted(grid, s, side="right")) - 1,  # noqa: E731
+                         len(grid) - 2)                 # the samples i, i + 1 around s
+    locus = [s for s in roots if on[cell(s)] and on[cell(s) + 1]]
     roots = [s for s in roots if s not in locus]
     notes = []
     f_cm = _sampled(lambda s: cm_pure_condition(model.points(*at(s)), relative=True),
