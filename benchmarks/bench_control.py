@@ -53,7 +53,7 @@ def _loopback(preset: str, seconds: float = 3.0, compiled: bool = True, fused: b
 
     def one(s):
         return run_loopback(sc, model, s, controller=Controller(sc, model, fused=fused),
-                            fast_decode=fused and compiled)
+                            fast_codec=fused and compiled)
 
     one(0.2)                                          # warm up (imports, caches)
     r = one(seconds)
@@ -79,8 +79,8 @@ def _parts(compiled: bool = True):
     wire = encode_state(1, 1000, 0, q, np.zeros(6))
     dec = FrameDecoder()
     if compiled:
-        from distkin.control.cycle_kernels import state_decoder
-        dec = FrameDecoder(state_decoder=state_decoder())
+        from distkin.control.frame_codec import state_decoder
+        dec = FrameDecoder(fast=state_decoder())
     frame = dec.feed(wire)[0]
     ctl.compute(frame, 1e-3)
     w = np.array([0.5, 1.0, -0.2, 0, 0, 0])

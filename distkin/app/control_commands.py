@@ -188,7 +188,10 @@ def format_summary(s: dict) -> str:
         f"wall ({s['rate_hz']:.1f} Hz), {s['device_seconds']:.3f} s device time",
         f"  {compute}; {period}"
         + (f"; {s['loop_rate_hz']:.1f} Hz from the first frame to the last"
-           if s.get("loop_rate_hz") else ""),
+           if s.get("loop_rate_hz") else "")
+        + (f"; loop CPU {100 * s['loop_cpu_share']:.0f}% of a core"
+           + (f" (polling the port up to {s['busy_wait_us']:g} µs)" if s["busy_wait_us"]
+              else "") if s.get("loop_cpu_share") is not None else ""),
         f"  link: {s['bad_frames']} bad frames, {s['resyncs']} resyncs, {s['timeouts']} read "
         f"timeouts, {s['seq_gaps']} frames missing, {s['stale_frames']} stale frames skipped, "
         f"{s['late_frames']} late and {s['duplicate_frames']} duplicate frames dropped, "
@@ -270,7 +273,7 @@ def cmd_control(args) -> int:
         # the link's decoder): a cold numba cache costs seconds, never a watchdog
         ctl = Controller(scene, model, log_prefix=prefix)
         try:
-            link = Link(url)
+            link = Link(url, busy_wait_s=scene.busy_wait_us * 1e-6)
         except LinkError as exc:
             if args.sim:                # our own simulator's port: an internal failure
                 raise

@@ -11,6 +11,7 @@ Everything is SI (m, rad, N, N·m, kg, s); there is no ``[units]`` table.  Examp
     #                                 # this file
     rate_hz = 1000
     realtime = false                # true: SCHED_FIFO for the loop and the simulator
+    busy_wait_us = 0                # poll the port this long before sleeping (µs)
 
     [admittance]                    # Kühne et al. Fig. 9: admittance scheme
     mass = [1.0, 1.0, 1.0, 0.005, 0.005, 0.005]      # kg x3, kg·m² x3
@@ -199,6 +200,9 @@ class ControlScene:
     title: str = ""
     #: run the control loop and the simulator under SCHED_FIFO (:mod:`.scheduling`)
     realtime: bool = False
+    #: the controller polls the port for up to this long (µs) before it sleeps until a
+    #: frame arrives (:class:`.link.Link` ``busy_wait_s``); 0: it sleeps at once
+    busy_wait_us: float = 0.0
     #: the device's mechanism when ``[device] mechanism`` names a scene (``preset`` is
     #: then its name); None for a preset
     mechanism: object = field(default=None, compare=False, repr=False)
@@ -409,7 +413,7 @@ def loads_control_scene(text: str, path: str = "<string>", *,
     check_keys(data, {"title", "description", "device", "admittance", "environment", "pd",
                       "safety", "simulator"}, "scene")
     dev = as_table(data.get("device", {}), "device")
-    check_keys(dev, {"preset", "mechanism", "rate_hz", "realtime"}, "device")
+    check_keys(dev, {"preset", "mechanism", "rate_hz", "realtime", "busy_wait_us"}, "device")
     mechanism, joint, joint_range = None, "revolute", None
     if "mechanism" in dev:
         mechanism, joint, joint_range = _device_mechanism(dev, path, mechanism_loader)
@@ -423,6 +427,10 @@ def loads_control_scene(text: str, path: str = "<string>", *,
         choice(preset_name, "device.preset", tuple(PRESETS))
     rate = _num(dev, "rate_hz", "device", 1000.0, positive=True)
     rt = _bool(dev, "realtime", "device", False)
+    busy = _num(dev, "busy_wait_us", "device", 0.0, nonneg=True)
+    if busy > 1e6:
+        raise InputError(f"expected busy_wait_us (µs) in 0 .. 1e6 (a second of polling at "
+                         f"most), got {busy:g}", field="device.busy_wait_us")
 
     adm = as_table(require(data, "admittance", ""), "admittance")
     check_keys(adm, {"mass", "damping"}, "admittance")
@@ -474,7 +482,7 @@ def loads_control_scene(text: str, path: str = "<string>", *,
         workspace_rad=_num(st, "workspace_rad", "safety", s.workspace_rad, positive=True))
     title = data.get("title", "")
     return ControlScene(str(path), preset_name, rate, mass, damping, env, pd, safety, sim,
-                        str(title), rt, mechanism, joint, joint_range)
+                        str(title), rt, busy, mechanism, joint, joint_range)
 
 
 def load_control_scene(path, *, mechanism_loader=None) -> ControlScene:

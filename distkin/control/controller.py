@@ -395,7 +395,9 @@ class Controller:
 
         The cycle allocates no reference cycles, so the cyclic garbage collector has
         nothing to do during a run; the summary's ``gc_collections`` counts the
-        collections that happened anyway (0 in the runs of BENCHMARKS.md).
+        collections that happened anyway (0 in the runs of BENCHMARKS.md), and its
+        ``loop_cpu_share`` the CPU time the loop's thread took over the loop's wall time
+        (near 1 when ``[device] busy_wait_us`` keeps it polling the port).
 
         The run ends when the device clock has advanced by ``seconds`` since the first
         frame, when the wall clock reaches ``wall_limit`` (default ``2 seconds + 10``),

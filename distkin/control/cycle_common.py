@@ -26,7 +26,7 @@ from .kinematics import _rot
 
 __all__ = ["singular_values", "normal_equations", "project", "rotate_wrench",
            "spring_wrench", "near_singular", "environment", "drive", "solve", "rot_k",
-           "log_k", "rotate"]
+           "log_k", "rotate", "readings"]
 
 _jit = numba.njit(cache=True)
 
@@ -196,6 +196,24 @@ def drive(tau, qdot, stall, w_nl, out):  # pragma: no cover (compiled)
     return sat
 
 
+def readings(q, resolution, pose, hand_wrench, noise, out):  # pragma: no cover (compiled)
+    """:meth:`.plant.Plant.encoders` then :meth:`.plant.Plant.sensor` into ``out``
+    (L + 6,): the quantised joint values, and the hand wrench in the platform frame
+    (Rᵀ w by rows, summed in index order) plus ``noise``."""
+    L = q.shape[0]
+    for i in range(L):
+        out[i] = np.rint(q[i] / resolution) * resolution
+    R = rot_k(pose[3:])
+    for i in range(3):
+        f = 0.0
+        m = 0.0
+        for j in range(3):
+            f += R[j, i] * hand_wrench[j]
+            m += R[j, i] * hand_wrench[3 + j]
+        out[L + i] = f + noise[i]
+        out[L + 3 + i] = m + noise[3 + i]
+
+
 singular_values = _jit(singular_values)
 normal_equations = _jit(normal_equations)
 project = _jit(project)
@@ -204,3 +222,4 @@ spring_wrench = _jit(spring_wrench)
 near_singular = _jit(_near_singular)
 environment = _jit(_environment)
 drive = _jit(drive)
+readings = _jit(readings)

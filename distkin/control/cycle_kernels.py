@@ -23,9 +23,10 @@ writing into preallocated arrays:
   springs and walls, the refusal of a candidate, IK, the PD with its forward-Euler
   derivative filter, the distribution, the saturation), parameters laid out by
   :func:`cycle_params`;
-* ``drive`` and ``plant_dynamics``: :meth:`.plant.Plant.step` of the simulator;
-* :func:`reading_extremes`: the checks of a state frame in one call;
-* :func:`state_decoder`: a valid state frame from its COBS bytes in one call.
+* ``drive`` and ``plant_dynamics``: :meth:`.plant.Plant.step` of the simulator, and
+  ``readings``: its :meth:`.plant.Plant.readings`;
+* :func:`reading_extremes`: the checks of a state frame in one call (the frames
+  themselves are encoded and decoded by :mod:`.frame_codec`).
 
 The kernels give the same bits as the generated Python functions (the same float
 operations in the same order); the Gauss-Newton step and the 6 × 6 solves use a
@@ -47,7 +48,7 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["CycleKernels", "build", "kernel_module", "jitted", "reading_extremes",
-           "cycle_params", "CYCLE_OUT", "state_decoder"]
+           "cycle_params", "CYCLE_OUT"]
 
 _BUILT: dict = {}
 
@@ -69,6 +70,7 @@ class CycleKernels:
     cycle: object
     drive: object
     plant_dynamics: object
+    readings: object
 
 
 def _solve_into(A, b, x):                                    # pragma: no cover (compiled)
@@ -118,70 +120,6 @@ def _reading_extremes(a, w):                                 # pragma: no cover 
         mf = max(mf, abs(w[i]))
         mm = max(mm, abs(w[3 + i]))
     return finite, ma, mf, mm
-
-
-def _crc_table():
-    t = np.empty(256, dtype=np.uint32)
-    for i in range(256):
-        c = i
-        for _ in range(8):
-            c = (0xEDB88320 ^ (c >> 1)) if c & 1 else c >> 1
-        t[i] = c
-    return t
-
-
-#: CRC-32 (IEEE 802.3, reflected, the table of zlib.crc32)
-_CRC32 = _crc_table()
-
-
-def _decode_state(enc, vals):                                # pragma: no cover (compiled)
-    """A COBS chunk (uint8, no delimiter) holding a valid state frame: COBS decode,
-    CRC-32, header and length checks, then ``vals[:n + 6]`` = the float32 values.
-    Returns ``(ok, seq, t_us, status, n)``; ok False for anything else (the caller
-    then takes the Python route, which says why)."""
-    m = enc.shape[0]
-    p = np.empty(m, dtype=np.uint8)
-    k = 0
-    i = 0
-    while i < m:
-        code = np.int64(enc[i])
-        if code == 0 or i + code > m:
-            return False, 0, np.uint64(0), 0, 0
-        for j in range(i + 1, i + code):
-            p[k] = enc[j]
-            k += 1
-        i += code
-        if code < 0xFF and i < m:
-            p[k] = 0
-            k += 1
-    if k < 8:
-        return False, 0, np.uint64(0), 0, 0
-    crc = np.uint32(0xFFFFFFFF)
-    for j in range(k - 4):
-        crc = _CRC32[(crc ^ p[j]) & np.uint32(0xFF)] ^ (crc >> np.uint32(8))
-    crc = crc ^ np.uint32(0xFFFFFFFF)
-    want = (np.uint32(p[k - 4]) | (np.uint32(p[k - 3]) << np.uint32(8))
-            | (np.uint32(p[k - 2]) << np.uint32(16)) | (np.uint32(p[k - 1]) << np.uint32(24)))
-    length = np.int64(p[2]) | (np.int64(p[3]) << 8)
-    if crc != want or p[0] != 1 or p[1] != 0x53 or length != k - 8 or length < 15:
-        return False, 0, np.uint64(0), 0, 0
-    n = np.int64(p[18])
-    if n < 1 or n > 32 or length != 15 + 4 * (n + 6) or vals.shape[0] < n + 6:
-        return False, 0, np.uint64(0), 0, 0
-    seq = 0
-    for j in range(4):
-        seq |= np.int64(p[4 + j]) << (8 * j)
-    t = np.uint64(0)
-    for j in range(8):
-        t |= np.uint64(p[8 + j]) << np.uint64(8 * j)
-    status = np.int64(p[16]) | (np.int64(p[17]) << 8)
-    f = np.empty(n + 6, dtype=np.float32)
-    fb = f.view(np.uint8)
-    for j in range(4 * (n + 6)):
-        fb[j] = p[19 + j]
-    for j in range(n + 6):
-        vals[j] = f[j]
-    return True, seq, t, status, n
 
 
 _COMPILED: dict = {}
@@ -290,29 +228,6 @@ def jitted(name: str):
     return _jit(name, {"solve": _solve_into}[name])
 
 
-def state_decoder():
-    """A fast route for :class:`.protocol.FrameDecoder` (its ``state_decoder``): a COBS
-    chunk -> the :class:`.protocol.StateFrame` it holds, by one compiled call that
-    does what :func:`.protocol.cobs_decode` and :func:`.protocol.decode_payload` do
-    for a valid state frame (the same values, bit for bit), or None for anything else
-    (the decoder then takes the Python route and its error reasons)."""
-    from .protocol import MAX_JOINTS, StateFrame
-    f = _jit("decode_state", _decode_state)
-    vals = np.empty(MAX_JOINTS + 6)
-    for buf in (b"\x01", bytearray(b"\x01")):           # compile now: both signatures
-        f(np.frombuffer(buf, dtype=np.uint8), vals)
-    frombuffer, u8 = np.frombuffer, np.uint8
-
-    def decode(chunk):
-        v = np.empty(MAX_JOINTS + 6)
-        ok, seq, t_us, status, n = f(frombuffer(chunk, dtype=u8), v)
-        if not ok:
-            return None
-        return StateFrame(seq, int(t_us), status, v[:n], v[n:n + 6])
-
-    return decode
-
-
 def _rotation_files():
     """The source files whose compiled functions the cycle wrappers call (their text
     keys the cached wrappers): read as files, not imported (kinematics and admittance
@@ -381,7 +296,7 @@ def build(kernels, L: int) -> CycleKernels:
     forward, singular_values, project = w.forward, cc.singular_values, cc.project
     ck = CycleKernels(int(L), ik, jacobian, closure, forward, singular_values, project,
                       cc.rotate, cc.rotate_wrench, cc.spring_wrench, w.cycle,
-                      cc.drive, w.plant_dynamics)
+                      cc.drive, w.plant_dynamics, cc.readings)
     # compile now: the first control cycle must not wait for the compiler
     pose = np.zeros(6)
     q = np.zeros(L)
@@ -406,6 +321,7 @@ def build(kernels, L: int) -> CycleKernels:
         ck.cycle(np.zeros(L), np.zeros(6), 1e-3, started, True, np.zeros(6), np.zeros(6),
                  np.zeros(6), np.zeros((5, L)), prm, env, np.zeros(CYCLE_OUT + L))
     ck.drive(np.zeros(L), np.zeros(L), 1.0, 1.0, np.zeros(L))
+    ck.readings(np.zeros(L), 1.0, np.zeros(6), np.zeros(6), np.zeros(6), np.zeros(L + 6))
     ck.plant_dynamics(np.zeros(6), np.zeros(6), np.zeros(L), np.zeros(L), np.zeros(L),
                       np.zeros(6), np.eye(6), np.zeros(4), np.zeros(12 + L))
     _BUILT[key] = ck

@@ -57,14 +57,14 @@ class LinkStats:
         return asdict(self)
 
 
-def _fast_state_decoder():
-    """The compiled state-frame decoder (:func:`.cycle_kernels.state_decoder`), or None
-    (the Python route) where numba cannot compile or cache it."""
+def _fast_codec():
+    """The compiled state-frame decoder and command encoder (:mod:`.frame_codec`), or
+    (None, None) (the Python route) where numba cannot compile or cache them."""
     try:
-        from .cycle_kernels import state_decoder
-        return state_decoder()
+        from .frame_codec import command_encoder, state_decoder
+        return state_decoder(), command_encoder()
     except (ImportError, OSError):
-        return None
+        return None, None
 
 
 class Link:
@@ -82,17 +82,25 @@ class Link:
         Longest a single write may block, s.
     dead_after_s : float
         Writes that keep timing out for this long mean the device is gone, s.
+    busy_wait_s : float
+        A device file (a UART, a pty): poll it for up to this long (s) before sleeping
+        until bytes arrive.  Sleeping costs a wake-up when they come (on the 2-core
+        virtual machine of BENCHMARKS.md, a pty round trip through an echoing process
+        takes 62 µs at the median when both sides sleep and 40 µs when they poll); polling
+        keeps a core busy for the whole wait.  0 (the default): sleep at once.
     """
 
     def __init__(self, url: str, *, baudrate: int = 1_000_000, poll_s: float = 0.002,
-                 write_timeout_s: float = 0.05, dead_after_s: float = 1.0):
+                 write_timeout_s: float = 0.05, dead_after_s: float = 1.0,
+                 busy_wait_s: float = 0.0):
         import serial  # the only place distkin imports pyserial
         self._serial_mod = serial
         self.url = url
         self.poll_s = poll_s
-        # the decoder first: on an empty numba cache it compiles for seconds, which must
+        self.busy_wait_s = float(busy_wait_s)
+        # the codec first: on an empty numba cache it compiles for seconds, which must
         # happen before the device sees a connection, not while it streams to us
-        decoder = _fast_state_decoder()
+        decoder, encoder = _fast_codec()
         try:
             self._ser = serial.serial_for_url(url, baudrate=baudrate, timeout=poll_s,
                                               write_timeout=write_timeout_s)
@@ -106,7 +114,9 @@ class Link:
         posix = getattr(serial, "serialposix", None)
         if posix is not None and isinstance(self._ser, posix.Serial):
             self._fd = self._ser.fileno()
-        self._dec = FrameDecoder(state_decoder=decoder)
+        self._dec = FrameDecoder(fast=decoder)
+        self._encode = encoder or (lambda seq, ack, mode, flags, torques: encode_command(
+            seq, ack, mode, torques, flags))
         self.stats = LinkStats()
         self._last_seq = None
         self._missing = 0
@@ -129,7 +139,7 @@ class Link:
             except BlockingIOError:
                 data = b""
             if not data:
-                if wait <= 0 or not select.select([fd], [], [], wait)[0]:
+                if wait <= 0 or not self._wait_readable(fd, wait):
                     return b""
                 data = os.read(fd, 65536)
                 if not data:                    # pyserial's reading of this case too
@@ -141,6 +151,23 @@ class Link:
                             f"disconnect ({exc})", field="port") from None
         self.stats.bytes_in += len(data)
         return data
+
+    def _wait_readable(self, fd: int, wait: float) -> bool:
+        """Whether ``fd`` becomes readable within ``wait`` s: polled for up to
+        ``busy_wait_s`` of it, then slept for in select."""
+        spin = min(wait, self.busy_wait_s)
+        if spin > 0:
+            clock, sel = time.perf_counter, select.select
+            end = clock() + spin
+            while True:
+                if sel([fd], [], [], 0)[0]:
+                    return True
+                if clock() >= end:
+                    break
+            wait -= spin
+            if wait <= 0:
+                return False
+        return bool(select.select([fd], [], [], wait)[0])
 
     def _read_some(self) -> bytes:
         try:
@@ -260,7 +287,7 @@ class Link:
             The write failed (device gone) or nothing could be written for
             ``dead_after_s``.
         """
-        data = encode_command(cmd.seq, cmd.ack, cmd.mode, cmd.torques, cmd.flags)
+        data = self._encode(cmd.seq, cmd.ack, cmd.mode, cmd.flags, cmd.torques)
         try:
             if self._fd is not None:
                 self._write_fd(data)

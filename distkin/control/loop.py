@@ -52,6 +52,7 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
     """:meth:`.controller.Controller.run` of ``ctl`` over ``link`` (see there)."""
     wall_limit = 2.0 * seconds + 10.0 if wall_limit is None else wall_limit
     t0 = time.perf_counter()
+    cpu0 = time.thread_time()
     poll = min(0.005, ctl.safety.watchdog_ms * 1e-3 / 4)
     seq = 0
     last = CommandFrame(0, 0, MODE_ZERO_TORQUE, 0, np.zeros(ctl.L))
@@ -247,6 +248,7 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
         restore(rt)
         ctl.log.flush()
     wall = time.perf_counter() - t0
+    ctl.loop_cpu_s = time.thread_time() - cpu0
     ctl.gc_collections = sum(g["collections"] for g in gc.get_stats()) - gc0
     return run_summary(ctl, link, cycles, wall, t_first, t_prev_us, compute, compute_cpu,
                        periods, reason)

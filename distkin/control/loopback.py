@@ -1,8 +1,8 @@
 """In-process closed loop: the controller and the simulated device in one process.
 
 The same :class:`~.controller.Controller` and :class:`~.plant.Plant` as over a serial
-link, with the frames still encoded and decoded by :mod:`.protocol` (float32 values,
-CRC), but no I/O and no wall clock: each device period the plant sends a state frame,
+link, with the frames still encoded and decoded (float32 values, CRC; by
+:mod:`.frame_codec` or by the reference :mod:`.protocol`), but no I/O and no wall clock: each device period the plant sends a state frame,
 the controller answers, and the answer is applied during the next period (the
 one-sample delay of a 1 kHz loop whose computation fits in the period).  Used to design
 scenes, by the benchmark (compute time per cycle without I/O) and by fast tests.
@@ -22,7 +22,7 @@ __all__ = ["run_loopback"]
 
 
 def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
-                 fast_decode=None):
+                 fast_codec=None):
     """Simulate ``seconds`` of device time.
 
     Parameters
@@ -32,9 +32,10 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
     seconds : float
     controller : Controller, optional
         Reuse one (for example with a log prefix).
-    fast_decode : bool, optional
-        Decode the state frames by the compiled decoder (default: with a compiled
-        model) or by the Python route.
+    fast_codec : bool, optional
+        Encode and decode the frames by the compiled codec (default: with a compiled
+        model; the plant's readings then by one compiled call too) or by the Python
+        route.
 
     Returns
     -------
@@ -49,20 +50,26 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
     ctl = controller or Controller(scene, model)
     plant = Plant(model, scene.simulator.motors, scene.simulator.hand, seed=scene.simulator.seed)
     dt = 1.0 / scene.rate_hz
-    fast = None
-    if fast_decode is None:                        # the compiled route decodes fast too
-        fast_decode = model.compiled is not None
-    if fast_decode:
-        from .cycle_kernels import state_decoder
-        fast = state_decoder()
-    dec_host, dec_dev = FrameDecoder(state_decoder=fast), FrameDecoder()
+    fast = fast_dev = None
+    enc_state = lambda seq, t_us, status, vals: encode_state(  # noqa: E731
+        seq, t_us, status, vals[:-6], vals[-6:])
+    enc_command = lambda seq, ack, mode, flags, tau: encode_command(  # noqa: E731
+        seq, ack, mode, tau, flags)
+    readings = lambda: np.concatenate([plant.encoders(), plant.sensor()])  # noqa: E731
+    if fast_codec is None:                         # the compiled route codes fast too
+        fast_codec = model.compiled is not None
+    if fast_codec:
+        from .frame_codec import (command_decoder, command_encoder, state_decoder,
+                                  state_encoder)
+        fast, fast_dev = state_decoder(), command_decoder()
+        enc_state, enc_command, readings = state_encoder(), command_encoder(), plant.readings
+    dec_host, dec_dev = FrameDecoder(fast=fast), FrameDecoder(fast=fast_dev)
     mode, tau = MODE_ZERO_TORQUE, np.zeros(model.L)
     n = int(round(seconds / dt))
     out = {k: [] for k in ("t", "pose", "desired", "estimate", "hand", "tau", "compute_s",
                            "refused", "tau_cmd", "compute_cpu_s")}
     for k in range(n):
-        wire = encode_state(k + 1, int(round(plant.t * 1e6)), plant.status(),
-                            plant.encoders(), plant.sensor())
+        wire = enc_state(k + 1, int(round(plant.t * 1e6)), plant.status(), readings())
         t0 = time.perf_counter()
         c0 = time.thread_time()
         frame = dec_host.feed(wire)[0]
@@ -72,7 +79,7 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
         else:
             res = ctl.compute(frame, dt)
             res_mode, res_tau = (mode, tau) if res.mode is None else (res.mode, res.torques)
-        wire = encode_command(k + 1, frame.seq, res_mode, res_tau)
+        wire = enc_command(k + 1, frame.seq, res_mode, 0, res_tau)
         t1 = time.perf_counter()
         c1 = time.thread_time()
         cmd = dec_dev.feed(wire)[0]

@@ -226,6 +226,9 @@ class Plant:
     seed: int = 0
     hold_gains: tuple | None = None
 
+    #: sensor readings whose noise is drawn at a time
+    NOISE_BLOCK = 512
+
     def __post_init__(self):
         self.rng = np.random.default_rng(self.seed)
         self.M = np.asarray(self.model.mass, dtype=float)
@@ -249,6 +252,8 @@ class Plant:
         self._w_nl = mo.no_load_speed
         self._dyn = np.array([mo.friction, self.m * mo.gravity, mo.joint_inertia, 0.0])
         self._noise = np.repeat([mo.force_noise, mo.torque_noise], 3)
+        self._z = np.empty((0, 6))        # sensor noise drawn ahead (see _next_noise)
+        self._zi = 0
 
     def drive(self, tau_cmd) -> np.ndarray:
         """The effort the drives deliver for ``tau_cmd`` at the current speed (N·m; N for
@@ -325,15 +330,36 @@ class Plant:
         r = self.motors.resolution
         return np.round(self.q / r) * r
 
+    def _next_noise(self) -> np.ndarray:
+        """The sensor noise of the next reading (6,): six standard normals scaled by
+        σ_f, σ_f, σ_f, σ_t, σ_t, σ_t.  Drawn ``NOISE_BLOCK`` readings at a time: the
+        generator draws element by element, so the readings get the same numbers as
+        one draw of six per reading."""
+        if self._zi == self._z.shape[0]:
+            self._z = self.rng.standard_normal((self.NOISE_BLOCK, 6)) * self._noise
+            self._zi = 0
+        self._zi += 1
+        return self._z[self._zi - 1]
+
     def sensor(self) -> np.ndarray:
         """F/T reading (6,) in the sensor (platform) frame: the hand wrench plus noise."""
         Rt = _rot(self.pose[3:]).T
-        # six standard normals scaled: the numbers of normal(0, σ_f, 3) then
-        # normal(0, σ_t, 3) (the generator draws element by element; 0 + σ z = σ z)
-        noise = self.rng.standard_normal(6) * self._noise
+        noise = self._next_noise()
         out = np.empty(6)
         out[:3] = Rt @ self.hand_wrench[:3] + noise[:3]
         out[3:] = Rt @ self.hand_wrench[3:] + noise[3:]
+        return out
+
+    def readings(self) -> np.ndarray:
+        """What the device sends (L + 6,): :meth:`encoders`, then :meth:`sensor`; by
+        one compiled call when the model has compiled kernels (the same encoder
+        values; the sensor's within an ulp of float64: its 3 x 3 products are summed
+        in a fixed order instead of numpy's)."""
+        if self._ck is None:
+            return np.concatenate([self.encoders(), self.sensor()])
+        out = np.empty(self.model.L + 6)
+        self._ck.readings(self.q, self.motors.resolution, self.pose, self.hand_wrench,
+                          self._next_noise(), out)
         return out
 
     def status(self) -> int:

@@ -291,11 +291,11 @@ class FrameDecoder:
         Bytes discarded.
     """
 
-    def __init__(self, max_frame: int = MAX_FRAME, *, state_decoder=None):
+    def __init__(self, max_frame: int = MAX_FRAME, *, fast=None):
         self.max_frame = max_frame
-        #: optional fast route: chunk -> StateFrame, or None to take the Python route
-        #: (:func:`distkin.control.cycle_kernels.state_decoder`)
-        self.state_decoder = state_decoder
+        #: optional fast route: chunk -> frame, or None to take the Python route
+        #: (:func:`distkin.control.frame_codec.state_decoder` and ``command_decoder``)
+        self.fast = fast
         self._buf = bytearray()
         self._lost = False
         self.frames = 0
@@ -329,7 +329,7 @@ class FrameDecoder:
             if len(chunk) > self.max_frame:
                 self._bad("oversize", len(chunk))
                 continue
-            msg = None if self.state_decoder is None else self.state_decoder(chunk)
+            msg = None if self.fast is None else self.fast(chunk)
             if msg is None:
                 try:
                     msg = decode_payload(cobs_decode(chunk))

@@ -51,6 +51,12 @@ __all__ = ["PtyTransport", "TcpTransport", "Disconnected", "Simulator", "serve",
 IDLE_TIMEOUT_S = 60.0
 
 
+def _encode_state(seq, t_us, status, vals):
+    """:func:`.protocol.encode_state` of the joint readings and the sensor values in one
+    vector (the reference route of :func:`.frame_codec.state_encoder`)."""
+    return encode_state(seq, t_us, status, vals[:-6], vals[-6:])
+
+
 class Disconnected(Exception):
     """The host side went away."""
 
@@ -174,7 +180,14 @@ class Simulator:
         self.period = 1.0 / scene.rate_hz
         self.realtime = scene.realtime
         self.faults = FaultInjector(faults, seed=cfg.seed + 1)
-        self.decoder = FrameDecoder()
+        # frames by the compiled codec when the model has compiled kernels (the same
+        # bytes and values; the Python route is the reference)
+        self._encode = _encode_state
+        fast = None
+        if model.compiled is not None:
+            from .frame_codec import command_decoder, state_encoder
+            self._encode, fast = state_encoder(), command_decoder()
+        self.decoder = FrameDecoder(fast=fast)
         L = model.L
         cols = (["t", "wall", "seq", "ack", "mode", "status"]
                 + [f"x_{n}" for n in ("x", "y", "z", "rx", "ry", "rz")]
@@ -254,7 +267,7 @@ class Simulator:
                 if watchdog:
                     status |= STATUS_DEVICE_WATCHDOG
                 seq = (seq + 1) & 0xFFFFFFFF
-                frame = encode_state(seq, int(round(p.t * 1e6)), status, p.encoders(), p.sensor())
+                frame = self._encode(seq, int(round(p.t * 1e6)), status, p.readings())
                 out = self.faults.outgoing(p.t, frame) if self.armed else frame
                 if out is DISCONNECT:
                     self.events.add(p.t, "disconnect_fault")
@@ -313,6 +326,8 @@ class Simulator:
         mode = MODE_ZERO_TORQUE if watchdog else cmd.mode
         p = self.plant
         p.step(cmd.torques, mode, self.period)
+        if self.log.path is None:
+            return                               # no device log: no row to make
         self.log.add((p.t, time.perf_counter(), -1 if seq is None else seq, cmd.ack, mode,
                       p.status(), *p.pose, *p.twist, *p.hand_wrench[:3], *cmd.torques, *p.tau))
 

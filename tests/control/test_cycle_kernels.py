@@ -116,7 +116,7 @@ def test_the_first_cycle_compiles_nothing():
     """build() compiles every signature a control cycle uses (a compilation inside the
     first cycle would take a large fraction of a second): a short loop adds none."""
     import sys
-    from distkin.control import cycle_kernels
+    from distkin.control import cycle_kernels, frame_codec
     model = load_model("octo")
 
     def signatures():
@@ -126,11 +126,15 @@ def test_the_first_cycle_compiles_nothing():
                for n in ("ik", "jacobian", "closure", "forward", "cycle")}
         out.update({n: len(getattr(cycle_common, n).signatures)
                     for n in ("singular_values", "project", "rotate_wrench", "spring_wrench",
-                              "rotate", "near_singular", "environment")})
+                              "rotate", "near_singular", "environment", "readings")})
+        out.update({n: len(getattr(frame_codec, n).signatures)
+                    for n in ("_encode_state", "_encode_command", "_decode_state",
+                              "_decode_command")})
         out.update({k: len(f.signatures) for k, f in cycle_kernels._COMPILED.items()})
         return out
 
-    cycle_kernels.state_decoder()    # made (and compiled) when a Link or loopback starts
+    frame_codec.state_decoder()      # made (and compiled) when a Link or loopback starts
+    frame_codec.command_decoder()
     before = signatures()
     run_loopback(dataclasses.replace(builtin_scene(), preset="octo"), model, 0.05)
     assert signatures() == before

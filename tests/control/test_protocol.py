@@ -143,12 +143,12 @@ def test_random_streams_never_raise():
 
 
 def test_the_compiled_state_decoder_gives_the_python_frames_bit_for_bit():
-    """cycle_kernels.state_decoder against cobs_decode + decode_payload: random state
+    """frame_codec.state_decoder against cobs_decode + decode_payload: random state
     frames (L = 1..32, NaN and inf, sequence and clock at their limits) give equal
     fields and the same float bits; anything else (corrupted, truncated, a command
     frame, garbage) is left to the Python route, so the decoder's counters and reasons
     are those of the pure-Python decoder."""
-    from distkin.control.cycle_kernels import state_decoder
+    from distkin.control.frame_codec import state_decoder
     fast = state_decoder()
     rng = np.random.default_rng(11)
     for k in range(300):
@@ -173,7 +173,7 @@ def test_the_compiled_state_decoder_gives_the_python_frames_bit_for_bit():
         assert fast(bytearray(chunk)) is None
     stream = b"".join([good, b"\x07garbage\x00", good[:20] + b"\x00", good,
                        encode_command(1, 2, 1, np.ones(8)), good])
-    d_py, d_fast = FrameDecoder(), FrameDecoder(state_decoder=fast)
+    d_py, d_fast = FrameDecoder(), FrameDecoder(fast=fast)
     out_py, out_fast = d_py.feed(stream), d_fast.feed(stream)
     assert [type(m) for m in out_py] == [type(m) for m in out_fast]
     assert (d_py.bad_frames, d_py.resyncs, d_py.reasons) == \

@@ -1,0 +1,207 @@
+"""The compiled frame codec (distkin.control.frame_codec) against the reference
+(distkin.control.protocol): the same bytes and values, bit for bit; the plant's
+compiled readings against its numpy route; the link's busy wait on a pty."""
+
+import os
+import struct
+import time
+import tty
+import zlib
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from distkin.control import frame_codec as fc
+from distkin.control.config import builtin_scene, loads_control_scene
+from distkin.control.kinematics import load_model
+from distkin.control.link import Link
+from distkin.control.plant import Plant
+from distkin.control.protocol import (MAX_JOINTS, CommandFrame, FrameDecoder, cobs_decode,
+                                      cobs_encode, decode_payload, encode_command,
+                                      encode_state)
+from distkin.errors import InputError
+
+# values beyond float32 (-1e300) are sent as -inf; the reference's cast says so
+pytestmark = pytest.mark.filterwarnings("ignore:overflow encountered in cast:RuntimeWarning")
+
+ENC_STATE, ENC_COMMAND = fc.state_encoder(), fc.command_encoder()
+DEC_STATE, DEC_COMMAND = fc.state_decoder(), fc.command_decoder()
+SPECIAL = [np.nan, np.inf, -np.inf, 0.0, -0.0, 1e-45, 3.5e38, -1e300]
+
+
+def _values(rng, n, k):
+    v = rng.normal(0, 2, n)
+    if k % 5 == 0:
+        v[rng.integers(n)] = SPECIAL[k % len(SPECIAL)]
+    return v
+
+
+def test_state_frames_are_the_reference_bytes_and_decode_to_its_values():
+    rng = np.random.default_rng(3)
+    for k in range(400):
+        n = int(rng.integers(1, MAX_JOINTS + 1))
+        vals = np.concatenate([_values(rng, n, k), rng.normal(0, 50, 6)])
+        seq = [0, 2**32 - 1, 2**32 + 7, int(rng.integers(2**32))][k % 4]
+        t_us = [0, 2**64 - 1, 2**64 + 5, int(rng.integers(2**63))][k % 4]
+        status = [0, 2**16 - 1, 2**16 + 3, int(rng.integers(2**16))][k % 4]
+        want = encode_state(seq, t_us, status, vals[:n], vals[n:])
+        got = ENC_STATE(seq, t_us, status, vals)
+        assert got == want
+        ref = decode_payload(cobs_decode(want[:-1]))
+        fast = DEC_STATE(want[:-1])
+        assert (fast.seq, fast.t_us, fast.status) == (ref.seq, ref.t_us, ref.status)
+        assert fast.angles.tobytes() == ref.angles.tobytes()
+        assert fast.wrench.tobytes() == ref.wrench.tobytes()
+
+
+def test_command_frames_are_the_reference_bytes_and_decode_to_its_values():
+    rng = np.random.default_rng(4)
+    for k in range(400):
+        n = int(rng.integers(1, MAX_JOINTS + 1))
+        tau = _values(rng, n, k)
+        if k % 3 == 0:
+            tau = np.zeros(2 * n)[::2] + tau       # a strided view
+        seq, ack = int(rng.integers(2**33)), int(rng.integers(2**33))
+        mode, flags = k % 3, int(rng.integers(512))
+        want = encode_command(seq, ack, mode, tau, flags)
+        assert ENC_COMMAND(seq, ack, mode, flags, tau) == want
+        ref = decode_payload(cobs_decode(want[:-1]))
+        fast = DEC_COMMAND(bytearray(want[:-1]))
+        assert (fast.seq, fast.ack, fast.mode, fast.flags) == \
+            (ref.seq, ref.ack, ref.mode, ref.flags)
+        assert all(type(x) is int for x in (fast.seq, fast.ack, fast.mode, fast.flags))
+        assert fast.torques.tobytes() == ref.torques.tobytes()
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.sampled_from([0, 1, 7, 255]) | st.integers(0, 255), max_size=700),
+       st.integers(0, 3))
+def test_cobs_stuffing_is_the_references(data, runs):
+    """The kernels' COBS against protocol.cobs_encode / cobs_decode on any payload,
+    long runs without a zero included (254, 255, 508 bytes: the 0xFF blocks, which
+    frames of 32 joints or fewer never reach)."""
+    data = bytes(data) + bytes([9]) * [0, 254, 255, 508][runs]
+    out = np.empty(2 * len(data) + 8, dtype=np.uint8)
+    m = fc._stuff(np.frombuffer(data, dtype=np.uint8), len(data), out)
+    assert out[:m].tobytes() == cobs_encode(data) + b"\x00"
+    p = np.empty(len(data) + 8, dtype=np.uint8)
+    k = fc._unstuff(out[:m - 1], p)
+    assert p[:k].tobytes() == cobs_decode(cobs_encode(data)) == data
+
+
+def test_anything_but_a_valid_frame_goes_to_the_reference_decoder():
+    """Corrupted, truncated, the other type, a mode out of range, garbage: the fast
+    routes say None, so FrameDecoder counts and names them as the reference does."""
+    rng = np.random.default_rng(6)
+    state = encode_state(5, 1000, 0, np.zeros(8), np.zeros(6))
+    cmd = encode_command(1, 5, 1, np.ones(8))
+    bad_mode = bytearray(cobs_decode(cmd[:-1]))        # a mode out of range, valid CRC
+    bad_mode[12] = 3
+    bad_mode[-4:] = struct.pack("<I", zlib.crc32(bytes(bad_mode[:-4])))
+    bad_mode = cobs_encode(bytes(bad_mode)) + b"\x00"
+    for good, fast, other in ((state, DEC_STATE, cmd), (cmd, DEC_COMMAND, state)):
+        flipped = bytearray(good[:-1])
+        flipped[7] ^= 0x10
+        for chunk in (good[:-1][:-3], bytes(flipped), b"\x05abc", other[:-1],
+                      bytes(rng.integers(1, 256, 60, dtype=np.uint8)), b"\x01"):
+            assert fast(chunk) is None
+    assert DEC_COMMAND(bad_mode[:-1]) is None
+    stream = b"".join([cmd, b"\x07garbage\x00", cmd[:9] + b"\x00", bad_mode, cmd, state, cmd])
+    d_py, d_fast = FrameDecoder(), FrameDecoder(fast=DEC_COMMAND)
+    out_py, out_fast = d_py.feed(stream), d_fast.feed(stream)
+    assert [type(m) for m in out_py] == [type(m) for m in out_fast]
+    assert (d_py.bad_frames, d_py.resyncs, d_py.reasons) == \
+        (d_fast.bad_frames, d_fast.resyncs, d_fast.reasons)
+    assert d_py.reasons.get("mode") == 1
+
+
+def test_the_encoders_refuse_what_the_reference_refuses():
+    for bad in (np.zeros(0), np.zeros(MAX_JOINTS + 1)):
+        with pytest.raises(ValueError, match="joints") as want:
+            encode_command(1, 0, 1, bad)
+        with pytest.raises(ValueError) as got:
+            ENC_COMMAND(1, 0, 1, 0, bad)
+        assert str(got.value) == str(want.value)
+    with pytest.raises(ValueError, match="mode"):
+        ENC_COMMAND(1, 0, 7, 0, np.zeros(8))
+    with pytest.raises(ValueError, match="joints"):
+        ENC_STATE(1, 0, 0, np.zeros(6))               # the sensor values, no joint
+    # lists and integer arrays take the reference route, to the same bytes
+    assert ENC_COMMAND(1, 0, 1, 0, [1, 2, 3]) == encode_command(1, 0, 1, [1, 2, 3])
+    assert ENC_STATE(1, 0, 0, list(range(9))) == encode_state(1, 0, 0, [0, 1, 2],
+                                                                   [3, 4, 5, 6, 7, 8])
+
+
+def test_compiled_readings_are_the_plants_encoders_and_sensor():
+    """Plant.readings by one compiled call against encoders() + sensor() of a plant on
+    the numpy route, same seed, along a driven trajectory: the encoders equal, the
+    sensor within rounding of its 3 x 3 products (|Δ| <= 1e-12 N, N·m), the noise the
+    same draws."""
+    sc = builtin_scene()
+    fast = Plant(load_model("octo"), sc.simulator.motors, sc.simulator.hand, seed=7)
+    ref = Plant(load_model("octo", compiled=False), sc.simulator.motors, sc.simulator.hand,
+                seed=7)
+    assert fast._ck is not None and ref._ck is None
+    tau = np.array([0.3, -0.2, 0.1, 0.0, 0.2, -0.1, 0.05, 0.1])
+    for k in range(Plant.NOISE_BLOCK + 40):          # across a refill of the noise block
+        for p in (fast, ref):
+            p.hand_wrench = np.array([1.0, -2.0, 0.5, 0.01, 0.02, -0.03])
+            p.step(tau, 1, 1e-3)
+        ref.pose, ref.q = fast.pose.copy(), fast.q.copy()
+        a = fast.readings()
+        b = np.concatenate([ref.encoders(), ref.sensor()])
+        assert np.array_equal(a[:8], b[:8])
+        assert np.max(np.abs(a[8:] - b[8:])) <= 1e-12
+    # the noise: six standard normals per reading, scaled, as one draw each
+    g = np.random.default_rng(7)
+    p = Plant(load_model("octo", compiled=False), sc.simulator.motors, sc.simulator.hand,
+              seed=7)
+    p.hand_wrench = np.zeros(6)
+    for _ in range(5):
+        want = g.standard_normal(6) * np.repeat([sc.simulator.motors.force_noise,
+                                                 sc.simulator.motors.torque_noise], 3)
+        np.testing.assert_array_equal(p.sensor(), want + 0.0)
+
+
+def _pty_pair():
+    master, slave = os.openpty()
+    tty.setraw(slave)
+    return master, slave, os.ttyname(slave)
+
+
+@pytest.mark.parametrize("busy", [0.0, 0.002])
+def test_busy_wait_reads_the_same_frames_and_keeps_its_deadline(busy):
+    master, slave, path = _pty_pair()
+    link = Link(path, busy_wait_s=busy)
+    try:
+        os.close(slave)
+        t0 = time.perf_counter()
+        assert link.read_state(0.01) is None                # nothing: the deadline holds
+        assert time.perf_counter() - t0 >= 0.01
+        assert link.stats.timeouts == 1
+        os.write(master, encode_state(3, 3000, 0, np.full(8, 0.25), np.ones(6)))
+        got = link.read_state(0.5)
+        assert (got.seq, got.angles.tolist()) == (3, [0.25] * 8)
+        link.write_command(CommandFrame(4, 3, 1, 0, np.full(8, 0.5)))
+        assert os.read(master, 4096) == encode_command(4, 3, 1, np.full(8, 0.5))
+    finally:
+        link.close()
+        os.close(master)
+
+
+def test_busy_wait_is_read_from_the_scene_and_checked():
+    base = _minimal_scene()
+    assert loads_control_scene(base).busy_wait_us == 0.0          # sleep at once
+    sc = loads_control_scene(base.replace("[device]\n", "[device]\nbusy_wait_us = 250\n"))
+    assert sc.busy_wait_us == 250.0
+    for bad, why in (("-1", "-1"), ("2e6", "0 .. 1e6"), ('"fast"', "number")):
+        with pytest.raises(InputError, match=why) as e:
+            loads_control_scene(base.replace("[device]\n", f"[device]\nbusy_wait_us = {bad}\n"))
+        assert e.value.field == "device.busy_wait_us"
+
+
+def _minimal_scene():
+    return ("[device]\npreset = \"octo\"\n\n[admittance]\nmass = [1, 1, 1, 0.005, 0.005, "
+            "0.005]\ndamping = [15, 15, 15, 0.1, 0.1, 0.1]\n")
