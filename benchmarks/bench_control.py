@@ -83,7 +83,7 @@ def _parts(compiled: bool = True):
         from distkin.control.frame_codec import command_encoder, state_decoder, state_encoder
         dec = FrameDecoder(fast=state_decoder())
         fast_cmd, fast_state = command_encoder(), state_encoder()
-        enc_cmd = lambda: fast_cmd(1, 1, 1, 0, q)                      # noqa: E731
+        enc_cmd = lambda: fast_cmd(1, 1, 1, q)                      # noqa: E731
     frame = dec.feed(wire)[0]
     ctl.compute(frame, 1e-3)
     w = np.array([0.5, 1.0, -0.2, 0, 0, 0])

@@ -8,15 +8,17 @@ each side of the link.  Here the same bytes are produced and read by one numba c
 frame:
 
 * :func:`state_encoder` -> ``encode(seq, t_us, status, vals) -> bytes`` with ``vals``
-  the L joint readings followed by the six sensor values (float64; sent as float32);
-* :func:`command_encoder` -> ``encode(seq, ack, mode, flags, torques) -> bytes``;
+  the L joint readings followed by the six sensor values (float64; sent as float32):
+  :func:`.protocol.encode_readings`;
+* :func:`command_encoder` -> ``encode(seq, ack, mode, torques, flags=0) -> bytes``:
+  :func:`.protocol.encode_command`;
 * :func:`state_decoder` and :func:`command_decoder` -> ``decode(chunk)``: a COBS chunk
   (no delimiter) -> the :class:`.protocol.StateFrame` / :class:`.protocol.CommandFrame`
   it holds, or None for anything else (the fast route of
   :class:`.protocol.FrameDecoder`, which then takes the Python route and says why).
 
-The encoders give the bytes of :func:`.protocol.encode_state` and
-:func:`.protocol.encode_command`, and the decoders the values of
+The encoders take the arguments and give the bytes of :func:`.protocol.encode_readings`
+and :func:`.protocol.encode_command`, and the decoders the values of
 :func:`.protocol.cobs_decode` + :func:`.protocol.decode_payload`, bit for bit
 (tests/control/test_frame_codec.py); input the reference would refuse (a mode or a
 joint count out of range) goes through the reference, so its errors are the same.
@@ -33,7 +35,7 @@ import numba
 import numpy as np
 
 from .protocol import (MAX_JOINTS, MODE_NAMES, TYPE_COMMAND, TYPE_STATE, VERSION,
-                       CommandFrame, StateFrame, encode_command, encode_state)
+                       CommandFrame, StateFrame, encode_command, encode_readings)
 
 __all__ = ["state_encoder", "command_encoder", "state_decoder", "command_decoder",
            "MAX_WIRE"]
@@ -245,9 +247,8 @@ def _decode_command(enc, vals):                              # pragma: no cover 
 
 
 def state_encoder():
-    """``encode(seq, t_us, status, vals) -> bytes``: :func:`.protocol.encode_state` of
-    ``(seq, t_us, status, vals[:-6], vals[-6:])`` by one compiled call (``vals``: the L
-    joint readings, then the six sensor values)."""
+    """``encode(seq, t_us, status, vals) -> bytes``: :func:`.protocol.encode_readings`
+    (``vals``: the L joint readings, then the six sensor values) by one compiled call."""
     out = np.empty(MAX_WIRE, dtype=np.uint8)
     f = _encode_state
     for v in (np.zeros(7), np.zeros(14)[::2]):              # compile now: both layouts
@@ -257,8 +258,7 @@ def state_encoder():
     def encode(seq, t_us, status, vals):
         if type(vals) is not ndarray or vals.dtype != f64 or vals.ndim != 1 \
                 or not 7 <= vals.shape[0] <= MAX_JOINTS + 6:
-            v = np.asarray(vals, dtype=float).ravel()
-            return encode_state(seq, t_us, status, v[:-6], v[-6:])   # says what is wrong
+            return encode_readings(seq, t_us, status, vals)          # says what is wrong
         m = f(seq & 0xFFFFFFFF, u64(int(t_us) & _U64), status & 0xFFFF, vals, out)
         return out[:m].tobytes()
 
@@ -266,15 +266,15 @@ def state_encoder():
 
 
 def command_encoder():
-    """``encode(seq, ack, mode, flags, torques) -> bytes``: :func:`.protocol.
-    encode_command` by one compiled call."""
+    """``encode(seq, ack, mode, torques, flags=0) -> bytes``:
+    :func:`.protocol.encode_command` by one compiled call."""
     out = np.empty(MAX_WIRE, dtype=np.uint8)
     f = _encode_command
     for t in (np.zeros(1), np.zeros(2)[::2]):               # compile now: both layouts
         f(1, 0, 0, 0, t, out)
     f64, ndarray = np.float64, np.ndarray
 
-    def encode(seq, ack, mode, flags, torques):
+    def encode(seq, ack, mode, torques, flags=0):
         if type(torques) is not ndarray or torques.dtype != f64 or torques.ndim != 1 \
                 or not 1 <= torques.shape[0] <= MAX_JOINTS or mode not in MODE_NAMES:
             return encode_command(seq, ack, mode, torques, flags)      # says what is wrong

@@ -115,8 +115,7 @@ class Link:
         if posix is not None and isinstance(self._ser, posix.Serial):
             self._fd = self._ser.fileno()
         self._dec = FrameDecoder(fast=decoder)
-        self._encode = encoder or (lambda seq, ack, mode, flags, torques: encode_command(
-            seq, ack, mode, torques, flags))
+        self._encode = encoder or encode_command
         self.stats = LinkStats()
         self._last_seq = None
         self._missing = 0
@@ -287,7 +286,7 @@ class Link:
             The write failed (device gone) or nothing could be written for
             ``dead_after_s``.
         """
-        data = self._encode(cmd.seq, cmd.ack, cmd.mode, cmd.flags, cmd.torques)
+        data = self._encode(cmd.seq, cmd.ack, cmd.mode, cmd.torques, cmd.flags)
         try:
             if self._fd is not None:
                 self._write_fd(data)

@@ -16,7 +16,7 @@ import numpy as np
 
 from .controller import Controller
 from .plant import Plant
-from .protocol import (MODE_ZERO_TORQUE, FrameDecoder, encode_command, encode_state)
+from .protocol import MODE_ZERO_TORQUE, FrameDecoder, encode_command, encode_readings
 
 __all__ = ["run_loopback"]
 
@@ -34,8 +34,7 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
         Reuse one (for example with a log prefix).
     fast_codec : bool, optional
         Encode and decode the frames by the compiled codec (default: with a compiled
-        model; the plant's readings then by one compiled call too) or by the Python
-        route.
+        model) or by the Python route.
 
     Returns
     -------
@@ -51,25 +50,21 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
     plant = Plant(model, scene.simulator.motors, scene.simulator.hand, seed=scene.simulator.seed)
     dt = 1.0 / scene.rate_hz
     fast = fast_dev = None
-    enc_state = lambda seq, t_us, status, vals: encode_state(  # noqa: E731
-        seq, t_us, status, vals[:-6], vals[-6:])
-    enc_command = lambda seq, ack, mode, flags, tau: encode_command(  # noqa: E731
-        seq, ack, mode, tau, flags)
-    readings = lambda: np.concatenate([plant.encoders(), plant.sensor()])  # noqa: E731
+    enc_state, enc_command = encode_readings, encode_command
     if fast_codec is None:                         # the compiled route codes fast too
         fast_codec = model.compiled is not None
     if fast_codec:
         from .frame_codec import (command_decoder, command_encoder, state_decoder,
                                   state_encoder)
         fast, fast_dev = state_decoder(), command_decoder()
-        enc_state, enc_command, readings = state_encoder(), command_encoder(), plant.readings
+        enc_state, enc_command = state_encoder(), command_encoder()
     dec_host, dec_dev = FrameDecoder(fast=fast), FrameDecoder(fast=fast_dev)
     mode, tau = MODE_ZERO_TORQUE, np.zeros(model.L)
     n = int(round(seconds / dt))
     out = {k: [] for k in ("t", "pose", "desired", "estimate", "hand", "tau", "compute_s",
                            "refused", "tau_cmd", "compute_cpu_s")}
     for k in range(n):
-        wire = enc_state(k + 1, int(round(plant.t * 1e6)), plant.status(), readings())
+        wire = enc_state(k + 1, int(round(plant.t * 1e6)), plant.status(), plant.readings())
         t0 = time.perf_counter()
         c0 = time.thread_time()
         frame = dec_host.feed(wire)[0]
@@ -79,7 +74,7 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
         else:
             res = ctl.compute(frame, dt)
             res_mode, res_tau = (mode, tau) if res.mode is None else (res.mode, res.torques)
-        wire = enc_command(k + 1, frame.seq, res_mode, 0, res_tau)
+        wire = enc_command(k + 1, frame.seq, res_mode, res_tau)
         t1 = time.perf_counter()
         c1 = time.thread_time()
         cmd = dec_dev.feed(wire)[0]

@@ -55,6 +55,7 @@ __all__ = [
     "cobs_encode",
     "cobs_decode",
     "encode_state",
+    "encode_readings",
     "encode_command",
     "decode_payload",
     "FrameDecoder",
@@ -211,6 +212,13 @@ def encode_state(seq: int, t_us: int, status: int, angles, wrench) -> bytes:
     body = (_STATE_HEAD.pack(seq & 0xFFFFFFFF, int(t_us) & 0xFFFFFFFFFFFFFFFF,
                              status & 0xFFFF, a.size) + a.tobytes() + w.tobytes())
     return _frame(TYPE_STATE, body)
+
+
+def encode_readings(seq: int, t_us: int, status: int, vals) -> bytes:
+    """:func:`encode_state` of one vector ``vals`` (L + 6,): the L joint readings, then
+    the six sensor values (what :meth:`.plant.Plant.readings` gives)."""
+    v = np.asarray(vals, dtype=float).ravel()
+    return encode_state(seq, t_us, status, v[:-6], v[-6:])
 
 
 def encode_command(seq: int, ack: int, mode: int, torques, flags: int = 0) -> bytes:

@@ -40,7 +40,7 @@ from ..errors import InputError
 from .faults import DISCONNECT, FaultInjector
 from .plant import Plant
 from .protocol import (FLAG_KEEPALIVE, MODE_ZERO_TORQUE, STATUS_DEVICE_WATCHDOG,
-                       CommandFrame, FrameDecoder, encode_state)
+                       CommandFrame, FrameDecoder, encode_readings)
 from .runlog import CsvLog, EventLog
 from .scheduling import realtime, restore, tight_timer_slack
 
@@ -49,12 +49,6 @@ __all__ = ["PtyTransport", "TcpTransport", "Disconnected", "Simulator", "serve",
 
 #: ``distkin sim`` stops when no client connects, or no command arrives, for this long (s)
 IDLE_TIMEOUT_S = 60.0
-
-
-def _encode_state(seq, t_us, status, vals):
-    """:func:`.protocol.encode_state` of the joint readings and the sensor values in one
-    vector (the reference route of :func:`.frame_codec.state_encoder`)."""
-    return encode_state(seq, t_us, status, vals[:-6], vals[-6:])
 
 
 class Disconnected(Exception):
@@ -182,7 +176,7 @@ class Simulator:
         self.faults = FaultInjector(faults, seed=cfg.seed + 1)
         # frames by the compiled codec when the model has compiled kernels (the same
         # bytes and values; the Python route is the reference)
-        self._encode = _encode_state
+        self._encode = encode_readings
         fast = None
         if model.compiled is not None:
             from .frame_codec import command_decoder, state_encoder
