@@ -471,8 +471,8 @@ device still sleeps): the loop ran at {share(busy)} of 4 kHz, period p50
 
 What limits it now.  In-process, a cycle is {fmt_time(parts['whole cycle (compute)'])}
 (`compute`), of which the fused kernel is {fmt_time(kern)}; the rest of the cycle's
-work is the Python around it (the decoder's buffer handling, the command's encoding,
-result objects).  The garbage collector does not run during a loop (0 collections in
+work is the Python around it (the decoder's buffer handling, the frame objects,
+the checks, result objects).  The garbage collector does not run during a loop (0 collections in
 every run above: the cycle allocates no reference cycles, so `gc.freeze()` or
 disabling the collector changes nothing).  The CPU-time tail above the median comes
 from the machine: a loop that only reads the clock is interrupted {ir['per_ms']:.2f}
