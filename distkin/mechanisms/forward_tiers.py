@@ -53,8 +53,8 @@ import numpy as np
 
 from ..argcheck import as_floats
 from ..errors import InfeasibleError, InputError, SingularConfigurationError, UncertifiedError
-from ..exact import check_method, default_dps, float_mpf
-from .kinematics_tiers import BITS, check_bits
+from ..exact import check_method, float_mpf
+from .kinematics_tiers import BITS, check_bits, check_dps
 
 __all__ = ["TieredFK", "forward_tier", "fast_tier", "six_legs", "BITS"]
 
@@ -172,6 +172,7 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
     """
     method = check_method(method)
     bits = check_bits(bits, method)
+    dps = check_dps(dps, method)
     from .forward import forward_kinematics
     qa = as_floats(q, "q", f"{mech.legs} joint values (rad, or m for prismatic legs)")
     if qa.shape != (mech.legs,):
@@ -190,7 +191,7 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
     if method == "precise":
         sub = list(range(mech.legs)) if legs is None else _choose_legs(fast.pose, mech, qa,
                                                                        legs)
-        res = _precise(mech, qa, fast, default_dps(dps), sub)
+        res = _precise(mech, qa, fast, dps, sub)
     else:
         chosen = _choose_legs(fast.pose, mech, qa, legs)
         res = _certified(mech, qa, fast, chosen, _polish(mech, qa, fast.pose, chosen), bits)

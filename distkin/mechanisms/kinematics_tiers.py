@@ -304,7 +304,7 @@ def check_dps(dps, method: str, field: str = "dps") -> int | None:
 def _setup(mech, poses, method, dps, bits):
     check_method(method)
     X, _ = _poses(poses)
-    dps = default_dps(dps) if method == "precise" else None
+    dps = check_dps(dps, method)
     bits = check_bits(bits, method)
     prec = {"fast": "float64", "precise": f"mpmath at {dps} digits",
             "certified": f"arb at {bits} bits"}[method]
@@ -402,10 +402,9 @@ def _reach_status(m, i, j, prismatic, reasons, infeasible):
 def ik_tier(mech, poses, method: str = "fast", dps: int | None = None,
             bits: int | None = None) -> TieredIK:
     """Inverse kinematics of ``mech`` at ``poses`` (N, 6) or (6,) (m, rad) at one tier,
-    with its accuracy (module docstring).  ``dps``: precise tier (default 30; read by
-    it only, as a scene's default: the methods of :class:`.kinematics.KernelMethods`
-    refuse it with another tier, :func:`check_dps`); ``bits``: certified tier (default
-    :data:`BITS`)."""
+    with its accuracy (module docstring).  ``dps``: precise tier (default 30; given
+    with another tier it is refused, :func:`check_dps`, as ``bits`` is but with the
+    certified tier); ``bits``: certified tier (default :data:`BITS`)."""
     X, dps, bits, prec = _setup(mech, poses, method, dps, bits)
     N, L = len(X), mech.L
     none = np.zeros((N, L), dtype=bool)

@@ -135,13 +135,19 @@ def test_fk_guess_as_4x4_matrix_as_the_ik_takes_it():
 
 
 def test_dps_only_with_precise_bits_only_with_certified():
+    from distkin.mechanisms.forward_tiers import forward_tier
+    from distkin.mechanisms.kinematics_tiers import ik_tier, jacobian_tier
     m = preset("hunt")
     q, _ = m.inverse_kinematics(m.home)
     for method in ("fast", "certified"):
         for call in (lambda: m.inverse_kinematics(m.home, method=method, dps=50),
                      lambda: m.jacobian(m.home, method=method, dps=50),
                      lambda: m.jq_jx(m.home, method=method, dps=50),
-                     lambda: m.forward_kinematics(q, method=method, dps=50)):
+                     lambda: m.forward_kinematics(q, method=method, dps=50),
+                     # the tier functions themselves, not only the methods above
+                     lambda: ik_tier(m, m.home, method, dps=50),
+                     lambda: jacobian_tier(m, m.home, method, dps=50),
+                     lambda: forward_tier(m, q, method=method, dps=50)):
             with pytest.raises(InputError, match="'dps' only with method 'precise'") as exc:
                 call()
             assert exc.value.field == "dps" and repr(method) in str(exc.value)

@@ -189,13 +189,15 @@ class _Poses:
 
 
 def _tier_fields(table, field):
-    """``method``, ``dps`` (precise only) and ``bits`` (certified only: the balls'
-    working precision, 53..4096; default :data:`~distkin.mechanisms.kinematics_tiers.BITS`)
-    of an inverse_kinematics, jacobian or forward_kinematics query."""
+    """``method``, ``dps`` (precise only, else None) and ``bits`` (certified only: the
+    balls' working precision, 53..4096; default
+    :data:`~distkin.mechanisms.kinematics_tiers.BITS`) of an inverse_kinematics,
+    jacobian or forward_kinematics query."""
     from ...mechanisms.kinematics_tiers import check_bits
     method = method_field(table, field)
     bits = check_bits(table["bits"], method, f"{field}.bits") if "bits" in table else None
-    return {"method": method, "dps": dps_field(table, method, field), "bits": bits}
+    dps = dps_field(table, method, field)
+    return {"method": method, "dps": dps if method == "precise" else None, "bits": bits}
 
 
 def _uncertified(res, i):
