@@ -168,9 +168,16 @@ class Link:
                 return False
         return bool(select.select([fd], [], [], wait)[0])
 
-    def _read_some(self) -> bytes:
+    def _read_some(self, wait: float) -> bytes:
+        """A URL port (socket://, loop://): what is waiting, or the first byte to come
+        within ``wait`` s and what came with it (pyserial's read, its timeout set to the
+        wait, so that a read keeps the caller's deadline)."""
         try:
             n = self._ser.in_waiting
+            if n == 0:
+                wait = max(wait, 0.0)
+                if self._ser.timeout != wait:
+                    self._ser.timeout = wait
             data = self._ser.read(n if n > 0 else 1)
             if data and n == 0:
                 m = self._ser.in_waiting
@@ -181,6 +188,10 @@ class Link:
                             f"disconnect ({exc})", field="port") from None
         self.stats.bytes_in += len(data)
         return data
+
+    #: a read of a device file this long (bytes) or longer may have left bytes waiting:
+    #: read again (about a dozen frames; the usual read holds one or two)
+    LONG_READ = 1024
 
     #: how far back (in sequence numbers) a late frame is still matched to the gap it
     #: left, so that ``seq_gaps`` counts only frames that never came
@@ -246,7 +257,8 @@ class Link:
                 data = self._read_fd(0.0 if latest is not None else
                                      min(self.poll_s, deadline - time.perf_counter()))
             else:
-                data = self._read_some()
+                data = self._read_some(0.0 if latest is not None else
+                                       min(self.poll_s, deadline - time.perf_counter()))
             if data:
                 for msg in self._dec.feed(data):
                     if isinstance(msg, StateFrame):
@@ -259,9 +271,11 @@ class Link:
                     else:
                         self.stats.unexpected_frames += 1
                 self._sync_decoder_stats()
-                # return once nothing more is waiting (a device file: a read that did
-                # not fill the line discipline's 4 KiB took all there was)
-                if latest is not None and (len(data) < 4096 if fd is not None
+                # return once nothing more is waiting.  A device file: a short read
+                # took all there was; after a long one (a backlog: the tty line
+                # discipline hands out at most 4095 bytes a read) read again without
+                # waiting, until a read comes back short or empty
+                if latest is not None and (len(data) < self.LONG_READ if fd is not None
                                            else self._ser.in_waiting == 0):
                     return latest
             elif latest is not None:

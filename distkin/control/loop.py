@@ -6,8 +6,14 @@ contract).  The states: ``RUN`` (torque control), ``FAULT`` (zero torque) and
 ``STOPPED`` (hold, near a singular pose).  A rejected frame (:func:`.safety.check_reading`)
 is answered with a keep-alive repeating the last decision, as a missing one is, until
 the watchdog window (``safety.watchdog_ms``, wall time or device time since the last
-valid frame) has passed: then the fault state and zero torque.  A frame with the
-``ESTOP`` bit gives the fault state and zero torque at once.  The fault state is left
+valid frame) has passed: then the fault state and zero torque, from ``RUN`` and from
+``STOPPED`` alike.  A valid frame that comes after such a gap (this process or the
+device was held up, or the frames between were lost) trips the watchdog too, and is
+the first frame of the recovery.  A frame with the ``ESTOP`` bit gives the fault state
+and zero torque at once, also before the first valid frame (a device whose e-stop is
+held when the run starts).  A run of rejected frames is logged by its first frame,
+then once a second (event ``bad_reading`` with the frames so far; the summary's
+``rejected_frames`` counts them all).  The fault state is left
 after ``safety.recover_frames`` consecutive valid frames at measured poses inside the
 safe workspace (``safety.workspace_m``, ``workspace_rad``; when enough valid frames
 came but the pose is outside, the controller logs ``recovery_held`` once and keeps zero
@@ -30,7 +36,12 @@ from .runlog import run_summary
 from .safety import FAULT, RUN, STOPPED, DeviceStatus
 from .scheduling import realtime, restore
 
-__all__ = ["run_loop"]
+__all__ = ["run_loop", "BAD_READING_EVERY_S"]
+
+#: the states the watchdog guards (a fault has zero torque already)
+WATCHED = (RUN, STOPPED)
+#: a run of rejected frames is logged by its first frame, then once per this long (s)
+BAD_READING_EVERY_S = 1.0
 
 
 def _enter_fault(ctl, last, event, t0, frame, **info):
@@ -61,6 +72,7 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
     t_first = t_prev_us = None
     t_prev_cycle = None
     recover_count = inside_count = 0
+    bad_streak, bad_said = 0, -float("inf")
     compute, compute_cpu, periods = [], [], []
     cycles = 0
     gc0 = sum(g["collections"] for g in gc.get_stats())
@@ -107,7 +119,7 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
             c_rx = time.thread_time()
             if frame is None:
                 recover_count = 0              # recovery needs consecutive frames
-                if last_valid is not None and ctl.state == RUN and \
+                if last_valid is not None and ctl.state in WATCHED and \
                         t_rx - last_valid > ctl.safety.watchdog_ms * 1e-3:
                     last = _enter_fault(ctl, last, "watchdog_trip", t0, None,
                                         t_dev=last_t_dev,
@@ -133,22 +145,39 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
                 ctl.rejected_frames += 1
                 ctl.last_rejection = why
                 recover_count = 0              # recovery needs consecutive frames
-                ctl._event("bad_reading", t0, frame, reason=why)
-                if last_valid is not None:
-                    if frame.status & STATUS_ESTOP and ctl.state != FAULT:
-                        # the e-stop: zero torque from this frame on
-                        last = _enter_fault(ctl, last, "estop", t0, frame)
-                    elif ctl.state == RUN and (
-                            t_rx - last_valid > ctl.safety.watchdog_ms * 1e-3
-                            or frame.t_us - last_t_us > ctl.safety.watchdog_ms * 1e3):
-                        # only rejected frames for the watchdog window (device or
-                        # wall time): as if the device were silent
-                        silent = max(t_rx - last_valid, (frame.t_us - last_t_us) * 1e-6)
-                        last = _enter_fault(ctl, last, "watchdog_trip", t0, frame,
-                                            reason=why, silent_ms=round(silent * 1e3, 1))
+                bad_streak += 1
+                if bad_streak == 1 or t_rx - bad_said >= BAD_READING_EVERY_S:
+                    # the first of a run of rejected frames, then one a second
+                    ctl._event("bad_reading", t0, frame, reason=why, frames=bad_streak)
+                    bad_said = t_rx
+                if frame.status & STATUS_ESTOP and ctl.state != FAULT:
+                    # the e-stop: zero torque from this frame on (before the first
+                    # valid frame too: a device whose e-stop is held when we start)
+                    last = _enter_fault(ctl, last, "estop", t0, frame)
+                elif last_valid is not None and ctl.state in WATCHED and (
+                        t_rx - last_valid > ctl.safety.watchdog_ms * 1e-3
+                        or frame.t_us - last_t_us > ctl.safety.watchdog_ms * 1e3):
+                    # only rejected frames for the watchdog window (device or wall
+                    # time): as if the device were silent
+                    silent = max(t_rx - last_valid, (frame.t_us - last_t_us) * 1e-6)
+                    last = _enter_fault(ctl, last, "watchdog_trip", t0, frame,
+                                        reason=why, silent_ms=round(silent * 1e3, 1))
+                if last_valid is not None or ctl.state == FAULT:
                     seq += 1
                     last = _keepalive(link, seq, frame.seq, last)
                 continue
+            bad_streak = 0
+            if last_valid is not None and ctl.state in WATCHED and (
+                    t_rx - last_valid > ctl.safety.watchdog_ms * 1e-3
+                    or frame.t_us - last_t_us > ctl.safety.watchdog_ms * 1e3):
+                # a valid frame, but the last one came longer ago than the watchdog
+                # window (this process or the device was held up, or the frames
+                # between were lost): as after a silence, zero torque and the
+                # recovery; this frame is the first of it
+                silent = max(t_rx - last_valid, (frame.t_us - last_t_us) * 1e-6)
+                recover_count = inside_count = 0
+                last = _enter_fault(ctl, last, "watchdog_trip", t0, frame,
+                                    reason="late frame", silent_ms=round(silent * 1e3, 1))
             last_valid = t_rx
             last_t_us = frame.t_us
             last_t_dev = frame.t_us * 1e-6

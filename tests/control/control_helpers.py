@@ -78,6 +78,7 @@ class ScriptedLink(Link):
 
     def __init__(self, script, period_s=1e-3):      # no port: not Link.__init__
         self.url, self.closed, self._fd = "script://", False, None
+        self.poll_s, self.busy_wait_s = 0.002, 0.0
         self._ser = types.SimpleNamespace(in_waiting=0)
         self._dec, self.stats = FrameDecoder(), LinkStats()
         self._last_seq, self._missing = None, 0
@@ -89,7 +90,7 @@ class ScriptedLink(Link):
 
     thread_time = perf_counter
 
-    def _read_some(self):
+    def _read_some(self, wait=0.0):        # one period a read, whatever the wait
         self.tick += 1
         if self.tick >= len(self.script):
             raise LinkError("expected a connected device, got the end of the script",
