@@ -3,6 +3,7 @@
 import os
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -139,3 +140,46 @@ def test_sequence_numbers_wrap_at_2_to_the_32():
         assert link.read_state(0.05).seq == 3
         st = link.stats
         assert st.seq_gaps == 1 and st.late_frames == 1 and st.duplicate_frames == 0
+
+
+def test_a_pty_backlog_is_read_to_its_newest_frame():
+    """QA K 2: a tty read hands out at most 4095 bytes; the link took a read shorter
+    than 4096 bytes for 'all there was' and returned seq 50 of 200 waiting (the
+    controller then acted on readings up to 150 ms old)."""
+    import tty
+    master, slave = os.openpty()
+    tty.setraw(slave)
+    link = Link(os.ttyname(slave))
+    try:
+        os.close(slave)
+        wire = b"".join(_state(s) for s in range(1, 151))     # 12 KB: 3 reads' worth
+        os.set_blocking(master, False)           # a pty takes ~20 KB, a write less at once
+        sent = 0
+        for _ in range(500):
+            try:
+                sent += os.write(master, wire[sent:])
+            except BlockingIOError:
+                pass
+            if sent == len(wire):
+                break
+            time.sleep(0.002)                    # the kernel moves bytes to the reader
+        assert sent == len(wire)
+        time.sleep(0.1)
+        msg = link.read_state(0.5)
+        assert msg.seq == 150                    # the newest, in one call
+        assert link.stats.stale_frames == 149
+        assert link.stats.frames_in == 150 and link.stats.seq_gaps == 0
+    finally:
+        link.close()
+        os.close(master)
+
+
+def test_a_url_port_read_waits_no_longer_than_its_deadline():
+    """QA K 5: on loop:// and socket:// a read waited pyserial's fixed timeout (poll_s)
+    whatever was left of the deadline; the wait given to pyserial is now the deadline's
+    remainder (checked on the port's timeout, not on the wall clock)."""
+    with Link("loop://", poll_s=0.002) as link:
+        assert link.read_state(0.0005) is None
+        assert link._ser.timeout <= 0.0005
+        link.write_raw(_state(1))
+        assert link.read_state(0.5).seq == 1

@@ -261,3 +261,56 @@ def test_safe_workspace_keys_are_read_and_checked():
         with pytest.raises(InputError) as e:
             loads_control_scene(base + "[safety]\n" + bad + "\n", "t")
         assert "safety.workspace" in str(e.value)
+
+
+def test_a_valid_frame_after_a_gap_trips_the_watchdog_and_starts_the_recovery(
+        monkeypatch, scene, model):
+    """QA K 1: a host (or device) held up longer than the window resumed torque
+    control with the newest frame at once; the frames between never arrived (device
+    time jumps by 201 periods, 10 windows)."""
+    rf = scene.safety.recover_frames
+    script = state_frames(model, range(100)) + state_frames(model, range(300, 300 + rf + 20))
+    ctl, dev, s = _run(monkeypatch, scene, model, script)
+    assert all(c.mode == MODE_RUN for t, c in dev.commands if t < 100)
+    assert _first(dev, lambda c: c.mode == MODE_ZERO_TORQUE) == 100   # the late frame
+    back = _first(dev, lambda c: c.mode == MODE_RUN, after=100)
+    assert back == 100 + rf - 1                  # it is the first of the recovery's frames
+    trips = [e for e in ctl.events.events if e["event"] == "watchdog_trip"]
+    assert len(trips) == 1 and trips[0]["reason"] == "late frame"
+    assert trips[0]["silent_ms"] == 201.0        # device time since the last valid frame
+    assert s["watchdog_trips"] == 1 and s["seq_gaps"] == 200
+
+
+def test_the_watchdog_guards_the_singular_stop_hold(monkeypatch, scene, model):
+    """QA K 3: after a singular stop (hold), silence and NaN readings kept the hold
+    for ever (the watchdog only guarded RUN)."""
+    import dataclasses
+    from distkin.control.protocol import MODE_HOLD
+    near = dataclasses.replace(scene, safety=dataclasses.replace(scene.safety, sigma_min=50.0))
+    home = model.ik(model.home)[0]
+    nan = home.copy()
+    nan[0] = np.nan
+    for tail in ([None] * 60, state_frames(model, range(50, 110), angles=nan)):
+        ctl, dev, s = _run(monkeypatch, near, model, state_frames(model, range(50)) + tail)
+        assert dev.commands[0][1].mode == MODE_HOLD          # stopped at once
+        trip = _first(dev, lambda c: c.mode == MODE_ZERO_TORQUE)
+        assert 50 + scene.safety.watchdog_ms - 1 <= trip <= 50 + scene.safety.watchdog_ms + 6
+        assert all(c.mode == MODE_ZERO_TORQUE for t, c in dev.commands if t >= trip)
+        assert s["watchdog_trips"] == 1
+
+
+def test_an_estop_held_at_start_is_an_estop(monkeypatch, scene, model):
+    """QA K 4: e-stop frames before the first valid one got no answer, were not
+    counted, and the release was answered with torque at once."""
+    rf, n = scene.safety.recover_frames, 1200
+    script = (state_frames(model, range(n), status=STATUS_ESTOP)
+              + state_frames(model, range(n, n + rf + 20)))
+    ctl, dev, s = _run(monkeypatch, scene, model, script)
+    assert dev.commands[0][0] == 0 and dev.commands[0][1].mode == MODE_ZERO_TORQUE
+    assert all(c.mode == MODE_ZERO_TORQUE and not np.any(c.torques)
+               for t, c in dev.commands if t < n)
+    assert _first(dev, lambda c: c.mode == MODE_RUN) == n + rf - 1
+    assert s["estops"] == 1 and s["rejected_frames"] == n
+    # a long run of rejected frames is logged by its first, then once a second (QA K 12)
+    bad = [e for e in ctl.events.events if e["event"] == "bad_reading"]
+    assert [e["frames"] for e in bad] == [1, 1001]   # 1 ms periods: at 0 s and at 1 s
