@@ -430,7 +430,7 @@ def loads_control_scene(text: str, path: str = "<string>", *,
     busy = _num(dev, "busy_wait_us", "device", 0.0, nonneg=True)
     if busy > 1e6:
         raise InputError(f"expected busy_wait_us (µs) in 0 .. 1e6 (a second of polling at "
-                         f"most), got {busy:g}", field="device.busy_wait_us")
+                         f"most), got {dev['busy_wait_us']!r}", field="device.busy_wait_us")
 
     adm = as_table(require(data, "admittance", ""), "admittance")
     check_keys(adm, {"mass", "damping"}, "admittance")

@@ -52,7 +52,7 @@ from .admittance import Admittance
 from .cycle_kernels import CYCLE_OUT, cycle_params
 from .kinematics import _rot
 from .loop import run_loop
-from .protocol import MODE_HOLD, MODE_RUN, MODE_ZERO_TORQUE
+from .protocol import MODE_HOLD, MODE_RUN, MODE_ZERO_TORQUE, float32_floor
 from .runlog import CsvLog, EventLog
 from .safety import FAULT, RUN, STOPPED, DeviceStatus, check_reading
 
@@ -263,10 +263,10 @@ class Controller:
         # PD(I) at position level with a low-pass filtered derivative (forward Euler)
         e = q_des - angles
         pd = self.pd
+        limit = float32_floor(pd.torque_limit)       # the wire's float32 keeps it
         tau = pd.kp * e + pd.kd * self.filter_derivative(e, dt)
         if pd.ki:
-            self.e_int = np.clip(self.e_int + e * dt, -pd.torque_limit / pd.ki,
-                                 pd.torque_limit / pd.ki)
+            self.e_int = np.clip(self.e_int + e * dt, -limit / pd.ki, limit / pd.ki)
             tau = tau + pd.ki * self.e_int
         # torque distribution (L > 6: remove internal forces) and gravity compensation
         w_ff = -w if pd.hand_feedforward else np.zeros(6)
@@ -284,8 +284,8 @@ class Controller:
             tau = tau + J @ np.linalg.solve(J.T @ J, w_ff)
         saturated = False
         peak = float(np.max(np.abs(tau)))
-        if peak > pd.torque_limit:
-            tau = tau * (pd.torque_limit / peak)
+        if peak > limit:
+            tau = tau * (limit / peak)
             saturated = True
         return tau, saturated
 

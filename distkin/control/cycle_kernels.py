@@ -47,6 +47,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .protocol import float32_floor
+
 __all__ = ["CycleKernels", "build", "kernel_module", "jitted", "reading_extremes",
            "cycle_params", "CYCLE_OUT"]
 
@@ -146,7 +148,8 @@ def cycle_params(pd, safety, adm, weight: float, scaling, *, fk_tol: float = 1e-
     (``cycle`` of :func:`build`), from a controller's gains, limits and admittance.
 
     ``prm`` (33,): FK tolerance, FK iterations (warm, cold), max FK residual, σmin,
-    max condition, kp, kd, ki, derivative filter T, torque limit, projected (0/1),
+    max condition, kp, kd, ki, derivative filter T, torque limit (the largest float32
+    not above it: :func:`.protocol.float32_floor`), projected (0/1),
     gravity compensation (0/1), hand feed-forward (0/1), weight (N), S (6), virtual
     mass (6), virtual damping (6).  ``env`` (n, 25), one row per element in the
     scene's order: a Spring ``0, p0 (3), R0ᵀ (9, row-major), k (6), d (6)``; a Wall
@@ -154,7 +157,7 @@ def cycle_params(pd, safety, adm, weight: float, scaling, *, fk_tol: float = 1e-
     """
     prm = np.array([fk_tol, fk_iter[0], fk_iter[1], safety.max_fk_residual,
                     safety.sigma_min, safety.max_condition, pd.kp, pd.kd, pd.ki,
-                    pd.derivative_filter_s, pd.torque_limit,
+                    pd.derivative_filter_s, float32_floor(pd.torque_limit),
                     float(pd.distribution == "projected"), float(pd.gravity_compensation),
                     float(pd.hand_feedforward), weight, *scaling, *adm.mass, *adm.damping],
                    dtype=float)

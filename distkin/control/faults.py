@@ -68,7 +68,8 @@ def parse_faults(spec: str | None, field: str = "--faults") -> tuple[Fault, ...]
             if kind == "disconnect":
                 raise InputError(f"expected no argument for disconnect, got {arg_text!r}",
                                  field=fld)
-            if not arg_text.isdigit() or int(arg_text) < 1:
+            # ASCII digits only (str.isdigit also takes '²' and '３')
+            if not (arg_text.isascii() and arg_text.isdigit()) or int(arg_text) < 1:
                 raise InputError(f"expected a positive integer argument, got {arg_text!r}",
                                  field=fld)
             arg = int(arg_text)

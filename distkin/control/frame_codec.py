@@ -21,7 +21,9 @@ The encoders take the arguments and give the bytes of :func:`.protocol.encode_re
 and :func:`.protocol.encode_command`, and the decoders the values of
 :func:`.protocol.cobs_decode` + :func:`.protocol.decode_payload`, bit for bit
 (tests/control/test_frame_codec.py); input the reference would refuse (a mode or a
-joint count out of range) goes through the reference, so its errors are the same.
+joint count out of range, a mode that is not an int) goes through the reference, so its
+errors are the same; a strided or read-only array is copied first, so that each kernel
+has one compiled signature.
 Each factory compiles its kernel before it returns (numba's disk cache: a second or two
 on the first start on a machine), so that no frame waits for the compiler.
 
@@ -251,14 +253,15 @@ def state_encoder():
     (``vals``: the L joint readings, then the six sensor values) by one compiled call."""
     out = np.empty(MAX_WIRE, dtype=np.uint8)
     f = _encode_state
-    for v in (np.zeros(7), np.zeros(14)[::2]):              # compile now: both layouts
-        f(1, np.uint64(0), 0, v, out)
+    f(1, np.uint64(0), 0, np.zeros(7), out)                 # compile now (one signature)
     u64, f64, ndarray = np.uint64, np.float64, np.ndarray
 
     def encode(seq, t_us, status, vals):
         if type(vals) is not ndarray or vals.dtype != f64 or vals.ndim != 1 \
                 or not 7 <= vals.shape[0] <= MAX_JOINTS + 6:
             return encode_readings(seq, t_us, status, vals)          # says what is wrong
+        if not (vals.flags.c_contiguous and vals.flags.writeable):
+            vals = vals.copy()                  # the compiled signature's layout
         m = f(seq & 0xFFFFFFFF, u64(int(t_us) & _U64), status & 0xFFFF, vals, out)
         return out[:m].tobytes()
 
@@ -270,14 +273,16 @@ def command_encoder():
     :func:`.protocol.encode_command` by one compiled call."""
     out = np.empty(MAX_WIRE, dtype=np.uint8)
     f = _encode_command
-    for t in (np.zeros(1), np.zeros(2)[::2]):               # compile now: both layouts
-        f(1, 0, 0, 0, t, out)
+    f(1, 0, 0, 0, np.zeros(1), out)                          # compile now (one signature)
     f64, ndarray = np.float64, np.ndarray
 
     def encode(seq, ack, mode, torques, flags=0):
         if type(torques) is not ndarray or torques.dtype != f64 or torques.ndim != 1 \
-                or not 1 <= torques.shape[0] <= MAX_JOINTS or mode not in MODE_NAMES:
+                or not 1 <= torques.shape[0] <= MAX_JOINTS or type(mode) is not int \
+                or mode not in MODE_NAMES:
             return encode_command(seq, ack, mode, torques, flags)      # says what is wrong
+        if not (torques.flags.c_contiguous and torques.flags.writeable):
+            torques = torques.copy()            # the compiled signature's layout
         m = f(seq & 0xFFFFFFFF, ack & 0xFFFFFFFF, mode, flags & 0xFF, torques, out)
         return out[:m].tobytes()
 

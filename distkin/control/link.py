@@ -151,6 +151,12 @@ class Link:
         self.stats.bytes_in += len(data)
         return data
 
+    @property
+    def polling_s(self) -> float:
+        """How long a read polls before it sleeps (s): ``busy_wait_s`` on a device
+        file; 0 on a URL port (socket://, loop://), which pyserial reads."""
+        return self.busy_wait_s if self._fd is not None else 0.0
+
     def _wait_readable(self, fd: int, wait: float) -> bool:
         """Whether ``fd`` becomes readable within ``wait`` s: polled for up to
         ``busy_wait_s`` of it, then slept for in select."""

@@ -56,6 +56,7 @@ __all__ = [
     "cobs_decode",
     "encode_state",
     "encode_readings",
+    "float32_floor",
     "encode_command",
     "decode_payload",
     "FrameDecoder",
@@ -212,6 +213,16 @@ def encode_state(seq: int, t_us: int, status: int, angles, wrench) -> bytes:
     body = (_STATE_HEAD.pack(seq & 0xFFFFFFFF, int(t_us) & 0xFFFFFFFFFFFFFFFF,
                              status & 0xFFFF, a.size) + a.tobytes() + w.tobytes())
     return _frame(TYPE_STATE, body)
+
+
+def float32_floor(x: float) -> float:
+    """The largest float32 value <= ``x``, as a float: a limit the wire's float32 values
+    can keep.  (A torque saturated at 0.3 N·m is sent as float32(0.3) = 0.30000001
+    N·m; saturated at ``float32_floor(0.3)`` it is sent as 0.29999998 N·m.)"""
+    f = np.float32(x)
+    if float(f) > x:
+        f = np.nextafter(f, np.float32(-np.inf))
+    return float(f)
 
 
 def encode_readings(seq: int, t_us: int, status: int, vals) -> bytes:

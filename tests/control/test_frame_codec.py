@@ -205,3 +205,81 @@ def test_busy_wait_is_read_from_the_scene_and_checked():
 def _minimal_scene():
     return ("[device]\npreset = \"octo\"\n\n[admittance]\nmass = [1, 1, 1, 0.005, 0.005, "
             "0.005]\ndamping = [15, 15, 15, 0.1, 0.1, 0.1]\n")
+
+
+def test_strided_read_only_and_odd_inputs_compile_nothing_and_match_the_reference():
+    """QA K 10, 11: a strided or read-only array compiled a second signature in the
+    middle of a run (0.5-1 s); a float mode was accepted where the reference refuses."""
+    tau = np.linspace(-1, 1, 16)
+    ro = tau[:8].copy()
+    ro.flags.writeable = False
+    vals = np.linspace(-2, 2, 28)
+    ro_vals = vals[:14].copy()
+    ro_vals.flags.writeable = False
+    before = (len(fc._encode_command.signatures), len(fc._encode_state.signatures))
+    for t in (tau[::2], ro, tau[1::2]):
+        assert ENC_COMMAND(3, 2, 1, t) == encode_command(3, 2, 1, t)
+    for v in (vals[::2], ro_vals):
+        assert ENC_STATE(3, 7, 0, v) == encode_readings(3, 7, 0, v)
+    assert (len(fc._encode_command.signatures), len(fc._encode_state.signatures)) == before
+    for mode in (1.0, "1", None):
+        with pytest.raises(Exception) as want:
+            encode_command(1, 2, mode, np.zeros(8))
+        with pytest.raises(type(want.value)) as got:
+            ENC_COMMAND(1, 2, mode, np.zeros(8))
+        assert str(got.value) == str(want.value)
+
+
+def test_float32_floor_is_the_largest_float32_not_above():
+    from distkin.control.protocol import float32_floor
+    rng = np.random.default_rng(9)
+    for x in [0.3, 0.05, 2.5, 1.0, 1e-30, 3.4e38, 1e39, *rng.uniform(0, 40, 200)]:
+        f = float32_floor(x)
+        assert f <= x and float(np.float32(f)) == f
+        with np.errstate(over="ignore"):            # above float32's largest: inf
+            assert float(np.nextafter(np.float32(f), np.float32(np.inf))) > x
+
+
+@pytest.mark.parametrize("fused", [True, False])
+def test_saturated_commands_on_the_wire_keep_the_torque_limit(fused):
+    """QA K 6: saturated at 0.3 N·m in float64, the command went out as float32(0.3) =
+    0.30000001 N·m.  A limit that float32 cannot hold (0.05) and a hand pushing hard:
+    every command as the device decodes it stays within the limit."""
+    import dataclasses
+    from distkin.control.controller import Controller
+    from distkin.control.loopback import run_loopback
+    sc = builtin_scene()
+    sc = dataclasses.replace(sc, pd=dataclasses.replace(sc.pd, torque_limit=0.05))
+    assert float(np.float32(0.05)) > 0.05
+    model = load_model("octo")
+    r = run_loopback(sc, model, 0.3, controller=Controller(sc, model, fused=fused))
+    peak = np.max(np.abs(r["tau_cmd"]))
+    assert 0.05 - 1e-8 < peak <= 0.05                 # saturated, and never above
+
+
+def test_faults_take_ascii_digits_only():
+    """QA K 7: '²' passed str.isdigit and int() then failed (an internal error)."""
+    from distkin.control.faults import parse_faults
+    for spec in ("corrupt@1:²", "drop@1:３", "drop@1:-1", "drop@1:0"):
+        with pytest.raises(InputError, match="positive integer") as e:
+            parse_faults(spec)
+        assert e.value.field == "--faults[0]"
+    assert parse_faults("drop@1:3")[0].arg == 3
+
+
+def test_the_summary_says_the_port_was_polled_only_where_it_was():
+    """QA K 8: over socket:// the summary claimed polling that only device files get;
+    QA K 9: the refused value is quoted as given, not rounded to the bound."""
+    master, slave, path = _pty_pair()
+    try:
+        link = Link(path, busy_wait_s=250e-6)
+        assert link.polling_s == 250e-6
+        link.close()
+    finally:
+        os.close(slave)
+        os.close(master)
+    with Link("loop://", busy_wait_s=250e-6) as url:
+        assert url.polling_s == 0.0
+    with pytest.raises(InputError, match="1000001"):
+        loads_control_scene(_minimal_scene().replace("[device]\n",
+                                                     "[device]\nbusy_wait_us = 1000001\n"))
