@@ -43,7 +43,12 @@ from ...errors import InputError, UncertifiedError
 from ..query import Outcome, register
 from ..units import angle_value, length_value
 
-__all__ = ["LegSingularityQuery", "applicability", "leg_lines", "singularity_tests_at"]
+__all__ = ["LegSingularityQuery", "applicability", "leg_lines", "singularity_tests_at",
+           "MAX_PATH_SAMPLES"]
+
+#: Largest ``path.samples``: every sample is one pose evaluated in full, one at a time
+#: (an unbounded count exhausted the memory and the time; QA F6).
+MAX_PATH_SAMPLES = 10_000
 
 
 @dataclass(frozen=True)
@@ -157,6 +162,11 @@ class LegSingularityQuery:
             path = tuple(_pose(require(pt, k, f"{field}.path"), units, f"{field}.path.{k}")
                          for k in ("from", "to"))
             samples = positive_int(pt.get("samples", 90), f"{field}.path.samples", minimum=3)
+            if samples > MAX_PATH_SAMPLES:
+                raise InputError(f"expected at most {MAX_PATH_SAMPLES} samples, got {samples}",
+                                 field=f"{field}.path.samples",
+                                 hint="each sample is one pose evaluated in full; crossings "
+                                      "between samples are located by Brent's method")
         return _Params(poses, path, samples, method_field(table, field))
 
     @staticmethod

@@ -37,11 +37,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...argcheck import as_table, check_keys, method_field, positive_int
-from ...errors import DegenerateGeometryError, InputError
+from ...errors import DegenerateGeometryError, InputError, UncertifiedError
 from ...exact import parse_vector, to_tier
 from ..query import Outcome, register
 
-__all__ = ["SingularityQuery", "OctahedralModel", "plot_path", "result_units"]
+__all__ = ["SingularityQuery", "OctahedralModel", "plot_path", "result_units",
+           "MAX_PATH_SAMPLES"]
+
+#: Largest ``path.samples`` (each sample is a batched 6 x 6 determinant plus the CM and
+#: four-planes tests: 1e5 samples take seconds, 1e8 exhausted the memory; QA F6).
+MAX_PATH_SAMPLES = 100_000
 
 
 @dataclass(frozen=True)
@@ -93,6 +98,11 @@ class SingularityQuery:
             path = (_parse_pose(pt["from"], f"{field}.path.from"),
                     _parse_pose(pt["to"], f"{field}.path.to"))
             samples = positive_int(pt.get("samples", 120), f"{field}.path.samples", minimum=3)
+            if samples > MAX_PATH_SAMPLES:
+                raise InputError(f"expected at most {MAX_PATH_SAMPLES} samples, got {samples}",
+                                 field=f"{field}.path.samples",
+                                 hint="crossings between samples are located by Brent's "
+                                      "method; a few hundred samples suffice")
         offsets = None
         if "offsets" not in table and getattr(mechanism, "kind", None) == "platform66":
             offsets = mechanism.offsets
@@ -129,6 +139,8 @@ def result_units(units, pose: bool) -> dict:
     out = {"length": L, "length_scale": L, "translation": L,
            "rotation_matrix": "none (rotation matrix)",
            "det_J": "none (eq. (5), moment rows divided by length_scale)",
+           "certified_det_J_hat": (f"{L}^9 (arb ball of det Jhat, unnormalised Plücker rows "
+                                   f"p - b in {L}, moments in {L}^2)" if L != "none" else "none"),
            "sigma_min": "none (of J with the moment rows divided by length_scale)",
            "cm_condition_relative": "none (relative)", "signed_cm_relative": "none (relative)",
            "nearest_singularity": f"distance, first_order: {L} (translation and rotation "
@@ -315,11 +327,21 @@ def _run_pose(model, p, unit):
         lines.append("nearest singular pose: local search did not converge")
     if p.method == "certified":
         Ra, ta = _exact_pose_arb(model, p.pose)
-        sgn = certified_sign(model.det_j_arb(Ra, ta))
+        ball = model.det_j_arb(Ra, ta)
+        try:
+            sgn = certified_sign(ball)
+        except UncertifiedError:       # keep the other results (QA F5)
+            sgn = None
         res["certified_sign_det_J"] = sgn
-        lines.append(f"certified (arb): sign det J = {sgn:+d}" if sgn else
-                     "certified (arb): det J = 0 exactly (a zero row or column of Jhat): "
-                     "a singular pose")
+        res["certified_det_J_hat"] = ball.str(5, radius=True)
+        if sgn is None:
+            lines.append(f"certified (arb): sign of det J not certified: the ball of det Jhat "
+                         f"{res['certified_det_J_hat']} contains 0 (a singular pose, or "
+                         f"within its radius of one)")
+        else:
+            lines.append(f"certified (arb): sign det J = {sgn:+d}" if sgn else
+                         "certified (arb): det J = 0 exactly (a zero row or column of Jhat): "
+                         "a singular pose")
     if model.platform66 is not None:
         res["platform66"] = _check66(model, R[None], t[None])
         lines.append(f"6-6 platform: det(A) = {res['platform66']['det_A']}; "
@@ -356,8 +378,27 @@ def _check66(model, R, t):
             "identity": "Jhat66 = A Jhat, so det(Jhat66) = det(A) det(Jhat)"}
 
 
+def _roundoff(model, R, t):
+    """Round-off level of the float det J at poses R (n,3,3), t (n,3): 64 n eps times
+    Hadamard's bound prod_k |J_k| (rows of J with the moments over L), n = 6."""
+    from ...singularity import octahedral_joints, plucker_jacobian
+    J = plucker_jacobian(*octahedral_joints(model.points(R, t)))
+    J[..., 3:] /= model.L
+    return 64 * 6 * np.finfo(float).eps * np.prod(np.linalg.norm(J, axis=-1), axis=-1)
+
+
+def _try_certify(certify_crossing, f_arb, s):
+    """The :class:`~distkin.singularity.Crossing` arb proves around ``s``, or the reason
+    (a string) why it could not (a root at an end of the path, a ball containing 0)."""
+    from ...errors import UncertifiedError
+    try:
+        return certify_crossing(f_arb, s)
+    except UncertifiedError as exc:
+        return exc.message
+
+
 def _run_path(model, p, unit):
-    from ...singularity import (certify_crossing, cm_pure_condition, four_planes,
+    from ...singularity import (Crossing, certify_crossing, cm_pure_condition, four_planes,
                               nearest_singularity, path_crossings, signed_cm_condition)
     a, b = p.path
     path = model.pose_path(a, b)
@@ -365,13 +406,24 @@ def _run_path(model, p, unit):
 
     f_det = lambda s: model.det_j(*at(s))  # noqa: E731
     _check_legs(model, *at(np.linspace(0.0, 1.0, p.samples)), "path")
-    roots, grid, vals = path_crossings(f_det, p.samples)
-    # sign changes between two samples that are both within the tolerance are round-off
-    # on the singular locus, not crossings (a path along the locus: QA F 07)
+    roots, grid, vals = path_crossings(f_det, p.samples, refine=True)
+    # a sign change between two samples that are both at the round-off level of det J is
+    # round-off on the singular locus, not a crossing (a path along the locus: QA F 07).
+    # The level is _roundoff (or the tolerance, if smaller), not the tolerance: a
+    # tolerance of the order of det J's change over one sample deleted real crossings
+    # (QA F1); under "certified" a sign change arb proves is a crossing whatever the level
     on = np.abs(vals) < p.tolerance
+    tiny = np.abs(vals) < np.minimum(p.tolerance, _roundoff(model, *at(grid)))
     cell = lambda s: min(int(np.searchsorted(grid, s, side="right")) - 1,  # noqa: E731
                          len(grid) - 2)                 # the samples i, i + 1 around s
-    locus = [s for s in roots if on[cell(s)] and on[cell(s) + 1]]
+    f_arb = lambda q: model.det_j_arb(*path.at_certified(q))  # noqa: E731
+    certs = {}
+    locus = []
+    for s in roots:
+        if p.method == "certified":
+            certs[s] = _try_certify(certify_crossing, f_arb, s)
+        if tiny[cell(s)] and tiny[cell(s) + 1] and not isinstance(certs.get(s), Crossing):
+            locus.append(s)
     roots = [s for s in roots if s not in locus]
     notes = []
     f_cm = _sampled(lambda s: cm_pure_condition(model.points(*at(s)), relative=True),
@@ -381,31 +433,42 @@ def _run_path(model, p, unit):
     f_fp = _sampled(lambda s: np.asarray(four_planes(model.points(*at(s)),
                                                      length_scale=model.L).relative),
                     "the four-planes test", notes)
-    cm_roots, _, cm_vals = path_crossings(f_cm, p.samples)
-    k_roots, _, k_vals = path_crossings(f_k, p.samples)
-    fp_roots, _, fp_vals = path_crossings(f_fp, p.samples)
+    cm_roots, _, cm_vals = path_crossings(f_cm, p.samples, refine=True)
+    k_roots, _, k_vals = path_crossings(f_k, p.samples, refine=True)
+    fp_roots, _, fp_vals = path_crossings(f_fp, p.samples, refine=True)
     crossings, lines = [], []
+    n_cert = sum(isinstance(certs.get(s), Crossing) for s in roots)
     lines.append(f"path: {p.samples} samples, s in [0, 1]; L = {model.L:.6g}{unit}; "
-                 f"{len(roots)} crossing(s) of det J = 0")
-    if on.all():
+                 f"{len(roots)} crossing(s) of det J = 0 found"
+                 + (f", {n_cert} of them certified (arb)" if p.method == "certified" else ""))
+    lines.append("  the count is a lower bound, not certified: sign changes on the grid, and "
+                 "root pairs searched at the local minima of |det J|; two crossings inside one "
+                 "sample interval that leave no such minimum are missed (more samples narrow "
+                 "this)")
+    if tiny.all():
         lines.append(f"  the whole path lies on the singular locus: |det J| <= "
-                     f"{np.max(np.abs(vals)):.1e} < tolerance {p.tolerance:g} at every sample "
+                     f"{np.max(np.abs(vals)):.1e}, at the round-off level, at every sample "
                      f"(its {len(locus)} sign changes are round-off)")
     elif on.any():
         lines.append(f"  |det J| < tolerance {p.tolerance:g} at {int(on.sum())} of {p.samples} "
-                     f"samples" + (f"; {len(locus)} sign changes between such samples are "
-                                   "round-off on the singular locus, not crossings"
-                                   if locus else ""))
+                     f"samples" + (f"; {len(locus)} sign changes between samples at the "
+                                   "round-off level of det J are round-off on the singular "
+                                   "locus, not crossings" if locus else ""))
     for s in roots:
         R, t = at(np.array([s]))
         tests = _first(_tests(model, R, t))
         near = lambda rs: min((abs(r - s) for r in rs), default=float("inf"))  # noqa: E731
         und = tests["undefined"]
+        # a test fires where it has a root of its own next to s, or where its value is at
+        # round-off (a root at an end of the path leaves no sign change: QA F5)
+        zero = lambda k: k not in und and tests[k] is not None and abs(tests[k]) < 1e-12  # noqa: E731
         fire = {"det_J": bool(abs(tests["det_J"]) < p.tolerance),
-                "cayley_menger": bool(near(cm_roots) < 1e-9 and "cm_condition_relative" not in und
+                "cayley_menger": bool("cm_condition_relative" not in und
+                                      and (near(cm_roots) < 1e-9 or zero("cm_condition_relative"))
                                       and abs(tests["cm_condition_relative"]) < 1e-6),
-                "signed_cayley_menger": bool(near(k_roots) < 1e-9),
-                "four_planes": bool(near(fp_roots) < 1e-9 and "four_planes" not in und
+                "signed_cayley_menger": bool(near(k_roots) < 1e-9 or zero("signed_cm_relative")),
+                "four_planes": bool("four_planes" not in und
+                                    and (near(fp_roots) < 1e-9 or zero("four_planes_relative"))
                                     and tests["four_planes_spread"] < 1e-6 * model.L)}
         entry = {"s": s, "rotation_matrix": R[0], "translation": t[0],
                  "det_J": float(tests["det_J"]), "sigma_min": float(tests["sigma_min"]),
@@ -424,14 +487,18 @@ def _run_path(model, p, unit):
                 f"{entry['all_fire']}")
         text += "".join(f"\n    {k} undefined: {why}" for k, why in und.items())
         if p.method == "certified":
-            f_arb = lambda q: model.det_j_arb(*path.at_certified(q))  # noqa: E731
-            c = certify_crossing(f_arb, s)
-            entry["certified"] = {"bracket": [c.bracket[0], c.bracket[1]],
-                                  "signs": list(c.signs),
-                                  "width": float(c.bracket[1] - c.bracket[0])}
-            text += (f"\n    certified (arb): sign det J = {c.signs[0]:+d} at s = "
-                     f"{float(c.bracket[0]):.15f} and {c.signs[1]:+d} at s = "
-                     f"{float(c.bracket[1]):.15f}")
+            c = certs[s]
+            if isinstance(c, Crossing):
+                entry["certified"] = {"bracket": [c.bracket[0], c.bracket[1]],
+                                      "signs": list(c.signs),
+                                      "width": float(c.bracket[1] - c.bracket[0])}
+                text += (f"\n    certified (arb): sign det J = {c.signs[0]:+d} at s = "
+                         f"{float(c.bracket[0]):.15f} and {c.signs[1]:+d} at s = "
+                         f"{float(c.bracket[1]):.15f}")
+            else:               # a root at an end of the path, or on the locus (QA F5)
+                entry["certified"] = {"bracket": None, "signs": None, "reason": c}
+                text += (f"\n    sign change not certified (arb): {c} -- det J is 0 there "
+                         "or within the radius of the balls of it")
         if model.platform66 is not None:
             entry["platform66"] = _check66(model, R, t)
             text += (f"\n    6-6 platform: det(A) = {entry['platform66']['det_A']}, "
@@ -465,8 +532,12 @@ def _run_path(model, p, unit):
            "cm_condition_roots": cm_roots, "signed_cm_roots": k_roots,
            "four_planes_roots": fp_roots, "cm_spurious_roots": spurious,
            "nearest_singularity": dist, "min_abs_det_J": float(np.min(np.abs(vals))),
-           "samples_on_locus": int(on.sum()), "on_singular_locus": bool(on.all()),
-           "method": p.method}
+           "samples_on_locus": int(on.sum()), "on_singular_locus": bool(tiny.all()),
+           "method": p.method, "crossing_count": {
+               "found": len(roots), "is_lower_bound": True, "certified_complete": False,
+               "certified_crossings": n_cert if p.method == "certified" else None,
+               "search": "sign changes on the sample grid, and root pairs at the local "
+                         "minima of |det J| (QA F2)"}}
     data = {"s": grid, "det_J": vals, "cm": cm_vals, "signed_cm": k_vals, "four_planes": fp_vals,
             "roots": roots, "spurious": spurious}
     return Outcome(res, "\n".join(lines), lambda stem: plot_path(data, stem))
