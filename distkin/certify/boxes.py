@@ -37,8 +37,8 @@ What a box ``X`` (m, rad; poses as in :mod:`distkin.spatial`) can be proved to b
     invariant to the units of the columns of ``Jx``.  From it,
     :math:`\sigma_{\min}(J_x) \ge (1 - c)/(\sqrt 6\,\max_i v_i\,
     \max_i \|(D^{-1}Y)_{i,:}\|_2)` with ``c = max_i (Bv)_i/v_i``, reported as
-    ``sigma_lower`` (same units as ``Jx``: its force rows are dimensionless, its moment
-    rows in m, so σ mixes them as eq. (1) does; a coarse bound, for information).  For
+    ``sigma_lower`` (same units as ``Jx``, L x 6: its first three columns (force) are
+    dimensionless, its last three (moment) in m, so σ mixes them as eq. (1) does; a coarse bound, for information).  For
     L = 6, ``det Jx`` keeps one sign over the box (it is continuous and never 0 on a
     connected set); ``det_sign`` is that sign, certified at the midpoint.
 ``singular`` (L = 6 only)

@@ -177,7 +177,18 @@ def certificate_json(cert) -> dict:
            "method": "certified", "form": cert.form,
            "region": {"lower": cert.lower.tolist(), "upper": cert.upper.tolist(),
                       "units": "m, m, m, rad, rad, rad"},
-           "min_width": cert.min_width.tolist()}
+           "min_width": cert.min_width.tolist(),
+           # QA F9: units on every number of the result
+           "unit": {"region": "m, m, m, rad, rad, rad",
+                     "min_width": "m, m, m, rad, rad, rad (the entries of a coordinate the "
+                                  "region holds fixed are not used)",
+                     "volumes": "volume_unit",
+                     "sigma_lower": "as Jx (L x 6: force columns 1-3 dimensionless, moment "
+                                    "columns 4-6 in m); sigma_lower_min, "
+                                    "sigma_lower_min_boxes and boxes.sigma_lower",
+                     "boxes": "lower, upper: m, m, m, rad, rad, rad; det_sign: sign of det "
+                              "Jx in a regular box (L = 6), 0 elsewhere; budget: left "
+                              "undecided by a spent box budget"}}
     out.update(s)
     zr = cert.at_zero_rotation()
     out["zero_rotation_slice"] = {
@@ -197,7 +208,8 @@ def certificate_json(cert) -> dict:
                                if s["budget_exhausted"] else ""))
     out["boxes"] = {"legend": {str(k): v for k, v in STATUS_NAMES.items()},
                     "lower": cert.lo, "upper": cert.hi, "status": cert.status,
-                    "sigma_lower": cert.sigma_lower, "budget": cert.budget_mask()}
+                    "sigma_lower": cert.sigma_lower, "det_sign": cert.det_sign,
+                    "budget": cert.budget_mask(), "units": "m, m, m, rad, rad, rad"}
     return out
 
 
@@ -243,7 +255,7 @@ def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> s
                      "of budget, not at the resolution; raise max_boxes")
     if s["sigma_lower_min"] is not None:
         lines.append(f"  σmin(Jx) >= {s['sigma_lower_min']:.3g} (certified, every regular box; "
-                     "Jx force rows dimensionless, moment rows in m)")
+                     "Jx is L x 6: force columns 1-3 dimensionless, moment columns 4-6 in m)")
         if "sigma_tightening" in s:
             t = s["sigma_tightening"]
             lines.append(f"    (the classification's boxes alone: >= "
