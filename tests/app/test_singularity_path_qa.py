@@ -183,3 +183,40 @@ def test_leg_path_samples_are_capped():
         loads_scene(head + '[[query]]\ntype = "singularity"\npath = { from = [6, 1, 17, 0, 0, 0], '
                     'to = [6, 1, 17, 0, 0, 135], samples = 10001 }\n')
     assert exc.value.field.endswith("].path.samples") and "10000" in exc.value.message
+
+
+@pytest.mark.parametrize("query, field, words", [
+    ('pose = { translation = [3e200, 1, 10], rotation = [0, 0, 0] }',
+     "query[0].pose.translation", "times the mechanism's size 12"),
+    ('path = { from = { translation = [3, 1, 10] }, to = { translation = [3, 1, "1e300"] } }',
+     "query[0].path.to.translation", "got 1e+300"),
+    ('pose = { translation = [3, 1, 10], rotation = [1e300, 0, 0] }',
+     "query[0].pose.rotation", "angle unit"),
+    ('pose = { translation = [3, 1, 10] }\nlength_scale = "1e-300"',
+     "query[0].length_scale", "got 1e-300"),
+])
+def test_extreme_magnitudes_name_the_scene_field(query, field, words):
+    """QA F7: these printed numpy RuntimeWarnings and then an error about internal
+    arrays (query[0].sq, platform_joints[3][0][0]).  The size 12 is the base's largest
+    coordinate (12, 0, 0)."""
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(InputError) as exc:
+            loads_scene(HEAD.format(angle="deg") + query + "\n")
+    assert exc.value.field == field and words in exc.value.message
+
+
+def test_tolerance_accepts_an_exact_string_and_root_distance_is_null(tmp_path, capsys):
+    """QA F12: tolerance = "1e-6" was refused while other numeric fields take strings;
+    a test without any root on the path wrote root_distance "inf" (a string)."""
+    from distkin.exact import parse_float
+    p = loads_scene(_gd_query('"1e-6"', "fast")).queries[0].params
+    assert p.tolerance == parse_float("1e-6")
+    code, r, _, err = _run(tmp_path, capsys, _gd_query('"1e-6"', "fast"))
+    assert code == 0, err
+    for d in r["crossings"][0]["root_distance"].values():
+        assert d is None or isinstance(d, float)
+    with pytest.raises(InputError) as exc:
+        loads_scene(_gd_query('"2"', "fast"))
+    assert exc.value.field == "query[0].tolerance"

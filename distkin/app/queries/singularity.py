@@ -66,13 +66,35 @@ class _Params:
     tolerance: float
 
 
-def _parse_pose(value, field):
+#: Admissible magnitudes (QA F7: 3e200 overflowed the squared distances, a length scale
+#: of 1e-300 gave NaN, both reported under internal names with numpy warnings):
+#: translations and the length scale relative to the mechanism's size, rotation-vector
+#: components in the scene's angle unit.
+MAX_RELATIVE_SIZE = 1e8
+MAX_ROTATION = 1e6
+
+
+def _size(mechanism) -> float:
+    """The mechanism's size: the largest |coordinate| of its base and platform points."""
+    pts = [float(x) for row in (*mechanism.base, *mechanism.platform) for x in row]
+    return max(max(abs(x) for x in pts), 1e-300)
+
+
+def _parse_pose(value, field, size):
     t = as_table(value, field)
     check_keys(t, {"translation", "rotation"}, field)
     if "translation" not in t:
         raise InputError("missing required field 'translation'", field=f"{field}.translation")
     tr = parse_vector(t["translation"], f"{field}.translation", length=3)
     rot = parse_vector(t.get("rotation", [0, 0, 0]), f"{field}.rotation", length=3)
+    big = MAX_RELATIVE_SIZE * size
+    for name, vec, limit in (("translation", tr, big), ("rotation", rot, MAX_ROTATION)):
+        worst = max((abs(float(x.value)) for x in vec), default=0.0)
+        if not worst <= limit:
+            raise InputError(f"expected components within +/-{limit:.3g} ("
+                             + (f"{MAX_RELATIVE_SIZE:g} times the mechanism's size {size:.6g}"
+                                if name == "translation" else "the scene's angle unit")
+                             + f"), got {worst:.6g}", field=f"{field}.{name}")
     return _Pose(tuple(x.value for x in tr), tuple(x.value for x in rot))
 
 
@@ -87,16 +109,17 @@ class SingularityQuery:
             raise InputError("expected exactly one of 'pose' or 'path'", field=field)
         pose = path = None
         samples = 120
+        size = _size(mechanism)
         if "pose" in table:
-            pose = _parse_pose(table["pose"], f"{field}.pose")
+            pose = _parse_pose(table["pose"], f"{field}.pose", size)
         else:
             pt = as_table(table["path"], f"{field}.path")
             check_keys(pt, {"from", "to", "samples"}, f"{field}.path")
             for key in ("from", "to"):
                 if key not in pt:
                     raise InputError(f"missing required field {key!r}", field=f"{field}.path.{key}")
-            path = (_parse_pose(pt["from"], f"{field}.path.from"),
-                    _parse_pose(pt["to"], f"{field}.path.to"))
+            path = (_parse_pose(pt["from"], f"{field}.path.from", size),
+                    _parse_pose(pt["to"], f"{field}.path.to", size))
             samples = positive_int(pt.get("samples", 120), f"{field}.path.samples", minimum=3)
             if samples > MAX_PATH_SAMPLES:
                 raise InputError(f"expected at most {MAX_PATH_SAMPLES} samples, got {samples}",
@@ -116,7 +139,15 @@ class SingularityQuery:
         if "length_scale" in table:
             from ...argcheck import positive_number
             L = positive_number(table["length_scale"], f"{field}.length_scale")
+            lo, hi = size / MAX_RELATIVE_SIZE, size * MAX_RELATIVE_SIZE
+            if not lo <= L <= hi:
+                raise InputError(f"expected a length scale in [{lo:.3g}, {hi:.3g}] (1e-8 to "
+                                 f"1e8 times the mechanism's size {size:.6g}), got {L:.6g}",
+                                 field=f"{field}.length_scale")
         tol = table.get("tolerance", 1e-9)
+        if isinstance(tol, str):            # an exact string, as every numeric field (QA F12)
+            from ...argcheck import parse_float
+            tol = parse_float(tol, f"{field}.tolerance")
         if not isinstance(tol, (int, float)) or isinstance(tol, bool) or not 0 < tol < 1:
             raise InputError(f"expected a tolerance in (0, 1), got {tol!r}", field=f"{field}.tolerance")
         return _Params(pose, path, samples, offsets, method, L, float(tol))
@@ -152,7 +183,8 @@ def result_units(units, pose: bool) -> dict:
         out["four_planes"] = f"point, spread: {L}; relative: none"
     else:
         out.update({"s": "none (path parameter in [0, 1])", "four_planes_point": L,
-                    "four_planes_spread": L, "root_distance": "none (in s)",
+                    "four_planes_spread": L,
+                    "root_distance": "none (in s; null: no root of that test on the path)",
                     "min_abs_det_J": "none"})
     return out
 
@@ -476,9 +508,11 @@ def _run_path(model, p, unit):
                  "signed_cm_relative": _opt(tests["signed_cm_relative"]),
                  "four_planes_spread": _opt(tests["four_planes_spread"]),
                  "four_planes_point": tests["four_planes_point"], "undefined": und,
-                 "root_distance": {"cayley_menger": near(cm_roots),
-                                   "signed_cayley_menger": near(k_roots),
-                                   "four_planes": near(fp_roots)},
+                 # None: the test has no root on the path (was the string "inf": QA F12)
+                 "root_distance": {k: (None if d == float("inf") else d) for k, d in
+                                   (("cayley_menger", near(cm_roots)),
+                                    ("signed_cayley_menger", near(k_roots)),
+                                    ("four_planes", near(fp_roots)))},
                  "fires": fire, "all_fire": all(fire.values())}
         e = lambda k: "undefined" if entry[k] is None else f"{entry[k]:.1e}"  # noqa: E731
         text = (f"  crossing at s = {s:.15f}: t = ({t[0, 0]:.6f}, {t[0, 1]:.6f}, {t[0, 2]:.6f}){unit}; "
