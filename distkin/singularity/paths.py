@@ -316,7 +316,9 @@ def nearest_singularity(f, rotation, translation, length_scale: float, *,
     measured by :math:`y = (x, L w)` (length units).  Starting from :math:`y = 0`,
     minimum-norm Newton steps on :math:`f(y) = 0` reach the singular surface; SLSQP
     then minimises :math:`|y|` on it.  A local method: the result is the nearest
-    singularity in the basin of the start, an upper bound of the true distance.
+    singularity in the basin of the start, an upper bound of the true distance (at the
+    Griffis-Duffy home pose of ``examples/delta_griffis_duffy.toml`` it finds 5.14
+    where a 300-start search finds 3.51: QA F11).
 
     Parameters
     ----------

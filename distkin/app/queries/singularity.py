@@ -333,7 +333,10 @@ def _run_pose(model, p, unit):
            "nearest_singularity": {"distance": ns.distance, "first_order": ns.first_order,
                                    "converged": ns.converged, "residual": ns.residual,
                                    "rotation_matrix": ns.rotation, "translation": ns.translation,
-                                   "method": "gradient projection + SLSQP (local)"}}
+                                   "method": "gradient projection + SLSQP (local)",
+                                   # QA F11: a local search from the pose; the nearest
+                                   # singular pose can be closer
+                                   "is_upper_bound": True}}
     lines = [f"pose: t = ({t[0]:.6g}, {t[1]:.6g}, {t[2]:.6g}){unit}, "
              f"rotation vector = {[float(x) for x in p.pose.rotation]} "
              f"{'deg' if model.deg else 'rad'}",
@@ -354,7 +357,8 @@ def _run_pose(model, p, unit):
                      "!= 0 (its extra factor a - b = 0; the signed form does not vanish)")
     if ns.converged:
         lines.append(f"nearest singular pose found (local search): distance "
-                     f"{ns.distance:.6g}{unit} (first-order estimate {ns.first_order:.6g}{unit})")
+                     f"{ns.distance:.6g}{unit} (first-order estimate {ns.first_order:.6g}{unit}); "
+                     "an upper bound: a singular pose in another basin can be closer")
     else:
         lines.append("nearest singular pose: local search did not converge")
     if p.method == "certified":
@@ -559,9 +563,9 @@ def _run_path(model, p, unit):
         R, t = at(np.array([s]))
         ns = nearest_singularity(lambda Rs, ts: model.det_j(Rs, ts), R[0], t[0], model.L)
         dist.append({"s": s, "distance": ns.distance, "first_order": ns.first_order,
-                     "converged": ns.converged})
+                     "converged": ns.converged, "is_upper_bound": True})
         lines.append(f"  distance to the nearest singular pose at s = {s:g}: "
-                     f"{ns.distance:.6g}{unit} (local search)")
+                     f"{ns.distance:.6g}{unit} (local search: an upper bound)")
     res = {"samples": p.samples, "length_scale": model.L, "crossings": crossings,
            "cm_condition_roots": cm_roots, "signed_cm_roots": k_roots,
            "four_planes_roots": fp_roots, "cm_spurious_roots": spurious,
