@@ -129,7 +129,18 @@ def test_two_crossings_inside_one_sample_interval_are_found(tmp_path, capsys):
     assert mp.sign(mpd((s1 + s2) / 2)) == -1
     assert abs(mpd(s1)) < 1e-12 and abs(mpd(s2)) < 1e-12
     assert all(c["certified"]["bracket"] is not None for c in r["crossings"])
-    # the count is not claimed complete
+    # certified: arb proves det J != 0 outside the two crossings' brackets
+    cc = r["crossing_count"]
+    assert cc["certified_complete"] and not cc["zero_exclusion"]["undecided"]
+    for (a, b), c in zip(cc["zero_exclusion"]["brackets"], (s1, s2)):
+        assert a < c < b and mp.sign(mpd(a)) == -mp.sign(mpd(b))
+    assert "the count is certified complete" in out
+
+
+def test_fast_tier_count_is_a_lower_bound(tmp_path, capsys):
+    """Without arb the count of crossings is not claimed complete (QA F2)."""
+    code, r, out, err = _run(tmp_path, capsys, _gd_query("1e-9", "fast"))
+    assert code == 0, err
     assert r["crossing_count"]["is_lower_bound"] and not r["crossing_count"]["certified_complete"]
     assert "lower bound, not certified" in out
 
