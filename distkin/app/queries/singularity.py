@@ -27,7 +27,8 @@ J, the paper's Cayley-Menger condition and its signed form (relative, in [-1, 1]
 four-planes test (common point and spread), the distance to the nearest singular
 pose found by local search, and for a path every crossing of det J = 0 with all three
 tests evaluated there (and, certified, a rational bracket on which arb proves the sign
-change of det J).
+change of det J, and an arb proof that det J has no other zero on the path, or the
+intervals of s where that proof did not succeed: :mod:`distkin.singularity.enclosure`).
 """
 
 from __future__ import annotations
@@ -185,7 +186,9 @@ def result_units(units, pose: bool) -> dict:
         out.update({"s": "none (path parameter in [0, 1])", "four_planes_point": L,
                     "four_planes_spread": L,
                     "root_distance": "none (in s; null: no root of that test on the path)",
-                    "min_abs_det_J": "none"})
+                    "min_abs_det_J": "none",
+                    "crossing_count": "counts; zero_exclusion brackets, undecided and "
+                                      "proven in s (none)"})
     return out
 
 
