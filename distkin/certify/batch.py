@@ -41,9 +41,10 @@ import time
 
 import numpy as np
 
+from ..argcheck import positive_int
 from ..errors import InputError
 from .boxes import (REGULAR, UNDECIDED, UNREACHABLE, Verdict, _certify_box, bisect,
-                    check_box, check_resolution, leaves, split_dimension)
+                    check_box, check_mechanism, check_resolution, leaves, split_dimension)
 from .fptaylor import TINY, Quadratics, as_models, down, sum_up, up, variables
 
 __all__ = ["certify_batch", "branch_and_prune_batched", "rank_bounds"]
@@ -262,12 +263,16 @@ def branch_and_prune_batched(mech, lo, hi, min_width, *, max_boxes: int = 200_00
     from the stack ``batch`` at a time (256) and evaluated together (:func:`certify_batch`).
     Same arguments, checks and result."""
     t0 = time.perf_counter()
+    check_mechanism(mech)
     lo, hi = check_box(lo, hi)
     minw = check_resolution(min_width)
+    max_boxes = positive_int(max_boxes, "max_boxes")
+    batch = positive_int(batch, "batch")
     ks = mech.kernels("arb")
     vary = tuple(k for k in range(6) if hi[k] > lo[k])
     stack = [(lo, hi)]
     out_lo, out_hi, status, sigma, dsign = [], [], [], [], []
+    budget = []                          # indices of the leaves left by the budget
     evaluated = 0
 
     def leaf(blo, bhi, st, sg=0.0, ds=0):
@@ -281,6 +286,7 @@ def branch_and_prune_batched(mech, lo, hi, min_width, *, max_boxes: int = 200_00
         room = max_boxes - evaluated
         if room <= 0:
             for blo, bhi in stack:
+                budget.append(len(status))
                 leaf(blo, bhi, UNDECIDED)
             break
         take = min(batch, room, len(stack))
@@ -312,4 +318,4 @@ def branch_and_prune_batched(mech, lo, hi, min_width, *, max_boxes: int = 200_00
             left, right = bisect(a, b, k)
             stack.append(right)
             stack.append(left)
-    return leaves(out_lo, out_hi, status, sigma, dsign, evaluated, t0)
+    return leaves(out_lo, out_hi, status, sigma, dsign, evaluated, t0, budget)

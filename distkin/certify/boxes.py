@@ -37,8 +37,8 @@ What a box ``X`` (m, rad; poses as in :mod:`distkin.spatial`) can be proved to b
     invariant to the units of the columns of ``Jx``.  From it,
     :math:`\sigma_{\min}(J_x) \ge (1 - c)/(\sqrt 6\,\max_i v_i\,
     \max_i \|(D^{-1}Y)_{i,:}\|_2)` with ``c = max_i (Bv)_i/v_i``, reported as
-    ``sigma_lower`` (same units as ``Jx``: its force rows are dimensionless, its moment
-    rows in m, so σ mixes them as eq. (1) does; a coarse bound, for information).  For
+    ``sigma_lower`` (same units as ``Jx``, L x 6: its first three columns (force) are
+    dimensionless, its last three (moment) in m, so σ mixes them as eq. (1) does; a coarse bound, for information).  For
     L = 6, ``det Jx`` keeps one sign over the box (it is continuous and never 0 on a
     connected set); ``det_sign`` is that sign, certified at the midpoint.
 ``singular`` (L = 6 only)
@@ -53,7 +53,8 @@ What a box ``X`` (m, rad; poses as in :mod:`distkin.spatial`) can be proved to b
 ``unreachable``
     Some leg's reach margin is < 0 over the whole box (no pose of ``X`` is assembled).
 ``undecided``
-    None of the above at the resolution ``min_width`` (or the box budget was spent).
+    None of the above at the resolution ``min_width``, or left unsplit when the box
+    budget was spent (flagged ``budget`` by :func:`branch_and_prune`).
 
 Enclosure forms (:data:`.intervals.FORMS`): ``quadratic`` (second-order Taylor
 models, the default), ``affine`` (first order), ``centred`` (the mean-value form with
@@ -88,14 +89,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..argcheck import as_floats, float_array
+from ..argcheck import as_floats, choice, float_array, positive_int
 from ..errors import InputError
-from .intervals import enclose_box, point_values
+from .intervals import FORMS, enclose_box, point_values
 
 __all__ = ["UNDECIDED", "REGULAR", "SINGULAR", "UNREACHABLE", "STATUS_NAMES", "Verdict",
            "regularity_certificate", "sign_change_certificate", "certify_box",
            "branch_and_prune", "split_dimension", "bisect", "leaves", "check_box",
-           "check_resolution"]
+           "check_resolution", "check_mechanism", "BOX_FORMS"]
 
 UNDECIDED, REGULAR, SINGULAR, UNREACHABLE = 0, 1, 2, 3
 STATUS_NAMES = {UNDECIDED: "undecided", REGULAR: "regular", SINGULAR: "singular",
@@ -133,6 +134,23 @@ class Verdict:
     contraction: float = math.inf
     vary: tuple = ()
     weights: tuple = ()
+
+
+#: enclosure forms of :func:`certify_box` and :func:`branch_and_prune`
+BOX_FORMS = FORMS + ("auto",)
+
+
+def check_mechanism(mech, field: str = "mech"):
+    """``mech`` if it is a mechanism the certifier can use (its ``kernels`` and
+    ``geometry_key``, e.g. :func:`distkin.mechanisms.preset`), else :class:`InputError`
+    naming ``field`` (QA F8: None or a preset's name raised AttributeError)."""
+    if not (callable(getattr(mech, "kernels", None)) and hasattr(mech, "geometry_key")
+            and hasattr(mech, "L")):
+        raise InputError(f"expected an RSS mechanism (distkin.mechanisms.preset(name) or an "
+                         f"RSSMechanism), got {type(mech).__name__} {mech!r:.60}", field=field,
+                         hint="build it with distkin.mechanisms.preset" if isinstance(mech, str)
+                         else None)
+    return mech
 
 
 def check_box(lo, hi, names=("lo", "hi")):
@@ -341,6 +359,7 @@ def certify_box(mech, kernels, lo, hi, *, form: str = "quadratic",
         ``lo``, ``hi`` not 6 finite numbers each with ``lo <= hi`` (:func:`check_box`).
     """
     lo, hi = check_box(lo, hi)
+    form = choice(form, "form", BOX_FORMS)
     return _certify_box(mech, kernels, lo, hi, form=form, at_resolution=at_resolution)
 
 
@@ -430,31 +449,39 @@ def branch_and_prune(mech, lo, hi, min_width, *, form: str = "quadratic",
     form : {"quadratic", "affine", "centred", "plain"}
         (``quadratic64``: :func:`.batch.branch_and_prune_batched`.)
     max_boxes : int
-        Budget of box evaluations; boxes left when it is spent are returned undecided.
+        Budget of box evaluations; boxes left when it is spent are returned undecided,
+        flagged in ``budget`` (not undecided at the resolution: QA F4).
 
     Returns
     -------
     dict of ndarray
         ``lo, hi`` (n, 6), ``status`` (n,) int8 (:data:`STATUS_NAMES`),
-        ``sigma_lower`` (n,), ``det_sign`` (n,) int8, ``evaluated`` (): the number of
-        boxes evaluated, ``seconds`` ().
+        ``sigma_lower`` (n,), ``det_sign`` (n,) int8, ``budget`` (n,) bool (undecided
+        because the budget ran out), ``evaluated`` (): the number of boxes evaluated,
+        ``seconds`` ().
 
     Raises
     ------
     InputError
         ``lo``, ``hi`` not 6 finite numbers each with ``lo <= hi`` (:func:`check_box`);
-        a resolution not positive and finite (:func:`check_resolution`).
+        a resolution not positive and finite (:func:`check_resolution`); ``mech`` not a
+        mechanism, an unknown ``form``, ``max_boxes`` < 1.
     """
     t0 = time.perf_counter()
+    check_mechanism(mech)
     lo, hi = check_box(lo, hi)
     minw = check_resolution(min_width)
+    form = choice(form, "form", BOX_FORMS)
+    max_boxes = positive_int(max_boxes, "max_boxes")
     ks = mech.kernels("arb")
     stack = [(lo, hi)]
     out_lo, out_hi, status, sigma, dsign = [], [], [], [], []
+    budget = []                          # indices of the leaves left by the budget
     evaluated = 0
     while stack:
         blo, bhi = stack.pop()
         if evaluated >= max_boxes:
+            budget.append(len(status))
             out_lo.append(blo)
             out_hi.append(bhi)
             status.append(UNDECIDED)
@@ -475,7 +502,7 @@ def branch_and_prune(mech, lo, hi, min_width, *, form: str = "quadratic",
         left, right = bisect(blo, bhi, k)
         stack.append(right)
         stack.append(left)
-    return leaves(out_lo, out_hi, status, sigma, dsign, evaluated, t0)
+    return leaves(out_lo, out_hi, status, sigma, dsign, evaluated, t0, budget)
 
 
 def bisect(lo, hi, k):
@@ -487,10 +514,13 @@ def bisect(lo, hi, k):
     return (lo, left_hi), (right_lo, hi)
 
 
-def leaves(out_lo, out_hi, status, sigma, dsign, evaluated, t0) -> dict:
-    """The result dict of :func:`branch_and_prune` from lists of leaves."""
+def leaves(out_lo, out_hi, status, sigma, dsign, evaluated, t0, budget=()) -> dict:
+    """The result dict of :func:`branch_and_prune` from lists of leaves; ``budget``:
+    the indices of the undecided leaves left when the box budget ran out."""
+    spent = np.zeros(len(status), dtype=bool)
+    spent[list(budget)] = True
     return {"lo": np.array(out_lo).reshape(-1, 6), "hi": np.array(out_hi).reshape(-1, 6),
             "status": np.array(status, dtype=np.int8),
             "sigma_lower": np.array(sigma, dtype=float),
-            "det_sign": np.array(dsign, dtype=np.int8),
+            "det_sign": np.array(dsign, dtype=np.int8), "budget": spent,
             "evaluated": np.array(evaluated), "seconds": np.array(time.perf_counter() - t0)}

@@ -44,8 +44,9 @@ non-finite derivative ball wherever an operation is not differentiable on its ar
 finite derivative enclosure *is* the proof that the theorem applies; the Taylor models
 likewise return a non-finite remainder.
 
-Balls carry no units; reach margins are m^2, ``Jq`` and the force rows of ``Jx`` are
-dimensionless, the moment rows of ``Jx`` m (the kernels' conventions).
+Balls carry no units; reach margins are m^2, ``Jq`` and the force columns of ``Jx`` (L x 6,
+its first three) are dimensionless, its moment columns (last three) m (the kernels'
+conventions).
 """
 
 from __future__ import annotations

@@ -1,8 +1,9 @@
 """The Fig. 3 analogue (Kühne et al.): the translational workspace at zero rotation with
 the certified regular, singular, undecided and unreachable boxes marked.
 
-Only the boxes that contain a pose of zero rotation are drawn (for a 6-D region, their
-projection onto x, y, z).  Four panels: a 3-D view of the non-regular boxes inside the
+Only the boxes that contain a pose of the slice's rotation are drawn (for a 6-D region,
+their projection onto x, y, z): zero rotation when the region contains it, else the
+region's rotation nearest to zero (its fixed rotation when fixed), named in the title.  Four panels: a 3-D view of the non-regular boxes inside the
 outline of the region; a section z = const and a section x = const (each at the level
 crossed by the most non-regular boxes; the region's centre if all are regular), where
 every box crossing the plane is drawn as a rectangle; and the σmin-margin map, the same
@@ -66,12 +67,13 @@ def _margin_panel(ax, cert, lo, hi, st, centre, f, lu):
     cross = (lo[:, 2] <= level) & (hi[:, 2] >= level)
     tb = cert.sigma_bound
     if tb is not None and len(tb.sigma):
-        zr = np.all((tb.lo[:, 3:] <= 0.0) & (tb.hi[:, 3:] >= 0.0), axis=1)
+        r0 = cert.slice_rotation()
+        zr = np.all((tb.lo[:, 3:] <= r0) & (tb.hi[:, 3:] >= r0), axis=1)
         rc = zr & (tb.lo[:, 2] <= level) & (tb.hi[:, 2] >= level) & (tb.sigma > 0)
         rlo, rhi, rsig = tb.lo[rc], tb.hi[rc], tb.sigma[rc]
         what = "after bisecting the weakest boxes"
     else:
-        sig = cert.sigma_lower[cert.at_zero_rotation()]
+        sig = cert.sigma_lower[cert.at_rotation(cert.slice_rotation())]
         rc = cross & (st == REGULAR) & (sig > 0)
         rlo, rhi, rsig = lo[rc], hi[rc], sig[rc]
         what = "the classification's boxes"
@@ -95,7 +97,20 @@ def _margin_panel(ax, cert, lo, hi, st, centre, f, lu):
     ax.figure.colorbar(sm, ax=ax, label="certified lower bound of σmin(Jx)")
 
 
-def plot_certificate(cert, stem, *, length_unit: str = "mm") -> Path:
+def _rotation_label(cert, angle_unit):
+    """The title's words for the slice's rotation (:meth:`slice_rotation`)."""
+    r0 = cert.slice_rotation()
+    fixed = np.all(cert.upper[3:] == cert.lower[3:])
+    if not r0.any():
+        return "zero rotation" if fixed else "boxes containing zero rotation, projected"
+    f, u = (180 / np.pi, "°") if angle_unit == "deg" else (1.0, " rad")
+    r = "(" + ", ".join(f"{x * f:.4g}" for x in r0) + f"){u}"
+    return (f"fixed rotation (rx, ry, rz) = {r}" if fixed else
+            f"boxes containing the rotation (rx, ry, rz) = {r}, the region's nearest to zero, "
+            "projected")
+
+
+def plot_certificate(cert, stem, *, length_unit: str = "mm", angle_unit: str = "deg") -> Path:
     """Write ``STEM_certified_workspace.png``; returns its path.
 
     Parameters
@@ -113,7 +128,7 @@ def plot_certificate(cert, stem, *, length_unit: str = "mm") -> Path:
 
     f = _SCALE.get(length_unit, 1e3)
     lu = length_unit if length_unit in _SCALE else "mm"
-    zr = cert.at_zero_rotation()
+    zr = cert.at_rotation(cert.slice_rotation())
     lo, hi, st = cert.lo[zr], cert.hi[zr], cert.status[zr]
     L0, U0 = cert.lower, cert.upper
     centre = 0.5 * (L0 + U0)
@@ -152,13 +167,16 @@ def plot_certificate(cert, stem, *, length_unit: str = "mm") -> Path:
         a2.set_title(f"section {name} = {level * f:.4g} {lu}")
     _margin_panel(fig.add_subplot(1, 4, 4), cert, lo, hi, st, centre, f, lu)
     s = cert.summary()
-    rot = "zero rotation" if np.all(cert.upper[3:] == cert.lower[3:]) else \
-        "boxes containing zero rotation, projected"
+    rot = _rotation_label(cert, angle_unit)
     fig.suptitle(f"{cert.mechanism.name}: certified workspace ({rot}; Fig. 3 analogue) — "
                  f"regular {100 * s['regular_fraction']:.1f} %, singular "
                  f"{100 * s['singular_fraction']:.1f} %, undecided "
                  f"{100 * s['undecided_fraction']:.1f} % of the region's volume")
-    fig.legend(handles=[Patch(color=c, label=t) for c, t in COLOURS.values()],
+    labels = dict(COLOURS)
+    if s["budget_exhausted"]:           # QA F4: not all of them at the resolution
+        labels[UNDECIDED] = (COLOURS[UNDECIDED][0],
+                             "undecided (at the resolution, or the box budget spent)")
+    fig.legend(handles=[Patch(color=c, label=t) for c, t in labels.values()],
                loc="lower center", ncol=4)
     fig.tight_layout(rect=(0, 0.1, 1, 0.93))      # the legend's row below the x labels
     out = Path(str(stem) + "_certified_workspace.png")

@@ -40,8 +40,9 @@ class SigmaBound:
     Attributes
     ----------
     value : float
-        Certified lower bound of σmin(Jx) over the union of the boxes given (Jx force
-        rows dimensionless, moment rows in m).
+        Certified lower bound of σmin(Jx) over the union of the boxes given (Jx is
+        L x 6: its first three columns (force) dimensionless, its last three (moment)
+        in m).
     initial : float
         The minimum of the boxes' own bounds (before).
     evaluated : int

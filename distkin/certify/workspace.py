@@ -24,7 +24,8 @@ import numpy as np
 
 from ..argcheck import choice, positive_int
 from .batch import branch_and_prune_batched
-from .boxes import REGULAR, STATUS_NAMES, branch_and_prune, check_box, check_resolution
+from .boxes import (REGULAR, STATUS_NAMES, UNDECIDED, branch_and_prune, check_box,
+                    check_mechanism, check_resolution)
 from .intervals import FORMS
 from .tighten import tighten_sigma
 
@@ -119,6 +120,11 @@ class WorkspaceCertificate:
         The folder the chunks are kept in (the sub-folder of the store that
         :func:`distkin.runstore.run_chunks` keyed by this region's definition); None
         when they were kept in memory.
+    budget : ndarray (n,) bool or None
+        The undecided boxes left unsplit (or unevaluated) because a chunk's box budget
+        ``max_boxes`` ran out: not undecided at the resolution (QA F4).  None: no box.
+    max_boxes : int or None
+        That budget (box evaluations per chunk).
     """
 
     mechanism: object
@@ -138,6 +144,14 @@ class WorkspaceCertificate:
     sigma_bound: object = None
     resumed: int = 0
     store: str | None = None
+    budget: np.ndarray | None = None
+    max_boxes: int | None = None
+
+    def budget_mask(self) -> np.ndarray:
+        """(n,) bool: the boxes left undecided because the box budget ran out."""
+        if self.budget is None:
+            return np.zeros(len(self.status), dtype=bool)
+        return np.asarray(self.budget, dtype=bool)
 
     @property
     def vary(self) -> tuple:
@@ -179,6 +193,13 @@ class WorkspaceCertificate:
             out[f"{name}_fraction"] = vol / tot if tot else 0.0
         out["counts"] = {name: int(np.sum(self.status == code))
                          for code, name in STATUS_NAMES.items()}
+        spent = self.budget_mask()
+        vb = float(self.volumes()[spent].sum()) if spent.any() else 0.0
+        # undecided because a chunk's budget ran out, not at the resolution (QA F4)
+        out["budget_exhausted"] = bool(spent.any())
+        out["undecided_budget"] = {"boxes": int(spent.sum()), "volume": vb,
+                                   "fraction": vb / tot if tot else 0.0}
+        out["max_boxes"] = self.max_boxes
         reg = self.status == REGULAR
         leaves = float(self.sigma_lower[reg].min()) if reg.any() else None
         tb = self.sigma_bound
@@ -203,7 +224,18 @@ class WorkspaceCertificate:
 
     def at_zero_rotation(self) -> np.ndarray:
         """(n,) bool: the boxes that contain a pose of zero rotation (rx = ry = rz = 0)."""
-        return np.all((self.lo[:, 3:] <= 0.0) & (self.hi[:, 3:] >= 0.0), axis=1)
+        return self.at_rotation(np.zeros(3))
+
+    def slice_rotation(self) -> np.ndarray:
+        """(3,) rad: the rotation of the region nearest to zero (zero when the region
+        contains it; its fixed rotation when the rotation is fixed): the rotation of the
+        Fig. 3 slice (QA F3: a region at rx = 10° had an empty "zero rotation" slice)."""
+        return np.clip(0.0, self.lower[3:], self.upper[3:])
+
+    def at_rotation(self, rotation) -> np.ndarray:
+        """(n,) bool: the boxes that contain a pose of the rotation (3,) rad."""
+        r = np.asarray(rotation, dtype=float)
+        return np.all((self.lo[:, 3:] <= r) & (self.hi[:, 3:] >= r), axis=1)
 
 
 def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64",
@@ -253,6 +285,7 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
     """
     from ..runstore import run_chunks
     t0 = time.perf_counter()
+    check_mechanism(mech)
     lower, upper = check_box(lower, upper, ("lower", "upper"))
     minw = check_resolution(min_width)
     form = choice(form, "form", WORKSPACE_FORMS)
@@ -272,6 +305,7 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
     cat = {k: np.concatenate([r[k] for r in results]) for k in
            ("lo", "hi", "status", "sigma_lower", "det_sign")}
     blo, bhi = cat["lo"].reshape(-1, 6), cat["hi"].reshape(-1, 6)
+    spent = np.concatenate([_budget_flags(r, minw) for r in results])
     reg = cat["status"] == REGULAR
     wall = time.perf_counter() - t0           # the classification's (tightening apart)
     bound = None
@@ -283,5 +317,14 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
         cat["status"], cat["sigma_lower"], cat["det_sign"],
         int(sum(int(r["evaluated"]) for r in results)),
         float(sum(float(r["seconds"]) for r in results)), wall, len(specs), bound,
-        stats["loaded"], stats.get("store"))
+        stats["loaded"], stats.get("store"), spent, int(max_boxes))
+
+
+def _budget_flags(chunk, minw) -> np.ndarray:
+    """A chunk's ``budget`` flags; for a chunk stored before they were kept, the
+    undecided boxes still wider than the resolution (the ones left unsplit)."""
+    if "budget" in chunk:
+        return np.asarray(chunk["budget"], dtype=bool).reshape(-1)
+    lo, hi = chunk["lo"].reshape(-1, 6), chunk["hi"].reshape(-1, 6)
+    return (chunk["status"] == UNDECIDED) & np.any(hi - lo > minw, axis=1)
 

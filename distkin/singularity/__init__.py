@@ -1,7 +1,8 @@
 """Singularities of the octahedral manipulator and its 6-6 equivalents (Rojas, Borràs,
 Thomas, ICRA 2012, Sec. V): the Plücker Jacobian (eq. (5)), the Cayley-Menger pure
-condition, the four-planes test (:mod:`.conditions`), and poses, paths and the nearest
-singularity."""
+condition, the four-planes test (:mod:`.conditions`), poses, paths and the nearest
+singularity (:mod:`.paths`), and the certified zero exclusion of det J along a path
+(:mod:`.enclosure`)."""
 
 from .conditions import (OCTAHEDRAL_LEGS, octahedral_joints, plucker_jacobian,
                          jacobian_det, cm_pure_condition, signed_cm_condition,
@@ -9,6 +10,7 @@ from .conditions import (OCTAHEDRAL_LEGS, octahedral_joints, plucker_jacobian,
                          RATIO_CONSTANT, PLANES)
 from .paths import (rotation_from_vector, pose_points, PosePath, Crossing, path_crossings,
                     certify_crossing, NearestSingularity, nearest_singularity)
+from .enclosure import ZeroExclusion, det_series, exclude_zeros
 
 __all__ = [
     "OCTAHEDRAL_LEGS",
@@ -31,4 +33,7 @@ __all__ = [
     "certify_crossing",
     "NearestSingularity",
     "nearest_singularity",
+    "ZeroExclusion",
+    "det_series",
+    "exclude_zeros",
 ]

@@ -210,7 +210,7 @@ def certified_sign(value) -> int:
     >>> certified_sign(flint.arb(0, 1e-9))
     Traceback (most recent call last):
     ...
-    distkin.errors.UncertifiedError: expected a ball excluding 0, got [+/- 1.01e-9] (hint: raise the precision or move away from the singularity)
+    distkin.errors.UncertifiedError: expected a ball excluding 0, got [+/- 1.01e-9] (hint: raise flint.ctx.prec (arb working precision, bits) and recompute, or move away from the singularity)
     """
     name = type(value).__name__
     if name in ("fmpq", "fmpz"):
@@ -223,7 +223,8 @@ def certified_sign(value) -> int:
         if value.is_zero():              # radius 0, midpoint 0: exactly zero
             return 0
         raise UncertifiedError(f"expected a ball excluding 0, got {value.str(5, radius=True)}",
-                               hint="raise the precision or move away from the singularity")
+                               hint="raise flint.ctx.prec (arb working precision, bits) and "
+                                    "recompute, or move away from the singularity")
     raise InputError(f"expected an arb or fmpq value to certify, got {name}")
 
 

@@ -169,7 +169,7 @@ class Crossing:
     Attributes
     ----------
     s : float
-        Path parameter of the root of det J (brentq, |ds| <= 1e-13).
+        Path parameter of the root of det J (brentq, |ds| <= 1e-14).
     bracket : (Fraction, Fraction) or None
         Rational parameters on both sides at which the sign of det J was certified
         (arb), when certification was asked for.
@@ -182,18 +182,29 @@ class Crossing:
     signs: tuple | None = None
 
 
-def path_crossings(f, samples: int = 200, *, xtol: float = 1e-14):
+def path_crossings(f, samples: int = 200, *, xtol: float = 1e-14, refine: bool = False):
     """Roots of a scalar function along s in [0, 1]: sign changes on a uniform grid of
     ``samples`` points, refined by Brent's method.
+
+    A pair of roots inside one sample interval leaves no sign change on the grid.  With
+    ``refine``, every interior sample where |f| has a strict local minimum without a
+    sign change on either side is searched (bounded Brent minimisation of sign(f) f over
+    its two neighbouring intervals); a minimum of the opposite sign adds the two roots
+    around it (QA F2).  Pairs of roots that leave no local minimum of |f| at a sample
+    can still be missed: the count is a lower bound.
 
     Parameters
     ----------
     f : callable (array of s) -> array of values (batched float)
     samples : int
+    xtol : float
+        Absolute tolerance on each root (in s).
+    refine : bool
+        Search the local minima of |f| for root pairs between samples.
 
     Returns
     -------
-    roots : list of float
+    roots : list of float (sorted)
     grid, values : arrays (samples,)
         The sampled function (for plots).
     """
@@ -210,7 +221,30 @@ def path_crossings(f, samples: int = 200, *, xtol: float = 1e-14):
             roots.append(float(brentq(scalar, grid[i], grid[i + 1], xtol=xtol, rtol=1e-15)))
     if vals[-1] == 0.0:
         roots.append(1.0)
+    if refine:
+        roots.extend(_root_pairs(scalar, grid, vals, xtol))
+        roots.sort()
     return roots, grid, vals
+
+
+def _root_pairs(scalar, grid, vals, xtol):
+    """Root pairs between samples at the strict local minima of |f| (see
+    :func:`path_crossings`)."""
+    from scipy.optimize import brentq, minimize_scalar
+    a, m, b = np.abs(vals[:-2]), np.abs(vals[1:-1]), np.abs(vals[2:])
+    same = (vals[:-2] * vals[1:-1] > 0) & (vals[1:-1] * vals[2:] > 0)
+    out = []
+    for i in np.flatnonzero(same & (m < a) & (m <= b) & np.isfinite(m)) + 1:
+        sg = float(np.sign(vals[i]))
+        lo, hi = float(grid[i - 1]), float(grid[i + 1])
+        res = minimize_scalar(lambda x: sg * scalar(x), bounds=(lo, hi), method="bounded",
+                              options={"xatol": 1e-13})
+        if not (res.fun < 0.0):
+            continue
+        x = float(res.x)
+        out += [float(brentq(scalar, lo, x, xtol=xtol, rtol=1e-15)),
+                float(brentq(scalar, x, hi, xtol=xtol, rtol=1e-15))]
+    return out
 
 
 def certify_crossing(f_arb, s: float, *, lo: float = 0.0, hi: float = 1.0,
@@ -282,7 +316,9 @@ def nearest_singularity(f, rotation, translation, length_scale: float, *,
     measured by :math:`y = (x, L w)` (length units).  Starting from :math:`y = 0`,
     minimum-norm Newton steps on :math:`f(y) = 0` reach the singular surface; SLSQP
     then minimises :math:`|y|` on it.  A local method: the result is the nearest
-    singularity in the basin of the start, an upper bound of the true distance.
+    singularity in the basin of the start, an upper bound of the true distance (at the
+    Griffis-Duffy home pose of ``examples/delta_griffis_duffy.toml`` it finds 5.14
+    where a 300-start search finds 3.51: QA F11).
 
     Parameters
     ----------

@@ -164,7 +164,8 @@ class CertifyWorkspaceQuery:
 
         def plot(stem):
             from ...certify.plot import plot_certificate
-            return [plot_certificate(cert, Path(stem), length_unit=p.length_unit)]
+            return [plot_certificate(cert, Path(stem), length_unit=p.length_unit,
+                                     angle_unit=p.angle_unit)]
         return Outcome(result, text, plot)
 
 
@@ -176,20 +177,39 @@ def certificate_json(cert) -> dict:
            "method": "certified", "form": cert.form,
            "region": {"lower": cert.lower.tolist(), "upper": cert.upper.tolist(),
                       "units": "m, m, m, rad, rad, rad"},
-           "min_width": cert.min_width.tolist()}
+           "min_width": cert.min_width.tolist(),
+           # QA F9: units on every number of the result
+           "unit": {"region": "m, m, m, rad, rad, rad",
+                     "min_width": "m, m, m, rad, rad, rad (the entries of a coordinate the "
+                                  "region holds fixed are not used)",
+                     "volumes": "volume_unit",
+                     "sigma_lower": "as Jx (L x 6: force columns 1-3 dimensionless, moment "
+                                    "columns 4-6 in m); sigma_lower_min, "
+                                    "sigma_lower_min_boxes and boxes.sigma_lower",
+                     "boxes": "lower, upper: m, m, m, rad, rad, rad; det_sign: sign of det "
+                              "Jx in a regular box (L = 6), 0 elsewhere; budget: left "
+                              "undecided by a spent box budget"}}
     out.update(s)
     zr = cert.at_zero_rotation()
     out["zero_rotation_slice"] = {
         name: int(np.sum(zr & (cert.status == code))) for code, name in STATUS_NAMES.items()}
+    r0 = cert.slice_rotation()              # the plot's slice (QA F3)
+    sl = cert.at_rotation(r0)
+    out["rotation_slice"] = {"rotation": r0.tolist(), "units": "rad",
+                             **{name: int(np.sum(sl & (cert.status == code)))
+                                for code, name in STATUS_NAMES.items()}}
     out["certificate"] = (
         "regular: every leg closes (reach margin > 0), Jq_ii != 0 and rank Jx = 6 for "
         "every pose of the box (IK branch of the presets); singular (L = 6): det Jx "
         "certified > 0 and < 0 at two poses of a reachable box (a zero inside); "
         "unreachable: some leg cannot close anywhere in the box; undecided: none of these "
-        "at the resolution")
+        "at the resolution" + (", or (boxes.budget true) left unsplit when the budget of "
+                               f"{cert.max_boxes} box evaluations per chunk ran out"
+                               if s["budget_exhausted"] else ""))
     out["boxes"] = {"legend": {str(k): v for k, v in STATUS_NAMES.items()},
                     "lower": cert.lo, "upper": cert.hi, "status": cert.status,
-                    "sigma_lower": cert.sigma_lower}
+                    "sigma_lower": cert.sigma_lower, "det_sign": cert.det_sign,
+                    "budget": cert.budget_mask(), "units": "m, m, m, rad, rad, rad"}
     return out
 
 
@@ -226,9 +246,16 @@ def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> s
         lines.append(f"  {name:<11} {s[name + '_volume']:.4g} {unit}  "
                      f"({100 * s[name + '_fraction']:.2f} % of {s['total_volume']:.4g} {unit}; "
                      f"{s['counts'][name]} boxes)")
+    ub = s["undecided_budget"]
+    if s["budget_exhausted"]:
+        lines.append(f"  warning: the box budget ran out (max_boxes = {s['max_boxes']} "
+                     f"evaluations per chunk): {ub['boxes']} of the undecided boxes"
+                     + (f" ({100 * ub['fraction']:.2f} % of the region)" if cert.vary else "")
+                     + " were left unsplit, wider than the resolution -- undecided for want "
+                     "of budget, not at the resolution; raise max_boxes")
     if s["sigma_lower_min"] is not None:
         lines.append(f"  σmin(Jx) >= {s['sigma_lower_min']:.3g} (certified, every regular box; "
-                     "Jx force rows dimensionless, moment rows in m)")
+                     "Jx is L x 6: force columns 1-3 dimensionless, moment columns 4-6 in m)")
         if "sigma_tightening" in s:
             t = s["sigma_tightening"]
             lines.append(f"    (the classification's boxes alone: >= "

@@ -43,7 +43,12 @@ from ...errors import InputError, UncertifiedError
 from ..query import Outcome, register
 from ..units import angle_value, length_value
 
-__all__ = ["LegSingularityQuery", "applicability", "leg_lines", "singularity_tests_at"]
+__all__ = ["LegSingularityQuery", "applicability", "leg_lines", "singularity_tests_at",
+           "MAX_PATH_SAMPLES"]
+
+#: Largest ``path.samples``: every sample is one pose evaluated in full, one at a time
+#: (an unbounded count exhausted the memory and the time; QA F6).
+MAX_PATH_SAMPLES = 10_000
 
 
 @dataclass(frozen=True)
@@ -157,6 +162,11 @@ class LegSingularityQuery:
             path = tuple(_pose(require(pt, k, f"{field}.path"), units, f"{field}.path.{k}")
                          for k in ("from", "to"))
             samples = positive_int(pt.get("samples", 90), f"{field}.path.samples", minimum=3)
+            if samples > MAX_PATH_SAMPLES:
+                raise InputError(f"expected at most {MAX_PATH_SAMPLES} samples, got {samples}",
+                                 field=f"{field}.path.samples",
+                                 hint="each sample is one pose evaluated in full; crossings "
+                                      "between samples are located by Brent's method")
         return _Params(poses, path, samples, method_field(table, field))
 
     @staticmethod
@@ -196,14 +206,19 @@ class LegSingularityQuery:
             sg = np.sign(det)
             hits = [k for k in range(len(det)) if sg[k] == 0 and 0 < k < len(det) - 1]
             hits += [k for k in range(len(det) - 1) if sg[k] * sg[k + 1] < 0]
-            for k in sorted(hits):
-                c = poses[k] if sg[k] == 0 else _crossing(mech, poses[k], poses[k + 1])
+            found = [poses[k] if sg[k] == 0 else _crossing(mech, poses[k], poses[k + 1])
+                     for k in sorted(hits)]
+            found += _root_pairs_between(mech, a, b, s, det)     # QA F2
+            found.sort(key=lambda c: float(np.linalg.norm(c - a)))
+            for c in found:
                 r = singularity_tests_at(mech, c, p.method)
                 r["pose"] = [float(v) for v in c]
                 crossings.append(r)
             lines.append(f"  path: {p.samples} poses from {fmt_pose(poses[0])} to "
                          f"{fmt_pose(poses[-1])}; det J changes sign {len(crossings)} time(s)"
-                         " (a sample where det J is 0 counts as a crossing)")
+                         " (a sample where det J is 0 counts as a crossing; a lower bound: "
+                         "sign changes on the samples and root pairs searched at the local "
+                         "minima of |det J|, not certified complete)")
             for r in crossings:
                 lines.append(f"    crossing at {fmt_pose(r['pose'])}: " + _fmt(r, lf, lu))
         lines.append(f"  accuracy: {p.method} tier ("
@@ -233,6 +248,20 @@ def _fmt(r, lf, lu):
                   f"four planes {r['four_planes_relative']:.4g} "
                   f"(spread {r['four_planes_spread'] * lf:.4g} {lu})"]
     return ", ".join(parts) + " (dimensionless unless a unit is given)"
+
+
+def _root_pairs_between(mech, a, b, s, det):
+    """Poses of the root pairs of det J inside one sample interval of the path a -> b
+    (samples ``s``, float values ``det``), searched at the local minima of |det J|
+    (:func:`distkin.singularity.paths.path_crossings`, QA F2)."""
+    from ...singularity.conditions import jacobian_det
+    from ...singularity.paths import _root_pairs
+
+    def f(x):
+        x = a + x * (b - a)
+        return float(jacobian_det(*leg_lines(mech, x), length_scale=mech.length_scale))
+    vals = np.array([float(v) for v in det])
+    return [a + r * (b - a) for r in _root_pairs(f, np.asarray(s), vals, 1e-12)]
 
 
 def _crossing(mech, a, b):

@@ -27,7 +27,8 @@ J, the paper's Cayley-Menger condition and its signed form (relative, in [-1, 1]
 four-planes test (common point and spread), the distance to the nearest singular
 pose found by local search, and for a path every crossing of det J = 0 with all three
 tests evaluated there (and, certified, a rational bracket on which arb proves the sign
-change of det J).
+change of det J, and an arb proof that det J has no other zero on the path, or the
+intervals of s where that proof did not succeed: :mod:`distkin.singularity.enclosure`).
 """
 
 from __future__ import annotations
@@ -37,11 +38,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...argcheck import as_table, check_keys, method_field, positive_int
-from ...errors import DegenerateGeometryError, InputError
+from ...errors import DegenerateGeometryError, InputError, UncertifiedError
 from ...exact import parse_vector, to_tier
 from ..query import Outcome, register
 
-__all__ = ["SingularityQuery", "OctahedralModel", "plot_path", "result_units"]
+__all__ = ["SingularityQuery", "OctahedralModel", "plot_path", "result_units",
+           "MAX_PATH_SAMPLES"]
+
+#: Largest ``path.samples`` (each sample is a batched 6 x 6 determinant plus the CM and
+#: four-planes tests: 1e5 samples take seconds, 1e8 exhausted the memory; QA F6).
+MAX_PATH_SAMPLES = 100_000
 
 
 @dataclass(frozen=True)
@@ -61,13 +67,35 @@ class _Params:
     tolerance: float
 
 
-def _parse_pose(value, field):
+#: Admissible magnitudes (QA F7: 3e200 overflowed the squared distances, a length scale
+#: of 1e-300 gave NaN, both reported under internal names with numpy warnings):
+#: translations and the length scale relative to the mechanism's size, rotation-vector
+#: components in the scene's angle unit.
+MAX_RELATIVE_SIZE = 1e8
+MAX_ROTATION = 1e6
+
+
+def _size(mechanism) -> float:
+    """The mechanism's size: the largest |coordinate| of its base and platform points."""
+    pts = [float(x) for row in (*mechanism.base, *mechanism.platform) for x in row]
+    return max(max(abs(x) for x in pts), 1e-300)
+
+
+def _parse_pose(value, field, size):
     t = as_table(value, field)
     check_keys(t, {"translation", "rotation"}, field)
     if "translation" not in t:
         raise InputError("missing required field 'translation'", field=f"{field}.translation")
     tr = parse_vector(t["translation"], f"{field}.translation", length=3)
     rot = parse_vector(t.get("rotation", [0, 0, 0]), f"{field}.rotation", length=3)
+    big = MAX_RELATIVE_SIZE * size
+    for name, vec, limit in (("translation", tr, big), ("rotation", rot, MAX_ROTATION)):
+        worst = max((abs(float(x.value)) for x in vec), default=0.0)
+        if not worst <= limit:
+            raise InputError(f"expected components within +/-{limit:.3g} ("
+                             + (f"{MAX_RELATIVE_SIZE:g} times the mechanism's size {size:.6g}"
+                                if name == "translation" else "the scene's angle unit")
+                             + f"), got {worst:.6g}", field=f"{field}.{name}")
     return _Pose(tuple(x.value for x in tr), tuple(x.value for x in rot))
 
 
@@ -82,17 +110,23 @@ class SingularityQuery:
             raise InputError("expected exactly one of 'pose' or 'path'", field=field)
         pose = path = None
         samples = 120
+        size = _size(mechanism)
         if "pose" in table:
-            pose = _parse_pose(table["pose"], f"{field}.pose")
+            pose = _parse_pose(table["pose"], f"{field}.pose", size)
         else:
             pt = as_table(table["path"], f"{field}.path")
             check_keys(pt, {"from", "to", "samples"}, f"{field}.path")
             for key in ("from", "to"):
                 if key not in pt:
                     raise InputError(f"missing required field {key!r}", field=f"{field}.path.{key}")
-            path = (_parse_pose(pt["from"], f"{field}.path.from"),
-                    _parse_pose(pt["to"], f"{field}.path.to"))
+            path = (_parse_pose(pt["from"], f"{field}.path.from", size),
+                    _parse_pose(pt["to"], f"{field}.path.to", size))
             samples = positive_int(pt.get("samples", 120), f"{field}.path.samples", minimum=3)
+            if samples > MAX_PATH_SAMPLES:
+                raise InputError(f"expected at most {MAX_PATH_SAMPLES} samples, got {samples}",
+                                 field=f"{field}.path.samples",
+                                 hint="crossings between samples are located by Brent's "
+                                      "method; a few hundred samples suffice")
         offsets = None
         if "offsets" not in table and getattr(mechanism, "kind", None) == "platform66":
             offsets = mechanism.offsets
@@ -106,7 +140,15 @@ class SingularityQuery:
         if "length_scale" in table:
             from ...argcheck import positive_number
             L = positive_number(table["length_scale"], f"{field}.length_scale")
+            lo, hi = size / MAX_RELATIVE_SIZE, size * MAX_RELATIVE_SIZE
+            if not lo <= L <= hi:
+                raise InputError(f"expected a length scale in [{lo:.3g}, {hi:.3g}] (1e-8 to "
+                                 f"1e8 times the mechanism's size {size:.6g}), got {L:.6g}",
+                                 field=f"{field}.length_scale")
         tol = table.get("tolerance", 1e-9)
+        if isinstance(tol, str):            # an exact string, as every numeric field (QA F12)
+            from ...argcheck import parse_float
+            tol = parse_float(tol, f"{field}.tolerance")
         if not isinstance(tol, (int, float)) or isinstance(tol, bool) or not 0 < tol < 1:
             raise InputError(f"expected a tolerance in (0, 1), got {tol!r}", field=f"{field}.tolerance")
         return _Params(pose, path, samples, offsets, method, L, float(tol))
@@ -129,6 +171,8 @@ def result_units(units, pose: bool) -> dict:
     out = {"length": L, "length_scale": L, "translation": L,
            "rotation_matrix": "none (rotation matrix)",
            "det_J": "none (eq. (5), moment rows divided by length_scale)",
+           "certified_det_J_hat": (f"{L}^9 (arb ball of det Jhat, unnormalised Plücker rows "
+                                   f"p - b in {L}, moments in {L}^2)" if L != "none" else "none"),
            "sigma_min": "none (of J with the moment rows divided by length_scale)",
            "cm_condition_relative": "none (relative)", "signed_cm_relative": "none (relative)",
            "nearest_singularity": f"distance, first_order: {L} (translation and rotation "
@@ -140,8 +184,11 @@ def result_units(units, pose: bool) -> dict:
         out["four_planes"] = f"point, spread: {L}; relative: none"
     else:
         out.update({"s": "none (path parameter in [0, 1])", "four_planes_point": L,
-                    "four_planes_spread": L, "root_distance": "none (in s)",
-                    "min_abs_det_J": "none"})
+                    "four_planes_spread": L,
+                    "root_distance": "none (in s; null: no root of that test on the path)",
+                    "min_abs_det_J": "none",
+                    "crossing_count": "counts; zero_exclusion brackets, undecided and "
+                                      "proven in s (none)"})
     return out
 
 
@@ -289,7 +336,10 @@ def _run_pose(model, p, unit):
            "nearest_singularity": {"distance": ns.distance, "first_order": ns.first_order,
                                    "converged": ns.converged, "residual": ns.residual,
                                    "rotation_matrix": ns.rotation, "translation": ns.translation,
-                                   "method": "gradient projection + SLSQP (local)"}}
+                                   "method": "gradient projection + SLSQP (local)",
+                                   # QA F11: a local search from the pose; the nearest
+                                   # singular pose can be closer
+                                   "is_upper_bound": True}}
     lines = [f"pose: t = ({t[0]:.6g}, {t[1]:.6g}, {t[2]:.6g}){unit}, "
              f"rotation vector = {[float(x) for x in p.pose.rotation]} "
              f"{'deg' if model.deg else 'rad'}",
@@ -310,16 +360,27 @@ def _run_pose(model, p, unit):
                      "!= 0 (its extra factor a - b = 0; the signed form does not vanish)")
     if ns.converged:
         lines.append(f"nearest singular pose found (local search): distance "
-                     f"{ns.distance:.6g}{unit} (first-order estimate {ns.first_order:.6g}{unit})")
+                     f"{ns.distance:.6g}{unit} (first-order estimate {ns.first_order:.6g}{unit}); "
+                     "an upper bound: a singular pose in another basin can be closer")
     else:
         lines.append("nearest singular pose: local search did not converge")
     if p.method == "certified":
         Ra, ta = _exact_pose_arb(model, p.pose)
-        sgn = certified_sign(model.det_j_arb(Ra, ta))
+        ball = model.det_j_arb(Ra, ta)
+        try:
+            sgn = certified_sign(ball)
+        except UncertifiedError:       # keep the other results (QA F5)
+            sgn = None
         res["certified_sign_det_J"] = sgn
-        lines.append(f"certified (arb): sign det J = {sgn:+d}" if sgn else
-                     "certified (arb): det J = 0 exactly (a zero row or column of Jhat): "
-                     "a singular pose")
+        res["certified_det_J_hat"] = ball.str(5, radius=True)
+        if sgn is None:
+            lines.append(f"certified (arb): sign of det J not certified: the ball of det Jhat "
+                         f"{res['certified_det_J_hat']} contains 0 (a singular pose, or "
+                         f"within its radius of one)")
+        else:
+            lines.append(f"certified (arb): sign det J = {sgn:+d}" if sgn else
+                         "certified (arb): det J = 0 exactly (a zero row or column of Jhat): "
+                         "a singular pose")
     if model.platform66 is not None:
         res["platform66"] = _check66(model, R[None], t[None])
         lines.append(f"6-6 platform: det(A) = {res['platform66']['det_A']}; "
@@ -356,8 +417,57 @@ def _check66(model, R, t):
             "identity": "Jhat66 = A Jhat, so det(Jhat66) = det(A) det(Jhat)"}
 
 
+def _roundoff(model, R, t):
+    """Round-off level of the float det J at poses R (n,3,3), t (n,3): 64 n eps times
+    Hadamard's bound prod_k |J_k| (rows of J with the moments over L), n = 6."""
+    from ...singularity import octahedral_joints, plucker_jacobian
+    J = plucker_jacobian(*octahedral_joints(model.points(R, t)))
+    J[..., 3:] /= model.L
+    return 64 * 6 * np.finfo(float).eps * np.prod(np.linalg.norm(J, axis=-1), axis=-1)
+
+
+def _try_certify(certify_crossing, f_arb, s):
+    """The :class:`~distkin.singularity.Crossing` arb proves around ``s``, or the reason
+    (a string) why it could not (a root at an end of the path, a ball containing 0)."""
+    from ...errors import UncertifiedError
+    try:
+        return certify_crossing(f_arb, s)
+    except UncertifiedError as exc:
+        return exc.message
+
+
+def _exclude(model, path, f_arb, roots, certs, certify_crossing, Crossing):
+    """Certified zero exclusion of det J on [0, 1] outside brackets of the certified
+    crossings (:func:`distkin.singularity.enclosure.exclude_zeros`, QA F2).  Brackets
+    of about 1e-7 in s are used (a tighter one leaves |det J| within the balls' radius
+    at its ends); their signs are certified as the crossings' own."""
+    from ...singularity.enclosure import det_series, exclude_zeros
+    brackets = []
+    for s in roots:
+        c = certs.get(s)
+        if not isinstance(c, Crossing):
+            continue                     # not certified: its neighbourhood stays undecided
+        wide = _try_certify(lambda f, x: certify_crossing(f, x, start=1e-7), f_arb, s)
+        brackets.append(tuple(float(x) for x in (wide if isinstance(wide, Crossing)
+                                                 else c).bracket))
+    gaps, at = [], 0.0
+    for a, b in sorted(brackets):
+        if a > at:
+            gaps.append((at, a))
+        at = max(at, b)
+    if at < 1.0:
+        gaps.append((at, 1.0))
+    ex = exclude_zeros(lambda ball: det_series(path, model.base_a, model.plat_a, ball), gaps,
+                       min_width=1e-9, budget=2000)
+    return {"undecided": [list(u) for u in ex.undecided], "proven": ex.proven,
+            "evaluations": ex.evaluations, "brackets": [list(b) for b in sorted(brackets)],
+            "max_bracket": max((b - a for a, b in brackets), default=0.0),
+            "method": "arb mean-value form over intervals of s, bisected to 1e-9 within "
+                      "2000 evaluations"}
+
+
 def _run_path(model, p, unit):
-    from ...singularity import (certify_crossing, cm_pure_condition, four_planes,
+    from ...singularity import (Crossing, certify_crossing, cm_pure_condition, four_planes,
                               nearest_singularity, path_crossings, signed_cm_condition)
     a, b = p.path
     path = model.pose_path(a, b)
@@ -365,13 +475,24 @@ def _run_path(model, p, unit):
 
     f_det = lambda s: model.det_j(*at(s))  # noqa: E731
     _check_legs(model, *at(np.linspace(0.0, 1.0, p.samples)), "path")
-    roots, grid, vals = path_crossings(f_det, p.samples)
-    # sign changes between two samples that are both within the tolerance are round-off
-    # on the singular locus, not crossings (a path along the locus: QA F 07)
+    roots, grid, vals = path_crossings(f_det, p.samples, refine=True)
+    # a sign change between two samples that are both at the round-off level of det J is
+    # round-off on the singular locus, not a crossing (a path along the locus: QA F 07).
+    # The level is _roundoff (or the tolerance, if smaller), not the tolerance: a
+    # tolerance of the order of det J's change over one sample deleted real crossings
+    # (QA F1); under "certified" a sign change arb proves is a crossing whatever the level
     on = np.abs(vals) < p.tolerance
+    tiny = np.abs(vals) < np.minimum(p.tolerance, _roundoff(model, *at(grid)))
     cell = lambda s: min(int(np.searchsorted(grid, s, side="right")) - 1,  # noqa: E731
                          len(grid) - 2)                 # the samples i, i + 1 around s
-    locus = [s for s in roots if on[cell(s)] and on[cell(s) + 1]]
+    f_arb = lambda q: model.det_j_arb(*path.at_certified(q))  # noqa: E731
+    certs = {}
+    locus = []
+    for s in roots:
+        if p.method == "certified" and not tiny.all():   # (all round-off: nothing to prove)
+            certs[s] = _try_certify(certify_crossing, f_arb, s)
+        if tiny[cell(s)] and tiny[cell(s) + 1] and not isinstance(certs.get(s), Crossing):
+            locus.append(s)
     roots = [s for s in roots if s not in locus]
     notes = []
     f_cm = _sampled(lambda s: cm_pure_condition(model.points(*at(s)), relative=True),
@@ -381,31 +502,60 @@ def _run_path(model, p, unit):
     f_fp = _sampled(lambda s: np.asarray(four_planes(model.points(*at(s)),
                                                      length_scale=model.L).relative),
                     "the four-planes test", notes)
-    cm_roots, _, cm_vals = path_crossings(f_cm, p.samples)
-    k_roots, _, k_vals = path_crossings(f_k, p.samples)
-    fp_roots, _, fp_vals = path_crossings(f_fp, p.samples)
+    cm_roots, _, cm_vals = path_crossings(f_cm, p.samples, refine=True)
+    k_roots, _, k_vals = path_crossings(f_k, p.samples, refine=True)
+    fp_roots, _, fp_vals = path_crossings(f_fp, p.samples, refine=True)
     crossings, lines = [], []
+    n_cert = sum(isinstance(certs.get(s), Crossing) for s in roots)
+    # (not tried on a path whose every sample is at round-off: it cannot succeed there)
+    excl = (_exclude(model, path, f_arb, roots, certs, certify_crossing, Crossing)
+            if p.method == "certified" and not tiny.all() else None)
+    complete = excl is not None and not excl["undecided"] and n_cert == len(roots)
     lines.append(f"path: {p.samples} samples, s in [0, 1]; L = {model.L:.6g}{unit}; "
-                 f"{len(roots)} crossing(s) of det J = 0")
-    if on.all():
+                 f"{len(roots)} crossing(s) of det J = 0 found"
+                 + (f", {n_cert} of them certified (arb)" if p.method == "certified" else ""))
+    if complete:
+        lines.append(f"  the count is certified complete: arb (mean-value form over s) proves "
+                     f"det J != 0 on [0, 1] outside the {len(roots)} bracket(s) of the "
+                     f"crossings (width <= {excl['max_bracket']:.1e} in s), each of which "
+                     "holds a certified sign change (an odd number of zeros)")
+    else:
+        lines.append("  the count is a lower bound, not certified: sign changes on the grid, "
+                     "and root pairs searched at the local minima of |det J|; two crossings "
+                     "inside one sample interval that leave no such minimum are missed")
+        if excl is not None:
+            shown = ", ".join(f"[{a:.9g}, {b:.9g}]" for a, b in excl["undecided"][:8])
+            more = len(excl["undecided"]) - 8
+            lines.append(f"  arb (mean-value form over s) proved det J != 0 on "
+                         f"{excl['proven']:.6g} of the path's length 1; not decided on "
+                         f"{len(excl['undecided'])} interval(s) of s: {shown}"
+                         + (f" and {more} more" if more > 0 else "")
+                         + ("" if n_cert == len(roots) else
+                            f"; {len(roots) - n_cert} crossing(s) not certified"))
+    if tiny.all():
         lines.append(f"  the whole path lies on the singular locus: |det J| <= "
-                     f"{np.max(np.abs(vals)):.1e} < tolerance {p.tolerance:g} at every sample "
+                     f"{np.max(np.abs(vals)):.1e}, at the round-off level, at every sample "
                      f"(its {len(locus)} sign changes are round-off)")
     elif on.any():
         lines.append(f"  |det J| < tolerance {p.tolerance:g} at {int(on.sum())} of {p.samples} "
-                     f"samples" + (f"; {len(locus)} sign changes between such samples are "
-                                   "round-off on the singular locus, not crossings"
-                                   if locus else ""))
+                     f"samples" + (f"; {len(locus)} sign changes between samples at the "
+                                   "round-off level of det J are round-off on the singular "
+                                   "locus, not crossings" if locus else ""))
     for s in roots:
         R, t = at(np.array([s]))
         tests = _first(_tests(model, R, t))
         near = lambda rs: min((abs(r - s) for r in rs), default=float("inf"))  # noqa: E731
         und = tests["undefined"]
+        # a test fires where it has a root of its own next to s, or where its value is at
+        # round-off (a root at an end of the path leaves no sign change: QA F5)
+        zero = lambda k: k not in und and tests[k] is not None and abs(tests[k]) < 1e-12  # noqa: E731
         fire = {"det_J": bool(abs(tests["det_J"]) < p.tolerance),
-                "cayley_menger": bool(near(cm_roots) < 1e-9 and "cm_condition_relative" not in und
+                "cayley_menger": bool("cm_condition_relative" not in und
+                                      and (near(cm_roots) < 1e-9 or zero("cm_condition_relative"))
                                       and abs(tests["cm_condition_relative"]) < 1e-6),
-                "signed_cayley_menger": bool(near(k_roots) < 1e-9),
-                "four_planes": bool(near(fp_roots) < 1e-9 and "four_planes" not in und
+                "signed_cayley_menger": bool(near(k_roots) < 1e-9 or zero("signed_cm_relative")),
+                "four_planes": bool("four_planes" not in und
+                                    and (near(fp_roots) < 1e-9 or zero("four_planes_relative"))
                                     and tests["four_planes_spread"] < 1e-6 * model.L)}
         entry = {"s": s, "rotation_matrix": R[0], "translation": t[0],
                  "det_J": float(tests["det_J"]), "sigma_min": float(tests["sigma_min"]),
@@ -413,9 +563,11 @@ def _run_path(model, p, unit):
                  "signed_cm_relative": _opt(tests["signed_cm_relative"]),
                  "four_planes_spread": _opt(tests["four_planes_spread"]),
                  "four_planes_point": tests["four_planes_point"], "undefined": und,
-                 "root_distance": {"cayley_menger": near(cm_roots),
-                                   "signed_cayley_menger": near(k_roots),
-                                   "four_planes": near(fp_roots)},
+                 # None: the test has no root on the path (was the string "inf": QA F12)
+                 "root_distance": {k: (None if d == float("inf") else d) for k, d in
+                                   (("cayley_menger", near(cm_roots)),
+                                    ("signed_cayley_menger", near(k_roots)),
+                                    ("four_planes", near(fp_roots)))},
                  "fires": fire, "all_fire": all(fire.values())}
         e = lambda k: "undefined" if entry[k] is None else f"{entry[k]:.1e}"  # noqa: E731
         text = (f"  crossing at s = {s:.15f}: t = ({t[0, 0]:.6f}, {t[0, 1]:.6f}, {t[0, 2]:.6f}){unit}; "
@@ -424,14 +576,18 @@ def _run_path(model, p, unit):
                 f"{entry['all_fire']}")
         text += "".join(f"\n    {k} undefined: {why}" for k, why in und.items())
         if p.method == "certified":
-            f_arb = lambda q: model.det_j_arb(*path.at_certified(q))  # noqa: E731
-            c = certify_crossing(f_arb, s)
-            entry["certified"] = {"bracket": [c.bracket[0], c.bracket[1]],
-                                  "signs": list(c.signs),
-                                  "width": float(c.bracket[1] - c.bracket[0])}
-            text += (f"\n    certified (arb): sign det J = {c.signs[0]:+d} at s = "
-                     f"{float(c.bracket[0]):.15f} and {c.signs[1]:+d} at s = "
-                     f"{float(c.bracket[1]):.15f}")
+            c = certs[s]
+            if isinstance(c, Crossing):
+                entry["certified"] = {"bracket": [c.bracket[0], c.bracket[1]],
+                                      "signs": list(c.signs),
+                                      "width": float(c.bracket[1] - c.bracket[0])}
+                text += (f"\n    certified (arb): sign det J = {c.signs[0]:+d} at s = "
+                         f"{float(c.bracket[0]):.15f} and {c.signs[1]:+d} at s = "
+                         f"{float(c.bracket[1]):.15f}")
+            else:               # a root at an end of the path, or on the locus (QA F5)
+                entry["certified"] = {"bracket": None, "signs": None, "reason": c}
+                text += (f"\n    sign change not certified (arb): {c} -- det J is 0 there "
+                         "or within the radius of the balls of it")
         if model.platform66 is not None:
             entry["platform66"] = _check66(model, R, t)
             text += (f"\n    6-6 platform: det(A) = {entry['platform66']['det_A']}, "
@@ -458,15 +614,21 @@ def _run_path(model, p, unit):
         R, t = at(np.array([s]))
         ns = nearest_singularity(lambda Rs, ts: model.det_j(Rs, ts), R[0], t[0], model.L)
         dist.append({"s": s, "distance": ns.distance, "first_order": ns.first_order,
-                     "converged": ns.converged})
+                     "converged": ns.converged, "is_upper_bound": True})
         lines.append(f"  distance to the nearest singular pose at s = {s:g}: "
-                     f"{ns.distance:.6g}{unit} (local search)")
+                     f"{ns.distance:.6g}{unit} (local search: an upper bound)")
     res = {"samples": p.samples, "length_scale": model.L, "crossings": crossings,
            "cm_condition_roots": cm_roots, "signed_cm_roots": k_roots,
            "four_planes_roots": fp_roots, "cm_spurious_roots": spurious,
            "nearest_singularity": dist, "min_abs_det_J": float(np.min(np.abs(vals))),
-           "samples_on_locus": int(on.sum()), "on_singular_locus": bool(on.all()),
-           "method": p.method}
+           "samples_on_locus": int(on.sum()), "on_singular_locus": bool(tiny.all()),
+           "method": p.method, "crossing_count": {
+               "found": len(roots), "is_lower_bound": not complete,
+               "certified_complete": complete,
+               "certified_crossings": n_cert if p.method == "certified" else None,
+               "search": "sign changes on the sample grid, and root pairs at the local "
+                         "minima of |det J| (QA F2)",
+               "zero_exclusion": excl}}
     data = {"s": grid, "det_J": vals, "cm": cm_vals, "signed_cm": k_vals, "four_planes": fp_vals,
             "roots": roots, "spurious": spurious}
     return Outcome(res, "\n".join(lines), lambda stem: plot_path(data, stem))
