@@ -339,6 +339,22 @@ def _decimal(mant: float, ex: int) -> str:
         return mpmath.nstr(mpmath.ldexp(mpmath.mpf(mant), ex), 6)
 
 
+def _check_ragged(points):
+    """Rows of different lengths (a ragged list, which numpy refuses with a ValueError):
+    an InputError naming the first row whose length differs from the first's (QA J 8)."""
+    if isinstance(points, (str, bytes)) or not isinstance(points, Sequence):
+        return
+    lens = [len(r) if isinstance(r, (Sequence, np.ndarray)) and not isinstance(r, str)
+            else None for r in points]
+    if not lens or lens[0] is None:
+        return
+    for i, n in enumerate(lens):
+        if n != lens[0]:
+            got = "a scalar" if n is None else f"{n} coordinates"
+            raise InputError(f"expected every point with {lens[0]} coordinates (points of "
+                             f"shape (n, {lens[0]})), got {got}", field=f"points[{i}]")
+
+
 def _check_symmetric(s, labels, kind):
     """Refuse a matrix that is not one of squared distances on ``labels``: s(i, j) must
     equal s(j, i) and s(i, i) must be 0 (floats within 8 ulps of the larger entry, arb
@@ -442,6 +458,8 @@ def squared_distances(points):
     numpy.ndarray (..., n, n) for float input; a sympy Matrix for sympy input;
     a (n, n) object array otherwise (entries of the coordinates' type).
     """
+    if not isinstance(points, np.ndarray):
+        _check_ragged(points)
     arr = np.asarray(points, dtype=object) if not isinstance(points, np.ndarray) else points
     if arr.ndim < 2:
         raise InputError(f"expected points of shape (n, dim), got shape {np.shape(points)}",
