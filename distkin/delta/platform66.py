@@ -125,8 +125,9 @@ def _check_offsets(tr: DeltaTransform) -> None:
         at_end = delta == 0 or _exact_form(delta - d) == 0
         if at_end or not (delta.is_positive and (d - delta).is_positive):
             cls = DegenerateGeometryError if at_end else InputError
-            raise cls(f"expected 0 < delta{spec.row} < {spec.side} = {_show(d)} so that every "
-                      f"joint is single and on its edge, got delta{spec.row} = {_show(delta)}",
+            raise cls(f"expected 0 < delta{spec.row} < {spec.side} = {_show(d)} (length "
+                      f"units) so that every joint is single and on its edge, got "
+                      f"delta{spec.row} = {_show(delta)} (length units)",
                       field=f"offsets[{spec.row - 1}]")
 
 

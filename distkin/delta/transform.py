@@ -228,8 +228,9 @@ def side_lengths(base, platform) -> tuple:
         i, j = spec.edge
         sq = _exact_form(sum((a - c) ** 2 for a, c in zip(pts[i - 1], pts[j - 1])))
         if sq == 0:
+            where = f"base[{j - 1}]" if j <= 3 else f"platform[{j - 4}]"   # QA J 9
             raise DegenerateGeometryError(f"expected distinct points P{i} and P{j}, got "
-                                          f"{spec.side} = 0")
+                                          f"{spec.side} = 0 (length units)", field=where)
         out.append(sp.sqrt(sq))
     return tuple(out)
 
@@ -440,8 +441,9 @@ class DeltaTransform:
         i = int(np.argmin(l_sq))
         if not l_sq[i] > 0:
             raise InfeasibleError(
-                f"expected positive squared l-legs, got l{i + 1}^2 = {l_sq[i]:.6g} after the "
-                "inverse map of eq. (8)", margin=float(l_sq[i]), field=field,
+                f"expected positive squared l-legs, got l{i + 1}^2 = {l_sq[i]:.6g} squared "
+                "length units after the inverse map of eq. (8)", margin=float(l_sq[i]),
+                field=field,
                 hint="no octahedral manipulator, hence no 6-6 pose, has these m-legs")
         return l_sq, np.sqrt(l_sq)
 
@@ -535,7 +537,7 @@ class DeltaTransform:
             i, x = min(bad, key=lambda t: float(t[1]))
             raise InfeasibleError(
                 f"expected non-negative squared l-legs, got l{i + 1}^2 = {x} "
-                f"(= {float(x):.6g}) after the inverse map of eq. (8)",
+                f"(= {float(x):.6g}) squared length units after the inverse map of eq. (8)",
                 margin=float(x), field=f"{field}",
                 hint="no octahedral manipulator, hence no 6-6 pose, has these m-legs")
         if zero:

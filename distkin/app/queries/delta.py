@@ -274,7 +274,8 @@ def _solve(p, result, unit, ctx):
         poses.append({"s15": s15, "rotation": R, "translation": t, "platform_joints": pj,
                       "max_leg_error": pose.max_leg_error, "det_J66": detj})
         lines.append(f"  pose {k + 1:2d}: s15 = {s15:9.4f}{sq}, t = ({t[0]: .6f}, {t[1]: .6f}, "
-                     f"{t[2]: .6f}){unit}, det J66 = {detj: .3e}, max |m-leg error| = "
+                     f"{t[2]: .6f}){unit}, det J66 = {detj: .3e}{unit + '^3' if unit else ''}, "
+                     "max |m-leg error| = "
                      f"{pose.max_leg_error:.2e}{unit}")
     result["forward_kinematics"] = {
         "method": p.method,
