@@ -344,7 +344,9 @@ class DeltaTransform:
         Returns
         -------
         list of sympy.Expr
-            Empty when :math:`\det\mathbf A \ne 0` or the offsets are symbolic.
+            Empty when :math:`\det\mathbf A \ne 0` or the offsets are symbolic.  A
+            factor of more than 12 terms that is the closed form above is returned in
+            that form (unevaluated products).
         """
         import sympy as sp
         if self.free_symbols or self.det != 0:
@@ -363,7 +365,7 @@ class DeltaTransform:
         det = sp.expand(DeltaTransform(self.sides, tuple(fam)).det)
         _, factors = sp.factor_list(det, *syms)
         out = [f for f, _k in factors if sp.simplify(f.subs(subs)) == 0]
-        return out or [det]
+        return [_compact(f, self.sides, fam) for f in (out or [det])]
 
     def check_regular(self, field: str = "offsets") -> None:
         """Raise :class:`DegenerateGeometryError` when :math:`\\det\\mathbf A = 0`
@@ -594,3 +596,17 @@ def _cached_transform(sides, offsets) -> DeltaTransform:
     """One :class:`DeltaTransform` per (sides, offsets): its A, b, det and inverse are
     derived once ("derivations are cached", docs/design.md §1)."""
     return DeltaTransform(sides, offsets)
+
+
+def _compact(f, sides, fam):
+    r"""A long factor of :math:`\det\mathbf A` written as :math:`\prod_i(d_i - \delta_i) -
+    \prod_i\delta_i` (unevaluated) when it is that product form up to a constant
+    (its closed form, :meth:`DeltaTransform.vanishing_factors`; QA J 9: a 60-term
+    expansion in the message), else ``f`` as it is."""
+    import sympy as sp
+    if len(sp.Add.make_args(f)) <= 12:
+        return f
+    closed = sp.Add(sp.Mul(*[sp.UnevaluatedExpr(d - x) for d, x in zip(sides, fam)],
+                           evaluate=False), -sp.Mul(*fam), evaluate=False)
+    ratio = sp.cancel(sp.expand(closed.doit()) / f)
+    return closed if ratio.is_number and ratio != 0 else f

@@ -105,3 +105,15 @@ def test_coincident_points_name_the_field():
     with pytest.raises(DegenerateGeometryError, match="d12 = 0") as exc:
         equivalent_platform(([[0, 0, 0], [0, 0, 0], [12, 0, 0]], GD[1]), OFF)
     assert exc.value.field == "base[1]"
+
+
+def test_singular_offsets_without_symmetry_name_the_closed_form_factor():
+    """QA J 9: offsets 4, 4, 8, 2, 6, 3 (det A = 0; prod(d - delta) = 8*2*4*4*6*3 = 4608 =
+    prod(delta), by hand) printed a 60-term expansion; now the closed form."""
+    from distkin.errors import DegenerateGeometryError
+    with pytest.raises(DegenerateGeometryError) as exc:
+        equivalent_platform(GD, [4, 4, 8, 2, 6, 3])
+    text = str(exc.value)
+    assert "(12 - delta1)*(6 - delta2)*(12 - delta3)*(6 - delta4)*(12 - delta5)*(6 - delta6)" \
+        in text and "delta1*delta2*delta3*delta4*delta5*delta6" in text
+    assert len(text) < 400
