@@ -266,8 +266,13 @@ def cayley_menger(sq, rows, cols=None):
                     _refuse(i, j, float(bad))
                 M[..., a + 1, b + 1] = v
         d = np.linalg.det(M)
-        if not np.all(np.isfinite(d) & (np.abs(d) >= _TINY)):
-            d = _rescaled(M, d, k)
+        odd = ~(np.isfinite(d) & (np.abs(d) >= _TINY))
+        if np.any(odd):
+            if d.ndim == 0:
+                d = _rescaled(M, d, k)
+            else:                              # only the odd ones of a batch
+                d = d.copy()
+                d[odd] = _rescaled(M[odd], d[odd], k)
         return float(d) if d.ndim == 0 else d
     entries = [[0] + [1] * k]
     for i in rows:

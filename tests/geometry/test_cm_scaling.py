@@ -99,3 +99,15 @@ method = "{method}"
     assert "1.152e-355" in texts[0]                     # 288 * (20e-180)^2, coordinates
     if method == "certified":
         assert Fraction(entry["value"]) == 288 * Fraction(20, 10 ** 180) ** 2
+
+
+def test_batched_rescale_touches_only_the_odd_rows():
+    """A batch with a normal, an underflowing, a degenerate (all points equal) and a tiny
+    but representable tetrahedron: each row as D = 288 V^2 with V = 20 s^3 (coordinates)."""
+    import numpy as np
+    from distkin.geometry import FloatRangeWarning
+    P = np.array(_TET, float)
+    B = np.stack([P, P * 1e-60, P * 0, P * 1e-40])
+    with pytest.warns(FloatRangeWarning):
+        d = cayley_menger(squared_distances(B), (1, 2, 3, 4))
+    np.testing.assert_allclose(d, [288 * 400.0, 0.0, 0.0, 288 * 400.0 * 1e-240], rtol=1e-12)
