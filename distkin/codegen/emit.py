@@ -67,7 +67,10 @@ class Kernel:
     extra : dict
         Options: ``cse_optimizations`` (passed to ``sympy.cse``; default "basic");
         ``chunk`` (batched flavour: a 2-D batch longer than this is evaluated in slices
-        of this many rows, every input sliced alike along its first axis).
+        of this many rows, every input sliced alike along its first axis);
+        ``prelude`` (a sequence of (symbol, expression in the inputs): assigned in order
+        after the inputs are read, so that the output may use the symbols as
+        intermediate variables instead of the expressions substituted into it).
     """
 
     name: str
@@ -426,6 +429,8 @@ def kernel_source(k: Kernel, integers: dict | None = None) -> str:
                 lines.append(f"{ind}{printer.doprint(s)} = {name}[_n, {i}]")
             else:
                 lines.append(f"    {printer.doprint(s)} = {name}[{i}]")
+    for sym, expr in k.extra.get("prelude", ()):
+        lines.append(f"{ind}{printer.doprint(sym)} = {printer.doprint(expr)}")
     head = len(lines)
     for sym, expr in reps:
         lines.append(f"{ind}{printer.doprint(sym)} = {printer.doprint(expr)}")

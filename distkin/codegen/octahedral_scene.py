@@ -84,6 +84,13 @@ def interval_bounds(values=None):
         Squared distances substituted (the scene's sides).
     """
     import sympy
+    los, his = _bound_terms(values)
+    return sympy.Max(*los), sympy.Min(*his)
+
+
+def _bound_terms(values=None):
+    """The lower and upper bounds of :func:`interval_bounds`, as two lists."""
+    import sympy
     s = dict(squared_distance_symbols())
     s.update(values or {})
     known = set(SIDE_PAIRS) | set(LEG_PAIRS)
@@ -94,25 +101,56 @@ def interval_bounds(values=None):
             a, b = sympy.sqrt(s[a_pair]), sympy.sqrt(s[b_pair])
             los.append((a - b) ** 2)
             his.append((a + b) ** 2)
-    return sympy.Max(*los), sympy.Min(*his)
+    return los, his
 
 
-def _outputs(sides2, leg_map, names):
-    """name -> list of sympy outputs, in the squared legs (or squared m-legs)."""
+def _outputs(sides2, leg_map, names, identity=None):
+    """name -> list of sympy outputs, in the squared legs (or squared m-legs).
+
+    ``identity``, a list, receives the expressions that identify the outputs for
+    :func:`~.emit.symbolic_hash`: the outputs in the squared legs and the mapped
+    :math:`l^2` (the substituted outputs share those subtrees thousands of times, and
+    their ``srepr`` as a tree ran for minutes on float coordinates, QA J 5)."""
     import sympy
     from .octic import kernel_outputs
     values = {pair: sympy.sympify(sides2[pair]) for pair in SIDE_PAIRS}
     all39 = kernel_outputs(values)
     lo, hi = interval_bounds(values)
     out = {"parts": all39[:30], "octic": all39[30:], "s15_interval": [lo, hi]}
+    if identity is not None:
+        identity.extend(e for n in names if n in out for e in out[n])
     if leg_map is not None:
-        Ainv, c = leg_map
-        l2 = [sympy.expand(e) for e in Ainv * sympy.Matrix(_m_symbols()) + c]
-        s = squared_distance_symbols()
-        back = {s[pair]: l2[k] for k, pair in enumerate(LEG_PAIRS)}
-        out = {n: [e.xreplace(back) for e in v] for n, v in out.items()}
+        l2 = [e for _, e in _prelude(leg_map)]
+        # the other outputs stay in the squared l-legs, which the kernels compute first
+        # from the m-legs (:func:`_prelude`): substituting the mapped l^2 (float
+        # coordinates: ~50,000 characters each) into the octic and the Max/Min of the
+        # interval made sympy's Max/Min simplification and CSE run for minutes (QA J 5)
         out["l_squared"] = l2
+        if identity is not None:
+            identity.extend(l2)
     return {n: out[n] for n in names}
+
+
+def _prelude(leg_map):
+    """As :func:`_prelude_of`, computed once per leg map (a module asks for it once per
+    kernel and flavour; the expansion costs seconds on float coordinates)."""
+    key = id(leg_map)
+    if _PRELUDE_MEMO.get("key") != key or _PRELUDE_MEMO.get("map") is not leg_map:
+        _PRELUDE_MEMO.update(key=key, map=leg_map, value=_prelude_of(leg_map))
+    return _PRELUDE_MEMO["value"]
+
+
+_PRELUDE_MEMO: dict = {}
+
+
+def _prelude_of(leg_map):
+    """``(l_k^2 symbol, its expression in the squared m-legs)`` for the six legs, eq. (8):
+    the first lines of a 6-6 kernel (:class:`~.emit.Kernel` ``extra["prelude"]``)."""
+    import sympy
+    Ainv, c = leg_map
+    l2 = [sympy.expand(e) for e in Ainv * sympy.Matrix(_m_symbols()) + c]
+    s = squared_distance_symbols()
+    return tuple((s[pair], l2[k]) for k, pair in enumerate(LEG_PAIRS))
 
 
 def _m_symbols():
@@ -143,7 +181,8 @@ def module_text(sides2, names, flavours, *, leg_map=None, generator, title,
     import sympy
     from .emit import Kernel, module_source, symbolic_hash
     names = [n for n in KERNELS if n in names]
-    outs = _outputs(sides2, leg_map, names)
+    identity = []
+    outs = _outputs(sides2, leg_map, names, identity)
     s = squared_distance_symbols()
     if leg_map is None:
         inputs = (("legs2", tuple(s[p] for p in LEG_PAIRS)),)
@@ -158,8 +197,11 @@ def module_text(sides2, names, flavours, *, leg_map=None, generator, title,
         for n in names:
             doc = _DOCS[n].format(names=", ".join(PART_NAMES))
             doc += f"\n\n{what if flavour == 'batched' else what.replace('(..., 6)', '(6,)')}"
+            extra = {"cse_optimizations": None, "chunk": CHUNK}
+            if leg_map is not None and n != "l_squared":
+                extra["prelude"] = _prelude(leg_map)
             kernels.append(Kernel(n + _SUFFIX[flavour], inputs, outs[n], flavour=flavour,
-                                  doc=doc, extra={"cse_optimizations": None, "chunk": CHUNK}))
+                                  doc=doc, extra=extra))
     sides_text = {f"s{i}{j}": sympy.sstr(sides2[(i, j)]) for i, j in SIDE_PAIRS}
     doc = (f"{title} (Rojas, Borràs, Thomas, The Octahedral Manipulator Revisited, "
            "ICRA 2012).\n\n"
@@ -172,8 +214,7 @@ def module_text(sides2, names, flavours, *, leg_map=None, generator, title,
     if notes:
         doc += "\n\n" + notes
     src = module_source(kernels, generator=generator, doc=doc,
-                        source_hash=symbolic_hash(*[e for n in names for e in outs[n]],
-                                                  order="none"),
+                        source_hash=symbolic_hash(*identity, order="none"),
                         constants={"SIDES2": sides_text, "PART_NAMES": PART_NAMES,
                                    **(constants or {}), "KERNELS": tuple(names),
                                    "FLAVOURS": tuple(flavours)})

@@ -66,8 +66,9 @@ def _points(octahedral):
 def _delta(delta):
     d = _as_sym(delta, "delta", allow_symbols=False)
     if not d.is_number or not d.is_positive:
-        raise InputError(f"expected a positive offset delta (length units), got {delta!r}",
-                         field="delta")
+        shown = getattr(delta, "text", None) or str(d)     # an Exact as written (QA J 9)
+        raise InputError(f"expected a positive offset delta (length units), got {shown} "
+                         "(length units)", field="delta")
     return d
 
 

@@ -214,6 +214,7 @@ def _neglected(octahedral, platform, R, t, method, dps):
     # first order: J (v, Omega) = m - l, J of eq. (5) about the platform centroid
     ob, oq = oct66.joints("fast")
     J = plucker_jacobian(ob, pose_points(oq, R, t), reference=R @ c + t)
+    _check_regular_pose(J, t)
     tw = np.linalg.solve(J, m - l0)
     fo_pos, fo_ang = float(np.linalg.norm(tw[:3])), float(np.linalg.norm(tw[3:]))
     if method == "precise":
@@ -245,6 +246,32 @@ def _neglected(octahedral, platform, R, t, method, dps):
     err = PoseError(pos, ang, fo_pos, fo_ang, ex[0], ex[1], not doubts,
                     float(np.max(np.abs(m - l0))))
     return err, " and ".join(doubts)
+
+
+#: sigma_min / sigma_max of the Plücker Jacobian below which the true pose is taken as
+#: singular: the first-order estimate J^-1 (m - l) would be rounding noise times 1/that
+SINGULAR_RCOND = 1e-10
+
+
+def _check_regular_pose(J, t):
+    r"""Refuse a true pose at (or numerically at) a singularity of the octahedral
+    manipulator: the first-order error :math:`J^{-1}(m - l)` (eq. (5)) does not exist
+    there, and the nearest assembly mode is not defined (QA J 7: numpy's LinAlgError, or
+    1e14 "errors" with trusted=True).  :math:`\sigma_{\min}/\sigma_{\max}` of the
+    Plücker Jacobian (dimensionless rows; moments in length units) below
+    :data:`SINGULAR_RCOND` raises :class:`~distkin.errors.SingularConfigurationError`."""
+    from ..errors import SingularConfigurationError
+    sv = np.linalg.svd(J, compute_uv=False)
+    rcond = float(sv[-1] / sv[0]) if sv[0] > 0 and np.all(np.isfinite(sv)) else 0.0
+    if not rcond >= SINGULAR_RCOND:
+        raise SingularConfigurationError(
+            f"expected a true pose away from the singularities of the octahedral "
+            f"manipulator (sigma_min/sigma_max of its Plücker Jacobian >= "
+            f"{SINGULAR_RCOND:g}), got {rcond:.3g} at translation "
+            f"{[round(float(x), 9) for x in t]} (length units): the first-order error "
+            "and the nearest assembly mode are not defined there", field="rotation",
+            hint="move the pose off the singularity (e.g. a platform parallel to the base "
+                 "with the same orientation, or the 90-degree twist, is singular)")
 
 
 def _solve(fn, *args, **kwargs):

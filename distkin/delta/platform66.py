@@ -125,8 +125,9 @@ def _check_offsets(tr: DeltaTransform) -> None:
         at_end = delta == 0 or _exact_form(delta - d) == 0
         if at_end or not (delta.is_positive and (d - delta).is_positive):
             cls = DegenerateGeometryError if at_end else InputError
-            raise cls(f"expected 0 < delta{spec.row} < {spec.side} = {_show(d)} so that every "
-                      f"joint is single and on its edge, got delta{spec.row} = {_show(delta)}",
+            raise cls(f"expected 0 < delta{spec.row} < {spec.side} = {_show(d)} (length "
+                      f"units) so that every joint is single and on its edge, got "
+                      f"delta{spec.row} = {_show(delta)} (length units)",
                       field=f"offsets[{spec.row - 1}]")
 
 
@@ -272,14 +273,19 @@ def forward_kinematics66(octahedral, offsets, m_legs, *, method: str = "fast",
         return FK66Result(plat, l_sq, l, res, tuple(poses), worst)
     if method == "fast":
         l_sq, l = plat.transform.map_legs_float(m_float)
-        legs = [float(x) for x in l]
+        rho = plat.transform.map_error_float(m_float, l_sq)
+        with _mapped_legs():
+            res = _fast_octahedral(base, platform, [float(x) for x in l], rho)
         m = list(m_float)
-    else:
-        l_sq, l = plat.transform.map_legs(m_exact)
-        if method == "certified":
-            _check_certifiable(plat.transform, l_sq)
-        legs = [_legs_arg(x) for x in l]
-        m = m_exact
+        poses = [_pose66(plat, *_pose_arrays(pose, "fast"), m, "fast", dps, pose)
+                 for pose in res.poses]
+        worst = max((p.max_leg_error for p in poses), default=0.0)
+        return FK66Result(plat, l_sq, l, res, tuple(poses), worst)
+    l_sq, l = plat.transform.map_legs(m_exact)
+    if method == "certified":
+        _check_certifiable(plat.transform, l_sq)
+    legs = [_legs_arg(x) for x in l]
+    m = m_exact
     kwargs = {"method": method}
     if dps is not None:
         kwargs["dps"] = dps
@@ -291,6 +297,49 @@ def forward_kinematics66(octahedral, offsets, m_legs, *, method: str = "fast",
         poses.append(_pose66(plat, R, t, m, method, dps, pose))
     worst = max((p.max_leg_error for p in poses), default=0.0)
     return FK66Result(plat, l_sq, l, res, tuple(poses), worst)
+
+
+def _fast_octahedral(base, platform, legs, rho):
+    r"""The octahedral fast tier on l-legs mapped in float64 (eq. (8)), its proof
+    (:mod:`distkin.octahedral.descartes`) run with the squared lengths' relative error
+    bound :math:`\eta` widened by :math:`2\rho` (:meth:`DeltaTransform.map_error_float`):
+    its ``trusted`` and "proved" radii then cover the exact 6-6 problem, not only the
+    rounded l-legs (QA J 1).  Where the rounding of the map is too large for a proof
+    (near an architectural singularity, cond(A)·u) the proof fails, and the result warns
+    (ConditioningWarning) like any fast answer it cannot vouch for."""
+    import warnings
+
+    from ..errors import ConditioningWarning
+    from ..octahedral.batched import scan_single
+    from ..octahedral.conditioning import assess, assess_buffer, eta_of
+    from ..octahedral.forward import _RECOVERABLE_REASONS, _recovered_single
+    from ..octahedral.problem import float_single
+    from ..octahedral.result import _buffer_result, _single_result
+    B, Q, L, k, _ = float_single(base, platform, legs)
+    # the legs are rounded (from the map): eta_rounded covers them within 2u, plus rho
+    eta = (eta_of(B, Q, L, True) + 2.0 * rho) * (1.0 + 2.0 ** -40)
+    out = scan_single(B, Q, L)
+    if out is None:
+        from ..octahedral.single import solve_fast_single
+        raw = solve_fast_single(B, Q, L)
+        cond = assess(raw.sides2, raw.legs2, raw.data, raw.lo, raw.hi, raw.roots, eta)
+        res = _single_result(raw, conditioning=cond, k=k)
+        s2, l2, d, lo, hi = raw.sides2, raw.legs2, raw.data, raw.lo, raw.hi
+    else:
+        lo, hi, nr, m, buf = out
+        cond = assess_buffer(buf, nr, lo, hi, eta)
+        res = _buffer_result(lo, hi, nr, m, buf, conditioning=cond, k=k)
+        s2, l2, d = buf[:6], buf[6:12], buf[12:51]
+    if not cond.trusted and cond.reason in _RECOVERABLE_REASONS():
+        again = _recovered_single(B, Q, L, s2, l2, d, lo, hi, eta, k)
+        if again is not None:
+            res, cond = again, again.conditioning
+    if not cond.trusted:
+        warnings.warn(f"fast tier: the real-root count is not proved ({cond.reason}); the "
+                      f"float64 map of eq. (8) may move l^2 by {rho:.3g} relative "
+                      "(cond(A)·u); use method='auto' or 'certified'", ConditioningWarning,
+                      stacklevel=3)
+    return res
 
 
 class _mapped_legs:

@@ -228,8 +228,9 @@ def side_lengths(base, platform) -> tuple:
         i, j = spec.edge
         sq = _exact_form(sum((a - c) ** 2 for a, c in zip(pts[i - 1], pts[j - 1])))
         if sq == 0:
+            where = f"base[{j - 1}]" if j <= 3 else f"platform[{j - 4}]"   # QA J 9
             raise DegenerateGeometryError(f"expected distinct points P{i} and P{j}, got "
-                                          f"{spec.side} = 0")
+                                          f"{spec.side} = 0 (length units)", field=where)
         out.append(sp.sqrt(sq))
     return tuple(out)
 
@@ -343,7 +344,9 @@ class DeltaTransform:
         Returns
         -------
         list of sympy.Expr
-            Empty when :math:`\det\mathbf A \ne 0` or the offsets are symbolic.
+            Empty when :math:`\det\mathbf A \ne 0` or the offsets are symbolic.  A
+            factor of more than 12 terms that is the closed form above is returned in
+            that form (unevaluated products).
         """
         import sympy as sp
         if self.free_symbols or self.det != 0:
@@ -362,7 +365,7 @@ class DeltaTransform:
         det = sp.expand(DeltaTransform(self.sides, tuple(fam)).det)
         _, factors = sp.factor_list(det, *syms)
         out = [f for f, _k in factors if sp.simplify(f.subs(subs)) == 0]
-        return out or [det]
+        return [_compact(f, self.sides, fam) for f in (out or [det])]
 
     def check_regular(self, field: str = "offsets") -> None:
         """Raise :class:`DegenerateGeometryError` when :math:`\\det\\mathbf A = 0`
@@ -440,10 +443,43 @@ class DeltaTransform:
         i = int(np.argmin(l_sq))
         if not l_sq[i] > 0:
             raise InfeasibleError(
-                f"expected positive squared l-legs, got l{i + 1}^2 = {l_sq[i]:.6g} after the "
-                "inverse map of eq. (8)", margin=float(l_sq[i]), field=field,
+                f"expected positive squared l-legs, got l{i + 1}^2 = {l_sq[i]:.6g} squared "
+                "length units after the inverse map of eq. (8)", margin=float(l_sq[i]),
+                field=field,
                 hint="no octahedral manipulator, hence no 6-6 pose, has these m-legs")
         return l_sq, np.sqrt(l_sq)
+
+    def map_error_float(self, m_legs, l_sq) -> float:
+        r"""A rigorous bound :math:`\rho` on the relative error of :meth:`map_legs_float`'s
+        ``l_sq`` against the exact :math:`l^2 = \mathbf A^{-1}(m^2 + \mathbf b)` (eq. (8))
+        of the exact m-legs, when each float m-leg is within :math:`u = 2^{-53}` relative
+        of its exact value (floats exactly, parsed strings rounded once).
+
+        Each entry of :math:`\mathbf A^{-1}`, :math:`c` and :math:`m_k^2` is rounded once
+        and the dot product of 6 terms plus :math:`c` adds :math:`\gamma_7` (Higham,
+        *Accuracy and Stability of Numerical Algorithms*, Sec. 3.1), so
+        :math:`|\hat l_k^2 - l_k^2| \le E_k = 12u\,(|\mathbf A^{-1}|\,m^2 + |c|)_k`;
+        :math:`\rho = \max_k E_k / (\hat l_k^2 - E_k)`, inf when some
+        :math:`\hat l_k^2 \le E_k`.  Near an architectural singularity
+        (:math:`\det\mathbf A \to 0`) :math:`|\mathbf A^{-1}|`, and so :math:`\rho`, grow
+        like cond(A)·u: the error the fast tier's proof must cover (QA J 1).
+
+        Parameters
+        ----------
+        m_legs : array (6,) float64, length units
+        l_sq : array (6,) float64, squared length units (from :meth:`map_legs_float`)
+
+        Returns
+        -------
+        float (dimensionless)
+        """
+        Ainv, c = self._inverse_float
+        m = np.asarray(m_legs, dtype=float)
+        E = (12.0 * 2.0 ** -53) * (np.abs(Ainv) @ (m * m) + np.abs(c)) * (1.0 + 2.0 ** -40)
+        gap = np.asarray(l_sq, dtype=float) - E
+        if not np.all(gap > 0):
+            return float("inf")
+        return float(np.max(E / gap))
 
     def forward(self, l_sq):
         r"""m-legs squared from l-legs squared: :math:`\mathbf A l^2 - \mathbf b`, eq. (8)."""
@@ -503,7 +539,7 @@ class DeltaTransform:
             i, x = min(bad, key=lambda t: float(t[1]))
             raise InfeasibleError(
                 f"expected non-negative squared l-legs, got l{i + 1}^2 = {x} "
-                f"(= {float(x):.6g}) after the inverse map of eq. (8)",
+                f"(= {float(x):.6g}) squared length units after the inverse map of eq. (8)",
                 margin=float(x), field=f"{field}",
                 hint="no octahedral manipulator, hence no 6-6 pose, has these m-legs")
         if zero:
@@ -560,3 +596,17 @@ def _cached_transform(sides, offsets) -> DeltaTransform:
     """One :class:`DeltaTransform` per (sides, offsets): its A, b, det and inverse are
     derived once ("derivations are cached", docs/design.md §1)."""
     return DeltaTransform(sides, offsets)
+
+
+def _compact(f, sides, fam):
+    r"""A long factor of :math:`\det\mathbf A` written as :math:`\prod_i(d_i - \delta_i) -
+    \prod_i\delta_i` (unevaluated) when it is that product form up to a constant
+    (its closed form, :meth:`DeltaTransform.vanishing_factors`; QA J 9: a 60-term
+    expansion in the message), else ``f`` as it is."""
+    import sympy as sp
+    if len(sp.Add.make_args(f)) <= 12:
+        return f
+    closed = sp.Add(sp.Mul(*[sp.UnevaluatedExpr(d - x) for d, x in zip(sides, fam)],
+                           evaluate=False), -sp.Mul(*fam), evaluate=False)
+    ratio = sp.cancel(sp.expand(closed.doit()) / f)
+    return closed if ratio.is_number and ratio != 0 else f

@@ -45,6 +45,7 @@ from ..errors import InputError
 from ..exact import parse_exact
 
 __all__ = [
+    "FloatRangeWarning",
     "cayley_menger",
     "squared_distances",
     "triangle_area_squared",
@@ -265,6 +266,13 @@ def cayley_menger(sq, rows, cols=None):
                     _refuse(i, j, float(bad))
                 M[..., a + 1, b + 1] = v
         d = np.linalg.det(M)
+        odd = ~(np.isfinite(d) & (np.abs(d) >= _TINY))
+        if np.any(odd):
+            if d.ndim == 0:
+                d = _rescaled(M, d, k)
+            else:                              # only the odd ones of a batch
+                d = d.copy()
+                d[odd] = _rescaled(M[odd], d[odd], k)
         return float(d) if d.ndim == 0 else d
     entries = [[0] + [1] * k]
     for i in rows:
@@ -284,6 +292,72 @@ def cayley_menger(sq, rows, cols=None):
     if kind == "exact":
         return Fraction(int(det.p), int(det.q))
     return det
+
+
+#: the smallest normal float64; below it (or at 0, or beyond the range) the float
+#: determinant is computed again from power-of-two scaled entries (rare: no cost otherwise)
+_TINY = 2.2250738585072014e-308
+
+
+class FloatRangeWarning(RuntimeWarning):
+    """A float64 Cayley-Menger determinant beyond the float64 range: 0.0 for a non-zero
+    value below the smallest float64 (4.9e-324), inf above the largest.  ``value`` holds
+    the determinant as a decimal string (mantissa and exponent)."""
+
+    def __init__(self, message, value=""):
+        super().__init__(message)
+        self.value = value
+
+
+def _rescaled(M, d, k):
+    r"""The float determinant of the bordered matrix ``M`` (..., k+1, k+1) from its
+    entries scaled by :math:`2^{-e}` (exact), :math:`2^e` just above the largest squared
+    distance: :math:`D(\lambda s) = \lambda^{k-1} D(s)`, so :math:`D = D_e 2^{e(k-1)}`.
+    A value that is not zero but still does not fit float64 warns (FloatRangeWarning):
+    an underflow is not a flat simplex (QA J 4)."""
+    import warnings
+    S = M[..., 1:, 1:]
+    big = np.max(np.abs(S), axis=(-2, -1)) if k else np.zeros(np.shape(d))
+    e = np.frexp(np.where(big > 0, big, 1.0))[1]
+    Ms = M.copy()
+    Ms[..., 1:, 1:] = np.ldexp(S, -e[..., None, None])
+    ds = np.linalg.det(Ms)
+    with np.errstate(over="ignore", under="ignore"):
+        out = np.ldexp(ds, e * (k - 1))
+    lost = (ds != 0) & ((out == 0) | ~np.isfinite(out))
+    if np.any(lost):
+        i = np.flatnonzero(np.ravel(lost))[0]
+        mant, ex = float(np.ravel(ds)[i]), int(np.ravel(e)[i]) * (k - 1)
+        value = _decimal(mant, ex)
+        side = "below the smallest" if np.ravel(out)[i] == 0 else "beyond the largest"
+        warnings.warn(FloatRangeWarning(
+            f"Cayley-Menger determinant {value} is {side} float64 number: returned "
+            f"{float(np.ravel(out)[i])!r}; use method='certified' or a larger/smaller "
+            "length unit", value), stacklevel=3)
+    return out
+
+
+def _decimal(mant: float, ex: int) -> str:
+    """``mant * 2**ex`` as a decimal with an exponent (any exponent)."""
+    import mpmath
+    with mpmath.workdps(20):
+        return mpmath.nstr(mpmath.ldexp(mpmath.mpf(mant), ex), 6)
+
+
+def _check_ragged(points):
+    """Rows of different lengths (a ragged list, which numpy refuses with a ValueError):
+    an InputError naming the first row whose length differs from the first's (QA J 8)."""
+    if isinstance(points, (str, bytes)) or not isinstance(points, Sequence):
+        return
+    lens = [len(r) if isinstance(r, (Sequence, np.ndarray)) and not isinstance(r, str)
+            else None for r in points]
+    if not lens or lens[0] is None:
+        return
+    for i, n in enumerate(lens):
+        if n != lens[0]:
+            got = "a scalar" if n is None else f"{n} coordinates"
+            raise InputError(f"expected every point with {lens[0]} coordinates (points of "
+                             f"shape (n, {lens[0]})), got {got}", field=f"points[{i}]")
 
 
 def _check_symmetric(s, labels, kind):
@@ -389,6 +463,8 @@ def squared_distances(points):
     numpy.ndarray (..., n, n) for float input; a sympy Matrix for sympy input;
     a (n, n) object array otherwise (entries of the coordinates' type).
     """
+    if not isinstance(points, np.ndarray):
+        _check_ragged(points)
     arr = np.asarray(points, dtype=object) if not isinstance(points, np.ndarray) else points
     if arr.ndim < 2:
         raise InputError(f"expected points of shape (n, dim), got shape {np.shape(points)}",

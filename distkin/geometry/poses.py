@@ -50,6 +50,30 @@ def _dot(a, b):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
+def _tier_rows(points, method, what):
+    """Three points as 3x3 nested lists in the number type of the precise (mpf) or
+    certified (fmpq, or arb when irrational) tier, converted exactly first: a float is
+    its binary value, a numeric string is parsed exactly (as :func:`.trilaterate`), so
+    the certified frame encloses the exact frame of the inputs (QA J 2, 8)."""
+    from .trilateration import _show, _tier_scalar
+    if isinstance(points, np.ndarray):
+        points = points.tolist()
+    try:
+        rows = [list(r) for r in points]
+    except TypeError:
+        rows = None
+    if rows is None or len(rows) != 3 or any(len(r) != 3 for r in rows):
+        raise InputError(f"expected 3 points of 3 coordinates, got {_show(points)}",
+                         field=what)
+    native = _NATIVE[method]
+    return [[x if type(x).__name__ in native else _tier_scalar(x, method, f"{what}[{i}][{j}]")
+             for j, x in enumerate(r)] for i, r in enumerate(rows)]
+
+
+#: number types a tier takes as they are (the solvers' own values: no conversion cost)
+_NATIVE = {"precise": ("mpf",), "certified": ("arb", "fmpq")}
+
+
 def _check_nonzero(n2, scale, method, what):
     if method == "fast":
         if np.any(n2 <= 1e-24 * scale):
@@ -112,9 +136,12 @@ def triangle_frame(points, *, method: str = "fast", what: str = "points"):
         e3 = n / np.sqrt(n2)[..., None]
         e2 = np.cross(e3, e1)
         return np.stack([e1, e2, e3], axis=-1)
-    rows = [list(r) for r in points]
-    if len(rows) != 3 or any(len(r) != 3 for r in rows):
-        raise InputError("expected 3 points of 3 coordinates", field=what)
+    return _frame(_tier_rows(points, method, what), method, what)
+
+
+def _frame(rows, method, what):
+    """:func:`triangle_frame` of rows already in the tier's number type (precise,
+    certified)."""
     d1, d2 = _sub(rows[1], rows[0]), _sub(rows[2], rows[0])
     n = _cross(d1, d2)
     n2, l1 = _dot(n, n), _dot(d1, d1)
@@ -162,8 +189,10 @@ def pose_from_points(local, world, *, method: str = "fast"):
         R = Fp @ np.swapaxes(Fq, -1, -2)
         t = p.mean(axis=-2) - np.einsum("...ij,...j->...i", R, q.mean(axis=-2))
         return R, t
-    Fq = triangle_frame(local, method=method, what="platform")
-    Fp = triangle_frame(world, method=method, what="points")
+    local = _tier_rows(local, method, "platform")
+    world = _tier_rows(world, method, "points")
+    Fq = _frame(local, method, "platform")
+    Fp = _frame(world, method, "points")
     R = [[sum(Fp[i][k] * Fq[j][k] for k in range(3)) for j in range(3)] for i in range(3)]
     qc = [sum(local[r][c] for r in range(3)) / 3 for c in range(3)]
     pc = [sum(world[r][c] for r in range(3)) / 3 for c in range(3)]

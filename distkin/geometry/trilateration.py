@@ -392,16 +392,25 @@ def _check_feasible(h2, scale, method, dps, tol, e=0):
         t = mpmath.mpf(10) ** (8 - dps) if tol is None else tol
         if h2 < -t * scale:
             raise InfeasibleError(f"expected distances that close (h^2 >= 0), got h^2 = "
-                                  f"{mpmath.nstr(h2, 8)}", margin=float(h2), field="sq")
+                                  f"{mpmath.nstr(h2, 8)} (squared length units)",
+                                  margin=float(h2), field="sq")
         return max(h2, mpmath.mpf(0))
     if type(h2).__name__ == "fmpq":
         if h2 < 0:
-            raise InfeasibleError(f"expected distances that close (h^2 >= 0), got h^2 = {h2} "
-                                  "exactly", margin=float(h2.p) / float(h2.q), field="sq")
+            # a decimal (the exact fraction may run to hundreds of digits), and a margin
+            # from mpmath: float(p) / float(q) overflowed beyond 1e308 (QA J 6)
+            import mpmath
+            with mpmath.workdps(30):
+                v = mpmath.mpf(int(h2.p)) / int(h2.q)
+                shown, margin = mpmath.nstr(v, 8), float(v)
+            raise InfeasibleError(f"expected distances that close (h^2 >= 0), got h^2 = "
+                                  f"{shown} (squared length units, exact rational)",
+                                  margin=margin, field="sq")
         return h2
     if h2 < 0:
         raise InfeasibleError(f"expected distances that close (h^2 >= 0), got h^2 = "
-                              f"{h2.str(8, radius=True)}", margin=float(h2.mid()), field="sq")
+                              f"{h2.str(8, radius=True)} (squared length units)",
+                              margin=float(h2.mid()), field="sq")
     if not h2 > 0:
         raise UncertifiedError(f"cannot decide whether the distances close: h^2 = "
                                f"{h2.str(8, radius=True)} contains 0")

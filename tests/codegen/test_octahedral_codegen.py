@@ -296,3 +296,49 @@ def test_platform66_decimal_coordinates_batched_kernels_run(tmp_path):
         lo, hi, _ = feasible_interval(sides, L2[i])
         np.testing.assert_allclose(got["s15_interval"][i], [lo, hi], rtol=1e-13)
         assert all(lo <= p.s15 <= hi for p in cert)
+
+
+P66F_SCENE = """[units]
+length = "mm"
+[mechanism]
+kind = "platform66"
+base = [[0, 0, 0], [6.1, 10.2, 0], [12.3, 0.4, 0]]
+platform = [[0, 0, 0], [6.2, 0.1, 0], [3.05, 5.3, 0]]
+offsets = [2.4, 1.2, 2.5, 1.3, 2.6, 1.1]
+[[query]]
+type = "forward_kinematics"
+legs = [17.4, 17.9, 17.4, 17.9, 17.4, 17.9]
+method = "fast"
+"""
+
+
+def test_platform66_float_coordinates_generate_in_bounded_time(tmp_path):
+    """QA J 5: this scene did not finish in 170 s (Max/Min simplification and CSE of the
+    mapped l^2 substituted into the octic); the kernels now compute l^2 first.  The octic
+    agrees with an independent route: the committed octic_general kernel at the l^2 of
+    DeltaTransform.map_legs_float."""
+    import time
+
+    from distkin._generated import octic_general
+    from distkin.delta import delta_transform
+    scene = tmp_path / "p66f.toml"
+    scene.write_text(P66F_SCENE, encoding="utf-8")
+    t0 = time.perf_counter()
+    r = _codegen(scene, tmp_path / "p66f_kernels.py", tmp_path / "cache")
+    assert r.returncode == 0, r.stderr
+    assert time.perf_counter() - t0 < 150
+    base = [[0, 0, 0], [6.1, 10.2, 0], [12.3, 0.4, 0]]
+    plat = [[0, 0, 0], [6.2, 0.1, 0], [3.05, 5.3, 0]]
+    tr = delta_transform((base, plat), [2.4, 1.2, 2.5, 1.3, 2.6, 1.1])
+    M = np.array([[17.4, 17.9] * 3, [17.0, 18.2, 17.7, 17.5, 17.9, 17.3]])
+    got = _probe(tmp_path, "import p66f_kernels as k, numpy as np\n"
+                 f"M2 = np.array({(M * M).tolist()!r})\n"
+                 "OUT['l2'] = k.l_squared(M2).tolist(); OUT['octic'] = k.octic(M2).tolist()\n")
+    L2 = np.array([tr.map_legs_float(m)[0] for m in M])
+    np.testing.assert_allclose(got["l2"], L2, rtol=1e-13)
+    B, P = np.array(base, float), np.array(plat, float)
+    s = lambda X, i, j: float(np.sum((X[i] - X[j]) ** 2))                        # noqa: E731
+    sides = [s(B, 0, 1), s(B, 0, 2), s(B, 1, 2), s(P, 0, 1), s(P, 0, 2), s(P, 1, 2)]
+    ref = octic_general.octic_batched(np.array([sides] * 2), L2)[:, 30:]
+    np.testing.assert_allclose(got["octic"], ref, rtol=1e-12,
+                               atol=1e-12 * float(np.abs(ref).max()))

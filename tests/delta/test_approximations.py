@@ -263,3 +263,15 @@ def test_compare_records_every_kind(modes):
     assert np.nanmax(cmp.exact_position) < 1e-10
     assert np.all(cmp.identity_residual < 1e-14) and cmp.untrusted == 0
     assert cmp.shift["stoughton_arai"].shape == (2, 1)
+
+
+def test_negative_delta_message_shows_the_value_with_its_unit():
+    """QA J 9, 12: the message showed Exact(value=Fraction(-1, 1), ...)."""
+    from distkin.delta import approximation
+    from distkin.errors import InputError
+    from distkin.exact import parse_exact
+    gd = ([[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]], [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]])
+    for delta in ("-1", parse_exact("-1")):
+        with pytest.raises(InputError, match=r"got -1 \(length units\)") as exc:
+            approximation(gd, "stoughton_arai", delta)
+        assert "Exact(" not in str(exc.value)

@@ -81,3 +81,49 @@ def test_auto_tier_answers_fast_on_the_example_and_states_it():
     assert res.octahedral.tier == "fast" and "proved its assembly roots" in res.octahedral.tier_reason
     assert [str(x) for x in res.l_legs] == ["99/5", "18", "18", "17", "149/10", "89/5"]
     assert len(res.poses) == 12 and res.max_leg_error < 1e-12
+
+
+# ------------------------------------------------ QA J 1: the fast proof covers the map
+
+@pytest.mark.parametrize("gap", ["1/1000", "1/1000000", "1/1000000000", "1/1000000000000"])
+def test_fast_proof_covers_rounding_of_the_leg_map_near_singular_line(gap):
+    """Offsets ``gap`` from the singular line Δ1 + 2Δ2 = 12 (det A -> 0): the float64 map
+    of eq. (8) moves l^2 by cond(A)·u.  Every "proved" fast radius must hold the exact
+    root of the certified tier (exact l^2, FLINT); where it cannot, the fast tier warns
+    and does not claim ``trusted`` (QA J 1)."""
+    import warnings
+
+    from distkin.errors import ConditioningWarning
+    from scipy.spatial.transform import Rotation
+    gd = ([[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]], [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]])
+    offs = [f"6+{gap}", "3"] * 3
+    b, q = equivalent_platform(gd, offs).joints("fast")
+    R = Rotation.from_euler("xyz", [170, 5, 80], degrees=True).as_matrix()
+    m = np.linalg.norm(q @ R.T + np.array([5.0, 3.0, 12.0]) - b, axis=1).tolist()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fast = forward_kinematics66(gd, offs, m, method="fast")
+    exact = sorted({float(p.octahedral_pose.s15)
+                    for p in forward_kinematics66(gd, offs, m, method="certified").poses})
+    cond = fast.octahedral.conditioning
+    warned = any(issubclass(w.category, ConditioningWarning) for w in caught)
+    assert cond.trusted != warned
+    for r in fast.octahedral.roots:
+        if r.status == "assembly" and r.radius_kind == "proved":
+            assert min(abs(r.value - e) for e in exact) <= r.radius
+    if cond.trusted:
+        assert len({round(v, 6) for v in exact}) == len(
+            [r for r in fast.octahedral.roots if r.status == "assembly"])
+
+
+def test_fast_proof_refuses_the_qa_case_one_nanometre_from_the_line():
+    """QA J 1, F1: offsets 1e-9 from the line; the float map is off by 1e-3 in s15, far
+    beyond the radius the octahedral proof alone gave (4e-10)."""
+    from distkin.errors import ConditioningWarning
+    gd = ([[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]], [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]])
+    m = ["12.362163462176191", "12.562613339076515", "12.414288910343549",
+         "14.42770622465102", "14.385605990896536", "15.12961841911694"]
+    with pytest.warns(ConditioningWarning, match="eq. \\(8\\)"):
+        fast = forward_kinematics66(gd, ["6.000000001", "3"] * 3, m, method="fast")
+    assert not fast.octahedral.conditioning.trusted
+    assert all(r.radius_kind != "proved" for r in fast.octahedral.roots)

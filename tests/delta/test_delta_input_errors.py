@@ -80,8 +80,8 @@ def test_offsets_outside_the_edge_are_refused_with_one_message(offset, cls):
     """0 < delta_i < d_i (the joint moves along the edge, Fig. 6): beyond the edge an
     InputError, at its ends (joints merged again) a DegenerateGeometryError, both
     saying "expected 0 < delta1 < d12 = 12 ..., got delta1 = <value>"."""
-    want = re.escape(f"expected 0 < delta1 < d12 = 12 so that every joint is single and "
-                     f"on its edge, got delta1 = {offset}")
+    want = re.escape(f"expected 0 < delta1 < d12 = 12 (length units) so that every joint "
+                     f"is single and on its edge, got delta1 = {offset} (length units)")
     for call in (lambda: equivalent_platform(GD, [offset] + OFF[1:]),
                  lambda: forward_kinematics66(GD, [offset] + OFF[1:], M_LEGS)):
         with pytest.raises(cls, match=want) as err:
@@ -97,3 +97,23 @@ def test_the_offsets_in_range_still_build_the_platform():
         plat = equivalent_platform(GD, offs)
         assert len(set(plat.base_joints)) == 6 and len(set(plat.platform_joints)) == 6
 
+
+
+def test_coincident_points_name_the_field():
+    """QA J 9: a zero-length side named no field; P1 = P2 (d12 = 0, by coordinates)."""
+    from distkin.errors import DegenerateGeometryError
+    with pytest.raises(DegenerateGeometryError, match="d12 = 0") as exc:
+        equivalent_platform(([[0, 0, 0], [0, 0, 0], [12, 0, 0]], GD[1]), OFF)
+    assert exc.value.field == "base[1]"
+
+
+def test_singular_offsets_without_symmetry_name_the_closed_form_factor():
+    """QA J 9: offsets 4, 4, 8, 2, 6, 3 (det A = 0; prod(d - delta) = 8*2*4*4*6*3 = 4608 =
+    prod(delta), by hand) printed a 60-term expansion; now the closed form."""
+    from distkin.errors import DegenerateGeometryError
+    with pytest.raises(DegenerateGeometryError) as exc:
+        equivalent_platform(GD, [4, 4, 8, 2, 6, 3])
+    text = str(exc.value)
+    assert "(12 - delta1)*(6 - delta2)*(12 - delta3)*(6 - delta4)*(12 - delta5)*(6 - delta6)" \
+        in text and "delta1*delta2*delta3*delta4*delta5*delta6" in text
+    assert len(text) < 400

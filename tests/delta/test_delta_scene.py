@@ -278,3 +278,41 @@ def test_derivation_script_checks_every_step():
                        capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
     assert r.stdout.count("ok:") >= 25 and "all checks passed" in r.stdout
+
+
+def test_irrational_sides_regular_verdict_and_singular_curve():
+    """QA J 3: sides with sqrt(34), det A = 0.2464 != 0: the verdict is "not
+    architecturally singular" (not a factor list of a constant), and the family's
+    singular locus, a curve, is named by a point on it.  Reference: the closed form
+    det A = (prod(d - delta) - prod(delta)) / prod(d) in floats, and brentq along it."""
+    import math
+
+    from scipy.optimize import brentq
+    scene = loads_scene(textwrap.dedent("""
+        [units]
+        length = "mm"
+        [mechanism]
+        kind = "octahedral"
+        base = [[0, 0, 0], [6, 10, 0], [12, 0, 0]]
+        platform = [[0, 0, 0], [6, 0, 0], [3, 5, 0]]
+        [[query]]
+        type = "delta_transform"
+        offsets = ["12/5", "6/5", "5/2", "13/10", "13/5", "11/10"]
+    """))
+    records, texts, worst = run_scene(scene)
+    assert worst == 0, records
+    res = records[0]["result"]
+    d = [float(sp.sympify(x)) for x in res["sides"].values()]
+    offs = [2.4, 1.2, 2.5, 1.3, 2.6, 1.1]
+
+    def det(o):
+        return (math.prod(di - oi for di, oi in zip(d, o)) - math.prod(o)) / math.prod(d)
+
+    assert float(sp.sympify(res["det"])) == pytest.approx(det(offs), rel=1e-12)
+    assert "not architecturally singular" in texts[0]
+    assert "architecturally singular where a factor vanishes" not in texts[0]
+    (curve,) = res["family"]["singular_curves"]
+    x, y = curve["point"]
+    fam = lambda a: det([a, y, a, y, a, y])                                      # noqa: E731
+    assert brentq(fam, x - 0.01, x + 0.01) == pytest.approx(x, abs=1e-5)
+    assert "a curve of degree" in texts[0] and "no line" not in texts[0]

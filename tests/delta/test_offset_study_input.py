@@ -111,3 +111,53 @@ def test_pattern_reaches_stoughton_arai():
     with pytest.raises(InputError, match="got 3") as err:
         approximation(GD, "stoughton_arai", "0.1", pattern=3)
     assert err.value.field == "pattern"
+
+
+def _own_rcond(R, t):
+    """sigma_min / sigma_max of the octahedral manipulator's Plücker matrix at (R, t),
+    built here from the joints (rows: unit leg direction, moment about the origin)."""
+    s108, s27 = np.sqrt(108.0), np.sqrt(27.0)
+    P = np.array([[0, 0, 0], [6, s108, 0], [12, 0, 0], [0, 0, 0], [6, 0, 0], [3, s27, 0]])
+    legs = [(1, 4), (2, 4), (2, 5), (3, 5), (3, 6), (1, 6)]
+    rows = []
+    for b, p in legs:
+        a, w = P[b - 1], R @ P[p - 1] + t
+        u = (w - a) / np.linalg.norm(w - a)
+        rows.append(np.r_[u, np.cross(a, u)])
+    sv = np.linalg.svd(np.array(rows), compute_uv=False)
+    return sv[-1] / sv[0]
+
+
+@pytest.mark.parametrize("z", [0.0, 0.001, 0.1, 5.0])
+def test_neglected_offset_error_refuses_singular_true_poses(z):
+    """QA J 7: identity rotation at t = (5, 3, z) (a platform parallel to the base with
+    the same orientation: singular at every height, by the Plücker matrix built here)
+    gave numpy's LinAlgError or a first-order error of 1e13; now a
+    SingularConfigurationError naming the pose."""
+    from distkin.delta import approximation, neglected_offset_error
+    from distkin.errors import SingularConfigurationError
+    gd = ([[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]], [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]])
+    t = np.array([5.0, 3.0, z])
+    assert _own_rcond(np.eye(3), t) < 1e-10
+    pl = approximation(gd, "standard", "0.12")
+    with pytest.raises(SingularConfigurationError, match="translation"):
+        neglected_offset_error(gd, pl, np.eye(3), t)
+
+
+def test_neglected_offset_error_refuses_the_90_degree_twist_and_keeps_regular_poses():
+    from scipy.spatial.transform import Rotation
+    from distkin.delta import approximation, neglected_offset_error
+    from distkin.errors import SingularConfigurationError
+    gd = ([[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]], [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]])
+    pl = approximation(gd, "standard", "0.12")
+    R = Rotation.from_euler("zx", [90, 180], degrees=True).as_matrix()
+    c = np.array([3.0, np.sqrt(3.0), 0.0])
+    t = np.array([6.0, 2 * np.sqrt(3.0), 10.0]) - R @ c
+    assert _own_rcond(R, t) < 1e-10
+    with pytest.raises(SingularConfigurationError):
+        neglected_offset_error(gd, pl, R, t)
+    R2 = Rotation.from_euler("zx", [60, 180], degrees=True).as_matrix()   # 60 degrees: regular
+    t2 = np.array([6.0, 2 * np.sqrt(3.0), 10.0]) - R2 @ c
+    assert _own_rcond(R2, t2) > 1e-3
+    err = neglected_offset_error(gd, pl, R2, t2)
+    assert np.isfinite(err.first_order_position)

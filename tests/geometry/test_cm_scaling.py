@@ -55,3 +55,59 @@ def test_mp_det_is_exactly_zero_only_for_a_zero_pivot():
         assert abs(mp_det([[1e20, 0], [0, 1e-60]]) / mpmath.mpf("1e-40") - 1) < 1e-15
         assert mpmath.det(mpmath.matrix([[1e20, 0], [0, 1e-60]])) == 0   # what it replaces
         assert mp_det([[0, 1], [1, 0]]) == -1
+
+
+# ------------------------------- QA J 4: an underflow is not a flat tetrahedron
+
+_TET = [[0, 0, 0], [6, 0, 0], [2, 5, 0], [1, 1, 4]]   # V = |det[[6,0,0],[2,5,0],[1,1,4]]|/6 = 20
+
+
+def test_fast_underflow_warns_with_the_value_from_coordinates():
+    """D = 288 V^2 with V = 20e-180 (coordinates): 1.152e-355, below float64: the fast tier
+    returns 0.0 (the nearest float) and warns with the value, as for an overflow."""
+    import numpy as np
+    from distkin.geometry import FloatRangeWarning, tetrahedron_volume_squared
+    P = np.array(_TET, float) * 1e-60
+    with pytest.warns(FloatRangeWarning, match="below the smallest") as rec:
+        v = tetrahedron_volume_squared(squared_distances(P), 1, 2, 3, 4)
+    assert v == 0.0
+    assert float(mpmath.mpf(rec[0].message.value) / mpmath.mpf("1.152e-355")) == \
+        pytest.approx(1.0, rel=1e-5)
+    with pytest.warns(FloatRangeWarning, match="beyond the largest"):
+        assert cayley_menger(squared_distances(np.array(_TET, float) * 1e60), (1, 2, 3, 4)) \
+            == float("inf")
+
+
+@pytest.mark.parametrize("method", ["fast", "precise", "certified"])
+def test_cm_query_reports_underflow_not_zero_volume(method):
+    scene = loads_scene(f"""
+[units]
+length = "mm"
+[mechanism]
+kind = "points"
+points = [[0, 0, 0], ["6e-60", 0, 0], ["2e-60", "5e-60", 0], ["1e-60", "1e-60", "4e-60"]]
+[[query]]
+type = "cayley_menger"
+determinants = ["D(1,2,3,4)"]
+method = "{method}"
+""")
+    records, texts, worst = run_scene(scene)
+    assert worst == 0, records
+    entry = records[0]["result"]["determinants"][0]
+    assert entry["tetrahedron_volume_squared"] is None
+    assert "volume^2 below the float64 range, not 0" in texts[0]
+    assert "1.152e-355" in texts[0]                     # 288 * (20e-180)^2, coordinates
+    if method == "certified":
+        assert Fraction(entry["value"]) == 288 * Fraction(20, 10 ** 180) ** 2
+
+
+def test_batched_rescale_touches_only_the_odd_rows():
+    """A batch with a normal, an underflowing, a degenerate (all points equal) and a tiny
+    but representable tetrahedron: each row as D = 288 V^2 with V = 20 s^3 (coordinates)."""
+    import numpy as np
+    from distkin.geometry import FloatRangeWarning
+    P = np.array(_TET, float)
+    B = np.stack([P, P * 1e-60, P * 0, P * 1e-40])
+    with pytest.warns(FloatRangeWarning):
+        d = cayley_menger(squared_distances(B), (1, 2, 3, 4))
+    np.testing.assert_allclose(d, [288 * 400.0, 0.0, 0.0, 288 * 400.0 * 1e-240], rtol=1e-12)

@@ -323,3 +323,14 @@ def test_balls_mixed_with_exact_coordinates(ball):
     pts = np.array(pts, dtype=object)
     d = cayley_menger(squared_distances(pts), (1, 2, 3))
     assert abs(float(d.mid() if ball is arb else d) + 3) < 1e-12
+
+
+@pytest.mark.parametrize("points, got", [([[0, 0, 0], [1, 0]], "got 2 coordinates"),
+                                         ([[0, 0, 0], [1, 0, 0], 7], "got a scalar")])
+def test_ragged_points_name_the_row(points, got):
+    """QA J 8: a ragged list raised numpy's ValueError (inhomogeneous shape)."""
+    from distkin.geometry import squared_distances
+    bad = len(points) - 1
+    with pytest.raises(InputError, match=got) as exc:
+        squared_distances(points)
+    assert exc.value.field == f"points[{bad}]"

@@ -169,3 +169,22 @@ def test_batched_matches_single():
     both = trilaterate(A, s, 1)
     for i in range(20):
         np.testing.assert_allclose(both[i], trilaterate(A[i], s[i], 1), rtol=1e-14, atol=1e-14)
+
+
+@pytest.mark.parametrize("scale", [1e-200, 1e-150, 1e-9, 1e120])
+def test_certified_infeasible_gives_decimal_margin_at_every_scale(scale):
+    """QA J 6: float(p) / float(q) of the exact h^2 overflowed (OverflowError) beyond
+    1e308 digits' worth, and the message printed the whole fraction.  The margin now
+    agrees with the precise tier's (an independent route, mpmath at 40 digits)."""
+    pts = [[0, 0, 0], [scale, 0, 0], [0, scale, 0]]
+    sq = [0.0, 4 * scale * scale, 4 * scale * scale]       # at P1, but 2 s from P2 and P3
+    with pytest.raises(InfeasibleError) as cert:
+        trilaterate(pts, sq, method="certified")
+    with mpmath.workdps(40), pytest.raises(InfeasibleError) as prec:
+        trilaterate(pts, sq, method="precise", dps=40)
+    assert cert.value.field == "sq"
+    assert "squared length units" in str(cert.value) and len(str(cert.value)) < 200
+    assert cert.value.margin == pytest.approx(prec.value.margin, rel=1e-12)
+    shown = str(cert.value).split("h^2 = ")[1].split(" ")[0]           # the decimal, any scale
+    want = str(prec.value).split("h^2 = ")[1].split(" ")[0]
+    assert mpmath.mpf(shown) < 0 and mpmath.almosteq(mpmath.mpf(shown), mpmath.mpf(want), 1e-6)

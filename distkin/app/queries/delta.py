@@ -169,7 +169,11 @@ class DeltaTransformQuery:
         lines.append("b = [" + ", ".join(result["b"]) + f"]{unit}^2" if unit else
                      "b = [" + ", ".join(result["b"]) + "]")
         lines.append(f"det(A) = {result['det']}")
-        if factors:
+        numeric_regular = not tr.free_symbols and tr.det != 0
+        if numeric_regular:   # a non-zero number: its "factors" say nothing (QA J 3)
+            lines.append(f"det(A) = {float(tr.det):.10g} != 0: the equivalent 6-6 platform "
+                         "is not architecturally singular")
+        elif factors:
             fac = " * ".join(f"({f})" + (f"^{k}" if k > 1 else "")
                              for f, k in zip(result["det_factors"], result["det_multiplicities"]))
             lines.append(f"det(A) = {const} * {fac}")
@@ -270,7 +274,8 @@ def _solve(p, result, unit, ctx):
         poses.append({"s15": s15, "rotation": R, "translation": t, "platform_joints": pj,
                       "max_leg_error": pose.max_leg_error, "det_J66": detj})
         lines.append(f"  pose {k + 1:2d}: s15 = {s15:9.4f}{sq}, t = ({t[0]: .6f}, {t[1]: .6f}, "
-                     f"{t[2]: .6f}){unit}, det J66 = {detj: .3e}, max |m-leg error| = "
+                     f"{t[2]: .6f}){unit}, det J66 = {detj: .3e}{unit + '^3' if unit else ''}, "
+                     "max |m-leg error| = "
                      f"{pose.max_leg_error:.2e}{unit}")
     result["forward_kinematics"] = {
         "method": p.method,
@@ -342,20 +347,53 @@ def _family_finding(tr, result) -> list:
     det, (s1, s2), _, _ = _family(tr)
     d12 = tr.sides[0]
     _, factors = sp.factor_list(sp.expand(det), s1, s2)
-    lines_ = [sp.sstr(f) for f, _k in factors
-              if sp.Poly(f, s1, s2).total_degree() == 1]
+    _, box, _ = _family(tr)[1:]
+    lines_, curves = [], []
+    for f, _k in factors:
+        deg = sp.Poly(f, s1, s2).total_degree()
+        if deg == 1:
+            lines_.append(sp.sstr(f))
+        elif deg > 1:
+            pt = _real_point(f, s1, s2, box)
+            if pt is not None:
+                curves.append({"factor": sp.sstr(f), "degree": int(deg),
+                               "point": [round(pt[0], 6), round(pt[1], 6)]})
     paper = s1 + s2 - d12
     on = sp.div(sp.expand(det), paper, s1, s2)[1] == 0
     result["family"] = {"parameters": [str(s1), str(s2)],
                         "singular_lines": [f"{x} = 0" for x in lines_],
+                        "singular_curves": curves,
                         "paper_line": f"{sp.sstr(paper)} = 0",
                         "paper_line_singular": bool(on)}
     where = ("the scene's symbols" if len(tr.free_symbols) == 2 else
              f"the family {s1} = delta1 = delta3 = delta5, {s2} = delta2 = delta4 = delta6")
+    found = [f"{x} = 0" for x in lines_]
+    found += [f"a curve of degree {c['degree']} (not a line) through ({s1}, {s2}) = "
+              f"({c['point'][0]:.4g}, {c['point'][1]:.4g})" for c in curves]
+    none = (f"no line, and no curve was found in 0 < {s1} < {box[0]:.4g}, "
+            f"0 < {s2} < {box[1]:.4g} (a sign scan of its other factors)")
     return [f"over {where}: det(A) = 0 on "
-            + (" and ".join(f"{x} = 0" for x in lines_) if lines_ else "no line")
+            + (" and on ".join(found) if found else none)
             + f"; the paper's sentence {s1} + {s2} = {d12} (Sec. VI) is "
             + ("one of them" if on else "not (det(A) does not vanish along it)")]
+
+
+def _real_point(f, s1, s2, box, rows: int = 7, cols: int = 200):
+    """A point of the real curve ``f = 0`` in the offset box (0, d1) x (0, d2), found by
+    a sign change along rows of constant ``s2`` and bisected (brentq); None when the
+    scan finds none (a curve touching zero without a sign change is not found)."""
+    import numpy as np
+    import sympy as sp
+    from scipy.optimize import brentq
+    g = sp.lambdify((s1, s2), f, "numpy")
+    x = np.linspace(0.0, box[0], cols + 2)[1:-1]
+    for y in np.linspace(0.0, box[1], rows + 2)[1:-1]:
+        v = np.asarray(g(x, y), dtype=float) * np.ones_like(x)
+        k = np.flatnonzero(np.sign(v[:-1]) * np.sign(v[1:]) < 0)
+        if k.size:
+            i = int(k[0])
+            return float(brentq(lambda t: float(g(t, y)), x[i], x[i + 1])), float(y)
+    return None
 
 
 def _family(tr):

@@ -24,6 +24,7 @@ unit, as written (exact rationals stay the scene's numbers); each JSON entry nam
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 from ...argcheck import check_keys, dps_field, exact_matrix, method_field, string_list
@@ -31,7 +32,8 @@ from ...errors import InputError
 from ...exact import float_ball, to_tier
 from ..query import Outcome, register
 from ..report import float_inputs, float_inputs_line
-from ...geometry.cayley_menger import cayley_menger, parse_label, squared_distances
+from ...geometry.cayley_menger import (FloatRangeWarning, cayley_menger, parse_label,
+                                        squared_distances)
 
 __all__ = ["CayleyMengerQuery"]
 
@@ -111,9 +113,17 @@ def _run_cm(p, scene):
     length = scene.units.length
     values, lines = [], []
     for name, (rows, cols) in zip(p.determinants, p.labels):
-        d = cayley_menger(sq, rows, cols)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", FloatRangeWarning)
+            d = cayley_menger(sq, rows, cols)
+        lost = [w.message for w in caught if issubclass(w.category, FloatRangeWarning)]
         entry = {"name": name, "rows": list(rows), "cols": list(cols)}
         entry.update(_value_fields(d, p.method))
+        if lost:                               # fast: a non-zero value beyond float64
+            side = "below" if d == 0 else "beyond"
+            entry.update(value=None, decimal=lost[0].value, float64_range=side,
+                         text=f"{lost[0].value} ({side} the float64 range: float64 gives "
+                              f"{float(d)!r})")
         unit = length_power(length, 2 * (len(rows) - 1))
         entry["unit"] = unit                   # of value and radius
         text = f"{name} = {entry['text']}" + ("" if unit == "none" else f" {unit}")
@@ -125,7 +135,10 @@ def _run_cm(p, scene):
             except OverflowError:
                 val = math.inf
             label = "area^2" if kind.startswith("triangle") else "volume^2"
-            if math.isfinite(val):
+            if val == 0 and (lost or not _is_zero(d)):   # QA J 4: underflow, not flat
+                entry[kind] = None
+                text += f"   ({label} below the float64 range, not 0)"
+            elif math.isfinite(val):
                 entry[kind] = val
                 u = _INTERPRETATION_UNITS[kind](length)
                 text += f"   ({label} = {val:.10g}{'' if u == 'none' else ' ' + u})"
@@ -171,10 +184,23 @@ def _mid(d):
     return float(d.mid()) if type(d).__name__ == "arb" else float(d)
 
 
+def _is_zero(d) -> bool:
+    """An exact zero (fmpq, mpf, float) or an arb ball that is exactly 0."""
+    if type(d).__name__ == "arb":
+        return d.is_zero()
+    return d == 0
+
+
 def _value_fields(d, method):
     name = type(d).__name__
     if name == "fmpq":
-        return {"value": str(d), "exact": True, "radius": 0.0, "text": str(d)}
+        text = str(d)
+        if len(text) > 40:                   # QA J 13: a decimal, the exact value in JSON
+            import mpmath
+            with mpmath.workdps(20):
+                dec = mpmath.nstr(mpmath.mpf(int(d.p)) / int(d.q), 15)
+            text = f"{dec} (exact rational of {len(text)} characters: JSON 'value')"
+        return {"value": str(d), "exact": True, "radius": 0.0, "text": text}
     if name == "arb":
         value, radius = float_ball(d)     # the ball within radius of the float value
         return {"value": value, "exact": False, "radius": radius,
