@@ -1,0 +1,270 @@
+"""The path part of the scene query ``singularity`` (:mod:`.singularity`): every
+crossing of det J = 0 along a path of poses, the three tests of Rojas, Borràs, Thomas
+(*The Octahedral Manipulator Revisited*, Sec. IV) evaluated there, and with
+``method = "certified"`` arb brackets on each crossing and an arb proof that det J has no
+other zero on the path (:mod:`distkin.singularity.enclosure`), or the intervals of s where
+that proof did not succeed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..query import Outcome
+from .singularity import _check66, _check_legs, _first, _opt, _sampled, _tests
+
+__all__ = ["run_path", "plot_path"]
+
+
+def _roundoff(model, R, t):
+    """Round-off level of the float det J at poses R (n,3,3), t (n,3): 64 n eps times
+    Hadamard's bound prod_k |J_k| (rows of J with the moments over L), n = 6."""
+    from ...singularity import octahedral_joints, plucker_jacobian
+    J = plucker_jacobian(*octahedral_joints(model.points(R, t)))
+    J[..., 3:] /= model.L
+    return 64 * 6 * np.finfo(float).eps * np.prod(np.linalg.norm(J, axis=-1), axis=-1)
+
+
+def _try_certify(certify_crossing, f_arb, s):
+    """The :class:`~distkin.singularity.Crossing` arb proves around ``s``, or the reason
+    (a string) why it could not (a root at an end of the path, a ball containing 0)."""
+    from ...errors import UncertifiedError
+    try:
+        return certify_crossing(f_arb, s)
+    except UncertifiedError as exc:
+        return exc.message
+
+
+def _exclude(model, path, f_arb, roots, certs, certify_crossing, Crossing):
+    """Certified zero exclusion of det J on [0, 1] outside brackets of the certified
+    crossings (:func:`distkin.singularity.enclosure.exclude_zeros`, QA F2).  Brackets
+    of about 1e-7 in s are used (a tighter one leaves |det J| within the balls' radius
+    at its ends); their signs are certified as the crossings' own."""
+    from ...singularity.enclosure import det_series, exclude_zeros
+    brackets = []
+    for s in roots:
+        c = certs.get(s)
+        if not isinstance(c, Crossing):
+            continue                     # not certified: its neighbourhood stays undecided
+        wide = _try_certify(lambda f, x: certify_crossing(f, x, start=1e-7), f_arb, s)
+        brackets.append(tuple(float(x) for x in (wide if isinstance(wide, Crossing)
+                                                 else c).bracket))
+    gaps, at = [], 0.0
+    for a, b in sorted(brackets):
+        if a > at:
+            gaps.append((at, a))
+        at = max(at, b)
+    if at < 1.0:
+        gaps.append((at, 1.0))
+    ex = exclude_zeros(lambda ball: det_series(path, model.base_a, model.plat_a, ball), gaps,
+                       min_width=1e-9, budget=2000)
+    return {"undecided": [list(u) for u in ex.undecided], "proven": ex.proven,
+            "evaluations": ex.evaluations, "brackets": [list(b) for b in sorted(brackets)],
+            "max_bracket": max((b - a for a, b in brackets), default=0.0),
+            "method": "arb mean-value form over intervals of s, bisected to 1e-9 within "
+                      "2000 evaluations"}
+
+
+def run_path(model, p, unit):
+    from ...singularity import (Crossing, certify_crossing, cm_pure_condition, four_planes,
+                              nearest_singularity, path_crossings, signed_cm_condition)
+    a, b = p.path
+    path = model.pose_path(a, b)
+    at = path.at
+
+    f_det = lambda s: model.det_j(*at(s))  # noqa: E731
+    _check_legs(model, *at(np.linspace(0.0, 1.0, p.samples)), "path")
+    roots, grid, vals = path_crossings(f_det, p.samples, refine=True)
+    # a sign change between two samples that are both at the round-off level of det J is
+    # round-off on the singular locus, not a crossing (a path along the locus: QA F 07).
+    # The level is _roundoff (or the tolerance, if smaller), not the tolerance: a
+    # tolerance of the order of det J's change over one sample deleted real crossings
+    # (QA F1); under "certified" a sign change arb proves is a crossing whatever the level
+    on = np.abs(vals) < p.tolerance
+    tiny = np.abs(vals) < np.minimum(p.tolerance, _roundoff(model, *at(grid)))
+    cell = lambda s: min(int(np.searchsorted(grid, s, side="right")) - 1,  # noqa: E731
+                         len(grid) - 2)                 # the samples i, i + 1 around s
+    f_arb = lambda q: model.det_j_arb(*path.at_certified(q))  # noqa: E731
+    certs = {}
+    locus = []
+    for s in roots:
+        if p.method == "certified" and not tiny.all():   # (all round-off: nothing to prove)
+            certs[s] = _try_certify(certify_crossing, f_arb, s)
+        if tiny[cell(s)] and tiny[cell(s) + 1] and not isinstance(certs.get(s), Crossing):
+            locus.append(s)
+    roots = [s for s in roots if s not in locus]
+    notes = []
+    f_cm = _sampled(lambda s: cm_pure_condition(model.points(*at(s)), relative=True),
+                    "the paper's CM condition", notes)
+    f_k = _sampled(lambda s: signed_cm_condition(model.points(*at(s)), relative=True),
+                   "the signed CM form", notes)
+    f_fp = _sampled(lambda s: np.asarray(four_planes(model.points(*at(s)),
+                                                     length_scale=model.L).relative),
+                    "the four-planes test", notes)
+    cm_roots, _, cm_vals = path_crossings(f_cm, p.samples, refine=True)
+    k_roots, _, k_vals = path_crossings(f_k, p.samples, refine=True)
+    fp_roots, _, fp_vals = path_crossings(f_fp, p.samples, refine=True)
+    crossings, lines = [], []
+    n_cert = sum(isinstance(certs.get(s), Crossing) for s in roots)
+    # (not tried on a path whose every sample is at round-off: it cannot succeed there)
+    excl = (_exclude(model, path, f_arb, roots, certs, certify_crossing, Crossing)
+            if p.method == "certified" and not tiny.all() else None)
+    complete = excl is not None and not excl["undecided"] and n_cert == len(roots)
+    lines.append(f"path: {p.samples} samples, s in [0, 1]; L = {model.L:.6g}{unit}; "
+                 f"{len(roots)} crossing(s) of det J = 0 found"
+                 + (f", {n_cert} of them certified (arb)" if p.method == "certified" else ""))
+    if complete:
+        lines.append(f"  the count is certified complete: arb (mean-value form over s) proves "
+                     f"det J != 0 on [0, 1] outside the {len(roots)} bracket(s) of the "
+                     f"crossings (width <= {excl['max_bracket']:.1e} in s), each of which "
+                     "holds a certified sign change (an odd number of zeros)")
+    else:
+        lines.append("  the count is a lower bound, not certified: sign changes on the grid, "
+                     "and root pairs searched at the local minima of |det J|; two crossings "
+                     "inside one sample interval that leave no such minimum are missed")
+        if excl is not None:
+            shown = ", ".join(f"[{a:.9g}, {b:.9g}]" for a, b in excl["undecided"][:8])
+            more = len(excl["undecided"]) - 8
+            lines.append(f"  arb (mean-value form over s) proved det J != 0 on "
+                         f"{excl['proven']:.6g} of the path's length 1; not decided on "
+                         f"{len(excl['undecided'])} interval(s) of s: {shown}"
+                         + (f" and {more} more" if more > 0 else "")
+                         + ("" if n_cert == len(roots) else
+                            f"; {len(roots) - n_cert} crossing(s) not certified"))
+    if tiny.all():
+        lines.append(f"  the whole path lies on the singular locus: |det J| <= "
+                     f"{np.max(np.abs(vals)):.1e}, at the round-off level, at every sample "
+                     f"(its {len(locus)} sign changes are round-off)")
+    elif on.any():
+        lines.append(f"  |det J| < tolerance {p.tolerance:g} at {int(on.sum())} of {p.samples} "
+                     f"samples" + (f"; {len(locus)} sign changes between samples at the "
+                                   "round-off level of det J are round-off on the singular "
+                                   "locus, not crossings" if locus else ""))
+    for s in roots:
+        R, t = at(np.array([s]))
+        tests = _first(_tests(model, R, t))
+        near = lambda rs: min((abs(r - s) for r in rs), default=float("inf"))  # noqa: E731
+        und = tests["undefined"]
+        # a test fires where it has a root of its own next to s, or where its value is at
+        # round-off (a root at an end of the path leaves no sign change: QA F5)
+        zero = lambda k: k not in und and tests[k] is not None and abs(tests[k]) < 1e-12  # noqa: E731
+        fire = {"det_J": bool(abs(tests["det_J"]) < p.tolerance),
+                "cayley_menger": bool("cm_condition_relative" not in und
+                                      and (near(cm_roots) < 1e-9 or zero("cm_condition_relative"))
+                                      and abs(tests["cm_condition_relative"]) < 1e-6),
+                "signed_cayley_menger": bool(near(k_roots) < 1e-9 or zero("signed_cm_relative")),
+                "four_planes": bool("four_planes" not in und
+                                    and (near(fp_roots) < 1e-9 or zero("four_planes_relative"))
+                                    and tests["four_planes_spread"] < 1e-6 * model.L)}
+        entry = {"s": s, "rotation_matrix": R[0], "translation": t[0],
+                 "det_J": float(tests["det_J"]), "sigma_min": float(tests["sigma_min"]),
+                 "cm_condition_relative": _opt(tests["cm_condition_relative"]),
+                 "signed_cm_relative": _opt(tests["signed_cm_relative"]),
+                 "four_planes_spread": _opt(tests["four_planes_spread"]),
+                 "four_planes_point": tests["four_planes_point"], "undefined": und,
+                 # None: the test has no root on the path (was the string "inf": QA F12)
+                 "root_distance": {k: (None if d == float("inf") else d) for k, d in
+                                   (("cayley_menger", near(cm_roots)),
+                                    ("signed_cayley_menger", near(k_roots)),
+                                    ("four_planes", near(fp_roots)))},
+                 "fires": fire, "all_fire": all(fire.values())}
+        e = lambda k: "undefined" if entry[k] is None else f"{entry[k]:.1e}"  # noqa: E731
+        text = (f"  crossing at s = {s:.15f}: t = ({t[0, 0]:.6f}, {t[0, 1]:.6f}, {t[0, 2]:.6f}){unit}; "
+                f"det J = {entry['det_J']:.1e}, CM = {e('cm_condition_relative')}, "
+                f"four-planes spread = {e('four_planes_spread')}{unit}; all three fire: "
+                f"{entry['all_fire']}")
+        text += "".join(f"\n    {k} undefined: {why}" for k, why in und.items())
+        if p.method == "certified":
+            c = certs[s]
+            if isinstance(c, Crossing):
+                entry["certified"] = {"bracket": [c.bracket[0], c.bracket[1]],
+                                      "signs": list(c.signs),
+                                      "width": float(c.bracket[1] - c.bracket[0])}
+                text += (f"\n    certified (arb): sign det J = {c.signs[0]:+d} at s = "
+                         f"{float(c.bracket[0]):.15f} and {c.signs[1]:+d} at s = "
+                         f"{float(c.bracket[1]):.15f}")
+            else:               # a root at an end of the path, or on the locus (QA F5)
+                entry["certified"] = {"bracket": None, "signs": None, "reason": c}
+                text += (f"\n    sign change not certified (arb): {c} -- det J is 0 there "
+                         "or within the radius of the balls of it")
+        if model.platform66 is not None:
+            entry["platform66"] = _check66(model, R, t)
+            text += (f"\n    6-6 platform: det(A) = {entry['platform66']['det_A']}, "
+                     f"|Jhat66 - A Jhat| / |Jhat66| = "
+                     f"{entry['platform66']['identity_error']:.1e} (det(AJ) = det(A) det(J))")
+        crossings.append(entry)
+        lines.append(text)
+    off = lambda r: not on[int(np.argmin(np.abs(grid - r)))]  # noqa: E731  (det J != 0)
+    spurious = [r for r in cm_roots
+                if min((abs(r - s) for s in roots), default=1) > 1e-9 and off(r)]
+    if spurious:
+        lines.append(f"  the paper's CM condition also vanishes at s = "
+                     f"{', '.join(f'{r:.6f}' for r in spurious)} where det J != 0 (its factor "
+                     f"a - b, see distkin.singularity)")
+    k_spurious = [r for r in k_roots
+                  if min((abs(r - s) for s in roots), default=1) > 1e-9 and off(r)]
+    if k_spurious:
+        lines.append(f"  the signed CM form also vanishes at s = "
+                     f"{', '.join(f'{r:.6f}' for r in k_spurious)}: a flat tetrahedron "
+                     f"(a = V1245 V3456 V1236 = 0), not a singularity")
+    lines.extend(dict.fromkeys(notes))
+    dist = []
+    for s in (0.0, 1.0):
+        R, t = at(np.array([s]))
+        ns = nearest_singularity(lambda Rs, ts: model.det_j(Rs, ts), R[0], t[0], model.L)
+        dist.append({"s": s, "distance": ns.distance, "first_order": ns.first_order,
+                     "converged": ns.converged, "is_upper_bound": True})
+        lines.append(f"  distance to the nearest singular pose at s = {s:g}: "
+                     f"{ns.distance:.6g}{unit} (local search: an upper bound)")
+    res = {"samples": p.samples, "length_scale": model.L, "crossings": crossings,
+           "cm_condition_roots": cm_roots, "signed_cm_roots": k_roots,
+           "four_planes_roots": fp_roots, "cm_spurious_roots": spurious,
+           "nearest_singularity": dist, "min_abs_det_J": float(np.min(np.abs(vals))),
+           "samples_on_locus": int(on.sum()), "on_singular_locus": bool(tiny.all()),
+           "method": p.method, "crossing_count": {
+               "found": len(roots), "is_lower_bound": not complete,
+               "certified_complete": complete,
+               "certified_crossings": n_cert if p.method == "certified" else None,
+               "search": "sign changes on the sample grid, and root pairs at the local "
+                         "minima of |det J| (QA F2)",
+               "zero_exclusion": excl}}
+    data = {"s": grid, "det_J": vals, "cm": cm_vals, "signed_cm": k_vals, "four_planes": fp_vals,
+            "roots": roots, "spurious": spurious}
+    return Outcome(res, "\n".join(lines), lambda stem: plot_path(data, stem))
+
+
+def plot_path(data, stem):
+    """det J, the paper's CM condition, its signed form and the four-planes determinant
+    along a path (each relative), with the crossings of det J = 0 marked.
+
+    Returns
+    -------
+    list of pathlib.Path
+    """
+    import matplotlib
+    matplotlib.use("Agg")
+    from pathlib import Path
+
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(7.0, 4.4))
+    s = data["s"]
+    norm = lambda v: np.asarray(v) / max(np.nanmax(np.abs(v), initial=0.0), 1e-300)  # noqa: E731
+    ax.axhline(0.0, color="0.6", lw=0.8)
+    ax.plot(s, norm(data["det_J"]), lw=2.2, label="det J (eq. 5), scaled")
+    ax.plot(s, norm(data["four_planes"]), "--", lw=1.6, label="four-planes determinant, scaled")
+    ax.plot(s, data["cm"], "-.", lw=1.4, label="paper's CM condition (relative)")
+    ax.plot(s, data["signed_cm"], ":", lw=1.8, label="signed CM condition (relative)")
+    for i, r in enumerate(data["roots"]):
+        ax.axvline(r, color="crimson", lw=1.0, label="det J = 0 (crossing)" if i == 0 else None)
+    for i, r in enumerate(data["spurious"]):
+        ax.axvline(r, color="orange", lw=1.0, ls="--",
+                   label="CM = 0 but det J != 0" if i == 0 else None)
+    ax.set_xlabel("path parameter s")
+    ax.set_ylabel("value (dimensionless)")
+    ax.set_title("Singularity tests along the path")
+    ax.legend(fontsize=7, loc="best")
+    fig.tight_layout()
+    out = Path(str(stem) + "_path.png")
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+    return [out]
