@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..query import Outcome
-from .singularity import _check66, _check_legs, _first, _opt, _sampled, _tests
+from .singularity_model import _check66, _check_legs, _first, _opt, _sampled, _tests
 
 __all__ = ["run_path", "plot_path"]
 

@@ -1,0 +1,165 @@
+"""The model behind the scene query ``singularity`` (:mod:`.singularity`, and its path
+part :mod:`.singularity_path`): an octahedral manipulator (or its Δ-transformed 6-6
+platform) as points and poses, and the three tests of Rojas, Borràs, Thomas, *The
+Octahedral Manipulator Revisited*, Sec. IV (det J of eq. (5), the Cayley-Menger pure
+condition, the four-planes test) evaluated at poses, with the checks both parts share.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...errors import DegenerateGeometryError
+from ...exact import to_tier
+
+__all__ = ["OctahedralModel"]
+
+
+class OctahedralModel:
+    """Octahedral geometry (float and arb) and, optionally, its 6-6 Δ-transform."""
+
+    def __init__(self, base_f, plat_f, base_a, plat_a, L, deg, platform66=None):
+        self.base_f, self.plat_f = base_f, plat_f
+        self.base_a, self.plat_a = base_a, plat_a
+        self.L = L
+        self.angle = (np.pi / 180) if deg else 1.0
+        self.deg = deg
+        self.platform66 = platform66
+
+    @classmethod
+    def build(cls, mech, offsets=None, length_scale=None, deg=False):
+        base_f = np.array([[float(x) for x in r] for r in mech.base])
+        plat_f = np.array([[float(x) for x in r] for r in mech.platform])
+        cert = lambda rows: np.array([[to_tier(x, "certified") for x in r] for r in rows],  # noqa: E731
+                                     dtype=object)
+        L = length_scale or float(np.max(np.linalg.norm(plat_f - plat_f.mean(0), axis=1)))
+        p66 = None
+        if offsets is not None:
+            from ...delta import equivalent_platform
+            p66 = equivalent_platform(mech, offsets)
+        return cls(base_f, plat_f, cert(mech.base), cert(mech.platform), L, deg, p66)
+
+    # -- float, batched over poses
+    def points(self, R, t):
+        P = np.einsum("...ij,nj->...ni", R, self.plat_f) + t[..., None, :]
+        return np.concatenate([np.broadcast_to(self.base_f, P.shape), P], axis=-2)
+
+    def det_j(self, R, t):
+        from ...singularity import jacobian_det, octahedral_joints
+        return jacobian_det(*octahedral_joints(self.points(R, t)), length_scale=self.L)
+
+    # -- arb, one pose
+    def det_j_arb(self, R, t):
+        from ...singularity import jacobian_det, octahedral_joints, pose_points
+        P = pose_points(self.plat_a, R, t)
+        X = np.concatenate([self.base_a, P], axis=0)
+        return jacobian_det(*octahedral_joints(X), normalised=False, method="certified")
+
+    def pose_path(self, a, b):
+        from ...singularity import PosePath
+        return PosePath(a.translation, a.rotation, b.translation, b.rotation, self.deg)
+
+    def rotation(self, pose):
+        from ...singularity import rotation_from_vector
+        return rotation_from_vector(np.array([float(x) for x in pose.rotation]) * self.angle)
+
+
+def _check_legs(model, R, t, field):
+    """A zero-length leg (its line undefined) at float poses R (n,3,3), t (n,3):
+    :class:`DegenerateGeometryError` naming the leg by its joints (P1–P4, ...)."""
+    from ...singularity import OCTAHEDRAL_LEGS, octahedral_joints
+    b, q = octahedral_joints(model.points(R, t))
+    zero = ~(np.linalg.norm(q - b, axis=-1) > 0)
+    if zero.any():
+        n, k = (int(i) for i in np.argwhere(zero)[0])
+        i, j = OCTAHEDRAL_LEGS[k]
+        where = f" at pose {n} of the path" if len(zero) > 1 else ""
+        raise DegenerateGeometryError(
+            f"expected legs of non-zero length, got leg {k + 1} (P{i}–P{j}) of length 0"
+            f"{where}: P{j} coincides with P{i}, the leg's line is undefined", field=field)
+
+
+def _guarded(f):
+    """``f()``, or ``(None, reason)`` where a test is undefined (a degenerate plane or
+    tetrahedron, :class:`DegenerateGeometryError`)."""
+    try:
+        return f(), None
+    except DegenerateGeometryError as exc:
+        # the queries evaluate one pose as a batch of one: its index says nothing
+        return None, exc.message.replace(" at batch index (0,)", "")
+
+
+def _tests(model, R, t):
+    """All characterisations at float poses R (n,3,3), t (n,3).  A test that is
+    undefined there (a flat tetrahedron, three collinear points of a plane) is None,
+    with the reason in ``undefined``."""
+    from ...singularity import (cm_pure_condition, four_planes, plucker_jacobian,
+                              octahedral_joints, signed_cm_condition)
+    X = model.points(R, t)
+    J = plucker_jacobian(*octahedral_joints(X))
+    J[..., 3:] /= model.L
+    out = {"det_J": np.linalg.det(J), "sigma_min": np.linalg.svd(J, compute_uv=False)[..., -1]}
+    undefined = {}
+    for key, f in (("cm_condition_relative", lambda: cm_pure_condition(X, relative=True)),
+                   ("signed_cm_relative", lambda: signed_cm_condition(X, relative=True))):
+        out[key], why = _guarded(f)
+        if why:
+            undefined[key] = why
+    fp, why = _guarded(lambda: four_planes(X, length_scale=model.L))
+    if why:
+        undefined["four_planes"] = why
+    out.update({"four_planes_relative": None if fp is None else np.asarray(fp.relative),
+                "four_planes_spread": None if fp is None else np.asarray(fp.spread),
+                "four_planes_point": None if fp is None else fp.point,
+                "undefined": undefined})
+    return out
+
+
+def _opt(v):
+    return None if v is None else float(v)
+
+
+def _sampled(f, what, notes):
+    """``f`` over a grid of s, NaN at the samples where the test is undefined (one
+    note naming them and why); batched when no sample is."""
+    def g(s):
+        try:
+            return f(s)
+        except DegenerateGeometryError:
+            vals = np.array([_guarded(lambda: f(np.array([x])))[0] for x in s], dtype=object)
+            bad = [float(x) for x, v in zip(s, vals) if v is None]
+            why = _guarded(lambda: f(np.array([bad[0]])))[1]
+            notes.append(f"  {what} undefined at s = {', '.join(f'{x:.6g}' for x in bad)}: {why}")
+            return np.array([np.nan if v is None else float(np.asarray(v)[0]) for v in vals])
+    return g
+
+
+def _first(d):
+    return {k: (v[0] if v is not None and np.ndim(v) >= 1 else v) for k, v in d.items()}
+
+
+def _exact_pose_arb(model, pose):
+    from ...singularity import PosePath
+    path = PosePath(pose.translation, pose.rotation, pose.translation, pose.rotation, model.deg)
+    return path.at_certified(0)
+
+
+def _check66(model, R, t):
+    """det(AJ) = det(A) det(J) on the built 6-6 platform (Rojas et al., eq. (6)).
+
+    The 6-6 platform's own unnormalised Plücker matrix (from its joints) is compared
+    with A times the octahedral one: ``identity_error`` = max|Jhat66 - A Jhat| /
+    max|Jhat66| (a matrix identity, well conditioned also at singular poses).
+    """
+    from ...singularity import octahedral_joints, plucker_jacobian
+    tr = model.platform66.transform
+    A = np.array([[float(x) for x in row] for row in tr.A.tolist()])
+    bj, qj = model.platform66.joints("fast")
+    pj = np.einsum("...ij,nj->...ni", R, qj) + t[..., None, :]
+    J66 = plucker_jacobian(np.broadcast_to(bj, pj.shape), pj, normalised=False)
+    Jo = plucker_jacobian(*octahedral_joints(model.points(R, t)), normalised=False)
+    err = np.max(np.abs(J66 - A @ Jo)) / np.max(np.abs(J66))
+    return {"det_A": str(tr.det), "det_J66_hat": float(np.linalg.det(J66)[0]),
+            "det_A_det_Jhat": float(tr.det) * float(np.linalg.det(Jo)[0]),
+            "identity_error": float(err),
+            "identity": "Jhat66 = A Jhat, so det(Jhat66) = det(A) det(Jhat)"}
