@@ -311,29 +311,13 @@ def _fast_octahedral(base, platform, legs, rho):
 
     from ..errors import ConditioningWarning
     from ..octahedral.batched import scan_single
-    from ..octahedral.conditioning import assess, assess_buffer, eta_of
-    from ..octahedral.forward import _RECOVERABLE_REASONS, _recovered_single
+    from ..octahedral.conditioning import eta_of
+    from ..octahedral.forward import proved_single
     from ..octahedral.problem import float_single
-    from ..octahedral.result import _buffer_result, _single_result
     B, Q, L, k, _ = float_single(base, platform, legs)
     # the legs are rounded (from the map): eta_rounded covers them within 2u, plus rho
     eta = (eta_of(B, Q, L, True) + 2.0 * rho) * (1.0 + 2.0 ** -40)
-    out = scan_single(B, Q, L)
-    if out is None:
-        from ..octahedral.single import solve_fast_single
-        raw = solve_fast_single(B, Q, L)
-        cond = assess(raw.sides2, raw.legs2, raw.data, raw.lo, raw.hi, raw.roots, eta)
-        res = _single_result(raw, conditioning=cond, k=k)
-        s2, l2, d, lo, hi = raw.sides2, raw.legs2, raw.data, raw.lo, raw.hi
-    else:
-        lo, hi, nr, m, buf = out
-        cond = assess_buffer(buf, nr, lo, hi, eta)
-        res = _buffer_result(lo, hi, nr, m, buf, conditioning=cond, k=k)
-        s2, l2, d = buf[:6], buf[6:12], buf[12:51]
-    if not cond.trusted and cond.reason in _RECOVERABLE_REASONS():
-        again = _recovered_single(B, Q, L, s2, l2, d, lo, hi, eta, k)
-        if again is not None:
-            res, cond = again, again.conditioning
+    res, cond = proved_single(B, Q, L, k, eta, scan_single(B, Q, L))
     if not cond.trusted:
         warnings.warn(f"fast tier: the real-root count is not proved ({cond.reason}); the "
                       f"float64 map of eq. (8) may move l^2 by {rho:.3g} relative "

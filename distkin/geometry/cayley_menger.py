@@ -265,7 +265,8 @@ def cayley_menger(sq, rows, cols=None):
                     bad = np.ravel(v)[~(np.isfinite(np.ravel(v)) & (np.ravel(v) >= 0))][0]
                     _refuse(i, j, float(bad))
                 M[..., a + 1, b + 1] = v
-        d = np.linalg.det(M)
+        with np.errstate(over="ignore", under="ignore"):   # said below, with the value
+            d = np.linalg.det(M)
         odd = ~(np.isfinite(d) & (np.abs(d) >= _TINY))
         if np.any(odd):
             if d.ndim == 0:

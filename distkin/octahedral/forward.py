@@ -59,7 +59,7 @@ from .result import (_VERDICTS, AssemblyResult, BatchResult, Pose, RootInfo,
                      _buffer_result, _fast_result, _single_result)
 
 __all__ = ["Pose", "RootInfo", "AssemblyResult", "BatchResult", "forward_kinematics",
-           "forward_kinematics_batched"]
+           "forward_kinematics_batched", "proved_single"]
 
 def _tier_args(method: str, dps, tol):
     """``dps`` and ``tol`` checked at the entry (``auto``'s escalations too): dps in
@@ -165,23 +165,8 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
                 from .single import solve_fast_single
                 return _single_result(solve_fast_single(B, Q, L), k=k)
             return _buffer_result(*out, k=k)
-        from .conditioning import assess, assess_buffer, eta_of
-        eta = eta_of(B, Q, L, rounded)
-        if out is None:
-            from .single import solve_fast_single
-            raw = solve_fast_single(B, Q, L)
-            cond = assess(raw.sides2, raw.legs2, raw.data, raw.lo, raw.hi, raw.roots, eta)
-            res = _single_result(raw, conditioning=cond, k=k)
-            s2, l2, d, lo, hi = raw.sides2, raw.legs2, raw.data, raw.lo, raw.hi
-        else:
-            lo, hi, nr, m, buf = out
-            cond = assess_buffer(buf, nr, lo, hi, eta)
-            res = _buffer_result(lo, hi, nr, m, buf, conditioning=cond, k=k)
-            s2, l2, d = buf[:6], buf[6:12], buf[12:51]
-        if not cond.trusted and cond.reason in _RECOVERABLE_REASONS():
-            again = _recovered_single(B, Q, L, s2, l2, d, lo, hi, eta, k)
-            if again is not None:
-                res, cond = again, again.conditioning
+        from .conditioning import eta_of
+        res, cond = proved_single(B, Q, L, k, eta_of(B, Q, L, rounded), out)
         if method == "auto":
             from .auto import escalate
             return escalate(res, base, platform, legs, dps=dps, tol=tol)
@@ -276,6 +261,34 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
                       "see .trusted, or use method='auto'", ConditioningWarning,
                       stacklevel=2)
     return out
+
+
+def proved_single(B, Q, L, k, eta, out):
+    """The fast tier's answer to one problem with its proof: ``(AssemblyResult,
+    Conditioning)``.  ``B, Q, L, k``: :func:`.problem.float_single`; ``eta``: the
+    relative error bound of the squared lengths the proof covers
+    (:func:`.conditioning.eta_of`, or wider: the 6-6 tier adds the rounding of its leg
+    map); ``out``: :func:`.batched.scan_single`'s answer, or None when the scan doubts
+    the problem (then the careful way, :func:`.single.solve_fast_single`).  A count the
+    proof refuses for a reason the batched way can settle is solved again that way
+    (:func:`_recovered_single`)."""
+    from .conditioning import assess, assess_buffer
+    if out is None:
+        from .single import solve_fast_single
+        raw = solve_fast_single(B, Q, L)
+        cond = assess(raw.sides2, raw.legs2, raw.data, raw.lo, raw.hi, raw.roots, eta)
+        res = _single_result(raw, conditioning=cond, k=k)
+        s2, l2, d, lo, hi = raw.sides2, raw.legs2, raw.data, raw.lo, raw.hi
+    else:
+        lo, hi, nr, m, buf = out
+        cond = assess_buffer(buf, nr, lo, hi, eta)
+        res = _buffer_result(lo, hi, nr, m, buf, conditioning=cond, k=k)
+        s2, l2, d = buf[:6], buf[6:12], buf[12:51]
+    if not cond.trusted and cond.reason in _RECOVERABLE_REASONS():
+        again = _recovered_single(B, Q, L, s2, l2, d, lo, hi, eta, k)
+        if again is not None:
+            res, cond = again, again.conditioning
+    return res, cond
 
 
 def _RECOVERABLE_REASONS():
