@@ -165,8 +165,7 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
                 from .single import solve_fast_single
                 return _single_result(solve_fast_single(B, Q, L), k=k)
             return _buffer_result(*out, k=k)
-        from .conditioning import eta_of
-        res, cond = proved_single(B, Q, L, k, eta_of(B, Q, L, rounded), out)
+        res, cond = proved_single(B, Q, L, k, None, out, rounded)
         if method == "auto":
             from .auto import escalate
             return escalate(res, base, platform, legs, dps=dps, tol=tol)
@@ -263,16 +262,19 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
     return out
 
 
-def proved_single(B, Q, L, k, eta, out):
+def proved_single(B, Q, L, k, eta, out, rounded=True):
     """The fast tier's answer to one problem with its proof: ``(AssemblyResult,
     Conditioning)``.  ``B, Q, L, k``: :func:`.problem.float_single`; ``eta``: the
     relative error bound of the squared lengths the proof covers
-    (:func:`.conditioning.eta_of`, or wider: the 6-6 tier adds the rounding of its leg
+    (None: :func:`.conditioning.eta_of` of the problem, ``rounded`` saying whether its
+    lengths were rounded to float64; or wider: the 6-6 tier adds the rounding of its leg
     map); ``out``: :func:`.batched.scan_single`'s answer, or None when the scan doubts
     the problem (then the careful way, :func:`.single.solve_fast_single`).  A count the
     proof refuses for a reason the batched way can settle is solved again that way
     (:func:`_recovered_single`)."""
-    from .conditioning import assess, assess_buffer
+    from .conditioning import assess, assess_buffer, eta_of
+    if eta is None:
+        eta = eta_of(B, Q, L, rounded)
     if out is None:
         from .single import solve_fast_single
         raw = solve_fast_single(B, Q, L)
