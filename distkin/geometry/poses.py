@@ -55,16 +55,8 @@ def _tier_rows(points, method, what):
     certified (fmpq, or arb when irrational) tier, converted exactly first: a float is
     its binary value, a numeric string is parsed exactly (as :func:`.trilaterate`), so
     the certified frame encloses the exact frame of the inputs (QA J 2, 8)."""
-    from .trilateration import _show, _tier_scalar
-    if isinstance(points, np.ndarray):
-        points = points.tolist()
-    try:
-        rows = [list(r) for r in points]
-    except TypeError:
-        rows = None
-    if rows is None or len(rows) != 3 or any(len(r) != 3 for r in rows):
-        raise InputError(f"expected 3 points of 3 coordinates, got {_show(points)}",
-                         field=what)
+    from .trilateration import _three_rows, _tier_scalar
+    rows = _three_rows(points, "points", what)
     native = _NATIVE[method]
     return [[x if type(x).__name__ in native else _tier_scalar(x, method, f"{what}[{i}][{j}]")
              for j, x in enumerate(r)] for i, r in enumerate(rows)]

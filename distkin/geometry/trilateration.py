@@ -103,6 +103,21 @@ def _fast_floats(value, field, expected):
     return out
 
 
+def _three_rows(points, what: str, field: str) -> list:
+    """``points`` as 3 lists of 3 coordinates (any sequence or array), or
+    :class:`InputError` naming ``field`` and what came."""
+    if isinstance(points, np.ndarray):
+        points = points.tolist()
+    try:
+        rows = [list(r) for r in points]
+    except TypeError:
+        rows = None
+    if rows is None or len(rows) != 3 or any(len(r) != 3 for r in rows):
+        raise InputError(f"expected 3 {what} of 3 coordinates, got {_show(points)}",
+                         field=field)
+    return rows
+
+
 def _show(value, n=80):
     text = repr(value)
     return text if len(text) <= n else text[:n - 3] + "..."
@@ -137,15 +152,7 @@ def _components(points, method):
         if not np.all(np.isfinite(P)):
             raise InputError("expected finite reference points, got NaN or inf", field="points")
         return P
-    if isinstance(points, np.ndarray):
-        points = points.tolist()
-    try:
-        rows = [list(r) for r in points]
-    except TypeError:
-        rows = None
-    if rows is None or len(rows) != 3 or any(len(r) != 3 for r in rows):
-        raise InputError(f"expected 3 reference points of 3 coordinates, got {_show(points)}",
-                         field="points")
+    rows = _three_rows(points, "reference points", "points")
     return [[_tier_scalar(x, method, f"points[{i}][{j}]") for j, x in enumerate(r)]
             for i, r in enumerate(rows)]
 
