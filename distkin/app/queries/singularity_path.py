@@ -194,15 +194,16 @@ def run_path(model, p, unit):
                      f"{entry['platform66']['identity_error']:.1e} (det(AJ) = det(A) det(J))")
         crossings.append(entry)
         lines.append(text)
-    off = lambda r: not on[int(np.argmin(np.abs(grid - r)))]  # noqa: E731  (det J != 0)
-    spurious = [r for r in cm_roots
-                if min((abs(r - s) for s in roots), default=1) > 1e-9 and off(r)]
+    def elsewhere(rs):          # zeros of a test away from det J's, where det J != 0
+        return [r for r in rs if min((abs(r - s) for s in roots), default=1) > 1e-9
+                and not on[int(np.argmin(np.abs(grid - r)))]]
+
+    spurious = elsewhere(cm_roots)
     if spurious:
         lines.append(f"  the paper's CM condition also vanishes at s = "
                      f"{', '.join(f'{r:.6f}' for r in spurious)} where det J != 0 (its factor "
                      f"a - b, see distkin.singularity)")
-    k_spurious = [r for r in k_roots
-                  if min((abs(r - s) for s in roots), default=1) > 1e-9 and off(r)]
+    k_spurious = elsewhere(k_roots)
     if k_spurious:
         lines.append(f"  the signed CM form also vanishes at s = "
                      f"{', '.join(f'{r:.6f}' for r in k_spurious)}: a flat tetrahedron "
