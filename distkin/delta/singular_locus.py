@@ -11,6 +11,12 @@ each approximation, and the shift is measured as pose-space distance
 A\,\hat{\mathbf J}` exactly (eq. (6) with the unnormalised matrices),
 :func:`plucker_identity_residual`.
 
+The zeros are the sign changes of det J on ``samples`` points, refined by Brent's
+method, and the root pairs between two samples that a local minimum of |det J| reveals
+(:func:`~distkin.singularity.paths.path_crossings` with ``refine``): a line that grazes
+the locus crosses it twice within one sample interval.  Pairs that leave no such minimum
+can still be missed, so the zeros found are a lower bound on those of the line.
+
 Tiers: ``fast`` (brentq) and ``certified`` (each zero bracketed by arb-certified
 opposite signs of det J, :func:`~distkin.singularity.paths.certify_crossing`; the shift
 is then a certified interval).
@@ -208,7 +214,7 @@ def singularity_shift(octahedral, platforms: dict, line: PoseLine, *, samples: i
     zeros, brackets = {}, {}
     for name, plat in allp.items():
         f = lambda s, p=plat: det_along(p, *line.at(s), L)  # noqa: E731
-        zeros[name] = tuple(path_crossings(f, samples)[0])
+        zeros[name] = tuple(path_crossings(f, samples, refine=True)[0])
         if method == "certified":
             g = lambda s, p=plat: det_along(p, *line.at_certified(s), L,  # noqa: E731
                                             method="certified")

@@ -275,3 +275,38 @@ def test_negative_delta_message_shows_the_value_with_its_unit():
         with pytest.raises(InputError, match=r"got -1 \(length units\)") as exc:
             approximation(gd, "stoughton_arai", delta)
         assert "Exact(" not in str(exc.value)
+
+
+def _grazing_line(modes, depth):
+    """A line tangent to the octahedral singular locus at the singular pose nearest
+    mode 0, moved ``depth`` (length units) along the locus normal to the side where it
+    crosses the locus twice, a pair of zeros about 0.017 apart in s at depth 2e-5."""
+    _, L = platform_frame(GD)
+    nl = normal_line(GD, *modes[0], 1.0)
+    n = np.concatenate([nl.dx, L * nl.dw])
+    n /= np.linalg.norm(n)
+    v = np.random.default_rng(0).normal(size=6)
+    v -= v.dot(n) * n
+    v /= np.linalg.norm(v)
+    R0 = rotation_from_vector((depth * n[3:] / L)[None])[0] @ nl.rotation
+    return PoseLine(R0, nl.translation + depth * n[:3], 3 * v[:3], 3 * v[3:] / L)
+
+
+def test_shift_finds_both_zeros_where_a_line_grazes_the_locus(modes):
+    """Both zeros of a grazing line, within one of 40 sample intervals, against a grid
+    of 200000 samples (second route: the sign changes alone on the fine grid)."""
+    from distkin.singularity.paths import path_crossings
+    line = _grazing_line(modes, -2e-5)
+    _, L = platform_frame(GD)
+    oct66 = octahedral_as_66(GD)
+    fine = path_crossings(lambda s: det_along(oct66, *line.at(s), L), 200000)[0]
+    assert len(fine) == 2 and fine[1] - fine[0] < 1 / 39        # one coarse interval
+    kinds = {"griffis_duffy": approximation(GD, "griffis_duffy", "0.12")}
+    sh = singularity_shift(GD, kinds, line, samples=40)
+    assert sh.octahedral == pytest.approx(fine, abs=1e-9)
+    # Fig. 2(d) keeps the singular set: the same two zeros, no shift
+    assert sh.zeros["griffis_duffy"] == pytest.approx(fine, abs=1e-9)
+    assert np.all(sh.shift["griffis_duffy"] < 1e-8)
+    cert = singularity_shift(GD, kinds, line, samples=40, method="certified")
+    for (lo, hi), z in zip(cert.bounds["griffis_duffy"], fine):
+        assert lo == 0.0 and hi < 1e-8
