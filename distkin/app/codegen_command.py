@@ -21,6 +21,7 @@ queries that got no kernel, for the stderr line):
 
 from __future__ import annotations
 
+import keyword
 import re
 import sys
 from pathlib import Path
@@ -146,9 +147,38 @@ def scene_module_source(scene, flavour: str = "both"):
 
 
 def _module_name(stem: str) -> str:
-    """A module name like ``stem``: ``"my-kernels"`` -> ``"my_kernels"``."""
+    """A module name like ``stem``: ``"my-kernels"`` -> ``"my_kernels"``, ``"class"``
+    -> ``"class_"``, ``"json"`` -> ``"json_kernels"``."""
     name = re.sub(r"\W", "_", stem)
-    return name if name[:1].isalpha() or name[:1] == "_" else f"kernels_{name}"
+    name = name if name[:1].isalpha() or name[:1] == "_" else f"kernels_{name}"
+    if keyword.iskeyword(name):
+        return f"{name}_"
+    return f"{name}_kernels" if _shadows(name) else name
+
+
+def _shadows(name: str) -> bool:
+    """Whether a module ``name`` would hide a module the kernels (or their users) import:
+    the standard library's, numpy, mpmath, flint, sympy, scipy or distkin."""
+    return ((name in sys.stdlib_module_names and name not in sys.builtin_module_names)
+            or name in _IMPORTED)          # built-in modules are found before the path
+
+
+_IMPORTED = {"numpy", "mpmath", "flint", "sympy", "scipy", "distkin", "numba"}
+
+
+def _module_warning(stem: str) -> str | None:
+    """Why a file ``stem``.py cannot serve as the module it is meant to be, or None."""
+    if not stem.isidentifier():
+        return (f"{stem!r} is not a Python module name, so 'import' cannot load it "
+                f"(importlib can; {_module_name(stem)}.py could be imported)")
+    if keyword.iskeyword(stem):
+        return (f"{stem!r} is a Python keyword, so 'import {stem}' is a syntax error "
+                f"(importlib can load it; {_module_name(stem)}.py could be imported)")
+    if _shadows(stem):
+        return (f"{stem!r} is also the name of a module the kernels or Python itself import,"
+                f" so a {stem}.py on the path hides that module from every import "
+                f"(hint: {_module_name(stem)}.py)")
+    return None
 
 
 def _run(args) -> int:
@@ -161,10 +191,9 @@ def _run(args) -> int:
                          field="--output")
     # before deriving (seconds for a new table), and never over the scene or its CSV
     check_output_path(out, "--output", inputs=input_files(scene))
-    if not out.stem.isidentifier():
-        print(f"distkin: warning: --output: {out.stem!r} is not a Python module name, so "
-              f"'import' cannot load it (importlib can; {_module_name(out.stem)}.py could be "
-              "imported)", file=sys.stderr)
+    warning = _module_warning(out.stem)
+    if warning:
+        print(f"distkin: warning: --output: {warning}", file=sys.stderr)
     src, hit, note = scene_module_source(scene, args.flavour)
     write_text(out, src, "--output")
     names = [line.split("(")[0][4:] for line in src.splitlines() if line.startswith("def ")]

@@ -69,7 +69,12 @@ def _platform(table, field):
             from ..delta.approximations import KINDS
             kind = choice(require(a, "kind", fa), f"{fa}.kind", KINDS)
             delta = parse_vector([require(a, "delta", fa)], f"{fa}.delta", length=1)[0]
-            return approximation((base, plat), kind, delta)
+            try:
+                return approximation((base, plat), kind, delta)
+            except DistkinError as exc:      # its own arguments: under approximation
+                if exc.field in ("delta", "kind"):
+                    raise exc.with_field(fa)
+                raise
         from ..delta import octahedral_as_66
         return octahedral_as_66((base, plat))
     except DistkinError as exc:

@@ -146,6 +146,8 @@ def test_where_the_tests_apply():
 @pytest.mark.parametrize("extra, field", [
     ('offsets = [1, 2]', "mechanism.offsets"),
     ('approximation = { kind = "nope", delta = 1 }', "mechanism.approximation.kind"),
+    ('approximation = { kind = "standard", delta = -1 }', "mechanism.approximation.delta"),
+    ('approximation = { kind = "griffis_duffy", delta = 0 }', "mechanism.approximation.delta"),
     ('offsets = ["12/5", "6/5", "12/5", "6/5", "12/5", "6/5"]\n'
      'approximation = { kind = "standard", delta = 1 }', "mechanism"),
     ('stroke = [14]', "mechanism.stroke"),

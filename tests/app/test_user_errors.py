@@ -378,3 +378,47 @@ def test_poses_in_the_wrong_unit_get_a_pointer(tmp_path, capsys):
     f.write_text(RSS.format(extra="", query="poses = [[0, 0, 300, 0, 0, 0]]"))
     code, out, _ = _cli(capsys, ["run", f])
     assert code == 0 and "-> reachable" in out and "home is" not in out
+
+
+def _import_fails_or_is_local(name, folder):
+    """Whether ``import name`` in a fresh interpreter working in ``folder`` fails or
+    loads ``folder``'s file instead of the real module."""
+    import subprocess
+    import sys
+    res = subprocess.run([sys.executable, "-c", f"import {name}; print({name})"],
+                         cwd=folder, capture_output=True, text=True)
+    return res.returncode != 0 or str(folder) in res.stdout
+
+
+@pytest.mark.parametrize("stem", ["class", "json", "numpy"])
+def test_codegen_warns_of_module_names_import_cannot_use(tmp_path, capsys, stem):
+    """A keyword cannot be imported, and a module named like one the kernels or Python
+    import hides it (checked in a fresh interpreter with the file in its working
+    directory); the warning names a module name that works."""
+    from distkin.app.codegen_command import _module_name
+    out = tmp_path / f"{stem}.py"
+    code, _, err = _cli(capsys, ["codegen", EXAMPLES / "rss_octopod.toml", "-o", out])
+    assert code == 0 and out.is_file()
+    good = _module_name(stem)
+    assert f"--output: '{stem}' is" in err and f"{good}.py" in err
+    assert _import_fails_or_is_local(stem, tmp_path)
+    out.rename(tmp_path / f"{good}.py")
+    if stem != "class":                            # the real module is back
+        assert not _import_fails_or_is_local(stem, tmp_path)
+    import importlib.util
+    spec = importlib.util.spec_from_file_location(good, tmp_path / f"{good}.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    assert mod.L == 8                              # the Octopod's eight legs
+
+
+def test_codegen_warns_exactly_when_a_module_is_hidden(tmp_path, capsys):
+    """A module built into this interpreter (``time``) is found before the path and is
+    not warned about; ``math`` is an extension module here, hidden by a math.py."""
+    for name in ("time", "math", "my_kernels"):
+        capsys.readouterr()
+        code, _, err = _cli(capsys, ["codegen", EXAMPLES / "rss_octopod.toml", "-o",
+                                     tmp_path / f"{name}.py"])
+        hidden = name != "my_kernels" and _import_fails_or_is_local(name, tmp_path)
+        assert code == 0 and ("warning" in err) == hidden, name
+        (tmp_path / f"{name}.py").unlink()
