@@ -3,7 +3,9 @@
 Two tables:
 
 1. Deriving each example scene's module from a fresh cache (sympy: substitution, CSE,
-   printing) and reading it back from the cache (the second run: no algebra).
+   printing) and reading it back from the cache (the second run: no algebra); among
+   them a 6-6 platform with float coordinates (``platform66_measured.toml``: the exact
+   map of eq. (8) has long coefficients, so its kernels compute l^2 first).
 2. The octic coefficients of N = 100 000 leg sets about the Griffis-Duffy example: the
    scene module's ``octic`` (the scene's sides substituted before CSE) against the
    committed general kernel ``octic_general.octic_batched`` (sides as inputs; it also
@@ -28,7 +30,7 @@ DEFAULT = True
 
 _EX = Path(__file__).resolve().parent.parent / "examples"
 _SCENES = ("octahedral_griffis_duffy.toml", "platform66_griffis_duffy.toml",
-           "points_banana.toml")
+           "points_banana.toml", "platform66_measured.toml")
 
 
 def _modules(cache):

@@ -298,30 +298,17 @@ def test_platform66_decimal_coordinates_batched_kernels_run(tmp_path):
         assert all(lo <= p.s15 <= hi for p in cert)
 
 
-P66F_SCENE = """[units]
-length = "mm"
-[mechanism]
-kind = "platform66"
-base = [[0, 0, 0], [6.1, 10.2, 0], [12.3, 0.4, 0]]
-platform = [[0, 0, 0], [6.2, 0.1, 0], [3.05, 5.3, 0]]
-offsets = [2.4, 1.2, 2.5, 1.3, 2.6, 1.1]
-[[query]]
-type = "forward_kinematics"
-legs = [17.4, 17.9, 17.4, 17.9, 17.4, 17.9]
-method = "fast"
-"""
 
 
 def test_platform66_float_coordinates_generate_kernels_of_the_mapped_legs(tmp_path):
     """QA J 5: this scene did not finish in 170 s (Max/Min simplification and CSE of the
     mapped l^2 substituted into the octic); the kernels now compute l^2 first (about
-    25 s: README; its time belongs in benchmarks, not here).  The octic agrees with an
+    25 s: README; timed in `python -m benchmarks codegen`).  The octic agrees with an
     independent route: the committed octic_general kernel at the l^2 of
     DeltaTransform.map_legs_float."""
     from distkin._generated import octic_general
     from distkin.delta import delta_transform
-    scene = tmp_path / "p66f.toml"
-    scene.write_text(P66F_SCENE, encoding="utf-8")
+    scene = EX / "platform66_measured.toml"
     r = _codegen(scene, tmp_path / "p66f_kernels.py", tmp_path / "cache")
     assert r.returncode == 0, r.stderr
     base = [[0, 0, 0], [6.1, 10.2, 0], [12.3, 0.4, 0]]
