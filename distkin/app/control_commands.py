@@ -22,6 +22,7 @@ frame holds another number of joint angles than the scene has legs:
 
 from __future__ import annotations
 
+import argparse
 import json
 import math
 import os
@@ -32,7 +33,7 @@ import time
 from pathlib import Path
 
 from ..control.config import builtin_scene
-from ..errors import InputError, LinkError
+from ..errors import DistkinError, InputError, LinkError
 
 __all__ = ["add_sim_parser", "add_control_parser", "cmd_sim", "cmd_control", "builtin_scene",
            "format_summary"]
@@ -77,6 +78,17 @@ def _seconds(value: str) -> float:
     return v
 
 
+def _periods(value: str) -> int:
+    """``--delay-margin N``: a whole number of device periods, 0..1000."""
+    try:
+        n = int(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number of periods, got {value!r}")
+    if not 0 <= n <= 1000:
+        raise argparse.ArgumentTypeError(f"expected 0 <= N <= 1000 periods, got {n}")
+    return n
+
+
 def _tcp_port(value: str) -> int:
     import argparse
     try:
@@ -110,6 +122,9 @@ def add_control_parser(sub) -> None:
     g.add_argument("--port", metavar="URL", help="pyserial URL: /dev/ttyX, pty path, "
                                                  "socket://host:port, loop://")
     g.add_argument("--sim", action="store_true", help="start a simulator and connect over a pty")
+    g.add_argument("--delay-margin", nargs="?", const=20, type=_periods, metavar="N",
+                   help="no device: how many periods of extra command delay the joint PD "
+                        "loop takes (linearised at home), swept to N periods (default 20)")
     p.add_argument("--scene", help="controller scene TOML; default: built-in Octo scene")
     p.add_argument("--seconds", type=_seconds, default=5.0,
                    help="device time to run, s (default 5)")
@@ -206,6 +221,15 @@ def format_summary(s: dict) -> str:
          if "max_abs_force_N" in s else
          f"  torque: max |tau| {s['max_abs_torque_Nm']} N·m (limit {s['torque_limit_Nm']} N·m)"),
     ]
+    if s.get("delay_margin_periods") is not None:
+        n = s["delay_margin_periods"]
+        lines.append("  PD loop (linearised at home): " + (
+            "unstable without extra delay" if n < 0 else
+            "stable only without extra command delay (one period makes it unstable; "
+            "distkin control --delay-margin)" if n == 0 else
+            f"stable with up to {n} period{'s' if n != 1 else ''} "
+            f"({s['delay_margin_ms']:.2f} ms) of extra command delay"
+            + (" or more" if n >= 3 else "")))
     if s.get("log"):
         lines.append("  log: " + ", ".join(str(v) for v in s["log"].values() if v))
     if s.get("error"):
@@ -222,6 +246,72 @@ def format_summary(s: dict) -> str:
     return "\n".join(lines)
 
 
+def _margin_report(scene, model, periods: int) -> dict:
+    """``distkin control --delay-margin``: the sweep of :mod:`distkin.control.delay_margin`
+    as a JSON-ready dict (units in the keys)."""
+    from ..control.delay_margin import delay_margin
+    dm = delay_margin(scene, model, max_periods=periods)
+    pd = scene.pd
+    head = (f"distkin control --delay-margin: {scene.title or scene.path} ({scene.preset}, "
+            f"{scene.rate_hz:g} Hz, KP {pd.kp:g} {scene.effort_unit}/{scene.joint_unit}, "
+            f"KD {pd.kd:g} {scene.effort_unit}·s/{scene.joint_unit}, derivative filter "
+            f"{pd.derivative_filter_s * 1e3:g} ms), linearised at home")
+    return {"text": "\n".join([head] + ["  " + line for line in dm.lines()]),
+            "period_ms": dm.period_s * 1e3,
+            "stable_periods": dm.stable_periods,
+            "margin_ms": dm.margin_s * 1e3 if dm.stable_periods >= 0 else None,
+            "sweep": [{"delay_periods": int(n), "delay_ms": float(n * dm.period_s * 1e3),
+                       "spectral_radius": float(r), "growth_per_s": float(g),
+                       "frequency_hz": float(f)}
+                      for n, r, g, f in zip(dm.delays, dm.spectral_radius,
+                                            dm.growth_per_s, dm.frequency_hz)]}
+
+
+def _delay_margin_command(args, scene, inputs, model) -> int:
+    from .output_paths import check_output_path, write_json
+    for name in ("log", "faults", "wall_limit"):
+        if getattr(args, name):
+            raise InputError(f"expected no --{name.replace('_', '-')} with --delay-margin "
+                             "(nothing runs), got one", field=f"--{name.replace('_', '-')}")
+    check_output_path(args.json, inputs=inputs)
+    if args.plots:
+        check_output_path(Path(args.plots) / "delay_margin.png", "--plots", inputs=inputs)
+    rep = _margin_report(scene, model, args.delay_margin)
+    text = rep.pop("text")
+    if args.plots:
+        from ..control.runlog import plot_delay_margin
+        Path(args.plots).mkdir(parents=True, exist_ok=True)
+        rep["plots"] = [str(plot_delay_margin(rep, Path(args.plots) / "delay_margin.png"))]
+        text += "\n  plot: " + rep["plots"][0]
+    if args.json == "-":
+        print(text, file=sys.stderr)
+        print(json.dumps(rep, indent=2))
+    else:
+        print(text)
+        if args.json:
+            write_json(args.json, json.dumps(rep, indent=2))
+    return 0
+
+
+def _margin_note(scene, model, args) -> dict:
+    """The delay margin for the run's summary, and a warning when the loop takes no
+    extra delay and nothing keeps the device in lock step with the host."""
+    from ..control.delay_margin import delay_margin
+    try:
+        dm = delay_margin(scene, model, max_periods=3)
+    except DistkinError:                    # e.g. a singular home: no linearisation
+        return {"delay_margin_periods": None}
+    paced = args.sim and scene.simulator.lockstep
+    if dm.stable_periods < 1 and not paced:
+        grow = (f"; one period of delay makes it grow at {dm.growth_per_s[1]:.1f} 1/s "
+                f"({dm.frequency_hz[1]:.1f} Hz)" if dm.stable_periods == 0 else "")
+        print(f"distkin: warning: [pd]: the joint PD loop takes no extra command delay "
+              f"(linearised at home){grow}: a host that answers a period late drives it "
+              f"to the torque limit (distkin control --delay-margin)", file=sys.stderr)
+    return {"delay_margin_periods": dm.stable_periods,
+            "delay_margin_ms": (dm.margin_s * 1e3 if dm.stable_periods >= 0 else None)}
+
+
 def cmd_control(args) -> int:
     from ..control.controller import Controller
     from ..control.faults import parse_faults
@@ -229,6 +319,8 @@ def cmd_control(args) -> int:
     from ..control.link import Link
     from .output_paths import check_output_path, write_json
     scene, inputs = _scene_and_inputs(args.scene)
+    if args.delay_margin is not None:
+        return _delay_margin_command(args, scene, inputs, model_of(scene))
     if args.faults and not args.sim:
         raise InputError("expected --faults only with --sim, got it with --port", field="--faults")
     parse_faults(args.faults)              # validate before starting anything
@@ -246,6 +338,7 @@ def cmd_control(args) -> int:
         tmpdir = tempfile.TemporaryDirectory(prefix="distkin-control-")
         prefix = str(Path(tmpdir.name) / "run")
     model = model_of(scene)
+    margin = _margin_note(scene, model, args)
     proc = None
     cleanup = []
     if tmpdir is not None:
@@ -284,6 +377,7 @@ def cmd_control(args) -> int:
         finally:
             link.close()
         summary["port"] = url
+        summary.update(margin)
         if args.log:                           # all the files --log wrote
             summary["log"] = {k: v for k, v in log_files.items() if k != "cycles_spill"}
         if proc is not None:

@@ -11,9 +11,11 @@ scenes, by the benchmark (compute time per cycle without I/O) and by fast tests.
 from __future__ import annotations
 
 import time
+from collections import deque
 
 import numpy as np
 
+from ..errors import InputError
 from .controller import Controller
 from .plant import Plant
 from .protocol import MODE_ZERO_TORQUE, FrameDecoder, encode_command, encode_readings
@@ -22,7 +24,7 @@ __all__ = ["run_loopback"]
 
 
 def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
-                 fast_codec=None):
+                 fast_codec=None, delay_periods: int = 0):
     """Simulate ``seconds`` of device time.
 
     Parameters
@@ -35,6 +37,10 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
     fast_codec : bool, optional
         Encode and decode the frames by the compiled codec (default: with a compiled
         model) or by the Python route.
+    delay_periods : int
+        Extra command delay: the device applies each command this many periods later
+        than the lock-stepped loop does (zero torque until the first one arrives); the
+        delay margin of :mod:`.delay_margin` is checked against it.
 
     Returns
     -------
@@ -60,6 +66,11 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
         enc_state, enc_command = state_encoder(), command_encoder()
     dec_host, dec_dev = FrameDecoder(fast=fast), FrameDecoder(fast=fast_dev)
     mode, tau = MODE_ZERO_TORQUE, np.zeros(model.L)
+    nd = int(delay_periods)
+    if nd != delay_periods or nd < 0:
+        raise InputError(f"expected delay_periods a whole number >= 0, got "
+                         f"{delay_periods!r}", field="delay_periods")
+    queue = deque([(MODE_ZERO_TORQUE, np.zeros(model.L))] * nd)
     n = int(round(seconds / dt))
     out = {k: [] for k in ("t", "pose", "desired", "estimate", "hand", "tau", "compute_s",
                            "refused", "tau_cmd", "compute_cpu_s")}
@@ -78,8 +89,12 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
         t1 = time.perf_counter()
         c1 = time.thread_time()
         cmd = dec_dev.feed(wire)[0]
-        mode, tau = cmd.mode, cmd.torques
-        plant.step(tau, mode, dt)
+        mode, tau = cmd.mode, cmd.torques              # the host repeats these
+        applied = (mode, tau)
+        if nd:
+            queue.append(applied)
+            applied = queue.popleft()
+        plant.step(applied[1], applied[0], dt)
         if record:
             out["t"].append(plant.t)
             out["pose"].append(plant.pose.copy())
@@ -87,7 +102,7 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
             out["estimate"].append(ctl.pose.copy())
             out["hand"].append(plant.hand_wrench[:3].copy())
             out["tau"].append(plant.tau.copy())
-            out["tau_cmd"].append(np.asarray(tau).copy())
+            out["tau_cmd"].append(np.asarray(applied[1]).copy())
             out["compute_s"].append(t1 - t0)
             out["compute_cpu_s"].append(c1 - c0)
             out["refused"].append(res is not None and not res.accepted)

@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["CsvLog", "EventLog", "read_csv", "read_events", "plot_run", "timing_summary",
-           "run_summary"]
+__all__ = ["CsvLog", "EventLog", "read_csv", "read_events", "plot_run", "plot_delay_margin",
+           "timing_summary", "run_summary"]
 
 
 class CsvLog:
@@ -256,3 +256,37 @@ def run_summary(ctl, link, cycles, wall, t_first, t_last, compute, compute_cpu, 
         "log": None if ctl.prefix is None else {
             "cycles": f"{ctl.prefix}.cycles.csv", "events": f"{ctl.prefix}.events.jsonl"},
     }
+
+
+def plot_delay_margin(report: dict, out) -> Path:
+    """Plot ``distkin control --delay-margin``'s sweep (the dict of its JSON): the
+    spectral radius of the linearised loop against the extra delay (ms), the stable
+    side shaded, and the least-damped mode's growth rate (1/s) and frequency (Hz).
+
+    Returns the PNG written (``out``)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    sw = report["sweep"]
+    d = [r["delay_ms"] for r in sw]
+    fig, ax = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    ax[0].plot(d, [r["spectral_radius"] for r in sw], "o-")
+    ax[0].axhline(1.0, color="k", lw=0.8)
+    if report["stable_periods"] >= 0:
+        ax[0].axvspan(-0.5 * report["period_ms"], report["margin_ms"] + 0.5 *
+                      report["period_ms"], color="C2", alpha=0.15, label="stable")
+        ax[0].legend()
+    ax[0].set_ylabel("spectral radius (1 per period)")
+    ax[0].set_title("joint PD loop, linearised at home: extra command delay")
+    ax[1].plot(d, [r["growth_per_s"] for r in sw], "o-", color="C3", label="growth (1/s)")
+    ax[1].axhline(0.0, color="k", lw=0.8)
+    ax[1].set_ylabel("growth of the least-damped mode (1/s)")
+    tw = ax[1].twinx()
+    tw.plot(d, [r["frequency_hz"] for r in sw], "s--", color="C0", label="frequency (Hz)")
+    tw.set_ylabel("its frequency (Hz)")
+    ax[1].set_xlabel("extra command delay (ms)")
+    fig.tight_layout()
+    out = Path(out)
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return out
