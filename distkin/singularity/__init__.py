@@ -10,7 +10,7 @@ from .conditions import (OCTAHEDRAL_LEGS, octahedral_joints, plucker_jacobian,
                          RATIO_CONSTANT, PLANES)
 from .paths import (rotation_from_vector, pose_points, PosePath, Crossing, path_crossings,
                     certify_crossing, NearestSingularity, nearest_singularity)
-from .enclosure import ZeroExclusion, det_series, exclude_zeros
+from .enclosure import ZeroExclusion, det_series, exclude_zeros, monotone_on
 
 __all__ = [
     "OCTAHEDRAL_LEGS",
@@ -36,4 +36,5 @@ __all__ = [
     "ZeroExclusion",
     "det_series",
     "exclude_zeros",
+    "monotone_on",
 ]

@@ -21,7 +21,7 @@ import numpy as np
 
 from .conditions import OCTAHEDRAL_LEGS
 
-__all__ = ["ZeroExclusion", "det_series", "exclude_zeros"]
+__all__ = ["ZeroExclusion", "det_series", "exclude_zeros", "monotone_on"]
 
 
 def _series(v):
@@ -172,3 +172,18 @@ def exclude_zeros(f_series, intervals, *, min_width: float = 1e-9,
         else:
             merged.append((a, b))
     return ZeroExclusion(merged, proven, n)
+
+
+def monotone_on(f_series, a: float, b: float) -> bool:
+    """Whether arb proves f' != 0 on all of [a, b] (s): then f is strictly monotone
+    there, and a certified sign change of f in [a, b] is exactly one simple zero (not
+    an odd number of them).  The derivative is enclosed over the whole interval by
+    coefficient 1 of ``f_series`` (two-term arb power series at the ball [a, b])."""
+    import flint
+    m = a + 0.5 * (b - a)
+    r = max(m - a, b - m) * (1 + 2 ** -50) + 5e-324
+    try:
+        d = f_series(flint.arb(m, r))[1]
+    except (ZeroDivisionError, ValueError, ArithmeticError):
+        return False
+    return bool(d.is_finite() and not d.contains(0))

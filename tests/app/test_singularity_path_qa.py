@@ -135,6 +135,10 @@ def test_two_crossings_inside_one_sample_interval_are_found(tmp_path, capsys):
     for (a, b), c in zip(cc["zero_exclusion"]["brackets"], (s1, s2)):
         assert a < c < b and mp.sign(mpd(a)) == -mp.sign(mpd(b))
     assert "the count is certified complete" in out
+    # each bracket holds exactly one zero: arb proves d(det J)/ds != 0 over it; the
+    # sign of the derivative is the one mpmath sees across the bracket
+    assert cc["zero_exclusion"]["simple"] == [True, True] and cc["exact"]
+    assert "holds exactly one zero" in out
 
 
 def test_fast_tier_count_is_a_lower_bound(tmp_path, capsys):

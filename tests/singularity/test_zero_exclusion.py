@@ -14,6 +14,7 @@ import pytest
 from distkin.app.queries.singularity import OctahedralModel
 from distkin.app.scene import loads_scene
 from distkin.singularity import certify_crossing, det_series, exclude_zeros
+from distkin.singularity.enclosure import monotone_on
 
 SCENE = """
 [units]
@@ -97,3 +98,19 @@ def test_never_proves_an_interval_with_a_zero(f2):
     ex = exclude_zeros(fs, [(59 / 119, 60 / 119)], budget=500)
     assert ex.undecided and ex.proven < 60 / 119 - 59 / 119
     assert mp.sign(_mp_det_hat(path, 59 / 119)) == mp.sign(_mp_det_hat(path, 60 / 119)) == 1
+
+
+def test_monotone_only_where_the_derivative_keeps_its_sign(f2):
+    """``monotone_on`` proves one zero in a crossing's bracket (mpmath: the difference
+    quotients across it share one sign) and never in the sample interval holding the
+    root pair, where det J goes + - + (mpmath) so its derivative changes sign."""
+    model, path, fs = f2
+    f_arb = lambda x: model.det_j_arb(*path.at_certified(x))  # noqa: E731
+    c = certify_crossing(f_arb, 0.496219522192856)
+    a, b = (float(x) for x in c.bracket)
+    assert monotone_on(fs, a, b)
+    with mp.workdps(40):
+        m = (mp.mpf(a) + b) / 2
+        q = [(_mp_det_hat(path, x + mp.mpf("1e-12")) - _mp_det_hat(path, x)) for x in (a, m, b)]
+    assert len({mp.sign(v) for v in q}) == 1
+    assert not monotone_on(fs, 59 / 119, 60 / 119)

@@ -40,7 +40,7 @@ def _exclude(model, path, f_arb, roots, certs, certify_crossing, Crossing):
     crossings (:func:`distkin.singularity.enclosure.exclude_zeros`, QA F2).  Brackets
     of about 1e-7 in s are used (a tighter one leaves |det J| within the balls' radius
     at its ends); their signs are certified as the crossings' own."""
-    from ...singularity.enclosure import det_series, exclude_zeros
+    from ...singularity.enclosure import det_series, exclude_zeros, monotone_on
     brackets = []
     for s in roots:
         c = certs.get(s)
@@ -56,10 +56,13 @@ def _exclude(model, path, f_arb, roots, certs, certify_crossing, Crossing):
         at = max(at, b)
     if at < 1.0:
         gaps.append((at, 1.0))
-    ex = exclude_zeros(lambda ball: det_series(path, model.base_a, model.plat_a, ball), gaps,
-                       min_width=1e-9, budget=2000)
+    series = lambda ball: det_series(path, model.base_a, model.plat_a, ball)  # noqa: E731
+    ex = exclude_zeros(series, gaps, min_width=1e-9, budget=2000)
+    brackets = sorted(brackets)
     return {"undecided": [list(u) for u in ex.undecided], "proven": ex.proven,
-            "evaluations": ex.evaluations, "brackets": [list(b) for b in sorted(brackets)],
+            "evaluations": ex.evaluations, "brackets": [list(b) for b in brackets],
+            # arb: d(det J)/ds != 0 over the bracket, so its zero is exactly one
+            "simple": [monotone_on(series, a, b) for a, b in brackets],
             "max_bracket": max((b - a for a, b in brackets), default=0.0),
             "method": "arb mean-value form over intervals of s, bisected to 1e-9 within "
                       "2000 evaluations"}
@@ -117,7 +120,11 @@ def run_path(model, p, unit):
         lines.append(f"  the count is certified complete: arb (mean-value form over s) proves "
                      f"det J != 0 on [0, 1] outside the {len(roots)} bracket(s) of the "
                      f"crossings (width <= {excl['max_bracket']:.1e} in s), each of which "
-                     "holds a certified sign change (an odd number of zeros)")
+                     + ("holds exactly one zero (a certified sign change, and d(det J)/ds "
+                        "!= 0 over it)" if all(excl["simple"]) else
+                        "holds a certified sign change (an odd number of zeros; "
+                        f"{sum(excl['simple'])} of {len(excl['simple'])} proven exactly "
+                        "one by d(det J)/ds != 0)"))
     else:
         lines.append("  the count is a lower bound, not certified: sign changes on the grid, "
                      "and root pairs searched at the local minima of |det J|; two crossings "
@@ -225,6 +232,7 @@ def run_path(model, p, unit):
            "method": p.method, "crossing_count": {
                "found": len(roots), "is_lower_bound": not complete,
                "certified_complete": complete,
+               "exact": bool(complete and all(excl["simple"])),
                "certified_crossings": n_cert if p.method == "certified" else None,
                "search": "sign changes on the sample grid, and root pairs at the local "
                          "minima of |det J| (QA F2)",
