@@ -43,7 +43,7 @@ import numpy as np
 
 from ..argcheck import positive_int
 from ..errors import InputError
-from .boxes import (REGULAR, UNDECIDED, UNREACHABLE, Verdict, _certify_box, bisect,
+from .boxes import (REASONS, REGULAR, UNDECIDED, UNREACHABLE, Verdict, _certify_box, bisect,
                     check_box, check_mechanism, check_resolution, leaves, split_dimension)
 from .fptaylor import TINY, Quadratics, as_models, down, sum_up, up, variables
 
@@ -271,16 +271,17 @@ def branch_and_prune_batched(mech, lo, hi, min_width, *, max_boxes: int = 200_00
     ks = mech.kernels("arb")
     vary = tuple(k for k in range(6) if hi[k] > lo[k])
     stack = [(lo, hi)]
-    out_lo, out_hi, status, sigma, dsign = [], [], [], [], []
+    out_lo, out_hi, status, sigma, dsign, why = [], [], [], [], [], []
     budget = []                          # indices of the leaves left by the budget
     evaluated = 0
 
-    def leaf(blo, bhi, st, sg=0.0, ds=0):
+    def leaf(blo, bhi, st, sg=0.0, ds=0, reason=""):
         out_lo.append(blo)
         out_hi.append(bhi)
         status.append(st)
         sigma.append(sg)
         dsign.append(ds)
+        why.append(REASONS.get(reason, 0) if st == UNDECIDED else 0)
 
     while stack:
         room = max_boxes - evaluated
@@ -297,7 +298,7 @@ def branch_and_prune_batched(mech, lo, hi, min_width, *, max_boxes: int = 200_00
         if not vary:
             for a, b in todo:
                 v = _certify_box(mech, ks, a, b, form="quadratic", at_resolution=True)
-                leaf(a, b, v.status, v.sigma_lower, v.det_sign)
+                leaf(a, b, v.status, v.sigma_lower, v.det_sign, v.reason)
             evaluated += take
             continue
         r = certify_batch(mech, ks, blo, bhi, vary)
@@ -313,9 +314,9 @@ def branch_and_prune_batched(mech, lo, hi, min_width, *, max_boxes: int = 200_00
             k = split_dimension(a, b, minw, v)
             if k is None:                # at the resolution: the arb route decides
                 v = _certify_box(mech, ks, a, b, form="quadratic", at_resolution=True)
-                leaf(a, b, v.status, v.sigma_lower, v.det_sign)
+                leaf(a, b, v.status, v.sigma_lower, v.det_sign, v.reason)
                 continue
             left, right = bisect(a, b, k)
             stack.append(right)
             stack.append(left)
-    return leaves(out_lo, out_hi, status, sigma, dsign, evaluated, t0, budget)
+    return leaves(out_lo, out_hi, status, sigma, dsign, evaluated, t0, budget, why)

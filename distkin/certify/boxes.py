@@ -96,11 +96,17 @@ from .intervals import FORMS, enclose_box, point_values
 __all__ = ["UNDECIDED", "REGULAR", "SINGULAR", "UNREACHABLE", "STATUS_NAMES", "Verdict",
            "regularity_certificate", "sign_change_certificate", "certify_box",
            "branch_and_prune", "split_dimension", "bisect", "leaves", "check_box",
-           "check_resolution", "check_mechanism", "BOX_FORMS"]
+           "check_resolution", "check_mechanism", "BOX_FORMS", "REASONS"]
 
 UNDECIDED, REGULAR, SINGULAR, UNREACHABLE = 0, 1, 2, 3
 STATUS_NAMES = {UNDECIDED: "undecided", REGULAR: "regular", SINGULAR: "singular",
                 UNREACHABLE: "unreachable"}
+#: why a box was left undecided at the resolution, by code (the leaves' ``reason``):
+#: 0 none (decided, or left by the budget: ``budget``), 1 "reach" (a leg's reach margin
+#: straddles 0: the edge of the reachable set crosses the box), 2 "jq" (a diagonal
+#: entry of Jq not enclosed away from 0: a serial singularity may cross it), 3 "rank"
+#: (the regularity test of Jx failed: a parallel singularity may cross it)
+REASONS = {"": 0, "reach": 1, "jq": 2, "rank": 3}
 
 
 @dataclass(frozen=True)
@@ -457,7 +463,8 @@ def branch_and_prune(mech, lo, hi, min_width, *, form: str = "quadratic",
     dict of ndarray
         ``lo, hi`` (n, 6), ``status`` (n,) int8 (:data:`STATUS_NAMES`),
         ``sigma_lower`` (n,), ``det_sign`` (n,) int8, ``budget`` (n,) bool (undecided
-        because the budget ran out), ``evaluated`` (): the number of boxes evaluated,
+        because the budget ran out), ``reason`` (n,) int8 (why undecided at the
+        resolution, :data:`REASONS`), ``evaluated`` (): the number of boxes evaluated,
         ``seconds`` ().
 
     Raises
@@ -475,7 +482,7 @@ def branch_and_prune(mech, lo, hi, min_width, *, form: str = "quadratic",
     max_boxes = positive_int(max_boxes, "max_boxes")
     ks = mech.kernels("arb")
     stack = [(lo, hi)]
-    out_lo, out_hi, status, sigma, dsign = [], [], [], [], []
+    out_lo, out_hi, status, sigma, dsign, why = [], [], [], [], [], []
     budget = []                          # indices of the leaves left by the budget
     evaluated = 0
     while stack:
@@ -487,6 +494,7 @@ def branch_and_prune(mech, lo, hi, min_width, *, form: str = "quadratic",
             status.append(UNDECIDED)
             sigma.append(0.0)
             dsign.append(0)
+            why.append(0)
             continue
         at_res = split_dimension(blo, bhi, minw) is None
         v = _certify_box(mech, ks, blo, bhi, form=form, at_resolution=at_res)
@@ -497,12 +505,13 @@ def branch_and_prune(mech, lo, hi, min_width, *, form: str = "quadratic",
             status.append(v.status)
             sigma.append(v.sigma_lower)
             dsign.append(v.det_sign)
+            why.append(REASONS.get(v.reason, 0) if v.status == UNDECIDED else 0)
             continue
         k = split_dimension(blo, bhi, minw, v)
         left, right = bisect(blo, bhi, k)
         stack.append(right)
         stack.append(left)
-    return leaves(out_lo, out_hi, status, sigma, dsign, evaluated, t0, budget)
+    return leaves(out_lo, out_hi, status, sigma, dsign, evaluated, t0, budget, why)
 
 
 def bisect(lo, hi, k):
@@ -514,13 +523,16 @@ def bisect(lo, hi, k):
     return (lo, left_hi), (right_lo, hi)
 
 
-def leaves(out_lo, out_hi, status, sigma, dsign, evaluated, t0, budget=()) -> dict:
+def leaves(out_lo, out_hi, status, sigma, dsign, evaluated, t0, budget=(),
+           reason=None) -> dict:
     """The result dict of :func:`branch_and_prune` from lists of leaves; ``budget``:
-    the indices of the undecided leaves left when the box budget ran out."""
+    the indices of the undecided leaves left when the box budget ran out; ``reason``:
+    per leaf, why it is undecided at the resolution (:data:`REASONS` codes)."""
     spent = np.zeros(len(status), dtype=bool)
     spent[list(budget)] = True
+    why = np.zeros(len(status), np.int8) if reason is None else np.array(reason, np.int8)
     return {"lo": np.array(out_lo).reshape(-1, 6), "hi": np.array(out_hi).reshape(-1, 6),
             "status": np.array(status, dtype=np.int8),
             "sigma_lower": np.array(sigma, dtype=float),
-            "det_sign": np.array(dsign, dtype=np.int8), "budget": spent,
+            "det_sign": np.array(dsign, dtype=np.int8), "budget": spent, "reason": why,
             "evaluated": np.array(evaluated), "seconds": np.array(time.perf_counter() - t0)}

@@ -24,7 +24,7 @@ import numpy as np
 
 from ..argcheck import choice, positive_int
 from .batch import branch_and_prune_batched
-from .boxes import (REGULAR, STATUS_NAMES, UNDECIDED, branch_and_prune, check_box,
+from .boxes import (REASONS, REGULAR, STATUS_NAMES, UNDECIDED, branch_and_prune, check_box,
                     check_mechanism, check_resolution)
 from .intervals import FORMS
 from .tighten import tighten_sigma
@@ -125,6 +125,10 @@ class WorkspaceCertificate:
         ``max_boxes`` ran out: not undecided at the resolution (QA F4).  None: no box.
     max_boxes : int or None
         That budget (box evaluations per chunk).
+    reason : ndarray (n,) int8 or None
+        Why each box is undecided at the resolution (:data:`.boxes.REASONS` codes: 1
+        reach, 2 jq, 3 rank; 0 decided or left by the budget; -1 not recorded, a chunk
+        stored before reasons were kept).  None: not recorded.
     """
 
     mechanism: object
@@ -146,12 +150,35 @@ class WorkspaceCertificate:
     store: str | None = None
     budget: np.ndarray | None = None
     max_boxes: int | None = None
+    reason: np.ndarray | None = None
 
     def budget_mask(self) -> np.ndarray:
         """(n,) bool: the boxes left undecided because the box budget ran out."""
         if self.budget is None:
             return np.zeros(len(self.status), dtype=bool)
         return np.asarray(self.budget, dtype=bool)
+
+    def undecided_reasons(self) -> dict:
+        """The boxes undecided at the resolution (the budget's apart), by why (boxes,
+        volume in :attr:`volume_unit`, fraction of the region): ``reach`` (the edge of
+        the reachable set crosses them), ``jq`` (a serial singularity may), ``rank`` (a
+        parallel singularity may), ``other``, ``not_recorded`` (chunks stored before
+        reasons were kept)."""
+        und = (self.status == UNDECIDED) & ~self.budget_mask()
+        why = (np.full(len(self.status), -1, np.int8) if self.reason is None
+               else np.asarray(self.reason))
+        vols, tot = self.volumes(), self.total_volume()
+        names = {**{code: name for name, code in REASONS.items() if name},
+                 -1: "not_recorded", 0: "other"}
+        out = {}
+        for code, name in names.items():
+            sel = und & (why == code)
+            if sel.any():
+                prev = out.get(name, {"boxes": 0, "volume": 0.0})
+                v = prev["volume"] + float(vols[sel].sum())
+                out[name] = {"boxes": prev["boxes"] + int(sel.sum()), "volume": v,
+                             "fraction": v / tot if tot else 0.0}
+        return out
 
     @property
     def vary(self) -> tuple:
@@ -200,6 +227,7 @@ class WorkspaceCertificate:
         out["undecided_budget"] = {"boxes": int(spent.sum()), "volume": vb,
                                    "fraction": vb / tot if tot else 0.0}
         out["max_boxes"] = self.max_boxes
+        out["undecided_reasons"] = self.undecided_reasons()
         reg = self.status == REGULAR
         leaves = float(self.sigma_lower[reg].min()) if reg.any() else None
         tb = self.sigma_bound
@@ -306,6 +334,8 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
            ("lo", "hi", "status", "sigma_lower", "det_sign")}
     blo, bhi = cat["lo"].reshape(-1, 6), cat["hi"].reshape(-1, 6)
     spent = np.concatenate([_budget_flags(r, minw) for r in results])
+    why = np.concatenate([np.asarray(r["reason"], np.int8).reshape(-1) if "reason" in r
+                          else np.full(len(r["status"]), -1, np.int8) for r in results])
     reg = cat["status"] == REGULAR
     wall = time.perf_counter() - t0           # the classification's (tightening apart)
     bound = None
@@ -317,7 +347,7 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
         cat["status"], cat["sigma_lower"], cat["det_sign"],
         int(sum(int(r["evaluated"]) for r in results)),
         float(sum(float(r["seconds"]) for r in results)), wall, len(specs), bound,
-        stats["loaded"], stats.get("store"), spent, int(max_boxes))
+        stats["loaded"], stats.get("store"), spent, int(max_boxes), why)
 
 
 def _budget_flags(chunk, minw) -> np.ndarray:

@@ -209,7 +209,12 @@ def certificate_json(cert) -> dict:
     out["boxes"] = {"legend": {str(k): v for k, v in STATUS_NAMES.items()},
                     "lower": cert.lo, "upper": cert.hi, "status": cert.status,
                     "sigma_lower": cert.sigma_lower, "det_sign": cert.det_sign,
-                    "budget": cert.budget_mask(), "units": "m, m, m, rad, rad, rad"}
+                    "budget": cert.budget_mask(),
+                    "reason": (cert.reason if cert.reason is not None
+                               else np.full(len(cert.status), -1, np.int8)),
+                    "reason_legend": {"0": "decided, or left by the budget", "1": "reach",
+                                      "2": "jq", "3": "rank", "-1": "not recorded"},
+                    "units": "m, m, m, rad, rad, rad"}
     return out
 
 
@@ -246,6 +251,16 @@ def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> s
         lines.append(f"  {name:<11} {s[name + '_volume']:.4g} {unit}  "
                      f"({100 * s[name + '_fraction']:.2f} % of {s['total_volume']:.4g} {unit}; "
                      f"{s['counts'][name]} boxes)")
+    why = s["undecided_reasons"]
+    if why:
+        said = {"reach": "a leg's reach margin straddles 0 (the workspace edge)",
+                "jq": "a Jq diagonal entry not away from 0 (a serial singularity)",
+                "rank": "the rank test of Jx failed (near a parallel singularity)",
+                "other": "other", "not_recorded": "not recorded (stored chunks)"}
+        lines.append("  undecided at the resolution, by why: " + "; ".join(
+            f"{said[k]}: {v['boxes']} boxes"
+            + (f", {100 * v['fraction']:.2f} %" if cert.vary else "")
+            for k, v in why.items()))
     ub = s["undecided_budget"]
     if s["budget_exhausted"]:
         lines.append(f"  warning: the box budget ran out (max_boxes = {s['max_boxes']} "

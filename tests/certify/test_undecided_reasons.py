@@ -1,0 +1,54 @@
+"""Why a box is left undecided at the resolution (distkin.certify.boxes.REASONS), kept
+per box through the chunks into the certificate, its summary and the JSON: checked
+against float sampling of the reach margins (a second route) and for bookkeeping."""
+
+import numpy as np
+import pytest
+
+from distkin.certify.boxes import REASONS, UNDECIDED, branch_and_prune
+from distkin.certify.workspace import certify_workspace
+from distkin.mechanisms import preset
+
+
+@pytest.fixture(scope="module")
+def hunt_edge():
+    """Hunt's 150 mm square column from z = 150 to 375 mm: its lower part leaves the
+    reachable set, so boxes straddle its edge."""
+    m = preset("hunt")
+    lo = np.array([-0.075, -0.075, 0.15, 0, 0, 0])
+    hi = np.array([0.075, 0.075, 0.375, 0, 0, 0])
+    return m, certify_workspace(m, lo, hi, 0.0375, tighten=0)
+
+
+def test_reach_boxes_straddle_the_edge_of_the_reachable_set(hunt_edge):
+    """Every box undecided for 'reach' holds poses where some leg cannot close and poses
+    where every leg closes, by the float reach margins on a 6 x 6 x 6 grid of it."""
+    m, c = hunt_edge
+    sel = np.flatnonzero((c.status == UNDECIDED) & (c.reason == REASONS["reach"]))
+    assert sel.size > 0
+    g = np.linspace(0.0, 1.0, 6)
+    P = np.array(np.meshgrid(g, g, g, indexing="ij")).reshape(3, -1).T
+    for i in sel:
+        pts = np.zeros((len(P), 6))
+        pts[:, :3] = c.lo[i, :3] + P * (c.hi[i, :3] - c.lo[i, :3])
+        worst = np.asarray(m.reach_margin(pts)).min(axis=1)
+        assert worst.min() < 0 < worst.max(), i
+
+
+def test_reasons_account_for_the_undecided_volume(hunt_edge):
+    _, c = hunt_edge
+    s = c.summary()
+    why = s["undecided_reasons"]
+    assert set(why) <= {"reach", "jq", "rank", "other"}
+    assert sum(v["boxes"] for v in why.values()) == s["counts"]["undecided"]
+    assert sum(v["volume"] for v in why.values()) == pytest.approx(s["undecided_volume"])
+    assert np.all(c.reason[c.status != UNDECIDED] == 0)
+
+
+def test_budget_leaves_carry_no_reason():
+    """Boxes left unsplit by a spent budget are flagged ``budget``, not given a reason
+    of the resolution."""
+    m = preset("hunt")
+    r = branch_and_prune(m, np.array([-0.075, -0.075, 0.15, 0, 0, 0]),
+                         np.array([0.075, 0.075, 0.375, 0, 0, 0]), 0.0375, max_boxes=5)
+    assert r["budget"].any() and np.all(r["reason"][r["budget"]] == 0)
