@@ -246,25 +246,14 @@ def cayley_menger(sq, rows, cols=None):
     cols = rows if cols is None else tuple(cols)
     _check_labels(rows, cols, n)
     if n is not None:
-        _check_symmetric(s, sorted(set(rows) | set(cols)), kind)
+        labels = sorted(set(rows) | set(cols))
+        if not (kind == "float" and _symmetric_array(sq, labels)):
+            _check_symmetric(s, labels, kind)
     k = len(rows)
     if kind == "float":
-        probe = s(rows[0], cols[0])
-        batch = np.shape(probe)
-        M = np.empty(batch + (k + 1, k + 1))
-        M[..., 0, 0] = 0.0
-        M[..., 0, 1:] = 1.0
-        M[..., 1:, 0] = 1.0
-        for a, i in enumerate(rows):
-            for b, j in enumerate(cols):
-                if i == j:
-                    M[..., a + 1, b + 1] = 0.0
-                    continue
-                v = s(i, j)
-                if not np.all(np.isfinite(v) & (np.asarray(v) >= 0)):
-                    bad = np.ravel(v)[~(np.isfinite(np.ravel(v)) & (np.ravel(v) >= 0))][0]
-                    _refuse(i, j, float(bad))
-                M[..., a + 1, b + 1] = v
+        M = (_bordered_array(sq, rows, cols)
+             if isinstance(sq, np.ndarray) and np.issubdtype(sq.dtype, np.floating)
+             else _bordered(s, rows, cols))
         with np.errstate(over="ignore", under="ignore"):   # said below, with the value
             d = np.linalg.det(M)
         odd = ~(np.isfinite(d) & (np.abs(d) >= _TINY))
@@ -359,6 +348,65 @@ def _check_ragged(points):
             got = "a scalar" if n is None else f"{n} coordinates"
             raise InputError(f"expected every point with {lens[0]} coordinates (points of "
                              f"shape (n, {lens[0]})), got {got}", field=f"points[{i}]")
+
+
+def _bordered(s, rows, cols):
+    """The bordered float matrix (..., k + 1, k + 1) of D(rows; cols), entry by entry
+    (a mapping of floats); refuses a squared distance NaN, infinite or negative."""
+    k = len(rows)
+    batch = np.shape(s(rows[0], cols[0]))
+    M = np.empty(batch + (k + 1, k + 1))
+    M[..., 0, 0] = 0.0
+    M[..., 0, 1:] = 1.0
+    M[..., 1:, 0] = 1.0
+    for a, i in enumerate(rows):
+        for b, j in enumerate(cols):
+            if i == j:
+                M[..., a + 1, b + 1] = 0.0
+                continue
+            v = s(i, j)
+            if not np.all(np.isfinite(v) & (np.asarray(v) >= 0)):
+                bad = np.ravel(v)[~(np.isfinite(np.ravel(v)) & (np.ravel(v) >= 0))][0]
+                _refuse(i, j, float(bad))
+            M[..., a + 1, b + 1] = v
+    return M
+
+
+def _bordered_array(sq, rows, cols):
+    """:func:`_bordered` of a float array (..., n, n) in one gather: the same matrix, and
+    the same refusal (the first offending pair in row-major order)."""
+    r, c = np.asarray(rows), np.asarray(cols)
+    sub = np.where(r[:, None] == c[None, :], 0.0,
+                   sq[..., r[:, None] - 1, c[None, :] - 1].astype(float))
+    ok = np.isfinite(sub) & (sub >= 0)
+    if not ok.all():
+        badpair = ~ok.reshape((-1,) + ok.shape[-2:]).all(axis=0)
+        a, b = (int(x) for x in np.argwhere(badpair)[0])
+        v = np.ravel(sub[..., a, b])
+        _refuse(rows[a], cols[b], float(v[~(np.isfinite(v) & (v >= 0))][0]))
+    k = len(rows)
+    M = np.empty(sub.shape[:-2] + (k + 1, k + 1))
+    M[..., 0, 0] = 0.0
+    M[..., 0, 1:] = 1.0
+    M[..., 1:, 0] = 1.0
+    M[..., 1:, 1:] = sub
+    return M
+
+
+def _symmetric_array(sq, labels) -> bool:
+    """:func:`_check_symmetric`'s float test in one vectorised pass over an array
+    (..., n, n): True when it passes (the per-pair route then need not run; when it
+    fails, that route runs and names the first offending pair)."""
+    if not isinstance(sq, np.ndarray) or sq.dtype != np.float64:
+        return False
+    idx = np.asarray(labels) - 1
+    S = sq[..., idx[:, None], idx[None, :]]
+    T = np.swapaxes(S, -1, -2)
+    with np.errstate(invalid="ignore"):                # NaN and inf are refused later
+        bad = np.abs(S - T) > 8 * np.finfo(float).eps * np.maximum(np.abs(S), np.abs(T))
+        diag = np.diagonal(S, axis1=-2, axis2=-1)
+        bad_diag = np.abs(diag) > 8 * np.finfo(float).eps * np.abs(diag)
+    return not (bad.any() or bad_diag.any())
 
 
 def _check_symmetric(s, labels, kind):
