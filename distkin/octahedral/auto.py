@@ -29,10 +29,11 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..errors import InputError, UncertifiedError
-from .result import _evolve, _worst_leg_error
+from ..errors import DegenerateGeometryError, InputError, UncertifiedError
+from .result import _evolve, _worst_leg_error, blank_row
 
-__all__ = ["escalate", "escalate_batch", "solve_exact", "LEG_TOL", "PRECISE_DPS"]
+__all__ = ["escalate", "escalate_batch", "escalate_thin", "solve_exact", "LEG_TOL",
+           "PRECISE_DPS"]
 
 #: relative leg residual under which a fast pose is accepted
 LEG_TOL = 1e-9
@@ -60,6 +61,15 @@ def solve_exact(base, platform, legs, *, dps=None, tol=None):
                 "digits answered: its count is not certified")
     return (rescale_result(res, problem.exponent), "certified",
             "escalated to the certified tier (count proved)")
+
+
+def escalate_thin(exc, base, platform, legs, *, dps=None, tol=None):
+    """``auto`` on a problem whose triangle the fast tier refuses as thinner than float64
+    resolves (``exc``): the certified tier (or precise) answers, or refuses it as
+    collinear (QA N 2)."""
+    res, tier, note = solve_exact(base, platform, legs, dps=dps, tol=tol)
+    return replace(res, method="auto", tier=tier,
+                   tier_reason=f"the fast tier refused the data ({exc.message}); {note}")
 
 
 def _why(cond, worst):
@@ -124,8 +134,8 @@ def escalate_batch(batch, base, platform, legs, *, dps=None, tol=None):
         try:
             res, t, note = solve_exact(_row(base, i, 2), _row(platform, i, 2),
                                        _row(legs, i, 1), dps=dps, tol=tol)
-        except UncertifiedError as exc:  # this problem only: flagged, not guessed
-            unresolved[int(i)] = exc.message
+        except (UncertifiedError, DegenerateGeometryError) as exc:  # this problem only:
+            unresolved[int(i)] = exc.message                        # flagged, not guessed
             continue
         cond = batch.result(i).conditioning
         why = _why(cond, worst[i])
@@ -153,13 +163,7 @@ _CODES = {"assembly": 0, "rejected": 3}
 
 def _put(raw, i, res):
     """Write the AssemblyResult ``res`` into row i of the batched arrays."""
-    for name, fill in (("s15", np.nan), ("points", np.nan), ("rotation", np.nan),
-                       ("translation", np.nan), ("leg_error", np.nan),
-                       ("leg_error_rel", np.nan), ("roots", np.nan), ("step", np.nan)):
-        raw[name][i] = fill
-    raw["status"][i] = -1
-    raw["slot"][i] = -1
-    raw["valid"][i] = False
+    blank_row(raw, i)
     poses = res.poses[:16]
     raw["count"][i] = len(poses)
     modes = sorted({p.s15 for p in poses})[:8]

@@ -150,51 +150,15 @@ from .bounded_octic import (_bernstein, _bracketed, _count, _first_radius, _grow
 from .casteljau import STACK, _changes, _sign_of, count, cut_point, split, unscale, weights
 from .error_bounds import (ETA_FLOAT, LEAF_BOUND, U, error_cache, eta_rounded, margin,
                            part_errors, part_errors_into)
+from .verdicts import NOT_CHECKED, SPLIT_STEPS, THIN_TRIANGLE, VERDICTS
 
 __all__ = ["vouch", "vouch_many", "recover", "vouch_rows", "vouch_buffer", "part_errors",
-           "margin", "eta_rounded", "VERDICTS", "NOT_CHECKED", "CLUSTER", "U", "ETA_FLOAT",
-           "LEAF_BOUND"]
+           "margin", "eta_rounded", "VERDICTS", "NOT_CHECKED", "THIN_TRIANGLE", "SPLIT_STEPS",
+           "CLUSTER", "U", "ETA_FLOAT", "LEAF_BOUND"]
 
 _BUDGET = 48                  # Bernstein evaluations per problem, beyond one per piece
-#: verdict codes of :func:`vouch` and what they mean
-VERDICTS = {
-    0: "proved: every assembly root is counted and classified right",
-    1: "the inputs are out of the range the bounds cover (a squared length below 2^-1000 "
-       "of the largest after normalisation, or a rounding bound beyond 10 % relative)",
-    2: "the octic's sign at an end of the feasible interval is within its rounding bound: "
-       "a root at the edge of assemblability",
-    3: "the octic's sign between two roots found is within its rounding bound: two roots "
-       "closer than float64 can separate (two assembly modes about to merge)",
-    4: "a piece of the feasible interval holds more real roots than the fast tier found "
-       "there, or cannot be resolved (close or multiple roots, or a complex pair next to "
-       "the real axis)",
-    5: "a piece of the feasible interval around a root found holds no real root of the "
-       "exact octic (a root found twice, or a complex pair taken for real roots)",
-    6: "a root's status (assembly or spurious) cannot be decided: a face or a banana "
-       "tetrahedron is flat within the rounding bound there",
-    7: "a root's proved status differs from the fast tier's",
-    8: "the fast tier has an assembly root outside the feasible interval",
-    9: "not checked: the proof was skipped (forward_kinematics_batched(..., "
-       "prove=False), the bare fast tier)",
-    10: "two real roots outside the feasible interval (spurious, outside what the proof "
-        "covers) lie within 1e-4 relative of each other: float64's count of the real "
-        "roots is not reliable there (a multiple root split by rounding?); the assembly "
-        "roots may be right",
-}
 #: consecutive real roots outside [a, b] closer than this, relative, make verdict 10
 CLUSTER = 1e-4
-#: why :func:`_vouch_split` left a problem to :func:`_vouch_bisect` (its return codes)
-SPLIT_STEPS = {
-    14: "the sign of H at an end of the feasible interval is not proved",
-    15: "two roots found too close for a cut between them",
-    16: "a piece not decided by subdivision (a sign at a cut, the budget, the width)",
-    17: "a piece with no root or more than one",
-    18: "a status differs from the fast tier's",
-    19: "a status not decided",
-}
-#: the verdict of the problems of a batched solve that skipped the proof (never
-#: returned by :func:`vouch`)
-NOT_CHECKED = 9
 
 
 @numba.njit(cache=True)

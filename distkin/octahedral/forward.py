@@ -50,7 +50,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..argcheck import relative_tol
-from ..errors import ConditioningWarning, InputError
+from ..errors import ConditioningWarning, DegenerateGeometryError, InputError
 from ..exact import METHODS_AUTO, check_method, default_dps
 from .problem import exact_problem, float_problem, float_single
 from .scaling import in_units, rescale_result
@@ -140,6 +140,9 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
         squares do not fit float64 (:mod:`.scaling`).
     DegenerateGeometryError
         A collinear base or platform triangle, or an octic that vanishes identically.
+        ``fast`` also refuses a triangle thinner than 16 area^2 / (sum of squared
+        sides)^2 = 1e-12, which float64 cannot resolve; ``precise``, ``certified`` and
+        ``auto`` (which hands it to them) solve it, refusing only a collinear one.
     UncertifiedError
         ``certified`` could not decide something (never a wrong answer).
 
@@ -158,7 +161,17 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
     dps, tol = _tier_args(method, dps, tol)
     if method in ("fast", "auto"):
         from .batched import scan_single
-        B, Q, L, k, rounded = float_single(base, platform, legs)
+        try:
+            B, Q, L, k, rounded = float_single(base, platform, legs)
+        except DegenerateGeometryError as exc:
+            if method == "fast":
+                if exc.hint is None:
+                    exc.hint = ("method='auto' or 'certified' solve a thin triangle "
+                                "exactly, refusing only a collinear one")
+                    exc.args = (exc.one_line(),)
+                raise
+            from .auto import escalate_thin
+            return escalate_thin(exc, base, platform, legs, dps=dps, tol=tol)
         out = scan_single(B, Q, L)
         if method == "fast" and not warn:                   # the bare fast tier
             if out is None:                                 # doubted: the careful way
@@ -227,7 +240,7 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
                          "proof cannot vouch for), got prove=False", field="prove")
     from .descartes import ETA_FLOAT, NOT_CHECKED, eta_rounded, vouch_many
     from .batched import recover_flagged, solve_fast
-    B, Q, L, s2, l2, k, rounded = float_problem(base, platform, legs)
+    B, Q, L, s2, l2, k, rounded, thin = float_problem(base, platform, legs, flat="mask")
     raw = solve_fast(B, Q, L, s2, l2)
     raw["sides2"], raw["legs2"], raw["exponent"] = s2, l2, k    # the kernel's inputs
     n = len(k)
@@ -245,6 +258,14 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
         raw["verdict"], raw["radii"], raw["eta"] = verdict, radii, eta
     else:                                       # the bare fast tier: nothing vouched
         verdict = np.full(n, NOT_CHECKED)
+    if thin.any():          # placeholders of thin triangles: no answer, flagged (QA N 1)
+        from .descartes import THIN_TRIANGLE
+        from .result import blank_row
+        for i in np.flatnonzero(thin):
+            blank_row(raw, i)
+            if prove:
+                radii[i] = np.nan
+        verdict[thin] = THIN_TRIANGLE
     _scale_back(raw, k)
     trusted = verdict == 0
     out = BatchResult(raw["count"], raw["s15"], raw["points"], raw["rotation"],

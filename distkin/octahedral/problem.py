@@ -23,7 +23,8 @@ from .banana import LEG_PAIRS, SIDE_PAIRS
 from .scaling import KEEP, check_range, exponent, exponents, scale_problem
 
 __all__ = ["Problem", "exact_problem", "float_problem", "float_single", "LEG_PAIRS",
-           "SIDE_PAIRS", "REASONS", "sides_into", "check_triangle"]
+           "SIDE_PAIRS", "REASONS", "sides_into", "check_triangle",
+           "check_triangle_exact"]
 
 #: status codes of the real roots the fast tier finds, and what they mean
 REASONS = {
@@ -146,6 +147,31 @@ def check_triangle(sq, names, field):
             f"sides)^2 = {r:.3g}, not above 1e-12)", field=field)
 
 
+def check_triangle_exact(sq, names, field):
+    """:func:`check_triangle` for the precise and certified tiers, which compute with
+    the exact data: a triangle is refused only when it is collinear, 16 area^2 = 0
+    (rational squared sides: exactly; irrational ones: within 1e-60 relative at 80
+    digits, said so).  A thin but proper triangle, which float64 refuses, is solved
+    there (QA N 2)."""
+    if all(isinstance(v, (int, Fraction)) for v in sq):
+        a, b, c = (Fraction(v) for v in sq)
+        if 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c) > 0:
+            return
+        raise DegenerateGeometryError(
+            f"expected a proper triangle {names}, got collinear or coincident points "
+            "(16 area^2 = 0 exactly, from the exact squared sides)", field=field)
+    import sympy as sp
+    a, b, c = (sp.sympify(v) for v in sq)
+    a16 = sp.N(2 * (a * b + b * c + c * a) - (a * a + b * b + c * c), 80)
+    scale = sp.N((a + b + c) ** 2, 80)
+    if a16 > sp.Float("1e-60", 80) * scale:
+        return
+    raise DegenerateGeometryError(
+        f"expected a proper triangle {names}, got collinear or coincident points, or "
+        f"within 1e-60 of that relative at 80 digits (16 area^2 / (sum of squared "
+        f"sides)^2 = {float(a16 / scale) if scale else 0.0:.3g})", field=field)
+
+
 def _largest(B, Q, L):
     """The largest modulus of a coordinate or a leg (floats), and its field."""
     best, field = -1.0, "legs"
@@ -193,8 +219,8 @@ def exact_problem(base, platform, legs) -> Problem:
     problem = scale_problem(Problem(tuple(tuple(v.value for v in r) for r in B),
                                     tuple(tuple(v.value for v in r) for r in Q),
                                     tuple(v.value for v in L), sides2, legs2, from_float), k)
-    check_triangle(problem.sides2[:3], "P1 P2 P3", "base")
-    check_triangle(problem.sides2[3:], "P4 P5 P6", "platform")
+    check_triangle_exact(problem.sides2[:3], "P1 P2 P3", "base")
+    check_triangle_exact(problem.sides2[3:], "P4 P5 P6", "platform")
     return replace(problem, exponent=k)
 
 
@@ -234,7 +260,7 @@ def _floats(value, field):
             np.array(exact, dtype=bool).reshape(obj.shape))
 
 
-def float_problem(base, platform, legs):
+def float_problem(base, platform, legs, *, flat: str = "raise"):
     """Float arrays for the fast tier, batched, normalised by powers of two
     (:mod:`.scaling`): ``base (N,3,3)``, ``platform (N,3,3)``, ``legs (N,6)``, the
     squared sides ``(N,6)`` and legs ``(N,6)``, the exponents ``k (N,)`` (lengths divided
@@ -247,6 +273,12 @@ def float_problem(base, platform, legs):
     numbers of :func:`_sides2` and of the single solve) are returned as they are, ``k``
     and ``rounded`` zero (issue 17: the general path's ~30 numpy calls cost ~0.3 µs per
     problem); everything else takes the general path, which raises the errors.
+
+    ``flat="mask"``: a problem whose base or platform triangle fails
+    :func:`check_triangle` is not refused; its rows are replaced by a placeholder
+    problem (an equilateral octahedron) and an eighth array ``flat (N,)`` bool marks it,
+    so that one thin triangle does not cost the other problems of a batch their answers
+    (QA N 1).  Every other refusal stays.
     """
     if (type(base) is np.ndarray and type(platform) is np.ndarray and type(legs) is np.ndarray
             and base.dtype == _F8 and platform.dtype == _F8 and legs.dtype == _F8
@@ -257,7 +289,8 @@ def float_problem(base, platform, legs):
         n = base.shape[0]
         s2, l2 = np.empty((n, 6)), np.empty((n, 6))
         if _batch_ok(base, platform, legs, s2, l2):
-            return base, platform, legs, s2, l2, np.zeros(n, np.int64), np.zeros(n, bool)
+            out = base, platform, legs, s2, l2, np.zeros(n, np.int64), np.zeros(n, bool)
+            return out + (np.zeros(n, bool),) if flat == "mask" else out
 
     def arr(value, field, shape):
         a, exact = _floats(value, field)
@@ -306,18 +339,33 @@ def float_problem(base, platform, legs):
         Q = np.ldexp(Q, -k[:, None, None])
         L = np.ldexp(L, -k[:, None])
     sides2 = _sides2(B, Q)
+    thin = np.zeros(N, bool)
     for (j, names, fld) in ((0, "P1 P2 P3", "base"), (3, "P4 P5 P6", "platform")):
         a, b, c = sides2[:, j], sides2[:, j + 1], sides2[:, j + 2]
         m = np.maximum(np.maximum(a, b), c)       # (relative: no underflow, see
         m = np.where(m > 0, m, 1.0)               # check_triangle)
         a, b, c = a / m, b / m, c / m
         a16 = 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c)
-        flat = ~(a16 > 1e-12 * (a + b + c) ** 2)
-        if np.any(flat):
-            i = int(np.flatnonzero(flat)[0])
+        bad = ~(a16 > 1e-12 * (a + b + c) ** 2)
+        if np.any(bad) and flat != "mask":
+            i = int(np.flatnonzero(bad)[0])
             check_triangle(sides2[i, j:j + 3], names + (f" of problem {i}" if N > 1 else ""),
                            f"{fld}[{i}]" if N > 1 else fld)
-    return B, Q, L, sides2, L * L, k, rounded
+        thin |= bad
+    if flat != "mask":
+        return B, Q, L, sides2, L * L, k, rounded
+    if thin.any():                  # placeholders, solved and then blanked by the caller
+        B, Q, L = np.array(B), np.array(Q), np.array(L)
+        B[thin], Q[thin], L[thin] = _PLACEHOLDER
+        sides2 = _sides2(B, Q)
+    return B, Q, L, sides2, L * L, k, rounded, thin
+
+
+#: the problem solved in place of one with a flat triangle (``float_problem(flat="mask")``):
+#: equilateral base of side 1, platform of side 1/2, legs 1 (its answers are discarded)
+_PLACEHOLDER = (np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, 0.75 ** 0.5, 0.0]]),
+                np.array([[0.0, 0.0, 0.0], [0.5, 0.0, 0.0], [0.25, 0.1875 ** 0.5, 0.0]]),
+                np.ones(6))
 
 
 @numba.njit(cache=True)

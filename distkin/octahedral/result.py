@@ -495,3 +495,14 @@ def _empty_reason(roots, lo=None, hi=None):
     kinds = sorted({r.reason for r in roots})
     return ("cannot be assembled: every real root of the octic is spurious (" +
             "; ".join(kinds) + ")")
+
+
+def blank_row(raw, i):
+    """Row i of the batched arrays (``BatchResult.raw``) emptied: no root, no pose."""
+    for name in ("s15", "points", "rotation", "translation", "leg_error", "leg_error_rel",
+                 "roots", "step"):
+        raw[name][i] = np.nan
+    raw["status"][i] = -1
+    raw["slot"][i] = -1
+    raw["valid"][i] = False
+    raw["count"][i] = 0

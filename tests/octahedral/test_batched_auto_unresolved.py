@@ -55,7 +55,8 @@ def test_a_thin_triangle_names_the_tolerance():
     about eps (a + b + c)² / 16 area² = 0.6 % of it to cancellation)."""
     base = [[0, 0, 0], [5, "1/1000000", 0], [10, 0, 0]]
     with pytest.raises(DegenerateGeometryError) as e:
-        forward_kinematics(base, PLAT, GD, method="certified")
+        forward_kinematics(base, PLAT, GD, method="fast")
+    # (the exact tiers solve it: they refuse only a collinear triangle, QA N 2)
     msg = str(e.value)
     assert "within the solver's tolerance" in msg and "not above 1e-12" in msg
     import re
