@@ -249,10 +249,9 @@ def _floats(value, field):
             vals.append(float(v))
             exact.append(True)
             continue
-        x = _exact(v, field)
-        # (beyond float64, "1e400": the error names the element)
-        f = exact_to_float(x, field + "".join(f"[{int(j)}]" for j in
-                                              np.unravel_index(k, obj.shape)))
+        at = field + "".join(f"[{int(j)}]" for j in np.unravel_index(k, obj.shape))
+        x = _exact(v, at)                   # (the element named, as the exact tiers do)
+        f = exact_to_float(x, at)           # (beyond float64, "1e400")
         vals.append(f)
         exact.append(isinstance(x.value, Fraction) and math.isfinite(f)
                      and Fraction(f) == x.value)
@@ -431,6 +430,8 @@ def float_single(base, platform, legs):
                 got = np.shape(value)
             except ValueError:                  # (ragged)
                 got = None
+            if field == "legs" and got == ():     # a string, None: as the exact tiers say
+                raise InputError(f"expected 6 leg lengths, got {value!r}", field=field)
             if got is not None and got != shape:
                 raise InputError(f"expected shape {shape}, got {got}", field=field,
                                  hint="use forward_kinematics_batched for many problems"
