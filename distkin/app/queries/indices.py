@@ -55,6 +55,14 @@ preset's own, ``false`` for none).
     ld = [20, 40, 5]
     grid = { half = 75, step = 25, rotation = 20, rotation_step = 10 }
     algorithm = "both"       # culling | brute_force | both (and check they agree)
+    unreachable = "zero"     # a pose a design misses scores σmin = 0 (the default: every
+                             # design on the whole grid, Sec. III-B-2's "chosen workspace");
+                             # "skip": each design on the poses it reaches (an optimum
+                             # covering less than another design is flagged)
+
+A sweep in which no design reaches any pose of the grid, or every design scores GII 0,
+has no optimum: it is refused (exit 2) with the counts; equal GIIs at the optimum are
+reported as a tie, never decided by the order of the designs.
 
 ``distkin sweep SCENE --scheduler ADDRESS`` runs a scene with its sweeps on a dask
 cluster (or ``--workers N`` locally); the scene's own fields are the defaults.
@@ -457,7 +465,7 @@ class DesignSweepQuery:
                      max_poses=MAX_SWEEP_POSES, max_positions=MAX_SWEEP_POSES)
         algorithm = choice(table.get("algorithm", "both"), f"{field}.algorithm",
                            ("culling", "brute_force", "both"))
-        unreachable = choice(table.get("unreachable", "skip"), f"{field}.unreachable",
+        unreachable = choice(table.get("unreachable", "zero"), f"{field}.unreachable",
                              ("skip", "zero"))
         sc = table.get("scaling", list(ST_DEFAULT))
         if not isinstance(sc, list) or len(sc) != 6:
