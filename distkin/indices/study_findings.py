@@ -105,9 +105,11 @@ def row_reason(row: str, which: str, summary: dict, certified: dict | None = Non
     kind = _kind(row)
     if kind == "wrench" and which == "min":
         s = d.get("sigma_min")
-        if col in PAPER_TABLE4 and s is not None:
-            parts.append(f"the worst case follows σmin of Jᵀ: ours {s:.3g} (ST⁻¹Jᵀ), the "
-                         f"paper's Table IV {PAPER_TABLE4[col][1]:.3g}")
+        si = iso.get("sigma_min")                  # over Table IV's range, like with like
+        if col in PAPER_TABLE4 and si is not None:
+            parts.append(f"the worst case follows σmin of Jᵀ: ours {si:.3g} over "
+                         f"±{iso.get('rotation_deg', 0):.0f}° (ST⁻¹Jᵀ), the paper's Table IV "
+                         f"{PAPER_TABLE4[col][1]:.3g} over ±20°")
         elif s is not None:
             parts.append(f"the worst case follows σmin of Jᵀ (ours {s:.3g})")
         if d.get("det_sign_changes"):
@@ -150,8 +152,8 @@ def _factor_reason(io, ih) -> str:
     """Why the Octopod/Hunt-type factors of Table IV differ from the paper's: each is a
     quotient of two devices' worst poses, so it follows how near a singularity each
     device's grid comes under our geometry (σmin against Table IV's)."""
-    ho = ih["sigma_min"] / PAPER_TABLE4["hunt"][1]
-    oo = io["sigma_min"] / PAPER_TABLE4["octopod"][1]
+    ho = (ih["sigma_min"] or 0.0) / PAPER_TABLE4["hunt"][1]     # None: no reachable pose
+    oo = (io["sigma_min"] or 0.0) / PAPER_TABLE4["octopod"][1]
     if not (ho > 0 and oo > 0):
         zero = [n for n, v in (("Hunt-type", ho), ("Octopod", oo)) if not v > 0]
         return (f"our σmin is 0 for the {' and the '.join(zero)} (no reachable pose of the "
@@ -311,8 +313,10 @@ def findings(summaries, certified: dict | None = None) -> list:
                              for c in ["octopod", "hunt"] + others}, "N (force shown)",
                 involved=tuple(others), compared=("octopod", "hunt", *others))
         io, ih = o["isotropy"], h["isotropy"]
-        rg = io["gii"] / ih["gii"] if ih["gii"] > 0 else math.inf
-        rs = io["sigma_min"] / ih["sigma_min"] if ih["sigma_min"] > 0 else math.inf
+        gi, gh, si, sh = (x or 0.0 for x in (io["gii"], ih["gii"], io["sigma_min"],
+                                              ih["sigma_min"]))   # None: nothing reachable
+        rg = gi / gh if gh > 0 else math.inf
+        rs = si / sh if sh > 0 else math.inf
         pg = PAPER_TABLE4["octopod"][0] / PAPER_TABLE4["hunt"][0]
         ps = PAPER_TABLE4["octopod"][1] / PAPER_TABLE4["hunt"][1]
         add("the Octopod raises the GII (×13) and σmin (×18) over the Hunt-type",
