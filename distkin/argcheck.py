@@ -7,6 +7,7 @@ helpers, so that messages read the same everywhere: ``FIELD: expected â€¦, got â
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Mapping
 
 import numpy as np
@@ -25,6 +26,8 @@ __all__ = [
     "as_floats",
     "choice",
     "positive_int",
+    "workers_count",
+    "MAX_WORKERS",
     "positive_number",
     "pose_list",
     "string_list",
@@ -185,12 +188,31 @@ def fast_only(table: Mapping, field: str, what: str, instead: str) -> None:
                          f"{method!r}; {instead}", field=f"{field}.method")
 
 
+#: the most local worker processes a sweep starts (each a Python interpreter with numpy
+#: and the compiled kernels, about 150-250 MB): far above any machine's useful count, so
+#: only an absurd value is refused; above the CPU count a warning says it does not help
+MAX_WORKERS = 256
+
+
+def workers_count(value, field: str) -> int:
+    """A number of local worker processes: an integer in 1..:data:`MAX_WORKERS`, else
+    :class:`InputError` naming ``field`` (the pool is also capped at the number of
+    chunks, and warns above ``os.cpu_count()``: :func:`distkin.runstore.local_executor`)."""
+    n = positive_int(value, field)
+    if n > MAX_WORKERS:
+        raise InputError(f"expected at most {MAX_WORKERS} worker processes (each a Python "
+                         f"interpreter of some 200 MB), got {n}", field=field,
+                         hint=f"this machine has {os.cpu_count() or 1} CPUs; more workers "
+                              "than CPUs add memory, not speed")
+    return n
+
+
 def executor_fields(table: Mapping, field: str):
     """The executor fields of a chunked query (sweeps, certified workspaces):
     ``workers`` (a positive integer), ``scheduler`` (a dask address) and ``store`` (a
     directory), each optional.  Returns ``(workers, scheduler, store)``, None where
     absent."""
-    workers = positive_int(table["workers"], f"{field}.workers") if "workers" in table else None
+    workers = workers_count(table["workers"], f"{field}.workers") if "workers" in table else None
     sched = table.get("scheduler")
     if sched is not None and not isinstance(sched, str):
         raise InputError(f"expected a scheduler address string, got {sched!r}",

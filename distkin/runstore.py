@@ -40,6 +40,7 @@ import hashlib
 import json
 import multiprocessing
 import os
+import sys
 import zipfile
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from pathlib import Path
@@ -53,6 +54,8 @@ __all__ = ["run_chunks", "make_store", "local_executor", "dask_executor", "execu
            "sweep_key", "code_version", "user_cache_dir", "default_store", "keyed_store",
            "ChunkProgress", "WORKER_ENV", "NO_WORKER_TIMEOUT_S"]
 
+#: worker counts already warned about (above the CPU count), once per process
+_WARNED: set = set()
 #: environment of the local pool's workers (single-threaded BLAS)
 WORKER_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 #: a dask cluster without a single worker for this long (s) ends the sweep
@@ -125,11 +128,24 @@ def sweep_key(definition) -> str:
 @contextlib.contextmanager
 def local_executor(workers: int | None = None):
     """A process pool whose workers start with :data:`WORKER_ENV` (spawned, so the
-    setting reaches BLAS before numpy loads).  ``workers`` defaults to the CPU count."""
+    setting reaches BLAS before numpy loads).  ``workers`` defaults to the CPU count; more
+    than :data:`~distkin.argcheck.MAX_WORKERS` is refused, more than the CPU count warned
+    about (one line on stderr).  Processes start as chunks are submitted, and
+    :func:`run_chunks` submits at most as many as it has chunks, so the pool never runs
+    more processes than chunks."""
+    from .argcheck import workers_count
+    cpus = os.cpu_count() or 1
+    if workers is not None:
+        workers_count(workers, "workers")
+        if workers > cpus and workers not in _WARNED:
+            _WARNED.add(workers)
+            print(f"distkin: warning: {workers} worker processes on {cpus} CPUs: the extra "
+                  "processes share them (more memory, no speed-up)", file=sys.stderr,
+                  flush=True)
     saved = {k: os.environ.get(k) for k in WORKER_ENV}
     os.environ.update(WORKER_ENV)
     try:
-        ex = ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1,
+        ex = ProcessPoolExecutor(max_workers=workers or cpus,
                                  mp_context=multiprocessing.get_context("spawn"))
     finally:
         for k, v in saved.items():
@@ -334,7 +350,10 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
                     _save(paths[i], results[i])
                 bar.advance()
         else:
-            limit = max_pending or 4 * (getattr(executor, "_max_workers", None) or 4)
+            # never more pending than chunks: a process pool starts its processes as
+            # chunks are submitted, so it is capped at the number of chunks too
+            limit = min(max_pending or 4 * (getattr(executor, "_max_workers", None) or 4),
+                        max(1, len(todo)))
             queue = list(todo)
             while queue or pending:
                 while queue and len(pending) < limit:

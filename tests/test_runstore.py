@@ -197,3 +197,53 @@ def _slow_square(x):
     import time
     time.sleep(0.005)
     return {"y": np.array([x * x])}
+
+
+# ------------------------------------------------------------- worker counts (QA L 7)
+def test_an_absurd_worker_count_is_refused_with_exit_2(tmp_path, capsys):
+    """--workers 100000 was accepted, and every pending chunk could start an interpreter:
+    now refused (exit 2, one line naming --workers and the limit)."""
+    from distkin.app.cli import main
+    from distkin.argcheck import MAX_WORKERS
+    scene = tmp_path / "s.toml"
+    scene.write_text('[mechanism]\nkind = "rss"\npreset = "hunt"\n[[query]]\n'
+                     'type = "performance"\n', encoding="utf-8")
+    assert main(["sweep", str(scene), "--workers", str(MAX_WORKERS + 1), "--no-progress"]) == 2
+    err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
+    assert len(err) == 1 and "--workers" in err[0]
+    assert f"at most {MAX_WORKERS} worker processes" in err[0]
+    assert f"got {MAX_WORKERS + 1}" in err[0]
+
+
+def test_workers_above_the_cpus_warn_and_the_pool_is_capped_at_the_chunks(tmp_path, capsys):
+    """3 chunks on a pool of cpu_count + 2 workers: one warning line on stderr, and never
+    more pending chunks (so never more started processes) than chunks."""
+    import os
+
+    from distkin.runstore import local_executor, run_chunks
+    n = (os.cpu_count() or 1) + 2
+    seen = []
+
+    class Spy:
+        _max_workers = n
+
+        def __init__(self, ex):
+            self.ex = ex
+
+        def submit(self, fn, *a):
+            seen.append(len(a))
+            return self.ex.submit(fn, *a)
+
+    with local_executor(n) as ex:
+        assert ex._max_workers == n
+        out = run_chunks(_square, [1, 2, 3], None, executor=Spy(ex), progress=False)
+        started = len(ex._processes)               # a process per submitted chunk at most
+    assert [o["y"].tolist() for o in out] == [[1], [4], [9]]
+    assert len(seen) == 3 and started <= 3
+    err = [ln for ln in capsys.readouterr().err.splitlines() if "warning" in ln]
+    assert len(err) == 1 and f"{n} worker processes on {n - 2} CPUs" in err[0]
+
+
+def _square(x):
+    import numpy as np
+    return {"y": np.array([x * x])}

@@ -82,8 +82,9 @@ def _add_output_options(p) -> None:
 
 
 def _cmd_sweep(args):
-    if args.workers is not None and args.workers < 1:
-        raise InputError(f"expected --workers >= 1, got {args.workers}", field="--workers")
+    if args.workers is not None:
+        from ..argcheck import workers_count
+        workers_count(args.workers, "--workers")
     if args.scheduler is not None:
         from ..argcheck import scheduler_address
         scheduler_address(args.scheduler, "--scheduler")   # before the run, naming the option

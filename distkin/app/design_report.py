@@ -13,7 +13,7 @@ import numpy as np
 
 from .query import Outcome
 
-__all__ = ["design_sweep_report", "PAPER_TABLE1"]
+__all__ = ["design_sweep_report", "PAPER_TABLE1", "UNITS"]
 
 #: Table I's optimum and the GII of Sec. III-B-2
 PAPER_TABLE1 = {"l2": 0.0, "beta": 0.0, "gamma": 0.0, "ld": 0.020, "gii": 0.0006,
@@ -27,28 +27,37 @@ def design_sweep_report(p, scene, ctx, *, store, executor):
     ctx.notice(f"design_sweep: {len(p.space.designs()):,} designs × {grid.size:,} poses "
                f"({grid.n_positions:,} positions × {grid.n_orientations:,} orientations)")
     poses = grid.poses(np.arange(grid.n_positions))
+    stats: dict = {}
     with executor() as ex:
         r = sweep_designs(p.space, poses, algorithm=p.algorithm, ST=p.scaling, store=store,
                           executor=ex, progress=ctx.progress,
-                          designs_per_chunk=p.designs_per_chunk, unreachable=p.unreachable)
+                          designs_per_chunk=p.designs_per_chunk, unreachable=p.unreachable,
+                          stats=stats)
     best = r["parameters"]
+    designs = r["designs"]
+    ties = r["ties"]
 
     def show(name, v):
         return f"{name} = {v * 1e3:.1f} mm" if name in ("l2", "ld") else \
             f"{name} = {math.degrees(v):.1f}°"
-    lines = [f"Design sweep over {r['n_designs']} designs (base {p.space.base}, leg length "
+
+    def show_design(d):
+        return ", ".join(show(k, v) for k, v in d.items())
+    lines = [f"Design sweep over {r['n_designs']:,} designs (base {p.space.base}, leg length "
              f"{p.space.leg_length}"
              + (f" from {p.space.baseline}" if p.space.leg_length == "constant_sum" else "")
-             + f") × {r['n_poses']:,} poses ({grid.n_positions} positions × "
-             f"{grid.n_orientations} orientations, ±{math.degrees(max(grid.rx)):.0f}°, "
+             + f") × {r['n_poses']:,} poses ({grid.n_positions:,} positions × "
+             f"{grid.n_orientations:,} orientations, ±{math.degrees(max(grid.rx)):.0f}°, "
              f"step {1e3 * (grid.x[1] - grid.x[0]) if len(grid.x) > 1 else 0:.0f} mm)",
-             "optimum: " + ", ".join(show(k, v) for k, v in best.items())
-             + f"; GII = {r['gii']:.4g} (σmin = {r['sigma_min']:.4g}, σmax = "
-               f"{r['sigma_max']:.4g})",
+             ("optimum: " if len(ties) == 1 else
+              f"optimum: a tie of {len(ties)} designs at equal GII (not decided by their "
+              f"order): " + "; ".join(f"({show_design(designs[i])})" for i in ties[:6])
+              + ("; ..." if len(ties) > 6 else "") + "; the first: ")
+             + show_design(best) + f"; GII = {r['gii']:.4g} (σmin = {r['sigma_min']:.4g}, "
+               f"σmax = {r['sigma_max']:.4g}; dimensionless, σ of ST⁻¹Jᵀ)",
              "paper (Table I, Sec. III-B-2): l2 = 0 mm, beta = 0°, gamma = 0°, ld = 20 mm; "
              f"GII = {PAPER_TABLE1['gii']:g} (σmin = {PAPER_TABLE1['sigma_min']:g}, σmax = "
              f"{PAPER_TABLE1['sigma_max']:g})"]
-    designs = r["designs"]
 
     def moved_from_table1(d):
         """The Table I parameters in which design ``d`` differs from the paper's."""
@@ -56,8 +65,17 @@ def design_sweep_report(p, scene, ctx, *, store, executor):
                 if abs(d.get(k, PAPER_TABLE1[k]) - PAPER_TABLE1[k]) >= 1e-12]
     paper_i = next((i for i, d in enumerate(designs) if not moved_from_table1(d)), None)
     moved = moved_from_table1(best)
-    lines.append("Table I optimum: " + ("NOT reproduced (our optimum differs)" if moved else
-                                        "reproduced"))
+    flag = r.get("coverage_flag")
+    if len(ties) > 1:
+        verdict = ("tied: the paper's design is one of the tied designs, not the unique "
+                   "optimum" if paper_i in ties else "NOT reproduced (our optimum differs)")
+        reproduced = None if paper_i in ties else False
+    else:
+        verdict = "NOT reproduced (our optimum differs)" if moved else "reproduced"
+        reproduced = not moved
+    if flag and reproduced:
+        verdict += " on the poses it reaches only (see the coverage note)"
+    lines.append("Table I optimum: " + verdict)
     gall = r.get("brute_force", {}).get("gii_all")
     if paper_i is not None and gall is not None:
         g = np.asarray(gall)
@@ -86,6 +104,13 @@ def design_sweep_report(p, scene, ctx, *, store, executor):
         lines.append(f"reachable share of the grid for the optimum: "
                      f"{100 * r['coverage'][r['best']]:.1f} % (unreachable poses: "
                      f"{p.unreachable})")
+    if flag:
+        lines.append(f"coverage note: with unreachable = 'skip' each design is scored on the "
+                     f"poses it reaches; the optimum reaches {100 * flag['optimum_coverage']:.1f}"
+                     f" % of the grid, ({show_design(designs[flag['other_design']])}) reaches "
+                     f"{100 * flag['other_coverage']:.1f} %: the optimum may owe its rank to "
+                     "the poses it misses (unreachable = 'zero' scores every design on the "
+                     "whole grid)")
     for alg in ("culling", "brute_force"):
         if alg in r:
             a = r[alg]
@@ -94,14 +119,16 @@ def design_sweep_report(p, scene, ctx, *, store, executor):
     if "agree" in r:
         c, b = r["culling"], r["brute_force"]
         lines.append(f"culling vs brute force: same optimum and GII bit for bit: "
-                     f"{'yes' if r['agree'] else 'NO'}; evaluations "
-                     f"{b['evaluations'] / c['evaluations']:.3g}× fewer, time "
-                     f"{b['seconds'] / max(c['seconds'], 1e-9):.3g}× shorter")
-    result = dict(r)
-    result["designs"] = [{k: v for k, v in d.items()} for d in r["designs"]]
-    result["paper_design_index"] = paper_i
-    result["optimum_reproduced"] = not moved
-    result["sweep_hunt_is_preset"] = bool(consistent)
+                     f"{'yes' if r['agree'] else 'NO'}; culling / brute force: evaluations "
+                     f"{_ratio(c['evaluations'], b['evaluations'], 'fewer', 'more')}, time "
+                     f"{_ratio(c['seconds'], b['seconds'], 'faster', 'slower')}")
+    resumed = stats.get("loaded", 0)
+    if "brute_force" in r and resumed:
+        lines.append(f"brute force: {resumed} of {r['chunks']} chunks resumed from the run "
+                     f"store {stats.get('store')} (computed by an earlier run; the time above "
+                     "is this run's)")
+    result = _json(r, paper_i, reproduced, consistent, resumed)
+    result["chunks_resumed"] = resumed if "brute_force" in r else None
 
     def plot(stem):
         if "brute_force" not in r:
@@ -111,3 +138,51 @@ def design_sweep_report(p, scene, ctx, *, store, executor):
                                   np.asarray(r["brute_force"]["gii_all"]), r["best"],
                                   PAPER_TABLE1)]
     return Outcome(result, "\n".join(lines), plot)
+
+
+def _ratio(culled, ref, less, more):
+    """``culled / ref`` as a plain ratio and which way it goes ("0.25 (culling fewer)",
+    "1.001 (culling more)")."""
+    q = culled / max(ref, 1e-300)
+    return f"{q:.4g} (culling {less if q < 1 else more if q > 1 else 'the same'})"
+
+
+#: units of the design-sweep JSON (the parameters carry theirs in the key's suffix)
+UNITS = {"gii": "1 (dimensionless: σmin / σmax)",
+         "sigma_min": "1 (dimensionless singular value of ST⁻¹Jᵀ, per unit actuator torque "
+                      "scaled by ST)",
+         "sigma_max": "1 (as sigma_min)", "coverage": "1 (fraction of the grid's poses)",
+         "seconds": "s", "evaluations": "(design, pose) pairs"}
+_SUFFIX = {"l2": "l2_m", "ld": "ld_m", "beta": "beta_rad", "gamma": "gamma_rad"}
+
+
+def _si(d):
+    return {_SUFFIX.get(k, k): v for k, v in d.items()}
+
+
+def _finite_or_none(x, reasons, key, why):
+    if x is None or math.isfinite(x):
+        return x
+    reasons[key] = why
+    return None
+
+
+def _json(r, paper_i, reproduced, consistent, resumed):
+    """The JSON result: parameters with their unit in the key (m, rad), dimensionless
+    GII and σ noted in ``units``, a non-finite σ as null with its reason."""
+    out = {k: v for k, v in r.items() if k not in ("designs", "parameters")}
+    out["designs"] = [_si(d) for d in r["designs"]]
+    out["parameters"] = _si(r["parameters"])
+    reasons: dict = {}
+    for part in [out] + [out[a] for a in ("culling", "brute_force") if a in out]:
+        for k in ("sigma_min", "sigma_max", "gii"):
+            if k in part:
+                part[k] = _finite_or_none(part[k], reasons, k, "no reachable pose (σmin of "
+                                          "an empty set)")
+    if reasons:
+        out["null_reasons"] = reasons
+    out["units"] = UNITS
+    out["paper_design_index"] = paper_i
+    out["optimum_reproduced"] = reproduced
+    out["sweep_hunt_is_preset"] = bool(consistent)
+    return out

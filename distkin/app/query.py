@@ -89,6 +89,15 @@ class RunContext:
             print(f"distkin: {message}", file=sys.stderr, flush=True)
 
 
+    def warn(self, message: str) -> None:
+        """One line on stderr, once per run, whether or not progress is shown (what the
+        user should know about the answer: a range not on the grid, many workers)."""
+        seen = self.extra.setdefault("warnings", set())
+        if message and message not in seen:
+            seen.add(message)
+            print(f"distkin: warning: {message}", file=sys.stderr, flush=True)
+
+
 def register(name: str, *, mechanisms=(), summary: str = ""):
     """Class decorator registering a query handler under ``name`` for the mechanism
     kinds ``mechanisms`` (empty: any kind)."""

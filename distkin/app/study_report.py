@@ -165,8 +165,10 @@ def certify_cube(mech, width: float, executor=None, half: float = 0.075):
 
 
 def _criteria_text(c):
-    mark = {True: "held", False: "NOT held", None: "undecided"}[c["held"]]
     v = c["value"]
+    mark = {True: "held", False: "NOT held", None: "undecided"}[c["held"]]
+    if c["held"] is None and v.get("note"):
+        mark = v["note"] if v["note"].startswith("undecided") else f"undecided: {v['note']}"
     if c["number"] == 1:
         val = (f"σmin {_f(v['sigma_min'])}, all reachable {v['all_reachable']}, det sign "
                f"changes {v['det_sign_changes']}")
@@ -180,11 +182,30 @@ def _criteria_text(c):
                f"changes {v['det_sign_changes']}, certificate {v['certificate_zero_rotation']}")
     elif c["number"] == 5:
         others = ", ".join(f"{k} {_f(g)}" for k, g in v["others"].items())
-        val = f"GII {_f(v['gii'])} vs " + others if others else \
-            f"GII {_f(v['gii'])}; no other device in this study to compare with"
+        more = ", ".join(f"{k} {_f(g)}" for k, g in v.get("more_legs", {}).items())
+        val = f"GII {_f(v['gii'])} vs " + others if others else (
+            f"GII {_f(v['gii'])}; no other device with at most as many legs in this study"
+            + (f" (not compared: {more}, more legs)" if more else ""))
+        if others and more:
+            val += f" (not compared: {more}, more legs)"
     else:
         val = "max " + ", ".join(_f(x) for x in v["max_sensitivities"])
     return f"{c['number']}) {mark} [{val}]"
+
+
+def _inner_note(s, d, ctx):
+    """Table IV's GII is over the inner orientations of the grid: when the range asked
+    for (``inner_rotation``, ±20° by default) is not on the grid, say which range was
+    covered (in the JSON, the text and one warning line on stderr)."""
+    iso = s["isotropy"]
+    want = iso.get("rotation_requested_deg")
+    if want is None or abs(want - iso["rotation_deg"]) <= 1e-6:
+        return
+    iso["rotation_note"] = (
+        f"inner_rotation ±{want:g}° is not on the grid: Table IV's GII is over the "
+        f"orientations within it, which cover ±{iso['rotation_deg']:g}° (a rotation_step "
+        f"that divides {want:g}° gives ±{want:g}°)")
+    ctx.warn(f"{d.label}: {iso['rotation_note']}")
 
 
 def _finding_text(f):
@@ -223,10 +244,11 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
                        f"positions × {grid.n_orientations:,} orientations) in "
                        f"{-(-grid.n_positions // p.chunk_positions):,} chunks")
             dev = Device(d.label, d.mech, grid, d.paper, d.inner)
+            stats: dict = {}
             per, sec = run_device(dev, store=store_of(d.label), executor=ex,
                                   chunk_positions=p.chunk_positions, actuators=actuators,
                                   ST=p.scaling, route=p.route, progress=ctx.progress,
-                                  sensitivity=p.sensitivity)
+                                  sensitivity=p.sensitivity, stats=stats)
             lim = leg_limits(d.mech, actuators)
             nominal = lim["nominal"]
             s = summarise(dev, per, tau_nominal=(float(nominal[0]) if np.all(
@@ -260,6 +282,9 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
             s["dexterous_workspace"] = {k: v for k, v in dex.items() if k != "mask"}
             s["dexterous_workspace"]["thresholds"] = thr
             s["seconds"] = sec
+            s["chunks"] = -(-grid.n_positions // p.chunk_positions)
+            s["chunks_resumed"] = int(stats.get("loaded", 0))
+            _inner_note(s, d, ctx)
             s["positions_all_orientations_reachable"] = int(np.sum(reach_all))
             summaries.append(s)
             per_all[d.label] = (per, dex["mask"], reach_all, minima)
@@ -268,12 +293,15 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
         per, _, reach_all, minima = per_all[s["label"]]
         others = {o["label"]: o["isotropy"]["gii"] for o in summaries
                   if o is not s and o["L"] <= s["L"]}
+        more = {o["label"]: o["isotropy"]["gii"] for o in summaries
+                if o is not s and o["L"] > s["L"]}
         dg = s["diagnostics"]
         s["criteria"] = design_criteria(
             s["L"], grids[s["label"]][0], reach_all, minima, s["isotropy"]["gii"],
             sigma_min=dg["sigma_min"], transmission_min=dg["transmission_min"],
             det_sign_changes=dg["det_sign_changes"], sensitivities_max=dg["sensitivities_max"],
-            gii_others=others, certified=certified.get(s["label"]))
+            gii_others=others, certified=certified.get(s["label"]),
+            any_reachable=s["reachable_poses"] > 0, gii_more_legs=more)
     total = time.perf_counter() - t_all
     fnd = findings(summaries, certified if p.certify else None)
     tables = markdown_tables(summaries, sensitivity=p.sensitivity,
@@ -284,16 +312,21 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
     for s in summaries:
         dw = s["dexterous_workspace"]
         cert = s.get("certificate")
-        lines.append(f"  {s['label']}: {s['poses']:,} poses ({s['positions']} positions × "
-                     f"{s['orientations']} orientations, ±{s['rotation_deg']:.0f}°), "
+        lines.append(f"  {s['label']}: {s['poses']:,} poses ({s['positions']:,} positions × "
+                     f"{s['orientations']:,} orientations, ±{s['rotation_deg']:.0f}°), "
                      f"{100 * s['reachable_fraction']:.2f} % reachable, "
-                     f"{s['seconds']:.1f} s this run; dexterous workspace "
+                     f"{s['seconds']:.1f} s this run"
+                     + (f" ({s['chunks_resumed']} of {s['chunks']} chunks resumed from the "
+                        "run store, computed by an earlier run)" if s["chunks_resumed"] else "")
+                     + "; dexterous workspace "
                      f"{dw['cells']} of {dw['cells_total']} grid cells = "
                      f"{dw['volume_m3'] * 1e6:.0f} cm³ of {dw['grid_volume_m3'] * 1e6:.0f} cm³ "
                      f"({dw['volume_nodes_m3'] * 1e6:.0f} cm³ by dual cells)"
                      + (f"; {2e3 * cert.get('cube_half_m', 0.075):.4g} mm cube about home "
                         f"at its rotation certified {cert['zero_rotation_cube']}"
                         if cert else ""))
+    lines += [f"  {s['label']}: {s['isotropy']['rotation_note']}" for s in summaries
+              if s["isotropy"].get("rotation_note")]
     lines += ["", tables, "", "Findings of the paper:"]
     lines += [_finding_text(f) for f in fnd]
     lines += ["", "Design criteria (Sec. II-A; each with its own test, see the JSON):"]
@@ -301,6 +334,7 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
         lines.append(f"  {s['label']}: " + "; ".join(_criteria_text(c) for c in s["criteria"]))
     lines += ["", "Notes: " + _NOTES]
     result = {"devices": summaries, "findings": fnd, "seconds": total,
+              "chunks_resumed": sum(s["chunks_resumed"] for s in summaries),
               "actuators": actuators, "scaling": list(p.scaling),
               "sensitivity": p.sensitivity,
               "grid": {s["label"]: grids[s["label"]][0].as_dict() for s in summaries},

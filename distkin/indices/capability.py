@@ -29,12 +29,16 @@ import numpy as np
 
 from ..argcheck import as_floats, float_array
 from ..errors import InputError, SingularConfigurationError
-from .zonotope import zonotope_best, zonotope_worst
+from .zonotope import check_enumeration, memory_guard, zonotope_best, zonotope_worst
 
 __all__ = ["worst_case_output", "best_case_output", "output_generators",
-           "hull_worst_best", "hull_multi", "ueberle_worst", "CAPABILITY_METHODS"]
+           "hull_worst_best", "hull_multi", "ueberle_worst", "CAPABILITY_METHODS",
+           "MAX_HULL_VERTICES"]
 
 CAPABILITY_METHODS = ("zonotope", "hull", "ueberle")
+
+#: the most box vertices ``method="hull"`` gives Qhull per pose (2^L; L <= 16)
+MAX_HULL_VERTICES = 2 ** 16
 
 
 # ------------------------------------------------------------------------ arguments
@@ -72,6 +76,8 @@ def _prepare(G, pmin, pmax, keep, method, allowed):
         raise InputError(f"expected pmin <= pmax, got pmin={lo[tuple(i)]} > "
                          f"pmax={hi[tuple(i)]} at actuator {i[-1]}", field="pmin")
     S = tuple(range(d)) if keep is None else _keep_indices(keep, d)
+    if method == "hull":          # Qhull on every box vertex, one pose at a time
+        check_enumeration(2 ** L, L, "box vertices for Qhull (2^L)", limit=MAX_HULL_VERTICES)
     return G, lo, hi, S, single
 
 
@@ -125,7 +131,10 @@ def worst_case_output(G, pmin, pmax, keep=None, method: str = "zonotope"):
     Raises
     ------
     InputError
-        Bad shapes, limits or ``keep``; ``"ueberle"`` with L != d.
+        Bad shapes, limits or ``keep``; ``"ueberle"`` with L != d; more than
+        :data:`~.zonotope.MAX_CANDIDATES` facet normals C(L, d−1) per pose (``"hull"``:
+        more than :data:`MAX_HULL_VERTICES` box vertices 2^L); limits that leave the set
+        flat (``"hull"``: zero ranges, named).
     SingularConfigurationError
         ``"hull"`` only: Qhull cannot build the hull of a flat vertex set (σmin/σmax
         below about 1e-13); use ``"zonotope"``.
@@ -140,7 +149,8 @@ def worst_case_output(G, pmin, pmax, keep=None, method: str = "zonotope"):
     N, d, L = G.shape
     if method == "zonotope":
         c, r = (hi + lo) / 2, (hi - lo) / 2
-        out = zonotope_worst(G, c, r, [S])[0]
+        with memory_guard(L, "facet normals"):
+            out = zonotope_worst(G, c, r, [S])[0]
     elif method == "hull":
         out = np.array([hull_worst_best(G[i], lo[i], hi[i], S)[0] for i in range(N)])
     else:
@@ -164,7 +174,8 @@ def best_case_output(G, pmin, pmax, keep=None, method: str = "zonotope"):
     G, lo, hi, S, single = _prepare(G, pmin, pmax, keep, method, ("zonotope", "hull"))
     N = G.shape[0]
     if method == "zonotope":
-        out = zonotope_best(G, (hi + lo) / 2, (hi - lo) / 2, [S])[0]
+        with memory_guard(G.shape[2], "vertex candidates"):
+            out = zonotope_best(G, (hi + lo) / 2, (hi - lo) / 2, [S])[0]
     else:
         out = np.array([hull_worst_best(G[i], lo[i], hi[i], S)[1] for i in range(N)])
     return float(out[0]) if single else out
@@ -202,6 +213,16 @@ def hull_multi(G, lo, hi, keeps):
     except QhullError as exc:
         sv = np.linalg.svd(G, compute_uv=False)
         ratio = sv[-1] / sv[0] if sv[0] > 0 else 0.0
+        span = G[:, np.asarray(hi) > np.asarray(lo)]          # generators with a range
+        rank = int(np.linalg.matrix_rank(span)) if span.size else 0
+        if ratio > 1e-9 and rank < G.shape[0]:
+            zero = np.flatnonzero(np.asarray(hi) <= np.asarray(lo)).tolist()
+            raise InputError(
+                f"expected actuator limits with pmin < pmax spanning the output space, got "
+                f"pmin = pmax at actuators {zero} (values {np.asarray(lo)[zero].tolist()}): "
+                f"the set is flat (rank {rank} of {G.shape[0]}), not G (σmin/σmax = "
+                f"{ratio:.3g})", field="pmax",
+                hint="method='zonotope' gives the flat set's values") from exc
         raise SingularConfigurationError(
             f"Qhull cannot build the output polytope or its slice: the set is (nearly) flat "
             f"(σmin/σmax = {ratio:.3g}); expected a full-dimensional set",

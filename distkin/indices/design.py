@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InfeasibleError, InputError
 from .isotropy import ST_DEFAULT, culling_sweep
 from ..mechanisms.reference import ik_jacobian
 
@@ -60,12 +60,14 @@ class DesignSpace:
         return preset(self.base, **over)
 
 
-def design_sigmas(mech, poses, ST=ST_DEFAULT, unreachable: str = "skip"):
+def design_sigmas(mech, poses, ST=ST_DEFAULT, unreachable: str = "zero"):
     """Scaled (σmin, σmax) of ``mech`` at ``poses`` (N,).
 
-    ``unreachable="skip"``: a pose that some leg cannot reach is left out of the GII
-    (σmin = +inf, σmax = 0, neutral for min and max); ``"zero"``: it gives σmin = 0,
-    so a design that misses part of the workspace gets GII = 0.
+    ``unreachable="zero"`` (the default): a pose that some leg cannot reach gives
+    σmin = 0 (σmax = 0), so a design that misses part of the workspace gets GII = 0 and
+    every design is scored on the same grid (Sec. III-B-2: the GII over "the chosen
+    ... workspace", Table II); ``"skip"``: the pose is left out of the GII (σmin = +inf,
+    σmax = 0, neutral for min and max).
     """
     from ..argcheck import choice
     from .isotropy import scaled_singular_values
@@ -86,7 +88,7 @@ def design_chunk(spec: dict) -> dict:
     lo, hi, cover = [], [], []
     for params in spec["designs"]:
         mech = space.mechanism(params)
-        smin, smax = design_sigmas(mech, poses, ST, spec.get("unreachable", "skip"))
+        smin, smax = design_sigmas(mech, poses, ST, spec.get("unreachable", "zero"))
         lo.append(smin.min())
         hi.append(smax.max())
         cover.append(float(np.mean(smax > 0)))
@@ -95,14 +97,28 @@ def design_chunk(spec: dict) -> dict:
 
 def sweep_designs(space: DesignSpace, poses, *, algorithm="both", ST=ST_DEFAULT, store=None,
                   executor=None, progress=True, designs_per_chunk: int = 8,
-                  block: int = 4096, unreachable: str = "skip"):
-    """GII of a design space over ``poses`` (N, 6) (``unreachable``: "skip" or "zero",
-    as :func:`design_sigmas`).
+                  block: int = 4096, unreachable: str = "zero", stats: dict | None = None):
+    """GII of a design space over ``poses`` (N, 6) (``unreachable``: "zero", the
+    default, or "skip", as :func:`design_sigmas`).
 
-    Returns a dict: ``designs`` (list of parameter dicts), ``best`` (index), ``gii``,
+    ``"zero"`` scores every design on the whole grid (a pose it misses gives σmin = 0):
+    the GII of Sec. III-B-2 is over "the chosen ... workspace" (Table II), the same for
+    every design; ``"skip"`` scores each design on the poses it reaches, which can rank
+    designs on different subsets (the result then flags an optimum whose coverage is
+    below another design's, ``coverage_flag``, when brute force gave the coverage).
+
+    Returns a dict: ``designs`` (list of parameter dicts), ``best`` (index), ``ties``
+    (every design whose GII equals the optimum's, ``best`` first), ``gii``,
     ``sigma_min``, ``sigma_max``, ``parameters`` of the optimum, and per algorithm its
     seconds and evaluation count; ``agree`` (culling == brute force, bit for bit) when
-    both ran.
+    both ran.  ``stats`` (brute force with a store) is filled as
+    :func:`distkin.runstore.run_chunks` fills it (``loaded``: chunks resumed).
+
+    Raises
+    ------
+    InfeasibleError
+        No design reaches any pose of the grid, or every design scores GII 0 (a tie at
+        0 has no optimum; with ``"zero"``: none reaches every pose with a regular J).
     """
     if algorithm not in ("culling", "brute_force", "both"):
         raise InputError(f"expected 'culling', 'brute_force' or 'both', got {algorithm!r}",
@@ -116,7 +132,8 @@ def sweep_designs(space: DesignSpace, poses, *, algorithm="both", ST=ST_DEFAULT,
             mechs[i] = space.mechanism(designs[i])
         return mechs[i]
 
-    out = {"designs": designs, "n_designs": len(designs), "n_poses": len(poses)}
+    out = {"designs": designs, "n_designs": len(designs), "n_poses": len(poses),
+           "unreachable": unreachable}
     if algorithm in ("culling", "both"):
         def evaluate(ds, ps):
             P = poses[ps]
@@ -128,46 +145,82 @@ def sweep_designs(space: DesignSpace, poses, *, algorithm="both", ST=ST_DEFAULT,
         t0 = time.perf_counter()
         res = culling_sweep(evaluate, len(designs), len(poses), block=block)
         out["culling"] = {"seconds": time.perf_counter() - t0, **res.as_dict()}
-        out.update(best=res.best, gii=res.gii, sigma_min=res.smin, sigma_max=res.smax)
+        # a design tying the optimum is never culled (its bound is not below it)
+        ties = sorted(k for k, v in res.exact.items() if v == res.gii)
+        out["culling"]["ties"] = ties
+        out.update(best=res.best, gii=res.gii, sigma_min=res.smin, sigma_max=res.smax,
+                   ties=ties)
+        reached_any = bool(np.any(res.smax_all > 0))
     if algorithm in ("brute_force", "both"):
-        from ..runstore import run_chunks
-        t0 = time.perf_counter()
-        specs = [{"space": space, "poses": poses, "ST": tuple(ST), "unreachable": unreachable,
-                  "designs": designs[a:a + designs_per_chunk]}
-                 for a in range(0, len(designs), designs_per_chunk)]
-        if store is None:
-            chunks = [design_chunk(s) for s in specs]
-        else:
-            definition = {"kind": "design_sweep", "space": repr(space),
-                          "poses": int(len(poses)),
-                          "poses_sha256": hashlib.sha256(poses.tobytes()).hexdigest(),
-                          "ST": list(ST), "per_chunk": designs_per_chunk,
-                          "unreachable": unreachable}
-            from pathlib import Path
-
-            from ..runstore import sweep_key
-            chunks = run_chunks(design_chunk, specs, Path(store) / sweep_key(definition),
-                                definition=definition,
-                                executor=executor, progress=progress,
-                                desc=f"design sweep, brute force ({len(designs)} designs)")
-        lo = np.concatenate([c["min_smin"] for c in chunks])
-        hi = np.concatenate([c["max_smax"] for c in chunks])
-        out["coverage"] = np.concatenate([c["coverage"] for c in chunks]).tolist()
-        g = np.divide(lo, hi, out=np.zeros(len(designs)), where=hi > 0)
+        g, lo, hi = _brute_force(space, designs, poses, ST, unreachable, store, executor,
+                                 progress, designs_per_chunk, out, stats)
         b = int(np.argmax(g))
-        out["brute_force"] = {"seconds": time.perf_counter() - t0, "best": b,
-                              "gii": float(g[b]), "sigma_min": float(lo[b]),
-                              "sigma_max": float(hi[b]),
-                              "evaluations": len(designs) * len(poses),
-                              "gii_all": g.tolist()}
+        ties = np.flatnonzero(g == g[b]).tolist()
+        out["brute_force"].update(best=b, gii=float(g[b]), sigma_min=float(lo[b]),
+                                  sigma_max=float(hi[b]), ties=ties)
         if "best" not in out:
             out.update(best=b, gii=float(g[b]), sigma_min=float(lo[b]),
-                       sigma_max=float(hi[b]))
+                       sigma_max=float(hi[b]), ties=ties)
+        reached_any = bool(np.any(hi > 0))
     if algorithm == "both":
         c, bf = out["culling"], out["brute_force"]
         out["agree"] = bool(c["best"] == bf["best"] and c["gii"] == bf["gii"]
                             and c["sigma_min"] == bf["sigma_min"]
-                            and c["sigma_max"] == bf["sigma_max"])
+                            and c["sigma_max"] == bf["sigma_max"] and c["ties"] == bf["ties"])
+    counts = f"{len(designs):,} designs × {len(poses):,} poses"
+    if not reached_any:
+        raise InfeasibleError(f"no design of the sweep reaches any pose of the grid ({counts})",
+                              field="grid", hint="a grid about the designs' home pose, or a "
+                              "smaller half or rotation")
+    if out["gii"] == 0 and len(out["ties"]) == len(designs):
+        why = ("none reaches every pose of the grid with a regular J (unreachable = 'zero' "
+               "scores a missed pose σmin = 0)" if unreachable == "zero" else
+               "each is singular at a pose it reaches")
+        raise InfeasibleError(f"every design of the sweep scores GII 0 ({counts}), so none is "
+                              f"an optimum: {why}", field="grid",
+                              hint="a smaller grid, or unreachable = 'skip' to score each "
+                                   "design on the poses it reaches")
     out["parameters"] = designs[out["best"]]
+    cov = out.get("coverage")
+    if unreachable == "skip" and cov is not None:
+        top = int(np.argmax(cov))
+        if cov[top] > cov[out["best"]]:
+            out["coverage_flag"] = {"optimum_coverage": cov[out["best"]],
+                                    "other_design": top, "other_coverage": cov[top]}
     return out
 
+
+def _brute_force(space, designs, poses, ST, unreachable, store, executor, progress,
+                 designs_per_chunk, out, stats):
+    """Every design at every pose, in resumable chunks; fills ``out["brute_force"]``
+    and ``out["coverage"]``, returns (GII, min σmin, max σmax) per design."""
+    from ..runstore import run_chunks
+    t0 = time.perf_counter()
+    specs = [{"space": space, "poses": poses, "ST": tuple(ST), "unreachable": unreachable,
+              "designs": designs[a:a + designs_per_chunk]}
+             for a in range(0, len(designs), designs_per_chunk)]
+    if store is None:
+        chunks = [design_chunk(s) for s in specs]
+        if stats is not None:
+            stats["loaded"] = 0
+    else:
+        definition = {"kind": "design_sweep", "space": repr(space),
+                      "poses": int(len(poses)),
+                      "poses_sha256": hashlib.sha256(poses.tobytes()).hexdigest(),
+                      "ST": list(ST), "per_chunk": designs_per_chunk,
+                      "unreachable": unreachable}
+        from pathlib import Path
+
+        from ..runstore import sweep_key
+        chunks = run_chunks(design_chunk, specs, Path(store) / sweep_key(definition),
+                            definition=definition, executor=executor, progress=progress,
+                            desc=f"design sweep, brute force ({len(designs)} designs)",
+                            stats=stats)
+    lo = np.concatenate([c["min_smin"] for c in chunks])
+    hi = np.concatenate([c["max_smax"] for c in chunks])
+    out["coverage"] = np.concatenate([c["coverage"] for c in chunks]).tolist()
+    out["chunks"] = len(specs)
+    g = np.divide(lo, hi, out=np.zeros(len(designs)), where=hi > 0)
+    out["brute_force"] = {"seconds": time.perf_counter() - t0,
+                          "evaluations": len(designs) * len(poses), "gii_all": g.tolist()}
+    return g, lo, hi

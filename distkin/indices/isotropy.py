@@ -217,6 +217,9 @@ class CullingResult:
     evaluations: int = 0
     n_designs: int = 0
     n_poses: int = 0
+    #: max σmax of every design over the poses it was evaluated at (exact for the
+    #: designs in ``exact``; 0 where no evaluated pose was reachable)
+    smax_all: np.ndarray | None = None
 
     def as_dict(self):
         return {"best": self.best, "gii": self.gii, "sigma_min": self.smin,
@@ -268,7 +271,7 @@ def brute_force_sweep(evaluate, n_designs: int, n_poses: int, *, block: int = 40
     res = CullingResult(b, float(g[b]), float(lo[b]), float(hi[b]),
                         exact={i: float(g[i]) for i in range(n_designs)}, bounds=g,
                         evaluations=n_designs * n_poses, n_designs=n_designs,
-                        n_poses=n_poses)
+                        n_poses=n_poses, smax_all=hi.copy())
     return res, g
 
 
@@ -365,4 +368,4 @@ def culling_sweep(evaluate, n_designs: int, n_poses: int, *, block: int = 4096,
         bnd[k] = v
     return CullingResult(best, float(g_exact[best]), float(lo[best]), float(hi[best]),
                          exact=exact, bounds=bnd, evaluations=evaluations,
-                         n_designs=n_designs, n_poses=n_poses)
+                         n_designs=n_designs, n_poses=n_poses, smax_all=hi.copy())

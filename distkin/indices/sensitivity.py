@@ -45,7 +45,7 @@ from ..argcheck import as_floats
 from ..errors import InputError
 from .capability import _jacobian
 from .slice_farthest import slab_farthest_unit, slice_farthest_unit
-from .zonotope import RANK_TOL, zonotope_best
+from .zonotope import RANK_TOL, check_enumeration, memory_guard, vertex_candidates, zonotope_best
 
 __all__ = ["max_sensitivities", "SENSITIVITY_UNITS", "SENSITIVITY_MODES"]
 
@@ -90,7 +90,8 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False,
     InputError
         A bad ``mode``; ``J`` not finite numbers of shape (N, L, 6) with L >= 6 (as
         :func:`~.capability.worst_case_output`, L >= d); ``twist`` not of shape
-        (N, 6, L).
+        (N, 6, L); more than :data:`~.zonotope.MAX_CANDIDATES` vertex candidates per
+        pose (C(L, 3)·2^(L−3) for slices, 2^L for projections: L <= 12 and 18).
     """
     if mode not in SENSITIVITY_MODES:
         raise InputError(f"expected mode 'slice' or 'projection', got {mode!r}", field="mode")
@@ -99,6 +100,18 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False,
     if L < 6:
         raise InputError(f"expected at least 6 actuators (rows of J, L >= 6), got shape "
                          f"{J.shape}", field="J")
+    # counted before anything is allocated (slices: C(L, 3)·2^(L−3) vertex candidates;
+    # projections: the 2^L box vertices)
+    check_enumeration(vertex_candidates(L, 3 if mode == "slice" else 0), L,
+                      "slice-vertex candidates (C(L, 3)·2^(L−3))" if mode == "slice" else
+                      "box vertices (2^L)", field="J")
+    with memory_guard(L, "maximum sensitivities", field="J"):
+        return _max_sensitivities(J, mode, twist, walk, kappa)
+
+
+def _max_sensitivities(J, mode, twist, walk, kappa):
+    """:func:`max_sensitivities` after its checks of ``mode``, J and the cost."""
+    N, L, _ = J.shape
     if twist is not None:
         # its shape only: the compiled study passes NaN at the poses it redoes in numpy
         twist = as_floats(twist, "twist", f"pinv(J), shape ({N}, 6, {L})")

@@ -50,7 +50,8 @@ import numpy as np
 
 from .slice_lanes import slice_farthest_lanes
 from .constraint_basis import constraint_basis
-from .zonotope import RANK_TOL, farthest_in_slice
+from ..errors import InputError
+from .zonotope import RANK_TOL, check_enumeration, farthest_in_slice, vertex_candidates
 
 __all__ = ["slice_farthest_unit", "slab_farthest_unit"]
 
@@ -194,7 +195,10 @@ def slice_farthest_unit(G, keep, *, walk: bool = False, transposed: bool = False
     S = np.array(sorted(int(k) for k in keep), dtype=np.int64)
     Sc = np.array([i for i in range(d) if i not in set(S.tolist())], dtype=np.int64)
     if len(Sc) != 3:
-        raise ValueError(f"expected a slice removing 3 of {d} coordinates, got keep={list(keep)}")
+        raise InputError(f"expected a slice removing 3 of {d} coordinates, got "
+                         f"keep={list(keep)}", field="keep")
+    check_enumeration(vertex_candidates(L, 3), L,
+                      "slice-vertex candidates (C(L, 3)·2^(L−3))", field="J")
     F, X, flips = _tables(L, 3)
     out = np.empty(N)
     if not N:

@@ -30,7 +30,7 @@ from .velocity_set import true_velocity_worst
 from .zonotope import _facets, _ratio_min, zonotope_worst
 
 __all__ = ["CAPABILITIES", "SENSITIVITIES", "TRUE_VELOCITIES", "QUANTITIES", "ACTUATORS",
-           "PAPER_TABLE3", "PAPER_TABLE4", "SIGMA_READINGS", "evaluate_poses", "study_chunk",
+           "inner_covered", "PAPER_TABLE3", "PAPER_TABLE4", "SIGMA_READINGS", "evaluate_poses", "study_chunk",
            "Device", "run_device", "summarise"]
 
 #: name, label (Table III), unit, generator, actuator limit, slice
@@ -383,11 +383,12 @@ class Device:
 
 def run_device(dev: Device, *, store, executor=None, chunk_positions: int = 64,
                actuators=ACTUATORS, ST=ST_DEFAULT, route="kernels", progress=True,
-               batch: int = 20000, sensitivity: str = "slice"):
+               batch: int = 20000, sensitivity: str = "slice", stats: dict | None = None):
     """Sweep one device over its grid in resumable chunks; returns the per-position
     arrays (concatenated) and the seconds the run took.  Chunks live in
     ``store/<key of the sweep's definition>/``, so a changed grid, mechanism or limit
-    starts a new sweep and an unchanged one resumes."""
+    starts a new sweep and an unchanged one resumes; ``stats`` is filled as
+    :func:`~distkin.runstore.run_chunks` fills it (``loaded``: the chunks resumed)."""
     import time
     from pathlib import Path
 
@@ -407,7 +408,7 @@ def run_device(dev: Device, *, store, executor=None, chunk_positions: int = 64,
     store = Path(store) / sweep_key(definition)       # a changed definition starts afresh
     chunks = run_chunks(study_chunk, specs, store, definition=definition,
                         executor=executor, progress=progress,
-                        desc=f"{dev.label} ({grid.size:,} poses)")
+                        desc=f"{dev.label} ({grid.size:,} poses)", stats=stats)
     seconds = time.perf_counter() - t0
     merged = {k: np.concatenate([c[k] for c in chunks]) for k in chunks[0]}
     return merged, seconds
@@ -423,6 +424,19 @@ def _extreme(per, q, mask, kind):
         return None
     v = per[f"{q}_{kind}"][mask]
     return _finite(v.min() if kind == "min" else v.max())
+
+
+def inner_covered(grid, inner) -> float:
+    """The largest r (rad) such that every rotation axis of ``grid`` has -r and +r among
+    its values of magnitude <= ``inner`` (None: the whole axis): the range the inner
+    reduction (Table IV's ±20°) actually covers."""
+    lim = math.inf if inner is None else inner + 1e-9
+
+    def reach(a):
+        neg = max((-v for v in a if v <= 0 and -v <= lim), default=0.0)
+        pos = max((v for v in a if v >= 0 and v <= lim), default=0.0)
+        return min(neg, pos)
+    return min(reach(a) for a in (grid.rx, grid.ry, grid.rz))
 
 
 def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dict:
@@ -468,15 +482,22 @@ def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dic
                          ratio_min=(lo / pmin if pmin and lo is not None else None),
                          ratio_max=(hi / pmax if pmax and hi is not None else None))
         table[q] = entry
-    g_full = gii(per["sigma_min_min"][has], per["sigma_max_max"][has])
-    g_in = gii(per["sigma_min_min_in"][has_in], per["sigma_max_max_in"][has_in])
+    # no reachable pose: no GII (None, "—"), not the 0 of gii() on an empty sample
+    g_full = gii(per["sigma_min_min"][has], per["sigma_max_max"][has]) if has.any() \
+        else (None, None, None)
+    g_in = gii(per["sigma_min_min_in"][has_in], per["sigma_max_max_in"][has_in]) \
+        if has_in.any() else (None, None, None)
+    covered = inner_covered(grid, dev.inner)
     iso = {"gii": g_in[0], "sigma_min": g_in[1], "sigma_max": g_in[2],
-           "rotation_deg": math.degrees(dev.inner) if dev.inner is not None else
-           math.degrees(max(abs(v) for v in grid.rx)),
+           # the range the inner orientations of the grid cover (what was reduced), and
+           # the one asked for (Table IV's ±20°), which a grid may not have
+           "rotation_deg": math.degrees(covered),
+           "rotation_requested_deg": (math.degrees(dev.inner) if dev.inner is not None
+                                      else None),
            "gii_full_range": g_full[0], "sigma_min_full_range": g_full[1],
            "sigma_max_full_range": g_full[2]}
     readings = {}
-    for r in SCALING_READINGS:
+    for r in (SCALING_READINGS if has_in.any() else ()):
         if r == "wrench":
             lo, hi = g_in[1], g_in[2]
         elif r == "wrench_nominal":
@@ -494,8 +515,8 @@ def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dic
     if dev.paper in PAPER_TABLE4:
         pg, ps, pS = PAPER_TABLE4[dev.paper]
         iso.update(paper_gii=pg, paper_sigma_min=ps, paper_sigma_max=pS,
-                   ratio_gii=iso["gii"] / pg, ratio_sigma_min=iso["sigma_min"] / ps,
-                   ratio_sigma_max=iso["sigma_max"] / pS)
+                   **{f"ratio_{k}": (None if iso[k] is None else iso[k] / v)
+                      for k, v in (("gii", pg), ("sigma_min", ps), ("sigma_max", pS))})
     worst = {}
     for q in _ARGMIN:
         v = np.where(has, per[f"{q}_min"], np.inf)

@@ -25,7 +25,27 @@ import numpy as np
 from ..errors import InputError
 
 __all__ = ["PoseGrid", "axis_values", "table2_grid", "dexterous_workspace",
-           "design_criteria", "CRITERIA"]
+           "design_criteria", "CRITERIA", "RTOL", "at_least"]
+
+#: relative tolerance of a sampled float64 value against a threshold: a value within
+#: RTOL·max(|value|, |threshold|) of it is "at the threshold (within float64 rounding)",
+#: not decided (the worst cases come from a few dozen float64 operations on J: their
+#: rounding, a few ulps times the conditioning, stays far below 1e-12 relative on any
+#: pose whose σmin/σmax is above RANK_TOL)
+RTOL = 1e-12
+
+
+def at_least(value, threshold, rtol: float = RTOL):
+    """``value >= threshold`` decided outside float64 rounding: True, False, or None
+    (within ``rtol`` relative of the threshold: undecided).  Arrays elementwise (None
+    there is NaN in a float array: use :func:`numpy.isnan`)."""
+    v = np.asarray(value, dtype=float)
+    t = float(threshold)
+    tol = rtol * np.maximum(np.abs(v), abs(t))
+    near = np.abs(v - t) <= tol
+    if v.ndim == 0:
+        return None if bool(near) else bool(v >= t)
+    return np.where(near, np.nan, (v >= t).astype(float))
 
 
 def axis_values(lo: float, hi: float, step: float, field: str = "grid") -> np.ndarray:
@@ -166,9 +186,12 @@ def dexterous_workspace(grid: PoseGrid, reachable_all, minima: dict, thresholds:
         ``mask`` (n_positions,) bool, ``count`` (positions), ``cells`` (grid cells with
         all eight corners dexterous) and ``cells_total``, ``volume_m3`` (cells · cell
         volume, m³), ``volume_nodes_m3`` (dual-cell weights, m³), ``grid_volume_m3``
-        and ``fraction`` of the grid's positions.
+        and ``fraction`` of the grid's positions; ``at_threshold_positions``: positions
+        kept whose minimum equals a threshold within float64 rounding (:data:`RTOL`; an
+        exact 1 m/s computed as 0.9999999999999998 is not a shortfall).
     """
     mask = _position_mask(grid, reachable_all)
+    near = np.zeros_like(mask)
     for name, lim in thresholds.items():
         if name not in minima:
             raise InputError(f"expected a minimum for {name!r}, got only "
@@ -177,7 +200,11 @@ def dexterous_workspace(grid: PoseGrid, reachable_all, minima: dict, thresholds:
                 lim, (int, float, np.integer, np.floating)) or math.isnan(lim):
             raise InputError(f"expected a number (not NaN), got {lim!r}",
                              field=f"thresholds.{name}")
-        mask &= _per_position(grid, minima[name], f"minima.{name}") >= lim
+        v = _per_position(grid, minima[name], f"minima.{name}")
+        ok = at_least(v, lim)
+        near |= mask & np.isnan(ok)
+        mask &= np.isnan(ok) | (ok == 1)        # at the threshold within rounding: kept
+    near &= mask
     count = int(mask.sum())
     nx, ny, nz = len(grid.x), len(grid.y), len(grid.z)
     m3 = mask.reshape(nx, ny, nz)                  # positions are in C order of (x, y, z)
@@ -196,7 +223,8 @@ def dexterous_workspace(grid: PoseGrid, reachable_all, minima: dict, thresholds:
             "volume_m3": cells * grid.cell_volume,
             "volume_nodes_m3": float(np.sum(w[mask])),
             "grid_volume_m3": total * grid.cell_volume,
-            "fraction": count / max(1, grid.n_positions)}
+            "fraction": count / max(1, grid.n_positions),
+            "at_threshold_positions": int(near.sum())}
 
 
 def _position_mask(grid, reachable_all):
@@ -228,7 +256,8 @@ def design_criteria(L: int, grid: PoseGrid, reachable_all, minima: dict,
                     gii_value: float | None = None, criteria=CRITERIA, *,
                     sigma_min: float | None = None, transmission_min: float | None = None,
                     det_sign_changes: bool = False, sensitivities_max=None,
-                    gii_others: dict | None = None, certified: str | None = None):
+                    gii_others: dict | None = None, certified: str | None = None,
+                    any_reachable: bool | None = None, gii_more_legs: dict | None = None):
     """Check the six design criteria of Sec. II-A on the result of a sweep over ``grid``.
 
     Parameters
@@ -255,6 +284,17 @@ def design_criteria(L: int, grid: PoseGrid, reachable_all, minima: dict,
         The GII of the other compared kinematics with at most L legs (criterion 5).
     certified : {"regular", "singular", None}
         A certificate of the cube at zero rotation (:mod:`distkin.certify`), if run.
+    any_reachable : bool, optional
+        Some pose of the grid is reachable (default: some position reaches every
+        orientation).  Without one, every criterion that rests on sampled values is
+        undecided ("no reachable pose"), never NOT held on placeholder zeros.
+    gii_more_legs : dict label -> GII, optional
+        The devices of the study left out of criterion 5 (more legs than L), named in
+        its value.
+
+    Values are compared with thresholds outside float64 rounding (:func:`at_least`,
+    :data:`RTOL`): a value equal to its threshold within rounding is "at the
+    threshold", undecided, not a verdict.
 
     Returns
     -------
@@ -273,10 +313,12 @@ def design_criteria(L: int, grid: PoseGrid, reachable_all, minima: dict,
                          field="minima")
     full = bool(reach.all())
     regular = sigma_min is not None and sigma_min > 0 and not det_sign_changes
+    some = bool(reach.any()) if any_reachable is None else bool(any_reachable)
+    none_note = None if some else "undecided: no reachable pose"
     out.append({"number": 1, "criterion": "six actuated DOF (d = 6)",
                 "held": None if sigma_min is None else bool(regular and full),
                 "value": {"sigma_min": sigma_min, "all_reachable": full,
-                          "det_sign_changes": bool(det_sign_changes)},
+                          "det_sign_changes": bool(det_sign_changes), "note": none_note},
                 "required": "rank J = 6 at every pose of the grid",
                 "test": "every grid pose reachable, the smallest σmin(ST⁻¹Jᵀ) > 0 and (L = 6) "
                         "det J of one sign (a sign change encloses a rank loss)"})
@@ -284,7 +326,7 @@ def design_criteria(L: int, grid: PoseGrid, reachable_all, minima: dict,
                                           "L >= d",
                 "held": None if transmission_min is None else bool(L >= 6
                                                                   and transmission_min > 0),
-                "value": {"L": L, "transmission_min": transmission_min},
+                "value": {"L": L, "transmission_min": transmission_min, "note": none_note},
                 "required": {"L": ">= 6", "transmission_min": "> 0"},
                 "test": "L >= 6 and every crank keeps authority over its leg: "
                         "min |Jq_ii|/l1 > 0 (no inverse singularity) at every grid pose"})
@@ -296,50 +338,77 @@ def design_criteria(L: int, grid: PoseGrid, reachable_all, minima: dict,
     vkey = "velocity_true" if "velocity_true" in minima else "velocity"
     v = _per_position(grid, minima[vkey], f"minima.{vkey}")[reach]
     a = _per_position(grid, minima["acceleration"], "minima.acceleration")[reach]
-    vmin = float(v.min()) if v.size else 0.0
-    amin = float(a.min()) if a.size else 0.0
-    held3 = bool(vmin >= criteria["velocity"] and amin >= criteria["acceleration"] and full)
+    f = _per_position(grid, minima["force"], "minima.force")
+    vmin = float(v.min()) if v.size else None
+    amin = float(a.min()) if a.size else None
+    notes3 = []
+    if not some:
+        held3 = None
+        notes3.append("undecided: no reachable pose")
+    elif vmin is None:
+        held3 = False                        # reachable poses, but no complete position
+    else:
+        dv = at_least(vmin, criteria["velocity"])
+        da = at_least(amin, criteria["acceleration"])
+        notes3 += [f"{n} at the threshold (within float64 rounding, {RTOL:g} relative)"
+                   for n, d in (("velocity", dv), ("acceleration", da)) if d is None]
+        held3 = (False if dv is False or da is False or not full else
+                 None if dv is None or da is None else True)
+        # a failure on part of the workspace is one; a pass decides nothing unless the
+        # grid covers it
+        held3 = held3 if covers or held3 is False else None
     out.append({"number": 3, "criterion": "minimum velocity >= 1 m/s and acceleration "
                                           ">= 9.81 m/s²",
-                # a failure on part of the workspace is one; a pass decides nothing
-                # unless the grid covers it
-                "held": held3 if covers or not held3 else None,
+                "held": held3,
                 "value": {"velocity_m_s": vmin, "acceleration_m_s2": amin,
                           "velocity_set": "true set {ẋ: |Jẋ|∞ <= q̇max}"
-                          if vkey == "velocity_true" else "J# zonotope, eq. (5)"},
+                          if vkey == "velocity_true" else "J# zonotope, eq. (5)",
+                          "note": "; ".join(notes3) or None},
                 "required": {"velocity_m_s": criteria["velocity"],
                              "acceleration_m_s2": criteria["acceleration"]},
                 "test": "worst cases over every grid pose, all positions reachable, the grid "
-                        "covering the cube and ±30° (None when it passes on a smaller grid)"})
-    f = _per_position(grid, minima["force"], "minima.force")
+                        "covering the cube and ±30° (None when it passes on a smaller grid, "
+                        f"or is at a threshold within float64 rounding, {RTOL:g} relative)"})
     free = bool(full and np.all(f > 0) and regular and certified != "singular")
-    held4 = free if covers else (False if not free else None)
+    held4 = (None if not some else free if covers else (False if not free else None))
     out.append({"number": 4, "criterion": "singularity-free dexterous workspace, 150 mm cube, "
                                           "±30°",
                 "held": held4,
                 "value": {"cube_edge_m": float(min(ext)), "rotation_deg": math.degrees(rot),
                           "all_reachable": full, "sigma_min": sigma_min,
                           "det_sign_changes": bool(det_sign_changes),
-                          "certificate_zero_rotation": certified},
+                          "certificate_zero_rotation": certified,
+                          "note": None if some else "undecided: no reachable pose"},
                 "required": {"cube_edge_m": criteria["cube_m"],
                              "rotation_deg": math.degrees(criteria["rotation_rad"])},
                 "test": "grid covers the cube and ±30°; every pose reachable, σmin > 0, det J "
                         "of one sign (L = 6), no certified singular box"})
-    if gii_value is None or not gii_others:
+    compared = {k: g for k, g in (gii_others or {}).items() if g is not None}
+    note5 = None
+    if gii_value is None or not some:
+        held5, note5 = None, "undecided: no reachable pose"
+    elif not compared:
         held5 = None
     else:
-        held5 = bool(gii_value > 0 and all(gii_value >= g for g in gii_others.values()))
+        top = max(compared.values())
+        d5 = at_least(gii_value, top)
+        held5 = bool(gii_value > 0 and d5 is True) if d5 is not None else None
+        if d5 is None:
+            note5 = "equal to the best other GII within float64 rounding"
     out.append({"number": 5, "criterion": "mechanical isotropy optimised (GII)",
                 "held": held5,
-                "value": {"gii": gii_value, "others": dict(gii_others or {})},
+                "value": {"gii": gii_value, "others": dict(gii_others or {}),
+                          "more_legs": dict(gii_more_legs or {}), "note": note5},
                 "required": "GII > 0 and not below any compared kinematics with at most as "
                             "many legs",
                 "test": "GII over the Table II orientations against the other devices"})
     finite = sensitivities_max is not None and all(
         s is not None and math.isfinite(s) for s in sensitivities_max)
     out.append({"number": 6, "criterion": "maximum sensitivities quantifiable",
-                "held": None if sensitivities_max is None else bool(finite and regular),
-                "value": {"max_sensitivities": list(sensitivities_max or [])},
+                "held": (None if sensitivities_max is None or not some else
+                         bool(finite and regular)),
+                "value": {"max_sensitivities": list(sensitivities_max or []),
+                          "note": None if some else "undecided: no reachable pose"},
                 "required": "bounded over the workspace",
                 "test": "the four maximum sensitivities finite at every grid pose and no "
                         "singularity sampled (they are unbounded at one)"})

@@ -50,18 +50,72 @@ References
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from functools import lru_cache
 from itertools import combinations, product
 
 import numpy as np
 
+from ..errors import InputError
 from .constraint_basis import constraint_basis
 
 __all__ = ["zonotope_worst", "zonotope_best", "facet_normals", "farthest_in_slice",
-           "RANK_TOL"]
+           "RANK_TOL", "MAX_CANDIDATES", "check_enumeration", "vertex_candidates",
+           "memory_guard"]
 
 #: σmin/σmax below which a generator matrix is treated as exactly singular
 RANK_TOL = 1e-12
+
+#: the most facet normals (C(L, d−1)), box vertices (2^L) or slice-vertex candidates
+#: (C(L, k)·2^(L−k)) a kernel enumerates per pose: 2^18 = 262,144, about 0.05-0.5 s and
+#: at most a few hundred MB per pose.  L = 8, d = 6 needs 56 normals, 256 vertices and
+#: 1,792 candidates; the limit allows L <= 33 for the worst case (d = 6), L <= 18 for the
+#: best case of the whole set and L <= 12 for the slices of the sensitivities
+MAX_CANDIDATES = 2 ** 18
+
+#: float64 elements of the temporaries of one batch of poses (128 MiB): a batch is cut
+#: to fit, so a large L runs one pose at a time instead of exhausting the memory (the
+#: default batch is unchanged up to L = 8)
+_BATCH_ELEMENTS = 2 ** 24
+
+
+def vertex_candidates(L: int, k: int) -> int:
+    """C(L, k)·2^(L−k): the vertex candidates of a slice removing k coordinates (k = 0:
+    the 2^L box vertices)."""
+    from math import comb
+    return comb(L, k) * 2 ** (L - k)
+
+
+def check_enumeration(count: int, L: int, what: str, field: str = "G",
+                      limit: int | None = None) -> int:
+    """``count`` (per pose) against :data:`MAX_CANDIDATES` (or ``limit``), counted
+    before anything is allocated: above it an :class:`InputError` names L and the
+    cost.  Returns ``count``."""
+    limit = MAX_CANDIDATES if limit is None else limit
+    if count > limit:
+        raise InputError(f"expected at most {limit:,} {what} per pose, got {count:,} for "
+                         f"L = {L} actuators", field=field,
+                         hint="fewer actuators (this exact enumeration grows "
+                              "combinatorially with L), or a bound from a relaxation")
+    return count
+
+
+@contextmanager
+def memory_guard(L: int, what: str, field: str = "G"):
+    """Turn a MemoryError of an enumeration into an :class:`InputError` naming L and
+    what was enumerated (the limits above keep it rare; it must never escape raw)."""
+    try:
+        yield
+    except MemoryError:
+        raise InputError(f"expected the {what} for L = {L} actuators to fit in memory, got "
+                         "a MemoryError", field=field,
+                         hint="fewer actuators or fewer poses per call") from None
+
+
+def _batch(chunk: int, per_pose: int) -> int:
+    """Poses per batch: ``chunk``, cut so the temporaries (``per_pose`` elements each)
+    stay within :data:`_BATCH_ELEMENTS`."""
+    return max(1, min(max(1, int(chunk)), _BATCH_ELEMENTS // max(1, per_pose)))
 
 
 # --------------------------------------------------------------------------- normals
@@ -188,24 +242,46 @@ def facet_normals(G, *, assume_regular: bool = False):
 
     Parameters
     ----------
-    G : ndarray (N, d, L)
-        Generator matrices, L >= d.
+    G : ndarray (d, L) or (N, d, L)
+        Generator matrices, finite, L >= d, C(L, d−1) <= :data:`MAX_CANDIDATES`.
 
     Returns
     -------
-    n : ndarray (N, K, d)
+    n : ndarray (N, K, d) (or (K, d) for one G)
         One normal of each ± pair, K = C(L, d−1), not normalised (scale is irrelevant
         to every ratio used here).
-    P : ndarray (N, K, L)
+    P : ndarray (N, K, L) (or (K, L))
         ``n · g_i`` for every generator.
-    regular : ndarray (N,) bool
+    regular : ndarray (N,) bool (or a bool)
         False where σmin/σmax of G is below :data:`RANK_TOL` (use the flat route).
+
+    Raises
+    ------
+    InputError
+        G not numbers of shape (d, L) or (N, d, L), not finite, L < d, or too many
+        facets (:func:`check_enumeration`).
     """
-    G = np.asarray(G, dtype=float)
+    from math import comb
+
+    from ..argcheck import as_floats
+    G = as_floats(G, "G", "a numeric generator matrix")
+    single = G.ndim == 2
+    if single:
+        G = G[None]
+    if G.ndim != 3 or G.shape[1] < 1:
+        raise InputError(f"expected G of shape (d, L) or (N, d, L), got {np.shape(G)}",
+                         field="G")
     N, d, L = G.shape
+    if L < d:
+        raise InputError(f"expected at least as many generators as outputs (L >= d), got "
+                         f"L={L}, d={d}", field="G")
+    if not np.all(np.isfinite(G)):
+        raise InputError("expected finite numbers in G, got NaN or inf", field="G")
+    check_enumeration(comb(L, d - 1), L, f"facet normals (C(L, d−1), d = {d})")
     n, _, regular = _facets(G, np.zeros((N, L)), np.ones((N, L)),
                             assume_regular=assume_regular)
-    return n, n @ G, regular
+    P = n @ G
+    return (n[0], P[0], bool(regular[0])) if single else (n, P, regular)
 
 
 # ------------------------------------------------------------------------ worst case
@@ -240,11 +316,14 @@ def zonotope_worst(G, c, r, keeps, *, chunk: int = 4096):
     ndarray (len(keeps), N)
         Distance (origin inside) or a negative flag (origin outside).
     """
+    from math import comb
     G = np.asarray(G, dtype=float)
     N, d, L = G.shape
+    K = check_enumeration(comb(L, d - 1), L, f"facet normals (C(L, d−1), d = {d})")
     out = np.empty((len(keeps), N))
-    for lo in range(0, N, max(1, int(chunk))):
-        sl = slice(lo, min(N, lo + max(1, int(chunk))))
+    step = _batch(chunk, K * (d + 2 * L))
+    for lo in range(0, N, step):
+        sl = slice(lo, min(N, lo + step))
         n, h, regular = _facets(G[sl], c[sl], r[sl])
         for a, S in enumerate(keeps):
             out[a, sl] = _ratio_min(h, n[:, :, list(S)])
@@ -304,9 +383,14 @@ def zonotope_best(G, c, r, keeps, *, chunk: int = 4096):
     G = np.asarray(G, dtype=float)
     N, d, L = G.shape
     out = np.empty((len(keeps), N))
-    for lo in range(0, N, chunk):
-        sl = slice(lo, min(N, lo + chunk))
-        for a, S in enumerate(keeps):
+    for a, S in enumerate(keeps):
+        k = d - len(set(S))
+        check_enumeration(vertex_candidates(L, k), L,
+                          "box vertices (2^L)" if k == 0 else
+                          f"slice-vertex candidates (C(L, {k})·2^(L−{k}))")
+        step = _batch(chunk, 2 ** (L - k) * (d + L))
+        for lo in range(0, N, step):
+            sl = slice(lo, min(N, lo + step))
             out[a, sl] = _best_chunk(G[sl], c[sl], r[sl], tuple(S))
     return out
 

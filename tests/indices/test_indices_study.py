@@ -193,8 +193,13 @@ def test_performance_scene_end_to_end(tmp_path):
 
     def strip(devs):
         return [{k: ({c: w for c, w in v.items() if c != "seconds"} if k == "certificate"
-                     else v) for k, v in d.items() if k != "seconds"} for d in devs]
+                     else v) for k, v in d.items() if k not in ("seconds", "chunks_resumed")}
+                for d in devs]
     assert strip(records2[0]["result"]["devices"]) == strip(res["devices"])
+    # every chunk of the second run came from the store, and it says so (QA L 11)
+    assert [d["chunks_resumed"] for d in records2[0]["result"]["devices"]] == \
+        [d["chunks"] for d in records2[0]["result"]["devices"]]
+    assert all(d["chunks_resumed"] == 0 for d in res["devices"])
 
 
 @pytest.mark.parametrize("bad, match", [

@@ -8,7 +8,7 @@ it best in four), and a reason never explains a gap in the wrong direction."""
 
 from __future__ import annotations
 
-from distkin.indices.study import PAPER_TABLE3
+from distkin.indices.study import PAPER_TABLE3, PAPER_TABLE4
 from distkin.indices.study_findings import findings, row_reason
 
 CAPS = ("force", "torque", "velocity", "angular_velocity", "acceleration",
@@ -88,3 +88,16 @@ def test_design_sweep_says_why_its_optimum_differs(tmp_path, capsys):
     moved = [k for k, v in (("gamma", "gamma = 0.0°"), ("beta", "beta = 0.0°"),
                             ("l2", "l2 = 0.0 mm"), ("ld", "ld = 20.0 mm")) if v not in best]
     assert moved and all(k in why for k in moved)
+
+
+def test_the_force_reason_compares_like_with_like():
+    """Table IV's σmin is over ±20°: the reason of a force gap quotes our σmin over the
+    same inner range (isotropy, here 0.0611 over ±20°), not the full-range one (0.0547
+    over ±30°, the diagnostics) as it did (QA round L 12)."""
+    s = {"label": "Octopod", "paper_column": "octopod",
+         "table": {"force": {"min": 6.0, "paper_min": 21.68, "ratio_min": 6.0 / 21.68}},
+         "diagnostics": {"sigma_min": 0.0547},
+         "isotropy": {"sigma_min": 0.0611, "rotation_deg": 20.0}}
+    why = row_reason("force", "min", s)
+    assert "ours 0.0611 over ±20°" in why and "0.0547" not in why
+    assert f"Table IV {PAPER_TABLE4['octopod'][1]:.3g} over ±20°" in why

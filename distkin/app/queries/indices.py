@@ -55,6 +55,14 @@ preset's own, ``false`` for none).
     ld = [20, 40, 5]
     grid = { half = 75, step = 25, rotation = 20, rotation_step = 10 }
     algorithm = "both"       # culling | brute_force | both (and check they agree)
+    unreachable = "zero"     # a pose a design misses scores σmin = 0 (the default: every
+                             # design on the whole grid, Sec. III-B-2's "chosen workspace");
+                             # "skip": each design on the poses it reaches (an optimum
+                             # covering less than another design is flagged)
+
+A sweep in which no design reaches any pose of the grid, or every design scores GII 0,
+has no optimum: it is refused (exit 2) with the counts; equal GIIs at the optimum are
+reported as a tie, never decided by the order of the designs.
 
 ``distkin sweep SCENE --scheduler ADDRESS`` runs a scene with its sweeps on a dask
 cluster (or ``--workers N`` locally); the scene's own fields are the defaults.
@@ -121,6 +129,19 @@ def _show(value_si, units, angle):
     return f"{value_si / length_value(1, units, 'units'):.6g} {units.length}"
 
 
+def _check_rotation(rotation, units, field):
+    """A grid's ± rotation range: finite, >= 0 and at most 180° (the Euler angles of a
+    larger range wrap: -200° is 160°, the same orientations counted twice)."""
+    if not (math.isfinite(rotation) and rotation >= 0):
+        raise InputError(f"expected a non-negative rotation (the grid spans ±rotation), got "
+                         f"{_show(rotation, units, True)}", field=field)
+    if rotation > math.pi * (1 + 1e-12):
+        raise InputError(f"expected a rotation of at most {_show(math.pi, units, True)} (the "
+                         f"grid spans ±rotation about each axis; beyond it the Euler angles "
+                         f"wrap onto the same orientations), got {_show(rotation, units, True)}",
+                         field=field)
+
+
 def _axis_count(half, step, units, field, half_key, step_key, angle=False):
     """The number of values -half, -half + step, ..., half of one grid axis (SI values),
     checked, before anything is allocated, in the scene's units and naming the key."""
@@ -159,9 +180,7 @@ def _grid(raw, units, field, centre, rotation, *, max_poses=MAX_GRID_POSES,
         if "rotation_step" in t else 5 * DEG
     if "rotation" in t:
         rotation = angle_value(t["rotation"], units, f"{field}.rotation")
-    if not (math.isfinite(rotation) and rotation >= 0):
-        raise InputError(f"expected a non-negative rotation (the grid spans ±rotation), got "
-                         f"{_show(rotation, units, True)}", field=f"{field}.rotation")
+    _check_rotation(rotation, units, f"{field}.rotation")
     nt = _axis_count(half, step, units, field, "half", "step")
     nr = _axis_count(rotation, rstep, units, field, "rotation", "rotation_step", angle=True) \
         if rotation > 0 else 1
@@ -271,9 +290,7 @@ def _parse_device(d, mechanism, units, field):
         mech = parse_rss(mtable, units, field)
     rotation = angle_value(d["rotation"], units, f"{field}.rotation") if "rotation" in d \
         else 20 * DEG
-    if not (math.isfinite(rotation) and rotation >= 0):
-        raise InputError(f"expected a non-negative rotation (the grid spans ±rotation), got "
-                         f"{_show(rotation, units, True)}", field=f"{field}.rotation")
+    _check_rotation(rotation, units, f"{field}.rotation")
     inner = angle_value(d["inner_rotation"], units, f"{field}.inner_rotation") \
         if "inner_rotation" in d else (20 * DEG if rotation > 20 * DEG + 1e-12 else None)
     if inner is not None and inner > rotation + 1e-12:
@@ -288,6 +305,20 @@ def _parse_device(d, mechanism, units, field):
         raise InputError(f"expected a Table III column ({', '.join(PRESETS)}) or false, got "
                          f"{paper!r}", field=f"{field}.paper")
     return _DeviceSpec(label, mech, rotation, inner, paper)
+
+
+def _check_legs_cost(L, field):
+    """The study's exact enumerations per pose, counted before the sweep: C(L, 5) facet
+    normals (worst cases), C(L, 3)·2^(L−3) slice-vertex candidates (sensitivities) and
+    2^L box vertices (the velocity set's best case), each at most
+    :data:`~distkin.indices.zonotope.MAX_CANDIDATES`; above it an InputError names L."""
+    from math import comb
+
+    from ...indices.zonotope import check_enumeration, vertex_candidates
+    for count, what in ((comb(L, 5), "facet normals (C(L, 5))"),
+                        (vertex_candidates(L, 3), "slice-vertex candidates (C(L, 3)·2^(L−3))"),
+                        (2 ** L, "box vertices (2^L)")):
+        check_enumeration(count, L, what, field=field)
 
 
 @register("performance", mechanisms=("rss", "legs"),
@@ -326,8 +357,10 @@ class PerformanceQuery:
         act = _si_table(table.get("actuators", {}), f"{field}.actuators", ACTUATORS,
                         PRISMATIC_KEYS, positive=True)
         _check_actuators(table.get("actuators", {}), devices, f"{field}.actuators")
-        for d in devices:                      # every leg has its limits, in its units
+        for i, d in enumerate(devices):        # every leg has its limits, in its units
             leg_limits(d.mech, act, f"{field}.actuators")
+            _check_legs_cost(d.mech.L, f"{field}.devices[{i}]" if "devices" in table
+                             else "mechanism")
         thr = _si_table(table.get("thresholds", {}), f"{field}.thresholds",
                         {"velocity": 1.0, "acceleration": 9.81, "force": 0.0})
         sc = table.get("scaling", list(ST_DEFAULT))
@@ -457,7 +490,7 @@ class DesignSweepQuery:
                      max_poses=MAX_SWEEP_POSES, max_positions=MAX_SWEEP_POSES)
         algorithm = choice(table.get("algorithm", "both"), f"{field}.algorithm",
                            ("culling", "brute_force", "both"))
-        unreachable = choice(table.get("unreachable", "skip"), f"{field}.unreachable",
+        unreachable = choice(table.get("unreachable", "zero"), f"{field}.unreachable",
                              ("skip", "zero"))
         sc = table.get("scaling", list(ST_DEFAULT))
         if not isinstance(sc, list) or len(sc) != 6:

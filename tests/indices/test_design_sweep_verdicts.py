@@ -1,0 +1,148 @@
+"""Design sweeps (Kühne et al., Sec. III-B-2, Table I): no optimum without a reachable
+pose, ties stated, the same workspace for every design, units in the JSON, resumed
+chunks said (QA round L, items 1, 5, 10, 11).  Every check is against an independent
+count: the grid and design counts from the scene's ranges, reachability by the
+generated kernels (``mech.reachable``, not the numpy reference the sweep uses), or
+identical mechanisms, which must tie exactly."""
+
+from __future__ import annotations
+
+import json
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from distkin.errors import InfeasibleError
+from distkin.indices.design import DesignSpace, sweep_designs
+from distkin.indices.workspace import PoseGrid, axis_values
+
+D = math.radians
+
+SCENE = """[units]
+length = "mm"
+angle = "deg"
+[mechanism]
+kind = "rss"
+preset = "hunt"
+[[query]]
+type = "design_sweep"
+base = "hunt"
+l2 = [0, 15, 15]
+beta = [0, 0, 10]
+gamma = [0, 30, 30]
+ld = [20, 40, 20]
+GRID
+algorithm = "both"
+workers = 1
+EXTRA
+"""
+
+
+def _grid(half, step, rot, rstep, z0):
+    t = axis_values(-half, half, step)
+    r = axis_values(-rot, rot, rstep)
+    return PoseGrid(tuple(t), tuple(t), tuple(z0 + t), tuple(r), tuple(r), tuple(r))
+
+
+@pytest.fixture(scope="module")
+def partial():
+    """8 designs on a grid (±150 mm, ±30°) that each reaches only in part."""
+    from distkin.mechanisms import preset
+    g = _grid(0.15, 0.15, D(30), D(30), preset("hunt").z0)
+    space = DesignSpace("hunt", (("l2", (0.0, 0.015)), ("beta", (0.0,)),
+                                 ("gamma", (0.0, D(30))), ("ld", (0.02, 0.04))))
+    return space, g.poses(np.arange(g.n_positions))
+
+
+def test_no_reachable_pose_is_no_optimum(tmp_path, capsys):
+    """A ±5 m grid that no design reaches: exit 2, one line with the counts (2 × 2 × 2
+    designs from the ranges, 2³ positions × 3³ orientations = 216 poses), no numpy
+    warning, and no "reproduced" (the old code: exit 0, "Table I optimum: reproduced"
+    by the order of an all-zero tie, σmin "inf")."""
+    from distkin.app.cli import main
+    scene = tmp_path / "empty.toml"
+    scene.write_text(SCENE.replace("GRID", "grid = { half = 5000, step = 10000, rotation = 20,"
+                                           " rotation_step = 20 }").replace("EXTRA", ""))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        code = main(["run", str(scene), "--no-progress"])
+    cap = capsys.readouterr()
+    assert code == 2
+    err = [ln for ln in cap.err.splitlines() if ln.strip()]
+    assert len(err) == 1
+    assert "no design of the sweep reaches any pose of the grid (8 designs × 216 poses)" \
+        in err[0]
+    assert "reproduced" not in cap.out and "RuntimeWarning" not in cap.err
+
+
+def test_identical_designs_tie_and_the_tie_is_stated(partial):
+    """Two designs with the same geometry must have the same GII bit for bit: both are
+    the optimum's tie, by culling and by brute force (the old result named only the
+    first, by its index)."""
+    space, poses = partial
+
+    class Twice(DesignSpace):
+        def designs(self):
+            return [{"l2": 0.0}, {"l2": 0.0}]
+    twice = Twice("hunt", (("l2", (0.0,)),))
+    out = sweep_designs(twice, poses, algorithm="both", unreachable="skip", progress=False)
+    assert out["ties"] == [0, 1]
+    assert out["culling"]["ties"] == out["brute_force"]["ties"] == [0, 1]
+    assert out["agree"] is True
+
+
+def test_default_scores_every_design_on_the_whole_grid(partial):
+    """Sec. III-B-2 scores the GII over "the chosen ... workspace": by default a design
+    that misses a pose (counted by the generated reach kernel) scores 0 there, so on
+    this grid, where every design misses some, there is no optimum to report (the old
+    default, "skip", ranked the designs on different subsets)."""
+    space, poses = partial
+    cover = [float(np.mean(space.mechanism(d).reachable(poses))) for d in space.designs()]
+    assert max(cover) < 1
+    with pytest.raises(InfeasibleError, match=r"every design of the sweep scores GII 0 "
+                                              r"\(8 designs × 729 poses\)"):
+        sweep_designs(space, poses, algorithm="culling", progress=False)
+
+
+def test_skip_flags_an_optimum_that_covers_less(partial):
+    """With unreachable = "skip" the optimum is flagged when another design reaches more
+    of the grid (coverage by the generated reach kernel, a second route)."""
+    space, poses = partial
+    out = sweep_designs(space, poses, algorithm="brute_force", unreachable="skip",
+                        progress=False)
+    cover = [float(np.mean(space.mechanism(d).reachable(poses))) for d in space.designs()]
+    assert np.allclose(out["coverage"], cover, rtol=0, atol=1e-12)
+    assert cover[out["best"]] < max(cover)
+    flag = out["coverage_flag"]
+    assert flag["other_coverage"] == pytest.approx(max(cover), abs=1e-12)
+    assert flag["optimum_coverage"] == pytest.approx(cover[out["best"]], abs=1e-12)
+
+
+def test_design_json_has_units_and_resumed_chunks_are_said(tmp_path, capsys):
+    """The parameters carry their unit in the key (m, rad: the scene's mm and deg
+    converted), GII and σ are noted dimensionless, no σ is the string "inf"; a rerun on
+    the same store says its chunks came from it (the 8 designs in chunks of 8 = 1 chunk)."""
+    from distkin.app.cli import main
+    scene = tmp_path / "ok.toml"
+    scene.write_text(SCENE.replace("GRID", "grid = { half = 75, step = 75, rotation = 20, "
+                                           "rotation_step = 20 }")
+                     .replace("EXTRA", f'unreachable = "skip"\nstore = "{tmp_path / "st"}"'))
+    out = tmp_path / "o.json"
+    assert main(["run", str(scene), "--no-progress", "--json", str(out)]) == 0
+    first = json.loads(out.read_text())["queries"][0]["result"]
+    assert first["chunks_resumed"] == 0
+    assert {"l2_m", "beta_rad", "gamma_rad", "ld_m"} == set(first["parameters"])
+    assert sorted({d["gamma_rad"] for d in first["designs"]}) == pytest.approx([0, D(30)])
+    assert sorted({d["ld_m"] for d in first["designs"]}) == pytest.approx([0.02, 0.04])
+    assert "dimensionless" in first["units"]["gii"]
+    assert "dimensionless" in first["units"]["sigma_min"]
+    assert all(isinstance(first[k], float) for k in ("gii", "sigma_min", "sigma_max"))
+    capsys.readouterr()
+    assert main(["run", str(scene), "--no-progress", "--json", str(out)]) == 0
+    text = capsys.readouterr().out
+    again = json.loads(out.read_text())["queries"][0]["result"]
+    assert again["chunks_resumed"] == 1
+    assert "1 of 1 chunks resumed" in text
+    assert "× fewer" not in text and "× shorter" not in text
