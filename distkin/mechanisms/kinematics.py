@@ -118,11 +118,13 @@ class KernelMethods:
 
     def _valid(self, q, margin):
         """(N, L) bool: the leg closes (``margin`` >= 0) and, for a leg table with
-        revolute joint ranges, ``q`` (floats) lies in its range."""
+        revolute joint ranges, ``q`` (floats) lies in its range modulo 2π
+        (:func:`.legs.in_revolute_range`)."""
         valid = margin >= 0.0
         lo, hi = self._joint_ranges()
         if lo is not None:                 # revolute ranges (a prismatic stroke is in reach)
-            valid &= (q >= lo) & (q <= hi)
+            from .legs import in_revolute_range
+            valid &= in_revolute_range(q, lo, hi)         # modulo 2π
         legs = getattr(self, "leg_table", None)
         if legs and any(leg.prismatic for leg in legs):
             pris = np.array([leg.prismatic for leg in legs])

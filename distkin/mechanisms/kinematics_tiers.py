@@ -365,19 +365,27 @@ def _fast_jacobian_error(mech, X, q, J, Jq, Jx):
 
 
 def _range_check(mech, qv, i, j, reasons):
-    """Certified joint-range test of ball ``qv`` of pose i, leg j: True (in range), False
-    (certainly out) or None (undecided, reason appended)."""
+    """Certified joint-range test of ball ``qv`` of pose i, leg j, modulo 2π (as
+    :func:`.legs.in_revolute_range`): True (some qv + 2πk certainly in range), False
+    (certainly none: the shift k0 the float midpoint gives is certainly outside, k0 - 1
+    certainly below the range and k0 + 1 certainly above, so every other k too, the
+    range being narrower than 2π) or None (undecided, reason appended).  A full turn
+    (:func:`.legs.full_turn`) is in range."""
+    from .legs import full_turn
     lo, hi = mech._joint_ranges()
-    if lo is None or not (np.isfinite(lo[j]) or np.isfinite(hi[j])):
+    if lo is None or full_turn(lo[j], hi[j]):
         return True
     from flint import arb
     a, b = arb(float(lo[j])), arb(float(hi[j]))
-    if qv >= a and qv <= b:
+    two_pi = 2 * arb.pi()
+    k0 = math.ceil((float(lo[j]) - float(qv.mid())) / (2 * math.pi))
+    shifted = {k: qv + k * two_pi for k in (k0 - 1, k0, k0 + 1)}
+    if any(v >= a and v <= b for v in shifted.values()):
         return True
-    if qv < a or qv > b:
+    if shifted[k0 - 1] < a and shifted[k0 + 1] > b and (shifted[k0] < a or shifted[k0] > b):
         return False
-    reasons.append((i, j, f"the angle ball {_ball_text(qv, 'rad')} meets an end of the "
-                          f"joint range [{lo[j]:.6g}, {hi[j]:.6g}] rad"))
+    reasons.append((i, j, f"the angle ball {_ball_text(qv, 'rad')} (modulo 2π) meets an end "
+                          f"of the joint range [{lo[j]:.6g}, {hi[j]:.6g}] rad"))
     return None
 
 

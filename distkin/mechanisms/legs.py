@@ -28,7 +28,10 @@ al. eq. (5).
 
 Limits: ``range`` (qmin, qmax) of the joint (rad, or m for a prismatic stroke; for a
 prismatic leg the reach margin is (q - qmin)(qmax - q)); ``limit`` (min, max) of the
-actuator effort (N m or N).
+actuator effort (N m or N).  A crank angle is an angle: it is in a revolute ``range``
+when some q + 2πk lies in [qmin, qmax] (:func:`in_revolute_range`; [270, 450] deg is the
+arc of [-90, 90] deg), and a range of width 2π or more (up to the rounding of a
+conversion from degrees, :func:`full_turn`) is the full turn, every angle inside.
 """
 
 from __future__ import annotations
@@ -43,7 +46,7 @@ from ..argcheck import no_booleans
 from ..errors import DistkinError, InputError
 
 __all__ = ["Leg", "LegsDescription", "REVOLUTE_TYPES", "PRISMATIC_TYPES", "LEG_TYPES",
-           "LEG_FIELDS"]
+           "LEG_FIELDS", "full_turn", "in_revolute_range"]
 
 REVOLUTE_TYPES = ("RSS", "RUS", "RRRS")
 PRISMATIC_TYPES = ("SPS", "UPS")
@@ -90,6 +93,31 @@ def _pair(v, fld, unit, *, symmetric=False):
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
         raise InputError(f"expected finite min < max, got ({lo!r}, {hi!r}) {unit}", field=fld)
     return (lo, hi)
+
+
+_TWO_PI = 2 * math.pi
+
+
+def full_turn(lo, hi):
+    """A revolute range [lo, hi] (rad, floats or arrays; ±inf allowed) that is the full
+    turn: width at least 2π, up to 1e-12 relative (so [0, 360] deg converted to rad is
+    one whatever the rounding of the conversion).  The same decision in every tier:
+    it is a property of the range as written, not a numerical question."""
+    with np.errstate(invalid="ignore"):
+        return np.asarray(hi, dtype=float) - np.asarray(lo, dtype=float) >= _TWO_PI * (1 - 1e-12)
+
+
+def in_revolute_range(q, lo, hi):
+    """Bool array: the crank angles ``q`` (rad, any shape; e.g. atan2's (-π, π]) lie in
+    the ranges [``lo``, ``hi``] (broadcast; ±inf where none) modulo 2π: some q + 2πk is
+    in [lo, hi] (module docstring; k = ceil((lo - q) / 2π), the smallest shift reaching
+    lo).  NaN is never in range."""
+    q = np.asarray(q, dtype=float)
+    lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+    with np.errstate(invalid="ignore"):
+        k = np.ceil((lo - q) / _TWO_PI)
+        inside = q + _TWO_PI * k <= hi
+        return np.where(full_turn(lo, hi), np.isfinite(q), inside)
 
 
 def _dot(a, b):
