@@ -267,6 +267,11 @@ class LegsDescription:
             if not isinstance(leg, (Leg, Mapping)):
                 raise InputError(f"expected a Leg or a table of its fields, got "
                                  f"{type(leg).__name__} {leg!r}", field=f"leg[{i}]")
+            missing = [k for k in ("type", "base", "platform")
+                       if not isinstance(leg, Leg) and k not in leg]
+            if missing:
+                raise InputError(f"expected {missing[0]} on every leg, got nothing (fields "
+                                 f"given: {sorted(leg)})", field=f"leg[{i}].{missing[0]}")
             try:
                 legs.append(leg if isinstance(leg, Leg) else Leg(**dict(leg)))
             except DistkinError as exc:
@@ -289,9 +294,33 @@ class LegsDescription:
         object.__setattr__(self, "inertia", _pos(self.inertia, "inertia", "kg m^2"))
         if self.scale is not None:
             object.__setattr__(self, "scale", _pos(self.scale, "scale", "m"))
+        _check_concurrent(legs)
+        self._check_home(legs)
         legs = [self._resolve_branch(i, leg) for i, leg in enumerate(legs)]
         _check_distinct(legs)
         object.__setattr__(self, "leg_table", tuple(legs))
+
+    def _check_home(self, legs):
+        """Refuse a home pose at which a revolute leg does not close (its reach margin
+        rho^2 - C^2 < 0): the branches chosen there, the workspace centre and the FK's
+        default start would be meaningless.  :class:`InputError` naming ``home``, the
+        legs (1-based) and their margins (m^2)."""
+        from ..spatial import rotation_matrix
+        X = np.array(self.home_pose)
+        R = rotation_matrix(X[3:])
+        bad = []
+        for i, leg in enumerate(legs):
+            if not leg.prismatic:
+                m = _revolute_margin(leg, X[:3] + R @ np.array(leg.platform))
+                if m < 0:
+                    bad.append((i + 1, m))
+        if bad:
+            listed = ", ".join(f"leg {i} margin {m:.3g} m^2" for i, m in bad[:6])
+            raise InputError(f"expected a home pose at which every revolute leg closes (reach "
+                             f"margin rho^2 - C^2 >= 0), got {len(bad)} leg(s) that do not: "
+                             f"{listed}{' ...' if len(bad) > 6 else ''}", field="home",
+                             hint="home is the workspace centre, where the IK branches are "
+                                  "chosen and forward kinematics starts: a reachable pose")
 
     def _resolve_branch(self, i, leg):
         if leg.prismatic or leg.branch is not None:
@@ -451,6 +480,38 @@ def _check_distinct(legs):
                              f"leg[{j}] (base {leg.base}, platform {leg.platform}): the same "
                              f"constraint twice, J is singular at every pose",
                              field=f"leg[{i}]")
+
+
+def _check_concurrent(legs):
+    """Refuse a table whose legs' lines all pass through one point at every pose: every
+    platform joint at one point (any leg types: prismatic lines and distal links all
+    meet there), or an all-prismatic table with every base joint at one point.  Such a
+    mechanism is architecturally singular (J has rank at most 3 at every pose: the
+    platform turns freely about that point) and has no length scale.
+    :class:`DegenerateGeometryError` naming the field (``leg``, the joints of every leg)."""
+    from ..errors import DegenerateGeometryError
+    P = np.array([leg.platform for leg in legs])
+    B = np.array([leg.base for leg in legs])
+    size = max(float(np.abs(P).max()), float(np.abs(B).max()), 1e-300)
+    tol = 16 * np.finfo(float).eps * size
+    for name, pts, applies in (("platform", P, True),
+                               ("base", B, all(leg.prismatic for leg in legs))):
+        if applies and float(np.ptp(pts, axis=0).max()) <= tol:
+            raise DegenerateGeometryError(
+                f"expected the {name} joints of the legs not all at one point, got every "
+                f"leg's {name} at {tuple(float(v) for v in pts[0])} m: every leg's line passes "
+                f"through it, so J has rank at most 3 at every pose (architecturally "
+                f"singular: the platform turns freely about that point)", field="leg",
+                hint=f"spread the {name} joints (at least three not on one line)")
+
+
+def _revolute_margin(leg, P):
+    """Reach margin rho^2 - C^2 (m^2) of a revolute leg reaching joint position P
+    (numpy, :mod:`.symbolic`'s formula)."""
+    w = np.asarray(P) - np.array(leg.base) - np.array(leg.offset)
+    A, Bz = float(w @ np.array(leg.crank0)), float(w @ np.array(leg.crank90))
+    C = (float(w @ w) + leg.crank ** 2 - leg.distal ** 2) / (2 * leg.crank)
+    return A * A + Bz * Bz - C * C
 
 
 def _revolute_q(leg, P, branch):
