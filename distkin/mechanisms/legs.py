@@ -301,26 +301,31 @@ class LegsDescription:
         object.__setattr__(self, "leg_table", tuple(legs))
 
     def _check_home(self, legs):
-        """Refuse a home pose at which a revolute leg does not close (its reach margin
-        rho^2 - C^2 < 0): the branches chosen there, the workspace centre and the FK's
-        default start would be meaningless.  :class:`InputError` naming ``home``, the
-        legs (1-based) and their margins (m^2)."""
+        """Refuse a home pose at which a revolute leg whose ``branch`` is to be chosen
+        there does not close (its reach margin rho^2 - C^2 < 0 beyond rounding): its IK
+        branch would be chosen from a meaningless angle.  :class:`InputError` naming
+        ``home``, the legs (1-based) and their margins (m^2).  A leg with its own
+        ``branch`` may be out of reach at home (home is then only the FK's default
+        start)."""
         from ..spatial import rotation_matrix
         X = np.array(self.home_pose)
         R = rotation_matrix(X[3:])
         bad = []
         for i, leg in enumerate(legs):
-            if not leg.prismatic:
-                m = _revolute_margin(leg, X[:3] + R @ np.array(leg.platform))
-                if m < 0:
+            if not leg.prismatic and leg.branch is None:
+                P = X[:3] + R @ np.array(leg.platform)
+                m = _revolute_margin(leg, P)
+                if m < -_margin_rounding(leg, P):
                     bad.append((i + 1, m))
         if bad:
             listed = ", ".join(f"leg {i} margin {m:.3g} m^2" for i, m in bad[:6])
-            raise InputError(f"expected a home pose at which every revolute leg closes (reach "
-                             f"margin rho^2 - C^2 >= 0), got {len(bad)} leg(s) that do not: "
+            raise InputError(f"expected a home pose at which every revolute leg without its "
+                             f"own branch closes (reach margin rho^2 - C^2 >= 0: its IK "
+                             f"branch is chosen there), got {len(bad)} leg(s) that do not: "
                              f"{listed}{' ...' if len(bad) > 6 else ''}", field="home",
                              hint="home is the workspace centre, where the IK branches are "
-                                  "chosen and forward kinematics starts: a reachable pose")
+                                  "chosen and forward kinematics starts: a reachable pose "
+                                  "(or give each leg its branch, +1 or -1)")
 
     def _resolve_branch(self, i, leg):
         if leg.prismatic or leg.branch is not None:
@@ -512,6 +517,14 @@ def _revolute_margin(leg, P):
     A, Bz = float(w @ np.array(leg.crank0)), float(w @ np.array(leg.crank90))
     C = (float(w @ w) + leg.crank ** 2 - leg.distal ** 2) / (2 * leg.crank)
     return A * A + Bz * Bz - C * C
+
+
+def _margin_rounding(leg, P):
+    """A bound on the float rounding of :func:`_revolute_margin` (m^2): a home exactly
+    at a leg's reach boundary (margin 0 in exact arithmetic) is not refused."""
+    w = np.asarray(P) - np.array(leg.base) - np.array(leg.offset)
+    s = float(w @ w) + leg.crank ** 2 + leg.distal ** 2
+    return 64 * np.finfo(float).eps * (s + s * s / (2 * leg.crank) ** 2)
 
 
 def _revolute_q(leg, P, branch):
