@@ -305,10 +305,14 @@ class KernelMethods:
             res = forward_kinematics(self, q, np.where(ok[..., None], start, self.home
                                                        if guess is None else guess), **options)
             n = sum(len(m) for m in modes)
+            none = sum(len(m) == 0 for m in modes)
             return dataclasses.replace(res, modes=modes if np.ndim(q) > 1 else modes[0],
                                        message=f"exact octic (Rojas et al. eq. (3); tier "
                                        f"{', '.join(sorted(set(tiers)))}): {n} assembly mode(s), "
-                                       f"the nearest to the guess polished: {res.message}")
+                                       + (f"{none} leg set(s) with none (proved: no pose "
+                                          f"exists; the Gauss-Newton pose there is no "
+                                          f"answer), " if none else "")
+                                       + f"the nearest to the guess polished: {res.message}")
         return forward_kinematics(self, q, guess, **options)
 
 
