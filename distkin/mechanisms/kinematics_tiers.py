@@ -12,7 +12,8 @@ Kühne et al., Sec. II-C, eqs. (1)-(2): per leg the closure gives
     the batched generated kernels in float64 (:class:`.kinematics.KernelMethods`).
     Error estimate of q (first order, not a bound): the closure residual
     :math:`|\Phi_i(q_i)| / |J_{q,ii}|` of the float answer plus 2 eps max(|q|, 1), plus
-    for a revolute leg the cancellation in :math:`\rho^2 - C^2` (rounding
+    the rounding of the leg's data at the pose (P, w, A, B, C: :func:`_fast_ik_error`),
+    plus for a revolute leg the cancellation in :math:`\rho^2 - C^2` (rounding
     :math:`\delta m = 4\,\mathrm{eps}\,\rho^2` moves q by
     :math:`\delta m / (2 \rho \sqrt{\max(|m|, \delta m)})`: up to
     :math:`\sqrt{\mathrm{eps}}` at the reach boundary).  Of Jq, Jx and J: first-order
@@ -313,26 +314,48 @@ def _setup(mech, poses, method, dps, bits):
 
 def _fast_ik_error(mech, X, q, margin, phi=None, jq=None):
     """First-order error estimate (N, L) of the fast IK (module docstring): the closure
-    residual |Phi_i(q_i)| / |Jq_ii|, 2 eps max(|q|, 1), and for a revolute leg the
-    cancellation in its reach margin m = rho^2 - C^2 (rounding dm = 4 eps rho^2; q moves
-    by dm / (2 rho h) with h = sqrt(max(|m|, dm)), the sqrt(eps) of a double root at the
-    reach boundary, where the closure residual cannot see it).  ``phi`` = Phi(q, X) and
-    ``jq`` (N, L), if already evaluated."""
+    residual |Phi_i(q_i)| / |Jq_ii|, 2 eps max(|q|, 1), the rounding of the leg's data
+    at the pose (the joint position P = x + R p and w = P - B - offset carry about
+    eps (|x| + |p| + |B| + |offset|) per coordinate, the dot products A, B and
+    C = (w.w + l1^2 - l3^2) / (2 l1) their own; q = atan2(B, A) ± acos(C / rho) moves
+    by dC / h + dA (1 / rho + |C| / (rho h)); a prismatic q = |w| by eps |w| and w's
+    rounding), and for a revolute leg the cancellation in its reach margin
+    m = rho^2 - C^2 (rounding dm = 4 eps rho^2; q moves by dm / (2 rho h) with
+    h = sqrt(max(|m|, dm)), the sqrt(eps) of a double root at the reach boundary, where
+    the closure residual cannot see it).  Calibrated against a 40-digit mpmath solve of
+    the same closed form on random mixed leg tables (tests/mechanisms/
+    test_fast_ik_estimate.py): an estimate, not a bound.  ``phi`` = Phi(q, X) and ``jq``
+    (N, L), if already evaluated."""
     d = mech.leg_arrays()
-    zero = d["prismatic"][None] & (q == 0.0)      # a leg of zero length: Phi is 0/0
+    pris = d["prismatic"][None]
+    zero = pris & (q == 0.0)                      # a leg of zero length: Phi is 0/0
     if phi is None or jq is None:
         k = mech.kernels("batched")
         with np.errstate(divide="ignore", invalid="ignore"):
             phi = k.closure(q, X)[..., 0]
             jq = k.jq_jx(X)[..., 0]
-    w = mech.points(X, q)["P"] - d["B"][None] - d["offset"][None]
-    rho = np.hypot(np.einsum("nli,li->nl", w, d["u"]), np.einsum("nli,li->nl", w, d["v"]))
+    P = mech.points(X, q)["P"]
+    w = P - d["B"][None] - d["offset"][None]
+    A = np.einsum("nli,li->nl", w, d["u"])
+    Bz = np.einsum("nli,li->nl", w, d["v"])
+    rho = np.hypot(A, Bz)
     dm = 4 * _EPS * rho ** 2
+    # rounding of w (per coordinate) and of C
+    size = (np.abs(X[:, None, :3]).max(axis=-1) + np.linalg.norm(d["p"], axis=-1)[None]
+            + np.linalg.norm(d["B"], axis=-1)[None] + np.linalg.norm(d["offset"], axis=-1)[None])
+    dw = _EPS * size
+    ww = np.einsum("nli,nli->nl", w, w)
+    l1 = np.where(d["l1"] > 0, d["l1"], 1.0)[None]
+    C = (ww + d["l1"][None] ** 2 - d["l3"][None] ** 2) / (2 * l1)
+    dC = (2 * _EPS * (ww + d["l1"][None] ** 2 + d["l3"][None] ** 2)
+          + 2 * np.sqrt(ww) * dw) / (2 * l1)
     with np.errstate(divide="ignore", invalid="ignore"):
-        cancel = np.where(d["prismatic"][None], 0.0,
-                          dm / (2 * rho * np.sqrt(np.maximum(np.abs(margin), dm))))
+        h = np.sqrt(np.maximum(np.abs(margin), dm))
+        data = np.where(pris, 2 * _EPS * np.sqrt(ww) + 2 * dw,
+                        dC / h + dw * (1 / rho + np.abs(C) / (rho * h)))
+        cancel = np.where(pris, 0.0, dm / (2 * rho * h))
         lever = np.where((phi == 0) | zero, 0.0, np.abs(phi) / np.abs(jq))  # 0/0 at h = 0
-        return lever + 2 * _EPS * np.maximum(np.abs(q), 1.0) + cancel
+        return lever + 2 * _EPS * np.maximum(np.abs(q), 1.0) + data + cancel
 
 
 def _fast_jacobian_error(mech, X, q, J, Jq, Jx):
