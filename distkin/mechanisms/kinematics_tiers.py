@@ -412,16 +412,23 @@ def _range_check(mech, qv, i, j, reasons):
     return None
 
 
-def _reach_status(m, i, j, prismatic, reasons, infeasible):
+def _reach_status(m, i, j, prismatic, reasons, infeasible, length=None, stroke=None):
     """Certified reach test of margin ball ``m`` (m^2) of pose i, leg j: True when
     certainly > 0; otherwise the reason is appended (and ``infeasible`` set when the leg
-    certainly does not close)."""
+    certainly does not close, or a prismatic leg's ``length`` ball is certainly beyond
+    its ``stroke`` (min, max) m)."""
     if m > 0:
         return True
     if m < 0:
         infeasible[i, j] = True
-        reasons.append((i, j, f"the leg does not close (reach margin certainly negative, "
-                              f"{_ball_text(m, 'm^2')}): no joint value to certify"))
+        if prismatic and stroke is not None:
+            reasons.append((i, j, f"the leg's length {_ball_text(length, 'm')} is beyond its "
+                                  f"stroke [{stroke[0]:.6g}, {stroke[1]:.6g}] m (margin "
+                                  f"(q - min)(max - q) certainly negative, "
+                                  f"{_ball_text(m, 'm^2')}): outside the stroke"))
+        else:
+            reasons.append((i, j, f"the leg does not close (reach margin certainly negative, "
+                                  f"{_ball_text(m, 'm^2')}): no joint value to certify"))
     else:
         where = ("at an end of the leg's stroke (or at zero length)" if prismatic else
                  "at the leg's reach boundary, the branch point of its two assembly branches")
@@ -454,9 +461,12 @@ def ik_tier(mech, poses, method: str = "fast", dps: int | None = None,
     reasons, infeasible = [], none.copy()
     certified, valid = none.copy(), none.copy()
     prismatic = [leg.prismatic for leg in mech.leg_description().leg_table]
+    strokes = [leg.range if leg.prismatic else None
+               for leg in mech.leg_description().leg_table]
     for i in range(N):
         for j in range(L):
-            if not _reach_status(vals["reach"][i, j], i, j, prismatic[j], reasons, infeasible):
+            if not _reach_status(vals["reach"][i, j], i, j, prismatic[j], reasons, infeasible,
+                                 vals["ik"][i, j], strokes[j]):
                 continue
             qv = vals["ik"][i, j]
             if not qv.is_finite():
