@@ -66,8 +66,8 @@ JSON adds ``method``, ``pose_error`` (m, rad per coordinate: estimate or proved 
 ``verified`` (the round trip and the rms closure residual within ``residual_tol``, m),
 ``round_trip`` (the closed-form IK at the pose gives back the angles) and ``q_mismatch``
 (the largest |IK(pose) - angle|, rad; m for a prismatic leg).  A pose that fails the
-round trip (another crank branch, or a least-squares minimum) is an error naming
-``angles`` in every tier; measured, hence inconsistent, angles of an L > 6 mechanism
+round trip (another crank branch, or a least-squares minimum) is a ``not_found`` error
+naming ``guess`` in every tier (below); measured, hence inconsistent, angles of an L > 6 mechanism
 give their least-squares pose, reported with ``verified`` false unless the query's
 ``residual_tol`` (scene length unit; default 1024 eps times a leg length) admits their
 rms closure residual (e.g. angles rounded to 0.01 deg on the Octopod leave ~0.005 mm).
