@@ -419,8 +419,7 @@ class ForwardKinematicsQuery:
         if res.modes is not None and len(res.modes) == 0:      # the octic proved it
             return _no_assembly(p, mech, scene, guess)
         start = ("the guess" if p.guess is not None else
-                 "the default start, the mechanism's home (give a guess near the device's "
-                 "pose)")
+                 "the mechanism's home, the default start (no guess given)")
         if not res.converged and p.method == "fast":
             raise NotFoundError(
                 f"expected Gauss-Newton to converge from {start}, got no convergence in "
@@ -442,7 +441,7 @@ class ForwardKinematicsQuery:
                 exc.field = "angles"
             elif exc.field == "guess" and p.guess is None:     # the default start
                 exc.field = "angles"
-                exc.message += f" (the start was {start})"
+                exc.message += f" (the start: {start})"
                 exc.args = (exc.one_line(),)
             raise
         pose = tier.pose
