@@ -14,6 +14,7 @@ __all__ = [
     "DistkinError",
     "InputError",
     "InfeasibleError",
+    "NotFoundError",
     "DegenerateGeometryError",
     "SingularConfigurationError",
     "UncertifiedError",
@@ -86,6 +87,25 @@ class InfeasibleError(DistkinError, ValueError):
         super().__init__(message, field=field, hint=hint)
 
 
+class NotFoundError(DistkinError, ArithmeticError):
+    """A local method (Newton or Gauss-Newton from a start) found no answer from its
+    start: not a proof that none exists (that is :class:`InfeasibleError`, or an empty
+    answer where a global method proves it); another start may find one.  ``field``
+    names the start (``guess``) where the caller gave one.
+
+    Attributes
+    ----------
+    margin : float or None
+        By how much the answer found misses (its units in the message).
+    """
+
+    kind = "not_found"
+
+    def __init__(self, message: str, *, margin=None, field=None, hint=None):
+        self.margin = margin
+        super().__init__(message, field=field, hint=hint)
+
+
 class DegenerateGeometryError(DistkinError, ValueError):
     """Coincident, collinear or coplanar points where a proper simplex is needed."""
 
@@ -120,5 +140,5 @@ class ConditioningWarning(UserWarning):
 
 def is_input_error(exc: BaseException) -> bool:
     """True for errors caused by the user's data (CLI exit code 2)."""
-    return isinstance(exc, (InputError, InfeasibleError, DegenerateGeometryError,
+    return isinstance(exc, (InputError, InfeasibleError, NotFoundError, DegenerateGeometryError,
                             SingularConfigurationError, UncertifiedError))

@@ -274,6 +274,8 @@ def parse_legs(table, units, field, scene_path=None):
             fld = prefix + fld[3:]
             if where is not None:
                 exc.hint = "; ".join(filter(None, (where(i, fld), exc.hint)))
+        elif fld == "leg":                 # the table as a whole: [[leg]] or the CSV
+            fld = prefix
         else:
             fld = f"{field}.{fld}" if fld else field
         exc.field = None

@@ -10,9 +10,12 @@ Each step solves G delta = -Phi by SVD, with G = dPhi/d(v, omega) from the gener
 ``closure`` kernel (angular columns scaled by lp to make the problem dimensionless),
 and updates the pose on the rotation group: x <- x + delta_v, R <- exp(delta_omega) R.
 The iteration is warm started (the controller passes the last pose), stops when the
-step is below ``tol`` metres, and reports:
+step is below ``tol`` times the mechanism's length scale (``length_scale``: ``tol`` is
+relative, so the iteration is the same for a device in nanometres or in kilometres),
+and reports:
 
-* ``converged`` -- the step fell below ``tol`` within ``max_iter`` iterations;
+* ``converged`` -- the step fell below ``tol`` x the length scale within ``max_iter``
+  iterations;
 * ``residual`` -- rms of Phi at the answer (m);
 * ``sigma_min`` / ``condition`` -- of the scaled G at the answer; ``near_singular`` when
   the condition exceeds ``max_condition`` (a direct-kinematic singularity is near and
@@ -47,12 +50,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..argcheck import as_floats
-from ..errors import InfeasibleError, InputError, SingularConfigurationError
+from ..errors import InputError, NotFoundError, SingularConfigurationError
 from ..spatial import exp_so3, rotate_pose_scalar, rotation_angles, rotation_matrix
 from .description import _poses, _rows
 
 __all__ = ["FKResult", "forward_kinematics", "gauss_newton", "round_trip",
-           "pose_error_estimate", "leg_length", "RESIDUAL_ULPS"]
+           "pose_error_estimate", "leg_length", "RESIDUAL_ULPS", "TOL"]
 
 #: default ``residual_tol`` of :func:`forward_kinematics`: this many eps times a leg
 #: length (:func:`leg_length`; 7.9e-14 m for the Octopod's l3 = 349.7 mm).  Consistent
@@ -137,7 +140,13 @@ def _solve(G, r, scale):
     return d * scale, smin, S[..., 0] / np.where(smin > 0, smin, np.nan)
 
 
-def forward_kinematics(mech, q, guess=None, *, tol=1e-13, max_iter=50, max_condition=300.0,
+#: default ``tol`` of :func:`forward_kinematics`: the step (m; rotations times the length
+#: scale) below which Gauss-Newton stops, relative to the length scale (1.1e-13 m for the
+#: presets' lp = 55 mm, the 1e-13 m it was as an absolute figure)
+TOL = 2e-12
+
+
+def forward_kinematics(mech, q, guess=None, *, tol=TOL, max_iter=50, max_condition=300.0,
                        residual_tol=None, strict=False):
     """Pose of ``mech`` from its crank angles, by Gauss-Newton from a warm start.
 
@@ -154,7 +163,10 @@ def forward_kinematics(mech, q, guess=None, *, tol=1e-13, max_iter=50, max_condi
         can reach a neighbouring assembly mode, flagged only if its condition exceeds
         ``max_condition``.  The control loop's warm start is microns away.
     tol : float
-        Step size (m; rotations times lp) below which the iteration stops.
+        Step size below which the iteration stops, relative to the mechanism's length
+        scale (dimensionless: the step in m, rotations times the length scale, over
+        the length scale; default :data:`TOL`).  Scale invariant: the same iterations for
+        the mechanism scaled by any factor.
     max_iter : int
     max_condition : float
         Condition number of the scaled closure Jacobian above which the answer is
@@ -170,8 +182,9 @@ def forward_kinematics(mech, q, guess=None, *, tol=1e-13, max_iter=50, max_condi
         least-squares pose.
     strict : bool
         Raise :class:`~distkin.errors.SingularConfigurationError` (near a singularity)
-        or :class:`~distkin.errors.InfeasibleError` (no convergence, or an answer that
-        fails verification) instead of returning a flagged answer.
+        or :class:`~distkin.errors.NotFoundError` (field ``guess``: no convergence, or an
+        answer that fails verification, from that start; not a proof that no pose
+        exists) instead of returning a flagged answer.
 
     Returns
     -------
@@ -197,12 +210,16 @@ def forward_kinematics(mech, q, guess=None, *, tol=1e-13, max_iter=50, max_condi
     residual_tol = float(residual_tol)
     check = (mech, qa, residual_tol)
     ls = mech.length_scale
+    if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not tol > 0:
+        raise InputError(f"expected a positive relative step tolerance, got {tol!r}",
+                         field="tol")
     scale = np.array([1.0, 1.0, 1.0, 1.0 / ls, 1.0 / ls, 1.0 / ls])
+    step_tol = float(tol) * ls                    # m: the stopping test, scale invariant
     if single:
         # the control loop's path: scalar kernel, 6x6 normal equations, plain-float
         # rotation updates (no per-pose numpy overhead beyond one small solve)
         X[0], done1, it1 = _single(mech.kernels("scalar").closure, qa[0].tolist(),
-                                   X[0].tolist(), scale, tol, max_iter)
+                                   X[0].tolist(), scale, step_tol, max_iter)
         closure = mech.kernels("scalar").closure
 
         def evaluate(qq, XX):
@@ -228,7 +245,7 @@ def forward_kinematics(mech, q, guess=None, *, tol=1e-13, max_iter=50, max_condi
         R = exp_so3(d[:, 3:]) @ R
         X[:, 3:] = rotation_angles(R)
         iters += ~done
-        done |= step < tol
+        done |= step < step_tol
         if done.all():
             break
     out = evaluate(qa, X)
@@ -250,7 +267,9 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
     ok = done & ~near & verified
     worst = np.max(np.where(np.isnan(mismatch), np.inf, mismatch), axis=-1)
     failed = done & ~verified
-    msg = (f"{int(ok.sum())} of {N} solved (converged: step < {tol:g} m; verified)"
+    ls = float(mech.length_scale)
+    msg = (f"{int(ok.sum())} of {N} solved (converged: step < tol x length scale = {tol:g} "
+           f"x {ls:.3g} m; verified)"
            + (f"; {int((~done).sum())} did not converge in {max_iter} iterations"
               if (~done).any() else "")
            + (f"; {int(near.sum())} near a singularity (condition > {max_condition:g})"
@@ -265,11 +284,12 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
            + f"; rms closure residual up to {float(res.max()):.3g} m")
     if strict and failed.any():
         i = int(np.argmax(failed))
-        raise InfeasibleError(
+        raise NotFoundError(
             f"expected a pose whose inverse kinematics gives back the joint values and "
             f"whose rms closure residual is at most {residual_tol:.3g} m, got at pose {i} "
-            f"a mismatch of {worst[i]:.3g} (rad or m) and a residual of {res[i]:.3g} m",
-            field="q", margin=float(res[i]),
+            f"a mismatch of {worst[i]:.3g} (rad or m) and a residual of {res[i]:.3g} m from "
+            f"the start (no pose found from it; not a proof that none exists)",
+            field="guess", margin=float(res[i]),
             hint="another guess (the crank branch or assembly mode differs), or "
                  "residual_tol for measured angles")
     if strict and near.any():
@@ -277,10 +297,13 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
             f"expected a pose away from singularities, got condition {float(cond.max()):.3g} "
             f"> {max_condition:g}", field="q")
     if strict and (~done).any():
-        raise InfeasibleError(
-            f"expected Gauss-Newton to converge, got step still above {tol:g} m after "
-            f"{max_iter} iterations (residual {float(res.max()):.3g} m)", field="q",
-            margin=float(res.max()))
+        raise NotFoundError(
+            f"expected Gauss-Newton to converge from the start, got step still above {tol:g} "
+            f"x the length "
+            f"scale {float(mech.length_scale):.3g} m after "
+            f"{max_iter} iterations (residual {float(res.max()):.3g} m; no pose found from it, "
+            f"not a proof that none exists)", field="guess", margin=float(res.max()),
+            hint="another guess, near the device's pose")
     if single:
         return FKResult(X[0], bool(done[0]), int(iters[0]), float(res[0]), float(smin[0]),
                         float(cond[0]), bool(near[0]), msg, None, bool(verified[0]),

@@ -14,7 +14,8 @@ derivative with respect to p is :math:`[\partial\Phi/\partial v,\;
     the condition number times (eps x the leg length + the closure residual), in m,
     and over the length scale in rad; only of an answer that passes the round trip
     (:func:`.forward.round_trip`: the closed-form IK at the pose gives back the joint
-    values), another is refused with :class:`~distkin.errors.InfeasibleError`.
+    values), another is refused with :class:`~distkin.errors.NotFoundError` (no pose found
+    from the start; not a proof that none exists).
 ``precise``
     Newton (L = 6, or six ``legs``) or Gauss-Newton (L > 6: the least-squares pose of
     inconsistent angles) on the same generated kernel in its arb flavour run on mpmath numbers at
@@ -41,7 +42,8 @@ The precise and certified poses pass the same round trip as the fast one (float6
 closed-form IK at the tier's pose against the joint values, within their closure
 errors over the crank's lever and the tier's error through J): the closures alone
 hold on either crank branch of the IK, so a pose on the other branch (a start on it) is
-refused with :class:`~distkin.errors.InfeasibleError`, not proved.
+refused with :class:`~distkin.errors.NotFoundError` (field ``guess``: no pose found from
+that start, which proves nothing about other starts), not proved.
 """
 
 from __future__ import annotations
@@ -52,7 +54,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..argcheck import as_floats
-from ..errors import InfeasibleError, InputError, SingularConfigurationError, UncertifiedError
+from ..errors import (InputError, NotFoundError, SingularConfigurationError,
+                      UncertifiedError)
 from ..exact import check_method, float_mpf
 from .kinematics_tiers import BITS, check_bits, check_dps
 
@@ -165,8 +168,8 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
     the precise tier's instead of the least-squares pose of all legs.
 
     The precise and certified tiers start from the fast answer, converged or not (near a
-    singularity Gauss-Newton may stall on a good pose).  Raises :class:`InfeasibleError`
-    when there is no finite start or the precise Newton does not converge,
+    singularity Gauss-Newton may stall on a good pose).  Raises :class:`NotFoundError`
+    (field ``guess``) when there is no finite start or the precise Newton does not converge,
     :class:`SingularConfigurationError` when its Jacobian is singular, and
     :class:`UncertifiedError` when Krawczyk's test refuses.
     """
@@ -180,9 +183,10 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
     if fast is None:
         fast = forward_kinematics(mech, qa, guess, **options)
     if method != "fast" and not np.all(np.isfinite(fast.pose)):
-        raise InfeasibleError(f"expected the fast tier to give a start for the {method} "
-                              f"tier, got: {fast.message}", field="q",
-                              margin=float(fast.residual))
+        raise NotFoundError(f"expected the fast tier to give a start for the {method} "
+                            f"tier, got: {fast.message} (no pose found from the start; not a "
+                            f"proof that none exists)", field="guess",
+                            margin=float(fast.residual), hint="another guess")
     if legs is not None and method == "fast":
         raise InputError("expected 'legs' only with method 'precise' or 'certified', got "
                          "method 'fast'", field="legs")
@@ -200,16 +204,17 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
 
 
 def _refusal(what, mismatch, detail):
-    return InfeasibleError(
-        f"expected a pose whose inverse kinematics gives back the joint values, got {what} "
-        f"that misses them by up to {mismatch:.3g} (rad or m; {detail}): the closures hold "
-        f"there with cranks on the other branch of the IK, or it is a least-squares "
-        f"minimum that closes no leg; not the device's configuration", field="q",
+    return NotFoundError(
+        f"expected a pose whose inverse kinematics gives back the joint values, got none "
+        f"from the start: {what} misses them by up to {mismatch:.3g} (rad or m; {detail}): "
+        f"the closures hold there with cranks on the other branch of the IK, or it is a "
+        f"least-squares minimum that closes no leg; not the device's configuration, and not "
+        f"a proof that no such pose exists", field="guess",
         margin=mismatch, hint="another guess, near the device's pose")
 
 
 def _check_round_trip(mech, q, pose, error, method):
-    """:class:`InfeasibleError` unless the closed-form IK at ``pose`` gives back ``q``
+    """:class:`NotFoundError` unless the closed-form IK at ``pose`` gives back ``q``
     (:func:`.forward.round_trip`, with the pose's ``error`` (6,))."""
     from .forward import round_trip
     mismatch, allowed = round_trip(mech, q, pose, np.asarray(error, dtype=float)[None])
@@ -223,7 +228,7 @@ def _check_round_trip(mech, q, pose, error, method):
 def fast_tier(mech, fast) -> TieredFK:
     """The :class:`TieredFK` of a fast answer ``fast`` (:class:`.forward.FKResult` of one
     pose), with its error estimate (:func:`.forward.pose_error_estimate`);
-    :class:`InfeasibleError` when the answer fails the round trip (``fast.round_trip``,
+    :class:`NotFoundError` when the answer fails the round trip (``fast.round_trip``,
     :func:`.forward.round_trip`): no accuracy is stated for a wrong pose."""
     from .forward import pose_error_estimate
     if not fast.round_trip:
@@ -287,10 +292,11 @@ def _precise(mech, q, fast, dps, legs):
                 break
             last = size
         if size > mpmath.sqrt(tol):
-            raise InfeasibleError(
+            raise NotFoundError(
                 f"expected Newton at {dps} digits to converge from the fast answer, got a "
                 f"last step of {mpmath.nstr(size, 3)} (m, rad) after {it} steps (fast tier: "
-                f"{fast.message})", field="q", margin=float(size))
+                f"{fast.message}; not a proof that no pose exists)", field="guess",
+                margin=float(size), hint="another guess")
         rows = closure(qm, p)
         res = mpmath.sqrt(mpmath.fsum(rows[i][0].v ** 2 for i in range(L)) / L)
         native = tuple(v.v for v in p)

@@ -118,11 +118,13 @@ class KernelMethods:
 
     def _valid(self, q, margin):
         """(N, L) bool: the leg closes (``margin`` >= 0) and, for a leg table with
-        revolute joint ranges, ``q`` (floats) lies in its range."""
+        revolute joint ranges, ``q`` (floats) lies in its range modulo 2π
+        (:func:`.legs.in_revolute_range`)."""
         valid = margin >= 0.0
         lo, hi = self._joint_ranges()
         if lo is not None:                 # revolute ranges (a prismatic stroke is in reach)
-            valid &= (q >= lo) & (q <= hi)
+            from .legs import in_revolute_range
+            valid &= in_revolute_range(q, lo, hi)         # modulo 2π
         legs = getattr(self, "leg_table", None)
         if legs and any(leg.prismatic for leg in legs):
             pris = np.array([leg.prismatic for leg in legs])
@@ -303,10 +305,14 @@ class KernelMethods:
             res = forward_kinematics(self, q, np.where(ok[..., None], start, self.home
                                                        if guess is None else guess), **options)
             n = sum(len(m) for m in modes)
+            none = sum(len(m) == 0 for m in modes)
             return dataclasses.replace(res, modes=modes if np.ndim(q) > 1 else modes[0],
                                        message=f"exact octic (Rojas et al. eq. (3); tier "
                                        f"{', '.join(sorted(set(tiers)))}): {n} assembly mode(s), "
-                                       f"the nearest to the guess polished: {res.message}")
+                                       + (f"{none} leg set(s) with none (proved: no pose "
+                                          f"exists; the Gauss-Newton pose there is no "
+                                          f"answer), " if none else "")
+                                       + f"the nearest to the guess polished: {res.message}")
         return forward_kinematics(self, q, guess, **options)
 
 

@@ -28,7 +28,10 @@ al. eq. (5).
 
 Limits: ``range`` (qmin, qmax) of the joint (rad, or m for a prismatic stroke; for a
 prismatic leg the reach margin is (q - qmin)(qmax - q)); ``limit`` (min, max) of the
-actuator effort (N m or N).
+actuator effort (N m or N).  A crank angle is an angle: it is in a revolute ``range``
+when some q + 2πk lies in [qmin, qmax] (:func:`in_revolute_range`; [270, 450] deg is the
+arc of [-90, 90] deg), and a range of width 2π or more (up to the rounding of a
+conversion from degrees, :func:`full_turn`) is the full turn, every angle inside.
 """
 
 from __future__ import annotations
@@ -43,7 +46,7 @@ from ..argcheck import no_booleans
 from ..errors import DistkinError, InputError
 
 __all__ = ["Leg", "LegsDescription", "REVOLUTE_TYPES", "PRISMATIC_TYPES", "LEG_TYPES",
-           "LEG_FIELDS"]
+           "LEG_FIELDS", "full_turn", "in_revolute_range"]
 
 REVOLUTE_TYPES = ("RSS", "RUS", "RRRS")
 PRISMATIC_TYPES = ("SPS", "UPS")
@@ -90,6 +93,31 @@ def _pair(v, fld, unit, *, symmetric=False):
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
         raise InputError(f"expected finite min < max, got ({lo!r}, {hi!r}) {unit}", field=fld)
     return (lo, hi)
+
+
+_TWO_PI = 2 * math.pi
+
+
+def full_turn(lo, hi):
+    """A revolute range [lo, hi] (rad, floats or arrays; ±inf allowed) that is the full
+    turn: width at least 2π, up to 1e-12 relative (so [0, 360] deg converted to rad is
+    one whatever the rounding of the conversion).  The same decision in every tier:
+    it is a property of the range as written, not a numerical question."""
+    with np.errstate(invalid="ignore"):
+        return np.asarray(hi, dtype=float) - np.asarray(lo, dtype=float) >= _TWO_PI * (1 - 1e-12)
+
+
+def in_revolute_range(q, lo, hi):
+    """Bool array: the crank angles ``q`` (rad, any shape; e.g. atan2's (-π, π]) lie in
+    the ranges [``lo``, ``hi``] (broadcast; ±inf where none) modulo 2π: some q + 2πk is
+    in [lo, hi] (module docstring; k = ceil((lo - q) / 2π), the smallest shift reaching
+    lo).  NaN is never in range."""
+    q = np.asarray(q, dtype=float)
+    lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+    with np.errstate(invalid="ignore"):
+        k = np.ceil((lo - q) / _TWO_PI)
+        inside = q + _TWO_PI * k <= hi
+        return np.where(full_turn(lo, hi), np.isfinite(q), inside)
 
 
 def _dot(a, b):
@@ -239,6 +267,11 @@ class LegsDescription:
             if not isinstance(leg, (Leg, Mapping)):
                 raise InputError(f"expected a Leg or a table of its fields, got "
                                  f"{type(leg).__name__} {leg!r}", field=f"leg[{i}]")
+            missing = [k for k in ("type", "base", "platform")
+                       if not isinstance(leg, Leg) and k not in leg]
+            if missing:
+                raise InputError(f"expected {missing[0]} on every leg, got nothing (fields "
+                                 f"given: {sorted(leg)})", field=f"leg[{i}].{missing[0]}")
             try:
                 legs.append(leg if isinstance(leg, Leg) else Leg(**dict(leg)))
             except DistkinError as exc:
@@ -261,9 +294,38 @@ class LegsDescription:
         object.__setattr__(self, "inertia", _pos(self.inertia, "inertia", "kg m^2"))
         if self.scale is not None:
             object.__setattr__(self, "scale", _pos(self.scale, "scale", "m"))
+        _check_concurrent(legs)
+        self._check_home(legs)
         legs = [self._resolve_branch(i, leg) for i, leg in enumerate(legs)]
         _check_distinct(legs)
         object.__setattr__(self, "leg_table", tuple(legs))
+
+    def _check_home(self, legs):
+        """Refuse a home pose at which a revolute leg whose ``branch`` is to be chosen
+        there does not close (its reach margin rho^2 - C^2 < 0 beyond rounding): its IK
+        branch would be chosen from a meaningless angle.  :class:`InputError` naming
+        ``home``, the legs (1-based) and their margins (m^2).  A leg with its own
+        ``branch`` may be out of reach at home (home is then only the FK's default
+        start)."""
+        from ..spatial import rotation_matrix
+        X = np.array(self.home_pose)
+        R = rotation_matrix(X[3:])
+        bad = []
+        for i, leg in enumerate(legs):
+            if not leg.prismatic and leg.branch is None:
+                P = X[:3] + R @ np.array(leg.platform)
+                m = _revolute_margin(leg, P)
+                if m < -_margin_rounding(leg, P):
+                    bad.append((i + 1, m))
+        if bad:
+            listed = ", ".join(f"leg {i} margin {m:.3g} m^2" for i, m in bad[:6])
+            raise InputError(f"expected a home pose at which every revolute leg without its "
+                             f"own branch closes (reach margin rho^2 - C^2 >= 0: its IK "
+                             f"branch is chosen there), got {len(bad)} leg(s) that do not: "
+                             f"{listed}{' ...' if len(bad) > 6 else ''}", field="home",
+                             hint="home is the workspace centre, where the IK branches are "
+                                  "chosen and forward kinematics starts: a reachable pose "
+                                  "(or give each leg its branch, +1 or -1)")
 
     def _resolve_branch(self, i, leg):
         if leg.prismatic or leg.branch is not None:
@@ -423,6 +485,46 @@ def _check_distinct(legs):
                              f"leg[{j}] (base {leg.base}, platform {leg.platform}): the same "
                              f"constraint twice, J is singular at every pose",
                              field=f"leg[{i}]")
+
+
+def _check_concurrent(legs):
+    """Refuse a table whose legs' lines all pass through one point at every pose: every
+    platform joint at one point (any leg types: prismatic lines and distal links all
+    meet there), or an all-prismatic table with every base joint at one point.  Such a
+    mechanism is architecturally singular (J has rank at most 3 at every pose: the
+    platform turns freely about that point) and has no length scale.
+    :class:`DegenerateGeometryError` naming the field (``leg``, the joints of every leg)."""
+    from ..errors import DegenerateGeometryError
+    P = np.array([leg.platform for leg in legs])
+    B = np.array([leg.base for leg in legs])
+    size = max(float(np.abs(P).max()), float(np.abs(B).max()), 1e-300)
+    tol = 16 * np.finfo(float).eps * size
+    for name, pts, applies in (("platform", P, True),
+                               ("base", B, all(leg.prismatic for leg in legs))):
+        if applies and float(np.ptp(pts, axis=0).max()) <= tol:
+            raise DegenerateGeometryError(
+                f"expected the {name} joints of the legs not all at one point, got every "
+                f"leg's {name} at {tuple(float(v) for v in pts[0])} m: every leg's line passes "
+                f"through it, so J has rank at most 3 at every pose (architecturally "
+                f"singular: the platform turns freely about that point)", field="leg",
+                hint=f"spread the {name} joints (at least three not on one line)")
+
+
+def _revolute_margin(leg, P):
+    """Reach margin rho^2 - C^2 (m^2) of a revolute leg reaching joint position P
+    (numpy, :mod:`.symbolic`'s formula)."""
+    w = np.asarray(P) - np.array(leg.base) - np.array(leg.offset)
+    A, Bz = float(w @ np.array(leg.crank0)), float(w @ np.array(leg.crank90))
+    C = (float(w @ w) + leg.crank ** 2 - leg.distal ** 2) / (2 * leg.crank)
+    return A * A + Bz * Bz - C * C
+
+
+def _margin_rounding(leg, P):
+    """A bound on the float rounding of :func:`_revolute_margin` (m^2): a home exactly
+    at a leg's reach boundary (margin 0 in exact arithmetic) is not refused."""
+    w = np.asarray(P) - np.array(leg.base) - np.array(leg.offset)
+    s = float(w @ w) + leg.crank ** 2 + leg.distal ** 2
+    return 64 * np.finfo(float).eps * (s + s * s / (2 * leg.crank) ** 2)
 
 
 def _revolute_q(leg, P, branch):

@@ -331,7 +331,8 @@ def float_problem(base, platform, legs, *, flat: str = "raise"):
     bad = ~((largest < 2.0 ** 510) & (largest >= 2.0 ** -500))
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
-        check_range(float(largest[i]), f"legs[{i}]" if N > 1 else "legs")
+        big, where = _largest(B[i].tolist(), Q[i].tolist(), L[i].tolist())  # as the others
+        check_range(big, where if N == 1 else f"legs[{i}] ({where} of problem {i})")
     k = exponents(largest)
     if k.any():
         B = np.ldexp(B, -k[:, None, None])

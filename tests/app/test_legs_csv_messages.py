@@ -112,3 +112,9 @@ def test_a_bad_cell_names_its_line_and_column(tmp_path):
     assert exc.field == "mechanism.legs_csv[4].platform[1]"
     assert exc.hint.startswith(f"line {_line_of(lines, ',abc,')} of legs.csv, column "
                                "platform_y; ")
+
+
+def test_five_legs_name_the_csv(tmp_path):
+    """QA M 8: five rows said ``mechanism.leg``; the table is ``mechanism.legs_csv``."""
+    err = _error(tmp_path, [HEAD] + ROWS[:5])
+    assert err.field == "mechanism.legs_csv" and "at least 6 legs, got 5" in err.message

@@ -130,12 +130,13 @@ def test_jacobian_precise_at_the_boundary_is_not_flagged():
 def test_fk_of_angles_no_pose_gives_back_is_an_error_naming_angles(method):
     """All eight cranks at 200 deg: Gauss-Newton from home converges (residual ~1e-17 m)
     to z = 0.292 m, where the IK gives 16.7 deg, not 200 deg (the other crank branch):
-    an infeasible record naming the scene's field, exit code 2 as other query errors."""
+    a not_found record naming the scene's field (no guess given: angles, from the default
+    start), exit code 2 as other query errors."""
     records, texts, worst = _run('type = "forward_kinematics"\nangles = [200, 200, 200, '
                                  f'200, 200, 200, 200, 200]\nmethod = "{method}"',
                                  length="mm", angle="deg")
     assert worst == 2 and records[0]["status"] == "error", records
-    assert records[0]["error"]["kind"] == "infeasible"
+    assert records[0]["error"]["kind"] == "not_found"
     assert records[0]["error"]["message"].startswith("query[0].angles: expected a pose "
                                                      "whose inverse kinematics gives back")
 

@@ -103,7 +103,8 @@ def _rus_stretched():
     """Six RUS legs (m); leg 1 (crank 0.125 + distal 0.25 = 0.375) fully stretched at the
     zero pose, its crank and distal link aligned along x."""
     legs = [dict(type="RUS", base=(0, 0, 0), platform=(0.375, 0, 0), axis=(0, 0, 1),
-                 crank0=(1, 0, 0), crank90=(0, 1, 0), crank=0.125, distal=0.25)]
+                 crank0=(1, 0, 0), crank90=(0, 1, 0), crank=0.125, distal=0.25,
+                 branch=1)]     # out of reach at home: its branch is given, not chosen there
     for i in range(1, 6):
         th = 2 * np.pi * i / 6
         e, t = np.array([np.cos(th), np.sin(th), 0]), np.array([-np.sin(th), np.cos(th), 0])

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from distkin.errors import InfeasibleError, InputError
+from distkin.errors import InputError, NotFoundError
 from distkin.mechanisms import preset
 from distkin.mechanisms.forward_tiers import forward_tier
 from distkin.spatial import pose_error
@@ -36,10 +36,10 @@ def test_qa_least_squares_minimum_below_the_base_is_not_ok():
     assert fk.q_mismatch == pytest.approx(np.abs(back).max())
     assert fk.residual > fk.residual_tol
     assert "does not give back the joint values" in fk.message
-    with pytest.raises(InfeasibleError, match="gives back the joint values"):
+    with pytest.raises(NotFoundError, match="gives back the joint values"):
         m.forward_kinematics(q, [0, 0, -0.3, 0, 0, 0], strict=True)
     for method in ("fast", "precise", "certified"):
-        with pytest.raises(InfeasibleError, match="other branch of the IK"):
+        with pytest.raises(NotFoundError, match="other branch of the IK"):
             forward_tier(m, q, [0, 0, -0.3, 0, 0, 0], method=method)
     good = m.forward_kinematics(q, POSE + 0.005)              # a guess near the device
     assert good.ok and pose_error(good.pose, POSE)[0] < 1e-12
@@ -57,9 +57,9 @@ def test_qa_cranks_at_200_degrees_are_the_other_branch():
     assert not fk.ok and not fk.round_trip and fk.q_mismatch > 2.5
     batched = m.forward_kinematics(q[None])
     assert not batched.ok[0] and not batched.verified[0]
-    with pytest.raises(InfeasibleError):
+    with pytest.raises(NotFoundError):
         m.forward_kinematics(q, strict=True)
-    with pytest.raises(InfeasibleError, match="other branch"):
+    with pytest.raises(NotFoundError, match="other branch"):
         forward_tier(m, q, method="certified")
 
 

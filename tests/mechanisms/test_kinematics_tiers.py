@@ -242,3 +242,16 @@ def test_certified_query_on_legs_scene_says_undecided(box6):
     assert "stroke" in row["uncertified"][0]["reason"]
     verdict = [line for line in texts[0].splitlines() if line.strip().startswith("pose 0")][0]
     assert "undecided (legs [1])" in verdict and "NOT reachable (legs [2, 3, 4, 5, 6])" in verdict
+
+
+def test_prismatic_leg_beyond_its_stroke_says_so(box6):
+    """QA M 8: a prismatic leg longer than its stroke was reported as "does not close".
+    Leg 1 is vertical, its length exactly z (analytic): at z = 1.2 m it is 1.2 m, beyond
+    the stroke [0.25, 1] m, and the message says so with the numbers."""
+    res = ik_tier(box6, [0, 0, 1.2, 0, 0, 0], "certified")
+    assert res.infeasible[0, 0] and not res.certified[0, 0]
+    why = res.reasons[0][2]
+    assert "1.2 ± " in why and "beyond its stroke [0.25, 1] m" in why
+    assert "does not close" not in why
+    with pytest.raises(InfeasibleError, match="beyond its stroke"):
+        box6.inverse_kinematics([0, 0, 1.2, 0, 0, 0], method="certified")

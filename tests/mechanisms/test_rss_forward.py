@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from distkin.errors import InfeasibleError, SingularConfigurationError
+from distkin.errors import NotFoundError, SingularConfigurationError
 from distkin.mechanisms import preset
 from distkin.spatial import exp_so3, pose_error, rotation_angles, rotation_matrix
 
@@ -110,7 +110,7 @@ def test_failures_are_reported():
     q, _ = m.inverse_kinematics(P)
     far = m.forward_kinematics(q, m.home, max_iter=1, tol=1e-300)
     assert not far.converged and "did not converge" in far.message
-    with pytest.raises(InfeasibleError):
+    with pytest.raises(NotFoundError):
         m.forward_kinematics(q, m.home, max_iter=1, tol=1e-300, strict=True)
     flagged = m.forward_kinematics(q, P, max_condition=1.0)
     assert flagged.near_singular and not flagged.ok

@@ -105,7 +105,8 @@ def test_fk_failure_is_an_error_record():
                '\nmax_iter = 3')
     records, _, worst = run_scene(s)
     assert worst == 2 and records[0]["status"] == "error"
-    assert records[0]["error"]["kind"] == "infeasible"
+    assert records[0]["error"]["kind"] == "not_found"         # local: from home, no proof
+    assert "not a proof that none exists" in records[0]["error"]["message"]
 
 
 def test_cli_run_and_plots(tmp_path):

@@ -294,3 +294,16 @@ def test_exact_squared_sides_keep_every_digit():
     assert sp.simplify(s12 - (36 + y ** 2)) == 0 and s12 != 144
     with pytest.raises(InputError, match="rational squared lengths"):
         forward_kinematics(base, plat, legs, method="certified")
+
+
+def test_huge_leg_names_the_same_field_in_every_tier():
+    """QA M 8: a leg of 1e200 was ``legs`` in the fast tier, ``legs[0]`` in the exact
+    ones.  Every tier names the leg: the first, whose square overflows float64."""
+    base = [[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]]
+    plat = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]]
+    legs = ["1e200", 18, 18, 17, "14.9", "17.8"]
+    assert float(legs[0]) * float(legs[0]) == float("inf")   # the reason, independently
+    for method in ("fast", "auto", "precise", "certified"):
+        with pytest.raises(InputError, match="overflow") as err:
+            forward_kinematics(base, plat, legs, method=method)
+        assert err.value.field == "legs[0]", method

@@ -20,7 +20,10 @@ irreducible factors, sympy syntax), ``det_constant``; with ``m_legs`` also
 the 6-6 poses, each checked on the 6-6 platform's own joints (``max_leg_error``).
 
 Offsets that make A singular raise ``DegenerateGeometryError`` at load time, naming the
-vanishing factor; negative mapped squared lengths raise ``InfeasibleError``.
+vanishing factor; negative mapped squared lengths raise ``InfeasibleError`` in
+``delta_transform`` (the map has no real value), while the ``platform66`` forward
+kinematics answers them: no pose (status ok, ``count`` 0, ``poses: []`` and the
+``reason``; docs/design.md §4: a proved empty answer is an answer).
 
 Mechanism kind ``platform66`` (Fig. 6): the 6-6 platform given by its octahedral parent
 and the offsets; its ``forward_kinematics`` query takes the m-legs::
@@ -45,7 +48,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ...argcheck import check_keys, dps_field, exact_matrix, method_field, require
-from ...errors import DistkinError, InputError
+from ...errors import DistkinError, InfeasibleError, InputError
 from ...exact import METHODS_AUTO, parse_vector
 from ..query import Outcome, register
 from ..report import float_inputs, float_inputs_line
@@ -317,7 +320,12 @@ class Platform66Forward:
     def run(p, scene, ctx):
         import sympy as sp
         unit = "" if scene.units.length == "none" else f" {scene.units.length}"
-        l_sq, l = p.transform.map_legs(p.m_legs, field="legs")
+        try:
+            l_sq, l = p.transform.map_legs(p.m_legs, field="legs")
+        except InfeasibleError as exc:
+            if not (exc.margin is not None and exc.margin < 0):
+                raise
+            return _no_assembly66(p, scene, exc)
         result = {"m_legs": [m.text for m in p.m_legs],
                   "mapped_legs": [sp.sstr(x) for x in l],
                   "det_A": str(p.transform.det)}
@@ -331,6 +339,23 @@ class Platform66Forward:
         result["unit"].update(units["forward_kinematics"])
         _flag_floats(p.m_legs, "legs", p, result, lines)
         return Outcome(result, "\n".join(lines))
+
+
+def _no_assembly66(p, scene, exc):
+    """The answer when the exact inverse map of eq. (8) gives a negative squared l-leg:
+    no octahedral manipulator, hence no 6-6 pose, has these m-legs.  Proved exactly
+    (sympy, the scene's exact values), so it is an answer (docs/design.md §4): status ok,
+    0 poses, the reason; as ``kind = "octahedral"`` reports legs that cannot be
+    assembled."""
+    reason = (f"cannot be assembled: {exc.message}: no octahedral manipulator, hence no 6-6 "
+              f"pose, has these m-legs (proved exactly by the inverse map of eq. (8))")
+    result = {"m_legs": [m.text for m in p.m_legs], "method": p.method, "tier": "exact",
+              "count": 0, "poses": [], "reason": reason}
+    units = result_units(scene.units)
+    result["unit"] = {k: units[k] for k in ("length", "m_legs")}
+    lines = [f"6-6 forward kinematics ({p.method}): 0 poses; {reason}"]
+    _flag_floats(p.m_legs, "legs", p, result, lines)
+    return Outcome(result, "\n".join(lines))
 
 
 def _family_ok(tr) -> bool:

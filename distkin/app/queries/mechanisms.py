@@ -24,7 +24,8 @@ angle units; rotation R = Rz(rz) Ry(ry) Rx(rx), :mod:`distkin.spatial`)::
     type = "forward_kinematics"
     angles = [1.2, -3.4, ...]          # L crank angles, angle units
     guess = [0, 0, 300, 0, 0, 0]       # optional warm start (default: workspace centre)
-    tol = 1e-13                        # optional, m
+    tol = 2e-12                        # optional, dimensionless: the last Gauss-Newton step
+                                       # over the mechanism's length scale
     residual_tol = 0.01                # optional, scene length unit: measured angles
     max_iter = 50
     method = "certified"               # optional: fast (default) | precise | certified
@@ -65,11 +66,22 @@ JSON adds ``method``, ``pose_error`` (m, rad per coordinate: estimate or proved 
 ``verified`` (the round trip and the rms closure residual within ``residual_tol``, m),
 ``round_trip`` (the closed-form IK at the pose gives back the angles) and ``q_mismatch``
 (the largest |IK(pose) - angle|, rad; m for a prismatic leg).  A pose that fails the
-round trip (another crank branch, or a least-squares minimum) is an error naming
-``angles`` in every tier; measured, hence inconsistent, angles of an L > 6 mechanism
+round trip (another crank branch, or a least-squares minimum) is a ``not_found`` error
+naming ``guess`` in every tier (below); measured, hence inconsistent, angles of an L > 6 mechanism
 give their least-squares pose, reported with ``verified`` false unless the query's
 ``residual_tol`` (scene length unit; default 1024 eps times a leg length) admits their
 rms closure residual (e.g. angles rounded to 0.01 deg on the Octopod leave ~0.005 mm).
+``tol`` is relative (the step over the length scale: the same iterations at any scale);
+``residual_tol`` is a length in the scene's unit.  ``angles`` are the joint values
+(crank angles, or leg lengths of prismatic legs, each in its unit); the JSON gives them
+also as ``joint_values`` (the name that fits both; ``angles`` stays for the contract).
+
+Gauss-Newton is local: a pose that fails the round trip, or no convergence, is a
+``not_found`` error naming ``guess`` (or ``angles`` when the start was the default home):
+no pose was found from that start, which proves nothing about other starts.  A leg table
+with the octahedral topology is solved by the exact octic first; when it proves that the
+legs admit no assembly the answer is that (status ok, ``poses: []``, ``count`` 0 and the
+``reason``; docs/design.md §4), as for ``kind = "octahedral"``.
 """
 
 from __future__ import annotations
@@ -80,7 +92,7 @@ import numpy as np
 
 from ...argcheck import (check_keys, dps_field, method_field, pose_list, positive_int,
                           positive_number)
-from ...errors import DistkinError, InfeasibleError, InputError
+from ...errors import DistkinError, InputError, NotFoundError
 from ...exact import parse_float
 from ..query import Outcome, register
 from ..units import angle_factor, length_factor
@@ -379,7 +391,8 @@ class ForwardKinematicsQuery:
         guess = None
         if "guess" in table:
             guess = tuple(np.array(_numbers(table["guess"], f"{field}.guess", 6)) * _scale(units))
-        tol = positive_number(table.get("tol", 1e-13), f"{field}.tol")
+        from ...mechanisms.forward import TOL
+        tol = positive_number(table.get("tol", TOL), f"{field}.tol")   # relative
         max_iter = positive_int(table.get("max_iter", 50), f"{field}.max_iter")
         tier = _tier_fields(table, field)
         legs = None
@@ -403,11 +416,17 @@ class ForwardKinematicsQuery:
         guess = np.array(p.guess) if p.guess is not None else mech.home
         res = mech.forward_kinematics(np.array(p.angles), guess, tol=p.tol, max_iter=p.max_iter,
                                       residual_tol=p.residual_tol)
+        if res.modes is not None and len(res.modes) == 0:      # the octic proved it
+            return _no_assembly(p, mech, scene, guess)
+        start = ("the guess" if p.guess is not None else
+                 "the mechanism's home, the default start (no guess given)")
         if not res.converged and p.method == "fast":
-            raise InfeasibleError(
-                f"expected the angles to close near the guess, got no convergence in "
-                f"{p.max_iter} iterations (rms closure error {res.residual:.3g} m)",
-                field="angles", margin=res.residual)
+            raise NotFoundError(
+                f"expected Gauss-Newton to converge from {start}, got no convergence in "
+                f"{p.max_iter} iterations (rms closure error {res.residual:.3g} m): no pose "
+                f"found from that start, not a proof that none exists",
+                field="guess" if p.guess is not None else "angles", margin=res.residual,
+                hint="another guess, near the device's pose")
         from ...mechanisms.forward_tiers import fast_tier, forward_tier
         from ...mechanisms.kinematics_tiers import BITS
         try:
@@ -420,6 +439,10 @@ class ForwardKinematicsQuery:
         except DistkinError as exc:         # the Python argument q is the scene's angles
             if exc.field == "q":
                 exc.field = "angles"
+            elif exc.field == "guess" and p.guess is None:     # the default start
+                exc.field = "angles"
+                exc.message += f" (the start: {start})"
+                exc.args = (exc.one_line(),)
             raise
         pose = tier.pose
         lu, au, lf, af = _units(scene)
@@ -447,12 +470,14 @@ class ForwardKinematicsQuery:
         result = {"pose": pose, "converged": res.converged, "iterations": res.iterations,
                   "residual": tier.residual, "sigma_min": res.sigma_min,
                   "condition": res.condition, "near_singular": res.near_singular,
-                  "angles": np.array(p.angles), "guess": guess, "method": p.method,
+                  "angles": np.array(p.angles), "joint_values": np.array(p.angles),
+                  "guess": guess, "method": p.method,
                   "pose_error": err, "certified": tier.certified, "legs": list(tier.legs),
                   "verified": res.verified, "round_trip": res.round_trip,
                   "q_mismatch": res.q_mismatch, "residual_tol": res.residual_tol,
                   "unit": {"pose": "m, rad", "residual": "m", "pose_error": "m, rad",
-                           "angles": _joint_unit(mech), "q_mismatch": _joint_unit(mech),
+                           "angles": _joint_unit(mech), "joint_values": _joint_unit(mech),
+                           "q_mismatch": _joint_unit(mech),
                            "residual_tol": "m"}}
         if p.method == "certified":
             result["other_legs_closure_bound"] = {str(k): v for k, v in tier.other_legs.items()}
@@ -461,3 +486,30 @@ class ForwardKinematicsQuery:
             result["dps"] = p.dps
         return Outcome(result, "\n".join(lines),
                        _plotter(mech, pose[None], np.array(p.angles)[None]))
+
+
+def _no_assembly(p, mech, scene, guess):
+    """The answer when the exact octic (Rojas et al. eq. (3)) proves that the legs of an
+    octahedral leg table admit no assembly: status ok, no pose, and the reason
+    (docs/design.md §4: a proved empty answer is an answer).  The octahedral solver's
+    ``auto`` tier decided it (its fast tier only where it proves its roots); with
+    ``method = "certified"`` the certified tier decides it again."""
+    from ...octahedral import forward_kinematics as octahedral_fk
+    topo = mech.octahedral()
+    legs = np.array(p.angles)[topo["order"]]
+    tier = "certified" if p.method == "certified" else "auto"
+    oct_res = octahedral_fk(topo["base"], topo["platform"], legs, method=tier)
+    if len(oct_res):                                  # not expected: the tiers disagree
+        raise RuntimeError(f"the octic's {tier} tier found {len(oct_res)} assembly "
+                           f"mode(s) where the first solve found none")
+    answered = getattr(oct_res, "tier", tier)
+    reason = (f"{oct_res.reason} (proved by the exact octic, Rojas et al. eq. (3), "
+              f"{answered} tier)")
+    lines = [f"mechanism: {mech.name} (L = {mech.L}, octahedral topology)",
+             f"no assembly: 0 poses; {reason}"]
+    result = {"pose": None, "poses": [], "count": 0, "reason": reason, "tier": answered,
+              "method": p.method, "angles": np.array(p.angles),
+              "joint_values": np.array(p.angles), "guess": guess,
+              "unit": {"angles": _joint_unit(mech), "joint_values": _joint_unit(mech),
+                       "guess": "m, rad"}}
+    return Outcome(result, "\n".join(lines))
