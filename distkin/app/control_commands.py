@@ -79,13 +79,15 @@ def _seconds(value: str) -> float:
 
 
 def _periods(value: str) -> int:
-    """``--delay-margin N``: a whole number of device periods, 0..1000."""
+    """``--delay-margin N``: a whole number of device periods, 0..MAX_PERIODS."""
+    from ..control.delay_margin import MAX_PERIODS
     try:
         n = int(value)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected a whole number of periods, got {value!r}")
-    if not 0 <= n <= 1000:
-        raise argparse.ArgumentTypeError(f"expected 0 <= N <= 1000 periods, got {n}")
+    if not 0 <= n <= MAX_PERIODS:
+        raise argparse.ArgumentTypeError(f"expected 0 <= N <= {MAX_PERIODS} periods (the "
+                                         f"sweep's cost grows as N^4), got {n}")
     return n
 
 
@@ -224,7 +226,7 @@ def format_summary(s: dict) -> str:
     if s.get("delay_margin_periods") is not None:
         n = s["delay_margin_periods"]
         lines.append("  PD loop (linearised at home): " + (
-            "unstable without extra delay" if n < 0 else
+            "not proved stable even without extra delay" if n < 0 else
             "stable only without extra command delay (one period makes it unstable; "
             "distkin control --delay-margin)" if n == 0 else
             f"stable with up to {n} period{'s' if n != 1 else ''} "
@@ -259,6 +261,7 @@ def _margin_report(scene, model, periods: int) -> dict:
     return {"text": "\n".join([head] + ["  " + line for line in dm.lines()]),
             "period_ms": dm.period_s * 1e3,
             "stable_periods": dm.stable_periods,
+            "marginal_periods": [int(n) for n in dm.delays[dm.marginal]],
             "margin_ms": dm.margin_s * 1e3 if dm.stable_periods >= 0 else None,
             "sweep": [{"delay_periods": int(n), "delay_ms": float(n * dm.period_s * 1e3),
                        "spectral_radius": float(r), "growth_per_s": float(g),
@@ -268,7 +271,7 @@ def _margin_report(scene, model, periods: int) -> dict:
 
 
 def _delay_margin_command(args, scene, inputs, model) -> int:
-    from .output_paths import check_output_path, write_json
+    from .output_paths import check_output_path
     for name in ("log", "faults", "wall_limit"):
         if getattr(args, name):
             raise InputError(f"expected no --{name.replace('_', '-')} with --delay-margin "
@@ -283,14 +286,21 @@ def _delay_margin_command(args, scene, inputs, model) -> int:
         Path(args.plots).mkdir(parents=True, exist_ok=True)
         rep["plots"] = [str(plot_delay_margin(rep, Path(args.plots) / "delay_margin.png"))]
         text += "\n  plot: " + rep["plots"][0]
-    if args.json == "-":
+    _emit(text, rep, args.json)
+    return 0
+
+
+def _emit(text: str, data: dict, json_arg) -> None:
+    """The text on stdout and the JSON to ``--json PATH``; with ``--json -`` the JSON on
+    stdout and the text on stderr."""
+    from .output_paths import write_json
+    if json_arg == "-":
         print(text, file=sys.stderr)
-        print(json.dumps(rep, indent=2))
+        print(json.dumps(data, indent=2))
     else:
         print(text)
-        if args.json:
-            write_json(args.json, json.dumps(rep, indent=2))
-    return 0
+        if json_arg:
+            write_json(json_arg, json.dumps(data, indent=2))
 
 
 def _margin_note(scene, model, args) -> dict:
@@ -317,7 +327,7 @@ def cmd_control(args) -> int:
     from ..control.faults import parse_faults
     from ..control.kinematics import model_of
     from ..control.link import Link
-    from .output_paths import check_output_path, write_json
+    from .output_paths import check_output_path
     scene, inputs = _scene_and_inputs(args.scene)
     if args.delay_margin is not None:
         return _delay_margin_command(args, scene, inputs, model_of(scene))
@@ -416,11 +426,5 @@ def cmd_control(args) -> int:
     if summary["exit_reason"] == "device_mismatch":    # bad input: one line naming it
         print(f"distkin: error: {'--scene' if args.scene else 'the built-in scene'}: "
               f"{summary['error']}", file=sys.stderr)
-    if args.json == "-":
-        print(text, file=sys.stderr)
-        print(json.dumps(summary, indent=2))
-    else:
-        print(text)
-        if args.json:
-            write_json(args.json, json.dumps(summary, indent=2))
+    _emit(text, summary, args.json)
     return summary["exit_code"]

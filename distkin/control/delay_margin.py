@@ -48,7 +48,15 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["closed_loop_matrix", "DelayMargin", "delay_margin"]
+__all__ = ["closed_loop_matrix", "DelayMargin", "delay_margin", "MAX_PERIODS", "MARGINAL"]
+
+#: the longest sweep :func:`delay_margin` takes: the matrix grows by L rows a period and
+#: its eigenvalues cost its size cubed, so the sweep's cost grows as N^4 (N = 50, the
+#: Octo: about 5 s; N = 100: minutes)
+MAX_PERIODS = 50
+#: a spectral radius within this of 1 is marginal: float64's eigenvalues cannot say on
+#: which side of 1 it lies (an undamped loop has exactly 1)
+MARGINAL = 1e-9
 
 
 def _loop_data(scene, model, pose):
@@ -149,8 +157,10 @@ class DelayMargin:
     frequency_hz : (m,) float
         That mode's frequency (Hz).
     stable_periods : int
-        The largest n with :math:`\\rho(A_m) < 1` for every m ≤ n; -1 when the
-        lock-stepped loop itself is unstable.
+        The largest n with :math:`\\rho(A_m) < 1 -` :data:`MARGINAL` for every m ≤ n;
+        -1 when the lock-stepped loop itself is not proved stable.
+    marginal : (m,) bool
+        :math:`|\\rho - 1| \\le` :data:`MARGINAL`: stability not decided by float64.
     """
 
     period_s: float
@@ -159,6 +169,7 @@ class DelayMargin:
     growth_per_s: np.ndarray
     frequency_hz: np.ndarray
     stable_periods: int
+    marginal: np.ndarray | None = None
 
     @property
     def margin_s(self) -> float:
@@ -168,13 +179,24 @@ class DelayMargin:
 
     def lines(self) -> list[str]:
         """The sweep as text, one line per delay."""
+        marg = (np.zeros(len(self.delays), bool) if self.marginal is None
+                else self.marginal)
         out = [f"extra delay {n:3d} periods ({n * self.period_s * 1e3:6.2f} ms): "
                f"spectral radius {r:.6f}, least-damped mode {f:7.2f} Hz, "
-               f"{'grows' if g > 0 else 'decays'} at {abs(g):8.2f} 1/s"
-               for n, r, g, f in zip(self.delays, self.spectral_radius, self.growth_per_s,
-                                     self.frequency_hz)]
+               + (f"marginal (spectral radius within {MARGINAL:g} of 1: float64 cannot "
+                  "say whether it grows)" if mg else
+                  f"{'grows' if g > 0 else 'decays'} at {abs(g):8.2f} 1/s")
+               for n, r, g, f, mg in zip(self.delays, self.spectral_radius,
+                                         self.growth_per_s, self.frequency_hz, marg)]
         n, h = self.stable_periods, self.period_s * 1e3
-        if n < 0:
+        first = n + 1 < len(self.delays) and marg[n + 1]
+        if first:
+            out.append(f"stable with up to {n} period{'s' if n != 1 else ''} of extra delay "
+                       f"({max(n, 0) * h:.2f} ms); with {n + 1} the loop is marginal, not "
+                       "decided (linearised: distkin.control.delay_margin)"
+                       if n >= 0 else "marginal without extra delay: an undamped loop, "
+                       "not decided (linearised: distkin.control.delay_margin)")
+        elif n < 0:
             out.append("unstable without extra delay (linearised: distkin.control."
                        "delay_margin)")
         elif n == len(self.delays) - 1:
@@ -191,9 +213,10 @@ def delay_margin(scene, model, *, max_periods: int = 40, pose=None) -> DelayMarg
     """Sweep the extra command delay n = 0 .. ``max_periods`` (device periods) and find
     the largest with a stable linearised loop (module doc)."""
     m = int(max_periods)
-    if m != max_periods or not 0 <= m <= 1000:
-        raise InputError(f"expected max_periods a whole number in 0..1000, got "
-                         f"{max_periods!r}", field="max_periods")
+    if m != max_periods or not 0 <= m <= MAX_PERIODS:
+        raise InputError(f"expected max_periods a whole number in 0..{MAX_PERIODS} (the "
+                         f"sweep's cost grows as its fourth power), got {max_periods!r}",
+                         field="max_periods")
     h = 1.0 / scene.rate_hz
     rad, grow, freq = [], [], []
     for n in range(m + 1):
@@ -204,6 +227,8 @@ def delay_margin(scene, model, *, max_periods: int = 40, pose=None) -> DelayMarg
         grow.append(np.log(r) / h if r > 0 else -np.inf)
         freq.append(abs(float(np.angle(lam[i]))) / (2 * np.pi * h))
     rad = np.array(rad)
-    bad = np.flatnonzero(rad >= 1.0)
+    marginal = np.abs(rad - 1.0) <= MARGINAL
+    bad = np.flatnonzero(rad >= 1.0 - MARGINAL)
     stable = (m if bad.size == 0 else int(bad[0]) - 1)
-    return DelayMargin(h, np.arange(m + 1), rad, np.array(grow), np.array(freq), stable)
+    return DelayMargin(h, np.arange(m + 1), rad, np.array(grow), np.array(freq), stable,
+                       marginal)

@@ -29,7 +29,8 @@ import numpy as np
 
 from ..argcheck import as_floats, float_array
 from ..errors import InputError, SingularConfigurationError
-from .zonotope import check_enumeration, memory_guard, zonotope_best, zonotope_worst
+from .zonotope import (check_enumeration, generator_batch, memory_guard, zonotope_best,
+                       zonotope_worst)
 
 __all__ = ["worst_case_output", "best_case_output", "output_generators",
            "hull_worst_best", "hull_multi", "ueberle_worst", "CAPABILITY_METHODS",
@@ -46,19 +47,8 @@ def _prepare(G, pmin, pmax, keep, method, allowed):
     if method not in allowed:
         raise InputError(f"expected method one of {', '.join(map(repr, allowed))}, "
                          f"got {method!r}", field="method")
-    G = as_floats(G, "G", "a numeric generator matrix")
-    single = G.ndim == 2
-    if single:
-        G = G[None]
-    if G.ndim != 3 or G.shape[1] < 1:
-        raise InputError(f"expected G of shape (d, L) or (N, d, L), got {np.shape(G)}",
-                         field="G")
+    G, single = generator_batch(G, "actuators")
     N, d, L = G.shape
-    if L < d:
-        raise InputError(f"expected at least as many actuators as outputs (L >= d), got "
-                         f"L={L}, d={d}", field="G")
-    if not np.all(np.isfinite(G)):
-        raise InputError("expected finite numbers in G, got NaN or inf", field="G")
     lims = []
     for name, v in (("pmin", pmin), ("pmax", pmax)):
         a = as_floats(v, name)

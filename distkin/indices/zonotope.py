@@ -61,7 +61,7 @@ from .constraint_basis import constraint_basis
 
 __all__ = ["zonotope_worst", "zonotope_best", "facet_normals", "farthest_in_slice",
            "RANK_TOL", "MAX_CANDIDATES", "check_enumeration", "vertex_candidates",
-           "memory_guard"]
+           "memory_guard", "generator_batch"]
 
 #: σmin/σmax below which a generator matrix is treated as exactly singular
 RANK_TOL = 1e-12
@@ -263,6 +263,19 @@ def facet_normals(G, *, assume_regular: bool = False):
     """
     from math import comb
 
+    G, single = generator_batch(G, "generators")
+    N, d, L = G.shape
+    check_enumeration(comb(L, d - 1), L, f"facet normals (C(L, d−1), d = {d})")
+    n, _, regular = _facets(G, np.zeros((N, L)), np.ones((N, L)),
+                            assume_regular=assume_regular)
+    P = n @ G
+    return (n[0], P[0], bool(regular[0])) if single else (n, P, regular)
+
+
+def generator_batch(G, what: str = "generators"):
+    """``G`` (d, L) or (N, d, L) as a finite float array (N, d, L) with L >= d, and
+    whether it was one matrix; InputError naming ``G`` otherwise (``what``: the name of
+    its columns in the message)."""
     from ..argcheck import as_floats
     G = as_floats(G, "G", "a numeric generator matrix")
     single = G.ndim == 2
@@ -271,17 +284,13 @@ def facet_normals(G, *, assume_regular: bool = False):
     if G.ndim != 3 or G.shape[1] < 1:
         raise InputError(f"expected G of shape (d, L) or (N, d, L), got {np.shape(G)}",
                          field="G")
-    N, d, L = G.shape
+    _, d, L = G.shape
     if L < d:
-        raise InputError(f"expected at least as many generators as outputs (L >= d), got "
+        raise InputError(f"expected at least as many {what} as outputs (L >= d), got "
                          f"L={L}, d={d}", field="G")
     if not np.all(np.isfinite(G)):
         raise InputError("expected finite numbers in G, got NaN or inf", field="G")
-    check_enumeration(comb(L, d - 1), L, f"facet normals (C(L, d−1), d = {d})")
-    n, _, regular = _facets(G, np.zeros((N, L)), np.ones((N, L)),
-                            assume_regular=assume_regular)
-    P = n @ G
-    return (n[0], P[0], bool(regular[0])) if single else (n, P, regular)
+    return G, single
 
 
 # ------------------------------------------------------------------------ worst case

@@ -179,3 +179,17 @@ def test_a_run_on_a_port_warns_and_states_the_margin(capsys):
     assert "warning: [pd]: the joint PD loop takes no extra command delay" in err
     summary = json.loads(out)
     assert summary["delay_margin_periods"] == 0 and summary["delay_margin_ms"] == 0.0
+
+
+def test_an_undamped_loop_is_marginal_not_decided(octo):
+    """KD = 0, no filter, no friction: the spectral radius is 1 (semi-implicit Euler
+    conserves the undamped spring-mass), so float64 cannot decide stability: marginal,
+    never 'stable' or 'unstable' by rounding (QA O 2)."""
+    scene, model = octo
+    motors = dataclasses.replace(scene.simulator.motors, friction=0.0)
+    scene = dataclasses.replace(_with_pd(scene, kd=0.0, derivative_filter_s=0.0),
+                                simulator=dataclasses.replace(scene.simulator, motors=motors))
+    dm = delay_margin(scene, model, max_periods=1)
+    assert dm.marginal[0] and dm.stable_periods == -1
+    assert "marginal without extra delay" in dm.lines()[-1]
+    assert "marginal (spectral radius within" in dm.lines()[0]
