@@ -101,11 +101,13 @@ __all__ = ["UNDECIDED", "REGULAR", "SINGULAR", "UNREACHABLE", "STATUS_NAMES", "V
 UNDECIDED, REGULAR, SINGULAR, UNREACHABLE = 0, 1, 2, 3
 STATUS_NAMES = {UNDECIDED: "undecided", REGULAR: "regular", SINGULAR: "singular",
                 UNREACHABLE: "unreachable"}
-#: why a box was left undecided at the resolution, by code (the leaves' ``reason``):
-#: 0 none (decided, or left by the budget: ``budget``), 1 "reach" (a leg's reach margin
-#: straddles 0: the edge of the reachable set crosses the box), 2 "jq" (a diagonal
-#: entry of Jq not enclosed away from 0: a serial singularity may cross it), 3 "rank"
-#: (the regularity test of Jx failed: a parallel singularity may cross it)
+#: why a box was left undecided at the resolution, by code (the leaves' ``reason``): the
+#: first test whose enclosure did not decide (a diagnosis, not a proof of what is in the
+#: box): 0 none (decided, or left by the budget: ``budget``), 1 "reach" (a leg's reach
+#: margin not enclosed away from 0: the edge of the reachable set may cross the box),
+#: 2 "jq" (a diagonal entry of Jq not enclosed away from 0: a serial singularity may
+#: cross it), 3 "rank" (the regularity test of Jx failed: a parallel singularity may
+#: cross it, or the enclosure is too wide at the resolution)
 REASONS = {"": 0, "reach": 1, "jq": 2, "rank": 3}
 
 

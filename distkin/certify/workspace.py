@@ -159,11 +159,13 @@ class WorkspaceCertificate:
         return np.asarray(self.budget, dtype=bool)
 
     def undecided_reasons(self) -> dict:
-        """The boxes undecided at the resolution (the budget's apart), by why (boxes,
-        volume in :attr:`volume_unit`, fraction of the region): ``reach`` (the edge of
-        the reachable set crosses them), ``jq`` (a serial singularity may), ``rank`` (a
-        parallel singularity may), ``other``, ``not_recorded`` (chunks stored before
-        reasons were kept)."""
+        """The boxes undecided at the resolution (the budget's apart), by the first test
+        their enclosures did not decide (boxes, volume in :attr:`volume_unit`, fraction
+        of the region; :data:`.boxes.REASONS`): ``reach`` (the edge of the reachable set
+        may cross them), ``jq`` (a serial singularity may), ``rank`` (a parallel
+        singularity may, or the enclosure is too wide), ``other``, ``not_recorded``
+        (chunks stored before reasons were kept).  A diagnosis: what the box holds is
+        not proved."""
         und = (self.status == UNDECIDED) & ~self.budget_mask()
         why = (np.full(len(self.status), -1, np.int8) if self.reason is None
                else np.asarray(self.reason))

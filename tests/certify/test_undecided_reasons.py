@@ -21,8 +21,10 @@ def hunt_edge():
 
 
 def test_reach_boxes_straddle_the_edge_of_the_reachable_set(hunt_edge):
-    """Every box undecided for 'reach' holds poses where some leg cannot close and poses
-    where every leg closes, by the float reach margins on a 6 x 6 x 6 grid of it."""
+    """On this column every box undecided for 'reach' holds poses where some leg cannot
+    close and poses where every leg closes, by the float reach margins on a 6 x 6 x 6
+    grid of it.  (A diagnosis in general: an enclosure wider than the margin leaves
+    'reach' on a box on one side of the edge too, QA P 2; not here.)"""
     m, c = hunt_edge
     sel = np.flatnonzero((c.status == UNDECIDED) & (c.reason == REASONS["reach"]))
     assert sel.size > 0

@@ -188,7 +188,8 @@ def certificate_json(cert) -> dict:
                                     "sigma_lower_min_boxes and boxes.sigma_lower",
                      "boxes": "lower, upper: m, m, m, rad, rad, rad; det_sign: sign of det "
                               "Jx in a regular box (L = 6), 0 elsewhere; budget: left "
-                              "undecided by a spent box budget"}}
+                              "undecided by a spent box budget; reason: the test that "
+                              "failed in an undecided box (reason_legend), none"}}
     out.update(s)
     zr = cert.at_zero_rotation()
     out["zero_rotation_slice"] = {
@@ -253,9 +254,12 @@ def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> s
                      f"{s['counts'][name]} boxes)")
     why = s["undecided_reasons"]
     if why:
-        said = {"reach": "a leg's reach margin straddles 0 (the workspace edge)",
-                "jq": "a Jq diagonal entry not away from 0 (a serial singularity)",
-                "rank": "the rank test of Jx failed (near a parallel singularity)",
+        said = {"reach": "a leg's reach margin not enclosed away from 0 (the workspace "
+                         "edge may cross the box)",
+                "jq": "a Jq diagonal entry not enclosed away from 0 (a serial singularity "
+                      "may cross the box)",
+                "rank": "the rank test of Jx failed (a parallel singularity may cross the "
+                        "box, or the enclosure is too wide at the resolution)",
                 "other": "other", "not_recorded": "not recorded (stored chunks)"}
         lines.append("  undecided at the resolution, by why: " + "; ".join(
             f"{said[k]}: {v['boxes']} boxes"

@@ -368,7 +368,9 @@ def _verified_line(res, angles, mech, scene, method: str) -> str:
     small = res.residual <= res.residual_tol
     resid = (f"rms closure residual {res.residual * lf:.3g} {lu} "
              + ("<=" if small else "above") + f" residual_tol {res.residual_tol * lf:.3g} {lu}"
-             + ("" if small else " (inconsistent angles: their least-squares pose)"))
+             + ("" if small else " (their least-squares pose: the angles are "
+                                 "inconsistent, or Gauss-Newton stopped in a local minimum "
+                                 "from this start; another guess tells them apart)"))
     other = ("" if method == "fast" else
              f"; the {method} pose passes the same round trip")
     return (f"verified (fast tier): {'yes' if res.verified else 'no'}: {trip} (largest "
@@ -393,6 +395,10 @@ class ForwardKinematicsQuery:
             guess = tuple(np.array(_numbers(table["guess"], f"{field}.guess", 6)) * _scale(units))
         from ...mechanisms.forward import TOL
         tol = positive_number(table.get("tol", TOL), f"{field}.tol")   # relative
+        if tol < 1e-15:               # a relative step float64 cannot take (QA P 6)
+            raise InputError(f"expected tol >= 1e-15 (relative to the length scale; "
+                             f"float64 resolves steps down to about 2.2e-16 of it), got "
+                             f"{tol:g}", field=f"{field}.tol", hint=f"the default is {TOL:g}")
         max_iter = positive_int(table.get("max_iter", 50), f"{field}.max_iter")
         tier = _tier_fields(table, field)
         legs = None
