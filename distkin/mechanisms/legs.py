@@ -100,11 +100,14 @@ _TWO_PI = 2 * math.pi
 
 def full_turn(lo, hi):
     """A revolute range [lo, hi] (rad, floats or arrays; ±inf allowed) that is the full
-    turn: width at least 2π, up to 1e-12 relative (so [0, 360] deg converted to rad is
-    one whatever the rounding of the conversion).  The same decision in every tier:
-    it is a property of the range as written, not a numerical question."""
+    turn: width at least 2π, up to the rounding of its ends (8 ulps of the larger of
+    |lo|, |hi| and 2π: [0, 360] deg converted to rad is one whatever the rounding of the
+    conversion, [0, 359.9999999997] deg is not, QA Q 1).  The same decision in every
+    tier: it is a property of the range as written, not a numerical question."""
+    lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
     with np.errstate(invalid="ignore"):
-        return np.asarray(hi, dtype=float) - np.asarray(lo, dtype=float) >= _TWO_PI * (1 - 1e-12)
+        scale = np.maximum(np.maximum(np.abs(lo), np.abs(hi)), _TWO_PI)
+        return hi - lo >= _TWO_PI - 8 * np.finfo(float).eps * scale
 
 
 def in_revolute_range(q, lo, hi):

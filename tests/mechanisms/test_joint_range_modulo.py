@@ -101,3 +101,22 @@ def test_certified_range_check_modulo_2pi():
     reasons = []
     assert _range_check(_Ranges(lo, hi), arb(hi - 2 * math.pi, 1e-10), 0, 0, reasons) is None
     assert "modulo 2π" in reasons[0][2]
+
+
+def test_a_range_just_short_of_a_turn_is_not_a_full_turn():
+    """QA Q 1: [0, 359.9999999997] deg was taken for the full turn (a 1e-12 relative
+    tolerance, 1e4 times the conversion's rounding), and the certified tier called
+    q = -1e-12 rad (359.99999999994 deg, above the range) certainly in range.  The
+    reference: mpmath, the range's degree values converted at 50 digits."""
+    from flint import arb
+    for lo_deg, hi_deg in ((0, 359.9999999997), (-360, -1e-10), (7200, 7559.9999999)):
+        lo, hi = math.radians(lo_deg), math.radians(hi_deg)
+        assert not full_turn(lo, hi)
+        with mpmath.workdps(50):
+            want = any(mpmath.radians(lo_deg) <= mpmath.mpf(-1e-12) + 2 * mpmath.pi * k
+                       <= mpmath.radians(hi_deg) for k in range(-30, 30))
+        assert not want
+        assert not in_revolute_range(-1e-12, lo, hi)
+        assert _range_check(_Ranges(lo, hi), arb(-1e-12, 1e-28), 0, 0, []) is False
+    for lo_deg, hi_deg in ((0, 360), (-180, 180), (7200, 7560), (-720, -360)):
+        assert full_turn(math.radians(lo_deg), math.radians(hi_deg))

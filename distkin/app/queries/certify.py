@@ -170,6 +170,18 @@ class CertifyWorkspaceQuery:
 
 
 
+#: what a certificate of a mechanism with joint ranges does not cover (QA Q 2)
+RANGES_NOT_CHECKED = ("joint ranges (a leg's `range`) are not part of this certificate: "
+                      "a regular box may hold poses where a joint is outside its range; "
+                      "the inverse kinematics' reachability checks them")
+
+
+def _has_ranges(mech) -> bool:
+    """Whether some leg of ``mech`` has a joint range (revolute or prismatic)."""
+    return any(getattr(leg, "range", None) is not None
+               for leg in (getattr(mech, "leg_table", None) or ()))
+
+
 def certificate_json(cert) -> dict:
     """The JSON result of a :class:`.workspace.WorkspaceCertificate` (SI)."""
     s = cert.summary()
@@ -207,6 +219,8 @@ def certificate_json(cert) -> dict:
         "at the resolution" + (", or (boxes.budget true) left unsplit when the budget of "
                                f"{cert.max_boxes} box evaluations per chunk ran out"
                                if s["budget_exhausted"] else ""))
+    if _has_ranges(cert.mechanism):
+        out["joint_ranges"] = RANGES_NOT_CHECKED
     out["boxes"] = {"legend": {str(k): v for k, v in STATUS_NAMES.items()},
                     "lower": cert.lo, "upper": cert.hi, "status": cert.status,
                     "sigma_lower": cert.sigma_lower, "det_sign": cert.det_sign,
@@ -252,6 +266,8 @@ def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> s
         lines.append(f"  {name:<11} {s[name + '_volume']:.4g} {unit}  "
                      f"({100 * s[name + '_fraction']:.2f} % of {s['total_volume']:.4g} {unit}; "
                      f"{s['counts'][name]} boxes)")
+    if _has_ranges(cert.mechanism):
+        lines.append(f"  note: {RANGES_NOT_CHECKED}")
     why = s["undecided_reasons"]
     if why:
         said = {"reach": "a leg's reach margin not enclosed away from 0 (the workspace "
