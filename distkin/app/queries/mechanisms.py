@@ -301,7 +301,12 @@ class InverseKinematicsQuery:
             lines.append(f"pose {i}: {_fmt_pose(X[i], scene)}  -> " + verdict)
             lines.append("  q = " + _joint_text(q[i], mech, scene))
             lines += _tier_lines(res, i)
-        if not valid.any():                    # not one leg closes anywhere: units?
+        closes = np.asarray(margin) >= 0
+        if not valid.any() and closes.any():   # the joint ranges exclude them (QA Q 5)
+            lines.append("note: no leg is valid at any of these poses, yet legs close "
+                         "there: their angles are outside the legs' joint ranges "
+                         "(mechanism.leg range)")
+        elif not valid.any():                  # not one leg closes anywhere: units?
             lines.append(f"note: no leg reaches any of these poses; the mechanism's home is "
                          f"{_fmt_pose(mech.home, scene)} in this scene's units "
                          f"([units] length = \"{scene.units.length}\", angle = "
