@@ -104,6 +104,11 @@ def design_sweep_report(p, scene, ctx, *, store, executor):
         lines.append(f"reachable share of the grid for the optimum: "
                      f"{100 * r['coverage'][r['best']]:.1f} % (unreachable poses: "
                      f"{p.unreachable})")
+    else:                     # culling alone keeps no coverage: the mode said here (QA Q 4)
+        lines.append(f"unreachable poses: {p.unreachable}"
+                     + (" (each design scored on the poses it reaches; algorithm = 'both' "
+                        "reports the optimum's coverage)" if p.unreachable == "skip" else
+                        " (they score 0: every design on the whole grid)"))
     if flag:
         lines.append(f"coverage note: with unreachable = 'skip' each design is scored on the "
                      f"poses it reaches; the optimum reaches {100 * flag['optimum_coverage']:.1f}"

@@ -91,7 +91,10 @@ def _pair(v, fld, unit, *, symmetric=False):
     except (TypeError, ValueError):
         raise InputError(f"expected [min, max], got {v!r}", field=fld) from None
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-        raise InputError(f"expected finite min < max, got ({lo!r}, {hi!r}) {unit}", field=fld)
+        raise InputError(f"expected finite min < max, got ({lo!r}, {hi!r}) {unit}", field=fld,
+                         hint=("a revolute range is an arc from min up to max, modulo one "
+                               "turn: the arc from 90 deg through 180 deg to -90 deg is "
+                               "written [90, 270]") if unit == "rad" and lo > hi else None)
     return (lo, hi)
 
 

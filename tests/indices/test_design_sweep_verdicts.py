@@ -146,3 +146,20 @@ def test_design_json_has_units_and_resumed_chunks_are_said(tmp_path, capsys):
     assert again["chunks_resumed"] == 1
     assert "1 of 1 chunks resumed" in text
     assert "× fewer" not in text and "× shorter" not in text
+
+
+@pytest.mark.parametrize("mode", ["skip", "zero"])
+def test_culling_alone_names_the_unreachable_mode(tmp_path, capsys, mode):
+    """QA Q 4: with algorithm = 'culling' the text named no mode (only the JSON did);
+    both are the scene's value."""
+    from distkin.app.cli import main
+    scene = tmp_path / "c.toml"
+    scene.write_text(SCENE.replace("GRID", "grid = { half = 40, step = 40, rotation = 20, "
+                                           "rotation_step = 20 }")
+                     .replace('algorithm = "both"', 'algorithm = "culling"')
+                     .replace("EXTRA", f'unreachable = "{mode}"'))
+    out = tmp_path / "o.json"
+    assert main(["run", str(scene), "--no-progress", "--json", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert f"unreachable poses: {mode}" in text
+    assert json.loads(out.read_text())["queries"][0]["result"]["unreachable"] == mode

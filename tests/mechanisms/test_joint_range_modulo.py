@@ -120,3 +120,19 @@ def test_a_range_just_short_of_a_turn_is_not_a_full_turn():
         assert _range_check(_Ranges(lo, hi), arb(-1e-12, 1e-28), 0, 0, []) is False
     for lo_deg, hi_deg in ((0, 360), (-180, 180), (7200, 7560), (-720, -360)):
         assert full_turn(math.radians(lo_deg), math.radians(hi_deg))
+
+
+def test_a_reversed_range_hints_at_the_wrap_around_arc(tmp_path):
+    """QA Q 6: [90, -90] deg is refused (min < max), and the message says how the arc
+    through 180 deg is written; the hinted [90, 270] then holds 180 deg (and not 0)."""
+    from pathlib import Path
+
+    from distkin.app.scene import loads_scene
+    from distkin.errors import InputError
+    ex = Path(__file__).resolve().parents[2] / "examples" / "rus8_device.toml"
+    text = ex.read_text(encoding="utf-8")
+    with pytest.raises(InputError) as exc:
+        loads_scene(text.replace("range = [-90, 90]", "range = [90, -90]"))
+    assert "written [90, 270]" in str(exc.value) and exc.value.field.endswith(".range")
+    lo, hi = math.radians(90), math.radians(270)
+    assert in_revolute_range(math.pi, lo, hi) and not in_revolute_range(0.0, lo, hi)
