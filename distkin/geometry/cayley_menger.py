@@ -353,23 +353,17 @@ def _check_ragged(points):
 def _bordered(s, rows, cols):
     """The bordered float matrix (..., k + 1, k + 1) of D(rows; cols), entry by entry
     (a mapping of floats); refuses a squared distance NaN, infinite or negative."""
+    entries = []
+    for i in rows:
+        for j in cols:
+            v = np.asarray(0.0 if i == j else s(i, j), dtype=float)
+            if not np.all(np.isfinite(v) & (v >= 0)):
+                _refuse(i, j, float(np.ravel(v)[~(np.isfinite(np.ravel(v))
+                                                  & (np.ravel(v) >= 0))][0]))
+            entries.append(v)
     k = len(rows)
-    batch = np.shape(s(rows[0], cols[0]))
-    M = np.empty(batch + (k + 1, k + 1))
-    M[..., 0, 0] = 0.0
-    M[..., 0, 1:] = 1.0
-    M[..., 1:, 0] = 1.0
-    for a, i in enumerate(rows):
-        for b, j in enumerate(cols):
-            if i == j:
-                M[..., a + 1, b + 1] = 0.0
-                continue
-            v = s(i, j)
-            if not np.all(np.isfinite(v) & (np.asarray(v) >= 0)):
-                bad = np.ravel(v)[~(np.isfinite(np.ravel(v)) & (np.ravel(v) >= 0))][0]
-                _refuse(i, j, float(bad))
-            M[..., a + 1, b + 1] = v
-    return M
+    sub = np.stack(np.broadcast_arrays(*entries), axis=-1)
+    return _border(sub.reshape(sub.shape[:-1] + (k, k)))
 
 
 def _bordered_array(sq, rows, cols):
@@ -384,13 +378,27 @@ def _bordered_array(sq, rows, cols):
         a, b = (int(x) for x in np.argwhere(badpair)[0])
         v = np.ravel(sub[..., a, b])
         _refuse(rows[a], cols[b], float(v[~(np.isfinite(v) & (v >= 0))][0]))
-    k = len(rows)
+    return _border(sub)
+
+
+def _border(sub):
+    """``sub`` (..., k, k) bordered by the row and column of ones of a Cayley-Menger
+    matrix (0 in the corner): (..., k + 1, k + 1)."""
+    k = sub.shape[-1]
     M = np.empty(sub.shape[:-2] + (k + 1, k + 1))
     M[..., 0, 0] = 0.0
     M[..., 0, 1:] = 1.0
     M[..., 1:, 0] = 1.0
     M[..., 1:, 1:] = sub
     return M
+
+
+def _float_mismatch(a, b):
+    """Where two float squared distances differ by more than 8 ulps of the larger (the
+    symmetry test of :func:`_check_symmetric`; NaN never differs: refused later)."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    with np.errstate(invalid="ignore"):
+        return np.abs(a - b) > 8 * np.finfo(float).eps * np.maximum(np.abs(a), np.abs(b))
 
 
 def _symmetric_array(sq, labels) -> bool:
@@ -401,12 +409,9 @@ def _symmetric_array(sq, labels) -> bool:
         return False
     idx = np.asarray(labels) - 1
     S = sq[..., idx[:, None], idx[None, :]]
-    T = np.swapaxes(S, -1, -2)
-    with np.errstate(invalid="ignore"):                # NaN and inf are refused later
-        bad = np.abs(S - T) > 8 * np.finfo(float).eps * np.maximum(np.abs(S), np.abs(T))
-        diag = np.diagonal(S, axis1=-2, axis2=-1)
-        bad_diag = np.abs(diag) > 8 * np.finfo(float).eps * np.abs(diag)
-    return not (bad.any() or bad_diag.any())
+    bad = _float_mismatch(S, np.swapaxes(S, -1, -2))
+    diag = np.diagonal(S, axis1=-2, axis2=-1)
+    return not (bad.any() or _float_mismatch(diag, 0.0).any())
 
 
 def _check_symmetric(s, labels, kind):
@@ -421,9 +426,7 @@ def _check_symmetric(s, labels, kind):
         nonlocal where
         if kind == "float":
             a, b = np.asarray(a, float), np.asarray(b, float)
-            tol = 8 * np.finfo(float).eps * np.maximum(np.abs(a), np.abs(b))
-            with np.errstate(invalid="ignore"):        # NaN and inf are refused later
-                bad = np.abs(a - b) > tol
+            bad = _float_mismatch(a, b)
             if bad.ndim and bad.any():
                 first = tuple(int(x) for x in np.argwhere(bad)[0])
                 where = f" (batch index {first}: {float(a[first])!r} and {float(b[first])!r})"

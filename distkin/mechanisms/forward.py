@@ -55,7 +55,8 @@ from ..spatial import exp_so3, rotate_pose_scalar, rotation_angles, rotation_mat
 from .description import _poses, _rows
 
 __all__ = ["FKResult", "forward_kinematics", "gauss_newton", "round_trip",
-           "pose_error_estimate", "leg_length", "RESIDUAL_ULPS", "TOL"]
+           "pose_error_estimate", "leg_length", "RESIDUAL_ULPS", "TOL", "MIN_TOL",
+           "check_step_tol"]
 
 #: default ``residual_tol`` of :func:`forward_kinematics`: this many eps times a leg
 #: length (:func:`leg_length`; 7.9e-14 m for the Octopod's l3 = 349.7 mm).  Consistent
@@ -144,6 +145,22 @@ def _solve(G, r, scale):
 #: scale) below which Gauss-Newton stops, relative to the length scale (1.1e-13 m for the
 #: presets' lp = 55 mm, the 1e-13 m it was as an absolute figure)
 TOL = 2e-12
+#: the smallest ``tol``: float64 resolves steps down to about 2.2e-16 of the length scale
+MIN_TOL = 1e-15
+
+
+def check_step_tol(tol, field: str = "tol") -> float:
+    """``tol`` of :func:`forward_kinematics` checked: a number, at least :data:`MIN_TOL`
+    (a relative step float64 cannot take would end as a non-convergence blamed on the
+    start, QA P 6)."""
+    if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not tol > 0:
+        raise InputError(f"expected a positive relative step tolerance, got {tol!r}",
+                         field=field)
+    if tol < MIN_TOL:
+        raise InputError(f"expected tol >= {MIN_TOL:g} (relative to the length scale; "
+                         f"float64 resolves steps down to about 2.2e-16 of it), got {tol:g}",
+                         field=field, hint=f"the default is {TOL:g}")
+    return float(tol)
 
 
 def forward_kinematics(mech, q, guess=None, *, tol=TOL, max_iter=50, max_condition=300.0,
@@ -210,11 +227,9 @@ def forward_kinematics(mech, q, guess=None, *, tol=TOL, max_iter=50, max_conditi
     residual_tol = float(residual_tol)
     check = (mech, qa, residual_tol)
     ls = mech.length_scale
-    if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not tol > 0:
-        raise InputError(f"expected a positive relative step tolerance, got {tol!r}",
-                         field="tol")
+    tol = check_step_tol(tol)
     scale = np.array([1.0, 1.0, 1.0, 1.0 / ls, 1.0 / ls, 1.0 / ls])
-    step_tol = float(tol) * ls                    # m: the stopping test, scale invariant
+    step_tol = tol * ls                    # m: the stopping test, scale invariant
     if single:
         # the control loop's path: scalar kernel, 6x6 normal equations, plain-float
         # rotation updates (no per-pose numpy overhead beyond one small solve)

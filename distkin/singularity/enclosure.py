@@ -129,6 +129,12 @@ class ZeroExclusion:
     evaluations: int
 
 
+def _ball(a: float, b: float):
+    """Midpoint and a radius (float) of a ball that contains [a, b]."""
+    m = a + 0.5 * (b - a)
+    return m, max(m - a, b - m) * (1 + 2 ** -50) + 5e-324
+
+
 def exclude_zeros(f_series, intervals, *, min_width: float = 1e-9,
                   budget: int = 4000) -> ZeroExclusion:
     """Prove f != 0 on each interval (lo, hi) of s by the mean-value form, bisecting
@@ -147,8 +153,7 @@ def exclude_zeros(f_series, intervals, *, min_width: float = 1e-9,
         if n >= budget:
             undecided.append((a, b))
             continue
-        m = a + 0.5 * (b - a)
-        r = max(m - a, b - m) * (1 + 2 ** -50) + 5e-324
+        m, r = _ball(a, b)
         n += 1
         try:
             d = f_series(flint.arb(m, r))[1]
@@ -180,10 +185,8 @@ def monotone_on(f_series, a: float, b: float) -> bool:
     an odd number of them).  The derivative is enclosed over the whole interval by
     coefficient 1 of ``f_series`` (two-term arb power series at the ball [a, b])."""
     import flint
-    m = a + 0.5 * (b - a)
-    r = max(m - a, b - m) * (1 + 2 ** -50) + 5e-324
     try:
-        d = f_series(flint.arb(m, r))[1]
+        d = f_series(flint.arb(*_ball(a, b)))[1]
     except (ZeroDivisionError, ValueError, ArithmeticError):
         return False
     return bool(d.is_finite() and not d.contains(0))

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from distkin.errors import NotFoundError, SingularConfigurationError
+from distkin.errors import InputError, NotFoundError, SingularConfigurationError
 from distkin.mechanisms import preset
 from distkin.spatial import exp_so3, pose_error, rotation_angles, rotation_matrix
 
@@ -108,10 +108,13 @@ def test_failures_are_reported():
     m = preset("hunt")
     P = reachable_poses(m, 1, seed=25)[0]
     q, _ = m.inverse_kinematics(P)
-    far = m.forward_kinematics(q, m.home, max_iter=1, tol=1e-300)
+    far = m.forward_kinematics(q, m.home, max_iter=1)       # one step from home
     assert not far.converged and "did not converge" in far.message
     with pytest.raises(NotFoundError):
-        m.forward_kinematics(q, m.home, max_iter=1, tol=1e-300, strict=True)
+        m.forward_kinematics(q, m.home, max_iter=1, strict=True)
+    with pytest.raises(InputError) as exc:                  # a step float64 cannot take
+        m.forward_kinematics(q, m.home, tol=1e-300)
+    assert exc.value.field == "tol"
     flagged = m.forward_kinematics(q, P, max_condition=1.0)
     assert flagged.near_singular and not flagged.ok
     with pytest.raises(SingularConfigurationError):

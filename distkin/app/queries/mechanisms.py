@@ -398,12 +398,9 @@ class ForwardKinematicsQuery:
         guess = None
         if "guess" in table:
             guess = tuple(np.array(_numbers(table["guess"], f"{field}.guess", 6)) * _scale(units))
-        from ...mechanisms.forward import TOL
-        tol = positive_number(table.get("tol", TOL), f"{field}.tol")   # relative
-        if tol < 1e-15:               # a relative step float64 cannot take (QA P 6)
-            raise InputError(f"expected tol >= 1e-15 (relative to the length scale; "
-                             f"float64 resolves steps down to about 2.2e-16 of it), got "
-                             f"{tol:g}", field=f"{field}.tol", hint=f"the default is {TOL:g}")
+        from ...mechanisms.forward import TOL, check_step_tol
+        tol = check_step_tol(positive_number(table.get("tol", TOL), f"{field}.tol"),
+                             f"{field}.tol")                        # relative
         max_iter = positive_int(table.get("max_iter", 50), f"{field}.max_iter")
         tier = _tier_fields(table, field)
         legs = None
