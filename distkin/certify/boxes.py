@@ -393,6 +393,11 @@ def _certify_box(mech, kernels, lo, hi, *, form: str = "quadratic",
         return Verdict(UNDECIDED, reason="reach", vary=enc.vary,
                        weights=tuple(enc.reach_weights[open_legs].sum(axis=0)))
     if enc.jq is None or not all(q > 0 or q < 0 for q in enc.jq):
+        # every leg closes, so Jx is continuous on the box: a sign change of det Jx is
+        # a singular box whatever Jq does (it was reported "jq" before, QA P)
+        if at_resolution and mech.L == 6 and enc.vary \
+                and sign_change_certificate(mech, kernels, lo, hi) is not None:
+            return Verdict(SINGULAR)
         return Verdict(UNDECIDED, reason="jq", vary=enc.vary)
     _, Jxm = mech.jq_jx(enc.mid)
     Y = np.linalg.pinv(Jxm) if np.all(np.isfinite(Jxm)) else np.zeros((6, mech.L))
