@@ -40,10 +40,6 @@ class Units:
     def length_factor(self) -> Fraction | None:
         return _LENGTH[self.length]
 
-    @property
-    def length_label(self) -> str:
-        return "" if self.length == "none" else "m"
-
 
 def parse_units(raw) -> Units:
     """The ``[units]`` table of a scene (``None``: SI)."""

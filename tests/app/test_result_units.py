@@ -80,20 +80,23 @@ def test_certified_single_pose_prints_its_status_not_a_volume(tmp_path, capsys):
     assert queries[0]["result"]["counts"]["regular"] == 1
 
 
-@pytest.mark.parametrize("length, m, m2, scale", [("mm", "m", "m^2", 1e-6),
+@pytest.mark.parametrize("length, m, m2, scale", [("mm", "mm", "mm^2", 1.0),
+                                                  ("cm", "cm", "cm^2", 1.0),
                                                   ("none", "none", "none", 1.0)])
 def test_octahedral_forward_kinematics_json_says_its_units(tmp_path, capsys, length, m, m2,
                                                            scale):
-    """A length = "mm" scene's s15 are in m² (the Griffis-Duffy root 269.2 mm² is
-    2.692e-4 m², docs/design.md §5), with nothing saying so; a unitless scene's are
-    unitless."""
-    queries, _ = _run(tmp_path, capsys, f'[units]\nlength = "{length}"\n' + OCTA
+    """A length = "mm" scene's s15 are in mm² (the Griffis-Duffy root 269.2, [1] Sec. VI),
+    as the delta_transform and 6-6 queries of the same scene report theirs (they were in
+    m² here, 2.692e-4, QA R 4); a unitless scene's are unitless."""
+    queries, out = _run(tmp_path, capsys, f'[units]\nlength = "{length}"\n' + OCTA
                       + f'[[query]]\ntype = "forward_kinematics"\nlegs = {LEGS}\n'
                         'method = "certified"\n')
     r = queries[0]["result"]
     assert r["unit"]["s15"] == m2 and r["unit"]["translation"] == m
     assert r["unit"]["max_leg_error"] == m and r["unit"]["real_roots"].startswith(m2)
     assert min(r["real_roots"]["values"]) == pytest.approx(269.2 * scale, rel=2e-4)
+    if length != "none":
+        assert f"s15 = 269.245" in out and f"{m2}" in out and " m^2" not in out
 
 
 def test_delta_and_singularity_json_say_their_units(tmp_path, capsys):

@@ -185,8 +185,9 @@ def test_scene_errors_name_the_field():
         loads_scene(neg)
 
 
-def test_scene_in_millimetres_is_solved_in_metres():
-    """A scene written in mm is converted to SI: roots in m^2 (paper's values x 1e-6)."""
+def test_scene_in_millimetres_is_solved_in_millimetres():
+    """A scene written in mm is solved as written: roots in mm^2, the paper's values (Sec.
+    VI), as the scene's other queries report theirs (it was converted to m^2, QA R 4)."""
     from distkin.app.cli import run_scene
     from distkin.app.scene import loads_scene
     text = (ROOT / "distkin" / "scenes" / "octahedral_griffis_duffy.toml").read_text()
@@ -195,9 +196,10 @@ def test_scene_in_millimetres_is_solved_in_metres():
     assert worst == 0
     res = records[0]["result"]
     assert res["real_roots"]["count"] == 6
-    assert all(abs(v / 1e-6 - float(g)) <= 0.05
+    assert all(abs(v - float(g)) <= 0.05
                for v, g in zip(res["real_roots"]["values"], GD_ROOTS))
-    assert " m^2" in texts[0] and " m " in texts[0] + " "
+    assert res["unit"]["s15"] == "mm^2" and res["unit"]["translation"] == "mm"
+    assert " mm^2" in texts[0] and " m^2" not in texts[0]
 
 
 def test_results_compare_by_value(certified):

@@ -25,8 +25,10 @@ first; exact strings where exact), ``poses [{s15, rotation, translation, points 
 (plus ``side`` and ``max_leg_error_relative``), and ``root_status``, ``reason``,
 ``accuracy``, ``inputs_from_float`` (the legs and points written as bare floats, taken
 as their exact binary values; also said in the text), and ``unit`` (the units of those
-fields).  Lengths are in the scene's unit converted to metres (SI), or unitless for
-``length = "none"``; s15 is a squared length (m^2).  The plot (``--plots``) is the
+fields).  Lengths are in the scene's own length unit (the geometry is solved as
+written, as ``delta_transform``, ``singularity`` and the 6-6 forward kinematics do: one
+unit for every query of a scene; the solve is scale-invariant), unitless for
+``length = "none"``; s15 is a squared length (mm^2 in a ``length = "mm"`` scene).  The plot (``--plots``) is the
 analogue of Rojas et al., Fig. 8: one panel per assembly mode (side +1; the mirror
 images are not drawn), and the octic over the feasible interval of s15 with its real
 roots.
@@ -36,11 +38,10 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, replace
-from fractions import Fraction
 
 from ...argcheck import check_keys, dps_field, exact_vector, method_field, require, tol_field
 from ...errors import ConditioningWarning, DistkinError, InputError
-from ...exact import METHODS_AUTO, Exact
+from ...exact import METHODS_AUTO
 from ..query import Outcome, register
 from ..report import float_inputs, float_inputs_line
 
@@ -53,18 +54,6 @@ class _Params:
     method: str
     dps: int
     tol: float | None
-
-
-def _si(value: Exact, factor):
-    if factor is None or factor == 1:
-        return value
-    if isinstance(value.value, Fraction):
-        return Exact(value.value * factor, value.text, value.from_float)
-    import sympy
-    # (exact: nsimplify would snap a small irrational part to a nearby simple number)
-    return Exact(sympy.expand(value.value * sympy.Rational(factor.numerator,
-                                                           factor.denominator)),
-                 value.text, value.from_float)
 
 
 @register("forward_kinematics", mechanisms=("octahedral",),
@@ -95,11 +84,8 @@ class OctahedralForwardQuery:
         if p.method in ("fast", "auto"):
             from ...octahedral.single import compile_notice
             ctx.notice(compile_notice())
-        f = scene.units.length_factor
-        mech = scene.mechanism
-        base = [[_si(v, f) for v in r] for r in mech.base]
-        plat = [[_si(v, f) for v in r] for r in mech.platform]
-        legs = [_si(v, f) for v in p.legs]
+        mech = scene.mechanism                # the scene's unit, as written (module doc)
+        base, plat, legs = mech.base, mech.platform, list(p.legs)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", ConditioningWarning)
             try:
@@ -112,7 +98,7 @@ class OctahedralForwardQuery:
                 raise
         if caught:
             res = replace(res, notes=res.notes + tuple(str(w.message) for w in caught))
-        unit = scene.units.length_label
+        unit = "" if scene.units.length == "none" else scene.units.length
         named = ([(f"legs[{i}]", v) for i, v in enumerate(p.legs)]
                  + [(f"mechanism.{k}[{i}][{j}]", v)
                     for k, rows in (("base", mech.base), ("platform", mech.platform))
@@ -127,11 +113,11 @@ class OctahedralForwardQuery:
 
 
 def result_units(units) -> dict:
-    """The ``unit`` block of an octahedral forward-kinematics result: lengths in m (the
-    scene's unit converted to SI), or "none" for a unitless scene (``length = "none"``);
-    s15 is a squared length."""
-    m = "none" if units.length == "none" else "m"
-    m2 = "none" if m == "none" else "m^2"
+    """The ``unit`` block of an octahedral forward-kinematics result: lengths in the
+    scene's own length unit (module docstring), or "none" for a unitless scene
+    (``length = "none"``); s15 is a squared length."""
+    m = "none" if units.length == "none" else units.length
+    m2 = "none" if m == "none" else f"{m}^2"
     return {"s15": m2, "real_roots": f"{m2} (values and radii)",
             "translation": m, "points": m, "rotation": "none (rotation matrix)",
             "max_leg_error": m, "max_leg_error_relative": "none (over the leg length)",
