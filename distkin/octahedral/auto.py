@@ -10,17 +10,21 @@ The fast tier's answer is kept when
 
 Otherwise the problem is solved again by the ``certified`` tier (exact ``fmpq`` octic,
 FLINT's root isolation), whose count is proved too.  Data that cannot be made exact
-(irrational squared lengths) go to the ``precise`` tier at :data:`PRECISE_DPS` digits
-instead, and the result says that its count is not certified.  An
-:class:`~distkin.errors.UncertifiedError` of the certified tier is raised, never turned
-into a guess.  The result's ``tier`` names the tier that answered and ``tier_reason``
-says why; ``conditioning`` keeps the fast tier's verdict.
+(irrational squared lengths), and problems the certified tier cannot decide (an
+:class:`~distkin.errors.UncertifiedError`: a multiple root of the exact octic where
+several modes meet, e.g. the symmetric home pose of the equilateral pair, whose balls
+cannot single out the placements) go to the ``precise`` tier at :data:`PRECISE_DPS`
+digits instead, and the result says that its count is not certified (``certified``
+False; ``tier_reason`` says why; QA R 2: ``auto`` raised there, while README promises
+"escalated to certified (or precise)").  The result's ``tier`` names the tier that
+answered and ``tier_reason`` says why; ``conditioning`` keeps the fast tier's verdict.
 
 :func:`escalate_batch` does the same for the problems of a batched solve, one by one:
-only the problems the fast tier did not prove are solved again.  There an
-:class:`~distkin.errors.UncertifiedError` concerns one problem: it keeps the fast
-answer, flagged, the reason goes to ``.unresolved`` and the call warns, so that the
-other problems' answers are not lost.
+only the problems the fast tier did not prove are solved again.  There an error of the
+slower tiers (a collinear triangle: :class:`~distkin.errors.DegenerateGeometryError`,
+or an :class:`~distkin.errors.UncertifiedError` of the precise tier) concerns one
+problem: it keeps the fast answer, flagged, the reason goes to ``.unresolved`` and the
+call warns, so that the other problems' answers are not lost.
 """
 
 from __future__ import annotations
@@ -52,15 +56,19 @@ def solve_exact(base, platform, legs, *, dps=None, tol=None):
         with in_units(problem.exponent):
             res = solve_certified(problem, 1e-15 if tol is None else float(tol))
     except InputError as exc:          # irrational squared lengths: no exact octic
-        from .precise import solve_precise
-        digits = PRECISE_DPS if dps is None else dps
-        with in_units(problem.exponent):
-            res = solve_precise(problem, digits, tol)
-        return (rescale_result(res, problem.exponent), "precise",
-                f"the data cannot be made exact ({exc}), so the precise tier at {digits} "
-                "digits answered: its count is not certified")
-    return (rescale_result(res, problem.exponent), "certified",
-            "escalated to the certified tier (count proved)")
+        why = f"the data cannot be made exact ({exc})"
+    except UncertifiedError as exc:    # a multiple root: the balls cannot place its modes
+        why = f"the certified tier cannot decide it ({exc.message})"
+    else:
+        return (rescale_result(res, problem.exponent), "certified",
+                "escalated to the certified tier (count proved)")
+    from .precise import solve_precise
+    digits = PRECISE_DPS if dps is None else dps
+    with in_units(problem.exponent):
+        res = solve_precise(problem, digits, tol)
+    return (rescale_result(res, problem.exponent), "precise",
+            f"{why}, so the precise tier at {digits} digits answered: its count is not "
+            "certified")
 
 
 def escalate_thin(exc, base, platform, legs, *, dps=None, tol=None):

@@ -15,19 +15,38 @@ PLAT = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]]
 GD = [19.8, 18, 18, 17, 14.9, 17.8]
 
 
-def test_one_undecidable_problem_keeps_the_others():
-    """Six equal legs on the equilateral pair: a triple root where three modes meet;
-    the certified tier raises for it (single call).  In a batch the other problems'
-    answers are kept (equal to their single auto answers) and this one is flagged."""
+def test_a_multiple_root_goes_to_the_precise_tier():
+    """Six equal legs on the equilateral pair: triple roots where three modes meet; the
+    certified tier raises for it (it cannot single out the placements), and ``auto``
+    raised too, although README promises "escalated to certified (or precise)" (QA R 2).
+    Now the precise tier answers, saying its count is not certified, single and
+    batched alike; the other problems of the batch keep their answers.  References: the
+    precise tier called directly, and the exact octic's factorisation (python-flint)
+    for the multiplicities."""
+    import flint
     from distkin.errors import UncertifiedError
+    with pytest.raises(UncertifiedError, match="multiplicity 3"):
+        forward_kinematics(BASE, PLAT, [18] * 6, method="certified")
+    auto = forward_kinematics(BASE, PLAT, [18] * 6, method="auto")
+    direct = forward_kinematics(BASE, PLAT, [18] * 6, method="precise", dps=50)
+    assert auto.tier == "precise" and not auto.certified
+    assert "multiplicity 3" in auto.tier_reason and "not certified" in auto.tier_reason
+    assert len(auto) == len(direct) == 16
+    assert [round(p.s15, 9) for p in auto.poses] == [round(p.s15, 9) for p in direct.poses]
+    assert max(p.max_leg_error_relative for p in auto.poses) < 1e-12
+    # the multiplicities of the exact octic's real roots (python-flint), not the tier's
+    octic = flint.fmpq_poly([flint.fmpq(c.numerator, c.denominator)
+                             for c in reversed(auto.octic)])
+    factors = octic.factor()[1]
+    real_mult = sorted(m for f, m in factors if f.degree() == 1)
+    assert [r.multiplicity for r in auto.roots if r.multiplicity > 1] == [3, 3]
+    assert real_mult.count(3) == 2
     legs = np.array([GD, [18] * 6, [19.0, 18, 18, 17, 14.9, 17.8]])
-    with pytest.raises(UncertifiedError):
-        forward_kinematics(BASE, PLAT, [18] * 6, method="auto")
-    with pytest.warns(ConditioningWarning, match=r"could not decide 1 of 3 problems "
-                                                 r"\(first: problem 1"):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ConditioningWarning)    # nothing left unresolved
         b = forward_kinematics_batched(BASE, PLAT, legs, method="auto")
-    assert set(b.unresolved) == {1} and "multiplicity 3" in b.unresolved[1]
-    assert not b.trusted[1] and b.tier[1] == "fast"
+    assert not b.unresolved and b.tier[1] == "precise" and not b.trusted[1]
+    assert b.count[1] == 16
     for i in (0, 2):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ConditioningWarning)
