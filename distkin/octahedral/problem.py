@@ -142,12 +142,13 @@ def check_triangle(sq, names, field):
     if not a16 > 1e-12 * (a + b + c) ** 2:
         r = a16 / (a + b + c) ** 2 if a + b + c > 0 else 0.0
         # (Heron's form cancels: below ~1e-15 float64 cannot tell thin from collinear)
-        shown = (f"{r:.3g}" if r > 1e-15 else
-                 f"{r:.3g}, below what float64 resolves: collinear or just thin")
+        # (its computed value there is rounding, often exactly 0: not printed, QA R 6)
+        shown = (f"= {r:.3g}" if r > 1e-15 else
+                 "<= 1e-15, below what float64 resolves: collinear or just thin")
         raise DegenerateGeometryError(
             f"expected a proper triangle {names}, got collinear or coincident points, or "
             f"points within the solver's tolerance of that (16 area^2 / (sum of squared "
-            f"sides)^2 = {shown}, not above 1e-12)", field=field)
+            f"sides)^2 {shown}, not above 1e-12)", field=field)
 
 
 def check_triangle_exact(sq, names, field):

@@ -91,3 +91,24 @@ def test_a_collinear_triangle_is_refused_exactly_and_per_problem():
                                        np.array([LEGS, LEGS]), method="auto")
     assert 0 in a.unresolved and "collinear" in a.unresolved[0]
     assert a.count[1] == forward_kinematics(BASE, FAT, LEGS).__len__()
+
+
+def test_a_ratio_below_float64_resolution_is_not_printed_as_its_rounding():
+    """A base 12 long whose apex is 1e-9 off the line: 16 area^2 / (sum of squared
+    sides)^2 is about 1.8e-20 (exactly, with fractions, below), which Heron's form in
+    float64 computes as 0; the message printed "= 0" (QA R 6), the same as for a
+    coincident pair.  Now it says "<= 1e-15" for both, never a value float64 cannot
+    tell."""
+    from fractions import Fraction as F
+    pts = [(F(0), F(0)), (F(6), F(1, 10 ** 9)), (F(12), F(0))]
+    sq = [(p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2
+          for p, q in ((pts[0], pts[1]), (pts[1], pts[2]), (pts[2], pts[0]))]
+    a, b, c = sq
+    exact = (2 * (a * b + b * c + c * a) - (a * a + b * b + c * c)) / (a + b + c) ** 2
+    assert 1e-21 < exact < 1e-19
+    for base in ([[0, 0, 0], [6, "1e-9", 0], [12, 0, 0]],
+                 [[0, 0, 0], [0, 0, 0], [12, 0, 0]]):
+        with pytest.raises(DegenerateGeometryError) as e:
+            forward_kinematics(base, FAT, [1.0] * 6)
+        msg = str(e.value)
+        assert "<= 1e-15, below what float64 resolves" in msg and "= 0" not in msg
