@@ -194,10 +194,36 @@ def _emit(scene_path, records, texts, args) -> None:
             print(f"JSON written to {args.json}")
 
 
+def _refused_scene(args, exc) -> None:
+    """A scene refused at load (every query is validated before any work starts): with
+    ``--json`` the JSON contract still comes out, no query run and the reason in
+    ``error`` (``{kind, message}``, as a query's), so that a pipeline reading ``--json -``
+    always gets a document (QA R 9).  The one-line reason goes to stderr as always."""
+    from .output_paths import check_output_path, write_json
+    from .report import document, dumps
+    doc = document(args.scene, [], __version__)
+    doc["error"] = {"kind": exc.kind, "message": exc.one_line()}
+    if args.json == "-":
+        print(dumps(doc))
+    elif args.json:
+        # (the files the scene reads are unknown: write only a new file or a .json one)
+        if Path(args.json).exists() and Path(args.json).suffix.lower() != ".json":
+            return
+        try:
+            check_output_path(args.json, inputs=(args.scene,))
+        except DistkinError:
+            return                   # the scene's own error is the one to report
+        write_json(args.json, dumps(doc))
+
+
 def _cmd_run(args) -> int:
     from .output_paths import check_output_path
     from .scene import input_files, load_scene
-    scene = load_scene(args.scene)
+    try:
+        scene = load_scene(args.scene)
+    except DistkinError as exc:
+        _refused_scene(args, exc)
+        raise
     # before the run (a long sweep loses nothing), and never over the scene or its CSV
     check_output_path(args.json, inputs=input_files(scene))
     records, texts, worst = run_scene(scene, plots_dir=args.plots,

@@ -422,3 +422,26 @@ def test_codegen_warns_exactly_when_a_module_is_hidden(tmp_path, capsys):
         hidden = name != "my_kernels" and _import_fails_or_is_local(name, tmp_path)
         assert code == 0 and ("warning" in err) == hidden, name
         (tmp_path / f"{name}.py").unlink()
+
+
+def test_a_refused_scene_still_gives_its_json(tmp_path, capsys):
+    """A field refused at load (here query[0].dps = "x") stops the run before any work;
+    with ``--json -`` stdout was empty while a query's own error gave a document, so a
+    pipeline got nothing to parse (QA R 9).  Now the document comes out, no query run and
+    the one-line reason (the same as on stderr) in ``error``; a file named by --json
+    gets it too, and an existing non-JSON file is never overwritten."""
+    scene = tmp_path / "s.toml"
+    scene.write_text(OCTA, encoding="utf-8")
+    code = main(["run", str(scene), "--json", "-", "--no-progress"])
+    out, err = capsys.readouterr()
+    assert code == 2 and err.count("\n") == 1 and "query[0].dps" in err
+    doc = json.loads(out)
+    assert doc["queries"] == [] and doc["scene"] == str(scene) and "distkin" in doc
+    assert doc["error"]["kind"] == "input" and doc["error"]["message"] in err
+    target = tmp_path / "out.json"
+    assert main(["run", str(scene), "--json", str(target), "--no-progress"]) == 2
+    assert json.loads(target.read_text())["error"] == doc["error"]
+    keep = tmp_path / "legs.csv"
+    keep.write_text("1,2,3\n", encoding="utf-8")
+    assert main(["run", str(scene), "--json", str(keep), "--no-progress"]) == 2
+    assert keep.read_text() == "1,2,3\n"
