@@ -187,7 +187,7 @@ def _run(args) -> int:
     scene = load_scene(args.scene)
     out = Path(args.output)
     if out.suffix != ".py":
-        raise InputError(f"expected an output file ending in .py, got {str(out)!r}",
+        raise InputError(f"expected an output file ending in .py, got {args.output!r}",
                          field="--output")
     # before deriving (seconds for a new table), and never over the scene or its CSV
     check_output_path(out, "--output", inputs=input_files(scene))

@@ -65,6 +65,9 @@ def check_output_path(path, field: str = "--json", inputs=()) -> None:
     """
     if path is None or path == "-":
         return
+    if not str(path).strip():
+        raise InputError("expected a file path (or - for stdout), got an empty string",
+                         field=field)
     p = Path(path)
     for source in inputs:
         if source is not None and _same_file(p, Path(source)):

@@ -445,3 +445,15 @@ def test_a_refused_scene_still_gives_its_json(tmp_path, capsys):
     keep.write_text("1,2,3\n", encoding="utf-8")
     assert main(["run", str(scene), "--json", str(keep), "--no-progress"]) == 2
     assert keep.read_text() == "1,2,3\n"
+
+
+def test_output_paths_are_named_as_typed(tmp_path, capsys):
+    """An empty --json was "the directory ''" and ``-o t/`` was shown as 't' (QA R 10)."""
+    scene = tmp_path / "s.toml"
+    scene.write_text(OCTA.replace('method = "precise"\ndps = "x"\n', ''), encoding="utf-8")
+    with pytest.raises(InputError, match="got an empty string"):
+        check_output_path("", "--json")
+    (tmp_path / "t").mkdir()
+    assert main(["codegen", str(scene), "-o", str(tmp_path / "t") + "/"]) == 2
+    err = capsys.readouterr().err
+    assert f"got '{tmp_path / 't'}/'" in err
