@@ -10,7 +10,9 @@ function ``task(spec) -> dict of numpy arrays``.  :func:`run_chunks`
   temporary name, then renamed, so a file on disk is always complete);
 * skips the chunks already on disk, so a sweep interrupted by Ctrl-C (or a crash)
   continues from where it stopped; ``DIR/sweep.json`` holds a key of the sweep's
-  definition and refuses to mix chunks of a different sweep;
+  definition and refuses to mix chunks of a different sweep, and every chunk file carries
+  that key, the code version, its index and the number of chunks, checked when it is
+  loaded (a chunk copied in from another sweep is refused with a hint);
 * runs on the executor given (anything with ``submit`` returning futures), by default a
   local process pool with ``OPENBLAS_NUM_THREADS=1`` (and the OMP/MKL equivalents) in
   its workers (docs/design.md §6: two processes each running a threaded BLAS on two cores
@@ -217,13 +219,15 @@ def executor_for(executor=None, scheduler: str | None = None, workers: int | Non
             yield ex
 
 
-def _save(path: Path, data: dict) -> None:
+def _save(path: Path, data: dict, stamp: dict | None = None) -> None:
     """``data`` (name -> array) as one uncompressed ``.npz``, arrays of the same dtype
     and shape stacked into one entry (a study chunk's hundred arrays of per-position
     values become two entries: one zip entry and npy header each instead of a hundred,
     about 0.1 ms instead of 2.5 ms a chunk, which the process collecting the workers'
     chunks spends while they compute); names, groups and places are arrays of str and
-    int, so loading needs no pickle."""
+    int, so loading needs no pickle.  ``stamp`` (JSON-able: the sweep's key, the code
+    version, the chunk's index and the number of chunks, :func:`_chunk_stamp`) is kept
+    beside them as a JSON string (``stamp__``), which :func:`_load` returns."""
     names = list(data)
     arrays = [np.asarray(data[k]) for k in names]
     keys: dict = {}
@@ -239,19 +243,42 @@ def _save(path: Path, data: dict) -> None:
     entries = {f"group{g}": np.stack(m) for g, m in enumerate(members)}
     # a name of this process's own: two runs into one store must not share it
     tmp = path.with_name(f"{path.name}.{os.getpid()}.tmp.npz")
+    extra = {} if stamp is None else {"stamp__": np.array(json.dumps(stamp, sort_keys=True))}
     np.savez(tmp, names__=np.array(names, dtype=str), group__=group, place__=place,
-             **entries)
+             **extra, **entries)
     os.replace(tmp, path)
 
 
-def _load(path: Path) -> dict:
-    """The dict :func:`_save` wrote (each array a copy of its row of the stack)."""
+def _load(path: Path) -> tuple:
+    """(the dict :func:`_save` wrote, each array a copy of its row of the stack; the
+    chunk's stamp, or None for a file written without one)."""
     with np.load(path) as z:
         if "names__" not in z.files:                     # one entry per array
-            return {k: z[k] for k in z.files}
+            return {k: z[k] for k in z.files}, None
+        stamp = json.loads(str(z["stamp__"])) if "stamp__" in z.files else None
         stacks = {k: z[k] for k in z.files if k.startswith("group")}
-        return {str(n): stacks[f"group{g}"][p, ...].copy()
-                for n, g, p in zip(z["names__"], z["group__"], z["place__"])}
+        return ({str(n): stacks[f"group{g}"][p, ...].copy()
+                 for n, g, p in zip(z["names__"], z["group__"], z["place__"])}, stamp)
+
+
+def _chunk_stamp(key: str, code: str, index: int, chunks: int) -> dict:
+    """What a chunk file says of itself: the key of its sweep's definition, the code
+    version that computed it, its index and the number of chunks of its sweep."""
+    return {"key": key, "code": code, "chunk": int(index), "chunks": int(chunks)}
+
+
+def _stamp_mismatch(stamp, want: dict) -> str | None:
+    """Why a chunk of stamp ``stamp`` is not the chunk ``want`` (:func:`_chunk_stamp`)
+    of this sweep, or None when it is."""
+    if not isinstance(stamp, dict):
+        return "no sweep key (written by an older distkin or not by this sweep)"
+    if stamp.get("key") != want["key"]:
+        return f"made for sweep key {stamp.get('key')}"
+    if stamp.get("code") != want["code"]:
+        return f"made by distkin {stamp.get('code')}"
+    if (stamp.get("chunk"), stamp.get("chunks")) != (want["chunk"], want["chunks"]):
+        return f"chunk {stamp.get('chunk')} of {stamp.get('chunks')}"
+    return None
 
 
 class ChunkProgress:
@@ -333,10 +360,14 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
     A ``KeyboardInterrupt`` cancels the pending chunks and propagates; every chunk
     finished before it is on disk.
     """
+    key = sweep_key(definition if definition is not None else [repr(s) for s in specs])
     if store is None:
         paths, results, todo = None, [None] * len(specs), list(range(len(specs)))
     else:
-        store, paths, results, todo = _open_store(store, definition, specs)
+        store, paths, results, todo = _open_store(store, key, definition, len(specs))
+
+    def stamp(i):
+        return _chunk_stamp(key, code_version(), i, len(specs))
     if stats is not None:
         stats["loaded"] = len(specs) - len(todo)
         stats["store"] = None if store is None else str(store)
@@ -347,7 +378,7 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
             for i in todo:
                 results[i] = task(specs[i])
                 if paths is not None:
-                    _save(paths[i], results[i])
+                    _save(paths[i], results[i], stamp(i))
                 bar.advance()
         else:
             # never more pending than chunks: a process pool starts its processes as
@@ -364,7 +395,7 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
                     i = pending.pop(f)
                     results[i] = f.result()
                     if paths is not None:
-                        _save(paths[i], results[i])
+                        _save(paths[i], results[i], stamp(i))
                     bar.advance()
     except KeyboardInterrupt:
         for f in pending:                                # the running ones finish
@@ -376,10 +407,16 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
 
 
 
-def _open_store(store, definition, specs):
+def _open_store(store, key, definition, n):
     """(store folder, chunk paths, results with the chunks already there loaded, the
-    indices left to do) of a stored run (:func:`run_chunks`)."""
-    key = sweep_key(definition if definition is not None else [repr(s) for s in specs])
+    indices left to do) of a stored run of ``n`` chunks (:func:`run_chunks`).
+
+    A store whose ``sweep.json`` names another sweep or code version is refused; so is a
+    chunk file whose stamp (:func:`_chunk_stamp`) is not this sweep's chunk of that
+    index, or that has none (QA S 1, 2: ``sweep.json`` alone let chunks copied from
+    another sweep be loaded, or fail deep in the sweep on their shape).  Refused, not
+    recomputed: the folder was filled by hand or by another sweep, and the user decides
+    what to keep (docs/design.md, "Run store").  A file that cannot be read is redone."""
     store = make_store(keyed_store(store, key))
     code = code_version()
     meta = store / "sweep.json"
@@ -403,23 +440,35 @@ def _open_store(store, definition, specs):
                              f"got one made by {saved.get('code') or 'an older version'} in "
                              f"{str(store)!r}", field="store",
                              hint="use another directory or delete the old chunks")
-    else:
-        tmp = meta.with_name(f"{meta.name}.{os.getpid()}.tmp")
-        tmp.write_text(json.dumps({"key": key, "code": code, "chunks": len(specs),
-                                   "definition": definition}, default=str, indent=1))
-        os.replace(tmp, meta)                            # whole, for a second run too
-    paths = [store / f"chunk_{i:05d}.npz" for i in range(len(specs))]
-    results: list = [None] * len(specs)
-    todo = []
+    paths = [store / f"chunk_{i:05d}.npz" for i in range(n)]
+    results: list = [None] * n
+    todo, foreign = [], []
     for i, p in enumerate(paths):
         if p.exists():
             try:
-                results[i] = _load(p)
-                continue
+                results[i], stamp = _load(p)
             except (OSError, ValueError, EOFError, KeyError, IndexError,
                     zipfile.BadZipFile):
                 p.unlink()                               # a damaged file is redone
+            else:
+                why = _stamp_mismatch(stamp, _chunk_stamp(key, code, i, n))
+                if why is None:
+                    continue
+                foreign.append(f"{p.name} ({why})")
         todo.append(i)
+    if foreign:
+        shown = "; ".join(foreign[:3]) + (f"; and {len(foreign) - 3} more"
+                                          if len(foreign) > 3 else "")
+        raise InputError(f"expected the chunk files in {str(store)!r} to be chunks of this "
+                         f"sweep (key {key}, distkin {code}, {n} chunks), got "
+                         f"{len(foreign)} that are not: {shown}", field="store",
+                         hint="delete those chunk files (they are computed again) or use "
+                              "another directory")
+    if not meta.exists():
+        tmp = meta.with_name(f"{meta.name}.{os.getpid()}.tmp")
+        tmp.write_text(json.dumps({"key": key, "code": code, "chunks": n,
+                                   "definition": definition}, default=str, indent=1))
+        os.replace(tmp, meta)                            # whole, for a second run too
     return store, paths, results, todo
 
 

@@ -247,3 +247,68 @@ def test_workers_above_the_cpus_warn_and_the_pool_is_capped_at_the_chunks(tmp_pa
 def _square(x):
     import numpy as np
     return {"y": np.array([x * x])}
+
+
+def test_a_chunk_copied_from_another_sweep_is_refused_and_genuine_chunks_resume(tmp_path):
+    """QA S 1: only sweep.json was checked, so a chunk file copied in from another
+    sweep (another definition, or another index of this one) was loaded as this sweep's
+    (107 % of a grid reachable).  Every chunk now carries its sweep's key, code version,
+    index and count; a foreign one is refused with a hint, nothing is deleted.
+    Reference: the chunks each sweep computed itself."""
+    a, b = tmp_path / "a", tmp_path / "b"
+    mine = run_chunks(_square, [2, 3, 4], a, definition={"n": 3}, progress=False)
+    run_chunks(_square, [5, 6, 7], b, definition={"n": 4}, progress=False)
+    stats = {}
+    again = run_chunks(_square, [2, 3, 4], a, definition={"n": 3}, progress=False,
+                       stats=stats)                       # genuine chunks resume
+    assert stats["loaded"] == 3
+    assert [r["y"].tolist() for r in again] == [r["y"].tolist() for r in mine]
+    chunk = a / "chunk_00001.npz"
+    for source in (b / "chunk_00001.npz",                 # another sweep, same index
+                   a / "chunk_00002.npz"):                # this sweep, another index
+        chunk.write_bytes(source.read_bytes())
+        planted = chunk.read_bytes()
+        with pytest.raises(InputError, match=r"chunk_00001\.npz") as exc:
+            run_chunks(_square, [2, 3, 4], a, definition={"n": 3}, progress=False)
+        assert exc.value.hint and "delete" in exc.value.hint
+        assert chunk.read_bytes() == planted              # refused, not overwritten
+
+
+def test_a_chunk_without_a_key_is_not_trusted(tmp_path):
+    """A chunk written without a stamp (the old format, or by hand) is refused like a
+    foreign one: nothing says which sweep made it."""
+    from distkin.runstore import _save
+    store = tmp_path / "s"
+    run_chunks(_square, [2, 3], store, definition={"n": 2}, progress=False)
+    _save(store / "chunk_00000.npz", _square(2))          # right data, no stamp
+    with pytest.raises(InputError, match="no sweep key"):
+        run_chunks(_square, [2, 3], store, definition={"n": 2}, progress=False)
+
+
+def test_foreign_chunks_in_a_folder_without_sweep_json_exit_2(tmp_path, capsys):
+    """QA S 2: a folder emptied of its sweep.json and filled with another sweep's
+    chunks (of other shapes) ended in "error (internal): IndexError" (exit 1).  Now the
+    chunk stamps refuse it: exit 2, one line naming the chunk, with a hint; no
+    sweep.json is written for chunks that are not this sweep's.  Reference: the two
+    certify scenes of _CERT (regions of 10 and 20 mm)."""
+    from distkin.app.cli import main
+    scenes, stores = [], []
+    for x in (10, 20):
+        scene = tmp_path / f"c{x}.toml"
+        scene.write_text(_CERT.format(x=x), encoding="utf-8")
+        store = tmp_path / f"st{x}"
+        assert main(["sweep", str(scene), "--no-progress", "--store", str(store)]) == 0
+        scenes.append(scene)
+        stores.append(store)
+    capsys.readouterr()
+    for f in stores[0].iterdir():
+        f.unlink()
+    copied = sorted(stores[1].glob("chunk_*.npz"))
+    assert copied
+    for f in copied:
+        (stores[0] / f.name).write_bytes(f.read_bytes())
+    code = main(["sweep", str(scenes[0]), "--no-progress", "--store", str(stores[0])])
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert "internal" not in err and "chunk_00000.npz" in err and "hint" in err
+    assert not (stores[0] / "sweep.json").exists()

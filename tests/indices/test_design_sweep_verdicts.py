@@ -163,3 +163,70 @@ def test_culling_alone_names_the_unreachable_mode(tmp_path, capsys, mode):
     text = capsys.readouterr().out
     assert f"unreachable poses: {mode}" in text
     assert json.loads(out.read_text())["queries"][0]["result"]["unreachable"] == mode
+
+
+def _design_scene(tmp_path, name, ld, store):
+    scene = tmp_path / name
+    scene.write_text(SCENE.replace("GRID", "grid = { half = 75, step = 75, rotation = 20, "
+                                           "rotation_step = 20 }")
+                     .replace("ld = [20, 40, 20]", f"ld = {ld}")
+                     .replace("EXTRA", f'unreachable = "skip"\nstore = "{store}"'))
+    return scene
+
+
+def test_a_resumed_brute_force_makes_no_time_comparison(tmp_path, capsys):
+    """QA S 5: a rerun timed brute force on chunks loaded from the store (0.0 s) and
+    said "culling slower" where the first run said "faster".  Now the comparison is made
+    only when every brute-force chunk was computed in this run; text and JSON agree.
+    Reference: the chunk files the first run left in the store (1 chunk of 8 designs)."""
+    from distkin.app.cli import main
+    scene = _design_scene(tmp_path, "t.toml", "[20, 40, 20]", tmp_path / "st")
+    out = tmp_path / "o.json"
+    runs = []
+    for _ in range(2):
+        assert main(["run", str(scene), "--no-progress", "--json", str(out)]) == 0
+        runs.append((capsys.readouterr().out,
+                     json.loads(out.read_text())["queries"][0]["result"]))
+    (text1, first), (text2, again) = runs
+    stored = len(list((tmp_path / "st").rglob("chunk_*.npz")))
+    assert stored == again["chunks_resumed"] == again["chunks"] == 1
+    t = first["time_comparison"]
+    assert t["comparable"] and t["reason"] is None
+    assert t["culling_over_brute_force"] == pytest.approx(
+        first["culling"]["seconds"] / first["brute_force"]["seconds"])
+    assert ("(culling faster)" in text1) != ("(culling slower)" in text1)
+    t = again["time_comparison"]
+    assert not t["comparable"] and t["culling_over_brute_force"] is None
+    assert "1 of 1 brute force chunks" in t["reason"]
+    assert "(culling faster)" not in text2 and "(culling slower)" not in text2
+    assert "time not comparable in this run" in text2
+
+
+def test_a_chunk_of_another_design_sweep_is_refused(tmp_path, capsys):
+    """QA S 1 for design sweeps: a chunk of a sweep over another ld range, copied into
+    this sweep's folder, was loaded as this sweep's.  Now exit 2 with a hint, and the
+    sweep still resumes its own chunk once the foreign one is gone."""
+    from distkin.app.cli import main
+    store = tmp_path / "st"
+    mine = _design_scene(tmp_path, "a.toml", "[20, 40, 20]", store)
+    other = _design_scene(tmp_path, "b.toml", "[25, 45, 20]", store)
+    out = tmp_path / "o.json"
+    folders = []
+    for scene in (mine, other):                       # one folder per sweep definition
+        assert main(["run", str(scene), "--no-progress", "--json", str(out)]) == 0
+        folders += [p.parent for p in store.rglob("chunk_00000.npz")
+                    if p.parent not in folders]
+    assert len(folders) == 2
+    saved = {f: (f / "chunk_00000.npz").read_bytes() for f in folders}
+    (folders[0] / "chunk_00000.npz").write_bytes(saved[folders[1]])
+    capsys.readouterr()
+    code = main(["run", str(mine), "--no-progress", "--json", str(out)])
+    err = capsys.readouterr().err
+    result = json.loads(out.read_text())["queries"][0]
+    assert code == 2, err
+    assert result["status"] == "error" and result["error"]["kind"] == "input"
+    assert "chunk_00000.npz" in result["error"]["message"] and "hint" in err
+    (folders[0] / "chunk_00000.npz").write_bytes(saved[folders[0]])
+    for scene in (mine, other):
+        assert main(["run", str(scene), "--no-progress", "--json", str(out)]) == 0
+        assert json.loads(out.read_text())["queries"][0]["result"]["chunks_resumed"] == 1
