@@ -229,7 +229,9 @@ def format_summary(s: dict) -> str:
         f"  safety: {s['watchdog_trips']} watchdog trips, {s['estops']} e-stops, "
         f"{s['recoveries_held']} held outside the safe workspace, "
         f"{s['rejected_frames']} rejected readings, {s['safety_events']} safety events, "
-        f"{s['refused_poses']} refused set points, {s['saturated_cycles']} saturated cycles",
+        f"{s['refused_poses']} refused set points, {s['saturated_cycles']} saturated cycles"
+        + (f", {s['saturation_faults']} faults oscillating at the torque limit"
+           if s.get("saturation_faults") else ""),
         f"  device: {s['device_watchdog_frames']} frames with its watchdog tripped, "
         f"{s['device_saturated_frames']} with a drive saturated",
         (f"  force: max |f| {s['max_abs_force_N']} N (limit {s['force_limit_N']} N)"

@@ -149,6 +149,9 @@ class SafetyLimits:
     measured pose inside it: a platform that swung away while its torques were zero
     (e.g. under gravity during a stall) is not pulled back at the torque limit; it
     stays at zero torque until it is brought back by hand.
+    ``saturation_ms``: a loop oscillating at the torque limit (every cycle saturated
+    for this long of device time, the commands reversing sign; :class:`.safety.
+    SaturationWatch`) is a fault, zero torque; 0 switches the rule off.
     """
 
     watchdog_ms: float = 20.0
@@ -161,6 +164,7 @@ class SafetyLimits:
     max_fk_residual: float = 2e-4
     workspace_m: float = 0.075
     workspace_rad: float = 0.5235987755982988
+    saturation_ms: float = 250.0
 
     @classmethod
     def for_joint(cls, joint: str) -> "SafetyLimits":
@@ -503,7 +507,7 @@ def loads_control_scene(text: str, path: str = "<string>", *,
                          f"mechanism scene, got {st['max_angle']!r}", field="safety.max_angle")
     check_keys(st, {"watchdog_ms", "recover_frames", "sigma_min", "max_condition",
                     "max_force", "max_torque", "max_angle", "max_fk_residual",
-                    "workspace_m", "workspace_rad"}, "safety")
+                    "workspace_m", "workspace_rad", "saturation_ms"}, "safety")
     s = SafetyLimits.for_joint(joint)
     safety = SafetyLimits(
         watchdog_ms=_num(st, "watchdog_ms", "safety", s.watchdog_ms, positive=True),
@@ -517,7 +521,8 @@ def loads_control_scene(text: str, path: str = "<string>", *,
         max_fk_residual=_num(st, "max_fk_residual", "safety", s.max_fk_residual,
                              positive=True),
         workspace_m=_num(st, "workspace_m", "safety", s.workspace_m, positive=True),
-        workspace_rad=_num(st, "workspace_rad", "safety", s.workspace_rad, positive=True))
+        workspace_rad=_num(st, "workspace_rad", "safety", s.workspace_rad, positive=True),
+        saturation_ms=_num(st, "saturation_ms", "safety", s.saturation_ms, nonneg=True))
     _timing(rate, safety, sim)
     title = data.get("title", "")
     return ControlScene(str(path), preset_name, rate, mass, damping, env, pd, safety, sim,

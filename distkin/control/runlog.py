@@ -246,6 +246,7 @@ def run_summary(ctl, link, cycles, wall, t_first, t_last, compute, compute_cpu, 
         "rejected_frames": ctl.rejected_frames,
         "watchdog_trips": ctl.events.count("watchdog_trip"),
         "estops": ctl.events.count("estop"),
+        "saturation_faults": ctl.events.count("saturation_fault"),
         "recoveries_held": ctl.events.count("recovery_held")
         + ctl.events.count("outside_workspace"),
         "device_watchdog_frames": ctl.device_status.frames["device_watchdog"],

@@ -84,13 +84,15 @@ def test_an_unstable_loop_on_a_port_is_refused_unless_allowed(tmp_path, kpbig):
 
 
 def test_an_unstable_loop_with_sim_warns_before_it_starts(control_run, kpbig):
-    proc, s, _ = control_run(kpbig.read_text(), 0.3)
+    proc, s, _ = control_run(kpbig.read_text(), 0.6)
     assert proc.returncode == 0, proc.stderr
     warn = proc.stderr.index("unstable even lock-stepped")
     assert warn < proc.stderr.index("distkin control: completed")   # before the summary
     assert s["lockstep"] == "unstable" and s["delay_margin_periods"] == -1
     assert s["lockstep_growth_per_s"] > 1000
     assert "UNSTABLE even lock-stepped" in format_summary(s)
+    # QA S 10: the limit cycle is a safety fault (zero torque), not 0.3 s at the limit
+    assert s["saturation_faults"] >= 1 or s["saturated_cycles"] < 250, s
 
 
 def test_a_run_the_device_ends_exits_3_and_an_internal_failure_1():
@@ -139,3 +141,26 @@ def test_a_rate_far_below_the_requested_one_is_a_warning(capsys):
     _rate_check(s, 10000.0)
     assert "48% of the requested" in s["rate_shortfall"]
     assert "warning: [device] rate_hz" in capsys.readouterr().err
+
+
+def test_saturation_watch_trips_on_a_limit_cycle_only():
+    """QA S 10, analytic sequences at 1 kHz (t in µs), a window of 250 ms: commands
+    swinging between the limits trip it once 250 ms have passed; one sign held at the
+    limit (a hand pushing into a wall) never does; an unsaturated cycle starts again."""
+    from distkin.control.safety import MIN_REVERSALS, SaturationWatch
+    w = SaturationWatch(250_000)
+    swing = [w.note(k * 1000, True, np.array([2.5, -2.5]) * (-1) ** (k // 10))
+             for k in range(400)]
+    assert swing.index(True) == 250            # 24 reversals by then, >= MIN_REVERSALS
+    w = SaturationWatch(250_000)
+    assert not any(w.note(k * 1000, True, np.array([2.5, -1.0])) for k in range(2000))
+    w = SaturationWatch(250_000)
+    hits = [w.note(k * 1000, k % 200 != 199, np.array([2.5]) * (-1) ** k)
+            for k in range(1000)]
+    assert not any(hits)                        # never 250 ms saturated in a row
+    w = SaturationWatch(250_000)                # few reversals: a step, not a cycle
+    assert not any(w.note(k * 1000, True, np.array([2.5]) * (1 if k < 100 else -1))
+                   for k in range(1000))
+    assert MIN_REVERSALS > 1
+    w = SaturationWatch(0)                      # saturation_ms = 0: off
+    assert not any(w.note(k * 1000, True, np.array([2.5]) * (-1) ** k) for k in range(999))
