@@ -61,9 +61,12 @@ MARGINAL = 1e-9
 
 
 def format_ms(ms: float) -> str:
-    """A duration in ms with 3 significant digits (``0.3``, ``3``, ``0.000333``): a
-    fixed number of decimals hides the periods of a fast loop (0.0003 ms is not 0.00)."""
-    return f"{ms:.3g}"
+    """A duration in ms with at least 3 significant digits and no exponent (``1.00``,
+    ``20.0``, ``250``, ``0.000300``): a fixed number of decimals hides the periods of a
+    fast loop (0.0003 ms is not 0.00)."""
+    if ms == 0 or not np.isfinite(ms):
+        return f"{ms:.2f}"
+    return f"{ms:.{max(0, 2 - int(np.floor(np.log10(abs(ms)))))}f}"
 
 
 def _loop_data(scene, model, pose):

@@ -127,11 +127,12 @@ def test_a_fault_without_its_time_says_the_at_t_is_missing():
 
 
 def test_ms_keep_three_significant_digits():
-    assert format_ms(0.0003) == "0.0003" and format_ms(3.0) == "3"
-    assert format_ms(0.1234567) == "0.123"
+    assert format_ms(0.0003) == "0.000300" and format_ms(3.0) == "3.00"
+    assert format_ms(0.1234567) == "0.123" and format_ms(250.0) == "250"
+    assert format_ms(5000.0) == "5000" and format_ms(0.0) == "0.00"
     dm = DelayMargin(1e-4, np.arange(3), np.array([0.5, 0.9, 1.1]), np.zeros(3),
                      np.zeros(3), 1, np.zeros(3, bool))
-    assert "(0.1 ms) of extra delay, unstable with 2 (0.2 ms)" in dm.lines()[-1]
+    assert "(0.100 ms) of extra delay, unstable with 2 (0.200 ms)" in dm.lines()[-1]
 
 
 def test_a_rate_far_below_the_requested_one_is_a_warning(capsys):
