@@ -350,12 +350,12 @@ def _margin_note(scene, model, args) -> dict:
         why = (f"the joint PD loop is unstable even lock-stepped, with no extra command "
                f"delay (linearised at home: spectral radius {dm.spectral_radius[0]:.4g}, "
                f"grows at {dm.growth_per_s[0]:.4g} 1/s at {dm.frequency_hz[0]:.4g} Hz)")
-        if not args.sim and not args.allow_unstable:
+        if not args.sim and not getattr(args, "allow_unstable", False):
             raise InputError(f"expected PD gains whose loop is stable lock-stepped, got "
                              f"kp {scene.pd.kp:g}, kd {scene.pd.kd:g}: {why}", field="[pd]",
                              hint="lower pd.kp or pd.kd (distkin control --delay-margin), "
                                   "or pass --allow-unstable to drive the device anyway")
-        print(f"distkin: warning: [pd]: {why}: expect every cycle at the torque limit "
+        print(f"distkin: warning: [pd]: {why}: expect it at the torque limit "
               f"(distkin control --delay-margin)", file=sys.stderr)
         return note
     if dm.lockstep == "marginal":

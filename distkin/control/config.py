@@ -68,7 +68,8 @@ from .plant import HandScript, LinearDrives, Motors, drives_for
 BUILTIN_SCENE = "control_octo.toml"
 
 __all__ = ["builtin_scene", "BUILTIN_SCENE", "PDGains", "SafetyLimits", "SimulatorConfig", "ControlScene", "load_control_scene",
-           "loads_control_scene", "default_scene", "MAX_RATE_HZ", "MIN_WATCHDOG_PERIODS"]
+           "loads_control_scene", "default_scene", "MAX_RATE_HZ", "MIN_RATE_HZ",
+           "MIN_WATCHDOG_PERIODS"]
 
 #: the highest ``[device] rate_hz`` a scene may ask for.  A serial link carries one
 #: state frame up and one command frame down per period: an 8-leg device's state frame
@@ -79,6 +80,9 @@ __all__ = ["builtin_scene", "BUILTIN_SCENE", "PDGains", "SafetyLimits", "Simulat
 #: 4 kHz over a pty (BENCHMARKS.md).  A higher rate cannot be met, and the run's timing
 #: (the watchdog, the delay margin in periods) would describe a loop that never ran.
 MAX_RATE_HZ = 10_000.0
+#: the lowest ``[device] rate_hz``: the controller waits 10 s for the first frame and a
+#: run gives up after 2 seconds + 10 s of wall time, both of which must hold many periods
+MIN_RATE_HZ = 1.0
 #: ``safety.watchdog_ms`` and ``simulator.device_watchdog_ms`` must span at least this
 #: many device periods: a frame (a command) comes once a period, so a shorter window
 #: trips on every frame, or on one frame a little late, and the run sits at zero torque
@@ -463,6 +467,10 @@ def loads_control_scene(text: str, path: str = "<string>", *,
         from ..mechanisms import PRESETS
         choice(preset_name, "device.preset", tuple(PRESETS))
     rate = _num(dev, "rate_hz", "device", 1000.0, positive=True)
+    if rate < MIN_RATE_HZ:
+        raise InputError(f"expected rate_hz at least {MIN_RATE_HZ:g} Hz (the controller "
+                         f"waits 10 s for the first frame), got {dev['rate_hz']!r}",
+                         field="device.rate_hz")
     if rate > MAX_RATE_HZ:
         raise InputError(f"expected rate_hz at most {MAX_RATE_HZ:g} Hz (what a serial link "
                          f"carries: an 8-leg state frame is 810 bits at 8N1, 8.1 Mbaud at "

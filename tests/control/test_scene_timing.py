@@ -39,6 +39,13 @@ def test_a_rate_above_what_a_serial_link_carries_is_refused(rate):
     assert float(rate) > MAX_RATE_HZ
 
 
+def test_a_rate_below_one_hertz_is_refused():
+    with pytest.raises(InputError) as exc:
+        loads_control_scene(scene_text(rate_hz="0.5", watchdog_ms=5000).replace(
+            "[simulator]\n", "[simulator]\ndevice_watchdog_ms = 5000\n"))
+    assert exc.value.field == "device.rate_hz" and "at least 1 Hz" in exc.value.message
+
+
 def test_the_cli_refuses_a_short_watchdog_with_exit_2_before_starting(tmp_path):
     (tmp_path / "s.toml").write_text(scene_text(rate_hz=10, watchdog_ms=20))
     proc = run_cli(["control", "--sim", "--seconds", 2, "--scene", tmp_path / "s.toml",
