@@ -17,9 +17,9 @@ command written); ``period_p50_ms`` / ``period_p99_ms`` the time between cycles.
 Exit codes (:data:`distkin.control.runlog.EXIT_CODES`): 0 the run completed; 2 bad
 input (also a device whose first state frame holds another number of joint angles than
 the scene has legs: ``device_mismatch``; and on a port, a PD loop that the linearised
-analysis shows unstable even lock-stepped, unless ``--allow-unstable``); 3 the device or
+analysis shows unstable even lock-stepped, unless ``--allow-unstable``; and the device or
 the link ended the run (``no_device``, ``no_valid_frames``, ``disconnect``,
-``wall_limit``: the summary's ``exit_reason`` says which); 130 interrupted; 1 an
+``wall_limit``: the summary's ``exit_reason`` says which)); 130 interrupted; 1 an
 internal failure.  Without ``--wall-limit`` a run gives up after ``2 seconds + 10`` s of
 wall time.
 """
@@ -146,7 +146,7 @@ def add_control_parser(sub) -> None:
                                                   "--log, or from a temporary log)")
     p.add_argument("--wall-limit", type=_seconds,
                    help="give up after this much wall time, s (default 2 x --seconds + 10; "
-                        "exit 3, exit_reason wall_limit)")
+                        "exit 2, exit_reason wall_limit)")
     p.add_argument("--allow-unstable", action="store_true",
                    help="drive a device (--port) even when the PD loop, linearised at home, "
                         "is unstable lock-stepped (refused otherwise, exit 2)")

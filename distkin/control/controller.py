@@ -409,7 +409,7 @@ class Controller:
         disconnect, on SIGINT/SIGTERM, or on an internal error.  Every way out
         sends zero torque (best effort if the link is gone).  The exit code of each
         reason is :data:`.runlog.EXIT_CODES`: 0 ``completed``; 2 ``device_mismatch``;
-        3 the device or the link ended the run (``no_device``, ``no_valid_frames``,
+        2 also when the device or the link ended the run (``no_device``, ``no_valid_frames``,
         ``disconnect``, ``wall_limit``); 130 ``interrupted``; 1 ``internal_error``.
 
         Returns

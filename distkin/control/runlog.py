@@ -203,11 +203,13 @@ def plot_run(prefix, out=None, *, effort_unit: str = "N·m") -> list:
 
 #: the exit code of each ``exit_reason`` of a run (``distkin control``); any other
 #: reason (``internal_error``) is 1, an internal failure, as everywhere in distkin.
-#: 3: the run did not complete because of the device or the link, not of distkin:
+#: 2 also when the run did not complete because of the device or the link, not of
+#: distkin (DESIGN §4 has three codes: this is no internal failure, and the summary's
+#: ``exit_reason`` and the stderr line say which):
 #: no state frame (``no_device``), none valid (``no_valid_frames``), the link lost
 #: (``disconnect``), the wall-clock limit (``wall_limit``, a device too slow or held up)
-EXIT_CODES = {"completed": 0, "device_mismatch": 2, "no_device": 3, "no_valid_frames": 3,
-              "disconnect": 3, "wall_limit": 3, "interrupted": 130}
+EXIT_CODES = {"completed": 0, "device_mismatch": 2, "no_device": 2, "no_valid_frames": 2,
+              "disconnect": 2, "wall_limit": 2, "interrupted": 130}
 
 
 def run_summary(ctl, link, cycles, wall, t_first, t_last, compute, compute_cpu, periods,

@@ -74,12 +74,12 @@ def test_an_unstable_loop_on_a_port_is_refused_unless_allowed(tmp_path, kpbig):
     err = proc.stderr.strip().splitlines()
     assert len(err) == 1 and "[pd]" in err[0] and "unstable even lock-stepped" in err[0]
     assert "--allow-unstable" in err[0] and "500 Hz" in err[0]
-    # allowed: the warning, then the run (no device answers on loop://: exit 3)
+    # allowed: the warning, then the run (no device answers on loop://: exit 2)
     proc = run_cli(["control", "--port", "loop://", "--seconds", 1, "--scene", kpbig,
                     "--allow-unstable", "--json", "-"], tmp_path)
     assert "warning: [pd]: the joint PD loop is unstable even lock-stepped" in proc.stderr
     s = json.loads(proc.stdout)
-    assert s["exit_reason"] == "no_device" and proc.returncode == s["exit_code"] == 3
+    assert s["exit_reason"] == "no_device" and proc.returncode == s["exit_code"] == 2
     assert s["lockstep"] == "unstable" and s["lockstep_frequency_hz"] == pytest.approx(500)
 
 
@@ -95,15 +95,18 @@ def test_an_unstable_loop_with_sim_warns_before_it_starts(control_run, kpbig):
     assert s["saturation_faults"] >= 1 or s["saturated_cycles"] < 250, s
 
 
-def test_a_run_the_device_ends_exits_3_and_an_internal_failure_1():
+def test_a_run_the_device_ends_exits_2_and_an_internal_failure_1():
+    """DESIGN §4 has three codes; a run the device or the link ended is no internal
+    failure (it was 1, QA S 7)."""
     for reason in ("no_device", "no_valid_frames", "disconnect", "wall_limit"):
-        assert EXIT_CODES[reason] == 3
+        assert EXIT_CODES[reason] == 2
     assert EXIT_CODES.get("internal_error", 1) == 1 and EXIT_CODES["completed"] == 0
 
 
-def test_loop_with_no_device_exits_3_from_the_cli(tmp_path):
+def test_loop_with_no_device_exits_2_from_the_cli(tmp_path):
     proc = run_cli(["control", "--port", "loop://", "--seconds", 1, "--json", "-"], tmp_path)
-    assert proc.returncode == 3 and json.loads(proc.stdout)["exit_reason"] == "no_device"
+    assert proc.returncode == 2 and json.loads(proc.stdout)["exit_reason"] == "no_device"
+    assert "Traceback" not in proc.stderr and "no_device" in proc.stderr + proc.stdout
 
 
 @pytest.mark.parametrize("seconds", [0, -1, float("nan"), float("inf"), 1e-9, True, "1"])
