@@ -14,10 +14,14 @@ the fields ``cycles, seconds, rate_hz, cycle_p50_ms, cycle_p99_ms, bad_frames,
 watchdog_trips, safety_events, exit_reason`` and more.  ``cycle_p50_ms`` /
 ``cycle_p99_ms`` are the controller's compute time per cycle (frame received ->
 command written); ``period_p50_ms`` / ``period_p99_ms`` the time between cycles.
-Exit codes: 0 the run completed; 1 it ended on a disconnect or a failure (the
-summary's ``exit_reason`` says which); 2 bad input (also a device whose first state
-frame holds another number of joint angles than the scene has legs:
-``device_mismatch``); 130 interrupted.
+Exit codes (:data:`distkin.control.runlog.EXIT_CODES`): 0 the run completed; 2 bad
+input (also a device whose first state frame holds another number of joint angles than
+the scene has legs: ``device_mismatch``; and on a port, a PD loop that the linearised
+analysis shows unstable even lock-stepped, unless ``--allow-unstable``; and the device or
+the link ended the run (``no_device``, ``no_valid_frames``, ``disconnect``,
+``wall_limit``: the summary's ``exit_reason`` says which)); 130 interrupted; 1 an
+internal failure.  Without ``--wall-limit`` a run gives up after ``2 seconds + 10`` s of
+wall time.
 """
 
 from __future__ import annotations
@@ -52,8 +56,11 @@ def _scene_and_inputs(path):
     from ..control.config import load_control_scene
     from .scene import input_files, load_scene
     if path and not Path(path).is_file():
-        raise InputError(f"expected a controller scene file, got {str(path)!r} ("
-                         + ("a directory" if Path(path).is_dir() else "no such file") + ")",
+        p = Path(path)
+        what = ("a directory" if p.is_dir() else
+                "not a regular file: a device, pipe or socket" if p.exists() else
+                "no such file")
+        raise InputError(f"expected a controller scene file, got {str(path)!r} ({what})",
                          field="--scene")
     if not path:
         return builtin_scene(), []
@@ -137,7 +144,12 @@ def add_control_parser(sub) -> None:
                                                    "PREFIX.device-events.jsonl with --sim)")
     p.add_argument("--plots", metavar="DIR", help="plot the run into DIR/control.png (with "
                                                   "--log, or from a temporary log)")
-    p.add_argument("--wall-limit", type=_seconds, help="give up after this much wall time, s")
+    p.add_argument("--wall-limit", type=_seconds,
+                   help="give up after this much wall time, s (default 2 x --seconds + 10; "
+                        "exit 2, exit_reason wall_limit)")
+    p.add_argument("--allow-unstable", action="store_true",
+                   help="drive a device (--port) even when the PD loop, linearised at home, "
+                        "is unstable lock-stepped (refused otherwise, exit 2)")
     p.set_defaults(func=cmd_control)
 
 
@@ -196,6 +208,7 @@ def _wait_port(proc, port_file: Path, timeout: float) -> str:
 
 def format_summary(s: dict) -> str:
     """The closing summary, one line per topic, units on every number."""
+    from ..control.delay_margin import format_ms
     compute = ("compute per cycle: no frames" if s["cycle_p50_ms"] is None else
                f"compute per cycle: p50 {s['cycle_p50_ms']} ms, p99 {s['cycle_p99_ms']} ms")
     period = ("period: fewer than two cycles" if s["period_p50_ms"] is None else
@@ -216,7 +229,9 @@ def format_summary(s: dict) -> str:
         f"  safety: {s['watchdog_trips']} watchdog trips, {s['estops']} e-stops, "
         f"{s['recoveries_held']} held outside the safe workspace, "
         f"{s['rejected_frames']} rejected readings, {s['safety_events']} safety events, "
-        f"{s['refused_poses']} refused set points, {s['saturated_cycles']} saturated cycles",
+        f"{s['refused_poses']} refused set points, {s['saturated_cycles']} saturated cycles"
+        + (f", {s['saturation_faults']} faults oscillating at the torque limit"
+           if s.get("saturation_faults") else ""),
         f"  device: {s['device_watchdog_frames']} frames with its watchdog tripped, "
         f"{s['device_saturated_frames']} with a drive saturated",
         (f"  force: max |f| {s['max_abs_force_N']} N (limit {s['force_limit_N']} N)"
@@ -226,12 +241,17 @@ def format_summary(s: dict) -> str:
     if s.get("delay_margin_periods") is not None:
         n = s["delay_margin_periods"]
         lines.append("  PD loop (linearised at home): " + (
-            "not proved stable even without extra delay" if n < 0 else
+            f"UNSTABLE even lock-stepped, without extra delay (grows at "
+            f"{s['lockstep_growth_per_s']:.4g} 1/s, {s['lockstep_frequency_hz']:.4g} Hz)"
+            if s.get("lockstep") == "unstable" else
+            "marginal without extra delay (an undamped mode: not decided)" if n < 0 else
             "stable only without extra command delay (one period makes it unstable; "
             "distkin control --delay-margin)" if n == 0 else
             f"stable with up to {n} period{'s' if n != 1 else ''} "
-            f"({s['delay_margin_ms']:.2f} ms) of extra command delay"
+            f"({format_ms(s['delay_margin_ms'])} ms) of extra command delay"
             + (" or more" if n >= 3 else "")))
+    if s.get("rate_shortfall"):
+        lines.append(f"  rate: {s['rate_shortfall']}")
     if s.get("log"):
         lines.append("  log: " + ", ".join(str(v) for v in s["log"].values() if v))
     if s.get("error"):
@@ -261,6 +281,7 @@ def _margin_report(scene, model, periods: int) -> dict:
     return {"text": "\n".join([head] + ["  " + line for line in dm.lines()]),
             "period_ms": dm.period_s * 1e3,
             "stable_periods": dm.stable_periods,
+            "lockstep": dm.lockstep,
             "marginal_periods": [int(n) for n in dm.delays[dm.marginal]],
             "margin_ms": dm.margin_s * 1e3 if dm.stable_periods >= 0 else None,
             "sweep": [{"delay_periods": int(n), "delay_ms": float(n * dm.period_s * 1e3),
@@ -304,22 +325,69 @@ def _emit(text: str, data: dict, json_arg) -> None:
 
 
 def _margin_note(scene, model, args) -> dict:
-    """The delay margin for the run's summary, and a warning when the loop takes no
-    extra delay and nothing keeps the device in lock step with the host."""
+    """The delay margin for the run's summary, and a warning before the run starts when
+    the loop is unstable even lock-stepped (with ``--sim``; on a port that is refused,
+    exit 2, unless ``--allow-unstable``), or when it takes no extra delay and nothing
+    keeps the device in lock step with the host.
+
+    Summary keys: ``delay_margin_periods`` (the largest stable extra delay swept to 3
+    periods; -1 when the lock-stepped loop itself is not proved stable, null when home
+    admits no linearisation), ``delay_margin_ms``, ``lockstep`` ("stable", "unstable",
+    "marginal" or null), ``lockstep_growth_per_s`` and ``lockstep_frequency_hz`` (the
+    least-damped mode without extra delay)."""
     from ..control.delay_margin import delay_margin
     try:
         dm = delay_margin(scene, model, max_periods=3)
     except DistkinError:                    # e.g. a singular home: no linearisation
-        return {"delay_margin_periods": None}
+        return {"delay_margin_periods": None, "lockstep": None}
     paced = args.sim and scene.simulator.lockstep
-    if dm.stable_periods < 1 and not paced:
+    note = {"delay_margin_periods": dm.stable_periods,
+            "delay_margin_ms": (dm.margin_s * 1e3 if dm.stable_periods >= 0 else None),
+            "lockstep": dm.lockstep,
+            "lockstep_growth_per_s": float(dm.growth_per_s[0]),
+            "lockstep_frequency_hz": float(dm.frequency_hz[0])}
+    if dm.lockstep == "unstable":
+        why = (f"the joint PD loop is unstable even lock-stepped, with no extra command "
+               f"delay (linearised at home: spectral radius {dm.spectral_radius[0]:.4g}, "
+               f"grows at {dm.growth_per_s[0]:.4g} 1/s at {dm.frequency_hz[0]:.4g} Hz)")
+        if not args.sim and not getattr(args, "allow_unstable", False):
+            raise InputError(f"expected PD gains whose loop is stable lock-stepped, got "
+                             f"kp {scene.pd.kp:g}, kd {scene.pd.kd:g}: {why}", field="[pd]",
+                             hint="lower pd.kp or pd.kd (distkin control --delay-margin), "
+                                  "or pass --allow-unstable to drive the device anyway")
+        print(f"distkin: warning: [pd]: {why}: expect it at the torque limit "
+              f"(distkin control --delay-margin)", file=sys.stderr)
+        return note
+    if dm.lockstep == "marginal":
+        print("distkin: warning: [pd]: the joint PD loop is marginal even lock-stepped "
+              "(linearised at home: an undamped mode, spectral radius within "
+              "1e-9 of 1; float64 cannot say whether it grows; distkin control "
+              "--delay-margin)", file=sys.stderr)
+    elif dm.stable_periods < 1 and not paced:
         grow = (f"; one period of delay makes it grow at {dm.growth_per_s[1]:.1f} 1/s "
                 f"({dm.frequency_hz[1]:.1f} Hz)" if dm.stable_periods == 0 else "")
         print(f"distkin: warning: [pd]: the joint PD loop takes no extra command delay "
               f"(linearised at home){grow}: a host that answers a period late drives it "
               f"to the torque limit (distkin control --delay-margin)", file=sys.stderr)
-    return {"delay_margin_periods": dm.stable_periods,
-            "delay_margin_ms": (dm.margin_s * 1e3 if dm.stable_periods >= 0 else None)}
+    return note
+
+
+#: the achieved rate (first frame to last) below this share of ``[device] rate_hz`` is a
+#: warning: the delay margin and the watchdog were stated in periods that did not happen
+RATE_SHORTFALL = 0.5
+
+
+def _rate_check(summary: dict, rate_hz: float) -> None:
+    """Warn (stderr, and the summary's ``rate_shortfall``) when the loop ran at less
+    than :data:`RATE_SHORTFALL` of the requested rate."""
+    got = summary.get("loop_rate_hz")
+    summary["requested_rate_hz"] = rate_hz
+    if got and summary.get("cycles", 0) >= 2 and got < RATE_SHORTFALL * rate_hz:
+        summary["rate_shortfall"] = (
+            f"the loop ran at {got:.4g} Hz, {100 * got / rate_hz:.2g}% of the requested "
+            f"[device] rate_hz = {rate_hz:g}: the machine or the link cannot keep it")
+        print(f"distkin: warning: [device] rate_hz: {summary['rate_shortfall']}",
+              file=sys.stderr)
 
 
 def cmd_control(args) -> int:
@@ -388,6 +456,7 @@ def cmd_control(args) -> int:
             link.close()
         summary["port"] = url
         summary.update(margin)
+        _rate_check(summary, scene.rate_hz)
         if args.log:                           # all the files --log wrote
             summary["log"] = {k: v for k, v in log_files.items() if k != "cycles_spill"}
         if proc is not None:

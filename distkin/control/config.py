@@ -68,7 +68,25 @@ from .plant import HandScript, LinearDrives, Motors, drives_for
 BUILTIN_SCENE = "control_octo.toml"
 
 __all__ = ["builtin_scene", "BUILTIN_SCENE", "PDGains", "SafetyLimits", "SimulatorConfig", "ControlScene", "load_control_scene",
-           "loads_control_scene", "default_scene"]
+           "loads_control_scene", "default_scene", "MAX_RATE_HZ", "MIN_RATE_HZ",
+           "MIN_WATCHDOG_PERIODS"]
+
+#: the highest ``[device] rate_hz`` a scene may ask for.  A serial link carries one
+#: state frame up and one command frame down per period: an 8-leg device's state frame
+#: is 81 bytes on the wire (docs/protocol.md), 810 bits at 8N1, so 10 kHz needs
+#: 8.1 Mbaud, beyond
+#: the 3 Mbaud of common USB-serial bridges and near the 12 Mbaud of the fastest; USB
+#: high speed moves data once per 125 µs microframe (8 kHz).  The loop itself keeps
+#: 4 kHz over a pty (BENCHMARKS.md).  A higher rate cannot be met, and the run's timing
+#: (the watchdog, the delay margin in periods) would describe a loop that never ran.
+MAX_RATE_HZ = 10_000.0
+#: the lowest ``[device] rate_hz``: the controller waits 10 s for the first frame and a
+#: run gives up after 2 seconds + 10 s of wall time, both of which must hold many periods
+MIN_RATE_HZ = 1.0
+#: ``safety.watchdog_ms`` and ``simulator.device_watchdog_ms`` must span at least this
+#: many device periods: a frame (a command) comes once a period, so a shorter window
+#: trips on every frame, or on one frame a little late, and the run sits at zero torque
+MIN_WATCHDOG_PERIODS = 2.0
 
 
 @dataclass(frozen=True)
@@ -135,6 +153,9 @@ class SafetyLimits:
     measured pose inside it: a platform that swung away while its torques were zero
     (e.g. under gravity during a stall) is not pulled back at the torque limit; it
     stays at zero torque until it is brought back by hand.
+    ``saturation_ms``: a loop oscillating at the torque limit (every cycle saturated
+    for this long of device time, the commands reversing sign; :class:`.safety.
+    SaturationWatch`) is a fault, zero torque; 0 switches the rule off.
     """
 
     watchdog_ms: float = 20.0
@@ -147,6 +168,7 @@ class SafetyLimits:
     max_fk_residual: float = 2e-4
     workspace_m: float = 0.075
     workspace_rad: float = 0.5235987755982988
+    saturation_ms: float = 250.0
 
     @classmethod
     def for_joint(cls, joint: str) -> "SafetyLimits":
@@ -394,6 +416,25 @@ def _effort_limit(pd, drives, mechanism):
                              f"{pd.torque_limit}", field="pd.torque_limit")
 
 
+def _timing(rate_hz, safety, sim):
+    """Refuse watchdog windows that a loop at ``rate_hz`` cannot keep: both the host's
+    (``safety.watchdog_ms``, no valid frame) and the device's
+    (``simulator.device_watchdog_ms``, no command) must span
+    :data:`MIN_WATCHDOG_PERIODS` periods of ``1000 / device.rate_hz`` ms."""
+    period_ms = 1e3 / rate_hz
+    need = MIN_WATCHDOG_PERIODS * period_ms
+    for fld, v, what in (("safety.watchdog_ms", safety.watchdog_ms, "state frame"),
+                         ("simulator.device_watchdog_ms", sim.device_watchdog_ms,
+                          "command")):
+        if v < need:
+            raise InputError(
+                f"expected {fld} at least {MIN_WATCHDOG_PERIODS:g} periods of "
+                f"1000/device.rate_hz = {period_ms:.6g} ms, i.e. >= {need:.6g} ms (a "
+                f"{what} comes once a period: a shorter window trips on every one and "
+                f"the run sits at zero torque), got {v:g} ms", field=fld,
+                hint=f"raise {fld} or device.rate_hz")
+
+
 def loads_control_scene(text: str, path: str = "<string>", *,
                         mechanism_loader=None) -> ControlScene:
     """Parse a controller scene from TOML text (see the module docstring).
@@ -426,6 +467,15 @@ def loads_control_scene(text: str, path: str = "<string>", *,
         from ..mechanisms import PRESETS
         choice(preset_name, "device.preset", tuple(PRESETS))
     rate = _num(dev, "rate_hz", "device", 1000.0, positive=True)
+    if rate < MIN_RATE_HZ:
+        raise InputError(f"expected rate_hz at least {MIN_RATE_HZ:g} Hz (the controller "
+                         f"waits 10 s for the first frame), got {dev['rate_hz']!r}",
+                         field="device.rate_hz")
+    if rate > MAX_RATE_HZ:
+        raise InputError(f"expected rate_hz at most {MAX_RATE_HZ:g} Hz (what a serial link "
+                         f"carries: an 8-leg state frame is 810 bits at 8N1, 8.1 Mbaud at "
+                         f"10 kHz), got {dev['rate_hz']!r}", field="device.rate_hz",
+                         hint="the loop keeps 4 kHz over a pty (BENCHMARKS.md)")
     rt = _bool(dev, "realtime", "device", False)
     busy = _num(dev, "busy_wait_us", "device", 0.0, nonneg=True)
     if busy > 1e6:
@@ -465,7 +515,7 @@ def loads_control_scene(text: str, path: str = "<string>", *,
                          f"mechanism scene, got {st['max_angle']!r}", field="safety.max_angle")
     check_keys(st, {"watchdog_ms", "recover_frames", "sigma_min", "max_condition",
                     "max_force", "max_torque", "max_angle", "max_fk_residual",
-                    "workspace_m", "workspace_rad"}, "safety")
+                    "workspace_m", "workspace_rad", "saturation_ms"}, "safety")
     s = SafetyLimits.for_joint(joint)
     safety = SafetyLimits(
         watchdog_ms=_num(st, "watchdog_ms", "safety", s.watchdog_ms, positive=True),
@@ -479,7 +529,9 @@ def loads_control_scene(text: str, path: str = "<string>", *,
         max_fk_residual=_num(st, "max_fk_residual", "safety", s.max_fk_residual,
                              positive=True),
         workspace_m=_num(st, "workspace_m", "safety", s.workspace_m, positive=True),
-        workspace_rad=_num(st, "workspace_rad", "safety", s.workspace_rad, positive=True))
+        workspace_rad=_num(st, "workspace_rad", "safety", s.workspace_rad, positive=True),
+        saturation_ms=_num(st, "saturation_ms", "safety", s.saturation_ms, nonneg=True))
+    _timing(rate, safety, sim)
     title = data.get("title", "")
     return ControlScene(str(path), preset_name, rate, mass, damping, env, pd, safety, sim,
                         str(title), rt, busy, mechanism, joint, joint_range)

@@ -407,7 +407,10 @@ class Controller:
         state frame holds another number of joint angles than the model has legs
         (``device_mismatch``, exit code 2: the scene is not the device's), on a
         disconnect, on SIGINT/SIGTERM, or on an internal error.  Every way out
-        sends zero torque (best effort if the link is gone).
+        sends zero torque (best effort if the link is gone).  The exit code of each
+        reason is :data:`.runlog.EXIT_CODES`: 0 ``completed``; 2 ``device_mismatch``;
+        2 also when the device or the link ended the run (``no_device``, ``no_valid_frames``,
+        ``disconnect``, ``wall_limit``); 130 ``interrupted``; 1 ``internal_error``.
 
         Returns
         -------

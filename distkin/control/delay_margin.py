@@ -48,7 +48,8 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["closed_loop_matrix", "DelayMargin", "delay_margin", "MAX_PERIODS", "MARGINAL"]
+__all__ = ["closed_loop_matrix", "DelayMargin", "delay_margin", "MAX_PERIODS", "MARGINAL",
+           "format_ms"]
 
 #: the longest sweep :func:`delay_margin` takes: the matrix grows by L rows a period and
 #: its eigenvalues cost its size cubed, so the sweep's cost grows as N^4 (N = 50, the
@@ -57,6 +58,15 @@ MAX_PERIODS = 50
 #: a spectral radius within this of 1 is marginal: float64's eigenvalues cannot say on
 #: which side of 1 it lies (an undamped loop has exactly 1)
 MARGINAL = 1e-9
+
+
+def format_ms(ms: float) -> str:
+    """A duration in ms with at least 3 significant digits and no exponent (``1.00``,
+    ``20.0``, ``250``, ``0.000300``): a fixed number of decimals hides the periods of a
+    fast loop (0.0003 ms is not 0.00)."""
+    if ms == 0 or not np.isfinite(ms):
+        return f"{ms:.2f}"
+    return f"{ms:.{max(0, 2 - int(np.floor(np.log10(abs(ms)))))}f}"
 
 
 def _loop_data(scene, model, pose):
@@ -158,7 +168,8 @@ class DelayMargin:
         That mode's frequency (Hz).
     stable_periods : int
         The largest n with :math:`\\rho(A_m) < 1 -` :data:`MARGINAL` for every m ≤ n;
-        -1 when the lock-stepped loop itself is not proved stable.
+        -1 when the lock-stepped loop itself is not proved stable (:attr:`lockstep`
+        says whether it is unstable or marginal).
     marginal : (m,) bool
         :math:`|\\rho - 1| \\le` :data:`MARGINAL`: stability not decided by float64.
     """
@@ -177,11 +188,19 @@ class DelayMargin:
         without delay."""
         return self.stable_periods * self.period_s
 
+    @property
+    def lockstep(self) -> str:
+        """The lock-stepped loop (no extra delay): "stable", "unstable" (spectral radius
+        above 1 + :data:`MARGINAL`: it grows at ``growth_per_s[0]``) or "marginal"."""
+        if self.marginal is not None and self.marginal[0]:
+            return "marginal"
+        return "stable" if self.stable_periods >= 0 else "unstable"
+
     def lines(self) -> list[str]:
         """The sweep as text, one line per delay."""
         marg = (np.zeros(len(self.delays), bool) if self.marginal is None
                 else self.marginal)
-        out = [f"extra delay {n:3d} periods ({n * self.period_s * 1e3:6.2f} ms): "
+        out = [f"extra delay {n:3d} periods ({format_ms(n * self.period_s * 1e3):>6} ms): "
                f"spectral radius {r:.6f}, least-damped mode {f:7.2f} Hz, "
                + (f"marginal (spectral radius within {MARGINAL:g} of 1: float64 cannot "
                   "say whether it grows)" if mg else
@@ -192,20 +211,22 @@ class DelayMargin:
         first = n + 1 < len(self.delays) and marg[n + 1]
         if first:
             out.append(f"stable with up to {n} period{'s' if n != 1 else ''} of extra delay "
-                       f"({max(n, 0) * h:.2f} ms); with {n + 1} the loop is marginal, not "
+                       f"({format_ms(max(n, 0) * h)} ms); with {n + 1} the loop is marginal, not "
                        "decided (linearised: distkin.control.delay_margin)"
                        if n >= 0 else "marginal without extra delay: an undamped loop, "
                        "not decided (linearised: distkin.control.delay_margin)")
         elif n < 0:
-            out.append("unstable without extra delay (linearised: distkin.control."
-                       "delay_margin)")
+            out.append(f"unstable even without extra delay, lock-stepped (spectral "
+                       f"radius {self.spectral_radius[0]:.4g}: grows at "
+                       f"{self.growth_per_s[0]:.4g} 1/s, {self.frequency_hz[0]:.4g} Hz; "
+                       "linearised: distkin.control.delay_margin)")
         elif n == len(self.delays) - 1:
             out.append(f"stable with every extra delay swept, up to {n} periods "
-                       f"({n * h:.2f} ms)")
+                       f"({format_ms(n * h)} ms)")
         else:
             out.append(f"stable with up to {n} period{'s' if n != 1 else ''} "
-                       f"({n * h:.2f} ms) of extra delay, unstable with {n + 1} "
-                       f"({(n + 1) * h:.2f} ms) (linearised: distkin.control.delay_margin)")
+                       f"({format_ms(n * h)} ms) of extra delay, unstable with {n + 1} "
+                       f"({format_ms((n + 1) * h)} ms) (linearised: distkin.control.delay_margin)")
         return out
 
 

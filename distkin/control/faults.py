@@ -52,6 +52,10 @@ def parse_faults(spec: str | None, field: str = "--faults") -> tuple[Fault, ...]
     for i, item in enumerate(s.strip() for s in spec.split(",")):
         fld = f"{field}[{i}]"
         kind, at, rest = item.partition("@")
+        if kind in FAULT_KINDS and not at:
+            raise InputError(f"expected KIND@T[:ARG], got {item!r}: the kind {kind!r} has "
+                             f"no '@T', the device time of the fault in s", field=fld,
+                             hint=f"e.g. '{kind}@1.0'")
         if kind not in FAULT_KINDS or not at:
             raise InputError(f"expected KIND@T[:ARG] with KIND one of "
                              f"{', '.join(FAULT_KINDS)}, got {item!r}", field=fld)

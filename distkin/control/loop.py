@@ -19,7 +19,10 @@ safe workspace (``safety.workspace_m``, ``workspace_rad``; when enough valid fra
 came but the pose is outside, the controller logs ``recovery_held`` once and keeps zero
 torque); a rejected frame, an empty read or a pose outside starts the count again.
 The first measured pose is checked too: outside the safe workspace the run starts in
-the fault state (event ``outside_workspace``).
+the fault state (event ``outside_workspace``).  A loop oscillating at the torque limit
+(every cycle saturated for ``safety.saturation_ms`` of device time, the commands
+reversing sign: :class:`.safety.SaturationWatch`) enters the fault state too (event
+``saturation_fault``), and leaves it as after any fault.
 """
 
 from __future__ import annotations
@@ -33,7 +36,7 @@ import numpy as np
 from ..errors import LinkError
 from .protocol import FLAG_KEEPALIVE, MODE_HOLD, MODE_ZERO_TORQUE, STATUS_ESTOP, CommandFrame
 from .runlog import run_summary
-from .safety import FAULT, RUN, STOPPED, DeviceStatus
+from .safety import FAULT, RUN, STOPPED, DeviceStatus, SaturationWatch
 from .scheduling import realtime, restore
 
 __all__ = ["run_loop", "BAD_READING_EVERY_S"]
@@ -75,6 +78,7 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
     bad_streak, bad_said = 0, -float("inf")
     compute, compute_cpu, periods = [], [], []
     cycles = 0
+    sat_watch = SaturationWatch(ctl.safety.saturation_ms * 1e3)
     gc0 = sum(g["collections"] for g in gc.get_stats())
     reason = "completed"
     ctl.error = None
@@ -249,6 +253,16 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
             t_prev_cycle = t_rx
             if res.saturated:
                 ctl.saturated_cycles += 1
+            if ctl.state != RUN:
+                sat_watch.reset()
+            elif sat_watch.note(frame.t_us, res.saturated, tau):
+                # oscillating at the torque limit: zero torque from the next cycle
+                last = _enter_fault(ctl, last, "saturation_fault", t0, frame,
+                                    reversals=sat_watch.reversals,
+                                    saturated_ms=round((frame.t_us - sat_watch.since_us)
+                                                       * 1e-3, 1))
+                recover_count = inside_count = 0
+                sat_watch.reset()
             ctl.max_abs_torque = max(ctl.max_abs_torque, float(np.max(np.abs(tau))))
             p = res.pose if res.pose is not None else ctl.pose
             d = res.desired if res.desired is not None else ctl.adm.pose

@@ -32,6 +32,8 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
     scene : ControlScene
     model : KinematicModel
     seconds : float
+        Device time, s: a positive finite number (InputError naming ``seconds``
+        otherwise, as ``distkin control --seconds``).
     controller : Controller, optional
         Reuse one (for example with a log prefix).
     fast_codec : bool, optional
@@ -52,6 +54,12 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
         thread's; not inflated when another process preempts this one), ``refused``
         (n,) bool, ``tau_cmd`` (n, L) the commands as received by the device.
     """
+    if isinstance(seconds, bool) or not isinstance(seconds, (int, float, np.integer,
+                                                             np.floating)) \
+            or not 0 < seconds < float("inf"):
+        raise InputError(f"expected a positive finite number of seconds (device time), "
+                         f"got {seconds!r}", field="seconds",
+                         hint="distkin control --seconds takes the same")
     ctl = controller or Controller(scene, model)
     plant = Plant(model, scene.simulator.motors, scene.simulator.hand, seed=scene.simulator.seed)
     dt = 1.0 / scene.rate_hz
@@ -72,6 +80,10 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
                          f"{delay_periods!r}", field="delay_periods")
     queue = deque([(MODE_ZERO_TORQUE, np.zeros(model.L))] * nd)
     n = int(round(seconds / dt))
+    if n < 1:
+        raise InputError(f"expected seconds of at least half a device period "
+                         f"({dt / 2:.3g} s at {scene.rate_hz:g} Hz), got {seconds!r}",
+                         field="seconds")
     out = {k: [] for k in ("t", "pose", "desired", "estimate", "hand", "tau", "compute_s",
                            "refused", "tau_cmd", "compute_cpu_s")}
     for k in range(n):

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 __all__ = ["CsvLog", "EventLog", "read_csv", "read_events", "plot_run", "plot_delay_margin",
-           "timing_summary", "run_summary"]
+           "timing_summary", "run_summary", "EXIT_CODES"]
 
 
 class CsvLog:
@@ -201,6 +201,17 @@ def plot_run(prefix, out=None, *, effort_unit: str = "N·m") -> list:
     return [out]
 
 
+#: the exit code of each ``exit_reason`` of a run (``distkin control``); any other
+#: reason (``internal_error``) is 1, an internal failure, as everywhere in distkin.
+#: 2 also when the run did not complete because of the device or the link, not of
+#: distkin (DESIGN §4 has three codes: this is no internal failure, and the summary's
+#: ``exit_reason`` and the stderr line say which):
+#: no state frame (``no_device``), none valid (``no_valid_frames``), the link lost
+#: (``disconnect``), the wall-clock limit (``wall_limit``, a device too slow or held up)
+EXIT_CODES = {"completed": 0, "device_mismatch": 2, "no_device": 2, "no_valid_frames": 2,
+              "disconnect": 2, "wall_limit": 2, "interrupted": 130}
+
+
 def run_summary(ctl, link, cycles, wall, t_first, t_last, compute, compute_cpu, periods,
                 reason) -> dict:
     """The summary of :meth:`.controller.Controller.run` (its keys are documented there):
@@ -213,7 +224,7 @@ def run_summary(ctl, link, cycles, wall, t_first, t_last, compute, compute_cpu, 
     ``force_limit_N`` for prismatic ones (``ctl.scene.effort_unit``)."""
     st = link.stats
     dev_s = 0.0 if t_first is None else (t_last - t_first) * 1e-6
-    code = {"completed": 0, "interrupted": 130, "device_mismatch": 2}.get(reason, 1)
+    code = EXIT_CODES.get(reason, 1)
     if ctl.scene.effort_unit == "N":
         effort = {"max_abs_force_N": round(ctl.max_abs_torque, 4),
                   "force_limit_N": ctl.pd.torque_limit}
@@ -237,6 +248,7 @@ def run_summary(ctl, link, cycles, wall, t_first, t_last, compute, compute_cpu, 
         "rejected_frames": ctl.rejected_frames,
         "watchdog_trips": ctl.events.count("watchdog_trip"),
         "estops": ctl.events.count("estop"),
+        "saturation_faults": ctl.events.count("saturation_fault"),
         "recoveries_held": ctl.events.count("recovery_held")
         + ctl.events.count("outside_workspace"),
         "device_watchdog_frames": ctl.device_status.frames["device_watchdog"],

@@ -15,11 +15,15 @@ import numpy as np
 from .cycle_kernels import reading_extremes
 from .protocol import STATUS_DEVICE_WATCHDOG, STATUS_ESTOP, STATUS_SATURATED, STATUS_SENSOR_FAULT
 
-__all__ = ["check_reading", "DeviceStatus", "RUN", "FAULT", "STOPPED"]
+__all__ = ["check_reading", "DeviceStatus", "SaturationWatch", "RUN", "FAULT", "STOPPED",
+           "MIN_REVERSALS"]
 
 #: the states of :meth:`.controller.Controller.run` (the ``state`` column of cycles.csv):
 #: torque control, zero torque (watchdog, e-stop, pose lost), hold (singular stop)
 RUN, FAULT, STOPPED = 0, 1, 2
+#: a saturated oscillation: at least this many sign reversals of a joint's command
+#: within the window of :class:`SaturationWatch` (two full swings)
+MIN_REVERSALS = 4
 
 
 def check_reading(frame, L: int, safety, lo=None, hi=None) -> str:
@@ -89,3 +93,42 @@ class DeviceStatus:
                 self._last[name] = (t_us, n)
                 due.append((name, n - (0 if last is None else last[1])))
         return due
+
+
+class SaturationWatch:
+    """A loop oscillating at the torque limit: every cycle for ``window_us`` of device
+    time saturated, and the commands reversing sign at least :data:`MIN_REVERSALS`
+    times within that time (``safety.saturation_ms``; 0 switches it off).
+
+    A limit cycle (a loop made unstable by delay or gains: the linearised loop of
+    :mod:`.delay_margin` grows until the limit holds it) swings the commands from one
+    limit to the other; a hand pushing steadily into a stiff wall saturates the drives
+    too, but with commands of one sign, and is left alone.  One unsaturated cycle
+    starts the count again.  :meth:`note` returns True when the rule is met.
+    """
+
+    def __init__(self, window_us: float):
+        self.window_us = float(window_us)
+        self.reset()
+
+    def reset(self) -> None:
+        """Start the count again (after a fault, or an unsaturated cycle)."""
+        self.since_us = None
+        self.reversals = 0
+        self.sign = None
+
+    def note(self, t_us: int, saturated: bool, tau) -> bool:
+        """Count a cycle at device time ``t_us`` µs with commands ``tau`` (L,)."""
+        if self.window_us <= 0:
+            return False
+        if not saturated:
+            self.reset()
+            return False
+        sign = np.sign(tau)
+        if self.since_us is None:
+            self.since_us = t_us
+        elif np.any(sign * self.sign < 0):
+            self.reversals += 1
+        self.sign = sign
+        return (t_us - self.since_us >= self.window_us
+                and self.reversals >= MIN_REVERSALS)

@@ -119,7 +119,8 @@ def test_read_deadline_fires_while_garbage_keeps_arriving():
 
 def test_control_cli_ends_and_commands_zero_torque_against_garbage(tmp_path):
     """``distkin control --port socket://...`` against the garbage device ends by itself
-    (the start-up timeout or --wall-limit, whichever first), exits 1 with its summary,
+    (the start-up timeout or --wall-limit, whichever first), exits 2 with its summary
+    (the device ended the run; 1 is an internal failure, QA S 7),
     and its last frames on the wire command zero torque."""
     dev = GarbageDevice()
     try:
@@ -127,7 +128,7 @@ def test_control_cli_ends_and_commands_zero_torque_against_garbage(tmp_path):
                         "--json", "-"], tmp_path, timeout=_HANG + 60)
     finally:
         dev.close()
-    assert proc.returncode == 1, proc.stderr
+    assert proc.returncode == 2, proc.stderr
     summary = json.loads(proc.stdout)
     assert summary["exit_reason"] in ("wall_limit", "no_device")
     assert summary["bad_frames"] > 0 and summary["cycles"] == 0

@@ -186,7 +186,7 @@ def test_estop_at_start_names_the_rejected_readings(monkeypatch, scene, model):
     ctl = Controller(scene, model)
     ctl.STARTUP_TIMEOUT_S = 0.2
     s = ctl.run(dev, 10.0)
-    assert s["exit_reason"] == "no_valid_frames" and s["exit_code"] == 1
+    assert s["exit_reason"] == "no_valid_frames" and s["exit_code"] == 2
     assert "device reports e-stop" in s["error"] and "got none" not in s["error"]
     assert s["cycles"] == 0
 
