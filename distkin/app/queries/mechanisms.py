@@ -393,8 +393,14 @@ class ForwardKinematicsQuery:
             raise InputError("missing required field 'angles'", field=f"{field}.angles")
         af = angle_factor(units)
         lf = length_factor(units, "units")
-        angles = tuple(a * (lf if p else af) for a, p in zip(
-            _numbers(table["angles"], f"{field}.angles", mechanism.L), _prismatic(mechanism)))
+        raw = _numbers(table["angles"], f"{field}.angles", mechanism.L)
+        for i, (a, p) in enumerate(zip(raw, _prismatic(mechanism))):
+            if p and not a > 0:                # a zero length divides the closure (QA R 1)
+                raise InputError(f"expected a positive leg length (prismatic leg {i + 1}, "
+                                 f"{units.length}), got {a:g}", field=f"{field}.angles[{i}]",
+                                 hint="a prismatic leg's joint value is its length from the "
+                                      "base joint to the platform joint")
+        angles = tuple(a * (lf if p else af) for a, p in zip(raw, _prismatic(mechanism)))
         guess = None
         if "guess" in table:
             guess = tuple(np.array(_numbers(table["guess"], f"{field}.guess", 6)) * _scale(units))
@@ -441,9 +447,11 @@ class ForwardKinematicsQuery:
             # fast: refused unless the answer passes the round trip; precise and
             # certified start from it (the exact octic's mode for an octahedral leg
             # table) and their pose must pass it too
-            tier = (fast_tier(mech, res) if p.method == "fast" else
+            lu, au, lf, af = _units(scene)             # the refusal in scene units (QA R 10)
+            shown = {"length": (lu, lf), "angle": (au, af)}
+            tier = (fast_tier(mech, res, np.array(p.angles), shown) if p.method == "fast" else
                     forward_tier(mech, np.array(p.angles), method=p.method, dps=p.dps,
-                                 bits=p.bits, legs=p.legs, fast=res))
+                                 bits=p.bits, legs=p.legs, fast=res, units=shown))
         except DistkinError as exc:         # the Python argument q is the scene's angles
             if exc.field == "q":
                 exc.field = "angles"
