@@ -264,7 +264,7 @@ def forward_kinematics(mech, q, guess=None, *, tol=TOL, max_iter=50, max_conditi
     if guess is None:
         X = np.tile(mech.home, (N, 1))
     else:
-        g, _ = _poses(guess, "guess")                   # as the IK: (6,), (N, 6), 4x4
+        g, _ = _poses(guess, "guess", mech.length_scale)   # as the IK: (6,), (N, 6), 4x4
         if len(g) not in (1, N):
             raise InputError(f"expected {N} guesses or one, got {len(g)}", field="guess")
         X = np.array(np.broadcast_to(g, (N, 6)))

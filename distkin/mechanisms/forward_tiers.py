@@ -208,7 +208,7 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
 
 
 #: display units of a refusal's joint mismatch (:func:`.forward.joint_amount`): SI
-SI_UNITS = {"length": ("m", 1.0), "angle": ("rad", 1.0)}
+_SI_SHOWN = {"length": ("m", 1.0), "angle": ("rad", 1.0)}
 
 
 def _refusal(mech, what, mismatch, detail, units=None):
@@ -216,7 +216,7 @@ def _refusal(mech, what, mismatch, detail, units=None):
     per leg (rad, m), shown per joint type in ``units`` (default SI; QA R 10)."""
     from .forward import joint_amount
     mismatch = np.asarray(mismatch, dtype=float)
-    amount = joint_amount(mismatch, mech.leg_arrays()["prismatic"], **(units or SI_UNITS))
+    amount = joint_amount(mismatch, mech.leg_arrays()["prismatic"], **(units or _SI_SHOWN))
     worst = float(np.max(np.where(np.isnan(mismatch), np.inf, mismatch)))
     return NotFoundError(
         f"expected a pose whose inverse kinematics gives back the joint values, got none "
@@ -253,7 +253,7 @@ def fast_tier(mech, fast, q=None, units=None) -> TieredFK:
     if not fast.round_trip:
         mismatch = (round_trip(mech, np.asarray(q, dtype=float)[None],
                                np.asarray(fast.pose)[None], err)[0][0] if q is not None else np.full(mech.legs, float(fast.q_mismatch)))
-        lu, lf = (units or SI_UNITS)["length"]
+        lu, lf = (units or _SI_SHOWN)["length"]
         raise _refusal(mech, "a fast pose", mismatch,
                        f"the fast tier's Gauss-Newton pose: "
                        f"{'converged' if fast.converged else 'not converged'} in "
