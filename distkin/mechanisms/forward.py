@@ -180,7 +180,10 @@ def check_joint_values(mech, q, field: str = "q"):
     pris = mech.leg_arrays()["prismatic"]
     if not pris.any():
         return
-    qa = np.asarray(q, dtype=float)
+    try:
+        qa = np.asarray(q, dtype=float)
+    except (TypeError, ValueError):        # not numbers: the caller's check says so
+        return
     if qa.ndim not in (1, 2) or qa.shape[-1] != len(pris):
         return
     bad = pris & ~(np.atleast_2d(qa) > 0.0)
