@@ -20,6 +20,7 @@ Unless ``l3`` is given it follows the reading's rule (:mod:`.presets`).
 from __future__ import annotations
 
 import math
+import sys
 from fractions import Fraction
 
 from ..argcheck import check_keys, choice, require
@@ -29,11 +30,14 @@ from ..mechanisms.presets import PRESETS
 from ..mechanisms.rss import preset
 from .units import angle_factor, length_factor
 
-__all__ = ["parse_rss", "LENGTHS", "ANGLES"]
+__all__ = ["parse_rss", "unit_slips", "LENGTHS", "ANGLES", "SLIP_RATIO"]
 
 LENGTHS = ("l0", "l1", "l2", "l3", "lp", "ld", "z0")
 ANGLES = ("beta", "gamma")
 _SI = ("mass", "inertia")
+#: an override this many times larger or smaller than the preset's value is said to be
+#: a likely unit slip (QA R 8): a warning, not an error (a design may differ that much)
+SLIP_RATIO = 100.0
 
 
 def parse_rss(table, units, field):
@@ -62,6 +66,7 @@ def parse_rss(table, units, field):
                 raise InputError(f"expected {k} in [0°, 90°), got {over[k]:.6g} rad (the "
                                  f"scene's {k} = {table[k]!r} {units.angle})",
                                  field=f"{field}.{k}")
+    _warn_unit_slips(name, over, table, units, field)
     try:
         return preset(name, **over)
     except InputError as exc:
@@ -71,3 +76,36 @@ def parse_rss(table, units, field):
         if fld in table and unit not in (None, "m", "rad"):
             msg += f" (the scene's {fld} = {table[fld]!r} {unit})"     # SI above, scene units here
         raise InputError(msg, field=f"{field}.{fld}" if fld else field) from None
+
+
+def unit_slips(name, over, table, units, field) -> list[str]:
+    """One line per override of a length, ``mass`` or ``inertia`` that differs from the
+    preset ``name``'s value by more than :data:`SLIP_RATIO` times either way (both
+    non-zero): what a value in another unit looks like (0.152 for l0 = 152 mm in a mm
+    scene).  ``over`` holds the overrides in SI, ``table`` as written."""
+    from ..mechanisms.presets import preset_description
+    base = preset_description(name).parameters()
+    lf = 1.0 / float(units.length_factor)
+    lines = []
+    for k in LENGTHS + _SI:
+        if k not in over or not base.get(k) or not over[k]:
+            continue
+        ratio = abs(over[k] / base[k])
+        if 1.0 / SLIP_RATIO <= ratio <= SLIP_RATIO:
+            continue
+        if k in LENGTHS:
+            shown = (f"{table[k]} {units.length} is {ratio:.3g} x the preset's "
+                     f"{base[k] * lf:.6g} {units.length}")
+            why = f"a length in another unit? the scene's [units] length is \"{units.length}\""
+        else:
+            unit = "kg" if k == "mass" else "kg m^2"
+            shown = f"{table[k]} {unit} is {ratio:.3g} x the preset's {base[k]:.6g} {unit}"
+            why = f"{k} is in {unit} (SI) whatever the scene's units"
+        lines.append(f"{field}.{k}: {shown} ({why})")
+    return lines
+
+
+def _warn_unit_slips(name, over, table, units, field):
+    """:func:`unit_slips` as warnings, one line each on stderr."""
+    for line in unit_slips(name, over, table, units, field):
+        print(f"distkin: warning: {line}", file=sys.stderr, flush=True)

@@ -20,7 +20,8 @@ import numpy as np
 from ..argcheck import as_floats, float_array, no_booleans
 from ..errors import InputError
 
-__all__ = ["RSSDescription", "GEOMETRY_FIELDS", "LAYOUTS", "LEG_LENGTH", "SI_UNITS"]
+__all__ = ["RSSDescription", "GEOMETRY_FIELDS", "LAYOUTS", "LEG_LENGTH", "SI_UNITS",
+           "MAX_ROTATION", "MAX_REACH", "check_pose_range"]
 
 #: the parameters that define the kinematics (mass and inertia do not)
 GEOMETRY_FIELDS = ("legs", "l0", "l1", "l2", "l3", "lp", "ld", "z0", "beta", "gamma", "layout")
@@ -54,18 +55,68 @@ def _rows(arr, field, width, what, also=""):
     return float_array(rows, field, (None, width)), single
 
 
-def _poses(poses, field="poses"):
+#: the largest rotation component of a pose (rad): float64 spaces numbers above it
+#: 0.125 rad or more apart, so an angle there has no digits left modulo 2π (QA R 8)
+MAX_ROTATION = 1e15
+#: the largest translation component of a pose, in units of the mechanism's length
+#: scale: a pose farther away is no pose of the device, and squares of coordinates near
+#: 1e154 m overflow the kernels' float64 into NaN (QA R 3)
+MAX_REACH = 1e9
+
+
+def _poses(poses, field="poses", scale=None):
     """Poses (N, 6) from (6,), (N, 6), a 4x4 homogeneous matrix or (N, 4, 4) matrices
     (:func:`distkin.spatial.pose_from`), and whether one pose was given.  A boolean
     anywhere is refused (:func:`~distkin.argcheck.no_booleans`; free for a numeric
-    array)."""
+    array), and so is a rotation component beyond :data:`MAX_ROTATION` rad and, given
+    the mechanism's length ``scale`` (m), a translation component beyond
+    :data:`MAX_REACH` times it (:func:`check_pose_range`)."""
     what = "poses (x, y, z, rx, ry, rz) in m and rad or 4x4 matrices"
     arr = as_floats(poses, field, what)
     if arr.ndim >= 2 and arr.shape[-2:] == (4, 4):
         from ..spatial import matrix_to_pose
         arr = matrix_to_pose(arr)
-    return _rows(arr, field, 6, "x, y, z, rx, ry, rz in m and rad",
-                 ", or 4x4 matrices (4, 4) or (N, 4, 4)")
+    X, single = _rows(arr, field, 6, "x, y, z, rx, ry, rz in m and rad",
+                      ", or 4x4 matrices (4, 4) or (N, 4, 4)")
+    check_pose_range(X, field, scale, single)
+    return X, single
+
+
+def check_pose_range(X, field="poses", scale=None, single=False):
+    """Refuse poses (N, 6) (m, rad) whose numbers mean nothing in float64: a rotation
+    component above :data:`MAX_ROTATION` rad, and given ``scale`` (m, the mechanism's
+    length scale) a translation component above :data:`MAX_REACH` x ``scale``.  Two
+    flat reductions (the largest and the smallest number) unless one is beyond a bound.
+
+    Raises
+    ------
+    InputError
+        naming ``field[i][k]`` (``field[k]`` for one pose), the bound and the value.
+    """
+    X = np.asarray(X, dtype=float)
+    if not X.size:
+        return
+    reach = np.inf if scale is None else MAX_REACH * float(scale)
+    if max(-X.min(), X.max()) <= min(reach, MAX_ROTATION):   # flat: ~1 ns per number
+        return
+    rot = np.abs(X[:, 3:]) > MAX_ROTATION
+    far = np.abs(X[:, :3]) > reach
+    bad = np.concatenate([far, rot], axis=1)
+    if not bad.any():                      # a rotation above the reach bound: fine
+        return
+    i, k = (int(v) for v in np.argwhere(bad)[0])
+    where = field + (f"[{k}]" if single else f"[{i}][{k}]")
+    if k >= 3:
+        raise InputError(
+            f"expected a rotation component of magnitude at most {MAX_ROTATION:g} rad (float64 "
+            f"keeps no digit of a larger angle modulo 2π), got {X[i, k]:.6g} rad",
+            field=where, hint="a unit slip? rotations are rx, ry, rz in rad (a scene's in its "
+                              "[units] angle)")
+    raise InputError(
+        f"expected a translation component of magnitude at most {MAX_REACH:g} x the "
+        f"mechanism's length scale ({reach:.6g} m; no pose of the device lies farther), "
+        f"got {X[i, k]:.6g} m", field=where,
+        hint="a unit slip? express the pose in m (a scene's in its [units] length)")
 
 
 @dataclass(frozen=True)
@@ -242,7 +293,7 @@ class RSSDescription:
             Poses per vectorised block.
         """
         from ..spatial import rotation_matrix
-        X, _ = _poses(poses)
+        X, _ = _poses(poses, scale=self.length_scale)
         g = self.geometry()
         lo, hi = -np.inf, np.inf
         for a in range(0, len(X), batch):

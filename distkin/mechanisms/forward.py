@@ -56,7 +56,7 @@ from .description import _poses, _rows
 
 __all__ = ["FKResult", "forward_kinematics", "gauss_newton", "round_trip",
            "pose_error_estimate", "leg_length", "RESIDUAL_ULPS", "TOL", "MIN_TOL",
-           "check_step_tol"]
+           "check_step_tol", "check_joint_values", "joint_amount"]
 
 #: default ``residual_tol`` of :func:`forward_kinematics`: this many eps times a leg
 #: length (:func:`leg_length`; 7.9e-14 m for the Octopod's l3 = 349.7 mm).  Consistent
@@ -163,6 +163,58 @@ def check_step_tol(tol, field: str = "tol") -> float:
     return float(tol)
 
 
+def check_joint_values(mech, q, field: str = "q"):
+    """Refuse a prismatic leg's joint value that is not positive (QA R 1).
+
+    A prismatic leg's joint value is its length |P - B| between base and platform joint:
+    0 has no line (the closure ``(|P - B|^2 - q^2) / (2 q)`` divides by it) and a negative
+    length is none (its square would pass it off as the positive one).  ``q`` (L,) or
+    (N, L), rad or m; other shapes are left to the caller's shape check.  One vectorised
+    comparison.
+
+    Raises
+    ------
+    InputError
+        naming ``field[j]`` (or ``field[i][j]``), the leg and the value received.
+    """
+    pris = mech.leg_arrays()["prismatic"]
+    if not pris.any():
+        return
+    try:
+        qa = np.asarray(q, dtype=float)
+    except (TypeError, ValueError):        # not numbers: the caller's check says so
+        return
+    if qa.ndim not in (1, 2) or qa.shape[-1] != len(pris):
+        return
+    bad = pris & ~(np.atleast_2d(qa) > 0.0)
+    if bad.any():
+        i, j = (int(v) for v in np.argwhere(bad)[0])
+        where = f"[{j}]" if qa.ndim == 1 else f"[{i}][{j}]"
+        raise InputError(f"expected a positive leg length (m) for prismatic leg {j + 1}, got "
+                         f"{float(np.atleast_2d(qa)[i, j]):.6g}", field=field + where,
+                         hint="a prismatic leg's joint value is its length from the base "
+                              "joint to the platform joint, not an extension from a zero "
+                              "point")
+
+
+def joint_amount(values, prismatic, *, length=("m", 1.0), angle=("rad", 1.0)) -> str:
+    """The largest of ``values`` (L,) (joint differences: rad for a crank, m for a
+    prismatic leg, NaN counted as inf) with its unit, per joint type: ``"2.28 rad"``,
+    ``"0.9 m"`` or ``"2.28 rad (cranks), 0.9 m (prismatic legs)"``.  ``length`` and
+    ``angle`` are (unit name, factor from SI), e.g. ("mm", 1000.0) and ("deg", 180/pi)."""
+    v = np.asarray(values, dtype=float).reshape(-1)
+    v = np.where(np.isnan(v), np.inf, v)
+    pris = np.asarray(prismatic, dtype=bool).reshape(-1)
+    parts = []
+    if (~pris).any():
+        parts.append((f"{float(v[~pris].max()) * angle[1]:.3g} {angle[0]}", "cranks"))
+    if pris.any():
+        parts.append((f"{float(v[pris].max()) * length[1]:.3g} {length[0]}", "prismatic legs"))
+    if len(parts) == 1:
+        return parts[0][0]
+    return ", ".join(f"{a} ({b})" for a, b in parts)
+
+
 def forward_kinematics(mech, q, guess=None, *, tol=TOL, max_iter=50, max_condition=300.0,
                        residual_tol=None, strict=False):
     """Pose of ``mech`` from its crank angles, by Gauss-Newton from a warm start.
@@ -210,11 +262,12 @@ def forward_kinematics(mech, q, guess=None, *, tol=TOL, max_iter=50, max_conditi
     L = mech.legs
     what = "joint coordinates (rad, or m for prismatic legs)"
     qa, single = _rows(as_floats(q, "q", f"{L} {what}"), "q", L, what)
+    check_joint_values(mech, qa[0] if single else qa)
     N = len(qa)
     if guess is None:
         X = np.tile(mech.home, (N, 1))
     else:
-        g, _ = _poses(guess, "guess")                   # as the IK: (6,), (N, 6), 4x4
+        g, _ = _poses(guess, "guess", mech.length_scale)   # as the IK: (6,), (N, 6), 4x4
         if len(g) not in (1, N):
             raise InputError(f"expected {N} guesses or one, got {len(g)}", field="guess")
         X = np.array(np.broadcast_to(g, (N, 6)))
@@ -282,6 +335,7 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
     ok = done & ~near & verified
     worst = np.max(np.where(np.isnan(mismatch), np.inf, mismatch), axis=-1)
     failed = done & ~verified
+    pris = mech.leg_arrays()["prismatic"]
     ls = float(mech.length_scale)
     msg = (f"{int(ok.sum())} of {N} solved (converged: step < tol x length scale = {tol:g} "
            f"x {ls:.3g} m; verified)"
@@ -291,7 +345,7 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
               if near.any() else "")
            + (f"; {int((done & ~back).sum())} converged to a pose whose inverse kinematics "
               f"does not give back the joint values (by up to "
-              f"{float(worst[done & ~back].max()):.3g} rad or m: another crank branch or a "
+              f"{joint_amount(np.max(mismatch[done & ~back], axis=0), pris)}: another crank branch or a "
               f"least-squares minimum, not a solution)" if (done & ~back).any() else "")
            + (f"; {int((done & ~small).sum())} with an rms closure residual above "
               f"residual_tol = {residual_tol:.3g} m (inconsistent angles, or no solution "
@@ -302,7 +356,7 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
         raise NotFoundError(
             f"expected a pose whose inverse kinematics gives back the joint values and "
             f"whose rms closure residual is at most {residual_tol:.3g} m, got at pose {i} "
-            f"a mismatch of {worst[i]:.3g} (rad or m) and a residual of {res[i]:.3g} m from "
+            f"a mismatch of {joint_amount(mismatch[i], pris)} and a residual of {res[i]:.3g} m from "
             f"the start (no pose found from it; not a proof that none exists)",
             field="guess", margin=float(res[i]),
             hint="another guess (the crank branch or assembly mode differs), or "
@@ -422,7 +476,12 @@ def gauss_newton(closure, q, pose, *, tol, max_iter, scale=None):
     q = [float(v) for v in q]
     c = D = d = None
     for it in range(1, max_iter + 1):
-        G = np.array(closure(q, x.tolist()), dtype=float)
+        try:
+            G = np.array(closure(q, x.tolist()), dtype=float)
+        except (ZeroDivisionError, OverflowError, ValueError):
+            # Python floats raise where numpy gives inf or NaN (a zero-length prismatic
+            # leg, QA R 1): no evaluation, as a non-finite one
+            return x, False, it, c, D, None
         if not np.isfinite(G).all():
             return x, False, it, c, D, None
         c, D = G[:, 0], G[:, 1:]

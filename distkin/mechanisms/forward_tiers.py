@@ -155,7 +155,8 @@ def _choose_legs(fast_pose, mech, q, legs):
 
 
 def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None = None,
-                 bits: int | None = None, legs=None, fast=None, **options) -> TieredFK:
+                 bits: int | None = None, legs=None, fast=None, units=None,
+                 **options) -> TieredFK:
     """The pose of ``mech`` (RSS or leg mechanism) from one set of joint values ``q``
     (L,), in the tier ``method`` (see the module docstring).
 
@@ -165,7 +166,8 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
     ``bits``: working precision of the certified tier's balls (default :data:`BITS`).
     ``legs``: six legs (1-based) whose closures define the pose (precise, certified;
     L > 6): the certified tier's square system (default: the best-conditioned six), and
-    the precise tier's instead of the least-squares pose of all legs.
+    the precise tier's instead of the least-squares pose of all legs.  ``units``: the
+    display units of a refusal's joint mismatch (:func:`fast_tier`; default SI).
 
     The precise and certified tiers start from the fast answer, converged or not (near a
     singularity Gauss-Newton may stall on a good pose).  Raises :class:`NotFoundError`
@@ -180,6 +182,8 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
     qa = as_floats(q, "q", f"{mech.legs} joint values (rad, or m for prismatic legs)")
     if qa.shape != (mech.legs,):
         raise InputError(f"expected {mech.legs} joint values, got shape {qa.shape}", field="q")
+    from .forward import check_joint_values
+    check_joint_values(mech, qa)
     if fast is None:
         fast = forward_kinematics(mech, qa, guess, **options)
     if method != "fast" and not np.all(np.isfinite(fast.pose)):
@@ -191,7 +195,7 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
         raise InputError("expected 'legs' only with method 'precise' or 'certified', got "
                          "method 'fast'", field="legs")
     if method == "fast":
-        return fast_tier(mech, fast)
+        return fast_tier(mech, fast, qa, units)
     if method == "precise":
         sub = list(range(mech.legs)) if legs is None else _choose_legs(fast.pose, mech, qa,
                                                                        legs)
@@ -199,21 +203,31 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
     else:
         chosen = _choose_legs(fast.pose, mech, qa, legs)
         res = _certified(mech, qa, fast, chosen, _polish(mech, qa, fast.pose, chosen), bits)
-    _check_round_trip(mech, qa, res.pose, res.error, method)
+    _check_round_trip(mech, qa, res.pose, res.error, method, units)
     return res
 
 
-def _refusal(what, mismatch, detail):
+#: display units of a refusal's joint mismatch (:func:`.forward.joint_amount`): SI
+_SI_SHOWN = {"length": ("m", 1.0), "angle": ("rad", 1.0)}
+
+
+def _refusal(mech, what, mismatch, detail, units=None):
+    """:class:`NotFoundError` for a pose that fails the round trip; ``mismatch`` (L,)
+    per leg (rad, m), shown per joint type in ``units`` (default SI; QA R 10)."""
+    from .forward import joint_amount
+    mismatch = np.asarray(mismatch, dtype=float)
+    amount = joint_amount(mismatch, mech.leg_arrays()["prismatic"], **(units or _SI_SHOWN))
+    worst = float(np.max(np.where(np.isnan(mismatch), np.inf, mismatch)))
     return NotFoundError(
         f"expected a pose whose inverse kinematics gives back the joint values, got none "
-        f"from the start: {what} misses them by up to {mismatch:.3g} (rad or m; {detail}): "
+        f"from the start: {what} misses them by up to {amount} ({detail}): "
         f"the closures hold there with cranks on the other branch of the IK, or it is a "
         f"least-squares minimum that closes no leg; not the device's configuration, and not "
         f"a proof that no such pose exists", field="guess",
-        margin=mismatch, hint="another guess, near the device's pose")
+        margin=worst, hint="another guess, near the device's pose")
 
 
-def _check_round_trip(mech, q, pose, error, method):
+def _check_round_trip(mech, q, pose, error, method, units=None):
     """:class:`NotFoundError` unless the closed-form IK at ``pose`` gives back ``q``
     (:func:`.forward.round_trip`, with the pose's ``error`` (6,))."""
     from .forward import round_trip
@@ -221,20 +235,31 @@ def _check_round_trip(mech, q, pose, error, method):
     bad = ~(mismatch[0] <= allowed[0])
     if bad.any():
         legs = [int(i) + 1 for i in np.flatnonzero(bad)]
-        raise _refusal(f"a {method} pose", float(np.max(mismatch[0][bad])),
-                       f"legs {legs}")
+        raise _refusal(mech, f"a {method} pose", np.where(bad, mismatch[0], 0.0),
+                       f"legs {legs}", units)
 
 
-def fast_tier(mech, fast) -> TieredFK:
+def fast_tier(mech, fast, q=None, units=None) -> TieredFK:
     """The :class:`TieredFK` of a fast answer ``fast`` (:class:`.forward.FKResult` of one
     pose), with its error estimate (:func:`.forward.pose_error_estimate`);
     :class:`NotFoundError` when the answer fails the round trip (``fast.round_trip``,
-    :func:`.forward.round_trip`): no accuracy is stated for a wrong pose."""
-    from .forward import pose_error_estimate
+    :func:`.forward.round_trip`): no accuracy is stated for a wrong pose.  ``q`` (L,):
+    the joint values ``fast`` answered (the refusal then states the mismatch per joint
+    type; without them, the largest one for every leg).  ``units``:
+    {"length": (name, factor from m), "angle": (name, factor from rad)}, the units of
+    the refusal's numbers (default SI)."""
+    from .forward import pose_error_estimate, round_trip
+    err = pose_error_estimate(mech, fast.condition, fast.residual)
     if not fast.round_trip:
-        raise _refusal("a fast pose", float(fast.q_mismatch), f"the fast tier: {fast.message}")
-    return TieredFK(np.array(fast.pose), "fast",
-                    pose_error_estimate(mech, fast.condition, fast.residual)[0], False,
+        mismatch = (round_trip(mech, np.asarray(q, dtype=float)[None],
+                               np.asarray(fast.pose)[None], err)[0][0] if q is not None else np.full(mech.legs, float(fast.q_mismatch)))
+        lu, lf = (units or _SI_SHOWN)["length"]
+        raise _refusal(mech, "a fast pose", mismatch,
+                       f"the fast tier's Gauss-Newton pose: "
+                       f"{'converged' if fast.converged else 'not converged'} in "
+                       f"{fast.iterations} iterations, rms closure residual "
+                       f"{float(fast.residual) * lf:.3g} {lu}", units)
+    return TieredFK(np.array(fast.pose), "fast", err[0], False,
                     tuple(range(1, mech.legs + 1)), float(fast.residual), {}, None, fast)
 
 

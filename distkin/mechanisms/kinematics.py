@@ -38,7 +38,7 @@ class KernelMethods:
         ``q`` (N, L) (default: the inverse kinematics of ``poses``).  One implementation
         for every mechanism, on its leg table (:meth:`leg_description`)."""
         from ..spatial import rotation_matrix
-        X, single = _poses(poses)
+        X, single = _poses(poses, scale=self.length_scale)
         if q is None:
             q, _ = self.inverse_kinematics(X)
         q = np.asarray(q, dtype=float).reshape(len(X), self.L)
@@ -110,7 +110,7 @@ class KernelMethods:
             _check_dps(dps, method)
         if method != "fast":
             return self._tiered("ik", poses, method, dps)
-        X, single = _poses(poses)
+        X, single = _poses(poses, scale=self.length_scale)
         k = self.kernels("batched")
         q = k.ik(X)
         valid = self._valid(q, k.reach(X))
@@ -156,7 +156,7 @@ class KernelMethods:
         :meth:`jacobian` ("jacobian") or :meth:`jq_jx` ("jq_jx")
         (:mod:`.kinematics_tiers`); certified raises for an uncertified leg."""
         from .kinematics_tiers import ik_tier, jacobian_tier, raise_uncertified
-        _, single = _poses(poses)
+        _, single = _poses(poses, scale=self.length_scale)
         if what == "ik":
             res = ik_tier(self, poses, method, dps)
             raise_uncertified(res, "inverse kinematics")
@@ -182,7 +182,7 @@ class KernelMethods:
 
     def reachable(self, poses):
         """(N,) bool: every leg of the pose closes (and is within its joint range)."""
-        X, single = _poses(poses)
+        X, single = _poses(poses, scale=self.length_scale)
         if self._joint_ranges()[0] is not None:
             ok = np.all(self.inverse_kinematics(X)[1], axis=-1)
             return ok[0] if single else ok
@@ -191,7 +191,7 @@ class KernelMethods:
 
     def reach_margin(self, poses):
         """(N, L) reach margin rho^2 - C^2 (m^2) of the IK equation A cos q + B sin q = C."""
-        X, single = _poses(poses)
+        X, single = _poses(poses, scale=self.length_scale)
         m = self.kernels("batched").reach(X)
         return m[0] if single else m
 
@@ -210,7 +210,7 @@ class KernelMethods:
             _check_dps(dps, method)
         if method != "fast":
             return self._tiered("jacobian", poses, method, dps)
-        X, single = _poses(poses)
+        X, single = _poses(poses, scale=self.length_scale)
         J = self._fast("jacobian", X)
         return J[0] if single else J
 
@@ -225,7 +225,7 @@ class KernelMethods:
             _check_dps(dps, method)
         if method != "fast":
             return self._tiered("jq_jx", poses, method, dps)
-        X, single = _poses(poses)
+        X, single = _poses(poses, scale=self.length_scale)
         out = self._fast("jq_jx", X)
         Jq, Jx = out[..., 0], out[..., 1:]
         return (Jq[0], Jx[0]) if single else (Jq, Jx)
@@ -233,7 +233,7 @@ class KernelMethods:
     def pose_jacobian(self, poses):
         """dq/d(x, y, z, rx, ry, rz) = J @ blockdiag(I, E(r)), shape (N, L, 6)."""
         from ..spatial import omega_map
-        X, single = _poses(poses)
+        X, single = _poses(poses, scale=self.length_scale)
         J = self._fast("jacobian", X)
         out = J.copy()
         out[..., 3:] = J[..., 3:] @ omega_map(X[:, 3:])
@@ -246,7 +246,7 @@ class KernelMethods:
         (q̇ = J ẋ) that map is J# = pinv(J).  Mq gives the kinetic energy
         ½ q̇ᵀ Mq q̇ = ½ ẋᵀ M̂ ẋ; it has rank 6, so for L = 8 it is singular.
         """
-        X, single = _poses(poses)
+        X, single = _poses(poses, scale=self.length_scale)
         Jp = np.linalg.pinv(self._fast("jacobian", X))   # (N, 6, L)
         Mq = np.swapaxes(Jp, -1, -2) @ self.cartesian_mass_matrix() @ Jp
         return Mq[0] if single else Mq
@@ -257,7 +257,7 @@ class KernelMethods:
         For L = 6, Mq⁺ = Mq⁻¹ and this is eq. (7) verbatim; for L = 8 eq. (7) needs the
         pseudo-inverse of the singular Mq, and J# Mq⁺ = M̂⁻¹ Jᵀ still holds.
         """
-        X, single = _poses(poses)
+        X, single = _poses(poses, scale=self.length_scale)
         J = self._fast("jacobian", X)
         A = np.linalg.inv(self.cartesian_mass_matrix()) @ np.swapaxes(J, -1, -2)
         return A[0] if single else A
@@ -282,6 +282,8 @@ class KernelMethods:
         only with "certified" (:class:`~distkin.errors.InputError` otherwise)."""
         if dps is not None:
             _check_dps(dps, method)
+        from .forward import check_joint_values
+        check_joint_values(self, q)        # every route: a prismatic length > 0 (QA R 1)
         if method != "fast" or legs is not None or bits is not None:
             from ..errors import InputError
             from .forward_tiers import forward_tier
@@ -293,7 +295,7 @@ class KernelMethods:
                                 fast=start)
         from .forward import forward_kinematics
         if guess is not None:                 # (6,) or (N, 6), from 4x4 matrices too
-            g, one = _poses(guess, "guess")
+            g, one = _poses(guess, "guess", self.length_scale)
             guess = g[0] if one else g
         topo = getattr(self, "octahedral", None)
         if octic and topo is not None and topo() is not None:

@@ -304,7 +304,7 @@ def check_dps(dps, method: str, field: str = "dps") -> int | None:
 
 def _setup(mech, poses, method, dps, bits):
     check_method(method)
-    X, _ = _poses(poses)
+    X, _ = _poses(poses, scale=mech.length_scale)
     dps = check_dps(dps, method)
     bits = check_bits(bits, method)
     prec = {"fast": "float64", "precise": f"mpmath at {dps} digits",

@@ -109,7 +109,8 @@ class JacobianQuery:
         mm = table.get("mass_matrix", False)
         if not isinstance(mm, bool):
             raise InputError(f"expected true or false, got {mm!r}", field=f"{field}.mass_matrix")
-        return _Poses(parse_poses(table, units, field), mm, **_tier_fields(table, field))
+        return _Poses(parse_poses(table, units, field, mechanism=mechanism), mm,
+                      **_tier_fields(table, field))
 
     @staticmethod
     def run(p, scene, ctx):

@@ -1,4 +1,6 @@
-"""Scene query ``singularity`` on a ``kind = "legs"`` mechanism: det J of the leg lines
+"""Scene query ``singularity`` on a ``kind = "legs"`` or ``kind = "rss"`` mechanism (a
+preset through its leg table, :meth:`~distkin.mechanisms.description.RSSDescription.leg_description`:
+the same numbers as the table written out as ``kind = "legs"``): det J of the leg lines
 (Rojas et al. eq. (5)), and the Cayley-Menger pure condition and the four-planes test
 (Sec. IV) wherever they apply, at poses or along a path.
 
@@ -7,7 +9,7 @@
     [[query]]
     type = "singularity"
     poses = [[6, 3.4641, 17, 0, 0, 0], ...]     # x y z (length), rx ry rz (angle)
-    # or
+    # or pose = [...] (one pose), or
     path = { from = [...], to = [...], samples = 90 }   # linear in the pose coordinates
     method = "fast"                              # fast | precise | certified
 
@@ -66,19 +68,26 @@ def _pose(value, units, fld):
                  + [angle_value(v, units, f"{fld}[{i + 3}]") for i, v in enumerate(value[3:])])
 
 
+def _table(mech):
+    """The leg table of ``mech``: itself (kind "legs") or its leg description (kind
+    "rss": every preset is a leg table, :meth:`~distkin.mechanisms.description.RSSDescription.leg_description`)."""
+    return mech if hasattr(mech, "leg_table") else mech.leg_description()
+
+
 def applicability(mech) -> dict:
-    """Which tests apply to ``mech`` and why (module docstring): ``det``, ``cm`` (bool)
-    and ``reason`` (text)."""
+    """Which tests apply to ``mech`` (a leg table, or an RSS mechanism through its leg
+    table) and why (module docstring): ``det``, ``cm`` (bool) and ``reason`` (text)."""
+    table = _table(mech)
     if mech.L != 6:
         return {"det": False, "cm": False,
                 "reason": f"L = {mech.L}: J is {mech.L} x 6, singular where its rank drops "
                           "(σmin = 0), no determinant; the Cayley-Menger and four-planes "
                           "tests are written for six legs"}
-    if mech.octahedral() is not None:
+    if table.octahedral() is not None:
         return {"det": True, "cm": True,
                 "reason": "octahedral topology (Rojas et al. Fig. 4): det J of eq. (5), the "
                           "Cayley-Menger pure condition and the four-planes test (Sec. IV)"}
-    if all(leg.prismatic for leg in mech.leg_table):
+    if all(leg.prismatic for leg in table.leg_table):
         why = ("a 6-6 platform: the Cayley-Menger pure condition and the four-planes test "
                "are written on the six points of the octahedral topology; a 6-6 platform "
                "has them only through its Δ-transform (eq. (8)), which a leg table does not "
@@ -101,7 +110,7 @@ def leg_lines(mech, pose):
 def _octa_points(mech, pose):
     """P1..P6 (6, 3) in the base frame (m) of an octahedral-topology table at ``pose``."""
     from ...spatial import rotation_matrix
-    topo = mech.octahedral()
+    topo = _table(mech).octahedral()
     x = np.asarray(pose, dtype=float)
     plat = x[:3] + topo["platform"] @ rotation_matrix(x[3:]).T
     return np.vstack([topo["base"], plat])
@@ -141,19 +150,22 @@ def singularity_tests_at(mech, pose, method: str = "fast") -> dict:
     return out
 
 
-@register("singularity", mechanisms=("legs",),
+@register("singularity", mechanisms=("legs", "rss"),
           summary="det J of the leg lines (eq. 5), Cayley-Menger and four-planes tests where "
                   "they apply, at poses or along a path")
 class LegSingularityQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
-        check_keys(table, {"type", "poses", "path", "method"}, field)
-        if ("poses" in table) == ("path" in table):
-            raise InputError("expected exactly one of poses and path, got "
-                             f"{'both' if 'poses' in table else 'neither'}", field=field)
+        check_keys(table, {"type", "pose", "poses", "path", "method"}, field)
+        given = [k for k in ("pose", "poses", "path") if k in table]
+        if len(given) != 1:
+            raise InputError("expected exactly one of pose, poses and path, got "
+                             + (" and ".join(given) if given else "none"), field=field)
         poses = path = None
         samples = 90
-        if "poses" in table:
+        if "pose" in table:
+            poses = (_pose(table["pose"], units, f"{field}.pose"),)
+        elif "poses" in table:
             raw = pose_list(table["poses"], f"{field}.poses")
             poses = tuple(_pose(v, units, f"{field}.poses[{i}]") for i, v in enumerate(raw))
         else:
@@ -167,6 +179,11 @@ class LegSingularityQuery:
                                  field=f"{field}.path.samples",
                                  hint="each sample is one pose evaluated in full; crossings "
                                       "between samples are located by Brent's method")
+        from .mechanisms import check_pose_units      # float64-meaningless poses (QA R 8)
+        names = ([f"{field}.pose"] if "pose" in table else
+                 [f"{field}.poses[{i}]" for i in range(len(poses))] if poses else
+                 [f"{field}.path.from", f"{field}.path.to"])
+        check_pose_units(np.array(poses or path), units, names, mechanism.length_scale)
         return _Params(poses, path, samples, method_field(table, field))
 
     @staticmethod

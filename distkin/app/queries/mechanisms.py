@@ -97,7 +97,8 @@ from ...exact import parse_float
 from ..query import Outcome, register
 from ..units import angle_factor, length_factor
 
-__all__ = ["InverseKinematicsQuery", "ForwardKinematicsQuery", "parse_poses"]
+__all__ = ["InverseKinematicsQuery", "ForwardKinematicsQuery", "parse_poses",
+           "check_pose_units"]
 
 
 def _numbers(value, field, length=None):
@@ -114,20 +115,55 @@ def _scale(units):
     return np.array([lf] * 3 + [af] * 3)
 
 
-def parse_poses(table, units, field, *, required=True):
-    """``pose = [...]`` or ``poses = [[...], ...]`` in scene units -> (N, 6) SI array."""
+def parse_poses(table, units, field, *, required=True, mechanism=None):
+    """``pose = [...]`` or ``poses = [[...], ...]`` in scene units -> (N, 6) SI array.
+
+    Given the ``mechanism``, a pose whose numbers mean nothing in float64 is refused here,
+    in the scene's units (:func:`check_pose_units`)."""
     if "pose" in table and "poses" in table:
         raise InputError("expected either 'pose' or 'poses', got both", field=field)
     if "pose" in table:
         rows = [_numbers(table["pose"], f"{field}.pose", 6)]
+        names = [f"{field}.pose"]
     elif "poses" in table:
         raw = pose_list(table["poses"], f"{field}.poses")
         rows = [_numbers(r, f"{field}.poses[{i}]", 6) for i, r in enumerate(raw)]
+        names = [f"{field}.poses[{i}]" for i in range(len(rows))]
     elif required:
         raise InputError("missing required field 'poses' (or 'pose')", field=f"{field}.poses")
     else:
         return None
-    return tuple(map(tuple, np.array(rows) * _scale(units)))
+    X = np.array(rows) * _scale(units)
+    if mechanism is not None:
+        check_pose_units(X, units, names, mechanism.length_scale)
+    return tuple(map(tuple, X))
+
+
+def check_pose_units(X, units, names, scale):
+    """:func:`distkin.mechanisms.description.check_pose_range` on poses (N, 6) (SI) of a
+    scene, its error naming ``names[i]`` and stating the values and the bound in the
+    scene's units (QA R 3, R 8: a pose of 1e300 mm, an angle of 1e20 deg)."""
+    from ...mechanisms.description import MAX_REACH, MAX_ROTATION, check_pose_range
+    try:
+        check_pose_range(X, "", scale)
+    except InputError:
+        lf, af = 1.0 / length_factor(units, "units"), 1.0 / angle_factor(units)
+        Y = np.abs(np.asarray(X, dtype=float))
+        bad = np.concatenate([Y[:, :3] > MAX_REACH * scale, Y[:, 3:] > MAX_ROTATION], axis=1)
+        i, k = (int(v) for v in np.argwhere(bad)[0])
+        if k >= 3:
+            raise InputError(
+                f"expected a rotation component of magnitude at most {MAX_ROTATION * af:.3g} "
+                f"{units.angle} ({MAX_ROTATION:g} rad: float64 keeps no digit of a larger "
+                f"angle modulo 2π), got {X[i, k] * af:.6g} {units.angle}",
+                field=f"{names[i]}[{k}]",
+                hint=f"a unit slip? the scene's [units] angle is \"{units.angle}\"") from None
+        raise InputError(
+            f"expected a translation component of magnitude at most "
+            f"{MAX_REACH * scale * lf:.3g} {units.length} ({MAX_REACH:g} x the mechanism's "
+            f"length scale; no pose of the device lies farther), got {X[i, k] * lf:.6g} "
+            f"{units.length}", field=f"{names[i]}[{k}]",
+            hint=f"a unit slip? the scene's [units] length is \"{units.length}\"") from None
 
 
 def _units(scene):
@@ -273,7 +309,8 @@ class InverseKinematicsQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
         check_keys(table, {"type", "pose", "poses", "method", "dps", "bits"}, field)
-        return _Poses(parse_poses(table, units, field), **_tier_fields(table, field))
+        return _Poses(parse_poses(table, units, field, mechanism=mechanism),
+                      **_tier_fields(table, field))
 
     @staticmethod
     def run(p, scene, ctx):
@@ -393,11 +430,19 @@ class ForwardKinematicsQuery:
             raise InputError("missing required field 'angles'", field=f"{field}.angles")
         af = angle_factor(units)
         lf = length_factor(units, "units")
-        angles = tuple(a * (lf if p else af) for a, p in zip(
-            _numbers(table["angles"], f"{field}.angles", mechanism.L), _prismatic(mechanism)))
+        raw = _numbers(table["angles"], f"{field}.angles", mechanism.L)
+        for i, (a, p) in enumerate(zip(raw, _prismatic(mechanism))):
+            if p and not a > 0:                # a zero length divides the closure (QA R 1)
+                raise InputError(f"expected a positive leg length (prismatic leg {i + 1}, "
+                                 f"{units.length}), got {a:g}", field=f"{field}.angles[{i}]",
+                                 hint="a prismatic leg's joint value is its length from the "
+                                      "base joint to the platform joint")
+        angles = tuple(a * (lf if p else af) for a, p in zip(raw, _prismatic(mechanism)))
         guess = None
         if "guess" in table:
             guess = tuple(np.array(_numbers(table["guess"], f"{field}.guess", 6)) * _scale(units))
+            check_pose_units(np.array(guess)[None], units, [f"{field}.guess"],
+                             mechanism.length_scale)
         from ...mechanisms.forward import TOL, check_step_tol
         tol = check_step_tol(positive_number(table.get("tol", TOL), f"{field}.tol"),
                              f"{field}.tol")                        # relative
@@ -441,9 +486,11 @@ class ForwardKinematicsQuery:
             # fast: refused unless the answer passes the round trip; precise and
             # certified start from it (the exact octic's mode for an octahedral leg
             # table) and their pose must pass it too
-            tier = (fast_tier(mech, res) if p.method == "fast" else
+            lu, au, lf, af = _units(scene)             # the refusal in scene units (QA R 10)
+            shown = {"length": (lu, lf), "angle": (au, af)}
+            tier = (fast_tier(mech, res, np.array(p.angles), shown) if p.method == "fast" else
                     forward_tier(mech, np.array(p.angles), method=p.method, dps=p.dps,
-                                 bits=p.bits, legs=p.legs, fast=res))
+                                 bits=p.bits, legs=p.legs, fast=res, units=shown))
         except DistkinError as exc:         # the Python argument q is the scene's angles
             if exc.field == "q":
                 exc.field = "angles"
