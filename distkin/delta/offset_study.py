@@ -306,7 +306,8 @@ def _exact_route(octahedral, platform, legs, method, dps, R, t, c, L):
     if platform.transform is None:
         return float("nan"), float("nan"), ""
     res, why = _solve(forward_kinematics66, octahedral, list(platform.transform.offsets),
-                      legs, method=method, dps=dps)
+                      legs, method=method,
+                      dps=dps if method in ("precise", "auto") else None)
     if method == "precise":
         return (*_nearest([(p.rotation, p.translation) for p in res.poses], R, t, c, L,
                           "precise"), why)

@@ -233,6 +233,8 @@ def forward_kinematics66(octahedral, offsets, m_legs, *, method: str = "fast",
         check runs in float64 (fast), mpmath at ``dps`` (precise) or arb balls
         (certified: a rigorous upper bound).
     dps : int, optional
+        Digits of ``precise`` (and of ``auto``'s precise fallback); refused with
+        ``fast`` and ``certified``, which would ignore it.
 
     Returns
     -------
@@ -248,6 +250,9 @@ def forward_kinematics66(octahedral, offsets, m_legs, *, method: str = "fast",
         See :meth:`DeltaTransform.map_legs` and :func:`equivalent_platform`.
     """
     check_method(method, allowed=METHODS_AUTO)
+    if dps is not None and method not in ("precise", "auto"):     # QA T 9
+        raise InputError(f"expected 'dps' only with method 'precise' or 'auto' (the "
+                         f"mpmath digits), got method {method!r}", field="dps")
     dps = default_dps(dps) if dps is not None else None
     plat = equivalent_platform(octahedral, offsets)
     from ..octahedral import forward_kinematics

@@ -66,11 +66,11 @@ def _tier_args(method: str, dps, tol):
     5..1233, and at least :data:`.precise.MIN_DPS` where the precise tier may run;
     tol relative (:func:`~distkin.argcheck.relative_tol`, bounded by those digits)."""
     if dps is not None:
-        if method in ("precise", "auto"):
-            from .precise import check_precise_dps
-            dps = check_precise_dps(dps)
-        else:
-            dps = default_dps(dps)
+        if method not in ("precise", "auto"):     # it would be ignored (QA T 9)
+            raise InputError(f"expected 'dps' only with method 'precise' or 'auto' (the "
+                             f"mpmath digits), got method {method!r}", field="dps")
+        from .precise import check_precise_dps
+        dps = check_precise_dps(dps)
     return dps, None if tol is None else relative_tol(tol, "tol",
                                                       digits=_tol_digits(method, dps))
 
@@ -113,7 +113,9 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
     dps : int, optional
         Decimal digits of the ``precise`` tier (default 30; at least
         :data:`.precise.MIN_DPS` = 15: fewer digits than float64's would make its
-        residual test, 10^(8 - dps) relative, meaningless).
+        residual test, 10^(8 - dps) relative, meaningless); ``auto``: of its precise
+        fallback (default 50).  Refused with ``fast`` and ``certified``, which would
+        ignore it.
     tol : float, optional
         ``certified``: relative radius (to the size of the mechanism) the pose
         enclosures are refined to (default 1e-15).  ``precise``: the relative residual

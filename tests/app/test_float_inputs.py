@@ -66,16 +66,26 @@ def test_points_given_as_floats_are_named_and_used_exactly():
 
 
 def test_scene_units_keep_exact_coordinates_exact():
-    """A coordinate in mm given exactly ("sqrt(108) - 1/10**18") is converted to metres
-    exactly: sympy's nsimplify used to snap its small irrational part away (so that the
-    certified tier would solve a neighbouring problem)."""
-    from fractions import Fraction
-
+    """A coordinate in mm given exactly ("sqrt(108) - 1/10**18") reaches the exact tiers
+    exactly: the octahedral queries solve the geometry as written, in the scene's
+    unit (QA R 4; a conversion to metres by sympy's nsimplify once snapped its small
+    irrational part away).  Reference: the same scene without units, whose precise
+    roots (irrational squared sides: no certified tier) are bit for bit the same."""
     import sympy as sp
 
-    from distkin.app.queries.octahedral import _si
-    from distkin.exact import parse_exact
-    v = parse_exact("sqrt(108) - 1/10**18", "base[1][1]")
-    got = _si(v, Fraction(1, 1000)).value
-    assert sp.simplify(got - (sp.sqrt(108) - sp.Rational(1, 10 ** 18)) / 1000) == 0
-    assert got != sp.sqrt(108) / 1000
+    from distkin.app.cli import run_scene
+    from distkin.app.scene import loads_scene
+    text = ('[mechanism]\nkind = "octahedral"\n'
+            'base = [[0, 0, 0], [6, "sqrt(108) - 1/10**18", 0], [12, 0, 0]]\n'
+            'platform = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]]\n[[query]]\n'
+            'type = "forward_kinematics"\nlegs = ["19.8", "18", "18", "17", "14.9", "17.8"]\n'
+            'method = "precise"\ndps = 40\n')
+    mm = loads_scene('[units]\nlength = "mm"\n' + text)
+    got = mm.mechanism.base[1][1].value
+    assert sp.simplify(got - (sp.sqrt(108) - sp.Rational(1, 10 ** 18))) == 0
+    plain = loads_scene('[units]\nlength = "none"\n' + text)
+    a, _, wa = run_scene(mm, progress=False)
+    b, _, wb = run_scene(plain, progress=False)
+    assert wa == wb == 0
+    assert a[0]["result"]["real_roots"]["values"] == b[0]["result"]["real_roots"]["values"]
+    assert a[0]["result"]["unit"]["s15"] == "mm^2"

@@ -81,3 +81,19 @@ def test_a_thin_triangle_names_the_tolerance():
     import re
     value = float(re.search(r"= ([0-9.e+-]+), not above", msg).group(1))
     assert value == pytest.approx(16 * (10 * 1e-6 / 2) ** 2 / 150 ** 2, rel=0.02)
+
+
+@pytest.mark.parametrize("method", ["fast", "certified"])
+def test_dps_with_a_tier_that_ignores_it_is_refused(method):
+    """``dps`` was silently ignored by the fast and certified tiers (QA T 9), while the
+    mechanisms' tiers refuse it; now the octahedral and 6-6 solvers refuse it too."""
+    from distkin.delta import forward_kinematics66
+    with pytest.raises(InputError, match="'dps' only with method 'precise' or 'auto'"):
+        forward_kinematics(BASE, PLAT, GD, method=method, dps=50)
+    if method == "fast":
+        with pytest.raises(InputError, match="'dps' only with method"):
+            forward_kinematics_batched(BASE, PLAT, np.array([GD]), dps=40)
+    with pytest.raises(InputError, match="'dps' only with method"):
+        forward_kinematics66((BASE, PLAT),
+                             ["12/5", "6/5", "12/5", "6/5", "12/5", "6/5"],
+                             ["19.8", 18, 18, 17, "14.9", "17.8"], method=method, dps=40)

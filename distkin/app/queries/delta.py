@@ -97,7 +97,7 @@ class _Params:
     m_legs: tuple | None
     solve: bool
     method: str
-    dps: int
+    dps: int | None
     transform: object
     mechanism: object
 
@@ -139,7 +139,9 @@ class DeltaTransformQuery:
             raise InputError("expected numeric offsets when solve = true, got symbols "
                              f"{', '.join(map(str, tr.free_symbols))}", field=f"{field}.solve")
         method = method_field(table, field, allowed=METHODS_AUTO)
-        dps = dps_field(table, method, field, uses=("precise", "auto"))
+        # (None when not written: the library's default, 30 precise, 50 for auto's fallback)
+        dps = dps_field(table, method, field, uses=("precise", "auto")) \
+            if "dps" in table else None
         return _Params(offs, m_legs, solve, method, dps, tr, mechanism)
 
     @staticmethod
@@ -313,7 +315,9 @@ class Platform66Forward:
                                  field=f"{field}.legs[{i}]")
         tr = delta_transform(mechanism, mechanism.offsets, field="mechanism.offsets")
         method = method_field(table, field, allowed=METHODS_AUTO)
-        dps = dps_field(table, method, field, uses=("precise", "auto"))
+        # (None when not written: the library's default, 30 precise, 50 for auto's fallback)
+        dps = dps_field(table, method, field, uses=("precise", "auto")) \
+            if "dps" in table else None
         return _Params(mechanism.offsets, legs, True, method, dps, tr, mechanism)
 
     @staticmethod

@@ -41,7 +41,7 @@ from dataclasses import dataclass, replace
 
 from ...argcheck import check_keys, dps_field, exact_vector, method_field, require, tol_field
 from ...errors import ConditioningWarning, DistkinError, InputError
-from ...exact import METHODS_AUTO
+from ...exact import METHODS_AUTO, default_dps
 from ..query import Outcome, register
 from ..report import float_inputs, float_inputs_line
 
@@ -52,7 +52,7 @@ __all__ = ["OctahedralForwardQuery", "result_units"]
 class _Params:
     legs: tuple
     method: str
-    dps: int
+    dps: int | None
     tol: float | None
 
 
@@ -72,7 +72,9 @@ class OctahedralForwardQuery:
                 raise InputError(f"expected a positive leg length, got {v.text}",
                                  field=f"{field}.legs[{i}]")
         method = method_field(table, field, allowed=METHODS_AUTO)
-        dps = dps_field(table, method, field, uses=("precise", "auto"))
+        # (None when not written: the library's default, 30 precise, 50 for auto's fallback)
+        dps = dps_field(table, method, field, uses=("precise", "auto")) \
+            if "dps" in table else None
         from ...octahedral.auto import PRECISE_DPS         # auto's precise fallback
         tol = tol_field(table, method, field, dps=dps,
                         precise_dps=dps if "dps" in table else PRECISE_DPS)
@@ -172,7 +174,7 @@ def _u(unit, power=1):
 
 def _text(res, unit, p):
     lines = [f"octahedral forward kinematics ({res.method}"
-             + (f", {p.dps} digits" if res.method == "precise" else "") + ")"]
+             + (f", {default_dps(p.dps)} digits" if res.method == "precise" else "") + ")"]
     if res.method == "auto":
         lines.append(f"answered by the {res.tier} tier: {res.tier_reason}")
     elif res.conditioning is not None and not res.conditioning.trusted:
