@@ -60,13 +60,15 @@ def solve_exact(base, platform, legs, *, dps=None, tol=None):
     except UncertifiedError as exc:    # a multiple root: the balls cannot place its modes
         why = f"the certified tier cannot decide it ({exc.message})"
     else:
-        return (rescale_result(res, problem.exponent), "certified",
+        return (replace(rescale_result(res, problem.exponent),
+                        accuracy=res.accuracy + problem.float_note()), "certified",
                 "escalated to the certified tier (count proved)")
     from .precise import solve_precise
     digits = PRECISE_DPS if dps is None else dps
     with in_units(problem.exponent):
         res = solve_precise(problem, digits, tol)
-    return (rescale_result(res, problem.exponent), "precise",
+    return (replace(rescale_result(res, problem.exponent),
+                    accuracy=res.accuracy + problem.float_note()), "precise",
             f"{why}, so the precise tier at {digits} digits answered: its count is not "
             "certified")
 

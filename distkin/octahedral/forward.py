@@ -198,7 +198,8 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
             from .certified import solve_certified
             res = replace(solve_certified(problem, 1e-15 if tol is None else float(tol)),
                           tier="certified")
-    return rescale_result(res, problem.exponent)
+    return replace(rescale_result(res, problem.exponent),
+                   accuracy=res.accuracy + problem.float_note())
 
 
 def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",

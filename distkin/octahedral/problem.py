@@ -60,6 +60,22 @@ class Problem:
     legs2: tuple
     from_float: bool
     exponent: int = 0
+    float_fields: tuple = ()
+
+    def float_note(self) -> str:
+        """What an exact tier's ``accuracy`` adds when some data were bare floats
+        (docs/design.md §3: "the result says so", QA T 3): their fields, and the exact
+        value of the first one; "" when none."""
+        if not self.float_fields:
+            return ""
+        from decimal import Decimal
+        name, value = self.float_fields[0]
+        more = ", ".join(n for n, _ in self.float_fields[1:4])
+        if len(self.float_fields) > 4:
+            more += f" and {len(self.float_fields) - 4} more"
+        return (f"; of the data as given: bare floats are taken as their exact binary "
+                f"values ({name} = {value!r} is {Decimal(value)}"
+                + (f"; also {more}" if more else "") + "), so the answer is theirs")
 
     @property
     def rational(self) -> bool:
@@ -218,14 +234,18 @@ def exact_problem(base, platform, legs) -> Problem:
     pts = {1: B[0], 2: B[1], 3: B[2], 4: Q[0], 5: Q[1], 6: Q[2]}
     sides2 = tuple(_square_distance(pts[i], pts[j]) for i, j in SIDE_PAIRS)
     legs2 = tuple(_square(v) for v in L)
-    from_float = any(v.from_float for v in L + B[0] + B[1] + B[2] + Q[0] + Q[1] + Q[2])
+    named = ([(f"legs[{i}]", v) for i, v in enumerate(L)]
+             + [(f"{w}[{i}][{j}]", v) for w, rows in (("base", B), ("platform", Q))
+                for i, r in enumerate(rows) for j, v in enumerate(r)])
+    floats = tuple((n, float(v.value)) for n, v in named if v.from_float)
     k = exponent(largest)
     problem = scale_problem(Problem(tuple(tuple(v.value for v in r) for r in B),
                                     tuple(tuple(v.value for v in r) for r in Q),
-                                    tuple(v.value for v in L), sides2, legs2, from_float), k)
+                                    tuple(v.value for v in L), sides2, legs2,
+                                    bool(floats)), k)
     check_triangle_exact(problem.sides2[:3], "P1 P2 P3", "base")
     check_triangle_exact(problem.sides2[3:], "P4 P5 P6", "platform")
-    return replace(problem, exponent=k)
+    return replace(problem, exponent=k, float_fields=floats)
 
 
 def _floats(value, field):

@@ -97,3 +97,19 @@ def test_dps_with_a_tier_that_ignores_it_is_refused(method):
         forward_kinematics66((BASE, PLAT),
                              ["12/5", "6/5", "12/5", "6/5", "12/5", "6/5"],
                              ["19.8", 18, 18, 17, "14.9", "17.8"], method=method, dps=40)
+
+
+def test_an_exact_tier_says_when_it_solved_bare_floats():
+    """DESIGN §3: a bare float is its exact binary value "and the result says so"; the
+    library's exact tiers did not (only the scene layer did, QA T 3).  Reference: the
+    decimal expansion of the binary 19.8 by Python's Decimal."""
+    from decimal import Decimal
+    exact = forward_kinematics(BASE, PLAT, ["19.8", 18, 18, 17, "14.9", "17.8"],
+                               method="certified")
+    assert "bare float" not in exact.accuracy
+    r = forward_kinematics(BASE, PLAT, GD, method="certified")
+    assert f"legs[0] = 19.8 is {Decimal(19.8)}" in r.accuracy
+    assert "also legs[4], legs[5]" in r.accuracy
+    p = forward_kinematics(BASE, PLAT, GD, method="precise")
+    assert "bare floats are taken as their exact binary values" in p.accuracy
+    assert r.roots[0].value != exact.roots[0].value      # another problem, certified
