@@ -71,6 +71,13 @@ class Pose:
     native: dict | None = field(default=None, repr=False, compare=False)
     radius: float = 0.0
 
+    def __post_init__(self):
+        # a proved pose must not be editable after the fact (QA T 8); the fast tier's
+        # poses (:func:`_pose`) are read-only views or copies made so where built
+        for a in (self.rotation, self.translation, self.points):
+            if isinstance(a, np.ndarray):
+                a.flags.writeable = False
+
     def __eq__(self, other):
         if not isinstance(other, Pose):
             return NotImplemented
@@ -330,6 +337,13 @@ def _proved(conditioning, n):
     return radii if len(radii) == n else (math.inf,) * n
 
 
+def _frozen(a):
+    """A read-only copy of ``a`` (a pose's array: QA T 8)."""
+    a = a.copy()
+    a.flags.writeable = False
+    return a
+
+
 def _fast_result(raw, i):
     """The :class:`AssemblyResult` of problem ``i`` of :func:`.batched.solve_fast`'s arrays."""
     roots, poses = [], []
@@ -346,7 +360,8 @@ def _fast_result(raw, i):
                                      _proved(cond, n)):   # the first n rows are roots
         roots.append(_root(x, st, code, pr))
         for j, side in ((slot, 1), (slot + 1, -1)) if code == 0 else ():
-            poses.append(_pose(x, side, R[j].copy(), T[j].copy(), P[j].copy(), E[j], Er[j]))
+            poses.append(_pose(x, side, _frozen(R[j]), _frozen(T[j]), _frozen(P[j]), E[j],
+                               Er[j]))
     reason = "" if poses else _empty_reason(roots, raw["lo"][i], raw["hi"][i])
     notes = (_SPURIOUS_NOTE,)
     if "octic_exponent" in raw and raw["octic_exponent"][i]:
@@ -403,6 +418,8 @@ def _single_result(solve, conditioning=None, k=0):
             conditioning = conditioning.scaled(k)
     infos = tuple(_root(x, st, int(code), pr) for (x, st, code), pr in
                   zip(roots.tolist(), _proved(conditioning, len(roots))))
+    for a in (R, T, P):                     # the poses' rows are views (QA T 8)
+        a.flags.writeable = False
     out = tuple(map(_pose, S.tolist(), side.tolist(), R, T, P, E.tolist(), Er.tolist()))
     reason = "" if out else _empty_reason(infos, lo, hi)
     return _assembly(out, octic, infos, reason, notes, conditioning)
@@ -474,6 +491,7 @@ def _from_buffer(lo, hi, nr, m, buf, conditioning=None):
     :class:`Pose` objects as :func:`_single_result` builds them (pose arrays are views
     of the buffer; the roots' radii proved where ``conditioning`` proves them)."""
     o = 51 + 3 * nr
+    buf.flags.writeable = False             # the poses' arrays are its views (QA T 8)
     rows = buf[51:o].tolist()
     proved = _proved(conditioning, nr)
     roots = tuple(_root(rows[j], rows[j + 1], int(rows[j + 2]), proved[j // 3])

@@ -113,3 +113,21 @@ def test_an_exact_tier_says_when_it_solved_bare_floats():
     p = forward_kinematics(BASE, PLAT, GD, method="precise")
     assert "bare floats are taken as their exact binary values" in p.accuracy
     assert r.roots[0].value != exact.roots[0].value      # another problem, certified
+
+
+@pytest.mark.parametrize("method", ["fast", "precise", "certified", "auto"])
+def test_a_pose_cannot_be_edited_after_the_fact(method):
+    """A proved pose +- its radius could be changed in place (QA T 8): every tier's pose
+    arrays are read-only, single and batched, and the answer stays what was computed."""
+    res = forward_kinematics(BASE, PLAT, ["19.8", 18, 18, 17, "14.9", "17.8"],
+                             method=method)
+    before = res[0].translation.copy()
+    for p in res.poses:
+        for a in (p.rotation, p.translation, p.points):
+            with pytest.raises(ValueError, match="read-only"):
+                a[0] = 99
+    assert np.array_equal(res[0].translation, before)
+    if method == "fast":
+        b = forward_kinematics_batched(BASE, PLAT, np.array([GD]))
+        with pytest.raises(ValueError, match="read-only"):
+            b.result(0)[0].points[0, 0] = 1.0
