@@ -31,10 +31,15 @@ _LEG_OK = 1e-6       # relative leg residual under which a placement is accepted
 _LEG_BASE = (0, 1, 1, 2, 2, 0)
 _LEG_PLAT = (0, 0, 1, 1, 2, 2)
 
-_jit = numba.njit(cache=True, error_model="numpy")
+_jit = numba.njit(cache=True, error_model="numpy", _nrt=True)
+#: the functions that allocate nothing and return no array, compiled without numba's
+#: reference counting (``_nrt=False``, perf-oct-4; :mod:`.signscan` says why); the others
+#: say ``_nrt=True`` explicitly, since a callee compiled first from a ``_nrt=False``
+#: caller would inherit it
+_leaf = numba.njit(cache=True, error_model="numpy", _nrt=False)
 
 
-@_jit
+@_leaf
 def _adapted_base(B, A):
     """The base-adapted frame: axes e1 (along P1P2), e2, e3 written to the rows of
     ``A`` (3, 3); returns |P1P2| and P3's in-plane coordinates (p3x, p3y)."""
@@ -52,7 +57,7 @@ def _adapted_base(B, A):
     return dd, p3x, p3y
 
 
-@_jit
+@_leaf
 def _assemble(x, s2, l2, dd, p3x, p3y, out):
     """The trilateration sequence of Sec. III at s15 = x, side +1, in the base-adapted
     frame (P1 at the origin, P2 on the x axis, P3 in the xy plane): writes P4 P5 P6 to
@@ -118,7 +123,7 @@ def _assemble(x, s2, l2, dd, p3x, p3y, out):
     return min(h5 / (abs(x) + s12 + s13), h4 / (s14 + s12 + g33), h6best), best
 
 
-@_jit
+@_leaf
 def _to_base(B, A, ad, sg, P):
     """P = P1 + X e1 + Y e2 + side Z e3: the adapted rows ``ad`` in the base frame."""
     for r in range(3):
@@ -157,7 +162,7 @@ def assemble_many(B, x, s2, l2):
     return pts, h2, r36
 
 
-@_jit
+@_leaf
 def _frame(P, F):
     """Axes (rows of F) of the triangle P (rows): e1 along p1p2, e3 along the normal;
     False if degenerate."""
@@ -196,7 +201,7 @@ def place(B, Q, L, s2, l2, lo, hi, roots, nroots, P, R, T, E, Er, S15, side, slo
                   slot.reshape(1, 8), np.empty((4, 3, 3)), 0)
 
 
-@_jit
+@_leaf
 def _place(B, Q, L, s2, l2, lo, hi, roots, nroots, P, R, T, E, Er, S15, side, slot, ws, i):
     """:func:`place` for problem ``i`` of the batched arrays (B, Q (n, 3, 3), L, s2, l2
     (n, 6), lo, hi (n,), P, R (n, 16, 3, 3), T (n, 16, 3), E, Er (n, 16), slot (n, 8)),
@@ -323,12 +328,18 @@ def _place_many(B, Q, L, s2, l2, lo, hi, c, row, x, step, status, roots, steps, 
     for t in range(m):
         order[fill[row[t]]] = t
         fill[row[t]] += 1
-    buf = np.empty((16, 3))
-    rt = np.empty((8, 3))
-    srt = np.empty(16, np.int64)
-    ws = np.empty((4, 3, 3))
+    _place_rows(B, Q, L, s2, l2, lo, hi, c, x, step, status, roots, steps, stat, slot, count,
+                s15, P, R, T, E, Er, start, order, np.empty((16, 3)), np.empty((8, 3)),
+                np.empty(16, np.int64), np.empty((4, 3, 3)), S, side)
+
+
+@_leaf
+def _place_rows(B, Q, L, s2, l2, lo, hi, c, x, step, status, roots, steps, stat, slot, count,
+                s15, P, R, T, E, Er, start, order, buf, rt, srt, ws, S, side):
+    """The loop of :func:`_place_many` over the problems (the roots of problem i are
+    ``order[start[i]:start[i + 1]]``; the rest: work arrays)."""
     nan = np.nan
-    for i in range(n):
+    for i in range(B.shape[0]):
         k, j = start[i], start[i + 1]
         nb = min(j - k, 16)
         for t in range(nb):

@@ -48,7 +48,13 @@ __all__ = ["scan_many", "scan_one", "MAX_ROOTS", "GRID", "FINE"]
 #: doubted)
 MAX_ROOTS = 16
 
-_jit = numba.njit(cache=True, error_model="numpy")
+_jit = numba.njit(cache=True, error_model="numpy", _nrt=True)
+#: the functions that allocate nothing and return no array, compiled without numba's
+#: reference counting (``_nrt=False``): it counts a reference to every array argument
+#: and view (an atomic increment and decrement each, through two calls into the
+#: runtime), ~9 % of the batched solve before (issue 17's last round, perf-oct-4); the
+#: arithmetic, and so every bit of the answers, is the same
+_leaf = numba.njit(cache=True, error_model="numpy", _nrt=False)
 
 #: the grid of :mod:`.rootscan` (K cells), and one four times finer for the second try
 #: on the problems the first one doubts (:func:`scan_many`)
@@ -56,7 +62,7 @@ GRID = grid(K)
 FINE = grid(4 * K)
 
 
-@_jit
+@_leaf
 def _shifted(d, x0, h, absolute, q, ws):
     """Coefficients (ascending in u) of :math:`O(x_0 + hu)` into ``q`` (9,): the
     quadratic parts shifted, then :math:`G^2 - 4R_1R_2` multiplied out (or, with
@@ -99,7 +105,7 @@ def _workspace():
             np.empty(9), np.empty((4 * K, 5)), np.empty(9))
 
 
-@_jit
+@_leaf
 def _horner(P, v):
     """Value and derivative of the octic P (9,), ascending, at v (as :mod:`.rootscan`)."""
     p = P[8] * v + P[7]
@@ -110,7 +116,7 @@ def _horner(P, v):
     return p, dp
 
 
-@_jit
+@_leaf
 def _refine(P, a, b, pa, iters, x, tol):
     """One bracket of :func:`.rootscan._refine`: Halley from x in [a, b] (either order),
     P(a) of sign ``pa``; bisection when a step leaves the bracket.  Returns (root, last
@@ -185,7 +191,7 @@ def _sturm_count(q):
     return count
 
 
-@_jit
+@_leaf
 def _scan_one(d, x0, h, q, F, xs, ss, ws, g):
     """Stages 1 and 2 of :mod:`.rootscan` for one problem (kernel output ``d``, centre
     ``x0``, half-width ``h``; work arrays ``ws``, :func:`_workspace`, ``F`` of at least
@@ -295,7 +301,7 @@ def _scan_one(d, x0, h, q, F, xs, ss, ws, g):
     return n, doubt
 
 
-@_jit
+@_leaf
 def scan_one(d, x0, h, q, F, xs, ss, ws, fine):
     """:func:`_scan_one` on the grid of :mod:`.rootscan`, and once more on :data:`FINE`
     when that doubts the problem and ``fine`` is set.  ``F``: (4 K + 1,)."""
@@ -305,7 +311,7 @@ def scan_one(d, x0, h, q, F, xs, ss, ws, fine):
     return k, dbt
 
 
-@_jit
+@_leaf
 def _emit(v, st, ins, x0, h, xs, ss, n):
     """Append the root v (u = tan or w = cot space) as x = x0 + h u, with its step in
     units of x, when finite; returns the new count (> xs.size: overflow)."""
@@ -343,15 +349,21 @@ def scan_many(data, x0, h, fine=True):
     x = np.empty(n * MAX_ROOTS)
     step = np.empty(n * MAX_ROOTS)
     doubt = np.zeros(n, np.bool_)
-    q = np.empty(9)
-    F = np.empty(4 * K + 1)
-    ws = _workspace()
+    m = _scan_rows(data, x0, h, fine, row, x, step, doubt, np.empty(9),
+                   np.empty(4 * K + 1), _workspace())
+    return row[:m], x[:m], step[:m], doubt
+
+
+@_leaf
+def _scan_rows(data, x0, h, fine, row, x, step, doubt, q, F, ws):
+    """The loop of :func:`scan_many` over the problems, into its arrays (``q``, ``F``,
+    ``ws``: work arrays); returns the number of roots."""
     m = 0
-    for i in range(n):
+    for i in range(data.shape[0]):
         xs = x[m:m + MAX_ROOTS]
         k, dbt = scan_one(data[i], x0[i], h[i], q, F, xs, step[m:m + MAX_ROOTS], ws, fine)
         for j in range(k):
             row[m + j] = i
         doubt[i] = dbt
         m += k
-    return row[:m], x[:m], step[:m], doubt
+    return m
