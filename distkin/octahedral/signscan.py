@@ -100,9 +100,11 @@ def _shifted(d, x0, h, absolute, q, ws):
 def _workspace():
     """Work arrays: the shifted parts (10, 3), their products (5, 5), G (5,), G^2 and
     R1 R2 (9,) each, the sizes of the terms (9,), the dipping minima (K, 5), the
-    derivative polynomial (9,), the flags of the grid cells (:func:`_flags`)."""
+    derivative polynomial (9,), the flags of the grid cells (:func:`_flags`), the
+    brackets to refine (3 K, 5) (:func:`_refine_all`)."""
     return (np.empty((10, 3)), np.empty((5, 5)), np.empty(5), np.empty(9), np.empty(9),
-            np.empty(9), np.empty((4 * K, 5)), np.empty(9), np.empty(4 * K, np.uint8))
+            np.empty(9), np.empty((4 * K, 5)), np.empty(9), np.empty(4 * K, np.uint8),
+            np.empty((12 * K, 5)))
 
 
 @_leaf
@@ -144,6 +146,93 @@ def _refine(P, a, b, pa, iters, x, tol):
             if not (st > tol and (st < 0.9 * prev or st > 1e-8)):
                 break
     return x, step
+
+
+@_leaf
+def _refine_all(q, rev, tasks, nt, x0, h, xs, ss):
+    """Refine the brackets ``tasks[:nt]`` (rows a, b, sign at a, start, in u (1) or w
+    (0): on ``q`` or on ``rev``) by :func:`_refine` and emit their roots in that order
+    (:func:`_emit`); returns the count (> xs.size: overflow, at the first root that
+    did not fit, as when they were refined one by one).  Two brackets at a time
+    (:func:`_refine2`, the same operations on each): a Halley step is one chain of
+    dependent operations, so two interleaved take about the time of one
+    (perf-oct-4)."""
+    n = 0
+    t = 0
+    while t < nt:
+        u1 = tasks[t, 4] > 0
+        if t + 1 < nt:
+            u2 = tasks[t + 1, 4] > 0
+            v1, s1, v2, s2 = _refine2(q if u1 else rev, tasks[t, 0], tasks[t, 1], tasks[t, 2],
+                                      tasks[t, 3], q if u2 else rev, tasks[t + 1, 0],
+                                      tasks[t + 1, 1], tasks[t + 1, 2], tasks[t + 1, 3],
+                                      _ITER, 1e-11)
+            n = _emit(v1, s1, u1, x0, h, xs, ss, n)
+            if n > xs.size:
+                return n
+            n = _emit(v2, s2, u2, x0, h, xs, ss, n)
+            t += 2
+        else:
+            v1, s1 = _refine(q if u1 else rev, tasks[t, 0], tasks[t, 1], tasks[t, 2], _ITER,
+                             tasks[t, 3], 1e-11)
+            n = _emit(v1, s1, u1, x0, h, xs, ss, n)
+            t += 1
+        if n > xs.size:
+            return n
+    return n
+
+
+@_leaf
+def _refine2(P, a, b, pa, x, Q, c, d, qc, y, iters, tol):
+    """:func:`_refine` of two brackets at once, [a, b] on P from x and [c, d] on Q from
+    y, each step for step as alone (a bracket that has stopped is left as it is).
+    Returns (root, last step) of each."""
+    step, ppos, done = abs(b - a), pa > 0, False
+    stq, qpos, doneq = abs(d - c), qc > 0, False
+    for it in range(iters):
+        if not done:
+            p = P[8] * x + P[7]
+            dp = P[8]
+            d2 = 0.0
+            for j in range(6, -1, -1):
+                d2 = d2 * x + dp
+                dp = dp * x + p
+                p = p * x + P[j]
+            if (p > 0) == ppos:
+                a = x
+            else:
+                b = x
+            xn = x - p * dp / (dp * dp - p * d2)
+            if not (xn - a) * (xn - b) <= 0:
+                xn = 0.5 * (a + b)
+            st = abs(xn - x)
+            prev, step, x = step, st, xn
+            if it >= 1 and it < iters - 1:
+                if not (st > tol and (st < 0.9 * prev or st > 1e-8)):
+                    done = True
+        if not doneq:
+            p = Q[8] * y + Q[7]
+            dp = Q[8]
+            d2 = 0.0
+            for j in range(6, -1, -1):
+                d2 = d2 * y + dp
+                dp = dp * y + p
+                p = p * y + Q[j]
+            if (p > 0) == qpos:
+                c = y
+            else:
+                d = y
+            yn = y - p * dp / (dp * dp - p * d2)
+            if not (yn - c) * (yn - d) <= 0:
+                yn = 0.5 * (c + d)
+            st = abs(yn - y)
+            prev, stq, y = stq, st, yn
+            if it >= 1 and it < iters - 1:
+                if not (st > tol and (st < 0.9 * prev or st > 1e-8)):
+                    doneq = True
+        if done and doneq:
+            break
+    return x, step, y, stq
 
 
 @_jit
@@ -211,12 +300,11 @@ def _scan_one(d, x0, h, q, F, xs, ss, ws, g):
         for k in range(K + 1):
             F[k] += qj * _V[j, k]
     rev = q[::-1]
-    qa, mins, g, fl = ws[5], ws[6], ws[7], ws[8]
+    qa, mins, g, fl, tasks = ws[5], ws[6], ws[7], ws[8], ws[9]
     _flags(F, K, fl)
     have_qa = False
     doubt = False
-    n = 0
-    nmax = xs.size
+    nt = 0                  # tasks: the brackets (a, b, sign at a, start, in u), in order
     # sign changes, by cell
     for kc in range(K):
         if not fl[kc] & 1:
@@ -232,11 +320,9 @@ def _scan_one(d, x0, h, q, F, xs, ss, ws, g):
         v0 = math.tan(t0) if ins else 1.0 / math.tan(t0)
         if not math.isfinite(v0):
             v0 = 0.0
-        P = q if ins else rev
-        v, st = _refine(P, _V_LO[kc], _V_HI[kc], 1.0 if pc else -1.0, _ITER, v0, 1e-11)
-        n = _emit(v, st, ins, x0, h, xs, ss, n)
-        if n > nmax:
-            return nmax, True
+        tasks[nt, 0], tasks[nt, 1], tasks[nt, 2] = _V_LO[kc], _V_HI[kc], 1.0 if pc else -1.0
+        tasks[nt, 3], tasks[nt, 4] = v0, 1.0 if ins else 0.0
+        nt += 1
     # local minima of |f| without a sign change that dip through zero
     nm = 0                              # mins: (a, m, b, sign, in u) of dipping minima
     for kc in range(K):
@@ -280,15 +366,16 @@ def _scan_one(d, x0, h, q, F, xs, ss, ws, g):
             doubt = True
     for side in range(2):
         for i in range(nm):
-            a, m, b, fd, usp = mins[i, 0], mins[i, 1], mins[i, 2], mins[i, 3], mins[i, 4] > 0
-            P = q if usp else rev
+            a, m, b, fd = mins[i, 0], mins[i, 1], mins[i, 2], mins[i, 3]
             if side == 0:
-                v, st = _refine(P, a, m, fd, _ITER, 0.5 * (a + m), 1e-11)
+                tasks[nt, 0], tasks[nt, 1], tasks[nt, 2], tasks[nt, 3] = a, m, fd, 0.5 * (a + m)
             else:
-                v, st = _refine(P, m, b, -fd, _ITER, 0.5 * (m + b), 1e-11)
-            n = _emit(v, st, usp, x0, h, xs, ss, n)
-            if n > nmax:
-                return nmax, True
+                tasks[nt, 0], tasks[nt, 1], tasks[nt, 2], tasks[nt, 3] = m, b, -fd, 0.5 * (m + b)
+            tasks[nt, 4] = mins[i, 4]
+            nt += 1
+    n = _refine_all(q, rev, tasks, nt, x0, h, xs, ss)
+    if n > xs.size:
+        return xs.size, True
     if _sturm_count(q) != n:
         doubt = True
     return n, doubt
