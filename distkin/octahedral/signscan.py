@@ -101,10 +101,10 @@ def _workspace():
     """Work arrays: the shifted parts (10, 3), their products (5, 5), G (5,), G^2 and
     R1 R2 (9,) each, the sizes of the terms (9,), the dipping minima (K, 5), the
     derivative polynomial (9,), the flags of the grid cells (:func:`_flags`), the
-    brackets to refine (3 K, 5) (:func:`_refine_all`)."""
+    brackets to refine (3 K, 5) (:func:`_refine_all`), the Sturm sequence (4, 9)."""
     return (np.empty((10, 3)), np.empty((5, 5)), np.empty(5), np.empty(9), np.empty(9),
             np.empty(9), np.empty((4 * K, 5)), np.empty(9), np.empty(4 * K, np.uint8),
-            np.empty((12 * K, 5)))
+            np.empty((12 * K, 5)), np.empty((4, 9)))
 
 
 @_leaf
@@ -235,22 +235,20 @@ def _refine2(P, a, b, pa, x, Q, c, d, qc, y, iters, tol):
     return x, step, y, stq
 
 
-@_jit
-def _sturm_count(q):
-    """:func:`.rootscan._sturm_count` of one octic q (9,), ascending."""
+@_leaf
+def _sturm_count(q, st):
+    """:func:`.rootscan._sturm_count` of one octic q (9,), ascending; ``st``: a (4, 9)
+    work array (its rows were four small allocations per problem)."""
     big = 0.0
     for j in range(9):
         big = max(big, abs(q[j]))
-    a = np.empty(9)
+    a, b, lc, r = st[0], st[1], st[2], st[3]
     for j in range(9):
         a[j] = q[8 - j] / big
-    b = np.empty(8)
     for j in range(8):
         b[j] = a[j] * (8 - j)
-    lc = np.empty(9)
     lc[0], lc[1] = a[0], b[0]
     na = 9
-    r = np.empty(8)
     for d in range(7, 0, -1):              # a: degree d+1 (na = d + 2), b: d
         al = a[0] / b[0]
         ga = (a[1] - al * b[1]) / b[0]
@@ -376,7 +374,7 @@ def _scan_one(d, x0, h, q, F, xs, ss, ws, g):
     n = _refine_all(q, rev, tasks, nt, x0, h, xs, ss)
     if n > xs.size:
         return xs.size, True
-    if _sturm_count(q) != n:
+    if _sturm_count(q, ws[10]) != n:
         doubt = True
     return n, doubt
 
