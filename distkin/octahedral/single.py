@@ -520,10 +520,14 @@ def eigen_rows(comp, sc, mode, c):
     full = np.flatnonzero(mode == 0)
     if full.size:
         eig = _eigvals(comp[full]) if np.isfinite(comp[full]).all() else None
-        for k, i in enumerate(full):
-            z = eig[k] if eig is not None and not np.isnan(eig[k]).any() else None
-            if z is None:                   # LAPACK did not converge: the public path
-                z = eigenvalues(comp[i], sc[i], 0, 1.0)
+        # (the rows LAPACK solved written at once: a loop over them cost ~4 µs a row)
+        ok = (np.zeros(full.size, bool) if eig is None
+              else ~np.isnan(eig.real).any(axis=1) & ~np.isnan(eig.imag).any(axis=1))
+        if ok.any():
+            rows, cs = full[ok], c[full[ok], None]
+            er[rows], ei[rows], nr[rows] = eig[ok].real * cs, eig[ok].imag * cs, 8
+        for i in full[~ok]:                 # LAPACK did not converge: the public path
+            z = eigenvalues(comp[i], sc[i], 0, 1.0)
             er[i], ei[i], nr[i] = z.real * c[i], z.imag * c[i], 8
     for i in np.flatnonzero(mode != 0):
         z = eigenvalues(comp[i], sc[i], mode[i], c[i])
