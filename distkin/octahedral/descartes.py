@@ -477,7 +477,7 @@ def _vouch_bisect(d, e, a, b, first, m, roots, codes, radii, tight, ws):
     return 0
 
 
-@_leaf
+@_jit
 def recover(d, s2, l2, eta, lo, hi, out):
     """Every real root of the exact octic in the feasible interval [a, b] (step 5), found
     by the proof's own subdivision (:func:`.casteljau.count` from the whole interval's
