@@ -65,7 +65,12 @@ from .signscan import MAX_ROOTS, K, _workspace, scan_many, scan_one
 
 __all__ = ["solve_fast", "recover_flagged", "solve_scan_single", "scan_single", "scan_window", "polish_scan", "roots_many", "companions", "REASONS"]
 
-_jit = numba.njit(cache=True)
+_jit = numba.njit(cache=True, _nrt=True)
+#: the functions that allocate nothing and return no array, compiled without numba's
+#: reference counting (``_nrt=False``, perf-oct-4; :mod:`.signscan` says why); the others
+#: say ``_nrt=True`` explicitly, since a callee compiled first from a ``_nrt=False``
+#: caller would inherit it
+_leaf = numba.njit(cache=True, _nrt=False)
 
 
 def solve_fast(B, Q, L, sides2, legs2):
@@ -336,11 +341,18 @@ def polish_scan(data, row, x, step, lo, hi, c, doubt):
     spurious roots go to Newton on the factored octic; where that does not converge,
     or moves the root by more than 1e-6 relative, the problem is doubted (``doubt``
     set).  Returns status, x, |step| (new arrays)."""
-    m = x.size
-    status = np.zeros(m, np.int64)
+    status = np.zeros(x.size, np.int64)
     xo = x.copy()
     so = np.abs(step)
-    for k in range(m):
+    _polish_rows(data, row, x, lo, hi, c, doubt, status, xo, so)
+    return status, xo, so
+
+
+@_leaf
+def _polish_rows(data, row, x, lo, hi, c, doubt, status, xo, so):
+    """The loop of :func:`polish_scan` over the roots, into ``status``, ``xo``, ``so``
+    (zeros, a copy of x, |step|)."""
+    for k in range(x.size):
         r = row[k]
         d = data[r]
         cr, xi = c[r], x[k]
@@ -364,7 +376,6 @@ def polish_scan(data, row, x, step, lo, hi, c, doubt):
             doubt[r] = True
         if conv:
             xo[k], so[k] = xn, abs(sn)
-    return status, xo, so
 
 
 @_jit

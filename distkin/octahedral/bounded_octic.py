@@ -27,6 +27,13 @@ from .error_bounds import _SAFE, U, _add, _mul
 #: leading underscores); the module exports its one constant
 __all__ = ["MIN_WIDTH"]
 
+#: the functions that allocate nothing and return no array, compiled without numba's
+#: reference counting (``_nrt=False``, perf-oct-4; :mod:`.signscan` says why); the others
+#: say ``_nrt=True`` explicitly, since a callee compiled first from a ``_nrt=False``
+#: caller would inherit it
+_jit = numba.njit(cache=True, _nrt=True)
+_leaf = numba.njit(cache=True, _nrt=False)
+
 #: relative width under which a piece is not split further
 MIN_WIDTH = 2.0 ** -44
 _MIN_WIDTH = MIN_WIDTH
@@ -75,7 +82,7 @@ def _value(d, e, x):
     return h, _SAFE * eh
 
 
-@numba.njit(cache=True)
+@_leaf
 def _sign(d, e, x):
     """The proved sign of H(x): +1, -1, or 0 when the bound does not decide it."""
     h, eh = _value(d, e, x)
@@ -95,7 +102,7 @@ def _pmul(W, a, b, out):
             W[out, i + j], W[out + 1, i + j] = _add(W[out, i + j], W[out + 1, i + j], p, ep)
 
 
-@numba.njit(cache=True)
+@_leaf
 def _bernstein(d, e, alpha, beta, W, B, EB):
     r"""Scaled Bernstein coefficients :math:`\tilde b_i = \binom8i b_i` (9,) of H on
     :math:`[\alpha, \beta]`, with bounds: the parts shifted to
@@ -152,7 +159,7 @@ def _bernstein(d, e, alpha, beta, W, B, EB):
         EB[i] *= _SAFE
 
 
-@numba.njit(cache=True)
+@_leaf
 def _count(d, e, alpha, beta, sa, sb, budget, W, B, EB, stack, signs, found):
     """Roots of the exact H in (alpha, beta), whose ends have proved signs sa, sb
     (+-1), by Descartes' rule and bisection: (count, the last isolating piece lo, hi,
@@ -215,7 +222,7 @@ def _slope(d, x):
     return 2.0 * G * dG - 4.0 * dR
 
 
-@numba.njit(cache=True)
+@_jit
 def _first_radius(d, e, r, lim):
     """A first guess of the radius around r within which H changes sign: twice
     (|H(r)| + its bound) / |H'(r)| (a guess only: the signs at r -+ rho are then
@@ -241,7 +248,7 @@ def _range(d, e, i, x, rho):
     return 1 if q > bound else (-1 if q < -bound else 0)
 
 
-@numba.njit(cache=True)
+@_leaf
 def _status(d, e, x, rho):
     """Proved status over [x - rho, x + rho]: 0 assembly, 1 spurious (a face not a real
     triangle), 2 spurious (a negative tetrahedron), -1 undecided."""
@@ -262,7 +269,7 @@ def _status(d, e, x, rho):
     return -1
 
 
-@numba.njit(cache=True)
+@_leaf
 def _grow(d, e, r, rho, lim, lo_in, hi_in):
     """Step 6's radius: from ``rho``, times 16 while below ``lim``, until H has proved
     opposite signs at the floats r -+ rho, both strictly inside (lo_in, hi_in).
@@ -278,7 +285,7 @@ def _grow(d, e, r, rho, lim, lo_in, hi_in):
     return False, rho
 
 
-@numba.njit(cache=True)
+@_jit
 def _h_slope(d, x):
     """H(x) and H'(x) in plain float (no bound), from the quadratic parts."""
     q0, q1, q2, q3, q4 = (d[0] + x * (d[1] + x * d[2]), d[3] + x * (d[4] + x * d[5]),
@@ -292,7 +299,7 @@ def _h_slope(d, x):
     return G * G - 4.0 * R1 * R2, _slope(d, x)
 
 
-@numba.njit(cache=True)
+@_jit
 def _bracketed(d, xl, xr):
     """A root of H in the float bracket [xl, xr] (signs of H opposite at its ends, or
     nearly): Newton from the middle, bisection whenever a step leaves the bracket."""
@@ -318,7 +325,7 @@ def _bracketed(d, xl, xr):
     return x
 
 
-@numba.njit(cache=True)
+@_leaf
 def _outside(d, e, a, b, lo, hi, roots, radii):
     """Step 8 of :mod:`.descartes`: a proved radius for each root outside [a, b]
     (increasing ``roots``; ``radii`` written where H has proved opposite signs at

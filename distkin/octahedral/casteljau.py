@@ -39,13 +39,20 @@ from .error_bounds import _SAFE, U
 
 __all__ = ["split", "weights", "cut_point", "count", "unscale", "STACK"]
 
+#: the functions that allocate nothing and return no array, compiled without numba's
+#: reference counting (``_nrt=False``, perf-oct-4; :mod:`.signscan` says why); the others
+#: say ``_nrt=True`` explicitly, since a callee compiled first from a ``_nrt=False``
+#: caller would inherit it
+_jit = numba.njit(cache=True, _nrt=True)
+_leaf = numba.njit(cache=True, _nrt=False)
+
 _TINY = 2.0 ** -1074
 #: depth of the subdivision stack of :func:`count`
 STACK = 40
 _BINOM = np.array([1.0, 8.0, 28.0, 56.0, 70.0, 56.0, 28.0, 8.0, 1.0])
 
 
-@numba.njit(cache=True)
+@_leaf
 def unscale(Bs, EBs, P, EP):
     r"""Unscaled Bernstein coefficients :math:`b_i = \tilde b_i / \binom8i` (into ``P``,
     bounds into ``EP``) of the scaled ones of :func:`.bounded_octic._bernstein`: one
@@ -57,7 +64,7 @@ def unscale(Bs, EBs, P, EP):
         EP[i] = _SAFE * ((EBs[i] / _BINOM[i]) * (1.0 + 2.0 * U) + U * abs(v) + _TINY)
 
 
-@numba.njit(cache=True)
+@_leaf
 def weights(t):
     """Floats (sigma, tau) with sigma + tau = 1 exactly and tau within an ulp or two of
     ``t`` in (0, 1): sigma = fl(1 - t) (in [1/2, 1) for t <= 1/2; exact for t >= 1/2),
@@ -67,7 +74,7 @@ def weights(t):
     return s, 1.0 - s
 
 
-@numba.njit(cache=True)
+@_leaf
 def cut_point(xa, ea, xb, eb, sigma, tau):
     r"""Float :math:`\hat x` and bound :math:`e` of :math:`x^* = \sigma x_a^* + \tau
     x_b^*` from floats ``xa``, ``xb`` within ``ea``, ``eb`` of the exact ends:
@@ -78,7 +85,7 @@ def cut_point(xa, ea, xb, eb, sigma, tau):
     return x, _SAFE * (sigma * ea + tau * eb + U * (abs(p) + abs(q) + abs(x)) + 2 * _TINY)
 
 
-@numba.njit(cache=True)
+@_leaf
 def split(P, EP, sigma, tau, L, EL, R, ER, w, ew):
     r"""de Casteljau's subdivision (module docstring, 1.): the Bernstein coefficients
     ``P`` (9,) of H on :math:`[\alpha, \beta]` with bounds ``EP`` give those of
@@ -127,7 +134,7 @@ def _sign_of(v, e):
     return 1 if v > e else (-1 if v < -e else 0)
 
 
-@numba.njit(cache=True)
+@_leaf
 def count(P, EP, xa, ea, xb, eb, budget, S, X, L, EL, w, ew, found):
     r"""Roots of the exact H in :math:`(x_a^*, x_b^*)` by Descartes' rule on the
     Bernstein coefficients ``P`` (bounds ``EP``) and bisection by :func:`split` at

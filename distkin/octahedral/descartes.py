@@ -156,12 +156,19 @@ __all__ = ["vouch", "vouch_many", "recover", "vouch_rows", "vouch_buffer", "part
            "margin", "eta_rounded", "VERDICTS", "NOT_CHECKED", "THIN_TRIANGLE", "SPLIT_STEPS",
            "CLUSTER", "U", "ETA_FLOAT", "LEAF_BOUND"]
 
+#: the functions that allocate nothing and return no array, compiled without numba's
+#: reference counting (``_nrt=False``, perf-oct-4; :mod:`.signscan` says why); the others
+#: say ``_nrt=True`` explicitly, since a callee compiled first from a ``_nrt=False``
+#: caller would inherit it
+_jit = numba.njit(cache=True, _nrt=True)
+_leaf = numba.njit(cache=True, _nrt=False)
+
 _BUDGET = 48                  # Bernstein evaluations per problem, beyond one per piece
 #: consecutive real roots outside [a, b] closer than this, relative, make verdict 10
 CLUSTER = 1e-4
 
 
-@numba.njit(cache=True)
+@_jit
 def vouch(d, s2, l2, eta, lo, hi, roots, codes, radii, tight=True):
     r"""Prove the fast tier's assembly roots (module docstring).
 
@@ -191,7 +198,7 @@ def vouch(d, s2, l2, eta, lo, hi, roots, codes, radii, tight=True):
     return _vouch(d, s2, l2, eta, lo, hi, roots, codes, radii, tight, _workspace())
 
 
-@numba.njit(cache=True)
+@_jit
 def _workspace():
     """Work arrays of :func:`_vouch`: (W (30, 9), B (9,), EB (9,), stack (64, 2),
     stack signs (64, 2), cuts (9,), cut signs (9,)), then those of
@@ -205,7 +212,7 @@ def _workspace():
             np.empty((9, 4)), np.empty(30), error_cache())
 
 
-@numba.njit(cache=True)
+@_leaf
 def _vouch(d, s2, l2, eta, lo, hi, roots, codes, radii, tight, ws):
     """:func:`vouch` with its work arrays ``ws`` (:func:`_workspace`): the bounds of the
     parts, the interval [a, b] and the fast roots in it (steps 2 and 5), then the
@@ -232,7 +239,7 @@ def _vouch(d, s2, l2, eta, lo, hi, roots, codes, radii, tight, ws):
     return 0
 
 
-@numba.njit(cache=True)
+@_leaf
 def _clustered(roots, a, b):
     """Two consecutive roots (increasing), not both in [a, b] (a > b: none is), within
     :data:`CLUSTER` relative of each other: float64's count of the spurious real roots
@@ -246,7 +253,7 @@ def _clustered(roots, a, b):
     return False
 
 
-@numba.njit(cache=True)
+@_leaf
 def _interval(e, s2, l2, eta, lo, hi, roots, codes):
     """Steps 2 and 5 of the module docstring: (verdict, a, b, first, m), the verdict
     -1 unless it is decided here (1: the bounds' range; 8: an assembly root outside
@@ -280,7 +287,7 @@ def _interval(e, s2, l2, eta, lo, hi, roots, codes):
     return -1, a, b, first, m
 
 
-@numba.njit(cache=True)
+@_leaf
 def _vouch_split(d, e, a, b, first, m, roots, codes, radii, tight, ws):
     """Steps 4-7 of the module docstring on [a, b] and the m fast roots from index
     ``first`` in it, the cheap way (issue 17): the Bernstein coefficients of H on the
@@ -389,7 +396,7 @@ def _vouch_split(d, e, a, b, first, m, roots, codes, radii, tight, ws):
     return 0
 
 
-@numba.njit(cache=True)
+@_leaf
 def _vouch_bisect(d, e, a, b, first, m, roots, codes, radii, tight, ws):
     """Steps 4-7 of the module docstring on [a, b] and the m fast roots from index
     ``first`` in it, with a rebuild of the octic on every piece (:func:`_count`) and
@@ -470,7 +477,7 @@ def _vouch_bisect(d, e, a, b, first, m, roots, codes, radii, tight, ws):
     return 0
 
 
-@numba.njit(cache=True)
+@_jit
 def recover(d, s2, l2, eta, lo, hi, out):
     """Every real root of the exact octic in the feasible interval [a, b] (step 5), found
     by the proof's own subdivision (:func:`.casteljau.count` from the whole interval's
@@ -513,13 +520,18 @@ def recover(d, s2, l2, eta, lo, hi, out):
     return cnt, a, b
 
 
-@numba.njit(cache=True)
+@_jit
 def vouch_many(data, s2, l2, eta, lo, hi, roots, status, verdict, radii):
     """:func:`vouch` for the N problems of the batched tier: ``data`` (N, 39), ``s2``,
     ``l2`` (N, 6), ``eta``, ``lo``, ``hi`` (N,), ``roots`` (N, 8) increasing and NaN
     padded, ``status`` (N, 8) codes (-1 padding); writes ``verdict`` (N,) and ``radii``
     (N, 8) (the radii of ``tight=False``)."""
-    ws = _workspace()
+    _vouch_rows(data, s2, l2, eta, lo, hi, roots, status, verdict, radii, _workspace())
+
+
+@_leaf
+def _vouch_rows(data, s2, l2, eta, lo, hi, roots, status, verdict, radii, ws):
+    """The loop of :func:`vouch_many` over the problems, with the work arrays ``ws``."""
     for i in range(data.shape[0]):
         n = 0
         while n < 8 and status[i, n] >= 0:
@@ -530,7 +542,7 @@ def vouch_many(data, s2, l2, eta, lo, hi, roots, status, verdict, radii):
                             status[i, :n], radii[i, :n], False, ws)
 
 
-@numba.njit(cache=True)
+@_jit
 def vouch_rows(d, s2, l2, eta, lo, hi, rows):
     """:func:`vouch` on the root rows (n, 3) = (s15, step, code) of the single solve
     (:func:`.single.solve_fast_single`).  Returns (verdict, smallest relative gap
@@ -555,7 +567,7 @@ def vouch_rows(d, s2, l2, eta, lo, hi, rows):
     return v, sep, rad, rel, radii
 
 
-@numba.njit(cache=True)
+@_jit
 def vouch_buffer(buf, nr, eta, lo, hi):
     """:func:`vouch_rows` on the buffer of the single solve (``.batched._scan_single``:
     squared sides, legs, kernel output, then ``nr`` root rows), without unpacking it in

@@ -20,7 +20,14 @@ from .._generated.octic_general import (PARTS_DEGREE, PARTS_DEPTH, PARTS_UNDERFL
 __all__ = ["part_errors", "part_errors_into", "error_cache", "margin", "eta_rounded", "U",
            "ETA_FLOAT", "LEAF_BOUND", "LEAF_MIN"]
 
-_magnitude_into = numba.njit(cache=True)(parts_magnitude)
+#: the functions that allocate nothing and return no array, compiled without numba's
+#: reference counting (``_nrt=False``, perf-oct-4; :mod:`.signscan` says why); the others
+#: say ``_nrt=True`` explicitly, since a callee compiled first from a ``_nrt=False``
+#: caller would inherit it
+_jit = numba.njit(cache=True, _nrt=True)
+_leaf = numba.njit(cache=True, _nrt=False)
+
+_magnitude_into = numba.njit(cache=True, _nrt=False)(parts_magnitude)
 
 #: unit roundoff of binary64
 U = 2.0 ** -53
@@ -52,7 +59,7 @@ def _mul(a, ea, b, eb):
     return v, abs(a) * eb + abs(b) * ea + ea * eb + U * abs(v) + _TINY
 
 
-@numba.njit(cache=True)
+@_jit
 def part_errors(d, s2, l2, eta):
     r"""Rigorous bounds ``(30,)`` of the errors of the kernel's quadratic parts ``d[:30]``
     against the exact parts at the exact squared lengths (module docstring, step 2), or
@@ -70,7 +77,7 @@ def part_errors(d, s2, l2, eta):
     return out
 
 
-@numba.njit(cache=True)
+@_jit
 def error_cache():
     """The work array (61,) of :func:`part_errors_into`: the eta its factors are for
     (NaN: none yet), then the factors."""
@@ -79,7 +86,7 @@ def error_cache():
     return c
 
 
-@numba.njit(cache=True)
+@_leaf
 def part_errors_into(d, s2, l2, eta, out, cache):
     r""":func:`part_errors` into ``out`` (30,).  Per part :math:`k`, with
     :math:`t = d_k u + g_k\eta` (depth and degree of the generated kernel) and
@@ -109,7 +116,7 @@ def part_errors_into(d, s2, l2, eta, out, cache):
         out[k] = _SAFE * (f * (out[k] + _UNDER[k]) + _UNDER[k]) if f < np.inf else np.inf
 
 
-@numba.njit(cache=True)
+@_leaf
 def margin(s2, l2, eta):
     r"""A rigorous bound on the error of the float triangle bounds of :math:`s_{15}`
     (:func:`.single.bounds`): for :math:`x, y` with relative errors at most
@@ -124,7 +131,7 @@ def margin(s2, l2, eta):
     return _SAFE * 2.0 * (2.0 * eta + eta * eta + 6.0 * U) * big * (1.0 + 4.0 * U)
 
 
-@numba.njit(cache=True)
+@_jit
 def eta_rounded(B, Q, L):
     r"""Relative error bound of the squared lengths when the coordinates ``B``, ``Q``
     (3, 3) and legs ``L`` (6,) are themselves the floats nearest to exact values

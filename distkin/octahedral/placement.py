@@ -31,10 +31,15 @@ _LEG_OK = 1e-6       # relative leg residual under which a placement is accepted
 _LEG_BASE = (0, 1, 1, 2, 2, 0)
 _LEG_PLAT = (0, 0, 1, 1, 2, 2)
 
-_jit = numba.njit(cache=True, error_model="numpy")
+_jit = numba.njit(cache=True, error_model="numpy", _nrt=True)
+#: the functions that allocate nothing and return no array, compiled without numba's
+#: reference counting (``_nrt=False``, perf-oct-4; :mod:`.signscan` says why); the others
+#: say ``_nrt=True`` explicitly, since a callee compiled first from a ``_nrt=False``
+#: caller would inherit it
+_leaf = numba.njit(cache=True, error_model="numpy", _nrt=False)
 
 
-@_jit
+@_leaf
 def _adapted_base(B, A):
     """The base-adapted frame: axes e1 (along P1P2), e2, e3 written to the rows of
     ``A`` (3, 3); returns |P1P2| and P3's in-plane coordinates (p3x, p3y)."""
@@ -52,7 +57,7 @@ def _adapted_base(B, A):
     return dd, p3x, p3y
 
 
-@_jit
+@_leaf
 def _assemble(x, s2, l2, dd, p3x, p3y, out):
     """The trilateration sequence of Sec. III at s15 = x, side +1, in the base-adapted
     frame (P1 at the origin, P2 on the x axis, P3 in the xy plane): writes P4 P5 P6 to
@@ -118,7 +123,7 @@ def _assemble(x, s2, l2, dd, p3x, p3y, out):
     return min(h5 / (abs(x) + s12 + s13), h4 / (s14 + s12 + g33), h6best), best
 
 
-@_jit
+@_leaf
 def _to_base(B, A, ad, sg, P):
     """P = P1 + X e1 + Y e2 + side Z e3: the adapted rows ``ad`` in the base frame."""
     for r in range(3):
@@ -157,7 +162,7 @@ def assemble_many(B, x, s2, l2):
     return pts, h2, r36
 
 
-@_jit
+@_leaf
 def _frame(P, F):
     """Axes (rows of F) of the triangle P (rows): e1 along p1p2, e3 along the normal;
     False if degenerate."""
@@ -188,63 +193,74 @@ def place(B, Q, L, s2, l2, lo, hi, roots, nroots, P, R, T, E, Er, S15, side, slo
     root S15 and the side (+1, -1); ``slot[k]`` is the index of root k's first pose
     (-1 if none).  Roots whose sequence degenerates or whose legs are off by
     :data:`_LEG_OK` relative or more get code 3.  Returns the number of poses."""
-    return _place(B, Q, L, s2, l2, lo, hi, roots, nroots, P, R, T, E, Er, S15, side, slot,
-                  np.empty((4, 3, 3)))
+    c = np.ascontiguousarray
+    return _place(c(B).reshape(1, 3, 3), c(Q).reshape(1, 3, 3), c(L).reshape(1, 6),
+                  c(s2).reshape(1, 6), c(l2).reshape(1, 6), np.full(1, lo), np.full(1, hi),
+                  roots, nroots, P.reshape(1, 16, 3, 3), R.reshape(1, 16, 3, 3),
+                  T.reshape(1, 16, 3), E.reshape(1, 16), Er.reshape(1, 16), S15, side,
+                  slot.reshape(1, 8), np.empty((4, 3, 3)), 0)
 
 
-@_jit
-def _place(B, Q, L, s2, l2, lo, hi, roots, nroots, P, R, T, E, Er, S15, side, slot, ws):
-    """:func:`place` with a work array ``ws`` (4, 3, 3)."""
+@_leaf
+def _place(B, Q, L, s2, l2, lo, hi, roots, nroots, P, R, T, E, Er, S15, side, slot, ws, i):
+    """:func:`place` for problem ``i`` of the batched arrays (B, Q (n, 3, 3), L, s2, l2
+    (n, 6), lo, hi (n,), P, R (n, 16, 3, 3), T (n, 16, 3), E, Er (n, 16), slot (n, 8)),
+    with a work array ``ws`` (4, 3, 3).  Indexed, not sliced: numba counts a reference
+    to every view it makes (two calls to the runtime each), and this ran per pose."""
     A, Fq, ad, Fb = ws[0], ws[1], ws[2], ws[3]
-    dd, p3x, p3y = _adapted_base(B, A)
-    _frame(Q, Fq)
-    qc0 = (Q[0, 0] + Q[1, 0] + Q[2, 0]) / 3.0
-    qc1 = (Q[0, 1] + Q[1, 1] + Q[2, 1]) / 3.0
-    qc2 = (Q[0, 2] + Q[1, 2] + Q[2, 2]) / 3.0
+    dd, p3x, p3y = _adapted_base(B[i], A)
+    _frame(Q[i], Fq)
+    qc0 = (Q[i, 0, 0] + Q[i, 1, 0] + Q[i, 2, 0]) / 3.0
+    qc1 = (Q[i, 0, 1] + Q[i, 1, 1] + Q[i, 2, 1]) / 3.0
+    qc2 = (Q[i, 0, 2] + Q[i, 1, 2] + Q[i, 2, 2]) / 3.0
     np_ = 0
-    lo0 = max(lo, 0.0)
+    lo0 = max(lo[i], 0.0)
     for k in range(nroots):
-        slot[k] = -1
+        slot[i, k] = -1
         if roots[k, 2] != 0:
             continue
-        x = min(max(roots[k, 0], lo0), hi)
-        h2, _ = _assemble(x, s2, l2, dd, p3x, p3y, ad)
+        x = min(max(roots[k, 0], lo0), hi[i])
+        h2, _ = _assemble(x, s2[i], l2[i], dd, p3x, p3y, ad)
         ok = h2 >= -1e-8
         for sd in range(2):
-            i = np_ + sd
+            j = np_ + sd
             sg = 1.0 - 2.0 * sd
             if not ok:
                 break
-            _to_base(B, A, ad, sg, P[i])
-            if not _frame(P[i], Fb):
+            for r in range(3):          # (:func:`_to_base`, written out)
+                for m in range(3):
+                    P[i, j, r, m] = (B[i, 0, m] + ad[r, 0] * A[0, m] + ad[r, 1] * A[1, m]
+                                     + sg * ad[r, 2] * A[2, m])
+            if not _frame(P[i, j], Fb):
                 ok = False
                 break
             for r in range(3):
                 for m in range(3):
-                    R[i, r, m] = Fb[0, r] * Fq[0, m] + Fb[1, r] * Fq[1, m] + Fb[2, r] * Fq[2, m]
+                    R[i, j, r, m] = (Fb[0, r] * Fq[0, m] + Fb[1, r] * Fq[1, m]
+                                     + Fb[2, r] * Fq[2, m])
             for r in range(3):
-                T[i, r] = ((P[i, 0, r] + P[i, 1, r] + P[i, 2, r]) / 3.0
-                           - (R[i, r, 0] * qc0 + R[i, r, 1] * qc1 + R[i, r, 2] * qc2))
+                T[i, j, r] = ((P[i, j, 0, r] + P[i, j, 1, r] + P[i, j, 2, r]) / 3.0
+                              - (R[i, j, r, 0] * qc0 + R[i, j, r, 1] * qc1
+                                 + R[i, j, r, 2] * qc2))
             e, er = 0.0, 0.0
-            for j in range(6):
-                b, p = _LEG_BASE[j], _LEG_PLAT[j]
-                dx = P[i, p, 0] - B[b, 0]
-                dy = P[i, p, 1] - B[b, 1]
-                dz = P[i, p, 2] - B[b, 2]
-                ej = abs(math.sqrt(dx * dx + dy * dy + dz * dz) - L[j])
-                e = max(e, ej)
-                er = max(er, ej / L[j])
-            E[i], Er[i] = e, er
+            for t in range(6):
+                b, p = _LEG_BASE[t], _LEG_PLAT[t]
+                dx = P[i, j, p, 0] - B[i, b, 0]
+                dy = P[i, j, p, 1] - B[i, b, 1]
+                dz = P[i, j, p, 2] - B[i, b, 2]
+                et = abs(math.sqrt(dx * dx + dy * dy + dz * dz) - L[i, t])
+                e = max(e, et)
+                er = max(er, et / L[i, t])
+            E[i, j], Er[i, j] = e, er
             if not er < _LEG_OK:
                 ok = False
-            S15[i], side[i] = roots[k, 0], 1 - 2 * sd
+            S15[j], side[j] = roots[k, 0], 1 - 2 * sd
         if ok:
-            slot[k] = np_
+            slot[i, k] = np_
             np_ += 2
         else:
             roots[k, 2] = 3
     return np_
-
 
 
 
@@ -312,12 +328,18 @@ def _place_many(B, Q, L, s2, l2, lo, hi, c, row, x, step, status, roots, steps, 
     for t in range(m):
         order[fill[row[t]]] = t
         fill[row[t]] += 1
-    buf = np.empty((16, 3))
-    rt = np.empty((8, 3))
-    srt = np.empty(16, np.int64)
-    ws = np.empty((4, 3, 3))
+    _place_rows(B, Q, L, s2, l2, lo, hi, c, x, step, status, roots, steps, stat, slot, count,
+                s15, P, R, T, E, Er, start, order, np.empty((16, 3)), np.empty((8, 3)),
+                np.empty(16, np.int64), np.empty((4, 3, 3)), S, side)
+
+
+@_leaf
+def _place_rows(B, Q, L, s2, l2, lo, hi, c, x, step, status, roots, steps, stat, slot, count,
+                s15, P, R, T, E, Er, start, order, buf, rt, srt, ws, S, side):
+    """The loop of :func:`_place_many` over the problems (the roots of problem i are
+    ``order[start[i]:start[i + 1]]``; the rest: work arrays)."""
     nan = np.nan
-    for i in range(n):
+    for i in range(B.shape[0]):
         k, j = start[i], start[i + 1]
         nb = min(j - k, 16)
         for t in range(nb):
@@ -333,17 +355,18 @@ def _place_many(B, Q, L, s2, l2, lo, hi, c, row, x, step, status, roots, steps, 
             srt[u] = t
         nr = 0
         for t in range(nb):
-            v = buf[srt[t]]
-            if nr and abs(v[0] - rt[nr - 1, 0]) <= DUP * max(abs(v[0]), c[i]):
+            u = srt[t]
+            v0 = buf[u, 0]
+            if nr and abs(v0 - rt[nr - 1, 0]) <= DUP * max(abs(v0), c[i]):
                 continue
             if nr == 8:
                 break
-            rt[nr, 0], rt[nr, 1], rt[nr, 2] = v[0], v[1], v[2]
+            rt[nr, 0], rt[nr, 1], rt[nr, 2] = v0, buf[u, 1], buf[u, 2]
             nr += 1
         np_ = 0
         if nr:
-            np_ = _place(B[i], Q[i], L[i], s2[i], l2[i], lo[i], hi[i], rt, nr, P[i], R[i],
-                         T[i], E[i], Er[i], S, side, slot[i], ws)
+            np_ = _place(B, Q, L, s2, l2, lo, hi, rt, nr, P, R, T, E, Er, S, side, slot, ws,
+                         i)
         count[i] = np_
         # the padding (a rejected placement also leaves partial writes in the two slots
         # after the poses)

@@ -48,7 +48,13 @@ __all__ = ["scan_many", "scan_one", "MAX_ROOTS", "GRID", "FINE"]
 #: doubted)
 MAX_ROOTS = 16
 
-_jit = numba.njit(cache=True, error_model="numpy")
+_jit = numba.njit(cache=True, error_model="numpy", _nrt=True)
+#: the functions that allocate nothing and return no array, compiled without numba's
+#: reference counting (``_nrt=False``): it counts a reference to every array argument
+#: and view (an atomic increment and decrement each, through two calls into the
+#: runtime), ~9 % of the batched solve before (issue 17's last round, perf-oct-4); the
+#: arithmetic, and so every bit of the answers, is the same
+_leaf = numba.njit(cache=True, error_model="numpy", _nrt=False)
 
 #: the grid of :mod:`.rootscan` (K cells), and one four times finer for the second try
 #: on the problems the first one doubts (:func:`scan_many`)
@@ -56,7 +62,7 @@ GRID = grid(K)
 FINE = grid(4 * K)
 
 
-@_jit
+@_leaf
 def _shifted(d, x0, h, absolute, q, ws):
     """Coefficients (ascending in u) of :math:`O(x_0 + hu)` into ``q`` (9,): the
     quadratic parts shifted, then :math:`G^2 - 4R_1R_2` multiplied out (or, with
@@ -94,12 +100,14 @@ def _shifted(d, x0, h, absolute, q, ws):
 def _workspace():
     """Work arrays: the shifted parts (10, 3), their products (5, 5), G (5,), G^2 and
     R1 R2 (9,) each, the sizes of the terms (9,), the dipping minima (K, 5), the
-    derivative polynomial (9,)."""
+    derivative polynomial (9,), the flags of the grid cells (:func:`_flags`), the
+    brackets to refine (3 K, 5) (:func:`_refine_all`), the Sturm sequence (4, 9)."""
     return (np.empty((10, 3)), np.empty((5, 5)), np.empty(5), np.empty(9), np.empty(9),
-            np.empty(9), np.empty((4 * K, 5)), np.empty(9))
+            np.empty(9), np.empty((4 * K, 5)), np.empty(9), np.empty(4 * K, np.uint8),
+            np.empty((12 * K, 5)), np.empty((4, 9)))
 
 
-@_jit
+@_leaf
 def _horner(P, v):
     """Value and derivative of the octic P (9,), ascending, at v (as :mod:`.rootscan`)."""
     p = P[8] * v + P[7]
@@ -110,7 +118,7 @@ def _horner(P, v):
     return p, dp
 
 
-@_jit
+@_leaf
 def _refine(P, a, b, pa, iters, x, tol):
     """One bracket of :func:`.rootscan._refine`: Halley from x in [a, b] (either order),
     P(a) of sign ``pa``; bisection when a step leaves the bracket.  Returns (root, last
@@ -140,22 +148,107 @@ def _refine(P, a, b, pa, iters, x, tol):
     return x, step
 
 
-@_jit
-def _sturm_count(q):
-    """:func:`.rootscan._sturm_count` of one octic q (9,), ascending."""
+@_leaf
+def _refine_all(q, rev, tasks, nt, x0, h, xs, ss):
+    """Refine the brackets ``tasks[:nt]`` (rows a, b, sign at a, start, in u (1) or w
+    (0): on ``q`` or on ``rev``) by :func:`_refine` and emit their roots in that order
+    (:func:`_emit`); returns the count (> xs.size: overflow, at the first root that
+    did not fit, as when they were refined one by one).  Two brackets at a time
+    (:func:`_refine2`, the same operations on each): a Halley step is one chain of
+    dependent operations, so two interleaved take about the time of one
+    (perf-oct-4)."""
+    n = 0
+    t = 0
+    while t < nt:
+        u1 = tasks[t, 4] > 0
+        if t + 1 < nt:
+            u2 = tasks[t + 1, 4] > 0
+            v1, s1, v2, s2 = _refine2(q if u1 else rev, tasks[t, 0], tasks[t, 1], tasks[t, 2],
+                                      tasks[t, 3], q if u2 else rev, tasks[t + 1, 0],
+                                      tasks[t + 1, 1], tasks[t + 1, 2], tasks[t + 1, 3],
+                                      _ITER, 1e-11)
+            n = _emit(v1, s1, u1, x0, h, xs, ss, n)
+            if n > xs.size:
+                return n
+            n = _emit(v2, s2, u2, x0, h, xs, ss, n)
+            t += 2
+        else:
+            v1, s1 = _refine(q if u1 else rev, tasks[t, 0], tasks[t, 1], tasks[t, 2], _ITER,
+                             tasks[t, 3], 1e-11)
+            n = _emit(v1, s1, u1, x0, h, xs, ss, n)
+            t += 1
+        if n > xs.size:
+            return n
+    return n
+
+
+@_leaf
+def _refine2(P, a, b, pa, x, Q, c, d, qc, y, iters, tol):
+    """:func:`_refine` of two brackets at once, [a, b] on P from x and [c, d] on Q from
+    y, each step for step as alone (a bracket that has stopped is left as it is).
+    Returns (root, last step) of each."""
+    step, ppos, done = abs(b - a), pa > 0, False
+    stq, qpos, doneq = abs(d - c), qc > 0, False
+    for it in range(iters):
+        if not done:
+            p = P[8] * x + P[7]
+            dp = P[8]
+            d2 = 0.0
+            for j in range(6, -1, -1):
+                d2 = d2 * x + dp
+                dp = dp * x + p
+                p = p * x + P[j]
+            if (p > 0) == ppos:
+                a = x
+            else:
+                b = x
+            xn = x - p * dp / (dp * dp - p * d2)
+            if not (xn - a) * (xn - b) <= 0:
+                xn = 0.5 * (a + b)
+            st = abs(xn - x)
+            prev, step, x = step, st, xn
+            if it >= 1 and it < iters - 1:
+                if not (st > tol and (st < 0.9 * prev or st > 1e-8)):
+                    done = True
+        if not doneq:
+            p = Q[8] * y + Q[7]
+            dp = Q[8]
+            d2 = 0.0
+            for j in range(6, -1, -1):
+                d2 = d2 * y + dp
+                dp = dp * y + p
+                p = p * y + Q[j]
+            if (p > 0) == qpos:
+                c = y
+            else:
+                d = y
+            yn = y - p * dp / (dp * dp - p * d2)
+            if not (yn - c) * (yn - d) <= 0:
+                yn = 0.5 * (c + d)
+            st = abs(yn - y)
+            prev, stq, y = stq, st, yn
+            if it >= 1 and it < iters - 1:
+                if not (st > tol and (st < 0.9 * prev or st > 1e-8)):
+                    doneq = True
+        if done and doneq:
+            break
+    return x, step, y, stq
+
+
+@_leaf
+def _sturm_count(q, st):
+    """:func:`.rootscan._sturm_count` of one octic q (9,), ascending; ``st``: a (4, 9)
+    work array (its rows were four small allocations per problem)."""
     big = 0.0
     for j in range(9):
         big = max(big, abs(q[j]))
-    a = np.empty(9)
+    a, b, lc, r = st[0], st[1], st[2], st[3]
     for j in range(9):
         a[j] = q[8 - j] / big
-    b = np.empty(8)
     for j in range(8):
         b[j] = a[j] * (8 - j)
-    lc = np.empty(9)
     lc[0], lc[1] = a[0], b[0]
     na = 9
-    r = np.empty(8)
     for d in range(7, 0, -1):              # a: degree d+1 (na = d + 2), b: d
         al = a[0] / b[0]
         ga = (a[1] - al * b[1]) / b[0]
@@ -185,7 +278,7 @@ def _sturm_count(q):
     return count
 
 
-@_jit
+@_leaf
 def _scan_one(d, x0, h, q, F, xs, ss, ws, g):
     """Stages 1 and 2 of :mod:`.rootscan` for one problem (kernel output ``d``, centre
     ``x0``, half-width ``h``; work arrays ``ws``, :func:`_workspace`, ``F`` of at least
@@ -205,17 +298,17 @@ def _scan_one(d, x0, h, q, F, xs, ss, ws, g):
         for k in range(K + 1):
             F[k] += qj * _V[j, k]
     rev = q[::-1]
-    qa, mins, g = ws[5], ws[6], ws[7]
+    qa, mins, g, fl, tasks = ws[5], ws[6], ws[7], ws[8], ws[9]
+    _flags(F, K, fl)
     have_qa = False
     doubt = False
-    n = 0
-    nmax = xs.size
+    nt = 0                  # tasks: the brackets (a, b, sign at a, start, in u), in order
     # sign changes, by cell
     for kc in range(K):
+        if not fl[kc] & 1:
+            continue
         fa, fb = F[kc], F[kc + 1]
         pc = fa >= 0
-        if pc == (fb >= 0):
-            continue
         fc = F[kc + 2] if kc < K - 1 else F[kc + 1 - K]
         lin = fa / (fa - fb)
         quad = fa * fc / ((fb - fa) * (fb - fc)) + 2.0 * fa * fb / ((fc - fa) * (fc - fb))
@@ -225,26 +318,16 @@ def _scan_one(d, x0, h, q, F, xs, ss, ws, g):
         v0 = math.tan(t0) if ins else 1.0 / math.tan(t0)
         if not math.isfinite(v0):
             v0 = 0.0
-        P = q if ins else rev
-        v, st = _refine(P, _V_LO[kc], _V_HI[kc], 1.0 if pc else -1.0, _ITER, v0, 1e-11)
-        n = _emit(v, st, ins, x0, h, xs, ss, n)
-        if n > nmax:
-            return nmax, True
+        tasks[nt, 0], tasks[nt, 1], tasks[nt, 2] = _V_LO[kc], _V_HI[kc], 1.0 if pc else -1.0
+        tasks[nt, 3], tasks[nt, 4] = v0, 1.0 if ins else 0.0
+        nt += 1
     # local minima of |f| without a sign change that dip through zero
     nm = 0                              # mins: (a, m, b, sign, in u) of dipping minima
     for kc in range(K):
+        if not fl[kc] & 2:
+            continue
         k1 = kc + 1
-        k2 = k1 + 1 if k1 < K else 1
-        a0 = abs(F[kc])
-        a1 = abs(F[k1]) if k1 < K else abs(F[0])
-        a2 = abs(F[k2]) if k2 < K else abs(F[0])
-        if not (a1 < a0 and not a2 < a1):
-            continue
-        s0, s1 = F[kc] >= 0, F[k1] >= 0
-        s2 = F[k1 + 1] >= 0 if k1 < K else F[1] >= 0
-        if s0 != s1 or s1 != s2:
-            continue
-        pd = s1
+        pd = F[k1] >= 0
         kd = k1 if k1 < K else 0
         usp = _U_PT[kd]
         P = q if usp else rev
@@ -281,21 +364,49 @@ def _scan_one(d, x0, h, q, F, xs, ss, ws, g):
             doubt = True
     for side in range(2):
         for i in range(nm):
-            a, m, b, fd, usp = mins[i, 0], mins[i, 1], mins[i, 2], mins[i, 3], mins[i, 4] > 0
-            P = q if usp else rev
+            a, m, b, fd = mins[i, 0], mins[i, 1], mins[i, 2], mins[i, 3]
             if side == 0:
-                v, st = _refine(P, a, m, fd, _ITER, 0.5 * (a + m), 1e-11)
+                tasks[nt, 0], tasks[nt, 1], tasks[nt, 2], tasks[nt, 3] = a, m, fd, 0.5 * (a + m)
             else:
-                v, st = _refine(P, m, b, -fd, _ITER, 0.5 * (m + b), 1e-11)
-            n = _emit(v, st, usp, x0, h, xs, ss, n)
-            if n > nmax:
-                return nmax, True
-    if _sturm_count(q) != n:
+                tasks[nt, 0], tasks[nt, 1], tasks[nt, 2], tasks[nt, 3] = m, b, -fd, 0.5 * (m + b)
+            tasks[nt, 4] = mins[i, 4]
+            nt += 1
+    n = _refine_all(q, rev, tasks, nt, x0, h, xs, ss)
+    if n > xs.size:
+        return xs.size, True
+    if _sturm_count(q, ws[10]) != n:
         doubt = True
     return n, doubt
 
 
-@_jit
+@_leaf
+def _flags(F, K, fl):
+    """The cells of the grid values ``F`` (K + 1,) that the two loops of
+    :func:`_scan_one` stop at, into ``fl`` (K,): bit 1 a sign change (``F[k]``, ``F[k +
+    1]``), bit 2 a local minimum of abs(F) at k + 1 without a sign change on either side
+    (the tests of those loops, cell K - 1 wrapping round to ``F[0]``, ``F[1]``).  One
+    pass without branches, which LLVM vectorises (perf-oct-4: the tests in the loops
+    were ~0.2 µs per problem, mostly mispredicted branches); the same cells, so the
+    same roots."""
+    for kc in range(K - 2):
+        f0, f1, f2 = F[kc], F[kc + 1], F[kc + 2]
+        a0, a1, a2 = abs(f0), abs(f1), abs(f2)
+        s0, s1, s2 = f0 >= 0, f1 >= 0, f2 >= 0
+        dip = (a1 < a0) & (not a2 < a1) & (s0 == s1) & (s1 == s2)
+        fl[kc] = (1 if s0 != s1 else 0) + (2 if dip else 0)
+    for kc in range(max(K - 2, 0), K):
+        k1 = kc + 1
+        k2 = k1 + 1 if k1 < K else 1
+        a0 = abs(F[kc])
+        a1 = abs(F[k1]) if k1 < K else abs(F[0])
+        a2 = abs(F[k2]) if k2 < K else abs(F[0])
+        s0, s1 = F[kc] >= 0, F[k1] >= 0
+        s2 = F[k1 + 1] >= 0 if k1 < K else F[1] >= 0
+        dip = a1 < a0 and not a2 < a1 and s0 == s1 and s1 == s2
+        fl[kc] = (1 if s0 != s1 else 0) + (2 if dip else 0)
+
+
+@_leaf
 def scan_one(d, x0, h, q, F, xs, ss, ws, fine):
     """:func:`_scan_one` on the grid of :mod:`.rootscan`, and once more on :data:`FINE`
     when that doubts the problem and ``fine`` is set.  ``F``: (4 K + 1,)."""
@@ -305,7 +416,7 @@ def scan_one(d, x0, h, q, F, xs, ss, ws, fine):
     return k, dbt
 
 
-@_jit
+@_leaf
 def _emit(v, st, ins, x0, h, xs, ss, n):
     """Append the root v (u = tan or w = cot space) as x = x0 + h u, with its step in
     units of x, when finite; returns the new count (> xs.size: overflow)."""
@@ -343,15 +454,21 @@ def scan_many(data, x0, h, fine=True):
     x = np.empty(n * MAX_ROOTS)
     step = np.empty(n * MAX_ROOTS)
     doubt = np.zeros(n, np.bool_)
-    q = np.empty(9)
-    F = np.empty(4 * K + 1)
-    ws = _workspace()
+    m = _scan_rows(data, x0, h, fine, row, x, step, doubt, np.empty(9),
+                   np.empty(4 * K + 1), _workspace())
+    return row[:m], x[:m], step[:m], doubt
+
+
+@_leaf
+def _scan_rows(data, x0, h, fine, row, x, step, doubt, q, F, ws):
+    """The loop of :func:`scan_many` over the problems, into its arrays (``q``, ``F``,
+    ``ws``: work arrays); returns the number of roots."""
     m = 0
-    for i in range(n):
+    for i in range(data.shape[0]):
         xs = x[m:m + MAX_ROOTS]
         k, dbt = scan_one(data[i], x0[i], h[i], q, F, xs, step[m:m + MAX_ROOTS], ws, fine)
         for j in range(k):
             row[m + j] = i
         doubt[i] = dbt
         m += k
-    return row[:m], x[:m], step[:m], doubt
+    return m

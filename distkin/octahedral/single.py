@@ -87,25 +87,30 @@ _GRACE = 6           # Newton steps before a start must show convergence ...
 _RATE = 0.7          # ... |step_k| <= _RATE |step_(k-2)|: Newton's linear rate (m-1)/m
 #                      at a root of multiplicity m <= 6 gives ((m-1)/m)^2 <= 0.7
 
-_jit = numba.njit(cache=True)
+_jit = numba.njit(cache=True, _nrt=True)
+#: the functions that allocate nothing and return no array, compiled without numba's
+#: reference counting (``_nrt=False``, perf-oct-4; :mod:`.signscan` says why); the others
+#: say ``_nrt=True`` explicitly, since a callee compiled first from a ``_nrt=False``
+#: caller would inherit it
+_leaf = numba.njit(cache=True, _nrt=False)
 
 
 
 # ------------------------------------------------------------ eq. (3) and the octic
 
-@_jit
+@_leaf
 def _q(d, i, x):
     """Quadratic part i of eq. (3) (u, v, b1, b2, E1, E2, T1a, T1b, T2a, T2b) at x."""
     return d[3 * i] + x * (d[3 * i + 1] + x * d[3 * i + 2])
 
 
-@_jit
+@_leaf
 def _dq(d, i, x):
     """Its derivative."""
     return d[3 * i + 1] + (2 * x) * d[3 * i + 2]
 
 
-@_jit
+@_leaf
 def _factored(d, x):
     r"""The octic in its factored form :math:`H = G^2-4R_1R_2` at x, its derivative, and
     the size :math:`G^2+4|R_1R_2|` of its terms (quadratic parts from ``d``)."""
@@ -121,13 +126,13 @@ def _factored(d, x):
     return G * G - 4 * R, 2 * G * dG - 4 * dR, G * G + 4 * abs(R)
 
 
-@_jit
+@_leaf
 def tet_min(d, x):
     """The smallest of the four banana tetrahedra's squared-volume factors at x."""
     return min(_q(d, 6, x), _q(d, 7, x), _q(d, 8, x), _q(d, 9, x))
 
 
-@_jit
+@_leaf
 def polish_eq3(d, x, c, steps):
     r"""Newton on the cleared eq. (3) :math:`P + \epsilon_1 v\sqrt{R_1} -
     \epsilon_2 u\sqrt{R_2}` on the branch where it is smallest, at most ``steps`` steps
@@ -193,7 +198,7 @@ def polish_eq3(d, x, c, steps):
     return x, max(abs(step), abs(prev), abs(first)), first, taken, how
 
 
-@_jit
+@_leaf
 def _horner_newton(d, x, c):
     """Newton on the octic in Horner form from an accurate start: ``(x, |last step|,
     ok)``, not ok when the first step exceeds :data:`CONFIRM` relative.  At most four
@@ -219,7 +224,7 @@ def _horner_newton(d, x, c):
     return x, abs(st), True
 
 
-@_jit
+@_leaf
 def _small(d, x):
     """The octic in Horner form is below :data:`_RES` times the size of its terms."""
     p, s, ax = 0.0, 0.0, abs(x)
@@ -229,7 +234,7 @@ def _small(d, x):
     return abs(p) <= _RES * s
 
 
-@_jit
+@_leaf
 def newton_factored(d, x, c, found, nfound, iters):
     """Newton on the factored octic from x, deflated by ``found[:nfound]``.
 
@@ -266,7 +271,7 @@ def newton_factored(d, x, c, found, nfound, iters):
     return x, step, ok, xe
 
 
-@_jit
+@_leaf
 def _one_crossing(d, x1, x2):
     """The factored octic has opposite signs at x1 - g and x2 + g (g = x2 - x1), each
     above :data:`_SIGN_OK` times the size of its terms (not rounding noise): an odd
@@ -277,7 +282,7 @@ def _one_crossing(d, x1, x2):
     return (a > 0) != (b > 0) and abs(a) > _SIGN_OK * sa and abs(b) > _SIGN_OK * sb
 
 
-@_jit
+@_leaf
 def _distinct(x, c, xs, n):
     """x is farther than :data:`DUP` relative from every one of ``xs[:n]``."""
     tol = DUP * max(abs(x), c)
@@ -515,10 +520,14 @@ def eigen_rows(comp, sc, mode, c):
     full = np.flatnonzero(mode == 0)
     if full.size:
         eig = _eigvals(comp[full]) if np.isfinite(comp[full]).all() else None
-        for k, i in enumerate(full):
-            z = eig[k] if eig is not None and not np.isnan(eig[k]).any() else None
-            if z is None:                   # LAPACK did not converge: the public path
-                z = eigenvalues(comp[i], sc[i], 0, 1.0)
+        # (the rows LAPACK solved written at once: a loop over them cost ~4 µs a row)
+        ok = (np.zeros(full.size, bool) if eig is None
+              else ~np.isnan(eig.real).any(axis=1) & ~np.isnan(eig.imag).any(axis=1))
+        if ok.any():
+            rows, cs = full[ok], c[full[ok], None]
+            er[rows], ei[rows], nr[rows] = eig[ok].real * cs, eig[ok].imag * cs, 8
+        for i in full[~ok]:                 # LAPACK did not converge: the public path
+            z = eigenvalues(comp[i], sc[i], 0, 1.0)
             er[i], ei[i], nr[i] = z.real * c[i], z.imag * c[i], 8
     for i in np.flatnonzero(mode != 0):
         z = eigenvalues(comp[i], sc[i], mode[i], c[i])
