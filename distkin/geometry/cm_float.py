@@ -21,6 +21,7 @@ one).  It costs one maximum per matrix: the fast path keeps its speed.
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
@@ -33,6 +34,7 @@ __all__ = ["FloatRangeWarning", "CancellationWarning", "float_determinant",
 #: relative error estimate above which the fast tier warns (about half of float64's
 #: 16 digits lost to cancellation)
 CANCELLATION_THRESHOLD = 1e-8
+_EPS = float(np.finfo(float).eps)
 
 
 class CancellationWarning(ConditioningWarning):
@@ -82,25 +84,41 @@ def _cancellation(M, d, k, label, lost):
     """Warn (CancellationWarning) where :func:`relative_error_estimate` exceeds the
     threshold; not for 1 or 2 points (no cancellation), nor where the value left the
     float64 range (``lost``: FloatRangeWarning said so)."""
-    d = np.asarray(d, float)
     if k < 3:
         return
+    if np.ndim(d) == 0:                    # one matrix: plain floats (numpy's per-call
+        if lost:                           # overhead on 0-d arrays would dominate)
+            return
+        big = float(np.abs(M[1:, 1:]).max())
+        if d != 0 and big > 0:
+            mb, eb = math.frexp(big)
+            md, ed = math.frexp(abs(d))
+            ex = max(min(eb * (k - 1) - ed, 1000), -1000)
+            rho = k * _EPS * mb ** (k - 1) / md * 2.0 ** ex
+        else:
+            rho = math.inf
+        if rho > CANCELLATION_THRESHOLD:
+            _warn(float(d), rho, (), "", label)
+        return
+    d = np.asarray(d, float)
     rho = relative_error_estimate(M, d, k)
     bad = (rho > CANCELLATION_THRESHOLD) & ~np.asarray(lost)
     if not np.any(bad):
         return
-    idx = np.unravel_index(int(np.argmax(np.where(bad, rho, -1.0))), np.shape(rho)) \
-        if np.ndim(rho) else ()
-    worst, val = float(rho[idx]), float(d[idx])
+    idx = np.unravel_index(int(np.argmax(np.where(bad, rho, -1.0))), np.shape(rho))
     where = (f" (batch index {tuple(int(i) for i in idx)}, {int(bad.sum())} of "
-             f"{bad.size} flagged)") if np.ndim(rho) else ""
+             f"{bad.size} flagged)")
+    _warn(float(d[idx]), float(rho[idx]), idx, where, label)
+
+
+def _warn(val, worst, idx, where, label):
     what = ("computed as 0: the float64 value cannot tell it from 0" if val == 0 else
             f"= {val:.6g} with a relative error estimate of {worst:.2g}"
             + (": it may be 0 (e.g. a flat simplex)" if worst >= 1 else
                " (a nearly flat simplex)"))
     warnings.warn(CancellationWarning(
         f"Cayley-Menger determinant {label} {what}{where}; use method='precise' or "
-        "method='certified' (exact for exact or float input)", worst, idx), stacklevel=4)
+        "method='certified' (exact for exact or float input)", worst, idx), stacklevel=5)
 
 
 #: the smallest normal float64; below it (or at 0, or beyond the range) the float
