@@ -15,7 +15,10 @@ proper motion).  Used for the octahedral platform triangle :math:`P_4P_5P_6` (Ro
 al., ICRA 2012, Fig. 4 and Sec. III).
 
 Every function runs in the three tiers: numpy ``float64`` arrays (batched over leading
-axes), ``mpmath.mpf`` and ``flint.arb`` (nested lists of scalars).
+axes), ``mpmath.mpf`` and ``flint.fmpq`` (exact) or ``flint.arb`` (balls), as nested lists
+of scalars.  :func:`pose_from_points` refuses triangles that are not congruent within a
+relative tolerance (QA T 7), :func:`points_from_pose` a matrix that is not a proper
+rotation (QA T 1).
 """
 
 from __future__ import annotations
@@ -238,7 +241,11 @@ def _congruent_fast(q, p, rtol):
     more than ``rtol`` times q's largest squared side (vectorised; both scaled by the same
     power of two first, exact, so that huge or tiny triangles neither over- nor
     underflow)."""
-    q, p = np.broadcast_arrays(q, p)
+    try:
+        q, p = np.broadcast_arrays(q, p)
+    except ValueError:
+        raise InputError(f"expected platform points {q.shape} and points {p.shape} whose "
+                         "batch shapes broadcast, got ones that do not", field="points") from None
     dq = q[..., [1, 2, 2], :] - q[..., [0, 0, 1], :]
     dp = p[..., [1, 2, 2], :] - p[..., [0, 0, 1], :]
     big = np.maximum(np.abs(dq).max(axis=(-2, -1)), np.abs(dp).max(axis=(-2, -1)))
