@@ -204,10 +204,10 @@ def count_real_roots(coeffs, lo=None, hi=None, *, bits: int = 64,
 
     ``None`` means unbounded; an end point is an exact rational, read by the rules of
     the coefficients (:func:`exact_poly`: integers of any kind, Fractions, fmpq,
-    numeric strings, or a float taken at its exact binary value).  Each root's ball is compared with
-    the end points exactly (its ends are binary rationals), and refined while it
+    numeric strings, or a float taken at its exact binary value).  Each root's ball is
+    compared with the end points exactly (its ends are binary rationals), and refined while it
     straddles one; a root exactly at an end point (``p(lo) == 0`` exactly) counts.
-    Raises :class:`InputError` for an end point that is not a finite number, or
+    Raises :class:`InputError` for an end point that is not a finite rational, or
     ``lo > hi``, and :class:`UncertifiedError` if ``max_bits`` does not suffice (it
     always does: a root that is not at a rational end point is separated from it at
     some precision).
