@@ -19,7 +19,7 @@ IEEE Trans. Computers 66(8), 2017, doi:10.1109/TC.2017.2690633.
 from __future__ import annotations
 
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from fractions import Fraction
 
 from .errors import InputError, UncertifiedError
@@ -55,13 +55,17 @@ def working_precision(bits: int):
 class RealRoot:
     """A certified real root: an enclosing ``arb`` ball and its multiplicity.
 
-    ``index`` is the root's position among the distinct real roots in increasing order.
+    ``index`` is the root's position among the distinct real roots in increasing order;
+    ``from_float`` names the coefficients that were bare floats (exact binary values).
     """
 
     ball: object
     multiplicity: int
     index: int
     bits: int
+    #: positions (highest degree first) of the coefficients given as bare floats, each
+    #: taken at its exact binary value (DESIGN §3: the result says so); () when none
+    from_float: tuple = ()
 
     @property
     def mid(self) -> float:
@@ -83,34 +87,70 @@ def exact_poly(coeffs, *, field: str = "coefficients"):
     Parameters
     ----------
     coeffs : sequence or flint.fmpq_poly / fmpz_poly
-        Coefficients **highest degree first** (ints, Fractions, fmpq, fmpz), or a
-        flint polynomial.
+        Coefficients **highest degree first**: integers (Python or numpy: exact),
+        Fractions, fmpq, fmpz, sympy Rationals, numeric strings parsed exactly
+        (``"19.8"`` is 99/5, ``"12/5"``; an irrational one such as ``"sqrt(2)"`` is
+        refused), or finite floats (Python or numpy), each taken as its exact binary
+        value (``0.1`` is 3602879701896397/2**55, not 1/10; write ``"0.1"`` for 1/10),
+        exactly as the end points of :func:`count_real_roots`.  :func:`real_roots`
+        names the float coefficients in :attr:`RealRoot.from_float`.  A flint
+        polynomial is taken as it is.
 
     Returns
     -------
     flint.fmpz_poly
         The numerator of the rational polynomial (same roots, same multiplicities).
     """
+    return _exact_poly(coeffs, field)[0]
+
+
+def _exact_poly(coeffs, field="coefficients"):
+    """(:func:`exact_poly`, positions of the coefficients that were bare floats)."""
     import flint
     if isinstance(coeffs, flint.fmpz_poly):
-        return coeffs
+        return coeffs, ()
     if isinstance(coeffs, flint.fmpq_poly):
-        return coeffs.numer()
-    out = []
+        return coeffs.numer(), ()
+    if isinstance(coeffs, (str, bytes)) or not hasattr(coeffs, "__iter__"):
+        raise InputError(f"expected a sequence of coefficients (highest degree first), got "
+                         f"{type(coeffs).__name__} {coeffs!r}", field=field)
+    out, floats = [], []
     for i, c in enumerate(coeffs):
-        name = type(c).__name__
-        if name in ("fmpq", "fmpz"):
-            out.append(flint.fmpq(c))
-        elif isinstance(c, (int, Fraction)) and not isinstance(c, bool):
-            f = Fraction(c)
-            out.append(flint.fmpq(f.numerator, f.denominator))
-        elif getattr(c, "is_Rational", False):
-            out.append(flint.fmpq(int(c.p), int(c.q)))
-        else:
-            raise InputError(f"expected exact rational coefficients, got {name} {c!r} at "
-                             f"position {i}", field=field,
-                             hint="the certified tier needs rational data")
-    return flint.fmpq_poly(out[::-1]).numer()
+        q, is_float = _coefficient(c, f"{field}[{i}]")
+        out.append(q)
+        if is_float:
+            floats.append(i)
+    return flint.fmpq_poly(out[::-1]).numer(), tuple(floats)
+
+
+def _coefficient(c, field):
+    """(exact fmpq of one coefficient, whether it was a bare float), or InputError."""
+    import flint
+    name = type(c).__name__
+    if name in ("fmpq", "fmpz"):
+        return flint.fmpq(c), False
+    if isinstance(c, bool) or (type(c).__module__ == "numpy" and c.dtype.kind == "b"):
+        raise InputError(f"expected a rational number, got the boolean {c!r}", field=field)
+    if hasattr(c, "dtype") and getattr(c, "shape", None) == () and c.dtype.kind in "iuf":
+        c = c.item()                                   # numpy scalar: exact as Python's
+    if isinstance(c, str):
+        from .exact import parse_exact
+        c = parse_exact(c, field).value                # Fraction / int, or irrational
+    if isinstance(c, float):
+        import math
+        if not math.isfinite(c):
+            raise InputError(f"expected a finite rational number, got {c!r}", field=field)
+        f = Fraction(c)
+        return flint.fmpq(f.numerator, f.denominator), True
+    if isinstance(c, (int, Fraction)) and not isinstance(c, bool):
+        f = Fraction(c)
+        return flint.fmpq(f.numerator, f.denominator), False
+    if getattr(c, "is_Rational", False):
+        return flint.fmpq(int(c.p), int(c.q)), False
+    raise InputError(f"expected a rational number (an integer, Fraction, fmpq, a numeric "
+                     f"string or a float at its exact binary value), got {name} {c!r}",
+                     field=field, hint="the certified root isolation needs a rational "
+                     "polynomial; enclose irrational data another way")
 
 
 def _isolate(p, bits):
@@ -144,7 +184,7 @@ def real_roots(coeffs, *, bits: int = 64) -> list[RealRoot]:
     >>> [round(r.mid, 12) for r in real_roots([1, 0, -2])]
     [-1.414213562373, 1.414213562373]
     """
-    p = exact_poly(coeffs)
+    p, floats = _exact_poly(coeffs)
     if p.is_zero():
         raise InputError("expected a nonzero polynomial, got the zero polynomial",
                          field="coefficients")
@@ -155,18 +195,19 @@ def real_roots(coeffs, *, bits: int = 64) -> list[RealRoot]:
     for (a, _), (b, _) in zip(roots, roots[1:]):
         if a.overlaps(b):  # cannot happen for isolating balls; never guess if it did
             raise UncertifiedError(f"real root enclosures {a} and {b} overlap")
-    return [RealRoot(b, m, i, bits) for i, (b, m) in enumerate(roots)]
+    return [RealRoot(b, m, i, bits, floats) for i, (b, m) in enumerate(roots)]
 
 
 def count_real_roots(coeffs, lo=None, hi=None, *, bits: int = 64,
                      max_bits: int = MAX_BITS) -> int:
     """Certified number of distinct real roots in the closed interval ``[lo, hi]``.
 
-    ``None`` means unbounded; an end point is an exact rational (int, Fraction, fmpq,
-    or a float taken at its exact binary value).  Each root's ball is compared with
-    the end points exactly (its ends are binary rationals), and refined while it
+    ``None`` means unbounded; an end point is an exact rational, read by the rules of
+    the coefficients (:func:`exact_poly`: integers of any kind, Fractions, fmpq,
+    numeric strings, or a float taken at its exact binary value).  Each root's ball is
+    compared with the end points exactly (its ends are binary rationals), and refined while it
     straddles one; a root exactly at an end point (``p(lo) == 0`` exactly) counts.
-    Raises :class:`InputError` for an end point that is not a finite number, or
+    Raises :class:`InputError` for an end point that is not a finite rational, or
     ``lo > hi``, and :class:`UncertifiedError` if ``max_bits`` does not suffice (it
     always does: a root that is not at a rational end point is separated from it at
     some precision).
@@ -205,14 +246,14 @@ def count_real_roots(coeffs, lo=None, hi=None, *, bits: int = 64,
 
 
 def _fmpq_end(e, name):
-    """An interval end point as an exact ``fmpq`` (InputError unless a finite rational)."""
-    from .exact import to_fmpq
+    """An interval end point as an exact ``fmpq``, by the rules of the coefficients
+    (:func:`exact_poly`: integers of any kind, rationals, numeric strings, a finite float
+    at its exact binary value); InputError naming ``lo`` or ``hi`` otherwise."""
     try:
-        return to_fmpq(e)
-    except InputError:
-        raise InputError(f"expected an exact rational end point (int, Fraction, fmpq, a sympy "
-                         f"Rational or a finite float), got {type(e).__name__} {e!r}",
-                         field=name) from None
+        return _coefficient(e, name)[0]
+    except InputError as exc:
+        raise InputError(f"expected an exact rational end point: {exc.message}", field=name,
+                         hint=exc.hint) from None
 
 
 def ball_ends(ball):
@@ -238,9 +279,9 @@ def refine_roots(coeffs, rel_tol: float, *, bits: int = 64, max_bits: int = MAX_
     ``rad <= rel_tol * max(|mid|, tiny)``; raises :class:`UncertifiedError` beyond
     ``max_bits``.
     """
-    p = exact_poly(coeffs)
+    p, floats = _exact_poly(coeffs)
     while True:
-        roots = real_roots(p, bits=bits)
+        roots = [replace(r, from_float=floats) for r in real_roots(p, bits=bits)]
         if all(r.rad <= rel_tol * max(abs(r.mid), 1e-300) or r.rad == 0 for r in roots):
             return roots
         if bits >= max_bits:

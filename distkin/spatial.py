@@ -230,12 +230,25 @@ def pose_to_matrix(pose):
     >>> np.round(T @ [1.0, 0.0, 0.0, 1.0], 12).tolist()
     [0.1, 1.0, 0.3, 1.0]
     """
-    X = np.asarray(pose, dtype=float)
+    X = _poses(pose)
     T = np.zeros(X.shape[:-1] + (4, 4))
     T[..., :3, :3] = rotation_matrix(X[..., 3:])
     T[..., :3, 3] = X[..., :3]
     T[..., 3, 3] = 1.0
     return T
+
+
+def _poses(pose, field="pose"):
+    """Poses (..., 6) as a finite float array, or InputError naming ``field`` (QA T 10)."""
+    from .argcheck import as_floats
+    from .errors import InputError
+    X = as_floats(pose, field, "poses (x, y, z, rx, ry, rz) of shape (..., 6)")
+    if X.shape[-1:] != (6,):
+        raise InputError(f"expected poses (x, y, z, rx, ry, rz) of shape (..., 6), got shape "
+                         f"{X.shape}", field=field)
+    if not np.all(np.isfinite(X)):
+        raise InputError("expected finite poses, got NaN or inf", field=field)
+    return X
 
 
 def rotation_defect(R):
@@ -262,9 +275,15 @@ def matrix_to_pose(T, *, atol: float = 1e-9):
     R = T[..., :3, :3]
     last = np.abs(T[..., 3, :] - [0.0, 0.0, 0.0, 1.0]).max(initial=0.0)
     ortho, det = rotation_defect(R)
+    if not np.all(np.isfinite(T)):
+        raise InputError("expected finite 4x4 matrices, got NaN or inf", field="pose")
     if not (last <= atol and ortho <= atol and np.all(det > 0)):
-        raise InputError(f"expected a rigid transform (orthonormal R, det +1, last row "
-                         f"0 0 0 1), got deviations {ortho:.3g} and {last:.3g}", field="pose")
+        dmin = float(np.min(det)) if np.size(det) else 1.0
+        what = " (a reflection)" if dmin < 0 else ""
+        raise InputError(f"expected a rigid transform (orthonormal R with max|R^T R - I| <= "
+                         f"{atol:g}, det R = +1, last row 0 0 0 1), got max|R^T R - I| = "
+                         f"{ortho:.3g}, det R = {dmin:.6g}{what} and last-row deviation "
+                         f"{last:.3g}", field="pose")
     return np.concatenate([T[..., :3, 3], rotation_angles(R)], axis=-1)
 
 

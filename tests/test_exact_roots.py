@@ -9,8 +9,8 @@ import flint
 import pytest
 import sympy as sp
 
-from distkin.exact_roots import (count_real_roots, real_roots, refine_roots, sign_at_root,
-                                   working_precision)
+from distkin.exact_roots import (ball_ends, count_real_roots, real_roots, refine_roots,
+                                   sign_at_root, working_precision)
 from distkin.errors import InputError
 
 
@@ -120,3 +120,34 @@ def test_bad_input():
         real_roots([1.5, float("nan")] + [sp.sqrt(2)])
     with pytest.raises(InputError, match="zero polynomial"):
         real_roots([0, 0])
+
+
+# QA T 6: numpy integers and numeric strings are exact, as everywhere in distkin; a float
+# (coefficient or end point alike) is its exact binary value, and the roots say so.
+def test_numpy_integers_and_strings_are_exact_coefficients():
+    import numpy as np
+    ref = [r.ball for r in real_roots([1, 0, -2])]
+    for coeffs in (np.array([1, 0, -2]), ["1", "0", "-2"], [np.int32(1), 0, "-4/2"]):
+        got = real_roots(coeffs)
+        assert [r.from_float for r in got] == [(), ()]
+        assert all(ball_ends(a) == ball_ends(b) for a, b in zip((r.ball for r in got), ref))
+    assert count_real_roots(np.array([1, 0, -2]), np.int64(0), "3/2") == 1
+    assert len(refine_roots(["1", "0", "-2"], 1e-30)) == 2
+    with pytest.raises(InputError, match=r"coefficients\[1\].*rational.*sqrt\(2\)"):
+        real_roots(["1", "sqrt(2)"])
+
+
+def test_float_coefficients_are_their_exact_binary_values_and_flagged():
+    from fractions import Fraction
+    [root] = real_roots([1.0, -0.1])
+    assert root.from_float == (0, 1)
+    tenth = Fraction(0.1)                                    # 3602879701896397 / 2**55
+    lo, hi = (Fraction(int(x.p), int(x.q)) for x in ball_ends(root.ball))
+    assert lo <= tenth <= hi and not lo <= Fraction(1, 10) <= hi
+    assert refine_roots([1.0, 0, -2], 1e-20)[0].from_float == (0,)      # -2 is an int
+    [exact] = real_roots(["1", "-0.1"])                      # the string is 1/10
+    lo, hi = (Fraction(int(x.p), int(x.q)) for x in ball_ends(exact.ball))
+    assert lo <= Fraction(1, 10) <= hi and exact.from_float == ()
+    for bad in (float("nan"), float("inf"), True):
+        with pytest.raises(InputError, match=r"coefficients\[1\]"):
+            real_roots([1, bad])

@@ -51,3 +51,31 @@ def test_rotation_angles_reproduce_the_matrix_at_and_near_gimbal_lock():
     got = rotation_angles(Rr.as_matrix())
     ok = np.cos(got[:, 1]) > 1e-3
     np.testing.assert_allclose(got[ok], Rr.as_euler("xyz")[ok], rtol=0, atol=1e-12)
+
+
+# QA T 10: pose_to_matrix and pose_from refuse malformed poses with the field named, and a
+# reflection is called one (det R = -1), not "deviations 0 and 0".
+def test_pose_to_matrix_refuses_a_short_or_nonfinite_pose():
+    import pytest
+    from distkin.errors import InputError
+    from distkin.spatial import pose_to_matrix
+    with pytest.raises(InputError, match=r"shape \(\.\.\., 6\), got shape \(5,\)"):
+        pose_to_matrix([0, 0, 0, 0, 0])
+    with pytest.raises(InputError, match="finite"):
+        pose_to_matrix([np.nan, 0, 0, 0, 0, 0])
+    with pytest.raises(InputError, match="pose"):
+        pose_to_matrix([0, 0, "x", 0, 0, 0])
+    T = pose_to_matrix([[1.0, 2, 3, 0, 0, math.pi / 2]] * 2)      # batched, analytic Rz(90°)
+    assert T.shape == (2, 4, 4)
+    assert np.allclose(T[1], [[0, -1, 0, 1], [1, 0, 0, 2], [0, 0, 1, 3], [0, 0, 0, 1]],
+                       atol=1e-15)
+
+
+def test_pose_from_names_the_determinant_of_a_reflection():
+    import pytest
+    from distkin.errors import InputError
+    from distkin.spatial import pose_from
+    with pytest.raises(InputError, match=r"det R = -1 \(a reflection\)"):
+        pose_from(np.diag([1.0, 1, -1, 1]))
+    with pytest.raises(InputError, match=r"max\|R\^T R - I\| = 3, det R = 8"):
+        pose_from(np.diag([2.0, 2, 2, 1]))

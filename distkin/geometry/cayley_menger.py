@@ -42,10 +42,13 @@ from fractions import Fraction
 import numpy as np
 
 from ..errors import InputError
-from ..exact import parse_exact
+from ..exact import check_method, parse_exact
+from .cm_float import (CancellationWarning, FloatRangeWarning, _bordered, _bordered_array,
+                       _float_mismatch, _refuse, _symmetric_array, float_determinant)
 
 __all__ = [
     "FloatRangeWarning",
+    "CancellationWarning",
     "cayley_menger",
     "squared_distances",
     "triangle_area_squared",
@@ -205,7 +208,7 @@ def _check_labels(rows, cols, n):
         raise InputError("expected at least one label")
 
 
-def cayley_menger(sq, rows, cols=None):
+def cayley_menger(sq, rows, cols=None, *, method: str | None = None, dps: int | None = None):
     r"""The Cayley-Menger (bi)determinant :math:`D(\text{rows}; \text{cols})`.
 
     Rojas, Borràs, Thomas, *The Octahedral Manipulator Revisited*, eq. (1) notation.
@@ -221,12 +224,26 @@ def cayley_menger(sq, rows, cols=None):
         1-based labels :math:`i_1, \dots, i_k`.
     cols : sequence of int, optional
         1-based labels :math:`j_1, \dots, j_k`; defaults to ``rows``.
+    method : {None, "fast", "precise", "certified"}
+        ``None``: the input's own number type (below).  ``"fast"``: float64 (numpy LU,
+        batched), with a relative error estimate from Hadamard's inequality
+        (:mod:`.cm_float`): above 1e-8 a :class:`~.cm_float.CancellationWarning` says
+        the value lost most of its digits (a nearly flat simplex, or a determinant that
+        is 0 exactly, like five points in 3-D).  ``"precise"``: ``mpmath.mpf`` at
+        ``dps`` digits (default 30).  ``"certified"``: exact ``flint.fmpq`` when every
+        entry is rational (ints, Fractions, numeric strings, and floats taken at their
+        exact binary value: the determinant of exactly those numbers), else an
+        ``flint.arb`` ball (irrational sympy numbers, arb input) with a certified
+        radius.  Precise and certified evaluate a batch one matrix at a time (an
+        object array of the batch shape).
+    dps : int, optional
+        Decimal digits of the precise tier (5..1233).
 
     Returns
     -------
     number
-        Of the input's type (see the module docstring); a float array of the batch
-        shape for batched float input.
+        Of the input's type (see the module docstring) when ``method`` is None, else of
+        the tier's; a float array of the batch shape for batched float input (fast).
 
     Raises
     ------
@@ -241,6 +258,13 @@ def cayley_menger(sq, rows, cols=None):
     >>> round(float(cayley_menger(squared_distances(P), (1, 2, 3, 4))) / 288, 12)  # V^2 = 1/36
     0.027777777778
     """
+    if method is not None:
+        check_method(method)
+    if isinstance(sq, np.ndarray) and sq.ndim > 2 and sq.dtype.kind in "iuOU":
+        out = np.empty(sq.shape[:-2], dtype=object)  # batched exact: each matrix exactly
+        for idx in np.ndindex(*sq.shape[:-2]):
+            out[idx] = cayley_menger(sq[idx], rows, cols, method=method, dps=dps)
+        return out
     s, n, kind = _accessor(sq)
     rows = tuple(rows)
     cols = rows if cols is None else tuple(cols)
@@ -250,23 +274,24 @@ def cayley_menger(sq, rows, cols=None):
         if not (kind == "float" and _symmetric_array(sq, labels)):
             _check_symmetric(s, labels, kind)
     k = len(rows)
-    if kind == "float":
+    label = "D(" + ",".join(map(str, rows)) + ("" if cols == rows else
+                                               ";" + ",".join(map(str, cols))) + ")"
+    if kind == "float" and method in (None, "fast"):
         M = (_bordered_array(sq, rows, cols)
              if isinstance(sq, np.ndarray) and np.issubdtype(sq.dtype, np.floating)
              else _bordered(s, rows, cols))
-        with np.errstate(over="ignore", under="ignore"):   # said below, with the value
-            d = np.linalg.det(M)
-        odd = ~(np.isfinite(d) & (np.abs(d) >= _TINY))
-        if np.any(odd):
-            if d.ndim == 0:
-                d = _rescaled(M, d, k)
-            else:                              # only the odd ones of a batch
-                d = d.copy()
-                d[odd] = _rescaled(M[odd], d[odd], k)
-        return float(d) if d.ndim == 0 else d
+        return float_determinant(M, k, label)
+    if kind == "float" and isinstance(sq, np.ndarray) and sq.ndim > 2:   # batched: each
+        out = np.empty(sq.shape[:-2], dtype=object)
+        for idx in np.ndindex(*sq.shape[:-2]):
+            out[idx] = cayley_menger(sq[idx], rows, cols, method=method, dps=dps)
+        return out
     entries = [[0] + [1] * k]
     for i in rows:
         entries.append([1] + [0 if i == j else _checked(s(i, j), i, j, kind) for j in cols])
+    if method is not None:
+        from .cm_tiers import tier_determinant
+        return tier_determinant(entries, k, method, dps, label)
     if kind == "sympy":
         import sympy
         return sympy.expand(sympy.Matrix(entries).det(method="berkowitz"))
@@ -284,56 +309,6 @@ def cayley_menger(sq, rows, cols=None):
     return det
 
 
-#: the smallest normal float64; below it (or at 0, or beyond the range) the float
-#: determinant is computed again from power-of-two scaled entries (rare: no cost otherwise)
-_TINY = 2.2250738585072014e-308
-
-
-class FloatRangeWarning(RuntimeWarning):
-    """A float64 Cayley-Menger determinant beyond the float64 range: 0.0 for a non-zero
-    value below the smallest float64 (4.9e-324), inf above the largest.  ``value`` holds
-    the determinant as a decimal string (mantissa and exponent)."""
-
-    def __init__(self, message, value=""):
-        super().__init__(message)
-        self.value = value
-
-
-def _rescaled(M, d, k):
-    r"""The float determinant of the bordered matrix ``M`` (..., k+1, k+1) from its
-    entries scaled by :math:`2^{-e}` (exact), :math:`2^e` just above the largest squared
-    distance: :math:`D(\lambda s) = \lambda^{k-1} D(s)`, so :math:`D = D_e 2^{e(k-1)}`.
-    A value that is not zero but still does not fit float64 warns (FloatRangeWarning):
-    an underflow is not a flat simplex (QA J 4)."""
-    import warnings
-    S = M[..., 1:, 1:]
-    big = np.max(np.abs(S), axis=(-2, -1)) if k else np.zeros(np.shape(d))
-    e = np.frexp(np.where(big > 0, big, 1.0))[1]
-    Ms = M.copy()
-    Ms[..., 1:, 1:] = np.ldexp(S, -e[..., None, None])
-    ds = np.linalg.det(Ms)
-    with np.errstate(over="ignore", under="ignore"):
-        out = np.ldexp(ds, e * (k - 1))
-    lost = (ds != 0) & ((out == 0) | ~np.isfinite(out))
-    if np.any(lost):
-        i = np.flatnonzero(np.ravel(lost))[0]
-        mant, ex = float(np.ravel(ds)[i]), int(np.ravel(e)[i]) * (k - 1)
-        value = _decimal(mant, ex)
-        side = "below the smallest" if np.ravel(out)[i] == 0 else "beyond the largest"
-        warnings.warn(FloatRangeWarning(
-            f"Cayley-Menger determinant {value} is {side} float64 number: returned "
-            f"{float(np.ravel(out)[i])!r}; use method='certified' or a larger/smaller "
-            "length unit", value), stacklevel=3)
-    return out
-
-
-def _decimal(mant: float, ex: int) -> str:
-    """``mant * 2**ex`` as a decimal with an exponent (any exponent)."""
-    import mpmath
-    with mpmath.workdps(20):
-        return mpmath.nstr(mpmath.ldexp(mpmath.mpf(mant), ex), 6)
-
-
 def _check_ragged(points):
     """Rows of different lengths (a ragged list, which numpy refuses with a ValueError):
     an InputError naming the first row whose length differs from the first's (QA J 8)."""
@@ -348,70 +323,6 @@ def _check_ragged(points):
             got = "a scalar" if n is None else f"{n} coordinates"
             raise InputError(f"expected every point with {lens[0]} coordinates (points of "
                              f"shape (n, {lens[0]})), got {got}", field=f"points[{i}]")
-
-
-def _bordered(s, rows, cols):
-    """The bordered float matrix (..., k + 1, k + 1) of D(rows; cols), entry by entry
-    (a mapping of floats); refuses a squared distance NaN, infinite or negative."""
-    entries = []
-    for i in rows:
-        for j in cols:
-            v = np.asarray(0.0 if i == j else s(i, j), dtype=float)
-            if not np.all(np.isfinite(v) & (v >= 0)):
-                _refuse(i, j, float(np.ravel(v)[~(np.isfinite(np.ravel(v))
-                                                  & (np.ravel(v) >= 0))][0]))
-            entries.append(v)
-    k = len(rows)
-    sub = np.stack(np.broadcast_arrays(*entries), axis=-1)
-    return _border(sub.reshape(sub.shape[:-1] + (k, k)))
-
-
-def _bordered_array(sq, rows, cols):
-    """:func:`_bordered` of a float array (..., n, n) in one gather: the same matrix, and
-    the same refusal (the first offending pair in row-major order)."""
-    r, c = np.asarray(rows), np.asarray(cols)
-    sub = np.where(r[:, None] == c[None, :], 0.0,
-                   sq[..., r[:, None] - 1, c[None, :] - 1].astype(float))
-    ok = np.isfinite(sub) & (sub >= 0)
-    if not ok.all():
-        badpair = ~ok.reshape((-1,) + ok.shape[-2:]).all(axis=0)
-        a, b = (int(x) for x in np.argwhere(badpair)[0])
-        v = np.ravel(sub[..., a, b])
-        _refuse(rows[a], cols[b], float(v[~(np.isfinite(v) & (v >= 0))][0]))
-    return _border(sub)
-
-
-def _border(sub):
-    """``sub`` (..., k, k) bordered by the row and column of ones of a Cayley-Menger
-    matrix (0 in the corner): (..., k + 1, k + 1)."""
-    k = sub.shape[-1]
-    M = np.empty(sub.shape[:-2] + (k + 1, k + 1))
-    M[..., 0, 0] = 0.0
-    M[..., 0, 1:] = 1.0
-    M[..., 1:, 0] = 1.0
-    M[..., 1:, 1:] = sub
-    return M
-
-
-def _float_mismatch(a, b):
-    """Where two float squared distances differ by more than 8 ulps of the larger (the
-    symmetry test of :func:`_check_symmetric`; NaN never differs: refused later)."""
-    a, b = np.asarray(a, float), np.asarray(b, float)
-    with np.errstate(invalid="ignore"):
-        return np.abs(a - b) > 8 * np.finfo(float).eps * np.maximum(np.abs(a), np.abs(b))
-
-
-def _symmetric_array(sq, labels) -> bool:
-    """:func:`_check_symmetric`'s float test in one vectorised pass over an array
-    (..., n, n): True when it passes (the per-pair route then need not run; when it
-    fails, that route runs and names the first offending pair)."""
-    if not isinstance(sq, np.ndarray) or sq.dtype != np.float64:
-        return False
-    idx = np.asarray(labels) - 1
-    S = sq[..., idx[:, None], idx[None, :]]
-    bad = _float_mismatch(S, np.swapaxes(S, -1, -2))
-    diag = np.diagonal(S, axis1=-2, axis2=-1)
-    return not (bad.any() or _float_mismatch(diag, 0.0).any())
 
 
 def _check_symmetric(s, labels, kind):
@@ -463,11 +374,6 @@ def _show(v):
     return repr(v)
 
 
-def _refuse(i, j, value):
-    raise InputError(f"expected squared distances that are finite and >= 0, got "
-                     f"s({i},{j}) = {value}", field="sq")
-
-
 def _checked(v, i, j, kind):
     """``v`` = s(i, j) if it is a squared distance: finite and not negative (an arb ball
     or a sympy expression only when certainly negative; symbols pass)."""
@@ -513,7 +419,8 @@ def squared_distances(points):
     Returns
     -------
     numpy.ndarray (..., n, n) for float input; a sympy Matrix for sympy input;
-    a (n, n) object array otherwise (entries of the coordinates' type).
+    an (..., n, n) object array otherwise (entries of the coordinates' type, Fractions
+    for integers; batched exactly, one point set at a time).
     """
     if not isinstance(points, np.ndarray):
         _check_ragged(points)
@@ -540,6 +447,11 @@ def squared_distances(points):
                                                           not mpmath.isfinite(v)):
                 raise InputError(f"expected finite coordinates, got {v}", field="points")
     n = arr.shape[0]
+    if arr.ndim > 2 and kind != "sympy":         # batched exact: each point set exactly
+        out = np.empty(arr.shape[:-1] + arr.shape[-2:-1], dtype=object)
+        for idx in np.ndindex(*arr.shape[:-2]):
+            out[idx] = squared_distances(arr[idx])
+        return out
     if arr.ndim != 2:
         raise InputError(f"expected one point set (n, dim) of exact values, got shape {arr.shape}",
                          field="points")

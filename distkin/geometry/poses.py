@@ -15,7 +15,10 @@ proper motion).  Used for the octahedral platform triangle :math:`P_4P_5P_6` (Ro
 al., ICRA 2012, Fig. 4 and Sec. III).
 
 Every function runs in the three tiers: numpy ``float64`` arrays (batched over leading
-axes), ``mpmath.mpf`` and ``flint.arb`` (nested lists of scalars).
+axes), ``mpmath.mpf`` and ``flint.fmpq`` (exact) or ``flint.arb`` (balls), as nested lists
+of scalars.  :func:`pose_from_points` refuses triangles that are not congruent within a
+relative tolerance (QA T 7), :func:`points_from_pose` a matrix that is not a proper
+rotation (QA T 1).
 """
 
 from __future__ import annotations
@@ -50,13 +53,13 @@ def _dot(a, b):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
-def _tier_rows(points, method, what):
+def _tier_rows(points, method, what, noun="points"):
     """Three points as 3x3 nested lists in the number type of the precise (mpf) or
     certified (fmpq, or arb when irrational) tier, converted exactly first: a float is
     its binary value, a numeric string is parsed exactly (as :func:`.trilaterate`), so
     the certified frame encloses the exact frame of the inputs (QA J 2, 8)."""
     from .trilateration import _three_rows, _tier_scalar
-    rows = _three_rows(points, "points", what)
+    rows = _three_rows(points, noun, what)
     native = _NATIVE[method]
     return [[x if type(x).__name__ in native else _tier_scalar(x, method, f"{what}[{i}][{j}]")
              for j, x in enumerate(r)] for i, r in enumerate(rows)]
@@ -145,7 +148,7 @@ def _frame(rows, method, what):
     return [[e1[r], e2[r], e3[r]] for r in range(3)]
 
 
-def pose_from_points(local, world, *, method: str = "fast"):
+def pose_from_points(local, world, *, method: str = "fast", rtol: float | None = None):
     r"""The pose :math:`(R, t)` carrying three platform-frame points onto base-frame points.
 
     Parameters
@@ -155,14 +158,32 @@ def pose_from_points(local, world, *, method: str = "fast"):
     world : array_like (..., 3, 3)
         Rows :math:`p_4, p_5, p_6` in the base frame (a congruent triangle).
     method : {"fast", "precise", "certified"}
+    rtol : float, optional
+        Congruence test: every squared side of ``world`` must equal the same side of
+        ``local`` within ``rtol`` times the largest squared side of ``local``, else
+        :class:`InputError` (no rigid motion carries one triangle onto the other, so any
+        pose would be wrong).  Default 1e-9 (fast, certified) and
+        ``max(1e-9, 10**(-dps/3))`` (precise, at the working ``mpmath.mp.dps``): rounding
+        of float64 data, and of points computed in the tier, passes; a scaled or
+        misplaced point does not.  For measured data pass the measurement's relative
+        accuracy (e.g. ``rtol=1e-4``); ``rtol=0`` asks for exact congruence (certified
+        with rational data).  The certified tier refuses only a mismatch that is
+        certain (balls of irrational or computed data pass while they overlap).
 
     Returns
     -------
     R : (..., 3, 3), proper rotation with :math:`p_i = R q_i + t`
     t : (..., 3)
         Nested lists of ``mpf`` / ``arb`` for the precise / certified tiers.  Exact when
-        the triangles are exactly congruent; otherwise the frame fit above (it does not
-        spread the error like a least-squares fit would).
+        the triangles are exactly congruent; otherwise (within ``rtol``) the frame fit
+        above (it does not spread the error like a least-squares fit would).
+
+    Raises
+    ------
+    InputError
+        Triangles that are not congruent within ``rtol`` (QA T 7), malformed input.
+    DegenerateGeometryError
+        Collinear or coincident points.
 
     Examples
     --------
@@ -178,6 +199,7 @@ def pose_from_points(local, world, *, method: str = "fast"):
         p = np.asarray(world, dtype=float)
         Fq = triangle_frame(q, method=method, what="platform")
         Fp = triangle_frame(p, method=method, what="points")
+        _congruent_fast(q, p, 1e-9 if rtol is None else _check_rtol(rtol))
         R = Fp @ np.swapaxes(Fq, -1, -2)
         t = p.mean(axis=-2) - np.einsum("...ij,...j->...i", R, q.mean(axis=-2))
         return R, t
@@ -185,6 +207,7 @@ def pose_from_points(local, world, *, method: str = "fast"):
     world = _tier_rows(world, method, "points")
     Fq = _frame(local, method, "platform")
     Fp = _frame(world, method, "points")
+    _congruent_tier(local, world, method, rtol)
     R = [[sum(Fp[i][k] * Fq[j][k] for k in range(3)) for j in range(3)] for i in range(3)]
     qc = [sum(local[r][c] for r in range(3)) / 3 for c in range(3)]
     pc = [sum(world[r][c] for r in range(3)) / 3 for c in range(3)]
@@ -192,23 +215,236 @@ def pose_from_points(local, world, *, method: str = "fast"):
     return R, t
 
 
-def points_from_pose(R, t, local, *, method: str = "fast"):
-    r"""Base-frame points :math:`p_i = R q_i + t` of platform-frame points.
+_PAIRS = ((0, 1), (0, 2), (1, 2))
+
+
+def _check_rtol(rtol):
+    if isinstance(rtol, bool) or not isinstance(rtol, (int, float, np.integer, np.floating)) \
+            or not 0 <= rtol < 1:
+        raise InputError(f"expected a relative tolerance 0 <= rtol < 1, got {rtol!r}",
+                         field="rtol")
+    return float(rtol)
+
+
+def _refuse_congruence(pair, sp, sq, rel, rtol, where=""):
+    i, j = pair
+    raise InputError(f"expected a triangle congruent to the platform triangle (squared sides "
+                     f"equal within rtol = {rtol:g} of its largest), got s({i + 1},{j + 1}) = "
+                     f"{sp:.12g} against {sq:.12g} in the platform frame (relative mismatch "
+                     f"{rel:.3g}){where}", field="points",
+                     hint="no rigid motion carries one triangle onto the other; for measured "
+                     "data pass rtol at the measurement's relative accuracy")
+
+
+def _congruent_fast(q, p, rtol):
+    """Refuse (…, 3, 3) triangles ``p`` whose squared sides differ from those of ``q`` by
+    more than ``rtol`` times q's largest squared side (vectorised; both scaled by the same
+    power of two first, exact, so that huge or tiny triangles neither over- nor
+    underflow)."""
+    try:
+        q, p = np.broadcast_arrays(q, p)
+    except ValueError:
+        raise InputError(f"expected platform points {q.shape} and points {p.shape} whose "
+                         "batch shapes broadcast, got ones that do not", field="points") from None
+    dq = q[..., [1, 2, 2], :] - q[..., [0, 0, 1], :]
+    dp = p[..., [1, 2, 2], :] - p[..., [0, 0, 1], :]
+    big = np.maximum(np.abs(dq).max(axis=(-2, -1)), np.abs(dp).max(axis=(-2, -1)))
+    e = np.frexp(np.where(big > 0, big, 1.0))[1][..., None, None]
+    dq, dp = np.ldexp(dq, -e), np.ldexp(dp, -e)
+    sq = np.einsum("...k,...k->...", dq, dq)
+    sp = np.einsum("...k,...k->...", dp, dp)
+    scale = sq.max(axis=-1, keepdims=True)
+    bad = np.abs(sp - sq) > rtol * scale
+    if bad.any():
+        idx = tuple(int(x) for x in np.argwhere(bad)[0])
+        rel = float(np.abs(sp - sq)[idx] / scale[idx[:-1] + (0,)])
+        with np.errstate(over="ignore", under="ignore"):
+            ex = 2 * np.broadcast_to(e[..., 0], sq.shape)[idx]
+            a, b = (float(np.ldexp(v[idx], ex)) for v in (sq, sp))
+        _refuse_congruence(_PAIRS[idx[-1]], b, a, rel, rtol,
+                           f" (batch index {idx[:-1]})" if len(idx) > 1 else "")
+
+
+def _congruent_tier(local, world, method, rtol):
+    """:func:`_congruent_fast` for one triangle in the precise or certified tier (the
+    certified tier refuses only a certain mismatch)."""
+    sides = [[_dot(_sub(T[j], T[i]), _sub(T[j], T[i])) for i, j in _PAIRS]
+             for T in (local, world)]
+    if method == "precise":
+        import mpmath
+        rtol = max(1e-9, 10.0 ** (-mpmath.mp.dps / 3)) if rtol is None else _check_rtol(rtol)
+        scale = max(sides[0])
+        for k, (a, b) in enumerate(zip(*sides)):
+            if abs(b - a) > rtol * scale:
+                _refuse_congruence(_PAIRS[k], float(b), float(a), float(abs(b - a) / scale),
+                                   rtol)
+        return
+    import flint
+    from ..exact import to_fmpq
+    rtol = 1e-9 if rtol is None else _check_rtol(rtol)
+    if all(type(x).__name__ == "fmpq" for T in sides for x in T):
+        scale, tol = max(sides[0]), to_fmpq(rtol)          # exact comparison
+        bad = [abs(b - a) > tol * scale for a, b in zip(*sides)]
+    else:
+        # balls: the sum of the squared sides bounds the largest from above, so a
+        # refusal is certain
+        scale = flint.arb(sides[0][0]) + sides[0][1] + sides[0][2]
+        bad = [abs(flint.arb(b) - a) > rtol * scale for a, b in zip(*sides)]
+    if any(bad):
+        k = bad.index(True)
+        a, b = (float(flint.arb(x).mid()) for x in (sides[0][k], sides[1][k]))
+        sc = max(float(flint.arb(x).mid()) for x in sides[0])
+        _refuse_congruence(_PAIRS[k], b, a, abs(b - a) / sc, rtol)
+
+
+def points_from_pose(R, t, local, *, method: str = "fast", dps: int | None = None,
+                     atol: float = 1e-9):
+    r"""Base-frame points :math:`p_i = R q_i + t` of platform-frame points (the pose map of
+    the module docstring; Rojas et al., ICRA 2012, Sec. III).
 
     Parameters
     ----------
-    R : (..., 3, 3)
-    t : (..., 3)
-    local : (k, 3) platform-frame points (rows)
+    R : (..., 3, 3) (fast) or 3 rows of 3 scalars
+        A proper rotation: :math:`\max|R^{\mathsf T}R - I| \le` ``atol`` and
+        :math:`\det R > 0`, else :class:`InputError` (a scaled matrix or a reflection is
+        not a pose).  Float rotations are orthogonal only to rounding, hence ``atol``.
+    t : (..., 3) or 3 scalars, length unit
+    local : (k, 3) platform-frame points (rows), length unit
+    method : {"fast", "precise", "certified"}
+        ``fast``: float64, batched over the leading axes of ``R`` and ``t``.
+        ``precise``: ``mpmath.mpf`` at ``dps`` digits (default: the current
+        ``mpmath.mp.dps``, the working precision of a caller).  ``certified``: exact
+        ``flint.fmpq`` when every input is rational, ``flint.arb`` balls otherwise.
+        In the precise and certified tiers every entry (numbers of any tier, numeric
+        strings parsed exactly: ``"19.8"`` is 99/5, ``"sqrt(27)"``) is converted exactly
+        first; a bare float is its exact binary value, so the certified result is exactly
+        (fmpq) or provably (arb) :math:`R q + t` of the values given.
+    dps : int, optional
+        Decimal digits of the precise tier.
+    atol : float
+        Tolerance of the rotation test (in the certified tier a refusal is certain).
 
     Returns
     -------
-    (..., k, 3) array for ``fast``; nested lists otherwise.
+    (..., k, 3) float array for ``fast``; a nested list ``out[i][c]`` (k rows of 3) of
+    ``mpf`` (precise) or ``fmpq`` / ``arb`` (certified: exact, or a certified radius)
+    otherwise.
+
+    Examples
+    --------
+    >>> out = points_from_pose([[0, -1, 0], [1, 0, 0], [0, 0, 1]], [1, 2, 3],
+    ...                        [["19.8", 0, 0]], method="certified")
+    >>> [str(c) for c in out[0]]
+    ['1', '109/5', '3']
     """
     check_method(method)
+    atol = _check_atol(atol)
     if method == "fast":
-        R = np.asarray(R, dtype=float)
-        t = np.asarray(t, dtype=float)
-        q = np.asarray(local, dtype=float)
-        return np.einsum("...ij,kj->...ki", R, q) + t[..., None, :]
-    return [[sum(R[i][k] * row[k] for k in range(3)) + t[i] for i in range(3)] for row in local]
+        from .trilateration import _fast_floats
+        R = _fast_floats(R, "R", "a rotation matrix of shape (..., 3, 3)")
+        t = _fast_floats(t, "t", "a translation of shape (..., 3)")
+        q = _fast_floats(local, "local", "platform-frame points of shape (k, 3)")
+        for name, arr, want, ok in (("R", R, "(..., 3, 3)", R.shape[-2:] == (3, 3)),
+                                    ("t", t, "(..., 3)", t.shape[-1:] == (3,)),
+                                    ("local", q, "(k, 3)", q.ndim == 2 and q.shape[1] == 3)):
+            if not ok:
+                raise InputError(f"expected shape {want}, got {arr.shape}", field=name)
+            if not np.all(np.isfinite(arr)):
+                raise InputError("expected finite numbers, got NaN or inf", field=name)
+        try:
+            batch = np.broadcast_shapes(R.shape[:-2], t.shape[:-1])
+        except ValueError:
+            raise InputError(f"expected batch shapes of R {R.shape} and t {t.shape} that "
+                             "broadcast, got ones that do not", field="t") from None
+        from ..spatial import rotation_defect
+        ortho, det = rotation_defect(R)
+        if not (ortho <= atol and np.all(det > 0)):
+            _refuse_rotation(ortho, float(np.min(det)), atol)
+        out = np.einsum("...ij,kj->...ki", R, q) + t[..., None, :]
+        return np.broadcast_to(out, batch + q.shape).copy() if out.shape != batch + q.shape \
+            else out
+    if method == "precise":
+        import mpmath
+        from ..exact import default_dps
+        with mpmath.workdps(mpmath.mp.dps if dps is None else default_dps(dps)):
+            return _points_tier(R, t, local, method, atol)
+    return _points_tier(R, t, local, method, atol)
+
+
+def _check_atol(atol):
+    if isinstance(atol, bool) or not isinstance(atol, (int, float, np.integer, np.floating)) \
+            or not 0 <= atol < 1:
+        raise InputError(f"expected a tolerance 0 <= atol < 1, got {atol!r}", field="atol")
+    return float(atol)
+
+
+def _refuse_rotation(ortho, det, atol):
+    if det < 0:
+        what, hint = "a reflection", "a rigid motion has det R = +1; a reflection maps the " \
+            "points onto their mirror image"
+    else:
+        what, hint = "not a rotation", "orthonormalise R first (e.g. scipy's " \
+            "Rotation.from_matrix(R).as_matrix()), or pass a larger atol"
+    raise InputError(f"expected a proper rotation R (max|R^T R - I| <= {atol:g}, det R = +1), "
+                     f"got max|R^T R - I| = {ortho:.3g} and det R = {det:.6g} ({what})",
+                     field="R", hint=hint)
+
+
+def _points_tier(R, t, local, method, atol):
+    """:func:`points_from_pose` in the precise or certified tier (one pose)."""
+    rows = _tier_rows(R, method, "R", noun="rows")
+    tv = _tier_vector(t, method, "t")
+    q = _tier_points(local, method, "local")
+    dev = [[_dot([rows[k][i] for k in range(3)], [rows[k][j] for k in range(3)])
+            - (1 if i == j else 0) for j in range(3)] for i in range(3)]
+    det = _dot(rows[0], _cross(rows[1], rows[2]))
+    if method == "precise":
+        ortho = max(abs(d) for r in dev for d in r)
+        if ortho > atol or det <= 0:
+            _refuse_rotation(float(ortho), float(det), atol)
+    else:
+        import flint
+        balls = [flint.arb(d) for r in dev for d in r]
+        if any(abs(b) > atol for b in balls) or flint.arb(det) < 0:
+            ortho = max(float(abs(b).mid()) for b in balls)
+            _refuse_rotation(ortho, float(flint.arb(det).mid()), atol)
+        if not flint.arb(det) > 0:
+            raise UncertifiedError("cannot decide the sign of det R", field="R")
+    # an exact zero of R times a ball is exactly zero (keeps an exact coordinate exact)
+    return [[sum((rows[i][k] * row[k] for k in range(3) if not _exact_zero(rows[i][k])),
+                 tv[i]) for i in range(3)] for row in q]
+
+
+def _exact_zero(x):
+    return type(x).__name__ == "fmpq" and x == 0
+
+
+def _tier_vector(v, method, field):
+    """Three scalars in the tier's number type (see :func:`_tier_rows`)."""
+    from .trilateration import _show, _tier_scalar
+    if isinstance(v, np.ndarray):
+        v = v.tolist()
+    try:
+        vals = list(v)
+    except TypeError:
+        vals = None
+    if vals is None or len(vals) != 3 or any(isinstance(x, (list, tuple)) for x in vals):
+        raise InputError(f"expected 3 scalars, got {_show(v)}", field=field)
+    native = _NATIVE[method]
+    return [x if type(x).__name__ in native else _tier_scalar(x, method, f"{field}[{i}]")
+            for i, x in enumerate(vals)]
+
+
+def _tier_points(points, method, field):
+    """k rows of 3 coordinates in the tier's number type."""
+    from .trilateration import _show
+    if isinstance(points, np.ndarray):
+        points = points.tolist()
+    try:
+        rows = list(points)
+    except TypeError:
+        rows = None
+    if rows is None or not all(isinstance(r, (list, tuple)) for r in rows):
+        raise InputError(f"expected platform-frame points of shape (k, 3), got "
+                         f"{_show(points)}", field=field)
+    return [_tier_vector(r, method, f"{field}[{i}]") for i, r in enumerate(rows)]
