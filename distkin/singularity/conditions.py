@@ -265,9 +265,8 @@ def cm_pure_condition(points, *, method: str | None = None, relative: bool = Fal
         ``relative`` where both products vanish (a flat tetrahedron in each, named; then
         :math:`C = 0` exactly and its relative value is 0/0).
     """
-    from ..geometry.cayley_menger import cayley_menger as D
     sq, kind = _sq(points, method)
-    tets = {t: D(sq, t) for t in _TETS}
+    tets = {t: _D(sq, t) for t in _TETS}
     left = tets[1, 2, 4, 5] * tets[3, 4, 5, 6] * tets[1, 2, 3, 6]
     right = tets[1, 2, 3, 4] * tets[2, 4, 5, 6] * tets[1, 3, 5, 6]
     if relative:
@@ -289,17 +288,28 @@ def signed_cm_condition(points, *, method: str | None = None, relative: bool = F
     where that vanishes (a flat tetrahedron in each product) a
     :class:`~distkin.errors.DegenerateGeometryError` names them.
     """
-    from ..geometry.cayley_menger import cayley_menger as D
     sq, kind = _sq(points, method)
-    tets = {t: D(sq, t) for t in _TETS[:3]}
+    tets = {t: _D(sq, t) for t in _TETS[:3]}
     first = tets[1, 2, 4, 5] * tets[3, 4, 5, 6] * tets[1, 2, 3, 6]
-    second = (D(sq, (1, 2, 4, 5), (1, 2, 3, 4)) * D(sq, (3, 4, 5, 6), (2, 4, 5, 6))
-              * D(sq, (1, 2, 3, 6), (1, 3, 5, 6)))
+    second = (_D(sq, (1, 2, 4, 5), (1, 2, 3, 4)) * _D(sq, (3, 4, 5, 6), (2, 4, 5, 6))
+              * _D(sq, (1, 2, 3, 6), (1, 3, 5, 6)))
     if relative:
         return _relative(first + second, abs(first) + abs(second), kind,
-                         lambda: {**tets, **{t: D(sq, t) for t in _TETS[3:]}},
+                         lambda: {**tets, **{t: _D(sq, t) for t in _TETS[3:]}},
                          "signed Cayley-Menger condition")
     return first + second
+
+
+def _D(sq, rows, cols=None):
+    """:func:`~distkin.geometry.cayley_menger` without its fast tier's
+    CancellationWarning: here determinants near 0 are the point (a flat tetrahedron,
+    a singularity), and the conditions state their accuracy themselves (``relative``,
+    the tiers)."""
+    import warnings
+    from ..geometry.cayley_menger import CancellationWarning, cayley_menger
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CancellationWarning)
+        return cayley_menger(sq, rows, cols)
 
 
 #: the six tetrahedra of the Cayley-Menger conditions: a's three, then b's three
