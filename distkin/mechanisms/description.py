@@ -335,13 +335,27 @@ def read_only(result) -> None:
     in place of its fields: each array field (and each array in a list or tuple field)
     becomes a read-only view of it, so neither the caller's arrays nor the package's are
     frozen, and ``result.pose[0] = 5`` raises ``ValueError``."""
-    def frozen(v):
+    names = _FIELD_NAMES.get(type(result))
+    if names is None:
+        names = _FIELD_NAMES[type(result)] = tuple(f.name for f in fields(result))
+    for name in names:
+        v = getattr(result, name)
         if isinstance(v, np.ndarray):
             v = v.view()
             v.setflags(write=False)
         elif isinstance(v, (list, tuple)) and any(isinstance(x, np.ndarray) for x in v):
-            v = type(v)(frozen(x) for x in v)
-        return v
+            v = type(v)(_read_only_array(x) for x in v)
+        else:
+            continue
+        object.__setattr__(result, name, v)
 
-    for f in fields(result):
-        object.__setattr__(result, f.name, frozen(getattr(result, f.name)))
+
+#: the field names of each result class :func:`read_only` has seen
+_FIELD_NAMES: dict = {}
+
+
+def _read_only_array(v):
+    if isinstance(v, np.ndarray):
+        v = v.view()
+        v.setflags(write=False)
+    return v
