@@ -164,12 +164,18 @@ def reading_singular_values(J, ST=ST_DEFAULT, *, Jq=None, tau_nominal: float = 2
     return out
 
 
-def condition_number(J, ST=ST_DEFAULT):
+def condition_number(J, ST=ST_DEFAULT, *, method: str = "fast"):
     """Local condition number κ = σmin/σmax, eq. (4), of the scaled Jacobian; (...).
 
     ``J`` (..., L, 6) and ``ST`` as :func:`scaled_singular_values` (which checks them:
     :class:`~distkin.errors.InputError` for a J that is not finite).  0 for fewer than
-    6 legs (L < 6: the wrench map has rank < 6)."""
+    6 legs (L < 6: the wrench map has rank < 6).  ``method``: "fast" only (float64
+    SVD, the tier of every index; DESIGN §3); "precise" and "certified" are refused with
+    an :class:`~distkin.errors.InputError` naming ``method`` (QA T 9)."""
+    if method != "fast":
+        raise InputError(f"expected method 'fast' (the indices are float64: numpy's SVD), "
+                         f"got {method!r}", field="method",
+                         hint="for J at another tier, mechanism.jacobian(poses, method=...)")
     smin, smax = scaled_singular_values(J, ST)
     return np.divide(smin, smax, out=np.zeros_like(smin), where=smax > 0)
 
@@ -177,6 +183,8 @@ def condition_number(J, ST=ST_DEFAULT):
 def gii(smin, smax):
     """Global isotropy index [1]: ``min σmin / max σmax`` over the workspace samples.
 
+    ``smin``, ``smax``: one pair per pose, σmin <= σmax at each (else an
+    :class:`~distkin.errors.InputError` naming the pose: the index is in [0, 1]).
     Returns (gii, min σmin, max σmax).  An empty or unreachable sample gives 0.
     """
     smin = as_floats(smin, "smin", "singular values (numbers)")
@@ -190,6 +198,14 @@ def gii(smin, smax):
         low = float(np.nanmin(v, initial=0.0))
         if low < 0:
             raise InputError(f"expected singular values >= 0, got {low!r}", field=name)
+    bad = np.flatnonzero(smin.ravel() > smax.ravel())        # QA T 10
+    if bad.size:
+        k = int(bad[0])
+        raise InputError(f"expected smin <= smax at every pose, got smin="
+                         f"{float(smin.flat[k])!r} > smax={float(smax.flat[k])!r} at pose {k}"
+                         + (f" (and {bad.size - 1} more)" if bad.size > 1 else ""),
+                         field="smin", hint="pass the smallest and largest singular value of "
+                         "each pose, in that order (scaled_singular_values)")
     if smin.size == 0:
         return 0.0, 0.0, 0.0
     lo, hi = float(smin.min()), float(smax.max())

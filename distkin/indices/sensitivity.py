@@ -63,23 +63,23 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False,
 
     Parameters
     ----------
-    J : ndarray (N, L, 6)
+    J : ndarray (N, L, 6), or (L, 6) for one pose
         Jacobian, q̇ = J·(v, ω).
     mode : {"slice", "projection"}
         The paper's definition (slice, then farthest point) or Cardou's (projection).
-    twist : ndarray (N, 6, L), optional
+    twist : ndarray (N, 6, L) ((6, L) with one J), optional
         ``pinv(J)`` if already computed (its shape is checked, not its values: a pose
         where it is not finite gives values that are not either).
     walk : bool
         Slice mode: the Gray-code kernel of :mod:`.slice_farthest` for every L (the
         reference of its split-sign kernel for L = 8).
-    kappa : ndarray (N,), optional
+    kappa : ndarray (N,) (a float with one J), optional
         σmin/σmax of J per pose if already computed (the study has it), for the test of
         a singular J (module docstring); otherwise from numpy's SVD.
 
     Returns
     -------
-    dict of ndarray (N,)
+    dict of ndarray (N,) (of floats for one J (L, 6))
         ``translational`` [m/rad], ``rotational`` [rad/rad], ``force`` [N/(N·m)],
         ``torque`` [(N·m)/(N·m)].  Exact up to float64 rounding (vertex enumeration);
         +inf for a twist sensitivity that a null twist of a singular J reaches (module
@@ -88,14 +88,22 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False,
     Raises
     ------
     InputError
-        A bad ``mode``; ``J`` not finite numbers of shape (N, L, 6) with L >= 6 (as
+        A bad ``mode``; ``J`` not finite numbers of shape (L, 6) or (N, L, 6), L >= 6 (as
         :func:`~.capability.worst_case_output`, L >= d); ``twist`` not of shape
         (N, 6, L); more than :data:`~.zonotope.MAX_CANDIDATES` vertex candidates per
         pose (C(L, 3)·2^(L−3) for slices, 2^L for projections: L <= 12 and 18).
     """
     if mode not in SENSITIVITY_MODES:
         raise InputError(f"expected mode 'slice' or 'projection', got {mode!r}", field="mode")
-    J = _jacobian(J, "(N, L, 6)", ndim=3)
+    J = _jacobian(J, "(L, 6) or (N, L, 6)")
+    if J.ndim > 3:
+        raise InputError(f"expected a Jacobian of shape (L, 6) or (N, L, 6), got shape "
+                         f"{J.shape}", field="J")
+    single = J.ndim == 2                  # one J as worst_case_output takes it (QA T 9)
+    if single:
+        J = J[None]
+        twist = None if twist is None else np.asarray(twist)[None]
+        kappa = None if kappa is None else np.reshape(kappa, (1,))
     N, L, _ = J.shape
     if L < 6:
         raise InputError(f"expected at least 6 actuators (rows of J, L >= 6), got shape "
@@ -106,7 +114,8 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False,
                       "slice-vertex candidates (C(L, 3)·2^(L−3))" if mode == "slice" else
                       "box vertices (2^L)", field="J")
     with memory_guard(L, "maximum sensitivities", field="J"):
-        return _max_sensitivities(J, mode, twist, walk, kappa)
+        out = _max_sensitivities(J, mode, twist, walk, kappa)
+    return {k: float(v[0]) for k, v in out.items()} if single else out
 
 
 def _max_sensitivities(J, mode, twist, walk, kappa):

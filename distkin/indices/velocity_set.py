@@ -26,7 +26,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..argcheck import float_array, positive_number
+from ..argcheck import as_floats, float_array, positive_number
+from ..errors import InputError
 from .capability import _keep_indices
 
 __all__ = ["true_velocity_worst"]
@@ -37,7 +38,7 @@ def true_velocity_worst(J, qdot_max, keep):
 
     Parameters
     ----------
-    J : ndarray (N, L, d)
+    J : ndarray (N, L, d), or (L, d) for one pose
         Jacobian with q̇ = J ẋ (rad/s per m/s and rad/s per rad/s).
     qdot_max : float
         Symmetric actuator rate limit (rad/s), positive.
@@ -46,20 +47,27 @@ def true_velocity_worst(J, qdot_max, keep):
 
     Returns
     -------
-    ndarray (N,)
+    ndarray (N,), or float for one J (L, d)
         In the unit of the kept coordinates (m/s or rad/s); +inf where J_S = 0 (never
         for an RSS device).  Exact up to rounding.
 
     Raises
     ------
     InputError
-        J not finite or not (N, L, d), ``qdot_max`` not a positive finite number, or a
+        J not finite or not (L, d) or (N, L, d), ``qdot_max`` not a positive finite number, or a
         bad ``keep`` (as :func:`~.capability.worst_case_output`).
     """
-    J = float_array(J, "J", (None, None, None))
+    J = as_floats(J, "J", "a Jacobian of numbers, shape (L, d) or (N, L, d)")
+    if J.ndim not in (2, 3):               # one J as worst_case_output takes it (QA T 9)
+        raise InputError(f"expected a Jacobian of shape (L, d) or (N, L, d), got shape "
+                         f"{J.shape}", field="J", hint="one pose's J is (L, d): L legs, "
+                         "d outputs; a batch (N, L, d)")
+    single = J.ndim == 2
+    J = float_array(J[None] if single else J, "J", (None, None, None))
     qdot_max = positive_number(qdot_max.item() if isinstance(qdot_max, np.generic)
                                else qdot_max, "qdot_max")
     JS = J[..., list(_keep_indices(keep, J.shape[-1]))]
     n = np.sqrt(np.einsum("nls,nls->nl", JS, JS)).max(axis=1)
     with np.errstate(divide="ignore"):
-        return float(qdot_max) / n
+        out = float(qdot_max) / n
+    return float(out[0]) if single else out

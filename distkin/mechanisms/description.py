@@ -20,8 +20,8 @@ import numpy as np
 from ..argcheck import as_floats, float_array, no_booleans
 from ..errors import InputError
 
-__all__ = ["RSSDescription", "GEOMETRY_FIELDS", "LAYOUTS", "LEG_LENGTH", "SI_UNITS",
-           "MAX_ROTATION", "MAX_REACH", "check_pose_range"]
+__all__ = ["RSSDescription", "read_only", "GEOMETRY_FIELDS", "LAYOUTS", "LEG_LENGTH",
+           "SI_UNITS", "MAX_ROTATION", "MAX_REACH", "check_pose_range"]
 
 #: the parameters that define the kinematics (mass and inertia do not)
 GEOMETRY_FIELDS = ("legs", "l0", "l1", "l2", "l3", "lp", "ld", "z0", "beta", "gamma", "layout")
@@ -328,3 +328,34 @@ class RSSDescription:
         """M̂ = diag(m, m, m, I, I, I) (Sec. III-B.3), (6, 6) in kg and kg m^2."""
         return np.diag([self.mass] * 3 + [self.inertia] * 3)
 
+
+
+def read_only(result) -> None:
+    """Make the numpy arrays of a frozen result dataclass ``result`` read-only (QA T 8),
+    in place of its fields: each array field (and each array in a list or tuple field)
+    becomes a read-only view of it, so neither the caller's arrays nor the package's are
+    frozen, and ``result.pose[0] = 5`` raises ``ValueError``."""
+    names = _FIELD_NAMES.get(type(result))
+    if names is None:
+        names = _FIELD_NAMES[type(result)] = tuple(f.name for f in fields(result))
+    for name in names:
+        v = getattr(result, name)
+        if isinstance(v, np.ndarray):
+            v = v.view()
+            v.setflags(write=False)
+        elif isinstance(v, (list, tuple)) and any(isinstance(x, np.ndarray) for x in v):
+            v = type(v)(_read_only_array(x) for x in v)
+        else:
+            continue
+        object.__setattr__(result, name, v)
+
+
+#: the field names of each result class :func:`read_only` has seen
+_FIELD_NAMES: dict = {}
+
+
+def _read_only_array(v):
+    if isinstance(v, np.ndarray):
+        v = v.view()
+        v.setflags(write=False)
+    return v

@@ -52,7 +52,7 @@ import numpy as np
 from ..argcheck import as_floats
 from ..errors import InputError, NotFoundError, SingularConfigurationError
 from ..spatial import exp_so3, rotate_pose_scalar, rotation_angles, rotation_matrix
-from .description import _poses, _rows
+from .description import _poses, _rows, read_only
 
 __all__ = ["FKResult", "forward_kinematics", "gauss_newton", "round_trip",
            "pose_error_estimate", "leg_length", "RESIDUAL_ULPS", "TOL", "MIN_TOL",
@@ -111,6 +111,9 @@ class FKResult:
     round_trip: object = False
     q_mismatch: object = math.nan
     residual_tol: float = math.nan
+
+    def __post_init__(self):
+        read_only(self)
 
     @property
     def ok(self):

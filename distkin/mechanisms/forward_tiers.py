@@ -57,6 +57,7 @@ from ..argcheck import as_floats
 from ..errors import (InputError, NotFoundError, SingularConfigurationError,
                       UncertifiedError)
 from ..exact import check_method, float_mpf
+from .description import read_only
 from .kinematics_tiers import BITS, check_bits, check_dps
 
 __all__ = ["TieredFK", "forward_tier", "fast_tier", "six_legs", "BITS"]
@@ -107,6 +108,9 @@ class TieredFK:
     fast: object
     iterations: int = 0
     contraction: float = math.nan
+
+    def __post_init__(self):
+        read_only(self)
 
 
 def _derivative_rows(rows, legs, omega):

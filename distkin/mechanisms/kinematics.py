@@ -75,7 +75,8 @@ class KernelMethods:
         from .kernels import load_kernels
         return load_kernels(self, flavour)
 
-    def inverse_kinematics(self, poses, method: str = "fast", dps: int | None = None):
+    def inverse_kinematics(self, poses, method: str = "fast", dps: int | None = None,
+                           bits: int | None = None):
         """Closed-form inverse kinematics, one crank angle per leg.
 
         Parameters
@@ -86,6 +87,10 @@ class KernelMethods:
             float64 kernels; mpmath at ``dps`` digits (default 30); python-flint balls
             from the pose's exact binary value (:mod:`.kinematics_tiers`, which also
             gives the error estimates and radii: :func:`~.kinematics_tiers.ik_tier`).
+        dps, bits : int, optional
+            The precise tier's digits (5..1233, default 30) and the certified tier's
+            working precision (53..4096 bits, default 128); each refused with another
+            tier (:class:`~distkin.errors.InputError`).
 
         Returns
         -------
@@ -106,10 +111,9 @@ class KernelMethods:
         InfeasibleError
             certified: a leg that certainly does not close.
         """
-        if dps is not None:
-            _check_dps(dps, method)
+        _check_dps(dps, method, bits)
         if method != "fast":
-            return self._tiered("ik", poses, method, dps)
+            return self._tiered("ik", poses, method, dps, bits)
         X, single = _poses(poses, scale=self.length_scale)
         k = self.kernels("batched")
         q = k.ik(X)
@@ -151,18 +155,18 @@ class KernelMethods:
                           ConditioningWarning, stacklevel=3)
         return out
 
-    def _tiered(self, what, poses, method, dps):
+    def _tiered(self, what, poses, method, dps, bits=None):
         """The precise or certified tier of :meth:`inverse_kinematics` ("ik"),
         :meth:`jacobian` ("jacobian") or :meth:`jq_jx` ("jq_jx")
         (:mod:`.kinematics_tiers`); certified raises for an uncertified leg."""
         from .kinematics_tiers import ik_tier, jacobian_tier, raise_uncertified
         _, single = _poses(poses, scale=self.length_scale)
         if what == "ik":
-            res = ik_tier(self, poses, method, dps)
+            res = ik_tier(self, poses, method, dps, bits)
             raise_uncertified(res, "inverse kinematics")
             out = (res.values, res.valid)
         else:
-            res = jacobian_tier(self, poses, method, dps)
+            res = jacobian_tier(self, poses, method, dps, bits)
             raise_uncertified(res, "Jacobian")
             out = (res.values,) if what == "jacobian" else (res.jq_values, res.jx_values)
         out = tuple(v[0] for v in out) if single else out
@@ -195,36 +199,38 @@ class KernelMethods:
         m = self.kernels("batched").reach(X)
         return m[0] if single else m
 
-    def jacobian(self, poses, method: str = "fast", dps: int | None = None):
+    def jacobian(self, poses, method: str = "fast", dps: int | None = None,
+                 bits: int | None = None):
         """J = Jq^-1 Jx (eqs. (1)-(2)), shape (N, L, 6), with qdot = J @ (v, omega).
 
         v in m/s, omega in rad/s (base frame), qdot in rad/s.  Legs that do not close
-        give finite but meaningless rows; check :meth:`inverse_kinematics`.  A leg at a
-        serial singularity (Jq_ii = 0) or a prismatic leg of zero length gives a row of
-        inf or NaN, with a :class:`~distkin.errors.ConditioningWarning` naming it.
-        ``method`` and ``dps`` as :meth:`inverse_kinematics` (object arrays of mpf or
-        arb; certified also refuses a leg whose Jq_ii ball contains 0, a serial
+        give finite but meaningless rows, fast or precise; check
+        :meth:`inverse_kinematics` (:func:`~.kinematics_tiers.jacobian_tier` gives them
+        ``valid`` False and an infinite error; certified raises InfeasibleError).  A leg
+        at a serial singularity (Jq_ii = 0) or a prismatic leg of zero length gives a
+        row of inf or NaN, with a :class:`~distkin.errors.ConditioningWarning` naming it.
+        ``method``, ``dps`` and ``bits`` as :meth:`inverse_kinematics` (object arrays of
+        mpf or arb; certified also refuses a leg whose Jq_ii ball contains 0, a serial
         singularity; radii and estimates: :func:`~.kinematics_tiers.jacobian_tier`).
         """
-        if dps is not None:
-            _check_dps(dps, method)
+        _check_dps(dps, method, bits)
         if method != "fast":
-            return self._tiered("jacobian", poses, method, dps)
+            return self._tiered("jacobian", poses, method, dps, bits)
         X, single = _poses(poses, scale=self.length_scale)
         J = self._fast("jacobian", X)
         return J[0] if single else J
 
-    def jq_jx(self, poses, method: str = "fast", dps: int | None = None):
+    def jq_jx(self, poses, method: str = "fast", dps: int | None = None,
+              bits: int | None = None):
         """Jq (N, L) (the diagonal of eq. (1)'s Jq) and Jx (N, L, 6): Jq qdot = Jx xdot.
 
         Jq_ii = dPhi_i/dq_i and Jx = -dPhi/d(v, omega) for the closures Phi_i
-        = (|P_i - D_i|^2 - l3^2) / (2 l3) (m).  ``method`` and ``dps`` as
+        = (|P_i - D_i|^2 - l3^2) / (2 l3) (m).  ``method``, ``dps`` and ``bits`` as
         :meth:`jacobian`.
         """
-        if dps is not None:
-            _check_dps(dps, method)
+        _check_dps(dps, method, bits)
         if method != "fast":
-            return self._tiered("jq_jx", poses, method, dps)
+            return self._tiered("jq_jx", poses, method, dps, bits)
         X, single = _poses(poses, scale=self.length_scale)
         out = self._fast("jq_jx", X)
         Jq, Jx = out[..., 0], out[..., 1:]
@@ -318,10 +324,19 @@ class KernelMethods:
         return forward_kinematics(self, q, guess, **options)
 
 
-def _check_dps(dps, method):
+def _check_dps(dps, method, bits=None):
+    """``method``, ``dps`` (only with "precise") and ``bits`` (only with "certified")
+    at the entry points (:func:`.kinematics_tiers.check_dps`, ``check_bits``: an
+    :class:`InputError` naming the field, QA T 9), before any tier runs."""
+    if dps is None and bits is None and method == "fast":
+        return
     from ..exact import check_method
-    from .kinematics_tiers import check_dps
-    check_dps(dps, check_method(method))
+    from .kinematics_tiers import check_bits, check_dps
+    check_method(method)
+    if dps is not None:
+        check_dps(dps, method)
+    if bits is not None:
+        check_bits(bits, method)
 
 
 #: where a leg mechanism's kernels come from: "generated" (the committed module or a

@@ -49,7 +49,9 @@ Kühne et al., Sec. II-C, eqs. (1)-(2): per leg the closure gives
     ``J``, ...): the difference of the ``dps``-digit value from a second evaluation at
     ``dps + GUARD`` digits, at least :math:`10^{1-dps}\max(|v|, 1)`, plus its rounding to
     float64; an estimate, not a bound.  The ``dps``-digit numbers themselves are in
-    ``values``.  Where J has no value, a leg with :math:`J_{q,ii} = 0` exactly (a serial
+    ``values``.  A revolute leg that does not close (reach margin < 0 at either number
+    of digits) has numbers but no answer: its q, Jq, Jx and J errors are ``inf`` and it
+    is not ``valid``, as in the fast tier's J.  Where J has no value, a leg with :math:`J_{q,ii} = 0` exactly (a serial
     singularity: a revolute leg at its reach boundary) or a prismatic leg of zero length
     (its line 0/0) at either number of digits, the Jacobian raises
     :class:`~distkin.errors.SingularConfigurationError` naming the pose and leg; near
@@ -92,7 +94,7 @@ import numpy as np
 from ..errors import (ConditioningWarning, InfeasibleError, InputError,
                       SingularConfigurationError, UncertifiedError)
 from ..exact import check_method, default_dps, float_ball
-from .description import _poses
+from .description import _poses, read_only
 from .mpmath_kernels import GUARD, MPNumber, _to_float, estimate, on_mpmath, precise_runs
 
 __all__ = ["MPNumber", "on_mpmath", "TieredIK", "TieredJacobian", "ik_tier", "jacobian_tier",
@@ -157,13 +159,26 @@ def _precise_jacobian(mech, ks, X, dps, prec):
             run["J"] = run["jq_jx"][..., 1:] / run["jq_jx"][..., :1]
     vals, ref = runs
     jq, jx = vals["jq_jx"][..., 0], vals["jq_jx"][..., 1:]
-    err = estimate(vals["jq_jx"], ref["jq_jx"], dps)
+    open_ = _open_legs(mech, runs)
+    err = np.where(open_[..., None], np.inf, estimate(vals["jq_jx"], ref["jq_jx"], dps))
     valid = mech._valid(_to_float(vals["ik"]), _to_float(vals["reach"]))
     none = np.zeros(valid.shape, dtype=bool)
     return TieredJacobian("precise", prec, _to_float(vals["J"]),
-                          estimate(vals["J"], ref["J"], dps), _to_float(jq), err[..., 0],
-                          _to_float(jx), err[..., 1:], valid, none, (), vals["J"], jq, jx,
-                          none.copy(), np.zeros(len(X), dtype=bool))
+                          np.where(open_[..., None], np.inf, estimate(vals["J"], ref["J"], dps)),
+                          _to_float(jq), err[..., 0], _to_float(jx), err[..., 1:], valid, none,
+                          (), vals["J"], jq, jx, none.copy(), np.zeros(len(X), dtype=bool))
+
+
+_is_negative = np.vectorize(lambda v: v < 0, otypes=[bool])
+
+
+def _open_legs(mech, runs):
+    """(N, L) bool: the revolute legs that do not close (reach margin < 0 at ``dps``
+    or ``dps + GUARD`` digits, the two ``runs`` of :func:`.mpmath_kernels.precise_runs`
+    with "reach").  Their q, Jq, Jx and J are numbers of no closure; the precise tier
+    gives them an infinite error, as the fast tier's J (QA T 2)."""
+    return (~np.asarray(mech.leg_arrays()["prismatic"])[None]
+            & np.any([_is_negative(r["reach"]) for r in runs], axis=0))
 
 
 def _certified_eval(ks, names, X, bits):
@@ -239,6 +254,9 @@ class TieredIK:
     values: np.ndarray | None
     infeasible: np.ndarray
 
+    def __post_init__(self):
+        read_only(self)
+
 
 @dataclass(frozen=True)
 class TieredJacobian:
@@ -269,6 +287,9 @@ class TieredJacobian:
     infeasible: np.ndarray
     inaccurate: np.ndarray | None = None
 
+    def __post_init__(self):
+        read_only(self)
+
 
 def check_bits(bits, method: str, field: str = "bits") -> int:
     """The certified tier's working precision: ``bits`` (an integer 53..4096, given only
@@ -280,7 +301,8 @@ def check_bits(bits, method: str, field: str = "bits") -> int:
         raise InputError(f"expected bits as an integer 53..4096, got {bits!r}", field=field)
     if method != "certified":
         raise InputError(f"expected 'bits' with method 'certified' (the working precision "
-                         f"of its balls), got method {method!r}", field=field)
+                         f"of its balls), got method {method!r}", field=field,
+                         hint="method='certified' with bits, or method='precise' with dps")
     return int(bits)
 
 
@@ -298,7 +320,8 @@ def check_dps(dps, method: str, field: str = "dps") -> int | None:
         raise InputError(exc.message, field=field) from None
     if method != "precise":
         raise InputError(f"expected 'dps' only with method 'precise' (the mpmath digits), "
-                         f"got method {method!r}", field=field)
+                         f"got method {method!r}", field=field,
+                         hint="method='precise' with dps, or method='certified' with bits")
     return digits
 
 
@@ -459,8 +482,10 @@ def ik_tier(mech, poses, method: str = "fast", dps: int | None = None,
     if method == "precise":
         vals, ref = precise_runs(ks, ("ik", "reach"), X, dps)
         q, margin = _to_float(vals["ik"]), _to_float(vals["reach"])
-        return TieredIK(method, prec, q, estimate(vals["ik"], ref["ik"], dps), margin,
-                        mech._valid(q, margin), none, (), vals["ik"], none)
+        err = np.where(_open_legs(mech, (vals, ref)), np.inf,
+                       estimate(vals["ik"], ref["ik"], dps))
+        return TieredIK(method, prec, q, err, margin, mech._valid(q, margin), none, (),
+                        vals["ik"], none)
     vals = _certified_eval(ks, ("ik", "reach"), X, bits)
     reasons, infeasible = [], none.copy()
     certified, valid = none.copy(), none.copy()
