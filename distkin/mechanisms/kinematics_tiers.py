@@ -476,8 +476,11 @@ def ik_tier(mech, poses, method: str = "fast", dps: int | None = None,
     if method == "fast":
         q, valid = mech.inverse_kinematics(X)
         margin = mech.reach_margin(X)
-        return TieredIK(method, prec, q, _fast_ik_error(mech, X, q, margin), margin,
-                        valid, none, (), None, none)
+        err = _fast_ik_error(mech, X, q, margin)
+        # a revolute leg that does not close has no angle: no finite error (as the J's
+        # rows and the precise tier, QA T 2; it was a first-order 0.9 rad at z = 3 m)
+        err = np.where(~mech.leg_arrays()["prismatic"][None] & (margin < 0), np.inf, err)
+        return TieredIK(method, prec, q, err, margin, valid, none, (), None, none)
     ks = _arb_kernels(mech)
     if method == "precise":
         vals, ref = precise_runs(ks, ("ik", "reach"), X, dps)

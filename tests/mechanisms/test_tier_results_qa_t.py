@@ -55,6 +55,7 @@ def test_precise_ik_legs_that_do_not_close_have_no_error_estimate(octopod, pose)
     assert np.all(prec.q_error[0][~open_] < 1e-12)
     fast = ik_tier(octopod, pose, "fast")       # float64 answer agrees where both vouch
     assert np.all(np.abs(fast.q[0][~open_] - prec.q[0][~open_]) <= fast.q_error[0][~open_])
+    assert np.all(np.isinf(fast.q_error[0][open_]))     # and neither vouches where open
 
 
 def test_precise_reachable_pose_unchanged(octopod):
