@@ -137,7 +137,7 @@ def _classify(poly, parts, r):
 def _poses(problem, poly, feasible, sides, legs2, tol, size, flat=()):
     import flint
     import numpy as np
-    from ..geometry.poses import pose_from_points
+    from ..geometry.poses import frame_fit
     from .result import Pose
     out, radii = [], {}
     base0 = [[_q(v) if isinstance(v, Fraction) else v for v in r] for r in problem.base]
@@ -170,7 +170,7 @@ def _poses(problem, poly, feasible, sides, legs2, tol, size, flat=()):
                 if pairs is not None:
                     built = []
                     for side, (pts, _) in zip((1, -1), pairs):
-                        R, t = pose_from_points(plat, pts, method="certified")
+                        R, t = frame_fit(plat, pts, "certified")  # congruent: built so
                         err, rel = _leg_errors(base, pts, legs)
                         rad = max(float(c.rad()) for row in pts for c in row)
                         built.append((side, pts, R, t, err, rel, rad))
@@ -205,7 +205,7 @@ def _exact_poses(base, plat, x, sides, legs2, problem):
     assemblability, where the two mirror images coincide and count once)."""
     import flint
     import numpy as np
-    from ..geometry.poses import pose_from_points
+    from ..geometry.poses import frame_fit
     from .result import Pose
     pairs = assemble_exact(base, x, sides, legs2, method="certified")
     legs = [_enclose_one(v) for v in problem.legs]
@@ -215,7 +215,7 @@ def _exact_poses(base, plat, x, sides, legs2, problem):
         if any(all(a == b for ra, rb in zip(key, k2) for a, b in zip(ra, rb)) for k2 in seen):
             continue
         seen.append(key)
-        R, t = pose_from_points(plat, pts, method="certified")
+        R, t = frame_fit(plat, pts, "certified")  # congruent: built so
         err, rel = _leg_errors(base, pts, legs)
         out.append(Pose(float(x.p) / float(x.q), side, _mids(R),
                         np.array([float(flint.arb(c).mid()) for c in t]), _mids(pts), err, rel,

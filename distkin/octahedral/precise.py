@@ -66,7 +66,7 @@ def solve_precise(problem: Problem, dps: int, tol=None):
     """Every assembly mode at ``dps`` decimal digits; see :func:`.forward.forward_kinematics`."""
     import mpmath
     dps = check_precise_dps(dps)
-    from ..geometry.poses import pose_from_points
+    from ..geometry.poses import frame_fit
     from .result import AssemblyResult, Pose, RootInfo, _SPURIOUS_NOTE, _empty_reason
     work = dps + 20
     with mpmath.workdps(work):
@@ -196,7 +196,7 @@ def solve_precise(problem: Problem, dps: int, tol=None):
                        <= (near + mpmath.sqrt(1000 * dx_rel)) * mpmath.sqrt(c) for q in kept):
                     continue
                 kept.append(pts)
-                R, t = pose_from_points(plat, pts, method="precise")
+                R, t = frame_fit(plat, pts, "precise")  # congruent by construction
                 err, rel = _leg_errors(base, pts, legs)
                 poses.append(Pose(float(x), side, _f(R), _f(t), _f(pts),
                                   float(err), float(rel),
