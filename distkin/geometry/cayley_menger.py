@@ -227,7 +227,7 @@ def cayley_menger(sq, rows, cols=None, *, method: str | None = None, dps: int | 
     method : {None, "fast", "precise", "certified"}
         ``None``: the input's own number type (below).  ``"fast"``: float64 (numpy LU,
         batched), with a relative error estimate from Hadamard's inequality
-        (:mod:`.cm_float`): above 1e-8 a :class:`~.cm_float.CancellationWarning` says
+        (:mod:`.cm_float`): above 1e-6 a :class:`~.cm_float.CancellationWarning` says
         the value lost most of its digits (a nearly flat simplex, or a determinant that
         is 0 exactly, like five points in 3-D).  ``"precise"``: ``mpmath.mpf`` at
         ``dps`` digits (default 30).  ``"certified"``: exact ``flint.fmpq`` when every
