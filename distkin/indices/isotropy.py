@@ -168,6 +168,7 @@ def condition_number(J, ST=ST_DEFAULT, *, method: str = "fast"):
     """Local condition number κ = σmin/σmax, eq. (4), of the scaled Jacobian; (...).
 
     ``J`` (..., L, 6) and ``ST`` as :func:`scaled_singular_values` (which checks them:
+    one J gives a float, a batch an array;
     :class:`~distkin.errors.InputError` for a J that is not finite).  0 for fewer than
     6 legs (L < 6: the wrench map has rank < 6).  ``method``: "fast" only (float64
     SVD, the tier of every index; DESIGN §3); "precise" and "certified" are refused with
@@ -177,7 +178,8 @@ def condition_number(J, ST=ST_DEFAULT, *, method: str = "fast"):
                          f"got {method!r}", field="method",
                          hint="for J at another tier, mechanism.jacobian(poses, method=...)")
     smin, smax = scaled_singular_values(J, ST)
-    return np.divide(smin, smax, out=np.zeros_like(smin), where=smax > 0)
+    kappa = np.divide(smin, smax, out=np.zeros_like(smin), where=smax > 0)
+    return float(kappa) if kappa.ndim == 0 else kappa    # one J: a float (QA T 9)
 
 
 def gii(smin, smax):

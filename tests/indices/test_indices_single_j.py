@@ -84,3 +84,15 @@ def test_gii_in_unit_range():
     g, lo, hi = ix.gii(smin, smax)
     assert 0.0 <= g <= 1.0 and g == pytest.approx(smin.min() / smax.max(), rel=1e-15)
     assert ix.gii([1.0], [1.0])[0] == 1.0              # σmin = σmax allowed
+
+
+def test_condition_number_of_one_j_is_a_float():
+    """One (L, 6) J gave a 0-d array (QA T 9, left by fix-x); a batch stays an array."""
+    from distkin.indices import condition_number
+    from distkin.mechanisms import preset
+    m = preset("octopod")
+    J = m.jacobian(m.home)
+    k = condition_number(J)
+    assert type(k) is float and 0 < k <= 1
+    batch = condition_number(np.stack([J, J]))
+    assert batch.shape == (2,) and batch[0] == k
