@@ -199,7 +199,7 @@ def pose_from_points(local, world, *, method: str = "fast", rtol: float | None =
         p = np.asarray(world, dtype=float)
         Fq = triangle_frame(q, method=method, what="platform")
         Fp = triangle_frame(p, method=method, what="points")
-        _congruent_fast(q, p, 1e-9 if rtol is None else _check_rtol(rtol))
+        _congruent_fast(q, p, 1e-9 if rtol is None else _tolerance(rtol))
         R = Fp @ np.swapaxes(Fq, -1, -2)
         t = p.mean(axis=-2) - np.einsum("...ij,...j->...i", R, q.mean(axis=-2))
         return R, t
@@ -237,12 +237,12 @@ def _fit(local, world, method):
 _PAIRS = ((0, 1), (0, 2), (1, 2))
 
 
-def _check_rtol(rtol):
-    if isinstance(rtol, bool) or not isinstance(rtol, (int, float, np.integer, np.floating)) \
-            or not 0 <= rtol < 1:
-        raise InputError(f"expected a relative tolerance 0 <= rtol < 1, got {rtol!r}",
-                         field="rtol")
-    return float(rtol)
+def _tolerance(value, name="rtol"):
+    """A tolerance ``name`` (``rtol``, ``atol``): a number 0 <= value < 1, or InputError."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) \
+            or not 0 <= value < 1:
+        raise InputError(f"expected a tolerance 0 <= {name} < 1, got {value!r}", field=name)
+    return float(value)
 
 
 def _refuse_congruence(pair, sp, sq, rel, rtol, where=""):
@@ -291,7 +291,7 @@ def _congruent_tier(local, world, method, rtol):
              for T in (local, world)]
     if method == "precise":
         import mpmath
-        rtol = max(1e-9, 10.0 ** (-mpmath.mp.dps / 3)) if rtol is None else _check_rtol(rtol)
+        rtol = max(1e-9, 10.0 ** (-mpmath.mp.dps / 3)) if rtol is None else _tolerance(rtol)
         scale = max(sides[0])
         for k, (a, b) in enumerate(zip(*sides)):
             if abs(b - a) > rtol * scale:
@@ -300,7 +300,7 @@ def _congruent_tier(local, world, method, rtol):
         return
     import flint
     from ..exact import to_fmpq
-    rtol = 1e-9 if rtol is None else _check_rtol(rtol)
+    rtol = 1e-9 if rtol is None else _tolerance(rtol)
     if all(type(x).__name__ == "fmpq" for T in sides for x in T):
         scale, tol = max(sides[0]), to_fmpq(rtol)          # exact comparison
         bad = [abs(b - a) > tol * scale for a, b in zip(*sides)]
@@ -357,7 +357,7 @@ def points_from_pose(R, t, local, *, method: str = "fast", dps: int | None = Non
     ['1', '109/5', '3']
     """
     check_method(method)
-    atol = _check_atol(atol)
+    atol = _tolerance(atol, "atol")
     if method == "fast":
         from .trilateration import _fast_floats
         R = _fast_floats(R, "R", "a rotation matrix of shape (..., 3, 3)")
@@ -388,13 +388,6 @@ def points_from_pose(R, t, local, *, method: str = "fast", dps: int | None = Non
         with mpmath.workdps(mpmath.mp.dps if dps is None else default_dps(dps)):
             return _points_tier(R, t, local, method, atol)
     return _points_tier(R, t, local, method, atol)
-
-
-def _check_atol(atol):
-    if isinstance(atol, bool) or not isinstance(atol, (int, float, np.integer, np.floating)) \
-            or not 0 <= atol < 1:
-        raise InputError(f"expected a tolerance 0 <= atol < 1, got {atol!r}", field="atol")
-    return float(atol)
 
 
 def _refuse_rotation(ortho, det, atol):

@@ -329,7 +329,6 @@ class RSSDescription:
         return np.diag([self.mass] * 3 + [self.inertia] * 3)
 
 
-
 def read_only(result) -> None:
     """Make the numpy arrays of a frozen result dataclass ``result`` read-only (QA T 8),
     in place of its fields: each array field (and each array in a list or tuple field)

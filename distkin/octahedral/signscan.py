@@ -118,6 +118,35 @@ def _horner(P, v):
     return p, dp
 
 
+#: :func:`_halley`, inlined into its callers (numba ``inline='always'``: one chain of
+#: operations in each, as written out before)
+_step = numba.njit(cache=True, error_model="numpy", _nrt=False, inline="always")
+
+
+@_step
+def _halley(P, a, b, x, ppos, step, it, iters, tol):
+    """One step of :func:`_refine` on P from x in [a, b]: returns (a, b, x, step, stop),
+    ``stop`` when the step shows convergence (or no progress)."""
+    p = P[8] * x + P[7]
+    dp = P[8]
+    d2 = 0.0
+    for j in range(6, -1, -1):
+        d2 = d2 * x + dp
+        dp = dp * x + p
+        p = p * x + P[j]
+    if (p > 0) == ppos:
+        a = x
+    else:
+        b = x
+    xn = x - p * dp / (dp * dp - p * d2)
+    if not (xn - a) * (xn - b) <= 0:
+        xn = 0.5 * (a + b)
+    st = abs(xn - x)
+    stop = (it >= 1 and it < iters - 1
+            and not (st > tol and (st < 0.9 * step or st > 1e-8)))
+    return a, b, xn, st, stop
+
+
 @_leaf
 def _refine(P, a, b, pa, iters, x, tol):
     """One bracket of :func:`.rootscan._refine`: Halley from x in [a, b] (either order),
@@ -126,25 +155,9 @@ def _refine(P, a, b, pa, iters, x, tol):
     step = abs(b - a)
     ppos = pa > 0
     for it in range(iters):
-        p = P[8] * x + P[7]
-        dp = P[8]
-        d2 = 0.0
-        for j in range(6, -1, -1):
-            d2 = d2 * x + dp
-            dp = dp * x + p
-            p = p * x + P[j]
-        if (p > 0) == ppos:
-            a = x
-        else:
-            b = x
-        xn = x - p * dp / (dp * dp - p * d2)
-        if not (xn - a) * (xn - b) <= 0:
-            xn = 0.5 * (a + b)
-        st = abs(xn - x)
-        prev, step, x = step, st, xn
-        if it >= 1 and it < iters - 1:
-            if not (st > tol and (st < 0.9 * prev or st > 1e-8)):
-                break
+        a, b, x, step, stop = _halley(P, a, b, x, ppos, step, it, iters, tol)
+        if stop:
+            break
     return x, step
 
 
@@ -191,45 +204,9 @@ def _refine2(P, a, b, pa, x, Q, c, d, qc, y, iters, tol):
     stq, qpos, doneq = abs(d - c), qc > 0, False
     for it in range(iters):
         if not done:
-            p = P[8] * x + P[7]
-            dp = P[8]
-            d2 = 0.0
-            for j in range(6, -1, -1):
-                d2 = d2 * x + dp
-                dp = dp * x + p
-                p = p * x + P[j]
-            if (p > 0) == ppos:
-                a = x
-            else:
-                b = x
-            xn = x - p * dp / (dp * dp - p * d2)
-            if not (xn - a) * (xn - b) <= 0:
-                xn = 0.5 * (a + b)
-            st = abs(xn - x)
-            prev, step, x = step, st, xn
-            if it >= 1 and it < iters - 1:
-                if not (st > tol and (st < 0.9 * prev or st > 1e-8)):
-                    done = True
+            a, b, x, step, done = _halley(P, a, b, x, ppos, step, it, iters, tol)
         if not doneq:
-            p = Q[8] * y + Q[7]
-            dp = Q[8]
-            d2 = 0.0
-            for j in range(6, -1, -1):
-                d2 = d2 * y + dp
-                dp = dp * y + p
-                p = p * y + Q[j]
-            if (p > 0) == qpos:
-                c = y
-            else:
-                d = y
-            yn = y - p * dp / (dp * dp - p * d2)
-            if not (yn - c) * (yn - d) <= 0:
-                yn = 0.5 * (c + d)
-            st = abs(yn - y)
-            prev, stq, y = stq, st, yn
-            if it >= 1 and it < iters - 1:
-                if not (st > tol and (st < 0.9 * prev or st > 1e-8)):
-                    doneq = True
+            c, d, y, stq, doneq = _halley(Q, c, d, y, qpos, stq, it, iters, tol)
         if done and doneq:
             break
     return x, step, y, stq
