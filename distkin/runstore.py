@@ -52,7 +52,7 @@ import numpy as np
 from ._version import __version__
 from .errors import DistkinError, InputError
 
-__all__ = ["run_chunks", "make_store", "local_executor", "dask_executor", "executor_for",
+__all__ = ["run_chunks", "check_store", "make_store", "local_executor", "dask_executor", "executor_for",
            "sweep_key", "code_version", "user_cache_dir", "default_store", "keyed_store",
            "ChunkProgress", "WORKER_ENV", "NO_WORKER_TIMEOUT_S"]
 
@@ -405,6 +405,14 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
         bar.close()
     return results
 
+
+def check_store(store, definition, n: int) -> Path:
+    """The folder :func:`run_chunks` would use for a sweep of ``n`` chunks defined by
+    ``definition`` in ``store``, checked now: a store it would refuse (another sweep's or
+    another code version's, chunk files that are not this sweep's) raises the same
+    InputError before any work is done (a caller with work to do first, such as the
+    design sweep's culling ahead of its brute force, calls it then)."""
+    return _open_store(store, sweep_key(definition), definition, n)[0]
 
 
 def _open_store(store, key, definition, n):

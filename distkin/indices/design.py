@@ -22,6 +22,7 @@ import hashlib
 import itertools
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -134,6 +135,13 @@ def sweep_designs(space: DesignSpace, poses, *, algorithm="both", ST=ST_DEFAULT,
 
     out = {"designs": designs, "n_designs": len(designs), "n_poses": len(poses),
            "unreachable": unreachable}
+    folder = None
+    if store is not None and algorithm in ("brute_force", "both"):
+        # a store the brute force would refuse is refused before the culling runs
+        from ..runstore import check_store, sweep_key
+        definition = _store_definition(space, poses, ST, designs_per_chunk, unreachable)
+        folder = Path(store) / sweep_key(definition)
+        check_store(folder, definition, -(-len(designs) // designs_per_chunk))
     if algorithm in ("culling", "both"):
         def evaluate(ds, ps):
             P = poses[ps]
@@ -152,7 +160,7 @@ def sweep_designs(space: DesignSpace, poses, *, algorithm="both", ST=ST_DEFAULT,
                    ties=ties)
         reached_any = bool(np.any(res.smax_all > 0))
     if algorithm in ("brute_force", "both"):
-        g, lo, hi = _brute_force(space, designs, poses, ST, unreachable, store, executor,
+        g, lo, hi = _brute_force(space, designs, poses, ST, unreachable, folder, executor,
                                  progress, designs_per_chunk, out, stats)
         b = int(np.argmax(g))
         ties = np.flatnonzero(g == g[b]).tolist()
@@ -190,10 +198,18 @@ def sweep_designs(space: DesignSpace, poses, *, algorithm="both", ST=ST_DEFAULT,
     return out
 
 
+def _store_definition(space, poses, ST, designs_per_chunk, unreachable) -> dict:
+    """What defines a brute-force sweep's chunk store (:func:`distkin.runstore.sweep_key`)."""
+    return {"kind": "design_sweep", "space": repr(space), "poses": int(len(poses)),
+            "poses_sha256": hashlib.sha256(poses.tobytes()).hexdigest(),
+            "ST": list(ST), "per_chunk": designs_per_chunk, "unreachable": unreachable}
+
+
 def _brute_force(space, designs, poses, ST, unreachable, store, executor, progress,
                  designs_per_chunk, out, stats):
-    """Every design at every pose, in resumable chunks; fills ``out["brute_force"]``
-    and ``out["coverage"]``, returns (GII, min σmin, max σmax) per design."""
+    """Every design at every pose, in resumable chunks (``store``: the sweep's keyed
+    folder, or None); fills ``out["brute_force"]`` and ``out["coverage"]``, returns
+    (GII, min σmin, max σmax) per design."""
     from ..runstore import run_chunks
     t0 = time.perf_counter()
     specs = [{"space": space, "poses": poses, "ST": tuple(ST), "unreachable": unreachable,
@@ -204,16 +220,9 @@ def _brute_force(space, designs, poses, ST, unreachable, store, executor, progre
         if stats is not None:
             stats["loaded"] = 0
     else:
-        definition = {"kind": "design_sweep", "space": repr(space),
-                      "poses": int(len(poses)),
-                      "poses_sha256": hashlib.sha256(poses.tobytes()).hexdigest(),
-                      "ST": list(ST), "per_chunk": designs_per_chunk,
-                      "unreachable": unreachable}
-        from pathlib import Path
-
-        from ..runstore import sweep_key
-        chunks = run_chunks(design_chunk, specs, Path(store) / sweep_key(definition),
-                            definition=definition, executor=executor, progress=progress,
+        definition = _store_definition(space, poses, ST, designs_per_chunk, unreachable)
+        chunks = run_chunks(design_chunk, specs, store, definition=definition,
+                            executor=executor, progress=progress,
                             desc=f"design sweep, brute force ({len(designs)} designs)",
                             stats=stats)
     lo = np.concatenate([c["min_smin"] for c in chunks])

@@ -14,7 +14,7 @@ import warnings
 import numpy as np
 import pytest
 
-from distkin.errors import InfeasibleError
+from distkin.errors import InfeasibleError, InputError
 from distkin.indices.design import DesignSpace, sweep_designs
 from distkin.indices.workspace import PoseGrid, axis_values
 
@@ -230,3 +230,34 @@ def test_a_chunk_of_another_design_sweep_is_refused(tmp_path, capsys):
     for scene in (mine, other):
         assert main(["run", str(scene), "--no-progress", "--json", str(out)]) == 0
         assert json.loads(out.read_text())["queries"][0]["result"]["chunks_resumed"] == 1
+
+
+def test_a_refused_store_is_refused_before_the_culling(partial, tmp_path, monkeypatch):
+    """fix-t's leftover: a design sweep ran its culling (8.5 s in the repro) before the
+    brute force opened the store and refused it.  Now the store is checked first: with
+    a foreign chunk in the sweep's folder the culling is never called.  Reference: the
+    same sweep with that chunk removed runs both algorithms, and they agree."""
+    import distkin.indices.design as design
+    space, poses = partial
+    poses = poses[:40]
+    store = tmp_path / "st"
+    first = sweep_designs(space, poses, algorithm="brute_force", store=store,
+                          unreachable="skip", progress=False)
+    chunk = next(store.rglob("chunk_00000.npz"))
+    other = sweep_designs(space, poses[:20], algorithm="brute_force", store=tmp_path / "o",
+                          unreachable="skip", progress=False)
+    assert other["n_poses"] == 20
+    good = chunk.read_bytes()
+    chunk.write_bytes(next((tmp_path / "o").rglob("chunk_00000.npz")).read_bytes())
+    called = []
+    real = design.culling_sweep
+    monkeypatch.setattr(design, "culling_sweep",
+                        lambda *a, **k: called.append(1) or real(*a, **k))
+    with pytest.raises(InputError, match="chunk_00000.npz"):
+        sweep_designs(space, poses, algorithm="both", store=store, unreachable="skip",
+                      progress=False)
+    assert called == []
+    chunk.write_bytes(good)
+    both = sweep_designs(space, poses, algorithm="both", store=store,
+                         unreachable="skip", progress=False)
+    assert called == [1] and both["agree"] and both["best"] == first["best"]
