@@ -321,6 +321,7 @@ def pose_from(value, translation=None):
         if t.shape[-1:] != (3,):
             raise InputError(f"expected a translation of shape (..., 3), got {t.shape}",
                              field="translation")
+        _finite(t, "translation")
         return np.concatenate(np.broadcast_arrays(t, rotation_angles(R)), axis=-1)
     if translation is not None:
         raise InputError("expected a translation only with a scipy Rotation, got one with "
@@ -331,4 +332,15 @@ def pose_from(value, translation=None):
     if arr.shape[-1:] != (6,):
         raise InputError(f"expected poses (..., 6), 4x4 matrices or a scipy Rotation, got "
                          f"shape {arr.shape}", field="pose")
+    return _finite(arr, "pose")
+
+
+def _finite(arr, field):
+    """``arr`` when every entry is finite; else an InputError naming the first that is not."""
+    from .errors import InputError
+    bad = np.argwhere(~np.isfinite(arr))
+    if bad.size:
+        at = tuple(int(i) for i in bad[0])
+        raise InputError(f"expected finite numbers, got {arr[at]} at index "
+                         f"{at if len(at) != 1 else at[0]}", field=field)
     return arr

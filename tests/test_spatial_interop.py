@@ -63,3 +63,15 @@ def test_bad_matrices_refused(bad):
 def test_rotation_needs_translation():
     with pytest.raises(InputError, match="translation"):
         pose_from(Rotation.identity())
+
+
+@pytest.mark.parametrize("pose, where", [([0, 0, np.nan, 0, 0, 0], "nan at index 2"),
+                                         ([[0] * 6, [0, 0, 1, np.inf, 0, 0]],
+                                          r"inf at index \(1, 3\)")])
+def test_non_finite_poses_refused(pose, where):
+    """fix-v's leftover: a plain 6-value pose with a NaN passed through ``pose_from``
+    (a 4x4 matrix with one was refused).  Now both are, naming the entry."""
+    with pytest.raises(InputError, match=where):
+        pose_from(pose)
+    with pytest.raises(InputError, match="translation.*nan at index 1"):
+        pose_from(Rotation.identity(), [0, np.nan, 0])
