@@ -86,6 +86,19 @@ def test_grid_errors_name_the_field_in_the_scenes_units(tmp_path, capsys, grid, 
     assert line == f"distkin: error: query[0].{field}: {words}"
 
 
+@pytest.mark.parametrize("head", [PERF.format(preset="hunt"), SWEEP])
+def test_a_grid_beyond_float64_reach_is_refused(tmp_path, capsys, head):
+    """fix-v's leftover: half = 1e300 mm was answered ("unreachable 100 %"), where a pose
+    query refuses a translation beyond 1e9 x the mechanism's length scale (QA R 8); the
+    grid's half is now held to the same bound (Hunt's scale 55 mm: 5.5e10 mm)."""
+    from distkin.mechanisms import preset
+    bound = 1e9 * preset("hunt").length_scale * 1e3
+    line = _error(capsys, tmp_path, head + "grid = { half = 1e300, step = 1e300 }\n")
+    assert line.startswith(f"distkin: error: query[0].grid.half: expected a half of at most "
+                           f"{bound:.6g} mm (1e+09 x the mechanism's length scale; no pose "
+                           f"of the device lies farther), got 1e+300 mm"), line
+
+
 def test_design_sweep_refuses_a_reversed_range(tmp_path, capsys):
     """l2 = [30, 0, 15] gave 8 designs instead of 24, silently."""
     line = _error(capsys, tmp_path, SWEEP + "l2 = [30, 0, 15]\n")

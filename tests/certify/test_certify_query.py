@@ -50,6 +50,12 @@ def _scene(preset_name="hunt", **fields):
     ({"split": "0"}, "integer >= 1"),
     ({"tighten": "-1"}, "integer >= 0"),
     ({"tighten": "2.5"}, "integer >= 0"),
+    # fix-v's leftover: a corner float64 cannot mean (1e300 mm) was certified
+    # "unreachable 100 %"; refused as a pose query's (QA R 8), naming the corner
+    ({"region": "{ lower = [0, 0, 1e300, 0, 0, 0], upper = [1, 0, 1e300, 0, 0, 0] }"},
+     r"lower\[2\].*at most 5\.5e\+10 mm.*got 1e\+300 mm"),
+    ({"region": "{ lower = [0, 0, 300, 0, 0, 0], upper = [1, 0, 300, 0, 0, 1e17] }"},
+     r"upper\[5\].*rotation component"),
 ])
 def test_bad_fields_are_rejected_at_load(fields, match):
     with pytest.raises(InputError, match=match):

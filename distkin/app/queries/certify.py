@@ -124,6 +124,10 @@ class CertifyWorkspaceQuery:
                              f"{(lower / scale).tolist()}, upper={(upper / scale).tolist()} "
                              f"(x, y, z in {units.length}, rx, ry, rz in {units.angle})",
                              field=f"{field}.region")
+        from .mechanisms import check_pose_units      # float64-meaningless corners (QA R 8)
+        check_pose_units(np.vstack([lower, upper]), units,
+                         [f"{field}.region.lower", f"{field}.region.upper"],
+                         mechanism.length_scale)
         ext = upper - lower
         pos_ext, rot_ext = float(ext[:3].max()), float(ext[3:].max())
         if "min_width" in table:

@@ -160,12 +160,15 @@ def _axis_count(half, step, units, field, half_key, step_key, angle=False):
     return int(k) + 1
 
 
-def _grid(raw, units, field, centre, rotation, *, max_poses=MAX_GRID_POSES,
+def _grid(raw, units, field, centre, rotation, scale, *, max_poses=MAX_GRID_POSES,
           max_positions=MAX_GRID_POSITIONS):
     """The pose grid of a device: ``half``/``step`` about ``centre`` (the mechanism's
     home pose (6,), m and rad; a number: (0, 0, z0, 0, 0, 0)).  Its size is counted
     before anything is allocated: more than ``max_poses`` poses or ``max_positions``
-    positions is refused, naming the grid, its counts and the limit."""
+    positions is refused, naming the grid, its counts and the limit; a ``half`` beyond
+    :data:`~distkin.mechanisms.description.MAX_REACH` times the mechanism's length
+    ``scale`` (m) too, as a pose query's translation (QA R 8)."""
+    from ...mechanisms.description import MAX_REACH
     from ...indices.workspace import axis_values, PoseGrid
     c = np.zeros(6)
     if np.ndim(centre) == 0:
@@ -182,6 +185,12 @@ def _grid(raw, units, field, centre, rotation, *, max_poses=MAX_GRID_POSES,
         rotation = angle_value(t["rotation"], units, f"{field}.rotation")
     _check_rotation(rotation, units, f"{field}.rotation")
     nt = _axis_count(half, step, units, field, "half", "step")
+    if half > MAX_REACH * scale:
+        raise InputError(f"expected a half of at most {_show(MAX_REACH * scale, units, False)} "
+                         f"({MAX_REACH:g} x the mechanism's length scale; no pose of the "
+                         f"device lies farther), got {_show(half, units, False)}",
+                         field=f"{field}.half",
+                         hint=f"a unit slip? the scene's [units] length is \"{units.length}\"")
     nr = _axis_count(rotation, rstep, units, field, "rotation", "rotation_step", angle=True) \
         if rotation > 0 else 1
     positions, orientations = nt ** 3, nr ** 3
@@ -352,7 +361,8 @@ class PerformanceQuery:
             raise InputError(f"expected distinct device labels, got {labels}",
                              field=f"{field}.devices")
         for d in devices:                      # validate the grid now
-            _grid(table.get("grid"), units, f"{field}.grid", d.mech.home, d.rotation)
+            _grid(table.get("grid"), units, f"{field}.grid", d.mech.home, d.rotation,
+                  d.mech.length_scale)
         from ...indices.actuators import PRISMATIC_KEYS, leg_limits
         act = _si_table(table.get("actuators", {}), f"{field}.actuators", ACTUATORS,
                         PRISMATIC_KEYS, positive=True)
@@ -398,7 +408,7 @@ class PerformanceQuery:
     def run(p, scene, ctx):
         from ..study_report import performance_report
         return performance_report(p, scene, ctx, grid_of=lambda d: _grid(
-            p.grid_raw, p.units, "grid", d.mech.home, d.rotation),
+            p.grid_raw, p.units, "grid", d.mech.home, d.rotation, d.mech.length_scale),
             store_of=lambda label: ctx.store_dir(p.store, scene, "performance") / _slug(label),
             executor=lambda: ctx.executor(p.workers, p.scheduler))
 
@@ -487,7 +497,8 @@ class DesignSweepQuery:
             else 20 * DEG
         from ...mechanisms import preset
         grid = _grid(g, units, f"{field}.grid", preset(base).z0, rot,
-                     max_poses=MAX_SWEEP_POSES, max_positions=MAX_SWEEP_POSES)
+                     preset(base).length_scale, max_poses=MAX_SWEEP_POSES,
+                     max_positions=MAX_SWEEP_POSES)
         algorithm = choice(table.get("algorithm", "both"), f"{field}.algorithm",
                            ("culling", "brute_force", "both"))
         unreachable = choice(table.get("unreachable", "zero"), f"{field}.unreachable",
