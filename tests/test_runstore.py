@@ -189,7 +189,7 @@ def test_two_runs_into_one_store_at_once(tmp_path):
     procs = [subprocess.Popen([sys.executable, "-c", code, str(tmp_path / "s")], env=env,
                               stderr=subprocess.PIPE, text=True) for _ in range(2)]
     for p in procs:
-        _, err = p.communicate(timeout=120)
+        _, err = p.communicate(timeout=600)
         assert p.returncode == 0, err
 
 

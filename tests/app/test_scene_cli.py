@@ -35,7 +35,7 @@ method = "fast"
 
 def _cli(args, cwd=None):
     return subprocess.run([sys.executable, "-m", "distkin", *args], capture_output=True,
-                          text=True, cwd=cwd, timeout=120)
+                          text=True, cwd=cwd, timeout=600)
 
 
 def test_json_contract(tmp_path):

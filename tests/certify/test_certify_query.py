@@ -154,7 +154,7 @@ def test_cli_exit_code_2_for_a_non_certified_method(tmp_path):
     p = tmp_path / "bad.toml"
     p.write_text(SCENE.format(preset="hunt", fields='method = "fast"'), encoding="utf-8")
     r = subprocess.run([sys.executable, "-m", "distkin", "run", str(p)], capture_output=True,
-                       text=True, cwd=ROOT, timeout=120)
+                       text=True, cwd=ROOT, timeout=600)
     assert r.returncode == 2
     assert "certified" in r.stderr and "Traceback" not in r.stderr
 

@@ -54,7 +54,7 @@ def _probe(module_dir, code):
              "OUT['distkin'] = any(m.startswith('distkin') for m in sys.modules)\n"
              "print(json.dumps(OUT))")
     r = subprocess.run([sys.executable, "-c", "import json\nOUT = {}\n" + code],
-                       capture_output=True, text=True, env=clean, cwd=module_dir, timeout=120)
+                       capture_output=True, text=True, env=clean, cwd=module_dir, timeout=600)
     assert r.returncode == 0, r.stderr
     return json.loads(r.stdout)
 

@@ -33,7 +33,7 @@ def scene_text(**replace) -> str:
     return "\n".join(lines) + "\n"
 
 
-def run_cli(args, cwd, timeout=120):
+def run_cli(args, cwd, timeout=600):
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1",
                PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
     return subprocess.run([sys.executable, "-m", "distkin", *map(str, args)],

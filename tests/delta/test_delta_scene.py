@@ -112,7 +112,7 @@ def test_singular_offsets_api_and_cli(tmp_path):
     f = tmp_path / "singular.toml"
     f.write_text(_scene(body))
     r = subprocess.run([sys.executable, "-m", "distkin", "run", str(f)], capture_output=True,
-                       text=True, timeout=120)
+                       text=True, timeout=600)
     assert r.returncode == 2
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and "Traceback" not in r.stderr
@@ -265,7 +265,7 @@ def test_platform66_kind_rejects_singular_offsets_in_cli(tmp_path):
         type = "delta_transform"
     """))
     r = subprocess.run([sys.executable, "-m", "distkin", "run", str(f)], capture_output=True,
-                       text=True, timeout=120)
+                       text=True, timeout=600)
     assert r.returncode == 2 and "Traceback" not in r.stderr
     line, = r.stderr.strip().splitlines()
     assert line.startswith("distkin: error: mechanism.offsets") and "delta1 + 2*delta2 - 12" in line

@@ -118,5 +118,5 @@ def test_cli_run_and_plots(tmp_path):
     assert r.returncode == 0, r.stderr
     assert len(list(tmp_path.glob("*.png"))) == 2
     r = subprocess.run([sys.executable, "-m", "distkin", "run", "-"], capture_output=True,
-                       text=True, cwd=ROOT, timeout=120)
+                       text=True, cwd=ROOT, timeout=600)
     assert r.returncode == 2

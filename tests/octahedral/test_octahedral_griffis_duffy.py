@@ -133,7 +133,7 @@ def test_scene_json_contract(tmp_path):
     r = subprocess.run([sys.executable, "-m", "distkin", "run",
                         str(ROOT / "examples" / "octahedral_griffis_duffy.toml"),
                         "--json", str(out), "--plots", str(tmp_path / "plots")],
-                       capture_output=True, text=True, cwd=ROOT, timeout=120)
+                       capture_output=True, text=True, cwd=ROOT, timeout=600)
     assert r.returncode == 0, r.stderr
     doc = json.loads(out.read_text())
     q = doc["queries"][0]
