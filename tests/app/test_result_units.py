@@ -138,6 +138,11 @@ def test_joint_units_follow_the_leg_type(tmp_path, capsys):
     lengths = [np.linalg.norm(X[:3] + R @ np.array(leg.platform) - np.array(leg.base))
                for leg in d.leg_table]
     np.testing.assert_allclose(res["poses"][0]["q"], lengths, rtol=1e-12)
+    # QA U 4: reach_margin had no unit; m^2, here (q - qmin)(qmax - q) or q^2 per leg
+    assert res["unit"]["reach_margin"].startswith("m^2 per leg")
+    margins = [(q - leg.range[0]) * (leg.range[1] - q) if leg.range else q * q
+               for q, leg in zip(lengths, d.leg_table)]
+    np.testing.assert_allclose(res["poses"][0]["reach_margin"], margins, rtol=1e-10)
     header = next(line for line in out.splitlines() if "qdot = J (v, omega)" in line)
     assert "rad/m" not in header and "m/m, m/rad" in header
     rss, _ = _run(tmp_path, capsys, RSS + '[[query]]\ntype = "inverse_kinematics"\n'

@@ -272,6 +272,10 @@ def _tier_lines(res, i):
 #: the text of an error the fast tier cannot state (``inf``: its first-order estimate
 #: fails, at a leg's reach boundary)
 NOT_RESOLVED = 'not resolved in float64 (use method = "precise")'
+#: the JSON unit of an IK pose's ``reach_margin`` (``KernelMethods.reach_margin`` of
+#: :mod:`distkin.mechanisms.kinematics`; QA U 4: the number had none)
+REACH_UNIT = ("m^2 per leg (revolute: rho^2 - C^2 of A cos q + B sin q = C; prismatic: "
+              "(q - qmin)(qmax - q) within its range, else q^2); >= 0: the leg closes")
 
 
 def _amount(err, mask, factor: float = 1.0, unit: str = "", method: str = "fast") -> str:
@@ -363,7 +367,7 @@ class InverseKinematicsQuery:
         return Outcome({"mechanism": mech.parameters(), "method": p.method,
                         "precision": res.precision,
                         "unit": {"q": _joint_unit(mech), "pose": "m, rad",
-                                 "q_error": _joint_unit(mech)},
+                                 "q_error": _joint_unit(mech), "reach_margin": REACH_UNIT},
                         "poses": rows}, "\n".join(lines), _plotter(mech, X, q))
 
 
