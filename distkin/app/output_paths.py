@@ -3,7 +3,8 @@ before any work, written without a traceback.
 
 An output that is the same file as one of the command's inputs (the scene, a
 ``legs_csv`` it names, a controller scene) is refused too: ``distkin run S.toml --json
-S.toml`` used to replace the scene by its result.
+S.toml`` used to replace the scene by its result; so is one inside the package's
+generated kernels (:data:`GENERATED`), which only ``python -m distkin.codegen`` writes.
 
 ``distkin run``, ``demo``, ``sweep`` and ``control`` take ``--json PATH|-``; ``sim``
 takes ``--port-file`` and ``--log``; ``codegen`` takes ``--output``.  A path that cannot be written (a directory, a
@@ -19,7 +20,11 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["check_output_path", "write_text", "write_json"]
+__all__ = ["check_output_path", "write_text", "write_json", "GENERATED"]
+
+#: the package's generated kernels (``distkin/_generated``): no CLI output goes there
+#: (QA U 8: ``distkin codegen -o distkin/_generated/rss_hunt.py`` replaced a kernel)
+GENERATED = (Path(__file__).resolve().parents[1] / "_generated").resolve()
 
 
 def _refuse(path, exc: OSError, field: str) -> InputError:
@@ -28,6 +33,15 @@ def _refuse(path, exc: OSError, field: str) -> InputError:
            else exc.strerror or type(exc).__name__)
     return InputError(f"expected a writable file path, got {str(path)!r} ({why})",
                       field=field)
+
+
+def _inside(p: Path, folder: Path) -> bool:
+    """Whether ``p`` (resolved) lies in ``folder``."""
+    try:
+        p.resolve().relative_to(folder)
+    except (ValueError, OSError):
+        return False
+    return True
 
 
 def _same_file(a: Path, b: Path) -> bool:
@@ -77,6 +91,12 @@ def check_output_path(path, field: str = "--json", inputs=()) -> None:
     if p.is_dir():
         raise InputError(f"expected a file path, got the directory {str(path)!r}",
                          field=field)
+    if _inside(p, GENERATED):
+        raise InputError(f"expected a path outside distkin's generated kernels "
+                         f"{str(GENERATED)!r} (written only by python -m distkin.codegen, "
+                         f"checked against their sources), got {str(path)!r}", field=field,
+                         hint="write the file elsewhere; python -m distkin.codegen --check "
+                              "names a kernel that was overwritten")
     try:
         p.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:

@@ -129,3 +129,27 @@ def test_check_output_path_inputs(tmp_path):
     # an input that does not exist (yet) is compared by its resolved path
     with pytest.raises(InputError):
         check_output_path(tmp_path / "a" / ".." / "new.json", inputs=[tmp_path / "new.json"])
+
+
+@pytest.mark.parametrize("args", [["codegen", "{scene}", "-o", "{gen}/rss_hunt.py"],
+                                  ["run", "{scene}", "--json", "{gen}/out.json"]])
+def test_outputs_into_the_generated_kernels_are_refused(tmp_path, capsys, args):
+    """QA U 8: ``distkin codegen -o distkin/_generated/rss_hunt.py`` replaced a committed
+    kernel (``--check`` then said stale; ``preset('hunt')`` derived it again at run
+    time).  Refused before any work, the kernel byte for byte as it was (reference: its
+    bytes read before the command)."""
+    from distkin.app.output_paths import GENERATED
+    kernel = GENERATED / "rss_hunt.py"
+    before = kernel.read_bytes()
+    scene = tmp_path / "s.toml"
+    scene.write_text(POINTS, encoding="utf-8")
+    try:
+        code = main([a.format(scene=scene, gen=GENERATED) for a in args])
+        err = capsys.readouterr().err
+        assert code == 2 and "expected a path outside distkin's generated kernels" in err, err
+        assert kernel.read_bytes() == before
+        assert not (GENERATED / "out.json").exists()
+    finally:                                # a regression must not leave the tree changed
+        if kernel.read_bytes() != before:
+            kernel.write_bytes(before)
+        (GENERATED / "out.json").unlink(missing_ok=True)
