@@ -316,8 +316,16 @@ def make_store(store, field: str = "store") -> Path:
     try:
         store.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
+        try:                        # a default store: the cache folder is the culprit
+            store.resolve().relative_to(user_cache_dir().resolve())
+            hint = ("the scene names no store, so the chunks go to the cache folder "
+                    f"{str(user_cache_dir())!r}: set DISTKIN_CACHE to a folder that can be "
+                    "written, or give the query a store")
+        except (ValueError, OSError):
+            hint = None
         raise InputError(f"expected a directory for the chunks, got {str(store)!r} "
-                         f"({exc.strerror or type(exc).__name__})", field=field) from None
+                         f"({exc.strerror or type(exc).__name__})", field=field,
+                         hint=hint) from None
     return store
 
 

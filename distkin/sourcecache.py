@@ -77,9 +77,17 @@ def cached_source(prefix: str, key: str, build):
         except (OSError, UnicodeError):
             pass
     src = build()
-    d.mkdir(parents=True, exist_ok=True)
-    _write_atomic(d, path, src)
-    _write_atomic(d, digest, hashlib.sha256(src.encode("utf-8")).hexdigest() + "\n")
+    try:
+        d.mkdir(parents=True, exist_ok=True)
+        _write_atomic(d, path, src)
+        _write_atomic(d, digest, hashlib.sha256(src.encode("utf-8")).hexdigest() + "\n")
+    except OSError as exc:               # QA U 9: was an internal failure (exit 1)
+        from .errors import InputError
+        var = ("DISTKIN_CACHE" if os.environ.get("DISTKIN_CACHE") else
+               "XDG_CACHE_HOME" if os.environ.get("XDG_CACHE_HOME") else "HOME")
+        raise InputError(f"expected a writable cache folder for the derived kernels, got "
+                         f"{str(d)!r} ({exc.strerror or type(exc).__name__})", field=var,
+                         hint="set DISTKIN_CACHE to a folder that can be written") from None
     return path, False
 
 

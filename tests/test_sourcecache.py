@@ -30,3 +30,30 @@ def test_a_damaged_cached_source_is_derived_again(tmp_path, monkeypatch):
     assert load_module_file(path).f(21) == 42
     path.with_suffix(".sha256").unlink()          # no digest (an older cache): derived again
     assert cached_source("t", key, build)[1] is False and len(calls) == 5
+
+
+def test_an_unusable_cache_folder_is_bad_input(tmp_path, monkeypatch, capsys):
+    """QA U 9: DISTKIN_CACHE below a file made ``distkin codegen`` end in an internal
+    failure (NotADirectoryError, exit 1); now an InputError naming the variable (exit 2),
+    and a default chunk store there hints at it."""
+    import pytest
+
+    from distkin.app.cli import main
+    from distkin.errors import InputError
+    from distkin.runstore import make_store
+    (tmp_path / "file").write_text("x")
+    bad = tmp_path / "file" / "sub"
+    monkeypatch.setenv("DISTKIN_CACHE", str(bad))
+    with pytest.raises(InputError, match="writable cache folder") as info:
+        cached_source("t", source_key("test", "v2"), lambda: SRC)
+    assert info.value.field == "DISTKIN_CACHE"
+    with pytest.raises(InputError) as info:
+        make_store(bad / "sweeps" / "x")
+    assert "set DISTKIN_CACHE" in info.value.hint
+    scene = tmp_path / "s.toml"
+    scene.write_text('[mechanism]\nkind = "points"\npoints = [[0, 0, 0], [1, 0, 0], '
+                     '[0, 1, 0], [0, 0, 1]]\n[[query]]\ntype = "cayley_menger"\n'
+                     'determinants = ["D(1,2,3,4)"]\n', encoding="utf-8")
+    code = main(["codegen", str(scene), "-o", str(tmp_path / "m.py")])
+    err = capsys.readouterr().err
+    assert code == 2 and "DISTKIN_CACHE: expected a writable cache folder" in err, err
