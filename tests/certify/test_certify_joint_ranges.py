@@ -22,7 +22,7 @@ def test_a_certificate_says_joint_ranges_are_not_part_of_it(tmp_path, capsys):
     scene.write_text(narrow, encoding="utf-8")
     code = main(["run", str(scene), "--json", str(tmp_path / "r.json")])
     out = capsys.readouterr().out
-    assert code == 0 and "joint ranges (a leg's `range`) are not part of this" in out
+    assert code == 0 and "revolute joint ranges (a leg's `range`) are not part of" in out
     doc = json.loads((tmp_path / "r.json").read_text())
     cert = next(r["result"] for r in doc["queries"] if r["type"] == "certify_workspace")
     assert "not part of this certificate" in cert["joint_ranges"]
@@ -49,3 +49,35 @@ def test_poses_excluded_by_the_ranges_alone_name_the_ranges(tmp_path, capsys):
     assert main(["run", str(scene)]) == 0
     out = capsys.readouterr().out
     assert "outside the legs' joint ranges" in out and "units" not in out.split("note:")[1]
+
+
+def test_prismatic_strokes_are_part_of_the_certificate(tmp_path, capsys):
+    """QA V 7: the note "joint ranges are not part of this certificate" was printed for
+    the Gough-Stewart 6-UPS legs too, whose strokes decide the classification (reach
+    margin (q - qmin)(qmax - q)).  Reference: the leg lengths |P - B| at the corners of a
+    box far out (5 m), all beyond the 550 mm stroke, and the same scene without strokes,
+    which certifies the box regular."""
+    text = (EXAMPLES / "gough_stewart_6ups.toml").read_text(encoding="utf-8")
+    head = text[:text.index("[[query]]")]
+    query = ('[[query]]\ntype = "certify_workspace"\nregion = { lower = [5000, 5000, 5000, '
+             '0, 0, 0], upper = [5100, 5100, 5100, 0, 0, 0] }\n')
+    results = {}
+    for name, body in (("strokes", head), ("free", head.replace("range = [350, 550]\n", ""))):
+        scene = tmp_path / f"{name}.toml"
+        scene.write_text(body + query, encoding="utf-8")
+        assert main(["run", str(scene), "--json", str(tmp_path / f"{name}.json")]) == 0
+        out = capsys.readouterr().out
+        results[name] = (json.loads((tmp_path / f"{name}.json").read_text())
+                         ["queries"][0]["result"], out)
+    cert, out = results["strokes"]
+    mech = load_scene(tmp_path / "strokes.toml").mechanism
+    corners = np.array([[x, y, z, 0, 0, 0] for x in (5, 5.1) for y in (5, 5.1)
+                        for z in (5, 5.1)])
+    q, _ = mech.inverse_kinematics(corners)
+    assert np.all(q > 0.55)                               # beyond every stroke
+    assert cert["unreachable_volume"] == cert["total_volume"]
+    assert "not part of" not in out and "prismatic strokes (a leg's `range`) are part " \
+        "of this certificate" in out
+    assert cert["joint_ranges"].startswith("prismatic strokes")
+    free, out = results["free"]
+    assert free["regular_volume"] == free["total_volume"] and "joint_ranges" not in free

@@ -174,16 +174,24 @@ class CertifyWorkspaceQuery:
 
 
 
-#: what a certificate of a mechanism with joint ranges does not cover (QA Q 2)
-RANGES_NOT_CHECKED = ("joint ranges (a leg's `range`) are not part of this certificate: "
-                      "a regular box may hold poses where a joint is outside its range; "
-                      "the inverse kinematics' reachability checks them")
+#: what a certificate of a mechanism with revolute joint ranges does not cover (QA Q 2)
+RANGES_NOT_CHECKED = ("revolute joint ranges (a leg's `range`) are not part of this "
+                      "certificate: a regular box may hold poses where a crank is outside "
+                      "its range; the inverse kinematics' reachability checks them")
+#: what it does cover: a prismatic leg's stroke is its reach margin (QA V 7: the note
+#: above was printed for prismatic strokes too, which decide the classification)
+STROKES_CHECKED = ("prismatic strokes (a leg's `range`) are part of this certificate: a "
+                   "box is reachable only where every stroke holds (reach margin "
+                   "(q - qmin)(qmax - q) >= 0 over the box)")
 
 
-def _has_ranges(mech) -> bool:
-    """Whether some leg of ``mech`` has a joint range (revolute or prismatic)."""
-    return any(getattr(leg, "range", None) is not None
-               for leg in (getattr(mech, "leg_table", None) or ()))
+def _ranges_note(mech) -> str | None:
+    """What the certificate says about the legs' joint ranges (None: no leg has one)."""
+    legs = [leg for leg in (getattr(mech, "leg_table", None) or ())
+            if getattr(leg, "range", None) is not None]
+    said = ([RANGES_NOT_CHECKED] if any(not leg.prismatic for leg in legs) else []) + \
+        ([STROKES_CHECKED] if any(leg.prismatic for leg in legs) else [])
+    return "; ".join(said) or None
 
 
 def certificate_json(cert) -> dict:
@@ -223,8 +231,9 @@ def certificate_json(cert) -> dict:
         "at the resolution" + (", or (boxes.budget true) left unsplit when the budget of "
                                f"{cert.max_boxes} box evaluations per chunk ran out"
                                if s["budget_exhausted"] else ""))
-    if _has_ranges(cert.mechanism):
-        out["joint_ranges"] = RANGES_NOT_CHECKED
+    note = _ranges_note(cert.mechanism)
+    if note:
+        out["joint_ranges"] = note
     out["boxes"] = {"legend": {str(k): v for k, v in STATUS_NAMES.items()},
                     "lower": cert.lo, "upper": cert.hi, "status": cert.status,
                     "sigma_lower": cert.sigma_lower, "det_sign": cert.det_sign,
@@ -270,8 +279,9 @@ def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> s
         lines.append(f"  {name:<11} {s[name + '_volume']:.4g} {unit}  "
                      f"({100 * s[name + '_fraction']:.2f} % of {s['total_volume']:.4g} {unit}; "
                      f"{s['counts'][name]} boxes)")
-    if _has_ranges(cert.mechanism):
-        lines.append(f"  note: {RANGES_NOT_CHECKED}")
+    note = _ranges_note(cert.mechanism)
+    if note:
+        lines.append(f"  note: {note}")
     why = s["undecided_reasons"]
     if why:
         said = {"reach": "a leg's reach margin not enclosed away from 0 (the workspace "
