@@ -14,6 +14,7 @@ import pytest
 
 from distkin.app.cli import main
 from distkin.app.scene import loads_scene
+from distkin.errors import InputError
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -224,3 +225,23 @@ def test_a_zero_or_negative_actuator_limit_is_refused(tmp_path, capsys, value):
                   f"= {value}, stall_torque = 34.2, velocity = 51 }}\n")
     assert line == (f"distkin: error: query[0].actuators.nominal_torque: expected a positive "
                     f"number, got {value}")
+
+
+def test_an_impossible_design_is_refused_at_load(tmp_path, capsys):
+    """QA V 9: l2 = [0, 400, 50] mm on the Hunt-type (legs of 349.7 mm: Ergin's
+    l2 + l3, the constant-sum rule) failed at run time, after the culling had run
+    (148 s for another range), in m with float noise.  Now refused at load, naming the
+    design in the scene's units; no query ran (the text report is empty).  Reference:
+    the leg length from the presets."""
+    from distkin.mechanisms import preset
+    leg_mm = (preset("ergin").l2 + preset("ergin").l3) * 1e3
+    assert leg_mm == pytest.approx(349.7)
+    text = SWEEP + 'l2 = [0, 400, 50]\ngrid = { half = 75, step = 75 }\n'
+    line = _error(capsys, tmp_path, text)
+    assert line.startswith("distkin: error: query[0].l2: expected every design of the sweep "
+                           "to be a valid hunt mechanism, got one that is not (l2 = 400 mm, "), line
+    assert f"leg length {leg_mm / 1e3:.4g} m" in line
+    with pytest.raises(InputError, match="valid hunt mechanism"):
+        loads_scene(text, "s.toml")                       # at load, before any run
+    ok = loads_scene(SWEEP + 'l2 = [0, 300, 50]\ngrid = { half = 75, step = 75 }\n', "s.toml")
+    assert len(ok.queries[0].params.space.designs()) >= 7
