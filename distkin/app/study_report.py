@@ -232,6 +232,25 @@ _NOTES = (
     "true-set rows give the worst case of {ẋ : |Jẋ|∞ <= q̇max}.")
 
 
+def _refuse_unreachable(summaries, grids, scene):
+    """A study none of whose devices reaches a pose of its grid has no capability to
+    report: an InfeasibleError (exit 2, "a query whose data admit no answer"), naming each
+    device's home; it was exit 0 with every value null (QA V 14).  A device among others
+    that reaches none keeps its empty rows, said in the text."""
+    if any(s["reachable_poses"] for s in summaries):
+        return
+    from ..errors import InfeasibleError
+    from .units import length_factor
+    lf = 1.0 / length_factor(scene.units, "units")
+    homes = "; ".join(
+        f"{s['label']}: home z = {grids[s['label']][1].mech.home[2] * lf:.6g} "
+        f"{scene.units.length}, {s['poses']:,} poses" for s in summaries)
+    raise InfeasibleError(f"expected a device that reaches some pose of its grid, got none "
+                          f"that does ({homes}), so there is no capability to report",
+                          field="grid", hint="a grid about the devices' home pose, or a "
+                          f"unit slip? the scene's [units] length is \"{scene.units.length}\"")
+
+
 def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
     actuators = dict(p.actuators)
     thr = dict(p.thresholds)
@@ -289,6 +308,7 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
             summaries.append(s)
             per_all[d.label] = (per, dex["mask"], reach_all, minima)
             grids[d.label] = (grid, dev)
+    _refuse_unreachable(summaries, grids, scene)
     for s in summaries:                       # criterion 5 needs every device's GII
         per, _, reach_all, minima = per_all[s["label"]]
         others = {o["label"]: o["isotropy"]["gii"] for o in summaries
@@ -327,6 +347,8 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
                         if cert else ""))
     lines += [f"  {s['label']}: {s['isotropy']['rotation_note']}" for s in summaries
               if s["isotropy"].get("rotation_note")]
+    lines += [f"  {s['label']}: reaches no pose of its grid: its rows below are empty (—)"
+              for s in summaries if s["reachable_poses"] == 0]
     lines += ["", tables, "", "Findings of the paper:"]
     lines += [_finding_text(f) for f in fnd]
     lines += ["", "Design criteria (Sec. II-A; each with its own test, see the JSON):"]

@@ -436,7 +436,8 @@ def inner_covered(grid, inner) -> float:
         neg = max((-v for v in a if v <= 0 and -v <= lim), default=0.0)
         pos = max((v for v in a if v >= 0 and v <= lim), default=0.0)
         return min(neg, pos)
-    return min(reach(a) for a in (grid.rx, grid.ry, grid.rz))
+    # max with 0.0 first: a grid of zero rotation gave -0.0 ("±-0°"; QA V)
+    return max(0.0, min(reach(a) for a in (grid.rx, grid.ry, grid.rz)))
 
 
 def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dict:
@@ -540,8 +541,9 @@ def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dic
         "orientations": grid.n_orientations,
         "rotation_deg": math.degrees(max(abs(v) for v in grid.rx)),
         # the largest r with ±r on every rotation axis (the "±30°" claims need 30)
-        "rotation_covered_deg": math.degrees(min(min(-min(a), max(a))
-                                                 for a in (grid.rx, grid.ry, grid.rz))),
+        "rotation_covered_deg": max(0.0, math.degrees(min(min(-min(a), max(a))
+                                                          for a in (grid.rx, grid.ry,
+                                                                    grid.rz)))),
         "reachable_poses": int(per["n_ok"].sum()),
         "reachable_fraction": float(per["n_ok"].sum() / grid.size),
         "all_orientations_reachable": per["n_ok"] == grid.n_orientations,

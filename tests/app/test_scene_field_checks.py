@@ -245,3 +245,32 @@ def test_an_impossible_design_is_refused_at_load(tmp_path, capsys):
         loads_scene(text, "s.toml")                       # at load, before any run
     ok = loads_scene(SWEEP + 'l2 = [0, 300, 50]\ngrid = { half = 75, step = 75 }\n', "s.toml")
     assert len(ok.queries[0].params.space.designs()) >= 7
+
+
+def test_a_study_that_reaches_nothing_has_no_answer(tmp_path, capsys):
+    """QA V 14: a performance study whose only device reaches no pose of its grid (home
+    z0 = 5 m, a unit slip) exited 0 with every value null, where a design sweep in the
+    same situation exits 2.  Now exit 2, naming the device's home; beside a device that
+    does reach, the empty one is said in the text and the study answers (exit 0).
+    Reference: the generated reach kernel on the grid's poses (none reachable), and the
+    grid of zero rotation printed as ±0°, not ±-0° (a -0.0 of the covered range)."""
+    import numpy as np
+
+    from distkin.mechanisms import preset
+    far = preset("hunt", z0=5.0)
+    grid = np.array([[x, y, 5.0 + z, 0, 0, 0] for x in (-0.01, 0, 0.01)
+                     for y in (-0.01, 0, 0.01) for z in (-0.01, 0, 0.01)])
+    assert not far.reachable(grid).any()
+    body = ('grid = { half = 10, step = 10, rotation = 0, rotation_step = 10 }\nworkers = 1\n'
+            'devices = [ { label = "far", preset = "hunt", z0 = 5000 }DEV ]\n')
+    line = _error(capsys, tmp_path, PERF.format(preset="hunt") + body.replace("DEV", ""))
+    assert line.startswith("distkin: error: query[0].grid: expected a device that reaches "
+                           "some pose of its grid, got none that does (far: home z = 5000 mm, "
+                           "27 poses)"), line
+    f = tmp_path / "two.toml"
+    f.write_text(PERF.format(preset="hunt") + body.replace(
+        "DEV", ', { label = "near", preset = "hunt" }'), encoding="utf-8")
+    assert main(["run", str(f), "--no-progress"]) == 0
+    out = capsys.readouterr().out
+    assert "far: reaches no pose of its grid: its rows below are empty" in out
+    assert "near: reaches" not in out and "±-0" not in out and "±0°" in out

@@ -122,23 +122,32 @@ def test_a_rotation_beyond_180_degrees_is_refused(tmp_path, devices, grid, field
 
 
 def test_a_device_that_reaches_nothing_has_no_gii_and_undecided_criteria(tmp_path):
-    """A ±5 m grid: no pose is reachable by either device.  Table IV shows "—" (None in
-    the JSON), not 0.0000, and no criterion is NOT held on placeholder zeros; the
-    Hunt-type's criterion 5 names the Octopod it does not compare with (8 legs > 6)."""
+    """The Hunt-type with its home 5 m up (z0 = 5000 mm): no pose of its grid is
+    reachable.  Table IV shows "—" (None in the JSON), not 0.0000, and no criterion is
+    NOT held on placeholder zeros; its criterion 5 names the Octopod it does not compare
+    with (8 legs > 6).  A study in which *no* device reaches a pose has no answer at all:
+    exit 2 (QA V 14; it was exit 0 with every value null, where a design sweep refuses)."""
+    rec, text, worst = _run(
+        tmp_path, '{ label = "Octopod", preset = "octopod", rotation = 20 }, '
+                  '{ label = "Hunt-type", preset = "hunt", rotation = 20, z0 = 5000 }',
+        "{ half = 10, step = 10, rotation_step = 20 }")
+    assert worst == 0, rec.get("error")
+    octopod, dev = rec["result"]["devices"]
+    assert octopod["reachable_poses"] > 0 and dev["reachable_poses"] == 0
+    iso = dev["isotropy"]
+    assert iso["gii"] is None and iso["sigma_min"] is None and iso["sigma_max"] is None
+    assert all(c["held"] is None for c in dev["criteria"])
+    assert [c["value"]["note"] for c in dev["criteria"]] == \
+        ["undecided: no reachable pose"] * 6
+    table4 = [ln for ln in text.splitlines() if ln.startswith("| Hunt-type | yes |")]
+    assert table4 and table4[0].split(" | ")[2] == "—"
+    hunt = next(ln for ln in text.splitlines() if ln.strip().startswith("Hunt-type: 1)"))
+    assert "not compared: Octopod" in hunt and "NOT held" not in hunt
+    assert "Hunt-type: reaches no pose of its grid" in text
+    json.dumps(rec["result"], allow_nan=False)     # None, not NaN or "inf"
     rec, text, worst = _run(
         tmp_path, '{ label = "Octopod", preset = "octopod", rotation = 20 }, '
                   '{ label = "Hunt-type", preset = "hunt", rotation = 20 }',
         "{ half = 5000, step = 10000, rotation_step = 20 }")
-    assert worst == 0, rec.get("error")
-    for dev in rec["result"]["devices"]:
-        assert dev["reachable_poses"] == 0
-        iso = dev["isotropy"]
-        assert iso["gii"] is None and iso["sigma_min"] is None and iso["sigma_max"] is None
-        assert all(c["held"] is None for c in dev["criteria"])
-        assert [c["value"]["note"] for c in dev["criteria"]] == \
-            ["undecided: no reachable pose"] * 6
-    table4 = [ln for ln in text.splitlines() if ln.startswith("| Octopod | yes |")]
-    assert table4 and table4[0].split(" | ")[2] == "—"
-    hunt = next(ln for ln in text.splitlines() if ln.strip().startswith("Hunt-type: 1)"))
-    assert "not compared: Octopod" in hunt and "NOT held" not in hunt
-    json.dumps(rec["result"], allow_nan=False)     # None, not NaN or "inf"
+    assert worst == 2 and rec["error"]["kind"] == "infeasible"
+    assert "got none that does (Octopod: home z = " in rec["error"]["message"]
