@@ -16,7 +16,8 @@ from __future__ import annotations
 __all__ = ["module_text", "scene_module", "pairs_of"]
 
 CHUNK = 4096
-_MODEL_FILES = ("geometry/cayley_menger.py", "codegen/emit.py", "codegen/cayley_menger_scene.py")
+_MODEL_FILES = ("geometry/cayley_menger.py", "codegen/emit.py", "codegen/cayley_menger_scene.py",
+                "codegen/checks.py")
 
 
 def pairs_of(determinants) -> tuple:
@@ -46,7 +47,8 @@ def module_text(determinants, flavours, *, generator, title) -> str:
             "sq : {shape} squared distances s(i,j) of the pairs PAIRS, in that order\n"
             "(squared length units).  Returns {out} determinants, in the order above.")
     kernels = [Kernel("determinants" + _SUFFIX[f], (("sq", tuple(sym[p] for p in pairs)),),
-                      outs, flavour=f, extra={"cse_optimizations": None, "chunk": CHUNK},
+                      outs, flavour=f, extra={"cse_optimizations": None, "chunk": CHUNK,
+                                             "checked": True, "nonnegative": True},
                       doc=body.format(names=", ".join(names),
                                       shape="(..., P)" if f == "batched" else "(P,)",
                                       out="(..., K)" if f == "batched" else "a list of K"))
@@ -55,6 +57,8 @@ def module_text(determinants, flavours, *, generator, title) -> str:
            "Inputs are squared distances (not the scene's points, which are the whole input\n"
            "of a cayley_menger query: substituting them would leave constants).  Batched\n"
            "kernels take (..., P) arrays; the scalar one (suffix _scalar) a sequence.\n"
+           "Inputs are converted to float64 first; a wrong shape or a negative squared\n"
+           "distance is a ValueError naming it.\n"
            "Needs only numpy.  Float64 evaluation of the exact expanded polynomials: for\n"
            "exact values use distkin's certified tier.")
     return module_source(kernels, generator=generator, doc=doc,

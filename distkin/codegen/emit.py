@@ -41,6 +41,8 @@ import hashlib
 import platform
 from dataclasses import dataclass, field
 
+from .checks import helpers, prologue
+
 __all__ = ["Kernel", "kernel_source", "module_source", "symbolic_hash", "FLAVOURS"]
 
 FLAVOURS = ("batched", "scalar", "loop", "exact", "arb")
@@ -70,7 +72,10 @@ class Kernel:
         of this many rows, every input sliced alike along its first axis);
         ``prelude`` (a sequence of (symbol, expression in the inputs): assigned in order
         after the inputs are read, so that the output may use the symbols as
-        intermediate variables instead of the expressions substituted into it).
+        intermediate variables instead of the expressions substituted into it);
+        ``checked`` (batched and scalar flavours: the inputs converted to float and their
+        shapes checked first, :mod:`.checks`; the scene modules' kernels) and
+        ``nonnegative`` (with ``checked``: inputs that are squared lengths).
     """
 
     name: str
@@ -401,6 +406,7 @@ def kernel_source(k: Kernel, integers: dict | None = None) -> str:
         doc += ("\n\nLoop flavour: row n of every input (N, k) -> row n of ``_out`` (N, ...),"
                 "\nfor numba (plain Python here: slow uncompiled).")
     lines.append('    """' + doc.replace("\n", "\n    ") + '\n    """')
+    lines += prologue(k)        # float64 and shape checks of a checked kernel (.checks)
     chunk = k.extra.get("chunk") if k.flavour == "batched" else None
     if chunk:
         # large 2-D batches run in chunks whose temporaries stay in the CPU cache (about
@@ -530,6 +536,8 @@ def module_source(kernels, *, generator: str, doc: str, source_hash: str,
                  "    return (", *[f"        _A({n})," for n in integers], "    )", "", "",
                  "_Z = _integers(_A)"]
     out = "\n".join(head + imports + body) + "\n"
+    for _, text in helpers(kernels):
+        out += "\n\n" + text
     for text in texts:
         out += "\n\n" + text
     for _, text in functions:

@@ -53,7 +53,8 @@ CHUNK = 4096
 
 #: the sources a module depends on (the cache key); delta/transform.py derives eq. (8)
 _MODEL_FILES = ("octahedral/banana.py", "octahedral/octic.py", "codegen/octic.py",
-                "codegen/emit.py", "codegen/octahedral_scene.py", "delta/transform.py")
+                "codegen/emit.py", "codegen/octahedral_scene.py", "delta/transform.py",
+                "codegen/checks.py")
 
 _DOCS = {
     "l_squared": "Squared l-legs l1^2..l6^2 of the equivalent octahedral manipulator,\n"
@@ -197,7 +198,10 @@ def module_text(sides2, names, flavours, *, leg_map=None, generator, title,
         for n in names:
             doc = _DOCS[n].format(names=", ".join(PART_NAMES))
             doc += f"\n\n{what if flavour == 'batched' else what.replace('(..., 6)', '(6,)')}"
-            extra = {"cse_optimizations": None, "chunk": CHUNK}
+            # checked: float64 inputs of shape (..., 6), >= 0 (.checks); the octic of
+            # the package's own solver is the internal octic_general, not these
+            extra = {"cse_optimizations": None, "chunk": CHUNK, "checked": True,
+                     "nonnegative": True}
             if leg_map is not None and n != "l_squared":
                 extra["prelude"] = _prelude(leg_map)
             kernels.append(Kernel(n + _SUFFIX[flavour], inputs, outs[n], flavour=flavour,
@@ -208,6 +212,8 @@ def module_text(sides2, names, flavours, *, leg_map=None, generator, title,
            f"Squared sides substituted exactly before CSE: {sides_text}.\n"
            f"Inputs: {what}.\n"
            "Batched kernels take (..., 6) arrays; scalar ones (suffix _scalar) 6 floats.\n"
+           "Inputs are converted to float64 first; a wrong shape or a negative squared\n"
+           "length is a ValueError naming it.\n"
            "Needs only numpy.  Coefficients are float64 evaluations of exact expressions;\n"
            "the octic is ill-conditioned near clustered roots (docs/design.md §5): for a\n"
            "certified root count use distkin's certified tier.")

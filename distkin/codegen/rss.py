@@ -36,8 +36,46 @@ _DOCS = {
                 "Phi_i = (|P_i - D_i(q_i)|^2 - l3^2) / (2 l3) in m (about the length error)."),
 }
 
+#: the docstrings of a table of prismatic legs (SPS, UPS; distkin.mechanisms.symbolic)
+_DOCS_PRISMATIC = {
+    "ik": ("Closed-form IK of prismatic legs (distkin.mechanisms.symbolic).\n\n"
+           "pose: (x, y, z) m, (rx, ry, rz) rad, R = Rz Ry Rx.  Returns the L leg\n"
+           "lengths q_i = |P_i - B_i| (m)."),
+    "reach": ("Stroke margins, one per leg (m^2): (q - qmin)(qmax - q) of the leg length q\n"
+              "for a leg with a stroke range, q^2 for one without; a leg closes iff its\n"
+              "margin is >= 0."),
+    "jacobian": ("J = Jq^-1 Jx (eqs. (1)-(2)), L x 6: qdot = J (v, omega), qdot in m/s (leg\n"
+                 "length rates), v in m/s, omega in rad/s (base frame); row i is the\n"
+                 "normalised Plücker line of leg i (Rojas et al., eq. (5))."),
+    "jq_jx": ("[Jq_ii, Jx_i] per leg, L x 7 (eq. (1): Jq qdot = Jx (v, omega)); Jq is\n"
+              "diagonal, Jq_ii = dPhi_i/dq_i = -1, Jx = -dPhi/d(v, omega)."),
+    "closure": ("[Phi_i, dPhi_i/d(v, omega)] per leg, L x 7, for forward kinematics.\n"
+                "Phi_i = (|P_i - B_i|^2 - q_i^2) / (2 q_i) in m (about the length error),\n"
+                "q_i the leg length (m)."),
+}
+
+
+def _docs(desc) -> dict:
+    """kernel name -> docstring for the leg table of ``desc``: revolute legs
+    (:data:`_DOCS`), prismatic legs (:data:`_DOCS_PRISMATIC`), or, for a table of both,
+    each with the legs it holds for (0-based, the rows of ``LEGS``)."""
+    prismatic = [i for i, leg in enumerate(desc.leg_table) if leg.prismatic]
+    if not prismatic:
+        return _DOCS
+    if len(prismatic) == desc.L:
+        return _DOCS_PRISMATIC
+    revolute = [i for i in range(desc.L) if i not in prismatic]
+    head = {"ik": "IK per leg: crank angles (rad) or leg lengths (m).",
+            "reach": "Reach margins per leg (m^2).",
+            "jacobian": "J = Jq^-1 Jx (eqs. (1)-(2)), L x 6, per leg as below.",
+            "jq_jx": "[Jq_ii, Jx_i] per leg, L x 7, per leg as below.",
+            "closure": "[Phi_i, dPhi_i/d(v, omega)] per leg, L x 7, per leg as below."}
+    return {n: (f"{head[n]}\n\nRevolute legs {revolute} (0-based rows of LEGS):\n{_DOCS[n]}"
+                f"\n\nPrismatic legs {prismatic}:\n{_DOCS_PRISMATIC[n]}") for n in _DOCS}
+
+
 _MODEL_FILES = ("mechanisms/symbolic.py", "mechanisms/legs.py", "codegen/rss.py",
-                "codegen/emit.py")
+                "codegen/emit.py", "codegen/checks.py")
 
 #: scene query type -> the kernels it needs ("model only what a scene requires")
 QUERY_KERNELS = {
@@ -53,10 +91,11 @@ def _expressions(mech, names, exact=False):
     return me, {n: me.get(n) for n in names}
 
 
-def _kernel_list(L, exprs, flavours):
+def _kernel_list(desc, exprs, flavours, checked=False):
     import sympy as sp
     from ..mechanisms.symbolic import POSE, q_symbols
     from .emit import Kernel
+    L, docs = desc.L, _docs(desc)
     out = []
     # the batched flavour brings the loop twins of LOOP_KERNELS (emit: "loop")
     flavours = list(flavours) + (["loop"] if "batched" in flavours else [])
@@ -72,13 +111,16 @@ def _kernel_list(L, exprs, flavours):
             if M.shape[1] == 1:
                 output = sp.Matrix(output).T.tolist()[0]
             name = n + _SUFFIX[flavour]
-            out.append(Kernel(name, inputs, output, flavour=flavour, doc=_DOCS[n],
-                              extra={"cse_optimizations": None, "chunk": CHUNK}))
+            # checked: the scene modules' inputs as float64 of the expected shape
+            # (.checks); not the internal modules, whose scalar forms numba compiles
+            out.append(Kernel(name, inputs, output, flavour=flavour, doc=docs[n],
+                              extra={"cse_optimizations": None, "chunk": CHUNK,
+                                     "checked": checked}))
     return out
 
 
 def module_text(mech, names=KERNELS, flavours=FLAVOURS, *, generator=GENERATOR,
-                title=None, timings=None) -> str:
+                title=None, timings=None, checked=False) -> str:
     """Source of a kernel module for ``mech`` (only the kernels ``names``), built from its
     leg table (``mech.leg_description()``: the same legs give the same module body).
 
@@ -96,6 +138,9 @@ def module_text(mech, names=KERNELS, flavours=FLAVOURS, *, generator=GENERATOR,
         Filled with seconds spent per step: ``substitute`` (parameters into the leg
         model), ``differentiate``, ``assemble`` (IK, J = Jq^-1 Jx, ...), ``hash``,
         ``cse_and_print`` (common-subexpression elimination and printing).
+    checked : bool
+        The kernels convert their inputs to float64 and check their shapes first
+        (:mod:`.checks`): the user-facing scene modules (:func:`scene_module`).
     """
     import sympy as sp
 
@@ -108,7 +153,7 @@ def module_text(mech, names=KERNELS, flavours=FLAVOURS, *, generator=GENERATOR,
     t_start = time.perf_counter()
     desc = mech.leg_description()
     me, exprs = _expressions(mech, names, exact)
-    kernels = _kernel_list(desc.L, exprs, flavours)
+    kernels = _kernel_list(desc, exprs, flavours, checked)
     t0 = time.perf_counter()
     # the symbolic source: the leg closures Phi_i(q, P) with the leg's numbers, P_i(pose),
     # the branches and ranges, from which every kernel is derived deterministically
@@ -128,6 +173,9 @@ def module_text(mech, names=KERNELS, flavours=FLAVOURS, *, generator=GENERATOR,
            f"{what}.\n"
            "Batched kernels take (..., 6) poses; scalar ones (suffix _scalar) plain floats.\n"
            "Poses: (x, y, z) m, (rx, ry, rz) rad with R = Rz Ry Rx.  Needs only numpy.")
+    if checked:
+        doc += ("\nInputs are converted to float64 first; a wrong shape is a ValueError "
+                "naming it.")
     if exact:
         doc = (f"{title or 'Kernels of a parallel mechanism'} ({cite}), "
                "arb flavour.\n\n"
@@ -226,11 +274,12 @@ def scene_module(scene, flavours=FLAVOURS):
         from ..errors import InputError
         raise InputError(f"expected a query that needs kernels ({', '.join(QUERY_KERNELS)}), "
                          f"got {[q.type for q in scene.queries]}", field="query")
-    gen = f"distkin codegen {Path(scene.path).name}"
+    gen = (f"distkin codegen {Path(scene.path).name} (distkin.codegen.rss; derivation: "
+           "derivations/rss_model.py)")
     key = source_key(_model_source_text(), repr(mech.leg_description().key()), names,
                      flavours, gen)
     path, hit = cached_source(_prefix(mech), key, lambda: module_text(
-        mech, names, flavours, generator=gen,
+        mech, names, flavours, generator=gen, checked=True,
         title=f"Kernels of scene {Path(scene.path).name} ({mech.name})"))
     return path.read_text(encoding="utf-8"), hit
 
