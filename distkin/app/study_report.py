@@ -232,6 +232,22 @@ _NOTES = (
     "true-set rows give the worst case of {ẋ : |Jẋ|∞ <= q̇max}.")
 
 
+def _units_block(actuators) -> dict:
+    """The units of the study JSON's fields that carry none in their name or entry
+    (QA V: worst poses, actuator figures and dexterous-workspace thresholds had none;
+    the table rows carry theirs, ``table[q]["unit"]``)."""
+    from ..indices.actuators import KEY_UNITS
+    return {"actuators": {k: KEY_UNITS.get(k, "see actuator_limits.units")
+                          for k in actuators},
+            "devices[].worst_poses": "x, y, z in m, rx, ry, rz in rad: the grid pose of "
+                                     "each row's minimum",
+            "devices[].worst_force_pose": "m, rad",
+            "devices[].dexterous_workspace.thresholds": {"velocity": "m/s",
+                                                         "acceleration": "m/s²",
+                                                         "force": "N"},
+            "devices[].rotation_deg": "deg", "seconds": "s (wall)"}
+
+
 def _refuse_unreachable(summaries, grids, scene):
     """A study none of whose devices reaches a pose of its grid has no capability to
     report: an InfeasibleError (exit 2, "a query whose data admit no answer"), naming each
@@ -360,7 +376,7 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
               "actuators": actuators, "scaling": list(p.scaling),
               "sensitivity": p.sensitivity,
               "grid": {s["label"]: grids[s["label"]][0].as_dict() for s in summaries},
-              "markdown": tables}
+              "markdown": tables, "unit": _units_block(actuators)}
 
     def plot(stem):
         return _plots(stem, grids, per_all, summaries, actuators, tables, result, certs,

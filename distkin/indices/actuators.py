@@ -21,13 +21,16 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["REVOLUTE_KEYS", "PRISMATIC_KEYS", "leg_limits", "uniform_limits", "limit_text",
+__all__ = ["REVOLUTE_KEYS", "PRISMATIC_KEYS", "KEY_UNITS", "leg_limits", "uniform_limits", "limit_text",
            "per_leg_capabilities"]
 
 #: the keys of the actuators table for revolute and for prismatic legs (same order:
 #: nominal effort, stall effort, rate)
 REVOLUTE_KEYS = ("nominal_torque", "stall_torque", "velocity")
 PRISMATIC_KEYS = ("nominal_force", "stall_force", "speed")
+#: the unit of each actuator figure (a scene's ``actuators`` table, the study's JSON)
+KEY_UNITS = {"nominal_torque": "N·m", "stall_torque": "N·m", "velocity": "rad/s",
+             "nominal_force": "N", "stall_force": "N", "speed": "m/s"}
 _UNITS = {"nominal_torque": "N·m", "stall_torque": "N·m", "velocity": "rad/s",
           "nominal_force": "N", "stall_force": "N", "speed": "m/s"}
 

@@ -151,3 +151,24 @@ def test_a_device_that_reaches_nothing_has_no_gii_and_undecided_criteria(tmp_pat
         "{ half = 5000, step = 10000, rotation_step = 20 }")
     assert worst == 2 and rec["error"]["kind"] == "infeasible"
     assert "got none that does (Octopod: home z = " in rec["error"]["message"]
+
+
+def test_study_json_says_the_units_of_unlabelled_fields(tmp_path):
+    """QA V: the worst poses, the actuator figures and the dexterous-workspace thresholds
+    had no unit.  Every key of those gets one, and a worst pose is a pose of the grid in
+    m and rad (reference: the grid's own axes, from its JSON, in m)."""
+    rec, _, worst = _run(tmp_path, '{ label = "Hunt-type", preset = "hunt", rotation = 20 }',
+                         "{ half = 75, step = 75, rotation_step = 20 }")
+    assert worst == 0, rec.get("error")
+    res = rec["result"]
+    unit = res["unit"]
+    assert set(unit["actuators"]) == set(res["actuators"]) and \
+        unit["actuators"]["nominal_torque"] == "N·m"
+    dev = res["devices"][0]
+    assert set(unit["devices[].dexterous_workspace.thresholds"]) == \
+        set(dev["dexterous_workspace"]["thresholds"])
+    g = res["grid"]["Hunt-type"]
+    for pose in dev["worst_poses"].values():
+        assert any(abs(pose[0] - v) < 1e-12 for v in g["x_m"])
+        assert any(abs(pose[3] - v) < 1e-12 for v in g["rx_rad"])
+    assert unit["devices[].worst_poses"].startswith("x, y, z in m, rx, ry, rz in rad")

@@ -211,8 +211,6 @@ def _grid(raw, units, field, centre, rotation, scale, *, max_poses=MAX_GRID_POSE
     return PoseGrid(*(tuple(c[i] + (tr if i < 3 else rr)) for i in range(6)))
 
 
-_ACT_UNITS = {"nominal_torque": "N·m", "stall_torque": "N·m", "velocity": "rad/s",
-              "nominal_force": "N", "stall_force": "N", "speed": "m/s"}
 
 
 def _check_actuators(given, devices, field):
@@ -221,7 +219,7 @@ def _check_actuators(given, devices, field):
     figures are given in part would be completed silently (refused, naming the missing
     key).  The revolute figures default to the paper's (Sec. III-B-3) only when none is
     given; a leg's own ``limit`` stands for its nominal effort."""
-    from ...indices.actuators import PRISMATIC_KEYS, REVOLUTE_KEYS
+    from ...indices.actuators import KEY_UNITS, PRISMATIC_KEYS, REVOLUTE_KEYS
     present, own = set(), {False: True, True: True}   # own: every leg of the type has a limit
     for d in devices:
         legs = getattr(d.mech, "leg_table", None)
@@ -245,7 +243,7 @@ def _check_actuators(given, devices, field):
         if missing:
             default = (" (the paper's figures, 2.5 N·m, 34.2 N·m and 51 rad/s, are the "
                        "defaults only when no revolute figure is given)" if not pris else "")
-            raise InputError(f"expected {missing[0]} ({_ACT_UNITS[missing[0]]}) beside "
+            raise InputError(f"expected {missing[0]} ({KEY_UNITS[missing[0]]}) beside "
                              f"{', '.join(mine)} for the {kind} legs, got nothing{default}",
                              field=f"{field}.{missing[0]}")
 
