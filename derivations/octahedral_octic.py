@@ -7,8 +7,8 @@ III and VI, eqs. (1)-(3), (10), (11).  Run from the repository root::
 
 Every step prints what was derived and asserts a check: symbolic identities, exact
 rational checks on random assembled octahedra, and the paper's printed example.
-``--full`` also expands F + u v G and the octic with every length symbolic (about a
-minute; the octic is cached) and compares the latter, specialised to the paper's example,
+``--full`` also expands F + u v G and the octic with every length symbolic (one to two
+minutes; the octic is cached) and compares the latter, specialised to the paper's example,
 with the generated kernel.  ``--help`` lists the options; an unknown option is refused
 (exit status 2).  Exit status 0 means every check passed.
 """
@@ -59,16 +59,17 @@ def _sqd(P):
             for i in range(1, 7) for j in range(i + 1, 7)}
 
 
-def _cm_det(points):
-    """D(points) from the paper's definition (Sec. II, after eq. (1)): the bordered
+def _cm_det(points, cols=None):
+    """D(points; cols) from the paper's definition (Sec. II, after eq. (1)): the bordered
     determinant of the squared distances, built here from the symbols (a route
     independent of :mod:`distkin.geometry.cayley_menger`)."""
+    cols = points if cols is None else cols
     n = len(points)
     M = sp.zeros(n + 1, n + 1)
     for a in range(1, n + 1):
         M[0, a] = M[a, 0] = 1
         for c in range(1, n + 1):
-            i, j = points[a - 1], points[c - 1]
+            i, j = points[a - 1], cols[c - 1]
             M[a, c] = 0 if i == j else S[(min(i, j), max(i, j))]
     return sp.expand(M.det(method="berkowitz"))
 
@@ -110,6 +111,8 @@ def step_bananas(banana=banana) -> None:
         check(sp.expand(b.tetra_a - _cm_det(b.face + (2,))) == 0
               and sp.expand(b.tetra_b - _cm_det(b.face + (6,))) == 0,
               f"the radicands are D({face},2) and D({face},6) of the definition")
+        check(sp.expand(b.bideterminant - _cm_det(b.face + (2,), b.face + (6,))) == 0,
+              f"the bideterminant is D({face},2;{face},6) of the definition")
         jac = sp.expand(b.constant ** 2 - b.tetra_a * b.tetra_b + b.coefficient * b.pentad)
         check(jac == 0, f"Jacobi identity b{k}^2 - D({face},2) D({face},6) = "
                         f"-D({face}) D({face},2,6)|s26=0")
@@ -363,7 +366,7 @@ def parse_args(argv=None):
                     "status 0 means every check passed.")
     ap.add_argument("--full", action="store_true",
                     help="also expand F + u v G and the octic with every length symbolic "
-                         "(about a minute) and compare the octic, specialised to the "
+                         "(one to two minutes) and compare the octic, specialised to the "
                          "example, with the generated kernel")
     return ap.parse_args(argv)
 
