@@ -6,11 +6,14 @@ IV-VI.  Run from the repository root::
     python derivations/delta_transform.py
 
 Every step prints what was derived and asserts a check against the paper's printed
-formula or an independent route.  Exit status 0 means every check passed.
+formula or an independent route.  ``--help`` describes the script; any argument other
+than ``-h``/``--help`` is refused (exit status 2).  Exit status 0 means every check
+passed.
 """
 
 from __future__ import annotations
 
+import argparse
 import random
 import sys
 from fractions import Fraction
@@ -44,7 +47,18 @@ def check(cond, what):
     print(f"   ok: {what}")
 
 
-def main() -> None:
+def parse_args(argv=None):
+    ap = argparse.ArgumentParser(
+        prog="delta_transform.py",
+        description="Derive and check the Delta-transform algebra and the singularity "
+                    "identities step by step: Rojas, Borràs, Thomas, The Octahedral "
+                    "Manipulator Revisited (ICRA 2012), Secs. IV-VI, eqs. (4)-(9) and "
+                    "the Sec. VI example.  Exit status 0 means every check passed.")
+    return ap.parse_args(argv)
+
+
+def main(argv=None) -> None:
+    parse_args(argv)
     # ---------------------------------------------------------------- eq. (7)
     step("1. eq. (7) from the vanishing Cayley-Menger determinant D(1,2,3,4)")
     eq = derive_eq7()
@@ -54,7 +68,17 @@ def main() -> None:
     print(f"   L = {eq.relation}")
     printed7 = delta * s23 + (d - delta) * s13 - d * s34 - d * delta * (d - delta)
     check(sp.expand(eq.relation - printed7) == 0, "L equals the paper's eq. (7) exactly")
-    check(sp.expand(eq.cm + 2 * eq.relation ** 2) == 0, "D(1,2,3,4) + 2 L^2 == 0")
+    # D(1,2,3,4) from the paper's definition (Sec. II): the bordered determinant of the
+    # squared distances, built here, not by derive_eq7 (whose cm produced L)
+    sq = {(1, 2): d ** 2, (1, 3): s13, (2, 3): s23, (1, 4): delta ** 2,
+          (2, 4): (d - delta) ** 2, (3, 4): s34}
+    M = sp.Matrix(5, 5, lambda i, j: 0 if i == j else 1 if 0 in (i, j)
+                  else sq[(min(i, j), max(i, j))])
+    d1234 = sp.expand(M.det(method="berkowitz"))
+    check(sp.expand(eq.cm - d1234) == 0,
+          "derive_eq7's determinant is D(1,2,3,4) of the definition (bordered, built here)")
+    check(sp.expand(d1234 + 2 * printed7 ** 2) == 0,
+          "D(1,2,3,4) + 2 L^2 == 0 with the printed eq. (7) as L")
     print(f"   s34 = {eq.s34}   (affine in s13, s23)")
 
     # ---------------------------------------------------------------- A and b
@@ -138,7 +162,7 @@ def main() -> None:
     print("   x^2 + xy + y^2 = (x + y/2)^2 + 3y^2/4 >= 0, zero only at x = y = 0:")
     pts = sp.solve([x, y], [D1, D2], dict=True)
     print(f"   real zeros of the quadratic factor: {pts}")
-    check(all(sp.simplify(lin[0].subs(p)) == 0 for p in pts), "both lie on the line")
+    check(len(pts) == 2 and all(sp.simplify(lin[0].subs(p)) == 0 for p in pts), "both lie on the line")
     print("   => real architecturally singular locus: the line Delta1 + 2 Delta2 = 12")
     for t in [R(1, 2), R(3), R(6), R(12, 5), R(9), R(23, 2)]:
         sub = {D1: t, D2: (12 - t) / 2}

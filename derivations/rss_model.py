@@ -1,6 +1,7 @@
 """Derivation of the RSS/RRRS leg model used by distkin.mechanisms (Kühne et al., Sec. II-C).
 
-Run ``python derivations/rss_model.py``.  It prints the generic leg closure and checks,
+Run ``python derivations/rss_model.py`` (``--help`` describes it; any other argument is
+refused with exit status 2).  It prints the generic leg closure and checks,
 symbolically where the algebra is generic and numerically per preset:
 
 1. the closure Phi = (|P - D(q)|^2 - l3^2)/(2 l3) equals (C - A cos q - B sin q) l1/l3
@@ -27,6 +28,7 @@ skips; the script ends with "all checks passed".
 
 from __future__ import annotations
 
+import argparse
 import math
 import sys
 from pathlib import Path
@@ -46,7 +48,19 @@ def check(cond, what):
     print(f"   ok: {what}")
 
 
-def main():
+def parse_args(argv=None):
+    ap = argparse.ArgumentParser(
+        prog="rss_model.py",
+        description="Derive and check the RSS/RRRS leg model of distkin.mechanisms "
+                    "(Kühne et al., Design and Evaluation of a Haptic Interface With Octopod "
+                    "Kinematics, Sec. II-C, eqs. (1)-(2)): the closure, its "
+                    "closed-form IK, the branch, the generated kernels and the exact "
+                    "model.  Exit status 0 means every check passed.")
+    return ap.parse_args(argv)
+
+
+def main(argv=None):
+    parse_args(argv)
     g = generic_leg()
     l0, l1, l2, l3, lp, ld = g["params"]
     q, P = g["q"], g["P"]
