@@ -111,7 +111,7 @@ def _fmt_matrix(M):
 class DeltaTransformQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
-        from ...delta import delta_transform
+        from ...delta import check_offsets, delta_transform
         check_keys(table, {"type", "offsets", "m_legs", "solve", "method", "dps"}, field)
         if "offsets" in table:
             offs = parse_vector(table["offsets"], f"{field}.offsets", length=6,
@@ -122,6 +122,9 @@ class DeltaTransformQuery:
             raise InputError("missing required field 'offsets' (delta1..delta6)",
                              field=f"{field}.offsets")
         tr = delta_transform(mechanism, offs, field=f"{field}.offsets")
+        # 0 < delta_i < d_i for every numeric offset, as kind = "platform66" and the
+        # singularity query check them (QA V 3); a symbol is a parameter
+        check_offsets(tr, field=f"{field}.offsets")
         tr.check_regular(field=f"{field}.offsets")
         m_legs = None
         if "m_legs" in table:
