@@ -9,8 +9,8 @@ kinematics; the approximations of Fig. 2 (b)-(d) and what their offsets cost
 
 from .transform import (RowSpec, ROWS, SIDE_NAMES, Eq7, derive_eq7, delta_matrices,
                         side_lengths, DeltaTransform, delta_transform)
-from .platform66 import (Platform66, equivalent_platform, forward_kinematics66, Pose66,
-                         FK66Result)
+from .platform66 import (Platform66, equivalent_platform, check_offsets,
+                         forward_kinematics66, Pose66, FK66Result)
 from .approximations import (KINDS, octahedral_as_66, standard_approximation,
                              stoughton_arai_approximation, griffis_duffy_approximation,
                              approximation, joint_offsets)
@@ -29,6 +29,7 @@ __all__ = [
     "delta_transform",
     "Platform66",
     "equivalent_platform",
+    "check_offsets",
     "forward_kinematics66",
     "Pose66",
     "FK66Result",

@@ -49,6 +49,21 @@ def _quotient(num, den):
     return num / den
 
 
+def _readable(x, digits: int = 6, width: int = 40) -> str:
+    """A constant sympy number ``x`` for a message: its exact form and its value when
+    the exact form has at most ``width`` characters, else its value only and the length
+    of the exact form; the value to ``digits`` significant digits, from sympy's
+    arbitrary-precision evaluation, so that a number beyond float64 (a squared leg of
+    1e400) keeps its digits and exponent: never ``inf``."""
+    import mpmath
+    import sympy as sp
+    text = str(x)
+    approx = mpmath.nstr(mpmath.mpf(sp.Float(sp.N(x, digits + 5))), digits)
+    if len(text) <= width:
+        return f"{text} (= {approx})"
+    return f"{approx} (exact form of {len(text)} characters)"
+
+
 def _is_zero(x) -> bool:
     """True only when the constant ``x`` is exactly 0: structurally, or (when sympy's
     sign test cannot decide) proved by :meth:`sympy.Expr.equals`; a nonzero value,

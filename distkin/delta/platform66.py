@@ -17,12 +17,13 @@ import numpy as np
 from ..errors import DegenerateGeometryError, InputError
 from ..exact import METHODS_AUTO, check_method, default_dps
 from .exact_input import (_as_sym, _base_platform, _check_leg_range, _exact_form,
-                          _float_legs, _sym_points)
+                          _float_legs, _readable, _sym_points)
 from .transform import ROWS, DeltaTransform, delta_transform
 
 __all__ = [
     "Platform66",
     "equivalent_platform",
+    "check_offsets",
     "forward_kinematics66",
     "Pose66",
     "FK66Result",
@@ -110,30 +111,35 @@ def equivalent_platform(octahedral, offsets) -> Platform66:
     if tr.free_symbols:
         raise InputError(f"expected numeric offsets to build a platform, got symbols "
                          f"{', '.join(map(str, tr.free_symbols))}", field="offsets")
-    _check_offsets(tr)
+    check_offsets(tr)
     tr.check_regular()
     base, platform = _base_platform(octahedral)
     return _build_platform(_sym_points(base, platform), tr)
 
 
-def _check_offsets(tr: DeltaTransform) -> None:
-    r"""Each :math:`\delta_i` strictly inside its edge, :math:`0 < \delta_i < d_i` (Rojas
-    et al., Sec. V, Fig. 6: the joint moves along the edge).  At an end the two joints of
-    a double-ball joint merge again (DegenerateGeometryError); beyond it the offset is
-    not one of a Δ-transform (InputError); both say the same."""
+def check_offsets(tr: DeltaTransform, field: str = "offsets") -> None:
+    r"""Each numeric :math:`\delta_i` strictly inside its edge, :math:`0 < \delta_i < d_i`
+    (Rojas et al., Sec. V, Fig. 6: the joint moves along the edge).  At an end the two
+    joints of a double-ball joint merge again (DegenerateGeometryError); beyond it the
+    offset is not one of a Δ-transform (InputError); both say the same.  A symbolic
+    offset (``Delta1``) is a parameter, not checked.  The one check of the offsets, at
+    load time, for ``kind = "platform66"``, its queries and ``delta_transform``
+    (``field``: where the scene has them)."""
     for spec, d, delta in zip(ROWS, tr.sides, tr.offsets):
+        if delta.free_symbols:
+            continue
         at_end = delta == 0 or _exact_form(delta - d) == 0
         if at_end or not (delta.is_positive and (d - delta).is_positive):
             cls = DegenerateGeometryError if at_end else InputError
             raise cls(f"expected 0 < delta{spec.row} < {spec.side} = {_show(d)} (length "
                       f"units) so that every joint is single and on its edge, got "
                       f"delta{spec.row} = {_show(delta)} (length units)",
-                      field=f"offsets[{spec.row - 1}]")
+                      field=f"{field}[{spec.row - 1}]")
 
 
 def _show(x) -> str:
     """An exact number for a message: as written when rational, else with its value."""
-    return str(x) if x.is_Rational else f"{x} (= {float(x):.10g})"
+    return str(x) if x.is_Rational and len(str(x)) <= 40 else _readable(x, 10)
 
 
 @lru_cache(maxsize=64)

@@ -46,7 +46,8 @@ import numpy as np
 
 from ..errors import DegenerateGeometryError, InfeasibleError, InputError
 from .exact_input import (_as_sym, _base_platform, _check_count, _check_leg_range,
-                          _exact_form, _float_legs, _is_zero, _quotient, _sym_points)
+                          _exact_form, _float_legs, _is_zero, _quotient, _readable,
+                          _sym_points)
 
 __all__ = [
     "RowSpec",
@@ -512,10 +513,11 @@ class DeltaTransform:
         bad = [(i, x) for i, x in enumerate(l_sq) if x.is_number and x.is_negative]
         zero = [i for i, x in enumerate(l_sq) if x.is_number and _is_zero(x)]
         if bad:
-            i, x = min(bad, key=lambda t: float(t[1]))
+            # (compared and shown by sympy's evaluation: float() overflows at 1e309)
+            i, x = min(bad, key=lambda t: sp.Float(sp.N(t[1], 15)))
             raise InfeasibleError(
-                f"expected non-negative squared l-legs, got l{i + 1}^2 = {x} "
-                f"(= {float(x):.6g}) squared length units after the inverse map of eq. (8)",
+                f"expected non-negative squared l-legs, got l{i + 1}^2 = {_readable(x)} "
+                f"squared length units after the inverse map of eq. (8)",
                 margin=float(x), field=f"{field}",
                 hint="no octahedral manipulator, hence no 6-6 pose, has these m-legs")
         if zero:

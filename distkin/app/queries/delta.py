@@ -17,10 +17,17 @@ Scene fields::
 The JSON result has ``A`` (rows of strings), ``b``, ``det``, ``det_factors`` (the
 irreducible factors, sympy syntax), ``det_constant``; with ``m_legs`` also
 ``mapped_squared_legs`` and ``mapped_legs`` (the l-legs, exact strings); with ``solve``
-the 6-6 poses, each checked on the 6-6 platform's own joints (``max_leg_error``).
+the 6-6 poses, each checked on the 6-6 platform's own joints (``max_leg_error``, null
+with no pose), and the octahedral solver's word on them, as the octahedral query gives
+it: ``certified``, ``conditioning`` (the fast tier's proof of its count, or why there is
+none; the text then warns that the count may be wrong), ``reason`` (why there is no
+pose) and ``notes`` (its warnings, said here rather than on stderr).
 
-Offsets that make A singular raise ``DegenerateGeometryError`` at load time, naming the
-vanishing factor; negative mapped squared lengths raise ``InfeasibleError`` in
+Numeric offsets outside 0 < delta_i < d_i (the joint leaves its edge, Fig. 6)
+are refused at load time, as for ``kind = "platform66"``: ``InputError``, or
+``DegenerateGeometryError`` at an end of the edge; a symbol is a parameter and is not
+checked.  Offsets that make A singular raise ``DegenerateGeometryError`` at load time,
+naming the vanishing factor; negative mapped squared lengths raise ``InfeasibleError`` in
 ``delta_transform`` (the map has no real value), while the ``platform66`` forward
 kinematics answers them: no pose (status ok, ``count`` 0, ``poses: []`` and the
 ``reason``; docs/design.md §4: a proved empty answer is an answer).
@@ -111,7 +118,7 @@ def _fmt_matrix(M):
 class DeltaTransformQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
-        from ...delta import delta_transform
+        from ...delta import check_offsets, delta_transform
         check_keys(table, {"type", "offsets", "m_legs", "solve", "method", "dps"}, field)
         if "offsets" in table:
             offs = parse_vector(table["offsets"], f"{field}.offsets", length=6,
@@ -122,6 +129,9 @@ class DeltaTransformQuery:
             raise InputError("missing required field 'offsets' (delta1..delta6)",
                              field=f"{field}.offsets")
         tr = delta_transform(mechanism, offs, field=f"{field}.offsets")
+        # 0 < delta_i < d_i for every numeric offset, as kind = "platform66" and the
+        # singularity query check them (QA V 3); a symbol is a parameter
+        check_offsets(tr, field=f"{field}.offsets")
         tr.check_regular(field=f"{field}.offsets")
         m_legs = None
         if "m_legs" in table:
@@ -252,25 +262,42 @@ def _flag_floats(legs, name, p, result, lines):
 
 
 def _solve(p, result, unit, ctx):
-    """Run the 6-6 forward kinematics, add it to ``result``; return text lines."""
+    """Run the 6-6 forward kinematics, add it to ``result``; return text lines.  The
+    octahedral solver's verdict on its count (``certified``, the fast tier's proof
+    ``conditioning``) and, with no pose, its ``reason`` are said as the octahedral query
+    says them (QA V 1, 2); its warnings go into the result (``notes``), not to stderr."""
+    import warnings
+
     import numpy as np
 
     from ...delta import forward_kinematics66
+    from ...errors import ConditioningWarning
     from ...singularity import jacobian_det
     if p.method in ("fast", "auto"):
         from ...octahedral.single import compile_notice
         ctx.notice(compile_notice())
-    fk = forward_kinematics66(p.mechanism, p.offsets, p.m_legs, method=p.method, dps=p.dps)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", ConditioningWarning)
+        fk = forward_kinematics66(p.mechanism, p.offsets, p.m_legs, method=p.method,
+                                  dps=p.dps)
     flt = lambda a: np.vectorize(float, otypes=[float])(np.asarray(a, dtype=object))  # noqa: E731
     bj = flt(fk.platform.base_joints)
     sq = f"{unit}^2" if unit else ""
-    tier = getattr(fk.octahedral, "tier", "") or p.method
+    octa = fk.octahedral
+    tier = getattr(octa, "tier", "") or p.method
     bound = " (rigorous arb bound)" if tier == "certified" else ""
+    cond = getattr(octa, "conditioning", None)
+    proof = cond if tier == "fast" else None     # (auto: the fast attempt's, if escalated)
+    n = len(fk.poses)
     poses = []
-    lines = [f"6-6 forward kinematics ({p.method}): {len(fk.poses)} poses; each checked on the "
-             f"6-6 platform's own joints"]
+    lines = [f"6-6 forward kinematics ({p.method}): {n} pose{'s' if n != 1 else ''}; "
+             + ("each checked on the 6-6 platform's own joints" if n else octa.reason)]
     if p.method == "auto":
-        lines.append(f"  answered by the {tier} tier: {fk.octahedral.tier_reason}")
+        lines.append(f"  answered by the {tier} tier: {octa.tier_reason}")
+    if proof is not None and not proof.trusted:
+        lines.append(f"  WARNING: {proof.reason}; the count may be wrong "
+                     "(use method = \"auto\" or \"certified\")")
+    lines.append(f"  the count: {_count_verdict(octa, proof)}")
     for k, pose in enumerate(fk.poses):
         R, t = flt(pose.rotation), flt(pose.translation)
         pj = flt(pose.platform_joints)
@@ -278,23 +305,45 @@ def _solve(p, result, unit, ctx):
         detj = float(jacobian_det(bj, pj))
         poses.append({"s15": s15, "rotation": R, "translation": t, "platform_joints": pj,
                       "max_leg_error": pose.max_leg_error, "det_J66": detj})
-        lines.append(f"  pose {k + 1:2d}: s15 = {s15:9.4f}{sq}, t = ({t[0]: .6f}, {t[1]: .6f}, "
-                     f"{t[2]: .6f}){unit}, det J66 = {detj: .3e}{unit + '^3' if unit else ''}, "
-                     "max |m-leg error| = "
+        # significant digits: a micrometre-scale scene keeps them (QA V 5)
+        lines.append(f"  pose {k + 1:2d}: s15 = {s15:.8g}{sq}, t = ({t[0]: .7g}, "
+                     f"{t[1]: .7g}, {t[2]: .7g}){unit}, det J66 = {detj: .3e}"
+                     f"{unit + '^3' if unit else ''}, max |m-leg error| = "
                      f"{pose.max_leg_error:.2e}{unit}")
     result["forward_kinematics"] = {
         "method": p.method,
         "tier": tier,
-        "count": len(fk.poses),
-        "max_leg_error": fk.max_leg_error,
+        "tier_reason": getattr(octa, "tier_reason", ""),
+        "count": n,
+        "certified": bool(octa.certified),
+        "conditioning": None if cond is None else cond.as_dict(),
+        "reason": octa.reason,
+        "notes": [str(w.message) for w in caught],
+        "max_leg_error": fk.max_leg_error if n else None,
         "base_joints": [[str(x) for x in b] for b in fk.platform.base_joints],
         "platform_joints_local": [[str(x) for x in q] for q in fk.platform.platform_joints],
         "poses": poses,
         "accuracy": "max_leg_error = max_k | |b_k - (R q_k + t)| - m_k | on the 6-6 joints"
                     + bound,
     }
-    lines.append(f"  worst m-leg residual over all poses: {fk.max_leg_error:.2e}{unit}{bound}")
+    if n:
+        lines.append(f"  worst m-leg residual over all poses: {fk.max_leg_error:.2e}{unit}"
+                     f"{bound}")
     return lines
+
+
+def _count_verdict(octa, cond) -> str:
+    """What proves the octahedral solver's count of poses, in the words of the
+    octahedral query's report (:mod:`.octahedral`); ``cond``: the fast tier's proof
+    when the fast tier answered, else None."""
+    if octa.certified:
+        return "certified"
+    if cond is not None and cond.trusted:
+        return ("proved by the fast tier (the assembly roots proved; the count outside "
+                "the feasible interval float64's)")
+    if cond is not None:
+        return f"not proved ({cond.reason})"
+    return f"not certified (the {octa.tier or octa.method} tier)"
 
 
 @register("forward_kinematics", mechanisms=("platform66",),
@@ -354,7 +403,7 @@ def _no_assembly66(p, scene, exc):
     reason = (f"cannot be assembled: {exc.message}: no octahedral manipulator, hence no 6-6 "
               f"pose, has these m-legs (proved exactly by the inverse map of eq. (8))")
     result = {"m_legs": [m.text for m in p.m_legs], "method": p.method, "tier": "exact",
-              "count": 0, "poses": [], "reason": reason}
+              "count": 0, "certified": True, "poses": [], "reason": reason}
     units = result_units(scene.units)
     result["unit"] = {k: units[k] for k in ("length", "m_legs")}
     lines = [f"6-6 forward kinematics ({p.method}): 0 poses; {reason}"]
