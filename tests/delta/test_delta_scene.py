@@ -120,6 +120,12 @@ def test_singular_offsets_api_and_cli(tmp_path):
 
 
 def test_infeasible_m_legs_api_and_cli(tmp_path, capsys):
+    """m-legs whose exact inverse map (eq. (8)) has a negative squared l-leg: no
+    octahedral manipulator, hence no 6-6 pose, has them.  Proved exactly, so an answer
+    (docs/design.md §4), as the platform66 forward kinematics gives it: mapped_legs
+    null, the reason, 0 poses (it was exit 2 "infeasible").  Reference: the exact solve
+    A l^2 = m^2 + b by sympy's LU, with a negative entry."""
+    import sympy as sp
     body = """
         [[query]]
         type = "delta_transform"
@@ -127,17 +133,22 @@ def test_infeasible_m_legs_api_and_cli(tmp_path, capsys):
         m_legs = [1, 1, 1, 1, 1, 30]
     """
     scene = loads_scene(_scene(body))
+    p = scene.queries[0].params
+    l_sq = p.transform.A.LUsolve(sp.Matrix([1, 1, 1, 1, 1, 900]) + sp.Matrix(p.transform.b))
+    assert min(l_sq) < 0
     from distkin.app.queries.delta import DeltaTransformQuery
-    with pytest.raises(InfeasibleError):
-        DeltaTransformQuery.run(scene.queries[0].params, scene, None)
+    res = DeltaTransformQuery.run(p, scene, None).result
+    assert res["mapped_legs"] is None and "non-negative squared l-legs" in res["reason"]
+    fk = res["forward_kinematics"]
+    assert fk["count"] == 0 and fk["poses"] == [] and fk["certified"] is True
     f = tmp_path / "infeasible.toml"
     f.write_text(_scene(body))
-    assert main(["run", str(f), "--json", str(tmp_path / "out.json")]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "negative" in err[0]
+    assert main(["run", str(f), "--json", str(tmp_path / "out.json")]) == 0
+    out = capsys.readouterr().out
+    assert "m-legs -> l-legs: none real; cannot be assembled" in out
     doc = json.loads((tmp_path / "out.json").read_text())
-    assert doc["queries"][0]["status"] == "error"
-    assert doc["queries"][0]["error"]["kind"] == "infeasible"
+    assert doc["queries"][0]["status"] == "ok"
+    assert doc["queries"][0]["result"]["forward_kinematics"]["reason"] == res["reason"]
 
 
 def test_bad_fields_are_rejected_at_load_time():

@@ -27,9 +27,9 @@ Numeric offsets outside 0 < delta_i < d_i (the joint leaves its edge, Fig. 6)
 are refused at load time, as for ``kind = "platform66"``: ``InputError``, or
 ``DegenerateGeometryError`` at an end of the edge; a symbol is a parameter and is not
 checked.  Offsets that make A singular raise ``DegenerateGeometryError`` at load time,
-naming the vanishing factor; negative mapped squared lengths raise ``InfeasibleError`` in
-``delta_transform`` (the map has no real value), while the ``platform66`` forward
-kinematics answers them: no pose (status ok, ``count`` 0, ``poses: []`` and the
+naming the vanishing factor; negative mapped squared lengths are an answer in ``delta_transform``
+(``mapped_legs`` null, the ``reason``; with ``solve`` a ``forward_kinematics`` of 0 poses,
+proved) as in the ``platform66`` forward kinematics: no pose (status ok, ``count`` 0, ``poses: []`` and the
 ``reason``; docs/design.md §4: a proved empty answer is an answer).
 
 Mechanism kind ``platform66`` (Fig. 6): the 6-6 platform given by its octahedral parent
@@ -195,8 +195,25 @@ class DeltaTransformQuery:
             lines.append("architecturally singular where a factor vanishes")
         else:
             lines.append("det(A) != 0: the equivalent 6-6 platform is not architecturally singular")
+        no_map = None
         if p.m_legs is not None:
-            l_sq, l = tr.map_legs(p.m_legs, field="m_legs")
+            try:
+                l_sq, l = tr.map_legs(p.m_legs, field="m_legs")
+            except InfeasibleError as exc:    # proved: no real l-leg, so no pose
+                if not (exc.margin is not None and exc.margin < 0):
+                    raise
+                no_map = _no_map_reason(exc)
+        if no_map is not None:
+            result["m_legs"] = [m.text for m in p.m_legs]
+            result["mapped_legs"] = None
+            result["reason"] = no_map
+            lines.append(f"m-legs -> l-legs: none real; {no_map}")
+            if p.solve:
+                result["forward_kinematics"] = {"method": p.method, "tier": "exact",
+                                                "count": 0, "certified": True,
+                                                "poses": [], "reason": no_map}
+                lines.append(f"6-6 forward kinematics ({p.method}): 0 poses (proved)")
+        elif p.m_legs is not None:
             result["m_legs"] = [m.text for m in p.m_legs]
             result["mapped_squared_legs"] = [sp.sstr(x) for x in l_sq]
             # exact forms, as they are (nsimplify would pass off a nearby "simple"
@@ -206,7 +223,7 @@ class DeltaTransformQuery:
             for i, (m, x) in enumerate(zip(result["m_legs"], result["mapped_legs"])):
                 shown = _shown(x, None if tr.free_symbols else l[i], unit)
                 lines.append(f"  m{i + 1} = {m}{unit}  ->  l{i + 1} = {shown}")
-        if p.solve:
+        if p.solve and no_map is None:
             lines += _solve(p, result, unit, ctx)
         if _family_ok(tr):
             lines += _family_finding(tr, result)
@@ -400,8 +417,7 @@ def _no_assembly66(p, scene, exc):
     (sympy, the scene's exact values), so it is an answer (docs/design.md §4): status ok,
     0 poses, the reason; as ``kind = "octahedral"`` reports legs that cannot be
     assembled."""
-    reason = (f"cannot be assembled: {exc.message}: no octahedral manipulator, hence no 6-6 "
-              f"pose, has these m-legs (proved exactly by the inverse map of eq. (8))")
+    reason = _no_map_reason(exc)
     result = {"m_legs": [m.text for m in p.m_legs], "method": p.method, "tier": "exact",
               "count": 0, "certified": True, "poses": [], "reason": reason}
     units = result_units(scene.units)
@@ -409,6 +425,13 @@ def _no_assembly66(p, scene, exc):
     lines = [f"6-6 forward kinematics ({p.method}): 0 poses; {reason}"]
     _flag_floats(p.m_legs, "legs", p, result, lines)
     return Outcome(result, "\n".join(lines))
+
+
+def _no_map_reason(exc) -> str:
+    """Why m-legs whose exact inverse map of eq. (8) has a negative squared l-leg have no
+    pose (``exc``: the InfeasibleError of ``map_legs``)."""
+    return (f"cannot be assembled: {exc.message}: no octahedral manipulator, hence no 6-6 "
+            f"pose, has these m-legs (proved exactly by the inverse map of eq. (8))")
 
 
 def _family_ok(tr) -> bool:
