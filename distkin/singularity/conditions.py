@@ -335,8 +335,13 @@ def _relative(num, den, kind, tets, what):
             return num / den
         idx = tuple(int(i) for i in np.argwhere(zero)[0]) if zero.ndim else ()
     elif type(den).__name__ == "arb" and not den > 0 and not den.is_zero():
+        near = [t for t, v in tets().items() if not (v > 0 or v < 0)]
+        names = ", ".join("P" + "P".join(map(str, t)) for t in near)
         raise UncertifiedError(f"expected the denominator of the relative {what} to exclude "
-                               f"0, got {den.str(5, radius=True)}", hint="raise the precision")
+                               f"0, got {den.str(5, radius=True)}: the balls of the "
+                               f"Cayley-Menger determinants of {names} contain 0 (flat "
+                               f"tetrahedra, or within the radius of flat; the relative value "
+                               f"may be 0/0)", hint="raise the precision")
     elif not _vanishes(den):
         return num / den
     else:
