@@ -208,7 +208,6 @@ def path_crossings(f, samples: int = 200, *, xtol: float = 1e-14, refine: bool =
     grid, values : arrays (samples,)
         The sampled function (for plots).
     """
-    from scipy.optimize import brentq
     grid = np.linspace(0.0, 1.0, samples)
     vals = np.asarray(f(grid), dtype=float)
     roots = []
@@ -218,7 +217,7 @@ def path_crossings(f, samples: int = 200, *, xtol: float = 1e-14, refine: bool =
         if a == 0.0:
             roots.append(float(grid[i]))
         elif a * b < 0:
-            roots.append(float(brentq(scalar, grid[i], grid[i + 1], xtol=xtol, rtol=1e-15)))
+            roots.append(_brent(scalar, grid[i], grid[i + 1], xtol))
     if vals[-1] == 0.0:
         roots.append(1.0)
     if refine:
@@ -227,10 +226,35 @@ def path_crossings(f, samples: int = 200, *, xtol: float = 1e-14, refine: bool =
     return roots, grid, vals
 
 
+def _brent(scalar, lo, hi, xtol):
+    """A root in [lo, hi] (a sign change) by Brent's method; where ``scalar`` is NaN
+    inside (a relative condition undefined, 0/0: QA V 2) by bisection, a NaN midpoint
+    being the place of the sign change (the condition's numerator is 0 there)."""
+    from scipy.optimize import brentq
+    try:
+        return float(brentq(scalar, lo, hi, xtol=xtol, rtol=1e-15))
+    except ValueError:
+        pass
+    lo, hi = float(lo), float(hi)
+    fl = scalar(lo)
+    while hi - lo > xtol:
+        mid = 0.5 * (lo + hi)
+        fm = scalar(mid)
+        if fm != fm:                     # NaN
+            return mid
+        if fm == 0.0:
+            return mid
+        if (fm < 0) == (fl < 0):
+            lo, fl = mid, fm
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
 def _root_pairs(scalar, grid, vals, xtol):
     """Root pairs between samples at the strict local minima of |f| (see
     :func:`path_crossings`)."""
-    from scipy.optimize import brentq, minimize_scalar
+    from scipy.optimize import minimize_scalar
     a, m, b = np.abs(vals[:-2]), np.abs(vals[1:-1]), np.abs(vals[2:])
     same = (vals[:-2] * vals[1:-1] > 0) & (vals[1:-1] * vals[2:] > 0)
     out = []
@@ -242,8 +266,7 @@ def _root_pairs(scalar, grid, vals, xtol):
         if not (res.fun < 0.0):
             continue
         x = float(res.x)
-        out += [float(brentq(scalar, lo, x, xtol=xtol, rtol=1e-15)),
-                float(brentq(scalar, x, hi, xtol=xtol, rtol=1e-15))]
+        out += [_brent(scalar, lo, x, xtol), _brent(scalar, x, hi, xtol)]
     return out
 
 

@@ -100,3 +100,11 @@ def test_certified_flat_pose_conditions_are_undefined_not_noise(tmp_path, capsys
     assert r["conditions_tier"].startswith("certified")
     assert "9.796e-01" not in out and "-1.000e+00" not in out
 
+
+
+def test_fast_flat_pose_conditions_are_undefined_not_noise(tmp_path, capsys):
+    r, out = _run(tmp_path, capsys, 'method = "fast"\n'
+                                    'pose = { translation = [3, 1, 0], rotation = [0, 0, 0] }\n')
+    for key in ("cm_condition_relative", "signed_cm_relative"):
+        assert r[key] is None and "rounding" in r["undefined"][key]
+    assert r["conditions_tier"].startswith("fast")
