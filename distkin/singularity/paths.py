@@ -355,21 +355,23 @@ def nearest_singularity(f, rotation, translation, length_scale: float, *,
     t0 = np.asarray(translation, dtype=float)
     L = float(length_scale)
 
-    def g(y):
-        y = np.atleast_2d(y)
-        R = rotation_from_vector(y[:, 3:] / L) @ R0
-        return np.asarray(f(R, t0 + y[:, :3]), dtype=float)
+    # the search runs in units of L (u = y / L: translations over L, rotation vectors
+    # as they are), so its steps and tolerances do not depend on the length unit (QA V 4:
+    # an absolute difference step 1e-6 missed the singular surface at L = 3.5e-6)
+    def g(u):
+        u = np.atleast_2d(u)
+        R = rotation_from_vector(u[:, 3:]) @ R0
+        return np.asarray(f(R, t0 + L * u[:, :3]), dtype=float)
 
-    def grad(y, h=1e-6):
-        E = np.eye(6) * h * max(1.0, L)
-        pts = np.concatenate([y + E, y - E])
-        v = g(pts)
-        return (v[:6] - v[6:]) / (2 * h * max(1.0, L))
+    def grad(u, h=1e-6):
+        E = np.eye(6) * h
+        v = g(np.concatenate([u + E, u - E]))
+        return (v[:6] - v[6:]) / (2 * h)
 
     y = np.zeros(6)
     f0 = float(g(y)[0])
     g0 = grad(y)
-    first = abs(f0) / max(np.linalg.norm(g0), 1e-300)
+    first = L * abs(f0) / max(np.linalg.norm(g0), 1e-300)
     ok = False
     for _ in range(max_iter):
         fy = float(g(y)[0])
@@ -389,6 +391,6 @@ def nearest_singularity(f, rotation, translation, length_scale: float, *,
                    options={"ftol": 1e-14, "maxiter": 200})
     z = res.x if res.success and abs(g(res.x)[0]) < 10 * tol + 1e-9 and res.x @ res.x <= y @ y \
         else y
-    Rs = rotation_from_vector(z[3:] / L) @ R0
-    return NearestSingularity(float(np.linalg.norm(z)), float(first), Rs, t0 + z[:3],
+    Rs = rotation_from_vector(z[3:]) @ R0
+    return NearestSingularity(L * float(np.linalg.norm(z)), float(first), Rs, t0 + L * z[:3],
                               float(abs(g(z)[0])), True)
