@@ -12,6 +12,7 @@ the same numbers as the table written out as ``kind = "legs"``): det J of the le
     # or pose = [...] (one pose), or
     path = { from = [...], to = [...], samples = 90 }   # linear in the pose coordinates
     method = "fast"                              # fast | precise | certified
+    tolerance = 1e-9                             # optional: of the verdict `singular`
 
 Where the tests apply (:func:`applicability`):
 

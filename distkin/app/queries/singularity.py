@@ -15,12 +15,20 @@ Scene fields::
     offsets = ["12/5", "6/5", ...]   # optional: the equivalent 6-6 platform as well
                                      # (default: the offsets of a "platform66" mechanism)
     method = "certified"             # fast | certified (arb certificates of sign det J)
+    tolerance = 1e-9                 # optional: |det J| below it is near-singular
     length_scale = 3.4641            # optional L (length units); default: the
                                      # platform's circumradius
 
 ``rotation`` is a rotation vector (axis times angle) in the scene's angle unit; the
 path interpolates translation and rotation vector linearly in s in [0, 1].  The
 pose maps platform-frame points q to base-frame points R q + t.
+
+The verdict ``singular`` at a pose: under ``fast`` the tolerance test |det J| <
+``tolerance`` (float64, not a proof); under ``certified`` the arb sign of det Jhat
+(False where it is proven != 0, True where det J is exactly 0, None where its ball
+contains 0), ``near_singular`` then being the tolerance test (QA V 1).  Under
+``certified`` the relative Cayley-Menger conditions are arb balls too (QA V 2;
+``conditions_tier`` says which tier computed them).
 
 Reported: det J (moments divided by L, dimensionless), the smallest singular value of
 J, the paper's Cayley-Menger condition and its signed form (relative, in [-1, 1]), the
