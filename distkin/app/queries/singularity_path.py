@@ -109,12 +109,17 @@ def run_path(model, p, unit):
     cm_roots, _, cm_vals = path_crossings(f_cm, p.samples, refine=True)
     k_roots, _, k_vals = path_crossings(f_k, p.samples, refine=True)
     fp_roots, _, fp_vals = path_crossings(f_fp, p.samples, refine=True)
-    for what, bad in (("the paper's CM condition", nan_cm), ("the signed CM form", nan_k)):
+    for what, bad, why in (
+            ("the paper's CM condition", nan_cm, "a and b are 0 up to rounding there, and so is "
+             "det Jhat = -216 (a + b)"),
+            ("the signed CM form", nan_k, "both carry the factor a = V1245 V3456 V1236: a "
+             "flat tetrahedron, not a singularity where det J != 0")):
         if bad:
-            notes.append(f"  {what} undefined at {len(bad)} sample(s) (s = "
+            notes.append(f"  {what} undefined at {len(set(bad))} sample(s) (s = "
                          f"{', '.join(f'{x:.6g}' for x in sorted(set(bad))[:5])}"
                          f"{', ...' if len(set(bad)) > 5 else ''}): both products within "
-                         f"their float64 rounding error estimate of 0 (0/0 cannot be ruled out)")
+                         f"their float64 rounding error estimate of 0, 0/0 cannot be ruled "
+                         f"out ({why})")
     crossings, lines = [], []
     n_cert = sum(isinstance(certs.get(s), Crossing) for s in roots)
     # (not tried on a path whose every sample is at round-off: it cannot succeed there)
