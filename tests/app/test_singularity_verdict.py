@@ -108,3 +108,15 @@ def test_fast_flat_pose_conditions_are_undefined_not_noise(tmp_path, capsys):
     for key in ("cm_condition_relative", "signed_cm_relative"):
         assert r[key] is None and "rounding" in r["undefined"][key]
     assert r["conditions_tier"].startswith("fast")
+
+
+def test_certified_verdict_is_undecided_where_the_ball_contains_0(tmp_path, capsys):
+    # on the crossing itself (to float64 rounding): det J is ~1e-17 (the 60-digit
+    # reference), far inside the arb ball of the pose's rounding: no verdict either way
+    s = 0.501671357764296
+    t, w = [float(x) for x in T0 + s * (T1 - T0)], [float(x) for x in W0 + s * (W1 - W0)]
+    assert abs(_det_j_mp(t, w)) < 1e-14
+    r, out = _run(tmp_path, capsys, 'method = "certified"\n' + _pose(t, w))
+    assert r["certified_sign_det_J"] is None and r["singular"] is None
+    assert r["near_singular"] is True and "undecided" in r["singular_test"]
+    assert "singular undecided" in out
