@@ -268,8 +268,9 @@ def cm_pure_condition(points, *, method: str | None = None, relative: bool = Fal
     -------
     number or float array (length units^18 unless relative); NaN where a fast or
     precise relative value is undefined (both products within their rounding error of 0,
-    :class:`~distkin.geometry.cm_float.CancellationWarning` saying so); a
-    CancellationWarning also where its error estimate exceeds 1e-6.
+    :class:`~distkin.geometry.cm_float.CancellationWarning` saying so); a relative
+    value whose error estimate exceeds 1e-6 warns too.  The absolute form does not warn
+    (it is near 0 at every singularity): ``with_error`` gives its estimate.
 
     Raises
     ------

@@ -185,6 +185,8 @@ def result_units(units, pose: bool) -> dict:
                                    f"p - b in {L}, moments in {L}^2)" if L != "none" else "none"),
            "sigma_min": "none (of J with the moment rows divided by length_scale)",
            "cm_condition_relative": "none (relative)", "signed_cm_relative": "none (relative)",
+           "cm_condition_relative_ball": "none (relative; certified: arb ball or exact)",
+           "signed_cm_relative_ball": "none (relative; certified: arb ball or exact)",
            "nearest_singularity": f"distance, first_order: {L} (translation and rotation "
                                   f"times length_scale)",
            "platform66": (f"det_J66_hat, det_A_det_Jhat: {L}^9 (unnormalised Plücker rows "
