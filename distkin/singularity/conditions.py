@@ -239,7 +239,8 @@ def _sq(points, method):
     return squared_distances(pts), kind
 
 
-def cm_pure_condition(points, *, method: str | None = None, relative: bool = False):
+def cm_pure_condition(points, *, method: str | None = None, relative: bool = False,
+                      dps: int | None = None, with_error: bool = False):
     r"""The paper's pure condition in Cayley-Menger form (Sec. IV):
 
     .. math:: C = D(1,2,4,5)D(3,4,5,6)D(1,2,3,6) - D(1,2,3,4)D(2,4,5,6)D(1,3,5,6).
@@ -251,31 +252,41 @@ def cm_pure_condition(points, *, method: str | None = None, relative: bool = Fal
     ----------
     points : array (..., 6, 3)
         P1..P6, base frame (length units).
+    method : {"fast", "precise", "certified"} or None
+        None keeps the input's number type.
     relative : bool
         Divide by :math:`D(1,2,4,5)D(3,4,5,6)D(1,2,3,6) + D(1,2,3,4)D(2,4,5,6)D(1,3,5,6)`
         (dimensionless, in [-1, 1]).
+    dps : int, optional
+        Decimal digits of the precise tier (5..1233, default 30), set locally
+        (``mpmath.workdps``); only with ``method="precise"``.
+    with_error : bool
+        Return ``(value, error)``: the rounding-error estimate of :mod:`.cm_error`
+        (fast, precise), the ball's radius (arb) or 0 (exact).
 
     Returns
     -------
-    number or float array (length units^18 unless relative)
+    number or float array (length units^18 unless relative); NaN where a fast or
+    precise relative value is undefined (both products within their rounding error of 0,
+    :class:`~distkin.geometry.cm_float.CancellationWarning` saying so); a relative
+    value whose error estimate exceeds 1e-6 warns too.  The absolute form does not warn
+    (it is near 0 at every singularity): ``with_error`` gives its estimate.
 
     Raises
     ------
     DegenerateGeometryError
-        ``relative`` where both products vanish (a flat tetrahedron in each, named; then
-        :math:`C = 0` exactly and its relative value is 0/0).
+        ``relative`` where both products vanish exactly (a flat tetrahedron in each,
+        named; then :math:`C = 0` exactly and its relative value is 0/0).
+    UncertifiedError
+        ``relative``, certified, where the denominator's ball contains 0.
+    InputError
+        ``dps`` out of range or given with another method.
     """
-    sq, kind = _sq(points, method)
-    tets = {t: _D(sq, t) for t in _TETS}
-    left = tets[1, 2, 4, 5] * tets[3, 4, 5, 6] * tets[1, 2, 3, 6]
-    right = tets[1, 2, 3, 4] * tets[2, 4, 5, 6] * tets[1, 3, 5, 6]
-    if relative:
-        return _relative(left - right, left + right, kind, lambda: tets,
-                         "Cayley-Menger condition")
-    return left - right
+    return _condition(points, method, dps, relative, with_error, signed=False)
 
 
-def signed_cm_condition(points, *, method: str | None = None, relative: bool = False):
+def signed_cm_condition(points, *, method: str | None = None, relative: bool = False,
+                        dps: int | None = None, with_error: bool = False):
     r"""The signed pure condition from Cayley-Menger (bi)determinants:
 
     .. math:: K = D(1,2,4,5)D(3,4,5,6)D(1,2,3,6)
@@ -286,18 +297,80 @@ def signed_cm_condition(points, *, method: str | None = None, relative: bool = F
     :math:`a \ne 0`).  ``relative`` divides by
     :math:`|D(1,2,4,5)D(3,4,5,6)D(1,2,3,6)| + |D(\dots;\dots)D(\dots;\dots)D(\dots;\dots)|`;
     where that vanishes (a flat tetrahedron in each product) a
-    :class:`~distkin.errors.DegenerateGeometryError` names them.
+    :class:`~distkin.errors.DegenerateGeometryError` names them.  ``method``, ``dps``,
+    ``with_error``, NaN and warnings as in :func:`cm_pure_condition`.
     """
-    sq, kind = _sq(points, method)
-    tets = {t: _D(sq, t) for t in _TETS[:3]}
-    first = tets[1, 2, 4, 5] * tets[3, 4, 5, 6] * tets[1, 2, 3, 6]
-    second = (_D(sq, (1, 2, 4, 5), (1, 2, 3, 4)) * _D(sq, (3, 4, 5, 6), (2, 4, 5, 6))
-              * _D(sq, (1, 2, 3, 6), (1, 3, 5, 6)))
-    if relative:
-        return _relative(first + second, abs(first) + abs(second), kind,
-                         lambda: {**tets, **{t: _D(sq, t) for t in _TETS[3:]}},
-                         "signed Cayley-Menger condition")
-    return first + second
+    return _condition(points, method, dps, relative, with_error, signed=True)
+
+
+_BIDETS = (((1, 2, 4, 5), (1, 2, 3, 4)), ((3, 4, 5, 6), (2, 4, 5, 6)),
+           ((1, 2, 3, 6), (1, 3, 5, 6)))
+
+
+def _digits(dps, method):
+    """The precise tier's digits (default 30), or None; ``dps`` only with "precise"."""
+    from ..exact import default_dps
+    if dps is None:
+        return default_dps(None) if method == "precise" else None
+    digits = default_dps(dps)
+    if method != "precise":
+        raise InputError(f"expected 'dps' only with method 'precise' (the mpmath digits), "
+                         f"got method {method!r}", field="dps",
+                         hint="method='precise' with dps")
+    return digits
+
+
+def _condition(points, method, dps, relative, with_error, signed):
+    import contextlib
+    digits = _digits(dps, method)
+    if digits is not None:
+        import mpmath
+        ctx = mpmath.workdps(digits)
+    else:
+        ctx = contextlib.nullcontext()
+    with ctx:                    # local precision, not mpmath.mp's (QA V 3)
+        sq, kind = _sq(points, method)
+        tets = {t: _D(sq, t) for t in (_TETS[:3] if signed else _TETS)}
+        first = tets[1, 2, 4, 5] * tets[3, 4, 5, 6] * tets[1, 2, 3, 6]
+        if signed:
+            bidets = [_D(sq, r, c) for r, c in _BIDETS]
+            second = bidets[0] * bidets[1] * bidets[2]
+            num, den = first + second, abs(first) + abs(second)
+            what = "signed Cayley-Menger condition"
+            all_tets = lambda: {**tets, **{t: _D(sq, t) for t in _TETS[3:]}}  # noqa: E731
+        else:
+            second = tets[1, 2, 3, 4] * tets[2, 4, 5, 6] * tets[1, 3, 5, 6]
+            num, den = first - second, first + second
+            what = "Cayley-Menger condition"
+            all_tets = lambda: tets  # noqa: E731
+        if kind not in ("fast", "precise"):
+            val = _relative(num, den, kind, all_tets, what) if relative else num
+            return (val, _radius(val)) if with_error else val
+        from . import cm_error
+        e1 = cm_error.product_error([tets[t] for t in _TETS[:3]],
+                                    [cm_error.det_error(sq, t, None, kind) for t in _TETS[:3]],
+                                    kind)
+        if signed:
+            e2 = cm_error.product_error(bidets, [cm_error.det_error(sq, r, c, kind)
+                                                 for r, c in _BIDETS], kind)
+        else:
+            e2 = cm_error.product_error([tets[t] for t in _TETS[3:]],
+                                        [cm_error.det_error(sq, t, None, kind)
+                                         for t in _TETS[3:]], kind)
+        err = e1 + e2
+        if not relative:
+            return (num, err) if with_error else num
+        if np.any(np.asarray(den == 0)):         # exactly 0/0: the tetrahedra are named
+            _relative(num, den, kind, all_tets, what)
+        val, e = cm_error.relative(num, den, err, kind, what)
+        return (val, e) if with_error else val
+
+
+def _radius(v):
+    name = type(v).__name__
+    if name == "arb":
+        return float(v.rad())
+    return 0.0
 
 
 def _D(sq, rows, cols=None):
@@ -335,8 +408,13 @@ def _relative(num, den, kind, tets, what):
             return num / den
         idx = tuple(int(i) for i in np.argwhere(zero)[0]) if zero.ndim else ()
     elif type(den).__name__ == "arb" and not den > 0 and not den.is_zero():
+        near = [t for t, v in tets().items() if not (v > 0 or v < 0)]
+        names = ", ".join("P" + "P".join(map(str, t)) for t in near)
         raise UncertifiedError(f"expected the denominator of the relative {what} to exclude "
-                               f"0, got {den.str(5, radius=True)}", hint="raise the precision")
+                               f"0, got {den.str(5, radius=True)}: the balls of the "
+                               f"Cayley-Menger determinants of {names} contain 0 (flat "
+                               f"tetrahedra, or within the radius of flat; the relative value "
+                               f"may be 0/0)", hint="raise the precision")
     elif not _vanishes(den):
         return num / den
     else:

@@ -208,7 +208,6 @@ def path_crossings(f, samples: int = 200, *, xtol: float = 1e-14, refine: bool =
     grid, values : arrays (samples,)
         The sampled function (for plots).
     """
-    from scipy.optimize import brentq
     grid = np.linspace(0.0, 1.0, samples)
     vals = np.asarray(f(grid), dtype=float)
     roots = []
@@ -218,7 +217,7 @@ def path_crossings(f, samples: int = 200, *, xtol: float = 1e-14, refine: bool =
         if a == 0.0:
             roots.append(float(grid[i]))
         elif a * b < 0:
-            roots.append(float(brentq(scalar, grid[i], grid[i + 1], xtol=xtol, rtol=1e-15)))
+            roots.append(_brent(scalar, grid[i], grid[i + 1], xtol))
     if vals[-1] == 0.0:
         roots.append(1.0)
     if refine:
@@ -227,10 +226,35 @@ def path_crossings(f, samples: int = 200, *, xtol: float = 1e-14, refine: bool =
     return roots, grid, vals
 
 
+def _brent(scalar, lo, hi, xtol):
+    """A root in [lo, hi] (a sign change) by Brent's method; where ``scalar`` is NaN
+    inside (a relative condition undefined, 0/0: QA V 2) by bisection, a NaN midpoint
+    being the place of the sign change (the condition's numerator is 0 there)."""
+    from scipy.optimize import brentq
+    try:
+        return float(brentq(scalar, lo, hi, xtol=xtol, rtol=1e-15))
+    except ValueError:
+        pass
+    lo, hi = float(lo), float(hi)
+    fl = scalar(lo)
+    while hi - lo > xtol:
+        mid = 0.5 * (lo + hi)
+        fm = scalar(mid)
+        if fm != fm:                     # NaN
+            return mid
+        if fm == 0.0:
+            return mid
+        if (fm < 0) == (fl < 0):
+            lo, fl = mid, fm
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
 def _root_pairs(scalar, grid, vals, xtol):
     """Root pairs between samples at the strict local minima of |f| (see
     :func:`path_crossings`)."""
-    from scipy.optimize import brentq, minimize_scalar
+    from scipy.optimize import minimize_scalar
     a, m, b = np.abs(vals[:-2]), np.abs(vals[1:-1]), np.abs(vals[2:])
     same = (vals[:-2] * vals[1:-1] > 0) & (vals[1:-1] * vals[2:] > 0)
     out = []
@@ -242,8 +266,7 @@ def _root_pairs(scalar, grid, vals, xtol):
         if not (res.fun < 0.0):
             continue
         x = float(res.x)
-        out += [float(brentq(scalar, lo, x, xtol=xtol, rtol=1e-15)),
-                float(brentq(scalar, x, hi, xtol=xtol, rtol=1e-15))]
+        out += [_brent(scalar, lo, x, xtol), _brent(scalar, x, hi, xtol)]
     return out
 
 
@@ -332,21 +355,23 @@ def nearest_singularity(f, rotation, translation, length_scale: float, *,
     t0 = np.asarray(translation, dtype=float)
     L = float(length_scale)
 
-    def g(y):
-        y = np.atleast_2d(y)
-        R = rotation_from_vector(y[:, 3:] / L) @ R0
-        return np.asarray(f(R, t0 + y[:, :3]), dtype=float)
+    # the search runs in units of L (u = y / L: translations over L, rotation vectors
+    # as they are), so its steps and tolerances do not depend on the length unit (QA V 4:
+    # an absolute difference step 1e-6 missed the singular surface at L = 3.5e-6)
+    def g(u):
+        u = np.atleast_2d(u)
+        R = rotation_from_vector(u[:, 3:]) @ R0
+        return np.asarray(f(R, t0 + L * u[:, :3]), dtype=float)
 
-    def grad(y, h=1e-6):
-        E = np.eye(6) * h * max(1.0, L)
-        pts = np.concatenate([y + E, y - E])
-        v = g(pts)
-        return (v[:6] - v[6:]) / (2 * h * max(1.0, L))
+    def grad(u, h=1e-6):
+        E = np.eye(6) * h
+        v = g(np.concatenate([u + E, u - E]))
+        return (v[:6] - v[6:]) / (2 * h)
 
     y = np.zeros(6)
     f0 = float(g(y)[0])
     g0 = grad(y)
-    first = abs(f0) / max(np.linalg.norm(g0), 1e-300)
+    first = L * abs(f0) / max(np.linalg.norm(g0), 1e-300)
     ok = False
     for _ in range(max_iter):
         fy = float(g(y)[0])
@@ -366,6 +391,6 @@ def nearest_singularity(f, rotation, translation, length_scale: float, *,
                    options={"ftol": 1e-14, "maxiter": 200})
     z = res.x if res.success and abs(g(res.x)[0]) < 10 * tol + 1e-9 and res.x @ res.x <= y @ y \
         else y
-    Rs = rotation_from_vector(z[3:] / L) @ R0
-    return NearestSingularity(float(np.linalg.norm(z)), float(first), Rs, t0 + z[:3],
+    Rs = rotation_from_vector(z[3:]) @ R0
+    return NearestSingularity(L * float(np.linalg.norm(z)), float(first), Rs, t0 + L * z[:3],
                               float(abs(g(z)[0])), True)

@@ -12,6 +12,7 @@ the same numbers as the table written out as ``kind = "legs"``): det J of the le
     # or pose = [...] (one pose), or
     path = { from = [...], to = [...], samples = 90 }   # linear in the pose coordinates
     method = "fast"                              # fast | precise | certified
+    tolerance = 1e-9                             # optional: of the verdict `singular`
 
 Where the tests apply (:func:`applicability`):
 
@@ -59,6 +60,7 @@ class _Params:
     path: tuple | None
     samples: int
     method: str
+    tolerance: float = 1e-9
 
 
 def _pose(value, units, fld):
@@ -116,11 +118,17 @@ def _octa_points(mech, pose):
     return np.vstack([topo["base"], plat])
 
 
-def singularity_tests_at(mech, pose, method: str = "fast") -> dict:
+def singularity_tests_at(mech, pose, method: str = "fast", tolerance: float = 1e-9) -> dict:
     """det J (normalised, moments / length scale), σmin of the normalised lines (moments
     about the end-effector origin, as the rows of the kernels' J), and
     for the octahedral topology the relative Cayley-Menger conditions and the four
-    planes (relative, spread in m), at one pose (m, rad)."""
+    planes (relative, spread in m), at one pose (m, rad).
+
+    ``singular``: the verdict, as the octahedral query's (QA V 5): fast and precise a
+    tolerance test (|det J| < ``tolerance``, or σmin < ``tolerance`` where J has no
+    determinant); certified the arb sign of det J (False where it is proven != 0, True
+    where it is exactly 0, None where its ball contains 0), with ``near_singular`` the
+    tolerance test.  ``singular_test`` says which."""
     from ...singularity.conditions import (certified_sign, cm_pure_condition, four_planes,
                                            jacobian_det, signed_cm_condition)
     app = applicability(mech)
@@ -138,12 +146,31 @@ def singularity_tests_at(mech, pose, method: str = "fast") -> dict:
                 out["det_sign_certified"] = certified_sign(d)
             except UncertifiedError:
                 out["det_sign_certified"] = None
+    near = bool(abs(out["det_J"]) < tolerance) if app["det"] else \
+        bool(out["sigma_min"] < tolerance)
+    test = (f"tolerance test |det J| < {tolerance:g} ({method} tier; not a proof)" if app["det"]
+            else f"tolerance test σmin < {tolerance:g} (float64; J is {mech.L} x 6: no "
+                 f"determinant, nothing certified)")
+    if method == "certified" and app["det"]:
+        sgn = out["det_sign_certified"]
+        out["singular"] = None if sgn is None else sgn == 0
+        out["near_singular"] = near
+        out["singular_test"] = "arb certificate of sign det J" + (
+            " (undecided: its ball contains 0)" if sgn is None else "")
+    else:
+        out["singular"], out["singular_test"] = near, test
     if app["cm"]:
         P = _octa_points(mech, pose) / s
         tier = None if method == "fast" else method
         f = _float
-        out["cm_relative"] = f(cm_pure_condition(P, relative=True, method=tier))
-        out["signed_cm_relative"] = f(signed_cm_condition(P, relative=True, method=tier))
+        import warnings
+        from ...geometry.cm_float import CancellationWarning
+        with warnings.catch_warnings():     # undefined (NaN): said as None (QA V 2)
+            warnings.simplefilter("ignore", CancellationWarning)
+            for key, g in (("cm_relative", cm_pure_condition),
+                           ("signed_cm_relative", signed_cm_condition)):
+                v = f(g(P, relative=True, method=tier))
+                out[key] = None if v != v else v
         fp = four_planes(P, method=tier)
         out["four_planes_relative"] = f(fp.relative)
         out["four_planes_spread"] = float(fp.spread) * s
@@ -156,7 +183,7 @@ def singularity_tests_at(mech, pose, method: str = "fast") -> dict:
 class LegSingularityQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
-        check_keys(table, {"type", "pose", "poses", "path", "method"}, field)
+        check_keys(table, {"type", "pose", "poses", "path", "method", "tolerance"}, field)
         given = [k for k in ("pose", "poses", "path") if k in table]
         if len(given) != 1:
             raise InputError("expected exactly one of pose, poses and path, got "
@@ -184,7 +211,14 @@ class LegSingularityQuery:
                  [f"{field}.poses[{i}]" for i in range(len(poses))] if poses else
                  [f"{field}.path.from", f"{field}.path.to"])
         check_pose_units(np.array(poses or path), units, names, mechanism.length_scale)
-        return _Params(poses, path, samples, method_field(table, field))
+        tol = table.get("tolerance", 1e-9)
+        if isinstance(tol, str):            # an exact string, as every numeric field
+            from ...argcheck import parse_float
+            tol = parse_float(tol, f"{field}.tolerance")
+        if not isinstance(tol, (int, float)) or isinstance(tol, bool) or not 0 < tol < 1:
+            raise InputError(f"expected a tolerance in (0, 1), got {tol!r}",
+                             field=f"{field}.tolerance")
+        return _Params(poses, path, samples, method_field(table, field), float(tol))
 
     @staticmethod
     def run(p, scene, ctx):
@@ -201,9 +235,11 @@ class LegSingularityQuery:
                     f"({', '.join(f'{v * af:.6g}' for v in x[3:])}) {au}")
 
         lines = [f"  mechanism: {mech.name} (L = {mech.L}); tests: {app['reason']}",
-                 f"  det J: normalised leg lines, moment columns / {mech.length_scale * lf:.6g}"
-                 f" {lu} (dimensionless); Cayley-Menger and four planes on P1..P6 / that "
-                 "length (relative, in [-1, 1]); spread in " + lu]
+                 ("  det J: normalised leg lines, moment columns / " if app["det"] else
+                  "  σmin of the normalised leg lines, moment columns / ")
+                 + f"{mech.length_scale * lf:.6g} {lu} (dimensionless)"
+                 + ("; Cayley-Menger and four planes on P1..P6 / that length (relative, in "
+                    f"[-1, 1]); spread in {lu}" if app["cm"] else "")]
         rows = []
         poses = p.poses
         if p.path is not None:
@@ -211,7 +247,7 @@ class LegSingularityQuery:
             s = np.linspace(0.0, 1.0, p.samples)
             poses = tuple(a + si * (b - a) for si in s)
         for i, x in enumerate(poses):
-            r = singularity_tests_at(mech, x, p.method)
+            r = singularity_tests_at(mech, x, p.method, p.tolerance)
             r["pose"] = [float(v) for v in x]
             rows.append(r)
             if p.path is None:
@@ -228,7 +264,7 @@ class LegSingularityQuery:
             found += _root_pairs_between(mech, a, b, s, det)     # QA F2
             found.sort(key=lambda c: float(np.linalg.norm(c - a)))
             for c in found:
-                r = singularity_tests_at(mech, c, p.method)
+                r = singularity_tests_at(mech, c, p.method, p.tolerance)
                 r["pose"] = [float(v) for v in c]
                 crossings.append(r)
             lines.append(f"  path: {p.samples} poses from {fmt_pose(poses[0])} to "
@@ -243,6 +279,7 @@ class LegSingularityQuery:
                         "certified": "arb balls on the float64 joint positions"}[p.method]
                      + "); crossings located by Brent's method on det J to 1e-12 of the path")
         result = {"mechanism": mech.name, "applicability": app, "method": p.method,
+                  "tolerance": p.tolerance,
                   "length_scale_m": mech.length_scale, "poses": rows, "crossings": crossings}
         return Outcome(result, "\n".join(lines))
 
@@ -260,8 +297,15 @@ def _fmt(r, lf, lu):
         s = r["det_sign_certified"]
         parts.append("sign of det J not certified (its ball contains 0)" if s is None else
                      "det J certified " + {1: "> 0", -1: "< 0", 0: "= 0 exactly"}.get(s, str(s)))
+    if "singular" in r:
+        v = r["singular"]
+        parts.append(("singular: undecided" if v is None else f"singular: {'yes' if v else 'no'}")
+                     + f" ({r['singular_test']}"
+                     + ("; within the float tolerance" if r.get("near_singular") and v is not True
+                        else "") + ")")
     if "cm_relative" in r:
-        parts += [f"CM (paper) {r['cm_relative']:.4g}", f"CM signed {r['signed_cm_relative']:.4g}",
+        g = lambda v: "undefined (0/0 within rounding)" if v is None else f"{v:.4g}"  # noqa: E731
+        parts += [f"CM (paper) {g(r['cm_relative'])}", f"CM signed {g(r['signed_cm_relative'])}",
                   f"four planes {r['four_planes_relative']:.4g} "
                   f"(spread {r['four_planes_spread'] * lf:.4g} {lu})"]
     return ", ".join(parts) + " (dimensionless unless a unit is given)"

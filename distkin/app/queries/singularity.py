@@ -15,12 +15,20 @@ Scene fields::
     offsets = ["12/5", "6/5", ...]   # optional: the equivalent 6-6 platform as well
                                      # (default: the offsets of a "platform66" mechanism)
     method = "certified"             # fast | certified (arb certificates of sign det J)
+    tolerance = 1e-9                 # optional: |det J| below it is near-singular
     length_scale = 3.4641            # optional L (length units); default: the
                                      # platform's circumradius
 
 ``rotation`` is a rotation vector (axis times angle) in the scene's angle unit; the
 path interpolates translation and rotation vector linearly in s in [0, 1].  The
 pose maps platform-frame points q to base-frame points R q + t.
+
+The verdict ``singular`` at a pose: under ``fast`` the tolerance test |det J| <
+``tolerance`` (float64, not a proof); under ``certified`` the arb sign of det Jhat
+(False where it is proven != 0, True where det J is exactly 0, None where its ball
+contains 0), ``near_singular`` then being the tolerance test (QA V 1).  Under
+``certified`` the relative Cayley-Menger conditions are arb balls too (QA V 2;
+``conditions_tier`` says which tier computed them).
 
 Reported: det J (moments divided by L, dimensionless), the smallest singular value of
 J, the paper's Cayley-Menger condition and its signed form (relative, in [-1, 1]), the
@@ -177,6 +185,8 @@ def result_units(units, pose: bool) -> dict:
                                    f"p - b in {L}, moments in {L}^2)" if L != "none" else "none"),
            "sigma_min": "none (of J with the moment rows divided by length_scale)",
            "cm_condition_relative": "none (relative)", "signed_cm_relative": "none (relative)",
+           "cm_condition_relative_ball": "none (relative; certified: arb ball or exact)",
+           "signed_cm_relative_ball": "none (relative; certified: arb ball or exact)",
            "nearest_singularity": f"distance, first_order: {L} (translation and rotation "
                                   f"times length_scale)",
            "platform66": (f"det_J66_hat, det_A_det_Jhat: {L}^9 (unnormalised Plücker rows "
@@ -200,18 +210,29 @@ def _run_pose(model, p, unit):
     t = np.array([float(x) for x in p.pose.translation])
     _check_legs(model, R[None], t[None], "pose")
     tests = _first(_tests(model, R[None], t[None]))
+    cert_cm = None
+    if p.method == "certified":         # the conditions in arb, not float (QA V 2)
+        Ra, ta = _exact_pose_arb(model, p.pose)
+        cert_cm = _certified_cm(model, Ra, ta, tests)
     ns = nearest_singularity(lambda Rs, ts: model.det_j(Rs, ts), R, t, model.L)
     undefined = tests["undefined"]
     res = {"pose": {"rotation_matrix": R, "translation": t},
            "length_scale": model.L,
            "det_J": float(tests["det_J"]), "sigma_min": float(tests["sigma_min"]),
            "singular": bool(abs(tests["det_J"]) < p.tolerance),
+           "singular_test": (f"float64 tolerance test |det J| < {p.tolerance:g} (not a proof:"
+                             f" a pose within rounding of the singular surface passes it)"),
            "cm_condition_relative": _opt(tests["cm_condition_relative"]),
            "signed_cm_relative": _opt(tests["signed_cm_relative"]),
            "four_planes": {"relative": _opt(tests["four_planes_relative"]),
                            "point": tests["four_planes_point"],
                            "spread": _opt(tests["four_planes_spread"])},
            "undefined": undefined,
+           "conditions_tier": ("certified (arb balls or exact fmpq: cm_condition_relative "
+                               "and signed_cm_relative are ball midpoints, *_ball the balls)"
+                               if cert_cm else
+                               "fast (float64; undefined where both products are within "
+                               "their rounding error estimate of 0)"),
            "nearest_singularity": {"distance": ns.distance, "first_order": ns.first_order,
                                    "converged": ns.converged, "residual": ns.residual,
                                    "rotation_matrix": ns.rotation, "translation": ns.translation,
@@ -224,12 +245,18 @@ def _run_pose(model, p, unit):
              f"{'deg' if model.deg else 'rad'}",
              f"det J (eq. 5, moments / L, L = {model.L:.6g}{unit}) = {res['det_J']:.6e}; "
              f"sigma_min(J) = {res['sigma_min']:.4e}"
-             + (f" (|det J| < tolerance {p.tolerance:g}: a singular pose)" if res["singular"]
-                else "")]
-    fmt = lambda k, text: (f"{text} = {res[k]:.3e}" if k not in undefined  # noqa: E731
-                           else f"{text}: undefined ({undefined[k]})")
+             + (f" (|det J| < tolerance {p.tolerance:g}: near-singular by the float64 "
+                  f"tolerance test{'' if p.method == 'certified' else '; a singular pose'})"
+                if res["singular"] else "")]
+    if cert_cm:
+        res.update(cert_cm)
+        undefined = res["undefined"]
+    fmt = lambda k, text: (f"{text}: undefined ({undefined[k]})" if k in undefined  # noqa: E731
+                           else f"{text} = {res[k + '_ball']}" if cert_cm
+                           else f"{text} = {res[k]:.3e}")
     lines.append(f"{fmt('cm_condition_relative', 'Cayley-Menger condition (paper, relative)')}; "
-                 f"{fmt('signed_cm_relative', 'signed CM form (relative)')}")
+                 f"{fmt('signed_cm_relative', 'signed CM form (relative)')}"
+                 + (" (certified: arb/fmpq)" if cert_cm else " (float64)"))
     lines.append(f"four planes: undefined ({undefined['four_planes']})" if "four_planes" in undefined
                  else f"four planes: spread from their common point = "
                       f"{res['four_planes']['spread']:.3e}{unit}")
@@ -244,7 +271,6 @@ def _run_pose(model, p, unit):
     else:
         lines.append("nearest singular pose: local search did not converge")
     if p.method == "certified":
-        Ra, ta = _exact_pose_arb(model, p.pose)
         ball = model.det_j_arb(Ra, ta)
         try:
             sgn = certified_sign(ball)
@@ -252,13 +278,23 @@ def _run_pose(model, p, unit):
             sgn = None
         res["certified_sign_det_J"] = sgn
         res["certified_det_J_hat"] = ball.str(5, radius=True)
+        # the verdict follows the certificate (QA V 1): the float tolerance only says
+        # near_singular
+        res["near_singular"] = res["singular"]
+        res["singular"] = None if sgn is None else sgn == 0
+        res["singular_test"] = ("arb certificate of sign det Jhat" + (
+            f" (undecided: its ball {res['certified_det_J_hat']} contains 0)" if sgn is None
+            else ""))
         if sgn is None:
             lines.append(f"certified (arb): sign of det J not certified: the ball of det Jhat "
                          f"{res['certified_det_J_hat']} contains 0 (a singular pose, or "
-                         f"within its radius of one)")
+                         f"within its radius of one): singular undecided")
+        elif sgn:
+            lines.append(f"certified (arb): sign det J = {sgn:+d}: det J != 0, not a singular "
+                         f"pose" + (" (although within the float tolerance of one)"
+                                    if res["near_singular"] else ""))
         else:
-            lines.append(f"certified (arb): sign det J = {sgn:+d}" if sgn else
-                         "certified (arb): det J = 0 exactly (a zero row or column of Jhat): "
+            lines.append("certified (arb): det J = 0 exactly (a zero row or column of Jhat): "
                          "a singular pose")
     if model.platform66 is not None:
         res["platform66"] = _check66(model, R[None], t[None])
@@ -267,6 +303,36 @@ def _run_pose(model, p, unit):
                      f"so det(Jhat66) = det(A) det(Jhat) = "
                      f"{res['platform66']['det_A_det_Jhat']:.6e}")
     return Outcome(res, "\n".join(lines))
+
+
+def _certified_cm(model, Ra, ta, tests):
+    """The relative Cayley-Menger conditions in arb (exact fmpq where the pose is
+    rational) at the exact pose: midpoints and balls; a condition whose denominator is
+    exactly 0 (0/0) or whose ball cannot exclude 0 is undefined, with the reason (the
+    float values of ``tests`` are replaced)."""
+    from ...errors import DegenerateGeometryError
+    from ...singularity import cm_pure_condition, pose_points, signed_cm_condition
+    X = np.concatenate([model.base_a, pose_points(model.plat_a, Ra, ta)], axis=0)
+    out, undefined = {}, dict(tests["undefined"])
+    for key, f in (("cm_condition_relative", cm_pure_condition),
+                   ("signed_cm_relative", signed_cm_condition)):
+        undefined.pop(key, None)
+        try:
+            v = f(X, method="certified", relative=True)
+        except (DegenerateGeometryError, UncertifiedError) as exc:
+            out[key], out[key + "_ball"] = None, None
+            undefined[key] = exc.message
+            continue
+        out[key] = _float_mid(v)
+        out[key + "_ball"] = v.str(5, radius=True) if type(v).__name__ == "arb" else str(v)
+    out["undefined"] = undefined
+    return out
+
+
+def _float_mid(v):
+    if type(v).__name__ == "arb":
+        return float(v.mid())
+    return int(v.p) / int(v.q)
 
 
 def _path_query(model, p, unit):

@@ -89,6 +89,27 @@ def _guarded(f):
         return None, exc.message.replace(" at batch index (0,)", "")
 
 
+def _guarded_relative(f):
+    """A fast relative Cayley-Menger condition: ``(values, None)``, or ``(None, reason)``
+    where it is undefined: exactly 0/0 (:class:`DegenerateGeometryError`), or both
+    products within their rounding error estimate of 0 (NaN with a
+    :class:`~distkin.geometry.cm_float.CancellationWarning`: QA V 2).  Other samples of a
+    batch keep their values (NaN where undefined)."""
+    import warnings
+    from ...geometry.cm_float import CancellationWarning
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", CancellationWarning)
+        out, why = _guarded(f)
+    if why:
+        return None, why
+    val, _err = out
+    val = np.asarray(val, dtype=float)
+    if np.isnan(val).all():
+        msg = next((str(w.message) for w in caught if "undefined" in str(w.message)), "")
+        return None, msg.replace(" at batch index (0,) (1 of 1)", "").split("; returned NaN")[0]
+    return val, None
+
+
 def _tests(model, R, t):
     """All characterisations at float poses R (n,3,3), t (n,3).  A test that is
     undefined there (a flat tetrahedron, three collinear points of a plane) is None,
@@ -100,9 +121,9 @@ def _tests(model, R, t):
     J[..., 3:] /= model.L
     out = {"det_J": np.linalg.det(J), "sigma_min": np.linalg.svd(J, compute_uv=False)[..., -1]}
     undefined = {}
-    for key, f in (("cm_condition_relative", lambda: cm_pure_condition(X, relative=True)),
-                   ("signed_cm_relative", lambda: signed_cm_condition(X, relative=True))):
-        out[key], why = _guarded(f)
+    for key, f in (("cm_condition_relative", cm_pure_condition),
+                   ("signed_cm_relative", signed_cm_condition)):
+        out[key], why = _guarded_relative(lambda: f(X, relative=True, with_error=True))
         if why:
             undefined[key] = why
     fp, why = _guarded(lambda: four_planes(X, length_scale=model.L))

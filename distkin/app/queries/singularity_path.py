@@ -97,16 +97,29 @@ def run_path(model, p, unit):
             locus.append(s)
     roots = [s for s in roots if s not in locus]
     notes = []
-    f_cm = _sampled(lambda s: cm_pure_condition(model.points(*at(s)), relative=True),
-                    "the paper's CM condition", notes)
-    f_k = _sampled(lambda s: signed_cm_condition(model.points(*at(s)), relative=True),
-                   "the signed CM form", notes)
+    f_cm, nan_cm = _rounding_nan(_sampled(
+        lambda s: cm_pure_condition(model.points(*at(s)), relative=True),
+        "the paper's CM condition", notes))
+    f_k, nan_k = _rounding_nan(_sampled(
+        lambda s: signed_cm_condition(model.points(*at(s)), relative=True),
+        "the signed CM form", notes))
     f_fp = _sampled(lambda s: np.asarray(four_planes(model.points(*at(s)),
                                                      length_scale=model.L).relative),
                     "the four-planes test", notes)
     cm_roots, _, cm_vals = path_crossings(f_cm, p.samples, refine=True)
     k_roots, _, k_vals = path_crossings(f_k, p.samples, refine=True)
     fp_roots, _, fp_vals = path_crossings(f_fp, p.samples, refine=True)
+    for what, bad, why in (
+            ("the paper's CM condition", nan_cm, "a and b are 0 up to rounding there, and so is "
+             "det Jhat = -216 (a + b)"),
+            ("the signed CM form", nan_k, "both carry the factor a = V1245 V3456 V1236: a "
+             "flat tetrahedron, not a singularity where det J != 0")):
+        if bad:
+            notes.append(f"  {what} undefined at {len(set(bad))} sample(s) (s = "
+                         f"{', '.join(f'{x:.6g}' for x in sorted(set(bad))[:5])}"
+                         f"{', ...' if len(set(bad)) > 5 else ''}): both products within "
+                         f"their float64 rounding error estimate of 0, 0/0 cannot be ruled "
+                         f"out ({why})")
     crossings, lines = [], []
     n_cert = sum(isinstance(certs.get(s), Crossing) for s in roots)
     # (not tried on a path whose every sample is at round-off: it cannot succeed there)
@@ -229,7 +242,12 @@ def run_path(model, p, unit):
            "four_planes_roots": fp_roots, "cm_spurious_roots": spurious,
            "nearest_singularity": dist, "min_abs_det_J": float(np.min(np.abs(vals))),
            "samples_on_locus": int(on.sum()), "on_singular_locus": bool(tiny.all()),
-           "method": p.method, "crossing_count": {
+           "method": p.method,
+           "conditions_tier": "fast (float64 along the path and at the crossings, also "
+                              "under method certified: only det J is certified; undefined "
+                              "where both products are within their rounding error "
+                              "estimate of 0)",
+           "crossing_count": {
                "found": len(roots), "is_lower_bound": not complete,
                "certified_complete": complete,
                "exact": bool(complete and all(excl["simple"])),
@@ -277,3 +295,21 @@ def plot_path(data, stem):
     fig.savefig(out, dpi=120)
     plt.close(fig)
     return [out]
+
+
+def _rounding_nan(f):
+    """``f`` (a fast relative CM condition over s) with its CancellationWarnings
+    silenced (the report says it instead), and the list of s where it is NaN because
+    both products are within their rounding error of 0 (QA V 2)."""
+    import warnings
+    from ...geometry.cm_float import CancellationWarning
+    seen = []
+
+    def g(s):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", CancellationWarning)
+            v = np.asarray(f(s), dtype=float)
+        bad = np.atleast_1d(np.isnan(v))
+        seen.extend(float(x) for x in np.atleast_1d(s)[bad])
+        return v
+    return g, seen

@@ -1,0 +1,122 @@
+"""The ``singularity`` query's verdict and conditions under ``method = "certified"``
+(QA V 1, 2): the verdict follows the arb certificate, not the float tolerance, and the
+Cayley-Menger conditions are evaluated in arb.  References are independent of the
+program: det J of the normalised Plücker lines (eq. (5)) recomputed here in mpmath at
+60 digits, and the flat pose's products exactly 0 (every point in z = 0)."""
+
+from __future__ import annotations
+
+import json
+
+import mpmath
+import numpy as np
+
+from distkin.app.cli import main
+
+HEAD = """
+[units]
+length = "none"
+angle = "deg"
+[mechanism]
+kind = "octahedral"
+base = [[0,0,0],[6,"sqrt(108)",0],[12,0,0]]
+platform = [[0,0,0],[6,0,0],[3,"sqrt(27)",0]]
+[[query]]
+type = "singularity"
+"""
+
+#: 2e-10 along the example path past its crossing at s = 0.501671357764296 (QA V 1)
+S = 0.501671357764296 + 2e-10
+T0, T1 = np.array([3, np.sqrt(3), 10]), np.array([6, 0, 10.0])
+W0, W1 = np.array([90 * np.sqrt(3), 90, 0]), np.array([90, 90 * np.sqrt(3), 0])
+T, W = T0 + S * (T1 - T0), W0 + S * (W1 - W0)
+
+
+def _run(tmp_path, capsys, query):
+    f = tmp_path / "s.toml"
+    f.write_text(HEAD + query, encoding="utf-8")
+    code = main(["run", str(f), "--no-progress", "--json", str(tmp_path / "o.json")])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    return json.loads((tmp_path / "o.json").read_text())["queries"][0]["result"], out
+
+
+def _det_j_mp(t, w_deg, dps=60):
+    """det J (eq. (5), moments / L) by hand in mpmath: Rodrigues' rotation, unit leg
+    directions, moments b x u."""
+    with mpmath.workdps(dps):
+        w = [mpmath.mpf(float(x)) * mpmath.pi / 180 for x in w_deg]
+        th = mpmath.sqrt(sum(x * x for x in w))
+        k = [x / th for x in w]
+        K = mpmath.matrix([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+        R = mpmath.eye(3) + mpmath.sin(th) * K + (1 - mpmath.cos(th)) * K * K
+        s3 = mpmath.sqrt(3)
+        base = [mpmath.matrix([0, 0, 0]), mpmath.matrix([6, 6 * s3, 0]),
+                mpmath.matrix([12, 0, 0])]
+        plat = [R * mpmath.matrix(q) + mpmath.matrix([mpmath.mpf(float(x)) for x in t])
+                for q in ([0, 0, 0], [6, 0, 0], [3, 3 * s3, 0])]
+        L = 2 * s3                                   # the platform's circumradius
+        rows = []
+        for b, p in ((1, 4), (2, 4), (2, 5), (3, 5), (3, 6), (1, 6)):
+            bb, pp = base[b - 1], plat[p - 4]
+            u = (pp - bb) / mpmath.norm(pp - bb)
+            m = [bb[1] * u[2] - bb[2] * u[1], bb[2] * u[0] - bb[0] * u[2],
+                 bb[0] * u[1] - bb[1] * u[0]]
+            rows.append([u[0], u[1], u[2]] + [x / L for x in m])
+        return mpmath.det(mpmath.matrix(rows))
+
+
+def _pose(t, w):
+    return (f"pose = {{ translation = [{t[0]!r}, {t[1]!r}, {t[2]!r}], "
+            f"rotation = [{w[0]!r}, {w[1]!r}, {w[2]!r}] }}\n")
+
+
+def test_certified_verdict_follows_the_certificate_not_the_tolerance(tmp_path, capsys):
+    ref = _det_j_mp([float(x) for x in T], [float(x) for x in W])
+    assert 1e-10 < ref < 1e-9                      # within the tolerance, but not 0
+    r, out = _run(tmp_path, capsys, 'method = "certified"\n' + _pose(list(map(float, T)), list(map(float, W))))
+    assert r["certified_sign_det_J"] == 1 == mpmath.sign(ref)
+    assert r["singular"] is False and r["near_singular"] is True
+    assert abs(r["det_J"] - float(ref)) < 1e-6 * float(ref)
+    det_line = next(x for x in out.splitlines() if "det J (eq. 5" in x)
+    assert "near-singular" in det_line and "a singular pose" not in det_line
+    assert "det J != 0, not a singular pose" in out
+
+
+def test_fast_verdict_says_it_is_a_tolerance_test(tmp_path, capsys):
+    r, out = _run(tmp_path, capsys, 'method = "fast"\n' + _pose(list(map(float, T)), list(map(float, W))))
+    assert r["singular"] is True and "tolerance" in r["singular_test"]
+    assert "near_singular" not in r and "tolerance test" in out
+
+
+def test_certified_flat_pose_conditions_are_undefined_not_noise(tmp_path, capsys):
+    # every point in z = 0: every Cayley-Menger determinant is exactly 0, both products
+    # are 0 and the relative conditions are 0/0 (QA V 2: they read 0.9796 and -1)
+    r, out = _run(tmp_path, capsys, 'method = "certified"\n'
+                                    'pose = { translation = [3, 1, 0], rotation = [0, 0, 0] }\n')
+    assert r["singular"] is True and r["certified_sign_det_J"] == 0
+    for key in ("cm_condition_relative", "signed_cm_relative"):
+        assert r[key] is None and key in r["undefined"]
+    assert r["conditions_tier"].startswith("certified")
+    assert "9.796e-01" not in out and "-1.000e+00" not in out
+
+
+
+def test_fast_flat_pose_conditions_are_undefined_not_noise(tmp_path, capsys):
+    r, out = _run(tmp_path, capsys, 'method = "fast"\n'
+                                    'pose = { translation = [3, 1, 0], rotation = [0, 0, 0] }\n')
+    for key in ("cm_condition_relative", "signed_cm_relative"):
+        assert r[key] is None and "rounding" in r["undefined"][key]
+    assert r["conditions_tier"].startswith("fast")
+
+
+def test_certified_verdict_is_undecided_where_the_ball_contains_0(tmp_path, capsys):
+    # on the crossing itself (to float64 rounding): det J is ~1e-17 (the 60-digit
+    # reference), far inside the arb ball of the pose's rounding: no verdict either way
+    s = 0.501671357764296
+    t, w = [float(x) for x in T0 + s * (T1 - T0)], [float(x) for x in W0 + s * (W1 - W0)]
+    assert abs(_det_j_mp(t, w)) < 1e-14
+    r, out = _run(tmp_path, capsys, 'method = "certified"\n' + _pose(t, w))
+    assert r["certified_sign_det_J"] is None and r["singular"] is None
+    assert r["near_singular"] is True and "undecided" in r["singular_test"]
+    assert "singular undecided" in out
