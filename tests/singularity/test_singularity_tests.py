@@ -210,6 +210,9 @@ def test_nearest_singularity_is_on_the_singular_surface_and_not_farther_than_the
     assert ns.first_order > 0
 
 
+# near a flat tetrahedron the relative forms are 0/0 and say so (a CancellationWarning per
+# sample, ~450 here: QA V 2, tested in test_cm_accuracy.py); this test counts zero sets
+@pytest.mark.filterwarnings("ignore::distkin.geometry.cm_float.CancellationWarning")
 def test_zero_sets_agree_along_random_paths():
     # every root of det J is a root of both CM forms and of the four-planes test; every
     # other root of the signed form is a root of its factor a (a flat tetrahedron)
