@@ -9,9 +9,10 @@ what was expected and what was received):
     ``numpy.asarray(x, dtype=float)`` (an integer array would overflow in the
     kernel's products: int64 wraps silently; a list works; a float64 array is not
     copied), then a ``ValueError`` unless the last axis has length ``k``.
-``_Inputs.scalar(x, name, k, nonnegative)`` (scalar flavour)
-    a list of ``k`` floats (a NumPy integer would overflow as well), else a
-    ``ValueError`` naming the shape received.
+the scalar flavour, written out in the kernel (numba compiles it)
+    a ``ValueError`` unless ``len(x) == k`` (naming the expected shape; numba formats
+    no message), then ``x`` as a tuple of ``k`` floats (a NumPy integer would overflow
+    as well).
 
 With ``nonnegative`` (inputs that are squared lengths) a negative entry is a
 ``ValueError`` naming it, in both flavours alike (``math.sqrt`` of it was a bare "math
@@ -44,40 +45,40 @@ _CLASS = '''class _Inputs:
             raise ValueError(f"expected {name} >= 0 (squared lengths), got "
                              f"{name}[{', '.join(map(str, i))}] = {float(x[i])!r}")
         return x
-
-    @staticmethod
-    def scalar(x, name, k, nonnegative):
-        """x as a list of k floats, or a ValueError naming the expected and the
-        received shape."""
-        try:
-            n = len(x)
-        except TypeError:
-            raise TypeError(f"expected {name}: a sequence of {k} numbers, got "
-                            f"{type(x).__name__}") from None
-        got = tuple(x.shape) if hasattr(x, "shape") else (n,)
-        if got != (k,):
-            raise ValueError(f"expected {name} of shape ({k},), got shape {got}")
-        v = [float(e) for e in x]
-        if nonnegative:
-            for i, e in enumerate(v):
-                if e < 0:
-                    raise ValueError(f"expected {name} >= 0 (squared lengths), got "
-                                     f"{name}[{i}] = {e!r}")
-        return v
 '''
 
 
 def prologue(kernel) -> list:
     """The first lines of a checked kernel's body (empty for an unchecked one, or a
-    flavour other than batched and scalar)."""
+    flavour other than batched and scalar).
+
+    The scalar flavour's check is written out in the kernel, in what numba compiles
+    (QA W 1: a call of ``_Inputs`` made ``numba.njit(m.reach_scalar)`` fail to type):
+    the length, then the entries as a tuple of floats, then the signs; its messages
+    are constants (numba formats none), naming the expected shape only."""
     if not kernel.extra.get("checked") or kernel.flavour not in ("batched", "scalar"):
         return []
     nonneg = bool(kernel.extra.get("nonnegative"))
-    return [f"    {name} = _Inputs.{kernel.flavour}({name}, {name!r}, {len(syms)}, {nonneg})"
-            for name, syms in kernel.inputs]
+    if kernel.flavour == "batched":
+        return [f"    {name} = _Inputs.batched({name}, {name!r}, {len(syms)}, {nonneg})"
+                for name, syms in kernel.inputs]
+    lines = []
+    for name, syms in kernel.inputs:
+        k = len(syms)
+        lines += [f"    if len({name}) != {k}:",
+                  f"        raise ValueError(\"expected {name} of shape ({k},): {k} numbers\")",
+                  f"    {name} = (" + ", ".join(f"float({name}[{i}])" for i in range(k))
+                  + ("," if k == 1 else "") + ")"]
+        if nonneg:
+            lines += [f"    for _v in {name}:",
+                      "        if _v < 0.0:",
+                      f"            raise ValueError(\"expected {name} >= 0 (squared "
+                      f"lengths), got a negative entry\")"]
+    return lines
 
 
 def helpers(kernels) -> list:
     """``(name, source)`` of the helpers the checked ``kernels`` call (none, or the
     class ``_Inputs``)."""
-    return [("_Inputs", _CLASS)] if any(k.extra.get("checked") for k in kernels) else []
+    return [("_Inputs", _CLASS)] if any(k.extra.get("checked") and k.flavour == "batched"
+                                        for k in kernels) else []
