@@ -322,6 +322,7 @@ def pose_from(value, translation=None):
             raise InputError(f"expected a translation of shape (..., 3), got {t.shape}",
                              field="translation")
         _finite(t, "translation")
+        _finite(R, "rotation")                # a NaN quaternion (QA W 9)
         return np.concatenate(np.broadcast_arrays(t, rotation_angles(R)), axis=-1)
     if translation is not None:
         raise InputError("expected a translation only with a scipy Rotation, got one with "

@@ -75,3 +75,5 @@ def test_non_finite_poses_refused(pose, where):
         pose_from(pose)
     with pytest.raises(InputError, match="translation.*nan at index 1"):
         pose_from(Rotation.identity(), [0, np.nan, 0])
+    with pytest.raises(InputError, match="rotation.*nan"):           # QA W 9
+        pose_from(Rotation.from_rotvec([np.nan, 0, 0]), [0, 0, 1])
