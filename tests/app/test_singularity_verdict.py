@@ -10,6 +10,7 @@ import json
 
 import mpmath
 import numpy as np
+import pytest
 
 from distkin.app.cli import main
 
@@ -120,3 +121,19 @@ def test_certified_verdict_is_undecided_where_the_ball_contains_0(tmp_path, caps
     assert r["certified_sign_det_J"] is None and r["singular"] is None
     assert r["near_singular"] is True and "undecided" in r["singular_test"]
     assert "singular undecided" in out
+
+
+def test_offsets_of_the_singularity_query_are_checked_at_load():
+    """QA W 7: offsets [-1, ...] of a singularity query failed at run time, where README
+    and check_offsets say the offsets are refused at load (as delta_transform's and
+    platform66's).  Reference: delta1 must lie in (0, d12) with d12 = 12, the side
+    P1P2 of the example's base."""
+    from distkin.app.scene import loads_scene
+    from distkin.errors import InputError
+    text = ('[mechanism]\nkind = "octahedral"\nbase = [[0, 0, 0], [6, "sqrt(108)", 0], '
+            '[12, 0, 0]]\nplatform = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]]\n'
+            '[[query]]\ntype = "singularity"\noffsets = ["OFF", "6/5", "12/5", "6/5", '
+            '"12/5", "6/5"]\npose = { translation = [3, 2, 10], rotation = [10, 20, 30] }\n')
+    with pytest.raises(InputError, match=r"expected 0 < delta1 < d12 = 12 .* got delta1 = -1"):
+        loads_scene(text.replace("OFF", "-1"), "s.toml")
+    loads_scene(text.replace("OFF", "12/5"), "s.toml")            # inside: loads

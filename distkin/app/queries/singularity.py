@@ -141,9 +141,10 @@ class SingularityQuery:
         if "offsets" not in table and getattr(mechanism, "kind", None) == "platform66":
             offsets = mechanism.offsets
         if "offsets" in table:
-            from ...delta import delta_transform
+            from ...delta import check_offsets, delta_transform
             offsets = parse_vector(table["offsets"], f"{field}.offsets", length=6)
             tr = delta_transform(mechanism, offsets, field=f"{field}.offsets")
+            check_offsets(tr, field=f"{field}.offsets")     # at load (QA W 7)
             tr.check_regular(field=f"{field}.offsets")
         method = method_field(table, field, allowed=("fast", "certified"))
         L = None
