@@ -90,6 +90,8 @@ def _cmd_sweep(args):
         scheduler_address(args.scheduler, "--scheduler")   # before the run, naming the option
     if args.store is not None:
         from ..runstore import make_store
+        from .output_paths import check_output_dir
+        check_output_dir(args.store, "--store")
         make_store(args.store, "--store")  # before the run, naming the option
     return _cmd_run(args)          # --store/--workers/--scheduler reach the RunContext
 
@@ -217,7 +219,7 @@ def _refused_scene(args, exc) -> None:
 
 
 def _cmd_run(args) -> int:
-    from .output_paths import check_output_path
+    from .output_paths import check_output_dir, check_output_path
     from .scene import input_files, load_scene
     try:
         scene = load_scene(args.scene)
@@ -226,6 +228,7 @@ def _cmd_run(args) -> int:
         raise
     # before the run (a long sweep loses nothing), and never over the scene or its CSV
     check_output_path(args.json, inputs=input_files(scene))
+    check_output_dir(args.plots, "--plots")
     records, texts, worst = run_scene(scene, plots_dir=args.plots,
                                       progress=not args.no_progress,
                                       store=getattr(args, "store", None),
@@ -239,10 +242,11 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_demo(args) -> int:
-    from .output_paths import check_output_path, write_json
+    from .output_paths import check_output_dir, check_output_path, write_json
     from .report import document, dumps
     from .scene import loads_scene
     check_output_path(args.json)
+    check_output_dir(args.plots, "--plots")
     worst = 0
     records_all = []
     for name in DEMO_SCENES:

@@ -20,7 +20,7 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["check_output_path", "write_text", "write_json", "GENERATED"]
+__all__ = ["check_output_path", "check_output_dir", "write_text", "write_json", "GENERATED"]
 
 #: the package's generated kernels (``distkin/_generated``): no CLI output goes there
 #: (QA U 8: ``distkin codegen -o distkin/_generated/rss_hunt.py`` replaced a kernel)
@@ -101,6 +101,16 @@ def check_output_path(path, field: str = "--json", inputs=()) -> None:
         p.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise _refuse(path, exc, field) from None
+
+
+def check_output_dir(path, field: str) -> None:
+    """Refuse an output folder (``--plots``, ``--store``; ``None`` passes) inside the
+    package's generated kernels (QA W 5: ``--plots`` and ``--store`` wrote there, which
+    ``--json`` and ``--output`` refused)."""
+    if path is not None and _inside(Path(path), GENERATED):
+        raise InputError(f"expected a folder outside distkin's generated kernels "
+                         f"{str(GENERATED)!r} (written only by python -m distkin.codegen), "
+                         f"got {str(path)!r}", field=field, hint="write the files elsewhere")
 
 
 def write_text(path, text: str, field: str) -> None:
