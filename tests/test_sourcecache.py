@@ -56,4 +56,9 @@ def test_an_unusable_cache_folder_is_bad_input(tmp_path, monkeypatch, capsys):
                      'determinants = ["D(1,2,3,4)"]\n', encoding="utf-8")
     code = main(["codegen", str(scene), "-o", str(tmp_path / "m.py")])
     err = capsys.readouterr().err
-    assert code == 2 and "DISTKIN_CACHE: expected a writable cache folder" in err, err
+    # QA W 6: refused once, before any work (no derivation, no "cached" line)
+    assert code == 2 and err.strip().splitlines() == [
+        f"distkin: error: DISTKIN_CACHE: expected a folder for distkin's cache, got "
+        f"{str(bad)!r} ({str(tmp_path / 'file')!r} is a file) (hint: set DISTKIN_CACHE to "
+        f"a folder that can be written, or unset it)"], err
+    assert not (tmp_path / "m.py").exists()

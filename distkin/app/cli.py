@@ -296,6 +296,31 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _check_cache_env() -> None:
+    """A ``DISTKIN_CACHE`` that cannot be a folder is refused before any work, once
+    (QA W 6: each query derived its kernels, said "cached", then failed on its own)."""
+    import os
+    value = os.environ.get("DISTKIN_CACHE")
+    if not value:
+        return
+    path = Path(value)
+    try:
+        if path.exists() and not path.is_dir():
+            raise FileExistsError
+        path.mkdir(parents=True, exist_ok=True)
+        why = None
+    except FileExistsError:
+        why = "it is a file"
+    except OSError as exc:
+        blocker = next((a for a in path.parents if a.exists() and not a.is_dir()), None)
+        why = (f"{str(blocker)!r} is a file" if blocker is not None
+               else exc.strerror or type(exc).__name__)
+    if why is not None:
+        raise InputError(f"expected a folder for distkin's cache, got {value!r} ({why})",
+                         field="DISTKIN_CACHE", hint="set DISTKIN_CACHE to a folder that "
+                                                     "can be written, or unset it")
+
+
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -303,6 +328,7 @@ def main(argv=None) -> int:
         parser.print_help()
         return 2
     try:
+        _check_cache_env()
         return int(args.func(args) or 0)
     except DistkinError as exc:
         _err(exc.one_line())
