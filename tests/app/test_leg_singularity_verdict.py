@@ -7,6 +7,7 @@ the pose); det J of a regular table recomputed here with numpy from the joints."
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -70,3 +71,19 @@ def test_regular_table_is_not_singular_and_certified_says_why(tmp_path, capsys):
     assert row["det_J"] == pytest.approx(ref, rel=1e-9)
     assert row["det_sign_certified"] == int(np.sign(ref)) and row["singular"] is False
     assert row["near_singular"] is False and "singular: no" in out
+
+
+def test_the_legs_singularity_json_has_a_unit_block(tmp_path):
+    """QA W 10: the only query JSON without a unit block.  Reference: the pose written in
+    mm and deg comes back in m and rad, as the block says."""
+    import math
+    text = (Path(__file__).resolve().parents[2] / "examples" / "gough_stewart_6ups.toml"
+            ).read_text(encoding="utf-8")
+    scene = tmp_path / "g.toml"
+    scene.write_text(text[:text.index("[[query]]")] + '[[query]]\ntype = "singularity"\n'
+                     'pose = [10, 0, 410, 0, 0, 5]\n', encoding="utf-8")
+    assert main(["run", str(scene), "--json", str(tmp_path / "o.json")]) == 0
+    res = json.loads((tmp_path / "o.json").read_text())["queries"][0]["result"]
+    assert res["unit"]["pose"] == "m, rad" and res["unit"]["four_planes_spread"] == "m"
+    pose = res["poses"][0]["pose"]
+    assert pose[0] == pytest.approx(0.010) and pose[2] == pytest.approx(0.410) and pose[5] == pytest.approx(math.radians(5))

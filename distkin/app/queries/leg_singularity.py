@@ -177,6 +177,14 @@ def singularity_tests_at(mech, pose, method: str = "fast", tolerance: float = 1e
     return out
 
 
+#: the units of the result (QA W 10: the only query without a unit block)
+_UNIT = {"pose": "m, rad", "length_scale_m": "m",
+         "sigma_min": "none (of J: unit leg lines, moment columns divided by length_scale_m)",
+         "det_J": "none (of that J)", "tolerance": "none (on det J, or on sigma_min)",
+         "cm_relative": "none", "signed_cm_relative": "none",
+         "four_planes_relative": "none", "four_planes_spread": "m"}
+
+
 @register("singularity", mechanisms=("legs", "rss"),
           summary="det J of the leg lines (eq. 5), Cayley-Menger and four-planes tests where "
                   "they apply, at poses or along a path")
@@ -280,7 +288,8 @@ class LegSingularityQuery:
                      + "); crossings located by Brent's method on det J to 1e-12 of the path")
         result = {"mechanism": mech.name, "applicability": app, "method": p.method,
                   "tolerance": p.tolerance,
-                  "length_scale_m": mech.length_scale, "poses": rows, "crossings": crossings}
+                  "length_scale_m": mech.length_scale, "poses": rows, "crossings": crossings,
+                  "unit": _UNIT}
         return Outcome(result, "\n".join(lines))
 
 
