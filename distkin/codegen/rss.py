@@ -274,8 +274,14 @@ def scene_module(scene, flavours=FLAVOURS):
         from ..errors import InputError
         raise InputError(f"expected a query that needs kernels ({', '.join(QUERY_KERNELS)}), "
                          f"got {[q.type for q in scene.queries]}", field="query")
+    # the derivation script covers the revolute legs; a prismatic leg's model is the
+    # leg table's own (QA W 12: a 6-UPS module named the RSS script)
+    pris = [bool(leg.prismatic) for leg in mech.leg_description().leg_table]
+    model = ("derivations/rss_model.py" if not any(pris) else
+             "distkin.mechanisms.symbolic, prismatic legs" if all(pris) else
+             "derivations/rss_model.py and distkin.mechanisms.symbolic, prismatic legs")
     gen = (f"distkin codegen {Path(scene.path).name} (distkin.codegen.rss; derivation: "
-           "derivations/rss_model.py)")
+           f"{model})")
     key = source_key(_model_source_text(), repr(mech.leg_description().key()), names,
                      flavours, gen)
     path, hit = cached_source(_prefix(mech), key, lambda: module_text(
