@@ -137,3 +137,29 @@ def test_offsets_of_the_singularity_query_are_checked_at_load():
     with pytest.raises(InputError, match=r"expected 0 < delta1 < d12 = 12 .* got delta1 = -1"):
         loads_scene(text.replace("OFF", "-1"), "s.toml")
     loads_scene(text.replace("OFF", "12/5"), "s.toml")            # inside: loads
+
+
+def test_fast_conditions_escalate_where_float64_cannot_vouch(tmp_path):
+    """QA W 2: a 0.6 µm platform over a 12 mm base, at a regular pose: the fast query
+    said the relative Cayley-Menger conditions were undefined (their a priori rounding
+    estimate, 0.2, above the denominator 4.7e-5), where arb gives -0.1083 +/- 1.2e-5.
+    Now the precise tier (30 digits) decides there and the result says so.  Reference:
+    the certified query's balls, which must contain the fast query's values."""
+    from flint import arb
+    text = ('[units]\nlength = "mm"\nangle = "deg"\n[mechanism]\nkind = "octahedral"\n'
+            'base = [[0, 0, 0], [6, 10.392304845413264, 0], [12, 0, 0]]\n'
+            'platform = [[0, 0, 0], [0.0006, 0, 0], [0.0003, 0.0005196152422706632, 0]]\n')
+    query = ('[[query]]\ntype = "singularity"\npose = { translation = [5, 4, 10], '
+             'rotation = [10, 5, 3] }\nmethod = "M"\n')
+    scene = tmp_path / "s.toml"
+    scene.write_text(text + query.replace("M", "fast") + query.replace("M", "certified"),
+                     encoding="utf-8")
+    assert main(["run", str(scene), "--json", str(tmp_path / "o.json")]) == 0
+    fast, cert = (q["result"] for q in
+                  json.loads((tmp_path / "o.json").read_text())["queries"])
+    assert fast["undefined"] == {} and set(fast["escalated"]) == {"cm_condition_relative",
+                                                                  "signed_cm_relative"}
+    for key in ("cm_condition_relative", "signed_cm_relative"):
+        ball = arb(cert[key + "_ball"].strip("[]").replace("+/-", "+/-"))
+        lo, hi = float(ball.mid() - ball.rad()), float(ball.mid() + ball.rad())
+        assert lo <= fast[key] <= hi, (key, fast[key], cert[key + "_ball"])

@@ -229,11 +229,14 @@ def _run_pose(model, p, unit):
                            "point": tests["four_planes_point"],
                            "spread": _opt(tests["four_planes_spread"])},
            "undefined": undefined,
+           "escalated": tests["escalated"],
            "conditions_tier": ("certified (arb balls or exact fmpq: cm_condition_relative "
                                "and signed_cm_relative are ball midpoints, *_ball the balls)"
                                if cert_cm else
-                               "fast (float64; undefined where both products are within "
-                               "their rounding error estimate of 0)"),
+                               "fast (float64; where both products are within their "
+                               "rounding error estimate of 0, the precise tier at 30 digits: "
+                               "see escalated; undefined where that cannot rule out 0/0 "
+                               "either)"),
            "nearest_singularity": {"distance": ns.distance, "first_order": ns.first_order,
                                    "converged": ns.converged, "residual": ns.residual,
                                    "rotation_matrix": ns.rotation, "translation": ns.translation,
@@ -257,7 +260,12 @@ def _run_pose(model, p, unit):
                            else f"{text} = {res[k]:.3e}")
     lines.append(f"{fmt('cm_condition_relative', 'Cayley-Menger condition (paper, relative)')}; "
                  f"{fmt('signed_cm_relative', 'signed CM form (relative)')}"
-                 + (" (certified: arb/fmpq)" if cert_cm else " (float64)"))
+                 + (" (certified: arb/fmpq)" if cert_cm else " (float64)" if not
+                    tests["escalated"] else " (float64; the precise tier, 30 digits, for the "
+                    + " and the ".join({"cm_condition_relative": "paper's form",
+                                        "signed_cm_relative": "signed form"}[k]
+                                       for k in tests["escalated"])
+                    + ": float64's error estimate could not rule out 0/0)"))
     lines.append(f"four planes: undefined ({undefined['four_planes']})" if "four_planes" in undefined
                  else f"four planes: spread from their common point = "
                       f"{res['four_planes']['spread']:.3e}{unit}")

@@ -120,10 +120,20 @@ def _tests(model, R, t):
     J = plucker_jacobian(*octahedral_joints(X))
     J[..., 3:] /= model.L
     out = {"det_J": np.linalg.det(J), "sigma_min": np.linalg.svd(J, compute_uv=False)[..., -1]}
-    undefined = {}
+    undefined, escalated = {}, {}
     for key, f in (("cm_condition_relative", cm_pure_condition),
                    ("signed_cm_relative", signed_cm_condition)):
         out[key], why = _guarded_relative(lambda: f(X, relative=True, with_error=True))
+        # where float64 cannot vouch (NaN: its rounding-error estimate does not rule out
+        # 0/0) the precise tier decides (QA W 2: the a priori estimate is far above the
+        # actual error next to a small platform); an exact 0/0 stays undefined
+        if (why and "rounding error estimate" in why) or \
+                (out[key] is not None and np.isnan(out[key]).any()):
+            out[key], why, n = _escalate(f, X, out[key])
+            if n:
+                escalated[key] = (f"precise (mpmath, 30 digits) at {n} of {len(X)} "
+                                  f"pose(s): float64's rounding-error estimate could not "
+                                  f"rule out 0/0 there")
         if why:
             undefined[key] = why
     fp, why = _guarded(lambda: four_planes(X, length_scale=model.L))
@@ -132,8 +142,34 @@ def _tests(model, R, t):
     out.update({"four_planes_relative": None if fp is None else np.asarray(fp.relative),
                 "four_planes_spread": None if fp is None else np.asarray(fp.spread),
                 "four_planes_point": None if fp is None else fp.point,
-                "undefined": undefined})
+                "undefined": undefined, "escalated": escalated})
     return out
+
+
+def _escalate(f, X, fast):
+    """The relative condition ``f`` at the poses of ``X`` (n, 6, 3) where the fast value
+    is undefined (NaN, or ``fast`` None: all), in the precise tier: (values, reason or
+    None, how many were escalated).  Where precise cannot rule out 0/0 either, the value
+    stays NaN and the reason is its warning."""
+    import warnings
+    from ...geometry.cm_float import CancellationWarning
+    vals = np.full(len(X), np.nan) if fast is None else np.array(fast, dtype=float)
+    why, n = None, 0
+    for i in np.flatnonzero(np.isnan(vals)):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", CancellationWarning)
+            try:
+                v = float(f(X[i], relative=True, method="precise"))
+            except DegenerateGeometryError as exc:
+                v, why = float("nan"), exc.message
+        if v == v:
+            vals[i], n = v, n + 1
+        elif why is None:
+            why = next((str(w.message).split("; returned NaN")[0] for w in caught),
+                       "undefined in the precise tier too")
+    if np.isnan(vals).all():
+        return None, why, n
+    return vals, None, n
 
 
 def _opt(v):
