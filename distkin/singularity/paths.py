@@ -212,14 +212,18 @@ def path_crossings(f, samples: int = 200, *, xtol: float = 1e-14, refine: bool =
     vals = np.asarray(f(grid), dtype=float)
     roots = []
     scalar = lambda x: float(np.asarray(f(np.array([x])))[0])  # noqa: E731
-    for i in range(samples - 1):
-        a, b = vals[i], vals[i + 1]
+    # consecutive *finite* samples: a sign change across a NaN sample (a relative
+    # condition undefined there) counts too (QA W 3: whether a sample fell on the NaN
+    # decided whether the root was found)
+    finite = np.flatnonzero(np.isfinite(vals))
+    for i, j in zip(finite[:-1], finite[1:]):
+        a, b = vals[i], vals[j]
         if a == 0.0:
             roots.append(float(grid[i]))
         elif a * b < 0:
-            roots.append(_brent(scalar, grid[i], grid[i + 1], xtol))
-    if vals[-1] == 0.0:
-        roots.append(1.0)
+            roots.append(_brent(scalar, grid[i], grid[j], xtol))
+    if finite.size and vals[finite[-1]] == 0.0:
+        roots.append(float(grid[finite[-1]]))
     if refine:
         roots.extend(_root_pairs(scalar, grid, vals, xtol))
         roots.sort()

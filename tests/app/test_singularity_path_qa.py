@@ -235,3 +235,30 @@ def test_tolerance_accepts_an_exact_string_and_root_distance_is_null(tmp_path, c
     with pytest.raises(InputError) as exc:
         loads_scene(_gd_query('"2"', "fast"))
     assert exc.value.field == "query[0].tolerance"
+
+
+@pytest.mark.parametrize("samples", [60, 61])
+def test_a_sample_on_an_undefined_point_changes_nothing(tmp_path, samples):
+    """QA W 3: a path through a flat tetrahedron P1P2P4P5 at s = 0.5 (the platform
+    turned about z by -10 .. +10 deg at rx = 90 sqrt(3), ry = 90 deg): with 61 samples
+    s = 0.5 is itself a sample, where the relative signed form is 0/0 (NaN), and its
+    root was lost (a sign change was looked for only between neighbouring samples); with
+    60 it was found.  Now both find it, and the note on undefined samples is in the JSON
+    too, counting samples apart from the points of the root refinement.  Reference: the
+    symmetric path, whose middle s = 0.5 is the flat pose."""
+    text = ('[units]\nlength = "none"\nangle = "deg"\n'
+            '[mechanism]\nkind = "octahedral"\nbase = [[0, 0, 0], [6, "sqrt(108)", 0], '
+            '[12, 0, 0]]\nplatform = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]]\n'
+            '[[query]]\ntype = "singularity"\nmethod = "fast"\n'
+            f'[query.path]\nsamples = {samples}\n[query.path.from]\n'
+            'translation = [3, "sqrt(3)", 10]\n'
+            'rotation = ["90*sqrt(3)", 90, -10]\n[query.path.to]\n'
+            'translation = [3, "sqrt(3)", 10]\nrotation = ["90*sqrt(3)", 90, 10]\n')
+    scene = tmp_path / "p.toml"
+    scene.write_text(text, encoding="utf-8")
+    assert main(["run", str(scene), "--json", str(tmp_path / "o.json")]) == 0
+    res = json.loads((tmp_path / "o.json").read_text())["queries"][0]["result"]
+    assert any(abs(r - 0.5) < 1e-9 for r in res["signed_cm_roots"]), res["signed_cm_roots"]
+    note = next(n for n in res["notes"] if n.startswith("the signed CM form undefined"))
+    assert ("at 1 of the 61 samples (s = 0.5)" in note) == (samples == 61)
+    assert "(s = 0.5, 0.5)" not in note

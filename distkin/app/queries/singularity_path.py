@@ -115,9 +115,22 @@ def run_path(model, p, unit):
             ("the signed CM form", nan_k, "both carry the factor a = V1245 V3456 V1236: a "
              "flat tetrahedron, not a singularity where det J != 0")):
         if bad:
-            notes.append(f"  {what} undefined at {len(set(bad))} sample(s) (s = "
-                         f"{', '.join(f'{x:.6g}' for x in sorted(set(bad))[:5])}"
-                         f"{', ...' if len(set(bad)) > 5 else ''}): both products within "
+            # the grid's samples, apart from the evaluations of the root refinement
+            # (QA W 3: those were counted as samples, one s twice)
+            bad = {round(x, 9) for x in bad}           # one s once
+            on_grid = sorted({x for x in bad if abs(x * (p.samples - 1)
+                                                    - round(x * (p.samples - 1))) < 1e-6})
+            other = sorted(bad - set(on_grid))
+            where = []
+            if on_grid:
+                where.append(f"at {len(on_grid)} of the {p.samples} samples (s = "
+                             f"{', '.join(f'{x:.6g}' for x in on_grid[:5])}"
+                             f"{', ...' if len(on_grid) > 5 else ''})")
+            if other:
+                where.append(f"at {len(other)} point(s) of the root refinement (s = "
+                             f"{', '.join(f'{x:.6g}' for x in other[:3])}"
+                             f"{', ...' if len(other) > 3 else ''})")
+            notes.append(f"  {what} undefined {' and '.join(where)}: both products within "
                          f"their float64 rounding error estimate of 0, 0/0 cannot be ruled "
                          f"out ({why})")
     crossings, lines = [], []
@@ -238,6 +251,7 @@ def run_path(model, p, unit):
         lines.append(f"  distance to the nearest singular pose at s = {s:g}: "
                      f"{ns.distance:.6g}{unit} (local search: an upper bound)")
     res = {"samples": p.samples, "length_scale": model.L, "crossings": crossings,
+           "notes": [n.strip() for n in dict.fromkeys(notes)],     # as the text (QA W 3)
            "cm_condition_roots": cm_roots, "signed_cm_roots": k_roots,
            "four_planes_roots": fp_roots, "cm_spurious_roots": spurious,
            "nearest_singularity": dist, "min_abs_det_J": float(np.min(np.abs(vals))),
