@@ -255,7 +255,8 @@ class RSSDescription:
         if self.layout == "tangential":
             if self.l2 >= LEG_LENGTH:
                 raise InputError(f"expected l2 below the leg length {LEG_LENGTH} m (l3 = "
-                                 f"{LEG_LENGTH} - l2), got {self.l2!r}; give l3", field="l2")
+                                 f"{LEG_LENGTH} - l2), got {self.l2:.6g} m", field="l2",
+                                 hint="a smaller l2, or l3 given with it")
             return LEG_LENGTH - self.l2
         return self.horizontal_crank_l3()
 

@@ -475,7 +475,7 @@ def _check_design_corners(space, units, field):
                               for n, v in params.items())
             raise InputError(f"expected every design of the sweep to be a valid "
                              f"{space.base} mechanism, got one that is not ({shown}): "
-                             f"{exc.message}",
+                             f"{exc.message} (SI)",
                              field=f"{field}.{exc.field}" if exc.field in PARAMS else field,
                              hint=f"a smaller range; the scene's [units] length is "
                                   f"\"{units.length}\"") from None
