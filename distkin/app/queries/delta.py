@@ -209,9 +209,13 @@ class DeltaTransformQuery:
             result["reason"] = no_map
             lines.append(f"m-legs -> l-legs: none real; {no_map}")
             if p.solve:
-                result["forward_kinematics"] = {"method": p.method, "tier": "exact",
-                                                "count": 0, "certified": True,
-                                                "poses": [], "reason": no_map}
+                # the fields of a solved answer (QA W 13), the tier the exact map's
+                result["forward_kinematics"] = {
+                    "method": p.method, "tier": "exact", "count": 0, "certified": True,
+                    "poses": [], "reason": no_map, "max_leg_error": None,
+                    "conditioning": None, "notes": [],
+                    "tier_reason": "the exact inverse map of eq. (8) proves that no pose "
+                                   "exists; no octahedral solve ran"}
                 lines.append(f"6-6 forward kinematics ({p.method}): 0 poses (proved)")
         elif p.m_legs is not None:
             result["m_legs"] = [m.text for m in p.m_legs]
