@@ -265,7 +265,7 @@ def _run_pose(model, p, unit):
                     + " and the ".join({"cm_condition_relative": "paper's form",
                                         "signed_cm_relative": "signed form"}[k]
                                        for k in tests["escalated"])
-                    + ": float64's error estimate could not rule out 0/0)"))
+                    + ": float64's error estimate could not rule out 0/0 or exceeded 1e-6)"))
     lines.append(f"four planes: undefined ({undefined['four_planes']})" if "four_planes" in undefined
                  else f"four planes: spread from their common point = "
                       f"{res['four_planes']['spread']:.3e}{unit}")

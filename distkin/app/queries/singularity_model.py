@@ -94,7 +94,8 @@ def _guarded_relative(f):
     where it is undefined: exactly 0/0 (:class:`DegenerateGeometryError`), or both
     products within their rounding error estimate of 0 (NaN with a
     :class:`~distkin.geometry.cm_float.CancellationWarning`: QA V 2).  Other samples of a
-    batch keep their values (NaN where undefined)."""
+    batch keep their values (NaN where undefined, and where the value's error estimate
+    exceeds 1e-6: :func:`_tests` asks the precise tier there)."""
     import warnings
     from ...geometry.cm_float import CancellationWarning
     with warnings.catch_warnings(record=True) as caught:
@@ -102,12 +103,15 @@ def _guarded_relative(f):
         out, why = _guarded(f)
     if why:
         return None, why
-    val, _err = out
+    val, err = out
     val = np.asarray(val, dtype=float)
     if np.isnan(val).all():
         msg = next((str(w.message) for w in caught if "undefined" in str(w.message)), "")
         return None, msg.replace(" at batch index (0,) (1 of 1)", "").split("; returned NaN")[0]
-    return val, None
+    # a value float64 cannot vouch for to 1e-6 is NaN here, for the precise tier to decide
+    # (QA W 11: its CancellationWarning was dropped and the value printed bare)
+    from ...geometry.cm_float import CANCELLATION_THRESHOLD
+    return np.where(np.asarray(err, dtype=float) > CANCELLATION_THRESHOLD, np.nan, val), None
 
 
 def _tests(model, R, t):
@@ -133,7 +137,7 @@ def _tests(model, R, t):
             if n:
                 escalated[key] = (f"precise (mpmath, 30 digits) at {n} of {len(X)} "
                                   f"pose(s): float64's rounding-error estimate could not "
-                                  f"rule out 0/0 there")
+                                  f"rule out 0/0 there, or exceeded 1e-6")
         if why:
             undefined[key] = why
     fp, why = _guarded(lambda: four_planes(X, length_scale=model.L))
