@@ -780,7 +780,7 @@ def closure(q, pose):
     if numpy.ndim(q) == 2 and len(q) > 4096:
         _res = None
         for _i in range(0, len(q), 4096):
-            _part = closure(q[_i:_i + 4096], pose[_i:_i + 4096])
+            _part = closure(q[_i:_i + 4096], (pose[_i:_i + 4096] if numpy.ndim(pose) == 2 and len(pose) == len(q) else pose))
             if _res is None:
                 _res = numpy.empty((len(q),) + _part.shape[1:])
             _res[_i:_i + 4096] = _part

@@ -412,7 +412,13 @@ def kernel_source(k: Kernel, integers: dict | None = None) -> str:
         # large 2-D batches run in chunks whose temporaries stay in the CPU cache (about
         # 5x faster at N = 1e5 than one pass over the whole batch)
         first = args[0]
-        sliced = ", ".join(f"{a}[_i:_i + {int(chunk)}]" for a in args)
+        # the other inputs sliced only where they are rows of the batch too: one that
+        # broadcasts (a pose (6,) beside q (N, L)) is passed whole (QA W 4: sliced, it
+        # came out empty past the first chunk)
+        sliced = ", ".join(
+            f"{a}[_i:_i + {int(chunk)}]" if a == first else
+            f"({a}[_i:_i + {int(chunk)}] if numpy.ndim({a}) == 2 and len({a}) == len({first})"
+            f" else {a})" for a in args)
         lines += [
             f"    if numpy.ndim({first}) == 2 and len({first}) > {int(chunk)}:",
             "        _res = None",

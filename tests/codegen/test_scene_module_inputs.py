@@ -201,3 +201,20 @@ def test_scalar_kernels_still_compile_with_numba(mods):
     np.testing.assert_allclose(numba.njit(gd.octic_scalar)(L2), gd.octic(L2), rtol=1e-13)
     with pytest.raises(ValueError, match="pose of shape"):
         numba.njit(op.ik_scalar)(pose[:5])
+
+
+def test_a_broadcast_input_survives_the_chunks(mods):
+    """QA W 4: closure(q (4097, L), pose (6,)) failed past the 4096-row chunk (every input
+    was sliced by rows, the pose came out empty), and pose (1, 6) failed to broadcast.
+    Reference: the same rows below the chunk size, unchunked, and the closure's own
+    zero at the IK angles of that pose."""
+    op = mods["op"]
+    pose = np.array([0.04, -0.03, 0.33, 0.26, -0.17, 0.35])
+    q = np.repeat(op.ik(pose)[None], 4097, axis=0)
+    small = op.closure(q[:10], pose)
+    assert np.max(np.abs(small[..., 0])) < 1e-12          # Phi = 0 at the IK angles
+    for p in (pose, pose[None]):
+        big = op.closure(q, p)
+        assert big.shape[0] == 4097
+        np.testing.assert_array_equal(big[:10], small)
+        np.testing.assert_array_equal(big[-1], small[0])
