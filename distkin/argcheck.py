@@ -262,9 +262,10 @@ def relative_tol(value, field: str = "tol", *, digits: int | None = None) -> flo
     works at dps + 20 digits and a smaller tolerance rejected every root, so a smaller
     one asks for a larger dps.  :class:`InputError` naming ``field``."""
     x = parse_float(value, field)
+    name = field.rsplit(".", 1)[-1]          # tol, tolerance, ...
     if not 0 < x < 1:
-        raise InputError(f"expected tol as a relative tolerance, a number 0 < tol < 1, got "
-                         f"{value!r}", field=field)
+        raise InputError(f"expected {name} as a relative tolerance, a number 0 < {name} < 1, "
+                         f"got {value!r}", field=field)
     if digits is not None and x < 10.0 ** -digits:
         raise InputError(f"expected tol >= 1e-{digits} at {digits} digits (the precise "
                          f"tier's dps), got {value!r}", field=field,

@@ -244,9 +244,7 @@ def _brent(scalar, lo, hi, xtol):
     while hi - lo > xtol:
         mid = 0.5 * (lo + hi)
         fm = scalar(mid)
-        if fm != fm:                     # NaN
-            return mid
-        if fm == 0.0:
+        if fm != fm or fm == 0.0:        # NaN (0/0: the numerator's zero) or a root
             return mid
         if (fm < 0) == (fl < 0):
             lo, fl = mid, fm

@@ -197,6 +197,7 @@ class DeltaTransformQuery:
             lines.append("det(A) != 0: the equivalent 6-6 platform is not architecturally singular")
         no_map = None
         if p.m_legs is not None:
+            result["m_legs"] = [m.text for m in p.m_legs]
             try:
                 l_sq, l = tr.map_legs(p.m_legs, field="m_legs")
             except InfeasibleError as exc:    # proved: no real l-leg, so no pose
@@ -204,7 +205,6 @@ class DeltaTransformQuery:
                     raise
                 no_map = _no_map_reason(exc)
         if no_map is not None:
-            result["m_legs"] = [m.text for m in p.m_legs]
             result["mapped_legs"] = None
             result["reason"] = no_map
             lines.append(f"m-legs -> l-legs: none real; {no_map}")
@@ -218,7 +218,6 @@ class DeltaTransformQuery:
                                    "exists; no octahedral solve ran"}
                 lines.append(f"6-6 forward kinematics ({p.method}): 0 poses (proved)")
         elif p.m_legs is not None:
-            result["m_legs"] = [m.text for m in p.m_legs]
             result["mapped_squared_legs"] = [sp.sstr(x) for x in l_sq]
             # exact forms, as they are (nsimplify would pass off a nearby "simple"
             # number as the value); the text shows a long one by its value only

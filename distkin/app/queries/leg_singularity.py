@@ -219,14 +219,9 @@ class LegSingularityQuery:
                  [f"{field}.poses[{i}]" for i in range(len(poses))] if poses else
                  [f"{field}.path.from", f"{field}.path.to"])
         check_pose_units(np.array(poses or path), units, names, mechanism.length_scale)
-        tol = table.get("tolerance", 1e-9)
-        if isinstance(tol, str):            # an exact string, as every numeric field
-            from ...argcheck import parse_float
-            tol = parse_float(tol, f"{field}.tolerance")
-        if not isinstance(tol, (int, float)) or isinstance(tol, bool) or not 0 < tol < 1:
-            raise InputError(f"expected a tolerance in (0, 1), got {tol!r}",
-                             field=f"{field}.tolerance")
-        return _Params(poses, path, samples, method_field(table, field), float(tol))
+        from ...argcheck import relative_tol
+        tol = relative_tol(table.get("tolerance", 1e-9), f"{field}.tolerance")
+        return _Params(poses, path, samples, method_field(table, field), tol)
 
     @staticmethod
     def run(p, scene, ctx):

@@ -156,13 +156,9 @@ class SingularityQuery:
                 raise InputError(f"expected a length scale in [{lo:.3g}, {hi:.3g}] (1e-8 to "
                                  f"1e8 times the mechanism's size {size:.6g}), got {L:.6g}",
                                  field=f"{field}.length_scale")
-        tol = table.get("tolerance", 1e-9)
-        if isinstance(tol, str):            # an exact string, as every numeric field (QA F12)
-            from ...argcheck import parse_float
-            tol = parse_float(tol, f"{field}.tolerance")
-        if not isinstance(tol, (int, float)) or isinstance(tol, bool) or not 0 < tol < 1:
-            raise InputError(f"expected a tolerance in (0, 1), got {tol!r}", field=f"{field}.tolerance")
-        return _Params(pose, path, samples, offsets, method, L, float(tol))
+        from ...argcheck import relative_tol      # an exact string too (QA F12)
+        tol = relative_tol(table.get("tolerance", 1e-9), f"{field}.tolerance")
+        return _Params(pose, path, samples, offsets, method, L, tol)
 
     @staticmethod
     def run(p, scene, ctx):
@@ -210,7 +206,7 @@ def _run_pose(model, p, unit):
     R = model.rotation(p.pose)
     t = np.array([float(x) for x in p.pose.translation])
     _check_legs(model, R[None], t[None], "pose")
-    tests = _first(_tests(model, R[None], t[None]))
+    tests = _first(_tests(model, R[None], t[None], escalate=p.method != "certified"))
     cert_cm = None
     if p.method == "certified":         # the conditions in arb, not float (QA V 2)
         Ra, ta = _exact_pose_arb(model, p.pose)

@@ -114,10 +114,12 @@ def _guarded_relative(f):
     return np.where(np.asarray(err, dtype=float) > CANCELLATION_THRESHOLD, np.nan, val), None
 
 
-def _tests(model, R, t):
+def _tests(model, R, t, escalate: bool = True):
     """All characterisations at float poses R (n,3,3), t (n,3).  A test that is
     undefined there (a flat tetrahedron, three collinear points of a plane) is None,
-    with the reason in ``undefined``."""
+    with the reason in ``undefined``.  ``escalate``: a relative CM condition float64
+    cannot vouch for goes to the precise tier (False where the caller computes them in
+    arb anyway)."""
     from ...singularity import (cm_pure_condition, four_planes, plucker_jacobian,
                               octahedral_joints, signed_cm_condition)
     X = model.points(R, t)
@@ -131,8 +133,8 @@ def _tests(model, R, t):
         # where float64 cannot vouch (NaN: its rounding-error estimate does not rule out
         # 0/0) the precise tier decides (QA W 2: the a priori estimate is far above the
         # actual error next to a small platform); an exact 0/0 stays undefined
-        if (why and "rounding error estimate" in why) or \
-                (out[key] is not None and np.isnan(out[key]).any()):
+        if escalate and ((why and "rounding error estimate" in why) or
+                         (out[key] is not None and np.isnan(out[key]).any())):
             out[key], why, n = _escalate(f, X, out[key])
             if n:
                 escalated[key] = (f"precise (mpmath, 30 digits) at {n} of {len(X)} "
