@@ -186,3 +186,39 @@ def _check_leg_range(legs: np.ndarray, field) -> None:
     from ..octahedral.scaling import check_range
     i = int(np.argmax(legs))
     check_range(float(legs[i]), f"{field}[{i}]")
+
+
+def _input_key(value):
+    """A hashable key that equals for inputs :func:`_as_sym` reads alike, or ``None``
+    when one part is of a type it does not know (the caller then does not cache).
+
+    The type is part of the key, so ``1.0`` (the float, its exact binary value) and
+    ``"1.0"`` (the decimal) or ``1`` stay apart even where they happen to be equal;
+    floats by their bits (``float.hex``), numpy arrays by dtype, shape and bytes.  A
+    mechanism object (with ``base`` and ``platform``) is keyed by its two point sets.
+    Used to skip the exact parsing of a mechanism already built (the 6-6 forward
+    kinematics re-parsed its string coordinates with sympy on every call)."""
+    from fractions import Fraction
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, bool):
+        return ("bool", value)
+    if isinstance(value, str):
+        return ("str", value)
+    if isinstance(value, int):
+        return ("int", value)
+    if isinstance(value, float):
+        return ("float", value.hex())
+    if isinstance(value, Fraction):
+        return ("fraction", value.numerator, value.denominator)
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind not in "biuf":
+            return None
+        return ("array", value.dtype.str, value.shape, value.tobytes())
+    if isinstance(value, (list, tuple)):
+        parts = tuple(_input_key(v) for v in value)
+        return None if any(p is None for p in parts) else ("seq", parts)
+    if hasattr(value, "base") and hasattr(value, "platform"):
+        parts = (_input_key(value.base), _input_key(value.platform))
+        return None if None in parts else ("mechanism", parts)
+    return None

@@ -17,7 +17,7 @@ import numpy as np
 from ..errors import DegenerateGeometryError, InputError
 from ..exact import METHODS_AUTO, check_method, default_dps
 from .exact_input import (_as_sym, _base_platform, _check_leg_range, _exact_form,
-                          _float_legs, _readable, _sym_points)
+                          _float_legs, _input_key, _readable, _sym_points)
 from .transform import ROWS, DeltaTransform, delta_transform
 
 __all__ = [
@@ -107,6 +107,24 @@ def equivalent_platform(octahedral, offsets) -> Platform66:
         Offsets making :math:`\det\mathbf A = 0`, or an offset of 0 or :math:`d_i` that
         would merge two joints again (the platform would not be 6-6).
     """
+    key = _input_key((octahedral, offsets))
+    if key is None:
+        return _equivalent_platform(octahedral, offsets)
+    try:
+        return _built[key]
+    except KeyError:
+        pass
+    plat = _equivalent_platform(octahedral, offsets)
+    if len(_built) >= 64:                           # a bound, not an LRU: drop the oldest
+        del _built[next(iter(_built))]
+    _built[key] = plat
+    return plat
+
+
+_built: dict = {}   # raw inputs (as _input_key) -> Platform66; only successful builds
+
+
+def _equivalent_platform(octahedral, offsets) -> Platform66:
     tr = delta_transform(octahedral, offsets)
     if tr.free_symbols:
         raise InputError(f"expected numeric offsets to build a platform, got symbols "
