@@ -12,6 +12,8 @@ from dataclasses import dataclass
 from fractions import Fraction
 from functools import cached_property, lru_cache
 
+import threading
+
 import numpy as np
 
 from ..errors import DegenerateGeometryError, InputError
@@ -115,13 +117,15 @@ def equivalent_platform(octahedral, offsets) -> Platform66:
     except KeyError:
         pass
     plat = _equivalent_platform(octahedral, offsets)
-    if len(_built) >= 64:                           # a bound, not an LRU: drop the oldest
-        del _built[next(iter(_built))]
-    _built[key] = plat
+    with _built_lock:
+        if len(_built) >= 64:                       # a bound, not an LRU: drop the oldest
+            del _built[next(iter(_built))]
+        _built[key] = plat
     return plat
 
 
 _built: dict = {}   # raw inputs (as _input_key) -> Platform66; only successful builds
+_built_lock = threading.Lock()
 
 
 def _equivalent_platform(octahedral, offsets) -> Platform66:
