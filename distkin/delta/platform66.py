@@ -8,11 +8,10 @@ flint (arb balls for the poses)."""
 
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import cached_property, lru_cache
-
-import threading
 
 import numpy as np
 
