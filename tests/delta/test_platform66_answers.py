@@ -72,6 +72,8 @@ def test_no_pose_gives_the_octahedral_reason(method):
     if method == "fast":          # the fast tier proves the empty answer, and says so
         assert ref["conditioning"]["trusted"] and p66["conditioning"]["trusted"]
         assert "the count: proved by the fast tier" in t66
+        # the text names what JSON `certified: false` means (QA W 13)
+        assert not p66["certified"] and "not by the certified tier" in t66
     else:
         assert p66["certified"] and "the count: certified" in t66
 

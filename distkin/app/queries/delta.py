@@ -359,8 +359,9 @@ def _count_verdict(octa, cond) -> str:
     if octa.certified:
         return "certified"
     if cond is not None and cond.trusted:
-        return ("proved by the fast tier (the assembly roots proved; the count outside "
-                "the feasible interval float64's)")
+        return ("proved by the fast tier's rounding-error bounds, not by the certified "
+                "tier (JSON: conditioning.trusted true, certified false; the assembly "
+                "roots proved, the count outside the feasible interval float64's)")
     if cond is not None:
         return f"not proved ({cond.reason})"
     return f"not certified (the {octa.tier or octa.method} tier)"
