@@ -197,6 +197,7 @@ def test_singularity_query_path_and_pose(tmp_path):
         [[query]]
         type = "singularity"
         pose = { translation = [3, "sqrt(27)", 10], rotation = [180, 0, 0] }
+        offsets = ["12/5", "6/5", "12/5", "6/5", "12/5", "6/5"]
     """))
     records, texts, worst = run_scene(scene, plots_dir=tmp_path)
     assert worst == 0, records
@@ -212,6 +213,12 @@ def test_singularity_query_path_and_pose(tmp_path):
     # the home pose is regular although the paper's CM form vanishes there
     assert abs(pose["det_J"]) > 1 and abs(pose["cm_condition_relative"]) < 1e-12
     assert pose["nearest_singularity"]["converged"]
+    # eq. (6) on the built 6-6 joints against det(A) det(J): both values in the text, as
+    # in the JSON (the text printed only the second under the first's name; QA W 13)
+    p66 = pose["platform66"]
+    assert p66["det_J66_hat"] == pytest.approx(p66["det_A_det_Jhat"], rel=1e-9)
+    assert (f"{p66['det_J66_hat']:.6e} from the 6-6 joints" in texts[1]
+            and f"{p66['det_A_det_Jhat']:.6e} from det(A) det(Jhat)" in texts[1])
     assert "Traceback" not in "".join(texts)
 
 

@@ -305,8 +305,10 @@ def _run_pose(model, p, unit):
         res["platform66"] = _check66(model, R[None], t[None])
         lines.append(f"6-6 platform: det(A) = {res['platform66']['det_A']}; "
                      f"|Jhat66 - A Jhat| / |Jhat66| = {res['platform66']['identity_error']:.1e}, "
-                     f"so det(Jhat66) = det(A) det(Jhat) = "
-                     f"{res['platform66']['det_A_det_Jhat']:.6e}")
+                     f"so det(Jhat66) = det(A) det(Jhat): "
+                     f"{res['platform66']['det_J66_hat']:.6e} from the 6-6 joints, "
+                     f"{res['platform66']['det_A_det_Jhat']:.6e} from det(A) det(Jhat) "
+                     f"(float64; at a singular pose both are round-off)")
     return Outcome(res, "\n".join(lines))
 
 
