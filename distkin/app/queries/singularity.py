@@ -26,7 +26,9 @@ pose maps platform-frame points q to base-frame points R q + t.
 The verdict ``singular`` at a pose: under ``fast`` the tolerance test |det J| <
 ``tolerance`` (float64, not a proof); under ``certified`` the arb sign of det Jhat
 (False where it is proven != 0, True where det J is exactly 0, None where its ball
-contains 0), ``near_singular`` then being the tolerance test (QA V 1).  Under
+contains 0 at every working precision tried: 128, 512 and 2048 bits,
+``arb_precision_bits`` the last), ``near_singular`` then being the tolerance test
+(QA V 1).  Under
 ``certified`` the relative Cayley-Menger conditions are arb balls too (QA V 2;
 ``conditions_tier`` says which tier computed them).
 
@@ -209,8 +211,7 @@ def _run_pose(model, p, unit):
     tests = _first(_tests(model, R[None], t[None], escalate=p.method != "certified"))
     cert_cm = None
     if p.method == "certified":         # the conditions in arb, not float (QA V 2)
-        Ra, ta = _exact_pose_arb(model, p.pose)
-        cert_cm = _certified_cm(model, Ra, ta, tests)
+        cert_cm, ball, sgn, bits = _certified_pose(model, p.pose, tests)
     ns = nearest_singularity(lambda Rs, ts: model.det_j(Rs, ts), R, t, model.L)
     undefined = tests["undefined"]
     res = {"pose": {"rotation_matrix": R, "translation": t},
@@ -227,7 +228,8 @@ def _run_pose(model, p, unit):
            "undefined": undefined,
            "escalated": tests["escalated"],
            "conditions_tier": ("certified (arb balls or exact fmpq: cm_condition_relative "
-                               "and signed_cm_relative are ball midpoints, *_ball the balls)"
+                               "and signed_cm_relative are ball midpoints, *_ball the balls; "
+                               "four_planes in float64 in every tier)"
                                if cert_cm else
                                "fast (float64; where both products are within their "
                                "rounding error estimate of 0, the precise tier at 30 digits: "
@@ -264,7 +266,8 @@ def _run_pose(model, p, unit):
                     + ": float64's error estimate could not rule out 0/0 or exceeded 1e-6)"))
     lines.append(f"four planes: undefined ({undefined['four_planes']})" if "four_planes" in undefined
                  else f"four planes: spread from their common point = "
-                      f"{res['four_planes']['spread']:.3e}{unit}")
+                      f"{res['four_planes']['spread']:.3e}{unit}"
+                      + (" (float64, not certified)" if p.method == "certified" else ""))
     cm = res["cm_condition_relative"]
     if cm is not None and abs(cm) < 1e-9 and abs(res["det_J"]) > p.tolerance:
         lines.append("note: the paper's Cayley-Menger condition vanishes here although det J "
@@ -276,13 +279,9 @@ def _run_pose(model, p, unit):
     else:
         lines.append("nearest singular pose: local search did not converge")
     if p.method == "certified":
-        ball = model.det_j_arb(Ra, ta)
-        try:
-            sgn = certified_sign(ball)
-        except UncertifiedError:       # keep the other results (QA F5)
-            sgn = None
         res["certified_sign_det_J"] = sgn
-        res["certified_det_J_hat"] = ball.str(5, radius=True)
+        res["arb_precision_bits"] = bits
+        res["certified_det_J_hat"] = ball.str(17, radius=True)
         # the verdict follows the certificate (QA V 1): the float tolerance only says
         # near_singular
         res["near_singular"] = res["singular"]
@@ -291,7 +290,8 @@ def _run_pose(model, p, unit):
             f" (undecided: its ball {res['certified_det_J_hat']} contains 0)" if sgn is None
             else ""))
         if sgn is None:
-            lines.append(f"certified (arb): sign of det J not certified: the ball of det Jhat "
+            lines.append(f"certified (arb, {bits} bits): sign of det J not certified: the "
+                         f"ball of det Jhat "
                          f"{res['certified_det_J_hat']} contains 0 (a singular pose, or "
                          f"within its radius of one): singular undecided")
         elif sgn:
@@ -310,6 +310,28 @@ def _run_pose(model, p, unit):
                      f"{res['platform66']['det_A_det_Jhat']:.6e} from det(A) det(Jhat) "
                      f"(float64; at a singular pose both are round-off)")
     return Outcome(res, "\n".join(lines))
+
+
+def _certified_pose(model, pose, tests):
+    """The arb part of a certified pose query: (CM conditions, ball of det Jhat, its
+    certified sign or None, working precision in bits).  Computed at 128 bits, then at
+    512 and 2048 while the sign of det Jhat is not decided (at flint's default 53 bits
+    the balls were wide: det Jhat +/- 7e-6 relative at a regular pose of the example,
+    the CM conditions +/- 1e-9)."""
+    from ...exact_roots import working_precision
+    from ...singularity import certified_sign
+    for bits in (128, 512, 2048):
+        with working_precision(bits):
+            Ra, ta = _exact_pose_arb(model, pose)
+            cert_cm = _certified_cm(model, Ra, ta, tests)
+            ball = model.det_j_arb(Ra, ta)
+            try:
+                sgn = certified_sign(ball)
+            except UncertifiedError:       # keep the other results (QA F5)
+                sgn = None
+        if sgn is not None:
+            break
+    return cert_cm, ball, sgn, bits
 
 
 def _certified_cm(model, Ra, ta, tests):
@@ -331,7 +353,7 @@ def _certified_cm(model, Ra, ta, tests):
             undefined[key] = exc.message
             continue
         out[key] = _float_mid(v)
-        out[key + "_ball"] = v.str(5, radius=True) if type(v).__name__ == "arb" else str(v)
+        out[key + "_ball"] = v.str(17, radius=True) if type(v).__name__ == "arb" else str(v)
     out["undefined"] = undefined
     return out
 

@@ -18,9 +18,10 @@ __all__ = ["OctahedralModel"]
 class OctahedralModel:
     """Octahedral geometry (float and arb) and, optionally, its 6-6 Δ-transform."""
 
-    def __init__(self, base_f, plat_f, base_a, plat_a, L, deg, platform66=None):
+    def __init__(self, base_f, plat_f, base_x, plat_x, L, deg, platform66=None):
         self.base_f, self.plat_f = base_f, plat_f
-        self.base_a, self.plat_a = base_a, plat_a
+        self._exact = (base_x, plat_x)      # the scene's exact values
+        self._arb = {}                      # flint.ctx.prec -> (base_a, plat_a)
         self.L = L
         self.angle = (np.pi / 180) if deg else 1.0
         self.deg = deg
@@ -30,14 +31,32 @@ class OctahedralModel:
     def build(cls, mech, offsets=None, length_scale=None, deg=False):
         base_f = np.array([[float(x) for x in r] for r in mech.base])
         plat_f = np.array([[float(x) for x in r] for r in mech.platform])
-        cert = lambda rows: np.array([[to_tier(x, "certified") for x in r] for r in rows],  # noqa: E731
-                                     dtype=object)
         L = length_scale or float(np.max(np.linalg.norm(plat_f - plat_f.mean(0), axis=1)))
         p66 = None
         if offsets is not None:
             from ...delta import equivalent_platform
             p66 = equivalent_platform(mech, offsets)
-        return cls(base_f, plat_f, cert(mech.base), cert(mech.platform), L, deg, p66)
+        return cls(base_f, plat_f, mech.base, mech.platform, L, deg, p66)
+
+    # -- arb points at the working precision (flint.ctx.prec) of the caller: an
+    # irrational coordinate ("sqrt(108)") is a ball of that precision, not of the
+    # precision at build time
+    @property
+    def base_a(self):
+        return self._arb_points()[0]
+
+    @property
+    def plat_a(self):
+        return self._arb_points()[1]
+
+    def _arb_points(self):
+        import flint
+        prec = flint.ctx.prec
+        if prec not in self._arb:
+            self._arb[prec] = tuple(
+                np.array([[to_tier(x, "certified") for x in r] for r in rows], dtype=object)
+                for rows in self._exact)
+        return self._arb[prec]
 
     # -- float, batched over poses
     def points(self, R, t):
