@@ -129,8 +129,8 @@ def singularity_tests_at(mech, pose, method: str = "fast", tolerance: float = 1e
     determinant); certified the arb sign of det J (False where it is proven != 0, True
     where it is exactly 0, None where its ball contains 0), with ``near_singular`` the
     tolerance test.  ``singular_test`` says which."""
-    from ...singularity.conditions import (certified_sign, cm_pure_condition, four_planes,
-                                           jacobian_det, signed_cm_condition)
+    from ...singularity.conditions import (cm_pure_condition, four_planes, jacobian_det,
+                                           signed_cm_condition)
     app = applicability(mech)
     s = mech.length_scale
     b, p = leg_lines(mech, pose)
@@ -142,10 +142,7 @@ def singularity_tests_at(mech, pose, method: str = "fast", tolerance: float = 1e
         d = jacobian_det(b, p, length_scale=s, method=tier)
         out["det_J"] = _float(d)
         if method == "certified":
-            try:
-                out["det_sign_certified"] = certified_sign(d)
-            except UncertifiedError:
-                out["det_sign_certified"] = None
+            out["det_sign_certified"] = _certified_sign(d, b, p, s)
     near = bool(abs(out["det_J"]) < tolerance) if app["det"] else \
         bool(out["sigma_min"] < tolerance)
     test = (f"tolerance test |det J| < {tolerance:g} ({method} tier; not a proof)" if app["det"]
@@ -175,6 +172,25 @@ def singularity_tests_at(mech, pose, method: str = "fast", tolerance: float = 1e
         out["four_planes_relative"] = f(fp.relative)
         out["four_planes_spread"] = float(fp.spread) * s
     return out
+
+
+def _certified_sign(d, b, p, s):
+    """The arb sign of det J, or None.  The poses' floats are exact, so where the ball
+    ``d`` contains 0 the normalisation's square roots are recomputed at 256, then 2048
+    bits (arb), until the sign is decided."""
+    from ...exact_roots import working_precision
+    from ...singularity.conditions import certified_sign, jacobian_det
+    try:
+        return certified_sign(d)
+    except UncertifiedError:
+        pass
+    for bits in (256, 2048):
+        with working_precision(bits):
+            try:
+                return certified_sign(jacobian_det(b, p, length_scale=s, method="certified"))
+            except UncertifiedError:
+                continue
+    return None
 
 
 #: the units of the result (QA W 10: the only query without a unit block)
