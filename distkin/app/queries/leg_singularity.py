@@ -127,9 +127,8 @@ def singularity_tests_at(mech, pose, method: str = "fast", tolerance: float = 1e
     ``singular``: the verdict, as the octahedral query's (QA V 5): fast and precise a
     tolerance test (|det J| < ``tolerance``, or σmin < ``tolerance`` where J has no
     determinant); certified the arb sign of det J (False where it is proven != 0, True
-    where it is exactly 0, None where its ball contains 0 at 53, 256 and 2048 bits), with
-    ``near_singular`` the
-    tolerance test.  ``singular_test`` says which."""
+    where it is exactly 0, None where its ball contains 0 at 53, 256 and 2048 bits),
+    with ``near_singular`` the tolerance test.  ``singular_test`` says which."""
     from ...singularity.conditions import (cm_pure_condition, four_planes, jacobian_det,
                                            signed_cm_condition)
     app = applicability(mech)
