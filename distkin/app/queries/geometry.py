@@ -34,6 +34,7 @@ from ..query import Outcome, register
 from ..report import float_inputs, float_inputs_line
 from ...geometry.cayley_menger import (FloatRangeWarning, cayley_menger, parse_label,
                                         squared_distances)
+from ...geometry.cm_float import CancellationWarning
 
 __all__ = ["CayleyMengerQuery"]
 
@@ -115,10 +116,14 @@ def _run_cm(p, scene):
     for name, (rows, cols) in zip(p.determinants, p.labels):
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", FloatRangeWarning)
+            warnings.simplefilter("always", CancellationWarning)
             d = cayley_menger(sq, rows, cols)
         lost = [w.message for w in caught if issubclass(w.category, FloatRangeWarning)]
         entry = {"name": name, "rows": list(rows), "cols": list(cols)}
         entry.update(_value_fields(d, p.method))
+        vouch = _vouch(sq, rows, cols, d, p.method,
+                       [w.message for w in caught if issubclass(w.category, CancellationWarning)])
+        entry.update(vouch)
         if lost:                               # fast: a non-zero value beyond float64
             side = "below" if d == 0 else "beyond"
             entry.update(value=None, decimal=lost[0].value, float64_range=side,
@@ -145,10 +150,17 @@ def _run_cm(p, scene):
             else:                              # the determinant is right, its float is not
                 entry[kind] = None
                 text += f"   ({label} beyond the float64 range)"
+        if vouch.get("error_estimate") is not None and not lost:
+            text += f"   (error estimate {vouch['error_estimate']:.2g}" + (
+                "" if unit == "none" else f" {unit}") + ")"
+        if vouch.get("cannot_vouch"):
+            text += (f"\n    WARNING: {vouch['cannot_vouch']}")
         values.append(entry)
         lines.append(text)
-    accuracy = {"fast": "float64 determinant (LU), relative error ~1e-15 x condition",
-                "precise": f"mpmath at {p.dps} digits",
+    accuracy = {"fast": "float64 determinant (LU); error estimate k eps s_max^(k-1) for k "
+                        "points (Higham, Ch. 9), an estimate, not a bound",
+                "precise": f"mpmath at {p.dps} digits; error estimate k 2^-prec "
+                           f"s_max^(k-1) for k points, an estimate, not a bound",
                 "certified": "exact rational (fmpq) or certified arb ball"}[p.method]
     lines.append(f"accuracy: {accuracy}")
     named = [(f"mechanism.points[{i}][{j}]", v)
@@ -162,6 +174,37 @@ def _run_cm(p, scene):
     return Outcome({"method": p.method, "determinants": values, "accuracy": accuracy,
                     "inputs_from_float": float_inputs(named), "unit": unit},
                    "\n".join(lines))
+
+
+def _vouch(sq, rows, cols, d, method, cancellation):
+    r"""What the tier can say of the value ``d``: ``error_estimate`` (absolute, the
+    value's unit; :mod:`distkin.geometry.cm_float`'s backward-error estimate
+    :math:`k u s_{\max}^{k-1}` with the unit round-off ``u`` of the tier) and, where it
+    cannot tell the value from 0 or keeps fewer than about 6 digits, ``cannot_vouch``
+    (the fast tier's CancellationWarning, which the API emits; QA X3 D1: the query
+    swallowed it, and the precise tier printed 20 digits of noise for an exact 0).
+    Nothing for ``certified`` (its ball or exact value says it) or a single label."""
+    import mpmath
+    if method == "certified" or len(rows) < 2:
+        return {}
+    k = len(rows)
+    with mpmath.workprec(64):
+        smax = max(abs(mpmath.mpf(sq[r - 1][c - 1])) for r in rows for c in cols)
+        u = mpmath.mpf(2) ** (-53 if method == "fast" else -mpmath.mp.prec)
+        est = k * u * smax ** (k - 1)
+        rel = est / abs(mpmath.mpf(d)) if d != 0 else mpmath.inf
+    out = {"error_estimate": float(est) if mpmath.isfinite(float(est)) else mpmath.nstr(est, 3),
+           "relative_error_estimate": float(rel) if rel != mpmath.inf else None}
+    if cancellation:
+        out["cannot_vouch"] = str(cancellation[0]).split("; use method")[0] + (
+            '; use method = "precise" or "certified"')
+    elif rel > 1e-6:
+        out["cannot_vouch"] = (f"the {method} value "
+                               + ("is 0 within its error estimate" if rel == mpmath.inf or rel >= 1
+                                  else f"keeps about {max(0, int(-mpmath.log10(rel)))} digits")
+                               + (": it may be 0 (e.g. a flat simplex); use method = "
+                                  '"certified" to decide' if rel >= 1 else ""))
+    return out
 
 
 def length_power(length: str, power: int) -> str:
