@@ -409,18 +409,31 @@ def _verified_line(res, angles, mech, scene, method: str) -> str:
     gives back the angles) and the rms closure residual within ``residual_tol``, with
     both numbers in the scene's units."""
     lu, au, lf, af = _units(scene)
-    trip = ("the inverse kinematics at the pose gives back the angles" if res.round_trip
-            else "the inverse kinematics at the pose does NOT give back the angles")
+    what = _joint_word(mech)
+    trip = (f"round trip ok (the inverse kinematics at the pose gives back the {what})"
+            if res.round_trip else
+            f"round trip FAILED (the inverse kinematics at the pose does not give back "
+            f"the {what})")
     small = res.residual <= res.residual_tol
     resid = (f"rms closure residual {res.residual * lf:.3g} {lu} "
-             + ("<=" if small else "above") + f" residual_tol {res.residual_tol * lf:.3g} {lu}"
+             + ("<=" if small else "ABOVE") + f" residual_tol {res.residual_tol * lf:.3g} {lu}"
              + ("" if small else " (their least-squares pose: the angles are "
                                  "inconsistent, or Gauss-Newton stopped in a local minimum "
                                  "from this start; another guess tells them apart)"))
     other = ("" if method == "fast" else
              f"; the {method} pose passes the same round trip")
-    return (f"verified (fast tier): {'yes' if res.verified else 'no'}: {trip} (largest "
-            f"|IK(pose) - angle| {_mismatch_text(res, angles, mech, scene)}), {resid}{other}")
+    return (f"verified (fast tier): {'yes' if res.verified else 'no'}: {trip}, largest "
+            f"|IK(pose) - {what[:-1]}| "
+            f"{_mismatch_text(res, angles, mech, scene)}; {resid}{other}")
+
+
+def _joint_word(mech) -> str:
+    """What the joint values of ``mech`` are called: "angles" (every leg revolute), "leg
+    lengths" (every leg prismatic) or "joint values" (a mixed table)."""
+    pris = _prismatic(mech)
+    if pris.size and pris.all():
+        return "leg lengths"
+    return "joint values" if pris.any() else "angles"
 
 
 @register("forward_kinematics", mechanisms=("rss", "legs"),
