@@ -144,3 +144,21 @@ def test_cli_fast_near_singularity_answers_as_certified(kind):
         res = [r["forward_kinematics"] for r in res]
     assert res[1]["certified"] and res[0]["count"] == res[1]["count"] == 12
     assert "infeasible" not in texts[0]
+
+
+@pytest.mark.parametrize("unit", ["mm", "m"])
+@pytest.mark.parametrize("kind", ["platform66", "delta_transform"])
+def test_cli_no_assembly_reason_in_the_scene_unit(kind, unit):
+    """A negative exact l^2 (sympy's LU solve of A l^2 = m^2 + b, l1^2 = -23181/455)
+    is reported in the scene's unit, as the rest of the report, not "squared length
+    units"."""
+    tr = delta_transform((BASE, PLAT), PAPER)
+    l1 = tr.A.LUsolve(sp.Matrix([1, 18 ** 2, 18 ** 2, 17 ** 2, 14 ** 2, 17 ** 2])
+                      + sp.Matrix(tr.b))[0]
+    assert l1 == R(-23181, 455)
+    records, texts, worst = _run(_scene(PAPER, [_q(kind, "[1, 18, 18, 17, 14, 17]",
+                                                   "fast")], unit))
+    assert worst == 0
+    reason = records[0]["result"]["reason"]
+    assert f"l1^2 = -23181/455 (= -50.9473) {unit}^2 after" in reason
+    assert "squared length units" not in reason and "squared length units" not in texts[0]
