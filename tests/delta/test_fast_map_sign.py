@@ -162,3 +162,12 @@ def test_cli_no_assembly_reason_in_the_scene_unit(kind, unit):
     reason = records[0]["result"]["reason"]
     assert f"l1^2 = -23181/455 (= -50.9473) {unit}^2 after" in reason
     assert "squared length units" not in reason and "squared length units" not in texts[0]
+
+
+def test_cli_no_assembly_reason_unitless_keeps_the_apis_words():
+    """A unitless scene has no unit to name: the API's "squared length units" stay."""
+    records, _, worst = _run(_scene(PAPER, [_q("platform66", "[1, 18, 18, 17, 14, 17]",
+                                              "fast")], "none"))
+    assert worst == 0
+    assert "l1^2 = -23181/455 (= -50.9473) squared length units after" in \
+        records[0]["result"]["reason"]

@@ -434,10 +434,11 @@ def _no_assembly66(p, scene, exc):
 def _no_map_reason(exc, length: str) -> str:
     """Why m-legs whose exact inverse map of eq. (8) has a negative squared l-leg have no
     pose (``exc``: the InfeasibleError of ``map_legs``), the squared l-leg in the
-    scene's unit (``length``: ``scene.units.length``; the API, which has no unit, says
-    "squared length units"; a unitless scene prints the bare number, as its report)."""
-    unit = "" if length == "none" else f" {length}^2"
-    message = exc.message.replace(" squared length units", unit)
+    scene's unit (``length``: ``scene.units.length``; the API, which has no unit, and a
+    unitless scene say "squared length units")."""
+    message = exc.message
+    if length != "none":
+        message = message.replace(" squared length units", f" {length}^2")
     return (f"cannot be assembled: {message}: no octahedral manipulator, hence no 6-6 "
             f"pose, has these m-legs (proved exactly by the inverse map of eq. (8))")
 
