@@ -258,7 +258,10 @@ def forward_kinematics66(octahedral, offsets, m_legs, *, method: str = "fast",
         (``result.octahedral.tier`` / ``.tier_reason``); the residual check then runs in
         the tier that answered.  The residual
         check runs in float64 (fast), mpmath at ``dps`` (precise) or arb balls
-        (certified: a rigorous upper bound).
+        (certified: a rigorous upper bound).  ``"fast"`` maps the legs in float64,
+        except where its rounding-error bound cannot prove every :math:`l_k^2 > 0`: the
+        exact map then decides (:func:`.leg_map_rounding.map_legs_fast`), so
+        ``InfeasibleError`` is raised only for a proved :math:`l_k^2 \le 0`.
     dps : int, optional
         Digits of ``precise`` (and of ``auto``'s precise fallback); refused with
         ``fast`` and ``certified``, which would ignore it.
@@ -304,8 +307,9 @@ def forward_kinematics66(octahedral, offsets, m_legs, *, method: str = "fast",
         worst = max((p.max_leg_error for p in poses), default=0.0)
         return FK66Result(plat, l_sq, l, res, tuple(poses), worst)
     if method == "fast":
-        l_sq, l = plat.transform.map_legs_float(m_float)
-        rho = plat.transform.map_error_float(m_float, l_sq)
+        # float64, or the exact map where float64 cannot prove the sign of an l^2
+        from .leg_map_rounding import map_legs_fast
+        l_sq, l, rho, _ = map_legs_fast(plat.transform, m_legs, "m_legs")
         with _mapped_legs():
             res = _fast_octahedral(base, platform, [float(x) for x in l], rho)
         m = list(m_float)

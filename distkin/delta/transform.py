@@ -45,9 +45,8 @@ from functools import cached_property, lru_cache
 import numpy as np
 
 from ..errors import DegenerateGeometryError, InfeasibleError, InputError
-from .exact_input import (_as_sym, _base_platform, _check_count, _check_leg_range,
-                          _exact_form, _float_legs, _is_zero, _quotient, _readable,
-                          _sym_points)
+from .exact_input import (_as_sym, _base_platform, _check_count, _exact_form, _is_zero,
+                          _quotient, _readable, _sym_points)
 
 __all__ = [
     "RowSpec",
@@ -418,7 +417,9 @@ class DeltaTransform:
 
     def map_legs_float(self, m_legs, field: str = "m_legs"):
         r""":meth:`map_legs` in float64 for the fast tier: :math:`l^2 = \mathbf A^{-1} m^2 + c`
-        with the exact inverse rounded once per transform (no algebra per call).
+        with the exact inverse rounded once per transform (no algebra per call), except
+        where its rounding-error bound cannot prove every :math:`l_k^2 > 0`: the exact
+        map then decides (:func:`.leg_map_rounding.map_legs_fast`).
 
         Returns
         -------
@@ -430,25 +431,10 @@ class DeltaTransform:
             As :meth:`map_legs`; also m-legs beyond the octahedral solver's range
             (largest below :math:`2^{510}`) or whose mapped squares overflow float64.
         DegenerateGeometryError, InfeasibleError
-            As :meth:`map_legs`.
+            As :meth:`map_legs` (infeasible only when the exact :math:`l_k^2 \le 0`).
         """
-        m = _float_legs(m_legs, field)
-        _check_leg_range(m, field)
-        Ainv, c = self._inverse_float
-        l_sq = Ainv @ (m * m) + c
-        if not np.all(np.isfinite(l_sq)):
-            j = int(np.flatnonzero(~np.isfinite(l_sq))[0])
-            raise InputError(f"expected m-legs whose mapped squares l^2 = A^-1 (m^2 + b) "
-                             f"(eq. (8)) are float64 numbers, got l{j + 1}^2 = {l_sq[j]}",
-                             field=field, hint="express the lengths in a larger unit")
-        i = int(np.argmin(l_sq))
-        if not l_sq[i] > 0:
-            raise InfeasibleError(
-                f"expected positive squared l-legs, got l{i + 1}^2 = {l_sq[i]:.6g} squared "
-                "length units after the inverse map of eq. (8)", margin=float(l_sq[i]),
-                field=field,
-                hint="no octahedral manipulator, hence no 6-6 pose, has these m-legs")
-        return l_sq, np.sqrt(l_sq)
+        from .leg_map_rounding import map_legs_fast
+        return map_legs_fast(self, m_legs, field)[:2]
 
     def map_error_float(self, m_legs, l_sq) -> float:
         r"""A rigorous bound on the relative error of :meth:`map_legs_float`'s ``l_sq``

@@ -203,7 +203,7 @@ class DeltaTransformQuery:
             except InfeasibleError as exc:    # proved: no real l-leg, so no pose
                 if not (exc.margin is not None and exc.margin < 0):
                     raise
-                no_map = _no_map_reason(exc)
+                no_map = _no_map_reason(exc, scene.units.length)
         if no_map is not None:
             result["mapped_legs"] = None
             result["reason"] = no_map
@@ -421,7 +421,7 @@ def _no_assembly66(p, scene, exc):
     (sympy, the scene's exact values), so it is an answer (docs/design.md §4): status ok,
     0 poses, the reason; as ``kind = "octahedral"`` reports legs that cannot be
     assembled."""
-    reason = _no_map_reason(exc)
+    reason = _no_map_reason(exc, scene.units.length)
     result = {"m_legs": [m.text for m in p.m_legs], "method": p.method, "tier": "exact",
               "count": 0, "certified": True, "poses": [], "reason": reason}
     units = result_units(scene.units)
@@ -431,10 +431,15 @@ def _no_assembly66(p, scene, exc):
     return Outcome(result, "\n".join(lines))
 
 
-def _no_map_reason(exc) -> str:
+def _no_map_reason(exc, length: str) -> str:
     """Why m-legs whose exact inverse map of eq. (8) has a negative squared l-leg have no
-    pose (``exc``: the InfeasibleError of ``map_legs``)."""
-    return (f"cannot be assembled: {exc.message}: no octahedral manipulator, hence no 6-6 "
+    pose (``exc``: the InfeasibleError of ``map_legs``), the squared l-leg in the
+    scene's unit (``length``: ``scene.units.length``; the API, which has no unit, and a
+    unitless scene say "squared length units")."""
+    message = exc.message
+    if length != "none":
+        message = message.replace(" squared length units", f" {length}^2")
+    return (f"cannot be assembled: {message}: no octahedral manipulator, hence no 6-6 "
             f"pose, has these m-legs (proved exactly by the inverse map of eq. (8))")
 
 
