@@ -243,8 +243,9 @@ def _indices_numpy(J, Jq, M, actuators, ST, sensitivity):
     sig = reading_singular_values(J, ST, Jq=Jq)
     un_min, un_max = sig["unscaled"]
     sens = max_sensitivities(J, sensitivity, twist=gens["twist"], walk=True,
-                             kappa=np.divide(un_min, un_max, out=np.zeros(len(J)),
-                                             where=un_max > 0))
+                             kappa=np.clip(np.nan_to_num(np.divide(
+                                 un_min, un_max, out=np.zeros(len(J)), where=un_max > 0),
+                                 nan=0.0, posinf=0.0), 0.0, 1.0))
     for name in SENSITIVITIES:
         out[name[0]] = sens[name[0].removeprefix("sens_")]
     out["sigma_min"], out["sigma_max"] = sig["wrench"]
@@ -263,7 +264,10 @@ def _indices_compiled(J, Jq, M, actuators, ST, sensitivity):
     for i, (name, _, _, _) in enumerate(TRUE_VELOCITIES):
         out[name] = truev[:, i]
     # σmin/σmax of Jᵀ (the unscaled reading) for the singular-J test of the sensitivities
+    # (a pose the kernel flags may have NaN σ: 0 treats it as singular, as before; it
+    # is redone below)
     kappa = np.divide(sig[:, 2], sig[:, 3], out=np.zeros(len(J)), where=sig[:, 3] > 0)
+    kappa = np.clip(np.nan_to_num(kappa, nan=0.0, posinf=0.0), 0.0, 1.0)
     sens = max_sensitivities(J, sensitivity, twist=twist if J.shape[1] > 6 else None,
                              kappa=kappa)
     for name in SENSITIVITIES:
