@@ -205,8 +205,11 @@ def _criteria_text(c):
         val = (f"{_f(v['velocity_m_s'])} m/s ({v['velocity_set']}), "
                f"{_f(v['acceleration_m_s2'])} m/s²")
     elif c["number"] == 4:
+        cert = v["certificate_zero_rotation"]      # None: not run (QA IX 6: "None")
         val = (f"grid {v['cube_edge_m'] * 1e3:.0f} mm, ±{v['rotation_deg']:.0f}°, det sign "
-               f"changes {v['det_sign_changes']}, certificate {v['certificate_zero_rotation']}")
+               f"changes {v['det_sign_changes']}, certificate "
+               + (cert if cert is not None else "not run (certify = true in the "
+                  "performance query runs it)"))
     elif c["number"] == 5:
         others = ", ".join(f"{k} {_f(g)}" for k, g in v["others"].items())
         more = ", ".join(f"{k} {_f(g)}" for k, g in v.get("more_legs", {}).items())
@@ -236,11 +239,11 @@ def _inner_note(s, d, ctx):
 
 
 def _finding_text(f):
-    def show(d):
+    def show(d):                        # None (nothing reachable): "—", not "None"
         if isinstance(d, dict):
-            return ", ".join(f"{k} {_f(v) if isinstance(v, (int, float)) else v}"
+            return ", ".join(f"{k} {_f(v) if v is None or isinstance(v, (int, float)) else v}"
                              for k, v in d.items())
-        return str(d)
+        return "—" if d is None else str(d)
     unit = f" {f['unit']}" if f["unit"] else ""
     note = f" ({f['note']})" if f["note"] else ""
     return (f"- [{f['status']}] {f['finding']} ({f['source']}): ours {show(f['ours'])}{unit}; "
