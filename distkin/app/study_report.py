@@ -2,8 +2,8 @@
 values (every row: same definition as the paper or not, ours, the paper's, the ratio
 and the reason for a gap beyond 2×), the paper's findings as held / not held / not
 comparable (:mod:`.study_findings`), the six design criteria of Sec. II-A, the
-dexterous workspace (eq. (17)), the Fig. 3 certificate, and the figures (Figs. 5-7 for
-every device, Tables III/IV as bar charts).
+dexterous workspace (eq. (17)), the Fig. 3 certificate, and the figures (Fig. 5 for the
+``plot_device`` only, Figs. 6 and 7 for every device, Tables III/IV as bar charts).
 """
 
 from __future__ import annotations
