@@ -2,8 +2,8 @@
 values (every row: same definition as the paper or not, ours, the paper's, the ratio
 and the reason for a gap beyond 2×), the paper's findings as held / not held / not
 comparable (:mod:`.study_findings`), the six design criteria of Sec. II-A, the
-dexterous workspace (eq. (17)), the Fig. 3 certificate, and the figures (Figs. 5-7 for
-every device, Tables III/IV as bar charts).
+dexterous workspace (eq. (17)), the Fig. 3 certificate, and the figures (Fig. 5 for the
+``plot_device`` only, Figs. 6 and 7 for every device, Tables III/IV as bar charts).
 """
 
 from __future__ import annotations
@@ -79,8 +79,27 @@ def _unit(q, unit, s) -> str:
     return prismatic if all(pris) else mixed if any(pris) else revolute
 
 
+def _subset(e) -> str:
+    """"" when a row's extremes are over every grid pose; else which poses they are over
+    (``summarise``'s ``reachable_only``, ``poses_used``, ``poses_total``).  A device
+    that reaches no pose has empty rows (—), said on its own line."""
+    if not e.get("reachable_only") or not e["poses_used"]:
+        return ""
+    used, total = e["poses_used"], e["poses_total"]
+    return f"over the {100 * used / total:.3g} % reachable poses ({used:,} of {total:,})"
+
+
+def _same(same, e) -> str:
+    """The "same def." cell: never "yes" for extremes over a subset of the grid (the
+    ratio to the paper is then not like for like)."""
+    sub = _subset(e)
+    return same if not sub else f"no: {sub}; ratio not like for like"
+
+
 def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
-    """Table III and Table IV analogues (markdown), one row per quantity and device."""
+    """Table III and Table IV analogues (markdown), one row per quantity and device.
+    A row whose extremes leave unreachable grid poses out says so in "same def." (never
+    "yes") and in its reason."""
     lines = ["Table III analogue: min (max) over the workspace grid of each worst-case "
              "output capability and maximum sensitivity; ours beside Kühne et al. Table "
              "III, ratio = ours / paper.  \"same def.\": our quantity has the paper's "
@@ -102,9 +121,12 @@ def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
                 reason = "; ".join(why) or "—"
             else:
                 paper = ratio = reason = "—"
+            if _subset(e):
+                reason = f"{_subset(e)}, the unreachable ones left out" + (
+                    "" if reason == "—" else f"; {reason}")
             lines.append(f"| {label} [{_unit(q, unit, s)}] | {s['label']} "
                          f"(±{s['rotation_deg']:.0f}°) | "
-                         f"{same} | {ours} | {paper} | {ratio} | {reason} |")
+                         f"{_same(same, e)} | {ours} | {paper} | {ratio} | {reason} |")
     limits = _limits_text(summaries)
     lines += ["", "Definitions: " + "; ".join(
         f"{lab}: {row_definition(q, sensitivity, limits)[1]}" for q, lab, _ in _ROWS)]
@@ -127,13 +149,18 @@ def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
                       "matrix ST scales (readings below); ")
             if "sigma_max" in gaps:
                 reason += "no unit-consistent reading with the paper's ST reaches its σmax"
-        row = [s["label"], "yes", _f(i["gii"]), _f(i.get("paper_gii")),
+        if _subset(i):
+            reason = f"{_subset(i)}, the unreachable ones left out" + (
+                "" if reason == "—" else f"; {reason}")
+        row = [s["label"], _same("yes", i), _f(i["gii"]), _f(i.get("paper_gii")),
                _ratio(i.get("ratio_gii")), _f(i["sigma_min"]), _f(i.get("paper_sigma_min")),
                _ratio(i.get("ratio_sigma_min")), _f(i["sigma_max"]),
                _f(i.get("paper_sigma_max")), _ratio(i.get("ratio_sigma_max")), reason]
         lines.append("| " + " | ".join(row) + " |")
+    part = [f"{s['label']} {_subset(s['isotropy'])}" for s in summaries
+            if _subset(s["isotropy"])]
     lines += ["", f"Readings of Stocco's scaling (σmin / σmax over the {', '.join(rots)} "
-              "orientations; "
+              "orientations" + (f", {'; '.join(part)}" if part else "") + "; "
               "the GII is the same for the readings that differ by a factor or an "
               "inverse); the paper's Table IV in the last column.", "",
               "| Kinematics | " + " | ".join(SCALING_READINGS.values()) + " | paper |",
@@ -178,8 +205,11 @@ def _criteria_text(c):
         val = (f"{_f(v['velocity_m_s'])} m/s ({v['velocity_set']}), "
                f"{_f(v['acceleration_m_s2'])} m/s²")
     elif c["number"] == 4:
+        cert = v["certificate_zero_rotation"]      # None: not run (QA IX 6: "None")
         val = (f"grid {v['cube_edge_m'] * 1e3:.0f} mm, ±{v['rotation_deg']:.0f}°, det sign "
-               f"changes {v['det_sign_changes']}, certificate {v['certificate_zero_rotation']}")
+               f"changes {v['det_sign_changes']}, certificate "
+               + (cert if cert is not None else "not run (certify = true in the "
+                  "performance query runs it)"))
     elif c["number"] == 5:
         others = ", ".join(f"{k} {_f(g)}" for k, g in v["others"].items())
         more = ", ".join(f"{k} {_f(g)}" for k, g in v.get("more_legs", {}).items())
@@ -209,11 +239,11 @@ def _inner_note(s, d, ctx):
 
 
 def _finding_text(f):
-    def show(d):
+    def show(d):                        # None (nothing reachable): "—", not "None"
         if isinstance(d, dict):
-            return ", ".join(f"{k} {_f(v) if isinstance(v, (int, float)) else v}"
+            return ", ".join(f"{k} {_f(v) if v is None or isinstance(v, (int, float)) else v}"
                              for k, v in d.items())
-        return str(d)
+        return "—" if d is None else str(d)
     unit = f" {f['unit']}" if f["unit"] else ""
     note = f" ({f['note']})" if f["note"] else ""
     return (f"- [{f['status']}] {f['finding']} ({f['source']}): ours {show(f['ours'])}{unit}; "
@@ -223,13 +253,24 @@ def _finding_text(f):
 _NOTES = (
     "Every row is over the Table II positions (the grid of the scene) and the device's "
     "orientations (the ± range of each row; the paper: ±20° for L = 6, ±30° for L = 8, "
-    "Table IV over ±20°).  The geometry "
+    "Table IV over ±20°){subset}.  The geometry "
     "the paper does not print (l3, the reading of Fig. 2, the HEXA's and Ergin's "
     "parameters) is ours (distkin.mechanisms.presets; every reading tried, with its "
     "Table IV figures: docs/fig2_readings.md).  Table III's rows are extremes over the "
     "grid (a sampled minimum).  The velocity rows follow eq. (5) as written (the J# "
     "zonotope); for L = 8 it contains velocities the device cannot make, and the "
     "true-set rows give the worst case of {ẋ : |Jẋ|∞ <= q̇max}.")
+
+
+def _notes(summaries) -> str:
+    """The notes; when a device misses some grid poses, which poses its rows are over."""
+    part = [f"{s['label']}'s rows {_subset(s) or 'over every pose'}, Table IV "
+            f"{_subset(s['isotropy']) or 'over every pose'}"
+            for s in summaries if _subset(s) or _subset(s["isotropy"])]
+    return _NOTES.replace("{subset}", ", the poses the device reaches only: " + "; ".join(
+        part) + " (the unreachable poses are left out, not scored σmin = 0 as a design_sweep's "
+        "unreachable = \"zero\" does; the ratios to the paper are not like for like)"
+        if part else "")
 
 
 def _units_block(actuators) -> dict:
@@ -350,7 +391,9 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
         cert = s.get("certificate")
         lines.append(f"  {s['label']}: {s['poses']:,} poses ({s['positions']:,} positions × "
                      f"{s['orientations']:,} orientations, ±{s['rotation_deg']:.0f}°), "
-                     f"{100 * s['reachable_fraction']:.2f} % reachable, "
+                     f"{100 * s['reachable_fraction']:.2f} % reachable"
+                     + (" (every row below is over the reachable poses only)"
+                        if s["reachable_only"] and s["reachable_poses"] else "") + ", "
                      f"{s['seconds']:.1f} s this run"
                      + (f" ({s['chunks_resumed']} of {s['chunks']} chunks resumed from the "
                         "run store, computed by an earlier run)" if s["chunks_resumed"] else "")
@@ -370,7 +413,7 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
     lines += ["", "Design criteria (Sec. II-A; each with its own test, see the JSON):"]
     for s in summaries:
         lines.append(f"  {s['label']}: " + "; ".join(_criteria_text(c) for c in s["criteria"]))
-    lines += ["", "Notes: " + _NOTES]
+    lines += ["", "Notes: " + _notes(summaries)]
     result = {"devices": summaries, "findings": fnd, "seconds": total,
               "chunks_resumed": sum(s["chunks_resumed"] for s in summaries),
               "actuators": actuators, "scaling": list(p.scaling),

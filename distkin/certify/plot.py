@@ -94,7 +94,9 @@ def _margin_panel(ax, cert, lo, hi, st, centre, f, lu):
     ax.set_ylabel(f"y [{lu}]")
     ax.set_title(f"σmin margin, section z = {level * f:.4g} {lu}\n({what})", fontsize=9)
     sm = cm.ScalarMappable(norm=norm, cmap=cmap)
-    ax.figure.colorbar(sm, ax=ax, label="certified lower bound of σmin(Jx)")
+    # σmin of Jx has mixed units, as the certify_workspace report states them (QA IX 7)
+    ax.figure.colorbar(sm, ax=ax, label="certified lower bound of σmin(Jx)\n[Jx L × 6: "
+                       "force columns 1-3 dimensionless, moment columns 4-6 in m]")
 
 
 def _rotation_label(cert, angle_unit):

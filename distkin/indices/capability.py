@@ -245,8 +245,8 @@ def _slice(hull, verts, S, d):
     if len(S) == 1:                       # the slice is an interval [xlo, xhi]
         a, b = A[use, 0], -off[use]
         xhi, xlo = np.min(b[a > 0] / a[a > 0]), np.max(b[a < 0] / a[a < 0])
-        if xlo > xhi:
-            return -np.inf, -np.inf
+        if xlo > xhi:          # the line misses the set: the signed distance as below
+            return float(h.min()), -np.inf          # and as zonotope/ueberle (QA IX 5)
         worst = float(min(-xlo, xhi)) if h.min() > 0 else float(h.min())
         return worst, float(max(abs(xlo), abs(xhi)))
     if h.min() > 1e-12 * scale:

@@ -187,16 +187,30 @@ def gii(smin, smax):
 
     ``smin``, ``smax``: one pair per pose, σmin <= σmax at each (else an
     :class:`~distkin.errors.InputError` naming the pose: the index is in [0, 1]).
-    Returns (gii, min σmin, max σmax).  An empty or unreachable sample gives 0.
+    Returns (gii, min σmin, max σmax).
+
+    Raises :class:`~distkin.errors.InputError` (QA IX 3) for an empty sample (a
+    minimum over no pose is not defined: the caller says "no reachable pose", as
+    :func:`distkin.indices.study.summarise` does; it returned 0) and for max σmax = 0,
+    where min σmin / max σmax is 0/0 (every pose a zero J; it returned 0); also for
+    non-finite values (a singular value of a finite J is finite).
     """
     smin = as_floats(smin, "smin", "singular values (numbers)")
     smax = as_floats(smax, "smax", "singular values (numbers)")
     if smin.shape != smax.shape:
         raise InputError(f"expected smin and smax of one shape (one pair per pose), got "
                          f"{smin.shape} and {smax.shape}", field="smax")
+    if smin.size == 0:
+        raise InputError("expected at least one pose (one pair σmin, σmax per pose), got "
+                         "an empty sample: the GII, a minimum over the poses, is not "
+                         "defined on none", field="smin")
     for v, name in ((smin, "smin"), (smax, "smax")):
         if np.isnan(v).any():
             raise InputError("expected singular values (not NaN), got NaN", field=name)
+        if np.isinf(v).any():
+            raise InputError(f"expected finite singular values, got "
+                             f"{float(v.flat[np.flatnonzero(np.isinf(v.ravel()))[0]])!r}",
+                             field=name)
         low = float(np.nanmin(v, initial=0.0))
         if low < 0:
             raise InputError(f"expected singular values >= 0, got {low!r}", field=name)
@@ -208,10 +222,12 @@ def gii(smin, smax):
                          + (f" (and {bad.size - 1} more)" if bad.size > 1 else ""),
                          field="smin", hint="pass the smallest and largest singular value of "
                          "each pose, in that order (scaled_singular_values)")
-    if smin.size == 0:
-        return 0.0, 0.0, 0.0
     lo, hi = float(smin.min()), float(smax.max())
-    return (lo / hi if hi > 0 else 0.0), lo, hi
+    if hi == 0:
+        raise InputError(f"expected some σmax > 0, got max σmax = 0 over {smax.size} "
+                         "pose(s): min σmin / max σmax is 0/0, undefined (every J zero)",
+                         field="smax")
+    return lo / hi, lo, hi
 
 
 # ---------------------------------------------------------------------- design sweeps

@@ -142,9 +142,21 @@ def _pos(x):
     return np.nan if x is None or not np.isfinite(x) or x <= 0 else x
 
 
+def _zero_marks(ax, xs, raw, color):
+    """A "0" at the foot of each bar whose value is exactly 0 (a log axis cannot draw it:
+    the paper's 0.00 minima of Ergin's device, a singular pose on its grid, QA IX 7)."""
+    from matplotlib.transforms import blended_transform_factory
+    tr = blended_transform_factory(ax.transData, ax.transAxes)
+    for xv, v in zip(xs, raw):
+        if v is not None and v == 0:
+            ax.text(xv, 0.01, "0", transform=tr, ha="center", va="bottom", fontsize=7,
+                    fontweight="bold", color=color)
+
+
 def plot_table3_bars(path, summaries):
     """Table III as bars: per row, every device's min and max, ours beside the paper's
-    (log scale; a missing bar is 0 or not in the paper)."""
+    (log scale; a value of exactly 0, e.g. the paper's 0.00 minima for Ergin's device, is
+    marked "0" at the foot of its bar; a missing bar without it is not available)."""
     from .study import CAPABILITIES, SENSITIVITIES
     plt = _plt()
     rows = [(c[0], c[1], c[2]) for c in CAPABILITIES] + [(s[0], s[1], s[2])
@@ -158,13 +170,14 @@ def plot_table3_bars(path, summaries):
                 (("min", "paper_min", "", "tab:blue"), ("min", None, "", "tab:orange"),
                  ("max", "paper_max", "//", "tab:blue"), ("max", None, "//", "tab:orange"))):
             if pkey is None:
-                vals = [_pos(s["table"][q].get(f"paper_{key}")) for s in summaries]
+                raw = [s["table"][q].get(f"paper_{key}") for s in summaries]
                 lab = f"paper {key}"
             else:
-                vals = [_pos(s["table"][q][key]) for s in summaries]
+                raw = [s["table"][q][key] for s in summaries]
                 lab = f"ours {key}"
-            ax.bar(x + (k - 1.5) * w, vals, w, color=col, hatch=hatch, edgecolor="k",
-                   linewidth=0.3, label=lab)
+            ax.bar(x + (k - 1.5) * w, [_pos(v) for v in raw], w, color=col, hatch=hatch,
+                   edgecolor="k", linewidth=0.3, label=lab)
+            _zero_marks(ax, x + (k - 1.5) * w, raw, col)
         ax.set_yscale("log")
         ax.set_xticks(x)
         ax.set_xticklabels(labels, rotation=30, ha="right", fontsize=8)
@@ -172,7 +185,9 @@ def plot_table3_bars(path, summaries):
         units = sorted({s["table"][q].get("unit", unit) for s in summaries}) or [unit]
         ax.set_title(f"{title} [{' | '.join(units)}]", fontsize=9)
     axes[0, 0].legend(fontsize=7)
-    fig.suptitle("Table III: ours (blue) vs Kühne et al. (orange); plain = min, hatched = max")
+    fig.suptitle("Table III: ours (blue) vs Kühne et al. (orange); plain = min, hatched = "
+                 "max; \"0\" at a bar's foot: a value of 0 (e.g. the paper's 0.00 for Ergin's "
+                 "device, a singular pose on its grid), which the log axis cannot draw")
     fig.tight_layout()
     out = Path(str(path) + "_table3_bars.png")
     fig.savefig(out, dpi=100)
@@ -192,6 +207,7 @@ def plot_table4_bars(path, summaries):
         paper = [_pos(s["isotropy"].get(f"paper_{key}")) for s in summaries]
         ax.bar(x - 0.2, ours, 0.4, color="tab:blue", label="ours")
         ax.bar(x + 0.2, paper, 0.4, color="tab:orange", label="paper")
+        _zero_marks(ax, x - 0.2, [s["isotropy"][key] for s in summaries], "tab:blue")
         ax.set_yscale("log")
         ax.set_xticks(x)
         ax.set_xticklabels(labels, rotation=30, ha="right", fontsize=8)

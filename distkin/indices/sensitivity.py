@@ -75,7 +75,8 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False,
         reference of its split-sign kernel for L = 8).
     kappa : ndarray (N,) (a float with one J), optional
         σmin/σmax of J per pose if already computed (the study has it), for the test of
-        a singular J (module docstring); otherwise from numpy's SVD.
+        a singular J (module docstring); otherwise from numpy's SVD.  A ratio of
+        singular values: finite, in [0, 1] (1 + 1e-12 allowed for rounding).
 
     Returns
     -------
@@ -90,7 +91,8 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False,
     InputError
         A bad ``mode``; ``J`` not finite numbers of shape (L, 6) or (N, L, 6), L >= 6 (as
         :func:`~.capability.worst_case_output`, L >= d); ``twist`` not of shape
-        (N, 6, L); more than :data:`~.zonotope.MAX_CANDIDATES` vertex candidates per
+        (N, 6, L); ``kappa`` not N numbers in [0, 1] (NaN, negative, above 1, text, a
+        wrong length); more than :data:`~.zonotope.MAX_CANDIDATES` vertex candidates per
         pose (C(L, 3)·2^(L−3) for slices, 2^L for projections: L <= 12 and 18).
     """
     if mode not in SENSITIVITY_MODES:
@@ -103,8 +105,8 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False,
     if single:
         J = J[None]
         twist = None if twist is None else np.asarray(twist)[None]
-        kappa = None if kappa is None else np.reshape(kappa, (1,))
     N, L, _ = J.shape
+    kappa = None if kappa is None else _kappa(kappa, N, single)
     if L < 6:
         raise InputError(f"expected at least 6 actuators (rows of J, L >= 6), got shape "
                          f"{J.shape}", field="J")
@@ -116,6 +118,23 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False,
     with memory_guard(L, "maximum sensitivities", field="J"):
         out = _max_sensitivities(J, mode, twist, walk, kappa)
     return {k: float(v[0]) for k, v in out.items()} if single else out
+
+
+def _kappa(kappa, N, single):
+    """``kappa`` checked: N finite numbers in [0, 1] (σmin/σmax of J), shape (N,), or one
+    number with one J; an :class:`InputError` naming ``kappa`` otherwise (QA IX 2)."""
+    shape = "a number" if single else f"shape ({N},)"
+    k = as_floats(kappa, "kappa", f"σmin/σmax of J ({shape}, in [0, 1])")
+    if k.shape != (() if single else (N,)) and not (single and k.shape == (1,)):
+        raise InputError(f"expected σmin/σmax of J of {shape}, one per pose, got shape "
+                         f"{k.shape}", field="kappa")
+    bad = ~((k >= 0) & (k <= 1 + 1e-12))                      # NaN is bad too
+    if bad.any():
+        i = int(np.flatnonzero(bad.ravel())[0])
+        raise InputError(f"expected σmin/σmax of J in [0, 1] (a ratio of singular values), "
+                         f"got {float(k.ravel()[i])!r}" + ("" if single else f" at pose {i}"),
+                         field="kappa")
+    return k.reshape(N)
 
 
 def _max_sensitivities(J, mode, twist, walk, kappa):

@@ -243,8 +243,9 @@ def _indices_numpy(J, Jq, M, actuators, ST, sensitivity):
     sig = reading_singular_values(J, ST, Jq=Jq)
     un_min, un_max = sig["unscaled"]
     sens = max_sensitivities(J, sensitivity, twist=gens["twist"], walk=True,
-                             kappa=np.divide(un_min, un_max, out=np.zeros(len(J)),
-                                             where=un_max > 0))
+                             kappa=np.clip(np.nan_to_num(np.divide(
+                                 un_min, un_max, out=np.zeros(len(J)), where=un_max > 0),
+                                 nan=0.0, posinf=0.0), 0.0, 1.0))
     for name in SENSITIVITIES:
         out[name[0]] = sens[name[0].removeprefix("sens_")]
     out["sigma_min"], out["sigma_max"] = sig["wrench"]
@@ -263,7 +264,10 @@ def _indices_compiled(J, Jq, M, actuators, ST, sensitivity):
     for i, (name, _, _, _) in enumerate(TRUE_VELOCITIES):
         out[name] = truev[:, i]
     # σmin/σmax of Jᵀ (the unscaled reading) for the singular-J test of the sensitivities
+    # (a pose the kernel flags may have NaN σ: 0 treats it as singular, as before; it
+    # is redone below)
     kappa = np.divide(sig[:, 2], sig[:, 3], out=np.zeros(len(J)), where=sig[:, 3] > 0)
+    kappa = np.clip(np.nan_to_num(kappa, nan=0.0, posinf=0.0), 0.0, 1.0)
     sens = max_sensitivities(J, sensitivity, twist=twist if J.shape[1] > 6 else None,
                              kappa=kappa)
     for name in SENSITIVITIES:
@@ -454,6 +458,10 @@ def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dic
     the smallest σmin, transmission |Jq|/l1 and whether every sensitivity is finite.
     Non-finite extremes are None in ``table`` (JSON); ``max_unbounded`` says a row's
     maximum is +inf (a sensitivity at a singular J), not missing.
+    Extremes are over the poses the device reaches: each row of ``table``, ``isotropy``
+    and the summary carry ``reachable_only`` (some grid pose unreachable, left out, not
+    scored σmin = 0 as design_sweep's ``unreachable = "zero"``), ``poses_used`` and
+    ``poses_total`` (Table IV: of the inner orientations).
     ``rotation_covered_deg``: the largest r such that every rotation axis of the grid
     reaches -r and +r.
     """
@@ -469,13 +477,18 @@ def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dic
     labels = ({c[0]: c[1] for c in CAPABILITIES} | {s[0]: s[1] for s in SENSITIVITIES}
               | {t[0]: t[1] for t in TRUE_VELOCITIES})
     full = per["n_ok"] == grid.n_orientations          # positions reaching every orientation
+    n_ok, n_ok_in = int(per["n_ok"].sum()), int(per["n_ok_in"].sum())
+    # unreachable poses are left out of every extreme (not scored 0 as design_sweep's
+    # unreachable = "zero" does): say so, with the counts (QA IX 1)
+    over = {"reachable_only": n_ok < grid.size, "poses_used": n_ok, "poses_total": grid.size}
     for q in _ROWS + [t[0] for t in TRUE_VELOCITIES]:
         lo, hi = _extreme(per, q, has, "min"), _extreme(per, q, has, "max")
         entry = {"label": labels[q], "unit": units[q], "min": lo, "max": hi,
                  "min_full_positions": _extreme(per, q, full, "min"),
                  # +inf maxima (an unbounded sensitivity at a singular J) are None above
                  # (JSON); this keeps them apart from "no reachable pose"
-                 "max_unbounded": bool(has.any() and np.any(per[f"{q}_max"][has] == np.inf))}
+                 "max_unbounded": bool(has.any() and np.any(per[f"{q}_max"][has] == np.inf)),
+                 **over}
         col = q.removesuffix("_true")
         if dev.paper in PAPER_TABLE3:
             pmin, pmax = PAPER_TABLE3[dev.paper][col]
@@ -496,7 +509,10 @@ def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dic
            "rotation_requested_deg": (math.degrees(dev.inner) if dev.inner is not None
                                       else None),
            "gii_full_range": g_full[0], "sigma_min_full_range": g_full[1],
-           "sigma_max_full_range": g_full[2]}
+           "sigma_max_full_range": g_full[2],
+           # over the inner orientations' poses the device reaches
+           "reachable_only": n_ok_in < n_in * grid.n_positions, "poses_used": n_ok_in,
+           "poses_total": n_in * grid.n_positions}
     readings = {}
     for r in (SCALING_READINGS if has_in.any() else ()):
         if r == "wrench":
@@ -544,7 +560,8 @@ def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dic
         "rotation_covered_deg": max(0.0, math.degrees(min(min(-min(a), max(a))
                                                           for a in (grid.rx, grid.ry,
                                                                     grid.rz)))),
-        "reachable_poses": int(per["n_ok"].sum()),
+        "reachable_poses": n_ok,
+        **over,
         "reachable_fraction": float(per["n_ok"].sum() / grid.size),
         "all_orientations_reachable": per["n_ok"] == grid.n_orientations,
         "inner_all_reachable": per["n_ok_in"] == n_in,

@@ -239,6 +239,12 @@ def findings(summaries, certified: dict | None = None) -> list:
         if empty and not gap:
             gap = f"{', '.join(empty)} reach{'es' if len(empty) == 1 else ''} no pose of " \
                   "the grid: nothing to compare"
+        part = [f"{by[c]['label']}'s over {100 * by[c]['reachable_fraction']:.3g} % of its "
+                "grid poses" for c in compared
+                if by[c].get("reachable_only") and by[c].get("reachable_poses", 1)]
+        if part and not gap:        # minima over different subsets: not like for like
+            gap = ("values over the reachable poses only (" + "; ".join(part)
+                   + "), the unreachable ones left out: not like for like")
         bad = {k: v for k, v in contrary.items() if k in involved}
         if bad:
             note = (note + "; " if note else "") + ", ".join(

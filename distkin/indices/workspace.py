@@ -176,7 +176,9 @@ def dexterous_workspace(grid: PoseGrid, reachable_all, minima: dict, thresholds:
     reachable_all : ndarray (n_positions,) bool
         Every orientation of the grid reachable at that position.
     minima : dict name -> ndarray (n_positions,)
-        The worst case over the orientations at each position (e.g. ``"velocity"``).
+        The worst case over the orientations at each position (e.g. ``"velocity"``);
+        +inf where no orientation is reachable; NaN is refused (InputError naming
+        ``minima.<name>`` and the position).
     thresholds : dict name -> float
         Required minimum of each (same unit).
 
@@ -238,12 +240,20 @@ def _position_mask(grid, reachable_all):
 
 def _per_position(grid, values, field):
     """Per-position values as floats (n_positions,) (±inf allowed: no reachable
-    orientation), or InputError naming ``field``."""
+    orientation), or InputError naming ``field``; NaN is refused, naming its first
+    position (QA IX 4: a NaN minimum compared below every threshold and silently
+    emptied the dexterous workspace)."""
     from ..argcheck import as_floats
     v = as_floats(values, field, f"{grid.n_positions} numbers (one per grid position)")
     if v.shape != (grid.n_positions,):
         raise InputError(f"expected {grid.n_positions} values (one per grid position), got "
                          f"shape {v.shape}", field=field)
+    nan = np.flatnonzero(np.isnan(v))
+    if nan.size:
+        raise InputError(f"expected a number (or ±inf: no reachable orientation) at every "
+                         f"grid position, got NaN at position {int(nan[0])}"
+                         + (f" (and {nan.size - 1} more)" if nan.size > 1 else ""),
+                         field=field)
     return v
 
 

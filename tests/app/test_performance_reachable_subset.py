@@ -1,0 +1,111 @@
+"""A ``performance`` study on a grid the device only partly reaches says that its Table
+III/IV rows are over the reachable poses (QA IX 1): the rows, the notes, the findings
+and the JSON, with the counts.  The reference is independent of the study's sweep: the
+mechanism's own ``reachable`` on every grid pose, and the eq. (6) force capability
+(``worst_case_output`` of Jᵀ sliced at zero torque) at those poses."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+
+HEAD = """title = "subset"
+[units]
+length = "mm"
+angle = "deg"
+[mechanism]
+kind = "rss"
+preset = "octopod"
+[[query]]
+type = "performance"
+"""
+
+
+def _run(tmp_path, body):
+    from distkin.app.cli import run_scene
+    from distkin.app.scene import loads_scene
+    scene = loads_scene(HEAD + body, str(tmp_path / "s.toml"))
+    records, texts, worst = run_scene(scene, progress=False)
+    assert worst == 0, records[0].get("error")
+    return records[0]["result"], texts[0]
+
+
+@pytest.fixture(scope="module")
+def partial(tmp_path_factory):
+    """Octopod and Hunt-type on the 400 mm grid of the QA report (half 200 mm, ±10°)."""
+    return _run(tmp_path_factory.mktemp("partial"),
+                'devices = [{ label = "Hunt-type", preset = "hunt", rotation = 10 },\n'
+                '           { label = "Octopod", preset = "octopod", rotation = 10 }]\n'
+                "grid = { half = 200, step = 200, rotation = 10, rotation_step = 10 }\n")
+
+
+def _grid_poses(g):
+    pos = list(itertools.product(g["x_m"], g["y_m"], g["z_m"]))
+    ori = list(itertools.product(g["rx_rad"], g["ry_rad"], g["rz_rad"]))
+    return np.array([p + o for p in pos for o in ori])
+
+
+def test_partial_grid_rows_say_reachable_only(partial):
+    from distkin.indices import worst_case_output
+    from distkin.mechanisms.rss import preset
+    result, text = partial
+    dev = next(d for d in result["devices"] if d["label"] == "Octopod")
+    mech = preset("octopod")
+    poses = _grid_poses(result["grid"]["Octopod"])
+    ok = np.asarray(mech.reachable(poses), dtype=bool)
+    n = int(ok.sum())
+    assert 0 < n < len(poses)                          # the QA case: 44.86 %
+    # the JSON says which poses every row and Table IV are over
+    assert dev["reachable_only"] is True
+    assert (dev["poses_used"], dev["poses_total"]) == (n, len(poses))
+    for q, e in dev["table"].items():
+        assert (e["reachable_only"], e["poses_used"], e["poses_total"]) == (True, n,
+                                                                           len(poses)), q
+    iso = dev["isotropy"]
+    assert iso["reachable_only"] is True and iso["poses_used"] == n
+    # the minimum is over those poses: eq. (6) at each reachable pose, a second route
+    J = mech.jacobian(poses[ok])
+    force = worst_case_output(np.swapaxes(J, 1, 2), -2.5, 2.5, keep=[0, 1, 2])
+    assert dev["table"]["force"]["min"] == pytest.approx(float(np.min(force)), rel=1e-9)
+    # the text: no "same def.: yes" row for the Octopod, the subset named on each row
+    pct = f"over the {100 * n / len(poses):.3g} % reachable poses ({n:,} of {len(poses):,})"
+    lines = [ln.strip() for ln in text.splitlines()]
+    t3 = [ln.split("| Octopod (±10°) | ")[1].split(" | ")[0] for ln in lines
+          if "| Octopod (±10°) | " in ln]
+    t4 = [ln.split("|")[2].strip() for ln in lines if ln.startswith("| Octopod | ")
+          and " / " not in ln.split("|")[2]]           # not the readings table
+    assert (len(t3), len(t4)) == (12, 1)
+    for same in t3 + t4:
+        assert same != "yes" and same.startswith("no: " + pct), same
+        assert "not like for like" in same
+    notes = next(ln for ln in text.splitlines() if ln.strip().startswith("Notes:"))
+    assert pct in notes and "reaches only" in notes
+    assert "44.86 % reachable (every row below is over the reachable poses only)" in text
+
+
+def test_partial_grid_findings_are_not_comparable(partial):
+    """Octopod against Hunt-type over different subsets of their grids: not held, not
+    NOT held, but not comparable, with the fractions."""
+    result, _ = partial
+    by = {d["label"]: d for d in result["devices"]}
+    assert by["Hunt-type"]["reachable_only"] or by["Octopod"]["reachable_only"]
+    f = next(f for f in result["findings"]
+             if f["finding"].startswith("the Octopod beats the Hunt-type in minimum force"))
+    assert f["status"] == "NOT COMPARABLE" and f["held"] is None
+    assert "reachable poses only" in f["note"]
+
+
+def test_full_reach_keeps_same_definition(tmp_path):
+    """A grid the device reaches everywhere (25 mm about home, ±10°): "yes" rows, no
+    subset wording, reachable_only False with every pose counted."""
+    result, text = _run(tmp_path, "grid = { half = 25, step = 25, rotation = 10, "
+                                  "rotation_step = 10 }\n")
+    dev = result["devices"][0]
+    assert dev["reachable_fraction"] == 1.0
+    assert dev["reachable_only"] is False and dev["poses_used"] == dev["poses_total"] == 729
+    assert all(e["reachable_only"] is False for e in dev["table"].values())
+    assert "reachable poses" not in text and "not like for like" not in text
+    assert "| octopod | yes |" in text
+    assert "Table IV over ±20°).  The geometry" in text
