@@ -191,14 +191,20 @@ def certify_cube(mech, width: float, executor=None, half: float = 0.075):
     return ("regular" if np.all(cert.status == REGULAR) else "undecided"), cert
 
 
+def _yes_no(v) -> str:
+    """A flag of a criterion in words: yes / no / — (not evaluated), never Python's
+    True / False / None."""
+    return {True: "yes", False: "no", None: "—"}.get(v, str(v))
+
+
 def _criteria_text(c):
     v = c["value"]
     mark = {True: "held", False: "NOT held", None: "undecided"}[c["held"]]
     if c["held"] is None and v.get("note"):
         mark = v["note"] if v["note"].startswith("undecided") else f"undecided: {v['note']}"
     if c["number"] == 1:
-        val = (f"σmin {_f(v['sigma_min'])}, all reachable {v['all_reachable']}, det sign "
-               f"changes {v['det_sign_changes']}")
+        val = (f"σmin {_f(v['sigma_min'])}, all reachable {_yes_no(v['all_reachable'])}, "
+               f"det sign changes {_yes_no(v['det_sign_changes'])}")
     elif c["number"] == 2:
         val = f"L = {v['L']}, min |Jq|/l1 {_f(v['transmission_min'])}"
     elif c["number"] == 3:
@@ -207,7 +213,7 @@ def _criteria_text(c):
     elif c["number"] == 4:
         cert = v["certificate_zero_rotation"]      # None: not run (QA IX 6: "None")
         val = (f"grid {v['cube_edge_m'] * 1e3:.0f} mm, ±{v['rotation_deg']:.0f}°, det sign "
-               f"changes {v['det_sign_changes']}, certificate "
+               f"changes {_yes_no(v['det_sign_changes'])}, certificate "
                + (cert if cert is not None else "not run (certify = true in the "
                   "performance query runs it)"))
     elif c["number"] == 5:

@@ -33,3 +33,9 @@ def test_criterion_4_without_certificate_says_not_run(tmp_path):
     assert "certificate not run (certify = true in the performance query runs it)" in text
     assert not re.search(r"\bNone\b", text), [ln for ln in text.splitlines()
                                                if re.search(r"\bNone\b", ln)]
+    # and no Python True / False either: the criteria's flags in words, as in the JSON
+    c1 = records[0]["result"]["devices"][0]["criteria"][0]["value"]
+    assert not re.search(r"\b(True|False)\b", text)
+    words = {True: "yes", False: "no"}
+    assert (f"all reachable {words[c1['all_reachable']]}, det sign changes "
+            f"{words[c1['det_sign_changes']]}") in text
