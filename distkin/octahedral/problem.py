@@ -290,9 +290,11 @@ def float_problem(base, platform, legs, *, flat: str = "raise"):
     by ``2**k``) and ``rounded (N,)``: some input of the problem is not exactly its
     float (a string such as ``"19.8"`` or ``"sqrt(108)"``, parsed exactly, then rounded).
 
-    Float64 arrays ``(N, 3, 3)``, ``(N, 3, 3)``, ``(N, 6)`` (C-contiguous) whose problems
-    all pass the checks of :func:`float_single` without rescaling (:func:`_arrays_ok`,
-    compiled, problem by problem, the squared lengths computed in the same pass: the
+    The arrays returned are C-contiguous (a shared base or platform is copied per
+    problem, as :func:`.batched.solve_fast` would copy it).  Float64 arrays
+    ``(N, 3, 3)``, ``(N, 3, 3)``, ``(N, 6)`` (C-contiguous) whose problems all pass the
+    checks of :func:`float_single` without rescaling (:func:`_arrays_ok`, compiled,
+    problem by problem, the squared lengths computed in the same pass: the
     numbers of :func:`_sides2` and of the single solve) are returned as they are, ``k``
     and ``rounded`` zero (issue 17: the general path's ~30 numpy calls cost ~0.3 µs per
     problem); everything else takes the general path, which raises the errors.
@@ -376,10 +378,14 @@ def float_problem(base, platform, legs, *, flat: str = "raise"):
             check_triangle(sides2[i, j:j + 3], names + (f" of problem {i}" if N > 1 else ""),
                            f"{fld}[{i}]" if N > 1 else fld)
         thin |= bad
+    # C-contiguous copies (np.array of a broadcast keeps its odd strides: the rows B[i],
+    # Q[i] then differ in layout, which the compiled callees must not see; QA: a batch
+    # with a thin triangle and rounded inputs crashed with a numba TypingError)
+    B, Q, L = (np.ascontiguousarray(a) for a in (B, Q, L))
     if flat != "mask":
         return B, Q, L, sides2, L * L, k, rounded
     if thin.any():                  # placeholders, solved and then blanked by the caller
-        B, Q, L = np.array(B), np.array(Q), np.array(L)
+        B, Q, L = (np.array(a, order="C") for a in (B, Q, L))
         B[thin], Q[thin], L[thin] = _PLACEHOLDER
         sides2 = _sides2(B, Q)
     return B, Q, L, sides2, L * L, k, rounded, thin
