@@ -51,6 +51,12 @@ class Problem:
     exponent : int
         Every length here is the given one divided by ``2**exponent``
         (:mod:`.scaling`); answers are scaled back by the caller.
+    float_fields : tuple of (field, float)
+        The bare floats of the data (:meth:`float_note`).
+    irrational : tuple of (field, text, squares)
+        The irrational inputs that make a squared length irrational (what the certified
+        tier needs rational): a coordinate of an end of an irrational squared side, or
+        a leg with an irrational square; ``squares`` names those squared lengths.
     """
 
     base: tuple
@@ -61,6 +67,7 @@ class Problem:
     from_float: bool
     exponent: int = 0
     float_fields: tuple = ()
+    irrational: tuple = ()
 
     def float_note(self) -> str:
         """What an exact tier's ``accuracy`` adds when some data were bare floats
@@ -245,7 +252,33 @@ def exact_problem(base, platform, legs) -> Problem:
                                     bool(floats)), k)
     check_triangle_exact(problem.sides2[:3], "P1 P2 P3", "base")
     check_triangle_exact(problem.sides2[3:], "P4 P5 P6", "platform")
-    return replace(problem, exponent=k, float_fields=floats)
+    return replace(problem, exponent=k, float_fields=floats,
+                   irrational=_irrational_inputs(B, Q, L, sides2, legs2))
+
+
+def _irrational_inputs(B, Q, L, sides2, legs2):
+    """:attr:`Problem.irrational`: per irrational input that makes a squared length
+    irrational, ``(field, text, squares)`` (``squares``: ``"|P1P2|^2"``, ``"l1^2"``)."""
+    pts = {1: ("base", 0, B), 2: ("base", 1, B), 3: ("base", 2, B),
+           4: ("platform", 0, Q), 5: ("platform", 1, Q), 6: ("platform", 2, Q)}
+    found = {}
+    for (a, b), sq in zip(SIDE_PAIRS, sides2):
+        if isinstance(sq, Fraction):
+            continue
+        for j in range(3):          # the coordinates whose squared difference is not
+            ends = (pts[a], pts[b])   # rational (their sum is not: one at least is)
+            if isinstance(_square_distance((ends[0][2][ends[0][1]][j],),
+                                           (ends[1][2][ends[1][1]][j],)), Fraction):
+                continue
+            for name, i, rows in ends:
+                v = rows[i][j]
+                if not v.is_rational:
+                    found.setdefault((f"{name}[{i}][{j}]", v.text), []).append(
+                        f"|P{a}P{b}|^2")
+    for i, (v, sq) in enumerate(zip(L, legs2)):
+        if not isinstance(sq, Fraction):
+            found.setdefault((f"legs[{i}]", v.text), []).append(f"l{i + 1}^2")
+    return tuple((f, t, tuple(sq)) for (f, t), sq in found.items())
 
 
 def _floats(value, field):

