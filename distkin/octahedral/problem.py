@@ -20,11 +20,11 @@ from ..argcheck import no_booleans
 from ..errors import DegenerateGeometryError, InputError
 from ..exact import Exact, exact_to_float, parse_exact
 from .banana import LEG_PAIRS, SIDE_PAIRS
-from .scaling import KEEP, check_range, exponent, exponents, scale_problem
+from .scaling import KEEP, MIN_EXP, check_range, exponent, exponents, scale_problem
 
 __all__ = ["Problem", "exact_problem", "float_problem", "float_single", "LEG_PAIRS",
            "SIDE_PAIRS", "REASONS", "sides_into", "check_triangle",
-           "check_triangle_exact"]
+           "check_triangle_exact", "tiny_leg"]
 
 #: status codes of the real roots the fast tier finds, and what they mean
 REASONS = {
@@ -199,6 +199,24 @@ def check_triangle_exact(sq, names, field):
         f"sides)^2 = {float(a16 / scale) if scale else 0.0:.3g})", field=field)
 
 
+def _positive(value) -> bool:
+    """The exact sign of a parsed value (Fraction or sympy number): > 0."""
+    if isinstance(value, Fraction):
+        return value > 0
+    import sympy
+    return bool(sympy.N(value, 30) > 0)
+
+
+def tiny_leg(text: str, field: str) -> InputError:
+    """The error of a leg that is positive but rounds to 0 in float64 (``"1e-400"``),
+    the same in every tier: below the supported range of lengths (:mod:`.scaling`), not
+    "not positive" (QA)."""
+    return InputError(f"expected a leg length within the supported range (lengths of at "
+                      f"least 2^{MIN_EXP}, about {2.0 ** MIN_EXP:.1e}, which float64 and "
+                      f"the squared lengths hold), got {text}: positive, but it rounds to "
+                      f"0 in float64", field=field)
+
+
 def _largest(B, Q, L):
     """The largest modulus of a coordinate or a leg (floats), and its field."""
     best, field = -1.0, "legs"
@@ -232,11 +250,16 @@ def exact_problem(base, platform, legs) -> Problem:
     if not isinstance(legs, (list, tuple)) or len(legs) != 6:
         raise InputError(f"expected 6 leg lengths, got {legs!r}", field="legs")
     L = tuple(_exact(v, f"legs[{i}]") for i, v in enumerate(legs))
-    for i, v in enumerate(L):
-        if not float(v) > 0:
+    # every value through exact_to_float with its field (float(v) named none, QA)
+    fB, fQ = ([[exact_to_float(v, f"{name}[{i}][{j}]") for j, v in enumerate(r)]
+               for i, r in enumerate(rows)] for name, rows in (("base", B), ("platform", Q)))
+    fL = [exact_to_float(v, f"legs[{i}]") for i, v in enumerate(L)]
+    for i, (v, f) in enumerate(zip(L, fL)):
+        if not f > 0:
+            if f == 0 and _positive(v.value):
+                raise tiny_leg(v.text, f"legs[{i}]")
             raise InputError(f"expected a positive leg length, got {v.text}", field=f"legs[{i}]")
-    largest, field = _largest([[float(v) for v in r] for r in B],
-                              [[float(v) for v in r] for r in Q], [float(v) for v in L])
+    largest, field = _largest(fB, fQ, fL)
     check_range(largest, field)
     pts = {1: B[0], 2: B[1], 3: B[2], 4: Q[0], 5: Q[1], 6: Q[2]}
     sides2 = tuple(_square_distance(pts[i], pts[j]) for i, j in SIDE_PAIRS)
@@ -309,6 +332,10 @@ def _floats(value, field):
         at = field + "".join(f"[{int(j)}]" for j in np.unravel_index(k, obj.shape))
         x = _exact(v, at)                   # (the element named, as the exact tiers do)
         f = exact_to_float(x, at)           # (beyond float64, "1e400")
+        if f == 0 and field == "legs" and x.value != 0:     # as the exact tiers say
+            if _positive(x.value):
+                raise tiny_leg(x.text, at)                  # ("1e-400")
+            raise InputError(f"expected a positive leg length, got {x.text}", field=at)
         vals.append(f)
         exact.append(isinstance(x.value, Fraction) and math.isfinite(f)
                      and Fraction(f) == x.value)
@@ -383,7 +410,7 @@ def float_problem(base, platform, legs, *, flat: str = "raise"):
                | np.broadcast_to(rL, (N, 6)).any(axis=1))
     if np.any(L <= 0):
         i = tuple(int(v) for v in np.argwhere(L <= 0)[0])
-        raise InputError(f"expected positive leg lengths, got {float(L[i])!r}",
+        raise InputError(f"expected a positive leg length, got {float(L[i])!r}",
                          field=f"legs[{i[1]}]" if N == 1 else f"legs[{i[0]}][{i[1]}]")
     largest = np.maximum(np.maximum(np.abs(B).max(axis=(1, 2)), np.abs(Q).max(axis=(1, 2))),
                          L.max(axis=1))
@@ -508,7 +535,7 @@ def float_single(base, platform, legs):
         raise InputError("expected finite numbers, got NaN or inf", field="legs")
     if min(L) <= 0:
         i = next(i for i, v in enumerate(L) if v <= 0)
-        raise InputError(f"expected positive leg lengths, got {L[i]!r}", field=f"legs[{i}]")
+        raise InputError(f"expected a positive leg length, got {L[i]!r}", field=f"legs[{i}]")
     largest = max(max(flat), -min(flat), max(L))
     k = 0 if _SMALL <= largest < _LARGE else exponent(largest)
     if k:

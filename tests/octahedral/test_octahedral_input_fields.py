@@ -61,3 +61,43 @@ def test_certified_names_the_irrational_inputs(base, plat, legs, culprits):
         warnings.simplefilter("ignore", ConditioningWarning)
         res = forward_kinematics(base, plat, legs, method="auto")
     assert res.tier in ("fast", "precise")
+
+
+@pytest.mark.parametrize("where", ["legs", "base", "platform"])
+def test_beyond_float64_names_the_field_in_every_tier(where):
+    base, plat, legs = [list(r) for r in GD_BASE], [list(r) for r in PLAT], list(LEGS)
+    field = {"legs": "legs[0]", "base": "base[1][0]", "platform": "platform[2][0]"}[where]
+    if where == "legs":
+        legs[0] = "10**400"
+    elif where == "base":
+        base[1][0] = "10**400"
+    else:
+        plat[2][0] = "10**400"
+    for m in TIERS:
+        with pytest.raises(InputError, match="float64 range") as e:
+            forward_kinematics(base, plat, legs, method=m)
+        assert e.value.field == field and "'10**400'" in e.value.message, m
+
+
+@pytest.mark.parametrize("value, kind", [("1e-400", "range"), ("10**-400", "range"),
+                                         ("-1e-400", "positive"), ("0", "positive")])
+def test_a_leg_below_float64_gets_one_message_in_every_tier(value, kind):
+    legs = [value] + LEGS[1:]
+    msgs = set()
+    for m in TIERS:
+        with pytest.raises(InputError) as e:
+            forward_kinematics(GD_BASE, PLAT, legs, method=m)
+        assert e.value.field == "legs[0]", m
+        msgs.add(e.value.message)
+    for m in ("fast", "auto"):
+        with pytest.raises(InputError) as e:
+            forward_kinematics_batched(GD_BASE, PLAT, [LEGS, legs], method=m)
+        assert e.value.field == "legs[1][0]", m
+        msgs.add(e.value.message)
+    if kind == "range":
+        assert len(msgs) == 1, msgs
+        msg = msgs.pop()
+        assert f"got {value}" in msg
+        assert "2^-500" in msg and "rounds to 0" in msg and "expected a positive" not in msg
+    else:           # (the float tiers print the float: 0.0 for "0")
+        assert all(m.startswith("expected a positive leg length, got ") for m in msgs)
