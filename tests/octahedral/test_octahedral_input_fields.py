@@ -101,3 +101,19 @@ def test_a_leg_below_float64_gets_one_message_in_every_tier(value, kind):
         assert "2^-500" in msg and "rounds to 0" in msg and "expected a positive" not in msg
     else:           # (the float tiers print the float: 0.0 for "0")
         assert all(m.startswith("expected a positive leg length, got ") for m in msgs)
+
+
+def test_tol_with_the_fast_tier_is_refused_as_dps_is():
+    """``tol`` has no effect on the fast tier: refused there, single and batched, as
+    ``dps`` is (QA T 9) and as the CLI refuses it; accepted by the tiers that use it."""
+    for call in (lambda **kw: forward_kinematics(GD_BASE, PLAT, LEGS, **kw),
+                 lambda **kw: forward_kinematics_batched(GD_BASE, PLAT, [LEGS], **kw)):
+        for name, value in (("tol", 1e-3), ("dps", 30)):
+            with pytest.raises(InputError, match="got method 'fast'") as e:
+                call(method="fast", **{name: value})
+            assert e.value.field == name
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ConditioningWarning)
+            call(method="auto", tol=1e-3)
+    for m in ("precise", "certified"):
+        assert len(forward_kinematics(GD_BASE, PLAT, LEGS, method=m, tol=1e-12)) == 12
