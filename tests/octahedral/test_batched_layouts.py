@@ -88,3 +88,34 @@ def test_single_thin_with_rounded_inputs(strings):
     auto = forward_kinematics(THIN_BASE, PLAT, legs, method="auto")
     prec = forward_kinematics(THIN_BASE, PLAT, legs, method="precise", dps=40)
     assert auto.tier == "certified" and len(auto) == len(prec)
+
+
+def test_batched_arrays_are_read_only_as_single_poses_are():
+    """QA: ``b.translation[0, 0, 0] = 5`` edited the pose of a problem marked proved.
+    The arrays of a BatchResult (and of ``raw``) are read-only, as a single solve's
+    Pose arrays are (QA T 8); the caller's input arrays stay writable; the answer
+    still equals the single solve's."""
+    base = np.array([BASE, THIN_BASE], float)
+    plat = np.array([PLAT, PLAT], float)
+    legs = np.array([LEGS, LEGS], float)
+    single = forward_kinematics(BASE, PLAT, LEGS)
+    assert not single[0].translation.flags.writeable
+    for method in ("fast", "auto"):      # auto: problem 1 escalated, the arrays rebuilt
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ConditioningWarning)
+            b = forward_kinematics_batched(base, plat, legs, method=method)
+        arrays = {name: getattr(b, name) for name in (
+            "count", "s15", "points", "rotation", "translation", "max_leg_error",
+            "max_leg_error_relative", "valid", "trusted", "verdict", "tier")}
+        arrays.update({f"raw[{k!r}]": v for k, v in b.raw.items()
+                       if isinstance(v, np.ndarray)})
+        for name, a in arrays.items():
+            assert not a.flags.writeable, (method, name)
+        with pytest.raises(ValueError, match="read-only"):
+            b.translation[0, 0, 0] = 5
+        pose = b.result(0)[0]
+        with pytest.raises(ValueError, match="read-only"):
+            pose.translation[0] = 5
+        np.testing.assert_allclose(pose.translation, single[0].translation, rtol=1e-12)
+        assert b.trusted[0]
+        assert all(a.flags.writeable for a in (base, plat, legs))
