@@ -20,11 +20,13 @@ from ..argcheck import no_booleans
 from ..errors import DegenerateGeometryError, InputError
 from ..exact import Exact, exact_to_float, parse_exact
 from .banana import LEG_PAIRS, SIDE_PAIRS
-from .scaling import KEEP, MIN_EXP, check_range, exponent, exponents, scale_problem
+from .exact_input import (check_triangle_exact, irrational_inputs, positive, square,
+                          square_distance, tiny_leg)
+from .scaling import KEEP, check_range, exponent, exponents, scale_problem
 
 __all__ = ["Problem", "exact_problem", "float_problem", "float_single", "LEG_PAIRS",
            "SIDE_PAIRS", "REASONS", "sides_into", "check_triangle",
-           "check_triangle_exact", "tiny_leg"]
+           "check_triangle_exact"]
 
 #: status codes of the real roots the fast tier finds, and what they mean
 REASONS = {
@@ -126,31 +128,6 @@ def _rows(value, field):
     return tuple(out)
 
 
-def _square_distance(a, b):
-    vals = [x.value - y.value for x, y in zip(a, b)]
-    if all(isinstance(v, Fraction) for v in vals):
-        return sum(v * v for v in vals)
-    import sympy
-    from ..exact import to_sympy
-    # exact simplification only: nsimplify would snap a small irrational part to the
-    # nearest "simple" number (2 + sqrt(3)/10^20 -> 2) and certify a neighbouring problem
-    e = sympy.radsimp(sympy.expand(sum(to_sympy(v) ** 2 for v in vals)))
-    if e.is_Rational:
-        return Fraction(int(e.p), int(e.q))
-    return e
-
-
-def _square(x: Exact):
-    if isinstance(x.value, Fraction):
-        return x.value * x.value
-    import sympy
-    from ..exact import to_sympy
-    e = sympy.expand(to_sympy(x) ** 2)
-    if e.is_Rational:
-        return Fraction(int(e.p), int(e.q))
-    return e
-
-
 def check_triangle(sq, names, field):
     """Refuse a collinear or coincident triangle from its three squared sides ``sq``
     (exact or float): 16 area^2 by Heron's formula against 1e-12 (a + b + c)^2, the test
@@ -172,49 +149,6 @@ def check_triangle(sq, names, field):
             f"expected a proper triangle {names}, got collinear or coincident points, or "
             f"points within the solver's tolerance of that (16 area^2 / (sum of squared "
             f"sides)^2 {shown}, not above 1e-12)", field=field)
-
-
-def check_triangle_exact(sq, names, field):
-    """:func:`check_triangle` for the precise and certified tiers, which compute with
-    the exact data: a triangle is refused only when it is collinear, 16 area^2 = 0
-    (rational squared sides: exactly; irrational ones: within 1e-60 relative at 80
-    digits, said so).  A thin but proper triangle, which float64 refuses, is solved
-    there (QA N 2)."""
-    if all(isinstance(v, (int, Fraction)) for v in sq):
-        a, b, c = (Fraction(v) for v in sq)
-        if 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c) > 0:
-            return
-        raise DegenerateGeometryError(
-            f"expected a proper triangle {names}, got collinear or coincident points "
-            "(16 area^2 = 0 exactly, from the exact squared sides)", field=field)
-    import sympy as sp
-    a, b, c = (sp.sympify(v) for v in sq)
-    a16 = sp.N(2 * (a * b + b * c + c * a) - (a * a + b * b + c * c), 80)
-    scale = sp.N((a + b + c) ** 2, 80)
-    if a16 > sp.Float("1e-60", 80) * scale:
-        return
-    raise DegenerateGeometryError(
-        f"expected a proper triangle {names}, got collinear or coincident points, or "
-        f"within 1e-60 of that relative at 80 digits (16 area^2 / (sum of squared "
-        f"sides)^2 = {float(a16 / scale) if scale else 0.0:.3g})", field=field)
-
-
-def _positive(value) -> bool:
-    """The exact sign of a parsed value (Fraction or sympy number): > 0."""
-    if isinstance(value, Fraction):
-        return value > 0
-    import sympy
-    return bool(sympy.N(value, 30) > 0)
-
-
-def tiny_leg(text: str, field: str) -> InputError:
-    """The error of a leg that is positive but rounds to 0 in float64 (``"1e-400"``),
-    the same in every tier: below the supported range of lengths (:mod:`.scaling`), not
-    "not positive" (QA)."""
-    return InputError(f"expected a leg length within the supported range (lengths of at "
-                      f"least 2^{MIN_EXP}, about {2.0 ** MIN_EXP:.1e}, which float64 and "
-                      f"the squared lengths hold), got {text}: positive, but it rounds to "
-                      f"0 in float64", field=field)
 
 
 def _largest(B, Q, L):
@@ -256,14 +190,14 @@ def exact_problem(base, platform, legs) -> Problem:
     fL = [exact_to_float(v, f"legs[{i}]") for i, v in enumerate(L)]
     for i, (v, f) in enumerate(zip(L, fL)):
         if not f > 0:
-            if f == 0 and _positive(v.value):
+            if f == 0 and positive(v.value):
                 raise tiny_leg(v.text, f"legs[{i}]")
             raise InputError(f"expected a positive leg length, got {v.text}", field=f"legs[{i}]")
     largest, field = _largest(fB, fQ, fL)
     check_range(largest, field)
     pts = {1: B[0], 2: B[1], 3: B[2], 4: Q[0], 5: Q[1], 6: Q[2]}
-    sides2 = tuple(_square_distance(pts[i], pts[j]) for i, j in SIDE_PAIRS)
-    legs2 = tuple(_square(v) for v in L)
+    sides2 = tuple(square_distance(pts[i], pts[j]) for i, j in SIDE_PAIRS)
+    legs2 = tuple(square(v) for v in L)
     named = ([(f"legs[{i}]", v) for i, v in enumerate(L)]
              + [(f"{w}[{i}][{j}]", v) for w, rows in (("base", B), ("platform", Q))
                 for i, r in enumerate(rows) for j, v in enumerate(r)])
@@ -276,32 +210,7 @@ def exact_problem(base, platform, legs) -> Problem:
     check_triangle_exact(problem.sides2[:3], "P1 P2 P3", "base")
     check_triangle_exact(problem.sides2[3:], "P4 P5 P6", "platform")
     return replace(problem, exponent=k, float_fields=floats,
-                   irrational=_irrational_inputs(B, Q, L, sides2, legs2))
-
-
-def _irrational_inputs(B, Q, L, sides2, legs2):
-    """:attr:`Problem.irrational`: per irrational input that makes a squared length
-    irrational, ``(field, text, squares)`` (``squares``: ``"|P1P2|^2"``, ``"l1^2"``)."""
-    pts = {1: ("base", 0, B), 2: ("base", 1, B), 3: ("base", 2, B),
-           4: ("platform", 0, Q), 5: ("platform", 1, Q), 6: ("platform", 2, Q)}
-    found = {}
-    for (a, b), sq in zip(SIDE_PAIRS, sides2):
-        if isinstance(sq, Fraction):
-            continue
-        for j in range(3):          # the coordinates whose squared difference is not
-            ends = (pts[a], pts[b])   # rational (their sum is not: one at least is)
-            if isinstance(_square_distance((ends[0][2][ends[0][1]][j],),
-                                           (ends[1][2][ends[1][1]][j],)), Fraction):
-                continue
-            for name, i, rows in ends:
-                v = rows[i][j]
-                if not v.is_rational:
-                    found.setdefault((f"{name}[{i}][{j}]", v.text), []).append(
-                        f"|P{a}P{b}|^2")
-    for i, (v, sq) in enumerate(zip(L, legs2)):
-        if not isinstance(sq, Fraction):
-            found.setdefault((f"legs[{i}]", v.text), []).append(f"l{i + 1}^2")
-    return tuple((f, t, tuple(sq)) for (f, t), sq in found.items())
+                   irrational=irrational_inputs(B, Q, L, sides2, legs2))
 
 
 def _floats(value, field):
@@ -333,7 +242,7 @@ def _floats(value, field):
         x = _exact(v, at)                   # (the element named, as the exact tiers do)
         f = exact_to_float(x, at)           # (beyond float64, "1e400")
         if f == 0 and field == "legs" and x.value != 0:     # as the exact tiers say
-            if _positive(x.value):
+            if positive(x.value):
                 raise tiny_leg(x.text, at)                  # ("1e-400")
             raise InputError(f"expected a positive leg length, got {x.text}", field=at)
         vals.append(f)
