@@ -311,6 +311,13 @@ def float_problem(base, platform, legs, *, flat: str = "raise"):
             raise InputError(f"expected {N} problems of shape ({N}, {shape}) (or one "
                              f"without a batch axis), got shape {a.shape} ({sizes})",
                              field=field)
+    # a field is named as the value was given: problem index first where that array has
+    # a batch axis (legs[1][0]: problem 1, leg 0), as the finite-numbers check above does
+    axis = {"base": B.ndim == 3, "platform": Q.ndim == 3, "legs": L.ndim == 2}
+
+    def at(i, where):
+        name = where.split("[", 1)[0]
+        return f"{name}[{i}]{where[len(name):]}" if axis[name] else where
     B = np.broadcast_to(B, (N, 3, 3))
     Q = np.broadcast_to(Q, (N, 3, 3))
     L = np.broadcast_to(L, (N, 6))
@@ -320,14 +327,14 @@ def float_problem(base, platform, legs, *, flat: str = "raise"):
     if np.any(L <= 0):
         i = tuple(int(v) for v in np.argwhere(L <= 0)[0])
         raise InputError(f"expected a positive leg length, got {float(L[i])!r}",
-                         field=f"legs[{i[1]}]" if N == 1 else f"legs[{i[0]}][{i[1]}]")
+                         field=at(i[0], f"legs[{i[1]}]"))
     largest = np.maximum(np.maximum(np.abs(B).max(axis=(1, 2)), np.abs(Q).max(axis=(1, 2))),
                          L.max(axis=1))
     bad = ~((largest < 2.0 ** 510) & (largest >= 2.0 ** -500))
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
         big, where = _largest(B[i].tolist(), Q[i].tolist(), L[i].tolist())  # as the others
-        check_range(big, where if N == 1 else f"legs[{i}] ({where} of problem {i})")
+        check_range(big, at(i, where))
     k = exponents(largest)
     if k.any():
         B = np.ldexp(B, -k[:, None, None])

@@ -117,3 +117,35 @@ def test_tol_with_the_fast_tier_is_refused_as_dps_is():
             call(method="auto", tol=1e-3)
     for m in ("precise", "certified"):
         assert len(forward_kinematics(GD_BASE, PLAT, LEGS, method=m, tol=1e-12)) == 12
+
+
+@pytest.mark.parametrize("bad, kind", [(float("nan"), "finite"), (1e300, "range"),
+                                       (-1.0, "positive"), ("1e-400", "range"),
+                                       ("10**400", "float64")])
+def test_batched_fields_name_problem_then_leg(bad, kind):
+    """One form in every batched input check (QA: ``legs[1][0]`` for a NaN but
+    ``legs[1] (legs[0] of problem 1)`` for an over-range length): problem, then leg,
+    the index path of the value in the array as given; the single solve of the same
+    problem names ``legs[0]`` (a second route)."""
+    legs = [list(LEGS), [bad] + LEGS[1:]]
+    with pytest.raises(InputError) as single:
+        forward_kinematics(GD_BASE, PLAT, legs[1])
+    assert single.value.field == "legs[0]"
+    for m in ("fast", "auto"):
+        with pytest.raises(InputError) as e:
+            forward_kinematics_batched(GD_BASE, PLAT, legs, method=m)
+        assert e.value.field == "legs[1][0]", (m, e.value)
+        assert "of problem" not in e.value.message
+    # a coordinate of a per-problem base: base[problem][point][coordinate]; of a shared
+    # base: base[point][coordinate]
+    if kind in ("range", "float64") and bad != "1e-400":
+        bases = [[list(r) for r in GD_BASE] for _ in range(2)]
+        bases[1][2][0] = bad
+        with pytest.raises(InputError) as e:
+            forward_kinematics_batched(bases, PLAT, [LEGS, LEGS])
+        assert e.value.field == "base[1][2][0]"
+        shared = [list(r) for r in GD_BASE]
+        shared[2][0] = bad
+        with pytest.raises(InputError) as e:
+            forward_kinematics_batched(shared, PLAT, [LEGS, LEGS])
+        assert e.value.field == "base[2][0]"
