@@ -46,8 +46,9 @@ def _q(v):
 def _refuse_irrational(problem: Problem):
     """The certified tier needs the exact octic over the rationals: squared sides and
     legs rational (Rojas et al., ICRA 2012, eq. (3) has them as coefficients).  An
-    :class:`InputError` naming the inputs that make some irrational (QA: it named
-    ``legs`` for an irrational base coordinate, without its value)."""
+    :class:`InputError` naming the inputs that make some irrational, and their values
+    (QA: it named ``legs`` for an irrational base coordinate, without its value); its
+    ``field`` is the first of them."""
     bad = problem.irrational
     names = [f"|P{a}P{b}|^2" for (a, b), v in zip(SIDE_PAIRS, problem.sides2)
              if not isinstance(v, Fraction)]
@@ -59,7 +60,7 @@ def _refuse_irrational(problem: Problem):
         f"expected rational squared lengths for the certified tier (squared sides "
         f"|PiPj|^2 and legs li^2), got {len(names)} irrational one(s), "
         f"{', '.join(names)}, from {got or 'the data'}",
-        field=", ".join(f for f, _, _ in bad) or "legs",
+        field=bad[0][0] if bad else "legs",       # (the message names them all)
         hint="give coordinates whose squared differences sum to rationals (sqrt(108) "
              "against 0 does) and legs whose squares are rational, or use "
              "method='precise' (or 'auto', which falls back to it)")
