@@ -43,17 +43,35 @@ def _q(v):
     return flint.fmpq(v.numerator, v.denominator)
 
 
+def _refuse_irrational(problem: Problem):
+    """The certified tier needs the exact octic over the rationals: squared sides and
+    legs rational (Rojas et al., ICRA 2012, eq. (3) has them as coefficients).  An
+    :class:`InputError` naming the inputs that make some irrational, and their values
+    (QA: it named ``legs`` for an irrational base coordinate, without its value); its
+    ``field`` is the first of them."""
+    bad = problem.irrational
+    names = [f"|P{a}P{b}|^2" for (a, b), v in zip(SIDE_PAIRS, problem.sides2)
+             if not isinstance(v, Fraction)]
+    names += [f"l{i + 1}^2" for i, v in enumerate(problem.legs2) if not isinstance(v, Fraction)]
+    got = ", ".join(f"{f} = {t}" for f, t, _ in bad[:4])
+    if len(bad) > 4:
+        got += f" and {len(bad) - 4} more"
+    raise InputError(
+        f"expected rational squared lengths for the certified tier (squared sides "
+        f"|PiPj|^2 and legs li^2), got {len(names)} irrational one(s), "
+        f"{', '.join(names)}, from {got or 'the data'}",
+        field=bad[0][0] if bad else "legs",       # (the message names them all)
+        hint="give coordinates whose squared differences sum to rationals (sqrt(108) "
+             "against 0 does) and legs whose squares are rational, or use "
+             "method='precise' (or 'auto', which falls back to it)")
+
+
 def solve_certified(problem: Problem, tol: float):
     """Every assembly mode, certified; see :func:`.forward.forward_kinematics`."""
     import flint
     from .result import AssemblyResult, RootInfo, _SPURIOUS_NOTE, _empty_reason
     if not problem.rational:
-        bad = [i for i, v in enumerate(problem.sides2 + problem.legs2)
-               if not isinstance(v, Fraction)]
-        raise InputError(f"expected rational squared lengths for the certified tier, got "
-                         f"{len(bad)} irrational one(s)", field="legs",
-                         hint="give coordinates and legs whose squares are rational, or use "
-                              "method='precise'")
+        _refuse_irrational(problem)
     sides = [_q(v) for v in problem.sides2]
     legs2 = [_q(v) for v in problem.legs2]
     d = [flint.fmpq(v) for v in octic_data(sides, legs2, "exact")]

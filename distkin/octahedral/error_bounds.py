@@ -138,19 +138,32 @@ def eta_rounded(B, Q, L):
     (:math:`|x - x^*| \le u|x^*| \le 2u|x|`): per side, each difference is off by
     :math:`e = 2u(|a| + |b|) + u|\hat d|`, its square by :math:`2|\hat d|e + e^2`, and
     the squares and sums add :math:`\gamma_3` (taken as :math:`4u`) of the sum; a leg's
-    square is off by at most :math:`(1 + 2u)^2(1 + u) - 1 < 6u`."""
-    worst = 6.0 * U
-    for P in (B, Q):
-        for i, j in ((0, 1), (0, 2), (1, 2)):
-            s = 0.0
-            err = 0.0
-            for c in range(3):
-                dx = P[i, c] - P[j, c]
-                e = 2.0 * U * (abs(P[i, c]) + abs(P[j, c])) + U * abs(dx)
-                s += dx * dx
-                err += 2.0 * abs(dx) * e + e * e
-            err = (err + 4.0 * U * s) * (1.0 + 16.0 * U)
-            if not s - err > 0:
-                return np.inf
-            worst = max(worst, err / (s - err))
+    square is off by at most :math:`(1 + 2u)^2(1 + u) - 1 < 6u`.
+
+    ``B`` and ``Q`` may have different memory layouts (a row of a broadcast or copied
+    batch): each triangle goes through :func:`_eta_triangle` on its own, never as a
+    tuple of the two, which numba cannot iterate when their types differ (QA: a batch
+    with a thin triangle and rounded inputs crashed with a TypingError)."""
+    worst = max(6.0 * U, _eta_triangle(B), _eta_triangle(Q))
     return worst * (1.0 + 16.0 * U) + 2.0 ** -60
+
+
+@_jit
+def _eta_triangle(P):
+    """The worst relative error bound of the three squared sides of the triangle ``P``
+    (3, 3) under the rounding of :func:`eta_rounded`; ``inf`` when a side's bound
+    covers the side."""
+    worst = 0.0
+    for i, j in ((0, 1), (0, 2), (1, 2)):
+        s = 0.0
+        err = 0.0
+        for c in range(3):
+            dx = P[i, c] - P[j, c]
+            e = 2.0 * U * (abs(P[i, c]) + abs(P[j, c])) + U * abs(dx)
+            s += dx * dx
+            err += 2.0 * abs(dx) * e + e * e
+        err = (err + 4.0 * U * s) * (1.0 + 16.0 * U)
+        if not s - err > 0:
+            return np.inf
+        worst = max(worst, err / (s - err))
+    return worst

@@ -63,7 +63,8 @@ __all__ = ["Pose", "RootInfo", "AssemblyResult", "BatchResult", "forward_kinemat
 
 def _tier_args(method: str, dps, tol):
     """``dps`` and ``tol`` checked at the entry (``auto``'s escalations too): dps in
-    5..1233, and at least :data:`.precise.MIN_DPS` where the precise tier may run;
+    5..1233, and at least :data:`.precise.MIN_DPS` where the precise tier may run; both
+    refused where they would be ignored (dps: ``fast``, ``certified``; tol: ``fast``);
     tol relative (:func:`~distkin.argcheck.relative_tol`, bounded by those digits)."""
     if dps is not None:
         if method not in ("precise", "auto"):     # it would be ignored (QA T 9)
@@ -71,6 +72,9 @@ def _tier_args(method: str, dps, tol):
                              f"mpmath digits), got method {method!r}", field="dps")
         from .precise import check_precise_dps
         dps = check_precise_dps(dps)
+    if tol is not None and method == "fast":     # it would be ignored, as dps (and the CLI)
+        raise InputError(f"expected 'tol' only with method 'precise', 'certified' or 'auto' "
+                         f"(the exact tiers' tolerance), got method {method!r}", field="tol")
     return dps, None if tol is None else relative_tol(tol, "tol",
                                                       digits=_tol_digits(method, dps))
 
@@ -121,7 +125,8 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
         enclosures are refined to (default 1e-15).  ``precise``: the relative residual
         accepted for a root (default :math:`10^{8-dps}`).  A number 0 < tol < 1, and
         for ``precise`` at least :math:`10^{-dps}` (``auto``: of its precise fallback,
-        dps or 50 digits); :func:`~distkin.argcheck.relative_tol`.
+        dps or 50 digits); :func:`~distkin.argcheck.relative_tol`.  Refused with
+        ``fast``, which would ignore it.
     warn : bool
         ``fast``: prove the assembly roots (:mod:`.descartes`, a few µs) into
         ``.conditioning`` and emit a :class:`~distkin.errors.ConditioningWarning` when

@@ -7,7 +7,11 @@ integer-coefficient kernel.  ``mpmath.polyroots`` gives every complex root; the 
 and nearly real ones are polished by Newton's method on eq. (3) at the working
 precision, and the poses come from the trilateration sequence of Sec. III in ``mpf``.
 Not certified: the root count rests on ``polyroots``' convergence and on a tolerance
-(:math:`10^{8-dps}` relative) for calling a root real or a residual zero.
+(:math:`10^{8-dps}` relative) for calling a root real or a residual zero.  A root's
+multiplicity is the size of its cluster of ``polyroots`` roots (those within
+:math:`10^{1-\lfloor w/4 \rfloor}` relative, :math:`w = dps + 20`), for assembly and
+spurious roots alike; a cluster is said in the notes, and warned about where it may
+hide assembly modes.
 """
 
 from __future__ import annotations
@@ -150,7 +154,7 @@ def solve_precise(problem: Problem, dps: int, tol=None):
         base = [[_mpf(v) for v in r] for r in problem.base]
         plat = [[_mpf(v) for v in r] for r in problem.platform]
         legs = [_mpf(v) for v in problem.legs]
-        infos, poses, merged = [], [], []
+        infos, poses, merged, outside = [], [], [], []
         for (x, step), m, dx in zip(found, mult, spread):
             val, der = part_values(d, x)
             tets = [val[k] for k in ("T1a", "T1b", "T2a", "T2b")]
@@ -158,15 +162,22 @@ def solve_precise(problem: Problem, dps: int, tol=None):
             # tetrahedron of the bananas puts u, v or a T at 0 at the root itself)
             utol = {k: eps_rel * c ** 4 + abs(der[k]) * dx for k in ("u", "v")}
             tiny = eps_rel * c ** 3 + max(abs(der[k]) for k in ("T1a", "T1b", "T2a", "T2b")) * dx
+            # a spurious root keeps its cluster's multiplicity m and radius dx, as the
+            # assembly roots do (it said 1 for a triple root outside the feasible
+            # interval, where the certified tier proves 3, QA); the note below says so
             if val["u"] > utol["u"] or val["v"] > utol["v"]:
-                infos.append(RootInfo(float(x), _estimate(x, step), 1, "spurious",
-                                      "spurious: a shared face of the bananas has no real "
-                                      "triangle (D(5,4,1) or D(3,5,1) > 0)", x))
+                infos.append(RootInfo(float(x), _estimate(x, dx if m > 1 else step), m,
+                                      "spurious", "spurious: a shared face of the bananas "
+                                      "has no real triangle (D(5,4,1) or D(3,5,1) > 0)", x))
+                if m > 1:
+                    outside.append((float(x), m))
                 continue
             if min(tets) < -tiny:
-                infos.append(RootInfo(float(x), _estimate(x, step), 1, "spurious",
-                                      "spurious: a tetrahedron of the bananas has negative "
-                                      "squared volume (complex assembly)", x))
+                infos.append(RootInfo(float(x), _estimate(x, dx if m > 1 else step), m,
+                                      "spurious", "spurious: a tetrahedron of the bananas "
+                                      "has negative squared volume (complex assembly)", x))
+                if m > 1:
+                    outside.append((float(x), m))
                 continue
             try:
                 # the trilaterations' tolerance: at least the root's relative uncertainty
@@ -211,6 +222,13 @@ def solve_precise(problem: Problem, dps: int, tol=None):
                           f"{what} at {dps} digits (a complex pair next to the real axis "
                           "or a double root); the count may be wrong (use more digits or "
                           "method='certified')", ConditioningWarning, stacklevel=4)
+        if outside:         # said, not warned: a spurious cluster hides no assembly mode
+            what = "; ".join(f"s15 = {x:.10g}: {m} roots within 1e-{near_exp} relative"
+                             for x, m in outside)
+            notes += (f"spurious roots merged at {dps} digits ({what}): the multiplicity "
+                      f"is the cluster's size at this precision, not proved (roots closer "
+                      f"than that are not told apart; method='certified' proves it); no "
+                      f"assembly mode is lost, every root of a cluster is spurious",)
         if merged:
             what = "; ".join(f"s15 = {x:.10g}: {m} roots within 1e-{near_exp} relative, "
                              f"{k} assembly mode{'s' if k != 1 else ''} separated"

@@ -20,6 +20,8 @@ from ..argcheck import no_booleans
 from ..errors import DegenerateGeometryError, InputError
 from ..exact import Exact, exact_to_float, parse_exact
 from .banana import LEG_PAIRS, SIDE_PAIRS
+from .exact_input import (check_triangle_exact, irrational_inputs, positive, square,
+                          square_distance, tiny_leg)
 from .scaling import KEEP, check_range, exponent, exponents, scale_problem
 
 __all__ = ["Problem", "exact_problem", "float_problem", "float_single", "LEG_PAIRS",
@@ -51,6 +53,12 @@ class Problem:
     exponent : int
         Every length here is the given one divided by ``2**exponent``
         (:mod:`.scaling`); answers are scaled back by the caller.
+    float_fields : tuple of (field, float)
+        The bare floats of the data (:meth:`float_note`).
+    irrational : tuple of (field, text, squares)
+        The irrational inputs that make a squared length irrational (what the certified
+        tier needs rational): a coordinate of an end of an irrational squared side, or
+        a leg with an irrational square; ``squares`` names those squared lengths.
     """
 
     base: tuple
@@ -61,6 +69,7 @@ class Problem:
     from_float: bool
     exponent: int = 0
     float_fields: tuple = ()
+    irrational: tuple = ()
 
     def float_note(self) -> str:
         """What an exact tier's ``accuracy`` adds when some data were bare floats
@@ -119,31 +128,6 @@ def _rows(value, field):
     return tuple(out)
 
 
-def _square_distance(a, b):
-    vals = [x.value - y.value for x, y in zip(a, b)]
-    if all(isinstance(v, Fraction) for v in vals):
-        return sum(v * v for v in vals)
-    import sympy
-    from ..exact import to_sympy
-    # exact simplification only: nsimplify would snap a small irrational part to the
-    # nearest "simple" number (2 + sqrt(3)/10^20 -> 2) and certify a neighbouring problem
-    e = sympy.radsimp(sympy.expand(sum(to_sympy(v) ** 2 for v in vals)))
-    if e.is_Rational:
-        return Fraction(int(e.p), int(e.q))
-    return e
-
-
-def _square(x: Exact):
-    if isinstance(x.value, Fraction):
-        return x.value * x.value
-    import sympy
-    from ..exact import to_sympy
-    e = sympy.expand(to_sympy(x) ** 2)
-    if e.is_Rational:
-        return Fraction(int(e.p), int(e.q))
-    return e
-
-
 def check_triangle(sq, names, field):
     """Refuse a collinear or coincident triangle from its three squared sides ``sq``
     (exact or float): 16 area^2 by Heron's formula against 1e-12 (a + b + c)^2, the test
@@ -165,31 +149,6 @@ def check_triangle(sq, names, field):
             f"expected a proper triangle {names}, got collinear or coincident points, or "
             f"points within the solver's tolerance of that (16 area^2 / (sum of squared "
             f"sides)^2 {shown}, not above 1e-12)", field=field)
-
-
-def check_triangle_exact(sq, names, field):
-    """:func:`check_triangle` for the precise and certified tiers, which compute with
-    the exact data: a triangle is refused only when it is collinear, 16 area^2 = 0
-    (rational squared sides: exactly; irrational ones: within 1e-60 relative at 80
-    digits, said so).  A thin but proper triangle, which float64 refuses, is solved
-    there (QA N 2)."""
-    if all(isinstance(v, (int, Fraction)) for v in sq):
-        a, b, c = (Fraction(v) for v in sq)
-        if 2 * (a * b + b * c + c * a) - (a * a + b * b + c * c) > 0:
-            return
-        raise DegenerateGeometryError(
-            f"expected a proper triangle {names}, got collinear or coincident points "
-            "(16 area^2 = 0 exactly, from the exact squared sides)", field=field)
-    import sympy as sp
-    a, b, c = (sp.sympify(v) for v in sq)
-    a16 = sp.N(2 * (a * b + b * c + c * a) - (a * a + b * b + c * c), 80)
-    scale = sp.N((a + b + c) ** 2, 80)
-    if a16 > sp.Float("1e-60", 80) * scale:
-        return
-    raise DegenerateGeometryError(
-        f"expected a proper triangle {names}, got collinear or coincident points, or "
-        f"within 1e-60 of that relative at 80 digits (16 area^2 / (sum of squared "
-        f"sides)^2 = {float(a16 / scale) if scale else 0.0:.3g})", field=field)
 
 
 def _largest(B, Q, L):
@@ -225,15 +184,20 @@ def exact_problem(base, platform, legs) -> Problem:
     if not isinstance(legs, (list, tuple)) or len(legs) != 6:
         raise InputError(f"expected 6 leg lengths, got {legs!r}", field="legs")
     L = tuple(_exact(v, f"legs[{i}]") for i, v in enumerate(legs))
-    for i, v in enumerate(L):
-        if not float(v) > 0:
+    # every value through exact_to_float with its field (float(v) named none, QA)
+    fB, fQ = ([[exact_to_float(v, f"{name}[{i}][{j}]") for j, v in enumerate(r)]
+               for i, r in enumerate(rows)] for name, rows in (("base", B), ("platform", Q)))
+    fL = [exact_to_float(v, f"legs[{i}]") for i, v in enumerate(L)]
+    for i, (v, f) in enumerate(zip(L, fL)):
+        if not f > 0:
+            if f == 0 and positive(v.value):
+                raise tiny_leg(v.text, f"legs[{i}]")
             raise InputError(f"expected a positive leg length, got {v.text}", field=f"legs[{i}]")
-    largest, field = _largest([[float(v) for v in r] for r in B],
-                              [[float(v) for v in r] for r in Q], [float(v) for v in L])
+    largest, field = _largest(fB, fQ, fL)
     check_range(largest, field)
     pts = {1: B[0], 2: B[1], 3: B[2], 4: Q[0], 5: Q[1], 6: Q[2]}
-    sides2 = tuple(_square_distance(pts[i], pts[j]) for i, j in SIDE_PAIRS)
-    legs2 = tuple(_square(v) for v in L)
+    sides2 = tuple(square_distance(pts[i], pts[j]) for i, j in SIDE_PAIRS)
+    legs2 = tuple(square(v) for v in L)
     named = ([(f"legs[{i}]", v) for i, v in enumerate(L)]
              + [(f"{w}[{i}][{j}]", v) for w, rows in (("base", B), ("platform", Q))
                 for i, r in enumerate(rows) for j, v in enumerate(r)])
@@ -245,7 +209,8 @@ def exact_problem(base, platform, legs) -> Problem:
                                     bool(floats)), k)
     check_triangle_exact(problem.sides2[:3], "P1 P2 P3", "base")
     check_triangle_exact(problem.sides2[3:], "P4 P5 P6", "platform")
-    return replace(problem, exponent=k, float_fields=floats)
+    return replace(problem, exponent=k, float_fields=floats,
+                   irrational=irrational_inputs(B, Q, L, sides2, legs2))
 
 
 def _floats(value, field):
@@ -276,6 +241,10 @@ def _floats(value, field):
         at = field + "".join(f"[{int(j)}]" for j in np.unravel_index(k, obj.shape))
         x = _exact(v, at)                   # (the element named, as the exact tiers do)
         f = exact_to_float(x, at)           # (beyond float64, "1e400")
+        if f == 0 and field == "legs" and x.value != 0:     # as the exact tiers say
+            if positive(x.value):
+                raise tiny_leg(x.text, at)                  # ("1e-400")
+            raise InputError(f"expected a positive leg length, got {x.text}", field=at)
         vals.append(f)
         exact.append(isinstance(x.value, Fraction) and math.isfinite(f)
                      and Fraction(f) == x.value)
@@ -290,9 +259,11 @@ def float_problem(base, platform, legs, *, flat: str = "raise"):
     by ``2**k``) and ``rounded (N,)``: some input of the problem is not exactly its
     float (a string such as ``"19.8"`` or ``"sqrt(108)"``, parsed exactly, then rounded).
 
-    Float64 arrays ``(N, 3, 3)``, ``(N, 3, 3)``, ``(N, 6)`` (C-contiguous) whose problems
-    all pass the checks of :func:`float_single` without rescaling (:func:`_arrays_ok`,
-    compiled, problem by problem, the squared lengths computed in the same pass: the
+    The arrays returned are C-contiguous (a shared base or platform is copied per
+    problem, as :func:`.batched.solve_fast` would copy it).  Float64 arrays
+    ``(N, 3, 3)``, ``(N, 3, 3)``, ``(N, 6)`` (C-contiguous) whose problems all pass the
+    checks of :func:`float_single` without rescaling (:func:`_arrays_ok`, compiled,
+    problem by problem, the squared lengths computed in the same pass: the
     numbers of :func:`_sides2` and of the single solve) are returned as they are, ``k``
     and ``rounded`` zero (issue 17: the general path's ~30 numpy calls cost ~0.3 µs per
     problem); everything else takes the general path, which raises the errors.
@@ -340,6 +311,13 @@ def float_problem(base, platform, legs, *, flat: str = "raise"):
             raise InputError(f"expected {N} problems of shape ({N}, {shape}) (or one "
                              f"without a batch axis), got shape {a.shape} ({sizes})",
                              field=field)
+    # a field is named as the value was given: problem index first where that array has
+    # a batch axis (legs[1][0]: problem 1, leg 0), as the finite-numbers check above does
+    axis = {"base": B.ndim == 3, "platform": Q.ndim == 3, "legs": L.ndim == 2}
+
+    def at(i, where):
+        name = where.split("[", 1)[0]
+        return f"{name}[{i}]{where[len(name):]}" if axis[name] else where
     B = np.broadcast_to(B, (N, 3, 3))
     Q = np.broadcast_to(Q, (N, 3, 3))
     L = np.broadcast_to(L, (N, 6))
@@ -348,15 +326,15 @@ def float_problem(base, platform, legs, *, flat: str = "raise"):
                | np.broadcast_to(rL, (N, 6)).any(axis=1))
     if np.any(L <= 0):
         i = tuple(int(v) for v in np.argwhere(L <= 0)[0])
-        raise InputError(f"expected positive leg lengths, got {float(L[i])!r}",
-                         field=f"legs[{i[1]}]" if N == 1 else f"legs[{i[0]}][{i[1]}]")
+        raise InputError(f"expected a positive leg length, got {float(L[i])!r}",
+                         field=at(i[0], f"legs[{i[1]}]"))
     largest = np.maximum(np.maximum(np.abs(B).max(axis=(1, 2)), np.abs(Q).max(axis=(1, 2))),
                          L.max(axis=1))
     bad = ~((largest < 2.0 ** 510) & (largest >= 2.0 ** -500))
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
         big, where = _largest(B[i].tolist(), Q[i].tolist(), L[i].tolist())  # as the others
-        check_range(big, where if N == 1 else f"legs[{i}] ({where} of problem {i})")
+        check_range(big, at(i, where))
     k = exponents(largest)
     if k.any():
         B = np.ldexp(B, -k[:, None, None])
@@ -376,10 +354,14 @@ def float_problem(base, platform, legs, *, flat: str = "raise"):
             check_triangle(sides2[i, j:j + 3], names + (f" of problem {i}" if N > 1 else ""),
                            f"{fld}[{i}]" if N > 1 else fld)
         thin |= bad
+    # C-contiguous copies (np.array of a broadcast keeps its odd strides: the rows B[i],
+    # Q[i] then differ in layout, which the compiled callees must not see; QA: a batch
+    # with a thin triangle and rounded inputs crashed with a numba TypingError)
+    B, Q, L = (np.ascontiguousarray(a) for a in (B, Q, L))
     if flat != "mask":
         return B, Q, L, sides2, L * L, k, rounded
     if thin.any():                  # placeholders, solved and then blanked by the caller
-        B, Q, L = np.array(B), np.array(Q), np.array(L)
+        B, Q, L = (np.array(a, order="C") for a in (B, Q, L))
         B[thin], Q[thin], L[thin] = _PLACEHOLDER
         sides2 = _sides2(B, Q)
     return B, Q, L, sides2, L * L, k, rounded, thin
@@ -469,7 +451,7 @@ def float_single(base, platform, legs):
         raise InputError("expected finite numbers, got NaN or inf", field="legs")
     if min(L) <= 0:
         i = next(i for i, v in enumerate(L) if v <= 0)
-        raise InputError(f"expected positive leg lengths, got {L[i]!r}", field=f"legs[{i}]")
+        raise InputError(f"expected a positive leg length, got {L[i]!r}", field=f"legs[{i}]")
     largest = max(max(flat), -min(flat), max(L))
     k = 0 if _SMALL <= largest < _LARGE else exponent(largest)
     if k:

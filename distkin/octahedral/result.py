@@ -256,6 +256,9 @@ class BatchResult:
         symmetric configuration).  Such a problem keeps the fast answer, flagged
         (``trusted`` False, ``tier`` "fast"), and the call warns; the other problems
         keep their answers.
+
+    Every array (and every array of ``raw``) is read-only, as the arrays of a single
+    solve's :class:`Pose` are: an answer marked proved cannot be edited in place.
     """
 
     count: np.ndarray
@@ -272,6 +275,15 @@ class BatchResult:
     tier: np.ndarray = None
     escalated: dict = field(default_factory=dict, repr=False)
     unresolved: dict = field(default_factory=dict, repr=False)
+
+    def __post_init__(self):
+        # read-only, as a single solve's Pose arrays are (QA T 8): a flag per array, no
+        # copies; the poses of .result(i) are views of these arrays, read-only with them
+        for a in (self.count, self.s15, self.points, self.rotation, self.translation,
+                  self.max_leg_error, self.max_leg_error_relative, self.valid, self.trusted,
+                  self.verdict, self.tier, *self.raw.values()):
+            if isinstance(a, np.ndarray):
+                a.flags.writeable = False
 
     def __len__(self):
         return self.count.shape[0]

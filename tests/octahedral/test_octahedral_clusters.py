@@ -170,3 +170,34 @@ def test_precise_tier_warns_at_a_complex_pair_next_to_the_axis(name):
                                  method="precise", dps=15)
     assert low.real_root_count > cert.real_root_count          # (the miscount it flags)
     assert any("no sign change" in n for n in low.notes)
+
+
+def test_precise_tier_gives_the_multiplicity_of_a_spurious_cluster():
+    """Six legs of 1 on the Griffis-Duffy triangles (no assembly): the octic has triple
+    roots at -71 and 73, outside the feasible interval.  The precise tier said
+    multiplicity 1 there (QA), while its own clusters inside the interval carry theirs;
+    now it gives the cluster's size, says in a note that this precision sees it (no
+    warning: every root of the cluster is spurious, no mode is lost), and agrees with
+    the certified tier and with sympy's square-free factorisation of the exact octic
+    (the independent routes)."""
+    import sympy as sp
+    cert = forward_kinematics(GD_BASE, GD_PLATFORM, LEGS, method="certified")
+    s = sp.Symbol("s")
+    exact = sp.Poly([sp.Rational(c.numerator, c.denominator) for c in cert.octic], s)
+    mult = {}
+    for f, m in exact.sqf_list()[1]:
+        for r in sp.Poly(f, s).real_roots():
+            mult[round(float(r), 6)] = m
+    assert sorted(mult.values()) == [1, 1, 3, 3]
+    for dps in (30, 50):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", ConditioningWarning)
+            prec = forward_kinematics(GD_BASE, GD_PLATFORM, LEGS, method="precise", dps=dps)
+        assert len(prec) == 0 and all(r.status == "spurious" for r in prec.roots)
+        assert [r.multiplicity for r in prec.roots] == [r.multiplicity for r in cert.roots]
+        assert [r.multiplicity for r in prec.roots] == [mult[round(r.value, 6)]
+                                                        for r in prec.roots]
+        note = [n for n in prec.notes if "spurious roots merged" in n]
+        assert len(note) == 1 and "not proved" in note[0] and "3 roots" in note[0]
+        for r, c in zip(prec.roots, cert.roots):
+            assert abs(r.value - c.value) <= max(r.radius, 1e-9 * abs(c.value))
