@@ -153,9 +153,19 @@ class SafetyLimits:
     measured pose inside it: a platform that swung away while its torques were zero
     (e.g. under gravity during a stall) is not pulled back at the torque limit; it
     stays at zero torque until it is brought back by hand.
-    ``saturation_ms``: a loop oscillating at the torque limit (every cycle saturated
-    for this long of device time, the commands reversing sign; :class:`.safety.
-    SaturationWatch`) is a fault, zero torque; 0 switches the rule off.
+    ``saturation_ms`` and ``saturation_share``: a loop oscillating at the torque limit
+    (over the last ``saturation_ms`` of device time at least ``saturation_share`` of
+    the cycles saturated, in (0, 1], and the commands reversing sign;
+    :class:`.safety.SaturationWatch`) is a fault, zero torque; ``saturation_ms = 0``
+    switches the rule off.
+    ``recover_speed_m_s`` and ``recover_rate_rad_s``: the fault state is left only
+    when the platform is nearly at rest, its mean speed over the last
+    ``recover_frames`` valid frames at most these (translation, rotation): the set
+    point is re-initialised at the measured pose at rest, so the servo must stop
+    whatever motion is left.  At the Octo's home the undamped servo (KP JᵀJ of Kühne et
+    al. Sec. III-D with the drives' reflected inertia) stopping 0.81 m/s or 16 rad/s
+    peaks at the torque limit (our computation, modal, from the linear servo); the
+    defaults 0.25 m/s and 5 rad/s need under a third of it each.
     """
 
     watchdog_ms: float = 20.0
@@ -169,6 +179,9 @@ class SafetyLimits:
     workspace_m: float = 0.075
     workspace_rad: float = 0.5235987755982988
     saturation_ms: float = 250.0
+    saturation_share: float = 0.5
+    recover_speed_m_s: float = 0.25
+    recover_rate_rad_s: float = 5.0
 
     @classmethod
     def for_joint(cls, joint: str) -> "SafetyLimits":
@@ -252,6 +265,14 @@ def _num(t, key, fld, default, *, positive=False, nonneg=False):
     if not np.isfinite(v) or (positive and v <= 0) or (nonneg and v < 0):
         want = "a positive number" if positive else "a number >= 0" if nonneg else "a finite number"
         raise InputError(f"expected {want}, got {v!r}", field=f"{fld}.{key}")
+    return v
+
+
+def _share(t, key, default):
+    v = _num(t, key, "safety", default, positive=True)
+    if v > 1:
+        raise InputError(f"expected a share of the cycles in (0, 1], got {v!r}",
+                         field=f"safety.{key}")
     return v
 
 
@@ -515,7 +536,8 @@ def loads_control_scene(text: str, path: str = "<string>", *,
                          f"mechanism scene, got {st['max_angle']!r}", field="safety.max_angle")
     check_keys(st, {"watchdog_ms", "recover_frames", "sigma_min", "max_condition",
                     "max_force", "max_torque", "max_angle", "max_fk_residual",
-                    "workspace_m", "workspace_rad", "saturation_ms"}, "safety")
+                    "workspace_m", "workspace_rad", "saturation_ms", "saturation_share",
+                    "recover_speed_m_s", "recover_rate_rad_s"}, "safety")
     s = SafetyLimits.for_joint(joint)
     safety = SafetyLimits(
         watchdog_ms=_num(st, "watchdog_ms", "safety", s.watchdog_ms, positive=True),
@@ -530,7 +552,12 @@ def loads_control_scene(text: str, path: str = "<string>", *,
                              positive=True),
         workspace_m=_num(st, "workspace_m", "safety", s.workspace_m, positive=True),
         workspace_rad=_num(st, "workspace_rad", "safety", s.workspace_rad, positive=True),
-        saturation_ms=_num(st, "saturation_ms", "safety", s.saturation_ms, nonneg=True))
+        saturation_ms=_num(st, "saturation_ms", "safety", s.saturation_ms, nonneg=True),
+        saturation_share=_share(st, "saturation_share", s.saturation_share),
+        recover_speed_m_s=_num(st, "recover_speed_m_s", "safety", s.recover_speed_m_s,
+                               positive=True),
+        recover_rate_rad_s=_num(st, "recover_rate_rad_s", "safety", s.recover_rate_rad_s,
+                                positive=True))
     _timing(rate, safety, sim)
     title = data.get("title", "")
     return ControlScene(str(path), preset_name, rate, mass, damping, env, pd, safety, sim,
