@@ -40,7 +40,7 @@ from ..control.config import builtin_scene
 from ..errors import DistkinError, InputError, LinkError
 
 __all__ = ["add_sim_parser", "add_control_parser", "cmd_sim", "cmd_control", "builtin_scene",
-           "format_summary"]
+           "format_summary", "check_distinct_outputs"]
 
 
 
@@ -162,6 +162,8 @@ def cmd_sim(args) -> int:
     check_output_path(args.port_file, "--port-file", inputs=inputs)
     for path in _log_files(args.log, sim=True).values():
         check_output_path(path, "--log", inputs=inputs)
+    check_distinct_outputs([("--port-file", args.port_file)]
+                           + [("--log", p) for p in _log_files(args.log, sim=True).values()])
     try:
         return serve(scene, port_file=args.port_file, tcp_port=args.tcp, faults=faults,
                      log_prefix=args.log, seconds=args.seconds,
@@ -172,6 +174,33 @@ def cmd_sim(args) -> int:
             exc.field = None
             exc.with_field("--tcp")
         raise
+
+
+def _same_output(a, b) -> bool:
+    """Whether the output paths ``a`` and ``b`` name one file (an existing one by
+    :func:`os.path.samefile`, links included; otherwise the resolved paths)."""
+    a, b = Path(a), Path(b)
+    try:
+        if a.exists() and b.exists():
+            return os.path.samefile(a, b)
+        return a.resolve() == b.resolve()
+    except OSError:
+        return False
+
+
+def check_distinct_outputs(outputs) -> None:
+    """Refuse two outputs of one command that name the same file (QA X1 D2: ``--json
+    run.cycles.csv`` beside ``--log run`` replaced the log the report still listed).
+
+    ``outputs``: ``(option, path)`` pairs in order (None and ``-`` skipped); the error
+    names the earlier option of the first colliding pair (list ``--json`` first)."""
+    seen = [(f, p) for f, p in outputs if p is not None and str(p) != "-"]
+    for i, (fa, pa) in enumerate(seen):
+        for fb, pb in seen[i + 1:]:
+            if _same_output(pa, pb):
+                raise InputError(f"expected an output file of its own, got {str(pa)!r}, "
+                                 f"which {fb} writes too ({str(pb)!r})", field=fa,
+                                 hint=f"name another file for {fa}")
 
 
 def _log_files(prefix, *, control: bool = False, sim: bool = False) -> dict:
@@ -227,7 +256,7 @@ def format_summary(s: dict) -> str:
         f"{s['late_frames']} late and {s['duplicate_frames']} duplicate frames dropped, "
         f"{s['write_timeouts']} write timeouts",
         f"  safety: {s['watchdog_trips']} watchdog trips, {s['estops']} e-stops, "
-        f"{s['recoveries_held']} held outside the safe workspace, "
+        f"{s['recoveries_held']} held outside the safe workspace or moving, "
         f"{s['rejected_frames']} rejected readings, {s['safety_events']} safety events, "
         f"{s['refused_poses']} refused set points, {s['saturated_cycles']} saturated cycles"
         + (f", {s['saturation_faults']} faults oscillating at the torque limit"
@@ -300,6 +329,8 @@ def _delay_margin_command(args, scene, inputs, model) -> int:
     check_output_path(args.json, inputs=inputs)
     if args.plots:
         check_output_path(Path(args.plots) / "delay_margin.png", "--plots", inputs=inputs)
+        check_distinct_outputs([("--json", args.json),
+                                ("--plots", Path(args.plots) / "delay_margin.png")])
     rep = _margin_report(scene, model, args.delay_margin)
     text = rep.pop("text")
     if args.plots:
@@ -410,6 +441,11 @@ def cmd_control(args) -> int:
         check_output_path(path, "--log", inputs=inputs)
     if args.plots:
         check_output_path(Path(args.plots) / "control.png", "--plots", inputs=inputs)
+    # nor may two of them be one file (the JSON written last replaced the log or plot)
+    check_distinct_outputs([("--json", args.json)]
+                           + [("--log", p) for p in log_files.values()]
+                           + [("--plots", Path(args.plots) / f) for f in
+                              (("control.png",) if args.plots else ())])
     tmpdir = None
     prefix = args.log
     if prefix is None and args.plots:
