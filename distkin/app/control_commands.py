@@ -36,12 +36,23 @@ import tempfile
 import time
 from pathlib import Path
 
-from ..control.config import builtin_scene
 from ..errors import DistkinError, InputError, LinkError
 
 __all__ = ["add_sim_parser", "add_control_parser", "cmd_sim", "cmd_control", "builtin_scene",
            "format_summary", "check_distinct_outputs"]
 
+
+
+def builtin_scene():
+    """The built-in controller scene (:func:`distkin.control.config.builtin_scene`).
+
+    Imported when called: this module is imported to build the command line parser,
+    and ``distkin.control`` (numpy, the numba cache) only when a command runs, inside
+    :func:`distkin.app.cli.main`'s handling of Ctrl-C (QA X1 D6: an interrupt while
+    the parser was being built printed a traceback, exit -2, instead of one line and
+    130)."""
+    from ..control.config import builtin_scene as scene
+    return scene()
 
 
 def _scene(path):
