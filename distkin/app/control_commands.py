@@ -39,7 +39,7 @@ from pathlib import Path
 from ..errors import DistkinError, InputError, LinkError
 
 __all__ = ["add_sim_parser", "add_control_parser", "cmd_sim", "cmd_control", "builtin_scene",
-           "format_summary", "check_distinct_outputs"]
+           "format_summary", "check_distinct_outputs", "ended_line", "ENDED_BY"]
 
 
 
@@ -308,6 +308,25 @@ def format_summary(s: dict) -> str:
     return "\n".join(lines)
 
 
+#: the runs the device or the link ended (exit 2): the option the stderr line names
+ENDED_BY = {"no_device": None, "no_valid_frames": None, "disconnect": None,
+            "wall_limit": "--wall-limit"}
+
+
+def ended_line(summary: dict, *, sim: bool) -> str:
+    """The one stderr line of a run the device or the link ended (README, docs/design.md
+    §4: ``no_device``, ``no_valid_frames``, ``disconnect``, ``wall_limit``, exit 2;
+    QA X1 D3: they printed nothing): ``distkin: error: FIELD: expected ..., got ...
+    (exit_reason R)``, FIELD ``--port`` (``--sim``: the simulator's port) or
+    ``--wall-limit``; "" for the other reasons."""
+    reason = summary.get("exit_reason")
+    if reason not in ENDED_BY:
+        return ""
+    field = ENDED_BY[reason] or ("--sim" if sim else "--port")
+    why = summary.get("error") or f"expected a completed run, got {reason}"
+    return f"distkin: error: {field}: {why} (exit_reason {reason})"
+
+
 def _margin_report(scene, model, periods: int) -> dict:
     """``distkin control --delay-margin``: the sweep of :mod:`distkin.control.delay_margin`
     as a JSON-ready dict (units in the keys)."""
@@ -542,5 +561,8 @@ def cmd_control(args) -> int:
     if summary["exit_reason"] == "device_mismatch":    # bad input: one line naming it
         print(f"distkin: error: {'--scene' if args.scene else 'the built-in scene'}: "
               f"{summary['error']}", file=sys.stderr)
+    line = ended_line(summary, sim=args.sim)
+    if line:
+        print(line, file=sys.stderr)
     _emit(text, summary, args.json)
     return summary["exit_code"]

@@ -139,11 +139,20 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
             now = time.perf_counter()
             if now - t0 > wall_limit:
                 reason = "wall_limit"
+                done = 0.0 if t_first is None else (t_prev_us - t_first) * 1e-6
+                ctl.error = (f"expected {seconds:g} s of device time within the wall-time "
+                             f"limit of {wall_limit:g} s, got {done:.3f} s (a device too "
+                             f"slow or held up)")
                 break
             if t_first is None and now - t0 > ctl.STARTUP_TIMEOUT_S:
                 reason = "no_device"
                 ctl.error = (f"expected state frames from the device, got none in "
                              f"{ctl.STARTUP_TIMEOUT_S:g} s")
+                bad = getattr(getattr(link, "stats", None), "bad_frames", 0)
+                if bad:                        # bytes came, none formed a frame
+                    ctl.error += (f" but {bad} bad frames (bytes that formed no valid "
+                                  f"frame: a wrong baud rate, or a device speaking "
+                                  f"another protocol than docs/protocol.md's?)")
                 if ctl.rejected_frames:       # frames came, none could be used
                     reason = "no_valid_frames"
                     ctl.error = (f"expected a valid state frame from the device, got "

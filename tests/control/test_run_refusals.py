@@ -107,6 +107,9 @@ def test_loop_with_no_device_exits_2_from_the_cli(tmp_path):
     proc = run_cli(["control", "--port", "loop://", "--seconds", 1, "--json", "-"], tmp_path)
     assert proc.returncode == 2 and json.loads(proc.stdout)["exit_reason"] == "no_device"
     assert "Traceback" not in proc.stderr and "no_device" in proc.stderr + proc.stdout
+    # QA X1 D3: one line on stderr naming it
+    assert ("distkin: error: --port: expected state frames from the device, got none in "
+            "10 s (exit_reason no_device)") in proc.stderr.splitlines()
 
 
 @pytest.mark.parametrize("seconds", [0, -1, float("nan"), float("inf"), 1e-9, True, "1"])
