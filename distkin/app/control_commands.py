@@ -39,7 +39,8 @@ from pathlib import Path
 from ..errors import DistkinError, InputError, LinkError
 
 __all__ = ["add_sim_parser", "add_control_parser", "cmd_sim", "cmd_control", "builtin_scene",
-           "format_summary", "check_distinct_outputs", "ended_line", "ENDED_BY"]
+           "format_summary", "check_distinct_outputs", "ended_line", "ENDED_BY",
+           "RUN_SECONDS"]
 
 
 
@@ -146,7 +147,7 @@ def add_control_parser(sub) -> None:
                    help="no device: how many periods of extra command delay the joint PD "
                         "loop takes (linearised at home), swept to N periods (default 20)")
     p.add_argument("--scene", help="controller scene TOML; default: built-in Octo scene")
-    p.add_argument("--seconds", type=_seconds, default=5.0,
+    p.add_argument("--seconds", type=_seconds, default=None,
                    help="device time to run, s (default 5)")
     p.add_argument("--faults", metavar="SPEC", help="faults for the simulator (with --sim)")
     p.add_argument("--json", metavar="PATH|-", help="write the summary as JSON (- for stdout)")
@@ -308,6 +309,9 @@ def format_summary(s: dict) -> str:
     return "\n".join(lines)
 
 
+#: ``--seconds`` when not given, s of device time
+RUN_SECONDS = 5.0
+
 #: the runs the device or the link ended (exit 2): the option the stderr line names
 ENDED_BY = {"no_device": None, "no_valid_frames": None, "disconnect": None,
             "wall_limit": "--wall-limit"}
@@ -352,7 +356,7 @@ def _margin_report(scene, model, periods: int) -> dict:
 
 def _delay_margin_command(args, scene, inputs, model) -> int:
     from .output_paths import check_output_path
-    for name in ("log", "faults", "wall_limit"):
+    for name in ("log", "faults", "wall_limit", "seconds", "allow_unstable"):
         if getattr(args, name):
             raise InputError(f"expected no --{name.replace('_', '-')} with --delay-margin "
                              "(nothing runs), got one", field=f"--{name.replace('_', '-')}")
@@ -517,7 +521,8 @@ def cmd_control(args) -> int:
             # the user's --port names no openable device: bad input (exit 2)
             raise InputError(exc.message, field="--port") from None
         try:
-            summary = ctl.run(link, args.seconds, wall_limit=args.wall_limit)
+            summary = ctl.run(link, RUN_SECONDS if args.seconds is None else args.seconds,
+                              wall_limit=args.wall_limit)
         finally:
             link.close()
         summary["port"] = url

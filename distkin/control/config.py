@@ -499,6 +499,8 @@ def loads_control_scene(text: str, path: str = "<string>", *,
                                 positive=True))
     _timing(rate, safety, sim)
     title = data.get("title", "")
+    if not isinstance(title, str):
+        raise InputError(f"expected a string, got {title!r}", field="title")
     return ControlScene(str(path), preset_name, rate, mass, damping, env, pd, safety, sim,
                         str(title), rt, busy, mechanism, joint, joint_range)
 

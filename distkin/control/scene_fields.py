@@ -13,7 +13,7 @@ from ..errors import InputError
 from .admittance import Spring, Wall
 from .plant import HandScript
 
-__all__ = ["num", "share", "bool_field", "vec", "environment", "hand_script"]
+__all__ = ["num", "share", "bool_field", "numbers_only", "vec", "environment", "hand_script"]
 
 
 def num(t, key, fld, default, *, positive=False, nonneg=False):
@@ -46,12 +46,27 @@ def bool_field(t, key, fld, default):
     return v
 
 
+def numbers_only(raw, fld, what):
+    """Refuse strings and booleans in a (nested) list of numbers: ``float_array`` reads
+    "1" and "sqrt(2)" (distkin's exact scenes), but the controller scene is SI numbers,
+    as ``kp = "110"`` is refused by :func:`num` (QA X1 D8)."""
+    items = raw if isinstance(raw, list) else [raw]
+    for v in items:
+        if isinstance(v, list):
+            numbers_only(v, fld, what)
+        elif isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise InputError(f"expected {what} (SI, TOML numbers), got {v!r} in {raw!r}",
+                             field=fld)
+
+
 def vec(t, key, fld, n, *, positive=False, nonneg=False, default=None):
     """``t[key]``, ``n`` finite TOML numbers (not strings: the controller scene is SI
     numbers, as ``num`` reads them), as a tuple of floats."""
     if key not in t and default is not None:
         return tuple(default)
-    arr = float_array(require(t, key, fld), f"{fld}.{key}", (n,))
+    raw = require(t, key, fld)
+    numbers_only(raw, f"{fld}.{key}", f"{n} numbers")
+    arr = float_array(raw, f"{fld}.{key}", (n,))
     if positive and np.any(arr <= 0):
         raise InputError(f"expected {n} positive numbers, got {arr.tolist()}", field=f"{fld}.{key}")
     if nonneg and np.any(arr < 0):
@@ -95,7 +110,11 @@ def environment(items, home):
 
 def hand_script(raw, fld):
     """``simulator.hand``: knots ``[t s, fx, fy, fz N]``, sorted by time."""
+    numbers_only(raw, fld, "knots [t s, fx, fy, fz N]")
     arr = float_array(raw, fld, (None, 4))
+    if arr.shape[0] and arr[0, 0] < 0:      # device time starts at 0
+        raise InputError(f"expected knot times >= 0 s (device time starts at 0), got "
+                         f"{arr[0, 0]:g} s", field=fld)
     if np.any(np.diff(arr[:, 0]) < 0):
         raise InputError(f"expected knots sorted by time, got times {arr[:, 0].tolist()}",
                          field=fld)
