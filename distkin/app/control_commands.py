@@ -36,12 +36,24 @@ import tempfile
 import time
 from pathlib import Path
 
-from ..control.config import builtin_scene
 from ..errors import DistkinError, InputError, LinkError
 
 __all__ = ["add_sim_parser", "add_control_parser", "cmd_sim", "cmd_control", "builtin_scene",
-           "format_summary"]
+           "format_summary", "check_distinct_outputs", "ended_line", "ENDED_BY",
+           "RUN_SECONDS"]
 
+
+
+def builtin_scene():
+    """The built-in controller scene (:func:`distkin.control.config.builtin_scene`).
+
+    Imported when called: this module is imported to build the command line parser,
+    and ``distkin.control`` (numpy, the numba cache) only when a command runs, inside
+    :func:`distkin.app.cli.main`'s handling of Ctrl-C (QA X1 D6: an interrupt while
+    the parser was being built printed a traceback, exit -2, instead of one line and
+    130)."""
+    from ..control.config import builtin_scene as scene
+    return scene()
 
 
 def _scene(path):
@@ -135,7 +147,7 @@ def add_control_parser(sub) -> None:
                    help="no device: how many periods of extra command delay the joint PD "
                         "loop takes (linearised at home), swept to N periods (default 20)")
     p.add_argument("--scene", help="controller scene TOML; default: built-in Octo scene")
-    p.add_argument("--seconds", type=_seconds, default=5.0,
+    p.add_argument("--seconds", type=_seconds, default=None,
                    help="device time to run, s (default 5)")
     p.add_argument("--faults", metavar="SPEC", help="faults for the simulator (with --sim)")
     p.add_argument("--json", metavar="PATH|-", help="write the summary as JSON (- for stdout)")
@@ -162,6 +174,8 @@ def cmd_sim(args) -> int:
     check_output_path(args.port_file, "--port-file", inputs=inputs)
     for path in _log_files(args.log, sim=True).values():
         check_output_path(path, "--log", inputs=inputs)
+    check_distinct_outputs([("--port-file", args.port_file)]
+                           + [("--log", p) for p in _log_files(args.log, sim=True).values()])
     try:
         return serve(scene, port_file=args.port_file, tcp_port=args.tcp, faults=faults,
                      log_prefix=args.log, seconds=args.seconds,
@@ -172,6 +186,33 @@ def cmd_sim(args) -> int:
             exc.field = None
             exc.with_field("--tcp")
         raise
+
+
+def _same_output(a, b) -> bool:
+    """Whether the output paths ``a`` and ``b`` name one file (an existing one by
+    :func:`os.path.samefile`, links included; otherwise the resolved paths)."""
+    a, b = Path(a), Path(b)
+    try:
+        if a.exists() and b.exists():
+            return os.path.samefile(a, b)
+        return a.resolve() == b.resolve()
+    except OSError:
+        return False
+
+
+def check_distinct_outputs(outputs) -> None:
+    """Refuse two outputs of one command that name the same file (QA X1 D2: ``--json
+    run.cycles.csv`` beside ``--log run`` replaced the log the report still listed).
+
+    ``outputs``: ``(option, path)`` pairs in order (None and ``-`` skipped); the error
+    names the earlier option of the first colliding pair (list ``--json`` first)."""
+    seen = [(f, p) for f, p in outputs if p is not None and str(p) != "-"]
+    for i, (fa, pa) in enumerate(seen):
+        for fb, pb in seen[i + 1:]:
+            if _same_output(pa, pb):
+                raise InputError(f"expected an output file of its own, got {str(pa)!r}, "
+                                 f"which {fb} writes too ({str(pb)!r})", field=fa,
+                                 hint=f"name another file for {fa}")
 
 
 def _log_files(prefix, *, control: bool = False, sim: bool = False) -> dict:
@@ -227,7 +268,7 @@ def format_summary(s: dict) -> str:
         f"{s['late_frames']} late and {s['duplicate_frames']} duplicate frames dropped, "
         f"{s['write_timeouts']} write timeouts",
         f"  safety: {s['watchdog_trips']} watchdog trips, {s['estops']} e-stops, "
-        f"{s['recoveries_held']} held outside the safe workspace, "
+        f"{s['recoveries_held']} held outside the safe workspace or moving, "
         f"{s['rejected_frames']} rejected readings, {s['safety_events']} safety events, "
         f"{s['refused_poses']} refused set points, {s['saturated_cycles']} saturated cycles"
         + (f", {s['saturation_faults']} faults oscillating at the torque limit"
@@ -268,6 +309,28 @@ def format_summary(s: dict) -> str:
     return "\n".join(lines)
 
 
+#: ``--seconds`` when not given, s of device time
+RUN_SECONDS = 5.0
+
+#: the runs the device or the link ended (exit 2): the option the stderr line names
+ENDED_BY = {"no_device": None, "no_valid_frames": None, "disconnect": None,
+            "wall_limit": "--wall-limit"}
+
+
+def ended_line(summary: dict, *, sim: bool) -> str:
+    """The one stderr line of a run the device or the link ended (README, docs/design.md
+    §4: ``no_device``, ``no_valid_frames``, ``disconnect``, ``wall_limit``, exit 2;
+    QA X1 D3: they printed nothing): ``distkin: error: FIELD: expected ..., got ...
+    (exit_reason R)``, FIELD ``--port`` (``--sim``: the simulator's port) or
+    ``--wall-limit``; "" for the other reasons."""
+    reason = summary.get("exit_reason")
+    if reason not in ENDED_BY:
+        return ""
+    field = ENDED_BY[reason] or ("--sim" if sim else "--port")
+    why = summary.get("error") or f"expected a completed run, got {reason}"
+    return f"distkin: error: {field}: {why} (exit_reason {reason})"
+
+
 def _margin_report(scene, model, periods: int) -> dict:
     """``distkin control --delay-margin``: the sweep of :mod:`distkin.control.delay_margin`
     as a JSON-ready dict (units in the keys)."""
@@ -293,13 +356,15 @@ def _margin_report(scene, model, periods: int) -> dict:
 
 def _delay_margin_command(args, scene, inputs, model) -> int:
     from .output_paths import check_output_path
-    for name in ("log", "faults", "wall_limit"):
+    for name in ("log", "faults", "wall_limit", "seconds", "allow_unstable"):
         if getattr(args, name):
             raise InputError(f"expected no --{name.replace('_', '-')} with --delay-margin "
                              "(nothing runs), got one", field=f"--{name.replace('_', '-')}")
     check_output_path(args.json, inputs=inputs)
     if args.plots:
         check_output_path(Path(args.plots) / "delay_margin.png", "--plots", inputs=inputs)
+        check_distinct_outputs([("--json", args.json),
+                                ("--plots", Path(args.plots) / "delay_margin.png")])
     rep = _margin_report(scene, model, args.delay_margin)
     text = rep.pop("text")
     if args.plots:
@@ -410,6 +475,11 @@ def cmd_control(args) -> int:
         check_output_path(path, "--log", inputs=inputs)
     if args.plots:
         check_output_path(Path(args.plots) / "control.png", "--plots", inputs=inputs)
+    # nor may two of them be one file (the JSON written last replaced the log or plot)
+    check_distinct_outputs([("--json", args.json)]
+                           + [("--log", p) for p in log_files.values()]
+                           + [("--plots", Path(args.plots) / f) for f in
+                              (("control.png",) if args.plots else ())])
     tmpdir = None
     prefix = args.log
     if prefix is None and args.plots:
@@ -451,7 +521,8 @@ def cmd_control(args) -> int:
             # the user's --port names no openable device: bad input (exit 2)
             raise InputError(exc.message, field="--port") from None
         try:
-            summary = ctl.run(link, args.seconds, wall_limit=args.wall_limit)
+            summary = ctl.run(link, RUN_SECONDS if args.seconds is None else args.seconds,
+                              wall_limit=args.wall_limit)
         finally:
             link.close()
         summary["port"] = url
@@ -495,5 +566,8 @@ def cmd_control(args) -> int:
     if summary["exit_reason"] == "device_mismatch":    # bad input: one line naming it
         print(f"distkin: error: {'--scene' if args.scene else 'the built-in scene'}: "
               f"{summary['error']}", file=sys.stderr)
+    line = ended_line(summary, sim=args.sim)
+    if line:
+        print(line, file=sys.stderr)
     _emit(text, summary, args.json)
     return summary["exit_code"]

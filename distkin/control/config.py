@@ -59,17 +59,22 @@ from pathlib import Path
 
 import numpy as np
 
-from ..argcheck import as_table, check_keys, choice, float_array, positive_int, require
+from ..argcheck import as_table, check_keys, choice, positive_int, require
 from ..errors import InputError
-from .admittance import Spring, Wall
 from .plant import HandScript, LinearDrives, Motors, drives_for
+from .scene_fields import bool_field as _bool
+from .scene_fields import environment as _environment
+from .scene_fields import hand_script as _hand
+from .scene_fields import num as _num
+from .scene_fields import share as _share
+from .scene_fields import vec as _vec
 
 #: the built-in controller scene (package data; also examples/control_octo.toml)
 BUILTIN_SCENE = "control_octo.toml"
 
 __all__ = ["builtin_scene", "BUILTIN_SCENE", "PDGains", "SafetyLimits", "SimulatorConfig", "ControlScene", "load_control_scene",
            "loads_control_scene", "default_scene", "MAX_RATE_HZ", "MIN_RATE_HZ",
-           "MIN_WATCHDOG_PERIODS"]
+           "MIN_WATCHDOG_PERIODS", "MAX_GAIN_PER_LIMIT"]
 
 #: the highest ``[device] rate_hz`` a scene may ask for.  A serial link carries one
 #: state frame up and one command frame down per period: an 8-leg device's state frame
@@ -87,6 +92,10 @@ MIN_RATE_HZ = 1.0
 #: many device periods: a frame (a command) comes once a period, so a shorter window
 #: trips on every frame, or on one frame a little late, and the run sits at zero torque
 MIN_WATCHDOG_PERIODS = 2.0
+#: ``[pd]`` kp, kd, ki at most this times ``torque_limit``: the whole limit for an error
+#: of 1e-12 rad (m, or per s) or less, a millionth of any encoder count, is no servo;
+#: 1.7e308 overflowed the PD products and the linearisation (QA X1 D4)
+MAX_GAIN_PER_LIMIT = 1e12
 
 
 @dataclass(frozen=True)
@@ -153,9 +162,19 @@ class SafetyLimits:
     measured pose inside it: a platform that swung away while its torques were zero
     (e.g. under gravity during a stall) is not pulled back at the torque limit; it
     stays at zero torque until it is brought back by hand.
-    ``saturation_ms``: a loop oscillating at the torque limit (every cycle saturated
-    for this long of device time, the commands reversing sign; :class:`.safety.
-    SaturationWatch`) is a fault, zero torque; 0 switches the rule off.
+    ``saturation_ms`` and ``saturation_share``: a loop oscillating at the torque limit
+    (over the last ``saturation_ms`` of device time at least ``saturation_share`` of
+    the cycles saturated, in (0, 1], and the commands reversing sign;
+    :class:`.safety.SaturationWatch`) is a fault, zero torque; ``saturation_ms = 0``
+    switches the rule off.
+    ``recover_speed_m_s`` and ``recover_rate_rad_s``: the fault state is left only
+    when the platform is nearly at rest, its mean speed over the last
+    ``recover_frames`` valid frames at most these (translation, rotation): the set
+    point is re-initialised at the measured pose at rest, so the servo must stop
+    whatever motion is left.  At the Octo's home the undamped servo (KP JᵀJ of Kühne et
+    al. Sec. III-D with the drives' reflected inertia) stopping 0.81 m/s or 16 rad/s
+    peaks at the torque limit (our computation, modal, from the linear servo); the
+    defaults 0.25 m/s and 5 rad/s need under a third of it each.
     """
 
     watchdog_ms: float = 20.0
@@ -169,6 +188,9 @@ class SafetyLimits:
     workspace_m: float = 0.075
     workspace_rad: float = 0.5235987755982988
     saturation_ms: float = 250.0
+    saturation_share: float = 0.5
+    recover_speed_m_s: float = 0.25
+    recover_rate_rad_s: float = 5.0
 
     @classmethod
     def for_joint(cls, joint: str) -> "SafetyLimits":
@@ -242,75 +264,6 @@ class ControlScene:
     def effort_unit(self) -> str:
         """"N·m" (torques at the cranks) or "N" (forces along the legs): the drives'."""
         return self.simulator.motors.effort_unit
-
-
-def _num(t, key, fld, default, *, positive=False, nonneg=False):
-    v = t.get(key, default)
-    if isinstance(v, bool) or not isinstance(v, (int, float)):
-        raise InputError(f"expected a number, got {v!r}", field=f"{fld}.{key}")
-    v = float(v)
-    if not np.isfinite(v) or (positive and v <= 0) or (nonneg and v < 0):
-        want = "a positive number" if positive else "a number >= 0" if nonneg else "a finite number"
-        raise InputError(f"expected {want}, got {v!r}", field=f"{fld}.{key}")
-    return v
-
-
-def _bool(t, key, fld, default):
-    v = t.get(key, default)
-    if not isinstance(v, bool):
-        raise InputError(f"expected true or false, got {v!r}", field=f"{fld}.{key}")
-    return v
-
-
-def _vec(t, key, fld, n, *, positive=False, nonneg=False, default=None):
-    if key not in t and default is not None:
-        return tuple(default)
-    arr = float_array(require(t, key, fld), f"{fld}.{key}", (n,))
-    if positive and np.any(arr <= 0):
-        raise InputError(f"expected {n} positive numbers, got {arr.tolist()}", field=f"{fld}.{key}")
-    if nonneg and np.any(arr < 0):
-        raise InputError(f"expected {n} numbers >= 0, got {arr.tolist()}", field=f"{fld}.{key}")
-    return tuple(float(v) for v in arr)
-
-
-def _environment(items, home):
-    if not isinstance(items, list):
-        raise InputError(f"expected a list of [[environment]] tables, got {items!r}",
-                         field="environment")
-    out = []
-    for i, raw in enumerate(items):
-        fld = f"environment[{i}]"
-        t = as_table(raw, fld)
-        kind = choice(require(t, "kind", fld), f"{fld}.kind", ("spring", "wall"))
-        if kind == "spring":
-            check_keys(t, {"kind", "anchor", "stiffness", "damping"}, fld)
-            anchor = t.get("anchor", "home")
-            anchor = (tuple(home) if anchor == "home"
-                      else _vec(t, "anchor", fld, 6))
-            out.append(Spring(anchor, _vec(t, "stiffness", fld, 6, nonneg=True),
-                              _vec(t, "damping", fld, 6, nonneg=True, default=(0.0,) * 6)))
-        else:
-            check_keys(t, {"kind", "normal", "offset", "stiffness", "damping"}, fld)
-            n = np.asarray(_vec(t, "normal", fld, 3))
-            norm = float(np.linalg.norm(n))
-            if norm < 1e-12:
-                raise InputError(f"expected a non-zero normal, got {n.tolist()}",
-                                 field=f"{fld}.normal")
-            require(t, "offset", fld)
-            require(t, "stiffness", fld)
-            out.append(Wall(tuple(float(v) for v in n / norm),
-                            _num(t, "offset", fld, None) / norm,
-                            _num(t, "stiffness", fld, None, positive=True),
-                            _num(t, "damping", fld, 0.0, nonneg=True)))
-    return tuple(out)
-
-
-def _hand(raw, fld):
-    arr = float_array(raw, fld, (None, 4))
-    if np.any(np.diff(arr[:, 0]) < 0):
-        raise InputError(f"expected knots sorted by time, got times {arr[:, 0].tolist()}",
-                         field=fld)
-    return HandScript(tuple(tuple(float(v) for v in row) for row in arr))
 
 
 def _simulator(t, joint="revolute"):
@@ -402,8 +355,15 @@ def _device_mechanism(dev, path, mechanism_loader):
 
 def _effort_limit(pd, drives, mechanism):
     """Refuse a PD saturation beyond the drives' stall effort or the legs' own actuator
-    limits (the ``limit`` of each leg, when every leg of the mechanism declares one)."""
+    limits (the ``limit`` of each leg, when every leg of the mechanism declares one),
+    and gains beyond :data:`MAX_GAIN_PER_LIMIT` times it."""
     unit = drives.effort_unit
+    for name in ("kp", "kd", "ki"):
+        if getattr(pd, name) > MAX_GAIN_PER_LIMIT * pd.torque_limit:
+            raise InputError(f"expected at most {MAX_GAIN_PER_LIMIT:g} x torque_limit = "
+                             f"{MAX_GAIN_PER_LIMIT * pd.torque_limit:.4g} (the whole limit for "
+                             f"an error of 1e-12, far below an encoder count), got "
+                             f"{getattr(pd, name)!r}", field=f"pd.{name}")
     stall = drives.stall_effort
     if pd.torque_limit > stall:
         raise InputError(f"expected at most the stall {'force' if unit == 'N' else 'torque'} "
@@ -515,7 +475,8 @@ def loads_control_scene(text: str, path: str = "<string>", *,
                          f"mechanism scene, got {st['max_angle']!r}", field="safety.max_angle")
     check_keys(st, {"watchdog_ms", "recover_frames", "sigma_min", "max_condition",
                     "max_force", "max_torque", "max_angle", "max_fk_residual",
-                    "workspace_m", "workspace_rad", "saturation_ms"}, "safety")
+                    "workspace_m", "workspace_rad", "saturation_ms", "saturation_share",
+                    "recover_speed_m_s", "recover_rate_rad_s"}, "safety")
     s = SafetyLimits.for_joint(joint)
     safety = SafetyLimits(
         watchdog_ms=_num(st, "watchdog_ms", "safety", s.watchdog_ms, positive=True),
@@ -530,9 +491,16 @@ def loads_control_scene(text: str, path: str = "<string>", *,
                              positive=True),
         workspace_m=_num(st, "workspace_m", "safety", s.workspace_m, positive=True),
         workspace_rad=_num(st, "workspace_rad", "safety", s.workspace_rad, positive=True),
-        saturation_ms=_num(st, "saturation_ms", "safety", s.saturation_ms, nonneg=True))
+        saturation_ms=_num(st, "saturation_ms", "safety", s.saturation_ms, nonneg=True),
+        saturation_share=_share(st, "saturation_share", s.saturation_share),
+        recover_speed_m_s=_num(st, "recover_speed_m_s", "safety", s.recover_speed_m_s,
+                               positive=True),
+        recover_rate_rad_s=_num(st, "recover_rate_rad_s", "safety", s.recover_rate_rad_s,
+                                positive=True))
     _timing(rate, safety, sim)
     title = data.get("title", "")
+    if not isinstance(title, str):
+        raise InputError(f"expected a string, got {title!r}", field="title")
     return ControlScene(str(path), preset_name, rate, mass, damping, env, pd, safety, sim,
                         str(title), rt, busy, mechanism, joint, joint_range)
 

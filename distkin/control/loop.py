@@ -17,11 +17,16 @@ then once a second (event ``bad_reading`` with the frames so far; the summary's
 after ``safety.recover_frames`` consecutive valid frames at measured poses inside the
 safe workspace (``safety.workspace_m``, ``workspace_rad``; when enough valid frames
 came but the pose is outside, the controller logs ``recovery_held`` once and keeps zero
-torque); a rejected frame, an empty read or a pose outside starts the count again.
+torque), and only once the platform is nearly at rest: its mean speed over those
+frames at most ``safety.recover_speed_m_s`` and ``recover_rate_rad_s``
+(:func:`platform_moving`; at least 3 frames, a speed needs two poses; while it moves,
+``recovery_held`` once per run of frames); a rejected frame, an empty read or a pose
+outside starts the count again.
 The first measured pose is checked too: outside the safe workspace the run starts in
 the fault state (event ``outside_workspace``).  A loop oscillating at the torque limit
-(every cycle saturated for ``safety.saturation_ms`` of device time, the commands
-reversing sign: :class:`.safety.SaturationWatch`) enters the fault state too (event
+(over the last ``safety.saturation_ms`` of device time at least
+``safety.saturation_share`` of the cycles saturated, the commands reversing sign:
+:class:`.safety.SaturationWatch`) enters the fault state too (event
 ``saturation_fault``), and leaves it as after any fault.
 """
 
@@ -30,6 +35,7 @@ from __future__ import annotations
 import gc
 import signal
 import time
+from collections import deque
 
 import numpy as np
 
@@ -39,7 +45,7 @@ from .runlog import run_summary
 from .safety import FAULT, RUN, STOPPED, DeviceStatus, SaturationWatch
 from .scheduling import realtime, restore
 
-__all__ = ["run_loop", "BAD_READING_EVERY_S"]
+__all__ = ["run_loop", "platform_moving", "BAD_READING_EVERY_S"]
 
 #: the states the watchdog guards (a fault has zero torque already)
 WATCHED = (RUN, STOPPED)
@@ -53,6 +59,29 @@ def _enter_fault(ctl, last, event, t0, frame, **info):
     ctl.state = FAULT
     ctl._event(event, t0, frame, **info)
     return CommandFrame(last.seq, last.ack, MODE_ZERO_TORQUE, 0, np.zeros(ctl.L))
+
+
+def platform_moving(safety, poses) -> str:
+    """Why the platform is not at rest for a recovery ("" if it is): its mean speed
+    between the first and the last of ``poses`` ((t_us, pose) pairs, the estimates of
+    the last ``recover_frames`` valid frames) beyond ``safety.recover_speed_m_s``
+    (x, y, z) or ``recover_rate_rad_s`` (rx, ry, rz); fewer than two poses: not known
+    yet.  Re-arming at the measured pose of a moving platform leaves the servo (Kühne
+    et al. Sec. III-D, little damping through the 700 ms filter) to stop that motion:
+    at about 1 m/s it sat at the torque limit (QA)."""
+    if len(poses) < 2 or poses[-1][0] <= poses[0][0]:
+        return "platform speed not known yet (fewer than 2 poses)"
+    (t_a, a), (t_b, b) = poses[0], poses[-1]
+    dt = (t_b - t_a) * 1e-6
+    v = float(np.linalg.norm(b[:3] - a[:3])) / dt
+    w = float(np.linalg.norm(b[3:] - a[3:])) / dt
+    if not v <= safety.recover_speed_m_s:
+        return (f"platform moving at {v:.3g} m/s, beyond recover_speed_m_s "
+                f"{safety.recover_speed_m_s:g} m/s")
+    if not w <= safety.recover_rate_rad_s:
+        return (f"platform turning at {w:.3g} rad/s, beyond recover_rate_rad_s "
+                f"{safety.recover_rate_rad_s:g} rad/s")
+    return ""
 
 
 def _keepalive(link, seq, ack, last):
@@ -78,7 +107,11 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
     bad_streak, bad_said = 0, -float("inf")
     compute, compute_cpu, periods = [], [], []
     cycles = 0
-    sat_watch = SaturationWatch(ctl.safety.saturation_ms * 1e3)
+    sat_watch = SaturationWatch(ctl.safety.saturation_ms * 1e3,
+                                ctl.safety.saturation_share)
+    # the pose estimates (t_us, pose) of the current run of consecutive valid frames
+    # in the fault state: the platform's speed before the recovery
+    fault_poses = deque(maxlen=max(ctl.safety.recover_frames, 2))
     gc0 = sum(g["collections"] for g in gc.get_stats())
     reason = "completed"
     ctl.error = None
@@ -106,11 +139,20 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
             now = time.perf_counter()
             if now - t0 > wall_limit:
                 reason = "wall_limit"
+                done = 0.0 if t_first is None else (t_prev_us - t_first) * 1e-6
+                ctl.error = (f"expected {seconds:g} s of device time within the wall-time "
+                             f"limit of {wall_limit:g} s, got {done:.3f} s (a device too "
+                             f"slow or held up)")
                 break
             if t_first is None and now - t0 > ctl.STARTUP_TIMEOUT_S:
                 reason = "no_device"
                 ctl.error = (f"expected state frames from the device, got none in "
                              f"{ctl.STARTUP_TIMEOUT_S:g} s")
+                bad = getattr(getattr(link, "stats", None), "bad_frames", 0)
+                if bad:                        # bytes came, none formed a frame
+                    ctl.error += (f" but {bad} bad frames (bytes that formed no valid "
+                                  f"frame: a wrong baud rate, or a device speaking "
+                                  f"another protocol than docs/protocol.md's?)")
                 if ctl.rejected_frames:       # frames came, none could be used
                     reason = "no_valid_frames"
                     ctl.error = (f"expected a valid state frame from the device, got "
@@ -193,11 +235,18 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
             t_prev_us = frame.t_us
             if ctl.state == FAULT:
                 recover_count += 1
+                if recover_count == 1:
+                    fault_poses.clear()        # a new run of consecutive frames
                 # of the consecutive valid frames, those at poses inside the safe
                 # workspace (the last estimate of the pose, tracked in the fault state)
                 away = ctl.outside_workspace(ctl.pose)
                 inside_count = 0 if away else min(inside_count + 1, recover_count)
-                if inside_count >= ctl.safety.recover_frames:
+                moving = "" if away else platform_moving(ctl.safety, fault_poses)
+                if moving and inside_count == ctl.safety.recover_frames and len(fault_poses) > 1:
+                    # enough valid frames inside, but the platform is not at rest:
+                    # said once per run of them; the recovery waits for rest
+                    ctl._event("recovery_held", t0, frame, reason=moving)
+                if inside_count >= ctl.safety.recover_frames and not moving:
                     ctl.state = RUN
                     ctl._event("recovered", t0, frame, frames=recover_count)
                     ctl.started = False    # re-initialise at the measured pose
@@ -207,6 +256,8 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
             was_refusing = ctl.refusing
             was_started = ctl.started
             res = ctl.compute(frame, dt)
+            if ctl.state == FAULT and res.reason != "fk_failed":
+                fault_poses.append((frame.t_us, np.array(ctl.pose, dtype=float)))
             if not was_started and ctl.started and ctl.state == RUN:
                 away = ctl.outside_workspace(ctl.pose)     # (re)started: inside?
                 if away:

@@ -130,9 +130,11 @@ def read_csv(path) -> dict:
     path = Path(path)
     with path.open(encoding="utf-8") as fh:
         cols = fh.readline().strip().split(",")
-    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-    if data.size == 0:
-        data = np.zeros((0, len(cols)))
+        empty = not any(line.strip() for line in fh)
+    # a run without cycles (no device) wrote the header only: no rows, and no numpy
+    # "input contained no data" warning on the user's terminal (QA X1 D8)
+    data = (np.zeros((0, len(cols))) if empty else
+            np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2))
     return {c: data[:, i] for i, c in enumerate(cols)}
 
 

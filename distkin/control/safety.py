@@ -10,6 +10,8 @@ that report what the device did on its own (:class:`DeviceStatus`: ``DEVICE_WATC
 
 from __future__ import annotations
 
+from collections import deque
+
 import numpy as np
 
 from .cycle_kernels import reading_extremes
@@ -96,39 +98,62 @@ class DeviceStatus:
 
 
 class SaturationWatch:
-    """A loop oscillating at the torque limit: every cycle for ``window_us`` of device
-    time saturated, and the commands reversing sign at least :data:`MIN_REVERSALS`
-    times within that time (``safety.saturation_ms``; 0 switches it off).
+    """A loop oscillating at the torque limit: over the last ``window_us`` of device
+    time (``safety.saturation_ms``; 0 switches the watch off) at least the share
+    ``share`` of the cycles saturated (``safety.saturation_share``, default 0.5), and
+    the saturated commands reversing sign at least :data:`MIN_REVERSALS` times in it.
 
     A limit cycle (a loop made unstable by delay or gains: the linearised loop of
-    :mod:`.delay_margin` grows until the limit holds it) swings the commands from one
-    limit to the other; a hand pushing steadily into a stiff wall saturates the drives
-    too, but with commands of one sign, and is left alone.  One unsaturated cycle
-    starts the count again.  :meth:`note` returns True when the rule is met.
+    :mod:`.delay_margin` grows until the limit holds it; Kühne et al. Sec. III-D's PD
+    with its 700 ms derivative filter damps little) swings the commands from one limit
+    to the other, with a few unsaturated cycles at each crossing; a hand pushing
+    steadily into a stiff wall saturates the drives too, but with commands of one sign,
+    and is left alone.  A reversal: a joint whose command is at least a quarter of the
+    cycle's largest (a joint that carries the swing, not one near zero that noise
+    flips) has the opposite sign of its command in the last saturated cycle.  The
+    window slides (each cycle enters with its device time and leaves ``window_us``
+    later), so unsaturated cycles between the swings do not start the count again; it
+    is judged once ``window_us`` has passed since the last :meth:`reset` (the start of
+    torque control).  :meth:`note` returns True when the rule is met.
     """
 
-    def __init__(self, window_us: float):
+    #: a joint's command counts for the reversals from this share of the cycle's peak
+    SIGNIFICANT = 0.25
+
+    def __init__(self, window_us: float, share: float = 0.5):
         self.window_us = float(window_us)
+        self.share = float(share)
         self.reset()
 
     def reset(self) -> None:
-        """Start the count again (after a fault, or an unsaturated cycle)."""
+        """Start the count again (after a fault, or when torque control (re)starts)."""
         self.since_us = None
-        self.reversals = 0
-        self.sign = None
+        self._cycles = deque()           # (t_us, saturated, reversed) in the window
+        self.saturated = 0               # saturated cycles in the window
+        self.reversals = 0               # reversals in the window
+        self.sign = None                 # the signs of the last saturated cycle
 
     def note(self, t_us: int, saturated: bool, tau) -> bool:
         """Count a cycle at device time ``t_us`` µs with commands ``tau`` (L,)."""
         if self.window_us <= 0:
             return False
-        if not saturated:
-            self.reset()
-            return False
-        sign = np.sign(tau)
         if self.since_us is None:
             self.since_us = t_us
-        elif np.any(sign * self.sign < 0):
-            self.reversals += 1
-        self.sign = sign
+        rev = False
+        if saturated:
+            tau = np.asarray(tau, dtype=float)
+            a = np.abs(tau)
+            sign = np.where(a >= self.SIGNIFICANT * a.max(), np.sign(tau), 0.0)
+            rev = self.sign is not None and bool(np.any(sign * self.sign < 0))
+            self.sign = sign
+        cyc = self._cycles
+        cyc.append((t_us, bool(saturated), rev))
+        self.saturated += bool(saturated)
+        self.reversals += rev
+        while cyc and cyc[0][0] <= t_us - self.window_us:
+            _, s, r = cyc.popleft()
+            self.saturated -= s
+            self.reversals -= r
         return (t_us - self.since_us >= self.window_us
+                and self.saturated >= self.share * len(cyc)
                 and self.reversals >= MIN_REVERSALS)

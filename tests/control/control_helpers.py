@@ -123,3 +123,51 @@ def state_frames(model, seqs, status=0, angles=None, wrench=None):
     a = model.ik(model.home)[0] if angles is None else np.asarray(angles, dtype=float)
     w = np.zeros(6) if wrench is None else np.asarray(wrench, dtype=float)
     return [encode_state(s, 1000 * s, status, a, w) for s in seqs]
+
+
+class PlantLink(ScriptedLink):
+    """The simulated device (:class:`~distkin.control.plant.Plant`: rigid platform,
+    drives, encoders, sensor noise, the scene's scripted hand) behind the real link's
+    read path, lock-stepped on a simulated clock: each read is one device period, in
+    which the plant advances under the command the host last wrote (``delay``
+    periods later: a loaded host answering late; zero torque until one arrives) and
+    sends its state frame.  ``drop`` lists ``(t, n)``: the n frames from device time
+    t s are not sent (``distkin sim --faults drop@t:n``); the plant moves on.  The
+    run is deterministic: the same frames and physics on any machine, however loaded.
+    ``trace`` holds ``(t, pose (6,), twist (6,), mode, tau (L,))`` after each step.
+    """
+
+    def __init__(self, scene, model, periods, *, drop=(), delay=0):
+        super().__init__([None] * int(periods), 1.0 / scene.rate_hz)
+        from distkin.control.plant import Plant
+        self.plant = Plant(model, scene.simulator.motors, scene.simulator.hand,
+                           seed=scene.simulator.seed)
+        self.drop, self.delay = [list(d) for d in drop], int(delay)
+        self.queue, self.cmd, self.seq, self.trace = [], None, 0, []
+
+    def _read_some(self, wait=0.0):
+        from distkin.control.protocol import MODE_ZERO_TORQUE, encode_readings
+        self.tick += 1
+        if self.tick >= len(self.script):
+            raise LinkError("expected a connected device, got the end of the script",
+                            field="port")
+        p = self.plant
+        if self.cmd is not None:           # physics starts with the first command
+            self.queue.append(self.cmd)
+            c = self.queue.pop(0) if len(self.queue) > self.delay else None
+            mode, tau = (MODE_ZERO_TORQUE, np.zeros(p.model.L)) if c is None else \
+                (c.mode, c.torques)
+            p.step(tau, mode, self.period)
+            self.trace.append((p.t, p.pose.copy(), p.twist.copy(), mode, p.tau.copy()))
+        self.seq += 1
+        for d in self.drop:
+            if d[1] > 0 and p.t >= d[0] - 1e-9:
+                d[1] -= 1
+                return b""
+        data = encode_readings(self.seq, int(round(p.t * 1e6)), p.status(), p.readings())
+        self.stats.bytes_in += len(data)
+        return data
+
+    def write_command(self, cmd):
+        self.cmd = cmd
+        return super().write_command(cmd)

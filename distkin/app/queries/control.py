@@ -28,21 +28,27 @@ class Table5Query:
                   "the forward_kinematics query takes method = 'certified' for a proved pose")
         lf, af = length_factor(units, "units"), angle_factor(units)
         trials = positive_int(table.get("trials", 5), f"{field}.trials")
-        step = parse_float(table["step"], f"{field}.step") * lf \
-            if "step" in table else 0.040
-        ang = parse_float(table["step_angle"], f"{field}.step_angle") * af \
-            if "step_angle" in table else 0.4
-        if not (step > 0 and ang > 0):
-            raise InputError(f"expected positive steps, got {step!r} m, {ang!r} rad",
-                             field=f"{field}.step")
+        # each step in the scene's units, and each refused by its own name in them
+        # (QA X1 D5: step_angle = -5 in a deg scene was "step: ... -0.0873 rad")
+        step_u = parse_float(table["step"], f"{field}.step") if "step" in table \
+            else 0.040 / lf
+        ang_u = parse_float(table["step_angle"], f"{field}.step_angle") \
+            if "step_angle" in table else 0.4 / af
+        for key, v, unit in (("step", step_u, units.length), ("step_angle", ang_u,
+                                                              units.angle)):
+            if not v > 0:
+                raise InputError(f"expected a positive {key.replace('_', ' ')} ({unit}, "
+                                 f"the scene's unit), got {v:g} {unit}",
+                                 field=f"{field}.{key}")
+        step, ang = step_u * lf, ang_u * af
         if mechanism.name.rstrip("*") not in ("octo", "octopod", "hunt", "hexa", "ergin"):
             raise InputError(f"expected a preset mechanism, got {mechanism.name!r}",
                              field="mechanism.preset")
-        return (mechanism.name, trials, step, ang)
+        return (mechanism.name, trials, step, ang, (units.length, lf, units.angle, af))
 
     @staticmethod
     def run(p, scene, ctx):
-        name, trials, step, ang = p
+        name, trials, step, ang, (lu, lf, au, af) = p
         if name.endswith("*"):
             raise InputError("expected an unmodified preset for the simulated device, "
                              f"got {name!r}", field="mechanism")
@@ -64,10 +70,21 @@ class Table5Query:
                      "block along the worst direction; for L = 6 it equals the analysis, "
                      "for L = 8 the controller's minimum-norm torque distribution reaches "
                      "a little less than the zonotope's best distribution.  Free rows: "
-                     "stall torque, peak along the worst direction during a 40 mm / "
-                     "0.4 rad step that leaves the worst pose at once (so the velocity "
+                     f"stall torque, peak along the worst direction during a "
+                     f"{step / lf:g} {lu} / {ang / af:g} {au} step that leaves the worst "
+                     "pose at once (so the velocity "
                      "can exceed the analysis); the plant carries the motors' rotor "
                      "inertia, which eq. (7) leaves out (lower accelerations).  The "
                      "paper's experiment stopped short of the velocity and acceleration "
                      "maxima.")
-        return Outcome({"rows": res}, "\n".join(lines))
+        for r in res.values():       # the worst poses in the scene's units, as written
+            r["pose"] = [v / (lf if i < 3 else af) for i, v in enumerate(r["pose"])]
+        lines.append(f"Worst poses (x, y, z {lu}; rx, ry, rz {au}): " + "; ".join(
+            f"{row.replace('_', ' ')} ({', '.join(f'{v:.4g}' for v in r['pose'])})"
+            for row, r in res.items()))
+        unit = {"pose": f"{lu}, {lu}, {lu}, {au}, {au}, {au}",
+                "direction": "none (a unit vector: the row's three components of "
+                             "f, m or v, w; the other three 0)",
+                "step": lu, "step_angle": au, "rows": "each row's own unit"}
+        return Outcome({"rows": res, "step": step / lf, "step_angle": ang / af,
+                        "unit": unit}, "\n".join(lines))

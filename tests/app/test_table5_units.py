@@ -1,0 +1,69 @@
+"""QA X1 D5: the ``table5`` query in a mm/deg scene.  ``step_angle = -5`` was refused as
+``query[0].step: expected positive steps, got 0.04 m, -0.0873 rad`` (the wrong field,
+in SI units the user never wrote); its JSON gave the worst poses in m and rad with no
+unit while the scene says mm and deg, and its text named a 40 mm / 0.4 rad step
+whatever the scene asked for."""
+
+import math
+
+import pytest
+
+import distkin.app.queries.control as q5
+from distkin.app.queries.control import Table5Query
+from distkin.app.registry import RunContext
+from distkin.app.scene import loads_scene
+from distkin.errors import InputError
+
+SCENE = """
+[units]
+length = "{length}"
+angle = "{angle}"
+[mechanism]
+kind = "rss"
+preset = "octo"
+[[query]]
+type = "table5"
+{extra}
+"""
+
+
+@pytest.mark.parametrize("extra, field, got", [
+    ("step_angle = -5", "query[0].step_angle", "got -5 deg"),
+    ("step = 0", "query[0].step", "got 0 mm"),
+    ("step = -40\nstep_angle = 5", "query[0].step", "got -40 mm"),
+])
+def test_a_bad_step_is_named_in_the_scene_units(extra, field, got):
+    with pytest.raises(InputError) as exc:
+        loads_scene(SCENE.format(length="mm", angle="deg", extra=extra))
+    assert exc.value.field == field and exc.value.message.endswith(got)
+    assert "rad" not in exc.value.message and " m," not in exc.value.message
+
+
+def test_the_steps_reach_the_run_in_si():
+    s = loads_scene(SCENE.format(length="mm", angle="deg",
+                                 extra="step = 20\nstep_angle = 10"))
+    _, _, step, ang, _ = s.queries[0].params
+    assert step == pytest.approx(0.020) and ang == pytest.approx(math.radians(10))
+
+
+def test_json_poses_are_in_the_scene_units_with_a_unit_block(monkeypatch):
+    """The run replaced by one row at a known pose (m, rad): 75 mm, 30 deg by hand."""
+    seen = {}
+
+    def fake(name, *, trials, step_m, step_rad):
+        seen.update(step_m=step_m, step_rad=step_rad)
+        return {"velocity": {"unit": "m/s", "emulated": 1.0, "analysis": 2.0,
+                             "paper_experiment": 1.12, "paper_simulation": 2.93,
+                             "pose": [0.075, -0.075, 0.375, math.pi / 6, 0.0, -math.pi / 6],
+                             "direction": [1, 0, 0, 0, 0, 0], "end_stop_hits": 0,
+                             "kind": "free"}}
+    monkeypatch.setattr(q5, "run_table5", fake)
+    s = loads_scene(SCENE.format(length="mm", angle="deg", extra="step = 20\nstep_angle = 10"))
+    out = Table5Query.run(s.queries[0].params, s, RunContext())
+    assert seen["step_m"] == pytest.approx(0.02)
+    pose = out.result["rows"]["velocity"]["pose"]
+    assert pose == pytest.approx([75, -75, 375, 30, 0, -30])
+    assert out.result["unit"]["pose"] == "mm, mm, mm, deg, deg, deg"
+    assert (out.result["step"], out.result["step_angle"]) == pytest.approx((20, 10))
+    assert "a 20 mm / 10 deg step" in out.text and "40 mm" not in out.text
+    assert "velocity (75, -75, 375, 30, 0, -30)" in out.text
