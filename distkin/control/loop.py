@@ -3,7 +3,8 @@ safety state machine (Kühne et al. Sec. III-D: one cycle per state frame at 1 k
 
 :func:`run_loop` is :meth:`.controller.Controller.run` (its docstring holds the
 contract).  The states: ``RUN`` (torque control), ``FAULT`` (zero torque) and
-``STOPPED`` (hold, near a singular pose).  A rejected frame (:func:`.safety.check_reading`)
+``STOPPED`` (hold, near a singular pose, entered from ``RUN`` only: a singular pose
+measured in the fault state keeps zero torque).  A rejected frame (:func:`.safety.check_reading`)
 is answered with a keep-alive repeating the last decision, as a missing one is, until
 the watchdog window (``safety.watchdog_ms``, wall time or device time since the last
 valid frame) has passed: then the fault state and zero torque, from ``RUN`` and from
@@ -282,7 +283,9 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
                 seq += 1
                 last = _keepalive(link, seq, frame.seq, last)
                 continue
-            if res.reason == "singular_stop" and ctl.state != STOPPED:
+            # a singular stop holds a running device; it never lifts a fault (zero
+            # torque until the recovery's own conditions hold)
+            if res.reason == "singular_stop" and ctl.state == RUN:
                 ctl.state = STOPPED
                 ctl._event("singular_stop", t0, frame)
             if ctl.state == FAULT:

@@ -341,3 +341,35 @@ def test_table5_blocked_experiment_reproduces_the_analysis_for_six_legs():
     assert all(v["end_stop_hits"] == 0 for v in r.values())
     assert all(v["emulated"] > 0 for v in r.values())
     assert r["force"]["paper_experiment"] == 15.27                 # Table V
+
+
+def test_a_singular_pose_measured_in_the_fault_state_keeps_zero_torque(monkeypatch, scene,
+                                                                        model):
+    """QA X1 (noticed by the fix): in the fault state (zero torque: the drives are off
+    after a watchdog trip) a measured pose near a singularity switched the loop to the
+    singular stop, whose HOLD mode re-energises the drives (the device's own position
+    hold) without the recovery's conditions.  Reference: docs/protocol.md, a fault is
+    zero torque until recovery; the script trips the watchdog (40 missing frames), then
+    reports the singular pose of :func:`_singular_pose`."""
+    from control_helpers import ScriptedLink, state_frames
+    from distkin.control.protocol import MODE_HOLD, MODE_ZERO_TORQUE, encode_state
+    pose, _, _ = _singular_pose(model)
+    script = state_frames(model, range(100)) + [None] * 40
+    # from home, turned about z to the singular pose in 200 frames (the FK follows it
+    # from frame to frame; 8 rad/s, above recover_rate_rad_s, and beyond workspace_rad
+    # after 65 frames: no recovery), then held there
+    for k in range(300):
+        p = model.home.copy()
+        p[5] = pose[5] * min(k, 200) / 200
+        q, ok = model.ik(p)
+        assert ok
+        s = 140 + k
+        script.append(encode_state(s, 1000 * s, 0, q, np.zeros(6)))
+    dev = ScriptedLink(script).patch(monkeypatch)
+    ctl = Controller(scene, model)
+    ctl.run(dev, 1000.0)
+    assert ctl.near_singular(model.jacobian(ctl.pose))           # it got there
+    assert ctl.events.count("watchdog_trip") >= 1 and ctl.events.count("recovered") == 0
+    after = [c.mode for t, c in dev.commands if t >= 140]
+    assert after and MODE_HOLD not in after
+    assert all(m == MODE_ZERO_TORQUE for m in after)
