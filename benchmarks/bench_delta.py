@@ -80,10 +80,10 @@ def run():
             "joints are derived once per mechanism, and the mechanism's string coordinates "
             "parsed once per distinct raw input (both cached).  In the fast tier the map is a "
             "float64 mat-vec with A^-1 rounded once; m-legs written as irrational strings "
-            "are still parsed exactly (sympy) on every call, which the float-input row "
-            "avoids.\n\n"
+            "are converted exactly (sympy) on every call (their parse is cached), which "
+            "the float-input row avoids.\n\n"
             f"{ratio_table(med2, 'octahedral FK (fast)')}\n\n"
             f"The exact map (precise and certified tiers) costs "
-            f"{fmt_time(med2['m -> l map (exact, sympy)'])} per call (sympy parsing of the "
-            "irrational m-legs dominates).")
+            f"{fmt_time(med2['m -> l map (exact, sympy)'])} per call (sympy arithmetic on the "
+            "irrational m-legs: their exact squares and the exact mat-vec).")
     return text, {"per_pose_s": per_pose, "fk66_s": med2, "poses": n}

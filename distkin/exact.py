@@ -25,6 +25,7 @@ naming the field, answered at once instead of after minutes of big-integer arith
 from __future__ import annotations
 
 import ast
+import functools
 import math
 from dataclasses import dataclass
 from fractions import Fraction
@@ -248,7 +249,11 @@ def _check_names(tree, allow_symbols: bool):
             raise ValueError("unsupported syntax")
 
 
+@functools.lru_cache(maxsize=1024)
 def _sympy_from_text(text: str, allow_symbols: bool):
+    """The sympy value of an irrational scene string (cached: sympy's parser costs about
+    1 ms, and the same strings come back on every call of, e.g., the 6-6 forward
+    kinematics; sympy expressions are immutable, and a failure is not cached)."""
     import sympy
     # decimals are exact: "19.8" -> 99/5, never a binary float
     # cbrt is the real cube root (numpy's cbrt: cbrt(-8) = -2), not sympy.cbrt, whose

@@ -126,3 +126,23 @@ def test_cbrt_is_the_real_cube_root():
         v = parse_exact(text).value
         assert float(v) == pytest.approx(float(np.cbrt(x)), rel=1e-15)
     assert parse_exact("cbrt(-8)").value == -2
+
+
+def test_irrational_strings_are_parsed_once_and_failures_never_cached():
+    """The sympy parse of an irrational scene string is cached (the 6-6 forward
+    kinematics parsed the same m-legs on every call, ~1 ms each): a second parse gives
+    the identical value without calling sympy's parser again, and an input that fails
+    fails every time.  Reference: sqrt(108) = 6 sqrt(3) by hand."""
+    import sympy
+
+    from distkin.exact import _sympy_from_text
+    from distkin.errors import InputError
+    _sympy_from_text.cache_clear()
+    a = parse_exact("sqrt(108)")
+    b = parse_exact(" sqrt(108) ")
+    assert a.value == b.value == 6 * sympy.sqrt(3)
+    info = _sympy_from_text.cache_info()
+    assert info.misses == 1 and info.hits == 1
+    for _ in range(2):
+        with pytest.raises(InputError, match="not a finite number"):
+            parse_exact("sqrt(2)/0*pi", "legs[0]")
