@@ -11,7 +11,8 @@
 
 Exit codes: 0 ok; 2 bad input or a query whose data admit no answer (one line on
 stderr naming the field); 1 an internal failure (one line; ``--debug`` shows the
-traceback).  A plot that fails (``--plots``) is a warning on stderr and a
+traceback); 130 interrupted (Ctrl-C: ``distkin: error: interrupted``).  A usage error
+(an unknown option, no command) is one line too, exit 2.  A plot that fails (``--plots``) is a warning on stderr and a
 ``plot_error`` in the query's JSON record; its results are kept and the exit code does
 not change.  Further subcommands (``codegen``, ``sim``, ``control``) are registered in
 :data:`SUBCOMMANDS` (functions importing the modules that implement them).
