@@ -447,6 +447,14 @@ def _open_store(store, key, definition, n):
                              field="store", hint="use another directory, or delete the "
                              "folder to start this sweep again") from None
         old = saved.get("key")
+        if not isinstance(old, str):
+            raise InputError(f"expected a chunk store whose {meta.name} says which sweep "
+                             f"made it, got a {meta.name} in {str(store)!r} that is not a "
+                             "store's metadata (no sweep key"
+                             + (": a distkin --json result written there?" if "distkin"
+                                in saved else "") + ")", field="store",
+                             hint="use another directory, or delete the folder to start "
+                                  "this sweep again")
         if old != key:
             raise InputError(f"expected a chunk store made for this sweep (key {key}), got "
                              f"one made for key {old} in {str(store)!r}", field="store",

@@ -11,7 +11,8 @@
 
 Exit codes: 0 ok; 2 bad input or a query whose data admit no answer (one line on
 stderr naming the field); 1 an internal failure (one line; ``--debug`` shows the
-traceback).  A plot that fails (``--plots``) is a warning on stderr and a
+traceback); 130 interrupted (Ctrl-C: ``distkin: error: interrupted``).  A usage error
+(an unknown option, no command) is one line too, exit 2.  A plot that fails (``--plots``) is a warning on stderr and a
 ``plot_error`` in the query's JSON record; its results are kept and the exit code does
 not change.  Further subcommands (``codegen``, ``sim``, ``control``) are registered in
 :data:`SUBCOMMANDS` (functions importing the modules that implement them).
@@ -29,7 +30,7 @@ from pathlib import Path
 from .._version import __version__
 from ..errors import DistkinError, InputError, is_input_error
 
-__all__ = ["main", "run_scene", "DEMO_SCENES", "DEMO_SCENE", "SUBCOMMANDS"]
+__all__ = ["main", "run_scene", "DEMO_SCENES", "DEMO_SCENE", "SUBCOMMANDS", "CHUNKED"]
 
 #: built-in scenes run by ``distkin demo``, in order (files in distkin/scenes/)
 DEMO_SCENES = [
@@ -88,12 +89,26 @@ def _cmd_sweep(args):
     if args.scheduler is not None:
         from ..argcheck import scheduler_address
         scheduler_address(args.scheduler, "--scheduler")   # before the run, naming the option
-    if args.store is not None:
-        from ..runstore import make_store
-        from .output_paths import check_output_dir
-        check_output_dir(args.store, "--store")
-        make_store(args.store, "--store")  # before the run, naming the option
     return _cmd_run(args)          # --store/--workers/--scheduler reach the RunContext
+
+
+#: the query types that run in chunks (the run store; ``distkin sweep`` overrides them)
+CHUNKED = ("performance", "design_sweep", "certify_workspace")
+
+
+def _scene_stores(scene, store) -> list:
+    """(option, folder) of the chunk stores a run writes: ``--store``, else each chunked
+    query's own ``store`` (relative to the scene file, as :meth:`RunContext.store_dir`)."""
+    if store is not None:
+        return [("--store", store)]
+    out = []
+    for q in scene.queries:
+        named = getattr(q.params, "store", None) if q.type in CHUNKED else None
+        if named:
+            p = Path(named)
+            out.append((f"{q.field}.store",
+                        p if p.is_absolute() else Path(scene.path).resolve().parent / p))
+    return out
 
 
 #: subcommand -> the function that adds its parser (called with the subparsers)
@@ -219,19 +234,33 @@ def _refused_scene(args, exc) -> None:
 
 
 def _cmd_run(args) -> int:
-    from .output_paths import check_output_dir, check_output_path
+    from .output_paths import check_apart, check_output_dir, check_output_path
     from .scene import input_files, load_scene
     try:
         scene = load_scene(args.scene)
     except DistkinError as exc:
         _refused_scene(args, exc)
         raise
-    # before the run (a long sweep loses nothing), and never over the scene or its CSV
-    check_output_path(args.json, inputs=input_files(scene))
-    check_output_dir(args.plots, "--plots")
+    # before the run (a long sweep loses nothing), never over the scene or its CSV, the
+    # package, each other or the chunk store (read back on resume)
+    inputs = input_files(scene)
+    store = getattr(args, "store", None)
+    check_apart(files=[("--json", args.json)], folders=[("--plots", args.plots)],
+                stores=_scene_stores(scene, store))
+    check_output_path(args.json, inputs=inputs)
+    check_output_dir(args.plots, "--plots", inputs=inputs)
+    if store is not None:
+        from ..runstore import make_store
+        check_output_dir(store, "--store", inputs=inputs, make=False)
+        make_store(store, "--store")
+    if getattr(args, "command", None) == "sweep" and not any(q.type in CHUNKED
+                                                             for q in scene.queries):
+        print(f"distkin: warning: {args.scene}: the scene has no chunked query "
+              f"({', '.join(CHUNKED)}), so --workers, --scheduler and --store change "
+              "nothing; its queries run as with distkin run", file=sys.stderr)
     records, texts, worst = run_scene(scene, plots_dir=args.plots,
                                       progress=not args.no_progress,
-                                      store=getattr(args, "store", None),
+                                      store=store,
                                       workers=getattr(args, "workers", None),
                                       scheduler=getattr(args, "scheduler", None))
     _emit(args.scene, records, texts, args)
@@ -242,11 +271,14 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_demo(args) -> int:
-    from .output_paths import check_output_dir, check_output_path, write_json
+    from .output_paths import check_apart, check_output_dir, check_output_path, write_json
     from .report import document, dumps
     from .scene import loads_scene
-    check_output_path(args.json)
-    check_output_dir(args.plots, "--plots")
+    # never over a built-in scene it reads (QA: --json <package>/scenes/certify_hunt.toml)
+    builtin = [Path(str(resources.files("distkin.scenes").joinpath(n))) for n in DEMO_SCENES]
+    check_apart(files=[("--json", args.json)], folders=[("--plots", args.plots)])
+    check_output_path(args.json, inputs=builtin)
+    check_output_dir(args.plots, "--plots", inputs=builtin)
     worst = 0
     records_all = []
     for name in DEMO_SCENES:
@@ -270,9 +302,11 @@ def _cmd_demo(args) -> int:
 
 
 class _Parser(argparse.ArgumentParser):
-    def error(self, message):  # exit 2 with one line, as argparse does, but our prefix
-        self.print_usage(sys.stderr)
-        _err(message)
+    def error(self, message):
+        """A usage error (an unknown option, a missing argument): exit 2 with one line on
+        stderr, as every bad input, naming where the usage is (``--help`` is unchanged);
+        argparse printed the usage first, two to four lines."""
+        _err(f"{' '.join(message.split())} (see {self.prog} --help)")
         raise SystemExit(2)
 
 
@@ -324,8 +358,9 @@ def _check_cache_env() -> None:
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
-    if not getattr(args, "func", None):
-        parser.print_help()
+    if not getattr(args, "func", None):     # one line, as every usage error (not the help)
+        commands = ", ".join(["run", "demo", *SUBCOMMANDS])
+        _err(f"expected a command ({commands}), got none (see distkin --help)")
         return 2
     try:
         _check_cache_env()

@@ -10,7 +10,11 @@ generated kernels (:data:`GENERATED`), which only ``python -m distkin.codegen`` 
 takes ``--port-file`` and ``--log``; ``codegen`` takes ``--output``.  A path that cannot be written (a directory, a
 file where a folder is needed, no permission) is bad input: it is refused before the
 scene runs or the simulator starts, so that a long sweep never ends in an internal
-failure and a lost result, with one line naming the option (exit code 2).
+failure and a lost result, with one line naming the option (exit code 2).  So is an
+output inside the installed package (:data:`PACKAGE`, resolved through symbolic links
+and ``..``: ``distkin codegen S.toml -o <package>/errors.py`` replaced a source file),
+and outputs of one command that would land on each other (:func:`check_apart`: ``--json``
+the ``--plots`` folder, or a file inside the ``--store`` of the chunks).
 """
 
 from __future__ import annotations
@@ -20,11 +24,16 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["check_output_path", "check_output_dir", "write_text", "write_json", "GENERATED"]
+__all__ = ["check_output_path", "check_output_dir", "check_apart", "write_text",
+           "write_json", "GENERATED", "PACKAGE"]
+
+#: the installed package (``distkin/``, resolved): no CLI output goes there (QA: ``distkin
+#: codegen S.toml -o <package>/errors.py`` replaced a source file, exit 0)
+PACKAGE = Path(__file__).resolve().parents[1]
 
 #: the package's generated kernels (``distkin/_generated``): no CLI output goes there
 #: (QA U 8: ``distkin codegen -o distkin/_generated/rss_hunt.py`` replaced a kernel)
-GENERATED = (Path(__file__).resolve().parents[1] / "_generated").resolve()
+GENERATED = (PACKAGE / "_generated").resolve()
 
 
 def _refuse(path, exc: OSError, field: str) -> InputError:
@@ -36,12 +45,29 @@ def _refuse(path, exc: OSError, field: str) -> InputError:
 
 
 def _inside(p: Path, folder: Path) -> bool:
-    """Whether ``p`` (resolved) lies in ``folder``."""
+    """Whether ``p`` (resolved) is ``folder`` or lies in it (``folder`` resolved too)."""
     try:
-        p.resolve().relative_to(folder)
+        p.resolve().relative_to(Path(folder).resolve())
     except (ValueError, OSError):
         return False
     return True
+
+
+def _check_not_package(p: Path, field: str, what: str) -> None:
+    """Refuse an output ``p`` (a ``what``: "path" or "folder") in the generated kernels
+    (their own message: ``python -m distkin.codegen --check``) or anywhere else in the
+    installed package (a source file or a built-in scene replaced breaks the install)."""
+    if _inside(p, GENERATED):
+        raise InputError(f"expected a {what} outside distkin's generated kernels "
+                         f"{str(GENERATED)!r} (written only by python -m distkin.codegen, "
+                         f"checked against their sources), got {str(p)!r}", field=field,
+                         hint="write the file elsewhere; python -m distkin.codegen --check "
+                              "names a kernel that was overwritten")
+    if _inside(p, PACKAGE):
+        raise InputError(f"expected a {what} outside the installed distkin package "
+                         f"{str(PACKAGE)!r}, got {str(p)!r} (writing there would replace "
+                         "or add to the package's files)", field=field,
+                         hint="write the files elsewhere")
 
 
 def _same_file(a: Path, b: Path) -> bool:
@@ -91,26 +117,97 @@ def check_output_path(path, field: str = "--json", inputs=()) -> None:
     if p.is_dir():
         raise InputError(f"expected a file path, got the directory {str(path)!r}",
                          field=field)
-    if _inside(p, GENERATED):
-        raise InputError(f"expected a path outside distkin's generated kernels "
-                         f"{str(GENERATED)!r} (written only by python -m distkin.codegen, "
-                         f"checked against their sources), got {str(path)!r}", field=field,
-                         hint="write the file elsewhere; python -m distkin.codegen --check "
-                              "names a kernel that was overwritten")
+    _check_not_package(p, field, "path")
     try:
         p.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise _refuse(path, exc, field) from None
 
 
-def check_output_dir(path, field: str) -> None:
-    """Refuse an output folder (``--plots``, ``--store``; ``None`` passes) inside the
-    package's generated kernels (QA W 5: ``--plots`` and ``--store`` wrote there, which
-    ``--json`` and ``--output`` refused)."""
-    if path is not None and _inside(Path(path), GENERATED):
-        raise InputError(f"expected a folder outside distkin's generated kernels "
-                         f"{str(GENERATED)!r} (written only by python -m distkin.codegen), "
-                         f"got {str(path)!r}", field=field, hint="write the files elsewhere")
+def check_output_dir(path, field: str, inputs=(), make: bool = True) -> None:
+    """Refuse an output folder (``--plots``, ``--store``; ``None`` passes) that cannot be
+    written, before any work: an empty string, an existing file (one of ``inputs`` said
+    as such), a folder that cannot be made, or one inside the installed package or its
+    generated kernels (QA W 5: ``--plots`` and ``--store`` wrote there, which ``--json``
+    and ``--output`` refused).  Makes the folder, as the plots or the chunks would.
+
+    ``--plots hunt.txt`` (a file) and ``--plots /proc/pl`` used to run every query, then
+    warn that the plots failed.  ``make=False`` (``--store``, which
+    :func:`distkin.runstore.make_store` makes with its own message) skips the existing
+    file and the making."""
+    if path is None:
+        return
+    if not str(path).strip():
+        raise InputError("expected a folder path, got an empty string", field=field)
+    p = Path(path)
+    for source in inputs:
+        if source is not None and _same_file(p, Path(source)):
+            raise InputError(f"expected a folder other than the input file "
+                             f"{str(source)!r}, got {str(path)!r}", field=field)
+    _check_not_package(p, field, "folder")
+    if not make:
+        return
+    if p.exists() and not p.is_dir():
+        raise InputError(f"expected a folder, got {str(path)!r} (a file of that name "
+                         "exists)", field=field)
+    try:
+        p.mkdir(parents=True, exist_ok=True)
+        if not os.access(p, os.W_OK | os.X_OK):
+            raise PermissionError(13, "Permission denied")
+    except OSError as exc:
+        blocker = next((a for a in p.parents if a.exists()), None)
+        why = (f"{str(blocker)!r} is not a folder" if blocker is not None
+               and not blocker.is_dir() else exc.strerror or type(exc).__name__)
+        raise InputError(f"expected a folder that can be written, got {str(path)!r} "
+                         f"({why})", field=field) from None
+
+
+def check_apart(files=(), folders=(), stores=()) -> None:
+    """Refuse outputs of one command that would land on each other, before any work.
+
+    Parameters
+    ----------
+    files : iterable of (field, path)
+        Output files (``--json``, ``--log``, ...); ``None`` and ``-`` are skipped.
+    folders : iterable of (field, path)
+        Folders files are written into (``--plots``).
+    stores : iterable of (field, path)
+        Chunk stores (``--store``, a query's ``store``): folders read back on resume, so
+        no other output goes inside them (``--json S/sweep.json`` replaced the store's
+        metadata, ``--json S/chunk_00000.npz`` a chunk).
+
+    Raises
+    ------
+    InputError
+        Two files are one; a file is, or is inside, a folder or a store (or a folder
+        inside a file); a folder is, or is inside, a store.  Names the later option.
+    """
+    def keep(pairs):
+        return [(f, Path(p)) for f, p in pairs if p is not None and str(p) not in ("", "-")]
+
+    files, folders, stores = keep(files), keep(folders), keep(stores)
+    for i, (fa, a) in enumerate(files):
+        for fb, b in files[:i]:
+            if _same_file(a, b):
+                raise InputError(f"expected a file other than the {fb} file {str(b)!r}, "
+                                 f"got {str(a)!r} (one would overwrite the other)",
+                                 field=fa)
+    for fd, d in folders + stores:
+        kind = "chunk store" if (fd, d) in stores else "folder"
+        for ff, f in files:
+            if _inside(f, d):
+                raise InputError(f"expected a path outside the {fd} {kind} {str(d)!r}, "
+                                 f"got {str(f)!r}", field=ff,
+                                 hint=f"write {ff} beside the {kind}, not in it")
+            if _inside(d, f):
+                raise InputError(f"expected a folder apart from the {ff} file {str(f)!r}, "
+                                 f"got {str(d)!r}", field=fd)
+    for fd, d in folders:
+        for fs, s in stores:
+            if _inside(d, s):
+                raise InputError(f"expected a folder outside the {fs} chunk store "
+                                 f"{str(s)!r}, got {str(d)!r}", field=fd,
+                                 hint="write the plots beside the store, not in it")
 
 
 def write_text(path, text: str, field: str) -> None:
