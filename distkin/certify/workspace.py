@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..argcheck import choice, positive_int
+from ..errors import InputError
 from .batch import branch_and_prune_batched
 from .boxes import (REASONS, REGULAR, STATUS_NAMES, UNDECIDED, branch_and_prune, check_box,
                     check_mechanism, check_resolution)
@@ -310,6 +311,7 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
     ------
     InputError
         Bounds not (6,) finite numbers or lower > upper (:func:`.boxes.check_box`), a
+        rotation span above 2π, a
         resolution <= 0 or a boolean (:func:`.boxes.check_resolution`), an unknown
         form, ``split`` or ``max_boxes`` < 1, ``tighten`` < 0.
     """
@@ -317,6 +319,11 @@ def certify_workspace(mech, lower, upper, min_width, *, form: str = "quadratic64
     t0 = time.perf_counter()
     check_mechanism(mech)
     lower, upper = check_box(lower, upper, ("lower", "upper"))
+    for k in range(3, 6):                # QA: ±1e12° counted orientations 1e10 times
+        if upper[k] - lower[k] > 2 * np.pi * (1 + 1e-12):
+            raise InputError(f"expected a span of r{'xyz'[k - 3]} (upper[{k}] - lower[{k}]) "
+                             f"of at most 2π rad (a wider span counts orientations more "
+                             f"than once), got {upper[k] - lower[k]:.6g} rad", field="upper")
     minw = check_resolution(min_width)
     form = choice(form, "form", WORKSPACE_FORMS)
     split = positive_int(split, "split")

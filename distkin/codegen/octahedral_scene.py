@@ -42,7 +42,8 @@ from ..mechanisms.kernel_names import _SUFFIX
 from ..octahedral.banana import LEG_PAIRS, SIDE_PAIRS, squared_distance_symbols
 from ..octahedral.octic import PART_NAMES
 
-__all__ = ["KERNELS", "QUERY_KERNELS", "interval_bounds", "module_text", "scene_module"]
+__all__ = ["KERNELS", "QUERY_KERNELS", "interval_bounds", "module_text", "scene_module",
+           "squared_unit_words"]
 
 #: every kernel a scene module can hold, in module order
 KERNELS = ("l_squared", "octic", "parts", "s15_interval")
@@ -159,8 +160,26 @@ def _m_symbols():
     return [sympy.Symbol(f"m{k}sq", positive=True) for k in range(1, 7)]
 
 
+def squared_unit_words(length_unit=None) -> str:
+    """The words for a squared length: ``"mm^2 (the scene's unit)"`` for a scene with a
+    physical length unit, ``"squared length units"`` for a unitless one (None, "none")."""
+    if length_unit in (None, "none"):
+        return "squared length units"
+    return f"{length_unit}^2 (the scene's unit)"
+
+
+def _units_paragraph(length_unit, what) -> str:
+    """The module docstring's line naming the length unit of its numbers (QA: a
+    ``length = "mm"`` scene's module was the unitless one's, SIDES2 in mm^2 unsaid)."""
+    if length_unit in (None, "none"):
+        return (f"Units: the scene's lengths are unitless; {what} are in the squares of "
+                "its length unit.")
+    return (f"Units: lengths in {length_unit} (the scene's [units] length); {what} are in "
+            f"{length_unit}^2.")
+
+
 def module_text(sides2, names, flavours, *, leg_map=None, generator, title,
-                notes="", constants=None) -> str:
+                notes="", constants=None, length_unit=None) -> str:
     """Source of a scene module (only the kernels ``names``, in ``flavours``).
 
     Parameters
@@ -178,6 +197,9 @@ def module_text(sides2, names, flavours, *, leg_map=None, generator, title,
         A paragraph for the module docstring (queries without a kernel, ...).
     constants : dict, optional
         Further module constants (written with ``repr``).
+    length_unit : str, optional
+        The scene's length unit ("mm", ...), named in the docstrings and as
+        ``LENGTH_UNIT``; None or "none": unitless, the generic words.
     """
     import sympy
     from .emit import Kernel, module_source, symbolic_hash
@@ -188,11 +210,11 @@ def module_text(sides2, names, flavours, *, leg_map=None, generator, title,
     if leg_map is None:
         inputs = (("legs2", tuple(s[p] for p in LEG_PAIRS)),)
         what = ("legs2 : (..., 6) squared legs l1^2..l6^2 (legs P1P4, P2P4, P2P5, P3P5,\n"
-                "P3P6, P1P6: docs/design.md §3), squared length units")
+                f"P3P6, P1P6: docs/design.md §3), {squared_unit_words(length_unit)}")
     else:
         inputs = (("m_legs2", tuple(_m_symbols())),)
         what = ("m_legs2 : (..., 6) squared m-legs m1^2..m6^2 of the 6-6 platform (rows of\n"
-                "eq. (9)), squared length units")
+                f"eq. (9)), {squared_unit_words(length_unit)}")
     kernels = []
     for flavour in flavours:
         for n in names:
@@ -211,6 +233,9 @@ def module_text(sides2, names, flavours, *, leg_map=None, generator, title,
            "ICRA 2012).\n\n"
            f"Squared sides substituted exactly before CSE: {sides_text}.\n"
            f"Inputs: {what}.\n"
+           + _units_paragraph(length_unit, "SIDES2, the inputs, s15 (s15_interval)"
+                              + (", l_squared" if "l_squared" in names else ""))
+           + "\n"
            "Batched kernels take (..., 6) arrays; scalar ones (suffix _scalar) 6 floats.\n"
            "Inputs are converted to float64 first; a wrong shape or a negative squared\n"
            "length is a ValueError naming it.\n"
@@ -221,26 +246,31 @@ def module_text(sides2, names, flavours, *, leg_map=None, generator, title,
         doc += "\n\n" + notes
     src = module_source(kernels, generator=generator, doc=doc,
                         source_hash=symbolic_hash(*identity, order="none"),
-                        constants={"SIDES2": sides_text, "PART_NAMES": PART_NAMES,
+                        constants={"SIDES2": sides_text,
+                                   "LENGTH_UNIT": (None if length_unit in (None, "none")
+                                                   else length_unit),
+                                   "PART_NAMES": PART_NAMES,
                                    **(constants or {}), "KERNELS": tuple(names),
                                    "FLAVOURS": tuple(flavours)})
     return src
 
 
 def scene_module(key_parts, sides2, names, flavours, *, leg_map=None, scene_name,
-                 notes="", constants=None):
+                 notes="", constants=None, length_unit=None):
     """(source, cache_hit) of a scene's module, through the derivation cache.
 
     ``key_parts`` identify the scene's geometry (the exact texts of its points and
     offsets), so that a cache hit needs no algebra: ``sides2`` and ``leg_map`` are
-    callables returning the values of :func:`module_text`, called only to derive.
+    callables returning the values of :func:`module_text`, called only to derive;
+    ``length_unit``, the scene's, is named in the module (:func:`module_text`).
     """
     from ..sourcecache import cached_source, package_text, source_key
     gen = (f"distkin codegen {scene_name} (distkin.codegen.octahedral_scene; derivation: "
            "derivations/octahedral_octic.py)")
     key = source_key(package_text(_MODEL_FILES), repr(key_parts), tuple(names), tuple(flavours),
-                     gen, notes, repr(constants))
+                     gen, notes, repr(constants), repr(length_unit))
     path, hit = cached_source("octahedral", key, lambda: module_text(
         sides2(), names, flavours, leg_map=leg_map() if leg_map else None, generator=gen,
-        title=f"Kernels of scene {scene_name}", notes=notes, constants=constants))
+        title=f"Kernels of scene {scene_name}", notes=notes, constants=constants,
+        length_unit=length_unit))
     return path.read_text(encoding="utf-8"), hit

@@ -20,7 +20,8 @@ singularity-free workspace of :mod:`.boxes` over a region of poses::
     store = "sweeps/certify"               # chunk store (default: the cache)
 
 ``region`` holds x, y, z (absolute, length unit) and the rotation parameters rx, ry, rz
-(angle unit, R = Rz Ry Rx); a coordinate with ``lower == upper`` is fixed.  Default: the
+(angle unit, R = Rz Ry Rx); a coordinate with ``lower == upper`` is fixed; a rotation
+span is at most 360° (2π rad).  Default: the
 paper's 150 mm cube about (0, 0, z0) at zero rotation (Kühne et al., Table II, Fig. 3)
 for an ``rss`` mechanism; a ``legs`` mechanism must give its region.
 ``min_width`` defaults to 1/16 of the largest positional extent, ``min_angle`` to 1/8 of
@@ -40,7 +41,11 @@ The JSON result is in SI: volumes over the varying coordinates in ``volume_unit`
 (m^3, or m^3 rad^3 for the 6-D region), with fractions of ``total_volume``, and
 ``boxes`` (corners in m and rad, a status code per box, see ``boxes.legend``), and
 ``store``, the chunk store's folder (the default one, under the user cache, holds a
-sub-folder per region definition: :func:`distkin.runstore.keyed_store`).
+sub-folder per region definition: :func:`distkin.runstore.keyed_store`).  A single pose
+(no coordinate varies) has no volume: ``single_pose`` is true, ``verdict`` its status,
+and the volumes, fractions and ``volume_unit`` are null (``verdict`` is null for a
+region).  ``warnings`` holds the report's warnings (a region entirely unreachable and
+tiny or huge against the mechanism: a likely unit slip).
 """
 
 from __future__ import annotations
@@ -56,9 +61,10 @@ from ...argcheck import (as_table, check_keys, choice, executor_fields, positive
 from ...errors import InputError
 from ...exact import parse_float
 from ..query import Outcome, register
-from ...certify.boxes import STATUS_NAMES
+from ...certify.boxes import STATUS_NAMES, UNREACHABLE
 
-__all__ = ["CertifyWorkspaceQuery", "certificate_text", "certificate_json"]
+__all__ = ["CertifyWorkspaceQuery", "certificate_text", "certificate_json",
+           "single_pose_verdict", "unit_slip_warning", "ROTATION_SPAN_MAX"]
 
 _FIELDS = {"type", "method", "region", "min_width", "min_angle", "form", "split",
            "max_boxes", "tighten", "workers", "scheduler", "store"}
@@ -84,6 +90,25 @@ class _Params:
     store: str | None
     length_unit: str
     angle_unit: str
+
+
+def _check_rotation_span(lower, upper, units, af, field):
+    """Refuse a rotation span above 2π (QA: rx over ±1e12° was accepted, its "volume"
+    counting every orientation billions of times), naming the coordinate and giving the
+    span in the scene's angle unit."""
+    for k in range(3, 6):
+        span = float(upper[k] - lower[k])
+        if span > ROTATION_SPAN_MAX:
+            raise InputError(
+                f"expected a span of r{'xyz'[k - 3]} (upper[{k}] - lower[{k}]) of at most "
+                f"{2 * math.pi / af:.6g} {units.angle} (2π rad: "
+                f"a wider span counts orientations more than once), got "
+                f"{span / af:.6g} {units.angle} ({lower[k] / af:.6g}..{upper[k] / af:.6g} "
+                f"{units.angle})", field=f"{field}.region.upper[{k}]")
+
+
+#: the widest rotation span of a region (rad): 2π, with room for the rounding of 360°
+ROTATION_SPAN_MAX = 2 * math.pi * (1 + 1e-12)
 
 
 @register("certify_workspace", mechanisms=("rss", "legs"),
@@ -128,6 +153,7 @@ class CertifyWorkspaceQuery:
         check_pose_units(np.vstack([lower, upper]), units,
                          [f"{field}.region.lower", f"{field}.region.upper"],
                          mechanism.length_scale)
+        _check_rotation_span(lower, upper, units, af, field)
         ext = upper - lower
         pos_ext, rot_ext = float(ext[:3].max()), float(ext[3:].max())
         if "min_width" in table:
@@ -162,8 +188,10 @@ class CertifyWorkspaceQuery:
                                      split=p.split, store=store, executor=ex,
                                      progress=ctx.progress, max_boxes=p.max_boxes,
                                      tighten=p.tighten)
-        result = certificate_json(cert)
+        result = certificate_json(cert, p.length_unit)
         result["store"] = cert.store
+        for line in result["warnings"]:
+            ctx.warn(line)
         text = certificate_text(cert, p.length_unit, p.angle_unit)
 
         def plot(stem):
@@ -194,8 +222,64 @@ def _ranges_note(mech) -> str | None:
     return "; ".join(said) or None
 
 
-def certificate_json(cert) -> dict:
-    """The JSON result of a :class:`.workspace.WorkspaceCertificate` (SI)."""
+def single_pose_verdict(cert) -> str:
+    """The status of a region that is a single pose (its one box): ``regular``, ...
+    (``a / b`` should a pose ever lie in boxes of two statuses; ``no box``)."""
+    names = [name for code, name in STATUS_NAMES.items() if np.any(cert.status == code)]
+    return " / ".join(names) or "no box"
+
+
+def _mechanism_size(mech) -> float:
+    """The mechanism's size (m): the larger of its length scale and the distance of its
+    home pose from the base origin."""
+    home = getattr(mech, "home", None)
+    far = float(np.linalg.norm(np.asarray(home, dtype=float)[:3])) if home is not None else 0.0
+    return max(float(mech.length_scale), far)
+
+
+def unit_slip_warning(cert, length_unit: str = "m") -> str | None:
+    """A warning when every box of the region is unreachable and the region lies within
+    1/:data:`~distkin.app.mechanism_scene.SLIP_RATIO` of the mechanism's size of the base
+    origin, or farther than that many times its size (QA: a region written in m in a mm
+    scene was "unreachable 100 %" without a word); None otherwise."""
+    from ..mechanism_scene import SLIP_RATIO
+    if not len(cert.status) or not np.all(cert.status == UNREACHABLE):
+        return None
+    size = _mechanism_size(cert.mechanism)
+    lo, hi = cert.lower[:3], cert.upper[:3]
+    far = float(np.linalg.norm(np.maximum(np.abs(lo), np.abs(hi))))
+    near = float(np.linalg.norm(np.clip(0.0, lo, hi)))
+    lf, lu = _LENGTHS.get(length_unit, 1.0), length_unit if length_unit in _LENGTHS else "m"
+    if far < size / SLIP_RATIO:
+        where = (f"lies within {far * lf:.3g} {lu} of the base origin, under "
+                 f"1/{SLIP_RATIO:g} of the mechanism's size")
+    elif near > size * SLIP_RATIO:
+        where = (f"lies {near * lf:.3g} {lu} or farther from the base origin, over "
+                 f"{SLIP_RATIO:g} x the mechanism's size")
+    else:
+        return None
+    return (f"every box is unreachable and the region {where} ({size * lf:.3g} {lu}: the "
+            f"larger of its length scale and its home's distance from the base origin): "
+            f"a region written in another unit? the scene's [units] length is \"{lu}\"")
+
+
+#: scene length unit -> factor from m
+_LENGTHS = {"m": 1.0, "mm": 1e3, "cm": 1e2, "km": 1e-3}
+
+
+def _range_text(a: float, b: float) -> str:
+    """``a..b`` with enough significant digits (4 at least) to tell a from b (QA: a z
+    range 300..300.001 mm was printed 300..300)."""
+    for d in range(4, 18):
+        sa, sb = f"{a:.{d}g}", f"{b:.{d}g}"
+        if a == b or sa != sb:
+            return f"{sa}..{sb}"
+    return f"{a!r}..{b!r}"
+
+
+def certificate_json(cert, length_unit: str = "m") -> dict:
+    """The JSON result of a :class:`.workspace.WorkspaceCertificate` (SI; ``length_unit``,
+    the scene's, is the unit of the words of ``warnings``, as in the text)."""
     s = cert.summary()
     out = {"mechanism": cert.mechanism.name, "legs": cert.mechanism.L,
            "method": "certified", "form": cert.form,
@@ -215,6 +299,17 @@ def certificate_json(cert) -> dict:
                               "undecided by a spent box budget; reason: the test that "
                               "failed in an undecided box (reason_legend), none"}}
     out.update(s)
+    # QA: a single pose has no volume: its volumes and fractions are null, not 1.0 of "1"
+    out["single_pose"] = not cert.vary
+    out["verdict"] = single_pose_verdict(cert) if not cert.vary else None
+    if not cert.vary:
+        out["unit"]["volumes"] = "null: a single pose (no coordinate varies) has no volume"
+        for key in ("volume_unit", "total_volume",
+                    *(f"{n}_{w}" for n in STATUS_NAMES.values() for w in ("volume", "fraction"))):
+            out[key] = None
+        for part in (out["undecided_budget"], *out["undecided_reasons"].values()):
+            part["volume"] = part["fraction"] = None
+    out["warnings"] = [w for w in (unit_slip_warning(cert, length_unit),) if w]
     zr = cert.at_zero_rotation()
     out["zero_rotation_slice"] = {
         name: int(np.sum(zr & (cert.status == code))) for code, name in STATUS_NAMES.items()}
@@ -256,7 +351,7 @@ def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> s
     parts = []
     for k, n in enumerate(("x", "y", "z", "rx", "ry", "rz")):
         f = lf if k < 3 else af
-        parts.append(f"{n} {cert.lower[k] * f:.4g}..{cert.upper[k] * f:.4g}"
+        parts.append(f"{n} {_range_text(cert.lower[k] * f, cert.upper[k] * f)}"
                      f"{(' ' + lu) if k < 3 else au}")
     reg = ", ".join(parts)
     unit = s["volume_unit"]
@@ -269,10 +364,8 @@ def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> s
              + (f"{cert.min_width[3] * af:.4g}{au} (rotation)"
                 if np.any(cert.upper[3:] > cert.lower[3:]) else "rotation fixed")]
     if not cert.vary:                   # a single pose: a status, no volume to speak of
-        status = [name for name in ("regular", "singular", "undecided", "unreachable")
-                  if s["counts"][name]]
         lines.append(f"  a single pose (no coordinate varies, so no volume): "
-                     f"{' / '.join(status) or 'no box'}")
+                     f"{single_pose_verdict(cert)}")
     for name in ("regular", "singular", "undecided", "unreachable"):
         if not cert.vary:
             break
@@ -282,6 +375,9 @@ def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> s
     note = _ranges_note(cert.mechanism)
     if note:
         lines.append(f"  note: {note}")
+    slip = unit_slip_warning(cert, length_unit)
+    if slip:
+        lines.append(f"  warning: {slip}")
     why = s["undecided_reasons"]
     if why:
         said = {"reach": "a leg's reach margin not enclosed away from 0 (the workspace "
