@@ -103,7 +103,7 @@ def _octahedral_module(scene, flavours):
     notes = "\n\n".join(t for t in (note66, note) if t)
     src, hit = scene_module(key, sides2, names, flavours, leg_map=leg_map,
                             scene_name=Path(scene.path).name, notes=notes,
-                            constants=constants)
+                            constants=constants, length_unit=scene.units.length)
     return src, hit, note
 
 
@@ -119,7 +119,8 @@ def _points_module(scene, flavours):
                          f"are the requested determinants), got "
                          f"{[q.type for q in scene.queries]}", field="query")
     _, note = _without_kernel(scene, {"cayley_menger": ()})
-    src, hit = scene_module(tuple(dets.values()), flavours, scene_name=Path(scene.path).name)
+    src, hit = scene_module(tuple(dets.values()), flavours, scene_name=Path(scene.path).name,
+                            length_unit=scene.units.length)
     return src, hit, note
 
 
