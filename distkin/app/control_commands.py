@@ -355,12 +355,13 @@ def _margin_report(scene, model, periods: int) -> dict:
 
 
 def _delay_margin_command(args, scene, inputs, model) -> int:
-    from .output_paths import check_output_path
+    from .output_paths import check_output_dir, check_output_path
     for name in ("log", "faults", "wall_limit", "seconds", "allow_unstable"):
         if getattr(args, name):
             raise InputError(f"expected no --{name.replace('_', '-')} with --delay-margin "
                              "(nothing runs), got one", field=f"--{name.replace('_', '-')}")
     check_output_path(args.json, inputs=inputs)
+    check_output_dir(args.plots, "--plots", inputs=inputs)     # '' refused, not ignored
     if args.plots:
         check_output_path(Path(args.plots) / "delay_margin.png", "--plots", inputs=inputs)
         check_distinct_outputs([("--json", args.json),
@@ -460,7 +461,7 @@ def cmd_control(args) -> int:
     from ..control.faults import parse_faults
     from ..control.kinematics import model_of
     from ..control.link import Link
-    from .output_paths import check_output_path
+    from .output_paths import check_output_dir, check_output_path
     scene, inputs = _scene_and_inputs(args.scene)
     if args.delay_margin is not None:
         return _delay_margin_command(args, scene, inputs, model_of(scene))
@@ -473,6 +474,7 @@ def cmd_control(args) -> int:
     log_files = _log_files(args.log, control=True, sim=args.sim)
     for path in log_files.values():
         check_output_path(path, "--log", inputs=inputs)
+    check_output_dir(args.plots, "--plots", inputs=inputs)     # '' refused, not ignored
     if args.plots:
         check_output_path(Path(args.plots) / "control.png", "--plots", inputs=inputs)
     # nor may two of them be one file (the JSON written last replaced the log or plot)

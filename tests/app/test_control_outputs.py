@@ -69,3 +69,22 @@ def test_sim_port_file_onto_its_log_is_refused(tmp_path):
     proc = _cli(["sim", "--port-file", "s.device.csv", "--log", "s", "--seconds", 0.1],
                 tmp_path)
     assert "--log" in _refused(proc, "--port-file")
+
+
+@pytest.mark.parametrize("extra", [["--sim", "--seconds", "0.2"], ["--delay-margin", "1"]])
+@pytest.mark.parametrize("plots, words", [("", "got an empty string"),
+                                          ("FILE", "a file of that name exists")])
+def test_control_plots_folder_is_checked_before_the_run(tmp_path, capsys, extra, plots,
+                                                        words):
+    """QA X4 (noticed by the fix): ``control --plots ''`` was ignored silently, and a
+    file given as the plots folder failed only after the run.  Reference: the rule
+    ``run`` and ``demo`` follow (output_paths.check_output_dir)."""
+    from distkin.app.cli import main
+    if plots == "FILE":
+        plots = str(tmp_path / "f.txt")
+        Path(plots).write_text("keep", encoding="utf-8")
+    code = main(["control", *extra, "--plots", plots])
+    err = capsys.readouterr().err
+    assert code == 2 and "--plots" in err and words in err
+    if plots.endswith("f.txt"):
+        assert Path(plots).read_text(encoding="utf-8") == "keep"
