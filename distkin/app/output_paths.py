@@ -179,8 +179,9 @@ def check_apart(files=(), folders=(), stores=()) -> None:
     Raises
     ------
     InputError
-        Two files are one; a file is, or is inside, a folder or a store (or a folder
-        inside a file); a folder is, or is inside, a store.  Names the later option.
+        Two files are one; a file is a folder, or is inside a store (or a .png inside
+        a plots folder, where a plot may be named so); a folder is inside a file; a
+        folder is, or is inside, a store.  Names the later option.
     """
     def keep(pairs):
         return [(f, Path(p)) for f, p in pairs if p is not None and str(p) not in ("", "-")]
@@ -195,7 +196,12 @@ def check_apart(files=(), folders=(), stores=()) -> None:
     for fd, d in folders + stores:
         kind = "chunk store" if (fd, d) in stores else "folder"
         for ff, f in files:
-            if _inside(f, d):
+            # a plots folder holds only its PNGs (q{i}_{type}*.png): a JSON beside them
+            # (--plots out --json out/r.json) overwrites nothing; the folder itself, or a
+            # .png that a plot may be named, does
+            beside = (kind == "folder" and f.suffix.lower() != ".png"
+                      and not _same_file(f, d))
+            if _inside(f, d) and not beside:
                 raise InputError(f"expected a path outside the {fd} {kind} {str(d)!r}, "
                                  f"got {str(f)!r}", field=ff,
                                  hint=f"write {ff} beside the {kind}, not in it")

@@ -144,7 +144,7 @@ def test_demo_json_onto_a_builtin_scene_is_refused(tmp_path, monkeypatch, capsys
 
 @pytest.mark.parametrize("json_, plots, field", [
     ("same", "same", "--json"),               # QA: ran everything, then lost the JSON
-    ("p/r.json", "p", "--json"),
+    ("p/q0_jacobian.png", "p", "--json"),     # a name a plot may take
     ("j", "j/plots", "--plots"),
 ])
 def test_json_and_plots_apart(tmp_path, monkeypatch, capsys, scene, calls, json_, plots,
@@ -159,6 +159,14 @@ def test_json_beside_plots_still_works(tmp_path, capsys, scene):
     assert main(["run", str(scene), "--json", str(tmp_path / "p.json"),
                  "--plots", str(tmp_path / "p")]) == 0
     assert (tmp_path / "p.json").is_file()
+
+
+def test_json_inside_the_plots_folder_still_works(tmp_path, capsys, scene):
+    # the plots are PNGs named q{i}_{type}*.png: a JSON among them overwrites nothing
+    # (tests/mechanisms/test_rss_scene.py writes --plots DIR --json DIR/out.json)
+    assert main(["run", str(scene), "--json", str(tmp_path / "p" / "r.json"),
+                 "--plots", str(tmp_path / "p")]) == 0
+    assert (tmp_path / "p" / "r.json").is_file()
 
 
 @pytest.mark.parametrize("inside", ["sweep.json", "chunk_00000.npz", "sub/r.json", "."])

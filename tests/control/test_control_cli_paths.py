@@ -29,7 +29,7 @@ def test_plots_below_a_file_is_refused_before_the_run(tmp_path):
     assert proc.returncode == 2
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("distkin: error: --plots: ")
-    assert "is not a folder" in lines[0]
+    assert "expected a folder" in lines[0] and "a file of that name exists" in lines[0]
     assert not (tmp_path / "run.cycles.csv").exists()
 
 
