@@ -188,28 +188,17 @@ def cmd_sim(args) -> int:
         raise
 
 
-def _same_output(a, b) -> bool:
-    """Whether the output paths ``a`` and ``b`` name one file (an existing one by
-    :func:`os.path.samefile`, links included; otherwise the resolved paths)."""
-    a, b = Path(a), Path(b)
-    try:
-        if a.exists() and b.exists():
-            return os.path.samefile(a, b)
-        return a.resolve() == b.resolve()
-    except OSError:
-        return False
-
-
 def check_distinct_outputs(outputs) -> None:
     """Refuse two outputs of one command that name the same file (QA X1 D2: ``--json
     run.cycles.csv`` beside ``--log run`` replaced the log the report still listed).
 
     ``outputs``: ``(option, path)`` pairs in order (None and ``-`` skipped); the error
     names the earlier option of the first colliding pair (list ``--json`` first)."""
+    from .output_paths import same_file
     seen = [(f, p) for f, p in outputs if p is not None and str(p) != "-"]
     for i, (fa, pa) in enumerate(seen):
         for fb, pb in seen[i + 1:]:
-            if _same_output(pa, pb):
+            if same_file(Path(pa), Path(pb)):
                 raise InputError(f"expected an output file of its own, got {str(pa)!r}, "
                                  f"which {fb} writes too ({str(pb)!r})", field=fa,
                                  hint=f"name another file for {fa}")

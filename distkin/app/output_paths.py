@@ -24,8 +24,8 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["check_output_path", "check_output_dir", "check_apart", "write_text",
-           "write_json", "GENERATED", "PACKAGE"]
+__all__ = ["check_output_path", "check_output_dir", "check_apart", "same_file",
+           "write_text", "write_json", "GENERATED", "PACKAGE"]
 
 #: the installed package (``distkin/``, resolved): no CLI output goes there (QA: ``distkin
 #: codegen S.toml -o <package>/errors.py`` replaced a source file, exit 0)
@@ -70,7 +70,7 @@ def _check_not_package(p: Path, field: str, what: str) -> None:
                          hint="write the files elsewhere")
 
 
-def _same_file(a: Path, b: Path) -> bool:
+def same_file(a: Path, b: Path) -> bool:
     """Whether ``a`` and ``b`` name one file: :func:`os.path.samefile` when both exist
     (symbolic and hard links), the resolved paths otherwise."""
     try:
@@ -110,7 +110,7 @@ def check_output_path(path, field: str = "--json", inputs=()) -> None:
                          field=field)
     p = Path(path)
     for source in inputs:
-        if source is not None and _same_file(p, Path(source)):
+        if source is not None and same_file(p, Path(source)):
             raise InputError(f"expected an output path other than the input file "
                              f"{str(source)!r}, got {str(path)!r} (writing it would "
                              "overwrite the input)", field=field)
@@ -141,7 +141,7 @@ def check_output_dir(path, field: str, inputs=(), make: bool = True) -> None:
         raise InputError("expected a folder path, got an empty string", field=field)
     p = Path(path)
     for source in inputs:
-        if source is not None and _same_file(p, Path(source)):
+        if source is not None and same_file(p, Path(source)):
             raise InputError(f"expected a folder other than the input file "
                              f"{str(source)!r}, got {str(path)!r}", field=field)
     _check_not_package(p, field, "folder")
@@ -189,7 +189,7 @@ def check_apart(files=(), folders=(), stores=()) -> None:
     files, folders, stores = keep(files), keep(folders), keep(stores)
     for i, (fa, a) in enumerate(files):
         for fb, b in files[:i]:
-            if _same_file(a, b):
+            if same_file(a, b):
                 raise InputError(f"expected a file other than the {fb} file {str(b)!r}, "
                                  f"got {str(a)!r} (one would overwrite the other)",
                                  field=fa)
@@ -200,7 +200,7 @@ def check_apart(files=(), folders=(), stores=()) -> None:
             # (--plots out --json out/r.json) overwrites nothing; the folder itself, or a
             # .png that a plot may be named, does
             beside = (kind == "folder" and f.suffix.lower() != ".png"
-                      and not _same_file(f, d))
+                      and not same_file(f, d))
             if _inside(f, d) and not beside:
                 raise InputError(f"expected a path outside the {fd} {kind} {str(d)!r}, "
                                  f"got {str(f)!r}", field=ff,
