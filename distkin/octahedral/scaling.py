@@ -15,9 +15,12 @@ Lengths whose largest value lies in :math:`[2^{-10}, 2^{10})` are left as they a
 (:func:`exponent` returns 0), so that the usual problems run on the user's own numbers.
 The clear error is kept for what normalisation cannot help (:func:`check_range`): the
 squared lengths of the answer itself (:math:`s_{15}`) must be float64 numbers, so the
-largest length must lie in :math:`[2^{-500}, 2^{510})`, and no squared length may be so
-much smaller than the largest that it vanishes in float64 after normalisation
-(a ratio beyond :math:`2^{-500}`).
+largest length must lie in :math:`[2^{-500}, 2^{510})`.  A squared length so much
+smaller than the largest that it vanishes in float64 after normalisation (a ratio
+beyond :math:`2^{-1000}`) is not refused: the exact tiers keep it exactly, and the fast
+tier's proof (:mod:`.conditioning`) says it cannot vouch for such inputs (a
+ConditioningWarning; ``auto`` then answers with the certified tier).  ``check_range``'s
+``smallest2`` refuses it for a caller that wants the refusal; the solvers do not.
 """
 
 from __future__ import annotations
