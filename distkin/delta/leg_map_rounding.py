@@ -65,7 +65,7 @@ def leg_map_error(Ainv, c, m_legs, l_sq) -> float:
     return float(np.max(E / gap))
 
 
-def map_legs_fast(tr, m_legs, field: str = "m_legs"):
+def map_legs_fast(tr, m_legs, field: str = "m_legs", m_float=None):
     r"""The fast tier's leg map of eq. (8), :math:`l^2 = \mathbf A^{-1} m^2 + c` in
     float64 (Rojas, Borràs, Thomas, ICRA 2012, Sec. IV-V), with its error bound.
 
@@ -85,6 +85,9 @@ def map_legs_fast(tr, m_legs, field: str = "m_legs"):
     tr : DeltaTransform
     m_legs : 6 leg lengths (floats, Exact, numeric strings, sympy numbers; length units)
     field : str, the name used in errors
+    m_float : array (6,), optional
+        The m-legs already read and range-checked as float64 (by the caller's
+        ``_float_legs`` and ``_check_leg_range``): not read again.
 
     Returns
     -------
@@ -103,8 +106,11 @@ def map_legs_fast(tr, m_legs, field: str = "m_legs"):
     UncertifiedError
         The exact sign of a squared l-leg cannot be decided (sympy; not seen so far).
     """
-    m = _float_legs(m_legs, field)
-    _check_leg_range(m, field)
+    if m_float is None:
+        m = _float_legs(m_legs, field)
+        _check_leg_range(m, field)
+    else:
+        m = m_float
     Ainv, c = tr._inverse_float
     l_sq = Ainv @ (m * m) + c
     _check_finite(l_sq, field)

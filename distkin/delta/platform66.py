@@ -309,7 +309,7 @@ def forward_kinematics66(octahedral, offsets, m_legs, *, method: str = "fast",
     if method == "fast":
         # float64, or the exact map where float64 cannot prove the sign of an l^2
         from .leg_map_rounding import map_legs_fast
-        l_sq, l, rho, _ = map_legs_fast(plat.transform, m_legs, "m_legs")
+        l_sq, l, rho, _ = map_legs_fast(plat.transform, m_legs, "m_legs", m_float=m_float)
         with _mapped_legs():
             res = _fast_octahedral(base, platform, [float(x) for x in l], rho)
         m = list(m_float)
