@@ -81,7 +81,10 @@ def test_region_in_metres_in_a_mm_scene_is_flagged(tmp_path):
              "mm", "deg", "--json", str(tmp_path / "o.json"))
     assert r.returncode == 0, r.stderr
     res = _result(tmp_path / "o.json")
-    assert res["unreachable_fraction"] == pytest.approx(1.0)
+    # every leaf unreachable: the fraction is exactly 1 (it read 0.9999999999999999), as
+    # the text's 100.00 %
+    assert res["unreachable_fraction"] == 1.0
+    assert res["regular_fraction"] == 0.0
     # independent: the region's farthest corner, 0.39 mm from the base, is under 1/100 of
     # the home height z0 = 300 mm
     far = float(np.linalg.norm([0.075, 0.075, 0.375]))
