@@ -45,7 +45,16 @@ def robust_scene_text(**replace) -> str:
     each answer (1 s) widened: a loaded machine then slows a run down instead of
     changing its physics.  For tests whose subject is not the watchdog."""
     replace.setdefault("watchdog_ms", 2000)
-    return scene_text(**replace).replace(
+    return widen_timing(scene_text(**replace))
+
+
+def widen_timing(text: str) -> str:
+    """A control scene's text with the simulator's wait for each answer (1 s) and its
+    watchdog (2 s) widened, and the controller's ``watchdog_ms = 20`` (if present) made
+    2000: a loaded machine slows the run instead of tripping a watchdog."""
+    text = text.replace("\nwatchdog_ms = 20 ", "\nwatchdog_ms = 2000 ").replace(
+        "\nwatchdog_ms = 20\n", "\nwatchdog_ms = 2000\n")
+    return text.replace(
         "[simulator]\n", "[simulator]\nreply_timeout_ms = 1000\ndevice_watchdog_ms = 2000\n")
 
 

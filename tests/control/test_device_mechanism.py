@@ -13,7 +13,7 @@ from distkin.app.scene import load_scene
 from distkin.control.config import loads_control_scene
 from distkin.errors import InputError
 
-from control_helpers import ROOT, estimate_and_truth, run_cli
+from control_helpers import ROOT, estimate_and_truth, run_cli, widen_timing
 
 EXAMPLES = ROOT / "examples"
 
@@ -62,8 +62,7 @@ def test_closed_loop_on_a_user_leg_table(tmp_path):
     with the simulator's true pose (an independent route: the plant integrates the pose,
     the controller only sees crank angles)."""
     _copy(tmp_path, "rus8_device.toml", "control_rus8.toml")
-    text = (tmp_path / "control_rus8.toml").read_text(encoding="utf-8").replace(
-        "[simulator]\n", "[simulator]\nreply_timeout_ms = 1000\ndevice_watchdog_ms = 2000\n")
+    text = widen_timing((tmp_path / "control_rus8.toml").read_text(encoding="utf-8"))
     (tmp_path / "control_rus8.toml").write_text(text, encoding="utf-8")
     proc = run_cli(["control", "--sim", "--scene", tmp_path / "control_rus8.toml",
                     "--seconds", 1.5, "--log", tmp_path / "run", "--json", "-"], tmp_path,

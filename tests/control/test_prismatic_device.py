@@ -19,7 +19,7 @@ from distkin.control.plant import LinearDrives, Motors, Plant
 from distkin.control.protocol import StateFrame
 from distkin.errors import InputError
 
-from control_helpers import ROOT, estimate_and_truth, run_cli
+from control_helpers import ROOT, estimate_and_truth, run_cli, widen_timing
 
 EXAMPLES = ROOT / "examples"
 
@@ -168,8 +168,7 @@ def test_two_process_run_over_the_pty(gough, tmp_path):
     """``distkin control --sim`` on the prismatic device: completed without safety
     events, the summary in N, and the controller's FK agrees with the simulator's true
     pose frame by frame."""
-    text = (gough.dir / "control_gough6.toml").read_text(encoding="utf-8").replace(
-        "[simulator]\n", "[simulator]\nreply_timeout_ms = 1000\ndevice_watchdog_ms = 2000\n")
+    text = widen_timing((gough.dir / "control_gough6.toml").read_text(encoding="utf-8"))
     for n in ("gough_stewart_6ups.toml",):
         shutil.copy(gough.dir / n, tmp_path / n)
     (tmp_path / "c.toml").write_text(text, encoding="utf-8")

@@ -25,7 +25,7 @@ import pytest
 import distkin.control.link as link_mod
 import distkin.control.loop as loop_mod
 from distkin.app.control_commands import builtin_scene
-from distkin.control.config import load_control_scene
+from distkin.control.config import SafetyLimits, load_control_scene
 from distkin.control.controller import Controller
 from distkin.control.delay_margin import delay_margin
 from distkin.control.kinematics import load_model
@@ -33,7 +33,7 @@ from distkin.control.protocol import MODE_RUN, encode_state
 from distkin.control.safety import MIN_REVERSALS, SaturationWatch
 from distkin.errors import InputError
 
-from control_helpers import PlantLink, ScriptedLink, scene_text, state_frames
+from control_helpers import EXAMPLE, PlantLink, ScriptedLink, scene_text, state_frames
 
 
 @pytest.fixture(scope="module")
@@ -221,17 +221,20 @@ def test_recovery_waits_until_the_platform_is_nearly_at_rest(monkeypatch, scene,
 
 
 def test_the_new_safety_keys_are_read_and_checked(tmp_path):
-    base = scene_text()
+    # the example scene lists the new [safety] keys, with SafetyLimits' defaults
+    example = load_control_scene(EXAMPLE).safety
+    for key in ("saturation_ms", "saturation_share", "recover_speed_m_s",
+                "recover_rate_rad_s"):
+        assert f"\n{key} = " in EXAMPLE.read_text(encoding="utf-8")
+        assert getattr(example, key) == getattr(SafetyLimits(), key)
     path = tmp_path / "s.toml"
-    path.write_text(base.replace("[safety]\n", "[safety]\nsaturation_share = 0.8\n"
-                                 "recover_speed_m_s = 0.1\nrecover_rate_rad_s = 2\n"),
-                    encoding="utf-8")
+    path.write_text(scene_text(saturation_share=0.8, recover_speed_m_s=0.1,
+                               recover_rate_rad_s=2), encoding="utf-8")
     s = load_control_scene(path).safety
     assert (s.saturation_share, s.recover_speed_m_s, s.recover_rate_rad_s) == (0.8, 0.1, 2)
     for key, value in (("saturation_share", "1.5"), ("saturation_share", "0"),
                        ("recover_speed_m_s", "-1"), ("recover_rate_rad_s", '"fast"')):
-        path.write_text(base.replace("[safety]\n", f"[safety]\n{key} = {value}\n"),
-                        encoding="utf-8")
+        path.write_text(scene_text(**{key: value}), encoding="utf-8")
         with pytest.raises(InputError) as exc:
             load_control_scene(path)
         assert exc.value.field == f"safety.{key}"
