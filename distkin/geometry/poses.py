@@ -69,6 +69,19 @@ def _tier_rows(points, method, what, noun="points"):
 _NATIVE = {"precise": ("mpf",), "certified": ("arb", "fmpq")}
 
 
+def _fast_points(points, what):
+    """Points (..., 3, 3) as float64, checked as in the other tiers
+    (:func:`.trilateration._fast_floats`): numeric strings parsed exactly then rounded
+    once, booleans, complex numbers, ragged lists, other shapes and values beyond the
+    float64 range refused with an :class:`InputError` naming ``what``."""
+    from .trilateration import _fast_floats
+    P = _fast_floats(points, what, "points of shape (..., 3, 3)", 3)
+    if P.shape[-2:] != (3, 3):
+        raise InputError(f"expected points of shape (..., 3, 3), got shape {P.shape}",
+                         field=what)
+    return P
+
+
 def _check_nonzero(n2, scale, method, what):
     if method == "fast":
         if np.any(n2 <= 1e-24 * scale):
@@ -94,7 +107,8 @@ def triangle_frame(points, *, method: str = "fast", what: str = "points"):
     Parameters
     ----------
     points : array_like (..., 3, 3) or 3 rows of 3 scalars
-        Rows :math:`a_1, a_2, a_3` in any length unit.
+        Rows :math:`a_1, a_2, a_3` in any length unit: numbers of any tier or numeric
+        strings, parsed exactly in every tier (rounded once for ``fast``).
 
     Returns
     -------
@@ -103,14 +117,15 @@ def triangle_frame(points, *, method: str = "fast", what: str = "points"):
 
     Raises
     ------
+    InputError
+        Another shape (a ragged list names its row), booleans, complex numbers,
+        non-numbers, NaN or inf, values beyond the float64 range in ``fast``.
     DegenerateGeometryError
         Collinear or coincident points.
     """
     check_method(method)
     if method == "fast":
-        P = np.asarray(points, dtype=float)
-        if P.shape[-2:] != (3, 3):
-            raise InputError(f"expected points of shape (..., 3, 3), got {P.shape}", field=what)
+        P = _fast_points(points, what)
         d1 = P[..., 1, :] - P[..., 0, :]
         d2 = P[..., 2, :] - P[..., 0, :]
         # in units of 2^e, the power of two just above the largest coordinate difference
@@ -181,7 +196,8 @@ def pose_from_points(local, world, *, method: str = "fast", rtol: float | None =
     Raises
     ------
     InputError
-        Triangles that are not congruent within ``rtol`` (QA T 7), malformed input.
+        Triangles that are not congruent within ``rtol`` (QA T 7), malformed input (as
+        :func:`triangle_frame`; numeric strings are parsed exactly in every tier).
     DegenerateGeometryError
         Collinear or coincident points.
 
@@ -195,8 +211,8 @@ def pose_from_points(local, world, *, method: str = "fast", rtol: float | None =
     """
     check_method(method)
     if method == "fast":
-        q = np.asarray(local, dtype=float)
-        p = np.asarray(world, dtype=float)
+        q = _fast_points(local, "platform")
+        p = _fast_points(world, "points")
         Fq = triangle_frame(q, method=method, what="platform")
         Fp = triangle_frame(p, method=method, what="points")
         _congruent_fast(q, p, 1e-9 if rtol is None else _tolerance(rtol))

@@ -75,19 +75,26 @@ class TrilaterationParts:
         return [flint.arb(f) + scale * c for f, c in zip(self.foot, self.normal)]
 
 
-def _fast_floats(value, field, expected):
+def _fast_floats(value, field, expected, width=None):
     """A float64 array of ``value``: numbers, or numeric strings parsed exactly and
-    rounded once (:func:`distkin.exact.parse_float`) as in the other tiers; booleans and
-    other things are an :class:`InputError` naming the element."""
+    rounded once (:func:`distkin.exact.parse_float`) as in the other tiers; booleans,
+    complex numbers, numbers beyond the float64 range and other things are an
+    :class:`InputError` naming the element; with ``width``, a ragged list names its
+    first row that has not ``width`` entries."""
     no_booleans(value, field)
     try:
         arr = np.asarray(value)
     except ValueError:                              # ragged
         arr = None
+        if width is not None:
+            _ragged_rows(value, field, expected, width)
     if arr is not None and arr.dtype.kind in "iuf":
         return arr.astype(float)
     if arr is None or arr.dtype.kind not in "OUSb" or any(
             isinstance(v, (list, tuple, np.ndarray)) for v in arr.flat):
+        if arr is not None and arr.dtype.kind == "c":
+            raise InputError(f"expected {expected} (real), got complex values "
+                             f"{_show(value)}", field=field)
         raise InputError(f"expected {expected}, got {_show(value)}", field=field)
     out = np.empty(arr.shape)
     for idx, v in np.ndenumerate(arr):
@@ -99,8 +106,34 @@ def _fast_floats(value, field, expected):
         elif v is None:
             raise InputError("expected a number, got None", field=name)
         else:
-            out[idx] = as_floats(v, name, "a number")
+            try:
+                x = as_floats(v, name, "a number")
+            except OverflowError:                   # an int or Fraction beyond float64
+                x = np.inf
+            if np.isinf(x) and not isinstance(v, (float, np.floating)):
+                from .cayley_menger import _show_big
+                raise InputError(f"expected a number within the float64 range (|x| < "
+                                 f"1.8e308), got {_show_big(v)}", field=name)
+            out[idx] = x
     return out
+
+
+def _ragged_rows(value, field, expected, width):
+    """Raise an :class:`InputError` naming the first row (a list of scalars) of the
+    nested list ``value`` that has not ``width`` entries (numpy's inhomogeneous-shape
+    ValueError does not say which)."""
+    if isinstance(value, (str, bytes)) or not isinstance(value, (list, tuple, np.ndarray)):
+        return
+    if not any(isinstance(v, (list, tuple, np.ndarray)) for v in value):
+        if len(value) != width:
+            raise InputError(f"expected {expected}, got a row of {len(value)} "
+                             f"{'entry' if len(value) == 1 else 'entries'}", field=field)
+        return
+    for i, v in enumerate(value):
+        if not isinstance(v, (list, tuple, np.ndarray)):
+            raise InputError(f"expected {expected}, got the scalar {_show(v)} among rows",
+                             field=f"{field}[{i}]")
+        _ragged_rows(v, f"{field}[{i}]", expected, width)
 
 
 def _three_rows(points, what: str, field: str) -> list:
@@ -145,7 +178,7 @@ def _tier_scalar(x, method, field):
 def _components(points, method):
     """Split (…, 3, 3) points into 9 scalars (or arrays) of the tier."""
     if method == "fast":
-        P = _fast_floats(points, "points", "reference points of shape (..., 3, 3)")
+        P = _fast_floats(points, "points", "reference points of shape (..., 3, 3)", 3)
         if P.shape[-2:] != (3, 3):
             raise InputError(f"expected reference points of shape (..., 3, 3), got {P.shape}",
                              field="points")
@@ -160,7 +193,7 @@ def _components(points, method):
 def _squared(sq, method):
     """The three squared distances (fast: an array (..., 3)) in the tier's number type."""
     if method == "fast":
-        S = _fast_floats(sq, "sq", "squared distances of shape (..., 3)")
+        S = _fast_floats(sq, "sq", "squared distances of shape (..., 3)", 3)
         if S.shape[-1:] != (3,):
             raise InputError(f"expected 3 squared distances per point, got shape {S.shape}",
                              field="sq")
