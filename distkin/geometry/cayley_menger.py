@@ -497,7 +497,8 @@ def squared_distances(points):
             bad = tuple(int(x) for x in np.argwhere(~np.isfinite(out))[0])
             pair = f"s({bad[-2] + 1},{bad[-1] + 1})"
             raise InputError(f"expected points whose squared distances are within the "
-                             f"float64 range (|x| < 1.8e308), got {pair} beyond it" + (f" (batch index {bad[:-2]})" if bad[:-2] else ""),
+                             f"float64 range (|x| < 1.8e308), got {pair} beyond it"
+                             + (f" (batch index {bad[:-2]})" if bad[:-2] else ""),
                              field="points", hint="exact coordinates (ints, Fractions, "
                              "numeric strings) give exact squared distances")
         return out

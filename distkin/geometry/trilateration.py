@@ -24,10 +24,24 @@ in the fast tier.  The fast tier works in units of :math:`2^e`, the power of two
 above the reference triangle's largest coordinate difference (an exact scaling: the
 same bits as unscaled, where that neither under- nor overflows), so a triangle of size
 1e-100 or 1e150 is not flattened by an underflow of :math:`G` nor lost to an overflow.
+
+The fast tier also estimates its error to first order
+(:func:`.trilat_error.fast_error`): the Gram solve loses digits like
+:math:`1/\sin^2\theta` on a nearly collinear base (:math:`\theta` its angle at
+:math:`P_a`), and the height of a point near the base's plane is known to
+:math:`\sqrt\delta` only, :math:`\delta` the error of :math:`h^2`.  Where the estimate
+exceeds :data:`~.trilat_error.TRILATERATION_RTOL` (1e-6) of the problem's length scale
+:math:`\Lambda = \sqrt{|s_a|+|s_b|+|s_c|+|v_2|^2+|v_3|^2}` it warns, once per call
+(:class:`~distkin.errors.ConditioningWarning`; an unwarned answer is within that of the
+exact trilateration of its float64 inputs, by the estimate); the estimate is
+``TrilaterationParts.error``.  It refuses (:class:`InfeasibleError`) only an :math:`h^2`
+negative beyond its error estimate; within it the sign cannot be told and :math:`h^2` is
+clamped to 0 (the point in the plane, covered by the same warning).
 """
 
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 
 import numpy as np
@@ -35,8 +49,10 @@ import numpy as np
 from ..argcheck import as_floats, no_booleans, positive_number
 from ..errors import DegenerateGeometryError, InfeasibleError, InputError, UncertifiedError
 from ..exact import Exact, check_method, default_dps, parse_exact, parse_float, to_tier
+from .trilat_error import TRILATERATION_RTOL, fast_error, point_error, warn_accuracy
 
-__all__ = ["trilaterate", "trilaterate_both", "TrilaterationParts", "trilateration_parts"]
+__all__ = ["trilaterate", "trilaterate_both", "TrilaterationParts", "trilateration_parts",
+           "TRILATERATION_RTOL"]
 
 _EPS = np.finfo(float).eps
 
@@ -51,11 +67,14 @@ class TrilaterationParts:
     :math:`4^e` in length units, which float64 may not hold.
     """
 
-    __slots__ = ("foot", "normal", "G", "h2", "method", "exponent")
+    __slots__ = ("foot", "normal", "G", "h2", "method", "exponent", "error")
 
-    def __init__(self, foot, normal, G, h2, method, exponent=0):
+    def __init__(self, foot, normal, G, h2, method, exponent=0, error=None):
         self.foot, self.normal, self.G, self.h2, self.method = foot, normal, G, h2, method
         self.exponent = exponent
+        #: fast tier: the first-order error estimate of the point (length units; an
+        #: array when batched), :func:`.trilat_error.fast_error`; None in the other tiers
+        self.error = error
 
     def point(self, side):
         """The point on ``side`` (+1 or -1, or an array of them when batched)."""
@@ -269,12 +288,20 @@ def trilateration_parts(points, sq, *, method: str = "fast", dps: int | None = N
     DegenerateGeometryError
         Collinear or coincident reference points.
     InfeasibleError
-        :math:`h^2 < 0` beyond the tolerance; ``margin`` is :math:`h^2`.  A negative
+        :math:`h^2 < 0` beyond the tolerance (fast: and beyond the error estimate of
+        :math:`h^2`, else clamped to 0); ``margin`` is :math:`h^2`.  A negative
         squared distance is one such case here (:math:`h^2 \le s < 0`): the octahedral
         solver passes a root :math:`s_{15}` that may be negative and rejects it so;
         :func:`trilaterate` refuses it as an :class:`InputError`.
     UncertifiedError
         Certified tier on irrational data whose balls cannot decide the sign.
+
+    Warns
+    -----
+    ConditioningWarning
+        Fast tier: the error estimate (``.error`` of the result, length units) exceeds
+        :data:`~.trilat_error.TRILATERATION_RTOL` times the length scale (see the module
+        docstring): a nearly collinear base, or a point near the base's plane.
     """
     return _solve(points, sq, _NO_SIDE, method, dps, tol)[0]
 
@@ -370,8 +397,19 @@ def _parts(P, S, method, dps, tol):
         foot = tuple(P[0][k] + off[k] for k in range(3))
     h2 = sa - (alpha * w2 + beta * w3)
     scale = _scale(sa, g22, g33, method)
-    h2 = _check_feasible(h2, scale, method, dps, tol, e)
-    return TrilaterationParts(foot, n, G, h2, method, e)
+    if method != "fast":
+        h2 = _check_feasible(h2, scale, method, dps, tol, e)
+        return TrilaterationParts(foot, n, G, h2, method, e)
+    vals = (sa, sb, sc, g22, g33, g23, G, w2, w3, alpha, beta)
+    one = np.ndim(G) == 0 and np.ndim(sa) == 0 and np.ndim(sb) == 0 and np.ndim(sc) == 0
+    # one problem: the estimate in Python floats (numpy's per-call cost on 0-d arrays
+    # dominated it); a batch: in numpy
+    est = ([float(x) for x in vals], math) if one else (vals, np)
+    e_foot, e_h2 = fast_error(*est[0], lib=est[1])
+    h2 = _check_feasible(h2, scale, method, dps, tol, e, e_h2)
+    err, rel = point_error(h2, e_foot, e_h2, est[0], e, foot, one)
+    warn_accuracy(err, rel)
+    return TrilaterationParts(foot, n, G, h2, method, e, err)
 
 
 def _scale(sa, g22, g33, method):
@@ -413,10 +451,13 @@ def _check_degenerate(G, g22, g33, method, dps, tol):
                                f"|n|^2 = {G.str(5, radius=True)}")
 
 
-def _check_feasible(h2, scale, method, dps, tol, e=0):
+def _check_feasible(h2, scale, method, dps, tol, e=0, e_h2=0.0):
     if method == "fast":
+        # infeasible only beyond the error estimate of h^2 (e_h2): within it the sign
+        # is not known, and h^2 is clamped to 0 (the point in the base's plane; the
+        # accuracy warning covers the height error sqrt(e_h2))
         t = 64 * _EPS if tol is None else tol
-        bad = h2 < -t * scale
+        bad = h2 < -np.maximum(t * scale, e_h2)
         if np.any(bad):
             k = np.unravel_index(np.argmin(h2), np.shape(h2)) if np.ndim(h2) else ()
             ek = int(np.broadcast_to(e, np.shape(h2))[k])
@@ -486,6 +527,14 @@ def trilaterate(points, sq, side=1, *, method: str = "fast", dps: int | None = N
     DegenerateGeometryError, InfeasibleError, UncertifiedError
         See :func:`trilateration_parts`.
 
+    Warns
+    -----
+    ConditioningWarning
+        Fast tier, once per call: an error estimate above
+        :data:`~.trilat_error.TRILATERATION_RTOL` of the problem's length scale
+        (:func:`trilateration_parts`); without it the point is within that of the exact
+        answer of the float64 inputs, by the estimate.
+
     Examples
     --------
     >>> import numpy as np
@@ -503,7 +552,8 @@ def trilaterate(points, sq, side=1, *, method: str = "fast", dps: int | None = N
 
 def trilaterate_both(points, sq, *, method: str = "fast", dps: int | None = None,
                      tol: float | None = None):
-    """Both mirror solutions ``(side=+1, side=-1)``; see :func:`trilaterate`."""
+    """Both mirror solutions ``(side=+1, side=-1)``; see :func:`trilaterate` (the same
+    checks, error estimate and warning: one per call for both)."""
     parts = _solve(points, sq, _NO_SIDE, method, dps, tol, nonnegative=True)[0]
     if method == "precise":
         import mpmath
