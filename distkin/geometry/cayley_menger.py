@@ -92,7 +92,7 @@ def _float_matrix(arr):
     return out
 
 
-def _kind_of(values, what: str = "squared distances") -> str:
+def _kind_of(values, what: str = "squared distances", field: str = "sq") -> str:
     kinds = set()
     for v in values:
         t = type(v)
@@ -107,13 +107,13 @@ def _kind_of(values, what: str = "squared distances") -> str:
         elif name == "mpf" or mod.startswith("mpmath"):
             kinds.add("mpf")
         elif isinstance(v, (bool, np.bool_)):
-            raise InputError(f"expected {what} as numbers, got {v!r}")
+            raise InputError(f"expected {what} as numbers, got the boolean {v!r}", field=field)
         elif isinstance(v, (int, Fraction, np.integer)):
             kinds.add("exact")
         elif isinstance(v, (float, np.floating)):
             kinds.add("float")
         else:
-            raise InputError(f"expected {what} as numbers, got {name} {v!r}")
+            raise InputError(f"expected {what} as numbers, got {name} {v!r}", field=field)
     for k in ("sympy", "arb", "mpf", "fmpq", "float", "exact"):
         if k in kinds:
             if k == "fmpq" and "float" in kinds:
@@ -505,7 +505,7 @@ def squared_distances(points):
     if arr.dtype.kind in "OU":
         arr = _exact_strings(arr, "points")
     flat = arr.ravel().tolist()
-    kind = _kind_of(flat, "coordinates")
+    kind = _kind_of(flat, "coordinates", "points")
     if kind == "float":
         out = np.empty(arr.shape)
         for idx, v in np.ndenumerate(arr):

@@ -376,9 +376,9 @@ def points_from_pose(R, t, local, *, method: str = "fast", dps: int | None = Non
     atol = _tolerance(atol, "atol")
     if method == "fast":
         from .trilateration import _fast_floats
-        R = _fast_floats(R, "R", "a rotation matrix of shape (..., 3, 3)")
-        t = _fast_floats(t, "t", "a translation of shape (..., 3)")
-        q = _fast_floats(local, "local", "platform-frame points of shape (k, 3)")
+        R = _fast_floats(R, "R", "a rotation matrix of shape (..., 3, 3)", 3)
+        t = _fast_floats(t, "t", "a translation of shape (..., 3)", 3)
+        q = _fast_floats(local, "local", "platform-frame points of shape (k, 3)", 3)
         for name, arr, want, ok in (("R", R, "(..., 3, 3)", R.shape[-2:] == (3, 3)),
                                     ("t", t, "(..., 3)", t.shape[-1:] == (3,)),
                                     ("local", q, "(k, 3)", q.ndim == 2 and q.shape[1] == 3)):

@@ -144,3 +144,14 @@ def test_squared_distances_beyond_float64_are_refused_not_inf():
     assert exact[0, 1] == 4 * F(10) ** 400
     with pytest.raises(InputError, match=r"points\[1\]\[0\].*float64 range"):
         squared_distances([[1.5, 0], [10**400, 0]])
+
+
+def test_non_numbers_name_the_field_in_both_entry_points():
+    """A boolean or complex entry in a list: the InputError names ``sq`` / ``points``
+    (it had no field) and says "boolean" as argcheck.no_booleans does."""
+    with pytest.raises(InputError, match="boolean True") as e:
+        cayley_menger([[0, True], [True, 0]], (1, 2))
+    assert e.value.field == "sq"
+    with pytest.raises(InputError, match="complex") as e:
+        squared_distances([[0, 0, 1j], [1, 0, 0]])
+    assert e.value.field == "points"

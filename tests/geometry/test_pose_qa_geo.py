@@ -17,7 +17,7 @@ import pytest
 from flint import arb
 
 from distkin.errors import InputError
-from distkin.geometry import pose_from_points, triangle_frame, trilaterate
+from distkin.geometry import points_from_pose, pose_from_points, triangle_frame, trilaterate
 
 LOCAL = [["0", "0", "0"], ["sqrt(2)", "0", "0"], ["0", "1", "0"]]
 # R = rotation about z with cos = 3/5, sin = 4/5 (exact), t = (1, 2, 3)
@@ -82,3 +82,22 @@ def test_exact_values_beyond_float64_are_refused_in_the_fast_tier():
         with pytest.raises(InputError, match=r"float64 range.*1\.0e\+400") as e:
             f(big)
         assert e.value.field == "points[0][2]"
+
+
+def test_points_from_pose_fast_names_a_ragged_row_and_a_huge_value():
+    """The same reader in points_from_pose: a ragged R or local names its row (it gave
+    the whole value), an int beyond float64 the float64 range (it raised
+    OverflowError); a proper call agrees with the certified tier (exact here)."""
+    with pytest.raises(InputError, match="a row of 2 entries") as e:
+        points_from_pose([[1, 0, 0], [0, 1], [0, 0, 1]], [0, 0, 0], [[1, 0, 0]])
+    assert e.value.field == "R[1]"
+    with pytest.raises(InputError, match="a row of 2 entries") as e:
+        points_from_pose(np.eye(3), [0, 0, 0], [[1, 0, 0], [0, 1]])
+    assert e.value.field == "local[1]"
+    with pytest.raises(InputError, match=r"float64 range") as e:
+        points_from_pose(np.eye(3), [0, 0, 10 ** 400], [[1, 0, 0]])
+    assert e.value.field == "t[2]"
+    got = points_from_pose(R_EXACT, ["1", "2", "3"], [["19.8", 0, 0]])
+    ref = points_from_pose([["3/5", "-4/5", 0], ["4/5", "3/5", 0], [0, 0, 1]],
+                           ["1", "2", "3"], [["19.8", 0, 0]], method="certified")
+    np.testing.assert_allclose(got[0], [float(arb(x).mid()) for x in ref[0]], rtol=1e-15)
