@@ -277,7 +277,10 @@ def trilateration_parts(points, sq, *, method: str = "fast", dps: int | None = N
     method : {"fast", "precise", "certified"}
     tol : float, optional
         Relative tolerance of the fast and precise tiers (default: 64 eps for
-        ``fast``, 10^(8 - dps) for ``precise``).  The certified tier is exact on
+        ``fast``, 10^(8 - dps) for ``precise``): collinear when :math:`G \le`
+        tol :math:`|v_2|^2|v_3|^2`, infeasible when :math:`h^2 <` -tol
+        :math:`(|s_a| + |v_2|^2 + |v_3|^2)`; in the fast tier only when :math:`h^2`
+        is also below minus its error estimate.  The certified tier is exact on
         rational data and decides with balls otherwise.
 
     Raises
