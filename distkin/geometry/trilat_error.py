@@ -19,12 +19,13 @@ import math
 
 import numpy as np
 
-__all__ = ["TRILATERATION_RTOL", "fast_error", "point_error", "warn_accuracy"]
+__all__ = ["TRILATERATION_RTOL", "precise_rtol", "fast_error", "point_error",
+           "warn_accuracy"]
 
 _EPS = float(np.finfo(float).eps)
 
 
-def point_error(h2, e_foot, e_h2, vals, e, foot, one):
+def point_error(h2, e_foot, e_h2, vals, e, foot, one, lib=math, eps=_EPS):
     r"""The fast tier's point error estimate in length units and relative to the length
     scale :math:`\Lambda` (:data:`TRILATERATION_RTOL`): the foot's, the height's
     :math:`\min(\sqrt\delta, \delta/h)` (:math:`|\sqrt a - \sqrt b| \le
@@ -32,14 +33,14 @@ def point_error(h2, e_foot, e_h2, vals, e, foot, one):
     by :math:`2\varepsilon|v_2||v_3|`) times :math:`h`, and the rounding of the
     foot's coordinates."""
     sa, sb, sc, g22, g33, _, G = vals[:7]
-    if one:
-        h2 = float(h2)
-        h = math.sqrt(h2)
-        e_h = min(math.sqrt(e_h2), e_h2 / h) if h2 > 0 else math.sqrt(e_h2)
-        err = e_foot + e_h + _C_EST * 4 * _EPS * h * math.sqrt(g22 * g33 / G)
-        err = math.ldexp(err, int(e)) + _EPS * max(abs(float(f)) for f in foot)
+    if one:                       # Python floats (lib math), or mpf (lib mpmath)
+        h2 = float(h2) if lib is math else h2
+        h = lib.sqrt(h2)
+        e_h = min(lib.sqrt(e_h2), e_h2 / h) if h2 > 0 else lib.sqrt(e_h2)
+        err = e_foot + e_h + _C_EST * 4 * eps * h * lib.sqrt(g22 * g33 / G)
+        err = lib.ldexp(err, int(e)) + eps * max(abs(f) for f in foot)
         sigma = abs(sa) + abs(sb) + abs(sc) + g22 + g33
-        return err, err / math.ldexp(math.sqrt(sigma), int(e))
+        return err, err / lib.ldexp(lib.sqrt(sigma), int(e))
     h = np.sqrt(h2)
     with np.errstate(divide="ignore", invalid="ignore"):
         e_h = np.where(h2 > 0, np.minimum(np.sqrt(e_h2), e_h2 / h), np.sqrt(e_h2))
@@ -55,12 +56,22 @@ def point_error(h2, e_foot, e_h2, vals, e, foot, one):
 #: trilateration of its float64 inputs, by the estimate of :func:`fast_error`, or a
 #: warning (:class:`~distkin.errors.ConditioningWarning`)
 TRILATERATION_RTOL = 1e-6
+
+
+def precise_rtol(dps):
+    r"""The precise tier's counterpart of :data:`TRILATERATION_RTOL` at ``dps`` digits:
+    :math:`10^{2 - dps/2}` (1e-13 at 30 digits), the same rule as the fast tier's
+    (:math:`10^{2-16/2}` = 1e-6): a point near the base's plane is known to about half
+    the working digits only (its height is :math:`\sqrt{\delta}`), so a tighter claim
+    would warn for every planar configuration."""
+    import mpmath
+    return mpmath.mpf(10) ** (2 - mpmath.mpf(dps) / 2)
 #: safety factor of the first-order estimate (:func:`fast_error`), set from sampled
 #: bases (see tests/geometry/test_trilateration_accuracy.py)
 _C_EST = 1.0
 
 
-def fast_error(sa, sb, sc, g22, g33, g23, G, w2, w3, alpha, beta, lib=np):
+def fast_error(sa, sb, sc, g22, g33, g23, G, w2, w3, alpha, beta, lib=np, eps=_EPS):
     r"""First-order error estimates ``(foot, h2)`` of the fast tier, in units of
     :math:`2^e` (length and length squared): each rounding of the Gram solve of the
     module docstring, carried to first order.  The right-hand sides
@@ -77,34 +88,36 @@ def fast_error(sa, sb, sc, g22, g33, g23, G, w2, w3, alpha, beta, lib=np):
     \min(\sqrt{|a-b|}, |a-b|/\sqrt a)`): a point near the plane of the base is known
     to :math:`\sqrt\delta` only.  An estimate, not a bound (the certified tier gives
     one); :data:`_C_EST` is its safety factor."""
-    sqrt = lib.sqrt                       # math for one problem, numpy for a batch
-    fabs = builtins.abs if lib is math else np.abs
+    sqrt = lib.sqrt                       # math for one problem, numpy for a batch,
+    #                                       mpmath for the precise tier
+    fabs = np.abs if lib is np else builtins.abs
     l2, l3 = sqrt(g22), sqrt(g33)
-    eg = 4 * _EPS * l2 * l3
-    ew2 = 2 * _EPS * (fabs(sa) + g22 + fabs(sb))
-    ew3 = 2 * _EPS * (fabs(sa) + g33 + fabs(sc))
-    eG = 8 * _EPS * sqrt(G) * l2 * l3
+    eg = 4 * eps * l2 * l3
+    ew2 = 2 * eps * (fabs(sa) + g22 + fabs(sb))
+    ew3 = 2 * eps * (fabs(sa) + g33 + fabs(sc))
+    eG = 8 * eps * sqrt(G) * l2 * l3
     aw2, aw3, ag23 = fabs(w2), fabs(w3), fabs(g23)
-    ea = (2 * _EPS * (aw2 * g33 + aw3 * ag23) + ew2 * g33 + ew3 * ag23
+    ea = (2 * eps * (aw2 * g33 + aw3 * ag23) + ew2 * g33 + ew3 * ag23
           + (aw2 + aw3) * eg + fabs(alpha) * eG) / G
-    eb = (2 * _EPS * (aw3 * g22 + aw2 * ag23) + ew3 * g22 + ew2 * ag23
+    eb = (2 * eps * (aw3 * g22 + aw2 * ag23) + ew3 * g22 + ew2 * ag23
           + (aw2 + aw3) * eg + fabs(beta) * eG) / G
-    e_foot = ea * l2 + eb * l3 + 2 * _EPS * (fabs(alpha) * l2 + fabs(beta) * l3)
-    e_h2 = (2 * _EPS * (fabs(sa) + fabs(alpha) * aw2 + fabs(beta) * aw3)
+    e_foot = ea * l2 + eb * l3 + 2 * eps * (fabs(alpha) * l2 + fabs(beta) * l3)
+    e_h2 = (2 * eps * (fabs(sa) + fabs(alpha) * aw2 + fabs(beta) * aw3)
             + ea * aw2 + eb * aw3)
     return _C_EST * e_foot, _C_EST * e_h2
 
 
-def warn_accuracy(err, rho):
+def warn_accuracy(err, rho, rtol=TRILATERATION_RTOL, tier="fast"):
     """One :class:`~distkin.errors.ConditioningWarning` per call where the estimated
-    error exceeds :data:`TRILATERATION_RTOL` of the length scale (the worst of a batch,
+    relative error ``rho`` exceeds ``rtol`` (the fast tier's :data:`TRILATERATION_RTOL`,
+    the precise tier's :func:`precise_rtol`) of the length scale (the worst of a batch,
     its index and how many; attributes ``estimate`` (relative) and ``index``)."""
-    if isinstance(rho, float):
-        if not rho > TRILATERATION_RTOL:
+    if not isinstance(rho, np.ndarray):
+        if not rho > rtol:
             return
-    elif not np.any(rho > TRILATERATION_RTOL):
+    elif not np.any(rho > rtol):
         return
-    bad = np.asarray(rho > TRILATERATION_RTOL)
+    bad = np.asarray(rho > rtol)
     import warnings
     from ..errors import ConditioningWarning
     if np.ndim(rho):
@@ -113,12 +126,14 @@ def warn_accuracy(err, rho):
         where = f" (batch index {idx}, {int(bad.sum())} of {bad.size} flagged)"
     else:
         idx, where = (), ""
-    worst, abs_err = float(np.asarray(rho)[idx]), float(np.asarray(err)[idx])
+    worst, abs_err = (float(rho), float(err)) if idx == () else (float(rho[idx]),
+                                                                  float(err[idx]))
+    instead = ("method='precise' or method='certified'" if tier == "fast" else
+               "a larger dps or method='certified'")
     w = ConditioningWarning(
-        f"fast trilateration cannot vouch for its point to {TRILATERATION_RTOL:g} of the "
+        f"{tier} trilateration cannot vouch for its point to {float(rtol):.2g} of the "
         f"problem's scale: error estimate {abs_err:.2g} (length units), {worst:.2g} of the "
         f"scale{where}, from a nearly collinear base (|v2 x v3|^2 small against "
-        f"|v2|^2|v3|^2) or a point near its plane; use method='precise' or "
-        f"method='certified'")
+        f"|v2|^2|v3|^2) or a point near its plane; use {instead}")
     w.estimate, w.index = worst, idx
     warnings.warn(w, stacklevel=5)

@@ -36,7 +36,11 @@ exceeds :data:`~.trilat_error.TRILATERATION_RTOL` (1e-6) of the problem's length
 exact trilateration of its float64 inputs, by the estimate); the estimate is
 ``TrilaterationParts.error``.  It refuses (:class:`InfeasibleError`) only an :math:`h^2`
 negative beyond its error estimate; within it the sign cannot be told and :math:`h^2` is
-clamped to 0 (the point in the plane, covered by the same warning).
+clamped to 0 (the point in the plane, covered by the same warning).  The precise tier
+does the same in mpmath at its ``dps``, warning above
+:func:`~.trilat_error.precise_rtol` (:math:`10^{2-dps/2}`, 1e-13 at 30 digits); the
+library's own solvers (:func:`parts_at_working_digits`) keep their tolerance and no
+warning.
 """
 
 from __future__ import annotations
@@ -49,7 +53,8 @@ import numpy as np
 from ..argcheck import as_floats, no_booleans, positive_number
 from ..errors import DegenerateGeometryError, InfeasibleError, InputError, UncertifiedError
 from ..exact import Exact, check_method, default_dps, parse_exact, parse_float, to_tier
-from .trilat_error import TRILATERATION_RTOL, fast_error, point_error, warn_accuracy
+from .trilat_error import (TRILATERATION_RTOL, fast_error, point_error, precise_rtol,
+                           warn_accuracy)
 
 __all__ = ["trilaterate", "trilaterate_both", "TrilaterationParts", "trilateration_parts",
            "TRILATERATION_RTOL"]
@@ -72,8 +77,9 @@ class TrilaterationParts:
     def __init__(self, foot, normal, G, h2, method, exponent=0, error=None):
         self.foot, self.normal, self.G, self.h2, self.method = foot, normal, G, h2, method
         self.exponent = exponent
-        #: fast tier: the first-order error estimate of the point (length units; an
-        #: array when batched), :func:`.trilat_error.fast_error`; None in the other tiers
+        #: fast and precise tiers: the first-order error estimate of the point (length
+        #: units; an array when batched), :func:`.trilat_error.fast_error`; None in the
+        #: certified tier and in the library's own solvers
         self.error = error
 
     def point(self, side):
@@ -304,7 +310,8 @@ def trilateration_parts(points, sq, *, method: str = "fast", dps: int | None = N
     ConditioningWarning
         Fast tier: the error estimate (``.error`` of the result, length units) exceeds
         :data:`~.trilat_error.TRILATERATION_RTOL` times the length scale (see the module
-        docstring): a nearly collinear base, or a point near the base's plane.
+        docstring): a nearly collinear base, or a point near the base's plane.  Precise
+        tier: the same above :func:`~.trilat_error.precise_rtol` of ``dps``.
     """
     return _solve(points, sq, _NO_SIDE, method, dps, tol)[0]
 
@@ -344,7 +351,7 @@ def _solve(points, sq, side, method, dps, tol, *, nonnegative=False, working=Fal
                 _broadcast("side", np.shape(side), batch)
         if nonnegative:
             _check_nonnegative(S, method)
-        return _parts(P, S, method, dps, tol), side
+        return _parts(P, S, method, dps, tol, estimate=not working), side
     finally:
         if method == "precise":
             ctx.__exit__(None, None, None)
@@ -369,7 +376,7 @@ def _fast_scaled(P, S):
     return a, u[..., 0, :], u[..., 1, :], s, e
 
 
-def _parts(P, S, method, dps, tol):
+def _parts(P, S, method, dps, tol, estimate=True):
     if method == "fast":
         a, u2, u3, s, e = _fast_scaled(P, S)
         sa, sb, sc = s[..., 0], s[..., 1], s[..., 2]
@@ -400,7 +407,16 @@ def _parts(P, S, method, dps, tol):
         foot = tuple(P[0][k] + off[k] for k in range(3))
     h2 = sa - (alpha * w2 + beta * w3)
     scale = _scale(sa, g22, g33, method)
-    if method != "fast":
+    if method == "precise" and estimate:          # a user's call: as the fast tier
+        import mpmath
+        vals = (sa, sb, sc, g22, g33, g23, G, w2, w3, alpha, beta)
+        e_foot, e_h2 = fast_error(*vals, lib=mpmath, eps=mpmath.eps)
+        h2 = _check_feasible(h2, scale, method, dps, tol, e, e_h2)
+        err, rel = point_error(h2, e_foot, e_h2, vals, 0, foot, True, lib=mpmath,
+                               eps=mpmath.eps)
+        warn_accuracy(err, rel, precise_rtol(dps), "precise")
+        return TrilaterationParts(foot, n, G, h2, method, e, err)
+    if method != "fast":          # certified; precise inside the library's solvers
         h2 = _check_feasible(h2, scale, method, dps, tol, e)
         return TrilaterationParts(foot, n, G, h2, method, e)
     vals = (sa, sb, sc, g22, g33, g23, G, w2, w3, alpha, beta)
@@ -474,7 +490,7 @@ def _check_feasible(h2, scale, method, dps, tol, e=0, e_h2=0.0):
     if method == "precise":
         import mpmath
         t = mpmath.mpf(10) ** (8 - dps) if tol is None else tol
-        if h2 < -t * scale:
+        if h2 < -max(t * scale, e_h2):
             raise InfeasibleError(f"expected distances that close (h^2 >= 0), got h^2 = "
                                   f"{mpmath.nstr(h2, 8)} (squared length units)",
                                   margin=float(h2), field="sq")
@@ -536,7 +552,8 @@ def trilaterate(points, sq, side=1, *, method: str = "fast", dps: int | None = N
         Fast tier, once per call: an error estimate above
         :data:`~.trilat_error.TRILATERATION_RTOL` of the problem's length scale
         (:func:`trilateration_parts`); without it the point is within that of the exact
-        answer of the float64 inputs, by the estimate.
+        answer of the float64 inputs, by the estimate.  Precise tier: likewise at
+        :func:`~.trilat_error.precise_rtol` of ``dps``.
 
     Examples
     --------

@@ -162,3 +162,66 @@ def test_well_conditioned_bases_do_not_warn():
     for i in range(0, 500, 50):                    # and they are right
         ref = trilaterate(P[i], S[i], method="certified")
         assert _dist(got[i], ref) <= 1e-12 * _scale(P[i], S[i])
+
+
+def _precise_cases(n, seed):
+    """Bases nearly collinear beyond float64's reach (sin from 1e-10.5 to 1e-4: the
+    precise tier at 30 digits refuses below ~1e-11), points off and near the plane."""
+    rng = np.random.default_rng(seed)
+    for _ in range(n):
+        a, u = rng.normal(size=3), rng.normal(size=3)
+        u /= np.linalg.norm(u)
+        w = rng.normal(size=3)
+        w -= (w @ u) * u
+        w /= np.linalg.norm(w)
+        P = np.array([a, a + rng.uniform(0.5, 2) * u,
+                      a + rng.uniform(-1, 2) * u + 10 ** rng.uniform(-10.5, -4) * w])
+        X = a + rng.normal(size=3) * 10 ** rng.uniform(-1, 1)
+        if rng.integers(2):
+            nrm = np.cross(P[1] - a, P[2] - a)
+            nrm /= np.linalg.norm(nrm)
+            X = X - ((X - a) @ nrm) * nrm + nrm * 10 ** rng.uniform(-9, -3)
+        yield P, ((P - X) ** 2).sum(1)
+
+
+def test_precise_tier_warns_where_it_cannot_vouch():
+    """The same estimate in mpmath (it lost up to ~20 of its 30 digits silently on such
+    bases): unwarned answers within precise_rtol(30) of the scale of the certified
+    point, every answer within its estimate, no false InfeasibleError."""
+    import flint
+    import mpmath
+
+    from distkin.geometry.trilat_error import precise_rtol
+    rtol = float(precise_rtol(30))
+    n_warned = n_quiet = 0
+    for P, s in _precise_cases(60, 5):
+        old_prec, flint.ctx.prec = flint.ctx.prec, 256   # balls far below 1e-30
+        try:
+            cert = trilaterate_both(P, s, method="certified")
+        except InfeasibleError:
+            cert = None
+        finally:
+            flint.ctx.prec = old_prec
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                parts = trilateration_parts(P, s, method="precise")
+            except InfeasibleError:
+                assert cert is None
+                continue
+            with mpmath.workdps(30):
+                points = (parts.point(1), parts.point(-1))
+        if cert is None:
+            continue
+        warned = any(issubclass(w.category, ConditioningWarning) for w in caught)
+        lam = _scale(P, s)
+        for p, c in zip(points, cert):
+            with flint.ctx.workprec(256):
+                err = max(float(abs(arb(cc) - arb(mpmath.nstr(pp, 45))).upper())
+                          for pp, cc in zip(p, c))
+            assert err <= float(parts.error)
+            if not warned:
+                assert err <= rtol * lam
+        n_warned += warned
+        n_quiet += not warned
+    assert n_warned > 5 and n_quiet > 5
