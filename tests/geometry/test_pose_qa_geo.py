@@ -101,3 +101,50 @@ def test_points_from_pose_fast_names_a_ragged_row_and_a_huge_value():
     ref = points_from_pose([["3/5", "-4/5", 0], ["4/5", "3/5", 0], [0, 0, 1]],
                            ["1", "2", "3"], [["19.8", 0, 0]], method="certified")
     np.testing.assert_allclose(got[0], [float(arb(x).mid()) for x in ref[0]], rtol=1e-15)
+
+
+def _rotation(rng):
+    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
+    q = q * np.sign(np.diag(r))
+    return q if np.linalg.det(q) > 0 else -q
+
+
+def test_nearly_collinear_frames_warn_where_the_fast_tier_cannot_vouch():
+    """A nearly collinear triangle's normal is a difference of nearly equal products:
+    the fast frame was off by ~eps/sin(angle) with no flag (3.8e-6 at sin 1e-11).
+    Reference: the certified frame of the same floats at 256 bits.  Unwarned frames and
+    poses are within FRAME_RTOL; warned ones exist."""
+    import flint
+
+    from distkin.errors import ConditioningWarning
+    from distkin.geometry.poses import FRAME_RTOL
+    rng = np.random.default_rng(4)
+    n_warned = n_quiet = 0
+    for _ in range(60):
+        a, u = rng.normal(size=3), rng.normal(size=3)
+        u /= np.linalg.norm(u)
+        w = rng.normal(size=3)
+        w -= (w @ u) * u
+        w /= np.linalg.norm(w)
+        q = np.array([a, a + u, a + rng.uniform(-1, 2) * u + 10 ** rng.uniform(-11.5, -7) * w])
+        p = q @ _rotation(rng).T + rng.normal(size=3)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            F = triangle_frame(q)
+            R, _ = pose_from_points(q, p, rtol=1e-6)
+        warned = [c for c in caught if issubclass(c.category, ConditioningWarning)]
+        assert len(warned) in (0, 2)                 # one per call
+        with flint.ctx.workprec(256):
+            Fc = triangle_frame(q, method="certified")
+            Rc, _ = pose_from_points(q, p, method="certified", rtol=1e-6)
+            errF = max(float(abs(arb(Fc[i][j]) - float(F[i, j])).upper())
+                       for i in range(3) for j in range(3))
+            errR = max(float(abs(arb(Rc[i][j]) - float(R[i, j])).upper())
+                       for i in range(3) for j in range(3))
+        if warned:
+            n_warned += 1
+            assert warned[0].message.estimate > FRAME_RTOL
+        else:
+            n_quiet += 1
+            assert errF <= FRAME_RTOL and errR <= FRAME_RTOL
+    assert n_warned > 5 and n_quiet > 5
