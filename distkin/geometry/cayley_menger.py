@@ -36,15 +36,17 @@ batched over leading axes), ``mpmath.mpf``, ``flint.fmpq``, ``flint.arb``, or
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from fractions import Fraction
 
 import numpy as np
 
 from ..errors import InputError
-from ..exact import check_method, parse_exact
+from ..exact import check_method, default_dps, parse_exact
 from .cm_float import (CancellationWarning, FloatRangeWarning, _bordered, _bordered_array,
-                       _float_mismatch, _refuse, _symmetric_array, float_determinant)
+                       _float_mismatch, _refuse, _refuse_range, _symmetric_array,
+                       float_determinant)
 
 __all__ = [
     "FloatRangeWarning",
@@ -68,7 +70,29 @@ def _exact_strings(arr, field):
     return out
 
 
-def _kind_of(values, what: str = "squared distances") -> str:
+def _float_entry(v, i, j):
+    """s(i, j) = ``v`` (a float, int, Fraction or fmpq) as a float64: a value beyond the
+    float64 range (``10**400``) is an :class:`InputError` naming the entry (as
+    :func:`distkin.exact.parse_float` words it), not Python's OverflowError."""
+    try:
+        x = float(v)
+    except OverflowError:
+        x = math.inf
+    if math.isinf(x) and not isinstance(v, (float, np.floating)):
+        _refuse_range(i, j, v)
+    return x
+
+
+def _float_matrix(arr):
+    """The object array ``arr`` (n, n) of floats and exact numbers as float64 (entries
+    beyond the float64 range refused by :func:`_float_entry`)."""
+    out = np.empty(arr.shape)
+    for (a, b), v in np.ndenumerate(arr):
+        out[a, b] = _float_entry(v, a + 1, b + 1)
+    return out
+
+
+def _kind_of(values, what: str = "squared distances", field: str = "sq") -> str:
     kinds = set()
     for v in values:
         t = type(v)
@@ -83,13 +107,13 @@ def _kind_of(values, what: str = "squared distances") -> str:
         elif name == "mpf" or mod.startswith("mpmath"):
             kinds.add("mpf")
         elif isinstance(v, (bool, np.bool_)):
-            raise InputError(f"expected {what} as numbers, got {v!r}")
+            raise InputError(f"expected {what} as numbers, got the boolean {v!r}", field=field)
         elif isinstance(v, (int, Fraction, np.integer)):
             kinds.add("exact")
         elif isinstance(v, (float, np.floating)):
             kinds.add("float")
         else:
-            raise InputError(f"expected {what} as numbers, got {name} {v!r}")
+            raise InputError(f"expected {what} as numbers, got {name} {v!r}", field=field)
     for k in ("sympy", "arb", "mpf", "fmpq", "float", "exact"):
         if k in kinds:
             if k == "fmpq" and "float" in kinds:
@@ -132,7 +156,7 @@ def _accessor(sq):
 
         kind = _kind_of(table.values())
         if kind == "float":                # floats mixed with exact values: all floats
-            table = {k: float(v) for k, v in table.items()}
+            table = {k: _float_entry(v, *k) for k, v in table.items()}
         return s, None, kind
     mod = type(sq).__module__ or ""
     if mod.startswith("sympy"):
@@ -158,7 +182,7 @@ def _accessor(sq):
                          field="sq")
     kind = _kind_of(arr.ravel().tolist())
     if kind == "float":
-        arr = arr.astype(float)
+        arr = _float_matrix(arr)
         return (lambda i, j: arr[i - 1, j - 1]), arr.shape[-1], "float"
     return (lambda i, j: arr[i - 1, j - 1]), arr.shape[0], kind
 
@@ -229,15 +253,22 @@ def cayley_menger(sq, rows, cols=None, *, method: str | None = None, dps: int | 
         batched), with a relative error estimate from Hadamard's inequality
         (:mod:`.cm_float`): above 1e-6 a :class:`~.cm_float.CancellationWarning` says
         the value lost most of its digits (a nearly flat simplex, or a determinant that
-        is 0 exactly, like five points in 3-D).  ``"precise"``: ``mpmath.mpf`` at
-        ``dps`` digits (default 30).  ``"certified"``: exact ``flint.fmpq`` when every
+        is 0 exactly, like five points in 3-D); an exact entry beyond the float64 range
+        is an InputError.  ``"precise"``: ``mpmath.mpf`` at ``dps`` digits (default 30):
+        when every entry is rational (ints, Fractions, fmpq, numeric strings, floats and
+        mpf at their binary values) the exact determinant correctly rounded, so 0 only
+        when it is 0; otherwise (irrational sympy numbers, arb midpoints) LU at ``dps``
+        + 20 digits, with a CancellationWarning where the error estimate exceeds
+        :math:`10^{-dps}` (the value may have fewer than ``dps`` right digits, or be 0).
+        ``"certified"``: exact ``flint.fmpq`` when every
         entry is rational (ints, Fractions, numeric strings, and floats taken at their
         exact binary value: the determinant of exactly those numbers), else an
         ``flint.arb`` ball (irrational sympy numbers, arb input) with a certified
         radius.  Precise and certified evaluate a batch one matrix at a time (an
         object array of the batch shape).
     dps : int, optional
-        Decimal digits of the precise tier (5..1233).
+        Decimal digits of the precise tier (5..1233); only with ``method="precise"``
+        (another tier would ignore it: InputError).
 
     Returns
     -------
@@ -248,8 +279,9 @@ def cayley_menger(sq, rows, cols=None, *, method: str | None = None, dps: int | 
     Raises
     ------
     InputError
-        Bad labels, a non-square array, entries that are not numbers, or a squared
-        distance that is NaN, infinite or negative.
+        Bad labels, a non-square array, entries that are not numbers, a squared
+        distance that is NaN, infinite or negative (in every tier), one beyond the
+        float64 range where float64 is asked for, or ``dps`` without ``"precise"``.
 
     Examples
     --------
@@ -260,6 +292,8 @@ def cayley_menger(sq, rows, cols=None, *, method: str | None = None, dps: int | 
     """
     if method is not None:
         check_method(method)
+    if dps is not None:
+        _check_dps(dps, method)
     if isinstance(sq, np.ndarray) and sq.ndim > 2 and sq.dtype.kind in "iuOU":
         out = np.empty(sq.shape[:-2], dtype=object)  # batched exact: each matrix exactly
         for idx in np.ndindex(*sq.shape[:-2]):
@@ -291,7 +325,7 @@ def cayley_menger(sq, rows, cols=None, *, method: str | None = None, dps: int | 
         entries.append([1] + [0 if i == j else _checked(s(i, j), i, j, kind) for j in cols])
     if method is not None:
         from .cm_tiers import tier_determinant
-        return tier_determinant(entries, k, method, dps, label)
+        return tier_determinant(entries, k, method, dps, label, rows, cols)
     if kind == "sympy":
         import sympy
         return sympy.expand(sympy.Matrix(entries).det(method="berkowitz"))
@@ -307,6 +341,18 @@ def cayley_menger(sq, rows, cols=None, *, method: str | None = None, dps: int | 
     if kind == "exact":
         return Fraction(int(det.p), int(det.q))
     return det
+
+
+def _check_dps(dps, method):
+    """``dps`` only with method "precise" (the tier that reads it; ignored otherwise, so
+    refused as by the other entry points), an integer 5..1233."""
+    try:
+        default_dps(dps)
+    except InputError as exc:
+        raise InputError(exc.message, field="dps") from None
+    if method != "precise":
+        raise InputError(f"expected 'dps' only with method 'precise' (the mpmath digits), "
+                         f"got method {method!r}", field="dps", hint="method='precise' with dps")
 
 
 def _check_ragged(points):
@@ -364,6 +410,14 @@ def _check_symmetric(s, labels, kind):
                                  f"{_show(s(j, i))}{where}", field="sq")
 
 
+def _show_big(v):
+    """A number beyond float64 for a message (8 significant digits)."""
+    import mpmath
+    from ..exact import to_tier
+    with mpmath.workdps(15):
+        return mpmath.nstr(to_tier(v, "precise"), 8)
+
+
 def _show(v):
     if isinstance(v, np.ndarray) and v.ndim:
         return "an array"
@@ -377,6 +431,8 @@ def _show(v):
 def _checked(v, i, j, kind):
     """``v`` = s(i, j) if it is a squared distance: finite and not negative (an arb ball
     or a sympy expression only when certainly negative; symbols pass)."""
+    if isinstance(v, np.ndarray) and v.ndim == 0:
+        v = v[()]                          # a float array's entry: a numpy scalar
     tname = type(v).__name__
     if (type(v).__module__ or "").startswith("sympy"):
         import sympy
@@ -389,6 +445,8 @@ def _checked(v, i, j, kind):
         import mpmath
         if not mpmath.isfinite(v) or v < 0:
             _refuse(i, j, v)
+    elif isinstance(v, (float, np.floating)) and not (math.isfinite(v) and v >= 0):
+        _refuse(i, j, float(v))            # NaN and inf too: mpmath would carry them on
     elif v < 0:
         _refuse(i, j, v)
     return v
@@ -418,7 +476,8 @@ def squared_distances(points):
 
     Returns
     -------
-    numpy.ndarray (..., n, n) for float input; a sympy Matrix for sympy input;
+    numpy.ndarray (..., n, n) for float input (a squared distance beyond the float64
+    range is an InputError, never inf); a sympy Matrix for sympy input;
     an (..., n, n) object array otherwise (entries of the coordinates' type, Fractions
     for integers; batched exactly, one point set at a time).
     """
@@ -431,14 +490,32 @@ def squared_distances(points):
     if arr.dtype != object and np.issubdtype(arr.dtype, np.floating):
         if not np.all(np.isfinite(arr)):
             raise InputError("expected finite coordinates, got NaN or inf", field="points")
-        diff = arr[..., :, None, :] - arr[..., None, :, :]
-        return np.einsum("...k,...k->...", diff, diff)
+        with np.errstate(over="ignore", invalid="ignore"):
+            diff = arr[..., :, None, :] - arr[..., None, :, :]
+            out = np.einsum("...k,...k->...", diff, diff)
+        if not np.all(np.isfinite(out)):
+            bad = tuple(int(x) for x in np.argwhere(~np.isfinite(out))[0])
+            pair = f"s({bad[-2] + 1},{bad[-1] + 1})"
+            raise InputError(f"expected points whose squared distances are within the "
+                             f"float64 range (|x| < 1.8e308), got {pair} beyond it"
+                             + (f" (batch index {bad[:-2]})" if bad[:-2] else ""),
+                             field="points", hint="exact coordinates (ints, Fractions, "
+                             "numeric strings) give exact squared distances")
+        return out
     if arr.dtype.kind in "OU":
         arr = _exact_strings(arr, "points")
     flat = arr.ravel().tolist()
-    kind = _kind_of(flat, "coordinates")
+    kind = _kind_of(flat, "coordinates", "points")
     if kind == "float":
-        return squared_distances(arr.astype(float))
+        out = np.empty(arr.shape)
+        for idx, v in np.ndenumerate(arr):
+            try:
+                out[idx] = float(v)
+            except OverflowError:
+                raise InputError(f"expected coordinates within the float64 range (|x| < "
+                                 f"1.8e308) among float ones, got {_show_big(v)}",
+                                 field="points" + "".join(f"[{i}]" for i in idx)) from None
+        return squared_distances(out)
     if kind in ("mpf", "arb"):             # exact entries (ints, fmpq) are finite
         import mpmath
         for v in flat:

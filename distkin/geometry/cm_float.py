@@ -242,3 +242,13 @@ def _refuse(i, j, value):
                      f"s({i},{j}) = {value}", field="sq")
 
 
+def _refuse_range(i, j, value):
+    """s(i, j) = ``value`` beyond the float64 range, asked for in float64 (the fast
+    tier): an :class:`InputError` worded as :func:`distkin.exact.parse_float`'s."""
+    import mpmath
+    from ..exact import to_tier
+    with mpmath.workdps(15):
+        shown = mpmath.nstr(to_tier(value, "precise"), 8)
+    raise InputError(f"expected squared distances within the float64 range (|x| < 1.8e308) "
+                     f"for the fast tier, got s({i},{j}) = {shown}", field="sq",
+                     hint="method='precise' or method='certified' take it")

@@ -28,7 +28,7 @@ import numpy as np
 from ..errors import DegenerateGeometryError, InputError, UncertifiedError
 from ..exact import check_method
 
-__all__ = ["triangle_frame", "pose_from_points", "points_from_pose", "frame_fit"]
+__all__ = ["triangle_frame", "pose_from_points", "points_from_pose", "frame_fit", "FRAME_RTOL"]
 
 
 def _sqrt(x, method):
@@ -69,6 +69,19 @@ def _tier_rows(points, method, what, noun="points"):
 _NATIVE = {"precise": ("mpf",), "certified": ("arb", "fmpq")}
 
 
+def _fast_points(points, what):
+    """Points (..., 3, 3) as float64, checked as in the other tiers
+    (:func:`.trilateration._fast_floats`): numeric strings parsed exactly then rounded
+    once, booleans, complex numbers, ragged lists, other shapes and values beyond the
+    float64 range refused with an :class:`InputError` naming ``what``."""
+    from .trilateration import _fast_floats
+    P = _fast_floats(points, what, "points of shape (..., 3, 3)", 3)
+    if P.shape[-2:] != (3, 3):
+        raise InputError(f"expected points of shape (..., 3, 3), got shape {P.shape}",
+                         field=what)
+    return P
+
+
 def _check_nonzero(n2, scale, method, what):
     if method == "fast":
         if np.any(n2 <= 1e-24 * scale):
@@ -89,12 +102,13 @@ def _check_nonzero(n2, scale, method, what):
 
 
 def triangle_frame(points, *, method: str = "fast", what: str = "points"):
-    """Orthonormal right-handed frame of a triangle.
+    r"""Orthonormal right-handed frame of a triangle.
 
     Parameters
     ----------
     points : array_like (..., 3, 3) or 3 rows of 3 scalars
-        Rows :math:`a_1, a_2, a_3` in any length unit.
+        Rows :math:`a_1, a_2, a_3` in any length unit: numbers of any tier or numeric
+        strings, parsed exactly in every tier (rounded once for ``fast``).
 
     Returns
     -------
@@ -103,35 +117,77 @@ def triangle_frame(points, *, method: str = "fast", what: str = "points"):
 
     Raises
     ------
+    InputError
+        Another shape (a ragged list names its row), booleans, complex numbers,
+        non-numbers, NaN or inf, values beyond the float64 range in ``fast``.
     DegenerateGeometryError
         Collinear or coincident points.
+
+    Warns
+    -----
+    ConditioningWarning
+        Fast tier, once per call: a nearly collinear triangle whose frame's error
+        estimate :math:`4\varepsilon/\sin\theta` (:math:`\theta` its angle at
+        :math:`a_1`) exceeds :data:`FRAME_RTOL` (1e-6); without it the frame's entries
+        are within that of the exact frame of the float64 input.
     """
     check_method(method)
     if method == "fast":
-        P = np.asarray(points, dtype=float)
-        if P.shape[-2:] != (3, 3):
-            raise InputError(f"expected points of shape (..., 3, 3), got {P.shape}", field=what)
-        d1 = P[..., 1, :] - P[..., 0, :]
-        d2 = P[..., 2, :] - P[..., 0, :]
-        # in units of 2^e, the power of two just above the largest coordinate difference
-        # (exact): the frame is scale-free, and a triangle of size 1e-100 or 1e150 must
-        # not look flat through an underflow or an overflow of |n|^2
-        big = np.maximum(np.max(np.abs(d1), axis=-1), np.max(np.abs(d2), axis=-1))
-        if not np.all(np.isfinite(big)):
-            raise InputError("expected finite points (and differences within the float64 "
-                             "range), got NaN or inf", field=what)
-        e = np.frexp(np.where(big > 0, big, 1.0))[1][..., None]
-        d1, d2 = np.ldexp(d1, -e), np.ldexp(d2, -e)
-        n = np.cross(d1, d2)
-        n2 = np.einsum("...k,...k->...", n, n)
-        l1 = np.einsum("...k,...k->...", d1, d1)
-        l2 = np.einsum("...k,...k->...", d2, d2)
-        _check_nonzero(n2, l1 * l2, method, what)
-        e1 = d1 / np.sqrt(l1)[..., None]
-        e3 = n / np.sqrt(n2)[..., None]
-        e2 = np.cross(e3, e1)
-        return np.stack([e1, e2, e3], axis=-1)
+        F, rho = _frame_fast(_fast_points(points, what), what)
+        _warn_frame(rho, what)
+        return F
     return _frame(_tier_rows(points, method, what), method, what)
+
+
+#: the accuracy the fast tier's frame (and pose) vouches for: an error estimate above it
+#: (a nearly collinear triangle) warns
+FRAME_RTOL = 1e-6
+_EPS = float(np.finfo(float).eps)
+
+
+def _frame_fast(P, what):
+    r"""The fast tier's frames of triangles ``P`` (..., 3, 3) and the error estimate
+    of their entries (:math:`4\varepsilon/\sin\theta`, :math:`\theta` the angle at
+    :math:`a_1`: the normal of a nearly collinear triangle is the difference of nearly
+    equal products)."""
+    d1 = P[..., 1, :] - P[..., 0, :]
+    d2 = P[..., 2, :] - P[..., 0, :]
+    # in units of 2^e, the power of two just above the largest coordinate difference
+    # (exact): the frame is scale-free, and a triangle of size 1e-100 or 1e150 must
+    # not look flat through an underflow or an overflow of |n|^2
+    big = np.maximum(np.max(np.abs(d1), axis=-1), np.max(np.abs(d2), axis=-1))
+    if not np.all(np.isfinite(big)):
+        raise InputError("expected finite points (and differences within the float64 "
+                         "range), got NaN or inf", field=what)
+    e = np.frexp(np.where(big > 0, big, 1.0))[1][..., None]
+    d1, d2 = np.ldexp(d1, -e), np.ldexp(d2, -e)
+    n = np.cross(d1, d2)
+    n2 = np.einsum("...k,...k->...", n, n)
+    l1 = np.einsum("...k,...k->...", d1, d1)
+    l2 = np.einsum("...k,...k->...", d2, d2)
+    _check_nonzero(n2, l1 * l2, "fast", what)
+    e1 = d1 / np.sqrt(l1)[..., None]
+    e3 = n / np.sqrt(n2)[..., None]
+    e2 = np.cross(e3, e1)
+    # e3's direction is off by about 4 eps |d1||d2| / |n| = 4 eps / sin(angle at a1)
+    rho = 4 * _EPS * np.sqrt(l1 * l2 / n2)
+    return np.stack([e1, e2, e3], axis=-1), rho
+
+
+def _warn_frame(rho, what):
+    """One ConditioningWarning where the frame error estimate ``rho`` exceeds
+    :data:`FRAME_RTOL` (the worst of a batch)."""
+    if not np.any(rho > FRAME_RTOL):
+        return
+    import warnings
+    from ..errors import ConditioningWarning
+    worst = float(np.max(rho))
+    w = ConditioningWarning(
+        f"{what}: the fast tier's frame of a nearly collinear triangle may be off by "
+        f"{worst:.2g} (error estimate 4 eps / sin of its angle at the first point, above "
+        f"{FRAME_RTOL:g}); use method='precise' or method='certified'")
+    w.estimate = worst
+    warnings.warn(w, stacklevel=3)
 
 
 def _frame(rows, method, what):
@@ -181,9 +237,16 @@ def pose_from_points(local, world, *, method: str = "fast", rtol: float | None =
     Raises
     ------
     InputError
-        Triangles that are not congruent within ``rtol`` (QA T 7), malformed input.
+        Triangles that are not congruent within ``rtol`` (QA T 7), malformed input (as
+        :func:`triangle_frame`; numeric strings are parsed exactly in every tier).
     DegenerateGeometryError
         Collinear or coincident points.
+
+    Warns
+    -----
+    ConditioningWarning
+        Fast tier, once per call: a frame of either triangle cannot be vouched for to
+        :data:`FRAME_RTOL` (as :func:`triangle_frame`).
 
     Examples
     --------
@@ -195,10 +258,10 @@ def pose_from_points(local, world, *, method: str = "fast", rtol: float | None =
     """
     check_method(method)
     if method == "fast":
-        q = np.asarray(local, dtype=float)
-        p = np.asarray(world, dtype=float)
-        Fq = triangle_frame(q, method=method, what="platform")
-        Fp = triangle_frame(p, method=method, what="points")
+        q = _fast_points(local, "platform")
+        p = _fast_points(world, "points")
+        (Fq, rq), (Fp, rp) = _frame_fast(q, "platform"), _frame_fast(p, "points")
+        _warn_frame(np.maximum(np.max(rq), np.max(rp)), "platform and points")
         _congruent_fast(q, p, 1e-9 if rtol is None else _tolerance(rtol))
         R = Fp @ np.swapaxes(Fq, -1, -2)
         t = p.mean(axis=-2) - np.einsum("...ij,...j->...i", R, q.mean(axis=-2))
@@ -360,9 +423,9 @@ def points_from_pose(R, t, local, *, method: str = "fast", dps: int | None = Non
     atol = _tolerance(atol, "atol")
     if method == "fast":
         from .trilateration import _fast_floats
-        R = _fast_floats(R, "R", "a rotation matrix of shape (..., 3, 3)")
-        t = _fast_floats(t, "t", "a translation of shape (..., 3)")
-        q = _fast_floats(local, "local", "platform-frame points of shape (k, 3)")
+        R = _fast_floats(R, "R", "a rotation matrix of shape (..., 3, 3)", 3)
+        t = _fast_floats(t, "t", "a translation of shape (..., 3)", 3)
+        q = _fast_floats(local, "local", "platform-frame points of shape (k, 3)", 3)
         for name, arr, want, ok in (("R", R, "(..., 3, 3)", R.shape[-2:] == (3, 3)),
                                     ("t", t, "(..., 3)", t.shape[-1:] == (3,)),
                                     ("local", q, "(k, 3)", q.ndim == 2 and q.shape[1] == 3)):

@@ -24,10 +24,28 @@ in the fast tier.  The fast tier works in units of :math:`2^e`, the power of two
 above the reference triangle's largest coordinate difference (an exact scaling: the
 same bits as unscaled, where that neither under- nor overflows), so a triangle of size
 1e-100 or 1e150 is not flattened by an underflow of :math:`G` nor lost to an overflow.
+
+The fast tier also estimates its error to first order
+(:func:`.trilat_error.fast_error`): the Gram solve loses digits like
+:math:`1/\sin^2\theta` on a nearly collinear base (:math:`\theta` its angle at
+:math:`P_a`), and the height of a point near the base's plane is known to
+:math:`\sqrt\delta` only, :math:`\delta` the error of :math:`h^2`.  Where the estimate
+exceeds :data:`~.trilat_error.TRILATERATION_RTOL` (1e-6) of the problem's length scale
+:math:`\Lambda = \sqrt{|s_a|+|s_b|+|s_c|+|v_2|^2+|v_3|^2}` it warns, once per call
+(:class:`~distkin.errors.ConditioningWarning`; an unwarned answer is within that of the
+exact trilateration of its float64 inputs, by the estimate); the estimate is
+``TrilaterationParts.error``.  It refuses (:class:`InfeasibleError`) only an :math:`h^2`
+negative beyond its error estimate; within it the sign cannot be told and :math:`h^2` is
+clamped to 0 (the point in the plane, covered by the same warning).  The precise tier
+does the same in mpmath at its ``dps``, warning above
+:func:`~.trilat_error.precise_rtol` (:math:`10^{2-dps/2}`, 1e-13 at 30 digits); the
+library's own solvers (:func:`parts_at_working_digits`) keep their tolerance and no
+warning.
 """
 
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 
 import numpy as np
@@ -35,8 +53,11 @@ import numpy as np
 from ..argcheck import as_floats, no_booleans, positive_number
 from ..errors import DegenerateGeometryError, InfeasibleError, InputError, UncertifiedError
 from ..exact import Exact, check_method, default_dps, parse_exact, parse_float, to_tier
+from .trilat_error import (TRILATERATION_RTOL, fast_error, point_error, precise_rtol,
+                           warn_accuracy)
 
-__all__ = ["trilaterate", "trilaterate_both", "TrilaterationParts", "trilateration_parts"]
+__all__ = ["trilaterate", "trilaterate_both", "TrilaterationParts", "trilateration_parts",
+           "TRILATERATION_RTOL"]
 
 _EPS = np.finfo(float).eps
 
@@ -51,11 +72,15 @@ class TrilaterationParts:
     :math:`4^e` in length units, which float64 may not hold.
     """
 
-    __slots__ = ("foot", "normal", "G", "h2", "method", "exponent")
+    __slots__ = ("foot", "normal", "G", "h2", "method", "exponent", "error")
 
-    def __init__(self, foot, normal, G, h2, method, exponent=0):
+    def __init__(self, foot, normal, G, h2, method, exponent=0, error=None):
         self.foot, self.normal, self.G, self.h2, self.method = foot, normal, G, h2, method
         self.exponent = exponent
+        #: fast and precise tiers: the first-order error estimate of the point (length
+        #: units; an array when batched), :func:`.trilat_error.fast_error`; None in the
+        #: certified tier and in the library's own solvers
+        self.error = error
 
     def point(self, side):
         """The point on ``side`` (+1 or -1, or an array of them when batched)."""
@@ -75,19 +100,26 @@ class TrilaterationParts:
         return [flint.arb(f) + scale * c for f, c in zip(self.foot, self.normal)]
 
 
-def _fast_floats(value, field, expected):
+def _fast_floats(value, field, expected, width=None):
     """A float64 array of ``value``: numbers, or numeric strings parsed exactly and
-    rounded once (:func:`distkin.exact.parse_float`) as in the other tiers; booleans and
-    other things are an :class:`InputError` naming the element."""
+    rounded once (:func:`distkin.exact.parse_float`) as in the other tiers; booleans,
+    complex numbers, numbers beyond the float64 range and other things are an
+    :class:`InputError` naming the element; with ``width``, a ragged list names its
+    first row that has not ``width`` entries."""
     no_booleans(value, field)
     try:
         arr = np.asarray(value)
     except ValueError:                              # ragged
         arr = None
+        if width is not None:
+            _ragged_rows(value, field, expected, width)
     if arr is not None and arr.dtype.kind in "iuf":
         return arr.astype(float)
     if arr is None or arr.dtype.kind not in "OUSb" or any(
             isinstance(v, (list, tuple, np.ndarray)) for v in arr.flat):
+        if arr is not None and arr.dtype.kind == "c":
+            raise InputError(f"expected {expected} (real), got complex values "
+                             f"{_show(value)}", field=field)
         raise InputError(f"expected {expected}, got {_show(value)}", field=field)
     out = np.empty(arr.shape)
     for idx, v in np.ndenumerate(arr):
@@ -99,8 +131,34 @@ def _fast_floats(value, field, expected):
         elif v is None:
             raise InputError("expected a number, got None", field=name)
         else:
-            out[idx] = as_floats(v, name, "a number")
+            try:
+                x = as_floats(v, name, "a number")
+            except OverflowError:                   # an int or Fraction beyond float64
+                x = np.inf
+            if np.isinf(x) and not isinstance(v, (float, np.floating)):
+                from .cayley_menger import _show_big
+                raise InputError(f"expected a number within the float64 range (|x| < "
+                                 f"1.8e308), got {_show_big(v)}", field=name)
+            out[idx] = x
     return out
+
+
+def _ragged_rows(value, field, expected, width):
+    """Raise an :class:`InputError` naming the first row (a list of scalars) of the
+    nested list ``value`` that has not ``width`` entries (numpy's inhomogeneous-shape
+    ValueError does not say which)."""
+    if isinstance(value, (str, bytes)) or not isinstance(value, (list, tuple, np.ndarray)):
+        return
+    if not any(isinstance(v, (list, tuple, np.ndarray)) for v in value):
+        if len(value) != width:
+            raise InputError(f"expected {expected}, got a row of {len(value)} "
+                             f"{'entry' if len(value) == 1 else 'entries'}", field=field)
+        return
+    for i, v in enumerate(value):
+        if not isinstance(v, (list, tuple, np.ndarray)):
+            raise InputError(f"expected {expected}, got the scalar {_show(v)} among rows",
+                             field=f"{field}[{i}]")
+        _ragged_rows(v, f"{field}[{i}]", expected, width)
 
 
 def _three_rows(points, what: str, field: str) -> list:
@@ -145,7 +203,7 @@ def _tier_scalar(x, method, field):
 def _components(points, method):
     """Split (…, 3, 3) points into 9 scalars (or arrays) of the tier."""
     if method == "fast":
-        P = _fast_floats(points, "points", "reference points of shape (..., 3, 3)")
+        P = _fast_floats(points, "points", "reference points of shape (..., 3, 3)", 3)
         if P.shape[-2:] != (3, 3):
             raise InputError(f"expected reference points of shape (..., 3, 3), got {P.shape}",
                              field="points")
@@ -160,7 +218,7 @@ def _components(points, method):
 def _squared(sq, method):
     """The three squared distances (fast: an array (..., 3)) in the tier's number type."""
     if method == "fast":
-        S = _fast_floats(sq, "sq", "squared distances of shape (..., 3)")
+        S = _fast_floats(sq, "sq", "squared distances of shape (..., 3)", 3)
         if S.shape[-1:] != (3,):
             raise InputError(f"expected 3 squared distances per point, got shape {S.shape}",
                              field="sq")
@@ -225,7 +283,10 @@ def trilateration_parts(points, sq, *, method: str = "fast", dps: int | None = N
     method : {"fast", "precise", "certified"}
     tol : float, optional
         Relative tolerance of the fast and precise tiers (default: 64 eps for
-        ``fast``, 10^(8 - dps) for ``precise``).  The certified tier is exact on
+        ``fast``, 10^(8 - dps) for ``precise``): collinear when :math:`G \le`
+        tol :math:`|v_2|^2|v_3|^2`, infeasible when :math:`h^2 <` -tol
+        :math:`(|s_a| + |v_2|^2 + |v_3|^2)`; in the fast tier only when :math:`h^2`
+        is also below minus its error estimate.  The certified tier is exact on
         rational data and decides with balls otherwise.
 
     Raises
@@ -236,12 +297,21 @@ def trilateration_parts(points, sq, *, method: str = "fast", dps: int | None = N
     DegenerateGeometryError
         Collinear or coincident reference points.
     InfeasibleError
-        :math:`h^2 < 0` beyond the tolerance; ``margin`` is :math:`h^2`.  A negative
+        :math:`h^2 < 0` beyond the tolerance (fast: and beyond the error estimate of
+        :math:`h^2`, else clamped to 0); ``margin`` is :math:`h^2`.  A negative
         squared distance is one such case here (:math:`h^2 \le s < 0`): the octahedral
         solver passes a root :math:`s_{15}` that may be negative and rejects it so;
         :func:`trilaterate` refuses it as an :class:`InputError`.
     UncertifiedError
         Certified tier on irrational data whose balls cannot decide the sign.
+
+    Warns
+    -----
+    ConditioningWarning
+        Fast tier: the error estimate (``.error`` of the result, length units) exceeds
+        :data:`~.trilat_error.TRILATERATION_RTOL` times the length scale (see the module
+        docstring): a nearly collinear base, or a point near the base's plane.  Precise
+        tier: the same above :func:`~.trilat_error.precise_rtol` of ``dps``.
     """
     return _solve(points, sq, _NO_SIDE, method, dps, tol)[0]
 
@@ -281,7 +351,7 @@ def _solve(points, sq, side, method, dps, tol, *, nonnegative=False, working=Fal
                 _broadcast("side", np.shape(side), batch)
         if nonnegative:
             _check_nonnegative(S, method)
-        return _parts(P, S, method, dps, tol), side
+        return _parts(P, S, method, dps, tol, estimate=not working), side
     finally:
         if method == "precise":
             ctx.__exit__(None, None, None)
@@ -306,7 +376,7 @@ def _fast_scaled(P, S):
     return a, u[..., 0, :], u[..., 1, :], s, e
 
 
-def _parts(P, S, method, dps, tol):
+def _parts(P, S, method, dps, tol, estimate=True):
     if method == "fast":
         a, u2, u3, s, e = _fast_scaled(P, S)
         sa, sb, sc = s[..., 0], s[..., 1], s[..., 2]
@@ -337,8 +407,28 @@ def _parts(P, S, method, dps, tol):
         foot = tuple(P[0][k] + off[k] for k in range(3))
     h2 = sa - (alpha * w2 + beta * w3)
     scale = _scale(sa, g22, g33, method)
-    h2 = _check_feasible(h2, scale, method, dps, tol, e)
-    return TrilaterationParts(foot, n, G, h2, method, e)
+    if method == "precise" and estimate:          # a user's call: as the fast tier
+        import mpmath
+        vals = (sa, sb, sc, g22, g33, g23, G, w2, w3, alpha, beta)
+        e_foot, e_h2 = fast_error(*vals, lib=mpmath, eps=mpmath.eps)
+        h2 = _check_feasible(h2, scale, method, dps, tol, e, e_h2)
+        err, rel = point_error(h2, e_foot, e_h2, vals, 0, foot, True, lib=mpmath,
+                               eps=mpmath.eps)
+        warn_accuracy(err, rel, precise_rtol(dps), "precise")
+        return TrilaterationParts(foot, n, G, h2, method, e, err)
+    if method != "fast":          # certified; precise inside the library's solvers
+        h2 = _check_feasible(h2, scale, method, dps, tol, e)
+        return TrilaterationParts(foot, n, G, h2, method, e)
+    vals = (sa, sb, sc, g22, g33, g23, G, w2, w3, alpha, beta)
+    one = np.ndim(G) == 0 and np.ndim(sa) == 0 and np.ndim(sb) == 0 and np.ndim(sc) == 0
+    # one problem: the estimate in Python floats (numpy's per-call cost on 0-d arrays
+    # dominated it); a batch: in numpy
+    est = ([float(x) for x in vals], math) if one else (vals, np)
+    e_foot, e_h2 = fast_error(*est[0], lib=est[1])
+    h2 = _check_feasible(h2, scale, method, dps, tol, e, e_h2)
+    err, rel = point_error(h2, e_foot, e_h2, est[0], e, foot, one)
+    warn_accuracy(err, rel)
+    return TrilaterationParts(foot, n, G, h2, method, e, err)
 
 
 def _scale(sa, g22, g33, method):
@@ -380,10 +470,13 @@ def _check_degenerate(G, g22, g33, method, dps, tol):
                                f"|n|^2 = {G.str(5, radius=True)}")
 
 
-def _check_feasible(h2, scale, method, dps, tol, e=0):
+def _check_feasible(h2, scale, method, dps, tol, e=0, e_h2=0.0):
     if method == "fast":
+        # infeasible only beyond the error estimate of h^2 (e_h2): within it the sign
+        # is not known, and h^2 is clamped to 0 (the point in the base's plane; the
+        # accuracy warning covers the height error sqrt(e_h2))
         t = 64 * _EPS if tol is None else tol
-        bad = h2 < -t * scale
+        bad = h2 < -np.maximum(t * scale, e_h2)
         if np.any(bad):
             k = np.unravel_index(np.argmin(h2), np.shape(h2)) if np.ndim(h2) else ()
             ek = int(np.broadcast_to(e, np.shape(h2))[k])
@@ -397,7 +490,7 @@ def _check_feasible(h2, scale, method, dps, tol, e=0):
     if method == "precise":
         import mpmath
         t = mpmath.mpf(10) ** (8 - dps) if tol is None else tol
-        if h2 < -t * scale:
+        if h2 < -max(t * scale, e_h2):
             raise InfeasibleError(f"expected distances that close (h^2 >= 0), got h^2 = "
                                   f"{mpmath.nstr(h2, 8)} (squared length units)",
                                   margin=float(h2), field="sq")
@@ -453,6 +546,15 @@ def trilaterate(points, sq, side=1, *, method: str = "fast", dps: int | None = N
     DegenerateGeometryError, InfeasibleError, UncertifiedError
         See :func:`trilateration_parts`.
 
+    Warns
+    -----
+    ConditioningWarning
+        Fast tier, once per call: an error estimate above
+        :data:`~.trilat_error.TRILATERATION_RTOL` of the problem's length scale
+        (:func:`trilateration_parts`); without it the point is within that of the exact
+        answer of the float64 inputs, by the estimate.  Precise tier: likewise at
+        :func:`~.trilat_error.precise_rtol` of ``dps``.
+
     Examples
     --------
     >>> import numpy as np
@@ -470,7 +572,8 @@ def trilaterate(points, sq, side=1, *, method: str = "fast", dps: int | None = N
 
 def trilaterate_both(points, sq, *, method: str = "fast", dps: int | None = None,
                      tol: float | None = None):
-    """Both mirror solutions ``(side=+1, side=-1)``; see :func:`trilaterate`."""
+    """Both mirror solutions ``(side=+1, side=-1)``; see :func:`trilaterate` (the same
+    checks, error estimate and warning: one per call for both)."""
     parts = _solve(points, sq, _NO_SIDE, method, dps, tol, nonnegative=True)[0]
     if method == "precise":
         import mpmath

@@ -292,7 +292,7 @@ def test_mixed_mapping_bool_labels_and_coordinate_messages():
     assert isinstance(got, float) and abs(got + heron16) < 1e-15
     with pytest.raises(InputError, match=r"1-based integer labels, got \(True, 2\)"):
         cayley_menger({(True, 2): 1, (1, 3): 1, (2, 3): 1}, (1, 2, 3))
-    with pytest.raises(InputError, match="expected coordinates as numbers, got True"):
+    with pytest.raises(InputError, match="expected coordinates as numbers, got the boolean True"):
         squared_distances([[True, 0, 0], [1, 0, 0]])
     for inf in (mpmath.inf, arb("inf")):
         with pytest.raises(InputError, match="finite coordinates"):
