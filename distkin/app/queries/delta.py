@@ -107,6 +107,7 @@ class _Params:
     dps: int | None
     transform: object
     mechanism: object
+    field: str = "query"         # "query[2]": the names in ``inputs_from_float``
 
 
 def _fmt_matrix(M):
@@ -152,7 +153,7 @@ class DeltaTransformQuery:
         # (None when not written: the library's default, 30 precise, 50 for auto's fallback)
         dps = dps_field(table, method, field, uses=("precise", "auto")) \
             if "dps" in table else None
-        return _Params(offs, m_legs, solve, method, dps, tr, mechanism)
+        return _Params(offs, m_legs, solve, method, dps, tr, mechanism, field)
 
     @staticmethod
     def run(p, scene, ctx):
@@ -266,10 +267,12 @@ def result_units(units) -> dict:
 
 
 def _flag_floats(legs, name, p, result, lines):
-    """Say which exact inputs were bare floats (docs/design.md §3), in the JSON and text."""
+    """Say which exact inputs were bare floats (docs/design.md §3), in the JSON and text,
+    by their full paths (``query[2].m_legs[0]``, ``mechanism.offsets[1]``), as errors
+    name them."""
     where = ("mechanism.offsets" if p.offsets is getattr(p.mechanism, "offsets", None)
-             else "offsets")
-    named = ([(f"{name}[{i}]", v) for i, v in enumerate(legs)]
+             else f"{p.field}.offsets")
+    named = ([(f"{p.field}.{name}[{i}]", v) for i, v in enumerate(legs)]
              + [(f"{where}[{i}]", v) for i, v in enumerate(p.offsets)]
              + [(f"mechanism.{k}[{i}][{j}]", v)
                 for k in ("base", "platform")
@@ -388,7 +391,7 @@ class Platform66Forward:
         # (None when not written: the library's default, 30 precise, 50 for auto's fallback)
         dps = dps_field(table, method, field, uses=("precise", "auto")) \
             if "dps" in table else None
-        return _Params(mechanism.offsets, legs, True, method, dps, tr, mechanism)
+        return _Params(mechanism.offsets, legs, True, method, dps, tr, mechanism, field)
 
     @staticmethod
     def run(p, scene, ctx):

@@ -54,6 +54,7 @@ class _Params:
     method: str
     dps: int | None
     tol: float | None
+    field: str = "query"         # "query[2]": the names in ``inputs_from_float``
 
 
 @register("forward_kinematics", mechanisms=("octahedral",),
@@ -78,7 +79,7 @@ class OctahedralForwardQuery:
         from ...octahedral.auto import PRECISE_DPS         # auto's precise fallback
         tol = tol_field(table, method, field, dps=dps,
                         precise_dps=dps if "dps" in table else PRECISE_DPS)
-        return _Params(legs, method, dps, tol)
+        return _Params(legs, method, dps, tol, field)
 
     @staticmethod
     def run(p, scene, ctx):
@@ -101,7 +102,7 @@ class OctahedralForwardQuery:
         if caught:
             res = replace(res, notes=res.notes + tuple(str(w.message) for w in caught))
         unit = "" if scene.units.length == "none" else scene.units.length
-        named = ([(f"legs[{i}]", v) for i, v in enumerate(p.legs)]
+        named = ([(f"{p.field}.legs[{i}]", v) for i, v in enumerate(p.legs)]
                  + [(f"mechanism.{k}[{i}][{j}]", v)
                     for k, rows in (("base", mech.base), ("platform", mech.platform))
                     for i, row in enumerate(rows) for j, v in enumerate(row)])
