@@ -144,6 +144,7 @@ def run_scene(scene, *, plots_dir=None, progress=True, store=None, workers=None,
     from .registry import RunContext
     from .report import jsonable
     from .scene import ANCHORS
+    from .units import SCENE_UNIT_KINDS, name_scene_units
     ctx = RunContext(plots_dir=Path(plots_dir) if plots_dir else None, progress=progress,
                      store=Path(store) if store else None, workers=workers,
                      scheduler=scheduler)
@@ -162,6 +163,8 @@ def run_scene(scene, *, plots_dir=None, progress=True, store=None, workers=None,
         except DistkinError as exc:
             if exc.field is None or not exc.field.startswith(ANCHORS):
                 exc.with_field(q.field)          # "legs[0]" -> "query[2].legs[0]"
+            if scene.mechanism.kind in SCENE_UNIT_KINDS:   # "length units" -> "mm"
+                name_scene_units(exc, scene.units)
             rec.update(status="error", result={},
                        error={"kind": exc.kind, "message": exc.one_line()})
             worst = max(worst, 2 if is_input_error(exc) else 1)

@@ -32,7 +32,7 @@ from typing import Any
 from ..argcheck import as_table, check_keys, exact_matrix, require
 from ..errors import DistkinError, InputError
 from ..exact import exact_to_float
-from .units import Units, parse_units
+from .units import SCENE_UNIT_KINDS, Units, name_scene_units, parse_units
 
 __all__ = [
     "Units",
@@ -172,8 +172,11 @@ def loads_scene(text: str, path: str = "<string>") -> Scene:
     if kind not in MECHANISM_PARSERS:
         raise InputError(f"expected one of {', '.join(map(repr, MECHANISM_PARSERS))}, "
                          f"got {kind!r}", field="mechanism.kind")
-    mechanism = MECHANISM_PARSERS[kind](mtable, units, "mechanism",
-                                        *((path,) if kind in _WITH_PATH else ()))
+    try:
+        mechanism = MECHANISM_PARSERS[kind](mtable, units, "mechanism",
+                                            *((path,) if kind in _WITH_PATH else ()))
+    except DistkinError as exc:         # the geometry is read in the scene's unit
+        raise name_scene_units(exc, units)
     qlist = data.get("query", [])
     if isinstance(qlist, dict):                    # [query] written for [[query]]
         raise InputError("expected [[query]] tables (an array, double brackets), got one "
@@ -191,6 +194,8 @@ def loads_scene(text: str, path: str = "<string>") -> Scene:
         except DistkinError as exc:
             if exc.field is None or not exc.field.startswith(ANCHORS):
                 exc.with_field(fld)              # "dps" -> "query[0].dps"
+            if kind in SCENE_UNIT_KINDS:
+                name_scene_units(exc, units)
             raise
         parsed.append(Query(i, qtype, params, MappingProxyType(dict(q))))
     return Scene(str(path), units, mechanism, MappingProxyType(dict(mtable)), tuple(parsed))

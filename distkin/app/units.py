@@ -16,7 +16,7 @@ from ..errors import InputError
 from ..exact import parse_float
 
 __all__ = ["Units", "parse_units", "length_factor", "angle_factor", "length_value",
-           "angle_value", "DEG"]
+           "angle_value", "DEG", "SCENE_UNIT_KINDS", "name_scene_units"]
 
 #: radians per degree
 DEG = math.pi / 180.0
@@ -83,3 +83,33 @@ def length_value(value, units, field) -> float:
 def angle_value(value, units, field) -> float:
     """A scene angle (exact text or number) in radians (float)."""
     return parse_float(value, field) * angle_factor(units)
+
+
+#: mechanism kinds whose engine works in the scene's own length unit, as written (the
+#: geometry is solved exactly, not converted to SI); an error of theirs that says
+#: "length units" means that unit.  (The ``rss``/``legs`` queries work in SI; their
+#: mechanism tables are parsed in scene units, so their load-time errors are renamed too.)
+SCENE_UNIT_KINDS = ("octahedral", "platform66", "points")
+
+
+def name_scene_units(exc, units):
+    """Rename the library's generic "length units" in the error ``exc`` to the scene's
+    length unit (``"squared length units"`` -> ``mm^2``, ``"(length units)"`` and
+    ``"length units"`` -> ``mm``), in place; ``exc`` is returned.  The library has no
+    unit; a scene has one (its ``[units] length``, "m" when not written), which its
+    report prints elsewhere.  A unitless scene (``length = "none"``) keeps "length
+    units"."""
+    if units.length == "none":
+        return exc
+    u = units.length
+
+    def rename(text):
+        if not text:
+            return text
+        return (text.replace("squared length units", f"{u}^2")
+                .replace("(length units)", u).replace("length units", u))
+    message, hint = rename(exc.message), rename(exc.hint)
+    if (message, hint) != (exc.message, exc.hint):
+        exc.message, exc.hint = message, hint
+        exc.args = (exc.one_line(),)
+    return exc

@@ -45,8 +45,10 @@ def _run(text):
 
 def test_octahedral_legs_given_as_floats_are_named():
     res, text = _run(OCTA.format(legs="[19.8, 18, 18, 17, 14.9, 17.8]"))
-    assert res["inputs_from_float"] == ["legs[0]", "legs[4]", "legs[5]"]   # 18, 17: TOML ints
-    assert f"19.8 is {Decimal(19.8)}" in text and "legs[0], legs[4], legs[5]" in text
+    assert res["inputs_from_float"] == ["query[0].legs[0]", "query[0].legs[4]",
+                                        "query[0].legs[5]"]   # 18, 17: TOML ints
+    assert f"19.8 is {Decimal(19.8)}" in text
+    assert "query[0].legs[0], query[0].legs[4], query[0].legs[5]" in text
     # [1] Sec. VI: six real roots, which the binary values keep
     assert res["real_roots"]["count"] == 6 and len(res["poses"]) == 12
     res, text = _run(OCTA.format(legs='["19.8", "18", "18", "17", "14.9", "17.8"]'))
@@ -89,3 +91,44 @@ def test_scene_units_keep_exact_coordinates_exact():
     assert wa == wb == 0
     assert a[0]["result"]["real_roots"]["values"] == b[0]["result"]["real_roots"]["values"]
     assert a[0]["result"]["unit"]["s15"] == "mm^2"
+
+
+def test_float_inputs_are_named_by_their_full_paths_in_every_query():
+    """QA: the octahedral and Δ queries named bare-float inputs ``legs[0]`` while
+    ``cayley_menger`` and the errors name ``mechanism.points[3][2]``, ``query[2].legs[0]``;
+    a scene with several queries must say which one.  Reference: the scene's own input,
+    the entries written as bare floats (TOML ints and strings are exact)."""
+    exact = '["19.8", "18", "18", "17", "14.9", "17.8"]'
+    bare = '["19.8", 18.0, "18", 17.0, "14.9", "17.8"]'     # legs[1], legs[3] bare floats
+    floats = [1, 3]
+    text = (OCTA.format(legs=exact) + '\n[[query]]\ntype = "forward_kinematics"\n'
+            f'legs = {bare}\nmethod = "certified"\n')
+    records, texts, worst = run_scene(loads_scene(text), progress=False)
+    assert worst == 0, records
+    assert records[0]["result"]["inputs_from_float"] == []
+    want = [f"query[1].legs[{i}]" for i in floats]
+    assert records[1]["result"]["inputs_from_float"] == want
+    assert ", ".join(want) in texts[1]
+    # the same six roots as the exact legs: 18.0 and 17.0 are exact binary values
+    assert records[1]["result"]["real_roots"]["values"] == \
+        records[0]["result"]["real_roots"]["values"]
+
+
+def test_delta_transform_float_inputs_carry_the_query_index():
+    """The Δ-transform's own offsets and m-legs, written as bare floats, are named
+    ``query[1].offsets[i]`` and ``query[1].m_legs[i]``; the platform66 forward
+    kinematics' legs ``query[0].legs[i]``.  Reference: the scene's own input."""
+    head = ('[mechanism]\nkind = "platform66"\nbase = [[0, 0, 0], [6, "sqrt(108)", 0], '
+            '[12, 0, 0]]\nplatform = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]]\n'
+            'offsets = ["12/5", "6/5", "12/5", "6/5", "12/5", "6/5"]\n')
+    q0 = ('[[query]]\ntype = "forward_kinematics"\nlegs = [19.5, "18", "18", "17", "15", '
+          '"18"]\nmethod = "precise"\n')
+    q1 = ('[[query]]\ntype = "delta_transform"\noffsets = [2.4, "6/5", "12/5", "6/5", '
+          '"12/5", "6/5"]\nm_legs = ["19", 18.5, "18", "17", "15", "18"]\nsolve = false\n')
+    records, texts, worst = run_scene(loads_scene(head + q0 + q1), progress=False)
+    assert worst == 0, records
+    assert records[0]["result"]["inputs_from_float"] == ["query[0].legs[0]"]
+    assert "query[0].legs[0] " in texts[0]
+    assert records[1]["result"]["inputs_from_float"] == ["query[1].m_legs[1]",
+                                                        "query[1].offsets[0]"]
+    assert "query[1].m_legs[1], query[1].offsets[0]" in texts[1]

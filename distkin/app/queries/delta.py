@@ -18,8 +18,10 @@ The JSON result has ``A`` (rows of strings), ``b``, ``det``, ``det_factors`` (th
 irreducible factors, sympy syntax), ``det_constant``; with ``m_legs`` also
 ``mapped_squared_legs`` and ``mapped_legs`` (the l-legs, exact strings); with ``solve``
 the 6-6 poses, each checked on the 6-6 platform's own joints (``max_leg_error``, null
-with no pose), and the octahedral solver's word on them, as the octahedral query gives
-it: ``certified``, ``conditioning`` (the fast tier's proof of its count, or why there is
+with no pose; ``points`` P4 P5 P6 of the equivalent octahedron, ``platform_joints`` the
+six joints), the equivalent octahedron's ``real_roots`` and ``octic`` (docs/design.md §4;
+null when eq. (8) proves no pose), and the octahedral solver's word on them, as the
+octahedral query gives it: ``certified``, ``conditioning`` (the fast tier's proof of its count, or why there is
 none; the text then warns that the count may be wrong), ``reason`` (why there is no
 pose) and ``notes`` (its warnings, said here rather than on stderr).
 
@@ -59,6 +61,8 @@ from ...errors import DistkinError, InfeasibleError, InputError
 from ...exact import METHODS_AUTO, parse_vector
 from ..query import Outcome, register
 from ..report import float_inputs, float_inputs_line
+from .octahedral import count_verdict, octic_fields, pose_points, roots_lines
+from .octahedral import result_units as octahedral_units
 
 __all__ = ["DeltaTransformQuery", "Platform66Forward", "Platform66Mechanism",
            "parse_platform66", "plot_det_family"]
@@ -107,6 +111,7 @@ class _Params:
     dps: int | None
     transform: object
     mechanism: object
+    field: str = "query"         # "query[2]": the names in ``inputs_from_float``
 
 
 def _fmt_matrix(M):
@@ -152,7 +157,7 @@ class DeltaTransformQuery:
         # (None when not written: the library's default, 30 precise, 50 for auto's fallback)
         dps = dps_field(table, method, field, uses=("precise", "auto")) \
             if "dps" in table else None
-        return _Params(offs, m_legs, solve, method, dps, tr, mechanism)
+        return _Params(offs, m_legs, solve, method, dps, tr, mechanism, field)
 
     @staticmethod
     def run(p, scene, ctx):
@@ -212,7 +217,7 @@ class DeltaTransformQuery:
                 # the fields of a solved answer (QA W 13), the tier the exact map's
                 result["forward_kinematics"] = {
                     "method": p.method, "tier": "exact", "count": 0, "certified": True,
-                    "poses": [], "reason": no_map, "max_leg_error": None,
+                    "poses": [], "reason": no_map, "max_leg_error": None, **_NO_OCTIC,
                     "conditioning": None, "notes": [],
                     "tier_reason": "the exact inverse map of eq. (8) proves that no pose "
                                    "exists; no octahedral solve ran"}
@@ -255,10 +260,13 @@ def result_units(units) -> dict:
     lengths."""
     L = "none" if units.length == "none" else units.length
     L2 = "none" if L == "none" else f"{L}^2"
+    octa_units = octahedral_units(units)
     return {"length": L, "offsets": L, "sides": L, "A": "none", "det": "none",
             "b": L2, "m_legs": L, "mapped_legs": L, "mapped_squared_legs": L2,
             "forward_kinematics": {
                 "s15": L2, "translation": L, "platform_joints": L, "base_joints": L,
+                "points": octa_units["points"], "real_roots": octa_units["real_roots"],
+                "octic": octa_units["octic"],
                 "platform_joints_local": L, "rotation": "none (rotation matrix)",
                 "max_leg_error": L,
                 "det_J66": f"{L}^3 (normalised Plücker rows, moments in {L})"
@@ -266,10 +274,12 @@ def result_units(units) -> dict:
 
 
 def _flag_floats(legs, name, p, result, lines):
-    """Say which exact inputs were bare floats (docs/design.md §3), in the JSON and text."""
+    """Say which exact inputs were bare floats (docs/design.md §3), in the JSON and text,
+    by their full paths (``query[2].m_legs[0]``, ``mechanism.offsets[1]``), as errors
+    name them."""
     where = ("mechanism.offsets" if p.offsets is getattr(p.mechanism, "offsets", None)
-             else "offsets")
-    named = ([(f"{name}[{i}]", v) for i, v in enumerate(legs)]
+             else f"{p.field}.offsets")
+    named = ([(f"{p.field}.{name}[{i}]", v) for i, v in enumerate(legs)]
              + [(f"{where}[{i}]", v) for i, v in enumerate(p.offsets)]
              + [(f"mechanism.{k}[{i}][{j}]", v)
                 for k in ("base", "platform")
@@ -317,13 +327,16 @@ def _solve(p, result, unit, ctx):
     if proof is not None and not proof.trusted:
         lines.append(f"  WARNING: {proof.reason}; the count may be wrong "
                      "(use method = \"auto\" or \"certified\")")
-    lines.append(f"  the count: {_count_verdict(octa, proof)}")
+    lines.append(f"  the count: {count_verdict(octa, proof)}")
+    lines += ["  " + x for x in roots_lines(octa, unit.strip(), "the equivalent octahedron's "
+                                            f"octic in s15 (degree {octa.degree})")]
     for k, pose in enumerate(fk.poses):
         R, t = flt(pose.rotation), flt(pose.translation)
         pj = flt(pose.platform_joints)
         s15 = float(getattr(pose.octahedral_pose, "s15", float("nan")))
         detj = float(jacobian_det(bj, pj))
         poses.append({"s15": s15, "rotation": R, "translation": t, "platform_joints": pj,
+                      "points": pose_points(pose.octahedral_pose),  # the equivalent octahedron's
                       "max_leg_error": pose.max_leg_error, "det_J66": detj})
         # significant digits: a micrometre-scale scene keeps them (QA V 5)
         lines.append(f"  pose {k + 1:2d}: s15 = {s15:.8g}{sq}, t = ({t[0]: .7g}, "
@@ -339,6 +352,7 @@ def _solve(p, result, unit, ctx):
         "conditioning": None if cond is None else cond.as_dict(),
         "reason": octa.reason,
         "notes": [str(w.message) for w in caught],
+        **octic_fields(octa),                 # the equivalent octahedron's octic in s15
         "max_leg_error": fk.max_leg_error if n else None,
         "base_joints": [[str(x) for x in b] for b in fk.platform.base_joints],
         "platform_joints_local": [[str(x) for x in q] for q in fk.platform.platform_joints],
@@ -350,21 +364,6 @@ def _solve(p, result, unit, ctx):
         lines.append(f"  worst m-leg residual over all poses: {fk.max_leg_error:.2e}{unit}"
                      f"{bound}")
     return lines
-
-
-def _count_verdict(octa, cond) -> str:
-    """What proves the octahedral solver's count of poses, in the words of the
-    octahedral query's report (:mod:`.octahedral`); ``cond``: the fast tier's proof
-    when the fast tier answered, else None."""
-    if octa.certified:
-        return "certified"
-    if cond is not None and cond.trusted:
-        return ("proved by the fast tier's rounding-error bounds, not by the certified "
-                "tier (JSON: conditioning.trusted true, certified false; the assembly "
-                "roots proved, the count outside the feasible interval float64's)")
-    if cond is not None:
-        return f"not proved ({cond.reason})"
-    return f"not certified (the {octa.tier or octa.method} tier)"
 
 
 @register("forward_kinematics", mechanisms=("platform66",),
@@ -388,7 +387,7 @@ class Platform66Forward:
         # (None when not written: the library's default, 30 precise, 50 for auto's fallback)
         dps = dps_field(table, method, field, uses=("precise", "auto")) \
             if "dps" in table else None
-        return _Params(mechanism.offsets, legs, True, method, dps, tr, mechanism)
+        return _Params(mechanism.offsets, legs, True, method, dps, tr, mechanism, field)
 
     @staticmethod
     def run(p, scene, ctx):
@@ -423,12 +422,16 @@ def _no_assembly66(p, scene, exc):
     assembled."""
     reason = _no_map_reason(exc, scene.units.length)
     result = {"m_legs": [m.text for m in p.m_legs], "method": p.method, "tier": "exact",
-              "count": 0, "certified": True, "poses": [], "reason": reason}
+              "count": 0, "certified": True, "poses": [], "reason": reason, **_NO_OCTIC}
     units = result_units(scene.units)
     result["unit"] = {k: units[k] for k in ("length", "m_legs")}
     lines = [f"6-6 forward kinematics ({p.method}): 0 poses; {reason}"]
     _flag_floats(p.m_legs, "legs", p, result, lines)
     return Outcome(result, "\n".join(lines))
+
+
+#: no octahedral solve ran (eq. (8) proved that no real l-leg exists): no octic to give
+_NO_OCTIC = {"real_roots": None, "octic": None}
 
 
 def _no_map_reason(exc, length: str) -> str:

@@ -31,7 +31,11 @@ Where the tests apply (:func:`applicability`):
 
 ``method = "certified"`` evaluates det J, the signed condition and the four planes in
 arb on the float64 joint positions (their exact binary values) and certifies the sign
-of det J (or says that it cannot); ``precise`` in mpmath.
+of det J (or says that it cannot); ``precise`` in mpmath.  Every verdict is that of the
+float64-rounded pose (``decided_at``; ``verdict``, the report's words): a path's
+crossing is located by Brent's method on the float64 det J, and a certified sign at
+its rounded pose is no verdict on the crossing itself (``near_singular`` says that
+|det J| is below the tolerance there).
 """
 
 from __future__ import annotations
@@ -198,7 +202,8 @@ _UNIT = {"pose": "m, rad", "length_scale_m": "m",
          "sigma_min": "none (of J: unit leg lines, moment columns divided by length_scale_m)",
          "det_J": "none (of that J)", "tolerance": "none (on det J, or on sigma_min)",
          "cm_relative": "none", "signed_cm_relative": "none",
-         "four_planes_relative": "none", "four_planes_spread": "m"}
+         "four_planes_relative": "none", "four_planes_spread": "m",
+         "verdict": "text: what was decided and for which pose (decided_at)"}
 
 
 @register("singularity", mechanisms=("legs", "rss"),
@@ -268,6 +273,7 @@ class LegSingularityQuery:
         for i, x in enumerate(poses):
             r = singularity_tests_at(mech, x, p.method, p.tolerance)
             r["pose"] = [float(v) for v in x]
+            _verdict(r, p.tolerance)
             rows.append(r)
             if p.path is None:
                 lines.append(f"  pose {i}: {fmt_pose(x)}")
@@ -285,7 +291,7 @@ class LegSingularityQuery:
             for c in found:
                 r = singularity_tests_at(mech, c, p.method, p.tolerance)
                 r["pose"] = [float(v) for v in c]
-                crossings.append(r)
+                crossings.append(_verdict(r, p.tolerance, crossing=True))
             lines.append(f"  path: {p.samples} poses from {fmt_pose(poses[0])} to "
                          f"{fmt_pose(poses[-1])}; det J changes sign {len(crossings)} time(s)"
                          " (a sample where det J is 0 counts as a crossing; a lower bound: "
@@ -312,23 +318,48 @@ def _float(v):
 def _fmt(r, lf, lu):
     parts = [f"σmin {r['sigma_min']:.6g}"]
     if "det_J" in r:
-        parts.append(f"det J {r['det_J']:.6g}")
-    if r.get("det_sign_certified", "absent") != "absent":
-        s = r["det_sign_certified"]
-        parts.append("sign of det J not certified (its ball contains 0)" if s is None else
-                     "det J certified " + {1: "> 0", -1: "< 0", 0: "= 0 exactly"}.get(s, str(s)))
-    if "singular" in r:
-        v = r["singular"]
-        parts.append(("singular: undecided" if v is None else f"singular: {'yes' if v else 'no'}")
-                     + f" ({r['singular_test']}"
-                     + ("; within the float tolerance" if r.get("near_singular") and v is not True
-                        else "") + ")")
+        parts.append(f"det J {r['det_J']:.6g}"
+                     + (" (its arb ball's midpoint)" if "det_sign_certified" in r else ""))
     if "cm_relative" in r:
         g = lambda v: "undefined (0/0 within rounding)" if v is None else f"{v:.4g}"  # noqa: E731
         parts += [f"CM (paper) {g(r['cm_relative'])}", f"CM signed {g(r['signed_cm_relative'])}",
                   f"four planes {r['four_planes_relative']:.4g} "
                   f"(spread {r['four_planes_spread'] * lf:.4g} {lu})"]
-    return ", ".join(parts) + " (dimensionless unless a unit is given)"
+    # the verdict last: it says for which pose it holds (the same words as the JSON's)
+    return (", ".join(parts) + " (dimensionless unless a unit is given)"
+            + (f"; {r['verdict']}" if "verdict" in r else ""))
+
+
+#: where every verdict of this query is decided: the pose as float64 numbers (a pose
+#: written "sqrt(12)", a crossing located by Brent's method), its joints in float64
+DECIDED_AT = "the float64-rounded pose"
+
+
+def _verdict(r, tolerance, crossing=False):
+    """Say what was decided and for which pose (``r["verdict"]``, the same words in the
+    text; ``r["decided_at"]``): the tiers evaluate det J at the float64-rounded pose, so
+    a certified sign there says nothing of a singular pose within rounding of it (QA:
+    "det J certified < 0, singular: no" at the 90° crossing of a twist whose exact
+    pose is singular).  ``near_singular`` (|det J| < ``tolerance``, certified tier)
+    says that; a ``crossing`` is where Brent's method located a sign change of the
+    float64 det J, to 1e-12 of the path."""
+    if "singular" not in r:
+        return r
+    v, s = r["singular"], r.get("det_sign_certified", "absent")
+    sign = ("" if s == "absent" else
+            "the sign of det J not certified (its ball contains 0), " if s is None else
+            "det J certified " + {1: "> 0", -1: "< 0", 0: "= 0 exactly"}.get(s, str(s)) + ", ")
+    there = ("undecided" if v is None else "yes" if v else "no")
+    text = f"at {DECIDED_AT}: {sign}singular: {there} ({r['singular_test']})"
+    near = r.get("near_singular")
+    if near and v is not True:
+        text += f"; |det J| < {tolerance:g} there: near-singular"
+    if crossing:
+        text += ("; the crossing itself (a sign change of the float64 det J, located by "
+                 "Brent's method to 1e-12 of the path) lies within that of this pose: the "
+                 "verdict is this pose's, not the crossing's")
+    r["decided_at"], r["verdict"] = DECIDED_AT, text
+    return r
 
 
 def _root_pairs_between(mech, a, b, s, det):

@@ -491,9 +491,10 @@ class ForwardKinematicsQuery:
         start = ("the guess" if p.guess is not None else
                  "the mechanism's home, the default start (no guess given)")
         if not res.converged and p.method == "fast":
+            lu, _, lf, _ = _units(scene)           # the residual in the scene's unit
             raise NotFoundError(
                 f"expected Gauss-Newton to converge from {start}, got no convergence in "
-                f"{p.max_iter} iterations (rms closure error {res.residual:.3g} m): no pose "
+                f"{p.max_iter} iterations (rms closure error {res.residual * lf:.3g} {lu}): no pose "
                 f"found from that start, not a proof that none exists",
                 field="guess" if p.guess is not None else "angles", margin=res.residual,
                 hint="another guess, near the device's pose")

@@ -45,7 +45,8 @@ from ...exact import METHODS_AUTO, default_dps
 from ..query import Outcome, register
 from ..report import float_inputs, float_inputs_line
 
-__all__ = ["OctahedralForwardQuery", "result_units"]
+__all__ = ["OctahedralForwardQuery", "result_units", "octic_fields", "pose_points",
+           "roots_lines", "count_verdict"]
 
 
 @dataclass(frozen=True)
@@ -54,6 +55,7 @@ class _Params:
     method: str
     dps: int | None
     tol: float | None
+    field: str = "query"         # "query[2]": the names in ``inputs_from_float``
 
 
 @register("forward_kinematics", mechanisms=("octahedral",),
@@ -78,7 +80,7 @@ class OctahedralForwardQuery:
         from ...octahedral.auto import PRECISE_DPS         # auto's precise fallback
         tol = tol_field(table, method, field, dps=dps,
                         precise_dps=dps if "dps" in table else PRECISE_DPS)
-        return _Params(legs, method, dps, tol)
+        return _Params(legs, method, dps, tol, field)
 
     @staticmethod
     def run(p, scene, ctx):
@@ -101,7 +103,7 @@ class OctahedralForwardQuery:
         if caught:
             res = replace(res, notes=res.notes + tuple(str(w.message) for w in caught))
         unit = "" if scene.units.length == "none" else scene.units.length
-        named = ([(f"legs[{i}]", v) for i, v in enumerate(p.legs)]
+        named = ([(f"{p.field}.legs[{i}]", v) for i, v in enumerate(p.legs)]
                  + [(f"mechanism.{k}[{i}][{j}]", v)
                     for k, rows in (("base", mech.base), ("platform", mech.platform))
                     for i, row in enumerate(rows) for j, v in enumerate(row)])
@@ -132,7 +134,7 @@ def _result(res):
         poses.append({
             "s15": q.s15, "side": q.side,
             "rotation": q.rotation, "translation": q.translation,
-            "points": {"P4": q.points[0], "P5": q.points[1], "P6": q.points[2]},
+            "points": pose_points(q),
             "max_leg_error": q.max_leg_error,
             "max_leg_error_relative": q.max_leg_error_relative,
         })
@@ -140,14 +142,8 @@ def _result(res):
         "method": res.method,
         "certified": res.certified,
         "accuracy": res.accuracy,
-        "real_roots": {"count": res.real_root_count, "certified": res.certified,
-                       "values": [r.value for r in res.roots],
-                       "radii": [r.radius for r in res.roots]},
-        "root_status": [{"s15": r.value, "status": r.status, "reason": r.reason,
-                         "multiplicity": r.multiplicity, "radius_kind": r.radius_kind}
-                        for r in res.roots],
+        **octic_fields(res),
         "assembly_modes": _modes(res)[0],
-        "octic": {"coefficients": list(res.octic)},
         "octic_degree": res.degree,
         "octic_note": list(res.notes),
         "poses": poses,
@@ -156,6 +152,58 @@ def _result(res):
         "tier_reason": res.tier_reason,
         "conditioning": None if res.conditioning is None else res.conditioning.as_dict(),
     }
+
+
+def octic_fields(res) -> dict:
+    """The octic's part of a forward-kinematics result (docs/design.md §4), from an
+    octahedral result ``res``: ``real_roots {count, certified, values, radii}``,
+    ``root_status`` (what each root became, and what its radius is) and ``octic
+    {coefficients}`` (highest degree first; Fractions, exact strings in the JSON, where
+    exact).  The 6-6 forward kinematics gives those of its equivalent octahedron."""
+    return {
+        "real_roots": {"count": res.real_root_count, "certified": res.certified,
+                       "values": [r.value for r in res.roots],
+                       "radii": [r.radius for r in res.roots]},
+        "root_status": [{"s15": r.value, "status": r.status, "reason": r.reason,
+                         "multiplicity": r.multiplicity, "radius_kind": r.radius_kind}
+                        for r in res.roots],
+        "octic": {"coefficients": list(res.octic)},
+    }
+
+
+def roots_lines(res, unit: str, what: str = "the octic") -> list:
+    """The report's lines on the real roots of the octic of ``res`` (as ``real_roots``
+    and ``root_status`` say them); ``unit``: the scene's length unit ("" unitless)."""
+    cert = "certified" if res.certified else (
+        "the assembly roots proved; the count outside the feasible interval float64's" if res.conditioning is not None
+        and res.conditioning.trusted else "not certified")
+    lines = [f"real roots of {what}: {res.real_root_count} ({cert})"]
+    for r in res.roots:
+        rad = (f" ± {r.radius:.1e} ({r.radius_kind})" if r.radius_kind != "estimate" else
+               f" (last Newton step {r.radius:.0e}, not an error bound)")
+        mult = f", multiplicity {r.multiplicity}" if r.multiplicity != 1 else ""
+        lines.append(f"  s15 = {r.value:.10g}{rad}{_u(unit, 2)}  -> {r.reason}{mult}")
+    return lines
+
+
+def pose_points(q) -> dict:
+    """``points {P4, P5, P6}`` of an octahedral pose ``q`` (base frame)."""
+    return {"P4": q.points[0], "P5": q.points[1], "P6": q.points[2]}
+
+
+def count_verdict(octa, cond) -> str:
+    """What proves the octahedral solver's count of poses, in the words of the
+    octahedral query's report; ``cond``: the fast tier's proof
+    when the fast tier answered, else None."""
+    if octa.certified:
+        return "certified"
+    if cond is not None and cond.trusted:
+        return ("proved by the fast tier's rounding-error bounds, not by the certified "
+                "tier (JSON: conditioning.trusted true, certified false; the assembly "
+                "roots proved, the count outside the feasible interval float64's)")
+    if cond is not None:
+        return f"not proved ({cond.reason})"
+    return f"not certified (the {octa.tier or octa.method} tier)"
 
 
 def _modes(res):
@@ -183,15 +231,7 @@ def _text(res, unit, p):
     head = f"octic in s15 (degree {res.degree}" + (
         ", exact rational coefficients)" if res.octic_exact else ")")
     lines.append(head + ("; " + res.notes[0] if res.notes else ""))
-    cert = "certified" if res.certified else (
-        "the assembly roots proved; the count outside the feasible interval float64's" if res.conditioning is not None
-        and res.conditioning.trusted else "not certified")
-    lines.append(f"real roots of the octic: {res.real_root_count} ({cert})")
-    for r in res.roots:
-        rad = (f" ± {r.radius:.1e} ({r.radius_kind})" if r.radius_kind != "estimate" else
-               f" (last Newton step {r.radius:.0e}, not an error bound)")
-        mult = f", multiplicity {r.multiplicity}" if r.multiplicity != 1 else ""
-        lines.append(f"  s15 = {r.value:.10g}{rad}{_u(unit, 2)}  -> {r.reason}{mult}")
+    lines += roots_lines(res, unit)
     if not res.poses:
         lines.append(res.reason)
     else:
