@@ -98,9 +98,9 @@ from ..query import register
 from ..units import DEG, angle_value, length_value
 from ...indices.isotropy import ST_DEFAULT
 from ...indices.study import ACTUATORS, PAPER_TABLE3
-from ..design_report import (MAX_SWEEP_DESIGNS, MAX_SWEEP_EVALUATIONS, check_design_corners,
-                             check_design_count, check_range, grid_spec, scene_mechanism_note,
-                             sweep_scaling)
+from ..design_report import (MAX_SWEEP_DESIGNS, MAX_SWEEP_EVALUATIONS,  # noqa: F401 (doc)
+                             check_design_corners, check_design_count, check_range, grid_spec,
+                             scene_mechanism_note, sweep_scaling)
 
 __all__ = ["PerformanceQuery", "DesignSweepQuery"]
 
