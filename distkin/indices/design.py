@@ -30,7 +30,7 @@ from ..errors import InfeasibleError, InputError
 from .isotropy import ST_DEFAULT, culling_sweep
 from ..mechanisms.reference import ik_jacobian
 
-__all__ = ["DesignSpace", "design_sigmas", "design_chunk", "sweep_designs"]
+__all__ = ["DesignSpace", "design_sigmas", "design_chunk", "sweep_designs", "coincident_legs"]
 
 PARAMS = ("l2", "beta", "gamma", "ld")
 
@@ -59,6 +59,19 @@ class DesignSpace:
             if abs(rule.l3 - l3) > 1e-12:       # the reading's rule already keeps the sum
                 over["l3"] = l3
         return preset(self.base, **over)
+
+
+def coincident_legs(mech, tol: float = 1e-12) -> list[tuple[int, int]]:
+    """The pairs of legs (0-based) of ``mech`` that are one and the same leg: the same
+    crank pivot, actuator axis, crank direction, offset and end-effector joint (and so
+    the same J row at every pose: J is singular everywhere, the GII 0).  E.g. l2 = ld =
+    β = γ = 0 in the presets' tangential reading puts the two legs of a pair on top of
+    each other."""
+    g = mech.geometry()
+    rows = np.concatenate([g[k] for k in ("B", "a", "u", "offset", "p")], axis=1)
+    scale = tol * max(1.0, float(np.max(np.abs(rows))))
+    return [(i, j) for i, j in itertools.combinations(range(len(rows)), 2)
+            if np.max(np.abs(rows[i] - rows[j])) <= scale]
 
 
 def design_sigmas(mech, poses, ST=ST_DEFAULT, unreachable: str = "zero"):
@@ -143,15 +156,21 @@ def sweep_designs(space: DesignSpace, poses, *, algorithm="both", ST=ST_DEFAULT,
         folder = Path(store) / sweep_key(definition)
         check_store(folder, definition, -(-len(designs) // designs_per_chunk))
     if algorithm in ("culling", "both"):
+        bar = _CullingProgress(len(designs) * len(poses), progress)
+
         def evaluate(ds, ps):
             P = poses[ps]
             lo = np.empty((len(ds), len(ps)))
             hi = np.empty((len(ds), len(ps)))
             for k, i in enumerate(ds):
                 lo[k], hi[k] = design_sigmas(mech(int(i)), P, ST, unreachable)
+                bar.advance(len(ps))
             return lo, hi
         t0 = time.perf_counter()
-        res = culling_sweep(evaluate, len(designs), len(poses), block=block)
+        try:
+            res = culling_sweep(evaluate, len(designs), len(poses), block=block)
+        finally:
+            bar.close()
         out["culling"] = {"seconds": time.perf_counter() - t0, **res.as_dict()}
         # a design tying the optimum is never culled (its bound is not below it)
         ties = sorted(k for k, v in res.exact.items() if v == res.gii)
@@ -183,11 +202,14 @@ def sweep_designs(space: DesignSpace, poses, *, algorithm="both", ST=ST_DEFAULT,
     if out["gii"] == 0 and len(out["ties"]) == len(designs):
         why = ("none reaches every pose of the grid with a regular J (unreachable = 'zero' "
                "scores a missed pose σmin = 0)" if unreachable == "zero" else
-               "each is singular at a pose it reaches")
+               "each is singular at a pose it reaches (unreachable = 'skip' already leaves "
+               "out the poses it misses)")
+        hint = ("a smaller grid, or unreachable = 'skip' to score each design on the poses "
+                "it reaches" if unreachable == "zero" else
+                "a smaller grid about the home pose, or ranges whose designs are regular "
+                "there")
         raise InfeasibleError(f"every design of the sweep scores GII 0 ({counts}), so none is "
-                              f"an optimum: {why}", field="grid",
-                              hint="a smaller grid, or unreachable = 'skip' to score each "
-                                   "design on the poses it reaches")
+                              f"an optimum: {why}", field="grid", hint=hint)
     out["parameters"] = designs[out["best"]]
     cov = out.get("coverage")
     if unreachable == "skip" and cov is not None:
@@ -196,6 +218,32 @@ def sweep_designs(space: DesignSpace, poses, *, algorithm="both", ST=ST_DEFAULT,
             out["coverage_flag"] = {"optimum_coverage": cov[out["best"]],
                                     "other_design": top, "other_coverage": cov[top]}
     return out
+
+
+class _CullingProgress:
+    """The culling's progress bar on stderr (rich): its (design, pose) evaluations
+    against brute force's count, a ceiling it stops short of when designs are culled;
+    nothing when not ``enabled``."""
+
+    def __init__(self, ceiling, enabled):
+        self.bar = None
+        if enabled and ceiling:
+            from rich.console import Console
+            from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+            self.bar = Progress(TextColumn("design sweep, culling"), BarColumn(),
+                                TextColumn("{task.completed:,} of at most {task.total:,} "
+                                           "(design, pose) evaluations · elapsed"),
+                                TimeElapsedColumn(), console=Console(stderr=True))
+            self.bar.start()
+            self.task = self.bar.add_task("culling", total=ceiling)
+
+    def advance(self, n):
+        if self.bar is not None:
+            self.bar.advance(self.task, n)
+
+    def close(self):
+        if self.bar is not None:
+            self.bar.stop()
 
 
 def _store_definition(space, poses, ST, designs_per_chunk, unreachable) -> dict:

@@ -59,6 +59,21 @@ preset's own, ``false`` for none).
                              # design on the whole grid, Sec. III-B-2's "chosen workspace");
                              # "skip": each design on the poses it reaches (an optimum
                              # covering less than another design is flagged)
+    scaling = [15, 15, 15, 1, 1, 1]   # ST (N, N, N, N·m, N·m, N·m), positive
+    max_evaluations = 2000000000      # designs × poses allowed (the default limit)
+
+The designs are applied to the ``base`` preset (its legs, l0, l1, lp, z0), never to the
+scene's [mechanism] table: a [mechanism] other than the stock ``base`` preset gets a
+warning saying what differs, and the report and its JSON ``mechanism`` block (SI, with a
+``unit`` table) say which mechanism was swept.  The designs are counted before anything
+is allocated: more than :data:`MAX_SWEEP_DESIGNS` (10⁴) designs, or more (design, pose)
+evaluations than :data:`MAX_SWEEP_EVALUATIONS` (2·10⁹, above Table I × Table II) or the
+query's ``max_evaluations``, is refused (exit 2) with the counts; a design with
+coincident legs (l2 = β = γ = ld = 0) is refused, naming it.  The culling and the brute
+force each show a progress bar.  "Table I optimum: reproduced" is only said when the
+sweep's design (0, 0°, 0°, 20 mm) is the ``hunt`` preset and the grid holds it beside
+other designs; otherwise "not applicable" with the reason (JSON: null and
+``optimum_reproduced_reason``).
 
 A sweep in which no design reaches any pose of the grid, or every design scores GII 0,
 has no optimum: it is refused (exit 2) with the counts; equal GIIs at the optimum are
@@ -70,7 +85,6 @@ cluster (or ``--workers N`` locally); the scene's own fields are the defaults.
 
 from __future__ import annotations
 
-import itertools
 import math
 from dataclasses import dataclass
 
@@ -84,6 +98,9 @@ from ..query import register
 from ..units import DEG, angle_value, length_value
 from ...indices.isotropy import ST_DEFAULT
 from ...indices.study import ACTUATORS, PAPER_TABLE3
+from ..design_report import (MAX_SWEEP_DESIGNS, MAX_SWEEP_EVALUATIONS,  # noqa: F401 (doc)
+                             check_design_corners, check_design_count, check_range, grid_spec,
+                             scene_mechanism_note, sweep_scaling)
 
 __all__ = ["PerformanceQuery", "DesignSweepQuery"]
 
@@ -421,31 +438,6 @@ _TABLE1 = {"l2": (0.0, 0.030, 0.005), "beta": (0.0, 30 * DEG, 10 * DEG),
            "gamma": (0.0, 30 * DEG, 10 * DEG), "ld": (0.020, 0.040, 0.005)}
 
 
-def _check_range(name, lo, hi, step, units, field):
-    """A Table I range ``[min, max, step]`` (SI values) checked in the scene's units: min
-    <= max, a positive step that divides max - min, values the mechanism takes (lengths
-    >= 0, angles in [0°, 90°))."""
-    angle = name in ("beta", "gamma")
-    show = lambda v: _show(v, units, angle)  # noqa: E731
-    if not all(math.isfinite(v) for v in (lo, hi, step)):
-        raise InputError(f"expected finite [min, max, step], got [{show(lo)}, {show(hi)}, "
-                         f"{show(step)}]", field=field)
-    if lo > hi:
-        raise InputError(f"expected min <= max, got min {show(lo)} > max {show(hi)}",
-                         field=field)
-    if not step > 0:
-        raise InputError(f"expected a positive step, got {show(step)}", field=f"{field}[2]")
-    n = (hi - lo) / step
-    if abs(n - round(n)) > 1e-9 * max(1.0, n):
-        raise InputError(f"expected max - min to be a multiple of step, got ({show(hi)} - "
-                         f"{show(lo)}) / {show(step)} = {n:.6g}", field=field)
-    if lo < 0:
-        raise InputError(f"expected {name} >= 0, got min {show(lo)}", field=f"{field}[0]")
-    if angle and hi >= 90 * DEG:
-        raise InputError(f"expected {name} below {_show(90 * DEG, units, True)}, got max "
-                         f"{show(hi)}", field=f"{field}[1]")
-
-
 @dataclass(frozen=True)
 class _SweepParams:
     space: object
@@ -457,28 +449,8 @@ class _SweepParams:
     scheduler: str | None
     store: str | None
     designs_per_chunk: int
-
-
-def _check_design_corners(space, units, field):
-    """Build the mechanisms at the corners of the design space (every parameter at its
-    smallest or largest value; the presets' rules are monotone in each) before the sweep
-    runs: an impossible design (l2 at or beyond the leg length) was refused only at run
-    time, after minutes of culling, in SI with float noise (QA V 9)."""
-    from ...indices.design import PARAMS
-    ranges = [(n, (v[0], v[-1])) for n, v in space.values]
-    for combo in itertools.product(*[r for _, r in ranges]):
-        params = dict(zip([n for n, _ in ranges], combo))
-        try:
-            space.mechanism(params)
-        except InputError as exc:
-            shown = ", ".join(f"{n} = {_show(v, units, n not in ('l2', 'ld'))}"
-                              for n, v in params.items())
-            raise InputError(f"expected every design of the sweep to be a valid "
-                             f"{space.base} mechanism, got one that is not ({shown}): "
-                             f"{exc.message} (SI)",
-                             field=f"{field}.{exc.field}" if exc.field in PARAMS else field,
-                             hint=f"a smaller range; the scene's [units] length is "
-                                  f"\"{units.length}\"") from None
+    grid_spec: dict | None = None      # half, step, rotation, rotation_step (SI) as given
+    scene_mechanism: str | None = None  # why the scene's [mechanism] is not the swept one
 
 
 @register("design_sweep", mechanisms=("rss",),
@@ -491,12 +463,13 @@ class DesignSweepQuery:
         from ...indices.workspace import axis_values
         check_keys(table, {"type", "base", "l2", "beta", "gamma", "ld", "grid", "algorithm",
                            "leg_length", "baseline", "unreachable", "scaling", "workers",
-                           "scheduler", "store", "designs_per_chunk", "method"}, field)
+                           "scheduler", "store", "designs_per_chunk", "method",
+                           "max_evaluations"}, field)
         fast_only(table, field, "the GII design sweep of Table I",
                   "the certify_workspace query proves the regularity of one design's region")
         base = choice(table.get("base", "hunt"), f"{field}.base", tuple(PRESETS))
         baseline = choice(table.get("baseline", "ergin"), f"{field}.baseline", tuple(PRESETS))
-        values = []
+        ranges = {}
         for name, default in _TABLE1.items():
             if name in table:
                 r = table[name]
@@ -505,15 +478,20 @@ class DesignSweepQuery:
                                      field=f"{field}.{name}")
                 conv = length_value if name in ("l2", "ld") else angle_value
                 lo, hi, st = (conv(v, units, f"{field}.{name}[{i}]") for i, v in enumerate(r))
-                _check_range(name, lo, hi, st, units, f"{field}.{name}")
+                check_range(name, lo, hi, st, units, f"{field}.{name}")
             else:
                 lo, hi, st = default
-            vals = axis_values(lo, hi, st, f"{field}.{name}") if hi > lo else np.array([lo])
-            values.append((name, tuple(float(v) for v in vals)))
+            ranges[name] = (lo, hi, st)
+        max_eval = positive_int(table.get("max_evaluations", MAX_SWEEP_EVALUATIONS),
+                                f"{field}.max_evaluations")
+        check_design_count(ranges, units, field)      # before any value is allocated
+        values = [(name, tuple(float(v) for v in (
+            axis_values(lo, hi, st, f"{field}.{name}") if hi > lo else np.array([lo]))))
+            for name, (lo, hi, st) in ranges.items()]
         leg = choice(table.get("leg_length", "constant_sum"), f"{field}.leg_length",
                      ("constant_sum", "reading"))
         space = DesignSpace(base, tuple(values), leg, baseline)
-        _check_design_corners(space, units, field)
+        check_design_corners(space, units, field)
         g = as_table(table.get("grid", {}), f"{field}.grid")
         rot = angle_value(g["rotation"], units, f"{field}.grid.rotation") if "rotation" in g \
             else 20 * DEG
@@ -521,20 +499,30 @@ class DesignSweepQuery:
         grid = _grid(g, units, f"{field}.grid", preset(base).z0, rot,
                      preset(base).length_scale, max_poses=MAX_SWEEP_POSES,
                      max_positions=MAX_SWEEP_POSES)
+        n_designs = math.prod(len(v) for _, v in values)
+        if n_designs * grid.size > max_eval:
+            limit = ("the default limit MAX_SWEEP_EVALUATIONS"
+                     if "max_evaluations" not in table else "max_evaluations")
+            raise InputError(
+                f"expected at most {max_eval:,} (design, pose) evaluations ({limit}), got "
+                f"{n_designs:,} designs × {grid.size:,} poses = {n_designs * grid.size:,} "
+                f"({' × '.join(f'{len(v)} {n}' for n, v in values)} designs; brute force "
+                "evaluates every design at every pose)", field=field,
+                hint=f"larger steps in the ranges or the grid, or max_evaluations = "
+                     f"{n_designs * grid.size} in the query to run it (about 6 µs per "
+                     "evaluation and core)")
+        gspec = grid_spec(g, units, f"{field}.grid", rot)
         algorithm = choice(table.get("algorithm", "both"), f"{field}.algorithm",
                            ("culling", "brute_force", "both"))
         unreachable = choice(table.get("unreachable", "zero"), f"{field}.unreachable",
                              ("skip", "zero"))
-        sc = table.get("scaling", list(ST_DEFAULT))
-        if not isinstance(sc, list) or len(sc) != 6:
-            raise InputError(f"expected 6 scaling factors, got {sc!r}", field=f"{field}.scaling")
-        sc = tuple(_num(v, f"{field}.scaling[{i}]") for i, v in enumerate(sc))
+        sc = sweep_scaling(table.get("scaling", list(ST_DEFAULT)), f"{field}.scaling")
         workers, sched, store = executor_fields(table, field)
         if sched is not None:
             scheduler_address(sched, f"{field}.scheduler")
         dpc = positive_int(table.get("designs_per_chunk", 8), f"{field}.designs_per_chunk")
         return _SweepParams(space, grid, algorithm, unreachable, sc, workers, sched, store,
-                            dpc)
+                            dpc, gspec, scene_mechanism_note(mechanism, base, units))
 
     @staticmethod
     def run(p, scene, ctx):
