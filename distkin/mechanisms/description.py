@@ -21,7 +21,14 @@ from ..argcheck import as_floats, float_array, no_booleans
 from ..errors import InputError
 
 __all__ = ["RSSDescription", "read_only", "GEOMETRY_FIELDS", "LAYOUTS", "LEG_LENGTH",
-           "SI_UNITS", "MAX_ROTATION", "MAX_REACH", "check_pose_range"]
+           "SI_UNITS", "MAX_ROTATION", "MAX_REACH", "check_pose_range", "GeometryWarning"]
+
+
+class GeometryWarning(UserWarning):
+    """A mechanism description that builds but is likely not the one meant: a home pose
+    its legs do not reach, a preset override 100x or more off the preset's value (a
+    length in another unit).  A warning, not an error: a design may be that far off on
+    purpose (``warnings.simplefilter("error", GeometryWarning)`` refuses it)."""
 
 #: the parameters that define the kinematics (mass and inertia do not)
 GEOMETRY_FIELDS = ("legs", "l0", "l1", "l2", "l3", "lp", "ld", "z0", "beta", "gamma", "layout")
