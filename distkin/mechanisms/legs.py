@@ -46,7 +46,14 @@ from ..argcheck import no_booleans
 from ..errors import DistkinError, InputError
 
 __all__ = ["Leg", "LegsDescription", "REVOLUTE_TYPES", "PRISMATIC_TYPES", "LEG_TYPES",
-           "LEG_FIELDS", "full_turn", "in_revolute_range"]
+           "LEG_FIELDS", "full_turn", "in_revolute_range", "GeometryWarning"]
+
+
+class GeometryWarning(UserWarning):
+    """A mechanism description that builds but is likely not the one meant: a home pose
+    its legs do not reach, a preset override 100x or more off the preset's value (a
+    length in another unit).  A warning, not an error: a design may be that far off on
+    purpose (``warnings.simplefilter("error", GeometryWarning)`` refuses it)."""
 
 REVOLUTE_TYPES = ("RSS", "RUS", "RRRS")
 PRISMATIC_TYPES = ("SPS", "UPS")
@@ -347,8 +354,6 @@ class LegsDescription:
                     far.append(f"leg {i + 1} margin {m:.3g} m^2")
         if far:
             import warnings
-
-            from .description import GeometryWarning
             shown = ", ".join(f"{v:.6g}" for v in self.home_pose)
             warnings.warn(f"home: expected a home pose that every leg reaches (the workspace "
                           f"centre, forward kinematics' default start), got ({shown}) "
