@@ -45,9 +45,10 @@ def test_unit_slip_warns_as_the_scene_path(k, v):
 def test_unreachable_home_warns(over):
     """The margins the warning reports are the leg table's own (the plain-numpy route's
     reach margin at home, an independent implementation), and they are negative."""
-    with pytest.warns(GeometryWarning, match=r"home: expected a home pose \(0, 0, z0\) that "
-                                             r"every leg reaches") as rec:
+    with pytest.warns(GeometryWarning) as rec:                 # and l0, z0: a unit slip
         m = preset("octo", **over)
+    assert any(str(w.message).startswith("home: expected a home pose (0, 0, z0) that every "
+                                         "leg reaches") for w in rec)
     with warnings.catch_warnings():            # the leg table of it warns again
         warnings.simplefilter("ignore", GeometryWarning)
         legs = LegMechanism.from_description(m.leg_description(), route="numpy")
