@@ -60,7 +60,8 @@ from ..mechanisms.kinematics import LegMechanism
 from ..mechanisms.legs import LEG_FIELDS, PRISMATIC_TYPES
 from .units import angle_factor, length_factor
 
-__all__ = ["parse_legs", "parse_home", "CSV_COLUMNS", "legs_csv_text", "legs_toml_text"]
+__all__ = ["parse_legs", "parse_home", "CSV_COLUMNS", "legs_csv_text", "legs_toml_text",
+           "DEFAULT_LENGTH_UNIT"]
 
 _VECTORS = ("base", "platform", "axis", "crank0", "crank90", "offset")
 _LENGTH_VECTORS = ("base", "platform", "offset")
@@ -132,7 +133,7 @@ def _csv_legs(path: Path, fld):
     """The leg tables of a CSV file (:data:`CSV_COLUMNS`) and the file's line number of
     each (blank lines skipped, but counted)."""
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")   # a byte-order mark (Excel) skipped
     except OSError as exc:
         raise InputError(f"expected a readable CSV file, got {str(path)!r} ({exc.strerror})",
                          field=fld) from None
@@ -278,6 +279,9 @@ def parse_legs(table, units, field, scene_path=None):
             fld = prefix
         else:
             fld = f"{field}.{fld}" if fld else field
+        if units.length != "m":            # the description's message is in SI
+            exc.hint = "; ".join(filter(None, (exc.hint, f"lengths in this message in m "
+                                                         f"(SI), the scene's in {units.length}")))
         exc.field = None
         raise exc.with_field(fld) from None
 
@@ -291,10 +295,18 @@ def parse_home(home, units, fld):
                  + [_number(v, f"{fld}[{i + 3}]") * af for i, v in enumerate(home[3:])])
 
 
-def legs_csv_text(mech, *, length_unit: str = "m") -> str:
+#: the length unit :func:`legs_csv_text` and :func:`legs_toml_text` write by default (the
+#: same for both: a scene and its CSV written with the defaults agree)
+DEFAULT_LENGTH_UNIT = "mm"
+
+
+def legs_csv_text(mech, *, length_unit: str = DEFAULT_LENGTH_UNIT) -> str:
     """A leg table as CSV text (:data:`CSV_COLUMNS`), lengths in ``length_unit`` ("m",
-    "mm", "cm"), angles in rad, limits in SI, each the shortest decimal that a scene in
-    that unit (and ``angle = "rad"``) reads back to the same float."""
+    "mm" (the default, as :func:`legs_toml_text`), "cm"), angles in rad, limits in SI,
+    each the shortest decimal that a scene in that unit (and ``angle = "rad"``) reads
+    back to the same float.  The CSV has no unit of its own: the scene's ``[units]`` are
+    its unit, so the scene (:func:`legs_toml_text` with ``csv_name``) must be written in
+    the same ``length_unit``."""
     import io
     from .units import parse_units
     desc = mech.leg_description()
@@ -337,12 +349,15 @@ def _toml_string(text: str) -> str:
     return json.dumps(str(text), ensure_ascii=False)
 
 
-def legs_toml_text(mech, *, length_unit: str = "mm", csv_name: str | None = None) -> str:
+def legs_toml_text(mech, *, length_unit: str = DEFAULT_LENGTH_UNIT,
+                   csv_name: str | None = None) -> str:
     """A ``[mechanism]`` table (``kind = "legs"``, with ``[units]``) of any mechanism
     description, every length written exactly in ``length_unit`` ("m", "mm", "cm"),
     angles in rad: the scene reads it back to the same floats (the same kernels and
     numbers; tests/mechanisms/test_legs_scene.py).  With ``csv_name`` the legs are left to
-    that CSV file (:func:`legs_csv_text`)."""
+    that CSV file, which the scene reads in its ``[units]``: write it with
+    :func:`legs_csv_text` in the same ``length_unit`` (both default to
+    :data:`DEFAULT_LENGTH_UNIT`); the scene says so in a comment."""
     from .units import parse_units
     lu = parse_units({"length": length_unit, "angle": "rad"}).length_factor
     desc = mech.leg_description()
@@ -360,6 +375,9 @@ def legs_toml_text(mech, *, length_unit: str = "mm", csv_name: str | None = None
     if desc.scale is not None:
         out.append(f"scale = {num(desc.scale, lu)}")
     if csv_name is not None:
+        out.append(f"# the legs in {csv_name}, lengths in {length_unit} (this scene's "
+                   f"[units]: legs_csv_text(mech, length_unit=\"{length_unit}\"))"
+                   .replace("\n", " "))
         out.append(f"legs_csv = {_toml_string(csv_name)}")
         return "\n".join(out) + "\n"
     for leg in desc.leg_table:

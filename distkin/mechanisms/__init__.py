@@ -93,11 +93,11 @@ Elsewhere: rotations are :mod:`distkin.spatial`; deriving the kernels is
 from __future__ import annotations
 
 from .forward import FKResult
-from .description import RSSDescription
+from .description import GeometryWarning, RSSDescription
 from .kinematics import LegMechanism
 from .legs import Leg, LegsDescription
 from .presets import PRESETS
 from .rss import RSSMechanism, preset
 
 __all__ = ["RSSMechanism", "RSSDescription", "preset", "PRESETS", "FKResult", "Leg",
-           "LegsDescription", "LegMechanism"]
+           "LegsDescription", "LegMechanism", "GeometryWarning"]

@@ -19,9 +19,10 @@ import numpy as np
 
 from ..argcheck import as_floats, float_array, no_booleans
 from ..errors import InputError
+from .legs import GeometryWarning
 
 __all__ = ["RSSDescription", "read_only", "GEOMETRY_FIELDS", "LAYOUTS", "LEG_LENGTH",
-           "SI_UNITS", "MAX_ROTATION", "MAX_REACH", "check_pose_range"]
+           "SI_UNITS", "MAX_ROTATION", "MAX_REACH", "check_pose_range", "GeometryWarning"]
 
 #: the parameters that define the kinematics (mass and inertia do not)
 GEOMETRY_FIELDS = ("legs", "l0", "l1", "l2", "l3", "lp", "ld", "z0", "beta", "gamma", "layout")
@@ -181,6 +182,15 @@ class RSSDescription:
                 raise InputError(f"expected a finite number >= 0, got {v!r} {SI_UNITS[f]}",
                                  field=f)
             object.__setattr__(self, f, float(v))
+        if self.ld == 0:                   # each pair's crank pivots l0 e -+ ld/2 t
+            same = (" and spherical joints (beta = gamma = l2 = 0: the same leg twice, J "
+                    "singular at every pose)" if self.beta == self.gamma == self.l2 == 0
+                    else "")
+            raise InputError(f"expected ld > 0 m (the two legs of a pair apart), got ld = 0 m: "
+                             f"the legs of each pair coincide, legs 1 and 2 with their crank "
+                             f"pivots at one point ({self.l0:.6g}, 0, 0) m{same}", field="ld",
+                             hint="ld is the distance between the two legs of a pair "
+                                  "(distkin.mechanisms.presets; 20 mm in the presets)")
         if self.layout not in LAYOUTS:
             raise InputError(f"expected layout in {LAYOUTS}, got {self.layout!r}",
                              field="layout")
@@ -194,6 +204,33 @@ class RSSDescription:
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
                 raise InputError(f"expected a positive finite number, got {v!r} m", field="l3")
             object.__setattr__(self, "l3", float(v))
+        self._warn_home()
+
+    def home_margins(self) -> np.ndarray:
+        """(L,) reach margins rho^2 - C^2 (m^2) of the legs at the home pose (>= 0: the
+        leg closes; :mod:`.symbolic`'s closed form, plain numpy)."""
+        g = self.geometry()
+        w = g["p"] + np.array([0.0, 0.0, self.z0]) - g["B"] - g["offset"]
+        A = np.einsum("li,li->l", w, g["u"])
+        C = (np.einsum("li,li->l", w, w) + self.l1 ** 2 - self.l3 ** 2) / (2 * self.l1)
+        return A * A + w[:, 2] ** 2 - C * C
+
+    def _warn_home(self):
+        """A :class:`GeometryWarning` when a leg does not close at the home pose (the
+        workspace centre, the IK branches' and forward kinematics' reference; mostly a
+        unit slip, ``preset("octo", z0=300)``); refusing would stop the design sweeps,
+        which score such designs (GII 0)."""
+        m = self.home_margins()
+        size = (self.l0 + self.ld + self.lp + self.z0 + self.l1 + self.l2 + self.l3) ** 2
+        bad = np.flatnonzero(m < -1e-12 * size)
+        if bad.size:
+            import warnings
+            legs = ", ".join(f"leg {i + 1} margin {m[i]:.3g} m^2" for i in bad[:4])
+            warnings.warn(f"home: expected a home pose (0, 0, z0) that every leg reaches, got "
+                          f"z0 = {self.z0:.6g} m, where {bad.size} of {self.legs} legs do not "
+                          f"close ({legs}{' ...' if bad.size > 4 else ''}; l0 = {self.l0:.6g} "
+                          f"m, l1 = {self.l1:.6g} m, l3 = {self.l3:.6g} m): a length in "
+                          f"another unit? (SI: m)", GeometryWarning, stacklevel=4)
 
     def __getstate__(self):
         # pickle the description only (pool workers), not the loaded kernel modules
@@ -322,7 +359,11 @@ class RSSDescription:
                 crank90=z, crank=self.l1, offset=tuple(g["offset"][i]), distal=self.l3,
                 branch=1, limit=(-2.5, 2.5))
             for i in range(self.legs))
-        return LegsDescription(self.name, legs, tuple(self.home), self.mass, self.inertia, self.lp)
+        import warnings
+        with warnings.catch_warnings():    # an unreachable home: said when this was built
+            warnings.simplefilter("ignore", GeometryWarning)
+            return LegsDescription(self.name, legs, tuple(self.home), self.mass,
+                                   self.inertia, self.lp)
 
     # ------------------------------------------------------------------ dynamics
     def cartesian_mass_matrix(self) -> np.ndarray:

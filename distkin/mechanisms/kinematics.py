@@ -26,6 +26,16 @@ __all__ = ["KernelMethods", "LegMechanism", "ROUTES"]
 #: without bound)
 _ARRAYS: dict = {}
 _ARRAYS_KEPT = 512
+#: the screen of :meth:`KernelMethods._row_limit`: a revolute leg whose reach margin is
+#: below this times (l1 + l3)^3 / l1 (m^2) gets the fast tier's error estimate
+_SCREEN = 1e-6
+
+
+def _keep(key, value):
+    """Keep ``value`` in :data:`_ARRAYS`, the oldest dropped beyond :data:`_ARRAYS_KEPT`."""
+    while len(_ARRAYS) >= _ARRAYS_KEPT:
+        _ARRAYS.pop(next(iter(_ARRAYS)))                    # the oldest
+    _ARRAYS[key] = value
 
 
 class KernelMethods:
@@ -62,10 +72,71 @@ class KernelMethods:
             d = self.leg_description().arrays()
             for v in d.values():
                 v.setflags(write=False)
-            while len(_ARRAYS) >= _ARRAYS_KEPT:
-                _ARRAYS.pop(next(iter(_ARRAYS)))            # the oldest
-            _ARRAYS[key] = d
+            _keep(key, d)
         return d
+
+    def _row_limit(self):
+        """(L,) and a float: the squared norm of the translational part of a row of J above which
+        :meth:`_fast` runs the fast tier's error estimate on that leg (inf for a
+        prismatic leg, whose row is a unit line), and the largest entry of J below which
+        no row exceeds it (a first pass over the contiguous J).  That part is 1 / |Jq_ii|
+        = l3 / (l1 h) for a revolute leg that closes (h = sqrt(reach margin)); the
+        estimate flags a row (:data:`~.kinematics_tiers.J_REL_USEFUL`) at a margin of
+        about 4e-9 (l1 + l3)^2 on the presets, the screen starts at a margin of
+        1e-6 (l1 + l3)^3 / l1 (over 100x further out; tests/mechanisms/
+        test_jacobian_resolution.py checks it is a superset)."""
+        key = (type(self).kind, self.geometry_key(), "row_limit")
+        lim = _ARRAYS.get(key)
+        if lim is None:
+            d = self.leg_arrays()
+            l1 = np.where(d["prismatic"], 1.0, d["l1"])
+            with np.errstate(divide="ignore", invalid="ignore"):
+                margin = _SCREEN * (l1 + d["l3"]) ** 3 / l1
+                lim = np.where(d["prismatic"] | ~(l1 > 0), np.inf,
+                               d["l3"] ** 2 / (l1 ** 2 * margin))
+            lim.setflags(write=False)
+            # the largest entry of J below which no row can exceed its limit
+            lim = (lim, float(np.sqrt(lim.min() / 3.0)))
+            _keep(key, lim)
+        return lim
+
+    def _check_resolution(self, X, J):
+        """The fast tier's resolution check (:func:`~.kinematics_tiers.jacobian_tier`'s
+        ``inaccurate``) on the rows of J (N, L, 6) at poses X that the cheap screen of
+        :meth:`_row_limit` lets through: a :class:`~distkin.errors.ConditioningWarning`
+        naming the poses and legs (1-based) whose row of J float64 does not resolve (a
+        leg that closes next to its reach boundary), suggesting method='precise'."""
+        lim, gate = self._row_limit()
+        top = np.abs(J).max(initial=0.0)                   # NaN: the rows below decide
+        if top <= gate or not J.size:           # no row's |J[:3]|^2 can exceed its lim
+            return
+        big = np.einsum("nli,nli->nl", J[..., :3], J[..., :3]) > lim
+        if not big.any():
+            return
+        rows = np.flatnonzero(big.any(axis=-1))
+        Xs, Js = X[rows], J[rows]
+        margin = self.kernels("batched").reach(Xs)
+        if not (big[rows] & (margin >= 0.0)).any():       # only legs that do not close
+            return
+        from .kinematics_tiers import J_REL_USEFUL, _fast_jacobian_error
+        out = self._fast("jq_jx", Xs, warn=False)
+        q = self.kernels("batched").ik(Xs)
+        _, _, err, _ = _fast_jacobian_error(self, Xs, q, Js, out[..., 0], out[..., 1:])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rel = np.max(err, axis=-1) / np.max(np.abs(Js), axis=-1)
+        flag = ~(rel <= J_REL_USEFUL) & (margin >= 0.0) & np.all(np.isfinite(Js), axis=-1)
+        if not flag.any():
+            return
+        poses = np.flatnonzero(flag.any(axis=-1))
+        first = int(poses[0])
+        legs = ", ".join(str(j + 1) for j in np.flatnonzero(flag[first]))
+        import warnings
+        warnings.warn(f"jacobian: at {len(poses)} of {len(X)} pose(s) a row of J is not "
+                      f"resolved in float64 (first: pose {int(rows[first])}, leg(s) {legs}: "
+                      f"estimated error above {J_REL_USEFUL:g} of the row; the leg closes "
+                      f"next to its reach boundary, a serial singularity); use "
+                      f"method='precise' (jacobian_tier(..., 'fast') gives the estimates)",
+                      ConditioningWarning, stacklevel=4)
 
     def kernels(self, flavour: str = "batched"):
         """The generated kernels (:mod:`.kernels`), ``flavour`` "batched" or "scalar".
@@ -153,6 +224,8 @@ class KernelMethods:
                           f"prismatic leg of zero length (its line is undefined; not valid "
                           f"in inverse_kinematics): J is unbounded or undefined there",
                           ConditioningWarning, stacklevel=3)
+        if warn and name == "jacobian":
+            self._check_resolution(X, out)
         return out
 
     def _tiered(self, what, poses, method, dps, bits=None):
@@ -208,7 +281,11 @@ class KernelMethods:
         :meth:`inverse_kinematics` (:func:`~.kinematics_tiers.jacobian_tier` gives them
         ``valid`` False and an infinite error; certified raises InfeasibleError).  A leg
         at a serial singularity (Jq_ii = 0) or a prismatic leg of zero length gives a
-        row of inf or NaN, with a :class:`~distkin.errors.ConditioningWarning` naming it.
+        row of inf or NaN, with a :class:`~distkin.errors.ConditioningWarning` naming it;
+        so does a leg that closes next to its reach boundary, where float64 does not
+        resolve its row (the fast tier's check, ``jacobian_tier(...).inaccurate``; also
+        in :meth:`pose_jacobian`, :meth:`joint_mass_matrix`, :meth:`acceleration_map`):
+        use ``method="precise"`` there.  The check costs about 3 us per call at one pose.
         ``method``, ``dps`` and ``bits`` as :meth:`inverse_kinematics` (object arrays of
         mpf or arb; certified also refuses a leg whose Jq_ii ball contains 0, a serial
         singularity; radii and estimates: :func:`~.kinematics_tiers.jacobian_tier`).

@@ -46,7 +46,14 @@ from ..argcheck import no_booleans
 from ..errors import DistkinError, InputError
 
 __all__ = ["Leg", "LegsDescription", "REVOLUTE_TYPES", "PRISMATIC_TYPES", "LEG_TYPES",
-           "LEG_FIELDS", "full_turn", "in_revolute_range"]
+           "LEG_FIELDS", "full_turn", "in_revolute_range", "GeometryWarning"]
+
+
+class GeometryWarning(UserWarning):
+    """A mechanism description that builds but is likely not the one meant: a home pose
+    its legs do not reach, a preset override 100x or more off the preset's value (a
+    length in another unit).  A warning, not an error: a design may be that far off on
+    purpose (``warnings.simplefilter("error", GeometryWarning)`` refuses it)."""
 
 REVOLUTE_TYPES = ("RSS", "RUS", "RRRS")
 PRISMATIC_TYPES = ("SPS", "UPS")
@@ -311,8 +318,9 @@ class LegsDescription:
         there does not close (its reach margin rho^2 - C^2 < 0 beyond rounding): its IK
         branch would be chosen from a meaningless angle.  :class:`InputError` naming
         ``home``, the legs (1-based) and their margins (m^2).  A leg with its own
-        ``branch`` may be out of reach at home (home is then only the FK's default
-        start)."""
+        ``branch`` that does not close at home, and a prismatic leg whose length there
+        is outside its range, give a :class:`~.description.GeometryWarning` instead
+        (home is then only the FK's default start; mostly it is a unit slip, QA)."""
         from ..spatial import rotation_matrix
         X = np.array(self.home_pose)
         R = rotation_matrix(X[3:])
@@ -332,6 +340,27 @@ class LegsDescription:
                              hint="home is the workspace centre, where the IK branches are "
                                   "chosen and forward kinematics starts: a reachable pose "
                                   "(or give each leg its branch, +1 or -1)")
+        far = []
+        for i, leg in enumerate(legs):
+            P = X[:3] + R @ np.array(leg.platform)
+            if leg.prismatic and leg.range is not None:
+                n = float(np.linalg.norm(P - np.array(leg.base)))
+                if not leg.range[0] <= n <= leg.range[1]:
+                    far.append(f"leg {i + 1} length {n:.4g} m outside its range "
+                               f"[{leg.range[0]:.4g}, {leg.range[1]:.4g}] m")
+            elif not leg.prismatic and leg.branch is not None:
+                m = _revolute_margin(leg, P)
+                if m < -_margin_rounding(leg, P):
+                    far.append(f"leg {i + 1} margin {m:.3g} m^2")
+        if far:
+            import warnings
+            shown = ", ".join(f"{v:.6g}" for v in self.home_pose)
+            warnings.warn(f"home: expected a home pose that every leg reaches (the workspace "
+                          f"centre, forward kinematics' default start), got ({shown}) "
+                          f"(m, rad), which {len(far)} of {len(legs)} legs do not reach: "
+                          f"{', '.join(far[:4])}{' ...' if len(far) > 4 else ''}; lengths "
+                          f"in another unit? (a leg table in m read as mm is 1000x too "
+                          f"small)", GeometryWarning, stacklevel=4)
 
     def _resolve_branch(self, i, leg):
         if leg.prismatic or leg.branch is not None:
@@ -478,6 +507,11 @@ def _constraint(leg) -> tuple:
             leg.crank, leg.offset, leg.distal, leg.branch)
 
 
+def _m(v):
+    """A point (m) as text with its unit: ``(0.152, 0, 0) m``."""
+    return "(" + ", ".join(f"{float(x):.6g}" for x in v) + ") m"
+
+
 def _check_distinct(legs):
     """Refuse two legs with the same constraint (:func:`_constraint`): their rows of J
     are equal at every pose, so the mechanism is architecturally singular
@@ -488,7 +522,7 @@ def _check_distinct(legs):
         if j != i:
             what = "line" if leg.prismatic else "joints, crank, lengths and branch"
             raise InputError(f"expected distinct legs, got leg[{i}] with the same {what} as "
-                             f"leg[{j}] (base {leg.base}, platform {leg.platform}): the same "
+                             f"leg[{j}] (base {_m(leg.base)}, platform {_m(leg.platform)}): the same "
                              f"constraint twice, J is singular at every pose",
                              field=f"leg[{i}]")
 

@@ -102,7 +102,14 @@ from ..errors import InputError
 from .description import RSSDescription
 
 __all__ = ["PRESETS", "preset_description", "PRESET_NAMES", "description", "leg_length_rule",
-           "study_box"]
+           "study_box", "SLIP_RATIO", "unit_slips", "preset_parameters"]
+
+#: an override this many times larger or smaller than the preset's value is said to be
+#: a likely unit slip (QA R 8; the scene's check, :mod:`distkin.app.mechanism_scene`): a
+#: warning, not an error (a design may differ that much)
+SLIP_RATIO = 100.0
+_SLIP_UNITS = {**dict.fromkeys(("l0", "l1", "l2", "l3", "lp", "ld", "z0"), "m"),
+               "mass": "kg", "inertia": "kg m^2"}
 
 _MM = 1e-3
 _DEG = math.pi / 180.0
@@ -148,7 +155,25 @@ def preset_description(name: str, **overrides) -> RSSDescription:
     RSSDescription
         Frozen; ``name`` is the preset's name if nothing was overridden, else
         ``"<name>*"``.
+
+    Warns
+    -----
+    GeometryWarning
+        An override of a length, ``mass`` or ``inertia`` more than :data:`SLIP_RATIO`
+        times off the preset's value (:func:`unit_slips`: ``l0=160`` for 160 mm; the
+        scene path's check), and a home pose some leg does not reach
+        (:meth:`~.description.RSSDescription.home_margins`).  Warnings, not errors: a
+        design may be that far off on purpose, and the design sweeps score designs
+        that miss their workspace (``ld = 0``, coincident legs, is refused).
     """
+    label, params = preset_parameters(name, **overrides)
+    return RSSDescription(name=label, **params)
+
+
+def preset_parameters(name: str, **overrides) -> tuple[str, dict]:
+    """The name and the parameters (SI) of :func:`preset_description` (which builds
+    the description from them); a :class:`~.description.GeometryWarning` per override
+    that looks like a unit slip (:func:`unit_slips`)."""
     if name not in PRESETS:
         raise InputError(f"expected a preset in {', '.join(map(repr, PRESETS))}, got {name!r}",
                          field="preset")
@@ -161,7 +186,37 @@ def preset_description(name: str, **overrides) -> RSSDescription:
     changed = {k: v for k, v in overrides.items() if k not in params or params[k] != v}
     params.update(overrides)
     label = name if not changed else f"{name}*"
-    return RSSDescription(name=label, **params)
+    slips = unit_slips(name, overrides)
+    if slips:
+        import warnings
+
+        from .legs import GeometryWarning
+        for line in slips:
+            warnings.warn(line, GeometryWarning, stacklevel=3)
+    return label, params
+
+
+def unit_slips(name: str, overrides: dict) -> list[str]:
+    """One line per override of a length, ``mass`` or ``inertia`` (SI) that differs from
+    the preset ``name``'s value by more than :data:`SLIP_RATIO` times either way (both
+    non-zero): what a value in another unit looks like (``l0=160`` for 160 mm).  The
+    scene path says the same in the scene's units."""
+    base = PRESETS[name]
+    lines = []
+    for k, unit in _SLIP_UNITS.items():
+        v, b = overrides.get(k), base.get(k)
+        if k == "l3" and v is not None:
+            b = RSSDescription(**{**base, "layout": overrides.get("layout", "tangential")}).l3
+        if (not isinstance(v, (int, float)) or isinstance(v, bool) or not v or not b
+                or not math.isfinite(v)):  # the description refuses these
+            continue
+        ratio = abs(v / b)
+        if 1.0 / SLIP_RATIO <= ratio <= SLIP_RATIO:
+            continue
+        why = ("a length in another unit? preset() takes SI: m" if unit == "m" else
+               f"{k} is in {unit} (SI)")
+        lines.append(f"{k}: {v:.6g} {unit} is {ratio:.3g} x the preset's {b:.6g} {unit} ({why})")
+    return lines
 
 
 def description(name: str) -> str:

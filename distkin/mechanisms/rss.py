@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 from .description import GEOMETRY_FIELDS, LAYOUTS, LEG_LENGTH, RSSDescription
 from .kinematics import KernelMethods
-from .presets import preset_description
+from .presets import preset_parameters
 
 __all__ = ["RSSMechanism", "preset", "GEOMETRY_FIELDS", "LAYOUTS", "LEG_LENGTH"]
 
@@ -39,6 +39,10 @@ def preset(name: str, **overrides) -> RSSMechanism:
     """The mechanism named ``name``, with parameters optionally overridden.
 
     The numeric mechanism of :func:`distkin.mechanisms.presets.preset_description`
-    (which states the parameters, the overrides and the naming rule).
+    (which states the parameters, the overrides and the naming rule).  Warns
+    (:class:`~.description.GeometryWarning`) for an override 100x or more off the
+    preset's value (a unit slip: SI here, m and rad) and for a home pose some leg does
+    not reach.
     """
-    return RSSMechanism.from_description(preset_description(name, **overrides))
+    label, params = preset_parameters(name, **overrides)
+    return RSSMechanism(name=label, **params)

@@ -208,3 +208,85 @@ def test_arb_module_of_a_legs_mechanism_imports_flint_only(tmp_path):
                        (jqjx, np.hstack([m.jq_jx(X)[0][:, None], m.jq_jx(X)[1]]).ravel())):
         assert len(balls) == len(ref)
         assert np.all(np.abs(balls[:, 0] - ref) <= balls[:, 1] + 4e-16 * np.maximum(1, abs(ref)))
+
+
+@pytest.mark.parametrize("name", ["octo", "hunt"])
+def test_csv_and_toml_written_with_the_defaults_round_trip(name, tmp_path):
+    """legs_csv_text and legs_toml_text(csv_name=...) with their defaults describe the
+    preset itself (QA: the CSV was in m, the scene in mm, a mechanism 1000x too small
+    that loaded silently): the same leg table and, against the preset's own IK, the
+    same crank angles at home, every leg reachable, also through ``distkin run``."""
+    m = preset(name)
+    (tmp_path / "o.csv").write_text(legs_csv_text(m))
+    text = legs_toml_text(m, csv_name="o.csv")
+    assert "lengths in mm" in text and 'length = "mm"' in text    # the CSV's unit named
+    scene = tmp_path / "o.toml"
+    scene.write_text(text + QUERY.replace("0.3", "300"))
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        lm = load_scene(scene).mechanism
+    assert lm.key() == m.leg_description().key()
+    q, valid = lm.inverse_kinematics(m.home)
+    q0, valid0 = m.inverse_kinematics(m.home)
+    assert valid.all() and valid0.all() and np.array_equal(q, q0)
+    r = subprocess.run([sys.executable, "-m", "distkin", "run", str(scene)],
+                       capture_output=True, text=True, cwd=tmp_path)
+    assert r.returncode == 0 and "NOT reachable" not in r.stdout and "-> reachable" in r.stdout
+
+
+def test_scene_whose_home_its_branched_legs_miss_warns(tmp_path):
+    """A CSV in m read by a mm scene (every leg has its branch, so the home check that
+    chooses branches did not run): the legs, 1000x too small, do not reach home; a
+    GeometryWarning names home and the legs, with their margins computed independently
+    (the preset's own leg table scaled by 1e-3)."""
+    from distkin.mechanisms import GeometryWarning
+    m = preset("octo")
+    (tmp_path / "o.csv").write_text(legs_csv_text(m, length_unit="m"))
+    scene = tmp_path / "o.toml"
+    scene.write_text(legs_toml_text(m, length_unit="mm", csv_name="o.csv")
+                     + QUERY.replace("0.3", "300"))
+    with pytest.warns(GeometryWarning, match=r"home: expected a home pose that every leg "
+                                             r"reaches.*8 of 8 legs.*leg 1 margin") as rec:
+        lm = load_scene(scene).mechanism
+    assert not lm.reachable(m.home)
+    leg = lm.leg_table[0]
+    assert leg.crank == pytest.approx(m.l1 * 1e-3, rel=1e-15)
+    d = m.leg_description().leg_table[0]
+    w = np.array([0, 0, 0.3]) + np.array(d.platform) * 1e-3 - (np.array(d.base)
+                                                              + np.array(d.offset)) * 1e-3
+    A, B = w @ np.array(d.crank0), w @ np.array(d.crank90)
+    C = (w @ w + (d.crank * 1e-3) ** 2 - (d.distal * 1e-3) ** 2) / (2 * d.crank * 1e-3)
+    assert f"leg 1 margin {A * A + B * B - C * C:.3g} m^2" in str(rec[0].message)
+
+
+def test_csv_with_a_byte_order_mark_loads(tmp_path):
+    """Excel's "CSV UTF-8" starts with a byte-order mark: read as the same table as the
+    file without it (QA: refused, "got ['\\ufefftype']")."""
+    m = preset("hunt")
+    text = legs_csv_text(m)
+    (tmp_path / "plain.csv").write_text(text, encoding="utf-8")
+    (tmp_path / "bom.csv").write_text(text, encoding="utf-8-sig")
+    assert (tmp_path / "bom.csv").read_bytes()[:3] == b"\xef\xbb\xbf"
+    mechs = []
+    for f in ("plain.csv", "bom.csv"):
+        scene = tmp_path / f"{f}.toml"
+        scene.write_text(legs_toml_text(m, csv_name=f) + QUERY.replace("0.3", "300"))
+        mechs.append(load_scene(scene).mechanism)
+    assert mechs[0].key() == mechs[1].key() == m.leg_description().key()
+
+
+def test_duplicate_leg_message_gives_units():
+    """A duplicated leg in a mm scene (the 8-RUS example with its last leg a copy of
+    its first): the points are printed with their unit (m, the description's) and the
+    hint says the scene's unit (QA: metres without a unit)."""
+    head, *legs = (ROOT / "examples" / "rus8_device.toml").read_text().split(
+        "[[mechanism.leg]]")
+    last, _, queries = legs[-1].partition("[[query]]")
+    legs[-1] = legs[0]
+    with pytest.raises(InputError) as exc:
+        loads_scene(head + "[[mechanism.leg]]".join([""] + legs) + "[[query]]" + queries)
+    assert exc.value.field == "mechanism.leg[7]"
+    assert (f"base ({0.115911099:.6g}, {-0.031058285:.6g}, 0) m, platform "
+            f"({0.046984631:.6g}, {-0.017101007:.6g}, 0) m") in exc.value.message
+    assert "the scene's in mm" in exc.value.hint
