@@ -21,12 +21,14 @@ from __future__ import annotations
 
 import math
 import sys
+import warnings
 from fractions import Fraction
 
 from ..argcheck import check_keys, choice, require
 from ..errors import InputError
 from ..exact import exact_to_float, parse_exact
-from ..mechanisms.presets import PRESETS
+from ..mechanisms.legs import GeometryWarning
+from ..mechanisms.presets import PRESETS, SLIP_RATIO, slip_ratios
 from ..mechanisms.rss import preset
 from .units import angle_factor, length_factor
 
@@ -35,9 +37,8 @@ __all__ = ["parse_rss", "unit_slips", "LENGTHS", "ANGLES", "SLIP_RATIO"]
 LENGTHS = ("l0", "l1", "l2", "l3", "lp", "ld", "z0")
 ANGLES = ("beta", "gamma")
 _SI = ("mass", "inertia")
-#: an override this many times larger or smaller than the preset's value is said to be
-#: a likely unit slip (QA R 8): a warning, not an error (a design may differ that much)
-SLIP_RATIO = 100.0
+#: the preset overrides whose keys start a slip warning of preset() (said here instead)
+_SLIP_MESSAGE = r"(%s): " % "|".join(LENGTHS + _SI)
 
 
 def parse_rss(table, units, field):
@@ -68,7 +69,18 @@ def parse_rss(table, units, field):
                                  field=f"{field}.{k}")
     _warn_unit_slips(name, over, table, units, field)
     try:
-        return preset(name, **over)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", GeometryWarning)
+            # the slips were said above in the scene's units; preset() says them in SI
+            warnings.filterwarnings("ignore", message=_SLIP_MESSAGE, category=GeometryWarning)
+            mech = preset(name, **over)
+        for w in caught:        # e.g. a home pose some leg does not reach: one line each
+            if not issubclass(w.category, GeometryWarning):
+                warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+                continue
+            si = "" if units.length == "m" else f"; the scene's [units] length is \"{units.length}\""
+            print(f"distkin: warning: {field}.{w.message}{si}", file=sys.stderr, flush=True)
+        return mech
     except InputError as exc:
         fld = exc.field if exc.field and exc.field != "preset" else None
         msg = exc.message
@@ -79,27 +91,19 @@ def parse_rss(table, units, field):
 
 
 def unit_slips(name, over, table, units, field) -> list[str]:
-    """One line per override of a length, ``mass`` or ``inertia`` that differs from the
-    preset ``name``'s value by more than :data:`SLIP_RATIO` times either way (both
-    non-zero): what a value in another unit looks like (0.152 for l0 = 152 mm in a mm
-    scene).  ``over`` holds the overrides in SI, ``table`` as written."""
-    from ..mechanisms.presets import preset_description
-    base = preset_description(name).parameters()
+    """:func:`~distkin.mechanisms.presets.slip_ratios` worded in the scene's units: one
+    line per override more than :data:`SLIP_RATIO` times off the preset's value (0.152
+    for l0 = 152 mm in a mm scene).  ``over`` holds the overrides in SI, ``table`` as
+    written."""
     lf = 1.0 / float(units.length_factor)
     lines = []
-    for k in LENGTHS + _SI:
-        if k not in over or not base.get(k) or not over[k]:
-            continue
-        ratio = abs(over[k] / base[k])
-        if 1.0 / SLIP_RATIO <= ratio <= SLIP_RATIO:
-            continue
+    for k, _v, b, ratio, unit in slip_ratios(name, over):
         if k in LENGTHS:
             shown = (f"{table[k]} {units.length} is {ratio:.3g} x the preset's "
-                     f"{base[k] * lf:.6g} {units.length}")
+                     f"{b * lf:.6g} {units.length}")
             why = f"a length in another unit? the scene's [units] length is \"{units.length}\""
         else:
-            unit = "kg" if k == "mass" else "kg m^2"
-            shown = f"{table[k]} {unit} is {ratio:.3g} x the preset's {base[k]:.6g} {unit}"
+            shown = f"{table[k]} {unit} is {ratio:.3g} x the preset's {b:.6g} {unit}"
             why = f"{k} is in {unit} (SI) whatever the scene's units"
         lines.append(f"{field}.{k}: {shown} ({why})")
     return lines

@@ -102,7 +102,7 @@ from ..errors import InputError
 from .description import RSSDescription
 
 __all__ = ["PRESETS", "preset_description", "PRESET_NAMES", "description", "leg_length_rule",
-           "study_box", "SLIP_RATIO", "unit_slips", "preset_parameters"]
+           "study_box", "SLIP_RATIO", "slip_ratios", "unit_slips", "preset_parameters"]
 
 #: an override this many times larger or smaller than the preset's value is said to be
 #: a likely unit slip (QA R 8; the scene's check, :mod:`distkin.app.mechanism_scene`): a
@@ -196,13 +196,14 @@ def preset_parameters(name: str, **overrides) -> tuple[str, dict]:
     return label, params
 
 
-def unit_slips(name: str, overrides: dict) -> list[str]:
-    """One line per override of a length, ``mass`` or ``inertia`` (SI) that differs from
-    the preset ``name``'s value by more than :data:`SLIP_RATIO` times either way (both
-    non-zero): what a value in another unit looks like (``l0=160`` for 160 mm).  The
-    scene path says the same in the scene's units."""
+def slip_ratios(name: str, overrides: dict) -> list[tuple[str, float, float, float, str]]:
+    """``(key, value, preset_value, ratio, SI unit)`` for each override of a length,
+    ``mass`` or ``inertia`` (SI) that differs from the preset ``name``'s value by more
+    than :data:`SLIP_RATIO` times either way (both non-zero): what a value in another
+    unit looks like (``l0=160`` for 160 mm).  :func:`unit_slips` and the scene path
+    (:func:`distkin.app.mechanism_scene.unit_slips`, in the scene's units) word them."""
     base = PRESETS[name]
-    lines = []
+    out = []
     for k, unit in _SLIP_UNITS.items():
         v, b = overrides.get(k), base.get(k)
         if k == "l3" and v is not None:
@@ -213,6 +214,14 @@ def unit_slips(name: str, overrides: dict) -> list[str]:
         ratio = abs(v / b)
         if 1.0 / SLIP_RATIO <= ratio <= SLIP_RATIO:
             continue
+        out.append((k, v, b, ratio, unit))
+    return out
+
+
+def unit_slips(name: str, overrides: dict) -> list[str]:
+    """:func:`slip_ratios` as one line each, in SI (what :func:`preset` warns)."""
+    lines = []
+    for k, v, b, ratio, unit in slip_ratios(name, overrides):
         why = ("a length in another unit? preset() takes SI: m" if unit == "m" else
                f"{k} is in {unit} (SI)")
         lines.append(f"{k}: {v:.6g} {unit} is {ratio:.3g} x the preset's {b:.6g} {unit} ({why})")

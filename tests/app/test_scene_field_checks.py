@@ -15,6 +15,7 @@ import pytest
 from distkin.app.cli import main
 from distkin.app.scene import loads_scene
 from distkin.errors import InputError
+from distkin.mechanisms import GeometryWarning
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -24,16 +25,20 @@ PERF = RSS + '[[query]]\ntype = "performance"\n'
 SWEEP = RSS.replace("{preset}", "hunt") + '[[query]]\ntype = "design_sweep"\n'
 
 
-def _error(capsys, tmp_path, text, *args):
+def _error(capsys, tmp_path, text, *args, warned=()):
+    """The one error line of a refused scene; ``warned``: the fields of the warning
+    lines expected before it (in order)."""
     f = tmp_path / "s.toml"
     f.write_text(text, encoding="utf-8")
     code = main(["run", str(f), "--no-progress", *map(str, args)])
     out, err = capsys.readouterr()
     assert code == 2, out + err
     lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("distkin: error: "), err
+    assert len(lines) == 1 + len(warned) and lines[-1].startswith("distkin: error: "), err
+    for line, field in zip(lines, warned):
+        assert line.startswith(f"distkin: warning: {field}: "), line
     assert "Traceback" not in err
-    return lines[0]
+    return lines[-1]
 
 
 def test_a_grid_beyond_the_limit_is_refused_before_anything_is_allocated(tmp_path, capsys):
@@ -257,13 +262,16 @@ def test_a_study_that_reaches_nothing_has_no_answer(tmp_path, capsys):
     import numpy as np
 
     from distkin.mechanisms import preset
-    far = preset("hunt", z0=5.0)
+    with pytest.warns(GeometryWarning, match="z0 = 5 m"):      # its home is not reached
+        far = preset("hunt", z0=5.0)
     grid = np.array([[x, y, 5.0 + z, 0, 0, 0] for x in (-0.01, 0, 0.01)
                      for y in (-0.01, 0, 0.01) for z in (-0.01, 0, 0.01)])
     assert not far.reachable(grid).any()
     body = ('grid = { half = 10, step = 10, rotation = 0, rotation_step = 10 }\nworkers = 1\n'
             'devices = [ { label = "far", preset = "hunt", z0 = 5000 }DEV ]\n')
-    line = _error(capsys, tmp_path, PERF.format(preset="hunt") + body.replace("DEV", ""))
+    # the device's home is warned about at load (GeometryWarning of preset())
+    line = _error(capsys, tmp_path, PERF.format(preset="hunt") + body.replace("DEV", ""),
+                  warned=["query[0].devices[0].home"])
     assert line.startswith("distkin: error: query[0].grid: expected a device that reaches "
                            "some pose of its grid, got none that does (far: home z = 5000 mm, "
                            "27 poses)"), line

@@ -168,8 +168,11 @@ class JacobianQuery:
                                f"{r['kappa_unscaled']:.6g} (unscaled)")
             if p.mass_matrix:
                 r["cartesian_mass_matrix"] = mech.cartesian_mass_matrix()
-                r["Mq"] = mech.joint_mass_matrix(X[i])
-                r["acceleration_map"] = mech.acceleration_map(X[i])
+                with warnings.catch_warnings():
+                    # the fast J's resolution at this pose is said above (flagged[i])
+                    warnings.simplefilter("ignore", ConditioningWarning)
+                    r["Mq"] = mech.joint_mass_matrix(X[i])
+                    r["acceleration_map"] = mech.acceleration_map(X[i])
                 lines.append(f"  M̂ = diag({mech.mass:g} kg x3, {mech.inertia:g} kg m^2 x3); "
                              f"Mq = J#ᵀ M̂ J# ({units['Mq']}), acceleration map M̂⁻¹Jᵀ in "
                              "the JSON")
