@@ -198,15 +198,29 @@ def jacobian_det(base_joints, platform_joints, *, normalised: bool = True,
     joints with ``normalised=False``); with ``with_error`` a pair (value, error)
     """
     from . import float_range
-    if length_scale is not None:
-        Lf = positive_number(length_scale, "length_scale")      # > 0 and finite
-    scale = None
-    if method == "fast" or (method is None and _kind(base_joints) == "fast"
-                            and _kind(platform_joints) == "fast"):
-        b, _ = _prepare(base_joints, "fast", "base_joints")
-        p, _ = _prepare(platform_joints, "fast", "platform_joints")
-        if b.shape[-2:] == (6, 3) and p.shape[-2:] == (6, 3):
-            base_joints, platform_joints, scale = float_range.scaled_joints(b, p)
+    Lf = None if length_scale is None else positive_number(length_scale, "length_scale")
+    args = (normalised, length_scale, Lf, method, with_error)
+    if not (method == "fast" or (method is None and _kind(base_joints) == "fast"
+                                 and _kind(platform_joints) == "fast")):
+        return _jdet(base_joints, platform_joints, *args, None)
+    try:                  # unscaled first: the hot path pays one range check of the value
+        with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
+            out = _jdet(base_joints, platform_joints, *args, None)
+        if float_range.det_in_range(out[0] if with_error else out):
+            return out
+    except DegenerateGeometryError:      # a leg's squared length underflowed? (rescaled)
+        pass
+    b, p = (_prepare(x, "fast", f)[0] for x, f in ((base_joints, "base_joints"),
+                                                   (platform_joints, "platform_joints")))
+    b, p, scale = float_range.scaled_joints(b, p)
+    return _jdet(b, p, *args, scale)
+
+
+def _jdet(base_joints, platform_joints, normalised, length_scale, Lf, method, with_error,
+          scale):
+    """:func:`jacobian_det` of joints scaled by :math:`2^{-e}` (``scale`` e, fast; None:
+    unscaled), the value (and error) scaled back."""
+    from . import float_range
     J = plucker_jacobian(base_joints, platform_joints, normalised=normalised, method=method)
     kind = _kind(J) if method is None else method
     if kind == "exact":
@@ -405,6 +419,8 @@ def _condition1(pts, kind, relative, with_error, signed):
     if kind not in ("fast", "precise"):
         val = _relative(num, den, kind, all_tets, what) if relative else num
         return (val, _radius(val)) if with_error else val
+    if not relative and not with_error:       # the hot path: no estimate asked for
+        return num if scale is None else float_range.scale_back(num, scale, 18, what)
     from . import cm_error
     e1 = cm_error.product_error([tets[t] for t in _TETS[:3]],
                                 [cm_error.det_error(sq, t, None, kind) for t in _TETS[:3]],

@@ -49,7 +49,7 @@ def scaled_squared_distances(pts):
     from ..geometry.cayley_menger import squared_distances
     with np.errstate(over="ignore", under="ignore", invalid="ignore"):
         sq = squared_distances(pts)
-        s = np.max(sq, axis=(-2, -1))
+        s = sq.reshape(sq.shape[:-2] + (-1,)).max(axis=-1)    # (faster than axis=(-2, -1))
         ok = (s >= _LO) & (s <= _HI)
         if ok.all():
             return sq, None
@@ -60,15 +60,23 @@ def scaled_squared_distances(pts):
         return squared_distances(np.ldexp(pts, -e[..., None, None])), e
 
 
+def det_in_range(d) -> bool:
+    """Every fast det J within :math:`2^{\\pm 960}` (finite): computed from joints in
+    range, no rescaling needed (the check of the hot path, on the value only).  An
+    exact 0 fails it too: it is then computed again from rescaled joints (rare)."""
+    if np.ndim(d) == 0:
+        return 2.0 ** -960 <= abs(float(d)) <= 2.0 ** 960      # (NaN: False)
+    with np.errstate(invalid="ignore"):
+        a = np.abs(d)
+        return bool(np.all((a >= 2.0 ** -960) & (a <= 2.0 ** 960)))
+
+
 def scaled_joints(b, p):
     """``(b, p, e)``: the joints times :math:`2^{-e}`, ``e`` from the largest coordinate
-    magnitude of each pose (0 where that is within :math:`2^{\\pm 64}`), or
-    ``(b, p, None)`` when no pose needs it."""
-    with np.errstate(invalid="ignore"):
-        m = np.maximum(np.max(np.abs(b), axis=(-2, -1)), np.max(np.abs(p), axis=(-2, -1)))
-    ok = (m >= _LO) & (m <= _HI)
-    if np.all(ok):
-        return b, p, None
+    magnitude of each pose (0 where that is within :math:`2^{\\pm 64}`).  Called only
+    when :func:`det_in_range` fails."""
+    m = np.maximum(np.max(np.abs(b), axis=(-2, -1)), np.max(np.abs(p), axis=(-2, -1)))
+    ok = ~((m < _LO) | (m > _HI))            # NaN: left as it is, refused later
     e = np.where(ok, 0, _exponent(m))
     return np.ldexp(b, -e[..., None, None]), np.ldexp(p, -e[..., None, None]), e
 
@@ -121,38 +129,51 @@ def floor_error(err, exact):
 def det_error(J, arm, u, kind):
     r"""Rounding-error estimate of :math:`\det\mathbf J` for Plücker rows
     :math:`r_k = (u_k,\; a_k\times u_k)` (J (..., 6, 6), arms ``a`` and directions ``u``
-    (..., 6, 3)):
+    (..., 6, 3)).  With the direction and moment columns divided by
+    :math:`c_u = \max_k\|u_k\|` and :math:`c_m = \max_k \|a_k\|\|u_k\|` (rows
+    :math:`r'_k`; the estimate does not depend on the length unit),
 
-    .. math:: e = \sum_k \|\delta_k\| \prod_{j\ne k}\|r_j\|,\qquad
-              \|\delta_k\| = 4n\,\varepsilon\,(\|r_k\| + \|a_k\|\,\|u_k\|),\quad n = 6,
+    .. math:: e = c_u^3 c_m^3 \sum_k \|\delta_k\| \prod_{j\ne k}\|r'_j\|,\qquad
+              \|\delta_k\| = 4n\,\varepsilon\,(\|r'_k\| + \|a_k\|\|u_k\|/c_m),\quad n = 6,
 
     first order in the perturbation :math:`\delta_k` of row :math:`k` (Hadamard's
     inequality bounds its cofactors by the other rows' norms): the rounding of the
-    directions and of the cross products (a few :math:`\varepsilon\|a_k\|\|u_k\|`, which
-    can exceed :math:`\varepsilon\|r_k\|` where :math:`a_k \parallel u_k`) and the
-    backward error of LU (Higham, *Accuracy and Stability of Numerical Algorithms*, 2nd
-    ed., Ch. 9, :math:`n\varepsilon` times modest growth).  An estimate, not a proof
-    (the certified tier gives one), deliberately larger; it grows like
-    :math:`1/|\det\mathbf J|` relative to the value near a singularity."""
+    directions and of the cross products (a few :math:`\varepsilon\|a_k\|\|u_k\|`,
+    which can exceed :math:`\varepsilon\|a_k\times u_k\|` where
+    :math:`a_k \parallel u_k`) and the backward error of LU (Higham, *Accuracy and
+    Stability of Numerical Algorithms*, 2nd ed., Ch. 9, :math:`n\varepsilon` times
+    modest growth).  An estimate, not a proof (the certified tier gives one),
+    deliberately larger (by about 1e3 on near-singular test poses); relative to the
+    value it grows like :math:`1/|\det\mathbf J|` near a singularity."""
     from .cm_error import eps
     if kind == "fast":
-        norms = np.linalg.norm(J, axis=-1)
-        pert = 24 * eps(kind) * (norms + np.linalg.norm(arm, axis=-1)
-                                 * np.linalg.norm(u, axis=-1))
+        un = np.linalg.norm(u, axis=-1)
+        au = np.linalg.norm(arm, axis=-1) * un
+        cu, cm = (np.max(x, axis=-1) for x in (un, au))
+        cu, cm = (np.where(c > 0, c, 1.0) for c in (cu, cm))
+        Js = np.concatenate([J[..., :3] / cu[..., None, None], J[..., 3:] / cm[..., None, None]],
+                            axis=-1)
+        norms = np.linalg.norm(Js, axis=-1)
+        pert = 24 * eps(kind) * (norms + au / cm[..., None])
         err = 0.0
         for k in range(6):
             others = [j for j in range(6) if j != k]
             err = err + pert[..., k] * np.prod(norms[..., others], axis=-1)
+        err = err * cu ** 3 * cm ** 3
         return float(err) if np.ndim(err) == 0 else err
     import mpmath
     nrm = lambda v: mpmath.sqrt(sum(x * x for x in v))  # noqa: E731
-    norms = [nrm(r) for r in np.asarray(J, dtype=object)]
+    rows = np.asarray(J, dtype=object)
+    un = [nrm(x) for x in u]
+    au = [nrm(a) * n for a, n in zip(arm, un)]
+    cu, cm = (max(x) if max(x) > 0 else mpmath.mpf(1) for x in (un, au))
+    norms = [nrm(list(r[:3] / cu) + list(r[3:] / cm)) for r in rows]
     err = mpmath.mpf(0)
     for k in range(6):
-        pert = 24 * eps(kind) * (norms[k] + nrm(arm[k]) * nrm(u[k]))
+        pert = 24 * eps(kind) * (norms[k] + au[k] / cm)
         prod = mpmath.mpf(1)
         for j in range(6):
             if j != k:
                 prod *= norms[j]
         err += pert * prod
-    return err
+    return err * cu ** 3 * cm ** 3

@@ -62,9 +62,8 @@ def rotation_from_vector(w, method: str | None = None):
                              field="w")
         with np.errstate(over="ignore"):
             th = np.linalg.norm(arr, axis=-1)
-        if not np.all(np.isfinite(th)):          # |w| > 1e154: the norm without overflow
-            th = np.hypot(np.hypot(arr[..., 0], arr[..., 1]), arr[..., 2])
-        _check_angle(np.max(th, initial=0.0), 53)
+        if th.size and not th.max() <= _FAST_MAX_ANGLE:   # one comparison on the hot path
+            _check_angle(np.max(np.hypot(np.hypot(arr[..., 0], arr[..., 1]), arr[..., 2])), 53)
         safe = np.where(th > 0, th, 1.0)
         k = arr / safe[..., None]
         K = np.zeros(arr.shape[:-1] + (3, 3))
@@ -106,6 +105,9 @@ def rotation_from_vector(w, method: str | None = None):
 #: the largest error of a rotation angle (rad) the fast and precise tiers accept: the
 #: angle |w| is rounded to 2^-prec |w|, so |w| <= MAX_ANGLE_ERROR 2^prec
 MAX_ANGLE_ERROR = 1e-10
+
+
+_FAST_MAX_ANGLE = MAX_ANGLE_ERROR * 2.0 ** 53
 
 
 def _check_angle(theta, prec: int) -> None:
