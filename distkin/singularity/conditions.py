@@ -179,10 +179,11 @@ def jacobian_det(base_joints, platform_joints, *, normalised: bool = True,
     an exact 0), the ball's radius (arb) or 0 (fmpq, sympy): where ``|value| > error``
     the sign is trustworthy by the estimate; ``method="certified"`` proves it.  As for
     the absolute Cayley-Menger conditions, no warning says that the value is small (it
-    is, at every singularity).  Coordinates beyond :math:`2^{\pm 64}` are rescaled by
-    a power of two (exact); a value outside the float64 range warns
-    (:class:`~distkin.geometry.cm_float.FloatRangeWarning`: 0.0 or inf, the value as a
-    decimal).
+    is, at every singularity).  Fast: a value (or estimate) outside
+    :math:`2^{\pm 960}`, or a leg whose squared length underflowed, is computed again
+    from joints scaled by a power of two (exact; :mod:`.float_range`); a value outside
+    the float64 range then warns (:class:`~distkin.geometry.cm_float.FloatRangeWarning`:
+    0.0 or inf, the value as a decimal; QA: inf at 1e80 with a RuntimeWarning only).
 
     Raises
     ------
@@ -206,7 +207,8 @@ def jacobian_det(base_joints, platform_joints, *, normalised: bool = True,
     try:                  # unscaled first: the hot path pays one range check of the value
         with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
             out = _jdet(base_joints, platform_joints, *args, None)
-        if float_range.det_in_range(out[0] if with_error else out):
+        if float_range.det_in_range(out[0] if with_error else out) and (
+                not with_error or bool(np.all((out[1] > 0) & (out[1] < np.inf)))):
             return out
     except DegenerateGeometryError:      # a leg's squared length underflowed? (rescaled)
         pass

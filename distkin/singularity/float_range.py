@@ -145,7 +145,6 @@ def det_error(J, arm, u, kind):
     modest growth).  An estimate, not a proof (the certified tier gives one),
     deliberately larger (by about 1e3 on near-singular test poses); relative to the
     value it grows like :math:`1/|\det\mathbf J|` near a singularity."""
-    from .cm_error import eps
     if kind == "fast":
         un = np.linalg.norm(u, axis=-1)
         au = np.linalg.norm(arm, axis=-1) * un
@@ -154,7 +153,7 @@ def det_error(J, arm, u, kind):
         Js = np.concatenate([J[..., :3] / cu[..., None, None], J[..., 3:] / cm[..., None, None]],
                             axis=-1)
         norms = np.linalg.norm(Js, axis=-1)
-        pert = 24 * eps(kind) * (norms + au / cm[..., None])
+        pert = 24 * 2.0 ** -53 * (norms + au / cm[..., None])
         err = 0.0
         for k in range(6):
             others = [j for j in range(6) if j != k]
@@ -162,6 +161,7 @@ def det_error(J, arm, u, kind):
         err = err * cu ** 3 * cm ** 3
         return float(err) if np.ndim(err) == 0 else err
     import mpmath
+    unit = mpmath.mpf(2) ** -mpmath.mp.prec            # the precise tier's unit roundoff
     nrm = lambda v: mpmath.sqrt(sum(x * x for x in v))  # noqa: E731
     rows = np.asarray(J, dtype=object)
     un = [nrm(x) for x in u]
@@ -170,7 +170,7 @@ def det_error(J, arm, u, kind):
     norms = [nrm(list(r[:3] / cu) + list(r[3:] / cm)) for r in rows]
     err = mpmath.mpf(0)
     for k in range(6):
-        pert = 24 * eps(kind) * (norms[k] + au[k] / cm)
+        pert = 24 * unit * (norms[k] + au[k] / cm)
         prod = mpmath.mpf(1)
         for j in range(6):
             if j != k:
