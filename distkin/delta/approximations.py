@@ -31,6 +31,15 @@ units; the same meaning for all three):
     eq. (9), :data:`~.transform.ROWS`).  Its squared legs are affine in the octahedral
     ones (eq. (8)), so it has the octahedral assembly modes and singularities.
 
+Offsets.  The paper introduces (b) and (c) as approximations "with small offsets"
+(Sec. I); for (d) the Δ-transform needs :math:`0 < \delta_i < d_i`, the side along which
+the joint moves (Sec. V, eq. (9); :func:`~.platform66.check_offsets`).  For (b) and (c)
+we refuse (:class:`~distkin.errors.InputError` naming ``delta``) an offset of the
+shortest side of the base or platform triangle or more: there the single joints land a
+side length or more apart and no longer approximate a double-ball joint (QA: delta 100 on
+a base of side 12 was accepted).  Below it, a radially inward joint stays short of the
+centroid (the circumradius is :math:`d/\sqrt 3 > d/2` for an equilateral triangle).
+
 The measured comparison (:func:`neglected_offset_error`, :func:`singularity_shift`,
 :func:`compare_approximations`) lives in :mod:`.offset_study`.
 """
@@ -39,7 +48,7 @@ from __future__ import annotations
 
 from ..errors import InputError
 from ..singularity.conditions import OCTAHEDRAL_LEGS
-from .platform66 import Platform66, equivalent_platform
+from .platform66 import Platform66, _show, equivalent_platform
 from .exact_input import _as_sym, _base_platform, _exact_form, _sym_points
 
 __all__ = [
@@ -70,6 +79,26 @@ def _delta(delta):
         raise InputError(f"expected a positive offset delta (length units), got {shown} "
                          "(length units)", field="delta")
     return d
+
+
+def _small_offset(octahedral, delta, d):
+    """Refuse an offset that is not small: ``delta`` at least the shortest side of the
+    base or platform triangle (:class:`InputError` naming ``delta``; module docstring,
+    "Offsets")."""
+    import sympy as sp
+    pts = _points(octahedral)
+    sides = [(pts[i] - pts[j]).dot(pts[i] - pts[j])
+             for i, j in ((0, 1), (1, 2), (0, 2), (3, 4), (4, 5), (3, 5))]
+    k = min(range(6), key=lambda i: float(sides[i]))
+    if sp.N(d ** 2 - sides[k], 30) >= 0:
+        names = ("P1P2", "P2P3", "P1P3", "P4P5", "P5P6", "P4P6")
+        shown = getattr(delta, "text", None) or _show(d)
+        raise InputError(f"expected 0 < delta < {_show(sp.sqrt(sides[k]))} (the "
+                         f"shortest triangle side, {names[k]}: the split approximates a "
+                         f"double-ball joint by a small offset), got {shown} (length units)",
+                         field="delta",
+                         hint="joints split by a side length or more are no approximation "
+                              "of the octahedral manipulator")
 
 
 def _partner(vertex: int, other: int) -> int:
@@ -132,7 +161,8 @@ def standard_approximation(octahedral, delta) -> Platform66:
     octahedral : Octahedral or (base, platform)
         P1..P3 (base frame) and P4..P6 (platform frame), length units.
     delta : number or exact string
-        Centre distance of the two single joints (length units), > 0.
+        Centre distance of the two single joints (length units), > 0 and less than the
+        shortest side of the base and platform triangles (module docstring, "Offsets").
 
     Returns
     -------
@@ -140,6 +170,7 @@ def standard_approximation(octahedral, delta) -> Platform66:
         ``transform`` is None: no affine leg map (eq. (4)) exists.
     """
     d = _delta(delta)
+    _small_offset(octahedral, delta, d)
 
     def move(k, end, pts, v, far):
         _, tau = _directions(pts, v)
@@ -170,6 +201,7 @@ def stoughton_arai_approximation(octahedral, delta, *, pattern: str = "mixed") -
         raise InputError(f"expected pattern 'mixed' or 'paired', got {pattern!r}",
                          field="pattern")
     d = _delta(delta)
+    _small_offset(octahedral, delta, d)
 
     def move(k, end, pts, v, far):
         rho, _ = _directions(pts, v)

@@ -24,10 +24,12 @@ is then a certified interval).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
+from ..argcheck import positive_int, positive_number
 from ..errors import InputError
 from ..exact import check_method
 from ..singularity.conditions import jacobian_det, plucker_jacobian
@@ -130,8 +132,11 @@ def det_along(platform: Platform66, rotation, translation, length_scale: float, 
               method: str = "fast"):
     r""":math:`\det\mathbf J` of eq. (5) for ``platform`` at poses, moment columns divided
     by ``length_scale`` (dimensionless).  ``fast``: batched (..., 3, 3) / (..., 3) float;
-    ``certified``: one arb pose, an arb ball."""
-    b, q = platform.joints("certified" if method == "certified" else "fast")
+    ``certified``: one arb pose, an arb ball.  Other tiers are refused
+    (:class:`~distkin.errors.InputError` naming ``method``): ``precise`` computed in
+    float64 here (QA); :func:`~distkin.singularity.conditions.jacobian_det` has it."""
+    check_method(method, allowed=("fast", "certified"))
+    b, q = check_platform66(platform).joints("certified" if method == "certified" else "fast")
     if method == "certified":
         world = pose_points(q, rotation, translation)
         return jacobian_det(b, world, length_scale=length_scale, method="certified")
@@ -153,9 +158,11 @@ def normal_line(octahedral, rotation, translation, half_length: float) -> PoseLi
     Raises
     ------
     InputError
-        The local search found no singular pose.
+        ``half_length`` not a positive finite number (named), a bad pose; the local
+        search found no singular pose.
     """
     from ..singularity.paths import nearest_singularity
+    half_length = positive_number(half_length, "half_length")
     _, L = platform_frame(octahedral)
     oct66 = octahedral_as_66(octahedral)
     f = lambda R, t: det_along(oct66, R, t, L)  # noqa: E731
@@ -201,13 +208,38 @@ def singularity_shift(octahedral, platforms: dict, line: PoseLine, *, samples: i
 
     Parameters
     ----------
+    platforms : mapping kind -> Platform66
+        E.g. ``{"standard": standard_approximation(oc, 0.1)}``.
+    line : PoseLine
+        E.g. from :func:`normal_line`.
+    samples : int
+        Grid points on the line (>= 2).
     method : {"fast", "certified"}
         ``certified`` brackets every zero by rational parameters at which arb proves
         opposite signs of det J (:func:`~distkin.singularity.paths.certify_crossing`,
         raising :class:`~distkin.errors.UncertifiedError` otherwise) and returns
         certified shift intervals in ``bounds``.
+
+    Raises
+    ------
+    InputError
+        ``platforms`` not a mapping of names to Platform66, ``line`` not a PoseLine,
+        ``samples`` not an integer >= 2, another ``method`` (each named).
     """
     check_method(method, allowed=("fast", "certified"))
+    samples = positive_int(samples, "samples", minimum=2)
+    if not isinstance(platforms, Mapping):
+        raise InputError(f"expected a mapping of approximation names to Platform66, e.g. "
+                         f"{{'standard': standard_approximation(oc, delta)}}, got "
+                         f"{type(platforms).__name__}", field="platforms")
+    for name, plat in platforms.items():
+        if not isinstance(name, str):
+            raise InputError(f"expected approximation names (strings) as keys, got "
+                             f"{name!r}", field="platforms")
+        check_platform66(plat, f"platforms[{name!r}]")
+    if not isinstance(line, PoseLine):
+        raise InputError(f"expected a PoseLine (e.g. from normal_line), got "
+                         f"{type(line).__name__}", field="line")
     _, L = platform_frame(octahedral)
     span = line.length(L)
     allp = {"octahedral": octahedral_as_66(octahedral), **platforms}

@@ -38,6 +38,9 @@ import warnings
 import numpy as np
 
 from ..geometry.cm_float import CANCELLATION_THRESHOLD, CancellationWarning
+from ..errors import DegenerateGeometryError, UncertifiedError
+from .float_range import floor_error
+from .tiers import _at
 
 __all__: list[str] = []     # helpers of distkin.singularity.conditions
 
@@ -62,17 +65,24 @@ def det_error(sq, rows, cols, kind):
     if kind == "fast":
         block = np.abs(np.asarray(sq)[..., ri, :][..., :, ci])
         s = np.max(block, axis=(-2, -1))
-        return 17 * terms * u * s ** 3
+        with np.errstate(under="ignore"):
+            return floor_error(17 * terms * u * s ** 3, s == 0)   # 0: the points coincide
     s = max(abs(sq[i, j]) for i in ri for j in ci)
     return 17 * terms * u * s ** 3
 
 
 def product_error(values, errors, kind):
-    """:math:`e_P` of a product of (bi)determinants ``values`` with errors ``errors``."""
+    """:math:`e_P` of a product of (bi)determinants ``values`` with errors ``errors``;
+    fast: 0 only where a factor is exactly 0 with a 0 estimate (coincident points),
+    else at least the smallest float64 (an estimate that underflowed is not 0)."""
     exact = abs(values[0] * values[1] * values[2])
     bound = (abs(values[0]) + errors[0]) * (abs(values[1]) + errors[1]) \
         * (abs(values[2]) + errors[2])
-    return bound - exact + 2 * eps(kind) * exact
+    e = bound - exact + 2 * eps(kind) * exact
+    if kind != "fast":
+        return e
+    return floor_error(e, np.any([(v == 0) & (x == 0) for v, x in zip(values, errors)],
+                                 axis=0))
 
 
 def relative(num, den, err, kind, what):
@@ -121,3 +131,41 @@ def _inaccurate_warning(what, val, e, idx):
         f"relative {what} = {val:.6g}{where} with a rounding error estimate of {e:.2g} "
         f"(the products cancel or are nearly 0); use method='certified', or a higher dps",
         e, idx), stacklevel=5)
+
+
+def _vanishes(x):
+    """Exactly zero (float, fmpq, mpf, an exact arb 0, sympy when provably 0)."""
+    if isinstance(x, np.ndarray) and x.dtype != object:
+        return x == 0
+    return bool(x == 0) or getattr(x, "is_zero", None) is True
+
+
+def exact_relative(num, den, kind, tets, what):
+    """``num / den`` for a denominator that is a sum of products of Cayley-Menger
+    determinants (>= 0).  Where it vanishes (then so does ``num``) the relative value
+    is 0/0: :class:`DegenerateGeometryError` naming the flat tetrahedra (``tets()``:
+    tetrahedron -> D, called only then); an arb
+    denominator whose ball contains 0 is :class:`UncertifiedError`."""
+    if kind == "fast":
+        zero = np.asarray(den == 0)
+        if not zero.any():
+            return num / den
+        idx = tuple(int(i) for i in np.argwhere(zero)[0]) if zero.ndim else ()
+    elif type(den).__name__ == "arb" and not den > 0 and not den.is_zero():
+        near = [t for t, v in tets().items() if not (v > 0 or v < 0)]
+        names = ", ".join("P" + "P".join(map(str, t)) for t in near)
+        raise UncertifiedError(f"expected the denominator of the relative {what} to exclude "
+                               f"0, got {den.str(5, radius=True)}: the balls of the "
+                               f"Cayley-Menger determinants of {names} contain 0 (flat "
+                               f"tetrahedra, or within the radius of flat; the relative value "
+                               f"may be 0/0)", hint="raise the precision")
+    elif not _vanishes(den):
+        return num / den
+    else:
+        idx = ()
+    flat = [t for t, v in tets().items() if _vanishes(np.asarray(v)[idx] if kind == "fast" else v)]
+    names = ", ".join("P" + "P".join(map(str, t)) for t in flat)
+    raise DegenerateGeometryError(
+        f"expected a non-vanishing denominator for the relative {what}, got 0{_at(idx)}: "
+        f"flat tetrahedra {names} (the condition itself is exactly 0 there)", field="points",
+        hint="use relative=False, or det J (jacobian_det)")

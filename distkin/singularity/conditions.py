@@ -47,7 +47,8 @@ from fractions import Fraction
 import numpy as np
 
 from ..argcheck import positive_number
-from ..errors import DegenerateGeometryError, InputError, UncertifiedError
+from ..errors import DegenerateGeometryError, DistkinError, InputError, UncertifiedError
+from .cm_error import exact_relative as _relative
 from .tiers import (_at, _check_legs, _cross, _det, _float, _float_or_str, _kind,
                     _prepare, _sqrt, _sympify, _to_flint)
 
@@ -164,12 +165,25 @@ def plucker_jacobian(base_joints, platform_joints, *, normalised: bool = True,
 
 
 def jacobian_det(base_joints, platform_joints, *, normalised: bool = True,
-                 length_scale=None, method: str | None = None):
+                 length_scale=None, method: str | None = None, with_error: bool = False):
     r""":math:`\det\mathbf J` of eq. (5) (or of :math:`\hat{\mathbf J}`).
 
     With ``length_scale`` L (a finite number > 0, length units) the moment columns are
     divided by L, so that the normalised determinant is dimensionless
     (:math:`\det/L^3`).
+
+    Accuracy.  The fast (float64, LU) value is not vouched for: near a singularity it
+    loses digits (QA: 49 of 200 near-singular poses off by more than 1e-6 relative).
+    ``with_error=True`` returns ``(value, error)``, the rounding-error estimate of
+    :func:`.float_range.det_error` (fast, precise; an estimate, not a bound; 0 only for
+    an exact 0), the ball's radius (arb) or 0 (fmpq, sympy): where ``|value| > error``
+    the sign is trustworthy by the estimate; ``method="certified"`` proves it.  As for
+    the absolute Cayley-Menger conditions, no warning says that the value is small (it
+    is, at every singularity).  Fast: a value (or estimate) outside
+    :math:`2^{\pm 960}`, or a leg whose squared length underflowed, is computed again
+    from joints scaled by a power of two (exact; :mod:`.float_range`); a value outside
+    the float64 range then warns (:class:`~distkin.geometry.cm_float.FloatRangeWarning`:
+    0.0 or inf, the value as a decimal; QA: inf at 1e80 with a RuntimeWarning only).
 
     Raises
     ------
@@ -182,20 +196,57 @@ def jacobian_det(base_joints, platform_joints, *, normalised: bool = True,
     Returns
     -------
     float array (batch shape) | mpf | arb or fmpq (certified; exact for rational
-    joints with ``normalised=False``)
+    joints with ``normalised=False``); with ``with_error`` a pair (value, error)
     """
-    if length_scale is not None:
-        Lf = positive_number(length_scale, "length_scale")      # > 0 and finite
+    from . import float_range
+    Lf = None if length_scale is None else positive_number(length_scale, "length_scale")
+    args = (normalised, length_scale, Lf, method, with_error)
+    if not (method == "fast" or (method is None and _kind(base_joints) == "fast"
+                                 and _kind(platform_joints) == "fast")):
+        return _jdet(base_joints, platform_joints, *args, None)
+    try:                  # unscaled first: the hot path pays one range check of the value
+        with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
+            out = _jdet(base_joints, platform_joints, *args, None)
+        if float_range.det_in_range(out[0] if with_error else out) and (
+                not with_error or bool(np.all((out[1] > 0) & (out[1] < np.inf)))):
+            return out
+    except DegenerateGeometryError:      # a leg's squared length underflowed? (rescaled)
+        pass
+    b, p = (_prepare(x, "fast", f)[0] for x, f in ((base_joints, "base_joints"),
+                                                   (platform_joints, "platform_joints")))
+    b, p, scale = float_range.scaled_joints(b, p)
+    return _jdet(b, p, *args, scale)
+
+
+def _jdet(base_joints, platform_joints, normalised, length_scale, Lf, method, with_error,
+          scale):
+    """:func:`jacobian_det` of joints scaled by :math:`2^{-e}` (``scale`` e, fast; None:
+    unscaled), the value (and error) scaled back."""
+    from . import float_range
     J = plucker_jacobian(base_joints, platform_joints, normalised=normalised, method=method)
     kind = _kind(J) if method is None else method
     if kind == "exact":
         kind = "certified"
     d = _det(J, kind)
+    err = None
+    if with_error and kind in ("fast", "precise"):
+        arm, _ = _prepare(base_joints, kind, "base_joints")
+        err = float_range.det_error(J, arm, J[..., :3], kind)
     if length_scale is not None:
         L = length_scale if isinstance(length_scale, (int, float, Fraction)) else Lf
         L = {"fast": float, "precise": _float_or_str, "certified": _to_flint}.get(kind, _sympify)(L)
+        if scale is not None:                   # the joints were scaled: L alike
+            L = np.ldexp(L, -scale)
         d = d / L ** 3
-    return d
+        err = None if err is None else err / abs(L) ** 3
+    degree = (3 if normalised else 9) - (0 if length_scale is None else 3)
+    if scale is not None and degree:    # homogeneous of that degree in the coordinates
+        d = float_range.scale_back(d, scale, degree, "det J" if normalised else "det Jhat",
+                                   "a length_scale")
+        err = None if err is None else float_range.scale_error(err, scale, degree)
+    if not with_error:
+        return d
+    return d, (_radius(d) if err is None else err)
 
 
 def certified_sign(value) -> int:
@@ -230,15 +281,6 @@ def certified_sign(value) -> int:
 
 # ------------------------------------------------------------- Cayley-Menger conditions
 
-def _sq(points, method):
-    from ..geometry.cayley_menger import squared_distances
-    pts, kind = _prepare(points, method)
-    if pts.shape[-2:] != (6, 3):
-        raise InputError(f"expected points P1..P6 of shape (..., 6, 3), got {pts.shape}",
-                         field="points")
-    return squared_distances(pts), kind
-
-
 def cm_pure_condition(points, *, method: str | None = None, relative: bool = False,
                       dps: int | None = None, with_error: bool = False):
     r"""The paper's pure condition in Cayley-Menger form (Sec. IV):
@@ -270,7 +312,13 @@ def cm_pure_condition(points, *, method: str | None = None, relative: bool = Fal
     precise relative value is undefined (both products within their rounding error of 0,
     :class:`~distkin.geometry.cm_float.CancellationWarning` saying so); a relative
     value whose error estimate exceeds 1e-6 warns too.  The absolute form does not warn
-    (it is near 0 at every singularity): ``with_error`` gives its estimate.
+    (it is near 0 at every singularity): ``with_error`` gives its estimate, 0 only for
+    an exact value.  Fast: coordinates whose squared distances leave :math:`2^{\pm 64}`
+    are scaled by a power of two (:mod:`.float_range`; exact, the relative value is
+    scale-free); an absolute value beyond the float64 range reads 0.0 or inf with a
+    :class:`~distkin.geometry.cm_float.FloatRangeWarning` giving it as a decimal.
+    Precise and certified: a batch (..., 6, 3) is computed one point set at a time
+    (object arrays).
 
     Raises
     ------
@@ -329,41 +377,73 @@ def _condition(points, method, dps, relative, with_error, signed):
     else:
         ctx = contextlib.nullcontext()
     with ctx:                    # local precision, not mpmath.mp's (QA V 3)
-        sq, kind = _sq(points, method)
-        tets = {t: _D(sq, t) for t in (_TETS[:3] if signed else _TETS)}
-        first = tets[1, 2, 4, 5] * tets[3, 4, 5, 6] * tets[1, 2, 3, 6]
-        if signed:
-            bidets = [_D(sq, r, c) for r, c in _BIDETS]
-            second = bidets[0] * bidets[1] * bidets[2]
-            num, den = first + second, abs(first) + abs(second)
-            what = "signed Cayley-Menger condition"
-            all_tets = lambda: {**tets, **{t: _D(sq, t) for t in _TETS[3:]}}  # noqa: E731
-        else:
-            second = tets[1, 2, 3, 4] * tets[2, 4, 5, 6] * tets[1, 3, 5, 6]
-            num, den = first - second, first + second
-            what = "Cayley-Menger condition"
-            all_tets = lambda: tets  # noqa: E731
-        if kind not in ("fast", "precise"):
-            val = _relative(num, den, kind, all_tets, what) if relative else num
-            return (val, _radius(val)) if with_error else val
-        from . import cm_error
-        e1 = cm_error.product_error([tets[t] for t in _TETS[:3]],
-                                    [cm_error.det_error(sq, t, None, kind) for t in _TETS[:3]],
-                                    kind)
-        if signed:
-            e2 = cm_error.product_error(bidets, [cm_error.det_error(sq, r, c, kind)
-                                                 for r, c in _BIDETS], kind)
-        else:
-            e2 = cm_error.product_error([tets[t] for t in _TETS[3:]],
-                                        [cm_error.det_error(sq, t, None, kind)
-                                         for t in _TETS[3:]], kind)
-        err = e1 + e2
-        if not relative:
-            return (num, err) if with_error else num
-        if np.any(np.asarray(den == 0)):         # exactly 0/0: the tetrahedra are named
-            _relative(num, den, kind, all_tets, what)
-        val, e = cm_error.relative(num, den, err, kind, what)
-        return (val, e) if with_error else val
+        pts, kind = _prepare(points, method)
+        if pts.shape[-2:] != (6, 3):
+            raise InputError(f"expected points P1..P6 of shape (..., 6, 3), got {pts.shape}",
+                             field="points")
+        if kind == "fast" or pts.ndim == 2:
+            return _condition1(pts, kind, relative, with_error, signed)
+        vals, errs = (np.empty(pts.shape[:-2], dtype=object) for _ in range(2))
+        for idx in np.ndindex(pts.shape[:-2]):   # exact tiers: one point set at a time
+            try:
+                out = _condition1(pts[idx], kind, relative, True, signed)
+            except DistkinError as exc:
+                raise type(exc)(exc.message + _at(idx), field=exc.field,
+                                hint=exc.hint) from None
+            vals[idx], errs[idx] = out
+        return (vals, errs) if with_error else vals
+
+
+def _condition1(pts, kind, relative, with_error, signed):
+    """:func:`_condition` of one point set (exact tiers) or a float batch.  The fast tier
+    works on coordinates scaled by a power of two where their squared distances leave
+    :math:`2^{\\pm 64}` (:mod:`.float_range`), the absolute value and its error scaled
+    back (degree 18)."""
+    from ..geometry.cayley_menger import squared_distances
+    from . import float_range
+    if kind == "fast":
+        sq, scale = float_range.scaled_squared_distances(pts)
+    else:
+        sq, scale = squared_distances(pts), None
+    tets = {t: _D(sq, t) for t in (_TETS[:3] if signed else _TETS)}
+    first = tets[1, 2, 4, 5] * tets[3, 4, 5, 6] * tets[1, 2, 3, 6]
+    if signed:
+        bidets = [_D(sq, r, c) for r, c in _BIDETS]
+        second = bidets[0] * bidets[1] * bidets[2]
+        num, den = first + second, abs(first) + abs(second)
+        what = "signed Cayley-Menger condition"
+        all_tets = lambda: {**tets, **{t: _D(sq, t) for t in _TETS[3:]}}  # noqa: E731
+    else:
+        second = tets[1, 2, 3, 4] * tets[2, 4, 5, 6] * tets[1, 3, 5, 6]
+        num, den = first - second, first + second
+        what = "Cayley-Menger condition"
+        all_tets = lambda: tets  # noqa: E731
+    if kind not in ("fast", "precise"):
+        val = _relative(num, den, kind, all_tets, what) if relative else num
+        return (val, _radius(val)) if with_error else val
+    if not relative and not with_error:       # the hot path: no estimate asked for
+        return num if scale is None else float_range.scale_back(num, scale, 18, what)
+    from . import cm_error
+    e1 = cm_error.product_error([tets[t] for t in _TETS[:3]],
+                                [cm_error.det_error(sq, t, None, kind) for t in _TETS[:3]],
+                                kind)
+    if signed:
+        e2 = cm_error.product_error(bidets, [cm_error.det_error(sq, r, c, kind)
+                                             for r, c in _BIDETS], kind)
+    else:
+        e2 = cm_error.product_error([tets[t] for t in _TETS[3:]],
+                                    [cm_error.det_error(sq, t, None, kind)
+                                     for t in _TETS[3:]], kind)
+    err = e1 + e2
+    if not relative:
+        if scale is not None:
+            num = float_range.scale_back(num, scale, 18, what)
+            err = float_range.scale_error(err, scale, 18)
+        return (num, err) if with_error else num
+    if np.any(np.asarray(den == 0)):         # exactly 0/0: the tetrahedra are named
+        _relative(num, den, kind, all_tets, what)
+    val, e = cm_error.relative(num, den, err, kind, what)
+    return (val, e) if with_error else val
 
 
 def _radius(v):
@@ -389,44 +469,6 @@ def _D(sq, rows, cols=None):
 _TETS = ((1, 2, 4, 5), (3, 4, 5, 6), (1, 2, 3, 6), (1, 2, 3, 4), (2, 4, 5, 6), (1, 3, 5, 6))
 
 
-def _vanishes(x):
-    """Exactly zero (float, fmpq, mpf, an exact arb 0, sympy when provably 0)."""
-    if isinstance(x, np.ndarray) and x.dtype != object:
-        return x == 0
-    return bool(x == 0) or getattr(x, "is_zero", None) is True
-
-
-def _relative(num, den, kind, tets, what):
-    """``num / den`` for a denominator that is a sum of products of Cayley-Menger
-    determinants (>= 0).  Where it vanishes (then so does ``num``) the relative value
-    is 0/0: :class:`DegenerateGeometryError` naming the flat tetrahedra (``tets()``:
-    tetrahedron -> D, called only then); an arb
-    denominator whose ball contains 0 is :class:`UncertifiedError`."""
-    if kind == "fast":
-        zero = np.asarray(den == 0)
-        if not zero.any():
-            return num / den
-        idx = tuple(int(i) for i in np.argwhere(zero)[0]) if zero.ndim else ()
-    elif type(den).__name__ == "arb" and not den > 0 and not den.is_zero():
-        near = [t for t, v in tets().items() if not (v > 0 or v < 0)]
-        names = ", ".join("P" + "P".join(map(str, t)) for t in near)
-        raise UncertifiedError(f"expected the denominator of the relative {what} to exclude "
-                               f"0, got {den.str(5, radius=True)}: the balls of the "
-                               f"Cayley-Menger determinants of {names} contain 0 (flat "
-                               f"tetrahedra, or within the radius of flat; the relative value "
-                               f"may be 0/0)", hint="raise the precision")
-    elif not _vanishes(den):
-        return num / den
-    else:
-        idx = ()
-    flat = [t for t, v in tets().items() if _vanishes(np.asarray(v)[idx] if kind == "fast" else v)]
-    names = ", ".join("P" + "P".join(map(str, t)) for t in flat)
-    raise DegenerateGeometryError(
-        f"expected a non-vanishing denominator for the relative {what}, got 0{_at(idx)}: "
-        f"flat tetrahedra {names} (the condition itself is exactly 0 there)", field="points",
-        hint="use relative=False, or det J (jacobian_det)")
-
-
 def _vol(pts, i, j, k, l):
     a = pts[..., i - 1, :]
     return np.sum((pts[..., j - 1, :] - a) * _cross(pts[..., k - 1, :] - a, pts[..., l - 1, :] - a),
@@ -439,9 +481,13 @@ def volume_factors(points, *, method: str | None = None):
 
     :math:`\det\hat{\mathbf J} = -216(a+b)`; the ratio of the paper's condition to
     :math:`\det\hat{\mathbf J}` is :math:`-110592(a-b)`, that of the signed one
-    :math:`-110592\,a`.
+    :math:`-110592\,a`.  ``points`` (..., 6, 3): P1..P6; another shape is an
+    :class:`~distkin.errors.InputError`.
     """
     pts, _ = _prepare(points, method)
+    if pts.shape[-2:] != (6, 3):
+        raise InputError(f"expected points P1..P6 of shape (..., 6, 3), got {pts.shape}",
+                         field="points")
     a = _vol(pts, 1, 2, 4, 5) * _vol(pts, 3, 4, 5, 6) * _vol(pts, 1, 2, 3, 6)
     b = _vol(pts, 1, 2, 3, 4) * _vol(pts, 2, 4, 5, 6) * _vol(pts, 1, 3, 5, 6)
     return a, b

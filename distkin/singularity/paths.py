@@ -12,9 +12,10 @@ from fractions import Fraction
 
 import numpy as np
 
+from ..argcheck import positive_int, positive_number
 from ..errors import InputError, UncertifiedError
 from .conditions import certified_sign
-from .tiers import _prepare, _to_flint
+from .tiers import _checked, _prepare, _to_flint
 
 __all__ = [
     "rotation_from_vector",
@@ -42,10 +43,27 @@ def rotation_from_vector(w, method: str | None = None):
     Returns
     -------
     array (..., 3, 3)
+
+    Raises
+    ------
+    InputError
+        ``w`` not of shape (..., 3) (fast) or (3,) (precise, certified), booleans, NaN
+        or inf; in the fast and precise tiers an angle :math:`|w|` above
+        :math:`10^{-10}\,2^{p}` rad (:data:`MAX_ANGLE_ERROR`; p the precision in bits,
+        53 in float64: about 9e5 rad): :math:`|w|` is rounded to about
+        :math:`2^{-p}|w|` rad, so the rotation of a larger angle is not determined (QA:
+        1e300 gave NaN).  Reduce the angle modulo :math:`2\pi` first, or use the
+        certified tier (its balls widen honestly).
     """
     arr, kind = _prepare(w, method, "w")
     if kind == "fast":
-        th = np.linalg.norm(arr, axis=-1)
+        if arr.ndim < 1 or arr.shape[-1] != 3:
+            raise InputError(f"expected rotation vectors of shape (..., 3), got {arr.shape}",
+                             field="w")
+        with np.errstate(over="ignore"):
+            th = np.linalg.norm(arr, axis=-1)
+        if th.size and not th.max() <= _FAST_MAX_ANGLE:   # one comparison on the hot path
+            _check_angle(np.max(np.hypot(np.hypot(arr[..., 0], arr[..., 1]), arr[..., 2])), 53)
         safe = np.where(th > 0, th, 1.0)
         k = arr / safe[..., None]
         K = np.zeros(arr.shape[:-1] + (3, 3))
@@ -55,7 +73,8 @@ def rotation_from_vector(w, method: str | None = None):
         s, c = np.sin(th)[..., None, None], np.cos(th)[..., None, None]
         return np.eye(3) + s * K + (1 - c) * (K @ K)
     if arr.shape != (3,):
-        raise InputError(f"expected one rotation vector (3,) in the {kind} tier, got {arr.shape}")
+        raise InputError(f"expected one rotation vector (3,) in the {kind} tier, got "
+                         f"{arr.shape}", field="w")
     if kind == "precise":
         import mpmath
         th2 = sum(x * x for x in arr)
@@ -63,6 +82,7 @@ def rotation_from_vector(w, method: str | None = None):
             return np.array([[mpmath.mpf(int(i == j)) for j in range(3)] for i in range(3)],
                             dtype=object)
         th = mpmath.sqrt(th2)
+        _check_angle(th, mpmath.mp.prec)
         s, c = mpmath.sin(th) / th, (1 - mpmath.cos(th)) / th2
     else:
         import flint
@@ -82,6 +102,23 @@ def rotation_from_vector(w, method: str | None = None):
     return R
 
 
+#: the largest error of a rotation angle (rad) the fast and precise tiers accept: the
+#: angle |w| is rounded to 2^-prec |w|, so |w| <= MAX_ANGLE_ERROR 2^prec
+MAX_ANGLE_ERROR = 1e-10
+
+
+_FAST_MAX_ANGLE = MAX_ANGLE_ERROR * 2.0 ** 53
+
+
+def _check_angle(theta, prec: int) -> None:
+    limit = MAX_ANGLE_ERROR * 2.0 ** prec
+    if theta > limit:
+        raise InputError(f"expected a rotation angle |w| <= {limit:.3g} rad at {prec} bits "
+                         f"(|w| is rounded to about 2^-{prec} |w| rad), got {float(theta):.6g} "
+                         "rad", field="w",
+                         hint="reduce the angle modulo 2 pi exactly, or use method='certified'")
+
+
 def pose_points(points, rotation, translation):
     """World coordinates ``R @ q + t`` of points ``q`` given in the platform frame.
 
@@ -94,10 +131,26 @@ def pose_points(points, rotation, translation):
     Returns
     -------
     array (..., n, 3)
+
+    Raises
+    ------
+    InputError
+        Booleans, NaN or inf in any argument, ``points`` not (n, 3), ``rotation`` not
+        (..., 3, 3), ``translation`` not (..., 3), or batch shapes that do not
+        broadcast (each names its field).
     """
-    q = np.asarray(points) if not isinstance(points, np.ndarray) else points
-    R = np.asarray(rotation) if not isinstance(rotation, np.ndarray) else rotation
-    t = np.asarray(translation) if not isinstance(translation, np.ndarray) else translation
+    q, R, t = (_checked(v, f) for v, f in ((points, "points"), (rotation, "rotation"),
+                                           (translation, "translation")))
+    for bad, arr, field, want in ((q.ndim != 2 or q.shape[-1] != 3, q, "points", "(n, 3)"),
+                                  (R.shape[-2:] != (3, 3), R, "rotation", "(..., 3, 3)"),
+                                  (t.shape[-1:] != (3,), t, "translation", "(..., 3)")):
+        if bad:
+            raise InputError(f"expected shape {want}, got {arr.shape}", field=field)
+    try:
+        np.broadcast_shapes(R.shape[:-2], t.shape[:-1])
+    except ValueError:
+        raise InputError(f"expected rotations and translations of matching batch shapes, got "
+                         f"{R.shape} and {t.shape}", field="translation") from None
     if R.dtype == object or q.dtype == object:
         R = np.asarray(R, dtype=object)
         q = np.asarray(q, dtype=object)
@@ -197,8 +250,10 @@ def path_crossings(f, samples: int = 200, *, xtol: float = 1e-14, refine: bool =
     ----------
     f : callable (array of s) -> array of values (batched float)
     samples : int
+        At least 2 (both ends of [0, 1]); another value or type is an
+        :class:`~distkin.errors.InputError` naming ``samples``.
     xtol : float
-        Absolute tolerance on each root (in s).
+        Absolute tolerance on each root (in s), > 0.
     refine : bool
         Search the local minima of |f| for root pairs between samples.
 
@@ -208,6 +263,8 @@ def path_crossings(f, samples: int = 200, *, xtol: float = 1e-14, refine: bool =
     grid, values : arrays (samples,)
         The sampled function (for plots).
     """
+    samples = positive_int(samples, "samples", minimum=2)
+    xtol = positive_number(xtol, "xtol")
     grid = np.linspace(0.0, 1.0, samples)
     vals = np.asarray(f(grid), dtype=float)
     roots = []
@@ -277,34 +334,69 @@ def certify_crossing(f_arb, s: float, *, lo: float = 0.0, hi: float = 1.0,
     r"""Certify a sign change of det J around ``s`` with arb balls.
 
     Evaluates ``f_arb`` (exact rational s -> arb) at :math:`s \mp \epsilon` for
-    :math:`\epsilon` = ``start``, 10 ``start``, ... up to ``limit``; the first pair of
-    balls that both exclude 0 and have opposite signs proves (intermediate value
-    theorem) a zero of det J in the bracket.
+    :math:`\epsilon` = ``start``, 10 ``start``, ... up to ``limit`` (clipped to
+    [``lo``, ``hi``]); the first pair of balls that both exclude 0 and have opposite
+    signs proves (intermediate value theorem) a zero of det J in the bracket.  Where
+    ``f_arb`` is exactly 0 (an exact ball 0 or fmpq 0) at ``s`` itself (when a float
+    ``s`` is tried as its exact binary value) or at an end of a bracket, that point is
+    a proved singular pose (a crossing or a touch: no sign is claimed): returned as
+    ``Crossing(z, (z, z), (0, 0))``.
 
     Raises
     ------
+    InputError
+        ``s`` not a finite number in [``lo``, ``hi``]; ``start`` or ``limit`` not
+        positive and finite; ``lo`` >= ``hi``.
     UncertifiedError
-        No such pair up to ``limit``.
+        No such pair up to ``limit`` (the signs found are named).
     """
+    lo, hi = _finite_number(lo, "lo"), _finite_number(hi, "hi")
+    if not lo < hi:
+        raise InputError(f"expected lo < hi, got lo = {lo!r} and hi = {hi!r}", field="hi")
+    s = _finite_number(s, "s")
+    if not lo <= s <= hi:
+        raise InputError(f"expected s in [lo, hi] = [{lo!r}, {hi!r}], got {s!r}", field="s")
+    start, limit = positive_number(start, "start"), positive_number(limit, "limit")
+    sign = lambda x: certified_sign(f_arb(_to_flint(x)))  # noqa: E731
+    zero = Fraction(s)                     # a float s is tried as its exact binary value
+    try:
+        if sign(zero) == 0:
+            return Crossing(float(zero), (zero, zero), (0, 0))
+    except UncertifiedError:
+        pass
     eps = start
     last = None
     while eps <= limit:
         a = Fraction(max(lo, s - eps)).limit_denominator(10 ** 18)
         b = Fraction(min(hi, s + eps)).limit_denominator(10 ** 18)
         try:
-            sa, sb = certified_sign(f_arb(_to_flint(a))), certified_sign(f_arb(_to_flint(b)))
+            sa, sb = sign(a), sign(b)
         except UncertifiedError as exc:
             last = UncertifiedError(f"could not certify the sign of det J at s = "
                                     f"{float(a):.15g} or {float(b):.15g} (around the crossing "
                                     f"at s = {s:.15g}, up to {limit:g} from it): {exc.message}")
             eps *= 10
             continue
-        if sa * sb < 0:                      # an exact zero at an end proves no change
+        for z, sz in ((a, sa), (b, sb)):
+            if sz == 0:                      # exactly singular at an end of the bracket
+                return Crossing(float(z), (z, z), (0, 0))
+        if sa * sb < 0:
             return Crossing(s, (a, b), (sa, sb))
         last = UncertifiedError(f"expected opposite signs of det J around s = {s:.15g}, got "
-                                f"{sa:+d} on both sides of [{float(a):.15g}, {float(b):.15g}]")
+                                f"{sa:+d} at s = {float(a):.15g} and {sb:+d} at s = "
+                                f"{float(b):.15g}")
         eps *= 10
-    raise last or UncertifiedError(f"could not certify the crossing at s = {s:.15g}")
+    raise last or UncertifiedError(f"could not certify the crossing at s = {s:.15g}: no "
+                                   f"bracket fits in [{lo!r}, {hi!r}] from start = "
+                                   f"{start:g} up to limit = {limit:g}")
+
+
+def _finite_number(value, field: str) -> float:
+    from ..exact import parse_float
+    x = parse_float(value, field)
+    if not np.isfinite(x):
+        raise InputError(f"expected a finite number, got {value!r}", field=field)
+    return x
 
 
 @dataclass(frozen=True)
