@@ -395,7 +395,7 @@ def check_design_corners(space, units, field):
     smallest or largest value; the presets' rules are monotone in each) before the sweep
     runs: an impossible design (l2 at or beyond the leg length) was refused only at run
     time, after minutes of culling, in SI with float noise (QA V 9)."""
-    from ..indices.design import PARAMS, coincident_legs
+    from ..indices.design import PARAMS
     ranges = [(n, (v[0], v[-1])) for n, v in space.values]
     for combo in itertools.product(*[r for _, r in ranges]):
         params = dict(zip([n for n, _ in ranges], combo))
@@ -406,25 +406,15 @@ def check_design_corners(space, units, field):
                 # a corner design whose home a leg misses is scored (GII over the poses
                 # it reaches), not refused: the sweep's report says what it reaches
                 warnings.simplefilter("ignore", GeometryWarning)
-                mech = space.mechanism(params)
+                space.mechanism(params)
         except InputError as exc:
             raise InputError(f"expected every design of the sweep to be a valid "
                              f"{space.base} mechanism, got one that is not ({shown}): "
                              f"{exc.message} (SI)",
                              field=f"{field}.{exc.field}" if exc.field in PARAMS else field,
-                             hint=f"a smaller range; the scene's [units] length is "
-                                  f"\"{units.length}\"") from None
-        same = coincident_legs(mech)
-        if same:
-            legs = ", ".join(f"{i + 1} and {j + 1}" for i, j in same)
-            zero = [n for n, v in params.items() if v == 0]
-            raise InputError(f"expected every design of the sweep to have distinct legs, got "
-                             f"one with coincident legs ({shown}: legs {legs} share their "
-                             f"crank pivot, axis, offset and end-effector joint, so J is "
-                             f"singular at every pose and the design scores GII 0)",
-                             field=f"{field}.ld" if "ld" in zero else field,
-                             hint="a range that leaves out " + " = ".join(zero) + " = 0 "
-                                  "together (Table I's ld starts at 20 mm)")
+                             hint=(f"{exc.hint}; " if exc.hint else "")
+                             + f"a smaller range; the scene's [units] length is "
+                               f"\"{units.length}\"") from None
 
 
 def sweep_scaling(sc, field):

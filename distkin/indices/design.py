@@ -30,7 +30,7 @@ from ..errors import InfeasibleError, InputError
 from .isotropy import ST_DEFAULT, culling_sweep
 from ..mechanisms.reference import ik_jacobian
 
-__all__ = ["DesignSpace", "design_sigmas", "design_chunk", "sweep_designs", "coincident_legs"]
+__all__ = ["DesignSpace", "design_sigmas", "design_chunk", "sweep_designs"]
 
 PARAMS = ("l2", "beta", "gamma", "ld")
 
@@ -59,19 +59,6 @@ class DesignSpace:
             if abs(rule.l3 - l3) > 1e-12:       # the reading's rule already keeps the sum
                 over["l3"] = l3
         return preset(self.base, **over)
-
-
-def coincident_legs(mech, tol: float = 1e-12) -> list[tuple[int, int]]:
-    """The pairs of legs (0-based) of ``mech`` that are one and the same leg: the same
-    crank pivot, actuator axis, crank direction, offset and end-effector joint (and so
-    the same J row at every pose: J is singular everywhere, the GII 0).  E.g. l2 = ld =
-    β = γ = 0 in the presets' tangential reading puts the two legs of a pair on top of
-    each other."""
-    g = mech.geometry()
-    rows = np.concatenate([g[k] for k in ("B", "a", "u", "offset", "p")], axis=1)
-    scale = tol * max(1.0, float(np.max(np.abs(rows))))
-    return [(i, j) for i, j in itertools.combinations(range(len(rows)), 2)
-            if np.max(np.abs(rows[i] - rows[j])) <= scale]
 
 
 def design_sigmas(mech, poses, ST=ST_DEFAULT, unreachable: str = "zero"):

@@ -171,41 +171,43 @@ def test_table1_verdict_where_it_applies(tmp_path, capsys):
 
 # --------------------------------------------------------- 4. a degenerate design
 def test_coincident_legs_are_named(tmp_path, capsys):
-    """l2 = ld = β = γ = 0 with unreachable = "skip": the legs of each pair coincide (two
-    other routes: the numpy reference's J has equal rows for them, and the leg-table
-    model behind the generated kernels refuses the mechanism as having equal legs); the
-    refusal names the design and its parameters, and suggests nothing already set."""
+    """l2 = ld = β = γ = 0 with unreachable = "skip": the legs of each pair coincide.  The
+    preset refuses ld = 0 when built (naming ld); the sweep refuses the scene at load,
+    naming the design and its parameters in the scene's units, and suggests nothing
+    already set.  Independent: the presets' pairs are ld apart (20 mm in Table I)."""
     from distkin.indices.design import DesignSpace
-    from distkin.mechanisms.reference import ik_jacobian
+    from distkin.mechanisms import preset
+    g = preset("hunt").geometry()
+    assert np.linalg.norm(g["B"][0] - g["B"][1]) > 0             # ld = 20 mm apart
     space = DesignSpace("hunt", (("l2", (0.0,)), ("beta", (0.0,)), ("gamma", (0.0,)),
                                  ("ld", (0.0,))))
-    mech = space.mechanism({"l2": 0.0, "beta": 0.0, "gamma": 0.0, "ld": 0.0})
-    _, valid, J = ik_jacobian(mech, mech.home[None, :])
-    assert valid.all()
-    for i in range(0, mech.L, 2):
-        assert np.array_equal(J[0, i], J[0, i + 1])
-    with pytest.raises(InputError, match="expected distinct legs"):
-        mech.jacobian(mech.home)
+    with pytest.raises(InputError, match="legs of each pair coincide") as e:
+        space.mechanism({"l2": 0.0, "beta": 0.0, "gamma": 0.0, "ld": 0.0})
+    assert e.value.field == "ld"
     line = _error_line(tmp_path, capsys, _scene(l2="0, 0, 5", ld="0, 0, 5",
                                                 extra='unreachable = "skip"\n'))
     assert line.startswith("distkin: error: query[0].ld: expected every design of the sweep "
-                           "to have distinct legs, got one with coincident legs")
+                           "to be a valid hunt mechanism, got one that is not")
     assert "l2 = 0 mm, beta = 0 deg, gamma = 0 deg, ld = 0 mm" in line
-    assert "legs 1 and 2, 3 and 4, 5 and 6" in line
+    assert "legs of each pair coincide" in line
     assert "unreachable" not in line
 
 
-def test_an_all_zero_skip_sweep_does_not_suggest_skip():
+def test_an_all_zero_skip_sweep_does_not_suggest_skip(monkeypatch):
     """The sweep's own refusal (every design GII 0) with unreachable = "skip" no longer
-    hints at "skip"; with "zero" it still does."""
-    from distkin.indices.design import DesignSpace, sweep_designs
-    space = DesignSpace("hunt", (("l2", (0.0,)), ("beta", (0.0,)), ("gamma", (0.0,)),
-                                 ("ld", (0.0,))))
-    g = loads_scene(_scene()).queries[0].params.grid         # QA's ld0skip grid
+    hints at "skip"; with "zero" it still does.  Every design is made singular at every
+    pose it reaches (σmin 0, σmax 1: the case the wording is for) by replacing the
+    per-design σ's."""
+    import distkin.indices.design as design
+    space = design.DesignSpace("hunt", (("l2", (0.0, 0.01)),))
+    g = loads_scene(_scene()).queries[0].params.grid
     poses = g.poses(np.arange(g.n_positions))
+    monkeypatch.setattr(design, "design_sigmas",
+                        lambda mech, P, *a, **k: (np.zeros(len(P)), np.ones(len(P))))
     for mode in ("skip", "zero"):
-        with pytest.raises(InfeasibleError) as e:
-            sweep_designs(space, poses, algorithm="culling", unreachable=mode, progress=False)
+        with pytest.raises(InfeasibleError, match="scores GII 0") as e:
+            design.sweep_designs(space, poses, algorithm="culling", unreachable=mode,
+                                 progress=False)
         assert ("unreachable = 'skip'" in (e.value.hint or "")) is (mode == "zero")
 
 

@@ -7,6 +7,7 @@ import json
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from distkin.app.cli import main
 from distkin.app.scene import load_scene
@@ -75,9 +76,12 @@ def test_prismatic_strokes_are_part_of_the_certificate(tmp_path, capsys):
                         for z in (5, 5.1)])
     q, _ = mech.inverse_kinematics(corners)
     assert np.all(q > 0.55)                               # beyond every stroke
-    assert cert["unreachable_volume"] == cert["total_volume"]
+    # every leaf unreachable (the volumes are the leaves' sum and the ranges' product:
+    # equal up to rounding; the fraction, of the leaves' own sum, is exactly 1)
+    assert cert["unreachable_fraction"] == 1.0
+    assert cert["unreachable_volume"] == pytest.approx(cert["total_volume"], rel=1e-12)
     assert "not part of" not in out and "prismatic strokes (a leg's `range`) are part " \
         "of this certificate" in out
     assert cert["joint_ranges"].startswith("prismatic strokes")
     free, out = results["free"]
-    assert free["regular_volume"] == free["total_volume"] and "joint_ranges" not in free
+    assert free["regular_fraction"] == 1.0 and "joint_ranges" not in free

@@ -41,8 +41,17 @@ def octopod_poses():
 
 
 def _scaled(mech, k):
-    from distkin.mechanisms import preset
-    return preset("octopod", **{n: getattr(mech, n) * k for n in _LENGTHS})
+    import warnings
+
+    from distkin.mechanisms import GeometryWarning, preset
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", GeometryWarning)
+        out = preset("octopod", **{n: getattr(mech, n) * k for n in _LENGTHS})
+    # scaled on purpose: at k = 1e-3 or 1e3 every length is 1000x off the preset's, what
+    # the unit-slip rule (100x either way) warns about
+    assert all("x the preset's" in str(w.message) for w in caught)
+    assert bool(caught) is (not 1e-2 <= k <= 1e2)
+    return out
 
 
 @pytest.mark.parametrize("k", SCALES)
