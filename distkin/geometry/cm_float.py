@@ -29,7 +29,7 @@ import numpy as np
 from ..errors import ConditioningWarning, InputError
 
 __all__ = ["FloatRangeWarning", "CancellationWarning", "float_determinant",
-           "CANCELLATION_THRESHOLD"]
+           "CANCELLATION_THRESHOLD", "scaled_decimal"]
 
 #: relative error estimate above which the fast tier warns: a bound from Hadamard's
 #: inequality, which overestimates (the banana identity of a random octahedron holds to
@@ -157,7 +157,7 @@ def _rescaled(M, d, k):
     if np.any(lost):
         i = np.flatnonzero(np.ravel(lost))[0]
         mant, ex = float(np.ravel(ds)[i]), int(np.ravel(e)[i]) * (k - 1)
-        value = _decimal(mant, ex)
+        value = scaled_decimal(mant, ex)
         side = "below the smallest" if np.ravel(out)[i] == 0 else "beyond the largest"
         warnings.warn(FloatRangeWarning(
             f"Cayley-Menger determinant {value} is {side} float64 number: returned "
@@ -166,7 +166,7 @@ def _rescaled(M, d, k):
     return out, lost
 
 
-def _decimal(mant: float, ex: int) -> str:
+def scaled_decimal(mant: float, ex: int) -> str:
     """``mant * 2**ex`` as a decimal with an exponent (any exponent)."""
     import mpmath
     with mpmath.workdps(20):

@@ -22,7 +22,7 @@ import warnings
 
 import numpy as np
 
-from ..geometry.cm_float import FloatRangeWarning, _decimal
+from ..geometry.cm_float import FloatRangeWarning, scaled_decimal
 
 __all__: list[str] = []     # helpers of distkin.singularity.conditions
 
@@ -94,7 +94,8 @@ def scale_back(value, e, degree, what, instead="relative=True"):
     lost = (v != 0) & ((np.abs(out) < 2.0 ** -1022) | ~np.isfinite(out))
     if np.any(lost):
         i = np.flatnonzero(np.ravel(lost))[0]
-        shown = _decimal(float(np.ravel(v)[i]), int(np.ravel(np.broadcast_to(k, v.shape))[i]))
+        shown = scaled_decimal(float(np.ravel(v)[i]),
+                               int(np.ravel(np.broadcast_to(k, v.shape))[i]))
         where = (f" at batch index {tuple(int(j) for j in np.unravel_index(i, v.shape))}"
                  if v.ndim else "")
         side = "beyond the largest" if not np.isfinite(np.ravel(out)[i]) else \
