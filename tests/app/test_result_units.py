@@ -246,3 +246,20 @@ def test_precise_cayley_menger_leaves_mpmath_precision_alone(tmp_path):
     before = mpmath.mp.dps
     assert main(["run", str(f), "--no-progress"]) == 0
     assert mpmath.mp.dps == before
+
+
+def test_the_mechanism_block_of_ik_and_jacobian_has_units(tmp_path, capsys):
+    """The JSON ``mechanism`` block (SI whatever the scene's units) carried no unit
+    (QA Y1): ``l0: 0.17`` in a mm scene.  Now ``unit.mechanism`` names each parameter's;
+    reference: the scene's own overrides, written in mm and deg, read back in m and rad."""
+    text = (MM + '[mechanism]\nkind = "rss"\npreset = "octopod"\nl0 = 170\ngamma = 10\n'
+            '[[query]]\ntype = "inverse_kinematics"\npose = [0, 0, 300, 0, 0, 0]\n'
+            '[[query]]\ntype = "jacobian"\npose = [0, 0, 300, 0, 0, 0]\n')
+    queries, _ = _run(tmp_path, capsys, text)
+    for q in queries:
+        mech, unit = q["result"]["mechanism"], q["result"]["unit"]["mechanism"]
+        numeric = {k for k, v in mech.items() if isinstance(v, (int, float))
+                   and not isinstance(v, bool) and k != "legs"}
+        assert numeric <= set(unit), numeric - set(unit)
+        assert unit["l0"] == "m" and mech["l0"] == pytest.approx(170 / 1000)
+        assert unit["gamma"] == "rad" and mech["gamma"] == pytest.approx(np.radians(10))

@@ -32,8 +32,9 @@ from ...argcheck import check_keys
 from ...errors import ConditioningWarning, InputError
 from ...indices.isotropy import ST_DEFAULT, condition_number
 from ..query import Outcome, register
-from .mechanisms import (NOT_RESOLVED, _accuracy, _amount, _fmt_pose, _plotter, _Poses,
-                         _prismatic, _tier_fields, _tier_lines, _tier_rows, parse_poses)
+from .mechanisms import (NOT_RESOLVED, _accuracy, _amount, _fmt_pose, _mechanism_unit,
+                         _plotter, _Poses, _prismatic, _tier_fields, _tier_lines, _tier_rows,
+                         parse_poses)
 
 __all__ = ["JacobianQuery", "UNDEFINED"]
 
@@ -127,7 +128,7 @@ class JacobianQuery:
         Jf = np.where(np.isfinite(J), J, 0.0)
         sv = np.linalg.svd(Jf, compute_uv=False)
         kappa = condition_number(Jf, ST_DEFAULT)          # eq. (4), scaled (Sec. II-C-2)
-        units = _jacobian_units(mech, p.mass_matrix)
+        units = {**_jacobian_units(mech, p.mass_matrix), "mechanism": _mechanism_unit(mech)}
         rows = []
         pris = _prismatic(mech)
         lines = [f"mechanism: {mech.name} (L = {mech.L}); qdot = J (v, omega): "

@@ -185,6 +185,18 @@ def _prismatic(mech) -> np.ndarray:
             else np.zeros(mech.L, dtype=bool))
 
 
+def _mechanism_unit(mech) -> dict | str:
+    """The units of the JSON's ``mechanism`` block (``mech.parameters()``, SI whatever
+    the scene's units): per parameter for an RSS description, in words for a leg table."""
+    from ...mechanisms.description import SI_UNITS
+    params = mech.parameters()
+    if "legs" in params and isinstance(params["legs"], list):
+        return ("SI: the legs' points and lengths m, axes and directions unitless, range "
+                "rad (revolute) or m (prismatic), limit N m (revolute) or N (prismatic); "
+                "home m, rad; mass kg; inertia kg m^2")
+    return {k: SI_UNITS[k] for k in params if k in SI_UNITS}
+
+
 def _joint_unit(mech) -> str:
     """The SI unit of the joint coordinates q in the JSON: rad for revolute legs, m for
     prismatic ones (each leg's, when they are mixed)."""
@@ -367,7 +379,8 @@ class InverseKinematicsQuery:
         return Outcome({"mechanism": mech.parameters(), "method": p.method,
                         "precision": res.precision,
                         "unit": {"q": _joint_unit(mech), "pose": "m, rad",
-                                 "q_error": _joint_unit(mech), "reach_margin": REACH_UNIT},
+                                 "q_error": _joint_unit(mech), "reach_margin": REACH_UNIT,
+                                 "mechanism": _mechanism_unit(mech)},
                         "poses": rows}, "\n".join(lines), _plotter(mech, X, q))
 
 
