@@ -21,6 +21,7 @@ from __future__ import annotations
 import hashlib
 import itertools
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -50,15 +51,21 @@ class DesignSpace:
                 itertools.product(*[v for _, v in self.values])]
 
     def mechanism(self, params: dict):
-        from ..mechanisms import preset
+        """The design's mechanism.  preset()'s GeometryWarnings (an override 100x off
+        the preset's value, a home some leg misses) are not given: a design is far off
+        on purpose, and the sweep scores what each design reaches (review: every
+        design of a sweep warned, up to three times)."""
+        from ..mechanisms import GeometryWarning, preset
         over = dict(params)
-        if self.leg_length == "constant_sum":
-            b = preset(self.baseline)
-            l3 = b.l2 + b.l3 - over.get("l2", preset(self.base).l2)
-            rule = preset(self.base, **over)
-            if abs(rule.l3 - l3) > 1e-12:       # the reading's rule already keeps the sum
-                over["l3"] = l3
-        return preset(self.base, **over)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", GeometryWarning)
+            if self.leg_length == "constant_sum":
+                b = preset(self.baseline)
+                l3 = b.l2 + b.l3 - over.get("l2", preset(self.base).l2)
+                rule = preset(self.base, **over)
+                if abs(rule.l3 - l3) > 1e-12:   # the reading's rule already keeps the sum
+                    over["l3"] = l3
+            return preset(self.base, **over)
 
 
 def design_sigmas(mech, poses, ST=ST_DEFAULT, unreachable: str = "zero"):

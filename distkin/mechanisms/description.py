@@ -182,13 +182,15 @@ class RSSDescription:
                 raise InputError(f"expected a finite number >= 0, got {v!r} {SI_UNITS[f]}",
                                  field=f)
             object.__setattr__(self, f, float(v))
-        if self.ld == 0:                   # each pair's crank pivots l0 e -+ ld/2 t
-            same = (" and spherical joints (beta = gamma = l2 = 0: the same leg twice, J "
-                    "singular at every pose)" if self.beta == self.gamma == self.l2 == 0
-                    else "")
+        if self.ld == 0 and self.beta == self.gamma == self.l2 == 0:
+            # each pair's crank pivots l0 e -+ ld/2 t: with beta = gamma = l2 = 0 as well,
+            # the two legs of a pair are one leg (with beta or gamma != 0 their axes
+            # differ, with l2 != 0 their offsets: distinct legs, a regular J; review)
             raise InputError(f"expected ld > 0 m (the two legs of a pair apart), got ld = 0 m: "
                              f"the legs of each pair coincide, legs 1 and 2 with their crank "
-                             f"pivots at one point ({self.l0:.6g}, 0, 0) m{same}", field="ld",
+                             f"pivots at one point ({self.l0:.6g}, 0, 0) m and spherical "
+                             f"joints (beta = gamma = l2 = 0: the same leg twice, J singular "
+                             f"at every pose)", field="ld",
                              hint="ld is the distance between the two legs of a pair "
                                   "(distkin.mechanisms.presets; 20 mm in the presets)")
         if self.layout not in LAYOUTS:

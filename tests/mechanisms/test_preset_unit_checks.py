@@ -59,19 +59,23 @@ def test_unreachable_home_warns(over):
     assert f"leg 1 margin {ref[0]:.3g} m^2" in text and "8 of 8 legs" in text
 
 
-@pytest.mark.parametrize("name", ["hunt", "octo"])
-def test_ld_zero_refused_when_built(name):
+def test_ld_zero_refused_when_built():
     """The pivot the message prints is the preset's own pair centre (its geometry at a
-    vanishing ld); the same leg twice is said only where it is (hunt: beta = gamma =
-    l2 = 0)."""
+    vanishing ld); refused only where the two legs of a pair are one leg (hunt: beta =
+    gamma = l2 = 0); the octo (l2 = 25.6 mm, gamma = 13.18 deg) builds at ld = 0: its
+    pairs are distinct legs (review)."""
     with pytest.raises(InputError) as exc:
-        preset(name, ld=0.0)
+        preset("hunt", ld=0.0)
     assert exc.value.field == "ld" and "got ld = 0 m" in exc.value.message
     with warnings.catch_warnings():            # ld 1e-15 m: a unit slip, says preset()
         warnings.simplefilter("ignore", GeometryWarning)
-        B = preset(name, ld=1e-15).geometry()["B"][0]
+        B = preset("hunt", ld=1e-15).geometry()["B"][0]
     assert f"({B[0]:.6g}, 0, 0) m" in exc.value.message and abs(B[1]) < 1e-15
-    assert ("the same leg twice" in exc.value.message) == (name == "hunt")
+    assert "the same leg twice" in exc.value.message
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", GeometryWarning)
+        g = preset("octo", ld=0.0).geometry()
+    assert not np.allclose(g["p"][0], g["p"][1])       # the pair's end joints differ
 
 
 def test_ld_zero_scene_names_the_field_and_units():
@@ -82,3 +86,39 @@ def test_ld_zero_scene_names_the_field_and_units():
         loads_scene(text)
     assert exc.value.field == "mechanism.ld"
     assert "got ld = 0 m" in exc.value.message and "(the scene's ld = 0 mm)" in exc.value.message
+
+
+def test_ld_zero_is_refused_only_where_the_legs_of_a_pair_coincide():
+    """Review: ld = 0 was refused whatever beta, gamma and l2; with beta or gamma != 0
+    the two legs of a pair have different axes (distinct legs).  Reference: the numpy
+    route's J at home (distkin.mechanisms.reference), regular (its smallest singular value
+    far from 0) there, and with equal rows for each pair when l2 = beta = gamma = ld = 0
+    (built past the check through the description's dataclass replace)."""
+    import numpy as np
+
+    from distkin.errors import InputError
+    from distkin.mechanisms import preset
+    from distkin.mechanisms.reference import ik_jacobian
+    m = preset("hunt", ld=0.0, beta=0.3, gamma=0.2)
+    _, valid, J = ik_jacobian(m, m.home[None, :])
+    assert valid.all()
+    sv = np.linalg.svd(J[0], compute_uv=False)
+    assert sv[-1] / sv[0] > 1e-4
+    with pytest.raises(InputError, match="legs of each pair coincide") as e:
+        preset("hunt", ld=0.0, beta=0.0, gamma=0.0, l2=0.0)
+    assert e.value.field == "ld"
+
+
+def test_a_design_space_gives_no_geometry_warnings():
+    """Review: every design of a sweep warned (a deliberate ld = 0.1 mm twice as a 'unit
+    slip'); the sweep scores what each design reaches instead.  The preset itself still
+    warns (reference: preset() with the same override)."""
+    import warnings
+
+    from distkin.indices.design import DesignSpace
+    from distkin.mechanisms import GeometryWarning, preset
+    with pytest.warns(GeometryWarning, match="ld"):
+        preset("hunt", ld=1e-4)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", GeometryWarning)
+        DesignSpace("hunt", (("ld", (1e-4,)),)).mechanism({"ld": 1e-4})
