@@ -336,11 +336,14 @@ def certify_crossing(f_arb, s: float, *, lo: float = 0.0, hi: float = 1.0,
     Evaluates ``f_arb`` (exact rational s -> arb) at :math:`s \mp \epsilon` for
     :math:`\epsilon` = ``start``, 10 ``start``, ... up to ``limit`` (clipped to
     [``lo``, ``hi``]); the first pair of balls that both exclude 0 and have opposite
-    signs proves (intermediate value theorem) a zero of det J in the bracket.  Where
-    ``f_arb`` is exactly 0 (an exact ball 0 or fmpq 0) at ``s`` itself (when a float
-    ``s`` is tried as its exact binary value) or at an end of a bracket, that point is
-    a proved singular pose (a crossing or a touch: no sign is claimed): returned as
-    ``Crossing(z, (z, z), (0, 0))``.
+    signs proves (intermediate value theorem) a zero of det J in the bracket, and a
+    sign change: a crossing, never a touch.  Where ``f_arb`` is exactly 0 (an exact ball
+    0 or fmpq 0) at ``s`` itself (a float ``s`` tried as its exact binary value) or at
+    an end of a bracket, that point is a proved singular pose but not a crossing (a
+    touch has the same sign on both sides): the search goes on with the next bracket,
+    and the error, if none proves a sign change, says where det J is exactly 0 (review:
+    it returned such a point as a Crossing with signs (0, 0), counted as a certified
+    sign change).
 
     Raises
     ------
@@ -359,9 +362,10 @@ def certify_crossing(f_arb, s: float, *, lo: float = 0.0, hi: float = 1.0,
     start, limit = positive_number(start, "start"), positive_number(limit, "limit")
     sign = lambda x: certified_sign(f_arb(_to_flint(x)))  # noqa: E731
     zero = Fraction(s)                     # a float s is tried as its exact binary value
+    exact_zeros = []                       # points where det J is exactly 0 (said below)
     try:
         if sign(zero) == 0:
-            return Crossing(float(zero), (zero, zero), (0, 0))
+            exact_zeros.append(zero)
     except UncertifiedError:
         pass
     eps = start
@@ -377,18 +381,21 @@ def certify_crossing(f_arb, s: float, *, lo: float = 0.0, hi: float = 1.0,
                                     f"at s = {s:.15g}, up to {limit:g} from it): {exc.message}")
             eps *= 10
             continue
-        for z, sz in ((a, sa), (b, sb)):
-            if sz == 0:                      # exactly singular at an end of the bracket
-                return Crossing(float(z), (z, z), (0, 0))
         if sa * sb < 0:
             return Crossing(s, (a, b), (sa, sb))
+        exact_zeros += [z for z, sz in ((a, sa), (b, sb)) if sz == 0 and z not in exact_zeros]
         last = UncertifiedError(f"expected opposite signs of det J around s = {s:.15g}, got "
                                 f"{sa:+d} at s = {float(a):.15g} and {sb:+d} at s = "
                                 f"{float(b):.15g}")
         eps *= 10
-    raise last or UncertifiedError(f"could not certify the crossing at s = {s:.15g}: no "
-                                   f"bracket fits in [{lo!r}, {hi!r}] from start = "
-                                   f"{start:g} up to limit = {limit:g}")
+    zeros = ("; det J is exactly 0 at s = " + ", ".join(f"{float(z):.15g}" for z in exact_zeros)
+             + " (a proved singular pose, but no sign change was proved: a crossing or a "
+             "touch)") if exact_zeros else ""
+    if last is not None:
+        raise UncertifiedError(last.message + zeros)
+    raise UncertifiedError(f"could not certify the crossing at s = {s:.15g}: no bracket fits "
+                           f"in [{lo!r}, {hi!r}] from start = {start:g} up to limit = "
+                           f"{limit:g}{zeros}")
 
 
 def _finite_number(value, field: str) -> float:

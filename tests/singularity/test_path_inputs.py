@@ -1,7 +1,8 @@
 """Inputs of the pose and path helpers of :mod:`distkin.singularity.paths` (QA defects
 5, 6, 9, 10): bad input is an InputError naming the field, never a numpy/Python
-traceback or a silent NaN; certify_crossing reports an exact zero at an end of its
-bracket as a proved singular pose instead of "got +0 on both sides".
+traceback or a silent NaN; certify_crossing names an exact zero of det J as a proved
+singular pose instead of "got +0 on both sides", and proves a crossing only by a sign
+change (an exact zero is a crossing or a touch).
 
 References: analytic rotations (a rotation by a multiple of 2 pi about an axis is the
 identity; by pi/2 a quarter turn), exact rational functions of s for the crossings.
@@ -124,23 +125,35 @@ def re_escape(text):
 
 # ---------------------------------------------------------------------- certify_crossing
 
-def test_an_exact_zero_at_the_upper_end_is_reported_as_such():
-    c = certify_crossing(lambda s: flint.arb(s) - 1, 1.0)      # f(1) = 0 exactly
-    assert c.s == 1.0 and c.bracket == (Fraction(1), Fraction(1)) and c.signs == (0, 0)
+def test_an_exact_zero_at_the_upper_end_is_said_not_called_a_crossing():
+    # f(1) = 0 exactly at hi: no bracket can show a sign change (nothing beyond hi); the
+    # error names the exact zero (it said "-1 on both sides"; then, review, it returned a
+    # Crossing with signs (0, 0), counted as a certified sign change)
+    with pytest.raises(UncertifiedError, match=r"exactly 0 at s = 1 \(a proved singular"):
+        certify_crossing(lambda s: flint.arb(s) - 1, 1.0)
 
 
-def test_an_exact_zero_at_zero_is_reported_as_such():
-    c = certify_crossing(lambda s: flint.arb(s), 0.0)
-    assert c.s == 0.0 and c.bracket == (0, 0) and c.signs == (0, 0)
+def test_an_exact_zero_at_zero_is_said_not_called_a_crossing():
+    with pytest.raises(UncertifiedError, match=r"exactly 0 at s = 0 \(a proved singular"):
+        certify_crossing(lambda s: flint.arb(s), 0.0)
 
 
-def test_an_exact_zero_at_a_bracket_end_near_s():
-    # f = s - 1/2 exactly; asked around s = 0.5 + 1e-12 the first bracket's lower end
-    # is no exact zero, but s itself is not either: the crossing is bracketed normally
-    c = certify_crossing(lambda s: flint.arb(s) - flint.arb(1) / 2, 0.5 + 1e-9)
-    assert c.signs == (-1, 1) and c.bracket[0] < Fraction(1, 2) < c.bracket[1]
-    # at a binary s that is the exact zero: (0, 0)
-    assert certify_crossing(lambda s: flint.arb(s) - flint.arb(1) / 2, 0.5).signs == (0, 0)
+def test_an_exact_zero_at_s_is_bracketed_like_any_crossing():
+    # f = s - 1/2 exactly; asked around s = 0.5 + 1e-9 or at the exact zero s = 0.5 the
+    # sign change is proved by a bracket around it (reference: f's signs at the ends)
+    f = lambda s: flint.arb(s) - flint.arb(1) / 2  # noqa: E731
+    for s in (0.5 + 1e-9, 0.5):
+        c = certify_crossing(f, s)
+        assert c.signs == (-1, 1) and c.bracket[0] < Fraction(1, 2) < c.bracket[1]
+
+
+def test_an_exact_touch_is_not_a_crossing():
+    # (s - 1/2)^2: exactly 0 at 1/2, positive on both sides: a touch (review: it was
+    # returned as a Crossing)
+    f = lambda s: (flint.arb(s) - flint.arb(1) / 2) ** 2  # noqa: E731
+    with pytest.raises(UncertifiedError, match=r"\+1 at s = .* and \+1 at s = .*exactly 0 "
+                                               r"at s = 0.5 \(a proved singular pose"):
+        certify_crossing(f, 0.5)
 
 
 def test_a_touch_prints_its_signs_right():
