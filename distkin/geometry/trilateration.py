@@ -35,9 +35,9 @@ exceeds :data:`~.trilat_error.TRILATERATION_RTOL` (1e-6) of the problem's length
 (:class:`~distkin.errors.ConditioningWarning`; an unwarned answer is within that of the
 exact trilateration of its float64 inputs, by the estimate); the estimate is
 ``TrilaterationParts.error``.  It refuses (:class:`InfeasibleError`) only an :math:`h^2`
-negative beyond its error estimate; within it the sign cannot be told and :math:`h^2` is
-clamped to 0 (the point in the plane, covered by the same warning).  The precise tier
-does the same in mpmath at its ``dps``, warning above
+negative beyond its error estimate; within it :math:`h^2` is clamped to 0 (the point in
+the plane) with a warning that the configuration may not exist (a ``tol`` of the caller's
+decides alone).  The precise tier does the same in mpmath at its ``dps``, warning above
 :func:`~.trilat_error.precise_rtol` (:math:`10^{2-dps/2}`, 1e-13 at 30 digits); the
 library's own solvers (:func:`parts_at_working_digits`) keep their tolerance and no
 warning.
@@ -470,13 +470,29 @@ def _check_degenerate(G, g22, g33, method, dps, tol):
                                f"|n|^2 = {G.str(5, radius=True)}")
 
 
+def _warn_doubtful(doubtful, h2, e_h2, tier):
+    """Warn where h^2 < 0 beyond the tolerance but within its error estimate (clamped:
+    the configuration may not exist; the estimate can be ~1e3 x the error, review)."""
+    if doubtful:
+        import warnings
+        from ..errors import ConditioningWarning
+        warnings.warn(ConditioningWarning(
+            f"{tier} trilateration: h^2 = {float(np.min(h2)):.3g} is negative but within its "
+            f"error estimate {float(np.max(e_h2)):.3g} (squared length units, of the scaled "
+            "problem): clamped to 0, the point placed in the base's plane; the configuration"
+            " may not exist (method='certified' decides; tol= makes the tolerance decide "
+            "alone)"), stacklevel=6)
+
+
 def _check_feasible(h2, scale, method, dps, tol, e=0, e_h2=0.0):
     if method == "fast":
         # infeasible only beyond the error estimate of h^2 (e_h2): within it the sign
         # is not known, and h^2 is clamped to 0 (the point in the base's plane; the
         # accuracy warning covers the height error sqrt(e_h2))
         t = 64 * _EPS if tol is None else tol
-        bad = h2 < -np.maximum(t * scale, e_h2)
+        # a tol of the caller's decides alone, as before the estimate (review)
+        bad = h2 < -(t * scale if tol is not None else np.maximum(t * scale, e_h2))
+        _warn_doubtful(np.any((h2 < -t * scale) & ~bad), h2, e_h2, "fast")
         if np.any(bad):
             k = np.unravel_index(np.argmin(h2), np.shape(h2)) if np.ndim(h2) else ()
             ek = int(np.broadcast_to(e, np.shape(h2))[k])
@@ -490,7 +506,9 @@ def _check_feasible(h2, scale, method, dps, tol, e=0, e_h2=0.0):
     if method == "precise":
         import mpmath
         t = mpmath.mpf(10) ** (8 - dps) if tol is None else tol
-        if h2 < -max(t * scale, e_h2):
+        limit = t * scale if tol is not None else max(t * scale, e_h2)
+        _warn_doubtful(-limit <= h2 < -t * scale, h2, e_h2, "precise")
+        if h2 < -limit:
             raise InfeasibleError(f"expected distances that close (h^2 >= 0), got h^2 = "
                                   f"{mpmath.nstr(h2, 8)} (squared length units)",
                                   margin=float(h2), field="sq")

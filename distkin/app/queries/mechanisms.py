@@ -186,8 +186,7 @@ def _prismatic(mech) -> np.ndarray:
 
 
 def _mechanism_unit(mech) -> dict | str:
-    """The units of the JSON's ``mechanism`` block (``mech.parameters()``, SI whatever
-    the scene's units): per parameter for an RSS description, in words for a leg table."""
+    """The units of the JSON's ``mechanism`` block (SI): per parameter, or in words."""
     from ...mechanisms.description import SI_UNITS
     params = mech.parameters()
     if "legs" in params and isinstance(params["legs"], list):
