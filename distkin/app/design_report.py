@@ -185,12 +185,11 @@ def _grid_json(p, grid):
     """The sweep's pose grid as the scene gives it (SI, with units): the report's header
     prints these (a one-value axis has no step between values: QA, design sweep 6)."""
     spec = dict(p.grid_spec) if p.grid_spec else {
-        "half": max(grid.x) - min(grid.x) if len(grid.x) > 1 else 0.0,
+        "half": (max(grid.x) - min(grid.x)) / 2 if len(grid.x) > 1 else 0.0,
         "step": grid.x[1] - grid.x[0] if len(grid.x) > 1 else 0.0,
         "rotation": max(grid.rx), "rotation_step": grid.rx[1] - grid.rx[0]
         if len(grid.rx) > 1 else 0.0}
-    centre = [grid.x[len(grid.x) // 2], grid.y[len(grid.y) // 2], grid.z[len(grid.z) // 2],
-              0.0, 0.0, 0.0]
+    centre = [(max(a) + min(a)) / 2 for a in (grid.x, grid.y, grid.z)] + [0.0, 0.0, 0.0]
     return {**spec, "centre": [float(c) for c in centre], "positions": grid.n_positions,
             "orientations": grid.n_orientations,
             "unit": {"half": "m", "step": "m", "rotation": "rad", "rotation_step": "rad",

@@ -94,4 +94,4 @@ def test_no_real_l_leg_gives_null_octic_fields():
                          'method = "certified"\n')
     res = records[0]["result"]
     assert res["count"] == 0 and res["poses"] == []
-    assert res["real_roots"] is None and res["octic"] is None
+    assert res["real_roots"] is None and res["octic"] is None and res["root_status"] is None

@@ -431,7 +431,7 @@ def _no_assembly66(p, scene, exc):
 
 
 #: no octahedral solve ran (eq. (8) proved that no real l-leg exists): no octic to give
-_NO_OCTIC = {"real_roots": None, "octic": None}
+_NO_OCTIC = {"real_roots": None, "octic": None, "root_status": None}
 
 
 def _no_map_reason(exc, length: str) -> str:
