@@ -255,3 +255,20 @@ def test_input_error_is_raised_by_the_parser():
     """The scene loader (no run) refuses the same inputs (for callers of loads_scene)."""
     with pytest.raises(InputError, match=r"query\[0\]\.scaling\[0\]"):
         loads_scene(_scene(extra="scaling = [0,1,1,1,1,1]\n"))
+
+
+def test_the_grid_json_without_the_scenes_spec_reads_the_grid_itself():
+    """A query built without the scene's grid spec (grid_spec None, e.g. from Python)
+    gave the full width as "half" and the middle element as "centre" (review).
+    Reference: the scene's own spec and home pose, read from the same grid."""
+    import dataclasses
+
+    from distkin.app.design_report import _grid_json
+    from distkin.mechanisms import preset
+    p = loads_scene(_scene()).queries[0].params
+    grid = p.grid
+    from_spec = _grid_json(p, grid)
+    bare = _grid_json(dataclasses.replace(p, grid_spec=None), grid)
+    for k in ("half", "step"):
+        assert bare[k] == pytest.approx(from_spec[k], rel=1e-12, abs=1e-15), k
+    assert bare["centre"] == pytest.approx([0, 0, preset("hunt").z0, 0, 0, 0], abs=1e-12)
