@@ -201,6 +201,7 @@ def _swept_mechanism(p):
     l2, β, γ, ld (and l3 by the leg-length rule), never the scene's [mechanism] table; as
     JSON (SI, a ``unit`` table) and as one line of text."""
     from ..mechanisms import preset
+    from ..mechanisms.description import SI_UNITS
     b = preset(p.space.base)
     fixed = {k: getattr(b, k) for k in ("legs", "l0", "l1", "lp", "z0")}
     if p.space.leg_length == "constant_sum":
@@ -214,8 +215,8 @@ def _swept_mechanism(p):
            "swept": ["l2", "beta", "gamma", "ld"],
            "scene_mechanism_used": False, "scene_mechanism_is_base": p.scene_mechanism is None,
            "scene_mechanism_note": p.scene_mechanism,
-           "unit": {"l0": "m", "l1": "m", "lp": "m", "z0": "m", "l2_plus_l3": "m",
-                    "legs": "1 (count)"}}
+           "unit": {**{k: SI_UNITS[k] for k in ("l0", "l1", "lp", "z0")},
+                    "l2_plus_l3": "m", "legs": "1 (count)"}}
     line = (f"swept mechanism: the '{p.space.base}' preset ({b.legs} legs, l0 = "
             f"{1e3 * b.l0:.4g} mm, l1 = {1e3 * b.l1:.4g} mm, lp = {1e3 * b.lp:.4g} mm, z0 = "
             f"{1e3 * b.z0:.4g} mm) with each design's l2, β, γ, ld; {rule}; "

@@ -210,12 +210,9 @@ class RSSDescription:
 
     def home_margins(self) -> np.ndarray:
         """(L,) reach margins rho^2 - C^2 (m^2) of the legs at the home pose (>= 0: the
-        leg closes; :mod:`.symbolic`'s closed form, plain numpy)."""
-        g = self.geometry()
-        w = g["p"] + np.array([0.0, 0.0, self.z0]) - g["B"] - g["offset"]
-        A = np.einsum("li,li->l", w, g["u"])
-        C = (np.einsum("li,li->l", w, w) + self.l1 ** 2 - self.l3 ** 2) / (2 * self.l1)
-        return A * A + w[:, 2] ** 2 - C * C
+        leg closes; the plain-numpy route's closure, :func:`.reference.home_reach_margins`)."""
+        from .reference import home_reach_margins
+        return home_reach_margins(self)
 
     def _warn_home(self):
         """A :class:`GeometryWarning` when a leg does not close at the home pose (the

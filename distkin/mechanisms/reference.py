@@ -29,24 +29,37 @@ import numpy as np
 
 from ..spatial import rotation_matrix
 
-__all__ = ["ik_jacobian", "NumericKernels", "jacobian_q_derivatives"]
+__all__ = ["ik_jacobian", "NumericKernels", "jacobian_q_derivatives", "home_reach_margins"]
 
 
 def _solve(mech, X, g, branch):
     R = rotation_matrix(X[:, 3:])
     Rp = np.einsum("nij,lj->nli", R, g["p"])                  # (N, L, 3)
     P = X[:, None, :3] + Rp
-    w = P - (g["B"] + g["offset"])[None]
-    l1, l3 = mech.l1, mech.l3
-    A = 2 * l1 * np.einsum("nli,li->nl", w, g["u"])
-    Bc = 2 * l1 * w[..., 2]
-    C = np.einsum("nli,nli->nl", w, w) + l1 ** 2 - l3 ** 2
+    A, Bc, C = _closure(mech, P - (g["B"] + g["offset"])[None], g)
     rho = np.hypot(A, Bc)
     margin = rho ** 2 - C ** 2
     delta = np.arccos(np.clip(np.divide(C, rho, out=np.ones_like(C), where=rho > 0), -1, 1))
     q = np.arctan2(Bc, A) + branch * delta
     q = (q + np.pi) % (2 * np.pi) - np.pi
     return q, margin, Rp, P
+
+
+def _closure(mech, w, g):
+    """A cos q + Bc sin q = C, the closure of each leg (w: spherical joint minus the
+    universal joint's circle centre, (..., L, 3))."""
+    l1, l3 = mech.l1, mech.l3
+    A = 2 * l1 * np.einsum("...li,li->...l", w, g["u"])
+    return A, 2 * l1 * w[..., 2], np.einsum("...li,...li->...l", w, w) + l1 ** 2 - l3 ** 2
+
+
+def home_reach_margins(mech) -> np.ndarray:
+    """(L,) reach margins of an RSS mechanism or description at its home pose (0, 0,
+    z0, no rotation), in m^2: the closure's rho^2 - C^2 divided by (2 l1)^2 (>= 0: the
+    leg closes)."""
+    g = mech.geometry()
+    A, Bc, C = _closure(mech, g["p"] + [0.0, 0.0, mech.z0] - g["B"] - g["offset"], g)
+    return (A * A + Bc * Bc - C * C) / (2 * mech.l1) ** 2
 
 
 def ik_jacobian(mech, poses, *, return_jq: bool = False):
