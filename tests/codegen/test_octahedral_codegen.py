@@ -300,12 +300,16 @@ def test_platform66_decimal_coordinates_batched_kernels_run(tmp_path):
 
 
 
+@pytest.mark.slow
 def test_platform66_float_coordinates_generate_kernels_of_the_mapped_legs(tmp_path):
     """QA J 5: this scene did not finish in 170 s (Max/Min simplification and CSE of the
     mapped l^2 substituted into the octic); the kernels now compute l^2 first (about
     25 s: README; timed in `python -m benchmarks codegen`).  The octic agrees with an
     independent route: the committed octic_general kernel at the l^2 of
-    DeltaTransform.map_legs_float."""
+    DeltaTransform.map_legs_float.  Slow (25-50 s, the suite's longest test): the
+    mapped-legs kernels of a 6-6 scene (l_squared, octic) against distkin's own routes
+    stay in the default run with exact decimal coordinates
+    (test_platform66_decimal_coordinates_batched_kernels_run)."""
     from distkin._generated import octic_general
     from distkin.delta import delta_transform
     scene = EX / "platform66_measured.toml"
