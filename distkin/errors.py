@@ -20,6 +20,9 @@ __all__ = [
     "UncertifiedError",
     "LinkError",
     "ConditioningWarning",
+    "CancellationWarning",
+    "FloatRangeWarning",
+    "GeometryWarning",
     "is_input_error",
 ]
 
@@ -136,6 +139,38 @@ class ConditioningWarning(UserWarning):
     Raised as a warning, not an error: the answer is returned, with the reason, and
     ``method="auto"`` (or ``"certified"``) is the way to a trustworthy one.
     """
+
+
+class CancellationWarning(ConditioningWarning):
+    """A float64 Cayley-Menger determinant that may have lost most of its digits to
+    cancellation (a nearly flat simplex, or a determinant that is 0 in exact
+    arithmetic).  ``estimate`` is the relative error estimate (the largest of a batch),
+    ``index`` the batch index it belongs to (``()`` unbatched).  Raised by
+    :mod:`distkin.geometry.cm_float` (importable from there too)."""
+
+    def __init__(self, message, estimate=float("inf"), index=()):
+        super().__init__(message)
+        self.estimate = estimate
+        self.index = index
+
+
+class FloatRangeWarning(RuntimeWarning):
+    """A float64 Cayley-Menger determinant beyond the float64 range: 0.0 for a non-zero
+    value below the smallest float64 (4.9e-324), inf above the largest.  ``value`` holds
+    the determinant as a decimal string (mantissa and exponent).  Raised by
+    :mod:`distkin.geometry.cm_float` and :mod:`distkin.singularity.float_range`."""
+
+    def __init__(self, message, value=""):
+        super().__init__(message)
+        self.value = value
+
+
+class GeometryWarning(UserWarning):
+    """A mechanism description that builds but is likely not the one meant: a home pose
+    its legs do not reach, a preset override 100x or more off the preset's value (a
+    length in another unit).  A warning, not an error: a design may be that far off on
+    purpose (``warnings.simplefilter("error", GeometryWarning)`` refuses it).  Raised by
+    :mod:`distkin.mechanisms` (importable from there too)."""
 
 
 def is_input_error(exc: BaseException) -> bool:

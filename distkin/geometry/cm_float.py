@@ -26,7 +26,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import ConditioningWarning, InputError
+from ..errors import CancellationWarning, FloatRangeWarning, InputError
 
 __all__ = ["FloatRangeWarning", "CancellationWarning", "float_determinant",
            "CANCELLATION_THRESHOLD", "scaled_decimal"]
@@ -38,17 +38,6 @@ __all__ = ["FloatRangeWarning", "CancellationWarning", "float_determinant",
 CANCELLATION_THRESHOLD = 1e-6
 _EPS = float(np.finfo(float).eps)
 
-
-class CancellationWarning(ConditioningWarning):
-    """A float64 Cayley-Menger determinant that may have lost most of its digits to
-    cancellation (a nearly flat simplex, or a determinant that is 0 in exact
-    arithmetic).  ``estimate`` is the relative error estimate (the largest of a batch),
-    ``index`` the batch index it belongs to (``()`` unbatched)."""
-
-    def __init__(self, message, estimate=float("inf"), index=()):
-        super().__init__(message)
-        self.estimate = estimate
-        self.index = index
 
 
 def float_determinant(M, k, label="D", warn=True):
@@ -127,15 +116,6 @@ def _warn(val, worst, idx, where, label):
 #: determinant is computed again from power-of-two scaled entries (rare: no cost otherwise)
 _TINY = 2.2250738585072014e-308
 
-
-class FloatRangeWarning(RuntimeWarning):
-    """A float64 Cayley-Menger determinant beyond the float64 range: 0.0 for a non-zero
-    value below the smallest float64 (4.9e-324), inf above the largest.  ``value`` holds
-    the determinant as a decimal string (mantissa and exponent)."""
-
-    def __init__(self, message, value=""):
-        super().__init__(message)
-        self.value = value
 
 
 def _rescaled(M, d, k):

@@ -43,17 +43,11 @@ from dataclasses import dataclass, fields, replace
 import numpy as np
 
 from ..argcheck import no_booleans
-from ..errors import DistkinError, InputError
+from ..errors import DistkinError, GeometryWarning, InputError
 
 __all__ = ["Leg", "LegsDescription", "REVOLUTE_TYPES", "PRISMATIC_TYPES", "LEG_TYPES",
            "LEG_FIELDS", "full_turn", "in_revolute_range", "GeometryWarning"]
 
-
-class GeometryWarning(UserWarning):
-    """A mechanism description that builds but is likely not the one meant: a home pose
-    its legs do not reach, a preset override 100x or more off the preset's value (a
-    length in another unit).  A warning, not an error: a design may be that far off on
-    purpose (``warnings.simplefilter("error", GeometryWarning)`` refuses it)."""
 
 REVOLUTE_TYPES = ("RSS", "RUS", "RRRS")
 PRISMATIC_TYPES = ("SPS", "UPS")
