@@ -149,7 +149,7 @@ from .bounded_octic import (_bernstein, _bracketed, _count, _first_radius, _grow
                             _sign, _status)
 from .casteljau import STACK, _changes, _sign_of, count, cut_point, split, unscale, weights
 from .error_bounds import (ETA_FLOAT, LEAF_BOUND, U, error_cache, eta_rounded, margin,
-                           part_errors, part_errors_into)
+                           part_bounds_into, part_errors)
 from .verdicts import NOT_CHECKED, SPLIT_STEPS, THIN_TRIANGLE, VERDICTS
 
 __all__ = ["vouch", "vouch_many", "recover", "vouch_rows", "vouch_buffer", "part_errors",
@@ -204,12 +204,12 @@ def _workspace():
     stack signs (64, 2), cuts (9,), cut signs (9,)), then those of
     :func:`_vouch_split`: coefficients and bounds (6, 9) (P, EP, the piece, its bounds,
     two rows of work), the subdivision stack (STACK, 18) and its ends (STACK, 4), the
-    cuts' bounds (9,), the isolating pieces (9, 4); the parts' error bounds (30,) and
-    the factors of :func:`.error_bounds.part_errors_into` (61,)."""
+    cuts' bounds (9,), the isolating pieces (9, 4); the parts' error bounds and a
+    priori coefficients (60,), the factors of :func:`.error_bounds.part_bounds_into` (61,)."""
     return (np.empty((30, 9)), np.empty(9), np.empty(9), np.empty((64, 2)),
             np.empty((64, 2), np.int64), np.empty(9), np.empty(9, np.int64),
             np.empty((6, 9)), np.empty((STACK, 18)), np.empty((STACK, 4)), np.empty(9),
-            np.empty((9, 4)), np.empty(30), error_cache())
+            np.empty((9, 4)), np.empty(60), error_cache())
 
 
 @_leaf
@@ -219,7 +219,7 @@ def _vouch(d, s2, l2, eta, lo, hi, roots, codes, radii, tight, ws):
     subdivision route (:func:`_vouch_split`), and where it does not prove the answer
     the rebuild route (:func:`_vouch_bisect`), whose verdict then stands."""
     e = ws[12]
-    part_errors_into(d, s2, l2, eta, e, ws[13])
+    part_bounds_into(d, s2, l2, eta, e, ws[13])
     for k in range(roots.size):
         radii[k] = np.inf
     verdict, a, b, first, m = _interval(e, s2, l2, eta, lo, hi, roots, codes)
@@ -490,7 +490,7 @@ def recover(d, s2, l2, eta, lo, hi, out):
     see): its roots inside [a, b] again, to be placed and proved once more (issue 17)."""
     ws = _workspace()
     e = ws[12]
-    part_errors_into(d, s2, l2, eta, e, ws[13])
+    part_bounds_into(d, s2, l2, eta, e, ws[13])
     for k in range(30):
         if not e[k] < np.inf:
             return -1, 0.0, 0.0
