@@ -57,7 +57,8 @@ The argument
    2^{-1074}` (Higham, *Accuracy and Stability of Numerical Algorithms*, Sec. 3.3).  The
    bounds are sums of products of non-negative floats over fewer than 10^4 operations,
    so their own rounding is below a relative :math:`10^4u < 2^{-30}`; every bound is
-   multiplied by :math:`1 + 2^{-30}` when used (:data:`_SAFE`).
+   multiplied by :math:`1 + 2^{-30}` when used (:data:`_SAFE`).  A part at a point is
+   bounded a priori instead (:func:`.error_bounds.part_bounds_into`, perf-oct-5).
 4. **Counting** (Descartes' rule of signs in the Bernstein basis).  With
    :math:`t = (x-\alpha)/(\beta-\alpha)` and :math:`t = y/(1+y)`,
    :math:`H = \sum_i \tilde b_i\, t^i(1-t)^{8-i} = (1+y)^{-8}\sum_i \tilde b_i y^i`:
@@ -135,8 +136,8 @@ subdivision in :mod:`.casteljau`.  :func:`recover` isolates the roots in
 tier can solve such a problem again (:func:`.batched.recover_flagged`).
 
 Cost: one more kernel evaluation (the magnitudes, written into a work array by the
-generated ``parts_magnitude``), then ~1.6-1.8 µs per problem on random octahedra (~2.2-2.3
-µs with the rebuild route alone), compiled; see ``python -m benchmarks octahedral`` and
+generated ``parts_magnitude``), then ~1.0-1.2 µs per problem on random octahedra in the
+batched form (perf-oct-5), compiled; see ``python -m benchmarks octahedral`` and
 ``accuracy``.
 """
 
