@@ -275,9 +275,9 @@ def _random_batches(near):
     return {"rows": rows, "load": [load0, os.getloadavg()[0]], "n": len(near)}
 
 
-#: main before this session's octahedral work (the cheaper proof, the recovery; issue 17's
-#: last octahedral target; the tree the before/after table times)
-BASELINE_REV = "e999b10"
+#: main before this session's octahedral work (perf-oct-5: the proof's a priori part
+#: bounds; issue 17's last octahedral target; the tree the before/after table times)
+BASELINE_REV = "7030cd2"
 
 _BASELINE_SCRIPT = """
 import inspect, json, time, warnings
@@ -489,7 +489,7 @@ _PERF_OCT_3 = [
 #: what perf-oct-4 (2026-11-27) changed: the prose of the section, the numbers of the
 #: tables above are this run's
 _PERF_OCT_4 = [
-    "perf-oct-4 (2026-11-27; main at `e999b10` is the before of the table above; a "
+    "perf-oct-4 (2026-11-27; main at `e999b10` was the before of run (47)'s table; a "
     "profile, not a guess, chose the work): (1) the stages that allocate nothing "
     "(scan, polish, placement, proof loops and their helpers) are compiled without "
     "numba's reference counting (`_nrt=False`, a numba option of its CPU target): every "
@@ -525,6 +525,50 @@ _PERF_OCT_4 = [
     "and square roots, the proof's bounded evaluations, the dependent Halley and "
     "Newton steps, LAPACK for the doubted problems (~0.25 µs per problem); 3 µs with "
     "the proof needs another algorithm, with other bits.",
+    "",
+]
+
+
+#: what perf-oct-5 (2026-11-28) changed and measured
+_PERF_OCT_5 = [
+    "perf-oct-5 (2026-11-28; main at `7030cd2` is the before of the table above): an "
+    "attempt at another algorithm for the proof (fusing it with the scan, or reusing the "
+    "scan's brackets), measured first on these 2000 random octahedra (ad hoc, stages of "
+    "`descartes._vouch` in isolation, best of 9): the parts' bounds and the interval "
+    "0.18 µs, the Bernstein expansion of the whole interval 0.28 µs, a status at each of "
+    "the ~3.1 roots in it 0.10 µs, and the rest (~0.6 µs) per root: a sign at the cut "
+    "between two roots, a status over the piece (decided for 44 % of the roots), and "
+    "else two signs at r -+ rho and a second status; one bounded evaluation of H cost "
+    "~60 ns, a status ~34 ns. 1064 of the 2000 problems are decided by the whole "
+    "interval's count, 936 need the subdivision (1.08 and 1.40 µs each). A fused scan "
+    "could give at most the signs at the cuts (m - 1 evaluations, ~0.1 µs per "
+    "problem): its grid values need the same bounded expansion to be proved, and an "
+    "odd count per cell still needs Descartes' upper bound; dropping the cuts for two "
+    "signs around every root (a proved sign change around each of the m roots and at "
+    "most m sign changes of the whole interval's coefficients also prove one root "
+    "each) costs as much as it saves (counted: ~7.2 against ~6.6 evaluations per root "
+    "in all). Kept instead: a priori bounds of the quadratic parts at a point "
+    "(`error_bounds.part_bounds_into`, used by `bounded_octic._part` and `_range`): "
+    "Horner's rule on a quadratic is within gamma_4 sum |c_k||x|^k of the float "
+    "polynomial (Higham, eq. (5.3)), so with the parts' proved data errors e_k the "
+    "part is within sum (e_k + gamma_4|c_k|)|x|^k, one Horner sum on coefficients "
+    "computed once per problem; the running bounds stay where eq. (3) cancels (G, "
+    "R1 R2, H). Unlike the a priori bound of the whole H tried before (1e3-1e7 times "
+    "wider), these bounds are 1.00-1.11 times the running ones (the data errors "
+    "dominate both), the values the same bits; a bounded evaluation of H ~60 -> ~32 "
+    "ns, a status ~34 -> ~27 ns, the proof ~1.14 -> ~1.00 µs per problem. Every "
+    "verdict, count, root, pose and flag of the batched tier the same bit for bit "
+    "(10000 random octahedra at scales 1, 37.3 and 1e-3, the 240 `hard_families()` "
+    "problems), and of 540 single default calls; proved radii differ in ~1 % of the "
+    "batched problems (1.0-1.05 times, and 16 times where a sign is no longer decided "
+    "at the first radius and the radius grows once more) and in the single solves "
+    "(tight radii) by 1.0-1.1 times (tests/octahedral/test_octahedral_apriori.py: the "
+    "parts, H and the part ranges against exact rationals with the coefficients moved "
+    "by their whole error bounds). Not pursued: the same a priori form for the "
+    "products of the Bernstein expansion (~1.5 times fewer operations on ~45 % of its "
+    "0.26 µs, at wider bounds). The 3 µs target stays out of reach: the bare tier "
+    "alone (`prove=False`) is ~3.1-3.3 µs per problem in this process and in fresh "
+    "ones, and the proof ~1 µs more.",
     "",
 ]
 
@@ -675,6 +719,7 @@ def run():
           ["(Before/after table skipped: no git, or the revision is missing.)", ""]),
         *_PERF_OCT_3,
         *_PERF_OCT_4,
+        *_PERF_OCT_5,
         "",
         "The previous run of this benchmark (2026-11-25, at `b989a4e`, before issue 17's "
         "octahedral work; load 1.3-1.4), CPU per problem: single solve 64.38 µs, "

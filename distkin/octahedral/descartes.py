@@ -57,7 +57,8 @@ The argument
    2^{-1074}` (Higham, *Accuracy and Stability of Numerical Algorithms*, Sec. 3.3).  The
    bounds are sums of products of non-negative floats over fewer than 10^4 operations,
    so their own rounding is below a relative :math:`10^4u < 2^{-30}`; every bound is
-   multiplied by :math:`1 + 2^{-30}` when used (:data:`_SAFE`).
+   multiplied by :math:`1 + 2^{-30}` when used (:data:`_SAFE`).  A part at a point is
+   bounded a priori instead (:func:`.error_bounds.part_bounds_into`, perf-oct-5).
 4. **Counting** (Descartes' rule of signs in the Bernstein basis).  With
    :math:`t = (x-\alpha)/(\beta-\alpha)` and :math:`t = y/(1+y)`,
    :math:`H = \sum_i \tilde b_i\, t^i(1-t)^{8-i} = (1+y)^{-8}\sum_i \tilde b_i y^i`:
@@ -135,8 +136,8 @@ subdivision in :mod:`.casteljau`.  :func:`recover` isolates the roots in
 tier can solve such a problem again (:func:`.batched.recover_flagged`).
 
 Cost: one more kernel evaluation (the magnitudes, written into a work array by the
-generated ``parts_magnitude``), then ~1.6-1.8 µs per problem on random octahedra (~2.2-2.3
-µs with the rebuild route alone), compiled; see ``python -m benchmarks octahedral`` and
+generated ``parts_magnitude``), then ~1.0-1.2 µs per problem on random octahedra in the
+batched form (perf-oct-5), compiled; see ``python -m benchmarks octahedral`` and
 ``accuracy``.
 """
 
@@ -149,7 +150,7 @@ from .bounded_octic import (_bernstein, _bracketed, _count, _first_radius, _grow
                             _sign, _status)
 from .casteljau import STACK, _changes, _sign_of, count, cut_point, split, unscale, weights
 from .error_bounds import (ETA_FLOAT, LEAF_BOUND, U, error_cache, eta_rounded, margin,
-                           part_errors, part_errors_into)
+                           part_bounds_into, part_errors)
 from .verdicts import NOT_CHECKED, SPLIT_STEPS, THIN_TRIANGLE, VERDICTS
 
 __all__ = ["vouch", "vouch_many", "recover", "vouch_rows", "vouch_buffer", "part_errors",
@@ -204,12 +205,12 @@ def _workspace():
     stack signs (64, 2), cuts (9,), cut signs (9,)), then those of
     :func:`_vouch_split`: coefficients and bounds (6, 9) (P, EP, the piece, its bounds,
     two rows of work), the subdivision stack (STACK, 18) and its ends (STACK, 4), the
-    cuts' bounds (9,), the isolating pieces (9, 4); the parts' error bounds (30,) and
-    the factors of :func:`.error_bounds.part_errors_into` (61,)."""
+    cuts' bounds (9,), the isolating pieces (9, 4); the parts' error bounds and a
+    priori coefficients (60,), the factors of :func:`.error_bounds.part_bounds_into` (61,)."""
     return (np.empty((30, 9)), np.empty(9), np.empty(9), np.empty((64, 2)),
             np.empty((64, 2), np.int64), np.empty(9), np.empty(9, np.int64),
             np.empty((6, 9)), np.empty((STACK, 18)), np.empty((STACK, 4)), np.empty(9),
-            np.empty((9, 4)), np.empty(30), error_cache())
+            np.empty((9, 4)), np.empty(60), error_cache())
 
 
 @_leaf
@@ -219,7 +220,7 @@ def _vouch(d, s2, l2, eta, lo, hi, roots, codes, radii, tight, ws):
     subdivision route (:func:`_vouch_split`), and where it does not prove the answer
     the rebuild route (:func:`_vouch_bisect`), whose verdict then stands."""
     e = ws[12]
-    part_errors_into(d, s2, l2, eta, e, ws[13])
+    part_bounds_into(d, s2, l2, eta, e, ws[13])
     for k in range(roots.size):
         radii[k] = np.inf
     verdict, a, b, first, m = _interval(e, s2, l2, eta, lo, hi, roots, codes)
@@ -490,7 +491,7 @@ def recover(d, s2, l2, eta, lo, hi, out):
     see): its roots inside [a, b] again, to be placed and proved once more (issue 17)."""
     ws = _workspace()
     e = ws[12]
-    part_errors_into(d, s2, l2, eta, e, ws[13])
+    part_bounds_into(d, s2, l2, eta, e, ws[13])
     for k in range(30):
         if not e[k] < np.inf:
             return -1, 0.0, 0.0

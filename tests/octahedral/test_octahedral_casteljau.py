@@ -18,8 +18,8 @@ import pytest
 
 from distkin.octahedral import casteljau as cj
 from distkin.octahedral import descartes as dc
-from distkin.octahedral.error_bounds import (ETA_FLOAT, U, error_cache, part_errors,
-                                             part_errors_into)
+from distkin.octahedral.error_bounds import (ETA_FLOAT, U, error_cache, part_bounds_into,
+                                             part_errors, part_errors_into)
 
 
 def _split_exact(b, tau):
@@ -166,8 +166,8 @@ def _routes(raw, s2, l2, i, tight, ws):
     subdivision route's verdict -1 where the interval alone decides)."""
     n = int(np.sum(raw["status"][i] >= 0))
     x, codes = raw["roots"][i, :n], raw["status"][i, :n]
-    e = np.empty(30)
-    part_errors_into(raw["data"][i], s2[i], l2[i], ETA_FLOAT, e, error_cache())
+    e = np.empty(60)
+    part_bounds_into(raw["data"][i], s2[i], l2[i], ETA_FLOAT, e, error_cache())
     r1, r2 = np.full(n, np.inf), np.full(n, np.inf)
     v, a, b, first, m = dc._interval(e, s2[i], l2[i], ETA_FLOAT, raw["lo"][i], raw["hi"][i],
                                      x, codes)
