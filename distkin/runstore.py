@@ -480,9 +480,9 @@ def _open_store(store, key, definition, n):
     for i, p in enumerate(paths):
         if p.exists():
             if not p.is_file():                          # QA 7: a folder was IsADirectoryError
+                what = "a directory" if p.is_dir() else "no regular file"
                 raise InputError(f"expected chunk {i} in {str(store)!r} to be a file "
-                                 f"{p.name} (or none), got {'a directory' if p.is_dir() else 'no regular file'} "
-                                 f"at {str(p)!r}",
+                                 f"{p.name} (or none), got {what} at {str(p)!r}",
                                  field="store", hint="remove it (the chunk is computed "
                                  "again) or use another directory")
             try:
