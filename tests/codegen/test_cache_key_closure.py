@@ -18,7 +18,7 @@ import pytest
 
 import distkin
 from distkin import sourcecache
-from distkin.codegen import cayley_menger_scene, octahedral_scene, rss
+from distkin.codegen import cayley_menger_scene, octahedral_scene, octic, rss
 
 ROOT = Path(distkin.__file__).resolve().parent
 
@@ -26,6 +26,7 @@ GENERATORS = {
     "rss": rss._MODEL_MODULES,
     "octahedral": octahedral_scene._MODEL_MODULES,
     "cayley_menger": cayley_menger_scene._MODEL_MODULES,
+    "octic": octic._OCTIC_MODULES,
 }
 
 
@@ -114,3 +115,22 @@ def test_the_versions_are_those_a_header_names():
     src = module_source([Kernel("f", (("x", (x,)),), [x], flavour="scalar")],
                         generator="test", doc="t", source_hash="0" * 64)
     assert src.splitlines()[1] == "# " + sourcecache.toolchain_versions()
+
+
+def test_the_cached_octic_is_keyed_by_its_closure(tmp_path, monkeypatch):
+    """An edit of a file the octic's derivation imports but its hand-kept list
+    (_OCTIC_FILES) omits is not served the octic cached before it."""
+    import sympy as sp
+    from distkin.octahedral.banana import SIDE_PAIRS
+    monkeypatch.setenv("DISTKIN_CACHE", str(tmp_path))
+    rel = next(f for f in sourcecache.import_closure(octic._OCTIC_MODULES)
+               if f not in octic._OCTIC_FILES and f.endswith("exact.py"))
+    sides = {p: sp.Integer(100 + 7 * k) for k, p in enumerate(SIDE_PAIRS)}
+    fixed = {**sides, (1, 4): 400, (2, 4): 324, (2, 5): 324, (3, 5): 289, (3, 6): 225}
+    first = octic.octic_in_legs(fixed)
+    octic.octic_in_legs(fixed)
+    assert len(list(tmp_path.glob("octic_*.pickle"))) == 1
+    _edited(monkeypatch, rel)
+    again = octic.octic_in_legs(fixed)
+    assert len(list(tmp_path.glob("octic_*.pickle"))) == 2          # derived again
+    assert all(sp.expand(a - b) == 0 for a, b in zip(first, again))
