@@ -12,12 +12,18 @@ without its comparison.  A block under the title (``<!-- begin run -->``) is the
 log of the runs merged into the file: each run adds a numbered entry (command, date,
 sections written with their times, machine) after the others, which it keeps, and says
 what the default run left out.  ``-h``/``--help`` lists the sections.
+
+``results.json`` and the run's log entry are written after every section, as its
+``BENCHMARKS.md`` section is: a run interrupted (Ctrl-C: exit 130) or failed (exit 1,
+one line naming the section) keeps the numbers of the sections it wrote, and its log
+entry says where it stopped.
 """
 
 from __future__ import annotations
 
 import importlib
 import json
+import os
 import pkgutil
 import re
 import sys
@@ -45,6 +51,26 @@ def modules() -> list[str]:
                   if m.name.startswith("bench_"))
 
 
+def section_module(name: str):
+    """The module of section ``name`` (``benchmarks.bench_NAME``)."""
+    return importlib.import_module(f"benchmarks.bench_{name}")
+
+
+def _run_block() -> str:
+    """The text of the run log (the block under the title) as it is now."""
+    md = MD.read_text(encoding="utf-8") if MD.exists() else ""
+    found = re.search(r"<!-- begin run -->\n(.*?)\n<!-- end run -->", md, re.S)
+    return found.group(1) if found else ""
+
+
+def _write_json(results: dict) -> None:
+    """``results.json``, whole (temporary file + rename: an interrupt leaves the old or
+    the new file, never half of one)."""
+    tmp = JSON.with_name(f"{JSON.name}.{os.getpid()}.tmp")
+    tmp.write_text(json.dumps(results, indent=2, default=str) + "\n", encoding="utf-8")
+    os.replace(tmp, JSON)
+
+
 def _write_section(name: str, text: str, *, first: bool = False) -> None:
     md = MD.read_text(encoding="utf-8") if MD.exists() else _HEAD
     block = f"<!-- begin {name} -->\n{text.rstrip()}\n<!-- end {name} -->"
@@ -58,12 +84,16 @@ def _write_section(name: str, text: str, *, first: bool = False) -> None:
     MD.write_text(md, encoding="utf-8")
 
 
-def _write_run(r: dict) -> None:
+def _write_run(r: dict, old: str | None = None) -> None:
     """The block under the title: the log of the runs merged into the file, one
     numbered entry each (command, date, time, sections written; the first also names
     the machine and the versions).  A run adds its entry after the last one and keeps
     the others (what was written by hand about an entry stays): it rewrote the whole
-    block, and the log of the earlier runs was lost."""
+    block, and the log of the earlier runs was lost.
+
+    ``old``: the block as it was when the run started (:func:`_run_block`; default: as
+    it is now), so that a run writing its entry after each section replaces its own
+    entry instead of adding one per section."""
     m = r["machine"]
     ran = ", ".join(f"`{n}` {w:.0f} s" for n, w in r["ran"].items())
     out = (", ".join(f"`{n}` (run: `python -m benchmarks {n}`)" for n in r["left_out"])
@@ -74,13 +104,13 @@ def _write_run(r: dict) -> None:
                     f"Versions: Python {m['python']}, numpy {m['numpy']}, scipy {m['scipy']}, "
                     f"sympy {m['sympy']}, mpmath {m['mpmath']}, python-flint "
                     f"{m['python-flint']}, numba {m.get('numba', '?')}.  \n")
-    md = MD.read_text(encoding="utf-8") if MD.exists() else ""
-    found = re.search(r"<!-- begin run -->\n(.*?)\n<!-- end run -->", md, re.S)
-    old = found.group(1) if found else ""
+    old = _run_block() if old is None else old
     numbers = [int(n) for n in re.findall(r"^(?:Runs merged here: )?\((\d+)\) ", old, re.M)]
     entry = (f"`{r['command']}` on {r['date']}, {r['seconds']:.0f} s in all; sections "
              f"written: {ran}; machine {m['processor']}, {m['cpu_count']} cores, Python "
-             f"{m['python']}, numpy {m['numpy']}, numba {m.get('numba', '?')}.  \n")
+             f"{m['python']}, numpy {m['numpy']}, numba {m.get('numba', '?')}"
+             + (f"; stopped in `{r['stopped']}` ({r.get('why', '?')})" if r.get("stopped")
+                else "") + ".  \n")
     if numbers:
         kept = re.sub(r"^Left out of the default run:.*$", "", old, flags=re.M).rstrip()
         text = (f"{kept}  \n({max(numbers) + 1}) {entry}"
@@ -98,7 +128,7 @@ def _missing_requirements(names, available) -> dict:
     for name in available:
         if names is not None and name not in names:
             continue
-        mod = importlib.import_module(f"benchmarks.bench_{name}")
+        mod = section_module(name)
         if names is None and not getattr(mod, "DEFAULT", True):
             continue
         miss = []
@@ -133,40 +163,76 @@ def main(argv=None) -> int:
         return 2
     results = json.loads(JSON.read_text()) if JSON.exists() else {}
     info = machine()
-    ran, left_out = [], []
+    run = {"command": "python -m benchmarks" + ("" if names is None else " " + " ".join(names)),
+           "date": time.strftime("%Y-%m-%d %H:%M"), "machine": info, "ran": {},
+           "left_out": [], "seconds": 0.0}
+    log = _run_block()
     t_all = time.perf_counter()
-    for name in available:
-        mod = importlib.import_module(f"benchmarks.bench_{name}")
-        if names is None and not getattr(mod, "DEFAULT", True):
-            print(f"[{name}] left out of the default run (run: python -m benchmarks {name})")
-            left_out.append(name)
-            continue
-        if names is not None and name not in names:
-            continue
-        print(f"[{name}] {mod.TITLE} ...", flush=True)
-        t0 = time.perf_counter()
-        text, data = mod.run()
-        wall = time.perf_counter() - t0
-        head = (f"## {mod.TITLE}\n\nCommand: `python -m benchmarks {name}` · "
-                f"{info['processor']}, {info['cpu_count']} cores, Python {info['python']}, "
-                f"numpy {info['numpy']}, sympy {info['sympy']}, python-flint "
-                f"{info['python-flint']}, numba {info.get('numba', '?')} · "
-                f"{time.strftime('%Y-%m-%d')} · {wall:.1f} s"
-                + ("" if getattr(mod, "DEFAULT", True) else
-                   " · not in the default run") + "\n\n")
-        _write_section(name, head + text)
-        results[name] = {"machine": info, "seconds": wall, "data": data}
-        ran.append((name, wall))
-        print(text)
-    total = time.perf_counter() - t_all
-    run_info = {"command": "python -m benchmarks" + ("" if names is None else " " + " ".join(names)),
-                "date": time.strftime("%Y-%m-%d %H:%M"), "machine": info,
-                "ran": {n: w for n, w in ran}, "left_out": left_out, "seconds": total}
-    results["_last_run"] = run_info
-    _write_run(run_info)
-    JSON.write_text(json.dumps(results, indent=2, default=str) + "\n", encoding="utf-8")
+    name = None
+    try:
+        for name in available:
+            _run_section(name, names, info, results, run)
+            if name in run["ran"]:
+                # the numbers and the log entry with the section (QA 8: only at the end)
+                run["seconds"] = time.perf_counter() - t_all
+                results["_last_run"] = run
+                _write_run(run, log)
+                _write_json(results)
+    except KeyboardInterrupt:
+        return _stopped(name, run, results, log, t_all, "interrupted", 130)
+    except Exception as exc:                                 # noqa: BLE001 (one line)
+        return _stopped(name, run, results, log, t_all,
+                        f"failed: {type(exc).__name__}: {' '.join(str(exc).split())[:200]}", 1)
+    run["seconds"] = time.perf_counter() - t_all
+    results["_last_run"] = run
+    _write_run(run, log)
+    _write_json(results)
     return 0
 
+
+def _run_section(name, names, info, results, run) -> None:
+    """Run section ``name`` if this run includes it: its BENCHMARKS.md section written,
+    its numbers put in ``results``, its time in ``run["ran"]``."""
+    mod = section_module(name)
+    if names is None and not getattr(mod, "DEFAULT", True):
+        print(f"[{name}] left out of the default run (run: python -m benchmarks {name})")
+        run["left_out"].append(name)
+        return
+    if names is not None and name not in names:
+        return
+    print(f"[{name}] {mod.TITLE} ...", flush=True)
+    t0 = time.perf_counter()
+    text, data = mod.run()
+    wall = time.perf_counter() - t0
+    head = (f"## {mod.TITLE}\n\nCommand: `python -m benchmarks {name}` · "
+            f"{info['processor']}, {info['cpu_count']} cores, Python {info['python']}, "
+            f"numpy {info['numpy']}, sympy {info['sympy']}, python-flint "
+            f"{info['python-flint']}, numba {info.get('numba', '?')} · "
+            f"{time.strftime('%Y-%m-%d')} · {wall:.1f} s"
+            + ("" if getattr(mod, "DEFAULT", True) else
+               " · not in the default run") + "\n\n")
+    _write_section(name, head + text)
+    results[name] = {"machine": info, "seconds": wall, "data": data}
+    run["ran"][name] = wall
+    print(text)
+
+
+def _stopped(name, run, results, log, t_all, why, code) -> int:
+    """A run stopped in section ``name``: the log entry and results.json say so (when a
+    section was written), one line on stderr; returns the exit code."""
+    kept = ", ".join(run["ran"]) or "none"
+    try:
+        if run["ran"]:
+            run["seconds"] = time.perf_counter() - t_all
+            run["stopped"], run["why"] = name, why
+            results["_last_run"] = run
+            _write_run(run, log)
+            _write_json(results)
+    except (OSError, KeyboardInterrupt) as exc:
+        kept += f" (but their log entry could not be written: {type(exc).__name__})"
+    print(f"benchmarks: section {name!r} {why}; sections written to BENCHMARKS.md and "
+          f"results.json: {kept}", file=sys.stderr)
+    return code
 
 if __name__ == "__main__":
     sys.exit(main())

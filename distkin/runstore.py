@@ -7,7 +7,8 @@ A sweep is a list of independent chunks (picklable specs) and a module-level tas
 function ``task(spec) -> dict of numpy arrays``.  :func:`run_chunks`
 
 * stores every finished chunk at once as ``DIR/chunk_NNNNN.npz`` (written to a
-  temporary name, then renamed, so a file on disk is always complete);
+  temporary name, then renamed, so a file on disk is always complete; the temporary
+  files a killed process left are removed when the store is opened again);
 * skips the chunks already on disk, so a sweep interrupted by Ctrl-C (or a crash)
   continues from where it stopped; ``DIR/sweep.json`` holds a key of the sweep's
   definition and refuses to mix chunks of a different sweep, and every chunk file carries
@@ -42,7 +43,9 @@ import hashlib
 import json
 import multiprocessing
 import os
+import re
 import sys
+import time
 import zipfile
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from pathlib import Path
@@ -54,7 +57,7 @@ from .errors import DistkinError, InputError
 
 __all__ = ["run_chunks", "check_store", "make_store", "local_executor", "dask_executor", "executor_for",
            "sweep_key", "code_version", "user_cache_dir", "default_store", "keyed_store",
-           "ChunkProgress", "WORKER_ENV", "NO_WORKER_TIMEOUT_S"]
+           "ChunkProgress", "WORKER_ENV", "NO_WORKER_TIMEOUT_S", "finished_chunks"]
 
 #: worker counts already warned about (above the CPU count), once per process
 _WARNED: set = set()
@@ -64,6 +67,12 @@ WORKER_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THRE
 NO_WORKER_TIMEOUT_S = 60.0
 #: how often (s) a sweep waiting on a cluster checks that it still has workers
 _HEALTH_POLL_S = 2.0
+#: a finished chunk's file name, and a temporary one of :func:`_save` (``.PID.tmp.npz``)
+_CHUNK_RE = re.compile(r"chunk_\d+\.npz")
+_TMP_RE = re.compile(r"chunk_\d+\.npz\.(\d+)\.tmp\.npz|sweep\.json\.(\d+)\.tmp")
+#: seconds after which a temporary file of a dead process (or of any process: a store
+#: shared between hosts) is removed when the store is opened
+_STALE_TMP_S = (60.0, 86400.0)
 
 
 def user_cache_dir() -> Path:
@@ -464,16 +473,30 @@ def _open_store(store, key, definition, n):
                              f"got one made by {saved.get('code') or 'an older version'} in "
                              f"{str(store)!r}", field="store",
                              hint="use another directory or delete the old chunks")
+    _remove_stale_tmp(store)
     paths = [store / f"chunk_{i:05d}.npz" for i in range(n)]
     results: list = [None] * n
     todo, foreign = [], []
     for i, p in enumerate(paths):
         if p.exists():
+            if not p.is_file():                          # QA 7: a folder was IsADirectoryError
+                what = "a directory" if p.is_dir() else "no regular file"
+                raise InputError(f"expected chunk {i} in {str(store)!r} to be a file "
+                                 f"{p.name} (or none), got {what} at {str(p)!r}",
+                                 field="store", hint="remove it (the chunk is computed "
+                                 "again) or use another directory")
             try:
                 results[i], stamp = _load(p)
             except (OSError, ValueError, EOFError, KeyError, IndexError,
-                    zipfile.BadZipFile):
-                p.unlink()                               # a damaged file is redone
+                    zipfile.BadZipFile) as exc:
+                try:
+                    p.unlink()                           # a damaged file is redone
+                except OSError as err:
+                    raise InputError(f"expected chunk file {str(p)!r} to be readable or "
+                                     f"removable, got neither ({type(exc).__name__}; "
+                                     f"{err.strerror or type(err).__name__})",
+                                     field="store", hint="remove it by hand or use another "
+                                     "directory") from None
             else:
                 why = _stamp_mismatch(stamp, _chunk_stamp(key, code, i, n))
                 if why is None:
@@ -496,11 +519,50 @@ def _open_store(store, key, definition, n):
     return store, paths, results, todo
 
 
+def finished_chunks(store) -> list:
+    """The finished chunk files of ``store`` (``chunk_NNNNN.npz``; not the temporary
+    files of a save in progress or of a killed process)."""
+    return sorted(p for p in Path(store).glob("chunk_*.npz")
+                  if _CHUNK_RE.fullmatch(p.name) and p.is_file())
+
+
+def _pid_alive(pid: int) -> bool:
+    """Whether process ``pid`` runs on this host (True when that cannot be told)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (OSError, ValueError, OverflowError):
+        return True
+    return True
+
+
+def _remove_stale_tmp(store: Path) -> list:
+    """Remove the temporary files of :func:`_save` (and of ``sweep.json``) that a killed
+    process left: those of a process that no longer runs, older than a minute, and any
+    older than a day (another host's).  Returns the names removed."""
+    dead_age, any_age = _STALE_TMP_S
+    now, removed = time.time(), []
+    for p in store.iterdir():
+        m = _TMP_RE.fullmatch(p.name)
+        if m is None or not p.is_file():
+            continue
+        pid = int(m.group(1) or m.group(2))
+        try:
+            age = now - p.stat().st_mtime
+            if age > any_age or (age > dead_age and pid != os.getpid()
+                                 and not _pid_alive(pid)):
+                p.unlink()
+                removed.append(p.name)
+        except OSError:
+            pass                                         # another process's cleanup
+    return removed
+
+
 def _wait_alive(executor, pending, store, timeout):
     """The futures of ``pending`` that finish first; with an executor that counts its
     workers, raise when it has had none for ``timeout`` s (a dask cluster whose workers
     all died never finishes a future)."""
-    import time
     if not hasattr(executor, "workers"):
         return wait(list(pending), return_when=FIRST_COMPLETED)[0]
     limit = NO_WORKER_TIMEOUT_S if timeout is None else timeout
@@ -519,7 +581,7 @@ def _wait_alive(executor, pending, store, timeout):
             for f in pending:
                 f.cancel()
             kept = ("no store: the finished chunks are lost" if store is None else
-                    f"the {len(list(Path(store).glob('chunk_*.npz')))} finished chunks are "
+                    f"the {len(finished_chunks(store))} finished chunks are "
                     f"kept in {str(store)!r} (run again to continue)")
             raise DistkinError(
                 f"expected live workers on the dask cluster at "

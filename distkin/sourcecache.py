@@ -8,21 +8,31 @@ The cache folder is ``$DISTKIN_CACHE`` if set, else ``$XDG_CACHE_HOME/distkin``,
 ``~/.cache/distkin``.  Files are written atomically (temporary file + rename), so
 concurrent processes at worst derive the same module twice.  Deleting the folder is
 always safe.
+
+A generator's key holds :func:`closure_text` of its modules: the text of every distkin
+file they import, transitively (:func:`import_closure`), and the versions of sympy,
+numpy, mpmath and python, so no edited dependency or upgrade is served a stale module.
 """
 
 from __future__ import annotations
 
+import ast
 import hashlib
 import importlib.util
 import os
+import platform
 import sys
 import tempfile
+from functools import lru_cache
 from pathlib import Path
 
 from .runstore import user_cache_dir
 
-__all__ = ["cache_dir", "source_key", "package_text", "cached_source", "load_module_file",
-           "load_source"]
+__all__ = ["cache_dir", "source_key", "package_text", "import_closure", "closure_text",
+           "toolchain_versions", "cached_source", "load_module_file", "load_source"]
+
+#: the distkin package folder (the root of :func:`import_closure`)
+PACKAGE_ROOT = Path(__file__).resolve().parent
 
 
 def cache_dir() -> Path:
@@ -44,6 +54,108 @@ def package_text(files) -> str:
     the model source a generated module depends on, for :func:`source_key`."""
     root = Path(__file__).resolve().parent
     return "".join((root / f).read_text(encoding="utf-8") for f in files)
+
+
+def _module_file(root: Path, module: str):
+    """The file of ``distkin.a.b`` under ``root`` (``a/b.py`` or ``a/b/__init__.py``),
+    or None for a name that is no module of the package (an attribute, say)."""
+    parts = module.split(".")[1:]
+    base = root.joinpath(*parts) if parts else root
+    for f in (base.with_suffix(".py") if parts else None, base / "__init__.py"):
+        if f is not None and f.is_file():
+            return f
+    return None
+
+
+@lru_cache(maxsize=512)
+def _imports_of(path: str, mtime_ns: int, size: int, module: str, is_pkg: bool) -> tuple:
+    """The imports of one file that name distkin (at module level or inside functions: a
+    deferred import is still a dependency), as ``(package, names)``: ``import a.b`` is
+    ``("a.b", ())``, ``from a import b, c`` is ``("a", ("b", "c"))`` with relative
+    names resolved; memoised by the file's stat, so a changed file is parsed again."""
+    tree = ast.parse(Path(path).read_text(encoding="utf-8"), filename=path)
+    out = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out += [(a.name, ()) for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = module.split(".") if is_pkg else module.split(".")[:-1]
+                base = base[:len(base) - (node.level - 1)]
+                pkg = ".".join(base + ([node.module] if node.module else []))
+            else:
+                pkg = node.module or ""
+            out.append((pkg, tuple(a.name for a in node.names)))
+    return tuple((p, n) for p, n in out if p.split(".")[0] == "distkin")
+
+
+def import_closure(modules, root=None) -> tuple:
+    """The files of the ``distkin`` modules that ``modules`` import, transitively
+    (``import`` and ``from ... import``, relative or absolute, at module level or inside
+    functions), with their own files: every source a generator's output can depend on.
+
+    ``from pkg import name`` depends on the module ``pkg.name`` if there is one, else
+    on ``pkg`` (its ``__init__``); the ``__init__`` of a package a module merely sits in
+    is not a dependency (the arrows of the package's import graph, docs/design.md).
+
+    Parameters
+    ----------
+    modules : iterable of str
+        Dotted names (``"distkin.codegen.rss"``).
+    root : Path, optional
+        The package folder (default: the installed ``distkin``; a copy, for tests).
+
+    Returns
+    -------
+    tuple of str
+        Paths relative to ``root`` (``"mechanisms/kernel_names.py"``), sorted.
+    """
+    root = Path(root) if root is not None else PACKAGE_ROOT
+    seen, files, todo = set(), set(), list(modules)
+    while todo:
+        mod = todo.pop()
+        if mod in seen:
+            continue
+        seen.add(mod)
+        f = _module_file(root, mod)
+        while f is None and "." in mod:          # an attribute: its module
+            mod = mod.rsplit(".", 1)[0]
+            f = _module_file(root, mod)
+        if f is None or f in files:
+            continue
+        files.add(f)
+        st = f.stat()
+        for pkg, names in _imports_of(str(f), st.st_mtime_ns, st.st_size, mod,
+                                      f.name == "__init__.py"):
+            subs = [f"{pkg}.{n}" for n in names if _module_file(root, f"{pkg}.{n}")]
+            todo += subs if len(subs) == len(names) and names else [pkg, *subs]
+    return tuple(sorted(f.relative_to(root).as_posix() for f in files))
+
+
+def toolchain_versions() -> str:
+    """``"sympy 1.14.0, numpy ..., mpmath ..., python 3.11"``: the versions a generated
+    module's header names (:func:`distkin.codegen.emit.module_source`), read from the
+    installed distributions (no import of sympy)."""
+    from importlib import metadata
+    out = []
+    for dist in ("sympy", "numpy", "mpmath"):
+        try:
+            out.append(f"{dist} {metadata.version(dist)}")
+        except metadata.PackageNotFoundError:
+            out.append(f"{dist} missing")
+    return ", ".join(out) + f", python {platform.python_version().rsplit('.', 1)[0]}"
+
+
+def closure_text(modules, root=None) -> str:
+    """The cache-key text of a generator: the toolchain's versions
+    (:func:`toolchain_versions`) and the path and text of every file of
+    :func:`import_closure` ``(modules)``, so that a change in any module the generator
+    imports, or a sympy upgrade, derives its modules again."""
+    root = Path(root) if root is not None else PACKAGE_ROOT
+    parts = [toolchain_versions()]
+    for rel in import_closure(modules, root):
+        parts += [f"\x00{rel}\x00", (root / rel).read_text(encoding="utf-8")]
+    return "".join(parts)
 
 
 def cached_source(prefix: str, key: str, build):

@@ -16,8 +16,9 @@ from __future__ import annotations
 __all__ = ["module_text", "scene_module", "pairs_of"]
 
 CHUNK = 4096
-_MODEL_FILES = ("geometry/cayley_menger.py", "codegen/emit.py", "codegen/cayley_menger_scene.py",
-                "codegen/checks.py")
+#: the modules whose import closure keys the derivation cache
+#: (:func:`~distkin.sourcecache.closure_text`)
+_MODEL_MODULES = ("distkin.codegen.cayley_menger_scene",)
 
 
 def pairs_of(determinants) -> tuple:
@@ -83,8 +84,8 @@ def module_text(determinants, flavours, *, generator, title, length_unit=None) -
 def scene_module(determinants, flavours, *, scene_name, length_unit=None):
     """(source, cache_hit) of a points scene's module, through the derivation cache
     (``length_unit``, the scene's, named in the module: :func:`module_text`)."""
-    from ..sourcecache import cached_source, package_text, source_key
-    model = package_text(_MODEL_FILES)
+    from ..sourcecache import cached_source, closure_text, source_key
+    model = closure_text(_MODEL_MODULES)
     gen = f"distkin codegen {scene_name} (distkin.codegen.cayley_menger_scene)"
     key = source_key(model, repr(tuple(determinants)), tuple(flavours), gen,
                      repr(length_unit))
