@@ -266,8 +266,15 @@ def format_summary(s: dict) -> str:
         f"{s['device_saturated_frames']} with a drive saturated",
         (f"  force: max |f| {s['max_abs_force_N']} N (limit {s['force_limit_N']} N)"
          if "max_abs_force_N" in s else
-         f"  torque: max |tau| {s['max_abs_torque_Nm']} N·m (limit {s['torque_limit_Nm']} N·m)"),
+         f"  torque: max |tau| {s['max_abs_torque_Nm']} N·m (limit {s['torque_limit_Nm']} N·m)")
+        + (f"; {s['nonfinite_cycles']} cycles computed a NaN or infinite command, sent as "
+           f"zero torque (a fault)" if s.get("nonfinite_cycles") else ""),
     ]
+    if s.get("final_state") is not None:
+        share = (f" ({100 * s['fault_seconds'] / s['device_seconds']:.0f}% of the device "
+                 f"time)" if s.get("device_seconds") else "")
+        lines.append(f"  state: {s['final_state']} at the end; {s['fault_seconds']:.3f} s "
+                     f"of device time in fault or hold{share}")
     if s.get("delay_margin_periods") is not None:
         n = s["delay_margin_periods"]
         lines.append("  PD loop (linearised at home): " + (

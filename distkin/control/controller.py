@@ -126,6 +126,8 @@ class Controller:
         self.refusing = False
         self.refused = 0
         self.saturated_cycles = 0
+        #: cycles whose computed efforts were not all finite (sent as zero torque)
+        self.nonfinite_cycles = 0
         self.max_abs_torque = 0.0
         self.device_status = DeviceStatus()     # the device's own status bits
         self.rejected_frames = 0
@@ -284,6 +286,8 @@ class Controller:
             tau = tau + J @ np.linalg.solve(J.T @ J, w_ff)
         saturated = False
         peak = float(np.max(np.abs(tau)))
+        if not math.isfinite(peak):
+            return tau, False    # NaN/inf: not scaled; the loop sends zero torque, faults
         if peak > limit:
             tau = tau * (limit / peak)
             saturated = True
