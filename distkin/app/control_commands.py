@@ -415,7 +415,8 @@ def _margin_note(scene, model, args) -> dict:
         if not args.sim and not getattr(args, "allow_unstable", False):
             raise InputError(f"expected PD gains whose loop is stable lock-stepped, got "
                              f"kp {scene.pd.kp:g}, kd {scene.pd.kd:g}: {why}", field="[pd]",
-                             hint="lower pd.kp or pd.kd (distkin control --delay-margin), "
+                             hint="lower pd.kp or pd.kd, or lengthen pd.derivative_filter_s "
+                                  "(distkin control --delay-margin), "
                                   "or pass --allow-unstable to drive the device anyway")
         print(f"distkin: warning: [pd]: {why}: expect it at the torque limit "
               f"(distkin control --delay-margin)", file=sys.stderr)

@@ -103,7 +103,9 @@ class PDGains:
     """Joint PD(I) at position level (Kühne et al., Sec. III-D).
 
     ``kp`` N·m/rad, ``ki`` N·m/(rad·s), ``kd`` N·m·s/rad; ``derivative_filter_s`` the
-    time constant of the first-order low-pass (forward Euler) on the error derivative;
+    time constant of the first-order low-pass (forward Euler) on the error derivative,
+    0 (no filter) or at least one period ``1/rate_hz`` (shorter is refused: the step's
+    eigenvalue ``1 - h/T`` is negative, below -1 for T < h/2, a diverging filter);
     ``torque_limit`` N·m the saturation of each command (the nominal ±2.5 N·m by
     default); ``distribution`` "projected" (remove the internal-force component of the
     redundant L = 8 torques) or "independent"; ``gravity_compensation`` adds the
@@ -376,6 +378,25 @@ def _effort_limit(pd, drives, mechanism):
                              f"{pd.torque_limit}", field="pd.torque_limit")
 
 
+def _filter_period(pd, rate_hz):
+    """Refuse a derivative filter shorter than one period (0 < T < h = 1/rate_hz).
+
+    The forward-Euler low-pass ``d_f[k] = d_f[k-1] + (h/T)(d[k-1] - d_f[k-1])`` has the
+    eigenvalue ``1 - h/T``: for T < h it is negative (the filtered derivative alternates
+    in sign every period, no low-pass), for T < h/2 below -1 (it diverges whatever the
+    gains, and ``kd = 0`` does not help: ``0 x inf`` is NaN, QA).  T = h is a one-period
+    delay of the raw difference quotient; T = 0 passes it through unfiltered."""
+    T, h = pd.derivative_filter_s, 1.0 / rate_hz
+    if 0.0 < T < h:
+        raise InputError(
+            f"expected pd.derivative_filter_s 0 (no filter) or at least one period "
+            f"1/device.rate_hz = {h * 1e3:.6g} ms (the forward-Euler low-pass has the "
+            f"eigenvalue 1 - h/T = {1.0 - h / T:.4g}: below one period it rings at the "
+            f"Nyquist frequency, below {h * 0.5e3:.6g} ms it diverges whatever kp and kd), "
+            f"got {T * 1e3:.6g} ms", field="pd.derivative_filter_s",
+            hint=f"use 0 or at least {h * 1e3:.6g} ms (Kühne et al.: 700 ms)")
+
+
 def _timing(rate_hz, safety, sim):
     """Refuse watchdog windows that a loop at ``rate_hz`` cannot keep: both the host's
     (``safety.watchdog_ms``, no valid frame) and the device's
@@ -467,6 +488,7 @@ def loads_control_scene(text: str, path: str = "<string>", *,
                                             d.gravity_compensation),
                  hand_feedforward=_bool(pdt, "hand_feedforward", "pd", d.hand_feedforward))
     _effort_limit(pd, sim.motors, mechanism)
+    _filter_period(pd, rate)
 
     st = as_table(data.get("safety", {}), "safety")
     if joint == "prismatic" and "max_angle" in st:
