@@ -39,8 +39,8 @@ from pathlib import Path
 from ..errors import DistkinError, InputError, LinkError
 
 __all__ = ["add_sim_parser", "add_control_parser", "cmd_sim", "cmd_control", "builtin_scene",
-           "format_summary", "check_distinct_outputs", "ended_line", "ENDED_BY",
-           "RUN_SECONDS"]
+           "format_summary", "check_distinct_outputs", "ended_line", "closing_lines",
+           "ENDED_BY", "RUN_SECONDS"]
 
 
 
@@ -129,7 +129,8 @@ def add_sim_parser(sub) -> None:
     p.add_argument("--tcp", metavar="PORT", type=_tcp_port,
                    help="serve on TCP (0 = any free port)")
     p.add_argument("--log", metavar="PREFIX",
-                   help="write PREFIX.device.csv and PREFIX.device-events.jsonl")
+                   help="write PREFIX.device.csv and PREFIX.device-events.jsonl (PREFIX "
+                        "names files, not a directory: '' and a trailing / are refused)")
     p.add_argument("--seconds", type=_seconds, help="stop after this much device time")
     p.add_argument("--idle-timeout", type=_seconds, metavar="S", default=None,
                    help="stop when no client connects, or no command arrives, for S s of "
@@ -153,7 +154,11 @@ def add_control_parser(sub) -> None:
     p.add_argument("--json", metavar="PATH|-", help="write the summary as JSON (- for stdout)")
     p.add_argument("--log", metavar="PREFIX", help="write PREFIX.cycles.csv, PREFIX.events.jsonl "
                                                    "(and PREFIX.device.csv, "
-                                                   "PREFIX.device-events.jsonl with --sim)")
+                                                   "PREFIX.device-events.jsonl with --sim; "
+                                                   "columns and units: docs/protocol.md); "
+                                                   "PREFIX names files (out/run), not a "
+                                                   "directory: '' and a trailing / are "
+                                                   "refused")
     p.add_argument("--plots", metavar="DIR", help="plot the run into DIR/control.png (with "
                                                   "--log, or from a temporary log)")
     p.add_argument("--wall-limit", type=_seconds,
@@ -172,6 +177,8 @@ def cmd_sim(args) -> int:
     faults = parse_faults(args.faults)
     scene, inputs = _scene_and_inputs(args.scene)   # an output never replaces a file read
     check_output_path(args.port_file, "--port-file", inputs=inputs)
+    from ..control.runlog import check_log_prefix
+    check_log_prefix(args.log)
     for path in _log_files(args.log, sim=True).values():
         check_output_path(path, "--log", inputs=inputs)
     check_distinct_outputs([("--port-file", args.port_file)]
@@ -327,6 +334,17 @@ def ended_line(summary: dict, *, sim: bool) -> str:
     return f"distkin: error: {field}: {why} (exit_reason {reason})"
 
 
+def closing_lines(summary: dict, *, sim: bool) -> list:
+    """The stderr lines after a run's summary: :func:`ended_line` for a run the device
+    or the link ended, and ``distkin: error: interrupted`` for one that SIGINT or
+    SIGTERM stopped (exit 130; README: Ctrl-C stops any command with that line, which
+    :func:`distkin.app.cli.main` prints for the other commands)."""
+    if summary.get("exit_reason") == "interrupted":
+        return ["distkin: error: interrupted"]
+    line = ended_line(summary, sim=sim)
+    return [line] if line else []
+
+
 def _margin_report(scene, model, periods: int) -> dict:
     """``distkin control --delay-margin``: the sweep of :mod:`distkin.control.delay_margin`
     as a JSON-ready dict (units in the keys)."""
@@ -460,6 +478,8 @@ def cmd_control(args) -> int:
     from ..control.link import Link
     from .output_paths import check_output_dir, check_output_path
     scene, inputs = _scene_and_inputs(args.scene)
+    from ..control.runlog import check_log_prefix
+    check_log_prefix(args.log)             # '' or a directory refused, not ignored
     if args.delay_margin is not None:
         return _delay_margin_command(args, scene, inputs, model_of(scene))
     if args.faults and not args.sim:
@@ -565,8 +585,7 @@ def cmd_control(args) -> int:
     if summary["exit_reason"] == "device_mismatch":    # bad input: one line naming it
         print(f"distkin: error: {'--scene' if args.scene else 'the built-in scene'}: "
               f"{summary['error']}", file=sys.stderr)
-    line = ended_line(summary, sim=args.sim)
-    if line:
+    for line in closing_lines(summary, sim=args.sim):
         print(line, file=sys.stderr)
     _emit(text, summary, args.json)
     return summary["exit_code"]

@@ -9,12 +9,37 @@ JSON line at once.  :func:`read_csv` loads a table back as a dict of numpy colum
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
 
+from ..errors import InputError
+
 __all__ = ["CsvLog", "EventLog", "read_csv", "read_events", "plot_run", "plot_delay_margin",
-           "timing_summary", "run_summary", "EXIT_CODES", "STATE_NAMES"]
+           "timing_summary", "run_summary", "EXIT_CODES", "STATE_NAMES",
+           "check_log_prefix"]
+
+
+def check_log_prefix(prefix) -> None:
+    """Refuse a ``--log PREFIX`` of ``distkin control`` or ``distkin sim`` that names no
+    file (InputError, exit 2): '' (nothing was written while the summary listed
+    ``.cycles.csv``, QA) and a prefix ending in a path separator, ``.`` or ``..``
+    (``--log dir/`` wrote the hidden files ``dir/.cycles.csv``).  None (no ``--log``)
+    passes."""
+    if prefix is None:
+        return
+    p = str(prefix)
+    seps = tuple(s for s in (os.sep, os.altsep, "/") if s)
+    if not p.strip():
+        raise InputError(f"expected a file name prefix (PREFIX.cycles.csv, ...), got "
+                         f"{p!r}", field="--log", hint="e.g. --log run or --log out/run")
+    if p.endswith(seps) or os.path.basename(p) in ("", ".", ".."):
+        raise InputError(f"expected a file name prefix, not a directory, got {p!r} (it "
+                         f"would write hidden files such as "
+                         f"{p.rstrip(''.join(seps)) or '.'}/.cycles.csv)", field="--log",
+                         hint=f"name the files too, e.g. --log "
+                              f"{p.rstrip(''.join(seps)) or '.'}/run")
 
 
 class CsvLog:
