@@ -82,7 +82,10 @@ def _scene_and_inputs(path):
         s = load_scene(p)
         read.extend(input_files(s))
         return s.mechanism
-    return load_control_scene(path, mechanism_loader=mechanism), read
+    scene = load_control_scene(path, mechanism_loader=mechanism)
+    for fld, message in scene.warnings:        # loads, but looks wrong: one line each
+        print(f"distkin: warning: {fld}: {message}", file=sys.stderr)
+    return scene, read
 
 
 def _seconds(value: str) -> float:

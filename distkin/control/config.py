@@ -62,6 +62,7 @@ import numpy as np
 from ..argcheck import as_table, check_keys, choice, positive_int, require
 from ..errors import InputError
 from .plant import HandScript, LinearDrives, Motors, drives_for
+from .scene_checks import check_filter_period, check_safety_at_home
 from .scene_fields import bool_field as _bool
 from .scene_fields import environment as _environment
 from .scene_fields import hand_script as _hand
@@ -177,6 +178,10 @@ class SafetyLimits:
     al. Sec. III-D with the drives' reflected inertia) stopping 0.81 m/s or 16 rad/s
     peaks at the torque limit (our computation, modal, from the linear servo); the
     defaults 0.25 m/s and 5 rad/s need under a third of it each.
+    Checked at load (:mod:`.scene_checks`): ``workspace_rad`` above π is refused, and
+    so are a ``sigma_min`` above and a ``max_condition`` below the device's own values
+    at its home pose (the guard would hold it the whole run); a ``workspace_m`` beyond
+    10 times the device's size is a warning.
     """
 
     watchdog_ms: float = 20.0
@@ -257,6 +262,9 @@ class ControlScene:
     joint: str = "revolute"
     #: prismatic legs: each leg's (min, max) length, m, shape (L, 2); None otherwise
     joint_range: tuple | None = None
+    #: ``(field, message)`` pairs of values that load but look wrong (the commands print
+    #: each as one ``distkin: warning:`` line)
+    warnings: tuple = field(default=(), compare=False)
 
     @property
     def joint_unit(self) -> str:
@@ -307,9 +315,16 @@ def _simulator(t, joint="revolute"):
         catch_up_ms=_num(t, "catch_up_ms", fld, 50.0, nonneg=True))
 
 
-def _home_of(preset_name: str):
-    from .kinematics import load_model
-    return load_model(preset_name, compiled=False).home
+def _kinematics_of(preset_name: str, mechanism):
+    """The device's kinematics on the Python route (no compilation at load), with its
+    ``length_scale`` (m) noted: the home pose, and the Jacobian there for the checks
+    of :func:`.scene_checks.check_safety_at_home`."""
+    from ..mechanisms import preset
+    from .kinematics import KinematicModel
+    mech = mechanism if mechanism is not None else preset(preset_name)
+    kin = KinematicModel(mech, compiled=False)
+    kin.length_scale = float(mech.length_scale)
+    return kin
 
 
 def _device_mechanism(dev, path, mechanism_loader):
@@ -376,25 +391,6 @@ def _effort_limit(pd, drives, mechanism):
         if pd.torque_limit > cap:
             raise InputError(f"expected at most the legs' actuator limit {cap:.4g} {unit}, got "
                              f"{pd.torque_limit}", field="pd.torque_limit")
-
-
-def _filter_period(pd, rate_hz):
-    """Refuse a derivative filter shorter than one period (0 < T < h = 1/rate_hz).
-
-    The forward-Euler low-pass ``d_f[k] = d_f[k-1] + (h/T)(d[k-1] - d_f[k-1])`` has the
-    eigenvalue ``1 - h/T``: for T < h it is negative (the filtered derivative alternates
-    in sign every period, no low-pass), for T < h/2 below -1 (it diverges whatever the
-    gains, and ``kd = 0`` does not help: ``0 x inf`` is NaN, QA).  T = h is a one-period
-    delay of the raw difference quotient; T = 0 passes it through unfiltered."""
-    T, h = pd.derivative_filter_s, 1.0 / rate_hz
-    if 0.0 < T < h:
-        raise InputError(
-            f"expected pd.derivative_filter_s 0 (no filter) or at least one period "
-            f"1/device.rate_hz = {h * 1e3:.6g} ms (the forward-Euler low-pass has the "
-            f"eigenvalue 1 - h/T = {1.0 - h / T:.4g}: below one period it rings at the "
-            f"Nyquist frequency, below {h * 0.5e3:.6g} ms it diverges whatever kp and kd), "
-            f"got {T * 1e3:.6g} ms", field="pd.derivative_filter_s",
-            hint=f"use 0 or at least {h * 1e3:.6g} ms (Kühne et al.: 700 ms)")
 
 
 def _timing(rate_hz, safety, sim):
@@ -468,7 +464,8 @@ def loads_control_scene(text: str, path: str = "<string>", *,
     mass = _vec(adm, "mass", "admittance", 6, positive=True)
     damping = _vec(adm, "damping", "admittance", 6, nonneg=True)
 
-    home = mechanism.home if mechanism is not None else _home_of(preset_name)
+    kin = _kinematics_of(preset_name, mechanism)
+    home = kin.home
     env = _environment(data.get("environment", []), home)
 
     pdt = as_table(data.get("pd", {}), "pd")
@@ -488,7 +485,7 @@ def loads_control_scene(text: str, path: str = "<string>", *,
                                             d.gravity_compensation),
                  hand_feedforward=_bool(pdt, "hand_feedforward", "pd", d.hand_feedforward))
     _effort_limit(pd, sim.motors, mechanism)
-    _filter_period(pd, rate)
+    check_filter_period(pd, rate)
 
     st = as_table(data.get("safety", {}), "safety")
     if joint == "prismatic" and "max_angle" in st:
@@ -520,11 +517,12 @@ def loads_control_scene(text: str, path: str = "<string>", *,
         recover_rate_rad_s=_num(st, "recover_rate_rad_s", "safety", s.recover_rate_rad_s,
                                 positive=True))
     _timing(rate, safety, sim)
+    warn = check_safety_at_home(safety, kin, joint)
     title = data.get("title", "")
     if not isinstance(title, str):
         raise InputError(f"expected a string, got {title!r}", field="title")
     return ControlScene(str(path), preset_name, rate, mass, damping, env, pd, safety, sim,
-                        str(title), rt, busy, mechanism, joint, joint_range)
+                        str(title), rt, busy, mechanism, joint, joint_range, warn)
 
 
 def load_control_scene(path, *, mechanism_loader=None) -> ControlScene:
