@@ -62,7 +62,8 @@ import numpy as np
 from ..argcheck import as_table, check_keys, choice, positive_int, require
 from ..errors import InputError
 from .plant import HandScript, LinearDrives, Motors, drives_for
-from .scene_checks import check_filter_period, check_safety_at_home
+from .scene_checks import (check_busy_wait, check_filter_period, check_safety_at_home,
+                           hand_range_warnings)
 from .scene_fields import bool_field as _bool
 from .scene_fields import environment as _environment
 from .scene_fields import hand_script as _hand
@@ -252,7 +253,8 @@ class ControlScene:
     #: run the control loop and the simulator under SCHED_FIFO (:mod:`.scheduling`)
     realtime: bool = False
     #: the controller polls the port for up to this long (µs) before it sleeps until a
-    #: frame arrives (:class:`.link.Link` ``busy_wait_s``); 0: it sleeps at once
+    #: frame arrives (:class:`.link.Link` ``busy_wait_s``); 0: it sleeps at once; at
+    #: most one period (refused beyond)
     busy_wait_us: float = 0.0
     #: the device's mechanism when ``[device] mechanism`` names a scene (``preset`` is
     #: then its name); None for a preset
@@ -458,6 +460,7 @@ def loads_control_scene(text: str, path: str = "<string>", *,
     if busy > 1e6:
         raise InputError(f"expected busy_wait_us (µs) in 0 .. 1e6 (a second of polling at "
                          f"most), got {dev['busy_wait_us']!r}", field="device.busy_wait_us")
+    check_busy_wait(busy, rate)
 
     adm = as_table(require(data, "admittance", ""), "admittance")
     check_keys(adm, {"mass", "damping"}, "admittance")
@@ -517,7 +520,7 @@ def loads_control_scene(text: str, path: str = "<string>", *,
         recover_rate_rad_s=_num(st, "recover_rate_rad_s", "safety", s.recover_rate_rad_s,
                                 positive=True))
     _timing(rate, safety, sim)
-    warn = check_safety_at_home(safety, kin, joint)
+    warn = check_safety_at_home(safety, kin, joint) + hand_range_warnings(sim.hand, safety)
     title = data.get("title", "")
     if not isinstance(title, str):
         raise InputError(f"expected a string, got {title!r}", field="title")

@@ -12,7 +12,8 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["check_filter_period", "check_safety_at_home", "WORKSPACE_SIZE_FACTOR"]
+__all__ = ["check_filter_period", "check_safety_at_home", "check_busy_wait",
+           "hand_range_warnings", "WORKSPACE_SIZE_FACTOR"]
 
 
 def check_filter_period(pd, rate_hz):
@@ -77,4 +78,27 @@ def check_safety_at_home(safety, kin, joint):
                  f"±{safety.workspace_m:g} m is more than {WORKSPACE_SIZE_FACTOR:g} x the "
                  f"device's size ({size:.3g} m): the safe workspace limits nothing (a "
                  f"value in mm typed as m? 75 mm is 0.075)"),)
+    return ()
+
+
+def check_busy_wait(busy_us, rate_hz):
+    """Refuse a ``[device] busy_wait_us`` longer than one period ``1e6/rate_hz`` µs: the
+    loop would poll through the next frame's arrival instead of answering it."""
+    period_us = 1e6 / rate_hz
+    if busy_us > period_us:
+        raise InputError(f"expected busy_wait_us at most one period 1e6/device.rate_hz = "
+                         f"{period_us:.6g} µs (a frame comes once a period), got "
+                         f"{busy_us:g} µs", field="device.busy_wait_us")
+
+
+def hand_range_warnings(hand, safety):
+    """A warning when the scripted hand (``[simulator] hand``, N) pushes harder than the
+    sensor range ``safety.max_force`` (N) in some component: the controller rejects
+    those readings, and the run sits at zero torque through the watchdog."""
+    peak = max((abs(float(v)) for k in hand.points for v in k[1:]), default=0.0)
+    if peak > safety.max_force:
+        return (("simulator.hand",
+                 f"a force component of {peak:g} N is beyond the sensor range "
+                 f"safety.max_force = {safety.max_force:g} N: those readings are rejected "
+                 f"and the watchdog stops the servo"),)
     return ()
