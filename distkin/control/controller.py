@@ -23,7 +23,8 @@ Kühne et al., Sec. III-D and Fig. 9.  Each cycle, on the arrival of a state fra
    ``J (JᵀJ)⁻¹ (0, 0, m g, 0, 0, 0)``, and the optional hand feed-forward
    ``-J (JᵀJ)⁻¹ w_h`` balances the measured hand wrench;
 8. saturation at the torque limit, by one common factor (the direction of the wrench
-   is kept);
+   is kept); efforts that are not all finite are not scaled: the loop sends zero
+   torque and enters the fault state (:mod:`.loop`, event ``nonfinite_torque``);
 9. the command frame.
 
 Safety: a watchdog (no *valid* frame within ``watchdog_ms`` -> zero torque and the fault
@@ -421,7 +422,8 @@ class Controller:
         dict
             The summary printed by ``distkin control`` (``cycles``, ``seconds``,
             ``rate_hz``, ``cycle_p50_ms``, ``cycle_p99_ms``, ``bad_frames``,
-            ``watchdog_trips``, ``safety_events``, ``exit_reason``, ...) with
+            ``watchdog_trips``, ``safety_events``, ``final_state``, ``fault_seconds``,
+            ``nonfinite_cycles``, ``exit_reason``, ...; :func:`.runlog.run_summary`) with
             ``exit_code`` and, after a disconnect or a failure, ``error``.
         """
         return run_loop(self, link, seconds, wall_limit)
