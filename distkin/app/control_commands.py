@@ -39,8 +39,8 @@ from pathlib import Path
 from ..errors import DistkinError, InputError, LinkError
 
 __all__ = ["add_sim_parser", "add_control_parser", "cmd_sim", "cmd_control", "builtin_scene",
-           "format_summary", "check_distinct_outputs", "ended_line", "ENDED_BY",
-           "RUN_SECONDS"]
+           "format_summary", "check_distinct_outputs", "ended_line", "closing_lines",
+           "ENDED_BY", "RUN_SECONDS"]
 
 
 
@@ -82,7 +82,10 @@ def _scene_and_inputs(path):
         s = load_scene(p)
         read.extend(input_files(s))
         return s.mechanism
-    return load_control_scene(path, mechanism_loader=mechanism), read
+    scene = load_control_scene(path, mechanism_loader=mechanism)
+    for fld, message in scene.warnings:        # loads, but looks wrong: one line each
+        print(f"distkin: warning: {fld}: {message}", file=sys.stderr)
+    return scene, read
 
 
 def _seconds(value: str) -> float:
@@ -129,7 +132,8 @@ def add_sim_parser(sub) -> None:
     p.add_argument("--tcp", metavar="PORT", type=_tcp_port,
                    help="serve on TCP (0 = any free port)")
     p.add_argument("--log", metavar="PREFIX",
-                   help="write PREFIX.device.csv and PREFIX.device-events.jsonl")
+                   help="write PREFIX.device.csv and PREFIX.device-events.jsonl (PREFIX "
+                        "names files, not a directory: '' and a trailing / are refused)")
     p.add_argument("--seconds", type=_seconds, help="stop after this much device time")
     p.add_argument("--idle-timeout", type=_seconds, metavar="S", default=None,
                    help="stop when no client connects, or no command arrives, for S s of "
@@ -153,7 +157,11 @@ def add_control_parser(sub) -> None:
     p.add_argument("--json", metavar="PATH|-", help="write the summary as JSON (- for stdout)")
     p.add_argument("--log", metavar="PREFIX", help="write PREFIX.cycles.csv, PREFIX.events.jsonl "
                                                    "(and PREFIX.device.csv, "
-                                                   "PREFIX.device-events.jsonl with --sim)")
+                                                   "PREFIX.device-events.jsonl with --sim; "
+                                                   "columns and units: docs/protocol.md); "
+                                                   "PREFIX names files (out/run), not a "
+                                                   "directory: '' and a trailing / are "
+                                                   "refused")
     p.add_argument("--plots", metavar="DIR", help="plot the run into DIR/control.png (with "
                                                   "--log, or from a temporary log)")
     p.add_argument("--wall-limit", type=_seconds,
@@ -172,6 +180,8 @@ def cmd_sim(args) -> int:
     faults = parse_faults(args.faults)
     scene, inputs = _scene_and_inputs(args.scene)   # an output never replaces a file read
     check_output_path(args.port_file, "--port-file", inputs=inputs)
+    from ..control.runlog import check_log_prefix
+    check_log_prefix(args.log)
     for path in _log_files(args.log, sim=True).values():
         check_output_path(path, "--log", inputs=inputs)
     check_distinct_outputs([("--port-file", args.port_file)]
@@ -266,8 +276,15 @@ def format_summary(s: dict) -> str:
         f"{s['device_saturated_frames']} with a drive saturated",
         (f"  force: max |f| {s['max_abs_force_N']} N (limit {s['force_limit_N']} N)"
          if "max_abs_force_N" in s else
-         f"  torque: max |tau| {s['max_abs_torque_Nm']} N·m (limit {s['torque_limit_Nm']} N·m)"),
+         f"  torque: max |tau| {s['max_abs_torque_Nm']} N·m (limit {s['torque_limit_Nm']} N·m)")
+        + (f"; {s['nonfinite_cycles']} cycles computed a NaN or infinite command, sent as "
+           f"zero torque (a fault)" if s.get("nonfinite_cycles") else ""),
     ]
+    if s.get("final_state") is not None:
+        share = (f" ({100 * s['fault_seconds'] / s['device_seconds']:.0f}% of the device "
+                 f"time)" if s.get("device_seconds") else "")
+        lines.append(f"  state: {s['final_state']} at the end; {s['fault_seconds']:.3f} s "
+                     f"of device time in fault or hold{share}")
     if s.get("delay_margin_periods") is not None:
         n = s["delay_margin_periods"]
         lines.append("  PD loop (linearised at home): " + (
@@ -318,6 +335,17 @@ def ended_line(summary: dict, *, sim: bool) -> str:
     field = ENDED_BY[reason] or ("--sim" if sim else "--port")
     why = summary.get("error") or f"expected a completed run, got {reason}"
     return f"distkin: error: {field}: {why} (exit_reason {reason})"
+
+
+def closing_lines(summary: dict, *, sim: bool) -> list:
+    """The stderr lines after a run's summary: :func:`ended_line` for a run the device
+    or the link ended, and ``distkin: error: interrupted`` for one that SIGINT or
+    SIGTERM stopped (exit 130; README: Ctrl-C stops any command with that line, which
+    :func:`distkin.app.cli.main` prints for the other commands)."""
+    if summary.get("exit_reason") == "interrupted":
+        return ["distkin: error: interrupted"]
+    line = ended_line(summary, sim=sim)
+    return [line] if line else []
 
 
 def _margin_report(scene, model, periods: int) -> dict:
@@ -408,7 +436,8 @@ def _margin_note(scene, model, args) -> dict:
         if not args.sim and not getattr(args, "allow_unstable", False):
             raise InputError(f"expected PD gains whose loop is stable lock-stepped, got "
                              f"kp {scene.pd.kp:g}, kd {scene.pd.kd:g}: {why}", field="[pd]",
-                             hint="lower pd.kp or pd.kd (distkin control --delay-margin), "
+                             hint="lower pd.kp or pd.kd, or lengthen pd.derivative_filter_s "
+                                  "(distkin control --delay-margin), "
                                   "or pass --allow-unstable to drive the device anyway")
         print(f"distkin: warning: [pd]: {why}: expect it at the torque limit "
               f"(distkin control --delay-margin)", file=sys.stderr)
@@ -452,6 +481,8 @@ def cmd_control(args) -> int:
     from ..control.link import Link
     from .output_paths import check_output_dir, check_output_path
     scene, inputs = _scene_and_inputs(args.scene)
+    from ..control.runlog import check_log_prefix
+    check_log_prefix(args.log)             # '' or a directory refused, not ignored
     if args.delay_margin is not None:
         return _delay_margin_command(args, scene, inputs, model_of(scene))
     if args.faults and not args.sim:
@@ -557,8 +588,7 @@ def cmd_control(args) -> int:
     if summary["exit_reason"] == "device_mismatch":    # bad input: one line naming it
         print(f"distkin: error: {'--scene' if args.scene else 'the built-in scene'}: "
               f"{summary['error']}", file=sys.stderr)
-    line = ended_line(summary, sim=args.sim)
-    if line:
+    for line in closing_lines(summary, sim=args.sim):
         print(line, file=sys.stderr)
     _emit(text, summary, args.json)
     return summary["exit_code"]

@@ -62,6 +62,8 @@ import numpy as np
 from ..argcheck import as_table, check_keys, choice, positive_int, require
 from ..errors import InputError
 from .plant import HandScript, LinearDrives, Motors, drives_for
+from .scene_checks import (check_busy_wait, check_filter_period, check_safety_at_home,
+                           hand_range_warnings)
 from .scene_fields import bool_field as _bool
 from .scene_fields import environment as _environment
 from .scene_fields import hand_script as _hand
@@ -103,7 +105,9 @@ class PDGains:
     """Joint PD(I) at position level (Kühne et al., Sec. III-D).
 
     ``kp`` N·m/rad, ``ki`` N·m/(rad·s), ``kd`` N·m·s/rad; ``derivative_filter_s`` the
-    time constant of the first-order low-pass (forward Euler) on the error derivative;
+    time constant of the first-order low-pass (forward Euler) on the error derivative,
+    0 (no filter) or at least one period ``1/rate_hz`` (shorter is refused: the step's
+    eigenvalue ``1 - h/T`` is negative, below -1 for T < h/2, a diverging filter);
     ``torque_limit`` N·m the saturation of each command (the nominal ±2.5 N·m by
     default); ``distribution`` "projected" (remove the internal-force component of the
     redundant L = 8 torques) or "independent"; ``gravity_compensation`` adds the
@@ -175,6 +179,10 @@ class SafetyLimits:
     al. Sec. III-D with the drives' reflected inertia) stopping 0.81 m/s or 16 rad/s
     peaks at the torque limit (our computation, modal, from the linear servo); the
     defaults 0.25 m/s and 5 rad/s need under a third of it each.
+    Checked at load (:mod:`.scene_checks`): ``workspace_rad`` above π is refused, and
+    so are a ``sigma_min`` above and a ``max_condition`` below the device's own values
+    at its home pose (the guard would hold it the whole run); a ``workspace_m`` beyond
+    10 times the device's size is a warning.
     """
 
     watchdog_ms: float = 20.0
@@ -245,7 +253,8 @@ class ControlScene:
     #: run the control loop and the simulator under SCHED_FIFO (:mod:`.scheduling`)
     realtime: bool = False
     #: the controller polls the port for up to this long (µs) before it sleeps until a
-    #: frame arrives (:class:`.link.Link` ``busy_wait_s``); 0: it sleeps at once
+    #: frame arrives (:class:`.link.Link` ``busy_wait_s``); 0: it sleeps at once; at
+    #: most one period (refused beyond)
     busy_wait_us: float = 0.0
     #: the device's mechanism when ``[device] mechanism`` names a scene (``preset`` is
     #: then its name); None for a preset
@@ -255,6 +264,9 @@ class ControlScene:
     joint: str = "revolute"
     #: prismatic legs: each leg's (min, max) length, m, shape (L, 2); None otherwise
     joint_range: tuple | None = None
+    #: ``(field, message)`` pairs of values that load but look wrong (the commands print
+    #: each as one ``distkin: warning:`` line)
+    warnings: tuple = field(default=(), compare=False)
 
     @property
     def joint_unit(self) -> str:
@@ -305,9 +317,16 @@ def _simulator(t, joint="revolute"):
         catch_up_ms=_num(t, "catch_up_ms", fld, 50.0, nonneg=True))
 
 
-def _home_of(preset_name: str):
-    from .kinematics import load_model
-    return load_model(preset_name, compiled=False).home
+def _kinematics_of(preset_name: str, mechanism):
+    """The device's kinematics on the Python route (no compilation at load), with its
+    ``length_scale`` (m) noted: the home pose, and the Jacobian there for the checks
+    of :func:`.scene_checks.check_safety_at_home`."""
+    from ..mechanisms import preset
+    from .kinematics import KinematicModel
+    mech = mechanism if mechanism is not None else preset(preset_name)
+    kin = KinematicModel(mech, compiled=False)
+    kin.length_scale = float(mech.length_scale)
+    return kin
 
 
 def _device_mechanism(dev, path, mechanism_loader):
@@ -441,13 +460,15 @@ def loads_control_scene(text: str, path: str = "<string>", *,
     if busy > 1e6:
         raise InputError(f"expected busy_wait_us (µs) in 0 .. 1e6 (a second of polling at "
                          f"most), got {dev['busy_wait_us']!r}", field="device.busy_wait_us")
+    check_busy_wait(busy, rate)
 
     adm = as_table(require(data, "admittance", ""), "admittance")
     check_keys(adm, {"mass", "damping"}, "admittance")
     mass = _vec(adm, "mass", "admittance", 6, positive=True)
     damping = _vec(adm, "damping", "admittance", 6, nonneg=True)
 
-    home = mechanism.home if mechanism is not None else _home_of(preset_name)
+    kin = _kinematics_of(preset_name, mechanism)
+    home = kin.home
     env = _environment(data.get("environment", []), home)
 
     pdt = as_table(data.get("pd", {}), "pd")
@@ -467,6 +488,7 @@ def loads_control_scene(text: str, path: str = "<string>", *,
                                             d.gravity_compensation),
                  hand_feedforward=_bool(pdt, "hand_feedforward", "pd", d.hand_feedforward))
     _effort_limit(pd, sim.motors, mechanism)
+    check_filter_period(pd, rate)
 
     st = as_table(data.get("safety", {}), "safety")
     if joint == "prismatic" and "max_angle" in st:
@@ -498,11 +520,12 @@ def loads_control_scene(text: str, path: str = "<string>", *,
         recover_rate_rad_s=_num(st, "recover_rate_rad_s", "safety", s.recover_rate_rad_s,
                                 positive=True))
     _timing(rate, safety, sim)
+    warn = check_safety_at_home(safety, kin, joint) + hand_range_warnings(sim.hand, safety)
     title = data.get("title", "")
     if not isinstance(title, str):
         raise InputError(f"expected a string, got {title!r}", field="title")
     return ControlScene(str(path), preset_name, rate, mass, damping, env, pd, safety, sim,
-                        str(title), rt, busy, mechanism, joint, joint_range)
+                        str(title), rt, busy, mechanism, joint, joint_range, warn)
 
 
 def load_control_scene(path, *, mechanism_loader=None) -> ControlScene:

@@ -23,7 +23,8 @@ Kühne et al., Sec. III-D and Fig. 9.  Each cycle, on the arrival of a state fra
    ``J (JᵀJ)⁻¹ (0, 0, m g, 0, 0, 0)``, and the optional hand feed-forward
    ``-J (JᵀJ)⁻¹ w_h`` balances the measured hand wrench;
 8. saturation at the torque limit, by one common factor (the direction of the wrench
-   is kept);
+   is kept); efforts that are not all finite are not scaled: the loop sends zero
+   torque and enters the fault state (:mod:`.loop`, event ``nonfinite_torque``);
 9. the command frame.
 
 Safety: a watchdog (no *valid* frame within ``watchdog_ms`` -> zero torque and the fault
@@ -126,6 +127,8 @@ class Controller:
         self.refusing = False
         self.refused = 0
         self.saturated_cycles = 0
+        #: cycles whose computed efforts were not all finite (sent as zero torque)
+        self.nonfinite_cycles = 0
         self.max_abs_torque = 0.0
         self.device_status = DeviceStatus()     # the device's own status bits
         self.rejected_frames = 0
@@ -284,6 +287,8 @@ class Controller:
             tau = tau + J @ np.linalg.solve(J.T @ J, w_ff)
         saturated = False
         peak = float(np.max(np.abs(tau)))
+        if not math.isfinite(peak):
+            return tau, False    # NaN/inf: not scaled; the loop sends zero torque, faults
         if peak > limit:
             tau = tau * (limit / peak)
             saturated = True
@@ -417,7 +422,8 @@ class Controller:
         dict
             The summary printed by ``distkin control`` (``cycles``, ``seconds``,
             ``rate_hz``, ``cycle_p50_ms``, ``cycle_p99_ms``, ``bad_frames``,
-            ``watchdog_trips``, ``safety_events``, ``exit_reason``, ...) with
+            ``watchdog_trips``, ``safety_events``, ``final_state``, ``fault_seconds``,
+            ``nonfinite_cycles``, ``exit_reason``, ...; :func:`.runlog.run_summary`) with
             ``exit_code`` and, after a disconnect or a failure, ``error``.
         """
         return run_loop(self, link, seconds, wall_limit)

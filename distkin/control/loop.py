@@ -29,6 +29,10 @@ the fault state (event ``outside_workspace``).  A loop oscillating at the torque
 ``safety.saturation_share`` of the cycles saturated, the commands reversing sign:
 :class:`.safety.SaturationWatch`) enters the fault state too (event
 ``saturation_fault``), and leaves it as after any fault.
+A cycle whose computed efforts are not all finite (NaN or ±inf: e.g. an unstable
+derivative filter) sends zero torque instead and enters the fault state (event
+``nonfinite_torque`` naming the joints; the summary's ``nonfinite_cycles`` counts them):
+a NaN passes every ``>`` of the saturation and must never reach the wire.
 """
 
 from __future__ import annotations
@@ -41,7 +45,8 @@ from collections import deque
 import numpy as np
 
 from ..errors import LinkError
-from .protocol import FLAG_KEEPALIVE, MODE_HOLD, MODE_ZERO_TORQUE, STATUS_ESTOP, CommandFrame
+from .protocol import (FLAG_KEEPALIVE, MODE_HOLD, MODE_RUN, MODE_ZERO_TORQUE, STATUS_ESTOP,
+                       CommandFrame)
 from .runlog import run_summary
 from .safety import FAULT, RUN, STOPPED, DeviceStatus, SaturationWatch
 from .scheduling import realtime, restore
@@ -116,6 +121,10 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
     gc0 = sum(g["collections"] for g in gc.get_stats())
     reason = "completed"
     ctl.error = None
+    # device time (µs) between valid frames with the controller not in RUN (fault or
+    # hold) at either end of the interval: the summary's fault_seconds
+    ctl.fault_us = 0
+    state_after = RUN
     stop = {"sig": None}
 
     def _on_signal(signum, _frame):
@@ -233,6 +242,8 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
             dt = ctl.dt_nominal
             if t_prev_us is not None:
                 dt = min(max((frame.t_us - t_prev_us) * 1e-6, 0.2 * dt), 5.0 * dt)
+            if t_prev_us is not None and (state_after != RUN or ctl.state != RUN):
+                ctl.fault_us += max(frame.t_us - t_prev_us, 0)
             t_prev_us = frame.t_us
             if ctl.state == FAULT:
                 recover_count += 1
@@ -294,6 +305,16 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
                 mode, tau = MODE_HOLD, np.zeros(ctl.L)
             else:
                 mode, tau = res.mode, res.torques
+            if mode == MODE_RUN and not np.all(np.isfinite(tau)):
+                # a NaN or infinite effort (an unstable filter, an overflow): never on
+                # the wire (the saturation's comparisons are False for NaN); zero
+                # torque and the fault state from this cycle on
+                ctl.nonfinite_cycles += 1
+                bad = [i for i in range(ctl.L) if not np.isfinite(tau[i])]
+                last = _enter_fault(ctl, last, "nonfinite_torque", t0, frame, joints=bad)
+                recover_count = inside_count = 0
+                mode, tau = MODE_ZERO_TORQUE, np.zeros(ctl.L)
+                res.saturated = False
             seq += 1
             last = CommandFrame(seq, frame.seq, mode, 0, tau)
             link.write_command(last)
@@ -318,6 +339,7 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
                 recover_count = inside_count = 0
                 sat_watch.reset()
             ctl.max_abs_torque = max(ctl.max_abs_torque, float(np.max(np.abs(tau))))
+            state_after = ctl.state
             p = res.pose if res.pose is not None else ctl.pose
             d = res.desired if res.desired is not None else ctl.adm.pose
             wr = res.wrench if res.wrench is not None else np.zeros(6)

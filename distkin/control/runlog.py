@@ -9,12 +9,37 @@ JSON line at once.  :func:`read_csv` loads a table back as a dict of numpy colum
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
 
+from ..errors import InputError
+
 __all__ = ["CsvLog", "EventLog", "read_csv", "read_events", "plot_run", "plot_delay_margin",
-           "timing_summary", "run_summary", "EXIT_CODES"]
+           "timing_summary", "run_summary", "EXIT_CODES", "STATE_NAMES",
+           "check_log_prefix"]
+
+
+def check_log_prefix(prefix) -> None:
+    """Refuse a ``--log PREFIX`` of ``distkin control`` or ``distkin sim`` that names no
+    file (InputError, exit 2): '' (nothing was written while the summary listed
+    ``.cycles.csv``, QA) and a prefix ending in a path separator, ``.`` or ``..``
+    (``--log dir/`` wrote the hidden files ``dir/.cycles.csv``).  None (no ``--log``)
+    passes."""
+    if prefix is None:
+        return
+    p = str(prefix)
+    seps = tuple(s for s in (os.sep, os.altsep, "/") if s)
+    if not p.strip():
+        raise InputError(f"expected a file name prefix (PREFIX.cycles.csv, ...), got "
+                         f"{p!r}", field="--log", hint="e.g. --log run or --log out/run")
+    if p.endswith(seps) or os.path.basename(p) in ("", ".", ".."):
+        raise InputError(f"expected a file name prefix, not a directory, got {p!r} (it "
+                         f"would write hidden files such as "
+                         f"{p.rstrip(''.join(seps)) or '.'}/.cycles.csv)", field="--log",
+                         hint=f"name the files too, e.g. --log "
+                              f"{p.rstrip(''.join(seps)) or '.'}/run")
 
 
 class CsvLog:
@@ -210,6 +235,10 @@ def plot_run(prefix, out=None, *, effort_unit: str = "N·m") -> list:
 #: ``exit_reason`` and the stderr line say which):
 #: no state frame (``no_device``), none valid (``no_valid_frames``), the link lost
 #: (``disconnect``), the wall-clock limit (``wall_limit``, a device too slow or held up)
+#: the summary's ``final_state``: the controller's state after the last cycle
+#: (:data:`.safety.RUN`, ``FAULT``, ``STOPPED``)
+STATE_NAMES = {0: "run", 1: "fault", 2: "stopped"}
+
 EXIT_CODES = {"completed": 0, "device_mismatch": 2, "no_device": 2, "no_valid_frames": 2,
               "disconnect": 2, "wall_limit": 2, "interrupted": 130}
 
@@ -223,7 +252,14 @@ def run_summary(ctl, link, cycles, wall, t_first, t_last, compute, compute_cpu, 
 
     The largest command and the limit are named in their unit: ``max_abs_torque_Nm``
     and ``torque_limit_Nm`` for revolute legs, ``max_abs_force_N`` and
-    ``force_limit_N`` for prismatic ones (``ctl.scene.effort_unit``)."""
+    ``force_limit_N`` for prismatic ones (``ctl.scene.effort_unit``); they count the
+    efforts sent, which are always finite: ``nonfinite_cycles`` counts the cycles whose
+    computed efforts held a NaN or an infinity (sent as zero torque, a fault).
+
+    ``final_state`` ("run", "fault", "stopped"; null without a cycle) is the
+    controller's state after the last cycle, and ``fault_seconds`` the device time (s)
+    between valid frames spent outside "run" (zero torque or hold): a run can be
+    ``completed`` (exit 0) with the device held for most of it."""
     st = link.stats
     dev_s = 0.0 if t_first is None else (t_last - t_first) * 1e-6
     code = EXIT_CODES.get(reason, 1)
@@ -260,7 +296,10 @@ def run_summary(ctl, link, cycles, wall, t_first, t_last, compute, compute_cpu, 
                                                   "device_saturated")),
         "refused_poses": ctl.refused,
         "saturated_cycles": ctl.saturated_cycles,
+        "nonfinite_cycles": getattr(ctl, "nonfinite_cycles", 0),
         **effort,
+        "final_state": STATE_NAMES.get(ctl.state) if cycles else None,
+        "fault_seconds": round(getattr(ctl, "fault_us", 0) * 1e-6, 4),
         "gc_collections": ctl.gc_collections,
         "loop_cpu_share": round(ctl.loop_cpu_s / wall, 3) if wall > 0 else None,
         "busy_wait_us": round(getattr(link, "polling_s", 0.0) * 1e6, 3),

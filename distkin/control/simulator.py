@@ -195,6 +195,8 @@ class Simulator:
         self.dropped_bytes = 0
         self.commands = 0
         self.stop = False
+        #: the name of the signal that set :attr:`stop` (``serve``), for the closing event
+        self.stop_signal = None
         #: stop :meth:`run` after this long without a command (s of wall time; None: never)
         self.idle_timeout = None
         #: ticks that started late (their wall time past their schedule), the largest
@@ -301,6 +303,13 @@ class Simulator:
                             last_mode=int(self.command.mode),
                             last_max_abs_torque=float(np.max(np.abs(self.command.torques))))
         finally:
+            if self.stop and self.stop_signal:
+                # SIGINT/SIGTERM: the event log says how it ended, as after a disconnect
+                reason = f"signal {self.stop_signal}"
+                self.events.add(self.plant.t, "stopped_by_signal", signal=self.stop_signal,
+                                last_mode=int(self.command.mode),
+                                last_max_abs_torque=float(np.max(np.abs(
+                                    self.command.torques))))
             restore(rt)
             self.log.flush()
         return reason
@@ -352,6 +361,7 @@ def serve(scene, *, port_file=None, tcp_port=None, faults=(), log_prefix=None,
 
     def _on_signal(signum, _frame):
         sim.stop = True
+        sim.stop_signal = signal.Signals(signum).name
 
     signal.signal(signal.SIGTERM, _on_signal)
     signal.signal(signal.SIGINT, _on_signal)
