@@ -34,7 +34,9 @@ What a box ``X`` (m, rad; poses as in :mod:`distkin.spatial`) can be proved to b
     ``ρ(B) < 1`` is certified by Collatz-Wielandt: ``(B v)_i < v_i`` in ``arb`` for a
     positive float vector ``v`` (an approximate Perron vector); this is the scaled
     ∞-norm :math:`\|D^{-1}(I - Y J_x)D\|_\infty < 1`, ``D = diag(v)``, and it is
-    invariant to the units of the columns of ``Jx``.  From it,
+    invariant to the units of the columns of ``Jx``; so is ``v`` (:func:`perron_vectors`
+    balances the off-diagonal blocks of ``B``, of order ``s`` and ``1/s`` for a device of
+    length scale ``s``, before its regularised power iteration).  From it,
     :math:`\sigma_{\min}(J_x) \ge (1 - c)/(\sqrt 6\,\max_i v_i\,
     \max_i \|(D^{-1}Y)_{i,:}\|_2)` with ``c = max_i (Bv)_i/v_i``, reported as
     ``sigma_lower`` (same units as ``Jx``, L x 6: its first three columns (force) are
