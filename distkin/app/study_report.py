@@ -225,8 +225,33 @@ def _criteria_text(c):
         if others and more:
             val += f" (not compared: {more}, more legs)"
     else:
-        val = "max " + ", ".join(_f(x) for x in v["max_sensitivities"])
+        ms, units = v["max_sensitivities"], v.get("units", {})
+        if isinstance(ms, dict):
+            val = "max " + ", ".join(f"{k} {_f(x)}" + (f" {units[k]}" if k in units else "")
+                                     for k, x in ms.items())
+        else:                           # a bare list (design_criteria's own form)
+            val = "max " + ", ".join(_f(x) for x in ms)
     return f"{c['number']}) {mark} [{val}]"
+
+
+def _named_sensitivities(criteria, s) -> None:
+    """Criterion 6's four maximum sensitivities by name, with their units (QA Z2 8: the
+    text read ``max 0.3949, 25.87, 43.13, 0.6176`` and the JSON held a bare list):
+    ``value["max_sensitivities"]`` becomes ``{"translational", "rotational", "force",
+    "torque"}`` (the keys of :func:`distkin.indices.max_sensitivities`) and
+    ``value["units"]`` the same keys' units, those of the Table III rows of the device
+    (per rad of joint error and per N·m of actuator torque for revolute actuators; per m
+    and per N for prismatic ones).  In place; any other criterion is left alone."""
+    for c in criteria:
+        v = c["value"]
+        if c["number"] != 6 or isinstance(v.get("max_sensitivities"), dict):
+            continue
+        vals = list(v["max_sensitivities"])
+        if len(vals) != len(SENSITIVITIES):       # nothing reachable: no values to name
+            vals = [None] * len(SENSITIVITIES)
+        names = [q[0].removeprefix("sens_") for q in SENSITIVITIES]
+        v["max_sensitivities"] = dict(zip(names, vals))
+        v["units"] = {n: _unit(q[0], q[2], s) for n, q in zip(names, SENSITIVITIES)}
 
 
 def _inner_note(s, d, ctx):
@@ -385,6 +410,7 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
             det_sign_changes=dg["det_sign_changes"], sensitivities_max=dg["sensitivities_max"],
             gii_others=others, certified=certified.get(s["label"]),
             any_reachable=s["reachable_poses"] > 0, gii_more_legs=more)
+        _named_sensitivities(s["criteria"], s)
     total = time.perf_counter() - t_all
     fnd = findings(summaries, certified if p.certify else None)
     tables = markdown_tables(summaries, sensitivity=p.sensitivity,

@@ -44,7 +44,8 @@ import numpy as np
 from ..argcheck import positive_int
 from ..errors import InputError
 from .boxes import (REASONS, REGULAR, UNDECIDED, UNREACHABLE, Verdict, _certify_box, bisect,
-                    check_box, check_mechanism, check_resolution, leaves, split_dimension)
+                    check_box, check_mechanism, check_resolution, leaves, perron_vectors,
+                    split_dimension)
 from .fptaylor import TINY, Quadratics, as_models, down, sum_up, up, variables
 
 __all__ = ["certify_batch", "branch_and_prune_batched", "rank_bounds"]
@@ -148,15 +149,9 @@ def rank_bounds(Y, C, A, Q, E):
 
 
 def _perron(Bm):
-    """Positive approximate Perron vectors of the non-negative (B, 6, 6) matrices."""
-    Bp = Bm + 1e-12 * (Bm.max(axis=(1, 2), keepdims=True) + 1.0)
-    v = np.ones(Bm.shape[:2])
-    for _ in range(60):
-        w = np.einsum("bij,bj->bi", Bp, v)
-        s = w.max(axis=1, keepdims=True)
-        v = w / np.where(np.isfinite(s) & (s > 0), s, 1.0)
-    v = np.where(np.isfinite(v), v, 1.0)
-    return np.maximum(v, 1e-12)
+    """Positive approximate Perron vectors of the non-negative (B, 6, 6) matrices
+    (scale-invariant: :func:`.boxes.perron_vectors`)."""
+    return perron_vectors(Bm)
 
 
 def _det_sign(Y) -> int:

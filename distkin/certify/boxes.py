@@ -34,7 +34,9 @@ What a box ``X`` (m, rad; poses as in :mod:`distkin.spatial`) can be proved to b
     ``ρ(B) < 1`` is certified by Collatz-Wielandt: ``(B v)_i < v_i`` in ``arb`` for a
     positive float vector ``v`` (an approximate Perron vector); this is the scaled
     ∞-norm :math:`\|D^{-1}(I - Y J_x)D\|_\infty < 1`, ``D = diag(v)``, and it is
-    invariant to the units of the columns of ``Jx``.  From it,
+    invariant to the units of the columns of ``Jx``; so is ``v`` (:func:`perron_vectors`
+    balances the off-diagonal blocks of ``B``, of order ``s`` and ``1/s`` for a device of
+    length scale ``s``, before its regularised power iteration).  From it,
     :math:`\sigma_{\min}(J_x) \ge (1 - c)/(\sqrt 6\,\max_i v_i\,
     \max_i \|(D^{-1}Y)_{i,:}\|_2)` with ``c = max_i (Bv)_i/v_i``, reported as
     ``sigma_lower`` (same units as ``Jx``, L x 6: its first three columns (force) are
@@ -96,7 +98,8 @@ from .intervals import FORMS, enclose_box, point_values
 __all__ = ["UNDECIDED", "REGULAR", "SINGULAR", "UNREACHABLE", "STATUS_NAMES", "Verdict",
            "regularity_certificate", "sign_change_certificate", "certify_box",
            "branch_and_prune", "split_dimension", "bisect", "leaves", "check_box",
-           "check_resolution", "check_mechanism", "BOX_FORMS", "REASONS"]
+           "check_resolution", "check_mechanism", "BOX_FORMS", "REASONS", "block_balance",
+           "perron_vectors"]
 
 UNDECIDED, REGULAR, SINGULAR, UNREACHABLE = 0, 1, 2, 3
 STATUS_NAMES = {UNDECIDED: "undecided", REGULAR: "regular", SINGULAR: "singular",
@@ -215,18 +218,57 @@ def _up(x) -> float:
     return float(np.nextafter(v, np.inf))
 
 
+def block_balance(B):
+    """Power-of-two weights ``λ`` balancing the two 3×3 off-diagonal blocks of ``B``.
+
+    ``B >= |I - Y Jx|`` mixes units: the columns 3..5 of ``Jx`` (moments) are in m, so
+    ``B[:3, 3:]`` scales like a length ``s`` and ``B[3:, :3]`` like ``1/s``.  With
+    ``D = diag(1, 1, 1, λ, λ, λ)`` and ``λ = 2^⌊e/2⌋`` (``e`` the binary exponent of
+    ``ΣB[3:, :3] / ΣB[:3, 3:]``), ``D⁻¹ B D`` no longer depends on the device's
+    physical scale: scaling every length by ``2^k`` scales ``λ`` by ``2^-k`` exactly, so
+    the balanced matrix is the same to the bit.  ``B`` is a (..., 6, 6) array; returns
+    ``λ`` of shape ``B.shape[:-2]`` (1 where the ratio is not a positive finite number).
+    """
+    with np.errstate(all="ignore"):
+        r = B[..., 3:, :3].sum(axis=(-2, -1)) / B[..., :3, 3:].sum(axis=(-2, -1))
+    ok = np.isfinite(r) & (r > 0)
+    _, e = np.frexp(np.where(ok, r, 1.0))
+    k = np.clip(np.floor_divide(e, 2), -400, 400)
+    return np.where(ok, np.ldexp(1.0, k), 1.0)
+
+
+def perron_vectors(B, iterations: int = 60):
+    """Positive approximate Perron vectors of non-negative (..., 6, 6) matrices ``B``.
+
+    Scale-invariant: the power iteration runs on ``D⁻¹ B D`` of :func:`block_balance`
+    (so its regularisation ``1e-12 (max + 1)`` is relative to entries of one order) and
+    ``v = D v_bal`` is normalised by a power of two (max in [0.5, 1)); a device scaled
+    by ``2^k`` gets the same vector up to exact powers of two.  Any positive ``v`` is
+    admissible for the Collatz-Wielandt test; this one makes ``max (B v)_i / v_i`` close
+    to ``ρ(B)``.
+    """
+    B = np.asarray(B, dtype=float)
+    lam = block_balance(B)
+    d = np.ones(B.shape[:-1])
+    d[..., 3:] = lam[..., None]
+    with np.errstate(all="ignore"):
+        Bb = B * d[..., None, :] / d[..., :, None]
+        Bp = Bb + 1e-12 * (Bb.max(axis=(-2, -1), keepdims=True) + 1.0)
+        v = np.ones(B.shape[:-1])
+        for _ in range(iterations):
+            w = np.einsum("...ij,...j->...i", Bp, v)
+            s = w.max(axis=-1, keepdims=True)
+            v = w / np.where(np.isfinite(s) & (s > 0), s, 1.0)
+        v = np.where(np.all(np.isfinite(v), axis=-1, keepdims=True), v, 1.0)
+        v = np.maximum(v, 1e-12) * d
+        _, e = np.frexp(v.max(axis=-1, keepdims=True))
+        return np.ldexp(v, -e)
+
+
 def _perron_vector(B):
-    """A positive approximate Perron vector of the non-negative matrix ``B`` (floats)."""
-    n = len(B)
-    Bp = B + 1e-12 * (np.abs(B).max() + 1.0)
-    v = np.ones(n)
-    for _ in range(60):
-        w = Bp @ v
-        s = w.max()
-        if not np.isfinite(s) or s <= 0:
-            return np.ones(n)
-        v = w / s
-    return np.maximum(v, 1e-12)
+    """A positive approximate Perron vector of the non-negative 6×6 matrix ``B``
+    (floats): :func:`perron_vectors` of one matrix."""
+    return perron_vectors(np.asarray(B, dtype=float)[None])[0]
 
 
 def regularity_certificate(Y, jx0, jx_terms=(), jx_err=None):
