@@ -29,8 +29,9 @@ import numpy as np
 
 from ..argcheck import as_floats, float_array
 from ..errors import InputError, SingularConfigurationError
-from .zonotope import (check_enumeration, generator_batch, memory_guard, zonotope_best,
-                       zonotope_worst)
+from .float_scale import pow2_exponent, scale_back
+from .zonotope import (RANK_TOL, check_enumeration, generator_batch, memory_guard,
+                       zonotope_best, zonotope_worst)
 
 __all__ = ["worst_case_output", "best_case_output", "output_generators",
            "hull_worst_best", "hull_multi", "ueberle_worst", "CAPABILITY_METHODS",
@@ -137,6 +138,7 @@ def worst_case_output(G, pmin, pmax, keep=None, method: str = "zonotope"):
     """
     G, lo, hi, S, single = _prepare(G, pmin, pmax, keep, method, CAPABILITY_METHODS)
     N, d, L = G.shape
+    G, lo, hi, e = _rescale(G, lo, hi)
     if method == "zonotope":
         c, r = (hi + lo) / 2, (hi - lo) / 2
         with memory_guard(L, "facet normals"):
@@ -148,7 +150,19 @@ def worst_case_output(G, pmin, pmax, keep=None, method: str = "zonotope"):
             raise InputError(f"Ueberle's method needs L = d, got L={L}, d={d}; use "
                              "method='zonotope' or 'hull'", field="method")
         out = ueberle_worst(G, lo, hi, S)
+    out = scale_back(out, e, "worst-case output")
     return float(out[0]) if single else out
+
+
+def _rescale(G, lo, hi):
+    """G and the limits scaled by powers of two into the float64 range of the kernels
+    (:mod:`.float_scale`, exact), and the exponent of the result per pose."""
+    eG = pow2_exponent(G, (1, 2))
+    eP = pow2_exponent(np.concatenate([lo, hi], axis=1), 1)
+    if not (eG.any() or eP.any()):
+        return G, lo, hi, 0
+    return (np.ldexp(G, -eG[:, None, None]), np.ldexp(lo, -eP[:, None]),
+            np.ldexp(hi, -eP[:, None]), eG + eP)
 
 
 def best_case_output(G, pmin, pmax, keep=None, method: str = "zonotope"):
@@ -163,11 +177,13 @@ def best_case_output(G, pmin, pmax, keep=None, method: str = "zonotope"):
     """
     G, lo, hi, S, single = _prepare(G, pmin, pmax, keep, method, ("zonotope", "hull"))
     N = G.shape[0]
+    G, lo, hi, e = _rescale(G, lo, hi)
     if method == "zonotope":
         with memory_guard(G.shape[2], "vertex candidates"):
             out = zonotope_best(G, (hi + lo) / 2, (hi - lo) / 2, [S])[0]
     else:
         out = np.array([hull_worst_best(G[i], lo[i], hi[i], S)[1] for i in range(N)])
+    out = scale_back(out, e, "best-case output")
     return float(out[0]) if single else out
 
 
@@ -309,8 +325,16 @@ def ueberle_worst(G, lo, hi, S):
                 resid = np.einsum("nij,nj->ni", Ac, p0) + bc
                 _, sv, vt = np.linalg.svd(Ac)
                 rank = np.sum(sv > 1e-12 * np.maximum(sv[:, :1], 1e-300), axis=1)
-                feasible = np.linalg.norm(resid, axis=1) <= 1e-9 * (
-                    np.linalg.norm(bc, axis=1) + 1e-300)
+                # the residual of a consistent system solved through pinv is about
+                # eps·cond·(||bc|| + ||Ac||·||p0||), cond that of the kept singular
+                # values: a fixed 1e-9·||bc|| rejected every facet near a singularity
+                # and the worst case came out inf (QA Z2 2)
+                kept = np.take_along_axis(sv, np.maximum(rank - 1, 0)[:, None], 1)[:, 0]
+                cond = np.divide(sv[:, 0], kept, out=np.ones(N), where=kept > 0)
+                scale_b = np.linalg.norm(bc, axis=1) + sv[:, 0] * np.linalg.norm(p0, axis=1)
+                feasible = np.linalg.norm(resid, axis=1) <= np.maximum(
+                    1e-9 * (np.linalg.norm(bc, axis=1) + 1e-300),
+                    64 * np.finfo(float).eps * cond * scale_b)
                 dist = np.empty(N)
                 for rk in np.unique(rank):
                     sel = rank == rk
@@ -329,6 +353,22 @@ def ueberle_worst(G, lo, hi, S):
                 dist = np.linalg.norm(F, axis=1)
             signed = np.where(side, dist, -dist)
             best = np.minimum(best, signed)
+    # Ueberle's facets are those of a regular G: at σmin/σmax <= RANK_TOL (or a pose
+    # where no facet is feasible) the pose goes to the zonotope kernel, with a warning,
+    # never an inf or the ~0 of a degenerate least-squares problem (QA Z2 2)
+    sv = np.linalg.svd(G, compute_uv=False)
+    kappa = np.divide(sv[:, -1], sv[:, 0], out=np.zeros(N), where=sv[:, 0] > 0)
+    redo = np.flatnonzero((kappa <= RANK_TOL) | ~np.isfinite(best))
+    if len(redo):
+        import warnings
+        from ..errors import ConditioningWarning
+        warnings.warn(ConditioningWarning(
+            f"Ueberle's method: {len(redo)} of {N} pose(s) singular or nearly so "
+            f"(σmin/σmax = {kappa[redo[0]]:.3g}{', ...' if len(redo) > 1 else ''}, "
+            f"expected above RANK_TOL = {RANK_TOL:g} with a feasible facet): answered by "
+            "the zonotope kernel there"), stacklevel=3)
+        c, r = (hi[redo] + lo[redo]) / 2, (hi[redo] - lo[redo]) / 2
+        best[redo] = zonotope_worst(G[redo], c, r, [tuple(S)])[0]
     return best
 
 
