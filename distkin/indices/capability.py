@@ -35,12 +35,18 @@ from .zonotope import (RANK_TOL, check_enumeration, generator_batch, memory_guar
 
 __all__ = ["worst_case_output", "best_case_output", "output_generators",
            "hull_worst_best", "hull_multi", "ueberle_worst", "CAPABILITY_METHODS",
-           "MAX_HULL_VERTICES"]
+           "MAX_HULL_VERTICES", "NEGLIGIBLE"]
 
 CAPABILITY_METHODS = ("zonotope", "hull", "ueberle")
 
 #: the most box vertices ``method="hull"`` gives Qhull per pose (2^L; L <= 16)
 MAX_HULL_VERTICES = 2 ** 16
+
+#: ``method="hull"``: after a Qhull failure, generators with ||g_i||·(pmax−pmin)/2 at
+#: most this fraction of the largest are fixed at their midpoint and Qhull retried;
+#: the set then moves by at most Σ ||g_i||·(pmax−pmin)/2 of those (Hausdorff), which
+#: bounds the change of the whole set's worst and best case (QA Z2 5)
+NEGLIGIBLE = 1e-6
 
 
 # ------------------------------------------------------------------------ arguments
@@ -128,7 +134,8 @@ def worst_case_output(G, pmin, pmax, keep=None, method: str = "zonotope"):
         flat (``"hull"``: zero ranges, named).
     SingularConfigurationError
         ``"hull"`` only: Qhull cannot build the hull of a flat vertex set (σmin/σmax
-        below about 1e-13); use ``"zonotope"``.
+        below about 1e-13), or of a full-dimensional one even after fixing negligible
+        generators (:func:`hull_multi`; the message says which); use ``"zonotope"``.
 
     Notes
     -----
@@ -205,7 +212,10 @@ def hull_worst_best(G, lo, hi, S):
 
     Returns ``(worst, best)`` in the output unit (worst negative if the origin lies
     outside the set).  Raises :class:`SingularConfigurationError` when Qhull fails on
-    a flat set.
+    a flat set.  When Qhull fails on near-coincident vertices of a full-dimensional set,
+    generators below :data:`NEGLIGIBLE` of the largest are fixed at their midpoint and
+    the hull retried: the result is then that of a set within Σ ||g_i||·r_i of the
+    dropped generators (Hausdorff distance), which bounds its error for the whole set.
     """
     return hull_multi(G, lo, hi, [S])[0]
 
@@ -219,6 +229,18 @@ def hull_multi(G, lo, hi, keeps):
     except QhullError as exc:
         sv = np.linalg.svd(G, compute_uv=False)
         ratio = sv[-1] / sv[0] if sv[0] > 0 else 0.0
+        # negligible generators (||g_i||·r_i <= NEGLIGIBLE of the largest) put vertices
+        # within rounding of one another and Qhull fails on them (a "dupridge") on a
+        # well-conditioned set (QA Z2 5): fix them at their midpoint and retry
+        lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+        w = np.linalg.norm(G, axis=0) * (hi - lo) / 2
+        small = w <= NEGLIGIBLE * w.max()
+        if w.max() > 0 and small.any() and np.linalg.matrix_rank(G[:, ~small]) == G.shape[0]:
+            shift = G[:, small] @ ((hi + lo) / 2)[small]
+            try:
+                return _hull_multi(G[:, ~small], lo[~small], hi[~small], keeps, shift)
+            except QhullError:
+                pass
         span = G[:, np.asarray(hi) > np.asarray(lo)]          # generators with a range
         rank = int(np.linalg.matrix_rank(span)) if span.size else 0
         if ratio > 1e-9 and rank < G.shape[0]:
@@ -229,16 +251,22 @@ def hull_multi(G, lo, hi, keeps):
                 f"the set is flat (rank {rank} of {G.shape[0]}), not G (σmin/σmax = "
                 f"{ratio:.3g})", field="pmax",
                 hint="method='zonotope' gives the flat set's values") from exc
+        if ratio <= 1e-9:
+            raise SingularConfigurationError(
+                f"Qhull cannot build the output polytope or its slice: the set is (nearly) "
+                f"flat (σmin/σmax = {ratio:.3g}); expected a full-dimensional set",
+                hint="use method='zonotope', which handles singular poses") from exc
         raise SingularConfigurationError(
-            f"Qhull cannot build the output polytope or its slice: the set is (nearly) flat "
-            f"(σmin/σmax = {ratio:.3g}); expected a full-dimensional set",
-            hint="use method='zonotope', which handles singular poses") from exc
+            f"Qhull cannot build the output polytope or its slice of a full-dimensional "
+            f"set (σmin/σmax = {ratio:.3g}): expected vertices it can separate, got "
+            f"{exc.__class__.__name__} (near-coincident vertices or facets)",
+            hint="use method='zonotope', the exact kernel") from exc
 
 
-def _hull_multi(G, lo, hi, keeps):
+def _hull_multi(G, lo, hi, keeps, shift=0.0):
     from scipy.spatial import ConvexHull
     d, L = G.shape
-    verts = _box_vertices(lo, hi) @ G.T                       # (2^L, d)
+    verts = _box_vertices(lo, hi) @ G.T + shift               # (2^L, d)
     hull = ConvexHull(verts)
     return [_slice(hull, verts, list(S), d) for S in keeps]
 

@@ -169,3 +169,21 @@ def test_float_range_rescaled_best_and_sensitivities():
     t = np.max(np.linalg.norm(_box(8) @ Jp[:3].T, axis=1))
     assert abs(m["force"] / 2.0 ** -515 - f) <= 1e-12 * f
     assert abs(m["translational"] / 2.0 ** 515 - t) <= 1e-9 * t
+
+
+def test_hull_survives_negligible_generators():
+    """Two generators 1e-9 of the others made Qhull fail ("flat", σmin/σmax = 0.108) on
+    a well-conditioned set (QA Z2 5); the answer is now within the dropped generators'
+    contribution of the 50-digit reference and of the brute-force farthest vertex."""
+    rng = np.random.default_rng(7)
+    for _ in range(4):
+        rng.normal(size=(6, 8))
+    G = rng.normal(size=(6, 8))
+    G[:, [6, 7]] = G[:, [0, 1]] * 1e-9
+    bound = np.linalg.norm(G[:, 6:], axis=0).sum()
+    ones = np.ones(8)
+    for keep in (None, [0, 1, 2]):
+        ref = ref_worst(G, -ones, ones, keep)
+        assert abs(W(G, -1, 1, keep, method="hull") - ref) <= 10 * bound + 1e-12
+    far = np.max(np.linalg.norm(_box(8) @ G.T, axis=1))
+    assert abs(B(G, -1, 1, method="hull") - far) <= bound + 1e-12
