@@ -5,7 +5,8 @@ generator matrix ``G`` (d × L, or batched N × d × L) and actuator limits, and
 minimum (maximum) distance from the origin to the boundary (to a point) of the set
 ``{G p : pmin <= p <= pmax}``, optionally sliced to the output coordinates ``keep``.
 
-Three methods check one another:
+Three algorithms (``algorithm=``, or as before ``method=``; the tier ``method`` is
+"fast" only, :mod:`.tiers`) check one another:
 
 ``"zonotope"`` (production)
     The exact half-space kernel of docs/design.md §6 (:mod:`distkin.indices.zonotope`),
@@ -30,6 +31,7 @@ import numpy as np
 from ..argcheck import as_floats, float_array
 from ..errors import InputError, SingularConfigurationError
 from .float_scale import pow2_exponent, scale_back
+from .tiers import fast_only
 from .zonotope import (RANK_TOL, check_enumeration, generator_batch, memory_guard,
                        zonotope_best, zonotope_worst)
 
@@ -50,10 +52,22 @@ NEGLIGIBLE = 1e-6
 
 
 # ------------------------------------------------------------------------ arguments
+def _algorithm(method, algorithm, allowed):
+    """The algorithm from ``method`` (a tier, "fast", or an algorithm name as before)
+    and ``algorithm`` (:mod:`.tiers`, QA Z2 7); InputError naming the field."""
+    fast_only(method, "the output capability", also=allowed)
+    if algorithm is None:
+        return "zonotope" if method == "fast" else method
+    if algorithm not in allowed:
+        raise InputError(f"expected algorithm one of {', '.join(map(repr, allowed))}, "
+                         f"got {algorithm!r}", field="algorithm")
+    if method != "fast" and method != algorithm:
+        raise InputError(f"expected method 'fast' or {algorithm!r} with algorithm="
+                         f"{algorithm!r}, got method={method!r}", field="method")
+    return algorithm
+
+
 def _prepare(G, pmin, pmax, keep, method, allowed):
-    if method not in allowed:
-        raise InputError(f"expected method one of {', '.join(map(repr, allowed))}, "
-                         f"got {method!r}", field="method")
     G, single = generator_batch(G, "actuators")
     N, d, L = G.shape
     lims = []
@@ -98,7 +112,8 @@ def _keep_indices(keep, d: int, field: str = "keep") -> tuple:
     return S
 
 
-def worst_case_output(G, pmin, pmax, keep=None, method: str = "zonotope"):
+def worst_case_output(G, pmin, pmax, keep=None, method: str = "fast", *,
+                      algorithm: str | None = None):
     """Worst-case output capability: the smallest distance from the origin to the
     boundary of ``{G p : pmin <= p <= pmax}`` sliced to ``keep`` (Kühne et al.,
     eqs. (9)-(15); Ueberle's eqs. (10)-(12) for L = d).
@@ -113,8 +128,13 @@ def worst_case_output(G, pmin, pmax, keep=None, method: str = "zonotope"):
     keep : sequence of int, optional
         Output coordinates of the slice (e.g. ``[0, 1, 2]``: force at zero torque).
         None: the whole set.
-    method : {"zonotope", "hull", "ueberle"}
-        See the module docstring.  All agree to ~1e-12 relative on regular poses.
+    method : {"fast", "zonotope", "hull", "ueberle"}
+        The tier: "fast" (float64, the only one; "precise" and "certified" are refused
+        with an InputError, :mod:`.tiers`).  For backward compatibility an algorithm
+        name is accepted here too, as ``algorithm``.
+    algorithm : {"zonotope", "hull", "ueberle"}, optional
+        See the module docstring (default "zonotope").  All agree to ~1e-12 relative
+        on regular poses.
 
     Returns
     -------
@@ -139,10 +159,17 @@ def worst_case_output(G, pmin, pmax, keep=None, method: str = "zonotope"):
 
     Notes
     -----
-    Accuracy (``"zonotope"``): float64, relative error about 1e-16 × κ of the pivot
-    block of G.  Precise and certified tiers are not provided: the kernel is a
-    min over closed-form ratios, and the tables it feeds are themselves sampled.
+    Accuracy of the fast answer (``"zonotope"``): float64, relative error about
+    1e-16 / κ of the pivot block of G (κ = σmin/σmax).  At :func:`~.zonotope.flat_tol`
+    < κ <= :data:`~.zonotope.RANK_TOL` a slice inside the span of G is NaN with a
+    ConditioningWarning (the flat set's value is not the set's, QA Z2 1); below
+    ``flat_tol`` G is taken as exactly rank-deficient.  ``"ueberle"`` answers its
+    singular poses by the zonotope kernel, with a warning.  G and the limits are scaled
+    by powers of two into range (:mod:`.float_scale`); a result beyond float64 warns.
+    Precise and certified tiers are not provided: the kernel is a min over closed-form
+    ratios, and the tables it feeds are themselves sampled.
     """
+    method = _algorithm(method, algorithm, CAPABILITY_METHODS)
     G, lo, hi, S, single = _prepare(G, pmin, pmax, keep, method, CAPABILITY_METHODS)
     N, d, L = G.shape
     G, lo, hi, e = _rescale(G, lo, hi)
@@ -172,16 +199,21 @@ def _rescale(G, lo, hi):
             np.ldexp(hi, -eP[:, None]), eG + eP)
 
 
-def best_case_output(G, pmin, pmax, keep=None, method: str = "zonotope"):
+def best_case_output(G, pmin, pmax, keep=None, method: str = "fast", *,
+                     algorithm: str | None = None):
     """Best-case output: the largest distance from the origin to a point of the sliced
     set (the farthest point, Kühne et al. eq. (16); Cardou's maximum sensitivities with
     unit limits).
 
-    Parameters and returns as :func:`worst_case_output`; ``method`` is ``"zonotope"``
-    (exact vertex enumeration: 2^L box vertices for the whole set, C(L,k)·2^(L−k)
-    candidates with k × k solves for a slice removing k coordinates) or ``"hull"``.
-    ``-inf`` marks an empty slice.
+    Parameters and returns as :func:`worst_case_output`; ``algorithm`` (or, as before,
+    ``method``) is ``"zonotope"`` (exact vertex enumeration: 2^L box vertices for the
+    whole set, C(L,k)·2^(L−k) candidates with k × k solves for a slice removing k
+    coordinates) or ``"hull"``; ``method`` is otherwise "fast", the only tier.
+    ``-inf`` marks an empty slice.  Accuracy of the fast answer: float64, relative
+    error about 1e-16 for the whole set (a max of vertex norms), about 1e-16 / κ of the
+    removed rows' basis for a slice; inputs scaled by powers of two into range.
     """
+    method = _algorithm(method, algorithm, ("zonotope", "hull"))
     G, lo, hi, S, single = _prepare(G, pmin, pmax, keep, method, ("zonotope", "hull"))
     N = G.shape[0]
     G, lo, hi, e = _rescale(G, lo, hi)

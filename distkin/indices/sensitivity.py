@@ -45,6 +45,7 @@ from ..argcheck import as_floats
 from ..errors import ConditioningWarning, InputError
 from .capability import _jacobian
 from .float_scale import pow2_exponent, scale_back
+from .tiers import fast_only
 from .slice_farthest import slab_farthest_unit, slice_farthest_unit
 from .zonotope import (RANK_TOL, check_enumeration, flat_tol, memory_guard, vertex_candidates,
                        zonotope_best)
@@ -60,7 +61,7 @@ SENSITIVITY_UNITS = {"translational": "m/rad", "rotational": "rad/rad",
 
 
 def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False,
-                      kappa=None):
+                      kappa=None, method: str = "fast"):
     """The four maximum sensitivities at each pose (module docstring).
 
     Parameters
@@ -79,6 +80,13 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False,
         σmin/σmax of J per pose if already computed (the study has it), for the test of
         a singular J (module docstring); otherwise from numpy's SVD.  A ratio of
         singular values: finite, in [0, 1] (1 + 1e-12 allowed for rounding).
+    method : "fast"
+        The only tier (float64; "precise" and "certified" are refused, :mod:`.tiers`).
+        Accuracy of the fast answer: relative error about 1e-16 / κ of J for the twist
+        sensitivities (J# = pinv(J); the L = 6 slice works on J itself), 1e-16 for the
+        force and torque ones; NaN with a ConditioningWarning at a nearly singular J
+        (flat_tol < κ <= RANK_TOL, QA Z2 3); inputs scaled by powers of two into range
+        (:mod:`.float_scale`), a result beyond float64 warns.
 
     Returns
     -------
@@ -97,6 +105,7 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False,
         wrong length); more than :data:`~.zonotope.MAX_CANDIDATES` vertex candidates per
         pose (C(L, 3)·2^(L−3) for slices, 2^L for projections: L <= 12 and 18).
     """
+    fast_only(method, "the maximum sensitivity")
     if mode not in SENSITIVITY_MODES:
         raise InputError(f"expected mode 'slice' or 'projection', got {mode!r}", field="mode")
     J = _jacobian(J, "(L, 6) or (N, L, 6)")
