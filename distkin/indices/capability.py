@@ -5,7 +5,8 @@ generator matrix ``G`` (d × L, or batched N × d × L) and actuator limits, and
 minimum (maximum) distance from the origin to the boundary (to a point) of the set
 ``{G p : pmin <= p <= pmax}``, optionally sliced to the output coordinates ``keep``.
 
-Three methods check one another:
+Three algorithms (``algorithm=``, or as before ``method=``; the tier ``method`` is
+"fast" only, :mod:`.tiers`) check one another:
 
 ``"zonotope"`` (production)
     The exact half-space kernel of docs/design.md §6 (:mod:`distkin.indices.zonotope`),
@@ -29,24 +30,44 @@ import numpy as np
 
 from ..argcheck import as_floats, float_array
 from ..errors import InputError, SingularConfigurationError
-from .zonotope import (check_enumeration, generator_batch, memory_guard, zonotope_best,
-                       zonotope_worst)
+from .float_scale import pow2_exponent, scale_back
+from .tiers import fast_only
+from .zonotope import (RANK_TOL, check_enumeration, generator_batch, memory_guard,
+                       zonotope_best, zonotope_worst)
 
 __all__ = ["worst_case_output", "best_case_output", "output_generators",
            "hull_worst_best", "hull_multi", "ueberle_worst", "CAPABILITY_METHODS",
-           "MAX_HULL_VERTICES"]
+           "MAX_HULL_VERTICES", "NEGLIGIBLE"]
 
 CAPABILITY_METHODS = ("zonotope", "hull", "ueberle")
 
 #: the most box vertices ``method="hull"`` gives Qhull per pose (2^L; L <= 16)
 MAX_HULL_VERTICES = 2 ** 16
 
+#: ``method="hull"``: after a Qhull failure, generators with ||g_i||·(pmax−pmin)/2 at
+#: most this fraction of the largest are fixed at their midpoint and Qhull retried;
+#: the set then moves by at most Σ ||g_i||·(pmax−pmin)/2 of those (Hausdorff), which
+#: bounds the change of the whole set's worst and best case (QA Z2 5)
+NEGLIGIBLE = 1e-6
+
 
 # ------------------------------------------------------------------------ arguments
+def _algorithm(method, algorithm, allowed):
+    """The algorithm from ``method`` (a tier, "fast", or an algorithm name as before)
+    and ``algorithm`` (:mod:`.tiers`, QA Z2 7); InputError naming the field."""
+    fast_only(method, "the output capability", also=allowed)
+    if algorithm is None:
+        return "zonotope" if method == "fast" else method
+    if algorithm not in allowed:
+        raise InputError(f"expected algorithm one of {', '.join(map(repr, allowed))}, "
+                         f"got {algorithm!r}", field="algorithm")
+    if method != "fast" and method != algorithm:
+        raise InputError(f"expected method 'fast' or {algorithm!r} with algorithm="
+                         f"{algorithm!r}, got method={method!r}", field="method")
+    return algorithm
+
+
 def _prepare(G, pmin, pmax, keep, method, allowed):
-    if method not in allowed:
-        raise InputError(f"expected method one of {', '.join(map(repr, allowed))}, "
-                         f"got {method!r}", field="method")
     G, single = generator_batch(G, "actuators")
     N, d, L = G.shape
     lims = []
@@ -91,7 +112,8 @@ def _keep_indices(keep, d: int, field: str = "keep") -> tuple:
     return S
 
 
-def worst_case_output(G, pmin, pmax, keep=None, method: str = "zonotope"):
+def worst_case_output(G, pmin, pmax, keep=None, method: str = "fast", *,
+                      algorithm: str | None = None):
     """Worst-case output capability: the smallest distance from the origin to the
     boundary of ``{G p : pmin <= p <= pmax}`` sliced to ``keep`` (Kühne et al.,
     eqs. (9)-(15); Ueberle's eqs. (10)-(12) for L = d).
@@ -106,8 +128,13 @@ def worst_case_output(G, pmin, pmax, keep=None, method: str = "zonotope"):
     keep : sequence of int, optional
         Output coordinates of the slice (e.g. ``[0, 1, 2]``: force at zero torque).
         None: the whole set.
-    method : {"zonotope", "hull", "ueberle"}
-        See the module docstring.  All agree to ~1e-12 relative on regular poses.
+    method : {"fast", "zonotope", "hull", "ueberle"}
+        The tier: "fast" (float64, the only one; "precise" and "certified" are refused
+        with an InputError, :mod:`.tiers`).  For backward compatibility an algorithm
+        name is accepted here too, as ``algorithm``.
+    algorithm : {"zonotope", "hull", "ueberle"}, optional
+        See the module docstring (default "zonotope").  All agree to ~1e-12 relative
+        on regular poses.
 
     Returns
     -------
@@ -127,16 +154,25 @@ def worst_case_output(G, pmin, pmax, keep=None, method: str = "zonotope"):
         flat (``"hull"``: zero ranges, named).
     SingularConfigurationError
         ``"hull"`` only: Qhull cannot build the hull of a flat vertex set (σmin/σmax
-        below about 1e-13); use ``"zonotope"``.
+        below about 1e-13), or of a full-dimensional one even after fixing negligible
+        generators (:func:`hull_multi`; the message says which); use ``"zonotope"``.
 
     Notes
     -----
-    Accuracy (``"zonotope"``): float64, relative error about 1e-16 × κ of the pivot
-    block of G.  Precise and certified tiers are not provided: the kernel is a
-    min over closed-form ratios, and the tables it feeds are themselves sampled.
+    Accuracy of the fast answer (``"zonotope"``): float64, relative error about
+    1e-16 / κ of the pivot block of G (κ = σmin/σmax).  At :func:`~.zonotope.flat_tol`
+    < κ <= :data:`~.zonotope.RANK_TOL` a slice inside the span of G is NaN with a
+    ConditioningWarning (the flat set's value is not the set's, QA Z2 1); below
+    ``flat_tol`` G is taken as exactly rank-deficient.  ``"ueberle"`` answers its
+    singular poses by the zonotope kernel, with a warning.  G and the limits are scaled
+    by powers of two into range (:mod:`.float_scale`); a result beyond float64 warns.
+    Precise and certified tiers are not provided: the kernel is a min over closed-form
+    ratios, and the tables it feeds are themselves sampled.
     """
+    method = _algorithm(method, algorithm, CAPABILITY_METHODS)
     G, lo, hi, S, single = _prepare(G, pmin, pmax, keep, method, CAPABILITY_METHODS)
     N, d, L = G.shape
+    G, lo, hi, e = _rescale(G, lo, hi)
     if method == "zonotope":
         c, r = (hi + lo) / 2, (hi - lo) / 2
         with memory_guard(L, "facet normals"):
@@ -148,26 +184,45 @@ def worst_case_output(G, pmin, pmax, keep=None, method: str = "zonotope"):
             raise InputError(f"Ueberle's method needs L = d, got L={L}, d={d}; use "
                              "method='zonotope' or 'hull'", field="method")
         out = ueberle_worst(G, lo, hi, S)
+    out = scale_back(out, e, "worst-case output")
     return float(out[0]) if single else out
 
 
-def best_case_output(G, pmin, pmax, keep=None, method: str = "zonotope"):
+def _rescale(G, lo, hi):
+    """G and the limits scaled by powers of two into the float64 range of the kernels
+    (:mod:`.float_scale`, exact), and the exponent of the result per pose."""
+    eG = pow2_exponent(G, (1, 2))
+    eP = pow2_exponent(np.concatenate([lo, hi], axis=1), 1)
+    if not (eG.any() or eP.any()):
+        return G, lo, hi, 0
+    return (np.ldexp(G, -eG[:, None, None]), np.ldexp(lo, -eP[:, None]),
+            np.ldexp(hi, -eP[:, None]), eG + eP)
+
+
+def best_case_output(G, pmin, pmax, keep=None, method: str = "fast", *,
+                     algorithm: str | None = None):
     """Best-case output: the largest distance from the origin to a point of the sliced
     set (the farthest point, Kühne et al. eq. (16); Cardou's maximum sensitivities with
     unit limits).
 
-    Parameters and returns as :func:`worst_case_output`; ``method`` is ``"zonotope"``
-    (exact vertex enumeration: 2^L box vertices for the whole set, C(L,k)·2^(L−k)
-    candidates with k × k solves for a slice removing k coordinates) or ``"hull"``.
-    ``-inf`` marks an empty slice.
+    Parameters and returns as :func:`worst_case_output`; ``algorithm`` (or, as before,
+    ``method``) is ``"zonotope"`` (exact vertex enumeration: 2^L box vertices for the
+    whole set, C(L,k)·2^(L−k) candidates with k × k solves for a slice removing k
+    coordinates) or ``"hull"``; ``method`` is otherwise "fast", the only tier.
+    ``-inf`` marks an empty slice.  Accuracy of the fast answer: float64, relative
+    error about 1e-16 for the whole set (a max of vertex norms), about 1e-16 / κ of the
+    removed rows' basis for a slice; inputs scaled by powers of two into range.
     """
+    method = _algorithm(method, algorithm, ("zonotope", "hull"))
     G, lo, hi, S, single = _prepare(G, pmin, pmax, keep, method, ("zonotope", "hull"))
     N = G.shape[0]
+    G, lo, hi, e = _rescale(G, lo, hi)
     if method == "zonotope":
         with memory_guard(G.shape[2], "vertex candidates"):
             out = zonotope_best(G, (hi + lo) / 2, (hi - lo) / 2, [S])[0]
     else:
         out = np.array([hull_worst_best(G[i], lo[i], hi[i], S)[1] for i in range(N)])
+    out = scale_back(out, e, "best-case output")
     return float(out[0]) if single else out
 
 
@@ -189,7 +244,10 @@ def hull_worst_best(G, lo, hi, S):
 
     Returns ``(worst, best)`` in the output unit (worst negative if the origin lies
     outside the set).  Raises :class:`SingularConfigurationError` when Qhull fails on
-    a flat set.
+    a flat set.  When Qhull fails on near-coincident vertices of a full-dimensional set,
+    generators below :data:`NEGLIGIBLE` of the largest are fixed at their midpoint and
+    the hull retried: the result is then that of a set within Σ ||g_i||·r_i of the
+    dropped generators (Hausdorff distance), which bounds its error for the whole set.
     """
     return hull_multi(G, lo, hi, [S])[0]
 
@@ -203,6 +261,18 @@ def hull_multi(G, lo, hi, keeps):
     except QhullError as exc:
         sv = np.linalg.svd(G, compute_uv=False)
         ratio = sv[-1] / sv[0] if sv[0] > 0 else 0.0
+        # negligible generators (||g_i||·r_i <= NEGLIGIBLE of the largest) put vertices
+        # within rounding of one another and Qhull fails on them (a "dupridge") on a
+        # well-conditioned set (QA Z2 5): fix them at their midpoint and retry
+        lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+        w = np.linalg.norm(G, axis=0) * (hi - lo) / 2
+        small = w <= NEGLIGIBLE * w.max()
+        if w.max() > 0 and small.any() and np.linalg.matrix_rank(G[:, ~small]) == G.shape[0]:
+            shift = G[:, small] @ ((hi + lo) / 2)[small]
+            try:
+                return _hull_multi(G[:, ~small], lo[~small], hi[~small], keeps, shift)
+            except QhullError:
+                pass
         span = G[:, np.asarray(hi) > np.asarray(lo)]          # generators with a range
         rank = int(np.linalg.matrix_rank(span)) if span.size else 0
         if ratio > 1e-9 and rank < G.shape[0]:
@@ -213,16 +283,22 @@ def hull_multi(G, lo, hi, keeps):
                 f"the set is flat (rank {rank} of {G.shape[0]}), not G (σmin/σmax = "
                 f"{ratio:.3g})", field="pmax",
                 hint="method='zonotope' gives the flat set's values") from exc
+        if ratio <= 1e-9:
+            raise SingularConfigurationError(
+                f"Qhull cannot build the output polytope or its slice: the set is (nearly) "
+                f"flat (σmin/σmax = {ratio:.3g}); expected a full-dimensional set",
+                hint="use method='zonotope', which handles singular poses") from exc
         raise SingularConfigurationError(
-            f"Qhull cannot build the output polytope or its slice: the set is (nearly) flat "
-            f"(σmin/σmax = {ratio:.3g}); expected a full-dimensional set",
-            hint="use method='zonotope', which handles singular poses") from exc
+            f"Qhull cannot build the output polytope or its slice of a full-dimensional "
+            f"set (σmin/σmax = {ratio:.3g}): expected vertices it can separate, got "
+            f"{exc.__class__.__name__} (near-coincident vertices or facets)",
+            hint="use method='zonotope', the exact kernel") from exc
 
 
-def _hull_multi(G, lo, hi, keeps):
+def _hull_multi(G, lo, hi, keeps, shift=0.0):
     from scipy.spatial import ConvexHull
     d, L = G.shape
-    verts = _box_vertices(lo, hi) @ G.T                       # (2^L, d)
+    verts = _box_vertices(lo, hi) @ G.T + shift               # (2^L, d)
     hull = ConvexHull(verts)
     return [_slice(hull, verts, list(S), d) for S in keeps]
 
@@ -309,8 +385,16 @@ def ueberle_worst(G, lo, hi, S):
                 resid = np.einsum("nij,nj->ni", Ac, p0) + bc
                 _, sv, vt = np.linalg.svd(Ac)
                 rank = np.sum(sv > 1e-12 * np.maximum(sv[:, :1], 1e-300), axis=1)
-                feasible = np.linalg.norm(resid, axis=1) <= 1e-9 * (
-                    np.linalg.norm(bc, axis=1) + 1e-300)
+                # the residual of a consistent system solved through pinv is about
+                # eps·cond·(||bc|| + ||Ac||·||p0||), cond that of the kept singular
+                # values: a fixed 1e-9·||bc|| rejected every facet near a singularity
+                # and the worst case came out inf (QA Z2 2)
+                kept = np.take_along_axis(sv, np.maximum(rank - 1, 0)[:, None], 1)[:, 0]
+                cond = np.divide(sv[:, 0], kept, out=np.ones(N), where=kept > 0)
+                scale_b = np.linalg.norm(bc, axis=1) + sv[:, 0] * np.linalg.norm(p0, axis=1)
+                feasible = np.linalg.norm(resid, axis=1) <= np.maximum(
+                    1e-9 * (np.linalg.norm(bc, axis=1) + 1e-300),
+                    64 * np.finfo(float).eps * cond * scale_b)
                 dist = np.empty(N)
                 for rk in np.unique(rank):
                     sel = rank == rk
@@ -329,6 +413,22 @@ def ueberle_worst(G, lo, hi, S):
                 dist = np.linalg.norm(F, axis=1)
             signed = np.where(side, dist, -dist)
             best = np.minimum(best, signed)
+    # Ueberle's facets are those of a regular G: at σmin/σmax <= RANK_TOL (or a pose
+    # where no facet is feasible) the pose goes to the zonotope kernel, with a warning,
+    # never an inf or the ~0 of a degenerate least-squares problem (QA Z2 2)
+    sv = np.linalg.svd(G, compute_uv=False)
+    kappa = np.divide(sv[:, -1], sv[:, 0], out=np.zeros(N), where=sv[:, 0] > 0)
+    redo = np.flatnonzero((kappa <= RANK_TOL) | ~np.isfinite(best))
+    if len(redo):
+        import warnings
+        from ..errors import ConditioningWarning
+        warnings.warn(ConditioningWarning(
+            f"Ueberle's method: {len(redo)} of {N} pose(s) singular or nearly so "
+            f"(σmin/σmax = {kappa[redo[0]]:.3g}{', ...' if len(redo) > 1 else ''}, "
+            f"expected above RANK_TOL = {RANK_TOL:g} with a feasible facet): answered by "
+            "the zonotope kernel there"), stacklevel=3)
+        c, r = (hi[redo] + lo[redo]) / 2, (hi[redo] - lo[redo]) / 2
+        best[redo] = zonotope_worst(G[redo], c, r, [tuple(S)])[0]
     return best
 
 

@@ -60,6 +60,7 @@ import numpy as np
 from ..argcheck import as_floats, float_array, positive_number
 from ..errors import InputError
 from .capability import _jacobian
+from .tiers import fast_only
 
 __all__ = ["ST_DEFAULT", "scaled_singular_values", "condition_number", "gii",
            "CullingResult", "culling_sweep", "brute_force_sweep", "SCALING_READINGS",
@@ -93,7 +94,7 @@ def _scaled(J, ST):
     return np.swapaxes(J, -1, -2) / check_scaling(ST)[:, None]
 
 
-def scaled_singular_values(J, ST=ST_DEFAULT):
+def scaled_singular_values(J, ST=ST_DEFAULT, *, method: str = "fast"):
     """Smallest and largest singular value of ``W = ST⁻¹ Jᵀ`` (Sec. II-C-2).
 
     Parameters
@@ -102,6 +103,9 @@ def scaled_singular_values(J, ST=ST_DEFAULT):
         Jacobian, q̇ = J·(v, ω) (m/s, rad/s -> rad/s).
     ST : sequence of 6 floats
         Diagonal of the scaling matrix (N, N, N, N·m, N·m, N·m).
+    method : "fast"
+        The only tier (float64 SVD; "precise" and "certified" are refused with an
+        InputError naming ``method``, :mod:`.tiers`).
 
     Returns
     -------
@@ -116,6 +120,7 @@ def scaled_singular_values(J, ST=ST_DEFAULT):
         ``J`` not numbers of shape (..., L, 6), or not finite (NaN, inf: an unreachable
         pose's J is the caller's to filter); ``ST`` not 6 positive finite numbers.
     """
+    fast_only(method, "the scaled singular values")
     W = _scaled(J, ST)
     return _sigma_range(np.linalg.svd(W, compute_uv=False), W.shape[-1])
 
@@ -171,18 +176,16 @@ def condition_number(J, ST=ST_DEFAULT, *, method: str = "fast"):
     one J gives a float, a batch an array;
     :class:`~distkin.errors.InputError` for a J that is not finite).  0 for fewer than
     6 legs (L < 6: the wrench map has rank < 6).  ``method``: "fast" only (float64
-    SVD, the tier of every index; DESIGN §3); "precise" and "certified" are refused with
-    an :class:`~distkin.errors.InputError` naming ``method`` (QA T 9)."""
-    if method != "fast":
-        raise InputError(f"expected method 'fast' (the indices are float64: numpy's SVD), "
-                         f"got {method!r}", field="method",
-                         hint="for J at another tier, mechanism.jacobian(poses, method=...)")
+    SVD, the tier of every index; DESIGN §3; accuracy: absolute error about 1e-16 in κ);
+    "precise" and "certified" are refused with an :class:`~distkin.errors.InputError`
+    naming ``method`` and the certified routes (:mod:`.tiers`, QA T 9)."""
+    fast_only(method, "the condition number")
     smin, smax = scaled_singular_values(J, ST)
     kappa = np.divide(smin, smax, out=np.zeros_like(smin), where=smax > 0)
     return float(kappa) if kappa.ndim == 0 else kappa    # one J: a float (QA T 9)
 
 
-def gii(smin, smax):
+def gii(smin, smax, *, method: str = "fast"):
     """Global isotropy index [1]: ``min σmin / max σmax`` over the workspace samples.
 
     ``smin``, ``smax``: one pair per pose, σmin <= σmax at each (else an
@@ -194,7 +197,11 @@ def gii(smin, smax):
     :func:`distkin.indices.study.summarise` does; it returned 0) and for max σmax = 0,
     where min σmin / max σmax is 0/0 (every pose a zero J; it returned 0); also for
     non-finite values (a singular value of a finite J is finite).
+
+    ``method``: "fast" only (a min and a max of the given floats, exact; "precise" and
+    "certified" are refused, :mod:`.tiers`).
     """
+    fast_only(method, "the GII")
     smin = as_floats(smin, "smin", "singular values (numbers)")
     smax = as_floats(smax, "smax", "singular values (numbers)")
     if smin.shape != smax.shape:

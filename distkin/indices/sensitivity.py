@@ -42,10 +42,13 @@ from __future__ import annotations
 import numpy as np
 
 from ..argcheck import as_floats
-from ..errors import InputError
+from ..errors import ConditioningWarning, InputError
 from .capability import _jacobian
+from .float_scale import pow2_exponent, scale_back
+from .tiers import fast_only
 from .slice_farthest import slab_farthest_unit, slice_farthest_unit
-from .zonotope import RANK_TOL, check_enumeration, memory_guard, vertex_candidates, zonotope_best
+from .zonotope import (RANK_TOL, check_enumeration, flat_tol, memory_guard, vertex_candidates,
+                       zonotope_best)
 
 __all__ = ["max_sensitivities", "SENSITIVITY_UNITS", "SENSITIVITY_MODES"]
 
@@ -58,7 +61,7 @@ SENSITIVITY_UNITS = {"translational": "m/rad", "rotational": "rad/rad",
 
 
 def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False,
-                      kappa=None):
+                      kappa=None, method: str = "fast"):
     """The four maximum sensitivities at each pose (module docstring).
 
     Parameters
@@ -77,6 +80,13 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False,
         σmin/σmax of J per pose if already computed (the study has it), for the test of
         a singular J (module docstring); otherwise from numpy's SVD.  A ratio of
         singular values: finite, in [0, 1] (1 + 1e-12 allowed for rounding).
+    method : "fast"
+        The only tier (float64; "precise" and "certified" are refused, :mod:`.tiers`).
+        Accuracy of the fast answer: relative error about 1e-16 / κ of J for the twist
+        sensitivities (J# = pinv(J); the L = 6 slice works on J itself), 1e-16 for the
+        force and torque ones; NaN with a ConditioningWarning at a nearly singular J
+        (flat_tol < κ <= RANK_TOL, QA Z2 3); inputs scaled by powers of two into range
+        (:mod:`.float_scale`), a result beyond float64 warns.
 
     Returns
     -------
@@ -95,6 +105,7 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False,
         wrong length); more than :data:`~.zonotope.MAX_CANDIDATES` vertex candidates per
         pose (C(L, 3)·2^(L−3) for slices, 2^L for projections: L <= 12 and 18).
     """
+    fast_only(method, "the maximum sensitivity")
     if mode not in SENSITIVITY_MODES:
         raise InputError(f"expected mode 'slice' or 'projection', got {mode!r}", field="mode")
     J = _jacobian(J, "(L, 6) or (N, L, 6)")
@@ -115,8 +126,19 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False,
     check_enumeration(vertex_candidates(L, 3 if mode == "slice" else 0), L,
                       "slice-vertex candidates (C(L, 3)·2^(L−3))" if mode == "slice" else
                       "box vertices (2^L)", field="J")
+    # exact power-of-two rescaling into the float64 range (:mod:`.float_scale`): the
+    # twist sensitivities scale as 1/J, the force and torque ones as J (QA Z2 4)
+    e = pow2_exponent(J, (1, 2))
+    if e.any():
+        J = np.ldexp(J, -e[:, None, None])
+        twist = None if twist is None else np.ldexp(np.asarray(twist, dtype=float),
+                                                    e[:, None, None])
     with memory_guard(L, "maximum sensitivities", field="J"):
         out = _max_sensitivities(J, mode, twist, walk, kappa)
+    if e.any():
+        for name, sign in (("translational", -1), ("rotational", -1), ("force", 1),
+                           ("torque", 1)):
+            out[name] = scale_back(out[name], sign * e, f"{name} sensitivity")
     return {k: float(v[0]) for k, v in out.items()} if single else out
 
 
@@ -169,12 +191,37 @@ def _max_sensitivities(J, mode, twist, walk, kappa):
     if kappa is None:
         s = np.linalg.svd(J, compute_uv=False)
         kappa = np.divide(s[:, -1], s[:, 0], out=np.zeros(N), where=s[:, 0] > 0)
-    sing = np.flatnonzero(~(np.asarray(kappa, dtype=float).reshape(N) > RANK_TOL))
+    kappa = np.asarray(kappa, dtype=float).reshape(N)
+    sing = np.flatnonzero(~(kappa > RANK_TOL))
     if len(sing):
         unb = _null_twist_reaches(J[sing], mode)
         for a, name in enumerate(("translational", "rotational")):
             out[name][sing[unb[:, a]]] = np.inf
+        if need_pinv:
+            _flag_near_singular(out, sing, unb, kappa[sing], J.shape[1], N)
     return out
+
+
+def _flag_near_singular(out, sing, unb, kappa, L, N):
+    """NaN + one ConditioningWarning for the finite twist sensitivities of a nearly (not
+    exactly) singular J, flat_tol < σmin/σmax <= RANK_TOL, on the J# route: pinv(J)
+    then has entries ~1/κ and the farthest point computed from it is not that of the
+    set (QA Z2 3: 2.78 for 1.98 at κ = 3e-14).  An exactly singular J (σmin/σmax at
+    the rounding level, :func:`.zonotope.flat_tol`) keeps the values of eq. (5) with
+    pinv; the L = 6 slab route works on J and is not affected."""
+    near = kappa > flat_tol(6, L)
+    count = 0
+    for a, name in enumerate(("translational", "rotational")):
+        bad = sing[near & ~unb[:, a]]
+        out[name][bad] = np.nan
+        count = max(count, len(bad))
+    if count:
+        import warnings
+        warnings.warn(ConditioningWarning(
+            f"maximum sensitivities: {count} of {N} pose(s) with a nearly singular J "
+            f"({flat_tol(6, L):.2g} < σmin/σmax <= RANK_TOL = {RANK_TOL:g}, e.g. "
+            f"{kappa[near][0]:.3g}): their twist sensitivities are NaN (pinv(J) cannot "
+            "give them in float64)"), stacklevel=4)
 
 
 #: a component of a unit null twist below this counts as zero (as zonotope._flat_worst)

@@ -29,11 +29,12 @@ import numpy as np
 from ..argcheck import as_floats, float_array, positive_number
 from ..errors import InputError
 from .capability import _keep_indices
+from .tiers import fast_only
 
 __all__ = ["true_velocity_worst"]
 
 
-def true_velocity_worst(J, qdot_max, keep):
+def true_velocity_worst(J, qdot_max, keep, *, method: str = "fast"):
     """Worst case of the true velocity set's slice (module docstring).
 
     Parameters
@@ -44,6 +45,10 @@ def true_velocity_worst(J, qdot_max, keep):
         Symmetric actuator rate limit (rad/s), positive.
     keep : sequence of int
         The output coordinates of the slice (the others are 0), distinct, in 0..d-1.
+    method : "fast"
+        The only tier (float64; "precise" and "certified" are refused, :mod:`.tiers`).
+        Accuracy of the fast answer: relative error about 1e-16 (one norm and a
+        division per row).
 
     Returns
     -------
@@ -57,6 +62,7 @@ def true_velocity_worst(J, qdot_max, keep):
         J not finite or not (L, d) or (N, L, d), ``qdot_max`` not a positive finite number, or a
         bad ``keep`` (as :func:`~.capability.worst_case_output`).
     """
+    fast_only(method, "the true velocity set")
     J = as_floats(J, "J", "a Jacobian of numbers, shape (L, d) or (N, L, d)")
     if J.ndim not in (2, 3):               # one J as worst_case_output takes it (QA T 9)
         raise InputError(f"expected a Jacobian of shape (L, d) or (N, L, d), got shape "

@@ -61,10 +61,21 @@ from .constraint_basis import constraint_basis
 
 __all__ = ["zonotope_worst", "zonotope_best", "facet_normals", "farthest_in_slice",
            "RANK_TOL", "MAX_CANDIDATES", "check_enumeration", "vertex_candidates",
-           "memory_guard", "generator_batch"]
+           "memory_guard", "generator_batch", "flat_tol"]
 
-#: σmin/σmax below which a generator matrix is treated as exactly singular
+#: σmin/σmax below which a generator matrix is treated as singular
 RANK_TOL = 1e-12
+
+
+def flat_tol(d: int, L: int) -> float:
+    """σmin/σmax at or below which a float64 generator matrix is indistinguishable from
+    an exactly rank-deficient one (its distance to rank deficiency is within the
+    rounding of its entries, 4·eps·sqrt(d·L)): the flat set's values are then the
+    answer.  Between this and :data:`RANK_TOL` the pose is near-flat: values that the
+    flat route would return for a slice inside the span are not those of the
+    (non-flat) set and are flagged (NaN + :class:`~distkin.errors.ConditioningWarning`,
+    QA Z2 1)."""
+    return 4.0 * np.finfo(float).eps * float(np.sqrt(d * L))
 
 #: the most facet normals (C(L, d−1)), box vertices (2^L) or slice-vertex candidates
 #: (C(L, k)·2^(L−k)) a kernel enumerates per pose: 2^18 = 262,144, about 0.05-0.5 s and
@@ -323,7 +334,11 @@ def zonotope_worst(G, c, r, keeps, *, chunk: int = 4096):
     Returns
     -------
     ndarray (len(keeps), N)
-        Distance (origin inside) or a negative flag (origin outside).
+        Distance (origin inside) or a negative flag (origin outside).  NaN (with one
+        :class:`~distkin.errors.ConditioningWarning` naming the count) for a slice
+        inside the span of a near-flat G (:func:`flat_tol` < σmin/σmax <=
+        :data:`RANK_TOL`): there the flat set's finite value is not the limit of the
+        set's (QA Z2 1) and float64 cannot compute the latter.
     """
     from math import comb
     G = np.asarray(G, dtype=float)
@@ -331,19 +346,37 @@ def zonotope_worst(G, c, r, keeps, *, chunk: int = 4096):
     K = check_enumeration(comb(L, d - 1), L, f"facet normals (C(L, d−1), d = {d})")
     out = np.empty((len(keeps), N))
     step = _batch(chunk, K * (d + 2 * L))
+    near = 0
+    tol = flat_tol(d, L)
     for lo in range(0, N, step):
         sl = slice(lo, min(N, lo + step))
         n, h, regular = _facets(G[sl], c[sl], r[sl])
         for a, S in enumerate(keeps):
             out[a, sl] = _ratio_min(h, n[:, :, list(S)])
-        for i in lo + np.flatnonzero(~regular):
-            out[:, i] = _flat_worst(G[i], c[i], r[i], keeps)
+        for j in np.flatnonzero(~regular):
+            i = lo + j
+            exact = _pivot(G[i:i + 1])[1][0] <= tol       # the ratio _facets tested
+            out[:, i] = _flat_worst(G[i], c[i], r[i], keeps, exact=exact)
+            near += bool(np.isnan(out[:, i]).any())
+    if near:
+        import warnings
+        from ..errors import ConditioningWarning
+        warnings.warn(ConditioningWarning(
+            f"worst-case output: {near} of {N} pose(s) with a near-flat generator matrix "
+            f"({tol:.2g} < σmin/σmax <= RANK_TOL = {RANK_TOL:g}) and a slice inside its "
+            "span: NaN returned there (the flat set's value is not the set's, and float64 "
+            "cannot compute the latter)"), stacklevel=3)
     return out
 
 
-def _flat_worst(G, c, r, keeps):
+def _flat_worst(G, c, r, keeps, exact: bool = True):
     """The rank-deficient pose: facets inside the span of G, and the equality
-    constraints of its orthogonal complement (docs/design.md §6, edge cases)."""
+    constraints of its orthogonal complement (docs/design.md §6, edge cases).
+
+    ``exact`` False (a near-flat G, :func:`flat_tol` < σmin/σmax <= RANK_TOL): a slice
+    inside the span gives NaN, not the flat value (the set is thin, not flat, and its
+    slice's distance differs from the flat one's, QA Z2 1); a slice leaving the span
+    keeps 0, within κ·||G||·max r of the set's value."""
     d, L = G.shape
     U, s, _ = np.linalg.svd(G)
     rank = int(np.sum(s > RANK_TOL * s[0])) if s[0] > 0 else 0
@@ -365,7 +398,7 @@ def _flat_worst(G, c, r, keeps):
             # is lower-dimensional in R^|S|, its boundary passes through the origin
             res[a] = 0.0 if whole >= 0 else whole
             continue
-        res[a] = _ratio_min(h, nn[:, :, S])[0]
+        res[a] = _ratio_min(h, nn[:, :, S])[0] if exact or rank == d else np.nan
     return res
 
 
