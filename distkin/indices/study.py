@@ -321,7 +321,8 @@ def study_chunk(spec: dict) -> dict:
     (default True: :mod:`.study_compiled`; False: the numpy route, the reference).
 
     Returns per-position arrays: ``{q}_min``, ``{q}_max`` (and ``_in`` variants over the
-    inner orientations) for every quantity, ``n_ok``, ``n_ok_in``, ``{q}_argmin``
+    inner orientations) for every quantity, ``n_ok``, ``n_ok_in``, ``n_flagged`` (poses
+    with a value float64 cannot give, NaN, left out of the extremes), ``{q}_argmin``
     (orientation index of the worst case) for the capabilities.  Positions without a reachable
     orientation hold +inf (min) / -inf (max).
     """
@@ -341,6 +342,7 @@ def study_chunk(spec: dict) -> dict:
             res[q + suf] = np.full(npos, fill)
     res["n_ok"] = np.zeros(npos, np.int64)
     res["n_ok_in"] = np.zeros(npos, np.int64)
+    res["n_flagged"] = np.zeros(npos, np.int64)
     for q in _ARGMIN:
         res[f"{q}_argmin"] = np.full(npos, -1, np.int64)
     for a in range(lo, hi, per):
@@ -359,7 +361,12 @@ def study_chunk(spec: dict) -> dict:
         lo_v = np.full((len(QUANTITIES), len(ok)), np.inf)
         lo_v[:, ok] = np.stack([vals[q] for q in QUANTITIES])
         lo_v = lo_v.reshape(len(QUANTITIES), b - a, no)
-        hi_v = np.where(okm, lo_v, -np.inf)
+        # NaN: a value float64 cannot give (near-flat zonotope, QA Z2): left out of the
+        # extremes and counted (``n_flagged``), never a silent NaN or a wrong extreme
+        bad = np.isnan(lo_v)
+        res["n_flagged"][sl] = bad.any(axis=0).sum(axis=1)
+        hi_v = np.where(okm & ~bad, lo_v, -np.inf)
+        lo_v = np.where(bad, np.inf, lo_v)
         mins, maxs = lo_v.min(axis=2), hi_v.max(axis=2)
         inn = okm & in_mask
         mins_in = np.where(inn, lo_v, np.inf).min(axis=2)
@@ -407,7 +414,7 @@ def run_device(dev: Device, *, store, executor=None, chunk_positions: int = 64,
     definition = {"kind": "study", "mech": repr(dev.mech), "grid": grid.as_dict(),
                   "actuators": dict(actuators), "ST": list(ST), "inner": dev.inner,
                   "chunk_positions": chunk_positions, "sensitivity": sensitivity,
-                  "quantities": list(QUANTITIES), "version": 3}
+                  "quantities": list(QUANTITIES), "version": 4}
     t0 = time.perf_counter()
     store = Path(store) / sweep_key(definition)       # a changed definition starts afresh
     chunks = run_chunks(study_chunk, specs, store, definition=definition,
@@ -561,6 +568,8 @@ def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dic
                                                           for a in (grid.rx, grid.ry,
                                                                     grid.rz)))),
         "reachable_poses": n_ok,
+        # poses whose values float64 cannot give (near-flat, QA Z2), left out of the rows
+        "flagged_poses": int(per["n_flagged"].sum()) if "n_flagged" in per else 0,
         **over,
         "reachable_fraction": float(per["n_ok"].sum() / grid.size),
         "all_orientations_reachable": per["n_ok"] == grid.n_orientations,

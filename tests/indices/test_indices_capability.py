@@ -2,11 +2,13 @@
 (L = d) and the paper's polytope algorithm (Qhull), on preset Jacobians, near
 singularities and at the edge cases of docs/design.md §6."""
 
+import warnings
+
 import numpy as np
 import pytest
 from indices_helpers import random_reachable_poses, rel_err
 
-from distkin.errors import InputError, SingularConfigurationError
+from distkin.errors import ConditioningWarning, InputError, SingularConfigurationError
 from distkin.indices import best_case_output, output_generators, worst_case_output
 from distkin.indices.capability import hull_multi
 from distkin.indices.study import ACTUATORS
@@ -289,8 +291,14 @@ def test_preset_approaching_a_singularity(presets):
             b = m
         G = np.swapaxes(Jm, 1, 2)
         z = worst_case_output(G, -2.5, 2.5)[0]
-        u = worst_case_output(G, -2.5, 2.5, method="ueberle")[0]
-        smin = np.linalg.svd(G[0], compute_uv=False)[-1]
+        with warnings.catch_warnings(record=True) as rec:
+            warnings.simplefilter("always")
+            u = worst_case_output(G, -2.5, 2.5, method="ueberle")[0]
+        sv = np.linalg.svd(G[0], compute_uv=False)
+        smin = sv[-1]
+        # QA Z2: Ueberle's method hands (nearly) singular poses to the kernel, saying so
+        assert all(issubclass(w.category, ConditioningWarning) for w in rec), rec
+        assert not rec or smin / sv[0] < 1e-9, (smin / sv[0], rec[0].message)
         vals.append((smin, z, u))
         if smin > 1e-9:
             assert z == pytest.approx(u, rel=1e-6)
