@@ -157,8 +157,9 @@ class CancellationWarning(ConditioningWarning):
 class FloatRangeWarning(RuntimeWarning):
     """A float64 Cayley-Menger determinant beyond the float64 range: 0.0 for a non-zero
     value below the smallest float64 (4.9e-324), inf above the largest.  ``value`` holds
-    the determinant as a decimal string (mantissa and exponent).  Raised by
-    :mod:`distkin.geometry.cm_float` and :mod:`distkin.singularity.float_range`."""
+    the value as a decimal string (mantissa and exponent).  Raised by
+    :mod:`distkin.geometry.cm_float`, :mod:`distkin.singularity.float_range` and
+    :mod:`distkin.indices.float_scale`."""
 
     def __init__(self, message, value=""):
         super().__init__(message)

@@ -440,9 +440,9 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
               if s["isotropy"].get("rotation_note")]
     lines += [f"  {s['label']}: reaches no pose of its grid: its rows below are empty (—)"
               for s in summaries if s["reachable_poses"] == 0]
-    lines += [f"  {s['label']}: {s['flagged_poses']:,} poses left out of every row below: "
-              "near-flat (σmin/σmax of J at most 1e-12), values float64 cannot give "
-              "(ConditioningWarning; distkin.indices.zonotope)"
+    lines += [f"  {s['label']}: {s['flagged_poses']:,} poses near-flat (σmin/σmax of J at "
+              "most 1e-12): each left out of the rows whose value float64 cannot give "
+              "there (ConditioningWarning; distkin.indices.zonotope)"
               for s in summaries if s.get("flagged_poses")]
     lines += ["", tables, "", "Findings of the paper:"]
     lines += [_finding_text(f) for f in fnd]

@@ -121,7 +121,8 @@ class Controller:
         if fused and model.compiled is not None:
             # the fused cycle (steps 2-8 in one compiled call): its parameters, and the
             # PD state as one (5, L) buffer (rows e_prev, d_prev, d_f, ∫e; flag)
-            self._fused = cycle_params(self.pd, self.safety, self.adm, self.weight, SCALING)
+            self._fused = cycle_params(self.pd, self.safety, self.adm, self.weight, SCALING,
+                                       period=self.dt_nominal)
             self._pd_state = np.zeros((5, self.L))
         self._reset_pd()
         self.refusing = False
@@ -158,12 +159,18 @@ class Controller:
         The filter ``T ḋ_f = d - d_f`` (T = ``derivative_filter_s``) stepped explicitly:
         ``d_f[k] = d_f[k-1] + (dt/T) (d[k-1] - d_f[k-1])``, where ``d[k] = (e[k] -
         e[k-1]) / dt`` is the raw difference quotient; T = 0 passes ``d[k]`` through.
-        Returns the filtered derivative (L,) in rad/s.
+        The step is ``min(dt, max(T, h))/T`` (h the nominal period; review: the loop
+        steps with the measured gap, up to 5 periods, and ``1 - dt/T`` below -1 made the
+        filter diverge for a T >= h that the load check accepts): a late frame moves the
+        filter at most all the way to ``d[k-1]``; for dt <= h nothing changes (the
+        delay-margin analysis' model).  Returns the filtered derivative (L,) in rad/s.
         """
         pd = self.pd
         d_raw = np.zeros(self.L) if self.e_prev is None else (e - self.e_prev) / dt
         if pd.derivative_filter_s > 0:
-            self.de_f = self.de_f + (dt / pd.derivative_filter_s) * (self.d_prev - self.de_f)
+            T = pd.derivative_filter_s
+            self.de_f = self.de_f + (min(dt, max(T, self.dt_nominal)) / T) * (
+                self.d_prev - self.de_f)
         else:
             self.de_f = d_raw
         self.d_prev = d_raw

@@ -143,24 +143,26 @@ CYCLE_OUT = 27
 
 
 def cycle_params(pd, safety, adm, weight: float, scaling, *, fk_tol: float = 1e-4,
-                 fk_iter: tuple = (8, 40)):
+                 fk_iter: tuple = (8, 40), period: float = 0.0):
     """The parameter vector ``prm`` and environment table ``env`` of the fused cycle
     (``cycle`` of :func:`build`), from a controller's gains, limits and admittance.
 
-    ``prm`` (33,): FK tolerance, FK iterations (warm, cold), max FK residual, σmin,
+    ``prm`` (34,): FK tolerance, FK iterations (warm, cold), max FK residual, σmin,
     max condition, kp, kd, ki, derivative filter T, torque limit (the largest float32
     not above it: :func:`.protocol.float32_floor`), projected (0/1),
     gravity compensation (0/1), hand feed-forward (0/1), weight (N), S (6), virtual
-    mass (6), virtual damping (6).  ``env`` (n, 25), one row per element in the
-    scene's order: a Spring ``0, p0 (3), R0ᵀ (9, row-major), k (6), d (6)``; a Wall
+    mass (6), virtual damping (6), the derivative filter's largest step
+    ``max(T, period)`` (s; :meth:`.controller.Controller.filter_derivative`).
+    ``env`` (n, 25), one row per element in the scene's order: a Spring
+    ``0, p0 (3), R0ᵀ (9, row-major), k (6), d (6)``; a Wall
     ``1, normal (3), offset, stiffness, damping`` (zero padded).
     """
     prm = np.array([fk_tol, fk_iter[0], fk_iter[1], safety.max_fk_residual,
                     safety.sigma_min, safety.max_condition, pd.kp, pd.kd, pd.ki,
                     pd.derivative_filter_s, float32_floor(pd.torque_limit),
                     float(pd.distribution == "projected"), float(pd.gravity_compensation),
-                    float(pd.hand_feedforward), weight, *scaling, *adm.mass, *adm.damping],
-                   dtype=float)
+                    float(pd.hand_feedforward), weight, *scaling, *adm.mass, *adm.damping,
+                    max(pd.derivative_filter_s, period)], dtype=float)
     env = np.zeros((len(adm.environment), 25))
     for r, e in enumerate(adm.environment):
         if e.kind == "spring":
@@ -318,7 +320,7 @@ def build(kernels, L: int) -> CycleKernels:
     ck.rotate_pose(np.zeros(6), np.zeros(3), np.zeros(3))
     env = np.zeros((2, 25))
     env[1, 0] = 1.0
-    prm = np.zeros(33)
+    prm = np.zeros(34)
     prm[15:21] = 1.0                               # the scaling S (a divisor)
     for started in (False, True):
         ck.cycle(np.zeros(L), np.zeros(6), 1e-3, started, True, np.zeros(6), np.zeros(6),

@@ -187,11 +187,12 @@ def cycle(q, ws, dt, started, run, guess, adm_pose, adm_twist, pd, prm, env,
             atwist[i] = tw[i]
     # 6. PD(I) with the forward-Euler filtered derivative (Controller.filter_derivative)
     T = prm[9]
+    a = min(dt, prm[33]) / T if T > 0 else 0.0    # capped step (filter_derivative)
     for i in range(L):
         e = qd[i] - q[i]
         d_raw = 0.0 if pd[4, 0] == 0.0 else (e - pd[0, i]) / dt
         if T > 0:
-            pd[2, i] = pd[2, i] + (dt / T) * (pd[1, i] - pd[2, i])
+            pd[2, i] = pd[2, i] + a * (pd[1, i] - pd[2, i])
         else:
             pd[2, i] = d_raw
         pd[1, i] = d_raw

@@ -23,7 +23,9 @@ def check_filter_period(pd, rate_hz):
     eigenvalue ``1 - h/T``: for T < h it is negative (the filtered derivative alternates
     in sign every period, no low-pass), for T < h/2 below -1 (it diverges whatever the
     gains, and ``kd = 0`` does not help: ``0 x inf`` is NaN, QA).  T = h is a one-period
-    delay of the raw difference quotient; T = 0 passes it through unfiltered."""
+    delay of the raw difference quotient; T = 0 passes it through unfiltered.  (The
+    loop steps with the measured gap and clamps the step to 1: a late frame cannot make
+    an accepted filter diverge; :meth:`.controller.Controller.filter_derivative`.)"""
     T, h = pd.derivative_filter_s, 1.0 / rate_hz
     if 0.0 < T < h:
         raise InputError(

@@ -39,10 +39,11 @@ def scale_back(out, e, what: str):
     if np.any(lost):
         import warnings
         from ..errors import FloatRangeWarning
+        from ..geometry.cm_float import scaled_decimal
         i = np.flatnonzero(np.ravel(lost))[0]
         mant = float(np.ravel(np.broadcast_to(out, np.shape(res)))[i])
         ex = int(np.ravel(np.broadcast_to(e, np.shape(res)))[i])
-        value = f"{mant!r}·2^{ex}"
+        value = scaled_decimal(mant, ex)           # the decimal string of every raiser
         warnings.warn(FloatRangeWarning(
             f"{what}: {int(np.sum(lost))} value(s) beyond the float64 range, e.g. {value}: "
             f"returned {float(np.ravel(res)[i])!r}; use other units", value), stacklevel=4)
