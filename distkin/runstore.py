@@ -44,6 +44,7 @@ import json
 import multiprocessing
 import os
 import re
+import socket
 import sys
 import time
 import zipfile
@@ -67,9 +68,13 @@ WORKER_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THRE
 NO_WORKER_TIMEOUT_S = 60.0
 #: how often (s) a sweep waiting on a cluster checks that it still has workers
 _HEALTH_POLL_S = 2.0
-#: a finished chunk's file name, and a temporary one of :func:`_save` (``.PID.tmp.npz``)
+#: a finished chunk's file name, and a temporary one of :func:`_save`
+#: (``.HOST@PID.tmp.npz``; older versions wrote ``.PID.tmp.npz``)
 _CHUNK_RE = re.compile(r"chunk_\d+\.npz")
-_TMP_RE = re.compile(r"chunk_\d+\.npz\.(\d+)\.tmp\.npz|sweep\.json\.(\d+)\.tmp")
+_TMP_RE = re.compile(r"(?:chunk_\d+\.npz|sweep\.json)\.(?:([A-Za-z0-9_-]+)@)?(\d+)\.tmp(?:\.npz)?")
+#: this host in temporary file names (a store shared between hosts: a PID is only
+#: judged alive or dead on its own host)
+_HOST = re.sub(r"[^A-Za-z0-9_-]", "_", socket.gethostname()) or "host"
 #: seconds after which a temporary file of a dead process (or of any process: a store
 #: shared between hosts) is removed when the store is opened
 _STALE_TMP_S = (60.0, 86400.0)
@@ -251,7 +256,7 @@ def _save(path: Path, data: dict, stamp: dict | None = None) -> None:
         members[g].append(a)
     entries = {f"group{g}": np.stack(m) for g, m in enumerate(members)}
     # a name of this process's own: two runs into one store must not share it
-    tmp = path.with_name(f"{path.name}.{os.getpid()}.tmp.npz")
+    tmp = path.with_name(f"{path.name}.{_HOST}@{os.getpid()}.tmp.npz")
     extra = {} if stamp is None else {"stamp__": np.array(json.dumps(stamp, sort_keys=True))}
     np.savez(tmp, names__=np.array(names, dtype=str), group__=group, place__=place,
              **extra, **entries)
@@ -512,7 +517,7 @@ def _open_store(store, key, definition, n):
                          hint="delete those chunk files (they are computed again) or use "
                               "another directory")
     if not meta.exists():
-        tmp = meta.with_name(f"{meta.name}.{os.getpid()}.tmp")
+        tmp = meta.with_name(f"{meta.name}.{_HOST}@{os.getpid()}.tmp")
         tmp.write_text(json.dumps({"key": key, "code": code, "chunks": n,
                                    "definition": definition}, default=str, indent=1))
         os.replace(tmp, meta)                            # whole, for a second run too
@@ -539,18 +544,20 @@ def _pid_alive(pid: int) -> bool:
 
 def _remove_stale_tmp(store: Path) -> list:
     """Remove the temporary files of :func:`_save` (and of ``sweep.json``) that a killed
-    process left: those of a process that no longer runs, older than a minute, and any
-    older than a day (another host's).  Returns the names removed."""
+    process left: those of a process of this host that no longer runs, older than a
+    minute, and any older than a day (another host's: its PID means nothing here; a
+    name without a host, of an older version, counts as this host's).  Returns the
+    names removed."""
     dead_age, any_age = _STALE_TMP_S
     now, removed = time.time(), []
     for p in store.iterdir():
         m = _TMP_RE.fullmatch(p.name)
         if m is None or not p.is_file():
             continue
-        pid = int(m.group(1) or m.group(2))
+        here, pid = m.group(1) in (None, _HOST), int(m.group(2))
         try:
             age = now - p.stat().st_mtime
-            if age > any_age or (age > dead_age and pid != os.getpid()
+            if age > any_age or (here and age > dead_age and pid != os.getpid()
                                  and not _pid_alive(pid)):
                 p.unlink()
                 removed.append(p.name)

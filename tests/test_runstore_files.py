@@ -110,3 +110,36 @@ def test_the_dead_cluster_message_counts_finished_chunks_only(tmp_path, monkeypa
     with pytest.raises(DistkinError) as exc:
         runstore._wait_alive(NoWorkers(), {Future()}, store, 0.05)
     assert f"the {written} finished chunks are kept" in exc.value.message
+
+
+def test_another_hosts_temporary_file_is_judged_by_age_only(tmp_path):
+    """Review: on a store shared between hosts a PID means nothing on another host, so
+    a temporary file of another host's writer (a dead PID here, an hour old) is kept;
+    the same name of this host is removed; any older than a day goes."""
+    store = tmp_path / "s"
+    run_chunks(_square, [2, 3], store, definition={"n": 2}, progress=False)
+    pid = _dead_pid()
+    other = store / f"chunk_00001.npz.otherhost@{pid}.tmp.npz"
+    mine = store / f"chunk_00001.npz.{runstore._HOST}@{pid}.tmp.npz"
+    ancient = store / f"chunk_00000.npz.otherhost@{pid}.tmp.npz"
+    for p, age in ((other, 3600), (mine, 3600), (ancient, 2 * 86400)):
+        p.write_bytes(b"partial")
+        os.utime(p, (time.time() - age, time.time() - age))
+    run_chunks(_square, [2, 3], store, definition={"n": 2}, progress=False)
+    assert other.exists() and not mine.exists() and not ancient.exists()
+
+
+def test_a_save_names_its_host_and_process(tmp_path, monkeypatch):
+    """The temporary name a save writes carries this host and PID (what the cleanup
+    reads back)."""
+    seen = []
+    real = os.replace
+
+    def spy(src, dst):
+        seen.append(Path(src).name)
+        return real(src, dst)
+
+    monkeypatch.setattr(os, "replace", spy)
+    run_chunks(_square, [2], tmp_path / "s", definition={"n": 1}, progress=False)
+    tag = f"{runstore._HOST}@{os.getpid()}"
+    assert seen and all(tag in n and runstore._TMP_RE.fullmatch(n) for n in seen), seen
