@@ -181,8 +181,9 @@ def worst_case_output(G, pmin, pmax, keep=None, method: str = "fast", *,
         out = np.array([hull_worst_best(G[i], lo[i], hi[i], S)[0] for i in range(N)])
     else:
         if L != d:
+            arg = "algorithm" if algorithm is not None else "method"
             raise InputError(f"Ueberle's method needs L = d, got L={L}, d={d}; use "
-                             "method='zonotope' or 'hull'", field="method")
+                             f"{arg}='zonotope' or 'hull'", field=arg)
         out = ueberle_worst(G, lo, hi, S)
     out = scale_back(out, e, "worst-case output")
     return float(out[0]) if single else out

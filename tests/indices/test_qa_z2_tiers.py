@@ -48,3 +48,12 @@ def test_algorithm_keyword_and_old_method_names():
     with pytest.raises(InputError) as exc:
         worst_case_output(G, -1, 1, algorithm="lp")
     assert exc.value.field == "algorithm"
+
+
+@pytest.mark.parametrize("arg", ["algorithm", "method"])
+def test_ueberle_with_more_legs_names_the_argument_the_caller_used(arg):
+    """Ueberle's method needs L = d: the refusal names the argument that chose it."""
+    G = np.random.default_rng(1).normal(size=(6, 8))
+    with pytest.raises(InputError) as exc:
+        worst_case_output(G, -1.0, 1.0, **{arg: "ueberle"})
+    assert exc.value.field == arg and f"{arg}='zonotope'" in str(exc.value)
