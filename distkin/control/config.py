@@ -318,15 +318,13 @@ def _simulator(t, joint="revolute"):
 
 
 def _kinematics_of(preset_name: str, mechanism):
-    """The device's kinematics on the Python route (no compilation at load), with its
-    ``length_scale`` (m) noted: the home pose, and the Jacobian there for the checks
-    of :func:`.scene_checks.check_safety_at_home`."""
+    """``(kin, length_scale)``: the device's kinematics on the Python route (no
+    compilation at load) and its mechanism's length scale (m): the home pose, and the
+    Jacobian there for the checks of :func:`.scene_checks.check_safety_at_home`."""
     from ..mechanisms import preset
     from .kinematics import KinematicModel
     mech = mechanism if mechanism is not None else preset(preset_name)
-    kin = KinematicModel(mech, compiled=False)
-    kin.length_scale = float(mech.length_scale)
-    return kin
+    return KinematicModel(mech, compiled=False), float(mech.length_scale)
 
 
 def _device_mechanism(dev, path, mechanism_loader):
@@ -467,7 +465,7 @@ def loads_control_scene(text: str, path: str = "<string>", *,
     mass = _vec(adm, "mass", "admittance", 6, positive=True)
     damping = _vec(adm, "damping", "admittance", 6, nonneg=True)
 
-    kin = _kinematics_of(preset_name, mechanism)
+    kin, length_scale = _kinematics_of(preset_name, mechanism)
     home = kin.home
     env = _environment(data.get("environment", []), home)
 
@@ -520,7 +518,7 @@ def loads_control_scene(text: str, path: str = "<string>", *,
         recover_rate_rad_s=_num(st, "recover_rate_rad_s", "safety", s.recover_rate_rad_s,
                                 positive=True))
     _timing(rate, safety, sim)
-    warn = check_safety_at_home(safety, kin, joint) + hand_range_warnings(sim.hand, safety)
+    warn = check_safety_at_home(safety, kin, joint, length_scale) + hand_range_warnings(sim.hand, safety)
     title = data.get("title", "")
     if not isinstance(title, str):
         raise InputError(f"expected a string, got {title!r}", field="title")

@@ -130,6 +130,8 @@ class Controller:
         self.saturated_cycles = 0
         #: cycles whose computed efforts were not all finite (sent as zero torque)
         self.nonfinite_cycles = 0
+        #: device time (µs) of the last run spent in fault or hold (:func:`.loop.run_loop`)
+        self.fault_us = 0
         self.max_abs_torque = 0.0
         self.device_status = DeviceStatus()     # the device's own status bits
         self.rejected_frames = 0

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from .safety import FAULT, RUN, STOPPED
 
 __all__ = ["CsvLog", "EventLog", "read_csv", "read_events", "plot_run", "plot_delay_margin",
            "timing_summary", "run_summary", "EXIT_CODES", "STATE_NAMES",
@@ -228,6 +229,11 @@ def plot_run(prefix, out=None, *, effort_unit: str = "N·m") -> list:
     return [out]
 
 
+#: the summary's ``final_state``: the name of the controller's state after the last
+#: cycle (:data:`.safety.RUN`, ``FAULT``, ``STOPPED``)
+STATE_NAMES = {RUN: "run", FAULT: "fault", STOPPED: "stopped"}
+
+
 #: the exit code of each ``exit_reason`` of a run (``distkin control``); any other
 #: reason (``internal_error``) is 1, an internal failure, as everywhere in distkin.
 #: 2 also when the run did not complete because of the device or the link, not of
@@ -235,10 +241,6 @@ def plot_run(prefix, out=None, *, effort_unit: str = "N·m") -> list:
 #: ``exit_reason`` and the stderr line say which):
 #: no state frame (``no_device``), none valid (``no_valid_frames``), the link lost
 #: (``disconnect``), the wall-clock limit (``wall_limit``, a device too slow or held up)
-#: the summary's ``final_state``: the controller's state after the last cycle
-#: (:data:`.safety.RUN`, ``FAULT``, ``STOPPED``)
-STATE_NAMES = {0: "run", 1: "fault", 2: "stopped"}
-
 EXIT_CODES = {"completed": 0, "device_mismatch": 2, "no_device": 2, "no_valid_frames": 2,
               "disconnect": 2, "wall_limit": 2, "interrupted": 130}
 
@@ -296,10 +298,10 @@ def run_summary(ctl, link, cycles, wall, t_first, t_last, compute, compute_cpu, 
                                                   "device_saturated")),
         "refused_poses": ctl.refused,
         "saturated_cycles": ctl.saturated_cycles,
-        "nonfinite_cycles": getattr(ctl, "nonfinite_cycles", 0),
+        "nonfinite_cycles": ctl.nonfinite_cycles,
         **effort,
         "final_state": STATE_NAMES.get(ctl.state) if cycles else None,
-        "fault_seconds": round(getattr(ctl, "fault_us", 0) * 1e-6, 4),
+        "fault_seconds": round(ctl.fault_us * 1e-6, 4),
         "gc_collections": ctl.gc_collections,
         "loop_cpu_share": round(ctl.loop_cpu_s / wall, 3) if wall > 0 else None,
         "busy_wait_us": round(getattr(link, "polling_s", 0.0) * 1e6, 3),

@@ -43,9 +43,9 @@ def check_filter_period(pd, rate_hz):
 WORKSPACE_SIZE_FACTOR = 10.0
 
 
-def check_safety_at_home(safety, kin, joint):
+def check_safety_at_home(safety, kin, joint, length_scale):
     """Check ``safety`` against the device's own home pose (``kin`` a Python-route
-    :class:`~.kinematics.KinematicModel`).  Refused (InputError): ``workspace_rad``
+    :class:`~.kinematics.KinematicModel`, ``length_scale`` its mechanism's, m).  Refused (InputError): ``workspace_rad``
     beyond π (a rotation box of ±π already holds every orientation: a number in degrees
     typed as rad), and a home pose that the singularity guard itself calls near-singular
     (σmin of ``J S^-1`` below ``sigma_min``, or its condition number above
@@ -74,7 +74,7 @@ def check_safety_at_home(safety, kin, joint):
                          f"J S^-1 at the device's home pose, {cond:.4g}, got "
                          f"{safety.max_condition:g}: the singularity guard would hold the "
                          f"device the whole run", field="safety.max_condition")
-    size = max(float(np.linalg.norm(kin.home[:3])), float(kin.length_scale))
+    size = max(float(np.linalg.norm(kin.home[:3])), float(length_scale))
     if safety.workspace_m > WORKSPACE_SIZE_FACTOR * size:
         return (("safety.workspace_m",
                  f"±{safety.workspace_m:g} m is more than {WORKSPACE_SIZE_FACTOR:g} x the "
