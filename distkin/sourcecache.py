@@ -28,7 +28,7 @@ from pathlib import Path
 
 from .runstore import user_cache_dir
 
-__all__ = ["cache_dir", "source_key", "package_text", "import_closure", "closure_text",
+__all__ = ["cache_dir", "source_key", "import_closure", "closure_text",
            "toolchain_versions", "cached_source", "load_module_file", "load_source"]
 
 #: the distkin package folder (the root of :func:`import_closure`)
@@ -47,13 +47,6 @@ def source_key(*parts) -> str:
         h.update(p if isinstance(p, bytes) else str(p).encode())
         h.update(b"\x00")
     return h.hexdigest()
-
-
-def package_text(files) -> str:
-    """The text of ``files`` (paths relative to the ``distkin`` package), concatenated:
-    the model source a generated module depends on, for :func:`source_key`."""
-    root = Path(__file__).resolve().parent
-    return "".join((root / f).read_text(encoding="utf-8") for f in files)
 
 
 def _module_file(root: Path, module: str):

@@ -17,11 +17,10 @@ from ..octahedral.octic import (LEG_PAIRS, PART_NAMES, SIDE_PAIRS, octic_parts,
 __all__ = ["octic_in_legs", "kernel_outputs", "generate_octic_module"]
 
 
-#: the sources the cached octic depends on beyond its inputs (the cache key)
-_OCTIC_FILES = ("octahedral/octic.py", "octahedral/banana.py", "codegen/octic.py")
-#: ... and every distkin file these modules import, with the toolchain's versions (a
-#: pickle of sympy expressions is another sympy's only by chance; QA 6: hand-kept file
-#: lists missed files), :func:`~distkin.sourcecache.closure_text`
+#: the sources the cached octic depends on beyond its inputs (the cache key): every
+#: distkin file these modules import, with the toolchain's versions (a pickle of sympy
+#: expressions is another sympy's only by chance; QA 6: hand-kept file lists missed
+#: files), :func:`~distkin.sourcecache.closure_text`
 _OCTIC_MODULES = ("distkin.codegen.octic",)
 
 
@@ -32,7 +31,7 @@ def octic_in_legs(values=None, *, use_cache: bool = True):
     coefficients are polynomials in the six squared legs only ("model only what a scene
     requires").  The result is cached on disk under :func:`cache_dir`, keyed by a
     SHA-256 of the symbolic source (the ``srepr`` of the parts and the substitution)
-    and of the sources that derive the octic (:data:`_OCTIC_FILES`), so a second run
+    and of the sources that derive the octic (:data:`_OCTIC_MODULES`), so a second run
     does no algebra (the folder of :mod:`.cache`).
 
     Returns
@@ -41,14 +40,14 @@ def octic_in_legs(values=None, *, use_cache: bool = True):
         Nine coefficients :math:`o_8, \dots, o_0` of :math:`O(s_{15})`.
     """
     import sympy
-    from ..sourcecache import cache_dir, closure_text, package_text, source_key
+    from ..sourcecache import cache_dir, closure_text, source_key
     from .emit import symbolic_hash
     p = octic_parts(values)
     # the inputs and the algorithm: the parts' srepr, and the source of the code that
     # squares eq. (3) into the octic (a cache keyed by the inputs alone served the old
     # octic after a change of octic_polynomial)
     key = source_key(symbolic_hash(*[getattr(p, n) for n in PART_NAMES], p.x),
-                     package_text(_OCTIC_FILES), closure_text(_OCTIC_MODULES))[:32]
+                     closure_text(_OCTIC_MODULES))[:32]
     path = cache_dir() / f"octic_{key}.pickle"
     if use_cache and path.exists():
         try:

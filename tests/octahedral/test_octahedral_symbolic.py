@@ -185,7 +185,7 @@ def test_octic_cache_is_keyed_by_the_code_that_derives_it(tmp_path, monkeypatch)
     octic_mod.octic_in_legs(fixed)
     octic_mod.octic_in_legs(fixed)
     assert len(list(tmp_path.glob("octic_*.pickle"))) == 1          # the same key again
-    monkeypatch.setattr(octic_mod, "_OCTIC_FILES", ("octahedral/octic.py",))
+    monkeypatch.setattr(octic_mod, "_OCTIC_MODULES", ("distkin.octahedral.octic",))
     octic_mod.octic_in_legs(fixed)
     assert len(list(tmp_path.glob("octic_*.pickle"))) == 2          # another source
 
