@@ -135,7 +135,7 @@ def rank_bounds(Y, C, A, Q, E):
         for t, (k, l) in enumerate(zip(*iu)):
             w[:, k] += 0.5 * tw[:, 2 * n + t]
             w[:, l] += 0.5 * tw[:, 2 * n + t]
-        v = _perron(Bm)
+        v = perron_vectors(Bm)
         Bv = _safe(np.einsum("bij,bj->bi", Bm, v))
         ratios = up(Bv / v)
         cmax = ratios.max(axis=1)
@@ -146,12 +146,6 @@ def rank_bounds(Y, C, A, Q, E):
         denom = _safe(up(np.sqrt(6.0)) * v.max(axis=1) * rn)
         sigma = np.where(ok, np.maximum(0.0, down(down(1.0 - cmax) / denom)), 0.0)
     return ok, contraction, sigma, w
-
-
-def _perron(Bm):
-    """Positive approximate Perron vectors of the non-negative (B, 6, 6) matrices
-    (scale-invariant: :func:`.boxes.perron_vectors`)."""
-    return perron_vectors(Bm)
 
 
 def _det_sign(Y) -> int:

@@ -265,12 +265,6 @@ def perron_vectors(B, iterations: int = 60):
         return np.ldexp(v, -e)
 
 
-def _perron_vector(B):
-    """A positive approximate Perron vector of the non-negative 6×6 matrix ``B``
-    (floats): :func:`perron_vectors` of one matrix."""
-    return perron_vectors(np.asarray(B, dtype=float)[None])[0]
-
-
 def regularity_certificate(Y, jx0, jx_terms=(), jx_err=None):
     """The preconditioned rank test of the module docstring.
 
@@ -319,7 +313,7 @@ def regularity_certificate(Y, jx0, jx_terms=(), jx_err=None):
     if not all(x.is_finite() for row in Ba for x in row):
         return False, math.inf, 0.0, weights
     B = np.array([[_up(x) for x in row] for row in Ba])
-    v = _perron_vector(B)
+    v = perron_vectors(B)
     Bv = [sum((arb(float(B[i, j])) * arb(float(v[j])) for j in range(6)), arb(0))
           for i in range(6)]
     ratios = [Bv[i] / arb(float(v[i])) for i in range(6)]
