@@ -174,20 +174,24 @@ def main(argv=None) -> int:
             _run_section(name, names, info, results, run)
             if name in run["ran"]:
                 # the numbers and the log entry with the section (QA 8: only at the end)
-                run["seconds"] = time.perf_counter() - t_all
-                results["_last_run"] = run
-                _write_run(run, log)
-                _write_json(results)
+                _save(run, results, log, t_all)
     except KeyboardInterrupt:
         return _stopped(name, run, results, log, t_all, "interrupted", 130)
     except Exception as exc:                                 # noqa: BLE001 (one line)
         return _stopped(name, run, results, log, t_all,
                         f"failed: {type(exc).__name__}: {' '.join(str(exc).split())[:200]}", 1)
+    _save(run, results, log, t_all)
+    return 0
+
+
+def _save(run, results, log, t_all) -> None:
+    """The run so far into results.json (``_last_run``) and its entry into the run log
+    (replacing the one it wrote after an earlier section: ``log`` is the block as it was
+    when the run started)."""
     run["seconds"] = time.perf_counter() - t_all
     results["_last_run"] = run
     _write_run(run, log)
     _write_json(results)
-    return 0
 
 
 def _run_section(name, names, info, results, run) -> None:
@@ -223,16 +227,14 @@ def _stopped(name, run, results, log, t_all, why, code) -> int:
     kept = ", ".join(run["ran"]) or "none"
     try:
         if run["ran"]:
-            run["seconds"] = time.perf_counter() - t_all
             run["stopped"], run["why"] = name, why
-            results["_last_run"] = run
-            _write_run(run, log)
-            _write_json(results)
+            _save(run, results, log, t_all)
     except (OSError, KeyboardInterrupt) as exc:
         kept += f" (but their log entry could not be written: {type(exc).__name__})"
     print(f"benchmarks: section {name!r} {why}; sections written to BENCHMARKS.md and "
           f"results.json: {kept}", file=sys.stderr)
     return code
+
 
 if __name__ == "__main__":
     sys.exit(main())
