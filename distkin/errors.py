@@ -155,9 +155,12 @@ class CancellationWarning(ConditioningWarning):
 
 
 class FloatRangeWarning(RuntimeWarning):
-    """A float64 Cayley-Menger determinant beyond the float64 range: 0.0 for a non-zero
-    value below the smallest float64 (4.9e-324), inf above the largest.  ``value`` holds
-    the value as a decimal string (mantissa and exponent).  Raised by
+    """A value computed in float64 (a Cayley-Menger determinant, a singularity
+    condition, a capability or sensitivity index) beyond float64's normal range: a
+    non-zero value below the smallest normal float64 (2.2e-308, returned subnormal or
+    0.0) or above the largest (returned inf).  ``value`` holds the value as a decimal
+    string (mantissa and exponent).  Raised by
+    :func:`distkin.geometry.pow2_scale.scale_back`, for
     :mod:`distkin.geometry.cm_float`, :mod:`distkin.singularity.float_range` and
     :mod:`distkin.indices.float_scale`."""
 

@@ -27,9 +27,10 @@ import warnings
 import numpy as np
 
 from ..errors import CancellationWarning, FloatRangeWarning, InputError
+from .pow2_scale import exponent, scale_back
 
 __all__ = ["FloatRangeWarning", "CancellationWarning", "float_determinant",
-           "CANCELLATION_THRESHOLD", "scaled_decimal"]
+           "CANCELLATION_THRESHOLD"]
 
 #: relative error estimate above which the fast tier warns: a bound from Hadamard's
 #: inequality, which overestimates (the banana identity of a random octahedron holds to
@@ -121,36 +122,15 @@ _TINY = 2.2250738585072014e-308
 def _rescaled(M, d, k):
     r"""The float determinant of the bordered matrix ``M`` (..., k+1, k+1) from its
     entries scaled by :math:`2^{-e}` (exact), :math:`2^e` just above the largest squared
-    distance: :math:`D(\lambda s) = \lambda^{k-1} D(s)`, so :math:`D = D_e 2^{e(k-1)}`.
-    A value that is not zero but still does not fit float64 warns (FloatRangeWarning):
-    an underflow is not a flat simplex (QA J 4)."""
-    import warnings
+    distance: :math:`D(\lambda s) = \lambda^{k-1} D(s)`, so :math:`D = D_e 2^{e(k-1)}`
+    (:mod:`.pow2_scale`).  A value that is not zero but still does not fit float64 warns
+    (FloatRangeWarning): an underflow is not a flat simplex (QA J 4)."""
     S = M[..., 1:, 1:]
-    big = np.max(np.abs(S), axis=(-2, -1)) if k else np.zeros(np.shape(d))
-    e = np.frexp(np.where(big > 0, big, 1.0))[1]
+    e = exponent(np.max(np.abs(S), axis=(-2, -1))) if k else np.zeros(np.shape(d), int)
     Ms = M.copy()
     Ms[..., 1:, 1:] = np.ldexp(S, -e[..., None, None])
-    ds = np.linalg.det(Ms)
-    with np.errstate(over="ignore", under="ignore"):
-        out = np.ldexp(ds, e * (k - 1))
-    lost = (ds != 0) & ((out == 0) | ~np.isfinite(out))
-    if np.any(lost):
-        i = np.flatnonzero(np.ravel(lost))[0]
-        mant, ex = float(np.ravel(ds)[i]), int(np.ravel(e)[i]) * (k - 1)
-        value = scaled_decimal(mant, ex)
-        side = "below the smallest" if np.ravel(out)[i] == 0 else "beyond the largest"
-        warnings.warn(FloatRangeWarning(
-            f"Cayley-Menger determinant {value} is {side} float64 number: returned "
-            f"{float(np.ravel(out)[i])!r}; use method='certified' or a larger/smaller "
-            "length unit", value), stacklevel=4)
-    return out, lost
-
-
-def scaled_decimal(mant: float, ex: int) -> str:
-    """``mant * 2**ex`` as a decimal with an exponent (any exponent)."""
-    import mpmath
-    with mpmath.workdps(20):
-        return mpmath.nstr(mpmath.ldexp(mpmath.mpf(mant), ex), 6)
+    return scale_back(np.linalg.det(Ms), e * (k - 1), "Cayley-Menger determinant",
+                      "method='certified' or a larger/smaller length unit")
 
 
 def _bordered(s, rows, cols):

@@ -6,8 +6,8 @@ scales with both), but their intermediates (facet normals ~ ``1/||G||``, their s
 norms, ``pinv(J)``) leave the float64 range long before the result does: ``G·1e-155``
 gave inf.  A pose whose largest entry lies outside ``[2^-SAFE, 2^SAFE]`` is therefore
 scaled by ``2^-e`` (:func:`numpy.ldexp`, exact: no digit changes) before the kernel and
-its result by ``2^e`` after, as :func:`distkin.geometry.cm_float._rescaled` does for
-Cayley-Menger determinants.  Poses inside the range are not touched (bit-identical
+its result by ``2^e`` after, with :mod:`distkin.geometry.pow2_scale`, as Cayley-Menger
+determinants are.  Poses inside the range are not touched (bit-identical
 results).  A result that itself does not fit float64 is returned as inf or 0 with a
 :class:`~distkin.errors.FloatRangeWarning`.
 """
@@ -15,6 +15,9 @@ results).  A result that itself does not fit float64 is returned as inf or 0 wit
 from __future__ import annotations
 
 import numpy as np
+
+from ..geometry import pow2_scale
+from ..geometry.pow2_scale import exponent
 
 __all__ = ["pow2_exponent", "scale_back", "SAFE"]
 
@@ -25,26 +28,12 @@ SAFE = 128
 def pow2_exponent(a, axes):
     """Per-pose binary exponent ``e`` (int array) of the largest ``|a|`` over ``axes``,
     0 where it is within ``2^±SAFE`` or zero: ``ldexp(a, -e)`` has entries <= 1 there."""
-    big = np.max(np.abs(a), axis=axes)
-    e = np.frexp(np.where(big > 0, big, 1.0))[1]
+    e = exponent(np.max(np.abs(a), axis=axes))
     return np.where(np.abs(e) > SAFE, e, 0)
 
 
 def scale_back(out, e, what: str):
     """``out·2^e`` elementwise (broadcast), with one FloatRangeWarning naming ``what``
-    and the count where a finite non-zero value becomes inf or 0."""
-    with np.errstate(over="ignore", under="ignore"):
-        res = np.ldexp(out, e)
-    lost = np.isfinite(out) & (out != 0) & (~np.isfinite(res) | (res == 0))
-    if np.any(lost):
-        import warnings
-        from ..errors import FloatRangeWarning
-        from ..geometry.cm_float import scaled_decimal
-        i = np.flatnonzero(np.ravel(lost))[0]
-        mant = float(np.ravel(np.broadcast_to(out, np.shape(res)))[i])
-        ex = int(np.ravel(np.broadcast_to(e, np.shape(res)))[i])
-        value = scaled_decimal(mant, ex)           # the decimal string of every raiser
-        warnings.warn(FloatRangeWarning(
-            f"{what}: {int(np.sum(lost))} value(s) beyond the float64 range, e.g. {value}: "
-            f"returned {float(np.ravel(res)[i])!r}; use other units", value), stacklevel=4)
-    return res
+    where a finite non-zero value becomes inf or leaves the normal range
+    (:func:`distkin.geometry.pow2_scale.scale_back`)."""
+    return pow2_scale.scale_back(out, e, what, "other units")[0]

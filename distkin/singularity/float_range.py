@@ -1,7 +1,7 @@
 r"""The float64 range of the fast singularity tests (:mod:`.conditions`): power-of-two
 rescaling of the coordinates, scaling back with a
-:class:`~distkin.geometry.cm_float.FloatRangeWarning` when the value itself leaves the
-float64 range, and the rounding-error estimate of the fast :math:`\det\mathbf J`.
+:class:`~distkin.errors.FloatRangeWarning` when the value itself leaves the
+float64 range (:mod:`distkin.geometry.pow2_scale`), and the rounding-error estimate of the fast :math:`\det\mathbf J`.
 
 The tests are homogeneous in the coordinates: the Cayley-Menger conditions of degree 18
 (three products of (bi)determinants of degree 6), :math:`\det\hat{\mathbf J}` of degree
@@ -18,11 +18,10 @@ coordinates) lie within :math:`2^{\pm 64}` are computed unscaled, as before.
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 
-from ..geometry.cm_float import FloatRangeWarning, scaled_decimal
+from ..geometry import pow2_scale
+from ..geometry.pow2_scale import exponent as _exponent
 
 __all__: list[str] = []     # helpers of distkin.singularity.conditions
 
@@ -31,12 +30,6 @@ __all__: list[str] = []     # helpers of distkin.singularity.conditions
 _LO, _HI = 2.0 ** -64, 2.0 ** 64
 #: the smallest positive float64 (subnormal): an error estimate never rounds below it
 _SMALLEST = float(np.nextafter(0.0, 1.0))
-
-
-def _exponent(m):
-    """``e`` with ``m * 2**-e`` in [0.5, 1) (0 where ``m`` is 0), elementwise."""
-    m = np.asarray(m, dtype=float)
-    return np.where(m > 0, np.frexp(np.where(m > 0, m, 1.0))[1], 0)
 
 
 def scaled_squared_distances(pts):
@@ -83,28 +76,14 @@ def scaled_joints(b, p):
 
 def scale_back(value, e, degree, what, instead="relative=True"):
     """``value * 2**(degree * e)`` (float or array); a non-zero value that leaves the
-    float64 range warns (:class:`FloatRangeWarning`, the value as a decimal, ``instead``
-    the dimensionless alternative) and reads 0.0 or inf.  ``e`` None: unchanged."""
+    float64 range warns (:func:`distkin.geometry.pow2_scale.scale_back`: the value as a
+    decimal, ``instead`` the dimensionless alternative) and reads 0.0 or inf.  ``e``
+    None: unchanged."""
     if e is None:
         return value
-    v = np.asarray(value, dtype=float)
-    k = degree * np.asarray(e)
-    with np.errstate(over="ignore", under="ignore"):
-        out = np.ldexp(v, k)
-    lost = (v != 0) & ((np.abs(out) < 2.0 ** -1022) | ~np.isfinite(out))
-    if np.any(lost):
-        i = np.flatnonzero(np.ravel(lost))[0]
-        shown = scaled_decimal(float(np.ravel(v)[i]),
-                               int(np.ravel(np.broadcast_to(k, v.shape))[i]))
-        where = (f" at batch index {tuple(int(j) for j in np.unravel_index(i, v.shape))}"
-                 if v.ndim else "")
-        side = "beyond the largest" if not np.isfinite(np.ravel(out)[i]) else \
-            "below the smallest normal"
-        warnings.warn(FloatRangeWarning(
-            f"{what} = {shown}{where} is {side} float64 number: returned "
-            f"{float(np.ravel(out)[i])!r} ({int(lost.sum())} of {lost.size}); use "
-            f"{instead}, method='precise' / 'certified', or another length unit",
-            shown), stacklevel=4)
+    out, _ = pow2_scale.scale_back(
+        value, degree * np.asarray(e), what,
+        f"{instead}, method='precise' / 'certified', or another length unit")
     return float(out) if out.ndim == 0 else out
 
 
