@@ -30,8 +30,12 @@ rotation), in projection mode where a null vector has a nonzero component in the
 (components below 1e-9 of a unit null vector count as zero, as in
 :func:`.zonotope._flat_worst`).  J# = pinv(J) would truncate that direction and give a
 finite value that depends on nothing near it (and a projection smaller than the
-slice).  Otherwise the values are those of the set of eq. (5).  The force and torque
-sensitivities stay finite (Jᵀ·box is flat there, not unbounded).
+slice).  Otherwise the values are those of the set of eq. (5) with the Moore-Penrose
+J#, which is discontinuous at a singular J for L > 6 (the limits from regular
+neighbours depend on the direction of approach): such poses warn
+(:class:`~distkin.errors.ConditioningWarning`), and nearly singular ones, where float64
+cannot give the value, are NaN.  The force and torque sensitivities stay finite
+(Jᵀ·box is flat there, not unbounded).
 
 .. [1] P. Cardou, S. Bouchard, C. Gosselin, "Kinematic-sensitivity indices for
    dimensionally nonhomogeneous Jacobian matrices", IEEE Trans. Robotics 26(1), 2010.
@@ -208,20 +212,34 @@ def _flag_near_singular(out, sing, unb, kappa, L, N):
     then has entries ~1/κ and the farthest point computed from it is not that of the
     set (QA Z2 3: 2.78 for 1.98 at κ = 3e-14).  An exactly singular J (σmin/σmax at
     the rounding level, :func:`.zonotope.flat_tol`) keeps the values of eq. (5) with
-    pinv; the L = 6 slab route works on J and is not affected."""
+    the Moore-Penrose pinv, with another ConditioningWarning: J# is discontinuous
+    there, and the limits from regular neighbours depend on the direction from which
+    J is approached (its left null space has dimension L - 5 >= 2 for L > 6, and the
+    neighbours' sets differ with the null vector they keep: e.g. 0.913 at J against
+    1.071-1.094 m/rad towards four random directions, tests/indices/
+    test_sensitivity_exact_singular.py).  The L = 6 slab route works on J and is not
+    affected."""
+    import warnings
     near = kappa > flat_tol(6, L)
-    count = 0
+    count = exact = 0
     for a, name in enumerate(("translational", "rotational")):
         bad = sing[near & ~unb[:, a]]
         out[name][bad] = np.nan
         count = max(count, len(bad))
+        exact = max(exact, int(np.sum(np.isfinite(out[name][sing[~near & ~unb[:, a]]]))))
     if count:
-        import warnings
         warnings.warn(ConditioningWarning(
             f"maximum sensitivities: {count} of {N} pose(s) with a nearly singular J "
             f"({flat_tol(6, L):.2g} < σmin/σmax <= RANK_TOL = {RANK_TOL:g}, e.g. "
             f"{kappa[near][0]:.3g}): their twist sensitivities are NaN (pinv(J) cannot "
             "give them in float64)"), stacklevel=4)
+    if exact:
+        warnings.warn(ConditioningWarning(
+            f"maximum sensitivities: {exact} of {N} pose(s) with a singular J "
+            f"(σmin/σmax <= {flat_tol(6, L):.2g}): their finite twist sensitivities are "
+            "eq. (5)'s with the Moore-Penrose J#, which is discontinuous there (regular "
+            "neighbours give other values, depending on the direction of approach)"),
+            stacklevel=4)
 
 
 #: a component of a unit null twist below this counts as zero (as zonotope._flat_worst)

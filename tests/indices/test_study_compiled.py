@@ -28,6 +28,8 @@ def test_compiled_study_agrees_with_the_numpy_route(presets, name):
         assert rel_err(v1[q], v2[q]) < TOL, q
 
 
+@pytest.mark.filterwarnings(
+    "ignore:maximum sensitivities.*Moore-Penrose:distkin.errors.ConditioningWarning")
 def test_a_singular_pose_is_flagged_and_computed_by_the_numpy_route(presets):
     """σmin/σmax of Jᵀ below RANK_TOL: the kernel flags the pose; the study's values
     there are those of the numpy route (the flat route of zonotope._flat_worst)."""
@@ -54,6 +56,8 @@ def test_a_singular_pose_is_flagged_and_computed_by_the_numpy_route(presets):
     assert out["force"][2] == pytest.approx(f, rel=1e-12)
 
 
+@pytest.mark.filterwarnings(
+    "ignore:maximum sensitivities.*Moore-Penrose:distkin.errors.ConditioningWarning")
 def test_an_exactly_zero_column_of_J_is_flagged(presets):
     """J e_z = 0 exactly (QA round H 3): the Householder QR of the lanes divides 0 by 0
     and its σ came out (inf, 0), which passed the rank test, so the L = 8 capabilities
