@@ -24,6 +24,7 @@ __all__ = [
     "FloatRangeWarning",
     "GeometryWarning",
     "is_input_error",
+    "warn",
 ]
 
 
@@ -181,3 +182,22 @@ def is_input_error(exc: BaseException) -> bool:
     """True for errors caused by the user's data (CLI exit code 2)."""
     return isinstance(exc, (InputError, InfeasibleError, NotFoundError, DegenerateGeometryError,
                             SingularConfigurationError, UncertifiedError))
+
+
+def warn(message, category=None) -> None:
+    """:func:`warnings.warn` at the first frame outside the distkin package: the
+    warning names the user's line whatever the depth of the kernel below the public
+    function (Python 3.12's ``skip_file_prefixes``, by hand for 3.11).  A frame is
+    inside when its module is distkin or below it (which also covers code that
+    dataclasses generate for distkin's classes, whose file is ``<string>``).
+    ``message`` a warning instance, or a string with ``category``."""
+    import sys
+    import warnings
+    level, frame = 1, sys._getframe(1)
+    while frame is not None and _in_distkin(frame.f_globals.get("__name__", "")):
+        frame, level = frame.f_back, level + 1
+    warnings.warn(message, category, stacklevel=level + 1)
+
+
+def _in_distkin(module: str) -> bool:
+    return module == "distkin" or module.startswith("distkin.")

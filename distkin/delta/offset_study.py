@@ -31,7 +31,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..errors import ConditioningWarning
+from ..errors import ConditioningWarning, warn as _warn
 from ..exact import check_method, default_dps
 from ..singularity.conditions import plucker_jacobian
 from ..singularity.paths import pose_points
@@ -191,7 +191,7 @@ def neglected_offset_error(octahedral, platform: Platform66, rotation, translati
     R, t = check_rotation(rotation), check_translation(translation)
     err, doubt = _neglected(octahedral, check_platform66(platform), R, t, method, dps)
     if doubt:
-        warnings.warn(_doubt_message(err, doubt, method), ConditioningWarning, stacklevel=2)
+        _warn(_doubt_message(err, doubt, method), ConditioningWarning)
     return err
 
 
@@ -420,11 +420,11 @@ def compare_approximations(octahedral, rotations, translations, deltas, *, kinds
         for k in kinds:
             shift[k].append(row[k])
     if untrusted:
-        warnings.warn(f"{method} tier: {untrusted} of {nd * npose * len(kinds)} "
+        _warn(f"{method} tier: {untrusted} of {nd * npose * len(kinds)} "
                       "neglected-offset errors rest on octahedral solves that were not "
                       "proved and may measure the distance to another branch "
                       "(Comparison.untrusted); use method='auto' (the default)",
-                      ConditioningWarning, stacklevel=2)
+                      ConditioningWarning)
     return Comparison(tuple(kinds), np.array([float(_as_sym(d, "deltas")) for d in deltas]),
                       base_size, pos, ang, fpos, fang, epos, eang, untrusted,
                       {k: np.array(v, dtype=float) for k, v in shift.items()}, resid, method)

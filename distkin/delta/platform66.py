@@ -15,7 +15,7 @@ from functools import cached_property, lru_cache
 
 import numpy as np
 
-from ..errors import DegenerateGeometryError, InputError
+from ..errors import DegenerateGeometryError, InputError, warn as _warn
 from ..exact import METHODS_AUTO, check_method, default_dps
 from .exact_input import (_as_sym, _base_platform, _check_leg_range, _exact_form,
                           _float_legs, _input_key, _readable, _sym_points)
@@ -343,7 +343,6 @@ def _fast_octahedral(base, platform, legs, rho):
     rounded l-legs (QA J 1).  Where the rounding of the map is too large for a proof
     (near an architectural singularity, cond(A)·u) the proof fails, and the result warns
     (ConditioningWarning) like any fast answer it cannot vouch for."""
-    import warnings
 
     from ..errors import ConditioningWarning
     from ..octahedral.batched import scan_single
@@ -355,10 +354,9 @@ def _fast_octahedral(base, platform, legs, rho):
     eta = (eta_of(B, Q, L, True) + 2.0 * rho) * (1.0 + 2.0 ** -40)
     res, cond = proved_single(B, Q, L, k, eta, scan_single(B, Q, L))
     if not cond.trusted:
-        warnings.warn(f"fast tier: the real-root count is not proved ({cond.reason}); the "
+        _warn(f"fast tier: the real-root count is not proved ({cond.reason}); the "
                       f"float64 map of eq. (8) may move l^2 by {rho:.3g} relative "
-                      "(cond(A)·u); use method='auto' or 'certified'", ConditioningWarning,
-                      stacklevel=3)
+                      "(cond(A)·u); use method='auto' or 'certified'", ConditioningWarning)
     return res
 
 

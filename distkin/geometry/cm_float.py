@@ -22,11 +22,10 @@ one).  It costs one maximum per matrix: the fast path keeps its speed.
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 
-from ..errors import CancellationWarning, FloatRangeWarning, InputError
+from ..errors import CancellationWarning, FloatRangeWarning, InputError, warn as _warn
 from .pow2_scale import exponent, scale_back
 
 __all__ = ["FloatRangeWarning", "CancellationWarning", "float_determinant",
@@ -90,7 +89,7 @@ def _cancellation(M, d, k, label, lost):
         else:
             rho = math.inf
         if rho > CANCELLATION_THRESHOLD:
-            _warn(float(d), rho, (), "", label)
+            _cancellation_warning(float(d), rho, (), "", label)
         return
     d = np.asarray(d, float)
     rho = relative_error_estimate(M, d, k)
@@ -100,17 +99,17 @@ def _cancellation(M, d, k, label, lost):
     idx = np.unravel_index(int(np.argmax(np.where(bad, rho, -1.0))), np.shape(rho))
     where = (f" (batch index {tuple(int(i) for i in idx)}, {int(bad.sum())} of "
              f"{bad.size} flagged)")
-    _warn(float(d[idx]), float(rho[idx]), idx, where, label)
+    _cancellation_warning(float(d[idx]), float(rho[idx]), idx, where, label)
 
 
-def _warn(val, worst, idx, where, label):
+def _cancellation_warning(val, worst, idx, where, label):
     what = ("computed as 0: the float64 value cannot tell it from 0" if val == 0 else
             f"= {val:.6g} with a relative error estimate of {worst:.2g}"
             + (": it may be 0 (e.g. a flat simplex)" if worst >= 1 else
                " (a nearly flat simplex)"))
-    warnings.warn(CancellationWarning(
+    _warn(CancellationWarning(
         f"Cayley-Menger determinant {label} {what}{where}; use method='precise' or "
-        "method='certified' (exact for exact or float input)", worst, idx), stacklevel=5)
+        "method='certified' (exact for exact or float input)", worst, idx))
 
 
 #: the smallest normal float64; below it (or at 0, or beyond the range) the float

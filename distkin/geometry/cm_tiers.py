@@ -21,7 +21,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, warn as _warn
 from ..exact import default_dps, mp_det, to_fmpq, to_tier
 
 __all__ = ["tier_determinant"]
@@ -79,15 +79,14 @@ def _precise(entries, k, dps, label):
     with mpmath.workdps(dps):
         det = +det
         if rho > mpmath.mpf(10) ** -dps:
-            import warnings
             from .cm_float import CancellationWarning
             what = ("computed as 0: it cannot be told from 0" if det == 0 else
                     f"= {mpmath.nstr(det, 8)} with a relative error estimate of "
                     f"{mpmath.nstr(rho, 2)}")
-            warnings.warn(CancellationWarning(
+            _warn(CancellationWarning(
                 f"Cayley-Menger determinant {label} {what} at {dps} + {GUARD_DIGITS} "
                 f"digits (irrational entries, rounded); use a larger dps or "
-                f"method='certified'", float(rho)), stacklevel=4)
+                f"method='certified'", float(rho)))
         return det
 
 

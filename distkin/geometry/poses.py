@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import DegenerateGeometryError, InputError, UncertifiedError
+from ..errors import DegenerateGeometryError, InputError, UncertifiedError, warn as _warn
 from ..exact import check_method
 
 __all__ = ["triangle_frame", "pose_from_points", "points_from_pose", "frame_fit", "FRAME_RTOL"]
@@ -179,7 +179,6 @@ def _warn_frame(rho, what):
     :data:`FRAME_RTOL` (the worst of a batch)."""
     if not np.any(rho > FRAME_RTOL):
         return
-    import warnings
     from ..errors import ConditioningWarning
     worst = float(np.max(rho))
     w = ConditioningWarning(
@@ -187,7 +186,7 @@ def _warn_frame(rho, what):
         f"{worst:.2g} (error estimate 4 eps / sin of its angle at the first point, above "
         f"{FRAME_RTOL:g}); use method='precise' or method='certified'")
     w.estimate = worst
-    warnings.warn(w, stacklevel=3)
+    _warn(w)
 
 
 def _frame(rows, method, what):

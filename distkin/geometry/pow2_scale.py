@@ -16,13 +16,9 @@ value as a decimal and what to use instead.  One routine for
 
 from __future__ import annotations
 
-import os
-import sys
-import warnings
-
 import numpy as np
 
-from ..errors import FloatRangeWarning
+from ..errors import FloatRangeWarning, warn as _warn
 
 __all__ = ["exponent", "scale_back", "scaled_decimal", "SMALLEST_NORMAL"]
 
@@ -45,24 +41,13 @@ def scaled_decimal(mant: float, ex: int) -> str:
         return mpmath.nstr(mpmath.ldexp(mpmath.mpf(mant), ex), 6)
 
 
-def _caller_level() -> int:
-    """The ``stacklevel`` of the first frame outside the distkin package, seen from the
-    function that calls this one: the warning points at the user's line whatever the
-    depth of the kernel below the public function (Python 3.12's
-    ``skip_file_prefixes``, by hand for 3.11)."""
-    package = os.path.dirname(os.path.dirname(_caller_level.__code__.co_filename)) + os.sep
-    level, frame = 1, sys._getframe(1)
-    while frame is not None and frame.f_code.co_filename.startswith(package):
-        frame, level = frame.f_back, level + 1
-    return level
-
-
 def scale_back(value, k, what: str, advice: str):
     """``(value·2^k, lost)`` elementwise (broadcast); ``lost`` is True where a finite
     non-zero value becomes inf or falls below :data:`SMALLEST_NORMAL` (a value beyond
     float64, not a zero or an overflow of the method).  One FloatRangeWarning names
     ``what``, the first such value as a decimal, its batch index, the count, and
-    ``advice`` (what to use instead), at the first line outside distkin."""
+    ``advice`` (what to use instead), at the first line outside distkin
+    (:func:`distkin.errors.warn`)."""
     v = np.asarray(value, dtype=float)
     with np.errstate(over="ignore", under="ignore"):
         out = np.ldexp(v, k)
@@ -75,8 +60,7 @@ def scale_back(value, k, what: str, advice: str):
         where = (f" at batch index {tuple(int(j) for j in np.unravel_index(i, out.shape))}"
                  if out.ndim else "")
         side = "beyond the largest" if not np.isfinite(got) else "below the smallest normal"
-        warnings.warn(FloatRangeWarning(
+        _warn(FloatRangeWarning(
             f"{what} = {shown}{where} is {side} float64 number: returned {got!r} "
-            f"({int(lost.sum())} of {lost.size}); use {advice}", shown),
-            stacklevel=_caller_level())
+            f"({int(lost.sum())} of {lost.size}); use {advice}", shown))
     return out, lost

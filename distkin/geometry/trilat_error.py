@@ -18,6 +18,7 @@ import builtins
 import math
 
 import numpy as np
+from ..errors import warn as _warn
 
 __all__ = ["TRILATERATION_RTOL", "precise_rtol", "fast_error", "point_error",
            "warn_accuracy"]
@@ -118,7 +119,6 @@ def warn_accuracy(err, rho, rtol=TRILATERATION_RTOL, tier="fast"):
     elif not np.any(rho > rtol):
         return
     bad = np.asarray(rho > rtol)
-    import warnings
     from ..errors import ConditioningWarning
     if np.ndim(rho):
         idx = np.unravel_index(int(np.argmax(np.where(bad, rho, -1.0))), np.shape(rho))
@@ -136,4 +136,4 @@ def warn_accuracy(err, rho, rtol=TRILATERATION_RTOL, tier="fast"):
         f"scale{where}, from a nearly collinear base (|v2 x v3|^2 small against "
         f"|v2|^2|v3|^2) or a point near its plane; use {instead}")
     w.estimate, w.index = worst, idx
-    warnings.warn(w, stacklevel=5)
+    _warn(w)

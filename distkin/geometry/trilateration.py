@@ -55,6 +55,7 @@ from ..errors import DegenerateGeometryError, InfeasibleError, InputError, Uncer
 from ..exact import Exact, check_method, default_dps, parse_exact, parse_float, to_tier
 from .trilat_error import (TRILATERATION_RTOL, fast_error, point_error, precise_rtol,
                            warn_accuracy)
+from ..errors import warn as _warn
 
 __all__ = ["trilaterate", "trilaterate_both", "TrilaterationParts", "trilateration_parts",
            "TRILATERATION_RTOL"]
@@ -474,14 +475,13 @@ def _warn_doubtful(doubtful, h2, e_h2, tier):
     """Warn where h^2 < 0 beyond the tolerance but within its error estimate (clamped:
     the configuration may not exist; the estimate can be ~1e3 x the error, review)."""
     if doubtful:
-        import warnings
         from ..errors import ConditioningWarning
-        warnings.warn(ConditioningWarning(
+        _warn(ConditioningWarning(
             f"{tier} trilateration: h^2 = {float(np.min(h2)):.3g} is negative but within its "
             f"error estimate {float(np.max(e_h2)):.3g} (squared length units, of the scaled "
             "problem): clamped to 0, the point placed in the base's plane; the configuration"
             " may not exist (method='certified' decides; tol= makes the tolerance decide "
-            "alone)"), stacklevel=6)
+            "alone)"))
 
 
 def _check_feasible(h2, scale, method, dps, tol, e=0, e_h2=0.0):

@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..argcheck import as_floats, float_array
-from ..errors import InputError, SingularConfigurationError
+from ..errors import InputError, SingularConfigurationError, warn as _warn
 from .float_scale import pow2_exponent, scale_back
 from .tiers import fast_only
 from .zonotope import (RANK_TOL, check_enumeration, generator_batch, memory_guard,
@@ -421,13 +421,12 @@ def ueberle_worst(G, lo, hi, S):
     kappa = np.divide(sv[:, -1], sv[:, 0], out=np.zeros(N), where=sv[:, 0] > 0)
     redo = np.flatnonzero((kappa <= RANK_TOL) | ~np.isfinite(best))
     if len(redo):
-        import warnings
         from ..errors import ConditioningWarning
-        warnings.warn(ConditioningWarning(
+        _warn(ConditioningWarning(
             f"Ueberle's method: {len(redo)} of {N} pose(s) singular or nearly so "
             f"(σmin/σmax = {kappa[redo[0]]:.3g}{', ...' if len(redo) > 1 else ''}, "
             f"expected above RANK_TOL = {RANK_TOL:g} with a feasible facet): answered by "
-            "the zonotope kernel there"), stacklevel=3)
+            "the zonotope kernel there"))
         c, r = (hi[redo] + lo[redo]) / 2, (hi[redo] - lo[redo]) / 2
         best[redo] = zonotope_worst(G[redo], c, r, [tuple(S)])[0]
     return best

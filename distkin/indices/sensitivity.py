@@ -46,7 +46,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..argcheck import as_floats
-from ..errors import ConditioningWarning, InputError
+from ..errors import ConditioningWarning, InputError, warn as _warn
 from .capability import _jacobian
 from .float_scale import pow2_exponent, scale_back
 from .tiers import fast_only
@@ -219,7 +219,6 @@ def _flag_near_singular(out, sing, unb, kappa, L, N):
     1.071-1.094 m/rad towards four random directions, tests/indices/
     test_sensitivity_exact_singular.py).  The L = 6 slab route works on J and is not
     affected."""
-    import warnings
     near = kappa > flat_tol(6, L)
     count = exact = 0
     for a, name in enumerate(("translational", "rotational")):
@@ -228,18 +227,17 @@ def _flag_near_singular(out, sing, unb, kappa, L, N):
         count = max(count, len(bad))
         exact = max(exact, int(np.sum(np.isfinite(out[name][sing[~near & ~unb[:, a]]]))))
     if count:
-        warnings.warn(ConditioningWarning(
+        _warn(ConditioningWarning(
             f"maximum sensitivities: {count} of {N} pose(s) with a nearly singular J "
             f"({flat_tol(6, L):.2g} < σmin/σmax <= RANK_TOL = {RANK_TOL:g}, e.g. "
             f"{kappa[near][0]:.3g}): their twist sensitivities are NaN (pinv(J) cannot "
-            "give them in float64)"), stacklevel=4)
+            "give them in float64)"))
     if exact:
-        warnings.warn(ConditioningWarning(
+        _warn(ConditioningWarning(
             f"maximum sensitivities: {exact} of {N} pose(s) with a singular J "
             f"(σmin/σmax <= {flat_tol(6, L):.2g}): their finite twist sensitivities are "
             "eq. (5)'s with the Moore-Penrose J#, which is discontinuous there (regular "
-            "neighbours give other values, depending on the direction of approach)"),
-            stacklevel=4)
+            "neighbours give other values, depending on the direction of approach)"))
 
 
 #: a component of a unit null twist below this counts as zero (as zonotope._flat_worst)

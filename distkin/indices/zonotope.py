@@ -56,7 +56,7 @@ from itertools import combinations, product
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, warn as _warn
 from .constraint_basis import constraint_basis
 
 __all__ = ["zonotope_worst", "zonotope_best", "facet_normals", "farthest_in_slice",
@@ -359,13 +359,12 @@ def zonotope_worst(G, c, r, keeps, *, chunk: int = 4096):
             out[:, i] = _flat_worst(G[i], c[i], r[i], keeps, exact=exact)
             near += bool(np.isnan(out[:, i]).any())
     if near:
-        import warnings
         from ..errors import ConditioningWarning
-        warnings.warn(ConditioningWarning(
+        _warn(ConditioningWarning(
             f"worst-case output: {near} of {N} pose(s) with a near-flat generator matrix "
             f"({tol:.2g} < σmin/σmax <= RANK_TOL = {RANK_TOL:g}) and a slice inside its "
             "span: NaN returned there (the flat set's value is not the set's, and float64 "
-            "cannot compute the latter)"), stacklevel=3)
+            "cannot compute the latter)"))
     return out
 
 

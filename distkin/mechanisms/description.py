@@ -18,7 +18,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ..argcheck import as_floats, float_array, no_booleans
-from ..errors import InputError
+from ..errors import InputError, warn as _warn
 from .legs import GeometryWarning
 
 __all__ = ["RSSDescription", "read_only", "GEOMETRY_FIELDS", "LAYOUTS", "LEG_LENGTH",
@@ -223,13 +223,12 @@ class RSSDescription:
         size = (self.l0 + self.ld + self.lp + self.z0 + self.l1 + self.l2 + self.l3) ** 2
         bad = np.flatnonzero(m < -1e-12 * size)
         if bad.size:
-            import warnings
             legs = ", ".join(f"leg {i + 1} margin {m[i]:.3g} m^2" for i in bad[:4])
-            warnings.warn(f"home: expected a home pose (0, 0, z0) that every leg reaches, got "
+            _warn(f"home: expected a home pose (0, 0, z0) that every leg reaches, got "
                           f"z0 = {self.z0:.6g} m, where {bad.size} of {self.legs} legs do not "
                           f"close ({legs}{' ...' if bad.size > 4 else ''}; l0 = {self.l0:.6g} "
                           f"m, l1 = {self.l1:.6g} m, l3 = {self.l3:.6g} m): a length in "
-                          f"another unit? (SI: m)", GeometryWarning, stacklevel=4)
+                          f"another unit? (SI: m)", GeometryWarning)
 
     def __getstate__(self):
         # pickle the description only (pool workers), not the loaded kernel modules

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import ConditioningWarning, InputError
+from ..errors import ConditioningWarning, InputError, warn as _warn
 from .description import _poses
 from .legs import LegsDescription
 
@@ -130,13 +130,12 @@ class KernelMethods:
         poses = np.flatnonzero(flag.any(axis=-1))
         first = int(poses[0])
         legs = ", ".join(str(j + 1) for j in np.flatnonzero(flag[first]))
-        import warnings
-        warnings.warn(f"jacobian: at {len(poses)} of {len(X)} pose(s) a row of J is not "
+        _warn(f"jacobian: at {len(poses)} of {len(X)} pose(s) a row of J is not "
                       f"resolved in float64 (first: pose {int(rows[first])}, leg(s) {legs}: "
                       f"estimated error above {J_REL_USEFUL:g} of the row; the leg closes "
                       f"next to its reach boundary, a serial singularity); use "
                       f"method='precise' (jacobian_tier(..., 'fast') gives the estimates)",
-                      ConditioningWarning, stacklevel=4)
+                      ConditioningWarning)
 
     def kernels(self, flavour: str = "batched"):
         """The generated kernels (:mod:`.kernels`), ``flavour`` "batched" or "scalar".
@@ -217,13 +216,12 @@ class KernelMethods:
         if warn and not np.isfinite(out).all():
             bad = ~np.isfinite(out).all(axis=-1)                      # (N, L)
             i, j = np.argwhere(bad)[0]
-            import warnings
-            warnings.warn(f"{name}: at {int(bad.any(axis=-1).sum())} of {len(X)} pose(s) a "
+            _warn(f"{name}: at {int(bad.any(axis=-1).sum())} of {len(X)} pose(s) a "
                           f"row is not finite (first: pose {i}, leg {j + 1}): a revolute leg "
                           f"at a serial singularity (Jq_ii = 0, its reach boundary) or a "
                           f"prismatic leg of zero length (its line is undefined; not valid "
                           f"in inverse_kinematics): J is unbounded or undefined there",
-                          ConditioningWarning, stacklevel=3)
+                          ConditioningWarning)
         if warn and name == "jacobian":
             self._check_resolution(X, out)
         return out

@@ -96,6 +96,7 @@ from ..errors import (ConditioningWarning, InfeasibleError, InputError,
 from ..exact import check_method, default_dps, float_ball
 from .description import _poses, read_only
 from .mpmath_kernels import GUARD, MPNumber, _to_float, estimate, on_mpmath, precise_runs
+from ..errors import warn as _warn
 
 __all__ = ["MPNumber", "on_mpmath", "TieredIK", "TieredJacobian", "ik_tier", "jacobian_tier",
            "raise_uncertified", "check_bits", "check_dps", "GUARD", "BITS", "J_REL_USEFUL",
@@ -527,15 +528,14 @@ def jacobian_tier(mech, poses, method: str = "fast", dps: int | None = None,
         q, valid = mech.inverse_kinematics(X)
         jq_err, jx_err, err, inaccurate = _fast_jacobian_error(mech, X, q, J, Jq, Jx)
         if inaccurate.any():
-            import warnings
-            warnings.warn(f"fast Jacobian: at {int(inaccurate.sum())} of {N} pose(s) (first: "
+            _warn(f"fast Jacobian: at {int(inaccurate.sum())} of {N} pose(s) (first: "
                           f"{int(np.argmax(inaccurate))}) a row of J has an estimated error "
                           f"above {J_REL_USEFUL:g} of the row (inf where first order fails): "
                           f"a leg at or next to its reach boundary (a serial singularity) or "
                           f"a prismatic leg of zero length, where float64 does not give J; "
                           f"see .J_error and .inaccurate, or use method='precise' (it raises "
                           f"SingularConfigurationError where J is unbounded or undefined)",
-                          ConditioningWarning, stacklevel=2)
+                          ConditioningWarning)
         return TieredJacobian(method, prec, J, err, Jq, jq_err, Jx, jx_err, valid, none,
                               (), None, None, None, none.copy(), inaccurate)
     ks = _arb_kernels(mech)

@@ -43,7 +43,7 @@ from dataclasses import dataclass, fields, replace
 import numpy as np
 
 from ..argcheck import no_booleans
-from ..errors import DistkinError, GeometryWarning, InputError
+from ..errors import DistkinError, GeometryWarning, InputError, warn as _warn
 
 __all__ = ["Leg", "LegsDescription", "REVOLUTE_TYPES", "PRISMATIC_TYPES", "LEG_TYPES",
            "LEG_FIELDS", "full_turn", "in_revolute_range", "GeometryWarning"]
@@ -347,14 +347,13 @@ class LegsDescription:
                 if m < -_margin_rounding(leg, P):
                     far.append(f"leg {i + 1} margin {m:.3g} m^2")
         if far:
-            import warnings
             shown = ", ".join(f"{v:.6g}" for v in self.home_pose)
-            warnings.warn(f"home: expected a home pose that every leg reaches (the workspace "
+            _warn(f"home: expected a home pose that every leg reaches (the workspace "
                           f"centre, forward kinematics' default start), got ({shown}) "
                           f"(m, rad), which {len(far)} of {len(legs)} legs do not reach: "
                           f"{', '.join(far[:4])}{' ...' if len(far) > 4 else ''}; lengths "
                           f"in another unit? (a leg table in m read as mm is 1000x too "
-                          f"small)", GeometryWarning, stacklevel=4)
+                          f"small)", GeometryWarning)
 
     def _resolve_branch(self, i, leg):
         if leg.prismatic or leg.branch is not None:

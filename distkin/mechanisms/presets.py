@@ -98,7 +98,7 @@ from __future__ import annotations
 
 import math
 
-from ..errors import InputError
+from ..errors import InputError, warn as _warn
 from .description import RSSDescription
 
 __all__ = ["PRESETS", "preset_description", "PRESET_NAMES", "description", "leg_length_rule",
@@ -188,11 +188,10 @@ def preset_parameters(name: str, **overrides) -> tuple[str, dict]:
     label = name if not changed else f"{name}*"
     slips = unit_slips(name, overrides)
     if slips:
-        import warnings
 
         from .legs import GeometryWarning
         for line in slips:
-            warnings.warn(line, GeometryWarning, stacklevel=3)
+            _warn(line, GeometryWarning)
     return label, params
 
 

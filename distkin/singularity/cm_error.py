@@ -33,12 +33,10 @@ saying why; a value whose error estimate exceeds
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 
 from ..geometry.cm_float import CANCELLATION_THRESHOLD, CancellationWarning
-from ..errors import DegenerateGeometryError, UncertifiedError
+from ..errors import DegenerateGeometryError, UncertifiedError, warn as _warn
 from .float_range import floor_error
 from .tiers import _at
 
@@ -118,19 +116,18 @@ def relative(num, den, err, kind, what):
 
 def _undefined_warning(what, den, err, idx, count, size):
     where = f" at batch index {idx} ({count} of {size})" if idx else ""
-    warnings.warn(CancellationWarning(
+    _warn(CancellationWarning(
         f"relative {what} undefined{where}: both products are within their rounding error "
         f"estimate of 0 (denominator {den:.3g}, error estimate {err:.3g}), so the value may "
-        f"be 0/0; returned NaN (use method='certified', or det J)", float("inf"), idx),
-        stacklevel=5)
+        f"be 0/0; returned NaN (use method='certified', or det J)", float("inf"), idx))
 
 
 def _inaccurate_warning(what, val, e, idx):
     where = f" at batch index {idx}" if idx else ""
-    warnings.warn(CancellationWarning(
+    _warn(CancellationWarning(
         f"relative {what} = {val:.6g}{where} with a rounding error estimate of {e:.2g} "
         f"(the products cancel or are nearly 0); use method='certified', or a higher dps",
-        e, idx), stacklevel=5)
+        e, idx))
 
 
 def _vanishes(x):
