@@ -189,15 +189,26 @@ def warn(message, category=None) -> None:
     warning names the user's line whatever the depth of the kernel below the public
     function (Python 3.12's ``skip_file_prefixes``, by hand for 3.11).  A frame is
     inside when its module is distkin or below it (which also covers code that
-    dataclasses generate for distkin's classes, whose file is ``<string>``).
-    ``message`` a warning instance, or a string with ``category``."""
+    dataclasses generate for distkin's classes, whose file is ``<string>``); the
+    import machinery's frames are not counted, as :func:`warnings.warn` skips them
+    too.  ``message`` a warning instance, or a string with ``category``."""
     import sys
     import warnings
     level, frame = 1, sys._getframe(1)
-    while frame is not None and _in_distkin(frame.f_globals.get("__name__", "")):
-        frame, level = frame.f_back, level + 1
+    while frame is not None:
+        if not _import_machinery(frame.f_code.co_filename):
+            if not _in_distkin(frame.f_globals.get("__name__", "")):
+                break
+            level += 1
+        frame = frame.f_back
     warnings.warn(message, category, stacklevel=level + 1)
 
 
 def _in_distkin(module: str) -> bool:
     return module == "distkin" or module.startswith("distkin.")
+
+
+def _import_machinery(filename: str) -> bool:
+    """The frames that :func:`warnings.warn` does not count (CPython's
+    ``_is_internal_frame``)."""
+    return "importlib" in filename and "_bootstrap" in filename

@@ -62,3 +62,25 @@ def test_a_geometry_warning_of_a_mechanism_names_this_file():
     rec = _record(lambda: LegMechanism("stretched", tuple(legs), (0, 0, 0.22, 0, 0, 0)))
     ours = [w for w in rec if w.category is GeometryWarning]
     assert len(ours) == 1 and ours[0].filename == __file__
+
+
+def test_a_warning_raised_while_distkin_imports_a_module_names_the_importer(tmp_path):
+    """The import machinery's frames are not counted (warnings.warn skips them): a
+    distkin module that warns at import, imported by another distkin module, names the
+    user's import line, not the distkin importer (review)."""
+    import sys
+
+    import distkin
+    (tmp_path / "_warntop.py").write_text("import distkin._warnleaf\n")
+    (tmp_path / "_warnleaf.py").write_text(
+        "from distkin.errors import warn\nwarn('at import', UserWarning)\n")
+    distkin.__path__.append(str(tmp_path))
+    try:
+        def user_import():
+            import distkin._warntop  # noqa: F401
+        [w] = _record(user_import)
+        assert w.filename == __file__, w.filename
+    finally:
+        distkin.__path__.remove(str(tmp_path))
+        for name in ("distkin._warntop", "distkin._warnleaf"):
+            sys.modules.pop(name, None)

@@ -52,10 +52,13 @@ def float_determinant(M, k, label="D", warn=True):
     lost = np.zeros(np.shape(d), bool)
     if np.any(odd):
         if d.ndim == 0:
-            d, lost = _rescaled(M, d, k)
-        else:                              # only the odd ones of a batch
-            d = d.copy()
-            d[odd], lost[odd] = _rescaled(M[odd], d[odd], k)
+            ds, e = _rescaled(M, k)
+        else:                              # only the odd ones of a batch (the others
+            ds, e = d.copy(), np.zeros(d.shape, int)       # are scaled back by 2^0)
+            ds[odd], e[odd] = _rescaled(M[odd], k)
+        # the whole batch, so that a warning gives the batch index of the value
+        d, lost = scale_back(ds, e * (k - 1), "Cayley-Menger determinant",
+                             "method='certified' or a larger/smaller length unit")
     if warn:
         _cancellation(M, d, k, label, lost)
     return float(d) if d.ndim == 0 else d
@@ -118,18 +121,18 @@ _TINY = 2.2250738585072014e-308
 
 
 
-def _rescaled(M, d, k):
-    r"""The float determinant of the bordered matrix ``M`` (..., k+1, k+1) from its
-    entries scaled by :math:`2^{-e}` (exact), :math:`2^e` just above the largest squared
-    distance: :math:`D(\lambda s) = \lambda^{k-1} D(s)`, so :math:`D = D_e 2^{e(k-1)}`
-    (:mod:`.pow2_scale`).  A value that is not zero but still does not fit float64 warns
-    (FloatRangeWarning): an underflow is not a flat simplex (QA J 4)."""
+def _rescaled(M, k):
+    r"""``(D_e, e)``: the float determinants of the bordered matrices ``M``
+    (..., k+1, k+1) from their entries scaled by :math:`2^{-e}` (exact), :math:`2^e` just
+    above the largest squared distance: :math:`D(\lambda s) = \lambda^{k-1} D(s)`, so
+    :math:`D = D_e 2^{e(k-1)}` (:func:`.pow2_scale.scale_back`, in the caller, warns
+    where a value that is not zero still does not fit float64: an underflow is not a
+    flat simplex, QA J 4)."""
     S = M[..., 1:, 1:]
-    e = exponent(np.max(np.abs(S), axis=(-2, -1))) if k else np.zeros(np.shape(d), int)
+    e = exponent(np.max(np.abs(S), axis=(-2, -1))) if k else np.zeros(M.shape[:-2], int)
     Ms = M.copy()
     Ms[..., 1:, 1:] = np.ldexp(S, -e[..., None, None])
-    return scale_back(np.linalg.det(Ms), e * (k - 1), "Cayley-Menger determinant",
-                      "method='certified' or a larger/smaller length unit")
+    return np.linalg.det(Ms), e
 
 
 def _bordered(s, rows, cols):

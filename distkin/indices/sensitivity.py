@@ -31,8 +31,9 @@ rotation), in projection mode where a null vector has a nonzero component in the
 :func:`.zonotope._flat_worst`).  J# = pinv(J) would truncate that direction and give a
 finite value that depends on nothing near it (and a projection smaller than the
 slice).  Otherwise the values are those of the set of eq. (5) with the Moore-Penrose
-J#, which is discontinuous at a singular J for L > 6 (the limits from regular
-neighbours depend on the direction of approach): such poses warn
+J#, which is discontinuous at a singular J (the limits from regular neighbours depend on
+the direction of approach) wherever J# is used, in projection mode and for L > 6 in
+slice mode: such poses warn
 (:class:`~distkin.errors.ConditioningWarning`), and nearly singular ones, where float64
 cannot give the value, are NaN.  The force and torque sensitivities stay finite
 (Jᵀ·box is flat there, not unbounded).
@@ -198,11 +199,14 @@ def _max_sensitivities(J, mode, twist, walk, kappa):
     kappa = np.asarray(kappa, dtype=float).reshape(N)
     sing = np.flatnonzero(~(kappa > RANK_TOL))
     if len(sing):
-        unb = _null_twist_reaches(J[sing], mode)
+        unb, deficient = _null_twist_reaches(J[sing], mode)
         for a, name in enumerate(("translational", "rotational")):
             out[name][sing[unb[:, a]]] = np.inf
         if need_pinv:
-            _flag_near_singular(out, sing, unb, kappa[sing], J.shape[1], N)
+            # the poses whose own SVD finds the rank deficiency (a caller's kappa of 0
+            # at a regular J, e.g. the study's for σ that overflowed, flags nothing)
+            _flag_near_singular(out, sing[deficient], unb[deficient], kappa[sing][deficient],
+                                J.shape[1], N)
     return out
 
 
@@ -214,11 +218,11 @@ def _flag_near_singular(out, sing, unb, kappa, L, N):
     the rounding level, :func:`.zonotope.flat_tol`) keeps the values of eq. (5) with
     the Moore-Penrose pinv, with another ConditioningWarning: J# is discontinuous
     there, and the limits from regular neighbours depend on the direction from which
-    J is approached (its left null space has dimension L - 5 >= 2 for L > 6, and the
-    neighbours' sets differ with the null vector they keep: e.g. 0.913 at J against
-    1.071-1.094 m/rad towards four random directions, tests/indices/
-    test_sensitivity_exact_singular.py).  The L = 6 slab route works on J and is not
-    affected."""
+    J is approached (the neighbours' sets keep a stretched copy of the null twist,
+    weighted by the left singular vector the approach picks: e.g. L = 8 slice 0.913 at
+    J against 1.071-1.094 m/rad towards four random directions, tests/indices/
+    test_sensitivity_exact_singular.py; L = 6 projection 3.04 at J against 3.05-3.45).
+    The L = 6 slab route (slice mode) works on J and is not affected."""
     near = kappa > flat_tol(6, L)
     count = exact = 0
     for a, name in enumerate(("translational", "rotational")):
@@ -245,16 +249,19 @@ _NULL_TOL = 1e-9
 
 
 def _null_twist_reaches(J, mode):
-    """(n, 2) bool: whether the null space of each J (σ below RANK_TOL·σmax) reaches the
-    translational / rotational part (module docstring): projection, a null vector with a
-    component in S; slice, one with zero S^c part (N_{S^c} of the orthonormal null basis
-    N has a kernel)."""
+    """``(reaches, deficient)``: (n, 2) bool, whether the null space of each J (σ below
+    RANK_TOL·σmax) reaches the translational / rotational part (module docstring):
+    projection, a null vector with a component in S; slice, one with zero S^c part
+    (N_{S^c} of the orthonormal null basis N has a kernel); and (n,) bool, whether that
+    null space is not empty."""
     _, s, Vt = np.linalg.svd(J)
     out = np.zeros((len(J), 2), bool)
+    deficient = np.zeros(len(J), bool)
     for k in range(len(J)):
         rank = int(np.sum(s[k] > RANK_TOL * s[k, 0])) if s[k, 0] > 0 else 0
         Nb = Vt[k, rank:].T                                    # (6, r) orthonormal
         r = Nb.shape[1]
+        deficient[k] = r > 0
         if r == 0:
             continue
         for a, (S, Sc) in enumerate((((0, 1, 2), (3, 4, 5)), ((3, 4, 5), (0, 1, 2)))):
@@ -263,4 +270,4 @@ def _null_twist_reaches(J, mode):
             else:
                 sv = np.linalg.svd(Nb[list(Sc)], compute_uv=False)
                 out[k, a] = r > len(Sc) or sv[-1] <= _NULL_TOL
-    return out
+    return out, deficient

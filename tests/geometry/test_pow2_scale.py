@@ -89,3 +89,20 @@ def test_each_caller_warns_once_at_the_users_line():
     G = np.random.default_rng(3).normal(size=(6, 8))
     w = _warned_here(lambda: worst_case_output(G * 1e300, -1e300, 1e300))
     assert w.filename == __file__ and "worst-case output" in str(w.message)
+
+
+def test_a_batch_warning_names_the_batch_index_of_the_value():
+    """Only the out-of-range entries of a batch are recomputed; the warning still gives
+    the index in the caller's batch (review: it gave the index within the subset), and
+    a subnormal result warns through the Cayley-Menger route too."""
+    from distkin.geometry import cayley_menger, squared_distances
+    tet = np.array([[0, 0, 0], [6, 0, 0], [2, 5, 0], [1, 1, 4]], float)   # D = 288 V^2 = 115200
+    for batch, where, side in (([tet, tet, tet * 1e-60, tet], "(2,)", "below the smallest"),
+                               ([tet, tet * 1e-54], "(1,)", "below the smallest normal")):
+        w = _warned_here(lambda: cayley_menger(squared_distances(np.stack(batch)),
+                                               (1, 2, 3, 4)))
+        assert f"at batch index {where}" in str(w.message) and side in str(w.message)
+        assert "(1 of " + str(len(batch)) + ")" in str(w.message)
+        scale = 1e-60 if where == "(2,)" else 1e-54
+        ref = mpmath.mpf(115200) * mpmath.mpf(scale) ** 6                # degree 3 in s
+        assert float(mpmath.mpf(w.message.value) / ref) == pytest.approx(1, rel=1e-5)

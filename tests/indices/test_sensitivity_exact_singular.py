@@ -62,3 +62,37 @@ def test_L6_exactly_singular_slab_route_does_not_warn():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         max_sensitivities((U * s) @ Vt)
+
+
+def test_L6_projection_is_discontinuous_too():
+    """L = 6, a null twist with no translational part: the translational projection is
+    finite at J (J# route) and its limits depend on the direction of approach."""
+    rng = np.random.default_rng(11)
+    J = rng.normal(size=(6, 6))
+    w = np.array([0, 0, 0, 0.48, 0.6, 0.64])
+    J0 = J - np.outer(J @ w, w)                           # J0 w = 0, |w| = 1
+    limits = []
+    for seed in (200, 201, 202):
+        E = np.random.default_rng(seed).normal(size=J0.shape)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            vals = [max_sensitivities(J0 + h * E, "projection")["translational"]
+                    for h in (1e-5, 1e-7, 1e-9)]
+        assert max(vals) - min(vals) < 1e-3 * vals[-1]
+        limits.append(vals[-1])
+    assert max(limits) - min(limits) > 1e-3 * max(limits)
+    with pytest.warns(ConditioningWarning, match="Moore-Penrose"):
+        assert np.isfinite(max_sensitivities(J0, "projection")["translational"])
+
+
+def test_a_callers_kappa_of_zero_at_a_regular_J_flags_nothing():
+    """kappa = 0 passed for a regular J (the study passes 0 where its kernel's σ were
+    not finite): the pose's own SVD decides, nothing is flagged or warned (review)."""
+    J = np.random.default_rng(0).normal(size=(8, 6))
+    ref = max_sensitivities(J)
+    for mode in ("slice", "projection"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            got = max_sensitivities(J, mode, kappa=0.0)
+        if mode == "slice":
+            assert got == ref
