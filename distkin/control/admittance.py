@@ -52,11 +52,29 @@ def _vector(value, field: str, n: int, *, nonneg: bool = False, positive: bool =
 
 
 def rotation_log(R) -> np.ndarray:
-    """Rotation vector (3,) rad of a rotation matrix (the inverse of Rodrigues' formula)."""
+    """Rotation vector (3,) rad of a rotation matrix (the inverse of Rodrigues' formula).
+
+    Beyond 90° (cos θ < 0) the axis comes from the symmetric part, ``(R + Rᵀ)/2 - cos θ
+    I = (1 - cos θ) a aᵀ``, its sign from the skew part: near 180° the skew part
+    ``2 sin θ a`` vanishes (review: a rotation by exactly π gave the zero vector, and
+    one within 1e-12 rad of π an axis from rounding).  Compiled for the control cycle
+    by :mod:`.cycle_common` (plain loops and ``math``)."""
     sk = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
-    s = 0.5 * math.sqrt(float(sk @ sk))
+    s = 0.5 * math.sqrt(sk[0] * sk[0] + sk[1] * sk[1] + sk[2] * sk[2])
     c = 0.5 * (R[0, 0] + R[1, 1] + R[2, 2] - 1.0)
     th = math.atan2(s, c)
+    if c < 0.0:
+        j = 0
+        for i in range(1, 3):
+            if R[i, i] > R[j, j]:
+                j = i
+        a = np.empty(3)
+        for i in range(3):
+            a[i] = 0.5 * (R[i, j] + R[j, i]) - (c if i == j else 0.0)
+        n = math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+        if a[0] * sk[0] + a[1] * sk[1] + a[2] * sk[2] < 0.0:
+            n = -n
+        return a * (th / n)
     if s < 1e-12:
         return 0.5 * sk
     return sk * (th / (2.0 * s))
