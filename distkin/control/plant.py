@@ -365,7 +365,10 @@ class Plant:
         backwards, a short command was read past its end by the compiled dynamics).  A
         command that is not finite (NaN, ±inf) is no torque a drive can deliver: its
         amplifier outputs zero for that joint (counted in :attr:`nonfinite_commands`;
-        it used to stop the platform dead in the air as if at an end stop).
+        it used to stop the platform dead in the air as if at an end stop).  A step
+        whose pose a leg cannot close, or that would take a joint past its range (the
+        mechanism's ``range``), ends at a mechanical end stop: the platform stays where
+        it was, at rest, and :attr:`end_stop_hits` counts it.
         """
         if (isinstance(dt, bool) or not isinstance(dt, (int, float, np.integer, np.floating))
                 or not 0.0 < dt < math.inf):
@@ -442,6 +445,8 @@ class Plant:
         return ((model.jacobian(plus) - model.jacobian(minus)) @ V) / (2.0 * s)
 
     def _advance(self, ok, pose, twist, q, dt) -> None:
+        if ok and not self.model.in_range(q):
+            ok = False                   # a joint at its range: the end stop of that leg
         if ok:
             self.pose, self.twist = pose, twist
             self.qdot = (q - self.q) / dt
