@@ -114,7 +114,7 @@ def closed_loop_matrix(scene, model, delay_periods: int = 0, pose=None) -> np.nd
     pose : (6,) m, rad, optional
         The equilibrium (default: the device's home).
     """
-    n = int(delay_periods)
+    n = -1 if isinstance(delay_periods, bool) else int(delay_periods)
     if n != delay_periods or n < 0:
         raise InputError(f"expected delay_periods a whole number >= 0, got {delay_periods!r}",
                          field="delay_periods")
@@ -249,7 +249,7 @@ class DelayMargin:
 def delay_margin(scene, model, *, max_periods: int = 40, pose=None) -> DelayMargin:
     """Sweep the extra command delay n = 0 .. ``max_periods`` (device periods) and find
     the largest with a stable linearised loop (module doc)."""
-    m = int(max_periods)
+    m = -1 if isinstance(max_periods, bool) else int(max_periods)
     if m != max_periods or not 0 <= m <= MAX_PERIODS:
         raise InputError(f"expected max_periods a whole number in 0..{MAX_PERIODS} (the "
                          f"sweep's cost grows as its fourth power), got {max_periods!r}",

@@ -61,6 +61,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..errors import InputError
 from ..spatial import rotate_pose_scalar as rotate_pose
 from .controller import Controller
 from .kinematics import load_model
@@ -227,6 +228,16 @@ def run_table5(mech_name: str = "octo", *, poses=None, scene=None, trials: int =
     from ..indices.study import ACTUATORS
     from ..indices.workspace import table2_grid
     from .config import builtin_scene
+    # review: trials = 0 averaged an empty list into NaN rows (a RuntimeWarning only)
+    if isinstance(trials, bool) or not isinstance(trials, (int, np.integer)) or trials < 1:
+        raise InputError(f"expected trials a whole number >= 1, got {trials!r}",
+                         field="trials")
+    for name, v in (("step_m", step_m), ("step_rad", step_rad), ("rise_s", rise_s),
+                    ("hold_s", hold_s), ("free_s", free_s)):
+        if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) \
+                or not 0 < v < math.inf:
+            raise InputError(f"expected {name} a positive finite number, got {v!r}",
+                             field=name)
     actuators = dict(ACTUATORS if actuators is None else actuators)
     scene = scene or builtin_scene()
     model = load_model(mech_name)

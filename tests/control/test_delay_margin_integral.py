@@ -100,3 +100,13 @@ def test_the_pi_loop_has_the_roots_of_its_hand_written_recurrence(scene_model):
         assert np.sum(np.abs(got - w) < 1e-6) == 6, (w, got)
     assert np.abs(want).max() > 1          # this KI destabilises the loop
     assert delay_margin(sc, _Diagonal(m, c), max_periods=0).lockstep == "unstable"
+
+
+def test_a_boolean_count_of_periods_is_refused(scene_model):
+    """True was read as 1 period (numpy and int() take it for 1)."""
+    from distkin.errors import InputError
+    scene, model = scene_model
+    with pytest.raises(InputError, match="delay_periods"):
+        closed_loop_matrix(scene, model, True)
+    with pytest.raises(InputError, match="max_periods"):
+        delay_margin(scene, model, max_periods=True)

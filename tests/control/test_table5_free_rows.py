@@ -35,3 +35,17 @@ def test_a_velocity_beyond_the_slice_bound_comes_with_a_rotation():
     assert v > 1.5 * bound                       # 4.4 m/s against 2.4 m/s
     assert off > 20.0                            # rad/s: the platform does not stay at
     #                                              zero angular velocity (87 rad/s)
+
+
+@pytest.mark.parametrize("kw, field", [({"trials": 0}, "trials"), ({"trials": True}, "trials"),
+                                       ({"trials": 2.5}, "trials"),
+                                       ({"step_m": 0.0}, "step_m"),
+                                       ({"step_rad": float("nan")}, "step_rad"),
+                                       ({"free_s": -1.0}, "free_s")])
+def test_bad_run_parameters_are_refused_before_any_work(kw, field):
+    """trials = 0 gave rows of NaN (the mean of nothing) with a RuntimeWarning only."""
+    from distkin.control.table5 import run_table5
+    from distkin.errors import InputError
+    with pytest.raises(InputError) as exc:
+        run_table5("octo", **kw)
+    assert exc.value.field == field and repr(next(iter(kw.values()))) in str(exc.value)
