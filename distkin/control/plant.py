@@ -398,7 +398,6 @@ class Plant:
         self.tau = tau
         f = self.hand.force(self.t)
         self.hand_wrench = np.concatenate([f, np.zeros(3)])
-        J = self.model.jacobian(self.pose)
         rotor = -mo.joint_inertia * self.jdot_v()      # the rotors' -J_r J̇ V
         if self._ck is not None:
             self._dyn[3] = dt
@@ -409,6 +408,7 @@ class Plant:
                                          out)
             self._advance(bool(ok), out[0:6], out[6:12], out[12:], dt)
             return
+        J = self.model.jacobian(self.pose)
         w = J.T @ (tau + rotor - mo.friction * self.qdot) + self.hand_wrench
         w[2] -= self.m * mo.gravity
         Meff = self.M + mo.joint_inertia * (J.T @ J)
@@ -438,8 +438,9 @@ class Plant:
             return np.zeros(L)
         s = self.JDOT_STEP / n
         model = self.model
-        plus = rotate_pose(self.pose, V[:3] * s, V[3:] * s)
-        minus = rotate_pose(self.pose, -V[:3] * s, -V[3:] * s)
+        rot = rotate_pose if self._ck is None else self._ck.rotate_pose
+        dv, dw = V[:3] * s, V[3:] * s
+        plus, minus = rot(self.pose, dv, dw), rot(self.pose, -dv, -dw)
         if not (model.ik(plus)[1] and model.ik(minus)[1]):
             return np.zeros(L)
         return ((model.jacobian(plus) - model.jacobian(minus)) @ V) / (2.0 * s)
