@@ -120,3 +120,25 @@ def test_a_body_the_drives_cannot_accelerate_is_refused():
         Plant(m, Motors(rotor_inertia=0.0))
     assert exc.value.field == "mass"
     Plant(m, Motors())                   # massless platform, rotors: a body still
+
+
+def test_the_simulator_logs_the_first_nonfinite_command_once():
+    """The device's event log says that a command held NaN (zero effort on those joints),
+    once, with the command's sequence number; the platform keeps moving (no end stop)."""
+    from distkin.control.config import builtin_scene
+    from distkin.control.protocol import MODE_RUN, CommandFrame
+    from distkin.control.simulator import Simulator
+
+    class NoTransport:
+        fd = None
+
+    scene = builtin_scene()
+    sim = Simulator(scene, load_model("octo", compiled=False), NoTransport())
+    tau = np.zeros(sim.model.L)
+    tau[2] = math.nan
+    for k in range(3):
+        sim.command = CommandFrame(7 + k, 0, MODE_RUN, 0, tau)
+        sim._step(k, False)
+    ev = [e for e in sim.events.events if e["event"] == "nonfinite_command"]
+    assert len(ev) == 1 and ev[0]["seq"] == 7
+    assert sim.plant.nonfinite_commands == 3 and sim.plant.end_stop_hits == 0
