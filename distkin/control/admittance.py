@@ -24,18 +24,57 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import InputError
 from ..spatial import rotate_pose_scalar as rotate_pose
 from .kinematics import _rot
 
-__all__ = ["Spring", "Wall", "Admittance", "rotation_log"]
+__all__ = ["Spring", "Wall", "Admittance", "rotation_log", "step_spectral_radius",
+           "check_step"]
+
+
+def _vector(value, field: str, n: int, *, nonneg: bool = False, positive: bool = False,
+            unit: str = "") -> np.ndarray:
+    """``value`` as n finite floats (>= 0 or > 0 if asked); InputError naming ``field``,
+    the expected and the received value otherwise."""
+    want = (f"{n} finite numbers" + (" > 0" if positive else " >= 0" if nonneg else "")
+            + (f" ({unit})" if unit else ""))
+    try:
+        if isinstance(value, (bool, np.bool_, str, bytes)):
+            raise TypeError
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"expected {want}, got {value!r}", field=field) from None
+    if a.shape != (n,) or not np.all(np.isfinite(a)) or (positive and not np.all(a > 0)) \
+            or (nonneg and not np.all(a >= 0)):
+        got = a.tolist() if a.size <= 12 else f"an array of shape {a.shape}"
+        raise InputError(f"expected {want}, got {got}", field=field)
+    return a
 
 
 def rotation_log(R) -> np.ndarray:
-    """Rotation vector (3,) rad of a rotation matrix (the inverse of Rodrigues' formula)."""
+    """Rotation vector (3,) rad of a rotation matrix (the inverse of Rodrigues' formula).
+
+    Beyond 90° (cos θ < 0) the axis comes from the symmetric part, ``(R + Rᵀ)/2 - cos θ
+    I = (1 - cos θ) a aᵀ``, its sign from the skew part: near 180° the skew part
+    ``2 sin θ a`` vanishes (review: a rotation by exactly π gave the zero vector, and
+    one within 1e-12 rad of π an axis from rounding).  Compiled for the control cycle
+    by :mod:`.cycle_common` (plain loops and ``math``)."""
     sk = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
-    s = 0.5 * math.sqrt(float(sk @ sk))
+    s = 0.5 * math.sqrt(sk[0] * sk[0] + sk[1] * sk[1] + sk[2] * sk[2])
     c = 0.5 * (R[0, 0] + R[1, 1] + R[2, 2] - 1.0)
     th = math.atan2(s, c)
+    if c < 0.0:
+        j = 0
+        for i in range(1, 3):
+            if R[i, i] > R[j, j]:
+                j = i
+        a = np.empty(3)
+        for i in range(3):
+            a[i] = 0.5 * (R[i, j] + R[j, i]) - (c if i == j else 0.0)
+        n = math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+        if a[0] * sk[0] + a[1] * sk[1] + a[2] * sk[2] < 0.0:
+            n = -n
+        return a * (th / n)
     if s < 1e-12:
         return 0.5 * sk
     return sk * (th / (2.0 * s))
@@ -57,10 +96,14 @@ class Spring:
 
     def __post_init__(self):
         # work arrays derived once (the dataclass stays frozen for its users)
-        object.__setattr__(self, "_k", np.asarray(self.stiffness, dtype=float))
-        object.__setattr__(self, "_d", np.asarray(self.damping, dtype=float))
-        object.__setattr__(self, "_p0", np.asarray(self.anchor[:3], dtype=float))
-        object.__setattr__(self, "_R0t", _rot(self.anchor[3:]).T)
+        a = _vector(self.anchor, "spring.anchor", 6, unit="m x3, rad x3")
+        object.__setattr__(self, "_k", _vector(self.stiffness, "spring.stiffness", 6,
+                                               nonneg=True, unit="N/m x3, N·m/rad x3"))
+        object.__setattr__(self, "_d", _vector(self.damping, "spring.damping", 6,
+                                               nonneg=True,
+                                               unit="N·s/m x3, N·m·s/rad x3"))
+        object.__setattr__(self, "_p0", a[:3].copy())
+        object.__setattr__(self, "_R0t", _rot(a[3:]).T)
 
     def wrench(self, pose, twist) -> np.ndarray:
         """Spring-damper wrench (6,) at ``pose`` (6,) with ``twist`` (6,): N, N·m."""
@@ -85,6 +128,16 @@ class Wall:
     damping: float = 0.0
 
     kind = "wall"
+
+    def __post_init__(self):
+        n = _vector(self.normal, "wall.normal", 3)
+        if abs(float(np.linalg.norm(n)) - 1.0) > 1e-9:
+            raise InputError(f"expected a unit normal (|n| = 1: the penetration is n . p - "
+                             f"offset in m), got {n.tolist()} of length "
+                             f"{float(np.linalg.norm(n)):.6g}", field="wall.normal")
+        _vector([self.offset], "wall.offset", 1, unit="m")
+        _vector([self.stiffness], "wall.stiffness", 1, positive=True, unit="N/m")
+        _vector([self.damping], "wall.damping", 1, nonneg=True, unit="N·s/m")
 
     def penetration(self, pose) -> float:
         n = self.normal
@@ -116,9 +169,15 @@ class Admittance:
     """
 
     def __init__(self, mass, damping, environment=(), *, kernels=None):
-        self.mass = np.asarray(mass, dtype=float)
-        self.damping = np.asarray(damping, dtype=float)
+        self.mass = _vector(mass, "admittance.mass", 6, positive=True,
+                            unit="kg x3, kg·m² x3")
+        self.damping = _vector(damping, "admittance.damping", 6, nonneg=True,
+                               unit="N·s/m x3, N·m·s/rad x3")
         self.environment = tuple(environment)
+        for i, e in enumerate(self.environment):
+            if not isinstance(e, (Spring, Wall)):
+                raise InputError(f"expected a Spring or a Wall, got {e!r}",
+                                 field=f"environment[{i}]")
         self.pose = np.zeros(6)
         self.twist = np.zeros(6)
         self.kernels = kernels
@@ -143,8 +202,12 @@ class Admittance:
         """One semi-implicit Euler step; returns the candidate ``(pose, twist)``.
 
         Nothing is committed: the caller checks the candidate (reachability,
-        singularity guard) and calls :meth:`commit` or :meth:`refuse`.
+        singularity guard) and calls :meth:`commit` or :meth:`refuse`.  ``dt`` (s) must
+        be positive and finite (InputError).
         """
+        if not 0.0 < dt < math.inf:
+            raise InputError(f"expected a time step dt > 0 finite (s), got {dt!r}",
+                             field="dt")
         w = hand_wrench + self.environment_wrench(self.pose, self.twist)
         twist = self.twist + dt * (w - self.damping * self.twist) / self.mass
         if self.kernels is not None:
@@ -158,3 +221,56 @@ class Admittance:
     def refuse(self) -> None:
         """The candidate was refused: stay at the last accepted pose, at rest."""
         self.twist = np.zeros(6)
+
+
+def step_spectral_radius(mass, damping, environment, period: float) -> tuple:
+    """Spectral radius of one :meth:`Admittance.propose` step, linearised at rest at the
+    springs' anchor with every wall pressed: ``(translation, rotation)``.
+
+    Per block (translation: M = diag(mass[:3]), K = Σ spring stiffness + Σ wall
+    ``k n nᵀ``, D = damping + Σ spring damping + Σ wall ``d n nᵀ``; rotation likewise
+    with the springs' rotational parts) semi-implicit Euler is
+
+    .. math:: V' = V + h M^{-1}(-K x - D V), \\qquad x' = x + h V',
+
+    stable iff the radius is below 1; for one axis that is ``h² k/m + 2 h d/m < 4``
+    (Jury's test on the trace ``2 - h²k/m - h d/m`` and determinant ``1 - h d/m``).
+    A virtual environment rendered at a radius above 1 gains energy every period.
+    """
+    h = float(period)
+    out = []
+    for blk in (slice(0, 3), slice(3, 6)):
+        m = np.asarray(mass, dtype=float)[blk]
+        K = np.zeros((3, 3))
+        D = np.diag(np.asarray(damping, dtype=float)[blk])
+        for e in environment:
+            if e.kind == "spring":
+                K += np.diag(e._k[blk])
+                D += np.diag(e._d[blk])
+            elif blk.start == 0:
+                n = np.asarray(e.normal, dtype=float)
+                K += e.stiffness * np.outer(n, n)
+                D += e.damping * np.outer(n, n)
+        Mi = np.diag(1.0 / m)
+        A = np.zeros((6, 6))
+        A[3:, :3] = -h * Mi @ K                              # V' from x
+        A[3:, 3:] = np.eye(3) - h * Mi @ D                   # V' from V
+        A[:3, :3] = np.eye(3) + h * A[3:, :3]                # x' = x + h V'
+        A[:3, 3:] = h * A[3:, 3:]
+        out.append(float(np.max(np.abs(np.linalg.eigvals(A)))))
+    return tuple(out)
+
+
+def check_step(mass, damping, environment, rate_hz: float, field: str = "admittance"):
+    """InputError when the virtual model, stepped at ``rate_hz``, is unstable
+    (:func:`step_spectral_radius` above 1): it names the block, the radius and the
+    rate, and what brings it back (more virtual mass, less stiffness or damping)."""
+    rho = step_spectral_radius(mass, damping, environment, 1.0 / rate_hz)
+    for name, r in zip(("translation", "rotation"), rho):
+        if r > 1.0 + 1e-12:
+            raise InputError(
+                f"expected a virtual mass-damper and environment that the {rate_hz:g} Hz "
+                f"step keeps stable (spectral radius <= 1; per axis h²k/m + 2hd/m < 4), "
+                f"got a {name} spectral radius of {r:.6g}", field=field,
+                hint="raise the virtual mass or lower the stiffness or damping")
+    return rho

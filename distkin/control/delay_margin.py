@@ -20,7 +20,8 @@ exactly as they compute it, up to first order in the deviation
 
    e_k &= -J x_k, \qquad d_k = (e_k - e_{k-1})/h, \qquad
    f_k = f_{k-1} + (h/T)(d_{k-1} - f_{k-1}),\\
-   \tau_k &= \Pi\,(K_P e_k + K_D f_k), \qquad \Pi = J(J^TJ)^{-1}J^T
+   s_k &= s_{k-1} + h\,e_k = -J\sigma_k, \quad \sigma_k = \sigma_{k-1} + h\,x_k, \qquad
+   \tau_k = \Pi\,(K_P e_k + K_I s_k + K_D f_k), \qquad \Pi = J(J^TJ)^{-1}J^T
    \ \text{(``projected'', L > 6; otherwise } I),\\
    V_{k+1} &= V_k + h\,M_{\mathrm{eff}}^{-1} J^T(\tau_{k-n} - b\,J V_k), \qquad
    x_{k+1} = x_k + h\,V_{k+1},
@@ -30,7 +31,9 @@ with :math:`M_{\mathrm{eff}} = \hat M + J_r J^TJ` (:mod:`.plant`, semi-implicit 
 :math:`b` the viscous friction and :math:`J_r` the reflected rotor inertia at the joint.
 It is a linear recurrence :math:`z_{k+1} = A_n z_k`; the loop is asymptotically stable
 iff the spectral radius :math:`\rho(A_n) < 1`.  Neglected, and stated: the torque limit
-and the drives' speed-torque envelope (saturation), encoder quantisation, sensor noise,
+and the drives' speed-torque envelope (saturation), the clamp of the integral ``s`` (it
+holds :math:`K_I s` within the torque limit; the integral state enters only when
+:math:`K_I > 0`: the paper's KI = 0), encoder quantisation, sensor noise,
 the velocity-product terms and the change of :math:`J` with the pose.  The admittance
 model does not enter: its set point follows the measured wrench only, never the pose.
 
@@ -91,8 +94,14 @@ def _loop_data(scene, model, pose):
 def closed_loop_matrix(scene, model, delay_periods: int = 0, pose=None) -> np.ndarray:
     r"""The transition matrix :math:`A_n` of the linearised sampled loop (module doc).
 
-    State :math:`z_k = (x_k, V_k, e_{k-1}, d_{k-1}, f_{k-1}, \tau_{k-1}, \dots,
-    \tau_{k-n})`, size :math:`12 + 3L + nL`.
+    State :math:`z_k = (x_k, V_k, e_{k-1}, d_{k-1}, f_{k-1}, [\sigma_{k-1},]
+    \tau_{k-1}, \dots, \tau_{k-n})`, size :math:`12 + 3L + nL`, plus 6 for the
+    integral when ``pd.ki > 0`` (review: the integral was left out, and a loop whose
+    KI destabilises it was reported stable).  The integral of the joint errors, which
+    starts at 0 and sums :math:`e = -Jx`, stays in the range of :math:`J`, so it is
+    carried as :math:`s = -J\sigma` with :math:`\sigma` the integral of the pose
+    deviation: its :math:`L - 6` components outside that range would be eigenvalues
+    of exactly 1 (marginal) that no motion excites and that exert no wrench.
 
     Parameters
     ----------
@@ -105,7 +114,7 @@ def closed_loop_matrix(scene, model, delay_periods: int = 0, pose=None) -> np.nd
     pose : (6,) m, rad, optional
         The equilibrium (default: the device's home).
     """
-    n = int(delay_periods)
+    n = -1 if isinstance(delay_periods, bool) else int(delay_periods)
     if n != delay_periods or n < 0:
         raise InputError(f"expected delay_periods a whole number >= 0, got {delay_periods!r}",
                          field="delay_periods")
@@ -114,7 +123,8 @@ def closed_loop_matrix(scene, model, delay_periods: int = 0, pose=None) -> np.nd
     h = 1.0 / scene.rate_hz
     pd = scene.pd
     T = pd.derivative_filter_s
-    iX, iV, iE, iD, iF, iT = 0, 6, 12, 12 + L, 12 + 2 * L, 12 + 3 * L
+    iX, iV, iE, iD, iF, iS = 0, 6, 12, 12 + L, 12 + 2 * L, 12 + 3 * L
+    iT = iS + (6 if pd.ki else 0)
     N = iT + n * L
     # each block row: a linear map of the state at k, as an (rows, N) matrix
     e = np.zeros((L, N))
@@ -127,7 +137,13 @@ def closed_loop_matrix(scene, model, delay_periods: int = 0, pose=None) -> np.nd
         f[:, iD:iD + L] += (h / T) * np.eye(L)             # f_k from f_{k-1}, d_{k-1}
     else:
         f = d
-    tau = P @ (pd.kp * e + pd.kd * f)
+    tau = pd.kp * e + pd.kd * f
+    if pd.ki:
+        sig = np.zeros((6, N))
+        sig[:, iX:iX + 6] = h * np.eye(6)
+        sig[:, iS:iS + 6] += np.eye(6)                     # sigma_k = sigma_{k-1} + h x_k
+        tau = tau - pd.ki * (J @ sig)                      # s_k = -J sigma_k
+    tau = P @ tau
     if n == 0:
         u = tau
     else:
@@ -140,7 +156,7 @@ def closed_loop_matrix(scene, model, delay_periods: int = 0, pose=None) -> np.nd
     x = np.zeros((6, N))
     x[:, iX:iX + 6] = np.eye(6)
     x += h * V
-    rows = [x, V, e, d, f]
+    rows = [x, V, e, d, f] + ([sig] if pd.ki else [])
     if n:
         rows.append(tau)
         shift = np.zeros(((n - 1) * L, N))
@@ -233,7 +249,7 @@ class DelayMargin:
 def delay_margin(scene, model, *, max_periods: int = 40, pose=None) -> DelayMargin:
     """Sweep the extra command delay n = 0 .. ``max_periods`` (device periods) and find
     the largest with a stable linearised loop (module doc)."""
-    m = int(max_periods)
+    m = -1 if isinstance(max_periods, bool) else int(max_periods)
     if m != max_periods or not 0 <= m <= MAX_PERIODS:
         raise InputError(f"expected max_periods a whole number in 0..{MAX_PERIODS} (the "
                          f"sweep's cost grows as its fourth power), got {max_periods!r}",

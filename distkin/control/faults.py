@@ -5,11 +5,13 @@ A SPEC is a comma-separated list of ``KIND@T[:ARG]``, ``T`` in seconds of device
 fast or a loaded machine):
 
 ``corrupt@T:N``     flip one random byte in each of the next N state frames (N = 1)
-``garbage@T:N``     send a burst of N random bytes before the next frame (N = 64)
+``garbage@T:N``     send a burst of N random bytes before the next frame (N = 64,
+                    at most 10^7)
 ``truncate@T:N``    send only the first half of each of the next N frames (N = 1)
 ``drop@T:N``        do not send the next N frames (N = 1)
-``stall@T:MS``      send nothing for MS milliseconds of wall time (MS = 50); the
-                    device keeps moving and keeps obeying the commands it receives
+``stall@T:MS``      send nothing for MS milliseconds of wall time (MS = 50, at most
+                    600000); the device keeps moving and keeps obeying the commands
+                    it receives
 ``disconnect@T``    close the connection and stop serving
 
 Example: ``--faults "corrupt@1.0:3,garbage@1.5:200,truncate@2.0,stall@3.0:50"``.
@@ -23,10 +25,15 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["Fault", "parse_faults", "FaultInjector", "DISCONNECT", "FAULT_KINDS"]
+__all__ = ["Fault", "parse_faults", "FaultInjector", "DISCONNECT", "FAULT_KINDS",
+           "FAULT_MAX"]
 
 FAULT_KINDS = {"corrupt": 1, "garbage": 64, "truncate": 1, "drop": 1, "stall": 50,
                "disconnect": 0}
+#: the largest argument of a kind, where a larger one is no test but a hazard: a burst
+#: of garbage is drawn in memory at once (review: ``garbage@1:100000000000`` asked for
+#: 100 GB), and a stall holds the simulator (10 minutes, beyond any watchdog)
+FAULT_MAX = {"garbage": 10_000_000, "stall": 600_000}
 
 #: returned by :meth:`FaultInjector.outgoing` when the link must be closed
 DISCONNECT = object()
@@ -65,8 +72,8 @@ def parse_faults(spec: str | None, field: str = "--faults") -> tuple[Fault, ...]
         except ValueError:
             raise InputError(f"expected a time in seconds after '@', got {t_text!r}",
                              field=fld) from None
-        if not t >= 0:
-            raise InputError(f"expected a time >= 0 s, got {t_text!r}", field=fld)
+        if not 0 <= t < float("inf"):
+            raise InputError(f"expected a finite time >= 0 s, got {t_text!r}", field=fld)
         arg = FAULT_KINDS[kind]
         if arg_text:
             if kind == "disconnect":
@@ -77,6 +84,10 @@ def parse_faults(spec: str | None, field: str = "--faults") -> tuple[Fault, ...]
                 raise InputError(f"expected a positive integer argument, got {arg_text!r}",
                                  field=fld)
             arg = int(arg_text)
+            if arg > FAULT_MAX.get(kind, arg):
+                unit = "bytes" if kind == "garbage" else "ms"
+                raise InputError(f"expected at most {FAULT_MAX[kind]} {unit} for {kind}, "
+                                 f"got {arg_text}", field=fld)
         out.append(Fault(kind, t, arg))
     return tuple(sorted(out, key=lambda f: f.t))
 

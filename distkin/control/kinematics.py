@@ -63,6 +63,11 @@ class KinematicModel:
         self._jac, self._closure = k.jacobian, k.closure
         self.home = np.asarray(mech.home, dtype=float)
         self.mass = np.asarray(mech.cartesian_mass_matrix(), dtype=float)
+        #: the revolute legs' joint ranges (L,) rad, ±inf where a leg has none; None
+        #: when no leg has one (the mechanism's ``range``; prismatic strokes are the
+        #: reach kernels')
+        ranges = getattr(mech, "_joint_ranges", None)
+        self.joint_lo, self.joint_hi = ranges() if ranges is not None else (None, None)
         self.compiled = None
         if compiled:
             from .cycle_kernels import build
@@ -82,6 +87,15 @@ class KinematicModel:
         margin = self._reach(p)
         ok = bool(min(margin) >= 0.0)
         return np.asarray(self._ik(p), dtype=float), ok
+
+    def in_range(self, q) -> bool:
+        """Every joint value of ``q`` (L,) within its leg's range (True when the legs
+        have none).  :meth:`ik`'s flag says only that the legs close; a crank past its
+        range closes too (review: the simulated rus8 device turned a crank to 107°
+        against its ±90° range without an end stop)."""
+        if self.joint_lo is None:
+            return True
+        return bool(np.all(q >= self.joint_lo) and np.all(q <= self.joint_hi))
 
     def jacobian(self, pose):
         """``J`` (L, 6): ``qdot = J (v, omega)``, rad per (m, rad)."""

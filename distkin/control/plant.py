@@ -22,13 +22,23 @@ stall torque, rotor inertia, speed and encoder counts appear at the leg as a for
 a reflected mass ``(2π/lead)² J_rotor``, a speed and a length quantum.  The equations
 below hold for either, in joint units (rad and N·m, or m and N).
 
-The equations of motion, with ``V = (v, omega)``,
+The equations of motion, with ``V = (v, omega)`` and the crank rates ``q̇ = J V``,
 
-.. math:: (\\hat M + J^T J_r J)\\dot V = J^T(\\tau - b\\,\\dot q) + w_h + w_g,
+.. math:: (\\hat M + J^T J_r J)\\dot V = J^T(\\tau - b\\,\\dot q - J_r \\dot J V)
+          + w_h + w_g,
 
-neglect the velocity-product terms and the mass of the legs (stated simplifications of
+the platform's (isotropic inertia: no gyroscopic term) and the rotors' (``J_r q̈`` with
+``q̈ = J V̇ + J̇ V``): the kinetic energy ``½ Vᵀ M̂ V + ½ J_r |q̇|²`` changes only by the
+power of the efforts.  They neglect the mass of the legs (a stated simplification of
 the simulator, not of the controller).  Integrated with semi-implicit Euler at the
-device period.  The hand is a scripted force source on the end-effector centre.
+device period; ``J̇ V`` by central differences of J along V (:meth:`Plant.jdot_v`: from
+the pose and twist of the step alone, so that the rounding of one step's pose does not
+feed the next step's velocity, as a rate taken from the last step's crank angles did).
+Review: without the term an unforced, undamped platform coasted at a constant twist
+while its reflected inertia changed, and its kinetic energy drifted by 167 % in 0.4 s
+at any step size (tests/control/test_plant_energy.py); with it the drift is first
+order in h.  The hand is a scripted force source on the
+end-effector centre.
 """
 
 from __future__ import annotations
@@ -38,11 +48,38 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import InputError
 from ..spatial import rotate_pose_scalar as rotate_pose
 from .kinematics import _rot
 from .protocol import MODE_HOLD, MODE_RUN, STATUS_SATURATED
 
 __all__ = ["Motors", "LinearDrives", "drives_for", "HandScript", "Plant"]
+
+
+def _check(obj, lower: dict, *, above: tuple = ()) -> None:
+    """Refuse drive parameters that make no drive: each ``name`` of ``lower`` must be a
+    finite real number ``> 0`` (``"positive"``) or ``>= 0`` (``"nonneg"``) or any finite
+    (``"finite"``); each ``(big, small)`` of ``above`` needs ``big > small`` (the stall
+    effort above the nominal one: the torque-speed line's no-load speed divides by their
+    difference).  InputError naming the field, the expected and the received value."""
+    for name, kind in lower.items():
+        v = getattr(obj, name)
+        if kind == "count":
+            if not isinstance(v, (int, np.integer)) or isinstance(v, bool) or v < 1:
+                raise InputError(f"expected an integer >= 1, got {v!r}", field=name)
+            continue
+        ok = (isinstance(v, (int, float, np.integer, np.floating))
+              and not isinstance(v, bool) and math.isfinite(v))
+        want = {"positive": "a finite number > 0", "nonneg": "a finite number >= 0",
+                "finite": "a finite number"}[kind]
+        if not ok or (kind == "positive" and not v > 0) or (kind == "nonneg" and not v >= 0):
+            raise InputError(f"expected {want}, got {v!r}", field=name)
+    for big, small in above:
+        if not getattr(obj, big) > getattr(obj, small):
+            raise InputError(f"expected {big} above {small} = {getattr(obj, small)!r} (the "
+                             f"torque-speed line falls from the stall effort to the nominal "
+                             f"one at the nominal speed), got {getattr(obj, big)!r}",
+                             field=big)
 
 
 @dataclass(frozen=True)
@@ -64,6 +101,14 @@ class Motors:
     force_noise: float = 0.02               # N, standard deviation
     torque_noise: float = 0.0005            # N·m, standard deviation
     gravity: float = 9.81                   # m/s², along -z of the base frame
+
+    def __post_init__(self):
+        _check(self, {"gear": "positive", "rotor_inertia": "nonneg",
+                      "stall_torque": "positive", "nominal_torque": "positive",
+                      "nominal_speed": "positive", "friction": "nonneg",
+                      "counts_per_rev": "count", "force_noise": "nonneg",
+                      "torque_noise": "nonneg", "gravity": "finite"},
+               above=(("stall_torque", "nominal_torque"),))
 
     #: the unit of the effort at the joint: a torque at the crank
     effort_unit = "N·m"
@@ -123,8 +168,15 @@ class LinearDrives:
     friction: float | None = None                                      # N·s/m at the leg
 
     def __post_init__(self):
+        _check(self, {"lead": "positive", "rotor_inertia": "nonneg",
+                      "motor_stall_torque": "positive", "motor_nominal_torque": "positive",
+                      "motor_nominal_speed": "positive", "motor_friction": "nonneg",
+                      "counts_per_rev": "count", "force_noise": "nonneg",
+                      "torque_noise": "nonneg", "gravity": "finite"},
+               above=(("motor_stall_torque", "motor_nominal_torque"),))
         if self.friction is None:
             object.__setattr__(self, "friction", self.motor_friction * self.ratio ** 2)
+        _check(self, {"friction": "nonneg"})
 
     #: the unit of the effort at the joint: a force along the leg
     effort_unit = "N"
@@ -189,6 +241,21 @@ class HandScript:
 
     points: tuple = ()
 
+    def __post_init__(self):
+        pts = self.points
+        if not isinstance(pts, (tuple, list)):
+            raise InputError(f"expected a tuple of (t, fx, fy, fz) knots (s, N), got "
+                             f"{pts!r}", field="hand")
+        for i, p in enumerate(pts):
+            if (not isinstance(p, (tuple, list)) or len(p) != 4
+                    or not all(isinstance(v, (int, float, np.integer, np.floating))
+                               and not isinstance(v, bool) and math.isfinite(v) for v in p)):
+                raise InputError(f"expected a knot (t, fx, fy, fz) of 4 finite numbers (s, "
+                                 f"N), got {p!r}", field=f"hand[{i}]")
+        ts = [p[0] for p in pts]
+        if any(b < a for a, b in zip(ts, ts[1:])):
+            raise InputError(f"expected knots sorted by time, got times {ts}", field="hand")
+
     def force(self, t: float) -> np.ndarray:
         pts = self.points
         if not pts:
@@ -242,6 +309,8 @@ class Plant:
         self.hand_wrench = np.zeros(6)
         self.saturated = False
         self.end_stop_hits = 0
+        #: steps whose command held a NaN or ±inf (those joints got zero effort)
+        self.nonfinite_commands = 0
         self._q_hold = None
         if self.hold_gains is None:
             self.hold_gains = tuple(self.motors.hold_gains)
@@ -250,6 +319,19 @@ class Plant:
         self._ck = getattr(self.model, "compiled", None)
         mo = self.motors
         self._w_nl = mo.no_load_speed
+        J = np.asarray(self.model.jacobian(self.pose), dtype=float)
+        Meff = self.M + mo.joint_inertia * (J.T @ J)
+        try:
+            ok = bool(np.all(np.isfinite(Meff))) and bool(np.all(np.linalg.eigvalsh(
+                0.5 * (Meff + Meff.T)) > 0)) and np.allclose(self.M, self.M.T)
+        except np.linalg.LinAlgError:
+            ok = False
+        if not ok:
+            raise InputError(f"expected a symmetric mass matrix (kg, kg·m²) whose sum with "
+                             f"the reflected rotor inertia J_r JᵀJ is positive definite at "
+                             f"home (a body the drives can accelerate), got diag "
+                             f"{np.diag(self.M).tolist()} and J_r = {mo.joint_inertia!r}",
+                             field="mass")
         self._dyn = np.array([mo.friction, self.m * mo.gravity, mo.joint_inertia, 0.0])
         self._noise = np.repeat([mo.force_noise, mo.torque_noise], 3)
         self._z = np.empty((0, 6))        # sensor noise drawn ahead (see _next_noise)
@@ -276,7 +358,30 @@ class Plant:
 
     def step(self, tau_cmd, mode: int, dt: float) -> None:
         """Advance the physics by ``dt`` (s) under the command (joint side: N·m, or N for
-        prismatic legs)."""
+        prismatic legs).
+
+        ``dt`` must be a positive finite number and ``tau_cmd`` hold L numbers
+        (InputError otherwise: dt = 0 made q̇ = 0/0, a negative dt ran the physics
+        backwards, a short command was read past its end by the compiled dynamics).  A
+        command that is not finite (NaN, ±inf) is no torque a drive can deliver: its
+        amplifier outputs zero for that joint (counted in :attr:`nonfinite_commands`;
+        it used to stop the platform dead in the air as if at an end stop).  A step
+        whose pose a leg cannot close, or that would take a joint past its range (the
+        mechanism's ``range``), ends at a mechanical end stop: the platform stays where
+        it was, at rest, and :attr:`end_stop_hits` counts it.
+        """
+        if (isinstance(dt, bool) or not isinstance(dt, (int, float, np.integer, np.floating))
+                or not 0.0 < dt < math.inf):
+            raise InputError(f"expected a time step dt > 0 finite (s), got {dt!r}",
+                             field="dt")
+        tau_cmd = np.asarray(tau_cmd, dtype=float)
+        if tau_cmd.shape != (self.model.L,):
+            raise InputError(f"expected {self.model.L} joint efforts ({self.motors.effort_unit}),"
+                             f" got shape {tau_cmd.shape}", field="tau_cmd")
+        finite = np.isfinite(tau_cmd)
+        if not finite.all():
+            self.nonfinite_commands += 1
+            tau_cmd = np.where(finite, tau_cmd, 0.0)
         mo = self.motors
         if mode == MODE_RUN:
             self._q_hold = None
@@ -293,16 +398,18 @@ class Plant:
         self.tau = tau
         f = self.hand.force(self.t)
         self.hand_wrench = np.concatenate([f, np.zeros(3)])
+        rotor = -mo.joint_inertia * self.jdot_v()      # the rotors' -J_r J̇ V
         if self._ck is not None:
             self._dyn[3] = dt
             L = self.model.L
             out = np.empty(12 + L)
-            ok = self._ck.plant_dynamics(self.pose, self.twist, self.q, self.qdot, tau,
-                                         self.hand_wrench, self.M, self._dyn, out)
+            ok = self._ck.plant_dynamics(self.pose, self.twist, self.q, self.qdot,
+                                         tau + rotor, self.hand_wrench, self.M, self._dyn,
+                                         out)
             self._advance(bool(ok), out[0:6], out[6:12], out[12:], dt)
             return
         J = self.model.jacobian(self.pose)
-        w = J.T @ (tau - mo.friction * self.qdot) + self.hand_wrench
+        w = J.T @ (tau + rotor - mo.friction * self.qdot) + self.hand_wrench
         w[2] -= self.m * mo.gravity
         Meff = self.M + mo.joint_inertia * (J.T @ J)
         ok = bool(np.all(np.isfinite(Meff)) and np.all(np.isfinite(w)))
@@ -314,7 +421,33 @@ class Plant:
         self._advance(ok, pose if ok else None, twist if ok else None,
                       q if ok else None, dt)
 
+    #: the pose step (m, rad) of the central difference of :meth:`jdot_v`
+    JDOT_STEP = 1e-4
+
+    def jdot_v(self) -> np.ndarray:
+        """``J̇ V`` (L,) at the current pose and twist (rad/s², or m/s² for prismatic
+        legs): the derivative of J along the twist, by central differences of the
+        Jacobian over pose steps of :data:`JDOT_STEP` (m and rad) either side along
+        ``V``.  Zero where a displaced pose is out of reach (within a step of the reach
+        boundary, where the mechanical end stop of :meth:`step` takes over: there the
+        rotors' term is left out, a stated simplification)."""
+        V = self.twist
+        n = math.sqrt(float(V @ V))
+        L = self.model.L
+        if n == 0.0:
+            return np.zeros(L)
+        s = self.JDOT_STEP / n
+        model = self.model
+        rot = rotate_pose if self._ck is None else self._ck.rotate_pose
+        dv, dw = V[:3] * s, V[3:] * s
+        plus, minus = rot(self.pose, dv, dw), rot(self.pose, -dv, -dw)
+        if not (model.ik(plus)[1] and model.ik(minus)[1]):
+            return np.zeros(L)
+        return ((model.jacobian(plus) - model.jacobian(minus)) @ V) / (2.0 * s)
+
     def _advance(self, ok, pose, twist, q, dt) -> None:
+        if ok and not self.model.in_range(q):
+            ok = False                   # a joint at its range: the end stop of that leg
         if ok:
             self.pose, self.twist = pose, twist
             self.qdot = (q - self.q) / dt

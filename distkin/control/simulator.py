@@ -328,7 +328,11 @@ class Simulator:
         cmd = self.command
         mode = MODE_ZERO_TORQUE if watchdog else cmd.mode
         p = self.plant
+        bad = p.nonfinite_commands
         p.step(cmd.torques, mode, self.period)
+        if p.nonfinite_commands and not bad:         # the first one: say so, once
+            self.events.add(p.t, "nonfinite_command", seq=int(cmd.seq),
+                            message="a command held NaN or inf: zero effort on those joints")
         if self.log.path is None:
             return                               # no device log: no row to make
         self.log.add((p.t, time.perf_counter(), -1 if seq is None else seq, cmd.ack, mode,

@@ -20,6 +20,7 @@ import itertools
 import numpy as np
 
 from ..argcheck import positive_number
+from ..errors import InfeasibleError, InputError, SingularConfigurationError
 
 __all__ = ["PAPER_STIFFNESS", "paper_positions", "servo_stiffness", "stiffness_summary"]
 
@@ -40,11 +41,39 @@ def paper_positions(mech, half: float = 0.075) -> np.ndarray:
 
 def servo_stiffness(mech, kp: float, poses) -> np.ndarray:
     """The compliance reading ``1/[K⁻¹]_ii`` of ``K = kp JᵀJ`` along x, y, z (N/m),
-    shape (N, 3), at poses (N, 6) (module docstring)."""
+    shape (N, 3), at poses (N, 6) (module docstring).
+
+    Raises
+    ------
+    InfeasibleError
+        A pose that a leg cannot reach (its Jacobian rows would be finite but
+        meaningless: review, the stiffness 5 m above the Octo came out as 2.5 N/m).
+    SingularConfigurationError
+        A pose where ``JᵀJ`` is singular (rank < 6, or not finite): no finite
+        stiffness along some direction, or none defined.
+    """
     kp = positive_number(kp, "kp")
-    J = mech.jacobian(np.atleast_2d(np.asarray(poses, dtype=float)))
-    K = kp * np.swapaxes(J, -1, -2) @ J
-    C = np.linalg.inv(K)
+    P = np.atleast_2d(np.asarray(poses, dtype=float))
+    if P.ndim != 2 or P.shape[1] != 6:
+        raise InputError(f"expected poses of shape (6,) or (N, 6) (x, y, z, rx, ry, rz in "
+                         f"m and rad), got shape {np.shape(poses)}", field="poses")
+    J = mech.jacobian(P)                      # checks the shape and finiteness of poses
+    ok = np.atleast_1d(mech.reachable(P))
+    if not ok.all():
+        i = int(np.flatnonzero(~ok)[0])
+        raise InfeasibleError(f"expected poses every leg reaches, got {int((~ok).sum())} "
+                              f"of {ok.size} that do not, the first pose[{i}] = "
+                              f"{np.round(P[i], 6).tolist()} (m, rad)", field="poses")
+    with np.errstate(all="ignore"):
+        s = np.linalg.svd(J, compute_uv=False) if np.all(np.isfinite(J)) else None
+    if s is None or np.any(s[:, -1] <= 1e-12 * s[:, 0]):
+        bad = (np.arange(len(P)) if s is None else np.flatnonzero(s[:, -1] <= 1e-12 * s[:, 0]))
+        i = int(bad[0])
+        raise SingularConfigurationError(
+            f"expected poses where J has rank 6 (smallest/largest singular value above "
+            f"1e-12), got a singular Jacobian at pose[{i}] = {np.round(P[i], 6).tolist()} "
+            "(m, rad)", field="poses")
+    C = np.linalg.inv(kp * np.swapaxes(J, -1, -2) @ J)
     return 1.0 / np.diagonal(C, axis1=-2, axis2=-1)[..., :3]
 
 

@@ -203,7 +203,10 @@ def test_the_compiled_plant_steps_like_the_numpy_plant(models):
     sc = builtin_scene()
     fast, ref = (Plant(m, sc.simulator.motors, sc.simulator.hand, seed=3) for m in models)
     assert fast._ck is not None and ref._ck is None
-    rng = np.random.default_rng(8)
+    # seed 2: since the plant carries the rotors' velocity-product term, the walk of
+    # seed 8 ends pressed on a reach boundary (margin 3e-12 m²), where the IK's sqrt
+    # magnifies the routes' last-bit differences to 1e-9; this walk stays 0.02 m² away
+    rng = np.random.default_rng(2)
     for k in range(1500):
         mode = MODE_RUN if k < 900 else MODE_HOLD if k < 1200 else MODE_ZERO_TORQUE
         tau = rng.normal(0.0, 0.4 if k % 300 else 60.0, fast.model.L)
@@ -215,4 +218,5 @@ def test_the_compiled_plant_steps_like_the_numpy_plant(models):
                           (fast.twist, ref.twist, 1e-8), (fast.tau, ref.tau, 1e-8)):
             np.testing.assert_allclose(x, y, rtol=0, atol=tol)
     assert np.abs(fast.pose - fast.model.home).max() > 1e-3       # it moved
+    assert fast.end_stop_hits == 0
     assert np.array_equal(fast.encoders(), ref.encoders())
