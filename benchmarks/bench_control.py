@@ -119,7 +119,7 @@ def _parts(compiled: bool = True):
         z = np.zeros(6)
         competitors["fused cycle kernel alone (steps 2-8, one call)"] = lambda: ck.cycle(
             frame.angles, frame.wrench, 1e-3, True, True, ctl.pose, pose, z, pd, prm, env,
-            buf)
+            ctl._ranges, buf)
         py = Controller(sc, model, fused=False)
         py.compute(frame, 1e-3)
         competitors["whole cycle, Python steps on the compiled kernels"] = \

@@ -124,6 +124,10 @@ class Controller:
             self._fused = cycle_params(self.pd, self.safety, self.adm, self.weight, SCALING,
                                        period=self.dt_nominal)
             self._pd_state = np.zeros((5, self.L))
+            # the revolute legs' ranges for the candidate's test (check_pose)
+            inf = np.full(self.L, np.inf)
+            self._ranges = (np.array([-inf, inf]) if model.joint_lo is None else
+                            np.array([model.joint_lo, model.joint_hi], dtype=float))
         self._reset_pd()
         self.refusing = False
         self.refused = 0
@@ -210,13 +214,14 @@ class Controller:
         Returns
         -------
         reason : str
-            "unreachable" (a leg cannot close), "singular" (:meth:`near_singular`),
+            "unreachable" (a leg cannot close, or a joint lies outside its leg's
+            range), "singular" (:meth:`near_singular`),
             "" otherwise.
         q : ndarray (L,) or None
             The crank angles of the pose, when reachable.
         """
         q, ok = self.model.ik(pose)
-        if not ok or not np.all(np.isfinite(q)):
+        if not ok or not np.all(np.isfinite(q)) or not self.model.in_range(q):
             return "unreachable", None
         if self.near_singular(self.model.jacobian(pose)):
             return "singular", None
@@ -369,7 +374,8 @@ class Controller:
         out = np.empty(CYCLE_OUT + L)
         code = self.model.compiled.cycle(frame.angles, frame.wrench, float(dt),
                                          bool(self.started), self.state == RUN, self.pose,
-                                         adm.pose, adm.twist, self._pd_state, prm, env, out)
+                                         adm.pose, adm.twist, self._pd_state, prm, env,
+                                         self._ranges, out)
         r.fk_residual, r.fk_iterations = float(out[24 + L]), int(out[25 + L])
         r.reason = self._REASONS[code]
         if code == 1:

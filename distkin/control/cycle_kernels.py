@@ -324,7 +324,8 @@ def build(kernels, L: int) -> CycleKernels:
     prm[15:21] = 1.0                               # the scaling S (a divisor)
     for started in (False, True):
         ck.cycle(np.zeros(L), np.zeros(6), 1e-3, started, True, np.zeros(6), np.zeros(6),
-                 np.zeros(6), np.zeros((5, L)), prm, env, np.zeros(CYCLE_OUT + L))
+                 np.zeros(6), np.zeros((5, L)), prm, env,
+                 np.array([[-np.inf] * L, [np.inf] * L]), np.zeros(CYCLE_OUT + L))
     ck.drive(np.zeros(L), np.zeros(L), 1.0, 1.0, np.zeros(L))
     ck.readings(np.zeros(L), 1.0, np.zeros(6), np.zeros(6), np.zeros(6), np.zeros(L + 6))
     ck.plant_dynamics(np.zeros(6), np.zeros(6), np.zeros(L), np.zeros(L), np.zeros(L),

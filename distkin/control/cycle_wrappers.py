@@ -96,7 +96,7 @@ def forward(q, guess, tol, max_iter, out):  # pragma: no cover (compiled)
     return math.inf, max_iter, False
 
 
-def cycle(q, ws, dt, started, run, guess, adm_pose, adm_twist, pd, prm, env,
+def cycle(q, ws, dt, started, run, guess, adm_pose, adm_twist, pd, prm, env, rng,
           out):  # pragma: no cover (compiled)
     """Steps 2-8 of :meth:`.controller.Controller.compute` in one call (the layouts of
     ``prm``, ``env``, ``pd`` and ``out`` are those of :func:`.cycle_kernels.cycle_params`).
@@ -105,7 +105,9 @@ def cycle(q, ws, dt, started, run, guess, adm_pose, adm_twist, pd, prm, env,
     pose, or at the last estimate when FK fails there), 3 (not in RUN:
     zero torque), 4 / 5 (candidate refused: unreachable / singular), 6 (the torque
     distribution's 6 × 6 system is singular).  ``pd`` (rows e_prev, d_prev, d_f, ∫e;
-    ``pd[4, 0]`` 1 once e_prev holds an error) is updated in place.
+    ``pd[4, 0]`` 1 once e_prev holds an error) is updated in place.  ``rng`` (2, L): the
+    joints' ranges (rad; ±inf where a leg has none): a candidate with a joint outside
+    them is unreachable (:meth:`.kinematics.KinematicModel.in_range`).
     """
     L = q.shape[0]
     pose = out[0:6]
@@ -168,7 +170,7 @@ def cycle(q, ws, dt, started, run, guess, adm_pose, adm_twist, pd, prm, env,
     code = 0
     ok = ik(cand, qd)
     for i in range(L):
-        if not math.isfinite(qd[i]):
+        if not math.isfinite(qd[i]) or qd[i] < rng[0, i] or qd[i] > rng[1, i]:
             ok = False
     if not ok:
         code = 4
