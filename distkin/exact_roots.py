@@ -153,6 +153,17 @@ def _coefficient(c, field):
                      "polynomial; enclose irrational data another way")
 
 
+def _bits(value, field, minimum=2):
+    """A working precision in bits: an integer >= ``minimum`` (FLINT needs 2), or an
+    :class:`InputError` naming ``field`` (QA: ``bits=0`` raised FLINT's bare ValueError
+    and ``bits=2.5`` was kept as a float in :attr:`RealRoot.bits`)."""
+    import numbers
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < minimum:
+        raise InputError(f"expected {field} as an integer >= {minimum} (a working precision "
+                         f"in bits), got {value!r}", field=field)
+    return int(value)
+
+
 def _isolate(p, bits):
     with working_precision(bits):
         return p.complex_roots()
@@ -185,6 +196,7 @@ def real_roots(coeffs, *, bits: int = 64) -> list[RealRoot]:
     [-1.414213562373, 1.414213562373]
     """
     p, floats = _exact_poly(coeffs)
+    bits = _bits(bits, "bits")
     if p.is_zero():
         raise InputError("expected a nonzero polynomial, got the zero polynomial",
                          field="coefficients")
@@ -212,8 +224,9 @@ def count_real_roots(coeffs, lo=None, hi=None, *, bits: int = 64,
     always does: a root that is not at a rational end point is separated from it at
     some precision).
     """
-    import flint
     p = exact_poly(coeffs)
+    bits = _bits(bits, "bits")
+    max_bits = _bits(max_bits, "max_bits")
     ends = [None if e is None else _fmpq_end(e, name) for e, name in ((lo, "lo"), (hi, "hi"))]
     if ends[0] is not None and ends[1] is not None and ends[0] > ends[1]:
         raise InputError(f"expected lo <= hi, got lo = {lo!r} and hi = {hi!r}", field="lo")
@@ -276,18 +289,39 @@ def refine_roots(coeffs, rel_tol: float, *, bits: int = 64, max_bits: int = MAX_
     """Real roots whose balls have relative radius below ``rel_tol``.
 
     Doubles the working precision until every ball satisfies
-    ``rad <= rel_tol * max(|mid|, tiny)``; raises :class:`UncertifiedError` beyond
-    ``max_bits``.
+    ``rad <= rel_tol * |mid|`` (compared exactly: the ends of an ``arb`` ball are binary
+    rationals, and so is a float ``rel_tol``; an exact ball, ``rad == 0``, always does);
+    raises :class:`UncertifiedError` beyond ``max_bits``, and :class:`InputError` for a
+    ``rel_tol`` that is not a finite number > 0.
     """
+    import math
+    import numbers
     p, floats = _exact_poly(coeffs)
+    if isinstance(rel_tol, bool) or not isinstance(rel_tol, numbers.Real) or not (
+            math.isfinite(rel_tol) and rel_tol > 0):
+        # (QA: 0, -1 and NaN were accepted, and the answer was no narrower for them)
+        raise InputError(f"expected rel_tol as a finite number > 0 (a relative radius), "
+                         f"got {rel_tol!r}", field="rel_tol")
+    tol = _coefficient(float(rel_tol), "rel_tol")[0]
+    bits, max_bits = _bits(bits, "bits"), _bits(max_bits, "max_bits")
     while True:
         roots = [replace(r, from_float=floats) for r in real_roots(p, bits=bits)]
-        if all(r.rad <= rel_tol * max(abs(r.mid), 1e-300) or r.rad == 0 for r in roots):
+        # exactly, not in float64: float(rad) underflowed to 0 below about 1e-308 and
+        # float(mid) overflowed to inf beyond 1e308, which passed any rel_tol (QA)
+        if all(_narrow(r.ball, tol) for r in roots):
             return roots
         if bits >= max_bits:
             raise UncertifiedError(f"root enclosures still wider than {rel_tol:.1e} "
                                    f"(relative) at {bits} bits")
         bits *= 2
+
+
+def _narrow(ball, tol) -> bool:
+    """Is the ball's radius at most ``tol`` (fmpq) times the modulus of its midpoint,
+    exactly?"""
+    lower, upper = ball_ends(ball)
+    mid, rad = (lower + upper) / 2, (upper - lower) / 2
+    return rad == 0 or rad <= tol * abs(mid)
 
 
 def sign_at_root(coeffs, other, root: RealRoot, *, max_bits: int = MAX_BITS) -> int:
@@ -305,7 +339,8 @@ def sign_at_root(coeffs, other, root: RealRoot, *, max_bits: int = MAX_BITS) -> 
     """
     import flint
     p = exact_poly(coeffs)
-    q = flint.fmpq_poly(exact_poly(other))
+    q = flint.fmpq_poly(exact_poly(other, field="other"))
+    max_bits = _bits(max_bits, "max_bits")
     bits = root.bits
     ball = root.ball
     checked_gcd = False
