@@ -33,6 +33,8 @@ __all__ = [
     "refine_roots",
     "sign_at_root",
     "ball_ends",
+    "pickle_balls",
+    "unpickle_balls",
 ]
 
 #: default cap on the working precision (bits) before giving up
@@ -278,6 +280,44 @@ def ball_ends(ball):
         return _fmpq_pow2(man, exp)
     m, r = exact(ball.mid()), exact(ball.rad())
     return m - r, m + r
+
+
+class _Ball(tuple):
+    """A pickled ``arb`` ball: ``(mid man, mid exp, rad man, rad exp)``, Python ints."""
+
+    __slots__ = ()
+
+
+def pickle_balls(obj):
+    """``obj`` with every ``arb`` ball (inside lists, tuples and dicts) replaced by its
+    exact binary state: python-flint cannot pickle (nor deep-copy) an ``arb``, and a
+    result that holds balls (the certified tier's) could not be sent to another process
+    (QA).  :func:`unpickle_balls` restores them."""
+    if type(obj).__name__ == "arb":
+        return _Ball(int(v) for part in (obj.mid(), obj.rad()) for v in part.man_exp())
+    if isinstance(obj, dict):
+        return {k: pickle_balls(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)) and not isinstance(obj, _Ball):
+        return type(obj)(pickle_balls(v) for v in obj)
+    return obj
+
+
+def unpickle_balls(obj):
+    """The inverse of :func:`pickle_balls`: each ball with the same exact midpoint and a
+    radius at least as large (FLINT rounds a radius up to its 30-bit mantissa, so it may
+    grow by one unit there): an enclosure of whatever the original enclosed."""
+    import flint
+    if isinstance(obj, _Ball):
+        m, e, r, re = obj
+        with working_precision(max(64, m.bit_length() + 8)):     # the midpoint exactly
+            mid, rad = (flint.arb(a) * flint.arb(2) ** b if b >= 0 else
+                        flint.arb(a) / flint.arb(2) ** -b for a, b in ((m, e), (r, re)))
+            return flint.arb(mid, rad)
+    if isinstance(obj, dict):
+        return {k: unpickle_balls(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return type(obj)(unpickle_balls(v) for v in obj)
+    return obj
 
 
 def _fmpq_pow2(man, exp):
