@@ -231,8 +231,8 @@ def _exact_poses(base, plat, x, sides, legs2, problem, limit):
     while True:
         with working_precision(bits + 30):
             out = _exact_poses_at(base, plat, x, sides, legs2, problem)
-        rad = max(float(c.rad()) for p in out for row in p.native["points"] for c in row
-                  if type(c).__name__ == "arb")     # (the balls', as _poses measures them)
+        rad = max((float(c.rad()) for p in out for row in p.native["points"] for c in row
+                   if type(c).__name__ == "arb"), default=0.0)  # (the balls', as _poses)
         if rad <= limit:
             return out
         if bits >= MAX_BITS:
