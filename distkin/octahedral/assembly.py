@@ -168,13 +168,14 @@ def _exact_zero(v) -> bool:
 
 def _on_flat_face(Y, Z, sxy, sxz, syz):
     """The point X of a face X Y Z whose exact squared sides (``sxy`` = |XY|^2, ...,
-    fmpq) close it flat (16 area^2 = 2(ab + bc + ca) - a^2 - b^2 - c^2 = 0, the
-    Cayley-Menger determinant of the triangle): on the line YZ, at
+    fmpq) close it flat (the Cayley-Menger determinant of the triangle is 0): on the
+    line YZ, at
     Y + t (Z - Y), t = (sxy - sxz + syz) / (2 syz); None when the face is not flat or
     the squared sides are not exact."""
     if not all(type(v).__name__ == "fmpq" for v in (sxy, sxz, syz)):
         return None
-    if 2 * (sxy * sxz + sxz * syz + syz * sxy) - sxy ** 2 - sxz ** 2 - syz ** 2 != 0:
+    from ..geometry.cayley_menger import triangle_area_squared
+    if triangle_area_squared({(1, 2): sxy, (1, 3): sxz, (2, 3): syz}, 1, 2, 3) != 0:
         return None
     t = (sxy - sxz + syz) / (2 * syz)
     return [Y[k] + t * (Z[k] - Y[k]) for k in range(3)]
