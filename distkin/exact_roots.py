@@ -33,6 +33,8 @@ __all__ = [
     "refine_roots",
     "sign_at_root",
     "ball_ends",
+    "pickle_balls",
+    "unpickle_balls",
 ]
 
 #: default cap on the working precision (bits) before giving up
@@ -153,6 +155,17 @@ def _coefficient(c, field):
                      "polynomial; enclose irrational data another way")
 
 
+def _bits(value, field, minimum=2):
+    """A working precision in bits: an integer >= ``minimum`` (FLINT needs 2), or an
+    :class:`InputError` naming ``field`` (QA: ``bits=0`` raised FLINT's bare ValueError
+    and ``bits=2.5`` was kept as a float in :attr:`RealRoot.bits`)."""
+    import numbers
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < minimum:
+        raise InputError(f"expected {field} as an integer >= {minimum} (a working precision "
+                         f"in bits), got {value!r}", field=field)
+    return int(value)
+
+
 def _isolate(p, bits):
     with working_precision(bits):
         return p.complex_roots()
@@ -185,6 +198,7 @@ def real_roots(coeffs, *, bits: int = 64) -> list[RealRoot]:
     [-1.414213562373, 1.414213562373]
     """
     p, floats = _exact_poly(coeffs)
+    bits = _bits(bits, "bits")
     if p.is_zero():
         raise InputError("expected a nonzero polynomial, got the zero polynomial",
                          field="coefficients")
@@ -212,8 +226,9 @@ def count_real_roots(coeffs, lo=None, hi=None, *, bits: int = 64,
     always does: a root that is not at a rational end point is separated from it at
     some precision).
     """
-    import flint
     p = exact_poly(coeffs)
+    bits = _bits(bits, "bits")
+    max_bits = _bits(max_bits, "max_bits")
     ends = [None if e is None else _fmpq_end(e, name) for e, name in ((lo, "lo"), (hi, "hi"))]
     if ends[0] is not None and ends[1] is not None and ends[0] > ends[1]:
         raise InputError(f"expected lo <= hi, got lo = {lo!r} and hi = {hi!r}", field="lo")
@@ -267,6 +282,44 @@ def ball_ends(ball):
     return m - r, m + r
 
 
+class _Ball(tuple):
+    """A pickled ``arb`` ball: ``(mid man, mid exp, rad man, rad exp)``, Python ints."""
+
+    __slots__ = ()
+
+
+def pickle_balls(obj):
+    """``obj`` with every ``arb`` ball (inside lists, tuples and dicts) replaced by its
+    exact binary state: python-flint cannot pickle (nor deep-copy) an ``arb``, and a
+    result that holds balls (the certified tier's) could not be sent to another process
+    (QA).  :func:`unpickle_balls` restores them."""
+    if type(obj).__name__ == "arb":
+        return _Ball(int(v) for part in (obj.mid(), obj.rad()) for v in part.man_exp())
+    if isinstance(obj, dict):
+        return {k: pickle_balls(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)) and not isinstance(obj, _Ball):
+        return type(obj)(pickle_balls(v) for v in obj)
+    return obj
+
+
+def unpickle_balls(obj):
+    """The inverse of :func:`pickle_balls`: each ball with the same exact midpoint and a
+    radius at least as large (FLINT rounds a radius up to its 30-bit mantissa, so it may
+    grow by one unit there): an enclosure of whatever the original enclosed."""
+    import flint
+    if isinstance(obj, _Ball):
+        m, e, r, re = obj
+        with working_precision(max(64, m.bit_length() + 8)):     # the midpoint exactly
+            mid, rad = (flint.arb(a) * flint.arb(2) ** b if b >= 0 else
+                        flint.arb(a) / flint.arb(2) ** -b for a, b in ((m, e), (r, re)))
+            return flint.arb(mid, rad)
+    if isinstance(obj, dict):
+        return {k: unpickle_balls(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return type(obj)(unpickle_balls(v) for v in obj)
+    return obj
+
+
 def _fmpq_pow2(man, exp):
     import flint
     return flint.fmpq(man * 2 ** exp) if exp >= 0 else flint.fmpq(man, 2 ** -exp)
@@ -276,18 +329,39 @@ def refine_roots(coeffs, rel_tol: float, *, bits: int = 64, max_bits: int = MAX_
     """Real roots whose balls have relative radius below ``rel_tol``.
 
     Doubles the working precision until every ball satisfies
-    ``rad <= rel_tol * max(|mid|, tiny)``; raises :class:`UncertifiedError` beyond
-    ``max_bits``.
+    ``rad <= rel_tol * |mid|`` (compared exactly: the ends of an ``arb`` ball are binary
+    rationals, and so is a float ``rel_tol``; an exact ball, ``rad == 0``, always does);
+    raises :class:`UncertifiedError` beyond ``max_bits``, and :class:`InputError` for a
+    ``rel_tol`` that is not a finite number > 0.
     """
+    import math
+    import numbers
     p, floats = _exact_poly(coeffs)
+    if isinstance(rel_tol, bool) or not isinstance(rel_tol, numbers.Real) or not (
+            math.isfinite(rel_tol) and rel_tol > 0):
+        # (QA: 0, -1 and NaN were accepted, and the answer was no narrower for them)
+        raise InputError(f"expected rel_tol as a finite number > 0 (a relative radius), "
+                         f"got {rel_tol!r}", field="rel_tol")
+    tol = _coefficient(float(rel_tol), "rel_tol")[0]
+    bits, max_bits = _bits(bits, "bits"), _bits(max_bits, "max_bits")
     while True:
         roots = [replace(r, from_float=floats) for r in real_roots(p, bits=bits)]
-        if all(r.rad <= rel_tol * max(abs(r.mid), 1e-300) or r.rad == 0 for r in roots):
+        # exactly, not in float64: float(rad) underflowed to 0 below about 1e-308 and
+        # float(mid) overflowed to inf beyond 1e308, which passed any rel_tol (QA)
+        if all(_narrow(r.ball, tol) for r in roots):
             return roots
         if bits >= max_bits:
             raise UncertifiedError(f"root enclosures still wider than {rel_tol:.1e} "
                                    f"(relative) at {bits} bits")
         bits *= 2
+
+
+def _narrow(ball, tol) -> bool:
+    """Is the ball's radius at most ``tol`` (fmpq) times the modulus of its midpoint,
+    exactly?"""
+    lower, upper = ball_ends(ball)
+    mid, rad = (lower + upper) / 2, (upper - lower) / 2
+    return rad == 0 or rad <= tol * abs(mid)
 
 
 def sign_at_root(coeffs, other, root: RealRoot, *, max_bits: int = MAX_BITS) -> int:
@@ -305,7 +379,8 @@ def sign_at_root(coeffs, other, root: RealRoot, *, max_bits: int = MAX_BITS) -> 
     """
     import flint
     p = exact_poly(coeffs)
-    q = flint.fmpq_poly(exact_poly(other))
+    q = flint.fmpq_poly(exact_poly(other, field="other"))
+    max_bits = _bits(max_bits, "max_bits")
     bits = root.bits
     ball = root.ball
     checked_gcd = False

@@ -151,3 +151,36 @@ def test_float_coefficients_are_their_exact_binary_values_and_flagged():
     for bad in (float("nan"), float("inf"), True):
         with pytest.raises(InputError, match=r"coefficients\[1\]"):
             real_roots([1, bad])
+
+
+@pytest.mark.parametrize("coeffs, exact", [
+    ([3, -1], Fraction(1, 3)),                                  # an ordinary root
+    ([1, -Fraction(1, 3 * 10 ** 400)], Fraction(1, 3 * 10 ** 400)),   # below float64's range
+    ([3, -10 ** 400], Fraction(10 ** 400, 3)),                   # above float64's range
+])
+def test_refined_relative_radius_holds_beyond_float_range(coeffs, exact):
+    """The relative radius promised by refine_roots, checked exactly against the known
+    rational root (QA: the test ran in float64, where the radius of a root below 1e-308
+    underflowed to 0 and the midpoint of one above 1e308 overflowed to inf: both passed
+    rel_tol = 1e-60 at 64 bits with relative radii of about 1e-38)."""
+    (root,) = refine_roots(coeffs, 1e-60)
+    lower, upper = ball_ends(root.ball)
+    q = flint.fmpq(exact.numerator, exact.denominator)
+    assert lower <= q <= upper
+    assert (upper - lower) / 2 <= flint.fmpq(Fraction(1e-60).numerator,
+                                             Fraction(1e-60).denominator) * q
+
+
+@pytest.mark.parametrize("call, field", [
+    (lambda: refine_roots([1, 0, -2], 0), "rel_tol"),        # was: answered, as if exact
+    (lambda: refine_roots([1, 0, -2], -1e-9), "rel_tol"),
+    (lambda: refine_roots([1, 0, -2], float("nan")), "rel_tol"),
+    (lambda: real_roots([1, 0, -2], bits=0), "bits"),           # was: FLINT's ValueError
+    (lambda: real_roots([1, 0, -2], bits=2.5), "bits"),         # was: kept as RealRoot.bits
+    (lambda: count_real_roots([1, 0, -2], 0, 2, max_bits=1), "max_bits"),
+    (lambda: refine_roots([1, 0, -2], 1e-9, max_bits=True), "max_bits"),
+])
+def test_precision_and_tolerance_arguments_refused_by_name(call, field):
+    with pytest.raises(InputError) as info:
+        call()
+    assert info.value.field == field

@@ -19,7 +19,10 @@ the precise tier
 (``mpf``) or the certified tier (``arb`` balls, deciding every sign with certainty;
 exact ``fmpq`` on rational data, so that a zero height is exactly zero), both through
 :func:`~distkin.geometry.trilateration.trilateration_parts`, side -1 again as the
-reflection of side +1 except on exact data.
+reflection of side +1 except on exact data.  In the certified tier a side face of the
+octahedron on its closure limit (its squared sides, exact, close it flat) places its
+point on the line of the two others, exactly, instead of deciding a zero height with
+balls; and a P5 in the base plane yields each mode with its mirror image from one P5.
 """
 
 from __future__ import annotations
@@ -101,25 +104,28 @@ def assemble_exact(base, x, sides, legs, *, method: str, dps=None, every=None, t
     s14, s24, s25, s35, s36, s16 = legs
     P1, P2, P3 = base
     kw = dict(method=method, digits=dps, tol=tol)   # the solver's working digits
-    parts5 = parts_at_working_digits([P1, P2, P3], [x, s25, s35], **kw)
+    certified = method == "certified"
+    # a side face of the octahedron on its closure limit (a triangle inequality met with
+    # equality, decided exactly) puts its point on the line of the two others: placed
+    # there exactly, where the balls of a zero height could not decide (QA)
+    P5 = _on_flat_face(P2, P3, s25, s35, sides[2]) if certified else None
+    if P5 is None:
+        parts5 = parts_at_working_digits([P1, P2, P3], [x, s25, s35], **kw)
+        if certified and _exact_zero(parts5.h2):
+            P5 = list(parts5.foot)
+    if P5 is not None:
+        # P5 in the base plane: one P5 for both sides, whose candidates hold each mode
+        # and its mirror image (QA: "2 placements ... compatible" was refused)
+        return _in_plane_modes(_candidates(P1, P2, P5, P3, sides, legs, kw), P1, P2, P3)
     # with enclosures (arb) or mpf, side -1 is the reflection of side +1 in the base
     # plane: an isometry fixing P1 P2 P3, so it maps the candidates of one side onto
     # those of the other with the same leg-5 residuals (rigorous, and half the work);
     # exact rational data keep the explicit sequence (a zero height stays exactly zero)
-    explicit = method == "certified" and type(x).__name__ != "arb"
+    explicit = certified and type(x).__name__ != "arb"
     out = []
     for sig in ((1, -1) if explicit else (1,)):
         P5 = _point(parts5, sig, method, dps)
-        parts4 = parts_at_working_digits([P1, P2, P5], [s14, s24, s45], **kw)
-        cands = []
-        for tau in (1, -1):
-            P4 = _point(parts4, tau, method, dps)
-            parts6 = parts_at_working_digits([P1, P4, P5], [s16, s46, s56], **kw)
-            for rho in (1, -1):
-                P6 = _point(parts6, rho, method, dps)
-                d = [P6[k] - P3[k] for k in range(3)]
-                res = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - s36
-                cands.append(([P4, P5, P6], res))
+        cands = _candidates(P1, P2, P5, P3, sides, legs, kw)
         if every is not None:   # (precise: one side, never the explicit sequence)
             # each mode followed by its mirror image
             return [m for pts, res in _compatible(cands, every)
@@ -128,6 +134,84 @@ def assemble_exact(base, x, sides, legs, *, method: str, dps=None, every=None, t
     if len(out) == 1:
         out.append((_reflect(out[0][0], P1, P2, P3), out[0][1]))
     return out
+
+
+def _candidates(P1, P2, P5, P3, sides, legs, kw):
+    """The four placements ``([P4, P5, P6], leg-5 residual)`` of a placed P5: P4 on
+    either side of the plane P1 P2 P5, P6 on either side of P1 P4 P5 (one where a flat
+    face puts the point on a line, :func:`_on_flat_face`)."""
+    s45, s46, s56 = sides[3], sides[4], sides[5]
+    s14, s24, s25, s35, s36, s16 = legs
+    method, dps = kw["method"], kw["digits"]
+    certified = method == "certified"
+    P4 = (_on_flat_face(P1, P2, s14, s24, sides[0]) or _on_flat_face(P2, P5, s24, s45, s25)
+          if certified else None)
+    if P4 is None:
+        parts4 = parts_at_working_digits([P1, P2, P5], [s14, s24, s45], **kw)
+    cands = []
+    for tau in ((1,) if P4 is not None else (1, -1)):
+        Q4 = P4 if P4 is not None else _point(parts4, tau, method, dps)
+        P6 = _on_flat_face(P1, Q4, s16, s46, s14) if certified else None
+        if P6 is None:
+            parts6 = parts_at_working_digits([P1, Q4, P5], [s16, s46, s56], **kw)
+        for rho in ((1,) if P6 is not None else (1, -1)):
+            Q6 = P6 if P6 is not None else _point(parts6, rho, method, dps)
+            d = [Q6[k] - P3[k] for k in range(3)]
+            res = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - s36
+            cands.append(([Q4, P5, Q6], res))
+    return cands
+
+
+def _exact_zero(v) -> bool:
+    return type(v).__name__ == "fmpq" and v == 0
+
+
+def _on_flat_face(Y, Z, sxy, sxz, syz):
+    """The point X of a face X Y Z whose exact squared sides (``sxy`` = |XY|^2, ...,
+    fmpq) close it flat (the Cayley-Menger determinant of the triangle is 0): on the
+    line YZ, at
+    Y + t (Z - Y), t = (sxy - sxz + syz) / (2 syz); None when the face is not flat or
+    the squared sides are not exact."""
+    if not all(type(v).__name__ == "fmpq" for v in (sxy, sxz, syz)):
+        return None
+    from ..geometry.cayley_menger import triangle_area_squared
+    if triangle_area_squared({(1, 2): sxy, (1, 3): sxz, (2, 3): syz}, 1, 2, 3) != 0:
+        return None
+    t = (sxy - sxz + syz) / (2 * syz)
+    return [Y[k] + t * (Z[k] - Y[k]) for k in range(3)]
+
+
+def _in_plane_modes(cands, P1, P2, P3):
+    """The placements at a P5 in the base plane (certified): the compatible candidates
+    are each mode and its mirror image in the base plane (one, when the mode is its own
+    mirror image); anything else raises :class:`UncertifiedError`."""
+    ok = []
+    for c in cands:     # compatible, and exactly equal candidates (zero heights) once
+        if (c[1] == 0 if type(c[1]).__name__ == "fmpq" else c[1].contains(0)) and not any(
+                _exact(c[0]) and _exact(d[0]) and _same(c[0], d[0]) for d in ok):
+            ok.append(c)
+    if len(ok) == 1 and _same(ok[0][0], _reflect(ok[0][0], P1, P2, P3)):
+        return ok
+    if len(ok) == 2 and not _same(ok[0][0], ok[1][0]) and _same(
+            ok[1][0], _reflect(ok[0][0], P1, P2, P3)):
+        return ok
+    raise UncertifiedError(f"{len(ok)} placements of P4, P6 are compatible with leg 5 "
+                           "within the enclosures at a P5 in the base plane, not one mode "
+                           "and its mirror image")
+
+
+def _exact(points) -> bool:
+    return all(type(v).__name__ == "fmpq" for row in points for v in row)
+
+
+def _same(a, b) -> bool:
+    """Two point sets that are equal (exact) or whose balls overlap."""
+    def eq(u, v):
+        if type(u).__name__ == "fmpq" and type(v).__name__ == "fmpq":
+            return u == v
+        import flint
+        return flint.arb(u).overlaps(flint.arb(v))
+    return all(eq(u, v) for pa, pb in zip(a, b) for u, v in zip(pa, pb))
 
 
 def _compatible(cands, tol):

@@ -90,6 +90,27 @@ class Pose:
 
     __hash__ = None             # mutable arrays inside: not hashable
 
+    def __getstate__(self):
+        return _state(self)
+
+    def __setstate__(self, state):
+        _set(self, "__dict__", _restored(state))
+        self.__post_init__()                # read-only arrays again, as built
+
+
+def _state(obj):
+    """Pickle and deepcopy state of a :class:`Pose` or :class:`RootInfo`: the certified
+    tier's ``arb`` balls in ``native``, which python-flint cannot pickle, as their exact
+    binary state (QA: a certified or escalated result raised TypeError in pickle,
+    multiprocessing and copy.deepcopy)."""
+    from ..exact_roots import pickle_balls
+    return {**obj.__dict__, "native": pickle_balls(obj.__dict__["native"])}
+
+
+def _restored(state):
+    from ..exact_roots import unpickle_balls
+    return {**state, "native": unpickle_balls(state["native"])}
+
 
 @dataclass(frozen=True)
 class RootInfo:
@@ -128,6 +149,12 @@ class RootInfo:
     reason: str
     native: object = field(default=None, repr=False, compare=False)
     radius_kind: str = "estimate"
+
+    def __getstate__(self):
+        return _state(self)
+
+    def __setstate__(self, state):
+        _set(self, "__dict__", _restored(state))
 
 
 @dataclass(frozen=True)
