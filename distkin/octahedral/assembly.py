@@ -100,7 +100,6 @@ def assemble_exact(base, x, sides, legs, *, method: str, dps=None, every=None, t
     UncertifiedError
         Certified tier: no candidate, or more than one, is compatible with leg 5.
     """
-    s45, s46, s56 = sides[3], sides[4], sides[5]
     s14, s24, s25, s35, s36, s16 = legs
     P1, P2, P3 = base
     kw = dict(method=method, digits=dps, tol=tol)   # the solver's working digits

@@ -34,6 +34,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..errors import DegenerateGeometryError, InputError, UncertifiedError
+from ..errors import warn as _warn
 from .result import _evolve, _worst_leg_error, blank_row
 
 __all__ = ["escalate", "escalate_batch", "escalate_thin", "solve_exact", "LEG_TOL",
@@ -154,13 +155,12 @@ def escalate_batch(batch, base, platform, legs, *, dps=None, tol=None):
         tier[i] = t
         _put(raw, i, res)
     if unresolved:
-        import warnings
         from ..errors import ConditioningWarning
         first = min(unresolved)
-        warnings.warn(f"auto: the certified tier could not decide {len(unresolved)} of "
-                      f"{len(batch)} problems (first: problem {first}: {unresolved[first]}); "
-                      "they keep the fast answer, flagged (trusted False; .unresolved "
-                      "says why)", ConditioningWarning, stacklevel=3)
+        _warn(f"auto: the certified tier could not decide {len(unresolved)} of "
+              f"{len(batch)} problems (first: problem {first}: {unresolved[first]}); "
+              "they keep the fast answer, flagged (trusted False; .unresolved "
+              "says why)", ConditioningWarning)
     return replace(batch, count=raw["count"], s15=raw["s15"], points=raw["points"],
                    rotation=raw["rotation"], translation=raw["translation"],
                    max_leg_error=raw["leg_error"], max_leg_error_relative=raw["leg_error_rel"],

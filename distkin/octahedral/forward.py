@@ -44,13 +44,13 @@ answer back, exactly (:mod:`.scaling`).
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import replace
 
 import numpy as np
 
 from ..argcheck import relative_tol
 from ..errors import ConditioningWarning, DegenerateGeometryError, InputError
+from ..errors import warn as _warn
 from ..exact import METHODS_AUTO, check_method, default_dps
 from .problem import exact_problem, float_problem, float_single
 from .scaling import in_units, rescale_result
@@ -190,9 +190,8 @@ def forward_kinematics(base, platform, legs, *, method: str = "fast", dps: int |
             from .auto import escalate
             return escalate(res, base, platform, legs, dps=dps, tol=tol)
         if not cond.trusted:
-            warnings.warn(f"fast tier: the real-root count is not proved ({cond.reason}); "
-                          "use method='auto' or 'certified'", ConditioningWarning,
-                          stacklevel=2)
+            _warn(f"fast tier: the real-root count is not proved ({cond.reason}); "
+                  "use method='auto' or 'certified'", ConditioningWarning)
         return res
     problem = exact_problem(base, platform, legs)
     with in_units(problem.exponent):
@@ -284,10 +283,9 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
         return escalate_batch(out, base, platform, legs, dps=dps, tol=tol)
     if warn and prove and not trusted.all():
         bad = np.flatnonzero(~trusted)
-        warnings.warn(f"fast tier: the real-root count of {bad.size} of {n} problems is not "
-                      f"proved (first: problem {bad[0]}, {_VERDICTS()[verdict[bad[0]]]}); "
-                      "see .trusted, or use method='auto'", ConditioningWarning,
-                      stacklevel=2)
+        _warn(f"fast tier: the real-root count of {bad.size} of {n} problems is not "
+              f"proved (first: problem {bad[0]}, {_VERDICTS()[verdict[bad[0]]]}); "
+              "see .trusted, or use method='auto'", ConditioningWarning)
     return out
 
 

@@ -16,10 +16,10 @@ hide assembly modes.
 
 from __future__ import annotations
 
-import warnings
 from fractions import Fraction
 
 from ..errors import ConditioningWarning, DegenerateGeometryError, InfeasibleError
+from ..errors import warn as _warn
 from ..exact import float_mpf
 from .assembly import assemble_exact
 from .closure import OCTIC, octic_data, part_values
@@ -218,10 +218,10 @@ def solve_precise(problem: Problem, dps: int, tol=None):
             what = ", ".join(f"{x:.10g}" for x in unsure)
             notes += (f"no sign change of the octic around s15 = {what} at {dps} digits: "
                       "a complex pair next to the real axis, or a double root",)
-            warnings.warn(f"precise tier: the octic does not change sign around s15 = "
-                          f"{what} at {dps} digits (a complex pair next to the real axis "
-                          "or a double root); the count may be wrong (use more digits or "
-                          "method='certified')", ConditioningWarning, stacklevel=4)
+            _warn(f"precise tier: the octic does not change sign around s15 = "
+                  f"{what} at {dps} digits (a complex pair next to the real axis "
+                  "or a double root); the count may be wrong (use more digits or "
+                  "method='certified')", ConditioningWarning)
         if outside:         # said, not warned: a spurious cluster hides no assembly mode
             what = "; ".join(f"s15 = {x:.10g}: {m} roots within 1e-{near_exp} relative"
                              for x, m in outside)
@@ -234,10 +234,9 @@ def solve_precise(problem: Problem, dps: int, tol=None):
                              f"{k} assembly mode{'s' if k != 1 else ''} separated"
                              for x, m, k in merged)
             notes += (f"not separated at {dps} digits ({what}): modes may be missing",)
-            warnings.warn(f"precise tier: roots of the octic closer than 1e-{near_exp} "
-                          f"relative were merged ({what}); the count may be wrong (use "
-                          "more digits or method='certified')", ConditioningWarning,
-                          stacklevel=4)
+            _warn(f"precise tier: roots of the octic closer than 1e-{near_exp} "
+                  f"relative were merged ({what}); the count may be wrong (use "
+                  "more digits or method='certified')", ConditioningWarning)
         return AssemblyResult(tuple(poses), "precise", octic, exact, tuple(infos), False,
                               reason, f"mpmath at {dps} digits (working {work}); root "
                               "residual below " + (f"1e-{dps - 8}" if tol is None else
