@@ -20,13 +20,13 @@ import numba
 import numpy as np
 
 from ..spatial import rotate_pose_scalar
-from .admittance import rotation_log
+from .admittance import rotation_log, spring_torque
 from .cycle_kernels import jitted
 from .kinematics import _rot
 
 __all__ = ["singular_values", "normal_equations", "project", "rotate_wrench",
            "spring_wrench", "near_singular", "environment", "drive", "solve", "rot_k",
-           "log_k", "rotate", "readings"]
+           "log_k", "torque_k", "rotate", "readings"]
 
 _jit = numba.njit(cache=True)
 
@@ -35,6 +35,7 @@ _jit = numba.njit(cache=True)
 solve = jitted("solve")
 rot_k = _jit(_rot)
 log_k = _jit(rotation_log)
+torque_k = _jit(spring_torque)
 rotate = _jit(rotate_pose_scalar)
 
 
@@ -96,11 +97,12 @@ def rotate_wrench(r, w, out):  # pragma: no cover (compiled)
 
 
 def spring_wrench(pose, twist, p0, R0t, k, d, out):  # pragma: no cover (compiled)
-    """``out = -k e - d twist``, ``e = (p - p0, log(R(pose) R0ᵀ))`` (Spring.wrench)."""
-    v = log_k(rot_k(pose[3:]) @ R0t)
+    """``out = (-k e_p, spring_torque(e_r, k_r)) - d twist``, ``e = (p - p0,
+    log(R(pose) R0ᵀ))`` (Spring.wrench)."""
+    t = torque_k(log_k(rot_k(pose[3:]) @ R0t), k[3:])
     for i in range(3):
         out[i] = -k[i] * (pose[i] - p0[i]) - d[i] * twist[i]
-        out[3 + i] = -k[3 + i] * v[i] - d[3 + i] * twist[3 + i]
+        out[3 + i] = t[i] - d[3 + i] * twist[3 + i]
 
 
 def _near_singular(J, prm):  # pragma: no cover (compiled)
@@ -162,10 +164,10 @@ def _environment(pose, twist, env, w):  # pragma: no cover (compiled)
                 for b in range(3):
                     M[a, b] = (R[a, 0] * row[4 + b] + R[a, 1] * row[7 + b]
                                + R[a, 2] * row[10 + b])
-            v = log_k(M)
+            t = torque_k(log_k(M), row[16:19])
             for i in range(3):
                 e[i] = -row[13 + i] * (pose[i] - row[1 + i]) - row[19 + i] * twist[i]
-                e[3 + i] = -row[16 + i] * v[i] - row[22 + i] * twist[3 + i]
+                e[3 + i] = t[i] - row[22 + i] * twist[3 + i]
         else:                                                # Wall.wrench
             for i in range(6):
                 e[i] = 0.0

@@ -19,7 +19,10 @@ def test_a_watchdog_shorter_than_two_periods_is_refused_naming_it_and_the_period
 
 
 def test_two_periods_of_watchdog_are_accepted():
-    s = loads_control_scene(scene_text(rate_hz=10, watchdog_ms=200).replace(
+    # a virtual mass 100 times the example's: its admittance is stable at 10 Hz too
+    # (h²k/m + 2hd/m = 0.07 and 0.08 < 4; the example's own is not, and is refused)
+    s = loads_control_scene(scene_text(
+        rate_hz=10, watchdog_ms=200, mass="[100.0, 100.0, 100.0, 0.5, 0.5, 0.5]").replace(
         "[simulator]\n", "[simulator]\ndevice_watchdog_ms = 200\n"))
     assert s.rate_hz == 10 and s.safety.watchdog_ms == 200
 
