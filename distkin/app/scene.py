@@ -45,6 +45,8 @@ __all__ = [
     "load_scene",
     "loads_scene",
     "input_files",
+    "toml_syntax_error",
+    "toml_text",
 ]
 
 @dataclass(frozen=True)
@@ -160,8 +162,7 @@ def loads_scene(text: str, path: str = "<string>") -> Scene:
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"expected valid TOML, got a syntax error: {exc}"
-                         f"{_unclosed_at(text, exc)}", field=path) from None
+        raise toml_syntax_error(text, exc, path) from None
     if "mechanism" not in data and ("device" in data or "pd" in data):
         raise InputError("expected a run scene ([mechanism], [[query]]), got a controller "
                          "scene ([device], [pd], ...)", field="scene",
@@ -200,6 +201,13 @@ def loads_scene(text: str, path: str = "<string>") -> Scene:
             raise
         parsed.append(Query(i, qtype, params, MappingProxyType(dict(q))))
     return Scene(str(path), units, mechanism, MappingProxyType(dict(mtable)), tuple(parsed))
+
+
+def toml_syntax_error(text: str, exc, path) -> InputError:
+    """The one-line error of a TOML syntax error in the file ``path``, naming its line
+    (also where an array or string left open at the end of the document was opened)."""
+    return InputError(f"expected valid TOML, got a syntax error: {exc}"
+                      f"{_unclosed_at(text, exc)}", field=str(path))
 
 
 def _unclosed_at(text: str, exc) -> str:
@@ -258,6 +266,28 @@ def load_scene(path) -> Scene:
     except (IsADirectoryError, PermissionError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot read scene file {str(p)!r}: {exc}", field="scene") from None
     return loads_scene(text, str(p))
+
+
+def toml_text(path, field: str, what: str) -> str:
+    """The text of the TOML file ``path`` (a ``what``, given by the option ``field``),
+    checked as TOML: a file that is not UTF-8 or cannot be read is an
+    :class:`~distkin.errors.InputError` naming ``field``, and a syntax error names its
+    line (:func:`toml_syntax_error`).  ``distkin control`` and ``sim`` read their
+    ``--scene`` with it (QA: a non-UTF-8 controller scene was an internal failure, exit
+    1, and an unclosed array named no line)."""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"expected a UTF-8 text {what} file, got {str(path)!r} (byte "
+                         f"{exc.start} is not UTF-8)", field=field) from None
+    except OSError as exc:
+        raise InputError(f"expected a readable {what} file, got {str(path)!r} "
+                         f"({exc.strerror or type(exc).__name__})", field=field) from None
+    try:
+        tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise toml_syntax_error(text, exc, path) from None
+    return text
 
 
 def input_files(scene: Scene) -> tuple:
