@@ -171,7 +171,7 @@ def loads_scene(text: str, path: str = "<string>") -> Scene:
     units = parse_units(data.get("units"))
     mtable = as_table(require(data, "mechanism", ""), "mechanism")
     kind = require(mtable, "kind", "mechanism")
-    if kind not in MECHANISM_PARSERS:
+    if not isinstance(kind, str) or kind not in MECHANISM_PARSERS:   # a list: unhashable
         raise InputError(f"expected one of {', '.join(map(repr, MECHANISM_PARSERS))}, "
                          f"got {kind!r}", field="mechanism.kind")
     try:
