@@ -53,3 +53,20 @@ def test_the_cli_exits_2_with_one_line(tmp_path):
     assert r.stderr.strip().splitlines() == [
         "distkin: error: mechanism.kind: expected one of 'points', 'octahedral', 'rss', "
         "'legs', 'platform66', got ['rss']"]
+
+
+@pytest.mark.parametrize("where", ["translation", "rotation"])
+def test_a_singularity_pose_beyond_float64_is_refused_naming_the_component(where):
+    """QA: '1e400' in a singularity path's pose was OverflowError (float of the exact
+    value in the size check)."""
+    vec = {"translation": '[3, "1e400", 10]', "rotation": '[180, "-1e400", 0]'}
+    other = "rotation" if where == "translation" else "translation"
+    scene = ('[units]\nlength = "none"\n[mechanism]\nkind = "octahedral"\n'
+             'base = [[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]]\n'
+             'platform = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]]\n'
+             '[[query]]\ntype = "singularity"\n'
+             f'pose = {{ {where} = {vec[where]}, {other} = [0, 0, 1] }}\n')
+    with pytest.raises(InputError) as err:
+        loads_scene(scene)
+    assert err.value.field == f"query[0].pose.{where}[1]"
+    assert "float64 range" in err.value.one_line()
