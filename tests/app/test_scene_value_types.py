@@ -70,3 +70,18 @@ def test_a_singularity_pose_beyond_float64_is_refused_naming_the_component(where
         loads_scene(scene)
     assert err.value.field == f"query[0].pose.{where}[1]"
     assert "float64 range" in err.value.one_line()
+
+
+@pytest.mark.parametrize("kind, extra", [("octahedral", ""),
+                                         ("platform66", 'offsets = ["12/5", "6/5", "12/5", '
+                                                        '"6/5", "12/5", "6/5"]\n')])
+def test_a_platform_coordinate_beyond_float64_is_refused_for_both_kinds(kind, extra):
+    """QA: kind = "octahedral" refused base = [["1e400", 0, 0], ...] at load; kind =
+    "platform66" took it and answered "0 poses, cannot be assembled"."""
+    scene = (f'[mechanism]\nkind = "{kind}"\n'
+             'base = [["1e400", 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]]\n'
+             'platform = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]]\n' + extra +
+             '[[query]]\ntype = "forward_kinematics"\nlegs = [18, 18, 18, 17, 15, 18]\n')
+    with pytest.raises(InputError) as err:
+        loads_scene(scene)
+    assert err.value.field == "mechanism.base[0][0]" and "float64 range" in err.value.one_line()

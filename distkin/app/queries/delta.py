@@ -58,7 +58,7 @@ from dataclasses import dataclass
 
 from ...argcheck import check_keys, dps_field, exact_matrix, method_field, require
 from ...errors import DistkinError, InfeasibleError, InputError
-from ...exact import METHODS_AUTO, parse_vector
+from ...exact import METHODS_AUTO, exact_to_float, parse_vector
 from ..query import Outcome, register
 from ..report import float_inputs, float_inputs_line
 from .octahedral import check_leg_length, count_verdict, octic_fields, pose_points, roots_lines
@@ -94,6 +94,10 @@ def parse_platform66(table, units, fld):
     check_keys(table, {"kind", "base", "platform", "offsets"}, fld)
     base = exact_matrix(require(table, "base", fld), f"{fld}.base", rows=3, cols=3)
     plat = exact_matrix(require(table, "platform", fld), f"{fld}.platform", rows=3, cols=3)
+    for name, rows in (("base", base), ("platform", plat)):
+        for i, row in enumerate(rows):     # as kind = "octahedral": "1e400" is refused
+            for j, v in enumerate(row):
+                exact_to_float(v, f"{fld}.{name}[{i}][{j}]")
     offs = parse_vector(require(table, "offsets", fld), f"{fld}.offsets", length=6)
     try:
         equivalent_platform((base, plat), offs)
