@@ -163,6 +163,9 @@ def loads_scene(text: str, path: str = "<string>") -> Scene:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise toml_syntax_error(text, exc, path) from None
+    if not data:                   # "mechanism: missing required field 'mechanism'" before
+        raise InputError("expected a [mechanism] table and [[query]] tables, got an empty "
+                         "scene (no table, no key)", field="scene")
     if "mechanism" not in data and ("device" in data or "pd" in data):
         raise InputError("expected a run scene ([mechanism], [[query]]), got a controller "
                          "scene ([device], [pd], ...)", field="scene",

@@ -85,3 +85,10 @@ def test_a_platform_coordinate_beyond_float64_is_refused_for_both_kinds(kind, ex
     with pytest.raises(InputError) as err:
         loads_scene(scene)
     assert err.value.field == "mechanism.base[0][0]" and "float64 range" in err.value.one_line()
+
+
+@pytest.mark.parametrize("text", ["", "\n# only a comment\n", "   \n"])
+def test_an_empty_scene_says_so(text):
+    with pytest.raises(InputError) as err:
+        loads_scene(text)
+    assert err.value.field == "scene" and "empty scene" in err.value.one_line()
