@@ -21,6 +21,7 @@ not change.  Further subcommands (``codegen``, ``sim``, ``control``) are registe
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
 import time
 import traceback
@@ -365,6 +366,7 @@ def main(argv=None) -> int:
         commands = ", ".join(["run", "demo", *SUBCOMMANDS])
         _err(f"expected a command ({commands}), got none (see distkin --help)")
         return 2
+    old_term = _term_as_interrupt()
     try:
         _check_cache_env()
         return int(args.func(args) or 0)
@@ -379,3 +381,30 @@ def main(argv=None) -> int:
             traceback.print_exc()
         _err(f"internal failure: {type(exc).__name__}: {exc} (run with --debug for the traceback)")
         return 1
+    finally:
+        if old_term is not None:
+            signal.signal(signal.SIGTERM, old_term)
+
+
+def _term_as_interrupt():
+    """SIGTERM (``kill``, ``timeout``, a CI cancel) stops a command as Ctrl-C does: the
+    chunks a run finished are kept, its pool workers are shut down, ``distkin: error:
+    interrupted``, exit 130 (QA: the default handler killed the process alone, and its
+    pool workers ran on as orphans holding the output pipes, so ``timeout 60 distkin run
+    S.toml | ...`` never returned; its workers get SIGINT, as from a terminal's Ctrl-C, so a
+running chunk does not delay the exit).  ``distkin control`` installs its own handlers for
+    the run (zero torque first).  Returns the handler it replaced (None off the main
+    thread, where none can be installed)."""
+    def _raise(signum, frame):
+        import multiprocessing
+        import os
+        for child in multiprocessing.active_children():   # as Ctrl-C: the pool's too
+            try:
+                os.kill(child.pid, signal.SIGINT)
+            except (ProcessLookupError, TypeError):
+                pass
+        raise KeyboardInterrupt
+    try:
+        return signal.signal(signal.SIGTERM, _raise)
+    except ValueError:                      # not the main thread
+        return None

@@ -65,8 +65,8 @@ def _scene_and_inputs(path):
     """:func:`_scene`, and the files it was read from: itself, and the distkin scene of
     ``[device] mechanism`` with the ``legs_csv`` that one names (no output option may
     name any of them)."""
-    from ..control.config import load_control_scene
-    from .scene import input_files, load_scene
+    from ..control.config import loads_control_scene
+    from .scene import input_files, load_scene, toml_text
     if path and not Path(path).is_file():
         p = Path(path)
         what = ("a directory" if p.is_dir() else
@@ -82,7 +82,8 @@ def _scene_and_inputs(path):
         s = load_scene(p)
         read.extend(input_files(s))
         return s.mechanism
-    scene = load_control_scene(path, mechanism_loader=mechanism)
+    text = toml_text(path, "--scene", "controller scene")     # not UTF-8, a TOML error
+    scene = loads_control_scene(text, str(path), mechanism_loader=mechanism)
     for fld, message in scene.warnings:        # loads, but looks wrong: one line each
         print(f"distkin: warning: {fld}: {message}", file=sys.stderr)
     return scene, read

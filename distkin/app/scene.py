@@ -45,6 +45,8 @@ __all__ = [
     "load_scene",
     "loads_scene",
     "input_files",
+    "toml_syntax_error",
+    "toml_text",
 ]
 
 @dataclass(frozen=True)
@@ -160,7 +162,10 @@ def loads_scene(text: str, path: str = "<string>") -> Scene:
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"expected valid TOML, got a syntax error: {exc}", field=path) from None
+        raise toml_syntax_error(text, exc, path) from None
+    if not data:                   # "mechanism: missing required field 'mechanism'" before
+        raise InputError("expected a [mechanism] table and [[query]] tables, got an empty "
+                         "scene (no table, no key)", field="scene")
     if "mechanism" not in data and ("device" in data or "pd" in data):
         raise InputError("expected a run scene ([mechanism], [[query]]), got a controller "
                          "scene ([device], [pd], ...)", field="scene",
@@ -169,7 +174,7 @@ def loads_scene(text: str, path: str = "<string>") -> Scene:
     units = parse_units(data.get("units"))
     mtable = as_table(require(data, "mechanism", ""), "mechanism")
     kind = require(mtable, "kind", "mechanism")
-    if kind not in MECHANISM_PARSERS:
+    if not isinstance(kind, str) or kind not in MECHANISM_PARSERS:   # a list: unhashable
         raise InputError(f"expected one of {', '.join(map(repr, MECHANISM_PARSERS))}, "
                          f"got {kind!r}", field="mechanism.kind")
     try:
@@ -201,6 +206,50 @@ def loads_scene(text: str, path: str = "<string>") -> Scene:
     return Scene(str(path), units, mechanism, MappingProxyType(dict(mtable)), tuple(parsed))
 
 
+def toml_syntax_error(text: str, exc, path) -> InputError:
+    """The one-line error of a TOML syntax error in the file ``path``, naming its line
+    (also where an array or string left open at the end of the document was opened)."""
+    return InputError(f"expected valid TOML, got a syntax error: {exc}"
+                      f"{_unclosed_at(text, exc)}", field=str(path))
+
+
+def _unclosed_at(text: str, exc) -> str:
+    """Where the array or string that ``tomllib`` found unclosed "at end of document"
+    was opened (tomllib names no line then): ``"; the '[' opened at line 7, column 8 is
+    never closed"``; ``""`` for any other error (those name their line themselves)."""
+    if not str(exc).endswith("(at end of document)"):
+        return ""
+    stack, i, n = [], 0, len(text)
+
+    def where(k):
+        return f"line {text.count(chr(10), 0, k) + 1}, column {k - text.rfind(chr(10), 0, k)}"
+
+    while i < n:
+        c = text[i]
+        if c == "#":                                     # a comment, to the line's end
+            end = text.find("\n", i)
+            i = n if end < 0 else end
+        elif c in "\"'":
+            quote = c * 3 if text.startswith(c * 3, i) else c
+            j = i + len(quote)
+            while j < n and not text.startswith(quote, j):
+                if len(quote) == 1 and text[j] == "\n":
+                    break                                # tomllib names that line itself
+                j += 2 if text[j] == "\\" and c == '"' else 1
+            if j >= n:
+                return f"; the string {quote} opened at {where(i)} is never closed"
+            i = j + len(quote)
+            continue
+        elif c in "[{":
+            stack.append(i)
+        elif c in "]}" and stack:
+            stack.pop()
+        i += 1
+    if not stack:
+        return ""
+    return f"; the {text[stack[0]]!r} opened at {where(stack[0])} is never closed"
+
+
 def load_scene(path) -> Scene:
     """Load and validate a TOML scene file.
 
@@ -220,6 +269,28 @@ def load_scene(path) -> Scene:
     except (IsADirectoryError, PermissionError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot read scene file {str(p)!r}: {exc}", field="scene") from None
     return loads_scene(text, str(p))
+
+
+def toml_text(path, field: str, what: str) -> str:
+    """The text of the TOML file ``path`` (a ``what``, given by the option ``field``),
+    checked as TOML: a file that is not UTF-8 or cannot be read is an
+    :class:`~distkin.errors.InputError` naming ``field``, and a syntax error names its
+    line (:func:`toml_syntax_error`).  ``distkin control`` and ``sim`` read their
+    ``--scene`` with it (QA: a non-UTF-8 controller scene was an internal failure, exit
+    1, and an unclosed array named no line)."""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"expected a UTF-8 text {what} file, got {str(path)!r} (byte "
+                         f"{exc.start} is not UTF-8)", field=field) from None
+    except OSError as exc:
+        raise InputError(f"expected a readable {what} file, got {str(path)!r} "
+                         f"({exc.strerror or type(exc).__name__})", field=field) from None
+    try:
+        tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise toml_syntax_error(text, exc, path) from None
+    return text
 
 
 def input_files(scene: Scene) -> tuple:

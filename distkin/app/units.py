@@ -49,10 +49,10 @@ def parse_units(raw) -> Units:
     check_keys(t, {"length", "angle"}, "units")
     length = t.get("length", "m")
     angle = t.get("angle", "rad")
-    if length not in _LENGTH:
+    if not isinstance(length, str) or length not in _LENGTH:   # a list is unhashable
         raise InputError(f"expected one of {', '.join(map(repr, _LENGTH))}, got {length!r}",
                          field="units.length")
-    if angle not in _ANGLE:
+    if not isinstance(angle, str) or angle not in _ANGLE:
         raise InputError(f"expected 'rad' or 'deg', got {angle!r}", field="units.angle")
     return Units(length, angle)
 

@@ -112,4 +112,5 @@ def test_certified_sign_raises_the_precision_where_53_bits_cannot_decide(angle):
     with pytest.raises(UncertifiedError):
         certified_sign(d)                   # 53 bits: undecided
     exact = certified_sign(jacobian_det(b, p, normalised=False, method="certified"))
-    assert exact != 0 and _certified_sign(d, b, p, 2 * s3) == exact
+    sign, ball = _certified_sign(d, b, p, 2 * s3)
+    assert exact != 0 and sign == exact and np.sign(float(ball.mid())) == exact

@@ -58,10 +58,10 @@ from dataclasses import dataclass
 
 from ...argcheck import check_keys, dps_field, exact_matrix, method_field, require
 from ...errors import DistkinError, InfeasibleError, InputError
-from ...exact import METHODS_AUTO, parse_vector
+from ...exact import METHODS_AUTO, exact_to_float, parse_vector
 from ..query import Outcome, register
 from ..report import float_inputs, float_inputs_line
-from .octahedral import count_verdict, octic_fields, pose_points, roots_lines
+from .octahedral import check_leg_length, count_verdict, octic_fields, pose_points, roots_lines
 from .octahedral import result_units as octahedral_units
 
 __all__ = ["DeltaTransformQuery", "Platform66Forward", "Platform66Mechanism",
@@ -94,6 +94,10 @@ def parse_platform66(table, units, fld):
     check_keys(table, {"kind", "base", "platform", "offsets"}, fld)
     base = exact_matrix(require(table, "base", fld), f"{fld}.base", rows=3, cols=3)
     plat = exact_matrix(require(table, "platform", fld), f"{fld}.platform", rows=3, cols=3)
+    for name, rows in (("base", base), ("platform", plat)):
+        for i, row in enumerate(rows):     # as kind = "octahedral": "1e400" is refused
+            for j, v in enumerate(row):
+                exact_to_float(v, f"{fld}.{name}[{i}][{j}]")
     offs = parse_vector(require(table, "offsets", fld), f"{fld}.offsets", length=6)
     try:
         equivalent_platform((base, plat), offs)
@@ -142,9 +146,7 @@ class DeltaTransformQuery:
         if "m_legs" in table:
             m_legs = parse_vector(table["m_legs"], f"{field}.m_legs", length=6)
             for i, m in enumerate(m_legs):
-                if not float(m) > 0:
-                    raise InputError(f"expected a positive leg length, got {m.text!r}",
-                                     field=f"{field}.m_legs[{i}]")
+                check_leg_length(m, f"{field}.m_legs[{i}]")
         solve = table.get("solve", m_legs is not None and not tr.free_symbols)
         if not isinstance(solve, bool):
             raise InputError(f"expected true or false, got {solve!r}", field=f"{field}.solve")
@@ -379,9 +381,7 @@ class Platform66Forward:
         check_keys(table, {"type", "legs", "method", "dps"}, field)
         legs = parse_vector(require(table, "legs", field), f"{field}.legs", length=6)
         for i, m in enumerate(legs):
-            if not float(m) > 0:
-                raise InputError(f"expected a positive leg length, got {m.text!r}",
-                                 field=f"{field}.legs[{i}]")
+            check_leg_length(m, f"{field}.legs[{i}]")
         tr = delta_transform(mechanism, mechanism.offsets, field="mechanism.offsets")
         method = method_field(table, field, allowed=METHODS_AUTO)
         # (None when not written: the library's default, 30 precise, 50 for auto's fallback)

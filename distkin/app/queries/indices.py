@@ -170,6 +170,11 @@ def _axis_count(half, step, units, field, half_key, step_key, angle=False):
         raise InputError(f"expected a positive {step_key}, got {_show(step, units, angle)}",
                          field=f"{field}.{step_key}")
     n = 2 * half / step
+    if not math.isfinite(n):               # a subnormal step: 2 half / step overflows
+        raise InputError(f"expected a {step_key} with 2 × {half_key} / {step_key} finite, "
+                         f"got 2 × {_show(half, units, angle)} / {_show(step, units, angle)}"
+                         " (beyond float64)",
+                         field=f"{field}.{step_key}")
     k = round(n)
     if abs(n - k) > 1e-9 * max(1.0, n):
         raise InputError(f"expected 2 × {half_key} to be a multiple of {step_key}, got 2 × "
@@ -202,13 +207,13 @@ def _grid(raw, units, field, centre, rotation, scale, *, max_poses=MAX_GRID_POSE
     if "rotation" in t:
         rotation = angle_value(t["rotation"], units, f"{field}.rotation")
     _check_rotation(rotation, units, f"{field}.rotation")
-    nt = _axis_count(half, step, units, field, "half", "step")
-    if half > MAX_REACH * scale:
+    if half > MAX_REACH * scale:          # first: 2 half / step may overflow to inf
         raise InputError(f"expected a half of at most {_show(MAX_REACH * scale, units, False)} "
                          f"({MAX_REACH:g} x the mechanism's length scale; no pose of the "
                          f"device lies farther), got {_show(half, units, False)}",
                          field=f"{field}.half",
                          hint=f"a unit slip? the scene's [units] length is \"{units.length}\"")
+    nt = _axis_count(half, step, units, field, "half", "step")
     nr = _axis_count(rotation, rstep, units, field, "rotation", "rotation_step", angle=True) \
         if rotation > 0 else 1
     positions, orientations = nt ** 3, nr ** 3

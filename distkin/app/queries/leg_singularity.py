@@ -144,9 +144,9 @@ def singularity_tests_at(mech, pose, method: str = "fast", tolerance: float = 1e
     if app["det"]:
         tier = None if method == "fast" else method
         d = jacobian_det(b, p, length_scale=s, method=tier)
+        if method == "certified":      # det_J: the midpoint of the ball that decided
+            out["det_sign_certified"], d = _certified_sign(d, b, p, s)
         out["det_J"] = _float(d)
-        if method == "certified":
-            out["det_sign_certified"] = _certified_sign(d, b, p, s)
     near = bool(abs(out["det_J"]) < tolerance) if app["det"] else \
         bool(out["sigma_min"] < tolerance)
     test = (f"tolerance test |det J| < {tolerance:g} ({method} tier; not a proof)" if app["det"]
@@ -179,22 +179,25 @@ def singularity_tests_at(mech, pose, method: str = "fast", tolerance: float = 1e
 
 
 def _certified_sign(d, b, p, s):
-    """The arb sign of det J, or None.  The poses' floats are exact, so where the ball
-    ``d`` contains 0 the normalisation's square roots are recomputed at 256, then 2048
-    bits (arb), until the sign is decided."""
+    """(the arb sign of det J or None, the ball it was read from).  The poses' floats
+    are exact, so where the ball ``d`` contains 0 the normalisation's square roots are
+    recomputed at 256, then 2048 bits (arb), until the sign is decided; the ball
+    returned is the one that decided it (QA: the 128-bit ball's midpoint, 0, was
+    reported beside "certified < 0" from the 256-bit ball, -2.7e-17)."""
     from ...exact_roots import working_precision
     from ...singularity.conditions import certified_sign, jacobian_det
     try:
-        return certified_sign(d)
+        return certified_sign(d), d
     except UncertifiedError:
         pass
     for bits in (256, 2048):
         with working_precision(bits):
+            ball = jacobian_det(b, p, length_scale=s, method="certified")
             try:
-                return certified_sign(jacobian_det(b, p, length_scale=s, method="certified"))
+                return certified_sign(ball), ball
             except UncertifiedError:
                 continue
-    return None
+    return None, d
 
 
 #: the units of the result (QA W 10: the only query without a unit block)

@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, replace
+from fractions import Fraction
 
 from ...argcheck import check_keys, dps_field, exact_vector, method_field, require, tol_field
 from ...errors import ConditioningWarning, DistkinError, InputError
@@ -45,7 +46,7 @@ from ...exact import METHODS_AUTO, default_dps
 from ..query import Outcome, register
 from ..report import float_inputs, float_inputs_line
 
-__all__ = ["OctahedralForwardQuery", "result_units", "octic_fields", "pose_points",
+__all__ = ["check_leg_length", "OctahedralForwardQuery", "result_units", "octic_fields", "pose_points",
            "roots_lines", "count_verdict"]
 
 
@@ -58,6 +59,25 @@ class _Params:
     field: str = "query"         # "query[2]": the names in ``inputs_from_float``
 
 
+def check_leg_length(v, fld: str) -> None:
+    """Refuse a scene's leg length (:class:`~distkin.exact.Exact`) that is not positive,
+    or that is positive but rounds to 0 in float64 (``"1e-400"``: it was refused as "not
+    positive", QA), or lies beyond float64, naming ``fld``."""
+    try:
+        x = float(v)
+    except InputError as exc:                 # beyond float64
+        raise exc.with_field(fld) from None
+    if x > 0:
+        return
+    positive = v.value > 0 if isinstance(v.value, Fraction) else \
+        bool(getattr(v.value, "is_positive", False))
+    if positive:
+        raise InputError(f"expected a leg length that float64 can hold (above about "
+                         f"4.9e-324), got {v.text}, which rounds to 0", field=fld,
+                         hint="express the lengths in a smaller unit")
+    raise InputError(f"expected a positive leg length, got {v.text}", field=fld)
+
+
 @register("forward_kinematics", mechanisms=("octahedral",),
           summary="every assembly mode of an octahedral manipulator (octic in s15)")
 class OctahedralForwardQuery:
@@ -66,13 +86,7 @@ class OctahedralForwardQuery:
         check_keys(table, {"type", "legs", "method", "dps", "tol"}, field)
         legs = exact_vector(require(table, "legs", field), f"{field}.legs", 6)
         for i, v in enumerate(legs):
-            try:
-                positive = float(v) > 0
-            except InputError as exc:         # beyond float64
-                raise exc.with_field(f"{field}.legs[{i}]") from None
-            if not positive:
-                raise InputError(f"expected a positive leg length, got {v.text}",
-                                 field=f"{field}.legs[{i}]")
+            check_leg_length(v, f"{field}.legs[{i}]")
         method = method_field(table, field, allowed=METHODS_AUTO)
         # (None when not written: the library's default, 30 precise, 50 for auto's fallback)
         dps = dps_field(table, method, field, uses=("precise", "auto")) \

@@ -49,7 +49,7 @@ import numpy as np
 
 from ...argcheck import as_table, check_keys, method_field, positive_int
 from ...errors import InputError, UncertifiedError
-from ...exact import parse_vector
+from ...exact import exact_to_float, parse_vector
 from ..query import Outcome, register
 from .singularity_model import (OctahedralModel, _check66, _check_legs, _exact_pose_arb,
                                 _first, _opt, _tests)
@@ -102,7 +102,8 @@ def _parse_pose(value, field, size):
     rot = parse_vector(t.get("rotation", [0, 0, 0]), f"{field}.rotation", length=3)
     big = MAX_RELATIVE_SIZE * size
     for name, vec, limit in (("translation", tr, big), ("rotation", rot, MAX_ROTATION)):
-        worst = max((abs(float(x.value)) for x in vec), default=0.0)
+        worst = max((abs(exact_to_float(x, f"{field}.{name}[{i}]"))   # "1e400": refused
+                     for i, x in enumerate(vec)), default=0.0)
         if not worst <= limit:
             raise InputError(f"expected components within +/-{limit:.3g} ("
                              + (f"{MAX_RELATIVE_SIZE:g} times the mechanism's size {size:.6g}"
