@@ -11,7 +11,8 @@
 
 Exit codes: 0 ok; 2 bad input or a query whose data admit no answer (one line on
 stderr naming the field); 1 an internal failure (one line; ``--debug`` shows the
-traceback); 130 interrupted (Ctrl-C: ``distkin: error: interrupted``).  A usage error
+traceback); 130 interrupted (Ctrl-C: ``distkin: error: interrupted``); 141 when the
+reader of stdout left (``distkin demo | head``: nothing on stderr).  A usage error
 (an unknown option, no command) is one line too, exit 2.  A plot that fails (``--plots``) is a warning on stderr and a
 ``plot_error`` in the query's JSON record; its results are kept and the exit code does
 not change.  Further subcommands (``codegen``, ``sim``, ``control``) are registered in
@@ -376,6 +377,16 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         _err("interrupted")
         return 130
+    except BrokenPipeError:
+        # the reader of stdout left (``distkin demo | head``): stop quietly, as a
+        # program killed by SIGPIPE would (exit 128 + 13), instead of an "internal
+        # failure"; stdout goes to devnull so that the exit's flush does not fail again
+        import os
+        try:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except (OSError, ValueError):
+            pass
+        return 141
     except Exception as exc:
         if args.debug:
             traceback.print_exc()
