@@ -543,6 +543,9 @@ def cmd_control(args) -> int:
                 raise
             # the user's --port names no openable device: bad input (exit 2)
             raise InputError(exc.message, field="--port") from None
+        if not args.sim:     # a silent port otherwise looks like a hang for 10 s
+            print(f"distkin control: waiting for the device's state frames on {url} (up to "
+                  f"{ctl.STARTUP_TIMEOUT_S:g} s)", file=sys.stderr, flush=True)
         try:
             summary = ctl.run(link, RUN_SECONDS if args.seconds is None else args.seconds,
                               wall_limit=args.wall_limit)

@@ -108,8 +108,14 @@ def test_loop_with_no_device_exits_2_from_the_cli(tmp_path):
     assert proc.returncode == 2 and json.loads(proc.stdout)["exit_reason"] == "no_device"
     assert "Traceback" not in proc.stderr and "no_device" in proc.stderr + proc.stdout
     # QA X1 D3: one line on stderr naming it
+    lines = proc.stderr.splitlines()
     assert ("distkin: error: --port: expected state frames from the device, got none in "
-            "10 s (exit_reason no_device)") in proc.stderr.splitlines()
+            "10 s (exit_reason no_device)") in lines
+    # the wait is said before it starts (a silent port looked like a hang for 10 s)
+    assert lines.index("distkin control: waiting for the device's state frames on loop:// "
+                       "(up to 10 s)") < lines.index(
+        "distkin: error: --port: expected state frames from the device, got none in 10 s "
+        "(exit_reason no_device)")
 
 
 @pytest.mark.parametrize("seconds", [0, -1, float("nan"), float("inf"), 1e-9, True, "1"])
