@@ -174,6 +174,9 @@ class LinearDrives:
                       "counts_per_rev": "count", "force_noise": "nonneg",
                       "torque_noise": "nonneg", "gravity": "finite"},
                above=(("motor_stall_torque", "motor_nominal_torque"),))
+        if not 1e-6 <= self.lead <= 10.0:     # (1e-200 overflowed the ratio's square)
+            raise InputError(f"expected a screw lead of 1e-6 .. 10 m per revolution, got "
+                             f"{self.lead!r} m", field="lead")
         if self.friction is None:
             object.__setattr__(self, "friction", self.motor_friction * self.ratio ** 2)
         _check(self, {"friction": "nonneg"})

@@ -86,6 +86,7 @@ def test_motor_parameters_that_make_no_drive_are_named(kw, field):
 
 @pytest.mark.parametrize("kw, field", [
     ({"lead": 0.0}, "lead"), ({"lead": -0.01}, "lead"),
+    ({"lead": 1e-200}, "lead"), ({"lead": 1e6}, "lead"),     # 1e-200: OverflowError
     ({"motor_nominal_torque": 5.0}, "motor_stall_torque"),
     ({"friction": -1.0}, "friction"), ({"motor_friction": -1.0}, "motor_friction")])
 def test_ball_screw_parameters_that_make_no_drive_are_named(kw, field):
