@@ -353,7 +353,7 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
            + (f"; {int((done & ~small).sum())} with an rms closure residual above "
               f"residual_tol = {residual_tol:.3g} m (inconsistent angles, or no solution "
               f"near the guess)" if (done & ~small).any() else "")
-           + f"; rms closure residual up to {float(res.max()):.3g} m")
+           + f"; rms closure residual up to {float(res.max(initial=0.0)):.3g} m")
     if strict and failed.any():
         i = int(np.argmax(failed))
         raise NotFoundError(
@@ -506,7 +506,7 @@ def _kernel_rows(mech, X, q):
     margin (N, L), Phi(q, X) and Phi(qi, X) (N, L), Jq (N, L) and J (N, L, 6).  The
     scalar kernels for a few poses (a batched kernel costs ~0.5 ms of numpy overhead on
     one pose), else the batched."""
-    if len(X) <= 4:
+    if 0 < len(X) <= 4:                    # (an empty batch: the batched kernels)
         k = mech.kernels("scalar")
         try:
             rows = []

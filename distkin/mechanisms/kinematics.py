@@ -368,9 +368,12 @@ class KernelMethods:
         if method != "fast" or legs is not None or bits is not None:
             from ..errors import InputError
             from .forward_tiers import forward_tier
-            if np.ndim(q) != 1:
+            from ..argcheck import as_floats        # text, ragged lists: InputError
+            shape = as_floats(q, "q", f"{self.legs} joint values (rad, or m for prismatic "
+                                      f"legs)").shape
+            if len(shape) != 1:
                 raise InputError(f"expected one set of {self.legs} joint values for method "
-                                 f"{method!r}, got an array of shape {np.shape(q)}", field="q")
+                                 f"{method!r}, got an array of shape {shape}", field="q")
             start = self.forward_kinematics(q, guess, octic=octic, **options)
             return forward_tier(self, q, method=method, dps=dps, bits=bits, legs=legs,
                                 fast=start)
@@ -391,7 +394,7 @@ class KernelMethods:
             none = sum(len(m) == 0 for m in modes)
             return dataclasses.replace(res, modes=modes if np.ndim(q) > 1 else modes[0],
                                        message=f"exact octic (Rojas et al. eq. (3); tier "
-                                       f"{', '.join(sorted(set(tiers)))}): {n} assembly mode(s), "
+                                       f"{', '.join(sorted(set(tiers))) or 'none'}): {n} assembly mode(s), "
                                        + (f"{none} leg set(s) with none (proved: no pose "
                                           f"exists; the Gauss-Newton pose there is no "
                                           f"answer), " if none else "")
