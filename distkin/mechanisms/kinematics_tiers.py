@@ -66,9 +66,9 @@ Kühne et al., Sec. II-C, eqs. (1)-(2): per leg the closure gives
     azimuths' trigonometry exact and cos, sin of beta and gamma evaluated on balls;
     sympy keeps every product and quotient of them exact (1/(2 l1) is a rational,
     rounded only on the ball), so each ball encloses the exact answer for the
-    mechanism as stated, and every kernel (IK, Jacobian, closure) describes the same
-    one (tests/mechanisms/test_certified_exact.py: against the closed form written out
-    in mpmath at 60 digits).  The fast kernels round that mechanism to float64 (their
+    mechanism as stated (the closure of :mod:`.legs`), and every kernel (IK, Jacobian,
+    closure) describes the same one (tests/mechanisms/test_certified_exact.py: against
+    the closed form in mpmath at 60 digits).  The fast kernels round it to float64 (their
     constants ~1e-16 relative off), which their error estimates cover
     (tests/mechanisms/test_kinematics_tiers.py).  A leg is *certified* when its reach
     margin :math:`\rho^2 - C^2` is certainly > 0 (a ball containing 0 is the branch
