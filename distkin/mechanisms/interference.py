@@ -19,7 +19,8 @@ the other combinations all).  A joint is a point of a body (base or end effector
 its coordinates in the table): legs that share one (the octahedral manipulator, Rojas
 et al. Fig. 4) or a joint at a frame's origin are attached there, not touching.  A pose
 *interferes* when the smallest distance is below ``clearance`` (default 5 mm: two rods
-of 5 mm diameter touch; the pair spacing of the presets is ld = 20 mm).  Motor housings and joint bodies are not modelled.
+of 5 mm diameter touch; the pair spacing of the presets is ld = 20 mm).  Motor housings
+and joint bodies are not modelled.
 
 The distance of two segments is the closest-point computation of Ericson [1], Sec.
 5.1.9, batched with numpy (parallel segments included).
