@@ -45,13 +45,24 @@ class KernelMethods:
         """Joint positions for drawings and checks (plain numpy), arrays (N, L, 3) (or
         (L, 3) for one pose): ``B`` crank pivot / base joint, ``C`` crank tip, ``D``
         distal joint centre (C = D = B for a prismatic leg), ``P`` platform joint; and
-        ``q`` (N, L) (default: the inverse kinematics of ``poses``).  One implementation
-        for every mechanism, on its leg table (:meth:`leg_description`)."""
+        ``q`` (N, L) (given: (L,) or (N, L), rad or m, one row for every pose or one per
+        pose, else :class:`InputError` naming ``q``; default: the inverse kinematics of
+        ``poses``).  One implementation for every mechanism, on its leg table
+        (:meth:`leg_description`)."""
         from ..spatial import rotation_matrix
         X, single = _poses(poses, scale=self.length_scale)
         if q is None:
             q, _ = self.inverse_kinematics(X)
-        q = np.asarray(q, dtype=float).reshape(len(X), self.L)
+        elif not (isinstance(q, np.ndarray) and q.dtype == float
+                  and q.shape == (len(X), self.L)):   # (L,) or (N, L) checked (QA)
+            from ..argcheck import as_floats
+            from .description import _rows
+            what = "joint values (rad, or m for prismatic legs)"
+            q, _ = _rows(as_floats(q, "q", what), "q", self.L, what)
+            if len(q) not in (1, len(X)):
+                raise InputError(f"expected {len(X)} rows of joint values (one per pose) or "
+                                 f"one, got {len(q)}", field="q")
+            q = np.broadcast_to(q, (len(X), self.L))
         d = self.leg_arrays()
         P = X[:, None, :3] + np.einsum("nij,lj->nli", rotation_matrix(X[:, 3:]), d["p"])
         qr = np.where(d["prismatic"][None], 0.0, q)
