@@ -281,6 +281,13 @@ def forward_kinematics(mech, q, guess=None, *, tol=TOL, max_iter=50, max_conditi
         raise InputError(f"expected a positive residual tolerance (m), got {residual_tol!r}",
                          field="residual_tol")
     residual_tol = float(residual_tol)
+    if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
+        raise InputError(f"expected max_iter as a positive integer, got {max_iter!r}",
+                         field="max_iter")
+    if (isinstance(max_condition, bool) or not isinstance(max_condition, (int, float))
+            or not max_condition >= 1):        # a condition number is >= 1; NaN flags none
+        raise InputError(f"expected max_condition as a number >= 1 (a condition number), "
+                         f"got {max_condition!r}", field="max_condition")
     check = (mech, qa, residual_tol)
     ls = mech.length_scale
     tol = check_step_tol(tol)
