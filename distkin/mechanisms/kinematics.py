@@ -267,9 +267,10 @@ class KernelMethods:
         return lo, hi
 
     def reachable(self, poses):
-        """(N,) bool: every leg of the pose closes (and is within its joint range)."""
+        """(N,) bool: every leg of the pose closes (and is within its joint range; a
+        prismatic leg has a non-zero length): ``inverse_kinematics(poses)[1]`` all True."""
         X, single = _poses(poses, scale=self.length_scale)
-        if self._joint_ranges()[0] is not None:
+        if self._joint_ranges()[0] is not None or self.leg_arrays()["prismatic"].any():
             ok = np.all(self.inverse_kinematics(X)[1], axis=-1)
             return ok[0] if single else ok
         ok = np.all(self.kernels("batched").reach(X) >= 0.0, axis=-1)
