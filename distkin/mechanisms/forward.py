@@ -281,6 +281,13 @@ def forward_kinematics(mech, q, guess=None, *, tol=TOL, max_iter=50, max_conditi
         raise InputError(f"expected a positive residual tolerance (m), got {residual_tol!r}",
                          field="residual_tol")
     residual_tol = float(residual_tol)
+    if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
+        raise InputError(f"expected max_iter as a positive integer, got {max_iter!r}",
+                         field="max_iter")
+    if (isinstance(max_condition, bool) or not isinstance(max_condition, (int, float))
+            or not max_condition >= 1):        # a condition number is >= 1; NaN flags none
+        raise InputError(f"expected max_condition as a number >= 1 (a condition number), "
+                         f"got {max_condition!r}", field="max_condition")
     check = (mech, qa, residual_tol)
     ls = mech.length_scale
     tol = check_step_tol(tol)
@@ -353,7 +360,7 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
            + (f"; {int((done & ~small).sum())} with an rms closure residual above "
               f"residual_tol = {residual_tol:.3g} m (inconsistent angles, or no solution "
               f"near the guess)" if (done & ~small).any() else "")
-           + f"; rms closure residual up to {float(res.max()):.3g} m")
+           + f"; rms closure residual up to {float(res.max(initial=0.0)):.3g} m")
     if strict and failed.any():
         i = int(np.argmax(failed))
         raise NotFoundError(
@@ -506,7 +513,7 @@ def _kernel_rows(mech, X, q):
     margin (N, L), Phi(q, X) and Phi(qi, X) (N, L), Jq (N, L) and J (N, L, 6).  The
     scalar kernels for a few poses (a batched kernel costs ~0.5 ms of numpy overhead on
     one pose), else the batched."""
-    if len(X) <= 4:
+    if 0 < len(X) <= 4:                    # (an empty batch: the batched kernels)
         k = mech.kernels("scalar")
         try:
             rows = []

@@ -133,8 +133,10 @@ def _omega_of(r):
 
 
 def six_legs(legs, L: int, field: str = "legs") -> list:
-    """Six distinct leg numbers 1..L (a list or tuple of ints) -> sorted 0-based
-    indices; :class:`InputError` naming ``field`` otherwise."""
+    """Six distinct leg numbers 1..L (a list, tuple or 1-d integer array) -> sorted
+    0-based indices; :class:`InputError` naming ``field`` otherwise."""
+    if isinstance(legs, np.ndarray) and legs.ndim == 1 and legs.dtype.kind in "iu":
+        legs = legs.tolist()                # numpy's integers (were refused, QA)
     ok = (isinstance(legs, (list, tuple)) and len(legs) == 6
           and all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) and 1 <= v <= L
                   for v in legs) and len(set(int(v) for v in legs)) == 6)

@@ -1,21 +1,26 @@
-"""Link interference of RSS/RRRS mechanisms: segment-segment distances between the links.
+"""Link interference of leg mechanisms (RSS/RRRS presets and any leg table):
+segment-segment distances between the links.
 
 Kühne et al. draw the legs of Fig. 2 as lines; whether a reading of that figure can be
 *built* depends on whether its links stay apart.  Every link is modelled as the segment
 between its joint centres (a rod of zero thickness), and the rigid bodies by their
 minimal frames:
 
-* per leg i: the crank ``B_i -> C_i``, the RRRS offset ``C_i -> D_i`` (when l2 > 0) and
-  the distal link ``D_i -> P_i`` (joint points of :meth:`RSSMechanism.points`);
+* per revolute leg i: the crank ``B_i -> C_i``, the offset ``C_i -> D_i`` (RRRS, a
+  non-zero ``offset``) and the distal link ``D_i -> P_i``; per prismatic leg the leg
+  ``B_i -> P_i`` (joint points of :meth:`~.kinematics.KernelMethods.points`);
 * the end effector: spokes from its centre to each spherical joint ``x -> P_i``;
 * the base: spokes from the base centre to each crank pivot ``0 -> B_i``.
 
 Two segments are checked when they share no joint: every pair of segments of different
 legs, every leg segment against every spoke not attached to that leg (the distal link
 i against the end-effector spokes j != i, the crank i against the base spokes j != i,
-the other combinations all).  A pose *interferes* when the smallest distance is below
-``clearance`` (default 5 mm: two rods of 5 mm diameter touch; the pair spacing of the
-presets is ld = 20 mm).  Motor housings and joint bodies are not modelled.
+the other combinations all).  A joint is a point of a body (base or end effector, by
+its coordinates in the table): legs that share one (the octahedral manipulator, Rojas
+et al. Fig. 4) or a joint at a frame's origin are attached there, not touching.  A pose
+*interferes* when the smallest distance is below ``clearance`` (default 5 mm: two rods
+of 5 mm diameter touch; the pair spacing of the presets is ld = 20 mm).  Motor housings
+and joint bodies are not modelled.
 
 The distance of two segments is the closest-point computation of Ericson [1], Sec.
 5.1.9, batched with numpy (parallel segments included).
@@ -80,10 +85,13 @@ def link_segments(mech, poses, q=None):
 
     Parameters
     ----------
-    mech : RSSMechanism
+    mech : RSSMechanism or LegMechanism
+        Any leg table: a revolute leg has a crank, an offset (when its ``offset`` is not
+        zero: the RRRS offset l2) and a distal link; a prismatic leg one segment
+        ``leg`` from its base joint to its platform joint.
     poses : array (N, 6)
     q : array (N, L), optional
-        Crank angles (rad); default the inverse kinematics.
+        Joint values (rad, m); default the inverse kinematics.
 
     Returns
     -------
@@ -93,62 +101,71 @@ def link_segments(mech, poses, q=None):
     joint : array (S,) of int
         The leg whose joint a spoke is attached to (-1 for leg segments).
     kind : list of S str
-        ``crank``, ``offset``, ``distal``, ``effector spoke``, ``base spoke``.
+        ``crank``, ``offset``, ``distal``, ``leg`` (prismatic), ``effector spoke``,
+        ``base spoke``.
     """
+    st, en, leg, joint, kind, _ = _segments(mech, poses, q)
+    return st, en, leg, joint, kind
+
+
+def _segments(mech, poses, q=None):
+    """:func:`link_segments` and the joints (a, b) at each segment's ends: a joint is
+    named by its body and its point in that body's frame (``("base", B)``,
+    ``("effector", p)``; a spoke starts at its frame's origin), so legs that share a
+    joint (the octahedral manipulator's, Rojas et al. Fig. 4), or a joint at a frame's
+    origin, are attached there, not touching; a crank tip or offset end is its leg's own
+    (``("leg", i, "C")``)."""
     X = np.atleast_2d(np.asarray(poses, dtype=float))
     pts = mech.points(X, q)
     B, C, D, P = pts["B"], pts["C"], pts["D"], pts["P"]
+    d = mech.leg_arrays()
     N, L, _ = B.shape
-    starts, ends, leg, joint, kind = [], [], [], [], []
+    starts, ends, leg, joint, kind, ends_at = [], [], [], [], [], []
+    base = [("base", tuple(b)) for b in d["B"]]
+    eff = [("effector", tuple(p)) for p in d["p"]]
     for i in range(L):
-        segs = [("crank", B, C)]
-        if mech.l2 > 0:
-            segs.append(("offset", C, D))
-        segs.append(("distal", D, P))
-        for name, a, b in segs:
+        if d["prismatic"][i]:
+            segs = [("leg", B, P, base[i], eff[i])]
+        else:
+            segs = [("crank", B, C, base[i], ("leg", i, "C"))]
+            if np.any(d["offset"][i] != 0):
+                segs.append(("offset", C, D, ("leg", i, "C"), ("leg", i, "D")))
+            segs.append(("distal", D, P, segs[-1][4], eff[i]))
+        for name, a, b, ja, jb in segs:
             starts.append(a[:, i])
             ends.append(b[:, i])
             leg.append(i)
             joint.append(-1)
             kind.append(name)
-    centre = X[:, :3]
-    for i in range(L):
-        starts.append(centre)
-        ends.append(P[:, i])
-        leg.append(-1)
-        joint.append(i)
-        kind.append("effector spoke")
-    for i in range(L):
-        starts.append(np.zeros((N, 3)))
-        ends.append(B[:, i])
-        leg.append(-1)
-        joint.append(i)
-        kind.append("base spoke")
+            ends_at.append((ja, jb))
+    for name, a, pts_, joints in (("effector", X[:, :3], P, eff),
+                                  ("base", np.zeros((N, 3)), B, base)):
+        for i in range(L):                  # from the frame's origin, a point of the body
+            starts.append(a)
+            ends.append(pts_[:, i])
+            leg.append(-1)
+            joint.append(i)
+            kind.append(name + " spoke")
+            ends_at.append(((name, (0.0, 0.0, 0.0)), joints[i]))
     return (np.stack(starts, axis=1), np.stack(ends, axis=1), np.array(leg), np.array(joint),
-            kind)
+            kind, ends_at)
 
 
-def _pairs(leg, joint, kind):
-    """Index pairs (a, b) of segments that share no joint."""
+def _pairs(leg, ends_at):
+    """Index pairs (a, b) of segments that share no joint (``ends_at``, of
+    :func:`_segments`), of different legs or a leg and a spoke (not two spokes: the
+    frames are one body each)."""
     S = len(leg)
     out = []
     for a in range(S):
         for b in range(a + 1, S):
             la, lb = leg[a], leg[b]
-            if la >= 0 and lb >= 0:
-                if la != lb:
-                    out.append((a, b))
-                continue
-            if la < 0 and lb < 0:
-                continue                    # spokes of one body, or effector vs base
-            seg, spoke = (a, b) if la >= 0 else (b, a)
-            if joint[spoke] == leg[seg]:
-                body = kind[spoke]
-                if (body == "effector spoke" and kind[seg] == "distal") or \
-                        (body == "base spoke" and kind[seg] == "crank"):
-                    continue                # attached at that joint
+            if (la >= 0 and la == lb) or (la < 0 and lb < 0):
+                continue                    # one leg, or spokes of the frames
+            if set(ends_at[a]) & set(ends_at[b]):
+                continue                    # attached at a joint
             out.append((a, b))
-    return np.array(out, dtype=np.intp)
+    return np.array(out, dtype=np.intp).reshape(-1, 2)
 
 
 @dataclass(frozen=True)
@@ -185,8 +202,8 @@ def interference(mech, poses, *, clearance: float = CLEARANCE, q=None,
 
     Parameters
     ----------
-    mech : RSSMechanism
-    poses : array (N, 6) or (6,)
+    mech : RSSMechanism or LegMechanism
+    poses : array (N, 6) or (6,), or 4x4 matrices
         m and rad.
     clearance : float
         Required distance between link axes (m), >= 0.
@@ -200,20 +217,31 @@ def interference(mech, poses, *, clearance: float = CLEARANCE, q=None,
     -------
     Interference
     """
-    if not (isinstance(clearance, (int, float)) and clearance >= 0):
+    if not (isinstance(clearance, (int, float)) and not isinstance(clearance, bool)
+            and clearance >= 0):
         raise InputError(f"expected a clearance >= 0 (m), got {clearance!r}", field="clearance")
-    X = np.atleast_2d(np.asarray(poses, dtype=float))
-    if X.shape[-1] != 6:
-        raise InputError(f"expected poses of shape (N, 6), got {X.shape}", field="poses")
-    qq = None if q is None else np.atleast_2d(np.asarray(q, dtype=float))
+    if not (isinstance(batch, (int, np.integer)) and not isinstance(batch, bool) and batch > 0):
+        raise InputError(f"expected a positive integer batch (poses per block), got "
+                         f"{batch!r}", field="batch")
+    from .description import _poses, _rows
+    X, _ = _poses(poses, scale=mech.length_scale)        # (6,), (N, 6), 4x4; finite
+    qq = None
+    if q is not None:
+        from ..argcheck import as_floats
+        what = "joint values (rad, or m for prismatic legs)"
+        qq, _ = _rows(as_floats(q, "q", what), "q", mech.L, what)
+        if len(qq) != len(X):
+            raise InputError(f"expected {len(X)} rows of joint values (one per pose), got "
+                             f"{len(qq)}", field="q")
     dist = np.empty(len(X))
     which = np.empty(len(X), dtype=np.intp)
     pairs = None
     for lo in range(0, len(X), batch):
         sl = slice(lo, min(len(X), lo + batch))
-        st, en, leg, joint, kind = link_segments(mech, X[sl], None if qq is None else qq[sl])
+        st, en, leg, joint, kind, ends_at = _segments(mech, X[sl],
+                                                      None if qq is None else qq[sl])
         if pairs is None:
-            pairs = _pairs(leg, joint, kind)
+            pairs = _pairs(leg, ends_at)
         dd = segment_distance(st[:, pairs[:, 0]], en[:, pairs[:, 0]],
                               st[:, pairs[:, 1]], en[:, pairs[:, 1]])      # (n, K)
         which[sl] = np.argmin(dd, axis=1)

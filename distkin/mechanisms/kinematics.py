@@ -45,13 +45,24 @@ class KernelMethods:
         """Joint positions for drawings and checks (plain numpy), arrays (N, L, 3) (or
         (L, 3) for one pose): ``B`` crank pivot / base joint, ``C`` crank tip, ``D``
         distal joint centre (C = D = B for a prismatic leg), ``P`` platform joint; and
-        ``q`` (N, L) (default: the inverse kinematics of ``poses``).  One implementation
-        for every mechanism, on its leg table (:meth:`leg_description`)."""
+        ``q`` (N, L) (given: (L,) or (N, L), rad or m, one row for every pose or one per
+        pose, else :class:`InputError` naming ``q``; default: the inverse kinematics of
+        ``poses``).  One implementation for every mechanism, on its leg table
+        (:meth:`leg_description`)."""
         from ..spatial import rotation_matrix
         X, single = _poses(poses, scale=self.length_scale)
         if q is None:
             q, _ = self.inverse_kinematics(X)
-        q = np.asarray(q, dtype=float).reshape(len(X), self.L)
+        elif not (isinstance(q, np.ndarray) and q.dtype == float
+                  and q.shape == (len(X), self.L)):   # (L,) or (N, L) checked (QA)
+            from ..argcheck import as_floats
+            from .description import _rows
+            what = "joint values (rad, or m for prismatic legs)"
+            q, _ = _rows(as_floats(q, "q", what), "q", self.L, what)
+            if len(q) not in (1, len(X)):
+                raise InputError(f"expected {len(X)} rows of joint values (one per pose) or "
+                                 f"one, got {len(q)}", field="q")
+            q = np.broadcast_to(q, (len(X), self.L))
         d = self.leg_arrays()
         P = X[:, None, :3] + np.einsum("nij,lj->nli", rotation_matrix(X[:, 3:]), d["p"])
         qr = np.where(d["prismatic"][None], 0.0, q)
@@ -256,9 +267,10 @@ class KernelMethods:
         return lo, hi
 
     def reachable(self, poses):
-        """(N,) bool: every leg of the pose closes (and is within its joint range)."""
+        """(N,) bool: every leg of the pose closes (and is within its joint range; a
+        prismatic leg has a non-zero length): ``inverse_kinematics(poses)[1]`` all True."""
         X, single = _poses(poses, scale=self.length_scale)
-        if self._joint_ranges()[0] is not None:
+        if self._joint_ranges()[0] is not None or self.leg_arrays()["prismatic"].any():
             ok = np.all(self.inverse_kinematics(X)[1], axis=-1)
             return ok[0] if single else ok
         ok = np.all(self.kernels("batched").reach(X) >= 0.0, axis=-1)
@@ -368,9 +380,12 @@ class KernelMethods:
         if method != "fast" or legs is not None or bits is not None:
             from ..errors import InputError
             from .forward_tiers import forward_tier
-            if np.ndim(q) != 1:
+            from ..argcheck import as_floats        # text, ragged lists: InputError
+            shape = as_floats(q, "q", f"{self.legs} joint values (rad, or m for prismatic "
+                                      f"legs)").shape
+            if len(shape) != 1:
                 raise InputError(f"expected one set of {self.legs} joint values for method "
-                                 f"{method!r}, got an array of shape {np.shape(q)}", field="q")
+                                 f"{method!r}, got an array of shape {shape}", field="q")
             start = self.forward_kinematics(q, guess, octic=octic, **options)
             return forward_tier(self, q, method=method, dps=dps, bits=bits, legs=legs,
                                 fast=start)
@@ -391,7 +406,7 @@ class KernelMethods:
             none = sum(len(m) == 0 for m in modes)
             return dataclasses.replace(res, modes=modes if np.ndim(q) > 1 else modes[0],
                                        message=f"exact octic (Rojas et al. eq. (3); tier "
-                                       f"{', '.join(sorted(set(tiers)))}): {n} assembly mode(s), "
+                                       f"{', '.join(sorted(set(tiers))) or 'none'}): {n} assembly mode(s), "
                                        + (f"{none} leg set(s) with none (proved: no pose "
                                           f"exists; the Gauss-Newton pose there is no "
                                           f"answer), " if none else "")

@@ -66,9 +66,9 @@ Kühne et al., Sec. II-C, eqs. (1)-(2): per leg the closure gives
     azimuths' trigonometry exact and cos, sin of beta and gamma evaluated on balls;
     sympy keeps every product and quotient of them exact (1/(2 l1) is a rational,
     rounded only on the ball), so each ball encloses the exact answer for the
-    mechanism as stated, and every kernel (IK, Jacobian, closure) describes the same
-    one (tests/mechanisms/test_certified_exact.py: against the closed form written out
-    in mpmath at 60 digits).  The fast kernels round that mechanism to float64 (their
+    mechanism as stated (the closure of :mod:`.legs`), and every kernel (IK, Jacobian,
+    closure) describes the same one (tests/mechanisms/test_certified_exact.py: against
+    the closed form in mpmath at 60 digits).  The fast kernels round it to float64 (their
     constants ~1e-16 relative off), which their error estimates cover
     (tests/mechanisms/test_kinematics_tiers.py).  A leg is *certified* when its reach
     margin :math:`\rho^2 - C^2` is certainly > 0 (a ball containing 0 is the branch
@@ -465,6 +465,19 @@ def _reach_status(m, i, j, prismatic, reasons, infeasible, length=None, stroke=N
     return False
 
 
+def _empty(cls, method, prec, L):
+    """``cls`` (:class:`TieredIK`, :class:`TieredJacobian`) of an empty batch without
+    running a kernel: (0, L) arrays, (0, L, 6) for J and Jx (it was an IndexError)."""
+    from dataclasses import fields
+    row = ("J", "J_error", "Jx", "Jx_error", "values", "jx_values") * (cls is TieredJacobian)
+    kind = dict.fromkeys(("valid", "certified", "infeasible", "inaccurate"), bool)
+    kind.update(dict.fromkeys(("values", "jq_values", "jx_values"), object))
+    arrays = {f.name: np.zeros((0,) if f.name == "inaccurate" else (0, L) + (6,) * (f.name in row),
+                               dtype=kind.get(f.name, float))
+              for f in fields(cls) if f.name not in ("method", "precision", "reasons")}
+    return cls(method=method, precision=prec, reasons=(), **arrays)
+
+
 def ik_tier(mech, poses, method: str = "fast", dps: int | None = None,
             bits: int | None = None) -> TieredIK:
     """Inverse kinematics of ``mech`` at ``poses`` (N, 6) or (6,) (m, rad) at one tier,
@@ -474,6 +487,8 @@ def ik_tier(mech, poses, method: str = "fast", dps: int | None = None,
     X, dps, bits, prec = _setup(mech, poses, method, dps, bits)
     N, L = len(X), mech.L
     none = np.zeros((N, L), dtype=bool)
+    if not N and method != "fast":
+        return _empty(TieredIK, method, prec, L)
     if method == "fast":
         q, valid = mech.inverse_kinematics(X)
         margin = mech.reach_margin(X)
@@ -521,6 +536,8 @@ def jacobian_tier(mech, poses, method: str = "fast", dps: int | None = None,
     X, dps, bits, prec = _setup(mech, poses, method, dps, bits)
     N, L = len(X), mech.L
     none = np.zeros((N, L), dtype=bool)
+    if not N and method != "fast":
+        return _empty(TieredJacobian, method, prec, L)
     if method == "fast":
         J = mech._fast("jacobian", X, warn=False)       # the warning below says more
         out = mech._fast("jq_jx", X, warn=False)

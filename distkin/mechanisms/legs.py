@@ -22,6 +22,17 @@ centre (along a: the RRRS offset; zero for RSS/RUS), ``distal`` l3, ``platform``
 platform joint in the end-effector frame, ``branch`` sigma = ±1 the IK solution
 (:mod:`.symbolic`; ``None``: the one nearer q = 0 at the home pose).
 
+The closure every tier solves (Kühne et al., eqs. (1)-(2); :mod:`.symbolic`) is the one
+above expanded with |cos q u + sin q v| = 1: with w = P - B - offset,
+``(|w|^2 - 2 l1 w.(cos q u + sin q v) + l1^2 - l3^2) / (2 l3) = 0`` (m).  For an
+orthonormal (u, v) it is |P - D(q)| = l3; a table's u and v are accepted orthonormal
+within 1e-9 (float vectors are so only to their rounding), and the mechanism then is
+this closure, the one the certified tier's balls enclose exactly, not |P - D(q)| = l3
+with the vectors as given: the two differ by l1^2 (c^2 (|u|^2 - 1) + s^2 (|v|^2 - 1)
++ 2 c s u.v) in the squared closure (c, s = cos q, sin q), at the 1e-9 tolerance about
+4e-10 rad in q on the Hunt preset (tests/mechanisms/test_closure_definition.py).
+``points()`` draws D(q) with the vectors as given.
+
 Prismatic leg (``type`` "SPS" or "UPS"): q = |P - B| (m), ``base`` B the base joint,
 ``platform`` p; its Jacobian row is the normalised Plücker line of the leg, Rojas et
 al. eq. (5).
