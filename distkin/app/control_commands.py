@@ -544,8 +544,10 @@ def cmd_control(args) -> int:
             # the user's --port names no openable device: bad input (exit 2)
             raise InputError(exc.message, field="--port") from None
         if not args.sim:     # a silent port otherwise looks like a hang for 10 s
+            wait = ctl.STARTUP_TIMEOUT_S if args.wall_limit is None else \
+                min(ctl.STARTUP_TIMEOUT_S, args.wall_limit)     # (checked first)
             print(f"distkin control: waiting for the device's state frames on {url} (up to "
-                  f"{ctl.STARTUP_TIMEOUT_S:g} s)", file=sys.stderr, flush=True)
+                  f"{wait:g} s)", file=sys.stderr, flush=True)
         try:
             summary = ctl.run(link, RUN_SECONDS if args.seconds is None else args.seconds,
                               wall_limit=args.wall_limit)

@@ -125,7 +125,7 @@ class Controller:
                                        period=self.dt_nominal)
             self._pd_state = np.zeros((5, self.L))
             # the revolute legs' ranges for the candidate's test (check_pose)
-            inf = np.full(self.L, np.inf)
+            inf = np.full(self.L, np.inf)   # (full turns are ±inf: KinematicModel)
             self._ranges = (np.array([-inf, inf]) if model.joint_lo is None else
                             np.array([model.joint_lo, model.joint_hi], dtype=float))
         self._reset_pd()
@@ -208,21 +208,32 @@ class Controller:
             return True
         return lo < self.safety.sigma_min or hi > self.safety.max_condition * lo
 
-    def check_pose(self, pose):
+    def check_pose(self, pose, current=None):
         """Why a commanded pose must be refused ("" if it is acceptable).
 
         Returns
         -------
         reason : str
             "unreachable" (a leg cannot close, or a joint lies outside its leg's
-            range), "singular" (:meth:`near_singular`),
+            range, modulo 2π, further than at the set point ``current`` if given),
+            "singular" (:meth:`near_singular`),
             "" otherwise.
         q : ndarray (L,) or None
             The crank angles of the pose, when reachable.
         """
         q, ok = self.model.ik(pose)
-        if not ok or not np.all(np.isfinite(q)) or not self.model.in_range(q):
+        if not ok or not np.all(np.isfinite(q)):
             return "unreachable", None
+        excess = self.model.range_excess(q)
+        if np.any(excess > 0.0):
+            # a joint outside its range: refused where its excess grows over the current
+            # set point's (none: over 0), so that a set point that starts past a limit
+            # (a pose estimated from quantised encoders, review) can move back
+            before = (np.zeros(self.L) if current is None else
+                      self.model.range_excess(self.model.ik(current)[0]))
+            before = np.where(np.isfinite(before), before, 0.0)
+            if np.any(excess > before):
+                return "unreachable", None
         if self.near_singular(self.model.jacobian(pose)):
             return "singular", None
         return "", q
@@ -350,7 +361,7 @@ class Controller:
             r.torques = np.zeros(self.L)
             return r
         cand_pose, cand_twist = self.adm.propose(w, dt)
-        why, q_des = self.check_pose(cand_pose)
+        why, q_des = self.check_pose(cand_pose, current=self.adm.pose)
         if why:
             self.adm.refuse()
             self.refused += 1

@@ -22,11 +22,11 @@ import numpy as np
 from ..spatial import rotate_pose_scalar
 from .admittance import rotation_log, spring_torque
 from .cycle_kernels import jitted
-from .kinematics import _rot
+from .kinematics import _rot, range_excess
 
 __all__ = ["singular_values", "normal_equations", "project", "rotate_wrench",
            "spring_wrench", "near_singular", "environment", "drive", "solve", "rot_k",
-           "log_k", "torque_k", "rotate", "readings"]
+           "log_k", "torque_k", "excess_k", "rotate", "readings"]
 
 _jit = numba.njit(cache=True)
 
@@ -36,6 +36,7 @@ solve = jitted("solve")
 rot_k = _jit(_rot)
 log_k = _jit(rotation_log)
 torque_k = _jit(spring_torque)
+excess_k = _jit(range_excess)
 rotate = _jit(rotate_pose_scalar)
 
 

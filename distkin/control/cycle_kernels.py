@@ -201,6 +201,7 @@ jac_k, clo_k = numba.njit(cache=True)(_jac), numba.njit(cache=True)(_clo)
 solve, rotate, rotate_wrench, project = _cc.solve, _cc.rotate, _cc.rotate_wrench, _cc.project
 normal_equations = _cc.normal_equations
 _near_singular, _environment = _cc.near_singular, _cc.environment
+_excess = _cc.excess_k
 # this mechanism's
 ik = numba.njit(cache=True)(ik)
 jacobian = numba.njit(cache=True)(jacobian)

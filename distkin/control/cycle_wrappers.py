@@ -20,7 +20,7 @@ __all__ = ["ik", "jacobian", "closure", "forward", "cycle", "plant_dynamics"]
 
 #: bound by the header and footer of each copy
 ik_k = reach_k = jac_k = clo_k = solve = rotate = rotate_wrench = project = None
-normal_equations = _near_singular = _environment = None
+normal_equations = _near_singular = _environment = _excess = None
 
 
 def ik(pose, q):  # pragma: no cover (compiled)
@@ -106,8 +106,9 @@ def cycle(q, ws, dt, started, run, guess, adm_pose, adm_twist, pd, prm, env, rng
     zero torque), 4 / 5 (candidate refused: unreachable / singular), 6 (the torque
     distribution's 6 × 6 system is singular).  ``pd`` (rows e_prev, d_prev, d_f, ∫e;
     ``pd[4, 0]`` 1 once e_prev holds an error) is updated in place.  ``rng`` (2, L): the
-    joints' ranges (rad; ±inf where a leg has none): a candidate with a joint outside
-    them is unreachable (:meth:`.kinematics.KinematicModel.in_range`).
+    joints' ranges (rad, modulo 2π; ±inf where a leg has none or a full turn): a
+    candidate that takes a joint further outside them than the set point is is
+    unreachable (:meth:`.controller.Controller.check_pose`).
     """
     L = q.shape[0]
     pose = out[0:6]
@@ -169,9 +170,21 @@ def cycle(q, ws, dt, started, run, guess, adm_pose, adm_twist, pd, prm, env, rng
     qd = np.empty(L)
     code = 0
     ok = ik(cand, qd)
+    out_of_range = False
     for i in range(L):
-        if not math.isfinite(qd[i]) or qd[i] < rng[0, i] or qd[i] > rng[1, i]:
+        if not math.isfinite(qd[i]):
             ok = False
+        elif _excess(qd[i], rng[0, i], rng[1, i]) > 0.0:
+            out_of_range = True
+    if ok and out_of_range:          # refused where a joint's excess grows (check_pose)
+        qc = np.empty(L)
+        ik(apose, qc)
+        for i in range(L):
+            ec = _excess(qc[i], rng[0, i], rng[1, i])
+            if not math.isfinite(ec):
+                ec = 0.0
+            if _excess(qd[i], rng[0, i], rng[1, i]) > ec:
+                ok = False
     if not ok:
         code = 4
     else:

@@ -25,7 +25,26 @@ import numpy as np
 from ..mechanisms.forward import gauss_newton
 from ..spatial import rotation_matrix_scalar as _rot  # noqa: F401 (controller, plant)
 
-__all__ = ["KinematicModel", "FKState", "load_model", "model_of"]
+__all__ = ["KinematicModel", "FKState", "load_model", "model_of", "range_excess"]
+
+_TWO_PI = 2.0 * math.pi
+
+
+def range_excess(q: float, lo: float, hi: float) -> float:
+    """How far (rad) the crank angle ``q`` lies outside the arc [``lo``, ``hi``] taken
+    modulo 2π, as :func:`distkin.mechanisms.legs.in_revolute_range` reads a range
+    (``[90, 270]`` deg is the back arc, ``[270, 450]`` the same arc as ±90°): 0 inside
+    it, and where the leg has no range (``lo`` = -inf; a full turn is given so by
+    :class:`KinematicModel`); inf for NaN.  Compiled for the control cycle by
+    :mod:`.cycle_common` (plain ``math``)."""
+    if q != q:
+        return math.inf
+    if not lo > -math.inf:
+        return 0.0
+    qs = q + _TWO_PI * math.ceil((lo - q) / _TWO_PI)   # the shift into [lo, lo + 2π)
+    if qs <= hi:
+        return 0.0
+    return min(qs - hi, lo + _TWO_PI - qs)
 
 
 @dataclass
@@ -68,6 +87,11 @@ class KinematicModel:
         #: reach kernels')
         ranges = getattr(mech, "_joint_ranges", None)
         self.joint_lo, self.joint_hi = ranges() if ranges is not None else (None, None)
+        if self.joint_lo is not None:     # a full turn is no range (legs.full_turn)
+            from ..mechanisms.legs import full_turn
+            turn = full_turn(self.joint_lo, self.joint_hi)
+            self.joint_lo = np.where(turn, -np.inf, self.joint_lo)
+            self.joint_hi = np.where(turn, np.inf, self.joint_hi)
         self.compiled = None
         if compiled:
             from .cycle_kernels import build
@@ -89,13 +113,20 @@ class KinematicModel:
         return np.asarray(self._ik(p), dtype=float), ok
 
     def in_range(self, q) -> bool:
-        """Every joint value of ``q`` (L,) within its leg's range (True when the legs
-        have none).  :meth:`ik`'s flag says only that the legs close; a crank past its
-        range closes too (review: the simulated rus8 device turned a crank to 107°
-        against its ±90° range without an end stop)."""
+        """Every joint value of ``q`` (L,) within its leg's range modulo 2π
+        (:func:`range_excess`; True when the legs have none).  :meth:`ik`'s flag says
+        only that the legs close; a crank past its range closes too (review: the
+        simulated rus8 device turned a crank to 107° against its ±90° range without an
+        end stop)."""
+        return not np.any(self.range_excess(q) > 0.0)
+
+    def range_excess(self, q) -> np.ndarray:
+        """:func:`range_excess` of each joint of ``q`` (L,), rad (zeros without
+        ranges)."""
         if self.joint_lo is None:
-            return True
-        return bool(np.all(q >= self.joint_lo) and np.all(q <= self.joint_hi))
+            return np.zeros(self.L)
+        return np.array([range_excess(float(v), float(a), float(b))
+                         for v, a, b in zip(q, self.joint_lo, self.joint_hi)])
 
     def jacobian(self, pose):
         """``J`` (L, 6): ``qdot = J (v, omega)``, rad per (m, rad)."""

@@ -431,9 +431,9 @@ class Plant:
         """``J̇ V`` (L,) at the current pose and twist (rad/s², or m/s² for prismatic
         legs): the derivative of J along the twist, by central differences of the
         Jacobian over pose steps of :data:`JDOT_STEP` (m and rad) either side along
-        ``V``.  Zero where a displaced pose is out of reach (within a step of the reach
-        boundary, where the mechanical end stop of :meth:`step` takes over: there the
-        rotors' term is left out, a stated simplification)."""
+        ``V``; one-sided on the reachable side within a step of the reach boundary, zero
+        only where neither displaced pose is in reach (the mechanical end stop of
+        :meth:`step` takes over there)."""
         V = self.twist
         n = math.sqrt(float(V @ V))
         L = self.model.L
@@ -444,9 +444,17 @@ class Plant:
         rot = rotate_pose if self._ck is None else self._ck.rotate_pose
         dv, dw = V[:3] * s, V[3:] * s
         plus, minus = rot(self.pose, dv, dw), rot(self.pose, -dv, -dw)
-        if not (model.ik(plus)[1] and model.ik(minus)[1]):
-            return np.zeros(L)
-        return ((model.jacobian(plus) - model.jacobian(minus)) @ V) / (2.0 * s)
+        ok_p, ok_m = model.ik(plus)[1], model.ik(minus)[1]
+        if ok_p and ok_m:
+            return ((model.jacobian(plus) - model.jacobian(minus)) @ V) / (2.0 * s)
+        # within a step of the reach boundary: the one-sided difference on the reachable
+        # side (zero there let the platform coast at constant twist while J grew, and
+        # the energy jumped 9-fold before the end stop, review)
+        if ok_p:
+            return ((model.jacobian(plus) - model.jacobian(self.pose)) @ V) / s
+        if ok_m:
+            return ((model.jacobian(self.pose) - model.jacobian(minus)) @ V) / s
+        return np.zeros(L)
 
     def _advance(self, ok, pose, twist, q, dt) -> None:
         if ok and not self.model.in_range(q):

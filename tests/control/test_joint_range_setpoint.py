@@ -89,3 +89,58 @@ class _NoRanges:
 
     def in_range(self, q):
         return True
+
+    def range_excess(self, q):
+        return np.zeros(len(q))
+
+
+# ---------------------------------------------------------- review: ranges modulo 2π
+
+def _shifted_scene(tmp_path, text):
+    for name in ("control_rus8.toml", "rus8_device.toml"):
+        src = (EXAMPLES / name).read_text()
+        (tmp_path / name).write_text(src.replace("range = [-90, 90]", text))
+    sc = load_control_scene(tmp_path / "control_rus8.toml",
+                            mechanism_loader=lambda p: load_scene(p).mechanism)
+    return sc, model_of(sc)
+
+
+def test_a_range_written_past_180_degrees_is_the_same_arc(tmp_path, rus8):
+    """[270, 450] deg is the arc ±90° (the mechanisms' reading, legs.in_revolute_range):
+    the controller and the plant read it so (the plain lo <= q <= hi test refused every
+    set point and froze the simulated platform), and [0, 360] is no range at all."""
+    from distkin.mechanisms.legs import in_revolute_range
+    sc0, m0 = rus8
+    sc, m = _shifted_scene(tmp_path, "range = [270, 450]")
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        q = rng.uniform(-np.pi, np.pi, m.L)
+        assert m.in_range(q) == bool(in_revolute_range(q, m0.joint_lo, m0.joint_hi).all())
+        assert m.in_range(q) == m0.in_range(q)
+    for fused in (True, False):
+        ctl = Controller(sc, m, fused=fused)
+        assert ctl.check_pose(m.home)[0] == ""
+        assert ctl.check_pose(m.home + OUT)[0] == "unreachable"
+    _, full = _shifted_scene(tmp_path, "range = [0, 360]")
+    assert all(full.in_range(rng.uniform(-np.pi, np.pi, m.L)) for _ in range(50))
+
+
+@pytest.mark.parametrize("fused", [True, False])
+def test_a_set_point_that_starts_past_a_limit_can_move_back(rus8, fused):
+    """The admittance set point just past crank 1's limit (as a pose estimated from
+    quantised encoders can be, review): a candidate back towards the range is accepted,
+    one further out refused (it was refused both ways: stuck for good)."""
+    sc, m = rus8
+    t = _edge(m)
+    past = m.home + min(1.0, t + 0.002) * OUT
+    assert not m.in_range(m.ik(past)[0])
+    q_past, _ = m.ik(past)
+    frame = StateFrame(1, 1000, 0, q_past, np.zeros(6))
+    reasons = []
+    for sign in (-1.0, 1.0):
+        ctl = Controller(sc, m, fused=fused)
+        ctl.start_at(past)
+        ctl.started = True
+        ctl.adm.twist[:] = sign * 0.01 * OUT / 1e-3
+        reasons.append(ctl.compute(frame, 1e-3).reason)
+    assert reasons == ["", "unreachable"], reasons
