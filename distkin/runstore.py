@@ -420,10 +420,12 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
                         _save(paths[i], results[i], stamp(i))
                     bar.advance()
     except KeyboardInterrupt:
-        running = [f for f in pending if not f.cancel()]  # the running ones finish
+        for f in pending:                                 # the running ones finish
+            f.cancel()
+        running = [f for f in pending if f.running()]
         if running:      # the pool's shutdown waits for them: say so, not a silent hang
             print(f"distkin: interrupted: waiting for {len(running)} running chunk(s) to "
-                  "stop (the finished ones are kept)", file=sys.stderr, flush=True)
+                  "stop (the chunks saved before are kept)", file=sys.stderr, flush=True)
         raise
     finally:
         bar.close()

@@ -50,3 +50,18 @@ def test_no_line_when_nothing_runs(monkeypatch, capsys):
     with pytest.raises(KeyboardInterrupt):
         runstore.run_chunks(lambda s: s, [1, 2], None, executor=Idle(), progress=False)
     assert "waiting for" not in capsys.readouterr().err
+
+
+def test_finished_chunks_are_not_counted_as_running(monkeypatch, capsys):
+    """Futures already done are not running (review: cancel() is False for them too, so
+    two finished chunks were said to be running)."""
+    import time
+
+    def wait(executor, pending, store, timeout):
+        time.sleep(0.3)                 # both chunks finish meanwhile
+        raise KeyboardInterrupt
+    monkeypatch.setattr(runstore, "_wait_alive", wait)
+    with ThreadPoolExecutor(max_workers=2) as ex:
+        with pytest.raises(KeyboardInterrupt):
+            runstore.run_chunks(lambda s: s, [1, 2], None, executor=ex, progress=False)
+    assert "waiting for" not in capsys.readouterr().err

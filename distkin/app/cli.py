@@ -377,13 +377,22 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         _err("interrupted")
         return 130
-    except BrokenPipeError:
+    except BrokenPipeError as exc:
         # the reader of stdout left (``distkin demo | head``): stop quietly, as a
         # program killed by SIGPIPE would (exit 128 + 13), instead of an "internal
-        # failure"; stdout goes to devnull so that the exit's flush does not fail again
+        # failure"; stdout goes to devnull so that the exit's flush does not fail again.
+        # Another pipe (a socket, a worker's) is an internal failure as before (review)
+        if not _stdout_broken():
+            if args.debug:
+                traceback.print_exc()
+            _err(f"internal failure: {type(exc).__name__}: {exc} (run with --debug for the "
+                 "traceback)")
+            return 1
         import os
         try:
-            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+            os.close(devnull)
         except (OSError, ValueError):
             pass
         return 141
@@ -395,6 +404,18 @@ def main(argv=None) -> int:
     finally:
         if old_term is not None:
             signal.signal(signal.SIGTERM, old_term)
+
+
+def _stdout_broken() -> bool:
+    """Whether stdout is a pipe whose reader left (poll reports an error on its write
+    end; a file or a terminal never does)."""
+    try:
+        import select
+        poller = select.poll()
+        poller.register(sys.stdout.fileno(), select.POLLOUT)
+        return any(ev & select.POLLERR for _, ev in poller.poll(0))
+    except (OSError, ValueError, AttributeError):
+        return False
 
 
 def _term_as_interrupt():

@@ -27,3 +27,20 @@ def test_a_closed_stdout_pipe_ends_the_run_quietly():
     assert proc.returncode == 141, proc.stderr
     assert "internal failure" not in proc.stderr and "Exception ignored" not in proc.stderr
     assert "Traceback" not in proc.stderr
+
+
+def test_another_broken_pipe_is_still_an_internal_failure(monkeypatch, capsys):
+    """Only stdout's reader leaving is the quiet exit (review: a closed socket inside a
+    command was reported as 141 and stdout was redirected to devnull for good)."""
+    import socket
+
+    from distkin.app import cli
+
+    def command(args):
+        a, b = socket.socketpair()
+        b.close()
+        a.sendall(b"x" * 1_000_000)
+
+    monkeypatch.setattr(cli, "_cmd_run", command)
+    assert cli.main(["run", "x.toml"]) == 1
+    assert "internal failure: BrokenPipeError" in capsys.readouterr().err
