@@ -169,8 +169,13 @@ def _poses(problem, poly, feasible, sides, legs2, tol, size, flat=()):
         lower, upper = ball_ends(r.ball)
         exact = [q for q in rational.values() if lower <= q <= upper]
         if exact and all(type(v).__name__ == "fmpq" for row in base0 + plat0 for v in row):
-            built = _exact_poses(base0, plat0, exact[0], sides, legs2, problem,
-                                 tol * size)
+            try:
+                built = _exact_poses(base0, plat0, exact[0], sides, legs2, problem,
+                                     tol * size)
+            except (InfeasibleError, DegenerateGeometryError) as exc:  # as the balls' path:
+                raise UncertifiedError(       # auto then asks the precise tier (review)
+                    f"trilateration at the certified root s15 = {exact[0]} failed: "
+                    f"{exc.message}") from None
             radii[r.index] = flint.arb(exact[0])
             out.extend(built)
             continue
