@@ -96,13 +96,21 @@ class _NoRanges:
 
 # ---------------------------------------------------------- review: ranges modulo 2π
 
-def _shifted_scene(tmp_path, text):
+def _shifted(tmp_path, rus8, text):
+    """The rus8 scene with every range written as ``text``: its scene, and the example's
+    compiled model with the ranges a KinematicModel of the shifted mechanism reads
+    (built uncompiled: the ranges do not change the kernels, and a compile costs ~10 s)."""
+    import copy
+    from distkin.control.kinematics import KinematicModel
     for name in ("control_rus8.toml", "rus8_device.toml"):
         src = (EXAMPLES / name).read_text()
         (tmp_path / name).write_text(src.replace("range = [-90, 90]", text))
     sc = load_control_scene(tmp_path / "control_rus8.toml",
                             mechanism_loader=lambda p: load_scene(p).mechanism)
-    return sc, model_of(sc)
+    plain = KinematicModel(sc.mechanism, compiled=False)
+    m = copy.copy(rus8[1])
+    m.joint_lo, m.joint_hi = plain.joint_lo, plain.joint_hi
+    return sc, m, plain
 
 
 def test_a_range_written_past_180_degrees_is_the_same_arc(tmp_path, rus8):
@@ -111,17 +119,19 @@ def test_a_range_written_past_180_degrees_is_the_same_arc(tmp_path, rus8):
     set point and froze the simulated platform), and [0, 360] is no range at all."""
     from distkin.mechanisms.legs import in_revolute_range
     sc0, m0 = rus8
-    sc, m = _shifted_scene(tmp_path, "range = [270, 450]")
+    sc, m, plain = _shifted(tmp_path, rus8, "range = [270, 450]")
+    assert np.degrees(plain.joint_lo).round(6).tolist() == [270.0] * m.L
     rng = np.random.default_rng(3)
     for _ in range(200):
         q = rng.uniform(-np.pi, np.pi, m.L)
         assert m.in_range(q) == bool(in_revolute_range(q, m0.joint_lo, m0.joint_hi).all())
-        assert m.in_range(q) == m0.in_range(q)
+        assert m.in_range(q) == m0.in_range(q) == plain.in_range(q)
     for fused in (True, False):
         ctl = Controller(sc, m, fused=fused)
+        assert (ctl._fused is not None) == fused
         assert ctl.check_pose(m.home)[0] == ""
         assert ctl.check_pose(m.home + OUT)[0] == "unreachable"
-    _, full = _shifted_scene(tmp_path, "range = [0, 360]")
+    _, full, _ = _shifted(tmp_path, rus8, "range = [0, 360]")
     assert all(full.in_range(rng.uniform(-np.pi, np.pi, m.L)) for _ in range(50))
 
 
