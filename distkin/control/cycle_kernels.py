@@ -23,7 +23,8 @@ writing into preallocated arrays:
   springs and walls, the refusal of a candidate, IK, the PD with its forward-Euler
   derivative filter, the distribution, the saturation), parameters laid out by
   :func:`cycle_params`;
-* ``drive`` and ``plant_dynamics``: :meth:`.plant.Plant.step` of the simulator, and
+* ``drive``, ``plant_dynamics`` and ``jdot_v``: :meth:`.plant.Plant.step` of the
+  simulator (its drives, its equations of motion and the rotors' ``J̇ V``), and
   ``readings``: its :meth:`.plant.Plant.readings`;
 * :func:`reading_extremes`: the checks of a state frame in one call (the frames
   themselves are encoded and decoded by :mod:`.frame_codec`).
@@ -73,6 +74,7 @@ class CycleKernels:
     drive: object
     plant_dynamics: object
     readings: object
+    jdot_v: object
 
 
 def _solve_into(A, b, x):                                    # pragma: no cover (compiled)
@@ -209,6 +211,7 @@ closure = numba.njit(cache=True)(closure)
 forward = numba.njit(cache=True)(forward)
 cycle = numba.njit(cache=True)(cycle)
 plant_dynamics = numba.njit(cache=True)(plant_dynamics)
+jdot_v = numba.njit(cache=True)(jdot_v)
 """
 
 
@@ -302,7 +305,7 @@ def build(kernels, L: int) -> CycleKernels:
     forward, singular_values, project = w.forward, cc.singular_values, cc.project
     ck = CycleKernels(int(L), ik, jacobian, closure, forward, singular_values, project,
                       cc.rotate, cc.rotate_wrench, cc.spring_wrench, w.cycle,
-                      cc.drive, w.plant_dynamics, cc.readings)
+                      cc.drive, w.plant_dynamics, cc.readings, w.jdot_v)
     # compile now: the first control cycle must not wait for the compiler
     pose = np.zeros(6)
     q = np.zeros(L)
@@ -330,6 +333,7 @@ def build(kernels, L: int) -> CycleKernels:
     ck.drive(np.zeros(L), np.zeros(L), 1.0, 1.0, np.zeros(L))
     ck.readings(np.zeros(L), 1.0, np.zeros(6), np.zeros(6), np.zeros(6), np.zeros(L + 6))
     ck.plant_dynamics(np.zeros(6), np.zeros(6), np.zeros(L), np.zeros(L), np.zeros(L),
-                      np.zeros(6), np.eye(6), np.zeros(4), np.zeros(12 + L))
+                      np.zeros(6), np.eye(6), np.zeros(5), np.zeros(12 + L))
+    ck.jdot_v(np.zeros(6), np.ones(6), 1e-4, np.zeros(L))
     _BUILT[key] = ck
     return ck

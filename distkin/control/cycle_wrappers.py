@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-__all__ = ["ik", "jacobian", "closure", "forward", "cycle", "plant_dynamics"]
+__all__ = ["ik", "jacobian", "closure", "forward", "cycle", "plant_dynamics", "jdot_v"]
 
 #: bound by the header and footer of each copy
 ik_k = reach_k = jac_k = clo_k = solve = rotate = rotate_wrench = project = None
@@ -250,15 +250,17 @@ def cycle(q, ws, dt, started, run, guess, adm_pose, adm_twist, pd, prm, env, rng
 
 def plant_dynamics(pose, twist, q, qdot, tau, hand, M, prm, out):  # pragma: no cover (compiled)
     """One semi-implicit Euler step of :meth:`.plant.Plant.step` after the drives:
-    ``(M + j_r JᵀJ) V̇ = Jᵀ(tau - b q̇) + w_h + w_g``.  ``prm`` = (b, m g, j_r, dt);
-    ``out`` (12 + L,) = new pose, twist, q.  False: a mechanical end stop (singular
-    or unreachable), ``out`` undefined."""
+    ``(M + j_r JᵀJ) V̇ = Jᵀ(tau - j_r J̇V - b q̇) + w_h + w_g``, the rotors' ``J̇V`` by
+    :func:`jdot_v` with the pose step h.  ``prm`` = (b, m g, j_r, dt, h); ``out``
+    (12 + L,) = new pose, twist, q.  False: a mechanical end stop (singular or
+    unreachable), ``out`` undefined."""
     L = q.shape[0]
+    v = np.empty(L)
+    jdot_v(pose, twist, prm[4], v)
+    for k in range(L):
+        v[k] = (tau[k] + -prm[2] * v[k]) - prm[0] * qdot[k]
     J = np.empty((L, 6))
     jacobian(pose, J)
-    v = np.empty(L)
-    for k in range(L):
-        v[k] = tau[k] - prm[0] * qdot[k]
     w = np.empty(6)
     A = np.empty((6, 6))
     normal_equations(J, v, hand, A, w)
@@ -282,3 +284,47 @@ def plant_dynamics(pose, twist, q, qdot, tau, hand, M, prm, out):  # pragma: no 
         if not math.isfinite(out[12 + k]):
             ok = False
     return ok
+
+
+def jdot_v(pose, twist, h, out):  # pragma: no cover (compiled)
+    """``J̇ V`` (L,) into ``out``: :meth:`.plant.Plant.jdot_v` in one call (the same
+    central difference of J over pose steps ``h`` either side along the twist, one-sided
+    on the reachable side within a step of the reach boundary, zero where neither
+    displaced pose is in reach; the rotation and the kernels are the ones the Python
+    route calls, the products summed in a fixed order)."""
+    L = out.shape[0]
+    nn = 0.0
+    for i in range(6):
+        nn += twist[i] * twist[i]
+    if nn == 0.0:
+        out[:] = 0.0
+        return
+    s = h / math.sqrt(nn)
+    dv, dw = np.empty(3), np.empty(3)
+    for i in range(3):
+        dv[i], dw[i] = twist[i] * s, twist[3 + i] * s
+    plus = rotate(pose, dv, dw)
+    minus = rotate(pose, -dv, -dw)
+    q = np.empty(L)
+    ok_p, ok_m = ik(plus, q), ik(minus, q)
+    Jp, Jm = np.empty((L, 6)), np.empty((L, 6))
+    if ok_p and ok_m:
+        jacobian(plus, Jp)
+        jacobian(minus, Jm)
+        den = 2.0 * s
+    elif ok_p:
+        jacobian(plus, Jp)
+        jacobian(pose, Jm)
+        den = s
+    elif ok_m:
+        jacobian(pose, Jp)
+        jacobian(minus, Jm)
+        den = s
+    else:
+        out[:] = 0.0
+        return
+    for k in range(L):
+        acc = 0.0
+        for j in range(6):
+            acc += (Jp[k, j] - Jm[k, j]) * twist[j]
+        out[k] = acc / den

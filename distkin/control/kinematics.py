@@ -118,6 +118,8 @@ class KinematicModel:
         only that the legs close; a crank past its range closes too (review: the
         simulated rus8 device turned a crank to 107° against its ±90° range without an
         end stop)."""
+        if self.joint_lo is None:
+            return True
         return not np.any(self.range_excess(q) > 0.0)
 
     def range_excess(self, q) -> np.ndarray:
