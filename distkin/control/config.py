@@ -64,7 +64,7 @@ from ..errors import InputError
 from .admittance import check_step
 from .plant import HandScript, LinearDrives, Motors, drives_for
 from .scene_checks import (check_busy_wait, check_filter_period, check_safety_at_home,
-                           hand_range_warnings)
+                           gravity_warnings, hand_range_warnings)
 from .scene_fields import bool_field as _bool
 from .scene_fields import environment as _environment
 from .scene_fields import hand_script as _hand
@@ -522,7 +522,8 @@ def loads_control_scene(text: str, path: str = "<string>", *,
     # the virtual model must be stable at the scene's rate (a mass of 1 g with damping
     # 15 N s/m gave a spectral radius of 14 at 1 kHz and loaded silently)
     check_step(mass, damping, env, rate, field="admittance")
-    warn = check_safety_at_home(safety, kin, joint, length_scale) + hand_range_warnings(sim.hand, safety)
+    warn = (check_safety_at_home(safety, kin, joint, length_scale)
+            + hand_range_warnings(sim.hand, safety) + gravity_warnings(sim.motors, pd))
     title = data.get("title", "")
     if not isinstance(title, str):
         raise InputError(f"expected a string, got {title!r}", field="title")

@@ -378,7 +378,12 @@ class Plant:
                 or not 0.0 < dt < math.inf):
             raise InputError(f"expected a time step dt > 0 finite (s), got {dt!r}",
                              field="dt")
-        tau_cmd = np.asarray(tau_cmd, dtype=float)
+        try:
+            tau_cmd = np.asarray(tau_cmd, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(f"expected {self.model.L} joint efforts "
+                             f"({self.motors.effort_unit}) as numbers, got {tau_cmd!r}",
+                             field="tau_cmd") from None
         if tau_cmd.shape != (self.model.L,):
             raise InputError(f"expected {self.model.L} joint efforts ({self.motors.effort_unit}),"
                              f" got shape {tau_cmd.shape}", field="tau_cmd")

@@ -13,7 +13,7 @@ import numpy as np
 from ..errors import InputError
 
 __all__ = ["check_filter_period", "check_safety_at_home", "check_busy_wait",
-           "hand_range_warnings", "WORKSPACE_SIZE_FACTOR"]
+           "hand_range_warnings", "gravity_warnings", "WORKSPACE_SIZE_FACTOR"]
 
 
 def check_filter_period(pd, rate_hz):
@@ -91,6 +91,24 @@ def check_busy_wait(busy_us, rate_hz):
         raise InputError(f"expected busy_wait_us at most one period 1e6/device.rate_hz = "
                          f"{period_us:.6g} µs (a frame comes once a period), got "
                          f"{busy_us:g} µs", field="device.busy_wait_us")
+
+
+def gravity_warnings(motors, pd):
+    """A warning when the simulated world's gravity (``[simulator] gravity``, m/s²)
+    differs from the one the controller's gravity compensation assumes
+    (:data:`.controller.GRAVITY`, a real device's 9.81 m/s²) while ``pd.gravity_compensation``
+    is on: the compensation then pushes the platform by its mass times the difference
+    (with ``gravity = 0`` the Octo's 0.17 kg platform is lifted by 1.67 N that nothing
+    asked for)."""
+    from .controller import GRAVITY
+    g = float(motors.gravity)
+    if pd.gravity_compensation and g != GRAVITY:
+        return (("simulator.gravity",
+                 f"the simulator applies {g:g} m/s², the controller's gravity compensation "
+                 f"assumes {GRAVITY:g} m/s² (a real device's): the platform is pushed by "
+                 f"its mass x {GRAVITY - g:+g} m/s²; set pd.gravity_compensation = false "
+                 f"for a weightless run"),)
+    return ()
 
 
 def hand_range_warnings(hand, safety):

@@ -43,6 +43,18 @@ def test_a_command_of_the_wrong_length_is_refused(model):
     assert exc.value.field == "tau_cmd" and "8" in str(exc.value) and "(3,)" in str(exc.value)
 
 
+@pytest.mark.parametrize("tau", [["a"] * 8, "12345678", [[0.0], [1.0, 2.0]]])
+def test_a_command_that_is_not_numbers_is_refused_and_loses_nothing(model, tau):
+    """Text and ragged lists were numpy's ValueError/TypeError (QA note)."""
+    p = Plant(model, QUIET)
+    before = (p.t, p.pose.copy(), p.q.copy())
+    with pytest.raises(InputError) as exc:
+        p.step(tau, MODE_RUN, 1e-3)
+    assert exc.value.field == "tau_cmd" and "8 joint efforts" in str(exc.value)
+    assert p.t == before[0] and np.array_equal(p.pose, before[1])
+    assert np.array_equal(p.q, before[2])
+
+
 def test_a_nonfinite_command_is_zero_effort_on_its_joints(model):
     """NaN on joint 0 and +inf on joint 3 step exactly like 0 on those joints (the
     platform keeps falling under gravity: the first step's height change is a·dt² with
