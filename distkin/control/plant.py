@@ -234,6 +234,11 @@ def drives_for(joint: str):
     return LinearDrives() if joint == "prismatic" else Motors()
 
 
+#: how far inside its stop (rad, or m) :meth:`Plant._slide` puts a joint that the
+#: curvature of the motion carried past it (not onto it: rounding would leave it past)
+_STOP_GAP = 1e-12
+
+
 @dataclass(frozen=True)
 class HandScript:
     """A scripted hand: piecewise-linear force (N, base frame) on the end-effector centre.
@@ -370,9 +375,11 @@ class Plant:
         command that is not finite (NaN, ±inf) is no torque a drive can deliver: its
         amplifier outputs zero for that joint (counted in :attr:`nonfinite_commands`;
         it used to stop the platform dead in the air as if at an end stop).  A step
-        whose pose a leg cannot close, or that would take a joint past its range (the
-        mechanism's ``range``), ends at a mechanical end stop: the platform stays where
-        it was, at rest, and :attr:`end_stop_hits` counts it.
+        that would take a joint past its range (the mechanism's ``range``) meets that
+        joint's end stop: the joint stops and the platform moves on with what the other
+        legs allow (:meth:`_slide`); a step whose pose a leg cannot close, or that no
+        such step saves, ends at a mechanical end stop where the platform stays, at
+        rest.  :attr:`end_stop_hits` counts both.
         """
         if (isinstance(dt, bool) or not isinstance(dt, (int, float, np.integer, np.floating))
                 or not 0.0 < dt < math.inf):
@@ -470,7 +477,20 @@ class Plant:
 
     def _advance(self, ok, pose, twist, q, dt) -> None:
         if ok and not self.model.in_range(q):
-            ok = False                   # a joint at its range: the end stop of that leg
+            # a joint at its range: the end stop of that leg takes the impulse that stops
+            # it, and the platform moves on with what the other legs allow
+            self.end_stop_hits += 1
+            slid = self._slide(twist, q, dt)
+            if slid is None:
+                self.twist = np.zeros(6)
+                self.qdot = np.zeros(self.model.L)
+            else:
+                pose, twist, q = slid
+                self.pose, self.twist = pose, twist
+                self.qdot = (q - self.q) / dt
+                self.q = q
+            self.t += dt
+            return
         if ok:
             self.pose, self.twist = pose, twist
             self.qdot = (q - self.q) / dt
@@ -480,6 +500,53 @@ class Plant:
             self.twist = np.zeros(6)
             self.qdot = np.zeros(self.model.L)
         self.t += dt
+
+    def _slide(self, twist, q, dt):
+        """The step again after an inelastic impact on the joint end stops that ``q``
+        passes: the impulse ``Jᴮᵀλ`` of the stopped joints B (those past their ranges)
+        that makes their rates zero, ``V' = V - M_e⁻¹ Jᴮᵀ λ`` with
+        ``(Jᴮ M_e⁻¹ Jᴮᵀ) λ = Jᴮ V`` and ``M_e = M̂ + J_r JᵀJ`` at the current pose (the
+        projection in the kinetic-energy metric: it removes only the energy of the
+        stopped joints' motion), and the pose stepped with ``V'``; joints that the new
+        step passes join B.  A stopped joint that the curvature of the motion still
+        carries past its stop (second order in the step: a platform pressed against
+        the stop) is put back on it by the least-squares pose displacement
+        ``Jᴮ δx = -(excess)`` (a position projection, the twist kept).  Returns (pose,
+        twist, q), or None when no such step stays in reach and within the ranges
+        (the platform then stops where it was).  Before, every joint end stop froze all
+        six DOF: a platform pressed against one crank's stop hung in the air instead of
+        sliding along it."""
+        model = self.model
+        J = model.jacobian(self.pose)
+        Me = self.M + self.motors.joint_inertia * (J.T @ J)
+        rot = rotate_pose if self._ck is None else self._ck.rotate_pose
+        B = np.zeros(model.L, dtype=bool)
+        pose = V = None
+        for _ in range(2 * model.L):
+            ex = model.range_excess(q)
+            past = ex > 0.0
+            if not past.any():
+                return pose, V, q
+            if (past & ~B).any():               # an impact: these joints stop too
+                B |= past
+                JB = J[B]
+                MJ = np.linalg.solve(Me, JB.T)
+                lam = np.linalg.lstsq(JB @ MJ, JB @ twist, rcond=None)[0]
+                V = twist - MJ @ lam
+                if not np.all(np.isfinite(V)):
+                    return None
+                pose = rot(self.pose, V[:3] * dt, V[3:] * dt)
+            else:                               # stopped joints drifted past: back
+                out = np.sign(q[past] - self.q[past])
+                if not out.all():
+                    return None
+                back = -out * (ex[past] + _STOP_GAP)
+                dx = np.linalg.lstsq(model.jacobian(pose)[past], back, rcond=None)[0]
+                pose = rot(pose, dx[:3], dx[3:])
+            q, ok = model.ik(pose)
+            if not ok or not np.all(np.isfinite(q)):
+                return None
+        return None
 
     def encoders(self) -> np.ndarray:
         """Quantised joint readings (L,): crank angles (rad) or leg lengths (m)."""
