@@ -39,6 +39,8 @@ __all__ = [
     "relative_tol",
     "tol_field",
     "no_booleans",
+    "length_in_range",
+    "LENGTH_RANGE",
 ]
 
 _MISSING = object()
@@ -119,6 +121,25 @@ def no_booleans(value, field: str) -> None:
     if isinstance(value, (list, tuple)):
         for i, v in enumerate(value):
             no_booleans(v, f"{field}[{i}]")
+
+
+#: the lengths (m) a mechanism's geometry may have: the generated kernels form powers
+#: and products of several lengths, which leave float64's range beyond these (a crank of
+#: 1e308 m overflowed, one of 1e-200 m divided by zero: internal failures, not bad input);
+#: both are far beyond any device (the observable universe is ~1e27 m)
+LENGTH_RANGE = (1e-30, 1e30)
+
+
+def length_in_range(value: float, field: str, *, zero_ok: bool = False) -> float:
+    """``value`` (m, already a finite float) within :data:`LENGTH_RANGE` in magnitude
+    (0 too with ``zero_ok``), else an :class:`InputError` naming the field, the bounds
+    and the value."""
+    lo, hi = LENGTH_RANGE
+    if not (lo <= abs(value) <= hi or (zero_ok and value == 0)):
+        raise InputError(f"expected a length between {lo:g} and {hi:g} m"
+                         f"{' (or 0)' if zero_ok else ''}: the kernels' powers of lengths "
+                         f"leave float64's range beyond, got {value!r} m", field=field)
+    return value
 
 
 def float_array(value, field: str, shape: tuple) -> np.ndarray:

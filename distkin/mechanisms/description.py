@@ -17,7 +17,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from ..argcheck import as_floats, float_array, no_booleans
+from ..argcheck import as_floats, float_array, length_in_range, no_booleans
 from ..errors import InputError, warn as _warn
 from .legs import GeometryWarning
 
@@ -182,6 +182,8 @@ class RSSDescription:
                 raise InputError(f"expected a finite number >= 0, got {v!r} {SI_UNITS[f]}",
                                  field=f)
             object.__setattr__(self, f, float(v))
+        for f in ("l0", "l1", "lp", "z0", "l2", "ld"):
+            length_in_range(getattr(self, f), f, zero_ok=f in ("l2", "ld"))
         if self.ld == 0 and self.beta == self.gamma == self.l2 == 0:
             # each pair's crank pivots l0 e -+ ld/2 t: with beta = gamma = l2 = 0 as well,
             # the two legs of a pair are one leg (with beta or gamma != 0 their axes
@@ -205,7 +207,7 @@ class RSSDescription:
             v = self.l3
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
                 raise InputError(f"expected a positive finite number, got {v!r} m", field="l3")
-            object.__setattr__(self, "l3", float(v))
+            object.__setattr__(self, "l3", length_in_range(float(v), "l3"))
         self._warn_home()
 
     def home_margins(self) -> np.ndarray:

@@ -53,7 +53,7 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
-from ..argcheck import no_booleans
+from ..argcheck import LENGTH_RANGE, length_in_range, no_booleans
 from ..errors import DistkinError, GeometryWarning, InputError, warn as _warn
 
 __all__ = ["Leg", "LegsDescription", "REVOLUTE_TYPES", "PRISMATIC_TYPES", "LEG_TYPES",
@@ -79,6 +79,10 @@ def _vec(v, fld, *, unit=False):
         raise InputError(f"expected 3 numbers, got {v!r}", field=fld) from None
     if len(arr) != 3 or not all(math.isfinite(x) for x in arr):
         raise InputError(f"expected 3 finite numbers, got {v!r}", field=fld)
+    if not unit and max(abs(x) for x in arr) > LENGTH_RANGE[1]:
+        raise InputError(f"expected coordinates within ±{LENGTH_RANGE[1]:g} m (the "
+                         f"kernels' powers of lengths leave float64's range beyond), got "
+                         f"{v!r}", field=fld)
     if unit and abs(math.sqrt(sum(x * x for x in arr)) - 1.0) > _TOL:
         raise InputError(f"expected a unit vector, got {arr!r} (norm "
                          f"{math.sqrt(sum(x * x for x in arr)):.12g})", field=fld)
@@ -223,8 +227,8 @@ class Leg:
             raise InputError(f"expected no offset on an {self.type} leg (an RRRS leg has one),"
                              f" got {o!r}", field="offset")
         s("axis", a), s("crank0", u), s("crank90", v), s("offset", o)
-        s("crank", _pos(self.crank, "crank", "m"))
-        s("distal", _pos(self.distal, "distal", "m"))
+        s("crank", length_in_range(_pos(self.crank, "crank", "m"), "crank"))
+        s("distal", length_in_range(_pos(self.distal, "distal", "m"), "distal"))
         no_booleans(self.branch, "branch")
         if self.branch is not None and self.branch not in (1, -1):
             raise InputError(f"expected branch +1 or -1, got {self.branch!r}", field="branch")
