@@ -45,7 +45,7 @@ def test_no_warning_without_compensation():
 
 def test_the_compensation_pushes_by_the_assumed_weight():
     sc = _scene(gravity=0)
-    m = model_of(sc)
+    m = model_of(sc, compiled=False)                    # the reference route
     ctl = Controller(sc, m)
     p = Plant(m, sc.simulator.motors)
     dec = FrameDecoder()
