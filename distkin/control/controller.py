@@ -122,7 +122,8 @@ class Controller:
             # the fused cycle (steps 2-8 in one compiled call): its parameters, and the
             # PD state as one (5, L) buffer (rows e_prev, d_prev, d_f, ∫e; flag)
             self._fused = cycle_params(self.pd, self.safety, self.adm, self.weight, SCALING,
-                                       period=self.dt_nominal)
+                                       period=self.dt_nominal,
+                                       revolute=bool(np.all(model.revolute)))
             self._pd_state = np.zeros((5, self.L))
             # the revolute legs' ranges for the candidate's test (check_pose)
             inf = np.full(self.L, np.inf)   # (full turns are ±inf: KinematicModel)
@@ -281,7 +282,7 @@ class Controller:
         return fk
 
     def joint_torques(self, q_des, angles, J, w, dt: float):
-        """Steps 6-8 of the module doc: joint PD(I) on ``q_des - angles`` (rad) with the
+        """Steps 6-8 of the module doc: joint PD(I) on ``q_des - angles`` (rad, modulo 2π) with the
         forward-Euler filtered derivative, the torque distribution and gravity
         compensation, and the saturation by one common factor.
 
@@ -289,7 +290,7 @@ class Controller:
         frame (for the hand feed-forward).  Returns ``(tau (L,) N·m, saturated)``.
         """
         # PD(I) at position level with a low-pass filtered derivative (forward Euler)
-        e = q_des - angles
+        e = self.model.joint_step(q_des, angles)    # cranks: modulo 2π (review)
         pd = self.pd
         limit = float32_floor(pd.torque_limit)       # the wire's float32 keeps it
         tau = pd.kp * e + pd.kd * self.filter_derivative(e, dt)

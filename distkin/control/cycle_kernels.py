@@ -145,16 +145,18 @@ CYCLE_OUT = 27
 
 
 def cycle_params(pd, safety, adm, weight: float, scaling, *, fk_tol: float = 1e-4,
-                 fk_iter: tuple = (8, 40), period: float = 0.0):
+                 fk_iter: tuple = (8, 40), period: float = 0.0, revolute: bool = True):
     """The parameter vector ``prm`` and environment table ``env`` of the fused cycle
     (``cycle`` of :func:`build`), from a controller's gains, limits and admittance.
 
-    ``prm`` (34,): FK tolerance, FK iterations (warm, cold), max FK residual, σmin,
+    ``prm`` (35,): FK tolerance, FK iterations (warm, cold), max FK residual, σmin,
     max condition, kp, kd, ki, derivative filter T, torque limit (the largest float32
     not above it: :func:`.protocol.float32_floor`), projected (0/1),
     gravity compensation (0/1), hand feed-forward (0/1), weight (N), S (6), virtual
     mass (6), virtual damping (6), the derivative filter's largest step
-    ``max(T, period)`` (s; :meth:`.controller.Controller.filter_derivative`).
+    ``max(T, period)`` (s; :meth:`.controller.Controller.filter_derivative`), and 1
+    where the joints are crank angles (``revolute``: the PD error is taken modulo 2π,
+    :meth:`.kinematics.KinematicModel.joint_step`), 0 for leg lengths.
     ``env`` (n, 25), one row per element in the scene's order: a Spring
     ``0, p0 (3), R0ᵀ (9, row-major), k (6), d (6)``; a Wall
     ``1, normal (3), offset, stiffness, damping`` (zero padded).
@@ -164,7 +166,8 @@ def cycle_params(pd, safety, adm, weight: float, scaling, *, fk_tol: float = 1e-
                     pd.derivative_filter_s, float32_floor(pd.torque_limit),
                     float(pd.distribution == "projected"), float(pd.gravity_compensation),
                     float(pd.hand_feedforward), weight, *scaling, *adm.mass, *adm.damping,
-                    max(pd.derivative_filter_s, period)], dtype=float)
+                    max(pd.derivative_filter_s, period), float(bool(revolute))],
+                   dtype=float)
     env = np.zeros((len(adm.environment), 25))
     for r, e in enumerate(adm.environment):
         if e.kind == "spring":
@@ -211,6 +214,7 @@ closure = numba.njit(cache=True)(closure)
 forward = numba.njit(cache=True)(forward)
 cycle = numba.njit(cache=True)(cycle)
 plant_dynamics = numba.njit(cache=True)(plant_dynamics)
+_reaches = numba.njit(cache=True)(_reaches)
 jdot_v = numba.njit(cache=True)(jdot_v)
 """
 
@@ -324,7 +328,7 @@ def build(kernels, L: int) -> CycleKernels:
     ck.rotate_pose(np.zeros(6), np.zeros(3), np.zeros(3))
     env = np.zeros((2, 25))
     env[1, 0] = 1.0
-    prm = np.zeros(34)
+    prm = np.zeros(35)
     prm[15:21] = 1.0                               # the scaling S (a divisor)
     for started in (False, True):
         ck.cycle(np.zeros(L), np.zeros(6), 1e-3, started, True, np.zeros(6), np.zeros(6),
@@ -333,7 +337,9 @@ def build(kernels, L: int) -> CycleKernels:
     ck.drive(np.zeros(L), np.zeros(L), 1.0, 1.0, np.zeros(L))
     ck.readings(np.zeros(L), 1.0, np.zeros(6), np.zeros(6), np.zeros(6), np.zeros(L + 6))
     ck.plant_dynamics(np.zeros(6), np.zeros(6), np.zeros(L), np.zeros(L), np.zeros(L),
-                      np.zeros(6), np.eye(6), np.zeros(5), np.zeros(12 + L))
-    ck.jdot_v(np.zeros(6), np.ones(6), 1e-4, np.zeros(L))
+                      np.zeros(6), np.eye(6), np.array([0, 0, 0, 1e-3, 1e-4, 0, 1.0]),
+                      np.zeros(12 + 2 * L))
+    for lengths in (0.0, 1.0):
+        ck.jdot_v(np.zeros(6), np.ones(6), 1e-4, lengths, np.zeros(L))
     _BUILT[key] = ck
     return ck

@@ -205,6 +205,8 @@ def cycle(q, ws, dt, started, run, guess, adm_pose, adm_twist, pd, prm, env, rng
     a = min(dt, prm[33]) / T if T > 0 else 0.0    # capped step (filter_derivative)
     for i in range(L):
         e = qd[i] - q[i]
+        if prm[34] > 0.0:               # crank angles: the short way round (joint_step)
+            e = (e + math.pi) % (2.0 * math.pi) - math.pi
         d_raw = 0.0 if pd[4, 0] == 0.0 else (e - pd[0, i]) / dt
         if T > 0:
             pd[2, i] = pd[2, i] + a * (pd[1, i] - pd[2, i])
@@ -251,12 +253,15 @@ def cycle(q, ws, dt, started, run, guess, adm_pose, adm_twist, pd, prm, env, rng
 def plant_dynamics(pose, twist, q, qdot, tau, hand, M, prm, out):  # pragma: no cover (compiled)
     """One semi-implicit Euler step of :meth:`.plant.Plant.step` after the drives:
     ``(M + j_r JᵀJ) V̇ = Jᵀ(tau - j_r J̇V - b q̇) + w_h + w_g``, the rotors' ``J̇V`` by
-    :func:`jdot_v` with the pose step h.  ``prm`` = (b, m g, j_r, dt, h); ``out``
-    (12 + L,) = new pose, twist, q.  False: a mechanical end stop (singular or
-    unreachable), ``out`` undefined."""
+    :func:`jdot_v` with the pose step h.  ``prm`` = (b, m g, j_r, dt, h, lengths:
+    1.0 where the strokes do not bound J̇V, :func:`_reaches`; wrap: 1.0 where the
+    joints are crank angles); ``out`` (12 + 2L,) = new pose, twist, q, and the joint
+    rates ``(q_new - q)/dt`` (cranks the short way round with wrap 1.0:
+    :meth:`.kinematics.KinematicModel.joint_step`).  False: a mechanical end stop
+    (singular or unreachable); NaN where the step stopped before the IK."""
     L = q.shape[0]
     v = np.empty(L)
-    jdot_v(pose, twist, prm[4], v)
+    jdot_v(pose, twist, prm[4], prm[5], v)
     for k in range(L):
         v[k] = (tau[k] + -prm[2] * v[k]) - prm[0] * qdot[k]
     J = np.empty((L, 6))
@@ -269,11 +274,12 @@ def plant_dynamics(pose, twist, q, qdot, tau, hand, M, prm, out):  # pragma: no 
             A[i, j] = M[i, j] + prm[2] * A[i, j]
     w[2] -= prm[1]
     for i in range(6):
-        if not math.isfinite(w[i]):
-            return False
+        ok = math.isfinite(w[i])
         for j in range(6):
-            if not math.isfinite(A[i, j]):
-                return False
+            ok = ok and math.isfinite(A[i, j])
+        if not ok:
+            out[:] = np.nan
+            return False
     a = np.linalg.solve(A, w)
     dt = prm[3]
     for i in range(6):
@@ -283,14 +289,32 @@ def plant_dynamics(pose, twist, q, qdot, tau, hand, M, prm, out):  # pragma: no 
     for k in range(L):
         if not math.isfinite(out[12 + k]):
             ok = False
+        d = out[12 + k] - q[k]
+        if prm[6] > 0.0:
+            d = (d + math.pi) % (2.0 * math.pi) - math.pi
+        out[12 + L + k] = d / dt
     return ok
 
 
-def jdot_v(pose, twist, h, out):  # pragma: no cover (compiled)
+def _reaches(x, q, lengths):  # pragma: no cover (compiled)
+    """The legs at pose ``x`` close (joint values into ``q``): :func:`ik`'s flag, or
+    with ``lengths`` (1.0: an all-prismatic device) every length finite and positive,
+    whatever the strokes say (:meth:`.kinematics.KinematicModel.closes`)."""
+    ok = ik(x, q)
+    if ok or lengths == 0.0:
+        return ok
+    for k in range(q.shape[0]):
+        if not (q[k] > 0.0 and q[k] < math.inf):
+            return False
+    return True
+
+
+def jdot_v(pose, twist, h, lengths, out):  # pragma: no cover (compiled)
     """``J̇ V`` (L,) into ``out``: :meth:`.plant.Plant.jdot_v` in one call (the same
     central difference of J over pose steps ``h`` either side along the twist, one-sided
     on the reachable side within a step of the reach boundary, zero where neither
-    displaced pose is in reach; the rotation and the kernels are the ones the Python
+    displaced pose is in reach -- ``lengths`` 1.0: where the legs close, strokes
+    aside (:func:`_reaches`); the rotation and the kernels are the ones the Python
     route calls, the products summed in a fixed order)."""
     L = out.shape[0]
     nn = 0.0
@@ -306,7 +330,7 @@ def jdot_v(pose, twist, h, out):  # pragma: no cover (compiled)
     plus = rotate(pose, dv, dw)
     minus = rotate(pose, -dv, -dw)
     q = np.empty(L)
-    ok_p, ok_m = ik(plus, q), ik(minus, q)
+    ok_p, ok_m = _reaches(plus, q, lengths), _reaches(minus, q, lengths)
     Jp, Jm = np.empty((L, 6)), np.empty((L, 6))
     if ok_p and ok_m:
         jacobian(plus, Jp)

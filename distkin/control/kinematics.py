@@ -25,7 +25,8 @@ import numpy as np
 from ..mechanisms.forward import gauss_newton
 from ..spatial import rotation_matrix_scalar as _rot  # noqa: F401 (controller, plant)
 
-__all__ = ["KinematicModel", "FKState", "load_model", "model_of", "range_excess"]
+__all__ = ["KinematicModel", "FKState", "load_model", "model_of", "range_excess",
+           "range_side"]
 
 _TWO_PI = 2.0 * math.pi
 
@@ -45,6 +46,20 @@ def range_excess(q: float, lo: float, hi: float) -> float:
     if qs <= hi:
         return 0.0
     return min(qs - hi, lo + _TWO_PI - qs)
+
+
+def range_side(q: float, lo: float, hi: float) -> float:
+    """Which end of the arc [``lo``, ``hi``] (modulo 2π, as :func:`range_excess`) the
+    crank angle ``q`` lies past: +1.0 past ``hi`` (nearer to it than to ``lo`` going
+    round), -1.0 past ``lo``, 0.0 inside the arc, where the leg has no range, and for
+    NaN.  Read from the range, not from the motion: a crank that passes ±180° between
+    two steps changes the sign of its raw difference, not its side (review)."""
+    if q != q or not lo > -math.inf:
+        return 0.0
+    qs = q + _TWO_PI * math.ceil((lo - q) / _TWO_PI)
+    if qs <= hi:
+        return 0.0
+    return 1.0 if qs - hi <= lo + _TWO_PI - qs else -1.0
 
 
 @dataclass
@@ -92,6 +107,23 @@ class KinematicModel:
             turn = full_turn(self.joint_lo, self.joint_hi)
             self.joint_lo = np.where(turn, -np.inf, self.joint_lo)
             self.joint_hi = np.where(turn, np.inf, self.joint_hi)
+        #: legs whose joint value is an angle (rad, read modulo 2π: :meth:`joint_step`)
+        self.revolute = ~np.asarray(mech.leg_arrays()["prismatic"], dtype=bool) \
+            if hasattr(mech, "leg_arrays") else np.ones(self.L, dtype=bool)
+        self._wraps = bool(self.revolute.any())
+        self._all_revolute = bool(self.revolute.all())
+        #: the prismatic legs' strokes (L,) m, ±inf where a leg has none; None when no
+        #: leg has one.  :meth:`ik`'s flag holds them (the reach kernels' margin
+        #: (q - qmin)(qmax - q)); :meth:`range_excess` measures them, so that the
+        #: simulator's end stops stop a leg at the end of its stroke as a crank at the
+        #: end of its range (:meth:`closes`)
+        self.stroke_lo = self.stroke_hi = None
+        legs = getattr(mech, "leg_table", None) or ()
+        if any(leg.prismatic and leg.range is not None for leg in legs):
+            self.stroke_lo = np.array([leg.range[0] if leg.prismatic and leg.range
+                                       is not None else -np.inf for leg in legs], dtype=float)
+            self.stroke_hi = np.array([leg.range[1] if leg.prismatic and leg.range
+                                       is not None else np.inf for leg in legs], dtype=float)
         self.compiled = None
         if compiled:
             from .cycle_kernels import build
@@ -113,22 +145,68 @@ class KinematicModel:
         return np.asarray(self._ik(p), dtype=float), ok
 
     def in_range(self, q) -> bool:
-        """Every joint value of ``q`` (L,) within its leg's range modulo 2π
-        (:func:`range_excess`; True when the legs have none).  :meth:`ik`'s flag says
-        only that the legs close; a crank past its range closes too (review: the
-        simulated rus8 device turned a crank to 107° against its ±90° range without an
-        end stop)."""
-        if self.joint_lo is None:
+        """Every joint value of ``q`` (L,) within its leg's range: a crank modulo 2π
+        (:func:`range_excess`), a prismatic leg within its stroke (True when the legs
+        have none).  :meth:`ik`'s flag says only that the legs close (and the strokes);
+        a crank past its range closes too (review: the simulated rus8 device turned a
+        crank to 107° against its ±90° range without an end stop)."""
+        if self.joint_lo is None and self.stroke_lo is None:
             return True
         return not np.any(self.range_excess(q) > 0.0)
 
     def range_excess(self, q) -> np.ndarray:
-        """:func:`range_excess` of each joint of ``q`` (L,), rad (zeros without
-        ranges)."""
-        if self.joint_lo is None:
-            return np.zeros(self.L)
-        return np.array([range_excess(float(v), float(a), float(b))
-                         for v, a, b in zip(q, self.joint_lo, self.joint_hi)])
+        """How far each joint of ``q`` (L,) lies outside its range: :func:`range_excess`
+        of a crank (rad), the distance beyond the stroke of a prismatic leg (m; inf
+        for NaN); zeros without ranges."""
+        return self.range_state(q)[0]
+
+    def range_sides(self, q) -> np.ndarray:
+        """Which end of its range each joint of ``q`` (L,) lies past: +1 the upper, -1
+        the lower, 0 inside (:func:`range_side` for a crank; a stroke's ends for a
+        prismatic leg); zeros without ranges."""
+        return self.range_state(q)[1]
+
+    def range_state(self, q) -> tuple:
+        """(:meth:`range_excess`, :meth:`range_sides`) of ``q`` (L,) in one pass."""
+        ex, side = np.zeros(self.L), np.zeros(self.L)
+        if self.joint_lo is not None:
+            for i, (v, a, b) in enumerate(zip(q, self.joint_lo, self.joint_hi)):
+                v, a, b = float(v), float(a), float(b)
+                ex[i], side[i] = range_excess(v, a, b), range_side(v, a, b)
+        if self.stroke_lo is not None:
+            q = np.asarray(q, dtype=float)
+            lo, hi = self.stroke_lo, self.stroke_hi
+            with np.errstate(invalid="ignore"):
+                e = np.maximum(np.maximum(lo - q, q - hi), 0.0)
+            ex = np.maximum(ex, np.where(np.isnan(q) & np.isfinite(lo), np.inf, e))
+            side = np.where(q > hi, 1.0, np.where(q < lo, -1.0, side))
+        return ex, side
+
+    def closes(self, q) -> bool:
+        """The legs of a pose whose inverse kinematics gave ``q`` (L,) close, whatever
+        the strokes say: for legs that are all prismatic, every length finite and
+        positive (a leg then always reaches; only its stroke can refuse it, and the
+        stroke is :meth:`range_excess`'s); else False (:meth:`ik`'s flag alone
+        decides: a crank's reach is not in ``q``)."""
+        if self.stroke_lo is None or self.revolute.any():
+            return False
+        q = np.asarray(q, dtype=float)
+        return bool(np.all(np.isfinite(q)) and np.all(q > 0.0))
+
+    def joint_step(self, q_to, q_from) -> np.ndarray:
+        """``q_to - q_from`` (L,), the revolute legs' differences taken the short way
+        round, in [-π, π) (rad; prismatic legs' plain, m).  The inverse kinematics gives
+        crank angles in (-π, π]: a crank that passes ±180° jumps by 2π between two
+        readings that are 1e-6 rad apart (review: a 2π/dt joint rate in the simulator,
+        a 2π error in the PD)."""
+        d = np.asarray(q_to, dtype=float) - np.asarray(q_from, dtype=float)
+        if self._all_revolute:                  # (the control devices: one kind of leg)
+            d += math.pi
+            np.remainder(d, _TWO_PI, out=d)
+            d -= math.pi
+        elif self._wraps:
+            d = np.where(self.revolute, (d + math.pi) % _TWO_PI - math.pi, d)
+        return d
 
     def jacobian(self, pose):
         """``J`` (L, 6): ``qdot = J (v, omega)``, rad per (m, rad)."""

@@ -239,6 +239,13 @@ def drives_for(joint: str):
 _STOP_GAP = 1e-12
 
 
+def _nnls():
+    """scipy.optimize.nnls, imported on first use (0.25 s: a plant whose legs have
+    ranges imports it when built, before any real-time loop starts)."""
+    from scipy.optimize import nnls
+    return nnls
+
+
 @dataclass(frozen=True)
 class HandScript:
     """A scripted hand: piecewise-linear force (N, base frame) on the end-effector centre.
@@ -320,6 +327,9 @@ class Plant:
         #: steps whose command held a NaN or ±inf (those joints got zero effort)
         self.nonfinite_commands = 0
         self._q_hold = None
+        if (getattr(self.model, "joint_lo", None) is not None
+                or getattr(self.model, "stroke_lo", None) is not None):
+            _nnls()                    # the end stops' solver: imported now, not mid-loop
         if self.hold_gains is None:
             self.hold_gains = tuple(self.motors.hold_gains)
         # compiled drives and dynamics when the model has compiled kernels (the same
@@ -340,8 +350,18 @@ class Plant:
                              f"home (a body the drives can accelerate), got diag "
                              f"{np.diag(self.M).tolist()} and J_r = {mo.joint_inertia!r}",
                              field="mass")
+        # (the last: 1.0 where a displaced pose counts as in reach for J̇V by its leg
+        # lengths alone, not by the strokes: the stroke is an end stop, not the edge of
+        # the Jacobian; review -- at a stroke end both displaced poses left the stroke,
+        # J̇V was cut to zero and a sliding platform gained 12 W)
+        closes = getattr(self.model, "closes", None)
+        self._lengths = 1.0 if closes is not None and closes(self.q) else 0.0
+        # (and: 1.0 where the compiled step takes every joint rate modulo 2π; a device
+        # mixing cranks and legs gets its rates from joint_step in _advance)
+        rev = np.asarray(getattr(self.model, "revolute", np.ones(self.model.L, bool)))
+        self._rates = bool(rev.all() or not rev.any())
         self._dyn = np.array([mo.friction, self.m * mo.gravity, mo.joint_inertia, 0.0,
-                              self.JDOT_STEP])
+                              self.JDOT_STEP, self._lengths, float(rev.all())])
         self._noise = np.repeat([mo.force_noise, mo.torque_noise], 3)
         self._z = np.empty((0, 6))        # sensor noise drawn ahead (see _next_noise)
         self._zi = 0
@@ -386,11 +406,14 @@ class Plant:
             raise InputError(f"expected a time step dt > 0 finite (s), got {dt!r}",
                              field="dt")
         try:
-            tau_cmd = np.asarray(tau_cmd, dtype=float)
+            raw = np.asarray(tau_cmd)
         except (TypeError, ValueError):
+            raw = np.array(None)
+        if raw.dtype.kind not in "iuf":          # no text, bools, dates, complex
             raise InputError(f"expected {self.model.L} joint efforts "
-                             f"({self.motors.effort_unit}) as numbers, got {tau_cmd!r}",
-                             field="tau_cmd") from None
+                             f"({self.motors.effort_unit}) as real numbers, got "
+                             f"{tau_cmd!r}", field="tau_cmd")
+        tau_cmd = raw.astype(float, copy=False)
         if tau_cmd.shape != (self.model.L,):
             raise InputError(f"expected {self.model.L} joint efforts ({self.motors.effort_unit}),"
                              f" got shape {tau_cmd.shape}", field="tau_cmd")
@@ -406,7 +429,8 @@ class Plant:
             if self._q_hold is None:
                 self._q_hold = self.q.copy()
             kp, kd = self.hold_gains
-            tau = self.drive(kp * (self._q_hold - self.q) - kd * self.qdot)
+            tau = self.drive(kp * self.model.joint_step(self._q_hold, self.q)
+                             - kd * self.qdot)
         else:
             self._q_hold = None
             self.saturated = False
@@ -418,10 +442,11 @@ class Plant:
             # the rotors' -J_r J̇ V too (:meth:`jdot_v`, compiled), in the same call
             self._dyn[3], self._dyn[4] = dt, self.JDOT_STEP
             L = self.model.L
-            out = np.empty(12 + L)
+            out = np.empty(12 + 2 * L)
             ok = self._ck.plant_dynamics(self.pose, self.twist, self.q, self.qdot,
                                          tau, self.hand_wrench, self.M, self._dyn, out)
-            self._advance(bool(ok), out[0:6], out[6:12], out[12:], dt)
+            self._advance(bool(ok), out[0:6], out[6:12], out[12:12 + L], dt,
+                          out[12 + L:] if self._rates else None)
             return
         rotor = -mo.joint_inertia * self.jdot_v()      # the rotors' -J_r J̇ V
         J = self.model.jacobian(self.pose)
@@ -429,13 +454,13 @@ class Plant:
         w[2] -= self.m * mo.gravity
         Meff = self.M + mo.joint_inertia * (J.T @ J)
         ok = bool(np.all(np.isfinite(Meff)) and np.all(np.isfinite(w)))
+        pose = twist = q = None
         if ok:
             twist = self.twist + dt * np.linalg.solve(Meff, w)
             pose = rotate_pose(self.pose, twist[:3] * dt, twist[3:] * dt)
             q, ok = self.model.ik(pose)
             ok = ok and bool(np.all(np.isfinite(q)))
-        self._advance(ok, pose if ok else None, twist if ok else None,
-                      q if ok else None, dt)
+        self._advance(ok, pose, twist, q, dt)
 
     #: the pose step (m, rad) of the central difference of :meth:`jdot_v`
     JDOT_STEP = 1e-4
@@ -451,7 +476,7 @@ class Plant:
         a fixed order; six calls through the model cost ~30 µs a step)."""
         if self._ck is not None:
             out = np.empty(self.model.L)
-            self._ck.jdot_v(self.pose, self.twist, self.JDOT_STEP, out)
+            self._ck.jdot_v(self.pose, self.twist, self.JDOT_STEP, self._lengths, out)
             return out
         V = self.twist
         n = math.sqrt(float(V @ V))
@@ -460,10 +485,9 @@ class Plant:
             return np.zeros(L)
         s = self.JDOT_STEP / n
         model = self.model
-        rot = rotate_pose if self._ck is None else self._ck.rotate_pose
         dv, dw = V[:3] * s, V[3:] * s
-        plus, minus = rot(self.pose, dv, dw), rot(self.pose, -dv, -dw)
-        ok_p, ok_m = model.ik(plus)[1], model.ik(minus)[1]
+        plus, minus = rotate_pose(self.pose, dv, dw), rotate_pose(self.pose, -dv, -dw)
+        ok_p, ok_m = (self._reaches(plus), self._reaches(minus))
         if ok_p and ok_m:
             return ((model.jacobian(plus) - model.jacobian(minus)) @ V) / (2.0 * s)
         # within a step of the reach boundary: the one-sided difference on the reachable
@@ -475,78 +499,120 @@ class Plant:
             return ((model.jacobian(self.pose) - model.jacobian(minus)) @ V) / s
         return np.zeros(L)
 
-    def _advance(self, ok, pose, twist, q, dt) -> None:
-        if ok and not self.model.in_range(q):
+    def _reaches(self, pose) -> bool:
+        """The legs at ``pose`` close: the IK's flag, or on an all-prismatic device with
+        strokes every leg length finite and positive (the stroke is an end stop, not
+        the edge of the Jacobian: :meth:`~.kinematics.KinematicModel.closes`)."""
+        q, ok = self.model.ik(pose)
+        return ok or (self._lengths == 1.0 and self.model.closes(q))
+
+    def _advance(self, ok, pose, twist, q, dt, qdot=None) -> None:
+        model = self.model
+        stopped = False
+        if (not ok and self._lengths == 1.0 and q is not None and model.closes(q)
+                and np.all(np.isfinite(pose)) and np.all(np.isfinite(twist))):
+            ok = True     # only a stroke refused it: the leg's end stop (below) decides
+        if ok and not model.in_range(q):
             # a joint at its range: the end stop of that leg takes the impulse that stops
-            # it, and the platform moves on with what the other legs allow
-            self.end_stop_hits += 1
-            slid = self._slide(twist, q, dt)
-            if slid is None:
-                self.twist = np.zeros(6)
-                self.qdot = np.zeros(self.model.L)
-            else:
-                pose, twist, q = slid
-                self.pose, self.twist = pose, twist
-                self.qdot = (q - self.q) / dt
-                self.q = q
-            self.t += dt
-            return
+            # it, and the platform moves on with what the other legs allow.  Only a joint
+            # that goes further past its range meets its stop: one already past it (a
+            # state set from outside) that moves back inward is free (review)
+            ex0 = model.range_excess(self.q)
+            if np.any(model.range_excess(q) > ex0):
+                self.end_stop_hits += 1
+                stopped = True
+                slid = self._slide(twist, q, dt, ex0)
+                if slid is None:
+                    ok = False
+                else:
+                    pose, twist, q = slid
+                    qdot = None
         if ok:
             self.pose, self.twist = pose, twist
-            self.qdot = (q - self.q) / dt
+            # the short way round: a crank passing ±180° is no 2π/dt rate (review)
+            self.qdot = model.joint_step(q, self.q) / dt if qdot is None else qdot
             self.q = q
         else:  # a mechanical end stop: the platform stops where it was
-            self.end_stop_hits += 1
+            if not stopped:
+                self.end_stop_hits += 1
             self.twist = np.zeros(6)
-            self.qdot = np.zeros(self.model.L)
+            self.qdot = np.zeros(model.L)
         self.t += dt
 
-    def _slide(self, twist, q, dt):
+    def _slide(self, twist, q, dt, ex0):
         """The step again after an inelastic impact on the joint end stops that ``q``
-        passes: the impulse ``Jᴮᵀλ`` of the stopped joints B (those past their ranges)
-        that makes their rates zero, ``V' = V - M_e⁻¹ Jᴮᵀ λ`` with
-        ``(Jᴮ M_e⁻¹ Jᴮᵀ) λ = Jᴮ V`` and ``M_e = M̂ + J_r JᵀJ`` at the current pose (the
-        projection in the kinetic-energy metric: it removes only the energy of the
-        stopped joints' motion), and the pose stepped with ``V'``; joints that the new
-        step passes join B.  A stopped joint that the curvature of the motion still
-        carries past its stop (second order in the step: a platform pressed against
-        the stop) is put back on it by the least-squares pose displacement
-        ``Jᴮ δx = -(excess)`` (a position projection, the twist kept).  Returns (pose,
-        twist, q), or None when no such step stays in reach and within the ranges
-        (the platform then stops where it was).  Before, every joint end stop froze all
-        six DOF: a platform pressed against one crank's stop hung in the air instead of
-        sliding along it."""
+        passes further than the current joint values ``self.q`` (their excesses
+        ``ex0``, :meth:`~.kinematics.KinematicModel.range_excess`).
+
+        The stopped joints B, each at one end of its range (side ``s_i = ±1``, read
+        from the range: :func:`~.kinematics.range_side`), take the impulse
+        ``Jᴮᵀ S λ`` with ``λ >= 0`` (a stop pushes, it does not pull) that leaves none
+        of them moving outward, ``S Jᴮ V' <= 0``, and removes the least kinetic energy:
+        ``V' = V - M_e⁻¹ Jᴮᵀ S λ``, ``M_e = M̂ + J_r JᵀJ``, the complementarity problem
+        solved as the non-negative least squares ``min |G λ - Cᵀ V|`` with
+        ``M_e = C Cᵀ`` and ``G = C⁻¹ Jᴮᵀ S`` (scipy.optimize.nnls; its residual is
+        ``Cᵀ V'``).  A joint moving back inward gets no impulse.  The pose is stepped
+        with ``V'``; joints that the new step passes join B.  A stopped joint that the
+        curvature of the motion still carries past its stop (second order in the
+        step: a platform pressed against the stop) is put back by the least-squares
+        pose displacement ``Jᴮ δx = -s (excess)`` (inside by :data:`_STOP_GAP`; the
+        other stopped joints' rows held at zero), and
+        the twist is projected once more with J at the pose the step ends at (the
+        rates of J at the impact are not those of the final pose; review: up to
+        0.077 J gained per contact step without).  Returns (pose, twist, q), or None
+        when no such step stays in reach and within the ranges (the platform then
+        stops where it was).  A prismatic leg's stroke is its range here (m; ik's flag
+        holds it too, :meth:`~.kinematics.KinematicModel.closes`)."""
         model = self.model
-        J = model.jacobian(self.pose)
-        Me = self.M + self.motors.joint_inertia * (J.T @ J)
+        L = model.L
         rot = rotate_pose if self._ck is None else self._ck.rotate_pose
-        B = np.zeros(model.L, dtype=bool)
+        side = np.zeros(L)
         pose = V = None
-        for _ in range(2 * model.L):
+        for _ in range(2 * L):
             ex = model.range_excess(q)
-            past = ex > 0.0
+            past = ex > ex0
             if not past.any():
-                return pose, V, q
-            if (past & ~B).any():               # an impact: these joints stop too
-                B |= past
-                JB = J[B]
-                MJ = np.linalg.solve(Me, JB.T)
-                lam = np.linalg.lstsq(JB @ MJ, JB @ twist, rcond=None)[0]
-                V = twist - MJ @ lam
-                if not np.all(np.isfinite(V)):
+                break
+            new = past & (side == 0.0)
+            if new.any():                       # an impact: these joints stop too
+                side[new] = model.range_sides(q)[new]
+                V = self._stop_impulse(self.pose, twist, side)
+                if V is None or not np.all(side[new]):
                     return None
                 pose = rot(self.pose, V[:3] * dt, V[3:] * dt)
             else:                               # stopped joints drifted past: back
-                out = np.sign(q[past] - self.q[past])
-                if not out.all():
-                    return None
-                back = -out * (ex[past] + _STOP_GAP)
-                dx = np.linalg.lstsq(model.jacobian(pose)[past], back, rcond=None)[0]
+                # (the other stopped joints held where they are: one at a time, two
+                # stops at 1e-12 pushed each other past in turn, review)
+                B = side != 0.0
+                back = np.where(past, -side * (ex - ex0 + np.where(ex0 > 0.0, 0.0,
+                                                                  _STOP_GAP)), 0.0)
+                dx = np.linalg.lstsq(model.jacobian(pose)[B], back[B], rcond=None)[0]
                 pose = rot(pose, dx[:3], dx[3:])
             q, ok = model.ik(pose)
-            if not ok or not np.all(np.isfinite(q)):
+            if not (ok or (self._lengths == 1.0 and model.closes(q))) \
+                    or not np.all(np.isfinite(q)):
                 return None
-        return None
+        else:
+            return None
+        V = self._stop_impulse(pose, V, side)
+        return None if V is None else (pose, V, q)
+
+    def _stop_impulse(self, pose, V, side):
+        """The twist after the end-stop impulse of the joints with ``side`` ±1 at
+        ``pose`` (:meth:`_slide`), or None where it is not finite."""
+        J = self.model.jacobian(pose)
+        C = np.linalg.cholesky(self.M + self.motors.joint_inertia * (J.T @ J))
+        B = side != 0.0
+        G = np.linalg.solve(C, (J[B] * side[B, None]).T)
+        d = C.T @ V
+        if not (np.all(np.isfinite(G)) and np.all(np.isfinite(d))):
+            return None
+        try:
+            lam = _nnls()(G, d)[0]
+        except (RuntimeError, ValueError):       # no convergence (scipy's maxiter)
+            return None
+        out = np.linalg.solve(C.T, d - G @ lam)
+        return out if np.all(np.isfinite(out)) else None
 
     def encoders(self) -> np.ndarray:
         """Quantised joint readings (L,): crank angles (rad) or leg lengths (m)."""

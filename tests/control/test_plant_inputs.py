@@ -43,9 +43,14 @@ def test_a_command_of_the_wrong_length_is_refused(model):
     assert exc.value.field == "tau_cmd" and "8" in str(exc.value) and "(3,)" in str(exc.value)
 
 
-@pytest.mark.parametrize("tau", [["a"] * 8, "12345678", [[0.0], [1.0, 2.0]]])
+@pytest.mark.parametrize("tau", [["a"] * 8, "12345678", [[0.0], [1.0, 2.0]], ["1"] * 8,
+                                 [True] * 8, [1 + 0j] * 8,
+                                 np.array(["2026-01-01"] * 8, dtype="datetime64[D]")],
+                         ids=["text", "string", "ragged", "numeric-text", "bools",
+                              "complex", "dates"])
 def test_a_command_that_is_not_numbers_is_refused_and_loses_nothing(model, tau):
-    """Text and ragged lists were numpy's ValueError/TypeError (QA note)."""
+    """Text and ragged lists were numpy's ValueError/TypeError (QA note); numeric text,
+    bools, complex numbers and dates were converted to torques (review)."""
     p = Plant(model, QUIET)
     before = (p.t, p.pose.copy(), p.q.copy())
     with pytest.raises(InputError) as exc:
