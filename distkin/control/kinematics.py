@@ -156,8 +156,8 @@ class KinematicModel:
 
     def range_excess(self, q) -> np.ndarray:
         """How far each joint of ``q`` (L,) lies outside its range: :func:`range_excess`
-        of a crank (rad), the distance beyond the stroke of a prismatic leg (m; inf
-        for NaN); zeros without ranges."""
+        of a crank (rad), the distance beyond the stroke of a prismatic leg (m); inf
+        for NaN where any leg has a range; zeros without ranges."""
         return self.range_state(q)[0]
 
     def range_sides(self, q) -> np.ndarray:
@@ -178,8 +178,10 @@ class KinematicModel:
             lo, hi = self.stroke_lo, self.stroke_hi
             with np.errstate(invalid="ignore"):
                 e = np.maximum(np.maximum(lo - q, q - hi), 0.0)
-            ex = np.maximum(ex, np.where(np.isnan(q) & np.isfinite(lo), np.inf, e))
+            ex = np.maximum(ex, np.where(np.isnan(q), 0.0, e))
             side = np.where(q > hi, 1.0, np.where(q < lo, -1.0, side))
+        if self.joint_lo is not None or self.stroke_lo is not None:
+            ex[np.isnan(np.asarray(q, dtype=float))] = np.inf    # as range_excess (review)
         return ex, side
 
     def closes(self, q) -> bool:

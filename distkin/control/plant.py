@@ -555,8 +555,8 @@ class Plant:
         with ``V'``; joints that the new step passes join B.  A stopped joint that the
         curvature of the motion still carries past its stop (second order in the
         step: a platform pressed against the stop) is put back by the least-squares
-        pose displacement ``Jᴮ δx = -s (excess)`` (inside by :data:`_STOP_GAP`; the
-        other stopped joints' rows held at zero), and
+        pose displacement ``Jᴮ δx = -s (excess)`` (:data:`_STOP_GAP` inside where it
+        was; the other stopped joints' rows held at zero), and
         the twist is projected once more with J at the pose the step ends at (the
         rates of J at the impact are not those of the final pose; review: up to
         0.077 J gained per contact step without).  Returns (pose, twist, q), or None
@@ -568,11 +568,13 @@ class Plant:
         rot = rotate_pose if self._ck is None else self._ck.rotate_pose
         side = np.zeros(L)
         pose = V = None
-        for _ in range(2 * L):
+        for it in range(2 * L + 1):
             ex = model.range_excess(q)
             past = ex > ex0
             if not past.any():
                 break
+            if it == 2 * L:                     # (the last correction checked, review)
+                return None
             new = past & (side == 0.0)
             if new.any():                       # an impact: these joints stop too
                 side[new] = model.range_sides(q)[new]
@@ -583,17 +585,16 @@ class Plant:
             else:                               # stopped joints drifted past: back
                 # (the other stopped joints held where they are: one at a time, two
                 # stops at 1e-12 pushed each other past in turn, review)
+                # (inside by the gap from where it was: a joint already past its range
+                # put back exactly onto its old excess stayed an ulp past, review)
                 B = side != 0.0
-                back = np.where(past, -side * (ex - ex0 + np.where(ex0 > 0.0, 0.0,
-                                                                  _STOP_GAP)), 0.0)
+                back = np.where(past, -side * (ex - ex0 + _STOP_GAP), 0.0)
                 dx = np.linalg.lstsq(model.jacobian(pose)[B], back[B], rcond=None)[0]
                 pose = rot(pose, dx[:3], dx[3:])
             q, ok = model.ik(pose)
             if not (ok or (self._lengths == 1.0 and model.closes(q))) \
                     or not np.all(np.isfinite(q)):
                 return None
-        else:
-            return None
         V = self._stop_impulse(pose, V, side)
         return None if V is None else (pose, V, q)
 

@@ -160,9 +160,12 @@ def test_the_simulator_moves_the_turned_device_as_the_original(devices, theta):
     threw the platform)."""
     P0, R0, h0 = _pressed(devices[0.0][1], 0.0, 20.0)
     P, R, h = _pressed(devices[theta][1], theta, 20.0)
-    assert h0 > 10 and h == h0
-    np.testing.assert_allclose(P, P0, atol=1e-9)
-    np.testing.assert_allclose(R, R0, atol=1e-6 * np.abs(R0).max())
+    # (the contacts make the motion chaotic: the two part by rounding, 2.4e-9 m after
+    # 600 steps here, 7e-7 after 1500 (review); the tolerances leave room for another
+    # machine's rounding, far below the 2π/dt of the bug)
+    assert h0 > 10 and abs(h - h0) <= max(2, 0.02 * h0)
+    np.testing.assert_allclose(P, P0, rtol=0, atol=1e-6)
+    np.testing.assert_allclose(R, R0, rtol=0, atol=1e-3 * np.abs(R0).max())
     assert np.abs(R).max() < 50.0                        # rad/s; 2π/dt = 6283
 
 

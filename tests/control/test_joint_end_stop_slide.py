@@ -114,3 +114,31 @@ def test_a_joint_already_past_its_range_moves_back_freely(rus8):
     p.step(np.zeros(m.L), MODE_ZERO_TORQUE, 1e-3)
     assert p.end_stop_hits == 1
     assert m.range_excess(p.q)[0] <= m.range_excess(q)[0] + 1e-12    # held, not further
+
+
+def test_a_joint_past_its_range_pressed_further_is_held_not_frozen(rus8):
+    """From a state with crank 1 past its range, random twists that turn it further out:
+    the step stops crank 1 where it was and moves on (review: put back exactly onto
+    its old excess it stayed an ulp past, and the correction rounds ran out: 22 of
+    ~500 such steps froze)."""
+    m, edge = rus8
+    rng = np.random.default_rng(0)
+    for k in (0.005, 0.02):
+        start = edge + k * OUT
+        q0 = m.ik(start)[0]
+        ex0 = m.range_excess(q0)[0]
+        assert ex0 > 0
+        J = m.jacobian(start)
+        steps = 0
+        while steps < 40:
+            V = rng.normal(size=6) * [0.1, 0.1, 0.1, 1, 1, 1]
+            V += OUT / np.linalg.norm(OUT) * rng.uniform(0.01, 0.5)
+            if (J @ V)[0] <= 0:
+                continue                                    # not outward: no contact
+            p = Plant(m, FREE)
+            p.pose, p.q, p.twist = start.copy(), q0.copy(), V
+            p.step(np.zeros(m.L), MODE_ZERO_TORQUE, 1e-3)
+            steps += 1
+            assert p.end_stop_hits == 1 and not np.array_equal(p.pose, start)
+            assert m.range_excess(p.q)[0] <= ex0               # held, not further out
+

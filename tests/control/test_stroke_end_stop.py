@@ -88,3 +88,19 @@ def test_pressed_against_a_stroke_end_it_slides_within_the_strokes(gough6, force
     assert frozen == 0                                    # and moved on
     work = force * d @ (p.pose[:3] - start)               # J
     assert 0.0 < _kinetic(p, m) <= work * 1.01 + 1e-9
+
+
+def test_a_nan_leg_length_is_out_of_range_with_or_without_its_stroke(gough6):
+    """range_excess is inf for NaN, as the crank's scalar range_excess (review: a leg
+    without a stroke beside legs with one gave NaN, and in_range said True)."""
+    import copy
+    m, _, _ = gough6
+    part = copy.copy(m)
+    part.stroke_lo, part.stroke_hi = m.stroke_lo.copy(), m.stroke_hi.copy()
+    part.stroke_lo[5], part.stroke_hi[5] = -np.inf, np.inf       # leg 6: no stroke
+    q = m.ik(m.home)[0]
+    for model in (m, part):
+        for i in (0, 5):
+            bad = q.copy()
+            bad[i] = np.nan
+            assert model.range_excess(bad)[i] == np.inf and not model.in_range(bad)
