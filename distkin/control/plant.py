@@ -50,6 +50,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..spatial import rotate_pose_scalar as rotate_pose
+from .end_stops import load_solver, slide
 from .kinematics import _rot
 from .protocol import MODE_HOLD, MODE_RUN, STATUS_SATURATED
 
@@ -234,18 +235,6 @@ def drives_for(joint: str):
     return LinearDrives() if joint == "prismatic" else Motors()
 
 
-#: how far inside its stop (rad, or m) :meth:`Plant._slide` puts a joint that the
-#: curvature of the motion carried past it (not onto it: rounding would leave it past)
-_STOP_GAP = 1e-12
-
-
-def _nnls():
-    """scipy.optimize.nnls, imported on first use (0.25 s: a plant whose legs have
-    ranges imports it when built, before any real-time loop starts)."""
-    from scipy.optimize import nnls
-    return nnls
-
-
 @dataclass(frozen=True)
 class HandScript:
     """A scripted hand: piecewise-linear force (N, base frame) on the end-effector centre.
@@ -329,7 +318,7 @@ class Plant:
         self._q_hold = None
         if (getattr(self.model, "joint_lo", None) is not None
                 or getattr(self.model, "stroke_lo", None) is not None):
-            _nnls()                    # the end stops' solver: imported now, not mid-loop
+            load_solver()              # the end stops' solver: imported now, not mid-loop
         if self.hold_gains is None:
             self.hold_gains = tuple(self.motors.hold_gains)
         # compiled drives and dynamics when the model has compiled kernels (the same
@@ -397,9 +386,9 @@ class Plant:
         it used to stop the platform dead in the air as if at an end stop).  A step
         that would take a joint past its range (the mechanism's ``range``) meets that
         joint's end stop: the joint stops and the platform moves on with what the other
-        legs allow (:meth:`_slide`); a step whose pose a leg cannot close, or that no
-        such step saves, ends at a mechanical end stop where the platform stays, at
-        rest.  :attr:`end_stop_hits` counts both.
+        legs allow (:func:`.end_stops.slide`); a step whose pose a leg cannot close, or
+        that no such step saves, ends at a mechanical end stop where the platform
+        stays, at rest.  :attr:`end_stop_hits` counts both.
         """
         if (isinstance(dt, bool) or not isinstance(dt, (int, float, np.integer, np.floating))
                 or not 0.0 < dt < math.inf):
@@ -521,7 +510,9 @@ class Plant:
             if np.any(model.range_excess(q) > ex0):
                 self.end_stop_hits += 1
                 stopped = True
-                slid = self._slide(twist, q, dt, ex0)
+                slid = slide(model, self.M, self.motors.joint_inertia,
+                             rotate_pose if self._ck is None else self._ck.rotate_pose,
+                             self.pose, twist, q, dt, ex0, lengths=self._lengths == 1.0)
                 if slid is None:
                     ok = False
                 else:
@@ -538,82 +529,6 @@ class Plant:
             self.twist = np.zeros(6)
             self.qdot = np.zeros(model.L)
         self.t += dt
-
-    def _slide(self, twist, q, dt, ex0):
-        """The step again after an inelastic impact on the joint end stops that ``q``
-        passes further than the current joint values ``self.q`` (their excesses
-        ``ex0``, :meth:`~.kinematics.KinematicModel.range_excess`).
-
-        The stopped joints B, each at one end of its range (side ``s_i = ±1``, read
-        from the range: :func:`~.kinematics.range_side`), take the impulse
-        ``Jᴮᵀ S λ`` with ``λ >= 0`` (a stop pushes, it does not pull) that leaves none
-        of them moving outward, ``S Jᴮ V' <= 0``, and removes the least kinetic energy:
-        ``V' = V - M_e⁻¹ Jᴮᵀ S λ``, ``M_e = M̂ + J_r JᵀJ``, the complementarity problem
-        solved as the non-negative least squares ``min |G λ - Cᵀ V|`` with
-        ``M_e = C Cᵀ`` and ``G = C⁻¹ Jᴮᵀ S`` (scipy.optimize.nnls; its residual is
-        ``Cᵀ V'``).  A joint moving back inward gets no impulse.  The pose is stepped
-        with ``V'``; joints that the new step passes join B.  A stopped joint that the
-        curvature of the motion still carries past its stop (second order in the
-        step: a platform pressed against the stop) is put back by the least-squares
-        pose displacement ``Jᴮ δx = -s (excess)`` (:data:`_STOP_GAP` inside where it
-        was; the other stopped joints' rows held at zero), and
-        the twist is projected once more with J at the pose the step ends at (the
-        rates of J at the impact are not those of the final pose; review: up to
-        0.077 J gained per contact step without).  Returns (pose, twist, q), or None
-        when no such step stays in reach and within the ranges (the platform then
-        stops where it was).  A prismatic leg's stroke is its range here (m; ik's flag
-        holds it too, :meth:`~.kinematics.KinematicModel.closes`)."""
-        model = self.model
-        L = model.L
-        rot = rotate_pose if self._ck is None else self._ck.rotate_pose
-        side = np.zeros(L)
-        pose = V = None
-        for it in range(2 * L + 1):
-            ex = model.range_excess(q)
-            past = ex > ex0
-            if not past.any():
-                break
-            if it == 2 * L:                     # (the last correction checked, review)
-                return None
-            new = past & (side == 0.0)
-            if new.any():                       # an impact: these joints stop too
-                side[new] = model.range_sides(q)[new]
-                V = self._stop_impulse(self.pose, twist, side)
-                if V is None or not np.all(side[new]):
-                    return None
-                pose = rot(self.pose, V[:3] * dt, V[3:] * dt)
-            else:                               # stopped joints drifted past: back
-                # (the other stopped joints held where they are: one at a time, two
-                # stops at 1e-12 pushed each other past in turn, review)
-                # (inside by the gap from where it was: a joint already past its range
-                # put back exactly onto its old excess stayed an ulp past, review)
-                B = side != 0.0
-                back = np.where(past, -side * (ex - ex0 + _STOP_GAP), 0.0)
-                dx = np.linalg.lstsq(model.jacobian(pose)[B], back[B], rcond=None)[0]
-                pose = rot(pose, dx[:3], dx[3:])
-            q, ok = model.ik(pose)
-            if not (ok or (self._lengths == 1.0 and model.closes(q))) \
-                    or not np.all(np.isfinite(q)):
-                return None
-        V = self._stop_impulse(pose, V, side)
-        return None if V is None else (pose, V, q)
-
-    def _stop_impulse(self, pose, V, side):
-        """The twist after the end-stop impulse of the joints with ``side`` ±1 at
-        ``pose`` (:meth:`_slide`), or None where it is not finite."""
-        J = self.model.jacobian(pose)
-        C = np.linalg.cholesky(self.M + self.motors.joint_inertia * (J.T @ J))
-        B = side != 0.0
-        G = np.linalg.solve(C, (J[B] * side[B, None]).T)
-        d = C.T @ V
-        if not (np.all(np.isfinite(G)) and np.all(np.isfinite(d))):
-            return None
-        try:
-            lam = _nnls()(G, d)[0]
-        except (RuntimeError, ValueError):       # no convergence (scipy's maxiter)
-            return None
-        out = np.linalg.solve(C.T, d - G @ lam)
-        return out if np.all(np.isfinite(out)) else None
 
     def encoders(self) -> np.ndarray:
         """Quantised joint readings (L,): crank angles (rad) or leg lengths (m)."""

@@ -5,10 +5,10 @@ margin (q - qmin)(qmax - q), distkin.mechanisms.legs), so before, a step that to
 leg past its stroke was a "mechanical end stop" that froze all six DOF: the 6-UPS
 platform of examples/control_gough6.toml pressed by a hand against one leg's lower
 stroke end hung where it was.  Now the stroke is that leg's end stop, as a crank's
-range is (Plant._slide).  References, independent of the plant: the mechanism's own
-reachability (``RSSMechanism.reachable``: closure and strokes), the leg lengths read
-from the geometry (|P - B|), the stopped leg's rate from the Jacobian, and the
-work-energy balance (review: at a stroke end both poses of the rotor term's central
+range is (distkin.control.end_stops).  References, independent of the plant: the
+mechanism's own reachability (``RSSMechanism.reachable``: closure and strokes), the
+leg lengths read from the geometry (|P - B|), the stopped leg's rate from the
+Jacobian, and the work-energy balance (review: at a stroke end both poses of the rotor term's central
 difference left the stroke, J̇V was cut to zero and the sliding platform gained 2.3 J
 more than the hand gave it in 1 s)."""
 
