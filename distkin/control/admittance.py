@@ -29,7 +29,7 @@ from ..spatial import rotate_pose_scalar as rotate_pose
 from .kinematics import _rot
 
 __all__ = ["Spring", "Wall", "Admittance", "rotation_log", "spring_torque",
-           "step_spectral_radius", "check_step"]
+           "step_spectral_radius", "check_step", "substeps"]
 
 
 def _vector(value, field: str, n: int, *, nonneg: bool = False, positive: bool = False,
@@ -237,21 +237,30 @@ class Admittance:
                 w += e.wrench(pose, twist)
         return w
 
-    def propose(self, hand_wrench, dt):
+    def propose(self, hand_wrench, dt, max_step=None):
         """One semi-implicit Euler step; returns the candidate ``(pose, twist)``.
 
         Nothing is committed: the caller checks the candidate (reachability,
         singularity guard) and calls :meth:`commit` or :meth:`refuse`.  ``dt`` (s) must
-        be positive and finite (InputError).
+        be positive and finite (InputError).  ``max_step`` (s; the loop's nominal
+        period, whose stability :func:`check_step` checked at load): a longer ``dt``
+        (a late frame: the loop steps with the measured gap, up to 5 periods) is taken
+        as ``ceil(dt / max_step)`` equal steps, the hand's wrench held (review: one
+        step of 5 periods multiplies the state of a stiff spring that the nominal step
+        keeps stable by up to the spectral radius at 5h, and a few late frames in a row
+        made the set point diverge); ``dt <= max_step`` is one step, as before.
         """
         if not 0.0 < dt < math.inf:
             raise InputError(f"expected a time step dt > 0 finite (s), got {dt!r}",
                              field="dt")
-        w = hand_wrench + self.environment_wrench(self.pose, self.twist)
-        twist = self.twist + dt * (w - self.damping * self.twist) / self.mass
-        if self.kernels is not None:
-            return self.kernels.rotate_pose(self.pose, twist[:3] * dt, twist[3:] * dt), twist
-        pose = rotate_pose(self.pose, twist[:3] * dt, twist[3:] * dt)
+        n = substeps(dt, max_step)
+        h = dt / n
+        rot = rotate_pose if self.kernels is None else self.kernels.rotate_pose
+        pose, twist = self.pose, self.twist
+        for _ in range(n):
+            w = hand_wrench + self.environment_wrench(pose, twist)
+            twist = twist + h * (w - self.damping * twist) / self.mass
+            pose = rot(pose, twist[:3] * h, twist[3:] * h)
         return pose, twist
 
     def commit(self, pose, twist) -> None:
@@ -260,6 +269,15 @@ class Admittance:
     def refuse(self) -> None:
         """The candidate was refused: stay at the last accepted pose, at rest."""
         self.twist = np.zeros(6)
+
+
+def substeps(dt: float, max_step) -> int:
+    """How many equal steps :meth:`Admittance.propose` takes for ``dt`` (s): 1 up to
+    ``max_step`` (None or 0: always 1), else ``ceil(dt / max_step)`` (a relative
+    1e-9 of ``dt`` over ``max_step`` is rounding, one step)."""
+    if not max_step or dt <= max_step * (1.0 + 1e-9):
+        return 1
+    return int(math.ceil(dt / max_step * (1.0 - 1e-9)))
 
 
 def step_spectral_radius(mass, damping, environment, period: float) -> tuple:

@@ -361,7 +361,7 @@ class Controller:
         if self.state != RUN:
             r.torques = np.zeros(self.L)
             return r
-        cand_pose, cand_twist = self.adm.propose(w, dt)
+        cand_pose, cand_twist = self.adm.propose(w, dt, max_step=self.dt_nominal)
         why, q_des = self.check_pose(cand_pose, current=self.adm.pose)
         if why:
             self.adm.refuse()

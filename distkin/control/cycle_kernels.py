@@ -149,14 +149,16 @@ def cycle_params(pd, safety, adm, weight: float, scaling, *, fk_tol: float = 1e-
     """The parameter vector ``prm`` and environment table ``env`` of the fused cycle
     (``cycle`` of :func:`build`), from a controller's gains, limits and admittance.
 
-    ``prm`` (35,): FK tolerance, FK iterations (warm, cold), max FK residual, σmin,
+    ``prm`` (36,): FK tolerance, FK iterations (warm, cold), max FK residual, σmin,
     max condition, kp, kd, ki, derivative filter T, torque limit (the largest float32
     not above it: :func:`.protocol.float32_floor`), projected (0/1),
     gravity compensation (0/1), hand feed-forward (0/1), weight (N), S (6), virtual
     mass (6), virtual damping (6), the derivative filter's largest step
     ``max(T, period)`` (s; :meth:`.controller.Controller.filter_derivative`), and 1
     where the joints are crank angles (``revolute``: the PD error is taken modulo 2π,
-    :meth:`.kinematics.KinematicModel.joint_step`), 0 for leg lengths.
+    :meth:`.kinematics.KinematicModel.joint_step`), 0 for leg lengths, and the
+    admittance's largest step (s; ``period``, 0: none; a longer measured gap is taken
+    as equal steps, :func:`.admittance.substeps`).
     ``env`` (n, 25), one row per element in the scene's order: a Spring
     ``0, p0 (3), R0ᵀ (9, row-major), k (6), d (6)``; a Wall
     ``1, normal (3), offset, stiffness, damping`` (zero padded).
@@ -166,7 +168,7 @@ def cycle_params(pd, safety, adm, weight: float, scaling, *, fk_tol: float = 1e-
                     pd.derivative_filter_s, float32_floor(pd.torque_limit),
                     float(pd.distribution == "projected"), float(pd.gravity_compensation),
                     float(pd.hand_feedforward), weight, *scaling, *adm.mass, *adm.damping,
-                    max(pd.derivative_filter_s, period), float(bool(revolute))],
+                    max(pd.derivative_filter_s, period), float(bool(revolute)), period],
                    dtype=float)
     env = np.zeros((len(adm.environment), 25))
     for r, e in enumerate(adm.environment):
@@ -328,7 +330,7 @@ def build(kernels, L: int) -> CycleKernels:
     ck.rotate_pose(np.zeros(6), np.zeros(3), np.zeros(3))
     env = np.zeros((2, 25))
     env[1, 0] = 1.0
-    prm = np.zeros(35)
+    prm = np.zeros(36)
     prm[15:21] = 1.0                               # the scaling S (a divisor)
     for started in (False, True):
         ck.cycle(np.zeros(L), np.zeros(6), 1e-3, started, True, np.zeros(6), np.zeros(6),

@@ -158,14 +158,21 @@ def cycle(q, ws, dt, started, run, guess, adm_pose, adm_twist, pd, prm, env, rng
         return 2
     if not run:
         return 3
-    # 3. admittance: one semi-implicit Euler step (Admittance.propose)
+    # 3. admittance: semi-implicit Euler, a late frame's gap in steps of at most the
+    # nominal period prm[35] (Admittance.propose, admittance.substeps)
+    n = 1
+    if prm[35] > 0.0 and dt > prm[35] * (1.0 + 1e-9):
+        n = int(math.ceil(dt / prm[35] * (1.0 - 1e-9)))
+    h = dt / n
     we = np.empty(6)
-    _environment(apose, atwist, env, we)
-    tw = np.empty(6)
-    for i in range(6):
-        wi = w[i] + we[i]
-        tw[i] = atwist[i] + dt * (wi - prm[27 + i] * atwist[i]) / prm[21 + i]
-    cand = rotate(apose, tw[:3] * dt, tw[3:] * dt)
+    tw = atwist.copy()
+    cand = apose.copy()
+    for _ in range(n):
+        _environment(cand, tw, env, we)
+        for i in range(6):
+            wi = w[i] + we[i]
+            tw[i] = tw[i] + h * (wi - prm[27 + i] * tw[i]) / prm[21 + i]
+        cand = rotate(cand, tw[:3] * h, tw[3:] * h)
     # 4-5. refuse an unreachable or near-singular candidate (Controller.check_pose)
     qd = np.empty(L)
     code = 0
