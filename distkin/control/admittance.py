@@ -29,7 +29,7 @@ from ..spatial import rotate_pose_scalar as rotate_pose
 from .kinematics import _rot
 
 __all__ = ["Spring", "Wall", "Admittance", "rotation_log", "spring_torque",
-           "step_spectral_radius", "check_step", "substeps"]
+           "step_spectral_radius", "check_step", "substeps", "MAX_SUBSTEPS"]
 
 
 def _vector(value, field: str, n: int, *, nonneg: bool = False, positive: bool = False,
@@ -248,11 +248,9 @@ class Admittance:
         as ``ceil(dt / max_step)`` equal steps, the hand's wrench held (review: one
         step of 5 periods multiplies the state of a stiff spring that the nominal step
         keeps stable by up to the spectral radius at 5h, and a few late frames in a row
-        made the set point diverge); ``dt <= max_step`` is one step, as before.
+        made the set point diverge); ``dt <= max_step`` is one step, as before; at most
+        :data:`MAX_SUBSTEPS` steps (:func:`substeps` refuses a longer gap).
         """
-        if not 0.0 < dt < math.inf:
-            raise InputError(f"expected a time step dt > 0 finite (s), got {dt!r}",
-                             field="dt")
         n = substeps(dt, max_step)
         h = dt / n
         rot = rotate_pose if self.kernels is None else self.kernels.rotate_pose
@@ -271,12 +269,26 @@ class Admittance:
         self.twist = np.zeros(6)
 
 
+#: the most equal steps one late frame's gap is cut into (10 s at 1 kHz): a longer gap
+#: is refused (review of e5ba69d: a gap of 1e303 periods looped for ever on the Python
+#: route, and an infinite one overflowed the compiled route's count into an accepted
+#: step; the loop itself clamps a gap to 5 periods)
+MAX_SUBSTEPS = 10_000
+
+
 def substeps(dt: float, max_step) -> int:
     """How many equal steps :meth:`Admittance.propose` takes for ``dt`` (s): 1 up to
     ``max_step`` (None or 0: always 1), else ``ceil(dt / max_step)`` (a relative
-    1e-9 of ``dt`` over ``max_step`` is rounding, one step)."""
+    1e-9 of ``dt`` over ``max_step`` is rounding, one step).  ``dt`` must be positive
+    and finite, and at most :data:`MAX_SUBSTEPS` steps (InputError)."""
+    if not 0.0 < dt < math.inf:
+        raise InputError(f"expected a time step dt > 0 finite (s), got {dt!r}", field="dt")
     if not max_step or dt <= max_step * (1.0 + 1e-9):
         return 1
+    if dt > MAX_SUBSTEPS * max_step:
+        raise InputError(f"expected a gap dt of at most {MAX_SUBSTEPS} periods "
+                         f"({MAX_SUBSTEPS * max_step:.6g} s at the period {max_step:.6g} s), "
+                         f"got {dt!r} s ({dt / max_step:.6g} periods)", field="dt")
     return int(math.ceil(dt / max_step * (1.0 - 1e-9)))
 
 

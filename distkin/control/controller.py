@@ -49,7 +49,7 @@ import time
 
 import numpy as np
 
-from .admittance import Admittance
+from .admittance import Admittance, substeps
 from .cycle_kernels import CYCLE_OUT, cycle_params
 from .kinematics import _rot
 from .loop import run_loop
@@ -326,8 +326,11 @@ class Controller:
         With compiled kinematics the steps run as one compiled call
         (:meth:`_compute_fused`, ``cycle`` of :mod:`.cycle_kernels`); without, as the
         Python methods of this class (the reference route; tests/control holds the
-        two together).
+        two together).  ``dt`` (s, the gap since the last frame) must be positive, finite
+        and at most :data:`.admittance.MAX_SUBSTEPS` nominal periods, on both routes
+        (InputError, before anything changes; the loop clamps it to 5 periods).
         """
+        substeps(dt, self.dt_nominal)
         if self._fused is not None:
             return self._compute_fused(frame, dt)
         r = CycleResult()

@@ -95,3 +95,47 @@ def test_the_fused_cycle_steps_a_late_frame_as_the_python_steps(gap):
             assert r.reason == ""
         poses.append(ctl.adm.pose.copy())
     np.testing.assert_allclose(poses[0], poses[1], rtol=0, atol=1e-12)
+
+
+def test_gaps_beyond_the_cap_are_refused():
+    """Review of e5ba69d: no cap on the count (1e303 periods looped for ever);
+    :data:`MAX_SUBSTEPS` periods are the most, a gap past it is an InputError that names
+    the cap and the gap."""
+    from distkin.control.admittance import MAX_SUBSTEPS
+    from distkin.errors import InputError
+    assert substeps(MAX_SUBSTEPS * H, H) == MAX_SUBSTEPS
+    for bad in (MAX_SUBSTEPS * H * 1.001, 1e300, np.inf, np.nan, 0.0, -H):
+        with pytest.raises(InputError, match="dt"):
+            substeps(bad, H)
+    with pytest.raises(InputError, match=f"at most {MAX_SUBSTEPS} periods"):
+        _adm().propose(np.zeros(6), 1e6 * H, max_step=H)
+
+
+@pytest.mark.parametrize("fused", [True, False])
+def test_the_controller_refuses_a_bad_gap_on_both_routes(fused):
+    """Review of e5ba69d: the fused route took any gap (an infinite one overflowed its
+    step count into an accepted step, 0 divided by zero, a negative one stepped back);
+    now both routes refuse 0, negative, non-finite and over-cap gaps before any state
+    changes, and then take the next good frame as if nothing had come."""
+    from pathlib import Path
+
+    from distkin.control.config import loads_control_scene
+    from distkin.control.controller import Controller
+    from distkin.control.kinematics import load_model
+    from distkin.control.protocol import StateFrame
+    from distkin.errors import InputError
+    root = Path(__file__).resolve().parents[2]
+    m = load_model("octo")
+    ctl = Controller(loads_control_scene((root / "examples" / "control_octo.toml")
+                                         .read_text()), m, fused=fused)
+    assert (ctl._fused is not None) == fused
+    q = m.ik(m.home + np.array([1e-3, 0, 0, 0, 0, 0]))[0]
+    ref = Controller(loads_control_scene((root / "examples" / "control_octo.toml")
+                                         .read_text()), m, fused=fused)
+    for bad in (np.inf, 1e16 * H, 0.0, -H, np.nan):
+        with pytest.raises(InputError, match="dt"):
+            ctl.compute(StateFrame(1, 0, 0, q, np.ones(6)), bad)
+    a = ctl.compute(StateFrame(1, 0, 0, q, np.ones(6)), H)
+    b = ref.compute(StateFrame(1, 0, 0, q, np.ones(6)), H)
+    assert a.reason == b.reason and np.array_equal(a.torques, b.torques)
+    assert np.array_equal(ctl.adm.pose, ref.adm.pose)
