@@ -47,6 +47,7 @@ from .boxes import (REASONS, REGULAR, UNDECIDED, UNREACHABLE, Verdict, _certify_
                     check_box, check_mechanism, check_resolution, leaves, perron_vectors,
                     split_dimension)
 from .fptaylor import TINY, Quadratics, as_models, down, sum_up, up, variables
+from .intervals import margins
 
 __all__ = ["certify_batch", "branch_and_prune_batched", "rank_bounds"]
 
@@ -198,7 +199,7 @@ def _certify_batch(mech, kernels, lo, hi, vary):
     contraction = np.full(Bn, np.inf)
     weights = np.zeros((Bn, n))
     mid, X = _inputs(lo, hi, vary)
-    rc, ra, rq, re = _stack(kernels.reach(X), X[0])
+    rc, ra, rq, re = _stack(margins(kernels, X), X[0])
     rmod = Quadratics(rc.reshape(-1), ra.reshape(-1, n), rq.reshape(-1, n, n), re.reshape(-1))
     rlo, rhi = (b.reshape(Bn, -1) for b in rmod.bounds())
     unreach = np.any(rhi < 0, axis=1)

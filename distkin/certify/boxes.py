@@ -14,7 +14,11 @@ What a box ``X`` (m, rad; poses as in :mod:`distkin.spatial`) can be proved to b
     1. every leg closes: the reach margin :math:`\rho_i^2 - C_i^2` of the IK equation
        :math:`A_i\cos q_i + B_i\sin q_i = C_i` (:mod:`distkin.mechanisms.symbolic`) is
        > 0, so both crank solutions exist, are distinct, and the IK branch of
-       :mod:`distkin.mechanisms.presets` is a smooth function of the pose;
+       :mod:`distkin.mechanisms.presets` is a smooth function of the pose; and every
+       crank of a leg with a revolute joint range is strictly inside it: the range
+       margin :math:`\rho_i^2(\cos(q_i - m_i) - \cos w_i)` (m, w the range's middle
+       and half-width; :func:`.intervals.margins`) is > 0 (a prismatic leg's stroke is
+       its reach margin already);
     2. ``Jq`` is regular: every diagonal entry :math:`J_{q,ii} = \partial\Phi_i/\partial q_i`
        of eq. (1) is enclosed away from 0 (no inverse-kinematic singularity);
     3. ``Jx`` (L x 6, eq. (1)) has full column rank 6: no direct-kinematic
@@ -53,7 +57,8 @@ What a box ``X`` (m, rad; poses as in :mod:`distkin.spatial`) can be proved to b
     L = 8 a rank loss of the 8 x 6 ``Jx`` is not a sign change of a scalar; such boxes
     stay ``undecided``.
 ``unreachable``
-    Some leg's reach margin is < 0 over the whole box (no pose of ``X`` is assembled).
+    Some leg's reach margin, or range margin, is < 0 over the whole box (no pose of
+    ``X`` is assembled with every crank inside its range).
 ``undecided``
     None of the above at the resolution ``min_width``, or left unsplit when the box
     budget was spent (flagged ``budget`` by :func:`branch_and_prune`).
@@ -107,7 +112,8 @@ STATUS_NAMES = {UNDECIDED: "undecided", REGULAR: "regular", SINGULAR: "singular"
 #: why a box was left undecided at the resolution, by code (the leaves' ``reason``): the
 #: first test whose enclosure did not decide (a diagnosis, not a proof of what is in the
 #: box): 0 none (decided, or left by the budget: ``budget``), 1 "reach" (a leg's reach
-#: margin not enclosed away from 0: the edge of the reachable set may cross the box),
+#: or range margin not enclosed away from 0: the edge of the reachable set, a leg's reach
+#: limit or joint range, may cross the box),
 #: 2 "jq" (a diagonal entry of Jq not enclosed away from 0: a serial singularity may
 #: cross it), 3 "rank" (the regularity test of Jx failed: a parallel singularity may
 #: cross it, or the enclosure is too wide at the resolution)
@@ -128,7 +134,7 @@ class Verdict:
     det_sign : int
         L = 6 regular boxes: the sign of det Jx over the box; otherwise 0.
     reason : str
-        Why a box is undecided: "reach" (a reach margin straddles 0), "jq" (a Jq entry
+        Why a box is undecided: "reach" (a reach or range margin straddles 0), "jq" (a Jq entry
         not enclosed away from 0), "rank" (the rank test failed), "" otherwise.
     contraction : float
         Upper bound of the scaled norm of ``I - Y Jx`` over the box (inf if not

@@ -44,7 +44,13 @@ non-finite derivative ball wherever an operation is not differentiable on its ar
 finite derivative enclosure *is* the proof that the theorem applies; the Taylor models
 likewise return a non-finite remainder.
 
-Balls carry no units; reach margins are m^2, ``Jq`` and the force columns of ``Jx`` (L x 6,
+The margins a box is reachable by are the legs' reach margins and, for a leg table with
+revolute joint ranges, the range margins of those legs (:func:`margins`: the arb kernel
+``ranges`` of :mod:`distkin.mechanisms.symbolic`, ``rho^2 (cos(q - m) - cos w)``, > 0 iff
+the crank angle is strictly inside its range): every certificate of :mod:`.boxes` reads
+them alike (all > 0: reachable; one < 0 over the box: unreachable).
+
+Balls carry no units; reach and range margins are m^2, ``Jq`` and the force columns of ``Jx`` (L x 6,
 its first three) are dimensionless, its moment columns (last three) m (the kernels'
 conventions).
 """
@@ -58,7 +64,19 @@ import numpy as np
 
 from .linearize import ModelArithmetic, chebyshev_recip, chebyshev_sqrt
 
-__all__ = ["Grad", "Affine", "FORMS", "box_balls", "BoxEnclosure", "enclose_box", "point_values"]
+__all__ = ["Grad", "Affine", "FORMS", "box_balls", "BoxEnclosure", "enclose_box", "point_values",
+           "margins"]
+
+
+def margins(kernels, pose) -> list:
+    """The margins of reachability at ``pose`` (balls, models or floats, whatever the
+    kernels are run on): the L reach margins, then the range margins of the revolute legs
+    with a joint range (:func:`distkin.mechanisms.kernels.range_legs`, in that order; none
+    for a kernel set without the ``ranges`` kernel).  All > 0: every leg closes with its
+    crank strictly inside its range."""
+    out = list(kernels.reach(pose))
+    ranges = getattr(kernels, "ranges", None)
+    return out + list(ranges(pose)) if ranges is not None else out
 
 
 def _nan():
@@ -369,14 +387,15 @@ def point_values(kernels, pose):
 
     Returns
     -------
-    reach : list of L arb (m^2)
+    reach : list of arb (m^2)
+        The margins of :func:`margins` (L reach margins, then the range margins).
     jq : list of L arb
     jx : list of L lists of 6 arb
     """
     from flint import arb
     P = [arb(float(v)) for v in pose]
     out = [[_as_arb(v) for v in row] for row in kernels.jq_jx(P)]
-    return ([_as_arb(v) for v in kernels.reach(P)], [row[0] for row in out],
+    return ([_as_arb(v) for v in margins(kernels, P)], [row[0] for row in out],
             [row[1:] for row in out])
 
 
@@ -399,9 +418,10 @@ class BoxEnclosure:
         Midpoint.
     vary : tuple of int
         The coordinates of non-zero width.
-    reach : list of L arb
-        Reach margins over the box (m^2).
-    reach_weights : ndarray (L, n)
+    reach : list of arb
+        The margins of :func:`margins` over the box (m^2): L reach margins, then the
+        range margins of the legs with a revolute joint range.
+    reach_weights : ndarray (len(reach), n)
         |d reach_i / d ε_k| (for choosing the coordinate to split; floats).
     jq : list of L arb or None
         ``Jq_ii`` over the box (None when the Jacobian was not evaluated).
@@ -469,8 +489,8 @@ def enclose_box(kernels, lo, hi, *, form: str = "quadratic",
     n = len(vary)
     L = kernels.module.L
     if form == "plain" or n == 0:
-        reach = [_as_arb(v) for v in kernels.reach(X)]
-        enc = BoxEnclosure(mid, vary, reach, np.zeros((L, n)))
+        reach = [_as_arb(v) for v in margins(kernels, X)]
+        enc = BoxEnclosure(mid, vary, reach, np.zeros((len(reach), n)))
         if jacobian and all(r > 0 for r in reach):
             out = [[_as_arb(v) for v in row] for row in kernels.jq_jx(X)]
             enc.jq = [row[0] for row in out]
@@ -489,7 +509,7 @@ def enclose_box(kernels, lo, hi, *, form: str = "quadratic",
                                                           for i in range(n)], zero))
             else:
                 A.append(Affine(X[k], (zero,) * n, zero))
-        ra = [_as_affine(g, n) for g in kernels.reach(A)]
+        ra = [_as_affine(g, n) for g in margins(kernels, A)]
         reach = [a.range() for a in ra]
         w = np.array([[_mag(x) for x in a.a] for a in ra])
         enc = BoxEnclosure(mid, vary, reach, w)
@@ -511,8 +531,8 @@ def enclose_box(kernels, lo, hi, *, form: str = "quadratic",
             G.append(Grad(X[k], (zero,) * n))
     Pm = [arb(float(v)) for v in mid]
     Rv = [R[k] for k in vary]
-    rg = [_as_grad(g, n) for g in kernels.reach(G)]
-    rm = [_as_arb(v) for v in kernels.reach(Pm)]
+    rg = [_as_grad(g, n) for g in margins(kernels, G)]
+    rm = [_as_arb(v) for v in margins(kernels, Pm)]
     terms = [[g.d[j] * Rv[j] for j in range(n)] for g in rg]
     reach = [_centre(rm[i], terms[i], rg[i].v) for i in range(len(rg))]
     w = np.array([[_mag(t) for t in row] for row in terms])
@@ -543,7 +563,7 @@ def _enclose_quadratic(kernels, X, R, mid, vary, L):
 
     def model(g):
         return g if isinstance(g, Quadratic) else constant(g, n)
-    rq = [model(g) for g in kernels.reach(Q)]
+    rq = [model(g) for g in margins(kernels, Q)]
     reach = [m.range() for m in rq]
     w = np.array([[_mag(x) for x in m.a] for m in rq])
     enc = BoxEnclosure(mid, vary, reach, w)

@@ -13,7 +13,8 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from ..mechanisms.kernel_names import _SUFFIX, ARB_KERNELS, FLAVOURS, KERNELS, LOOP_KERNELS
+from ..mechanisms.kernel_names import (_SUFFIX, ARB_KERNELS, FLAVOURS, KERNELS, LOOP_KERNELS,
+                                       RANGE_KERNEL)
 
 __all__ = ["module_text", "derived_module", "scene_module", "derivation_profile",
            "QUERY_KERNELS", "generate_preset", "generate_preset_arb"]
@@ -34,6 +35,9 @@ _DOCS = {
               "diagonal, Jq_ii = dPhi_i/dq_i, Jx = -dPhi/d(v, omega)."),
     "closure": ("[Phi_i, dPhi_i/d(v, omega)] per leg, L x 7, for forward kinematics.\n"
                 "Phi_i = (|P_i - D_i(q_i)|^2 - l3^2) / (2 l3) in m (about the length error)."),
+    "ranges": ("Range margins rho^2 (cos(q - m) - cos w) (m^2) of the revolute legs whose\n"
+               "range [qmin, qmax] is not the full turn (m, w its middle and half-width):\n"
+               "> 0 iff the crank angle q of the IK's branch is inside the range mod 2 pi."),
 }
 
 #: the docstrings of a table of prismatic legs (SPS, UPS; distkin.mechanisms.symbolic)
@@ -52,6 +56,7 @@ _DOCS_PRISMATIC = {
     "closure": ("[Phi_i, dPhi_i/d(v, omega)] per leg, L x 7, for forward kinematics.\n"
                 "Phi_i = (|P_i - B_i|^2 - q_i^2) / (2 q_i) in m (about the length error),\n"
                 "q_i the leg length (m)."),
+    "ranges": "(none: a prismatic leg's stroke is in its reach margin)",
 }
 
 
@@ -69,7 +74,8 @@ def _docs(desc) -> dict:
             "reach": "Reach margins per leg (m^2).",
             "jacobian": "J = Jq^-1 Jx (eqs. (1)-(2)), L x 6, per leg as below.",
             "jq_jx": "[Jq_ii, Jx_i] per leg, L x 7, per leg as below.",
-            "closure": "[Phi_i, dPhi_i/d(v, omega)] per leg, L x 7, per leg as below."}
+            "closure": "[Phi_i, dPhi_i/d(v, omega)] per leg, L x 7, per leg as below.",
+            "ranges": "Range margins of the revolute legs with a range (m^2)."}
     return {n: (f"{head[n]}\n\nRevolute legs {revolute} (0-based rows of LEGS):\n{_DOCS[n]}"
                 f"\n\nPrismatic legs {prismatic}:\n{_DOCS_PRISMATIC[n]}") for n in _DOCS}
 
@@ -130,7 +136,8 @@ def module_text(mech, names=KERNELS, flavours=FLAVOURS, *, generator=GENERATOR,
     ----------
     mech : LegsDescription, RSSDescription or a mechanism on either
     names : sequence of str
-        Some of :data:`KERNELS`.
+        Some of :data:`KERNELS` (and, for the arb flavour of a leg table with revolute
+        joint ranges, ``"ranges"``).
     flavours : sequence of str
         "batched" and/or "scalar"; or ("arb",) alone: the arb flavour is derived from
         the exact model of the leg table (``model_expressions(mech, exact=True)``: every
@@ -147,7 +154,7 @@ def module_text(mech, names=KERNELS, flavours=FLAVOURS, *, generator=GENERATOR,
     import sympy as sp
 
     from .emit import module_source, symbolic_hash
-    names = [n for n in KERNELS if n in names]
+    names = [n for n in KERNELS + (RANGE_KERNEL,) if n in names]
     exact = tuple(flavours) == ("arb",)
     if "arb" in flavours and not exact:
         raise ValueError(f"expected the arb flavour alone (it is derived from the exact "

@@ -46,10 +46,10 @@ from __future__ import annotations
 
 import importlib
 
-from .kernel_names import _SUFFIX, ARB_KERNELS, FLAVOURS, KERNELS, LOOP_KERNELS
+from .kernel_names import _SUFFIX, ARB_KERNELS, FLAVOURS, KERNELS, LOOP_KERNELS, RANGE_KERNEL
 
 __all__ = ["KERNELS", "FLAVOURS", "ARB_KERNELS", "KernelSet", "load_kernels",
-           "preset_module_name"]
+           "preset_module_name", "range_legs"]
 
 
 def preset_module_name(name: str, flavour: str = "batched") -> str:
@@ -58,7 +58,8 @@ def preset_module_name(name: str, flavour: str = "batched") -> str:
 
 class KernelSet:
     """Kernels of one flavour as attributes ``ik, reach, jacobian, jq_jx, closure``
-    (the ``arb`` flavour: ``ik, reach, jq_jx``); the batched flavour's ``loop`` twins
+    (the ``arb`` flavour: ``ik, reach, jq_jx, closure``, and ``ranges`` for a leg table
+    with revolute joint ranges: :func:`range_legs`); the batched flavour's ``loop`` twins
     (:data:`LOOP_KERNELS`, plain Python for numba) in ``loops`` (name -> function; empty
     for a module generated without them)."""
 
@@ -66,7 +67,7 @@ class KernelSet:
         self.module = module
         self.flavour = flavour
         suffix = _SUFFIX[flavour]
-        for n in KERNELS:
+        for n in KERNELS + (RANGE_KERNEL,):
             fn = getattr(module, n + suffix, None)
             if fn is not None:
                 setattr(self, n, fn)
@@ -179,7 +180,15 @@ def _load_arb(mech, key):
             module = None
     if module is None:
         from ..codegen.rss import derived_module
-        module = derived_module(mech, ARB_KERNELS, ("arb",))
+        extra = (RANGE_KERNEL,) if range_legs(mech) else ()
+        module = derived_module(mech, ARB_KERNELS + extra, ("arb",))
     return _keep(key, KernelSet(module, "arb"))
+
+
+def range_legs(mech) -> list[int]:
+    """The legs (0-based) of ``mech``'s table whose crank angles the arb flavour's
+    ``ranges`` kernel bounds, in its row order (:func:`.legs.ranged_legs`)."""
+    from .legs import ranged_legs
+    return ranged_legs(getattr(mech.leg_description(), "leg_table", None) or ())
 
 

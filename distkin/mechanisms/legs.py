@@ -57,7 +57,7 @@ from ..argcheck import LENGTH_RANGE, length_in_range, no_booleans
 from ..errors import DistkinError, GeometryWarning, InputError, warn as _warn
 
 __all__ = ["Leg", "LegsDescription", "REVOLUTE_TYPES", "PRISMATIC_TYPES", "LEG_TYPES",
-           "LEG_FIELDS", "full_turn", "in_revolute_range", "GeometryWarning"]
+           "LEG_FIELDS", "full_turn", "in_revolute_range", "ranged_legs", "GeometryWarning"]
 
 
 REVOLUTE_TYPES = ("RSS", "RUS", "RRRS")
@@ -127,6 +127,14 @@ def full_turn(lo, hi):
     with np.errstate(invalid="ignore"):
         scale = np.maximum(np.maximum(np.abs(lo), np.abs(hi)), _TWO_PI)
         return hi - lo >= _TWO_PI - 8 * np.finfo(float).eps * scale
+
+
+def ranged_legs(legs) -> list[int]:
+    """The legs (0-based) of a leg table (:class:`Leg` sequence) that are revolute with a
+    ``range`` that is not the full turn (:func:`full_turn`): the rows of the arb kernel
+    ``ranges`` (:mod:`.symbolic`), which the certified workspace encloses."""
+    return [i for i, leg in enumerate(legs) if not leg.prismatic and leg.range is not None
+            and not bool(full_turn(*leg.range))]
 
 
 def in_revolute_range(q, lo, hi):

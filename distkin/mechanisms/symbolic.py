@@ -217,9 +217,18 @@ class ModelExprs:
     jacobian : (L, 6) J
     jq_jx : (L, 7) [Jq_ii, Jx_i]
     closure : (L, 7) [Phi_i, dPhi_i/d(v, omega)]
+    ranges : (R, 1) range margins (m^2) of the R revolute legs whose ``range`` is not the
+        full turn, in leg order (:meth:`range_legs`; (0, 1) when there is none): with the
+        range's middle m = (qmin + qmax)/2 and half-width w = (qmax - qmin)/2 (exactly,
+        in the exact model), ``rho^2 (cos(q - m) - cos w)``, where ``rho^2 cos q`` and
+        ``rho^2 sin q`` are ``A C + sigma B h`` and ``B C - sigma A h`` (h = sqrt(rho^2 -
+        C^2), the IK's branch): > 0 iff q lies strictly inside [qmin, qmax] modulo 2π
+        (w < π; :func:`~.legs.in_revolute_range`), a polynomial in A, B, C and h with no
+        arctangent, so the certified workspace can enclose it over a box
+        (:mod:`distkin.certify`).
     """
 
-    NAMES = ("ik", "reach", "jacobian", "jq_jx", "closure")
+    NAMES = ("ik", "reach", "jacobian", "jq_jx", "closure", "ranges")
 
     def __init__(self, mech, exact: bool = False):
         self.desc = mech.leg_description()
@@ -385,11 +394,38 @@ class ModelExprs:
         gP = self._subsP(leg["gP"], leg).xreplace(rep)
         return [phi] + list(gP.col_join(leg["r"].cross(gP)))
 
+    def range_legs(self) -> list[int]:
+        """The revolute legs (0-based) whose ``range`` is not the full turn: the rows of
+        the ``ranges`` kernel (:func:`.legs.ranged_legs`; an RSS description has none)."""
+        from .legs import ranged_legs
+        return [] if self.rss is not None else ranged_legs(self.desc.leg_table)
+
+    def _range_row(self, leg):
+        """``rho^2 (cos(q - m) - cos w)`` of a revolute leg (class docstring, ``ranges``)."""
+        A, Bz, C, sigma = leg["A"], leg["Bz"], leg["C"], leg["branch"]
+        h = _root_abs(A ** 2 + Bz ** 2 - C ** 2)
+        lo, hi = (self.num(v) for v in leg["range"])
+        if self.exact:
+            m, w = (lo + hi) / 2, (hi - lo) / 2
+            cm, sm, cw = sp.cos(m), sp.sin(m), sp.cos(w)
+        else:
+            a, b = leg["range"]
+            m, w = (a + b) / 2, (b - a) / 2
+            cm, sm, cw = _num(math.cos(m)), _num(math.sin(m)), _num(math.cos(w))
+        return [(A * C + sigma * Bz * h) * cm + (Bz * C - sigma * A * h) * sm
+                - (A ** 2 + Bz ** 2) * cw]
+
     def get(self, name: str) -> sp.Matrix:
         if name in self._cache:
             return self._cache[name]
         if name not in self.NAMES:
             raise ValueError(f"expected a kernel in {self.NAMES}, got {name!r}")
+        if name == "ranges":
+            legs = self._leg_parts()
+            rows = [self._range_row(legs[i]) for i in self.range_legs()]
+            M = sp.Matrix(rows) if rows else sp.zeros(0, 1)
+            self._cache[name] = M
+            return M
         M = sp.Matrix([self._row(name, leg, i) for i, leg in enumerate(self._leg_parts())])
         self._cache[name] = M
         return M

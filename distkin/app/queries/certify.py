@@ -202,10 +202,13 @@ class CertifyWorkspaceQuery:
 
 
 
-#: what a certificate of a mechanism with revolute joint ranges does not cover (QA Q 2)
-RANGES_NOT_CHECKED = ("revolute joint ranges (a leg's `range`) are not part of this "
-                      "certificate: a regular box may hold poses where a crank is outside "
-                      "its range; the inverse kinematics' reachability checks them")
+#: what a certificate of a mechanism with revolute joint ranges covers (QA Q 2 said they
+#: were not part of it; since the arb kernel ``ranges`` they are: a box is reachable only
+#: where every crank is inside its range, :func:`distkin.certify.intervals.margins`)
+RANGES_CHECKED = ("revolute joint ranges (a leg's `range`) are part of this certificate: "
+                  "a box is reachable only where every crank angle is strictly inside its "
+                  "range (range margin rho^2 (cos(q - m) - cos w) > 0 over the box, m and "
+                  "w the range's middle and half-width; a full turn is no limit)")
 #: what it does cover: a prismatic leg's stroke is its reach margin (QA V 7: the note
 #: above was printed for prismatic strokes too, which decide the classification)
 STROKES_CHECKED = ("prismatic strokes (a leg's `range`) are part of this certificate: a "
@@ -217,7 +220,7 @@ def _ranges_note(mech) -> str | None:
     """What the certificate says about the legs' joint ranges (None: no leg has one)."""
     legs = [leg for leg in (getattr(mech, "leg_table", None) or ())
             if getattr(leg, "range", None) is not None]
-    said = ([RANGES_NOT_CHECKED] if any(not leg.prismatic for leg in legs) else []) + \
+    said = ([RANGES_CHECKED] if any(not leg.prismatic for leg in legs) else []) + \
         ([STROKES_CHECKED] if any(leg.prismatic for leg in legs) else [])
     return "; ".join(said) or None
 
@@ -319,10 +322,12 @@ def certificate_json(cert, length_unit: str = "m") -> dict:
                              **{name: int(np.sum(sl & (cert.status == code)))
                                 for code, name in STATUS_NAMES.items()}}
     out["certificate"] = (
-        "regular: every leg closes (reach margin > 0), Jq_ii != 0 and rank Jx = 6 for "
+        "regular: every leg closes (reach margin > 0; and is inside its joint range, see "
+        "joint_ranges), Jq_ii != 0 and rank Jx = 6 for "
         "every pose of the box (IK branch of the presets); singular (L = 6): det Jx "
         "certified > 0 and < 0 at two poses of a reachable box (a zero inside); "
-        "unreachable: some leg cannot close anywhere in the box; undecided: none of these "
+        "unreachable: some leg cannot close (or stays outside its joint range) anywhere in "
+        "the box; undecided: none of these "
         "at the resolution" + (", or (boxes.budget true) left unsplit when the budget of "
                                f"{cert.max_boxes} box evaluations per chunk ran out"
                                if s["budget_exhausted"] else ""))
@@ -380,8 +385,11 @@ def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> s
         lines.append(f"  warning: {slip}")
     why = s["undecided_reasons"]
     if why:
-        said = {"reach": "a leg's reach margin not enclosed away from 0 (the workspace "
-                         "edge may cross the box)",
+        from ...mechanisms.kernels import range_legs
+        ranged = hasattr(cert.mechanism, "leg_description") and range_legs(cert.mechanism)
+        said = {"reach": "a leg's reach margin" + (" or joint range margin" if ranged else "")
+                         + " not enclosed away from 0 (the workspace edge may cross the "
+                         "box)",
                 "jq": "a Jq diagonal entry not enclosed away from 0 (a serial singularity "
                       "may cross the box)",
                 "rank": "the rank test of Jx failed (a parallel singularity may cross the "
