@@ -44,8 +44,8 @@ import numpy as np
 from ..argcheck import positive_int
 from ..errors import InputError
 from .boxes import (REASONS, REGULAR, UNDECIDED, UNREACHABLE, Verdict, _certify_box, bisect,
-                    check_box, check_mechanism, check_resolution, leaves, perron_vectors,
-                    split_dimension)
+                    check_box, check_mechanism, check_resolution, finite_rows, leaves,
+                    perron_vectors, split_dimension)
 from .fptaylor import TINY, Quadratics, as_models, down, sum_up, up, variables
 from .intervals import margins
 
@@ -208,7 +208,8 @@ def _certify_batch(mech, kernels, lo, hi, vary):
     open_ = ~unreach & ~closed
     reason[open_] = "reach"
     opened = (rlo <= 0) | ~np.isfinite(rlo)
-    weights[open_] = np.einsum("bl,bln->bn", opened[open_].astype(float), np.abs(ra[open_]))
+    weights[open_] = np.einsum("bl,bln->bn", opened[open_].astype(float),
+                               finite_rows(np.abs(ra[open_])))
     idx = np.flatnonzero(closed)
     if idx.size == 0:
         return dict(status=status, sigma=sigma, det_sign=dsign, reason=reason,

@@ -149,3 +149,36 @@ def test_every_form_reads_the_range_margins(form, tmp_path):
             assert np.all(ok) if expect else not np.any(ok)
             seen += sel.size
     assert seen
+
+
+def test_ranges_that_do_not_bind_change_nothing(tmp_path):
+    """Review of the ranges' commit: where a ranged leg's reach margin straddles 0 its
+    range margin is not finite, and its inf/NaN split weights made every such box split
+    along its first coordinate (2.3x the boxes for the same volumes).  Reference: the
+    same rus8 without ranges, over a region that crosses the reach edge (z 255-285 mm)
+    where the cranks stay within 40-100 deg (IK), inside [-120, 120] deg: the same
+    verdict volumes, and about the same number of boxes."""
+    from distkin.certify import certify_workspace
+    text = (EXAMPLES / "rus8_device.toml").read_text(encoding="utf-8")
+    head = text[:text.index("[[query]]")]
+    ik = '[[query]]\ntype = "inverse_kinematics"\nposes = [[0, 0, 200, 0, 0, 0]]\n'
+    lower = np.array([-0.015, -0.015, 0.255, 0, 0, 0])
+    upper = np.array([0.015, 0.015, 0.285, 0, 0, 0])
+    out = {}
+    for name, body in (("ranges", head.replace("range = [-90, 90]", "range = [-120, 120]")),
+                       ("none", head.replace("range = [-90, 90]\n", ""))):
+        scene = tmp_path / f"{name}.toml"
+        scene.write_text(body + ik, encoding="utf-8")
+        mech = load_scene(scene).mechanism
+        out[name] = certify_workspace(mech, lower, upper, 0.002, split=1, tighten=0)
+    P = lower + np.random.default_rng(2).random((4000, 6)) * (upper - lower)
+    q, _ = mech.inverse_kinematics(P)
+    closes = mech.reach_margin(P) >= 0
+    assert closes.any() and not closes.all()                   # the region crosses it
+    assert np.all(np.abs(np.degrees(q[closes])) < 110)         # the ranges do not bind
+
+    def shares(c):
+        vol = np.prod(np.where(c.hi > c.lo, c.hi - c.lo, 1.0), axis=1)
+        return [vol[c.status == k].sum() / vol.sum() for k in (0, 1, 2, 3)]
+    np.testing.assert_allclose(shares(out["ranges"]), shares(out["none"]), rtol=1e-12)
+    assert out["ranges"].evaluated <= 1.1 * out["none"].evaluated

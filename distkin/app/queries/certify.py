@@ -321,17 +321,20 @@ def certificate_json(cert, length_unit: str = "m") -> dict:
     out["rotation_slice"] = {"rotation": r0.tolist(), "units": "rad",
                              **{name: int(np.sum(sl & (cert.status == code)))
                                 for code, name in STATUS_NAMES.items()}}
+    note = _ranges_note(cert.mechanism)
     out["certificate"] = (
-        "regular: every leg closes (reach margin > 0; and is inside its joint range, see "
-        "joint_ranges), Jq_ii != 0 and rank Jx = 6 for "
-        "every pose of the box (IK branch of the presets); singular (L = 6): det Jx "
+        "regular: every leg closes (reach margin > 0" + ("; and is inside its joint range, "
+                                                        "see joint_ranges" if note else "")
+        + "), Jq_ii != 0 and rank Jx = 6 for "
+        "every pose of the box (the IK branch of the presets, or of each leg's `branch`); "
+        "singular (L = 6): det Jx "
         "certified > 0 and < 0 at two poses of a reachable box (a zero inside); "
-        "unreachable: some leg cannot close (or stays outside its joint range) anywhere in "
+        "unreachable: some leg cannot close" + (" (or stays outside its joint range)"
+                                                if note else "") + " anywhere in "
         "the box; undecided: none of these "
         "at the resolution" + (", or (boxes.budget true) left unsplit when the budget of "
                                f"{cert.max_boxes} box evaluations per chunk ran out"
                                if s["budget_exhausted"] else ""))
-    note = _ranges_note(cert.mechanism)
     if note:
         out["joint_ranges"] = note
     out["boxes"] = {"legend": {str(k): v for k, v in STATUS_NAMES.items()},
