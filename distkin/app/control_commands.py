@@ -37,56 +37,16 @@ import time
 from pathlib import Path
 
 from ..errors import DistkinError, InputError, LinkError
+from .control_scene_files import builtin_scene, scene_and_inputs as _scene_and_inputs
 
 __all__ = ["add_sim_parser", "add_control_parser", "cmd_sim", "cmd_control", "builtin_scene",
            "format_summary", "check_distinct_outputs", "ended_line", "closing_lines",
            "ENDED_BY", "RUN_SECONDS"]
 
 
-
-def builtin_scene():
-    """The built-in controller scene (:func:`distkin.control.config.builtin_scene`).
-
-    Imported when called: this module is imported to build the command line parser,
-    and ``distkin.control`` (numpy, the numba cache) only when a command runs, inside
-    :func:`distkin.app.cli.main`'s handling of Ctrl-C (QA X1 D6: an interrupt while
-    the parser was being built printed a traceback, exit -2, instead of one line and
-    130)."""
-    from ..control.config import builtin_scene as scene
-    return scene()
-
-
 def _scene(path):
     """The controller scene at ``path`` (the built-in one without)."""
     return _scene_and_inputs(path)[0]
-
-
-def _scene_and_inputs(path):
-    """:func:`_scene`, and the files it was read from: itself, and the distkin scene of
-    ``[device] mechanism`` with the ``legs_csv`` that one names (no output option may
-    name any of them)."""
-    from ..control.config import loads_control_scene
-    from .scene import input_files, load_scene, toml_text
-    if path and not Path(path).is_file():
-        p = Path(path)
-        what = ("a directory" if p.is_dir() else
-                "not a regular file: a device, pipe or socket" if p.exists() else
-                "no such file")
-        raise InputError(f"expected a controller scene file, got {str(path)!r} ({what})",
-                         field="--scene")
-    if not path:
-        return builtin_scene(), []
-    read = [Path(path)]
-
-    def mechanism(p):              # the loader of [device] mechanism: notes its files
-        s = load_scene(p)
-        read.extend(input_files(s))
-        return s.mechanism
-    text = toml_text(path, "--scene", "controller scene")     # not UTF-8, a TOML error
-    scene = loads_control_scene(text, str(path), mechanism_loader=mechanism)
-    for fld, message in scene.warnings:        # loads, but looks wrong: one line each
-        print(f"distkin: warning: {fld}: {message}", file=sys.stderr)
-    return scene, read
 
 
 def _seconds(value: str) -> float:
@@ -179,7 +139,9 @@ def cmd_sim(args) -> int:
     from ..control.simulator import IDLE_TIMEOUT_S, serve
     from .output_paths import check_output_path
     faults = parse_faults(args.faults)
-    scene, inputs = _scene_and_inputs(args.scene)   # an output never replaces a file read
+    scene, inputs = _scene_and_inputs(               # an output never replaces a file read
+        args.scene, [("--port-file", args.port_file)]
+        + [("--log", p) for p in _log_files(args.log, sim=True).values()])
     check_output_path(args.port_file, "--port-file", inputs=inputs)
     from ..control.runlog import check_log_prefix
     check_log_prefix(args.log)
@@ -481,9 +443,13 @@ def cmd_control(args) -> int:
     from ..control.kinematics import model_of
     from ..control.link import Link
     from .output_paths import check_output_dir, check_output_path
-    scene, inputs = _scene_and_inputs(args.scene)
     from ..control.runlog import check_log_prefix
     check_log_prefix(args.log)             # '' or a directory refused, not ignored
+    scene, inputs = _scene_and_inputs(
+        args.scene, [("--json", args.json)]
+        + [("--log", p) for p in _log_files(args.log, control=True, sim=args.sim).values()]
+        + ([("--plots", Path(args.plots) / n) for n in ("control.png", "delay_margin.png")]
+           if args.plots else []))
     if args.delay_margin is not None:
         return _delay_margin_command(args, scene, inputs, model_of(scene))
     if args.faults and not args.sim:

@@ -24,7 +24,7 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["check_output_path", "check_output_dir", "check_apart", "same_file",
+__all__ = ["check_output_path", "check_not_input", "check_output_dir", "check_apart", "same_file",
            "write_text", "write_json", "GENERATED", "PACKAGE"]
 
 #: the installed package (``distkin/``, resolved): no CLI output goes there (QA: ``distkin
@@ -109,11 +109,7 @@ def check_output_path(path, field: str = "--json", inputs=()) -> None:
         raise InputError("expected a file path (or - for stdout), got an empty string",
                          field=field)
     p = Path(path)
-    for source in inputs:
-        if source is not None and same_file(p, Path(source)):
-            raise InputError(f"expected an output path other than the input file "
-                             f"{str(source)!r}, got {str(path)!r} (writing it would "
-                             "overwrite the input)", field=field)
+    check_not_input(path, field, inputs)
     if p.is_dir():
         raise InputError(f"expected a file path, got the directory {str(path)!r}",
                          field=field)
@@ -122,6 +118,19 @@ def check_output_path(path, field: str = "--json", inputs=()) -> None:
         p.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise _refuse(path, exc, field) from None
+
+
+def check_not_input(path, field: str = "--json", inputs=()) -> None:
+    """Refuse an output ``path`` that is one of the files ``inputs`` (None and ``-``
+    pass; :func:`same_file`): the part of :func:`check_output_path` without its side
+    effect (the parent folders), for a check as soon as an input is known."""
+    if path is None or path == "-" or not str(path).strip():
+        return
+    for source in inputs:
+        if source is not None and same_file(Path(path), Path(source)):
+            raise InputError(f"expected an output path other than the input file "
+                             f"{str(source)!r}, got {str(path)!r} (writing it would "
+                             "overwrite the input)", field=field)
 
 
 def check_output_dir(path, field: str, inputs=(), make: bool = True) -> None:
