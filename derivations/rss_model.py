@@ -19,7 +19,15 @@ symbolically where the algebra is generic and numerically per preset:
    source of the arb kernels ``rss_<preset>_arb.py`` and so what the certified tier
    certifies) holds no float, and per preset, at a pose off the centre, its closure
    vanishes at its own IK angles to 60 digits (the float model's to float64 only): the
-   IK and the closure describe one mechanism, exactly.
+   IK and the closure describe one mechanism, exactly;
+6. the range margin of a revolute leg with a joint range [qmin, qmax] (the arb kernel
+   ``ranges``, which the certified workspace encloses): with m, w the range's middle and
+   half-width, rho^2 (cos(q - m) - cos w) = (A C + s B h) cos m + (B C - s A h) sin m -
+   rho^2 cos w by item 2; its sign is that of "q in [qmin, qmax] modulo 2 pi"
+   (distkin.mechanisms.legs.in_revolute_range) for 0 < w < pi, on a grid of angles and
+   ranges written past ±pi; and a leg table's exact ``ranges`` kernel equals
+   rho^2 (cos(q - m) - cos w) with q its own IK (atan2) angle, to 1e-40 (60 digits),
+   both branches.
 
 Every claim is checked with :func:`check` (``SystemExit`` naming the claim when it
 fails, as the other derivation scripts do), never with ``assert``, which ``python -O``
@@ -131,7 +139,58 @@ def main(argv=None):
         check(worst[0] < sp.Float("1e-50"), f"{name}: the exact closure vanishes at its "
                                             "own IK to 1e-50 m (60 digits)")
         check(worst[1] < 1e-14, f"{name}: the float model's closure to 1e-14 m")
+    print("6. the range margin rho^2 (cos(q - m) - cos w) of a revolute joint range:")
+    check_range_margin()
     print("\nall checks passed")
+
+
+def check_range_margin(row=None):
+    """Item 6.  ``row(leg)``: the margin of one leg part of the exact model; None, the
+    model's own ``ranges`` kernel (tests/test_derivation_scripts.py feeds a wrong one)."""
+    import numpy as np
+
+    from distkin.mechanisms.legs import LegsDescription, in_revolute_range
+    a, b, c, h, m, w = sp.symbols("A B C h m w", real=True)
+    rho2 = a ** 2 + b ** 2
+    for sgn in (1, -1):
+        cq, sq = (a * c + sgn * b * h) / rho2, (b * c - sgn * a * h) / rho2
+        e = sp.simplify(rho2 * (cq * sp.cos(m) + sq * sp.sin(m) - sp.cos(w))
+                        - ((a * c + sgn * b * h) * sp.cos(m) + (b * c - sgn * a * h) * sp.sin(m)
+                           - rho2 * sp.cos(w)))
+        check(e == 0, f"(a) branch {sgn:+d}: rho^2 (cos(q - m) - cos w) in A, B, C, h")
+    qs = np.linspace(-np.pi, np.pi, 721)[:-1] + 1e-3
+    bad = 0
+    for lo, hi in ((-0.3, 0.5), (2.0, 7.0), (-7.0, -5.5), (-2.0, 1.5), (3.0, 3.3)):
+        mm, ww = (lo + hi) / 2, (hi - lo) / 2
+        inside = in_revolute_range(qs, lo, hi)
+        bad += int(np.sum((np.cos(qs - mm) - np.cos(ww) > 0) != inside))
+    check(bad == 0, "(b) cos(q - m) > cos w iff q is in the range modulo 2 pi (720 angles, "
+                    "5 ranges, two written past ±pi)")
+    # the rus8 example's legs (examples/rus8_device.toml), the first two of branch +1 and
+    # -1, with a range within a half turn and one of 5 rad written past +pi
+    from distkin.app.scene import load_scene
+    root = Path(__file__).resolve().parents[1]
+    rus8 = load_scene(root / "examples" / "rus8_device.toml").mechanism.leg_description()
+    ranges = ((-0.3, 0.5), (2.0, 7.0))
+    legs = [{**leg.as_dict(), "range": ranges[i % 2], "branch": (1, -1)[i % 2]}
+            for i, leg in enumerate(rus8.leg_table)]
+    desc = LegsDescription("rus8 ranged", legs, rus8.home_pose, rus8.mass, rus8.inertia)
+    me = model_expressions(desc, exact=True)
+    x = dict(zip(POSE, [sp.Rational(3, 1000), sp.Rational(-2, 1000), sp.Rational(21, 100),
+                        sp.Rational(1, 50), sp.Rational(-1, 40), sp.Rational(1, 30)]))
+    worst = 0
+    rows = me.get("ranges")
+    for i, (leg, qe, (lo, hi)) in enumerate(zip(me.legs()[:2], me.get("ik")[:2], ranges)):
+        qv = qe.xreplace(x).evalf(60)
+        lo_, hi_ = sp.Rational(lo), sp.Rational(hi)
+        ref = ((leg["A"] ** 2 + leg["Bz"] ** 2) * (sp.cos(qv - (lo_ + hi_) / 2)
+                                                   - sp.cos((hi_ - lo_) / 2))).xreplace(x)
+        got = (rows[i] if row is None else row(leg)).xreplace(x)
+        worst = max(worst, abs((got - ref).evalf(60)) / abs(ref.evalf(60)))
+    print(f"   (c) exact kernel against rho^2 (cos(q_IK - m) - cos w): {float(worst):.1e} "
+          "relative")
+    check(worst < sp.Float("1e-40"), "(c) the exact ranges kernel is rho^2 (cos(q - m) - "
+                                     "cos w) at its own IK angle, both branches, to 1e-40")
 
 
 def check_generated_kernels():

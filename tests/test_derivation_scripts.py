@@ -125,3 +125,20 @@ def test_full_run_passes_and_checks_step9():
     assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
     step9 = r.stdout.split("== 9.")[1]
     assert step9.count("ok:") == 4 and "all checks passed" in step9
+
+
+def test_rss_step6_refuses_a_range_margin_of_the_other_branch(capsys):
+    """Item 6 compares the exact ``ranges`` kernel with rho^2 (cos(q - m) - cos w) at the
+    leg's own IK angle (atan2, 60 digits): a margin written with the other branch's
+    cos q and sin q (sigma flipped) is refused."""
+    rss = _load("rss_model")
+    rss.check_range_margin()                     # the model's own kernel passes
+
+    def flipped(leg):
+        A, Bz, C, s = leg["A"], leg["Bz"], leg["C"], -leg["branch"]
+        h = sp.sqrt(sp.Abs(A ** 2 + Bz ** 2 - C ** 2))
+        lo, hi = (sp.Rational(v) for v in leg["range"])
+        m, w = (lo + hi) / 2, (hi - lo) / 2
+        return ((A * C + s * Bz * h) * sp.cos(m) + (Bz * C - s * A * h) * sp.sin(m)
+                - (A ** 2 + Bz ** 2) * sp.cos(w))
+    _fails(rss.check_range_margin, flipped, match="(c) the exact ranges kernel")

@@ -50,9 +50,9 @@ revolute joint ranges, the range margins of those legs (:func:`margins`: the arb
 the crank angle is strictly inside its range): every certificate of :mod:`.boxes` reads
 them alike (all > 0: reachable; one < 0 over the box: unreachable).
 
-Balls carry no units; reach and range margins are m^2, ``Jq`` and the force columns of ``Jx`` (L x 6,
-its first three) are dimensionless, its moment columns (last three) m (the kernels'
-conventions).
+Balls carry no units; reach and range margins are m^2, ``Jq`` and the force columns of
+``Jx`` (L x 6, its first three) are dimensionless, its moment columns (last three) m (the
+kernels' conventions).
 """
 
 from __future__ import annotations
