@@ -448,7 +448,8 @@ def cmd_control(args) -> int:
     scene, inputs = _scene_and_inputs(
         args.scene, [("--json", args.json)]
         + [("--log", p) for p in _log_files(args.log, control=True, sim=args.sim).values()]
-        + ([("--plots", Path(args.plots) / n) for n in ("control.png", "delay_margin.png")]
+        + ([("--plots", args.plots, "a folder")] + [("--plots", Path(args.plots) / n)
+                                         for n in ("control.png", "delay_margin.png")]
            if args.plots else []))
     if args.delay_margin is not None:
         return _delay_margin_command(args, scene, inputs, model_of(scene))

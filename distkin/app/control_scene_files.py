@@ -25,19 +25,22 @@ def builtin_scene():
 
 
 def scene_and_inputs(path, outputs=()):
-    """The controller scene at ``path`` (the built-in one without), and the files it was read from: itself, and the distkin scene of
-    ``[device] mechanism`` with the ``legs_csv`` that one names (no output option may
-    name any of them).  ``outputs``: (field, path) of the command's output files, refused
-    as soon as a file they name is about to be read (before the device's mechanism is
-    loaded, whose kernels may be derived first: the refusal is one line, before any
-    work); the caller checks them all again against the returned inputs."""
+    """The controller scene at ``path`` (the built-in one without), and the files it
+    was read from: itself, and the distkin scene of ``[device] mechanism`` with the
+    ``legs_csv`` that one names (no output option may name any of them).
+
+    ``outputs``: (field, path) of the command's output files, or (field, path, what)
+    with ``what`` the kind in the message ("a folder"), refused as soon as a file they
+    name is about to be read (before the device's mechanism is loaded, whose kernels may
+    be derived first: the refusal is one line, before any work); the caller checks them
+    all again against the returned inputs."""
     from ..control.config import loads_control_scene
     from .output_paths import check_not_input
     from .scene import input_files, load_scene, toml_text
 
     def guard(p):
-        for fld, out in outputs:
-            check_not_input(out, fld, inputs=[p])
+        for fld, out, *what in outputs:
+            check_not_input(out, fld, [p], *what)
     if path and not Path(path).is_file():
         p = Path(path)
         what = ("a directory" if p.is_dir() else

@@ -120,15 +120,17 @@ def check_output_path(path, field: str = "--json", inputs=()) -> None:
         raise _refuse(path, exc, field) from None
 
 
-def check_not_input(path, field: str = "--json", inputs=()) -> None:
+def check_not_input(path, field: str = "--json", inputs=(), what: str = "an output path"
+                    ) -> None:
     """Refuse an output ``path`` that is one of the files ``inputs`` (None and ``-``
     pass; :func:`same_file`): the part of :func:`check_output_path` without its side
-    effect (the parent folders), for a check as soon as an input is known."""
+    effect (the parent folders), for a check as soon as an input is known; ``what`` the
+    output's kind in the message ("a folder" for ``--plots``)."""
     if path is None or path == "-" or not str(path).strip():
         return
     for source in inputs:
         if source is not None and same_file(Path(path), Path(source)):
-            raise InputError(f"expected an output path other than the input file "
+            raise InputError(f"expected {what} other than the input file "
                              f"{str(source)!r}, got {str(path)!r} (writing it would "
                              "overwrite the input)", field=field)
 

@@ -114,6 +114,11 @@ def test_control_outputs_onto_the_device_mechanism_scene_are_refused(tmp_path, c
     before = mech.read_bytes()
     _refused(capsys, ["control", "--sim", "--scene", scene, "--json", mech], "--json", mech)
     _refused(capsys, ["sim", "--scene", scene, "--port-file", mech], "--port-file", mech)
+    # --plots onto it (a folder named as the file): one line, before the mechanism loads
+    code = main(["control", "--scene", str(scene), "--delay-margin", "3", "--plots", str(mech)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and err[0].startswith(
+        f"distkin: error: --plots: expected a folder other than the input file {str(mech)!r}")
     assert mech.read_bytes() == before
 
 
