@@ -487,7 +487,6 @@ def enclose_box(kernels, lo, hi, *, form: str = "quadratic",
         raise ValueError(f"expected a form in {FORMS}, got {form!r}")
     mid, X, R, vary = box_balls(lo, hi)
     n = len(vary)
-    L = kernels.module.L
     if form == "plain" or n == 0:
         reach = [_as_arb(v) for v in margins(kernels, X)]
         enc = BoxEnclosure(mid, vary, reach, np.zeros((len(reach), n)))
@@ -498,7 +497,7 @@ def enclose_box(kernels, lo, hi, *, form: str = "quadratic",
         return enc
     zero, one = arb(0), arb(1)
     if form == "quadratic":
-        return _enclose_quadratic(kernels, X, R, mid, vary, L)
+        return _enclose_quadratic(kernels, X, R, mid, vary)
     if form == "affine":
         A = []
         for k in range(6):
@@ -549,7 +548,7 @@ def enclose_box(kernels, lo, hi, *, form: str = "quadratic",
     return enc
 
 
-def _enclose_quadratic(kernels, X, R, mid, vary, L):
+def _enclose_quadratic(kernels, X, R, mid, vary):
     """``enclose_box`` with second-order Taylor models (:mod:`.taylor`)."""
     from flint import arb
     from .taylor import Quadratic, constant, pairs, variable

@@ -405,13 +405,8 @@ class ModelExprs:
         A, Bz, C, sigma = leg["A"], leg["Bz"], leg["C"], leg["branch"]
         h = _root_abs(A ** 2 + Bz ** 2 - C ** 2)
         lo, hi = (self.num(v) for v in leg["range"])
-        if self.exact:
-            m, w = (lo + hi) / 2, (hi - lo) / 2
-            cm, sm, cw = sp.cos(m), sp.sin(m), sp.cos(w)
-        else:
-            a, b = leg["range"]
-            m, w = (a + b) / 2, (b - a) / 2
-            cm, sm, cw = _num(math.cos(m)), _num(math.sin(m)), _num(math.cos(w))
+        m, w = (lo + hi) / 2, (hi - lo) / 2       # exact rationals in the exact model
+        cm, sm, cw = sp.cos(m), sp.sin(m), sp.cos(w)
         return [(A * C + sigma * Bz * h) * cm + (Bz * C - sigma * A * h) * sm
                 - (A ** 2 + Bz ** 2) * cw]
 
