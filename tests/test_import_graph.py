@@ -12,7 +12,8 @@ its own submodules.
 The layers, lowest first (docs/design.md, "Import direction"): a module may import its
 own layer or a lower one, never a higher one.
 
-0. ground floor: errors, exact numbers and exact root isolation, input checks,
+0. ground floor: errors, exact numbers and exact root isolation, input checks (TOML
+   syntax errors among them),
    spatial maths, units, the run store, the version;
 1. geometry;
 2. models: the octahedral banana and octic algebra, the RSS descriptions, presets and
@@ -43,6 +44,7 @@ LAYERS: dict[str, int] = {
     "distkin.exact": 0,
     "distkin.exact_roots": 0,
     "distkin.argcheck": 0,
+    "distkin.toml_syntax": 0,
     "distkin.spatial": 0,
     "distkin.units": 0,
     "distkin.runstore": 0,

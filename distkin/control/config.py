@@ -61,6 +61,7 @@ import numpy as np
 
 from ..argcheck import as_table, check_keys, choice, positive_int, require
 from ..errors import InputError
+from ..toml_syntax import toml_syntax_error
 from .admittance import check_step
 from .plant import HandScript, LinearDrives, Motors, drives_for
 from .scene_checks import (check_busy_wait, check_filter_period, check_safety_at_home,
@@ -423,7 +424,7 @@ def loads_control_scene(text: str, path: str = "<string>", *,
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"expected valid TOML, got a syntax error: {exc}", field=path) from None
+        raise toml_syntax_error(text, exc, path) from None
     if "query" in data or "mechanism" in data:
         raise InputError("expected a controller scene ([device], [pd], ...), got a distkin "
                          "run scene ([mechanism], [[query]])", field="scene",

@@ -40,3 +40,15 @@ def test_toml_text_names_the_option(tmp_path):
     assert err.value.field == "--scene" and "No such file" in err.value.one_line()
     (tmp_path / "ok.toml").write_text("[device]\npreset = 'octo'\n")
     assert toml_text(tmp_path / "ok.toml", "--scene", "x").startswith("[device]")
+
+
+def test_an_unclosed_array_names_its_line_through_the_python_api_too():
+    # (loads_control_scene said only "at end of document": the CLI read the file with
+    # toml_text first, which named the line, and the API had no such step)
+    from distkin.control.config import loads_control_scene
+    with pytest.raises(InputError) as err:
+        loads_control_scene('[device]\npreset = "octo"\n[pd]\nkp = [110,\n  0.4\n', "c.toml")
+    msg = err.value.one_line()
+    assert "(at end of document)" in msg
+    assert "the '[' opened at line 4, column 6 is never closed" in msg
+    assert err.value.field == "c.toml"
