@@ -75,6 +75,7 @@ class CycleKernels:
     plant_dynamics: object
     readings: object
     jdot_v: object
+    reach: object
 
 
 def _solve_into(A, b, x):                                    # pragma: no cover (compiled)
@@ -202,8 +203,10 @@ _ik, _reach, _jac, _clo = (getattr(_kmod, n) for n in {names!r})
 
 _FOOTER = """
 
-ik_k, reach_k = numba.njit(cache=True)(_ik), numba.njit(cache=True)(_reach)
-jac_k, clo_k = numba.njit(cache=True)(_jac), numba.njit(cache=True)(_clo)
+# (numpy's error model: a zero divisor gives inf or NaN, which the callers test, not a
+# ZeroDivisionError out of the cycle -- J at a leg's reach limit divides by zero)
+_kjit = numba.njit(cache=True, error_model="numpy")
+ik_k, reach_k, jac_k, clo_k = _kjit(_ik), _kjit(_reach), _kjit(_jac), _kjit(_clo)
 # what the template calls that is compiled once for every mechanism (.cycle_common)
 solve, rotate, rotate_wrench, project = _cc.solve, _cc.rotate, _cc.rotate_wrench, _cc.project
 normal_equations = _cc.normal_equations
@@ -211,12 +214,14 @@ _near_singular, _environment = _cc.near_singular, _cc.environment
 _excess = _cc.excess_k
 # this mechanism's
 ik = numba.njit(cache=True)(ik)
+reach = numba.njit(cache=True)(reach)
 jacobian = numba.njit(cache=True)(jacobian)
 closure = numba.njit(cache=True)(closure)
 forward = numba.njit(cache=True)(forward)
 cycle = numba.njit(cache=True)(cycle)
 plant_dynamics = numba.njit(cache=True)(plant_dynamics)
 _reaches = numba.njit(cache=True)(_reaches)
+_finite = numba.njit(cache=True)(_finite)
 jdot_v = numba.njit(cache=True)(jdot_v)
 """
 
@@ -311,12 +316,13 @@ def build(kernels, L: int) -> CycleKernels:
     forward, singular_values, project = w.forward, cc.singular_values, cc.project
     ck = CycleKernels(int(L), ik, jacobian, closure, forward, singular_values, project,
                       cc.rotate, cc.rotate_wrench, cc.spring_wrench, w.cycle,
-                      cc.drive, w.plant_dynamics, cc.readings, w.jdot_v)
+                      cc.drive, w.plant_dynamics, cc.readings, w.jdot_v, w.reach)
     # compile now: the first control cycle must not wait for the compiler
     pose = np.zeros(6)
     q = np.zeros(L)
     Jb = np.zeros((L, 6))
     ik(pose, q)
+    w.reach(pose, q)
     jacobian(pose, Jb)
     closure(q, pose, np.zeros((L, 7)))
     forward(q, pose, 1e-4, 1, np.zeros(6))
@@ -340,7 +346,7 @@ def build(kernels, L: int) -> CycleKernels:
     ck.readings(np.zeros(L), 1.0, np.zeros(6), np.zeros(6), np.zeros(6), np.zeros(L + 6))
     ck.plant_dynamics(np.zeros(6), np.zeros(6), np.zeros(L), np.zeros(L), np.zeros(L),
                       np.zeros(6), np.eye(6), np.array([0, 0, 0, 1e-3, 1e-4, 0, 1.0]),
-                      np.zeros(12 + 2 * L))
+                      np.zeros(L), np.zeros(12 + 2 * L))
     for lengths in (0.0, 1.0):
         ck.jdot_v(np.zeros(6), np.ones(6), 1e-4, lengths, np.zeros(L))
     _BUILT[key] = ck

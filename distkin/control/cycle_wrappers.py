@@ -16,7 +16,8 @@ import math
 
 import numpy as np
 
-__all__ = ["ik", "jacobian", "closure", "forward", "cycle", "plant_dynamics", "jdot_v"]
+__all__ = ["ik", "reach", "jacobian", "closure", "forward", "cycle", "plant_dynamics",
+           "jdot_v"]
 
 #: bound by the header and footer of each copy
 ik_k = reach_k = jac_k = clo_k = solve = rotate = rotate_wrench = project = None
@@ -32,6 +33,12 @@ def ik(pose, q):  # pragma: no cover (compiled)
         if s[i] < m:                                     # Python's min(): first, then <
             m = s[i]
     return m >= 0.0
+
+
+def reach(pose, m):  # pragma: no cover (compiled)
+    s = reach_k(pose)
+    for i in range(len(s)):
+        m[i] = s[i]
 
 
 def jacobian(pose, J):  # pragma: no cover (compiled)
@@ -257,12 +264,15 @@ def cycle(q, ws, dt, started, run, guess, adm_pose, adm_twist, pd, prm, env, rng
     return code
 
 
-def plant_dynamics(pose, twist, q, qdot, tau, hand, M, prm, out):  # pragma: no cover (compiled)
+def plant_dynamics(pose, twist, q, qdot, tau, hand, M, prm, floor,
+                   out):  # pragma: no cover (compiled)
     """One semi-implicit Euler step of :meth:`.plant.Plant.step` after the drives:
     ``(M + j_r JᵀJ) V̇ = Jᵀ(tau - j_r J̇V - b q̇) + w_h + w_g``, the rotors' ``J̇V`` by
     :func:`jdot_v` with the pose step h.  ``prm`` = (b, m g, j_r, dt, h, lengths:
     1.0 where the strokes do not bound J̇V, :func:`_reaches`; wrap: 1.0 where the
-    joints are crank angles); ``out`` (12 + 2L,) = new pose, twist, q, and the joint
+    joints are crank angles); ``floor`` (L,): the least reach margin a crank leg may
+    end the step at (-inf for a prismatic leg: :meth:`.plant.Plant.reach_floor`);
+    ``out`` (12 + 2L,) = new pose, twist, q, and the joint
     rates ``(q_new - q)/dt`` (cranks the short way round with wrap 1.0:
     :meth:`.kinematics.KinematicModel.joint_step`).  False: a mechanical end stop
     (singular or unreachable); NaN where the step stopped before the IK."""
@@ -292,7 +302,18 @@ def plant_dynamics(pose, twist, q, qdot, tau, hand, M, prm, out):  # pragma: no 
     for i in range(6):
         out[6 + i] = twist[i] + dt * a[i]
     out[0:6] = rotate(pose, out[6:9] * dt, out[9:12] * dt)
-    ok = ik(out[0:6], out[12:12 + L])
+    x = out[0:6]
+    r = ik_k(x)
+    s = reach_k(x)
+    m = s[0]
+    ok = True
+    for k in range(L):
+        out[12 + k] = r[k]
+        if s[k] < m:
+            m = s[k]
+        if not s[k] >= floor[k]:    # at its reach limit, where J is infinite (and
+            ok = False              # near it, where it outgrows the platform's mass)
+    ok = ok and m >= 0.0
     for k in range(L):
         if not math.isfinite(out[12 + k]):
             ok = False
@@ -313,6 +334,15 @@ def _reaches(x, q, lengths):  # pragma: no cover (compiled)
     for k in range(q.shape[0]):
         if not (q[k] > 0.0 and q[k] < math.inf):
             return False
+    return True
+
+
+def _finite(J):  # pragma: no cover (compiled)
+    """Every entry of J finite."""
+    for i in range(J.shape[0]):
+        for j in range(J.shape[1]):
+            if not math.isfinite(J[i, j]):
+                return False
     return True
 
 
@@ -337,19 +367,24 @@ def jdot_v(pose, twist, h, lengths, out):  # pragma: no cover (compiled)
     plus = rotate(pose, dv, dw)
     minus = rotate(pose, -dv, -dw)
     q = np.empty(L)
-    ok_p, ok_m = _reaches(plus, q, lengths), _reaches(minus, q, lengths)
     Jp, Jm = np.empty((L, 6)), np.empty((L, 6))
-    if ok_p and ok_m:
+    # (a displaced pose whose J is not finite, at a leg's reach limit, counts as out of
+    # reach: its J would make J̇V infinite)
+    ok_p = _reaches(plus, q, lengths)
+    if ok_p:
         jacobian(plus, Jp)
+        ok_p = _finite(Jp)
+    ok_m = _reaches(minus, q, lengths)
+    if ok_m:
         jacobian(minus, Jm)
+        ok_m = _finite(Jm)
+    if ok_p and ok_m:
         den = 2.0 * s
     elif ok_p:
-        jacobian(plus, Jp)
         jacobian(pose, Jm)
         den = s
     elif ok_m:
         jacobian(pose, Jp)
-        jacobian(minus, Jm)
         den = s
     else:
         out[:] = 0.0

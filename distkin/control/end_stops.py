@@ -1,5 +1,6 @@
-"""Joint end stops of the simulated device: an inelastic impact in the kinetic-energy
-metric, solved as a complementarity problem.
+"""The mechanical end stops of the simulated device -- joint end stops and the legs'
+reach limits -- as an inelastic impact in the kinetic-energy metric, solved as a
+complementarity problem.
 
 A step of :class:`.plant.Plant` that takes joints further past their ranges (a crank's
 arc modulo 2π, a prismatic leg's stroke: :meth:`.kinematics.KinematicModel.range_state`)
@@ -18,8 +19,32 @@ are the complementarity conditions above; the residual is ``Cᵀ V'``), solved b
 scipy.optimize.nnls.  Only joints whose excess grows meet their stops: one already
 past its range moving back inward is free.
 
+**Reach limits** are contacts of the same kind.  A crank leg closes where its reach
+margin :math:`m_i = A^2 + B^2 - C^2` (:meth:`.kinematics.KinematicModel.margins`) is
+positive; at :math:`m_i = 0` its distal link is stretched (or folded) in the crank's
+plane, the leg's row of J is infinite (a serial singularity) and the link holds any
+force along it without a torque: the platform cannot move further out, but it can slide
+along that surface.  A step that ends beyond it takes the impulse of the same problem
+with the row :math:`-\nabla m_i` (the margin's gradient over the pose displacement, by
+central differences of :data:`FD_STEP`): the margin of none of those legs decreases,
+``∇m_i · V' >= 0``.  A step may not end closer to the limit than about
+:data:`REACH_GAP` (m; :func:`reach_floor`), where the leg's row of J, and with it the
+rotors' share of the metric, outgrows float64; the curvature of the motion is corrected
+by putting such a leg about twice that inside, along the gradient, where the last
+projection holds its normal rate at zero.  The metric changes fast near the limit (the
+rotors' share grows as 1/distance), so the twist is scaled down, direction and contact
+signs kept, where its energy at the pose the step ends at would exceed that after the
+impact.  Joint stops and reach limits meet at the corners of the workspace: one problem
+holds both kinds of rows.
+
 Before (4295cbd and earlier), any joint end stop froze all six DOF: a platform pressed
-against one crank's stop hung in the air instead of sliding along it.  The plant's own
+against one crank's stop hung in the air instead of sliding along it.  Until
+2026-11-29 a reach limit still did: the Octo, which has no joint ranges, pushed by a
+30 N hand with its drives off, froze in 826 of 3000 steps at x = 311 mm, held by nothing
+but the freeze; the rus8 pressed against a stop next to a reach limit froze in up to 386
+of 1000 steps; and a pose exactly on the limit made the next step divide by zero
+(ZeroDivisionError out of the compiled step, the Octo pushed straight up to z = 468
+mm).  The plant's own
 equations of motion are not these (Kühne et al. give none for the stops); this is our
 model of a hard stop, stated here and in README.md.
 """
@@ -28,23 +53,60 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["STOP_GAP", "load_solver", "slide", "stop_impulse"]
+from ..spatial import rotate_pose_scalar
+
+__all__ = ["STOP_GAP", "REACH_GAP", "FD_STEP", "load_solver", "slide", "contact_impulse",
+           "margin_gradients", "reach_floor"]
 
 #: how far inside its stop (rad, or m) :func:`slide` puts a joint that the curvature of
 #: the motion carried past it (not onto it: rounding would leave it past)
 STOP_GAP = 1e-12
+#: how far inside its reach limit (m) a crank leg's step must end (:func:`reach_floor`):
+#: the leg's row of J grows as 1/sqrt(distance) towards the limit, and with it the
+#: rotors' share J_r JᵀJ of the metric, until the step's 6 x 6 solve is singular to
+#: float64 (LinAlgError out of the step, seen on the Octo at margins ~1e-17 m²)
+REACH_GAP = 1e-9
+#: the pose step (m, rad) of the central differences of :func:`margin_gradients`
+FD_STEP = 1e-6
 
 
 def load_solver():
     """scipy.optimize.nnls, imported on first use (0.25 s: a plant whose legs have
-    ranges imports it when built, before any real-time loop starts)."""
+    ranges or reach limits imports it when built, before any real-time loop starts)."""
     from scipy.optimize import nnls
     return nnls
 
 
-def stop_impulse(model, M, joint_inertia: float, pose, V, side):
-    """The twist (6,) after the end-stop impulse of the joints whose ``side`` is ±1 at
-    ``pose`` (module doc), or None where it is not finite.
+def reach_floor(model, pose):
+    """The least reach margin (L,) a step of the simulated device may end at (m²):
+    :data:`REACH_GAP` times the length of the margin's gradient at ``pose`` (the home
+    pose: about REACH_GAP from the limit, in m, to first order) for a crank leg, -inf for
+    a prismatic leg (its stroke is its end stop, :meth:`.kinematics.KinematicModel.closes`).
+    Below it a leg is at its reach limit (:func:`slide` puts it twice the floor inside)."""
+    rev = np.asarray(model.revolute, dtype=bool)
+    g = margin_gradients(model, rotate_pose_scalar, np.asarray(pose, dtype=float),
+                         np.ones(model.L, bool))
+    return np.where(rev, REACH_GAP * np.linalg.norm(g, axis=1), -np.inf)
+
+
+def margin_gradients(model, rot, pose, legs):
+    """The gradients (k, 6) of the reach margins of the ``legs`` (L,) bool at ``pose``
+    over the pose displacement (v, ω)·dt that ``rot`` applies (m² per m and per rad):
+    central differences of :data:`FD_STEP` (the margins are polynomials in the pose,
+    defined beyond the reach too)."""
+    G = np.empty((6, model.L))
+    e = np.zeros(6)
+    for k in range(6):
+        e[k] = FD_STEP
+        G[k] = model.margins(rot(pose, e[:3], e[3:])) - model.margins(rot(pose, -e[:3], -e[3:]))
+        e[k] = 0.0
+    return (G / (2.0 * FD_STEP)).T[legs]
+
+
+def contact_impulse(model, M, joint_inertia: float, pose, V, rows):
+    """The twist (6,) after the impulse ``Rᵀλ``, ``λ >= 0``, that leaves ``R V' <= 0``
+    for every row of ``rows`` (k, 6) and removes the least kinetic energy (module doc),
+    the metric taken at ``pose``; None where it is not finite.
 
     ``M`` (6, 6) the platform's mass matrix (kg, kg·m²), ``joint_inertia`` J_r (kg·m²
     at a crank, kg for a prismatic leg), ``V`` (6,) the twist before (m/s, rad/s).
@@ -54,8 +116,7 @@ def stop_impulse(model, M, joint_inertia: float, pose, V, side):
         C = np.linalg.cholesky(M + joint_inertia * (J.T @ J))
     except np.linalg.LinAlgError:
         return None
-    B = side != 0.0
-    G = np.linalg.solve(C, (J[B] * side[B, None]).T)
+    G = np.linalg.solve(C, rows.T)
     d = C.T @ V
     if not (np.all(np.isfinite(G)) and np.all(np.isfinite(d))):
         return None
@@ -67,53 +128,127 @@ def stop_impulse(model, M, joint_inertia: float, pose, V, side):
     return out if np.all(np.isfinite(out)) else None
 
 
-def slide(model, M, joint_inertia: float, rot, pose0, twist, q, dt: float, ex0, *,
-          lengths: bool = False):
-    """The step again after an inelastic impact on the end stops that ``q`` (L,)
-    passes further than the joints did at ``pose0`` (their excesses ``ex0``).
+def _rows(model, rot, pose, side, reach, J=None):
+    """The contact rows at ``pose``: ``s_i J_i`` of the stopped joints (``side`` ±1),
+    ``-∇m_i`` of the legs at their reach limits (``reach``)."""
+    parts = []
+    if np.any(side != 0.0):
+        B = side != 0.0
+        J = model.jacobian(pose) if J is None else J
+        parts.append(J[B] * side[B, None])
+    if np.any(reach):
+        parts.append(-margin_gradients(model, rot, pose, reach))
+    return np.vstack(parts)
+
+
+def _state(model, pose, ex0, floor, lengths):
+    """What a pose breaks: (reach, past, q, ok).  ``reach`` (L,): crank legs at their
+    reach limits (margin below ``floor``, :func:`reach_floor`); ``past`` (L,): joints
+    further past their ranges than ``ex0`` (only where every leg is within its reach: q
+    means nothing beyond); ``ok``: the legs close (:meth:`ik`'s flag, or on an
+    all-prismatic device every length positive)."""
+    q, ok = model.ik(pose)
+    reach = ~(model.margins(pose) >= floor)
+    if reach.any() or not np.all(np.isfinite(q)):
+        past = np.zeros(model.L, dtype=bool)
+    else:
+        past = model.range_excess(q) > ex0
+    return reach, past, q, bool(ok or (lengths and model.closes(q)))
+
+
+def slide(model, M, joint_inertia: float, rot, pose0, twist, pose1, dt: float, ex0,
+          floor, *, lengths: bool = False):
+    """The step from ``pose0`` again after an inelastic impact on the end stops and
+    reach limits that its first try ``pose1`` passes (joints further past their ranges
+    than their excesses ``ex0`` at ``pose0``, or crank legs whose margins fall below
+    ``floor``, :func:`reach_floor`).
 
     ``twist`` (6,) is the step's twist before the impact, ``dt`` (s) its length,
-    ``rot`` the pose rotation of the plant (``rotate_pose``, numpy or compiled).  The
-    impulse of :func:`stop_impulse` at ``pose0``, then the pose stepped with ``V'``;
-    joints that the new step passes join B.  A stopped joint that the curvature of the
-    motion still carries past its stop (second order in the step: a platform pressed
-    against the stop) is put back by the least-squares pose displacement
-    ``Jᴮ δx = -s (excess)`` (:data:`STOP_GAP` inside where it was; the other stopped
-    joints' rows held at zero: one at a time, two stops pushed each other past in
-    turn), and the twist is projected once more with J at the pose the step ends at
-    (the rates of J at the impact are not those of the final pose; review: up to
-    0.077 J gained per contact step without).  ``lengths``: the legs are all
-    prismatic and close at any positive length (only the strokes refuse them,
-    :meth:`.kinematics.KinematicModel.closes`).
+    ``rot`` the pose rotation of the plant (``rotate_pose``, numpy or compiled; ``pose1``
+    is ``rot(pose0, twist dt)``).  The impulse of :func:`contact_impulse` at ``pose0``,
+    then the pose stepped with ``V'``; joints and legs that the new step passes join
+    the contacts.  A contact that the curvature of the motion still carries past (second
+    order in the step: a platform pressed against it) is put back by the least-squares
+    pose displacement: a stopped joint :data:`STOP_GAP` inside where it was (``Jᴮ δx =
+    -s (excess)``), a leg to twice its floor (``∇m_i δx = 2 floor_i - m_i``), the other contacts' rows held at zero (one at a time, two stops pushed each
+    other past in turn); legs beyond their reach first, with the joints' rows of J at
+    ``pose0`` (J is not defined there).  The twist is then projected once more with the
+    rows at the pose the step ends at (the rates of J at the impact are not those of
+    the final pose; review: up to 0.077 J gained per contact step without).
+    ``lengths``: the legs are all prismatic and close at any positive length (only the
+    strokes refuse them, :meth:`.kinematics.KinematicModel.closes`).
 
     Returns (pose, twist, q), or None when no such step stays in reach and within the
-    ranges (all joints stopped, or a stop meeting a leg's reach limit: the plant then
-    stops where it was).
+    ranges in 2 L + 1 tries (the plant then stops where it was).
     """
     L = model.L
     side = np.zeros(L)
-    pose = V = None
+    rset = np.zeros(L, dtype=bool)
+    pose, V, V0, J0 = pose1, twist, twist, None
     for it in range(2 * L + 1):
-        ex = model.range_excess(q)
-        past = ex > ex0
-        if not past.any():
+        reach, past, q, ok = _state(model, pose, ex0, floor, lengths)
+        if not (reach.any() or past.any()):
+            if not ok:
+                return None
             break
         if it == 2 * L:                     # (the last correction checked, review)
             return None
-        new = past & (side == 0.0)
-        if new.any():                       # an impact: these joints stop too
-            side[new] = model.range_sides(q)[new]
-            V = stop_impulse(model, M, joint_inertia, pose0, twist, side)
-            if V is None or not np.all(side[new]):
+        new_r, new_j = reach & ~rset, past & (side == 0.0)
+        if new_r.any() or new_j.any():      # an impact: these joints and legs stop too
+            rset |= new_r
+            if new_j.any():
+                side[new_j] = model.range_sides(q)[new_j]
+                if not np.all(side[new_j]):
+                    return None
+            V = V0 = contact_impulse(model, M, joint_inertia, pose0, twist,
+                                     _rows(model, rot, pose0, side, rset))
+            if V is None:
                 return None
             pose = rot(pose0, V[:3] * dt, V[3:] * dt)
-        else:                               # stopped joints drifted past: back
-            B = side != 0.0
-            back = np.where(past, -side * (ex - ex0 + STOP_GAP), 0.0)
-            dx = np.linalg.lstsq(model.jacobian(pose)[B], back[B], rcond=None)[0]
-            pose = rot(pose, dx[:3], dx[3:])
-        q, ok = model.ik(pose)
-        if not (ok or (lengths and model.closes(q))) or not np.all(np.isfinite(q)):
+            continue
+        # contacts drifted past: back, the others held
+        B = side != 0.0
+        if reach.any():                     # the legs first, the joints' rows of pose0
+            if J0 is None:
+                J0 = model.jacobian(pose0)
+            g = margin_gradients(model, rot, pose, rset)
+            m = model.margins(pose)[rset]
+            back = np.where(reach[rset], 2.0 * floor[rset] - m, 0.0)
+            A = np.vstack([g, J0[B]])
+            b = np.concatenate([back, np.zeros(int(B.sum()))])
+        else:
+            ex = model.range_excess(q)
+            A = np.vstack([model.jacobian(pose)[B], margin_gradients(model, rot, pose, rset)])
+            b = np.concatenate([np.where(past, -side * (ex - ex0 + STOP_GAP), 0.0)[B],
+                                np.zeros(int(rset.sum()))])
+        dx = np.linalg.lstsq(A, b, rcond=None)[0]
+        if not np.all(np.isfinite(dx)):
             return None
-    V = stop_impulse(model, M, joint_inertia, pose, V, side)
-    return None if V is None else (pose, V, q)
+        pose = rot(pose, dx[:3], dx[3:])
+    # the last projection: a leg still at its limit (margin within 4 floors) neither
+    # leaves nor passes it in this step (rows +-∇m_i: its normal rate zero): near the
+    # limit its row of J is ~1/sqrt(distance), and the normal rate the impulse at pose0
+    # left, a separating one included, became a crank rate whose rotor energy was
+    # hundreds of joules (the Octo pushed by 30 N: 300 J out of 0.8 J)
+    rows = _rows(model, rot, pose, side, rset)
+    held = rset & (model.margins(pose) < 4.0 * floor)
+    if held.any():
+        rows = np.vstack([rows, margin_gradients(model, rot, pose, held)])
+    V = contact_impulse(model, M, joint_inertia, pose, V, rows)
+    if V is None:
+        return None
+    # and no energy gained: the metric of the final pose is not that of the impact
+    # (near a reach limit the rotors' share grows as 1/distance: after the projections
+    # above the Octo's example still read 310 J against 0.87 J at the impact); the
+    # twist keeps its direction, and so every contact row's sign
+    e0, e1 = _energy(model, M, joint_inertia, pose0, V0), _energy(model, M, joint_inertia,
+                                                                  pose, V)
+    if e1 > e0:
+        V = V * np.sqrt(e0 / e1)
+    return pose, V, q
+
+
+def _energy(model, M, joint_inertia, pose, V):
+    """The kinetic energy ½ Vᵀ (M + J_r JᵀJ) V at ``pose`` (J)."""
+    qd = model.jacobian(pose) @ V
+    return 0.5 * float(V @ M @ V) + 0.5 * joint_inertia * float(qd @ qd)

@@ -144,6 +144,19 @@ class KinematicModel:
         ok = bool(min(margin) >= 0.0)
         return np.asarray(self._ik(p), dtype=float), ok
 
+    def margins(self, pose) -> np.ndarray:
+        """The legs' reach margins (L,) at ``pose`` (6,): the generated ``reach``
+        kernel, >= 0 where a leg closes (for a crank the discriminant of its closure
+        equation, :math:`A^2 + B^2 - C^2`, 0 at the leg's reach limit; for a prismatic
+        leg its stroke's); :meth:`ik`'s flag is their minimum >= 0.  A polynomial in
+        the pose, defined beyond the reach too (the simulator's reach contacts,
+        :mod:`.end_stops`)."""
+        if self.compiled is not None:
+            m = np.empty(self.L)
+            self.compiled.reach(np.asarray(pose, dtype=float), m)
+            return m
+        return np.asarray(self._reach([float(v) for v in pose]), dtype=float)
+
     def in_range(self, q) -> bool:
         """Every joint value of ``q`` (L,) within its leg's range: a crank modulo 2π
         (:func:`range_excess`), a prismatic leg within its stroke (True when the legs
@@ -211,12 +224,19 @@ class KinematicModel:
         return d
 
     def jacobian(self, pose):
-        """``J`` (L, 6): ``qdot = J (v, omega)``, rad per (m, rad)."""
+        """``J`` (L, 6): ``qdot = J (v, omega)``, rad per (m, rad).  Not finite where a
+        leg is at its reach limit (its row divides by zero there: a serial
+        singularity): the compiled kernels give inf or NaN entries, the Python ones
+        (which would raise ZeroDivisionError) a J of NaN."""
         if self.compiled is not None:
             J = np.empty((self.L, 6))
             self.compiled.jacobian(np.asarray(pose, dtype=float), J)
             return J
-        return np.asarray(self._jac([float(v) for v in pose]), dtype=float).reshape(self.L, 6)
+        try:
+            J = self._jac([float(v) for v in pose])
+        except ZeroDivisionError:
+            return np.full((self.L, 6), np.nan)
+        return np.asarray(J, dtype=float).reshape(self.L, 6)
 
     def closure(self, q, pose):
         """Leg-closure residuals (L,) m and their derivative (L, 6) w.r.t. (v, omega)."""

@@ -50,7 +50,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..spatial import rotate_pose_scalar as rotate_pose
-from .end_stops import load_solver, slide
+from .end_stops import load_solver, reach_floor, slide
 from .kinematics import _rot
 from .protocol import MODE_HOLD, MODE_RUN, STATUS_SATURATED
 
@@ -316,7 +316,13 @@ class Plant:
         #: steps whose command held a NaN or ±inf (those joints got zero effort)
         self.nonfinite_commands = 0
         self._q_hold = None
-        if (getattr(self.model, "joint_lo", None) is not None
+        #: crank legs have reach limits, contacts as the end stops (.end_stops)
+        self._reach_contacts = bool(np.any(getattr(self.model, "revolute", False)))
+        #: the least reach margin (L,) a step may end at: :func:`.end_stops.reach_floor`
+        #: for a crank leg, -inf for a prismatic one (its stroke is its end stop)
+        self.reach_floor = (reach_floor(self.model, self.pose) if self._reach_contacts
+                            else np.full(self.model.L, -np.inf))
+        if (getattr(self.model, "joint_lo", None) is not None or self._reach_contacts
                 or getattr(self.model, "stroke_lo", None) is not None):
             load_solver()              # the end stops' solver: imported now, not mid-loop
         if self.hold_gains is None:
@@ -386,9 +392,10 @@ class Plant:
         it used to stop the platform dead in the air as if at an end stop).  A step
         that would take a joint past its range (the mechanism's ``range``) meets that
         joint's end stop: the joint stops and the platform moves on with what the other
-        legs allow (:func:`.end_stops.slide`); a step whose pose a leg cannot close, or
-        that no such step saves, ends at a mechanical end stop where the platform
-        stays, at rest.  :attr:`end_stop_hits` counts both.
+        legs allow (:func:`.end_stops.slide`); a step that would take a crank leg
+        beyond its reach limit (closer than :attr:`reach_floor`) meets it the same way;
+        a step that no such slide saves ends where the platform stays, at rest.
+        :attr:`end_stop_hits` counts the contacts.
         """
         if (isinstance(dt, bool) or not isinstance(dt, (int, float, np.integer, np.floating))
                 or not 0.0 < dt < math.inf):
@@ -433,7 +440,8 @@ class Plant:
             L = self.model.L
             out = np.empty(12 + 2 * L)
             ok = self._ck.plant_dynamics(self.pose, self.twist, self.q, self.qdot,
-                                         tau, self.hand_wrench, self.M, self._dyn, out)
+                                         tau, self.hand_wrench, self.M, self._dyn,
+                                         self.reach_floor, out)
             self._advance(bool(ok), out[0:6], out[6:12], out[12:12 + L], dt,
                           out[12 + L:] if self._rates else None)
             return
@@ -448,7 +456,8 @@ class Plant:
             twist = self.twist + dt * np.linalg.solve(Meff, w)
             pose = rotate_pose(self.pose, twist[:3] * dt, twist[3:] * dt)
             q, ok = self.model.ik(pose)
-            ok = ok and bool(np.all(np.isfinite(q)))
+            ok = (ok and bool(np.all(np.isfinite(q)))
+                  and not np.any(~(self.model.margins(pose) >= self.reach_floor)))
         self._advance(ok, pose, twist, q, dt)
 
     #: the pose step (m, rad) of the central difference of :meth:`jdot_v`
@@ -476,16 +485,19 @@ class Plant:
         model = self.model
         dv, dw = V[:3] * s, V[3:] * s
         plus, minus = rotate_pose(self.pose, dv, dw), rotate_pose(self.pose, -dv, -dw)
-        ok_p, ok_m = (self._reaches(plus), self._reaches(minus))
+        # (a displaced pose whose J is not finite, at a leg's reach limit, counts as out
+        # of reach, as in the compiled route)
+        Jp, Jm = (model.jacobian(x) if self._reaches(x) else None for x in (plus, minus))
+        ok_p, ok_m = (J is not None and bool(np.all(np.isfinite(J))) for J in (Jp, Jm))
         if ok_p and ok_m:
-            return ((model.jacobian(plus) - model.jacobian(minus)) @ V) / (2.0 * s)
+            return ((Jp - Jm) @ V) / (2.0 * s)
         # within a step of the reach boundary: the one-sided difference on the reachable
         # side (zero there let the platform coast at constant twist while J grew, and
         # the energy jumped 9-fold before the end stop, review)
         if ok_p:
-            return ((model.jacobian(plus) - model.jacobian(self.pose)) @ V) / s
+            return ((Jp - model.jacobian(self.pose)) @ V) / s
         if ok_m:
-            return ((model.jacobian(self.pose) - model.jacobian(minus)) @ V) / s
+            return ((model.jacobian(self.pose) - Jm) @ V) / s
         return np.zeros(L)
 
     def _reaches(self, pose) -> bool:
@@ -501,23 +513,30 @@ class Plant:
         if (not ok and self._lengths == 1.0 and q is not None and model.closes(q)
                 and np.all(np.isfinite(pose)) and np.all(np.isfinite(twist))):
             ok = True     # only a stroke refused it: the leg's end stop (below) decides
+        # a joint at its range, or a crank leg at its reach limit: that end stop takes
+        # the impulse that stops it, and the platform moves on with what the other legs
+        # allow (.end_stops).  Only a joint that goes further past its range meets its
+        # stop: one already past it (a state set from outside) that moves back inward
+        # is free (review)
+        ex0 = None
         if ok and not model.in_range(q):
-            # a joint at its range: the end stop of that leg takes the impulse that stops
-            # it, and the platform moves on with what the other legs allow.  Only a joint
-            # that goes further past its range meets its stop: one already past it (a
-            # state set from outside) that moves back inward is free (review)
             ex0 = model.range_excess(self.q)
-            if np.any(model.range_excess(q) > ex0):
-                self.end_stop_hits += 1
-                stopped = True
-                slid = slide(model, self.M, self.motors.joint_inertia,
-                             rotate_pose if self._ck is None else self._ck.rotate_pose,
-                             self.pose, twist, q, dt, ex0, lengths=self._lengths == 1.0)
-                if slid is None:
-                    ok = False
-                else:
-                    pose, twist, q = slid
-                    qdot = None
+            contact = bool(np.any(model.range_excess(q) > ex0))
+        else:
+            contact = (not ok and self._reach_contacts and pose is not None
+                       and np.all(np.isfinite(pose)) and np.all(np.isfinite(twist)))
+        if contact:
+            self.end_stop_hits += 1
+            stopped = True
+            slid = slide(model, self.M, self.motors.joint_inertia,
+                         rotate_pose if self._ck is None else self._ck.rotate_pose,
+                         self.pose, twist, pose, dt,
+                         model.range_excess(self.q) if ex0 is None else ex0,
+                         self.reach_floor, lengths=self._lengths == 1.0)
+            ok = slid is not None
+            if ok:
+                pose, twist, q = slid
+                qdot = None
         if ok:
             self.pose, self.twist = pose, twist
             # the short way round: a crank passing ±180° is no 2π/dt rate (review)
