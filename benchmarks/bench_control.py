@@ -100,14 +100,36 @@ def _parts(compiled: bool = True):
     from distkin.control.plant import Plant
     plant = Plant(model, sc.simulator.motors, sc.simulator.hand, seed=0)
     tau = np.full(model.L, 0.2)
+    # the torques' signs + - - + over 4 x 200 ticks: the platform moves up and back and
+    # never reaches a limit (with + alone it reached the top of its reach after ~1000
+    # ticks, where the old plant froze: the row timed a frozen plant, ~1 µs a tick,
+    # for two thirds of its calls; since 2026-11-29 a reach limit is a contact)
+    signs, k = (1.0, -1.0, -1.0, 1.0), [0]
 
-    def tick():                       # the simulator's own work per device period
-        plant.step(tau, 1, 2.5e-4)
+    def tick(p=plant):                # the simulator's own work per device period
+        p.step(signs[(k[0] // 200) % 4] * tau, 1, 2.5e-4)
+        k[0] += 1
         if compiled:
-            return fast_state(1, int(plant.t * 1e6), 0, plant.readings())
-        return encode_state(1, int(plant.t * 1e6), 0, plant.encoders(), plant.sensor())
+            return fast_state(1, int(p.t * 1e6), 0, p.readings())
+        return encode_state(1, int(p.t * 1e6), 0, p.encoders(), p.sensor())
+
+    pressed = Plant(model, sc.simulator.motors, sc.simulator.hand, seed=0)
+    for _ in range(2000):             # pressed against the top of its reach
+        pressed.step(tau, 1, 2.5e-4)
+    hits, calls = pressed.end_stop_hits, [0]
+    assert hits > 1000, hits
+
+    def contact():                    # a tick whose step meets the reach limit
+        calls[0] += 1
+        pressed.step(tau, 1, 2.5e-4)
+        if compiled:
+            return fast_state(1, int(pressed.t * 1e6), 0, pressed.readings())
+        return encode_state(1, int(pressed.t * 1e6), 0, pressed.encoders(),
+                            pressed.sensor())
 
     competitors["simulator tick (plant step, readings, state encode)"] = tick
+    competitors["simulator tick at a reach contact (the plant pressed against the top of "
+                "its reach: `end_stops.slide`)"] = contact
     if compiled:
         ck = model.compiled
         out = np.empty(model.L)
@@ -124,7 +146,9 @@ def _parts(compiled: bool = True):
         py.compute(frame, 1e-3)
         competitors["whole cycle, Python steps on the compiled kernels"] = \
             lambda: py.compute(frame, 1e-3)
-    return interleaved(competitors, rounds=15, number=200)
+    out = interleaved(competitors, rounds=15, number=200)
+    assert pressed.end_stop_hits - hits == calls[0]          # every one a contact
+    return out
 
 
 def _pty(lockstep: bool, seconds: float = 3.0, rate_hz: int = 1000, realtime: bool = False,

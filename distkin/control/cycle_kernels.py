@@ -76,6 +76,7 @@ class CycleKernels:
     readings: object
     jdot_v: object
     reach: object
+    reach_gradient: object
 
 
 def _solve_into(A, b, x):                                    # pragma: no cover (compiled)
@@ -215,6 +216,7 @@ _excess = _cc.excess_k
 # this mechanism's
 ik = numba.njit(cache=True)(ik)
 reach = numba.njit(cache=True)(reach)
+reach_gradient = numba.njit(cache=True)(reach_gradient)
 jacobian = numba.njit(cache=True)(jacobian)
 closure = numba.njit(cache=True)(closure)
 forward = numba.njit(cache=True)(forward)
@@ -316,13 +318,15 @@ def build(kernels, L: int) -> CycleKernels:
     forward, singular_values, project = w.forward, cc.singular_values, cc.project
     ck = CycleKernels(int(L), ik, jacobian, closure, forward, singular_values, project,
                       cc.rotate, cc.rotate_wrench, cc.spring_wrench, w.cycle,
-                      cc.drive, w.plant_dynamics, cc.readings, w.jdot_v, w.reach)
+                      cc.drive, w.plant_dynamics, cc.readings, w.jdot_v, w.reach,
+                      w.reach_gradient)
     # compile now: the first control cycle must not wait for the compiler
     pose = np.zeros(6)
     q = np.zeros(L)
     Jb = np.zeros((L, 6))
     ik(pose, q)
     w.reach(pose, q)
+    w.reach_gradient(pose, 1e-6, Jb)
     jacobian(pose, Jb)
     closure(q, pose, np.zeros((L, 7)))
     forward(q, pose, 1e-4, 1, np.zeros(6))

@@ -16,8 +16,8 @@ import math
 
 import numpy as np
 
-__all__ = ["ik", "reach", "jacobian", "closure", "forward", "cycle", "plant_dynamics",
-           "jdot_v"]
+__all__ = ["ik", "reach", "reach_gradient", "jacobian", "closure", "forward", "cycle",
+           "plant_dynamics", "jdot_v"]
 
 #: bound by the header and footer of each copy
 ik_k = reach_k = jac_k = clo_k = solve = rotate = rotate_wrench = project = None
@@ -39,6 +39,23 @@ def reach(pose, m):  # pragma: no cover (compiled)
     s = reach_k(pose)
     for i in range(len(s)):
         m[i] = s[i]
+
+
+def reach_gradient(pose, step, G):  # pragma: no cover (compiled)
+    """The reach margins' gradients (L, 6) into ``G`` over the pose displacement (v, ω)
+    that ``rotate`` applies: central differences of ``step`` (m, rad), as
+    :meth:`.kinematics.KinematicModel.margin_gradients` computes them in Python."""
+    L = G.shape[0]
+    for k in range(6):
+        d, w = np.zeros(3), np.zeros(3)
+        if k < 3:
+            d[k] = step
+        else:
+            w[k - 3] = step
+        sp = reach_k(rotate(pose, d, w))
+        sm = reach_k(rotate(pose, -d, -w))
+        for i in range(L):
+            G[i, k] = (sp[i] - sm[i]) / (2.0 * step)
 
 
 def jacobian(pose, J):  # pragma: no cover (compiled)

@@ -53,8 +53,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..spatial import rotate_pose_scalar
-
 __all__ = ["STOP_GAP", "REACH_GAP", "FD_STEP", "load_solver", "slide", "contact_impulse",
            "margin_gradients", "reach_floor"]
 
@@ -84,23 +82,17 @@ def reach_floor(model, pose):
     a prismatic leg (its stroke is its end stop, :meth:`.kinematics.KinematicModel.closes`).
     Below it a leg is at its reach limit (:func:`slide` puts it twice the floor inside)."""
     rev = np.asarray(model.revolute, dtype=bool)
-    g = margin_gradients(model, rotate_pose_scalar, np.asarray(pose, dtype=float),
-                         np.ones(model.L, bool))
+    g = margin_gradients(model, pose, np.ones(model.L, bool))
     return np.where(rev, REACH_GAP * np.linalg.norm(g, axis=1), -np.inf)
 
 
-def margin_gradients(model, rot, pose, legs):
+def margin_gradients(model, pose, legs):
     """The gradients (k, 6) of the reach margins of the ``legs`` (L,) bool at ``pose``
-    over the pose displacement (v, ω)·dt that ``rot`` applies (m² per m and per rad):
-    central differences of :data:`FD_STEP` (the margins are polynomials in the pose,
-    defined beyond the reach too)."""
-    G = np.empty((6, model.L))
-    e = np.zeros(6)
-    for k in range(6):
-        e[k] = FD_STEP
-        G[k] = model.margins(rot(pose, e[:3], e[3:])) - model.margins(rot(pose, -e[:3], -e[3:]))
-        e[k] = 0.0
-    return (G / (2.0 * FD_STEP)).T[legs]
+    over the pose displacement (v, ω)·dt of the plant's step (m² per m and per rad):
+    central differences of :data:`FD_STEP`
+    (:meth:`.kinematics.KinematicModel.margin_gradients`; the margins are polynomials in
+    the pose, defined beyond the reach too)."""
+    return model.margin_gradients(pose, FD_STEP)[legs]
 
 
 def contact_impulse(model, M, joint_inertia: float, pose, V, rows):
@@ -128,16 +120,17 @@ def contact_impulse(model, M, joint_inertia: float, pose, V, rows):
     return out if np.all(np.isfinite(out)) else None
 
 
-def _rows(model, rot, pose, side, reach, J=None):
+def _rows(model, pose, side, reach, G=None):
     """The contact rows at ``pose``: ``s_i J_i`` of the stopped joints (``side`` ±1),
-    ``-∇m_i`` of the legs at their reach limits (``reach``)."""
+    ``-∇m_i`` of the legs at their reach limits (``reach``; ``G`` the margins' gradients
+    there when known)."""
     parts = []
     if np.any(side != 0.0):
         B = side != 0.0
-        J = model.jacobian(pose) if J is None else J
-        parts.append(J[B] * side[B, None])
+        parts.append(model.jacobian(pose)[B] * side[B, None])
     if np.any(reach):
-        parts.append(-margin_gradients(model, rot, pose, reach))
+        G = margin_gradients(model, pose, np.ones(model.L, bool)) if G is None else G
+        parts.append(-G[reach])
     return np.vstack(parts)
 
 
@@ -201,7 +194,7 @@ def slide(model, M, joint_inertia: float, rot, pose0, twist, pose1, dt: float, e
                 if not np.all(side[new_j]):
                     return None
             V = V0 = contact_impulse(model, M, joint_inertia, pose0, twist,
-                                     _rows(model, rot, pose0, side, rset))
+                                     _rows(model, pose0, side, rset))
             if V is None:
                 return None
             pose = rot(pose0, V[:3] * dt, V[3:] * dt)
@@ -211,14 +204,14 @@ def slide(model, M, joint_inertia: float, rot, pose0, twist, pose1, dt: float, e
         if reach.any():                     # the legs first, the joints' rows of pose0
             if J0 is None:
                 J0 = model.jacobian(pose0)
-            g = margin_gradients(model, rot, pose, rset)
+            g = margin_gradients(model, pose, rset)
             m = model.margins(pose)[rset]
             back = np.where(reach[rset], 2.0 * floor[rset] - m, 0.0)
             A = np.vstack([g, J0[B]])
             b = np.concatenate([back, np.zeros(int(B.sum()))])
         else:
             ex = model.range_excess(q)
-            A = np.vstack([model.jacobian(pose)[B], margin_gradients(model, rot, pose, rset)])
+            A = np.vstack([model.jacobian(pose)[B], margin_gradients(model, pose, rset)])
             b = np.concatenate([np.where(past, -side * (ex - ex0 + STOP_GAP), 0.0)[B],
                                 np.zeros(int(rset.sum()))])
         dx = np.linalg.lstsq(A, b, rcond=None)[0]
@@ -230,10 +223,11 @@ def slide(model, M, joint_inertia: float, rot, pose0, twist, pose1, dt: float, e
     # limit its row of J is ~1/sqrt(distance), and the normal rate the impulse at pose0
     # left, a separating one included, became a crank rate whose rotor energy was
     # hundreds of joules (the Octo pushed by 30 N: 300 J out of 0.8 J)
-    rows = _rows(model, rot, pose, side, rset)
+    G = margin_gradients(model, pose, np.ones(L, bool)) if rset.any() else None
+    rows = _rows(model, pose, side, rset, G)
     held = rset & (model.margins(pose) < 4.0 * floor)
     if held.any():
-        rows = np.vstack([rows, margin_gradients(model, rot, pose, held)])
+        rows = np.vstack([rows, G[held]])
     V = contact_impulse(model, M, joint_inertia, pose, V, rows)
     if V is None:
         return None

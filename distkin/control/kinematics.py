@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..mechanisms.forward import gauss_newton
+from ..spatial import rotate_pose_scalar
 from ..spatial import rotation_matrix_scalar as _rot  # noqa: F401 (controller, plant)
 
 __all__ = ["KinematicModel", "FKState", "load_model", "model_of", "range_excess",
@@ -156,6 +157,24 @@ class KinematicModel:
             self.compiled.reach(np.asarray(pose, dtype=float), m)
             return m
         return np.asarray(self._reach([float(v) for v in pose]), dtype=float)
+
+    def margin_gradients(self, pose, step: float) -> np.ndarray:
+        """The gradients (L, 6) of :meth:`margins` at ``pose`` over the pose
+        displacement (v, ω) that the simulator's pose update applies
+        (:func:`~distkin.spatial.rotate_pose_scalar`): central differences of ``step``
+        (m, rad) (m² per m and per rad).  One compiled call where the model is
+        compiled."""
+        pose = np.asarray(pose, dtype=float)
+        G = np.empty((self.L, 6))
+        if self.compiled is not None:
+            self.compiled.reach_gradient(pose, float(step), G)
+            return G
+        for k in range(6):
+            d, w = np.zeros(3), np.zeros(3)
+            (d if k < 3 else w)[k % 3] = step
+            G[:, k] = (self.margins(rotate_pose_scalar(pose, d, w))
+                       - self.margins(rotate_pose_scalar(pose, -d, -w))) / (2.0 * step)
+        return G
 
     def in_range(self, q) -> bool:
         """Every joint value of ``q`` (L,) within its leg's range: a crank modulo 2π
