@@ -114,10 +114,10 @@ def _parts(compiled: bool = True):
         return encode_state(1, int(p.t * 1e6), 0, p.encoders(), p.sensor())
 
     pressed = Plant(model, sc.simulator.motors, sc.simulator.hand, seed=0)
-    for _ in range(2000):             # pressed against the top of its reach
+    for _ in range(2500):             # pressed against the top of its reach (from ~1000)
         pressed.step(tau, 1, 2.5e-4)
     hits, calls = pressed.end_stop_hits, [0]
-    assert hits > 1000, hits
+    assert hits > 1000, hits          # (premise: at the limit)
 
     def contact():                    # a tick whose step meets the reach limit
         calls[0] += 1
