@@ -349,8 +349,8 @@ def build(kernels, L: int) -> CycleKernels:
     ck.drive(np.zeros(L), np.zeros(L), 1.0, 1.0, np.zeros(L))
     ck.readings(np.zeros(L), 1.0, np.zeros(6), np.zeros(6), np.zeros(6), np.zeros(L + 6))
     ck.plant_dynamics(np.zeros(6), np.zeros(6), np.zeros(L), np.zeros(L), np.zeros(L),
-                      np.zeros(6), np.eye(6), np.array([0, 0, 0, 1e-3, 1e-4, 0, 1.0]),
-                      np.zeros(L), np.zeros(12 + 2 * L))
+                      np.zeros(6), np.eye(6), np.array([0, 0, 0, 1e-3, 1e-4, 0, 1.0, 1.0]),
+                      np.zeros(L), np.zeros(13 + 2 * L))
     for lengths in (0.0, 1.0):
         ck.jdot_v(np.zeros(6), np.ones(6), 1e-4, lengths, np.zeros(L))
     _BUILT[key] = ck

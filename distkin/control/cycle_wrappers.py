@@ -287,11 +287,12 @@ def plant_dynamics(pose, twist, q, qdot, tau, hand, M, prm, floor,
     ``(M + j_r JᵀJ) V̇ = Jᵀ(tau - j_r J̇V - b q̇) + w_h + w_g``, the rotors' ``J̇V`` by
     :func:`jdot_v` with the pose step h.  ``prm`` = (b, m g, j_r, dt, h, lengths:
     1.0 where the strokes do not bound J̇V, :func:`_reaches`; wrap: 1.0 where the
-    joints are crank angles); ``floor`` (L,): the least reach margin a crank leg may
-    end the step at (-inf for a prismatic leg: :meth:`.plant.Plant.reach_floor`);
-    ``out`` (12 + 2L,) = new pose, twist, q, and the joint
-    rates ``(q_new - q)/dt`` (cranks the short way round with wrap 1.0:
-    :meth:`.kinematics.KinematicModel.joint_step`).  False: a mechanical end stop
+    joints are crank angles; near: how many floors from its reach limit a crank leg
+    counts as near it); ``floor`` (L,): the least reach margin a crank leg may end the
+    step at (-inf for a prismatic leg: :meth:`.plant.Plant.reach_floor`); ``out``
+    (13 + 2L,) = new pose, twist, q, the joint rates ``(q_new - q)/dt`` (cranks the
+    short way round with wrap 1.0: :meth:`.kinematics.KinematicModel.joint_step`), and
+    1.0 where a crank leg ends the step near its reach limit.  False: a mechanical end stop
     (singular or unreachable); NaN where the step stopped before the IK."""
     L = q.shape[0]
     v = np.empty(L)
@@ -324,12 +325,16 @@ def plant_dynamics(pose, twist, q, qdot, tau, hand, M, prm, floor,
     s = reach_k(x)
     m = s[0]
     ok = True
+    near = 0.0
     for k in range(L):
         out[12 + k] = r[k]
         if s[k] < m:
             m = s[k]
         if not s[k] >= floor[k]:    # at its reach limit, where J is infinite (and
             ok = False              # near it, where it outgrows the platform's mass)
+        if s[k] < prm[7] * floor[k]:
+            near = 1.0
+    out[12 + 2 * L] = near
     ok = ok and m >= 0.0
     for k in range(L):
         if not math.isfinite(out[12 + k]):

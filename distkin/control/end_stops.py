@@ -28,24 +28,25 @@ along that surface.  A step that ends beyond it takes the impulse of the same pr
 with the row :math:`-\nabla m_i` (the margin's gradient over the pose displacement, by
 central differences of :data:`FD_STEP`): the margin of none of those legs decreases,
 ``∇m_i · V' >= 0``.  A step may not end closer to the limit than about
-:data:`REACH_GAP` (m; :func:`reach_floor`), where the leg's row of J, and with it the
-rotors' share of the metric, outgrows float64; the curvature of the motion is corrected
-by putting such a leg about twice that inside, along the gradient, where the last
-projection holds its normal rate at zero.  The metric changes fast near the limit (the
+:data:`REACH_GAP` (m; :func:`reach_floor`): the leg's row of J grows as
+1/sqrt(distance), J̇V faster, and the plant's step, which takes the rotors' -J_r J̇V
+explicitly, gains energy there from nothing (within :data:`NEAR_FLOORS` floors the plant
+bounds each step's energy by :func:`passive_twist`).  The curvature of the motion is
+corrected by putting such a leg twice the floor inside, along the gradient, where the
+last projection holds its normal rate at zero.  The metric changes fast near the limit (the
 rotors' share grows as 1/distance), so the twist is scaled down, direction and contact
 signs kept, where its energy at the pose the step ends at would exceed that after the
 impact.  Joint stops and reach limits meet at the corners of the workspace: one problem
 holds both kinds of rows.
 
 Before (4295cbd and earlier), any joint end stop froze all six DOF: a platform pressed
-against one crank's stop hung in the air instead of sliding along it.  Until
-2026-11-29 a reach limit still did: the Octo, which has no joint ranges, pushed by a
+against one crank's stop hung in the air instead of sliding along it.  Before 7d1b1cf
+a reach limit still did: the Octo, which has no joint ranges, pushed by a
 30 N hand with its drives off, froze in 826 of 3000 steps at x = 311 mm, held by nothing
 but the freeze; the rus8 pressed against a stop next to a reach limit froze in up to 386
 of 1000 steps; and a pose exactly on the limit made the next step divide by zero
 (ZeroDivisionError out of the compiled step, the Octo pushed straight up to z = 468
-mm).  The plant's own
-equations of motion are not these (Kühne et al. give none for the stops); this is our
+mm).  The plant's own equations of motion are not these (Kühne et al. give none for the stops); this is our
 model of a hard stop, stated here and in README.md.
 """
 
@@ -53,17 +54,25 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["STOP_GAP", "REACH_GAP", "FD_STEP", "load_solver", "slide", "contact_impulse",
-           "margin_gradients", "reach_floor"]
+__all__ = ["STOP_GAP", "REACH_GAP", "NEAR_FLOORS", "FD_STEP", "load_solver", "slide",
+           "contact_impulse", "margin_gradients", "reach_floor", "passive_twist"]
 
 #: how far inside its stop (rad, or m) :func:`slide` puts a joint that the curvature of
 #: the motion carried past it (not onto it: rounding would leave it past)
 STOP_GAP = 1e-12
-#: how far inside its reach limit (m) a crank leg's step must end (:func:`reach_floor`):
-#: the leg's row of J grows as 1/sqrt(distance) towards the limit, and with it the
-#: rotors' share J_r JᵀJ of the metric, until the step's 6 x 6 solve is singular to
-#: float64 (LinAlgError out of the step, seen on the Octo at margins ~1e-17 m²)
-REACH_GAP = 1e-9
+#: how far inside its reach limit (m) a crank leg's step must end, to first order at
+#: the home pose's gradient (:func:`reach_floor`; nearer where the margin's gradient is
+#: steeper: ~5x nearer at the top of the Octo's reach).  The leg's row of J grows as
+#: 1/sqrt(distance) towards the limit, J̇V faster, and the plant's step takes the rotors'
+#: -J_r J̇V explicitly: at 1e-9 m a platform left there by a contact gained up to 5e4 J
+#: in the next steps (review: the Octo, the Octopod and the Hunt pushed by 10-30 N with
+#: the drives off), at 1e-5 m up to 3 J, at 1e-4 m up to 5 J on the Hunt only, less
+#: than the old freezing plant's own steps near the limit (up to 222 J there); at 1e-3 m
+#: a slide found no step within 2 L + 1 tries and froze (628 steps of one run)
+REACH_GAP = 1e-4
+#: how near its reach limit, in floors (:func:`reach_floor`), a crank leg makes the
+#: plant's step check the energy it ends with (:func:`passive_twist`)
+NEAR_FLOORS = 100.0
 #: the pose step (m, rad) of the central differences of :func:`margin_gradients`
 FD_STEP = 1e-6
 
@@ -77,10 +86,12 @@ def load_solver():
 
 def reach_floor(model, pose):
     """The least reach margin (L,) a step of the simulated device may end at (m²):
-    :data:`REACH_GAP` times the length of the margin's gradient at ``pose`` (the home
-    pose: about REACH_GAP from the limit, in m, to first order) for a crank leg, -inf for
-    a prismatic leg (its stroke is its end stop, :meth:`.kinematics.KinematicModel.closes`).
-    Below it a leg is at its reach limit (:func:`slide` puts it twice the floor inside)."""
+    :data:`REACH_GAP` times the length of the margin's gradient at ``pose`` (the plant
+    passes its home pose) for a crank leg, so about REACH_GAP (m) from the limit to first
+    order where the gradient is home's (nearer where it is steeper: ~5x at the top of
+    the Octo's reach), -inf for a prismatic leg (its stroke is its end stop,
+    :meth:`.kinematics.KinematicModel.closes`).  Below it a leg is at its reach limit
+    (:func:`slide` puts it twice the floor inside)."""
     rev = np.asarray(model.revolute, dtype=bool)
     g = margin_gradients(model, pose, np.ones(model.L, bool))
     return np.where(rev, REACH_GAP * np.linalg.norm(g, axis=1), -np.inf)
@@ -240,6 +251,28 @@ def slide(model, M, joint_inertia: float, rot, pose0, twist, pose1, dt: float, e
     if e1 > e0:
         V = V * np.sqrt(e0 / e1)
     return pose, V, q
+
+
+def passive_twist(model, M, joint_inertia: float, weight: float, pose0, V0, pose1, V1,
+                  work: float):
+    """The twist ``V1`` at the end of a step from (``pose0``, ``V0``) to ``pose1``,
+    scaled down (direction kept) where the step would end with more energy -- kinetic,
+    the rotors' included, and potential, ``weight`` (N) times the height -- than it
+    started with plus ``work`` (J: the hand's and the drives' over the step; the
+    friction's loss is not counted, so the bound is loose by it).
+
+    Near a reach limit the leg's row of J grows as 1/sqrt(distance) and J̇V faster; the
+    plant's semi-implicit step takes the rotors' -J_r J̇V explicitly, and there it gains
+    energy from nothing (review: up to 5e4 J in a step of the Octo, 1e4 J on the
+    Octopod before this change, when the plant froze at the limit instead).  The plant
+    calls this only within :data:`NEAR_FLOORS` floors of a limit and after a contact:
+    elsewhere its steps are untouched."""
+    cap = (_energy(model, M, joint_inertia, pose0, V0) + weight * (pose0[2] - pose1[2])
+           + work)
+    e1 = _energy(model, M, joint_inertia, pose1, V1)
+    if e1 <= cap:
+        return V1
+    return V1 * np.sqrt(max(cap, 0.0) / e1)
 
 
 def _energy(model, M, joint_inertia, pose, V):

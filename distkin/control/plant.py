@@ -50,7 +50,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..spatial import rotate_pose_scalar as rotate_pose
-from .end_stops import load_solver, reach_floor, slide
+from .end_stops import NEAR_FLOORS, load_solver, passive_twist, reach_floor, slide
 from .kinematics import _rot
 from .protocol import MODE_HOLD, MODE_RUN, STATUS_SATURATED
 
@@ -356,7 +356,7 @@ class Plant:
         rev = np.asarray(getattr(self.model, "revolute", np.ones(self.model.L, bool)))
         self._rates = bool(rev.all() or not rev.any())
         self._dyn = np.array([mo.friction, self.m * mo.gravity, mo.joint_inertia, 0.0,
-                              self.JDOT_STEP, self._lengths, float(rev.all())])
+                              self.JDOT_STEP, self._lengths, float(rev.all()), NEAR_FLOORS])
         self._noise = np.repeat([mo.force_noise, mo.torque_noise], 3)
         self._z = np.empty((0, 6))        # sensor noise drawn ahead (see _next_noise)
         self._zi = 0
@@ -438,12 +438,12 @@ class Plant:
             # the rotors' -J_r J̇ V too (:meth:`jdot_v`, compiled), in the same call
             self._dyn[3], self._dyn[4] = dt, self.JDOT_STEP
             L = self.model.L
-            out = np.empty(12 + 2 * L)
+            out = np.empty(13 + 2 * L)
             ok = self._ck.plant_dynamics(self.pose, self.twist, self.q, self.qdot,
                                          tau, self.hand_wrench, self.M, self._dyn,
                                          self.reach_floor, out)
             self._advance(bool(ok), out[0:6], out[6:12], out[12:12 + L], dt,
-                          out[12 + L:] if self._rates else None)
+                          out[12 + L:12 + 2 * L] if self._rates else None, out[-1] > 0.0)
             return
         rotor = -mo.joint_inertia * self.jdot_v()      # the rotors' -J_r J̇ V
         J = self.model.jacobian(self.pose)
@@ -452,13 +452,15 @@ class Plant:
         Meff = self.M + mo.joint_inertia * (J.T @ J)
         ok = bool(np.all(np.isfinite(Meff)) and np.all(np.isfinite(w)))
         pose = twist = q = None
+        near = False
         if ok:
             twist = self.twist + dt * np.linalg.solve(Meff, w)
             pose = rotate_pose(self.pose, twist[:3] * dt, twist[3:] * dt)
             q, ok = self.model.ik(pose)
-            ok = (ok and bool(np.all(np.isfinite(q)))
-                  and not np.any(~(self.model.margins(pose) >= self.reach_floor)))
-        self._advance(ok, pose, twist, q, dt)
+            m = self.model.margins(pose)
+            ok = ok and bool(np.all(np.isfinite(q))) and not np.any(~(m >= self.reach_floor))
+            near = bool(np.any(m < NEAR_FLOORS * self.reach_floor))
+        self._advance(ok, pose, twist, q, dt, near=near)
 
     #: the pose step (m, rad) of the central difference of :meth:`jdot_v`
     JDOT_STEP = 1e-4
@@ -485,8 +487,7 @@ class Plant:
         model = self.model
         dv, dw = V[:3] * s, V[3:] * s
         plus, minus = rotate_pose(self.pose, dv, dw), rotate_pose(self.pose, -dv, -dw)
-        # (a displaced pose whose J is not finite, at a leg's reach limit, counts as out
-        # of reach, as in the compiled route)
+        # (a displaced pose whose J is not finite, at a reach limit, is out of reach)
         Jp, Jm = (model.jacobian(x) if self._reaches(x) else None for x in (plus, minus))
         ok_p, ok_m = (J is not None and bool(np.all(np.isfinite(J))) for J in (Jp, Jm))
         if ok_p and ok_m:
@@ -507,8 +508,9 @@ class Plant:
         q, ok = self.model.ik(pose)
         return ok or (self._lengths == 1.0 and self.model.closes(q))
 
-    def _advance(self, ok, pose, twist, q, dt, qdot=None) -> None:
+    def _advance(self, ok, pose, twist, q, dt, qdot=None, near=False) -> None:
         model = self.model
+        pose0, twist0, q0 = self.pose, self.twist, self.q
         stopped = False
         if (not ok and self._lengths == 1.0 and q is not None and model.closes(q)
                 and np.all(np.isfinite(pose)) and np.all(np.isfinite(twist))):
@@ -537,6 +539,13 @@ class Plant:
             if ok:
                 pose, twist, q = slid
                 qdot = None
+        if ok and self._reach_contacts and (stopped or near):
+            # no energy from nothing near a reach limit (.end_stops.passive_twist)
+            work = (self.hand_wrench[:3] @ (pose[:3] - pose0[:3])
+                    + self.tau @ model.joint_step(q, q0))
+            twist = passive_twist(model, self.M, self.motors.joint_inertia,
+                                  self.m * self.motors.gravity, pose0, twist0, pose, twist,
+                                  float(work))
         if ok:
             self.pose, self.twist = pose, twist
             # the short way round: a crank passing ±180° is no 2π/dt rate (review)

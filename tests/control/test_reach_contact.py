@@ -73,8 +73,10 @@ def test_pushed_straight_up_it_rests_at_the_top_of_its_reach(octo):
         assert np.all(octo.margins(p.pose) >= p.reach_floor)           # never beyond
     assert p.end_stop_hits > 100                                     # it got there
     top = _top_of_reach(octo)
-    # at the limit, within the floor's few nanometres (and the hand holds it there)
-    assert abs(p.pose[2] - top) < 100 * REACH_GAP
+    # at the limit, a few floors inside it (the gradient there is ~5x home's, so a floor
+    # is ~REACH_GAP / 5 below the top; the hand holds it there)
+    assert 0.0 < top - p.pose[2] < 4 * REACH_GAP
+    assert np.all(octo.margins(p.pose) < 5 * p.reach_floor)
     assert np.abs(p.pose[[0, 1, 3, 4, 5]]).max() < 1e-9
     assert np.abs(p.twist).max() < 1e-3
 
@@ -97,6 +99,31 @@ def test_pressed_against_its_reach_limit_it_slides(octo, direction):
         # the contacts take energy, never give it (the 300 J of the first try: 1e-6 J)
         assert _energy(p, octo) <= E0 + work + 1e-6
     assert p.end_stop_hits > 0                                       # (premise)
+    assert frozen == 0
+
+
+@pytest.mark.parametrize("name, force, direction", [
+    ("octo", 10.0, (0.44, -0.85, -0.29)), ("hunt", 30.0, (-0.63, -0.32, -0.7)),
+    ("octopod", 30.0, (0.39, 0.83, -0.39))])
+def test_near_the_limit_the_step_gains_no_energy(name, force, direction):
+    # review of the first version (REACH_GAP 1e-9 m, no energy check near the limit):
+    # the octo here went from 0.99 J to 493 J in one step after a contact, and to 2.9e4
+    # J in 25 more; the plant that froze at the limit gained up to 222 J in a step of
+    # the Hunt and 1e4 J of the Octopod near it, and froze (974 of 1300 steps here)
+    m = load_model(name)
+    d = np.array(direction) / np.linalg.norm(direction)
+    p = Plant(m, Motors(force_noise=0.0, torque_noise=0.0), HandScript(((0.0, *(force * d)),)))
+    frozen = near = 0
+    for _ in range(1300):
+        pose, E = p.pose.copy(), _energy(p, m)
+        p.step(np.zeros(m.L), MODE_ZERO_TORQUE, 1e-3)
+        frozen += np.array_equal(p.pose, pose)
+        near += bool(np.any(m.margins(p.pose) < 100 * p.reach_floor))
+        # each step: no more than the hand's work (friction and the drives' zero torque
+        # only take energy); away from the limit the integrator's own error, 1e-2 J at
+        # most in these runs, is not checked by the plant and allowed here
+        assert _energy(p, m) <= E + force * d @ (p.pose[:3] - pose[:3]) + 0.05
+    assert p.end_stop_hits > 0 and near > 0                          # (premises)
     assert frozen == 0
 
 
@@ -128,7 +155,7 @@ def test_a_corner_of_a_joint_stop_and_a_reach_limit():
         work += 2.0 * d @ (p.pose[:3] - pose[:3])
         margins = m.margins(p.pose)
         assert np.all(margins >= p.reach_floor)
-        near += margins.min() < 1e-4 * np.abs(margins).max()
+        near += bool(np.any(margins < 10 * p.reach_floor))
         assert in_revolute_range(p.q, m.joint_lo, m.joint_hi).all()
         # the integrator's own drift near the reach limit (J grows there) is ~1e-3 J
         # here, as before this change; the contacts add none
