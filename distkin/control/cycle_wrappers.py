@@ -292,7 +292,7 @@ def plant_dynamics(pose, twist, q, qdot, tau, hand, M, prm, floor,
     step at (-inf for a prismatic leg: :meth:`.plant.Plant.reach_floor`); ``out``
     (13 + 2L,) = new pose, twist, q, the joint rates ``(q_new - q)/dt`` (cranks the
     short way round with wrap 1.0: :meth:`.kinematics.KinematicModel.joint_step`), and
-    1.0 where a crank leg ends the step near its reach limit.  False: a mechanical end stop
+    1.0 where a crank leg starts or ends the step near its reach limit.  False: a mechanical end stop
     (singular or unreachable); NaN where the step stopped before the IK."""
     L = q.shape[0]
     v = np.empty(L)
@@ -333,6 +333,10 @@ def plant_dynamics(pose, twist, q, qdot, tau, hand, M, prm, floor,
         if not s[k] >= floor[k]:    # at its reach limit, where J is infinite (and
             ok = False              # near it, where it outgrows the platform's mass)
         if s[k] < prm[7] * floor[k]:
+            near = 1.0
+    s0 = reach_k(pose)              # (or starts near: its J̇V is the start's)
+    for k in range(L):
+        if s0[k] < prm[7] * floor[k]:
             near = 1.0
     out[12 + 2 * L] = near
     ok = ok and m >= 0.0

@@ -32,8 +32,9 @@ central differences of :data:`FD_STEP`): the margin of none of those legs decrea
 1/sqrt(distance), J̇V faster, and the plant's step, which takes the rotors' -J_r J̇V
 explicitly, gains energy there from nothing (within :data:`NEAR_FLOORS` floors the plant
 bounds each step's energy by :func:`passive_twist`).  The curvature of the motion is
-corrected by putting such a leg twice the floor inside, along the gradient, where the
-last projection holds its normal rate at zero.  The metric changes fast near the limit (the
+corrected by putting such a leg a quarter of :data:`REACH_GAP` (at the gradient there)
+above its floor, along the gradient, where the last projection holds its normal rate at
+zero.  The metric changes fast near the limit (the
 rotors' share grows as 1/distance), so the twist is scaled down, direction and contact
 signs kept, where its energy at the pose the step ends at would exceed that after the
 impact.  Joint stops and reach limits meet at the corners of the workspace: one problem
@@ -46,8 +47,8 @@ a reach limit still did: the Octo, which has no joint ranges, pushed by a
 but the freeze; the rus8 pressed against a stop next to a reach limit froze in up to 386
 of 1000 steps; and a pose exactly on the limit made the next step divide by zero
 (ZeroDivisionError out of the compiled step, the Octo pushed straight up to z = 468
-mm).  The plant's own equations of motion are not these (Kühne et al. give none for the stops); this is our
-model of a hard stop, stated here and in README.md.
+mm).  The plant's own equations of motion are not these (Kühne et al. give none for
+the stops); this is our model of a hard stop, stated here and in README.md.
 """
 
 from __future__ import annotations
@@ -91,7 +92,7 @@ def reach_floor(model, pose):
     order where the gradient is home's (nearer where it is steeper: ~5x at the top of
     the Octo's reach), -inf for a prismatic leg (its stroke is its end stop,
     :meth:`.kinematics.KinematicModel.closes`).  Below it a leg is at its reach limit
-    (:func:`slide` puts it twice the floor inside)."""
+    (:func:`slide` puts it back a quarter of REACH_GAP above the floor)."""
     rev = np.asarray(model.revolute, dtype=bool)
     g = margin_gradients(model, pose, np.ones(model.L, bool))
     return np.where(rev, REACH_GAP * np.linalg.norm(g, axis=1), -np.inf)
@@ -174,7 +175,10 @@ def slide(model, M, joint_inertia: float, rot, pose0, twist, pose1, dt: float, e
     the contacts.  A contact that the curvature of the motion still carries past (second
     order in the step: a platform pressed against it) is put back by the least-squares
     pose displacement: a stopped joint :data:`STOP_GAP` inside where it was (``Jᴮ δx =
-    -s (excess)``), a leg to twice its floor (``∇m_i δx = 2 floor_i - m_i``), the other contacts' rows held at zero (one at a time, two stops pushed each
+    -s (excess)``), a leg a quarter of :data:`REACH_GAP` above its floor at the gradient
+    there (``∇m_i δx = floor_i + ¼ REACH_GAP |∇m_i| - m_i``; review: twice the floor put
+    some legs 0.3-0.6 mm further in a step, where the gradient is shallower than at
+    home), the other contacts' rows held at zero (one at a time, two stops pushed each
     other past in turn); legs beyond their reach first, with the joints' rows of J at
     ``pose0`` (J is not defined there).  The twist is then projected once more with the
     rows at the pose the step ends at (the rates of J at the impact are not those of
@@ -217,7 +221,8 @@ def slide(model, M, joint_inertia: float, rot, pose0, twist, pose1, dt: float, e
                 J0 = model.jacobian(pose0)
             g = margin_gradients(model, pose, rset)
             m = model.margins(pose)[rset]
-            back = np.where(reach[rset], 2.0 * floor[rset] - m, 0.0)
+            back = np.where(reach[rset], floor[rset] + 0.25 * REACH_GAP
+                            * np.linalg.norm(g, axis=1) - m, 0.0)
             A = np.vstack([g, J0[B]])
             b = np.concatenate([back, np.zeros(int(B.sum()))])
         else:
@@ -253,24 +258,31 @@ def slide(model, M, joint_inertia: float, rot, pose0, twist, pose1, dt: float, e
     return pose, V, q
 
 
-def passive_twist(model, M, joint_inertia: float, weight: float, pose0, V0, pose1, V1,
-                  work: float):
+def passive_twist(model, M, joint_inertia: float, weight: float, pose0, V0, pose1, V1, *,
+                  force, tau, V_step, dt: float):
     """The twist ``V1`` at the end of a step from (``pose0``, ``V0``) to ``pose1``,
     scaled down (direction kept) where the step would end with more energy -- kinetic,
     the rotors' included, and potential, ``weight`` (N) times the height -- than it
-    started with plus ``work`` (J: the hand's and the drives' over the step; the
-    friction's loss is not counted, so the bound is loose by it).
+    started with plus the work of the hand's ``force`` (3,) N and the drives' efforts
+    ``tau`` (L,) along the step's own motion ``V_step dt`` (the dynamics' twist, before
+    any contact: a contact's put-back is no motion that forces work along; review: τ·Δq
+    over one credited -5.9 J and +248 J).  The friction's loss is not counted, so the
+    bound is loose by it; rounding (1e-12 of the energies) is not a gain.
 
     Near a reach limit the leg's row of J grows as 1/sqrt(distance) and J̇V faster; the
     plant's semi-implicit step takes the rotors' -J_r J̇V explicitly, and there it gains
-    energy from nothing (review: up to 5e4 J in a step of the Octo, 1e4 J on the
-    Octopod before this change, when the plant froze at the limit instead).  The plant
-    calls this only within :data:`NEAR_FLOORS` floors of a limit and after a contact:
-    elsewhere its steps are untouched."""
-    cap = (_energy(model, M, joint_inertia, pose0, V0) + weight * (pose0[2] - pose1[2])
-           + work)
+    energy from nothing (review: up to 5e4 J in a step of the Octo with a 1 nm floor;
+    1e4 J on the Octopod before this change, when the plant froze at the limit
+    instead).  The plant calls this for a step that starts or ends within
+    :data:`NEAR_FLOORS` floors of a limit, or meets a contact: elsewhere its steps are
+    untouched."""
+    J0 = model.jacobian(pose0)
+    qd = J0 @ V0
+    e0 = 0.5 * float(V0 @ M @ V0) + 0.5 * joint_inertia * float(qd @ qd)
+    work = dt * (float(np.asarray(force) @ V_step[:3]) + float(tau @ (J0 @ V_step)))
+    cap = e0 + weight * (pose0[2] - pose1[2]) + work
     e1 = _energy(model, M, joint_inertia, pose1, V1)
-    if e1 <= cap:
+    if e1 <= cap + 1e-12 * (e0 + abs(weight * pose0[2]) + abs(work)):
         return V1
     return V1 * np.sqrt(max(cap, 0.0) / e1)
 

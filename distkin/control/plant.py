@@ -457,9 +457,9 @@ class Plant:
             twist = self.twist + dt * np.linalg.solve(Meff, w)
             pose = rotate_pose(self.pose, twist[:3] * dt, twist[3:] * dt)
             q, ok = self.model.ik(pose)
-            m = self.model.margins(pose)
-            ok = ok and bool(np.all(np.isfinite(q))) and not np.any(~(m >= self.reach_floor))
-            near = bool(np.any(m < NEAR_FLOORS * self.reach_floor))
+            marg, band = self.model.margins(pose), NEAR_FLOORS * self.reach_floor
+            ok = ok and bool(np.all(np.isfinite(q))) and not np.any(~(marg >= self.reach_floor))
+            near = bool(np.any(marg < band) or np.any(self.model.margins(self.pose) < band))
         self._advance(ok, pose, twist, q, dt, near=near)
 
     #: the pose step (m, rad) of the central difference of :meth:`jdot_v`
@@ -510,7 +510,7 @@ class Plant:
 
     def _advance(self, ok, pose, twist, q, dt, qdot=None, near=False) -> None:
         model = self.model
-        pose0, twist0, q0 = self.pose, self.twist, self.q
+        pose0, twist0, twist_step = self.pose, self.twist, twist
         stopped = False
         if (not ok and self._lengths == 1.0 and q is not None and model.closes(q)
                 and np.all(np.isfinite(pose)) and np.all(np.isfinite(twist))):
@@ -541,11 +541,10 @@ class Plant:
                 qdot = None
         if ok and self._reach_contacts and (stopped or near):
             # no energy from nothing near a reach limit (.end_stops.passive_twist)
-            work = (self.hand_wrench[:3] @ (pose[:3] - pose0[:3])
-                    + self.tau @ model.joint_step(q, q0))
             twist = passive_twist(model, self.M, self.motors.joint_inertia,
                                   self.m * self.motors.gravity, pose0, twist0, pose, twist,
-                                  float(work))
+                                  force=self.hand_wrench[:3], tau=self.tau,
+                                  V_step=twist_step, dt=dt)
         if ok:
             self.pose, self.twist = pose, twist
             # the short way round: a crank passing ±180° is no 2π/dt rate (review)
