@@ -30,12 +30,12 @@ central differences of :data:`FD_STEP`): the margin of none of those legs decrea
 ``∇m_i · V' >= 0``.  A step may not end closer to the limit than about
 :data:`REACH_GAP` (m; :func:`reach_floor`): the leg's row of J grows as
 1/sqrt(distance), J̇V faster, and the plant's step, which takes the rotors' -J_r J̇V
-explicitly, gains energy there from nothing (within :data:`NEAR_FLOORS` floors the plant
-bounds each step's energy by :func:`passive_twist`).  The curvature of the motion is
-corrected by putting such a leg a quarter of :data:`REACH_GAP` (at the gradient there)
-above its floor, along the gradient, where the last projection holds its normal rate at
-zero.  The metric changes fast near the limit (the
-rotors' share grows as 1/distance), so the twist is scaled down, direction and contact
+explicitly, gains energy there from nothing (a step that starts or ends within
+:data:`NEAR_FLOORS` floors, or meets a contact, is bounded by :func:`passive_twist`).
+The curvature of the motion is corrected by putting such a leg a quarter of
+:data:`REACH_GAP` (at the gradient there) above its floor, along the gradient, where the
+last projection holds its normal rate at zero.  The metric changes fast near the limit
+(the rotors' share grows as 1/distance), so the twist is scaled down, direction and contact
 signs kept, where its energy at the pose the step ends at would exceed that after the
 impact.  Joint stops and reach limits meet at the corners of the workspace: one problem
 holds both kinds of rows.
@@ -94,12 +94,12 @@ def reach_floor(model, pose):
     :meth:`.kinematics.KinematicModel.closes`).  Below it a leg is at its reach limit
     (:func:`slide` puts it back a quarter of REACH_GAP above the floor)."""
     rev = np.asarray(model.revolute, dtype=bool)
-    g = margin_gradients(model, pose, np.ones(model.L, bool))
+    g = margin_gradients(model, pose)
     return np.where(rev, REACH_GAP * np.linalg.norm(g, axis=1), -np.inf)
 
 
-def margin_gradients(model, pose, legs):
-    """The gradients (k, 6) of the reach margins of the ``legs`` (L,) bool at ``pose``
+def margin_gradients(model, pose, legs=slice(None)):
+    """The gradients (k, 6) of the reach margins of the ``legs`` (L,) bool (all) at ``pose``
     over the pose displacement (v, ω)·dt of the plant's step (m² per m and per rad):
     central differences of :data:`FD_STEP`
     (:meth:`.kinematics.KinematicModel.margin_gradients`; the margins are polynomials in
@@ -141,7 +141,7 @@ def _rows(model, pose, side, reach, G=None):
         B = side != 0.0
         parts.append(model.jacobian(pose)[B] * side[B, None])
     if np.any(reach):
-        G = margin_gradients(model, pose, np.ones(model.L, bool)) if G is None else G
+        G = margin_gradients(model, pose) if G is None else G
         parts.append(-G[reach])
     return np.vstack(parts)
 
@@ -239,7 +239,7 @@ def slide(model, M, joint_inertia: float, rot, pose0, twist, pose1, dt: float, e
     # limit its row of J is ~1/sqrt(distance), and the normal rate the impulse at pose0
     # left, a separating one included, became a crank rate whose rotor energy was
     # hundreds of joules (the Octo pushed by 30 N: 300 J out of 0.8 J)
-    G = margin_gradients(model, pose, np.ones(L, bool)) if rset.any() else None
+    G = margin_gradients(model, pose) if rset.any() else None
     rows = _rows(model, pose, side, rset, G)
     held = rset & (model.margins(pose) < 4.0 * floor)
     if held.any():
@@ -277,8 +277,7 @@ def passive_twist(model, M, joint_inertia: float, weight: float, pose0, V0, pose
     :data:`NEAR_FLOORS` floors of a limit, or meets a contact: elsewhere its steps are
     untouched."""
     J0 = model.jacobian(pose0)
-    qd = J0 @ V0
-    e0 = 0.5 * float(V0 @ M @ V0) + 0.5 * joint_inertia * float(qd @ qd)
+    e0 = _energy(model, M, joint_inertia, pose0, V0, J0)
     work = dt * (float(np.asarray(force) @ V_step[:3]) + float(tau @ (J0 @ V_step)))
     cap = e0 + weight * (pose0[2] - pose1[2]) + work
     e1 = _energy(model, M, joint_inertia, pose1, V1)
@@ -287,7 +286,7 @@ def passive_twist(model, M, joint_inertia: float, weight: float, pose0, V0, pose
     return V1 * np.sqrt(max(cap, 0.0) / e1)
 
 
-def _energy(model, M, joint_inertia, pose, V):
-    """The kinetic energy ½ Vᵀ (M + J_r JᵀJ) V at ``pose`` (J)."""
-    qd = model.jacobian(pose) @ V
+def _energy(model, M, joint_inertia, pose, V, J=None):
+    """The kinetic energy ½ Vᵀ (M + J_r JᵀJ) V at ``pose`` (J; ``J`` there if known)."""
+    qd = (model.jacobian(pose) if J is None else J) @ V
     return 0.5 * float(V @ M @ V) + 0.5 * joint_inertia * float(qd @ qd)
