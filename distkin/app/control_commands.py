@@ -246,8 +246,11 @@ def format_summary(s: dict) -> str:
     if s.get("final_state") is not None:
         share = (f" ({100 * s['fault_seconds'] / s['device_seconds']:.0f}% of the device "
                  f"time)" if s.get("device_seconds") else "")
-        lines.append(f"  state: {s['final_state']} at the end; {s['fault_seconds']:.3f} s "
-                     f"of device time in fault or hold{share}")
+        sent = {True: ", then zero torque commanded on exit",
+                False: ", then zero torque on exit NOT sent (the link refused it)"}.get(
+                    s.get("zero_torque_sent"), "")
+        lines.append(f"  state: {s['final_state']} after the last cycle{sent}; "
+                     f"{s['fault_seconds']:.3f} s of device time in fault or hold{share}")
     if s.get("delay_margin_periods") is not None:
         n = s["delay_margin_periods"]
         lines.append("  PD loop (linearised at home): " + (

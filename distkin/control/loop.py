@@ -370,7 +370,7 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
     ctl.loop_cpu_s = time.thread_time() - cpu0
     ctl.gc_collections = sum(g["collections"] for g in gc.get_stats()) - gc0
     return run_summary(ctl, link, cycles, wall, t_first, t_prev_us, compute, compute_cpu,
-                       periods, reason)
+                       periods, reason, zero_torque_sent=sent)
 
 
 def _zero_torque(ctl, link, seq, ack) -> bool:

@@ -246,7 +246,7 @@ EXIT_CODES = {"completed": 0, "device_mismatch": 2, "no_device": 2, "no_valid_fr
 
 
 def run_summary(ctl, link, cycles, wall, t_first, t_last, compute, compute_cpu, periods,
-                reason) -> dict:
+                reason, zero_torque_sent=None) -> dict:
     """The summary of :meth:`.controller.Controller.run` (its keys are documented there):
     counts of the link (``link.stats``) and of the controller ``ctl`` (events, refused
     poses, saturated cycles, the largest command), timings (:func:`timing_summary`),
@@ -261,7 +261,10 @@ def run_summary(ctl, link, cycles, wall, t_first, t_last, compute, compute_cpu, 
     ``final_state`` ("run", "fault", "stopped"; null without a cycle) is the
     controller's state after the last cycle, and ``fault_seconds`` the device time (s)
     between valid frames spent outside "run" (zero torque or hold): a run can be
-    ``completed`` (exit 0) with the device held for most of it."""
+    ``completed`` (exit 0) with the device held for most of it.  Every run, however it
+    ends, then commands zero torque: ``zero_torque_sent`` says whether one of those
+    frames was written whole (None: not known to the caller; QA 2026-11-29: after a
+    SIGINT the summary read "state: run at the end" and did not say so)."""
     st = link.stats
     dev_s = 0.0 if t_first is None else (t_last - t_first) * 1e-6
     code = EXIT_CODES.get(reason, 1)
@@ -301,6 +304,7 @@ def run_summary(ctl, link, cycles, wall, t_first, t_last, compute, compute_cpu, 
         "nonfinite_cycles": ctl.nonfinite_cycles,
         **effort,
         "final_state": STATE_NAMES.get(ctl.state) if cycles else None,
+        "zero_torque_sent": zero_torque_sent,
         "fault_seconds": round(ctl.fault_us * 1e-6, 4),
         "gc_collections": ctl.gc_collections,
         "loop_cpu_share": round(ctl.loop_cpu_s / wall, 3) if wall > 0 else None,

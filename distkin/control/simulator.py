@@ -192,7 +192,12 @@ class Simulator:
         self.events = EventLog(f"{log_prefix}.device-events.jsonl" if log_prefix else None)
         self.command = CommandFrame(0, 0, MODE_ZERO_TORQUE, 0, np.zeros(L))
         self.armed = False
+        #: bytes of state frames the transport could not take (a host not reading);
+        #: ``dropped_before_host`` of them before the host's first command (the frames
+        #: the simulator streams into a pty or socket nobody reads yet: QA 2026-11-29
+        #: saw 131599 "dropped" beside 0 bad and 0 missing frames at the host)
         self.dropped_bytes = 0
+        self.dropped_before_host = 0
         self.commands = 0
         self.stop = False
         #: the name of the signal that set :attr:`stop` (``serve``), for the closing event
@@ -281,7 +286,10 @@ class Simulator:
                     # lock-step wait for the answer to this frame
                     self._collect(None, time.perf_counter())
                 if out:
-                    self.dropped_bytes += self.transport.write(out)
+                    lost = self.transport.write(out)
+                    self.dropped_bytes += lost
+                    if not self.armed:
+                        self.dropped_before_host += lost
                 sent_ok = out == frame
                 if self.cfg.lockstep and self.armed and sent_ok:
                     self._collect(seq, time.perf_counter() + self.cfg.reply_timeout_ms * 1e-3)
@@ -392,7 +400,10 @@ def serve(scene, *, port_file=None, tcp_port=None, faults=(), log_prefix=None,
         transport.close()
     print(f"distkin sim: stopped ({reason}); {sim.plant.t:.3f} s device time, "
           f"{sim.commands} commands received, {sim.decoder.bad_frames} bad frames, "
-          f"{sim.dropped_bytes} bytes dropped, {sim.late_ticks} ticks late (max "
+          f"{sim.dropped_bytes} bytes of state frames dropped"
+          + (f" ({sim.dropped_before_host} before the host's first command)"
+             if sim.dropped_before_host else "")
+          + f", {sim.late_ticks} ticks late (max "
           f"{sim.max_late * 1e3:.1f} ms), {sim.slips} schedule slips "
           f"({sim.slipped * 1e3:.1f} ms)", file=announce,
           flush=True)

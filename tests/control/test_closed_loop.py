@@ -55,13 +55,17 @@ def test_run_completes_over_a_pty(run):
     # a clean run has neither; a machine stalled by other load may make the device's
     # pty overflow (it drops bytes, as a real device's buffer would) or its watchdog
     # fire, and then each one must be explained by that stall, never unexplained
-    dropped = int(re.search(r"(\d+) bytes dropped", s["simulator"]).group(1))
+    dropped = int(re.search(r"(\d+) bytes of state frames dropped", s["simulator"]).group(1))
     assert s["bad_frames"] == 0 or dropped > 0, s["simulator"]
     watchdog_ms = run["scene"].simulator.device_watchdog_ms
     assert s["watchdog_trips"] == 0 or s["period_max_ms"] > watchdog_ms, s
     # one command per device period, apart from a few frames a loaded machine may skip
     assert s["cycles"] >= 0.95 * 5000
     assert s["device_seconds"] == pytest.approx(5.0, abs=0.01)
+    # the run ended by commanding zero torque, and the summary says it was sent
+    assert s["zero_torque_sent"] is True
+    last = [e for e in run["events"] if e["event"] == "zero_torque"]
+    assert last and last[-1]["sent"] is True
 
 
 def test_hand_push_moves_the_end_effector_as_the_admittance_predicts(run):

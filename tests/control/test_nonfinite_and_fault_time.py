@@ -69,7 +69,8 @@ def test_a_nan_torque_is_a_fault_with_zero_torque_on_the_wire(monkeypatch, model
     assert not np.any(sent[i:]) or any(e["event"] == "recovered" for e in ctl.events.events)
     assert np.isfinite(s["max_abs_torque_Nm"]) and s["max_abs_torque_Nm"] <= limit
     text = format_summary(s)
-    assert "NaN or infinite" in text and "state: fault at the end" in text
+    assert "NaN or infinite" in text
+    assert "state: fault after the last cycle, then zero torque" in text
 
 
 def test_fault_seconds_agrees_with_the_state_column_of_the_log(monkeypatch, model, tmp_path):

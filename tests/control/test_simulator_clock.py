@@ -108,3 +108,48 @@ def test_catch_up_ms_must_be_a_number_at_least_zero():
     with pytest.raises(InputError) as exc:
         loads_control_scene(text)
     assert "simulator.catch_up_ms" in str(exc.value) and "-1" in str(exc.value)
+
+
+class DroppingTransport(HeldTransport):
+    """A link that takes no byte of the state frames (a host not reading: every write
+    is dropped whole), and one command from the host after frame ``host_at``."""
+
+    def __init__(self, clock, frames, host_at, L):
+        super().__init__(clock, frames, hold_at=-1, hold=0.0)
+        self.host_at, self.pending, self.sizes = host_at, b"", []
+        from distkin.control.protocol import encode_command
+        self._command = encode_command(1, 0, 1, np.zeros(L))
+
+    def wait_readable(self, timeout):
+        if self.pending:
+            return True
+        return super().wait_readable(timeout)
+
+    def read(self):
+        out, self.pending = self.pending, b""
+        return out
+
+    def write(self, data):
+        self.sizes.append((len(data), self.sim.armed))
+        super().write(data)
+        if len(self.times) == self.host_at:
+            self.pending = self._command
+        return len(data)
+
+
+def test_dropped_bytes_say_how_many_were_before_the_host(monkeypatch):
+    """The closing line's dropped bytes split off those written before the host's first
+    command (QA 2026-11-29: 131599 bytes "dropped" beside 0 bad frames at the host were
+    the frames streamed into a pty nobody read yet), counted against the transport."""
+    clock = VirtualClock()
+    monkeypatch.setattr(simmod, "time", types.SimpleNamespace(perf_counter=clock.perf_counter))
+    scene = loads_control_scene(scene_text())
+    model = model_of(scene, compiled=False)
+    tr = DroppingTransport(clock, 200, 50, model.L)
+    sim = simmod.Simulator(scene, model, tr)
+    tr.sim = sim
+    assert sim.run() == "stopped"
+    before = sum(n for n, armed in tr.sizes if not armed)
+    assert sim.armed and 0 < before < sum(n for n, _ in tr.sizes)
+    assert sim.dropped_before_host == before
+    assert sim.dropped_bytes == sum(n for n, _ in tr.sizes)
