@@ -55,8 +55,9 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["STOP_GAP", "REACH_GAP", "NEAR_FLOORS", "FD_STEP", "load_solver", "slide",
-           "contact_impulse", "margin_gradients", "reach_floor", "passive_twist"]
+__all__ = ["STOP_GAP", "REACH_GAP", "NEAR_FLOORS", "TURN_FLOORS", "FD_STEP", "load_solver",
+           "slide", "contact_impulse", "margin_gradients", "reach_floor", "passive_twist",
+           "ReachApproach"]
 
 #: how far inside its stop (rad, or m) :func:`slide` puts a joint that the curvature of
 #: the motion carried past it (not onto it: rounding would leave it past)
@@ -74,6 +75,9 @@ REACH_GAP = 1e-4
 #: how near its reach limit, in floors (:func:`reach_floor`), a crank leg makes the
 #: plant's step check the energy it ends with (:func:`passive_twist`)
 NEAR_FLOORS = 100.0
+#: how near its reach limit, in floors, a crank leg whose margin a step turns from
+#: falling to rising makes that step a contact (:class:`ReachApproach`)
+TURN_FLOORS = 4.0
 #: the pose step (m, rad) of the central differences of :func:`margin_gradients`
 FD_STEP = 1e-6
 
@@ -284,6 +288,45 @@ def passive_twist(model, M, joint_inertia: float, weight: float, pose0, V0, pose
     if e1 <= cap + 1e-12 * (e0 + abs(weight * pose0[2]) + abs(work)):
         return V1
     return V1 * np.sqrt(max(cap, 0.0) / e1)
+
+
+class ReachApproach:
+    """The approach of a reach limit that never reaches its floor, counted as a contact.
+
+    Towards a crank leg's reach limit the leg's row of J grows as 1/sqrt(distance): the
+    rotors' share of the kinetic energy grows as 1/distance, so the platform's motion
+    towards the limit passes into the rotors and it slows down before the floor.  The
+    plant's semi-implicit step, which takes the rotors' -J_r J̇V explicitly, dissipates
+    that energy within the last few floors and turns the platform back there, the loss
+    an inelastic contact at the floor would take (QA 2026-11-29: the Octo dropped from
+    z = 0.3 m with its drives off lost 0.28 J, its whole fall, in 16 steps of 1 ms, the
+    last 0.13 J in one, and :attr:`.plant.Plant.end_stop_hits` stayed 0 until it came
+    to rest on the limit a second later).  A step that turns the margin of a leg within
+    :data:`TURN_FLOORS` floors from falling (the step before) to rising counts as that
+    contact: :meth:`turned_back`.  The margins are evaluated only for the steps near a
+    limit (within :data:`NEAR_FLOORS` floors), one compiled call each."""
+
+    def __init__(self):
+        self.pose = self.end = self.rate = None
+
+    def turned_back(self, model, pose0, pose1, near: bool, floor) -> bool:
+        """Whether the step from ``pose0`` to ``pose1`` turned a leg back within
+        :data:`TURN_FLOORS` floors ``floor`` (L,) of its limit (class doc); ``near``:
+        the step starts or ends near a limit (else only the state is cleared)."""
+        if not near:
+            self.pose = self.end = self.rate = None
+            return False
+        if self.pose is None or not np.array_equal(self.pose, pose0):
+            self.rate = None                # a state set from outside: no falling step
+            m0 = model.margins(pose0)
+        else:
+            m0 = self.end
+        m1 = model.margins(pose1)
+        rate = m1 - m0
+        hit = self.rate is not None and bool(np.any(
+            (self.rate < 0.0) & (rate > 0.0) & (np.minimum(m0, m1) < TURN_FLOORS * floor)))
+        self.pose, self.end, self.rate = np.array(pose1, dtype=float), m1, rate
+        return hit
 
 
 def _energy(model, M, joint_inertia, pose, V, J=None):

@@ -50,7 +50,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..spatial import rotate_pose_scalar as rotate_pose
-from .end_stops import NEAR_FLOORS, load_solver, passive_twist, reach_floor, slide
+from .end_stops import (NEAR_FLOORS, ReachApproach, load_solver, passive_twist, reach_floor,
+                        slide)
 from .kinematics import _rot
 from .protocol import MODE_HOLD, MODE_RUN, STATUS_SATURATED
 
@@ -318,6 +319,7 @@ class Plant:
         self._q_hold = None
         #: crank legs have reach limits, contacts as the end stops (.end_stops)
         self._reach_contacts = bool(np.any(getattr(self.model, "revolute", False)))
+        self._approach = ReachApproach()     # turned back before the floor: a contact too
         #: the least reach margin (L,) a step may end at: :func:`.end_stops.reach_floor`
         #: for a crank leg, -inf for a prismatic one (its stroke is its end stop)
         self.reach_floor = (reach_floor(self.model, self.pose) if self._reach_contacts
@@ -345,10 +347,9 @@ class Plant:
                              f"home (a body the drives can accelerate), got diag "
                              f"{np.diag(self.M).tolist()} and J_r = {mo.joint_inertia!r}",
                              field="mass")
-        # (the last: 1.0 where a displaced pose counts as in reach for J̇V by its leg
-        # lengths alone, not by the strokes: the stroke is an end stop, not the edge of
-        # the Jacobian; review -- at a stroke end both displaced poses left the stroke,
-        # J̇V was cut to zero and a sliding platform gained 12 W)
+        # (the last: 1.0 where a displaced pose is in reach for J̇V by its leg lengths
+        # alone: a stroke is an end stop, not the edge of J; review: J̇V cut to zero at
+        # a stroke end made a sliding platform gain 12 W)
         closes = getattr(self.model, "closes", None)
         self._lengths = 1.0 if closes is not None and closes(self.q) else 0.0
         # (and: 1.0 where the compiled step takes every joint rate modulo 2π; a device
@@ -395,7 +396,8 @@ class Plant:
         legs allow (:func:`.end_stops.slide`); a step that would take a crank leg
         beyond its reach limit (closer than :attr:`reach_floor`) meets it the same way;
         a step that no such slide saves ends where the platform stays, at rest.
-        :attr:`end_stop_hits` counts the contacts.
+        :attr:`end_stop_hits` counts the contacts, and the steps that turn a leg back
+        within a few floors of its reach limit (:class:`.end_stops.ReachApproach`).
         """
         if (isinstance(dt, bool) or not isinstance(dt, (int, float, np.integer, np.floating))
                 or not 0.0 < dt < math.inf):
@@ -492,9 +494,8 @@ class Plant:
         ok_p, ok_m = (J is not None and bool(np.all(np.isfinite(J))) for J in (Jp, Jm))
         if ok_p and ok_m:
             return ((Jp - Jm) @ V) / (2.0 * s)
-        # within a step of the reach boundary: the one-sided difference on the reachable
-        # side (zero there let the platform coast at constant twist while J grew, and
-        # the energy jumped 9-fold before the end stop, review)
+        # within a step of the reach boundary: one-sided on the reachable side (zero let
+        # the platform coast while J grew: energy 9-fold before the end stop, review)
         if ok_p:
             return ((Jp - model.jacobian(self.pose)) @ V) / s
         if ok_m:
@@ -515,11 +516,9 @@ class Plant:
         if (not ok and self._lengths == 1.0 and q is not None and model.closes(q)
                 and np.all(np.isfinite(pose)) and np.all(np.isfinite(twist))):
             ok = True     # only a stroke refused it: the leg's end stop (below) decides
-        # a joint at its range, or a crank leg at its reach limit: that end stop takes
-        # the impulse that stops it, and the platform moves on with what the other legs
-        # allow (.end_stops).  Only a joint that goes further past its range meets its
-        # stop: one already past it (a state set from outside) that moves back inward
-        # is free (review)
+        # a joint at its range, or a crank leg at its reach limit: an impulse stops it
+        # and the platform moves on (.end_stops).  A joint already past its range (a
+        # state set from outside) that moves back inward is free (review)
         ex0 = None
         if ok and not model.in_range(q):
             ex0 = model.range_excess(self.q)
@@ -545,6 +544,9 @@ class Plant:
                                   self.m * self.motors.gravity, pose0, twist0, pose, twist,
                                   force=self.hand_wrench[:3], tau=self.tau,
                                   V_step=twist_step, dt=dt)
+        if self._approach.turned_back(model, pose0, pose, bool(ok and self._reach_contacts and (
+                stopped or near)), self.reach_floor) and not stopped:
+            self.end_stop_hits += 1
         if ok:
             self.pose, self.twist = pose, twist
             # the short way round: a crank passing ±180° is no 2π/dt rate (review)

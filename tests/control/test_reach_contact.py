@@ -204,3 +204,29 @@ def test_a_step_that_leaves_the_limit_gains_no_energy_either():
             work = p.hand_wrench[:3] @ (p.pose[:3] - pose[:3])    # its put-backs
             assert _energy(p, m) <= E + work + 1e-2
     assert leaving > 0                                               # (premise)
+
+
+def test_a_platform_falling_onto_its_reach_limit_counts_the_contact(octo):
+    """The Octo dropped from z = 0.3 m with its drives off (gravity, no friction): its
+    motion towards the bottom of its reach passes into the rotors (the leg's row of J
+    grows as 1/sqrt(distance)) and the step dissipates it a few floors before the floor,
+    where it turns the platform back (end_stops.ReachApproach).  QA 2026-11-29: the fall's
+    whole energy went there, 0.13 J of it in one step, with end_stop_hits 0.  The step
+    that turns it back (vz from falling to rising, against the reach kernel's margins
+    within a few floors) now counts as a contact, and no step gains energy."""
+    p = Plant(octo, Motors(**FREE))
+    p.pose = octo.home + np.array([0.0, 0.0, 0.3 - octo.home[2], 0.0, 0.0, 0.0])
+    p.q = octo.ik(p.pose)[0]
+    e0, vz, turned = _energy(p, octo), 0.0, None
+    for k in range(700):
+        p.step(np.zeros(octo.L), MODE_ZERO_TORQUE, 1e-3)
+        # (the semi-implicit step's own error in the fall: +0.7 mJ at its worst, seen)
+        assert _energy(p, octo) <= e0 + 2e-3
+        if vz < -1e-3 and p.twist[2] > 0.0:
+            turned = k                                  # the first turn back
+            break
+        vz = p.twist[2]
+    assert turned is not None
+    assert octo.margins(p.pose).min() < 2 * 4.0 * p.reach_floor.min()   # at the limit
+    assert e0 - _energy(p, octo) > 0.5 * p.m * 9.81 * (0.3 - p.pose[2])  # an impact's loss
+    assert p.end_stop_hits >= 1
