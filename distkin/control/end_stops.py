@@ -312,21 +312,22 @@ class ReachApproach:
     def turned_back(self, model, pose0, pose1, near: bool, floor) -> bool:
         """Whether the step from ``pose0`` to ``pose1`` turned a leg back within
         :data:`TURN_FLOORS` floors ``floor`` (L,) of its limit (class doc); ``near``:
-        the step starts or ends near a limit (else only the state is cleared)."""
+        the step starts or ends near a limit (else only the state is cleared).  The
+        previous step's end is known by identity (the plant keeps the array it ended
+        at): a pose set from outside starts a new approach."""
         if not near:
-            self.pose = self.end = self.rate = None
+            self.pose = None
             return False
-        if self.pose is None or not np.array_equal(self.pose, pose0):
-            self.rate = None                # a state set from outside: no falling step
-            m0 = model.margins(pose0)
-        else:
-            m0 = self.end
         m1 = model.margins(pose1)
-        rate = m1 - m0
-        hit = self.rate is not None and bool(np.any(
-            (self.rate < 0.0) & (rate > 0.0) & (np.minimum(m0, m1) < TURN_FLOORS * floor)))
-        self.pose, self.end, self.rate = np.array(pose1, dtype=float), m1, rate
-        return hit
+        known = pose0 is self.pose
+        m0 = self.end if known else model.margins(pose0)
+        prev, rate = (self.rate if known else None), m1 - m0
+        self.pose, self.end, self.rate = pose1, m1, rate
+        if prev is None:
+            return False
+        turned = (prev < 0.0) & (rate > 0.0)
+        return bool(turned.any()) and bool(np.any(np.minimum(m0, m1)[turned]
+                                                  < TURN_FLOORS * floor[turned]))
 
 
 def _energy(model, M, joint_inertia, pose, V, J=None):
