@@ -9,6 +9,8 @@ Python API names the place as the command line does.
 
 from __future__ import annotations
 
+import re
+
 from .errors import InputError
 
 __all__ = ["toml_syntax_error"]
@@ -22,12 +24,21 @@ def toml_syntax_error(text: str, exc, path) -> InputError:
 
 
 def _unclosed_at(text: str, exc) -> str:
-    """Where the array or string that ``tomllib`` found unclosed "at end of document"
-    was opened (tomllib names no line then): ``"; the '[' opened at line 7, column 8 is
-    never closed"``; ``""`` for any other error (those name their line themselves)."""
-    if not str(exc).endswith("(at end of document)"):
+    """Where the array or string that ``tomllib`` found unclosed was opened: ``"; the
+    '[' opened at line 7, column 8 is never closed"``.  At the end of the document
+    tomllib names no line; before it ("Unclosed array (at line 4, column 1)") it names
+    the line after the array's, where the next key begins (QA 2026-11-29), so the line
+    where the array (or inline table) still open there began is named too.  ``""`` for
+    any other error (those name their line themselves)."""
+    msg = str(exc)
+    at = re.search(r"\(at line (\d+), column (\d+)\)$", msg)
+    if msg.endswith("(at end of document)"):
+        n, innermost = len(text), False
+    elif msg.startswith(("Unclosed array", "Unclosed inline table")) and at:
+        n, innermost = _offset(text, int(at.group(1)), int(at.group(2))), True
+    else:
         return ""
-    stack, i, n = [], 0, len(text)
+    stack, i = [], 0
 
     def where(k):
         return f"line {text.count(chr(10), 0, k) + 1}, column {k - text.rfind(chr(10), 0, k)}"
@@ -55,4 +66,15 @@ def _unclosed_at(text: str, exc) -> str:
         i += 1
     if not stack:
         return ""
-    return f"; the {text[stack[0]]!r} opened at {where(stack[0])} is never closed"
+    k = stack[-1] if innermost else stack[0]
+    return f"; the {text[k]!r} opened at {where(k)} is never closed"
+
+
+def _offset(text: str, line: int, column: int) -> int:
+    """The index in ``text`` of ``line``, ``column`` (both from 1, as tomllib counts)."""
+    start = 0
+    for _ in range(line - 1):
+        start = text.find("\n", start) + 1
+        if start == 0:
+            return len(text)
+    return min(start + column - 1, len(text))

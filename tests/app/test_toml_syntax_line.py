@@ -49,3 +49,19 @@ def test_the_cli_gives_one_line_with_the_line(tmp_path):
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("distkin: error: ")
     assert "line 9, column 8" in lines[0]
+
+
+@pytest.mark.parametrize("text, said, opened", [
+    # QA 2026-11-29: an array left open mid-file; tomllib names the next key's line
+    ('[mechanism]\nkind = "octahedral"\nbase = [[0, 0, 0], [6, "sqrt(108)", 0], [12, 0, 0]\n'
+     'platform = [[0, 0, 0], [6, 0, 0], [3, "sqrt(27)", 0]]\n',
+     "(at line 4, column 1)", "the '[' opened at line 3, column 8"),
+    ('a = [[1, 2], [3\nb = 3\n', "(at line 2, column 1)", "the '[' opened at line 1, column 14"),
+    ('t = {x = 1\nb = 3\n', "(at line 1, column 11)", "the '{' opened at line 1, column 5"),
+])
+def test_an_array_left_open_mid_file_names_the_line_it_opened(text, said, opened):
+    """The opening bracket counted by hand in each text (its line and column)."""
+    with pytest.raises(InputError) as err:
+        loads_scene(text, "s.toml")
+    msg = err.value.one_line()
+    assert said in msg and opened in msg and "never closed" in msg
