@@ -461,3 +461,17 @@ def test_output_paths_are_named_as_typed(tmp_path, capsys):
     assert main(["codegen", str(scene), "-o", str(tmp_path / "t") + "/"]) == 2
     err = capsys.readouterr().err
     assert f"got '{tmp_path / 't'}/'" in err
+
+
+def test_poses_that_differ_in_their_seventh_digit_read_apart(tmp_path, capsys):
+    """QA 2026-11-29: z = 300.0004, 300.00045 and 300.0004549 mm all read 300 (6
+    significant digits), one reachable and one not in QA's scene, and nobody could tell
+    the rows apart; each pose now reads as the scene wrote it."""
+    f = tmp_path / "s.toml"
+    zs = ("300.0004", "300.00045", "300.0004549", "-12.5e-3")
+    f.write_text(RSS.format(extra="", query="poses = [" + ", ".join(
+        f"[0, 0, {z}, 0, 0, 0]" for z in zs) + "]"))
+    code, out, _ = _cli(capsys, ["run", f])
+    assert code == 0
+    for i, z in enumerate(zs):
+        assert f"pose {i}: (0, 0, {float(z)!r}) mm, (0, 0, 0) deg" in out

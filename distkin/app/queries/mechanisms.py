@@ -171,11 +171,17 @@ def _units(scene):
     return u.length, u.angle, 1.0 / length_factor(u, "units"), 1.0 / angle_factor(u)
 
 
-def _fmt_pose(pose, scene):
+def _fmt_pose(pose, scene, digits: int = 10):
+    """A pose in the scene's units, to ``digits`` significant digits.  A pose the scene
+    gives takes 10: with 6, the poses of one query at z = 497.3287, 497.32875 and
+    497.3287549 mm all read 497.329, one of them unreachable (QA 2026-11-29); 10 keep what
+    a scene writes and hide the unit conversion's last bits (497.32875490000003 reads
+    497.3287549).  A computed pose (forward kinematics) keeps 6: its accuracy is stated
+    beside it."""
     lu, au, lf, af = _units(scene)
     p = np.asarray(pose)
-    return (f"({p[0] * lf:.6g}, {p[1] * lf:.6g}, {p[2] * lf:.6g}) {lu}, "
-            f"({p[3] * af:.6g}, {p[4] * af:.6g}, {p[5] * af:.6g}) {au}")
+    return (f"({', '.join(f'{v * lf:.{digits}g}' for v in p[:3])}) {lu}, "
+            f"({', '.join(f'{v * af:.{digits}g}' for v in p[3:])}) {au}")
 
 
 def _prismatic(mech) -> np.ndarray:
@@ -537,7 +543,7 @@ class ForwardKinematicsQuery:
                 "certified": f"proved radius (Krawczyk's test, arb balls at "
                              f"{p.bits or BITS} bits)"}[p.method]
         lines = [f"mechanism: {mech.name} (L = {mech.L})",
-                 f"pose: {_fmt_pose(pose, scene)}  [{p.method}]",
+                 f"pose: {_fmt_pose(pose, scene, 6)}  [{p.method}]",
                  f"converged in {res.iterations} iterations (fast tier); rms closure error "
                  + ("at most " if tier.certified else "") + f"{tier.residual * lf:.3g} {lu}",
                  _verified_line(res, p.angles, mech, scene, p.method),
