@@ -163,6 +163,10 @@ def _accessor(sq):
         if sq.rows != sq.cols:
             raise InputError(f"expected a square matrix, got shape {sq.shape}", field="sq")
         return (lambda i, j: sq[i - 1, j - 1]), sq.rows, "sympy"
+    if mod.startswith("mpmath") and hasattr(sq, "rows") and hasattr(sq, "cols"):
+        # an mpmath.matrix iterates as one flat sequence (numpy read it as shape (n², ),
+        # QA 2026-11-29): its rows, as the nested lists of mpf it equals
+        sq = [[sq[i, j] for j in range(sq.cols)] for i in range(sq.rows)]
     arr = np.asarray(sq, dtype=object) if not isinstance(sq, np.ndarray) else sq
     if arr.ndim < 2 or arr.shape[-1] != arr.shape[-2]:
         raise InputError(f"expected a square array of squared distances, got shape {arr.shape}",

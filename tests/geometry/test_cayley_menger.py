@@ -161,3 +161,17 @@ def test_bad_inputs():
         cayley_menger(np.zeros((3, 2)), (1, 2))
     with pytest.raises(InputError, match="1-based"):
         cayley_menger(np.zeros((3, 3)), (0, 1))
+
+
+def test_an_mpmath_matrix_is_its_rows():
+    """QA 2026-11-29: a 6x6 mpmath.matrix was refused as "shape (36,)" (numpy reads it
+    as one flat sequence) while the nested lists of mpf it equals were taken.  Now the
+    same mpf as those lists, and within float rounding of the float64 route."""
+    S = squared_distances(np.random.default_rng(0).normal(size=(6, 3)))
+    rows = [[mpmath.mpf(x) for x in r] for r in S]
+    for args in (((1, 2, 3, 4),), ((5, 4, 1, 2), (5, 4, 1, 6))):
+        got = cayley_menger(mpmath.matrix(S.tolist()), *args)
+        assert isinstance(got, mpmath.mpf) and got == cayley_menger(rows, *args)
+        assert float(got) == pytest.approx(float(cayley_menger(S, *args)), rel=1e-12)
+    with pytest.raises(InputError, match=r"shape \(2, 3\)"):
+        cayley_menger(mpmath.matrix(2, 3), (1, 2))
