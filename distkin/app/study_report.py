@@ -21,7 +21,7 @@ from ..indices.study import (CAPABILITIES, PAPER_TABLE4, SENSITIVITIES, TRUE_VEL
                     run_device, summarise)
 from ..indices.actuators import leg_limits, limit_text
 from ..indices.study_findings import findings, row_definition, row_reason
-from ..indices.workspace import design_criteria, dexterous_workspace
+from ..indices.workspace import design_criteria, dexterous_workspace, table2_grid
 
 __all__ = ["performance_report", "design_sweep_report", "markdown_tables", "certify_cube"]
 
@@ -96,6 +96,30 @@ def _same(same, e) -> str:
     return same if not sub else f"no: {sub}; ratio not like for like"
 
 
+def _unlike_paper(s, grid) -> str:
+    """"" when device summary ``s``'s Table III rows are over the paper's poses: Table
+    II's positions (±75 mm in steps of 10 mm about the device's home height) and its
+    orientations in steps of 5° over the range of the paper's column (±20° for L = 6,
+    ±30° for L = 8, Sec. III); else what differs.  QA 2026-11-29: an Octopod row over
+    ±20° stood beside the paper's ±30° column, and a grid of 8 positions at a 150 mm
+    step was called "the Table II positions", both without a word."""
+    if not s.get("paper_column"):
+        return ""
+    why, ref = [], table2_grid(0.0)
+    rot = 30.0 if s["L"] == 8 else 20.0
+    if not math.isclose(s["rotation_deg"], rot, abs_tol=1e-6):
+        why.append(f"orientations over ±{s['rotation_deg']:.4g}° (the paper's column: "
+                   f"±{rot:.0f}°)")
+    z = np.asarray(grid.z) - 0.5 * (max(grid.z) + min(grid.z))
+    if not all(len(a) == len(b) and np.allclose(a, b, rtol=0.0, atol=1e-9)
+               for a, b in ((grid.x, ref.x), (grid.y, ref.y), (z, ref.z))):
+        why.append(f"{s['positions']:,} positions, not Table II's 4,096 (±75 mm, step 10 mm)")
+    steps = np.degrees(np.concatenate([np.diff(a) for a in (grid.rx, grid.ry, grid.rz)]))
+    if steps.size and not np.allclose(steps, 5.0, rtol=0.0, atol=1e-6):
+        why.append(f"rotation steps of {float(np.max(steps)):.4g}° (Table II: 5°)")
+    return "; ".join(why)
+
+
 def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
     """Table III and Table IV analogues (markdown), one row per quantity and device.
     A row whose extremes leave unreachable grid poses out says so in "same def." (never
@@ -124,9 +148,13 @@ def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
             if _subset(e):
                 reason = f"{_subset(e)}, the unreachable ones left out" + (
                     "" if reason == "—" else f"; {reason}")
+            cell = _same(same, e)
+            if s.get("unlike_paper") and "paper_min" in e:
+                cell = (f"no: {s['unlike_paper']}; ratio not like for like" if cell == same
+                        else f"{cell}; {s['unlike_paper']}")
             lines.append(f"| {label} [{_unit(q, unit, s)}] | {s['label']} "
                          f"(±{s['rotation_deg']:.0f}°) | "
-                         f"{_same(same, e)} | {ours} | {paper} | {ratio} | {reason} |")
+                         f"{cell} | {ours} | {paper} | {ratio} | {reason} |")
     limits = _limits_text(summaries)
     lines += ["", "Definitions: " + "; ".join(
         f"{lab}: {row_definition(q, sensitivity, limits)[1]}" for q, lab, _ in _ROWS)]
@@ -282,7 +310,8 @@ def _finding_text(f):
 
 
 _NOTES = (
-    "Every row is over the Table II positions (the grid of the scene) and the device's "
+    "Every row is over the positions of the scene's grid (Table II's by default) and the "
+    "device's "
     "orientations (the ± range of each row; the paper: ±20° for L = 6, ±30° for L = 8, "
     "Table IV over ±20°){subset}.  The geometry "
     "the paper does not print (l3, the reading of Fig. 2, the HEXA's and Ergin's "
@@ -298,10 +327,12 @@ def _notes(summaries) -> str:
     part = [f"{s['label']}'s rows {_subset(s) or 'over every pose'}, Table IV "
             f"{_subset(s['isotropy']) or 'over every pose'}"
             for s in summaries if _subset(s) or _subset(s["isotropy"])]
+    unlike = [f"{s['label']}: {s['unlike_paper']}" for s in summaries if s.get("unlike_paper")]
     return _NOTES.replace("{subset}", ", the poses the device reaches only: " + "; ".join(
         part) + " (the unreachable poses are left out, not scored σmin = 0 as a design_sweep's "
         "unreachable = \"zero\" does; the ratios to the paper are not like for like)"
-        if part else "")
+        if part else "") + ("  Not the paper's poses (Table III's ratios not like for like): "
+                            + "; ".join(unlike) + "." if unlike else "")
 
 
 def _units_block(actuators) -> dict:
@@ -393,6 +424,7 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
             s["chunks_resumed"] = int(stats.get("loaded", 0))
             _inner_note(s, d, ctx)
             s["positions_all_orientations_reachable"] = int(np.sum(reach_all))
+            s["unlike_paper"] = _unlike_paper(s, grid)
             summaries.append(s)
             per_all[d.label] = (per, dex["mask"], reach_all, minima)
             grids[d.label] = (grid, dev)

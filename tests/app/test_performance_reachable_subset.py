@@ -106,6 +106,31 @@ def test_full_reach_keeps_same_definition(tmp_path):
     assert dev["reachable_fraction"] == 1.0
     assert dev["reachable_only"] is False and dev["poses_used"] == dev["poses_total"] == 729
     assert all(e["reachable_only"] is False for e in dev["table"].values())
-    assert "reachable poses" not in text and "not like for like" not in text
+    assert "reachable poses" not in text and "unreachable ones left out" not in text
     assert "| octopod | yes |" in text
+    # but not the paper's poses (27 = 3³ positions at ±25 mm, ±10° in steps of 10°), so
+    # no Table III row says "yes" beside the paper's ±30° column (QA 2026-11-29)
+    unlike = ("orientations over ±10° (the paper's column: ±30°); 27 positions, not Table "
+              "II's 4,096 (±75 mm, step 10 mm); rotation steps of 10° (Table II: 5°)")
+    assert dev["unlike_paper"] == unlike
+    rows = [ln for ln in text.splitlines() if ln.startswith("| Continuous force [N] |")]
+    assert rows and all(f"| no: {unlike}; ratio not like for like |" in r for r in rows)
     assert "Table IV over ±20°).  The geometry" in text
+
+
+@pytest.mark.parametrize("L, rot", [(6, 20.0), (8, 30.0)])
+def test_table2_grid_at_the_papers_rotation_is_like_for_like(L, rot):
+    """Table II's grid (Kühne et al.: ±75 mm in steps of 10 mm about home, steps of 5°)
+    over the paper's range of the column (±20° for L = 6, ±30° for L = 8): nothing to
+    say; one step, one rotation or one position off: said."""
+    from distkin.app.study_report import _unlike_paper
+    from distkin.indices.workspace import table2_grid
+    s = {"paper_column": "x", "L": L, "rotation_deg": rot, "positions": 16 ** 3}
+    assert _unlike_paper(s, table2_grid(0.3, rot_deg=rot)) == ""
+    assert "rotation steps of 10°" in _unlike_paper(
+        s, table2_grid(0.3, rot_deg=rot, rot_step_deg=10.0))
+    assert "positions, not Table II's" in _unlike_paper(s, table2_grid(0.3, rot_deg=rot,
+                                                                      step=0.015))
+    other = dict(s, rotation_deg=50.0 - rot)
+    assert f"(the paper's column: ±{rot:.0f}°)" in _unlike_paper(other, table2_grid(
+        0.3, rot_deg=50.0 - rot))
