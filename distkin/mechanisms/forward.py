@@ -33,12 +33,20 @@ and reports:
   (:mod:`.kinematics_tiers`), the pose's error estimate δx (below) through J, and
   rounding), and the rms closure residual is at most ``residual_tol`` (default
   :data:`RESIDUAL_ULPS` eps times a leg length: what float64 leaves of consistent
-  angles; raise it for measured, hence inconsistent, angles of a redundant device).
+  angles; raise it for measured, hence inconsistent, angles of a redundant device),
+  and the inverse kinematics flags every leg valid at the pose (its own ``valid``: the
+  leg closes and, for a leg table with ranges, lies in its joint range or stroke;
+  ``round_trip`` is both checks of the IK);
+* ``in_range`` -- every joint value given lies in its leg's declared ``range`` (a crank
+  modulo 2π, :func:`.legs.in_revolute_range`; a prismatic leg within its stroke): joint
+  values outside their ranges are no configuration of the device, so such an answer is
+  never ``verified`` (the pose solves the closures, nothing more;
+  :func:`check_joint_ranges` refuses them, as the tiers of :mod:`.forward_tiers` do).
 
 It never returns a wrong pose silently: a failed answer says so in ``converged`` /
-``near_singular`` / ``verified`` / ``message`` (``ok`` is all three), and
-``strict=True`` raises instead.  Accuracy of a verified answer (first order, not a
-bound; :func:`pose_error_estimate`): the condition number times (eps x a leg length +
+``near_singular`` / ``verified`` (which includes ``in_range``) / ``message`` (``ok`` is
+all three), and ``strict=True`` raises instead.  Accuracy of a verified answer (first
+order, not a bound; :func:`pose_error_estimate`): the condition number times (eps x a leg length +
 the rms closure residual) in m, and that over the length scale in rad.
 """
 
@@ -50,13 +58,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..argcheck import as_floats
-from ..errors import InputError, NotFoundError, SingularConfigurationError
+from ..errors import InfeasibleError, InputError, NotFoundError, SingularConfigurationError
 from ..spatial import exp_so3, rotate_pose_scalar, rotation_angles, rotation_matrix
 from .description import _poses, _rows, read_only
 
 __all__ = ["FKResult", "forward_kinematics", "gauss_newton", "round_trip",
            "pose_error_estimate", "leg_length", "RESIDUAL_ULPS", "TOL", "MIN_TOL",
-           "check_step_tol", "check_joint_values", "joint_amount"]
+           "check_step_tol", "check_joint_values", "joint_amount", "joint_ranges",
+           "outside_ranges", "check_joint_ranges"]
 
 #: default ``residual_tol`` of :func:`forward_kinematics`: this many eps times a leg
 #: length (:func:`leg_length`; 7.9e-14 m for the Octopod's l3 = 349.7 mm).  Consistent
@@ -86,16 +95,22 @@ class FKResult:
         :mod:`.octahedral_fk`).
     verified : bool array (N,) or bool
         The inverse kinematics at ``pose`` gives back the joint values within the
-        module docstring's tolerance (``round_trip``) and ``residual`` is at most
-        ``residual_tol``.
+        module docstring's tolerance and flags every leg valid (``round_trip``),
+        ``residual`` is at most ``residual_tol``, and the joint values lie in their
+        declared ranges (``in_range``).
     round_trip : bool array (N,) or bool
-        The first half of ``verified`` alone (the answer is on the device's IK branch;
-        for inconsistent angles of a redundant device, their least-squares pose).
+        The inverse kinematics' check alone (the answer is on the device's IK branch,
+        and the IK's own ``valid`` flag holds for every leg there; for inconsistent
+        angles of a redundant device, their least-squares pose).
     q_mismatch : array (N,) or float
         The largest |IK(pose) - q| over the legs (rad, or m for a prismatic leg;
         cranks modulo 2π).
     residual_tol : float
         The residual tolerance used (m).
+    in_range : bool array (N,) or bool
+        Every joint value given lies in its leg's declared range (:func:`outside_ranges`;
+        True for legs without one).  False: not a configuration of the device, and the
+        answer is not ``verified``.
     """
 
     pose: np.ndarray
@@ -111,6 +126,7 @@ class FKResult:
     round_trip: object = False
     q_mismatch: object = math.nan
     residual_tol: float = math.nan
+    in_range: object = True
 
     def __post_init__(self):
         read_only(self)
@@ -200,6 +216,91 @@ def check_joint_values(mech, q, field: str = "q"):
                               "point")
 
 
+def joint_ranges(mech):
+    """The declared joint ranges of ``mech``: (lo, hi) arrays (L,) (rad for a crank, m
+    for a prismatic leg's stroke; -inf, inf for a leg without one), or None when no leg
+    has one (the RSS presets)."""
+    legs = getattr(mech, "leg_table", None)
+    if not legs or all(leg.range is None for leg in legs):
+        return None
+    lo = np.array([-np.inf if leg.range is None else float(leg.range[0]) for leg in legs])
+    hi = np.array([np.inf if leg.range is None else float(leg.range[1]) for leg in legs])
+    return lo, hi
+
+
+def outside_ranges(mech, q):
+    """Which joint values ``q`` (L,) or (N, L) (rad, or m for a prismatic leg) lie
+    outside their leg's declared range: a bool array of q's shape.  A crank angle is in
+    its range when some q + 2πk is (:func:`.legs.in_revolute_range`, as the inverse
+    kinematics' ``valid`` and the control code read it); a prismatic leg's length when
+    min <= q <= max (the stroke; the IK's reach margin (q - min)(max - q) >= 0).  NaN is
+    outside a declared range; a leg without one is never outside."""
+    from .legs import in_revolute_range
+    qa = np.asarray(q, dtype=float)
+    r = joint_ranges(mech)
+    if r is None:
+        return np.zeros(qa.shape, dtype=bool)
+    lo, hi = r
+    pris = mech.leg_arrays()["prismatic"]
+    ranged = np.isfinite(lo) | np.isfinite(hi)
+    with np.errstate(invalid="ignore"):
+        inside = np.where(pris, (qa >= lo) & (qa <= hi), in_revolute_range(qa, lo, hi))
+    return ranged & ~inside
+
+
+def _range_excess(q, lo, hi, prismatic):
+    """How far the joint value ``q`` (float) lies beyond the range [``lo``, ``hi``]: the
+    distance to the stroke (m), or to the nearer end of the arc modulo 2π (rad)."""
+    if prismatic:
+        return max(lo - q, q - hi, 0.0)
+    two_pi = 2.0 * math.pi
+    qs = q + two_pi * math.ceil((lo - q) / two_pi)       # the shift into [lo, lo + 2π)
+    return max(min(qs - hi, lo + two_pi - qs), 0.0)
+
+
+def check_joint_ranges(mech, q, field: str = "q", units=None):
+    """Refuse joint values outside their legs' declared ranges (:func:`outside_ranges`):
+    they are no configuration of the device, so no tier of the forward kinematics
+    answers them (the inverse kinematics flags such a leg not ``valid``, the control
+    code's end stops hold the joints inside them, and ``certify_workspace`` encloses the
+    ranges).  ``q`` (L,) or (N, L), rad or m; ``units`` {"length": (name, factor from
+    m), "angle": (name, factor from rad)} for the message (default SI).
+
+    Raises
+    ------
+    InfeasibleError
+        naming ``field[j]`` (or ``field[i][j]``) of the first leg outside, its value and
+        range in ``units``, the other legs outside, and (``margin``) how far beyond the
+        range it lies (m or rad).
+    """
+    out = outside_ranges(mech, q)
+    if not out.any():
+        return
+    qa = np.atleast_2d(np.asarray(q, dtype=float))
+    out2 = np.atleast_2d(out)
+    i = int(np.argmax(out2.any(axis=1)))
+    bad = np.flatnonzero(out2[i])
+    j = int(bad[0])
+    lo, hi = joint_ranges(mech)
+    pris = bool(mech.leg_arrays()["prismatic"][j])
+    name, f = (units or {"length": ("m", 1.0), "angle": ("rad", 1.0)})[
+        "length" if pris else "angle"]
+    v = float(qa[i, j])
+    excess = math.inf if math.isnan(v) else _range_excess(v, lo[j], hi[j], pris)
+    what = "length" if pris else "angle"
+    where = f"[{j}]" if np.ndim(q) == 1 else f"[{i}][{j}]"
+    others = [int(k) + 1 for k in bad[1:]]
+    raise InfeasibleError(
+        f"expected every joint value within its leg's declared range, got leg {j + 1}'s "
+        f"{what} {v * f:.6g} {name} outside its range [{lo[j] * f:.6g}, {hi[j] * f:.6g}] "
+        f"{name} ({excess * f:.3g} {name} beyond it)"
+        + (f", and legs {others} outside theirs" if others else "")
+        + ": not a configuration of the device, so there is no pose to give",
+        field=field + where, margin=excess,
+        hint="check the joint values and their units against the legs' ranges "
+             "(mechanism.leg range)")
+
+
 def joint_amount(values, prismatic, *, length=("m", 1.0), angle=("rad", 1.0)) -> str:
     """The largest of ``values`` (L,) (joint differences: rad for a crank, m for a
     prismatic leg, NaN counted as inf) with its unit, per joint type: ``"2.28 rad"``,
@@ -256,7 +357,10 @@ def forward_kinematics(mech, q, guess=None, *, tol=TOL, max_iter=50, max_conditi
         Raise :class:`~distkin.errors.SingularConfigurationError` (near a singularity)
         or :class:`~distkin.errors.NotFoundError` (field ``guess``: no convergence, or an
         answer that fails verification, from that start; not a proof that no pose
-        exists) instead of returning a flagged answer.
+        exists) instead of returning a flagged answer; first
+        :class:`~distkin.errors.InfeasibleError` for joint values outside their legs'
+        declared ranges (:func:`check_joint_ranges`; without ``strict`` they are
+        solved and flagged: ``in_range`` and ``verified`` False).
 
     Returns
     -------
@@ -338,29 +442,48 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
     _, smin, cond = _solve(out[..., 1:], out[..., 0], scale)
     cond = np.where(np.isfinite(cond), cond, np.inf)
     near = cond > max_condition
-    mismatch, allowed = round_trip(mech, qa, X, pose_error_estimate(mech, cond, res))
-    back = np.all(mismatch <= allowed, axis=-1)          # False where nan
+    mismatch, allowed, ik_valid = round_trip(mech, qa, X, pose_error_estimate(mech, cond, res),
+                                             with_valid=True)
+    gives_back = np.all(mismatch <= allowed, axis=-1)    # False where nan
+    flagged = ~np.all(ik_valid, axis=-1)                 # the IK calls a leg not valid
+    back = gives_back & ~flagged
     small = res <= residual_tol
-    verified = back & small
+    outside = outside_ranges(mech, qa)                   # (N, L)
+    in_range = ~outside.any(axis=-1)
+    verified = back & small & in_range
     ok = done & ~near & verified
     worst = np.max(np.where(np.isnan(mismatch), np.inf, mismatch), axis=-1)
     failed = done & ~verified
     pris = mech.leg_arrays()["prismatic"]
     ls = float(mech.length_scale)
-    msg = (f"{int(ok.sum())} of {N} solved (converged: step < tol x length scale = {tol:g} "
-           f"x {ls:.3g} m; verified)"
+    flag_only = done & gives_back & flagged & in_range
+    missed = done & ~gives_back
+    outside_legs = sorted(int(j) + 1 for j in np.flatnonzero(outside.any(axis=0)))
+    flagged_legs = sorted(int(j) + 1
+                          for j in np.flatnonzero((~ik_valid[flag_only]).any(axis=0)))
+    msg = (f"{int(ok.sum())} of {N} solved (a solved pose: Gauss-Newton converged, step < "
+           f"tol x length scale = {tol:g} x {ls:.3g} m, verified by the round trip and "
+           f"in range, not near a singularity)"
            + (f"; {int((~done).sum())} did not converge in {max_iter} iterations"
               if (~done).any() else "")
            + (f"; {int(near.sum())} near a singularity (condition > {max_condition:g})"
               if near.any() else "")
-           + (f"; {int((done & ~back).sum())} converged to a pose whose inverse kinematics "
+           + (f"; {int((~in_range).sum())} with joint values outside their legs' declared "
+              f"ranges (legs {outside_legs}): not a configuration of the device, the pose "
+              f"only solves the leg closures, not verified" if (~in_range).any() else "")
+           + (f"; {int(missed.sum())} converged to a pose whose inverse kinematics "
               f"does not give back the joint values (by up to "
-              f"{joint_amount(np.max(mismatch[done & ~back], axis=0), pris)}: another crank branch or a "
-              f"least-squares minimum, not a solution)" if (done & ~back).any() else "")
+              f"{joint_amount(np.max(mismatch[missed], axis=0), pris)}: another crank "
+              f"branch or a least-squares minimum, not a solution)" if missed.any() else "")
+           + (f"; {int(flag_only.sum())} converged to a pose where the inverse kinematics "
+              f"flags legs {flagged_legs} not valid (at a reach boundary or a range end "
+              f"within rounding; not verified)" if flag_only.any() else "")
            + (f"; {int((done & ~small).sum())} with an rms closure residual above "
               f"residual_tol = {residual_tol:.3g} m (inconsistent angles, or no solution "
               f"near the guess)" if (done & ~small).any() else "")
            + f"; rms closure residual up to {float(res.max(initial=0.0)):.3g} m")
+    if strict and (~in_range).any():
+        check_joint_ranges(mech, qa[0] if single else qa)
     if strict and failed.any():
         i = int(np.argmax(failed))
         raise NotFoundError(
@@ -386,9 +509,9 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
     if single:
         return FKResult(X[0], bool(done[0]), int(iters[0]), float(res[0]), float(smin[0]),
                         float(cond[0]), bool(near[0]), msg, None, bool(verified[0]),
-                        bool(back[0]), float(worst[0]), residual_tol)
+                        bool(back[0]), float(worst[0]), residual_tol, bool(in_range[0]))
     return FKResult(X, done, iters, res, smin, cond, near, msg, None, verified, back, worst,
-                    residual_tol)
+                    residual_tol, in_range)
 
 
 def leg_length(mech) -> float:
@@ -414,10 +537,13 @@ def pose_error_estimate(mech, condition, residual):
                            np.repeat(e / float(mech.length_scale), 3, axis=1)], axis=1)
 
 
-def round_trip(mech, q, poses, pose_error):
+def round_trip(mech, q, poses, pose_error, *, with_valid: bool = False):
     """The check of an answer of the forward kinematics (module docstring): the
     closed-form inverse kinematics at ``poses`` (N, 6) against the joint values ``q``
-    (N, L) (rad or m).
+    (N, L) (rad or m).  ``with_valid``: also return the IK's own ``valid`` flags at
+    ``poses`` (:meth:`~.kinematics.KernelMethods.inverse_kinematics`: the leg closes,
+    lies in its joint range or stroke, and a prismatic leg has a length), which the
+    round trip requires as well: an IK value flagged not valid is no answer to compare.
 
     Returns
     -------
@@ -429,6 +555,8 @@ def round_trip(mech, q, poses, pose_error):
         branch point).  A leg on the other IK branch misses by the distance between the
         branches (about a radian; they meet only at the reach boundary, where the IK's
         estimate grows to match).
+    valid : bool array (N, L)
+        Only with ``with_valid``: the IK's ``valid`` at ``poses``.
     """
     from .kinematics_tiers import _fast_ik_error
     X = np.atleast_2d(np.asarray(poses, dtype=float))
@@ -443,7 +571,10 @@ def round_trip(mech, q, poses, pose_error):
                    + np.einsum("nlk,nk->nl", np.abs(J), np.asarray(pose_error, dtype=float))
                    + 8 * np.finfo(float).eps * np.maximum(1.0, np.abs(q)))
     # nan: 0/0 where Jq_ii = 0 exactly, the branch point, where both branches meet
-    return np.abs(d), np.where(np.isnan(allowed), np.inf, allowed)
+    allowed = np.where(np.isnan(allowed), np.inf, allowed)
+    if with_valid:
+        return np.abs(d), allowed, mech._valid(qi, reach)
+    return np.abs(d), allowed
 
 
 def gauss_newton(closure, q, pose, *, tol, max_iter, scale=None):

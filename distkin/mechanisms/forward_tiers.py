@@ -38,9 +38,18 @@ derivative with respect to p is :math:`[\partial\Phi/\partial v,\;
     singularity (two assembly modes about to merge) the test refuses:
     :class:`~distkin.errors.UncertifiedError`, never a wrong box.
 
+Joint values outside their legs' declared ranges (a leg table's ``range``: a crank's
+arc modulo 2π, a prismatic leg's stroke) are no configuration of the device: every tier
+refuses them before it solves (:func:`.forward.check_joint_ranges`,
+:class:`~distkin.errors.InfeasibleError` naming the leg, its value and its range), so no
+pose outside them is given an accuracy or called certified.  (The batched fast solver
+:func:`.forward.forward_kinematics` solves them and flags them: ``in_range`` and
+``verified`` False.)
+
 The precise and certified poses pass the same round trip as the fast one (float64, the
 closed-form IK at the tier's pose against the joint values, within their closure
-errors over the crank's lever and the tier's error through J): the closures alone
+errors over the crank's lever and the tier's error through J, and the IK's own
+``valid`` flag for every leg at that pose): the closures alone
 hold on either crank branch of the IK, so a pose on the other branch (a start on it) is
 refused with :class:`~distkin.errors.NotFoundError` (field ``guess``: no pose found from
 that start, which proves nothing about other starts), not proved.
@@ -54,8 +63,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..argcheck import as_floats
-from ..errors import (InputError, NotFoundError, SingularConfigurationError,
-                      UncertifiedError)
+from ..errors import (InfeasibleError, InputError, NotFoundError,
+                      SingularConfigurationError, UncertifiedError)
 from ..exact import check_method, float_mpf
 from .description import read_only
 from .kinematics_tiers import BITS, check_bits, check_dps
@@ -188,8 +197,9 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
     qa = as_floats(q, "q", f"{mech.legs} joint values (rad, or m for prismatic legs)")
     if qa.shape != (mech.legs,):
         raise InputError(f"expected {mech.legs} joint values, got shape {qa.shape}", field="q")
-    from .forward import check_joint_values
+    from .forward import check_joint_ranges, check_joint_values
     check_joint_values(mech, qa)
+    check_joint_ranges(mech, qa, units=units)     # no configuration: no tier answers
     if fast is None:
         fast = forward_kinematics(mech, qa, guess, **options)
     if method != "fast" and not np.all(np.isfinite(fast.pose)):
@@ -233,16 +243,38 @@ def _refusal(mech, what, mismatch, detail, units=None):
         margin=worst, hint="another guess, near the device's pose")
 
 
+def _flagged(mech, what, valid, mismatch, units=None):
+    """:class:`NotFoundError` for a pose whose IK gives back the joint values but flags
+    legs not valid (``valid`` (L,) False; :func:`.forward.round_trip`): the joint values
+    are in range (:func:`.forward.check_joint_ranges` refused the others), so the IK
+    there lies past a reach boundary or a range end by no more than its tolerance."""
+    from .forward import joint_amount
+    legs = [int(i) + 1 for i in np.flatnonzero(~np.asarray(valid, dtype=bool))]
+    amount = joint_amount(np.asarray(mismatch, dtype=float),
+                          mech.leg_arrays()["prismatic"], **(units or _SI_SHOWN))
+    return NotFoundError(
+        f"expected a pose at which the inverse kinematics flags every leg valid, got "
+        f"{what} where it flags legs {legs} not valid (the leg does not close there, or "
+        f"its IK value is outside its joint range), though it gives back the joint values "
+        f"within {amount}: the pose is at a reach boundary or a range end within "
+        f"rounding, and not verified", field="guess", margin=float(np.nanmax(mismatch)),
+        hint="joint values a little inside the range end or reach boundary")
+
+
 def _check_round_trip(mech, q, pose, error, method, units=None):
-    """:class:`NotFoundError` unless the closed-form IK at ``pose`` gives back ``q``
-    (:func:`.forward.round_trip`, with the pose's ``error`` (6,))."""
+    """:class:`NotFoundError` unless the closed-form IK at ``pose`` gives back ``q`` and
+    flags every leg valid there (:func:`.forward.round_trip`, with the pose's ``error``
+    (6,))."""
     from .forward import round_trip
-    mismatch, allowed = round_trip(mech, q, pose, np.asarray(error, dtype=float)[None])
+    mismatch, allowed, valid = round_trip(mech, q, pose, np.asarray(error, dtype=float)[None],
+                                          with_valid=True)
     bad = ~(mismatch[0] <= allowed[0])
     if bad.any():
         legs = [int(i) + 1 for i in np.flatnonzero(bad)]
         raise _refusal(mech, f"a {method} pose", np.where(bad, mismatch[0], 0.0),
                        f"legs {legs}", units)
+    if not valid[0].all():
+        raise _flagged(mech, f"a {method} pose", valid[0], mismatch[0], units)
 
 
 def fast_tier(mech, fast, q=None, units=None) -> TieredFK:
@@ -251,14 +283,28 @@ def fast_tier(mech, fast, q=None, units=None) -> TieredFK:
     :class:`NotFoundError` when the answer fails the round trip (``fast.round_trip``,
     :func:`.forward.round_trip`): no accuracy is stated for a wrong pose.  ``q`` (L,):
     the joint values ``fast`` answered (the refusal then states the mismatch per joint
-    type; without them, the largest one for every leg).  ``units``:
+    type; without them, the largest one for every leg), first checked against their
+    legs' declared ranges (:func:`.forward.check_joint_ranges`:
+    :class:`~distkin.errors.InfeasibleError`, as without them for ``fast.in_range``
+    False).  ``units``:
     {"length": (name, factor from m), "angle": (name, factor from rad)}, the units of
     the refusal's numbers (default SI)."""
-    from .forward import pose_error_estimate, round_trip
+    from .forward import check_joint_ranges, pose_error_estimate, round_trip
     err = pose_error_estimate(mech, fast.condition, fast.residual)
+    if q is not None:
+        check_joint_ranges(mech, np.asarray(q, dtype=float), units=units)
+    elif not fast.in_range:
+        raise InfeasibleError("expected joint values within their legs' declared ranges, "
+                              f"got a fast answer flagged outside them: {fast.message}",
+                              field="q", hint="pass q to name the legs")
     if not fast.round_trip:
-        mismatch = (round_trip(mech, np.asarray(q, dtype=float)[None],
-                               np.asarray(fast.pose)[None], err)[0][0] if q is not None else np.full(mech.legs, float(fast.q_mismatch)))
+        mismatch, allowed, valid = (
+            round_trip(mech, np.asarray(q, dtype=float)[None], np.asarray(fast.pose)[None],
+                       err, with_valid=True) if q is not None else
+            (np.full((1, mech.legs), float(fast.q_mismatch)), None, None))
+        mismatch = mismatch[0]
+        if allowed is not None and np.all(mismatch <= allowed[0]) and not valid[0].all():
+            raise _flagged(mech, "a fast pose", valid[0], mismatch, units)
         lu, lf = (units or _SI_SHOWN)["length"]
         raise _refusal(mech, "a fast pose", mismatch,
                        f"the fast tier's Gauss-Newton pose: "

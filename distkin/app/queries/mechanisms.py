@@ -63,9 +63,14 @@ legs' closure errors bounded over the box) or refuses (near a direct singularity
 JSON adds ``method``, ``pose_error`` (m, rad per coordinate: estimate or proved radius),
 ``certified``, ``legs`` and, certified, ``other_legs_closure_bound`` (m) and
 ``contraction``, and the fast answer's check (:mod:`distkin.mechanisms.forward`):
-``verified`` (the round trip and the rms closure residual within ``residual_tol``, m),
-``round_trip`` (the closed-form IK at the pose gives back the angles) and ``q_mismatch``
-(the largest |IK(pose) - angle|, rad; m for a prismatic leg).  A pose that fails the
+``verified`` (the round trip, the rms closure residual within ``residual_tol``, m, and
+the joint values in range), ``round_trip`` (the closed-form IK at the pose gives back the
+angles and flags every leg valid there), ``in_range`` (every joint value within its
+leg's declared ``range``) and ``q_mismatch`` (the largest |IK(pose) - angle|, rad; m for
+a prismatic leg).  Joint values outside their legs' declared ranges are no
+configuration of the device: every tier refuses them before solving, an ``infeasible``
+error naming ``angles[j]``, the leg, its value and its range in the scene's units
+(:func:`distkin.mechanisms.forward.check_joint_ranges`).  A pose that fails the
 round trip (another crank branch, or a least-squares minimum) is a ``not_found`` error
 naming ``guess`` in every tier (below); measured, hence inconsistent, angles of an L > 6 mechanism
 give their least-squares pose, reported with ``verified`` false unless the query's
@@ -428,10 +433,11 @@ def _verified_line(res, angles, mech, scene, method: str) -> str:
     both numbers in the scene's units."""
     lu, au, lf, af = _units(scene)
     what = _joint_word(mech)
-    trip = (f"round trip ok (the inverse kinematics at the pose gives back the {what})"
+    trip = (f"round trip ok (the inverse kinematics at the pose gives back the {what}) "
+            f"and every leg valid there (the IK's own flag)"
             if res.round_trip else
             f"round trip FAILED (the inverse kinematics at the pose does not give back "
-            f"the {what})")
+            f"the {what}, or flags a leg not valid there)")
     small = res.residual <= res.residual_tol
     resid = (f"rms closure residual {res.residual * lf:.3g} {lu} "
              + ("<=" if small else "ABOVE") + f" residual_tol {res.residual_tol * lf:.3g} {lu}"
@@ -440,9 +446,18 @@ def _verified_line(res, angles, mech, scene, method: str) -> str:
                                  "from this start; another guess tells them apart)"))
     other = ("" if method == "fast" else
              f"; the {method} pose passes the same round trip")
+    if _ranged(mech):                      # (the query refuses values outside the ranges)
+        other += (f"; {what} within the legs' declared ranges" if res.in_range else
+                  f"; {what} OUTSIDE the legs' declared ranges")
     return (f"verified (fast tier): {'yes' if res.verified else 'no'}: {trip}, largest "
             f"|IK(pose) - {what[:-1]}| "
             f"{_mismatch_text(res, angles, mech, scene)}; {resid}{other}")
+
+
+def _ranged(mech) -> bool:
+    """Whether some leg of ``mech`` declares a joint range (a leg table's ``range``)."""
+    from ...mechanisms.forward import joint_ranges
+    return joint_ranges(mech) is not None
 
 
 def _joint_word(mech) -> str:
@@ -502,6 +517,12 @@ class ForwardKinematicsQuery:
     def run(p, scene, ctx):
         mech = scene.mechanism
         guess = np.array(p.guess) if p.guess is not None else mech.home
+        from ...mechanisms.forward import check_joint_ranges
+        lu, au, lf, af = _units(scene)
+        # outside their ranges the joint values are no configuration: refused in every
+        # tier, in the scene's units (the tiers check again, with field "q")
+        check_joint_ranges(mech, np.array(p.angles), field="angles",
+                           units={"length": (lu, lf), "angle": (au, af)})
         res = mech.forward_kinematics(np.array(p.angles), guess, tol=p.tol, max_iter=p.max_iter,
                                       residual_tol=p.residual_tol)
         if res.modes is not None and len(res.modes) == 0:      # the octic proved it
@@ -565,6 +586,7 @@ class ForwardKinematicsQuery:
                   "guess": guess, "method": p.method,
                   "pose_error": err, "certified": tier.certified, "legs": list(tier.legs),
                   "verified": res.verified, "round_trip": res.round_trip,
+                  "in_range": res.in_range,
                   "q_mismatch": res.q_mismatch, "residual_tol": res.residual_tol,
                   "unit": {"pose": "m, rad", "residual": "m", "pose_error": "m, rad",
                            "angles": _joint_unit(mech), "joint_values": _joint_unit(mech),
