@@ -45,8 +45,8 @@ def design_sweep_report(p, scene, ctx, *, store, executor):
     ties = r["ties"]
 
     def show(name, v):
-        return f"{name} = {v * 1e3:.1f} mm" if name in ("l2", "ld") else \
-            f"{name} = {math.degrees(v):.1f}°"
+        return f"{name} = {_digits(v * 1e3)} mm" if name in ("l2", "ld") else \
+            f"{name} = {_digits(math.degrees(v))}°"
 
     def show_design(d):
         return ", ".join(show(k, v) for k, v in d.items())
@@ -298,6 +298,13 @@ MAX_SWEEP_DESIGNS = 10_000
 #: paper's own sweep, Table I × Table II = 560 × 2,985,984 (the query's default, hours on
 #: 2 cores); the query's ``max_evaluations`` lifts it
 MAX_SWEEP_EVALUATIONS = 2_000_000_000
+
+
+def _digits(x: float) -> str:
+    """A design parameter (mm or °) as Table I writes it, one decimal ("20.0"), or with
+    the digits it needs when one decimal would hide it ("0.02", not "0.0": QA, a sweep
+    of ld = [0.02, 0.04, 0.005] in a mm scene said "ld = 0.0 mm")."""
+    return f"{x:.1f}" if abs(x - round(x, 1)) <= 1e-9 * max(1.0, abs(x)) else f"{x:.6g}"
 
 
 def _in_units(value_si, units, angle):

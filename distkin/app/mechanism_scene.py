@@ -28,11 +28,12 @@ from ..argcheck import check_keys, choice, require
 from ..errors import InputError
 from ..exact import exact_to_float, parse_exact
 from ..mechanisms.legs import GeometryWarning
-from ..mechanisms.presets import PRESETS, SLIP_RATIO, slip_ratios
+from ..mechanisms.presets import PRESETS, SLIP_RATIO, slip_ratio, slip_ratios
 from ..mechanisms.rss import preset
 from .units import angle_factor, length_factor
 
-__all__ = ["parse_rss", "unit_slips", "LENGTHS", "ANGLES", "SLIP_RATIO"]
+__all__ = ["parse_rss", "unit_slips", "length_slips", "warn_slips", "LENGTHS", "ANGLES",
+           "SLIP_RATIO"]
 
 LENGTHS = ("l0", "l1", "l2", "l3", "lp", "ld", "z0")
 ANGLES = ("beta", "gamma")
@@ -95,21 +96,46 @@ def unit_slips(name, over, table, units, field) -> list[str]:
     line per override more than :data:`SLIP_RATIO` times off the preset's value (0.152
     for l0 = 152 mm in a mm scene).  ``over`` holds the overrides in SI, ``table`` as
     written."""
-    lf = 1.0 / float(units.length_factor)
     lines = []
     for k, _v, b, ratio, unit in slip_ratios(name, over):
         if k in LENGTHS:
-            shown = (f"{table[k]} {units.length} is {ratio:.3g} x the preset's "
-                     f"{b * lf:.6g} {units.length}")
-            why = f"a length in another unit? the scene's [units] length is \"{units.length}\""
+            lines.append(_length_line(f"{field}.{k}", table[k], ratio, b, "the preset's",
+                                      units))
         else:
-            shown = f"{table[k]} {unit} is {ratio:.3g} x the preset's {b:.6g} {unit}"
-            why = f"{k} is in {unit} (SI) whatever the scene's units"
-        lines.append(f"{field}.{k}: {shown} ({why})")
+            lines.append(f"{field}.{k}: {table[k]} {unit} is {ratio:.3g} x the preset's "
+                         f"{b:.6g} {unit} ({k} is in {unit} (SI) whatever the scene's units)")
     return lines
+
+
+def length_slips(checks, units) -> list[str]:
+    """The same test and words for the other lengths of a scene: one line per
+    ``(field, written, value, reference, what)`` whose SI ``value`` is more than
+    :data:`SLIP_RATIO` times off the SI ``reference`` (``what`` names it, e.g. "the
+    device's length scale"; :func:`~distkin.mechanisms.presets.slip_ratio`), worded in
+    the scene's units with the value as ``written``: a study grid's half and step
+    (0.025 for 25 mm in a mm scene), a design sweep's ranges."""
+    lines = []
+    for fld, written, value, reference, what in checks:
+        ratio = slip_ratio(value, reference)
+        if ratio is not None:
+            lines.append(_length_line(fld, written, ratio, reference, what, units))
+    return lines
+
+
+def _length_line(fld, written, ratio, reference, what, units):
+    lf = 1.0 / float(units.length_factor)
+    return (f"{fld}: {written} {units.length} is {ratio:.3g} x {what} {reference * lf:.6g} "
+            f"{units.length} (a length in another unit? the scene's [units] length is "
+            f"\"{units.length}\")")
+
+
+def warn_slips(lines):
+    """Lines of :func:`unit_slips` or :func:`length_slips` as warnings on stderr, one
+    line each (a line said once: devices of one size share their grid's)."""
+    for line in dict.fromkeys(lines):
+        print(f"distkin: warning: {line}", file=sys.stderr, flush=True)
 
 
 def _warn_unit_slips(name, over, table, units, field):
     """:func:`unit_slips` as warnings, one line each on stderr."""
-    for line in unit_slips(name, over, table, units, field):
-        print(f"distkin: warning: {line}", file=sys.stderr, flush=True)
+    warn_slips(unit_slips(name, over, table, units, field))

@@ -351,6 +351,13 @@ def _units_block(actuators) -> dict:
             "devices[].rotation_deg": "deg", "seconds": "s (wall)"}
 
 
+def _cm3(volume_m3: float) -> str:
+    """A volume (m³) in cm³: whole cm³ from 0.5 cm³ on, else the digits it needs (a grid
+    of 0.025 mm cells, a unit slip, said "0 cm³ of 0 cm³": QA)."""
+    x = volume_m3 * 1e6
+    return f"{x:.0f}" if x >= 0.5 or x == 0 else f"{x:.3g}"
+
+
 def _refuse_unreachable(summaries, grids, scene):
     """A study none of whose devices reaches a pose of its grid has no capability to
     report: an InfeasibleError (exit 2, "a query whose data admit no answer"), naming each
@@ -463,8 +470,8 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
                         "run store, computed by an earlier run)" if s["chunks_resumed"] else "")
                      + "; dexterous workspace "
                      f"{dw['cells']} of {dw['cells_total']} grid cells = "
-                     f"{dw['volume_m3'] * 1e6:.0f} cm³ of {dw['grid_volume_m3'] * 1e6:.0f} cm³ "
-                     f"({dw['volume_nodes_m3'] * 1e6:.0f} cm³ by dual cells)"
+                     f"{_cm3(dw['volume_m3'])} cm³ of {_cm3(dw['grid_volume_m3'])} cm³ "
+                     f"({_cm3(dw['volume_nodes_m3'])} cm³ by dual cells)"
                      + (f"; {2e3 * cert.get('cube_half_m', 0.075):.4g} mm cube about home "
                         f"at its rotation certified {cert['zero_rotation_cube']}"
                         if cert else ""))

@@ -21,21 +21,39 @@ points of the parts of ``{Jᵀ τ}`` (eq. (6)).  "Part" has two meanings:
     of the zonotope (the 2^L vertices, :func:`distkin.indices.best_case_output`).  It is
     never smaller than the slice and about twice the paper's values on the presets.
 
-At a singular Jacobian (σmin/σmax of J below :data:`~.zonotope.RANK_TOL`) a twist ẋ
-with J ẋ = 0 moves the platform with the actuators locked, so a twist sensitivity
-whose part that motion reaches is **+inf** (unbounded), the limit of its regular
-neighbours, in every mode and for every L: in slice mode where the null space of J
-holds a vector whose other part is zero (e.g. J e_z = 0: translation along z at zero
-rotation), in projection mode where a null vector has a nonzero component in the part
-(components below 1e-9 of a unit null vector count as zero, as in
-:func:`.zonotope._flat_worst`).  J# = pinv(J) would truncate that direction and give a
-finite value that depends on nothing near it (and a projection smaller than the
-slice).  Otherwise the values are those of the set of eq. (5) with the Moore-Penrose
-J#, which is discontinuous at a singular J (the limits from regular neighbours depend on
-the direction of approach) wherever J# is used, in projection mode and for L > 6 in
-slice mode: such poses warn
-(:class:`~distkin.errors.ConditioningWarning`), and nearly singular ones, where float64
-cannot give the value, are NaN.  The force and torque sensitivities stay finite
+At an exactly singular Jacobian (σmin/σmax of J at the rounding level,
+:func:`~.zonotope.flat_tol`) a twist ẋ with J ẋ = 0 moves the platform with the
+actuators locked, so a twist sensitivity whose part that motion reaches is **+inf**
+(unbounded), the limit of its regular neighbours, in every mode and for every L: in
+slice mode where the null space of J holds a vector whose other part is zero (e.g.
+J e_z = 0: translation along z at zero rotation), in projection mode where a null
+vector has a nonzero component in the part.  J# = pinv(J) would truncate that direction
+and give a finite value that depends on nothing near it (and a projection smaller than
+the slice).  A *nearly* singular J (flat_tol < σmin/σmax <= :data:`~.zonotope.RANK_TOL`)
+has bounded sets, every value finite (about 1/σmin where the near-null twist reaches
+the part), but float64 cannot give them where they are computed from ~1/σmin entries:
+those values are NaN with a :class:`~distkin.errors.ConditioningWarning`, never +inf.
+
+How each route decides, for the poses with σmin/σmax <= RANK_TOL:
+
+* the L = 6 slice (the slab route) works on J itself: the slice of the part S is
+  ``{u : |J_S u|∞ <= 1}``, which depends on the three columns J_S alone, so κ_S =
+  σmin/σmax of J_S (never below that of J) decides: +inf at κ_S <= flat_tol(3, 6)
+  (J_S u = 0, i.e. the null twist (u, 0) of J); NaN with a warning for flat_tol < κ_S
+  <= RANK_TOL (the slab is bounded, about 1/σmin of J_S, but its vertices and their
+  feasibility come from cancellation); otherwise the value,
+  finite and continuous in J (relative error about 1e-16 / κ_S), without a warning,
+  at an exactly singular J too (e.g. a null twist with both parts, or the
+  translational slice of J whose null twist is a pure rotation);
+* the J# routes (projection mode, and L > 6 in slice mode): at an exactly singular J,
+  +inf where a null vector reaches the part (components below 1e-9 of a unit null
+  vector count as zero, as in :func:`.zonotope._flat_worst`), and otherwise the values
+  of the set of eq. (5) with the Moore-Penrose J#, which is discontinuous at a singular
+  J (the limits from regular neighbours depend on the direction of approach): such
+  poses warn; at a nearly singular J both twist sensitivities are NaN, with a warning
+  (pinv(J) has entries ~1/σmin).
+
+The force and torque sensitivities stay finite
 (Jᵀ·box is flat there, not unbounded).
 
 .. [1] P. Cardou, S. Bouchard, C. Gosselin, "Kinematic-sensitivity indices for
@@ -88,9 +106,11 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False,
     method : "fast"
         The only tier (float64; "precise" and "certified" are refused, :mod:`.tiers`).
         Accuracy of the fast answer: relative error about 1e-16 / κ of J for the twist
-        sensitivities (J# = pinv(J); the L = 6 slice works on J itself), 1e-16 for the
-        force and torque ones; NaN with a ConditioningWarning at a nearly singular J
-        (flat_tol < κ <= RANK_TOL, QA Z2 3); inputs scaled by powers of two into range
+        sensitivities (J# = pinv(J); the L = 6 slice works on J itself: 1e-16 / κ_S,
+        κ_S = σmin/σmax of the part's columns J_S), 1e-16 for the force and torque
+        ones; NaN with a ConditioningWarning at a nearly singular J (flat_tol < κ <=
+        RANK_TOL, QA Z2 3; for the L = 6 slice where κ_S is in that band, module
+        docstring); inputs scaled by powers of two into range
         (:mod:`.float_scale`), a result beyond float64 warns.
 
     Returns
@@ -98,8 +118,8 @@ def max_sensitivities(J, mode: str = "slice", *, twist=None, walk: bool = False,
     dict of ndarray (N,) (of floats for one J (L, 6))
         ``translational`` [m/rad], ``rotational`` [rad/rad], ``force`` [N/(N·m)],
         ``torque`` [(N·m)/(N·m)].  Exact up to float64 rounding (vertex enumeration);
-        +inf for a twist sensitivity that a null twist of a singular J reaches (module
-        docstring).
+        +inf for a twist sensitivity that a null twist of an exactly singular J
+        reaches, NaN for one a nearly singular J leaves to float64 (module docstring).
 
     Raises
     ------
@@ -198,23 +218,65 @@ def _max_sensitivities(J, mode, twist, walk, kappa):
         kappa = np.divide(s[:, -1], s[:, 0], out=np.zeros(N), where=s[:, 0] > 0)
     kappa = np.asarray(kappa, dtype=float).reshape(N)
     sing = np.flatnonzero(~(kappa > RANK_TOL))
-    if len(sing):
+    if len(sing) and not need_pinv:
+        # the slab route: its slices depend on J_S alone (σmin/σmax of J_S >= that of J)
+        _flag_singular_slabs(out, J[sing], sing, N)
+    elif len(sing):
         unb, deficient = _null_twist_reaches(J[sing], mode)
         for a, name in enumerate(("translational", "rotational")):
             out[name][sing[unb[:, a]]] = np.inf
-        if need_pinv:
-            # the poses whose own SVD finds the rank deficiency (a caller's kappa of 0
-            # at a regular J, e.g. the study's for σ that overflowed, flags nothing)
-            _flag_near_singular(out, sing[deficient], unb[deficient], kappa[sing][deficient],
-                                J.shape[1], N)
+        # the poses whose own SVD finds the rank deficiency (a caller's kappa of 0 at a
+        # regular J, e.g. the study's for σ that overflowed, flags nothing)
+        _flag_near_singular(out, sing[deficient], unb[deficient], kappa[sing][deficient],
+                            J.shape[1], N)
     return out
+
+
+def _flag_singular_slabs(out, J, idx, N):
+    """The L = 6 slice route at the poses ``idx`` whose J is singular or nearly so
+    (σmin/σmax <= RANK_TOL): the slice of a part S is the slab polytope
+    ``{u : |J_S u|∞ <= 1}`` (:func:`.slice_farthest.slab_farthest_unit`), so its value
+    is decided by J_S (6 × 3) alone, by κ_S = σmin/σmax of J_S:
+
+    * κ_S <= :func:`.zonotope.flat_tol` (3, 6): J_S u = 0 for some u (to the rounding of
+      its entries), i.e. a null twist (u, 0) of J reaches the part: unbounded, +inf;
+    * flat_tol < κ_S <= RANK_TOL: the slab is bounded (its farthest point is about
+      1/σmin of J_S) but its vertices solve 3 × 3 blocks of condition ~1/κ_S, and the
+      tests of |J_S u| <= 1 cancel terms ~1/κ_S: float64 cannot give the value (the
+      kernel's determinant test may reject every block, which gave +inf; a solve without its determinant test is
+      off by 3e-4 relative at κ_S = 6e-14, tests/indices/test_sensitivity_slab_band.py):
+      NaN and one :class:`~distkin.errors.ConditioningWarning`;
+    * κ_S > RANK_TOL: the kernel's value (relative error about 1e-16 / κ_S), whatever
+      κ of J (a null twist with both parts leaves both slabs bounded).
+
+    J : ndarray (n, 6, 6), the poses ``idx`` (n,) of the N."""
+    tol = flat_tol(3, J.shape[1])
+    near_poses, example = np.zeros(len(J), bool), None
+    for name, S in (("translational", [0, 1, 2]), ("rotational", [3, 4, 5])):
+        s = np.linalg.svd(J[:, :, S], compute_uv=False)
+        k = np.divide(s[:, -1], s[:, 0], out=np.zeros(len(J)), where=s[:, 0] > 0)
+        near = (k > tol) & (k <= RANK_TOL)
+        out[name][idx[~(k > tol)]] = np.inf
+        out[name][idx[near]] = np.nan
+        if near.any() and example is None:
+            example = float(k[near][0])
+        near_poses |= near
+    if near_poses.any():
+        _warn(ConditioningWarning(
+            f"maximum sensitivities: {int(near_poses.sum())} of {N} pose(s) with a nearly "
+            f"singular J whose translational or rotational columns J_S are nearly "
+            f"singular themselves ({tol:.2g} < σmin/σmax of J_S <= RANK_TOL = "
+            f"{RANK_TOL:g}, e.g. {example:.3g}): those twist sensitivities are NaN (the "
+            "slab {u : |J_S u| <= 1} is bounded, its farthest point about 1/σmin, but "
+            "float64 cannot give it)"))
 
 
 def _flag_near_singular(out, sing, unb, kappa, L, N):
     """NaN + one ConditioningWarning for the finite twist sensitivities of a nearly (not
     exactly) singular J, flat_tol < σmin/σmax <= RANK_TOL, on the J# route: pinv(J)
     then has entries ~1/κ and the farthest point computed from it is not that of the
-    set (QA Z2 3: 2.78 for 1.98 at κ = 3e-14).  An exactly singular J (σmin/σmax at
+    set (QA Z2 3: 2.78 for 1.98 at κ = 3e-14); a part the near-null twist reaches is
+    bounded too (about 1/σmin: +inf only at an exactly singular J).  An exactly singular J (σmin/σmax at
     the rounding level, :func:`.zonotope.flat_tol`) keeps the values of eq. (5) with
     the Moore-Penrose pinv, with another ConditioningWarning: J# is discontinuous
     there, and the limits from regular neighbours depend on the direction from which
@@ -222,11 +284,12 @@ def _flag_near_singular(out, sing, unb, kappa, L, N):
     weighted by the left singular vector the approach picks: e.g. L = 8 slice 0.913 at
     J against 1.071-1.094 m/rad towards four random directions, tests/indices/
     test_sensitivity_exact_singular.py; L = 6 projection 3.04 at J against 3.05-3.45).
-    The L = 6 slab route (slice mode) works on J and is not affected."""
+    The L = 6 slab route (slice mode) works on J: :func:`_flag_singular_slabs`."""
     near = kappa > flat_tol(6, L)
     count = exact = 0
     for a, name in enumerate(("translational", "rotational")):
-        bad = sing[near & ~unb[:, a]]
+        # a part the near-null twist reaches too: bounded (about 1/σmin), not +inf
+        bad = sing[near]
         out[name][bad] = np.nan
         count = max(count, len(bad))
         exact = max(exact, int(np.sum(np.isfinite(out[name][sing[~near & ~unb[:, a]]]))))

@@ -102,7 +102,8 @@ from ..errors import InputError, warn as _warn
 from .description import RSSDescription
 
 __all__ = ["PRESETS", "preset_description", "PRESET_NAMES", "description", "leg_length_rule",
-           "study_box", "SLIP_RATIO", "slip_ratios", "unit_slips", "preset_parameters"]
+           "study_box", "SLIP_RATIO", "slip_ratio", "slip_ratios", "unit_slips",
+           "preset_parameters"]
 
 #: an override this many times larger or smaller than the preset's value is said to be
 #: a likely unit slip (QA R 8; the scene's check, :mod:`distkin.app.mechanism_scene`): a
@@ -207,14 +208,24 @@ def slip_ratios(name: str, overrides: dict) -> list[tuple[str, float, float, flo
         v, b = overrides.get(k), base.get(k)
         if k == "l3" and v is not None:
             b = RSSDescription(**{**base, "layout": overrides.get("layout", "tangential")}).l3
-        if (not isinstance(v, (int, float)) or isinstance(v, bool) or not v or not b
-                or not math.isfinite(v)):  # the description refuses these
-            continue
-        ratio = abs(v / b)
-        if 1.0 / SLIP_RATIO <= ratio <= SLIP_RATIO:
-            continue
-        out.append((k, v, b, ratio, unit))
+        ratio = slip_ratio(v, b)
+        if ratio is not None:
+            out.append((k, v, b, ratio, unit))
     return out
+
+
+def slip_ratio(value, reference) -> float | None:
+    """``|value / reference|`` when it is more than :data:`SLIP_RATIO` times either way
+    (what a value in another unit looks like), else None; None too when either is zero
+    or not a finite number (nothing to compare; the description refuses such values).
+    The one test of a likely unit slip: preset overrides (:func:`slip_ratios`), a study
+    grid's half and step against the device's size and a design sweep's ranges
+    (:func:`distkin.app.mechanism_scene.length_slips`)."""
+    if any(not isinstance(x, (int, float)) or isinstance(x, bool) or not x
+           or not math.isfinite(x) for x in (value, reference)):
+        return None
+    ratio = abs(value / reference)
+    return None if 1.0 / SLIP_RATIO <= ratio <= SLIP_RATIO else ratio
 
 
 def unit_slips(name: str, overrides: dict) -> list[str]:

@@ -94,6 +94,7 @@ from ...argcheck import (as_table, check_keys, choice, executor_fields, fast_onl
                          require, scheduler_address)
 from ...errors import InputError
 from ...exact import parse_float
+from ..mechanism_scene import length_slips, warn_slips
 from ..query import register
 from ..units import DEG, angle_value, length_value
 from ...indices.isotropy import ST_DEFAULT
@@ -231,6 +232,27 @@ def _grid(raw, units, field, centre, rotation, scale, *, max_poses=MAX_GRID_POSE
     rr = axis_values(-rotation, rotation, rstep, f"{field}.rotation_step") if rotation > 0 \
         else np.zeros(1)
     return PoseGrid(*(tuple(c[i] + (tr if i < 3 else rr)) for i in range(6)))
+
+
+def grid_slips(raw, units, field, scale) -> list[str]:
+    """A grid's ``half`` and ``step`` as written that are more than
+    :data:`~distkin.mechanisms.presets.SLIP_RATIO` times off the device's length scale
+    ``scale`` (m; ``mech.length_scale``, lp = 55 mm for the presets): likely unit
+    slips, one line each (:func:`~distkin.app.mechanism_scene.length_slips`, the test and
+    words of the mechanism overrides).  A grid of ``half = 0.025, step = 0.025`` in a mm
+    scene (25 mm meant) ran silently and reported a dexterous workspace of 0 cm³.  Call
+    it after :func:`_grid` has checked the values; the step of a one-position grid
+    (half 0) is not used and not checked."""
+    t = as_table(raw if raw is not None else {}, field)
+    checks = []
+    half = length_value(t["half"], units, f"{field}.half") if "half" in t else None
+    for key in ("half", "step"):
+        if key in t and not (key == "step" and half == 0):
+            checks.append((f"{field}.{key}", t[key],
+                           half if key == "half" else length_value(t[key], units,
+                                                                   f"{field}.{key}"),
+                           scale, "the device's length scale"))
+    return length_slips(checks, units)
 
 
 
@@ -384,6 +406,8 @@ class PerformanceQuery:
         for d in devices:                      # validate the grid now
             _grid(table.get("grid"), units, f"{field}.grid", d.mech.home, d.rotation,
                   d.mech.length_scale)
+        warn_slips(line for d in devices for line in grid_slips(
+            table.get("grid"), units, f"{field}.grid", d.mech.length_scale))
         from ...indices.actuators import PRISMATIC_KEYS, leg_limits
         act = _si_table(table.get("actuators", {}), f"{field}.actuators", ACTUATORS,
                         PRISMATIC_KEYS, positive=True)
@@ -474,7 +498,7 @@ class DesignSweepQuery:
                   "the certify_workspace query proves the regularity of one design's region")
         base = choice(table.get("base", "hunt"), f"{field}.base", tuple(PRESETS))
         baseline = choice(table.get("baseline", "ergin"), f"{field}.baseline", tuple(PRESETS))
-        ranges = {}
+        ranges, slips = {}, []
         for name, default in _TABLE1.items():
             if name in table:
                 r = table[name]
@@ -484,6 +508,9 @@ class DesignSweepQuery:
                 conv = length_value if name in ("l2", "ld") else angle_value
                 lo, hi, st = (conv(v, units, f"{field}.{name}[{i}]") for i, v in enumerate(r))
                 check_range(name, lo, hi, st, units, f"{field}.{name}")
+                if name in ("l2", "ld"):           # its largest value against Table I's
+                    slips += length_slips([(f"{field}.{name}[1]", r[1], hi, default[1],
+                                            f"Table I's largest {name}")], units)
             else:
                 lo, hi, st = default
             ranges[name] = (lo, hi, st)
@@ -504,6 +531,7 @@ class DesignSweepQuery:
         grid = _grid(g, units, f"{field}.grid", preset(base).z0, rot,
                      preset(base).length_scale, max_poses=MAX_SWEEP_POSES,
                      max_positions=MAX_SWEEP_POSES)
+        warn_slips(slips + grid_slips(g, units, f"{field}.grid", preset(base).length_scale))
         n_designs = math.prod(len(v) for _, v in values)
         if n_designs * grid.size > max_eval:
             limit = ("the default limit MAX_SWEEP_EVALUATIONS"
