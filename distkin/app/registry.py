@@ -36,6 +36,10 @@ def _mechanisms():
     from .queries import mechanisms  # noqa: F401
 
 
+def _mechanisms_fk():
+    from .queries import forward_kinematics  # noqa: F401
+
+
 def _jacobian():
     from .queries import jacobian  # noqa: F401
 
@@ -70,7 +74,7 @@ QUERY_MODULES: dict[str, tuple] = {
     "design_sweep": (_indices,),
     "certify_workspace": (_certify,),
     "table5": (_control,),
-    "forward_kinematics": (_mechanisms, _octahedral, _delta),
+    "forward_kinematics": (_mechanisms_fk, _octahedral, _delta),
 }
 
 def _load(name: str) -> None:

@@ -198,7 +198,7 @@ def test_fk_mismatch_of_a_mixed_leg_table_in_both_units():
     matches FKResult.q_mismatch (rad or m, the largest of both)."""
     import dataclasses
 
-    from distkin.app.queries.mechanisms import _verified_line
+    from distkin.app.queries.forward_kinematics import _verified_line
     from distkin.mechanisms.kinematics import LegMechanism
     m = preset("octopod")
     legs = [leg.as_dict() for leg in m.leg_description().leg_table]
