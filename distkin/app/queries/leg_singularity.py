@@ -36,6 +36,23 @@ float64-rounded pose (``decided_at``; ``verdict``, the report's words): a path's
 crossing is located by Brent's method on the float64 det J, and a certified sign at
 its rounded pose is no verdict on the crossing itself (``near_singular`` says that
 |det J| is below the tolerance there).
+
+Every pose is first checked by the inverse kinematics at the query's tier
+(:func:`~.reach.reach_statuses`, the inverse_kinematics query's own words).  Each row has
+``reachable`` (every leg closes within its declared joint range or stroke; certified:
+certainly), ``unreachable_legs`` (1-based), of them ``out_of_range_legs`` (a revolute
+leg that closes outside its angle range, a prismatic leg outside its stroke) and
+``undecided_legs`` (certified: a leg no ball decides).  At a pose with an unreachable
+leg the device cannot be: every test is null (``sigma_min``, ``det_J``,
+``det_sign_certified``, ...), ``singular`` is null and the verdict says why (text: "NOT
+reachable (legs [...])", "undefined (pose not reachable)", as the jacobian query;
+certified: no arb certificate is stated).  Where a leg is only undecided the tests are
+evaluated but ``singular`` is null (regularity of a pose not proved reachable is not
+proved).  Along a path, det J changes sign only between two reachable samples, and a
+crossing located there at a pose that is not reachable goes to ``unreachable_crossings``
+instead of ``crossings``; ``unreachable_parts`` lists the runs of samples that are not
+reachable (``samples`` [first, last], 0-based, their poses ``from`` and ``to`` and the
+legs), one report line each.
 """
 
 from __future__ import annotations
@@ -49,6 +66,8 @@ from ...argcheck import (as_table, check_keys, method_field, pose_list, positive
 from ...errors import InputError, UncertifiedError
 from ..query import Outcome, register
 from ..units import angle_value, length_value
+from .jacobian import UNDEFINED
+from .reach import reach_statuses, reach_text
 
 __all__ = ["LegSingularityQuery", "applicability", "leg_lines", "singularity_tests_at",
            "MAX_PATH_SAMPLES"]
@@ -206,7 +225,13 @@ _UNIT = {"pose": "m, rad", "length_scale_m": "m",
          "det_J": "none (of that J)", "tolerance": "none (on det J, or on sigma_min)",
          "cm_relative": "none", "signed_cm_relative": "none",
          "four_planes_relative": "none", "four_planes_spread": "m",
-         "verdict": "text: what was decided and for which pose (decided_at)"}
+         "verdict": "text: what was decided and for which pose (decided_at)",
+         "reachable": "bool: every leg closes within its declared joint range (certified: "
+                      "certainly); false: every test null, no verdict",
+         "unreachable_legs": "1-based legs", "out_of_range_legs": "1-based legs",
+         "undecided_legs": "1-based legs",
+         "unreachable_parts": "path: runs of samples not reachable, samples 0-based "
+                              "[first, last], from/to m, rad"}
 
 
 @register("singularity", mechanisms=("legs", "rss"),
@@ -273,17 +298,20 @@ class LegSingularityQuery:
             a, b = (np.asarray(v) for v in p.path)
             s = np.linspace(0.0, 1.0, p.samples)
             poses = tuple(a + si * (b - a) for si in s)
+        reach = reach_statuses(mech, poses, p.method)
         for i, x in enumerate(poses):
-            r = singularity_tests_at(mech, x, p.method, p.tolerance)
-            r["pose"] = [float(v) for v in x]
-            _verdict(r, p.tolerance)
+            r = _tests_if_reachable(mech, x, p, reach[i])
             rows.append(r)
             if p.path is None:
-                lines.append(f"  pose {i}: {fmt_pose(x)}")
+                lines.append(f"  pose {i}: {fmt_pose(x)}" + ("" if reach[i]["reachable"] else
+                                                             "  -> " + _reach_words(reach[i])))
                 lines.append("    " + _fmt(r, lf, lu))
-        crossings = []
+        crossings, dropped = [], []
         if p.path is not None and app["det"]:
-            det = np.array([r["det_J"] for r in rows])
+            # a sign change only between reachable samples: an unreachable sample has no
+            # leg lines, so no det J (NaN: no sign, no local minimum of |det J|)
+            det = np.array([r["det_J"] if reach[k]["reachable"] else np.nan
+                            for k, r in enumerate(rows)], dtype=float)
             sg = np.sign(det)
             hits = [k for k in range(len(det)) if sg[k] == 0 and 0 < k < len(det) - 1]
             hits += [k for k in range(len(det) - 1) if sg[k] * sg[k + 1] < 0]
@@ -291,17 +319,25 @@ class LegSingularityQuery:
                      for k in sorted(hits)]
             found += _root_pairs_between(mech, a, b, s, det)     # QA F2
             found.sort(key=lambda c: float(np.linalg.norm(c - a)))
-            for c in found:
-                r = singularity_tests_at(mech, c, p.method, p.tolerance)
-                r["pose"] = [float(v) for v in c]
-                crossings.append(_verdict(r, p.tolerance, crossing=True))
+            for c, st in zip(found, reach_statuses(mech, found, p.method)):
+                # between two reachable samples the path may still leave the workspace
+                r = _tests_if_reachable(mech, c, p, st, crossing=True)
+                (crossings if st["reachable"] else dropped).append(r)
+            some = not all(st["reachable"] for st in reach)
             lines.append(f"  path: {p.samples} poses from {fmt_pose(poses[0])} to "
                          f"{fmt_pose(poses[-1])}; det J changes sign {len(crossings)} time(s)"
-                         " (a sample where det J is 0 counts as a crossing; a lower bound: "
+                         + (" between reachable samples" if some else "")
+                         + " (a sample where det J is 0 counts as a crossing; a lower bound: "
                          "sign changes on the samples and root pairs searched at the local "
                          "minima of |det J|, not certified complete)")
             for r in crossings:
                 lines.append(f"    crossing at {fmt_pose(r['pose'])}: " + _fmt(r, lf, lu))
+            for r in dropped:
+                lines.append(f"    not a crossing of the device: det J of the leg lines "
+                             f"changes sign at {fmt_pose(r['pose'])}, between two reachable "
+                             f"samples, but that pose is {_reach_words(r)}")
+        if p.path is not None:
+            lines += _unreachable_lines(_unreachable_parts(reach, poses), len(poses), fmt_pose)
         lines.append(f"  accuracy: {p.method} tier ("
                      + {"fast": "float64", "precise": "mpmath",
                         "certified": "arb balls on the float64 joint positions"}[p.method]
@@ -310,7 +346,79 @@ class LegSingularityQuery:
                   "tolerance": p.tolerance,
                   "length_scale_m": mech.length_scale, "poses": rows, "crossings": crossings,
                   "unit": _UNIT}
+        if p.path is not None:
+            result["unreachable_parts"] = _unreachable_parts(reach, poses)
+            result["unreachable_crossings"] = dropped
         return Outcome(result, "\n".join(lines))
+
+
+def _reach_words(st) -> str:
+    """:func:`~.reach.reach_text` of a reach status, with the legs whose joint is
+    outside its declared range (angle range, stroke) named."""
+    out = st["out_of_range_legs"]
+    return reach_text(st) + (f", outside their declared joint range or stroke: legs {out}"
+                             if out else "")
+
+
+def _tests_if_reachable(mech, x, p, st, crossing=False) -> dict:
+    """The row of pose ``x`` (m, rad) with its reach status ``st``: the tests of
+    :func:`singularity_tests_at` and their verdict where every leg closes within its
+    range.  Where a leg certainly does not (``unreachable_legs``) the leg lines do not
+    exist: every test is null and there is no verdict (QA: "det J certified < 0,
+    singular: no" 3 m above the Hunt preset, which no leg reaches).  Where the certified
+    tier cannot decide a leg (``undecided_legs``) the tests are evaluated but
+    ``singular`` is null: regularity of a pose not proved reachable is not proved."""
+    if st["unreachable_legs"]:
+        app = applicability(mech)
+        keys = (["sigma_min"] + ["det_J"] * app["det"]
+                + ["det_sign_certified", "near_singular"]
+                * (app["det"] and p.method == "certified")
+                + ["cm_relative", "signed_cm_relative", "four_planes_relative",
+                   "four_planes_spread"] * app["cm"])
+        r = {**dict.fromkeys(keys), "singular": None,
+             "singular_test": "not evaluated: the pose is not reachable"}
+    else:
+        r = singularity_tests_at(mech, x, p.method, p.tolerance)
+        if not st["reachable"]:
+            r["singular"] = None
+            r["singular_test"] += (f"; the pose's reachability is not certified (legs "
+                                   f"{st['undecided_legs']} undecided): no verdict")
+    r["pose"] = [float(v) for v in x]
+    r.update(st)
+    return _verdict(r, p.tolerance, crossing=crossing, method=p.method)
+
+
+def _unreachable_parts(reach, poses) -> list:
+    """The runs of consecutive path samples that are not reachable: ``samples`` [first,
+    last] (0-based), their poses ``from`` and ``to`` (m, rad) and the legs named over the
+    run (the union of each sample's :func:`~.reach.reach_status` lists)."""
+    parts, k = [], 0
+    while k < len(reach):
+        if reach[k]["reachable"]:
+            k += 1
+            continue
+        j = k
+        while j + 1 < len(reach) and not reach[j + 1]["reachable"]:
+            j += 1
+        part = {"samples": [k, j], "from": [float(v) for v in poses[k]],
+                "to": [float(v) for v in poses[j]]}
+        for key in ("unreachable_legs", "out_of_range_legs", "undecided_legs"):
+            part[key] = sorted({leg for st in reach[k:j + 1] for leg in st[key]})
+        parts.append(part)
+        k = j + 1
+    return parts
+
+
+def _unreachable_lines(parts, n, fmt_pose) -> list:
+    """The report's lines of :func:`_unreachable_parts` of a path of ``n`` samples."""
+    out = []
+    for part in parts:
+        i, j = part["samples"]
+        words = _reach_words({**part, "reachable": False})
+        out.append(f"  not reachable: samples {i}-{j} of 0-{n - 1}, from {fmt_pose(part['from'])} "
+                   f"to {fmt_pose(part['to'])}: {words}; the device cannot take these poses: no "
+                   "det J, no verdict and no crossing reported there")
+    return out
 
 
 def _float(v):
@@ -319,6 +427,9 @@ def _float(v):
 
 
 def _fmt(r, lf, lu):
+    if r.get("unreachable_legs"):
+        return (("det J, σmin" if "det_J" in r else "σmin") + f": {UNDEFINED}; "
+                + r["verdict"])
     parts = [f"σmin {r['sigma_min']:.6g}"]
     if "det_J" in r:
         parts.append(f"det J {r['det_J']:.6g}"
@@ -338,7 +449,7 @@ def _fmt(r, lf, lu):
 DECIDED_AT = "the float64-rounded pose"
 
 
-def _verdict(r, tolerance, crossing=False):
+def _verdict(r, tolerance, crossing=False, method=None):
     """Say what was decided and for which pose (``r["verdict"]``, the same words in the
     text; ``r["decided_at"]``): the tiers evaluate det J at the float64-rounded pose, so
     a certified sign there says nothing of a singular pose within rounding of it (QA:
@@ -347,6 +458,15 @@ def _verdict(r, tolerance, crossing=False):
     says that; a ``crossing`` is where Brent's method located a sign change of the
     float64 det J, to 1e-12 of the path."""
     if "singular" not in r:
+        return r
+    if r.get("unreachable_legs"):       # no leg lines: nothing was evaluated
+        text = (f"{_reach_words(r)}: the device cannot take this pose, so det J, σmin and "
+                "the other tests are not evaluated (null) and there is no verdict "
+                "(singular: undefined)")
+        if method == "certified":
+            text += ("; no arb certificate: a sign of det J at a pose the device cannot "
+                     "take would certify nothing")
+        r["decided_at"], r["verdict"] = DECIDED_AT, text
         return r
     v, s = r["singular"], r.get("det_sign_certified", "absent")
     sign = ("" if s == "absent" else

@@ -69,6 +69,7 @@ from ...errors import InputError
 from ...exact import parse_float
 from ..query import Outcome, register
 from ..units import angle_factor, length_factor
+from .reach import reach_status, reach_text
 
 __all__ = ["InverseKinematicsQuery", "parse_poses", "check_pose_units"]
 
@@ -321,13 +322,7 @@ class InverseKinematicsQuery:
                                    "q_error"))
             # certified: a leg that is neither certified nor certainly infeasible is
             # undecided (at its reach boundary, ...), not unreachable
-            open_ = (~res.certified[i] & ~res.infeasible[i] if p.method == "certified"
-                     else np.zeros(mech.L, dtype=bool))
-            bad = [int(j) + 1 for j in np.flatnonzero(~valid[i] & ~open_)]
-            undecided = [int(j) + 1 for j in np.flatnonzero(open_)]
-            verdict = ("reachable" if ok else
-                       "; ".join(([f"NOT reachable (legs {bad})"] if bad else [])
-                                 + ([f"undecided (legs {undecided})"] if undecided else [])))
+            verdict = reach_text(reach_status(mech, res, i))
             lines.append(f"pose {i}: {_fmt_pose(X[i], scene)}  -> " + verdict)
             lines.append("  q = " + _joint_text(q[i], mech, scene))
             lines += _tier_lines(res, i)
