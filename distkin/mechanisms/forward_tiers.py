@@ -40,7 +40,7 @@ derivative with respect to p is :math:`[\partial\Phi/\partial v,\;
 
 Joint values outside their legs' declared ranges (a leg table's ``range``: a crank's
 arc modulo 2π, a prismatic leg's stroke) are no configuration of the device: every tier
-refuses them before it solves (:func:`.forward.check_joint_ranges`,
+refuses them before it solves (:func:`.joint_values.check_joint_ranges`,
 :class:`~distkin.errors.InfeasibleError` naming the leg, its value and its range), so no
 pose outside them is given an accuracy or called certified.  (The batched fast solver
 :func:`.forward.forward_kinematics` solves them and flags them: ``in_range`` and
@@ -197,7 +197,7 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
     qa = as_floats(q, "q", f"{mech.legs} joint values (rad, or m for prismatic legs)")
     if qa.shape != (mech.legs,):
         raise InputError(f"expected {mech.legs} joint values, got shape {qa.shape}", field="q")
-    from .forward import check_joint_ranges, check_joint_values
+    from .joint_values import check_joint_ranges, check_joint_values
     check_joint_values(mech, qa)
     check_joint_ranges(mech, qa, units=units)     # no configuration: no tier answers
     if fast is None:
@@ -223,14 +223,14 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
     return res
 
 
-#: display units of a refusal's joint mismatch (:func:`.forward.joint_amount`): SI
+#: display units of a refusal's joint mismatch (:func:`.joint_values.joint_amount`): SI
 _SI_SHOWN = {"length": ("m", 1.0), "angle": ("rad", 1.0)}
 
 
 def _refusal(mech, what, mismatch, detail, units=None):
     """:class:`NotFoundError` for a pose that fails the round trip; ``mismatch`` (L,)
     per leg (rad, m), shown per joint type in ``units`` (default SI; QA R 10)."""
-    from .forward import joint_amount
+    from .joint_values import joint_amount
     mismatch = np.asarray(mismatch, dtype=float)
     amount = joint_amount(mismatch, mech.leg_arrays()["prismatic"], **(units or _SI_SHOWN))
     worst = float(np.max(np.where(np.isnan(mismatch), np.inf, mismatch)))
@@ -246,9 +246,9 @@ def _refusal(mech, what, mismatch, detail, units=None):
 def _flagged(mech, what, valid, mismatch, units=None):
     """:class:`NotFoundError` for a pose whose IK gives back the joint values but flags
     legs not valid (``valid`` (L,) False; :func:`.forward.round_trip`): the joint values
-    are in range (:func:`.forward.check_joint_ranges` refused the others), so the IK
+    are in range (:func:`.joint_values.check_joint_ranges` refused the others), so the IK
     there lies past a reach boundary or a range end by no more than its tolerance."""
-    from .forward import joint_amount
+    from .joint_values import joint_amount
     legs = [int(i) + 1 for i in np.flatnonzero(~np.asarray(valid, dtype=bool))]
     amount = joint_amount(np.asarray(mismatch, dtype=float),
                           mech.leg_arrays()["prismatic"], **(units or _SI_SHOWN))
@@ -284,12 +284,13 @@ def fast_tier(mech, fast, q=None, units=None) -> TieredFK:
     :func:`.forward.round_trip`): no accuracy is stated for a wrong pose.  ``q`` (L,):
     the joint values ``fast`` answered (the refusal then states the mismatch per joint
     type; without them, the largest one for every leg), first checked against their
-    legs' declared ranges (:func:`.forward.check_joint_ranges`:
+    legs' declared ranges (:func:`.joint_values.check_joint_ranges`:
     :class:`~distkin.errors.InfeasibleError`, as without them for ``fast.in_range``
     False).  ``units``:
     {"length": (name, factor from m), "angle": (name, factor from rad)}, the units of
     the refusal's numbers (default SI)."""
-    from .forward import check_joint_ranges, pose_error_estimate, round_trip
+    from .forward import pose_error_estimate, round_trip
+    from .joint_values import check_joint_ranges
     err = pose_error_estimate(mech, fast.condition, fast.residual)
     if q is not None:
         check_joint_ranges(mech, np.asarray(q, dtype=float), units=units)

@@ -375,7 +375,7 @@ class KernelMethods:
         only with "certified" (:class:`~distkin.errors.InputError` otherwise)."""
         if dps is not None:
             _check_dps(dps, method)
-        from .forward import check_joint_values
+        from .joint_values import check_joint_values
         check_joint_values(self, q)        # every route: a prismatic length > 0 (QA R 1)
         if method != "fast" or legs is not None or bits is not None:
             from ..errors import InputError

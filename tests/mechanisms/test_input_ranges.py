@@ -17,7 +17,8 @@ import pytest
 from distkin.errors import InputError
 from distkin.mechanisms import preset
 from distkin.mechanisms.description import MAX_REACH, MAX_ROTATION
-from distkin.mechanisms.forward import forward_kinematics, gauss_newton, joint_amount
+from distkin.mechanisms.forward import forward_kinematics, gauss_newton
+from distkin.mechanisms.joint_values import joint_amount
 
 ROOT = Path(__file__).resolve().parents[2]
 

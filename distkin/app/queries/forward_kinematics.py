@@ -17,7 +17,7 @@ leg's declared ``range``) and ``q_mismatch`` (the largest |IK(pose) - angle|, ra
 a prismatic leg).  Joint values outside their legs' declared ranges are no
 configuration of the device: every tier refuses them before solving, an ``infeasible``
 error naming ``angles[j]``, the leg, its value and its range in the scene's units
-(:func:`distkin.mechanisms.forward.check_joint_ranges`).  A pose that fails the
+(:func:`distkin.mechanisms.joint_values.check_joint_ranges`).  A pose that fails the
 round trip (another crank branch, or a least-squares minimum) is a ``not_found`` error
 naming ``guess`` in every tier (below); measured, hence inconsistent, angles of an L > 6 mechanism
 give their least-squares pose, reported with ``verified`` false unless the query's
@@ -114,7 +114,7 @@ def _verified_line(res, angles, mech, scene, method: str) -> str:
 
 def _ranged(mech) -> bool:
     """Whether some leg of ``mech`` declares a joint range (a leg table's ``range``)."""
-    from ...mechanisms.forward import joint_ranges
+    from ...mechanisms.joint_values import joint_ranges
     return joint_ranges(mech) is not None
 
 
@@ -175,7 +175,7 @@ class ForwardKinematicsQuery:
     def run(p, scene, ctx):
         mech = scene.mechanism
         guess = np.array(p.guess) if p.guess is not None else mech.home
-        from ...mechanisms.forward import check_joint_ranges
+        from ...mechanisms.joint_values import check_joint_ranges
         lu, au, lf, af = _units(scene)
         # outside their ranges the joint values are no configuration: refused in every
         # tier, in the scene's units (the tiers check again, with field "q")
