@@ -15,6 +15,8 @@ import mpmath as mp
 import numpy as np
 import pytest
 
+from indices_helpers import mp_slice_sensitivity
+
 from distkin.errors import ConditioningWarning
 from distkin.indices import max_sensitivities
 from distkin.indices.zonotope import RANK_TOL, flat_tol
@@ -42,34 +44,8 @@ def ref_slab(A):
 
 
 def ref_slice(J, S):
-    """The farthest point of the slice of {J# p : |p|∞ <= 1} at zero S^c part, J# =
-    (JᵀJ)⁻¹Jᵀ, over the C(L, 3)·2^(L−3) vertex candidates, in mpmath."""
-    L = J.shape[0]
-    Sc = [i for i in range(6) if i not in S]
-    with mp.workdps(DPS):
-        Jm = mp.matrix(J.tolist())
-        P = mp.inverse(Jm.T * Jm) * Jm.T
-        best = mp.mpf(-1)
-        for free in itertools.combinations(range(L), 3):
-            fixed = [j for j in range(L) if j not in free]
-            A = mp.matrix([[P[i, j] for j in free] for i in Sc])
-            for sg in itertools.product((-1, 1), repeat=L - 3):
-                b = mp.matrix([-sum(P[i, fixed[k]] * sg[k] for k in range(L - 3))
-                               for i in Sc])
-                try:
-                    x = mp.lu_solve(A, b)
-                except ZeroDivisionError:
-                    continue
-                if max(abs(v) for v in x) > 1 + mp.mpf(10) ** -40:
-                    continue
-                q = [0] * L
-                for k, j in enumerate(fixed):
-                    q[j] = sg[k]
-                for k, j in enumerate(free):
-                    q[j] = x[k]
-                best = max(best, mp.sqrt(sum(sum(P[i, j] * q[j] for j in range(L)) ** 2
-                                             for i in S)))
-        return float(best)
+    """:func:`indices_helpers.mp_slice_sensitivity` at this file's DPS."""
+    return mp_slice_sensitivity(J, S, DPS)
 
 
 def _kappa(A):
