@@ -28,21 +28,32 @@ def _unclosed_at(text: str, exc) -> str:
     '[' opened at line 7, column 8 is never closed"``.  At the end of the document
     tomllib names no line; before it ("Unclosed array (at line 4, column 1)") it names
     the line after the array's, where the next key begins (QA 2026-11-29), so the line
-    where the array (or inline table) still open there began is named too.  ``""`` for
-    any other error (those name their line themselves)."""
+    where the array (or inline table) still open there began is named too, if nothing
+    after it closes it either: tomllib says "Unclosed array" for a missing comma too
+    ("a = [1 2]", review 2026-11-29).  ``""`` for any other error (those name their line
+    themselves)."""
     msg = str(exc)
     at = re.search(r"\(at line (\d+), column (\d+)\)$", msg)
     if msg.endswith("(at end of document)"):
-        n, innermost = len(text), False
-    elif msg.startswith(("Unclosed array", "Unclosed inline table")) and at:
-        n, innermost = _offset(text, int(at.group(1)), int(at.group(2))), True
-    else:
+        stack, string = _scan(text, len(text))
+        if string is not None:
+            quote = text[string] * 3 if text.startswith(text[string] * 3, string) else \
+                text[string]
+            return f"; the string {quote} opened at {_where(text, string)} is never closed"
+        return _note(text, stack[0]) if stack else ""
+    if not (msg.startswith(("Unclosed array", "Unclosed inline table")) and at):
         return ""
+    stack, _ = _scan(text, _offset(text, int(at.group(1)), int(at.group(2))))
+    if not stack or stack[-1] not in _scan(text, len(text))[0]:
+        return ""
+    return _note(text, stack[-1])
+
+
+def _scan(text: str, n: int):
+    """The brackets ``[`` ``{`` still open at index ``n`` of ``text`` (their indices,
+    outermost first), outside strings and comments, and the index of a string still open
+    there (None: none)."""
     stack, i = [], 0
-
-    def where(k):
-        return f"line {text.count(chr(10), 0, k) + 1}, column {k - text.rfind(chr(10), 0, k)}"
-
     while i < n:
         c = text[i]
         if c == "#":                                     # a comment, to the line's end
@@ -56,18 +67,23 @@ def _unclosed_at(text: str, exc) -> str:
                     break                                # tomllib names that line itself
                 j += 2 if text[j] == "\\" and c == '"' else 1
             if j >= n:
-                return f"; the string {quote} opened at {where(i)} is never closed"
+                return stack, i
             i = j + len(quote)
             continue
         elif c in "[{":
             stack.append(i)
-        elif c in "]}" and stack:
-            stack.pop()
+        elif c in "]}" and stack and text[stack[-1]] == "[{"["]}".index(c)]:
+            stack.pop()                                  # (a ']' closes no '{')
         i += 1
-    if not stack:
-        return ""
-    k = stack[-1] if innermost else stack[0]
-    return f"; the {text[k]!r} opened at {where(k)} is never closed"
+    return stack, None
+
+
+def _where(text: str, k: int) -> str:
+    return f"line {text.count(chr(10), 0, k) + 1}, column {k - text.rfind(chr(10), 0, k)}"
+
+
+def _note(text: str, k: int) -> str:
+    return f"; the {text[k]!r} opened at {_where(text, k)} is never closed"
 
 
 def _offset(text: str, line: int, column: int) -> int:

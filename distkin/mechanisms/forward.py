@@ -34,9 +34,8 @@ and reports:
   rounding), and the rms closure residual is at most ``residual_tol`` (default
   :data:`RESIDUAL_ULPS` eps times a leg length: what float64 leaves of consistent
   angles; raise it for measured, hence inconsistent, angles of a redundant device),
-  and the inverse kinematics flags every leg valid at the pose (its own ``valid``: the
-  leg closes and, for a leg table with ranges, lies in its joint range or stroke;
-  ``round_trip`` is both checks of the IK);
+  and every leg closes at the pose (its reach margin, a prismatic stroke's included,
+  not below rounding; ``round_trip`` is both checks of the IK);
 * ``in_range`` -- every joint value given lies in its leg's declared ``range`` (a crank
   modulo 2π, :func:`.legs.in_revolute_range`; a prismatic leg within its stroke): joint
   values outside their ranges are no configuration of the device, so such an answer is
@@ -95,7 +94,7 @@ class FKResult:
         :mod:`.octahedral_fk`).
     verified : bool array (N,) or bool
         The inverse kinematics at ``pose`` gives back the joint values within the
-        module docstring's tolerance and flags every leg valid (``round_trip``),
+        module docstring's tolerance and every leg closes there (``round_trip``),
         ``residual`` is at most ``residual_tol``, and the joint values lie in their
         declared ranges (``in_range``).
     round_trip : bool array (N,) or bool
@@ -108,8 +107,8 @@ class FKResult:
     residual_tol : float
         The residual tolerance used (m).
     in_range : bool array (N,) or bool
-        Every joint value given lies in its leg's declared range (:func:`.joint_values.outside_ranges`;
-        True for legs without one).  False: not a configuration of the device, and the
+        Every joint value given lies in its leg's declared range
+        (:func:`.joint_values.outside_ranges`; True for legs without one).  False: not a configuration of the device, and the
         answer is not ``verified``.
     """
 
@@ -308,7 +307,7 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
     mismatch, allowed, ik_valid = round_trip(mech, qa, X, pose_error_estimate(mech, cond, res),
                                              with_valid=True)
     gives_back = np.all(mismatch <= allowed, axis=-1)    # False where nan
-    flagged = ~np.all(ik_valid, axis=-1)                 # the IK calls a leg not valid
+    flagged = ~np.all(ik_valid, axis=-1)                 # a leg does not close there
     back = gives_back & ~flagged
     small = res <= residual_tol
     outside = outside_ranges(mech, qa)                   # (N, L)
@@ -338,9 +337,9 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
               f"does not give back the joint values (by up to "
               f"{joint_amount(np.max(mismatch[missed], axis=0), pris)}: another crank "
               f"branch or a least-squares minimum, not a solution)" if missed.any() else "")
-           + (f"; {int(flag_only.sum())} converged to a pose where the inverse kinematics "
-              f"flags legs {flagged_legs} not valid (at a reach boundary or a range end "
-              f"within rounding; not verified)" if flag_only.any() else "")
+           + (f"; {int(flag_only.sum())} converged to a pose where legs {flagged_legs} do "
+              f"not close (beyond their reach or stroke by more than rounding; not "
+              f"verified)" if flag_only.any() else "")
            + (f"; {int((done & ~small).sum())} with an rms closure residual above "
               f"residual_tol = {residual_tol:.3g} m (inconsistent angles, or no solution "
               f"near the guess)" if (done & ~small).any() else "")
@@ -403,10 +402,15 @@ def pose_error_estimate(mech, condition, residual):
 def round_trip(mech, q, poses, pose_error, *, with_valid: bool = False):
     """The check of an answer of the forward kinematics (module docstring): the
     closed-form inverse kinematics at ``poses`` (N, 6) against the joint values ``q``
-    (N, L) (rad or m).  ``with_valid``: also return the IK's own ``valid`` flags at
-    ``poses`` (:meth:`~.kinematics.KernelMethods.inverse_kinematics`: the leg closes,
-    lies in its joint range or stroke, and a prismatic leg has a length), which the
-    round trip requires as well: an IK value flagged not valid is no answer to compare.
+    (N, L) (rad or m).  ``with_valid``: also return whether each leg closes at
+    ``poses``, which the round trip requires as well (an IK value where the leg does
+    not close is no answer to compare): its reach margin (a prismatic leg's stroke is
+    part of it) at least ``-64 eps length_scale²``, and a prismatic leg a length.  Not
+    the IK's exact ``valid`` flag: the joint values given were checked against their
+    ranges already (:func:`.joint_values.check_joint_ranges`, ``outside_ranges``), and a
+    leg given exactly at a stroke end came back 5.6e-17 m beyond it and was flagged
+    (review 2026-11-29: 23 of 200 such answers unverified, and the fast tier refused
+    what the precise and certified ones answered).
 
     Returns
     -------
@@ -419,7 +423,7 @@ def round_trip(mech, q, poses, pose_error, *, with_valid: bool = False):
         branches (about a radian; they meet only at the reach boundary, where the IK's
         estimate grows to match).
     valid : bool array (N, L)
-        Only with ``with_valid``: the IK's ``valid`` at ``poses``.
+        Only with ``with_valid``: the legs that close at ``poses`` (within rounding).
     """
     from .kinematics_tiers import _fast_ik_error
     X = np.atleast_2d(np.asarray(poses, dtype=float))
@@ -436,7 +440,9 @@ def round_trip(mech, q, poses, pose_error, *, with_valid: bool = False):
     # nan: 0/0 where Jq_ii = 0 exactly, the branch point, where both branches meet
     allowed = np.where(np.isnan(allowed), np.inf, allowed)
     if with_valid:
-        return np.abs(d), allowed, mech._valid(qi, reach)
+        slack = 64 * np.finfo(float).eps * float(mech.length_scale) ** 2
+        closes = (reach >= -slack) & ~(pris & (qi == 0.0))
+        return np.abs(d), allowed, closes
     return np.abs(d), allowed
 
 

@@ -244,26 +244,25 @@ def _refusal(mech, what, mismatch, detail, units=None):
 
 
 def _flagged(mech, what, valid, mismatch, units=None):
-    """:class:`NotFoundError` for a pose whose IK gives back the joint values but flags
-    legs not valid (``valid`` (L,) False; :func:`.forward.round_trip`): the joint values
-    are in range (:func:`.joint_values.check_joint_ranges` refused the others), so the IK
-    there lies past a reach boundary or a range end by no more than its tolerance."""
+    """:class:`NotFoundError` for a pose whose IK gives back the joint values but where
+    legs do not close (``valid`` (L,) False; :func:`.forward.round_trip`: the reach margin,
+    a prismatic stroke's included, below its rounding slack): the joint values are in
+    range (:func:`.joint_values.check_joint_ranges` refused the others)."""
     from .joint_values import joint_amount
     legs = [int(i) + 1 for i in np.flatnonzero(~np.asarray(valid, dtype=bool))]
     amount = joint_amount(np.asarray(mismatch, dtype=float),
                           mech.leg_arrays()["prismatic"], **(units or _SI_SHOWN))
     return NotFoundError(
-        f"expected a pose at which the inverse kinematics flags every leg valid, got "
-        f"{what} where it flags legs {legs} not valid (the leg does not close there, or "
-        f"its IK value is outside its joint range), though it gives back the joint values "
-        f"within {amount}: the pose is at a reach boundary or a range end within "
-        f"rounding, and not verified", field="guess", margin=float(np.nanmax(mismatch)),
-        hint="joint values a little inside the range end or reach boundary")
+        f"expected a pose at which every leg closes, got {what} where legs {legs} do "
+        f"not (beyond their reach or stroke by more than rounding), though the inverse "
+        f"kinematics gives back the joint values within {amount}: not verified",
+        field="guess", margin=float(np.nanmax(mismatch)),
+        hint="joint values inside the reach boundary or the stroke")
 
 
 def _check_round_trip(mech, q, pose, error, method, units=None):
     """:class:`NotFoundError` unless the closed-form IK at ``pose`` gives back ``q`` and
-    flags every leg valid there (:func:`.forward.round_trip`, with the pose's ``error``
+    every leg closes there (:func:`.forward.round_trip`, with the pose's ``error``
     (6,))."""
     from .forward import round_trip
     mismatch, allowed, valid = round_trip(mech, q, pose, np.asarray(error, dtype=float)[None],

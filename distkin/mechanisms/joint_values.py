@@ -70,8 +70,9 @@ def outside_ranges(mech, q):
     outside their leg's declared range: a bool array of q's shape.  A crank angle is in
     its range when some q + 2πk is (:func:`.legs.in_revolute_range`, as the inverse
     kinematics' ``valid`` and the control code read it); a prismatic leg's length when
-    min <= q <= max (the stroke; the IK's reach margin (q - min)(max - q) >= 0).  NaN is
-    outside a declared range; a leg without one is never outside."""
+    min <= q <= max (the stroke; the IK's reach margin (q - min)(max - q) >= 0), within
+    4 ulps of either end.  NaN is outside a declared range; a leg without one is never
+    outside."""
     from .legs import in_revolute_range
     qa = np.asarray(q, dtype=float)
     r = joint_ranges(mech)
@@ -80,8 +81,12 @@ def outside_ranges(mech, q):
     lo, hi = r
     pris = mech.leg_arrays()["prismatic"]
     ranged = np.isfinite(lo) | np.isfinite(hi)
+    # a length within 4 ulps of a stroke end is at the end (a value converted from
+    # another unit by a float product may land one ulp beyond it, review 2026-11-29)
+    ulps = 4 * np.finfo(float).eps
     with np.errstate(invalid="ignore"):
-        inside = np.where(pris, (qa >= lo) & (qa <= hi), in_revolute_range(qa, lo, hi))
+        inside = np.where(pris, (qa >= lo - ulps * np.abs(lo)) & (qa <= hi + ulps * np.abs(hi)),
+                          in_revolute_range(qa, lo, hi))
     return ranged & ~inside
 
 

@@ -125,3 +125,22 @@ method = "{method}"
         assert res["certified"] is True
         assert np.all(np.abs(np.array(res["pose"]) - pose) <= np.array(res["pose_error"])
                       + 1e-15)
+
+
+@pytest.mark.parametrize("method", ["fast", "certified"])
+def test_a_stroke_end_written_in_the_scenes_unit_is_in_range(tmp_path, capsys, method):
+    """Review 2026-11-29: 563 mm against a stroke end of 563 mm was refused "1.11e-13 mm
+    beyond it" (the range read exactly, the angles as 563 * 0.001, one ulp above).  The
+    ends are in the range (README); reference: 563 * 0.001 > 563/1000 in float64."""
+    from fractions import Fraction
+    assert 563 * 0.001 > float(Fraction(563, 1000))            # (premise: the product's ulp)
+    text = _gough(f"""
+[[query]]
+type = "forward_kinematics"
+angles = [563, 540, 540, 540, 540, 540]
+guess = [0, 0, 520, 0, 0, 0]
+method = "{method}"
+""").replace("range = [350, 550]", "range = [350, 563]")
+    code, qs = _run_json(tmp_path, capsys, text)
+    assert code == 0 and qs[0]["status"] == "ok", qs[0].get("error")
+    assert qs[0]["result"]["in_range"] and qs[0]["result"]["verified"]

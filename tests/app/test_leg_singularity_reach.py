@@ -154,3 +154,27 @@ def test_reachable_pose_keeps_its_certified_verdict(tmp_path, capsys, pose):
     assert row["verdict"] == (f"at the float64-rounded pose: det J certified {word}, "
                               "singular: no (arb certificate of sign det J)")
     assert "NOT reachable" not in out[:out.index("[1] inverse_kinematics")]
+
+
+def test_poses_either_side_of_the_reach_top_read_apart(tmp_path, capsys):
+    """Review 2026-11-29: two poses 40 nm apart either side of the Hunt preset's reach top
+    (bisection on the mechanism's own ``reachable``), one NOT reachable, both read
+    "(0, 0, 497.329) mm" in the singularity query (6 digits); they now read as the scene
+    wrote them, as in the inverse_kinematics query."""
+    from distkin.mechanisms import preset
+    m = preset("hunt")
+    lo, hi = 0.3, 1.5
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if m.reachable(np.array([0, 0, mid, 0, 0, 0])) else (lo, mid)
+    zs = [round(lo * 1e3 - 2e-5, 7), round(lo * 1e3 + 2e-5, 7)]              # mm
+    assert f"{zs[0]:.6g}" == f"{zs[1]:.6g}"                    # (premise: alike to 6 digits)
+    poses = f"[[0, 0, {zs[0]!r}, 0, 0, 0], [0, 0, {zs[1]!r}, 0, 0, 0]]"
+    (sing, ik), out = _run(tmp_path, capsys, HUNT + f'[[query]]\ntype = "singularity"\n'
+                           f'poses = {poses}\n[[query]]\ntype = "inverse_kinematics"\n'
+                           f'poses = {poses}\n')
+    assert [r["reachable"] for r in sing["poses"]] == [r["reachable"] for r in ik["poses"]] \
+        == [True, False]
+    block = out[:out.index("[1] inverse_kinematics")]
+    for i, z in enumerate(zs):
+        assert f"pose {i}: (0, 0, {z!r}) mm, (0, 0, 0) deg" in block

@@ -12,7 +12,7 @@ JSON adds ``method``, ``pose_error`` (m, rad per coordinate: estimate or proved 
 ``contraction``, and the fast answer's check (:mod:`distkin.mechanisms.forward`):
 ``verified`` (the round trip, the rms closure residual within ``residual_tol``, m, and
 the joint values in range), ``round_trip`` (the closed-form IK at the pose gives back the
-angles and flags every leg valid there), ``in_range`` (every joint value within its
+angles and every leg closes there, within rounding), ``in_range`` (every joint value within its
 leg's declared ``range``) and ``q_mismatch`` (the largest |IK(pose) - angle|, rad; m for
 a prismatic leg).  Joint values outside their legs' declared ranges are no
 configuration of the device: every tier refuses them before solving, an ``infeasible``
@@ -44,6 +44,7 @@ import numpy as np
 
 from ...argcheck import check_keys, positive_int, positive_number
 from ...errors import DistkinError, InputError, NotFoundError
+from ...exact import exact_to_float, parse_exact
 from ..query import Outcome, register
 from ..units import angle_factor, length_factor
 from .mechanisms import (_fmt_pose, _joint_unit, _numbers, _plotter, _prismatic, _scale,
@@ -92,10 +93,10 @@ def _verified_line(res, angles, mech, scene, method: str) -> str:
     lu, au, lf, af = _units(scene)
     what = _joint_word(mech)
     trip = (f"round trip ok (the inverse kinematics at the pose gives back the {what}) "
-            f"and every leg valid there (the IK's own flag)"
+            f"and every leg closes there"
             if res.round_trip else
             f"round trip FAILED (the inverse kinematics at the pose does not give back "
-            f"the {what}, or flags a leg not valid there)")
+            f"the {what}, or a leg does not close there)")
     small = res.residual <= res.residual_tol
     resid = (f"rms closure residual {res.residual * lf:.3g} {lu} "
              + ("<=" if small else "ABOVE") + f" residual_tol {res.residual_tol * lf:.3g} {lu}"
@@ -145,7 +146,13 @@ class ForwardKinematicsQuery:
                                  f"{units.length}), got {a:g}", field=f"{field}.angles[{i}]",
                                  hint="a prismatic leg's joint value is its length from the "
                                       "base joint to the platform joint")
-        angles = tuple(a * (lf if p else af) for a, p in zip(raw, _prismatic(mechanism)))
+        # a prismatic leg's length as the leg table's stroke is read (an exact value times
+        # the exact unit, rounded once, legs_scene): 563 mm against a stroke end of 563
+        # mm was 1 ulp beyond it as 563 * 0.001 (review 2026-11-29)
+        angles = tuple(exact_to_float(parse_exact(table["angles"][i], f"{field}.angles[{i}]"),
+                                      f"{field}.angles[{i}]", units.length_factor)
+                       if p else a * af for i, (a, p) in enumerate(zip(raw,
+                                                                      _prismatic(mechanism))))
         guess = None
         if "guess" in table:
             guess = tuple(np.array(_numbers(table["guess"], f"{field}.guess", 6)) * _scale(units))

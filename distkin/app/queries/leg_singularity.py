@@ -282,9 +282,12 @@ class LegSingularityQuery:
         af = 180 / np.pi if deg else 1.0
         au = "deg" if deg else "rad"
 
-        def fmt_pose(x):
-            return (f"({', '.join(f'{v * lf:.6g}' for v in x[:3])}) {lu}, "
-                    f"({', '.join(f'{v * af:.6g}' for v in x[3:])}) {au}")
+        def fmt_pose(x, digits=10):
+            # a pose the scene gives (or a path sample) to 10 digits, as the kinematics
+            # queries echo them (two poses 40 nm apart, one unreachable, both read
+            # 497.329 mm: review 2026-11-29); a computed crossing to 6
+            return (f"({', '.join(f'{v * lf:.{digits}g}' for v in x[:3])}) {lu}, "
+                    f"({', '.join(f'{v * af:.{digits}g}' for v in x[3:])}) {au}")
 
         lines = [f"  mechanism: {mech.name} (L = {mech.L}); tests: {app['reason']}",
                  ("  det J: normalised leg lines, moment columns / " if app["det"] else
@@ -331,10 +334,10 @@ class LegSingularityQuery:
                          "sign changes on the samples and root pairs searched at the local "
                          "minima of |det J|, not certified complete)")
             for r in crossings:
-                lines.append(f"    crossing at {fmt_pose(r['pose'])}: " + _fmt(r, lf, lu))
+                lines.append(f"    crossing at {fmt_pose(r['pose'], 6)}: " + _fmt(r, lf, lu))
             for r in dropped:
                 lines.append(f"    not a crossing of the device: det J of the leg lines "
-                             f"changes sign at {fmt_pose(r['pose'])}, between two reachable "
+                             f"changes sign at {fmt_pose(r['pose'], 6)}, between two reachable "
                              f"samples, but that pose is {_reach_words(r)}")
         if p.path is not None:
             lines += _unreachable_lines(_unreachable_parts(reach, poses), len(poses), fmt_pose)
