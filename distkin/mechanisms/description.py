@@ -311,8 +311,11 @@ class RSSDescription:
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
     def geometry_key(self) -> tuple:
-        """The kinematic parameters as a tuple (identity of the generated kernels)."""
-        return tuple((f, getattr(self, f)) for f in GEOMETRY_FIELDS)
+        """The kinematic parameters as a tuple (identity of the generated kernels), once
+        per (frozen) description: nine calls in a single FK (review 2026-11-29)."""
+        if "_key" not in self.__dict__:
+            self.__dict__["_key"] = tuple((f, getattr(self, f)) for f in GEOMETRY_FIELDS)
+        return self.__dict__["_key"]
 
     def l3_interval(self, poses, *, batch: int = 50000):
         """The distal-link lengths that close every leg at every pose: ``(lo, hi)`` (m).

@@ -320,9 +320,11 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
     ls = float(mech.length_scale)
     flag_only = done & gives_back & flagged & in_range
     missed = done & ~gives_back
-    outside_legs = sorted(int(j) + 1 for j in np.flatnonzero(outside.any(axis=0)))
-    flagged_legs = sorted(int(j) + 1
-                          for j in np.flatnonzero((~ik_valid[flag_only]).any(axis=0)))
+    bad_range, bad_closure = (~in_range).any(), flag_only.any()   # (the names only then)
+    outside_legs = ([int(j) + 1 for j in np.flatnonzero(outside.any(axis=0))]
+                    if bad_range else [])
+    flagged_legs = ([int(j) + 1 for j in np.flatnonzero((~ik_valid[flag_only]).any(axis=0))]
+                    if bad_closure else [])
     msg = (f"{int(ok.sum())} of {N} solved (a solved pose: Gauss-Newton converged, step < "
            f"tol x length scale = {tol:g} x {ls:.3g} m, verified by the round trip and "
            f"in range, not near a singularity)"
@@ -332,14 +334,14 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
               if near.any() else "")
            + (f"; {int((~in_range).sum())} with joint values outside their legs' declared "
               f"ranges (legs {outside_legs}): not a configuration of the device, the pose "
-              f"only solves the leg closures, not verified" if (~in_range).any() else "")
+              f"only solves the leg closures, not verified" if bad_range else "")
            + (f"; {int(missed.sum())} converged to a pose whose inverse kinematics "
               f"does not give back the joint values (by up to "
               f"{joint_amount(np.max(mismatch[missed], axis=0), pris)}: another crank "
               f"branch or a least-squares minimum, not a solution)" if missed.any() else "")
            + (f"; {int(flag_only.sum())} converged to a pose where legs {flagged_legs} do "
               f"not close (beyond their reach or stroke by more than rounding; not "
-              f"verified)" if flag_only.any() else "")
+              f"verified)" if bad_closure else "")
            + (f"; {int((done & ~small).sum())} with an rms closure residual above "
               f"residual_tol = {residual_tol:.3g} m (inconsistent angles, or no solution "
               f"near the guess)" if (done & ~small).any() else "")
