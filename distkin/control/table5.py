@@ -199,9 +199,31 @@ def _free(ctl, model, pose, direction, motors, *, angular, amplitude, rise, seco
     return v_peak, a_peak, plant.end_stop_hits, off_peak
 
 
+def _reachable_step(model, row, w, angular, amplitude, units):
+    """InputError unless every leg closes along the step of row ``row`` from its worst
+    pose ``w["pose"]`` along ``w["direction"]`` (eight points of it, the last the
+    target): :func:`_free` drives the controller towards those targets."""
+    part = slice(3, 6) if angular else slice(0, 3)
+    step = amplitude * np.asarray(w["direction"])[part]
+    for s in np.linspace(0.125, 1.0, 8):
+        target = rotate_pose(w["pose"], (0 if angular else s) * step,
+                             (s if angular else 0) * step)
+        if not model.ik(target)[1]:
+            key = "step_angle" if angular else "step"
+            field, unit, f = (units or {}).get(key, ("step_rad" if angular else "step_m",
+                                                     "rad" if angular else "m", 1.0))
+            legs = [int(j) + 1 for j in np.flatnonzero(~(model.margins(target) >= 0.0))]
+            raise InputError(
+                f"expected a {key.replace('_', ' ')} whose targets the device reaches, got "
+                f"{amplitude * f:.6g} {unit}: the {row.replace('_', ' ')} row's step from "
+                f"its worst pose leaves the workspace {100 * s:.0f} % of the way"
+                + (f" (legs {legs} do not close)" if legs else ""), field=field,
+                hint="a smaller step (Table V: 40 mm and 0.4 rad)")
+
+
 def run_table5(mech_name: str = "octo", *, poses=None, scene=None, trials: int = 5,
                step_m: float = 0.040, step_rad: float = 0.4, rise_s: float = 0.020,
-               hold_s: float = 0.100, free_s: float = 0.150, actuators=None):
+               hold_s: float = 0.100, free_s: float = 0.150, actuators=None, units=None):
     """The emulated experiments of Table V (module docstring).
 
     Parameters
@@ -215,6 +237,17 @@ def run_table5(mech_name: str = "octo", *, poses=None, scene=None, trials: int =
         PD gains and motors (default the built-in ``control_octo.toml``).
     trials : int
         Repetitions of the blocked rows (sensor-noise seeds) averaged.
+    units : dict, optional
+        {"step": (field, unit, factor from m), "step_angle": (field, unit, factor from
+        rad)}: the names and units a refused step is given in (default SI).
+
+    Raises
+    ------
+    InputError
+        A free row's step whose targets the device does not reach (every leg closes at
+        eight points of the smoothed step, :func:`_reachable_step`): the controller was
+        driven towards an unreachable pose and the row reported a velocity of it (QA
+        2026-11-29: step = 1000 mm gave 17.3 m/s, 7.7 times the analysis, no warning).
 
     Returns
     -------
@@ -265,6 +298,8 @@ def run_table5(mech_name: str = "octo", *, poses=None, scene=None, trials: int =
             else:
                 ctl = Controller(stall, model)
                 angular = keep[0] == 3
+                _reachable_step(model, row, w, angular, step_rad if angular else step_m,
+                                units)
                 vp, ap, h, off = _free(ctl, model, w["pose"], w["direction"], motors,
                                        angular=angular,
                                        amplitude=step_rad if angular else step_m,

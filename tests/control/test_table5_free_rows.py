@@ -49,3 +49,31 @@ def test_bad_run_parameters_are_refused_before_any_work(kw, field):
     with pytest.raises(InputError) as exc:
         run_table5("octo", **kw)
     assert exc.value.field == field and repr(next(iter(kw.values()))) in str(exc.value)
+
+
+@pytest.mark.parametrize("angular, amplitude", [(False, 1.0), (True, 7.0)])
+def test_a_step_that_leaves_the_workspace_is_refused(angular, amplitude):
+    """QA 2026-11-29: step = 1000 mm drove the controller towards a pose no leg closes at
+    and reported 17.3 m/s (7.7 times the analysis) without a word.  Reference: the
+    mechanism's own IK valid flags along the step from the worst pose (POSE, DIRECTION
+    for the translation; the same pose about DIRECTION's axis for the rotation)."""
+    from distkin.control.table5 import _reachable_step
+    from distkin.errors import InputError
+    from distkin.mechanisms import preset
+    from distkin.spatial import rotate_pose_scalar
+    model = load_model("octo")
+    d = DIRECTION / np.linalg.norm(DIRECTION)
+    w = {"pose": POSE, "direction": np.r_[0, 0, 0, d] if angular else np.r_[d, 0, 0, 0]}
+    mech = preset("octo")
+
+    def closes(a):
+        return all(mech.inverse_kinematics(rotate_pose_scalar(
+            POSE, (0 if angular else s) * a * d, (s if angular else 0) * a * d))[1].all()
+            for s in np.linspace(0.125, 1.0, 8))
+
+    assert closes(0.4 if angular else 0.04) and not closes(amplitude)       # (premise)
+    _reachable_step(model, "velocity", w, angular, 0.4 if angular else 0.04, None)
+    with pytest.raises(InputError) as exc:
+        _reachable_step(model, "velocity", w, angular, amplitude, None)
+    assert exc.value.field == ("step_rad" if angular else "step_m")
+    assert "whose targets the device reaches" in str(exc.value)

@@ -52,7 +52,9 @@ class Table5Query:
         if name.endswith("*"):
             raise InputError("expected an unmodified preset for the simulated device, "
                              f"got {name!r}", field="mechanism")
-        res = run_table5(name, trials=trials, step_m=step, step_rad=ang)
+        res = run_table5(name, trials=trials, step_m=step, step_rad=ang,
+                         units={"step": ("step", lu, 1 / lf),
+                                "step_angle": ("step_angle", au, 1 / af)})
         lines = [f"Table V emulated on the simulated '{name}' ({trials} trials each; "
                  "distkin.control.table5)", "",
                  "| Output capability | emulated experiment | our analysis (minimum over "
