@@ -241,6 +241,14 @@ class ForwardKinematicsQuery:
                  f"orientation {float(err[3:].max()) * af:.2g} {au}"]
         if p.method != "fast" and len(tier.legs) != mech.L:
             lines.append(f"legs defining the pose: {list(tier.legs)}")
+        modes = None if res.modes is None else np.asarray(res.modes, dtype=float)
+        if modes is not None:
+            # an octahedral leg table: every assembly mode of the exact octic (Rojas et
+            # al. Sec. III), the one nearest the guess polished above (QA 2026-11-29:
+            # the API's fk.modes held 16, the report and the JSON none)
+            lines.append(f"assembly modes (exact octic, Rojas et al. eq. (3)): "
+                         f"{len(modes)}, the one nearest the start polished above")
+            lines += [f"  mode {k}: {_fmt_pose(x, scene, 6)}" for k, x in enumerate(modes)]
         for leg, bound in tier.other_legs.items():
             lines.append(f"leg {leg}: closure error at most {bound * lf:.3g} {lu} over the "
                          f"proved box")
@@ -252,11 +260,13 @@ class ForwardKinematicsQuery:
                   "pose_error": err, "certified": tier.certified, "legs": list(tier.legs),
                   "verified": res.verified, "round_trip": res.round_trip,
                   "in_range": res.in_range,
+                  **({} if modes is None else {"modes": modes}),
                   "q_mismatch": res.q_mismatch, "residual_tol": res.residual_tol,
                   "unit": {"pose": "m, rad", "residual": "m", "pose_error": "m, rad",
                            "angles": _joint_unit(mech), "joint_values": _joint_unit(mech),
                            "q_mismatch": _joint_unit(mech),
-                           "residual_tol": "m"}}
+                           "residual_tol": "m", **({} if modes is None else
+                                                  {"modes": "m, rad"})}}
         if p.method == "certified":
             result["other_legs_closure_bound"] = {str(k): v for k, v in tier.other_legs.items()}
             result["contraction"] = tier.contraction
