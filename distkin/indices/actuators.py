@@ -62,7 +62,9 @@ def leg_limits(mech, actuators, field: str = "actuators") -> dict:
             if name == "nominal" and own is not None:
                 lo, hi = own
                 if not lo < 0 < hi:
-                    raise InputError(f"expected an effort limit straddling 0, got {own!r}",
+                    unit = "N" if pris[i] else "N·m"
+                    raise InputError(f"expected an effort limit straddling 0, got "
+                                     f"[{lo:g}, {hi:g}] {unit}",
                                      field=f"mechanism.leg[{i}].limit")
                 out[name][i] = min(-lo, hi)
                 continue
