@@ -50,8 +50,8 @@ def test_json_poses_are_in_the_scene_units_with_a_unit_block(monkeypatch):
     """The run replaced by one row at a known pose (m, rad): 75 mm, 30 deg by hand."""
     seen = {}
 
-    def fake(name, *, trials, step_m, step_rad):
-        seen.update(step_m=step_m, step_rad=step_rad)
+    def fake(name, *, trials, step_m, step_rad, units):
+        seen.update(step_m=step_m, step_rad=step_rad, units=units)
         return {"velocity": {"unit": "m/s", "emulated": 1.0, "analysis": 2.0,
                              "paper_experiment": 1.12, "paper_simulation": 2.93,
                              "pose": [0.075, -0.075, 0.375, math.pi / 6, 0.0, -math.pi / 6],
@@ -61,6 +61,11 @@ def test_json_poses_are_in_the_scene_units_with_a_unit_block(monkeypatch):
     s = loads_scene(SCENE.format(length="mm", angle="deg", extra="step = 20\nstep_angle = 10"))
     out = Table5Query.run(s.queries[0].params, s, RunContext())
     assert seen["step_m"] == pytest.approx(0.02)
+    # a refused step is named in the scene's units (table5._reachable_step)
+    assert seen["units"]["step"][:2] == ("step", "mm")
+    assert seen["units"]["step"][2] == pytest.approx(1000.0)
+    assert seen["units"]["step_angle"][:2] == ("step_angle", "deg")
+    assert seen["units"]["step_angle"][2] == pytest.approx(180 / math.pi)
     pose = out.result["rows"]["velocity"]["pose"]
     assert pose == pytest.approx([75, -75, 375, 30, 0, -30])
     assert out.result["unit"]["pose"] == "mm, mm, mm, deg, deg, deg"
