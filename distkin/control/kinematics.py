@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..mechanisms.forward import gauss_newton
+from ..mechanisms.joint_values import range_excess  # (here for the control cycle)
 from ..spatial import rotate_pose_scalar
 from ..spatial import rotation_matrix_scalar as _rot  # noqa: F401 (controller, plant)
 
@@ -30,23 +31,6 @@ __all__ = ["KinematicModel", "FKState", "load_model", "model_of", "range_excess"
            "range_side"]
 
 _TWO_PI = 2.0 * math.pi
-
-
-def range_excess(q: float, lo: float, hi: float) -> float:
-    """How far (rad) the crank angle ``q`` lies outside the arc [``lo``, ``hi``] taken
-    modulo 2π, as :func:`distkin.mechanisms.legs.in_revolute_range` reads a range
-    (``[90, 270]`` deg is the back arc, ``[270, 450]`` the same arc as ±90°): 0 inside
-    it, and where the leg has no range (``lo`` = -inf; a full turn is given so by
-    :class:`KinematicModel`); inf for NaN.  Compiled for the control cycle by
-    :mod:`.cycle_common` (plain ``math``)."""
-    if q != q:
-        return math.inf
-    if not lo > -math.inf:
-        return 0.0
-    qs = q + _TWO_PI * math.ceil((lo - q) / _TWO_PI)   # the shift into [lo, lo + 2π)
-    if qs <= hi:
-        return 0.0
-    return min(qs - hi, lo + _TWO_PI - qs)
 
 
 def range_side(q: float, lo: float, hi: float) -> float:

@@ -15,8 +15,10 @@ import numpy as np
 
 from ..errors import InfeasibleError, InputError
 
-__all__ = ["check_joint_values", "joint_ranges", "outside_ranges", "check_joint_ranges",
-           "joint_amount"]
+__all__ = ["check_joint_values", "joint_ranges", "range_excess", "outside_ranges",
+           "check_joint_ranges", "joint_amount"]
+
+_TWO_PI = 2.0 * math.pi
 
 
 def check_joint_values(mech, q, field: str = "q"):
@@ -53,16 +55,36 @@ def check_joint_values(mech, q, field: str = "q"):
                               "point")
 
 
-def joint_ranges(mech):
+def joint_ranges(mech, revolute: bool = False):
     """The declared joint ranges of ``mech``: (lo, hi) arrays (L,) (rad for a crank, m
     for a prismatic leg's stroke; -inf, inf for a leg without one), or None when no leg
-    has one (the RSS presets)."""
-    legs = getattr(mech, "leg_table", None)
-    if not legs or all(leg.range is None for leg in legs):
+    has one (the RSS presets).  ``revolute``: the cranks' ranges only (a prismatic leg's
+    stroke is part of its reach margin, :meth:`.kinematics.KernelMethods._valid`)."""
+    legs = getattr(mech, "leg_table", None) or ()
+    kept = [None if leg.range is None or (revolute and leg.prismatic) else leg.range
+            for leg in legs]
+    if all(r is None for r in kept):
         return None
-    lo = np.array([-np.inf if leg.range is None else float(leg.range[0]) for leg in legs])
-    hi = np.array([np.inf if leg.range is None else float(leg.range[1]) for leg in legs])
+    lo = np.array([-np.inf if r is None else float(r[0]) for r in kept])
+    hi = np.array([np.inf if r is None else float(r[1]) for r in kept])
     return lo, hi
+
+
+def range_excess(q: float, lo: float, hi: float) -> float:
+    """How far (rad) the crank angle ``q`` lies outside the arc [``lo``, ``hi``] taken
+    modulo 2π, as :func:`.legs.in_revolute_range` reads a range (``[90, 270]`` deg is
+    the back arc, ``[270, 450]`` the same arc as ±90°): 0 inside it, and where the leg
+    has no range (``lo`` = -inf; a full turn is given so by the control code's
+    :class:`~distkin.control.kinematics.KinematicModel`); inf for NaN.  Plain ``math``:
+    compiled for the control cycle by :mod:`distkin.control.cycle_common`."""
+    if q != q:
+        return math.inf
+    if not lo > -math.inf:
+        return 0.0
+    qs = q + _TWO_PI * math.ceil((lo - q) / _TWO_PI)   # the shift into [lo, lo + 2π)
+    if qs <= hi:
+        return 0.0
+    return min(qs - hi, lo + _TWO_PI - qs)
 
 
 def outside_ranges(mech, q):
@@ -92,12 +114,9 @@ def outside_ranges(mech, q):
 
 def _range_excess(q, lo, hi, prismatic):
     """How far the joint value ``q`` (float) lies beyond the range [``lo``, ``hi``]: the
-    distance to the stroke (m), or to the nearer end of the arc modulo 2π (rad)."""
-    if prismatic:
-        return max(lo - q, q - hi, 0.0)
-    two_pi = 2.0 * math.pi
-    qs = q + two_pi * math.ceil((lo - q) / two_pi)       # the shift into [lo, lo + 2π)
-    return max(min(qs - hi, lo + two_pi - qs), 0.0)
+    distance to the stroke (m), or to the nearer end of the arc modulo 2π (rad,
+    :func:`range_excess`)."""
+    return max(lo - q, q - hi, 0.0) if prismatic else range_excess(q, lo, hi)
 
 
 def check_joint_ranges(mech, q, field: str = "q", units=None):

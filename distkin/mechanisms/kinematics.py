@@ -257,14 +257,8 @@ class KernelMethods:
     def _joint_ranges(self):
         """(lo, hi) arrays (L,) of the revolute legs' ranges (rad; ±inf where none), or
         (None, None) when no revolute leg has one."""
-        legs = getattr(self, "leg_table", None)
-        if not legs or all(leg.range is None or leg.prismatic for leg in legs):
-            return None, None
-        lo = np.array([-np.inf if leg.range is None or leg.prismatic else leg.range[0]
-                       for leg in legs])
-        hi = np.array([np.inf if leg.range is None or leg.prismatic else leg.range[1]
-                       for leg in legs])
-        return lo, hi
+        from .joint_values import joint_ranges
+        return joint_ranges(self, revolute=True) or (None, None)
 
     def reachable(self, poses):
         """(N,) bool: every leg of the pose closes (and is within its joint range; a
