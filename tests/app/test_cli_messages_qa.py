@@ -1,0 +1,78 @@
+"""User-facing messages of the CLI (QA round "cli"):
+
+1. the kappa line named ST without units and not where it comes from;
+2. a GeometryWarning printed in Python's raw format (``/path/file.py:10: GeometryWarning:``);
+3. "lengths in this message in m (SI)" appended to messages holding no length;
+4. a joint value just beyond a stroke end printed rounded onto the end ("550 mm outside
+   its range [350, 550] mm");
+5. a CSV with trailing commas or ';' separators.
+
+References: Kühne et al. Sec. III-B-2 for ST (diag[15N 15N 15N 1N·m 1N·m 1N·m]), numpy's
+SVD of the JSON's J for kappa, numpy's norms of the scene's leg vectors for the
+warning's lengths, the scene's declared stroke for the refusal, and the same CSV
+written without the slip for the rows read.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from distkin.app.cli import main
+from distkin.numfmt import apart
+
+ROOT = Path(__file__).resolve().parents[2]
+
+#: Kühne et al. Sec. III-B-2: "ST = diag[15N 15N 15N 1N·m 1N·m 1N·m]"
+PAPER_ST = "diag(15 N, 15 N, 15 N, 1 N·m, 1 N·m, 1 N·m)"
+
+
+def _example(name: str, queries: str) -> str:
+    text = (ROOT / "examples" / name).read_text()
+    return text[:text.index("[[query]]")] + queries
+
+
+def _run(tmp_path, capsys, text):
+    f = tmp_path / "s.toml"
+    f.write_text(text)
+    out = tmp_path / "out.json"
+    code = main(["run", str(f), "--json", str(out), "--no-progress"])
+    cap = capsys.readouterr()
+    return code, json.loads(out.read_text())["queries"], cap.out, cap.err
+
+
+# 4 --------------------------------------------------------- a value beyond its stroke
+@pytest.mark.parametrize("value", ["550.0000001", "550.000000000001", "349.99999999"])
+def test_stroke_refusal_prints_the_value_outside_its_bound(tmp_path, capsys, value):
+    code, qs, _, _ = _run(tmp_path, capsys, _example("gough_stewart_6ups.toml", f"""
+[[query]]
+type = "forward_kinematics"
+angles = ["449.672992", "471.224532", "465.566713", "458.704719", "450.839781", "{value}"]
+guess = [0, 0, 400, 0, 0, 0]
+method = "certified"
+"""))
+    assert code == 2
+    msg = qs[0]["error"]["message"]
+    m = re.search(r"leg 6's length (\S+) mm outside its range \[(\S+), (\S+)\] mm", msg)
+    assert m, msg
+    v, lo, hi = map(float, m.groups())
+    assert (lo, hi) == (350.0, 550.0)                    # the scene's stroke
+    assert not lo <= v <= hi, msg                        # visibly outside
+    assert v == pytest.approx(float(value), rel=1e-15)
+
+
+@pytest.mark.parametrize("v, bounds", [
+    (550.0000001, (350.0, 550.0)), (1 + 2.2e-16, (0.0, 1.0)), (-1e-300, (0.0, 1.0)),
+    (0.1 + 0.2, (0.3,)), (123456.7, (123456.0, 1e6)), (2.0, (2.0, 1.0)),
+])
+def test_apart_tells_distinct_numbers_apart(v, bounds):
+    texts = apart(v, *bounds)
+    assert len(texts) == 1 + len(bounds)
+    for b, t in zip(bounds, texts[1:]):
+        # the printed pair compares as the numbers do
+        assert (float(texts[0]) > float(t)) == (v > b) and (float(texts[0]) < float(t)) == (v < b)
+    assert apart(550.0, 350.0, 550.0) == ("550", "350", "550")   # 6 digits when enough
