@@ -16,13 +16,18 @@ written without the slip for the rows read.
 from __future__ import annotations
 
 import json
+import os
 import re
+import subprocess
+import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from distkin.app.cli import main
+from distkin.app.cli import format_warning, main
+from distkin.errors import GeometryWarning
 from distkin.numfmt import apart
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -43,6 +48,40 @@ def _run(tmp_path, capsys, text):
     code = main(["run", str(f), "--json", str(out), "--no-progress"])
     cap = capsys.readouterr()
     return code, json.loads(out.read_text())["queries"], cap.out, cap.err
+
+
+# 2 --------------------------------------------------------------- warnings, one line
+def test_geometry_warning_is_one_line_on_the_cli(tmp_path):
+    """The 6-UPS example with home at 600 mm, where every leg is beyond its 550 mm
+    stroke: one "distkin: warning:" line naming the legs' length (numpy's norm of the
+    scene's leg vector), never Python's "file.py:10: GeometryWarning:" format."""
+    text = _example("gough_stewart_6ups.toml", """
+[[query]]
+type = "inverse_kinematics"
+pose = [0, 0, 400, 0, 0, 0]
+""").replace("home = [0, 0, 400, 0, 0, 0]", "home = [0, 0, 600, 0, 0, 0]")
+    (tmp_path / "s.toml").write_text(text)
+    r = subprocess.run([sys.executable, "-m", "distkin", "run", "s.toml", "--no-progress"],
+                       cwd=tmp_path, capture_output=True, text=True, timeout=300,
+                       env={**os.environ, "PYTHONPATH": str(ROOT)})
+    assert r.returncode == 0, r.stderr
+    base = np.array([295.442326, -52.094453, 0.0])      # leg 1 of the scene (mm)
+    plat = np.array([96.418141, -114.906666, 600.0])
+    length = np.linalg.norm(plat - base) / 1e3
+    lines = [ln for ln in r.stderr.splitlines() if ln.strip()]
+    # every line distkin's own (a first run also says it derives the kernels)
+    assert all(ln.startswith("distkin: ") for ln in lines), r.stderr
+    lines = [ln for ln in lines if ln.startswith("distkin: warning: ")]
+    assert len(lines) == 1 and lines[0].startswith("distkin: warning: home: "), r.stderr
+    assert f"leg 1 length {length:.4g} m outside its range [0.35, 0.55] m" in lines[0]
+    assert "GeometryWarning" not in r.stderr and ".py:" not in r.stderr
+
+
+def test_format_warning_keeps_other_packages_format():
+    assert format_warning(GeometryWarning("a\n  b"), GeometryWarning, "/x/y.py", 3) == \
+        "distkin: warning: a b\n"
+    assert format_warning(UserWarning("u"), UserWarning, "/x/y.py", 3) == \
+        warnings.formatwarning(UserWarning("u"), UserWarning, "/x/y.py", 3)
 
 
 # 4 --------------------------------------------------------- a value beyond its stroke
