@@ -16,7 +16,8 @@ from ..errors import InputError
 from ..exact import parse_float
 
 __all__ = ["Units", "parse_units", "length_factor", "angle_factor", "length_value",
-           "angle_value", "DEG", "SCENE_UNIT_KINDS", "name_scene_units"]
+           "angle_value", "DEG", "SCENE_UNIT_KINDS", "name_scene_units", "scaling_text",
+           "SCALING_ORIGIN"]
 
 #: radians per degree
 DEG = math.pi / 180.0
@@ -113,3 +114,18 @@ def name_scene_units(exc, units):
         exc.message, exc.hint = message, hint
         exc.args = (exc.one_line(),)
     return exc
+
+
+#: where the default scaling matrix ST of the isotropy indices comes from
+#: (:data:`distkin.indices.isotropy.ST_DEFAULT`): Kühne et al., Sec. III-B-2
+SCALING_ORIGIN = ("the paper's Octopod scaling (Kühne et al. Sec. III-B-2: the end-effector "
+                  "wrench they designed for, Ergin's device's intended output capabilities)")
+
+
+def scaling_text(ST) -> str:
+    """The scaling matrix ST of the isotropy indices with its units, the diagonal
+    (6,) as (N x3, N·m x3): ``"diag(15 N, 15 N, 15 N, 1 N·m, 1 N·m, 1 N·m)"`` (Kühne et
+    al. Sec. III-B-2; the numbers as given, only the units added)."""
+    units = ("N",) * 3 + ("N·m",) * 3
+    return "diag(" + ", ".join(f"{float(v):g} {u}" for v, u in zip(ST, units)) + ")"
+

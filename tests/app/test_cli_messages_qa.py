@@ -27,6 +27,7 @@ import numpy as np
 import pytest
 
 from distkin.app.cli import format_warning, main
+from distkin.app.design_report import scaling_note
 from distkin.errors import GeometryWarning
 from distkin.numfmt import apart
 
@@ -48,6 +49,37 @@ def _run(tmp_path, capsys, text):
     code = main(["run", str(f), "--json", str(out), "--no-progress"])
     cap = capsys.readouterr()
     return code, json.loads(out.read_text())["queries"], cap.out, cap.err
+
+
+# 1 ------------------------------------------------------------------ the kappa line
+def test_kappa_line_names_st_with_units_and_its_origin(tmp_path, capsys):
+    """A user device (the 8-RUS example): kappa is σmin/σmax of ST⁻¹Jᵀ with the paper's
+    ST, and the report says ST's units and that it is the paper's Octopod scaling."""
+    code, qs, out, _ = _run(tmp_path, capsys, _example("rus8_device.toml", """
+[[query]]
+type = "jacobian"
+pose = [20, -10, 220, 10, 0, 5]
+"""))
+    assert code == 0
+    row = qs[0]["result"]["poses"][0]
+    J = np.array(row["J"])
+    st = np.array([15, 15, 15, 1, 1, 1.0])              # the paper's, Sec. III-B-2
+    sv = np.linalg.svd(J.T / st[:, None], compute_uv=False)
+    assert row["kappa"] == pytest.approx(sv[-1] / sv[0], rel=1e-12)
+    line = next(ln for ln in out.splitlines() if "kappa = " in ln)
+    assert f"ST = {PAPER_ST}" in line, line
+    assert "diag(15, 15, 15, 1, 1, 1)" not in out
+    assert ("ST of kappa: the paper's Octopod scaling (Kühne et al. Sec. III-B-2" in out
+            and "used for every mechanism (this query has no field for a device's own" in out)
+    assert PAPER_ST in qs[0]["result"]["unit"]["kappa"]
+
+
+def test_scaling_note_says_whose_st():
+    assert scaling_note((15, 15, 15, 1, 1, 1)).startswith(
+        f"ST = {PAPER_ST}, the paper's Octopod scaling")
+    own = scaling_note((10, 20, 30, 1, 2, 3))
+    assert own == ("ST = diag(10 N, 20 N, 30 N, 1 N·m, 2 N·m, 3 N·m), the query's "
+                   "`scaling`")
 
 
 # 2 --------------------------------------------------------------- warnings, one line
