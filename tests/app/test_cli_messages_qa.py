@@ -28,7 +28,8 @@ import pytest
 
 from distkin.app.cli import format_warning, main
 from distkin.app.design_report import scaling_note
-from distkin.errors import GeometryWarning
+from distkin.app.units import Units, has_si_length, si_length_hint
+from distkin.errors import GeometryWarning, InputError
 from distkin.numfmt import apart
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -114,6 +115,25 @@ def test_format_warning_keeps_other_packages_format():
         "distkin: warning: a b\n"
     assert format_warning(UserWarning("u"), UserWarning, "/x/y.py", 3) == \
         warnings.formatwarning(UserWarning("u"), UserWarning, "/x/y.py", 3)
+
+
+# 3 ------------------------------------------------------------------- the SI hint
+@pytest.mark.parametrize("message, length", [
+    ("expected at least 6 legs, got 5", False),
+    ("expected branch +1 or -1, got 2", False),
+    ("got leg[1] with the same line as leg[0] (base (0.295442, -0.0520945, 0) m, ", True),
+    ("leg 1 length 0.6353 m outside its range [0.35, 0.55] m", True),
+    ("leg 2 margin -0.0121 m^2", True),
+    ("a stroke of 1e-07 mm", False),        # the scene's unit, not SI
+    ("a limit of 2.5 N·m", False),
+])
+def test_si_hint_only_for_a_message_with_a_length(message, length):
+    assert has_si_length(message) is length
+    exc = InputError(message, field="leg")
+    hint = si_length_hint(exc, Units("mm", "deg"))
+    assert (hint == "lengths in this message in m (SI), the scene's in mm") is length
+    assert (hint is None) is not length
+    assert si_length_hint(exc, Units("m", "rad")) is None     # an SI scene needs none
 
 
 # 4 --------------------------------------------------------- a value beyond its stroke
