@@ -27,6 +27,7 @@ import numpy as np
 import pytest
 
 from distkin.app.cli import format_warning, main
+from distkin.app.csv_rows import csv_rows
 from distkin.app.design_report import scaling_note
 from distkin.app.units import Units, has_si_length, si_length_hint
 from distkin.errors import GeometryWarning, InputError
@@ -167,3 +168,48 @@ def test_apart_tells_distinct_numbers_apart(v, bounds):
         # the printed pair compares as the numbers do
         assert (float(texts[0]) > float(t)) == (v > b) and (float(texts[0]) < float(t)) == (v < b)
     assert apart(550.0, 350.0, 550.0) == ("550", "350", "550")   # 6 digits when enough
+
+
+# 5 ------------------------------------------------------------------- the CSV rows
+HEAD = "type,base_x,base_y,base_z,range_min,range_max"
+ROWS = ["UPS,1.5,2,0,350,550", "UPS,3,,0,350,550", "UPS,4,5,0,,"]
+
+
+@pytest.mark.parametrize("slip", ["every row", "data rows", "one row"])
+def test_trailing_comma_is_read_as_without(slip):
+    """A row's empty cells beyond the header's last column are dropped: the rows are
+    those of the same file without the trailing commas; an empty cell inside a row (a
+    field not given) is kept."""
+    plain = "\n".join([HEAD, *ROWS])
+    rows = {"every row": [HEAD + ",", *(r + "," for r in ROWS)],
+            "data rows": [HEAD, *(r + ",," for r in ROWS)],
+            "one row": [HEAD, ROWS[0], ROWS[1] + ",", ROWS[2]]}[slip]
+    assert csv_rows("\n".join(rows), "legs.csv", "f") == csv_rows(plain, "legs.csv", "f")
+    assert csv_rows(plain, "legs.csv", "f")[3] == (4, ["UPS", "4", "5", "0", "", ""])
+
+
+def test_a_value_beyond_the_header_is_refused_naming_its_line():
+    text = "\n".join([HEAD, ROWS[0], "", ROWS[1] + ",7", ROWS[2]])
+    with pytest.raises(InputError) as err:
+        csv_rows(text, "legs.csv", "mechanism.legs_csv")
+    assert err.value.field == "mechanism.legs_csv[1]"
+    assert err.value.message == ("expected 6 cells (line 4 of legs.csv), got 7: a value in "
+                                 "cell 7, beyond the header's last column 'range_max'")
+
+
+@pytest.mark.parametrize("where, line", [("all", 1), ("data", 2)])
+def test_semicolon_separated_values_are_named(where, line):
+    rows = [HEAD, *ROWS] if where == "data" else [HEAD.replace(",", ";"), *ROWS]
+    if where == "data":
+        rows[1] = rows[1].replace(",", ";")
+    with pytest.raises(InputError) as err:
+        csv_rows("\n".join(rows), "legs.csv", "mechanism.legs_csv")
+    assert err.value.message == ("expected comma-separated values, got semicolon-separated "
+                                 f"values (line {line} of legs.csv): distkin reads "
+                                 "comma-separated")
+    assert "comma-separated" in err.value.hint
+
+
+def test_an_empty_header_cell_between_names_is_named():
+    with pytest.raises(InputError, match=r"got an empty cell \(column 2\)"):
+        csv_rows("type,,base_y\nUPS,1,2", "legs.csv", "f")
