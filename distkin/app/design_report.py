@@ -16,7 +16,8 @@ import numpy as np
 from ..argcheck import positive_number
 from ..errors import InputError
 from .query import Outcome
-from .units import DEG, SCALING_ORIGIN, angle_value, length_value, scaling_text
+from .units import (DEG, SCALING_ORIGIN, angle_value, degrees_hint, length_value,
+                    scaling_text)
 
 __all__ = ["design_sweep_report", "PAPER_TABLE1", "UNITS", "scaling_note"]
 
@@ -346,7 +347,8 @@ def check_range(name, lo, hi, step, units, field):
         raise InputError(f"expected {name} >= 0, got min {show(lo)}", field=f"{field}[0]")
     if angle and hi >= 90 * DEG:
         raise InputError(f"expected {name} below {_in_units(90 * DEG, units, True)}, got max "
-                         f"{show(hi)}", field=f"{field}[1]")
+                         f"{show(hi)}", field=f"{field}[1]",
+                         hint=degrees_hint(hi, units, lambda a: a < 90 * DEG))
 
 
 def check_design_count(ranges, units, field):

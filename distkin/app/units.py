@@ -18,7 +18,8 @@ from ..exact import parse_float
 
 __all__ = ["Units", "parse_units", "length_factor", "angle_factor", "length_value",
            "angle_value", "DEG", "SCENE_UNIT_KINDS", "name_scene_units", "scaling_text",
-           "SCALING_ORIGIN", "has_si_length", "si_length_hint"]
+           "SCALING_ORIGIN", "has_si_length", "si_length_hint",
+           "degrees_hint"]
 
 #: radians per degree
 DEG = math.pi / 180.0
@@ -151,3 +152,14 @@ def si_length_hint(exc, units) -> str | None:
                                               or has_si_length(exc.hint)):
         return None
     return f"lengths in this message in m (SI), the scene's in {units.length}"
+
+
+def degrees_hint(value_rad: float, units, allowed) -> str | None:
+    """The hint of an angle refused in a scene whose ``[units] angle`` is ``"rad"``
+    when the number as written would have been allowed in degrees (``rotation = 30``
+    meant as ±30°), or None.  ``value_rad`` is the value as read (rad, the number
+    written), ``allowed`` a predicate on an angle in rad (QA: an angle unit slip)."""
+    if units.angle != "rad" or not math.isfinite(value_rad) or not allowed(value_rad * DEG):
+        return None
+    return (f"an angle in degrees? the scene's [units] angle is \"rad\" ({value_rad:g} "
+            f"deg would be {value_rad * DEG:.4g} rad; angle = \"deg\" reads degrees)")

@@ -5,7 +5,8 @@
 3. "lengths in this message in m (SI)" appended to messages holding no length;
 4. a joint value just beyond a stroke end printed rounded onto the end ("550 mm outside
    its range [350, 550] mm");
-5. a CSV with trailing commas or ';' separators.
+5. a CSV with trailing commas or ';' separators;
+6. degrees written in a scene whose angles are in rad, refused without a word on units.
 
 References: Kühne et al. Sec. III-B-2 for ST (diag[15N 15N 15N 1N·m 1N·m 1N·m]), numpy's
 SVD of the JSON's J for kappa, numpy's norms of the scene's leg vectors for the
@@ -16,6 +17,7 @@ written without the slip for the rows read.
 from __future__ import annotations
 
 import json
+import math
 import os
 import re
 import subprocess
@@ -29,6 +31,7 @@ import pytest
 from distkin.app.cli import format_warning, main
 from distkin.app.csv_rows import csv_rows
 from distkin.app.design_report import scaling_note
+from distkin.app.scene import loads_scene
 from distkin.app.units import Units, has_si_length, si_length_hint
 from distkin.errors import GeometryWarning, InputError
 from distkin.numfmt import apart
@@ -213,3 +216,34 @@ def test_semicolon_separated_values_are_named(where, line):
 def test_an_empty_header_cell_between_names_is_named():
     with pytest.raises(InputError, match=r"got an empty cell \(column 2\)"):
         csv_rows("type,,base_y\nUPS,1,2", "legs.csv", "f")
+
+
+# 6 --------------------------------------------------------------- angle unit slips
+RAD = '[units]\nlength = "mm"\nangle = "{angle}"\n[mechanism]\nkind = "rss"\npreset = "hunt"\n'
+GRID = ('[[query]]\ntype = "performance"\nworkers = 1\n'
+        'grid = {{ half = 10, step = 10, rotation = {v}, rotation_step = 10 }}\n')
+IK = '[[query]]\ntype = "inverse_kinematics"\npose = [0, 0, 300, 0, 0, 0]\n'
+
+
+@pytest.mark.parametrize("text, field, v", [
+    (RAD + GRID.format(v=30), "query[0].grid.rotation", 30),
+    (RAD + '[[query]]\ntype = "design_sweep"\nbeta = [0, 30, 10]\n', "query[0].beta[1]", 30),
+    (RAD + 'gamma = 13.18\n' + IK, "mechanism.gamma", 13.18),
+])
+def test_degrees_in_a_rad_scene_are_named(text, field, v):
+    """An angle refused in a rad scene that degrees would allow: the hint says so, with
+    the value in rad (math.radians); in a deg scene, or beyond what degrees allow, none."""
+    with pytest.raises(InputError) as err:
+        loads_scene(text.replace("{angle}", "rad"))
+    assert err.value.field == field
+    assert err.value.hint == (f"an angle in degrees? the scene's [units] angle is \"rad\" "
+                              f"({v:g} deg would be {math.radians(v):.4g} rad; angle = "
+                              f"\"deg\" reads degrees)")
+
+
+@pytest.mark.parametrize("text", [RAD.replace("{angle}", "deg") + GRID.format(v=200),
+                                  RAD.replace("{angle}", "rad") + GRID.format(v=500)])
+def test_no_degrees_hint_where_degrees_would_not_do(text):
+    with pytest.raises(InputError) as err:
+        loads_scene(text)
+    assert err.value.field == "query[0].grid.rotation" and not err.value.hint
