@@ -14,7 +14,7 @@ own layer or a lower one, never a higher one.
 
 0. ground floor: errors, exact numbers and exact root isolation, input checks (TOML
    syntax errors among them),
-   spatial maths, units, the run store, the version;
+   spatial maths, units, numbers in messages, the run store, the version;
 1. geometry;
 2. models: the octahedral banana and octic algebra, the RSS descriptions, presets and
    symbolic model (the symbolic parts import sympy inside functions);
@@ -47,6 +47,7 @@ LAYERS: dict[str, int] = {
     "distkin.toml_syntax": 0,
     "distkin.spatial": 0,
     "distkin.units": 0,
+    "distkin.numfmt": 0,
     "distkin.runstore": 0,
     "distkin.sourcecache": 0,
     "distkin._jitcache": 0,

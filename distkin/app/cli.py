@@ -26,13 +26,15 @@ import signal
 import sys
 import time
 import traceback
+import warnings
 from importlib import resources
 from pathlib import Path
 
 from .._version import __version__
 from ..errors import DistkinError, InputError, is_input_error
 
-__all__ = ["main", "run_scene", "DEMO_SCENES", "DEMO_SCENE", "SUBCOMMANDS", "CHUNKED"]
+__all__ = ["main", "run_scene", "DEMO_SCENES", "DEMO_SCENE", "SUBCOMMANDS", "CHUNKED",
+           "format_warning"]
 
 #: built-in scenes run by ``distkin demo``, in order (files in distkin/scenes/)
 DEMO_SCENES = [
@@ -120,6 +122,21 @@ SUBCOMMANDS: dict = {
     "codegen": _add_codegen,
     "sweep": _add_sweep,
 }
+
+
+def format_warning(message, category, filename, lineno, line=None) -> str:
+    """:func:`warnings.formatwarning` while a command runs: a warning of distkin's own
+    (its class defined in the package: ``GeometryWarning``, ``ConditioningWarning``...)
+    is one line, ``distkin: warning: ...``, as the CLI's other warnings, never Python's
+    ``/path/file.py:123: GeometryWarning: ...`` and the source line below it (QA: a legs
+    scene's home outside a stroke); any other warning keeps Python's format."""
+    if getattr(category, "__module__", "").split(".")[0] != "distkin":
+        return _python_formatwarning(message, category, filename, lineno, line)
+    return f"distkin: warning: {' '.join(str(message).split())}\n"
+
+
+#: Python's own :func:`warnings.formatwarning` (for the warnings of other packages)
+_python_formatwarning = warnings.formatwarning
 
 
 def _err(msg: str) -> None:
@@ -368,6 +385,7 @@ def main(argv=None) -> int:
         _err(f"expected a command ({commands}), got none (see distkin --help)")
         return 2
     old_term = _term_as_interrupt()
+    old_format, warnings.formatwarning = warnings.formatwarning, format_warning
     try:
         _check_cache_env()
         return int(args.func(args) or 0)
@@ -402,6 +420,7 @@ def main(argv=None) -> int:
         _err(f"internal failure: {type(exc).__name__}: {exc} (run with --debug for the traceback)")
         return 1
     finally:
+        warnings.formatwarning = old_format
         if old_term is not None:
             signal.signal(signal.SIGTERM, old_term)
 

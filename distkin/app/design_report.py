@@ -16,13 +16,23 @@ import numpy as np
 from ..argcheck import positive_number
 from ..errors import InputError
 from .query import Outcome
-from .units import DEG, angle_value, length_value
+from .units import (DEG, SCALING_ORIGIN, angle_value, degrees_hint, length_value,
+                    scaling_text)
 
-__all__ = ["design_sweep_report", "PAPER_TABLE1", "UNITS"]
+__all__ = ["design_sweep_report", "PAPER_TABLE1", "UNITS", "scaling_note"]
 
 #: Table I's optimum and the GII of Sec. III-B-2
 PAPER_TABLE1 = {"l2": 0.0, "beta": 0.0, "gamma": 0.0, "ld": 0.020, "gii": 0.0006,
                 "sigma_min": 0.0127, "sigma_max": 20.0052}
+
+
+def scaling_note(ST) -> str:
+    """ST with its units and where it comes from: the paper's (the query's default) or
+    the query's own ``scaling``."""
+    from ..indices.isotropy import ST_DEFAULT
+    return f"ST = {scaling_text(ST)}, " + (
+        f"{SCALING_ORIGIN}, the default of the query's `scaling`"
+        if tuple(map(float, ST)) == tuple(ST_DEFAULT) else "the query's `scaling`")
 
 
 def design_sweep_report(p, scene, ctx, *, store, executor):
@@ -65,7 +75,8 @@ def design_sweep_report(p, scene, ctx, *, store, executor):
               f"order): " + "; ".join(f"({show_design(designs[i])})" for i in ties[:6])
               + ("; ..." if len(ties) > 6 else "") + "; the first: ")
              + show_design(best) + f"; GII = {r['gii']:.4g} (σmin = {r['sigma_min']:.4g}, "
-               f"σmax = {r['sigma_max']:.4g}; dimensionless, σ of ST⁻¹Jᵀ)",
+               f"σmax = {r['sigma_max']:.4g}; dimensionless, σ of ST⁻¹Jᵀ, "
+               f"{scaling_note(p.scaling)})",
              "paper (Table I, Sec. III-B-2): l2 = 0 mm, beta = 0°, gamma = 0°, ld = 20 mm; "
              f"GII = {PAPER_TABLE1['gii']:g} (σmin = {PAPER_TABLE1['sigma_min']:g}, σmax = "
              f"{PAPER_TABLE1['sigma_max']:g})"]
@@ -336,7 +347,8 @@ def check_range(name, lo, hi, step, units, field):
         raise InputError(f"expected {name} >= 0, got min {show(lo)}", field=f"{field}[0]")
     if angle and hi >= 90 * DEG:
         raise InputError(f"expected {name} below {_in_units(90 * DEG, units, True)}, got max "
-                         f"{show(hi)}", field=f"{field}[1]")
+                         f"{show(hi)}", field=f"{field}[1]",
+                         hint=degrees_hint(hi, units, lambda a: a < 90 * DEG))
 
 
 def check_design_count(ranges, units, field):

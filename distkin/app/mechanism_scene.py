@@ -30,7 +30,7 @@ from ..exact import exact_to_float, parse_exact
 from ..mechanisms.legs import GeometryWarning
 from ..mechanisms.presets import PRESETS, SLIP_RATIO, slip_ratio, slip_ratios
 from ..mechanisms.rss import preset
-from .units import angle_factor, length_factor
+from .units import angle_factor, degrees_hint, length_factor
 
 __all__ = ["parse_rss", "unit_slips", "length_slips", "warn_slips", "LENGTHS", "ANGLES",
            "SLIP_RATIO"]
@@ -67,7 +67,9 @@ def parse_rss(table, units, field):
             if k in ANGLES and not 0 <= over[k] < math.pi / 2:   # this field, both units
                 raise InputError(f"expected {k} in [0°, 90°), got {over[k]:.6g} rad (the "
                                  f"scene's {k} = {table[k]!r} {units.angle})",
-                                 field=f"{field}.{k}")
+                                 field=f"{field}.{k}",
+                                 hint=degrees_hint(over[k], units,
+                                                   lambda a: 0 <= a < math.pi / 2))
     _warn_unit_slips(name, over, table, units, field)
     try:
         with warnings.catch_warnings(record=True) as caught:

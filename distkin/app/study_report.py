@@ -475,6 +475,8 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
                      + (f"; {2e3 * cert.get('cube_half_m', 0.075):.4g} mm cube about home "
                         f"at its rotation certified {cert['zero_rotation_cube']}"
                         if cert else ""))
+    from .design_report import scaling_note
+    lines.append(f"  GII, σmin, σmax of ST⁻¹Jᵀ for every device: {scaling_note(p.scaling)}")
     lines += [f"  {s['label']}: {s['isotropy']['rotation_note']}" for s in summaries
               if s["isotropy"].get("rotation_note")]
     lines += [f"  {s['label']}: reaches no pose of its grid: its rows below are empty (—)"

@@ -8,6 +8,7 @@ The engine works in SI (m, rad); a scene may declare ``[units] length = "mm"`` (
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -16,7 +17,9 @@ from ..errors import InputError
 from ..exact import parse_float
 
 __all__ = ["Units", "parse_units", "length_factor", "angle_factor", "length_value",
-           "angle_value", "DEG", "SCENE_UNIT_KINDS", "name_scene_units"]
+           "angle_value", "DEG", "SCENE_UNIT_KINDS", "name_scene_units", "scaling_text",
+           "SCALING_ORIGIN", "has_si_length", "si_length_hint",
+           "degrees_hint"]
 
 #: radians per degree
 DEG = math.pi / 180.0
@@ -113,3 +116,50 @@ def name_scene_units(exc, units):
         exc.message, exc.hint = message, hint
         exc.args = (exc.one_line(),)
     return exc
+
+
+#: where the default scaling matrix ST of the isotropy indices comes from
+#: (:data:`distkin.indices.isotropy.ST_DEFAULT`): Kühne et al., Sec. III-B-2
+SCALING_ORIGIN = ("the paper's Octopod scaling (Kühne et al. Sec. III-B-2: the end-effector "
+                  "wrench they designed for, Ergin's device's intended output capabilities)")
+
+
+def scaling_text(ST) -> str:
+    """The scaling matrix ST of the isotropy indices with its units, the diagonal
+    (6,) as (N x3, N·m x3): ``"diag(15 N, 15 N, 15 N, 1 N·m, 1 N·m, 1 N·m)"`` (Kühne et
+    al. Sec. III-B-2; the numbers as given, only the units added)."""
+    units = ("N",) * 3 + ("N·m",) * 3
+    return "diag(" + ", ".join(f"{float(v):g} {u}" for v, u in zip(ST, units)) + ")"
+
+
+#: a number (or a closing bracket of numbers) followed by m, m^2, m^3 as a word: a
+#: length in an SI message ("0.6353 m", "(0.29, -0.05, 0) m", "margin -0.01 m^2"),
+#: not "mm", "m/s", "N·m" or "rad/m"
+_SI_LENGTH = re.compile(r"[0-9)\]]\s?m(?:\^[23]|²|³)?(?![A-Za-z0-9_/·])")
+
+
+def has_si_length(text) -> bool:
+    """Whether ``text`` (an error message or hint) states a length in m (SI)."""
+    return bool(text) and _SI_LENGTH.search(text) is not None
+
+
+def si_length_hint(exc, units) -> str | None:
+    """The hint "lengths in this message in m (SI), the scene's in mm" for an error
+    ``exc`` of the engine (its message in SI) raised while a scene in ``units`` was
+    read, or None: when the scene is in m, or when neither the message nor the hint
+    states a length (QA: "expected at least 6 legs, got 5" got it)."""
+    if units.length in ("m", "none") or not (has_si_length(exc.message)
+                                              or has_si_length(exc.hint)):
+        return None
+    return f"lengths in this message in m (SI), the scene's in {units.length}"
+
+
+def degrees_hint(value_rad: float, units, allowed) -> str | None:
+    """The hint of an angle refused in a scene whose ``[units] angle`` is ``"rad"``
+    when the number as written would have been allowed in degrees (``rotation = 30``
+    meant as ±30°), or None.  ``value_rad`` is the value as read (rad, the number
+    written), ``allowed`` a predicate on an angle in rad (QA: an angle unit slip)."""
+    if units.angle != "rad" or not math.isfinite(value_rad) or not allowed(value_rad * DEG):
+        return None
+    return (f"an angle in degrees? the scene's [units] angle is \"rad\" ({value_rad:g} "
+            f"deg would be {value_rad * DEG:.4g} rad; angle = \"deg\" reads degrees)")

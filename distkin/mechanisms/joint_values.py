@@ -14,6 +14,7 @@ import math
 import numpy as np
 
 from ..errors import InfeasibleError, InputError
+from ..numfmt import apart
 
 __all__ = ["check_joint_values", "joint_ranges", "range_excess", "outside_ranges",
            "check_joint_ranges", "joint_amount"]
@@ -151,9 +152,10 @@ def check_joint_ranges(mech, q, field: str = "q", units=None):
     what = "length" if pris else "angle"
     where = f"[{j}]" if np.ndim(q) == 1 else f"[{i}][{j}]"
     others = [int(k) + 1 for k in bad[1:]]
+    shown = apart(v * f, lo[j] * f, hi[j] * f)     # the value visibly beyond its bound
     raise InfeasibleError(
         f"expected every joint value within its leg's declared range, got leg {j + 1}'s "
-        f"{what} {v * f:.6g} {name} outside its range [{lo[j] * f:.6g}, {hi[j] * f:.6g}] "
+        f"{what} {shown[0]} {name} outside its range [{shown[1]}, {shown[2]}] "
         f"{name} ({excess * f:.3g} {name} beyond it)"
         + (f", and legs {others} outside theirs" if others else "")
         + ": not a configuration of the device, so there is no pose to give",

@@ -96,7 +96,7 @@ from ...errors import InputError
 from ...exact import parse_float
 from ..mechanism_scene import length_slips, warn_slips
 from ..query import register
-from ..units import DEG, angle_value, length_value
+from ..units import DEG, angle_value, degrees_hint, length_value
 from ...indices.isotropy import ST_DEFAULT
 from ...indices.study import ACTUATORS, PAPER_TABLE3
 from ..design_report import (MAX_SWEEP_DESIGNS, MAX_SWEEP_EVALUATIONS,  # noqa: F401 (doc)
@@ -158,7 +158,8 @@ def _check_rotation(rotation, units, field):
         raise InputError(f"expected a rotation of at most {_show(math.pi, units, True)} (the "
                          f"grid spans ±rotation about each axis; beyond it the Euler angles "
                          f"wrap onto the same orientations), got {_show(rotation, units, True)}",
-                         field=field)
+                         field=field, hint=degrees_hint(rotation, units,
+                                                        lambda a: a <= math.pi))
 
 
 def _axis_count(half, step, units, field, half_key, step_key, angle=False):

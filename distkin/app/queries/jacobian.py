@@ -14,12 +14,15 @@ Scene fields (poses in the scene's units, tiers as for ``inverse_kinematics``:
 
 Each pose row of the JSON has ``J``, ``Jq``, ``Jx`` (SI; the result's ``unit`` block
 names each array's units), ``kappa``, κ of Kühne et al. eq. (4), σmin/σmax of the
-scaled ST⁻¹Jᵀ with Stocco's ST = diag(15, 15, 15, 1, 1, 1) (Sec. II-C-2;
-:func:`distkin.indices.condition_number`), ``kappa_unscaled``, the same ratio of J
+scaled ST⁻¹Jᵀ with Stocco's ST = diag(15 N, 15 N, 15 N, 1 N·m, 1 N·m, 1 N·m) (Sec.
+II-C-2; :func:`distkin.indices.condition_number`), ``kappa_unscaled``, the same ratio of J
 itself, whose columns have mixed units, ``singular_values`` (of the unscaled J) and
 ``reachable``.  At a pose where a leg does not close (``reachable`` false) J is not
 defined, so ``kappa``, ``kappa_unscaled`` and ``singular_values`` are null (text:
 "undefined (pose not reachable)"), never the numbers of a J with made-up rows.
+ST is the paper's scaling for the Octopod (Sec. III-B-2), the same for every mechanism:
+the query has no field for a device's own, and its report says so (a ``performance``
+query's ``scaling`` sets one for its GII).
 """
 
 from __future__ import annotations
@@ -32,6 +35,7 @@ from ...argcheck import check_keys
 from ...errors import ConditioningWarning, InputError
 from ...indices.isotropy import ST_DEFAULT, condition_number
 from ..query import Outcome, register
+from ..units import SCALING_ORIGIN, scaling_text
 from .mechanisms import (NOT_RESOLVED, _accuracy, _amount, _fmt_pose, _mechanism_unit,
                          _plotter, _Poses, _prismatic, _tier_fields, _tier_lines, _tier_rows,
                          parse_poses)
@@ -58,10 +62,6 @@ def _inaccurate_line(res, i) -> str:
             + '); use method = "precise"')
 
 
-def _st_text() -> str:
-    return ", ".join(f"{v:g}" for v in ST_DEFAULT)
-
-
 def _jacobian_units(mech, mass_matrix: bool) -> dict:
     """The ``unit`` block of a jacobian result (SI; the joint unit is rad for a revolute
     leg, m for a prismatic one)."""
@@ -80,8 +80,8 @@ def _jacobian_units(mech, mass_matrix: bool) -> dict:
         "J_error": "as J", "Jq_error": "as Jq", "Jx_error": "as Jx",
         "singular_values": "of the unscaled J, mixed units; null where the pose is not "
                            "reachable",
-        "kappa": f"none (eq. (4), of ST⁻¹Jᵀ, ST = diag({_st_text()})); null where the pose "
-                 "is not reachable",
+        "kappa": f"none (eq. (4), of ST⁻¹Jᵀ, ST = {scaling_text(ST_DEFAULT)}, the paper's "
+                 "Octopod scaling for every mechanism); null where the pose is not reachable",
         "kappa_unscaled": "none (sigma_min/sigma_max of the unscaled J, mixed units); null "
                           "where the pose is not reachable",
     }
@@ -161,8 +161,8 @@ class JacobianQuery:
                 lines.append(f"  singular values of the unscaled J: {UNDEFINED}")
             else:
                 lines.append(f"  kappa = {r['kappa']:.6g} (eq. (4): sigma_min/sigma_max of "
-                             f"the scaled ST⁻¹Jᵀ, ST = diag({_st_text()}), Kühne et al. "
-                             "Sec. II-C-2)")
+                             f"the scaled ST⁻¹Jᵀ, ST = {scaling_text(ST_DEFAULT)}, Kühne et "
+                             "al. Sec. II-C-2)")
                 lines.append("  singular values of the unscaled J: "
                              + ", ".join(f"{v:.6g}" for v in sv[i])
                              + f" (mixed units); their ratio sigma_min/sigma_max = "
@@ -187,6 +187,10 @@ class JacobianQuery:
                                "the IK's error and the rounding propagated through Jq, Jx "
                                "and J = Jx/Jq, (dJx + |J| dJq)/|Jq_ii|; inf where it exceeds "
                                f"{J_FIRST_ORDER:g} of the row"))
+        if valid.all(axis=-1).any():        # some kappa printed: say whose ST it is
+            lines.append(f"  ST of kappa: {SCALING_ORIGIN}, used for every mechanism (this "
+                         "query has no field for a device's own; a performance query's "
+                         "`scaling` sets one for its GII)")
         lines += [f"note: {w.message}" for w in caught if not flagged.any()]
         return Outcome({"mechanism": mech.parameters(), "method": p.method,
                         "precision": res.precision, "unit": units,
