@@ -724,8 +724,8 @@ def _gii_section(data):
     return "\n".join([
         "### 3. Global isotropy index: sampling density against value and time",
         "",
-        "GII = min σmin / max σmax of W = ST⁻¹Jᵀ (Sec. II-C-2, ST = diag(15, 15, 15, 1, 1, "
-        "1)) of the Octopod over nested grids of the Table II box (±75 mm, ±20°): the "
+        "GII = min σmin / max σmax of W = ST⁻¹Jᵀ (Sec. II-C-2, ST = diag(15 N, 15 N, 15 N, "
+        "1 N·m, 1 N·m, 1 N·m), Sec. III-B-2) of the Octopod over nested grids of the Table II box (±75 mm, ±20°): the "
         "position step at a 10° orientation step, and the orientation step at 5³ "
         "positions. Every grid GII is an upper bound of the GII of the continuous box "
         "(more samples can only lower min σmin and raise max σmax). **Refined**: min σmin "

@@ -156,7 +156,8 @@ class SafetyLimits:
     ``watchdog_ms`` wall time without a valid frame before zero torque and the fault
     state; ``recover_frames`` consecutive valid frames needed to leave it;
     ``sigma_min`` the smallest singular value of the scaled Jacobian ``J S^-1``
-    (``S = diag(15,15,15,1,1,1)``, Kühne et al. Sec. III-B) below which a pose counts as
+    (``S = diag(15 N, 15 N, 15 N, 1 N·m, 1 N·m, 1 N·m)``, Kühne et al. Sec. III-B-2)
+    below which a pose counts as
     near-singular, and ``max_condition`` the largest condition number of that matrix
     (it grows near the reach boundary, where a crank and its distal link align; in
     the Table II workspace it stays below about 111); ``max_force`` N and ``max_torque`` N·m the sensor range;

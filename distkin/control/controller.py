@@ -61,8 +61,9 @@ __all__ = ["Controller", "CycleResult", "GRAVITY", "SCALING", "RUN", "FAULT", "S
 
 #: gravitational acceleration assumed by the gravity compensation, m/s²
 GRAVITY = 9.81
-#: Stocco's scaling S = diag(15, 15, 15, 1, 1, 1) (Kühne et al. Sec. III-B); J S^-1 is
-#: the dimensionally homogeneous Jacobian whose smallest singular value the guard watches
+#: Stocco's scaling S = diag(15 N, 15 N, 15 N, 1 N·m, 1 N·m, 1 N·m) (Kühne et al.
+#: Sec. III-B-2); J S^-1 is the dimensionally homogeneous Jacobian whose smallest
+#: singular value the guard watches
 SCALING = np.array([15.0, 15.0, 15.0, 1.0, 1.0, 1.0])
 
 
