@@ -104,6 +104,7 @@ def _kernel_list(desc, exprs, flavours, checked=False):
     from ..mechanisms.symbolic import POSE, q_symbols
     from .emit import Kernel
     L, docs = desc.L, _docs(desc)
+    pris = tuple(i for i, leg in enumerate(desc.leg_table) if leg.prismatic)
     out = []
     # the batched flavour brings the loop twins of LOOP_KERNELS (emit: "loop")
     flavours = list(flavours) + (["loop"] if "batched" in flavours else [])
@@ -120,10 +121,13 @@ def _kernel_list(desc, exprs, flavours, checked=False):
                 output = sp.Matrix(output).T.tolist()[0]
             name = n + _SUFFIX[flavour]
             # checked: the scene modules' inputs as float64 of the expected shape
-            # (.checks); not the internal modules, whose scalar forms numba compiles
+            # (.checks); not the internal modules, whose scalar forms numba compiles.
+            # A closure's prismatic lengths must be > 0 (it divides by them; QA)
+            extra = {"cse_optimizations": None, "chunk": CHUNK, "checked": checked}
+            if checked and n == "closure" and pris:
+                extra["positive"] = {"q": pris}
             out.append(Kernel(name, inputs, output, flavour=flavour, doc=docs[n],
-                              extra={"cse_optimizations": None, "chunk": CHUNK,
-                                     "checked": checked}))
+                              extra=extra))
     return out
 
 
@@ -183,8 +187,10 @@ def module_text(mech, names=KERNELS, flavours=FLAVOURS, *, generator=GENERATOR,
            "Batched kernels take (..., 6) poses; scalar ones (suffix _scalar) plain floats.\n"
            "Poses: (x, y, z) m, (rx, ry, rz) rad with R = Rz Ry Rx.  Needs only numpy.")
     if checked:
-        doc += ("\nInputs are converted to float64 first; a wrong shape is a ValueError "
-                "naming it.")
+        doc += ("\nInputs are converted to float64 first; a wrong shape, batch shapes that do "
+                "not\nbroadcast together (closure's q and pose) or, in closure, a prismatic "
+                "leg's\nlength <= 0 is a ValueError naming it.  The _loop kernels (for numba) "
+                "take\nrows: a single pose is pose[None].")
     if exact:
         doc = (f"{title or 'Kernels of a parallel mechanism'} ({cite}), "
                "arb flavour.\n\n"
