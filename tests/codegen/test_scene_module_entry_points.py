@@ -2,10 +2,12 @@
 a scalar or None for a sequence, batch shapes that do not broadcast, a single pose to a
 loop kernel and a prismatic leg's length <= 0 are ValueErrors naming what was expected
 and received (not a raw TypeError, numpy's broadcast error, an IndexError, or inf/NaN);
-what broadcasts in numpy now works.
+what broadcasts in numpy now works; a declared crank range is in the reach margin.
 
 Second routes: the scalar kernels row by row (and their numba compilation), numpy's
-``(|P - B|^2 - q^2) / (2 q)`` of the leg table."""
+``(|P - B|^2 - q^2) / (2 q)`` of the leg table, and distkin's own inverse kinematics,
+whose ``valid`` reads a crank's range from the angle of ``atan2``
+(:func:`distkin.mechanisms.legs.in_revolute_range`)."""
 
 from __future__ import annotations
 
@@ -21,7 +23,8 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 EX = ROOT / "examples"
 SCENES = {"gd": "octahedral_griffis_duffy.toml", "cm": "points_banana.toml",
-          "op": "rss_octopod.toml", "gs": "gough_stewart_6ups.toml"}
+          "op": "rss_octopod.toml", "gs": "gough_stewart_6ups.toml",
+          "ru": "rus8_device.toml"}
 #: a pose of the Octopod and of the 6-UPS, inside their workspaces
 OP_POSE = np.array([0.04, -0.03, 0.33, 0.26, -0.17, 0.35])
 GS_POSE = np.array([0.01, -0.02, 0.45, 0.05, -0.04, 0.1])
@@ -185,3 +188,34 @@ def test_positive_columns_only_in_a_mixed_table():
     _refused(ns["f"], ([[1.0, 2.0, 3.0], [-1.0, -0.5, 1.0]],), "q > 0 in the columns [1]",
              "q[1, 1] = -0.5")
     _refused(ns["f_scalar"], ([1.0, 0.0, 1.0],), "q[1] > 0", "got q[1] = 0")
+
+
+def test_reach_holds_the_declared_crank_ranges(mods):
+    """The reach of a scene with crank ranges (rus8: +-90 deg) held the closure only, so
+    1495 of 160000 legs closing outside their range had a margin >= 0: now margin >= 0
+    iff distkin's inverse kinematics calls the leg valid (it closes and atan2's angle is
+    in its range), in the batched, scalar and loop kernels alike; the docstring says so."""
+    from distkin.app.scene import load_scene
+    ru = mods["ru"]
+    mech = load_scene(EX / SCENES["ru"]).mechanism
+    rng = np.random.default_rng(0)
+    X = np.array([0, 0, 0.2, 0, 0, 0]) + rng.uniform(-1, 1, (20000, 6)) * [
+        0.08, 0.08, 0.1, 0.6, 0.6, 0.6]
+    q, valid = mech.inverse_kinematics(X)
+    margin = mech.reach_margin(X)                      # rho^2 - C^2: the closure's only
+    lo, hi = (np.array([leg.range[j] for leg in mech.leg_table]) for j in (0, 1))
+    # clear of the range ends and of the reach boundary, where rounding decides
+    clear = (np.minimum(np.abs(q - lo), np.abs(q - hi)) > 1e-9) & (np.abs(margin) > 1e-12)
+    got = ru.reach(X)
+    closes_out = (margin >= 0) & ~valid
+    assert closes_out[clear].sum() > 100               # the case at stake is sampled
+    np.testing.assert_array_equal((got >= 0)[clear], valid[clear])
+    assert np.all(got <= margin + 1e-14)           # min(margin, range margin); m^2 ~ 0.05
+    np.testing.assert_allclose(np.array(ru.reach_scalar(X[7])), got[7], rtol=1e-13)
+    import numba
+    for loop in (ru.reach_loop, numba.njit(ru.reach_loop)):     # min() compiled too
+        out = np.empty((5, ru.L))
+        loop(X[:5], out)
+        np.testing.assert_allclose(out, got[:5], rtol=1e-13)
+    assert "declare a joint range" in ru.reach.__doc__ and "[0, 1, 2, 3, 4, 5, 6, 7]" in \
+        ru.reach.__doc__
