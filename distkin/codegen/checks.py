@@ -89,8 +89,11 @@ _CLASS = '''class _Inputs:
     def batch(names, arrays):
         """The inputs' batch shapes (all axes but the last) broadcast together: the
         output's, or a ValueError naming every input's shape."""
+        shapes = [a.shape[:-1] for a in arrays]
+        if all(s == shapes[0] for s in shapes[1:]):      # equal: no broadcast (10x cheaper)
+            return shapes[0]
         try:
-            return numpy.broadcast_shapes(*(a.shape[:-1] for a in arrays))
+            return numpy.broadcast_shapes(*shapes)
         except ValueError:
             got = ", ".join(f"{n} {a.shape}" for n, a in zip(names, arrays))
             want = ", ".join(f"{n} (..., {a.shape[-1]})" for n, a in zip(names, arrays))
