@@ -41,7 +41,7 @@ import hashlib
 import platform
 from dataclasses import dataclass, field
 
-from .checks import helpers, prologue
+from .checks import batch_shape_name, helpers, prologue
 
 __all__ = ["Kernel", "kernel_source", "module_source", "symbolic_hash", "FLAVOURS"]
 
@@ -73,9 +73,11 @@ class Kernel:
         ``prelude`` (a sequence of (symbol, expression in the inputs): assigned in order
         after the inputs are read, so that the output may use the symbols as
         intermediate variables instead of the expressions substituted into it);
-        ``checked`` (batched and scalar flavours: the inputs converted to float and their
-        shapes checked first, :mod:`.checks`; the scene modules' kernels) and
-        ``nonnegative`` (with ``checked``: inputs that are squared lengths).
+        ``checked`` (batched, scalar and loop flavours: the inputs converted to float and
+        their shapes checked first, :mod:`.checks`; the scene modules' kernels),
+        ``nonnegative`` (with ``checked``: inputs that are squared lengths) and
+        ``positive`` (with ``checked``: {input name: column indices} that must be > 0,
+        the prismatic legs' lengths of a closure).
     """
 
     name: str
@@ -406,9 +408,26 @@ def kernel_source(k: Kernel, integers: dict | None = None) -> str:
         doc += ("\n\nLoop flavour: row n of every input (N, k) -> row n of ``_out`` (N, ...),"
                 "\nfor numba (plain Python here: slow uncompiled).")
     lines.append('    """' + doc.replace("\n", "\n    ") + '\n    """')
-    lines += prologue(k)        # float64 and shape checks of a checked kernel (.checks)
+    # float64 and shape checks of a checked kernel (.checks); a checked batched kernel of
+    # several inputs gets their broadcast batch shape, ``batch``, which its output and
+    # its chunks follow (else the first input's, unchecked: the committed kernels)
+    lines += prologue(k, shape)
+    batch = batch_shape_name(k)
     chunk = k.extra.get("chunk") if k.flavour == "batched" else None
-    if chunk:
+    if chunk and batch:
+        sliced = ", ".join(f"({a}[_i:_i + {int(chunk)}] if {a}.ndim == 2 and len({a}) == "
+                           f"{batch}[0] else {a})" for a in args)
+        lines += [
+            f"    if len({batch}) == 1 and {batch}[0] > {int(chunk)}:",
+            "        _res = None",
+            f"        for _i in range(0, {batch}[0], {int(chunk)}):",
+            f"            _part = {k.name}({sliced})",
+            "            if _res is None:",
+            f"                _res = numpy.empty(({batch}[0],) + _part.shape[1:])",
+            f"            _res[_i:_i + {int(chunk)}] = _part",
+            "        return _res",
+        ]
+    elif chunk:
         # large 2-D batches run in chunks whose temporaries stay in the CPU cache (about
         # 5x faster at N = 1e5 than one pass over the whole batch)
         first = args[0]
@@ -451,7 +470,8 @@ def kernel_source(k: Kernel, integers: dict | None = None) -> str:
             lines.append(f"{ind}_out[_n, {numpy_index(idx, shape)}] = {printer.doprint(expr)}")
     elif k.flavour == "batched":
         first = k.inputs[0][0]
-        lines.append(f"    _out = numpy.empty(numpy.shape({first})[:-1] + {shape!r})")
+        lines.append(f"    _out = numpy.empty({batch} + {shape!r})" if batch else
+                     f"    _out = numpy.empty(numpy.shape({first})[:-1] + {shape!r})")
         for idx, expr in enumerate(reduced):
             pos = numpy_index(idx, shape)
             lines.append(f"    _out[..., {pos}] = {printer.doprint(expr)}")

@@ -60,10 +60,29 @@ _DOCS_PRISMATIC = {
 }
 
 
-def _docs(desc) -> dict:
+def _docs(desc, ranged=()) -> dict:
     """kernel name -> docstring for the leg table of ``desc``: revolute legs
     (:data:`_DOCS`), prismatic legs (:data:`_DOCS_PRISMATIC`), or, for a table of both,
-    each with the legs it holds for (0-based, the rows of ``LEGS``)."""
+    each with the legs it holds for (0-based, the rows of ``LEGS``); ``ranged``, the
+    revolute legs whose declared range is in their reach margin (:func:`_reach_in_ranges`),
+    named in the reach's."""
+    docs = _table_docs(desc)
+    if ranged:
+        docs = dict(docs, reach=docs["reach"] + _RANGED_REACH.format(legs=list(ranged)))
+    return docs
+
+
+#: the reach docstring's paragraph on the revolute ranges in it (a scene module's)
+_RANGED_REACH = (
+    "\n\nRevolute legs {legs} (0-based rows of LEGS) declare a joint range [qmin, qmax]:\n"
+    "their margin is the smaller of rho^2 - C^2 and the range margin\n"
+    "rho^2 (cos(q - m) - cos w) (m^2; m, w the range's middle and half-width, q the\n"
+    "crank angle of ik's branch), so it is >= 0 iff the leg closes with q in its\n"
+    "range modulo 2 pi (distkin's inverse_kinematics 'valid').")
+
+
+def _table_docs(desc) -> dict:
+    """:func:`_docs` without the ranges."""
     prismatic = [i for i, leg in enumerate(desc.leg_table) if leg.prismatic]
     if not prismatic:
         return _DOCS
@@ -99,11 +118,29 @@ def _expressions(mech, names, exact=False):
     return me, {n: me.get(n) for n in names}
 
 
-def _kernel_list(desc, exprs, flavours, checked=False):
+def _reach_in_ranges(me, reach, ranged):
+    """The reach margins (L, 1) with the declared range of each revolute leg of
+    ``ranged`` (``me.range_legs()``) in it: ``min(rho^2 - C^2, rho^2 (cos(q - m) - cos w))``
+    (m^2; the ``ranges`` kernel's row, :class:`~distkin.mechanisms.symbolic.ModelExprs`),
+    >= 0 iff the leg closes with its crank angle in the range modulo 2 pi, as a prismatic
+    leg's margin holds its stroke (a scene module's reach; QA: it held the stroke but
+    not a crank's range).  The package's own ``reach`` kernels keep rho^2 - C^2, the IK
+    equation's margin, which its callers combine with the ranges themselves
+    (:meth:`~distkin.mechanisms.kinematics.KernelMethods._valid`)."""
+    import sympy as sp
+    rows = me.get("ranges")
+    out = sp.Matrix(reach)
+    for r, i in enumerate(ranged):
+        out[i, 0] = sp.Min(reach[i, 0], rows[r, 0], evaluate=False)
+    return out
+
+
+def _kernel_list(desc, exprs, flavours, checked=False, ranged=()):
     import sympy as sp
     from ..mechanisms.symbolic import POSE, q_symbols
     from .emit import Kernel
-    L, docs = desc.L, _docs(desc)
+    L, docs = desc.L, _docs(desc, ranged if checked else ())
+    pris = tuple(i for i, leg in enumerate(desc.leg_table) if leg.prismatic)
     out = []
     # the batched flavour brings the loop twins of LOOP_KERNELS (emit: "loop")
     flavours = list(flavours) + (["loop"] if "batched" in flavours else [])
@@ -120,10 +157,13 @@ def _kernel_list(desc, exprs, flavours, checked=False):
                 output = sp.Matrix(output).T.tolist()[0]
             name = n + _SUFFIX[flavour]
             # checked: the scene modules' inputs as float64 of the expected shape
-            # (.checks); not the internal modules, whose scalar forms numba compiles
+            # (.checks); not the internal modules, whose scalar forms numba compiles.
+            # A closure's prismatic lengths must be > 0 (it divides by them; QA)
+            extra = {"cse_optimizations": None, "chunk": CHUNK, "checked": checked}
+            if checked and n == "closure" and pris:
+                extra["positive"] = {"q": pris}
             out.append(Kernel(name, inputs, output, flavour=flavour, doc=docs[n],
-                              extra={"cse_optimizations": None, "chunk": CHUNK,
-                                     "checked": checked}))
+                              extra=extra))
     return out
 
 
@@ -162,7 +202,11 @@ def module_text(mech, names=KERNELS, flavours=FLAVOURS, *, generator=GENERATOR,
     t_start = time.perf_counter()
     desc = mech.leg_description()
     me, exprs = _expressions(mech, names, exact)
-    kernels = _kernel_list(desc, exprs, flavours, checked)
+    # a scene module's reach holds the cranks' declared ranges (:func:`_reach_in_ranges`)
+    ranged = me.range_legs() if checked and "reach" in exprs else []
+    if ranged:
+        exprs["reach"] = _reach_in_ranges(me, exprs["reach"], ranged)
+    kernels = _kernel_list(desc, exprs, flavours, checked, ranged)
     t0 = time.perf_counter()
     # the symbolic source: the leg closures Phi_i(q, P) with the leg's numbers, P_i(pose),
     # the branches and ranges, from which every kernel is derived deterministically
@@ -171,7 +215,8 @@ def module_text(mech, names=KERNELS, flavours=FLAVOURS, *, generator=GENERATOR,
     source = [e for leg in me.legs() for e in (leg["Phi"], leg["P"])]
     if exact and any(e.atoms(sp.Float) for e in source):
         raise ValueError("expected an exact model (rationals only), got a Float in it")
-    h = symbolic_hash(*source, *sorted(names), *([sig] if sig else []))
+    h = symbolic_hash(*source, *sorted(names), *([sig] if sig else []),
+                      *(["reach within the ranges"] if ranged else []))
     rss = getattr(mech, "kind", None) == "rss"
     types = "/".join(sorted({leg.type for leg in desc.leg_table}))
     what = f"{desc.L} legs ({types}); leg table: LEGS"
@@ -183,8 +228,10 @@ def module_text(mech, names=KERNELS, flavours=FLAVOURS, *, generator=GENERATOR,
            "Batched kernels take (..., 6) poses; scalar ones (suffix _scalar) plain floats.\n"
            "Poses: (x, y, z) m, (rx, ry, rz) rad with R = Rz Ry Rx.  Needs only numpy.")
     if checked:
-        doc += ("\nInputs are converted to float64 first; a wrong shape is a ValueError "
-                "naming it.")
+        doc += ("\nInputs are converted to float64 first; a wrong shape, batch shapes that do "
+                "not\nbroadcast together (closure's q and pose) or, in closure, a prismatic "
+                "leg's\nlength <= 0 is a ValueError naming it.  The _loop kernels (for numba) "
+                "take\nrows: a single pose is pose[None].")
     if exact:
         doc = (f"{title or 'Kernels of a parallel mechanism'} ({cite}), "
                "arb flavour.\n\n"
