@@ -72,6 +72,8 @@ Modules
 description  the frozen :class:`RSSDescription`: parameters, leg geometry, l3 rules
 legs       the frozen leg table (:class:`Leg`, :class:`LegsDescription`): the model the code
            generator reads
+leg_architecture  architecture singularities of a leg table: identical or concurrent
+           legs refused, lines that cannot span 6 DOF warned of
 kinematics the numeric methods on kernels (``KernelMethods``) and :class:`LegMechanism`
 rss        :class:`RSSMechanism`, the description with its numeric methods; ``preset``
 presets    the five presets as data and the documented parameter rules
