@@ -84,6 +84,7 @@ reference  the plain-numpy reference model (IK and Jacobian from the leg geometr
 kernel_names  the names and flavours of the generated kernels
 kernels    loading the kernels: the committed modules, one cache
 forward    numeric forward kinematics
+fk_failure what the fast forward kinematics warns when it returns no answer
 interference  link interference (segment distances between the links)
 plot       a drawing of the mechanism at a pose (matplotlib)
 

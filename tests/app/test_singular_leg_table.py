@@ -2,7 +2,8 @@
 platform congruent to its base).  It loaded silently, the ``jacobian`` query printed
 ``kappa = 0`` beside "ok" with nothing naming the pose singular, and the forward
 kinematics failed with a generic no-convergence message.  Now: a GeometryWarning at
-load, and the jacobian query names the pose singular (JSON ``singular``).
+load, the jacobian query names the pose singular (JSON ``singular``), and the FK's
+error is a singular configuration.
 
 References: the analytic J of vertical parallel legs at home (rows (0, 0, 1, p_y,
 -p_x, 0): rank 3, so κ = 0 exactly), numpy's SVD of the J the JSON reports, and the
@@ -57,6 +58,19 @@ def test_parallel_legs_warn_and_the_jacobian_names_the_singular_pose(tmp_path, c
     lines = [line for line in out.splitlines() if "SINGULAR pose" in line]
     assert len(lines) == 2 and "J has rank 3 of 6" in lines[0]
     assert "J has rank 5 of 6" in lines[1]
+
+
+def test_parallel_legs_forward_kinematics_says_singular(tmp_path, capsys):
+    q = ('[[query]]\ntype = "forward_kinematics"\n'
+         'angles = ["449.672992", "471.224532", "465.566713", "458.704719", "450.839781", '
+         '"466.785149"]\nguess = [0, 0, 400, 0, 0, 0]\n')
+    with pytest.warns(GeometryWarning):
+        code, queries, out, err = _run(tmp_path, capsys, _parallel_scene() + q)
+    assert code == 2
+    e = queries[0]["error"]
+    assert e["kind"] == "singular_configuration"      # was not_found, "no convergence"
+    assert "the closure Jacobian is singular" in e["message"]
+    assert "architecturally singular" in e["message"]
 
 
 def test_a_regular_pose_is_not_called_singular(tmp_path, capsys):
