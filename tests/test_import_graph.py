@@ -61,6 +61,7 @@ LAYERS: dict[str, int] = {
     "distkin.mechanisms": 4,
     "distkin.mechanisms.description": 2,
     "distkin.mechanisms.legs": 2,
+    "distkin.mechanisms.leg_architecture": 2,
     "distkin.mechanisms.presets": 2,
     "distkin.mechanisms.symbolic": 2,
     "distkin.mechanisms.kernel_names": 2,

@@ -72,6 +72,8 @@ Modules
 description  the frozen :class:`RSSDescription`: parameters, leg geometry, l3 rules
 legs       the frozen leg table (:class:`Leg`, :class:`LegsDescription`): the model the code
            generator reads
+leg_architecture  architecture singularities of a leg table: identical or concurrent
+           legs refused, lines that cannot span 6 DOF warned of
 kinematics the numeric methods on kernels (``KernelMethods``) and :class:`LegMechanism`
 rss        :class:`RSSMechanism`, the description with its numeric methods; ``preset``
 presets    the five presets as data and the documented parameter rules
@@ -82,6 +84,7 @@ reference  the plain-numpy reference model (IK and Jacobian from the leg geometr
 kernel_names  the names and flavours of the generated kernels
 kernels    loading the kernels: the committed modules, one cache
 forward    numeric forward kinematics
+fk_failure what the fast forward kinematics warns when it returns no answer
 interference  link interference (segment distances between the links)
 plot       a drawing of the mechanism at a pose (matplotlib)
 

@@ -44,7 +44,10 @@ and reports:
 
 It never returns a wrong pose silently: a failed answer says so in ``converged`` /
 ``near_singular`` / ``verified`` (which includes ``in_range``) / ``message`` (``ok`` is
-all three), and ``strict=True`` raises instead.  Accuracy of a verified answer (first
+all three) and, unless ``warn=False``, in a
+:class:`~distkin.errors.ConditioningWarning` when no verified pose came out
+(:mod:`.fk_failure`: the values, a singular Jacobian, a likely unit slip), and
+``strict=True`` raises instead.  Accuracy of a verified answer (first
 order, not a bound; :func:`pose_error_estimate`): the condition number times (eps x a leg length +
 the rms closure residual) in m, and that over the length scale in rad.
 """
@@ -182,7 +185,7 @@ def check_step_tol(tol, field: str = "tol") -> float:
 
 
 def forward_kinematics(mech, q, guess=None, *, tol=TOL, max_iter=50, max_condition=300.0,
-                       residual_tol=None, strict=False):
+                       residual_tol=None, strict=False, warn=True):
     """Pose of ``mech`` from its crank angles, by Gauss-Newton from a warm start.
 
     Parameters
@@ -223,6 +226,13 @@ def forward_kinematics(mech, q, guess=None, *, tol=TOL, max_iter=50, max_conditi
         :class:`~distkin.errors.InfeasibleError` for joint values outside their legs'
         declared ranges (:func:`.joint_values.check_joint_ranges`; without ``strict`` they are
         solved and flagged: ``in_range`` and ``verified`` False).
+    warn : bool
+        Without ``strict``: emit one :class:`~distkin.errors.ConditioningWarning` when a
+        joint-value set gets no verified pose (not converged, or not verified: out of
+        range, round trip, residual), naming the flags, the joint values and their
+        units, a singular closure Jacobian when that stopped Gauss-Newton and a likely
+        unit slip (:func:`.fk_failure.warn_unsolved`; default True).  ``warn=False``:
+        the flags alone (the tiers and the scene query, which refuse such answers).
 
     Returns
     -------
@@ -254,7 +264,7 @@ def forward_kinematics(mech, q, guess=None, *, tol=TOL, max_iter=50, max_conditi
             or not max_condition >= 1):        # a condition number is >= 1; NaN flags none
         raise InputError(f"expected max_condition as a number >= 1 (a condition number), "
                          f"got {max_condition!r}", field="max_condition")
-    check = (mech, qa, residual_tol)
+    check = (mech, qa, residual_tol, warn)
     ls = mech.length_scale
     tol = check_step_tol(tol)
     scale = np.array([1.0, 1.0, 1.0, 1.0 / ls, 1.0 / ls, 1.0 / ls])
@@ -298,7 +308,7 @@ def forward_kinematics(mech, q, guess=None, *, tol=TOL, max_iter=50, max_conditi
 
 
 def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, single, check):
-    mech, qa, residual_tol = check
+    mech, qa, residual_tol, warn = check
     N = len(X)
     res = np.sqrt(np.mean(out[..., 0] ** 2, axis=-1))
     _, smin, cond = _solve(out[..., 1:], out[..., 0], scale)
@@ -358,10 +368,13 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
             field="guess", margin=float(res[i]),
             hint="another guess (the crank branch or assembly mode differs), or "
                  "residual_tol for measured angles")
+    if strict and (near.any() or (~done).any()):
+        from .fk_failure import unit_hint     # a unit slip also strands Gauss-Newton
+        slip = unit_hint(mech, qa[int(np.argmax(near | ~done))], leg_length(mech)) or None
     if strict and near.any():
         raise SingularConfigurationError(
             f"expected a pose away from singularities, got condition {float(cond.max()):.3g} "
-            f"> {max_condition:g}", field="q")
+            f"> {max_condition:g}", field="q", hint=slip)
     if strict and (~done).any():
         raise NotFoundError(
             f"expected Gauss-Newton to converge from the start, got step still above {tol:g} "
@@ -369,7 +382,11 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
             f"scale {float(mech.length_scale):.3g} m after "
             f"{max_iter} iterations (residual {float(res.max()):.3g} m; no pose found from it, "
             f"not a proof that none exists)", field="guess", margin=float(res.max()),
-            hint="another guess, near the device's pose")
+            hint=slip or "another guess, near the device's pose")
+    if warn and not (done & verified).all():          # fast or warn (:mod:`.fk_failure`)
+        from .fk_failure import warn_unsolved
+        warn_unsolved(mech, qa, single, done & verified, done, verified, in_range, cond, msg,
+                      leg_length(mech))
     if single:
         return FKResult(X[0], bool(done[0]), int(iters[0]), float(res[0]), float(smin[0]),
                         float(cond[0]), bool(near[0]), msg, None, bool(verified[0]),

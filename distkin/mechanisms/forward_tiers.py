@@ -201,7 +201,7 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
     check_joint_values(mech, qa)
     check_joint_ranges(mech, qa, units=units)     # no configuration: no tier answers
     if fast is None:
-        fast = forward_kinematics(mech, qa, guess, **options)
+        fast = forward_kinematics(mech, qa, guess, **{**options, "warn": False})
     if method != "fast" and not np.all(np.isfinite(fast.pose)):
         raise NotFoundError(f"expected the fast tier to give a start for the {method} "
                             f"tier, got: {fast.message} (no pose found from the start; not a "

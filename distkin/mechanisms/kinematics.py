@@ -380,7 +380,9 @@ class KernelMethods:
             if len(shape) != 1:
                 raise InputError(f"expected one set of {self.legs} joint values for method "
                                  f"{method!r}, got an array of shape {shape}", field="q")
-            start = self.forward_kinematics(q, guess, octic=octic, **options)
+            # the tier refuses or answers for itself: no warning of its start
+            start = self.forward_kinematics(q, guess, octic=octic,
+                                            **{**options, "warn": False})
             return forward_tier(self, q, method=method, dps=dps, bits=bits, legs=legs,
                                 fast=start)
         from .forward import forward_kinematics

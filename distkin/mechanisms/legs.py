@@ -55,6 +55,7 @@ import numpy as np
 
 from ..argcheck import LENGTH_RANGE, length_in_range, no_booleans
 from ..errors import DistkinError, GeometryWarning, InputError, warn as _warn
+from .leg_architecture import check_concurrent, check_distinct, check_line_span
 
 __all__ = ["Leg", "LegsDescription", "REVOLUTE_TYPES", "PRISMATIC_TYPES", "LEG_TYPES",
            "LEG_FIELDS", "full_turn", "in_revolute_range", "ranged_legs", "GeometryWarning"]
@@ -324,11 +325,12 @@ class LegsDescription:
         object.__setattr__(self, "inertia", _pos(self.inertia, "inertia", "kg m^2"))
         if self.scale is not None:
             object.__setattr__(self, "scale", _pos(self.scale, "scale", "m"))
-        _check_concurrent(legs)
+        check_concurrent(legs)
         self._check_home(legs)
         legs = [self._resolve_branch(i, leg) for i, leg in enumerate(legs)]
-        _check_distinct(legs)
+        check_distinct(legs)
         object.__setattr__(self, "leg_table", tuple(legs))
+        check_line_span(self)              # lines that cannot span 6 DOF: a warning
 
     def _check_home(self, legs):
         """Refuse a home pose at which a revolute leg whose ``branch`` is to be chosen
@@ -516,59 +518,6 @@ class LegsDescription:
     def __setstate__(self, state):
         for k, v in state.items():
             object.__setattr__(self, k, v)
-
-
-def _constraint(leg) -> tuple:
-    """What fixes a leg's row of J: a prismatic leg's line (base and platform joints),
-    a revolute leg's joints, crank frame, lengths and branch (not its type, range or
-    effort limit)."""
-    if leg.prismatic:
-        return ("prismatic", leg.base, leg.platform)
-    return ("revolute", leg.base, leg.platform, leg.axis, leg.crank0, leg.crank90,
-            leg.crank, leg.offset, leg.distal, leg.branch)
-
-
-def _m(v):
-    """A point (m) as text with its unit: ``(0.152, 0, 0) m``."""
-    return "(" + ", ".join(f"{float(x):.6g}" for x in v) + ") m"
-
-
-def _check_distinct(legs):
-    """Refuse two legs with the same constraint (:func:`_constraint`): their rows of J
-    are equal at every pose, so the mechanism is architecturally singular
-    (:class:`InputError` naming both)."""
-    seen = {}
-    for i, leg in enumerate(legs):
-        j = seen.setdefault(_constraint(leg), i)
-        if j != i:
-            what = "line" if leg.prismatic else "joints, crank, lengths and branch"
-            raise InputError(f"expected distinct legs, got leg[{i}] with the same {what} as "
-                             f"leg[{j}] (base {_m(leg.base)}, platform {_m(leg.platform)}): the same "
-                             f"constraint twice, J is singular at every pose",
-                             field=f"leg[{i}]")
-
-
-def _check_concurrent(legs):
-    """Refuse a table whose legs' lines all pass through one point at every pose: every
-    platform joint at one point (any leg types: prismatic lines and distal links all
-    meet there), or an all-prismatic table with every base joint at one point.  Such a
-    mechanism is architecturally singular (J has rank at most 3 at every pose: the
-    platform turns freely about that point) and has no length scale.
-    :class:`DegenerateGeometryError` naming the field (``leg``, the joints of every leg)."""
-    from ..errors import DegenerateGeometryError
-    P = np.array([leg.platform for leg in legs])
-    B = np.array([leg.base for leg in legs])
-    size = max(float(np.abs(P).max()), float(np.abs(B).max()), 1e-300)
-    tol = 16 * np.finfo(float).eps * size
-    for name, pts, applies in (("platform", P, True),
-                               ("base", B, all(leg.prismatic for leg in legs))):
-        if applies and float(np.ptp(pts, axis=0).max()) <= tol:
-            raise DegenerateGeometryError(
-                f"expected the {name} joints of the legs not all at one point, got every "
-                f"leg's {name} at {tuple(float(v) for v in pts[0])} m: every leg's line passes "
-                f"through it, so J has rank at most 3 at every pose (architecturally "
-                f"singular: the platform turns freely about that point)", field="leg",
-                hint=f"spread the {name} joints (at least three not on one line)")
 
 
 def _revolute_margin(leg, P):

@@ -43,7 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...argcheck import check_keys, positive_int, positive_number
-from ...errors import DistkinError, InputError, NotFoundError
+from ...errors import DistkinError, InputError, NotFoundError, SingularConfigurationError
 from ...exact import exact_to_float, parse_exact
 from ..query import Outcome, register
 from ..units import angle_factor, length_factor
@@ -188,14 +188,24 @@ class ForwardKinematicsQuery:
         # tier, in the scene's units (the tiers check again, with field "q")
         check_joint_ranges(mech, np.array(p.angles), field="angles",
                            units={"length": (lu, lf), "angle": (au, af)})
+        # warn=False: an answer that is none is refused below, in the scene's units
         res = mech.forward_kinematics(np.array(p.angles), guess, tol=p.tol, max_iter=p.max_iter,
-                                      residual_tol=p.residual_tol)
+                                      residual_tol=p.residual_tol, warn=False)
         if res.modes is not None and len(res.modes) == 0:      # the octic proved it
             return _no_assembly(p, mech, scene, guess)
         start = ("the guess" if p.guess is not None else
                  "the mechanism's home, the default start (no guess given)")
         if not res.converged and p.method == "fast":
             lu, _, lf, _ = _units(scene)           # the residual in the scene's unit
+            from ...mechanisms.fk_failure import singular_cause
+            cause = singular_cause(mech, res.condition)
+            if cause:        # not a matter of the start: the pose reached is singular
+                raise SingularConfigurationError(
+                    f"expected Gauss-Newton to converge from {start}, got no convergence "
+                    f"in {p.max_iter} iterations (rms closure error {res.residual * lf:.3g} "
+                    f"{lu}): {cause}", field="guess" if p.guess is not None else "angles",
+                    hint="a start away from the singularity; an architecturally singular "
+                         "leg table has no isolated pose: check the legs' geometry")
             raise NotFoundError(
                 f"expected Gauss-Newton to converge from {start}, got no convergence in "
                 f"{p.max_iter} iterations (rms closure error {res.residual * lf:.3g} {lu}): no pose "

@@ -16,8 +16,13 @@ Each pose row of the JSON has ``J``, ``Jq``, ``Jx`` (SI; the result's ``unit`` b
 names each array's units), ``kappa``, κ of Kühne et al. eq. (4), σmin/σmax of the
 scaled ST⁻¹Jᵀ with Stocco's ST = diag(15 N, 15 N, 15 N, 1 N·m, 1 N·m, 1 N·m) (Sec.
 II-C-2; :func:`distkin.indices.condition_number`), ``kappa_unscaled``, the same ratio of J
-itself, whose columns have mixed units, ``singular_values`` (of the unscaled J) and
-``reachable``.  At a pose where a leg does not close (``reachable`` false) J is not
+itself, whose columns have mixed units, ``singular_values`` (of the unscaled J),
+``singular`` (true where κ <= :data:`~distkin.indices.zonotope.RANK_TOL` = 1e-12, the
+rank tolerance of the indices that read κ: J is rank-deficient to float64, the pose is a
+singular configuration; the text names it and J's numerical rank, so a κ of 0 is never
+printed as if it were a value of a regular pose; κ = σmin/σmax lies in [0, 1], 1
+isotropic, 0 singular) and ``reachable``.  At a pose where a leg does not close
+(``reachable`` false) J is not
 defined, so ``kappa``, ``kappa_unscaled`` and ``singular_values`` are null (text:
 "undefined (pose not reachable)"), never the numbers of a J with made-up rows.
 ST is the paper's scaling for the Octopod (Sec. III-B-2), the same for every mechanism:
@@ -34,6 +39,7 @@ import numpy as np
 from ...argcheck import check_keys
 from ...errors import ConditioningWarning, InputError
 from ...indices.isotropy import ST_DEFAULT, condition_number
+from ...indices.zonotope import RANK_TOL
 from ..query import Outcome, register
 from ..units import SCALING_ORIGIN, scaling_text
 from .mechanisms import (NOT_RESOLVED, _accuracy, _amount, _fmt_pose, _mechanism_unit,
@@ -84,6 +90,8 @@ def _jacobian_units(mech, mass_matrix: bool) -> dict:
                  "Octopod scaling for every mechanism); null where the pose is not reachable",
         "kappa_unscaled": "none (sigma_min/sigma_max of the unscaled J, mixed units); null "
                           "where the pose is not reachable",
+        "singular": f"none (true where kappa <= {RANK_TOL:g}: J rank-deficient, a singular "
+                    "configuration); null where the pose is not reachable",
     }
     if mass_matrix:
         out.update({
@@ -128,6 +136,9 @@ class JacobianQuery:
         Jf = np.where(np.isfinite(J), J, 0.0)
         sv = np.linalg.svd(Jf, compute_uv=False)
         kappa = condition_number(Jf, ST_DEFAULT)          # eq. (4), scaled (Sec. II-C-2)
+        # J's numerical rank, of the same scaled matrix (kappa = its sigma_min/sigma_max)
+        svs = np.linalg.svd(Jf / np.asarray(ST_DEFAULT), compute_uv=False)
+        rank = (svs > RANK_TOL * svs[..., :1]).sum(axis=-1)
         units = {**_jacobian_units(mech, p.mass_matrix), "mechanism": _mechanism_unit(mech)}
         rows = []
         pris = _prismatic(mech)
@@ -146,6 +157,8 @@ class JacobianQuery:
                                     "kappa_unscaled": (None if not reachable else
                                                        sv[i, -1] / sv[i, 0] if sv[i, 0] > 0
                                                        else 0.0),
+                                    "singular": (bool(kappa[i] <= RANK_TOL) if reachable
+                                                 else None),
                                     "reachable": reachable,
                                     "inaccurate": bool(flagged[i])},
                            "J_error", "Jq_error", "Jx_error")
@@ -163,6 +176,10 @@ class JacobianQuery:
                 lines.append(f"  kappa = {r['kappa']:.6g} (eq. (4): sigma_min/sigma_max of "
                              f"the scaled ST⁻¹Jᵀ, ST = {scaling_text(ST_DEFAULT)}, Kühne et "
                              "al. Sec. II-C-2)")
+                if r["singular"]:
+                    lines.append(f"  SINGULAR pose: J has rank {int(rank[i])} of 6 "
+                                 f"(kappa <= {RANK_TOL:g}; kappa is in [0, 1], 0 singular): "
+                                 "the legs do not determine the platform's motion here")
                 lines.append("  singular values of the unscaled J: "
                              + ", ".join(f"{v:.6g}" for v in sv[i])
                              + f" (mixed units); their ratio sigma_min/sigma_max = "
