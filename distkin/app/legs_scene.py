@@ -58,7 +58,7 @@ from ..errors import DistkinError, InputError
 from ..exact import exact_to_float, parse_exact, parse_float
 from ..mechanisms.kinematics import LegMechanism
 from ..mechanisms.legs import LEG_FIELDS, PRISMATIC_TYPES
-from .units import angle_factor, length_factor
+from .units import angle_factor, length_factor, si_length_hint
 
 __all__ = ["parse_legs", "parse_home", "CSV_COLUMNS", "legs_csv_text", "legs_toml_text",
            "DEFAULT_LENGTH_UNIT"]
@@ -137,8 +137,8 @@ def _csv_legs(path: Path, fld):
     except OSError as exc:
         raise InputError(f"expected a readable CSV file, got {str(path)!r} ({exc.strerror})",
                          field=fld) from None
-    reader = csv.reader(text.splitlines())
-    rows = [(reader.line_num, row) for row in reader if any(c.strip() for c in row)]
+    from .csv_rows import csv_rows
+    rows = csv_rows(text, path.name, fld)
     if not rows:
         raise InputError(f"expected a header row and one row per leg, got an empty file "
                          f"{path.name!r}", field=fld)
@@ -279,9 +279,9 @@ def parse_legs(table, units, field, scene_path=None):
             fld = prefix
         else:
             fld = f"{field}.{fld}" if fld else field
-        if units.length != "m":            # the description's message is in SI
-            exc.hint = "; ".join(filter(None, (exc.hint, f"lengths in this message in m "
-                                                         f"(SI), the scene's in {units.length}")))
+        si = si_length_hint(exc, units)    # the description's message is in SI
+        if si:
+            exc.hint = "; ".join(filter(None, (exc.hint, si)))
         exc.field = None
         raise exc.with_field(fld) from None
 

@@ -271,7 +271,10 @@ class KernelMethods:
         return ok[0] if single else ok
 
     def reach_margin(self, poses):
-        """(N, L) reach margin rho^2 - C^2 (m^2) of the IK equation A cos q + B sin q = C."""
+        """(N, L) reach margin (m^2): rho^2 - C^2 of the IK equation A cos q + B sin q = C
+        for a revolute leg (>= 0: the leg closes; a declared crank range is not in it,
+        :meth:`inverse_kinematics` flags that), and (q - qmin)(qmax - q) of its length q
+        for a prismatic leg with a stroke (>= 0: within the stroke; :mod:`.legs`)."""
         X, single = _poses(poses, scale=self.length_scale)
         m = self.kernels("batched").reach(X)
         return m[0] if single else m

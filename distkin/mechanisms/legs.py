@@ -55,6 +55,7 @@ import numpy as np
 
 from ..argcheck import LENGTH_RANGE, length_in_range, no_booleans
 from ..errors import DistkinError, GeometryWarning, InputError, warn as _warn
+from ..numfmt import apart
 from .leg_architecture import check_concurrent, check_distinct, check_line_span
 
 __all__ = ["Leg", "LegsDescription", "REVOLUTE_TYPES", "PRISMATIC_TYPES", "LEG_TYPES",
@@ -365,8 +366,9 @@ class LegsDescription:
             if leg.prismatic and leg.range is not None:
                 n = float(np.linalg.norm(P - np.array(leg.base)))
                 if not leg.range[0] <= n <= leg.range[1]:
-                    far.append(f"leg {i + 1} length {n:.4g} m outside its range "
-                               f"[{leg.range[0]:.4g}, {leg.range[1]:.4g}] m")
+                    t = apart(n, *leg.range, digits=4)     # visibly outside
+                    far.append(f"leg {i + 1} length {t[0]} m outside its range "
+                               f"[{t[1]}, {t[2]}] m")
             elif not leg.prismatic and leg.branch is not None:
                 m = _revolute_margin(leg, P)
                 if m < -_margin_rounding(leg, P):

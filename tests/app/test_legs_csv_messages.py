@@ -118,3 +118,36 @@ def test_five_legs_name_the_csv(tmp_path):
     """QA M 8: five rows said ``mechanism.leg``; the table is ``mechanism.legs_csv``."""
     err = _error(tmp_path, [HEAD] + ROWS[:5])
     assert err.field == "mechanism.legs_csv" and "at least 6 legs, got 5" in err.message
+
+
+def _load(tmp_path, csv_lines):
+    (tmp_path / "legs.csv").write_text("\n".join(csv_lines) + "\n")
+    (tmp_path / "s.toml").write_text(SCENE)
+    return load_scene(tmp_path / "s.toml")
+
+
+def test_trailing_commas_load_the_table_without_them(tmp_path):
+    """A spreadsheet's trailing commas (QA): the scene loads the same leg table as the
+    file without them (the reference: the same scene, commas removed)."""
+    plain = _load(tmp_path, [HEAD] + ROWS).mechanism.leg_table
+    slipped = _load(tmp_path, [HEAD + ","] + [r + "," for r in ROWS]).mechanism.leg_table
+    assert slipped == plain
+
+
+def test_a_semicolon_file_is_named_as_such(tmp_path):
+    """A semicolon-separated export was read as one unknown column holding the whole
+    header line (QA); now the scene names the separator and the file's line."""
+    err = _error(tmp_path, [HEAD.replace(",", ";")] + [r.replace(",", ";") for r in ROWS])
+    assert err.field == "mechanism.legs_csv"
+    assert "semicolon-separated values (line 1 of legs.csv)" in err.message
+
+
+def test_no_si_hint_on_a_message_without_lengths(tmp_path):
+    """"expected at least 6 legs, got 5" holds no length: no "lengths in this message in
+    m (SI)" hint (QA); a message with a length in m keeps it (two equal legs: the
+    description names their joints in m, 0.295442 m for the 295.442326 mm of the CSV)."""
+    err = _error(tmp_path, [HEAD] + ROWS[:5])
+    assert "(SI)" not in (err.hint or "")
+    err = _error(tmp_path, [HEAD] + ROWS[:5] + ROWS[:1])
+    assert "0.295442" in err.message
+    assert "lengths in this message in m (SI), the scene's in mm" in err.hint
