@@ -16,22 +16,31 @@ from __future__ import annotations
 import importlib
 
 from ._version import __version__
-from .errors import (DegenerateGeometryError, DistkinError, InfeasibleError, InputError,
-                     LinkError, SingularConfigurationError, UncertifiedError)
+from .errors import (CancellationWarning, ConditioningWarning, DegenerateGeometryError,
+                     DistkinError, FloatRangeWarning, GeometryWarning, InfeasibleError,
+                     InputError, LinkError, NotFoundError, SingularConfigurationError,
+                     UncertifiedError)
+
+#: the subpackages and modules loaded on first use (``distkin.octahedral``, ...): the
+#: analyses (each of its own paper section), the command line and scene files (``app``),
+#: exact numbers (``exact``), input checks (``argcheck``) and spatial maths (``spatial``)
+SUBMODULES = ("geometry", "octahedral", "delta", "mechanisms", "singularity", "indices",
+              "certify", "codegen", "control", "app", "exact", "argcheck", "spatial",
+              "errors")
 
 __all__ = [
     "__version__",
-    # errors
-    "DistkinError", "InputError", "InfeasibleError", "DegenerateGeometryError",
-    "SingularConfigurationError", "UncertifiedError", "LinkError",
-    # lazily loaded subpackages
-    "geometry", "numbers", "scene", "report",
+    # errors (the family of distkin.errors)
+    "DistkinError", "InputError", "InfeasibleError", "NotFoundError",
+    "DegenerateGeometryError", "SingularConfigurationError", "UncertifiedError", "LinkError",
+    # warnings
+    "ConditioningWarning", "CancellationWarning", "FloatRangeWarning", "GeometryWarning",
+    # lazily loaded subpackages and modules
+    *SUBMODULES,
 ]
-
-_LAZY = {"geometry", "numbers", "scene", "report", "queries", "argcheck", "cli"}
 
 
 def __getattr__(name):
-    if name in _LAZY:
+    if name in SUBMODULES:
         return importlib.import_module(f".{name}", __name__)
     raise AttributeError(f"module 'distkin' has no attribute {name!r}")

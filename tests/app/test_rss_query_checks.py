@@ -207,7 +207,8 @@ def test_fk_mismatch_of_a_mixed_leg_table_in_both_units():
     mixed = LegMechanism("mixed", legs, home_pose=tuple(m.home))
     q = mixed.inverse_kinematics(mixed.home + np.array([0.01, -0.02, 0.03, 0.1, 0.05, -0.2]))[0]
     q[0] += 1e-3                                  # a crank 1 mrad off: inconsistent
-    fk = mixed.forward_kinematics(q, mixed.home)
+    with pytest.warns(ConditioningWarning):   # no verified pose: said
+        fk = mixed.forward_kinematics(q, mixed.home)
     assert fk.round_trip and not fk.verified
     scene = dataclasses.replace(
         loads_scene(SCENE.format(length="mm", angle="deg",
