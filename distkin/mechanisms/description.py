@@ -352,7 +352,14 @@ class RSSDescription:
         vectors of :meth:`geometry` (crank direction at q = 90 deg: z), l1, l3, the IK
         branch sigma = +1 (:mod:`.symbolic`), type RSS (l2 = 0) or RRRS, and the nominal
         actuator torque ±2.5 N m (Sec. III-B.3); FK's length scale lp.  The kernels of an RSS mechanism are
-        generated from this table (:mod:`distkin.codegen.rss`)."""
+        generated from this table (:mod:`distkin.codegen.rss`).  Built once per (frozen)
+        description: a certified IK asked for it twice, and each build checks the legs'
+        lines (:mod:`.leg_architecture`, ~0.4 ms)."""
+        if "_legs" not in self.__dict__:
+            self.__dict__["_legs"] = self._leg_description()
+        return self.__dict__["_legs"]
+
+    def _leg_description(self):
         from .legs import Leg, LegsDescription
         g = self.geometry()
         z = (0.0, 0.0, 1.0)
