@@ -38,6 +38,7 @@ __all__ = [
     "size_bound",
     "METHODS",
     "METHODS_AUTO",
+    "dps_without_precise",
     "Exact",
     "parse_exact",
     "parse_float",
@@ -86,6 +87,17 @@ def default_dps(dps: int | None) -> int:
         raise InputError(f"expected dps as an integer 5..{MAX_DPS} (decimal digits, at most "
                          f"{MAX_BITS} bits), got {dps!r}", field="dps")
     return dps
+
+
+def dps_without_precise(dps, method, field: str = "dps") -> InputError:
+    """The error of ``dps`` given with a method other than "precise" (the only tier that
+    reads it; it would be ignored): with no method, the default computes in the input's
+    own number type, and the message says so (QA: it ended in "got method None")."""
+    got = (f"got method {method!r}" if method is not None else
+           f"got dps={dps!r} and no method (the default, the input's own number type, "
+           "has no digits to set)")
+    return InputError(f"expected 'dps' only with method 'precise' (the mpmath digits), "
+                      f"{got}", field=field, hint="method='precise' with dps")
 
 
 def check_method(method: str, *, allowed=METHODS, field: str = "method") -> str:

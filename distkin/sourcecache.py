@@ -5,9 +5,11 @@ once per distinct symbolic source and stored as a ``.py`` file; the second run o
 reads it back and does no algebra (it does not even import sympy).
 
 The cache folder is ``$DISTKIN_CACHE`` if set, else ``$XDG_CACHE_HOME/distkin``, else
-``~/.cache/distkin``.  Files are written atomically (temporary file + rename), so
-concurrent processes at worst derive the same module twice.  Deleting the folder is
-always safe.
+``~/.cache/distkin``.  Files are written atomically (temporary file + rename), and on
+POSIX a lock file beside each entry (``fcntl.flock``, released by the system when its
+holder dies) lets one process derive a module while the others wait for it and load it
+(parallel workers used to derive it once each); without ``fcntl`` they may at worst derive
+it twice.  Deleting the folder is always safe.
 
 A generator's key holds :func:`closure_text` of its modules: the text of every distkin
 file they import, transitively (:func:`import_closure`), and the versions of sympy,
@@ -17,6 +19,7 @@ numpy, mpmath and python, so no edited dependency or upgrade is served a stale m
 from __future__ import annotations
 
 import ast
+import contextlib
 import hashlib
 import importlib.util
 import os
@@ -27,6 +30,11 @@ from functools import lru_cache
 from pathlib import Path
 
 from .runstore import user_cache_dir
+
+try:
+    import fcntl
+except ImportError:           # not POSIX: no lock; concurrent processes may derive twice
+    fcntl = None
 
 __all__ = ["cache_dir", "source_key", "import_closure", "closure_text",
            "toolchain_versions", "cached_source", "load_module_file", "load_source"]
@@ -151,7 +159,7 @@ def closure_text(modules, root=None) -> str:
     return "".join(parts)
 
 
-def cached_source(prefix: str, key: str, build):
+def cached_source(prefix: str, key: str, build, on_wait=None):
     """The module source stored under ``key``, or ``build()`` it and store it.
 
     Parameters
@@ -161,7 +169,12 @@ def cached_source(prefix: str, key: str, build):
     key : str
         :func:`source_key` of everything the source depends on.
     build : callable () -> str
-        Derives the source (the expensive, sympy part).
+        Derives the source (the expensive, sympy part).  Between the check of the cache
+        and the write, the entry's lock file (``.lock``) is held, so of processes asking
+        for the same missing entry at once one builds and the others wait and load it.
+    on_wait : callable () -> None, optional
+        Called once before waiting for another process that holds the entry's lock (to
+        say so); the wait can be interrupted (Ctrl-C).
 
     Returns
     -------
@@ -169,31 +182,79 @@ def cached_source(prefix: str, key: str, build):
         The cached file.  Its SHA-256 is kept beside it (``.sha256``, written after it);
         a file that does not match it (truncated, emptied, edited) is derived again.
     hit : bool
-        True if no derivation was needed.
+        True if no derivation was needed (in this process).
     """
     d = cache_dir()
     path = d / f"{prefix}_{key[:24]}.py"
     digest = path.with_suffix(".sha256")
-    if path.is_file():
-        try:                     # a damaged file (truncated, emptied) is derived again
-            if digest.read_text(encoding="ascii").strip() == \
-                    hashlib.sha256(path.read_bytes()).hexdigest():
-                return path, True
-        except (OSError, UnicodeError):
-            pass
-    src = build()
+    if _intact(path, digest):
+        return path, True
     try:
         d.mkdir(parents=True, exist_ok=True)
-        _write_atomic(d, path, src)
-        _write_atomic(d, digest, hashlib.sha256(src.encode("utf-8")).hexdigest() + "\n")
-    except OSError as exc:               # QA U 9: was an internal failure (exit 1)
-        from .errors import InputError
-        var = ("DISTKIN_CACHE" if os.environ.get("DISTKIN_CACHE") else
-               "XDG_CACHE_HOME" if os.environ.get("XDG_CACHE_HOME") else "HOME")
-        raise InputError(f"expected a writable cache folder for the derived kernels, got "
-                         f"{str(d)!r} ({exc.strerror or type(exc).__name__})", field=var,
-                         hint="set DISTKIN_CACHE to a folder that can be written") from None
+    except OSError as exc:
+        raise _unwritable(d, exc) from None
+    with _entry_lock(path.with_suffix(".lock"), on_wait):
+        if _intact(path, digest):          # derived by the process we waited for
+            return path, True
+        src = build()
+        try:
+            _write_atomic(d, path, src)
+            _write_atomic(d, digest, hashlib.sha256(src.encode("utf-8")).hexdigest() + "\n")
+        except OSError as exc:               # QA U 9: was an internal failure (exit 1)
+            raise _unwritable(d, exc) from None
     return path, False
+
+
+def _intact(path, digest) -> bool:
+    """Whether ``path`` exists and matches its ``.sha256`` (a damaged file is not)."""
+    try:
+        return path.is_file() and digest.read_text(encoding="ascii").strip() == \
+            hashlib.sha256(path.read_bytes()).hexdigest()
+    except (OSError, UnicodeError):
+        return False
+
+
+def _unwritable(d, exc):
+    """The InputError of a cache folder that cannot be written, naming its variable."""
+    from .errors import InputError
+    var = ("DISTKIN_CACHE" if os.environ.get("DISTKIN_CACHE") else
+           "XDG_CACHE_HOME" if os.environ.get("XDG_CACHE_HOME") else "HOME")
+    return InputError(f"expected a writable cache folder for the derived kernels, got "
+                      f"{str(d)!r} ({exc.strerror or type(exc).__name__})", field=var,
+                      hint="set DISTKIN_CACHE to a folder that can be written")
+
+
+@contextlib.contextmanager
+def _entry_lock(lock, on_wait):
+    """Hold an exclusive ``fcntl.flock`` on the file ``lock`` (created if missing, never
+    removed: removing it would let two processes lock two files).  The system releases
+    it when the holder exits or dies, so a crashed deriver blocks nobody; a blocking wait
+    is interrupted by a signal whose handler raises (Ctrl-C, PEP 475).  Without
+    ``fcntl``, or where the file cannot be opened or locked (a read-only folder, a file
+    system without locks), nothing is held."""
+    fd = None
+    if fcntl is not None:
+        try:
+            fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o666)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                if on_wait is not None:
+                    on_wait()
+                fcntl.flock(fd, fcntl.LOCK_EX)
+        except OSError:
+            if fd is not None:
+                os.close(fd)
+            fd = None
+        except BaseException:              # Ctrl-C while waiting: let go of the file
+            if fd is not None:
+                os.close(fd)
+            raise
+    try:
+        yield
+    finally:
+        if fd is not None:
+            os.close(fd)                    # releases the lock
 
 
 def _write_atomic(d, path, text):

@@ -62,3 +62,85 @@ def test_an_unusable_cache_folder_is_bad_input(tmp_path, monkeypatch, capsys):
         f"{str(bad)!r} ({str(tmp_path / 'file')!r} is a file) (hint: set DISTKIN_CACHE to "
         f"a folder that can be written, or unset it)"], err
     assert not (tmp_path / "m.py").exists()
+
+
+#: a process asking for the entry "t" of a slow build: prints BUILD when it builds,
+#: WAIT when it waits for another process, then the path and whether it was a hit
+_DERIVER = """
+import sys, time
+from pathlib import Path
+from distkin.sourcecache import cached_source, source_key
+marker = Path(sys.argv[1])
+
+def build():
+    print("BUILD", flush=True)
+    marker.write_text("building")
+    time.sleep(float(sys.argv[2]))
+    return "def f(x):\\n    return 2 * x\\n"
+
+path, hit = cached_source("t", source_key("concurrent"), build,
+                          on_wait=lambda: print("WAIT", flush=True))
+print(path, hit, flush=True)
+"""
+
+
+def _deriver(tmp_path, seconds):
+    import os
+    import subprocess
+    import sys
+    env = {**os.environ, "DISTKIN_CACHE": str(tmp_path / "cache"),
+           "PYTHONPATH": os.pathsep.join(sys.path)}
+    return subprocess.Popen([sys.executable, "-c", _DERIVER, str(tmp_path / "building"),
+                             str(seconds)], env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+
+
+def _wait_for(path, timeout=60.0):
+    import time
+    t0 = time.monotonic()
+    while not path.exists():
+        assert time.monotonic() - t0 < timeout, "the first process never started building"
+        time.sleep(0.02)
+
+
+def test_two_processes_derive_a_missing_entry_once(tmp_path):
+    """QA: the two workers of ``certify_hexa.toml`` (workers = 2) each printed "deriving
+    ... once" and derived the same kernels: the second now waits for the first (the
+    entry's lock) and loads its file."""
+    import sys
+    if sys.platform == "win32":
+        import pytest
+        pytest.skip("no fcntl: concurrent processes may derive twice")
+    first = _deriver(tmp_path, 2.0)
+    _wait_for(tmp_path / "building")          # the first holds the lock, mid-build
+    second = _deriver(tmp_path, 2.0)
+    out1, err1 = first.communicate(timeout=120)
+    out2, err2 = second.communicate(timeout=120)
+    assert first.returncode == 0 and second.returncode == 0, err1 + err2
+    lines1, lines2 = out1.split(), out2.split()
+    assert lines1[0] == "BUILD" and lines1[-1] == "False"
+    assert lines2[0] == "WAIT" and lines2[-1] == "True" and "BUILD" not in lines2
+    assert lines1[1] == lines2[1]                # one file, the same for both
+    path = tmp_path / "cache" / lines1[1].rsplit("/", 1)[-1]
+    assert load_module_file(path).f(21) == 42
+
+
+def test_a_process_waiting_for_the_lock_can_be_interrupted(tmp_path):
+    """Ctrl-C while another process derives the entry ends the waiting process (a
+    KeyboardInterrupt, not a hang); the holder still finishes and stores its module."""
+    import signal
+    import sys
+    import time
+    if sys.platform == "win32":
+        import pytest
+        pytest.skip("no fcntl")
+    first = _deriver(tmp_path, 6.0)
+    _wait_for(tmp_path / "building")
+    second = _deriver(tmp_path, 6.0)
+    assert second.stdout.readline().strip() == "WAIT"
+    t0 = time.monotonic()
+    second.send_signal(signal.SIGINT)
+    _, err2 = second.communicate(timeout=30)
+    assert time.monotonic() - t0 < 3.0 and "KeyboardInterrupt" in err2
+    out1, _ = first.communicate(timeout=120)
+    assert out1.split()[-1] == "False"

@@ -16,6 +16,7 @@ it by type and mechanism kind::
 
 from __future__ import annotations
 
+import contextlib
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -73,12 +74,23 @@ class RunContext:
         from ..runstore import default_store
         return default_store(f"{Path(scene.path).stem}_{name}")
 
+    @contextlib.contextmanager
     def executor(self, workers, scheduler):
         """The executor of a chunked query (its fields, overridden by ``distkin
-        sweep``): a context manager (:func:`distkin.runstore.executor_for`)."""
+        sweep``): a context manager (:func:`distkin.runstore.executor_for`).  An error
+        about the cluster (field ``scheduler``) names ``--scheduler`` when the address
+        came from that option (QA: it blamed the scene's ``query[0].scheduler``)."""
+        from ..errors import DistkinError
         from ..runstore import executor_for
-        return executor_for(scheduler=self.scheduler or scheduler,
-                            workers=self.workers or workers)
+        try:
+            with executor_for(scheduler=self.scheduler or scheduler,
+                              workers=self.workers or workers) as ex:
+                yield ex
+        except DistkinError as exc:
+            if self.scheduler and exc.field == "scheduler":
+                exc.field = "--scheduler"
+                exc.args = (exc.one_line(),)
+            raise
 
     def notice(self, message: str) -> None:
         """One line for the user on stderr, once per run, when progress is shown (what a

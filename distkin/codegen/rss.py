@@ -291,7 +291,9 @@ def derived_module(mech, names, flavours, *, progress=None):
     the model's source and the leg table), then imported.
 
     A derivation prints one progress line before and one with its time after (to
-    ``progress``, default stderr) and is recorded in :data:`LAST_DERIVATION`."""
+    ``progress``, default stderr) and is recorded in :data:`LAST_DERIVATION`; a process
+    that finds another deriving the same module (a pool's workers) says it waits, then
+    loads that one."""
     import sys
     from ..sourcecache import cached_source, load_module_file, source_key
     desc = mech.leg_description()
@@ -313,7 +315,11 @@ def derived_module(mech, names, flavours, *, progress=None):
               flush=True)
         return src
 
-    path, _ = cached_source(_prefix(mech), key, build)
+    def waiting():               # a parallel worker is deriving it: load its module
+        print(f"distkin: waiting for another process deriving the {'/'.join(flavours)} "
+              f"kernels of {desc.name!r} ...", file=out, flush=True)
+
+    path, _ = cached_source(_prefix(mech), key, build, on_wait=waiting)
     return load_module_file(path)
 
 

@@ -43,7 +43,7 @@ from fractions import Fraction
 import numpy as np
 
 from ..errors import InputError
-from ..exact import check_method, default_dps, parse_exact
+from ..exact import check_method, default_dps, dps_without_precise, parse_exact
 from .cm_float import (CancellationWarning, FloatRangeWarning, _bordered, _bordered_array,
                        _float_mismatch, _refuse, _refuse_range, _symmetric_array,
                        float_determinant)
@@ -355,8 +355,7 @@ def _check_dps(dps, method):
     except InputError as exc:
         raise InputError(exc.message, field="dps") from None
     if method != "precise":
-        raise InputError(f"expected 'dps' only with method 'precise' (the mpmath digits), "
-                         f"got method {method!r}", field="dps", hint="method='precise' with dps")
+        raise dps_without_precise(dps, method)
 
 
 def _check_ragged(points):

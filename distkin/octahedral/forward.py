@@ -214,7 +214,8 @@ def forward_kinematics_batched(base, platform, legs, *, method: str = "fast",
 
     Parameters
     ----------
-    base : (3, 3) or (N, 3, 3); platform : (3, 3) or (N, 3, 3); legs : (N, 6)
+    base : (3, 3) or (N, 3, 3); platform : (3, 3) or (N, 3, 3); legs : (N, 6) or (6,)
+        At most one batch axis; an array without one is shared by the N problems.
     method : {"fast", "auto"}
         ``"fast"``: every problem is checked by the proof of :mod:`.descartes`;
         ``.trusted`` flags, per problem, the answers it cannot vouch for.  ``"auto"``:

@@ -288,9 +288,10 @@ def float_problem(base, platform, legs, *, flat: str = "raise"):
 
     def arr(value, field, shape):
         a, exact = _floats(value, field)
-        if a.shape[-len(shape):] != shape:
-            raise InputError(f"expected shape (..., {', '.join(map(str, shape))}), got "
-                             f"{a.shape}", field=field)
+        if a.shape[-len(shape):] != shape or a.ndim > len(shape) + 1:   # one batch axis
+            dims = ", ".join(map(str, shape))          # (QA: "(..., 6)" suggested more)
+            raise InputError(f"expected shape {shape} or (N, {dims}), got {a.shape}",
+                             field=field)
         ok = np.isfinite(a)
         if not np.all(ok):
             at = tuple(int(v) for v in np.argwhere(~ok)[0])
@@ -300,8 +301,6 @@ def float_problem(base, platform, legs, *, flat: str = "raise"):
     B, rB = arr(base, "base", (3, 3))
     Q, rQ = arr(platform, "platform", (3, 3))
     L, rL = arr(legs, "legs", (6,))
-    if B.ndim > 3 or Q.ndim > 3 or L.ndim > 2:
-        raise InputError("expected at most one batch axis", field="legs")
     N = max([a.shape[0] for a, nd in ((B, 3), (Q, 3), (L, 2)) if a.ndim == nd], default=1)
     for a, nd, field, shape in ((B, 3, "base", "3, 3"), (Q, 3, "platform", "3, 3"),
                                 (L, 2, "legs", "6")):

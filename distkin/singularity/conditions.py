@@ -357,14 +357,12 @@ _BIDETS = (((1, 2, 4, 5), (1, 2, 3, 4)), ((3, 4, 5, 6), (2, 4, 5, 6)),
 
 def _digits(dps, method):
     """The precise tier's digits (default 30), or None; ``dps`` only with "precise"."""
-    from ..exact import default_dps
+    from ..exact import default_dps, dps_without_precise
     if dps is None:
         return default_dps(None) if method == "precise" else None
     digits = default_dps(dps)
     if method != "precise":
-        raise InputError(f"expected 'dps' only with method 'precise' (the mpmath digits), "
-                         f"got method {method!r}", field="dps",
-                         hint="method='precise' with dps")
+        raise dps_without_precise(dps, method)
     return digits
 
 

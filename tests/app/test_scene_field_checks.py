@@ -221,6 +221,31 @@ def test_sweep_refuses_a_malformed_scheduler_naming_the_option(tmp_path, capsys)
                     "tcp://HOST:8786, got 'tcp://host' (no port number)")
 
 
+def test_an_unreachable_scheduler_names_where_its_address_came_from(tmp_path, capsys,
+                                                                     monkeypatch):
+    """QA: ``distkin sweep certify_hunt.toml --scheduler tcp://127.0.0.1:1`` blamed
+    ``query[0].scheduler``, a field the scene does not have; the option is named now, and
+    the scene's field only for an address written in the scene."""
+    pytest.importorskip("distributed", reason="dask.distributed is not installed")
+    from functools import partial
+
+    from distkin import runstore
+    monkeypatch.setattr(runstore, "dask_executor",       # 1 s, not 10 s, to give up
+                        partial(runstore.dask_executor, timeout="1s"))
+    addr = "tcp://127.0.0.1:1"
+    reason = f"expected a reachable dask scheduler, got {addr!r}: "
+    scene = (EXAMPLES / "certify_hunt.toml").read_text(encoding="utf-8")
+    for where, args, text in (
+            ("--scheduler", ["--scheduler", addr], scene),
+            ("query[0].scheduler", [], scene + f'scheduler = "{addr}"\n')):
+        f = tmp_path / "s.toml"
+        f.write_text(text, encoding="utf-8")
+        code = main(["sweep", str(f), "--no-progress", *args])
+        out, err = capsys.readouterr()
+        assert code == 2, out + err
+        assert err.strip().startswith(f"distkin: error: {where}: {reason}"), err
+
+
 @pytest.mark.parametrize("value", ["0", "-2.5"])
 def test_a_zero_or_negative_actuator_limit_is_refused(tmp_path, capsys, value):
     """nominal_torque = 0 passed the scene parser (>= 0) and every force capability came

@@ -134,6 +134,26 @@ def test_dps_only_with_precise(method):
         cayley_menger([[0, 1], [1, 0]], (1, 2), method="precise", dps=3)
 
 
+def test_dps_without_a_method_says_so_in_the_callers_terms():
+    """QA: ``cayley_menger(S, rows, cols, dps=40)`` ended in "got method None", a method
+    the caller never passed.  dps stays refused without "precise" (DESIGN.md §3: it is
+    the precise tier's digits; every entry point refuses it where it would be ignored,
+    none escalates on it), and the message names what was given: dps and no method.
+    The same for the CM conditions of distkin.singularity (the same check)."""
+    from distkin.singularity import cm_pure_condition
+    sq = {(i, j): 1 for i in range(1, 5) for j in range(i + 1, 5)}
+    expected = ("dps: expected 'dps' only with method 'precise' (the mpmath digits), got "
+                "dps=40 and no method (the default, the input's own number type, has no "
+                "digits to set) (hint: method='precise' with dps)")
+    with pytest.raises(InputError) as e:
+        cayley_menger(sq, (1, 2, 3), (1, 2, 4), dps=40)
+    assert str(e.value) == expected
+    pts = [[0, 0, 0], [6, 10, 0], [12, 0, 0], [1, 2, 17], [6, 1, 15], [3, 5, 16]]
+    with pytest.raises(InputError) as e:
+        cm_pure_condition(pts, dps=40)
+    assert str(e.value) == expected
+
+
 def test_squared_distances_beyond_float64_are_refused_not_inf():
     """Finite float points 2e200 apart squared to inf silently; exact coordinates keep
     the value (4e400, exactly)."""

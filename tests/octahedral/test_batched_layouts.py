@@ -119,3 +119,24 @@ def test_batched_arrays_are_read_only_as_single_poses_are():
         np.testing.assert_allclose(pose.translation, single[0].translation, rtol=1e-12)
         assert b.trusted[0]
         assert all(a.flags.writeable for a in (base, plat, legs))
+
+
+@pytest.mark.parametrize("where, value, got", [
+    ("legs", np.array([[LEGS, LEGS], [LEGS, LEGS]]), "(2, 2, 6)"),      # two batch axes
+    ("legs", np.array([LEGS[:5], LEGS[:5]]), "(2, 5)"),                 # a wrong last axis
+    ("legs", 18.0, "()"),
+    ("base", np.array([[BASE, BASE], [BASE, BASE]]), "(2, 2, 3, 3)"),
+    ("platform", np.array(PLAT)[:, :2], "(3, 2)"),
+])
+def test_a_wrong_shape_names_the_accepted_shapes_and_the_one_received(where, value, got):
+    """QA: legs of shape (2, 2, 6) said 'legs: expected at most one batch axis' (no shape;
+    for base too, and blaming legs), and a wrong last axis 'expected shape (..., 6)', as
+    if any number of batch axes would do: one batch axis at most, the field that is
+    wrong, and the shape received."""
+    from distkin.errors import InputError
+    args = {"base": BASE, "platform": PLAT, "legs": LEGS, where: value}
+    accepted = "(6,) or (N, 6)" if where == "legs" else "(3, 3) or (N, 3, 3)"
+    with pytest.raises(InputError) as err:
+        forward_kinematics_batched(args["base"], args["platform"], args["legs"])
+    assert err.value.field == where
+    assert err.value.message == f"expected shape {accepted}, got {got}"
