@@ -554,7 +554,8 @@ def compile_notice() -> str:
     """What to tell the user before the first fast solve on a machine, when numba's
     cache holds no machine code for it yet (the call then compiles: the default call,
     with its proof, took 39 s on the 2-core machine of BENCHMARKS.md on 2026-11-26,
-    46 s with ``method="auto"``); ""
+    46 s with ``method="auto"``; the CLI's queries compile it in two processes,
+    :mod:`.warmup`: 19.5 s); ""
     when it does, or when that cannot be told (the check reads numba's cache index, an
     internal of numba).  Every fast solve runs the compiled sign scan
     (:func:`.signscan.scan_one`, issue 17); the eigenvalue route here compiles later, on
@@ -564,5 +565,5 @@ def compile_notice() -> str:
         pending = not os.path.exists(scan_one._cache._cache_file._index_path)
     except Exception:  # pragma: no cover - other numba layouts: say nothing
         pending = False
-    return ("compiling the fast octahedral tier for this machine (numba, 30-60 s, "
+    return ("compiling the fast octahedral tier for this machine (numba, 20-60 s, "
             "once: later runs load it from numba's cache)") if pending else ""

@@ -193,7 +193,7 @@ def test_single_solve_next_to_a_nearly_flat_banana_tetrahedron():
 
 def test_compile_notice_only_before_the_first_solve_on_a_machine(tmp_path, capsys):
     """A scene run says why its first fast solve on a machine is slow (numba compiles,
-    30-60 s), and says it once; with the machine code in numba's cache it says nothing."""
+    20-60 s), and says it once; with the machine code in numba's cache it says nothing."""
     import os
     import subprocess
     import sys
