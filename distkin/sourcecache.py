@@ -37,7 +37,7 @@ except ImportError:           # not POSIX: no lock; concurrent processes may der
     fcntl = None
 
 __all__ = ["cache_dir", "source_key", "import_closure", "closure_text",
-           "toolchain_versions", "cached_source", "load_module_file", "load_source"]
+           "toolchain_versions", "cached_source", "entry_lock", "load_module_file", "load_source"]
 
 #: the distkin package folder (the root of :func:`import_closure`)
 PACKAGE_ROOT = Path(__file__).resolve().parent
@@ -193,7 +193,7 @@ def cached_source(prefix: str, key: str, build, on_wait=None):
         d.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise _unwritable(d, exc) from None
-    with _entry_lock(path.with_suffix(".lock"), on_wait):
+    with entry_lock(path.with_suffix(".lock"), on_wait):
         if _intact(path, digest):          # derived by the process we waited for
             return path, True
         src = build()
@@ -225,7 +225,7 @@ def _unwritable(d, exc):
 
 
 @contextlib.contextmanager
-def _entry_lock(lock, on_wait):
+def entry_lock(lock, on_wait=None):
     """Hold an exclusive ``fcntl.flock`` on the file ``lock`` (created if missing, never
     removed: removing it would let two processes lock two files).  The system releases
     it when the holder exits or dies, so a crashed deriver blocks nobody; a blocking wait

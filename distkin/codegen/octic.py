@@ -39,8 +39,7 @@ def octic_in_legs(values=None, *, use_cache: bool = True):
     list of sympy.Expr
         Nine coefficients :math:`o_8, \dots, o_0` of :math:`O(s_{15})`.
     """
-    import sympy
-    from ..sourcecache import cache_dir, closure_text, source_key
+    from ..sourcecache import cache_dir, closure_text, entry_lock, source_key
     from .emit import symbolic_hash
     p = octic_parts(values)
     # the inputs and the algorithm: the parts' srepr, and the source of the code that
@@ -49,19 +48,22 @@ def octic_in_legs(values=None, *, use_cache: bool = True):
     key = source_key(symbolic_hash(*[getattr(p, n) for n in PART_NAMES], p.x),
                      closure_text(_OCTIC_MODULES))[:32]
     path = cache_dir() / f"octic_{key}.pickle"
-    if use_cache and path.exists():
+    if not use_cache:
+        return _octic_coeffs(values)
+    coeffs = _load(path)
+    if coeffs is not None:
+        return coeffs
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError:
+        return _octic_coeffs(values)
+    # parallel workers asking at once: one derives, the others wait and load it
+    with entry_lock(path.with_suffix(".lock")):
+        coeffs = _load(path)
+        if coeffs is not None:
+            return coeffs
+        coeffs = _octic_coeffs(values)
         try:
-            with open(path, "rb") as fh:
-                coeffs = pickle.load(fh)
-            if len(coeffs) == 9:
-                return coeffs
-        except Exception:  # a damaged cache entry is rebuilt, not trusted
-            path.unlink(missing_ok=True)
-    coeffs = [sympy.expand(c) for c in octic_polynomial(values).all_coeffs()]
-    coeffs = [sympy.Integer(0)] * (9 - len(coeffs)) + coeffs
-    if use_cache:
-        try:
-            path.parent.mkdir(parents=True, exist_ok=True)
             tmp = path.with_suffix(f".{os.getpid()}.tmp")
             with open(tmp, "wb") as fh:
                 pickle.dump(coeffs, fh)
@@ -69,6 +71,29 @@ def octic_in_legs(values=None, *, use_cache: bool = True):
         except OSError:
             pass
     return coeffs
+
+
+def _octic_coeffs(values) -> list:
+    """The nine coefficients of the octic, derived (sympy; :func:`octic_in_legs`)."""
+    import sympy
+    coeffs = [sympy.expand(c) for c in octic_polynomial(values).all_coeffs()]
+    return [sympy.Integer(0)] * (9 - len(coeffs)) + coeffs
+
+
+def _load(path):
+    """The cached coefficients at ``path``, or None (missing; a damaged entry is
+    removed, to be derived again, not trusted)."""
+    if not path.exists():
+        return None
+    try:
+        with open(path, "rb") as fh:
+            coeffs = pickle.load(fh)
+        if len(coeffs) == 9:
+            return coeffs
+    except Exception:
+        pass
+    path.unlink(missing_ok=True)
+    return None
 
 
 _KERNEL_DOC = """Octic of the octahedral manipulator and the parts of eq. (3).
