@@ -57,13 +57,13 @@ def servo_stiffness(mech, kp: float, poses) -> np.ndarray:
     if P.ndim != 2 or P.shape[1] != 6:
         raise InputError(f"expected poses of shape (6,) or (N, 6) (x, y, z, rx, ry, rz in "
                          f"m and rad), got shape {np.shape(poses)}", field="poses")
-    J = mech.jacobian(P)                      # checks the shape and finiteness of poses
-    ok = np.atleast_1d(mech.reachable(P))
+    ok = np.atleast_1d(mech.reachable(P))    # checks the shape and finiteness of poses
     if not ok.all():
         i = int(np.flatnonzero(~ok)[0])
         raise InfeasibleError(f"expected poses every leg reaches, got {int((~ok).sum())} "
                               f"of {ok.size} that do not, the first pose[{i}] = "
                               f"{np.round(P[i], 6).tolist()} (m, rad)", field="poses")
+    J = mech.jacobian(P)
     with np.errstate(all="ignore"):
         s = np.linalg.svd(J, compute_uv=False) if np.all(np.isfinite(J)) else None
     if s is None or np.any(s[:, -1] <= 1e-12 * s[:, 0]):

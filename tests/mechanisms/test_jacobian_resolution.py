@@ -82,18 +82,47 @@ def _mechanisms():
 def test_public_route_warns_exactly_where_the_tier_flags():
     """The cheap screen in front of the estimate loses nothing: on poses approaching the
     reach boundary of three presets and an 8-RUS leg table (crank 60 mm, distal 224 mm),
-    ``jacobian`` warns at a pose iff ``jacobian_tier(..., "fast")`` flags it."""
+    ``jacobian`` warns at a pose iff ``jacobian_tier(..., "fast")`` flags it; at the
+    poses just outside, where a leg does not close (its reach margin, rho^2 - C^2 of
+    the IK equation, below 0), it warns that the leg does not close (QA: finite rows
+    were returned silently)."""
     rng = np.random.default_rng(7)
-    flagged = 0
+    flagged = outside = 0
     for m in _mechanisms():
         for X in _boundary_poses(m, rng):
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", ConditioningWarning)
-                tier = jacobian_tier(m, X, "fast").inaccurate[0]
+                res = jacobian_tier(m, X, "fast")
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always", ConditioningWarning)
                 m.jacobian(X)
-            warned = any(issubclass(w.category, ConditioningWarning) for w in caught)
-            assert warned == bool(tier), (m.name, X)
-            flagged += tier
-    assert flagged > 10                 # the test reaches the boundary
+            said = [str(w.message) for w in caught
+                    if issubclass(w.category, ConditioningWarning)]
+            if (m.reach_margin(X) >= 0.0).all():
+                assert bool(said) == bool(res.inaccurate[0]), (m.name, X)
+                flagged += res.inaccurate[0]
+            else:
+                assert any("does not close" in t for t in said), (m.name, X)
+                outside += 1
+    assert flagged > 10 and outside > 10        # the test reaches the boundary
+
+
+def test_unreachable_poses_named_alike_single_and_batched():
+    """A batch with poses 1 m above home among reachable ones: the warning counts and
+    names them as the reach margins (batched kernel) say, and one such pose alone (the
+    scalar kernel's route) names the same legs."""
+    m = preset("octo")
+    rng = np.random.default_rng(11)
+    X = m.home + np.hstack([rng.uniform(-0.02, 0.02, (6, 3)), np.zeros((6, 3))])
+    X[[2, 4], 2] += 1.0
+    bad = m.reach_margin(X) < 0.0
+    assert bad.any(axis=-1).tolist() == [False, False, True, False, True, False]
+    legs = ", ".join(str(j + 1) for j in np.flatnonzero(bad[2]))
+    for poses, head in ((X, "at 2 of 6 pose(s)"), (X[2], "at 1 of 1 pose(s)")):
+        with pytest.warns(ConditioningWarning, match="does not close") as rec:
+            m.jacobian(poses)
+        text = " ".join(str(w.message) for w in rec)
+        assert head in text and f"leg(s) {legs}:" in text
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ConditioningWarning)
+        m.jacobian(X[[0, 1, 3, 5]])                  # reachable: nothing to say
