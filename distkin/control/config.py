@@ -164,8 +164,9 @@ class SafetyLimits:
     ``max_angle`` rad the encoder range; ``max_fk_residual`` m.
     ``workspace_m`` m and ``workspace_rad`` rad: the safe workspace, the box
     ``|x_i - home_i| <= workspace_m`` (x, y, z) and ``|r_i - home_i| <= workspace_rad``
-    (rx, ry, rz) about the home pose, by default Kühne et al.'s Table II box of the
-    Octo (±75 mm, ±30°).  Torque control starts, and resumes after a fault, only at a
+    (rx, ry, rz) about the home pose, by default ±75 mm (Kühne et al.'s Table II,
+    translational) and ±30° (design criterion 4, Sec. II-A, the range of Table III's
+    Octo column; Table II's own rotations are ±20°).  Torque control starts, and resumes after a fault, only at a
     measured pose inside it: a platform that swung away while its torques were zero
     (e.g. under gravity during a stall) is not pulled back at the torque limit; it
     stays at zero torque until it is brought back by hand.
