@@ -96,28 +96,47 @@ def _same(same, e) -> str:
     return same if not sub else f"no: {sub}; ratio not like for like"
 
 
-def _unlike_paper(s, grid) -> str:
-    """"" when device summary ``s``'s Table III rows are over the paper's poses: Table
-    II's positions (±75 mm in steps of 10 mm about the device's home height) and its
-    orientations in steps of 5° over the range of the paper's column (±20° for L = 6,
-    ±30° for L = 8, Sec. III); else what differs.  QA 2026-11-29: an Octopod row over
-    ±20° stood beside the paper's ±30° column, and a grid of 8 positions at a 150 mm
-    step was called "the Table II positions", both without a word."""
-    if not s.get("paper_column"):
-        return ""
+def _unlike_grid(grid, positions, rotation_deg, rot, column) -> str:
+    """What keeps ``grid`` (orientations over ±``rotation_deg``) from the paper's poses:
+    Table II's positions (±75 mm in steps of 10 mm about the device's home height) and
+    its orientations in steps of 5° over ±``rot`` (``column``: whose range that is); ""
+    when nothing does."""
     why, ref = [], table2_grid(0.0)
-    rot = 30.0 if s["L"] == 8 else 20.0
-    if not math.isclose(s["rotation_deg"], rot, abs_tol=1e-6):
-        why.append(f"orientations over ±{s['rotation_deg']:.4g}° (the paper's column: "
-                   f"±{rot:.0f}°)")
+    if not math.isclose(rotation_deg, rot, abs_tol=1e-6):
+        why.append(f"orientations over ±{rotation_deg:.4g}° ({column} ±{rot:.0f}°)")
     z = np.asarray(grid.z) - 0.5 * (max(grid.z) + min(grid.z))
     if not all(len(a) == len(b) and np.allclose(a, b, rtol=0.0, atol=1e-9)
                for a, b in ((grid.x, ref.x), (grid.y, ref.y), (z, ref.z))):
-        why.append(f"{s['positions']:,} positions, not Table II's 4,096 (±75 mm, step 10 mm)")
+        why.append(f"{positions:,} positions, not Table II's 4,096 (±75 mm, step 10 mm)")
     steps = np.degrees(np.concatenate([np.diff(a) for a in (grid.rx, grid.ry, grid.rz)]))
     if steps.size and not np.allclose(steps, 5.0, rtol=0.0, atol=1e-6):
         why.append(f"rotation steps of {float(np.max(steps)):.4g}° (Table II: 5°)")
     return "; ".join(why)
+
+
+def _unlike_paper(s, grid) -> str:
+    """"" when device summary ``s``'s Table III rows are over the paper's poses: Table
+    II's positions and orientations in steps of 5° over the range of the paper's column
+    (±20° for L = 6, ±30° for L = 8, Sec. III-B-3 and Table III's note); else what
+    differs.  QA 2026-11-29: an Octopod row over ±20° stood beside the paper's ±30°
+    column, and a grid of 8 positions at a 150 mm step was called "the Table II
+    positions", both without a word."""
+    if not s.get("paper_column"):
+        return ""
+    return _unlike_grid(grid, s["positions"], s["rotation_deg"],
+                        30.0 if s["L"] == 8 else 20.0, "the paper's column:")
+
+
+def _unlike_paper_table4(s, grid) -> str:
+    """"" when device summary ``s``'s Table IV row (GII, σmin, σmax over the inner
+    orientations, ``s["isotropy"]["rotation_deg"]``) is over the paper's poses: Table
+    II's grid, ±20° in steps of 5° (Kühne et al. Sec. III-B-2, Table II) for every
+    device; else what differs.  QA 23: the Table IV rows said "yes" on the coarse grid
+    while the Table III rows beside them said "no"."""
+    if s.get("paper_column") not in PAPER_TABLE4:
+        return ""
+    return _unlike_grid(grid, s["positions"], s["isotropy"]["rotation_deg"], 20.0,
+                        "Table IV: Table II's")
 
 
 def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
@@ -180,7 +199,11 @@ def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
         if _subset(i):
             reason = f"{_subset(i)}, the unreachable ones left out" + (
                 "" if reason == "—" else f"; {reason}")
-        row = [s["label"], _same("yes", i), _f(i["gii"]), _f(i.get("paper_gii")),
+        cell = _same("yes", i)
+        if i.get("unlike_paper") and i.get("paper_gii") is not None:
+            cell = (f"no: {i['unlike_paper']}; ratio not like for like" if cell == "yes"
+                    else f"{cell}; {i['unlike_paper']}")
+        row = [s["label"], cell, _f(i["gii"]), _f(i.get("paper_gii")),
                _ratio(i.get("ratio_gii")), _f(i["sigma_min"]), _f(i.get("paper_sigma_min")),
                _ratio(i.get("ratio_sigma_min")), _f(i["sigma_max"]),
                _f(i.get("paper_sigma_max")), _ratio(i.get("ratio_sigma_max")), reason]
@@ -328,11 +351,15 @@ def _notes(summaries) -> str:
             f"{_subset(s['isotropy']) or 'over every pose'}"
             for s in summaries if _subset(s) or _subset(s["isotropy"])]
     unlike = [f"{s['label']}: {s['unlike_paper']}" for s in summaries if s.get("unlike_paper")]
+    unlike4 = [f"{s['label']}: {s['isotropy']['unlike_paper']}" for s in summaries
+               if s["isotropy"].get("unlike_paper")]
     return _NOTES.replace("{subset}", ", the poses the device reaches only: " + "; ".join(
         part) + " (the unreachable poses are left out, not scored σmin = 0 as a design_sweep's "
         "unreachable = \"zero\" does; the ratios to the paper are not like for like)"
         if part else "") + ("  Not the paper's poses (Table III's ratios not like for like): "
-                            + "; ".join(unlike) + "." if unlike else "")
+                            + "; ".join(unlike) + "." if unlike else "") + (
+        "  Not Table II's poses (Table IV's ratios not like for like): "
+        + "; ".join(unlike4) + "." if unlike4 else "")
 
 
 def _units_block(actuators) -> dict:
@@ -432,6 +459,7 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
             _inner_note(s, d, ctx)
             s["positions_all_orientations_reachable"] = int(np.sum(reach_all))
             s["unlike_paper"] = _unlike_paper(s, grid)
+            s["isotropy"]["unlike_paper"] = _unlike_paper_table4(s, grid)
             summaries.append(s)
             per_all[d.label] = (per, dex["mask"], reach_all, minima)
             grids[d.label] = (grid, dev)

@@ -119,9 +119,11 @@ def name_scene_units(exc, units):
 
 
 #: where the default scaling matrix ST of the isotropy indices comes from
-#: (:data:`distkin.indices.isotropy.ST_DEFAULT`): Kühne et al., Sec. III-B-2
-SCALING_ORIGIN = ("the paper's Octopod scaling (Kühne et al. Sec. III-B-2: the end-effector "
-                  "wrench they designed for, Ergin's device's intended output capabilities)")
+#: (:data:`distkin.indices.isotropy.ST_DEFAULT`): Kühne et al., Sec. III-B-2, the GII
+#: optimisation of the 6-RSS kinematics; the paper never calls it the Octopod's (QA 23)
+SCALING_ORIGIN = ("the paper's ST (Kühne et al. Sec. III-B-2, the GII optimisation of the "
+                  "6-RSS kinematics: the originally intended output capabilities of Ergin's "
+                  "device)")
 
 
 def scaling_text(ST) -> str:

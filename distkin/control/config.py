@@ -116,16 +116,24 @@ class PDGains:
     minimum-norm torques that carry the platform weight; ``hand_feedforward`` adds the
     minimum-norm torques that balance the measured hand wrench, so that the PD only
     has to move the platform and its finite stiffness does not soften what the
-    admittance renders (not in the paper's scheme; off by default).  With KP = 110 the
-    Octo's servo stiffness ``KP JᵀJ`` (:mod:`.stiffness`, pushing along an axis with the
-    other directions free) is 1.30 N/mm along x and y at the workspace centre; over the
-    paper's 27 positions it is 0.86 N/mm at least (along y, on the upper facet, where
-    the paper found its minima too), 22.6 at most (along z), 3.69 on average, against the
-    prototype's measured 1.6, 7.9 and 4.7 N/mm (Sec. III-D): the model's servo alone,
-    on our reading of the Octo's geometry, with a rigid structure and rigid gears (the
-    prototype's compliance in series lowers its maximum).  The servo acts in series with
-    the rendered environment, so without the feed-forward a wall renders softer than
-    its stiffness.
+    admittance renders (not in the paper's scheme; off by default).  With KP = 110 (read
+    as N·m/rad at the crank: the paper prints no unit) the Octo's servo stiffness
+    ``KP JᵀJ`` (:mod:`.stiffness`, pushing along an axis with the other directions free)
+    is 1.30 N/mm along x and y at the workspace centre; over the paper's 27 positions it
+    is 0.86 N/mm at least (along y, on the upper facet, where the paper found its minima
+    too; x gives the same there by symmetry), 22.6 at most (along z), 3.69 on average,
+    against the prototype's measured 1.6, 7.9 and 4.7 N/mm (Sec. III-D): 0.54×, 2.9×
+    and 0.79×.  The model is the servo alone, with a rigid structure and rigid gears.
+    Compliance in series can only lower a stiffness, so it can explain our maximum
+    above the measured one, not our minimum below it: that gap is not explained.  A
+    rigid model softer than the device needs a gain at the crank at least 1.85× ours, or
+    something the model leaves out that stiffens a dial-indicator reading (friction in
+    the capstans and bearings); KP's unit and the side of the 1:13 capstan it acts on
+    are not printed (KP on the crank angle giving motor torque would be 13× ours at the
+    crank).  The Fig. 2 readings we tried give 0.13-0.88 N/mm at least (radial,
+    tangential_in, l3 from 0.30 to 0.35 m).  None of these is tested against the
+    prototype.  The servo acts in series with the rendered environment, so without the
+    feed-forward a wall renders softer than its stiffness.
     """
 
     kp: float = 110.0
@@ -164,8 +172,9 @@ class SafetyLimits:
     ``max_angle`` rad the encoder range; ``max_fk_residual`` m.
     ``workspace_m`` m and ``workspace_rad`` rad: the safe workspace, the box
     ``|x_i - home_i| <= workspace_m`` (x, y, z) and ``|r_i - home_i| <= workspace_rad``
-    (rx, ry, rz) about the home pose, by default Kühne et al.'s Table II box of the
-    Octo (±75 mm, ±30°).  Torque control starts, and resumes after a fault, only at a
+    (rx, ry, rz) about the home pose, by default ±75 mm (Kühne et al.'s Table II,
+    translational) and ±30° (design criterion 4, Sec. II-A, the range of Table III's
+    Octo column; Table II's own rotations are ±20°).  Torque control starts, and resumes after a fault, only at a
     measured pose inside it: a platform that swung away while its torques were zero
     (e.g. under gravity during a stall) is not pulled back at the torque limit; it
     stays at zero torque until it is brought back by hand.

@@ -1,5 +1,5 @@
 """Δ-transforms of the octahedral manipulator (Rojas, Borràs, Thomas, *The Octahedral
-Manipulator Revisited*, ICRA 2012, Sec. IV, eqs. (7)-(9)): :mod:`.transform` (offsets ->
+Manipulator Revisited*, ICRA 2012, Sec. V, eqs. (7)-(9)): :mod:`.transform` (offsets ->
 (A, b), the transform itself) and the equivalent 6-6 platforms with their forward
 kinematics; the approximations of Fig. 2 (b)-(d) and what their offsets cost
 (:mod:`.approximations`, :mod:`.offset_study`, the singular locus in

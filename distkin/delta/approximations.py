@@ -1,6 +1,6 @@
 r"""Approximations of the octahedral manipulator by 6-6 platforms with single spherical
 joints, and what their offsets cost: Rojas, Borràs, Thomas, *The Octahedral Manipulator
-Revisited* (ICRA 2012), Sec. I, Fig. 2 (b)-(d), and Sec. IV-VI (eqs. (4), (5), (8)-(9)).
+Revisited* (ICRA 2012), Sec. I, Fig. 2 (b)-(d), and Sec. III-VI (eqs. (4), (5), (8)-(9)).
 
 Each double-ball joint of the octahedral manipulator (labels of docs/design.md §3: base
 P1 P2 P3, platform P4 P5 P6; leg 1 = P1-P4, 2 = P2-P4, 3 = P2-P5, 4 = P3-P5, 5 = P3-P6,

@@ -1,5 +1,5 @@
 """Exact inputs of the Δ-transform (Rojas, Borràs, Thomas, *The Octahedral Manipulator
-Revisited*, ICRA 2012, Sec. IV-VI): points, offsets and leg lengths checked at the entry
+Revisited*, ICRA 2012, Sec. V-VI): points, offsets and leg lengths checked at the entry
 points and made exact, and the exact normal forms of the transform's results.
 
 The rule of docs/design.md §3 holds throughout: a bare float is its exact binary value,

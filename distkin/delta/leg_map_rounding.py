@@ -67,7 +67,7 @@ def leg_map_error(Ainv, c, m_legs, l_sq) -> float:
 
 def map_legs_fast(tr, m_legs, field: str = "m_legs", m_float=None):
     r"""The fast tier's leg map of eq. (8), :math:`l^2 = \mathbf A^{-1} m^2 + c` in
-    float64 (Rojas, Borràs, Thomas, ICRA 2012, Sec. IV-V), with its error bound.
+    float64 (Rojas, Borràs, Thomas, ICRA 2012, Sec. V), with its error bound.
 
     Where the bound :math:`E_k` of :func:`leg_map_error` proves every
     :math:`\hat l_k^2 > 0`, the float values are returned with :math:`\rho`.  Where it

@@ -1,6 +1,6 @@
 r"""The 6-6 platform equivalent to an octahedral manipulator under a Δ-transform, and its
 forward kinematics from the octahedral one (Rojas, Borràs, Thomas, *The Octahedral
-Manipulator Revisited*, ICRA 2012, Sec. IV-VI: :math:`l^2 = \mathbf A^{-1}(m^2 + \mathbf b)`
+Manipulator Revisited*, ICRA 2012, Sec. V-VI, eq. (8): :math:`l^2 = \mathbf A^{-1}(m^2 + \mathbf b)`
 exact, then the octahedral assembly modes moved to the 6-6 attachment points).
 
 Number types as in :mod:`.transform`: ``fast`` float64, ``precise`` mpmath, ``certified``

@@ -1,6 +1,6 @@
 r"""Where the offsets of Fig. 2 (b)-(d) move the singular locus (Rojas, Borràs, Thomas,
-*The Octahedral Manipulator Revisited*, ICRA 2012, Sec. V-VI, eqs. (5), (6); the
-approximations of :mod:`.approximations`, compared in :mod:`.offset_study`).
+*The Octahedral Manipulator Revisited*, ICRA 2012, Sec. IV, eqs. (5), (6), and Sec.
+V-VI; the approximations of :mod:`.approximations`, compared in :mod:`.offset_study`).
 
 :math:`\det\mathbf J` of eq. (5) (normalised Plücker coordinates, moment columns divided
 by the platform circumradius L, dimensionless) along straight lines in pose space

@@ -264,7 +264,7 @@ def _generic_inverse() -> _GenericInverse:
     keeps the exact :math:`l^2` small when the sides are square roots (float
     coordinates): inverting the numeric matrix instead grew expressions without bound
     for six different irrational sides.  Rojas, Borràs, Thomas, *The Octahedral
-    Manipulator Revisited* (ICRA 2012), Sec. IV-V, eqs. (8)-(9).
+    Manipulator Revisited* (ICRA 2012), Sec. V, eqs. (8)-(9).
     """
     import sympy as sp
     d = sp.symbols("d1:7", positive=True)
@@ -455,7 +455,7 @@ class DeltaTransform:
         r"""The l-legs of the octahedral manipulator equivalent to m-legs ``m_legs``.
 
         :math:`l^2 = \mathbf A^{-1}(m^2 + \mathbf b)`, exact: eq. (8) of Rojas, Borràs,
-        Thomas, *The Octahedral Manipulator Revisited* (ICRA 2012), Sec. IV-V, inverted.
+        Thomas, *The Octahedral Manipulator Revisited* (ICRA 2012), Sec. V, inverted.
         A bare float is its exact binary value (docs/design.md §3), strings and
         rationals are exact, and the result is only expanded or put over one denominator
         (:func:`~.exact_input._quotient`), never rounded to a "nice" number.

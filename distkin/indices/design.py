@@ -273,5 +273,6 @@ def _brute_force(space, designs, poses, ST, unreachable, store, executor, progre
     out["chunks"] = len(specs)
     g = np.divide(lo, hi, out=np.zeros(len(designs)), where=hi > 0)
     out["brute_force"] = {"seconds": time.perf_counter() - t0,
-                          "evaluations": len(designs) * len(poses), "gii_all": g.tolist()}
+                          "evaluations": len(designs) * len(poses), "gii_all": g.tolist(),
+                          "sigma_min_all": lo.tolist(), "sigma_max_all": hi.tolist()}
     return g, lo, hi

@@ -1,5 +1,5 @@
 """Singularities of the octahedral manipulator and its 6-6 equivalents (Rojas, Borràs,
-Thomas, ICRA 2012, Sec. V): the Plücker Jacobian (eq. (5)), the Cayley-Menger pure
+Thomas, ICRA 2012, Sec. IV): the Plücker Jacobian (eq. (5)), the Cayley-Menger pure
 condition, the four-planes test (:mod:`.conditions`), poses, paths and the nearest
 singularity (:mod:`.paths`), and the certified zero exclusion of det J along a path
 (:mod:`.enclosure`)."""

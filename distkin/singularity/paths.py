@@ -1,6 +1,6 @@
 r"""Poses, paths of poses, their singularity crossings and the nearest singularity of the
 octahedral manipulator (Rojas, Borràs, Thomas, *The Octahedral Manipulator Revisited*,
-ICRA 2012, Sec. V), on the conditions of :mod:`.conditions`.
+ICRA 2012, Sec. IV), on the conditions of :mod:`.conditions`.
 
 Number types as there: ``fast`` float64, ``precise`` mpmath, ``certified`` flint (a sign
 that a ball cannot decide raises :class:`~distkin.errors.UncertifiedError`)."""

@@ -59,7 +59,10 @@ def _run(tmp_path, capsys, text):
 # 1 ------------------------------------------------------------------ the kappa line
 def test_kappa_line_names_st_with_units_and_its_origin(tmp_path, capsys):
     """A user device (the 8-RUS example): kappa is σmin/σmax of ST⁻¹Jᵀ with the paper's
-    ST, and the report says ST's units and that it is the paper's Octopod scaling."""
+    ST, and the report says ST's units and where the paper sets it: Sec. III-B-2, the GII
+    optimisation of the 6-RSS kinematics, as Ergin's device's intended output
+    capabilities (QA 23: it was called "the paper's Octopod scaling", which the paper
+    never says)."""
     code, qs, out, _ = _run(tmp_path, capsys, _example("rus8_device.toml", """
 [[query]]
 type = "jacobian"
@@ -74,14 +77,17 @@ pose = [20, -10, 220, 10, 0, 5]
     line = next(ln for ln in out.splitlines() if "kappa = " in ln)
     assert f"ST = {PAPER_ST}" in line, line
     assert "diag(15, 15, 15, 1, 1, 1)" not in out
-    assert ("ST of kappa: the paper's Octopod scaling (Kühne et al. Sec. III-B-2" in out
+    assert "Octopod" not in next(ln for ln in out.splitlines() if "ST of kappa" in ln)
+    assert ("ST of kappa: the paper's ST (Kühne et al. Sec. III-B-2, the GII optimisation "
+            "of the 6-RSS kinematics: the originally intended output capabilities of "
+            "Ergin's device)" in out
             and "used for every mechanism (this query has no field for a device's own" in out)
     assert PAPER_ST in qs[0]["result"]["unit"]["kappa"]
 
 
 def test_scaling_note_says_whose_st():
     assert scaling_note((15, 15, 15, 1, 1, 1)).startswith(
-        f"ST = {PAPER_ST}, the paper's Octopod scaling")
+        f"ST = {PAPER_ST}, the paper's ST (Kühne et al. Sec. III-B-2, the GII optimisation")
     own = scaling_note((10, 20, 30, 1, 2, 3))
     assert own == ("ST = diag(10 N, 20 N, 30 N, 1 N·m, 2 N·m, 3 N·m), the query's "
                    "`scaling`")

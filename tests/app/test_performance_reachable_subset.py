@@ -98,8 +98,9 @@ def test_partial_grid_findings_are_not_comparable(partial):
 
 
 def test_full_reach_keeps_same_definition(tmp_path):
-    """A grid the device reaches everywhere (25 mm about home, ±10°): "yes" rows, no
-    subset wording, reachable_only False with every pose counted."""
+    """A grid the device reaches everywhere (25 mm about home, ±10°): no subset wording,
+    reachable_only False with every pose counted; "no" rows all the same, for the grid
+    is not the paper's."""
     result, text = _run(tmp_path, "grid = { half = 25, step = 25, rotation = 10, "
                                   "rotation_step = 10 }\n")
     dev = result["devices"][0]
@@ -107,7 +108,7 @@ def test_full_reach_keeps_same_definition(tmp_path):
     assert dev["reachable_only"] is False and dev["poses_used"] == dev["poses_total"] == 729
     assert all(e["reachable_only"] is False for e in dev["table"].values())
     assert "reachable poses" not in text and "unreachable ones left out" not in text
-    assert "| octopod | yes |" in text
+    assert "| octopod | yes |" not in text
     # but not the paper's poses (27 = 3³ positions at ±25 mm, ±10° in steps of 10°), so
     # no Table III row says "yes" beside the paper's ±30° column (QA 2026-11-29)
     unlike = ("orientations over ±10° (the paper's column: ±30°); 27 positions, not Table "
@@ -115,6 +116,14 @@ def test_full_reach_keeps_same_definition(tmp_path):
     assert dev["unlike_paper"] == unlike
     rows = [ln for ln in text.splitlines() if ln.startswith("| Continuous force [N] |")]
     assert rows and all(f"| no: {unlike}; ratio not like for like |" in r for r in rows)
+    # nor Table IV's row beside the paper's GII, which is over Table II's ±20° in steps
+    # of 5° (Kühne et al. Sec. III-B-2, Table II) for every device (QA 23: it said "yes")
+    unlike4 = ("orientations over ±10° (Table IV: Table II's ±20°); 27 positions, not Table "
+               "II's 4,096 (±75 mm, step 10 mm); rotation steps of 10° (Table II: 5°)")
+    assert dev["isotropy"]["unlike_paper"] == unlike4
+    assert f"| octopod | no: {unlike4}; ratio not like for like |" in text
+    assert f"Not Table II's poses (Table IV's ratios not like for like): octopod: {unlike4}." \
+        in text
     assert "Table IV over ±20°).  The geometry" in text
 
 
@@ -134,3 +143,28 @@ def test_table2_grid_at_the_papers_rotation_is_like_for_like(L, rot):
     other = dict(s, rotation_deg=50.0 - rot)
     assert f"(the paper's column: ±{rot:.0f}°)" in _unlike_paper(other, table2_grid(
         0.3, rot_deg=50.0 - rot))
+
+
+@pytest.mark.parametrize("L, rot", [(6, 20.0), (8, 30.0)])
+def test_table4_row_is_like_for_like_only_on_table2(L, rot):
+    """Table IV's GII is over Table II's grid, ±20° in steps of 5°, for every device
+    (Kühne et al. Sec. III-B-2: "The rotations around each axis of the end effector are
+    limited to ±20° with a step size of 5°"), so an Octopod whose Table III rows are over
+    ±30° is like for like in Table IV over its inner ±20°; a coarser grid is not (QA 23:
+    "same def. yes" on the coarse study's 343 positions and 10° steps)."""
+    from distkin.app.study_report import _unlike_paper_table4
+    from distkin.indices.workspace import table2_grid
+    s = {"paper_column": "hunt" if L == 6 else "octopod", "L": L, "rotation_deg": rot,
+         "positions": 16 ** 3, "isotropy": {"rotation_deg": 20.0}}
+    assert _unlike_paper_table4(s, table2_grid(0.3, rot_deg=rot)) == ""
+    assert "rotation steps of 10° (Table II: 5°)" in _unlike_paper_table4(
+        s, table2_grid(0.3, rot_deg=rot, rot_step_deg=10.0))
+    coarse = dict(s, positions=7 ** 3)
+    assert "343 positions, not Table II's 4,096" in _unlike_paper_table4(
+        coarse, table2_grid(0.3, rot_deg=rot, step=0.025))
+    other = dict(s, isotropy={"rotation_deg": 15.0})
+    assert "orientations over ±15° (Table IV: Table II's ±20°)" in _unlike_paper_table4(
+        other, table2_grid(0.3, rot_deg=rot))
+    for col in (None, "hexa"):           # no Table IV row in the paper: nothing to compare
+        assert _unlike_paper_table4(dict(s, paper_column=col), table2_grid(0.3, step=0.025)) \
+            == ""

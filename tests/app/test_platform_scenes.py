@@ -103,7 +103,7 @@ def test_singularity_tests_agree_with_the_kernel_determinant():
     generated kernels (q̇ = J ẋ) vanishes at 90 deg; there the Plücker determinant, the
     paper's and the signed Cayley-Menger conditions and the four planes vanish too, and
     away from it none does.  The Δ 6-6 platform (same base frame and end-effector origin)
-    is singular at the same twist: det(AJ) = det(A) det(J) (Rojas et al. Sec. V)."""
+    is singular at the same twist: det(AJ) = det(A) det(J) (Rojas et al. Sec. IV)."""
     from scipy.optimize import brentq
     gd, d66 = _gd(), _delta66()
 

@@ -83,7 +83,7 @@ def test_crossing_verdict_says_it_is_the_rounded_pose(tmp_path, capsys, name, ki
 
 def test_both_scenes_decide_the_same_way_at_the_twist(tmp_path, capsys):
     """Consistency: the octahedral table and its Δ 6-6 platform (det(AJ) = det(A)
-    det(J), Sec. V) get verdicts of the same form at the same crossing."""
+    det(J), Sec. IV) get verdicts of the same form at the same crossing."""
     verdicts = []
     for name in ("delta66_indices", "griffis_duffy_indices"):
         res, _ = _run(tmp_path, capsys, name)

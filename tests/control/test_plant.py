@@ -65,7 +65,7 @@ def test_zero_torque_lets_the_platform_fall_and_hold_keeps_it(model):
 
 def test_drive_envelope_matches_the_paper_figures(model):
     """Kühne et al. Sec. III-B.3: ±2.5 N·m nominal, ±34.2 N·m stall and ±51 rad/s
-    nominal velocity after gearing; Sec. IV: capstan ratio 1:13.  The drives' linear
+    nominal velocity after gearing; Sec. III-D: capstan ratio 1:13.  The drives' linear
     torque-speed line must pass through the paper's two points, stall torque at rest and
     nominal torque at nominal speed: read through Plant.drive (compiled and numpy
     plants), not through the Motors formula for the no-load speed."""

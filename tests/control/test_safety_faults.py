@@ -211,7 +211,7 @@ def _towards(model, d, n):
 def test_no_recovery_outside_the_safe_workspace(monkeypatch, scene, model, d, name):
     """QA D 32: after a stall the platform had swung away under zero torque, and the
     controller resumed there at the torque limit.  Now it holds zero torque until the
-    pose is back inside the safe workspace (Table II's ±75 mm, ±30° about home), and
+    pose is back inside the safe workspace (Table II's ±75 mm and criterion 4's ±30° about home), and
     then needs recover_frames frames there."""
     rf = scene.safety.recover_frames
     script = state_frames(model, range(100)) + [None] * 40          # a trip

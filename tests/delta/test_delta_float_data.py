@@ -4,7 +4,7 @@ binary value), at many scales.
 Independent routes:
 
 * the m-legs → l-legs map of eq. (8) (Rojas, Borràs, Thomas, *The Octahedral
-  Manipulator Revisited*, ICRA 2012, Sec. IV-V; rows as printed in eq. (9)) written out
+  Manipulator Revisited*, ICRA 2012, Sec. V; rows as printed in eq. (9)) written out
   here and solved by hand in :class:`fractions.Fraction`, or in mpmath at 60 digits when
   the sides are irrational;
 * the six real roots of the Griffis-Duffy example printed in Sec. VI (docs/design.md §5)

@@ -1,5 +1,5 @@
 """The fast 6-6 tier's leg map (eq. (8), l^2 = A^-1 (m^2 + b), Rojas, Borràs, Thomas,
-*The Octahedral Manipulator Revisited*, Sec. IV-V) never calls a rounding error a proof
+*The Octahedral Manipulator Revisited*, Sec. V) never calls a rounding error a proof
 of infeasibility: where float64's sign of a squared l-leg is not proved by its error
 bound, the exact map decides (QA: 6-6 fast tier infeasible from float64 rounding).
 

@@ -163,9 +163,9 @@ def test_performance_scene_end_to_end(tmp_path):
     assert octo["isotropy"]["rotation_deg"] == pytest.approx(20)
     assert octo["table"]["force"]["paper_min"] == 21.68          # Table III
     assert octo["isotropy"]["paper_gii"] == 0.0080               # Table IV
-    # issue 15: Fig. 3 certificates (3), Sec. III-B-3 (3), Sec. III-C (8 with an Octopod
-    # and the Hunt-type, no Octo)
-    assert len(res["findings"]) == 14
+    # issue 15: Fig. 3 certificates (3), Sec. III-B-3 (3), Sec. III-C (9 with an Octopod
+    # and the Hunt-type, no Octo; QA 23: Table IV's factors as direction and magnitude)
+    assert len(res["findings"]) == 15
     st = {f["finding"]: f["status"] for f in res["findings"]}
     assert set(st.values()) <= {"HELD", "NOT HELD", "NOT COMPARABLE"}
     for f in res["findings"]:

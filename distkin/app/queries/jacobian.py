@@ -25,9 +25,10 @@ isotropic, 0 singular) and ``reachable``.  At a pose where a leg does not close
 (``reachable`` false) J is not
 defined, so ``kappa``, ``kappa_unscaled`` and ``singular_values`` are null (text:
 "undefined (pose not reachable)"), never the numbers of a J with made-up rows.
-ST is the paper's scaling for the Octopod (Sec. III-B-2), the same for every mechanism:
-the query has no field for a device's own, and its report says so (a ``performance``
-query's ``scaling`` sets one for its GII).
+ST is the paper's (Sec. III-B-2, set for the GII optimisation of the 6-RSS kinematics
+as the originally intended output capabilities of Ergin's device), the same for every
+mechanism: the query has no field for a device's own, and its report says so (a
+``performance`` query's ``scaling`` sets one for its GII).
 """
 
 from __future__ import annotations
@@ -87,7 +88,7 @@ def _jacobian_units(mech, mass_matrix: bool) -> dict:
         "singular_values": "of the unscaled J, mixed units; null where the pose is not "
                            "reachable",
         "kappa": f"none (eq. (4), of ST⁻¹Jᵀ, ST = {scaling_text(ST_DEFAULT)}, the paper's "
-                 "Octopod scaling for every mechanism); null where the pose is not reachable",
+                 "ST of Sec. III-B-2 for every mechanism); null where the pose is not reachable",
         "kappa_unscaled": "none (sigma_min/sigma_max of the unscaled J, mixed units); null "
                           "where the pose is not reachable",
         "singular": f"none (true where kappa <= {RANK_TOL:g}: J rank-deficient, a singular "
