@@ -29,6 +29,16 @@ __all__ = ["compile_fast_tier", "pending_chains", "placeholder"]
 
 #: the child's program: the proof's compile (:func:`_compile_proof`)
 _CHILD = "from distkin.octahedral.warmup import _compile_proof; _compile_proof()"
+
+
+def _child_program(body: str) -> str:
+    """``body`` run against this process's distkin: ``python -c`` puts the working
+    folder first on the child's path, where a source checkout would shadow an installed
+    distkin (then the child compiled that copy's cache, and this one compiled the
+    proof again), so the folder holding this distkin goes first."""
+    from pathlib import Path
+    root = str(Path(__file__).resolve().parents[2])
+    return f"import sys; sys.path.insert(0, {root!r}); {body}"
 #: seconds to wait for the child after this process's own compile, at most
 TIMEOUT = 600.0
 
@@ -90,7 +100,8 @@ def compile_fast_tier(*, timeout: float = TIMEOUT) -> tuple:
     todo = pending_chains()
     child = None
     if "proof" in todo:
-        child = subprocess.Popen([sys.executable, "-c", _CHILD], stdin=subprocess.DEVNULL,
+        child = subprocess.Popen([sys.executable, "-c", _child_program(_CHILD)],
+                                 stdin=subprocess.DEVNULL,
                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         if "scan" in todo:

@@ -39,6 +39,22 @@ def test_placeholder_has_the_types_of_a_real_solve():
     assert sig in [tuple(s) for s in vouch_buffer.signatures]
 
 
+def test_child_imports_this_distkin_not_the_working_folders(tmp_path):
+    """Run from a folder holding another ``distkin`` (a source checkout beside an
+    installed one: ``python -c`` puts the working folder first on the path), the child
+    imports this process's distkin (the README's first command, run in the clone, had
+    the child compile the checkout's copy while the installed one compiled again)."""
+    fake = tmp_path / "distkin"
+    fake.mkdir()
+    (fake / "__init__.py").write_text("raise ImportError('the copy in the working folder')\n")
+    import distkin
+    r = subprocess.run([sys.executable, "-c", warmup._child_program(
+        "import distkin; print(distkin.__file__)")], cwd=tmp_path, capture_output=True,
+        text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert Path(r.stdout.strip()).resolve() == Path(distkin.__file__).resolve()
+
+
 class _Spy:
     """A stand-in for :class:`subprocess.Popen` that runs the given program and keeps
     the process for the test to look at."""
