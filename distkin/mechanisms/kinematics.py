@@ -38,6 +38,14 @@ def _keep(key, value):
     _ARRAYS[key] = value
 
 
+def _first_flagged(flag):
+    """For a (N, L) bool array of flagged legs: how many poses have one, the first
+    such pose, and its flagged legs as text (1-based: "2, 5")."""
+    poses = np.flatnonzero(flag.any(axis=-1))
+    first = int(poses[0])
+    return len(poses), first, ", ".join(str(j + 1) for j in np.flatnonzero(flag[first]))
+
+
 class KernelMethods:
     """The numeric methods of a mechanism on its kernels (module docstring)."""
 
@@ -139,10 +147,8 @@ class KernelMethods:
         flag = ~(rel <= J_REL_USEFUL) & (margin >= 0.0) & np.all(np.isfinite(Js), axis=-1)
         if not flag.any():
             return
-        poses = np.flatnonzero(flag.any(axis=-1))
-        first = int(poses[0])
-        legs = ", ".join(str(j + 1) for j in np.flatnonzero(flag[first]))
-        _warn(f"jacobian: at {len(poses)} of {len(X)} pose(s) a row of J is not "
+        count, first, legs = _first_flagged(flag)
+        _warn(f"jacobian: at {count} of {len(X)} pose(s) a row of J is not "
                       f"resolved in float64 (first: pose {int(rows[first])}, leg(s) {legs}: "
                       f"estimated error above {J_REL_USEFUL:g} of the row; the leg closes "
                       f"next to its reach boundary, a serial singularity); use "
@@ -253,10 +259,8 @@ class KernelMethods:
                 margin = self.kernels("batched").reach(X)
         bad = (margin < 0.0) & ~self.leg_arrays()["prismatic"][None]
         if bad.any():
-            poses = np.flatnonzero(bad.any(axis=-1))
-            first = int(poses[0])
-            legs = ", ".join(str(j + 1) for j in np.flatnonzero(bad[first]))
-            _warn(f"jacobian: at {len(poses)} of {len(X)} pose(s) a revolute leg does not "
+            count, first, legs = _first_flagged(bad)
+            _warn(f"jacobian: at {count} of {len(X)} pose(s) a revolute leg does not "
                   f"close (first: pose {first}, leg(s) {legs}: reach margin "
                   f"{float(margin[first][bad[first]].min()):.3g} m^2 < 0, the pose is not "
                   f"reachable): those rows of J are not defined and the values given for "

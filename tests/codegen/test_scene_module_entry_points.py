@@ -11,47 +11,14 @@ whose ``valid`` reads a crank's range from the angle of ``atan2``
 
 from __future__ import annotations
 
-import importlib.util
-import os
-import subprocess
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
-EX = ROOT / "examples"
-SCENES = {"gd": "octahedral_griffis_duffy.toml", "cm": "points_banana.toml",
-          "op": "rss_octopod.toml", "gs": "gough_stewart_6ups.toml",
-          "ru": "rus8_device.toml"}
+from scene_modules import EX, SCENES
+
 #: a pose of the Octopod and of the 6-UPS, inside their workspaces
 OP_POSE = np.array([0.04, -0.03, 0.33, 0.26, -0.17, 0.35])
 GS_POSE = np.array([0.01, -0.02, 0.45, 0.05, -0.04, 0.1])
-
-
-def _load(path):
-    spec = importlib.util.spec_from_file_location(path.stem, path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-@pytest.fixture(scope="module")
-def mods(tmp_path_factory):
-    """The example scenes through the CLI (fresh cache), batched and scalar."""
-    tmp = tmp_path_factory.mktemp("scene_entry")
-    env = dict(os.environ, DISTKIN_CACHE=str(tmp / "cache"),
-               PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
-    out = {}
-    for key, scene in SCENES.items():
-        path = tmp / f"{key}_kernels.py"
-        r = subprocess.run([sys.executable, "-m", "distkin", "codegen", str(EX / scene), "-o",
-                            str(path), "--flavour", "both"], capture_output=True, text=True,
-                           env=env, timeout=600)
-        assert r.returncode == 0, (scene, r.stderr)
-        out[key] = _load(path)
-    return out
 
 
 def _refused(f, args, *words):

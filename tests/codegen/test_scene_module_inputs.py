@@ -8,10 +8,6 @@ Cayley-Menger determinants, and numpy's |x + R p - B| for prismatic legs."""
 
 from __future__ import annotations
 
-import importlib.util
-import os
-import subprocess
-import sys
 from fractions import Fraction
 from pathlib import Path
 from types import SimpleNamespace
@@ -19,37 +15,10 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
-EX = ROOT / "examples"
+from scene_modules import SCENES
+
 #: Griffis-Duffy legs 20, 18, 18, 17, 15, 18 squared (exact integers)
 GD_L2 = [400, 324, 324, 289, 225, 324]
-#: the scenes and the module each one is written to
-SCENES = {"gd": "octahedral_griffis_duffy.toml", "cm": "points_banana.toml",
-          "op": "rss_octopod.toml", "gs": "gough_stewart_6ups.toml"}
-
-
-def _load(path):
-    spec = importlib.util.spec_from_file_location(path.stem, path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-@pytest.fixture(scope="module")
-def mods(tmp_path_factory):
-    """The four example scenes through the CLI (fresh cache), batched and scalar."""
-    tmp = tmp_path_factory.mktemp("scene_inputs")
-    env = dict(os.environ, DISTKIN_CACHE=str(tmp / "cache"),
-               PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
-    out = {}
-    for key, scene in SCENES.items():
-        path = tmp / f"{key}_kernels.py"
-        r = subprocess.run([sys.executable, "-m", "distkin", "codegen", str(EX / scene), "-o",
-                            str(path), "--flavour", "both"], capture_output=True, text=True,
-                           env=env, timeout=600)
-        assert r.returncode == 0, (scene, r.stderr)
-        out[key] = _load(path)
-    return out
 
 
 def test_integer_inputs_give_the_float_answer(mods):
