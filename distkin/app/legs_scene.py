@@ -267,7 +267,7 @@ def parse_legs(table, units, field, scene_path=None):
     if not isinstance(name, str):
         raise InputError(f"expected a name (text), got {name!r}", field=f"{field}.name")
     try:
-        return LegMechanism(name, tuple(legs), home, **kw)
+        return _built(name, tuple(legs), home, kw, units, field, prefix)
     except DistkinError as exc:
         fld = exc.field or ""
         if fld.startswith("leg["):
@@ -284,6 +284,34 @@ def parse_legs(table, units, field, scene_path=None):
             exc.hint = "; ".join(filter(None, (exc.hint, si)))
         exc.field = None
         raise exc.with_field(fld) from None
+
+
+def _built(name, legs, home, kw, units, field, prefix):
+    """The :class:`~distkin.mechanisms.kinematics.LegMechanism`, its load warnings
+    (:class:`~distkin.errors.GeometryWarning`: a home some leg does not reach, lines
+    that do not span 6 DOF) said with the scene's field (``mechanism.home``, the leg
+    table's ``prefix``) and, when they state lengths (SI), the scene's length unit, as
+    an RSS scene's are (QA: they read ``home: ...`` in m without a word of the scene's
+    mm)."""
+    import warnings
+
+    from ..errors import GeometryWarning, warn
+    from .units import has_si_length
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", GeometryWarning)
+        mech = LegMechanism(name, legs, home, **kw)
+    for w in caught:
+        if not issubclass(w.category, GeometryWarning):
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+            continue
+        text = str(w.message)
+        head, _, rest = text.partition(": ")
+        if head in ("home", "leg"):
+            text = f"{prefix if head == 'leg' else field + '.home'}: {rest}"
+        if units.length not in ("m", "none") and has_si_length(text):
+            text += f" (lengths in this message in m (SI), the scene's in {units.length})"
+        warn(text, GeometryWarning)
+    return mech
 
 
 def parse_home(home, units, fld):

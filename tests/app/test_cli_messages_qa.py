@@ -115,8 +115,11 @@ pose = [0, 0, 400, 0, 0, 0]
     # every line distkin's own (a first run also says it derives the kernels)
     assert all(ln.startswith("distkin: ") for ln in lines), r.stderr
     lines = [ln for ln in lines if ln.startswith("distkin: warning: ")]
-    assert len(lines) == 1 and lines[0].startswith("distkin: warning: home: "), r.stderr
+    # named with the scene's field and its length unit, as an RSS scene's warnings are
+    assert len(lines) == 1 and lines[0].startswith("distkin: warning: mechanism.home: "), \
+        r.stderr
     assert f"leg 1 length {length:.4g} m outside its range [0.35, 0.55] m" in lines[0]
+    assert lines[0].endswith("(lengths in this message in m (SI), the scene's in mm)")
     assert "GeometryWarning" not in r.stderr and ".py:" not in r.stderr
 
 
