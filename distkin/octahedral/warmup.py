@@ -29,18 +29,21 @@ __all__ = ["compile_fast_tier", "pending_chains", "placeholder"]
 
 #: the child's program: the proof's compile (:func:`_compile_proof`)
 _CHILD = "from distkin.octahedral.warmup import _compile_proof; _compile_proof()"
+#: seconds to wait for the child after this process's own compile, at most
+TIMEOUT = 600.0
 
 
 def _child_program(body: str) -> str:
     """``body`` run against this process's distkin: ``python -c`` puts the working
     folder first on the child's path, where a source checkout would shadow an installed
     distkin (then the child compiled that copy's cache, and this one compiled the
-    proof again), so the folder holding this distkin goes first."""
+    proof again), so that entry is dropped; the folder holding this distkin is put
+    first only when it is not on the path already (a checkout imported from the
+    working folder), not ahead of the standard library for an installed distkin."""
     from pathlib import Path
     root = str(Path(__file__).resolve().parents[2])
-    return f"import sys; sys.path.insert(0, {root!r}); {body}"
-#: seconds to wait for the child after this process's own compile, at most
-TIMEOUT = 600.0
+    return (f"import sys; sys.path[:] = [p for p in sys.path if p != '']; "
+            f"{root!r} in sys.path or sys.path.insert(0, {root!r}); {body}")
 
 
 def _cached(dispatcher) -> bool:
