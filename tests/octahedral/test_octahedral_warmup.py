@@ -126,7 +126,8 @@ done = warmup.compile_fast_tier() if sys.argv[1] == "warm" else ()
 after = warmup.pending_chains()
 r = forward_kinematics(B, 0.5 * B, [20.0, 18.0, 18.0, 17.0, 15.0, 18.0])
 print(json.dumps({"before": before, "done": done, "after": after,
-                  "s15": [float(x).hex() for x in r.s15],
+                  "s15": [float(x.value).hex() for x in r.roots],
+                  "poses": [float(v).hex() for x in r.poses for v in x.translation],
                   "trusted": bool(r.conditioning.trusted)}))
 """
 
@@ -148,3 +149,4 @@ def test_fresh_cache_compiled_in_two_processes(tmp_path):
     assert warm["after"] == [] and later["before"] == []
     assert alone["before"] == ["scan", "proof"]
     assert warm["s15"] == later["s15"] == alone["s15"] and warm["trusted"]
+    assert warm["poses"] == later["poses"] == alone["poses"] and len(warm["s15"]) == 6
