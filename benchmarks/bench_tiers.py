@@ -69,6 +69,8 @@ def run():
         "precise IK (30 digits, two runs)": lambda: ik_tier(m, X, "precise"),
         "certified IK (arb, 128 bits)": lambda: ik_tier(m, X, "certified"),
         "sympy IK lambdified for mpmath (30 digits, one run)": lambdified,
+        "Jacobian (mech.jacobian: kernel, resolution and reach checks)":
+            lambda: m.jacobian(X),
         "fast Jacobian with its error estimate": lambda: jacobian_tier(m, X, "fast"),
         "precise Jacobian": lambda: jacobian_tier(m, X, "precise"),
         "certified Jacobian (with its IK)": lambda: jacobian_tier(m, X, "certified"),
