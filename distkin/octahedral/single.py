@@ -49,7 +49,6 @@ Cost after compilation: see BENCHMARKS.md (``python -m benchmarks octahedral``).
 from __future__ import annotations
 
 import math
-import os
 from typing import NamedTuple
 
 import numba
@@ -64,7 +63,7 @@ from .problem import REASONS
 __all__ = ["solve_fast_single", "SingleSolve", "roots_from_eigenvalues",
            "eigenvalues", "eigen_rows", "companion", "polish_eq3", "newton_factored",
            "tet_min", "octic_array", "factored_grid", "bounds", "REASONS", "CONFIRM",
-           "EQ3_STEPS", "NEWTON_MAX", "compile_notice"]
+           "EQ3_STEPS", "NEWTON_MAX", "compile_notice", "cached"]
 
 #: relative distance from every other eigenvalue above which an exactly real eigenvalue
 #: takes the direct path (closer ones may be a blurred pair of close roots)
@@ -550,6 +549,17 @@ def factored_grid(data, x):
     return H, dH, S
 
 
+def cached(dispatcher) -> bool:
+    """Whether numba's cache index of ``dispatcher`` exists (an internal of numba:
+    True, "nothing to do", when it cannot be told): :func:`compile_notice` and
+    :func:`.warmup.pending_chains`."""
+    import os
+    try:
+        return os.path.exists(dispatcher._cache._cache_file._index_path)
+    except Exception:  # pragma: no cover - other numba layouts
+        return True
+
+
 def compile_notice() -> str:
     """What to tell the user before the first fast solve on a machine, when numba's
     cache holds no machine code for it yet (the call then compiles: the default call,
@@ -561,9 +571,6 @@ def compile_notice() -> str:
     (:func:`.signscan.scan_one`, issue 17); the eigenvalue route here compiles later, on
     the first problem the scan doubts."""
     from .signscan import scan_one
-    try:
-        pending = not os.path.exists(scan_one._cache._cache_file._index_path)
-    except Exception:  # pragma: no cover - other numba layouts: say nothing
-        pending = False
+    pending = not cached(scan_one)
     return ("compiling the fast octahedral tier for this machine (numba, 20-60 s, "
             "once: later runs load it from numba's cache)") if pending else ""

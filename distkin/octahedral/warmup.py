@@ -46,23 +46,14 @@ def _child_program(body: str) -> str:
             f"{root!r} in sys.path or sys.path.insert(0, {root!r}); {body}")
 
 
-def _cached(dispatcher) -> bool:
-    """Whether numba's cache index of ``dispatcher`` exists (an internal of numba:
-    True, "nothing to do", when it cannot be told)."""
-    import os
-    try:
-        return os.path.exists(dispatcher._cache._cache_file._index_path)
-    except Exception:  # pragma: no cover - other numba layouts
-        return True
-
-
 def pending_chains() -> tuple:
     """The compiled chains of the fast single solve without machine code in numba's
     cache yet: a subset of ``("scan", "proof")``."""
     from .descartes import vouch_buffer
     from .signscan import scan_one
+    from .single import cached
     return tuple(name for name, f in (("scan", scan_one), ("proof", vouch_buffer))
-                 if not _cached(f))
+                 if not cached(f))
 
 
 def placeholder() -> tuple:
@@ -92,15 +83,20 @@ def _compile_scan() -> None:
     scan_single(B, Q, np.array([20.0, 18.0, 18.0, 17.0, 15.0, 18.0]))
 
 
-def compile_fast_tier(*, timeout: float = TIMEOUT) -> tuple:
+def compile_fast_tier(*, timeout: float = TIMEOUT, notice=None) -> tuple:
     """Compile what the fast single solve has not compiled yet on this machine, the
     proof in a child process beside the scan in this one (module docstring).
+    ``notice``: called first with :func:`.single.compile_notice`'s line when something
+    is to be compiled (the CLI's queries pass theirs).
 
     Returns the chains compiled (``pending_chains()`` before the call): ``()`` when
     both are cached, and then nothing runs.  A child still compiling ``timeout``
     seconds after this process's own compile, or when this process is interrupted, is
     killed (the solve then compiles what is missing itself)."""
     todo = pending_chains()
+    if todo and notice is not None:
+        from .single import compile_notice
+        notice(compile_notice())
     child = None
     if "proof" in todo:
         child = subprocess.Popen([sys.executable, "-c", _child_program(_CHILD)],

@@ -79,8 +79,9 @@ def spy(monkeypatch):
 def test_nothing_runs_when_both_chains_are_cached(spy, monkeypatch):
     monkeypatch.setattr(warmup, "pending_chains", lambda: ())
     monkeypatch.setattr(warmup, "_compile_scan", lambda: pytest.fail("compiled again"))
-    assert warmup.compile_fast_tier() == ()
-    assert spy.made == []
+    said = []
+    assert warmup.compile_fast_tier(notice=said.append) == ()
+    assert spy.made == [] and said == []              # nothing to compile: nothing said
 
 
 def test_child_is_waited_for(spy, monkeypatch):
@@ -88,10 +89,12 @@ def test_child_is_waited_for(spy, monkeypatch):
     returns, and the scan was compiled in this process meanwhile."""
     monkeypatch.setattr(warmup, "pending_chains", lambda: ("scan", "proof"))
     monkeypatch.setattr(warmup, "_CHILD", "import time, sys; time.sleep(0.3); sys.exit(7)")
-    done = []
+    done, said = [], []
     monkeypatch.setattr(warmup, "_compile_scan", lambda: done.append("scan"))
-    assert warmup.compile_fast_tier() == ("scan", "proof")
-    assert done == ["scan"]
+    import distkin.octahedral.single as single
+    monkeypatch.setattr(single, "compile_notice", lambda: "compiling (stand-in)")
+    assert warmup.compile_fast_tier(notice=said.append) == ("scan", "proof")
+    assert done == ["scan"] and said == ["compiling (stand-in)"]   # said before, once
     assert [p.returncode for p in spy.made] == [7]
 
 

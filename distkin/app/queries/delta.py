@@ -306,11 +306,8 @@ def _solve(p, result, unit, ctx):
     from ...errors import ConditioningWarning
     from ...singularity import jacobian_det
     if p.method in ("fast", "auto"):
-        from ...octahedral.single import compile_notice
         from ...octahedral.warmup import compile_fast_tier
-        if notice := compile_notice():     # the first solve on this machine
-            ctx.notice(notice)
-            compile_fast_tier()             # the proof beside the scan: 2 processes
+        compile_fast_tier(notice=ctx.notice)  # first solve here: 2 processes
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", ConditioningWarning)
         fk = forward_kinematics66(p.mechanism, p.offsets, p.m_legs, method=p.method,

@@ -100,11 +100,8 @@ class OctahedralForwardQuery:
     def run(p, scene, ctx):
         from ...octahedral.forward import forward_kinematics
         if p.method in ("fast", "auto"):
-            from ...octahedral.single import compile_notice
             from ...octahedral.warmup import compile_fast_tier
-            if notice := compile_notice():     # the first solve on this machine
-                ctx.notice(notice)
-                compile_fast_tier()             # the proof beside the scan: 2 processes
+            compile_fast_tier(notice=ctx.notice)  # first solve here: 2 processes
         mech = scene.mechanism                # the scene's unit, as written (module doc)
         base, plat, legs = mech.base, mech.platform, list(p.legs)
         with warnings.catch_warnings(record=True) as caught:
