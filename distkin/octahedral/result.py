@@ -98,6 +98,14 @@ class Pose:
         self.__post_init__()                # read-only arrays again, as built
 
 
+def _short(v) -> str:
+    """A root for :meth:`AssemblyResult.__repr__`: 6 digits (exact and ball values too)."""
+    try:
+        return f"{float(v):.6g}"
+    except (TypeError, ValueError, OverflowError):
+        return str(v)[:24]
+
+
 def _state(obj):
     """Pickle and deepcopy state of a :class:`Pose` or :class:`RootInfo`: the certified
     tier's ``arb`` balls in ``native``, which python-flint cannot pickle, as their exact
@@ -228,6 +236,30 @@ class AssemblyResult(Sequence):
                 d.pop("_lazy", None)
                 return d[name]
         raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    def __repr__(self):
+        """A summary: tier, poses, roots, what is proved (the fields in full are the
+        attributes).  The dataclass's own repr printed every pose and the exact octic,
+        ~8000 characters for the Griffis-Duffy example, and raised ``ValueError`` where
+        a Fraction of the certified octic has more than Python's 4300 digits (legs of
+        1e-150: QA 23b, 9)."""
+        s15 = ", ".join(_short(r.value) for r in self.assembly_roots)
+        parts = [f"method={self.method!r}"]
+        if self.tier and self.tier != self.method:
+            parts.append(f"tier={self.tier!r}")
+        parts.append(f"{len(self)} poses")
+        parts.append(f"s15 of the assembly roots [{s15}]")
+        parts.append(f"{len(self.roots)} real roots of the octic")
+        if self.certified:
+            parts.append("certified")
+        elif self.conditioning is not None:
+            c = self.conditioning
+            parts.append("proved" if c.trusted else f"not proved: {c.reason}")
+        if self.reason:
+            parts.append(f"reason={self.reason!r}")
+        if self.notes:
+            parts.append(f"{len(self.notes)} notes")
+        return "AssemblyResult(" + ", ".join(parts) + ")"
 
     @property
     def degree(self) -> int:
