@@ -221,6 +221,15 @@ def parse_label(text: str):
     return rows, cols
 
 
+def _label_tuple(labels, name: str) -> tuple:
+    """``rows`` or ``cols`` as a tuple; a single label or None is an InputError naming
+    the argument (a bare ``5`` is not ``(5,)``: D(5) is not what was meant)."""
+    if isinstance(labels, (str, bytes)) or not hasattr(labels, "__iter__"):
+        raise InputError(f"expected a sequence of 1-based point labels for {name}, such as "
+                         f"(1, 2, 3, 4), got {labels!r}")
+    return tuple(labels)
+
+
 def _check_labels(rows, cols, n):
     for name, labels in (("rows", rows), ("cols", cols)):
         for lab in labels:
@@ -304,8 +313,8 @@ def cayley_menger(sq, rows, cols=None, *, method: str | None = None, dps: int | 
             out[idx] = cayley_menger(sq[idx], rows, cols, method=method, dps=dps)
         return out
     s, n, kind = _accessor(sq)
-    rows = tuple(rows)
-    cols = rows if cols is None else tuple(cols)
+    rows = _label_tuple(rows, "rows")
+    cols = rows if cols is None else _label_tuple(cols, "cols")
     _check_labels(rows, cols, n)
     if n is not None:
         labels = sorted(set(rows) | set(cols))

@@ -441,6 +441,9 @@ def _jacobian(J, shape: str, ndim: int | None = None, field: str = "J"):
     if (arr.ndim < 2 if ndim is None else arr.ndim != ndim) or arr.shape[-1] != 6:
         raise InputError(f"expected a Jacobian of shape {shape}, got shape {arr.shape}",
                          field=field)
+    if arr.shape[-2] == 0:          # no leg: no map to take singular values of
+        raise InputError(f"expected a Jacobian of shape {shape} with at least one leg "
+                         f"row (L >= 1), got shape {arr.shape}", field=field)
     return float_array(arr, field, (None,) * arr.ndim)
 
 

@@ -24,7 +24,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["PoseGrid", "axis_values", "table2_grid", "dexterous_workspace",
+__all__ = ["PoseGrid", "axis_values", "MAX_AXIS", "table2_grid", "dexterous_workspace",
            "design_criteria", "CRITERIA", "RTOL", "at_least"]
 
 #: relative tolerance of a sampled float64 value against a threshold: a value within
@@ -48,6 +48,12 @@ def at_least(value, threshold, rtol: float = RTOL):
     return np.where(near, np.nan, (v >= t).astype(float))
 
 
+#: the most values one grid axis may have: 10^5 per axis is already 10^15 positions of a
+#: 3-D grid; a smaller step is a slip (a grid of 1.5e8 values per axis took minutes to
+#: build before anything was evaluated)
+MAX_AXIS = 100_000
+
+
 def axis_values(lo: float, hi: float, step: float, field: str = "grid") -> np.ndarray:
     """``lo, lo+step, ..., hi`` (inclusive; hi must be reached to 1e-9 of a step)."""
     for name, v in (("min", lo), ("max", hi), ("step", step)):
@@ -60,6 +66,10 @@ def axis_values(lo: float, hi: float, step: float, field: str = "grid") -> np.nd
     if hi < lo:
         raise InputError(f"expected min <= max, got {lo!r} > {hi!r}", field=field)
     n = (hi - lo) / step
+    if n >= MAX_AXIS:
+        raise InputError(f"expected at most {MAX_AXIS} values on a grid axis, got "
+                         f"({hi!r} - {lo!r}) / {step!r} + 1 = {n + 1:.6g}: a step too "
+                         f"small for the range (a unit slip?)", field=field)
     k = round(n)
     if abs(n - k) > 1e-9 * max(1.0, abs(n)):
         raise InputError(f"expected (max - min) to be a multiple of step, got "
@@ -150,9 +160,22 @@ class PoseGrid:
 
 def table2_grid(z0: float = 0.30, half: float = 0.075, step: float = 0.010,
                 rot_deg: float = 20.0, rot_step_deg: float = 5.0) -> PoseGrid:
-    """The Table II grid (defaults): ±75 mm step 10 mm about (0, 0, z0), ±20° step 5°."""
-    t = axis_values(-half, half, step)
-    r = np.deg2rad(axis_values(-rot_deg, rot_deg, rot_step_deg))
+    """The Table II grid (defaults): ±75 mm step 10 mm about (0, 0, z0), ±20° step 5°.
+
+    ``z0``, ``half``, ``step`` in m; ``rot_deg``, ``rot_step_deg`` in degrees.  Refused
+    with an :class:`InputError` naming the argument and its unit: not a finite number, a
+    negative half-width, an axis of more than :data:`MAX_AXIS` values."""
+    for name, v, unit in (("z0", z0, "m"), ("half", half, "m"), ("step", step, "m"),
+                          ("rot_deg", rot_deg, "deg"), ("rot_step_deg", rot_step_deg, "deg")):
+        if not (isinstance(v, (int, float, np.integer, np.floating))
+                and not isinstance(v, (bool, np.bool_)) and math.isfinite(v)):
+            raise InputError(f"expected a finite number ({unit}), got {v!r}", field=name)
+    for name, v, unit in (("half", half, "m"), ("rot_deg", rot_deg, "deg")):
+        if v < 0:
+            raise InputError(f"expected a half-width >= 0 {unit} (the grid spans -{name} "
+                             f"to +{name}), got {v!r} {unit}", field=name)
+    t = axis_values(-half, half, step, "half/step (m)")
+    r = np.deg2rad(axis_values(-rot_deg, rot_deg, rot_step_deg, "rot_deg/rot_step_deg (deg)"))
     return PoseGrid(tuple(t), tuple(t), tuple(z0 + t), tuple(r), tuple(r), tuple(r))
 
 

@@ -334,3 +334,16 @@ def test_ragged_points_name_the_row(points, got):
     with pytest.raises(InputError, match=got) as exc:
         squared_distances(points)
     assert exc.value.field == f"points[{bad}]"
+
+
+@pytest.mark.parametrize("rows, cols, name", [(None, None, "rows"), (5, None, "rows"),
+                                              ((1, 2, 3, 4), 3, "cols")])
+def test_labels_that_are_not_a_sequence_are_named(rows, cols, name):
+    """A bare label or None for ``rows``/``cols`` (QA 23b, 11): an InputError naming the
+    argument, not ``TypeError: ... not iterable``; the same tetrahedron with its labels
+    as a sequence gives 288 V^2 = 8 (V = 1/6: the unit corner tetrahedron)."""
+    P = np.array([[1, 0, 0], [0, 1, 0], [0, 0, 1], [0, 0, 0]], float)
+    S = squared_distances(P)
+    with pytest.raises(InputError, match=f"sequence of 1-based point labels for {name}"):
+        cayley_menger(S, rows, cols)
+    assert float(cayley_menger(S, [1, 2, 3, 4])) == pytest.approx(288 / 36)

@@ -78,3 +78,40 @@ def test_valid_input_gives_the_independent_values():
     np.testing.assert_allclose(true_velocity_worst(J, np.float32(51), (0, 1, 2)), ref,
                                rtol=1e-14)
     assert set(max_sensitivities(J)) == {"translational", "rotational", "force", "torque"}
+
+
+# ---------------------------------------------------------------- QA 23b, 10
+@pytest.mark.parametrize("J", [np.zeros((0, 6)), np.zeros((4, 0, 6))])
+def test_a_jacobian_without_legs_is_refused(J):
+    """σmin/σmax of a map from no actuators are undefined (SVD of a 6 x 0 matrix): an
+    InputError naming J and the shape, not numpy's IndexError."""
+    from distkin.indices import condition_number, scaled_singular_values
+    for f in (condition_number, scaled_singular_values):
+        with pytest.raises(InputError, match=r"at least one leg.*got shape") as e:
+            f(J)
+        assert e.value.field == "J"
+
+
+def test_an_empty_batch_of_jacobians_still_works():
+    from distkin.indices import condition_number
+    assert condition_number(np.zeros((0, 8, 6))).shape == (0,)
+
+
+@pytest.mark.parametrize("kw, field, unit", [
+    ({"z0": "x"}, "z0", "m"), ({"half": -1}, "half", "m"), ({"rot_deg": -5}, "rot_deg", "deg"),
+    ({"step": float("nan")}, "step", "m"), ({"rot_step_deg": None}, "rot_step_deg", "deg")])
+def test_table2_grid_names_the_argument_and_its_unit(kw, field, unit):
+    from distkin.indices import table2_grid
+    with pytest.raises(InputError, match=unit) as e:
+        table2_grid(**kw)
+    assert e.value.field == field
+
+
+def test_a_grid_step_too_small_for_its_range_is_refused_before_building():
+    """1e-9 m over ±75 mm is 1.5e8 values per axis (it ran for minutes): refused, with
+    the count; Table II's own grid (16 positions, 9 angles per axis) is built."""
+    from distkin.indices import table2_grid
+    with pytest.raises(InputError, match=r"at most 100000 values.*1\.5e\+08"):
+        table2_grid(step=1e-9)
+    g = table2_grid()
+    assert (len(g.x), len(g.rx)) == (16, 9)
