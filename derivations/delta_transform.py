@@ -175,6 +175,9 @@ def main(argv=None) -> None:
               "the legs coincide in pairs")
     check(fam.det.subs({D1: 6, D2: 6}) == R(-1, 8),
           "paper's line Delta1 + Delta2 = 12 is NOT singular: det A(6, 6) = -1/8")
+    for t in (R(7), R(9), R(21, 2)):        # inside the offsets' ranges 0 < Delta2 < d45 = 6
+        v = fam.det.subs({D1: t, D2: 12 - t})
+        check(v != 0, f"nor inside the ranges: det A({t}, {12 - t}) = {v}")
     check(fam.det.subs({D1: 6, D2: 3}) == 0,
           "midpoints (6, 3), the architecturally singular Griffis-Duffy platform, lie on our line")
     try:
