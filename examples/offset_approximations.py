@@ -4,6 +4,7 @@ Run from the repository root::
 
     python examples/offset_approximations.py            # writes docs/offset_approximations.md
                                                         # and docs/figures/offset_approximations.png
+    python examples/offset_approximations.py --out /tmp/oa  # the same files elsewhere
     python examples/offset_approximations.py --quick    # fewer poses and offsets, prints only
 
 The octahedral manipulator is the Griffis-Duffy example of Sec. VI (base side 12, platform
@@ -91,6 +92,9 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="3 offsets, 4 random poses, no files")
     ap.add_argument("--random", type=int, default=14, help="random poses (default 14)")
+    ap.add_argument("--out", type=Path, default=ROOT / "docs", metavar="DIR",
+                    help="folder for offset_approximations.md and figures/ (default: the "
+                         "checkout's docs/, whose copies are tracked)")
     args = ap.parse_args(argv)
     rel = (0.001, 0.01, 0.1) if args.quick else RELATIVE
     deltas = [f"{r * BASE:.6g}" for r in rel]
@@ -121,9 +125,9 @@ def main(argv=None) -> int:
                   grid)
     print(text)
     if not args.quick:
-        (ROOT / "docs" / "figures").mkdir(parents=True, exist_ok=True)
-        (ROOT / "docs" / "offset_approximations.md").write_text(text)
-        plot(cmp, ROOT / "docs" / "figures" / "offset_approximations.png")
+        (args.out / "figures").mkdir(parents=True, exist_ok=True)
+        (args.out / "offset_approximations.md").write_text(text)
+        plot(cmp, args.out / "figures" / "offset_approximations.png")
     return 0
 
 
