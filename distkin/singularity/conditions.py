@@ -264,7 +264,7 @@ def _jdet(base_joints, platform_joints, normalised, length_scale, Lf, method, wi
     d = _det(J, kind)
     err = flag = None
     if (with_error and kind == "precise") or kind == "fast":
-        if with_error or kind != "fast" or not float_range.det_resolved(d, J, arm):
+        if with_error or not float_range.det_resolved(d, J, arm, normalised):   # (fast)
             err = float_range.det_error(J, arm, J[..., :3], kind)
         if kind == "fast" and err is not None:
             flag = np.asarray(err > np.abs(d))

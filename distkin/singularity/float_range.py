@@ -142,19 +142,25 @@ def floor_error(err, exact):
 _ERROR_BOUND = 1967.0 * 3.0 ** 4.5 * 2.0 ** -53
 
 
-def det_resolved(d, J, arm) -> bool:
+def det_resolved(d, J, arm, unit: bool = False) -> bool:
     r"""True when every fast :math:`|\det\mathbf J|` exceeds a bound of its
     :func:`det_error` estimate (:data:`_ERROR_BOUND` :math:`\mu^3(\alpha\mu)^3`, about
-    :math:`3\cdot 10^{-11}` of the scale of the rows): the check of the hot path (two
-    maxima per pose); False sends the caller to the estimate itself."""
-    if np.ndim(d) == 0:                       # one pose: scalars (cheaper than where)
-        mu, ma = np.abs(J[:, :3]).max(), np.abs(arm).max()
+    :math:`3\cdot 10^{-11}` of the scale of the rows; with ``unit`` directions,
+    :math:`c_u = 1` and :math:`c_m \le \sqrt 3\,\alpha`: 1967 :math:`\varepsilon\,
+    (\sqrt 3\,\alpha)^3`): the check of the hot path (one or two maxima per pose);
+    False sends the caller to the estimate itself."""
+    one = np.ndim(d) == 0
+    ma = np.abs(arm).max() if one else np.max(np.abs(arm), axis=(-2, -1))
+    if unit:
+        mu, k = 1.0, 1967.0 * 3.0 ** 1.5 * 2.0 ** -53
+    else:
+        k = _ERROR_BOUND
+        mu = np.abs(J[..., :3]).max() if one else np.max(np.abs(J[..., :3]), axis=(-2, -1))
+    if one:                                   # one pose: scalars (cheaper than where)
         mu, mam = (mu if mu > 0 else 1.0), (ma * mu if ma > 0 else 1.0)
-        return bool(abs(d) > _ERROR_BOUND * (mu * mam) ** 3)
-    mu = np.max(np.abs(J[..., :3]), axis=(-2, -1))
-    mam = np.max(np.abs(arm), axis=(-2, -1)) * mu
-    mu, mam = (np.where(c > 0, c, 1.0) for c in (mu, mam))
-    return bool(np.all(np.abs(d) > _ERROR_BOUND * (mu * mam) ** 3))
+        return bool(abs(d) > k * (mu * mam) ** 3)
+    mu, mam = (np.where(c > 0, c, 1.0) for c in (mu, ma * mu))
+    return bool(np.all(np.abs(d) > k * (mu * mam) ** 3))
 
 
 def unresolved_note(d, err, flag, what: str) -> str:
