@@ -41,7 +41,6 @@ here unless the caller passes sympy numbers (exact symbolic checks).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
@@ -49,7 +48,8 @@ import numpy as np
 from ..argcheck import positive_number
 from ..errors import DegenerateGeometryError, DistkinError, InputError, UncertifiedError
 from .cm_error import exact_relative as _relative
-from .tiers import (_at, _check_legs, _cross, _det, _float, _float_or_str, _kind,
+from .planes import PLANES, FourPlanes, four_planes, volume_factors
+from .tiers import (_at, _check_legs, _cross, _det, _digits, _float_or_str, _kind, _precision,
                     _prepare, _sqrt, _sympify, _to_flint)
 
 __all__ = [
@@ -99,7 +99,7 @@ def octahedral_joints(points):
 
 
 def plucker_jacobian(base_joints, platform_joints, *, normalised: bool = True,
-                     reference=None, method: str | None = None):
+                     reference=None, method: str | None = None, dps: int | None = None):
     r"""The Jacobian of eq. (5): Plücker coordinates of the six leg lines.
 
     Row :math:`k` is :math:`(u_k,\; (b_k - c)\times u_k)` with
@@ -119,6 +119,10 @@ def plucker_jacobian(base_joints, platform_joints, *, normalised: bool = True,
     reference : array (3,), optional
     method : {"fast", "precise", "certified"} or None
         None keeps the input's number type.
+    dps : int, optional
+        Decimal digits of the precise tier (5..1233, default 30), set locally
+        (``mpmath.workdps``; mpmath's global ``mp.dps`` is not used); only with
+        ``method="precise"``.
 
     Returns
     -------
@@ -133,6 +137,13 @@ def plucker_jacobian(base_joints, platform_joints, *, normalised: bool = True,
     DegenerateGeometryError
         ``normalised=True`` and a leg of zero length (named), in every tier.
     """
+    with _precision(dps, method, base_joints, platform_joints):
+        return _plucker(base_joints, platform_joints, normalised, reference, method)[0]
+
+
+def _plucker(base_joints, platform_joints, normalised, reference, method):
+    """``(J, b)``: :func:`plucker_jacobian` at the working precision, and the base
+    joints in its tier."""
     b, kind = _prepare(base_joints, method, "base_joints")
     tier = kind if kind in ("fast", "precise", "certified") else None
     p, _ = _prepare(platform_joints, tier, "platform_joints")
@@ -161,11 +172,12 @@ def plucker_jacobian(base_joints, platform_joints, *, normalised: bool = True,
         if kind == "sympy":
             ref = np.vectorize(_sympify, otypes=[object])(ref)
         arm = b - ref
-    return np.concatenate([u, _cross(arm, u)], axis=-1)
+    return np.concatenate([u, _cross(arm, u)], axis=-1), b
 
 
 def jacobian_det(base_joints, platform_joints, *, normalised: bool = True,
-                 length_scale=None, method: str | None = None, with_error: bool = False):
+                 length_scale=None, method: str | None = None, with_error: bool = False,
+                 dps: int | None = None):
     r""":math:`\det\mathbf J` of eq. (5) (or of :math:`\hat{\mathbf J}`).
 
     With ``length_scale`` L (a finite number > 0, length units) the moment columns are
@@ -177,9 +189,15 @@ def jacobian_det(base_joints, platform_joints, *, normalised: bool = True,
     ``with_error=True`` returns ``(value, error)``, the rounding-error estimate of
     :func:`.float_range.det_error` (fast, precise; an estimate, not a bound; 0 only for
     an exact 0), the ball's radius (arb) or 0 (fmpq, sympy): where ``|value| > error``
-    the sign is trustworthy by the estimate; ``method="certified"`` proves it.  As for
-    the absolute Cayley-Menger conditions, no warning says that the value is small (it
-    is, at every singularity).  Fast: a value (or estimate) outside
+    the sign is trustworthy by the estimate; ``method="certified"`` proves it.  Fast:
+    where the estimate exceeds :math:`|\det|` a
+    :class:`~distkin.errors.ConditioningWarning` names the value and the estimate (QA
+    23: ill-conditioned leg lines gave -1.56 for -26.79 without a word); it costs a
+    bound of the estimate per pose (:func:`.float_range.det_error_bound`) and the
+    estimate itself only where that bound fails.  Calls from distkin's own modules (root
+    finding along a path, whose iterates approach det J = 0 on purpose) are not warned.
+    The precise tier works at ``dps`` digits (5..1233, default 30, set locally; only
+    with ``method="precise"``), never at mpmath's global ``mp.dps``.  Fast: a value (or estimate) outside
     :math:`2^{\pm 960}`, or a leg whose squared length underflowed, is computed again
     from joints scaled by a power of two (exact; :mod:`.float_range`); a value outside
     the float64 range then warns (:class:`~distkin.geometry.cm_float.FloatRangeWarning`:
@@ -203,35 +221,53 @@ def jacobian_det(base_joints, platform_joints, *, normalised: bool = True,
     args = (normalised, length_scale, Lf, method, with_error)
     if not (method == "fast" or (method is None and _kind(base_joints) == "fast"
                                  and _kind(platform_joints) == "fast")):
-        return _jdet(base_joints, platform_joints, *args, None)
+        with _precision(dps, method, base_joints, platform_joints):
+            return _jdet(base_joints, platform_joints, *args, None)[0]
+    if dps is not None:
+        _digits(dps, method)             # dps with the fast tier: InputError
     try:                  # unscaled first: the hot path pays one range check of the value
         with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
-            out = _jdet(base_joints, platform_joints, *args, None)
+            out, note = _jdet(base_joints, platform_joints, *args, None)
         if float_range.det_in_range(out[0] if with_error else out) and (
                 not with_error or bool(np.all((out[1] > 0) & (out[1] < np.inf)))):
-            return out
+            return _said(out, note)
     except DegenerateGeometryError:      # a leg's squared length underflowed? (rescaled)
         pass
     b, p = (_prepare(x, "fast", f)[0] for x, f in ((base_joints, "base_joints"),
                                                    (platform_joints, "platform_joints")))
     b, p, scale = float_range.scaled_joints(b, p)
-    return _jdet(b, p, *args, scale)
+    return _said(*_jdet(b, p, *args, scale))
+
+
+def _said(out, note):
+    """``out``, after the ConditioningWarning ``note`` (if any) at the caller's line;
+    not when :func:`jacobian_det`'s caller is a distkin module (see its docstring)."""
+    import sys
+    if note is not None and not sys._getframe(2).f_globals.get("__name__", "").startswith(
+            "distkin."):
+        from ..errors import ConditioningWarning, warn
+        warn(note, ConditioningWarning)
+    return out
 
 
 def _jdet(base_joints, platform_joints, normalised, length_scale, Lf, method, with_error,
           scale):
-    """:func:`jacobian_det` of joints scaled by :math:`2^{-e}` (``scale`` e, fast; None:
-    unscaled), the value (and error) scaled back."""
+    """``(out, note)``: :func:`jacobian_det` of joints scaled by :math:`2^{-e}`
+    (``scale`` e, fast; None: unscaled), the value (and error) scaled back, and the
+    fast tier's ConditioningWarning text where the estimate exceeds the value (else
+    None)."""
     from . import float_range
-    J = plucker_jacobian(base_joints, platform_joints, normalised=normalised, method=method)
+    J, arm = _plucker(base_joints, platform_joints, normalised, None, method)  # caller's dps
     kind = _kind(J) if method is None else method
     if kind == "exact":
         kind = "certified"
     d = _det(J, kind)
-    err = None
-    if with_error and kind in ("fast", "precise"):
-        arm, _ = _prepare(base_joints, kind, "base_joints")
-        err = float_range.det_error(J, arm, J[..., :3], kind)
+    err = flag = None
+    if (with_error and kind == "precise") or kind == "fast":
+        if with_error or not float_range.det_resolved(d, J, arm, normalised):   # (fast)
+            err = float_range.det_error(J, arm, J[..., :3], kind)
+        if kind == "fast" and err is not None:
+            flag = np.asarray(err > np.abs(d))
     if length_scale is not None:
         L = length_scale if isinstance(length_scale, (int, float, Fraction)) else Lf
         L = {"fast": float, "precise": _float_or_str, "certified": _to_flint}.get(kind, _sympify)(L)
@@ -244,9 +280,12 @@ def _jdet(base_joints, platform_joints, normalised, length_scale, Lf, method, wi
         d = float_range.scale_back(d, scale, degree, "det J" if normalised else "det Jhat",
                                    "a length_scale")
         err = None if err is None else float_range.scale_error(err, scale, degree)
+    note = None
+    if flag is not None and flag.any():
+        note = float_range.unresolved_note(d, err, flag, "det J" if normalised else "det Jhat")
     if not with_error:
-        return d
-    return d, (_radius(d) if err is None else err)
+        return d, note
+    return (d, (_radius(d) if err is None else err)), note
 
 
 def certified_sign(value) -> int:
@@ -355,26 +394,8 @@ _BIDETS = (((1, 2, 4, 5), (1, 2, 3, 4)), ((3, 4, 5, 6), (2, 4, 5, 6)),
            ((1, 2, 3, 6), (1, 3, 5, 6)))
 
 
-def _digits(dps, method):
-    """The precise tier's digits (default 30), or None; ``dps`` only with "precise"."""
-    from ..exact import default_dps, dps_without_precise
-    if dps is None:
-        return default_dps(None) if method == "precise" else None
-    digits = default_dps(dps)
-    if method != "precise":
-        raise dps_without_precise(dps, method)
-    return digits
-
-
 def _condition(points, method, dps, relative, with_error, signed):
-    import contextlib
-    digits = _digits(dps, method)
-    if digits is not None:
-        import mpmath
-        ctx = mpmath.workdps(digits)
-    else:
-        ctx = contextlib.nullcontext()
-    with ctx:                    # local precision, not mpmath.mp's (QA V 3)
+    with _precision(dps, method, points):    # local precision, not mpmath.mp's (QA V 3)
         pts, kind = _prepare(points, method)
         if pts.shape[-2:] != (6, 3):
             raise InputError(f"expected points P1..P6 of shape (..., 6, 3), got {pts.shape}",
@@ -465,123 +486,3 @@ def _D(sq, rows, cols=None):
 
 #: the six tetrahedra of the Cayley-Menger conditions: a's three, then b's three
 _TETS = ((1, 2, 4, 5), (3, 4, 5, 6), (1, 2, 3, 6), (1, 2, 3, 4), (2, 4, 5, 6), (1, 3, 5, 6))
-
-
-def _vol(pts, i, j, k, l):
-    a = pts[..., i - 1, :]
-    return np.sum((pts[..., j - 1, :] - a) * _cross(pts[..., k - 1, :] - a, pts[..., l - 1, :] - a),
-                  axis=-1) / 6
-
-
-def volume_factors(points, *, method: str | None = None):
-    r"""Signed-volume products :math:`a = V_{1245}V_{3456}V_{1236}` and
-    :math:`b = V_{1234}V_{2456}V_{1356}` (length units^9).
-
-    :math:`\det\hat{\mathbf J} = -216(a+b)`; the ratio of the paper's condition to
-    :math:`\det\hat{\mathbf J}` is :math:`-110592(a-b)`, that of the signed one
-    :math:`-110592\,a`.  ``points`` (..., 6, 3): P1..P6; another shape is an
-    :class:`~distkin.errors.InputError`.
-    """
-    pts, _ = _prepare(points, method)
-    if pts.shape[-2:] != (6, 3):
-        raise InputError(f"expected points P1..P6 of shape (..., 6, 3), got {pts.shape}",
-                         field="points")
-    a = _vol(pts, 1, 2, 4, 5) * _vol(pts, 3, 4, 5, 6) * _vol(pts, 1, 2, 3, 6)
-    b = _vol(pts, 1, 2, 3, 4) * _vol(pts, 2, 4, 5, 6) * _vol(pts, 1, 3, 5, 6)
-    return a, b
-
-
-# --------------------------------------------------------------------- four planes
-
-#: the four planes of the geometric test (Downing, Samuel, Hunt 2002; paper Sec. IV)
-PLANES = ((1, 2, 4), (2, 3, 5), (3, 1, 6), (4, 5, 6))
-
-
-@dataclass(frozen=True)
-class FourPlanes:
-    """Result of :func:`four_planes`.
-
-    Attributes
-    ----------
-    det : number or array
-        :math:`F = \\det[n_i,\\; -n_i\\cdot P_i]_{i=1..4}` with
-        :math:`n_i = (P_j-P_i)\\times(P_k-P_i)` (length units^9; equals
-        :math:`\\det\\hat{\\mathbf J}`).
-    relative : float or array
-        :math:`F` with unit normals and offsets divided by ``length_scale``
-        (dimensionless).
-    point : array (..., 3)
-        Least-squares common point of the four planes (length units).
-    spread : float or array
-        Largest distance from ``point`` to one of the planes (length units); 0 when
-        the planes meet in a point.
-    """
-
-    det: object
-    relative: object
-    point: object
-    spread: object
-
-
-def four_planes(points, *, length_scale: float | None = None, method: str | None = None
-                ) -> FourPlanes:
-    r"""Do the planes :math:`P_1P_2P_4`, :math:`P_2P_3P_5`, :math:`P_3P_1P_6`,
-    :math:`P_4P_5P_6` meet in a point? (Rojas et al., Sec. IV, ref. [19]).
-
-    Four planes :math:`n_i\cdot x = c_i` have a common (possibly ideal) point iff
-    :math:`\det[n_i, -c_i] = 0`.  ``point`` and ``spread`` are computed in float64
-    whatever the tier.
-
-    Parameters
-    ----------
-    points : array (..., 6, 3)
-        P1..P6, base frame (length units).
-    length_scale : float, optional
-        For ``relative``: a finite number > 0 (default: the largest distance of a point
-        from P1).
-
-    Raises
-    ------
-    InputError
-        Booleans, NaN or inf in ``points``, a wrong shape, a bad ``length_scale``.
-    DegenerateGeometryError
-        Three collinear (or coincident) points of a plane: the plane is undefined (named,
-        with the batch index); then its row of F vanishes, F = 0.
-    """
-    if length_scale is not None:
-        length_scale = positive_number(length_scale, "length_scale")
-    pts, kind = _prepare(points, method)
-    if pts.shape[-2:] != (6, 3):
-        raise InputError(f"expected points of shape (..., 6, 3), got {pts.shape}", field="points")
-    rows = []
-    for i, j, k in PLANES:
-        a = pts[..., i - 1, :]
-        n = _cross(pts[..., j - 1, :] - a, pts[..., k - 1, :] - a)
-        c = np.asarray(np.sum(n * a, axis=-1), dtype=n.dtype)
-        rows.append(np.concatenate([n, -c[..., None]], axis=-1))
-    M = np.stack(rows, axis=-2)
-    F = _det(M, kind)
-    Mf = M if kind == "fast" else np.vectorize(_float, otypes=[float])(M)
-    pf = pts if kind == "fast" else np.vectorize(_float, otypes=[float])(pts)
-    L = length_scale
-    if L is None:
-        L = np.max(np.linalg.norm(pf - pf[..., :1, :], axis=-1), axis=-1)
-    nrm = np.linalg.norm(Mf[..., :3], axis=-1)
-    if not (nrm > 0).all():
-        idx = tuple(int(i) for i in np.argwhere(~(nrm > 0))[0])
-        names = "; ".join(f"P{i}P{j}P{k} (P{i}, P{j}, P{k} collinear)"
-                          for (i, j, k), z in zip(PLANES, ~(nrm[idx[:-1]] > 0)) if z)
-        raise DegenerateGeometryError(
-            f"expected four planes through non-collinear points, got undefined plane(s) "
-            f"{names}{_at(idx[:-1])}", field="points",
-            hint="det J (jacobian_det) is defined there, and its determinant F = det Jhat = 0")
-    U = Mf / nrm[..., None]
-    Us = U.copy()
-    Us[..., 3] = Us[..., 3] / np.asarray(L)[..., None]
-    rel = np.linalg.det(Us)
-    N, c = U[..., :3], -U[..., 3]
-    x = np.einsum("...ij,...j->...i", np.linalg.pinv(N), c)     # least squares, batched
-    spread = np.max(np.abs(np.einsum("...ij,...j->...i", N, x) - c), axis=-1)
-    if np.ndim(rel) == 0:
-        rel, spread = float(rel), float(spread)
-    return FourPlanes(F, rel, x, spread)

@@ -46,11 +46,40 @@ def scaled_squared_distances(pts):
         ok = (s >= _LO) & (s <= _HI)
         if ok.all():
             return sq, None
-        e1 = _exponent(np.max(np.abs(pts), axis=(-2, -1)))
-        p1 = np.ldexp(pts, -e1[..., None, None])
-        e = e1 + _exponent(np.max(np.abs(p1 - p1[..., :1, :]), axis=(-2, -1)))
-        e = np.where(ok, 0, e)
+        e = _point_exponent(pts, ok)
         return squared_distances(np.ldexp(pts, -e[..., None, None])), e
+
+
+def _point_exponent(pts, ok):
+    """``e`` (int array, batch shape; 0 where ``ok``) putting the largest coordinate
+    difference from P1 of ``pts·2^-e`` in [0.5, 1): coordinates first divided by a power
+    of two near their largest magnitude (no overflow of the differences), then by one
+    near the largest difference from P1."""
+    e1 = _exponent(np.max(np.abs(pts), axis=(-2, -1)))
+    p1 = np.ldexp(pts, -e1[..., None, None])
+    e = e1 + _exponent(np.max(np.abs(p1 - p1[..., :1, :]), axis=(-2, -1)))
+    return np.where(ok, 0, e)
+
+
+def scaled_points(pts):
+    r"""``(pts·2^-e, e)`` for point sets (..., n, 3) whose largest coordinate difference
+    from P1 leaves :math:`2^{\pm 32}` (:func:`_point_exponent`; 0 elsewhere), or
+    ``(pts, None)`` when none does.  Within that range the products of nine coordinate
+    differences of :func:`~.planes.volume_factors` and :func:`~.planes.four_planes`
+    (and the squared norms of their plane normals) stay normal: QA 23 found 0.0 and
+    a false "collinear" at 1e-100, inf and NaN at 1e80 and 1e150."""
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        if pts.ndim == 2:                     # one point set: scalars (cheaper)
+            m = np.abs(pts - pts[0]).max()
+            if 2.0 ** -32 <= m <= 2.0 ** 32:
+                return pts, None
+        else:
+            m = np.max(np.abs(pts - pts[..., :1, :]), axis=(-2, -1))
+        ok = (m >= 2.0 ** -32) & (m <= 2.0 ** 32)
+        if ok.all():
+            return pts, None
+        e = _point_exponent(pts, ok)
+    return np.ldexp(pts, -e[..., None, None]), e
 
 
 def det_in_range(d) -> bool:
@@ -104,6 +133,52 @@ def floor_error(err, exact):
     """A fast error estimate that is 0 only where the value is exact (``exact``):
     elsewhere at least the smallest float64 (an estimate that underflowed)."""
     return np.where(exact, 0.0, np.maximum(err, _SMALLEST))
+
+
+#: :func:`det_error` is at most 1966.6 :math:`\varepsilon c_u^3 c_m^3` (rows
+#: :math:`\|r'_k\| \le \sqrt 2`: :math:`6 \cdot 24 (\sqrt 2 + 1) \sqrt 2^5`), and
+#: :math:`c_u^3 c_m^3 \le 3^{4.5}\,\mu^3 (\alpha\mu)^3` with :math:`\mu, \alpha` the
+#: largest entries of the directions and arms in magnitude
+_ERROR_BOUND = 1967.0 * 3.0 ** 4.5 * 2.0 ** -53
+
+
+def det_resolved(d, J, arm, unit: bool = False) -> bool:
+    r"""True when every fast :math:`|\det\mathbf J|` exceeds a bound of its
+    :func:`det_error` estimate (:data:`_ERROR_BOUND` :math:`\mu^3(\alpha\mu)^3`, about
+    :math:`3\cdot 10^{-11}` of the scale of the rows; with ``unit`` directions,
+    :math:`c_u = 1` and :math:`c_m \le \sqrt 3\,\alpha`: 1967 :math:`\varepsilon\,
+    (\sqrt 3\,\alpha)^3`): the check of the hot path (one or two maxima per pose);
+    False sends the caller to the estimate itself."""
+    one = np.ndim(d) == 0
+    ma = np.abs(arm).max() if one else np.max(np.abs(arm), axis=(-2, -1))
+    if unit:
+        mu, k = 1.0, 1967.0 * 3.0 ** 1.5 * 2.0 ** -53
+    else:
+        k = _ERROR_BOUND
+        mu = np.abs(J[..., :3]).max() if one else np.max(np.abs(J[..., :3]), axis=(-2, -1))
+    if one:                                   # one pose: scalars (cheaper than where)
+        mu, mam = (mu if mu > 0 else 1.0), (ma * mu if ma > 0 else 1.0)
+        return bool(abs(d) > k * (mu * mam) ** 3)
+    mu, mam = (np.where(c > 0, c, 1.0) for c in (mu, ma * mu))
+    return bool(np.all(np.abs(d) > k * (mu * mam) ** 3))
+
+
+def unresolved_note(d, err, flag, what: str) -> str:
+    """The ConditioningWarning text of fast determinants ``d`` whose estimate ``err``
+    exceeds them (``flag``, batch shape): the first one's value and estimate, the
+    count, and what to use instead."""
+    flag = np.asarray(flag)
+    i = int(np.flatnonzero(flag.ravel())[0])
+    v = float(np.ravel(d)[i])
+    e = float(np.ravel(np.broadcast_to(err, np.shape(d)))[i])
+    where = ""
+    if flag.ndim:
+        idx = tuple(int(j) for j in np.unravel_index(i, flag.shape))
+        where = f" at {int(flag.sum())} of {flag.size} pose(s) (first: batch index {idx})"
+    return (f"fast {what}{where} = {v:.6g} is within its rounding-error estimate {e:.3g}: "
+            f"float64 does not resolve its digits or its sign (ill-conditioned leg lines, "
+            f"or a pose at a singularity); use method='precise' (more dps) or 'certified' "
+            f"(with_error=True returns the estimate)")
 
 
 def det_error(J, arm, u, kind):

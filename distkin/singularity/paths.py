@@ -15,7 +15,7 @@ import numpy as np
 from ..argcheck import positive_int, positive_number
 from ..errors import InputError, UncertifiedError
 from .conditions import certified_sign
-from .tiers import _checked, _prepare, _to_flint
+from .tiers import _checked, _precision, _prepare, _to_flint
 
 __all__ = [
     "rotation_from_vector",
@@ -31,7 +31,7 @@ __all__ = [
 
 # --------------------------------------------------------------------------- poses
 
-def rotation_from_vector(w, method: str | None = None):
+def rotation_from_vector(w, method: str | None = None, *, dps: int | None = None):
     r"""Rotation matrix of a rotation vector (axis times angle, rad), Rodrigues:
     :math:`R = I + \frac{\sin\theta}{\theta}K + \frac{1-\cos\theta}{\theta^2}K^2`.
 
@@ -39,6 +39,9 @@ def rotation_from_vector(w, method: str | None = None):
     ----------
     w : array (..., 3) float (batched), or 3 mpf / arb / fmpq values
     method : tier of the result (None: that of ``w``)
+    dps : int, optional
+        Decimal digits of the precise tier (5..1233, default 30), set locally (mpmath's
+        global ``mp.dps`` is not used); only with ``method="precise"``.
 
     Returns
     -------
@@ -55,6 +58,12 @@ def rotation_from_vector(w, method: str | None = None):
         1e300 gave NaN).  Reduce the angle modulo :math:`2\pi` first, or use the
         certified tier (its balls widen honestly).
     """
+    with _precision(dps, method, w):
+        return _rotation(w, method)
+
+
+def _rotation(w, method):
+    """:func:`rotation_from_vector` at the working precision."""
     arr, kind = _prepare(w, method, "w")
     if kind == "fast":
         if arr.ndim < 1 or arr.shape[-1] != 3:

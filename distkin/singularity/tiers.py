@@ -17,14 +17,23 @@ import numpy as np
 
 from ..argcheck import no_booleans
 from ..errors import DegenerateGeometryError, InputError, UncertifiedError
-from ..exact import check_method
+from ..exact import check_method, default_dps, dps_without_precise
 
 __all__: list[str] = []     # helpers of distkin.singularity; the public API is in .conditions
 
 
 def _kind(x) -> str:
-    arr = np.asarray(x)
-    if arr.dtype != object:
+    """The tier of ``x``'s numbers: "fast" (a numeric dtype, or input that is not an
+    array of numbers: :func:`_checked` refuses it), "precise" (mpf), "certified" (arb,
+    fmpq), "exact" (int, Fraction) or "sympy"; an object array by its first entry."""
+    if isinstance(x, np.ndarray):
+        arr = x
+    else:
+        try:
+            arr = np.asarray(x)
+        except (TypeError, ValueError):       # ragged: refused by _checked
+            return "fast"
+    if arr.dtype != object or not arr.size:
         return "fast"
     first = arr.ravel()[0]
     name = type(first).__name__
@@ -37,6 +46,32 @@ def _kind(x) -> str:
     if isinstance(first, (int, Fraction)):
         return "exact"
     return "fast"
+
+
+def _digits(dps, method, *inputs):
+    """The decimal digits of the precise tier, or None where the computation is not in
+    it: ``dps`` (5..1233) only with method "precise"; else 30 (:func:`distkin.exact.default_dps`)
+    with method "precise", or with method None and mpf ``inputs``."""
+    if dps is not None:
+        digits = default_dps(dps)
+        if method != "precise":
+            raise dps_without_precise(dps, method)
+        return digits
+    if method == "precise" or (method is None and any(_kind(x) == "precise" for x in inputs)):
+        return default_dps(None)
+    return None
+
+
+def _precision(dps, method, *inputs):
+    """A context: ``mpmath.workdps`` at :func:`_digits` where the tier is precise (its
+    own default, never mpmath's global ``mp.dps``: QA 23 found 15 digits used), a null
+    context otherwise."""
+    import contextlib
+    digits = _digits(dps, method, *inputs)
+    if digits is None:
+        return contextlib.nullcontext()
+    import mpmath
+    return mpmath.workdps(digits)
 
 
 def _cross(a, b):
@@ -92,6 +127,9 @@ def _to_flint(x):
     if isinstance(x, (float, np.floating)):
         f = Fraction(float(x))
         return flint.fmpq(f.numerator, f.denominator)
+    if (type(x).__module__ or "").startswith("sympy"):    # a numeric string's exact value
+        from ..exact import to_tier
+        return to_tier(x, "certified")
     return x
 
 
@@ -111,9 +149,12 @@ def _finite(v) -> bool:
 
 
 def _checked(points, field: str) -> np.ndarray:
-    """``points`` as an array; a boolean, a complex or a NaN/inf entry is an
-    :class:`InputError` naming ``field`` and the entry.  Float arrays cost one
-    ``isfinite`` pass; object arrays (exact tiers) one pass over the entries."""
+    """``points`` as an array; a boolean, a complex or a NaN/inf entry, or one that is not
+    a number, is an :class:`InputError` naming ``field`` and the entry (its type).  Float
+    arrays cost one ``isfinite`` pass; object arrays (exact tiers) one pass over the
+    entries.  Numeric strings are exact (:func:`distkin.exact.parse_exact`: ``"1/3"``,
+    ``"sqrt(2)"``), as in a scene: an object array of Fraction or sympy values (QA 23:
+    ``"abc"`` and ``None`` were raw ValueError / TypeError)."""
     if isinstance(points, np.ndarray):
         arr = points
     else:
@@ -121,12 +162,12 @@ def _checked(points, field: str) -> np.ndarray:
         try:
             arr = np.asarray(points)
         except (TypeError, ValueError):
-            got = repr(points)
-            raise InputError(f"expected an array of numbers, got "
-                             f"{got if len(got) <= 80 else got[:77] + '...'}",
-                             field=field) from None
+            raise InputError(f"expected an array of numbers (a regular shape such as "
+                             f"(..., 6, 3)), got {_shown(points)}", field=field) from None
+        if arr.dtype.kind in "US":            # a mixed list: keep each entry's own type
+            arr = np.array(points, dtype=object)
     kind = arr.dtype.kind
-    if kind in "iuU":
+    if kind in "iu":
         return arr
     if kind == "f":
         if not np.isfinite(arr).all():
@@ -134,38 +175,103 @@ def _checked(points, field: str) -> np.ndarray:
             raise InputError(f"expected finite coordinates, got {arr[idx]}",
                              field=field + "".join(f"[{int(i)}]" for i in idx))
         return arr
+    if kind in "US":
+        arr = arr.astype(object)
+        kind = "O"
     if kind == "O":
         no_booleans(arr, field)
+        if not arr.ndim:
+            raise InputError(f"expected an array of numbers, got {_shown(arr.item())}",
+                             field=field)
+        out = np.empty(arr.shape, dtype=object)
         for idx, v in np.ndenumerate(arr):
+            name = field + "".join(f"[{int(i)}]" for i in idx)
+            v = _number(v, name)
             if not _finite(v):
-                raise InputError(f"expected finite coordinates, got {v}",
-                                 field=field + "".join(f"[{int(i)}]" for i in idx))
-        return arr
+                raise InputError(f"expected finite coordinates, got {v}", field=name)
+            out[idx] = v
+        return out
     if kind == "b":
         no_booleans(arr, field)
     raise InputError(f"expected real coordinates, got an array of dtype {arr.dtype}", field=field)
 
 
+def _shown(v) -> str:
+    got = f"{type(v).__name__} {v!r}"
+    return got if len(got) <= 80 else got[:77] + "..."
+
+
+def _number(v, field: str):
+    """One entry of an object array: a real number of a tier as it is (numpy scalars as
+    Python numbers), a numeric string parsed exactly (a Fraction, or a sympy number),
+    anything else an :class:`InputError` naming ``field`` and the type."""
+    if isinstance(v, str):
+        from ..exact import parse_exact
+        return parse_exact(str(v), field).value
+    if isinstance(v, np.integer):
+        return int(v)
+    if isinstance(v, (int, float, Fraction, np.floating)):
+        return v
+    name, module = type(v).__name__, type(v).__module__ or ""
+    if name in ("mpf", "arb", "fmpq", "fmpz"):
+        return v
+    if module.startswith("sympy") and getattr(v, "is_number", False) and v.is_real is not False:
+        return v
+    raise InputError(f"expected real numbers (float, int, Fraction, numeric string, mpf, fmpq, "
+                     f"arb or a sympy number), got {_shown(v)}", field=field)
+
+
 def _prepare(points, method, field: str = "points"):
-    """points -> array in the tier's type; method None keeps the input's type.  Input
-    checks (:func:`_checked`) name ``field``."""
+    """points -> array in the tier's type; method None keeps the input's type (an integer
+    array is float64, the fast tier's; exact Python ints and Fractions, and numeric
+    strings, certified).  Input checks (:func:`_checked`) name ``field``."""
+    if method is not None:
+        check_method(method)
+    had_strings = _has_strings(points)
     arr = _checked(points, field)
     if method is None:
-        kind = _kind(arr)
+        kind = "exact" if had_strings else _kind(arr)
         if kind == "exact":
             arr = np.vectorize(_to_flint, otypes=[object])(arr)
             kind = "certified"
+        elif kind == "fast":
+            arr = np.asarray(arr, dtype=float)   # (integers: QA 23, AttributeError)
         return arr, kind
-    check_method(method)
     if method == "fast":
         if arr.dtype == object:
-            arr = np.vectorize(_float, otypes=[float])(arr)
+            arr = _converted(arr, _float, field)
         return np.asarray(arr, dtype=float), "fast"
     if method == "precise":
         import mpmath
         return np.vectorize(lambda v: v if type(v).__name__ == "mpf" else mpmath.mpf(_float_or_str(v)),
                             otypes=[object])(arr), "precise"
     return np.vectorize(_to_flint, otypes=[object])(np.asarray(arr, dtype=object)), "certified"
+
+
+def _has_strings(points) -> bool:
+    """True for a string array, or a list / tuple whose first leaf entry is a string (a
+    numeric string is exact input)."""
+    if isinstance(points, np.ndarray):
+        return points.dtype.kind in "US" or (points.dtype == object and points.size > 0
+                                             and isinstance(points.flat[0], str))
+    while isinstance(points, (list, tuple)) and points:
+        points = points[0]
+    return isinstance(points, str)
+
+
+def _converted(arr, to, field: str):
+    """``to`` (:func:`_float`) of every entry as a float array; a value beyond float64
+    (an exact 1e400) is an :class:`InputError` naming its entry."""
+    out = np.empty(arr.shape, dtype=float)
+    for idx, v in np.ndenumerate(arr):
+        try:
+            out[idx] = to(v)
+        except OverflowError:
+            raise InputError(f"expected coordinates within float64's range (|x| < 1.8e308) "
+                             f"for method 'fast', got {_shown(v)}",
+                             field=field + "".join(f"[{int(i)}]" for i in idx),
+                             hint="method='precise' or 'certified'") from None
+    return out
 
 
 def _sympify(v):
@@ -177,8 +283,13 @@ def _float(v):
     if type(v).__name__ == "arb":
         return float(v.mid())
     if type(v).__name__ == "fmpq":
-        return int(v.p) / int(v.q)
-    return float(v)
+        return float(Fraction(int(v.p), int(v.q)))
+    if type(v).__name__ == "fmpz":
+        return float(int(v))
+    out = float(v)
+    if not math.isfinite(out):                # a sympy or mpf value beyond float64
+        raise OverflowError(f"{v} is beyond float64")
+    return out
 
 
 def _float_or_str(v):
@@ -189,6 +300,9 @@ def _float_or_str(v):
         return mpmath.mpf(int(v.p)) / int(v.q)
     if type(v).__name__ == "arb":
         return mpmath.mpf(v.mid().str(mpmath.mp.dps + 5, radius=False))
+    if (type(v).__module__ or "").startswith("sympy"):
+        from ..exact import to_tier
+        return to_tier(v, "precise")
     return mpmath.mpf(v)
 
 

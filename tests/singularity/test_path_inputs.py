@@ -49,13 +49,20 @@ def test_large_angles_in_range_are_finite_and_right():
 
 
 def test_precise_tier_refuses_by_its_own_precision():
+    """The precise tier's limit is that of its own ``dps`` (default 30 digits, 103 bits),
+    never mpmath's global precision (QA 23)."""
     import mpmath
     w = [mpmath.mpf(10) ** 20, 0, 0]
     with pytest.raises(InputError, match=r"at 53 bits"):
-        rotation_from_vector(w)
-    with mpmath.workprec(200):
-        R = rotation_from_vector(w)          # 1e-10 2^200 >> 1e20: accepted at 200 bits
+        rotation_from_vector(w, method="precise", dps=15)
+    R = rotation_from_vector(w, method="precise", dps=60)   # 1e-10 2^200 >> 1e20
+    with mpmath.workdps(80):
         assert abs(R[1, 1] - mpmath.cos(mpmath.mpf(10) ** 20)) < mpmath.mpf(10) ** -40
+    with mpmath.workprec(200):               # the ambient precision is not the tier's
+        ambient = rotation_from_vector(w)
+    assert ambient[1, 1] == rotation_from_vector(w, method="precise", dps=30)[1, 1]
+    with pytest.raises(InputError, match=r"^w: .*?at 20 bits"):
+        rotation_from_vector([mpmath.mpf(10) ** 7, 0, 0], method="precise", dps=5)
 
 
 @pytest.mark.parametrize("w, shape", [([1, 0], r"\(2,\)"), ([[1, 0], [0, 1]], r"\(2, 2\)"),
