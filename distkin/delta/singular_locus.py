@@ -141,7 +141,8 @@ def det_along(platform: Platform66, rotation, translation, length_scale: float, 
         world = pose_points(q, rotation, translation)
         return jacobian_det(b, world, length_scale=length_scale, method="certified")
     world = pose_points(q, np.asarray(rotation, float), np.asarray(translation, float))
-    return jacobian_det(np.broadcast_to(b, world.shape), world, length_scale=length_scale)
+    return jacobian_det(np.broadcast_to(b, world.shape), world, length_scale=length_scale,
+                        warn=False)
 
 
 def normal_line(octahedral, rotation, translation, half_length: float) -> PoseLine:

@@ -177,7 +177,7 @@ def _plucker(base_joints, platform_joints, normalised, reference, method):
 
 def jacobian_det(base_joints, platform_joints, *, normalised: bool = True,
                  length_scale=None, method: str | None = None, with_error: bool = False,
-                 dps: int | None = None):
+                 dps: int | None = None, warn: bool = True):
     r""":math:`\det\mathbf J` of eq. (5) (or of :math:`\hat{\mathbf J}`).
 
     With ``length_scale`` L (a finite number > 0, length units) the moment columns are
@@ -194,8 +194,10 @@ def jacobian_det(base_joints, platform_joints, *, normalised: bool = True,
     :class:`~distkin.errors.ConditioningWarning` names the value and the estimate (QA
     23: ill-conditioned leg lines gave -1.56 for -26.79 without a word); it costs a
     bound of the estimate per pose (:func:`.float_range.det_error_bound`) and the
-    estimate itself only where that bound fails.  Calls from distkin's own modules (root
-    finding along a path, whose iterates approach det J = 0 on purpose) are not warned.
+    estimate itself only where that bound fails.  ``warn=False`` leaves the warning
+    out, for callers that drive det J to 0 on purpose (root finding along a path: the
+    singularity queries, :mod:`distkin.delta.singular_locus`) or read ``with_error``
+    themselves.
     The precise tier works at ``dps`` digits (5..1233, default 30, set locally; only
     with ``method="precise"``), never at mpmath's global ``mp.dps``.  Fast: a value (or estimate) outside
     :math:`2^{\pm 960}`, or a leg whose squared length underflowed, is computed again
@@ -230,21 +232,19 @@ def jacobian_det(base_joints, platform_joints, *, normalised: bool = True,
             out, note = _jdet(base_joints, platform_joints, *args, None)
         if float_range.det_in_range(out[0] if with_error else out) and (
                 not with_error or bool(np.all((out[1] > 0) & (out[1] < np.inf)))):
-            return _said(out, note)
+            return _said(out, note, warn)
     except DegenerateGeometryError:      # a leg's squared length underflowed? (rescaled)
         pass
     b, p = (_prepare(x, "fast", f)[0] for x, f in ((base_joints, "base_joints"),
                                                    (platform_joints, "platform_joints")))
     b, p, scale = float_range.scaled_joints(b, p)
-    return _said(*_jdet(b, p, *args, scale))
+    return _said(*_jdet(b, p, *args, scale), warn)
 
 
-def _said(out, note):
-    """``out``, after the ConditioningWarning ``note`` (if any) at the caller's line;
-    not when :func:`jacobian_det`'s caller is a distkin module (see its docstring)."""
-    import sys
-    if note is not None and not sys._getframe(2).f_globals.get("__name__", "").startswith(
-            "distkin."):
+def _said(out, note, warn_):
+    """``out``, after the ConditioningWarning ``note`` (if any, and ``warn_``) at the
+    caller's line."""
+    if note is not None and warn_:
         from ..errors import ConditioningWarning, warn
         warn(note, ConditioningWarning)
     return out

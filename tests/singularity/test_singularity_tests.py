@@ -119,7 +119,8 @@ def _world(R, t):
 
 def test_root_finding_along_a_path_all_tests_fire_and_arb_certifies():
     path = _twist_path()
-    f = lambda s: jacobian_det(*octahedral_joints(_world(*path.at(s))), length_scale=6.0)  # noqa: E731
+    f = lambda s: jacobian_det(*octahedral_joints(_world(*path.at(s))), length_scale=6.0,  # noqa: E731
+                                warn=False)
     roots, _, _ = path_crossings(f, 40)
     assert len(roots) == 1
     s = roots[0]
@@ -164,7 +165,8 @@ def test_certified_sign_refuses_an_undecided_ball():
     path = PosePath((6 - s3, 2 * s3 - 3, 10), (90 * sp.sqrt(2), 90 * sp.sqrt(2), 0),
                     (6 - s3, 2 * s3 - 3, 10), (90 * sp.sqrt(2), 90 * sp.sqrt(2), 0), deg=True)
     Rf, tf = path.at(np.array([0.0]))
-    assert abs(jacobian_det(*octahedral_joints(_world(Rf, tf)), length_scale=6.0)[0]) < 1e-13
+    assert abs(jacobian_det(*octahedral_joints(_world(Rf, tf)), length_scale=6.0,
+                            warn=False)[0]) < 1e-13
     Rq, tq = path.at_certified(flint.fmpq(0))
     Ba = np.array([[flint.arb(0)] * 3, [flint.arb(6), flint.arb(108).sqrt(), flint.arb(0)],
                    [flint.arb(12), flint.arb(0), flint.arb(0)]], dtype=object)
@@ -195,7 +197,8 @@ def test_det_AJ_equals_det_A_det_J_on_the_built_platform():
 def test_nearest_singularity_is_on_the_singular_surface_and_not_farther_than_the_path():
     path = _twist_path()
     L = 6 / np.sqrt(3)
-    f = lambda R, t: jacobian_det(*octahedral_joints(_world(R, t)), length_scale=L)  # noqa: E731
+    f = lambda R, t: jacobian_det(*octahedral_joints(_world(R, t)), length_scale=L,  # noqa: E731
+                                  warn=False)
     R0, t0 = path.at(np.array([0.25]))
     ns = nearest_singularity(f, R0[0], t0[0], L)
     assert ns.converged and ns.residual < 1e-9
@@ -224,7 +227,7 @@ def test_zero_sets_agree_along_random_paths():
         t1 = np.array([3, 5.196, 10]) + rng.normal(size=3) * 2
         path = PosePath(tuple(t0), tuple(w0), tuple(t1), tuple(w1))
         X = lambda s: _world(*path.at(s))  # noqa: E731
-        r_det = path_crossings(lambda s: jacobian_det(*octahedral_joints(X(s))), 60)[0]
+        r_det = path_crossings(lambda s: jacobian_det(*octahedral_joints(X(s)), warn=False), 60)[0]
         r_k = path_crossings(lambda s: signed_cm_condition(X(s), relative=True), 60)[0]
         r_fp = path_crossings(lambda s: four_planes(X(s)).relative, 60)[0]
         r_a = path_crossings(lambda s: volume_factors(X(s))[0], 60)[0]

@@ -237,3 +237,6 @@ def test_fast_det_warns_where_its_estimate_exceeds_it():
     with pytest.warns(ConditioningWarning, match=r"at 1 of 2 pose\(s\) \(first: batch index "
                                                  r"\(1,\)\)"):
         jacobian_det(np.stack([b, b * 1e20]), np.stack([p, p]))
+    with warnings.catch_warnings():             # warn=False: the same value, no warning
+        warnings.simplefilter("error", ConditioningWarning)
+        assert jacobian_det(b * 1e20, p, warn=False) == v

@@ -336,7 +336,7 @@ def _solve(p, result, unit, ctx):
         R, t = flt(pose.rotation), flt(pose.translation)
         pj = flt(pose.platform_joints)
         s15 = float(getattr(pose.octahedral_pose, "s15", float("nan")))
-        detj = float(jacobian_det(bj, pj))
+        detj = float(jacobian_det(bj, pj, warn=False))
         poses.append({"s15": s15, "rotation": R, "translation": t, "platform_joints": pj,
                       "points": pose_points(pose.octahedral_pose),  # the equivalent octahedron's
                       "max_leg_error": pose.max_leg_error, "det_J66": detj})

@@ -162,7 +162,7 @@ def singularity_tests_at(mech, pose, method: str = "fast", tolerance: float = 1e
     out = {"sigma_min": float(np.linalg.svd(J, compute_uv=False)[-1])}
     if app["det"]:
         tier = None if method == "fast" else method
-        d = jacobian_det(b, p, length_scale=s, method=tier)
+        d = jacobian_det(b, p, length_scale=s, method=tier, warn=False)
         if method == "certified":      # det_J: the midpoint of the ball that decided
             out["det_sign_certified"], d = _certified_sign(d, b, p, s)
         out["det_J"] = _float(d)
@@ -497,7 +497,8 @@ def _root_pairs_between(mech, a, b, s, det):
 
     def f(x):
         x = a + x * (b - a)
-        return float(jacobian_det(*leg_lines(mech, x), length_scale=mech.length_scale))
+        return float(jacobian_det(*leg_lines(mech, x), length_scale=mech.length_scale,
+                                   warn=False))
     vals = np.array([float(v) for v in det])
     return [a + r * (b - a) for r in _root_pairs(f, np.asarray(s), vals, 1e-12)]
 
@@ -510,6 +511,7 @@ def _crossing(mech, a, b):
 
     def f(t):
         x = a + t * (b - a)
-        return float(jacobian_det(*leg_lines(mech, x), length_scale=mech.length_scale))
+        return float(jacobian_det(*leg_lines(mech, x), length_scale=mech.length_scale,
+                                   warn=False))
     t = brentq(f, 0.0, 1.0, xtol=1e-12)
     return a + t * (b - a)

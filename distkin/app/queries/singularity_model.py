@@ -65,7 +65,8 @@ class OctahedralModel:
 
     def det_j(self, R, t):
         from ...singularity import jacobian_det, octahedral_joints
-        return jacobian_det(*octahedral_joints(self.points(R, t)), length_scale=self.L)
+        return jacobian_det(*octahedral_joints(self.points(R, t)), length_scale=self.L,
+                            warn=False)
 
     # -- arb, one pose
     def det_j_arb(self, R, t):
