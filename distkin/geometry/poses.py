@@ -393,8 +393,8 @@ def points_from_pose(R, t, local, *, method: str = "fast", dps: int | None = Non
     local : (k, 3) platform-frame points (rows), length unit
     method : {"fast", "precise", "certified"}
         ``fast``: float64, batched over the leading axes of ``R`` and ``t``.
-        ``precise``: ``mpmath.mpf`` at ``dps`` digits (default: the current
-        ``mpmath.mp.dps``, the working precision of a caller).  ``certified``: exact
+        ``precise``: ``mpmath.mpf`` at ``dps`` digits (default 30, as every precise
+        tier: never mpmath's global ``mp.dps``, 15 unless set, QA 23b).  ``certified``: exact
         ``flint.fmpq`` when every input is rational, ``flint.arb`` balls otherwise.
         In the precise and certified tiers every entry (numbers of any tier, numeric
         strings parsed exactly: ``"19.8"`` is 99/5, ``"sqrt(27)"``) is converted exactly
@@ -447,7 +447,7 @@ def points_from_pose(R, t, local, *, method: str = "fast", dps: int | None = Non
     if method == "precise":
         import mpmath
         from ..exact import default_dps
-        with mpmath.workdps(mpmath.mp.dps if dps is None else default_dps(dps)):
+        with mpmath.workdps(default_dps(dps)):
             return _points_tier(R, t, local, method, atol)
     return _points_tier(R, t, local, method, atol)
 

@@ -115,3 +115,21 @@ def test_certified_exact_congruence_with_rtol_zero():
                          [[0, 0, 0], ["1+1/10**30", 0, 0], [0, 1, 0]], method="certified", rtol=0)
     pose_from_points([[0, 0, 0], [1, 0, 0], [0, 1, 0]],
                      [[0, 0, 0], ["1+1/10**30", 0, 0], [0, 1, 0]], method="certified")
+
+
+def test_precise_points_do_not_follow_mpmaths_global_precision():
+    """QA 23b: without ``dps`` the precise tier worked at ``mp.dps`` (15 unless set, so
+    float64-grade).  Now 30 digits whatever the global setting: p = R q + t with R a
+    rotation by 1/3 rad about z, against the same sum at 60 digits."""
+    import mpmath
+    c, s = mpmath.cos(mpmath.mpf(1) / 3), mpmath.sin(mpmath.mpf(1) / 3)
+    R = [[str(c), str(-s), "0"], [str(s), str(c), "0"], ["0", "0", "1"]]
+    outs = []
+    for global_dps in (15, 50):
+        with mpmath.workdps(global_dps):
+            outs.append(points_from_pose(R, ["0.1", "0", "0"], [["1", "2", "3"]],
+                                         method="precise", atol=1e-12)[0][0])
+    with mpmath.workdps(60):
+        ref = mpmath.mpf(R[0][0]) + 2 * mpmath.mpf(R[0][1]) + mpmath.mpf("0.1")
+    assert outs[0] == outs[1]
+    assert abs(outs[0] - ref) < mpmath.mpf(10) ** -28
