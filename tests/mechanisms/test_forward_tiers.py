@@ -3,12 +3,13 @@
 and the closed-form IK of its points; refusals at singularities; bad input."""
 
 import math
+import warnings
 
 import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from distkin.errors import InputError, UncertifiedError
+from distkin.errors import ConditioningWarning, InputError, UncertifiedError
 from distkin.mechanisms import preset
 from distkin.mechanisms.forward_tiers import forward_tier
 
@@ -72,11 +73,19 @@ def test_redundant_inconsistent_angles_are_bounded_not_hidden():
     least-squares pose, with a residual."""
     mech = preset("octo")
     q = _q(mech, mech.home + OFFSET)
+    with warnings.catch_warnings():         # consistent angles: nothing to say (QA 23b 8)
+        warnings.simplefilter("error", ConditioningWarning)
+        forward_tier(mech, q, method="certified", legs=[1, 2, 3, 4, 5, 6])
+        assert forward_tier(mech, q, method="precise").residual < 1e-15
     q[7] += 1e-5
-    cert = forward_tier(mech, q, method="certified", legs=[1, 2, 3, 4, 5, 6])
+    # and they say so: legs left open beyond the fast tier's residual_tol (QA 23b 8)
+    with pytest.warns(ConditioningWarning, match=r"legs \[7, 8\] .* stay open by up to "
+                                                 r"1\.\d+e-06 m .* inconsistent"):
+        cert = forward_tier(mech, q, method="certified", legs=[1, 2, 3, 4, 5, 6])
     assert cert.legs == (1, 2, 3, 4, 5, 6)
     assert cert.other_legs[8] > 1e-8 and cert.other_legs[7] < 1e-14
-    prec = forward_tier(mech, q, method="precise")
+    with pytest.warns(ConditioningWarning, match=r"rms closure residual .* least-squares"):
+        prec = forward_tier(mech, q, method="precise")
     assert prec.residual > 1e-9
 
 
