@@ -225,27 +225,25 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
 
 
 def _warn_inconsistent(res, tol, units=None):
-    """A :class:`~distkin.errors.ConditioningWarning` where the tier's pose leaves legs
-    open by more than the fast tier's ``residual_tol`` (m): joint values that no pose
-    closes (L > 6: a sensor offset, one leg's value in another unit).  The precise
-    tier's least-squares pose and the certified tier's six-leg pose are then what they
-    say (``error``: how precisely that point is computed, or proved), but not a
-    configuration of the device, and nothing else says so (QA 23b, 8: a precise error
-    of 1e-17 m at an rms closure of 5.7 mm, a certified box with two legs 16 mm
-    open)."""
+    """A :class:`~distkin.errors.ConditioningWarning` where the tier's pose leaves the legs
+    open by more than the fast tier's ``residual_tol`` (m, rms over all legs, the fast
+    tier's own criterion): joint values that no pose closes (L > 6: a sensor offset, one
+    leg's value in another unit).  The precise tier's least-squares pose and the
+    certified tier's six-leg pose are then what they say (``error``: how precisely that
+    point is computed, or proved), but not a configuration of the device, and nothing
+    else said so (QA 23b, 8: a precise error of 1e-17 m at an rms closure of 5.7 mm, a
+    certified box with two legs 16 mm open)."""
+    if not res.residual > tol:
+        return
     lu, lf = (units or _SI_SHOWN)["length"]
+    what = f"the rms closure residual over all legs is {res.residual * lf:.3g} {lu}"
     if res.other_legs:
         worst = max(res.other_legs.values())
-        if not worst > tol:
-            return
-        what = (f"legs {sorted(res.other_legs)} (outside the square system of legs "
-                f"{list(res.legs)}) stay open by up to {worst * lf:.3g} {lu} over the "
-                f"proved box")
-    elif res.residual > tol:
-        what = (f"its rms closure residual over legs {list(res.legs)} is "
-                f"{res.residual * lf:.3g} {lu}: a least-squares pose")
+        what += (f" (legs {sorted(res.other_legs)}, outside the square system of legs "
+                 f"{list(res.legs)}, stay open by up to {worst * lf:.3g} {lu} over the "
+                 f"proved box)")
     else:
-        return
+        what += " at this least-squares pose"
     from ..errors import ConditioningWarning, warn
     warn(f"{res.method} forward kinematics: {what}, above residual_tol = {tol * lf:.3g} "
          f"{lu}: the joint values are inconsistent (no pose closes every leg: a sensor "
