@@ -167,8 +167,11 @@ def degrees_hint(value_rad: float, units, allowed) -> str | None:
             f"deg would be {value_rad * DEG:.4g} rad; angle = \"deg\" reads degrees)")
 
 
-#: below this magnitude (as written, deg) an angle of a deg scene could be radians: π/2
+#: the magnitudes (as written, deg) of the largest angle of a pose or range of a deg scene
+#: that could be radians: [0.01, π/2) (below 0.01 both readings are under 0.6°: a tiny
+#: test value, 0.001 in a grid, said nothing worth a warning)
 RADIANS_BELOW = math.pi / 2
+RADIANS_FROM = 0.01
 
 
 def _round_degrees(v: float) -> bool:
@@ -181,14 +184,16 @@ def _round_degrees(v: float) -> bool:
 def radians_hint(angles, units) -> str | None:
     """The words of a likely unit slip for the angles of one pose or range of a scene
     whose ``[units] angle`` is ``"deg"``, ``angles`` as written (deg), or None: when
-    every nonzero one is below π/2 in magnitude (:data:`RADIANS_BELOW`) and none is a
-    round number of degrees (:func:`_round_degrees`), they read as radians
+    every nonzero one is below π/2 in magnitude (:data:`RADIANS_BELOW`), the largest at
+    least :data:`RADIANS_FROM`, and none is a round number of degrees
+    (:func:`_round_degrees`), they read as radians
     (``rotation = 0.35`` meant as 0.35 rad, 20°).  The reverse of :func:`degrees_hint`;
     conservative: one round or large angle, or none nonzero, and it says nothing."""
     if units.angle != "deg":
         return None
     nonzero = [abs(float(v)) for v in angles if math.isfinite(float(v)) and float(v) != 0.0]
-    if not nonzero or max(nonzero) >= RADIANS_BELOW or any(map(_round_degrees, nonzero)):
+    if (not nonzero or not RADIANS_FROM <= max(nonzero) < RADIANS_BELOW
+            or any(map(_round_degrees, nonzero))):
         return None
     shown = ", ".join(f"{v:g}" for v in angles)
     big = max(nonzero)

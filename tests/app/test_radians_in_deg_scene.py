@@ -1,7 +1,7 @@
 """Radians written in a deg scene (``rotation = 0.35``, a pose's ``0.26, -0.17, 0.35``)
 passed silently: now one GeometryWarning naming the field when every nonzero angle of a
-pose or range is below π/2 in magnitude and none is a round number of degrees (a
-multiple of 0.1° or 0.25°), the reverse of :func:`distkin.app.units.degrees_hint`.
+pose or range is below π/2 in magnitude (the largest at least 0.01) and none is a round
+number of degrees (a multiple of 0.1° or 0.25°), the reverse of :func:`distkin.app.units.degrees_hint`.
 Conservative: a round or large angle, a rad scene, or no nonzero angle says nothing,
 and no example scene warns (loaded only: their queries take minutes).
 
@@ -76,6 +76,8 @@ def test_the_rule_on_its_own():
     assert radians_hint([0.3, 0.2], deg) is None                  # multiples of 0.1 deg
     assert radians_hint([1.6, 0.35], deg) is None                 # 1.6 > π/2
     assert radians_hint([math.pi / 2 - 0.01, 0.35], deg) is not None
+    assert radians_hint([0.001, 0.001], deg) is None              # both readings < 0.6 deg
+    assert radians_hint([0.012, 0.003], deg) is not None
 
 
 def test_no_example_scene_warns():
