@@ -180,8 +180,9 @@ def run_scene(scene, *, plots_dir=None, progress=True, store=None, workers=None,
             if ctx.plots_dir is not None and out.plot is not None:
                 text += _plot(out, ctx.plots_dir, q, rec)
         except DistkinError as exc:
-            # "legs[0]" -> "query[2].legs[0]"; a command-line option ("--scheduler") is
-            # no field of the query
+            # "legs[0]" -> "query[2].legs[0]"; a command-line option ("--scheduler",
+            # "--store") is no field of the query
+            ctx.option_field(exc)
             if exc.field is None or not exc.field.startswith((*ANCHORS, "--")):
                 exc.with_field(q.field)
             if scene.mechanism.kind in SCENE_UNIT_KINDS:   # "length units" -> "mm"

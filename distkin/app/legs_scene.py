@@ -58,7 +58,7 @@ from ..errors import DistkinError, InputError
 from ..exact import exact_to_float, parse_exact, parse_float
 from ..mechanisms.kinematics import LegMechanism
 from ..mechanisms.legs import LEG_FIELDS, PRISMATIC_TYPES
-from .units import angle_factor, length_factor, si_length_hint
+from .units import angle_factor, length_factor, si_length_hint, warn_radians
 
 __all__ = ["parse_legs", "parse_home", "CSV_COLUMNS", "legs_csv_text", "legs_toml_text",
            "DEFAULT_LENGTH_UNIT"]
@@ -319,8 +319,10 @@ def parse_home(home, units, fld):
     if not isinstance(home, list) or len(home) != 6:
         raise InputError(f"expected [x, y, z, rx, ry, rz], got {home!r}", field=fld)
     af = angle_factor(units)
+    angles = [_number(v, f"{fld}[{i + 3}]") for i, v in enumerate(home[3:])]
+    warn_radians(angles, units, fld)
     return tuple([_length(v, units, f"{fld}[{i}]") for i, v in enumerate(home[:3])]
-                 + [_number(v, f"{fld}[{i + 3}]") * af for i, v in enumerate(home[3:])])
+                 + [a * af for a in angles])
 
 
 #: the length unit :func:`legs_csv_text` and :func:`legs_toml_text` write by default (the

@@ -101,6 +101,17 @@ class RunContext:
             print(f"distkin: {message}", file=sys.stderr, flush=True)
 
 
+    def option_field(self, exc) -> None:
+        """Re-anchor, in place, an error of the chunk store (field ``store``, from
+        :mod:`distkin.runstore`) at ``--store`` when the store is the sweep's override: the
+        scene has no such field (QA: ``distkin sweep --store DIR`` said
+        ``query[0].store``), as :meth:`executor` does for ``--scheduler``.  A store
+        written in the scene keeps its field (the caller prefixes ``query[N].``)."""
+        if self.store and exc.field is not None and (exc.field == "store"
+                                                     or exc.field.startswith("store.")):
+            exc.field = "--" + exc.field
+            exc.args = (exc.one_line(),)
+
     def warn(self, message: str) -> None:
         """One line on stderr, once per run, whether or not progress is shown (what the
         user should know about the answer: a range not on the grid, many workers)."""

@@ -19,7 +19,7 @@ from ..exact import parse_float
 __all__ = ["Units", "parse_units", "length_factor", "angle_factor", "length_value",
            "angle_value", "DEG", "SCENE_UNIT_KINDS", "name_scene_units", "scaling_text",
            "SCALING_ORIGIN", "has_si_length", "si_length_hint",
-           "degrees_hint"]
+           "degrees_hint", "radians_hint", "warn_radians"]
 
 #: radians per degree
 DEG = math.pi / 180.0
@@ -165,3 +165,49 @@ def degrees_hint(value_rad: float, units, allowed) -> str | None:
         return None
     return (f"an angle in degrees? the scene's [units] angle is \"rad\" ({value_rad:g} "
             f"deg would be {value_rad * DEG:.4g} rad; angle = \"deg\" reads degrees)")
+
+
+#: the magnitudes (as written, deg) of the largest angle of a pose or range of a deg scene
+#: that could be radians: [0.01, π/2) (below 0.01 both readings are under 0.6°: a tiny
+#: test value, 0.001 in a grid, said nothing worth a warning)
+RADIANS_BELOW = math.pi / 2
+RADIANS_FROM = 0.01
+
+
+def _round_degrees(v: float) -> bool:
+    """Whether ``v`` (deg, as written) is a round number of degrees: a multiple of 0.1
+    or of 0.25 (0.5, 1.5, 0.25, 0.1), what a step or a small tilt in degrees looks like;
+    a radian value such as 0.35 or 0.26 is not."""
+    return any(abs(v * k - round(v * k)) <= 1e-9 * max(1.0, abs(v * k)) for k in (10, 4))
+
+
+def radians_hint(angles, units) -> str | None:
+    """The words of a likely unit slip for the angles of one pose or range of a scene
+    whose ``[units] angle`` is ``"deg"``, ``angles`` as written (deg), or None: when
+    every nonzero one is below π/2 in magnitude (:data:`RADIANS_BELOW`), the largest at
+    least :data:`RADIANS_FROM`, and none is a round number of degrees
+    (:func:`_round_degrees`), they read as radians
+    (``rotation = 0.35`` meant as 0.35 rad, 20°).  The reverse of :func:`degrees_hint`;
+    conservative: one round or large angle, or none nonzero, and it says nothing."""
+    if units.angle != "deg":
+        return None
+    nonzero = [abs(float(v)) for v in angles if math.isfinite(float(v)) and float(v) != 0.0]
+    if (not nonzero or not RADIANS_FROM <= max(nonzero) < RADIANS_BELOW
+            or any(map(_round_degrees, nonzero))):
+        return None
+    shown = ", ".join(f"{v:g}" for v in angles)
+    big = max(nonzero)
+    what = (f"the angles {shown} deg are all below π/2 = 1.571 in magnitude and none"
+            if len(angles) > 1 else
+            f"the angle {shown} deg is below π/2 = 1.571 in magnitude and not")
+    return (f"{what} a round number of degrees: radians? the scene's [units] angle is \"deg\" "
+            f"({big:g} deg is {big * DEG:.4g} rad; {big:g} rad would be {big / DEG:.4g} deg)")
+
+
+def warn_radians(angles, units, field) -> None:
+    """A :class:`~distkin.errors.GeometryWarning` naming ``field`` when
+    :func:`radians_hint` finds the ``angles`` (as written) of a deg scene to be radians."""
+    hint = radians_hint(angles, units)
+    if hint:
+        from ..errors import GeometryWarning, warn
+        warn(f"{field}: {hint}", GeometryWarning)

@@ -57,7 +57,8 @@ def module_text(determinants, flavours, *, generator, title, length_unit=None) -
             "({sq}).  Returns {out} determinants, in the order above{det_unit}.")
     kernels = [Kernel("determinants" + _SUFFIX[f], (("sq", tuple(sym[p] for p in pairs)),),
                       outs, flavour=f, extra={"cse_optimizations": None, "chunk": CHUNK,
-                                             "checked": True, "nonnegative": True},
+                                             "checked": True, "nonnegative": True,
+                                             "units": {"sq": sq}},
                       doc=body.format(names=", ".join(names), sq=sq, det_unit=det_unit,
                                       shape="(..., P)" if f == "batched" else "(P,)",
                                       out="(..., K)" if f == "batched" else "a list of K"))

@@ -19,7 +19,9 @@ the scalar flavour, written out in the kernel (numba compiles it)
     a ``ValueError`` unless ``len(x) == k``, naming the expected shape and the
     received length (or None, a single number, an object without a length: a scalar
     for a pose was a raw ``TypeError`` of ``len``, QA), then ``x`` as a tuple of ``k``
-    floats (a NumPy integer would overflow as well).
+    floats (a NumPy integer would overflow as well), or a ``ValueError`` naming the
+    first entry that is not a number, its ``repr`` and the entries' units
+    (``extra["units"]``; ``ik_scalar([None] * 6)`` was float()'s raw ``TypeError``, QA).
 the loop flavour (``_loop``, for numba), written out in the kernel
     a ``ValueError`` unless every input is an array (N, k) and ``_out`` an array
     (N,) + the output's shape (a single pose was a raw ``IndexError``, QA: the loop
@@ -34,7 +36,13 @@ closure) an entry <= 0 of those columns is a ``ValueError`` naming it (the closu
 passed it off as the positive one, QA; as :func:`distkin.mechanisms.joint_values.
 check_joint_values` refuses it in the package).  NaN passes as NaN in every check.
 Numba formats integers into a message but no float, so the scalar and loop flavours
-name indices and shapes, the batched one the values too.
+name indices and shapes, the batched one the values too (and the scalar one the entry
+that is not a number: a path numba never takes, its input being typed as numbers).
+
+Under numba an input of the wrong kind (a 2-D array for a scalar kernel, a single pose
+for a loop kernel) fails to type before any of these lines runs: the dispatcher is
+numba's (``numba.njit(m.ik_scalar)``), no wrapper of the module, so its ``TypingError``
+stands; the same call uncompiled gets the ``ValueError`` above.
 
 Every check runs once per call on the whole input (vectorised), not per element.
 
@@ -112,8 +120,36 @@ def batch_shape_name(kernel):
     return None
 
 
-def _scalar_lines(name, k, nonneg, positive):
-    """The scalar flavour's check of the input ``name`` of ``k`` numbers."""
+def _entry_lines(name, k, units):
+    """The scalar flavour's conversion of ``name`` to a tuple of ``k`` floats, or a
+    ``ValueError`` naming the first entry that ``float`` refuses and its ``repr`` (a None
+    was float()'s raw ``TypeError``, QA).  Written for numba too: the conversion in a
+    ``try`` (``except Exception``, the form numba compiles), the search for the entry only
+    on the error path; ``units``: the words of the entries' units, or None."""
+    conv = ", ".join(f"float({name}[{i}])" for i in range(k)) + ("," if k == 1 else "")
+    zeros = ", ".join("0.0" for _ in range(k)) + ("," if k == 1 else "")
+    what = f"{k} numbers" + (f" ({units})" if units else "")
+    return ["    try:",
+            f"        _v = ({conv})",
+            "        _j = -1",
+            "    except Exception:",
+            f"        _v = ({zeros})",
+            "        _j = 0",
+            f"        for _i in range({k}):",
+            "            try:",
+            f"                float({name}[_i])",
+            "            except Exception:",
+            "                _j = _i",
+            "                break",
+            "    if _j >= 0:",
+            f"        raise ValueError(f\"expected {name} of shape ({k},): {what}, got "
+            f"{name}[{{_j}}] = \" + repr({name}[_j]))",
+            f"    {name} = _v"]
+
+
+def _scalar_lines(name, k, nonneg, positive, units=None):
+    """The scalar flavour's check of the input ``name`` of ``k`` numbers (``units``: the
+    words of their units, named when an entry is not a number)."""
     want = f"expected {name} of shape ({k},): {k} numbers"
     lines = ["    try:",
              f"        _n = len({name})",
@@ -127,8 +163,7 @@ def _scalar_lines(name, k, nonneg, positive):
              f"                raise ValueError(\"{want}, got a single number\")",
              f"            raise ValueError(\"{want}, got an object without a length\")",
              f"        raise ValueError(f\"{want}, got length {{_n}}\")",
-             f"    {name} = (" + ", ".join(f"float({name}[{i}])" for i in range(k))
-             + ("," if k == 1 else "") + ")"]
+             *_entry_lines(name, k, units)]
     if nonneg:
         lines += [f"    for _j in range({k}):",
                   f"        if {name}[_j] < 0.0:",
@@ -204,8 +239,9 @@ def prologue(kernel, out_shape=None) -> list:
             lines.append(f"    {batch} = _Inputs.batch({names!r}, ({', '.join(names)},))")
         return lines
     lines = []
+    units = kernel.extra.get("units") or {}
     for name, syms in kernel.inputs:
-        lines += _scalar_lines(name, len(syms), nonneg, positive.get(name))
+        lines += _scalar_lines(name, len(syms), nonneg, positive.get(name), units.get(name))
     return lines
 
 

@@ -77,7 +77,9 @@ class Kernel:
         their shapes checked first, :mod:`.checks`; the scene modules' kernels),
         ``nonnegative`` (with ``checked``: inputs that are squared lengths) and
         ``positive`` (with ``checked``: {input name: column indices} that must be > 0,
-        the prismatic legs' lengths of a closure).
+        the prismatic legs' lengths of a closure) and ``units`` (with ``checked``:
+        {input name: the words of its units}, named by a scalar kernel's refusal of an
+        entry that is not a number).
     """
 
     name: str

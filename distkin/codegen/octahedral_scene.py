@@ -223,7 +223,8 @@ def module_text(sides2, names, flavours, *, leg_map=None, generator, title,
             # checked: float64 inputs of shape (..., 6), >= 0 (.checks); the octic of
             # the package's own solver is the internal octic_general, not these
             extra = {"cse_optimizations": None, "chunk": CHUNK, "checked": True,
-                     "nonnegative": True}
+                     "nonnegative": True,
+                     "units": {inputs[0][0]: squared_unit_words(length_unit)}}
             if leg_map is not None and n != "l_squared":
                 extra["prelude"] = _prelude(leg_map)
             kernels.append(Kernel(n + _SUFFIX[flavour], inputs, outs[n], flavour=flavour,

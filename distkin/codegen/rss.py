@@ -135,6 +135,15 @@ def _reach_in_ranges(me, reach, ranged):
     return out
 
 
+def _input_units(L, pris) -> dict:
+    """The units of the kernels' inputs, in words ({input name: words}; a checked scalar
+    kernel names them when an entry is not a number): the pose in SI, ``q`` the crank
+    angles (rad) and/or the prismatic legs' lengths (m) of the table."""
+    q = ("leg lengths in m" if len(pris) == L else "crank angles in rad" if not pris
+         else f"crank angles in rad, the prismatic legs {list(pris)} lengths in m")
+    return {"pose": "x, y, z in m; rx, ry, rz in rad", "q": q}
+
+
 def _kernel_list(desc, exprs, flavours, checked=False, ranged=()):
     import sympy as sp
     from ..mechanisms.symbolic import POSE, q_symbols
@@ -159,7 +168,8 @@ def _kernel_list(desc, exprs, flavours, checked=False, ranged=()):
             # checked: the scene modules' inputs as float64 of the expected shape
             # (.checks); not the internal modules, whose scalar forms numba compiles.
             # A closure's prismatic lengths must be > 0 (it divides by them; QA)
-            extra = {"cse_optimizations": None, "chunk": CHUNK, "checked": checked}
+            extra = {"cse_optimizations": None, "chunk": CHUNK, "checked": checked,
+                     "units": _input_units(L, pris)}
             if checked and n == "closure" and pris:
                 extra["positive"] = {"q": pris}
             out.append(Kernel(name, inputs, output, flavour=flavour, doc=docs[n],

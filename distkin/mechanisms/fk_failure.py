@@ -8,7 +8,8 @@ cannot vouch for, as the octahedral fast tier's, :mod:`distkin.octahedral.forwar
 naming what failed, the joint values given with their units, the legs outside their
 declared ranges, a singular closure Jacobian when that is the cause
 (:func:`singular_cause`) and a likely unit slip (:func:`unit_hint`: leg lengths in mm
-given to a mechanism in m are 1000x its legs).  Nothing of this runs on a solved pose:
+given to a mechanism in m are 1000x its legs).  With ``strict=True`` the same unit slip
+words the error of joint values Gauss-Newton cannot close (:func:`unreachable_error`).  Nothing of this runs on a solved pose:
 the single forward kinematics keeps its speed.
 """
 
@@ -20,7 +21,8 @@ import numpy as np
 
 from ..errors import ConditioningWarning, InfeasibleError, warn as _warn
 
-__all__ = ["singular_condition", "singular_cause", "unit_hint", "warn_unsolved"]
+__all__ = ["singular_condition", "singular_cause", "unit_hint", "joint_values_text",
+           "unreachable_error", "warn_unsolved"]
 
 
 def singular_condition() -> float:
@@ -79,6 +81,35 @@ def unit_hint(mech, q, leg_length: float) -> str:
     return "; ".join(parts)
 
 
+def joint_values_text(mech, q) -> str:
+    """The joint values ``q`` (L,) as text with their units (m for a prismatic leg, rad
+    for a crank)."""
+    pris = np.asarray(mech.leg_arrays()["prismatic"], dtype=bool)
+    units = ("m" if pris.all() else "rad" if not pris.any()
+             else "m for prismatic legs, rad for cranks")
+    return f"[{', '.join(f'{v:.6g}' for v in np.asarray(q, dtype=float))}] ({units})"
+
+
+def unreachable_error(mech, q, slip, condition, residual, max_iter, max_condition):
+    """The :class:`~distkin.errors.NotFoundError` of the strict forward kinematics when
+    Gauss-Newton did not converge for joint values ``q`` (L,) that :func:`unit_hint`
+    finds in another unit (``slip``, its text): the values are likely out of the
+    mechanism's reach, and an ill-conditioned last iterate (``condition`` above
+    ``max_condition``) is where the iteration stranded, not a pose near a singularity
+    (it was a :class:`~distkin.errors.SingularConfigurationError` saying so, QA).
+    ``residual``: the rms closure residual there (m)."""
+    from ..errors import NotFoundError
+    stranded = (f", its last iterate ill-conditioned (condition {float(condition):.3g} > "
+                f"{max_condition:g}: where the iteration stranded, not a pose near a "
+                f"singularity)" if condition > max_condition else "")
+    return NotFoundError(
+        f"expected joint values within the mechanism's reach, got "
+        f"{joint_values_text(mech, q)}, which look out of its reach: {slip}; Gauss-Newton "
+        f"did not converge in {max_iter} iterations (rms closure residual "
+        f"{float(residual):.3g} m){stranded}", field="q", margin=float(residual),
+        hint="the joint values in the engine's units: m for prismatic legs, rad for cranks")
+
+
 def warn_unsolved(mech, qa, single, solved, converged, verified, in_range, condition,
                   message, leg_length):
     """One :class:`~distkin.errors.ConditioningWarning` for the joint-value sets of
@@ -90,11 +121,8 @@ def warn_unsolved(mech, qa, single, solved, converged, verified, in_range, condi
     if not len(bad):
         return
     i = int(bad[0])
-    pris = np.asarray(mech.leg_arrays()["prismatic"], dtype=bool)
     q = qa[i]
-    units = ("m" if pris.all() else "rad" if not pris.any()
-             else "m for prismatic legs, rad for cranks")
-    shown = f"[{', '.join(f'{v:.6g}' for v in q)}] ({units})"
+    shown = joint_values_text(mech, q)
     head = ("forward kinematics: no verified pose for the joint values given" if single else
             f"forward kinematics: {len(bad)} of {len(qa)} joint-value sets without a "
             f"verified pose; the first, set {i}")

@@ -222,7 +222,10 @@ def forward_kinematics(mech, q, guess=None, *, tol=TOL, max_iter=50, max_conditi
         Raise :class:`~distkin.errors.SingularConfigurationError` (near a singularity)
         or :class:`~distkin.errors.NotFoundError` (field ``guess``: no convergence, or an
         answer that fails verification, from that start; not a proof that no pose
-        exists) instead of returning a flagged answer; first
+        exists; field ``q``, saying the values look out of the mechanism's reach and
+        naming the unit slip, when Gauss-Newton did not converge for values in another
+        unit, :func:`.fk_failure.unreachable_error`) instead of returning a flagged
+        answer; first
         :class:`~distkin.errors.InfeasibleError` for joint values outside their legs'
         declared ranges (:func:`.joint_values.check_joint_ranges`; without ``strict`` they are
         solved and flagged: ``in_range`` and ``verified`` False).
@@ -369,8 +372,12 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
             hint="another guess (the crank branch or assembly mode differs), or "
                  "residual_tol for measured angles")
     if strict and (near.any() or (~done).any()):
-        from .fk_failure import unit_hint     # a unit slip also strands Gauss-Newton
-        slip = unit_hint(mech, qa[int(np.argmax(near | ~done))], leg_length(mech)) or None
+        from .fk_failure import unit_hint, unreachable_error  # a unit slip strands G-N
+        i = int(np.argmax(near | ~done))
+        slip = unit_hint(mech, qa[i], leg_length(mech)) or None
+        if slip and not done[i]:            # not a pose near a singularity: out of reach
+            raise unreachable_error(mech, qa[i], slip, cond[i], res[i], max_iter,
+                                    max_condition)
     if strict and near.any():
         raise SingularConfigurationError(
             f"expected a pose away from singularities, got condition {float(cond.max()):.3g} "

@@ -19,6 +19,8 @@ from scene_modules import EX, SCENES
 #: a pose of the Octopod and of the 6-UPS, inside their workspaces
 OP_POSE = np.array([0.04, -0.03, 0.33, 0.26, -0.17, 0.35])
 GS_POSE = np.array([0.01, -0.02, 0.45, 0.05, -0.04, 0.1])
+#: Griffis-Duffy legs 20, 18, 18, 17, 15, 18 squared
+GD_L2 = [400, 324, 324, 289, 225, 324]
 
 
 def _refused(f, args, *words):
@@ -186,3 +188,34 @@ def test_reach_holds_the_declared_crank_ranges(mods):
         np.testing.assert_allclose(out, got[:5], rtol=1e-13)
     assert "declare a joint range" in ru.reach.__doc__ and "[0, 1, 2, 3, 4, 5, 6, 7]" in \
         ru.reach.__doc__
+
+
+def test_an_entry_that_is_not_a_number_is_refused_naming_it(mods):
+    """ik_scalar([None] * 6) was float()'s raw TypeError: now a ValueError naming the
+    expected (6 numbers and their units), the entry and its repr, in every scene module's
+    scalar kernels.  Reference: the input itself (its entries' reprs), and numba's
+    compilation of the same kernel still giving the batched answer."""
+    import numba
+    op, gd, cm, gs = mods["op"], mods["gd"], mods["cm"], mods["gs"]
+    P = len(cm.PAIRS)
+    cases = ((op.ik_scalar, 6, "pose", "x, y, z in m; rx, ry, rz in rad"),
+             (op.jacobian_scalar, 6, "pose", "x, y, z in m; rx, ry, rz in rad"),
+             (gd.octic_scalar, 6, "legs2", "squared length units"),
+             (cm.determinants_scalar, P, "sq", "in m^2, the scene's unit"))
+    for f, k, name, units in cases:
+        for j, bad in ((0, None), (k - 1, "abc"), (2, [1.0, 2.0]), (1, object())):
+            x = [1.0] * k
+            x[j] = bad
+            _refused(f, (x,), f"expected {name} of shape ({k},): {k} numbers ({units})",
+                     f"got {name}[{j}] = {bad!r}")
+    L = op.L
+    _refused(op.closure_scalar, ([0.1] * (L - 1) + [None], OP_POSE),
+             f"expected q of shape ({L},): {L} numbers (crank angles in rad)",
+             f"got q[{L - 1}] = None")
+    _refused(gs.closure_scalar, ([None] * 6, GS_POSE), "(leg lengths in m)", "q[0] = None")
+    _refused(gs.closure_scalar, (gs.ik(GS_POSE), [0.0, None, 0, 0, 0, 0]),
+             "(x, y, z in m; rx, ry, rz in rad)", "pose[1] = None")
+    np.testing.assert_array_equal(gd.octic_scalar([str(v) for v in GD_L2]),  # float("400")
+                                  gd.octic(np.array(GD_L2, float)))
+    compiled = numba.njit(op.ik_scalar)
+    np.testing.assert_allclose(compiled(OP_POSE), op.ik(OP_POSE), rtol=1e-13)

@@ -100,3 +100,49 @@ def test_the_tiers_do_not_warn_of_their_start(gough):
         res = gough.forward_kinematics(q, guess=POSE + [0.3, 0, 0, 0, 0, 0], max_iter=1,
                                        method="precise")
     np.testing.assert_allclose(res.pose, POSE, atol=1e-12)
+
+
+def test_strict_names_lengths_in_mm_unreachable_not_a_singularity(gough, tmp_path):
+    """Strict FK of lengths in mm given to the 6-UPS without declared ranges (nothing
+    refuses them first) raised SingularConfigurationError, "expected a pose away from
+    singularities", though Gauss-Newton had not converged to any pose: now a NotFoundError
+    saying the values look out of the mechanism's reach, with the unit slip of the
+    non-strict warning (fk_failure.unit_hint).  References: the non-strict flags (not
+    converged, last iterate past max_condition: what made it "near a singularity"), and
+    the ratio of the lengths to the legs at home computed here from the joints."""
+    from distkin.app.scene import load_scene
+    from distkin.errors import NotFoundError
+    text = EXAMPLE.read_text(encoding="utf-8")
+    free = tmp_path / "gough_no_ranges.toml"
+    free.write_text("\n".join(ln for ln in text.splitlines() if not ln.startswith("range")),
+                    encoding="utf-8")
+    mech = load_scene(free).mechanism
+    q, _ = mech.inverse_kinematics(POSE)
+    with pytest.warns(ConditioningWarning):
+        flags = mech.forward_kinematics(q * 1000)
+    assert not flags.converged and flags.near_singular and flags.in_range
+    with pytest.raises(NotFoundError) as exc:
+        mech.forward_kinematics(q * 1000, strict=True)
+    msg = exc.value.one_line()
+    ratio = np.median(q * 1000) / np.mean(_home_lengths(gough))
+    assert "expected joint values within the mechanism's reach" in msg
+    assert f"{q[0] * 1000:.6g}" in msg and "look out of its reach" in msg
+    assert f"are {ratio:.3g} x the mechanism's leg length at home" in msg
+    assert "not a pose near a singularity" in msg and exc.value.field == "q"
+    np.testing.assert_allclose(mech.forward_kinematics(q, strict=True).pose, POSE, atol=1e-12)
+
+
+def test_strict_names_crank_degrees_unreachable_not_a_singularity():
+    """The hunt preset's crank angles in degrees: strict FK said "near a singularity"
+    (the stranded iterate's condition 541 > 300); now the unit slip, as the warning.
+    Reference: the degrees of the IK angles of a known pose."""
+    from distkin.errors import NotFoundError
+    mech = preset("hunt")
+    q, _ = mech.inverse_kinematics(mech.home + np.array([0.01, 0.0, 0.0, 0.05, 0.0, 0.0]))
+    with pytest.warns(ConditioningWarning):
+        flags = mech.forward_kinematics(np.degrees(q))
+    assert not flags.converged and flags.near_singular
+    with pytest.raises(NotFoundError, match=r"look out of its reach: crank angles up to "
+                       + f"{np.max(np.abs(np.degrees(q))):.6g}" + r" rad given, beyond one "
+                       r"turn: degrees\?"):
+        mech.forward_kinematics(np.degrees(q), strict=True)

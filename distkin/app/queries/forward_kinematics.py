@@ -46,7 +46,7 @@ from ...argcheck import check_keys, positive_int, positive_number
 from ...errors import DistkinError, InputError, NotFoundError, SingularConfigurationError
 from ...exact import exact_to_float, parse_exact
 from ..query import Outcome, register
-from ..units import angle_factor, length_factor
+from ..units import angle_factor, length_factor, warn_radians
 from .mechanisms import (_fmt_pose, _joint_unit, _numbers, _plotter, _prismatic, _scale,
                          _tier_fields, _units, check_pose_units)
 
@@ -155,7 +155,9 @@ class ForwardKinematicsQuery:
                                                                       _prismatic(mechanism))))
         guess = None
         if "guess" in table:
-            guess = tuple(np.array(_numbers(table["guess"], f"{field}.guess", 6)) * _scale(units))
+            raw_guess = _numbers(table["guess"], f"{field}.guess", 6)
+            warn_radians(raw_guess[3:], units, f"{field}.guess")
+            guess = tuple(np.array(raw_guess) * _scale(units))
             check_pose_units(np.array(guess)[None], units, [f"{field}.guess"],
                              mechanism.length_scale)
         from ...mechanisms.forward import TOL, check_step_tol

@@ -96,7 +96,7 @@ from ...errors import InputError
 from ...exact import parse_float
 from ..mechanism_scene import length_slips, warn_slips
 from ..query import register
-from ..units import DEG, angle_value, degrees_hint, length_value
+from ..units import DEG, angle_value, degrees_hint, length_value, warn_radians
 from ...indices.isotropy import ST_DEFAULT
 from ...indices.study import ACTUATORS, PAPER_TABLE3
 from ..design_report import (MAX_SWEEP_DESIGNS, MAX_SWEEP_EVALUATIONS,  # noqa: F401 (doc)
@@ -209,6 +209,10 @@ def _grid(raw, units, field, centre, rotation, scale, *, max_poses=MAX_GRID_POSE
     if "rotation" in t:
         rotation = angle_value(t["rotation"], units, f"{field}.rotation")
     _check_rotation(rotation, units, f"{field}.rotation")
+    written = [k for k in ("rotation", "rotation_step") if k in t]
+    warn_radians([rotation / angle_value(1, units, field) if k == "rotation" else
+                  rstep / angle_value(1, units, field) for k in written], units,
+                 f"{field}.{' and '.join(written)}")
     if half > MAX_REACH * scale:          # first: 2 half / step may overflow to inf
         raise InputError(f"expected a half of at most {_show(MAX_REACH * scale, units, False)} "
                          f"({MAX_REACH:g} x the mechanism's length scale; no pose of the "
@@ -346,6 +350,9 @@ def _parse_device(d, mechanism, units, field):
     _check_rotation(rotation, units, f"{field}.rotation")
     inner = angle_value(d["inner_rotation"], units, f"{field}.inner_rotation") \
         if "inner_rotation" in d else (20 * DEG if rotation > 20 * DEG + 1e-12 else None)
+    written = [k for k in ("rotation", "inner_rotation") if k in d]
+    warn_radians([(rotation if k == "rotation" else inner) / angle_value(1, units, field)
+                  for k in written], units, f"{field}.{' and '.join(written)}")
     if inner is not None and inner > rotation + 1e-12:
         raise InputError(f"expected inner_rotation <= rotation, got {d.get('inner_rotation')!r}",
                          field=f"{field}.inner_rotation")

@@ -68,7 +68,7 @@ from ...argcheck import check_keys, dps_field, method_field, pose_list
 from ...errors import InputError
 from ...exact import parse_float
 from ..query import Outcome, register
-from ..units import angle_factor, length_factor
+from ..units import angle_factor, length_factor, warn_radians
 from .reach import reach_status, reach_text
 
 __all__ = ["InverseKinematicsQuery", "parse_poses", "check_pose_units"]
@@ -106,6 +106,8 @@ def parse_poses(table, units, field, *, required=True, mechanism=None):
         raise InputError("missing required field 'poses' (or 'pose')", field=f"{field}.poses")
     else:
         return None
+    warn_radians([a for r in rows for a in r[3:]], units,
+                 f"{field}.pose" if "pose" in table else f"{field}.poses")
     X = np.array(rows) * _scale(units)
     if mechanism is not None:
         check_pose_units(X, units, names, mechanism.length_scale)
