@@ -190,7 +190,7 @@ def _evaluate(mech, poses, lim, ST, route, sensitivity, compiled, chunk):
             ok, Jq, J = kin                  # reach and finiteness tested there
         else:
             valid = mech.reachable(poses)[:, None]
-            Jq, Jx = mech.jq_jx(poses)
+            Jq, Jx = mech.jq_jx(poses, warn=False)     # unreachable poses: filtered below
             with np.errstate(divide="ignore", invalid="ignore"):
                 J = Jx / Jq[..., None]
     if kin is None:

@@ -240,14 +240,15 @@ class KernelMethods:
                           f"prismatic leg of zero length (its line is undefined; not valid "
                           f"in inverse_kinematics): J is unbounded or undefined there",
                           ConditioningWarning)
-        if warn and name == "jacobian":
-            # a prismatic leg always closes (its row is its line) and is never screened
-            # by the resolution check: a table of them needs no reach margins
-            if not self.leg_arrays()["prismatic"].all():
-                self._check_resolution(X, out, self._check_closes(X))
+        # a prismatic leg always closes (its row is its line) and is never screened by
+        # the resolution check: a table of them needs no reach margins
+        if warn and not self.leg_arrays()["prismatic"].all():
+            margin = self._check_closes(X, name)
+            if name == "jacobian":
+                self._check_resolution(X, out, margin)
         return out
 
-    def _check_closes(self, X):
+    def _check_closes(self, X, name="jacobian"):
         """The reach margins (N, L) at poses X, and a
         :class:`~distkin.errors.ConditioningWarning` where a revolute leg does not close
         (margin < 0: its IK has no real angle, so its row of J, computed from the
@@ -263,10 +264,11 @@ class KernelMethods:
         bad = (margin < 0.0) & ~self.leg_arrays()["prismatic"][None]
         if bad.any():
             count, first, legs = _first_flagged(bad)
-            _warn(f"jacobian: at {count} of {len(X)} pose(s) a revolute leg does not "
+            rows = "rows of J" if name == "jacobian" else "entries of Jq and rows of Jx"
+            _warn(f"{name}: at {count} of {len(X)} pose(s) a revolute leg does not "
                   f"close (first: pose {first}, leg(s) {legs}: reach margin "
                   f"{float(margin[first][bad[first]].min()):.3g} m^2 < 0, the pose is not "
-                  f"reachable): those rows of J are not defined and the values given for "
+                  f"reachable): those {rows} are not defined and the values given for "
                   f"them mean nothing (inverse_kinematics' valid flags say which)",
                   ConditioningWarning)
         return margin
@@ -344,18 +346,21 @@ class KernelMethods:
         return J[0] if single else J
 
     def jq_jx(self, poses, method: str = "fast", dps: int | None = None,
-              bits: int | None = None):
+              bits: int | None = None, *, warn: bool = True):
         """Jq (N, L) (the diagonal of eq. (1)'s Jq) and Jx (N, L, 6): Jq qdot = Jx xdot.
 
         Jq_ii = dPhi_i/dq_i and Jx = -dPhi/d(v, omega) for the closures Phi_i
         = (|P_i - D_i|^2 - l3^2) / (2 l3) (m).  ``method``, ``dps`` and ``bits`` as
-        :meth:`jacobian`.
+        :meth:`jacobian`; so are the fast tier's warnings where a revolute leg does not
+        close or a row is not finite (QA 23b 7: the rows of an unreachable pose were
+        given without a word); ``warn=False`` leaves them to a caller that filters such
+        poses itself (:meth:`reachable`).
         """
         _check_dps(dps, method, bits)
         if method != "fast":
             return self._tiered("jq_jx", poses, method, dps, bits)
         X, single = _poses(poses, scale=self.length_scale)
-        out = self._fast("jq_jx", X)
+        out = self._fast("jq_jx", X, warn=warn)
         Jq, Jx = out[..., 0], out[..., 1:]
         return (Jq[0], Jx[0]) if single else (Jq, Jx)
 

@@ -126,3 +126,25 @@ def test_unreachable_poses_named_alike_single_and_batched():
     with warnings.catch_warnings():
         warnings.simplefilter("error", ConditioningWarning)
         m.jacobian(X[[0, 1, 3, 5]])                  # reachable: nothing to say
+
+
+def test_jq_jx_names_unreachable_poses_as_jacobian_does():
+    """QA 23b 7: ``jq_jx`` (documented "as jacobian") gave the meaningless rows of a pose
+    1 m above home without a word.  Now the same poses and legs as the reach margins
+    (an independent kernel) say, in one warning; a reachable batch is silent; and
+    ``warn=False`` (the study's route, which filters the poses itself) gives the same
+    numbers silently."""
+    m = preset("octo")
+    X = np.array([m.home, m.home + [0, 0, 1.0, 0, 0, 0]])
+    bad = m.reach_margin(X) < 0.0
+    assert bad.any(axis=-1).tolist() == [False, True]
+    legs = ", ".join(str(j + 1) for j in np.flatnonzero(bad[1]))
+    with pytest.warns(ConditioningWarning, match=rf"jq_jx: at 1 of 2 pose\(s\) a revolute "
+                                                 rf"leg does not close \(first: pose 1, "
+                                                 rf"leg\(s\) {legs}:"):
+        Jq, Jx = m.jq_jx(X)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ConditioningWarning)
+        m.jq_jx(X[:1])
+        Jq2, Jx2 = m.jq_jx(X, warn=False)
+    assert np.array_equal(Jq, Jq2) and np.array_equal(Jx, Jx2)
