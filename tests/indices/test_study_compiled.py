@@ -178,7 +178,7 @@ def test_compiled_loop_kinematics_equal_the_batched_kernels(presets, name):
               np.deg2rad(rng.uniform(-35, 35, (300, 3)))]
     valid, Jq, J = reach_jq_jx(mech, P)
     assert np.array_equal(valid, mech.reachable(P)) and 0 < valid.sum() < len(P)
-    Jq2, Jx2 = mech.jq_jx(P)
+    Jq2, Jx2 = mech.jq_jx(P, warn=False)       # the unreachable poses compared too
     assert np.array_equal(Jq, Jq2)
     assert np.array_equal(J[valid], (Jx2 / Jq2[..., None])[valid])
     out = np.empty((3, mech.L, 7))

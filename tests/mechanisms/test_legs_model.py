@@ -118,7 +118,7 @@ def test_random_mixed_legs_jacobian_against_finite_differences(seed):
     X[0] = mech.home                              # every leg closes there (by construction)
     q, valid = mech.inverse_kinematics(X)
     assert valid[0].all()
-    Jq, _ = mech.jq_jx(X)
+    Jq, _ = mech.jq_jx(X, warn=False)          # unreachable poses: kept out below
     keep = valid.all(axis=1) & (np.abs(Jq).min(axis=1) > 1e-2)   # away from leg singularities
     X, q = X[keep], q[keep]
     assume(len(X) >= 1)                           # else every pose is near a leg singularity

@@ -69,7 +69,7 @@ def test_numpy_route_jacobian_against_finite_differences(seed):
     X[0] = mech.home
     q, valid = mech.inverse_kinematics(X)
     assert valid[0].all()
-    Jq, _ = mech.jq_jx(X)
+    Jq, _ = mech.jq_jx(X, warn=False)          # unreachable poses: kept out below
     keep = valid.all(axis=1) & (np.abs(Jq).min(axis=1) > 1e-2)
     assume(keep.any())                            # else every pose is near a leg singularity
     assert _check_jacobian(mech, X[keep]).max() < 1e-6
