@@ -41,11 +41,14 @@ from .faults import DISCONNECT, FaultInjector
 from .plant import Plant
 from .protocol import (FLAG_KEEPALIVE, MODE_ZERO_TORQUE, STATUS_DEVICE_WATCHDOG,
                        CommandFrame, FrameDecoder, encode_readings)
-from .runlog import CsvLog, EventLog
+from .runlog import EXIT_CODES, CsvLog, EventLog
 from .scheduling import realtime, restore, tight_timer_slack
 
 __all__ = ["PtyTransport", "TcpTransport", "Disconnected", "Simulator", "serve",
-           "IDLE_TIMEOUT_S"]
+           "IDLE_TIMEOUT_S", "INTERRUPTED_EXIT"]
+
+#: the exit code of a simulator stopped by SIGINT or SIGTERM (as every distkin command)
+INTERRUPTED_EXIT = EXIT_CODES["interrupted"]
 
 #: ``distkin sim`` stops when no client connects, or no command arrives, for this long (s)
 IDLE_TIMEOUT_S = 60.0
@@ -349,7 +352,9 @@ class Simulator:
 
 def serve(scene, *, port_file=None, tcp_port=None, faults=(), log_prefix=None,
           seconds=None, announce=sys.stdout, idle_timeout=IDLE_TIMEOUT_S) -> int:
-    """Start a simulator, announce its port, serve until done.  Returns an exit code.
+    """Start a simulator, announce its port, serve until done.  Returns an exit code:
+    0, or :data:`INTERRUPTED_EXIT` (130) when SIGINT or SIGTERM stopped it (README:
+    Ctrl-C stops any command with exit 130).
 
     Parameters
     ----------
@@ -394,7 +399,9 @@ def serve(scene, *, port_file=None, tcp_port=None, faults=(), log_prefix=None,
                           flush=True)
                     return 0
             if sim.stop:
-                return 0
+                print(f"distkin sim: stopped (signal {sim.stop_signal}) before a client "
+                      f"connected to {transport.url}", file=announce, flush=True)
+                return INTERRUPTED_EXIT
         reason = sim.run(seconds)
     finally:
         transport.close()
@@ -407,4 +414,4 @@ def serve(scene, *, port_file=None, tcp_port=None, faults=(), log_prefix=None,
           f"{sim.max_late * 1e3:.1f} ms), {sim.slips} schedule slips "
           f"({sim.slipped * 1e3:.1f} ms)", file=announce,
           flush=True)
-    return 0
+    return INTERRUPTED_EXIT if sim.stop_signal else 0
