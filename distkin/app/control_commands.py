@@ -157,9 +157,10 @@ def cmd_sim(args) -> int:
                      idle_timeout=IDLE_TIMEOUT_S if args.idle_timeout is None
                      else args.idle_timeout)
     except InputError as exc:
-        if exc.field == "tcp_port":            # the API's argument is the option --tcp
+        opt = {"tcp_port": "--tcp", "port_file": "--port-file"}.get(exc.field)
+        if opt:                           # the API's argument is the option
             exc.field = None
-            exc.with_field("--tcp")
+            exc.with_field(opt)
         raise
     if code == INTERRUPTED_EXIT:     # SIGINT/SIGTERM: the line of every command (README)
         print("distkin: error: interrupted", file=sys.stderr)
@@ -325,7 +326,32 @@ def _margin_note(scene, model, args) -> dict:
     return note
 
 
+def _check_run_options(args) -> None:
+    """Refuse, before anything is loaded or started, a ``--port ''`` (no device named)
+    and a ``--wall-limit`` no longer than the run: device time passes at most as fast as
+    wall time (the device keeps its own clock), so T s of it need more than T s of wall
+    time (QA 23 D10: ``--seconds 20 --wall-limit 5`` ran 5 s and blamed the device)."""
+    if args.port is not None and not args.port.strip():
+        raise InputError(f"expected a serial port URL (/dev/ttyUSB0, a pty path, "
+                         f"socket://host:port), got {args.port!r}", field="--port")
+    if args.port:                  # a file or a folder: said before anything is built
+        from ..control.link import not_a_serial_device
+        what = not_a_serial_device(args.port)
+        if what:
+            raise InputError(f"expected a serial device (a tty) or a URL, got "
+                             f"{args.port!r}, which is {what}", field="--port")
+    seconds = RUN_SECONDS if args.seconds is None else args.seconds
+    if args.wall_limit is not None and args.delay_margin is None \
+            and args.wall_limit <= seconds:
+        raise InputError(f"expected --wall-limit longer than the run's --seconds "
+                         f"{seconds:g} s (device time passes at most as fast as wall "
+                         f"time), got {args.wall_limit:g} s", field="--wall-limit",
+                         hint=f"leave it out (default 2 x --seconds + 10 = "
+                              f"{2 * seconds + 10:g} s) or give more than {seconds:g} s")
+
+
 def cmd_control(args) -> int:
+    _check_run_options(args)
     from ..control.controller import Controller
     from ..control.faults import parse_faults
     from ..control.kinematics import model_of
