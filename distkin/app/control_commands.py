@@ -11,7 +11,8 @@
 
 The closing summary is printed (to stderr when the JSON goes to stdout); its JSON has
 the fields ``cycles, seconds, rate_hz, cycle_p50_ms, cycle_p99_ms, bad_frames,
-watchdog_trips, safety_events, exit_reason`` and more.  ``cycle_p50_ms`` /
+watchdog_trips, safety_events, exit_reason`` and more (every field:
+docs/protocol.md, "The summary's fields"; the text: :mod:`.control_summary`).  ``cycle_p50_ms`` /
 ``cycle_p99_ms`` are the controller's compute time per cycle (frame received ->
 command written); ``period_p50_ms`` / ``period_p99_ms`` the time between cycles.
 Exit codes (:data:`distkin.control.runlog.EXIT_CODES`): 0 the run completed; 2 bad
@@ -87,17 +88,29 @@ def _tcp_port(value: str) -> int:
     return v
 
 
+#: ``--faults`` in the help (the kinds of :mod:`distkin.control.faults`, not imported:
+#: the parser is built without numpy)
+FAULTS_HELP = ("comma-separated KIND@T[:ARG], T in s of device time: corrupt@T:N (flip a "
+               "byte in each of N frames, default 1), garbage@T:N (N random bytes, default "
+               "64), truncate@T:N (half of each of N frames, default 1), drop@T:N (N "
+               "frames unsent, default 1), stall@T:MS (send nothing for MS ms of wall "
+               "time, default 50), disconnect@T (close the port); "
+               "e.g. 'corrupt@1.0:3,stall@2.0:50'")
+
+
 def add_sim_parser(sub) -> None:
     p = sub.add_parser("sim", help="start the device simulator on a pty or a TCP port")
     p.add_argument("--scene", help="controller scene TOML ([simulator] table); default: built-in")
     p.add_argument("--port-file", metavar="F", help="also write the port URL to F")
-    p.add_argument("--faults", metavar="SPEC", help="e.g. 'corrupt@1.0:3,stall@2.0:50'")
+    p.add_argument("--faults", metavar="SPEC", help=FAULTS_HELP)
     p.add_argument("--tcp", metavar="PORT", type=_tcp_port,
                    help="serve on TCP (0 = any free port)")
     p.add_argument("--log", metavar="PREFIX",
                    help="write PREFIX.device.csv and PREFIX.device-events.jsonl (PREFIX "
                         "names files, not a directory: '' and a trailing / are refused)")
-    p.add_argument("--seconds", type=_seconds, help="stop after this much device time")
+    p.add_argument("--seconds", type=_seconds,
+                   help="stop after this much device time, s (default: none, serve until "
+                        "the host disconnects, --idle-timeout or a signal)")
     p.add_argument("--idle-timeout", type=_seconds, metavar="S", default=None,
                    help="stop when no client connects, or no command arrives, for S s of "
                         "wall time (default 60)")
@@ -116,7 +129,8 @@ def add_control_parser(sub) -> None:
     p.add_argument("--scene", help="controller scene TOML; default: built-in Octo scene")
     p.add_argument("--seconds", type=_seconds, default=None,
                    help="device time to run, s (default 5)")
-    p.add_argument("--faults", metavar="SPEC", help="faults for the simulator (with --sim)")
+    p.add_argument("--faults", metavar="SPEC", help="faults for the simulator (with --sim): "
+                   + FAULTS_HELP)
     p.add_argument("--json", metavar="PATH|-", help="write the summary as JSON (- for stdout)")
     p.add_argument("--log", metavar="PREFIX", help="write PREFIX.cycles.csv, PREFIX.events.jsonl "
                                                    "(and PREFIX.device.csv, "

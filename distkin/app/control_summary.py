@@ -15,19 +15,36 @@ __all__ = ["format_summary", "ended_line", "closing_lines", "ENDED_BY", "RATE_SH
 def format_summary(s: dict) -> str:
     """The closing summary, one line per topic, units on every number."""
     from ..control.delay_margin import format_ms
+    cpu = (f"; its CPU time p50 {s['cycle_cpu_p50_ms']} ms, p99 {s['cycle_cpu_p99_ms']} ms"
+           if s.get("cycle_cpu_p50_ms") is not None else "")
     compute = ("compute per cycle: no frames" if s["cycle_p50_ms"] is None else
-               f"compute per cycle: p50 {s['cycle_p50_ms']} ms, p99 {s['cycle_p99_ms']} ms")
-    period = ("period: fewer than two cycles" if s["period_p50_ms"] is None else
-              f"period p50 {s['period_p50_ms']} ms, p99 {s['period_p99_ms']} ms")
+               f"compute per cycle (state frame in -> command out, wall): p50 "
+               f"{s['cycle_p50_ms']} ms, p99 {s['cycle_p99_ms']} ms"
+               + (f", max {s['cycle_max_ms']} ms" if s.get("cycle_max_ms") is not None
+                  else "") + cpu)
+    want = s.get("requested_rate_hz")
+    nominal = f" (nominal {1e3 / want:.4g} ms)" if want else ""
+    period = ("period between cycles: fewer than two cycles" if s["period_p50_ms"] is None
+              else f"period between cycles{nominal}: p50 {s['period_p50_ms']} ms, p99 "
+                   f"{s['period_p99_ms']} ms"
+                   + (f", max {s['period_max_ms']} ms" if s.get("period_max_ms") is not None
+                      else "")
+                   + ("; a p50 below the nominal period: frames that waited in the port "
+                      "after a hold-up came back to back (the device catching up)"
+                      if want and s["period_p50_ms"] < 0.95e3 / want else ""))
+    rate = (f"rate: {s['loop_rate_hz']:.1f} Hz" + (f" of {want:g} Hz requested" if want
+                                                    else "")
+            + " from the first frame to the last" if s.get("loop_rate_hz") else "")
     lines = [
         f"distkin control: {s['exit_reason']} -- {s['cycles']} cycles in {s['seconds']:.3f} s "
-        f"wall ({s['rate_hz']:.1f} Hz), {s['device_seconds']:.3f} s device time",
-        f"  {compute}; {period}"
-        + (f"; {s['loop_rate_hz']:.1f} Hz from the first frame to the last"
-           if s.get("loop_rate_hz") else "")
-        + (f"; loop CPU {100 * s['loop_cpu_share']:.0f}% of a core"
-           + (f" (polling the port up to {s['busy_wait_us']:g} µs)" if s["busy_wait_us"]
-              else "") if s.get("loop_cpu_share") is not None else ""),
+        f"wall ({s['rate_hz']:.1f} Hz, start-up and shut-down included), "
+        f"{s['device_seconds']:.3f} s device time",
+        f"  {compute}",
+        f"  {period}",
+        "  " + "; ".join(x for x in (rate, (
+            f"loop CPU {100 * s['loop_cpu_share']:.0f}% of a core"
+            + (f" (polling the port up to {s['busy_wait_us']:g} µs)" if s["busy_wait_us"]
+               else "") if s.get("loop_cpu_share") is not None else "")) if x),
         f"  link: {s['bad_frames']} bad frames, {s['resyncs']} resyncs, {s['timeouts']} read "
         f"timeouts, {s['seq_gaps']} frames missing, {s['stale_frames']} stale frames skipped, "
         f"{s['late_frames']} late and {s['duplicate_frames']} duplicate frames dropped, "
@@ -46,6 +63,7 @@ def format_summary(s: dict) -> str:
         + (f"; {s['nonfinite_cycles']} cycles computed a NaN or infinite command, sent as "
            f"zero torque (a fault)" if s.get("nonfinite_cycles") else ""),
     ]
+    lines = [x for x in lines if x.strip()]          # (no rate, no CPU share: no line)
     if s.get("final_state") is not None:
         share = (f" ({100 * s['fault_seconds'] / s['device_seconds']:.0f}% of the device "
                  f"time)" if s.get("device_seconds") else "")
@@ -72,6 +90,8 @@ def format_summary(s: dict) -> str:
         lines.append("  log: " + ", ".join(str(v) for v in s["log"].values() if v))
     if s.get("error"):
         lines.append(f"  error: {s['error']}")
+    if s.get("simulator_stopped"):
+        lines.append(f"  {s['simulator_stopped']}")
     if s.get("simulator"):
         lines.append(f"  {s['simulator']}")
     if s.get("simulator_error"):

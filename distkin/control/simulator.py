@@ -47,7 +47,8 @@ from .runlog import EXIT_CODES, CsvLog, EventLog
 from .scheduling import realtime, restore, tight_timer_slack
 
 __all__ = ["PtyTransport", "TcpTransport", "Disconnected", "Simulator", "serve",
-           "IDLE_TIMEOUT_S", "INTERRUPTED_EXIT", "check_port_file", "write_port_file"]
+           "IDLE_TIMEOUT_S", "INTERRUPTED_EXIT", "check_port_file", "write_port_file",
+           "closing_line"]
 
 #: the exit code of a simulator stopped by SIGINT or SIGTERM (as every distkin command)
 INTERRUPTED_EXIT = EXIT_CODES["interrupted"]
@@ -452,13 +453,28 @@ def serve(scene, *, port_file=None, tcp_port=None, faults=(), log_prefix=None,
         reason = sim.run(seconds)
     finally:
         transport.close()
-    print(f"distkin sim: stopped ({reason}); {sim.plant.t:.3f} s device time, "
-          f"{sim.commands} commands received, {sim.decoder.bad_frames} bad frames, "
-          f"{sim.dropped_bytes} bytes of state frames dropped"
-          + (f" ({sim.dropped_before_host} before the host's first command)"
-             if sim.dropped_before_host else "")
-          + f", {sim.late_ticks} ticks late (max "
-          f"{sim.max_late * 1e3:.1f} ms), {sim.slips} schedule slips "
-          f"({sim.slipped * 1e3:.1f} ms)", file=announce,
-          flush=True)
+    print(closing_line(sim, reason, transport.url), file=announce, flush=True)
     return INTERRUPTED_EXIT if sim.stop_signal else 0
+
+
+def closing_line(sim, reason: str, url: str) -> str:
+    """``distkin sim``'s last line: how it stopped and what it served.  Without a host
+    (no command ever arrived) it says so, instead of counting device time that never
+    started and frames nobody read (QA 23 D4).  Otherwise: device time, commands, bad
+    frames, the state frames' bytes the port could not take, the *late ticks* (ticks that
+    started after their time because the process was held up: sent back to back, so the
+    device's clock keeps its schedule) and the *schedule slips* (a hold-up longer than
+    ``[simulator] catch_up_ms``: the schedule re-based, that much device time lost)."""
+    if not sim.armed:
+        return (f"distkin sim: stopped ({reason}); no host sent a command on {url} (its "
+                f"device time never started; the {sim.dropped_bytes} bytes of state "
+                f"frames streamed meanwhile went unread)")
+    return (f"distkin sim: stopped ({reason}); {sim.plant.t:.3f} s device time, "
+            f"{sim.commands} commands received, {sim.decoder.bad_frames} bad frames, "
+            f"{sim.dropped_bytes} bytes of state frames dropped"
+            + (f" ({sim.dropped_before_host} before the host's first command)"
+               if sim.dropped_before_host else "")
+            + f", {sim.late_ticks} ticks late (max {sim.max_late * 1e3:.1f} ms; sent back "
+            f"to back to keep the device's clock), {sim.slips} schedule slips "
+            f"({sim.slipped * 1e3:.1f} ms of device time lost to hold-ups beyond "
+            f"catch_up_ms = {sim.cfg.catch_up_ms:g} ms)")

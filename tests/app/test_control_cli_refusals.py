@@ -9,6 +9,7 @@ front, each one ``distkin: error:`` line naming the option, exit 2.
   it was replaced by a regular file holding the URL."""
 
 import os
+import re
 
 import pytest
 
@@ -85,3 +86,12 @@ def test_an_earlier_port_file_is_replaced_atomically(tmp_path):
     with pytest.raises(InputError) as exc:
         check_port_file(d)
     assert exc.value.field == "port_file" and "not a regular file" in exc.value.message
+
+
+def test_the_help_lists_every_fault_kind_with_its_default():
+    from distkin.app.control_commands import FAULTS_HELP
+    from distkin.control.faults import FAULT_KINDS
+    for kind, default in FAULT_KINDS.items():
+        assert f"{kind}@T" in FAULTS_HELP
+        if default:
+            assert re.search(rf"{kind}@T:\w+ \([^)]*default {default}\)", FAULTS_HELP), kind
