@@ -11,7 +11,8 @@
 
 The closing summary is printed (to stderr when the JSON goes to stdout); its JSON has
 the fields ``cycles, seconds, rate_hz, cycle_p50_ms, cycle_p99_ms, bad_frames,
-watchdog_trips, safety_events, exit_reason`` and more.  ``cycle_p50_ms`` /
+watchdog_trips, safety_events, exit_reason`` and more (every field:
+docs/protocol.md, "The summary's fields"; the text: :mod:`.control_summary`).  ``cycle_p50_ms`` /
 ``cycle_p99_ms`` are the controller's compute time per cycle (frame received ->
 command written); ``period_p50_ms`` / ``period_p99_ms`` the time between cycles.
 Exit codes (:data:`distkin.control.runlog.EXIT_CODES`): 0 the run completed; 2 bad
@@ -38,6 +39,8 @@ from pathlib import Path
 
 from ..errors import DistkinError, InputError, LinkError
 from .control_scene_files import builtin_scene, scene_and_inputs as _scene_and_inputs
+from .control_summary import (ENDED_BY, closing_lines, ended_line, format_summary,
+                              rate_check as _rate_check, simulator_interrupt)
 
 __all__ = ["add_sim_parser", "add_control_parser", "cmd_sim", "cmd_control", "builtin_scene",
            "format_summary", "check_distinct_outputs", "ended_line", "closing_lines",
@@ -85,17 +88,29 @@ def _tcp_port(value: str) -> int:
     return v
 
 
+#: ``--faults`` in the help (the kinds of :mod:`distkin.control.faults`, not imported:
+#: the parser is built without numpy)
+FAULTS_HELP = ("comma-separated KIND@T[:ARG], T in s of device time: corrupt@T:N (flip a "
+               "byte in each of N frames, default 1), garbage@T:N (N random bytes, default "
+               "64), truncate@T:N (half of each of N frames, default 1), drop@T:N (N "
+               "frames unsent, default 1), stall@T:MS (send nothing for MS ms of wall "
+               "time, default 50), disconnect@T (close the port); "
+               "e.g. 'corrupt@1.0:3,stall@2.0:50'")
+
+
 def add_sim_parser(sub) -> None:
     p = sub.add_parser("sim", help="start the device simulator on a pty or a TCP port")
     p.add_argument("--scene", help="controller scene TOML ([simulator] table); default: built-in")
     p.add_argument("--port-file", metavar="F", help="also write the port URL to F")
-    p.add_argument("--faults", metavar="SPEC", help="e.g. 'corrupt@1.0:3,stall@2.0:50'")
+    p.add_argument("--faults", metavar="SPEC", help=FAULTS_HELP)
     p.add_argument("--tcp", metavar="PORT", type=_tcp_port,
                    help="serve on TCP (0 = any free port)")
     p.add_argument("--log", metavar="PREFIX",
                    help="write PREFIX.device.csv and PREFIX.device-events.jsonl (PREFIX "
                         "names files, not a directory: '' and a trailing / are refused)")
-    p.add_argument("--seconds", type=_seconds, help="stop after this much device time")
+    p.add_argument("--seconds", type=_seconds,
+                   help="stop after this much device time, s (default: none, serve until "
+                        "the host disconnects, --idle-timeout or a signal)")
     p.add_argument("--idle-timeout", type=_seconds, metavar="S", default=None,
                    help="stop when no client connects, or no command arrives, for S s of "
                         "wall time (default 60)")
@@ -114,7 +129,8 @@ def add_control_parser(sub) -> None:
     p.add_argument("--scene", help="controller scene TOML; default: built-in Octo scene")
     p.add_argument("--seconds", type=_seconds, default=None,
                    help="device time to run, s (default 5)")
-    p.add_argument("--faults", metavar="SPEC", help="faults for the simulator (with --sim)")
+    p.add_argument("--faults", metavar="SPEC", help="faults for the simulator (with --sim): "
+                   + FAULTS_HELP)
     p.add_argument("--json", metavar="PATH|-", help="write the summary as JSON (- for stdout)")
     p.add_argument("--log", metavar="PREFIX", help="write PREFIX.cycles.csv, PREFIX.events.jsonl "
                                                    "(and PREFIX.device.csv, "
@@ -136,7 +152,7 @@ def add_control_parser(sub) -> None:
 
 def cmd_sim(args) -> int:
     from ..control.faults import parse_faults
-    from ..control.simulator import IDLE_TIMEOUT_S, serve
+    from ..control.simulator import IDLE_TIMEOUT_S, INTERRUPTED_EXIT, serve
     from .output_paths import check_output_path
     faults = parse_faults(args.faults)
     scene, inputs = _scene_and_inputs(               # an output never replaces a file read
@@ -150,15 +166,19 @@ def cmd_sim(args) -> int:
     check_distinct_outputs([("--port-file", args.port_file)]
                            + [("--log", p) for p in _log_files(args.log, sim=True).values()])
     try:
-        return serve(scene, port_file=args.port_file, tcp_port=args.tcp, faults=faults,
+        code = serve(scene, port_file=args.port_file, tcp_port=args.tcp, faults=faults,
                      log_prefix=args.log, seconds=args.seconds,
                      idle_timeout=IDLE_TIMEOUT_S if args.idle_timeout is None
                      else args.idle_timeout)
     except InputError as exc:
-        if exc.field == "tcp_port":            # the API's argument is the option --tcp
+        opt = {"tcp_port": "--tcp", "port_file": "--port-file"}.get(exc.field)
+        if opt:                           # the API's argument is the option
             exc.field = None
-            exc.with_field("--tcp")
+            exc.with_field(opt)
         raise
+    if code == INTERRUPTED_EXIT:     # SIGINT/SIGTERM: the line of every command (README)
+        print("distkin: error: interrupted", file=sys.stderr)
+    return code
 
 
 def check_distinct_outputs(outputs) -> None:
@@ -209,110 +229,8 @@ def _wait_port(proc, port_file: Path, timeout: float) -> str:
                     "got nothing", field="--sim")
 
 
-def format_summary(s: dict) -> str:
-    """The closing summary, one line per topic, units on every number."""
-    from ..control.delay_margin import format_ms
-    compute = ("compute per cycle: no frames" if s["cycle_p50_ms"] is None else
-               f"compute per cycle: p50 {s['cycle_p50_ms']} ms, p99 {s['cycle_p99_ms']} ms")
-    period = ("period: fewer than two cycles" if s["period_p50_ms"] is None else
-              f"period p50 {s['period_p50_ms']} ms, p99 {s['period_p99_ms']} ms")
-    lines = [
-        f"distkin control: {s['exit_reason']} -- {s['cycles']} cycles in {s['seconds']:.3f} s "
-        f"wall ({s['rate_hz']:.1f} Hz), {s['device_seconds']:.3f} s device time",
-        f"  {compute}; {period}"
-        + (f"; {s['loop_rate_hz']:.1f} Hz from the first frame to the last"
-           if s.get("loop_rate_hz") else "")
-        + (f"; loop CPU {100 * s['loop_cpu_share']:.0f}% of a core"
-           + (f" (polling the port up to {s['busy_wait_us']:g} µs)" if s["busy_wait_us"]
-              else "") if s.get("loop_cpu_share") is not None else ""),
-        f"  link: {s['bad_frames']} bad frames, {s['resyncs']} resyncs, {s['timeouts']} read "
-        f"timeouts, {s['seq_gaps']} frames missing, {s['stale_frames']} stale frames skipped, "
-        f"{s['late_frames']} late and {s['duplicate_frames']} duplicate frames dropped, "
-        f"{s['write_timeouts']} write timeouts",
-        f"  safety: {s['watchdog_trips']} watchdog trips, {s['estops']} e-stops, "
-        f"{s['recoveries_held']} held outside the safe workspace or moving, "
-        f"{s['rejected_frames']} rejected readings, {s['safety_events']} safety events, "
-        f"{s['refused_poses']} refused set points, {s['saturated_cycles']} saturated cycles"
-        + (f", {s['saturation_faults']} faults oscillating at the torque limit"
-           if s.get("saturation_faults") else ""),
-        f"  device: {s['device_watchdog_frames']} frames with its watchdog tripped, "
-        f"{s['device_saturated_frames']} with a drive saturated",
-        (f"  force: max |f| {s['max_abs_force_N']} N (limit {s['force_limit_N']} N)"
-         if "max_abs_force_N" in s else
-         f"  torque: max |tau| {s['max_abs_torque_Nm']} N·m (limit {s['torque_limit_Nm']} N·m)")
-        + (f"; {s['nonfinite_cycles']} cycles computed a NaN or infinite command, sent as "
-           f"zero torque (a fault)" if s.get("nonfinite_cycles") else ""),
-    ]
-    if s.get("final_state") is not None:
-        share = (f" ({100 * s['fault_seconds'] / s['device_seconds']:.0f}% of the device "
-                 f"time)" if s.get("device_seconds") else "")
-        sent = {True: ", then zero torque commanded on exit",
-                False: ", then zero torque on exit NOT sent (the link refused it)"}.get(
-                    s.get("zero_torque_sent"), "")
-        lines.append(f"  state: {s['final_state']} after the last cycle{sent}; "
-                     f"{s['fault_seconds']:.3f} s of device time in fault or hold{share}")
-    if s.get("delay_margin_periods") is not None:
-        n = s["delay_margin_periods"]
-        lines.append("  PD loop (linearised at home): " + (
-            f"UNSTABLE even lock-stepped, without extra delay (grows at "
-            f"{s['lockstep_growth_per_s']:.4g} 1/s, {s['lockstep_frequency_hz']:.4g} Hz)"
-            if s.get("lockstep") == "unstable" else
-            "marginal without extra delay (an undamped mode: not decided)" if n < 0 else
-            "stable only without extra command delay (one period makes it unstable; "
-            "distkin control --delay-margin)" if n == 0 else
-            f"stable with up to {n} period{'s' if n != 1 else ''} "
-            f"({format_ms(s['delay_margin_ms'])} ms) of extra command delay"
-            + (" or more" if n >= 3 else "")))
-    if s.get("rate_shortfall"):
-        lines.append(f"  rate: {s['rate_shortfall']}")
-    if s.get("log"):
-        lines.append("  log: " + ", ".join(str(v) for v in s["log"].values() if v))
-    if s.get("error"):
-        lines.append(f"  error: {s['error']}")
-    if s.get("simulator"):
-        lines.append(f"  {s['simulator']}")
-    if s.get("simulator_error"):
-        lines.append(f"  simulator failed (exit code {s['simulator_exit_code']}): "
-                     f"{s['simulator_error']}")
-    if s.get("plots"):
-        lines.append("  plots: " + ", ".join(s["plots"]))
-    if s.get("plot_error"):
-        lines.append(f"  plot failed: {s['plot_error']}")
-    return "\n".join(lines)
-
-
 #: ``--seconds`` when not given, s of device time
 RUN_SECONDS = 5.0
-
-#: the runs the device or the link ended (exit 2): the option the stderr line names
-ENDED_BY = {"no_device": None, "no_valid_frames": None, "disconnect": None,
-            "wall_limit": "--wall-limit"}
-
-
-def ended_line(summary: dict, *, sim: bool) -> str:
-    """The one stderr line of a run the device or the link ended (README, docs/design.md
-    §4: ``no_device``, ``no_valid_frames``, ``disconnect``, ``wall_limit``, exit 2;
-    QA X1 D3: they printed nothing): ``distkin: error: FIELD: expected ..., got ...
-    (exit_reason R)``, FIELD ``--port`` (``--sim``: the simulator's port) or
-    ``--wall-limit``; "" for the other reasons."""
-    reason = summary.get("exit_reason")
-    if reason not in ENDED_BY:
-        return ""
-    field = ENDED_BY[reason] or ("--sim" if sim else "--port")
-    why = summary.get("error") or f"expected a completed run, got {reason}"
-    return f"distkin: error: {field}: {why} (exit_reason {reason})"
-
-
-def closing_lines(summary: dict, *, sim: bool) -> list:
-    """The stderr lines after a run's summary: :func:`ended_line` for a run the device
-    or the link ended, and ``distkin: error: interrupted`` for one that SIGINT or
-    SIGTERM stopped (exit 130; README: Ctrl-C stops any command with that line, which
-    :func:`distkin.app.cli.main` prints for the other commands)."""
-    if summary.get("exit_reason") == "interrupted":
-        return ["distkin: error: interrupted"]
-    line = ended_line(summary, sim=sim)
-    return [line] if line else []
-
 
 def _margin_report(scene, model, periods: int) -> dict:
     """``distkin control --delay-margin``: the sweep of :mod:`distkin.control.delay_margin`
@@ -422,25 +340,32 @@ def _margin_note(scene, model, args) -> dict:
     return note
 
 
-#: the achieved rate (first frame to last) below this share of ``[device] rate_hz`` is a
-#: warning: the delay margin and the watchdog were stated in periods that did not happen
-RATE_SHORTFALL = 0.5
-
-
-def _rate_check(summary: dict, rate_hz: float) -> None:
-    """Warn (stderr, and the summary's ``rate_shortfall``) when the loop ran at less
-    than :data:`RATE_SHORTFALL` of the requested rate."""
-    got = summary.get("loop_rate_hz")
-    summary["requested_rate_hz"] = rate_hz
-    if got and summary.get("cycles", 0) >= 2 and got < RATE_SHORTFALL * rate_hz:
-        summary["rate_shortfall"] = (
-            f"the loop ran at {got:.4g} Hz, {100 * got / rate_hz:.2g}% of the requested "
-            f"[device] rate_hz = {rate_hz:g}: the machine or the link cannot keep it")
-        print(f"distkin: warning: [device] rate_hz: {summary['rate_shortfall']}",
-              file=sys.stderr)
+def _check_run_options(args) -> None:
+    """Refuse, before anything is loaded or started, a ``--port ''`` (no device named)
+    and a ``--wall-limit`` no longer than the run: device time passes at most as fast as
+    wall time (the device keeps its own clock), so T s of it need more than T s of wall
+    time (QA 23 D10: ``--seconds 20 --wall-limit 5`` ran 5 s and blamed the device)."""
+    if args.port is not None and not args.port.strip():
+        raise InputError(f"expected a serial port URL (/dev/ttyUSB0, a pty path, "
+                         f"socket://host:port), got {args.port!r}", field="--port")
+    if args.port:                  # a file or a folder: said before anything is built
+        from ..control.link import not_a_serial_device
+        what = not_a_serial_device(args.port)
+        if what:
+            raise InputError(f"expected a serial device (a tty) or a URL, got "
+                             f"{args.port!r}, which is {what}", field="--port")
+    seconds = RUN_SECONDS if args.seconds is None else args.seconds
+    if args.wall_limit is not None and args.delay_margin is None \
+            and args.wall_limit <= seconds:
+        raise InputError(f"expected --wall-limit longer than the run's --seconds "
+                         f"{seconds:g} s (device time passes at most as fast as wall "
+                         f"time), got {args.wall_limit:g} s", field="--wall-limit",
+                         hint=f"leave it out (default 2 x --seconds + 10 = "
+                              f"{2 * seconds + 10:g} s) or give more than {seconds:g} s")
 
 
 def cmd_control(args) -> int:
+    _check_run_options(args)
     from ..control.controller import Controller
     from ..control.faults import parse_faults
     from ..control.kinematics import model_of
@@ -535,11 +460,12 @@ def cmd_control(args) -> int:
                 proc.terminate()
                 out, err = proc.communicate(timeout=10)
             summary["simulator_exit_code"] = proc.returncode
+            simulator_interrupt(summary, proc.returncode)
             said = out.decode(errors="replace").strip().splitlines()
             if said:
                 summary["simulator"] = said[-1]
             lines = err.decode(errors="replace").strip().splitlines()
-            if proc.returncode not in (0, -15) and lines:
+            if proc.returncode not in (0, 130, -2, -15) and lines:
                 summary["simulator_error"] = lines[-1]
         if args.plots and prefix:
             try:

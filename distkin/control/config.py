@@ -65,11 +65,12 @@ from ..toml_syntax import toml_syntax_error
 from .admittance import check_step
 from .plant import HandScript, LinearDrives, Motors, drives_for
 from .scene_checks import (check_busy_wait, check_filter_period, check_safety_at_home,
-                           gravity_warnings, hand_range_warnings)
+                           gravity_warnings, hand_range_warnings, unit_slip_warnings)
 from .scene_fields import bool_field as _bool
 from .scene_fields import environment as _environment
 from .scene_fields import hand_script as _hand
 from .scene_fields import num as _num
+from .scene_fields import pd_units
 from .scene_fields import share as _share
 from .scene_fields import vec as _vec
 
@@ -312,10 +313,11 @@ def _simulator(t, joint="revolute"):
     if joint == "prismatic":        # friction N·s/m at the leg; None: through the screw
         motors = LinearDrives(
             lead=_num(t, "lead", fld, m.lead, positive=True),
-            friction=(_num(t, "friction", fld, None, nonneg=True) if "friction" in t
+            friction=(_num(t, "friction", fld, None, nonneg=True, unit="N·s/m") if "friction" in t
                       else None), **common)
     else:
-        motors = Motors(friction=_num(t, "friction", fld, m.friction, nonneg=True), **common)
+        motors = Motors(friction=_num(t, "friction", fld, m.friction, nonneg=True,
+                                      unit=pd_units(joint)["friction"]), **common)
     seed = t.get("seed", 0)
     if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
         raise InputError(f"expected an integer >= 0, got {seed!r}", field=f"{fld}.seed")
@@ -387,22 +389,25 @@ def _effort_limit(pd, drives, mechanism):
     limits (the ``limit`` of each leg, when every leg of the mechanism declares one),
     and gains beyond :data:`MAX_GAIN_PER_LIMIT` times it."""
     unit = drives.effort_unit
+    units = pd_units("prismatic" if unit == "N" else "revolute")
     for name in ("kp", "kd", "ki"):
         if getattr(pd, name) > MAX_GAIN_PER_LIMIT * pd.torque_limit:
             raise InputError(f"expected at most {MAX_GAIN_PER_LIMIT:g} x torque_limit = "
-                             f"{MAX_GAIN_PER_LIMIT * pd.torque_limit:.4g} (the whole limit for "
-                             f"an error of 1e-12, far below an encoder count), got "
-                             f"{getattr(pd, name)!r}", field=f"pd.{name}")
+                             f"{MAX_GAIN_PER_LIMIT * pd.torque_limit:.4g} {units[name]} (the "
+                             f"whole limit for an error of 1e-12, far below an encoder "
+                             f"count), got {getattr(pd, name)!r} {units[name]}",
+                             field=f"pd.{name}")
     stall = drives.stall_effort
     if pd.torque_limit > stall:
         raise InputError(f"expected at most the stall {'force' if unit == 'N' else 'torque'} "
-                         f"{stall:.4g} {unit}, got {pd.torque_limit}", field="pd.torque_limit")
+                         f"{stall:.4g} {unit}, got {pd.torque_limit:g} {unit}",
+                         field="pd.torque_limit")
     legs = () if mechanism is None else mechanism.leg_description().leg_table
     if legs and all(leg.limit is not None for leg in legs):
         cap = min(min(abs(v) for v in leg.limit) for leg in legs)
         if pd.torque_limit > cap:
             raise InputError(f"expected at most the legs' actuator limit {cap:.4g} {unit}, got "
-                             f"{pd.torque_limit}", field="pd.torque_limit")
+                             f"{pd.torque_limit:g} {unit}", field="pd.torque_limit")
 
 
 def _timing(rate_hz, safety, sim):
@@ -458,18 +463,18 @@ def loads_control_scene(text: str, path: str = "<string>", *,
     rate = _num(dev, "rate_hz", "device", 1000.0, positive=True)
     if rate < MIN_RATE_HZ:
         raise InputError(f"expected rate_hz at least {MIN_RATE_HZ:g} Hz (the controller "
-                         f"waits 10 s for the first frame), got {dev['rate_hz']!r}",
+                         f"waits 10 s for the first frame), got {dev['rate_hz']!r} Hz",
                          field="device.rate_hz")
     if rate > MAX_RATE_HZ:
         raise InputError(f"expected rate_hz at most {MAX_RATE_HZ:g} Hz (what a serial link "
                          f"carries: an 8-leg state frame is 810 bits at 8N1, 8.1 Mbaud at "
-                         f"10 kHz), got {dev['rate_hz']!r}", field="device.rate_hz",
+                         f"10 kHz), got {dev['rate_hz']!r} Hz", field="device.rate_hz",
                          hint="the loop keeps 4 kHz over a pty (BENCHMARKS.md)")
     rt = _bool(dev, "realtime", "device", False)
     busy = _num(dev, "busy_wait_us", "device", 0.0, nonneg=True)
     if busy > 1e6:
         raise InputError(f"expected busy_wait_us (µs) in 0 .. 1e6 (a second of polling at "
-                         f"most), got {dev['busy_wait_us']!r}", field="device.busy_wait_us")
+                         f"most), got {dev['busy_wait_us']!r} µs", field="device.busy_wait_us")
     check_busy_wait(busy, rate)
 
     adm = as_table(require(data, "admittance", ""), "admittance")
@@ -485,13 +490,14 @@ def loads_control_scene(text: str, path: str = "<string>", *,
     check_keys(pdt, {"kp", "ki", "kd", "derivative_filter_s", "torque_limit", "distribution",
                      "gravity_compensation", "hand_feedforward"}, "pd")
     sim = _simulator(as_table(data.get("simulator", {}), "simulator"), joint)
-    d = PDGains.for_drives(sim.motors)
-    pd = PDGains(kp=_num(pdt, "kp", "pd", d.kp, nonneg=True),
-                 ki=_num(pdt, "ki", "pd", d.ki, nonneg=True),
-                 kd=_num(pdt, "kd", "pd", d.kd, nonneg=True),
+    d, u = PDGains.for_drives(sim.motors), pd_units(joint)
+    pd = PDGains(kp=_num(pdt, "kp", "pd", d.kp, nonneg=True, unit=u["kp"]),
+                 ki=_num(pdt, "ki", "pd", d.ki, nonneg=True, unit=u["ki"]),
+                 kd=_num(pdt, "kd", "pd", d.kd, nonneg=True, unit=u["kd"]),
                  derivative_filter_s=_num(pdt, "derivative_filter_s", "pd",
                                           d.derivative_filter_s, nonneg=True),
-                 torque_limit=_num(pdt, "torque_limit", "pd", d.torque_limit, positive=True),
+                 torque_limit=_num(pdt, "torque_limit", "pd", d.torque_limit, positive=True,
+                                   unit=u["torque_limit"]),
                  distribution=choice(pdt.get("distribution", d.distribution),
                                      "pd.distribution", ("projected", "independent")),
                  gravity_compensation=_bool(pdt, "gravity_compensation", "pd",
@@ -534,7 +540,8 @@ def loads_control_scene(text: str, path: str = "<string>", *,
     # 15 N s/m gave a spectral radius of 14 at 1 kHz and loaded silently)
     check_step(mass, damping, env, rate, field="admittance")
     warn = (check_safety_at_home(safety, kin, joint, length_scale)
-            + hand_range_warnings(sim.hand, safety) + gravity_warnings(sim.motors, pd))
+            + hand_range_warnings(sim.hand, safety) + gravity_warnings(sim.motors, pd)
+            + unit_slip_warnings(rate, pd, mass, env, kin, length_scale, sim.motors))
     title = data.get("title", "")
     if not isinstance(title, str):
         raise InputError(f"expected a string, got {title!r}", field="title")

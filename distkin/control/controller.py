@@ -81,7 +81,10 @@ class CycleResult:
 
 
 class Controller:
-    """Admittance + PD controller of one device.
+    """Admittance + PD controller of one device: the scheme of Kühne et al. [1]_,
+    Sec. III-D and Fig. 9 (the hand wrench drives a virtual mass-damper whose pose is
+    the set point of a joint PD at position level, 1 kHz; the module docstring lists
+    the cycle's steps).
 
     Parameters
     ----------
@@ -92,6 +95,19 @@ class Controller:
     fused : bool
         With a compiled model (default), run steps 2-8 of a cycle as one compiled call;
         False: the Python methods below (on the model's kernels), the reference.
+
+    Examples
+    --------
+    >>> from distkin.control import builtin_scene, model_of, run_loopback
+    >>> scene = builtin_scene()
+    >>> out = run_loopback(scene, model_of(scene), 0.05)   # doctest: +SKIP
+    >>> # over a serial link: Controller(scene, model).run(open_link(url), 5.0)
+
+    References
+    ----------
+    .. [1] M. Kühne, J. Potzy, R. García-Rochín, P. van der Smagt, A. Peer, *Design and
+       Evaluation of a Haptic Interface With Octopod Kinematics*, IEEE/ASME
+       Transactions on Mechatronics (README's reference [2]).
     """
 
     #: consecutive forward-kinematics failures tolerated (the last command is repeated)

@@ -258,7 +258,7 @@ def state_encoder():
 
     def encode(seq, t_us, status, vals):
         if type(vals) is not ndarray or vals.dtype != f64 or vals.ndim != 1 \
-                or not 7 <= vals.shape[0] <= MAX_JOINTS + 6:
+                or not 7 <= vals.shape[0] <= MAX_JOINTS + 6 or type(seq) is not int or seq < 0:
             return encode_readings(seq, t_us, status, vals)          # says what is wrong
         if not (vals.flags.c_contiguous and vals.flags.writeable):
             vals = vals.copy()                  # the compiled signature's layout
@@ -279,7 +279,8 @@ def command_encoder():
     def encode(seq, ack, mode, torques, flags=0):
         if type(torques) is not ndarray or torques.dtype != f64 or torques.ndim != 1 \
                 or not 1 <= torques.shape[0] <= MAX_JOINTS or type(mode) is not int \
-                or mode not in MODE_NAMES:
+                or mode not in MODE_NAMES or type(seq) is not int or seq < 0 \
+                or type(ack) is not int or ack < 0:
             return encode_command(seq, ack, mode, torques, flags)      # says what is wrong
         if not (torques.flags.c_contiguous and torques.flags.writeable):
             torques = torques.copy()            # the compiled signature's layout

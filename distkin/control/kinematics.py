@@ -27,7 +27,7 @@ from ..mechanisms.joint_values import range_excess  # (here for the control cycl
 from ..spatial import rotate_pose_scalar
 from ..spatial import rotation_matrix_scalar as _rot  # noqa: F401 (controller, plant)
 
-__all__ = ["KinematicModel", "FKState", "load_model", "model_of", "range_excess",
+__all__ = ["KinematicModel", "FKState", "load_model", "model_of", "apparent_mass", "range_excess",
            "range_side"]
 
 _TWO_PI = 2.0 * math.pi
@@ -308,3 +308,13 @@ def model_of(scene, *, compiled: bool = True) -> KinematicModel:
     if getattr(scene, "mechanism", None) is not None:
         return KinematicModel(scene.mechanism, compiled=compiled)
     return load_model(scene.preset, compiled=compiled)
+
+
+def apparent_mass(mass, joint_inertia: float, J) -> np.ndarray:
+    """The device's Cartesian mass with its drives' reflected inertia, ``M + J_r JᵀJ``
+    (6, 6): what a hand on the platform accelerates (the simulated plant's equations of
+    motion, :mod:`.plant`).  ``mass`` (6, 6) kg and kg·m² (:attr:`KinematicModel.mass`),
+    ``joint_inertia`` each drive's inertia at its joint (kg·m², or kg for a leg on a
+    ball screw), ``J`` (L, 6) the Jacobian ``q̇ = J (v, ω)``."""
+    J = np.asarray(J, dtype=float)
+    return np.asarray(mass, dtype=float) + joint_inertia * (J.T @ J)

@@ -9,15 +9,17 @@ the line is counted in :class:`LinkStats`.
 
 from __future__ import annotations
 
+import errno
 import os
 import select
+import stat
 import time
 from dataclasses import asdict, dataclass
 
 from ..errors import LinkError
 from .protocol import CommandFrame, FrameDecoder, StateFrame, encode_command
 
-__all__ = ["Link", "LinkStats", "open_link"]
+__all__ = ["Link", "LinkStats", "open_link", "not_a_serial_device"]
 
 
 @dataclass
@@ -101,10 +103,18 @@ class Link:
         # the codec first: on an empty numba cache it compiles for seconds, which must
         # happen before the device sees a connection, not while it streams to us
         decoder, encoder = _fast_codec()
+        not_tty = not_a_serial_device(url)
+        if not_tty:
+            raise LinkError(f"expected a serial device (a tty) or a URL, got {url!r}, "
+                            f"which is {not_tty}", field="port")
         try:
             self._ser = serial.serial_for_url(url, baudrate=baudrate, timeout=poll_s,
                                               write_timeout=write_timeout_s)
         except (serial.SerialException, OSError, ValueError) as exc:
+            if f"({errno.ENOTTY}," in str(exc) or getattr(exc, "errno", None) == errno.ENOTTY:
+                raise LinkError(f"expected a serial device (a tty) or a URL, got {url!r}, "
+                                f"which is not a serial device (tty): it takes no serial "
+                                f"line settings ({exc})", field="port") from None
             raise LinkError(f"expected an openable serial URL, got {url!r} ({exc})",
                             field="port") from None
         # a device file (a UART, a pty): read it by os.read on its non-blocking
@@ -368,6 +378,27 @@ class Link:
 
     def __exit__(self, *exc):
         self.close()
+
+
+def not_a_serial_device(url: str) -> str:
+    """What the path ``url`` names when it exists and is no character device (a regular
+    file, a directory, a pipe, a socket: pyserial's "Inappropriate ioctl for device"
+    otherwise); "" for a URL (``socket://``, ``loop://``), a character device, or a
+    path that does not exist (pyserial says so)."""
+    if "://" in url:
+        return ""
+    try:
+        mode = os.stat(url).st_mode
+    except (OSError, ValueError):
+        return ""
+    if stat.S_ISCHR(mode):
+        return ""
+    what = next((name for test, name in ((stat.S_ISREG, "a regular file"),
+                                         (stat.S_ISDIR, "a directory"),
+                                         (stat.S_ISFIFO, "a pipe"),
+                                         (stat.S_ISSOCK, "a socket")) if test(mode)),
+                "a special file")
+    return f"{what}, not a serial device (tty)"
 
 
 def open_link(url: str, **kw) -> Link:

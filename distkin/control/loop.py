@@ -352,8 +352,11 @@ def run_loop(ctl, link, seconds: float, wall_limit: float | None = None) -> dict
                 reason = "completed"
                 break
     except LinkError as exc:
-        reason = "disconnect"
-        ctl.error = exc.message
+        # a SIGINT/SIGTERM that came with the link's end is the interrupt, not the
+        # device's (Ctrl-C reaches a simulator in our process group too, which closes
+        # the port first: QA, 1 run in 5 ended "disconnect", exit 2)
+        reason = "disconnect" if stop["sig"] is None else "interrupted"
+        ctl.error = exc.message if stop["sig"] is None else None
         ctl._event("disconnect", t0, None, message=exc.message)
     except Exception as exc:  # no run ends in a traceback: record, zero torque, exit 1
         reason = "internal_error"

@@ -52,7 +52,7 @@ from ..errors import InputError
 from ..spatial import rotate_pose_scalar as rotate_pose
 from .end_stops import (NEAR_FLOORS, ReachApproach, load_solver, passive_twist, reach_floor,
                         slide)
-from .kinematics import _rot
+from .kinematics import _rot, apparent_mass
 from .protocol import MODE_HOLD, MODE_RUN, STATUS_SATURATED
 
 __all__ = ["Motors", "LinearDrives", "drives_for", "HandScript", "Plant"]
@@ -334,8 +334,7 @@ class Plant:
         self._ck = getattr(self.model, "compiled", None)
         mo = self.motors
         self._w_nl = mo.no_load_speed
-        J = np.asarray(self.model.jacobian(self.pose), dtype=float)
-        Meff = self.M + mo.joint_inertia * (J.T @ J)
+        Meff = apparent_mass(self.M, mo.joint_inertia, self.model.jacobian(self.pose))
         try:
             ok = bool(np.all(np.isfinite(Meff))) and bool(np.all(np.linalg.eigvalsh(
                 0.5 * (Meff + Meff.T)) > 0)) and np.allclose(self.M, self.M.T)
@@ -451,7 +450,7 @@ class Plant:
         J = self.model.jacobian(self.pose)
         w = J.T @ (tau + rotor - mo.friction * self.qdot) + self.hand_wrench
         w[2] -= self.m * mo.gravity
-        Meff = self.M + mo.joint_inertia * (J.T @ J)
+        Meff = apparent_mass(self.M, mo.joint_inertia, J)
         ok = bool(np.all(np.isfinite(Meff)) and np.all(np.isfinite(w)))
         pose = twist = q = None
         near = False

@@ -34,6 +34,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import InputError
+
 __all__ = [
     "VERSION",
     "TYPE_STATE",
@@ -193,6 +195,20 @@ def _check_n(n: int, what: str) -> None:
         raise ValueError(f"{what}: expected 1..{MAX_JOINTS} joints, got {n}")
 
 
+def _check_frame_args(arrays, counters) -> None:
+    """Refuse what no frame can carry (InputError, a ValueError): ``arrays`` ``(name,
+    value)`` that are not one-dimensional (a (2, 4) block is not 8 torques), and
+    ``counters`` ``(name, value)`` that are not integers >= 0 (a seq of -1 or 2.5; the
+    wire's unsigned fields take the value modulo their width, docs/protocol.md)."""
+    for name, v in arrays:
+        if np.ndim(v) != 1:
+            raise InputError(f"expected a one-dimensional array, got shape {np.shape(v)}",
+                             field=name)
+    for name, v in counters:
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0:
+            raise InputError(f"expected an integer >= 0, got {v!r}", field=name)
+
+
 def encode_state(seq: int, t_us: int, status: int, angles, wrench) -> bytes:
     """One device -> host frame, delimiter included.
 
@@ -205,6 +221,8 @@ def encode_state(seq: int, t_us: int, status: int, angles, wrench) -> bytes:
     wrench : array_like, shape (6,)
         Sensor reading (N, N·m; sent as float32).
     """
+    _check_frame_args((("angles", angles), ("wrench", wrench)),
+                      (("seq", seq), ("t_us", t_us), ("status", status)))
     a = np.asarray(angles, dtype="<f4").ravel()
     w = np.asarray(wrench, dtype="<f4").ravel()
     _check_n(a.size, "angles")
@@ -234,6 +252,8 @@ def encode_readings(seq: int, t_us: int, status: int, vals) -> bytes:
 
 def encode_command(seq: int, ack: int, mode: int, torques, flags: int = 0) -> bytes:
     """One host -> device frame, delimiter included (torques in N·m, sent as float32)."""
+    _check_frame_args((("torques", torques),),
+                      (("seq", seq), ("ack", ack), ("flags", flags)))
     t = np.asarray(torques, dtype="<f4").ravel()
     _check_n(t.size, "torques")
     if mode not in MODE_NAMES:

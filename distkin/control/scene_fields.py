@@ -13,19 +13,48 @@ from ..errors import InputError
 from .admittance import Spring, Wall
 from .plant import HandScript
 
-__all__ = ["num", "share", "bool_field", "numbers_only", "vec", "environment", "hand_script"]
+__all__ = ["num", "FIELD_UNITS", "pd_units", "share", "bool_field", "numbers_only", "vec", "environment", "hand_script"]
 
 
-def num(t, key, fld, default, *, positive=False, nonneg=False):
+#: the unit of each number field of the controller scene that has one unit (SI, as the
+#: scene is written); the efforts and gains, whose unit is the legs' (N·m/rad or N/m),
+#: are :func:`pd_units`'
+FIELD_UNITS = {
+    "device.rate_hz": "Hz", "device.busy_wait_us": "µs", "pd.derivative_filter_s": "s",
+    "safety.watchdog_ms": "ms", "safety.max_force": "N", "safety.max_torque": "N·m",
+    "safety.max_angle": "rad", "safety.max_fk_residual": "m", "safety.workspace_m": "m",
+    "safety.workspace_rad": "rad", "safety.saturation_ms": "ms",
+    "safety.recover_speed_m_s": "m/s", "safety.recover_rate_rad_s": "rad/s",
+    "simulator.reply_timeout_ms": "ms", "simulator.device_watchdog_ms": "ms",
+    "simulator.catch_up_ms": "ms", "simulator.force_noise": "N",
+    "simulator.torque_noise": "N·m", "simulator.gravity": "m/s²",
+    "simulator.rotor_inertia": "kg·m²", "simulator.lead": "m/rev"}
+
+
+def pd_units(joint: str) -> dict:
+    """The units of ``[pd]`` kp, ki, kd, torque_limit and of ``[simulator] friction``
+    for legs that are ``joint`` ("revolute": crank angles, torques; "prismatic": leg
+    lengths, forces)."""
+    if joint == "prismatic":
+        return {"kp": "N/m", "ki": "N/(m·s)", "kd": "N·s/m", "torque_limit": "N",
+                "friction": "N·s/m"}
+    return {"kp": "N·m/rad", "ki": "N·m/(rad·s)", "kd": "N·m·s/rad", "torque_limit": "N·m",
+            "friction": "N·m·s/rad"}
+
+
+def num(t, key, fld, default, *, positive=False, nonneg=False, unit=None):
     """``t[key]`` (or ``default``) as a finite float: a TOML number, not a string or a
-    boolean; ``positive`` (> 0) or ``nonneg`` (>= 0) when asked."""
+    boolean; ``positive`` (> 0) or ``nonneg`` (>= 0) when asked.  The error states the
+    value received in ``unit`` (default: :data:`FIELD_UNITS` of the field)."""
     v = t.get(key, default)
     if isinstance(v, bool) or not isinstance(v, (int, float)):
         raise InputError(f"expected a number, got {v!r}", field=f"{fld}.{key}")
     v = float(v)
     if not np.isfinite(v) or (positive and v <= 0) or (nonneg and v < 0):
         want = "a positive number" if positive else "a number >= 0" if nonneg else "a finite number"
-        raise InputError(f"expected {want}, got {v!r}", field=f"{fld}.{key}")
+        u = FIELD_UNITS.get(f"{fld}.{key}", "") if unit is None else unit
+        raise InputError(f"expected {want}, got {v!r}{' ' + u if u else ''}",
+                         field=f"{fld}.{key}")
     return v
 
 
@@ -102,9 +131,9 @@ def environment(items, home):
             require(t, "offset", fld)
             require(t, "stiffness", fld)
             out.append(Wall(tuple(float(v) for v in n / norm),
-                            num(t, "offset", fld, None) / norm,
-                            num(t, "stiffness", fld, None, positive=True),
-                            num(t, "damping", fld, 0.0, nonneg=True)))
+                            num(t, "offset", fld, None, unit="m") / norm,
+                            num(t, "stiffness", fld, None, positive=True, unit="N/m"),
+                            num(t, "damping", fld, 0.0, nonneg=True, unit="N·s/m")))
     return tuple(out)
 
 

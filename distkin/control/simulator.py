@@ -26,10 +26,12 @@ from __future__ import annotations
 
 import errno
 import os
+import re
 import select
 import signal
 import socket
 import sys
+import tempfile
 import time
 import tty
 from pathlib import Path
@@ -41,11 +43,15 @@ from .faults import DISCONNECT, FaultInjector
 from .plant import Plant
 from .protocol import (FLAG_KEEPALIVE, MODE_ZERO_TORQUE, STATUS_DEVICE_WATCHDOG,
                        CommandFrame, FrameDecoder, encode_readings)
-from .runlog import CsvLog, EventLog
+from .runlog import EXIT_CODES, CsvLog, EventLog
 from .scheduling import realtime, restore, tight_timer_slack
 
 __all__ = ["PtyTransport", "TcpTransport", "Disconnected", "Simulator", "serve",
-           "IDLE_TIMEOUT_S"]
+           "IDLE_TIMEOUT_S", "INTERRUPTED_EXIT", "check_port_file", "write_port_file",
+           "closing_line"]
+
+#: the exit code of a simulator stopped by SIGINT or SIGTERM (as every distkin command)
+INTERRUPTED_EXIT = EXIT_CODES["interrupted"]
 
 #: ``distkin sim`` stops when no client connects, or no command arrives, for this long (s)
 IDLE_TIMEOUT_S = 60.0
@@ -347,9 +353,56 @@ class Simulator:
                       p.status(), *p.pose, *p.twist, *p.hand_wrench[:3], *cmd.torques, *p.tau))
 
 
+#: what a port file of ``distkin sim`` holds: one URL, a device path or a TCP socket
+_PORT_FILE = re.compile(r"(/dev/\S+|socket://\S+)\n?")
+
+
+def check_port_file(path) -> None:
+    """Refuse a ``port_file`` that would replace something else (QA 23 D12): a
+    symbolic link (it was replaced by a regular file), anything but a regular file,
+    and a regular file that is not a port file of an earlier ``distkin sim`` (one line,
+    a ``/dev/...`` path or a ``socket://`` URL), which is overwritten.  InputError
+    naming ``port_file``."""
+    p = Path(path)
+    if not os.path.lexists(p):
+        return
+    why = ("a symbolic link (the port file is never written through one)" if p.is_symlink()
+           else None if p.is_file() else "not a regular file")
+    if why is None:
+        try:
+            with p.open("rb") as fh:
+                head = fh.read(4097)
+            text = head.decode("utf-8")
+        except (OSError, UnicodeDecodeError):
+            text = ""
+        if len(head) > 4096 or not _PORT_FILE.fullmatch(text):
+            why = "an existing file that is not a port file of distkin sim (one URL line)"
+    if why:
+        raise InputError(f"expected a new file or an earlier port file to replace, got "
+                         f"{str(path)!r}, {why}", field="port_file",
+                         hint="name another file, or remove it first")
+
+
+def write_port_file(path, url: str) -> None:
+    """Write ``url`` to ``path`` atomically: a temporary file of its own in the same
+    folder (never an existing ``PATH.tmp``), then renamed over ``path``."""
+    p = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(url + "\n")
+        os.replace(tmp, p)
+    except BaseException:
+        if os.path.lexists(tmp):
+            os.unlink(tmp)
+        raise
+
+
 def serve(scene, *, port_file=None, tcp_port=None, faults=(), log_prefix=None,
           seconds=None, announce=sys.stdout, idle_timeout=IDLE_TIMEOUT_S) -> int:
-    """Start a simulator, announce its port, serve until done.  Returns an exit code.
+    """Start a simulator, announce its port, serve until done.  Returns an exit code:
+    0, or :data:`INTERRUPTED_EXIT` (130) when SIGINT or SIGTERM stopped it (README:
+    Ctrl-C stops any command with exit 130).
 
     Parameters
     ----------
@@ -367,6 +420,8 @@ def serve(scene, *, port_file=None, tcp_port=None, faults=(), log_prefix=None,
         long (s of wall time; default :data:`IDLE_TIMEOUT_S`; None: never).
     """
     from .kinematics import model_of
+    if port_file:
+        check_port_file(port_file)
     model = model_of(scene)
     transport = TcpTransport(tcp_port) if tcp_port is not None else PtyTransport()
     sim = Simulator(scene, model, transport, faults=faults, log_prefix=log_prefix)
@@ -380,9 +435,7 @@ def serve(scene, *, port_file=None, tcp_port=None, faults=(), log_prefix=None,
     print(f"distkin sim: {model.L}-leg '{scene.preset}' device serving on {transport.url}",
           file=announce, flush=True)
     if port_file:
-        tmp = Path(f"{port_file}.tmp")
-        tmp.write_text(transport.url + "\n", encoding="utf-8")
-        os.replace(tmp, port_file)
+        write_port_file(port_file, transport.url)
     sim.idle_timeout = idle_timeout
     try:
         if isinstance(transport, TcpTransport):
@@ -394,17 +447,34 @@ def serve(scene, *, port_file=None, tcp_port=None, faults=(), log_prefix=None,
                           flush=True)
                     return 0
             if sim.stop:
-                return 0
+                print(f"distkin sim: stopped (signal {sim.stop_signal}) before a client "
+                      f"connected to {transport.url}", file=announce, flush=True)
+                return INTERRUPTED_EXIT
         reason = sim.run(seconds)
     finally:
         transport.close()
-    print(f"distkin sim: stopped ({reason}); {sim.plant.t:.3f} s device time, "
-          f"{sim.commands} commands received, {sim.decoder.bad_frames} bad frames, "
-          f"{sim.dropped_bytes} bytes of state frames dropped"
-          + (f" ({sim.dropped_before_host} before the host's first command)"
-             if sim.dropped_before_host else "")
-          + f", {sim.late_ticks} ticks late (max "
-          f"{sim.max_late * 1e3:.1f} ms), {sim.slips} schedule slips "
-          f"({sim.slipped * 1e3:.1f} ms)", file=announce,
-          flush=True)
-    return 0
+    print(closing_line(sim, reason, transport.url), file=announce, flush=True)
+    return INTERRUPTED_EXIT if sim.stop_signal else 0
+
+
+def closing_line(sim, reason: str, url: str) -> str:
+    """``distkin sim``'s last line: how it stopped and what it served.  Without a host
+    (no command ever arrived) it says so, instead of counting device time that never
+    started and frames nobody read (QA 23 D4).  Otherwise: device time, commands, bad
+    frames, the state frames' bytes the port could not take, the *late ticks* (ticks that
+    started after their time because the process was held up: sent back to back, so the
+    device's clock keeps its schedule) and the *schedule slips* (a hold-up longer than
+    ``[simulator] catch_up_ms``: the schedule re-based, that much device time lost)."""
+    if not sim.armed:
+        return (f"distkin sim: stopped ({reason}); no host sent a command on {url} (its "
+                f"device time never started; the {sim.dropped_bytes} bytes of state "
+                f"frames streamed meanwhile went unread)")
+    return (f"distkin sim: stopped ({reason}); {sim.plant.t:.3f} s device time, "
+            f"{sim.commands} commands received, {sim.decoder.bad_frames} bad frames, "
+            f"{sim.dropped_bytes} bytes of state frames dropped"
+            + (f" ({sim.dropped_before_host} before the host's first command)"
+               if sim.dropped_before_host else "")
+            + f", {sim.late_ticks} ticks late (max {sim.max_late * 1e3:.1f} ms; sent back "
+            f"to back to keep the device's clock), {sim.slips} schedule slips "
+            f"({sim.slipped * 1e3:.1f} ms of device time lost to hold-ups beyond "
+            f"catch_up_ms = {sim.cfg.catch_up_ms:g} ms)")

@@ -39,9 +39,11 @@ def paper_positions(mech, half: float = 0.075) -> np.ndarray:
     return np.array(out)
 
 
-def servo_stiffness(mech, kp: float, poses) -> np.ndarray:
+def servo_stiffness(mech, kp: float, poses, directions=None) -> np.ndarray:
     """The compliance reading ``1/[K⁻¹]_ii`` of ``K = kp JᵀJ`` along x, y, z (N/m),
-    shape (N, 3), at poses (N, 6) (module docstring).
+    shape (N, 3), at poses (N, 6) (module docstring); with ``directions`` (k, 3), unit
+    vectors, the reading ``1/(dᵀ [K⁻¹]_tt d)`` along each, shape (N, k) (a wall's
+    normal: :func:`.scene_checks.unit_slip_warnings`).
 
     Raises
     ------
@@ -74,7 +76,10 @@ def servo_stiffness(mech, kp: float, poses) -> np.ndarray:
             f"1e-12), got a singular Jacobian at pose[{i}] = {np.round(P[i], 6).tolist()} "
             "(m, rad)", field="poses")
     C = np.linalg.inv(kp * np.swapaxes(J, -1, -2) @ J)
-    return 1.0 / np.diagonal(C, axis1=-2, axis2=-1)[..., :3]
+    if directions is None:
+        return 1.0 / np.diagonal(C, axis1=-2, axis2=-1)[..., :3]
+    D = np.atleast_2d(np.asarray(directions, dtype=float))
+    return 1.0 / np.einsum("ki,nij,kj->nk", D, C[:, :3, :3], D)
 
 
 def stiffness_summary(mech, kp: float, half: float = 0.075) -> dict:

@@ -43,7 +43,7 @@ def test_no_frames_summary_says_so():
         s = ctl.run(link, 1.0)
     assert s["exit_reason"] == "no_device" and s["cycle_p50_ms"] is None
     text = format_summary(s)
-    assert "compute per cycle: no frames" in text and "period: fewer than two cycles" in text
+    assert "compute per cycle: no frames" in text and "period between cycles: fewer than two cycles" in text
     assert "None" not in text
 
 

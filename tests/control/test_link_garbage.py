@@ -128,7 +128,7 @@ def test_control_cli_ends_and_commands_zero_torque_against_garbage(tmp_path):
     and its last frames on the wire command zero torque."""
     dev = GarbageDevice()
     try:
-        proc = run_cli(["control", "--port", dev.url, "--seconds", 5, "--wall-limit", 3,
+        proc = run_cli(["control", "--port", dev.url, "--seconds", 2, "--wall-limit", 3,
                         "--json", "-"], tmp_path, timeout=_START + 60)
     finally:
         dev.close()
@@ -146,7 +146,7 @@ def test_control_cli_sigint_against_garbage_ends_with_zero_torque(tmp_path):
     dev = GarbageDevice()
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
     proc = subprocess.Popen([sys.executable, "-m", "distkin", "control", "--port", dev.url,
-                             "--seconds", "600", "--wall-limit", "600", "--json", "-"],
+                             "--seconds", "600", "--wall-limit", "1200", "--json", "-"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             cwd=tmp_path, env=env)
     try:

@@ -56,10 +56,13 @@ def test_a_disconnect_prints_one_line(tmp_path):
 
 
 def test_the_wall_limit_prints_one_line(tmp_path):
-    proc = run_cli(["control", "--sim", "--seconds", 5, "--wall-limit", 0.3], tmp_path)
+    # (a wall limit no longer than --seconds is refused before the run: the device
+    # stalls for 2 s instead, past the limit)
+    proc = run_cli(["control", "--sim", "--seconds", 0.2, "--wall-limit", 0.3,
+                    "--faults", "stall@0.01:2000"], tmp_path)
     assert proc.returncode == 2
     line = _one_error_line(proc)
-    assert line.startswith("distkin: error: --wall-limit: expected 5 s of device time "
+    assert line.startswith("distkin: error: --wall-limit: expected 0.2 s of device time "
                            "within the wall-time limit of 0.3 s, got ")
     assert line.endswith("(exit_reason wall_limit)")
 
