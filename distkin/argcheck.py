@@ -16,6 +16,7 @@ from .errors import InputError
 from .exact import METHODS, Exact, check_method, parse_float, parse_vector
 
 __all__ = [
+    "floats_in_range",
     "require",
     "optional",
     "as_table",
@@ -140,6 +141,23 @@ def length_in_range(value: float, field: str, *, zero_ok: bool = False) -> float
                          f"{' (or 0)' if zero_ok else ''}: the kernels' powers of lengths "
                          f"leave float64's range beyond, got {value!r} m", field=field)
     return value
+
+
+def floats_in_range(arr, convert, field: str, expected: str, *, show=repr,
+                    hint: str | None = None) -> np.ndarray:
+    """``convert`` (to float) of every entry of the object array ``arr`` as a float array;
+    an entry beyond float64's range (``convert`` raises OverflowError: an exact 1e400)
+    is an :class:`InputError` naming the entry (``field[i][j]``), ``expected`` and the
+    value as ``show`` gives it."""
+    out = np.empty(arr.shape, dtype=float)
+    for idx, v in np.ndenumerate(arr):
+        try:
+            out[idx] = convert(v)
+        except OverflowError:
+            raise InputError(f"expected {expected}, got {show(v)}",
+                             field=field + "".join(f"[{int(i)}]" for i in idx),
+                             hint=hint) from None
+    return out
 
 
 def float_array(value, field: str, shape: tuple) -> np.ndarray:

@@ -519,14 +519,9 @@ def squared_distances(points):
     flat = arr.ravel().tolist()
     kind = _kind_of(flat, "coordinates", "points")
     if kind == "float":
-        out = np.empty(arr.shape)
-        for idx, v in np.ndenumerate(arr):
-            try:
-                out[idx] = float(v)
-            except OverflowError:
-                raise InputError(f"expected coordinates within the float64 range (|x| < "
-                                 f"1.8e308) among float ones, got {_show_big(v)}",
-                                 field="points" + "".join(f"[{i}]" for i in idx)) from None
+        from ..argcheck import floats_in_range
+        out = floats_in_range(arr, float, "points", "coordinates within the float64 range "
+                              "(|x| < 1.8e308) among float ones", show=_show_big)
         return squared_distances(out)
     if kind in ("mpf", "arb"):             # exact entries (ints, fmpq) are finite
         import mpmath

@@ -262,16 +262,10 @@ def _has_strings(points) -> bool:
 def _converted(arr, to, field: str):
     """``to`` (:func:`_float`) of every entry as a float array; a value beyond float64
     (an exact 1e400) is an :class:`InputError` naming its entry."""
-    out = np.empty(arr.shape, dtype=float)
-    for idx, v in np.ndenumerate(arr):
-        try:
-            out[idx] = to(v)
-        except OverflowError:
-            raise InputError(f"expected coordinates within float64's range (|x| < 1.8e308) "
-                             f"for method 'fast', got {_shown(v)}",
-                             field=field + "".join(f"[{int(i)}]" for i in idx),
-                             hint="method='precise' or 'certified'") from None
-    return out
+    from ..argcheck import floats_in_range
+    return floats_in_range(arr, to, field, "coordinates within float64's range "
+                           "(|x| < 1.8e308) for method 'fast'", show=_shown,
+                           hint="method='precise' or 'certified'")
 
 
 def _sympify(v):
