@@ -228,13 +228,33 @@ def check_apart(files=(), folders=(), stores=()) -> None:
 
 
 def write_text(path, text: str, field: str) -> None:
-    """Write ``text`` to ``path``, making its folders; a failure names ``field``."""
-    p = Path(path)
+    """Write ``text`` to ``path``, making its folders; a failure names ``field``.
+
+    Atomic for a regular file (or a new one): the text goes to a temporary file beside
+    it (``.NAME.PID.tmp``, made with the usual permissions), which then replaces it
+    (:func:`os.replace`), so an interrupt or a full disk never leaves half a file, nor an
+    earlier run's file looking as if it were this run's.  A symbolic link is followed
+    (its target is replaced); a device or a pipe (``/dev/stdout``) is written in place."""
+    p = Path(os.path.realpath(path))
+    tmp = None
     try:
         p.parent.mkdir(parents=True, exist_ok=True)
-        p.write_text(text, encoding="utf-8")
+        if p.exists() and not p.is_file():
+            with open(p, "w", encoding="utf-8") as fh:
+                fh.write(text)
+            return
+        tmp = p.parent / f".{p.name}.{os.getpid()}.tmp"
+        with open(tmp, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        os.replace(tmp, p)
     except OSError as exc:
         raise _refuse(path, exc, field) from None
+    finally:
+        if tmp is not None and tmp.exists():
+            try:
+                tmp.unlink()
+            except OSError:
+                pass
 
 
 def write_json(path, payload: str) -> None:
