@@ -14,12 +14,14 @@ failure and a lost result, with one line naming the option (exit code 2).  So is
 output inside the installed package (:data:`PACKAGE`, resolved through symbolic links
 and ``..``: ``distkin codegen S.toml -o <package>/errors.py`` replaced a source file),
 and outputs of one command that would land on each other (:func:`check_apart`: ``--json``
-the ``--plots`` folder, or a file inside the ``--store`` of the chunks).
+the ``--plots`` folder or a file a query writes there, or a file inside the ``--store`` of
+the chunks).
 """
 
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 from ..errors import InputError
@@ -190,9 +192,10 @@ def check_apart(files=(), folders=(), stores=()) -> None:
     Raises
     ------
     InputError
-        Two files are one; a file is a folder, or is inside a store (or a .png inside
-        a plots folder, where a plot may be named so); a folder is inside a file; a
-        folder is, or is inside, a store.  Names the later option.
+        Two files are one; a file is a folder, or is inside a store (or inside a
+        plots folder under a name a query's files may have: ``q{i}_*`` or ``*.png``);
+        a folder is inside a file; a folder is, or is inside, a store.  Names the later
+        option.
     """
     def keep(pairs):
         return [(f, Path(p)) for f, p in pairs if p is not None and str(p) not in ("", "-")]
@@ -207,14 +210,18 @@ def check_apart(files=(), folders=(), stores=()) -> None:
     for fd, d in folders + stores:
         kind = "chunk store" if (fd, d) in stores else "folder"
         for ff, f in files:
-            # a plots folder holds only its PNGs (q{i}_{type}*.png): a JSON beside them
-            # (--plots out --json out/r.json) overwrites nothing; the folder itself, or a
-            # .png that a plot may be named, does
-            beside = (kind == "folder" and f.suffix.lower() != ".png"
-                      and not same_file(f, d))
+            # a plots folder holds the files the queries write, each named after its
+            # query, q{i}_{type}* (PNGs, and performance's q{i}_performance_tables.json
+            # and .md; demo's in a sub-folder per scene): a JSON of another name
+            # (--plots out --json out/r.json) overwrites nothing; the folder itself, a
+            # q{i}_* name or a .png does (QA 23 D2: --json P/q3_performance_tables.json)
+            beside = (kind == "folder" and not _plot_name(f) and not same_file(f, d))
             if _inside(f, d) and not beside:
+                why = (f" (the files a query writes in the {fd} folder are named "
+                       "q{i}_{type}*, as q3_performance_tables.json; one would overwrite "
+                       "the other)" if kind == "folder" and not same_file(f, d) else "")
                 raise InputError(f"expected a path outside the {fd} {kind} {str(d)!r}, "
-                                 f"got {str(f)!r}", field=ff,
+                                 f"got {str(f)!r}{why}", field=ff,
                                  hint=f"write {ff} beside the {kind}, not in it")
             if _inside(d, f):
                 raise InputError(f"expected a folder apart from the {ff} file {str(f)!r}, "
@@ -225,6 +232,12 @@ def check_apart(files=(), folders=(), stores=()) -> None:
                 raise InputError(f"expected a folder outside the {fs} chunk store "
                                  f"{str(s)!r}, got {str(d)!r}", field=fd,
                                  hint="write the plots beside the store, not in it")
+
+
+def _plot_name(f: Path) -> bool:
+    """Whether a file may be one a query writes into a plots folder: a ``.png``, or a
+    name of the queries' pattern ``q{i}_{type}*`` (``cli._plot``'s stem)."""
+    return f.suffix.lower() == ".png" or re.match(r"q\d+_", f.name) is not None
 
 
 def write_text(path, text: str, field: str) -> None:
