@@ -11,7 +11,9 @@
 
 Exit codes: 0 ok; 2 bad input or a query whose data admit no answer (one line on
 stderr naming the field); 1 an internal failure (one line; ``--debug`` shows the
-traceback); 130 interrupted (Ctrl-C: ``distkin: error: interrupted``); 141 when the
+traceback); 130 interrupted (Ctrl-C or SIGTERM: ``distkin: error: interrupted``; ``run``
+and ``demo`` still write the report and the JSON of the queries so far, marked
+``"interrupted": true``, :class:`RunInterrupted`); 141 when the
 reader of stdout left (``distkin demo | head``: nothing on stderr).  A usage error
 (an unknown option, no command) is one line too, exit 2.  A plot that fails (``--plots``) is a warning on stderr and a
 ``plot_error`` in the query's JSON record; its results are kept and the exit code does
@@ -33,8 +35,8 @@ from pathlib import Path
 from .._version import __version__
 from ..errors import DistkinError, InputError, is_input_error
 
-__all__ = ["main", "run_scene", "DEMO_SCENES", "DEMO_SCENE", "SUBCOMMANDS", "CHUNKED",
-           "format_warning"]
+__all__ = ["main", "run_scene", "RunInterrupted", "interrupted_document", "DEMO_SCENES",
+           "DEMO_SCENE", "SUBCOMMANDS", "CHUNKED", "format_warning"]
 
 #: built-in scenes run by ``distkin demo``, in order (files in distkin/scenes/)
 DEMO_SCENES = [
@@ -143,6 +145,33 @@ def _err(msg: str) -> None:
     print(f"distkin: error: {msg}", file=sys.stderr)
 
 
+class RunInterrupted(KeyboardInterrupt):
+    """Ctrl-C or SIGTERM while :func:`run_scene` ran a query: the run stops, and the JSON
+    records so far go with it (QA 23 D1: an interrupt wrote no JSON at all).
+
+    Attributes
+    ----------
+    records, texts : list
+        As :func:`run_scene` returns them: the finished queries, then the interrupted
+        one (status ``"error"``, ``error.kind`` ``"interrupted"``).
+    not_run : list of dict
+        ``{"field", "type"}`` of each query after it, which never started.
+    """
+
+    def __init__(self, records, texts, not_run):
+        super().__init__("interrupted")
+        self.records, self.texts, self.not_run = records, texts, not_run
+
+
+def interrupted_document(doc: dict, not_run: list) -> dict:
+    """Mark a JSON document (:func:`.report.document`) as that of an interrupted run
+    (README "Using it"): ``"interrupted": true`` and ``not_run``, the queries that never
+    started (``{"field", "type"}``, with ``scene`` in ``distkin demo``'s)."""
+    doc["interrupted"] = True
+    doc["not_run"] = not_run
+    return doc
+
+
 def run_scene(scene, *, plots_dir=None, progress=True, store=None, workers=None,
               scheduler=None):
     """Run every query of a loaded scene.
@@ -158,6 +187,12 @@ def run_scene(scene, *, plots_dir=None, progress=True, store=None, workers=None,
         The readable text of each query.
     worst : int
         0 if every query succeeded, 2 if one failed on its data, 1 on internal failure.
+
+    Raises
+    ------
+    RunInterrupted
+        Ctrl-C or SIGTERM (a ``KeyboardInterrupt``) during a query: it carries the
+        records of the finished queries and of the interrupted one.
     """
     from . import registry as queries
     from .registry import RunContext
@@ -196,6 +231,19 @@ def run_scene(scene, *, plots_dir=None, progress=True, store=None, workers=None,
             if "--debug" in sys.argv:
                 traceback.print_exc()
             worst = 1
+        except KeyboardInterrupt:
+            seconds = time.perf_counter() - t0
+            later = scene.queries[len(records) + 1:]
+            rec.update(status="error", result={}, seconds=seconds, error={
+                "kind": "interrupted",
+                "message": f"{q.field} ({q.type}): interrupted (Ctrl-C or SIGTERM) after "
+                           f"{seconds:.1f} s, before its result (a chunked query keeps "
+                           "the chunks it finished in its store)"
+                           + (f"; not run: {', '.join(r.field for r in later)}"
+                              if later else "")})
+            raise RunInterrupted(records + [rec], texts + [""],
+                                 [{"field": r.field, "type": r.type} for r in later]
+                                 ) from None
         rec["seconds"] = time.perf_counter() - t0
         records.append(rec)
         texts.append(text)
@@ -221,11 +269,15 @@ def _plot(out, plots_dir, q, rec) -> str:
     return "\nplots: " + ", ".join(str(p) for p in paths)
 
 
-def _emit(scene_path, records, texts, args) -> None:
+def _emit(scene_path, records, texts, args, not_run=None) -> None:
+    """Print the readable report and write the JSON; ``not_run`` (a list) marks the
+    document as that of an interrupted run (:func:`interrupted_document`)."""
     from .output_paths import write_json
     from .report import document, dumps, render_text
     text = render_text(scene_path, records, texts)
     doc = document(scene_path, records, __version__)
+    if not_run is not None:
+        interrupted_document(doc, not_run)
     if args.json == "-":
         print(text, file=sys.stderr)
         print(dumps(doc))
@@ -283,11 +335,18 @@ def _cmd_run(args) -> int:
         print(f"distkin: warning: {args.scene}: the scene has no chunked query "
               f"({', '.join(CHUNKED)}), so --workers, --scheduler and --store change "
               "nothing; its queries run as with distkin run", file=sys.stderr)
-    records, texts, worst = run_scene(scene, plots_dir=args.plots,
-                                      progress=not args.no_progress,
-                                      store=store,
-                                      workers=getattr(args, "workers", None),
-                                      scheduler=getattr(args, "scheduler", None))
+    try:
+        records, texts, worst = run_scene(scene, plots_dir=args.plots,
+                                          progress=not args.no_progress,
+                                          store=store,
+                                          workers=getattr(args, "workers", None),
+                                          scheduler=getattr(args, "scheduler", None))
+    except RunInterrupted as stop:
+        # what finished is kept: the report and the JSON (written atomically) with the
+        # interrupted query and those not run; then exit 130 as any interrupt
+        with _signals_held():
+            _emit(args.scene, stop.records, stop.texts, args, not_run=stop.not_run)
+        raise
     _emit(args.scene, records, texts, args)
     for rec in records:
         if rec["status"] == "error":
@@ -296,8 +355,7 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_demo(args) -> int:
-    from .output_paths import check_apart, check_output_dir, check_output_path, write_json
-    from .report import document, dumps
+    from .output_paths import check_apart, check_output_dir, check_output_path
     from .scene import loads_scene
     # never over a built-in scene it reads (QA: --json <package>/scenes/certify_hunt.toml)
     builtin = [Path(str(resources.files("distkin.scenes").joinpath(n))) for n in DEMO_SCENES]
@@ -306,24 +364,67 @@ def _cmd_demo(args) -> int:
     check_output_dir(args.plots, "--plots", inputs=builtin)
     worst = 0
     records_all = []
-    for name in DEMO_SCENES:
-        text = resources.files("distkin.scenes").joinpath(name).read_text(encoding="utf-8")
-        scene = loads_scene(text, f"distkin/scenes/{name}")
+    scenes = [loads_scene(resources.files("distkin.scenes").joinpath(name)
+                          .read_text(encoding="utf-8"), f"distkin/scenes/{name}")
+              for name in DEMO_SCENES]
+    for k, (name, scene) in enumerate(zip(DEMO_SCENES, scenes)):
         plots = Path(args.plots) / Path(name).stem if args.plots else None
-        records, texts, w = run_scene(scene, plots_dir=plots, progress=not args.no_progress)
+        try:
+            records, texts, w = run_scene(scene, plots_dir=plots,
+                                          progress=not args.no_progress)
+        except RunInterrupted as stop:      # as run's: what finished, then exit 130
+            records_all += [{"scene": scene.path, **rec} for rec in stop.records]
+            not_run = [{"scene": scene.path, **r} for r in stop.not_run]
+            not_run += [{"scene": later.path, "field": q.field, "type": q.type}
+                        for later in scenes[k + 1:] for q in later.queries]
+            with _signals_held():
+                _demo_output(args, scene.path, stop.records, stop.texts, records_all,
+                             not_run=not_run)
+            raise
         worst = max(worst, w)
-        from .report import render_text
-        out = sys.stderr if args.json == "-" else sys.stdout
-        print(render_text(scene.path, records, texts), file=out)
         records_all += [{"scene": scene.path, **rec} for rec in records]
-    if args.json:       # the contract of 'run', over the queries of every scene
-        payload = dumps(document(DEMO_SCENE, records_all, __version__))
-        if args.json == "-":
-            print(payload)
-        else:
-            write_json(args.json, payload)
-            print(f"JSON written to {args.json}")
+        _demo_output(args, scene.path, records, texts,
+                     records_all if k + 1 == len(scenes) else None)
     return worst
+
+
+def _demo_output(args, scene_path, records, texts, records_all, not_run=None) -> None:
+    """One built-in scene's readable report; then, at the demo's end (``records_all``,
+    every scene's records, given) the JSON, marked interrupted when ``not_run`` is a
+    list (:func:`interrupted_document`)."""
+    from .output_paths import write_json
+    from .report import document, dumps, render_text
+    out = sys.stderr if args.json == "-" else sys.stdout
+    print(render_text(scene_path, records, texts), file=out)
+    if records_all is None or not args.json:
+        return
+    doc = document(DEMO_SCENE, records_all, __version__)
+    if not_run is not None:
+        interrupted_document(doc, not_run)
+    payload = dumps(doc)        # the contract of 'run', over the queries of every scene
+    if args.json == "-":
+        print(payload)
+    else:
+        write_json(args.json, payload)
+        print(f"JSON written to {args.json}")
+
+
+class _signals_held:
+    """Hold SIGINT and SIGTERM while an interrupted run writes what it finished (a second
+    Ctrl-C would leave no document); they are delivered when the block ends."""
+
+    def __enter__(self):
+        try:
+            self._old = signal.pthread_sigmask(signal.SIG_BLOCK,
+                                               {signal.SIGINT, signal.SIGTERM})
+        except (AttributeError, ValueError, OSError):
+            self._old = None
+        return self
+
+    def __exit__(self, *exc):
+        if self._old is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, self._old)
+        return False
 
 
 class _Parser(argparse.ArgumentParser):

@@ -14,12 +14,14 @@ failure and a lost result, with one line naming the option (exit code 2).  So is
 output inside the installed package (:data:`PACKAGE`, resolved through symbolic links
 and ``..``: ``distkin codegen S.toml -o <package>/errors.py`` replaced a source file),
 and outputs of one command that would land on each other (:func:`check_apart`: ``--json``
-the ``--plots`` folder, or a file inside the ``--store`` of the chunks).
+the ``--plots`` folder or a file a query writes there, or a file inside the ``--store`` of
+the chunks).
 """
 
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 from ..errors import InputError
@@ -190,9 +192,10 @@ def check_apart(files=(), folders=(), stores=()) -> None:
     Raises
     ------
     InputError
-        Two files are one; a file is a folder, or is inside a store (or a .png inside
-        a plots folder, where a plot may be named so); a folder is inside a file; a
-        folder is, or is inside, a store.  Names the later option.
+        Two files are one; a file is a folder, or is inside a store (or inside a
+        plots folder under a name a query's files may have: ``q{i}_*`` or ``*.png``);
+        a folder is inside a file; a folder is, or is inside, a store.  Names the later
+        option.
     """
     def keep(pairs):
         return [(f, Path(p)) for f, p in pairs if p is not None and str(p) not in ("", "-")]
@@ -207,14 +210,18 @@ def check_apart(files=(), folders=(), stores=()) -> None:
     for fd, d in folders + stores:
         kind = "chunk store" if (fd, d) in stores else "folder"
         for ff, f in files:
-            # a plots folder holds only its PNGs (q{i}_{type}*.png): a JSON beside them
-            # (--plots out --json out/r.json) overwrites nothing; the folder itself, or a
-            # .png that a plot may be named, does
-            beside = (kind == "folder" and f.suffix.lower() != ".png"
-                      and not same_file(f, d))
+            # a plots folder holds the files the queries write, each named after its
+            # query, q{i}_{type}* (PNGs, and performance's q{i}_performance_tables.json
+            # and .md; demo's in a sub-folder per scene): a JSON of another name
+            # (--plots out --json out/r.json) overwrites nothing; the folder itself, a
+            # q{i}_* name or a .png does (QA 23 D2: --json P/q3_performance_tables.json)
+            beside = (kind == "folder" and not _plot_name(f) and not same_file(f, d))
             if _inside(f, d) and not beside:
+                why = (f" (the files a query writes in the {fd} folder are named "
+                       "q{i}_{type}*, as q3_performance_tables.json; one would overwrite "
+                       "the other)" if kind == "folder" and not same_file(f, d) else "")
                 raise InputError(f"expected a path outside the {fd} {kind} {str(d)!r}, "
-                                 f"got {str(f)!r}", field=ff,
+                                 f"got {str(f)!r}{why}", field=ff,
                                  hint=f"write {ff} beside the {kind}, not in it")
             if _inside(d, f):
                 raise InputError(f"expected a folder apart from the {ff} file {str(f)!r}, "
@@ -227,14 +234,40 @@ def check_apart(files=(), folders=(), stores=()) -> None:
                                  hint="write the plots beside the store, not in it")
 
 
+def _plot_name(f: Path) -> bool:
+    """Whether a file may be one a query writes into a plots folder: a ``.png``, or a
+    name of the queries' pattern ``q{i}_{type}*`` (``cli._plot``'s stem)."""
+    return f.suffix.lower() == ".png" or re.match(r"q\d+_", f.name) is not None
+
+
 def write_text(path, text: str, field: str) -> None:
-    """Write ``text`` to ``path``, making its folders; a failure names ``field``."""
-    p = Path(path)
+    """Write ``text`` to ``path``, making its folders; a failure names ``field``.
+
+    Atomic for a regular file (or a new one): the text goes to a temporary file beside
+    it (``.NAME.PID.tmp``, made with the usual permissions), which then replaces it
+    (:func:`os.replace`), so an interrupt or a full disk never leaves half a file, nor an
+    earlier run's file looking as if it were this run's.  A symbolic link is followed
+    (its target is replaced); a device or a pipe (``/dev/stdout``) is written in place."""
+    p = Path(os.path.realpath(path))
+    tmp = None
     try:
         p.parent.mkdir(parents=True, exist_ok=True)
-        p.write_text(text, encoding="utf-8")
+        if p.exists() and not p.is_file():
+            with open(p, "w", encoding="utf-8") as fh:
+                fh.write(text)
+            return
+        tmp = p.parent / f".{p.name}.{os.getpid()}.tmp"
+        with open(tmp, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        os.replace(tmp, p)
     except OSError as exc:
         raise _refuse(path, exc, field) from None
+    finally:
+        if tmp is not None and tmp.exists():
+            try:
+                tmp.unlink()
+            except OSError:
+                pass
 
 
 def write_json(path, payload: str) -> None:

@@ -20,7 +20,7 @@ from fractions import Fraction
 import numpy as np
 
 __all__ = ["jsonable", "document", "dumps", "fmt", "render_text", "float_inputs",
-           "float_inputs_line"]
+           "float_inputs_line", "as_written"]
 
 
 def jsonable(x):
@@ -85,6 +85,14 @@ def float_inputs(named) -> list:
     """The names of the scene values, among ``named`` ((name, Exact) pairs), that were
     bare floats and so are taken as their exact binary values (docs/design.md §3)."""
     return [name for name, v in named if getattr(v, "from_float", False)]
+
+
+def as_written(values) -> list:
+    """Scene values (:class:`~distkin.exact.Exact`) for the JSON as they were used: a
+    bare float as a JSON number (its binary value, which the computation used), an exact
+    text as its string (``"17.4"`` is 87/5; docs/design.md §3), so that a string in the
+    JSON always means an exact value (QA 23 D7: ``m_legs`` gave ``"17.4"`` for 17.4)."""
+    return [float(v) if getattr(v, "from_float", False) else v.text for v in values]
 
 
 def float_inputs_line(named) -> str:

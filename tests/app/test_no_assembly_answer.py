@@ -48,8 +48,11 @@ def test_octahedral_and_octahedral_legs_answer_no_pose(tmp_path, capsys, kind):
     assert code == 0 and rec["status"] == "ok", err
     assert rec["result"]["poses"] == []
     assert "cannot be assembled" in rec["result"]["reason"]
+    # DESIGN §4: a proved empty answer is `poses: []`, `count: 0` (QA 23 D3: the
+    # octahedral result had no count)
+    assert rec["result"]["count"] == 0
     if kind == "legs":
-        assert rec["result"]["count"] == 0 and rec["result"]["pose"] is None
+        assert rec["result"]["pose"] is None
         assert "exact octic" in rec["result"]["reason"]
 
 

@@ -162,7 +162,7 @@ def test_json_beside_plots_still_works(tmp_path, capsys, scene):
 
 
 def test_json_inside_the_plots_folder_still_works(tmp_path, capsys, scene):
-    # the plots are PNGs named q{i}_{type}*.png: a JSON among them overwrites nothing
+    # a query's files are named q{i}_{type}*: a JSON of another name overwrites nothing
     # (tests/mechanisms/test_rss_scene.py writes --plots DIR --json DIR/out.json)
     assert main(["run", str(scene), "--json", str(tmp_path / "p" / "r.json"),
                  "--plots", str(tmp_path / "p")]) == 0

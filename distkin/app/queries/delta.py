@@ -16,7 +16,8 @@ Scene fields::
 
 The JSON result has ``A`` (rows of strings), ``b``, ``det``, ``det_factors`` (the
 irreducible factors, sympy syntax), ``det_constant``; with ``m_legs`` also
-``mapped_squared_legs`` and ``mapped_legs`` (the l-legs, exact strings); with ``solve``
+``mapped_squared_legs`` and ``mapped_legs`` (the l-legs, exact strings; their floats in
+``*_float``; ``m_legs`` as written, a bare float a JSON number); with ``solve``
 the 6-6 poses, each checked on the 6-6 platform's own joints (``max_leg_error``, null
 with no pose; ``points`` P4 P5 P6 of the equivalent octahedron, ``platform_joints`` the
 six joints), the equivalent octahedron's ``real_roots`` and ``octic`` (docs/design.md §4;
@@ -60,7 +61,7 @@ from ...argcheck import check_keys, dps_field, exact_matrix, method_field, requi
 from ...errors import DistkinError, InfeasibleError, InputError
 from ...exact import METHODS_AUTO, exact_to_float, parse_vector
 from ..query import Outcome, register
-from ..report import float_inputs, float_inputs_line
+from ..report import as_written, float_inputs, float_inputs_line
 from .octahedral import check_leg_length, count_verdict, octic_fields, pose_points, roots_lines
 from .octahedral import result_units as octahedral_units
 
@@ -204,7 +205,7 @@ class DeltaTransformQuery:
             lines.append("det(A) != 0: the equivalent 6-6 platform is not architecturally singular")
         no_map = None
         if p.m_legs is not None:
-            result["m_legs"] = [m.text for m in p.m_legs]
+            result["m_legs"] = as_written(p.m_legs)
             try:
                 l_sq, l = tr.map_legs(p.m_legs, field="m_legs")
             except InfeasibleError as exc:    # proved: no real l-leg, so no pose
@@ -229,6 +230,9 @@ class DeltaTransformQuery:
             # exact forms, as they are (nsimplify would pass off a nearby "simple"
             # number as the value); the text shows a long one by its value only
             result["mapped_legs"] = [sp.sstr(x) for x in l]
+            if not tr.free_symbols:          # the floats beside the long exact forms
+                result["mapped_legs_float"] = [float(x) for x in l]
+                result["mapped_squared_legs_float"] = [float(x) for x in l_sq]
             lines.append("m-legs -> l-legs (exact, l^2 = A^-1 (m^2 + b)):")
             for i, (m, x) in enumerate(zip(result["m_legs"], result["mapped_legs"])):
                 shown = _shown(x, None if tr.free_symbols else l[i], unit)
@@ -265,6 +269,7 @@ def result_units(units) -> dict:
     octa_units = octahedral_units(units)
     return {"length": L, "offsets": L, "sides": L, "A": "none", "det": "none",
             "b": L2, "m_legs": L, "mapped_legs": L, "mapped_squared_legs": L2,
+            "mapped_legs_float": L, "mapped_squared_legs_float": L2,
             "forward_kinematics": {
                 "s15": L2, "translation": L, "platform_joints": L, "base_joints": L,
                 "points": octa_units["points"], "real_roots": octa_units["real_roots"],
@@ -399,8 +404,9 @@ class Platform66Forward:
             if not (exc.margin is not None and exc.margin < 0):
                 raise
             return _no_assembly66(p, scene, exc)
-        result = {"m_legs": [m.text for m in p.m_legs],
+        result = {"m_legs": as_written(p.m_legs),
                   "mapped_legs": [sp.sstr(x) for x in l],
+                  "mapped_legs_float": [float(x) for x in l],
                   "det_A": str(p.transform.det)}
         lines = ["m-legs -> l-legs of the equivalent octahedral manipulator (eq. (8), exact): "
                  + ", ".join(_shown(x, v, unit) for x, v in zip(result["mapped_legs"], l))]
@@ -408,7 +414,8 @@ class Platform66Forward:
         fk = result.pop("forward_kinematics")
         result.update(fk)
         units = result_units(scene.units)
-        result["unit"] = {k: units[k] for k in ("length", "m_legs", "mapped_legs")}
+        result["unit"] = {k: units[k] for k in ("length", "m_legs", "mapped_legs",
+                                                "mapped_legs_float")}
         result["unit"].update(units["forward_kinematics"])
         _flag_floats(p.m_legs, "legs", p, result, lines)
         return Outcome(result, "\n".join(lines))

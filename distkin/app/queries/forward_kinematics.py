@@ -277,11 +277,12 @@ class ForwardKinematicsQuery:
                   "unit": {"pose": "m, rad", "residual": "m", "pose_error": "m, rad",
                            "angles": _joint_unit(mech), "joint_values": _joint_unit(mech),
                            "q_mismatch": _joint_unit(mech),
-                           "residual_tol": "m", **({} if modes is None else
-                                                  {"modes": "m, rad"})}}
+                           "residual_tol": "m", **_SOLVER_UNITS,
+                           **({} if modes is None else {"modes": "m, rad"})}}
         if p.method == "certified":
             result["other_legs_closure_bound"] = {str(k): v for k, v in tier.other_legs.items()}
             result["contraction"] = tier.contraction
+            result["unit"].update(_CERTIFIED_UNITS)
         if p.method == "precise":
             result["dps"] = p.dps
         return Outcome(result, "\n".join(lines),
@@ -311,5 +312,21 @@ def _no_assembly(p, mech, scene, guess):
               "method": p.method, "angles": np.array(p.angles),
               "joint_values": np.array(p.angles), "guess": guess,
               "unit": {"angles": _joint_unit(mech), "joint_values": _joint_unit(mech),
-                       "guess": "m, rad"}}
+                       "guess": _SOLVER_UNITS["guess"]}}
     return Outcome(result, "\n".join(lines))
+
+
+#: the ``unit`` entries of the solver's figures (QA 23 D6: they had none)
+_SOLVER_UNITS = {
+    "guess": "m, rad (SI, as pose: the scene's guess converted from its own units)",
+    "sigma_min": "none (smallest singular value of the closure Jacobian, its rotation "
+                 "columns divided by the length scale)",
+    "condition": "none (sigma_max / sigma_min of that Jacobian)",
+}
+
+#: the certified tier's extra figures
+_CERTIFIED_UNITS = {
+    "other_legs_closure_bound": "m (per leg: the largest closure error over the proved "
+                                "box)",
+    "contraction": "none (Krawczyk's bound of |I - Y F'(X)|, below 1)",
+}

@@ -19,6 +19,12 @@ distances (Rojas et al., eq. (1)), so its unit is the scene's length unit to the
 unit, as written (exact rationals stay the scene's numbers); each JSON entry names its
 ``unit`` ("mm^6", or "none" for a pure number or a unitless scene), and the result's
 ``unit`` block names those of the area and volume interpretations.
+
+A determinant of 3 or 4 equal labels also gives ``triangle_area_squared`` (-D/16) or
+``tetrahedron_volume_squared`` (D/288): exact where the determinant is (an exact string,
+``"2809/576"``, as the determinant's ``value``), else a float, with the float always in
+``triangle_area_squared_float`` / ``tetrahedron_volume_squared_float``; null beyond
+float64's range.
 """
 
 from __future__ import annotations
@@ -26,6 +32,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
+from fractions import Fraction
 
 from ...argcheck import check_keys, dps_field, exact_matrix, method_field, string_list
 from ...errors import InputError
@@ -53,9 +60,9 @@ def _interpretation(rows, cols):
         return None
     k = len(rows)
     if k == 3:
-        return "triangle_area_squared", -1 / 16
+        return "triangle_area_squared", Fraction(-1, 16)
     if k == 4:
-        return "tetrahedron_volume_squared", 1 / 288
+        return "tetrahedron_volume_squared", Fraction(1, 288)
     return None
 
 
@@ -135,20 +142,26 @@ def _run_cm(p, scene):
         interp = _interpretation(rows, cols)
         if interp is not None:
             kind, factor = interp
+            # exact where exact (QA 23 D5): an fmpq determinant gives the exact value,
+            # a string in the JSON as the determinant's own, with its float beside it
+            exact = (Fraction(int(d.p), int(d.q)) * factor
+                     if type(d).__name__ == "fmpq" else None)
             try:
-                val = float(d if p.method != "certified" else _mid(d)) * factor + 0.0
+                val = (float(exact) if exact is not None else
+                       float(d if p.method != "certified" else _mid(d)) * float(factor)) + 0.0
             except OverflowError:
                 val = math.inf
             label = "area^2" if kind.startswith("triangle") else "volume^2"
+            entry[kind] = entry[f"{kind}_float"] = None
             if val == 0 and (lost or not _is_zero(d)):   # QA J 4: underflow, not flat
-                entry[kind] = None
                 text += f"   ({label} below the float64 range, not 0)"
             elif math.isfinite(val):
-                entry[kind] = val
+                entry[kind] = val if exact is None else exact
+                entry[f"{kind}_float"] = val
                 u = _INTERPRETATION_UNITS[kind](length)
-                text += f"   ({label} = {val:.10g}{'' if u == 'none' else ' ' + u})"
+                shown = f"{exact} = " if exact is not None and exact.denominator != 1 else ""
+                text += f"   ({label} = {shown}{val:.10g}{'' if u == 'none' else ' ' + u})"
             else:                              # the determinant is right, its float is not
-                entry[kind] = None
                 text += f"   ({label} beyond the float64 range)"
         if vouch.get("error_estimate") is not None and not lost:
             text += f"   (error estimate {vouch['error_estimate']:.2g}" + (
@@ -170,7 +183,8 @@ def _run_cm(p, scene):
         lines.append(note)
     unit = {"determinants": "each entry's 'unit' (value and radius): the scene's length "
                             "unit to the power 2(n - 1) for n labels",
-            **{kind: f(length) for kind, f in _INTERPRETATION_UNITS.items()}}
+            **{k: f(length) for kind, f in _INTERPRETATION_UNITS.items()
+               for k in (kind, f"{kind}_float")}}
     return Outcome({"method": p.method, "determinants": values, "accuracy": accuracy,
                     "inputs_from_float": float_inputs(named), "unit": unit},
                    "\n".join(lines))

@@ -22,7 +22,9 @@ octic in s15; each root's ``radius_kind`` in ``root_status`` says what its radiu
 fast or precise tier's last Newton steps, not an error bound:
 :class:`~distkin.octahedral.result.RootInfo`), ``octic {coefficients}`` (highest degree
 first; exact strings where exact), ``poses [{s15, rotation, translation, points {P4, P5, P6}, max_leg_error}]``
-(plus ``side`` and ``max_leg_error_relative``), and ``root_status``, ``reason``,
+(plus ``side``, ``max_leg_error_relative`` and ``max_leg_error_solver``), ``count`` (the
+number of poses; ``real_roots.count`` counts roots), ``assembly_modes`` (the poses of
+side +1), and ``root_status``, ``reason``,
 ``accuracy``, ``inputs_from_float`` (the legs and points written as bare floats, taken
 as their exact binary values; also said in the text), and ``unit`` (the units of those
 fields).  Lengths are in the scene's own length unit (the geometry is solved as
@@ -47,7 +49,7 @@ from ..query import Outcome, register
 from ..report import float_inputs, float_inputs_line
 
 __all__ = ["check_leg_length", "OctahedralForwardQuery", "result_units", "octic_fields", "pose_points",
-           "roots_lines", "count_verdict"]
+           "roots_lines", "count_verdict", "floats_leg_error"]
 
 
 @dataclass(frozen=True)
@@ -121,10 +123,10 @@ class OctahedralForwardQuery:
                  + [(f"mechanism.{k}[{i}][{j}]", v)
                     for k, rows in (("base", mech.base), ("platform", mech.platform))
                     for i, row in enumerate(rows) for j, v in enumerate(row)])
-        result = _result(res)
+        result = _result(res, base, legs)
         result["unit"] = result_units(scene.units)
         result["inputs_from_float"] = float_inputs(named)
-        text = _text(res, unit, p)
+        text = _text(res, unit, p, result["poses"])
         note = float_inputs_line(named)
         return Outcome(result, text + ("\n" + note if note else ""),
                        _plotter(res, base, plat, unit))
@@ -133,26 +135,78 @@ class OctahedralForwardQuery:
 def result_units(units) -> dict:
     """The ``unit`` block of an octahedral forward-kinematics result: lengths in the
     scene's own length unit (module docstring), or "none" for a unitless scene
-    (``length = "none"``); s15 is a squared length."""
+    (``length = "none"``); s15 is a squared length.  A pose's ``max_leg_error`` is a
+    bound for its float64 ``points`` as printed (:func:`floats_leg_error`);
+    ``max_leg_error_solver`` is the tier's own figure (certified: a bound for the exact
+    pose; precise: of its mpmath points; fast: float64 arithmetic on the points)."""
     m = "none" if units.length == "none" else units.length
     m2 = "none" if m == "none" else f"{m}^2"
     return {"s15": m2, "real_roots": f"{m2} (values and radii)",
             "translation": m, "points": m, "rotation": "none (rotation matrix)",
             "max_leg_error": m, "max_leg_error_relative": "none (over the leg length)",
+            "max_leg_error_solver": m,
+            "side": "none (+1: P5 on the side of the base plane that (P2-P1) x (P3-P1) "
+                    "points to; -1: the mirror image in the base plane)",
             "octic": f"coefficients of a polynomial in s15 ({m2}), highest degree first"}
 
 
-def _result(res):
+def floats_leg_error(base, points, legs) -> tuple:
+    """Rigorous upper bounds of ``max_k | |P_i P_j| - l_k |`` (absolute, and relative to
+    ``l_k``) over the six legs (:data:`~distkin.octahedral.problem.LEG_PAIRS`), with the
+    platform points the float64 numbers ``points`` as printed (their exact binary
+    values), and the base and legs the scene's exact values; arb balls at 256 bits.
+
+    docs/design.md §3: an accuracy statement is of the float number it stands beside.
+    The certified tier's own ``max_leg_error`` bounds its exact pose (6.5e-23 for the
+    Griffis-Duffy example), which the printed floats, rounded, miss by about 1e-15
+    (QA 23 D4).
+
+    Parameters
+    ----------
+    base : (3, 3) Exact or numbers, P1 P2 P3 (scene unit)
+    points : (3, 3) float, P4 P5 P6 in the base frame (scene unit)
+    legs : (6,) Exact or numbers, l_1 .. l_6 (scene unit)
+    """
+    import flint
+    from ...exact import to_tier
+    from ...exact_roots import working_precision
+    from ...octahedral.problem import LEG_PAIRS
+    with working_precision(256):
+        pts = [[to_tier(v, "certified") for v in row] for row in base]
+        pts += [[to_tier(float(v), "certified") for v in row] for row in points]
+        err = rel = 0.0
+        for k, (i, j) in enumerate(LEG_PAIRS):
+            leg = flint.arb(to_tier(legs[k], "certified"))
+            d2 = sum((flint.arb(pts[i - 1][a]) - pts[j - 1][a]) ** 2 for a in range(3))
+            e = abs(d2.sqrt() - leg)
+            err = max(err, _float_up(e))
+            rel = max(rel, _float_up(e / leg))
+    return err, rel
+
+
+def _float_up(ball) -> float:
+    """The smallest float64 at or above every point of an arb ``ball`` (absolute)."""
+    import math
+    import flint
+    up = flint.arb(ball.abs_upper())
+    x = float(up)
+    return x if flint.arb(x) >= up else math.nextafter(x, math.inf)
+
+
+def _result(res, base, legs):
     poses = []
     for q in res.poses:
+        err, rel = floats_leg_error(base, q.points, legs)
         poses.append({
             "s15": q.s15, "side": q.side,
             "rotation": q.rotation, "translation": q.translation,
             "points": pose_points(q),
-            "max_leg_error": q.max_leg_error,
-            "max_leg_error_relative": q.max_leg_error_relative,
+            "max_leg_error": err,
+            "max_leg_error_relative": rel,
+            "max_leg_error_solver": q.max_leg_error,
         })
     return {
+        "count": len(res.poses),
         "method": res.method,
         "certified": res.certified,
         "accuracy": res.accuracy,
@@ -234,7 +288,7 @@ def _u(unit, power=1):
     return f" {unit}" if power == 1 else f" {unit}^{power}"
 
 
-def _text(res, unit, p):
+def _text(res, unit, p, poses):
     lines = [f"octahedral forward kinematics ({res.method}"
              + (f", {default_dps(p.dps)} digits" if res.method == "precise" else "") + ")"]
     if res.method == "auto":
@@ -260,11 +314,19 @@ def _text(res, unit, p):
             head += (f"; {mirrored} with a mirror image in the base plane, "
                      f"{modes - mirrored} in it):")
         lines.append(head)
-        for q in res.poses:
+        for q, out in zip(res.poses, poses):
             t = ", ".join(f"{v:.6g}" for v in q.translation)
             lines.append(f"  s15 = {q.s15:.8g}{_u(unit, 2)}, side {q.side:+d}: translation "
-                         f"({t}){_u(unit)}, max leg error {q.max_leg_error:.2e}{_u(unit)} "
-                         f"({q.max_leg_error_relative:.1e} relative)")
+                         f"({t}){_u(unit)}, max leg error {out['max_leg_error']:.2e}"
+                         f"{_u(unit)} ({out['max_leg_error_relative']:.1e} relative)")
+        if res.method in ("certified", "precise") or res.tier in ("certified", "precise"):
+            worst = max(q.max_leg_error for q in res.poses)
+            exact = "exact" if res.certified else f"{res.tier or res.method} tier's"
+            lines.append(f"  (max leg error: a bound for the float64 points printed; the "
+                         f"{exact} poses' own is at most {worst:.1e}{_u(unit)}, JSON "
+                         "max_leg_error_solver)")
+        lines.append("  side +1: P5 on the side of the base plane that (P2-P1) x (P3-P1) "
+                     "points to; side -1: its mirror image in the base plane")
     lines.append(f"accuracy: {res.accuracy}")
     return "\n".join(lines)
 
