@@ -16,7 +16,7 @@ from .harness import fmt_time, interleaved, ratio_table
 __all__ = ["TITLE", "DEFAULT", "run"]
 
 TITLE = "Certified workspace: interval branch-and-prune (centred forms, Fig. 3, 6-D Octo)"
-DEFAULT = False          # about 20-25 min on 2 cores: run with `python -m benchmarks certify`
+DEFAULT = False          # 339 s on 2 cores in BENCHMARKS.md's run (33): `python -m benchmarks certify`
 
 _FIG = Path(__file__).resolve().parent / "figures"
 _H = 0.075

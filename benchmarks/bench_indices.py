@@ -21,7 +21,7 @@ from .harness import fmt_time, interleaved, ratio_table
 __all__ = ["TITLE", "DEFAULT", "REQUIRES", "run", "scale_probe"]
 
 TITLE = "Performance indices: zonotope kernel, Table II sweep, GII culling"
-DEFAULT = True           # about 10 minutes (the N = 1e7 probe takes about 5)
+DEFAULT = True           # 277 s in BENCHMARKS.md's run (46) (the N = 1e7 probe 81 s of it)
 #: the comparison needs these installed (extra ``bench``); the run refuses without them
 REQUIRES = ("pycapacity",)
 

@@ -15,7 +15,7 @@ import numpy as np
 __all__ = ["TITLE", "DEFAULT", "run", "READINGS"]
 
 TITLE = "Readings of Fig. 2 and of the scaling: reach, interference, Table IV"
-DEFAULT = False          # about 10 minutes on 2 cores: run by name
+DEFAULT = False          # 1198 s on 2 cores in BENCHMARKS.md's run (1): run by name
 
 PRESETS = ("hunt", "hexa", "ergin", "octopod", "octo")
 #: name -> (description, function preset name -> mechanism)
