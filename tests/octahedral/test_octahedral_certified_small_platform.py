@@ -31,3 +31,17 @@ def test_certified_answers_a_small_platform_as_precise_at_100_digits():
     auto = forward_kinematics(BASE, PLAT, LEGS, method="auto")
     assert auto.certified or auto.tier == "fast"
     assert len(auto) == 4
+
+
+def test_an_unproved_empty_fast_answer_does_not_state_a_fact():
+    """QA 23d 4: the fast tier finds no root here (flagged, not proved) and said 'cannot
+    be assembled: the octic has no real root', against the certified tier's 4 poses."""
+    import warnings
+
+    from distkin.errors import ConditioningWarning
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConditioningWarning)
+        fast = forward_kinematics(BASE, PLAT, LEGS)
+    assert len(fast) == 0 and not fast.conditioning.trusted
+    assert "cannot be assembled" not in fast.reason and "not proved" in fast.reason
+    assert len(forward_kinematics(BASE, PLAT, LEGS, method="certified")) == 4
