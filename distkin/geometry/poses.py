@@ -98,7 +98,9 @@ def _check_nonzero(n2, scale, method, what):
             raise DegenerateGeometryError(f"expected a proper triangle of {what}, got "
                                           "collinear points (exactly)", field=what)
         if not v > 0:
-            raise UncertifiedError(f"cannot decide whether the points of {what} are collinear")
+            raise UncertifiedError(f"cannot decide whether the triangle of {what} is proper: "
+                                   f"the enclosure of its normal's squared length, {v}, "
+                                   f"holds 0 (collinear points) at this precision")
 
 
 def triangle_frame(points, *, method: str = "fast", what: str = "points"):

@@ -193,12 +193,18 @@ def _poses(problem, poly, feasible, sides, legs2, tol, size, flat=()):
                     pairs = None
                 if pairs is not None:
                     built = []
-                    for side, (pts, _) in zip((1, -1), pairs):
-                        R, t = frame_fit(plat, pts, "certified")  # congruent: built so
-                        err, rel = _leg_errors(base, pts, legs)
-                        rad = max(float(c.rad()) for row in pts for c in row)
-                        built.append((side, pts, R, t, err, rel, rad))
-                    if max(b[-1] for b in built) <= tol * size:
+                    try:
+                        for side, (pts, _) in zip((1, -1), pairs):
+                            R, t = frame_fit(plat, pts, "certified")  # congruent: built so
+                            err, rel = _leg_errors(base, pts, legs)
+                            rad = max(float(c.rad()) for row in pts for c in row)
+                            built.append((side, pts, R, t, err, rel, rad))
+                    except UncertifiedError:
+                        # the placed triangle's balls too wide to prove it a triangle (a
+                        # platform 1e-4 of the base: QA 23d 1): more bits, as for
+                        # the trilateration
+                        built = None
+                    if built is not None and max(b[-1] for b in built) <= tol * size:
                         break
             if bits >= MAX_BITS and r.multiplicity > 1:
                 raise UncertifiedError(

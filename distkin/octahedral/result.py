@@ -433,7 +433,8 @@ def _fast_result(raw, i):
         for j, side in ((slot, 1), (slot + 1, -1)) if code == 0 else ():
             poses.append(_pose(x, side, _frozen(R[j]), _frozen(T[j]), _frozen(P[j]), E[j],
                                Er[j]))
-    reason = "" if poses else _empty_reason(roots, raw["lo"][i], raw["hi"][i])
+    reason = "" if poses else _empty_reason(roots, raw["lo"][i], raw["hi"][i],
+                                            cond is not None and cond.trusted)
     notes = (_SPURIOUS_NOTE,)
     if "octic_exponent" in raw and raw["octic_exponent"][i]:
         notes += (_overflow_note(int(raw["octic_exponent"][i])),)
@@ -492,7 +493,8 @@ def _single_result(solve, conditioning=None, k=0):
     for a in (R, T, P):                     # the poses' rows are views (QA T 8)
         a.flags.writeable = False
     out = tuple(map(_pose, S.tolist(), side.tolist(), R, T, P, E.tolist(), Er.tolist()))
-    reason = "" if out else _empty_reason(infos, lo, hi)
+    reason = "" if out else _empty_reason(infos, lo, hi,
+                                          conditioning is not None and conditioning.trusted)
     return _assembly(out, octic, infos, reason, notes, conditioning)
 
 
@@ -574,16 +576,17 @@ def _from_buffer(lo, hi, nr, m, buf, conditioning=None):
     return roots, poses
 
 
-def _empty_reason(roots, lo=None, hi=None):
-    """Why a result has no pose (from the triangle bounds and the roots' statuses)."""
+def _empty_reason(roots, lo=None, hi=None, proved=True):
+    """Why a result has no pose (the triangle bounds, the roots' statuses); not
+    ``proved`` (a fast answer no proof vouches for): what was found, not a fact (QA 23d
+    4: 'the octic has no real root' for a problem with 4 poses)."""
     if lo is not None and lo > hi:
         return (f"cannot be assembled: the triangle inequalities through P1 P5 need "
                 f"s15 >= {float(lo):.6g} and s15 <= {float(hi):.6g}")
-    if not roots:
-        return "cannot be assembled: the octic has no real root"
-    kinds = sorted({r.reason for r in roots})
-    return ("cannot be assembled: every real root of the octic is spurious (" +
-            "; ".join(kinds) + ")")
+    head = ("cannot be assembled: " if proved else "no pose found: float64 found ") + \
+        ("every real root of the octic is spurious (" + "; ".join(sorted({r.reason for r in roots}))
+         + ")" if roots else "no real root of the octic")
+    return head + ("" if proved else " (not proved: method='certified' or 'auto' decides)")
 
 
 def blank_row(raw, i):

@@ -62,13 +62,26 @@ def _digits(dps, method, *inputs):
     return None
 
 
+#: the least working precision (bits) of the certified tier's arb balls: python-flint's
+#: global default is 53, at which the certified det J of near-singular leg sets was an
+#: undecided ball 40,203 times in 189,889 (QA 23d 5); a caller's higher ``flint.ctx.prec``
+#: is kept
+CERTIFIED_BITS = 128
+
+
 def _precision(dps, method, *inputs):
     """A context: ``mpmath.workdps`` at :func:`_digits` where the tier is precise (its
-    own default, never mpmath's global ``mp.dps``: QA 23 found 15 digits used), a null
+    own default, never mpmath's global ``mp.dps``: QA 23 found 15 digits used); where it
+    is certified, arb balls at no fewer than :data:`CERTIFIED_BITS` bits; a null
     context otherwise."""
     import contextlib
     digits = _digits(dps, method, *inputs)
     if digits is None:
+        if method == "certified" or (method is None and any(_kind(x) == "certified"
+                                                            for x in inputs)):
+            import flint
+            from ..exact_roots import working_precision
+            return working_precision(max(flint.ctx.prec, CERTIFIED_BITS))
         return contextlib.nullcontext()
     import mpmath
     return mpmath.workdps(digits)

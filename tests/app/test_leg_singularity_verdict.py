@@ -100,7 +100,6 @@ def test_certified_sign_raises_the_precision_where_53_bits_cannot_decide(angle):
     unnormalised det Jhat, exact in fmpq from the same floats (the normalisation
     divides each row by a positive length)."""
     from distkin.app.queries.leg_singularity import _certified_sign
-    from distkin.errors import UncertifiedError
     from distkin.singularity import octahedral_joints
     from distkin.singularity.conditions import certified_sign, jacobian_det
     s3 = np.sqrt(3)
@@ -111,8 +110,8 @@ def test_certified_sign_raises_the_precision_where_53_bits_cannot_decide(angle):
     t = np.array([6, 2 * s3, 10]) - R @ np.array([3, s3, 0])
     b, p = octahedral_joints(np.vstack([base, plat @ R.T + t]))
     d = jacobian_det(b, p, length_scale=2 * s3, method="certified")
-    with pytest.raises(UncertifiedError):
-        certified_sign(d)                   # 53 bits: undecided
     exact = certified_sign(jacobian_det(b, p, normalised=False, method="certified"))
+    # the tier's own 128 bits decide it now (53 did not; QA 23d 5), with the exact sign
+    assert exact != 0 and certified_sign(d) == exact
     sign, ball = _certified_sign(d, b, p, 2 * s3)
-    assert exact != 0 and sign == exact and np.sign(float(ball.mid())) == exact
+    assert sign == exact and np.sign(float(ball.mid())) == exact

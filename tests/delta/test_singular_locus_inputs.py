@@ -105,7 +105,11 @@ def test_det_along_fast_against_certified(plat):
     b, q = plat.joints("fast")
     fast = det_along(plat, R0, T0, 2.0)
     ball = jacobian_det(b, q @ R0.T + T0, length_scale=2.0, method="certified")
-    assert abs(fast - float(ball.mid())) <= 1e-12 * abs(fast) + float(ball.rad())
+    # within the fast value's own rounding-error estimate (a pose near the singular
+    # locus has det J ~1e-15, where float64 keeps no digit) and the ball's radius: the
+    # ball is tight since the certified tier works at 128 bits, not flint's global 53
+    _, err = jacobian_det(b, q @ R0.T + T0, length_scale=2.0, with_error=True, warn=False)
+    assert abs(fast - float(ball.mid())) <= 1e-12 * abs(fast) + float(err) + float(ball.rad())
 
 
 def test_det_along_refuses_a_non_platform():

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from distkin.errors import ConditioningWarning, FloatRangeWarning, InputError
-from distkin.singularity import (cm_pure_condition, four_planes, jacobian_det,
+from distkin.singularity import (certified_sign, cm_pure_condition, four_planes, jacobian_det,
                                  octahedral_joints, plucker_jacobian, rotation_from_vector,
                                  signed_cm_condition, volume_factors)
 
@@ -240,3 +240,44 @@ def test_fast_det_warns_where_its_estimate_exceeds_it():
     with warnings.catch_warnings():             # warn=False: the same value, no warning
         warnings.simplefilter("error", ConditioningWarning)
         assert jacobian_det(b * 1e20, p, warn=False) == v
+
+
+# ------------------------------------------- QA 23d 5: the certified tier's own precision
+
+def test_certified_det_decides_at_its_own_precision_not_flints_global_53_bits():
+    """Leg sets bisected onto det J = 0 (to the last float of the path): at python-flint's
+    global 53 bits every certified ball held 0 (undecided); at the tier's own 128 bits
+    (``tiers.CERTIFIED_BITS``) each is decided, with the sign of the exact rational det
+    Jhat of the same float coordinates (Fractions), under a global precision of 53."""
+    from fractions import Fraction
+
+    from distkin.exact_roots import working_precision
+    rng = np.random.default_rng(3)
+    decided = 0
+    for _ in range(12):
+        pts, d = rng.standard_normal((6, 3)), rng.standard_normal(3)
+
+        def moved(t, pts=pts, d=d):
+            q = pts.copy()
+            q[5] = pts[5] + t * d
+            return q
+
+        def f(t):
+            return jacobian_det(*octahedral_joints(moved(t)), normalised=False, warn=False)
+        ts = np.linspace(-3, 3, 61)
+        vs = np.array([f(t) for t in ts])
+        ch = np.flatnonzero(np.sign(vs[:-1]) * np.sign(vs[1:]) < 0)
+        if not ch.size:
+            continue
+        lo, hi = ts[ch[0]], ts[ch[0] + 1]
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if np.sign(f(mid)) == np.sign(f(lo)) else (lo, mid)
+        X = moved(lo)
+        exact = jacobian_det(*octahedral_joints(np.vectorize(Fraction, otypes=[object])(X)),
+                             normalised=False)
+        with working_precision(53):
+            ball = jacobian_det(*octahedral_joints(X), method="certified")
+        assert certified_sign(ball) == (exact > 0) - (exact < 0)
+        decided += 1
+    assert decided >= 6
