@@ -164,36 +164,19 @@ def test_volume_factors_refuse_other_shapes():
 
 def _near_singular_poses(n=200, seed=3):
     """Point sets at relative distances 1e-13..1e-5 from a root of det Jhat: P6 moved
-    along a random direction to a sign change of det Jhat (bisection on the exact
-    certified sign), then back off."""
+    along a random direction to a sign change of det Jhat (bisection), then back off."""
+    from near_singular import bisected_sign_change, moved
     rng = np.random.default_rng(seed)
     out = []
     while len(out) < n:
         pts = rng.standard_normal((6, 3))
         d = rng.standard_normal(3)
-        f = lambda t: jacobian_det(*octahedral_joints(_moved(pts, d, t)),  # noqa: E731
-                                   normalised=False, warn=False)
-        ts = np.linspace(-3, 3, 61)
-        vs = np.array([f(t) for t in ts])
-        ch = np.flatnonzero(np.sign(vs[:-1]) * np.sign(vs[1:]) < 0)
-        if not ch.size:
+        lo = bisected_sign_change(pts, d)
+        if lo is None:
             continue
-        lo, hi = ts[ch[0]], ts[ch[0] + 1]
-        for _ in range(60):
-            mid = 0.5 * (lo + hi)
-            if np.sign(f(mid)) == np.sign(f(lo)):
-                lo = mid
-            else:
-                hi = mid
         for off in rng.choice([1e-13, 1e-11, 1e-9, 1e-7, 1e-5], size=4):
-            out.append(_moved(pts, d, lo + off * rng.choice([-1, 1])))
+            out.append(moved(pts, d, lo + off * rng.choice([-1, 1])))
     return out[:n]
-
-
-def _moved(pts, d, t):
-    q = pts.copy()
-    q[5] = pts[5] + t * d
-    return q
 
 
 def test_jacobian_det_error_estimate_covers_the_exact_value_near_singularities():

@@ -252,28 +252,15 @@ def test_certified_det_decides_at_its_own_precision_not_flints_global_53_bits():
     from fractions import Fraction
 
     from distkin.exact_roots import working_precision
+    from near_singular import bisected_sign_change, moved
     rng = np.random.default_rng(3)
     decided = 0
     for _ in range(12):
         pts, d = rng.standard_normal((6, 3)), rng.standard_normal(3)
-
-        def moved(t, pts=pts, d=d):
-            q = pts.copy()
-            q[5] = pts[5] + t * d
-            return q
-
-        def f(t):
-            return jacobian_det(*octahedral_joints(moved(t)), normalised=False, warn=False)
-        ts = np.linspace(-3, 3, 61)
-        vs = np.array([f(t) for t in ts])
-        ch = np.flatnonzero(np.sign(vs[:-1]) * np.sign(vs[1:]) < 0)
-        if not ch.size:
+        lo = bisected_sign_change(pts, d)
+        if lo is None:
             continue
-        lo, hi = ts[ch[0]], ts[ch[0] + 1]
-        for _ in range(60):
-            mid = 0.5 * (lo + hi)
-            lo, hi = (mid, hi) if np.sign(f(mid)) == np.sign(f(lo)) else (lo, mid)
-        X = moved(lo)
+        X = moved(pts, d, lo)
         exact = jacobian_det(*octahedral_joints(np.vectorize(Fraction, otypes=[object])(X)),
                              normalised=False)
         with working_precision(53):
