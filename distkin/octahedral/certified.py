@@ -35,7 +35,7 @@ from .assembly import assemble_exact
 from .closure import OCTIC, PART_NAMES, octic_data
 from .problem import LEG_PAIRS, SIDE_PAIRS, Problem
 
-__all__ = ["solve_certified"]
+__all__ = ["solve_certified", "leg_error_bounds"]
 
 
 def _q(v):
@@ -196,7 +196,7 @@ def _poses(problem, poly, feasible, sides, legs2, tol, size, flat=()):
                     try:
                         for side, (pts, _) in zip((1, -1), pairs):
                             R, t = frame_fit(plat, pts, "certified")  # congruent: built so
-                            err, rel = _leg_errors(base, pts, legs)
+                            err, rel = leg_error_bounds(base, pts, legs)
                             rad = max(float(c.rad()) for row in pts for c in row)
                             built.append((side, pts, R, t, err, rel, rad))
                     except UncertifiedError:
@@ -267,7 +267,7 @@ def _exact_poses_at(base, plat, x, sides, legs2, problem):
             continue
         seen.append(key)
         R, t = frame_fit(plat, pts, "certified")  # congruent: built so
-        err, rel = _leg_errors(base, pts, legs)
+        err, rel = leg_error_bounds(base, pts, legs)
         out.append(Pose(float(x.p) / float(x.q), side, _mids(R),
                         np.array([float(flint.arb(c).mid()) for c in t]), _mids(pts), err, rel,
                         {"s15": x, "points": pts, "rotation": R, "translation": t},
@@ -301,15 +301,29 @@ def _enclose(rows):
     return [[v if type(v).__name__ == "fmpq" else _enclose_one(v) for v in r] for r in rows]
 
 
-def _leg_errors(base, pts, legs):
-    """Rigorous upper bounds of max |distance - leg| (absolute and relative)."""
+def leg_error_bounds(base, pts, legs):
+    """Rigorous upper bounds (float64, rounded up) of ``max_k | |P_i P_j| - l_k |``,
+    absolute and relative to ``l_k``, over the six legs (:data:`.problem.LEG_PAIRS`):
+    ``base`` P1 P2 P3 and ``pts`` P4 P5 P6 rows of arb balls or exact numbers, ``legs``
+    arb balls.  Also the JSON's bound for the printed float64 points
+    (:func:`distkin.app.queries.octahedral.floats_leg_error`)."""
     import flint
     P = {1: base[0], 2: base[1], 3: base[2], 4: pts[0], 5: pts[1], 6: pts[2]}
     err = rel = 0.0
     for k, (i, j) in enumerate(LEG_PAIRS):
         d2 = sum((flint.arb(P[i][a]) - P[j][a]) ** 2 for a in range(3))
         e = abs(d2.sqrt() - legs[k])
-        up = float(e.upper())
-        err = max(err, up)
-        rel = max(rel, float((e / legs[k]).upper()))
+        err = max(err, _float_up(e))
+        rel = max(rel, _float_up(e / legs[k]))
     return err, rel
+
+
+def _float_up(ball) -> float:
+    """The smallest float64 at or above every point of the arb ``ball`` (absolute):
+    ``float()`` of its upper end rounds to nearest, which may be below it."""
+    import math
+
+    import flint
+    up = flint.arb(ball.abs_upper())
+    x = float(up)
+    return x if flint.arb(x) >= up else math.nextafter(x, math.inf)

@@ -170,27 +170,11 @@ def floats_leg_error(base, points, legs) -> tuple:
     import flint
     from ...exact import to_tier
     from ...exact_roots import working_precision
-    from ...octahedral.problem import LEG_PAIRS
+    from ...octahedral.certified import leg_error_bounds
     with working_precision(256):
-        pts = [[to_tier(v, "certified") for v in row] for row in base]
-        pts += [[to_tier(float(v), "certified") for v in row] for row in points]
-        err = rel = 0.0
-        for k, (i, j) in enumerate(LEG_PAIRS):
-            leg = flint.arb(to_tier(legs[k], "certified"))
-            d2 = sum((flint.arb(pts[i - 1][a]) - pts[j - 1][a]) ** 2 for a in range(3))
-            e = abs(d2.sqrt() - leg)
-            err = max(err, _float_up(e))
-            rel = max(rel, _float_up(e / leg))
-    return err, rel
-
-
-def _float_up(ball) -> float:
-    """The smallest float64 at or above every point of an arb ``ball`` (absolute)."""
-    import math
-    import flint
-    up = flint.arb(ball.abs_upper())
-    x = float(up)
-    return x if flint.arb(x) >= up else math.nextafter(x, math.inf)
+        B = [[to_tier(v, "certified") for v in row] for row in base]
+        P = [[to_tier(float(v), "certified") for v in row] for row in points]
+        return leg_error_bounds(B, P, [flint.arb(to_tier(v, "certified")) for v in legs])
 
 
 def _result(res, base, legs):
