@@ -446,15 +446,16 @@ def _pose66_arb(plat, R, t, m, pose):
     import flint
 
     from ..exact import sympy_to_arb
-    bj, pj = plat.joints("certified")
-    world = np.array([R.dot(p) + t for p in pj], dtype=object)
-    errs = []
-    for k in range(6):
-        diff = world[k] - bj[k]
-        lk = (diff[0] * diff[0] + diff[1] * diff[1] + diff[2] * diff[2]).sqrt()
-        e = abs(lk - sympy_to_arb(m[k]))
-        errs.append(float(flint.arb(e.upper()).mid()))
-    return Pose66(R, t, bj, world, max(errs), pose)
+    from ..exact_roots import working_precision
+    from ..octahedral.certified import segment_error_bounds
+    # the joints and legs at the pose balls' precision (the context's 53 bits left the
+    # bound at ~2e-14 m for poses enclosed to ~1e-23: their joints' own balls)
+    with working_precision(max(flint.ctx.prec, 128)):
+        bj, pj = plat.joints("certified")
+        world = np.array([R.dot(p) + t for p in pj], dtype=object)
+        # rounded up to a float64 (float() of the ball's upper end rounded to nearest)
+        err = segment_error_bounds(world, bj, [sympy_to_arb(x) for x in m])[0]
+    return Pose66(R, t, bj, world, err, pose)
 
 
 def _mpf(x):

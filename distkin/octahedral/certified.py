@@ -35,7 +35,7 @@ from .assembly import assemble_exact
 from .closure import OCTIC, PART_NAMES, octic_data
 from .problem import LEG_PAIRS, SIDE_PAIRS, Problem
 
-__all__ = ["solve_certified", "leg_error_bounds"]
+__all__ = ["solve_certified", "leg_error_bounds", "segment_error_bounds"]
 
 
 def _q(v):
@@ -307,14 +307,24 @@ def leg_error_bounds(base, pts, legs):
     ``base`` P1 P2 P3 and ``pts`` P4 P5 P6 rows of arb balls or exact numbers, ``legs``
     arb balls.  Also the JSON's bound for the printed float64 points
     (:func:`distkin.app.queries.octahedral.floats_leg_error`)."""
-    import flint
     P = {1: base[0], 2: base[1], 3: base[2], 4: pts[0], 5: pts[1], 6: pts[2]}
+    return segment_error_bounds([P[i] for i, _ in LEG_PAIRS], [P[j] for _, j in LEG_PAIRS],
+                                legs)
+
+
+def segment_error_bounds(ends_a, ends_b, legs):
+    """Rigorous upper bounds (float64, rounded up) of ``max_k | |A_k B_k| - l_k |``,
+    absolute and relative to ``l_k``: ``ends_a``, ``ends_b`` rows (3 coordinates) of arb
+    balls or exact numbers, ``legs`` arb balls, one per row.  The six legs of an
+    octahedron (:func:`leg_error_bounds`) or of a 6-6 platform (the JSON's bound for its
+    printed joints, :func:`distkin.app.queries.octahedral.floats_segment_error`)."""
+    import flint
     err = rel = 0.0
-    for k, (i, j) in enumerate(LEG_PAIRS):
-        d2 = sum((flint.arb(P[i][a]) - P[j][a]) ** 2 for a in range(3))
-        e = abs(d2.sqrt() - legs[k])
+    for a, b, leg in zip(ends_a, ends_b, legs):
+        d2 = sum((flint.arb(a[c]) - b[c]) ** 2 for c in range(3))
+        e = abs(d2.sqrt() - leg)
         err = max(err, _float_up(e))
-        rel = max(rel, _float_up(e / legs[k]))
+        rel = max(rel, _float_up(e / leg))
     return err, rel
 
 

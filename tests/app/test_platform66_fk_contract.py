@@ -95,3 +95,30 @@ def test_no_real_l_leg_gives_null_octic_fields():
     res = records[0]["result"]
     assert res["count"] == 0 and res["poses"] == []
     assert res["real_roots"] is None and res["octic"] is None and res["root_status"] is None
+
+
+@pytest.mark.parametrize("which", [1, 2], ids=["platform66", "delta_transform"])
+def test_max_leg_error_bounds_the_printed_joints(routes, which):
+    # docs/design.md §3: an accuracy statement is of the float beside it.  Reference: the
+    # m-leg residual of the JSON's float64 joints at 60 digits (mpmath), against the
+    # scene's exact base joints and m-legs.  The solver's own figure is of its pose
+    # enclosures (certified: arb balls about R and t, ~1e-23 wide), another quantity: it
+    # read ~2.5e-14 m while the joints were enclosed at the context's 53 bits.
+    import mpmath
+    import sympy
+    got = routes[which]
+    legs = [sympy.sympify(m) for m in eval(M_LEGS)]
+    base = got["base_joints"]
+    worst = 0.0
+    with mpmath.workdps(60):
+        for pose in got["poses"]:
+            true = max(abs(mpmath.sqrt(sum((mpmath.mpf(str(sympy.sympify(b).evalf(70)))
+                                             - mpmath.mpf(float(p))) ** 2
+                                            for b, p in zip(bk, pk)))
+                           - mpmath.mpf(str(m.evalf(70))))
+                       for bk, pk, m in zip(base, pose["platform_joints"], legs))
+            assert true <= pose["max_leg_error"] <= 1.01 * true + 1e-30
+            assert pose["max_leg_error_solver"] < 1e-18 < true
+            worst = max(worst, pose["max_leg_error"])
+    assert got["max_leg_error"] == worst
+    assert got["max_leg_error_solver"] == max(q["max_leg_error_solver"] for q in got["poses"])

@@ -62,7 +62,8 @@ from ...errors import DistkinError, InfeasibleError, InputError
 from ...exact import METHODS_AUTO, exact_to_float, parse_vector
 from ..query import Outcome, register
 from ..report import as_written, float_inputs, float_inputs_line
-from .octahedral import check_leg_length, count_verdict, octic_fields, pose_points, roots_lines
+from .octahedral import (check_leg_length, count_verdict, floats_segment_error, octic_fields,
+                         pose_points, roots_lines)
 from .octahedral import result_units as octahedral_units
 
 __all__ = ["DeltaTransformQuery", "Platform66Forward", "Platform66Mechanism",
@@ -275,7 +276,7 @@ def result_units(units) -> dict:
                 "points": octa_units["points"], "real_roots": octa_units["real_roots"],
                 "octic": octa_units["octic"],
                 "platform_joints_local": L, "rotation": "none (rotation matrix)",
-                "max_leg_error": L,
+                "max_leg_error": L, "max_leg_error_solver": L,
                 "det_J66": f"{L}^3 (normalised Plücker rows, moments in {L})"
                            if L != "none" else "none"}}
 
@@ -342,14 +343,16 @@ def _solve(p, result, unit, ctx):
         pj = flt(pose.platform_joints)
         s15 = float(getattr(pose.octahedral_pose, "s15", float("nan")))
         detj = float(jacobian_det(bj, pj, warn=False))
+        # of the float joints printed, as the octahedral poses' (docs/design.md §3)
+        err = floats_segment_error(fk.platform.base_joints, pj, p.m_legs)[0]
         poses.append({"s15": s15, "rotation": R, "translation": t, "platform_joints": pj,
                       "points": pose_points(pose.octahedral_pose),  # the equivalent octahedron's
-                      "max_leg_error": pose.max_leg_error, "det_J66": detj})
+                      "max_leg_error": err, "max_leg_error_solver": pose.max_leg_error,
+                      "det_J66": detj})
         # significant digits: a micrometre-scale scene keeps them (QA V 5)
         lines.append(f"  pose {k + 1:2d}: s15 = {s15:.8g}{sq}, t = ({t[0]: .7g}, "
                      f"{t[1]: .7g}, {t[2]: .7g}){unit}, det J66 = {detj: .3e}"
-                     f"{unit + '^3' if unit else ''}, max |m-leg error| = "
-                     f"{pose.max_leg_error:.2e}{unit}")
+                     f"{unit + '^3' if unit else ''}, max |m-leg error| = {err:.2e}{unit}")
     result["forward_kinematics"] = {
         "method": p.method,
         "tier": tier,
@@ -360,16 +363,19 @@ def _solve(p, result, unit, ctx):
         "reason": octa.reason,
         "notes": [str(w.message) for w in caught],
         **octic_fields(octa),                 # the equivalent octahedron's octic in s15
-        "max_leg_error": fk.max_leg_error if n else None,
+        "max_leg_error": max(q["max_leg_error"] for q in poses) if n else None,
+        "max_leg_error_solver": fk.max_leg_error if n else None,
         "base_joints": [[str(x) for x in b] for b in fk.platform.base_joints],
         "platform_joints_local": [[str(x) for x in q] for q in fk.platform.platform_joints],
         "poses": poses,
-        "accuracy": "max_leg_error = max_k | |b_k - (R q_k + t)| - m_k | on the 6-6 joints"
-                    + bound,
+        "accuracy": "max_leg_error: a rigorous bound of max_k | |b_k - p_k| - m_k | for "
+                    "the float64 platform_joints p_k printed; max_leg_error_solver: of the "
+                    f"{tier} tier's own pose (b_k - (R q_k + t)){bound}",
     }
     if n:
-        lines.append(f"  worst m-leg residual over all poses: {fk.max_leg_error:.2e}{unit}"
-                     f"{bound}")
+        lines.append(f"  (max |m-leg error|: a bound for the float64 joints printed; the "
+                     f"{tier} tier's own poses' residual is at most {fk.max_leg_error:.1e}"
+                     f"{unit}{bound}, JSON max_leg_error_solver)")
     return lines
 
 

@@ -49,7 +49,8 @@ from ..query import Outcome, register
 from ..report import float_inputs, float_inputs_line
 
 __all__ = ["check_leg_length", "OctahedralForwardQuery", "result_units", "octic_fields", "pose_points",
-           "roots_lines", "count_verdict", "floats_leg_error"]
+           "roots_lines", "count_verdict", "floats_leg_error",
+           "floats_segment_error"]
 
 
 @dataclass(frozen=True)
@@ -167,14 +168,29 @@ def floats_leg_error(base, points, legs) -> tuple:
     points : (3, 3) float, P4 P5 P6 in the base frame (scene unit)
     legs : (6,) Exact or numbers, l_1 .. l_6 (scene unit)
     """
+    from ...octahedral.banana import LEG_PAIRS       # base P_i (i <= 3) to platform P_j
+    return floats_segment_error([base[i - 1] for i, _ in LEG_PAIRS],
+                                [points[j - 4] for _, j in LEG_PAIRS], legs)
+
+
+def floats_segment_error(ends_a, ends_b, legs) -> tuple:
+    """Rigorous upper bounds of ``max_k | |A_k B_k| - l_k |`` (absolute, and relative to
+    ``l_k``), with the rows of ``ends_b`` the float64 numbers as printed (their exact
+    binary values) or exact, ``ends_a`` and ``legs`` the scene's exact values or floats;
+    arb balls at 256 bits (:func:`distkin.octahedral.certified.segment_error_bounds`).
+    The octahedron's six legs (:func:`floats_leg_error`) and a 6-6 platform's joints
+    (the ``platform66`` and ``delta_transform`` poses)."""
     import flint
     from ...exact import to_tier
     from ...exact_roots import working_precision
-    from ...octahedral.certified import leg_error_bounds
+    from ...octahedral.certified import segment_error_bounds
+
+    def ball(v):
+        return to_tier(float(v) if isinstance(v, float) else v, "certified")
     with working_precision(256):
-        B = [[to_tier(v, "certified") for v in row] for row in base]
-        P = [[to_tier(float(v), "certified") for v in row] for row in points]
-        return leg_error_bounds(B, P, [flint.arb(to_tier(v, "certified")) for v in legs])
+        A = [[ball(v) for v in row] for row in ends_a]
+        B = [[to_tier(float(v), "certified") for v in row] for row in ends_b]
+        return segment_error_bounds(A, B, [flint.arb(ball(v)) for v in legs])
 
 
 def _result(res, base, legs):
