@@ -140,7 +140,9 @@ def add_control_parser(sub) -> None:
                                                    "directory: '' and a trailing / are "
                                                    "refused")
     p.add_argument("--plots", metavar="DIR", help="plot the run into DIR/control.png (with "
-                                                  "--log, or from a temporary log)")
+                                                  "--log, or from a temporary log); with "
+                                                  "--delay-margin, the sweep into "
+                                                  "DIR/delay_margin.png")
     p.add_argument("--wall-limit", type=_seconds,
                    help="give up after this much wall time, s (default 2 x --seconds + 10; "
                         "exit 2, exit_reason wall_limit)")
@@ -291,6 +293,39 @@ def _emit(text: str, data: dict, json_arg) -> None:
             write_json(json_arg, json.dumps(data, indent=2))
 
 
+class _slow_start_notice:
+    """One stderr line when the set-up (the controller's kernels, the simulator's, the
+    link's decoder: numba compiles them once per machine) has not ended after
+    ``after`` s, so that a first run is not 20-60 s of silence (QA 24); ``cleanup()``
+    cancels it (idempotent)."""
+
+    def __init__(self, after: float = 5.0):
+        import threading
+        self._timer = threading.Timer(after, self._say)
+        self._timer.daemon = True
+        self._timer.start()
+
+    @staticmethod
+    def _say():
+        print("distkin control: still setting up: the controller's and the simulator's "
+              "kernels (numba compiles them on a machine's first run, 20-60 s, then loads "
+              "them from its cache) ...", file=sys.stderr, flush=True)
+
+    def cleanup(self):
+        self._timer.cancel()
+
+
+def _plot_title(scene, args) -> str:
+    """The run plot's title: the scene, the device, the rate and the gains."""
+    where = Path(args.scene).name if args.scene else "built-in scene"
+    link = "simulated device" if args.sim else f"device on {args.port}"
+    unit = scene.effort_unit
+    per = "m" if scene.joint == "prismatic" else "rad"
+    return (f"distkin control: {where} ({scene.title or scene.preset})\n{link}, "
+            f"{scene.rate_hz:g} Hz; PD kp {scene.pd.kp:g} {unit}/{per}, kd {scene.pd.kd:g} "
+            f"{unit}·s/{per}")
+
+
 def _margin_note(scene, model, args) -> dict:
     """The delay margin for the run's summary, and a warning before the run starts when
     the loop is unstable even lock-stepped (with ``--sim``; on a port that is refused,
@@ -403,10 +438,15 @@ def cmd_control(args) -> int:
     if prefix is None and args.plots:
         tmpdir = tempfile.TemporaryDirectory(prefix="distkin-control-")
         prefix = str(Path(tmpdir.name) / "run")
-    model = model_of(scene)
-    margin = _margin_note(scene, model, args)
+    slow = _slow_start_notice()             # a cold numba cache: 20-60 s of silence
+    try:
+        model = model_of(scene)
+        margin = _margin_note(scene, model, args)
+    except BaseException:
+        slow.cleanup()
+        raise
     proc = None
-    cleanup = []
+    cleanup = [slow]
     if tmpdir is not None:
         cleanup.append(tmpdir)
     try:
@@ -431,6 +471,7 @@ def cmd_control(args) -> int:
         # everything compiled before the port is opened (the controller's kernels and
         # the link's decoder): a cold numba cache costs seconds, never a watchdog
         ctl = Controller(scene, model, log_prefix=prefix)
+        slow.cleanup()
         try:
             link = Link(url, busy_wait_s=scene.busy_wait_us * 1e-6)
         except LinkError as exc:
@@ -473,7 +514,12 @@ def cmd_control(args) -> int:
                 Path(args.plots).mkdir(parents=True, exist_ok=True)
                 summary["plots"] = [str(p) for p in
                                     plot_run(prefix, Path(args.plots) / "control.png",
-                                             effort_unit=scene.effort_unit)]
+                                             effort_unit=scene.effort_unit,
+                                             title=_plot_title(scene, args),
+                                             effort_limit=scene.pd.torque_limit,
+                                             walls=[(e.normal, e.offset) for e in
+                                                    scene.environment
+                                                    if hasattr(e, "normal")])]
             except Exception as exc:   # a plot must never cost the run's summary
                 summary["plot_error"] = f"{type(exc).__name__}: {exc}"
                 print(f"distkin: warning: --plots: plot failed ({summary['plot_error']}); "

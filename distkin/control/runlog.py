@@ -17,7 +17,8 @@ import numpy as np
 from ..errors import InputError
 from .safety import FAULT, RUN, STOPPED
 
-__all__ = ["CsvLog", "EventLog", "read_csv", "read_events", "plot_run", "plot_delay_margin",
+__all__ = ["CsvLog", "EventLog", "read_csv", "read_events", "plot_run", "run_figure",
+           "plot_delay_margin",
            "timing_summary", "run_summary", "EXIT_CODES", "STATE_NAMES",
            "check_log_prefix"]
 
@@ -170,19 +171,36 @@ def read_events(path) -> list[dict]:
     return [json.loads(line) for line in text.splitlines() if line.strip()]
 
 
-def plot_run(prefix, out=None, *, effort_unit: str = "N·m") -> list:
+def plot_run(prefix, out=None, *, effort_unit: str = "N·m", title: str = "",
+             effort_limit: float | None = None, walls=()) -> list:
     """Plot a controller run from its log files ``PREFIX.cycles.csv`` and
     ``PREFIX.events.jsonl`` (and ``PREFIX.device.csv`` when the simulator wrote one).
 
     Panels: end-effector position (estimated, desired, true), hand force, actuator
-    commands (torques in N·m, or forces in N for prismatic legs: ``effort_unit``),
-    compute time per cycle; safety events are drawn as vertical lines.
+    commands (torques in N·m, or forces in N for prismatic legs: ``effort_unit``; one
+    line per leg, ``effort_limit`` the saturation ±, drawn when given), compute time per
+    cycle; safety events are drawn as vertical lines.  ``title`` names the run (scene,
+    device, rate); ``walls`` the scene's virtual walls as ``(normal, offset)`` (m):
+    those along an axis are drawn in the position panel, at their offset from the
+    start position.
 
     Returns
     -------
     list of Path
         The PNG written (``out`` or ``PREFIX.png``).
     """
+    import matplotlib.pyplot as plt
+    fig = run_figure(prefix, effort_unit=effort_unit, title=title,
+                     effort_limit=effort_limit, walls=walls)
+    out = Path(out) if out else Path(str(prefix) + ".png")
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return [out]
+
+
+def run_figure(prefix, *, effort_unit: str = "N·m", title: str = "",
+               effort_limit: float | None = None, walls=()):
+    """The matplotlib Figure of :func:`plot_run` (same arguments), not saved."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -201,18 +219,35 @@ def plot_run(prefix, out=None, *, effort_unit: str = "N·m") -> list:
         if dev is not None:
             ax[0].plot(dev["t"], 1e3 * (dev[f"x_{name}"] - x0), ":", color=f"C{i}",
                        label=f"{name} true")
+    start = [c[f"x_{n}"][0] if t.size else 0.0 for n in "xyz"]
+    for normal, offset in walls:
+        n = [float(v) for v in normal]
+        axis = [i for i, v in enumerate(n) if v != 0.0]
+        if len(axis) == 1:          # n = ±e_i: the wall is x_i = ±offset
+            i = axis[0]
+            ax[0].axhline(1e3 * (offset / n[i] - start[i]), color=f"C{i}", lw=1.2,
+                          ls="-.", label=f"{'xyz'[i]} wall")
     ax[0].set_ylabel("displacement from start [mm]")
     ax[0].legend(ncol=3, fontsize=7)
+    if title:
+        ax[0].set_title(title, fontsize=9)
     for i, name in enumerate("xyz"):
         ax[1].plot(t, c[f"f_{name}"], label=f"F{name}", color=f"C{i}")
     ax[1].set_ylabel("hand force [N]")
     ax[1].legend(fontsize=7)
     k = 0
     while f"tau_{k}" in c:
-        ax[2].plot(t, c[f"tau_{k}"], lw=0.8)
+        ax[2].plot(t, c[f"tau_{k}"], lw=0.8, label=f"leg {k + 1}")
         k += 1
+    if effort_limit is not None:
+        for sign in (1.0, -1.0):
+            ax[2].axhline(sign * effort_limit, color="k", lw=0.8, ls="--",
+                          label="limit ±" + f"{effort_limit:g} {effort_unit}"
+                          if sign > 0 else None)
     ax[2].set_ylabel(f"{'force' if effort_unit == 'N' else 'torque'} command "
                      f"[{effort_unit}]")
+    if k:
+        ax[2].legend(ncol=min(k + 1, 5), fontsize=7)
     ax[3].plot(t, 1e3 * c["compute_s"], lw=0.6, label="compute")
     ax[3].plot(t, 1e3 * c["period_s"], lw=0.6, label="period")
     ax[3].set_ylabel("time [ms]")
@@ -223,10 +258,7 @@ def plot_run(prefix, out=None, *, effort_unit: str = "N·m") -> list:
             for a in ax:
                 a.axvline(e["t_dev"], color="r", lw=0.5, alpha=0.5)
     fig.tight_layout()
-    out = Path(out) if out else Path(prefix + ".png")
-    fig.savefig(out, dpi=110)
-    plt.close(fig)
-    return [out]
+    return fig
 
 
 #: the summary's ``final_state``: the name of the controller's state after the last
@@ -337,12 +369,17 @@ def plot_delay_margin(report: dict, out) -> Path:
         ax[0].legend()
     ax[0].set_ylabel("spectral radius (1 per period)")
     ax[0].set_title("joint PD loop, linearised at home: extra command delay")
-    ax[1].plot(d, [r["growth_per_s"] for r in sw], "o-", color="C3", label="growth (1/s)")
+    g = ax[1].plot(d, [r["growth_per_s"] for r in sw], "o-", color="C3",
+                   label="growth (1/s, left)")
     ax[1].axhline(0.0, color="k", lw=0.8)
-    ax[1].set_ylabel("growth of the least-damped mode (1/s)")
+    ax[1].set_ylabel("growth of the least-damped mode (1/s)", color="C3")
+    ax[1].tick_params(axis="y", colors="C3")
     tw = ax[1].twinx()
-    tw.plot(d, [r["frequency_hz"] for r in sw], "s--", color="C0", label="frequency (Hz)")
-    tw.set_ylabel("its frequency (Hz)")
+    f = tw.plot(d, [r["frequency_hz"] for r in sw], "s--", color="C0",
+                label="frequency (Hz, right)")
+    tw.set_ylabel("its frequency (Hz)", color="C0")
+    tw.tick_params(axis="y", colors="C0")
+    ax[1].legend(g + f, [h.get_label() for h in g + f], fontsize=8, loc="best")
     ax[1].set_xlabel("extra command delay (ms)")
     fig.tight_layout()
     out = Path(out)

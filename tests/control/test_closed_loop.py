@@ -148,6 +148,35 @@ def test_the_logs_plot(run, tmp_path):
     assert out[0].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_the_run_plot_says_what_it_shows(run):
+    # QA 24: no title, eight unlabelled effort lines, neither the wall nor the limit
+    # drawn.  References: the scene's wall (normal e_x, offset) and torque limit, and the
+    # log's first estimated position (the panel plots displacement from the start).
+    import matplotlib.pyplot as plt
+
+    from distkin.control.runlog import run_figure
+    scene = run["scene"]
+    walls = [(e.normal, e.offset) for e in scene.environment if hasattr(e, "normal")]
+    assert walls and list(walls[0][0]) == [1, 0, 0]
+    fig = run_figure(run["prefix"], title="the run", walls=walls,
+                     effort_limit=scene.pd.torque_limit)
+    try:
+        pos, _, eff, _ = fig.axes
+        wall = [ln for ln in pos.get_lines() if ln.get_label() == "x wall"]
+        x0 = run["cycles"]["x_x"][0]
+        assert len(wall) == 1
+        np.testing.assert_allclose(wall[0].get_ydata(), 1e3 * (walls[0][1] - x0), rtol=1e-12)
+        assert pos.get_title() == "the run"
+        legs = [ln.get_label() for ln in eff.get_lines() if ln.get_label().startswith("leg")]
+        assert legs == [f"leg {k}" for k in range(1, 9)]
+        limits = sorted(float(ln.get_ydata()[0]) for ln in eff.get_lines()
+                        if ln.get_linestyle() == "--")
+        assert limits == [-scene.pd.torque_limit, scene.pd.torque_limit]
+        assert eff.get_legend() is not None
+    finally:
+        plt.close(fig)
+
+
 def test_a_4khz_realtime_scene_runs_the_same_loop(tmp_path):
     """``rate_hz = 4000`` with ``realtime = true``: the loop answers every state frame
     (lock-stepped, widened windows), the device advances its physics in 0.25 ms steps,
