@@ -34,7 +34,8 @@ def _vol(pts, i, j, k, l):
                   axis=-1) / 6
 
 
-def volume_factors(points, *, method: str | None = None, dps: int | None = None):
+def volume_factors(points, *, method: str | None = None, dps: int | None = None,
+                   with_error: bool = False, warn: bool = True):
     r"""Signed-volume products :math:`a = V_{1245}V_{3456}V_{1236}` and
     :math:`b = V_{1234}V_{2456}V_{1356}` (length units^9).
 
@@ -45,7 +46,13 @@ def volume_factors(points, *, method: str | None = None, dps: int | None = None)
     default 30, set locally), only with ``method="precise"``.  Fast: coordinates
     scaled by a power of two (module docstring); a product beyond float64 reads 0.0
     or inf with a :class:`~distkin.errors.FloatRangeWarning` (QA 23: a silent
-    ``(-0.0, 0.0)`` at 1e-100, inf at 1e50, NaN at 1e150).
+    ``(-0.0, 0.0)`` at 1e-100, inf at 1e50, NaN at 1e150).  Fast: where a product's
+    rounding-error estimate (:func:`_volume_error`) reaches its value, float64 does not
+    resolve its sign; a :class:`~distkin.errors.CancellationWarning` says so where it
+    exceeds 1e-6 of the value, as the Cayley-Menger conditions' do (a
+    nearly flat tetrahedron read an exact-looking 0.0 or the wrong sign, QA 24;
+    ``warn=False``: no warning); ``with_error=True`` returns ``(a, b, err_a, err_b)``
+    (the fast estimates; 0.0 in the other tiers, whose digits are their own).
     """
     with _precision(dps, method, points):
         pts, kind = _prepare(points, method)
@@ -58,12 +65,49 @@ def volume_factors(points, *, method: str | None = None, dps: int | None = None)
             pts, scale = scaled_points(pts)
         a = _vol(pts, 1, 2, 4, 5) * _vol(pts, 3, 4, 5, 6) * _vol(pts, 1, 2, 3, 6)
         b = _vol(pts, 1, 2, 3, 4) * _vol(pts, 2, 4, 5, 6) * _vol(pts, 1, 3, 5, 6)
-    if scale is None:
-        return a, b
-    from .float_range import scale_back
+    if kind != "fast":
+        return (a, b, 0.0, 0.0) if with_error else (a, b)
+    ea = _volume_error(pts, ((1, 2, 4, 5), (3, 4, 5, 6), (1, 2, 3, 6)))
+    eb = _volume_error(pts, ((1, 2, 3, 4), (2, 4, 5, 6), (1, 3, 5, 6)))
+    flag = (ea > 1e-6 * np.abs(a)) | (eb > 1e-6 * np.abs(b))
+    if warn and np.any(flag):
+        from ..errors import CancellationWarning
+        from ..errors import warn as _warn
+        i = int(np.flatnonzero(np.ravel(flag))[0])
+        where = (f" at {int(np.sum(flag))} of {np.size(flag)} point set(s) (first: batch "
+                 f"index {tuple(int(j) for j in np.unravel_index(i, np.shape(flag)))})"
+                 if np.ndim(flag) else "")
+        _warn(f"fast volume factors{where}: a = {float(np.ravel(a)[i]):.6g} (estimate "
+              f"{float(np.ravel(ea)[i]):.3g}), b = {float(np.ravel(b)[i]):.6g} (estimate "
+              f"{float(np.ravel(eb)[i]):.3g}): a rounding-error estimate above 1e-6 of its "
+              "product (as the Cayley-Menger conditions'), or above it (the sign not "
+              "resolved): a nearly flat tetrahedron; use method='precise' or 'certified'",
+              CancellationWarning)
+    from .float_range import scale_back, scale_error
     ab = scale_back(np.stack([a, b]), scale, 9, "volume factors (a, b)",
                     "their ratio a / b (scale-free)")
-    return (ab[0], ab[1]) if np.ndim(a) else (float(ab[0]), float(ab[1]))
+    out = (ab[0], ab[1]) if np.ndim(a) else (float(ab[0]), float(ab[1]))
+    if not with_error:
+        return out
+    ea, eb = scale_error(ea, scale, 9), scale_error(eb, scale, 9)
+    return out + ((ea, eb) if np.ndim(a) else (float(ea), float(eb)))
+
+
+def _volume_error(pts, quads):
+    r"""Rounding-error estimate of the fast product of the three signed volumes
+    :math:`V_{ijkl} = (P_j - P_i)\cdot((P_k - P_i)\times(P_l - P_i))/6` named by
+    ``quads``: each volume within :math:`e_V = 2\cdot 10\,\varepsilon\,
+    \|d_1\|\|d_2\|\|d_3\|/6` of its float (the edges rounded once each, the cross
+    product and the dot product: about :math:`10\varepsilon` times the product of the
+    edge lengths, times 2), and the product within :math:`\prod(|V| + e_V) - \prod|V|`
+    (every order, not only the first).  An estimate, not a proof."""
+    vols, errs = [], []
+    for i, j, k, m in quads:
+        d = [pts[..., q - 1, :] - pts[..., i - 1, :] for q in (j, k, m)]
+        vols.append(np.abs(_vol(pts, i, j, k, m)))
+        errs.append(20 * _U * np.prod([np.linalg.norm(x, axis=-1) for x in d], axis=0) / 6)
+    hi = np.prod([v + e for v, e in zip(vols, errs)], axis=0)
+    return hi - np.prod(vols, axis=0) + 4 * _U * hi
 
 
 @dataclass(frozen=True)
@@ -84,23 +128,37 @@ class FourPlanes:
     spread : float or array
         Largest distance from ``point`` to one of the planes (length units); 0 when
         the planes meet in a point.
+    det_error : float or array or None
+        Fast tier: a rounding-error estimate of ``det`` (length units^9; not a proof);
+        None in the other tiers (precise: its digits; certified: ``det`` is exact or a
+        ball).
     """
 
     det: object
     relative: object
     point: object
     spread: object
+    det_error: object = None
 
 
 def four_planes(points, *, length_scale: float | None = None, method: str | None = None,
-                dps: int | None = None) -> FourPlanes:
+                dps: int | None = None, warn: bool = True) -> FourPlanes:
     r"""Do the planes :math:`P_1P_2P_4`, :math:`P_2P_3P_5`, :math:`P_3P_1P_6`,
     :math:`P_4P_5P_6` meet in a point? (Rojas et al., Sec. IV, ref. [19]).
 
     Four planes :math:`n_i\cdot x = c_i` have a common (possibly ideal) point iff
     :math:`\det[n_i, -c_i] = 0`.  ``point`` and ``spread`` are computed in float64
     whatever the tier, from plane rows scaled by powers of two (exact: the relative
-    value does not depend on the length unit; module docstring).
+    value does not depend on the length unit; module docstring).  ``relative`` =
+    :math:`F / (L \prod_i \|n_i\|)` is a float64 number in every tier: in the fast
+    tier computed from the unit rows, in the others the float nearest the tier's own
+    value (precise: mpmath at ``dps``; certified: the midpoint of an arb ball at 128
+    bits or more, of F's sign wherever F's ball excludes 0; it read 0.0 or the wrong
+    sign near a singularity when taken from float64 rows, QA 24).  The fast tier gives
+    ``det_error``, a rounding-error estimate of ``det`` (``relative`` carries the same
+    relative error), and warns (:class:`~distkin.errors.ConditioningWarning`) where it
+    exceeds :math:`|F|`: float64 does not resolve F's sign there (``warn=False``: no
+    warning, for callers that drive F to 0 on purpose).
 
     Parameters
     ----------
@@ -134,25 +192,39 @@ def four_planes(points, *, length_scale: float | None = None, method: str | None
         if pts.shape[-2:] != (6, 3):
             raise InputError(f"expected points of shape (..., 6, 3), got {pts.shape}",
                              field="points")
+        err = exact_rel = None
         if kind == "fast":
             from .float_range import scaled_points
             pts, scale = scaled_points(pts)
             M = _rows(pts)
             _check_normals(M[..., :3] != 0)
             F = np.linalg.det(M)
+            err = _det_error(M, pts)
+            flag = err >= np.abs(F)
             if scale is not None:
-                from .float_range import scale_back
+                from .float_range import scale_back, scale_error
                 F = scale_back(F, scale, 9, "four-planes det F", "its relative value")
+                err = scale_error(err, scale, 9)
             rows, pf = _row_scaled(M), pts
         else:
             M = _rows(pts)
             _check_normals(_nonzero(M[..., :3], kind))
             F = _det(M, kind)
             rows, pf, scale = _float_rows(M, pts)
+            exact_rel = _tier_relative(F, M, pts, length_scale, kind)
     L = length_scale
     if L is not None and scale is not None:
         L = np.ldexp(L, -np.asarray(scale))
     rel, x, spread = _geometry(rows, pf, L)
+    if exact_rel is not None:
+        rel = exact_rel
+    if err is not None and warn and np.any(flag):
+        from ..errors import ConditioningWarning
+        from ..errors import warn as _warn
+        from .float_range import unresolved_note
+        _warn(unresolved_note(F, err, flag, "four-planes det F").replace(
+            "(with_error=True returns the estimate)", "(FourPlanes.det_error is the estimate)"),
+            ConditioningWarning)
     if scale is not None:
         from ..geometry.pow2_scale import scale_back
         advice = "the relative value, or another length unit"
@@ -160,7 +232,80 @@ def four_planes(points, *, length_scale: float | None = None, method: str | None
         spread = scale_back(spread, scale, "four-planes spread", advice)[0]
     if np.ndim(rel) == 0:
         rel, spread = float(rel), float(spread)
-    return FourPlanes(F, rel, x, spread)
+        err = None if err is None else float(err)
+    return FourPlanes(F, rel, x, spread, err)
+
+
+#: unit roundoff of float64
+_U = 2.0 ** -53
+
+
+def _det_error(M, pts):
+    r"""Rounding-error estimate of the fast :math:`F = \det M` (rows
+    :math:`(n_i, -n_i\cdot P_i)` of float points ``pts`` (..., 6, 3)).  With the offset
+    column divided by :math:`S = \max_i\|P_i\|` (rows :math:`r'_i`),
+
+    .. math:: e = 2S \sum_i \|\delta_i\| \prod_{j\ne i}\|r'_j\|,\qquad
+              \|\delta_i\| = 16\varepsilon\|r'_i\|
+              + \varepsilon\|a_i\|\|b_i\|\,(4 + 7\|P_i\|/S),
+
+    first order (Hadamard's inequality bounds the cofactors), as
+    :func:`.float_range.det_error` for det J: the edges :math:`a_i, b_i` of plane
+    :math:`i` rounded once each and their cross product (:math:`4\varepsilon
+    \|a_i\|\|b_i\|`), the offset :math:`n_i\cdot P_i` (that error times
+    :math:`\|P_i\|`, and its own :math:`3\varepsilon\|n_i\|\|P_i\|`), and LU's
+    backward error (:math:`4n\varepsilon` per row, n = 4; Higham, *Accuracy and Stability
+    of Numerical Algorithms*, 2nd ed., Ch. 9), times 2.  An estimate, not a proof (the
+    certified tier gives one); relative to F it grows like 1/|F| near a singularity,
+    and with the points' distance from the origin (F does not depend on it, its float64
+    rounding does)."""
+    S = np.max(np.linalg.norm(pts, axis=-1), axis=-1)
+    S = np.where(S > 0, S, 1.0)
+    Ms = np.array(M, dtype=float)
+    Ms[..., 3] = Ms[..., 3] / S[..., None]
+    norms = np.linalg.norm(Ms, axis=-1)
+    err = 0.0
+    for r, (i, j, k) in enumerate(PLANES):
+        a = pts[..., j - 1, :] - pts[..., i - 1, :]
+        b = pts[..., k - 1, :] - pts[..., i - 1, :]
+        ab = np.linalg.norm(a, axis=-1) * np.linalg.norm(b, axis=-1)
+        pi = np.linalg.norm(pts[..., i - 1, :], axis=-1)
+        pert = 16 * _U * norms[..., r] + _U * ab * (4 + 7 * pi / S)
+        err = err + pert * np.prod(np.delete(norms, r, axis=-1), axis=-1)
+    return 2 * S * err
+
+
+def _tier_relative(F, M, pts, length_scale, kind) -> float:
+    r""":math:`F / (L \prod_i \|n_i\|)` in the tier's numbers (one point set), as the
+    float nearest it: mpmath (precise) or an arb ball (certified; the working precision
+    is at least 128 bits) whose midpoint has F's sign where F's ball excludes 0 (an
+    exact F = 0 gives 0.0).  ``L`` the largest distance from P1 unless given."""
+    if kind == "precise":
+        import mpmath
+        sq = lambda v: mpmath.sqrt(sum(mpmath.mpf(x) ** 2 for x in v))  # noqa: E731
+        norm = sq
+        one = mpmath.mpf
+    else:
+        import flint
+
+        from .tiers import _to_flint
+
+        def norm(v):
+            return flint.arb(sum((flint.arb(_to_flint(x)) ** 2 for x in v),
+                                 flint.arb(0))).sqrt()
+        one = flint.arb
+    if kind == "certified" and type(F).__name__ == "fmpq" and F == 0:
+        return 0.0
+    if length_scale is None:
+        d = [norm([p[c] - pts[0][c] for c in range(3)]) for p in pts[1:]]
+        L = max(d, key=lambda v: float(v.mid()) if kind == "certified" else float(v))
+    else:
+        L = one(float(length_scale)) if kind == "precise" else flint.arb(float(length_scale))
+    den = L
+    for row in M:
+        den = den * norm(row[:3])
+    v = (one(F) if kind == "precise" else flint.arb(F)) / den
+    return float(v.mid()) if kind == "certified" else float(v)
 
 
 def _rows(pts):

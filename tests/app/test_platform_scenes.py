@@ -119,6 +119,10 @@ def test_singularity_tests_agree_with_the_kernel_determinant():
     at = singularity_tests_at(gd, x, "fast")
     assert abs(at["det_J"]) < 1e-12 and at["sigma_min"] < 1e-12
     assert abs(at["signed_cm_relative"]) < 1e-9 and abs(at["four_planes_relative"]) < 1e-9
+    # at the singularity float64 cannot resolve F's sign, and says so (QA 24)
+    assert at["four_planes_sign_resolved"] is False
+    x[5] = np.radians(30.0)
+    assert singularity_tests_at(gd, x, "fast")["four_planes_sign_resolved"] is True
     for rz in np.radians([0.0, 30.0, 75.0, 105.0]):
         x[5] = rz
         off = singularity_tests_at(gd, x, "certified")

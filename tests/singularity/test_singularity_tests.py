@@ -12,7 +12,7 @@ import pytest
 import sympy as sp
 
 from distkin.delta import equivalent_platform
-from distkin.errors import UncertifiedError
+from distkin.errors import ConditioningWarning, UncertifiedError
 from distkin.singularity import (RATIO_CONSTANT, PosePath, certified_sign, certify_crossing,
                                  cm_pure_condition, four_planes, jacobian_det,
                                  nearest_singularity, octahedral_joints, path_crossings,
@@ -128,11 +128,13 @@ def test_root_finding_along_a_path_all_tests_fire_and_arb_certifies():
     # all three characterisations fire at the root
     assert abs(f(np.array([s]))[0]) < 1e-12
     assert abs(cm_pure_condition(X, relative=True)[0]) < 1e-12
-    fp = four_planes(X, length_scale=6.0)
+    with pytest.warns(ConditioningWarning, match="four-planes det F"):   # sign unresolved
+        fp = four_planes(X, length_scale=6.0)
     assert abs(fp.relative[0]) < 1e-12 and fp.spread[0] < 1e-9
+    assert fp.det_error[0] >= abs(fp.det[0])
     # the other tests, root-found independently, give the same s
     g = lambda s: cm_pure_condition(_world(*path.at(s)), relative=True)  # noqa: E731
-    h = lambda s: four_planes(_world(*path.at(s))).relative  # noqa: E731
+    h = lambda s: four_planes(_world(*path.at(s)), warn=False).relative  # noqa: E731
     assert min(abs(r - s) for r in path_crossings(g, 40)[0]) < 1e-10
     assert min(abs(r - s) for r in path_crossings(h, 40)[0]) < 1e-10
     # arb: signs of det J on both sides of the root, on the exact path (pi, sqrt(3) as balls)
@@ -229,7 +231,7 @@ def test_zero_sets_agree_along_random_paths():
         X = lambda s: _world(*path.at(s))  # noqa: E731
         r_det = path_crossings(lambda s: jacobian_det(*octahedral_joints(X(s)), warn=False), 60)[0]
         r_k = path_crossings(lambda s: signed_cm_condition(X(s), relative=True), 60)[0]
-        r_fp = path_crossings(lambda s: four_planes(X(s)).relative, 60)[0]
+        r_fp = path_crossings(lambda s: four_planes(X(s), warn=False).relative, 60)[0]
         r_a = path_crossings(lambda s: volume_factors(X(s))[0], 60)[0]
         near = lambda r, rs: min((abs(r - x) for x in rs), default=1.0)  # noqa: E731
         for r in r_det:

@@ -191,8 +191,10 @@ def singularity_tests_at(mech, pose, method: str = "fast", tolerance: float = 1e
                            ("signed_cm_relative", signed_cm_condition)):
                 v = f(g(P, relative=True, method=tier))
                 out[key] = None if v != v else v
-        fp = four_planes(P, method=tier)
+        fp = four_planes(P, method=tier, warn=False)      # said per pose instead (QA 24)
         out["four_planes_relative"] = f(fp.relative)
+        out["four_planes_sign_resolved"] = bool(fp.det_error is None
+                                                or fp.det_error < abs(fp.det))
         out["four_planes_spread"] = float(fp.spread) * s
     return out
 
@@ -225,6 +227,8 @@ _UNIT = {"pose": "m, rad", "length_scale_m": "m",
          "det_J": "none (of that J)", "tolerance": "none (on det J, or on sigma_min)",
          "cm_relative": "none", "signed_cm_relative": "none",
          "four_planes_relative": "none", "four_planes_spread": "m",
+         "four_planes_sign_resolved": "bool (fast: F's float64 rounding-error estimate is "
+                                      "below |F|; the exact tiers: true)",
          "verdict": "text: what was decided and for which pose (decided_at)",
          "reachable": "bool: every leg closes within its declared joint range (certified: "
                       "certainly); false: every test null, no verdict",

@@ -193,7 +193,8 @@ def result_units(units, pose: bool) -> dict:
                           f"p - b in {L}, moments in {L}^2); det_A, identity_error: none"
                           if L != "none" else "none")}
     if pose:
-        out["four_planes"] = f"point, spread: {L}; relative: none"
+        out["four_planes"] = (f"point, spread: {L}; relative: none; sign_resolved: bool "
+                              "(F's float64 rounding-error estimate below |F|)")
     else:
         out.update({"s": "none (path parameter in [0, 1])", "four_planes_point": L,
                     "four_planes_spread": L,
@@ -224,6 +225,8 @@ def _run_pose(model, p, unit):
            "cm_condition_relative": _opt(tests["cm_condition_relative"]),
            "signed_cm_relative": _opt(tests["signed_cm_relative"]),
            "four_planes": {"relative": _opt(tests["four_planes_relative"]),
+                           "sign_resolved": (None if tests["four_planes_resolved"] is None
+                                             else bool(tests["four_planes_resolved"])),
                            "point": tests["four_planes_point"],
                            "spread": _opt(tests["four_planes_spread"])},
            "undefined": undefined,
@@ -268,7 +271,9 @@ def _run_pose(model, p, unit):
     lines.append(f"four planes: undefined ({undefined['four_planes']})" if "four_planes" in undefined
                  else f"four planes: spread from their common point = "
                       f"{res['four_planes']['spread']:.3e}{unit}"
-                      + (" (float64, not certified)" if p.method == "certified" else ""))
+                      + (" (float64, not certified)" if p.method == "certified" else "")
+                      + ("" if res["four_planes"]["sign_resolved"] else "; float64 does not "
+                         "resolve the sign of their determinant F here"))
     cm = res["cm_condition_relative"]
     if cm is not None and abs(cm) < 1e-9 and abs(res["det_J"]) > p.tolerance:
         lines.append("note: the paper's Cayley-Menger condition vanishes here although det J "

@@ -162,10 +162,13 @@ def _tests(model, R, t, escalate: bool = True):
                                   f"rule out 0/0 there, or exceeded 1e-6")
         if why:
             undefined[key] = why
-    fp, why = _guarded(lambda: four_planes(X, length_scale=model.L))
+    # no warning: whether float64 resolves F's sign is a field of the result (QA 24)
+    fp, why = _guarded(lambda: four_planes(X, length_scale=model.L, warn=False))
     if why:
         undefined["four_planes"] = why
-    out.update({"four_planes_relative": None if fp is None else np.asarray(fp.relative),
+    out.update({"four_planes_resolved": None if fp is None else
+                np.asarray(np.asarray(fp.det_error) < np.abs(np.asarray(fp.det))),
+                "four_planes_relative": None if fp is None else np.asarray(fp.relative),
                 "four_planes_spread": None if fp is None else np.asarray(fp.spread),
                 "four_planes_point": None if fp is None else fp.point,
                 "undefined": undefined, "escalated": escalated})

@@ -103,8 +103,8 @@ def run_path(model, p, unit):
     f_k, nan_k = _rounding_nan(_sampled(
         lambda s: signed_cm_condition(model.points(*at(s)), relative=True),
         "the signed CM form", notes))
-    f_fp = _sampled(lambda s: np.asarray(four_planes(model.points(*at(s)),
-                                                     length_scale=model.L).relative),
+    f_fp = _sampled(lambda s: np.asarray(four_planes(model.points(*at(s)),   # root finding
+                                                     length_scale=model.L, warn=False).relative),
                     "the four-planes test", notes)
     cm_roots, _, cm_vals = path_crossings(f_cm, p.samples, refine=True)
     k_roots, _, k_vals = path_crossings(f_k, p.samples, refine=True)
