@@ -26,12 +26,25 @@ __all__ = ["volume_factors", "four_planes", "FourPlanes", "PLANES"]
 
 #: the four planes of the geometric test (Downing, Samuel, Hunt 2002; paper Sec. IV)
 PLANES = ((1, 2, 4), (2, 3, 5), (3, 1, 6), (4, 5, 6))
+#: :data:`PLANES` as 0-based indices (4, 3)
+_PLANE_IDX = np.array(PLANES) - 1
 
 
-def _vol(pts, i, j, k, l):
-    a = pts[..., i - 1, :]
-    return np.sum((pts[..., j - 1, :] - a) * _cross(pts[..., k - 1, :] - a, pts[..., l - 1, :] - a),
-                  axis=-1) / 6
+#: the six tetrahedra of :func:`volume_factors`: a's three, then b's
+_QUADS = np.array(((1, 2, 4, 5), (3, 4, 5, 6), (1, 2, 3, 6),
+                   (1, 2, 3, 4), (2, 4, 5, 6), (1, 3, 5, 6))) - 1
+
+
+def _edges(pts):
+    """The edges (..., 6, 3, 3) from the first vertex of each tetrahedron of
+    :data:`_QUADS` (its rows :math:`P_j - P_i, P_k - P_i, P_l - P_i`)."""
+    return pts[..., _QUADS[:, 1:], :] - pts[..., _QUADS[:, :1], :]
+
+
+def _volumes(d):
+    """Signed volumes (..., 6) :math:`(P_j-P_i)\cdot((P_k-P_i)\times(P_l-P_i))/6` from
+    :func:`_edges` (any number type)."""
+    return np.sum(d[..., 0, :] * _cross(d[..., 1, :], d[..., 2, :]), axis=-1) / 6
 
 
 def volume_factors(points, *, method: str | None = None, dps: int | None = None,
@@ -63,12 +76,15 @@ def volume_factors(points, *, method: str | None = None, dps: int | None = None,
         if kind == "fast":
             from .float_range import scaled_points
             pts, scale = scaled_points(pts)
-        a = _vol(pts, 1, 2, 4, 5) * _vol(pts, 3, 4, 5, 6) * _vol(pts, 1, 2, 3, 6)
-        b = _vol(pts, 1, 2, 3, 4) * _vol(pts, 2, 4, 5, 6) * _vol(pts, 1, 3, 5, 6)
+        d = _edges(pts)
+        V = _volumes(d)
+        a = V[..., 0] * V[..., 1] * V[..., 2]
+        b = V[..., 3] * V[..., 4] * V[..., 5]
+        if np.ndim(a) == 0 and kind != "fast":
+            a, b = a.item() if hasattr(a, "item") else a, b.item() if hasattr(b, "item") else b
     if kind != "fast":
         return (a, b, 0.0, 0.0) if with_error else (a, b)
-    ea = _volume_error(pts, ((1, 2, 4, 5), (3, 4, 5, 6), (1, 2, 3, 6)))
-    eb = _volume_error(pts, ((1, 2, 3, 4), (2, 4, 5, 6), (1, 3, 5, 6)))
+    ea, eb = _volume_error(V, d)
     flag = (ea > 1e-6 * np.abs(a)) | (eb > 1e-6 * np.abs(b))
     if warn and np.any(flag):
         from ..errors import CancellationWarning
@@ -93,21 +109,22 @@ def volume_factors(points, *, method: str | None = None, dps: int | None = None,
     return out + ((ea, eb) if np.ndim(a) else (float(ea), float(eb)))
 
 
-def _volume_error(pts, quads):
-    r"""Rounding-error estimate of the fast product of the three signed volumes
-    :math:`V_{ijkl} = (P_j - P_i)\cdot((P_k - P_i)\times(P_l - P_i))/6` named by
-    ``quads``: each volume within :math:`e_V = 2\cdot 10\,\varepsilon\,
-    \|d_1\|\|d_2\|\|d_3\|/6` of its float (the edges rounded once each, the cross
-    product and the dot product: about :math:`10\varepsilon` times the product of the
-    edge lengths, times 2), and the product within :math:`\prod(|V| + e_V) - \prod|V|`
-    (every order, not only the first).  An estimate, not a proof."""
-    vols, errs = [], []
-    for i, j, k, m in quads:
-        d = [pts[..., q - 1, :] - pts[..., i - 1, :] for q in (j, k, m)]
-        vols.append(np.abs(_vol(pts, i, j, k, m)))
-        errs.append(20 * _U * np.prod([np.linalg.norm(x, axis=-1) for x in d], axis=0) / 6)
-    hi = np.prod([v + e for v, e in zip(vols, errs)], axis=0)
-    return hi - np.prod(vols, axis=0) + 4 * _U * hi
+def _volume_error(V, d):
+    r"""Rounding-error estimates of the fast products :math:`a` and :math:`b` of the
+    signed volumes ``V`` (..., 6) with edges ``d`` (:func:`_edges`): each volume within
+    :math:`e_V = 2\cdot 10\,\varepsilon\,\|d_1\|\|d_2\|\|d_3\|/6` of its float (the
+    edges rounded once each, the cross product and the dot product: about
+    :math:`10\varepsilon` times the product of the edge lengths, times 2), and each
+    product within :math:`\prod(|V| + e_V) - \prod|V|` (every order, not only the
+    first).  An estimate, not a proof."""
+    e = (20 * _U / 6) * np.sqrt(np.prod(np.sum(d * d, axis=-1), axis=-1))
+    v = np.abs(V)
+    hi = v + e
+    out = []
+    for q in (slice(0, 3), slice(3, 6)):
+        h = np.prod(hi[..., q], axis=-1)
+        out.append(h - np.prod(v[..., q], axis=-1) + 4 * _U * h)
+    return out[0], out[1]
 
 
 @dataclass(frozen=True)
@@ -259,20 +276,17 @@ def _det_error(M, pts):
     certified tier gives one); relative to F it grows like 1/|F| near a singularity,
     and with the points' distance from the origin (F does not depend on it, its float64
     rounding does)."""
-    S = np.max(np.linalg.norm(pts, axis=-1), axis=-1)
+    pn = np.sqrt(np.sum(pts * pts, axis=-1))                      # |P_i|, (..., 6)
+    S = np.max(pn, axis=-1)
     S = np.where(S > 0, S, 1.0)
     Ms = np.array(M, dtype=float)
     Ms[..., 3] = Ms[..., 3] / S[..., None]
-    norms = np.linalg.norm(Ms, axis=-1)
-    err = 0.0
-    for r, (i, j, k) in enumerate(PLANES):
-        a = pts[..., j - 1, :] - pts[..., i - 1, :]
-        b = pts[..., k - 1, :] - pts[..., i - 1, :]
-        ab = np.linalg.norm(a, axis=-1) * np.linalg.norm(b, axis=-1)
-        pi = np.linalg.norm(pts[..., i - 1, :], axis=-1)
-        pert = 16 * _U * norms[..., r] + _U * ab * (4 + 7 * pi / S)
-        err = err + pert * np.prod(np.delete(norms, r, axis=-1), axis=-1)
-    return 2 * S * err
+    norms = np.sqrt(np.sum(Ms * Ms, axis=-1))                     # (..., 4), each > 0
+    d = pts[..., _PLANE_IDX[:, 1:], :] - pts[..., _PLANE_IDX[:, :1], :]   # (..., 4, 2, 3)
+    ab = np.sqrt(np.prod(np.sum(d * d, axis=-1), axis=-1))
+    pert = 16 * _U * norms + _U * ab * (4 + 7 * pn[..., _PLANE_IDX[:, 0]] / S[..., None])
+    # the other rows' norms: their product over this row's (a normal is never 0 here)
+    return 2 * S * np.sum(pert * (np.prod(norms, axis=-1)[..., None] / norms), axis=-1)
 
 
 def _tier_relative(F, M, pts, length_scale, kind) -> float:
@@ -309,15 +323,12 @@ def _tier_relative(F, M, pts, length_scale, kind) -> float:
 
 
 def _rows(pts):
-    """The rows :math:`(n_i, -n_i\\cdot P_i)` of :math:`F` (..., 4, 4), in the points'
+    """The rows :math:`(n_i, -n_i\cdot P_i)` of :math:`F` (..., 4, 4), in the points'
     number type."""
-    rows = []
-    for i, j, k in PLANES:
-        a = pts[..., i - 1, :]
-        n = _cross(pts[..., j - 1, :] - a, pts[..., k - 1, :] - a)
-        c = np.asarray(np.sum(n * a, axis=-1), dtype=n.dtype)
-        rows.append(np.concatenate([n, -c[..., None]], axis=-1))
-    return np.stack(rows, axis=-2)
+    a = pts[..., _PLANE_IDX[:, 0], :]
+    n = _cross(pts[..., _PLANE_IDX[:, 1], :] - a, pts[..., _PLANE_IDX[:, 2], :] - a)
+    c = np.asarray(np.sum(n * a, axis=-1), dtype=n.dtype)
+    return np.concatenate([n, -c[..., None]], axis=-1)
 
 
 def _nonzero(normals, kind):
