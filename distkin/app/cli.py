@@ -17,7 +17,8 @@ and ``demo`` still write the report and the JSON of the queries so far, marked
 reader of stdout left (``distkin demo | head``: nothing on stderr).  A usage error
 (an unknown option, no command) is one line too, exit 2.  A plot that fails (``--plots``) is a warning on stderr and a
 ``plot_error`` in the query's JSON record; its results are kept and the exit code does
-not change.  Further subcommands (``codegen``, ``sim``, ``control``) are registered in
+not change.  A query that has no plot says so on stderr with ``--plots`` (``distkin:
+note: no plot for query N (type)``).  Further subcommands (``codegen``, ``sim``, ``control``) are registered in
 :data:`SUBCOMMANDS` (functions importing the modules that implement them).
 """
 
@@ -214,6 +215,9 @@ def run_scene(scene, *, plots_dir=None, progress=True, store=None, workers=None,
             text = out.text
             if ctx.plots_dir is not None and out.plot is not None:
                 text += _plot(out, ctx.plots_dir, q, rec)
+            elif ctx.plots_dir is not None:         # --plots asked, this query has none
+                print(f"distkin: note: no plot for query {q.index} ({q.type})",
+                      file=sys.stderr)
         except DistkinError as exc:
             # "legs[0]" -> "query[2].legs[0]"; a command-line option ("--scheduler",
             # "--store") is no field of the query

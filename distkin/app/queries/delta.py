@@ -424,7 +424,9 @@ class Platform66Forward:
                                                 "mapped_legs_float")}
         result["unit"].update(units["forward_kinematics"])
         _flag_floats(p.m_legs, "legs", p, result, lines)
-        return Outcome(result, "\n".join(lines))
+        from .platform66_plot import plot_modes66     # each mode on the 6-6 joints
+        return Outcome(result, "\n".join(lines),
+                       lambda stem: plot_modes66(result, scene.units.length, stem))
 
 
 def _no_assembly66(p, scene, exc):

@@ -113,6 +113,21 @@ def _verified_line(res, angles, mech, scene, method: str) -> str:
             f"{_mismatch_text(res, angles, mech, scene)}; {resid}{other}")
 
 
+def _drawing_note(res, mech, scene) -> str:
+    """The last title line of the forward kinematics' drawing: the legs are drawn at the
+    closed-form IK of the solved pose, so a red leg is one that does not close there
+    (the round trip's "every leg closes there"), and the joint values given are judged
+    as the report judges them: their rms closure residual against ``residual_tol``, in
+    the scene's length unit (QA: measured angles drawn as given left every distal link
+    a few µm open, all red, beside "verified: yes")."""
+    lu, _, lf, _ = _units(scene)
+    small = res.residual <= res.residual_tol
+    return (f"legs drawn at the IK of the solved pose; the {_joint_word(mech)} given: rms "
+            f"closure residual {res.residual * lf:.3g} {lu} "
+            + ("<=" if small else "ABOVE") + f" residual_tol {res.residual_tol * lf:.3g} {lu}"
+            f" (verified: {'yes' if res.verified else 'no'})")
+
+
 def _ranged(mech) -> bool:
     """Whether some leg of ``mech`` declares a joint range (a leg table's ``range``)."""
     from ...mechanisms.joint_values import joint_ranges
@@ -286,7 +301,8 @@ class ForwardKinematicsQuery:
         if p.method == "precise":
             result["dps"] = p.dps
         return Outcome(result, "\n".join(lines),
-                       _plotter(mech, pose[None], np.array(p.angles)[None]))
+                       _plotter(mech, pose[None], units=scene.units,
+                                note=_drawing_note(res, mech, scene)))
 
 
 def _no_assembly(p, mech, scene, guess):

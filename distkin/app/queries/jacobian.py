@@ -29,6 +29,10 @@ ST is the paper's (Sec. III-B-2, set for the GII optimisation of the 6-RSS kinem
 as the originally intended output capabilities of Ergin's device), the same for every
 mechanism: the query has no field for a device's own, and its report says so (a
 ``performance`` query's ``scaling`` sets one for its GII).
+
+The plot (``--plots``, :func:`distkin.mechanisms.plot.jacobian_figure`) draws the result's
+own numbers per pose: J as a heat map (rows: legs, columns: vx..ωz with their units), the
+singular values of the unscaled J, κ in the title, and the pose in the scene's units.
 """
 
 from __future__ import annotations
@@ -44,7 +48,7 @@ from ...indices.zonotope import RANK_TOL
 from ..query import Outcome, register
 from ..units import SCALING_ORIGIN, scaling_text
 from .mechanisms import (NOT_RESOLVED, _accuracy, _amount, _fmt_pose, _mechanism_unit,
-                         _plotter, _Poses, _prismatic, _tier_fields, _tier_lines, _tier_rows,
+                         _Poses, _prismatic, _tier_fields, _tier_lines, _tier_rows,
                          parse_poses)
 
 __all__ = ["JacobianQuery", "UNDEFINED"]
@@ -212,4 +216,15 @@ class JacobianQuery:
         lines += [f"note: {w.message}" for w in caught if not flagged.any()]
         return Outcome({"mechanism": mech.parameters(), "method": p.method,
                         "precision": res.precision, "unit": units,
-                        "poses": rows}, "\n".join(lines), _plotter(mech, X))
+                        "poses": rows}, "\n".join(lines),
+                       _jacobian_plotter(mech, rows, scene.units))
+
+
+def _jacobian_plotter(mech, rows, units):
+    """The ``--plots`` drawer: per pose, J as a heat map (columns with their units), its
+    singular values and κ of eq. (4), the numbers of the result ``rows`` themselves, and
+    the pose in the scene's ``units`` (:func:`distkin.mechanisms.plot.jacobian_figure`)."""
+    def plot(stem):
+        from ...mechanisms.plot import plot_jacobians
+        return plot_jacobians(mech, rows, stem, units=units)
+    return plot

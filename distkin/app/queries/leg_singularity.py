@@ -356,7 +356,33 @@ class LegSingularityQuery:
         if p.path is not None:
             result["unreachable_parts"] = _unreachable_parts(reach, poses)
             result["unreachable_crossings"] = dropped
-        return Outcome(result, "\n".join(lines))
+        plot = _path_plotter(rows, crossings, result, p) if p.path and app["det"] else None
+        return Outcome(result, "\n".join(lines), plot)
+
+
+def _path_plotter(rows, crossings, result, p):
+    """The ``--plots`` drawer of a path on a six-leg table: det J (null where a sample is
+    not reachable), the CM conditions and the four planes where they apply, the
+    crossings and the unreachable runs of samples (shaded), the result's own numbers,
+    drawn by :func:`.singularity_path.plot_path` (s = 0 at ``from``, 1 at ``to``)."""
+    from .singularity_path import plot_path
+    s = np.linspace(0.0, 1.0, p.samples)
+    a, b = (np.asarray(v, dtype=float) for v in p.path)
+    col = lambda k: np.array([np.nan if r.get(k) is None else _float(r[k])  # noqa: E731
+                              for r in rows], dtype=float)
+    undefined = lambda k: [float(x) for x, r in zip(s, rows) if k in r  # noqa: E731
+                           and r["reachable"] and r[k] is None]
+    data = {"s": s, "det_J": col("det_J"), "roots": [
+                float(np.dot(np.asarray(c["pose"]) - a, b - a) / np.dot(b - a, b - a))
+                for c in crossings], "spurious": [],
+            "unreachable": [(s[i], s[j]) for i, j in
+                            (part["samples"] for part in result["unreachable_parts"])],
+            "undefined": {"cm": undefined("cm_relative"),
+                          "signed_cm": undefined("signed_cm_relative")}}
+    if "cm_relative" in rows[0]:
+        data.update(cm=col("cm_relative"), signed_cm=col("signed_cm_relative"),
+                    four_planes=col("four_planes_relative"))
+    return lambda stem: plot_path(data, stem)
 
 
 def _reach_words(st) -> str:

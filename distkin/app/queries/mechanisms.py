@@ -206,16 +206,14 @@ def _describe(mech, lf, lu) -> str:
     return f"mechanism: {mech.name} (L = {mech.L} legs: {types})"
 
 
-def _plotter(mech, poses, qs=None):
-    if mech.kind != "rss":
-        def plot_legs(stem):
-            from ...mechanisms.plot import plot_legs_poses
-            return plot_legs_poses(mech, poses, stem, q=qs)
-        return plot_legs
-
+def _plotter(mech, poses, qs=None, *, units=None, note=None):
+    """The ``--plots`` drawer of poses (N, 6) (m, rad) of ``mech``, in the scene's
+    ``units`` (:mod:`distkin.mechanisms.plot`); ``qs`` (N, L) the joint values drawn
+    (default the inverse kinematics), ``note`` a last title line."""
     def plot(stem):
-        from ...mechanisms.plot import plot_poses
-        return plot_poses(mech, poses, stem, q=qs)
+        from ...mechanisms.plot import plot_legs_poses, plot_poses
+        return (plot_poses if mech.kind == "rss" else plot_legs_poses)(
+            mech, poses, stem, q=qs, units=units, note=note)
     return plot
 
 
@@ -355,4 +353,4 @@ class InverseKinematicsQuery:
                         "unit": {"q": _joint_unit(mech), "pose": "m, rad",
                                  "q_error": _joint_unit(mech), "reach_margin": REACH_UNIT,
                                  "mechanism": _mechanism_unit(mech)},
-                        "poses": rows}, "\n".join(lines), _plotter(mech, X, q))
+                        "poses": rows}, "\n".join(lines), _plotter(mech, X, q, units=scene.units))

@@ -270,13 +270,21 @@ def run_path(model, p, unit):
                          "minima of |det J| (QA F2)",
                "zero_exclusion": excl}}
     data = {"s": grid, "det_J": vals, "cm": cm_vals, "signed_cm": k_vals, "four_planes": fp_vals,
-            "roots": roots, "spurious": spurious}
+            "roots": roots, "spurious": spurious,
+            # the s where the text calls a CM form undefined (0/0 within rounding)
+            "undefined": {"cm": sorted({round(x, 9) for x in nan_cm}),
+                          "signed_cm": sorted({round(x, 9) for x in nan_k})}}
     return Outcome(res, "\n".join(lines), lambda stem: plot_path(data, stem))
 
 
 def plot_path(data, stem):
     """det J, the paper's CM condition, its signed form and the four-planes determinant
-    along a path (each relative), with the crossings of det J = 0 marked.
+    along a path, with the crossings of det J = 0 marked.  det J and the four-planes
+    determinant are divided by their own largest magnitude on the path (the divisor is
+    in the legend: "scaled" says by what); the CM conditions are relative already
+    (in [-1, 1]).  A sample where the report calls a CM form undefined (both products
+    within their rounding error of 0, ``data["undefined"]``) has no value to draw: it is
+    marked on the zero line and named in the legend.
 
     Returns
     -------
@@ -287,21 +295,38 @@ def plot_path(data, stem):
     from pathlib import Path
 
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(7.0, 4.4))
+    fig, ax = plt.subplots(figsize=(7.6, 4.8))
     s = data["s"]
-    norm = lambda v: np.asarray(v) / max(np.nanmax(np.abs(v), initial=0.0), 1e-300)  # noqa: E731
+    peak = lambda v: float(np.nanmax(np.abs(v), initial=0.0))  # noqa: E731
+    norm = lambda v: np.asarray(v) / max(peak(v), 1e-300)  # noqa: E731
     ax.axhline(0.0, color="0.6", lw=0.8)
-    ax.plot(s, norm(data["det_J"]), lw=2.2, label="det J (eq. 5), scaled")
-    ax.plot(s, norm(data["four_planes"]), "--", lw=1.6, label="four-planes determinant, scaled")
-    ax.plot(s, data["cm"], "-.", lw=1.4, label="paper's CM condition (relative)")
-    ax.plot(s, data["signed_cm"], ":", lw=1.8, label="signed CM condition (relative)")
+    drawn = lambda k: k in data and np.isfinite(np.asarray(data[k], dtype=float)).any()  # noqa: E731
+    ax.plot(s, norm(data["det_J"]), lw=2.2,
+            label=f"det J (eq. 5) / its max |value| on the path, {peak(data['det_J']):.3g}")
+    if drawn("four_planes"):
+        ax.plot(s, norm(data["four_planes"]), "--", lw=1.6, label=f"four-planes "
+                f"determinant / its max |value|, {peak(data['four_planes']):.3g}")
+    if drawn("cm"):
+        ax.plot(s, data["cm"], "-.", lw=1.4, label="paper's CM condition (relative)")
+    if drawn("signed_cm"):
+        ax.plot(s, data["signed_cm"], ":", lw=1.8, label="signed CM condition (relative)")
+    for i, (a, b) in enumerate(data.get("unreachable", ())):
+        ax.axvspan(a, b, color="0.85", label="not reachable: no det J" if i == 0 else None)
+    for key, what, mark in (("cm", "paper's CM condition", "X"),
+                            ("signed_cm", "signed CM condition", "P")):
+        at = data.get("undefined", {}).get(key) or []
+        if at:
+            shown = ", ".join(f"{x:.6g}" for x in at[:4]) + (", ..." if len(at) > 4 else "")
+            ax.plot(at, np.zeros(len(at)), mark, ms=9, mfc="none", mec="k", ls="none",
+                    label=f"{what} undefined (0/0 within rounding) at s = {shown}")
     for i, r in enumerate(data["roots"]):
         ax.axvline(r, color="crimson", lw=1.0, label="det J = 0 (crossing)" if i == 0 else None)
     for i, r in enumerate(data["spurious"]):
         ax.axvline(r, color="orange", lw=1.0, ls="--",
                    label="CM = 0 but det J != 0" if i == 0 else None)
     ax.set_xlabel("path parameter s")
-    ax.set_ylabel("value (dimensionless)")
+    ax.set_ylabel("value (dimensionless): det J, four planes\n÷ their max |value| on the "
+                  "path; CM relative")
     ax.set_title("Singularity tests along the path")
     ax.legend(fontsize=7, loc="best")
     fig.tight_layout()
