@@ -9,7 +9,7 @@ looks wrong.  :func:`apart` prints the two with the fewest significant digits (a
 
 from __future__ import annotations
 
-__all__ = ["apart", "MAX_DIGITS"]
+__all__ = ["apart", "MAX_DIGITS", "sig", "PER_METRE", "length_unit"]
 
 #: significant digits that tell any two distinct float64 apart (repr round trip)
 MAX_DIGITS = 17
@@ -36,3 +36,29 @@ def apart(value: float, *bounds: float, digits: int = 6) -> tuple[str, ...]:
         if n >= MAX_DIGITS or all(texts[0] != t for b, t in zip(bs, texts[1:]) if b != v):
             return tuple(texts)
         n += 1
+
+
+def sig(value, digits: int = 4) -> str:
+    """``value`` with ``digits`` significant digits (``g`` format), never rounded to a
+    misleading "0.00": 6.182e-05 stays 6.182e-05 (QA: a force-polytope title said
+    "worst case 0.00 N" beside a table's 6.182e-05 N).  None and non-finite numbers print
+    "—" and "inf"/"nan".
+
+    >>> sig(6.18217e-05), sig(40.3412), sig(1.0), sig(15168.2)
+    ('6.182e-05', '40.34', '1', '1.517e+04')
+    """
+    if value is None:
+        return "—"
+    return f"{float(value):.{max(1, int(digits))}g}"
+
+
+#: a length in m times ``PER_METRE[unit]`` is the length in the scene's ``unit`` (the
+#: physical units of ``[units] length``, docs/design.md "Conventions")
+PER_METRE = {"m": 1.0, "mm": 1e3, "cm": 1e2, "km": 1e-3}
+
+
+def length_unit(unit) -> tuple:
+    """``(factor, name)``: the factor from m to the scene's length ``unit`` and its name;
+    m (1.0, "m") for None, a unitless scene ("none") or an unknown name, since the
+    engine's lengths are SI."""
+    return (PER_METRE[unit], unit) if unit in PER_METRE else (1.0, "m")

@@ -55,10 +55,12 @@ import numpy as np
 
 from ._version import __version__
 from .errors import DistkinError, InputError
+from .progress import ChunkProgress
 
-__all__ = ["run_chunks", "check_store", "make_store", "local_executor", "dask_executor", "executor_for",
-           "sweep_key", "code_version", "user_cache_dir", "default_store", "keyed_store",
-           "ChunkProgress", "WORKER_ENV", "NO_WORKER_TIMEOUT_S", "finished_chunks"]
+__all__ = ["run_chunks", "check_store", "make_store", "local_executor", "dask_executor",
+           "executor_for", "sweep_key", "code_version", "user_cache_dir", "default_store",
+           "keyed_store", "ChunkProgress", "WORKER_ENV", "NO_WORKER_TIMEOUT_S",
+           "finished_chunks"]
 
 #: worker counts already warned about (above the CPU count), once per process
 _WARNED: set = set()
@@ -295,34 +297,6 @@ def _stamp_mismatch(stamp, want: dict) -> str | None:
     return None
 
 
-class ChunkProgress:
-    """The progress bar of chunked work on stderr (rich): ``total`` chunks, ``done``
-    of them already finished (loaded from a store), the elapsed time and the ETA;
-    nothing when not ``enabled``.  :meth:`advance` per finished chunk, :meth:`close`."""
-
-    def __init__(self, total, done, desc, enabled):
-        self.bar = None
-        if enabled and total:
-            from rich.console import Console
-            from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn,
-                                       TimeElapsedColumn, TimeRemainingColumn)
-            self.bar = Progress(TextColumn("{task.description}"), BarColumn(),
-                                MofNCompleteColumn(), TextColumn("chunks · elapsed"),
-                                TimeElapsedColumn(), TextColumn("· ETA"),
-                                TimeRemainingColumn(), transient=False,
-                                console=Console(stderr=True))
-            self.bar.start()
-            self.task = self.bar.add_task(desc, total=total, completed=done)
-
-    def advance(self):
-        if self.bar is not None:
-            self.bar.advance(self.task)
-
-    def close(self):
-        if self.bar is not None:
-            self.bar.stop()
-
-
 def make_store(store, field: str = "store") -> Path:
     """The chunk directory ``store``, made with its parents; a path that cannot be a
     directory (below a file, no permission) is an :class:`InputError` naming ``field``."""
@@ -345,7 +319,8 @@ def make_store(store, field: str = "store") -> Path:
 
 def run_chunks(task, specs, store, *, definition=None, executor=None, progress=True,
                desc="sweep", max_pending: int | None = None,
-               no_worker_timeout: float | None = None, stats: dict | None = None):
+               no_worker_timeout: float | None = None, stats: dict | None = None,
+               warmup=None):
     """Run ``task(spec)`` for every spec, keeping finished chunks on disk.
 
     Parameters
@@ -373,6 +348,10 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
         Filled with ``loaded``: how many chunks came from the store (computed by an
         earlier run) rather than by this call; ``store``: the folder the chunks are in
         (the keyed sub-folder under a default store, :func:`keyed_store`).
+    warmup : callable, optional
+        Run here before the first chunk of an in-process sweep (``executor`` None) while
+        the bar says "loading kernels" (compiled, cached): the one-off cost of the task's
+        first call (QA: a bar at "0/4 chunks" for 18 s, then 4/4 at once).
 
     Returns
     -------
@@ -397,6 +376,10 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
     pending: dict = {}
     try:
         if executor is None:
+            if warmup is not None and todo:
+                bar.note(" · loading kernels")
+                warmup()
+                bar.note("")
             for i in todo:
                 results[i] = task(specs[i])
                 if paths is not None:

@@ -17,9 +17,12 @@ from pathlib import Path
 import numpy as np
 
 from .query import Outcome
+from ..numfmt import length_unit as length_unit_of
+from ..numfmt import sig
 from .study_tables import (_f, _subset, _unit, _unlike_paper, _unlike_paper_table4,
                            markdown_tables)
-from ..indices.study import CAPABILITIES, SENSITIVITIES, Device, run_device, summarise
+from ..indices.study import (CAPABILITIES, SENSITIVITIES, Device, planned_chunk, run_device,
+                             summarise)
 from ..indices.actuators import leg_limits, limit_text
 from ..indices.study_findings import findings, row_definition
 from ..indices.workspace import design_criteria, dexterous_workspace
@@ -50,7 +53,8 @@ def _yes_no(v) -> str:
     return {True: "yes", False: "no", None: "—"}.get(v, str(v))
 
 
-def _criteria_text(c):
+def _criteria_text(c, lu="mm"):
+    """One design criterion in words; lengths in the scene's unit ``lu``."""
     v = c["value"]
     mark = {True: "held", False: "NOT held", None: "undecided"}[c["held"]]
     if c["held"] is None and v.get("note"):
@@ -65,7 +69,7 @@ def _criteria_text(c):
                f"{_f(v['acceleration_m_s2'])} m/s²")
     elif c["number"] == 4:
         cert = v["certificate_zero_rotation"]      # None: not run (QA IX 6: "None")
-        val = (f"grid {v['cube_edge_m'] * 1e3:.0f} mm, ±{v['rotation_deg']:.0f}°, det sign "
+        val = (f"grid {_length(v['cube_edge_m'], lu)}, ±{v['rotation_deg']:.0f}°, det sign "
                f"changes {_yes_no(v['det_sign_changes'])}, certificate "
                + (cert if cert is not None else "not run (certify = true in the "
                   "performance query runs it)"))
@@ -180,11 +184,18 @@ def _units_block(actuators) -> dict:
             "devices[].rotation_deg": "deg", "seconds": "s (wall)"}
 
 
-def _cm3(volume_m3: float) -> str:
-    """A volume (m³) in cm³: whole cm³ from 0.5 cm³ on, else the digits it needs (a grid
-    of 0.025 mm cells, a unit slip, said "0 cm³ of 0 cm³": QA)."""
-    x = volume_m3 * 1e6
-    return f"{x:.0f}" if x >= 0.5 or x == 0 else f"{x:.3g}"
+def _cm3(volume_m3: float, lu: str = "cm") -> str:
+    """A volume (m³) in the scene's length unit cubed (``lu``: m, mm, cm, km; cm³ by
+    default): whole units from 0.5 on (below 1e7), else 4 significant digits (a grid of
+    0.025 mm cells, a unit slip, said "0 cm³ of 0 cm³": QA)."""
+    x = volume_m3 * length_unit_of(lu)[0] ** 3
+    return f"{x:.0f}" if (0.5 <= abs(x) < 1e7) or x == 0 else sig(x, 4 if abs(x) >= 1 else 3)
+
+
+def _length(length_m: float, lu: str) -> str:
+    """A length (m) in the scene's unit ``lu`` with its unit, 4 significant digits."""
+    f, lu = length_unit_of(lu)
+    return f"{sig(length_m * f)} {lu}"
 
 
 def _refuse_unreachable(summaries, grids, scene):
@@ -214,9 +225,10 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
     with executor() as ex:
         for d in p.devices:
             grid = grid_of(d)
+            nchunks = -(-grid.n_positions // planned_chunk(grid.n_positions, p.chunk_positions))
             ctx.notice(f"performance: {d.label}: {grid.size:,} poses ({grid.n_positions:,} "
                        f"positions × {grid.n_orientations:,} orientations) in "
-                       f"{-(-grid.n_positions // p.chunk_positions):,} chunks")
+                       f"{nchunks:,} chunks")
             dev = Device(d.label, d.mech, grid, d.paper, d.inner)
             stats: dict = {}
             per, sec = run_device(dev, store=store_of(d.label), executor=ex,
@@ -256,7 +268,7 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
             s["dexterous_workspace"] = {k: v for k, v in dex.items() if k != "mask"}
             s["dexterous_workspace"]["thresholds"] = thr
             s["seconds"] = sec
-            s["chunks"] = -(-grid.n_positions // p.chunk_positions)
+            s["chunks"] = nchunks
             s["chunks_resumed"] = int(stats.get("loaded", 0))
             _inner_note(s, d, ctx)
             s["positions_all_orientations_reachable"] = int(np.sum(reach_all))
@@ -284,6 +296,7 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
     fnd = findings(summaries, certified if p.certify else None)
     tables = markdown_tables(summaries, sensitivity=p.sensitivity,
                              certified=certified if p.certify else None)
+    lu = length_unit_of(scene.units.length)[1]          # the scene's length unit
     lines = [f"Performance study of {len(summaries)} kinematics "
              f"({', '.join(s['label'] for s in summaries)}), {total:.1f} s; sensitivities: "
              f"{p.sensitivity} ({row_definition('sens_force', p.sensitivity)[1]})"]
@@ -300,9 +313,9 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
                         "run store, computed by an earlier run)" if s["chunks_resumed"] else "")
                      + "; dexterous workspace "
                      f"{dw['cells']} of {dw['cells_total']} grid cells = "
-                     f"{_cm3(dw['volume_m3'])} cm³ of {_cm3(dw['grid_volume_m3'])} cm³ "
-                     f"({_cm3(dw['volume_nodes_m3'])} cm³ by dual cells)"
-                     + (f"; {2e3 * cert.get('cube_half_m', 0.075):.4g} mm cube about home "
+                     f"{_cm3(dw['volume_m3'], lu)} {lu}³ of {_cm3(dw['grid_volume_m3'], lu)} "
+                     f"{lu}³ ({_cm3(dw['volume_nodes_m3'], lu)} {lu}³ by dual cells)"
+                     + (f"; {_length(2 * cert.get('cube_half_m', 0.075), lu)} cube about home "
                         f"at its rotation certified {cert['zero_rotation_cube']}"
                         if cert else ""))
     from .design_report import scaling_note
@@ -319,7 +332,7 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
     lines += [_finding_text(f) for f in fnd]
     lines += ["", "Design criteria (Sec. II-A; each with its own test, see the JSON):"]
     for s in summaries:
-        lines.append(f"  {s['label']}: " + "; ".join(_criteria_text(c) for c in s["criteria"]))
+        lines.append(f"  {s['label']}: " + "; ".join(_criteria_text(c, lu) for c in s["criteria"]))
     lines += ["", "Notes: " + _notes(summaries)]
     result = {"devices": summaries, "findings": fnd, "seconds": total,
               "chunks_resumed": sum(s["chunks_resumed"] for s in summaries),
@@ -330,14 +343,17 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
 
     def plot(stem):
         return _plots(stem, grids, per_all, summaries, actuators, tables, result, certs,
-                      p.plot_device)
+                      p.plot_device, scene.units)
     return Outcome(result, "\n".join(lines), plot)
 
 
-def _plots(stem, grids, per_all, summaries, actuators, tables, result, certs, pick):
+def _plots(stem, grids, per_all, summaries, actuators, tables, result, certs, pick, units):
+    """The study's files: its tables (Markdown, JSON), Tables III/IV as plots, Figs. 5-7
+    and the certified cube, lengths in the scene's ``units.length``."""
     from .report import jsonable
     from ..indices.plots import plot_force_polytope, plot_plane, plot_table3_bars, plot_table4_bars
     stem = Path(stem)
+    lu = length_unit_of(units.length)[1]
     out = []
     md = stem.with_name(stem.name + "_tables.md")
     md.write_text(tables + "\n", encoding="utf-8")
@@ -355,28 +371,30 @@ def _plots(stem, grids, per_all, summaries, actuators, tables, result, certs, pi
         dstem = stem.with_name(stem.name + "_" + "".join(ch if ch.isalnum() else "_"
                                                           for ch in label).strip("_").lower())
         if label == pick:
-            out.append(_fig5(dstem, label, mech, grid, mask))
+            out.append(_fig5(dstem, label, mech, grid, mask, lu))
         # Fig. 6: the plane nearest z = z0
         nx, ny, nz = len(grid.x), len(grid.y), len(grid.z)
         iz = int(np.argmin(np.abs(np.asarray(grid.z) - mech.home[2])))
         panels = [(title, unit, per[f"{name}_min"].reshape(nx, ny, nz)[:, :, iz])
                   for name, title, unit, *_ in CAPABILITIES]
         rot = math.degrees(max(abs(v) for v in grid.rx))
-        out.append(plot_plane(dstem, label, grid.x, grid.y, grid.z[iz], panels, rot))
+        out.append(plot_plane(dstem, label, grid.x, grid.y, grid.z[iz], panels, rot,
+                              length_unit=lu))
         # Fig. 7: the force polytope at the worst-force pose
         if s["worst_force_pose"] is not None:
             pose = np.asarray(s["worst_force_pose"])
             J = mech.jacobian(pose[None])[0]
             out.append(plot_force_polytope(dstem, label, J.T,
                                            np.asarray(s["actuator_limits"]["nominal"]),
-                                           pose))
+                                           pose, length_unit=lu))
         if label in certs:
             from ..certify.plot import plot_certificate
-            out.append(plot_certificate(certs[label], dstem))
+            out.append(plot_certificate(certs[label], dstem, length_unit=lu,
+                                        angle_unit=units.angle))
     return out
 
 
-def _fig5(stem, label, mech, grid, mask):
+def _fig5(stem, label, mech, grid, mask, lu="mm"):
     """Fig. 5: reachable positions at zero rotation on a larger grid, boundary only."""
     from ..indices.plots import plot_workspace
     half = (max(grid.x) - min(grid.x)) / 2
@@ -396,7 +414,7 @@ def _fig5(stem, label, mech, grid, mask):
             inner &= nb
     boundary = (ok & ~inner).ravel()
     return plot_workspace(stem, label, P[boundary], cube, c[:3],
-                          grid.positions()[mask])
+                          grid.positions()[mask], length_unit=lu)
 
 
 from .design_report import design_sweep_report  # noqa: E402  (re-exported)

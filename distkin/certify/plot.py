@@ -14,20 +14,22 @@ outline of the region; a section z = const and a section x = const (each at the 
 crossed by the most non-regular boxes; the region's centre if all are regular), where
 every box crossing the plane is drawn as a rectangle; and the σmin-margin map, the same
 z section with every regular box coloured by its certified lower bound of σmin(Jx) (how
-far the box is from a singularity, log scale).  The paper's Fig. 3 draws the workspace
+far the box is from a singularity; a log scale when the bounds span a decade or more,
+else linear: :func:`sigma_norm`).  The paper's Fig. 3 draws the workspace
 blue and the singularities green; here singular boxes are red so they cannot be
 mistaken for either.  matplotlib is imported lazily, inside :func:`plot_certificate`.
 """
 
 from __future__ import annotations
 
+import textwrap
 from pathlib import Path
 
 import numpy as np
 
 from .boxes import REGULAR, SINGULAR, STATUS_NAMES, UNDECIDED, UNREACHABLE
 
-__all__ = ["plot_certificate", "plot_axes", "COLOURS"]
+__all__ = ["plot_certificate", "plot_axes", "COLOURS", "SIGMA_UNITS", "sigma_norm"]
 
 #: status -> (colour, label); the paper's Fig. 3 draws the workspace blue and singularities
 #: green: singular boxes are red here, so neither colour can be misread
@@ -38,9 +40,12 @@ COLOURS = {REGULAR: ("#9ecae1", "certified regular"),
 
 _SCALE = {"m": 1.0, "mm": 1e3, "cm": 1e2, "km": 1e-3}
 _NAMES = ("x", "y", "z", "rx", "ry", "rz")
-#: σmin(Jx)'s units as the certify_workspace report states them (QA IX 7)
-_SIGMA_LABEL = ("certified lower bound of σmin(Jx)\n[Jx L × 6: force columns 1-3 "
-                "dimensionless,\nmoment columns 4-6 in m]")
+#: σmin(Jx)'s units as the certify_workspace report states them (QA IX 7): SI in every
+#: scene, since σmin of columns of mixed units has no conversion to another length unit
+SIGMA_UNITS = ("force columns 1-3 dimensionless, moment columns 4-6 in m, SI in a "
+               "scene of any length unit")
+_SIGMA_LABEL = "\n".join(textwrap.wrap(f"certified lower bound of σmin(Jx) [Jx L × 6: "
+                                       f"{SIGMA_UNITS}]", 44))
 
 
 def plot_axes(cert) -> tuple:
@@ -133,19 +138,31 @@ def _sigma_boxes(cert, keep):
     return cert.lo[rc], cert.hi[rc], cert.sigma_lower[rc], "the classification's boxes"
 
 
-def _norm(sig):
+def _log_scale(vmin: float, vmax: float) -> bool:
+    """A log scale for σmin bounds spanning a decade or more (max/min >= 10), linear
+    below: a log scale over 5.5e-2..5.58e-2 had one or two tick labels (QA)."""
+    return vmin > 0 and vmax >= 10 * vmin
+
+
+def sigma_norm(sig):
+    """The colour norm of the σmin-margin map for the bounds ``sig`` (n,): log when they
+    span a decade (:func:`_log_scale`), else linear."""
     from matplotlib import colors
     vmin = float(sig.min()) if sig.size else 1e-3
     vmax = float(sig.max()) if sig.size else 1.0
-    return colors.LogNorm(vmin=vmin, vmax=max(vmax, vmin * 1.0001))
+    vmax = max(vmax, vmin * 1.0001)
+    return (colors.LogNorm(vmin=vmin, vmax=vmax) if _log_scale(vmin, vmax)
+            else colors.Normalize(vmin=vmin, vmax=vmax))
 
 
 def _margin_panel(ax, cert, lo, hi, st, dims, axis, level, ax_u):
     """σmin-margin map over ``dims``: the regular boxes crossing ``axis = level`` (every
     box of the slice when ``axis`` is None), coloured by the certified lower bound of
-    σmin(Jx) (log scale); other boxes in their status colour."""
-    from matplotlib import cm
+    σmin(Jx) (:func:`sigma_norm`: log over a decade or more, else linear); other boxes in
+    their status colour."""
+    from matplotlib import cm, colors
     from matplotlib.patches import Rectangle
+    from matplotlib.ticker import ScalarFormatter
     import matplotlib
     plotted, point = plot_axes(cert), _slice_point(cert)
 
@@ -153,7 +170,7 @@ def _margin_panel(ax, cert, lo, hi, st, dims, axis, level, ax_u):
         m = _in_slice(a, b, plotted, point)
         return m if axis is None else m & (a[:, axis] <= level) & (b[:, axis] >= level)
     rlo, rhi, rsig, what = _sigma_boxes(cert, keep)
-    norm, cmap, f = _norm(rsig), matplotlib.colormaps["viridis"], ax_u.f
+    norm, cmap, f = sigma_norm(rsig), matplotlib.colormaps["viridis"], ax_u.f
     i, j = dims
     for a, b, v in zip(rlo, rhi, rsig):
         ax.add_patch(Rectangle((a[i] * f[i], a[j] * f[j]), (b[i] - a[i]) * f[i],
@@ -164,7 +181,10 @@ def _margin_panel(ax, cert, lo, hi, st, dims, axis, level, ax_u):
     _frame(ax, cert, dims, ax_u)
     where = "" if axis is None else f", section {ax_u.value(axis, level)}"
     ax.set_title(f"σmin margin{where}\n({what})", fontsize=9)
-    ax.figure.colorbar(cm.ScalarMappable(norm=norm, cmap=cmap), ax=ax, label=_SIGMA_LABEL)
+    cb = ax.figure.colorbar(cm.ScalarMappable(norm=norm, cmap=cmap), ax=ax,
+                            label=_SIGMA_LABEL)
+    if not isinstance(norm, colors.LogNorm):      # no "+5.5e-2" offset above the ticks
+        cb.ax.yaxis.set_major_formatter(ScalarFormatter(useOffset=False))
 
 
 def _rotation_label(cert, angle_unit, plotted=(0, 1, 2)):
@@ -256,8 +276,12 @@ def _one(fig, cert, lo, hi, st, plotted, ax_u):
     if rsig.size:
         a2.hlines(rsig, rlo[:, k] * f, rhi[:, k] * f, colors="tab:green", lw=2)
         lo_s, hi_s = float(rsig.min()), float(rsig.max())
-        a2.set_yscale("log")
-        a2.set_ylim(lo_s / 2, max(hi_s, lo_s * 1.0001) * 2)
+        if _log_scale(lo_s, hi_s):
+            a2.set_yscale("log")
+            a2.set_ylim(lo_s / 2, hi_s * 2)
+        else:
+            pad = 0.1 * max(hi_s - lo_s, 1e-3 * hi_s)
+            a2.set_ylim(lo_s - pad, hi_s + pad)
         a2.set_title(f"σmin margin per box ({what})", fontsize=9)
     else:
         a2.set_yticks([])
@@ -273,8 +297,8 @@ def _point(fig, cert, st, ax_u):
     code = int(st[0]) if len(st) else UNDECIDED
     pose = ", ".join(ax_u.value(k, cert.lower[k]) for k in range(6))
     sig = cert.summary()["sigma_lower_min"]
-    said = (f"\nσmin(Jx) >= {sig:.3g} (certified; Jx L × 6: force columns 1-3 "
-            "dimensionless, moment columns 4-6 in m)" if sig is not None else "")
+    said = (f"\nσmin(Jx) >= {sig:.3g} (certified; Jx L × 6:\n{SIGMA_UNITS})"
+            if sig is not None else "")
     ax.text(0.5, 0.5, f"single pose: {pose}\n{STATUS_NAMES[code]}: "
             f"{COLOURS[code][1]}{said}", ha="center", va="center", fontsize=11,
             transform=ax.transAxes, bbox={"facecolor": COLOURS[code][0], "pad": 12})

@@ -31,7 +31,7 @@ from .zonotope import _facets, _ratio_min, zonotope_worst
 
 __all__ = ["CAPABILITIES", "SENSITIVITIES", "TRUE_VELOCITIES", "QUANTITIES", "ACTUATORS",
            "inner_covered", "PAPER_TABLE3", "PAPER_TABLE4", "SIGMA_READINGS", "evaluate_poses", "study_chunk",
-           "Device", "run_device", "summarise"]
+           "Device", "run_device", "summarise", "planned_chunk", "MIN_CHUNKS"]
 
 #: name, label (Table III), unit, generator, actuator limit, slice
 CAPABILITIES = (
@@ -392,11 +392,28 @@ class Device:
     inner: float | None = None
 
 
+#: a sweep of few chunks is cut into at least this many (the progress bar moves in
+#: steps of 1/16 at most; QA: "0/4 chunks" for 18 s, then 4/4 at once)
+MIN_CHUNKS = 16
+
+
+def planned_chunk(n_positions: int, chunk_positions: int) -> int:
+    """Positions per chunk of a sweep of ``n_positions``: ``chunk_positions`` (the
+    scene's), smaller when that gives fewer than :data:`MIN_CHUNKS` chunks, at least 1.
+    Each position's values are its own (:func:`study_chunk` reduces over orientations
+    per position), so the chunking changes no number, only the progress steps."""
+    return max(1, min(int(chunk_positions), int(n_positions) // MIN_CHUNKS))
+
+
 def run_device(dev: Device, *, store, executor=None, chunk_positions: int = 64,
                actuators=ACTUATORS, ST=ST_DEFAULT, route="kernels", progress=True,
                batch: int = 20000, sensitivity: str = "slice", stats: dict | None = None):
     """Sweep one device over its grid in resumable chunks; returns the per-position
-    arrays (concatenated) and the seconds the run took.  Chunks live in
+    arrays (concatenated) and the seconds the run took.  The grid is cut into chunks of
+    :func:`planned_chunk` positions (``chunk_positions``, smaller for a small grid).
+    In process, one position is evaluated first (and dropped) to load the compiled
+    kernels while the bar says so (:func:`~distkin.runstore.run_chunks`'s ``warmup``).
+    Chunks live in
     ``store/<key of the sweep's definition>/``, so a changed grid, mechanism or limit
     starts a new sweep and an unchanged one resumes; ``stats`` is filled as
     :func:`~distkin.runstore.run_chunks` fills it (``loaded``: the chunks resumed)."""
@@ -406,6 +423,7 @@ def run_device(dev: Device, *, store, executor=None, chunk_positions: int = 64,
     from ..runstore import run_chunks, sweep_key
     grid = dev.grid
     specs = []
+    chunk_positions = planned_chunk(grid.n_positions, chunk_positions)
     for a in range(0, grid.n_positions, chunk_positions):
         specs.append({"mech": dev.mech, "grid": grid, "lo": a,
                       "hi": min(grid.n_positions, a + chunk_positions),
@@ -419,7 +437,8 @@ def run_device(dev: Device, *, store, executor=None, chunk_positions: int = 64,
     store = Path(store) / sweep_key(definition)       # a changed definition starts afresh
     chunks = run_chunks(study_chunk, specs, store, definition=definition,
                         executor=executor, progress=progress,
-                        desc=f"{dev.label} ({grid.size:,} poses)", stats=stats)
+                        desc=f"{dev.label} ({grid.size:,} poses)", stats=stats,
+                        warmup=lambda: study_chunk({**specs[0], "hi": specs[0]["lo"] + 1}))
     seconds = time.perf_counter() - t0
     merged = {k: np.concatenate([c[k] for c in chunks]) for k in chunks[0]}
     return merged, seconds

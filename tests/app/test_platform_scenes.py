@@ -359,4 +359,6 @@ def test_table4_bar_title_gives_the_studied_orientations(tmp_path, monkeypatch):
     monkeypatch.setattr(Figure, "savefig", capture)
     iso = {"gii": 0.15, "sigma_min": 0.02, "sigma_max": 0.16, "rotation_deg": 10.0}
     plot_table4_bars(tmp_path / "t", [{"label": "GD", "isotropy": iso}])
-    assert "ours (orientations ±10°)" in titles[0] and "(±20°)" in titles[0]
+    # no paper value for GD: the title names the device and its range, not the paper's
+    # ±20° (QA: "drop paper entries when absent; titles from the actual devices")
+    assert "GD (orientations ±10°)" in titles[0] and "(±20°)" not in titles[0]

@@ -37,8 +37,9 @@ boxes of the classification with the weakest bounds are bisected and certified a
 (:mod:`distkin.certify.tighten`, at most ``tighten`` boxes; ``sigma_lower_min_boxes`` is
 the minimum of the classification's own bounds).
 
-The JSON result is in SI: volumes over the varying coordinates in ``volume_unit``
-(m^3, or m^3 rad^3 for the 6-D region), with fractions of ``total_volume``, and
+The JSON result is in SI (the text is in the scene's units, volumes too: cm^3 deg^3 for
+a 6-D region of a cm, deg scene, :func:`scene_volume`): volumes over the varying
+coordinates in ``volume_unit`` (m^3, or m^3 rad^3 for the 6-D region), with fractions of ``total_volume``, and
 ``boxes`` (corners in m and rad, a status code per box, see ``boxes.legend``), and
 ``store``, the chunk store's folder (the default one, under the user cache, holds a
 sub-folder per region definition: :func:`distkin.runstore.keyed_store`).  A single pose
@@ -63,7 +64,7 @@ from ...exact import parse_float
 from ..query import Outcome, register
 from ...certify.boxes import STATUS_NAMES, UNREACHABLE
 
-__all__ = ["CertifyWorkspaceQuery", "certificate_text", "certificate_json",
+__all__ = ["CertifyWorkspaceQuery", "certificate_text", "certificate_json", "scene_volume",
            "single_pose_verdict", "unit_slip_warning", "ROTATION_SPAN_MAX"]
 
 _FIELDS = {"type", "method", "region", "min_width", "min_angle", "form", "split",
@@ -349,12 +350,27 @@ def certificate_json(cert, length_unit: str = "m") -> dict:
     return out
 
 
+def scene_volume(cert, length_unit: str = "m", angle_unit: str = "rad") -> tuple:
+    """``(factor, unit)``: a volume of the certificate in its SI ``volume_unit`` (m^3,
+    m^3 rad^3, ...) times ``factor`` is in ``unit``, the scene's units to the powers of
+    the region's varying coordinates (cm^3 deg^3 for a 6-D region of a cm, deg scene).
+    The JSON keeps SI (docs/design.md §4); the text speaks the scene's units."""
+    lf, lu = _LENGTHS.get(length_unit, 1.0), length_unit if length_unit in _LENGTHS else "m"
+    af, au = (180 / math.pi, "deg") if angle_unit == "deg" else (1.0, "rad")
+    npos = sum(1 for k in cert.vary if k < 3)
+    nrot = len(cert.vary) - npos
+    parts = [f"{u}^{n}" if n > 1 else u for u, n in ((lu, npos), (au, nrot)) if n]
+    return lf ** npos * af ** nrot, " ".join(parts) or "1"
+
+
 def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> str:
-    """A readable summary with units on every number."""
+    """A readable summary with units on every number, in the scene's units (lengths,
+    angles and volumes; σmin(Jx) in SI, :data:`~distkin.certify.plot.SIGMA_UNITS`)."""
+    from ...certify.plot import SIGMA_UNITS
     s = cert.summary()
-    lf = {"m": 1.0, "mm": 1e3, "cm": 1e2, "km": 1e-3}.get(length_unit, 1.0)
+    lf = _LENGTHS.get(length_unit, 1.0)
     af = 180 / math.pi if angle_unit == "deg" else 1.0
-    lu = length_unit if length_unit in ("m", "mm", "cm", "km") else "m"
+    lu = length_unit if length_unit in _LENGTHS else "m"
     au = "°" if angle_unit == "deg" else " rad"
     parts = []
     for k, n in enumerate(("x", "y", "z", "rx", "ry", "rz")):
@@ -362,7 +378,7 @@ def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> s
         parts.append(f"{n} {_range_text(cert.lower[k] * f, cert.upper[k] * f)}"
                      f"{(' ' + lu) if k < 3 else au}")
     reg = ", ".join(parts)
-    unit = s["volume_unit"]
+    vf, unit = scene_volume(cert, length_unit, angle_unit)
     lines = [f"Certified workspace of {cert.mechanism.name} (L = {cert.mechanism.L}), "
              f"{cert.form} form, method certified",
              f"  region: {reg}",
@@ -377,8 +393,9 @@ def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> s
     for name in ("regular", "singular", "undecided", "unreachable"):
         if not cert.vary:
             break
-        lines.append(f"  {name:<11} {s[name + '_volume']:.4g} {unit}  "
-                     f"({100 * s[name + '_fraction']:.2f} % of {s['total_volume']:.4g} {unit}; "
+        lines.append(f"  {name:<11} {s[name + '_volume'] * vf:.4g} {unit}  "
+                     f"({100 * s[name + '_fraction']:.2f} % of {s['total_volume'] * vf:.4g} "
+                     f"{unit}; "
                      f"{s['counts'][name]} boxes)")
     note = _ranges_note(cert.mechanism)
     if note:
@@ -411,7 +428,7 @@ def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> s
                      "of budget, not at the resolution; raise max_boxes")
     if s["sigma_lower_min"] is not None:
         lines.append(f"  σmin(Jx) >= {s['sigma_lower_min']:.3g} (certified, every regular box; "
-                     "Jx is L x 6: force columns 1-3 dimensionless, moment columns 4-6 in m)")
+                     f"Jx is L x 6: {SIGMA_UNITS})")
         if "sigma_tightening" in s:
             t = s["sigma_tightening"]
             lines.append(f"    (the classification's boxes alone: >= "

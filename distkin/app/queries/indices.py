@@ -24,7 +24,8 @@
     certify = true                               # Fig. 3: certify the 150 mm cube (rss; legs: the
                                                  # grid's cube) about home at its rotation
     certify_width = 18.75                        # its resolution (scene length unit)
-    chunk_positions = 32                         # positions per resumable chunk
+    chunk_positions = 32                         # positions per resumable chunk (at most:
+                                                 # a small grid gets 16 chunks or more)
     workers = 2                                  # local processes (1: in process)
     scheduler = "tcp://host:8786"                # optional: a dask.distributed cluster
     store = "sweeps/study"                       # chunk store (default: the cache)
