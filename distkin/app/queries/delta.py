@@ -347,8 +347,7 @@ def _solve(p, result, unit, ctx):
         err = floats_segment_error(fk.platform.base_joints, pj, p.m_legs)[0]
         poses.append({"s15": s15, "rotation": R, "translation": t, "platform_joints": pj,
                       "points": pose_points(pose.octahedral_pose),  # the equivalent octahedron's
-                      "max_leg_error": err, "max_leg_error_solver": pose.max_leg_error,
-                      "det_J66": detj})
+                      "max_leg_error": err, "max_leg_error_solver": pose.max_leg_error, "det_J66": detj})
         # significant digits: a micrometre-scale scene keeps them (QA V 5)
         lines.append(f"  pose {k + 1:2d}: s15 = {s15:.8g}{sq}, t = ({t[0]: .7g}, "
                      f"{t[1]: .7g}, {t[2]: .7g}){unit}, det J66 = {detj: .3e}"
@@ -373,9 +372,9 @@ def _solve(p, result, unit, ctx):
                     f"{tier} tier's own pose (b_k - (R q_k + t)){bound}",
     }
     if n:
-        lines.append(f"  (max |m-leg error|: a bound for the float64 joints printed; the "
-                     f"{tier} tier's own poses' residual is at most {fk.max_leg_error:.1e}"
-                     f"{unit}{bound}, JSON max_leg_error_solver)")
+        lines.append(f"  (max |m-leg error|: a bound for the float64 joints printed; the {tier} tier's "
+                     f"own poses' residual is at most {fk.max_leg_error:.1e}{unit}{bound}, JSON "
+                     "max_leg_error_solver)")
     return lines
 
 
