@@ -37,7 +37,7 @@ from .zonotope import (RANK_TOL, check_enumeration, generator_batch, memory_guar
 
 __all__ = ["worst_case_output", "best_case_output", "output_generators",
            "hull_worst_best", "hull_multi", "ueberle_worst", "CAPABILITY_METHODS",
-           "MAX_HULL_VERTICES", "NEGLIGIBLE"]
+           "MAX_HULL_VERTICES", "NEGLIGIBLE", "UEBERLE_KAPPA"]
 
 CAPABILITY_METHODS = ("zonotope", "hull", "ueberle")
 
@@ -164,7 +164,9 @@ def worst_case_output(G, pmin, pmax, keep=None, method: str = "fast", *,
     < κ <= :data:`~.zonotope.RANK_TOL` a slice inside the span of G is NaN with a
     ConditioningWarning (the flat set's value is not the set's, QA Z2 1); below
     ``flat_tol`` G is taken as exactly rank-deficient.  ``"ueberle"`` answers its
-    singular poses by the zonotope kernel, with a warning.  G and the limits are scaled
+    singular and nearly singular poses (κ <= :data:`UEBERLE_KAPPA` = 1e-6, below which
+    its least squares lose more than ~1e-12) by the zonotope kernel, with a warning.  G
+    and the limits are scaled
     by powers of two into range (:mod:`.float_scale`); a result beyond float64 warns.
     Precise and certified tiers are not provided: the kernel is a min over closed-form
     ratios, and the tables it feeds are themselves sampled.
@@ -358,6 +360,15 @@ def _chebyshev_centre(A, off, scale):
 
 
 # --------------------------------------------------------------------- Ueberle's method
+#: σmin/σmax of G at or below which :func:`ueberle_worst` answers by the zonotope
+#: kernel, with a ConditioningWarning.  Its nested least-squares problems lose accuracy
+#: faster than the zonotope kernel's 1e-16/κ: on a line of hexa poses towards a
+#: singular one (QA 24) its relative error against the zonotope and Qhull routes (which
+#: agree with a 50-digit enumeration) was 4e-15 at κ = 1e-4, 6e-13 at 1e-6, 1e-8 at
+#: 1e-7, 1.6e-5 at 1e-8 and 1.4 at 1.7e-10, unflagged below RANK_TOL = 1e-12 only.
+UEBERLE_KAPPA = 1e-6
+
+
 def ueberle_worst(G, lo, hi, S):
     """Ueberle's worst case for L = d, eqs. (10)-(12), batched.
 
@@ -414,19 +425,20 @@ def ueberle_worst(G, lo, hi, S):
                 dist = np.linalg.norm(F, axis=1)
             signed = np.where(side, dist, -dist)
             best = np.minimum(best, signed)
-    # Ueberle's facets are those of a regular G: at σmin/σmax <= RANK_TOL (or a pose
-    # where no facet is feasible) the pose goes to the zonotope kernel, with a warning,
-    # never an inf or the ~0 of a degenerate least-squares problem (QA Z2 2)
+    # Ueberle's facets are those of a regular G: at σmin/σmax <= UEBERLE_KAPPA (or a
+    # pose where no facet is feasible) the pose goes to the zonotope kernel, with a
+    # warning, never an inf, the ~0 of a degenerate least-squares problem (QA Z2 2) or
+    # the error of its nested least squares, which grows faster than 1/κ (QA 24)
     sv = np.linalg.svd(G, compute_uv=False)
     kappa = np.divide(sv[:, -1], sv[:, 0], out=np.zeros(N), where=sv[:, 0] > 0)
-    redo = np.flatnonzero((kappa <= RANK_TOL) | ~np.isfinite(best))
+    redo = np.flatnonzero((kappa <= UEBERLE_KAPPA) | ~np.isfinite(best))
     if len(redo):
         from ..errors import ConditioningWarning
         _warn(ConditioningWarning(
             f"Ueberle's method: {len(redo)} of {N} pose(s) singular or nearly so "
             f"(σmin/σmax = {kappa[redo[0]]:.3g}{', ...' if len(redo) > 1 else ''}, "
-            f"expected above RANK_TOL = {RANK_TOL:g} with a feasible facet): answered by "
-            "the zonotope kernel there"))
+            f"expected above {UEBERLE_KAPPA:g} with a feasible facet, where its least "
+            "squares keep ~1e-12 relative): answered by the zonotope kernel there"))
         c, r = (hi[redo] + lo[redo]) / 2, (hi[redo] - lo[redo]) / 2
         best[redo] = zonotope_worst(G[redo], c, r, [tuple(S)])[0]
     return best
