@@ -89,7 +89,8 @@ def test_ueberle_near_singular_is_finite_and_right():
     ~4e-16 (QA Z2 2)."""
     G = _near_flat(11, 6, 1e-8)
     ref = ref_worst(G, -np.ones(6), np.ones(6), [0, 1, 2])
-    val = W(G, -1, 1, keep=[0, 1, 2], method="ueberle")
+    with pytest.warns(ConditioningWarning, match="Ueberle"):   # κ = 2e-9 <= UEBERLE_KAPPA
+        val = W(G, -1, 1, keep=[0, 1, 2], method="ueberle")
     assert abs(val - ref) <= 1e-6 * ref, (val, ref)
     flat = _near_flat(11, 6, 0.0)
     val, w = _caught(lambda: W(flat, -1, 1, keep=[0, 1, 2], method="ueberle"))
