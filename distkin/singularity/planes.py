@@ -42,7 +42,7 @@ def _edges(pts):
 
 
 def _volumes(d):
-    """Signed volumes (..., 6) :math:`(P_j-P_i)\cdot((P_k-P_i)\times(P_l-P_i))/6` from
+    r"""Signed volumes (..., 6) :math:`(P_j-P_i)\cdot((P_k-P_i)\times(P_l-P_i))/6` from
     :func:`_edges` (any number type)."""
     return np.sum(d[..., 0, :] * _cross(d[..., 1, :], d[..., 2, :]), axis=-1) / 6
 
@@ -323,7 +323,7 @@ def _tier_relative(F, M, pts, length_scale, kind) -> float:
 
 
 def _rows(pts):
-    """The rows :math:`(n_i, -n_i\cdot P_i)` of :math:`F` (..., 4, 4), in the points'
+    r"""The rows :math:`(n_i, -n_i\cdot P_i)` of :math:`F` (..., 4, 4), in the points'
     number type."""
     a = pts[..., _PLANE_IDX[:, 0], :]
     n = _cross(pts[..., _PLANE_IDX[:, 1], :] - a, pts[..., _PLANE_IDX[:, 2], :] - a)
