@@ -17,14 +17,22 @@ from distkin.errors import InputError
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
-def _copied_link(tmp_path, name):
-    """``cp -a`` of the example ``name`` (a relative link) into ``tmp_path/copy``."""
-    src = EXAMPLES / name
-    assert src.is_symlink()                       # the premise: the example is a link
+def _copied_link(tmp_path, name, folder="scenes"):
+    """What ``cp -a`` makes of the example ``name`` in ``tmp_path/copy``: the relative
+    link into the package (written out: in an sdist the examples are files)."""
     (tmp_path / "copy").mkdir()
     dst = tmp_path / "copy" / name
-    os.symlink(os.readlink(src), dst)
-    return dst, os.readlink(src)
+    target = f"../distkin/{folder}/{name}"
+    os.symlink(target, dst)
+    return dst, target
+
+
+def test_the_examples_are_such_links_in_a_checkout():
+    """The premise (where the examples are links, a git checkout; files in an sdist)."""
+    for name, folder in (("rss_octopod.toml", "scenes"), ("control_octo.toml", "control")):
+        src = EXAMPLES / name
+        if src.is_symlink():
+            assert os.readlink(src) == f"../distkin/{folder}/{name}"
 
 
 def test_run_names_the_broken_link_and_its_target(tmp_path, capsys):
@@ -43,7 +51,7 @@ def test_a_missing_file_is_still_a_missing_file(tmp_path):
 
 
 def test_a_controller_scene_link_says_so_too(tmp_path):
-    dst, target = _copied_link(tmp_path, "control_octo.toml")
+    dst, target = _copied_link(tmp_path, "control_octo.toml", "control")
     with pytest.raises(InputError) as info:
         scene_and_inputs(dst)
     assert info.value.field == "--scene"
