@@ -215,12 +215,18 @@ def _intact(path, digest) -> bool:
 
 
 def _unwritable(d, exc):
-    """The InputError of a cache folder that cannot be written, naming its variable."""
+    """The InputError of a cache folder that cannot be written: field ``DISTKIN_CACHE``
+    (the setting that names the folder; QA pkg 7: the field was ``HOME`` when the default
+    folder was used, shown as ``query[0].HOME``), the message saying where an unset
+    variable's default came from."""
     from .errors import InputError
-    var = ("DISTKIN_CACHE" if os.environ.get("DISTKIN_CACHE") else
-           "XDG_CACHE_HOME" if os.environ.get("XDG_CACHE_HOME") else "HOME")
+    why = exc.strerror or type(exc).__name__
+    if not os.environ.get("DISTKIN_CACHE"):
+        source = ("$XDG_CACHE_HOME/distkin" if os.environ.get("XDG_CACHE_HOME") else
+                  f"~/.cache/distkin, HOME={os.environ.get('HOME', '')!r}")
+        why += f"; DISTKIN_CACHE is not set, so the cache folder is {source}"
     return InputError(f"expected a writable cache folder for the derived kernels, got "
-                      f"{str(d)!r} ({exc.strerror or type(exc).__name__})", field=var,
+                      f"{str(d)!r} ({why})", field="DISTKIN_CACHE",
                       hint="set DISTKIN_CACHE to a folder that can be written")
 
 

@@ -4,6 +4,8 @@ AttributeError or kernels returning None)."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from distkin.sourcecache import cached_source, load_module_file, source_key
 
 SRC = "def f(x):\n    return 2 * x\n"
@@ -144,3 +146,29 @@ def test_a_process_waiting_for_the_lock_can_be_interrupted(tmp_path):
     assert time.monotonic() - t0 < 3.0 and "KeyboardInterrupt" in err2
     out1, _ = first.communicate(timeout=120)
     assert out1.split()[-1] == "False"
+
+
+def test_the_default_cache_folder_is_named_as_such(tmp_path):
+    """QA pkg 7: with DISTKIN_CACHE unset and HOME unusable, each query's line said
+    ``query[0].HOME: expected a writable cache folder ...``; the field is the setting
+    that names the cache folder, and the message says where the default came from."""
+    import os
+    import subprocess
+    import sys
+    root = Path(__file__).resolve().parents[1]
+    home = tmp_path / "home"
+    home.write_text("a file, not a folder")
+    env = {k: v for k, v in os.environ.items() if k not in ("DISTKIN_CACHE", "XDG_CACHE_HOME")}
+    env.update(HOME=str(home), PYTHONPATH=str(root) + os.pathsep + env.get("PYTHONPATH", ""))
+    proc = subprocess.run([sys.executable, "-m", "distkin", "run",
+                           str(root / "examples" / "gough_stewart_6ups.toml")],
+                          capture_output=True, text=True, env=env, cwd=tmp_path, timeout=300)
+    assert proc.returncode == 2, proc.stderr
+    lines = [ln for ln in proc.stderr.splitlines() if "cache folder for the derived" in ln]
+    assert lines, proc.stderr
+    for line in lines:
+        assert ".HOME:" not in line
+        assert ".DISTKIN_CACHE: expected a writable cache folder for the derived kernels, got " \
+               f"{str(home / '.cache' / 'distkin')!r}" in line
+        assert f"DISTKIN_CACHE is not set, so the cache folder is ~/.cache/distkin, " \
+               f"HOME={str(home)!r}" in line

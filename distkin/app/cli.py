@@ -35,6 +35,7 @@ from pathlib import Path
 
 from .._version import __version__
 from ..errors import DistkinError, InputError, is_input_error
+from .stdout_guard import STDOUT_COMMANDS, GuardedStdout, closed_stdout, stdout_to_devnull
 
 __all__ = ["main", "run_scene", "RunInterrupted", "interrupted_document", "DEMO_SCENES",
            "DEMO_SCENE", "SUBCOMMANDS", "CHUNKED", "format_warning"]
@@ -389,6 +390,9 @@ def _cmd_demo(args) -> int:
         records_all += [{"scene": scene.path, **rec} for rec in records]
         _demo_output(args, scene.path, records, texts,
                      records_all if k + 1 == len(scenes) else None)
+    for rec in records_all:          # as run's: one line per failed query (QA pkg 3)
+        if rec["status"] == "error":
+            _err(f"{rec['scene']}: {rec['error']['message']}")
     return worst
 
 
@@ -492,12 +496,23 @@ def main(argv=None) -> int:
         commands = ", ".join(["run", "demo", *SUBCOMMANDS])
         _err(f"expected a command ({commands}), got none (see distkin --help)")
         return 2
+    if sys.stdout is None and args.command in STDOUT_COMMANDS:
+        _err(closed_stdout(args.command).one_line())
+        return 2
     old_term = _term_as_interrupt()
     old_format, warnings.formatwarning = warnings.formatwarning, format_warning
+    old_stdout = sys.stdout
+    if sys.stdout is not None:
+        sys.stdout = GuardedStdout(sys.stdout)
     try:
         _check_cache_env()
-        return int(args.func(args) or 0)
+        code = int(args.func(args) or 0)
+        if sys.stdout is not None:
+            sys.stdout.flush()       # a full disk said here, not at the exit (exit 120)
+        return code
     except DistkinError as exc:
+        if getattr(sys.stdout, "failed", False):
+            stdout_to_devnull()      # the exit's flush of what is left must not fail again
         _err(exc.one_line())
         return 2 if is_input_error(exc) else 1
     except KeyboardInterrupt:
@@ -514,13 +529,7 @@ def main(argv=None) -> int:
             _err(f"internal failure: {type(exc).__name__}: {exc} (run with --debug for the "
                  "traceback)")
             return 1
-        import os
-        try:
-            devnull = os.open(os.devnull, os.O_WRONLY)
-            os.dup2(devnull, sys.stdout.fileno())
-            os.close(devnull)
-        except (OSError, ValueError):
-            pass
+        stdout_to_devnull()
         return 141
     except Exception as exc:
         if args.debug:
@@ -528,6 +537,7 @@ def main(argv=None) -> int:
         _err(f"internal failure: {type(exc).__name__}: {exc} (run with --debug for the traceback)")
         return 1
     finally:
+        sys.stdout = old_stdout
         warnings.formatwarning = old_format
         if old_term is not None:
             signal.signal(signal.SIGTERM, old_term)

@@ -164,7 +164,7 @@ def cmd_sim(args) -> int:
     from ..control.runlog import check_log_prefix
     check_log_prefix(args.log)
     for path in _log_files(args.log, sim=True).values():
-        check_output_path(path, "--log", inputs=inputs)
+        check_output_path(path, "--log", inputs=inputs, replace=False)
     check_distinct_outputs([("--port-file", args.port_file)]
                            + [("--log", p) for p in _log_files(args.log, sim=True).values()])
     try:
@@ -424,7 +424,7 @@ def cmd_control(args) -> int:
     check_output_path(args.json, inputs=inputs)
     log_files = _log_files(args.log, control=True, sim=args.sim)
     for path in log_files.values():
-        check_output_path(path, "--log", inputs=inputs)
+        check_output_path(path, "--log", inputs=inputs, replace=False)
     check_output_dir(args.plots, "--plots", inputs=inputs)     # '' refused, not ignored
     if args.plots:
         check_output_path(Path(args.plots) / "control.png", "--plots", inputs=inputs)

@@ -36,13 +36,16 @@ def scene_and_inputs(path, outputs=()):
     all again against the returned inputs."""
     from ..control.config import loads_control_scene
     from .output_paths import check_not_input
-    from .scene import input_files, load_scene, toml_text
+    from .scene import broken_link_error, input_files, load_scene, toml_text
 
     def guard(p):
         for fld, out, *what in outputs:
             check_not_input(out, fld, [p], *what)
     if path and not Path(path).is_file():
         p = Path(path)
+        broken = broken_link_error(p, "--scene", "a controller scene")
+        if broken is not None:
+            raise broken
         what = ("a directory" if p.is_dir() else
                 "not a regular file: a device, pipe or socket" if p.exists() else
                 "no such file")

@@ -83,7 +83,7 @@ def same_file(a: Path, b: Path) -> bool:
         return False
 
 
-def check_output_path(path, field: str = "--json", inputs=()) -> None:
+def check_output_path(path, field: str = "--json", inputs=(), replace: bool = True) -> None:
     """Refuse an output file that cannot be written (``None`` and ``-`` pass); ``field``
     names the option.
 
@@ -99,11 +99,16 @@ def check_output_path(path, field: str = "--json", inputs=()) -> None:
         The files the command reads (the scene, ...); ``None`` entries are skipped.  The
         output must not be one of them (compared with :func:`os.path.samefile`, or the
         resolved paths when a file does not exist yet).
+    replace : bool
+        The writer replaces the file by a temporary one renamed over it
+        (:func:`write_text`; its folder must be writable); False for one that opens an
+        existing file in place (the run logs).
 
     Raises
     ------
     InputError
-        The path is an input file, a directory, or its folder cannot be made.
+        The path is an input file, a directory, an existing read-only file, or its
+        folder cannot be made or written.
     """
     if path is None or path == "-":
         return
@@ -120,6 +125,31 @@ def check_output_path(path, field: str = "--json", inputs=()) -> None:
         p.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise _refuse(path, exc, field) from None
+    _check_writable(path, field, replace)
+
+
+def _check_writable(path, field: str, replace: bool) -> None:
+    """Refuse, before any work, what :func:`write_text` would fail on at the end (QA pkg
+    4-5): a read-only existing file (the rename would replace it, mode and all, where
+    the shell's ``>`` refuses), a device or pipe that cannot be opened for writing, and
+    a folder where no file can be made (the temporary file beside the target; with
+    ``replace`` False, a writer that opens an existing file in place, only for a new
+    file).  :func:`os.access` with the real ids: root passes, as its writes would."""
+    real = Path(os.path.realpath(path))
+    if real.exists():
+        if not os.access(real, os.W_OK):
+            kind = "file" if real.is_file() else "non-regular file"
+            raise InputError(f"expected a writable file path, got {str(path)!r} (an existing "
+                             f"read-only {kind})", field=field,
+                             hint="name another file, or make it writable (chmod u+w) or "
+                                  "remove it first")
+        if not real.is_file() or not replace:
+            return                      # a device, a pipe: written in place
+    folder = real.parent
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise InputError(f"expected a writable file path, got {str(path)!r} (its folder "
+                         f"{str(folder)!r} is not writable)", field=field,
+                         hint="write the file in another folder")
 
 
 def check_not_input(path, field: str = "--json", inputs=(), what: str = "an output path"

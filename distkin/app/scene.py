@@ -23,6 +23,7 @@ validated at load time, so a bad field is reported before any work starts.
 
 from __future__ import annotations
 
+import os
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -48,6 +49,7 @@ __all__ = [
     "input_files",
     "toml_syntax_error",
     "toml_text",
+    "broken_link_error",
 ]
 
 @dataclass(frozen=True)
@@ -221,8 +223,9 @@ def load_scene(path) -> Scene:
     try:
         text = p.read_text(encoding="utf-8")
     except FileNotFoundError:
-        raise InputError(f"expected a scene file, got a path that does not exist: {str(p)!r}",
-                         field="scene") from None
+        raise (broken_link_error(p, "scene", "a scene") or InputError(
+            f"expected a scene file, got a path that does not exist: {str(p)!r}",
+            field="scene")) from None
     except (IsADirectoryError, PermissionError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot read scene file {str(p)!r}: {exc}", field="scene") from None
     return loads_scene(text, str(p))
@@ -241,13 +244,30 @@ def toml_text(path, field: str, what: str) -> str:
         raise InputError(f"expected a UTF-8 text {what} file, got {str(path)!r} (byte "
                          f"{exc.start} is not UTF-8)", field=field) from None
     except OSError as exc:
-        raise InputError(f"expected a readable {what} file, got {str(path)!r} "
-                         f"({exc.strerror or type(exc).__name__})", field=field) from None
+        broken = broken_link_error(Path(path), field, f"a {what}")
+        raise (broken or InputError(f"expected a readable {what} file, got {str(path)!r} "
+                                    f"({exc.strerror or type(exc).__name__})",
+                                    field=field)) from None
     try:
         tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise toml_syntax_error(text, exc, path) from None
     return text
+
+
+def broken_link_error(p: Path, field: str, what: str) -> InputError | None:
+    """The error of ``p`` a symbolic link whose target does not exist, or None (QA pkg
+    9: five examples are links into distkin/scenes, and ``cp -a examples copy`` copied
+    the links, which then said "a path that does not exist")."""
+    try:
+        if not p.is_symlink() or p.exists():
+            return None
+        target = os.readlink(p)
+    except OSError:
+        return None
+    return InputError(f"expected {what} file, got {str(p)!r}, a broken symbolic link to "
+                      f"{target!r} ({str(p.parent / target)!r} does not exist)", field=field,
+                      hint="copy the files the links point to (cp -L), or run the original")
 
 
 def input_files(scene: Scene) -> tuple:

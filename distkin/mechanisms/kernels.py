@@ -45,11 +45,12 @@ frozen mechanisms.
 from __future__ import annotations
 
 import importlib
+import math
 
 from .kernel_names import _SUFFIX, ARB_KERNELS, FLAVOURS, KERNELS, LOOP_KERNELS, RANGE_KERNEL
 
 __all__ = ["KERNELS", "FLAVOURS", "ARB_KERNELS", "KernelSet", "load_kernels",
-           "preset_module_name", "range_legs"]
+           "preset_module_name", "preset_table_matches", "PRESET_ULPS", "range_legs"]
 
 
 def preset_module_name(name: str, flavour: str = "batched") -> str:
@@ -108,16 +109,48 @@ def _committed_presets() -> list[str]:
     return sorted(names)
 
 
+#: how many units in the last place a number of a leg table may lie from the committed
+#: preset's and still load that preset's module: numpy's cos and sin are not correctly
+#: rounded (numpy 1.24 gives -0.06733974596215557 for a Hunt base coordinate, 2.x
+#: ...58; SIMD variants differ across CPUs), so a preset's table is its committed one
+#: only up to the last bit or two
+PRESET_ULPS = 4
+
+
+def _same_number(a, b) -> bool:
+    """``a == b``, floats within :data:`PRESET_ULPS` ulps of the larger magnitude (a
+    zero only equals a zero); tuples entry by entry; anything else exactly, same type."""
+    if type(a) is float and type(b) is float:
+        if a == b:
+            return True
+        return (a != 0.0 and b != 0.0 and math.isfinite(a) and math.isfinite(b)
+                and math.copysign(1.0, a) == math.copysign(1.0, b)
+                and abs(a - b) <= PRESET_ULPS * math.ulp(max(abs(a), abs(b))))
+    if type(a) is tuple and type(b) is tuple:
+        return len(a) == len(b) and all(_same_number(x, y) for x, y in zip(a, b))
+    return type(a) is type(b) and a == b
+
+
+def preset_table_matches(legs: tuple, committed: tuple) -> bool:
+    """A leg table's :meth:`~.legs.LegsDescription.key` is a committed module's ``LEGS``:
+    the same fields, types, branches and ranges' presence, every number within
+    :data:`PRESET_ULPS` units in the last place (relative, entry by entry; 1e-9 m is
+    ~1e7 ulps and does not match)."""
+    return legs == committed or _same_number(legs, committed)
+
+
 def _preset_for(mech):
     """The committed preset module whose leg table is ``mech``'s (their ``LEGS`` are
     the preset's :meth:`~.legs.LegsDescription.key`: ``python -m distkin.codegen
-    --check``), or None.  A preset written out as legs finds its module here.  Reads the
-    generated modules, not :mod:`.presets` (no import cycle)."""
+    --check``), up to the last bits of numpy's trigonometry
+    (:func:`preset_table_matches`), or None.  A preset written out as legs finds its
+    module here.  Reads the generated modules, not :mod:`.presets` (no import cycle)."""
     legs = mech.leg_description().key()
     names = _committed_presets()
     for name in sorted(names, key=lambda n: n != mech.name):
         module = importlib.import_module(f"distkin._generated.{preset_module_name(name)}")
-        if getattr(module, "LEGS", None) == legs:
+        committed = getattr(module, "LEGS", None)
+        if committed is not None and preset_table_matches(legs, committed):
             return name
     return None
 
