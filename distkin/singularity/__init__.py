@@ -8,8 +8,9 @@ from .conditions import (OCTAHEDRAL_LEGS, octahedral_joints, plucker_jacobian,
                          jacobian_det, cm_pure_condition, signed_cm_condition,
                          volume_factors, four_planes, FourPlanes, certified_sign,
                          RATIO_CONSTANT, PLANES)
-from .paths import (rotation_from_vector, pose_points, PosePath, Crossing, path_crossings,
-                    certify_crossing, NearestSingularity, nearest_singularity)
+from .paths import (rotation_from_vector, pose_points, PosePath, Crossing, SignChange,
+                    path_crossings, path_sign_changes, certify_crossing, NearestSingularity,
+                    nearest_singularity)
 from .enclosure import ZeroExclusion, det_series, exclude_zeros, monotone_on
 
 __all__ = [
@@ -29,7 +30,9 @@ __all__ = [
     "pose_points",
     "PosePath",
     "Crossing",
+    "SignChange",
     "path_crossings",
+    "path_sign_changes",
     "certify_crossing",
     "NearestSingularity",
     "nearest_singularity",

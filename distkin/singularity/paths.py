@@ -22,7 +22,9 @@ __all__ = [
     "pose_points",
     "PosePath",
     "Crossing",
+    "SignChange",
     "path_crossings",
+    "path_sign_changes",
     "certify_crossing",
     "NearestSingularity",
     "nearest_singularity",
@@ -210,6 +212,23 @@ class PosePath:
             w = w * (flint.arb.pi() / 180)
         return rotation_from_vector(w, method="certified"), t
 
+    def at_precise(self, s, dps: int = 30):
+        """mpmath poses at ``s`` (an exact value, or mpf/float taken as it is): R (3, 3),
+        t (3,) as mpf object arrays, computed at ``dps`` digits from the path's exact
+        ends (not from their float64 roundings, as :meth:`at`)."""
+        import mpmath
+
+        from ..exact import to_tier
+        with mpmath.workdps(dps):
+            q = lambda v: [to_tier(x, "precise") for x in v]  # noqa: E731
+            t0, t1, w0, w1 = q(self.t0), q(self.t1), q(self.w0), q(self.w1)
+            s = to_tier(s, "precise")
+            t = np.array([a + s * (b - a) for a, b in zip(t0, t1)], dtype=object)
+            w = np.array([a + s * (b - a) for a, b in zip(w0, w1)], dtype=object)
+            if self.deg:
+                w = w * (mpmath.pi / 180)
+            return rotation_from_vector(w, method="precise", dps=dps), t
+
 
 def _arb(x):
     """A certified arb enclosure of an exact value (Fraction, int, fmpq, sympy constant)."""
@@ -231,7 +250,11 @@ class Crossing:
     Attributes
     ----------
     s : float
-        Path parameter of the root of det J (brentq, |ds| <= 1e-14).
+        Path parameter of the root of det J.  Brent's method finds it to 1e-14 in s on
+        the *float64* det J (:func:`path_crossings`), not on the exact one: the root of
+        the exact det J can lie about (rounding error of det J at s) / |d det J/ds|
+        away (QA: 4e-9 and more near a grazing path; the ``singularity`` query reports
+        that estimate, ``s_error``).  With a certificate the root lies in ``bracket``.
     bracket : (Fraction, Fraction) or None
         Rational parameters on both sides at which the sign of det J was certified
         (arb), when certification was asked for.
@@ -246,7 +269,8 @@ class Crossing:
 
 def path_crossings(f, samples: int = 200, *, xtol: float = 1e-14, refine: bool = False):
     """Roots of a scalar function along s in [0, 1]: sign changes on a uniform grid of
-    ``samples`` points, refined by Brent's method.
+    ``samples`` points, refined by Brent's method (:func:`path_sign_changes` says
+    which two points of opposite signs each root comes from).
 
     A pair of roots inside one sample interval leaves no sign change on the grid.  With
     ``refine``, every interior sample where |f| has a strict local minimum without a
@@ -262,7 +286,10 @@ def path_crossings(f, samples: int = 200, *, xtol: float = 1e-14, refine: bool =
         At least 2 (both ends of [0, 1]); another value or type is an
         :class:`~distkin.errors.InputError` naming ``samples``.
     xtol : float
-        Absolute tolerance on each root (in s), > 0.
+        Brent's absolute tolerance (in s, > 0) on each root *of the float function f*;
+        a root of the exact function f approximates can lie farther, by about f's
+        rounding error over |f'| there, and a sign change within f's rounding error
+        may not exist at all.
     refine : bool
         Search the local minima of |f| for root pairs between samples.
 
@@ -272,6 +299,36 @@ def path_crossings(f, samples: int = 200, *, xtol: float = 1e-14, refine: bool =
     grid, values : arrays (samples,)
         The sampled function (for plots).
     """
+    changes, grid, vals = path_sign_changes(f, samples, xtol=xtol, refine=refine)
+    return [c.s for c in changes], grid, vals
+
+
+@dataclass(frozen=True)
+class SignChange:
+    """A root of :func:`path_sign_changes` and the evidence for it.
+
+    Attributes
+    ----------
+    s : float
+        The root (Brent's method on the float function, to ``xtol``).
+    lo, hi : float
+        The two points around ``s`` at which the function was seen with opposite signs
+        (``lo == hi == s`` where a sample is exactly 0).
+    f_lo, f_hi : float
+        The function's values there: the sign change is only as sure as these are
+        (a value within its rounding error of 0 may have the wrong sign).
+    """
+
+    s: float
+    lo: float
+    hi: float
+    f_lo: float
+    f_hi: float
+
+
+def path_sign_changes(f, samples: int = 200, *, xtol: float = 1e-14, refine: bool = False):
+    """:func:`path_crossings` with the evidence of each root: ``(changes, grid,
+    values)``, ``changes`` a sorted list of :class:`SignChange`."""
     samples = positive_int(samples, "samples", minimum=2)
     xtol = positive_number(xtol, "xtol")
     grid = np.linspace(0.0, 1.0, samples)
@@ -285,14 +342,17 @@ def path_crossings(f, samples: int = 200, *, xtol: float = 1e-14, refine: bool =
     for i, j in zip(finite[:-1], finite[1:]):
         a, b = vals[i], vals[j]
         if a == 0.0:
-            roots.append(float(grid[i]))
+            x = float(grid[i])
+            roots.append(SignChange(x, x, x, 0.0, 0.0))
         elif a * b < 0:
-            roots.append(_brent(scalar, grid[i], grid[j], xtol))
+            roots.append(SignChange(_brent(scalar, grid[i], grid[j], xtol), float(grid[i]),
+                                    float(grid[j]), float(a), float(b)))
     if finite.size and vals[finite[-1]] == 0.0:
-        roots.append(float(grid[finite[-1]]))
+        x = float(grid[finite[-1]])
+        roots.append(SignChange(x, x, x, 0.0, 0.0))
     if refine:
-        roots.extend(_root_pairs(scalar, grid, vals, xtol))
-        roots.sort()
+        roots.extend(_root_pairs(scalar, grid, vals, xtol, evidence=True))
+        roots.sort(key=lambda c: c.s)
     return roots, grid, vals
 
 
@@ -319,9 +379,10 @@ def _brent(scalar, lo, hi, xtol):
     return 0.5 * (lo + hi)
 
 
-def _root_pairs(scalar, grid, vals, xtol):
+def _root_pairs(scalar, grid, vals, xtol, evidence=False):
     """Root pairs between samples at the strict local minima of |f| (see
-    :func:`path_crossings`)."""
+    :func:`path_crossings`); with ``evidence`` as :class:`SignChange` (the minimum of the
+    opposite sign is one side of both)."""
     from scipy.optimize import minimize_scalar
     a, m, b = np.abs(vals[:-2]), np.abs(vals[1:-1]), np.abs(vals[2:])
     same = (vals[:-2] * vals[1:-1] > 0) & (vals[1:-1] * vals[2:] > 0)
@@ -333,8 +394,13 @@ def _root_pairs(scalar, grid, vals, xtol):
                               options={"xatol": 1e-13})
         if not (res.fun < 0.0):
             continue
-        x = float(res.x)
-        out += [_brent(scalar, lo, x, xtol), _brent(scalar, x, hi, xtol)]
+        x, fx = float(res.x), sg * float(res.fun)
+        r1, r2 = _brent(scalar, lo, x, xtol), _brent(scalar, x, hi, xtol)
+        if evidence:
+            out += [SignChange(r1, lo, x, float(vals[i - 1]), fx),
+                    SignChange(r2, x, hi, fx, float(vals[i + 1]))]
+        else:
+            out += [r1, r2]
     return out
 
 
@@ -360,7 +426,10 @@ def certify_crossing(f_arb, s: float, *, lo: float = 0.0, hi: float = 1.0,
         ``s`` not a finite number in [``lo``, ``hi``]; ``start`` or ``limit`` not
         positive and finite; ``lo`` >= ``hi``.
     UncertifiedError
-        No such pair up to ``limit`` (the signs found are named).
+        No such pair up to ``limit`` (the signs found are named).  Its attribute
+        ``same_sign`` lists the brackets ``(a, b, sign)`` at whose ends arb proved one
+        and the same non-zero sign (an even number of zeros inside: no evidence of a
+        crossing at ``s``); empty when every bracket left a ball containing 0.
     """
     lo, hi = _finite_number(lo, "lo"), _finite_number(hi, "hi")
     if not lo < hi:
@@ -379,6 +448,7 @@ def certify_crossing(f_arb, s: float, *, lo: float = 0.0, hi: float = 1.0,
         pass
     eps = start
     last = None
+    same = []                              # brackets with one certified sign at both ends
     while eps <= limit:
         a = Fraction(max(lo, s - eps)).limit_denominator(10 ** 18)
         b = Fraction(min(hi, s + eps)).limit_denominator(10 ** 18)
@@ -393,6 +463,8 @@ def certify_crossing(f_arb, s: float, *, lo: float = 0.0, hi: float = 1.0,
         if sa * sb < 0:
             return Crossing(s, (a, b), (sa, sb))
         exact_zeros += [z for z, sz in ((a, sa), (b, sb)) if sz == 0 and z not in exact_zeros]
+        if sa == sb != 0:
+            same.append((a, b, sa))
         last = UncertifiedError(f"expected opposite signs of det J around s = {s:.15g}, got "
                                 f"{sa:+d} at s = {float(a):.15g} and {sb:+d} at s = "
                                 f"{float(b):.15g}")
@@ -401,10 +473,13 @@ def certify_crossing(f_arb, s: float, *, lo: float = 0.0, hi: float = 1.0,
              + " (a proved singular pose, but no sign change was proved: a crossing or a "
              "touch)") if exact_zeros else ""
     if last is not None:
-        raise UncertifiedError(last.message + zeros)
-    raise UncertifiedError(f"could not certify the crossing at s = {s:.15g}: no bracket fits "
-                           f"in [{lo!r}, {hi!r}] from start = {start:g} up to limit = "
-                           f"{limit:g}{zeros}")
+        err = UncertifiedError(last.message + zeros)
+    else:
+        err = UncertifiedError(f"could not certify the crossing at s = {s:.15g}: no bracket "
+                               f"fits in [{lo!r}, {hi!r}] from start = {start:g} up to "
+                               f"limit = {limit:g}{zeros}")
+    err.same_sign = same
+    raise err
 
 
 def _finite_number(value, field: str) -> float:

@@ -196,7 +196,8 @@ def result_units(units, pose: bool) -> dict:
         out["four_planes"] = (f"point, spread: {L}; relative: none; sign_resolved: bool "
                               "(F's float64 rounding-error estimate below |F|)")
     else:
-        out.update({"s": "none (path parameter in [0, 1])", "four_planes_point": L,
+        out.update({"s": "none (path parameter in [0, 1])", "s_error": "none (in s)",
+                    "four_planes_point": L,
                     "four_planes_spread": L,
                     "root_distance": "none (in s; null: no root of that test on the path)",
                     "min_abs_det_J": "none",

@@ -75,6 +75,20 @@ class OctahedralModel:
         X = np.concatenate([self.base_a, P], axis=0)
         return jacobian_det(*octahedral_joints(X), normalised=False, method="certified")
 
+    # -- mpmath, one pose (the scene's exact points at dps digits)
+    def det_j_precise(self, R, t, dps):
+        """``(det J, its rounding-error estimate)`` at an mpmath pose R (3,3), t (3,),
+        at ``dps`` digits (moments over L, as :meth:`det_j`)."""
+        import mpmath
+
+        from ...singularity import jacobian_det, octahedral_joints, pose_points
+        with mpmath.workdps(dps):
+            base, plat = (np.array([[to_tier(x, "precise") for x in r] for r in rows],
+                                   dtype=object) for rows in self._exact)
+            X = np.concatenate([base, pose_points(plat, R, t)], axis=0)
+        return jacobian_det(*octahedral_joints(X), length_scale=self.L, method="precise",
+                            with_error=True, dps=dps)
+
     def pose_path(self, a, b):
         from ...singularity import PosePath
         return PosePath(a.translation, a.rotation, b.translation, b.rotation, self.deg)

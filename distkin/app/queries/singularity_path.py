@@ -12,6 +12,7 @@ import numpy as np
 
 from ..query import Outcome
 from .singularity_model import _check66, _check_legs, _first, _opt, _sampled, _tests
+from .singularity_roots import classify_roots, fast_det, format_s
 
 __all__ = ["run_path", "plot_path"]
 
@@ -33,6 +34,16 @@ def _try_certify(certify_crossing, f_arb, s):
         return certify_crossing(f_arb, s)
     except UncertifiedError as exc:
         return exc.message
+
+
+def _possible_line(r):
+    """The report's line on a sign change that may be round-off (not counted)."""
+    sc = r["sign_change"]
+    return (f"  possible crossing at s = {format_s(r['s'], r['s_error'])} (possibly round-off, "
+            f"not counted): det J = {sc['det_J'][0]:.1e} at s = {sc['s'][0]:.12g} and "
+            f"{sc['det_J'][1]:.1e} at s = {sc['s'][1]:.12g}, float64 rounding-error "
+            f"estimates {sc['det_J_error'][0]:.1e} and {sc['det_J_error'][1]:.1e}; "
+            f"{r['reason']}")
 
 
 def _exclude(model, path, f_arb, roots, certs, certify_crossing, Crossing):
@@ -70,14 +81,15 @@ def _exclude(model, path, f_arb, roots, certs, certify_crossing, Crossing):
 
 def run_path(model, p, unit):
     from ...singularity import (Crossing, certify_crossing, cm_pure_condition, four_planes,
-                              nearest_singularity, path_crossings, signed_cm_condition)
+                              nearest_singularity, path_crossings, path_sign_changes,
+                              signed_cm_condition)
     a, b = p.path
     path = model.pose_path(a, b)
     at = path.at
 
     f_det = lambda s: model.det_j(*at(s))  # noqa: E731
     _check_legs(model, *at(np.linspace(0.0, 1.0, p.samples)), "path")
-    roots, grid, vals = path_crossings(f_det, p.samples, refine=True)
+    changes, grid, vals = path_sign_changes(f_det, p.samples, refine=True)
     # a sign change between two samples that are both at the round-off level of det J is
     # round-off on the singular locus, not a crossing (a path along the locus: QA F 07).
     # The level is _roundoff (or the tolerance, if smaller), not the tolerance: a
@@ -88,14 +100,20 @@ def run_path(model, p, unit):
     cell = lambda s: min(int(np.searchsorted(grid, s, side="right")) - 1,  # noqa: E731
                          len(grid) - 2)                 # the samples i, i + 1 around s
     f_arb = lambda q: model.det_j_arb(*path.at_certified(q))  # noqa: E731
-    certs = {}
-    locus = []
-    for s in roots:
-        if p.method == "certified" and not tiny.all():   # (all round-off: nothing to prove)
-            certs[s] = _try_certify(certify_crossing, f_arb, s)
-        if tiny[cell(s)] and tiny[cell(s) + 1] and not isinstance(certs.get(s), Crossing):
-            locus.append(s)
-    roots = [s for s in roots if s not in locus]
+    # each sign change with its evidence: a value within det J's rounding-error estimate
+    # of 0 makes it possibly round-off, not counted; under "certified" arb decides where
+    # it can (QA: a path tangent to the locus 1e-8 off it gave two such "crossings")
+    recs = classify_roots(model, path, changes, p.method,
+                          (lambda s: certify_crossing(f_arb, s))      # (all round-off:
+                          if p.method == "certified" and not tiny.all() else None)  # no proof)
+    on_locus = [tiny[cell(c.s)] and tiny[cell(c.s) + 1] and r["status"] != "certified"
+                for c, r in zip(changes, recs)]
+    locus = [r["s"] for r, x in zip(recs, on_locus) if x]
+    kept = [r for r, x in zip(recs, on_locus) if not x]
+    possible = [r for r in kept if r["status"] == "possibly_round_off"]
+    counted = [r for r in kept if r["status"] != "possibly_round_off"]
+    roots = [r["s"] for r in counted]
+    certs = {r["s"]: r["certificate"] for r in counted}
     notes = []
     f_cm, nan_cm = _rounding_nan(_sampled(
         lambda s: cm_pure_condition(model.points(*at(s)), relative=True),
@@ -141,7 +159,9 @@ def run_path(model, p, unit):
     complete = excl is not None and not excl["undecided"] and n_cert == len(roots)
     lines.append(f"path: {p.samples} samples, s in [0, 1]; L = {model.L:.6g}{unit}; "
                  f"{len(roots)} crossing(s) of det J = 0 found"
-                 + (f", {n_cert} of them certified (arb)" if p.method == "certified" else ""))
+                 + (f", {n_cert} of them certified (arb)" if p.method == "certified" else "")
+                 + (f"; {len(possible)} more sign change(s) possibly round-off, not counted"
+                    if possible else ""))
     if complete:
         lines.append(f"  the count is certified complete: arb (mean-value form over s) proves "
                      f"det J != 0 on [0, 1] outside the {len(roots)} bracket(s) of the "
@@ -154,7 +174,11 @@ def run_path(model, p, unit):
     else:
         lines.append("  the count is a lower bound, not certified: sign changes on the grid, "
                      "and root pairs searched at the local minima of |det J|; two crossings "
-                     "inside one sample interval that leave no such minimum are missed")
+                     "inside one sample interval that leave no such minimum are missed; a "
+                     "sign change shown by a value within det J's float64 rounding-error "
+                     "estimate of 0 is not counted (possibly round-off)"
+                     + (", nor one arb finds of one sign on both sides"
+                        if p.method == "certified" else ""))
         if excl is not None:
             shown = ", ".join(f"[{a:.9g}, {b:.9g}]" for a, b in excl["undecided"][:8])
             more = len(excl["undecided"]) - 8
@@ -173,10 +197,16 @@ def run_path(model, p, unit):
                      f"samples" + (f"; {len(locus)} sign changes between samples at the "
                                    "round-off level of det J are round-off on the singular "
                                    "locus, not crossings" if locus else ""))
-    for s in roots:
+    possible_entries = []
+    for rec in counted + possible:      # the possible ones: the tests there too (QA F5b)
+        maybe = rec["status"] == "possibly_round_off"
+        s = rec["s"]
         R, t = at(np.array([s]))
         tests = _first(_tests(model, R, t))
-        near = lambda rs: min((abs(r - s) for r in rs), default=float("inf"))  # noqa: E731
+        # the other tests' roots are float64 roots too: compared with det J's float64
+        # root (a 30-digit polish moves s by up to its float64 error estimate)
+        sf = rec["s_float"]
+        near = lambda rs: min((abs(r - sf) for r in rs), default=float("inf"))  # noqa: E731
         und = tests["undefined"]
         # a test fires where it has a root of its own next to s, or where its value is at
         # round-off (a root at an end of the path leaves no sign change: QA F5)
@@ -189,7 +219,10 @@ def run_path(model, p, unit):
                 "four_planes": bool("four_planes" not in und
                                     and (near(fp_roots) < 1e-9 or zero("four_planes_relative"))
                                     and tests["four_planes_spread"] < 1e-6 * model.L)}
-        entry = {"s": s, "rotation_matrix": R[0], "translation": t[0],
+        entry = {"s": s, "s_error": rec["s_error"], "s_error_kind": rec["s_error_kind"],
+                 "status": rec["status"], "polished": rec["polished"],
+                 "sign_change": rec["sign_change"],
+                 "rotation_matrix": R[0], "translation": t[0],
                  "det_J": float(tests["det_J"]), "sigma_min": float(tests["sigma_min"]),
                  "cm_condition_relative": _opt(tests["cm_condition_relative"]),
                  "signed_cm_relative": _opt(tests["signed_cm_relative"]),
@@ -202,12 +235,22 @@ def run_path(model, p, unit):
                                     ("four_planes", near(fp_roots)))},
                  "fires": fire, "all_fire": all(fire.values())}
         e = lambda k: "undefined" if entry[k] is None else f"{entry[k]:.1e}"  # noqa: E731
-        text = (f"  crossing at s = {s:.15f}: t = ({t[0, 0]:.6f}, {t[0, 1]:.6f}, {t[0, 2]:.6f}){unit}; "
+        head = (_possible_line(rec) + "\n    there:" if maybe else
+                f"  crossing at s = {format_s(s, rec['s_error'])} "
+                f"({rec['s_error_kind'].split(':')[0]}):")
+        text = (f"{head} t = ({t[0, 0]:.6f}, {t[0, 1]:.6f}, {t[0, 2]:.6f}){unit}; "
                 f"det J = {entry['det_J']:.1e}, CM = {e('cm_condition_relative')}, "
                 f"four-planes spread = {e('four_planes_spread')}{unit}; all three fire: "
                 f"{entry['all_fire']}")
         text += "".join(f"\n    {k} undefined: {why}" for k, why in und.items())
-        if p.method == "certified":
+        if maybe:
+            entry["reason"] = rec["reason"]
+            entry["certified"] = (None if rec["certificate"] is None else
+                                  {"bracket": None, "signs": None,
+                                   "reason": str(rec["certificate"])})
+            if rec["certificate"] is not None:
+                text += f"\n    sign change not certified (arb): {rec['certificate']}"
+        elif p.method == "certified":
             c = certs[s]
             if isinstance(c, Crossing):
                 entry["certified"] = {"bracket": [c.bracket[0], c.bracket[1]],
@@ -225,11 +268,17 @@ def run_path(model, p, unit):
             text += (f"\n    6-6 platform: det(A) = {entry['platform66']['det_A']}, "
                      f"|Jhat66 - A Jhat| / |Jhat66| = "
                      f"{entry['platform66']['identity_error']:.1e} (det(AJ) = det(A) det(J))")
-        crossings.append(entry)
+        (possible_entries if maybe else crossings).append(entry)
         lines.append(text)
+    near_det = [r["s_float"] for r in counted + possible]   # (possibly round-off: det J ~ 0)
+
     def elsewhere(rs):          # zeros of a test away from det J's, where det J != 0
-        return [r for r in rs if min((abs(r - s) for s in roots), default=1) > 1e-9
-                and not on[int(np.argmin(np.abs(grid - r)))]]
+        rs = [r for r in rs if min((abs(r - s) for s in near_det), default=1) > 1e-9
+              and not on[int(np.argmin(np.abs(grid - r)))]]
+        if not rs:
+            return rs
+        v, e = fast_det(model, at, rs)      # det J != 0 by its rounding-error estimate
+        return [r for r, x, y in zip(rs, v, e) if abs(x) > y]
 
     spurious = elsewhere(cm_roots)
     if spurious:
@@ -257,12 +306,20 @@ def run_path(model, p, unit):
            "nearest_singularity": dist, "min_abs_det_J": float(np.min(np.abs(vals))),
            "samples_on_locus": int(on.sum()), "on_singular_locus": bool(tiny.all()),
            "method": p.method,
+           # sign changes shown by a value within det J's rounding-error estimate of 0,
+           # or with one arb sign on both sides: not counted (QA: a tangent path)
+           "possible_crossings": possible_entries,
            "conditions_tier": "fast (float64 along the path and at the crossings, also "
                               "under method certified: only det J is certified; undefined "
                               "where both products are within their rounding error "
                               "estimate of 0)",
            "crossing_count": {
                "found": len(roots), "is_lower_bound": not complete,
+               "possibly_round_off": len(possible),
+               "counted": "sign changes whose values on both sides exceed their float64 "
+                          "rounding-error estimates (or their 30-digit ones, method "
+                          "certified), or that arb proves; not one that arb finds of one "
+                          "sign on both sides",
                "certified_complete": complete,
                "exact": bool(complete and all(excl["simple"])),
                "certified_crossings": n_cert if p.method == "certified" else None,
