@@ -9,7 +9,7 @@ looks wrong.  :func:`apart` prints the two with the fewest significant digits (a
 
 from __future__ import annotations
 
-__all__ = ["apart", "MAX_DIGITS", "sig", "PER_METRE", "length_unit"]
+__all__ = ["apart", "MAX_DIGITS", "sig", "fixed", "PER_METRE", "length_unit"]
 
 #: significant digits that tell any two distinct float64 apart (repr round trip)
 MAX_DIGITS = 17
@@ -55,6 +55,26 @@ def sig(value, digits: int = 4) -> str:
 #: a length in m times ``PER_METRE[unit]`` is the length in the scene's ``unit`` (the
 #: physical units of ``[units] length``, docs/design.md "Conventions")
 PER_METRE = {"m": 1.0, "mm": 1e3, "cm": 1e2, "km": 1e-3}
+
+
+def fixed(value, digits: int = 4) -> str:
+    """``value`` with ``digits`` significant digits in fixed notation, trailing zeros
+    kept, so that a column of numbers reads alike (QA 24: Table V mixed "10.3", "9.921"
+    and "2.346e+04"); :func:`sig` outside 1e-4 <= |value| < 1e9, for 0 and non-finite.
+
+    >>> fixed(10.3), fixed(9.921), fixed(23456.7), fixed(0.51123), fixed(1.2, 3)
+    ('10.30', '9.921', '23457', '0.5112', '1.20')
+    """
+    import math
+    if value is None:
+        return "—"
+    v = float(value)
+    if v == 0 or not math.isfinite(v):
+        return sig(v, digits)
+    e = math.floor(math.log10(abs(v)))
+    if not -4 <= e < 9:
+        return sig(v, digits)
+    return f"{v:.{max(0, int(digits) - 1 - e)}f}"
 
 
 def length_unit(unit) -> tuple:

@@ -216,7 +216,10 @@ class DelayMargin:
         """The sweep as text, one line per delay."""
         marg = (np.zeros(len(self.delays), bool) if self.marginal is None
                 else self.marginal)
-        out = [f"extra delay {n:3d} periods ({format_ms(n * self.period_s * 1e3):>6} ms): "
+        h = self.period_s * 1e3
+        dec = len(format_ms(h).partition(".")[2])     # one column: the period's decimals
+        w = len(f"{max(self.delays) * h:.{dec}f}")
+        out = [f"extra delay {n:3d} period{'s' if n != 1 else ' '} ({n * h:{w}.{dec}f} ms): "
                f"spectral radius {r:.6f}, least-damped mode {f:7.2f} Hz, "
                + (f"marginal (spectral radius within {MARGINAL:g} of 1: float64 cannot "
                   "say whether it grows)" if mg else

@@ -72,3 +72,26 @@ def test_json_poses_are_in_the_scene_units_with_a_unit_block(monkeypatch):
     assert (out.result["step"], out.result["step_angle"]) == pytest.approx((20, 10))
     assert "a 20 mm / 10 deg step" in out.text and "40 mm" not in out.text
     assert "velocity (75, -75, 375, 30, 0, -30)" in out.text
+
+
+def test_the_table_prints_ours_alike_in_fixed_notation(monkeypatch):
+    """QA 24: one column mixed "10.3", "9.921" and "2.346e+04".  Reference: the rows the
+    run returned (faked here), read back from the printed table."""
+    rows = {"force": (9.9213, 10.3, 15.27, 16.02, "N"),
+            "angular_acceleration": (5353.2, 23456.7, 7051.21, 34341.13, "rad/s²")}
+
+    def fake(name, *, trials, step_m, step_rad, units):
+        return {k: {"unit": u, "emulated": e, "analysis": a, "paper_experiment": pe,
+                    "paper_simulation": ps, "pose": [0.0] * 6, "direction": [1, 0, 0, 0, 0, 0],
+                    "end_stop_hits": 0, "kind": "free"} for k, (e, a, pe, ps, u) in rows.items()}
+    monkeypatch.setattr(q5, "run_table5", fake)
+    s = loads_scene(SCENE.format(length="mm", angle="deg", extra=""))
+    text = Table5Query.run(s.queries[0].params, s, RunContext()).text
+    got = {line.split("|")[1].split("[")[0].strip().replace(" ", "_"): line.split("|")[2:5]
+           for line in text.splitlines() if line.startswith("| ") and "[" in line.split("|")[1]}
+    assert [c.strip() for c in got["force"]] == ["9.921", "10.30", "0.963×"]
+    assert [c.strip() for c in got["angular_acceleration"]] == ["5353", "23457", "0.228×"]
+    assert "e+0" not in text
+    for k, (e, a, *_rest) in rows.items():              # the printed values are the run's
+        assert float(got[k][0]) == pytest.approx(e, rel=5e-4)
+        assert float(got[k][1]) == pytest.approx(a, rel=5e-4)

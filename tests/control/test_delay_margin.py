@@ -193,3 +193,22 @@ def test_an_undamped_loop_is_marginal_not_decided(octo):
     assert dm.marginal[0] and dm.stable_periods == -1
     assert "marginal without extra delay" in dm.lines()[-1]
     assert "marginal (spectral radius within" in dm.lines()[0]
+
+
+@pytest.mark.parametrize("rate_hz", [1000.0, 4000.0])
+def test_the_sweep_lines_are_one_column(octo, rate_hz):
+    # QA 24: "(  0.00 ms)" beside "(  10.0 ms)" and "1 periods".  Reference: the delay
+    # n / rate_hz of each line, read back from the printed text
+    import re
+    scene, model = octo
+    dm = delay_margin(dataclasses.replace(scene, rate_hz=rate_hz), model, max_periods=12)
+    rows = [re.match(r"extra delay +(\d+) (period |periods) \(( *[\d.]+) ms\)", line)
+            for line in dm.lines()[:-1]]
+    assert all(rows)
+    cells = [r.group(3) for r in rows]
+    assert len({len(c) for c in cells}) == 1                 # one width
+    assert len({len(c.partition(".")[2]) for c in cells}) == 1  # one number of decimals
+    for r in rows:
+        n = int(r.group(1))
+        assert r.group(2) == ("period " if n == 1 else "periods")
+        assert float(r.group(3)) == pytest.approx(n * 1e3 / rate_hz, abs=1e-9)

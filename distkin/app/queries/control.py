@@ -7,6 +7,7 @@ from ...argcheck import check_keys, fast_only, positive_int
 from ...control.table5 import run_table5
 from ...errors import InputError
 from ...exact import parse_float
+from ...numfmt import fixed
 from ..query import Outcome, register
 from ..units import angle_factor, length_factor
 
@@ -63,10 +64,11 @@ class Table5Query:
                  "|---|---|---|---|---|---|---|"]
         for row, r in res.items():
             u = r["unit"]
-            lines.append(f"| {row.replace('_', ' ')} [{u}] | {r['emulated']:.4g} | "
-                         f"{r['analysis']:.4g} | {r['emulated'] / r['analysis']:.3g}× | "
-                         f"{r['paper_experiment']} | {r['paper_simulation']} | "
-                         f"{r['emulated'] / r['paper_experiment']:.3g}× |")
+            # ours in 4 significant digits, fixed notation; the paper's as printed there
+            lines.append(f"| {row.replace('_', ' ')} [{u}] | {fixed(r['emulated'])} | "
+                         f"{fixed(r['analysis'])} | {fixed(r['emulated'] / r['analysis'], 3)}× "
+                         f"| {r['paper_experiment']} | {r['paper_simulation']} | "
+                         f"{fixed(r['emulated'] / r['paper_experiment'], 3)}× |")
         lines.append("")
         lines.append("Blocked rows (force, torque): nominal torque, the wrench on the "
                      "block along the worst direction; for L = 6 it equals the analysis, "
