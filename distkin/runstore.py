@@ -43,7 +43,9 @@ import hashlib
 import json
 import multiprocessing
 import os
+import signal
 import sys
+import threading
 import time
 import zipfile
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -74,6 +76,11 @@ _HEALTH_POLL_S = 2.0
 #: what to do about a sweep.json that is not a store's: every chunk carries its own stamp
 _META_HINT = ("use another directory, or delete only its sweep.json: every chunk file "
               "carries its own stamp, so the chunks of this sweep are kept and resumed")
+#: how often (s) a worker without prctl (not Linux) checks that its parent still runs
+_PARENT_POLL_S = 1.0
+#: True in a local pool's worker while it runs a task (:func:`_worker_sigint`)
+_IN_TASK = False
+
 
 def user_cache_dir() -> Path:
     """The distkin cache folder: ``$DISTKIN_CACHE`` if set, else
@@ -143,7 +150,13 @@ def local_executor(workers: int | None = None):
     than :data:`~distkin.argcheck.MAX_WORKERS` is refused, more than the CPU count warned
     about (one line on stderr).  Processes start as chunks are submitted, and
     :func:`run_chunks` submits at most as many as it has chunks, so the pool never runs
-    more processes than chunks."""
+    more processes than chunks.
+
+    The workers end with this process, even when it is killed (SIGKILL, the OOM
+    killer; QA: idle workers of 225 MB each were left to PID 1): Linux's
+    ``PR_SET_PDEATHSIG``, elsewhere a thread that watches the parent
+    (:func:`_worker_start`).  A Ctrl-C stops the chunks they run, and an idle worker
+    waits, quietly, for the pool's shutdown (:func:`_worker_sigint`)."""
     from .argcheck import workers_count
     cpus = os.cpu_count() or 1
     if workers is not None:
@@ -156,8 +169,9 @@ def local_executor(workers: int | None = None):
     saved = {k: os.environ.get(k) for k in WORKER_ENV}
     os.environ.update(WORKER_ENV)
     try:
-        ex = ProcessPoolExecutor(max_workers=workers or cpus,
-                                 mp_context=multiprocessing.get_context("spawn"))
+        ex = _LocalPool(max_workers=workers or cpus,
+                        mp_context=multiprocessing.get_context("spawn"),
+                        initializer=_worker_start, initargs=(os.getpid(),))
     finally:
         for k, v in saved.items():
             if v is None:
@@ -168,6 +182,68 @@ def local_executor(workers: int | None = None):
         yield ex
     finally:
         ex.shutdown(wait=True, cancel_futures=True)
+
+
+class _LocalPool(ProcessPoolExecutor):
+    """The local pool: every task runs inside :class:`_Task`, which tells the worker's
+    SIGINT handler whether a task runs (:func:`_worker_sigint`)."""
+
+    def submit(self, fn, /, *args, **kwargs):
+        return super().submit(_Task(fn), *args, **kwargs)
+
+
+class _Task:
+    """A task of a local pool's worker (picklable when ``fn`` is): marks the worker
+    busy while ``fn`` runs."""
+
+    def __init__(self, fn):
+        self.fn = fn
+
+    def __call__(self, *args, **kwargs):
+        global _IN_TASK
+        _IN_TASK = True
+        try:
+            return self.fn(*args, **kwargs)
+        finally:
+            _IN_TASK = False
+
+
+def _worker_sigint(signum, frame):
+    """SIGINT in a local pool's worker (a Ctrl-C reaches the whole process group): a
+    KeyboardInterrupt in a running task (its chunk stops; the parent, interrupted too,
+    keeps the chunks saved before), nothing in an idle worker, which the parent's pool
+    shutdown ends (it printed a ``Process SpawnProcess-N: ... KeyboardInterrupt``
+    traceback; QA)."""
+    if _IN_TASK:
+        raise KeyboardInterrupt
+
+
+def _worker_start(parent: int) -> None:
+    """Initializer of a local pool's worker (process ``parent``'s child): SIGINT as
+    :func:`_worker_sigint` says, and an end with the parent: SIGTERM when it dies
+    (Linux ``prctl(PR_SET_PDEATHSIG)``), elsewhere a daemon thread that exits when
+    ``os.getppid()`` is no longer ``parent`` (:func:`_watch_parent`)."""
+    signal.signal(signal.SIGINT, _worker_sigint)
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+            libc = ctypes.CDLL(None, use_errno=True)
+            if libc.prctl(1, int(signal.SIGTERM), 0, 0, 0) == 0:      # PR_SET_PDEATHSIG
+                if os.getppid() != parent:           # died before the prctl took effect
+                    os._exit(1)
+                return
+        except (OSError, AttributeError):
+            pass
+    threading.Thread(target=_watch_parent, args=(parent,), daemon=True,
+                     name="distkin-parent-watch").start()
+
+
+def _watch_parent(parent: int, poll: float | None = None) -> None:
+    """Exit this process (status 1) once its parent is no longer ``parent`` (re-parented:
+    the parent died), checking every ``poll`` s (default :data:`_PARENT_POLL_S`)."""
+    while os.getppid() == parent:
+        time.sleep(_PARENT_POLL_S if poll is None else poll)
+    os._exit(1)
 
 
 @contextlib.contextmanager
