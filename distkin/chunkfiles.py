@@ -53,8 +53,8 @@ def store_write_error(store, exc: OSError, what: str) -> InputError:
     cause = _CAUSES.get(exc.errno) or exc.strerror or type(exc).__name__
     return InputError(f"expected a chunk store that can be written, got {str(store)!r}: "
                       f"{cause} (writing {what})", field="store",
-                      hint="free space or use another directory (or another store); the "
-                           "chunks saved before are kept and a run again resumes from them")
+                      hint="free space or use another directory; the chunks saved before "
+                           "are kept and a run again resumes from them")
 
 
 def check_writable(store: Path, left: int, n: int) -> None:
@@ -69,8 +69,8 @@ def check_writable(store: Path, left: int, n: int) -> None:
         cause = _CAUSES.get(exc.errno) or exc.strerror or type(exc).__name__
         raise InputError(f"expected a chunk store that can be written, got {str(store)!r}: "
                          f"{cause}, with {left} of {n} chunks still to compute",
-                         field="store", hint="make it writable or use another directory "
-                         "(a store that holds every chunk is only read)") from None
+                         field="store", hint="make it writable or use another directory; a store that "
+                         "holds every chunk is only read") from None
     os.close(fd)
     with contextlib.suppress(OSError):
         os.unlink(probe)
@@ -107,8 +107,8 @@ def refuse_damaged(store: Path, damaged: list) -> None:
                          f"chunk files distkin can read, got {count} it cannot: {shown}, "
                          "in a folder that is not a distkin store (no sweep.json)",
                          field="store", hint="use another directory, or move those files "
-                         "away (a damaged chunk of this sweep can be deleted: it is "
-                         "computed again)")
+                         "away; a damaged chunk of this sweep can be deleted, it is "
+                         "computed again")
 
 
 def redo_damaged(store: Path, damaged: list) -> None:

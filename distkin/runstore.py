@@ -155,8 +155,8 @@ def local_executor(workers: int | None = None):
     The workers end with this process, even when it is killed (SIGKILL, the OOM
     killer; QA: idle workers of 225 MB each were left to PID 1): Linux's
     ``PR_SET_PDEATHSIG``, elsewhere a thread that watches the parent
-    (:func:`_worker_start`).  A Ctrl-C stops the chunks they run, and an idle worker
-    waits, quietly, for the pool's shutdown (:func:`_worker_sigint`)."""
+    (:func:`_worker_start`).  A Ctrl-C stops the chunks they run and ends the idle
+    workers, without a traceback (:func:`_worker_sigint`)."""
     from .argcheck import workers_count
     cpus = os.cpu_count() or 1
     if workers is not None:
@@ -211,11 +211,14 @@ class _Task:
 def _worker_sigint(signum, frame):
     """SIGINT in a local pool's worker (a Ctrl-C reaches the whole process group): a
     KeyboardInterrupt in a running task (its chunk stops; the parent, interrupted too,
-    keeps the chunks saved before), nothing in an idle worker, which the parent's pool
-    shutdown ends (it printed a ``Process SpawnProcess-N: ... KeyboardInterrupt``
-    traceback; QA)."""
+    keeps the chunks saved before), a quiet exit (SystemExit, no traceback) of an idle
+    worker, which printed ``Process SpawnProcess-N: ... KeyboardInterrupt`` (QA).  It
+    exits rather than waits for the pool's shutdown: an idle worker left alive hung the
+    exit when a second SIGINT (``timeout -s INT`` signals the process and its group)
+    cut the parent's shutdown short; its exit ends the pool at once, as before."""
     if _IN_TASK:
         raise KeyboardInterrupt
+    raise SystemExit(0)
 
 
 def _worker_start(parent: int) -> None:
