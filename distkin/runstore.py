@@ -43,17 +43,20 @@ import hashlib
 import json
 import multiprocessing
 import os
-import re
-import socket
+import signal
 import sys
+import threading
 import time
 import zipfile
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from pathlib import Path
 
-import numpy as np
-
 from ._version import __version__
+from .chunkfiles import HOST as _HOST, TMP_RE as _TMP_RE  # noqa: F401 (tests read them)
+from .chunkfiles import (check_writable, chunk_stamp as _chunk_stamp, finished_chunks,
+                         load_chunk as _load, redo_damaged, refuse_damaged,
+                         remove_stale_tmp as _remove_stale_tmp,
+                         save_chunk as _save, stamp_mismatch as _stamp_mismatch, write_meta)
 from .errors import DistkinError, InputError
 from .progress import ChunkProgress
 
@@ -70,16 +73,13 @@ WORKER_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THRE
 NO_WORKER_TIMEOUT_S = 60.0
 #: how often (s) a sweep waiting on a cluster checks that it still has workers
 _HEALTH_POLL_S = 2.0
-#: a finished chunk's file name, and a temporary one of :func:`_save`
-#: (``.HOST@PID.tmp.npz``; older versions wrote ``.PID.tmp.npz``)
-_CHUNK_RE = re.compile(r"chunk_\d+\.npz")
-_TMP_RE = re.compile(r"(?:chunk_\d+\.npz|sweep\.json)\.(?:([A-Za-z0-9_-]+)@)?(\d+)\.tmp(?:\.npz)?")
-#: this host in temporary file names (a store shared between hosts: a PID is only
-#: judged alive or dead on its own host)
-_HOST = re.sub(r"[^A-Za-z0-9_-]", "_", socket.gethostname()) or "host"
-#: seconds after which a temporary file of a dead process (or of any process: a store
-#: shared between hosts) is removed when the store is opened
-_STALE_TMP_S = (60.0, 86400.0)
+#: what to do about a sweep.json that is not a store's: every chunk carries its own stamp
+_META_HINT = ("use another directory, or delete only its sweep.json: every chunk file "
+              "carries its own stamp, so the chunks of this sweep are kept and resumed")
+#: how often (s) a worker without prctl (not Linux) checks that its parent still runs
+_PARENT_POLL_S = 1.0
+#: True in a local pool's worker while it runs a task (:func:`_worker_sigint`)
+_IN_TASK = False
 
 
 def user_cache_dir() -> Path:
@@ -150,7 +150,13 @@ def local_executor(workers: int | None = None):
     than :data:`~distkin.argcheck.MAX_WORKERS` is refused, more than the CPU count warned
     about (one line on stderr).  Processes start as chunks are submitted, and
     :func:`run_chunks` submits at most as many as it has chunks, so the pool never runs
-    more processes than chunks."""
+    more processes than chunks.
+
+    The workers end with this process, even when it is killed (SIGKILL, the OOM
+    killer; QA: idle workers of 225 MB each were left to PID 1): Linux's
+    ``PR_SET_PDEATHSIG``, elsewhere a thread that watches the parent
+    (:func:`_worker_start`).  A Ctrl-C stops the chunks they run and ends the idle
+    workers, without a traceback (:func:`_worker_sigint`)."""
     from .argcheck import workers_count
     cpus = os.cpu_count() or 1
     if workers is not None:
@@ -163,8 +169,9 @@ def local_executor(workers: int | None = None):
     saved = {k: os.environ.get(k) for k in WORKER_ENV}
     os.environ.update(WORKER_ENV)
     try:
-        ex = ProcessPoolExecutor(max_workers=workers or cpus,
-                                 mp_context=multiprocessing.get_context("spawn"))
+        ex = _LocalPool(max_workers=workers or cpus,
+                        mp_context=multiprocessing.get_context("spawn"),
+                        initializer=_worker_start, initargs=(os.getpid(),))
     finally:
         for k, v in saved.items():
             if v is None:
@@ -175,6 +182,71 @@ def local_executor(workers: int | None = None):
         yield ex
     finally:
         ex.shutdown(wait=True, cancel_futures=True)
+
+
+class _LocalPool(ProcessPoolExecutor):
+    """The local pool: every task runs inside :class:`_Task`, which tells the worker's
+    SIGINT handler whether a task runs (:func:`_worker_sigint`)."""
+
+    def submit(self, fn, /, *args, **kwargs):
+        return super().submit(_Task(fn), *args, **kwargs)
+
+
+class _Task:
+    """A task of a local pool's worker (picklable when ``fn`` is): marks the worker
+    busy while ``fn`` runs."""
+
+    def __init__(self, fn):
+        self.fn = fn
+
+    def __call__(self, *args, **kwargs):
+        global _IN_TASK
+        _IN_TASK = True
+        try:
+            return self.fn(*args, **kwargs)
+        finally:
+            _IN_TASK = False
+
+
+def _worker_sigint(signum, frame):
+    """SIGINT in a local pool's worker (a Ctrl-C reaches the whole process group): a
+    KeyboardInterrupt in a running task (its chunk stops; the parent, interrupted too,
+    keeps the chunks saved before), a quiet exit (SystemExit, no traceback) of an idle
+    worker, which printed ``Process SpawnProcess-N: ... KeyboardInterrupt`` (QA).  It
+    exits rather than waits for the pool's shutdown: an idle worker left alive hung the
+    exit when a second SIGINT (``timeout -s INT`` signals the process and its group)
+    cut the parent's shutdown short; its exit ends the pool at once, as before."""
+    if _IN_TASK:
+        raise KeyboardInterrupt
+    raise SystemExit(0)
+
+
+def _worker_start(parent: int) -> None:
+    """Initializer of a local pool's worker (process ``parent``'s child): SIGINT as
+    :func:`_worker_sigint` says, and an end with the parent: SIGTERM when it dies
+    (Linux ``prctl(PR_SET_PDEATHSIG)``), elsewhere a daemon thread that exits when
+    ``os.getppid()`` is no longer ``parent`` (:func:`_watch_parent`)."""
+    signal.signal(signal.SIGINT, _worker_sigint)
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+            libc = ctypes.CDLL(None, use_errno=True)
+            if libc.prctl(1, int(signal.SIGTERM), 0, 0, 0) == 0:      # PR_SET_PDEATHSIG
+                if os.getppid() != parent:           # died before the prctl took effect
+                    os._exit(1)
+                return
+        except (OSError, AttributeError):
+            pass
+    threading.Thread(target=_watch_parent, args=(parent,), daemon=True,
+                     name="distkin-parent-watch").start()
+
+
+def _watch_parent(parent: int, poll: float | None = None) -> None:
+    """Exit this process (status 1) once its parent is no longer ``parent`` (re-parented:
+    the parent died), checking every ``poll`` s (default :data:`_PARENT_POLL_S`)."""
+    while os.getppid() == parent:
+        time.sleep(_PARENT_POLL_S if poll is None else poll)
+    os._exit(1)
 
 
 @contextlib.contextmanager
@@ -233,68 +305,6 @@ def executor_for(executor=None, scheduler: str | None = None, workers: int | Non
     else:
         with local_executor(workers) as ex:
             yield ex
-
-
-def _save(path: Path, data: dict, stamp: dict | None = None) -> None:
-    """``data`` (name -> array) as one uncompressed ``.npz``, arrays of the same dtype
-    and shape stacked into one entry (a study chunk's hundred arrays of per-position
-    values become two entries: one zip entry and npy header each instead of a hundred,
-    about 0.1 ms instead of 2.5 ms a chunk, which the process collecting the workers'
-    chunks spends while they compute); names, groups and places are arrays of str and
-    int, so loading needs no pickle.  ``stamp`` (JSON-able: the sweep's key, the code
-    version, the chunk's index and the number of chunks, :func:`_chunk_stamp`) is kept
-    beside them as a JSON string (``stamp__``), which :func:`_load` returns."""
-    names = list(data)
-    arrays = [np.asarray(data[k]) for k in names]
-    keys: dict = {}
-    group = np.empty(len(names), np.int64)
-    place = np.empty(len(names), np.int64)
-    members: list = []
-    for i, a in enumerate(arrays):
-        g = keys.setdefault((a.dtype.str, a.shape), len(keys))
-        if g == len(members):
-            members.append([])
-        group[i], place[i] = g, len(members[g])
-        members[g].append(a)
-    entries = {f"group{g}": np.stack(m) for g, m in enumerate(members)}
-    # a name of this process's own: two runs into one store must not share it
-    tmp = path.with_name(f"{path.name}.{_HOST}@{os.getpid()}.tmp.npz")
-    extra = {} if stamp is None else {"stamp__": np.array(json.dumps(stamp, sort_keys=True))}
-    np.savez(tmp, names__=np.array(names, dtype=str), group__=group, place__=place,
-             **extra, **entries)
-    os.replace(tmp, path)
-
-
-def _load(path: Path) -> tuple:
-    """(the dict :func:`_save` wrote, each array a copy of its row of the stack; the
-    chunk's stamp, or None for a file written without one)."""
-    with np.load(path) as z:
-        if "names__" not in z.files:                     # one entry per array
-            return {k: z[k] for k in z.files}, None
-        stamp = json.loads(str(z["stamp__"])) if "stamp__" in z.files else None
-        stacks = {k: z[k] for k in z.files if k.startswith("group")}
-        return ({str(n): stacks[f"group{g}"][p, ...].copy()
-                 for n, g, p in zip(z["names__"], z["group__"], z["place__"])}, stamp)
-
-
-def _chunk_stamp(key: str, code: str, index: int, chunks: int) -> dict:
-    """What a chunk file says of itself: the key of its sweep's definition, the code
-    version that computed it, its index and the number of chunks of its sweep."""
-    return {"key": key, "code": code, "chunk": int(index), "chunks": int(chunks)}
-
-
-def _stamp_mismatch(stamp, want: dict) -> str | None:
-    """Why a chunk of stamp ``stamp`` is not the chunk ``want`` (:func:`_chunk_stamp`)
-    of this sweep, or None when it is."""
-    if not isinstance(stamp, dict):
-        return "no sweep key (written by an older distkin or not by this sweep)"
-    if stamp.get("key") != want["key"]:
-        return f"made for sweep key {stamp.get('key')}"
-    if stamp.get("code") != want["code"]:
-        return f"made by distkin {stamp.get('code')}"
-    if (stamp.get("chunk"), stamp.get("chunks")) != (want["chunk"], want["chunks"]):
-        return f"chunk {stamp.get('chunk')} of {stamp.get('chunks')}"
-    return None
 
 
 def make_store(store, field: str = "store") -> Path:
@@ -402,11 +412,11 @@ def run_chunks(task, specs, store, *, definition=None, executor=None, progress=T
                     if paths is not None:
                         _save(paths[i], results[i], stamp(i))
                     bar.advance()
-    except KeyboardInterrupt:
+    except BaseException as exc:         # Ctrl-C, a store that cannot be written, ...
         for f in pending:                                 # the running ones finish
             f.cancel()
         running = [f for f in pending if f.running()]
-        if running:      # the pool's shutdown waits for them: say so, not a silent hang
+        if running and isinstance(exc, KeyboardInterrupt):   # the pool's shutdown waits
             print(f"distkin: interrupted: waiting for {len(running)} running chunk(s) to "
                   "stop (the chunks saved before are kept)", file=sys.stderr, flush=True)
         raise
@@ -433,7 +443,11 @@ def _open_store(store, key, definition, n):
     index, or that has none (QA S 1, 2: ``sweep.json`` alone let chunks copied from
     another sweep be loaded, or fail deep in the sweep on their shape).  Refused, not
     recomputed: the folder was filled by hand or by another sweep, and the user decides
-    what to keep (docs/design.md, "Run store").  A file that cannot be read is redone."""
+    what to keep (docs/design.md, "Run store").  A file that cannot be read is redone,
+    with a line on stderr, in a distkin store (its ``sweep.json`` names this sweep), and
+    refused in any other folder (a user's file named like a chunk is never deleted).  A
+    store in which no file can be made is refused here when chunks are left to compute
+    (:func:`~distkin.chunkfiles.check_writable`), before any work."""
     store = make_store(keyed_store(store, key))
     code = code_version()
     meta = store / "sweep.json"
@@ -445,17 +459,14 @@ def _open_store(store, key, definition, n):
         except (OSError, ValueError) as exc:   # JSONDecodeError and UnicodeError too
             raise InputError(f"expected a chunk store whose {meta.name} says which sweep "
                              f"made it, got an unreadable one in {str(store)!r} ({exc})",
-                             field="store", hint="use another directory, or delete the "
-                             "folder to start this sweep again") from None
+                             field="store", hint=_META_HINT) from None
         old = saved.get("key")
         if not isinstance(old, str):
             raise InputError(f"expected a chunk store whose {meta.name} says which sweep "
                              f"made it, got a {meta.name} in {str(store)!r} that is not a "
                              "store's metadata (no sweep key"
                              + (": a distkin --json result written there?" if "distkin"
-                                in saved else "") + ")", field="store",
-                             hint="use another directory, or delete the folder to start "
-                                  "this sweep again")
+                                in saved else "") + ")", field="store", hint=_META_HINT)
         if old != key:
             raise InputError(f"expected a chunk store made for this sweep (key {key}), got "
                              f"one made for key {old} in {str(store)!r}", field="store",
@@ -465,10 +476,11 @@ def _open_store(store, key, definition, n):
                              f"got one made by {saved.get('code') or 'an older version'} in "
                              f"{str(store)!r}", field="store",
                              hint="use another directory or delete the old chunks")
+    is_store = meta.exists()                             # and names this sweep (above)
     _remove_stale_tmp(store)
     paths = [store / f"chunk_{i:05d}.npz" for i in range(n)]
     results: list = [None] * n
-    todo, foreign = [], []
+    todo, foreign, damaged = [], [], []
     for i, p in enumerate(paths):
         if p.exists():
             if not p.is_file():                          # QA 7: a folder was IsADirectoryError
@@ -481,14 +493,7 @@ def _open_store(store, key, definition, n):
                 results[i], stamp = _load(p)
             except (OSError, ValueError, EOFError, KeyError, IndexError,
                     zipfile.BadZipFile) as exc:
-                try:
-                    p.unlink()                           # a damaged file is redone
-                except OSError as err:
-                    raise InputError(f"expected chunk file {str(p)!r} to be readable or "
-                                     f"removable, got neither ({type(exc).__name__}; "
-                                     f"{err.strerror or type(err).__name__})",
-                                     field="store", hint="remove it by hand or use another "
-                                     "directory") from None
+                damaged.append((p, exc))                 # redone in a store, else refused
             else:
                 why = _stamp_mismatch(stamp, _chunk_stamp(key, code, i, n))
                 if why is None:
@@ -503,54 +508,15 @@ def _open_store(store, key, definition, n):
                          f"{len(foreign)} that are not: {shown}", field="store",
                          hint="delete those chunk files (they are computed again) or use "
                               "another directory")
+    if not is_store:                     # QA: a user's "chunk_00001.npz" was deleted
+        refuse_damaged(store, damaged)
+    if todo:                             # QA: a read-only store failed after the work
+        check_writable(store, len(todo), n)
+    redo_damaged(store, damaged)
     if not meta.exists():
-        tmp = meta.with_name(f"{meta.name}.{_HOST}@{os.getpid()}.tmp")
-        tmp.write_text(json.dumps({"key": key, "code": code, "chunks": n,
-                                   "definition": definition}, default=str, indent=1))
-        os.replace(tmp, meta)                            # whole, for a second run too
+        write_meta(meta, {"key": key, "code": code, "chunks": n, "definition": definition},
+                   needed=bool(todo))
     return store, paths, results, todo
-
-
-def finished_chunks(store) -> list:
-    """The finished chunk files of ``store`` (``chunk_NNNNN.npz``; not the temporary
-    files of a save in progress or of a killed process)."""
-    return sorted(p for p in Path(store).glob("chunk_*.npz")
-                  if _CHUNK_RE.fullmatch(p.name) and p.is_file())
-
-
-def _pid_alive(pid: int) -> bool:
-    """Whether process ``pid`` runs on this host (True when that cannot be told)."""
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except (OSError, ValueError, OverflowError):
-        return True
-    return True
-
-
-def _remove_stale_tmp(store: Path) -> list:
-    """Remove the temporary files of :func:`_save` (and of ``sweep.json``) that a killed
-    process left: those of a process of this host that no longer runs, older than a
-    minute, and any older than a day (another host's: its PID means nothing here; a
-    name without a host, of an older version, counts as this host's).  Returns the
-    names removed."""
-    dead_age, any_age = _STALE_TMP_S
-    now, removed = time.time(), []
-    for p in store.iterdir():
-        m = _TMP_RE.fullmatch(p.name)
-        if m is None or not p.is_file():
-            continue
-        here, pid = m.group(1) in (None, _HOST), int(m.group(2))
-        try:
-            age = now - p.stat().st_mtime
-            if age > any_age or (here and age > dead_age and pid != os.getpid()
-                                 and not _pid_alive(pid)):
-                p.unlink()
-                removed.append(p.name)
-        except OSError:
-            pass                                         # another process's cleanup
-    return removed
 
 
 def _wait_alive(executor, pending, store, timeout):

@@ -14,8 +14,8 @@ own layer or a lower one, never a higher one.
 
 0. ground floor: errors, exact numbers and exact root isolation, input checks (TOML
    syntax errors among them),
-   spatial maths, units, numbers in messages, the run store and its progress bar, the
-   version;
+   spatial maths, units, numbers in messages, the run store (its files, its progress
+   bar), the version;
 1. geometry;
 2. models: the octahedral banana and octic algebra, the RSS descriptions, presets and
    symbolic model (the symbolic parts import sympy inside functions);
@@ -49,6 +49,7 @@ LAYERS: dict[str, int] = {
     "distkin.spatial": 0,
     "distkin.numfmt": 0,
     "distkin.runstore": 0,
+    "distkin.chunkfiles": 0,
     "distkin.progress": 0,
     "distkin.sourcecache": 0,
     "distkin._jitcache": 0,

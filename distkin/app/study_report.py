@@ -299,7 +299,8 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
     lu = length_unit_of(scene.units.length)[1]          # the scene's length unit
     lines = [f"Performance study of {len(summaries)} kinematics "
              f"({', '.join(s['label'] for s in summaries)}), {total:.1f} s; sensitivities: "
-             f"{p.sensitivity} ({row_definition('sens_force', p.sensitivity)[1]})"]
+             f"{p.sensitivity} ({row_definition('sens_force', p.sensitivity)[1]}); "
+             f"route: {p.route}"]
     for s in summaries:
         dw = s["dexterous_workspace"]
         cert = s.get("certificate")
@@ -338,6 +339,8 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
               "chunks_resumed": sum(s["chunks_resumed"] for s in summaries),
               "actuators": actuators, "scaling": list(p.scaling),
               "sensitivity": p.sensitivity,
+              # which route computed the numbers (the store is keyed by it: QA)
+              "route": p.route,
               "grid": {s["label"]: grids[s["label"]][0].as_dict() for s in summaries},
               "markdown": tables, "unit": _units_block(actuators)}
 

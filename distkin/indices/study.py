@@ -413,9 +413,8 @@ def run_device(dev: Device, *, store, executor=None, chunk_positions: int = 64,
     :func:`planned_chunk` positions (``chunk_positions``, smaller for a small grid).
     In process, one position is evaluated first (and dropped) to load the compiled
     kernels while the bar says so (:func:`~distkin.runstore.run_chunks`'s ``warmup``).
-    Chunks live in
-    ``store/<key of the sweep's definition>/``, so a changed grid, mechanism or limit
-    starts a new sweep and an unchanged one resumes; ``stats`` is filled as
+    Chunks live in ``store/<key of the sweep's definition>/``, so a changed grid,
+    mechanism, limit or route starts a new sweep and an unchanged one resumes; ``stats`` is filled as
     :func:`~distkin.runstore.run_chunks` fills it (``loaded``: the chunks resumed)."""
     import time
     from pathlib import Path
@@ -429,10 +428,12 @@ def run_device(dev: Device, *, store, executor=None, chunk_positions: int = 64,
                       "hi": min(grid.n_positions, a + chunk_positions),
                       "actuators": dict(actuators), "ST": tuple(ST), "inner": dev.inner,
                       "route": route, "batch": batch, "sensitivity": sensitivity})
+    # every parameter that changes a number (QA: a numpy-route run resumed the compiled
+    # route's chunks); batch changes none (each pose on its own)
     definition = {"kind": "study", "mech": repr(dev.mech), "grid": grid.as_dict(),
                   "actuators": dict(actuators), "ST": list(ST), "inner": dev.inner,
                   "chunk_positions": chunk_positions, "sensitivity": sensitivity,
-                  "quantities": list(QUANTITIES), "version": 4}
+                  "route": route, "quantities": list(QUANTITIES), "version": 4}
     t0 = time.perf_counter()
     store = Path(store) / sweep_key(definition)       # a changed definition starts afresh
     chunks = run_chunks(study_chunk, specs, store, definition=definition,
