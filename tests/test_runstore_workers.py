@@ -84,12 +84,14 @@ def test_workers_and_the_resource_tracker_end_when_the_main_process_is_killed():
 
 def test_the_fallback_watcher_ends_a_process_whose_parent_died():
     """Without prctl (not Linux) a thread watches ``os.getppid()``: a grandchild running
-    only the watcher ends when its parent is killed."""
+    only the watcher ends when its parent is killed.  The parent's pid is read before the
+    grandchild says it is ready (as ``local_executor`` passes it from the parent): read
+    after, a parent killed in between was never seen (a loaded machine, full suite)."""
     parent = textwrap.dedent("""
         import subprocess, sys, time
         child = subprocess.Popen([sys.executable, "-c",
             "import os, sys, time; from distkin.runstore import _watch_parent; "
-            "print(os.getpid(), flush=True); _watch_parent(os.getppid(), 0.05)"],
+            "ppid = os.getppid(); print(os.getpid(), flush=True); _watch_parent(ppid, 0.05)"],
             stdout=sys.stdout)
         child.wait()                                  # ends at once if the child fails
     """)
