@@ -9,7 +9,7 @@ looks wrong.  :func:`apart` prints the two with the fewest significant digits (a
 
 from __future__ import annotations
 
-__all__ = ["apart", "MAX_DIGITS", "sig", "fixed", "PER_METRE", "length_unit"]
+__all__ = ["apart", "MAX_DIGITS", "sig", "fixed"]
 
 #: significant digits that tell any two distinct float64 apart (repr round trip)
 MAX_DIGITS = 17
@@ -52,11 +52,6 @@ def sig(value, digits: int = 4) -> str:
     return f"{float(value):.{max(1, int(digits))}g}"
 
 
-#: a length in m times ``PER_METRE[unit]`` is the length in the scene's ``unit`` (the
-#: physical units of ``[units] length``, docs/design.md "Conventions")
-PER_METRE = {"m": 1.0, "mm": 1e3, "cm": 1e2, "km": 1e-3}
-
-
 def fixed(value, digits: int = 4) -> str:
     """``value`` with ``digits`` significant digits in fixed notation, trailing zeros
     kept, so that a column of numbers reads alike (QA 24: Table V mixed "10.3", "9.921"
@@ -76,9 +71,3 @@ def fixed(value, digits: int = 4) -> str:
         return sig(v, digits)
     return f"{v:.{max(0, int(digits) - 1 - e)}f}"
 
-
-def length_unit(unit) -> tuple:
-    """``(factor, name)``: the factor from m to the scene's length ``unit`` and its name;
-    m (1.0, "m") for None, a unitless scene ("none") or an unknown name, since the
-    engine's lengths are SI."""
-    return (PER_METRE[unit], unit) if unit in PER_METRE else (1.0, "m")

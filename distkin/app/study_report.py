@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 
 from .query import Outcome
-from ..numfmt import length_unit as length_unit_of
 from ..numfmt import sig
+from .units import display_length as length_unit_of
 from .study_tables import (_f, _subset, _unit, _unlike_paper, _unlike_paper_table4,
                            markdown_tables)
 from ..indices.study import (CAPABILITIES, SENSITIVITIES, Device, planned_chunk, run_device,

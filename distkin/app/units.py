@@ -16,7 +16,7 @@ from ..argcheck import as_table, check_keys
 from ..errors import InputError
 from ..exact import parse_float
 
-__all__ = ["Units", "parse_units", "length_factor", "angle_factor", "length_value",
+__all__ = ["Units", "parse_units", "length_factor", "display_length", "angle_factor", "length_value",
            "angle_value", "DEG", "SCENE_UNIT_KINDS", "name_scene_units", "scaling_text",
            "SCALING_ORIGIN", "has_si_length", "si_length_hint",
            "degrees_hint", "radians_hint", "warn_radians"]
@@ -67,6 +67,21 @@ def length_factor(units, field) -> float:
         raise InputError("expected a physical length unit (m, mm, cm, km) for an rss or legs "
                          "mechanism, got 'none'", field="units.length")
     return float(f)
+
+
+def display_length(unit, default: str = "m") -> tuple:
+    """``(factor, name)``: a length in m times ``factor`` is in the scene's length
+    ``unit`` (from :data:`_LENGTH`, the factors the scene was parsed with), for reports
+    and plots; ``default`` for None, a unitless scene ("none") or an unknown name, since
+    the engine's lengths are SI.
+
+    >>> display_length("cm"), display_length("none"), display_length(None, "mm")
+    ((100.0, 'cm'), (1.0, 'm'), (1000.0, 'mm'))
+    """
+    f = _LENGTH.get(unit) if isinstance(unit, str) else None
+    if f is None:
+        unit, f = default, _LENGTH[default]
+    return float(1 / f), unit
 
 
 def angle_factor(units) -> float:

@@ -38,7 +38,6 @@ COLOURS = {REGULAR: ("#9ecae1", "certified regular"),
            UNDECIDED: ("#ff7f0e", "undecided at the resolution"),
            UNREACHABLE: ("#bdbdbd", "certified unreachable")}
 
-_SCALE = {"m": 1.0, "mm": 1e3, "cm": 1e2, "km": 1e-3}
 _NAMES = ("x", "y", "z", "rx", "ry", "rz")
 #: σmin(Jx)'s units as the certify_workspace report states them (QA IX 7): SI in every
 #: scene, since σmin of columns of mixed units has no conversion to another length unit
@@ -59,8 +58,8 @@ class _Axes:
     """Scale factors and labels of the six coordinates in the scene's units."""
 
     def __init__(self, length_unit, angle_unit):
-        lf = _SCALE.get(length_unit, 1e3)
-        lu = length_unit if length_unit in _SCALE else "mm"
+        from ..app.units import display_length
+        lf, lu = display_length(length_unit, "mm")
         af, au = (180 / np.pi, "deg") if angle_unit == "deg" else (1.0, "rad")
         self.f = np.array([lf] * 3 + [af] * 3)
         self.unit = [lu] * 3 + [au] * 3

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..numfmt import length_unit as length_unit_of
+from ..app.units import display_length as length_unit_of
 from ..numfmt import sig
 
 __all__ = ["plot_workspace", "plot_plane", "plot_force_polytope", "force_slice_polytope",

@@ -62,6 +62,7 @@ from ...argcheck import (as_table, check_keys, choice, executor_fields, positive
 from ...errors import InputError
 from ...exact import parse_float
 from ..query import Outcome, register
+from ..units import display_length
 from ...certify.boxes import STATUS_NAMES, UNREACHABLE
 
 __all__ = ["CertifyWorkspaceQuery", "certificate_text", "certificate_json", "scene_volume",
@@ -253,7 +254,7 @@ def unit_slip_warning(cert, length_unit: str = "m") -> str | None:
     lo, hi = cert.lower[:3], cert.upper[:3]
     far = float(np.linalg.norm(np.maximum(np.abs(lo), np.abs(hi))))
     near = float(np.linalg.norm(np.clip(0.0, lo, hi)))
-    lf, lu = _LENGTHS.get(length_unit, 1.0), length_unit if length_unit in _LENGTHS else "m"
+    lf, lu = display_length(length_unit)
     if far < size / SLIP_RATIO:
         where = (f"lies within {far * lf:.3g} {lu} of the base origin, under "
                  f"1/{SLIP_RATIO:g} of the mechanism's size")
@@ -265,10 +266,6 @@ def unit_slip_warning(cert, length_unit: str = "m") -> str | None:
     return (f"every box is unreachable and the region {where} ({size * lf:.3g} {lu}: the "
             f"larger of its length scale and its home's distance from the base origin): "
             f"a region written in another unit? the scene's [units] length is \"{lu}\"")
-
-
-#: scene length unit -> factor from m
-_LENGTHS = {"m": 1.0, "mm": 1e3, "cm": 1e2, "km": 1e-3}
 
 
 def _range_text(a: float, b: float) -> str:
@@ -355,7 +352,7 @@ def scene_volume(cert, length_unit: str = "m", angle_unit: str = "rad") -> tuple
     m^3 rad^3, ...) times ``factor`` is in ``unit``, the scene's units to the powers of
     the region's varying coordinates (cm^3 deg^3 for a 6-D region of a cm, deg scene).
     The JSON keeps SI (docs/design.md §4); the text speaks the scene's units."""
-    lf, lu = _LENGTHS.get(length_unit, 1.0), length_unit if length_unit in _LENGTHS else "m"
+    lf, lu = display_length(length_unit)
     af, au = (180 / math.pi, "deg") if angle_unit == "deg" else (1.0, "rad")
     npos = sum(1 for k in cert.vary if k < 3)
     nrot = len(cert.vary) - npos
@@ -368,9 +365,8 @@ def certificate_text(cert, length_unit: str = "m", angle_unit: str = "rad") -> s
     angles and volumes; σmin(Jx) in SI, :data:`~distkin.certify.plot.SIGMA_UNITS`)."""
     from ...certify.plot import SIGMA_UNITS
     s = cert.summary()
-    lf = _LENGTHS.get(length_unit, 1.0)
+    lf, lu = display_length(length_unit)
     af = 180 / math.pi if angle_unit == "deg" else 1.0
-    lu = length_unit if length_unit in _LENGTHS else "m"
     au = "°" if angle_unit == "deg" else " rad"
     parts = []
     for k, n in enumerate(("x", "y", "z", "rx", "ry", "rz")):
