@@ -54,20 +54,26 @@ def sig(value, digits: int = 4) -> str:
 
 def fixed(value, digits: int = 4) -> str:
     """``value`` with ``digits`` significant digits in fixed notation, trailing zeros
-    kept, so that a column of numbers reads alike (QA 24: Table V mixed "10.3", "9.921"
-    and "2.346e+04"); :func:`sig` outside 1e-4 <= |value| < 1e9, for 0 and non-finite.
+    kept, so that a column of numbers reads alike (Tables III-V; QA 24: Table V mixed
+    "10.3", "9.921" and "2.346e+04"); exponent form at 1e5 and above and below 1e-3
+    (``digits`` decimals below 1).  A value that rounds up into the next decade is
+    printed as that rounded value, so that one ulp below 1 and 1 itself print alike
+    (QA: "1.0000 (1.000)" for min = max).  None and non-finite numbers print "—".
 
     >>> fixed(10.3), fixed(9.921), fixed(23456.7), fixed(0.51123), fixed(1.2, 3)
     ('10.30', '9.921', '23457', '0.5112', '1.20')
+    >>> fixed(0.9999999999999999), fixed(123456.0), fixed(float("nan"))
+    ('1.000', '1.235e+05', '—')
     """
     import math
-    if value is None:
+    x = value
+    if x is None or (isinstance(x, float) and not math.isfinite(x)):
         return "—"
-    v = float(value)
-    if v == 0 or not math.isfinite(v):
-        return sig(v, digits)
-    e = math.floor(math.log10(abs(v)))
-    if not -4 <= e < 9:
-        return sig(v, digits)
-    return f"{v:.{max(0, int(digits) - 1 - e)}f}"
-
+    r = float(f"{x:.{digits}g}")
+    if x and r and math.floor(math.log10(abs(r))) != math.floor(math.log10(abs(x))):
+        x = r
+    ax = abs(x)
+    if ax != 0 and (ax >= 1e5 or ax < 1e-3):
+        return f"{x:.{digits - 1}e}"
+    return f"{x:.{max(0, digits - 1 - int(math.floor(math.log10(ax))) if ax else 2)}f}" \
+        if ax >= 1 else f"{x:.{digits}f}"

@@ -16,28 +16,13 @@ from ..indices.isotropy import SCALING_READINGS
 from ..indices.study import CAPABILITIES, PAPER_TABLE4, SENSITIVITIES, TRUE_VELOCITIES
 from ..indices.study_findings import row_definition, row_reason
 from ..indices.workspace import table2_grid
+from ..numfmt import fixed as _f           # the tables' digits (also Table V's)
 
 __all__ = ["markdown_tables"]
 
 _ROWS = ([(c[0], c[1], c[2]) for c in CAPABILITIES] + [(t[0], t[1], t[2]) for t in
                                                         TRUE_VELOCITIES]
          + [(s[0], s[1], s[2]) for s in SENSITIVITIES])
-
-
-def _f(x, digits=4):
-    """``x`` in the table's digits; a value that rounds up into the next decade at
-    ``digits`` significant digits is printed as that rounded value, so that one ulp
-    below 1 and 1 itself print alike (QA: "1.0000 (1.000)" for min = max)."""
-    if x is None or (isinstance(x, float) and not math.isfinite(x)):
-        return "—"
-    r = float(f"{x:.{digits}g}")
-    if x and r and math.floor(math.log10(abs(r))) != math.floor(math.log10(abs(x))):
-        x = r
-    ax = abs(x)
-    if ax != 0 and (ax >= 1e5 or ax < 1e-3):
-        return f"{x:.{digits - 1}e}"
-    return f"{x:.{max(0, digits - 1 - int(math.floor(math.log10(ax))) if ax else 2)}f}" \
-        if ax >= 1 else f"{x:.{digits}f}"
 
 
 def _ratio(x):
