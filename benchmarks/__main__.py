@@ -1,7 +1,8 @@
 """``python -m benchmarks [NAME ...]``: run benchmark modules, update BENCHMARKS.md.
 
 Every module ``benchmarks/bench_NAME.py`` defines ``TITLE`` (str), ``DEFAULT`` (bool:
-part of the default run?) and ``run() -> (markdown: str, data: dict)``.  Each run
+part of the default run?) and ``run() -> (markdown: str, data: dict)``; one that draws
+figures also ``plot(data, out=FIGURES) -> {file name: Path written, or why not}``.  Each run
 rewrites its own section of ``BENCHMARKS.md`` (between ``<!-- begin NAME -->`` and
 ``<!-- end NAME -->``) with the machine, the versions and the command, and the raw
 numbers go to ``benchmarks/results.json``.  Modules with ``DEFAULT = False`` say so in
@@ -17,6 +18,12 @@ what the default run left out.  ``-h``/``--help`` lists the sections.
 ``BENCHMARKS.md`` section is: a run interrupted (Ctrl-C: exit 130) or failed (exit 1,
 one line naming the section) keeps the numbers of the sections it wrote, and its log
 entry says where it stopped.
+
+``--replot [NAME ...]`` measures nothing: it redraws the figures of the named sections
+(default: every section with figures) from the numbers stored in ``results.json``, with
+the section's ``plot(data)`` (``benchmarks/plot_NAME.py``), which a run calls too on the
+numbers it stores; results.json and BENCHMARKS.md are left as they are.  A figure whose
+numbers the file does not hold is left as it is and named on stderr (exit 1).
 """
 
 from __future__ import annotations
@@ -41,7 +48,8 @@ _HEAD = """# distkin benchmarks
 Written by `python -m benchmarks [NAME ...]` (each section by its own module,
 `benchmarks/bench_NAME.py`). Timings are medians of interleaved rounds in one process,
 quoted as ratios against a named baseline; raw numbers are in `benchmarks/results.json`.
-Timings never appear in tests.
+Timings never appear in tests. `python -m benchmarks --replot [NAME ...]` redraws the
+figures in `benchmarks/figures/` from the numbers in `results.json` without measuring.
 """
 
 
@@ -142,12 +150,46 @@ def _missing_requirements(names, available) -> dict:
     return out
 
 
+def replot(names=None) -> int:
+    """Redraw the figures of the sections ``names`` (None: every section with a
+    ``plot``) from ``results.json`` by each section's ``plot(data)``, measuring nothing
+    and writing neither results.json nor BENCHMARKS.md.  Returns 0 when every figure
+    was redrawn, 1 when some were not (their numbers are not in the file; each named on
+    stderr, its PNG left as it is), 2 for a name that is no section with figures."""
+    available = modules()
+    drawn = [n for n in available if callable(getattr(section_module(n), "plot", None))]
+    bad = [n for n in (names or ()) if n not in drawn]
+    if bad:
+        print(f"benchmarks: --replot: {bad} draw no figures; expected some of {drawn}",
+              file=sys.stderr)
+        return 2
+    results = json.loads(JSON.read_text(encoding="utf-8")) if JSON.exists() else {}
+    missing = 0
+    for name in names or drawn:
+        if name not in results:
+            print(f"benchmarks: [{name}] not redrawn: no numbers of {name!r} in "
+                  f"{JSON.name} (run: python -m benchmarks {name})", file=sys.stderr)
+            missing += 1
+            continue
+        for fig, what in section_module(name).plot(results[name]["data"]).items():
+            if isinstance(what, Path):
+                print(f"[{name}] {fig} redrawn from {JSON.name}")
+            else:
+                print(f"benchmarks: [{name}] {fig} not redrawn (left as it is): {what}",
+                      file=sys.stderr)
+                missing += 1
+    return 1 if missing else 0
+
+
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     if any(a in ("-h", "--help") for a in argv):
-        print(f"usage: python -m benchmarks [NAME ...]\n\n{__doc__.strip()}\n\n"
+        print(f"usage: python -m benchmarks [NAME ...]\n"
+              f"       python -m benchmarks --replot [NAME ...]\n\n{__doc__.strip()}\n\n"
               f"sections: {', '.join(modules())}")
         return 0
+    if "--replot" in argv:
+        return replot([a for a in argv if a != "--replot"] or None)
     names = argv or None
     available = modules()
     if names:

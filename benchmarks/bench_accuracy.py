@@ -24,6 +24,10 @@ Rojas, Borràs and Thomas, ICRA 2012, Sec. III and VI.  Three measurements in on
    :data:`BASELINE_REV`, a calibrated conditioning estimate instead of the proof),
    extracted with ``git archive``, against this tree, both timed by the same script in
    fresh subprocesses, alternated, on the same easy set.
+
+The figure (``accuracy_fk.png``) is drawn by :func:`plot`
+(:mod:`benchmarks.plot_accuracy`) from the numbers the run returns (``rows``,
+``miscount``), at its end and by ``python -m benchmarks --replot accuracy``.
 """
 
 from __future__ import annotations
@@ -36,15 +40,17 @@ from pathlib import Path
 import numpy as np
 
 from benchmarks.harness import before_after, fmt_time, interleaved
+from benchmarks.plot_accuracy import NAME as _FIG_NAME
+from benchmarks.plot_accuracy import plot
 
-__all__ = ["TITLE", "DEFAULT", "run", "BASELINE_REV"]
+__all__ = ["TITLE", "DEFAULT", "run", "plot", "BASELINE_REV"]
 
 #: the implementation before issue 14 (the calibrated estimate), for "before" numbers
 BASELINE_REV = "4f55e18"
 
 TITLE = "Speed against accuracy: octahedral forward kinematics (fast, precise, certified, auto)"
 DEFAULT = True
-FIG = Path(__file__).resolve().parent / "figures" / "accuracy_fk.png"
+FIG = Path(__file__).resolve().parent / "figures" / _FIG_NAME
 
 TIERS = {
     "fast (bare)": dict(method="fast", warn=False),
@@ -288,53 +294,6 @@ def _before_after(rounds: int = 3):
     return before_after(_BASELINE_SCRIPT, BASELINE_REV, rounds=rounds, skip=("escalated",))
 
 
-def _plot(rows, miscount):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    FIG.parent.mkdir(parents=True, exist_ok=True)
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12.5, 4.8))
-    for i, (name, r) in enumerate(rows.items()):
-        kind = name.split()[0]
-        colour = {"fast": "tab:blue", "auto": "tab:green", "precise": "tab:orange",
-                  "certified": "tab:red"}[kind]
-        ax.errorbar(r["cpu_per_solve_median"] * 1e3, r["median_digits"],
-                    yerr=[[r["median_digits"] - r["min_digits"]], [0]], fmt="o",
-                    color=colour, capsize=3)
-        ax.annotate(name, (r["cpu_per_solve_median"] * 1e3, r["median_digits"]),
-                    textcoords="offset points", xytext=(5, 3 + 9 * (i % 3) * (kind in
-                                                                          ("fast", "auto"))),
-                    fontsize=7)
-    ax.set_xscale("log")
-    ax.set_xlabel("CPU time per solve (ms, median over the digit set)")
-    ax.set_ylabel("correct digits of the poses (median; bar down to the minimum)")
-    ax.set_title("Octahedral FK: accuracy against cost")
-    ax.grid(True, which="both", alpha=0.3)
-    sets = list(miscount)
-    names = list(miscount[sets[0]])
-    y = np.arange(len(names))
-    h = 0.8 / len(sets)
-    for k, label in enumerate(sets):
-        m = miscount[label]
-        rate = [100 * m[n]["wrong"] / m[n]["n"] for n in names]
-        silent = [100 * m[n].get("silent", 0) / m[n]["n"] for n in names]
-        bx.barh(y + k * h, rate, height=h, label=f"{label}: wrong count",
-                color=("tab:gray", "tab:olive")[k % 2])
-        bx.barh(y + k * h, silent, height=h, color="tab:red",
-                label="... of which not announced" if k == 0 else None)
-        for yy, v in zip(y + k * h, rate):
-            bx.text(v, yy, f" {v:.1f} %", va="center", fontsize=7)
-    bx.set_yticks(y + 0.4 - h / 2, names, fontsize=8)
-    bx.invert_yaxis()
-    bx.set_xlabel("problems with a wrong count (%)")
-    bx.set_title("Real-root count on the hard set and the issue-14 families")
-    bx.legend(fontsize=7, loc="lower right")
-    fig.tight_layout()
-    fig.savefig(FIG, dpi=110)
-    plt.close(fig)
-    return FIG
-
-
 def run():
     import os
     from distkin.octahedral.hardset import hard_families, hard_set
@@ -345,7 +304,7 @@ def run():
     cost = _auto_cost()
     ba = _before_after()
     load1 = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
-    fig = _plot(rows, miscount)
+    fig = FIG                       # drawn by plot(data) below, from the numbers
     agree = min(a for _, _, a in refs)
     lines = [
         f"Load average (1 min): {load0:.1f} at the start, {load1:.1f} at the end, on "
@@ -473,4 +432,5 @@ def run():
     data = {"load_average": [load0, load1], "rows": rows, "miscount": miscount,
             "auto_cost": cost, "before_after": ba, "radii": radii,
             "reference_agreement_digits": agree}
+    plot(data)
     return "\n".join(lines) + "\n", data

@@ -1,24 +1,27 @@
 """Certified singularity-free workspace (issue 9): cost of one box per enclosure form,
 boxes needed per form on the Fig. 3 cube, the Fig. 3 analogues, the Octopod's and the
-Octo's 6-D workspaces at ±20° and ±30°, and an untuned map of Table I's (β, γ, l2)."""
+Octo's 6-D workspaces at ±20° and ±30°, and an untuned map of Table I's (β, γ, l2).
+
+The Fig. 3 analogues' certificates are stored with the numbers (``fig3_figures``,
+:mod:`benchmarks.plot_certify`) and the figures drawn from them by :func:`plot`, at the
+end of the run and by ``python -m benchmarks --replot certify``."""
 
 from __future__ import annotations
 
 import math
 import os
 import time
-from pathlib import Path
 
 import numpy as np
 
 from .harness import fmt_time, interleaved, ratio_table
+from .plot_certify import RECORDS, certificate_record, figure_name, plot
 
-__all__ = ["TITLE", "DEFAULT", "run"]
+__all__ = ["TITLE", "DEFAULT", "run", "plot"]
 
 TITLE = "Certified workspace: interval branch-and-prune (centred forms, Fig. 3, 6-D Octo)"
 DEFAULT = False          # 339 s on 2 cores in BENCHMARKS.md's run (33): `python -m benchmarks certify`
 
-_FIG = Path(__file__).resolve().parent / "figures"
 _H = 0.075
 _FORMS = ("quadratic", "affine", "centred", "plain")
 
@@ -112,7 +115,6 @@ def _forms_section(data):
 
 
 def _fig3_section(data):
-    from distkin.certify.plot import plot_certificate
     from distkin.certify.workspace import certify_workspace
     from distkin.runstore import local_executor
     from distkin.mechanisms import preset
@@ -126,22 +128,21 @@ def _fig3_section(data):
              "the boxes' own bound | tightening | "
              "det signs | boxes | wall time | figure |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
-    data["fig3"] = {}
-    _FIG.mkdir(exist_ok=True)
+    data["fig3"], data[RECORDS] = {}, {}
     with local_executor(2) as ex:
         for name in ("hunt", "hexa", "ergin", "hexa, radial reading"):
             mech = preset("hexa", layout="radial") if "radial" in name else preset(name)
             lo, hi = _cube(mech)
             cert = certify_workspace(mech, lo, hi, [0.15 / 16] * 3 + [1] * 3, executor=ex)
             s = cert.summary()
-            png = plot_certificate(cert, _FIG / f"certify_{name.replace(', ', '_').replace(' ', '_')}",
-                                   length_unit="mm")
+            # the figure is drawn from this record by plot() (the run's end, --replot)
+            data[RECORDS][name] = certificate_record(cert)
             lines.append(f"| {name} | {100 * s['regular_fraction']:.1f} % | "
                          f"{100 * s['singular_fraction']:.1f} % | "
                          f"{100 * s['undecided_fraction']:.1f} % | {_sig(s['sigma_lower_min'])} | "
                          f"{_sig(s['sigma_lower_min_boxes'])} | {_tightening(s)} | "
                          f"{s.get('det_signs')} | {s['boxes_evaluated']} | "
-                         f"{s['wall_seconds']:.1f} s | [png](benchmarks/figures/{png.name}) |")
+                         f"{s['wall_seconds']:.1f} s | [png](benchmarks/figures/{figure_name(name)}) |")
             data["fig3"][name] = {k: v for k, v in s.items()}
     lines += ["", "Our `hexa` (γ = 30°) and `ergin` (β = 10°, γ = 13.18°, l2 = 25.6 mm) "
               "presets (the paper prints none of their parameters) are certified free over "
@@ -367,5 +368,6 @@ def run():
     parts = [_per_box_section(data), _forms_section(data), _fig3_section(data),
              _six_d_section(data), _design_section(data)]
     data["total_seconds"] = time.perf_counter() - t0
+    plot(data)
     parts.append(f"Total benchmark time {fmt_time(data['total_seconds'])}.")
     return "\n\n".join(parts) + "\n", data

@@ -14,34 +14,30 @@ grid, the generated kernels near a singularity and the GII sampling.
 3. The global isotropy index (Sec. II-C-2): sampling density against the GII of the
    Octopod and the Table I design sweep with Stocco's culling, and their time.
 
-Plots go to ``benchmarks/figures/`` (matplotlib, Agg).
+Plots go to ``benchmarks/figures/`` (matplotlib, Agg), drawn by :func:`plot`
+(:mod:`benchmarks.plot_tradeoffs`) from the numbers the run returns, at its end and by
+``python -m benchmarks --replot tradeoffs``.
 """
 
 from __future__ import annotations
 
 import math
 import time
-from pathlib import Path
 
 import numpy as np
 
 from .harness import fmt_time, interleaved, ratio_table
+from .plot_tradeoffs import plot
 
-__all__ = ["TITLE", "DEFAULT", "run"]
+__all__ = ["TITLE", "DEFAULT", "run", "plot"]
 
 TITLE = "Speed against accuracy: capability grids, kernels near singularity, GII sampling"
 DEFAULT = True
 
-FIGURES = Path(__file__).resolve().parent / "figures"
 EPS = float(np.finfo(float).eps)
 _ROT_STEPS = (10.0, 5.0, 2.5)                 # degrees
 _ROT = 20.0                                   # ± degrees (Table II)
 _BATCH = 20000                                # poses per evaluate_poses call
-
-
-def _figure_path(name):
-    FIGURES.mkdir(parents=True, exist_ok=True)
-    return FIGURES / name
 
 
 def _link(name):
@@ -229,7 +225,7 @@ def _capability_device(name_, data):
     # --- timing table
     med = {f"{s:g}° ({grids[s].size:,} poses)": seconds[s] for s in _ROT_STEPS}
     timing = ratio_table(med, next(iter(med)), per="grid")
-    plot = _plot_capabilities(name_, per_pos, refined, seconds, label)
+    plot_name = f"tradeoffs_capability_grid_{name_}.png"     # drawn by plot(data)
     f_ref = table["force"]
     gm = data[name_]["global_min_pose"]["force"]
     text = [
@@ -278,7 +274,7 @@ def _capability_device(name_, data):
         timing,
         "",
         f"![{mech.name}: grid minimum above the refined minimum, against time]"
-        f"({_link(plot)})",
+        f"({_link(plot_name)})",
     ]
     return "\n".join(text)
 
@@ -351,36 +347,6 @@ def _capability_section(data):
         "Percentages: grid minimum relative to the refined minimum.",
     ]
     return "\n".join(head) + "\n\n" + "\n\n".join(parts)
-
-
-def _plot_capabilities(device, per_pos, refined, seconds, label):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    name = f"tradeoffs_capability_grid_{device}.png"
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
-    t = [seconds[s] for s in _ROT_STEPS]
-    floor = 1e-4
-    for n in label:
-        worst = [100 * float(np.max(per_pos[s][n] / refined[n] - 1)) for s in _ROT_STEPS]
-        glob = [100 * float(per_pos[s][n].min() / refined[n].min() - 1) for s in _ROT_STEPS]
-        axes[0].plot(t, np.maximum(worst, floor), "o-", label=label[n])
-        axes[1].plot(t, np.maximum(glob, floor), "o-", label=label[n])
-    for ax, title in zip(axes, ("worst miss over the 64 positions",
-                                "miss of the global minimum")):
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_xlabel("grid evaluation time (s); points: 10°, 5°, 2.5°")
-        ax.set_ylabel("grid minimum above refined minimum (%)")
-        ax.set_title(title)
-        ax.grid(True, which="both", alpha=0.3)
-    axes[0].legend(fontsize=7)
-    fig.suptitle(f"{device}: worst-case capabilities, orientation grid (±20°) against "
-                 f"accuracy ({floor:g} % = found)")
-    fig.tight_layout()
-    fig.savefig(_figure_path(name), dpi=110)
-    plt.close(fig)
-    return name
 
 
 # ================================================== 2. kernels near a singularity
@@ -483,7 +449,6 @@ def _kernel_section(data):
     data["kernels"]["slope_digits_vs_log10_kappa"] = slope
     worst_entries = max(r["digits_lost"]["rel_err_entries"] for r in recs)
     over = max(r["rel_err_sigma_min_lapack"] / (r["kappa"] * EPS) for r in recs)
-    plot = _plot_kernels(recs)
     cost_rows = _kernel_cost(mech, f_mp, t_star, hm, um, data)
     return "\n".join([
         "### 2. Generated kernels near a singularity: float64 against mpmath",
@@ -516,7 +481,7 @@ def _kernel_section(data):
         f"(about 10 eps normwise, ordinary float64 evaluation error), amplified by κ, not "
         f"in the SVD; even correctly rounded entries would leave up to κ·eps/2.",
         "",
-        f"![digits lost against log10 σmin]({_link(plot)})",
+        f"![digits lost against log10 σmin]({_link('tradeoffs_kernel_digits.png')})",
         "",
         f"The trade at one pose, {_COST_DISTANCE:g} m from the singularity "
         f"(κ ≈ {data['kernels']['cost']['kappa']:.2g}): σmin by the float64 kernel and "
@@ -569,32 +534,6 @@ def _kernel_cost(mech, f_mp, t_star, hm, um, data):
     data["kernels"]["cost"] = {"distance_m": _COST_DISTANCE, "kappa": float(kappa),
                                "seconds": med, "correct_digits": digits}
     return rows
-
-
-def _plot_kernels(recs):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    name = "tradeoffs_kernel_digits.png"
-    x = [math.log10(r["sigma_min"]) for r in recs]
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    for key, lab, mk in (("rel_err_entries", "J entries (normwise)", "o"),
-                         ("rel_err_det", "det J (numpy)", "s"),
-                         ("rel_err_sigma_min_lapack", "σmin (LAPACK SVD)", "^"),
-                         ("rel_err_sigma_min_kernel_only", "σmin of float64 J, exact SVD",
-                          "v")):
-        ax.plot(x, [r["digits_lost"][key] for r in recs], mk + "-", label=lab, alpha=0.8)
-    ax.plot(x, [math.log10(r["kappa"]) for r in recs], "k--", label="prediction log10 κ (κ·eps)")
-    ax.set_xlabel("log10 σmin(J)")
-    ax.set_ylabel("digits lost (log10 rel. error / eps)")
-    ax.invert_xaxis()
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
-    ax.set_title("HEXA Jacobian kernel (float64) vs mpmath (50 digits), approaching det J = 0")
-    fig.tight_layout()
-    fig.savefig(_figure_path(name), dpi=110)
-    plt.close(fig)
-    return name
 
 
 # ============================================================= 3. GII sampling
@@ -719,7 +658,6 @@ def _gii_section(data):
             f"({sw['brute_force_evaluations']:,}) | {p['l2'] * 1e3:g} mm, "
             f"{math.degrees(p['beta']):.0f}°, {math.degrees(p['gamma']):.0f}°, "
             f"{p['ld'] * 1e3:g} mm | {sw['gii']:.5f} |")
-    plot = _plot_gii(runs, gii_ref, sweeps)
     same = len({tuple(sorted(s["best"].items())) for s in sweeps}) == 1
     return "\n".join([
         "### 3. Global isotropy index: sampling density against value and time",
@@ -747,49 +685,12 @@ def _gii_section(data):
         "",
         *srows,
         "",
-        f"![GII against sampling]({_link(plot)})",
+        f"![GII against sampling]({_link('tradeoffs_gii_sampling.png')})",
     ])
-
-
-def _plot_gii(runs, gii_ref, sweeps):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    name = "tradeoffs_gii_sampling.png"
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
-    pos = [r for r in runs if r["rot_step_deg"] == 10.0]
-    rot = sorted([r for r in runs if r["positions_per_axis"] == 5],
-                 key=lambda r: -r["rot_step_deg"])
-    for series, lab in ((pos, "position step (10° orientations)"),
-                        (rot, "orientation step (5³ positions)")):
-        axes[0].plot([r["seconds"] for r in series], [r["gii"] for r in series], "o-",
-                     label=lab)
-    axes[0].axhline(gii_ref, color="k", ls="--", label="refined (continuous box)")
-    axes[0].set_xscale("log")
-    axes[0].set_xlabel("time (s)")
-    axes[0].set_ylabel("GII of the Octopod")
-    axes[0].legend(fontsize=8)
-    axes[0].grid(True, which="both", alpha=0.3)
-    axes[0].set_title("GII against sampling time")
-    axes[1].plot([s["poses"] for s in sweeps], [s["seconds"] for s in sweeps], "o-",
-                 label="culling sweep time (s)")
-    ax2 = axes[1].twinx()
-    ax2.plot([s["poses"] for s in sweeps], [s["gii"] for s in sweeps], "s--", color="C1",
-             label="optimal GII")
-    axes[1].set_xscale("log")
-    axes[1].set_yscale("log")
-    axes[1].set_xlabel("poses sampled")
-    axes[1].set_ylabel("culling sweep time (s)")
-    ax2.set_ylabel("GII of the optimum")
-    axes[1].set_title("Table I design sweep (560 designs)")
-    axes[1].grid(True, which="both", alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(_figure_path(name), dpi=110)
-    plt.close(fig)
-    return name
 
 
 def run():
     data = {}
     parts = [_capability_section(data), _kernel_section(data), _gii_section(data)]
+    plot(data)                      # the figures, from the numbers returned (--replot)
     return "\n\n".join(parts) + "\n", data
