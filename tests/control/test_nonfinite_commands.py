@@ -3,9 +3,11 @@
 
 QA: ``protocol.encode_command`` and the compiled ``frame_codec.command_encoder()`` sent
 NaN, inf, and 1e40 (inf as float32) torques to the device; ``run_loopback`` passed a
-diverged controller's NaN on.  The expectations come from the documented rule and from
-numpy's own float32 cast (the independent judge of what float32 cannot hold finite, not
-the encoders' threshold).  The device side keeps
+diverged controller's NaN on; a negative or NaN ``[pd] torque_limit`` built in Python
+(``dataclasses.replace`` skips the loader) reversed every command or switched the
+saturation off.  The expectations come from the documented rule, from numpy's own
+float32 cast (the independent judge of what float32 cannot hold finite, not the
+encoders' threshold) and from the scene loader's refusals.  The device side keeps
 decoding such frames (another host may send them) and applies zero effort on those
 joints; state frames keep carrying NaN readings (the host rejects those frames).
 """
@@ -19,7 +21,7 @@ import numpy as np
 import pytest
 
 from distkin.control import frame_codec as fc
-from distkin.control.config import builtin_scene
+from distkin.control.config import builtin_scene, loads_control_scene
 from distkin.control.controller import Controller
 from distkin.control.kinematics import load_model
 from distkin.control.link import Link
@@ -30,6 +32,7 @@ from distkin.control.protocol import (MODE_NAMES, MODE_RUN, TYPE_COMMAND, VERSIO
                                       decode_payload, encode_command, encode_readings)
 from distkin.errors import InputError
 
+from control_helpers import scene_text
 
 ENCODERS = {"reference": encode_command, "compiled": fc.command_encoder()}
 _EDGE = 2.0 ** 128 - 2.0 ** 103            # float32's rounding midpoint to inf
@@ -152,6 +155,35 @@ def test_the_device_decodes_a_nonfinite_command_and_applies_zero_effort(compiled
 @pytest.fixture(scope="module")
 def model():
     return load_model("octo")
+
+
+@pytest.mark.parametrize("table, key, value", [
+    ("pd", "torque_limit", "nan"), ("pd", "torque_limit", "-0.5"), ("pd", "torque_limit", "0"),
+    ("pd", "torque_limit", "inf"), ("safety", "saturation_ms", "nan"),
+    ("safety", "saturation_ms", "-1"), ("safety", "saturation_ms", "inf"),
+    ("safety", "saturation_share", "nan"), ("safety", "saturation_share", "-0.1"),
+    ("safety", "saturation_share", "0"), ("safety", "saturation_share", "1.5")])
+def test_a_saturation_the_loader_refuses_is_refused_by_the_controller(model, table, key,
+                                                                      value):
+    with pytest.raises(InputError) as want:        # the loader: the reference
+        loads_control_scene(scene_text(**{key: value}), "s.toml")
+    assert want.value.field == f"{table}.{key}"
+    s = builtin_scene()
+    v = float(value)
+    s = dataclasses.replace(s, **{table: dataclasses.replace(getattr(s, table), **{key: v})})
+    for fused in (True, False):
+        with pytest.raises(InputError) as got:
+            Controller(s, model, fused=fused)
+        assert got.value.field == want.value.field and repr(v) in got.value.message
+
+
+def test_a_saturation_the_loader_takes_is_taken(model):
+    s = builtin_scene()
+    for table, key, v in (("pd", "torque_limit", 1e-3), ("safety", "saturation_ms", 0.0),
+                          ("safety", "saturation_share", 1.0)):
+        loads_control_scene(scene_text(**{key: repr(v)}), "s.toml")
+        Controller(dataclasses.replace(
+            s, **{table: dataclasses.replace(getattr(s, table), **{key: v})}), model)
 
 
 @pytest.mark.parametrize("fused", [True, False])
