@@ -55,7 +55,7 @@ from .kinematics import _rot
 from .loop import run_loop
 from .protocol import MODE_HOLD, MODE_RUN, MODE_ZERO_TORQUE, float32_floor
 from .runlog import CsvLog, EventLog
-from .safety import FAULT, RUN, STOPPED, DeviceStatus, check_reading
+from .safety import FAULT, RUN, STOPPED, DeviceStatus, check_limits, check_reading
 
 __all__ = ["Controller", "CycleResult", "GRAVITY", "SCALING", "RUN", "FAULT", "STOPPED"]
 
@@ -89,6 +89,9 @@ class Controller:
     Parameters
     ----------
     scene : distkin.control.config.ControlScene
+        Its ``pd.torque_limit`` a number > 0 and its ``safety.saturation_ms`` >= 0 and
+        ``saturation_share`` in (0, 1], finite (InputError otherwise, as the scene
+        loader's: :func:`.safety.check_limits`).
     model : distkin.control.kinematics.KinematicModel
     log_prefix : str or None
         Write ``PREFIX.cycles.csv`` and ``PREFIX.events.jsonl``.
@@ -117,6 +120,8 @@ class Controller:
     STARTUP_TIMEOUT_S = 10.0
 
     def __init__(self, scene, model, *, log_prefix=None, fused: bool = True):
+        # the loader's checks of the saturation, for a scene made in Python
+        check_limits(scene.pd, scene.safety, scene.effort_unit)
         self.scene = scene
         self.model = model
         self.L = model.L

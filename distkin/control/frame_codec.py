@@ -22,8 +22,11 @@ and :func:`.protocol.encode_command`, and the decoders the values of
 :func:`.protocol.cobs_decode` + :func:`.protocol.decode_payload`, bit for bit
 (tests/control/test_frame_codec.py); input the reference would refuse (a mode or a
 joint count out of range, a mode that is not an int) goes through the reference, so its
-errors are the same; a strided or read-only array is copied first, so that each kernel
-has one compiled signature.
+errors are the same; so does a command whose torques the wire would carry as NaN or
+inf (the kernel checks ``|torque| < F32_OVERFLOW`` at each joint, a compare per joint,
+and hands such a command back: the reference's InputError names the joint and the
+value, docs/protocol.md); a strided or read-only array is copied first, so that each
+kernel has one compiled signature.
 Each factory compiles its kernel before it returns (numba's disk cache: a second or two
 on the first start on a machine), so that no frame waits for the compiler.
 
@@ -36,8 +39,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .protocol import (MAX_JOINTS, MODE_NAMES, TYPE_COMMAND, TYPE_STATE, VERSION,
-                       CommandFrame, StateFrame, encode_command, encode_readings)
+from .protocol import (F32_OVERFLOW, MAX_JOINTS, MODE_NAMES, TYPE_COMMAND, TYPE_STATE,
+                       VERSION, CommandFrame, StateFrame, encode_command, encode_readings)
 
 __all__ = ["state_encoder", "command_encoder", "state_decoder", "command_decoder",
            "MAX_WIRE"]
@@ -170,7 +173,13 @@ def _encode_state(seq, t_us, status, vals, out):             # pragma: no cover 
 
 @_jit
 def _encode_command(seq, ack, mode, flags, torques, out):   # pragma: no cover (compiled)
+    """The command frame into ``out``: its length, or -1 (nothing written) when a torque
+    is NaN, ±inf or beyond float32 (``not |t| < F32_OVERFLOW``): the reference refuses
+    it (:func:`.protocol.check_efforts`)."""
     n = torques.shape[0]
+    for j in range(n):
+        if not abs(torques[j]) < F32_OVERFLOW:
+            return -1
     p = np.empty(4 + _COMMAND_HEAD + 4 * n + 4, dtype=np.uint8)
     p[1] = TYPE_COMMAND
     _put_u(p, 4, seq, 4)
@@ -270,7 +279,8 @@ def state_encoder():
 
 def command_encoder():
     """``encode(seq, ack, mode, torques, flags=0) -> bytes``:
-    :func:`.protocol.encode_command` by one compiled call."""
+    :func:`.protocol.encode_command` by one compiled call (its errors too: a NaN, inf
+    or float32-overflowing torque is its InputError naming the joint and the value)."""
     out = np.empty(MAX_WIRE, dtype=np.uint8)
     f = _encode_command
     f(1, 0, 0, 0, np.zeros(1), out)                          # compile now (one signature)
@@ -285,6 +295,8 @@ def command_encoder():
         if not (torques.flags.c_contiguous and torques.flags.writeable):
             torques = torques.copy()            # the compiled signature's layout
         m = f(seq & 0xFFFFFFFF, ack & 0xFFFFFFFF, mode, flags & 0xFF, torques, out)
+        if m < 0:                               # a torque the wire cannot carry finite
+            return encode_command(seq, ack, mode, torques, flags)      # says which
         return out[:m].tobytes()
 
     return encode

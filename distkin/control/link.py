@@ -315,6 +315,11 @@ class Link:
         LinkError
             The write failed (device gone) or nothing could be written for
             ``dead_after_s``.
+        InputError
+            A torque that is NaN, inf or beyond float32 (the joint and the value named;
+            :func:`.protocol.check_efforts`), or a frame field out of range: nothing is
+            written (the control loop never sends one: it sends zero torque instead,
+            event ``nonfinite_torque``).
         """
         data = self._encode(cmd.seq, cmd.ack, cmd.mode, cmd.torques, cmd.flags)
         try:

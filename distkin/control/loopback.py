@@ -18,7 +18,8 @@ import numpy as np
 from ..errors import InputError
 from .controller import Controller
 from .plant import Plant
-from .protocol import MODE_ZERO_TORQUE, FrameDecoder, encode_command, encode_readings
+from .protocol import (F32_OVERFLOW, MODE_ZERO_TORQUE, FrameDecoder, encode_command,
+                       encode_readings)
 
 __all__ = ["run_loopback"]
 
@@ -52,7 +53,11 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
         (n,) controller wall time per cycle (from the state frame's bytes to the command
         frame's bytes: decode, checks, the cycle, encode), ``compute_cpu_s`` (n,) its CPU time (the
         thread's; not inflated when another process preempts this one), ``refused``
-        (n,) bool, ``tau_cmd`` (n, L) the commands as received by the device.
+        (n,) bool, ``tau_cmd`` (n, L) the commands as received by the device,
+        ``nonfinite`` (n,) bool: the cycle computed an effort that is NaN, inf or beyond
+        float32 (no frame carries it, :func:`.protocol.check_efforts`) and sent zero
+        torque instead, as :func:`.loop.run_loop` does (which also enters the fault
+        state; here the next cycle computes again, as after a rejected reading).
     """
     if isinstance(seconds, bool) or not isinstance(seconds, (int, float, np.integer,
                                                              np.floating)) \
@@ -85,7 +90,7 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
                          f"({dt / 2:.3g} s at {scene.rate_hz:g} Hz), got {seconds!r}",
                          field="seconds")
     out = {k: [] for k in ("t", "pose", "desired", "estimate", "hand", "tau", "compute_s",
-                           "refused", "tau_cmd", "compute_cpu_s")}
+                           "refused", "tau_cmd", "compute_cpu_s", "nonfinite")}
     for k in range(n):
         wire = enc_state(k + 1, int(round(plant.t * 1e6)), plant.status(), plant.readings())
         t0 = time.perf_counter()
@@ -97,6 +102,9 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
         else:
             res = ctl.compute(frame, dt)
             res_mode, res_tau = (mode, tau) if res.mode is None else (res.mode, res.torques)
+        bad = not np.abs(res_tau).max() < F32_OVERFLOW       # NaN, inf: never sent
+        if bad:
+            res_mode, res_tau = MODE_ZERO_TORQUE, np.zeros(model.L)
         wire = enc_command(k + 1, frame.seq, res_mode, res_tau)
         t1 = time.perf_counter()
         c1 = time.thread_time()
@@ -118,4 +126,5 @@ def run_loopback(scene, model, seconds: float, *, controller=None, record=True,
             out["compute_s"].append(t1 - t0)
             out["compute_cpu_s"].append(c1 - c0)
             out["refused"].append(res is not None and not res.accepted)
+            out["nonfinite"].append(bad)
     return {k: np.asarray(v) for k, v in out.items()}

@@ -24,6 +24,13 @@ the six-axis force/torque reading (N, N·m, in the sensor = platform frame).
 Host -> device, ``type = 0x43`` ('C', :class:`CommandFrame`): sequence number, the
 sequence number of the state it answers, mode (run / hold / zero torque), flags and L
 joint effort commands (joint side: N·m after the capstan, or N for prismatic legs).
+
+Finite values: :func:`encode_command` refuses an effort that is NaN, ±inf or beyond
+float32's range (it would go out as ±inf; :data:`F32_OVERFLOW`), in every mode: a
+haptic device's firmware must never be handed a non-finite torque.  State frames carry
+whatever the device measured, NaN included (a faulty sensor: the host rejects such a
+frame, :func:`.safety.check_reading`), and both decoders take NaN in either direction
+(the simulated device applies zero effort on a joint whose command is not finite).
 """
 
 from __future__ import annotations
@@ -59,6 +66,8 @@ __all__ = [
     "encode_state",
     "encode_readings",
     "float32_floor",
+    "F32_OVERFLOW",
+    "check_efforts",
     "encode_command",
     "decode_payload",
     "FrameDecoder",
@@ -85,6 +94,11 @@ STATUS_SENSOR_FAULT = 0x0001     # force/torque sensor or encoder reports a faul
 STATUS_ESTOP = 0x0002            # emergency stop pressed
 STATUS_DEVICE_WATCHDOG = 0x0004  # the device zeroed its torques: no command in time
 STATUS_SATURATED = 0x0008        # a motor drive limited the commanded torque
+
+#: the least float64 magnitude whose float32 is infinite: the midpoint between float32's
+#: largest value (2 - 2^-23) 2^127 and 2^128, which round-to-nearest-even sends to
+#: 2^128 = inf (IEEE 754).  An effort must stay below it to go out finite
+F32_OVERFLOW = 2.0 ** 128 - 2.0 ** 103
 
 _HEADER = struct.Struct("<BBH")          # version, type, body length
 _CRC = struct.Struct("<I")
@@ -250,14 +264,36 @@ def encode_readings(seq: int, t_us: int, status: int, vals) -> bytes:
     return encode_state(seq, t_us, status, v[:-6], v[-6:])
 
 
+def check_efforts(values) -> None:
+    """Refuse efforts that the wire would carry as NaN or ±inf: InputError naming the
+    first such joint (0-based, ``torques[i]``) and its value.  A value is refused when
+    it is not finite or its float32 is not (``|value| >= F32_OVERFLOW``, e.g. 1e40 N·m,
+    which float32 rounds to inf)."""
+    v = np.asarray(values, dtype=float).ravel()
+    if v.size and not np.abs(v).max() < F32_OVERFLOW:     # (max is NaN if one is)
+        i = int(np.argmin(np.abs(v) < F32_OVERFLOW))
+        raise InputError(f"expected a finite effort at every joint, below {F32_OVERFLOW!r} "
+                         f"in magnitude (sent as float32: the device must never get NaN or "
+                         f"inf), got {float(v[i])!r} at joint {i}", field=f"torques[{i}]")
+
+
 def encode_command(seq: int, ack: int, mode: int, torques, flags: int = 0) -> bytes:
-    """One host -> device frame, delimiter included (torques in N·m, sent as float32)."""
+    """One host -> device frame, delimiter included (torques in N·m, sent as float32).
+
+    Raises ValueError for what no frame carries: InputError (a ValueError) for a seq,
+    ack or flags that is not an integer >= 0 and torques that are not one-dimensional,
+    a plain ValueError for not 1 .. :data:`MAX_JOINTS` torques or a mode not in
+    :data:`MODE_NAMES`, and InputError, in every mode, for a torque that is NaN, ±inf or
+    whose float32 is infinite (:func:`check_efforts`: the error names the joint and the
+    value; docs/protocol.md)."""
     _check_frame_args((("torques", torques),),
                       (("seq", seq), ("ack", ack), ("flags", flags)))
-    t = np.asarray(torques, dtype="<f4").ravel()
-    _check_n(t.size, "torques")
+    v = np.asarray(torques, dtype=float).ravel()
+    _check_n(v.size, "torques")
     if mode not in MODE_NAMES:
         raise ValueError(f"mode: expected one of {sorted(MODE_NAMES)}, got {mode!r}")
+    check_efforts(v)
+    t = np.asarray(torques, dtype="<f4").ravel()     # (no overflow left to warn of)
     body = _COMMAND_HEAD.pack(seq & 0xFFFFFFFF, ack & 0xFFFFFFFF, mode, flags & 0xFF,
                               t.size) + t.tobytes()
     return _frame(TYPE_COMMAND, body)

@@ -10,15 +10,17 @@ that report what the device did on its own (:class:`DeviceStatus`: ``DEVICE_WATC
 
 from __future__ import annotations
 
+import math
 from collections import deque
 
 import numpy as np
 
+from ..errors import InputError
 from .cycle_kernels import reading_extremes
 from .protocol import STATUS_DEVICE_WATCHDOG, STATUS_ESTOP, STATUS_SATURATED, STATUS_SENSOR_FAULT
 
-__all__ = ["check_reading", "DeviceStatus", "SaturationWatch", "RUN", "FAULT", "STOPPED",
-           "MIN_REVERSALS"]
+__all__ = ["check_reading", "check_limits", "DeviceStatus", "SaturationWatch", "RUN",
+           "FAULT", "STOPPED", "MIN_REVERSALS"]
 
 #: the states of :meth:`.controller.Controller.run` (the ``state`` column of cycles.csv):
 #: torque control, zero torque (watchdog, e-stop, pose lost), hold (singular stop)
@@ -63,6 +65,36 @@ def check_reading(frame, L: int, safety, lo=None, hi=None) -> str:
     if frame.status & STATUS_SENSOR_FAULT:
         return f"device reports a sensor fault (status {frame.status:#06x})"
     return ""
+
+
+def check_limits(pd, safety, unit: str = "N·m") -> None:
+    """Refuse a saturation that the controller cannot apply, as the scene loader does
+    (``[pd] torque_limit`` a number > 0, ``[safety] saturation_ms`` >= 0,
+    ``saturation_share`` in (0, 1], all finite), for a :class:`.config.PDGains` and
+    :class:`.config.SafetyLimits` built in Python (``dataclasses.replace`` skips the
+    loader).  InputError naming the field and the value, in ``unit`` for the limit.
+
+    Without it a negative ``torque_limit`` made every cycle "saturated" and multiplied
+    its efforts by ``limit / peak < 0``: each command reversed, at the limit's size (a
+    servo pushing away from its set point; the Octo fell 0.17 m in 0.3 s), and a NaN
+    one (every ``peak > limit`` False) switched the saturation off; a NaN
+    ``saturation_ms`` or ``saturation_share`` switched the watch for a saturated
+    oscillation off (:class:`SaturationWatch`), a negative share let it trip on sign
+    reversals alone."""
+    def real(v):
+        return (isinstance(v, (int, float, np.integer, np.floating))
+                and not isinstance(v, bool) and math.isfinite(v))
+
+    lim, ms, share = pd.torque_limit, safety.saturation_ms, safety.saturation_share
+    if not (real(lim) and lim > 0):
+        raise InputError(f"expected a positive finite number (the saturation of every "
+                         f"command), got {lim!r} {unit}", field="pd.torque_limit")
+    if not (real(ms) and ms >= 0):
+        raise InputError(f"expected a finite number >= 0 (0: no watch), got {ms!r} ms",
+                         field="safety.saturation_ms")
+    if not (real(share) and 0 < share <= 1):
+        raise InputError(f"expected a share of the cycles in (0, 1], got {share!r}",
+                         field="safety.saturation_share")
 
 
 class DeviceStatus:

@@ -28,12 +28,16 @@ pytestmark = pytest.mark.filterwarnings("ignore:overflow encountered in cast:Run
 ENC_STATE, ENC_COMMAND = fc.state_encoder(), fc.command_encoder()
 DEC_STATE, DEC_COMMAND = fc.state_decoder(), fc.command_decoder()
 SPECIAL = [np.nan, np.inf, -np.inf, 0.0, -0.0, 1e-45, 3.5e38, -1e300]
+#: what a command frame can carry (docs/protocol.md: finite float32 torques only), the
+#: largest magnitudes whose float32 is finite included
+COMMAND_SPECIAL = [0.0, -0.0, 1e-45, 3.4e38, -3.4028235e38,
+                   float(np.nextafter(2.0 ** 128 - 2.0 ** 103, 0.0)), 1e-300]
 
 
-def _values(rng, n, k):
+def _values(rng, n, k, special=SPECIAL):
     v = rng.normal(0, 2, n)
     if k % 5 == 0:
-        v[rng.integers(n)] = SPECIAL[k % len(SPECIAL)]
+        v[rng.integers(n)] = special[k % len(special)]
     return v
 
 
@@ -59,7 +63,7 @@ def test_command_frames_are_the_reference_bytes_and_decode_to_its_values():
     rng = np.random.default_rng(4)
     for k in range(400):
         n = int(rng.integers(1, MAX_JOINTS + 1))
-        tau = _values(rng, n, k)
+        tau = _values(rng, n, k, COMMAND_SPECIAL)
         if k % 3 == 0:
             tau = np.zeros(2 * n)[::2] + tau       # a strided view
         seq, ack = int(rng.integers(2**33)), int(rng.integers(2**33))
