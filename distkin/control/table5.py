@@ -141,8 +141,13 @@ def _smooth(t, rise):
     return 1.0 if t >= rise else 0.5 - 0.5 * math.cos(math.pi * t / rise)
 
 
-def _blocked(ctl, model, pose, w_dir, motors, *, rise, hold, dt, rng):
-    """Blocked end effector: the mean wrench (6,) on the block over the last ``hold`` s."""
+def _blocked(ctl, model, pose, w_dir, motors, *, rise, hold, dt, rng, trace=None):
+    """Blocked end effector: the mean wrench (6,) on the block over the last ``hold`` s.
+
+    ``trace``: a dict filled, when given, with every cycle's time ``t`` (s), the wrench
+    ``Jᵀτ`` on the block (``wrench``, (n, 6), N and N·m; no sensor noise) and the sensor
+    reading averaged (``reading``: ``Jᵀτ`` plus the noise, NaN before the last ``hold``
+    s); the noise is drawn as without it (the mean is the same to the bit)."""
     q_block, _ = model.ik(pose)
     J = model.jacobian(pose)
     step = np.linalg.solve(J.T @ J, w_dir)
@@ -159,18 +164,30 @@ def _blocked(ctl, model, pose, w_dir, motors, *, rise, hold, dt, rng):
         q_des = q_block + _smooth(t, rise) * e_step
         tau, _ = ctl.joint_torques(q_des, q_block, J, np.zeros(6), dt)
         tau = np.clip(tau, -motors.stall_torque, motors.stall_torque)   # at rest
+        wrench = J.T @ tau
+        reading = np.full(6, np.nan)
         if t >= total - hold:
-            acc += J.T @ tau + np.r_[rng.normal(0, motors.force_noise, 3),
+            reading = wrench + np.r_[rng.normal(0, motors.force_noise, 3),
                                      rng.normal(0, motors.torque_noise, 3)]
+            acc += reading
             n += 1
+        if trace is not None:
+            trace.setdefault("t", []).append(t)
+            trace.setdefault("wrench", []).append(wrench)
+            trace.setdefault("reading", []).append(reading)
         t += dt
     return acc / n
 
 
-def _free(ctl, model, pose, direction, motors, *, angular, amplitude, rise, seconds, dt):
+def _free(ctl, model, pose, direction, motors, *, angular, amplitude, rise, seconds, dt,
+          trace=None):
     """Free end effector: peak speed and peak acceleration along ``direction``, the end
     stops hit, and the peak speed of the other slice (rad/s during a translation, m/s
-    during a rotation)."""
+    during a rotation).
+
+    ``trace``: a dict filled, when given, with every cycle's time ``t`` (s), the speed
+    (``velocity``) and the acceleration (``acceleration``) along ``direction`` whose
+    maxima are the peaks returned (m/s and m/s², or rad/s and rad/s² for ``angular``)."""
     plant = Plant(model, motors, seed=0)
     plant.pose = np.array(pose, dtype=float)
     plant.q, _ = model.ik(plant.pose)
@@ -191,8 +208,12 @@ def _free(ctl, model, pose, direction, motors, *, angular, amplitude, rise, seco
         tau, _ = ctl.joint_torques(q_des, plant.q, J, np.zeros(6), dt)
         plant.step(tau, MODE_RUN, dt)
         vel = plant.twist[part]
-        v_peak = max(v_peak, float(np.dot(vel, d)))
-        a_peak = max(a_peak, float(np.dot(vel - prev, d)) / dt)
+        v_along, a_along = float(np.dot(vel, d)), float(np.dot(vel - prev, d)) / dt
+        v_peak = max(v_peak, v_along)
+        a_peak = max(a_peak, a_along)
+        if trace is not None:
+            for key, v in (("t", t), ("velocity", v_along), ("acceleration", a_along)):
+                trace.setdefault(key, []).append(v)
         off_peak = max(off_peak, float(np.linalg.norm(plant.twist[other])))
         prev = vel.copy()
         t += dt
@@ -221,9 +242,26 @@ def _reachable_step(model, row, w, angular, amplitude, units):
                 hint="a smaller step (Table V: 40 mm and 0.4 rad)")
 
 
+def _row_trace(raw, kind, gen, keep, direction) -> dict:
+    """The trace of one trial of a row, along its worst direction, in the row's unit:
+    ``t`` (s, from the start of the smoothed step) and ``value``: for a blocked row
+    the wrench ``Jᵀτ`` on the block (no sensor noise) and ``reading``, the sensor's
+    (``Jᵀτ`` plus its noise) over the last ``hold_s`` that the row averages (NaN
+    before); for a free row the speed (twist rows) or the acceleration (acceleration
+    rows) whose peak is the row's value."""
+    t = np.asarray(raw["t"], dtype=float)
+    if kind == "blocked":
+        k, d = list(keep), np.asarray(direction)[list(keep)]
+        return {"t": t, "value": np.asarray(raw["wrench"])[:, k] @ d,
+                "reading": np.asarray(raw["reading"])[:, k] @ d}
+    return {"t": t, "value": np.asarray(raw["velocity" if gen == "twist"
+                                            else "acceleration"], dtype=float)}
+
+
 def run_table5(mech_name: str = "octo", *, poses=None, scene=None, trials: int = 5,
                step_m: float = 0.040, step_rad: float = 0.4, rise_s: float = 0.020,
-               hold_s: float = 0.100, free_s: float = 0.150, actuators=None, units=None):
+               hold_s: float = 0.100, free_s: float = 0.150, actuators=None, units=None,
+               traces: bool = False):
     """The emulated experiments of Table V (module docstring).
 
     Parameters
@@ -240,6 +278,9 @@ def run_table5(mech_name: str = "octo", *, poses=None, scene=None, trials: int =
     units : dict, optional
         {"step": (field, unit, factor from m), "step_angle": (field, unit, factor from
         rad)}: the names and units a refused step is given in (default SI).
+    traces : bool
+        Also return the time trace of the first trial of every row ("trace"; default
+        off: the numbers of the table are the same to the bit either way).
 
     Raises
     ------
@@ -252,11 +293,14 @@ def run_table5(mech_name: str = "octo", *, poses=None, scene=None, trials: int =
     Returns
     -------
     dict row -> {"unit", "emulated", "analysis", "paper_experiment", "paper_simulation",
-    "pose", "direction", "end_stop_hits"}; the free rows also "off_slice_peak" (the
-    peak angular speed, rad/s, during a translational step; the peak linear speed, m/s,
-    during a rotational one: "off_slice_unit") -- the analysis' velocity is that of its
-    slice (zero angular velocity), and the free platform does not stay in it (module
-    docstring)
+    "pose", "direction", "end_stop_hits", "kind", "trial_values"} ("trial_values": each
+    trial's value, the row's unit, whose mean is "emulated"); the free rows also
+    "off_slice_peak" (the peak angular speed, rad/s, during a translational step; the
+    peak linear speed, m/s, during a rotational one: "off_slice_unit") -- the analysis'
+    velocity is that of its slice (zero angular velocity), and the free platform does
+    not stay in it (module docstring).  With ``traces``, every row also "trace"
+    (:func:`_row_trace`: numpy arrays, not JSON; the ``table5`` query keeps them out of
+    its result and draws them).
     """
     from ..indices.study import ACTUATORS
     from ..indices.workspace import table2_grid
@@ -288,12 +332,13 @@ def run_table5(mech_name: str = "octo", *, poses=None, scene=None, trials: int =
     out = {}
     for row, unit, gen, keep, kind in ROWS:
         w = wc[row]
-        vals, hits, off = [], 0, None
+        vals, hits, off, raw = [], 0, None, {}
         for k in range(trials if kind == "blocked" else 1):
+            tr = raw if traces and k == 0 else None       # the first trial's trace
             if kind == "blocked":
                 ctl = Controller(nominal, model)
                 wr = _blocked(ctl, model, w["pose"], w["direction"], motors, rise=rise_s,
-                              hold=hold_s, dt=dt, rng=np.random.default_rng(k))
+                              hold=hold_s, dt=dt, rng=np.random.default_rng(k), trace=tr)
                 vals.append(float(np.dot(wr[list(keep)], w["direction"][list(keep)])))
             else:
                 ctl = Controller(stall, model)
@@ -303,7 +348,7 @@ def run_table5(mech_name: str = "octo", *, poses=None, scene=None, trials: int =
                 vp, ap, h, off = _free(ctl, model, w["pose"], w["direction"], motors,
                                        angular=angular,
                                        amplitude=step_rad if angular else step_m,
-                                       rise=rise_s, seconds=free_s, dt=dt)
+                                       rise=rise_s, seconds=free_s, dt=dt, trace=tr)
                 hits += h
                 vals.append(vp if gen == "twist" else ap)
         exp, sim = PAPER_TABLE5[row]
@@ -311,7 +356,9 @@ def run_table5(mech_name: str = "octo", *, poses=None, scene=None, trials: int =
                     "analysis": w["analysis"], "paper_experiment": exp,
                     "paper_simulation": sim, "pose": w["pose"].tolist(),
                     "direction": w["direction"].tolist(), "end_stop_hits": hits,
-                    "kind": kind}
+                    "kind": kind, "trial_values": vals}
+        if traces:
+            out[row]["trace"] = _row_trace(raw, kind, gen, keep, w["direction"])
         if off is not None:       # the free rows: how far the motion left the slice
             out[row]["off_slice_peak"] = off
             out[row]["off_slice_unit"] = "m/s" if keep[0] == 3 else "rad/s"

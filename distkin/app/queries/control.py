@@ -20,7 +20,11 @@ __all__ = ["Table5Query"]
 class Table5Query:
     """``type = "table5"``: ``trials`` (5), ``step`` (40, scene length unit),
     ``step_angle`` (0.4 rad or the scene's angle unit), ``grid`` (coarse: 25 mm,
-    10°, ±30°)."""
+    10°, ±30°).
+
+    With ``--plots``: ``q{i}_table5_comparison.png`` (:mod:`.table5_plot`), every row
+    beside our analysis and the paper's columns, and the time trace of one trial per
+    row (asked of the run only then: ``traces = True``, which changes no number)."""
 
     @staticmethod
     def parse(table, mechanism, units, field):
@@ -53,9 +57,11 @@ class Table5Query:
         if name.endswith("*"):
             raise InputError("expected an unmodified preset for the simulated device, "
                              f"got {name!r}", field="mechanism")
+        more = {"traces": True} if ctx.plots_dir is not None else {}
         res = run_table5(name, trials=trials, step_m=step, step_rad=ang,
                          units={"step": ("step", lu, 1 / lf),
-                                "step_angle": ("step_angle", au, 1 / af)})
+                                "step_angle": ("step_angle", au, 1 / af)}, **more)
+        traces = {row: r.pop("trace") for row, r in res.items() if "trace" in r}
         lines = [f"Table V emulated on the simulated '{name}' ({trials} trials each; "
                  "distkin.control.table5)", "",
                  "| Output capability | emulated experiment | our analysis (minimum over "
@@ -90,5 +96,15 @@ class Table5Query:
                 "direction": "none (a unit vector: the row's three components of "
                              "f, m or v, w; the other three 0)",
                 "step": lu, "step_angle": au, "rows": "each row's own unit"}
-        return Outcome({"rows": res, "step": step / lf, "step_angle": ang / af,
-                        "unit": unit}, "\n".join(lines))
+        result = {"rows": res, "step": step / lf, "step_angle": ang / af, "unit": unit}
+        return Outcome(result, "\n".join(lines), _plotter(result, traces, name, lu, au))
+
+
+def _plotter(result, traces, name, lu, au):
+    """The ``--plots`` drawer: :func:`.table5_plot.plot_table5` of the result as the
+    JSON has it (poses in the scene's units) and the run's traces."""
+    def plot(stem):
+        from .table5_plot import plot_table5
+        return plot_table5(stem, result, traces or None, name=name, length_unit=lu,
+                           angle_unit=au)
+    return plot
