@@ -42,6 +42,10 @@ step_angle = 23
 """
 
 
+#: what the fixture's run printed on stdout (the text report)
+_RUN = {}
+
+
 @pytest.fixture(scope="module")
 def drawn(tmp_path_factory):
     """One ``distkin run --plots --json`` of the scene: (JSON record, stderr, the figure
@@ -64,13 +68,14 @@ def drawn(tmp_path_factory):
         mp.setattr(t5plot, "table5_figure", spy)
         import contextlib
         import io
-        err = io.StringIO()
-        with contextlib.redirect_stderr(err):
+        err, out = io.StringIO(), io.StringIO()
+        with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out):
             code = main(["run", str(scene), "--plots", str(tmp / "plots"), "--json",
                          str(tmp / "out.json"), "--no-progress"])
     assert code == 0, err.getvalue()
     rec = json.loads((tmp / "out.json").read_text(encoding="utf-8"))["queries"][0]
     assert len(figs) == 1
+    _RUN["report"] = out.getvalue()
     return rec, err.getvalue(), figs[0], tmp / "plots"
 
 
@@ -157,3 +162,21 @@ def test_a_result_without_traces_or_a_paper_column_draws_the_comparison_alone(tm
     assert t5plot.plot_table5(tmp_path / "q3_table5", res) == [
         tmp_path / "q3_table5_comparison.png"]
     assert (tmp_path / "q3_table5_comparison.png").stat().st_size > 0
+
+
+def _report():
+    """The text report the fixture's run printed on stdout."""
+    return _RUN["report"]
+
+
+def test_the_header_counts_the_trials_each_row_ran(drawn):
+    """The report's header said "(2 trials each)" while the free rows run once (their
+    response is deterministic): it now says both counts, which the JSON's
+    ``trial_values`` of each row confirm."""
+    text = _report()
+    assert "(2 trials of each blocked row, the mean; one of each free row" in text, text
+    rows = drawn[0]["result"]["rows"]
+    counts = {name: len(r["trial_values"]) for name, r in rows.items()}
+    blocked = {"force", "torque"}
+    assert blocked < set(counts) and len(counts) > 2, counts
+    assert all(n == (2 if name in blocked else 1) for name, n in counts.items()), counts

@@ -62,7 +62,8 @@ class Table5Query:
                          units={"step": ("step", lu, 1 / lf),
                                 "step_angle": ("step_angle", au, 1 / af)}, **more)
         traces = {row: r.pop("trace") for row, r in res.items() if "trace" in r}
-        lines = [f"Table V emulated on the simulated '{name}' ({trials} trials each; "
+        lines = [f"Table V emulated on the simulated '{name}' ({trials} trials of each "
+                 "blocked row, the mean; one of each free row, deterministic; "
                  "distkin.control.table5)", "",
                  "| Output capability | emulated experiment | our analysis (minimum over "
                  "the 25 mm / 10° grid, ±30°) | emulated / analysis | paper experiment | "
