@@ -1,13 +1,16 @@
 """Poses at a leg's full stretch (its reach boundary), where the float64 reach margin's
-sign decides nothing (QA 25a finding 2).
+sign decides nothing (QA 25a findings 1 and 2).
 
-Before: the fast IK said valid / not valid by the float sign, wrong both ways in a thin
-band, silently.
+Before: the forward kinematics refused poses right to 1e-15 m there, "legs [4] do not
+close" (fast, and certified against its own Krawczyk proof), because its slack of
+64 eps lp^2 was below the margin's rounding; the fast IK said valid / not valid by the
+float sign, wrong both ways in a thin band, silently.
 
 Boundary poses are built by root-finding the reach margin (brentq on the float margin
 along a direction from the workspace centre), with their float neighbours.  The judge
 is the certified tier (arb at 128 bits on the pose's exact binary value): its IK
-decides each leg at the pose."""
+decides each leg at the pose, and its forward kinematics proves a box holding a pose
+where every closure (L = 6: all legs) is exactly zero, so where every leg closes."""
 
 from __future__ import annotations
 
@@ -18,8 +21,9 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from distkin.errors import ConditioningWarning
+from distkin.errors import ConditioningWarning, NotFoundError
 from distkin.mechanisms import preset
+from distkin.mechanisms.forward_tiers import forward_tier
 from distkin.mechanisms.kinematics_tiers import ik_tier
 
 PRESETS = ("hunt", "octopod", "hexa", "ergin", "octo")
@@ -100,6 +104,71 @@ def test_reach_margin_error_covers_the_exact_margin(name):
     assert est.max() < 1e-14                     # m^2: ~5e-15 m of pose at the presets
 
 
+def _refusal(fn):
+    """None, or the text of a NotFoundError saying legs do not close."""
+    try:
+        fn()
+    except NotFoundError as exc:
+        if "do not" in str(exc):
+            return str(exc)
+        raise
+    return None
+
+
+@pytest.mark.parametrize("name", PRESETS)
+def test_fk_at_full_stretch_never_refuses_a_closing_pose(name):
+    """(a) The joint values of boundary poses and their float neighbours (the fast IK
+    there).  Judge: the certified IK proves every leg closes at one of the three poses
+    (the boundary pose or a neighbour 1 ulp away), so the joint values of each are those
+    of a configuration to within rounding.  Then no tier of the forward kinematics
+    (fast, precise, certified) refuses them saying legs do not close "beyond their reach
+    by more than rounding" (nor, in the certified tier for L = 6, against its own proof:
+    its box holds a zero of every closure, where every leg closes), and the batch solver
+    verifies them (flagging the legs at the boundary)."""
+    m = preset(name)
+    B = _boundary(m, 6, seed=8)
+    X = _neighbours(B)
+    q, _ = m.inverse_kinematics(X)
+    cert = ik_tier(m, X, "certified")
+    closes = (cert.certified & cert.valid).all(axis=-1).reshape(3, len(B)).any(axis=0)
+    assert closes.sum() >= len(B) - 1                    # (the judge decides them)
+    rng = np.random.default_rng(5)
+    false = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConditioningWarning)
+        for i, (x, qq) in enumerate(zip(X, q)):
+            guess = x + rng.normal(size=6) * 1e-3
+            fk = m.forward_kinematics(qq, guess)
+            assert fk.converged and np.abs(fk.pose - x).max() < 1e-9
+            for method in ("fast", "precise", "certified"):
+                why = _refusal(lambda: forward_tier(m, qq, guess, method=method))
+                if why and (closes[i % len(B)] or (method == "certified" and m.L == 6)):
+                    false.append((method, x.tolist(), why[:120]))
+            if closes[i % len(B)] and not fk.verified:
+                false.append(("batch", x.tolist(), fk.message[-200:]))
+    assert not false, false
+
+
+def test_qa_hunt_pose_in_every_tier_and_flags():
+    """QA 25a's reproduction: the hunt preset at x = 195.5385983418608 mm (legs 3-6 at
+    full stretch).  Every tier answers within 1e-15 m of it; the fast answer flags the
+    stretched legs (float64 cannot decide them), the certified one proves them (L = 6:
+    no leg undecided), as the certified IK at the pose does."""
+    m = preset("hunt")
+    X = np.array([HUNT_X, 0.0, 0.42, 0.0, 0.0, 0.0])
+    q, valid = m.inverse_kinematics(X)
+    cert = ik_tier(m, X, "certified")
+    assert valid.all() and cert.certified.all() and cert.valid.all()
+    guess = X - [0.005, 0, 0, 0, 0, 0]
+    with pytest.warns(ConditioningWarning, match="reach boundary"):
+        fast = forward_tier(m, q, guess, method="fast")
+    assert set(fast.reach_undecided) <= {3, 4, 5, 6} and fast.reach_undecided
+    for res in (fast, forward_tier(m, q, guess, method="precise"),
+                forward_tier(m, q, guess, method="certified")):
+        assert np.abs(res.pose - X).max() < 1e-15
+    assert forward_tier(m, q, guess, method="certified").reach_undecided == ()
+
+
 def test_ik_query_names_the_undecided_legs(tmp_path, capsys):
     """The inverse_kinematics query one ulp past the QA pose: the fast tier says the
     stretched legs are undecided (JSON ``reach_undecided``, ``reachable`` false, not
@@ -131,3 +200,34 @@ method = "certified"
     flagged = [j + 1 for j, u in enumerate(fast["reach_undecided"]) if u]
     assert flagged and set(flagged) <= {3, 4, 5, 6} and fast["reachable"] is False
     assert f"undecided (legs {flagged})" in text and "NOT reachable" not in text
+
+
+def test_a_leg_provably_beyond_its_reach_is_still_refused():
+    """The refusal stays where it is true: inconsistent joint values of the Octopod
+    (one crank 1e-6 rad off at a boundary pose) whose least-squares pose leaves the
+    stretched leg beyond its reach by ~1e-8 m^2, far beyond rounding.  Judge: the
+    certified IK at that pose proves the leg does not close; the message is the one of
+    before.  The other sign of the offset leaves the leg closing: no refusal."""
+    m = preset("octopod")
+    X = _boundary(m, 1, seed=2)[0]
+    k = int(np.argmin(m.reach_margin(X)))
+    q0, _ = m.inverse_kinematics(X)
+    seen = set()
+    for delta in (1e-6, -1e-6):
+        q = q0.copy()
+        q[k - 1 if k else 1] += delta
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ConditioningWarning)
+            fk = m.forward_kinematics(q, X)
+        judge = ik_tier(m, fk.pose, "certified")
+        if judge.infeasible[0, k]:
+            seen.add("open")
+            with pytest.raises(NotFoundError, match=rf"got a fast pose where legs \[{k + 1}\] "
+                                                    r"do not \(beyond their reach or stroke "
+                                                    r"by more than rounding\)"):
+                forward_tier(m, q, X, method="fast")
+            assert not fk.round_trip and f"legs [{k + 1}] do not close" in fk.message
+        elif judge.certified[0].all():
+            seen.add("closes")
+            assert getattr(forward_tier(m, q, X, method="fast"), "reach_undecided", ()) == ()
+    assert seen == {"open", "closes"}
