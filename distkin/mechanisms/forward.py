@@ -35,7 +35,8 @@ and reports:
   :data:`RESIDUAL_ULPS` eps times a leg length: what float64 leaves of consistent
   angles; raise it for measured, hence inconsistent, angles of a redundant device),
   and every leg closes at the pose (its reach margin, a prismatic stroke's included,
-  not below rounding; ``round_trip`` is both checks of the IK);
+  not below minus its error estimate; within it of 0 the leg is ``reach_undecided``,
+  flagged, not refused; ``round_trip`` is both checks of the IK);
 * ``in_range`` -- every joint value given lies in its leg's declared ``range`` (a crank
   modulo 2π, :func:`.legs.in_revolute_range`; a prismatic leg within its stroke): joint
   values outside their ranges are no configuration of the device, so such an answer is
@@ -102,7 +103,7 @@ class FKResult:
         declared ranges (``in_range``).
     round_trip : bool array (N,) or bool
         The inverse kinematics' check alone (the answer is on the device's IK branch,
-        and the IK's own ``valid`` flag holds for every leg there; for inconsistent
+        and no leg provably fails to close there, :func:`round_trip`; for inconsistent
         angles of a redundant device, their least-squares pose).
     q_mismatch : array (N,) or float
         The largest |IK(pose) - q| over the legs (rad, or m for a prismatic leg;
@@ -113,6 +114,13 @@ class FKResult:
         Every joint value given lies in its leg's declared range
         (:func:`.joint_values.outside_ranges`; True for legs without one).  False: not a configuration of the device, and the
         answer is not ``verified``.
+    reach_undecided : bool array (N, L) or (L,)
+        The revolute legs at their reach boundary within rounding at ``pose``: the
+        reach margin within its error estimate of 0 (:func:`round_trip`), so float64
+        does not decide whether they close there; not a reason to refuse (a pose at a
+        leg's full stretch is right to 1e-15 m there), said in ``message`` and, with
+        ``warn``, a :class:`~distkin.errors.ConditioningWarning`; the certified tier
+        (:mod:`.forward_tiers`) decides.
     """
 
     pose: np.ndarray
@@ -129,6 +137,7 @@ class FKResult:
     q_mismatch: object = math.nan
     residual_tol: float = math.nan
     in_range: object = True
+    reach_undecided: object = None
 
     def __post_init__(self):
         read_only(self)
@@ -317,8 +326,10 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
     _, smin, cond = _solve(out[..., 1:], out[..., 0], scale)
     cond = np.where(np.isfinite(cond), cond, np.inf)
     near = cond > max_condition
-    mismatch, allowed, ik_valid = round_trip(mech, qa, X, pose_error_estimate(mech, cond, res),
-                                             with_valid=True)
+    mismatch, allowed, ik_valid, undecided = round_trip(
+        mech, qa, X, pose_error_estimate(mech, cond, res), with_valid=True,
+        reach_pose_error=pose_error_estimate(mech, cond, np.minimum(res, residual_tol)))
+    undecided &= done[:, None]
     gives_back = np.all(mismatch <= allowed, axis=-1)    # False where nan
     flagged = ~np.all(ik_valid, axis=-1)                 # a leg does not close there
     back = gives_back & ~flagged
@@ -355,6 +366,11 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
            + (f"; {int(flag_only.sum())} converged to a pose where legs {flagged_legs} do "
               f"not close (beyond their reach or stroke by more than rounding; not "
               f"verified)" if bad_closure else "")
+           + (f"; {int(undecided.any(axis=-1).sum())} with legs "
+              f"{[int(j) + 1 for j in np.flatnonzero(undecided.any(axis=0))]} at their "
+              f"reach boundary within rounding (reach margin within its error estimate of "
+              f"0: whether they close is undecided in float64; the certified tier "
+              f"decides)" if undecided.any() else "")
            + (f"; {int((done & ~small).sum())} with an rms closure residual above "
               f"residual_tol = {residual_tol:.3g} m (inconsistent angles, or no solution "
               f"near the guess)" if (done & ~small).any() else "")
@@ -394,12 +410,16 @@ def _finish(out, X, done, iters, scale, tol, max_iter, max_condition, strict, si
         from .fk_failure import warn_unsolved
         warn_unsolved(mech, qa, single, done & verified, done, verified, in_range, cond, msg,
                       leg_length(mech))
+    if warn and (undecided.any(axis=-1) & done & verified).any():
+        from ..errors import ConditioningWarning, warn as _warn
+        _warn(f"forward kinematics: {msg}", ConditioningWarning)
     if single:
         return FKResult(X[0], bool(done[0]), int(iters[0]), float(res[0]), float(smin[0]),
                         float(cond[0]), bool(near[0]), msg, None, bool(verified[0]),
-                        bool(back[0]), float(worst[0]), residual_tol, bool(in_range[0]))
+                        bool(back[0]), float(worst[0]), residual_tol, bool(in_range[0]),
+                        undecided[0])
     return FKResult(X, done, iters, res, smin, cond, near, msg, None, verified, back, worst,
-                    residual_tol, in_range)
+                    residual_tol, in_range, undecided)
 
 
 def leg_length(mech) -> float:
@@ -425,18 +445,23 @@ def pose_error_estimate(mech, condition, residual):
                            np.repeat(e / float(mech.length_scale), 3, axis=1)], axis=1)
 
 
-def round_trip(mech, q, poses, pose_error, *, with_valid: bool = False):
+def round_trip(mech, q, poses, pose_error, *, with_valid: bool = False,
+               reach_pose_error=None):
     """The check of an answer of the forward kinematics (module docstring): the
     closed-form inverse kinematics at ``poses`` (N, 6) against the joint values ``q``
     (N, L) (rad or m).  ``with_valid``: also return whether each leg closes at
     ``poses``, which the round trip requires as well (an IK value where the leg does
     not close is no answer to compare): its reach margin (a prismatic leg's stroke is
-    part of it) at least ``-64 eps length_scale²``, and a prismatic leg a length.  Not
-    the IK's exact ``valid`` flag: the joint values given were checked against their
-    ranges already (:func:`.joint_values.check_joint_ranges`, ``outside_ranges``), and a
-    leg given exactly at a stroke end came back 5.6e-17 m beyond it and was flagged
-    (review 2026-11-29: 23 of 200 such answers unverified, and the fast tier refused
-    what the precise and certified ones answered).
+    part of it) not below minus its error estimate
+    (:func:`.fast_errors.reach_margin_error`, with ``reach_pose_error``, default
+    ``pose_error``: the callers pass that of a residual at most ``residual_tol``, as
+    consistent joint values leave), and a prismatic leg a length; and the revolute legs
+    undecided, their margin within that estimate of 0 (a prismatic leg's stroke end is
+    decided on the length given, :func:`.joint_values.check_joint_ranges`: given at the
+    end, it came back 5.6e-17 m beyond it, review 2026-11-29).  A fixed slack of 64 eps
+    length_scale² was below the margin's rounding at a leg's full stretch (QA 25a
+    finding 1: hunt poses right to 1e-15 m refused, "legs [4] do not close", where arb
+    proves every leg closes).
 
     Returns
     -------
@@ -449,9 +474,11 @@ def round_trip(mech, q, poses, pose_error, *, with_valid: bool = False):
         branches (about a radian; they meet only at the reach boundary, where the IK's
         estimate grows to match).
     valid : bool array (N, L)
-        Only with ``with_valid``: the legs that close at ``poses`` (within rounding).
+        Only with ``with_valid``: the legs that close at ``poses`` (not provably open).
+    undecided : bool array (N, L)
+        Only with ``with_valid``: of them, those whose margin is within its error of 0.
     """
-    from .kinematics_tiers import _fast_ik_error
+    from .fast_errors import _leg_terms, fast_ik_error, reach_decision, reach_margin_error
     X = np.atleast_2d(np.asarray(poses, dtype=float))
     q = np.atleast_2d(np.asarray(q, dtype=float))
     qi, reach, phi, phi_ik, jq, J = _kernel_rows(mech, X, q)
@@ -459,16 +486,21 @@ def round_trip(mech, q, poses, pose_error, *, with_valid: bool = False):
     d = qi - q
     d = np.where(pris, d, (d + np.pi) % (2 * np.pi) - np.pi)
     with np.errstate(divide="ignore", invalid="ignore"):
-        e_ik = _fast_ik_error(mech, X, qi, reach, phi_ik, jq)
+        terms = _leg_terms(mech, X, qi)
+        e_ik = fast_ik_error(mech, X, qi, reach, phi_ik, jq, terms)
         allowed = (2 * np.abs(phi) / np.abs(jq) + e_ik
                    + np.einsum("nlk,nk->nl", np.abs(J), np.asarray(pose_error, dtype=float))
                    + 8 * np.finfo(float).eps * np.maximum(1.0, np.abs(q)))
     # nan: 0/0 where Jq_ii = 0 exactly, the branch point, where both branches meet
     allowed = np.where(np.isnan(allowed), np.inf, allowed)
     if with_valid:
-        slack = 64 * np.finfo(float).eps * float(mech.length_scale) ** 2
-        closes = (reach >= -slack) & ~(pris & (qi == 0.0))
-        return np.abs(d), allowed, closes
+        with np.errstate(invalid="ignore"):
+            closes, undecided = reach_decision(
+                reach, reach_margin_error(mech, X, qi, pose_error if reach_pose_error is None
+                                          else reach_pose_error, terms=terms))
+        closes &= ~(pris & (qi == 0.0))
+        # (a prismatic leg's stroke end is decided on the length given, check_joint_ranges)
+        return np.abs(d), allowed, closes, undecided & ~pris
     return np.abs(d), allowed
 
 

@@ -48,8 +48,10 @@ pose outside them is given an accuracy or called certified.  (The batched fast s
 
 The precise and certified poses pass the same round trip as the fast one (float64, the
 closed-form IK at the tier's pose against the joint values, within their closure
-errors over the crank's lever and the tier's error through J, and the IK's own
-``valid`` flag for every leg at that pose): the closures alone
+errors over the crank's lever and the tier's error through J), and no leg may provably
+fail to close at that pose, decided in the tier's own arithmetic (:func:`_reach_check`:
+a reach margin within its error of 0 is ``reach_undecided``, warned, not refused; the
+certified square system's legs close by the proof): the closures alone
 hold on either crank branch of the IK, so a pose on the other branch (a start on it) is
 refused with :class:`~distkin.errors.NotFoundError` (field ``guess``: no pose found from
 that start, which proves nothing about other starts), not proved.
@@ -104,6 +106,10 @@ class TieredFK:
         Newton steps of the precise tier (0 otherwise).
     contraction : float
         Certified: the bound of ``|I - Y F'(X)|`` of Krawczyk's test (< 1).
+    reach_undecided : tuple of int
+        The revolute legs (1-based) at their reach boundary within the tier's accuracy
+        at ``pose`` (:func:`_reach_check`): whether they close there is undecided, said
+        in a :class:`~distkin.errors.ConditioningWarning`; not a refusal.
     """
 
     pose: np.ndarray
@@ -117,6 +123,7 @@ class TieredFK:
     fast: object
     iterations: int = 0
     contraction: float = math.nan
+    reach_undecided: tuple = ()
 
     def __post_init__(self):
         read_only(self)
@@ -219,7 +226,7 @@ def forward_tier(mech, q, guess=None, *, method: str = "fast", dps: int | None =
     else:
         chosen = _choose_legs(fast.pose, mech, qa, legs)
         res = _certified(mech, qa, fast, chosen, _polish(mech, qa, fast.pose, chosen), bits)
-    _check_round_trip(mech, qa, res.pose, res.error, method, units)
+    res = _check_round_trip(mech, qa, res, units, fast, dps, bits)
     _warn_inconsistent(res, fast.residual_tol, units)
     return res
 
@@ -273,9 +280,10 @@ def _refusal(mech, what, mismatch, detail, units=None):
 
 def _flagged(mech, what, valid, mismatch, units=None):
     """:class:`NotFoundError` for a pose whose IK gives back the joint values but where
-    legs do not close (``valid`` (L,) False; :func:`.forward.round_trip`: the reach margin,
-    a prismatic stroke's included, below its rounding slack): the joint values are in
-    range (:func:`.joint_values.check_joint_ranges` refused the others)."""
+    legs provably do not close (``valid`` (L,) False; :func:`_reach_check`: the reach
+    margin below minus its error estimate, or certainly so over the certified box): the
+    joint values are in range (:func:`.joint_values.check_joint_ranges` refused the
+    others)."""
     from .joint_values import joint_amount
     legs = [int(i) + 1 for i in np.flatnonzero(~np.asarray(valid, dtype=bool))]
     amount = joint_amount(np.asarray(mismatch, dtype=float),
@@ -288,20 +296,96 @@ def _flagged(mech, what, valid, mismatch, units=None):
         hint="joint values inside the reach boundary or the stroke")
 
 
-def _check_round_trip(mech, q, pose, error, method, units=None):
-    """:class:`NotFoundError` unless the closed-form IK at ``pose`` gives back ``q`` and
-    every leg closes there (:func:`.forward.round_trip`, with the pose's ``error``
-    (6,))."""
+def _check_round_trip(mech, q, res, units, fast, dps, bits):
+    """``res`` (precise or certified :class:`TieredFK`) with its ``reach_undecided``
+    legs, or :class:`NotFoundError` unless the closed-form IK at its pose gives back
+    ``q`` (:func:`.forward.round_trip`, with the pose's error) and no leg provably fails
+    to close there (:func:`_reach_check`)."""
     from .forward import round_trip
-    mismatch, allowed, valid = round_trip(mech, q, pose, np.asarray(error, dtype=float)[None],
-                                          with_valid=True)
+    mismatch, allowed, _, _ = round_trip(mech, q, res.pose, np.asarray(res.error)[None],
+                                         with_valid=True)
     bad = ~(mismatch[0] <= allowed[0])
     if bad.any():
         legs = [int(i) + 1 for i in np.flatnonzero(bad)]
-        raise _refusal(mech, f"a {method} pose", np.where(bad, mismatch[0], 0.0),
+        raise _refusal(mech, f"a {res.method} pose", np.where(bad, mismatch[0], 0.0),
                        f"legs {legs}", units)
-    if not valid[0].all():
-        raise _flagged(mech, f"a {method} pose", valid[0], mismatch[0], units)
+    closes, undecided = _reach_check(mech, q, res, fast, dps, bits)
+    if not closes.all():
+        raise _flagged(mech, f"a {res.method} pose", closes, mismatch[0], units)
+    return _undecided(res, undecided)
+
+
+def _reach_check(mech, q, res, fast, dps, bits):
+    """(closes, undecided) (L,) bool at the pose of ``res``, in the tier's arithmetic: a
+    revolute leg *closes* unless its reach margin is below minus its error estimate
+    (:func:`.fast_errors.reach_decision`), and is *undecided* within it of 0.  A leg of
+    a square system (six legs: L = 6, or ``legs``) has its closure zero at the pose: in
+    the certified tier it closes by the proof (the box holds that zero), in the precise
+    one its margin's error is the model of :func:`.fast_errors.reach_margin_error` at
+    10^(1 - dps) with the pose's own error.  Another leg (outside the six, or every leg
+    of the precise least-squares pose of L > 6) closes only as far as the float joint
+    values are consistent: its error adds the fast pose's error estimate (of a residual
+    at most ``residual_tol``), and the certified tier decides it on the arb ball of its
+    margin over the box (``bits``: certainly > 0 closes, certainly below minus that
+    error does not).  A prismatic leg's stroke is checked on the length given
+    (:func:`.forward.round_trip`).  QA 25a finding 1: the certified tier's float test
+    refused "legs [5] do not close" at a pose whose box it had proved to close every
+    leg."""
+    from .fast_errors import reach_decision, reach_margin_error
+    from .forward import pose_error_estimate
+    L = mech.legs
+    pris = np.asarray(mech.leg_arrays()["prismatic"])
+    exact = np.isin(np.arange(1, L + 1), res.legs if len(res.legs) == 6 else ())
+    closes, undecided = np.ones(L, dtype=bool), np.zeros(L, dtype=bool)
+    if exact.all() and res.method == "certified":
+        return closes, undecided
+    X, Q = np.asarray(res.pose, dtype=float)[None], np.asarray(q, dtype=float)[None]
+    floats = pose_error_estimate(mech, fast.condition, min(fast.residual, fast.residual_tol))
+    if res.method == "precise":
+        import mpmath
+
+        from .kinematics_tiers import MPNumber, on_mpmath
+        reach = on_mpmath(mech.kernels("arb").reach)
+        with mpmath.workdps(dps + 5):
+            m = np.array([float(v.v) for v in reach([MPNumber(v) for v in res.native])])
+            own = np.array([float_mpf(v)[1] for v in res.native])  # the float pose's rounding
+        tol = 10.0 ** (1 - dps)
+        pe = np.maximum(res.error - own, tol)
+        error = np.where(exact, reach_margin_error(mech, X, Q, pe, unit=tol)[0],
+                         reach_margin_error(mech, X, Q, pe + floats, unit=tol)[0])
+        closes, undecided = reach_decision(m, error)
+    else:
+        from flint import arb
+
+        from ..exact_roots import working_precision
+        error = reach_margin_error(mech, X, Q, floats)[0]
+        with working_precision(bits):
+            m = [v if isinstance(v, arb) else arb(v)
+                 for v in mech.kernels("arb").reach(list(res.native))]
+            for j in range(L):
+                if exact[j] or pris[j] or m[j] > 0:
+                    continue
+                closes[j] = not m[j] < arb(-float(error[j]))
+                undecided[j] = closes[j]
+    return closes | pris, undecided & ~pris
+
+
+def _undecided(res, undecided):
+    """``res`` with ``reach_undecided`` the legs of the (L,) bool ``undecided``, and a
+    :class:`~distkin.errors.ConditioningWarning` naming them when there is one."""
+    legs = tuple(int(j) + 1 for j in np.flatnonzero(undecided))
+    if legs:
+        from ..errors import ConditioningWarning, warn
+        how = ("float64 does not decide it; method='certified' does" if res.method == "fast"
+               else f"not decided in the {res.method} tier's arithmetic; a leg outside a "
+                    f"square system of six legs closes only as far as the float joint "
+                    f"values are consistent, to their rounding")
+        warn(f"{res.method} forward kinematics: legs {list(legs)} are at their reach "
+             f"boundary within rounding at the pose (reach margin within its error "
+             f"estimate of 0): whether they close there is undecided ({how}); the pose "
+             f"solves the closures within its stated error", ConditioningWarning)
+    from dataclasses import replace
+    return replace(res, reach_undecided=legs)
 
 
 def fast_tier(mech, fast, q=None, units=None) -> TieredFK:
@@ -326,10 +410,12 @@ def fast_tier(mech, fast, q=None, units=None) -> TieredFK:
                               f"got a fast answer flagged outside them: {fast.message}",
                               field="q", hint="pass q to name the legs")
     if not fast.round_trip:
-        mismatch, allowed, valid = (
+        mismatch, allowed, valid, _ = (
             round_trip(mech, np.asarray(q, dtype=float)[None], np.asarray(fast.pose)[None],
-                       err, with_valid=True) if q is not None else
-            (np.full((1, mech.legs), float(fast.q_mismatch)), None, None))
+                       err, with_valid=True, reach_pose_error=pose_error_estimate(
+                           mech, fast.condition, min(fast.residual, fast.residual_tol)))
+            if q is not None else
+            (np.full((1, mech.legs), float(fast.q_mismatch)), None, None, None))
         mismatch = mismatch[0]
         if allowed is not None and np.all(mismatch <= allowed[0]) and not valid[0].all():
             raise _flagged(mech, "a fast pose", valid[0], mismatch, units)
@@ -339,8 +425,11 @@ def fast_tier(mech, fast, q=None, units=None) -> TieredFK:
                        f"{'converged' if fast.converged else 'not converged'} in "
                        f"{fast.iterations} iterations, rms closure residual "
                        f"{float(fast.residual) * lf:.3g} {lu}", units)
-    return TieredFK(np.array(fast.pose), "fast", err[0], False,
-                    tuple(range(1, mech.legs + 1)), float(fast.residual), {}, None, fast)
+    undecided = (np.zeros(mech.legs, dtype=bool) if fast.reach_undecided is None
+                 else np.asarray(fast.reach_undecided, dtype=bool))
+    return _undecided(TieredFK(np.array(fast.pose), "fast", err[0], False,
+                               tuple(range(1, mech.legs + 1)), float(fast.residual), {},
+                               None, fast), undecided)
 
 
 def _polish(mech, q, pose, legs, steps: int = 4):

@@ -16,7 +16,10 @@ Kühne et al., Sec. II-C, eqs. (1)-(2): per leg the closure gives
     plus for a revolute leg the cancellation in :math:`\rho^2 - C^2` (rounding
     :math:`\delta m = 4\,\mathrm{eps}\,\rho^2` moves q by
     :math:`\delta m / (2 \rho \sqrt{\max(|m|, \delta m)})`: up to
-    :math:`\sqrt{\mathrm{eps}}` at the reach boundary).  Of Jq, Jx and J: first-order
+    :math:`\sqrt{\mathrm{eps}}` at the reach boundary).  Whether a leg closes is the sign
+    of its reach margin, decided only beyond the margin's own error estimate
+    (:func:`.fast_errors.reach_margin_error`): within it the leg is ``reach_undecided``,
+    with a :class:`~distkin.errors.ConditioningWarning`.  Of Jq, Jx and J: first-order
     propagation of that IK error :math:`\delta q_i` and of the rounding into the
     formulas at q (:func:`_fast_jacobian_error`),
 
@@ -95,6 +98,8 @@ from ..errors import (ConditioningWarning, InfeasibleError, InputError,
                       SingularConfigurationError, UncertifiedError)
 from ..exact import check_method, default_dps, float_ball
 from .description import _poses, read_only
+from .fast_errors import fast_ik_error as _fast_ik_error
+from .fast_errors import _leg_terms, reach_decision, reach_margin_error
 from .mpmath_kernels import GUARD, MPNumber, _to_float, estimate, on_mpmath, precise_runs
 from ..errors import warn as _warn
 
@@ -242,6 +247,15 @@ class TieredIK:
         The tier's own numbers (mpmath mpf, flint arb); None for ``fast``.
     infeasible : bool array
         Certified tier: the leg certainly does not close.
+    reach_undecided : bool array
+        The leg's reach margin is within the tier's accuracy of 0, which decides
+        nothing: it is at its reach boundary (a prismatic leg at a stroke end) within
+        rounding.  fast: |margin| below its error estimate
+        (:func:`.fast_errors.reach_margin_error`; ``valid`` is then the float sign's
+        guess, wrong either way in that band, QA 25a finding 2); precise: below its
+        estimate (the second run); certified: the margin's ball contains 0 (the leg is
+        also named in ``reasons``).  The fast and precise tiers warn
+        (:class:`~distkin.errors.ConditioningWarning`).
     """
 
     method: str
@@ -254,6 +268,7 @@ class TieredIK:
     reasons: tuple
     values: np.ndarray | None
     infeasible: np.ndarray
+    reach_undecided: np.ndarray | None = None
 
     def __post_init__(self):
         read_only(self)
@@ -334,56 +349,6 @@ def _setup(mech, poses, method, dps, bits):
     prec = {"fast": "float64", "precise": f"mpmath at {dps} digits",
             "certified": f"arb at {bits} bits"}[method]
     return X, dps, bits, prec
-
-
-def _fast_ik_error(mech, X, q, margin, phi=None, jq=None):
-    """First-order error estimate (N, L) of the fast IK (module docstring): the closure
-    residual |Phi_i(q_i)| / |Jq_ii|, 2 eps max(|q|, 1), the rounding of the leg's data
-    at the pose (the joint position P = x + R p and w = P - B - offset carry about
-    eps (|x| + |p| + |B| + |offset|) per coordinate, the dot products A, B and
-    C = (w.w + l1^2 - l3^2) / (2 l1) their own; q = atan2(B, A) ± acos(C / rho) moves
-    by dC / h + dA (1 / rho + |C| / (rho h)); a prismatic q = |w| by eps |w| and w's
-    rounding), and for a revolute leg the cancellation in its reach margin
-    m = rho^2 - C^2 (rounding dm = 4 eps rho^2; q moves by dm / (2 rho h) with
-    h = sqrt(max(|m|, dm)), the sqrt(eps) of a double root at the reach boundary, where
-    the closure residual cannot see it).  The data term is taken at 0.4 of that
-    worst-case sum (the roundings are not all at their bounds, nor of one sign):
-    against a 40-digit mpmath solve of the same closed form on random mixed leg tables
-    the actual error is at most 0.55x the estimate (tests/mechanisms/
-    test_fast_ik_estimate.py), and near a reach boundary the estimate of J stays within
-    10x of the actual error (tests/mechanisms/test_fast_jacobian_error.py): an
-    estimate, not a bound.  ``phi`` = Phi(q, X) and ``jq``
-    (N, L), if already evaluated."""
-    d = mech.leg_arrays()
-    pris = d["prismatic"][None]
-    zero = pris & (q == 0.0)                      # a leg of zero length: Phi is 0/0
-    if phi is None or jq is None:
-        k = mech.kernels("batched")
-        with np.errstate(divide="ignore", invalid="ignore"):
-            phi = k.closure(q, X)[..., 0]
-            jq = k.jq_jx(X)[..., 0]
-    P = mech.points(X, q)["P"]
-    w = P - d["B"][None] - d["offset"][None]
-    A = np.einsum("nli,li->nl", w, d["u"])
-    Bz = np.einsum("nli,li->nl", w, d["v"])
-    rho = np.hypot(A, Bz)
-    dm = 4 * _EPS * rho ** 2
-    # rounding of w (per coordinate) and of C
-    size = (np.abs(X[:, None, :3]).max(axis=-1) + np.linalg.norm(d["p"], axis=-1)[None]
-            + np.linalg.norm(d["B"], axis=-1)[None] + np.linalg.norm(d["offset"], axis=-1)[None])
-    dw = _EPS * size
-    ww = np.einsum("nli,nli->nl", w, w)
-    l1 = np.where(d["l1"] > 0, d["l1"], 1.0)[None]
-    C = (ww + d["l1"][None] ** 2 - d["l3"][None] ** 2) / (2 * l1)
-    dC = (2 * _EPS * (ww + d["l1"][None] ** 2 + d["l3"][None] ** 2)
-          + 2 * np.sqrt(ww) * dw) / (2 * l1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        h = np.sqrt(np.maximum(np.abs(margin), dm))
-        data = 0.4 * np.where(pris, 2 * _EPS * np.sqrt(ww) + 2 * dw,
-                        dC / h + dw * (1 / rho + np.abs(C) / (rho * h)))
-        cancel = np.where(pris, 0.0, dm / (2 * rho * h))
-        lever = np.where((phi == 0) | zero, 0.0, np.abs(phi) / np.abs(jq))  # 0/0 at h = 0
-        return lever + 2 * _EPS * np.maximum(np.abs(q), 1.0) + data + cancel
 
 
 def _fast_jacobian_error(mech, X, q, J, Jq, Jx):
@@ -470,7 +435,8 @@ def _empty(cls, method, prec, L):
     running a kernel: (0, L) arrays, (0, L, 6) for J and Jx (it was an IndexError)."""
     from dataclasses import fields
     row = ("J", "J_error", "Jx", "Jx_error", "values", "jx_values") * (cls is TieredJacobian)
-    kind = dict.fromkeys(("valid", "certified", "infeasible", "inaccurate"), bool)
+    kind = dict.fromkeys(("valid", "certified", "infeasible", "inaccurate", "reach_undecided"),
+                         bool)
     kind.update(dict.fromkeys(("values", "jq_values", "jx_values"), object))
     arrays = {f.name: np.zeros((0,) if f.name == "inaccurate" else (0, L) + (6,) * (f.name in row),
                                dtype=kind.get(f.name, float))
@@ -492,19 +458,24 @@ def ik_tier(mech, poses, method: str = "fast", dps: int | None = None,
     if method == "fast":
         q, valid = mech.inverse_kinematics(X)
         margin = mech.reach_margin(X)
-        err = _fast_ik_error(mech, X, q, margin)
+        terms = _leg_terms(mech, X, q)                      # (shared by both estimates)
+        err = _fast_ik_error(mech, X, q, margin, terms=terms)
         # a revolute leg that does not close has no angle: no finite error (as the J's
         # rows and the precise tier, QA T 2; it was a first-order 0.9 rad at z = 3 m)
         err = np.where(~mech.leg_arrays()["prismatic"][None] & (margin < 0), np.inf, err)
-        return TieredIK(method, prec, q, err, margin, valid, none, (), None, none)
+        undecided = _warn_undecided(mech, margin, reach_margin_error(mech, X, q, terms=terms),
+                                    method)
+        return TieredIK(method, prec, q, err, margin, valid, none, (), None, none, undecided)
     ks = _arb_kernels(mech)
     if method == "precise":
         vals, ref = precise_runs(ks, ("ik", "reach"), X, dps)
         q, margin = _to_float(vals["ik"]), _to_float(vals["reach"])
         err = np.where(_open_legs(mech, (vals, ref)), np.inf,
                        estimate(vals["ik"], ref["ik"], dps))
+        undecided = _warn_undecided(mech, margin, estimate(vals["reach"], ref["reach"], dps),
+                                    method)
         return TieredIK(method, prec, q, err, margin, mech._valid(q, margin), none, (),
-                        vals["ik"], none)
+                        vals["ik"], none, undecided)
     vals = _certified_eval(ks, ("ik", "reach"), X, bits)
     reasons, infeasible = [], none.copy()
     certified, valid = none.copy(), none.copy()
@@ -526,7 +497,34 @@ def ik_tier(mech, poses, method: str = "fast", dps: int | None = None,
                 continue
             certified[i, j], valid[i, j] = True, in_range
     return TieredIK(method, prec, *_split(vals["ik"]), _mid(vals["reach"]),
-                    valid, certified, tuple(reasons), vals["ik"], infeasible)
+                    valid, certified, tuple(reasons), vals["ik"], infeasible,
+                    _contains_zero(vals["reach"]))
+
+
+_contains_zero = np.vectorize(lambda b: not (b > 0) and not (b < 0), otypes=[bool])
+
+
+def _warn_undecided(mech, margin, error, method):
+    """(N, L) bool: the legs whose reach ``margin`` (m^2) is within its ``error`` of 0
+    (:func:`.fast_errors.reach_decision`; not a prismatic leg without a stroke, whose
+    margin q^2 is never negative), with a
+    :class:`~distkin.errors.ConditioningWarning` naming the first pose and its legs
+    when there is one (QA 25a finding 2: the fast tier answered valid or not valid
+    silently there, wrong both ways in that band)."""
+    free = [leg.prismatic and leg.range is None for leg in mech.leg_description().leg_table]
+    undecided = reach_decision(margin, error)[1] & ~np.array(free, dtype=bool)[None]
+    if undecided.any():
+        i = int(np.argmax(undecided.any(axis=-1)))
+        legs = [int(j) + 1 for j in np.flatnonzero(undecided[i])]
+        _warn(f"{method} inverse kinematics: at {int(undecided.any(axis=-1).sum())} of "
+              f"{len(margin)} pose(s) (first: pose {i}, legs {legs}, reach margins "
+              f"{', '.join(f'{float(v):.2g}' for v in margin[i][undecided[i]])} m^2 within "
+              f"their error estimates of 0) a leg is at its reach boundary (or a stroke "
+              f"end) within rounding: whether it closes is undecided, and its valid "
+              f"flag is the float sign's guess; see .reach_undecided, or use "
+              f"method='certified' (it decides the leg, or names it undecided)",
+              ConditioningWarning)
+    return undecided
 
 
 def jacobian_tier(mech, poses, method: str = "fast", dps: int | None = None,

@@ -16,7 +16,8 @@ from flint import arb
 
 from distkin.app.cli import run_scene
 from distkin.app.scene import loads_scene
-from distkin.errors import GeometryWarning, InfeasibleError, InputError, UncertifiedError
+from distkin.errors import (ConditioningWarning, GeometryWarning, InfeasibleError, InputError,
+                            UncertifiedError)
 from distkin.exact_roots import working_precision
 from distkin.mechanisms import preset
 from distkin.mechanisms.kinematics import LegMechanism
@@ -132,8 +133,11 @@ def test_rss_reach_boundary_is_refused():
     res = ik_tier(m, X, "certified", bits=53)
     assert not res.certified.any() and not res.infeasible.any()
     assert "contains 0" in res.reasons[0][2] and "reach boundary" in res.reasons[0][2]
+    assert res.reach_undecided.all()               # (the same, as a flag per leg)
     fine = ik_tier(m, X, "certified")
-    fast = ik_tier(m, X, "fast")
+    with pytest.warns(ConditioningWarning, match="reach boundary"):
+        fast = ik_tier(m, X, "fast")               # within rounding of it: flagged
+    assert fast.reach_undecided.all() and not fine.reach_undecided.any()
     assert fine.certified.all()
     assert np.all(np.abs(fast.q - fine.q) <= fine.q_error + fast.q_error)
     assert fast.q_error.max() > 1e-10              # the estimate sees the boundary

@@ -12,8 +12,10 @@ JSON adds ``method``, ``pose_error`` (m, rad per coordinate: estimate or proved 
 ``contraction``, and the fast answer's check (:mod:`distkin.mechanisms.forward`):
 ``verified`` (the round trip, the rms closure residual within ``residual_tol``, m, and
 the joint values in range), ``round_trip`` (the closed-form IK at the pose gives back the
-angles and every leg closes there, within rounding), ``in_range`` (every joint value within its
-leg's declared ``range``) and ``q_mismatch`` (the largest |IK(pose) - angle|, rad; m for
+angles and no leg provably fails to close there), ``reach_undecided`` (the legs, 1-based,
+at their reach boundary within the tier's rounding at the pose: whether they close is
+undecided there, a warning, not a refusal; QA 25a finding 1), ``in_range`` (every joint
+value within its leg's declared ``range``) and ``q_mismatch`` (the largest |IK(pose) - angle|, rad; m for
 a prismatic leg).  Joint values outside their legs' declared ranges are no
 configuration of the device: every tier refuses them before solving, an ``infeasible``
 error naming ``angles[j]``, the leg, its value and its range in the scene's units
@@ -92,8 +94,12 @@ def _verified_line(res, angles, mech, scene, method: str) -> str:
     both numbers in the scene's units."""
     lu, au, lf, af = _units(scene)
     what = _joint_word(mech)
+    open_ = ([] if res.reach_undecided is None else
+             [int(j) + 1 for j in np.flatnonzero(res.reach_undecided)])
     trip = (f"round trip ok (the inverse kinematics at the pose gives back the {what}) "
-            f"and every leg closes there"
+            + (f"and every leg closes there" if not open_ else
+               f"and no leg provably fails to close there (legs {open_} at their reach "
+               f"boundary within rounding: undecided in float64)")
             if res.round_trip else
             f"round trip FAILED (the inverse kinematics at the pose does not give back "
             f"the {what}, or a leg does not close there)")
@@ -276,6 +282,10 @@ class ForwardKinematicsQuery:
             lines.append(f"assembly modes (exact octic, Rojas et al. eq. (3)): "
                          f"{len(modes)}, the one nearest the start polished above")
             lines += [f"  mode {k}: {_fmt_pose(x, scene, 6)}" for k, x in enumerate(modes)]
+        if tier.reach_undecided:
+            lines.append(f"legs {list(tier.reach_undecided)}: at their reach boundary within "
+                         f"rounding at the pose ({p.method} tier: reach margin within its "
+                         f"error estimate of 0), whether they close is undecided")
         for leg, bound in tier.other_legs.items():
             lines.append(f"leg {leg}: closure error at most {bound * lf:.3g} {lu} over the "
                          f"proved box")
@@ -286,7 +296,7 @@ class ForwardKinematicsQuery:
                   "guess": guess, "method": p.method,
                   "pose_error": err, "certified": tier.certified, "legs": list(tier.legs),
                   "verified": res.verified, "round_trip": res.round_trip,
-                  "in_range": res.in_range,
+                  "in_range": res.in_range, "reach_undecided": list(tier.reach_undecided),
                   **({} if modes is None else {"modes": modes}),
                   "q_mismatch": res.q_mismatch, "residual_tol": res.residual_tol,
                   "unit": {"pose": "m, rad", "residual": "m", "pose_error": "m, rad",

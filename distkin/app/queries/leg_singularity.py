@@ -42,7 +42,8 @@ Every pose is first checked by the inverse kinematics at the query's tier
 ``reachable`` (every leg closes within its declared joint range or stroke; certified:
 certainly), ``unreachable_legs`` (1-based), of them ``out_of_range_legs`` (a revolute
 leg that closes outside its angle range, a prismatic leg outside its stroke) and
-``undecided_legs`` (certified: a leg no ball decides).  At a pose with an unreachable
+``undecided_legs`` (certified: a leg no ball decides; fast, precise: a reach margin
+within its error estimate of 0).  At a pose with an unreachable
 leg the device cannot be: every test is null (``sigma_min``, ``det_J``,
 ``det_sign_certified``, ...), ``singular`` is null and the verdict says why (text: "NOT
 reachable (legs [...])", "undefined (pose not reachable)", as the jacobian query;
@@ -398,8 +399,8 @@ def _tests_if_reachable(mech, x, p, st, crossing=False) -> dict:
     :func:`singularity_tests_at` and their verdict where every leg closes within its
     range.  Where a leg certainly does not (``unreachable_legs``) the leg lines do not
     exist: every test is null and there is no verdict (QA: "det J certified < 0,
-    singular: no" 3 m above the Hunt preset, which no leg reaches).  Where the certified
-    tier cannot decide a leg (``undecided_legs``) the tests are evaluated but
+    singular: no" 3 m above the Hunt preset, which no leg reaches).  Where the tier
+    cannot decide a leg (``undecided_legs``) the tests are evaluated but
     ``singular`` is null: regularity of a pose not proved reachable is not proved."""
     if st["unreachable_legs"]:
         app = applicability(mech)
@@ -414,7 +415,7 @@ def _tests_if_reachable(mech, x, p, st, crossing=False) -> dict:
         r = singularity_tests_at(mech, x, p.method, p.tolerance)
         if not st["reachable"]:
             r["singular"] = None
-            r["singular_test"] += (f"; the pose's reachability is not certified (legs "
+            r["singular_test"] += (f"; the pose's reachability is not decided (legs "
                                    f"{st['undecided_legs']} undecided): no verdict")
     r["pose"] = [float(v) for v in x]
     r.update(st)

@@ -316,16 +316,22 @@ class InverseKinematicsQuery:
         lu, au, lf, af = _units(scene)
         rows, lines = [], [_describe(mech, lf, lu)]
         for i in range(len(X)):
-            ok = bool(valid[i].all())
-            rows.append(_tier_rows(res, i, {"pose": X[i], "q": q[i], "valid": valid[i],
-                                            "reachable": ok, "reach_margin": margin[i]},
-                                   "q_error"))
             # certified: a leg that is neither certified nor certainly infeasible is
-            # undecided (at its reach boundary, ...), not unreachable
-            verdict = reach_text(reach_status(mech, res, i))
-            lines.append(f"pose {i}: {_fmt_pose(X[i], scene)}  -> " + verdict)
+            # undecided (at its reach boundary, ...), not unreachable; fast, precise: a
+            # reach margin within its error estimate of 0 (QA 25a finding 2)
+            status = reach_status(mech, res, i)
+            rows.append(_tier_rows(res, i, {"pose": X[i], "q": q[i], "valid": valid[i],
+                                            "reachable": status["reachable"],
+                                            "reach_margin": margin[i]},
+                                   "q_error", "reach_undecided"))
+            lines.append(f"pose {i}: {_fmt_pose(X[i], scene)}  -> " + reach_text(status))
             lines.append("  q = " + _joint_text(q[i], mech, scene))
             lines += _tier_lines(res, i)
+            if res.method != "certified" and res.reach_undecided[i].any():
+                lines.append(f"  undecided in {res.precision}: legs "
+                             f"{status['undecided_legs']}: the reach margin is within its "
+                             f"error estimate of 0 (at the reach boundary within rounding; "
+                             f"valid is the sign's guess); method = \"certified\" decides")
         closes = np.asarray(margin) >= 0
         if not valid.any() and closes.any():   # the joint ranges exclude them (QA Q 5)
             lines.append("note: no leg is valid at any of these poses, yet legs close "
