@@ -329,6 +329,11 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
               "most 1e-12): each left out of the rows whose value float64 cannot give "
               "there (ConditioningWarning; distkin.indices.zonotope)"
               for s in summaries if s.get("flagged_poses")]
+    lines += [f"  {s['label']}: {s['unresolved_poses']:,} reachable poses where float64 does "
+              "not resolve J (a leg within rounding of its reach boundary: J's error estimate "
+              "above 1e-6 of a row): left out of every row (ConditioningWarning; "
+              "distkin.indices.jacobian_resolution)"
+              for s in summaries if s.get("unresolved_poses")]
     lines += ["", tables, "", "Findings of the paper:"]
     lines += [_finding_text(f) for f in fnd]
     lines += ["", "Design criteria (Sec. II-A; each with its own test, see the JSON):"]
