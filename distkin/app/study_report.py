@@ -173,6 +173,7 @@ def _units_block(actuators) -> dict:
     (QA V: worst poses, actuator figures and dexterous-workspace thresholds had none;
     the table rows carry theirs, ``table[q]["unit"]``)."""
     from ..indices.actuators import KEY_UNITS
+    from ..indices.isotropy import SIGMA_UNITS
     return {"actuators": {k: KEY_UNITS.get(k, "see actuator_limits.units")
                           for k in actuators},
             "devices[].worst_poses": "x, y, z in m, rx, ry, rz in rad: the grid pose of "
@@ -181,7 +182,17 @@ def _units_block(actuators) -> dict:
             "devices[].dexterous_workspace.thresholds": {"velocity": "m/s",
                                                          "acceleration": "m/s²",
                                                          "force": "N"},
-            "devices[].rotation_deg": "deg", "seconds": "s (wall)"}
+            "devices[].rotation_deg": "deg", "seconds": "s (wall)",
+            # QA 25a F5: σ of ST⁻¹Jᵀ are per unit of actuator effort, not dimensionless
+            "devices[].isotropy": "gii, gii_full_range, readings[].gii: 1 (dimensionless); "
+                                  "sigma_min, sigma_max (and *_full_range, readings.wrench): "
+                                  "1/(N·m) for revolute actuators, 1/N for prismatic ones "
+                                  "(ST⁻¹Jᵀ maps the actuator effort to the wrench in units "
+                                  "of ST); readings' σ: "
+                                  + "; ".join(f"{r} {rev} (revolute), {pri} (prismatic)"
+                                              if rev != pri else f"{r} {rev}"
+                                              for r, (rev, pri) in SIGMA_UNITS.items()
+                                              if r != "wrench")}
 
 
 def _cm3(volume_m3: float, lu: str = "cm") -> str:

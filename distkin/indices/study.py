@@ -122,9 +122,11 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         that pose is inaccurate (QA 25a F4: σmax 15 % off), with one
         :class:`~distkin.errors.ConditioningWarning` per call; :func:`study_chunk`
         leaves such poses out.  :data:`QUANTITIES`, in the units of :data:`CAPABILITIES`,
-        :data:`TRUE_VELOCITIES` and :data:`SENSITIVITIES`; ``sigma_*`` dimensionless
-        (``sigma_min``/``sigma_max``: the chosen reading ST⁻¹Jᵀ; ``sigma_*_<reading>``
-        the others of :data:`SIGMA_READINGS`); ``transmission_min`` = min_i |Jq_ii|/l1_i
+        :data:`TRUE_VELOCITIES` and :data:`SENSITIVITIES`; ``sigma_min``/``sigma_max``
+        of the chosen reading ST⁻¹Jᵀ in 1/(N·m) (1/N for prismatic actuators; not
+        dimensionless, QA 25a F5), ``sigma_*_<reading>`` of the others of
+        :data:`SIGMA_READINGS` in theirs (:data:`.isotropy.SIGMA_UNITS`);
+        ``transmission_min`` = min_i |Jq_ii|/l1_i
         (l1_i the crank of leg i, 1 for a prismatic leg);
         ``det_sign`` the sign of det J (L = 6; 1 for L = 8).
 
