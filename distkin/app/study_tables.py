@@ -131,8 +131,10 @@ def _unlike_paper_table4(s, grid) -> str:
     orientations, ``s["isotropy"]["rotation_deg"]``) is over the paper's poses: Table
     II's grid, ±20° in steps of 5° (Kühne et al. Sec. III-B-2, Table II) for every
     device; else what differs.  QA 23: the Table IV rows said "yes" on the coarse grid
-    while the Table III rows beside them said "no"."""
-    if s.get("paper_column") not in PAPER_TABLE4:
+    while the Table III rows beside them said "no".  Also for a paper device without a
+    Table IV value (Ergin's, the HEXA: QA 25a F6, their rows said "yes" on the grid that
+    made the others' "no"); "" for a device that is not the paper's."""
+    if not s.get("paper_column"):
         return ""
     return _unlike_grid(grid, s["positions"], s["isotropy"]["rotation_deg"], 20.0,
                         "Table IV: Table II's")
@@ -204,8 +206,10 @@ def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
             reason = f"{_subset(i)}, the unreachable ones left out" + (
                 "" if reason == "—" else f"; {reason}")
         cell = _same("yes", i)
-        if i.get("unlike_paper") and i.get("paper_gii") is not None:
-            cell = (f"no: {i['unlike_paper']}; ratio not like for like" if cell == "yes"
+        if i.get("unlike_paper"):
+            tail = ("ratio not like for like" if i.get("paper_gii") is not None
+                    else "the paper prints no Table IV value for it")
+            cell = (f"no: {i['unlike_paper']}; {tail}" if cell == "yes"
                     else f"{cell}; {i['unlike_paper']}")
         label = s["label"] if su else f"{s['label']} (σ in {_sigma_unit(s)})"
         row = [label, cell, _f(i["gii"]), _f(i.get("paper_gii")),
