@@ -74,8 +74,9 @@ def design_sweep_report(p, scene, ctx, *, store, executor):
               f"optimum: a tie of {len(ties)} designs at equal GII (not decided by their "
               f"order): " + "; ".join(f"({show_design(designs[i])})" for i in ties[:6])
               + ("; ..." if len(ties) > 6 else "") + "; the first: ")
-             + show_design(best) + f"; GII = {r['gii']:.4g} (σmin = {r['sigma_min']:.4g}, "
-               f"σmax = {r['sigma_max']:.4g}; dimensionless, σ of ST⁻¹Jᵀ, "
+             + show_design(best) + f"; GII = {r['gii']:.4g} (σmin = {r['sigma_min']:.4g} "
+               f"and σmax = {r['sigma_max']:.4g} in 1/(N·m): σ of ST⁻¹Jᵀ, the wrench in "
+               f"units of ST per N·m of actuator torque; the GII dimensionless; "
                f"{scaling_note(p.scaling)})",
              "paper (Table I, Sec. III-B-2): l2 = 0 mm, beta = 0°, gamma = 0°, ld = 20 mm; "
              f"GII = {PAPER_TABLE1['gii']:g} (σmin = {PAPER_TABLE1['sigma_min']:g}, σmax = "
@@ -278,9 +279,9 @@ def _ratio(culled, ref, less, more):
 
 #: units of the design-sweep JSON (the parameters carry theirs in the key's suffix)
 UNITS = {"gii": "1 (dimensionless: σmin / σmax)",
-         "sigma_min": "1 (dimensionless singular value of ST⁻¹Jᵀ, per unit actuator torque "
-                      "scaled by ST)",
-         "sigma_max": "1 (as sigma_min)", "coverage": "1 (fraction of the grid's poses)",
+         "sigma_min": "1/(N·m) (singular value of ST⁻¹Jᵀ: the wrench in units of ST per "
+                      "N·m of actuator torque)",
+         "sigma_max": "1/(N·m) (as sigma_min)", "coverage": "1 (fraction of the grid's poses)",
          "seconds": "s", "evaluations": "(design, pose) pairs"}
 _SUFFIX = {"l2": "l2_m", "ld": "ld_m", "beta": "beta_rad", "gamma": "gamma_rad"}
 

@@ -158,7 +158,8 @@ def _notes(summaries) -> str:
             for s in summaries if _subset(s) or _subset(s["isotropy"])]
     unlike = [f"{s['label']}: {s['unlike_paper']}" for s in summaries if s.get("unlike_paper")]
     unlike4 = [f"{s['label']}: {s['isotropy']['unlike_paper']}" for s in summaries
-               if s["isotropy"].get("unlike_paper")]
+               if s["isotropy"].get("unlike_paper") and s["isotropy"].get("paper_gii")
+               is not None]
     return _NOTES.replace("{subset}", ", the poses the device reaches only: " + "; ".join(
         part) + " (the unreachable poses are left out, not scored σmin = 0 as a design_sweep's "
         "unreachable = \"zero\" does; the ratios to the paper are not like for like)"
@@ -173,6 +174,7 @@ def _units_block(actuators) -> dict:
     (QA V: worst poses, actuator figures and dexterous-workspace thresholds had none;
     the table rows carry theirs, ``table[q]["unit"]``)."""
     from ..indices.actuators import KEY_UNITS
+    from ..indices.isotropy import SIGMA_UNITS
     return {"actuators": {k: KEY_UNITS.get(k, "see actuator_limits.units")
                           for k in actuators},
             "devices[].worst_poses": "x, y, z in m, rx, ry, rz in rad: the grid pose of "
@@ -181,7 +183,17 @@ def _units_block(actuators) -> dict:
             "devices[].dexterous_workspace.thresholds": {"velocity": "m/s",
                                                          "acceleration": "m/s²",
                                                          "force": "N"},
-            "devices[].rotation_deg": "deg", "seconds": "s (wall)"}
+            "devices[].rotation_deg": "deg", "seconds": "s (wall)",
+            # QA 25a F5: σ of ST⁻¹Jᵀ are per unit of actuator effort, not dimensionless
+            "devices[].isotropy": "gii, gii_full_range, readings[].gii: 1 (dimensionless); "
+                                  "sigma_min, sigma_max (and *_full_range, readings.wrench): "
+                                  "1/(N·m) for revolute actuators, 1/N for prismatic ones "
+                                  "(ST⁻¹Jᵀ maps the actuator effort to the wrench in units "
+                                  "of ST); readings' σ: "
+                                  + "; ".join(f"{r} {rev} (revolute), {pri} (prismatic)"
+                                              if rev != pri else f"{r} {rev}"
+                                              for r, (rev, pri) in SIGMA_UNITS.items()
+                                              if r != "wrench")}
 
 
 def _cm3(volume_m3: float, lu: str = "cm") -> str:
@@ -196,6 +208,29 @@ def _length(length_m: float, lu: str) -> str:
     """A length (m) in the scene's unit ``lu`` with its unit, 4 significant digits."""
     f, lu = length_unit_of(lu)
     return f"{sig(length_m * f)} {lu}"
+
+
+def _grid_text(grid, lu: str) -> str:
+    """The resolution of ``grid`` in words (QA 25a F6: the text gave "343 positions" and
+    Table II's step, never its own): per axis its half-range about the middle and its
+    step, axes with the same values named together, lengths in the scene's unit."""
+    def group(names, axes, show):
+        words = {}
+        for name, a in zip(names, axes):
+            a = np.asarray(a, dtype=float)
+            words.setdefault(f"at {show(a[0])}" if len(a) == 1 else
+                             f"±{show((a[-1] - a[0]) / 2)} in steps of {show(a[1] - a[0])} "
+                             f"({len(a)} values", []).append(name)
+        return "; ".join(f"{', '.join(n)}: {w}" + ("" if w.startswith("at") else
+                                                     " each)" if len(n) > 1 else ")")
+                         for w, n in words.items())
+    z = np.asarray(grid.z, dtype=float)
+    pos = group(("x", "y", "z"), (grid.x, grid.y, z - (z.max() + z.min()) / 2),
+                lambda v: _length(v, lu))
+    rot = group(("rx", "ry", "rz"), (grid.rx, grid.ry, grid.rz),
+                lambda v: f"{sig(math.degrees(v))}°")
+    return (f"positions {pos} about z = {_length((z.max() + z.min()) / 2, lu)}; "
+            f"orientations {rot}")
 
 
 def _refuse_unreachable(summaries, grids, scene):
@@ -305,7 +340,8 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
         dw = s["dexterous_workspace"]
         cert = s.get("certificate")
         lines.append(f"  {s['label']}: {s['poses']:,} poses ({s['positions']:,} positions × "
-                     f"{s['orientations']:,} orientations, ±{s['rotation_deg']:.0f}°), "
+                     f"{s['orientations']:,} orientations, ±{s['rotation_deg']:.0f}°: "
+                     f"{_grid_text(grids[s['label']][0], lu)}), "
                      f"{100 * s['reachable_fraction']:.2f} % reachable"
                      + (" (every row below is over the reachable poses only)"
                         if s["reachable_only"] and s["reachable_poses"] else "") + ", "
@@ -329,6 +365,11 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
               "most 1e-12): each left out of the rows whose value float64 cannot give "
               "there (ConditioningWarning; distkin.indices.zonotope)"
               for s in summaries if s.get("flagged_poses")]
+    lines += [f"  {s['label']}: {s['unresolved_poses']:,} reachable poses where float64 does "
+              "not resolve J (a leg within rounding of its reach boundary: J's error estimate "
+              "above 1e-6 of a row): left out of every row (ConditioningWarning; "
+              "distkin.indices.jacobian_resolution)"
+              for s in summaries if s.get("unresolved_poses")]
     lines += ["", tables, "", "Findings of the paper:"]
     lines += [_finding_text(f) for f in fnd]
     lines += ["", "Design criteria (Sec. II-A; each with its own test, see the JSON):"]

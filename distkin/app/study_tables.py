@@ -64,6 +64,20 @@ def _unit(q, unit, s) -> str:
     return prismatic if all(pris) else mixed if any(pris) else revolute
 
 
+def _sigma_unit(s, reading="wrench") -> str:
+    """The unit of device summary ``s``'s σ of ``reading`` (:func:`.isotropy.sigma_unit`,
+    by its actuators: 1/(N·m) for ST⁻¹Jᵀ of revolute legs, 1/N of prismatic ones; QA 25a
+    F5: Table IV printed them without one, and the text called them dimensionless)."""
+    from ..indices.isotropy import sigma_unit
+    return sigma_unit((s.get("actuator_limits") or {}).get("prismatic") or [False], reading)
+
+
+def _common_unit(summaries, reading="wrench"):
+    """The unit every device's σ of ``reading`` shares, or None."""
+    units = {_sigma_unit(s, reading) for s in summaries}
+    return units.pop() if len(units) == 1 else None
+
+
 def _subset(e) -> str:
     """"" when a row's extremes are over every grid pose; else which poses they are over
     (``summarise``'s ``reachable_only``, ``poses_used``, ``poses_total``).  A device
@@ -117,8 +131,10 @@ def _unlike_paper_table4(s, grid) -> str:
     orientations, ``s["isotropy"]["rotation_deg"]``) is over the paper's poses: Table
     II's grid, ±20° in steps of 5° (Kühne et al. Sec. III-B-2, Table II) for every
     device; else what differs.  QA 23: the Table IV rows said "yes" on the coarse grid
-    while the Table III rows beside them said "no"."""
-    if s.get("paper_column") not in PAPER_TABLE4:
+    while the Table III rows beside them said "no".  Also for a paper device without a
+    Table IV value (Ergin's, the HEXA: QA 25a F6, their rows said "yes" on the grid that
+    made the others' "no"); "" for a device that is not the paper's."""
+    if not s.get("paper_column"):
         return ""
     return _unlike_grid(grid, s["positions"], s["isotropy"]["rotation_deg"], 20.0,
                         "Table IV: Table II's")
@@ -163,13 +179,18 @@ def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
     lines += ["", "Definitions: " + "; ".join(
         f"{lab}: {row_definition(q, sensitivity, limits)[1]}" for q, lab, _ in _ROWS)]
     rots = sorted({f"±{s['isotropy']['rotation_deg']:.0f}°" for s in summaries})
+    su = _common_unit(summaries)
     lines += ["", "Table IV analogue: GII = min σmin / max σmax of ST⁻¹Jᵀ over the "
               f"orientations ({', '.join(rots)}; the paper: Table II's ±20°), same "
               "definition as the paper (yes; which matrix ST "
               "scales is not printed: our reading ST⁻¹Jᵀ, distkin.indices.isotropy); ours "
-              "beside Kühne et al. Table IV.", "",
-              "| Kinematics | same def. | GII ours | paper | ratio | σmin ours | paper | ratio "
-              "| σmax ours | paper | ratio | reason for a gap beyond 2× |",
+              "beside Kühne et al. Table IV.  The GII is dimensionless; σmin and σmax are "
+              "per unit of actuator effort (ST⁻¹Jᵀ maps it to the wrench in units of ST): "
+              + (f"{su}" if su else "their unit by device, in the first column")
+              + " (the paper prints none).", "",
+              f"| Kinematics | same def. | GII ours | paper | ratio | σmin ours [{su or 'unit'}] "
+              f"| paper | ratio | σmax ours [{su or 'unit'}] | paper | ratio | reason for a gap "
+              "beyond 2× |",
               "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for s in summaries:
         i = s["isotropy"]
@@ -185,10 +206,13 @@ def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
             reason = f"{_subset(i)}, the unreachable ones left out" + (
                 "" if reason == "—" else f"; {reason}")
         cell = _same("yes", i)
-        if i.get("unlike_paper") and i.get("paper_gii") is not None:
-            cell = (f"no: {i['unlike_paper']}; ratio not like for like" if cell == "yes"
+        if i.get("unlike_paper"):
+            tail = ("ratio not like for like" if i.get("paper_gii") is not None
+                    else "the paper prints no Table IV value for it")
+            cell = (f"no: {i['unlike_paper']}; {tail}" if cell == "yes"
                     else f"{cell}; {i['unlike_paper']}")
-        row = [s["label"], cell, _f(i["gii"]), _f(i.get("paper_gii")),
+        label = s["label"] if su else f"{s['label']} (σ in {_sigma_unit(s)})"
+        row = [label, cell, _f(i["gii"]), _f(i.get("paper_gii")),
                _ratio(i.get("ratio_gii")), _f(i["sigma_min"]), _f(i.get("paper_sigma_min")),
                _ratio(i.get("ratio_sigma_min")), _f(i["sigma_max"]),
                _f(i.get("paper_sigma_max")), _ratio(i.get("ratio_sigma_max")), reason]
@@ -198,7 +222,11 @@ def markdown_tables(summaries, *, sensitivity="slice", certified=None) -> str:
     lines += ["", f"Readings of Stocco's scaling (σmin / σmax over the {', '.join(rots)} "
               "orientations" + (f", {'; '.join(part)}" if part else "") + "; "
               "the GII is the same for the readings that differ by a factor or an "
-              "inverse); the paper's Table IV in the last column.", "",
+              "inverse); the paper's Table IV in the last column.  Units of σ per reading: "
+              + "; ".join(f"{text}: " + (_common_unit(summaries, r) or "by device ("
+                                         + ", ".join(f"{s['label']} {_sigma_unit(s, r)}"
+                                                     for s in summaries) + ")")
+                          for r, text in SCALING_READINGS.items()) + ".", "",
               "| Kinematics | " + " | ".join(SCALING_READINGS.values()) + " | paper |",
               "|---|" + "---|" * (len(SCALING_READINGS) + 1)]
     for s in summaries:

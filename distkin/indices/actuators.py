@@ -22,7 +22,7 @@ import numpy as np
 from ..errors import InputError
 
 __all__ = ["REVOLUTE_KEYS", "PRISMATIC_KEYS", "KEY_UNITS", "leg_limits", "uniform_limits", "limit_text",
-           "per_leg_capabilities"]
+           "per_leg_capabilities", "transmission_lengths"]
 
 #: the keys of the actuators table for revolute and for prismatic legs (same order:
 #: nominal effort, stall effort, rate)
@@ -138,3 +138,13 @@ def per_leg_capabilities(J, M, lim, capabilities, true_velocities):
             if cap[3] == "twist":
                 out[cap[0]] = out[cap[0] + "_true"].copy()
     return out
+
+
+def transmission_lengths(mech):
+    """(L,) the length each leg's |Jq_ii| is divided by in ``transmission_min``: its crank
+    (m; the sine of its transmission angle) for a revolute leg, 1 for a prismatic one
+    (|Jq_ii| = 1: full transmission); an RSS description's common l1."""
+    legs = getattr(mech, "leg_table", None)
+    if legs is None:
+        return np.full(mech.L, mech.l1)
+    return np.array([1.0 if leg.prismatic else leg.crank for leg in legs])

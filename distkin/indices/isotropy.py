@@ -32,8 +32,11 @@ our choice:
     ``ST⁻¹ Jxᵀ``: the direct-kinematics matrix of eq. (1) alone ("singular values of Jx
     or J", Sec. II-C-1; rows are the unit Plücker lines of the distal links).
 
-A length unit changes the singular values by its factor and leaves κ and the GII
-alone: J in rad/mm with ST in N and N·mm gives W/1000 (the wrench per N·mm of actuator
+Units (QA 25a F5): W has the units of the actuator effort's reciprocal, 1/(N·m) for
+revolute actuators (J in rad/m, rad/rad; ST in N, N·m) and 1/N for prismatic ones, and
+so have σmin and σmax (:data:`SIGMA_UNITS`, :func:`sigma_unit`); κ and the GII, their
+ratios, are dimensionless.  A length unit changes the singular values by its factor and
+leaves κ and the GII alone: J in rad/mm with ST in N and N·mm gives W/1000 (the wrench per N·mm of actuator
 torque instead of per N·m: consistent units, a different unit of the input), so σmin
 and σmax are 1000 times smaller and σmin/σmax is the same (tests/indices:
 test_a_length_unit_scales_sigma_and_keeps_kappa).  The study reports σmin and σmax of every
@@ -64,7 +67,7 @@ from .tiers import fast_only
 
 __all__ = ["ST_DEFAULT", "scaled_singular_values", "condition_number", "gii",
            "CullingResult", "culling_sweep", "brute_force_sweep", "SCALING_READINGS",
-           "reading_singular_values", "check_scaling"]
+           "reading_singular_values", "check_scaling", "SIGMA_UNITS", "sigma_unit"]
 
 #: the scaling matrix of Sec. III-B-2, diagonal, (N, N, N, N·m, N·m, N·m)
 ST_DEFAULT = (15.0, 15.0, 15.0, 1.0, 1.0, 1.0)
@@ -78,6 +81,31 @@ SCALING_READINGS = {
     "inverse": "J#ᵀ·ST = pinv(ST⁻¹Jᵀ)",
     "jx": "ST⁻¹Jxᵀ (Jx of eq. (1) only)",
 }
+
+
+#: units of the singular values of each reading (revolute actuators, prismatic ones):
+#: J has rows rad/m, rad/rad (revolute) or m/m, m/rad (prismatic), ST is in N and N·m,
+#: so W = ST⁻¹Jᵀ maps an actuator effort (N·m, N) to the wrench in units of ST: its σ
+#: are per N·m or per N; Jx = Jq J has rows m/m, m/rad for both (QA 25a F5)
+SIGMA_UNITS = {
+    "wrench": ("1/(N·m)", "1/N"),
+    "wrench_nominal": ("1", "1"),
+    "unscaled": ("mixed (rows 1/m and 1)", "mixed (rows 1 and m)"),
+    "task_multiplied": ("mixed (rows N/m and N·m)", "mixed (rows N and N·m²)"),
+    "inverse": ("N·m", "N"),
+    "jx": ("1/N", "1/N"),
+}
+
+
+def sigma_unit(prismatic, reading: str = "wrench") -> str:
+    """The unit of the singular values of ``reading`` (:data:`SIGMA_UNITS`) for legs
+    ``prismatic`` ((L,) bool; one bool for all): a table of both kinds mixes per-N·m
+    and per-N columns, which the text says.  κ and the GII are dimensionless."""
+    rev, pri = SIGMA_UNITS[reading]
+    pris = np.asarray(prismatic, dtype=bool)
+    if rev == pri or not pris.any():
+        return rev
+    return pri if pris.all() else f"mixed ({rev} revolute, {pri} prismatic columns)"
 
 
 def check_scaling(ST):
@@ -110,7 +138,10 @@ def scaled_singular_values(J, ST=ST_DEFAULT, *, method: str = "fast"):
     Returns
     -------
     smin, smax : ndarray (...)
-        Dimensionless (intended wrench per N·m of actuator torque).  float64 SVD,
+        In 1/(N·m) for revolute actuators, 1/N for prismatic ones (:func:`sigma_unit`):
+        W maps an actuator effort (N·m, N) to the wrench in units of ST (dimensionless),
+        so its σ are per unit of actuator effort; only κ and the GII are dimensionless
+        (QA 25a F5: they were labelled dimensionless).  float64 SVD,
         relative accuracy about 1e-16 × κ⁻¹ for σmin.  Fewer than 6 legs (L < 6):
         σmin = 0 (W of rank L < 6 misses a wrench direction), so κ = 0.
 

@@ -25,8 +25,11 @@ import numpy as np
 
 from .capability import output_generators
 from .isotropy import ST_DEFAULT, gii, reading_singular_values
+from .jacobian_resolution import unresolved_poses, warn_unresolved
+from .paper_tables import PAPER_TABLE3, PAPER_TABLE4
 from .sensitivity import max_sensitivities
 from .velocity_set import true_velocity_worst
+from .workspace import inner_covered
 from .zonotope import _facets, _ratio_min, zonotope_worst
 
 __all__ = ["CAPABILITIES", "SENSITIVITIES", "TRUE_VELOCITIES", "QUANTITIES", "ACTUATORS",
@@ -67,31 +70,17 @@ QUANTITIES = (tuple(c[0] for c in CAPABILITIES) + tuple(t[0] for t in TRUE_VELOC
 ACTUATORS = {"nominal_torque": 2.5, "stall_torque": 34.2, "velocity": 51.0}
 
 _ROWS = [c[0] for c in CAPABILITIES] + [s[0] for s in SENSITIVITIES]
+#: evaluate_poses' flag of the poses whose J float64 does not resolve, and all its keys
+_UNRES = "J_unresolved"
+_KEYS = QUANTITIES + (_UNRES,)
 #: quantities whose worst pose (orientation index) each chunk keeps
 _ARGMIN = tuple(c[0] for c in CAPABILITIES) + tuple(t[0] for t in TRUE_VELOCITIES)
-_T3 = {  # Table III: min (max) of each row, in the order of _ROWS
-    "ergin": [(0.00, 12.72), (0.00, 0.59), (2.78, 7.85), (67.99, 182.63), (0.00, 1023.37),
-              (0.00, 26685.08), (0.16, 0.31), (4.56, 14.83), (11.96, 38.15), (0.36, 0.87)],
-    "hexa": [(0.57, 26.25), (0.03, 1.17), (2.78, 8.01), (69.06, 175.17), (45.78, 2112.64),
-             (1239.99, 53511.95), (0.18, 0.38), (3.68, 9.22), (16.37, 35.37), (0.62, 1.25)],
-    "hunt": [(1.89, 40.16), (0.05, 1.75), (2.86, 7.98), (64.57, 150.46), (152.02, 3231.29),
-             (2381.37, 79653.37), (0.18, 0.34), (3.67, 6.13), (19.08, 32.64), (1.12, 2.18)],
-    "octopod": [(21.68, 63.19), (0.86, 2.80), (2.74, 10.06), (75.57, 214.71),
-                (1744.46, 5085.15), (39388.53, 125632.59), (0.17, 0.32), (2.93, 6.35),
-                (22.34, 43.83), (1.04, 2.41)],
-    "octo": [(16.02, 44.11), (0.75, 2.14), (2.93, 10.18), (84.44, 225.28), (1289.19, 3631.16),
-             (34341.13, 100646.94), (0.17, 0.34), (3.58, 8.18), (18.08, 43.88), (0.77, 1.78)],
-}
-#: Kühne et al., Table III (min, max) per preset and row
-PAPER_TABLE3 = {k: dict(zip(_ROWS, v)) for k, v in _T3.items()}
-#: Kühne et al., Table IV: (GII, σmin, σmax)
-PAPER_TABLE4 = {"hunt": (0.0006, 0.0127, 20.0052), "octopod": (0.0080, 0.2230, 27.8186),
-                "octo": (0.0072, 0.1910, 26.6404)}
 
 
 # ----------------------------------------------------------------------- per pose
 def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="kernels",
-                   sensitivity="slice", compiled: bool = True, chunk: int = 2048):
+                   sensitivity="slice", compiled: bool = True, chunk: int = 2048,
+                   warn: bool = True):
     """Every index of the study at each pose.
 
     Parameters
@@ -120,16 +109,24 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         Poses evaluated together: the work memory is bounded by the chunk, not by N
         (the numpy route needs about 10 KiB per pose for L = 8; 2048 keeps the compiled
         route's arrays in the CPU's L2 cache, about 3 % faster than 8192).
+    warn : bool
+        False: no warning for the ``J_unresolved`` poses (a caller that counts them).
 
     Returns
     -------
     ok : ndarray (N,) bool
         Every leg closes and the Jacobian is finite.
     values : dict name -> ndarray (ok.sum(),)
-        :data:`QUANTITIES`, in the units of :data:`CAPABILITIES`,
-        :data:`TRUE_VELOCITIES` and :data:`SENSITIVITIES`; ``sigma_*`` dimensionless
-        (``sigma_min``/``sigma_max``: the chosen reading ST⁻¹Jᵀ; ``sigma_*_<reading>``
-        the others of :data:`SIGMA_READINGS`); ``transmission_min`` = min_i |Jq_ii|/l1_i
+        ``J_unresolved`` (bool): J is not resolved in float64 there (a leg within
+        rounding of its reach boundary; :mod:`.jacobian_resolution`), so every index at
+        that pose is inaccurate (QA 25a F4: σmax 15 % off), with one
+        :class:`~distkin.errors.ConditioningWarning` per call; :func:`study_chunk`
+        leaves such poses out.  :data:`QUANTITIES`, in the units of :data:`CAPABILITIES`,
+        :data:`TRUE_VELOCITIES` and :data:`SENSITIVITIES`; ``sigma_min``/``sigma_max``
+        of the chosen reading ST⁻¹Jᵀ in 1/(N·m) (1/N for prismatic actuators; not
+        dimensionless, QA 25a F5), ``sigma_*_<reading>`` of the others of
+        :data:`SIGMA_READINGS` in theirs (:data:`.isotropy.SIGMA_UNITS`);
+        ``transmission_min`` = min_i |Jq_ii|/l1_i
         (l1_i the crank of leg i, 1 for a prismatic leg);
         ``det_sign`` the sign of det J (L = 6; 1 for L = 8).
 
@@ -142,7 +139,10 @@ def evaluate_poses(mech, poses, *, actuators=ACTUATORS, ST=ST_DEFAULT, route="ke
         ``sensitivity`` not one of its choices.
     """
     poses, ST, lim = _check_evaluate(mech, poses, actuators, ST, route, sensitivity)
-    return _evaluate(mech, poses, lim, ST, route, sensitivity, compiled, max(1, int(chunk)))
+    ok, out = _evaluate(mech, poses, lim, ST, route, sensitivity, compiled, max(1, int(chunk)))
+    if warn:
+        warn_unresolved(ok, out[_UNRES], poses)
+    return ok, out
 
 
 def _check_evaluate(mech, poses, actuators, ST, route, sensitivity):
@@ -166,17 +166,17 @@ def _evaluate(mech, poses, lim, ST, route, sensitivity, compiled, chunk):
         # results written in place chunk after chunk: besides them, only one chunk's
         # work memory is alive at a time
         ok = np.empty(len(poses), bool)
-        out = {q: np.empty(len(poses)) for q in QUANTITIES}
+        out = {q: np.empty(len(poses), bool if q == _UNRES else float) for q in _KEYS}
         n = 0
         for a in range(0, len(poses), chunk):
             ok_c, v = _evaluate(mech, poses[a:a + chunk], lim, ST, route, sensitivity,
                                 compiled, chunk)
             ok[a:a + chunk] = ok_c
             k = int(ok_c.sum())
-            for q in QUANTITIES:
+            for q in _KEYS:
                 out[q][n:n + k] = v[q]
             n += k
-        return ok, {q: out[q][:n] for q in QUANTITIES}
+        return ok, {q: out[q][:n] for q in _KEYS}
     kin = None
     if route == "numpy":
         from ..mechanisms.reference import ik_jacobian
@@ -201,8 +201,8 @@ def _evaluate(mech, poses, lim, ST, route, sensitivity, compiled, chunk):
     M = np.diag(mech.cartesian_mass_matrix()) if hasattr(mech, "cartesian_mass_matrix") \
         else np.array([mech.mass] * 3 + [mech.inertia] * 3)
     if not n:
-        return ok, {q: np.zeros(0) for q in QUANTITIES}
-    from .actuators import per_leg_capabilities, uniform_limits
+        return ok, {q: np.zeros(0, bool if q == _UNRES else float) for q in _KEYS}
+    from .actuators import per_leg_capabilities, transmission_lengths, uniform_limits
     act = uniform_limits(lim)
     act_run = act if act is not None else dict(ACTUATORS)
     if compiled and 6 <= mech.L <= 8:
@@ -211,20 +211,11 @@ def _evaluate(mech, poses, lim, ST, route, sensitivity, compiled, chunk):
         out = _indices_numpy(J, Jq, M, act_run, ST, sensitivity)
     if act is None:                    # limits differ between legs (or actuator types)
         out.update(per_leg_capabilities(J, M, lim, CAPABILITIES, TRUE_VELOCITIES))
-    out["transmission_min"] = np.min(np.abs(Jq) / _transmission_lengths(mech), axis=1)
+    out["transmission_min"] = np.min(np.abs(Jq) / transmission_lengths(mech), axis=1)
     # L = 6: a sign change of det J between reachable poses encloses a singularity
     out["det_sign"] = np.sign(np.linalg.det(J)) if mech.L == 6 else np.ones(n)
+    out[_UNRES] = unresolved_poses(mech, poses[ok], J)        # QA 25a F4
     return ok, out
-
-
-def _transmission_lengths(mech):
-    """(L,) the length each leg's |Jq_ii| is divided by in ``transmission_min``: its crank
-    (m; the sine of its transmission angle) for a revolute leg, 1 for a prismatic one
-    (|Jq_ii| = 1: full transmission); an RSS description's common l1."""
-    legs = getattr(mech, "leg_table", None)
-    if legs is None:
-        return np.full(mech.L, mech.l1)
-    return np.array([1.0 if leg.prismatic else leg.crank for leg in legs])
 
 
 def _indices_numpy(J, Jq, M, actuators, ST, sensitivity):
@@ -322,7 +313,9 @@ def study_chunk(spec: dict) -> dict:
 
     Returns per-position arrays: ``{q}_min``, ``{q}_max`` (and ``_in`` variants over the
     inner orientations) for every quantity, ``n_ok``, ``n_ok_in``, ``n_flagged`` (poses
-    with a value float64 cannot give, NaN, left out of the extremes), ``{q}_argmin``
+    with a value float64 cannot give, NaN, left out of the extremes), ``n_unresolved``
+    and ``n_unresolved_in`` (poses whose J float64 does not resolve, left out of every
+    extreme and not flagged again: :mod:`.jacobian_resolution`), ``{q}_argmin``
     (orientation index of the worst case) for the capabilities.  Positions without a reachable
     orientation hold +inf (min) / -inf (max).
     """
@@ -343,6 +336,8 @@ def study_chunk(spec: dict) -> dict:
     res["n_ok"] = np.zeros(npos, np.int64)
     res["n_ok_in"] = np.zeros(npos, np.int64)
     res["n_flagged"] = np.zeros(npos, np.int64)
+    res["n_unresolved"] = np.zeros(npos, np.int64)
+    res["n_unresolved_in"] = np.zeros(npos, np.int64)
     for q in _ARGMIN:
         res[f"{q}_argmin"] = np.full(npos, -1, np.int64)
     for a in range(lo, hi, per):
@@ -351,16 +346,24 @@ def study_chunk(spec: dict) -> dict:
         ok, vals = evaluate_poses(mech, poses, actuators=spec["actuators"], ST=spec["ST"],
                                   route=spec.get("route", "kernels"),
                                   sensitivity=spec.get("sensitivity", "slice"),
-                                  compiled=spec.get("compiled", True))
+                                  compiled=spec.get("compiled", True), warn=False)
+        # poses whose J float64 does not resolve: reachable, but left out of every
+        # extreme (+inf / -inf as unreachable ones) and counted (QA 25a F4)
+        unres = np.zeros(len(ok), bool)
+        unres[ok] = vals[_UNRES]
         okm = ok.reshape(b - a, no)
         sl = slice(a - lo, b - lo)
         res["n_ok"][sl] = okm.sum(axis=1)
         res["n_ok_in"][sl] = (okm & in_mask).sum(axis=1)
+        res["n_unresolved"][sl] = unres.reshape(b - a, no).sum(axis=1)
+        res["n_unresolved_in"][sl] = (unres.reshape(b - a, no) & in_mask).sum(axis=1)
         # all quantities at once: V (quantity, position, orientation), unreachable
         # poses +inf for the minima and -inf for the maxima
         lo_v = np.full((len(QUANTITIES), len(ok)), np.inf)
         lo_v[:, ok] = np.stack([vals[q] for q in QUANTITIES])
+        lo_v[:, unres] = np.inf
         lo_v = lo_v.reshape(len(QUANTITIES), b - a, no)
+        okm = (ok & ~unres).reshape(b - a, no)
         # NaN: a value float64 cannot give (near-flat zonotope, QA Z2): left out of the
         # extremes and counted (``n_flagged``), never a silent NaN or a wrong extreme
         bad = np.isnan(lo_v)
@@ -457,20 +460,6 @@ def _extreme(per, q, mask, kind):
     return _finite(v.min() if kind == "min" else v.max())
 
 
-def inner_covered(grid, inner) -> float:
-    """The largest r (rad) such that every rotation axis of ``grid`` has -r and +r among
-    its values of magnitude <= ``inner`` (None: the whole axis): the range the inner
-    reduction (Table IV's ±20°) actually covers."""
-    lim = math.inf if inner is None else inner + 1e-9
-
-    def reach(a):
-        neg = max((-v for v in a if v <= 0 and -v <= lim), default=0.0)
-        pos = max((v for v in a if v >= 0 and v <= lim), default=0.0)
-        return min(neg, pos)
-    # max with 0.0 first: a grid of zero rotation gave -0.0 ("±-0°"; QA V)
-    return max(0.0, min(reach(a) for a in (grid.rx, grid.ry, grid.rz)))
-
-
 def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dict:
     """Table III/IV values of one device from its per-position arrays.
 
@@ -494,8 +483,10 @@ def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dic
     """
     from .isotropy import SCALING_READINGS
     grid = dev.grid
-    has = per["n_ok"] > 0
-    has_in = per["n_ok_in"] > 0
+    # positions with a pose whose values the extremes use: reachable, J resolved
+    n_un, n_un_in = (per.get(k, np.zeros_like(per["n_ok"])) for k in ("n_unresolved",
+                                                                      "n_unresolved_in"))
+    has, has_in = per["n_ok"] - n_un > 0, per["n_ok_in"] - n_un_in > 0
     n_in = (grid.n_orientations if dev.inner is None else
             int(np.sum(np.all(np.abs(grid.orientations()) <= dev.inner + 1e-9, axis=1))))
     table = {}
@@ -507,7 +498,8 @@ def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dic
     n_ok, n_ok_in = int(per["n_ok"].sum()), int(per["n_ok_in"].sum())
     # unreachable poses are left out of every extreme (not scored 0 as design_sweep's
     # unreachable = "zero" does): say so, with the counts (QA IX 1)
-    over = {"reachable_only": n_ok < grid.size, "poses_used": n_ok, "poses_total": grid.size}
+    over = {"reachable_only": n_ok < grid.size, "poses_used": n_ok - int(n_un.sum()),
+            "poses_total": grid.size}
     for q in _ROWS + [t[0] for t in TRUE_VELOCITIES]:
         lo, hi = _extreme(per, q, has, "min"), _extreme(per, q, has, "max")
         entry = {"label": labels[q], "unit": units[q], "min": lo, "max": hi,
@@ -538,7 +530,8 @@ def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dic
            "gii_full_range": g_full[0], "sigma_min_full_range": g_full[1],
            "sigma_max_full_range": g_full[2],
            # over the inner orientations' poses the device reaches
-           "reachable_only": n_ok_in < n_in * grid.n_positions, "poses_used": n_ok_in,
+           "reachable_only": n_ok_in < n_in * grid.n_positions,
+           "poses_used": n_ok_in - int(n_un_in.sum()),
            "poses_total": n_in * grid.n_positions}
     readings = {}
     for r in (SCALING_READINGS if has_in.any() else ()):
@@ -590,6 +583,8 @@ def summarise(dev: Device, per: dict, *, tau_nominal: float | None = 2.5) -> dic
         "reachable_poses": n_ok,
         # poses whose values float64 cannot give (near-flat, QA Z2), left out of the rows
         "flagged_poses": int(per["n_flagged"].sum()) if "n_flagged" in per else 0,
+        # poses whose J float64 does not resolve (QA 25a F4), left out of every row
+        "unresolved_poses": int(n_un.sum()),
         **over,
         "reachable_fraction": float(per["n_ok"].sum() / grid.size),
         "all_orientations_reachable": per["n_ok"] == grid.n_orientations,

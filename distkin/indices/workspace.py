@@ -24,8 +24,8 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["PoseGrid", "axis_values", "MAX_AXIS", "table2_grid", "dexterous_workspace",
-           "design_criteria", "CRITERIA", "RTOL", "at_least"]
+__all__ = ["PoseGrid", "inner_covered", "axis_values", "MAX_AXIS", "table2_grid",
+           "dexterous_workspace", "design_criteria", "CRITERIA", "RTOL", "at_least"]
 
 #: relative tolerance of a sampled float64 value against a threshold: a value within
 #: RTOL·max(|value|, |threshold|) of it is "at the threshold (within float64 rounding)",
@@ -446,3 +446,17 @@ def design_criteria(L: int, grid: PoseGrid, reachable_all, minima: dict,
                 "test": "the four maximum sensitivities finite at every grid pose and no "
                         "singularity sampled (they are unbounded at one)"})
     return out
+
+
+def inner_covered(grid, inner) -> float:
+    """The largest r (rad) such that every rotation axis of ``grid`` has -r and +r among
+    its values of magnitude <= ``inner`` (None: the whole axis): the range the inner
+    reduction (Table IV's ±20°) actually covers."""
+    lim = math.inf if inner is None else inner + 1e-9
+
+    def reach(a):
+        neg = max((-v for v in a if v <= 0 and -v <= lim), default=0.0)
+        pos = max((v for v in a if v >= 0 and v <= lim), default=0.0)
+        return min(neg, pos)
+    # max with 0.0 first: a grid of zero rotation gave -0.0 ("±-0°"; QA V)
+    return max(0.0, min(reach(a) for a in (grid.rx, grid.ry, grid.rz)))

@@ -497,8 +497,9 @@ class NearestSingularity:
     Attributes
     ----------
     distance : float
-        :math:`\\sqrt{|\\Delta t|^2 + L^2|\\Delta w|^2}` to the singular pose found
-        (length units); ``inf`` when the search failed.
+        :math:`\\sqrt{|\\Delta c|^2 + L^2|\\Delta w|^2}` to the singular pose found
+        (length units; :math:`\\Delta c` the displacement of the reference point
+        ``centre``); ``inf`` when the search failed.
     first_order : float
         :math:`|f|/|\\nabla f|` at the start (the linearised distance, length units).
     rotation, translation : arrays (3, 3), (3,)
@@ -506,6 +507,9 @@ class NearestSingularity:
     residual : float
         |det J| (dimensionless) there.
     converged : bool
+    centre : array (3,)
+        The reference point the rotations turn about, in the platform frame (the
+        origin by default).
     """
 
     distance: float
@@ -514,14 +518,21 @@ class NearestSingularity:
     translation: object
     residual: float
     converged: bool
+    centre: object = (0.0, 0.0, 0.0)
 
 
 def nearest_singularity(f, rotation, translation, length_scale: float, *,
-                        tol: float = 1e-10, max_iter: int = 60) -> NearestSingularity:
+                        tol: float = 1e-10, max_iter: int = 60,
+                        centre=None) -> NearestSingularity:
     r"""Distance from a pose to the nearest singular pose found by local search.
 
-    Poses near :math:`(R_0, t_0)` are :math:`(\operatorname{Rot}(w)R_0,\; t_0 + x)`,
-    measured by :math:`y = (x, L w)` (length units).  Starting from :math:`y = 0`,
+    Poses near :math:`(R_0, t_0)` are the platform turned by :math:`\operatorname{Rot}(w)`
+    about its reference point :math:`c` (``centre``, platform frame) and shifted by
+    :math:`x`: :math:`R = \operatorname{Rot}(w)R_0`, :math:`t = t_0 + x + (R_0 - R)c`,
+    measured by :math:`y = (x, L w)` (length units).  The distance depends on
+    :math:`c` (QA 25a F3: at the Griffis-Duffy home pose of the example below 5.14
+    about P4, its frame's origin, and 4.07 about the centroid); the default :math:`c = 0`, the platform frame's
+    origin, gives :math:`t = t_0 + x`.  Starting from :math:`y = 0`,
     minimum-norm Newton steps on :math:`f(y) = 0` reach the singular surface; SLSQP
     then minimises :math:`|y|` on it.  A local method: the result is the nearest
     singularity in the basin of the start, an upper bound of the true distance (at the
@@ -534,11 +545,14 @@ def nearest_singularity(f, rotation, translation, length_scale: float, *,
     rotation, translation : the pose (float)
     length_scale : float
         L, converting rotations to lengths (e.g. the platform circumradius).
+    centre : array (3,), optional
+        The reference point c in the platform frame (length units); None: the origin.
     """
     from scipy.optimize import minimize
     R0 = np.asarray(rotation, dtype=float)
     t0 = np.asarray(translation, dtype=float)
     L = float(length_scale)
+    c = np.zeros(3) if centre is None else np.asarray(centre, dtype=float).reshape(3)
 
     # the search runs in units of L (u = y / L: translations over L, rotation vectors
     # as they are), so its steps and tolerances do not depend on the length unit (QA V 4:
@@ -546,7 +560,7 @@ def nearest_singularity(f, rotation, translation, length_scale: float, *,
     def g(u):
         u = np.atleast_2d(u)
         R = rotation_from_vector(u[:, 3:]) @ R0
-        return np.asarray(f(R, t0 + L * u[:, :3]), dtype=float)
+        return np.asarray(f(R, t0 + L * u[:, :3] + (R0 - R) @ c), dtype=float)
 
     def grad(u, h=1e-6):
         E = np.eye(6) * h
@@ -569,7 +583,7 @@ def nearest_singularity(f, rotation, translation, length_scale: float, *,
             break
         y = y - fy * gy / nn
     if not ok:
-        return NearestSingularity(float("inf"), first, None, None, float("nan"), False)
+        return NearestSingularity(float("inf"), first, None, None, float("nan"), False, c)
     res = minimize(lambda z: z @ z, y, jac=lambda z: 2 * z, method="SLSQP",
                    constraints=[{"type": "eq", "fun": lambda z: g(z)[0] / max(abs(f0), 1e-300),
                                  "jac": lambda z: grad(z) / max(abs(f0), 1e-300)}],
@@ -577,5 +591,5 @@ def nearest_singularity(f, rotation, translation, length_scale: float, *,
     z = res.x if res.success and abs(g(res.x)[0]) < 10 * tol + 1e-9 and res.x @ res.x <= y @ y \
         else y
     Rs = rotation_from_vector(z[3:]) @ R0
-    return NearestSingularity(L * float(np.linalg.norm(z)), float(first), Rs, t0 + L * z[:3],
-                              float(abs(g(z)[0])), True)
+    return NearestSingularity(L * float(np.linalg.norm(z)), float(first), Rs,
+                              t0 + L * z[:3] + (R0 - Rs) @ c, float(abs(g(z)[0])), True, c)

@@ -165,6 +165,26 @@ def test_table4_row_is_like_for_like_only_on_table2(L, rot):
     other = dict(s, isotropy={"rotation_deg": 15.0})
     assert "orientations over ±15° (Table IV: Table II's ±20°)" in _unlike_paper_table4(
         other, table2_grid(0.3, rot_deg=rot))
-    for col in (None, "hexa"):           # no Table IV row in the paper: nothing to compare
-        assert _unlike_paper_table4(dict(s, paper_column=col), table2_grid(0.3, step=0.025)) \
-            == ""
+    # not the paper's device: nothing to compare
+    assert _unlike_paper_table4(dict(s, paper_column=None), table2_grid(0.3, step=0.025)) == ""
+    # a paper device without a Table IV value (the HEXA, Ergin's): its grid is still not
+    # Table II's, as the rows beside it say (QA 25a F6: it said "yes")
+    assert "343 positions, not Table II's 4,096" in _unlike_paper_table4(
+        dict(coarse, paper_column="hexa"), table2_grid(0.3, rot_deg=rot, step=0.025))
+
+
+def test_the_report_states_its_grid_resolution():
+    """QA 25a F6: the text gave "343 positions" and Table II's step, never its own.  The
+    words are checked against the grid's own axes (table2_grid's: ±75 mm about the home
+    height, steps as asked; an axis of one value is "at" it)."""
+    from distkin.app.study_report import _grid_text
+    from distkin.indices.workspace import PoseGrid, table2_grid
+    assert _grid_text(table2_grid(0.3, step=0.025, rot_step_deg=10.0), "mm") == (
+        "positions x, y, z: ±75 mm in steps of 25 mm (7 values each) about z = 300 mm; "
+        "orientations rx, ry, rz: ±20° in steps of 10° (5 values each)")
+    assert "±7.5 cm in steps of 1 cm (16 values each) about z = 30 cm" in _grid_text(
+        table2_grid(0.3), "cm")
+    g = PoseGrid((0.0,), (-0.01, 0.0, 0.01), (0.25,), (0.0,), (0.0,), (-0.5, 0.5))
+    assert _grid_text(g, "mm") == ("positions x, z: at 0 mm; y: ±10 mm in steps of 10 mm "
+                                   "(3 values) about z = 250 mm; orientations rx, ry: at 0°; "
+                                   "rz: ±28.65° in steps of 57.3° (2 values)")

@@ -124,7 +124,7 @@ def test_skip_flags_an_optimum_that_covers_less(partial):
 
 def test_design_json_has_units_and_resumed_chunks_are_said(tmp_path, capsys):
     """The parameters carry their unit in the key (m, rad: the scene's mm and deg
-    converted), GII and σ are noted dimensionless, no σ is the string "inf"; a rerun on
+    converted), the GII is noted dimensionless and σ in 1/(N·m), no σ is the string "inf"; a rerun on
     the same store says its chunks came from it (the 8 designs in chunks of 8 = 1 chunk)."""
     from distkin.app.cli import main
     scene = tmp_path / "ok.toml"
@@ -139,7 +139,9 @@ def test_design_json_has_units_and_resumed_chunks_are_said(tmp_path, capsys):
     assert sorted({d["gamma_rad"] for d in first["designs"]}) == pytest.approx([0, D(30)])
     assert sorted({d["ld_m"] for d in first["designs"]}) == pytest.approx([0.02, 0.04])
     assert "dimensionless" in first["units"]["gii"]
-    assert "dimensionless" in first["units"]["sigma_min"]
+    # σ of ST⁻¹Jᵀ are per N·m of actuator torque, not dimensionless (QA 25a F5)
+    assert first["units"]["sigma_min"].startswith("1/(N·m)")
+    assert "dimensionless" not in first["units"]["sigma_min"]
     assert all(isinstance(first[k], float) for k in ("gii", "sigma_min", "sigma_max"))
     capsys.readouterr()
     assert main(["run", str(scene), "--no-progress", "--json", str(out)]) == 0

@@ -179,6 +179,15 @@ def test_performance_scene_end_to_end(tmp_path):
     assert [c["number"] for c in octo["criteria"]] == [1, 2, 3, 4, 5, 6]
     assert "Table III analogue" in texts[0] and "[HELD]" in texts[0]
     assert "| same def. |" in texts[0]
+    # the grid's own resolution is stated (QA 25a F6), and Table IV's "same def." of the
+    # devices without a paper value follows the grid as the others' does
+    assert ("positions x, y, z: ±75 mm in steps of 75 mm (3 values each) about z = 300 mm; "
+            "orientations rx, ry, rz: ±20° in steps of 10° (5 values each)") in texts[0]
+    t4 = texts[0][texts[0].index("Table IV analogue"):]
+    for dev in ("Ergin's device", "HEXA"):
+        row = next(r for r in t4.splitlines() if r.strip().startswith(f"| {dev} |"))
+        assert row.split("|")[2].strip().startswith("no: 27 positions, not Table II's")
+        assert "the paper prints no Table IV value for it" in row
     names = {p.split("/")[-1] for p in records[0]["plots"]}
     assert {"q0_performance_tables.md", "q0_performance_tables.json",
             "q0_performance_table3_bars.png", "q0_performance_table4_bars.png",

@@ -14,7 +14,9 @@ Scene fields (poses in the scene's units, tiers as for ``inverse_kinematics``:
 
 Each pose row of the JSON has ``J``, ``Jq``, ``Jx`` (SI; the result's ``unit`` block
 names each array's units), ``kappa``, κ of Kühne et al. eq. (4), σmin/σmax of the
-scaled ST⁻¹Jᵀ with Stocco's ST = diag(15 N, 15 N, 15 N, 1 N·m, 1 N·m, 1 N·m) (Sec.
+scaled ST⁻¹Jᵀ (a float64 SVD of the tier's J in every tier; ``kappa_bounds`` encloses κ
+over J ± J_error by Weyl's inequality, :mod:`distkin.indices.sigma_bounds`: certified
+from the arb radii, an estimate in the other tiers; QA 25a F7) with Stocco's ST = diag(15 N, 15 N, 15 N, 1 N·m, 1 N·m, 1 N·m) (Sec.
 II-C-2; :func:`distkin.indices.condition_number`), ``kappa_unscaled``, the same ratio of J
 itself, whose columns have mixed units, ``singular_values`` (of the unscaled J),
 ``singular`` (true where κ <= :data:`~distkin.indices.zonotope.RANK_TOL` = 1e-12, the
@@ -44,6 +46,7 @@ import numpy as np
 from ...argcheck import check_keys
 from ...errors import ConditioningWarning, InputError
 from ...indices.isotropy import ST_DEFAULT, condition_number
+from ...indices.sigma_bounds import kappa_bounds
 from ...indices.zonotope import RANK_TOL
 from ..query import Outcome, register
 from ..units import SCALING_ORIGIN, scaling_text
@@ -73,6 +76,22 @@ def _inaccurate_line(res, i) -> str:
             + '); use method = "precise"')
 
 
+def _kappa_accuracy(bounds, method) -> str:
+    """How accurate the printed κ is (QA 25a F7: under precise and certified it stood
+    beside the tier's radii with no word that it is a float64 SVD): its enclosure over
+    J ± J_error (:func:`distkin.indices.sigma_bounds.kappa_bounds`), a proof under
+    ``certified``, an estimate otherwise."""
+    what = {"certified": "certified (arb: Weyl's inequality on the certified J's radii)",
+            "precise": "by the precise J's error estimates (Weyl's inequality; an estimate)",
+            "fast": "by the fast J's error estimates (Weyl's inequality; an estimate)"}[method]
+    if bounds is None:
+        return ("a float64 SVD; no bound: J's error estimate is not finite here (J not "
+                "resolved in float64)")
+    lo, hi = bounds
+    return (f"a float64 SVD of J; kappa in [{lo:.16g}, {hi:.16g}] (width {hi - lo:.2g}) "
+            f"{what}")
+
+
 def _jacobian_units(mech, mass_matrix: bool) -> dict:
     """The ``unit`` block of a jacobian result (SI; the joint unit is rad for a revolute
     leg, m for a prismatic one)."""
@@ -92,7 +111,14 @@ def _jacobian_units(mech, mass_matrix: bool) -> dict:
         "singular_values": "of the unscaled J, mixed units; null where the pose is not "
                            "reachable",
         "kappa": f"none (eq. (4), of ST⁻¹Jᵀ, ST = {scaling_text(ST_DEFAULT)}, the paper's "
-                 "ST of Sec. III-B-2 for every mechanism); null where the pose is not reachable",
+                 "ST of Sec. III-B-2 for every mechanism; a float64 SVD of the tier's J "
+                 "rounded to float64 in every tier, its accuracy in kappa_bounds); null where "
+                 "the pose is not reachable",
+        "kappa_bounds": "none ([lo, hi] enclosing kappa of every J within J_error of J: "
+                        "Weyl's inequality, distkin.indices.sigma_bounds; certified: a proof "
+                        "from the arb radii, precise and fast: from J's error estimates, an "
+                        "estimate); null where the pose is not reachable or J_error is not "
+                        "finite",
         "kappa_unscaled": "none (sigma_min/sigma_max of the unscaled J, mixed units); null "
                           "where the pose is not reachable",
         "singular": f"none (true where kappa <= {RANK_TOL:g}: J rank-deficient, a singular "
@@ -159,6 +185,9 @@ class JacobianQuery:
             r = _tier_rows(res, i, {"pose": X[i], "J": J[i], "Jq": Jq[i], "Jx": Jx[i],
                                     "singular_values": sv[i] if reachable else None,
                                     "kappa": kappa[i] if reachable else None,
+                                    "kappa_bounds": (kappa_bounds(J[i], res.J_error[i],
+                                                                  ST_DEFAULT)
+                                                     if reachable else None),
                                     "kappa_unscaled": (None if not reachable else
                                                        sv[i, -1] / sv[i, 0] if sv[i, 0] > 0
                                                        else 0.0),
@@ -180,7 +209,8 @@ class JacobianQuery:
             else:
                 lines.append(f"  kappa = {r['kappa']:.6g} (eq. (4): sigma_min/sigma_max of "
                              f"the scaled ST⁻¹Jᵀ, ST = {scaling_text(ST_DEFAULT)}, Kühne et "
-                             "al. Sec. II-C-2)")
+                             "al. Sec. II-C-2); " + _kappa_accuracy(r["kappa_bounds"],
+                                                                    p.method))
                 if r["singular"]:
                     lines.append(f"  SINGULAR pose: J has rank {int(rank[i])} of 6 "
                                  f"(kappa <= {RANK_TOL:g}; kappa is in [0, 1], 0 singular): "

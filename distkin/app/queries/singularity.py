@@ -18,6 +18,8 @@ Scene fields::
     tolerance = 1e-9                 # optional: |det J| below it is near-singular
     length_scale = 3.4641            # optional L (length units); default: the
                                      # platform's circumradius
+    rotation_about = "origin"        # optional: origin | centroid, the platform point
+                                     # the nearest-singularity distance turns about
 
 ``rotation`` is a rotation vector (axis times angle) in the scene's angle unit; the
 path interpolates translation and rotation vector linearly in s in [0, 1].  The
@@ -35,7 +37,9 @@ contains 0 at every working precision tried: 128, 512 and 2048 bits,
 Reported: det J (moments divided by L, dimensionless), the smallest singular value of
 J, the paper's Cayley-Menger condition and its signed form (relative, in [-1, 1]), the
 four-planes test (common point and spread), the distance to the nearest singular
-pose found by local search, and for a path every crossing of det J = 0 with all three
+pose found by local search (rotations about ``rotation_about``: the platform frame's
+origin by default, or the platform centroid; the distance depends on that point, QA 25a
+F3), and for a path every crossing of det J = 0 with all three
 tests evaluated there (and, certified, a rational bracket on which arb proves the sign
 change of det J, and an arb proof that det J has no other zero on the path, or the
 intervals of s where that proof did not succeed: :mod:`distkin.singularity.enclosure`).
@@ -77,6 +81,7 @@ class _Params:
     method: str
     length_scale: float | None
     tolerance: float
+    rotation_about: str = "origin"
 
 
 #: Admissible magnitudes (QA F7: 3e200 overflowed the squared distances, a length scale
@@ -118,7 +123,7 @@ class SingularityQuery:
     @staticmethod
     def parse(table, mechanism, units, field):
         check_keys(table, {"type", "pose", "path", "offsets", "method", "length_scale",
-                           "tolerance"}, field)
+                           "tolerance", "rotation_about"}, field)
         if ("pose" in table) == ("path" in table):
             raise InputError("expected exactly one of 'pose' or 'path'", field=field)
         pose = path = None
@@ -161,7 +166,11 @@ class SingularityQuery:
                                  field=f"{field}.length_scale")
         from ...argcheck import relative_tol      # an exact string too (QA F12)
         tol = relative_tol(table.get("tolerance", 1e-9), f"{field}.tolerance")
-        return _Params(pose, path, samples, offsets, method, L, tol)
+        about = table.get("rotation_about", "origin")
+        if about not in ("origin", "centroid"):
+            raise InputError(f"expected rotation_about 'origin' or 'centroid', got {about!r}",
+                             field=f"{field}.rotation_about")
+        return _Params(pose, path, samples, offsets, method, L, tol, about)
 
     @staticmethod
     def run(p, scene, ctx):
@@ -187,8 +196,9 @@ def result_units(units, pose: bool) -> dict:
            "cm_condition_relative": "none (relative)", "signed_cm_relative": "none (relative)",
            "cm_condition_relative_ball": "none (relative; certified: arb ball or exact)",
            "signed_cm_relative_ball": "none (relative; certified: arb ball or exact)",
-           "nearest_singularity": f"distance, first_order: {L} (translation and rotation "
-                                  f"times length_scale)",
+           "nearest_singularity": f"distance, first_order: {L} (the translation of the "
+                                  f"point rotation_about and the rotation times "
+                                  f"length_scale)",
            "platform66": (f"det_J66_hat, det_A_det_Jhat: {L}^9 (unnormalised Plücker rows "
                           f"p - b in {L}, moments in {L}^2); det_A, identity_error: none"
                           if L != "none" else "none")}
@@ -206,6 +216,11 @@ def result_units(units, pose: bool) -> dict:
     return out
 
 
+def _about(name, c, text) -> dict:
+    """JSON of the nearest-singularity search's reference point (QA 25a F3)."""
+    return {"point": name, "platform_frame": [float(x) for x in c], "description": text}
+
+
 def _run_pose(model, p, unit):
     from ...singularity import certified_sign, nearest_singularity
     R = model.rotation(p.pose)
@@ -215,7 +230,8 @@ def _run_pose(model, p, unit):
     cert_cm = None
     if p.method == "certified":         # the conditions in arb, not float (QA V 2)
         cert_cm, ball, sgn, bits = _certified_pose(model, p.pose, tests)
-    ns = nearest_singularity(lambda Rs, ts: model.det_j(Rs, ts), R, t, model.L)
+    c, about = model.reference_point(p.rotation_about)
+    ns = nearest_singularity(lambda Rs, ts: model.det_j(Rs, ts), R, t, model.L, centre=c)
     undefined = tests["undefined"]
     res = {"pose": {"rotation_matrix": R, "translation": t},
            "length_scale": model.L,
@@ -244,6 +260,7 @@ def _run_pose(model, p, unit):
                                    "converged": ns.converged, "residual": ns.residual,
                                    "rotation_matrix": ns.rotation, "translation": ns.translation,
                                    "method": "gradient projection + SLSQP (local)",
+                                   "rotation_about": _about(p.rotation_about, c, about),
                                    # QA F11: a local search from the pose; the nearest
                                    # singular pose can be closer
                                    "is_upper_bound": True}}
@@ -281,7 +298,8 @@ def _run_pose(model, p, unit):
                      "!= 0 (its extra factor a - b = 0; the signed form does not vanish)")
     if ns.converged:
         lines.append(f"nearest singular pose found (local search): distance "
-                     f"{ns.distance:.6g}{unit} (first-order estimate {ns.first_order:.6g}{unit}); "
+                     f"{ns.distance:.6g}{unit} (first-order estimate {ns.first_order:.6g}{unit}; "
+                     f"rotations about {about}, times L = {model.L:.6g}{unit}); "
                      "an upper bound: a singular pose in another basin can be closer")
     else:
         lines.append("nearest singular pose: local search did not converge")

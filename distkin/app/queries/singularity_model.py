@@ -93,6 +93,22 @@ class OctahedralModel:
         from ...singularity import PosePath
         return PosePath(a.translation, a.rotation, b.translation, b.rotation, self.deg)
 
+    def reference_point(self, about: str = "origin"):
+        """The point the nearest-singularity search turns the platform about (QA 25a F3):
+        ``(c, text)``, c (3,) in the platform frame (scene length units) and the words
+        the report prints, naming the platform point it coincides with (P4, P5, P6)."""
+        mean = self.plat_f.mean(axis=0)
+        if about == "centroid":
+            return mean, "the platform centroid"
+        c = np.zeros(3)
+        at = [f"P{4 + i}" for i, q in enumerate(self.plat_f) if not np.any(q)]
+        size = float(np.max(np.abs(self.plat_f)))
+        where = (f"{at[0]} here" if at else "the platform centroid here"
+                 if np.linalg.norm(mean) <= 1e-12 * size else
+                 "not a joint; the centroid is at (" + ", ".join(f"{x:.6g}" for x in mean)
+                 + ")")
+        return c, f"the platform frame's origin ({where})"
+
     def rotation(self, pose):
         from ...singularity import rotation_from_vector
         return rotation_from_vector(np.array([float(x) for x in pose.rotation]) * self.angle)

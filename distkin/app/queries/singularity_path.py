@@ -292,13 +292,19 @@ def run_path(model, p, unit):
                      f"(a = V1245 V3456 V1236 = 0), not a singularity")
     lines.extend(dict.fromkeys(notes))
     dist = []
+    c, about = model.reference_point(p.rotation_about)
     for s in (0.0, 1.0):
         R, t = at(np.array([s]))
-        ns = nearest_singularity(lambda Rs, ts: model.det_j(Rs, ts), R[0], t[0], model.L)
+        ns = nearest_singularity(lambda Rs, ts: model.det_j(Rs, ts), R[0], t[0], model.L,
+                                 centre=c)
         dist.append({"s": s, "distance": ns.distance, "first_order": ns.first_order,
-                     "converged": ns.converged, "is_upper_bound": True})
+                     "converged": ns.converged, "is_upper_bound": True,
+                     "rotation_about": {"point": p.rotation_about,
+                                        "platform_frame": [float(x) for x in c],
+                                        "description": about}})
         lines.append(f"  distance to the nearest singular pose at s = {s:g}: "
-                     f"{ns.distance:.6g}{unit} (local search: an upper bound)")
+                     f"{ns.distance:.6g}{unit} (local search: an upper bound; rotations "
+                     f"about {about}, times L = {model.L:.6g}{unit})")
     res = {"samples": p.samples, "length_scale": model.L, "crossings": crossings,
            "notes": [n.strip() for n in dict.fromkeys(notes)],     # as the text (QA W 3)
            "cm_condition_roots": cm_roots, "signed_cm_roots": k_roots,
