@@ -61,7 +61,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, NotFoundError
 from ..spatial import rotate_pose_scalar as rotate_pose
 from .controller import Controller
 from .kinematics import load_model
@@ -117,13 +117,22 @@ def worst_cases(mech, poses, actuators):
     """
     from ..indices.capability import output_generators
     from ..indices.study import evaluate_poses
-    ok, vals = evaluate_poses(mech, poses, actuators=actuators)
+    ok, vals = evaluate_poses(mech, poses, actuators=actuators, warn=False)
     P = np.asarray(poses)[ok]
+    # the study's rule (:func:`distkin.indices.study.study_chunk`): a pose whose J float64
+    # does not resolve, or whose value is NaN (a flagged near-flat pose), is no worst
+    # case; np.argmin would pick the first NaN
+    usable = ~np.asarray(vals["J_unresolved"], dtype=bool)
     lim = {"wrench": actuators["nominal_torque"], "twist": actuators["velocity"],
            "acceleration": actuators["stall_torque"]}
     out = {}
     for row, _, gen, keep, _ in ROWS:
-        i = int(np.argmin(vals[row]))
+        v = np.where(usable & np.isfinite(vals[row]), vals[row], np.inf)
+        if not np.isfinite(v).any():
+            raise NotFoundError(f"expected a pose of the grid with a finite, resolved "
+                                f"{row} value, got none of {len(v)} reachable poses",
+                                field="poses")
+        i = int(np.argmin(v))
         J = mech.jacobian(P[i][None])
         G = output_generators(J, mass=np.diag(mech.cartesian_mass_matrix()))[gen][0]
         d, v = _direction(G, lim[gen], keep)
