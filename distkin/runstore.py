@@ -47,16 +47,13 @@ import signal
 import sys
 import threading
 import time
-import zipfile
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from pathlib import Path
 
 from ._version import __version__
 from .chunkfiles import HOST as _HOST, TMP_RE as _TMP_RE  # noqa: F401 (tests read them)
-from .chunkfiles import (check_writable, chunk_stamp as _chunk_stamp, finished_chunks,
-                         load_chunk as _load, redo_damaged, refuse_damaged,
-                         remove_stale_tmp as _remove_stale_tmp,
-                         save_chunk as _save, stamp_mismatch as _stamp_mismatch, write_meta)
+from .chunkfiles import (chunk_stamp as _chunk_stamp, finished_chunks, open_store,
+                         save_chunk as _save)
 from .errors import DistkinError, InputError
 from .progress import ChunkProgress
 
@@ -73,9 +70,6 @@ WORKER_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THRE
 NO_WORKER_TIMEOUT_S = 60.0
 #: how often (s) a sweep waiting on a cluster checks that it still has workers
 _HEALTH_POLL_S = 2.0
-#: what to do about a sweep.json that is not a store's: every chunk carries its own stamp
-_META_HINT = ("use another directory, or delete only its sweep.json: every chunk file "
-              "carries its own stamp, so the chunks of this sweep are kept and resumed")
 #: how often (s) a worker without prctl (not Linux) checks that its parent still runs
 _PARENT_POLL_S = 1.0
 #: True in a local pool's worker while it runs a task (:func:`_worker_sigint`)
@@ -436,87 +430,10 @@ def check_store(store, definition, n: int) -> Path:
 
 def _open_store(store, key, definition, n):
     """(store folder, chunk paths, results with the chunks already there loaded, the
-    indices left to do) of a stored run of ``n`` chunks (:func:`run_chunks`).
-
-    A store whose ``sweep.json`` names another sweep or code version is refused; so is a
-    chunk file whose stamp (:func:`_chunk_stamp`) is not this sweep's chunk of that
-    index, or that has none (QA S 1, 2: ``sweep.json`` alone let chunks copied from
-    another sweep be loaded, or fail deep in the sweep on their shape).  Refused, not
-    recomputed: the folder was filled by hand or by another sweep, and the user decides
-    what to keep (docs/design.md, "Run store").  A file that cannot be read is redone,
-    with a line on stderr, in a distkin store (its ``sweep.json`` names this sweep), and
-    refused in any other folder (a user's file named like a chunk is never deleted).  A
-    store in which no file can be made is refused here when chunks are left to compute
-    (:func:`~distkin.chunkfiles.check_writable`), before any work."""
+    indices left to do) of a stored run of ``n`` chunks (:func:`run_chunks`): the folder
+    :func:`keyed_store` names, made, opened by :func:`~distkin.chunkfiles.open_store`."""
     store = make_store(keyed_store(store, key))
-    code = code_version()
-    meta = store / "sweep.json"
-    if meta.exists():
-        try:
-            saved = json.loads(meta.read_text())
-            if not isinstance(saved, dict):
-                raise ValueError("not a JSON object")
-        except (OSError, ValueError) as exc:   # JSONDecodeError and UnicodeError too
-            raise InputError(f"expected a chunk store whose {meta.name} says which sweep "
-                             f"made it, got an unreadable one in {str(store)!r} ({exc})",
-                             field="store", hint=_META_HINT) from None
-        old = saved.get("key")
-        if not isinstance(old, str):
-            raise InputError(f"expected a chunk store whose {meta.name} says which sweep "
-                             f"made it, got a {meta.name} in {str(store)!r} that is not a "
-                             "store's metadata (no sweep key"
-                             + (": a distkin --json result written there?" if "distkin"
-                                in saved else "") + ")", field="store", hint=_META_HINT)
-        if old != key:
-            raise InputError(f"expected a chunk store made for this sweep (key {key}), got "
-                             f"one made for key {old} in {str(store)!r}", field="store",
-                             hint="use another directory or delete the old chunks")
-        if saved.get("code") != code:
-            raise InputError(f"expected a chunk store made by this code (distkin {code}), "
-                             f"got one made by {saved.get('code') or 'an older version'} in "
-                             f"{str(store)!r}", field="store",
-                             hint="use another directory or delete the old chunks")
-    is_store = meta.exists()                             # and names this sweep (above)
-    _remove_stale_tmp(store)
-    paths = [store / f"chunk_{i:05d}.npz" for i in range(n)]
-    results: list = [None] * n
-    todo, foreign, damaged = [], [], []
-    for i, p in enumerate(paths):
-        if p.exists():
-            if not p.is_file():                          # QA 7: a folder was IsADirectoryError
-                what = "a directory" if p.is_dir() else "no regular file"
-                raise InputError(f"expected chunk {i} in {str(store)!r} to be a file "
-                                 f"{p.name} (or none), got {what} at {str(p)!r}",
-                                 field="store", hint="remove it (the chunk is computed "
-                                 "again) or use another directory")
-            try:
-                results[i], stamp = _load(p)
-            except (OSError, ValueError, EOFError, KeyError, IndexError,
-                    zipfile.BadZipFile) as exc:
-                damaged.append((p, exc))                 # redone in a store, else refused
-            else:
-                why = _stamp_mismatch(stamp, _chunk_stamp(key, code, i, n))
-                if why is None:
-                    continue
-                foreign.append(f"{p.name} ({why})")
-        todo.append(i)
-    if foreign:
-        shown = "; ".join(foreign[:3]) + (f"; and {len(foreign) - 3} more"
-                                          if len(foreign) > 3 else "")
-        raise InputError(f"expected the chunk files in {str(store)!r} to be chunks of this "
-                         f"sweep (key {key}, distkin {code}, {n} chunks), got "
-                         f"{len(foreign)} that are not: {shown}", field="store",
-                         hint="delete those chunk files (they are computed again) or use "
-                              "another directory")
-    if not is_store:                     # QA: a user's "chunk_00001.npz" was deleted
-        refuse_damaged(store, damaged)
-    if todo:                             # QA: a read-only store failed after the work
-        check_writable(store, len(todo), n)
-    redo_damaged(store, damaged)
-    if not meta.exists():
-        write_meta(meta, {"key": key, "code": code, "chunks": n, "definition": definition},
-                   needed=bool(todo))
-    return store, paths, results, todo
+    return (store, *open_store(store, key, code_version(), definition, n))
 
 
 def _wait_alive(executor, pending, store, timeout):
