@@ -42,12 +42,15 @@ import functools
 import hashlib
 import json
 import multiprocessing
+import multiprocessing.context
+import multiprocessing.queues
 import os
 import signal
 import sys
 import threading
 import time
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from multiprocessing.reduction import ForkingPickler
 from pathlib import Path
 
 from ._version import __version__
@@ -72,8 +75,12 @@ NO_WORKER_TIMEOUT_S = 60.0
 _HEALTH_POLL_S = 2.0
 #: how often (s) a worker without prctl (not Linux) checks that its parent still runs
 _PARENT_POLL_S = 1.0
-#: True in a local pool's worker while it runs a task (:func:`_worker_sigint`)
-_IN_TASK = False
+#: what a local pool's worker does, for its SIGINT handler (:func:`_worker_sigint`):
+#: "task" (runs one), "idle" (waits for one, or unpickles it) or "busy" (starts, reads
+#: a message off the call queue, sends a result back)
+_STATE = "busy"
+#: a SIGINT came while the worker was "busy": it ends before its next task
+_EXIT = False
 
 
 def user_cache_dir() -> Path:
@@ -150,7 +157,8 @@ def local_executor(workers: int | None = None):
     killer; QA: idle workers of 225 MB each were left to PID 1): Linux's
     ``PR_SET_PDEATHSIG``, elsewhere a thread that watches the parent
     (:func:`_worker_start`).  A Ctrl-C stops the chunks they run and ends the idle
-    workers, without a traceback (:func:`_worker_sigint`)."""
+    workers and those still starting, without a traceback (:func:`_worker_sigint`,
+    :class:`_WorkerProcess`, :class:`_CallQueue`)."""
     from .argcheck import workers_count
     cpus = os.cpu_count() or 1
     if workers is not None:
@@ -164,7 +172,7 @@ def local_executor(workers: int | None = None):
     os.environ.update(WORKER_ENV)
     try:
         ex = _LocalPool(max_workers=workers or cpus,
-                        mp_context=multiprocessing.get_context("spawn"),
+                        mp_context=_WorkerContext(),
                         initializer=_worker_start, initargs=(os.getpid(),))
     finally:
         for k, v in saved.items():
@@ -186,20 +194,93 @@ class _LocalPool(ProcessPoolExecutor):
         return super().submit(_Task(fn), *args, **kwargs)
 
 
+class _WorkerProcess(multiprocessing.context.SpawnProcess):
+    """A local pool's worker process.  Spawned with SIGINT blocked (the mask of the
+    thread that starts it), which :meth:`run` unblocks once :func:`_worker_sigint`
+    handles it: a Ctrl-C while the worker started (Python's start-up, the imports of
+    unpickling) printed ``Fatal Python error: init_import_site ... KeyboardInterrupt``
+    (2 runs in 30 of a Ctrl-C at the pool's start); now it is held until then, and the
+    worker ends before its first task.  CPython starts its resource tracker so too, and
+    the threads started meanwhile (BLAS) keep SIGINT blocked: it reaches the main
+    thread.  Its ``_process_worker`` reads the call queue through :class:`_CallQueue`
+    (a queue of another kind, another Python's internals: read as it is)."""
+
+    def start(self):
+        sigmask = getattr(signal, "pthread_sigmask", None)      # None on Windows
+        mask = sigmask and sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        try:
+            super().start()
+        finally:
+            if sigmask:
+                sigmask(signal.SIG_SETMASK, mask)
+
+    def run(self):
+        signal.signal(signal.SIGINT, _worker_sigint)
+        if hasattr(signal, "pthread_sigmask"):      # a Ctrl-C while starting: _EXIT
+            signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+        if self._args and isinstance(self._args[0], multiprocessing.queues.Queue):
+            self._args = (_CallQueue(self._args[0]), *self._args[1:])  # _process_worker's
+        super().run()
+
+
+class _WorkerContext(multiprocessing.context.SpawnContext):
+    """The spawn context of the local pool, whose processes are :class:`_WorkerProcess`."""
+    Process = _WorkerProcess
+
+
+class _CallQueue:
+    """The pool's call queue as a worker reads it: ``multiprocessing.Queue.get`` (the same
+    lock, pipe and semaphore), except that a SIGINT never ends the worker halfway through
+    a message.  The SIGINT of a Ctrl-C can be handled after the read it should have
+    interrupted has returned data: the kernel woke the idle worker for it, but the worker
+    ran only after the parent's shutdown had written its sentinels (7 ms later in a
+    logged run), or another thread took the signal.  The worker then exited with the
+    4-byte header of a sentinel read and its body left in the pipe; the next worker read
+    that body as a header (a negative length) and printed ``EOFError: Ran out of input``
+    (6 runs in 60 of tests/test_runstore_workers.py's Ctrl-C script, 13 in 60 with a busy
+    core).  Here the worker waits until a message is there ("idle": a SIGINT, however
+    late, ends it before a byte is read), reads the message whole ("busy": a SIGINT then
+    ends it after the read) and unpickles it "idle"."""
+
+    def __init__(self, queue):
+        self._queue = queue
+
+    def get(self, block=True):
+        global _STATE
+        q = self._queue
+        if _EXIT:
+            raise SystemExit(0)
+        _STATE = "idle"
+        with q._rlock:                              # one reader at a time
+            q._reader.poll(None)                    # a late SIGINT runs on its return
+            _STATE = "busy"
+            res = q._reader.recv_bytes()
+        q._sem.release()
+        if _EXIT:
+            raise SystemExit(0)
+        _STATE = "idle"
+        try:
+            return ForkingPickler.loads(res)
+        finally:
+            _STATE = "busy"
+
+
 class _Task:
     """A task of a local pool's worker (picklable when ``fn`` is): marks the worker
-    busy while ``fn`` runs."""
+    running a task while ``fn`` runs."""
 
     def __init__(self, fn):
         self.fn = fn
 
     def __call__(self, *args, **kwargs):
-        global _IN_TASK
-        _IN_TASK = True
+        global _STATE
+        _STATE = "task"
         try:
+            if _EXIT:                   # a Ctrl-C since the call was read: not started
+                raise KeyboardInterrupt
             return self.fn(*args, **kwargs)
         finally:
-            _IN_TASK = False
+            _STATE = "busy"
 
 
 def _worker_sigint(signum, frame):
@@ -209,18 +290,24 @@ def _worker_sigint(signum, frame):
     worker, which printed ``Process SpawnProcess-N: ... KeyboardInterrupt`` (QA).  It
     exits rather than waits for the pool's shutdown: an idle worker left alive hung the
     exit when a second SIGINT (``timeout -s INT`` signals the process and its group)
-    cut the parent's shutdown short; its exit ends the pool at once, as before."""
-    if _IN_TASK:
+    cut the parent's shutdown short; its exit ends the pool at once, as before.  A
+    "busy" worker (starting, reading a message off the call queue, sending a result back)
+    ends at its next wait for work (:class:`_CallQueue`), a task it took meanwhile stops
+    before it starts (:class:`_Task`): an exit halfway through a message of the call
+    queue left it torn for the other workers."""
+    global _EXIT
+    if _STATE == "task":
         raise KeyboardInterrupt
-    raise SystemExit(0)
+    if _STATE == "idle":
+        raise SystemExit(0)
+    _EXIT = True
 
 
 def _worker_start(parent: int) -> None:
-    """Initializer of a local pool's worker (process ``parent``'s child): SIGINT as
-    :func:`_worker_sigint` says, and an end with the parent: SIGTERM when it dies
-    (Linux ``prctl(PR_SET_PDEATHSIG)``), elsewhere a daemon thread that exits when
+    """Initializer of a local pool's worker (process ``parent``'s child, a
+    :class:`_WorkerProcess`): an end with the parent: SIGTERM when it dies (Linux
+    ``prctl(PR_SET_PDEATHSIG)``), elsewhere a daemon thread that exits when
     ``os.getppid()`` is no longer ``parent`` (:func:`_watch_parent`)."""
-    signal.signal(signal.SIGINT, _worker_sigint)
     if sys.platform.startswith("linux"):
         try:
             import ctypes
