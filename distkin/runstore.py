@@ -81,6 +81,8 @@ _PARENT_POLL_S = 1.0
 _STATE = "busy"
 #: a SIGINT came while the worker was "busy": it ends before its next task
 _EXIT = False
+#: held while a worker process starts with :data:`WORKER_ENV` set in this process
+_START_LOCK = threading.Lock()
 
 
 def user_cache_dir() -> Path:
@@ -147,7 +149,8 @@ def sweep_key(definition) -> str:
 @contextlib.contextmanager
 def local_executor(workers: int | None = None):
     """A process pool whose workers start with :data:`WORKER_ENV` (spawned, so the
-    setting reaches BLAS before numpy loads).  ``workers`` defaults to the CPU count; more
+    setting reaches BLAS before numpy loads; set as each one starts,
+    :class:`_WorkerProcess`).  ``workers`` defaults to the CPU count; more
     than :data:`~distkin.argcheck.MAX_WORKERS` is refused, more than the CPU count warned
     about (one line on stderr).  Processes start as chunks are submitted, and
     :func:`run_chunks` submits at most as many as it has chunks, so the pool never runs
@@ -168,18 +171,8 @@ def local_executor(workers: int | None = None):
             print(f"distkin: warning: {workers} worker processes on {cpus} CPUs: the extra "
                   "processes share them (more memory, no speed-up)", file=sys.stderr,
                   flush=True)
-    saved = {k: os.environ.get(k) for k in WORKER_ENV}
-    os.environ.update(WORKER_ENV)
-    try:
-        ex = _LocalPool(max_workers=workers or cpus,
-                        mp_context=_WorkerContext(),
-                        initializer=_worker_start, initargs=(os.getpid(),))
-    finally:
-        for k, v in saved.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
+    ex = _LocalPool(max_workers=workers or cpus, mp_context=_WorkerContext(),
+                    initializer=_worker_start, initargs=(os.getpid(),))
     try:
         yield ex
     finally:
@@ -195,24 +188,34 @@ class _LocalPool(ProcessPoolExecutor):
 
 
 class _WorkerProcess(multiprocessing.context.SpawnProcess):
-    """A local pool's worker process.  Spawned with SIGINT blocked (the mask of the
+    """A local pool's worker process.  Spawned with :data:`WORKER_ENV` in its environment
+    (set in this one while it starts: set around the pool's creation, as before, it never
+    reached a worker, which a pool starts at a submit) and SIGINT blocked (the mask of the
     thread that starts it), which :meth:`run` unblocks once :func:`_worker_sigint`
     handles it: a Ctrl-C while the worker started (Python's start-up, the imports of
     unpickling) printed ``Fatal Python error: init_import_site ... KeyboardInterrupt``
     (2 runs in 30 of a Ctrl-C at the pool's start); now it is held until then, and the
     worker ends before its first task.  CPython starts its resource tracker so too, and
-    the threads started meanwhile (BLAS) keep SIGINT blocked: it reaches the main
+    the threads started meanwhile keep SIGINT blocked: it reaches the main
     thread.  Its ``_process_worker`` reads the call queue through :class:`_CallQueue`
     (a queue of another kind, another Python's internals: read as it is)."""
 
     def start(self):
         sigmask = getattr(signal, "pthread_sigmask", None)      # None on Windows
-        mask = sigmask and sigmask(signal.SIG_BLOCK, {signal.SIGINT})
-        try:
-            super().start()
-        finally:
-            if sigmask:
-                sigmask(signal.SIG_SETMASK, mask)
+        with _START_LOCK:
+            saved = {k: os.environ.get(k) for k in WORKER_ENV}
+            os.environ.update(WORKER_ENV)
+            mask = sigmask and sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+            try:
+                super().start()
+            finally:
+                if sigmask:
+                    sigmask(signal.SIG_SETMASK, mask)
+                for k, v in saved.items():
+                    if v is None:
+                        os.environ.pop(k, None)
+                    else:
+                        os.environ[k] = v
 
     def run(self):
         signal.signal(signal.SIGINT, _worker_sigint)
