@@ -79,7 +79,7 @@ _PARENT_POLL_S = 1.0
 #: "task" (runs one), "idle" (waits for one, or unpickles it) or "busy" (starts, reads
 #: a message off the call queue, sends a result back)
 _STATE = "busy"
-#: a SIGINT came while the worker was "busy": it ends before its next task
+#: a SIGINT came: the worker ends before its next task
 _EXIT = False
 #: held while a worker process starts with :data:`WORKER_ENV` set in this process
 _START_LOCK = threading.Lock()
@@ -159,8 +159,9 @@ def local_executor(workers: int | None = None):
     The workers end with this process, even when it is killed (SIGKILL, the OOM
     killer; QA: idle workers of 225 MB each were left to PID 1): Linux's
     ``PR_SET_PDEATHSIG``, elsewhere a thread that watches the parent
-    (:func:`_worker_start`).  A Ctrl-C stops the chunks they run and ends the idle
-    workers and those still starting, without a traceback (:func:`_worker_sigint`,
+    (:func:`_worker_start`).  A Ctrl-C stops the chunks they run (and their workers: no
+    chunk already queued starts) and ends the idle workers and those still starting,
+    without a traceback (:func:`_worker_sigint`,
     :class:`_WorkerProcess`, :class:`_CallQueue`)."""
     from .argcheck import workers_count
     cpus = os.cpu_count() or 1
@@ -287,19 +288,25 @@ class _Task:
 
 
 def _worker_sigint(signum, frame):
-    """SIGINT in a local pool's worker (a Ctrl-C reaches the whole process group): a
-    KeyboardInterrupt in a running task (its chunk stops; the parent, interrupted too,
-    keeps the chunks saved before), a quiet exit (SystemExit, no traceback) of an idle
-    worker, which printed ``Process SpawnProcess-N: ... KeyboardInterrupt`` (QA).  It
-    exits rather than waits for the pool's shutdown: an idle worker left alive hung the
-    exit when a second SIGINT (``timeout -s INT`` signals the process and its group)
-    cut the parent's shutdown short; its exit ends the pool at once, as before.  A
-    "busy" worker (starting, reading a message off the call queue, sending a result back)
-    ends at its next wait for work (:class:`_CallQueue`), a task it took meanwhile stops
-    before it starts (:class:`_Task`): an exit halfway through a message of the call
-    queue left it torn for the other workers."""
+    """SIGINT in a local pool's worker (a Ctrl-C reaches the whole process group).
+
+    * In a running task ("task"): a KeyboardInterrupt (its chunk stops; the parent,
+      interrupted too, keeps the chunks saved before), and the worker ends at its next
+      wait for work: it took the chunks already in the call queue, which the parent
+      cannot cancel, and ran them to their end (3 s to 6 s more for a pool of 2 running
+      3 s chunks).
+    * Waiting for work ("idle"): a quiet exit (SystemExit, no traceback), which printed
+      ``Process SpawnProcess-N: ... KeyboardInterrupt`` (QA).  It exits rather than
+      waits for the pool's shutdown: an idle worker left alive hung the exit when a
+      second SIGINT (``timeout -s INT`` signals the process and its group) cut the
+      parent's shutdown short; its exit ends the pool at once.
+    * Otherwise ("busy": starting, reading a message off the call queue, sending a
+      result back): the worker ends at its next wait for work (:class:`_CallQueue`), a
+      task it took meanwhile stops before it starts (:class:`_Task`); an exit halfway
+      through a message of the call queue left it torn for the other workers."""
     global _EXIT
     if _STATE == "task":
+        _EXIT = True                            # and no other task after this one
         raise KeyboardInterrupt
     if _STATE == "idle":
         raise SystemExit(0)

@@ -252,3 +252,32 @@ def test_ctrl_c_while_a_worker_starts_prints_no_traceback(tmp_path):
             os.killpg(p.pid, signal.SIGKILL)
     assert out.split() == ["interrupted"], out + err
     assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
+
+
+def _marked_sleep(folder: str, i: int, seconds: float) -> None:
+    """Chunk ``i``: a file ``i-PID`` in ``folder`` when it starts, then a sleep."""
+    Path(folder, f"{i}-{os.getpid()}").touch()
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        time.sleep(0.01)
+
+
+def test_a_worker_whose_chunk_was_interrupted_starts_no_other(tmp_path):
+    """Both workers of a pool of 2 get a SIGINT in their chunks (as from a Ctrl-C, or
+    the CLI's SIGTERM handler): the chunks already in the call queue (which the parent
+    cannot cancel) start on no worker and fail with the broken pool.  Each worker took
+    one and ran it to its end (reference: the chunks' start files)."""
+    from concurrent.futures.process import BrokenProcessPool
+
+    from distkin.runstore import local_executor
+    with local_executor(2) as ex:
+        fs = [ex.submit(_marked_sleep, str(tmp_path), i, 60 if i < 2 else 0.2)
+              for i in range(5)]
+        end = time.monotonic() + 60           # a deadline for a hang, not a timing
+        while len(list(tmp_path.iterdir())) < 2 and time.monotonic() < end:
+            time.sleep(0.01)
+        for mark in tmp_path.iterdir():
+            os.kill(int(mark.name.split("-")[1]), signal.SIGINT)
+        got = [type(f.exception(timeout=100)) for f in fs]
+    assert got == [KeyboardInterrupt] * 2 + [BrokenProcessPool] * 3
+    assert sorted(m.name.split("-")[0] for m in tmp_path.iterdir()) == ["0", "1"]
