@@ -150,8 +150,8 @@ def sweep_key(definition) -> str:
 def local_executor(workers: int | None = None):
     """A process pool whose workers start with :data:`WORKER_ENV` (spawned, so the
     setting reaches BLAS before numpy loads; set as each one starts,
-    :class:`_WorkerProcess`).  ``workers`` defaults to the CPU count; more
-    than :data:`~distkin.argcheck.MAX_WORKERS` is refused, more than the CPU count warned
+    :class:`_WorkerProcess`).  ``workers`` defaults to the CPU count; more than
+    :data:`~distkin.argcheck.MAX_WORKERS` is refused, more than the CPU count warned
     about (one line on stderr).  Processes start as chunks are submitted, and
     :func:`run_chunks` submits at most as many as it has chunks, so the pool never runs
     more processes than chunks.
@@ -161,8 +161,8 @@ def local_executor(workers: int | None = None):
     ``PR_SET_PDEATHSIG``, elsewhere a thread that watches the parent
     (:func:`_worker_start`).  A Ctrl-C stops the chunks they run (and their workers: no
     chunk already queued starts) and ends the idle workers and those still starting,
-    without a traceback (:func:`_worker_sigint`,
-    :class:`_WorkerProcess`, :class:`_CallQueue`)."""
+    without a traceback (:func:`_worker_sigint`, :class:`_WorkerProcess`,
+    :class:`_CallQueue`)."""
     from .argcheck import workers_count
     cpus = os.cpu_count() or 1
     if workers is not None:
@@ -189,17 +189,19 @@ class _LocalPool(ProcessPoolExecutor):
 
 
 class _WorkerProcess(multiprocessing.context.SpawnProcess):
-    """A local pool's worker process.  Spawned with :data:`WORKER_ENV` in its environment
-    (set in this one while it starts: set around the pool's creation, as before, it never
-    reached a worker, which a pool starts at a submit) and SIGINT blocked (the mask of the
-    thread that starts it), which :meth:`run` unblocks once :func:`_worker_sigint`
-    handles it: a Ctrl-C while the worker started (Python's start-up, the imports of
-    unpickling) printed ``Fatal Python error: init_import_site ... KeyboardInterrupt``
-    (2 runs in 30 of a Ctrl-C at the pool's start); now it is held until then, and the
-    worker ends before its first task.  CPython starts its resource tracker so too, and
-    the threads started meanwhile keep SIGINT blocked: it reaches the main
-    thread.  Its ``_process_worker`` reads the call queue through :class:`_CallQueue`
-    (a queue of another kind, another Python's internals: read as it is)."""
+    """A local pool's worker process.
+
+    Spawned with :data:`WORKER_ENV` in its environment, set in this process while it
+    starts (set around the pool's creation, it reached no worker: a pool starts them at
+    a submit), and with SIGINT blocked (the mask of the thread that starts it), which
+    :meth:`run` unblocks once :func:`_worker_sigint` handles it.  A Ctrl-C while the
+    worker started (Python's start-up, the imports of unpickling) printed ``Fatal Python
+    error: init_import_site ... KeyboardInterrupt`` (2 runs in 30 of a Ctrl-C at the
+    pool's start); now it is held until then, and the worker ends before its first task.
+    CPython starts its resource tracker so too; the threads started meanwhile keep
+    SIGINT blocked, so it reaches the main thread.  Its ``_process_worker`` reads the
+    call queue through :class:`_CallQueue` (a queue of another kind, from another
+    Python's internals, is read as it is)."""
 
     def start(self):
         sigmask = getattr(signal, "pthread_sigmask", None)      # None on Windows
@@ -249,7 +251,7 @@ class _CallQueue:
     def __init__(self, queue):
         self._queue = queue
 
-    def get(self, block=True):
+    def get(self, block=True):                      # as _process_worker calls it
         global _STATE
         q = self._queue
         if _EXIT:
