@@ -6,7 +6,8 @@ full, not writable; exit 2), with no temporary file left behind.
 A chunk file is written to a temporary name of this host and process
 (``chunk_NNNNN.npz.HOST@PID.tmp.npz``), then renamed, so a file named like a chunk is
 always whole; the temporary files a killed process left are removed when the store is
-opened again (:func:`remove_stale_tmp`).
+opened again (:func:`remove_stale_tmp`).  Opening a store (:func:`open_store`) checks
+its ``sweep.json`` and the stamps of its chunk files and loads the finished chunks.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ import re
 import socket
 import sys
 import time
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -27,7 +29,8 @@ from .errors import InputError
 
 __all__ = ["save_chunk", "load_chunk", "chunk_stamp", "stamp_mismatch", "finished_chunks",
            "remove_stale_tmp", "pid_alive", "write_meta", "check_writable",
-           "store_write_error", "redo_damaged", "refuse_damaged", "HOST", "CHUNK_RE", "TMP_RE", "STALE_TMP_S"]
+           "store_write_error", "redo_damaged", "refuse_damaged", "open_store", "META_HINT",
+           "HOST", "CHUNK_RE", "TMP_RE", "STALE_TMP_S"]
 
 #: a finished chunk's file name, and a temporary one of :func:`save_chunk`
 #: (``.HOST@PID.tmp.npz``; older versions wrote ``.PID.tmp.npz``)
@@ -240,3 +243,92 @@ def remove_stale_tmp(store: Path) -> list:
         except OSError:
             pass                                         # another process's cleanup
     return removed
+
+
+#: what to do about a sweep.json that is not a store's: every chunk carries its own stamp
+META_HINT = ("use another directory, or delete only its sweep.json: every chunk file "
+             "carries its own stamp, so the chunks of this sweep are kept and resumed")
+
+
+def open_store(store: Path, key: str, code: str, definition, n: int) -> tuple:
+    """(chunk paths, results with the chunks already there loaded, the indices left to
+    do) of a stored run of ``n`` chunks of the sweep of key ``key`` by code version
+    ``code`` in the folder ``store`` (:func:`distkin.runstore.run_chunks`).
+
+    A store whose ``sweep.json`` names another sweep or code version is refused; so is a
+    chunk file whose stamp (:func:`chunk_stamp`) is not this sweep's chunk of that
+    index, or that has none (QA S 1, 2: ``sweep.json`` alone let chunks copied from
+    another sweep be loaded, or fail deep in the sweep on their shape).  Refused, not
+    recomputed: the folder was filled by hand or by another sweep, and the user decides
+    what to keep (docs/design.md, "Run store").  A file that cannot be read is redone,
+    with a line on stderr, in a distkin store (its ``sweep.json`` names this sweep), and
+    refused in any other folder (a user's file named like a chunk is never deleted).  A
+    store in which no file can be made is refused here when chunks are left to compute
+    (:func:`check_writable`), before any work."""
+    meta = store / "sweep.json"
+    if meta.exists():
+        try:
+            saved = json.loads(meta.read_text())
+            if not isinstance(saved, dict):
+                raise ValueError("not a JSON object")
+        except (OSError, ValueError) as exc:   # JSONDecodeError and UnicodeError too
+            raise InputError(f"expected a chunk store whose {meta.name} says which sweep "
+                             f"made it, got an unreadable one in {str(store)!r} ({exc})",
+                             field="store", hint=META_HINT) from None
+        old = saved.get("key")
+        if not isinstance(old, str):
+            raise InputError(f"expected a chunk store whose {meta.name} says which sweep "
+                             f"made it, got a {meta.name} in {str(store)!r} that is not a "
+                             "store's metadata (no sweep key"
+                             + (": a distkin --json result written there?" if "distkin"
+                                in saved else "") + ")", field="store", hint=META_HINT)
+        if old != key:
+            raise InputError(f"expected a chunk store made for this sweep (key {key}), got "
+                             f"one made for key {old} in {str(store)!r}", field="store",
+                             hint="use another directory or delete the old chunks")
+        if saved.get("code") != code:
+            raise InputError(f"expected a chunk store made by this code (distkin {code}), "
+                             f"got one made by {saved.get('code') or 'an older version'} in "
+                             f"{str(store)!r}", field="store",
+                             hint="use another directory or delete the old chunks")
+    is_store = meta.exists()                             # and names this sweep (above)
+    remove_stale_tmp(store)
+    paths = [store / f"chunk_{i:05d}.npz" for i in range(n)]
+    results: list = [None] * n
+    todo, foreign, damaged = [], [], []
+    for i, p in enumerate(paths):
+        if p.exists():
+            if not p.is_file():                          # QA 7: a folder was IsADirectoryError
+                what = "a directory" if p.is_dir() else "no regular file"
+                raise InputError(f"expected chunk {i} in {str(store)!r} to be a file "
+                                 f"{p.name} (or none), got {what} at {str(p)!r}",
+                                 field="store", hint="remove it (the chunk is computed "
+                                 "again) or use another directory")
+            try:
+                results[i], stamp = load_chunk(p)
+            except (OSError, ValueError, EOFError, KeyError, IndexError,
+                    zipfile.BadZipFile) as exc:
+                damaged.append((p, exc))                 # redone in a store, else refused
+            else:
+                why = stamp_mismatch(stamp, chunk_stamp(key, code, i, n))
+                if why is None:
+                    continue
+                foreign.append(f"{p.name} ({why})")
+        todo.append(i)
+    if foreign:
+        shown = "; ".join(foreign[:3]) + (f"; and {len(foreign) - 3} more"
+                                          if len(foreign) > 3 else "")
+        raise InputError(f"expected the chunk files in {str(store)!r} to be chunks of this "
+                         f"sweep (key {key}, distkin {code}, {n} chunks), got "
+                         f"{len(foreign)} that are not: {shown}", field="store",
+                         hint="delete those chunk files (they are computed again) or use "
+                              "another directory")
+    if not is_store:                     # QA: a user's "chunk_00001.npz" was deleted
+        refuse_damaged(store, damaged)
+    if todo:                             # QA: a read-only store failed after the work
+        check_writable(store, len(todo), n)
+    redo_damaged(store, damaged)
+    if not meta.exists():
+        write_meta(meta, {"key": key, "code": code, "chunks": n, "definition": definition},
+                   needed=bool(todo))
+    return paths, results, todo

@@ -42,21 +42,21 @@ import functools
 import hashlib
 import json
 import multiprocessing
+import multiprocessing.context
+import multiprocessing.queues
 import os
 import signal
 import sys
 import threading
 import time
-import zipfile
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from multiprocessing.reduction import ForkingPickler
 from pathlib import Path
 
 from ._version import __version__
 from .chunkfiles import HOST as _HOST, TMP_RE as _TMP_RE  # noqa: F401 (tests read them)
-from .chunkfiles import (check_writable, chunk_stamp as _chunk_stamp, finished_chunks,
-                         load_chunk as _load, redo_damaged, refuse_damaged,
-                         remove_stale_tmp as _remove_stale_tmp,
-                         save_chunk as _save, stamp_mismatch as _stamp_mismatch, write_meta)
+from .chunkfiles import (chunk_stamp as _chunk_stamp, finished_chunks, open_store,
+                         save_chunk as _save)
 from .errors import DistkinError, InputError
 from .progress import ChunkProgress
 
@@ -73,13 +73,16 @@ WORKER_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THRE
 NO_WORKER_TIMEOUT_S = 60.0
 #: how often (s) a sweep waiting on a cluster checks that it still has workers
 _HEALTH_POLL_S = 2.0
-#: what to do about a sweep.json that is not a store's: every chunk carries its own stamp
-_META_HINT = ("use another directory, or delete only its sweep.json: every chunk file "
-              "carries its own stamp, so the chunks of this sweep are kept and resumed")
 #: how often (s) a worker without prctl (not Linux) checks that its parent still runs
 _PARENT_POLL_S = 1.0
-#: True in a local pool's worker while it runs a task (:func:`_worker_sigint`)
-_IN_TASK = False
+#: what a local pool's worker does, for its SIGINT handler (:func:`_worker_sigint`):
+#: "task" (runs one), "idle" (waits for one, or unpickles it) or "busy" (starts, reads
+#: a message off the call queue, sends a result back)
+_STATE = "busy"
+#: a SIGINT came: the worker ends before its next task
+_EXIT = False
+#: held while a worker process starts with :data:`WORKER_ENV` set in this process
+_START_LOCK = threading.Lock()
 
 
 def user_cache_dir() -> Path:
@@ -146,8 +149,9 @@ def sweep_key(definition) -> str:
 @contextlib.contextmanager
 def local_executor(workers: int | None = None):
     """A process pool whose workers start with :data:`WORKER_ENV` (spawned, so the
-    setting reaches BLAS before numpy loads).  ``workers`` defaults to the CPU count; more
-    than :data:`~distkin.argcheck.MAX_WORKERS` is refused, more than the CPU count warned
+    setting reaches BLAS before numpy loads; set as each one starts,
+    :class:`_WorkerProcess`).  ``workers`` defaults to the CPU count; more than
+    :data:`~distkin.argcheck.MAX_WORKERS` is refused, more than the CPU count warned
     about (one line on stderr).  Processes start as chunks are submitted, and
     :func:`run_chunks` submits at most as many as it has chunks, so the pool never runs
     more processes than chunks.
@@ -155,8 +159,10 @@ def local_executor(workers: int | None = None):
     The workers end with this process, even when it is killed (SIGKILL, the OOM
     killer; QA: idle workers of 225 MB each were left to PID 1): Linux's
     ``PR_SET_PDEATHSIG``, elsewhere a thread that watches the parent
-    (:func:`_worker_start`).  A Ctrl-C stops the chunks they run and ends the idle
-    workers, without a traceback (:func:`_worker_sigint`)."""
+    (:func:`_worker_start`).  A Ctrl-C stops the chunks they run (and their workers: no
+    chunk already queued starts) and ends the idle workers and those still starting,
+    without a traceback (:func:`_worker_sigint`, :class:`_WorkerProcess`,
+    :class:`_CallQueue`)."""
     from .argcheck import workers_count
     cpus = os.cpu_count() or 1
     if workers is not None:
@@ -166,18 +172,8 @@ def local_executor(workers: int | None = None):
             print(f"distkin: warning: {workers} worker processes on {cpus} CPUs: the extra "
                   "processes share them (more memory, no speed-up)", file=sys.stderr,
                   flush=True)
-    saved = {k: os.environ.get(k) for k in WORKER_ENV}
-    os.environ.update(WORKER_ENV)
-    try:
-        ex = _LocalPool(max_workers=workers or cpus,
-                        mp_context=multiprocessing.get_context("spawn"),
-                        initializer=_worker_start, initargs=(os.getpid(),))
-    finally:
-        for k, v in saved.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
+    ex = _LocalPool(max_workers=workers or cpus, mp_context=_WorkerContext(),
+                    initializer=_worker_start, initargs=(os.getpid(),))
     try:
         yield ex
     finally:
@@ -192,41 +188,138 @@ class _LocalPool(ProcessPoolExecutor):
         return super().submit(_Task(fn), *args, **kwargs)
 
 
+class _WorkerProcess(multiprocessing.context.SpawnProcess):
+    """A local pool's worker process.
+
+    Spawned with :data:`WORKER_ENV` in its environment, set in this process while it
+    starts (set around the pool's creation, it reached no worker: a pool starts them at
+    a submit), and with SIGINT blocked (the mask of the thread that starts it), which
+    :meth:`run` unblocks once :func:`_worker_sigint` handles it.  A Ctrl-C while the
+    worker started (Python's start-up, the imports of unpickling) printed ``Fatal Python
+    error: init_import_site ... KeyboardInterrupt`` (2 runs in 30 of a Ctrl-C at the
+    pool's start); now it is held until then, and the worker ends before its first task.
+    CPython starts its resource tracker so too; the threads started meanwhile keep
+    SIGINT blocked, so it reaches the main thread.  Its ``_process_worker`` reads the
+    call queue through :class:`_CallQueue` (a queue of another kind, from another
+    Python's internals, is read as it is)."""
+
+    def start(self):
+        sigmask = getattr(signal, "pthread_sigmask", None)      # None on Windows
+        with _START_LOCK:
+            saved = {k: os.environ.get(k) for k in WORKER_ENV}
+            os.environ.update(WORKER_ENV)
+            mask = sigmask and sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+            try:
+                super().start()
+            finally:
+                if sigmask:
+                    sigmask(signal.SIG_SETMASK, mask)
+                for k, v in saved.items():
+                    if v is None:
+                        os.environ.pop(k, None)
+                    else:
+                        os.environ[k] = v
+
+    def run(self):
+        signal.signal(signal.SIGINT, _worker_sigint)
+        if hasattr(signal, "pthread_sigmask"):      # a Ctrl-C while starting: _EXIT
+            signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+        if self._args and isinstance(self._args[0], multiprocessing.queues.Queue):
+            self._args = (_CallQueue(self._args[0]), *self._args[1:])  # _process_worker's
+        super().run()
+
+
+class _WorkerContext(multiprocessing.context.SpawnContext):
+    """The spawn context of the local pool, whose processes are :class:`_WorkerProcess`."""
+    Process = _WorkerProcess
+
+
+class _CallQueue:
+    """The pool's call queue as a worker reads it: ``multiprocessing.Queue.get`` (the same
+    lock, pipe and semaphore), except that a SIGINT never ends the worker halfway through
+    a message.  The SIGINT of a Ctrl-C can be handled after the read it should have
+    interrupted has returned data: the kernel woke the idle worker for it, but the worker
+    ran only after the parent's shutdown had written its sentinels (7 ms later in a
+    logged run), or another thread took the signal.  The worker then exited with the
+    4-byte header of a sentinel read and its body left in the pipe; the next worker read
+    that body as a header (a negative length) and printed ``EOFError: Ran out of input``
+    (6 runs in 60 of tests/test_runstore_workers.py's Ctrl-C script, 13 in 60 with a busy
+    core).  Here the worker waits until a message is there ("idle": a SIGINT, however
+    late, ends it before a byte is read), reads the message whole ("busy": a SIGINT then
+    ends it after the read) and unpickles it "idle"."""
+
+    def __init__(self, queue):
+        self._queue = queue
+
+    def get(self, block=True):                      # as _process_worker calls it
+        global _STATE
+        q = self._queue
+        if _EXIT:
+            raise SystemExit(0)
+        _STATE = "idle"
+        with q._rlock:                              # one reader at a time
+            q._reader.poll(None)                    # a late SIGINT runs on its return
+            _STATE = "busy"
+            res = q._reader.recv_bytes()
+        q._sem.release()
+        if _EXIT:
+            raise SystemExit(0)
+        _STATE = "idle"
+        try:
+            return ForkingPickler.loads(res)
+        finally:
+            _STATE = "busy"
+
+
 class _Task:
     """A task of a local pool's worker (picklable when ``fn`` is): marks the worker
-    busy while ``fn`` runs."""
+    running a task while ``fn`` runs."""
 
     def __init__(self, fn):
         self.fn = fn
 
     def __call__(self, *args, **kwargs):
-        global _IN_TASK
-        _IN_TASK = True
+        global _STATE
+        _STATE = "task"
         try:
+            if _EXIT:                   # a Ctrl-C since the call was read: not started
+                raise KeyboardInterrupt
             return self.fn(*args, **kwargs)
         finally:
-            _IN_TASK = False
+            _STATE = "busy"
 
 
 def _worker_sigint(signum, frame):
-    """SIGINT in a local pool's worker (a Ctrl-C reaches the whole process group): a
-    KeyboardInterrupt in a running task (its chunk stops; the parent, interrupted too,
-    keeps the chunks saved before), a quiet exit (SystemExit, no traceback) of an idle
-    worker, which printed ``Process SpawnProcess-N: ... KeyboardInterrupt`` (QA).  It
-    exits rather than waits for the pool's shutdown: an idle worker left alive hung the
-    exit when a second SIGINT (``timeout -s INT`` signals the process and its group)
-    cut the parent's shutdown short; its exit ends the pool at once, as before."""
-    if _IN_TASK:
+    """SIGINT in a local pool's worker (a Ctrl-C reaches the whole process group).
+
+    * In a running task ("task"): a KeyboardInterrupt (its chunk stops; the parent,
+      interrupted too, keeps the chunks saved before), and the worker ends at its next
+      wait for work: it took the chunks already in the call queue, which the parent
+      cannot cancel, and ran them to their end (3 s to 6 s more for a pool of 2 running
+      3 s chunks).
+    * Waiting for work ("idle"): a quiet exit (SystemExit, no traceback), which printed
+      ``Process SpawnProcess-N: ... KeyboardInterrupt`` (QA).  It exits rather than
+      waits for the pool's shutdown: an idle worker left alive hung the exit when a
+      second SIGINT (``timeout -s INT`` signals the process and its group) cut the
+      parent's shutdown short; its exit ends the pool at once.
+    * Otherwise ("busy": starting, reading a message off the call queue, sending a
+      result back): the worker ends at its next wait for work (:class:`_CallQueue`), a
+      task it took meanwhile stops before it starts (:class:`_Task`); an exit halfway
+      through a message of the call queue left it torn for the other workers."""
+    global _EXIT
+    if _STATE == "task":
+        _EXIT = True                            # and no other task after this one
         raise KeyboardInterrupt
-    raise SystemExit(0)
+    if _STATE == "idle":
+        raise SystemExit(0)
+    _EXIT = True
 
 
 def _worker_start(parent: int) -> None:
-    """Initializer of a local pool's worker (process ``parent``'s child): SIGINT as
-    :func:`_worker_sigint` says, and an end with the parent: SIGTERM when it dies
-    (Linux ``prctl(PR_SET_PDEATHSIG)``), elsewhere a daemon thread that exits when
+    """Initializer of a local pool's worker (process ``parent``'s child, a
+    :class:`_WorkerProcess`): an end with the parent: SIGTERM when it dies (Linux
+    ``prctl(PR_SET_PDEATHSIG)``), elsewhere a daemon thread that exits when
     ``os.getppid()`` is no longer ``parent`` (:func:`_watch_parent`)."""
-    signal.signal(signal.SIGINT, _worker_sigint)
     if sys.platform.startswith("linux"):
         try:
             import ctypes
@@ -436,87 +529,10 @@ def check_store(store, definition, n: int) -> Path:
 
 def _open_store(store, key, definition, n):
     """(store folder, chunk paths, results with the chunks already there loaded, the
-    indices left to do) of a stored run of ``n`` chunks (:func:`run_chunks`).
-
-    A store whose ``sweep.json`` names another sweep or code version is refused; so is a
-    chunk file whose stamp (:func:`_chunk_stamp`) is not this sweep's chunk of that
-    index, or that has none (QA S 1, 2: ``sweep.json`` alone let chunks copied from
-    another sweep be loaded, or fail deep in the sweep on their shape).  Refused, not
-    recomputed: the folder was filled by hand or by another sweep, and the user decides
-    what to keep (docs/design.md, "Run store").  A file that cannot be read is redone,
-    with a line on stderr, in a distkin store (its ``sweep.json`` names this sweep), and
-    refused in any other folder (a user's file named like a chunk is never deleted).  A
-    store in which no file can be made is refused here when chunks are left to compute
-    (:func:`~distkin.chunkfiles.check_writable`), before any work."""
+    indices left to do) of a stored run of ``n`` chunks (:func:`run_chunks`): the folder
+    :func:`keyed_store` names, made, opened by :func:`~distkin.chunkfiles.open_store`."""
     store = make_store(keyed_store(store, key))
-    code = code_version()
-    meta = store / "sweep.json"
-    if meta.exists():
-        try:
-            saved = json.loads(meta.read_text())
-            if not isinstance(saved, dict):
-                raise ValueError("not a JSON object")
-        except (OSError, ValueError) as exc:   # JSONDecodeError and UnicodeError too
-            raise InputError(f"expected a chunk store whose {meta.name} says which sweep "
-                             f"made it, got an unreadable one in {str(store)!r} ({exc})",
-                             field="store", hint=_META_HINT) from None
-        old = saved.get("key")
-        if not isinstance(old, str):
-            raise InputError(f"expected a chunk store whose {meta.name} says which sweep "
-                             f"made it, got a {meta.name} in {str(store)!r} that is not a "
-                             "store's metadata (no sweep key"
-                             + (": a distkin --json result written there?" if "distkin"
-                                in saved else "") + ")", field="store", hint=_META_HINT)
-        if old != key:
-            raise InputError(f"expected a chunk store made for this sweep (key {key}), got "
-                             f"one made for key {old} in {str(store)!r}", field="store",
-                             hint="use another directory or delete the old chunks")
-        if saved.get("code") != code:
-            raise InputError(f"expected a chunk store made by this code (distkin {code}), "
-                             f"got one made by {saved.get('code') or 'an older version'} in "
-                             f"{str(store)!r}", field="store",
-                             hint="use another directory or delete the old chunks")
-    is_store = meta.exists()                             # and names this sweep (above)
-    _remove_stale_tmp(store)
-    paths = [store / f"chunk_{i:05d}.npz" for i in range(n)]
-    results: list = [None] * n
-    todo, foreign, damaged = [], [], []
-    for i, p in enumerate(paths):
-        if p.exists():
-            if not p.is_file():                          # QA 7: a folder was IsADirectoryError
-                what = "a directory" if p.is_dir() else "no regular file"
-                raise InputError(f"expected chunk {i} in {str(store)!r} to be a file "
-                                 f"{p.name} (or none), got {what} at {str(p)!r}",
-                                 field="store", hint="remove it (the chunk is computed "
-                                 "again) or use another directory")
-            try:
-                results[i], stamp = _load(p)
-            except (OSError, ValueError, EOFError, KeyError, IndexError,
-                    zipfile.BadZipFile) as exc:
-                damaged.append((p, exc))                 # redone in a store, else refused
-            else:
-                why = _stamp_mismatch(stamp, _chunk_stamp(key, code, i, n))
-                if why is None:
-                    continue
-                foreign.append(f"{p.name} ({why})")
-        todo.append(i)
-    if foreign:
-        shown = "; ".join(foreign[:3]) + (f"; and {len(foreign) - 3} more"
-                                          if len(foreign) > 3 else "")
-        raise InputError(f"expected the chunk files in {str(store)!r} to be chunks of this "
-                         f"sweep (key {key}, distkin {code}, {n} chunks), got "
-                         f"{len(foreign)} that are not: {shown}", field="store",
-                         hint="delete those chunk files (they are computed again) or use "
-                              "another directory")
-    if not is_store:                     # QA: a user's "chunk_00001.npz" was deleted
-        refuse_damaged(store, damaged)
-    if todo:                             # QA: a read-only store failed after the work
-        check_writable(store, len(todo), n)
-    redo_damaged(store, damaged)
-    if not meta.exists():
-        write_meta(meta, {"key": key, "code": code, "chunks": n, "definition": definition},
-                   needed=bool(todo))
-    return store, paths, results, todo
+    return (store, *open_store(store, key, code_version(), definition, n))
 
 
 def _wait_alive(executor, pending, store, timeout):

@@ -244,6 +244,21 @@ def test_workers_above_the_cpus_warn_and_the_pool_is_capped_at_the_chunks(tmp_pa
     assert len(err) == 1 and f"{n} worker processes on {n - 2} CPUs" in err[0]
 
 
+def test_the_pool_s_workers_run_with_worker_env(monkeypatch):
+    """The local pool's workers have WORKER_ENV (single-threaded BLAS, docs/design.md §6)
+    whatever this process has, and this process keeps its own.  It was set around the
+    pool's creation only; the workers start at a submit, and had this process's values."""
+    import os
+
+    from distkin.runstore import WORKER_ENV, local_executor
+    for k in WORKER_ENV:
+        monkeypatch.setenv(k, "7")
+    with local_executor(2) as ex:
+        seen = {k: ex.submit(os.getenv, k).result() for k in WORKER_ENV}
+    assert seen == WORKER_ENV
+    assert {k: os.environ[k] for k in WORKER_ENV} == dict.fromkeys(WORKER_ENV, "7")
+
+
 def _square(x):
     import numpy as np
     return {"y": np.array([x * x])}
