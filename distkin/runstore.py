@@ -224,7 +224,7 @@ class _WorkerProcess(multiprocessing.context.SpawnProcess):
         signal.signal(signal.SIGINT, _worker_sigint)
         if hasattr(signal, "pthread_sigmask"):      # a Ctrl-C while starting: _EXIT
             signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
-        if self._args and isinstance(self._args[0], multiprocessing.queues.Queue):
+        if self._args and _CallQueue.can_read(self._args[0]):
             self._args = (_CallQueue(self._args[0]), *self._args[1:])  # _process_worker's
         super().run()
 
@@ -248,8 +248,20 @@ class _CallQueue:
     late, ends it before a byte is read), reads the message whole ("busy": a SIGINT then
     ends it after the read) and unpickles it "idle"."""
 
+    #: the internals of ``multiprocessing.Queue.get`` it reads (CPython 3.11-3.13)
+    INTERNALS = ("_rlock", "_reader", "_sem")
+
     def __init__(self, queue):
         self._queue = queue
+
+    @classmethod
+    def can_read(cls, queue) -> bool:
+        """``queue`` is a ``multiprocessing.Queue`` with the internals this reader uses;
+        a Python whose queue lacks them keeps its own ``get`` (the pool works, with the
+        rare torn message at a Ctrl-C this class prevents)."""
+        return isinstance(queue, multiprocessing.queues.Queue) and all(
+            hasattr(queue, name) for name in cls.INTERNALS) and hasattr(
+            getattr(queue, "_reader", None), "poll")
 
     def get(self, block=True):                      # as _process_worker calls it
         global _STATE

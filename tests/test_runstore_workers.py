@@ -281,3 +281,21 @@ def test_a_worker_whose_chunk_was_interrupted_starts_no_other(tmp_path):
         got = [type(f.exception(timeout=100)) for f in fs]
     assert got == [KeyboardInterrupt] * 2 + [BrokenProcessPool] * 3
     assert sorted(m.name.split("-")[0] for m in tmp_path.iterdir()) == ["0", "1"]
+
+
+def test_the_call_queue_reader_reads_only_the_queues_it_knows():
+    """:class:`distkin.runstore._CallQueue` reads CPython's private Queue internals
+    (3.11-3.13); on a queue without them the worker keeps the queue's own ``get``
+    instead of failing at its first read."""
+    import multiprocessing
+    from distkin.runstore import _CallQueue
+    q = multiprocessing.get_context("spawn").Queue()
+    try:
+        assert _CallQueue.can_read(q)
+        assert all(hasattr(q, name) for name in _CallQueue.INTERNALS)
+        del q._sem                               # as a Python that renamed it
+        assert not _CallQueue.can_read(q)
+    finally:
+        q._reader.close()
+        q._writer.close()
+    assert not _CallQueue.can_read(object())
