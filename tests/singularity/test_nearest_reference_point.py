@@ -128,3 +128,27 @@ def test_rotation_about_refuses_other_words(tmp_path, capsys):
     assert main(["run", str(f), "--no-progress"]) == 2
     err = capsys.readouterr().err
     assert "rotation_about" in err and "'P5'" in err
+
+
+def test_reference_point_has_the_scene_length_unit(tmp_path, capsys):
+    """QA 25b F6: ``rotation_about.platform_frame`` and "the centroid is at (…)" had no
+    unit (``unit.nearest_singularity`` named only distance and first_order).  A mm scene
+    whose platform frame's origin is not a joint: the centroid, numpy's mean of the
+    scene's platform points, is printed with "mm" and the unit block names the field."""
+    plat = np.array([[10, 0, 0], [70, 0, 0], [40, 30 * S3, 0]], dtype=float)
+    scene = (HEAD.replace('length = "none"', 'length = "mm"')
+             .replace('[[0,0,0],[6,"sqrt(108)",0],[12,0,0]]',
+                      '[[0,0,0],[60,"sqrt(10800)",0],[120,0,0]]')
+             .format(plat='[[10,0,0],[70,0,0],[40,"sqrt(2700)",0]]', t="[30, 50, 100]",
+                     w="[170, 20, 5]"))
+    res, out = _run(tmp_path, capsys, scene)
+    c = plat.mean(axis=0)
+    where = "the centroid is at (" + ", ".join(f"{x:.6g}" for x in c) + ") mm)"
+    assert where in out
+    assert where in res["nearest_singularity"]["rotation_about"]["description"]
+    assert res["nearest_singularity"]["rotation_about"]["platform_frame"] == [0.0, 0.0, 0.0]
+    assert "rotation_about.platform_frame: mm" in res["unit"]["nearest_singularity"]
+    # a unitless scene: no unit word after the coordinates
+    res_n, out_n = _run(tmp_path, capsys, scene.replace('length = "mm"', 'length = "none"'))
+    assert "the centroid is at (" + ", ".join(f"{x:.6g}" for x in c) + "))" in out_n
+    assert "rotation_about.platform_frame: none" in res_n["unit"]["nearest_singularity"]

@@ -23,10 +23,18 @@ itself, whose columns have mixed units, ``singular_values`` (of the unscaled J),
 rank tolerance of the indices that read κ: J is rank-deficient to float64, the pose is a
 singular configuration; the text names it and J's numerical rank, so a κ of 0 is never
 printed as if it were a value of a regular pose; κ = σmin/σmax lies in [0, 1], 1
-isotropic, 0 singular) and ``reachable``.  At a pose where a leg does not close
-(``reachable`` false) J is not
-defined, so ``kappa``, ``kappa_unscaled`` and ``singular_values`` are null (text:
-"undefined (pose not reachable)"), never the numbers of a J with made-up rows.
+isotropic, 0 singular) and ``reachable``, decided as the ``inverse_kinematics`` query
+decides it, by the inverse kinematics at the query's tier (:func:`.reach.reach_status`):
+false where a leg does not close or lies outside its range (``unreachable_legs``,
+1-based) and where a leg is undecided (``undecided_legs``: fast and precise, its reach
+margin within its error estimate of 0; certified, no ball decides it), with the IK's
+per-leg ``reach_undecided``.  At such a pose J is not defined (an undecided leg's row is
+the float sign's guess, its Jq_ii within rounding of 0: QA 25b F1 printed κ 3.6e-18 and
+"SINGULAR pose" where the certified tier finds the leg not closing), so ``kappa``,
+``kappa_bounds``, ``kappa_unscaled``, ``singular_values`` and ``singular`` are null
+(text: "undefined (pose not reachable)", or "undefined (reachability undecided)" with
+the legs named and method = "certified" suggested), never the numbers of a J with
+made-up rows.
 ST is the paper's (Sec. III-B-2, set for the GII optimisation of the 6-RSS kinematics
 as the originally intended output capabilities of Ergin's device), the same for every
 mechanism: the query has no field for a device's own, and its report says so (a
@@ -53,12 +61,16 @@ from ..units import SCALING_ORIGIN, scaling_text
 from .mechanisms import (NOT_RESOLVED, _accuracy, _amount, _fmt_pose, _mechanism_unit,
                          _Poses, _prismatic, _tier_fields, _tier_lines, _tier_rows,
                          parse_poses)
+from .reach import reach_status, reach_text
 
-__all__ = ["JacobianQuery", "UNDEFINED"]
+__all__ = ["JacobianQuery", "UNDECIDED", "UNDEFINED"]
 
 #: the text of an index of J (kappa, singular values) at a pose where a leg does not
 #: close: J is not defined there (JSON null)
 UNDEFINED = "undefined (pose not reachable)"
+#: the same at a pose where no leg certainly fails but one is undecided (its reach
+#: margin within the tier's accuracy of 0, :func:`.reach.reach_status`)
+UNDECIDED = "undefined (reachability undecided)"
 
 
 def _inaccurate_line(res, i) -> str:
@@ -74,6 +86,21 @@ def _inaccurate_line(res, i) -> str:
             f"error above {J_REL_USEFUL:g} of the row"
             + (f"; legs {inf}: inf, first order fails" if inf else "")
             + '); use method = "precise"')
+
+
+def _undecided_line(res, legs) -> str:
+    """The line of a pose where the legs ``legs`` (1-based) are undecided
+    (:func:`.reach.reach_status`, as the inverse_kinematics query says it): at their reach
+    boundary within the tier's accuracy, so J, κ and a singularity verdict are not
+    stated there (QA 25b F1)."""
+    if res.method == "certified":
+        return (f"  reach undecided (legs {legs}): no arb ball at {res.precision} decides "
+                "whether they close; J, kappa and a singularity verdict are not stated "
+                "(more bits may decide)")
+    return (f"  reach undecided in {res.precision} (legs {legs}): the reach margin is "
+            "within its error estimate of 0 (at the reach boundary within rounding; valid "
+            "is the sign's guess): J, kappa and a singularity verdict are not stated; "
+            'method = "certified" decides')
 
 
 def _kappa_accuracy(bounds, method) -> str:
@@ -109,7 +136,8 @@ def _jacobian_units(mech, mass_matrix: bool) -> dict:
         "Jx": "m/m (columns 1-3), m/rad (columns 4-6); Jq qdot = Jx (v, omega)",
         "J_error": "as J", "Jq_error": "as Jq", "Jx_error": "as Jx",
         "singular_values": "of the unscaled J, mixed units; null where the pose is not "
-                           "reachable",
+                           "reachable (reachable false: a leg does not close or is "
+                           "undecided)",
         "kappa": f"none (eq. (4), of ST⁻¹Jᵀ, ST = {scaling_text(ST_DEFAULT)}, the paper's "
                  "ST of Sec. III-B-2 for every mechanism; a float64 SVD of the tier's J "
                  "rounded to float64 in every tier, its accuracy in kappa_bounds); null where "
@@ -123,6 +151,11 @@ def _jacobian_units(mech, mass_matrix: bool) -> dict:
                           "where the pose is not reachable",
         "singular": f"none (true where kappa <= {RANK_TOL:g}: J rank-deficient, a singular "
                     "configuration); null where the pose is not reachable",
+        "unreachable_legs": "1-based legs that certainly do not close or lie outside their "
+                            "range (inverse_kinematics at the query's tier)",
+        "undecided_legs": "1-based legs at their reach boundary within the tier's accuracy "
+                          "(reachable false, no J indices); certified: no ball decides",
+        "reach_undecided": "bool per leg, the inverse kinematics' (as inverse_kinematics)",
     }
     if mass_matrix:
         out.update({
@@ -154,13 +187,21 @@ class JacobianQuery:
 
     @staticmethod
     def run(p, scene, ctx):
-        from ...mechanisms.kinematics_tiers import J_FIRST_ORDER, jacobian_tier
+        from ...mechanisms.kinematics_tiers import J_FIRST_ORDER, ik_tier, jacobian_tier
         mech = scene.mechanism
         X = np.array(p.poses)
         with warnings.catch_warnings(record=True) as caught:
             # the fast tier's warning at a reach boundary: said per pose below
             warnings.simplefilter("always", ConditioningWarning)
             res = jacobian_tier(mech, X, p.method, p.dps, p.bits)
+        with warnings.catch_warnings():
+            # whether each pose is reachable, as the inverse_kinematics query decides it
+            # (an undecided leg is said per pose below; QA 25b F1: ``valid``, the float
+            # sign's guess there, gave kappa and a SINGULAR verdict at such a pose)
+            warnings.simplefilter("ignore", ConditioningWarning)
+            ik = ik_tier(mech, X, p.method, p.dps, p.bits)
+        reach = [reach_status(mech, ik, i) for i in range(len(X))]
+        ok_pose = np.array([st["reachable"] for st in reach], dtype=bool)
         J, Jq, Jx, valid = res.J, res.Jq, res.Jx, res.valid
         flagged = (res.inaccurate if res.inaccurate is not None
                    else np.zeros(len(X), dtype=bool))
@@ -179,33 +220,46 @@ class JacobianQuery:
                              + (["prismatic rows (normalised Plücker lines, Rojas et al. "
                                  "eq. (5)): m/m, m/rad"] if pris.any() else []))]
         for i in range(len(X)):
-            reachable = bool(valid[i].all())
+            st = reach[i]
+            reachable, open_ = st["reachable"], st["undecided_legs"]
+            # J's indices need every row of J: certified, a leg whose Jq_ii ball
+            # contains 0 (within the balls' width of a serial singularity) has none
+            defined = reachable and bool(valid[i].all())
             # where a leg does not close there is no J: its indices are not defined
             # (null), never the numbers of a J with that leg's row made up
             r = _tier_rows(res, i, {"pose": X[i], "J": J[i], "Jq": Jq[i], "Jx": Jx[i],
-                                    "singular_values": sv[i] if reachable else None,
-                                    "kappa": kappa[i] if reachable else None,
+                                    "singular_values": sv[i] if defined else None,
+                                    "kappa": kappa[i] if defined else None,
                                     "kappa_bounds": (kappa_bounds(J[i], res.J_error[i],
                                                                   ST_DEFAULT)
-                                                     if reachable else None),
-                                    "kappa_unscaled": (None if not reachable else
+                                                     if defined else None),
+                                    "kappa_unscaled": (None if not defined else
                                                        sv[i, -1] / sv[i, 0] if sv[i, 0] > 0
                                                        else 0.0),
-                                    "singular": (bool(kappa[i] <= RANK_TOL) if reachable
+                                    "singular": (bool(kappa[i] <= RANK_TOL) if defined
                                                  else None),
                                     "reachable": reachable,
+                                    "unreachable_legs": st["unreachable_legs"],
+                                    "undecided_legs": open_,
+                                    "reach_undecided": ik.reach_undecided[i],
                                     "inaccurate": bool(flagged[i])},
                            "J_error", "Jq_error", "Jx_error")
             lines.append(f"pose {i}: {_fmt_pose(X[i], scene)}"
-                         + ("" if reachable else "  (NOT reachable: J is meaningless)"))
+                         + ("" if reachable else f"  ({reach_text(st)}: J is meaningless)"
+                            if st["unreachable_legs"] else
+                            f"  ({reach_text(st)}: J's indices not stated)"))
             for row in J[i]:
                 lines.append("  [" + " ".join(f"{v:11.5g}" for v in row) + "]")
             lines += _tier_lines(res, i)
+            if open_:
+                lines.append(_undecided_line(res, open_))
             if flagged[i]:
                 lines.append(_inaccurate_line(res, i))
-            if not reachable:
-                lines.append(f"  kappa = {UNDEFINED} (eq. (4))")
-                lines.append(f"  singular values of the unscaled J: {UNDEFINED}")
+            if not defined:
+                what = (UNDEFINED if st["unreachable_legs"] else UNDECIDED if open_ else
+                        "undefined (J not certified: see NOT certified)")
+                lines.append(f"  kappa = {what} (eq. (4)); no singularity verdict")
+                lines.append(f"  singular values of the unscaled J: {what}")
             else:
                 lines.append(f"  kappa = {r['kappa']:.6g} (eq. (4): sigma_min/sigma_max of "
                              f"the scaled ST⁻¹Jᵀ, ST = {scaling_text(ST_DEFAULT)}, Kühne et "
@@ -239,7 +293,7 @@ class JacobianQuery:
                                "the IK's error and the rounding propagated through Jq, Jx "
                                "and J = Jx/Jq, (dJx + |J| dJq)/|Jq_ii|; inf where it exceeds "
                                f"{J_FIRST_ORDER:g} of the row"))
-        if valid.all(axis=-1).any():        # some kappa printed: say whose ST it is
+        if (ok_pose & valid.all(axis=-1)).any():    # some kappa printed: whose ST it is
             lines.append(f"  ST of kappa: {SCALING_ORIGIN}, used for every mechanism (this "
                          "query has no field for a device's own; a performance query's "
                          "`scaling` sets one for its GII)")

@@ -198,7 +198,8 @@ def result_units(units, pose: bool) -> dict:
            "signed_cm_relative_ball": "none (relative; certified: arb ball or exact)",
            "nearest_singularity": f"distance, first_order: {L} (the translation of the "
                                   f"point rotation_about and the rotation times "
-                                  f"length_scale)",
+                                  f"length_scale); rotation_about.platform_frame: {L} "
+                                  f"(the point's coordinates in the platform frame)",
            "platform66": (f"det_J66_hat, det_A_det_Jhat: {L}^9 (unnormalised Plücker rows "
                           f"p - b in {L}, moments in {L}^2); det_A, identity_error: none"
                           if L != "none" else "none")}
@@ -230,7 +231,7 @@ def _run_pose(model, p, unit):
     cert_cm = None
     if p.method == "certified":         # the conditions in arb, not float (QA V 2)
         cert_cm, ball, sgn, bits = _certified_pose(model, p.pose, tests)
-    c, about = model.reference_point(p.rotation_about)
+    c, about = model.reference_point(p.rotation_about, unit)
     ns = nearest_singularity(lambda Rs, ts: model.det_j(Rs, ts), R, t, model.L, centre=c)
     undefined = tests["undefined"]
     res = {"pose": {"rotation_matrix": R, "translation": t},

@@ -93,10 +93,12 @@ class OctahedralModel:
         from ...singularity import PosePath
         return PosePath(a.translation, a.rotation, b.translation, b.rotation, self.deg)
 
-    def reference_point(self, about: str = "origin"):
+    def reference_point(self, about: str = "origin", unit: str = ""):
         """The point the nearest-singularity search turns the platform about (QA 25a F3):
         ``(c, text)``, c (3,) in the platform frame (scene length units) and the words
-        the report prints, naming the platform point it coincides with (P4, P5, P6)."""
+        the report prints, naming the platform point it coincides with (P4, P5, P6);
+        ``unit`` (" mm", or "" for a unitless scene) follows a coordinate the words give
+        (QA 25b F6: "the centroid is at (…)" had none)."""
         mean = self.plat_f.mean(axis=0)
         if about == "centroid":
             return mean, "the platform centroid"
@@ -106,7 +108,7 @@ class OctahedralModel:
         where = (f"{at[0]} here" if at else "the platform centroid here"
                  if np.linalg.norm(mean) <= 1e-12 * size else
                  "not a joint; the centroid is at (" + ", ".join(f"{x:.6g}" for x in mean)
-                 + ")")
+                 + f"){unit}")
         return c, f"the platform frame's origin ({where})"
 
     def rotation(self, pose):

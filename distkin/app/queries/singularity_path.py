@@ -292,7 +292,7 @@ def run_path(model, p, unit):
                      f"(a = V1245 V3456 V1236 = 0), not a singularity")
     lines.extend(dict.fromkeys(notes))
     dist = []
-    c, about = model.reference_point(p.rotation_about)
+    c, about = model.reference_point(p.rotation_about, unit)
     for s in (0.0, 1.0):
         R, t = at(np.array([s]))
         ns = nearest_singularity(lambda Rs, ts: model.det_j(Rs, ts), R[0], t[0], model.L,
