@@ -23,7 +23,10 @@ entry says where it stopped.
 (default: every section with figures) from the numbers stored in ``results.json``, with
 the section's ``plot(data)`` (``benchmarks/plot_NAME.py``), which a run calls too on the
 numbers it stores; results.json and BENCHMARKS.md are left as they are.  A figure whose
-numbers the file does not hold is left as it is and named on stderr (exit 1).
+numbers the file does not hold is left as it is and named on stderr (exit 1); so is a
+results.json that is missing, not JSON, or whose section has no ``data`` or lacks a key
+its figures need (one line naming the file and what is missing, no traceback).  A name
+that is no section, or a section without figures, exits 2 naming the sections.
 """
 
 from __future__ import annotations
@@ -150,34 +153,100 @@ def _missing_requirements(names, available) -> dict:
     return out
 
 
+def _json_type(x) -> str:
+    """The JSON name of the type of ``x`` (object, array, string, number, ...)."""
+    return {dict: "an object", list: "an array", str: "a string", bool: "a boolean",
+            int: "a number", float: "a number", type(None): "null"}.get(type(x), "?")
+
+
+def _load_results():
+    """(results, None) from ``results.json``, or (None, one line saying why not): the
+    file missing, unreadable, not JSON or not an object of sections (QA 25b F5: a
+    traceback, or "no numbers of 'accuracy'" for a file that does not exist)."""
+    if not JSON.exists():
+        return None, (f"{JSON} does not exist: no stored numbers to draw from (a run "
+                      "writes it: python -m benchmarks [NAME ...])")
+    try:
+        results = json.loads(JSON.read_text(encoding="utf-8"))
+    except OSError as exc:
+        return None, f"{JSON} cannot be read ({type(exc).__name__}: {exc.strerror or exc})"
+    except (ValueError, UnicodeDecodeError) as exc:    # JSONDecodeError is a ValueError
+        return None, (f"{JSON} is not valid JSON ({' '.join(str(exc).split())[:160]}); "
+                      "expected the object a run writes, {section: {\"data\": {...}}}")
+    if not isinstance(results, dict):
+        return None, (f"{JSON} holds {_json_type(results)}, expected an object "
+                      "{section: {\"data\": {...}}}")
+    return results, None
+
+
+def _redraw(name, results) -> int:
+    """Redraw section ``name``'s figures from ``results``; the number of figures not
+    redrawn (each named on stderr in one line: no numbers of the section, no ``data``,
+    or numbers its ``plot`` cannot draw from, e.g. a key missing)."""
+    where = f"[{name}] not redrawn (its figures left as they are)"
+    rerun = f"rerun: python -m benchmarks {name}"
+    if name not in results:
+        print(f"benchmarks: {where}: {JSON} holds no numbers of {name!r} ({rerun})",
+              file=sys.stderr)
+        return 1
+    entry = results[name]
+    if not isinstance(entry, dict) or not isinstance(entry.get("data"), dict):
+        got = (f"is {_json_type(entry)}, not an object" if not isinstance(entry, dict)
+               else "has no \"data\"" if "data" not in entry else
+               f"has {_json_type(entry['data'])} as \"data\", not an object")
+        print(f"benchmarks: {where}: {JSON}'s {name!r} {got}; expected "
+              f"{{\"data\": {{...}}}} as a run writes it ({rerun})", file=sys.stderr)
+        return 1
+    try:
+        drawn = section_module(name).plot(entry["data"])
+    except (KeyError, IndexError, TypeError, ValueError, AttributeError) as exc:
+        what = (f"has no key {exc.args[0]!r}" if isinstance(exc, KeyError) and exc.args
+                else f"is not what its figures are drawn from ({type(exc).__name__}: "
+                     f"{' '.join(str(exc).split())[:160]})")
+        print(f"benchmarks: {where}: {JSON}'s {name}.data {what} ({rerun})",
+              file=sys.stderr)
+        return 1
+    if not drawn:                       # e.g. certify's data without "fig3": no figure
+        print(f"benchmarks: {where}: {JSON}'s {name}.data names no figure to draw "
+              f"({rerun})", file=sys.stderr)
+        return 1
+    missing = 0
+    for fig, what in drawn.items():
+        if isinstance(what, Path):
+            print(f"[{name}] {fig} redrawn from {JSON.name}")
+        else:
+            print(f"benchmarks: [{name}] {fig} not redrawn (left as it is): {what}",
+                  file=sys.stderr)
+            missing += 1
+    return missing
+
+
 def replot(names=None) -> int:
     """Redraw the figures of the sections ``names`` (None: every section with a
     ``plot``) from ``results.json`` by each section's ``plot(data)``, measuring nothing
     and writing neither results.json nor BENCHMARKS.md.  Returns 0 when every figure
-    was redrawn, 1 when some were not (their numbers are not in the file; each named on
-    stderr, its PNG left as it is), 2 for a name that is no section with figures."""
+    was redrawn; 1 when some were not (their numbers are not in the file, or the file
+    is missing or not the JSON a run writes; each said in one line on stderr, its PNG
+    left as it is); 2 for a name that is no section (naming the sections) or a section
+    that draws no figures (naming those that do)."""
     available = modules()
     drawn = [n for n in available if callable(getattr(section_module(n), "plot", None))]
-    bad = [n for n in (names or ()) if n not in drawn]
-    if bad:
-        print(f"benchmarks: --replot: {bad} draw no figures; expected some of {drawn}",
-              file=sys.stderr)
+    unknown = [n for n in (names or ()) if n not in available]
+    if unknown:
+        print(f"benchmarks: --replot: no section named {', '.join(map(repr, unknown))}; "
+              f"the sections are {', '.join(available)} (those with figures: "
+              f"{', '.join(drawn)})", file=sys.stderr)
         return 2
-    results = json.loads(JSON.read_text(encoding="utf-8")) if JSON.exists() else {}
-    missing = 0
-    for name in names or drawn:
-        if name not in results:
-            print(f"benchmarks: [{name}] not redrawn: no numbers of {name!r} in "
-                  f"{JSON.name} (run: python -m benchmarks {name})", file=sys.stderr)
-            missing += 1
-            continue
-        for fig, what in section_module(name).plot(results[name]["data"]).items():
-            if isinstance(what, Path):
-                print(f"[{name}] {fig} redrawn from {JSON.name}")
-            else:
-                print(f"benchmarks: [{name}] {fig} not redrawn (left as it is): {what}",
-                      file=sys.stderr)
-                missing += 1
+    bare = [n for n in (names or ()) if n not in drawn]
+    if bare:
+        print(f"benchmarks: --replot: section {', '.join(map(repr, bare))} draws no "
+              f"figures; the sections with figures are {', '.join(drawn)}", file=sys.stderr)
+        return 2
+    results, why = _load_results()
+    if results is None:
+        print(f"benchmarks: --replot: nothing redrawn: {why}", file=sys.stderr)
+        return 1
+    missing = sum(_redraw(name, results) for name in names or drawn)
     return 1 if missing else 0
 
 

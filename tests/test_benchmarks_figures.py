@@ -66,6 +66,86 @@ def test_replot_draws_the_stored_numbers_and_measures_nothing(tmp_path, monkeypa
     assert not (tmp_path / "BENCHMARKS.md").exists()
 
 
+#: results.json contents --replot cannot draw from (QA 25b F5: tracebacks of
+#: JSONDecodeError, KeyError 'data', KeyError 'rows'), each with the words the one-line
+#: error must hold: the keys the plot modules document (plot_accuracy: accuracy.data
+#: with ``rows`` and ``miscount``; every section's entry: {"data": ...} as a run writes)
+BAD_RESULTS = {
+    "truncated": ("{trunc", "accuracy", ["is not valid JSON", "line 1 column 2"]),
+    "no data": ('{"accuracy": {"x": 1}}', "accuracy", ["'accuracy' has no \"data\""]),
+    "no rows": ('{"accuracy": {"data": {}}}', "accuracy", ["accuracy.data has no key 'rows'"]),
+    "no miscount": ('{"accuracy": {"data": {"rows": {}}}}', "accuracy",
+                    ["accuracy.data has no key 'miscount'"]),
+    "entry not an object": ('{"accuracy": 5}', "accuracy", ["'accuracy' is a number"]),
+    "an array": ("[1, 2]", "accuracy", ["holds an array, expected an object"]),
+    "section absent": ('{"tradeoffs": {"data": {}}}', "accuracy",
+                       ["holds no numbers of 'accuracy'"]),
+    "no figure named": ('{"certify": {"data": {}}}', "certify",
+                        ["certify.data names no figure"]),
+    "tradeoffs device": ('{"tradeoffs": {"data": {}}}', "tradeoffs",
+                         ["tradeoffs.data has no key 'octopod'"]),
+}
+
+
+def _replot_isolated(tmp_path, monkeypatch, argv):
+    """``main(argv)`` against a results.json in ``tmp_path`` (never the committed one),
+    with every section's ``run`` failing the test if called (--replot measures nothing)."""
+    def run():
+        raise AssertionError("--replot measured")
+    for name in bm.modules():
+        monkeypatch.setattr(bm.section_module(name), "run", run)
+    monkeypatch.setattr(bm, "MD", tmp_path / "BENCHMARKS.md")
+    monkeypatch.setattr(bm, "JSON", tmp_path / "results.json")
+    return bm.main(argv)
+
+
+@pytest.mark.parametrize("case", sorted(BAD_RESULTS))
+def test_replot_of_unusable_results_says_so_in_one_line(case, tmp_path, monkeypatch, capsys):
+    text, section, words = BAD_RESULTS[case]
+    path = tmp_path / "results.json"
+    path.write_text(text, encoding="utf-8")
+    before = sorted(p.name for p in tmp_path.iterdir())
+    assert _replot_isolated(tmp_path, monkeypatch, ["--replot", section]) == 1
+    out, err = capsys.readouterr()
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in err, err
+    assert str(path) in lines[0] and all(w in lines[0] for w in words), lines[0]
+    assert out == ""                                   # nothing said to be redrawn
+    assert path.read_text(encoding="utf-8") == text    # results.json not rewritten
+    assert sorted(p.name for p in tmp_path.iterdir()) == before   # no BENCHMARKS.md
+
+
+def test_replot_without_results_json_says_the_file_is_missing(tmp_path, monkeypatch,
+                                                                capsys):
+    for argv in (["--replot"], ["--replot", "accuracy"]):
+        assert _replot_isolated(tmp_path, monkeypatch, argv) == 1
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "does not exist" in err, err
+        assert str(tmp_path / "results.json") in err and "no numbers of" not in err
+    assert list(tmp_path.iterdir()) == []              # nothing written
+
+
+def test_replot_of_an_unknown_name_is_not_a_section_without_figures(tmp_path, monkeypatch,
+                                                                    capsys):
+    """--replot foo said "['foo'] draw no figures", the words for a real section
+    without figures; now an unknown name lists the sections, and a section without
+    figures (tiers: no ``plot``) lists those with figures (exit 2 both)."""
+    sections = bm.modules()
+    with_figures = [n for n in sections if callable(getattr(bm.section_module(n), "plot",
+                                                            None))]
+    assert "tiers" in sections and "tiers" not in with_figures
+    assert _replot_isolated(tmp_path, monkeypatch, ["--replot", "foo"]) == 2
+    unknown = capsys.readouterr().err
+    assert "no section named 'foo'" in unknown and "draws no figures" not in unknown
+    assert all(n in unknown for n in sections), unknown
+    assert _replot_isolated(tmp_path, monkeypatch, ["--replot", "tiers"]) == 2
+    bare = capsys.readouterr().err
+    assert "section 'tiers' draws no figures" in bare and "no section named" not in bare
+    assert bare.strip().endswith(", ".join(with_figures))
+    assert unknown.count("\n") == bare.count("\n") == 1
+    assert list(tmp_path.iterdir()) == []
+
+
 # ------------------------------------------------------------------ accuracy
 def test_accuracy_labels_cover_no_marker_and_no_other_label():
     data = RESULTS["accuracy"]["data"]

@@ -19,8 +19,8 @@ import numpy as np
 from .query import Outcome
 from ..numfmt import sig
 from .units import display_length as length_unit_of
-from .study_tables import (_f, _subset, _unit, _unlike_paper, _unlike_paper_table4,
-                           markdown_tables)
+from .study_tables import (_f, _sigma_unit, _subset, _unit, _unlike_paper,
+                           _unlike_paper_table4, markdown_tables)
 from ..indices.study import (CAPABILITIES, SENSITIVITIES, Device, planned_chunk, run_device,
                              summarise)
 from ..indices.actuators import leg_limits, limit_text
@@ -53,14 +53,17 @@ def _yes_no(v) -> str:
     return {True: "yes", False: "no", None: "—"}.get(v, str(v))
 
 
-def _criteria_text(c, lu="mm"):
-    """One design criterion in words; lengths in the scene's unit ``lu``."""
+def _criteria_text(c, lu="mm", sigma_unit="1/(N·m)"):
+    """One design criterion in words; lengths in the scene's unit ``lu``, σmin of
+    ST⁻¹Jᵀ in ``sigma_unit`` (the device's: :func:`.study_tables._sigma_unit`; QA 25b
+    F3: it was printed without one)."""
     v = c["value"]
     mark = {True: "held", False: "NOT held", None: "undecided"}[c["held"]]
     if c["held"] is None and v.get("note"):
         mark = v["note"] if v["note"].startswith("undecided") else f"undecided: {v['note']}"
     if c["number"] == 1:
-        val = (f"σmin {_f(v['sigma_min'])}, all reachable {_yes_no(v['all_reachable'])}, "
+        sig = _f(v["sigma_min"]) + ("" if v["sigma_min"] is None else f" {sigma_unit}")
+        val = (f"σmin {sig}, all reachable {_yes_no(v['all_reachable'])}, "
                f"det sign changes {_yes_no(v['det_sign_changes'])}")
     elif c["number"] == 2:
         val = f"L = {v['L']}, min |Jq|/l1 {_f(v['transmission_min'])}"
@@ -169,12 +172,26 @@ def _notes(summaries) -> str:
         + "; ".join(unlike4) + "." if unlike4 else "")
 
 
-def _units_block(actuators) -> dict:
+def _sigma_of_devices(summaries) -> str:
+    """The unit of the devices' σmin of ST⁻¹Jᵀ as Table IV's header gives it: one unit
+    when every device shares it, else each device's (QA 25b F3)."""
+    units = {s["label"]: _sigma_unit(s) for s in summaries}
+    if len(set(units.values())) <= 1:
+        return next(iter(units.values()), "1/(N·m) for revolute actuators, 1/N for "
+                                          "prismatic ones")
+    return "by device: " + ", ".join(f"{k} {u}" for k, u in units.items())
+
+
+def _units_block(actuators, summaries=()) -> dict:
     """The units of the study JSON's fields that carry none in their name or entry
     (QA V: worst poses, actuator figures and dexterous-workspace thresholds had none;
-    the table rows carry theirs, ``table[q]["unit"]``)."""
+    the table rows carry theirs, ``table[q]["unit"]``).  ``summaries``: the devices,
+    whose actuators give the unit of σmin in the diagnostics and the criteria (QA 25b
+    F3: those had no entry)."""
     from ..indices.actuators import KEY_UNITS
     from ..indices.isotropy import SIGMA_UNITS
+    sig = (f"{_sigma_of_devices(summaries)} (the smallest σ of ST⁻¹Jᵀ over the device's "
+           "grid, per unit of actuator effort)")
     return {"actuators": {k: KEY_UNITS.get(k, "see actuator_limits.units")
                           for k in actuators},
             "devices[].worst_poses": "x, y, z in m, rx, ry, rz in rad: the grid pose of "
@@ -193,7 +210,9 @@ def _units_block(actuators) -> dict:
                                   + "; ".join(f"{r} {rev} (revolute), {pri} (prismatic)"
                                               if rev != pri else f"{r} {rev}"
                                               for r, (rev, pri) in SIGMA_UNITS.items()
-                                              if r != "wrench")}
+                                              if r != "wrench"),
+            "devices[].diagnostics.sigma_min": sig,
+            "devices[].criteria[].value.sigma_min": sig}
 
 
 def _cm3(volume_m3: float, lu: str = "cm") -> str:
@@ -374,7 +393,8 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
     lines += [_finding_text(f) for f in fnd]
     lines += ["", "Design criteria (Sec. II-A; each with its own test, see the JSON):"]
     for s in summaries:
-        lines.append(f"  {s['label']}: " + "; ".join(_criteria_text(c, lu) for c in s["criteria"]))
+        lines.append(f"  {s['label']}: " + "; ".join(_criteria_text(c, lu, _sigma_unit(s))
+                                                     for c in s["criteria"]))
     lines += ["", "Notes: " + _notes(summaries)]
     result = {"devices": summaries, "findings": fnd, "seconds": total,
               "chunks_resumed": sum(s["chunks_resumed"] for s in summaries),
@@ -383,7 +403,7 @@ def performance_report(p, scene, ctx, *, grid_of, store_of, executor):
               # which route computed the numbers (the store is keyed by it: QA)
               "route": p.route,
               "grid": {s["label"]: grids[s["label"]][0].as_dict() for s in summaries},
-              "markdown": tables, "unit": _units_block(actuators)}
+              "markdown": tables, "unit": _units_block(actuators, summaries)}
 
     def plot(stem):
         return _plots(stem, grids, per_all, summaries, actuators, tables, result, certs,

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..indices.isotropy import SCALING_READINGS
 from ..indices.study import CAPABILITIES, PAPER_TABLE4, SENSITIVITIES, TRUE_VELOCITIES
-from ..indices.study_findings import row_definition, row_reason
+from ..indices.study_findings import row_definition, row_reason, summary_sigma_unit
 from ..indices.workspace import table2_grid
 from ..numfmt import fixed as _f           # the tables' digits (also Table V's)
 
@@ -67,9 +67,10 @@ def _unit(q, unit, s) -> str:
 def _sigma_unit(s, reading="wrench") -> str:
     """The unit of device summary ``s``'s σ of ``reading`` (:func:`.isotropy.sigma_unit`,
     by its actuators: 1/(N·m) for ST⁻¹Jᵀ of revolute legs, 1/N of prismatic ones; QA 25a
-    F5: Table IV printed them without one, and the text called them dimensionless)."""
-    from ..indices.isotropy import sigma_unit
-    return sigma_unit((s.get("actuator_limits") or {}).get("prismatic") or [False], reading)
+    F5: Table IV printed them without one, and the text called them dimensionless); the
+    same source as the reasons' and the design criteria's σ
+    (:func:`.study_findings.summary_sigma_unit`)."""
+    return summary_sigma_unit(s, reading)
 
 
 def _common_unit(summaries, reading="wrench"):

@@ -13,10 +13,12 @@ from __future__ import annotations
 
 import math
 
+from .isotropy import sigma_unit
 from .study import PAPER_TABLE3, PAPER_TABLE4
 from .workspace import at_least
 
-__all__ = ["DEFINITIONS", "PAPER_LIMITS", "row_definition", "row_reason", "findings", "FIG3"]
+__all__ = ["DEFINITIONS", "PAPER_LIMITS", "row_definition", "row_reason", "findings", "FIG3",
+           "summary_sigma_unit"]
 
 #: Fig. 3 of the paper (translational workspace at zero rotation): singular regions?
 FIG3 = {"hunt": False, "hexa": True, "ergin": True}
@@ -61,6 +63,16 @@ def row_definition(row: str, sensitivity: str = "slice", limits: dict | None = N
     return same, text
 
 
+def summary_sigma_unit(summary: dict, reading: str = "wrench") -> str:
+    """The unit of device summary ``summary``'s σ of ``reading`` (ST⁻¹Jᵀ by default):
+    :func:`.isotropy.sigma_unit` of its actuators (``actuator_limits["prismatic"]``;
+    revolute when the summary names none), 1/(N·m) for revolute legs and 1/N for
+    prismatic ones (QA 25a F5).  Table IV's header, the reasons of Table III and the
+    design criteria all take it from here, so they cannot disagree."""
+    return sigma_unit((summary.get("actuator_limits") or {}).get("prismatic") or [False],
+                      reading)
+
+
 def _kind(row):
     if row.startswith("sens_"):
         return "sensitivity"
@@ -95,6 +107,7 @@ def row_reason(row: str, which: str, summary: dict, certified: dict | None = Non
         return ""
     d = summary["diagnostics"]
     iso = summary["isotropy"]
+    su = summary_sigma_unit(summary)       # σ of ST⁻¹Jᵀ per unit of actuator effort
     parts = []
     if col in ("hexa", "ergin"):
         parts.append("the paper prints none of this device's parameters; our preset's are "
@@ -109,7 +122,7 @@ def row_reason(row: str, which: str, summary: dict, certified: dict | None = Non
         si = iso.get("sigma_min")                  # over Table IV's range, like with like
         if col in PAPER_TABLE4 and si is not None:
             rs = si / PAPER_TABLE4[col][1]
-            sig = (f"our σmin is {rs:.2g}× Table IV's (ours {si:.3g} over "
+            sig = (f"our σmin is {rs:.2g}× Table IV's (ours {si:.3g} {su} over "
                    f"±{iso.get('rotation_deg', 0):.0f}°, ST⁻¹Jᵀ; the paper's "
                    f"{PAPER_TABLE4[col][1]:.3g} over ±20°)")
             # QA 23: the Hunt-type's 0.109× and 0.23× were "explained" by a 0.172× σmin
@@ -120,7 +133,7 @@ def row_reason(row: str, which: str, summary: dict, certified: dict | None = Non
                          "the worst pose is not identified (l3 and the Fig. 2 reading are "
                          "not printed)")
         elif s is not None:
-            parts.append(f"the worst case follows σmin of Jᵀ (ours {s:.3g})")
+            parts.append(f"the worst case follows σmin of Jᵀ (ours {s:.3g} {su})")
         if d.get("det_sign_changes"):
             parts.append("det J changes sign on our grid (a singularity inside)")
     elif kind == "velocity" and which == "min":
@@ -133,7 +146,7 @@ def row_reason(row: str, which: str, summary: dict, certified: dict | None = Non
                                                              "sens_rotational"):
         # {J# δq}: bounded by 1/σmin of J
         s = d.get("sigma_min")
-        s = "not available" if s is None else f"{s:.3g}"
+        s = "not available" if s is None else f"{s:.3g} {su}"
         parts.append(f"J# grows like 1/σmin near singular poses and near the reach limit "
                      f"(our σmin {s}): ours is larger where our grid comes nearer to one"
                      if ratio > 2 else

@@ -139,7 +139,7 @@ def test_the_force_reason_compares_like_with_like():
          "diagnostics": {"sigma_min": 0.0547},
          "isotropy": {"sigma_min": 0.0611, "rotation_deg": 20.0}}
     why = row_reason("force", "min", s)
-    assert "ours 0.0611 over ±20°" in why and "0.0547" not in why
+    assert "ours 0.0611 1/(N·m) over ±20°" in why and "0.0547" not in why
     assert f"the paper's {PAPER_TABLE4['octopod'][1]:.3g} over ±20°" in why
 
 
