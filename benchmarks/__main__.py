@@ -272,7 +272,15 @@ def main(argv=None) -> int:
             print(f"benchmarks: section {name!r} needs {', '.join(dists)}, not installed; "
                   f"install the extra: pip install -e '.[bench]'", file=sys.stderr)
         return 2
-    results = json.loads(JSON.read_text()) if JSON.exists() else {}
+    results = {}
+    if JSON.exists():
+        # refused before any measurement: a run writes the file whole, so going on
+        # would replace every other section's stored numbers by this run's alone
+        results, why = _load_results()
+        if results is None:
+            print(f"benchmarks: nothing measured: {why}; repair or move it (a run keeps "
+                  f"the other sections' numbers in it)", file=sys.stderr)
+            return 2
     info = machine()
     run = {"command": "python -m benchmarks" + ("" if names is None else " " + " ".join(names)),
            "date": time.strftime("%Y-%m-%d %H:%M"), "machine": info, "ran": {},

@@ -273,3 +273,20 @@ def test_a_stored_certificate_is_the_certificate(tmp_path):
     assert png == tmp_path / "certify_hexa_radial_reading_certified_workspace.png"
     assert png.stat().st_size > 0
     assert "not in results.json" in out["certify_hunt_certified_workspace.png"]
+
+
+@pytest.mark.parametrize("text", ["{trunc", "[1, 2]"])
+def test_a_measuring_run_refuses_a_corrupt_results_json_before_measuring(
+        text, tmp_path, monkeypatch, capsys):
+    """``python -m benchmarks NAME`` read results.json with a bare json.loads: a
+    corrupt file was a traceback (QA 25b), and a run writes the file whole, so going on
+    would have dropped every other section's numbers.  Now one line, exit 2, nothing
+    measured (every section's ``run`` fails the test if called), the file unchanged."""
+    path = tmp_path / "results.json"
+    path.write_text(text, encoding="utf-8")
+    assert _replot_isolated(tmp_path, monkeypatch, ["tiers"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    assert "nothing measured" in err and str(path) in err
+    assert path.read_text(encoding="utf-8") == text
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["results.json"]
