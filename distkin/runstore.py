@@ -176,8 +176,26 @@ def local_executor(workers: int | None = None):
                     initializer=_worker_start, initargs=(os.getpid(),))
     try:
         yield ex
-    finally:
-        ex.shutdown(wait=True, cancel_futures=True)
+    except BaseException:
+        # the workers end now, quietly: one still unpickling its start-up data when the
+        # queues' semaphores go printed "FileNotFoundError ... SemLock._rebuild" after
+        # a Ctrl-C at the pool's start (QA 25b: 6 runs in 56); the chunks that ran are
+        # stopped already (their SIGINT) and the finished ones saved by this process
+        for proc in list((getattr(ex, "_processes", None) or {}).values()):
+            try:
+                proc.kill()
+            except (OSError, ValueError, AttributeError):
+                pass
+        try:
+            ex.shutdown(wait=True, cancel_futures=True)
+        except RuntimeError:
+            # a Ctrl-C inside the pool's own Thread.start (its manager thread made, not
+            # started): shutdown's join raised "cannot join thread before it is
+            # started" in place of the KeyboardInterrupt, exit 1 with a traceback (QA
+            # 25b, 1 run in ~70); the workers end with this process (PR_SET_PDEATHSIG)
+            ex.shutdown(wait=False, cancel_futures=True)
+        raise
+    ex.shutdown(wait=True, cancel_futures=True)
 
 
 class _LocalPool(ProcessPoolExecutor):

@@ -299,3 +299,35 @@ def test_the_call_queue_reader_reads_only_the_queues_it_knows():
         q._reader.close()
         q._writer.close()
     assert not _CallQueue.can_read(object())
+
+
+_START_INTERRUPTED = textwrap.dedent("""
+    import concurrent.futures.process as cfp
+    import time
+    from distkin.runstore import local_executor
+
+    def interrupted_start(self):       # the signal, inside the pool's own Thread.start
+        time.sleep(0.3)                # the worker spawned meanwhile is starting up
+        raise KeyboardInterrupt
+    cfp._ExecutorManagerThread.start = interrupted_start
+    try:
+        with local_executor(1) as ex:
+            ex.submit(int, 1)
+    except KeyboardInterrupt:
+        print("interrupted", flush=True)
+    time.sleep(3)                      # a worker left starting would print by now
+""")
+
+
+def test_a_ctrl_c_inside_the_pools_thread_start_stays_a_keyboard_interrupt():
+    """A Ctrl-C that lands in the pool's own ``Thread.start`` (its manager thread made,
+    not started) made ``shutdown``'s join raise "cannot join thread before it is
+    started" in place of the KeyboardInterrupt: exit 1 and a traceback instead of exit
+    130 (QA 25b); and a worker still unpickling its start-up data when the pool went
+    printed ``FileNotFoundError`` from ``SemLock._rebuild``.  Reproduced by a start that
+    raises KeyboardInterrupt, as the signal did: the interrupt comes out, no process
+    prints a traceback."""
+    p = subprocess.run([sys.executable, "-c", _START_INTERRUPTED], capture_output=True,
+                       text=True, env=_ENV, timeout=120)
+    assert p.stdout.split() == ["interrupted"], p.stdout + p.stderr
+    assert "Traceback" not in p.stderr and "Error" not in p.stderr, p.stderr
