@@ -176,8 +176,11 @@ def test_octo_6d_regular_boxes_confirmed_by_sampling():
         assert smin.min() >= r["sigma_lower"][b] > 0
 
 
-@pytest.mark.parametrize("name, layout", [("hunt", "tangential"), ("hexa", "tangential"),
-                                          ("ergin", "tangential"), ("hexa", "radial")])
+@pytest.mark.parametrize("name, layout", [
+    ("hunt", "tangential"), ("hexa", "tangential"), ("ergin", "tangential"),
+    # 16 s; the radial HEXA's singular regions are also certified by
+    # test_hexa_cube_has_certified_singular_regions and test_certify_batch's
+    pytest.param("hexa", "radial", marks=pytest.mark.slow)])
 def test_fig3_cube_at_fine_resolution(name, layout):
     """The 150 mm cube at 9.4 mm resolution; every regular box is confirmed on a 5^3
     grid.  Hunt-type: all regular, as in Fig. 3.  The HEXA and ergin presets (their

@@ -324,6 +324,7 @@ def test_derivative_filter_is_forward_euler(scene, model):
     np.testing.assert_allclose(ctl0.filter_derivative(np.full(ctl0.L, 0.5), dt), 500.0)
 
 
+@pytest.mark.slow   # 9 s; Table V's rows are also checked by tests/control/test_table5_*.py (the Octo)
 def test_table5_blocked_experiment_reproduces_the_analysis_for_six_legs():
     """Table V emulated (distkin.control.table5): with the end effector blocked at the
     analysis' worst-force pose and the set point stepped along the worst direction, the

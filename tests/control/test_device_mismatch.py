@@ -9,6 +9,7 @@ import sys
 import time
 
 import numpy as np
+import pytest
 
 from distkin.app.control_commands import builtin_scene, format_summary
 from distkin.control.controller import Controller
@@ -47,6 +48,7 @@ def test_no_frames_summary_says_so():
     assert "None" not in text
 
 
+@pytest.mark.slow   # 19 s (a second mechanism's cycle compiled); the count check itself is tested in process in this file
 def test_gough6_scene_against_the_octo_simulator_exits_2_naming_both_counts(tmp_path):
     """The QA run: ``distkin sim`` (the built-in 8-joint Octo) and ``distkin control
     --scene examples/control_gough6.toml`` (6 prismatic legs)."""

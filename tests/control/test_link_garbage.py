@@ -18,6 +18,7 @@ import threading
 import time
 
 import numpy as np
+import pytest
 from control_helpers import run_cli
 
 from distkin.control.link import Link
@@ -140,6 +141,7 @@ def test_control_cli_ends_and_commands_zero_torque_against_garbage(tmp_path):
     assert cmds and cmds[-1].mode == MODE_ZERO_TORQUE and not np.any(cmds[-1].torques)
 
 
+@pytest.mark.slow   # 14 s; garbage: the test above; a SIGINT's zero torque: tests/control/test_interrupt_not_disconnect.py
 def test_control_cli_sigint_against_garbage_ends_with_zero_torque(tmp_path):
     """SIGINT while the controller reads garbage ends the run (exit 130, "interrupted")
     with zero torque commanded, however long --seconds and --wall-limit are."""

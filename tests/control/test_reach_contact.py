@@ -127,6 +127,7 @@ def test_near_the_limit_the_step_gains_no_energy(name, force, direction):
     assert frozen == 0
 
 
+@pytest.mark.slow   # 14 s; the reach limit alone is tested above, a joint stop alone in test_stroke_end_stop.py and test_crank_frame_rotation.py
 def test_a_corner_of_a_joint_stop_and_a_reach_limit():
     from pathlib import Path
 

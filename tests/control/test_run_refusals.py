@@ -103,6 +103,7 @@ def test_a_run_the_device_ends_exits_2_and_an_internal_failure_1():
     assert EXIT_CODES.get("internal_error", 1) == 1 and EXIT_CODES["completed"] == 0
 
 
+@pytest.mark.slow   # 12 s, most of it the controller's 10 s start-up timeout
 def test_loop_with_no_device_exits_2_from_the_cli(tmp_path):
     proc = run_cli(["control", "--port", "loop://", "--seconds", 1, "--json", "-"], tmp_path)
     assert proc.returncode == 2 and json.loads(proc.stdout)["exit_reason"] == "no_device"

@@ -147,6 +147,7 @@ certify_width = 37.5
 """
 
 
+@pytest.mark.slow   # 19 s; the study CLI is also run by test_sweep_subcommand_runs_a_scene and README's snippets
 def test_performance_scene_end_to_end(tmp_path):
     from distkin.app.cli import run_scene
     from distkin.app.scene import loads_scene

@@ -58,6 +58,7 @@ def test_fk_is_the_octic_mode_nearest_the_guess():
     assert off.modes is None and pose_error(off.pose, X[0])[0] < 1e-9   # Gauss-Newton agrees
 
 
+@pytest.mark.slow   # 10 s; batched = single solves: tests/octahedral/test_octahedral_signscan.py
 def test_many_leg_sets_in_one_batched_call_equal_single_solves():
     """N > 1 leg sets go through forward_kinematics_batched: the same assembly modes
     (as sets, to 1e-12) and the same nearest pose as one octic solve per problem."""
