@@ -103,7 +103,9 @@ def test_pressed_against_its_reach_limit_it_slides(octo, direction):
 
 
 @pytest.mark.parametrize("name, force, direction", [
-    ("octo", 10.0, (0.44, -0.85, -0.29)), ("hunt", 30.0, (-0.63, -0.32, -0.7)),
+    ("octo", 10.0, (0.44, -0.85, -0.29)),
+    # 12 s: a third mechanism's kinematics; the octo and the octopod stay in the default run
+    pytest.param("hunt", 30.0, (-0.63, -0.32, -0.7), marks=pytest.mark.slow),
     ("octopod", 30.0, (0.39, 0.83, -0.39))])
 def test_near_the_limit_the_step_gains_no_energy(name, force, direction):
     # review of the first version (REACH_GAP 1e-9 m, no energy check near the limit):

@@ -67,11 +67,15 @@ def kpbig(tmp_path):
     return path
 
 
+@pytest.mark.slow   # 12 s (two CLI runs over loop://); the refusal's test with --sim: test_an_unstable_loop_with_sim_warns_before_it_starts
 def test_an_unstable_loop_on_a_port_is_refused_unless_allowed(tmp_path, kpbig):
     proc = run_cli(["control", "--port", "loop://", "--seconds", 1, "--scene", kpbig],
                    tmp_path)
     assert proc.returncode == 2, proc.stderr
-    err = proc.stderr.strip().splitlines()
+    # (less the compile notice of a cold numba cache: this test failed when it was the
+    # first of the run to build the cycle)
+    err = [line for line in proc.stderr.strip().splitlines()
+           if not line.startswith("distkin control: still setting up")]
     assert len(err) == 1 and "[pd]" in err[0] and "unstable even lock-stepped" in err[0]
     assert "--allow-unstable" in err[0] and "500 Hz" in err[0]
     # allowed: the warning, then the run (no device answers on loop://: exit 2)
