@@ -302,6 +302,7 @@ class TieredJacobian:
     jx_values: np.ndarray | None
     infeasible: np.ndarray
     inaccurate: np.ndarray | None = None
+    ik: object = None       # certified: the TieredIK its rows come from (reach_undecided)
 
     def __post_init__(self):
         read_only(self)
@@ -575,7 +576,7 @@ def jacobian_tier(mech, poses, method: str = "fast", dps: int | None = None,
     reasons.sort(key=lambda r: r[:2])
     return TieredJacobian(method, prec, *_split(J), *_split(jq), *_split(jx),
                           ik.valid & certified, certified, tuple(reasons), J, jq, jx,
-                          ik.infeasible, np.zeros(N, dtype=bool))
+                          ik.infeasible, np.zeros(N, dtype=bool), ik)
 
 
 def raise_uncertified(res, what: str):

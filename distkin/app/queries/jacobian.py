@@ -199,7 +199,8 @@ class JacobianQuery:
             # (an undecided leg is said per pose below; QA 25b F1: ``valid``, the float
             # sign's guess there, gave kappa and a SINGULAR verdict at such a pose)
             warnings.simplefilter("ignore", ConditioningWarning)
-            ik = ik_tier(mech, X, p.method, p.dps, p.bits)
+            ik = res.ik if res.ik is not None else ik_tier(mech, X, p.method, p.dps,
+                                                           p.bits)   # certified: J's own
         reach = [reach_status(mech, ik, i) for i in range(len(X))]
         ok_pose = np.array([st["reachable"] for st in reach], dtype=bool)
         J, Jq, Jx, valid = res.J, res.Jq, res.Jx, res.valid
